@@ -1,0 +1,1 @@
+//! Units, scaling and jerk-limited multi-axis planning.

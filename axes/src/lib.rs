@@ -1,1 +1,26 @@
 //! CiA 402, drive profiles, PDO images, simulated drives and bus backends.
+//!
+//! `cia402` holds the wire words and both state machines, `pdo` the byte-exact images,
+//! `profiles` one module per drive model, `sim` the simulated servo drive, `bus` the backends.
+//! Everything called per cycle is allocation-free and lock-free.
+
+#![warn(missing_docs)]
+
+pub mod bus;
+pub mod cia402;
+pub mod cycles;
+pub mod pdo;
+pub mod profiles;
+pub mod sim;
+
+pub use bus::{Bus, BusError, SimBus};
+pub use cia402::controlword::{Command, Controlword};
+pub use cia402::fsa::{drive_transition, FsaQuirks, FsaState};
+pub use cia402::master::{AxisMaster, MasterParams, MasterRequest, MasterState};
+pub use cia402::mode::ModeOfOperation;
+pub use cia402::statusword::Statusword;
+pub use cycles::{CycleTime, CycleTimeError, Cycles};
+pub use pdo::{PdoEntry, PdoError, PdoMap, RxPdo, TxPdo};
+pub use profiles::{profile, DriveModel, DriveProfile};
+pub use sim::drive::{SimDrive, SimDriveParams};
+pub use sim::plant::{PlantParams, ServoPlant};

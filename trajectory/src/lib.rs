@@ -1,1 +1,20 @@
-//! Units, scaling and jerk-limited multi-axis planning.
+//! Units, scaling and jerk-limited multi-axis planning for cellrt.
+//!
+//! The non-RT side converts user units to drive counts ([`units`]), checks per-move limits
+//! against the axis configuration ([`limits`]), plans a time-synchronised jerk-limited move
+//! with `rsruckig` ([`planner`]) and turns it into one setpoint per bus cycle ([`sampler`]).
+//! Planning allocates; evaluating a planned move ([`PlannedMove::state_at`],
+//! [`MoveSampler::fill`]) does not.
+
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod limits;
+pub mod planner;
+pub mod sampler;
+pub mod units;
+
+pub use limits::{KinematicLimits, LimitsError, PositionRange, Quantity};
+pub use planner::{plan_move, AxisState, MoveAxis, PlanError, PlannedMove, MAX_MOVE_AXES};
+pub use sampler::{MoveSampler, SamplerError};
+pub use units::{Scaling, UnitsError};

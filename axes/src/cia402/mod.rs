@@ -1,0 +1,10 @@
+//! CiA 402 (IEC 61800-7-201) drive profile: words, modes and the PDS state machine on both sides.
+//!
+//! `controlword`/`statusword` are the two wire words (6040h/6041h), `fsa` is the drive-side state
+//! machine, `master` the controller-side sequencer that drives an axis to a requested state.
+
+pub mod controlword;
+pub mod fsa;
+pub mod master;
+pub mod mode;
+pub mod statusword;

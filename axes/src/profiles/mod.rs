@@ -1,0 +1,160 @@
+//! Drive profiles: what the controller and the simulator need to know about one drive model.
+//!
+//! One module per model; adding a model is a new [`DriveModel`] variant, a module with its
+//! `PROFILE` constant and one arm in [`profile`].
+
+use std::fmt;
+use std::str::FromStr;
+use std::time::Duration;
+
+use serde::Deserialize;
+
+use crate::cia402::fsa::FsaQuirks;
+use crate::cia402::mode::ModeOfOperation;
+use crate::cycles::{CycleTime, Cycles};
+use crate::pdo::PdoMap;
+
+pub mod mr_j5_g_n1;
+
+/// A supported drive model, named in configuration by its kebab-case part number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DriveModel {
+    /// Mitsubishi MR-J5-G-N1, 1-axis EtherCAT amplifier (spec `mr-j5-g-n1.md`).
+    #[serde(rename = "mr-j5-g-n1")]
+    MrJ5GN1,
+}
+
+/// A model name that is not supported.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "unknown drive model {text:?}; supported models: {}",
+    DriveModel::names()
+)]
+pub struct ParseModelError {
+    /// The rejected text.
+    pub text: String,
+}
+
+impl DriveModel {
+    /// Every supported model.
+    pub const ALL: &'static [DriveModel] = &[DriveModel::MrJ5GN1];
+
+    /// The configuration name, e.g. "mr-j5-g-n1".
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            DriveModel::MrJ5GN1 => "mr-j5-g-n1",
+        }
+    }
+
+    fn names() -> String {
+        let v: Vec<&str> = Self::ALL.iter().map(|m| m.as_str()).collect();
+        v.join(", ")
+    }
+}
+
+impl fmt::Display for DriveModel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for DriveModel {
+    type Err = ParseModelError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .iter()
+            .copied()
+            .find(|m| m.as_str() == s)
+            .ok_or_else(|| ParseModelError { text: s.to_owned() })
+    }
+}
+
+/// Everything cellrt knows about one drive model, as static data.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DriveProfile {
+    /// The model this profile describes.
+    pub model: DriveModel,
+    /// Human-readable product name.
+    pub name: &'static str,
+    /// EtherCAT vendor ID, when a source documents it (`None`: not in the manual).
+    pub vendor_id: Option<u32>,
+    /// EtherCAT product code, when a source documents it.
+    pub product_code: Option<u32>,
+    /// Modes of operation the drive accepts in 6060h.
+    pub modes: &'static [ModeOfOperation],
+    /// Supported PDO cycle times in µs.
+    pub cycle_times_us: &'static [u32],
+    /// The default RxPDO map (master → drive).
+    pub rx_pdo: PdoMap,
+    /// The default TxPDO map (drive → master).
+    pub tx_pdo: PdoMap,
+    /// PDS deviations from plain CiA 402.
+    pub quirks: FsaQuirks,
+    /// Minimum Fault Reset hold in ms for cycles up to `long_cycle_from_us` (exclusive).
+    pub fault_reset_hold_ms: u32,
+    /// Minimum Fault Reset hold in ms for cycles of `long_cycle_from_us` and longer.
+    pub fault_reset_hold_long_cycle_ms: u32,
+    /// The cycle time (µs) from which `fault_reset_hold_long_cycle_ms` applies.
+    pub long_cycle_from_us: u32,
+    /// Axes per amplifier (1 for MR-J5-G-N1, 2/3 for MR-J5W2/W3).
+    pub axes_per_unit: u8,
+}
+
+impl DriveProfile {
+    /// True if the drive accepts `mode` in 6060h.
+    pub fn supports_mode(&self, mode: ModeOfOperation) -> bool {
+        self.modes.contains(&mode)
+    }
+
+    /// True if the drive can run its PDOs at `cycle`.
+    pub fn supports_cycle_time(&self, cycle: CycleTime) -> bool {
+        self.cycle_times_us.contains(&cycle.as_micros())
+    }
+
+    /// Cycles to hold Fault Reset at `cycle`: the model's minimum hold rounded up to whole cycles
+    /// (TV-5: 80 at 0.125 ms, 10 at 1 ms, 3 at 4 ms, 3 at 8 ms), never fewer than one.
+    pub fn fault_reset_hold(&self, cycle: CycleTime) -> Cycles {
+        let ms = if cycle.as_micros() >= self.long_cycle_from_us {
+            self.fault_reset_hold_long_cycle_ms
+        } else {
+            self.fault_reset_hold_ms
+        };
+        let n = cycle.cycles_for(Duration::from_millis(u64::from(ms)));
+        Cycles(n.0.max(1))
+    }
+}
+
+/// The static profile of `model`.
+pub fn profile(model: DriveModel) -> &'static DriveProfile {
+    match model {
+        DriveModel::MrJ5GN1 => &mr_j5_g_n1::PROFILE,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde::de::value::{Error as DeError, StrDeserializer};
+    use serde::de::IntoDeserializer;
+
+    #[test]
+    fn model_names() {
+        assert_eq!("mr-j5-g-n1".parse::<DriveModel>(), Ok(DriveModel::MrJ5GN1));
+        assert_eq!(DriveModel::MrJ5GN1.as_str(), "mr-j5-g-n1");
+        let e = "mr-j9".parse::<DriveModel>().unwrap_err().to_string();
+        assert!(e.contains("\"mr-j9\"") && e.contains("mr-j5-g-n1"), "{e}");
+        for m in DriveModel::ALL {
+            assert_eq!(profile(*m).model, *m);
+        }
+    }
+
+    #[test]
+    fn model_deserializes_from_its_config_name() {
+        let de: StrDeserializer<'_, DeError> = "mr-j5-g-n1".into_deserializer();
+        assert_eq!(DriveModel::deserialize(de), Ok(DriveModel::MrJ5GN1));
+        let de: StrDeserializer<'_, DeError> = "MrJ5GN1".into_deserializer();
+        assert!(DriveModel::deserialize(de).is_err());
+    }
+}

@@ -1,0 +1,5 @@
+//! The simulated servo drive: a mechanical plant under a cascaded servo loop (`plant`) and the
+//! drive firmware around it (`drive`: PDS, modes, alarms, PDO images).
+
+pub mod drive;
+pub mod plant;

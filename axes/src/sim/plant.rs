@@ -1,0 +1,249 @@
+//! A deterministic servo plant: P position loop over a P velocity loop with velocity and
+//! acceleration (torque) saturation, integrated at a fixed substep.
+//!
+//! Not from the manual (the communication manual has no servo-loop data); a simple model with
+//! the qualitative behaviour of a position-controlled servo, fixed so runs are reproducible.
+
+use std::f64::consts::TAU;
+
+/// Longest internal integration step; every cycle is split into equal substeps no longer than this.
+pub const MAX_SUBSTEP_S: f64 = 62.5e-6;
+/// Fewest substeps per call (the brief's dt/4 at the shortest cycles).
+pub const MIN_SUBSTEPS: u32 = 4;
+/// Most substeps per call; bounds the work when a long time span is integrated at once.
+pub const MAX_SUBSTEPS: u32 = 4096;
+
+/// Servo-loop tuning and limits, in position counts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlantParams {
+    /// Position loop bandwidth; the position gain is 2π·this (1/s).
+    pub position_bandwidth_hz: f64,
+    /// Velocity loop bandwidth; the velocity gain is 2π·this (1/s).
+    pub velocity_bandwidth_hz: f64,
+    /// Velocity saturation in counts/s.
+    pub max_velocity: f64,
+    /// Acceleration saturation in counts/s², the proxy for the torque limit.
+    pub max_acceleration: f64,
+}
+
+impl Default for PlantParams {
+    /// 15 Hz position / 150 Hz velocity loop, 4 M counts/s, 40 M counts/s²: a ramp at
+    /// 1 M counts/s lags by about 10 600 counts without feed-forward.
+    fn default() -> Self {
+        PlantParams {
+            position_bandwidth_hz: 15.0,
+            velocity_bandwidth_hz: 150.0,
+            max_velocity: 4.0e6,
+            max_acceleration: 4.0e7,
+        }
+    }
+}
+
+/// The motor and its servo loops, in counts, counts/s and counts/s².
+#[derive(Debug, Clone, PartialEq)]
+pub struct ServoPlant {
+    params: PlantParams,
+    position: f64,
+    velocity: f64,
+    acceleration: f64,
+    /// The position command at the end of the previous step (interpolation start).
+    last_command: f64,
+}
+
+impl ServoPlant {
+    /// A plant at rest at `initial_position_counts`.
+    pub fn new(params: PlantParams, initial_position_counts: f64) -> Self {
+        ServoPlant {
+            params,
+            position: initial_position_counts,
+            velocity: 0.0,
+            acceleration: 0.0,
+            last_command: initial_position_counts,
+        }
+    }
+
+    fn substeps(dt_s: f64) -> (u32, f64) {
+        if dt_s.is_nan() || dt_s <= 0.0 {
+            return (0, 0.0);
+        }
+        let n = (dt_s / MAX_SUBSTEP_S).ceil();
+        let n = if n.is_finite() {
+            n as u32
+        } else {
+            MAX_SUBSTEPS
+        };
+        let n = n.clamp(MIN_SUBSTEPS, MAX_SUBSTEPS);
+        (n, dt_s / f64::from(n))
+    }
+
+    /// Servo on for `dt_s`: follow `position_command`, linearly interpolated from the previous
+    /// command over the step, with `velocity_feedforward` (counts/s) added to the velocity command.
+    pub fn step(&mut self, position_command: f64, velocity_feedforward: f64, dt_s: f64) {
+        let (n, h) = Self::substeps(dt_s);
+        let kp = TAU * self.params.position_bandwidth_hz;
+        let kv = TAU * self.params.velocity_bandwidth_hz;
+        // An explicit step never overshoots the velocity command: gain·h is capped at 1.
+        let kv_h = (kv * h).min(1.0);
+        let vmax = self.params.max_velocity.abs();
+        let amax = self.params.max_acceleration.abs();
+        let start = self.last_command;
+        let ff = if velocity_feedforward.is_finite() {
+            velocity_feedforward
+        } else {
+            0.0
+        };
+        for i in 1..=n {
+            let frac = f64::from(i) / f64::from(n);
+            let cmd = start + (position_command - start) * frac;
+            let v_cmd = (ff + kp * (cmd - self.position)).clamp(-vmax, vmax);
+            let a = if h > 0.0 {
+                (kv_h * (v_cmd - self.velocity) / h).clamp(-amax, amax)
+            } else {
+                0.0
+            };
+            self.integrate(a, h, vmax);
+        }
+        if n > 0 {
+            self.last_command = position_command;
+        }
+    }
+
+    /// Servo off (or a stop ramp) for `dt_s`: decelerate to standstill at `max_acceleration`.
+    ///
+    /// Takes the time step like [`ServoPlant::step`]; the interpolation start follows the
+    /// position so a later servo-on starts from where the motor is.
+    pub fn hold(&mut self, dt_s: f64) {
+        let (n, h) = Self::substeps(dt_s);
+        let amax = self.params.max_acceleration.abs();
+        let vmax = self.params.max_velocity.abs();
+        for _ in 0..n {
+            // Decelerate, but never past zero within one substep.
+            let a = if h > 0.0 {
+                (-self.velocity / h).clamp(-amax, amax)
+            } else {
+                0.0
+            };
+            self.integrate(a, h, vmax);
+        }
+        if n > 0 {
+            self.last_command = self.position;
+        }
+    }
+
+    fn integrate(&mut self, a: f64, h: f64, vmax: f64) {
+        self.acceleration = a;
+        self.velocity = (self.velocity + a * h).clamp(-vmax, vmax);
+        self.position += self.velocity * h;
+    }
+
+    /// Sets the interpolation start, e.g. to the first target after servo-on.
+    pub fn set_last_command(&mut self, position_command: f64) {
+        self.last_command = position_command;
+    }
+
+    /// Motor position in counts.
+    pub fn position(&self) -> f64 {
+        self.position
+    }
+
+    /// Motor velocity in counts/s.
+    pub fn velocity(&self) -> f64 {
+        self.velocity
+    }
+
+    /// Acceleration of the last substep in counts/s² (the torque proxy).
+    pub fn acceleration(&self) -> f64 {
+        self.acceleration
+    }
+
+    /// The parameters the plant was built with.
+    pub fn params(&self) -> &PlantParams {
+        &self.params
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DT: f64 = 1e-3;
+
+    #[test]
+    fn ramp_gives_bounded_nonzero_following_error() {
+        let p = PlantParams::default();
+        let mut plant = ServoPlant::new(p, 0.0);
+        let v = 1.0e6;
+        let mut max_err: f64 = 0.0;
+        let mut last_err = 0.0;
+        for k in 1..=2000 {
+            let cmd = v * DT * f64::from(k);
+            plant.step(cmd, 0.0, DT);
+            last_err = cmd - plant.position();
+            max_err = max_err.max(last_err.abs());
+        }
+        let kp = TAU * p.position_bandwidth_hz;
+        // Steady state of a P position loop without feed-forward: e = v / Kp.
+        assert!(
+            (last_err - v / kp).abs() < 0.02 * v / kp,
+            "{last_err} vs {}",
+            v / kp
+        );
+        assert!(max_err < 2.0 * v / kp, "{max_err}");
+        assert!((plant.velocity() - v).abs() < 1.0);
+    }
+
+    #[test]
+    fn feedforward_shrinks_the_error() {
+        let mut a = ServoPlant::new(PlantParams::default(), 0.0);
+        let mut b = ServoPlant::new(PlantParams::default(), 0.0);
+        let v = 1.0e6;
+        for k in 1..=1000 {
+            let cmd = v * DT * f64::from(k);
+            a.step(cmd, 0.0, DT);
+            b.step(cmd, v, DT);
+        }
+        let cmd = v * DT * 1000.0;
+        assert!((cmd - b.position()).abs() < 0.1 * (cmd - a.position()).abs());
+    }
+
+    #[test]
+    fn velocity_and_acceleration_saturate() {
+        let p = PlantParams::default();
+        let mut plant = ServoPlant::new(p, 0.0);
+        for _ in 0..1000 {
+            plant.step(1.0e9, 0.0, DT);
+            assert!(plant.velocity().abs() <= p.max_velocity);
+            assert!(plant.acceleration().abs() <= p.max_acceleration);
+        }
+        assert!((plant.velocity() - p.max_velocity).abs() < 1e-3);
+    }
+
+    #[test]
+    fn hold_stops_at_max_deceleration() {
+        let p = PlantParams::default();
+        let mut plant = ServoPlant::new(p, 0.0);
+        for _ in 0..500 {
+            plant.step(1.0e9, 0.0, DT);
+        }
+        // 4e6 / 4e7 = 0.1 s to stop: not yet stopped after 90 ms, stopped after 110 ms.
+        for _ in 0..90 {
+            plant.hold(DT);
+        }
+        assert!(plant.velocity() > 0.0);
+        for _ in 0..20 {
+            plant.hold(DT);
+        }
+        assert_eq!(plant.velocity(), 0.0);
+    }
+
+    #[test]
+    fn garbage_time_steps_do_nothing() {
+        let mut plant = ServoPlant::new(PlantParams::default(), 5.0);
+        plant.step(100.0, f64::NAN, f64::NAN);
+        plant.step(100.0, 0.0, -1.0);
+        plant.hold(0.0);
+        assert_eq!(plant.position(), 5.0);
+        plant.step(100.0, f64::INFINITY, 1e300);
+        assert!(plant.position().is_finite());
+    }
+}

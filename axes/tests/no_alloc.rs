@@ -1,0 +1,82 @@
+//! The per-cycle calls allocate nothing (ARCHITECTURE.md "Rules of the RT thread" 1).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+use cellrt_axes::{
+    profile, AxisMaster, Bus, CycleTime, Cycles, DriveModel, MasterParams, MasterRequest, RxPdo,
+    SimBus, SimDrive, SimDriveParams,
+};
+
+struct Counting;
+
+thread_local! {
+    static COUNT: Cell<u64> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static A: Counting = Counting;
+
+fn allocations() -> u64 {
+    COUNT.with(Cell::get)
+}
+
+#[test]
+fn steady_state_cycle_is_allocation_free() {
+    let p = profile(DriveModel::MrJ5GN1);
+    let ct = CycleTime::from_micros(1000).unwrap();
+    let drives = (0..3)
+        .map(|_| SimDrive::new(p, SimDriveParams::default(), ct))
+        .collect();
+    let mut bus = SimBus::new(drives);
+    let params = MasterParams {
+        fault_reset_hold: p.fault_reset_hold(ct),
+        transition_timeout: Cycles(100),
+    };
+    let mut masters = [
+        AxisMaster::new(params),
+        AxisMaster::new(params),
+        AxisMaster::new(params),
+    ];
+    for m in &mut masters {
+        m.request(MasterRequest::Enable);
+    }
+    let before = allocations();
+    for k in 0..10_000i32 {
+        if k == 5_000 {
+            bus.drive_mut(1).inject_alarm(0x0123);
+        }
+        for (axis, m) in masters.iter_mut().enumerate() {
+            let tx = p.tx_pdo.decode_tx(bus.tx_image(axis)).unwrap();
+            let cw = m.update(tx.statusword);
+            let rx = RxPdo {
+                mode: 8,
+                controlword: cw,
+                target_position: if m.is_enabled() {
+                    k * 100
+                } else {
+                    tx.position_actual
+                },
+                ..RxPdo::default()
+            };
+            p.rx_pdo.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+        }
+        bus.exchange(Cycles(1)).unwrap();
+    }
+    assert_eq!(allocations() - before, 0);
+    assert!(masters[0].is_enabled());
+}

@@ -1,0 +1,1 @@
+//! Benchmark harness and end-to-end scenarios.

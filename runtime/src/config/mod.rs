@@ -1,0 +1,174 @@
+//! The cell configuration: a TOML file parsed into raw serde structs ([`raw`]) and validated into
+//! the typed [`CellConfig`] before anything starts. Every error names the file and the key.
+
+mod error;
+pub mod raw;
+mod validate;
+
+pub use error::ConfigError;
+pub(crate) use error::parse_toml;
+
+use std::path::{Path, PathBuf};
+
+use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::profiles::{DriveModel, DriveProfile};
+use cellrt_axes::CycleTime;
+use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
+use cellrt_trajectory::units::Scaling;
+
+/// Most axes one cell may have: the width of a setpoint block.
+pub use crate::setpoints::MAX_AXES;
+
+/// A validated cell configuration.
+#[derive(Debug, Clone)]
+pub struct CellConfig {
+    /// Where it was read from (for messages and the recording's attachment).
+    pub source: PathBuf,
+    /// The file's text, kept for the recording.
+    pub text: String,
+    /// Cell name: names the iceoryx2 services and the recording.
+    pub name: String,
+    /// Bus cycle time of the RT loop.
+    pub cycle_time: CycleTime,
+    /// Program run by default, resolved relative to the config file.
+    pub program: Option<PathBuf>,
+    /// RT thread settings.
+    pub rt: RtConfig,
+    /// Recording settings.
+    pub recording: RecordingConfig,
+    /// Setpoint transport settings.
+    pub setpoints: SetpointConfig,
+    /// The axes, in configuration order (the index is the axis id everywhere).
+    pub axes: Vec<AxisConfig>,
+}
+
+/// RT thread settings; each is best effort when the OS refuses it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RtConfig {
+    /// CPU to pin the RT thread to; `None` leaves affinity alone.
+    pub cpu: Option<usize>,
+    /// SCHED_FIFO priority, 1..=99.
+    pub priority: u8,
+    /// mlockall(MCL_CURRENT | MCL_FUTURE) before the loop starts.
+    pub lock_memory: bool,
+}
+
+/// MCAP chunk compression.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Compression {
+    /// zstd (default): smallest files.
+    Zstd,
+    /// lz4: cheaper to write.
+    Lz4,
+    /// No compression.
+    None,
+}
+
+/// Recording settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordingConfig {
+    /// Record unless the command line says otherwise.
+    pub enabled: bool,
+    /// Path template; `{cell}` and `{timestamp}` are substituted.
+    pub path: String,
+    /// Chunk compression.
+    pub compression: Compression,
+    /// Target chunk size in bytes (bounds what a crash can lose).
+    pub chunk_size: u64,
+    /// Hand-off queue length between the RT thread and the recorder, in seconds of cycles.
+    pub queue_seconds: f64,
+}
+
+/// Setpoint transport settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SetpointConfig {
+    /// How far ahead of the RT cycle the planner keeps setpoints, in seconds.
+    pub lookahead: f64,
+    /// How long the planner waits between the publish of a move's first block and its first cycle,
+    /// in seconds (must cover the hand-over latency).
+    pub start_delay: f64,
+}
+
+/// Where an axis' drive is reached.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Transport {
+    /// The in-process simulated drive.
+    Sim,
+}
+
+/// One axis of the cell.
+#[derive(Debug, Clone)]
+pub struct AxisConfig {
+    /// Axis name, unique in the cell.
+    pub name: String,
+    /// Drive model and its profile.
+    pub drive: DriveModel,
+    /// The drive's profile (modes, cycle times, PDO maps).
+    pub profile: &'static DriveProfile,
+    /// Transport to the drive.
+    pub transport: Transport,
+    /// Cyclic mode of operation (6060h).
+    pub mode: ModeOfOperation,
+    /// Display name of the axis unit (e.g. "mm", "deg").
+    pub unit: String,
+    /// Counts per unit at the drive's position interface.
+    pub scaling: Scaling,
+    /// Allowed position range, in units.
+    pub position: PositionRange,
+    /// Velocity, acceleration and jerk limits, in units.
+    pub limits: KinematicLimits,
+    /// Deceleration of the RT thread's controlled stop, in unit/s².
+    pub stop_deceleration: f64,
+    /// Following error at which the simulated drive raises its alarm, in units.
+    pub following_error_limit: f64,
+    /// Simulated drive settings.
+    pub sim: SimAxisConfig,
+}
+
+/// Settings of an axis' simulated drive.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimAxisConfig {
+    /// Position of the axis at start, in units.
+    pub initial_position: f64,
+    /// Position loop bandwidth, Hz.
+    pub position_bandwidth_hz: f64,
+    /// Velocity loop bandwidth, Hz.
+    pub velocity_bandwidth_hz: f64,
+}
+
+impl CellConfig {
+    /// Reads and validates a cell configuration file.
+    pub fn load(path: &Path) -> Result<CellConfig, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ConfigError::io(path, e))?;
+        Self::parse(path, &text)
+    }
+
+    /// Parses and validates configuration text; `path` is used in messages and to resolve the
+    /// program path.
+    pub fn parse(path: &Path, text: &str) -> Result<CellConfig, ConfigError> {
+        let raw: raw::RawCellConfig = error::parse_toml(path, text)?;
+        validate::validate(path, text, raw)
+    }
+
+    /// The cycle-time period in seconds.
+    pub fn period(&self) -> f64 {
+        self.cycle_time.as_secs_f64()
+    }
+
+    /// Index of the axis called `name`.
+    pub fn axis_index(&self, name: &str) -> Option<usize> {
+        self.axes.iter().position(|a| a.name == name)
+    }
+
+    /// Comma-separated axis names, for messages.
+    pub fn axis_names(&self) -> String {
+        self.axes
+            .iter()
+            .map(|a| a.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,224 @@
+//! The configuration file as written: serde structs with defaults, no cross-field checks.
+
+use std::path::PathBuf;
+
+use serde::Deserialize;
+
+/// Top level of a cell configuration file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawCellConfig {
+    /// `[cell]`.
+    pub cell: RawCell,
+    /// `[rt]`.
+    #[serde(default)]
+    pub rt: RawRt,
+    /// `[recording]`.
+    #[serde(default)]
+    pub recording: RawRecording,
+    /// `[setpoints]`.
+    #[serde(default)]
+    pub setpoints: RawSetpoints,
+    /// `[[axes]]`.
+    #[serde(default)]
+    pub axes: Vec<RawAxis>,
+}
+
+/// `[cell]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawCell {
+    /// Cell name.
+    pub name: String,
+    /// Cycle time in µs.
+    pub cycle_time_us: u32,
+    /// Default program, relative to the config file.
+    pub program: Option<PathBuf>,
+}
+
+/// `[rt]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRt {
+    /// CPU to pin to.
+    pub cpu: Option<usize>,
+    /// SCHED_FIFO priority.
+    #[serde(default = "default_priority")]
+    pub priority: u8,
+    /// mlockall.
+    #[serde(default = "default_true")]
+    pub lock_memory: bool,
+}
+
+impl Default for RawRt {
+    fn default() -> Self {
+        RawRt {
+            cpu: None,
+            priority: default_priority(),
+            lock_memory: true,
+        }
+    }
+}
+
+/// `[recording]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRecording {
+    /// Record by default.
+    #[serde(default = "default_true")]
+    pub enabled: bool,
+    /// Path template.
+    #[serde(default = "default_recording_path")]
+    pub path: String,
+    /// "zstd", "lz4" or "none".
+    #[serde(default = "default_compression")]
+    pub compression: String,
+    /// Chunk size in KiB.
+    #[serde(default = "default_chunk_kib")]
+    pub chunk_size_kib: u64,
+    /// Hand-off queue length in seconds of cycles.
+    #[serde(default = "default_queue_seconds")]
+    pub queue_seconds: f64,
+}
+
+impl Default for RawRecording {
+    fn default() -> Self {
+        RawRecording {
+            enabled: true,
+            path: default_recording_path(),
+            compression: default_compression(),
+            chunk_size_kib: default_chunk_kib(),
+            queue_seconds: default_queue_seconds(),
+        }
+    }
+}
+
+/// `[setpoints]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSetpoints {
+    /// Planner lookahead in ms.
+    #[serde(default = "default_lookahead_ms")]
+    pub lookahead_ms: f64,
+    /// Delay from first publish to first cycle of a move, ms.
+    #[serde(default = "default_start_delay_ms")]
+    pub start_delay_ms: f64,
+}
+
+impl Default for RawSetpoints {
+    fn default() -> Self {
+        RawSetpoints {
+            lookahead_ms: default_lookahead_ms(),
+            start_delay_ms: default_start_delay_ms(),
+        }
+    }
+}
+
+/// `[[axes]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawAxis {
+    /// Axis name.
+    pub name: String,
+    /// Drive model name, e.g. "mr-j5-g-n1".
+    pub drive: String,
+    /// "sim".
+    #[serde(default = "default_transport")]
+    pub transport: String,
+    /// Mode name, e.g. "csp".
+    #[serde(default = "default_mode")]
+    pub mode: String,
+    /// Unit name for display.
+    #[serde(default = "default_unit")]
+    pub unit: String,
+    /// Counts per unit.
+    pub counts_per_unit: f64,
+    /// `[axes.limits]`.
+    pub limits: RawLimits,
+    /// `[axes.sim]`.
+    #[serde(default)]
+    pub sim: RawSimAxis,
+}
+
+/// `[axes.limits]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawLimits {
+    /// `[min, max]` in units.
+    pub position: [f64; 2],
+    /// unit/s.
+    pub velocity: f64,
+    /// unit/s².
+    pub acceleration: f64,
+    /// unit/s³.
+    pub jerk: f64,
+    /// Controlled-stop deceleration, unit/s²; defaults to `acceleration`.
+    pub stop_deceleration: Option<f64>,
+    /// Following-error alarm limit in units; defaults to 1 s × velocity / 10.
+    pub following_error: Option<f64>,
+}
+
+/// `[axes.sim]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSimAxis {
+    /// Start position in units.
+    #[serde(default)]
+    pub initial_position: f64,
+    /// Position loop bandwidth, Hz.
+    #[serde(default = "default_position_bw")]
+    pub position_bandwidth_hz: f64,
+    /// Velocity loop bandwidth, Hz.
+    #[serde(default = "default_velocity_bw")]
+    pub velocity_bandwidth_hz: f64,
+}
+
+impl Default for RawSimAxis {
+    fn default() -> Self {
+        RawSimAxis {
+            initial_position: 0.0,
+            position_bandwidth_hz: default_position_bw(),
+            velocity_bandwidth_hz: default_velocity_bw(),
+        }
+    }
+}
+
+fn default_true() -> bool {
+    true
+}
+fn default_priority() -> u8 {
+    80
+}
+fn default_recording_path() -> String {
+    "recordings/{cell}-{timestamp}.mcap".to_string()
+}
+fn default_compression() -> String {
+    "zstd".to_string()
+}
+fn default_chunk_kib() -> u64 {
+    1024
+}
+fn default_queue_seconds() -> f64 {
+    2.0
+}
+fn default_lookahead_ms() -> f64 {
+    50.0
+}
+fn default_start_delay_ms() -> f64 {
+    20.0
+}
+fn default_transport() -> String {
+    "sim".to_string()
+}
+fn default_mode() -> String {
+    "csp".to_string()
+}
+fn default_unit() -> String {
+    "unit".to_string()
+}
+fn default_position_bw() -> f64 {
+    40.0
+}
+fn default_velocity_bw() -> f64 {
+    200.0
+}

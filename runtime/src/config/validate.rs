@@ -1,0 +1,322 @@
+//! Cross-field validation of a parsed configuration into a [`CellConfig`].
+
+use std::collections::HashSet;
+use std::path::Path;
+
+use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::profiles::{profile, DriveModel};
+use cellrt_axes::CycleTime;
+use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
+use cellrt_trajectory::units::Scaling;
+
+use super::raw::{RawAxis, RawCellConfig};
+use super::{
+    AxisConfig, CellConfig, Compression, ConfigError, RecordingConfig, RtConfig, SetpointConfig,
+    SimAxisConfig, Transport, MAX_AXES,
+};
+
+/// Checks a name used in service names and file names: 1–32 of `[A-Za-z0-9_-]`.
+pub(crate) fn check_name(file: &Path, key: &str, name: &str) -> Result<(), ConfigError> {
+    let ok = !name.is_empty()
+        && name.len() <= 32
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if ok {
+        Ok(())
+    } else {
+        Err(ConfigError::new(
+            file,
+            key,
+            format!("'{name}' is not a valid name (1-32 characters of A-Z a-z 0-9 _ -)"),
+        ))
+    }
+}
+
+/// A finite number > 0.
+pub(crate) fn positive(file: &Path, key: &str, v: f64) -> Result<f64, ConfigError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(ConfigError::new(
+            file,
+            key,
+            format!("must be a finite number > 0 (got {v})"),
+        ))
+    }
+}
+
+pub(super) fn validate(
+    file: &Path,
+    text: &str,
+    raw: RawCellConfig,
+) -> Result<CellConfig, ConfigError> {
+    check_name(file, "cell.name", &raw.cell.name)?;
+    let cycle_time = CycleTime::from_micros(raw.cell.cycle_time_us)
+        .map_err(|e| ConfigError::new(file, "cell.cycle_time_us", e.to_string()))?;
+    let program = raw.cell.program.map(|p| {
+        if p.is_absolute() {
+            p
+        } else {
+            file.parent().unwrap_or(Path::new(".")).join(p)
+        }
+    });
+
+    let rt = RtConfig {
+        cpu: raw.rt.cpu,
+        priority: raw.rt.priority,
+        lock_memory: raw.rt.lock_memory,
+    };
+    if !(1..=99).contains(&rt.priority) {
+        return Err(ConfigError::new(
+            file,
+            "rt.priority",
+            format!("SCHED_FIFO priority must be 1..=99 (got {})", rt.priority),
+        ));
+    }
+    if let Some(cpu) = rt.cpu {
+        let n = std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1);
+        if cpu >= n {
+            return Err(ConfigError::new(
+                file,
+                "rt.cpu",
+                format!("CPU {cpu} does not exist (this machine has CPUs 0..={})", n - 1),
+            ));
+        }
+    }
+
+    let compression = match raw.recording.compression.as_str() {
+        "zstd" => Compression::Zstd,
+        "lz4" => Compression::Lz4,
+        "none" => Compression::None,
+        other => {
+            return Err(ConfigError::new(
+                file,
+                "recording.compression",
+                format!("unknown compression '{other}' (allowed: zstd, lz4, none)"),
+            ))
+        }
+    };
+    if raw.recording.path.trim().is_empty() {
+        return Err(ConfigError::new(file, "recording.path", "must not be empty"));
+    }
+    if !(1..=65536).contains(&raw.recording.chunk_size_kib) {
+        return Err(ConfigError::new(
+            file,
+            "recording.chunk_size_kib",
+            format!(
+                "must be 1..=65536 KiB (got {})",
+                raw.recording.chunk_size_kib
+            ),
+        ));
+    }
+    let queue_seconds = positive(file, "recording.queue_seconds", raw.recording.queue_seconds)?;
+    if queue_seconds > 60.0 {
+        return Err(ConfigError::new(
+            file,
+            "recording.queue_seconds",
+            format!("must be at most 60 s (got {queue_seconds})"),
+        ));
+    }
+    let recording = RecordingConfig {
+        enabled: raw.recording.enabled,
+        path: raw.recording.path,
+        compression,
+        chunk_size: raw.recording.chunk_size_kib * 1024,
+        queue_seconds,
+    };
+
+    let lookahead = positive(file, "setpoints.lookahead_ms", raw.setpoints.lookahead_ms)? / 1e3;
+    let start_delay =
+        positive(file, "setpoints.start_delay_ms", raw.setpoints.start_delay_ms)? / 1e3;
+    if lookahead > 10.0 || start_delay > 10.0 {
+        return Err(ConfigError::new(
+            file,
+            "setpoints",
+            "lookahead_ms and start_delay_ms must be at most 10000 ms",
+        ));
+    }
+    let setpoints = SetpointConfig {
+        lookahead,
+        start_delay,
+    };
+
+    if raw.axes.is_empty() {
+        return Err(ConfigError::new(
+            file,
+            "axes",
+            "a cell needs at least one [[axes]] entry",
+        ));
+    }
+    if raw.axes.len() > MAX_AXES {
+        return Err(ConfigError::new(
+            file,
+            "axes",
+            format!(
+                "{} axes configured; a cell has at most {MAX_AXES}",
+                raw.axes.len()
+            ),
+        ));
+    }
+    let mut seen = HashSet::new();
+    let mut axes = Vec::with_capacity(raw.axes.len());
+    for (i, a) in raw.axes.into_iter().enumerate() {
+        let key = format!("axes[{i}]");
+        if !seen.insert(a.name.clone()) {
+            return Err(ConfigError::new(
+                file,
+                format!("{key}.name"),
+                format!("duplicate axis name '{}'", a.name),
+            ));
+        }
+        axes.push(validate_axis(file, &key, cycle_time, a)?);
+    }
+
+    Ok(CellConfig {
+        source: file.to_path_buf(),
+        text: text.to_string(),
+        name: raw.cell.name,
+        cycle_time,
+        program,
+        rt,
+        recording,
+        setpoints,
+        axes,
+    })
+}
+
+fn validate_axis(
+    file: &Path,
+    key: &str,
+    cycle_time: CycleTime,
+    a: RawAxis,
+) -> Result<AxisConfig, ConfigError> {
+    check_name(file, &format!("{key}.name"), &a.name)?;
+    let err = |sub: &str, msg: String| ConfigError::new(file, format!("{key}.{sub}"), msg);
+
+    let drive: DriveModel = a
+        .drive
+        .parse()
+        .map_err(|e: cellrt_axes::profiles::ParseModelError| err("drive", e.to_string()))?;
+    let profile = profile(drive);
+    if !profile.supports_cycle_time(cycle_time) {
+        return Err(err(
+            "drive",
+            format!(
+                "axis '{}': {} does not support a {} µs cycle (allowed: {:?} µs)",
+                a.name,
+                profile.name,
+                cycle_time.as_micros(),
+                profile.cycle_times_us
+            ),
+        ));
+    }
+    let transport = match a.transport.as_str() {
+        "sim" => Transport::Sim,
+        other => {
+            return Err(err(
+                "transport",
+                format!("unknown transport '{other}' (available: sim)"),
+            ))
+        }
+    };
+    let mode: ModeOfOperation = a.mode.parse().map_err(|e| err("mode", format!("{e}")))?;
+    if !profile.supports_mode(mode) {
+        return Err(err(
+            "mode",
+            format!(
+                "axis '{}': {} has no mode {}",
+                a.name,
+                profile.name,
+                mode.as_str()
+            ),
+        ));
+    }
+    if mode != ModeOfOperation::CyclicSyncPosition {
+        return Err(err(
+            "mode",
+            format!(
+                "axis '{}': mode {} is not driven by this runtime yet (available: csp)",
+                a.name,
+                mode.as_str()
+            ),
+        ));
+    }
+    let scaling = Scaling::new(a.counts_per_unit).map_err(|e| err("counts_per_unit", e.to_string()))?;
+    let position = PositionRange {
+        min: a.limits.position[0],
+        max: a.limits.position[1],
+    };
+    position
+        .validate()
+        .map_err(|e| err("limits.position", e.to_string()))?;
+    for (end, v) in [("min", position.min), ("max", position.max)] {
+        scaling.to_counts_i32(v).map_err(|_| {
+            err(
+                "limits.position",
+                format!(
+                    "position {end} {v} {} is {} counts, outside the drive's 32-bit position range",
+                    a.unit,
+                    scaling.to_counts(v)
+                ),
+            )
+        })?;
+    }
+    let limits = KinematicLimits {
+        velocity: positive(file, &format!("{key}.limits.velocity"), a.limits.velocity)?,
+        acceleration: positive(
+            file,
+            &format!("{key}.limits.acceleration"),
+            a.limits.acceleration,
+        )?,
+        jerk: positive(file, &format!("{key}.limits.jerk"), a.limits.jerk)?,
+    };
+    let stop_deceleration = positive(
+        file,
+        &format!("{key}.limits.stop_deceleration"),
+        a.limits.stop_deceleration.unwrap_or(limits.acceleration),
+    )?;
+    let following_error_limit = positive(
+        file,
+        &format!("{key}.limits.following_error"),
+        a.limits.following_error.unwrap_or(limits.velocity * 0.1),
+    )?;
+    let sim = SimAxisConfig {
+        initial_position: a.sim.initial_position,
+        position_bandwidth_hz: positive(
+            file,
+            &format!("{key}.sim.position_bandwidth_hz"),
+            a.sim.position_bandwidth_hz,
+        )?,
+        velocity_bandwidth_hz: positive(
+            file,
+            &format!("{key}.sim.velocity_bandwidth_hz"),
+            a.sim.velocity_bandwidth_hz,
+        )?,
+    };
+    if !sim.initial_position.is_finite() || position.check(sim.initial_position).is_err() {
+        return Err(err(
+            "sim.initial_position",
+            format!(
+                "{} is outside the position range [{}, {}]",
+                sim.initial_position, position.min, position.max
+            ),
+        ));
+    }
+    Ok(AxisConfig {
+        name: a.name,
+        drive,
+        profile,
+        transport,
+        mode,
+        unit: a.unit,
+        scaling,
+        position,
+        limits,
+        stop_deceleration,
+        following_error_limit,
+        sim,
+    })
+}

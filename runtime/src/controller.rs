@@ -1,0 +1,327 @@
+//! The cell controller: wires the simulated bus, the RT thread, the recorder and the planner
+//! together, runs until the program ends, the duration elapses or a signal arrives, then shuts
+//! down cleanly (controlled stop, power off, recording finished) and summarises the run.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use cellrt_axes::bus::SimBus;
+use cellrt_axes::sim::drive::{SimDrive, SimDriveParams};
+use cellrt_axes::sim::plant::PlantParams;
+use serde::Serialize;
+
+use crate::config::CellConfig;
+use crate::executive::{Executive, PhaseHook, RtCounters, RtStats};
+use crate::handoff::{CellCommand, CellState, Handoff};
+use crate::planner::{self, ProgramError};
+use crate::program::Program;
+use crate::record::{Recorder, RecorderError, RecordingInfo};
+use crate::rt::histogram::Percentiles;
+use crate::rt::thread::{setup_current_thread, RtReport};
+use crate::services;
+use crate::setpoints::SetpointStream;
+
+/// Stack size of the RT thread (the prefault touches part of it).
+pub const RT_STACK_BYTES: usize = 4 * 1024 * 1024;
+
+/// How to run a cell.
+#[derive(Default)]
+pub struct RunOptions {
+    /// Program to run; `None` keeps the cell up until the duration or a signal.
+    pub program: Option<Program>,
+    /// Stop after this long.
+    pub duration: Option<Duration>,
+    /// Record to this MCAP file.
+    pub record: Option<PathBuf>,
+    /// Set by a signal handler to request a clean shutdown.
+    pub shutdown: Arc<AtomicBool>,
+    /// Test instrumentation called on the RT thread.
+    pub hook: Option<PhaseHook>,
+}
+
+/// The cell could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// Recording could not start or finish.
+    #[error(transparent)]
+    Recorder(#[from] RecorderError),
+    /// iceoryx2 set-up failed.
+    #[error(transparent)]
+    Service(#[from] services::ServiceError),
+    /// A thread could not be started or died.
+    #[error("{0}")]
+    Thread(String),
+}
+
+/// How the run ended.
+#[derive(Debug, Clone, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    /// The program ran to its end.
+    ProgramCompleted,
+    /// The program failed (the reason is in `program_error`).
+    ProgramFailed,
+    /// `--duration` elapsed.
+    DurationElapsed,
+    /// SIGINT or SIGTERM.
+    Interrupted,
+}
+
+/// Final state of one axis.
+#[derive(Debug, Clone, Serialize)]
+pub struct AxisSummary {
+    /// Axis name.
+    pub name: String,
+    /// Unit.
+    pub unit: String,
+    /// Final actual position, units.
+    pub final_position: f64,
+    /// The program's last target for this axis, units.
+    pub target: Option<f64>,
+    /// final_position − target, units.
+    pub error: Option<f64>,
+}
+
+/// Everything the run reports at exit (printed, and written by `--summary-json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// Cell name.
+    pub cell: String,
+    /// Cycle time, µs.
+    pub cycle_time_us: u32,
+    /// How the run ended.
+    pub outcome: Outcome,
+    /// Why the program failed, if it did.
+    pub program_error: Option<String>,
+    /// What the RT set-up achieved.
+    pub rt: RtReport,
+    /// Counters.
+    #[serde(flatten)]
+    pub counters: RtCounters,
+    /// Wakeup latency percentiles.
+    pub wakeup_latency: Percentiles,
+    /// Loop body time percentiles.
+    pub loop_time: Percentiles,
+    /// Final cell state.
+    pub final_state: String,
+    /// Per axis.
+    pub axes: Vec<AxisSummary>,
+    /// The recording.
+    pub recording: RecordingInfo,
+}
+
+/// Builds the simulated bus of `cell`.
+pub fn sim_bus(cell: &CellConfig) -> SimBus {
+    let drives = cell
+        .axes
+        .iter()
+        .map(|a| {
+            let s = a.scaling.counts_per_unit();
+            let params = SimDriveParams {
+                plant: PlantParams {
+                    position_bandwidth_hz: a.sim.position_bandwidth_hz,
+                    velocity_bandwidth_hz: a.sim.velocity_bandwidth_hz,
+                    // The motor can do a bit more than the axis is allowed to.
+                    max_velocity: a.limits.velocity * s * 1.5,
+                    max_acceleration: a.limits.acceleration * s * 3.0,
+                    ..PlantParams::default()
+                },
+                initial_position: a
+                    .scaling
+                    .to_counts_i32(a.sim.initial_position)
+                    .unwrap_or_default(),
+                following_error_limit: (a.following_error_limit * s).round().min(f64::from(u32::MAX))
+                    as u32,
+                ..SimDriveParams::default()
+            };
+            SimDrive::new(a.profile, params, cell.cycle_time)
+        })
+        .collect();
+    SimBus::new(drives)
+}
+
+/// Runs `cell` until the program ends, the duration elapses or `shutdown` is set.
+pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
+    let queue_cycles =
+        (cell.recording.queue_seconds / cell.period()).ceil().max(64.0) as usize;
+    let handoff = Arc::new(Handoff::new(
+        cell.axes.len(),
+        queue_cycles,
+        opts.record.is_some(),
+    ));
+    let recorder = Recorder::start(cell, opts.record.as_deref(), handoff.clone())?;
+
+    // The RT thread builds its own iceoryx2 port (ports are not Send).
+    let (ready_tx, ready_rx) = mpsc::channel::<Result<RtReport, String>>();
+    let rt_cell = cell.clone();
+    let rt_handoff = handoff.clone();
+    let bus = sim_bus(cell);
+    let hook = opts.hook;
+    let rt = std::thread::Builder::new()
+        .name("cellrt-rt".into())
+        .stack_size(RT_STACK_BYTES)
+        .spawn(move || -> Option<RtStats> {
+            let report = setup_current_thread(&rt_cell.rt);
+            let node = match services::node(&rt_cell.name, "rt") {
+                Ok(n) => n,
+                Err(e) => {
+                    let _ = ready_tx.send(Err(e.to_string()));
+                    return None;
+                }
+            };
+            let sub = match services::setpoint_subscriber(&node, &rt_cell.name) {
+                Ok(s) => s,
+                Err(e) => {
+                    let _ = ready_tx.send(Err(e.to_string()));
+                    return None;
+                }
+            };
+            let exec = Executive::new(
+                &rt_cell,
+                bus,
+                SetpointStream::new(sub),
+                rt_handoff,
+                hook,
+            );
+            let _ = ready_tx.send(Ok(report));
+            Some(exec.run())
+        })
+        .map_err(|e| RunError::Thread(format!("cannot start the RT thread: {e}")))?;
+    let report = match ready_rx.recv() {
+        Ok(Ok(r)) => r,
+        Ok(Err(e)) => {
+            let _ = rt.join();
+            let _ = recorder.finish();
+            return Err(RunError::Thread(e));
+        }
+        Err(_) => {
+            let _ = recorder.finish();
+            return Err(RunError::Thread("the RT thread died during set-up".into()));
+        }
+    };
+    for r in &report.refused {
+        tracing::warn!("{r}");
+    }
+    tracing::info!("{}", report.describe());
+
+    let targets = opts
+        .program
+        .as_ref()
+        .map(|p| p.final_targets(cell.axes.len()))
+        .unwrap_or_else(|| vec![None; cell.axes.len()]);
+    let planner = match opts.program {
+        Some(p) => Some(
+            planner::spawn(cell, p, handoff.clone())
+                .map_err(|e| RunError::Thread(format!("cannot start the planner: {e}")))?,
+        ),
+        None => None,
+    };
+
+    let started = Instant::now();
+    let mut planner = planner;
+    let mut program_result: Option<Result<(), ProgramError>> = None;
+    let outcome = loop {
+        std::thread::sleep(Duration::from_millis(5));
+        if opts.shutdown.load(Ordering::Acquire) {
+            break Outcome::Interrupted;
+        }
+        if planner.as_ref().is_some_and(|p| p.is_finished()) {
+            let r = planner.take().map(|p| p.join()).unwrap_or(Ok(()));
+            let failed = r.is_err();
+            program_result = Some(r);
+            break if failed {
+                Outcome::ProgramFailed
+            } else {
+                Outcome::ProgramCompleted
+            };
+        }
+        if opts.duration.is_some_and(|d| started.elapsed() >= d) {
+            break Outcome::DurationElapsed;
+        }
+        if rt.is_finished() {
+            break Outcome::ProgramFailed;
+        }
+    };
+    if let Some(p) = planner.take() {
+        let r = p.abort();
+        if program_result.is_none() && r.is_err() {
+            program_result = Some(r);
+        }
+    }
+
+    shutdown(cell, &handoff);
+    let stats = rt
+        .join()
+        .map_err(|_| RunError::Thread("the RT thread panicked".into()))?
+        .ok_or_else(|| RunError::Thread("the RT thread ended without statistics".into()))?;
+    let recording = recorder.finish()?;
+
+    let axes = cell
+        .axes
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            let pos = a.scaling.to_units(f64::from(stats.final_positions[i]));
+            AxisSummary {
+                name: a.name.clone(),
+                unit: a.unit.clone(),
+                final_position: pos,
+                target: targets[i],
+                error: targets[i].map(|t| pos - t),
+            }
+        })
+        .collect();
+    let program_error = program_result.and_then(|r| r.err()).map(|e| e.to_string());
+    let outcome = if program_error.is_some() && outcome != Outcome::Interrupted {
+        Outcome::ProgramFailed
+    } else {
+        outcome
+    };
+    Ok(Summary {
+        cell: cell.name.clone(),
+        cycle_time_us: cell.cycle_time.as_micros(),
+        outcome,
+        program_error,
+        rt: report,
+        counters: stats.counters(),
+        wakeup_latency: stats.latency.percentiles(),
+        loop_time: stats.loop_time.percentiles(),
+        final_state: stats.final_state.as_str().to_string(),
+        axes,
+        recording,
+    })
+}
+
+/// Brings the cell to rest and powered off, then tells the RT thread to quit.
+fn shutdown(cell: &CellConfig, handoff: &Handoff) {
+    let status = &handoff.status;
+    let wait = |pred: &dyn Fn(CellState) -> bool, timeout: Duration| {
+        let end = Instant::now() + timeout;
+        while !pred(status.state()) && Instant::now() < end {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    };
+    // Longest controlled stop of any axis from its velocity limit, plus margin.
+    let stop_time = cell
+        .axes
+        .iter()
+        .map(|a| a.limits.velocity / a.stop_deceleration)
+        .fold(0.0, f64::max);
+    let stop_timeout = Duration::from_secs_f64(stop_time + 2.0);
+
+    if matches!(status.state(), CellState::Moving | CellState::Stopping) {
+        let _ = handoff.commands.push(CellCommand::Stop);
+        wait(
+            &|s| !matches!(s, CellState::Moving | CellState::Stopping),
+            stop_timeout,
+        );
+    }
+    if status.state() != CellState::Disabled {
+        let _ = handoff.commands.push(CellCommand::PowerOff);
+        wait(&|s| s == CellState::Disabled, planner::POWER_TIMEOUT);
+    }
+    let _ = handoff.commands.push(CellCommand::Quit);
+}

@@ -1,0 +1,402 @@
+//! The cell state machine of the RT loop: commands, power sequencing, following the setpoint
+//! stream, underrun and setpoint checks, the controlled stop and the group reaction to faults.
+
+use std::sync::atomic::Ordering;
+
+use cellrt_axes::bus::Bus;
+use cellrt_axes::cia402::master::{MasterRequest, MasterState};
+
+use super::Executive;
+use crate::handoff::{CellCommand, CellState, EventKind, RejectReason, StopReason, NO_AXIS};
+use crate::setpoints::{SetpointBlock, BLOCK_CYCLES};
+
+/// Commands taken per cycle at most (bounds the cycle's work).
+const COMMANDS_PER_CYCLE: usize = 4;
+
+/// Outcome of looking up this cycle's setpoints in the stream.
+enum Lookup {
+    /// Setpoints applied.
+    Applied,
+    /// The motion ended with the previous cycle.
+    Finished,
+    /// No setpoint for this cycle.
+    Underrun,
+    /// A setpoint was refused.
+    Rejected(u16, RejectReason),
+}
+
+impl<B: Bus> Executive<B> {
+    /// Takes pending commands; returns true on Quit.
+    pub(super) fn take_commands(&mut self) -> bool {
+        for _ in 0..COMMANDS_PER_CYCLE {
+            let Some(cmd) = self.handoff.commands.pop() else {
+                break;
+            };
+            let accepted = match (cmd, self.state) {
+                (CellCommand::Quit, _) => return true,
+                (CellCommand::PowerOn, CellState::Disabled) => {
+                    self.request_all(MasterRequest::Enable);
+                    self.set_state(CellState::Enabling);
+                    true
+                }
+                (CellCommand::PowerOn, CellState::Enabling | CellState::Idle) => true,
+                (
+                    CellCommand::PowerOff,
+                    CellState::Idle
+                    | CellState::Enabling
+                    | CellState::Stopped
+                    | CellState::Faulted
+                    | CellState::Disabling
+                    | CellState::Disabled,
+                ) => {
+                    self.request_all(MasterRequest::Disable);
+                    self.stream.discard_all();
+                    self.set_state(CellState::Disabling);
+                    true
+                }
+                (CellCommand::Stop, CellState::Moving) => {
+                    self.begin_stop(StopReason::Command);
+                    true
+                }
+                (CellCommand::Stop, _) => true,
+                (CellCommand::Reset, CellState::Stopped) => {
+                    self.stop_reason = None;
+                    self.handoff.status.stop_reason.store(0, Ordering::Release);
+                    self.stream.discard_all();
+                    self.set_state(CellState::Idle);
+                    true
+                }
+                (CellCommand::Reset, CellState::Faulted) => {
+                    self.stop_reason = None;
+                    self.handoff.status.stop_reason.store(0, Ordering::Release);
+                    for ch in &mut self.axes {
+                        if ch.feedback.statusword.fault() {
+                            ch.master.request(MasterRequest::FaultReset);
+                        }
+                    }
+                    true
+                }
+                (CellCommand::Reset, _) => true,
+                _ => false,
+            };
+            let kind = if accepted {
+                EventKind::Command
+            } else {
+                EventKind::CommandRefused
+            };
+            self.event(kind, NO_AXIS, cmd.event_value());
+        }
+        false
+    }
+
+    /// One cycle of the cell state machine.
+    pub(super) fn update_cell(&mut self) {
+        match self.state {
+            CellState::Disabled => self.track_all(),
+            CellState::Enabling => {
+                self.track_all();
+                if self.any_fault_or_timeout() {
+                    self.enter_faulted();
+                } else if self.axes.iter().all(|a| a.master.is_enabled()) {
+                    self.set_state(CellState::Idle);
+                }
+            }
+            CellState::Idle => {
+                if self.any_fault_or_timeout() {
+                    self.enter_faulted();
+                } else {
+                    self.hold_all();
+                    self.poll_motion_start();
+                }
+            }
+            CellState::Moving => {
+                if self.any_fault_or_timeout() {
+                    self.begin_stop(StopReason::DriveFault);
+                    self.stop_cycle();
+                    return;
+                }
+                match self.follow_stream() {
+                    Lookup::Applied => {}
+                    Lookup::Finished => {
+                        self.stream.pop();
+                        self.hold_all();
+                        self.handoff
+                            .status
+                            .motion_done
+                            .store(self.motion_id, Ordering::Release);
+                        self.event(EventKind::MotionFinished, NO_AXIS, i64::from(self.motion_id));
+                        self.set_state(CellState::Idle);
+                    }
+                    Lookup::Underrun => {
+                        self.stats.underruns += 1;
+                        self.event(EventKind::Underrun, NO_AXIS, i64::from(self.motion_id));
+                        self.begin_stop(StopReason::Underrun);
+                        self.stop_cycle();
+                    }
+                    Lookup::Rejected(axis, reason) => {
+                        self.stats.rejected_setpoints += 1;
+                        self.event(EventKind::SetpointRejected, axis, reason as i64);
+                        self.begin_stop(StopReason::SetpointRejected);
+                        self.stop_cycle();
+                    }
+                }
+            }
+            CellState::Stopping => self.stop_cycle(),
+            CellState::Stopped => {
+                if self.any_fault_or_timeout() {
+                    self.enter_faulted();
+                } else {
+                    self.hold_all();
+                    self.refuse_motion();
+                }
+            }
+            CellState::Disabling => {
+                self.track_all();
+                self.stream.discard_all();
+                if self.axes.iter().all(|a| !a.master.is_enabled()) {
+                    self.set_state(CellState::Disabled);
+                }
+            }
+            CellState::Faulted => {
+                self.track_all();
+                self.refuse_motion();
+                if self.stop_reason.is_none()
+                    && self.axes.iter().all(|a| !a.feedback.statusword.fault())
+                {
+                    self.request_all(MasterRequest::Disable);
+                    self.set_state(CellState::Disabling);
+                }
+            }
+        }
+        self.publish_holds();
+    }
+
+    fn request_all(&mut self, req: MasterRequest) {
+        for ch in &mut self.axes {
+            ch.master.request(req);
+        }
+    }
+
+    fn track_all(&mut self) {
+        for ch in &mut self.axes {
+            ch.track_actual();
+        }
+    }
+
+    fn hold_all(&mut self) {
+        for ch in &mut self.axes {
+            if ch.master.is_enabled() {
+                ch.velocity = 0.0;
+            } else {
+                ch.track_actual();
+            }
+        }
+    }
+
+    fn publish_holds(&self) {
+        for (i, ch) in self.axes.iter().enumerate() {
+            self.handoff.status.hold[i].store(ch.setpoint.to_bits(), Ordering::Release);
+        }
+    }
+
+    fn any_fault_or_timeout(&self) -> bool {
+        self.axes.iter().any(|a| a.master.fault()
+                || matches!(a.master.state(), MasterState::TimedOut | MasterState::EnableLost))
+    }
+
+    fn enter_faulted(&mut self) {
+        for i in 0..self.axes.len() {
+            if self.axes[i].master.state() == MasterState::TimedOut {
+                self.event(EventKind::MasterTimeout, i as u16, 0);
+            }
+        }
+        self.stop_reason = Some(StopReason::DriveFault);
+        self.handoff
+            .status
+            .stop_reason
+            .store(StopReason::DriveFault as u8, Ordering::Release);
+        self.request_all(MasterRequest::Disable);
+        self.stream.discard_all();
+        self.set_state(CellState::Faulted);
+        // The fault must be reset before the cell can be disabled and powered again.
+        self.stop_reason = Some(StopReason::DriveFault);
+    }
+
+    pub(super) fn set_state(&mut self, s: CellState) {
+        if self.state != s {
+            self.state = s;
+            self.handoff.status.state.store(s as u8, Ordering::Release);
+            self.event(EventKind::CellState, NO_AXIS, s as i64);
+        }
+    }
+
+    /// Drops blocks that arrive while the cell does not accept motion, with an event per block.
+    fn refuse_motion(&mut self) {
+        for _ in 0..BLOCK_CYCLES {
+            match self.stream.front() {
+                Ok(Some(_)) => {
+                    self.stream.pop();
+                    self.event(
+                        EventKind::SetpointRejected,
+                        NO_AXIS,
+                        RejectReason::NotAccepting as i64,
+                    );
+                }
+                _ => break,
+            }
+        }
+    }
+
+    /// In Idle: starts the motion whose first block begins this cycle.
+    fn poll_motion_start(&mut self) {
+        let cycle = self.cycle;
+        let n = self.axes.len();
+        let last_motion = self.motion_id;
+        let verdict = match self.stream.front() {
+            Ok(Some(b)) => {
+                if b.motion_id <= last_motion && b.motion_id != 0 && last_motion != 0 {
+                    Some(Err(None)) // stale block of an ended motion
+                } else if !header_ok(b, n) {
+                    Some(Err(Some(RejectReason::Malformed)))
+                } else if b.start_cycle < cycle {
+                    Some(Err(Some(RejectReason::LateBlock)))
+                } else if b.start_cycle == cycle {
+                    Some(Ok(b.motion_id))
+                } else {
+                    None
+                }
+            }
+            _ => None,
+        };
+        match verdict {
+            None => {}
+            Some(Err(None)) => self.stream.pop(),
+            Some(Err(Some(reason))) => {
+                self.stats.rejected_setpoints += 1;
+                self.event(EventKind::SetpointRejected, NO_AXIS, reason as i64);
+                self.stream.pop();
+            }
+            Some(Ok(id)) => {
+                self.motion_id = id;
+                self.handoff.status.motion_id.store(id, Ordering::Release);
+                match self.follow_stream() {
+                    Lookup::Applied => {
+                        self.event(EventKind::MotionStarted, NO_AXIS, i64::from(id));
+                        self.set_state(CellState::Moving);
+                    }
+                    Lookup::Rejected(axis, reason) => {
+                        self.stats.rejected_setpoints += 1;
+                        self.event(EventKind::SetpointRejected, axis, reason as i64);
+                        self.stream.discard_all();
+                    }
+                    Lookup::Finished | Lookup::Underrun => {
+                        self.stream.pop();
+                    }
+                }
+            }
+        }
+    }
+
+    /// Applies this cycle's setpoints from the stream, checking continuity and limits before
+    /// anything is applied.
+    fn follow_stream(&mut self) -> Lookup {
+        let cycle = self.cycle;
+        let n = self.axes.len();
+        // At most two blocks are looked at: the one in use and its successor.
+        for _ in 0..2 {
+            let front = match self.stream.front() {
+                Ok(Some(b)) => b,
+                _ => return Lookup::Underrun,
+            };
+            if front.motion_id != self.motion_id || !header_ok(front, n) {
+                return Lookup::Rejected(NO_AXIS, RejectReason::Discontinuous);
+            }
+            if cycle < front.start_cycle {
+                return Lookup::Underrun;
+            }
+            if cycle >= front.end_cycle() {
+                if front.is_last() {
+                    return Lookup::Finished;
+                }
+                let end = front.end_cycle();
+                self.stream.pop();
+                match self.stream.front() {
+                    Ok(Some(next)) if next.start_cycle != end && next.motion_id == self.motion_id => {
+                        return Lookup::Rejected(NO_AXIS, RejectReason::Discontinuous)
+                    }
+                    _ => continue,
+                }
+            }
+            // Check every axis first, then apply: a rejected cycle changes nothing.
+            for (i, ch) in self.axes.iter().enumerate() {
+                let Some(sp) = front.get(cycle, i) else {
+                    return Lookup::Rejected(i as u16, RejectReason::Malformed);
+                };
+                if !sp.position.is_finite() || !sp.velocity.is_finite() {
+                    return Lookup::Rejected(i as u16, RejectReason::Malformed);
+                }
+                if sp.position < ch.limits.position_min || sp.position > ch.limits.position_max {
+                    return Lookup::Rejected(i as u16, RejectReason::OutsideRange);
+                }
+                if (sp.position - ch.setpoint).abs() > ch.limits.max_step
+                    || (sp.velocity * self.period_s).abs() > ch.limits.max_step
+                {
+                    return Lookup::Rejected(i as u16, RejectReason::VelocityStep);
+                }
+            }
+            for (i, ch) in self.axes.iter_mut().enumerate() {
+                if let Some(sp) = front.get(cycle, i) {
+                    ch.setpoint = sp.position;
+                    ch.velocity = sp.velocity;
+                }
+            }
+            return Lookup::Applied;
+        }
+        Lookup::Underrun
+    }
+
+    /// Starts the RT thread's own controlled stop of every axis.
+    pub(super) fn begin_stop(&mut self, reason: StopReason) {
+        self.stop_reason = Some(reason);
+        self.handoff
+            .status
+            .stop_reason
+            .store(reason as u8, Ordering::Release);
+        for ch in &mut self.axes {
+            ch.begin_stop();
+        }
+        self.stream.discard_all();
+        self.event(EventKind::StopStarted, NO_AXIS, reason as i64);
+        self.set_state(CellState::Stopping);
+    }
+
+    /// One cycle of the controlled stop; ends it when every axis stands still.
+    fn stop_cycle(&mut self) {
+        self.stream.discard_all();
+        let period = self.period_s;
+        for ch in &mut self.axes {
+            if ch.master.is_enabled() {
+                ch.stop_step(period);
+            } else {
+                ch.track_actual();
+                ch.stopped = true;
+            }
+        }
+        if self.axes.iter().all(|a| a.stopped) {
+            self.event(EventKind::StopFinished, NO_AXIS, 0);
+            match self.stop_reason {
+                Some(StopReason::Command) => {
+                    self.stop_reason = None;
+                    self.set_state(CellState::Idle)
+                }
+                Some(StopReason::DriveFault) => self.enter_faulted(),
+                _ => self.set_state(CellState::Stopped),
+            }
+        }
+    }
+}
+
+/// Whether a block's header fits this cell.
+fn header_ok(b: &SetpointBlock, axes: usize) -> bool {
+    b.axis_count as usize == axes && b.cycles >= 1 && b.cycles as usize <= BLOCK_CYCLES
+}

@@ -1,0 +1,343 @@
+//! The cyclic executive: one fixed sequence of small steps per cycle (ARCHITECTURE.md, "Data
+//! flow of one cycle"), run on the pinned RT thread with absolute deadlines.
+//!
+//! Steady state does no heap allocation, takes no lock and makes no syscall other than the cycle
+//! sleep, the clock read and the bus exchange (the counting-allocator test proves the first).
+
+mod axis;
+mod cell;
+
+pub use axis::{AxisChannel, AxisLimitsCounts, STEP_TOLERANCE};
+
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+
+use cellrt_axes::bus::Bus;
+use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::pdo::RxPdo;
+use cellrt_axes::Cycles;
+use serde::Serialize;
+
+use crate::config::CellConfig;
+use crate::handoff::{
+    AxisRecord, CellState, CycleRecord, EventKind, EventRecord, Handoff, NO_AXIS,
+};
+use crate::rt::clock::{sleep_until, MonoTime};
+use crate::rt::histogram::NsHistogram;
+use crate::setpoints::SetpointStream;
+
+/// Hook called by the RT thread at phase changes (test instrumentation; a plain fn pointer so
+/// calling it allocates nothing).
+pub type PhaseHook = fn(RtPhase);
+
+/// Phases of the RT loop reported to a [`PhaseHook`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RtPhase {
+    /// Warm-up is over: from here on the loop is in steady state.
+    SteadyState,
+    /// The loop is about to exit.
+    Exit,
+}
+
+/// Cycles the loop runs before it calls itself steady (first iceoryx2 receives, page faults).
+pub const WARMUP_CYCLES: u64 = 200;
+
+/// Counters and histograms the RT thread hands back when it exits.
+#[derive(Debug, Clone)]
+pub struct RtStats {
+    /// Executed cycles.
+    pub cycles: u64,
+    /// Missed deadlines (skipped cycles).
+    pub overruns: u64,
+    /// Setpoint underruns during motion.
+    pub underruns: u64,
+    /// Rejected setpoint blocks.
+    pub rejected_setpoints: u64,
+    /// Drive faults seen (rising edges of statusword bit 3).
+    pub faults: u64,
+    /// Records that could not be handed to the recorder.
+    pub dropped_records: u64,
+    /// Events that could not be handed over.
+    pub dropped_events: u64,
+    /// Wakeup latency histogram.
+    pub latency: NsHistogram,
+    /// Loop body time histogram.
+    pub loop_time: NsHistogram,
+    /// Final actual position of each axis, counts.
+    pub final_positions: Vec<i32>,
+    /// Final cell state.
+    pub final_state: CellState,
+}
+
+/// Summary numbers of [`RtStats`] for printing and JSON.
+#[derive(Debug, Clone, Serialize)]
+pub struct RtCounters {
+    /// Executed cycles.
+    pub cycles: u64,
+    /// Missed deadlines.
+    pub overruns: u64,
+    /// Setpoint underruns.
+    pub underruns: u64,
+    /// Rejected setpoints.
+    pub rejected_setpoints: u64,
+    /// Drive faults.
+    pub faults: u64,
+    /// Dropped records.
+    pub dropped_records: u64,
+}
+
+impl RtStats {
+    /// The counters only.
+    pub fn counters(&self) -> RtCounters {
+        RtCounters {
+            cycles: self.cycles,
+            overruns: self.overruns,
+            underruns: self.underruns,
+            rejected_setpoints: self.rejected_setpoints,
+            faults: self.faults,
+            dropped_records: self.dropped_records,
+        }
+    }
+}
+
+/// All state of the RT loop, preallocated from the configuration.
+pub struct Executive<B: Bus> {
+    bus: B,
+    axes: Vec<AxisChannel>,
+    stream: SetpointStream,
+    handoff: Arc<Handoff>,
+    period_ns: u64,
+    period_s: f64,
+    cycle: u64,
+    state: CellState,
+    motion_id: u32,
+    stop_reason: Option<crate::handoff::StopReason>,
+    stats: RtStats,
+    hook: Option<PhaseHook>,
+}
+
+impl<B: Bus> Executive<B> {
+    /// Builds the executive for `cell` on the RT thread (the setpoint stream's port is not `Send`).
+    pub fn new(
+        cell: &CellConfig,
+        bus: B,
+        stream: SetpointStream,
+        handoff: Arc<Handoff>,
+        hook: Option<PhaseHook>,
+    ) -> Self {
+        let axes: Vec<AxisChannel> = cell
+            .axes
+            .iter()
+            .map(|a| AxisChannel::new(cell, a))
+            .collect();
+        let n = axes.len();
+        Executive {
+            bus,
+            axes,
+            stream,
+            handoff,
+            period_ns: cell.cycle_time.as_nanos(),
+            period_s: cell.period(),
+            cycle: 0,
+            state: CellState::Disabled,
+            motion_id: 0,
+            stop_reason: None,
+            stats: RtStats {
+                cycles: 0,
+                overruns: 0,
+                underruns: 0,
+                rejected_setpoints: 0,
+                faults: 0,
+                dropped_records: 0,
+                dropped_events: 0,
+                latency: NsHistogram::new(),
+                loop_time: NsHistogram::new(),
+                final_positions: vec![0; n],
+                final_state: CellState::Disabled,
+            },
+            hook,
+        }
+    }
+
+    /// Runs the loop until a Quit command; returns the statistics.
+    pub fn run(mut self) -> RtStats {
+        let start = MonoTime::now().plus(self.period_ns);
+        let mut deadline = start;
+        self.handoff.status.running.store(true, Ordering::Release);
+        let mut elapsed = Cycles(1);
+        loop {
+            sleep_until(deadline);
+            let wake = MonoTime::now();
+            let latency = wake.since(deadline);
+            if self.cycle == WARMUP_CYCLES {
+                if let Some(hook) = self.hook {
+                    hook(RtPhase::SteadyState);
+                }
+            }
+
+            let quit = self.step(elapsed);
+
+            let end = MonoTime::now();
+            let loop_ns = end.since(wake);
+            self.stats.latency.record(latency);
+            self.stats.loop_time.record(loop_ns);
+            self.stats.cycles += 1;
+            self.publish(deadline, latency, loop_ns);
+            if quit {
+                break;
+            }
+
+            // Next deadline; deadlines already past are counted and skipped, never caught up.
+            let mut next = deadline.plus(self.period_ns);
+            let mut step = 1u64;
+            let now = MonoTime::now();
+            if now >= next {
+                let missed = now.since(next) / self.period_ns + 1;
+                self.stats.overruns += missed;
+                self.event(EventKind::Overrun, NO_AXIS, now.since(next) as i64);
+                next = next.plus(missed * self.period_ns);
+                step += missed;
+            }
+            deadline = next;
+            self.cycle += step;
+            elapsed = Cycles(step.min(u64::from(u32::MAX)) as u32);
+        }
+        if let Some(hook) = self.hook {
+            hook(RtPhase::Exit);
+        }
+        self.handoff.status.running.store(false, Ordering::Release);
+        for (i, a) in self.axes.iter().enumerate() {
+            self.stats.final_positions[i] = a.feedback.position_actual;
+        }
+        self.stats.final_state = self.state;
+        self.stats
+    }
+
+    /// One cycle: read inputs, checks, commands, setpoints, masters, outputs, exchange.
+    /// Returns true when the loop should exit.
+    fn step(&mut self, elapsed: Cycles) -> bool {
+        self.read_inputs();
+        let quit = self.take_commands();
+        self.update_cell();
+        self.write_outputs();
+        if self.bus.exchange(elapsed).is_err() {
+            self.event(EventKind::BusError, NO_AXIS, -1);
+        }
+        quit
+    }
+
+    /// Decodes every axis' TxPDO image and watches for FSA changes and faults.
+    fn read_inputs(&mut self) {
+        for i in 0..self.axes.len() {
+            let decoded = self.axes[i].tx_map.decode_tx(self.bus.tx_image(i));
+            let Ok(tx) = decoded else {
+                self.event(EventKind::BusError, i as u16, i as i64);
+                continue;
+            };
+            let old = self.axes[i].feedback;
+            self.axes[i].feedback = tx;
+            if old.statusword.state() != tx.statusword.state() {
+                let v = tx.statusword.state().map(fsa_index).unwrap_or(0);
+                self.event(EventKind::FsaState, i as u16, v);
+            }
+            if tx.statusword.fault() && !old.statusword.fault() {
+                self.stats.faults += 1;
+                self.event(EventKind::DriveFault, i as u16, i64::from(tx.error_code));
+            }
+        }
+    }
+
+    /// Encodes every axis' RxPDO image from its setpoint and controlword.
+    fn write_outputs(&mut self) {
+        for i in 0..self.axes.len() {
+            let ch = &mut self.axes[i];
+            let controlword = ch.master.update(ch.feedback.statusword);
+            let rx = RxPdo {
+                mode: ModeOfOperation::CyclicSyncPosition.as_i8(),
+                controlword,
+                target_position: round_counts(ch.setpoint),
+                ..RxPdo::default()
+            };
+            let map = ch.rx_map;
+            if map.encode_rx(&rx, self.bus.rx_image_mut(i)).is_err() {
+                self.event(EventKind::BusError, i as u16, i as i64);
+            }
+            if self.handoff.recording {
+                let ch = &self.axes[i];
+                let rec = AxisRecord {
+                    cycle: self.cycle,
+                    axis: i as u16,
+                    setpoint: ch.setpoint,
+                    setpoint_velocity: ch.velocity,
+                    target_position: rx.target_position,
+                    position_actual: ch.feedback.position_actual,
+                    velocity_actual: ch.feedback.velocity_actual,
+                    following_error: ch.feedback.following_error,
+                    controlword: controlword.0,
+                    statusword: ch.feedback.statusword.0,
+                    fsa_state: ch.feedback.statusword.state(),
+                    mode_display: ch.feedback.mode_display,
+                    error_code: ch.feedback.error_code,
+                };
+                if self.handoff.axes.push(rec).is_err() {
+                    self.stats.dropped_records += 1;
+                }
+            }
+        }
+    }
+
+    /// Hands the cycle record and the status to the non-RT side.
+    fn publish(&mut self, deadline: MonoTime, latency: u64, loop_ns: u64) {
+        let status = &self.handoff.status;
+        status.cycle.store(self.cycle, Ordering::Release);
+        status.state.store(self.state as u8, Ordering::Release);
+        if self.handoff.recording {
+            let rec = CycleRecord {
+                cycle: self.cycle,
+                deadline_ns: deadline.0,
+                wakeup_latency_ns: latency.min(u64::from(u32::MAX)) as u32,
+                loop_time_ns: loop_ns.min(u64::from(u32::MAX)) as u32,
+                overruns: self.stats.overruns,
+                cell_state: self.state,
+                dropped_records: self.stats.dropped_records,
+            };
+            if self.handoff.cycles.push(rec).is_err() {
+                self.stats.dropped_records += 1;
+            }
+        }
+    }
+
+    /// Hands an event over; a full queue is counted, never blocks.
+    fn event(&mut self, kind: EventKind, axis: u16, value: i64) {
+        let ev = EventRecord {
+            cycle: self.cycle,
+            kind,
+            axis,
+            value,
+        };
+        if self.handoff.events.push(ev).is_err() {
+            self.stats.dropped_events += 1;
+        }
+    }
+}
+
+/// Rounds a fractional count to the drive's 32-bit position (saturating; the range check
+/// keeps setpoints far inside).
+fn round_counts(v: f64) -> i32 {
+    v.round().clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32
+}
+
+/// Index of an FSA state in the recording's `FsaState` enum.
+pub fn fsa_index(s: cellrt_axes::cia402::fsa::FsaState) -> i64 {
+    use cellrt_axes::cia402::fsa::FsaState::*;
+    match s {
+        NotReadyToSwitchOn => 1,
+        SwitchOnDisabled => 2,
+        ReadyToSwitchOn => 3,
+        SwitchedOn => 4,
+        OperationEnabled => 5,
+        QuickStopActive => 6,
+        FaultReactionActive => 7,
+        Fault => 8,
+    }
+}

@@ -1,0 +1,404 @@
+//! Lock-free hand-offs between the RT thread and the non-RT threads: preallocated bounded
+//! queues (crossbeam `ArrayQueue`) for records, events and commands, and atomics for status.
+
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, AtomicU8, Ordering};
+
+use cellrt_axes::cia402::fsa::FsaState;
+use crossbeam::queue::ArrayQueue;
+
+use crate::setpoints::MAX_AXES;
+
+/// What a non-RT thread asks of the cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CellCommand {
+    /// Bring every axis to Operation enabled (MC_Power on).
+    PowerOn,
+    /// Clean shutdown of every axis: Shutdown by controlword (MC_Power off).
+    PowerOff,
+    /// Controlled stop of any motion; the cell returns to Idle (MC_Stop).
+    Stop,
+    /// Clear a Stopped or Faulted cell (MC_Reset).
+    Reset,
+    /// Leave the RT loop (after PowerOff).
+    Quit,
+}
+
+impl CellCommand {
+    /// Short name for events and messages.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            CellCommand::PowerOn => "power_on",
+            CellCommand::PowerOff => "power_off",
+            CellCommand::Stop => "stop",
+            CellCommand::Reset => "reset",
+            CellCommand::Quit => "quit",
+        }
+    }
+
+    fn code(self) -> i64 {
+        self as i64
+    }
+
+    /// Inverse of the event value the RT thread records for a command.
+    pub fn from_code(v: i64) -> Option<CellCommand> {
+        [
+            CellCommand::PowerOn,
+            CellCommand::PowerOff,
+            CellCommand::Stop,
+            CellCommand::Reset,
+            CellCommand::Quit,
+        ]
+        .into_iter()
+        .find(|c| c.code() == v)
+    }
+
+    /// Value recorded with command events.
+    pub fn event_value(self) -> i64 {
+        self.code()
+    }
+}
+
+/// State of the cell as a whole, owned by the RT thread.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[repr(u8)]
+pub enum CellState {
+    /// Axes not enabled.
+    #[default]
+    Disabled = 1,
+    /// Powering up through the controlword sequence.
+    Enabling = 2,
+    /// Enabled and holding position; accepts motion.
+    Idle = 3,
+    /// Following a setpoint stream.
+    Moving = 4,
+    /// Ramping to a stop on the RT thread's own (controlled stop).
+    Stopping = 5,
+    /// Stopped after an underrun or a rejected setpoint; refuses motion until reset.
+    Stopped = 6,
+    /// Shutting the axes down.
+    Disabling = 7,
+    /// A drive faulted or did not answer; needs reset.
+    Faulted = 8,
+}
+
+impl CellState {
+    /// Inverse of `as u8`.
+    pub fn from_u8(v: u8) -> Option<CellState> {
+        use CellState::*;
+        [
+            Disabled, Enabling, Idle, Moving, Stopping, Stopped, Disabling, Faulted,
+        ]
+        .into_iter()
+        .find(|s| *s as u8 == v)
+    }
+
+    /// Lower-case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            CellState::Disabled => "disabled",
+            CellState::Enabling => "enabling",
+            CellState::Idle => "idle",
+            CellState::Moving => "moving",
+            CellState::Stopping => "stopping",
+            CellState::Stopped => "stopped",
+            CellState::Disabling => "disabling",
+            CellState::Faulted => "faulted",
+        }
+    }
+}
+
+/// Why a controlled stop was started.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum StopReason {
+    /// A Stop command (or SIGINT/SIGTERM).
+    Command = 1,
+    /// The setpoint stream ran dry during motion.
+    Underrun = 2,
+    /// A setpoint broke a limit or the stream's continuity.
+    SetpointRejected = 3,
+    /// A drive faulted; the other axes stop too.
+    DriveFault = 4,
+}
+
+impl StopReason {
+    /// Lower-case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            StopReason::Command => "command",
+            StopReason::Underrun => "underrun",
+            StopReason::SetpointRejected => "setpoint_rejected",
+            StopReason::DriveFault => "drive_fault",
+        }
+    }
+
+    /// Inverse of `as u8`.
+    pub fn from_u8(v: u8) -> Option<StopReason> {
+        use StopReason::*;
+        [Command, Underrun, SetpointRejected, DriveFault]
+            .into_iter()
+            .find(|s| *s as u8 == v)
+    }
+}
+
+/// Why a setpoint was rejected (the `value` of a `SetpointRejected` event).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum RejectReason {
+    /// The block's first cycle had already passed when it arrived.
+    LateBlock = 1,
+    /// A step between consecutive setpoints above the velocity limit.
+    VelocityStep = 2,
+    /// A setpoint outside the axis' position range.
+    OutsideRange = 3,
+    /// A block for another motion or with a gap in cycles.
+    Discontinuous = 4,
+    /// NaN, infinity, or a malformed header.
+    Malformed = 5,
+    /// Motion sent while the cell does not accept it.
+    NotAccepting = 6,
+}
+
+impl RejectReason {
+    /// Lower-case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RejectReason::LateBlock => "late_block",
+            RejectReason::VelocityStep => "velocity_step",
+            RejectReason::OutsideRange => "outside_range",
+            RejectReason::Discontinuous => "discontinuous",
+            RejectReason::Malformed => "malformed",
+            RejectReason::NotAccepting => "not_accepting",
+        }
+    }
+
+    /// Inverse of `as u8`.
+    pub fn from_u8(v: u8) -> Option<RejectReason> {
+        use RejectReason::*;
+        [
+            LateBlock,
+            VelocityStep,
+            OutsideRange,
+            Discontinuous,
+            Malformed,
+            NotAccepting,
+        ]
+        .into_iter()
+        .find(|s| *s as u8 == v)
+    }
+}
+
+/// What an event says; the meaning of [`EventRecord::value`] depends on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventKind {
+    /// Cell state changed (value: new [`CellState`] as u8).
+    CellState,
+    /// An axis' FSA state changed (value: [`FsaState`] index).
+    FsaState,
+    /// A command was taken (value: command code).
+    Command,
+    /// A command was refused in the current state (value: command code).
+    CommandRefused,
+    /// A motion started (value: motion id).
+    MotionStarted,
+    /// A motion ended normally (value: motion id).
+    MotionFinished,
+    /// Setpoints missing during motion (value: motion id).
+    Underrun,
+    /// A setpoint was rejected (value: [`RejectReason`] as u8).
+    SetpointRejected,
+    /// A controlled stop started (value: [`StopReason`] as u8).
+    StopStarted,
+    /// A controlled stop ended.
+    StopFinished,
+    /// Deadlines missed (value: how late the wakeup was, ns; the count is in the cycle record).
+    Overrun,
+    /// An axis' drive reports a fault (value: 603Fh error code).
+    DriveFault,
+    /// An axis' master gave up waiting for the drive.
+    MasterTimeout,
+    /// Records were dropped because the recorder queue was full (value: count so far).
+    RecordsDropped,
+    /// The bus exchange failed (value: axis index).
+    BusError,
+}
+
+impl EventKind {
+    /// Lower-case name used on the events channel.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            EventKind::CellState => "cell_state",
+            EventKind::FsaState => "fsa_state",
+            EventKind::Command => "command",
+            EventKind::CommandRefused => "command_refused",
+            EventKind::MotionStarted => "motion_started",
+            EventKind::MotionFinished => "motion_finished",
+            EventKind::Underrun => "underrun",
+            EventKind::SetpointRejected => "setpoint_rejected",
+            EventKind::StopStarted => "stop_started",
+            EventKind::StopFinished => "stop_finished",
+            EventKind::Overrun => "overrun",
+            EventKind::DriveFault => "drive_fault",
+            EventKind::MasterTimeout => "master_timeout",
+            EventKind::RecordsDropped => "records_dropped",
+            EventKind::BusError => "bus_error",
+        }
+    }
+}
+
+/// Axis index for cell-wide events.
+pub const NO_AXIS: u16 = u16::MAX;
+
+/// An event, as handed from the RT thread to the recorder.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EventRecord {
+    /// Cycle it happened in.
+    pub cycle: u64,
+    /// What happened.
+    pub kind: EventKind,
+    /// Axis index, or [`NO_AXIS`].
+    pub axis: u16,
+    /// Kind-specific value.
+    pub value: i64,
+}
+
+/// Timing of one executed cycle.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CycleRecord {
+    /// Cycle number (deadline index since start).
+    pub cycle: u64,
+    /// Absolute deadline, CLOCK_MONOTONIC ns.
+    pub deadline_ns: u64,
+    /// Wakeup minus deadline, ns.
+    pub wakeup_latency_ns: u32,
+    /// Loop body time, ns.
+    pub loop_time_ns: u32,
+    /// Missed deadlines so far.
+    pub overruns: u64,
+    /// Cell state at the end of the cycle.
+    pub cell_state: CellState,
+    /// Records dropped so far.
+    pub dropped_records: u64,
+}
+
+/// One axis in one executed cycle (drive units: counts).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct AxisRecord {
+    /// Cycle number.
+    pub cycle: u64,
+    /// Axis index.
+    pub axis: u16,
+    /// Setpoint position, counts (fractional, before rounding).
+    pub setpoint: f64,
+    /// Setpoint velocity, counts/s.
+    pub setpoint_velocity: f64,
+    /// Target position written to the RxPDO, counts.
+    pub target_position: i32,
+    /// Position actual value (6064h), counts.
+    pub position_actual: i32,
+    /// Velocity actual value (606Ch), counts/s.
+    pub velocity_actual: i32,
+    /// Following error actual value (60F4h), counts.
+    pub following_error: i32,
+    /// Controlword sent (6040h).
+    pub controlword: u16,
+    /// Statusword received (6041h).
+    pub statusword: u16,
+    /// Decoded FSA state.
+    pub fsa_state: Option<FsaState>,
+    /// Modes of operation display (6061h).
+    pub mode_display: i8,
+    /// Error code (603Fh).
+    pub error_code: u16,
+}
+
+/// Status the RT thread publishes every cycle for the non-RT side (planner, CLI).
+#[derive(Debug)]
+pub struct CellStatus {
+    /// Last executed cycle.
+    pub cycle: AtomicU64,
+    /// [`CellState`] as u8.
+    pub state: AtomicU8,
+    /// Last [`StopReason`] as u8 (0: none since reset).
+    pub stop_reason: AtomicU8,
+    /// Id of the motion running, or last finished.
+    pub motion_id: AtomicU32,
+    /// Id of the last motion that finished normally.
+    pub motion_done: AtomicU32,
+    /// Hold position of each axis (f64 bits, counts): where its next motion must start.
+    pub hold: [AtomicU64; MAX_AXES],
+    /// Set by the RT thread once the loop runs.
+    pub running: AtomicBool,
+}
+
+impl Default for CellStatus {
+    fn default() -> Self {
+        CellStatus {
+            cycle: AtomicU64::new(0),
+            state: AtomicU8::new(CellState::Disabled as u8),
+            stop_reason: AtomicU8::new(0),
+            motion_id: AtomicU32::new(0),
+            motion_done: AtomicU32::new(0),
+            hold: std::array::from_fn(|_| AtomicU64::new(0f64.to_bits())),
+            running: AtomicBool::new(false),
+        }
+    }
+}
+
+impl CellStatus {
+    /// Current cell state.
+    pub fn state(&self) -> CellState {
+        CellState::from_u8(self.state.load(Ordering::Acquire)).unwrap_or_default()
+    }
+
+    /// Hold position of `axis`, counts.
+    pub fn hold(&self, axis: usize) -> f64 {
+        f64::from_bits(self.hold[axis].load(Ordering::Acquire))
+    }
+
+    /// Last executed cycle.
+    pub fn cycle(&self) -> u64 {
+        self.cycle.load(Ordering::Acquire)
+    }
+
+    /// Last stop reason since reset.
+    pub fn stop_reason(&self) -> Option<StopReason> {
+        StopReason::from_u8(self.stop_reason.load(Ordering::Acquire))
+    }
+}
+
+/// Everything shared between the RT thread and the rest of the process.
+#[derive(Debug)]
+pub struct Handoff {
+    /// Commands to the RT thread.
+    pub commands: ArrayQueue<CellCommand>,
+    /// Per-cycle timing records to the recorder.
+    pub cycles: ArrayQueue<CycleRecord>,
+    /// Per-cycle, per-axis records to the recorder.
+    pub axes: ArrayQueue<AxisRecord>,
+    /// Events to the recorder.
+    pub events: ArrayQueue<EventRecord>,
+    /// Status for the non-RT side.
+    pub status: CellStatus,
+    /// Whether a recorder drains the record queues (if not, the RT thread skips pushing).
+    pub recording: bool,
+}
+
+impl Handoff {
+    /// Preallocates queues for `queue_cycles` cycles of `axes` axes.
+    pub fn new(axes: usize, queue_cycles: usize, recording: bool) -> Self {
+        let queue_cycles = queue_cycles.max(64);
+        Handoff {
+            commands: ArrayQueue::new(64),
+            cycles: ArrayQueue::new(if recording { queue_cycles } else { 1 }),
+            axes: ArrayQueue::new(if recording {
+                queue_cycles * axes.max(1)
+            } else {
+                1
+            }),
+            events: ArrayQueue::new(8192),
+            status: CellStatus::default(),
+            recording,
+        }
+    }
+}

@@ -1,0 +1,13 @@
+//! cellrt runtime: the cell configuration, the RT thread and its cyclic executive, the lock-free
+//! hand-offs, the iceoryx2 setpoint transport, the non-RT planner thread and the MCAP recorder.
+
+pub mod config;
+pub mod controller;
+pub mod executive;
+pub mod handoff;
+pub mod planner;
+pub mod program;
+pub mod record;
+pub mod rt;
+pub mod services;
+pub mod setpoints;

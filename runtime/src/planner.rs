@@ -1,0 +1,343 @@
+//! The non-RT planner thread: runs a program, plans each move with rsruckig (via
+//! `cellrt-trajectory`), samples it at the cycle time into setpoint blocks and publishes them
+//! through iceoryx2, keeping a lookahead ahead of the RT thread's cycle.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use cellrt_trajectory::planner::{plan_move, AxisState, MoveAxis};
+use cellrt_trajectory::sampler::MoveSampler;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::prelude::*;
+
+use crate::config::CellConfig;
+use crate::handoff::{CellCommand, CellState, Handoff};
+use crate::program::{MoveTarget, Program, Step};
+use crate::services;
+use crate::setpoints::{AxisSetpoint, SetpointBlock, BLOCK_CYCLES, FLAG_LAST};
+
+/// How long power on / power off may take before the program fails.
+pub const POWER_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// A program step failed.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("program {program}, step {step} ({what}): {reason}")]
+pub struct ProgramError {
+    /// Program file.
+    pub program: String,
+    /// Step index.
+    pub step: usize,
+    /// Step kind.
+    pub what: &'static str,
+    /// What went wrong.
+    pub reason: String,
+}
+
+/// Handle of the planner thread.
+pub struct PlannerHandle {
+    abort: Arc<AtomicBool>,
+    handle: JoinHandle<Result<(), ProgramError>>,
+}
+
+impl PlannerHandle {
+    /// Whether the program has ended (successfully or not).
+    pub fn is_finished(&self) -> bool {
+        self.handle.is_finished()
+    }
+
+    /// Stops publishing and waits for the thread.
+    pub fn abort(self) -> Result<(), ProgramError> {
+        self.abort.store(true, Ordering::Release);
+        self.join()
+    }
+
+    /// Waits for the program to end.
+    pub fn join(self) -> Result<(), ProgramError> {
+        self.handle.join().unwrap_or_else(|_| {
+            Err(ProgramError {
+                program: String::new(),
+                step: 0,
+                what: "planner",
+                reason: "planner thread panicked".into(),
+            })
+        })
+    }
+}
+
+/// Starts the planner thread running `program` on `cell`.
+pub fn spawn(
+    cell: &CellConfig,
+    program: Program,
+    handoff: Arc<Handoff>,
+) -> std::io::Result<PlannerHandle> {
+    let abort = Arc::new(AtomicBool::new(false));
+    let abort2 = abort.clone();
+    let cell = cell.clone();
+    let handle = std::thread::Builder::new()
+        .name("cellrt-planner".into())
+        .spawn(move || {
+            let mut p = Planner::new(&cell, &handoff, &abort2, &program)?;
+            p.run(&program)
+        })?;
+    Ok(PlannerHandle { abort, handle })
+}
+
+struct Planner<'a> {
+    cell: &'a CellConfig,
+    handoff: &'a Handoff,
+    abort: &'a AtomicBool,
+    publisher: Publisher<ipc::Service, SetpointBlock, ()>,
+    _node: Node<ipc::Service>,
+    source: String,
+    step: usize,
+    what: &'static str,
+}
+
+impl<'a> Planner<'a> {
+    fn new(
+        cell: &'a CellConfig,
+        handoff: &'a Handoff,
+        abort: &'a AtomicBool,
+        program: &Program,
+    ) -> Result<Self, ProgramError> {
+        let fail = |e: services::ServiceError| ProgramError {
+            program: program.source.display().to_string(),
+            step: 0,
+            what: "planner",
+            reason: e.to_string(),
+        };
+        let node = services::node(&cell.name, "planner").map_err(fail)?;
+        let publisher = services::setpoint_publisher(&node, &cell.name).map_err(fail)?;
+        Ok(Planner {
+            cell,
+            handoff,
+            abort,
+            publisher,
+            _node: node,
+            source: program.source.display().to_string(),
+            step: 0,
+            what: "",
+        })
+    }
+
+    fn err(&self, reason: impl Into<String>) -> ProgramError {
+        ProgramError {
+            program: self.source.clone(),
+            step: self.step,
+            what: self.what,
+            reason: reason.into(),
+        }
+    }
+
+    fn run(&mut self, program: &Program) -> Result<(), ProgramError> {
+        for (i, step) in program.steps.iter().enumerate() {
+            if self.abort.load(Ordering::Acquire) {
+                return Ok(());
+            }
+            self.step = i;
+            match step {
+                Step::PowerOn => {
+                    self.what = "power_on";
+                    self.command(CellCommand::PowerOn)?;
+                    self.wait_for_state(CellState::Idle, POWER_TIMEOUT)?;
+                }
+                Step::PowerOff => {
+                    self.what = "power_off";
+                    self.command(CellCommand::PowerOff)?;
+                    self.wait_for_state(CellState::Disabled, POWER_TIMEOUT)?;
+                }
+                Step::Wait(s) => {
+                    self.what = "wait";
+                    self.sleep(Duration::from_secs_f64(*s));
+                }
+                Step::Move(targets) => {
+                    self.what = "move";
+                    self.run_move(targets)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn command(&self, cmd: CellCommand) -> Result<(), ProgramError> {
+        self.handoff
+            .commands
+            .push(cmd)
+            .map_err(|_| self.err("command queue to the RT thread is full"))
+    }
+
+    fn sleep(&self, d: Duration) {
+        let end = Instant::now() + d;
+        while !self.abort.load(Ordering::Acquire) {
+            let now = Instant::now();
+            if now >= end {
+                break;
+            }
+            std::thread::sleep((end - now).min(Duration::from_millis(10)));
+        }
+    }
+
+    fn wait_for_state(&self, want: CellState, timeout: Duration) -> Result<(), ProgramError> {
+        let end = Instant::now() + timeout;
+        loop {
+            let s = self.handoff.status.state();
+            if s == want || self.abort.load(Ordering::Acquire) {
+                return Ok(());
+            }
+            if s == CellState::Faulted && want != CellState::Faulted {
+                return Err(self.err("the cell faulted (see the events)"));
+            }
+            if Instant::now() >= end {
+                return Err(self.err(format!(
+                    "cell did not become {} within {:?} (it is {})",
+                    want.as_str(),
+                    timeout,
+                    s.as_str()
+                )));
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+
+    fn run_move(&mut self, targets: &[MoveTarget]) -> Result<(), ProgramError> {
+        let status = &self.handoff.status;
+        let state = status.state();
+        if state != CellState::Idle {
+            return Err(self.err(format!(
+                "the cell is {}, not idle (power on first, or reset after a stop)",
+                state.as_str()
+            )));
+        }
+        let n = self.cell.axes.len();
+        let mut hold = [0.0f64; crate::setpoints::MAX_AXES];
+        for (i, h) in hold.iter_mut().enumerate().take(n) {
+            *h = status.hold(i);
+        }
+        let axes: Vec<MoveAxis> = targets
+            .iter()
+            .map(|t| {
+                let s = self.cell.axes[t.axis].scaling;
+                MoveAxis {
+                    start: AxisState {
+                        position: s.to_units(hold[t.axis]),
+                        velocity: 0.0,
+                        acceleration: 0.0,
+                    },
+                    target: t.target,
+                    limits: t.limits,
+                }
+            })
+            .collect();
+        let plan = plan_move(&axes).map_err(|e| self.err(format!("planning failed: {e}")))?;
+        let period = self.cell.period();
+        let sampler =
+            MoveSampler::new(plan, period).map_err(|e| self.err(format!("sampling failed: {e}")))?;
+        let total = sampler.cycles();
+        if total == 0 {
+            return Ok(());
+        }
+
+        let motion_id = status.motion_id.load(Ordering::Acquire).wrapping_add(1).max(1);
+        let cycle_ns = self.cell.cycle_time.as_nanos() as f64;
+        let delay = (self.cell.setpoints.start_delay * 1e9 / cycle_ns).ceil() as u64;
+        let lookahead = ((self.cell.setpoints.lookahead * 1e9 / cycle_ns).ceil() as u64)
+            .max(2 * BLOCK_CYCLES as u64);
+        let start_cycle = status.cycle() + delay.max(2);
+
+        let mut sample = vec![AxisState::default(); targets.len()];
+        let mut block = Box::new(SetpointBlock {
+            motion_id,
+            axis_count: n as u32,
+            ..SetpointBlock::default()
+        });
+        let mut k = 1u64;
+        while k <= total {
+            let block_start = start_cycle + (k - 1);
+            // Keep at most `lookahead` cycles ahead of the RT thread.
+            while block_start > status.cycle() + lookahead {
+                if self.abort.load(Ordering::Acquire) {
+                    return Ok(());
+                }
+                self.check_running(motion_id, block_start)?;
+                std::thread::sleep(Duration::from_secs_f64((period / 2.0).min(1e-3)));
+            }
+            if self.abort.load(Ordering::Acquire) {
+                return Ok(());
+            }
+            self.check_running(motion_id, block_start)?;
+            let cycles = (total - k + 1).min(BLOCK_CYCLES as u64) as usize;
+            block.start_cycle = block_start;
+            block.cycles = cycles as u32;
+            block.flags = if k + cycles as u64 > total { FLAG_LAST } else { 0 };
+            for c in 0..cycles {
+                sampler.fill(k + c as u64, &mut sample);
+                let row = &mut block.setpoints[c];
+                for (i, sp) in row.iter_mut().enumerate().take(n) {
+                    *sp = AxisSetpoint {
+                        position: hold[i],
+                        velocity: 0.0,
+                    };
+                }
+                for (t, s) in targets.iter().zip(&sample) {
+                    let sc = self.cell.axes[t.axis].scaling;
+                    row[t.axis] = AxisSetpoint {
+                        position: sc.to_counts(s.position),
+                        velocity: sc.to_counts(s.velocity),
+                    };
+                }
+            }
+            let loaned = self
+                .publisher
+                .loan_uninit()
+                .map_err(|e| self.err(format!("setpoint loan failed: {e:?}")))?;
+            loaned
+                .write_payload(*block)
+                .send()
+                .map_err(|e| self.err(format!("setpoint publish failed: {e:?}")))?;
+            k += cycles as u64;
+        }
+
+        // Wait for the RT thread to finish the motion.
+        let end_cycle = start_cycle + total;
+        loop {
+            if self.abort.load(Ordering::Acquire) {
+                return Ok(());
+            }
+            if status.motion_done.load(Ordering::Acquire) == motion_id
+                && status.state() == CellState::Idle
+            {
+                return Ok(());
+            }
+            self.check_running(motion_id, end_cycle)?;
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+
+    /// Fails the step if the RT thread stopped the motion or never started it.
+    fn check_running(&self, motion_id: u32, next_cycle: u64) -> Result<(), ProgramError> {
+        let status = &self.handoff.status;
+        match status.state() {
+            CellState::Stopping | CellState::Stopped | CellState::Faulted => {
+                let why = status
+                    .stop_reason()
+                    .map(|r| r.as_str())
+                    .unwrap_or("unknown");
+                Err(self.err(format!("motion {motion_id} was stopped by the RT thread ({why})")))
+            }
+            CellState::Disabled | CellState::Disabling | CellState::Enabling => Err(self.err(
+                format!("the cell is {} during motion {motion_id}", status.state().as_str()),
+            )),
+            CellState::Idle
+                if status.motion_id.load(Ordering::Acquire) != motion_id
+                    && status.cycle() > next_cycle + 2 * BLOCK_CYCLES as u64 =>
+            {
+                Err(self.err(format!(
+                    "the RT thread did not start motion {motion_id} (its first block was rejected; see the events)"
+                )))
+            }
+            _ => Ok(()),
+        }
+    }
+}

@@ -1,0 +1,8 @@
+//! Recording to MCAP: the protobuf schema, topic names, and the non-RT recorder thread that
+//! drains the RT thread's hand-off queues.
+
+pub mod proto;
+mod recorder;
+pub mod topics;
+
+pub use recorder::{Recorder, RecorderError, RecordingInfo};

@@ -1,0 +1,494 @@
+//! The recorder thread: drains cycle, axis and event records from the hand-off queues and writes
+//! them to a chunked, compressed, indexed MCAP file. It never runs on the RT thread.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use mcap::records::{MessageHeader, Metadata};
+use mcap::{Attachment, WriteOptions, Writer};
+use prost::Message;
+use serde::Serialize;
+
+use super::proto;
+use super::topics::*;
+use crate::config::{CellConfig, Compression};
+use crate::executive::fsa_index;
+use crate::handoff::{
+    AxisRecord, CellCommand, CellState, CycleRecord, EventKind, EventRecord, Handoff,
+    RejectReason, StopReason, NO_AXIS,
+};
+use crate::rt::clock::realtime_offset_ns;
+
+/// Recording failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RecorderError {
+    /// The file could not be created.
+    #[error("cannot create recording {path}: {source}")]
+    Create {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The MCAP writer failed.
+    #[error("recording {path}: {source}")]
+    Mcap {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: mcap::McapError,
+    },
+    /// The recorder thread panicked.
+    #[error("recorder thread failed")]
+    Thread,
+}
+
+/// What was recorded.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct RecordingInfo {
+    /// The MCAP file, if recording was on.
+    pub path: Option<PathBuf>,
+    /// File size in bytes.
+    pub bytes: u64,
+    /// Cycle messages written.
+    pub cycle_messages: u64,
+    /// Axis messages written.
+    pub axis_messages: u64,
+    /// Events seen (recorded or not).
+    pub events: u64,
+    /// The events, as text lines `cycle N: kind [axis]: detail`.
+    pub event_log: Vec<String>,
+}
+
+/// Handle of the running recorder thread.
+pub struct Recorder {
+    stop: Arc<AtomicBool>,
+    handle: JoinHandle<Result<RecordingInfo, RecorderError>>,
+}
+
+struct Channels {
+    cycle: u16,
+    events: u16,
+    axes: Vec<u16>,
+}
+
+struct Sink {
+    writer: Writer<BufWriter<File>>,
+    channels: Channels,
+    path: PathBuf,
+}
+
+impl Recorder {
+    /// Opens `path` (if any) and starts draining `handoff`. Without a path the thread still
+    /// drains events (for the summary and the log) and discards per-cycle records.
+    pub fn start(
+        cell: &CellConfig,
+        path: Option<&Path>,
+        handoff: Arc<Handoff>,
+    ) -> Result<Recorder, RecorderError> {
+        let sink = match path {
+            Some(p) => Some(open(cell, p)?),
+            None => None,
+        };
+        let stop = Arc::new(AtomicBool::new(false));
+        let stop2 = stop.clone();
+        let cell = cell.clone();
+        let handle = std::thread::Builder::new()
+            .name("cellrt-recorder".into())
+            .spawn(move || drain_loop(&cell, sink, &handoff, &stop2))
+            .map_err(|e| RecorderError::Create {
+                path: path.map(Path::to_path_buf).unwrap_or_default(),
+                source: e,
+            })?;
+        Ok(Recorder { stop, handle })
+    }
+
+    /// Drains what is left, finishes the file (summary, indexes) and returns what was written.
+    pub fn finish(self) -> Result<RecordingInfo, RecorderError> {
+        self.stop.store(true, Ordering::Release);
+        self.handle.join().map_err(|_| RecorderError::Thread)?
+    }
+}
+
+fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
+    let create_err = |source| RecorderError::Create {
+        path: path.to_path_buf(),
+        source,
+    };
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(create_err)?;
+    }
+    let file = File::create(path).map_err(create_err)?;
+    let mcap_err = |source| RecorderError::Mcap {
+        path: path.to_path_buf(),
+        source,
+    };
+    let compression = match cell.recording.compression {
+        Compression::Zstd => Some(mcap::Compression::Zstd),
+        Compression::Lz4 => Some(mcap::Compression::Lz4),
+        Compression::None => None,
+    };
+    let mut writer = WriteOptions::new()
+        .compression(compression)
+        .chunk_size(Some(cell.recording.chunk_size))
+        .profile("")
+        .library(format!("cellrt {}", env!("CARGO_PKG_VERSION")))
+        .create(BufWriter::with_capacity(1 << 20, file))
+        .map_err(mcap_err)?;
+
+    let schema = |w: &mut Writer<_>, name| w.add_schema(name, "protobuf", proto::FILE_DESCRIPTOR_SET);
+    let cycle_schema = schema(&mut writer, CYCLE_SCHEMA).map_err(mcap_err)?;
+    let axis_schema = schema(&mut writer, AXIS_SCHEMA).map_err(mcap_err)?;
+    let event_schema = schema(&mut writer, EVENT_SCHEMA).map_err(mcap_err)?;
+    let none = BTreeMap::new();
+    let cycle = writer
+        .add_channel(cycle_schema, CYCLE_TOPIC, "protobuf", &none)
+        .map_err(mcap_err)?;
+    let events = writer
+        .add_channel(event_schema, EVENTS_TOPIC, "protobuf", &none)
+        .map_err(mcap_err)?;
+    let mut axes = Vec::with_capacity(cell.axes.len());
+    for a in &cell.axes {
+        let meta = BTreeMap::from([
+            ("unit".to_string(), a.unit.clone()),
+            (
+                "counts_per_unit".to_string(),
+                a.scaling.counts_per_unit().to_string(),
+            ),
+            ("drive".to_string(), a.profile.name.to_string()),
+            ("mode".to_string(), a.mode.as_str().to_string()),
+        ]);
+        axes.push(
+            writer
+                .add_channel(axis_schema, &axis_topic(&a.name), "protobuf", &meta)
+                .map_err(mcap_err)?,
+        );
+    }
+
+    let mut cell_meta = BTreeMap::from([
+        ("cell".to_string(), cell.name.clone()),
+        (
+            "cycle_time_us".to_string(),
+            cell.cycle_time.as_micros().to_string(),
+        ),
+        ("axes".to_string(), cell.axis_names()),
+        (
+            "software".to_string(),
+            format!("cellrt {}", env!("CARGO_PKG_VERSION")),
+        ),
+        (
+            "config_file".to_string(),
+            cell.source.display().to_string(),
+        ),
+    ]);
+    for a in &cell.axes {
+        cell_meta.insert(
+            format!("axis.{}", a.name),
+            format!(
+                "drive={} mode={} unit={} counts_per_unit={} position=[{}, {}] velocity={} acceleration={} jerk={}",
+                a.profile.name,
+                a.mode.as_str(),
+                a.unit,
+                a.scaling.counts_per_unit(),
+                a.position.min,
+                a.position.max,
+                a.limits.velocity,
+                a.limits.acceleration,
+                a.limits.jerk
+            ),
+        );
+    }
+    writer
+        .write_metadata(&Metadata {
+            name: CELL_METADATA.to_string(),
+            metadata: cell_meta,
+        })
+        .map_err(mcap_err)?;
+    let now = (realtime_offset_ns() + i128::from(crate::rt::clock::MonoTime::now().0)).max(0) as u64;
+    writer
+        .attach(&Attachment {
+            log_time: now,
+            create_time: now,
+            name: cell
+                .source
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "cell.toml".into()),
+            media_type: "application/toml".to_string(),
+            data: std::borrow::Cow::Borrowed(cell.text.as_bytes()),
+        })
+        .map_err(mcap_err)?;
+
+    Ok(Sink {
+        writer,
+        channels: Channels {
+            cycle,
+            events,
+            axes,
+        },
+        path: path.to_path_buf(),
+    })
+}
+
+struct Drain<'a> {
+    cell: &'a CellConfig,
+    sink: Option<Sink>,
+    offset: i128,
+    seq: u32,
+    buf: Vec<u8>,
+    info: RecordingInfo,
+    /// Monotonic deadline of each recent cycle, to time-stamp axis records and events.
+    last_deadline: u64,
+    last_cycle: u64,
+}
+
+fn drain_loop(
+    cell: &CellConfig,
+    sink: Option<Sink>,
+    handoff: &Handoff,
+    stop: &AtomicBool,
+) -> Result<RecordingInfo, RecorderError> {
+    let mut d = Drain {
+        cell,
+        sink,
+        offset: realtime_offset_ns(),
+        seq: 0,
+        buf: Vec::with_capacity(512),
+        info: RecordingInfo::default(),
+        last_deadline: 0,
+        last_cycle: 0,
+    };
+    let period = cell.cycle_time.as_nanos();
+    loop {
+        let finishing = stop.load(Ordering::Acquire);
+        let mut n = 0usize;
+        // Cycle records first: they carry the deadline that time-stamps the axis records.
+        while let Some(c) = handoff.cycles.pop() {
+            d.cycle(&c, period)?;
+            n += 1;
+        }
+        while let Some(a) = handoff.axes.pop() {
+            d.axis(&a, period)?;
+            n += 1;
+        }
+        while let Some(e) = handoff.events.pop() {
+            d.event(&e, period)?;
+            n += 1;
+        }
+        if finishing && n == 0 {
+            break;
+        }
+        if n == 0 {
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+    if let Some(mut sink) = d.sink.take() {
+        let mcap_err = |source| RecorderError::Mcap {
+            path: sink.path.clone(),
+            source,
+        };
+        sink.writer.finish().map_err(mcap_err)?;
+        let file = sink.writer.into_inner();
+        let file = file.into_inner().map_err(|e| RecorderError::Create {
+            path: sink.path.clone(),
+            source: e.into_error(),
+        })?;
+        file.sync_all().map_err(|e| RecorderError::Create {
+            path: sink.path.clone(),
+            source: e,
+        })?;
+        d.info.bytes = std::fs::metadata(&sink.path).map(|m| m.len()).unwrap_or(0);
+        d.info.path = Some(sink.path);
+    }
+    Ok(d.info)
+}
+
+impl Drain<'_> {
+    fn time_of(&self, cycle: u64, period: u64) -> u64 {
+        // Deadline of `cycle`, extrapolated from the latest cycle record.
+        let mono = self.last_deadline as i128
+            + (cycle as i128 - self.last_cycle as i128) * period as i128;
+        (mono + self.offset).max(0) as u64
+    }
+
+    fn write(&mut self, channel: u16, log_time: u64) -> Result<(), RecorderError> {
+        let Some(sink) = self.sink.as_mut() else {
+            return Ok(());
+        };
+        self.seq = self.seq.wrapping_add(1);
+        sink.writer
+            .write_to_known_channel(
+                &MessageHeader {
+                    channel_id: channel,
+                    sequence: self.seq,
+                    log_time,
+                    publish_time: log_time,
+                },
+                &self.buf,
+            )
+            .map_err(|source| RecorderError::Mcap {
+                path: sink.path.clone(),
+                source,
+            })
+    }
+
+    fn cycle(&mut self, c: &CycleRecord, period: u64) -> Result<(), RecorderError> {
+        self.last_deadline = c.deadline_ns;
+        self.last_cycle = c.cycle;
+        let Some(channel) = self.sink.as_ref().map(|s| s.channels.cycle) else {
+            return Ok(());
+        };
+        let msg = proto::CycleStats {
+            cycle: c.cycle,
+            deadline_ns: c.deadline_ns,
+            wakeup_latency_ns: c.wakeup_latency_ns,
+            loop_time_ns: c.loop_time_ns,
+            overruns: c.overruns,
+            cell_state: c.cell_state as i32,
+            dropped_records: c.dropped_records,
+        };
+        self.buf.clear();
+        msg.encode(&mut self.buf).expect("Vec grows");
+        let t = self.time_of(c.cycle, period);
+        self.write(channel, t)?;
+        self.info.cycle_messages += 1;
+        Ok(())
+    }
+
+    fn axis(&mut self, a: &AxisRecord, period: u64) -> Result<(), RecorderError> {
+        let Some(channel) = self
+            .sink
+            .as_ref()
+            .and_then(|s| s.channels.axes.get(a.axis as usize).copied())
+        else {
+            return Ok(());
+        };
+        let s = self.cell.axes[a.axis as usize].scaling;
+        let msg = proto::AxisCycle {
+            cycle: a.cycle,
+            setpoint_position: s.to_units(a.setpoint),
+            setpoint_velocity: s.to_units(a.setpoint_velocity),
+            actual_position: s.to_units(f64::from(a.position_actual)),
+            actual_velocity: s.to_units(f64::from(a.velocity_actual)),
+            following_error: s.to_units(f64::from(a.following_error)),
+            setpoint_counts: a.target_position,
+            actual_position_counts: a.position_actual,
+            actual_velocity_counts: a.velocity_actual,
+            following_error_counts: a.following_error,
+            controlword: u32::from(a.controlword),
+            statusword: u32::from(a.statusword),
+            fsa_state: a.fsa_state.map(fsa_index).unwrap_or(0) as i32,
+            mode_display: i32::from(a.mode_display),
+            error_code: u32::from(a.error_code),
+        };
+        self.buf.clear();
+        msg.encode(&mut self.buf).expect("Vec grows");
+        let t = self.time_of(a.cycle, period);
+        self.write(channel, t)?;
+        self.info.axis_messages += 1;
+        Ok(())
+    }
+
+    fn event(&mut self, e: &EventRecord, period: u64) -> Result<(), RecorderError> {
+        let axis = if e.axis == NO_AXIS {
+            String::new()
+        } else {
+            self.cell
+                .axes
+                .get(e.axis as usize)
+                .map(|a| a.name.clone())
+                .unwrap_or_else(|| format!("#{}", e.axis))
+        };
+        let detail = describe_event(e);
+        let line = format!(
+            "cycle {}: {}{}{}",
+            e.cycle,
+            e.kind.as_str(),
+            if axis.is_empty() {
+                String::new()
+            } else {
+                format!(" [{axis}]")
+            },
+            if detail.is_empty() {
+                String::new()
+            } else {
+                format!(": {detail}")
+            }
+        );
+        match e.kind {
+            EventKind::Underrun
+            | EventKind::SetpointRejected
+            | EventKind::DriveFault
+            | EventKind::MasterTimeout
+            | EventKind::BusError
+            | EventKind::CommandRefused
+            | EventKind::RecordsDropped => tracing::warn!("{line}"),
+            _ => tracing::debug!("{line}"),
+        }
+        self.info.events += 1;
+        self.info.event_log.push(line);
+        let Some(channel) = self.sink.as_ref().map(|s| s.channels.events) else {
+            return Ok(());
+        };
+        let msg = proto::Event {
+            cycle: e.cycle,
+            kind: e.kind.as_str().to_string(),
+            axis,
+            detail,
+            value: e.value,
+        };
+        self.buf.clear();
+        msg.encode(&mut self.buf).expect("Vec grows");
+        let t = self.time_of(e.cycle, period);
+        self.write(channel, t)
+    }
+}
+
+/// Human-readable detail of an event's value.
+pub fn describe_event(e: &EventRecord) -> String {
+    match e.kind {
+        EventKind::CellState => CellState::from_u8(e.value as u8)
+            .map(|s| s.as_str().to_string())
+            .unwrap_or_default(),
+        EventKind::FsaState => FSA_NAMES
+            .get(e.value as usize)
+            .copied()
+            .unwrap_or("unknown")
+            .to_string(),
+        EventKind::Command | EventKind::CommandRefused => CellCommand::from_code(e.value)
+            .map(|c| c.as_str().to_string())
+            .unwrap_or_default(),
+        EventKind::MotionStarted | EventKind::MotionFinished | EventKind::Underrun => {
+            format!("motion {}", e.value)
+        }
+        EventKind::SetpointRejected => RejectReason::from_u8(e.value as u8)
+            .map(|r| r.as_str().to_string())
+            .unwrap_or_default(),
+        EventKind::StopStarted => StopReason::from_u8(e.value as u8)
+            .map(|r| r.as_str().to_string())
+            .unwrap_or_default(),
+        EventKind::Overrun => format!("woke {} µs past the next deadline", e.value / 1000),
+        EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
+        EventKind::RecordsDropped => format!("{} records dropped", e.value),
+        EventKind::StopFinished | EventKind::MasterTimeout | EventKind::BusError => String::new(),
+    }
+}
+
+/// Names of the recording's FSA enum values, by index.
+const FSA_NAMES: [&str; 9] = [
+    "unknown",
+    "not_ready_to_switch_on",
+    "switch_on_disabled",
+    "ready_to_switch_on",
+    "switched_on",
+    "operation_enabled",
+    "quick_stop_active",
+    "fault_reaction_active",
+    "fault",
+];

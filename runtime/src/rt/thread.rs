@@ -1,0 +1,106 @@
+//! RT thread setup. Each privilege is requested separately; what the OS refuses is reported once,
+//! by name, and the loop runs best effort (ARCHITECTURE.md, rule 5).
+
+use serde::Serialize;
+
+use crate::config::RtConfig;
+
+/// Stack the RT thread touches before the loop so it never page-faults on stack growth.
+pub const PREFAULT_STACK_BYTES: usize = 256 * 1024;
+
+/// What took effect when the RT thread was set up.
+#[derive(Debug, Clone, Default, Serialize, PartialEq, Eq)]
+pub struct RtReport {
+    /// CPU the thread is pinned to, if pinning was asked for and worked.
+    pub cpu: Option<usize>,
+    /// "SCHED_FIFO" or "SCHED_OTHER".
+    pub policy: String,
+    /// SCHED_FIFO priority in effect (0 under SCHED_OTHER).
+    pub priority: u8,
+    /// Whether mlockall(MCL_CURRENT | MCL_FUTURE) took effect.
+    pub memory_locked: bool,
+    /// Bytes of stack prefaulted.
+    pub stack_prefaulted: usize,
+    /// One line per refused privilege.
+    pub refused: Vec<String>,
+}
+
+impl RtReport {
+    /// One line for the start-up banner.
+    pub fn describe(&self) -> String {
+        format!(
+            "RT thread: cpu {}, {} priority {}, memory {}, stack prefault {} KiB",
+            self.cpu
+                .map(|c| c.to_string())
+                .unwrap_or_else(|| "any".into()),
+            self.policy,
+            self.priority,
+            if self.memory_locked {
+                "locked"
+            } else {
+                "not locked"
+            },
+            self.stack_prefaulted / 1024
+        )
+    }
+}
+
+/// Applies `cfg` to the calling thread. Never fails: refusals are listed in the report.
+pub fn setup_current_thread(cfg: &RtConfig) -> RtReport {
+    let mut report = RtReport {
+        policy: "SCHED_OTHER".into(),
+        ..RtReport::default()
+    };
+
+    if let Some(cpu) = cfg.cpu {
+        let ok = core_affinity::set_for_current(core_affinity::CoreId { id: cpu });
+        if ok {
+            report.cpu = Some(cpu);
+        } else {
+            report
+                .refused
+                .push(format!("CPU affinity to CPU {cpu} refused; the thread may migrate"));
+        }
+    }
+
+    let param = libc::sched_param {
+        sched_priority: i32::from(cfg.priority),
+    };
+    // SAFETY: pthread_self() is the calling thread and `param` is a valid sched_param.
+    let rc = unsafe { libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) };
+    if rc == 0 {
+        report.policy = "SCHED_FIFO".into();
+        report.priority = cfg.priority;
+    } else {
+        let err = nix::errno::Errno::from_raw(rc);
+        report.refused.push(format!(
+            "SCHED_FIFO priority {} refused ({err}); running SCHED_OTHER (run as root, grant CAP_SYS_NICE, or set an rtprio limit)",
+            cfg.priority
+        ));
+    }
+
+    if cfg.lock_memory {
+        use nix::sys::mman::{mlockall, MlockAllFlags};
+        match mlockall(MlockAllFlags::MCL_CURRENT | MlockAllFlags::MCL_FUTURE) {
+            Ok(()) => report.memory_locked = true,
+            Err(e) => report.refused.push(format!(
+                "mlockall refused ({e}); pages may fault in the loop (run as root, grant CAP_IPC_LOCK, or raise the memlock limit)"
+            )),
+        }
+    }
+
+    prefault_stack();
+    report.stack_prefaulted = PREFAULT_STACK_BYTES;
+    report
+}
+
+/// Touches [`PREFAULT_STACK_BYTES`] of stack so later growth does not fault.
+#[inline(never)]
+fn prefault_stack() {
+    let mut buf = [0u8; PREFAULT_STACK_BYTES];
+    for i in (0..buf.len()).step_by(4096) {
+        // SAFETY: i is in bounds; the volatile write keeps the touch from being optimised away.
+        unsafe { std::ptr::write_volatile(buf.as_mut_ptr().add(i), 1) };
+    }
+    std::hint::black_box(&buf);
+}

@@ -1,0 +1,106 @@
+//! Every iceoryx2 service of a cell, declared once: names, payload types and QoS.
+
+use iceoryx2::config::Config;
+use iceoryx2::node::{Node, NodeBuilder};
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::*;
+
+use crate::setpoints::SetpointBlock;
+
+/// Setpoint blocks the subscriber buffers (the RT thread's lookahead, in blocks).
+pub const SETPOINT_BUFFER_BLOCKS: usize = 256;
+
+/// Errors setting up a service.
+#[derive(Debug, thiserror::Error)]
+#[error("iceoryx2 {what} for cell '{cell}': {detail}")]
+pub struct ServiceError {
+    what: &'static str,
+    cell: String,
+    detail: String,
+}
+
+fn service_error(what: &'static str, cell: &str, e: impl std::fmt::Debug) -> ServiceError {
+    ServiceError {
+        what,
+        cell: cell.to_string(),
+        detail: format!("{e:?}"),
+    }
+}
+
+/// The setpoint service name of `cell`.
+pub fn setpoint_service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/setpoints")
+}
+
+/// iceoryx2 configuration: resources are prefixed with the user id so that cells of different
+/// users (root and a user) never collide on files the other may not open.
+fn config() -> Config {
+    let mut config = Config::default();
+    let prefix = format!("iox2_cellrt_u{}_", nix::unistd::getuid().as_raw());
+    if let Ok(p) = FileName::new(prefix.as_bytes()) {
+        config.global.prefix = p;
+    }
+    config
+}
+
+/// Creates an iceoryx2 node for one thread of a cell (ports are not `Send`).
+pub fn node(cell: &str, role: &str) -> Result<Node<ipc::Service>, ServiceError> {
+    let name = format!("cellrt-{cell}-{role}");
+    let node_name = NodeName::new(&name).map_err(|e| service_error("node name", cell, e))?;
+    NodeBuilder::new()
+        .name(&node_name)
+        .config(&config())
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .map_err(|e| service_error("node", cell, e))
+}
+
+fn setpoint_service(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<
+    iceoryx2::service::port_factory::publish_subscribe::PortFactory<
+        ipc::Service,
+        SetpointBlock,
+        (),
+    >,
+    ServiceError,
+> {
+    let name = ServiceName::new(&setpoint_service_name(cell))
+        .map_err(|e| service_error("service name", cell, e))?;
+    node.service_builder(&name)
+        .publish_subscribe::<SetpointBlock>()
+        .max_publishers(1)
+        .max_subscribers(2)
+        .history_size(0)
+        .subscriber_max_buffer_size(SETPOINT_BUFFER_BLOCKS)
+        .subscriber_max_borrowed_samples(4)
+        .enable_safe_overflow(true)
+        .open_or_create()
+        .map_err(|e| service_error("setpoint service", cell, e))
+}
+
+/// The planner's end of the setpoint service.
+pub fn setpoint_publisher(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Publisher<ipc::Service, SetpointBlock, ()>, ServiceError> {
+    setpoint_service(node, cell)?
+        .publisher_builder()
+        .backpressure_strategy(BackpressureStrategy::DiscardData)
+        .max_loaned_samples(4)
+        .create()
+        .map_err(|e| service_error("setpoint publisher", cell, e))
+}
+
+/// The RT thread's end of the setpoint service.
+pub fn setpoint_subscriber(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Subscriber<ipc::Service, SetpointBlock, ()>, ServiceError> {
+    setpoint_service(node, cell)?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| service_error("setpoint subscriber", cell, e))
+}

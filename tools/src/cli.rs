@@ -1,0 +1,46 @@
+//! Command-line interface.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+/// cellrt: a deterministic real-time motion controller for robot and machine cells.
+#[derive(Debug, Parser)]
+#[command(name = "cellrt", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run a cell controller: RT loop, planner, drives, recording.
+    Run(RunArgs),
+}
+
+/// `cellrt run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// Cell configuration (TOML).
+    pub config: PathBuf,
+    /// Program to run instead of the one the configuration names.
+    #[arg(long, conflicts_with = "no_program")]
+    pub program: Option<PathBuf>,
+    /// Run no program: stay up until SIGINT/SIGTERM or --duration.
+    #[arg(long)]
+    pub no_program: bool,
+    /// Stop after this many seconds.
+    #[arg(long, value_name = "SECONDS")]
+    pub duration: Option<f64>,
+    /// Record to this MCAP file (default: the configuration's recording path).
+    #[arg(long, value_name = "FILE", conflicts_with = "no_record")]
+    pub record: Option<PathBuf>,
+    /// Do not record.
+    #[arg(long)]
+    pub no_record: bool,
+    /// Also write the summary as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub summary_json: Option<PathBuf>,
+}

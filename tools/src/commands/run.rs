@@ -1,0 +1,161 @@
+//! `cellrt run`: validates the configuration and program, runs the cell, prints the summary.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::Duration;
+
+use cellrt_runtime::config::CellConfig;
+use cellrt_runtime::controller::{self, Outcome, RunOptions};
+use cellrt_runtime::program::Program;
+
+use crate::cli::RunArgs;
+use crate::exit::Exit;
+use crate::summary;
+
+/// Runs `cellrt run`.
+pub fn run(args: RunArgs) -> Exit {
+    let cell = match CellConfig::load(&args.config) {
+        Ok(c) => c,
+        Err(e) => return bad_input(e),
+    };
+    let program_path = if args.no_program {
+        None
+    } else {
+        args.program.clone().or_else(|| cell.program.clone())
+    };
+    let program = match program_path {
+        Some(p) => match Program::load(&p, &cell) {
+            Ok(p) => Some(p),
+            Err(e) => return bad_input(e),
+        },
+        None => None,
+    };
+    let duration = match args.duration {
+        None => None,
+        Some(d) if d.is_finite() && d > 0.0 && d <= 1e7 => Some(Duration::from_secs_f64(d)),
+        Some(d) => {
+            return bad_input(format!(
+                "--duration: must be a number of seconds in (0, 1e7] (got {d})"
+            ))
+        }
+    };
+    let record = if args.no_record {
+        None
+    } else if let Some(p) = args.record.clone() {
+        Some(p)
+    } else if cell.recording.enabled {
+        Some(recording_path(&cell.recording.path, &cell.name))
+    } else {
+        None
+    };
+
+    let shutdown = Arc::new(AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        if let Err(e) = signal_hook::flag::register(sig, shutdown.clone()) {
+            eprintln!("error: cannot install the signal handler: {e}");
+            return Exit::Failed;
+        }
+    }
+
+    eprintln!(
+        "cellrt: cell '{}' — {} axes at {} µs{}{}",
+        cell.name,
+        cell.axes.len(),
+        cell.cycle_time.as_micros(),
+        program
+            .as_ref()
+            .map(|p| format!(", program {}", p.source.display()))
+            .unwrap_or_default(),
+        record
+            .as_ref()
+            .map(|p| format!(", recording to {}", p.display()))
+            .unwrap_or_default()
+    );
+    let result = controller::run(
+        &cell,
+        RunOptions {
+            program,
+            duration,
+            record,
+            shutdown,
+            hook: None,
+        },
+    );
+    let summary = match result {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Exit::Failed;
+        }
+    };
+    print!("{}", summary::render(&summary));
+    if let Some(path) = &args.summary_json {
+        let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
+        if let Err(e) = std::fs::write(path, json + "\n") {
+            eprintln!("error: cannot write {}: {e}", path.display());
+            return Exit::Failed;
+        }
+    }
+    match summary.outcome {
+        Outcome::ProgramFailed => Exit::Failed,
+        _ => Exit::Ok,
+    }
+}
+
+fn bad_input(e: impl std::fmt::Display) -> Exit {
+    eprintln!("error: {e}");
+    Exit::BadInput
+}
+
+/// Expands `{cell}` and `{timestamp}` (UTC, `YYYYMMDD-HHMMSS`) in a recording path template.
+pub fn recording_path(template: &str, cell: &str) -> PathBuf {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    let (y, m, d) = civil_from_days((secs / 86_400) as i64);
+    let t = secs % 86_400;
+    let stamp = format!(
+        "{y:04}{m:02}{d:02}-{:02}{:02}{:02}",
+        t / 3600,
+        t / 60 % 60,
+        t % 60
+    );
+    Path::new(&template.replace("{cell}", cell).replace("{timestamp}", &stamp)).to_path_buf()
+}
+
+/// Days since 1970-01-01 to (year, month, day), proleptic Gregorian (H. Hinnant's algorithm).
+fn civil_from_days(z: i64) -> (i64, u32, u32) {
+    let z = z + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    (y, m, d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn civil_dates() {
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(20_779), (2026, 11, 22));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+    }
+
+    #[test]
+    fn template_expansion() {
+        let p = recording_path("rec/{cell}-{timestamp}.mcap", "demo");
+        let s = p.to_string_lossy();
+        assert!(s.starts_with("rec/demo-"), "{s}");
+        assert!(s.ends_with(".mcap"));
+        assert_eq!(s.len(), "rec/demo-YYYYMMDD-HHMMSS.mcap".len());
+    }
+}

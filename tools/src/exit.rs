@@ -1,0 +1,23 @@
+//! Process exit codes, one meaning each.
+
+/// How `cellrt` exits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Exit {
+    /// Success (also a clean shutdown on SIGINT/SIGTERM).
+    Ok,
+    /// The run failed (program error, fault, I/O).
+    Failed,
+    /// Bad input: configuration, program or command line.
+    BadInput,
+}
+
+impl Exit {
+    /// The numeric exit code.
+    pub fn code(self) -> i32 {
+        match self {
+            Exit::Ok => 0,
+            Exit::Failed => 1,
+            Exit::BadInput => 2,
+        }
+    }
+}

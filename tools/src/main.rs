@@ -1,0 +1,24 @@
+//! `cellrt`: the cell controller and its tools.
+
+mod cli;
+mod commands;
+mod exit;
+mod summary;
+
+use clap::Parser;
+
+fn main() {
+    tracing_subscriber::fmt()
+        .with_writer(std::io::stderr)
+        .with_target(false)
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_env("CELLRT_LOG")
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+        )
+        .init();
+    let cli = cli::Cli::parse();
+    let code = match cli.command {
+        cli::Command::Run(args) => commands::run::run(args),
+    };
+    std::process::exit(code.code());
+}

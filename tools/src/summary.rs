@@ -1,0 +1,95 @@
+//! The human-readable run summary.
+
+use std::fmt::Write;
+
+use cellrt_runtime::controller::{Outcome, Summary};
+
+/// Renders the summary printed at exit.
+pub fn render(s: &Summary) -> String {
+    let mut o = String::new();
+    let outcome = match s.outcome {
+        Outcome::ProgramCompleted => "program completed",
+        Outcome::ProgramFailed => "program FAILED",
+        Outcome::DurationElapsed => "duration elapsed",
+        Outcome::Interrupted => "interrupted (clean shutdown)",
+    };
+    let _ = writeln!(o, "\n== cellrt summary: cell '{}' — {outcome}", s.cell);
+    if let Some(e) = &s.program_error {
+        let _ = writeln!(o, "   error: {e}");
+    }
+    let _ = writeln!(
+        o,
+        "cycles      {} at {} µs ({:.1} s), final state {}",
+        s.counters.cycles,
+        s.cycle_time_us,
+        s.counters.cycles as f64 * f64::from(s.cycle_time_us) / 1e6,
+        s.final_state
+    );
+    let _ = writeln!(
+        o,
+        "rt          {}{}",
+        s.rt.describe(),
+        if s.rt.refused.is_empty() {
+            ""
+        } else {
+            " (best effort: see warnings)"
+        }
+    );
+    let _ = writeln!(
+        o,
+        "overruns    {}   underruns {}   rejected setpoints {}   faults {}   dropped records {}",
+        s.counters.overruns,
+        s.counters.underruns,
+        s.counters.rejected_setpoints,
+        s.counters.faults,
+        s.counters.dropped_records
+    );
+    let l = &s.wakeup_latency;
+    let _ = writeln!(
+        o,
+        "wakeup      p50 {:.1} µs   p99 {:.1} µs   p99.9 {:.1} µs   max {:.1} µs",
+        l.p50_us, l.p99_us, l.p999_us, l.max_us
+    );
+    let t = &s.loop_time;
+    let _ = writeln!(
+        o,
+        "loop time   p50 {:.1} µs   p99 {:.1} µs   max {:.1} µs",
+        t.p50_us, t.p99_us, t.max_us
+    );
+    let _ = writeln!(o, "axes        final position vs target");
+    for a in &s.axes {
+        match (a.target, a.error) {
+            (Some(t), Some(e)) => {
+                let _ = writeln!(
+                    o,
+                    "  {:<8} {:>12.4} {:<4} target {:>12.4}   error {:+.4}",
+                    a.name, a.final_position, a.unit, t, e
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    o,
+                    "  {:<8} {:>12.4} {:<4} (no target)",
+                    a.name, a.final_position, a.unit
+                );
+            }
+        }
+    }
+    match &s.recording.path {
+        Some(p) => {
+            let _ = writeln!(
+                o,
+                "recording   {} ({:.1} MiB, {} cycle and {} axis messages, {} events)",
+                p.display(),
+                s.recording.bytes as f64 / (1024.0 * 1024.0),
+                s.recording.cycle_messages,
+                s.recording.axis_messages,
+                s.recording.events
+            );
+        }
+        None => {
+            let _ = writeln!(o, "recording   off ({} events seen)", s.recording.events);
+        }
+    }
+    o
+}

@@ -1,0 +1,290 @@
+//! Kinematic limits (velocity, acceleration, jerk) and position ranges, with validation.
+
+use core::fmt;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Which kinematic quantity an error is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// Velocity, unit/s.
+    Velocity,
+    /// Acceleration, unit/s².
+    Acceleration,
+    /// Jerk, unit/s³.
+    Jerk,
+}
+
+impl Quantity {
+    /// SI-style unit suffix of this quantity in axis units.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Quantity::Velocity => "unit/s",
+            Quantity::Acceleration => "unit/s^2",
+            Quantity::Jerk => "unit/s^3",
+        }
+    }
+}
+
+impl fmt::Display for Quantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Quantity::Velocity => "velocity",
+            Quantity::Acceleration => "acceleration",
+            Quantity::Jerk => "jerk",
+        })
+    }
+}
+
+/// Errors from validating or combining limits and ranges.
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+pub enum LimitsError {
+    /// A limit is NaN, infinite, zero or negative.
+    #[error("{quantity} limit must be finite and > 0, got {value} {}", quantity.unit())]
+    NotPositive {
+        /// The offending field.
+        quantity: Quantity,
+        /// Its value.
+        value: f64,
+    },
+    /// A per-move limit asks for more than the axis allows (never clamped silently).
+    #[error("requested {quantity} limit {requested} {} exceeds the axis limit {axis_limit} {}", quantity.unit(), quantity.unit())]
+    ExceedsAxisLimit {
+        /// The offending field.
+        quantity: Quantity,
+        /// The per-move value.
+        requested: f64,
+        /// The axis' configured value.
+        axis_limit: f64,
+    },
+    /// A position range with non-finite bounds or `min >= max`.
+    #[error("invalid position range [{min}, {max}]: bounds must be finite and min < max")]
+    InvalidRange {
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+    },
+    /// A position outside (or a non-finite position checked against) a range.
+    #[error("position {value} is outside the allowed range [{min}, {max}]")]
+    OutOfRange {
+        /// The offending position.
+        value: f64,
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+    },
+}
+
+/// Symmetric kinematic limits of one axis, in axis units: unit/s, unit/s², unit/s³.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct KinematicLimits {
+    /// Maximum |velocity|, unit/s.
+    pub velocity: f64,
+    /// Maximum |acceleration|, unit/s².
+    pub acceleration: f64,
+    /// Maximum |jerk|, unit/s³.
+    pub jerk: f64,
+}
+
+impl KinematicLimits {
+    /// The three limits paired with their names, in a fixed order.
+    fn fields(&self) -> [(Quantity, f64); 3] {
+        [
+            (Quantity::Velocity, self.velocity),
+            (Quantity::Acceleration, self.acceleration),
+            (Quantity::Jerk, self.jerk),
+        ]
+    }
+
+    /// Checks that every limit is finite and strictly positive.
+    pub fn validate(&self) -> Result<(), LimitsError> {
+        for (quantity, value) in self.fields() {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(LimitsError::NotPositive { quantity, value });
+            }
+        }
+        Ok(())
+    }
+
+    /// Returns `self` (per-move limits) after checking that both sets are valid and that
+    /// none of `self` exceeds `axis`; an excess is an error, never clamped.
+    pub fn capped_by(&self, axis: &KinematicLimits) -> Result<KinematicLimits, LimitsError> {
+        axis.validate()?;
+        self.validate()?;
+        for ((quantity, requested), (_, axis_limit)) in self.fields().into_iter().zip(axis.fields())
+        {
+            if requested > axis_limit {
+                return Err(LimitsError::ExceedsAxisLimit {
+                    quantity,
+                    requested,
+                    axis_limit,
+                });
+            }
+        }
+        Ok(*self)
+    }
+}
+
+/// Allowed position interval of an axis (software limits), in axis units, bounds inclusive.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PositionRange {
+    /// Lowest allowed position.
+    pub min: f64,
+    /// Highest allowed position.
+    pub max: f64,
+}
+
+impl PositionRange {
+    /// Checks that both bounds are finite and `min < max`.
+    pub fn validate(&self) -> Result<(), LimitsError> {
+        if self.min.is_finite() && self.max.is_finite() && self.min < self.max {
+            Ok(())
+        } else {
+            Err(LimitsError::InvalidRange {
+                min: self.min,
+                max: self.max,
+            })
+        }
+    }
+
+    /// Checks that `target` is finite and inside `[min, max]`; also validates the range.
+    pub fn check(&self, target: f64) -> Result<(), LimitsError> {
+        self.validate()?;
+        // Written so that NaN fails.
+        if target >= self.min && target <= self.max {
+            Ok(())
+        } else {
+            Err(LimitsError::OutOfRange {
+                value: target,
+                min: self.min,
+                max: self.max,
+            })
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const AXIS: KinematicLimits = KinematicLimits {
+        velocity: 1.0,
+        acceleration: 10.0,
+        jerk: 100.0,
+    };
+
+    #[test]
+    fn validate_names_field_and_value() {
+        assert_eq!(AXIS.validate(), Ok(()));
+        let bad = KinematicLimits {
+            acceleration: 0.0,
+            ..AXIS
+        };
+        let err = bad.validate().unwrap_err();
+        assert_eq!(
+            err,
+            LimitsError::NotPositive {
+                quantity: Quantity::Acceleration,
+                value: 0.0
+            }
+        );
+        assert!(err.to_string().contains("acceleration"), "{err}");
+        for (v, a, j, q) in [
+            (-1.0, 1.0, 1.0, Quantity::Velocity),
+            (1.0, 1.0, f64::NAN, Quantity::Jerk),
+            (f64::INFINITY, 1.0, 1.0, Quantity::Velocity),
+        ] {
+            let l = KinematicLimits {
+                velocity: v,
+                acceleration: a,
+                jerk: j,
+            };
+            assert!(
+                matches!(l.validate(), Err(LimitsError::NotPositive { quantity, .. }) if quantity == q)
+            );
+        }
+    }
+
+    #[test]
+    fn capped_by_rejects_excess() {
+        let slower = KinematicLimits {
+            velocity: 0.5,
+            ..AXIS
+        };
+        assert_eq!(slower.capped_by(&AXIS), Ok(slower));
+        assert_eq!(AXIS.capped_by(&AXIS), Ok(AXIS));
+        let too_jerky = KinematicLimits {
+            jerk: 100.5,
+            ..AXIS
+        };
+        let err = too_jerky.capped_by(&AXIS).unwrap_err();
+        assert_eq!(
+            err,
+            LimitsError::ExceedsAxisLimit {
+                quantity: Quantity::Jerk,
+                requested: 100.5,
+                axis_limit: 100.0
+            }
+        );
+        assert!(err.to_string().contains("jerk"), "{err}");
+        let bad_axis = KinematicLimits {
+            velocity: f64::NAN,
+            ..AXIS
+        };
+        assert!(matches!(
+            slower.capped_by(&bad_axis),
+            Err(LimitsError::NotPositive {
+                quantity: Quantity::Velocity,
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn position_range() {
+        let r = PositionRange {
+            min: -1.0,
+            max: 2.0,
+        };
+        assert_eq!(r.validate(), Ok(()));
+        assert_eq!(r.check(-1.0), Ok(()));
+        assert_eq!(r.check(2.0), Ok(()));
+        let err = r.check(2.5).unwrap_err();
+        assert_eq!(
+            err,
+            LimitsError::OutOfRange {
+                value: 2.5,
+                min: -1.0,
+                max: 2.0
+            }
+        );
+        assert!(
+            err.to_string().contains("2.5") && err.to_string().contains("[-1, 2]"),
+            "{err}"
+        );
+        assert!(matches!(
+            r.check(f64::NAN),
+            Err(LimitsError::OutOfRange { .. })
+        ));
+        for (min, max) in [
+            (1.0, 1.0),
+            (2.0, 1.0),
+            (f64::NAN, 1.0),
+            (0.0, f64::INFINITY),
+        ] {
+            let bad = PositionRange { min, max };
+            assert!(matches!(
+                bad.validate(),
+                Err(LimitsError::InvalidRange { .. })
+            ));
+            assert!(matches!(
+                bad.check(0.5),
+                Err(LimitsError::InvalidRange { .. })
+            ));
+        }
+    }
+}

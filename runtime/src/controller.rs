@@ -16,7 +16,7 @@ use serde::Serialize;
 use crate::config::CellConfig;
 use crate::executive::{Executive, PhaseHook, RtCounters, RtStats};
 use crate::handoff::{CellCommand, CellState, Handoff};
-use crate::planner::{self, ProgramError};
+use crate::planner;
 use crate::program::Program;
 use crate::record::{Recorder, RecorderError, RecordingInfo};
 use crate::rt::histogram::Percentiles;
@@ -127,14 +127,14 @@ pub fn sim_bus(cell: &CellConfig) -> SimBus {
                     // The motor can do a bit more than the axis is allowed to.
                     max_velocity: a.limits.velocity * s * 1.5,
                     max_acceleration: a.limits.acceleration * s * 3.0,
-                    ..PlantParams::default()
                 },
                 initial_position: a
                     .scaling
                     .to_counts_i32(a.sim.initial_position)
                     .unwrap_or_default(),
-                following_error_limit: (a.following_error_limit * s).round().min(f64::from(u32::MAX))
-                    as u32,
+                following_error_limit: (a.following_error_limit * s)
+                    .round()
+                    .min(f64::from(u32::MAX)) as u32,
                 ..SimDriveParams::default()
             };
             SimDrive::new(a.profile, params, cell.cycle_time)
@@ -145,8 +145,9 @@ pub fn sim_bus(cell: &CellConfig) -> SimBus {
 
 /// Runs `cell` until the program ends, the duration elapses or `shutdown` is set.
 pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
-    let queue_cycles =
-        (cell.recording.queue_seconds / cell.period()).ceil().max(64.0) as usize;
+    let queue_cycles = (cell.recording.queue_seconds / cell.period())
+        .ceil()
+        .max(64.0) as usize;
     let handoff = Arc::new(Handoff::new(
         cell.axes.len(),
         queue_cycles,
@@ -156,6 +157,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
 
     // The RT thread builds its own iceoryx2 port (ports are not Send).
     let (ready_tx, ready_rx) = mpsc::channel::<Result<RtReport, String>>();
+    let (go_tx, go_rx) = mpsc::channel::<bool>();
     let rt_cell = cell.clone();
     let rt_handoff = handoff.clone();
     let bus = sim_bus(cell);
@@ -179,14 +181,12 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
                     return None;
                 }
             };
-            let exec = Executive::new(
-                &rt_cell,
-                bus,
-                SetpointStream::new(sub),
-                rt_handoff,
-                hook,
-            );
+            let exec = Executive::new(&rt_cell, bus, SetpointStream::new(sub), rt_handoff, hook);
             let _ = ready_tx.send(Ok(report));
+            // Start the loop only once every peer of the setpoint service exists.
+            if go_rx.recv() != Ok(true) {
+                return None;
+            }
             Some(exec.run())
         })
         .map_err(|e| RunError::Thread(format!("cannot start the RT thread: {e}")))?;
@@ -212,27 +212,28 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .as_ref()
         .map(|p| p.final_targets(cell.axes.len()))
         .unwrap_or_else(|| vec![None; cell.axes.len()]);
-    let planner = match opts.program {
-        Some(p) => Some(
-            planner::spawn(cell, p, handoff.clone())
-                .map_err(|e| RunError::Thread(format!("cannot start the planner: {e}")))?,
-        ),
+    let mut planner = match opts.program {
+        Some(p) => match planner::spawn(cell, p, handoff.clone()) {
+            Ok(p) => Some(p),
+            Err(e) => {
+                let _ = go_tx.send(false);
+                let _ = rt.join();
+                let _ = recorder.finish();
+                return Err(RunError::Thread(format!("cannot start the planner: {e}")));
+            }
+        },
         None => None,
     };
 
+    let _ = go_tx.send(true);
     let started = Instant::now();
-    let mut planner = planner;
-    let mut program_result: Option<Result<(), ProgramError>> = None;
     let outcome = loop {
         std::thread::sleep(Duration::from_millis(5));
         if opts.shutdown.load(Ordering::Acquire) {
             break Outcome::Interrupted;
         }
-        if planner.as_ref().is_some_and(|p| p.is_finished()) {
-            let r = planner.take().map(|p| p.join()).unwrap_or(Ok(()));
-            let failed = r.is_err();
-            program_result = Some(r);
-            break if failed {
+        if let Some(r) = planner.as_mut().and_then(|p| p.poll()) {
+            break if r.is_err() {
                 Outcome::ProgramFailed
             } else {
                 Outcome::ProgramCompleted
@@ -245,18 +246,16 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
             break Outcome::ProgramFailed;
         }
     };
-    if let Some(p) = planner.take() {
-        let r = p.abort();
-        if program_result.is_none() && r.is_err() {
-            program_result = Some(r);
-        }
+    // Stop publishing before the controlled stop; release the publisher after the RT thread.
+    if let Some(p) = planner.as_ref() {
+        p.stop_publishing();
     }
-
     shutdown(cell, &handoff);
     let stats = rt
         .join()
         .map_err(|_| RunError::Thread("the RT thread panicked".into()))?
         .ok_or_else(|| RunError::Thread("the RT thread ended without statistics".into()))?;
+    let program_result = planner.map(|p| p.finish());
     let recording = recorder.finish()?;
 
     let axes = cell

@@ -35,34 +35,48 @@ pub struct ProgramError {
     pub reason: String,
 }
 
-/// Handle of the planner thread.
+/// Handle of the planner thread. The thread keeps its publisher until [`PlannerHandle::finish`],
+/// so the RT thread never sees the peer leave while it runs (a leaving peer makes the next
+/// iceoryx2 receive free memory; ARCHITECTURE.md).
 pub struct PlannerHandle {
     abort: Arc<AtomicBool>,
-    handle: JoinHandle<Result<(), ProgramError>>,
+    release: Arc<AtomicBool>,
+    handle: JoinHandle<()>,
+    result_rx: std::sync::mpsc::Receiver<Result<(), ProgramError>>,
+    result: Option<Result<(), ProgramError>>,
 }
 
 impl PlannerHandle {
-    /// Whether the program has ended (successfully or not).
-    pub fn is_finished(&self) -> bool {
-        self.handle.is_finished()
+    /// The program's result once it has ended.
+    pub fn poll(&mut self) -> Option<&Result<(), ProgramError>> {
+        if self.result.is_none() {
+            self.result = self.result_rx.try_recv().ok();
+        }
+        self.result.as_ref()
     }
 
-    /// Stops publishing and waits for the thread.
-    pub fn abort(self) -> Result<(), ProgramError> {
+    /// Ends the program (no more setpoints are published); the publisher stays open.
+    pub fn stop_publishing(&self) {
         self.abort.store(true, Ordering::Release);
-        self.join()
     }
 
-    /// Waits for the program to end.
-    pub fn join(self) -> Result<(), ProgramError> {
-        self.handle.join().unwrap_or_else(|_| {
-            Err(ProgramError {
+    /// Stops the program if it still runs, releases the publisher and returns the result
+    /// (an aborted program counts as successful).
+    pub fn finish(self) -> Result<(), ProgramError> {
+        self.abort.store(true, Ordering::Release);
+        self.release.store(true, Ordering::Release);
+        let panicked = self.handle.join().is_err();
+        let result = self.result.or_else(|| self.result_rx.try_recv().ok());
+        match result {
+            Some(r) => r,
+            None if panicked => Err(ProgramError {
                 program: String::new(),
                 step: 0,
                 what: "planner",
                 reason: "planner thread panicked".into(),
-            })
-        })
+            }),
+            None => Ok(()),
+        }
     }
 }
 
@@ -75,13 +89,37 @@ pub fn spawn(
     let abort = Arc::new(AtomicBool::new(false));
     let abort2 = abort.clone();
     let cell = cell.clone();
+    let release = Arc::new(AtomicBool::new(false));
+    let release2 = release.clone();
+    let (ready_tx, ready_rx) = std::sync::mpsc::channel::<()>();
+    let (result_tx, result_rx) = std::sync::mpsc::channel();
     let handle = std::thread::Builder::new()
         .name("cellrt-planner".into())
         .spawn(move || {
-            let mut p = Planner::new(&cell, &handoff, &abort2, &program)?;
-            p.run(&program)
+            let planner = Planner::new(&cell, &handoff, &abort2, &program);
+            let _ = ready_tx.send(());
+            match planner {
+                Ok(mut p) => {
+                    let _ = result_tx.send(p.run(&program));
+                    // Keep the publisher (inside `p`) until released.
+                    while !release2.load(Ordering::Acquire) {
+                        std::thread::sleep(Duration::from_millis(5));
+                    }
+                }
+                Err(e) => {
+                    let _ = result_tx.send(Err(e));
+                }
+            }
         })?;
-    Ok(PlannerHandle { abort, handle })
+    // Returns once the publisher exists, so the RT thread's warm-up sees it join.
+    let _ = ready_rx.recv();
+    Ok(PlannerHandle {
+        abort,
+        release,
+        handle,
+        result_rx,
+        result: None,
+    })
 }
 
 struct Planner<'a> {
@@ -232,14 +270,18 @@ impl<'a> Planner<'a> {
             .collect();
         let plan = plan_move(&axes).map_err(|e| self.err(format!("planning failed: {e}")))?;
         let period = self.cell.period();
-        let sampler =
-            MoveSampler::new(plan, period).map_err(|e| self.err(format!("sampling failed: {e}")))?;
+        let sampler = MoveSampler::new(plan, period)
+            .map_err(|e| self.err(format!("sampling failed: {e}")))?;
         let total = sampler.cycles();
         if total == 0 {
             return Ok(());
         }
 
-        let motion_id = status.motion_id.load(Ordering::Acquire).wrapping_add(1).max(1);
+        let motion_id = status
+            .motion_id
+            .load(Ordering::Acquire)
+            .wrapping_add(1)
+            .max(1);
         let cycle_ns = self.cell.cycle_time.as_nanos() as f64;
         let delay = (self.cell.setpoints.start_delay * 1e9 / cycle_ns).ceil() as u64;
         let lookahead = ((self.cell.setpoints.lookahead * 1e9 / cycle_ns).ceil() as u64)
@@ -270,7 +312,11 @@ impl<'a> Planner<'a> {
             let cycles = (total - k + 1).min(BLOCK_CYCLES as u64) as usize;
             block.start_cycle = block_start;
             block.cycles = cycles as u32;
-            block.flags = if k + cycles as u64 > total { FLAG_LAST } else { 0 };
+            block.flags = if k + cycles as u64 > total {
+                FLAG_LAST
+            } else {
+                0
+            };
             for c in 0..cycles {
                 sampler.fill(k + c as u64, &mut sample);
                 let row = &mut block.setpoints[c];

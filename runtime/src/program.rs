@@ -112,7 +112,11 @@ impl Program {
     pub fn parse(path: &Path, text: &str, cell: &CellConfig) -> Result<Program, ConfigError> {
         let raw: RawProgram = crate::config::parse_toml(path, text)?;
         if raw.step.is_empty() {
-            return Err(ConfigError::new(path, "step", "a program needs at least one [[step]]"));
+            return Err(ConfigError::new(
+                path,
+                "step",
+                "a program needs at least one [[step]]",
+            ));
         }
         let steps = raw
             .step
@@ -154,7 +158,9 @@ fn validate_step(
                 return Err(ConfigError::new(
                     path,
                     format!("{key}.seconds"),
-                    format!("must be a number of seconds in 0..={MAX_WAIT_SECONDS} (got {seconds})"),
+                    format!(
+                        "must be a number of seconds in 0..={MAX_WAIT_SECONDS} (got {seconds})"
+                    ),
                 ));
             }
             Step::Wait(seconds)

@@ -32,7 +32,7 @@ pub struct RunArgs {
     #[arg(long)]
     pub no_program: bool,
     /// Stop after this many seconds.
-    #[arg(long, value_name = "SECONDS")]
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Record to this MCAP file (default: the configuration's recording path).
     #[arg(long, value_name = "FILE", conflicts_with = "no_record")]

@@ -268,6 +268,53 @@ fn start_faster_than_move_limit_brakes_first() {
     assert!(v[back..].iter().all(|x| x.abs() <= 0.5 * (1.0 + 1e-6)));
 }
 
+/// Shrunk proptest failure (`random_moves_respect_limits`): rsruckig ends axis 0 (the
+/// stretched, time-synchronised axis) 3.5e-9 short of its target; snapping to the exact target
+/// in the last cycle turned that gap into a finite-difference jerk of ~31 vs the limit 27.8.
+#[test]
+fn regression_stretched_axis_end_gap_jerk() {
+    let axes = [
+        MoveAxis {
+            start: AxisState {
+                position: -0.8304404172300521,
+                velocity: -1.2629348247216845,
+                acceleration: 4.4318178823658245,
+            },
+            target: -0.9648417308949346,
+            limits: KinematicLimits {
+                velocity: 3.5246569108835275,
+                acceleration: 21.462700554763405,
+                jerk: 27.79606347643826,
+            },
+        },
+        MoveAxis {
+            start: AxisState {
+                position: 4.949841443847839,
+                velocity: -2.846021645180635,
+                acceleration: 0.0,
+            },
+            target: -2.419766765089452,
+            limits: KinematicLimits {
+                velocity: 2.964605880396495,
+                acceleration: 6.722803599879222,
+                jerk: 508.16633601743416,
+            },
+        },
+    ];
+    let plan = plan_move(&axes).unwrap();
+    for dt in [1e-3, 125e-6] {
+        let samples = sample(&plan, dt);
+        for (a, s) in axes.iter().zip(&samples[0]) {
+            assert_eq!(*s, a.start);
+        }
+        for (a, s) in axes.iter().zip(samples.last().unwrap()) {
+            assert_eq!(s.position, a.target);
+            assert_eq!((s.velocity, s.acceleration), (0.0, 0.0));
+        }
+        check_limits(&samples, &limits_of(&axes), dt);
+    }
+}
+
 /// A start state ruckig can leave without a brake phase: |a0| within limits and the velocity
 /// both now and once the acceleration is ramped to zero within the velocity limit.
 fn start_state(l: KinematicLimits, pos: f64, fa: f64, fv: f64) -> AxisState {

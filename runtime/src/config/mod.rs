@@ -5,8 +5,8 @@ mod error;
 pub mod raw;
 mod validate;
 
-pub use error::ConfigError;
 pub(crate) use error::parse_toml;
+pub use error::ConfigError;
 
 use std::path::{Path, PathBuf};
 

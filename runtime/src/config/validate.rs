@@ -82,7 +82,10 @@ pub(super) fn validate(
             return Err(ConfigError::new(
                 file,
                 "rt.cpu",
-                format!("CPU {cpu} does not exist (this machine has CPUs 0..={})", n - 1),
+                format!(
+                    "CPU {cpu} does not exist (this machine has CPUs 0..={})",
+                    n - 1
+                ),
             ));
         }
     }
@@ -100,7 +103,11 @@ pub(super) fn validate(
         }
     };
     if raw.recording.path.trim().is_empty() {
-        return Err(ConfigError::new(file, "recording.path", "must not be empty"));
+        return Err(ConfigError::new(
+            file,
+            "recording.path",
+            "must not be empty",
+        ));
     }
     if !(1..=65536).contains(&raw.recording.chunk_size_kib) {
         return Err(ConfigError::new(
@@ -129,8 +136,11 @@ pub(super) fn validate(
     };
 
     let lookahead = positive(file, "setpoints.lookahead_ms", raw.setpoints.lookahead_ms)? / 1e3;
-    let start_delay =
-        positive(file, "setpoints.start_delay_ms", raw.setpoints.start_delay_ms)? / 1e3;
+    let start_delay = positive(
+        file,
+        "setpoints.start_delay_ms",
+        raw.setpoints.start_delay_ms,
+    )? / 1e3;
     if lookahead > 10.0 || start_delay > 10.0 {
         return Err(ConfigError::new(
             file,
@@ -244,7 +254,8 @@ fn validate_axis(
             ),
         ));
     }
-    let scaling = Scaling::new(a.counts_per_unit).map_err(|e| err("counts_per_unit", e.to_string()))?;
+    let scaling =
+        Scaling::new(a.counts_per_unit).map_err(|e| err("counts_per_unit", e.to_string()))?;
     let position = PositionRange {
         min: a.limits.position[0],
         max: a.limits.position[1],

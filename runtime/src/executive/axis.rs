@@ -62,7 +62,9 @@ impl AxisChannel {
     /// Preallocates the channel of `axis` in `cell`.
     pub fn new(cell: &CellConfig, axis: &AxisConfig) -> Self {
         let hold = axis.profile.fault_reset_hold(cell.cycle_time);
-        let timeout = cell.cycle_time.cycles_for(std::time::Duration::from_secs(2));
+        let timeout = cell
+            .cycle_time
+            .cycles_for(std::time::Duration::from_secs(2));
         AxisChannel {
             master: AxisMaster::new(MasterParams {
                 fault_reset_hold: hold,
@@ -97,7 +99,8 @@ impl AxisChannel {
         let dv = self.limits.stop_deceleration * period;
         if self.velocity.abs() <= dv {
             // Last partial cycle: cover the remaining distance v²/2a.
-            self.setpoint += self.velocity * self.velocity.abs() / (2.0 * self.limits.stop_deceleration);
+            self.setpoint +=
+                self.velocity * self.velocity.abs() / (2.0 * self.limits.stop_deceleration);
             self.velocity = 0.0;
             self.stopped = true;
         } else {
@@ -128,8 +131,10 @@ mod tests {
             velocity: v,
             feedback: TxPdo::default(),
             stopped: false,
-            rx_map: cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1).rx_pdo,
-            tx_map: cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1).tx_pdo,
+            rx_map: cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1)
+                .rx_pdo,
+            tx_map: cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1)
+                .tx_pdo,
         }
     }
 
@@ -142,7 +147,10 @@ mod tests {
             for _ in 0..10_000 {
                 ch.stop_step(1e-3);
                 assert!((ch.setpoint - last) * v.signum() >= 0.0, "reversed");
-                assert!((ch.setpoint - last).abs() <= v.abs() * 1e-3 + 1e-9, "step too large");
+                assert!(
+                    (ch.setpoint - last).abs() <= v.abs() * 1e-3 + 1e-9,
+                    "step too large"
+                );
                 last = ch.setpoint;
                 if ch.stopped {
                     break;
@@ -150,7 +158,11 @@ mod tests {
             }
             assert!(ch.stopped);
             let expect = v * v.abs() / (2.0 * 100_000.0);
-            assert!((ch.setpoint - expect).abs() < 1e-6, "{} vs {expect}", ch.setpoint);
+            assert!(
+                (ch.setpoint - expect).abs() < 1e-6,
+                "{} vs {expect}",
+                ch.setpoint
+            );
         }
     }
 }

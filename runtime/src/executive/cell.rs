@@ -92,9 +92,13 @@ impl<B: Bus> Executive<B> {
     /// One cycle of the cell state machine.
     pub(super) fn update_cell(&mut self) {
         match self.state {
-            CellState::Disabled => self.track_all(),
+            CellState::Disabled => {
+                self.track_all();
+                self.refuse_motion();
+            }
             CellState::Enabling => {
                 self.track_all();
+                self.refuse_motion();
                 if self.any_fault_or_timeout() {
                     self.enter_faulted();
                 } else if self.axes.iter().all(|a| a.master.is_enabled()) {
@@ -124,7 +128,11 @@ impl<B: Bus> Executive<B> {
                             .status
                             .motion_done
                             .store(self.motion_id, Ordering::Release);
-                        self.event(EventKind::MotionFinished, NO_AXIS, i64::from(self.motion_id));
+                        self.event(
+                            EventKind::MotionFinished,
+                            NO_AXIS,
+                            i64::from(self.motion_id),
+                        );
                         self.set_state(CellState::Idle);
                     }
                     Lookup::Underrun => {
@@ -151,8 +159,9 @@ impl<B: Bus> Executive<B> {
                 }
             }
             CellState::Disabling => {
-                self.track_all();
-                self.stream.discard_all();
+                // Hold until each drive has really left Operation enabled, then track it.
+                self.hold_all();
+                self.refuse_motion();
                 if self.axes.iter().all(|a| !a.master.is_enabled()) {
                     self.set_state(CellState::Disabled);
                 }
@@ -200,8 +209,13 @@ impl<B: Bus> Executive<B> {
     }
 
     fn any_fault_or_timeout(&self) -> bool {
-        self.axes.iter().any(|a| a.master.fault()
-                || matches!(a.master.state(), MasterState::TimedOut | MasterState::EnableLost))
+        self.axes.iter().any(|a| {
+            a.master.fault()
+                || matches!(
+                    a.master.state(),
+                    MasterState::TimedOut | MasterState::EnableLost
+                )
+        })
     }
 
     fn enter_faulted(&mut self) {
@@ -302,6 +316,8 @@ impl<B: Bus> Executive<B> {
     fn follow_stream(&mut self) -> Lookup {
         let cycle = self.cycle;
         let n = self.axes.len();
+        // After an overrun the setpoint may move as far as the skipped cycles allow.
+        let steps = f64::from(self.elapsed.0.max(1));
         // At most two blocks are looked at: the one in use and its successor.
         for _ in 0..2 {
             let front = match self.stream.front() {
@@ -321,7 +337,9 @@ impl<B: Bus> Executive<B> {
                 let end = front.end_cycle();
                 self.stream.pop();
                 match self.stream.front() {
-                    Ok(Some(next)) if next.start_cycle != end && next.motion_id == self.motion_id => {
+                    Ok(Some(next))
+                        if next.start_cycle != end && next.motion_id == self.motion_id =>
+                    {
                         return Lookup::Rejected(NO_AXIS, RejectReason::Discontinuous)
                     }
                     _ => continue,
@@ -338,7 +356,7 @@ impl<B: Bus> Executive<B> {
                 if sp.position < ch.limits.position_min || sp.position > ch.limits.position_max {
                     return Lookup::Rejected(i as u16, RejectReason::OutsideRange);
                 }
-                if (sp.position - ch.setpoint).abs() > ch.limits.max_step
+                if (sp.position - ch.setpoint).abs() > ch.limits.max_step * steps
                     || (sp.velocity * self.period_s).abs() > ch.limits.max_step
                 {
                     return Lookup::Rejected(i as u16, RejectReason::VelocityStep);

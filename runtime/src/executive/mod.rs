@@ -112,6 +112,8 @@ pub struct Executive<B: Bus> {
     state: CellState,
     motion_id: u32,
     stop_reason: Option<crate::handoff::StopReason>,
+    /// Cycles since the previous executed cycle (more than 1 after an overrun).
+    elapsed: Cycles,
     stats: RtStats,
     hook: Option<PhaseHook>,
 }
@@ -142,6 +144,7 @@ impl<B: Bus> Executive<B> {
             state: CellState::Disabled,
             motion_id: 0,
             stop_reason: None,
+            elapsed: Cycles(1),
             stats: RtStats {
                 cycles: 0,
                 overruns: 0,
@@ -161,6 +164,15 @@ impl<B: Bus> Executive<B> {
 
     /// Runs the loop until a Quit command; returns the statistics.
     pub fn run(mut self) -> RtStats {
+        // Prime the inputs: one exchange with all-zero outputs (controlword 0 commands nothing)
+        // so cycle 0 already sees every drive's statusword and position.
+        if self.bus.exchange(Cycles(1)).is_err() {
+            self.event(EventKind::BusError, NO_AXIS, -1);
+        }
+        self.read_inputs();
+        for ch in &mut self.axes {
+            ch.track_actual();
+        }
         let start = MonoTime::now().plus(self.period_ns);
         let mut deadline = start;
         self.handoff.status.running.store(true, Ordering::Release);
@@ -216,6 +228,7 @@ impl<B: Bus> Executive<B> {
     /// One cycle: read inputs, checks, commands, setpoints, masters, outputs, exchange.
     /// Returns true when the loop should exit.
     fn step(&mut self, elapsed: Cycles) -> bool {
+        self.elapsed = elapsed;
         self.read_inputs();
         let quit = self.take_commands();
         self.update_cell();

@@ -20,8 +20,8 @@ use super::topics::*;
 use crate::config::{CellConfig, Compression};
 use crate::executive::fsa_index;
 use crate::handoff::{
-    AxisRecord, CellCommand, CellState, CycleRecord, EventKind, EventRecord, Handoff,
-    RejectReason, StopReason, NO_AXIS,
+    AxisRecord, CellCommand, CellState, CycleRecord, EventKind, EventRecord, Handoff, RejectReason,
+    StopReason, NO_AXIS,
 };
 use crate::rt::clock::realtime_offset_ns;
 
@@ -142,7 +142,8 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
         .create(BufWriter::with_capacity(1 << 20, file))
         .map_err(mcap_err)?;
 
-    let schema = |w: &mut Writer<_>, name| w.add_schema(name, "protobuf", proto::FILE_DESCRIPTOR_SET);
+    let schema =
+        |w: &mut Writer<_>, name| w.add_schema(name, "protobuf", proto::FILE_DESCRIPTOR_SET);
     let cycle_schema = schema(&mut writer, CYCLE_SCHEMA).map_err(mcap_err)?;
     let axis_schema = schema(&mut writer, AXIS_SCHEMA).map_err(mcap_err)?;
     let event_schema = schema(&mut writer, EVENT_SCHEMA).map_err(mcap_err)?;
@@ -182,10 +183,7 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
             "software".to_string(),
             format!("cellrt {}", env!("CARGO_PKG_VERSION")),
         ),
-        (
-            "config_file".to_string(),
-            cell.source.display().to_string(),
-        ),
+        ("config_file".to_string(), cell.source.display().to_string()),
     ]);
     for a in &cell.axes {
         cell_meta.insert(
@@ -210,7 +208,8 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
             metadata: cell_meta,
         })
         .map_err(mcap_err)?;
-    let now = (realtime_offset_ns() + i128::from(crate::rt::clock::MonoTime::now().0)).max(0) as u64;
+    let now =
+        (realtime_offset_ns() + i128::from(crate::rt::clock::MonoTime::now().0)).max(0) as u64;
     writer
         .attach(&Attachment {
             log_time: now,
@@ -312,8 +311,8 @@ fn drain_loop(
 impl Drain<'_> {
     fn time_of(&self, cycle: u64, period: u64) -> u64 {
         // Deadline of `cycle`, extrapolated from the latest cycle record.
-        let mono = self.last_deadline as i128
-            + (cycle as i128 - self.last_cycle as i128) * period as i128;
+        let mono =
+            self.last_deadline as i128 + (cycle as i128 - self.last_cycle as i128) * period as i128;
         (mono + self.offset).max(0) as u64
     }
 

@@ -57,9 +57,9 @@ pub fn setup_current_thread(cfg: &RtConfig) -> RtReport {
         if ok {
             report.cpu = Some(cpu);
         } else {
-            report
-                .refused
-                .push(format!("CPU affinity to CPU {cpu} refused; the thread may migrate"));
+            report.refused.push(format!(
+                "CPU affinity to CPU {cpu} refused; the thread may migrate"
+            ));
         }
     }
 

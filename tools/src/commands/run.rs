@@ -19,17 +19,27 @@ pub fn run(args: RunArgs) -> Exit {
         Ok(c) => c,
         Err(e) => return bad_input(e),
     };
-    let program_path = if args.no_program {
+    let program = if args.no_program {
         None
-    } else {
-        args.program.clone().or_else(|| cell.program.clone())
-    };
-    let program = match program_path {
-        Some(p) => match Program::load(&p, &cell) {
+    } else if let Some(p) = &args.program {
+        match Program::load(p, &cell) {
             Ok(p) => Some(p),
             Err(e) => return bad_input(e),
-        },
-        None => None,
+        }
+    } else if let Some(p) = &cell.program {
+        if !p.exists() {
+            return bad_input(format!(
+                "{}: cell.program: program file {} not found",
+                args.config.display(),
+                p.display()
+            ));
+        }
+        match Program::load(p, &cell) {
+            Ok(p) => Some(p),
+            Err(e) => return bad_input(e),
+        }
+    } else {
+        None
     };
     let duration = match args.duration {
         None => None,
@@ -122,7 +132,12 @@ pub fn recording_path(template: &str, cell: &str) -> PathBuf {
         t / 60 % 60,
         t % 60
     );
-    Path::new(&template.replace("{cell}", cell).replace("{timestamp}", &stamp)).to_path_buf()
+    Path::new(
+        &template
+            .replace("{cell}", cell)
+            .replace("{timestamp}", &stamp),
+    )
+    .to_path_buf()
 }
 
 /// Days since 1970-01-01 to (year, month, day), proleptic Gregorian (H. Hinnant's algorithm).

@@ -1,0 +1,81 @@
+use std::path::Path;
+
+use super::*;
+
+fn demo_text() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../configs/demo.toml"))
+        .expect("configs/demo.toml")
+        .replace("cpu = 1 ", "# cpu = 1 ")
+}
+
+fn parse(text: &str) -> Result<CellConfig, ConfigError> {
+    CellConfig::parse(Path::new("cell.toml"), text)
+}
+
+#[test]
+fn demo_config_is_valid_and_typed() {
+    let c = parse(&demo_text()).expect("demo parses");
+    assert_eq!(c.name, "demo");
+    assert_eq!(c.cycle_time.as_micros(), 1000);
+    assert_eq!(c.axis_names(), "x, y, z, c");
+    assert_eq!(c.axes[3].unit, "deg");
+    assert_eq!(c.axes[0].scaling.counts_per_unit(), 1000.0);
+    // Defaults: stop deceleration = acceleration, following-error limit = 0.1 s at full speed.
+    assert_eq!(c.axes[0].stop_deceleration, c.axes[0].limits.acceleration);
+    assert_eq!(c.axes[0].following_error_limit, 40.0);
+    assert_eq!(
+        c.program,
+        Some(Path::new("demo-program.toml").to_path_buf())
+    );
+}
+
+#[test]
+fn every_allowed_cycle_time_parses() {
+    for us in [125, 250, 500, 1000, 2000, 4000, 8000] {
+        let text = demo_text().replace("cycle_time_us = 1000", &format!("cycle_time_us = {us}"));
+        assert_eq!(parse(&text).unwrap().cycle_time.as_micros(), us);
+    }
+}
+
+#[test]
+fn unknown_compression_names_the_key() {
+    let text = demo_text().replace(r#"compression = "zstd""#, r#"compression = "gzip""#);
+    let e = parse(&text).unwrap_err();
+    assert_eq!(e.key, "recording.compression");
+    assert!(e.message.contains("gzip"), "{e}");
+}
+
+#[test]
+fn position_range_beyond_32_bit_counts_is_refused() {
+    let text = demo_text().replace("position = [0.0, 800.0]", "position = [0.0, 8000000.0]");
+    let e = parse(&text).unwrap_err();
+    assert_eq!(e.key, "axes[0].limits.position");
+    assert!(e.message.contains("32-bit"), "{e}");
+}
+
+#[test]
+fn bad_cell_name_and_priority_are_refused() {
+    let e = parse(&demo_text().replace(r#"name = "demo""#, r#"name = "de mo""#)).unwrap_err();
+    assert_eq!(e.key, "cell.name");
+    let e = parse(&demo_text().replace("priority = 80", "priority = 0")).unwrap_err();
+    assert_eq!(e.key, "rt.priority");
+}
+
+#[test]
+fn initial_position_outside_range_is_refused() {
+    let text = demo_text().replacen(
+        "sim = { initial_position = 50.0 }",
+        "sim = { initial_position = 900.0 }",
+        1,
+    );
+    let e = parse(&text).unwrap_err();
+    assert_eq!(e.key, "axes[0].sim.initial_position");
+}
+
+#[test]
+fn errors_render_file_line_key_message() {
+    let e = parse("[cell]\nname = \"a\"\ncycle_time_us = 1000\nbogus = 1\n").unwrap_err();
+    let s = e.to_string();
+    assert!(s.starts_with("cell.toml:"), "{s}");
+    assert!(s.contains("bogus"), "{s}");
+}

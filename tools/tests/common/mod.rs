@@ -1,0 +1,92 @@
+//! Helpers shared by the end-to-end tests: run the binary, read a recording back.
+
+#![allow(dead_code)]
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use cellrt_runtime::record::proto::{AxisCycle, CycleStats, Event};
+use cellrt_runtime::record::topics::{AXIS_TOPIC_PREFIX, CYCLE_TOPIC, EVENTS_TOPIC};
+use prost::Message;
+
+/// The demo configuration, rewritten into `dir` with the given program and without CPU pinning
+/// (the test machine may have fewer CPUs).
+pub fn demo_cell(dir: &Path, program: &str) -> PathBuf {
+    let demo =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../configs/demo.toml"))
+            .expect("configs/demo.toml");
+    let text = demo.replace("cpu = 1 ", "# cpu = 1 ").replace(
+        r#"program = "demo-program.toml""#,
+        r#"program = "program.toml""#,
+    );
+    std::fs::write(dir.join("program.toml"), program).unwrap();
+    let cfg = dir.join("cell.toml");
+    std::fs::write(&cfg, text).unwrap();
+    cfg
+}
+
+/// A recording decoded per topic.
+#[derive(Debug, Default)]
+pub struct Recording {
+    pub cycles: Vec<CycleStats>,
+    pub axes: BTreeMap<String, Vec<AxisCycle>>,
+    pub events: Vec<Event>,
+    /// Whether the file has a summary section with chunk indexes.
+    pub indexed: bool,
+    /// Message counts from the summary's statistics, per topic.
+    pub summary_counts: BTreeMap<String, u64>,
+}
+
+/// Reads and decodes a recording with the mcap crate.
+pub fn read_recording(path: &Path) -> Recording {
+    let bytes = std::fs::read(path).expect("recording exists");
+    let mut rec = Recording::default();
+    for msg in mcap::MessageStream::new(&bytes).expect("valid mcap") {
+        let msg = msg.expect("readable message");
+        let topic = msg.channel.topic.as_str();
+        let schema = msg.channel.schema.as_ref().expect("channel has a schema");
+        assert_eq!(schema.encoding, "protobuf");
+        assert_eq!(msg.channel.message_encoding, "protobuf");
+        if topic == CYCLE_TOPIC {
+            rec.cycles
+                .push(CycleStats::decode(&*msg.data).expect("CycleStats"));
+        } else if topic == EVENTS_TOPIC {
+            rec.events.push(Event::decode(&*msg.data).expect("Event"));
+        } else if let Some(axis) = topic.strip_prefix(AXIS_TOPIC_PREFIX) {
+            rec.axes
+                .entry(axis.to_string())
+                .or_default()
+                .push(AxisCycle::decode(&*msg.data).expect("AxisCycle"));
+        } else {
+            panic!("unexpected topic {topic}");
+        }
+    }
+    if let Ok(Some(summary)) = mcap::Summary::read(&bytes) {
+        rec.indexed = !summary.chunk_indexes.is_empty();
+        if let Some(stats) = &summary.stats {
+            for (id, count) in &stats.channel_message_counts {
+                if let Some(ch) = summary.channels.get(id) {
+                    rec.summary_counts.insert(ch.topic.clone(), *count);
+                }
+            }
+        }
+    }
+    rec
+}
+
+/// Largest |finite difference| of order 1..=3 of `p` over runs of consecutive cycles, per
+/// second, second² and second³.
+pub fn max_derivatives(samples: &[(u64, f64)], dt: f64) -> (f64, f64, f64) {
+    let (mut v, mut a, mut j) = (0.0f64, 0.0f64, 0.0f64);
+    for w in samples.windows(4) {
+        let consecutive = w.windows(2).all(|p| p[1].0 == p[0].0 + 1);
+        if !consecutive {
+            continue;
+        }
+        let p: Vec<f64> = w.iter().map(|s| s.1).collect();
+        v = v.max(((p[1] - p[0]) / dt).abs());
+        a = a.max(((p[2] - 2.0 * p[1] + p[0]) / (dt * dt)).abs());
+        j = j.max(((p[3] - 3.0 * p[2] + 3.0 * p[1] - p[0]) / (dt * dt * dt)).abs());
+    }
+    (v, a, j)
+}

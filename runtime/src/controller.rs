@@ -48,6 +48,9 @@ pub enum RunError {
     /// Recording could not start or finish.
     #[error(transparent)]
     Recorder(#[from] RecorderError),
+    /// Another controller runs this cell.
+    #[error(transparent)]
+    CellLock(#[from] crate::cell_lock::CellLockError),
     /// iceoryx2 set-up failed.
     #[error(transparent)]
     Service(#[from] services::ServiceError),
@@ -145,6 +148,7 @@ pub fn sim_bus(cell: &CellConfig) -> SimBus {
 
 /// Runs `cell` until the program ends, the duration elapses or `shutdown` is set.
 pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
+    let _lock = crate::cell_lock::CellLock::acquire(&cell.name)?;
     let queue_cycles = (cell.recording.queue_seconds / cell.period())
         .ceil()
         .max(64.0) as usize;

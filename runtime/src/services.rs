@@ -33,12 +33,17 @@ pub fn setpoint_service_name(cell: &str) -> String {
     format!("cellrt/{cell}/setpoints")
 }
 
-/// iceoryx2 configuration: resources are prefixed with the user id so that cells of different
-/// users (root and a user) never collide on files the other may not open.
+/// iceoryx2 configuration: each user gets its own root directory and resource prefix, so cells
+/// of different users (root and an operator) never collide on files the other may not open
+/// (iceoryx2 creates them mode 0600 / 0750).
 fn config() -> Config {
+    let uid = nix::unistd::getuid().as_raw();
     let mut config = Config::default();
-    let prefix = format!("iox2_cellrt_u{}_", nix::unistd::getuid().as_raw());
-    if let Ok(p) = FileName::new(prefix.as_bytes()) {
+    let root = format!("{}/cellrt-iceoryx2-u{uid}/", std::env::temp_dir().display());
+    if let Ok(p) = Path::new(root.as_bytes()) {
+        config.global.set_root_path(&p);
+    }
+    if let Ok(p) = FileName::new(format!("iox2_cellrt_u{uid}_").as_bytes()) {
         config.global.prefix = p;
     }
     config

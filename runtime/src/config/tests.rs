@@ -79,3 +79,15 @@ fn errors_render_file_line_key_message() {
     assert!(s.starts_with("cell.toml:"), "{s}");
     assert!(s.contains("bogus"), "{s}");
 }
+
+#[test]
+fn lookahead_beyond_the_setpoint_buffer_is_refused() {
+    let text = demo_text()
+        .replace("cycle_time_us = 1000", "cycle_time_us = 125")
+        .replace("lookahead_ms = 50", "lookahead_ms = 1000");
+    let e = parse(&text).unwrap_err();
+    assert_eq!(e.key, "setpoints.lookahead_ms");
+    assert!(e.message.contains("setpoint buffer"), "{e}");
+    // 1000 ms fits at 1 ms cycles.
+    parse(&demo_text().replace("lookahead_ms = 50", "lookahead_ms = 1000")).unwrap();
+}

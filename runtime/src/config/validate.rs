@@ -148,6 +148,21 @@ pub(super) fn validate(
             "lookahead_ms and start_delay_ms must be at most 10000 ms",
         ));
     }
+    // The subscriber's buffer is the lookahead queue; more would overwrite unread blocks.
+    let max_cycles = (crate::services::SETPOINT_BUFFER_BLOCKS - 4) * crate::setpoints::BLOCK_CYCLES;
+    let cycles = (lookahead.max(start_delay) * 1e6 / f64::from(cycle_time.as_micros())).ceil();
+    if cycles > max_cycles as f64 {
+        return Err(ConfigError::new(
+            file,
+            "setpoints.lookahead_ms",
+            format!(
+                "{} ms is {cycles} cycles at {} µs; the setpoint buffer holds at most {max_cycles} cycles ({:.0} ms)",
+                lookahead.max(start_delay) * 1e3,
+                cycle_time.as_micros(),
+                max_cycles as f64 * f64::from(cycle_time.as_micros()) / 1e3
+            ),
+        ));
+    }
     let setpoints = SetpointConfig {
         lookahead,
         start_delay,

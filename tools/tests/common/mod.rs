@@ -9,8 +9,8 @@ use cellrt_runtime::record::proto::{AxisCycle, CycleStats, Event};
 use cellrt_runtime::record::topics::{AXIS_TOPIC_PREFIX, CYCLE_TOPIC, EVENTS_TOPIC};
 use prost::Message;
 
-/// The demo configuration, rewritten into `dir` with the given program and without CPU pinning
-/// (the test machine may have fewer CPUs).
+/// The demo configuration, rewritten into `dir` with the given program, a unique cell name, a
+/// long setpoint lookahead and without CPU pinning (the test machine may have fewer CPUs).
 pub fn demo_cell(dir: &Path, program: &str) -> PathBuf {
     let demo =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../configs/demo.toml"))
@@ -23,6 +23,17 @@ pub fn demo_cell(dir: &Path, program: &str) -> PathBuf {
     let cfg = dir.join("cell.toml");
     std::fs::write(&cfg, text).unwrap();
     cfg
+}
+
+/// A cell name no other test or user run shares (services and locks are per cell name).
+pub fn unique_cell_name() -> String {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    static N: AtomicU32 = AtomicU32::new(0);
+    format!(
+        "t{}-{}",
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    )
 }
 
 /// A recording decoded per topic.

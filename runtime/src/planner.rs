@@ -9,14 +9,13 @@ use std::time::{Duration, Instant};
 
 use cellrt_trajectory::planner::{plan_move, AxisState, MoveAxis};
 use cellrt_trajectory::sampler::MoveSampler;
-use iceoryx2::port::publisher::Publisher;
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, Handoff};
 use crate::program::{MoveTarget, Program, Step};
 use crate::services;
-use crate::setpoints::{AxisSetpoint, SetpointBlock, BLOCK_CYCLES, FLAG_LAST};
+use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, FLAG_LAST};
 
 /// How long power on / power off may take before the program fails.
 pub const POWER_TIMEOUT: Duration = Duration::from_secs(10);
@@ -126,7 +125,7 @@ struct Planner<'a> {
     cell: &'a CellConfig,
     handoff: &'a Handoff,
     abort: &'a AtomicBool,
-    publisher: Publisher<ipc::Service, SetpointBlock, ()>,
+    publisher: services::SetpointPublisher,
     _node: Node<ipc::Service>,
     source: String,
     step: usize,
@@ -147,7 +146,8 @@ impl<'a> Planner<'a> {
             reason: e.to_string(),
         };
         let node = services::node(&cell.name, "planner").map_err(fail)?;
-        let publisher = services::setpoint_publisher(&node, &cell.name).map_err(fail)?;
+        let publisher =
+            services::setpoint_publisher(&node, &cell.name, cell.axes.len()).map_err(fail)?;
         Ok(Planner {
             cell,
             handoff,
@@ -249,10 +249,7 @@ impl<'a> Planner<'a> {
             )));
         }
         let n = self.cell.axes.len();
-        let mut hold = [0.0f64; crate::setpoints::MAX_AXES];
-        for (i, h) in hold.iter_mut().enumerate().take(n) {
-            *h = status.hold(i);
-        }
+        let hold: Vec<f64> = (0..n).map(|i| status.hold(i)).collect();
         let axes: Vec<MoveAxis> = targets
             .iter()
             .map(|t| {
@@ -289,11 +286,7 @@ impl<'a> Planner<'a> {
         let start_cycle = status.cycle() + delay.max(2);
 
         let mut sample = vec![AxisState::default(); targets.len()];
-        let mut block = Box::new(SetpointBlock {
-            motion_id,
-            axis_count: n as u32,
-            ..SetpointBlock::default()
-        });
+        let mut rows = vec![AxisSetpoint::default(); BLOCK_CYCLES * n];
         let mut k = 1u64;
         while k <= total {
             let block_start = start_cycle + (k - 1);
@@ -310,17 +303,10 @@ impl<'a> Planner<'a> {
             }
             self.check_running(motion_id, block_start)?;
             let cycles = (total - k + 1).min(BLOCK_CYCLES as u64) as usize;
-            block.start_cycle = block_start;
-            block.cycles = cycles as u32;
-            block.flags = if k + cycles as u64 > total {
-                FLAG_LAST
-            } else {
-                0
-            };
             for c in 0..cycles {
                 sampler.fill(k + c as u64, &mut sample);
-                let row = &mut block.setpoints[c];
-                for (i, sp) in row.iter_mut().enumerate().take(n) {
+                let row = &mut rows[c * n..(c + 1) * n];
+                for (i, sp) in row.iter_mut().enumerate() {
                     *sp = AxisSetpoint {
                         position: hold[i],
                         velocity: 0.0,
@@ -334,12 +320,23 @@ impl<'a> Planner<'a> {
                     };
                 }
             }
-            let loaned = self
+            let mut loaned = self
                 .publisher
-                .loan_uninit()
+                .loan_slice_uninit(cycles * n)
                 .map_err(|e| self.err(format!("setpoint loan failed: {e:?}")))?;
+            *loaned.user_header_mut() = SetpointHeader {
+                motion_id,
+                flags: if k + cycles as u64 > total {
+                    FLAG_LAST
+                } else {
+                    0
+                },
+                start_cycle: block_start,
+                cycles: cycles as u32,
+                axis_count: n as u32,
+            };
             loaned
-                .write_payload(*block)
+                .write_from_slice(&rows[..cycles * n])
                 .send()
                 .map_err(|e| self.err(format!("setpoint publish failed: {e:?}")))?;
             k += cycles as u64;

@@ -3,10 +3,12 @@
 use iceoryx2::config::Config;
 use iceoryx2::node::{Node, NodeBuilder};
 use iceoryx2::port::publisher::Publisher;
-use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
-use crate::setpoints::SetpointBlock;
+use crate::setpoints::{AxisSetpoint, SetpointHeader, SetpointSubscriber, BLOCK_CYCLES};
+
+/// The setpoint service's publisher type.
+pub type SetpointPublisher = Publisher<ipc::Service, [AxisSetpoint], SetpointHeader>;
 
 /// Setpoint blocks the subscriber buffers (the RT thread's lookahead, in blocks).
 pub const SETPOINT_BUFFER_BLOCKS: usize = 256;
@@ -67,15 +69,16 @@ fn setpoint_service(
 ) -> Result<
     iceoryx2::service::port_factory::publish_subscribe::PortFactory<
         ipc::Service,
-        SetpointBlock,
-        (),
+        [AxisSetpoint],
+        SetpointHeader,
     >,
     ServiceError,
 > {
     let name = ServiceName::new(&setpoint_service_name(cell))
         .map_err(|e| service_error("service name", cell, e))?;
     node.service_builder(&name)
-        .publish_subscribe::<SetpointBlock>()
+        .publish_subscribe::<[AxisSetpoint]>()
+        .user_header::<SetpointHeader>()
         .max_publishers(1)
         .max_subscribers(2)
         .history_size(0)
@@ -86,13 +89,16 @@ fn setpoint_service(
         .map_err(|e| service_error("setpoint service", cell, e))
 }
 
-/// The planner's end of the setpoint service.
+/// The planner's end of the setpoint service, sized for blocks of `axes` axes.
 pub fn setpoint_publisher(
     node: &Node<ipc::Service>,
     cell: &str,
-) -> Result<Publisher<ipc::Service, SetpointBlock, ()>, ServiceError> {
+    axes: usize,
+) -> Result<SetpointPublisher, ServiceError> {
     setpoint_service(node, cell)?
         .publisher_builder()
+        .initial_max_slice_len(BLOCK_CYCLES * axes.max(1))
+        .allocation_strategy(AllocationStrategy::Static)
         .backpressure_strategy(BackpressureStrategy::DiscardData)
         .max_loaned_samples(4)
         .create()
@@ -103,7 +109,7 @@ pub fn setpoint_publisher(
 pub fn setpoint_subscriber(
     node: &Node<ipc::Service>,
     cell: &str,
-) -> Result<Subscriber<ipc::Service, SetpointBlock, ()>, ServiceError> {
+) -> Result<SetpointSubscriber, ServiceError> {
     setpoint_service(node, cell)?
         .subscriber_builder()
         .create()

@@ -8,7 +8,7 @@ use cellrt_axes::cia402::master::{MasterRequest, MasterState};
 
 use super::Executive;
 use crate::handoff::{CellCommand, CellState, EventKind, RejectReason, StopReason, NO_AXIS};
-use crate::setpoints::{SetpointBlock, BLOCK_CYCLES};
+use crate::setpoints::BLOCK_CYCLES;
 
 /// Commands taken per cycle at most (bounds the cycle's work).
 const COMMANDS_PER_CYCLE: usize = 4;
@@ -268,14 +268,15 @@ impl<B: Bus> Executive<B> {
         let last_motion = self.motion_id;
         let verdict = match self.stream.front() {
             Ok(Some(b)) => {
-                if b.motion_id <= last_motion && b.motion_id != 0 && last_motion != 0 {
+                let h = b.header;
+                if h.motion_id <= last_motion && h.motion_id != 0 && last_motion != 0 {
                     Some(Err(None)) // stale block of an ended motion
-                } else if !header_ok(b, n) {
+                } else if !b.is_well_formed(n) {
                     Some(Err(Some(RejectReason::Malformed)))
-                } else if b.start_cycle < cycle {
+                } else if h.start_cycle < cycle {
                     Some(Err(Some(RejectReason::LateBlock)))
-                } else if b.start_cycle == cycle {
-                    Some(Ok(b.motion_id))
+                } else if h.start_cycle == cycle {
+                    Some(Ok(h.motion_id))
                 } else {
                     None
                 }
@@ -324,10 +325,10 @@ impl<B: Bus> Executive<B> {
                 Ok(Some(b)) => b,
                 _ => return Lookup::Underrun,
             };
-            if front.motion_id != self.motion_id || !header_ok(front, n) {
+            if front.header.motion_id != self.motion_id || !front.is_well_formed(n) {
                 return Lookup::Rejected(NO_AXIS, RejectReason::Discontinuous);
             }
-            if cycle < front.start_cycle {
+            if cycle < front.header.start_cycle {
                 return Lookup::Underrun;
             }
             if cycle >= front.end_cycle() {
@@ -338,7 +339,8 @@ impl<B: Bus> Executive<B> {
                 self.stream.pop();
                 match self.stream.front() {
                     Ok(Some(next))
-                        if next.start_cycle != end && next.motion_id == self.motion_id =>
+                        if next.header.start_cycle != end
+                            && next.header.motion_id == self.motion_id =>
                     {
                         return Lookup::Rejected(NO_AXIS, RejectReason::Discontinuous)
                     }
@@ -412,9 +414,4 @@ impl<B: Bus> Executive<B> {
             }
         }
     }
-}
-
-/// Whether a block's header fits this cell.
-fn header_ok(b: &SetpointBlock, axes: usize) -> bool {
-    b.axis_count as usize == axes && b.cycles >= 1 && b.cycles as usize <= BLOCK_CYCLES
 }

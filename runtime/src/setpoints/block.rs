@@ -1,9 +1,10 @@
-//! The setpoint block payload (`#[repr(C)]`, shared memory safe).
+//! The setpoint block: an iceoryx2 user header plus a slice of per-cycle, per-axis setpoints,
+//! sized per cell (`BLOCK_CYCLES × axes`). Both are `#[repr(C)]` and shared-memory safe.
 
 use iceoryx2::prelude::ZeroCopySend;
 
-/// Most axes a cell (and so a block) carries.
-pub const MAX_AXES: usize = 64;
+/// Most axes a cell may have.
+pub const MAX_AXES: usize = 256;
 
 /// Cycles covered by one block.
 pub const BLOCK_CYCLES: usize = 16;
@@ -22,11 +23,11 @@ pub struct AxisSetpoint {
     pub velocity: f64,
 }
 
-/// Setpoints of every axis of a cell for [`BLOCK_CYCLES`] consecutive cycles.
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
+/// Header of a setpoint block (the iceoryx2 user header of each sample).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("cellrt::SetpointBlock")]
-pub struct SetpointBlock {
+#[type_name("cellrt::SetpointHeader")]
+pub struct SetpointHeader {
     /// Identifies the motion; all blocks of one motion share it.
     pub motion_id: u32,
     /// [`FLAG_LAST`] and future flags.
@@ -35,44 +36,87 @@ pub struct SetpointBlock {
     pub start_cycle: u64,
     /// Valid cycles in this block (1..=BLOCK_CYCLES).
     pub cycles: u32,
-    /// Valid axes per cycle (the cell's axis count).
+    /// Axes per cycle (the cell's axis count).
     pub axis_count: u32,
-    /// `setpoints[k][axis]` is for cycle `start_cycle + k`.
-    pub setpoints: [[AxisSetpoint; MAX_AXES]; BLOCK_CYCLES],
 }
 
-impl Default for SetpointBlock {
-    fn default() -> Self {
-        SetpointBlock {
-            motion_id: 0,
-            flags: 0,
-            start_cycle: 0,
-            cycles: 0,
-            axis_count: 0,
-            setpoints: [[AxisSetpoint::default(); MAX_AXES]; BLOCK_CYCLES],
-        }
-    }
+/// A received block: its header and its setpoints, `setpoints[k * axis_count + axis]` being
+/// for cycle `start_cycle + k`.
+#[derive(Debug, Clone, Copy)]
+pub struct SetpointBlock<'a> {
+    /// The header.
+    pub header: &'a SetpointHeader,
+    /// Row-major setpoints.
+    pub setpoints: &'a [AxisSetpoint],
 }
 
-impl SetpointBlock {
+impl SetpointBlock<'_> {
     /// One past the last cycle this block covers.
     pub fn end_cycle(&self) -> u64 {
-        self.start_cycle + u64::from(self.cycles)
+        self.header.start_cycle + u64::from(self.header.cycles)
     }
 
     /// Whether the motion ends with this block.
     pub fn is_last(&self) -> bool {
-        self.flags & FLAG_LAST != 0
+        self.header.flags & FLAG_LAST != 0
+    }
+
+    /// Whether the header fits a cell of `axes` axes and the slice holds what it announces.
+    pub fn is_well_formed(&self, axes: usize) -> bool {
+        let h = self.header;
+        h.axis_count as usize == axes
+            && h.cycles >= 1
+            && h.cycles as usize <= BLOCK_CYCLES
+            && self.setpoints.len() == h.cycles as usize * axes
     }
 
     /// The setpoint of `axis` at `cycle`, if this block covers it.
     pub fn get(&self, cycle: u64, axis: usize) -> Option<&AxisSetpoint> {
-        if cycle < self.start_cycle || cycle >= self.end_cycle() || axis >= self.axis_count as usize
-        {
+        let h = self.header;
+        if cycle < h.start_cycle || cycle >= self.end_cycle() || axis >= h.axis_count as usize {
             return None;
         }
-        self.setpoints
-            .get((cycle - self.start_cycle) as usize)?
-            .get(axis)
+        let row = (cycle - h.start_cycle) as usize;
+        self.setpoints.get(row * h.axis_count as usize + axis)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lookup_covers_exactly_the_announced_cycles_and_axes() {
+        let header = SetpointHeader {
+            motion_id: 1,
+            flags: FLAG_LAST,
+            start_cycle: 100,
+            cycles: 2,
+            axis_count: 3,
+        };
+        let sp: Vec<AxisSetpoint> = (0..6)
+            .map(|i| AxisSetpoint {
+                position: f64::from(i),
+                velocity: 0.0,
+            })
+            .collect();
+        let b = SetpointBlock {
+            header: &header,
+            setpoints: &sp,
+        };
+        assert!(b.is_well_formed(3));
+        assert!(!b.is_well_formed(4));
+        assert_eq!(b.get(100, 0).unwrap().position, 0.0);
+        assert_eq!(b.get(101, 2).unwrap().position, 5.0);
+        assert!(b.get(99, 0).is_none());
+        assert!(b.get(102, 0).is_none());
+        assert!(b.get(100, 3).is_none());
+        assert_eq!(b.end_cycle(), 102);
+        assert!(b.is_last());
+        let short = SetpointBlock {
+            header: &header,
+            setpoints: &sp[..5],
+        };
+        assert!(!short.is_well_formed(3));
     }
 }

@@ -1,7 +1,7 @@
-//! Setpoint blocks: the fixed-size payload the planner publishes and the RT thread consumes.
+//! Setpoint blocks: what the planner publishes and the RT thread consumes.
 
 mod block;
 mod stream;
 
-pub use block::{AxisSetpoint, SetpointBlock, BLOCK_CYCLES, FLAG_LAST, MAX_AXES};
-pub use stream::{SetpointStream, StreamError};
+pub use block::{AxisSetpoint, SetpointBlock, SetpointHeader, BLOCK_CYCLES, FLAG_LAST, MAX_AXES};
+pub use stream::{SetpointStream, SetpointSubscriber, StreamError};

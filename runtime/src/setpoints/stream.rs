@@ -7,7 +7,10 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use iceoryx2::sample::Sample;
 
-use super::SetpointBlock;
+use super::{AxisSetpoint, SetpointBlock, SetpointHeader};
+
+/// The setpoint service's subscriber type.
+pub type SetpointSubscriber = Subscriber<ipc::Service, [AxisSetpoint], SetpointHeader>;
 
 /// Receiving from the setpoint service failed (the iceoryx2 error, kept allocation-free).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -16,13 +19,13 @@ pub struct StreamError(pub iceoryx2::port::ReceiveError);
 
 /// Zero-copy reader of setpoint blocks, front first.
 pub struct SetpointStream {
-    subscriber: Subscriber<ipc::Service, SetpointBlock, ()>,
-    front: Option<Sample<ipc::Service, SetpointBlock, ()>>,
+    subscriber: SetpointSubscriber,
+    front: Option<Sample<ipc::Service, [AxisSetpoint], SetpointHeader>>,
 }
 
 impl SetpointStream {
     /// Wraps the RT thread's subscriber.
-    pub fn new(subscriber: Subscriber<ipc::Service, SetpointBlock, ()>) -> Self {
+    pub fn new(subscriber: SetpointSubscriber) -> Self {
         SetpointStream {
             subscriber,
             front: None,
@@ -30,11 +33,14 @@ impl SetpointStream {
     }
 
     /// The oldest block not yet consumed, receiving one if none is held.
-    pub fn front(&mut self) -> Result<Option<&SetpointBlock>, StreamError> {
+    pub fn front(&mut self) -> Result<Option<SetpointBlock<'_>>, StreamError> {
         if self.front.is_none() {
             self.front = self.subscriber.receive().map_err(StreamError)?;
         }
-        Ok(self.front.as_ref().map(|s| s.payload()))
+        Ok(self.front.as_ref().map(|s| SetpointBlock {
+            header: s.user_header(),
+            setpoints: s.payload(),
+        }))
     }
 
     /// Releases the front block.
@@ -46,8 +52,12 @@ impl SetpointStream {
     /// Returns how many blocks were dropped.
     pub fn discard_all(&mut self) -> usize {
         let mut n = usize::from(self.front.take().is_some());
-        while let Ok(Some(_)) = self.subscriber.receive() {
-            n += 1;
+        // Bounded by the subscriber's buffer: the publisher cannot outrun it within one call.
+        for _ in 0..crate::services::SETPOINT_BUFFER_BLOCKS + 4 {
+            match self.subscriber.receive() {
+                Ok(Some(_)) => n += 1,
+                _ => break,
+            }
         }
         n
     }

@@ -16,6 +16,12 @@ pub trait Bus {
     fn tx_image(&self, axis: usize) -> &[u8];
     /// One exchange; `elapsed` is the cycle periods since the previous one (1 in steady state).
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError>;
+    /// Fault injection: makes `axis`' drive raise alarm `code`. Returns false where the bus
+    /// cannot inject (real drives).
+    fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
+        let _ = (axis, code);
+        false
+    }
 }
 
 /// A failed exchange, naming the axis.
@@ -88,6 +94,16 @@ impl Bus for SimBus {
     }
 
     /// Runs every drive's cycle; all drives run even if one fails, the first error is returned.
+    fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
+        match self.drives.get_mut(axis) {
+            Some(d) => {
+                d.inject_alarm(code);
+                true
+            }
+            None => false,
+        }
+    }
+
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {
         let mut first = Ok(());
         let images = self.rx.iter().zip(self.tx.iter_mut());

@@ -20,7 +20,7 @@ use crate::planner;
 use crate::program::Program;
 use crate::record::{Recorder, RecorderError, RecordingInfo};
 use crate::rt::histogram::Percentiles;
-use crate::rt::thread::{setup_current_thread, RtReport};
+use crate::rt::thread::{hold_cpu_dma_latency_zero, setup_current_thread, RtReport};
 use crate::services;
 use crate::setpoints::SetpointStream;
 
@@ -170,7 +170,8 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .name("cellrt-rt".into())
         .stack_size(RT_STACK_BYTES)
         .spawn(move || -> Option<RtStats> {
-            let report = setup_current_thread(&rt_cell.rt);
+            let mut report = setup_current_thread(&rt_cell.rt);
+            let _dma = hold_cpu_dma_latency_zero(&mut report);
             let node = match services::node(&rt_cell.name, "rt") {
                 Ok(n) => n,
                 Err(e) => {

@@ -119,6 +119,8 @@ pub enum StopReason {
     SetpointRejected = 3,
     /// A drive faulted; the other axes stop too.
     DriveFault = 4,
+    /// Too many consecutive overruns: the loop cannot keep time.
+    Overrun = 5,
 }
 
 impl StopReason {
@@ -129,13 +131,14 @@ impl StopReason {
             StopReason::Underrun => "underrun",
             StopReason::SetpointRejected => "setpoint_rejected",
             StopReason::DriveFault => "drive_fault",
+            StopReason::Overrun => "overrun",
         }
     }
 
     /// Inverse of `as u8`.
     pub fn from_u8(v: u8) -> Option<StopReason> {
         use StopReason::*;
-        [Command, Underrun, SetpointRejected, DriveFault]
+        [Command, Underrun, SetpointRejected, DriveFault, Overrun]
             .into_iter()
             .find(|s| *s as u8 == v)
     }
@@ -207,7 +210,8 @@ pub enum EventKind {
     Underrun,
     /// A setpoint was rejected (value: [`RejectReason`] as u8).
     SetpointRejected,
-    /// A controlled stop started (value: [`StopReason`] as u8).
+    /// A fault reaction or commanded stop started (value: [`StopReason`] as u8 × 16 +
+    /// reaction: 0 controlled stop, 1 quick stop, 2 disable).
     StopStarted,
     /// A controlled stop ended.
     StopFinished,
@@ -221,6 +225,8 @@ pub enum EventKind {
     RecordsDropped,
     /// The bus exchange failed (value: axis index).
     BusError,
+    /// A scheduled fault was injected (value: 1 stall, 2 drive alarm, 3 planner stall).
+    FaultInjected,
 }
 
 impl EventKind {
@@ -242,6 +248,7 @@ impl EventKind {
             EventKind::MasterTimeout => "master_timeout",
             EventKind::RecordsDropped => "records_dropped",
             EventKind::BusError => "bus_error",
+            EventKind::FaultInjected => "fault_injected",
         }
     }
 }

@@ -130,6 +130,8 @@ struct Planner<'a> {
     source: String,
     step: usize,
     what: &'static str,
+    /// Planner stalls still to inject: (cycle, duration ns).
+    stalls: Vec<(u64, u64)>,
 }
 
 impl<'a> Planner<'a> {
@@ -157,6 +159,14 @@ impl<'a> Planner<'a> {
             source: program.source.display().to_string(),
             step: 0,
             what: "",
+            stalls: cell
+                .inject
+                .iter()
+                .filter_map(|i| match i.fault {
+                    crate::config::InjectedFault::PlannerStall { ns } => Some((i.cycle, ns)),
+                    _ => None,
+                })
+                .collect(),
         })
     }
 
@@ -301,6 +311,7 @@ impl<'a> Planner<'a> {
             if self.abort.load(Ordering::Acquire) {
                 return Ok(());
             }
+            self.inject_stall();
             self.check_running(motion_id, block_start)?;
             let cycles = (total - k + 1).min(BLOCK_CYCLES as u64) as usize;
             for c in 0..cycles {
@@ -355,6 +366,21 @@ impl<'a> Planner<'a> {
             }
             self.check_running(motion_id, end_cycle)?;
             std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+
+    /// Fault injection: stops publishing for a while once a scheduled planner stall is due.
+    fn inject_stall(&mut self) {
+        let now = self.handoff.status.cycle();
+        if let Some(pos) = self.stalls.iter().position(|(c, _)| *c <= now) {
+            let (_, ns) = self.stalls.remove(pos);
+            let _ = self.handoff.events.push(crate::handoff::EventRecord {
+                cycle: now,
+                kind: crate::handoff::EventKind::FaultInjected,
+                axis: crate::handoff::NO_AXIS,
+                value: 3,
+            });
+            self.sleep(Duration::from_nanos(ns));
         }
     }
 

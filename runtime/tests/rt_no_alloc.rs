@@ -78,6 +78,9 @@ priority = 80
 [setpoints]
 lookahead_ms = 1000   # the test must not depend on how loaded the machine is
 
+[watchdogs]
+max_consecutive_overruns = 0
+
 [[axes]]
 name = "x"
 drive = "mr-j5-g-n1"

@@ -98,7 +98,7 @@ fn sigint_mid_move_ramps_down_and_finishes_the_recording() {
         .iter()
         .find(|e| e.kind == "stop_started")
         .expect("a controlled stop was recorded");
-    assert_eq!(stop.detail, "command");
+    assert_eq!(stop.detail, "command (controlled_stop)");
     assert!(rec.events.iter().any(|e| e.kind == "stop_finished"));
     assert!(
         !rec.events.iter().any(|e| e.kind == "motion_finished"),

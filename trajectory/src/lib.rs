@@ -13,6 +13,7 @@ pub mod limits;
 pub mod planner;
 pub mod sampler;
 pub mod units;
+mod verify;
 
 pub use limits::{KinematicLimits, LimitsError, PositionRange, Quantity};
 pub use planner::{plan_move, AxisState, MoveAxis, PlanError, PlannedMove, MAX_MOVE_AXES};

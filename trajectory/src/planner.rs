@@ -12,7 +12,8 @@ use rsruckig::util::integrate;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::limits::{KinematicLimits, LimitsError, PositionRange};
+use crate::limits::{KinematicLimits, LimitsError, PositionRange, Quantity};
+use crate::verify::{polish_end_state, verify_axis, Violation};
 
 /// Most axes one move plans at once (the fixed capacity of a [`PlannedMove`]'s targets).
 pub const MAX_MOVE_AXES: usize = 16;
@@ -114,6 +115,19 @@ pub enum PlanError {
     /// rsruckig produced a trajectory whose duration is negative or not finite.
     #[error("planned duration {0} s is not finite and >= 0")]
     BadDuration(f64),
+    /// Every plan rsruckig produced (including the fallbacks of [`plan_move`]) exceeds a
+    /// limit; reported for the first plan.
+    #[error("axis {axis}: planned {quantity} {value} {} exceeds the limit {limit} {}", quantity.unit(), quantity.unit())]
+    LimitViolation {
+        /// Index of the axis in the move.
+        axis: usize,
+        /// Which quantity.
+        quantity: Quantity,
+        /// The planned |value|.
+        value: f64,
+        /// The limit (including any allowance for a start state beyond it).
+        limit: f64,
+    },
 }
 
 /// A planned move: all axes start at their start state and reach their targets at rest
@@ -125,16 +139,78 @@ pub struct PlannedMove {
     targets: [f64; MAX_MOVE_AXES],
 }
 
+/// Minimum durations, as factors of the first plan's duration, tried (time-synchronised)
+/// when the first plan fails the limit check (`verify::verify_axis`).
+const RETRY_DURATION_FACTORS: [f64; 3] = [1.0 + 1e-6, 1.0 + 1e-4, 1.0 + 1e-2];
+
 /// Plans a time-synchronised, jerk-limited move of `axes` to rest at their targets.
+///
+/// rsruckig's result is post-processed (see `verify.rs` for the finding and the checks):
+/// every phase of every axis is checked against the limits, then each axis' profile is
+/// polished so that it ends at its target to rounding — rsruckig tolerates an end-position
+/// error of up to 1e-8, which the exact end state would turn into a position step (a jerk
+/// spike) in the last cycle — and the polished profile is kept if it passes the same check.
+/// If the check of rsruckig's own plan fails, the move is re-planned, in this order, until
+/// one passes:
+///
+/// 1. time-synchronised with `minimum_duration` = 1 + 1e-6, 1 + 1e-4, 1 + 1e-2 times the
+///    first plan's duration;
+/// 2. phase-synchronised (rsruckig falls back to time synchronisation where phase
+///    synchronisation is impossible);
+/// 3. every axis planned on its own (no synchronisation between axes) with the longest
+///    duration of (1) as its minimum duration, so all still end together.
+///
+/// If none passes: [`PlanError::LimitViolation`] for the first plan's violation. A plan that
+/// violates a limit is never returned.
 ///
 /// Allocates (rsruckig dynamic-DoF mode); call it off the RT thread.
 pub fn plan_move(axes: &[MoveAxis]) -> Result<PlannedMove, PlanError> {
     validate(axes)?;
     let n = axes.len();
-
-    let mut input = InputParameter::<0>::new(Some(n));
-    input.synchronization = Synchronization::Time;
+    let mut input = ruckig_input(axes);
     let mut targets = [0.0; MAX_MOVE_AXES];
+    for (slot, axis) in targets.iter_mut().zip(axes) {
+        *slot = axis.target;
+    }
+
+    let mut trajectory = calculate(&input)?;
+    let first = match finish(&mut trajectory, axes) {
+        Ok(()) => return Ok(PlannedMove::new(trajectory, n, targets)),
+        Err(v) => v,
+    };
+
+    // 1. Slightly longer, still time-synchronised.
+    let base = trajectory.get_duration();
+    let mut longest = base;
+    for factor in RETRY_DURATION_FACTORS {
+        input.minimum_duration = Some(base * factor);
+        if let Some(t) = attempt(&input, axes) {
+            return Ok(PlannedMove::new(t, n, targets));
+        }
+        longest = base * factor;
+    }
+    // 2. Phase synchronisation.
+    input.minimum_duration = None;
+    input.synchronization = Synchronization::Phase;
+    if let Some(t) = attempt(&input, axes) {
+        return Ok(PlannedMove::new(t, n, targets));
+    }
+    // 3. Each axis on its own, all stretched to the longest duration tried.
+    if let Some(t) = attempt_per_axis(axes, longest) {
+        return Ok(PlannedMove::new(t, n, targets));
+    }
+    Err(PlanError::LimitViolation {
+        axis: first.axis,
+        quantity: first.quantity,
+        value: first.value,
+        limit: first.limit,
+    })
+}
+
+/// rsruckig input for a time-synchronised move of `axes` to rest.
+fn ruckig_input(axes: &[MoveAxis]) -> InputParameter<0> {
+    let mut input = InputParameter::<0>::new(Some(axes.len()));
+    input.synchronization = Synchronization::Time;
     for (i, axis) in axes.iter().enumerate() {
         input.current_position[i] = axis.start.position;
         input.current_velocity[i] = axis.start.velocity;
@@ -145,12 +221,16 @@ pub fn plan_move(axes: &[MoveAxis]) -> Result<PlannedMove, PlanError> {
         input.max_velocity[i] = axis.limits.velocity;
         input.max_acceleration[i] = axis.limits.acceleration;
         input.max_jerk[i] = axis.limits.jerk;
-        targets[i] = axis.target;
     }
+    input
+}
 
+/// Runs rsruckig on `input` and checks its result code and duration.
+fn calculate(input: &InputParameter<0>) -> Result<Trajectory<0>, PlanError> {
+    let n = input.degrees_of_freedom;
     let mut otg = Ruckig::<0, ThrowErrorHandler>::new(Some(n), RUCKIG_DELTA_TIME);
     let mut trajectory = Trajectory::<0>::new(Some(n));
-    match otg.calculate(&input, &mut trajectory)? {
+    match otg.calculate(input, &mut trajectory)? {
         RuckigResult::Working | RuckigResult::Finished => {}
         other => return Err(PlanError::RuckigResult(other)),
     }
@@ -158,11 +238,67 @@ pub fn plan_move(axes: &[MoveAxis]) -> Result<PlannedMove, PlanError> {
     if !(duration.is_finite() && duration >= 0.0) {
         return Err(PlanError::BadDuration(duration));
     }
-    Ok(PlannedMove {
-        trajectory,
-        axis_count: n,
-        targets,
-    })
+    Ok(trajectory)
+}
+
+/// Verifies every axis of `trajectory` against its limits, then polishes each axis' end
+/// state ([`polish_end_state`]) and keeps the polished profile if it still passes. The
+/// move's duration grows to the longest polished axis (by rounding-sized amounts; the other
+/// axes hold their end state).
+fn finish(trajectory: &mut Trajectory<0>, axes: &[MoveAxis]) -> Result<(), Violation> {
+    if trajectory.profiles.len() != 1 {
+        // Only waypoint moves have several sections; plan_move never asks for them.
+        return Err(Violation {
+            axis: 0,
+            quantity: Quantity::Velocity,
+            value: f64::NAN,
+            limit: f64::NAN,
+        });
+    }
+    let mut duration = trajectory.duration;
+    for (i, (profile, axis)) in trajectory.profiles[0].iter_mut().zip(axes).enumerate() {
+        verify_axis(i, profile, axis)?;
+        let mut polished = *profile;
+        if polish_end_state(&mut polished, axis.target) && verify_axis(i, &polished, axis).is_ok() {
+            *profile = polished;
+            duration = duration.max(profile.brake.duration + profile.t_sum[6]);
+        }
+    }
+    trajectory.duration = duration;
+    trajectory.cumulative_times[0] = duration;
+    Ok(())
+}
+
+/// One fallback plan: `Some` if rsruckig plans it and it passes [`finish`].
+fn attempt(input: &InputParameter<0>, axes: &[MoveAxis]) -> Option<Trajectory<0>> {
+    let mut trajectory = calculate(input).ok()?;
+    finish(&mut trajectory, axes).ok()?;
+    Some(trajectory)
+}
+
+/// Last fallback: plans each axis alone (no synchronisation between axes: the equivalent of
+/// per-axis `Synchronization::None`), each stretched to `minimum_duration` (a one-DoF
+/// time-synchronised plan; rsruckig ignores `minimum_duration` for a `None` DoF), and
+/// combines the profiles into one trajectory (its duration is the longest axis duration).
+fn attempt_per_axis(axes: &[MoveAxis], minimum_duration: f64) -> Option<Trajectory<0>> {
+    let n = axes.len();
+    let mut combined = Trajectory::<0>::new(Some(n));
+    let mut duration = 0.0_f64;
+    for (i, axis) in axes.iter().enumerate() {
+        let mut input = ruckig_input(core::slice::from_ref(axis));
+        input.minimum_duration = Some(minimum_duration);
+        let single = calculate(&input).ok()?;
+        if single.profiles.len() != 1 {
+            return None;
+        }
+        combined.profiles[0][i] = single.profiles[0][0];
+        combined.independent_min_durations[i] = single.independent_min_durations[0];
+        duration = duration.max(single.get_duration());
+    }
+    combined.duration = duration;
+    combined.cumulative_times[0] = duration;
+    finish(&mut combined, axes).ok()?;
+    Some(combined)
 }
 
 /// Checks the move's shape and every axis' numbers before handing them to rsruckig.
@@ -195,6 +331,14 @@ fn validate(axes: &[MoveAxis]) -> Result<(), PlanError> {
 }
 
 impl PlannedMove {
+    fn new(trajectory: Trajectory<0>, axis_count: usize, targets: [f64; MAX_MOVE_AXES]) -> Self {
+        PlannedMove {
+            trajectory,
+            axis_count,
+            targets,
+        }
+    }
+
     /// Duration of the move, s (the same for every axis).
     pub fn duration(&self) -> f64 {
         self.trajectory.get_duration()
@@ -304,5 +448,59 @@ mod tests {
         }; 5];
         assert_eq!(m.state_at(0.1, &mut big), 3);
         assert_eq!(big[3].position, 9.0);
+    }
+
+    #[test]
+    fn per_axis_fallback_is_synchronised_and_exact() {
+        let axes = [
+            axis(1.0),
+            MoveAxis {
+                start: AxisState {
+                    position: 0.5,
+                    velocity: 0.3,
+                    acceleration: -1.0,
+                },
+                target: -0.2,
+                limits: L,
+            },
+        ];
+        let normal = plan_move(&axes).unwrap();
+        let t = attempt_per_axis(&axes, normal.duration() * 1.01).unwrap();
+        let m = PlannedMove::new(
+            t,
+            2,
+            [
+                1.0, -0.2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+            ],
+        );
+        let d = m.duration();
+        assert!((d - normal.duration() * 1.01).abs() < 1e-9, "{d}");
+        let mut s = [AxisState::default(); 2];
+        m.state_at(0.0, &mut s);
+        assert_eq!(s[1], axes[1].start);
+        m.state_at(d * (1.0 - 1e-12), &mut s);
+        assert!(
+            (s[0].position - 1.0).abs() < 1e-9 && (s[1].position + 0.2).abs() < 1e-9,
+            "{s:?}"
+        );
+        for p in m.trajectory.profiles[0].iter() {
+            // Both axes are stretched to the common duration.
+            assert!((p.brake.duration + p.t_sum[6] - d).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn limit_violation_error_names_axis_and_quantity() {
+        let err = PlanError::LimitViolation {
+            axis: 1,
+            quantity: Quantity::Jerk,
+            value: 31.0,
+            limit: 27.8,
+        };
+        let text = err.to_string();
+        assert!(
+            text.contains("axis 1") && text.contains("jerk") && text.contains("31"),
+            "{text}"
+        );
     }
 }

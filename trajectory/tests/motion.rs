@@ -352,8 +352,34 @@ fn arb_axis() -> impl Strategy<Value = MoveAxis> {
         })
 }
 
+/// Like [`arb_axis`], but starting at rest (the common case: a move from standstill).
+fn arb_axis_at_rest() -> impl Strategy<Value = MoveAxis> {
+    arb_axis().prop_map(|mut a| {
+        a.start.velocity = 0.0;
+        a.start.acceleration = 0.0;
+        a
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_moves_from_rest_respect_limits(
+        axes in prop::collection::vec(arb_axis_at_rest(), 1..=6)
+    ) {
+        let plan = plan_move(&axes).unwrap();
+        for dt in [1e-3, 125e-6] {
+            let samples = sample(&plan, dt);
+            for (a, s) in axes.iter().zip(&samples[0]) {
+                prop_assert_eq!(*s, a.start);
+            }
+            for (a, s) in axes.iter().zip(samples.last().unwrap()) {
+                prop_assert_eq!(s.position, a.target);
+            }
+            check_limits(&samples, &limits_of(&axes), dt);
+        }
+    }
 
     #[test]
     fn random_moves_respect_limits(axes in prop::collection::vec(arb_axis(), 1..=6)) {

@@ -38,6 +38,10 @@ pub struct CellConfig {
     pub recording: RecordingConfig,
     /// Setpoint transport settings.
     pub setpoints: SetpointConfig,
+    /// Watchdogs and their fault reactions.
+    pub watchdogs: WatchdogConfig,
+    /// Scheduled fault injection, sorted by cycle (tests, commissioning drills).
+    pub inject: Vec<Injection>,
     /// The axes, in configuration order (the index is the axis id everywhere).
     pub axes: Vec<AxisConfig>,
 }
@@ -89,6 +93,85 @@ pub struct SetpointConfig {
     pub start_delay: f64,
 }
 
+/// What the RT thread does when a watchdog trips. After any reaction the cell refuses motion
+/// until reset.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FaultReaction {
+    /// The RT thread ramps every axis to a stop with its stop deceleration and jerk; the drives
+    /// stay enabled and hold.
+    ControlledStop,
+    /// The drives stop on their own quick-stop ramp (controlword Quick stop); they end disabled.
+    QuickStop,
+    /// The drives are shut down at once (controlword Shutdown: servo off, dynamic brake).
+    Disable,
+}
+
+impl FaultReaction {
+    /// The configuration name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            FaultReaction::ControlledStop => "controlled_stop",
+            FaultReaction::QuickStop => "quick_stop",
+            FaultReaction::Disable => "disable",
+        }
+    }
+
+    /// Parses a configuration name.
+    pub fn parse(s: &str) -> Option<FaultReaction> {
+        [
+            FaultReaction::ControlledStop,
+            FaultReaction::QuickStop,
+            FaultReaction::Disable,
+        ]
+        .into_iter()
+        .find(|r| r.as_str() == s)
+    }
+}
+
+/// Watchdog settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WatchdogConfig {
+    /// Consecutive overrun cycles that trigger `overrun_reaction`; 0 disables the watchdog.
+    pub max_consecutive_overruns: u32,
+    /// Reaction to consecutive overruns.
+    pub overrun_reaction: FaultReaction,
+    /// Reaction to a setpoint underrun or rejected setpoint during motion.
+    pub underrun_reaction: FaultReaction,
+    /// Reaction of the other axes when one drive faults.
+    pub drive_fault_reaction: FaultReaction,
+}
+
+/// A fault to inject at a cycle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Injection {
+    /// Cycle (from the RT loop's start) at which it happens.
+    pub cycle: u64,
+    /// What happens.
+    pub fault: InjectedFault,
+}
+
+/// Kinds of injected faults.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum InjectedFault {
+    /// The RT loop body busy-waits this long (overruns).
+    Stall {
+        /// Nanoseconds.
+        ns: u64,
+    },
+    /// The drive of an axis raises an alarm (603Fh code).
+    DriveAlarm {
+        /// Axis index.
+        axis: usize,
+        /// Alarm code.
+        code: u16,
+    },
+    /// The planner publishes nothing for this long (underrun once the lookahead is used up).
+    PlannerStall {
+        /// Nanoseconds.
+        ns: u64,
+    },
+}
+
 /// Where an axis' drive is reached.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Transport {
@@ -119,6 +202,8 @@ pub struct AxisConfig {
     pub limits: KinematicLimits,
     /// Deceleration of the RT thread's controlled stop, in unit/s².
     pub stop_deceleration: f64,
+    /// Jerk of the RT thread's controlled stop, in unit/s³.
+    pub stop_jerk: f64,
     /// Following error at which the simulated drive raises its alarm, in units.
     pub following_error_limit: f64,
     /// Simulated drive settings.

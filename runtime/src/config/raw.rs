@@ -19,6 +19,12 @@ pub struct RawCellConfig {
     /// `[setpoints]`.
     #[serde(default)]
     pub setpoints: RawSetpoints,
+    /// `[watchdogs]`.
+    #[serde(default)]
+    pub watchdogs: RawWatchdogs,
+    /// `[[inject]]`: scheduled fault injection.
+    #[serde(default)]
+    pub inject: Vec<RawInjection>,
     /// `[[axes]]`.
     #[serde(default)]
     pub axes: Vec<RawAxis>,
@@ -114,6 +120,51 @@ impl Default for RawSetpoints {
     }
 }
 
+/// `[watchdogs]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawWatchdogs {
+    /// Consecutive overrun cycles that trigger `overrun_reaction`; 0 disables.
+    #[serde(default = "default_consecutive_overruns")]
+    pub max_consecutive_overruns: u32,
+    /// Reaction to consecutive overruns.
+    #[serde(default = "default_reaction")]
+    pub overrun_reaction: String,
+    /// Reaction to a setpoint underrun or a rejected setpoint during motion.
+    #[serde(default = "default_reaction")]
+    pub underrun_reaction: String,
+    /// Reaction of the other axes when one drive faults.
+    #[serde(default = "default_reaction")]
+    pub drive_fault_reaction: String,
+}
+
+impl Default for RawWatchdogs {
+    fn default() -> Self {
+        RawWatchdogs {
+            max_consecutive_overruns: default_consecutive_overruns(),
+            overrun_reaction: default_reaction(),
+            underrun_reaction: default_reaction(),
+            drive_fault_reaction: default_reaction(),
+        }
+    }
+}
+
+/// `[[inject]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawInjection {
+    /// When, in ms after the RT loop starts.
+    pub at_ms: f64,
+    /// "stall", "drive_alarm" or "planner_stall".
+    pub fault: String,
+    /// Axis name (drive_alarm).
+    pub axis: Option<String>,
+    /// Alarm code, 603Fh (drive_alarm).
+    pub code: Option<u32>,
+    /// Duration in ms (stall, planner_stall).
+    pub duration_ms: Option<f64>,
+}
+
 /// `[[axes]]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -154,6 +205,8 @@ pub struct RawLimits {
     pub jerk: f64,
     /// Controlled-stop deceleration, unit/s²; defaults to `acceleration`.
     pub stop_deceleration: Option<f64>,
+    /// Controlled-stop jerk, unit/s³; defaults to `jerk`.
+    pub stop_jerk: Option<f64>,
     /// Following-error alarm limit in units; defaults to 1 s × velocity / 10.
     pub following_error: Option<f64>,
 }
@@ -206,6 +259,12 @@ fn default_lookahead_ms() -> f64 {
 }
 fn default_start_delay_ms() -> f64 {
     20.0
+}
+fn default_consecutive_overruns() -> u32 {
+    10
+}
+fn default_reaction() -> String {
+    "controlled_stop".to_string()
 }
 fn default_transport() -> String {
     "sim".to_string()

@@ -11,8 +11,8 @@ use cellrt_trajectory::units::Scaling;
 
 use super::raw::{RawAxis, RawCellConfig};
 use super::{
-    AxisConfig, CellConfig, Compression, ConfigError, RecordingConfig, RtConfig, SetpointConfig,
-    SimAxisConfig, Transport, MAX_AXES,
+    AxisConfig, CellConfig, Compression, ConfigError, FaultReaction, InjectedFault, Injection,
+    RecordingConfig, RtConfig, SetpointConfig, SimAxisConfig, Transport, WatchdogConfig, MAX_AXES,
 };
 
 /// Checks a name used in service names and file names: 1–32 of `[A-Za-z0-9_-]`.
@@ -168,6 +168,25 @@ pub(super) fn validate(
         start_delay,
     };
 
+    let reaction = |key: &str, v: &str| {
+        FaultReaction::parse(v).ok_or_else(|| {
+            ConfigError::new(
+                file,
+                format!("watchdogs.{key}"),
+                format!("unknown reaction '{v}' (allowed: controlled_stop, quick_stop, disable)"),
+            )
+        })
+    };
+    let watchdogs = WatchdogConfig {
+        max_consecutive_overruns: raw.watchdogs.max_consecutive_overruns,
+        overrun_reaction: reaction("overrun_reaction", &raw.watchdogs.overrun_reaction)?,
+        underrun_reaction: reaction("underrun_reaction", &raw.watchdogs.underrun_reaction)?,
+        drive_fault_reaction: reaction(
+            "drive_fault_reaction",
+            &raw.watchdogs.drive_fault_reaction,
+        )?,
+    };
+
     if raw.axes.is_empty() {
         return Err(ConfigError::new(
             file,
@@ -199,6 +218,8 @@ pub(super) fn validate(
         axes.push(validate_axis(file, &key, cycle_time, a)?);
     }
 
+    let inject = validate_injections(file, cycle_time, &raw.inject, &axes)?;
+
     Ok(CellConfig {
         source: file.to_path_buf(),
         text: text.to_string(),
@@ -208,8 +229,89 @@ pub(super) fn validate(
         rt,
         recording,
         setpoints,
+        watchdogs,
+        inject,
         axes,
     })
+}
+
+fn validate_injections(
+    file: &Path,
+    cycle_time: CycleTime,
+    raw: &[super::raw::RawInjection],
+    axes: &[AxisConfig],
+) -> Result<Vec<Injection>, ConfigError> {
+    let mut out = Vec::with_capacity(raw.len());
+    for (i, r) in raw.iter().enumerate() {
+        let key = |k: &str| format!("inject[{i}].{k}");
+        if !r.at_ms.is_finite() || r.at_ms < 0.0 || r.at_ms > 86_400_000.0 {
+            return Err(ConfigError::new(
+                file,
+                key("at_ms"),
+                format!("must be 0..=86400000 ms (got {})", r.at_ms),
+            ));
+        }
+        let cycle = (r.at_ms * 1e3 / f64::from(cycle_time.as_micros())).round() as u64;
+        let duration = |max_ms: f64| -> Result<u64, ConfigError> {
+            match r.duration_ms {
+                Some(d) if d.is_finite() && d > 0.0 && d <= max_ms => Ok((d * 1e6) as u64),
+                Some(d) => Err(ConfigError::new(
+                    file,
+                    key("duration_ms"),
+                    format!("must be > 0 and at most {max_ms} ms (got {d})"),
+                )),
+                None => Err(ConfigError::new(
+                    file,
+                    key("duration_ms"),
+                    format!("fault '{}' needs duration_ms", r.fault),
+                )),
+            }
+        };
+        let fault = match r.fault.as_str() {
+            "stall" => InjectedFault::Stall {
+                ns: duration(1000.0)?,
+            },
+            "planner_stall" => InjectedFault::PlannerStall {
+                ns: duration(60_000.0)?,
+            },
+            "drive_alarm" => {
+                let name = r.axis.as_deref().ok_or_else(|| {
+                    ConfigError::new(file, key("axis"), "fault 'drive_alarm' needs axis")
+                })?;
+                let axis = axes.iter().position(|a| a.name == name).ok_or_else(|| {
+                    ConfigError::new(file, key("axis"), format!("no axis named '{name}'"))
+                })?;
+                let code = match r.code {
+                    Some(c @ 1..=0xFFFF) => c as u16,
+                    Some(c) => {
+                        return Err(ConfigError::new(
+                            file,
+                            key("code"),
+                            format!("alarm code must be 0x0001..=0xFFFF (got {c:#x})"),
+                        ))
+                    }
+                    None => {
+                        return Err(ConfigError::new(
+                            file,
+                            key("code"),
+                            "fault 'drive_alarm' needs code",
+                        ))
+                    }
+                };
+                InjectedFault::DriveAlarm { axis, code }
+            }
+            other => {
+                return Err(ConfigError::new(
+                    file,
+                    key("fault"),
+                    format!("unknown fault '{other}' (allowed: stall, drive_alarm, planner_stall)"),
+                ))
+            }
+        };
+        out.push(Injection { cycle, fault });
+    }
+    out.sort_by_key(|i| i.cycle);
+    Ok(out)
 }
 
 fn validate_axis(
@@ -304,6 +406,11 @@ fn validate_axis(
         &format!("{key}.limits.stop_deceleration"),
         a.limits.stop_deceleration.unwrap_or(limits.acceleration),
     )?;
+    let stop_jerk = positive(
+        file,
+        &format!("{key}.limits.stop_jerk"),
+        a.limits.stop_jerk.unwrap_or(limits.jerk),
+    )?;
     let following_error_limit = positive(
         file,
         &format!("{key}.limits.following_error"),
@@ -342,6 +449,7 @@ fn validate_axis(
         position,
         limits,
         stop_deceleration,
+        stop_jerk,
         following_error_limit,
         sim,
     })

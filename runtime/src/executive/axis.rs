@@ -2,6 +2,7 @@
 //! stop ramp the RT thread runs on its own.
 
 use cellrt_axes::cia402::master::{AxisMaster, MasterParams};
+use cellrt_axes::pdo::objects::ERROR_CODE;
 use cellrt_axes::pdo::{PdoMap, TxPdo};
 use cellrt_axes::Cycles;
 
@@ -19,6 +20,8 @@ pub struct AxisLimitsCounts {
     pub max_step: f64,
     /// Controlled-stop deceleration, counts/s².
     pub stop_deceleration: f64,
+    /// Controlled-stop jerk, counts/s³.
+    pub stop_jerk: f64,
 }
 
 /// Relative slack on the per-cycle step check (numerical noise of the planner's sampling).
@@ -33,6 +36,7 @@ impl AxisLimitsCounts {
             position_max: axis.position.max * s,
             max_step: axis.limits.velocity * s * period * (1.0 + STEP_TOLERANCE) + 1e-6,
             stop_deceleration: axis.stop_deceleration * s,
+            stop_jerk: axis.stop_jerk * s,
         }
     }
 }
@@ -48,6 +52,8 @@ pub struct AxisChannel {
     pub setpoint: f64,
     /// Setpoint velocity of the current cycle, counts/s.
     pub velocity: f64,
+    /// Setpoint acceleration of the current cycle, counts/s² (from the velocity change).
+    pub acceleration: f64,
     /// The latest decoded TxPDO.
     pub feedback: TxPdo,
     /// Whether the stop ramp of this axis has reached zero velocity.
@@ -56,6 +62,8 @@ pub struct AxisChannel {
     pub rx_map: PdoMap,
     /// The drive's TxPDO map (from its profile).
     pub tx_map: PdoMap,
+    /// Whether the TxPDO carries the error code (603Fh); if not, it needs an SDO read.
+    pub error_code_mapped: bool,
 }
 
 impl AxisChannel {
@@ -73,10 +81,17 @@ impl AxisChannel {
             limits: AxisLimitsCounts::new(axis, cell.period()),
             setpoint: axis.scaling.to_counts(axis.sim.initial_position),
             velocity: 0.0,
+            acceleration: 0.0,
             feedback: TxPdo::default(),
             stopped: true,
             rx_map: axis.profile.rx_pdo,
             tx_map: axis.profile.tx_pdo,
+            error_code_mapped: axis
+                .profile
+                .tx_pdo
+                .entries
+                .iter()
+                .any(|e| e.index == ERROR_CODE),
         }
     }
 
@@ -84,6 +99,20 @@ impl AxisChannel {
     pub fn track_actual(&mut self) {
         self.setpoint = f64::from(self.feedback.position_actual);
         self.velocity = 0.0;
+        self.acceleration = 0.0;
+    }
+
+    /// Takes a new setpoint from the stream; `dt` is the time since the previous one.
+    pub fn apply(&mut self, position: f64, velocity: f64, dt: f64) {
+        self.acceleration = (velocity - self.velocity) / dt;
+        self.setpoint = position;
+        self.velocity = velocity;
+    }
+
+    /// Holds the current setpoint at rest.
+    pub fn hold(&mut self) {
+        self.velocity = 0.0;
+        self.acceleration = 0.0;
     }
 
     /// Starts the controlled stop ramp from the current setpoint velocity.
@@ -91,22 +120,37 @@ impl AxisChannel {
         self.stopped = self.velocity == 0.0;
     }
 
-    /// One cycle of the controlled stop ramp: constant deceleration to zero velocity.
+    /// One cycle of the controlled stop: jerk-limited braking from the current velocity and
+    /// acceleration to rest. The acceleration is steered towards
+    /// `-sign(v) · min(deceleration, sqrt(2 · jerk · |v|))` — the most braking that can still be
+    /// ramped out at the stop jerk exactly when the velocity reaches zero — changing by at most
+    /// `jerk · dt` per cycle.
     pub fn stop_step(&mut self, period: f64) {
         if self.stopped {
             return;
         }
-        let dv = self.limits.stop_deceleration * period;
-        if self.velocity.abs() <= dv {
-            // Last partial cycle: cover the remaining distance v²/2a.
-            self.setpoint +=
-                self.velocity * self.velocity.abs() / (2.0 * self.limits.stop_deceleration);
-            self.velocity = 0.0;
+        let (d, j) = (self.limits.stop_deceleration, self.limits.stop_jerk);
+        let (v, a) = (self.velocity, self.acceleration);
+        let dir = v.signum();
+        if v == 0.0 {
+            self.hold();
+            self.stopped = true;
+            return;
+        }
+        let a_target = -dir * d.min((2.0 * j * v.abs()).sqrt());
+        let a_next = a + (a_target - a).clamp(-j * period, j * period);
+        let v_next = v + 0.5 * (a + a_next) * period;
+        if v_next * dir <= 0.0 {
+            // Rest is reached within this cycle: cover the remaining distance under the
+            // current braking and stop.
+            let a_brake = a_next.abs().max(f64::MIN_POSITIVE);
+            self.setpoint += v * v.abs() / (2.0 * a_brake.max(v.abs() / period));
+            self.hold();
             self.stopped = true;
         } else {
-            let v_next = self.velocity - dv * self.velocity.signum();
-            self.setpoint += 0.5 * (self.velocity + v_next) * period;
+            self.setpoint += 0.5 * (v + v_next) * period;
             self.velocity = v_next;
+            self.acceleration = a_next;
         }
     }
 }
@@ -115,54 +159,86 @@ impl AxisChannel {
 mod tests {
     use super::*;
 
-    fn channel(v: f64, decel: f64) -> AxisChannel {
+    fn channel(v: f64, a: f64, decel: f64, jerk: f64) -> AxisChannel {
         AxisChannel {
             master: AxisMaster::new(MasterParams {
                 fault_reset_hold: Cycles(10),
                 transition_timeout: Cycles(100),
             }),
             limits: AxisLimitsCounts {
-                position_min: -1e9,
-                position_max: 1e9,
-                max_step: 1e9,
+                position_min: -1e12,
+                position_max: 1e12,
+                max_step: 1e12,
                 stop_deceleration: decel,
+                stop_jerk: jerk,
             },
             setpoint: 0.0,
             velocity: v,
+            acceleration: a,
             feedback: TxPdo::default(),
             stopped: false,
             rx_map: cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1)
                 .rx_pdo,
             tx_map: cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1)
                 .tx_pdo,
+            error_code_mapped: false,
+        }
+    }
+
+    /// Runs a stop to the end; returns (cycles, distance, max |Δv|/dt, max |Δa|/dt before the
+    /// last cycle).
+    fn run_stop(ch: &mut AxisChannel, dt: f64) -> (usize, f64, f64, f64) {
+        let v0 = ch.velocity;
+        ch.begin_stop();
+        let (mut dec, mut jerk) = (0.0f64, 0.0f64);
+        for n in 1..1_000_000 {
+            let (p, v, a) = (ch.setpoint, ch.velocity, ch.acceleration);
+            ch.stop_step(dt);
+            assert!(
+                (ch.setpoint - p) * v0.signum() >= -1e-9,
+                "reversed at cycle {n}"
+            );
+            let vmax = v0.abs().max(v.abs()).max(ch.velocity.abs());
+            assert!((ch.setpoint - p).abs() <= vmax * dt + 1e-9);
+            dec = dec.max((ch.velocity - v).abs() / dt);
+            if ch.stopped {
+                return (n, ch.setpoint, dec, jerk);
+            }
+            jerk = jerk.max((ch.acceleration - a).abs() / dt);
+        }
+        panic!("never stopped");
+    }
+
+    #[test]
+    fn stop_respects_deceleration_and_jerk_and_ends_at_rest() {
+        let (d, j, dt) = (100_000.0, 1_000_000.0, 1e-3);
+        for (v, a) in [
+            (10_000.0, 0.0),
+            (-10_000.0, 0.0),
+            (5_000.0, 50_000.0),
+            (123.0, -3_000.0),
+        ] {
+            let mut ch = channel(v, a, d, j);
+            let (n, dist, dec, jerk) = run_stop(&mut ch, dt);
+            assert!(dec <= d * (1.0 + 1e-9), "v {v}: decel {dec}");
+            assert!(jerk <= j * (1.0 + 1e-9), "v {v}: jerk {jerk}");
+            assert_eq!(ch.velocity, 0.0);
+            assert_eq!(ch.acceleration, 0.0);
+            // No faster than the constant-deceleration stop, and not absurdly longer.
+            assert!(
+                dist.abs() >= v * v / (2.0 * d) * 0.99 - 1.0,
+                "v {v}: {dist}"
+            );
+            let bound = v.abs() / d + a.abs() / j + 2.0 * d / j + 0.01;
+            assert!((n as f64) * dt <= bound, "v {v}: {n} cycles");
         }
     }
 
     #[test]
-    fn stop_ramp_covers_v_squared_over_2a_and_never_reverses() {
-        for v in [10_000.0, -10_000.0, 123.0] {
-            let mut ch = channel(v, 100_000.0);
-            ch.begin_stop();
-            let mut last = ch.setpoint;
-            for _ in 0..10_000 {
-                ch.stop_step(1e-3);
-                assert!((ch.setpoint - last) * v.signum() >= 0.0, "reversed");
-                assert!(
-                    (ch.setpoint - last).abs() <= v.abs() * 1e-3 + 1e-9,
-                    "step too large"
-                );
-                last = ch.setpoint;
-                if ch.stopped {
-                    break;
-                }
-            }
-            assert!(ch.stopped);
-            let expect = v * v.abs() / (2.0 * 100_000.0);
-            assert!(
-                (ch.setpoint - expect).abs() < 1e-6,
-                "{} vs {expect}",
-                ch.setpoint
-            );
-        }
+    fn a_high_stop_jerk_approaches_the_constant_deceleration_distance() {
+        let mut ch = channel(10_000.0, 0.0, 100_000.0, 1e12);
+        let (_, dist, _, _) = run_stop(&mut ch, 1e-4);
+        let ideal = 10_000.0f64.powi(2) / (2.0 * 100_000.0);
+        assert!((dist - ideal).abs() / ideal < 0.01, "{dist} vs {ideal}");
     }
 }

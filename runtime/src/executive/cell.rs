@@ -7,6 +7,7 @@ use cellrt_axes::bus::Bus;
 use cellrt_axes::cia402::master::{MasterRequest, MasterState};
 
 use super::Executive;
+use crate::config::FaultReaction;
 use crate::handoff::{CellCommand, CellState, EventKind, RejectReason, StopReason, NO_AXIS};
 use crate::setpoints::BLOCK_CYCLES;
 
@@ -55,7 +56,7 @@ impl<B: Bus> Executive<B> {
                     true
                 }
                 (CellCommand::Stop, CellState::Moving) => {
-                    self.begin_stop(StopReason::Command);
+                    self.react(StopReason::Command);
                     true
                 }
                 (CellCommand::Stop, _) => true,
@@ -63,7 +64,14 @@ impl<B: Bus> Executive<B> {
                     self.stop_reason = None;
                     self.handoff.status.stop_reason.store(0, Ordering::Release);
                     self.stream.discard_all();
-                    self.set_state(CellState::Idle);
+                    if self.axes.iter().all(|a| a.master.is_enabled()) {
+                        self.set_state(CellState::Idle);
+                    } else {
+                        // A quick stop or disable reaction left drives disabled: power off
+                        // cleanly; the next power on starts from Disabled.
+                        self.request_all(MasterRequest::Disable);
+                        self.set_state(CellState::Disabling);
+                    }
                     true
                 }
                 (CellCommand::Reset, CellState::Faulted) => {
@@ -91,6 +99,13 @@ impl<B: Bus> Executive<B> {
 
     /// One cycle of the cell state machine.
     pub(super) fn update_cell(&mut self) {
+        let limit = self.watchdogs.max_consecutive_overruns;
+        if limit > 0 && self.overrun_streak >= limit {
+            self.overrun_streak = 0;
+            if matches!(self.state, CellState::Idle | CellState::Moving) {
+                self.react(StopReason::Overrun);
+            }
+        }
         match self.state {
             CellState::Disabled => {
                 self.track_all();
@@ -115,8 +130,9 @@ impl<B: Bus> Executive<B> {
             }
             CellState::Moving => {
                 if self.any_fault_or_timeout() {
-                    self.begin_stop(StopReason::DriveFault);
+                    self.react(StopReason::DriveFault);
                     self.stop_cycle();
+                    self.publish_holds();
                     return;
                 }
                 match self.follow_stream() {
@@ -138,13 +154,13 @@ impl<B: Bus> Executive<B> {
                     Lookup::Underrun => {
                         self.stats.underruns += 1;
                         self.event(EventKind::Underrun, NO_AXIS, i64::from(self.motion_id));
-                        self.begin_stop(StopReason::Underrun);
+                        self.react(StopReason::Underrun);
                         self.stop_cycle();
                     }
                     Lookup::Rejected(axis, reason) => {
                         self.stats.rejected_setpoints += 1;
                         self.event(EventKind::SetpointRejected, axis, reason as i64);
-                        self.begin_stop(StopReason::SetpointRejected);
+                        self.react(StopReason::SetpointRejected);
                         self.stop_cycle();
                     }
                 }
@@ -195,7 +211,7 @@ impl<B: Bus> Executive<B> {
     fn hold_all(&mut self) {
         for ch in &mut self.axes {
             if ch.master.is_enabled() {
-                ch.velocity = 0.0;
+                ch.hold();
             } else {
                 ch.track_actual();
             }
@@ -364,10 +380,10 @@ impl<B: Bus> Executive<B> {
                     return Lookup::Rejected(i as u16, RejectReason::VelocityStep);
                 }
             }
+            let dt = self.period_s * steps;
             for (i, ch) in self.axes.iter_mut().enumerate() {
                 if let Some(sp) = front.get(cycle, i) {
-                    ch.setpoint = sp.position;
-                    ch.velocity = sp.velocity;
+                    ch.apply(sp.position, sp.velocity, dt);
                 }
             }
             return Lookup::Applied;
@@ -375,31 +391,54 @@ impl<B: Bus> Executive<B> {
         Lookup::Underrun
     }
 
-    /// Starts the RT thread's own controlled stop of every axis.
-    pub(super) fn begin_stop(&mut self, reason: StopReason) {
+    /// Starts the configured reaction to `reason` (a Stop command is always a controlled stop).
+    /// After a reaction other than a commanded stop the cell refuses motion until reset.
+    pub(super) fn react(&mut self, reason: StopReason) {
+        let reaction = match reason {
+            StopReason::Command => FaultReaction::ControlledStop,
+            StopReason::Underrun | StopReason::SetpointRejected => self.watchdogs.underrun_reaction,
+            StopReason::DriveFault => self.watchdogs.drive_fault_reaction,
+            StopReason::Overrun => self.watchdogs.overrun_reaction,
+        };
         self.stop_reason = Some(reason);
+        self.reaction = reaction;
         self.handoff
             .status
             .stop_reason
             .store(reason as u8, Ordering::Release);
-        for ch in &mut self.axes {
-            ch.begin_stop();
+        match reaction {
+            FaultReaction::ControlledStop => {
+                for ch in &mut self.axes {
+                    ch.begin_stop();
+                }
+            }
+            FaultReaction::QuickStop => self.request_all(MasterRequest::QuickStop),
+            FaultReaction::Disable => self.request_all(MasterRequest::Disable),
         }
         self.stream.discard_all();
-        self.event(EventKind::StopStarted, NO_AXIS, reason as i64);
+        let code = reason as i64 * 16
+            + match reaction {
+                FaultReaction::ControlledStop => 0,
+                FaultReaction::QuickStop => 1,
+                FaultReaction::Disable => 2,
+            };
+        self.event(EventKind::StopStarted, NO_AXIS, code);
         self.set_state(CellState::Stopping);
     }
 
-    /// One cycle of the controlled stop; ends it when every axis stands still.
+    /// One cycle of the stop in progress; ends it when every axis stands still (controlled stop)
+    /// or every drive has left Operation enabled (quick stop, disable).
     fn stop_cycle(&mut self) {
         self.stream.discard_all();
         let period = self.period_s;
+        let drive_side = self.reaction != FaultReaction::ControlledStop;
         for ch in &mut self.axes {
-            if ch.master.is_enabled() {
-                ch.stop_step(period);
-            } else {
+            if drive_side || !ch.master.is_enabled() {
+                // The drive stops on its own: the setpoint follows it (no jump at re-enable).
                 ch.track_actual();
-                ch.stopped = true;
+                ch.stopped = !ch.master.is_enabled();
+            } else {
+                ch.stop_step(period);
             }
         }
         if self.axes.iter().all(|a| a.stopped) {

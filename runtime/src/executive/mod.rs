@@ -18,7 +18,7 @@ use cellrt_axes::pdo::RxPdo;
 use cellrt_axes::Cycles;
 use serde::Serialize;
 
-use crate::config::CellConfig;
+use crate::config::{CellConfig, FaultReaction, InjectedFault, Injection, WatchdogConfig};
 use crate::handoff::{
     AxisRecord, CellState, CycleRecord, EventKind, EventRecord, Handoff, NO_AXIS,
 };
@@ -112,6 +112,16 @@ pub struct Executive<B: Bus> {
     state: CellState,
     motion_id: u32,
     stop_reason: Option<crate::handoff::StopReason>,
+    /// How the current stop is carried out.
+    reaction: FaultReaction,
+    /// Watchdog settings.
+    watchdogs: WatchdogConfig,
+    /// Deadlines missed in a row (reset by a cycle that starts on time).
+    overrun_streak: u32,
+    /// Scheduled faults the RT thread applies (stall, drive alarm), by cycle.
+    injections: Vec<Injection>,
+    /// Index of the next injection due.
+    next_injection: usize,
     /// Cycles since the previous executed cycle (more than 1 after an overrun).
     elapsed: Cycles,
     stats: RtStats,
@@ -144,6 +154,16 @@ impl<B: Bus> Executive<B> {
             state: CellState::Disabled,
             motion_id: 0,
             stop_reason: None,
+            reaction: FaultReaction::ControlledStop,
+            watchdogs: cell.watchdogs,
+            overrun_streak: 0,
+            injections: cell
+                .inject
+                .iter()
+                .copied()
+                .filter(|i| !matches!(i.fault, InjectedFault::PlannerStall { .. }))
+                .collect(),
+            next_injection: 0,
             elapsed: Cycles(1),
             stats: RtStats {
                 cycles: 0,
@@ -209,6 +229,11 @@ impl<B: Bus> Executive<B> {
                 self.event(EventKind::Overrun, NO_AXIS, now.since(next) as i64);
                 next = next.plus(missed * self.period_ns);
                 step += missed;
+                self.overrun_streak = self
+                    .overrun_streak
+                    .saturating_add(missed.min(u64::from(u32::MAX)) as u32);
+            } else {
+                self.overrun_streak = 0;
             }
             deadline = next;
             self.cycle += step;
@@ -229,6 +254,7 @@ impl<B: Bus> Executive<B> {
     /// Returns true when the loop should exit.
     fn step(&mut self, elapsed: Cycles) -> bool {
         self.elapsed = elapsed;
+        self.inject_due_faults();
         self.read_inputs();
         let quit = self.take_commands();
         self.update_cell();
@@ -237,6 +263,32 @@ impl<B: Bus> Executive<B> {
             self.event(EventKind::BusError, NO_AXIS, -1);
         }
         quit
+    }
+
+    /// Applies the scheduled faults due at this cycle (fault injection; off in normal runs).
+    fn inject_due_faults(&mut self) {
+        while let Some(inj) = self.injections.get(self.next_injection).copied() {
+            if inj.cycle > self.cycle {
+                break;
+            }
+            self.next_injection += 1;
+            match inj.fault {
+                InjectedFault::Stall { ns } => {
+                    self.event(EventKind::FaultInjected, NO_AXIS, 1);
+                    let until = MonoTime::now().plus(ns);
+                    while MonoTime::now() < until {
+                        std::hint::spin_loop();
+                    }
+                }
+                InjectedFault::DriveAlarm { axis, code } => {
+                    self.event(EventKind::FaultInjected, axis as u16, 2);
+                    if !self.bus.inject_alarm(axis, code) {
+                        self.event(EventKind::BusError, axis as u16, -2);
+                    }
+                }
+                InjectedFault::PlannerStall { .. } => {}
+            }
+        }
     }
 
     /// Decodes every axis' TxPDO image and watches for FSA changes and faults.
@@ -255,7 +307,12 @@ impl<B: Bus> Executive<B> {
             }
             if tx.statusword.fault() && !old.statusword.fault() {
                 self.stats.faults += 1;
-                self.event(EventKind::DriveFault, i as u16, i64::from(tx.error_code));
+                let code = if self.axes[i].error_code_mapped {
+                    i64::from(tx.error_code)
+                } else {
+                    -1
+                };
+                self.event(EventKind::DriveFault, i as u16, code);
             }
         }
     }

@@ -469,12 +469,27 @@ pub fn describe_event(e: &EventRecord) -> String {
         EventKind::SetpointRejected => RejectReason::from_u8(e.value as u8)
             .map(|r| r.as_str().to_string())
             .unwrap_or_default(),
-        EventKind::StopStarted => StopReason::from_u8(e.value as u8)
-            .map(|r| r.as_str().to_string())
-            .unwrap_or_default(),
+        EventKind::StopStarted => {
+            let reason = StopReason::from_u8((e.value / 16) as u8)
+                .map(|r| r.as_str())
+                .unwrap_or("unknown");
+            let reaction = ["controlled_stop", "quick_stop", "disable"]
+                .get((e.value % 16) as usize)
+                .copied()
+                .unwrap_or("unknown");
+            format!("{reason} ({reaction})")
+        }
         EventKind::Overrun => format!("woke {} µs past the next deadline", e.value / 1000),
+        EventKind::DriveFault if e.value < 0 => {
+            "fault (603Fh error code not in the TxPDO map)".to_string()
+        }
         EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
         EventKind::RecordsDropped => format!("{} records dropped", e.value),
+        EventKind::FaultInjected => ["", "stall", "drive_alarm", "planner_stall"]
+            .get(e.value as usize)
+            .copied()
+            .unwrap_or("unknown")
+            .to_string(),
         EventKind::StopFinished | EventKind::MasterTimeout | EventKind::BusError => String::new(),
     }
 }

@@ -21,6 +21,8 @@ pub struct RtReport {
     pub memory_locked: bool,
     /// Bytes of stack prefaulted.
     pub stack_prefaulted: usize,
+    /// Whether `/dev/cpu_dma_latency` is held at 0 µs (no deep C-states) while running.
+    pub cpu_dma_latency_zero: bool,
     /// One line per refused privilege.
     pub refused: Vec<String>,
 }
@@ -29,7 +31,7 @@ impl RtReport {
     /// One line for the start-up banner.
     pub fn describe(&self) -> String {
         format!(
-            "RT thread: cpu {}, {} priority {}, memory {}, stack prefault {} KiB",
+            "RT thread: cpu {}, {} priority {}, memory {}, stack prefault {} KiB, cpu_dma_latency {}",
             self.cpu
                 .map(|c| c.to_string())
                 .unwrap_or_else(|| "any".into()),
@@ -40,7 +42,12 @@ impl RtReport {
             } else {
                 "not locked"
             },
-            self.stack_prefaulted / 1024
+            self.stack_prefaulted / 1024,
+            if self.cpu_dma_latency_zero {
+                "0 µs"
+            } else {
+                "not held"
+            }
         )
     }
 }
@@ -103,4 +110,33 @@ fn prefault_stack() {
         unsafe { std::ptr::write_volatile(buf.as_mut_ptr().add(i), 1) };
     }
     std::hint::black_box(&buf);
+}
+
+/// Keeps `/dev/cpu_dma_latency` at 0 µs while it lives (the PM QoS request ends when the file
+/// is closed), as cyclictest does: no deep C-state exit latency in the wakeup path.
+#[derive(Debug)]
+pub struct DmaLatencyGuard {
+    _file: Option<std::fs::File>,
+}
+
+/// Requests 0 µs CPU DMA latency; records the outcome in `report`.
+pub fn hold_cpu_dma_latency_zero(report: &mut RtReport) -> DmaLatencyGuard {
+    use std::io::Write;
+    const PATH: &str = "/dev/cpu_dma_latency";
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .open(PATH)
+        .and_then(|mut f| f.write_all(&0i32.to_ne_bytes()).map(|()| f));
+    match file {
+        Ok(f) => {
+            report.cpu_dma_latency_zero = true;
+            DmaLatencyGuard { _file: Some(f) }
+        }
+        Err(e) => {
+            report.refused.push(format!(
+                "{PATH} refused ({e}); CPU idle states may add wakeup latency (run as root)"
+            ));
+            DmaLatencyGuard { _file: None }
+        }
+    }
 }

@@ -15,10 +15,25 @@ pub fn demo_cell(dir: &Path, program: &str) -> PathBuf {
     let demo =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../configs/demo.toml"))
             .expect("configs/demo.toml");
-    let text = demo.replace("cpu = 1 ", "# cpu = 1 ").replace(
-        r#"program = "demo-program.toml""#,
-        r#"program = "program.toml""#,
-    );
+    let text = demo
+        .replace("cpu = 1 ", "# cpu = 1 ")
+        .replace(
+            r#"program = "demo-program.toml""#,
+            r#"program = "program.toml""#,
+        )
+        .replace(
+            r#"name = "demo""#,
+            &format!(r#"name = "{}""#, unique_cell_name()),
+        )
+        // Generous lookahead and no overrun watchdog: a test must not depend on how loaded the
+        // machine is (the watchdog tests switch it back on).
+        .replace("lookahead_ms = 50", "lookahead_ms = 1000")
+        .replace(
+            "max_consecutive_overruns = 10",
+            "max_consecutive_overruns = 0",
+        );
+    assert!(!text.contains(r#"name = "demo""#) && text.contains("lookahead_ms = 1000"));
+    assert!(text.contains("max_consecutive_overruns = 0"));
     std::fs::write(dir.join("program.toml"), program).unwrap();
     let cfg = dir.join("cell.toml");
     std::fs::write(&cfg, text).unwrap();

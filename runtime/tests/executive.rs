@@ -1,0 +1,243 @@
+//! The RT executive driven directly through its real inputs: commands on the hand-off queue and
+//! setpoint blocks on the iceoryx2 service. Bad blocks are refused with the reason and nothing
+//! moves; an underrun stops the cell; the cell refuses motion until reset and moves after it.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use cellrt_runtime::config::CellConfig;
+use cellrt_runtime::controller::sim_bus;
+use cellrt_runtime::executive::{Executive, RtStats};
+use cellrt_runtime::handoff::{CellCommand, CellState, EventKind, EventRecord, Handoff};
+use cellrt_runtime::services::{self, SetpointPublisher};
+use cellrt_runtime::setpoints::{AxisSetpoint, SetpointHeader, SetpointStream, FLAG_LAST};
+
+const COUNTS_PER_MM: f64 = 1000.0;
+
+fn cell() -> CellConfig {
+    let text = format!(
+        r#"
+[cell]
+name = "exec-{}"
+cycle_time_us = 1000
+[watchdogs]
+max_consecutive_overruns = 0
+[[axes]]
+name = "x"
+drive = "mr-j5-g-n1"
+counts_per_unit = 1000
+limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0 }}
+sim = {{ initial_position = 100.0 }}
+"#,
+        std::process::id()
+    );
+    CellConfig::parse(Path::new("exec.toml"), &text).unwrap()
+}
+
+struct Rig {
+    handoff: Arc<Handoff>,
+    rt: Option<JoinHandle<RtStats>>,
+    publisher: SetpointPublisher,
+    _node: iceoryx2::node::Node<iceoryx2::prelude::ipc::Service>,
+    events: Vec<EventRecord>,
+}
+
+impl Rig {
+    fn start(cell: &CellConfig) -> Rig {
+        let handoff = Arc::new(Handoff::new(1, 1000, false));
+        let node = services::node(&cell.name, "test").unwrap();
+        let publisher = services::setpoint_publisher(&node, &cell.name, 1).unwrap();
+        let (c, h) = (cell.clone(), handoff.clone());
+        let rt = std::thread::spawn(move || {
+            let node = services::node(&c.name, "rt").unwrap();
+            let sub = services::setpoint_subscriber(&node, &c.name).unwrap();
+            Executive::new(&c, sim_bus(&c), SetpointStream::new(sub), h, None).run()
+        });
+        Rig {
+            handoff,
+            rt: Some(rt),
+            publisher,
+            _node: node,
+            events: Vec::new(),
+        }
+    }
+
+    fn command(&self, c: CellCommand) {
+        self.handoff.commands.push(c).unwrap();
+    }
+
+    fn drain(&mut self) {
+        while let Some(e) = self.handoff.events.pop() {
+            self.events.push(e);
+        }
+    }
+
+    fn wait_state(&mut self, s: CellState) {
+        let end = Instant::now() + Duration::from_secs(10);
+        while self.handoff.status.state() != s {
+            assert!(
+                Instant::now() < end,
+                "never {s:?}, is {:?}",
+                self.handoff.status.state()
+            );
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        self.drain();
+    }
+
+    fn wait_cycles(&mut self, n: u64) {
+        let until = self.handoff.status.cycle() + n;
+        while self.handoff.status.cycle() < until {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        self.drain();
+    }
+
+    fn hold_mm(&self) -> f64 {
+        self.handoff.status.hold(0) / COUNTS_PER_MM
+    }
+
+    fn cycle(&self) -> u64 {
+        self.handoff.status.cycle()
+    }
+
+    /// Publishes one block of `positions` (mm) starting at `start`.
+    fn publish(&self, motion_id: u32, start: u64, positions: &[f64], last: bool) {
+        let sp: Vec<AxisSetpoint> = positions
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let prev = if k == 0 { *p } else { positions[k - 1] };
+                AxisSetpoint {
+                    position: p * COUNTS_PER_MM,
+                    velocity: (p - prev) * COUNTS_PER_MM / 1e-3,
+                }
+            })
+            .collect();
+        let mut s = self.publisher.loan_slice_uninit(sp.len()).unwrap();
+        *s.user_header_mut() = SetpointHeader {
+            motion_id,
+            flags: if last { FLAG_LAST } else { 0 },
+            start_cycle: start,
+            cycles: sp.len() as u32,
+            axis_count: 1,
+        };
+        s.write_from_slice(&sp).send().unwrap();
+    }
+
+    /// Publishes a valid ramp move of `blocks` full blocks from the hold position, 0.01 mm per
+    /// cycle (10 mm/s); the last block is flagged only if `complete`.
+    fn publish_move(&self, motion_id: u32, start: u64, blocks: usize, complete: bool) -> f64 {
+        let mut p = self.hold_mm();
+        for b in 0..blocks {
+            let row: Vec<f64> = (0..16)
+                .map(|_| {
+                    p += 0.01;
+                    p
+                })
+                .collect();
+            self.publish(
+                motion_id,
+                start + 16 * b as u64,
+                &row,
+                complete && b + 1 == blocks,
+            );
+        }
+        p
+    }
+
+    fn rejections(&self) -> Vec<i64> {
+        self.events
+            .iter()
+            .filter(|e| e.kind == EventKind::SetpointRejected)
+            .map(|e| e.value)
+            .collect()
+    }
+
+    fn stop(mut self) -> RtStats {
+        self.command(CellCommand::PowerOff);
+        self.wait_state(CellState::Disabled);
+        self.command(CellCommand::Quit);
+        self.rt.take().unwrap().join().unwrap()
+    }
+}
+
+#[test]
+fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
+    let cell = cell();
+    let mut rig = Rig::start(&cell);
+    rig.command(CellCommand::PowerOn);
+    rig.wait_state(CellState::Idle);
+    let home = rig.hold_mm();
+    assert!(
+        (home - 100.0).abs() < 0.01,
+        "holds at its start position: {home}"
+    );
+
+    // A block that jumps 5 mm in one cycle (5000 mm/s > 100 mm/s): refused, nothing moves.
+    let start = rig.cycle() + 30;
+    rig.publish(1, start, &[home + 5.0; 16], true);
+    rig.wait_cycles(60);
+    assert_eq!(rig.rejections(), vec![2], "velocity_step"); // RejectReason::VelocityStep
+    assert_eq!(rig.handoff.status.state(), CellState::Idle);
+    assert_eq!(rig.hold_mm(), home);
+
+    // A block whose first cycle has passed: refused as late.
+    rig.publish(2, rig.cycle().saturating_sub(5), &[home; 16], true);
+    rig.wait_cycles(20);
+    assert_eq!(rig.rejections(), vec![2, 1], "late_block");
+    assert_eq!(rig.hold_mm(), home);
+
+    // A block outside the position range: refused.
+    let start = rig.cycle() + 30;
+    rig.publish(3, start, &[600.0; 16], true);
+    rig.wait_cycles(60);
+    assert_eq!(rig.rejections().len(), 3);
+    assert_eq!(rig.hold_mm(), home);
+
+    // A motion whose stream ends without its last block: underrun, controlled stop, Stopped.
+    let start = rig.cycle() + 30;
+    rig.publish_move(4, start, 3, false);
+    rig.wait_state(CellState::Stopped);
+    assert!(rig.events.iter().any(|e| e.kind == EventKind::Underrun));
+    let stopped_at = rig.hold_mm();
+    assert!(stopped_at > home, "it had moved before the underrun");
+
+    // Stopped: a valid motion is refused (not accepted) and nothing moves.
+    let start = rig.cycle() + 30;
+    rig.publish_move(5, start, 2, true);
+    rig.wait_cycles(100);
+    assert_eq!(rig.handoff.status.state(), CellState::Stopped);
+    assert_eq!(*rig.rejections().last().unwrap(), 6, "not_accepting");
+    assert_eq!(rig.hold_mm(), stopped_at);
+
+    // After reset the same kind of motion runs to its end.
+    rig.command(CellCommand::Reset);
+    rig.wait_state(CellState::Idle);
+    let start = rig.cycle() + 30;
+    let target = rig.publish_move(6, start, 3, true);
+    let end = Instant::now() + Duration::from_secs(5);
+    while rig
+        .handoff
+        .status
+        .motion_done
+        .load(std::sync::atomic::Ordering::Acquire)
+        != 6
+    {
+        assert!(Instant::now() < end, "motion 6 never finished");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    rig.wait_state(CellState::Idle);
+    assert!(
+        (rig.hold_mm() - target).abs() < 1e-9,
+        "{} vs {target}",
+        rig.hold_mm()
+    );
+
+    let stats = rig.stop();
+    assert_eq!(stats.underruns, 1);
+    assert_eq!(stats.rejected_setpoints, 3);
+    assert_eq!(stats.final_state, CellState::Disabled);
+}

@@ -16,6 +16,7 @@ use serde::Serialize;
 use crate::config::CellConfig;
 use crate::executive::{Executive, PhaseHook, RtCounters, RtStats};
 use crate::handoff::{CellCommand, CellState, Handoff};
+use crate::link_server::LinkServer;
 use crate::planner;
 use crate::program::Program;
 use crate::record::{Recorder, RecorderError, RecordingInfo};
@@ -40,6 +41,8 @@ pub struct RunOptions {
     pub shutdown: Arc<AtomicBool>,
     /// Test instrumentation called on the RT thread.
     pub hook: Option<PhaseHook>,
+    /// Run no planner here: a `cellrt planner` process publishes the setpoints.
+    pub external_planner: bool,
 }
 
 /// The cell could not run.
@@ -217,12 +220,27 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .as_ref()
         .map(|p| p.final_targets(cell.axes.len()))
         .unwrap_or_else(|| vec![None; cell.axes.len()]);
-    let mut planner = match opts.program {
+    let link = match LinkServer::spawn(cell, handoff.clone()) {
+        Ok(l) => l,
+        Err(e) => {
+            let _ = go_tx.send(false);
+            let _ = rt.join();
+            let _ = recorder.finish();
+            return Err(e.into());
+        }
+    };
+    let program = if opts.external_planner {
+        None
+    } else {
+        opts.program
+    };
+    let mut planner = match program {
         Some(p) => match planner::spawn(cell, p, handoff.clone()) {
             Ok(p) => Some(p),
             Err(e) => {
                 let _ = go_tx.send(false);
                 let _ = rt.join();
+                link.stop();
                 let _ = recorder.finish();
                 return Err(RunError::Thread(format!("cannot start the planner: {e}")));
             }
@@ -260,6 +278,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .join()
         .map_err(|_| RunError::Thread("the RT thread panicked".into()))?
         .ok_or_else(|| RunError::Thread("the RT thread ended without statistics".into()))?;
+    link.stop();
     let program_result = planner.map(|p| p.finish());
     let recording = recorder.finish()?;
 

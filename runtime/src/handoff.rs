@@ -21,6 +21,8 @@ pub enum CellCommand {
     Reset,
     /// Leave the RT loop (after PowerOff).
     Quit,
+    /// The planner's node died or left: stop any motion (the link thread sends this).
+    PlannerLost,
 }
 
 impl CellCommand {
@@ -32,6 +34,7 @@ impl CellCommand {
             CellCommand::Stop => "stop",
             CellCommand::Reset => "reset",
             CellCommand::Quit => "quit",
+            CellCommand::PlannerLost => "planner_lost",
         }
     }
 
@@ -47,6 +50,7 @@ impl CellCommand {
             CellCommand::Stop,
             CellCommand::Reset,
             CellCommand::Quit,
+            CellCommand::PlannerLost,
         ]
         .into_iter()
         .find(|c| c.code() == v)
@@ -121,6 +125,8 @@ pub enum StopReason {
     DriveFault = 4,
     /// Too many consecutive overruns: the loop cannot keep time.
     Overrun = 5,
+    /// The planner's node died or left during motion.
+    PlannerLost = 6,
 }
 
 impl StopReason {
@@ -132,15 +138,23 @@ impl StopReason {
             StopReason::SetpointRejected => "setpoint_rejected",
             StopReason::DriveFault => "drive_fault",
             StopReason::Overrun => "overrun",
+            StopReason::PlannerLost => "planner_lost",
         }
     }
 
     /// Inverse of `as u8`.
     pub fn from_u8(v: u8) -> Option<StopReason> {
         use StopReason::*;
-        [Command, Underrun, SetpointRejected, DriveFault, Overrun]
-            .into_iter()
-            .find(|s| *s as u8 == v)
+        [
+            Command,
+            Underrun,
+            SetpointRejected,
+            DriveFault,
+            Overrun,
+            PlannerLost,
+        ]
+        .into_iter()
+        .find(|s| *s as u8 == v)
     }
 }
 
@@ -227,6 +241,10 @@ pub enum EventKind {
     BusError,
     /// A scheduled fault was injected (value: 1 stall, 2 drive alarm, 3 planner stall).
     FaultInjected,
+    /// A planner's iceoryx2 node appeared.
+    PlannerConnected,
+    /// The planner's iceoryx2 node died or left.
+    PlannerLost,
 }
 
 impl EventKind {
@@ -249,6 +267,8 @@ impl EventKind {
             EventKind::RecordsDropped => "records_dropped",
             EventKind::BusError => "bus_error",
             EventKind::FaultInjected => "fault_injected",
+            EventKind::PlannerConnected => "planner_connected",
+            EventKind::PlannerLost => "planner_lost",
         }
     }
 }

@@ -6,6 +6,8 @@ pub mod config;
 pub mod controller;
 pub mod executive;
 pub mod handoff;
+pub mod link;
+pub mod link_server;
 pub mod planner;
 pub mod program;
 pub mod record;

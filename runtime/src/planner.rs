@@ -12,7 +12,8 @@ use cellrt_trajectory::sampler::MoveSampler;
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, CellState, Handoff};
+use crate::handoff::{CellCommand, CellState, EventKind, Handoff};
+use crate::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
 use crate::program::{MoveTarget, Program, Step};
 use crate::services;
 use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, FLAG_LAST};
@@ -95,7 +96,8 @@ pub fn spawn(
     let handle = std::thread::Builder::new()
         .name("cellrt-planner".into())
         .spawn(move || {
-            let planner = Planner::new(&cell, &handoff, &abort2, &program);
+            let link = LocalLink::new(handoff, cell.axes.len());
+            let planner = Planner::new(&cell, Box::new(link), &abort2, &program);
             let _ = ready_tx.send(());
             match planner {
                 Ok(mut p) => {
@@ -121,9 +123,31 @@ pub fn spawn(
     })
 }
 
+/// Runs `program` from a planner process of its own: connects to the running controller of
+/// `cell` (started with `--external-planner`) through its status and command services and
+/// publishes setpoints on the cell's setpoint service. Returns when the program ends, fails or
+/// `abort` is set.
+pub fn run_external(
+    cell: &CellConfig,
+    program: &Program,
+    abort: &AtomicBool,
+    connect_timeout: Duration,
+) -> Result<(), ProgramError> {
+    let fail = |reason: String| ProgramError {
+        program: program.source.display().to_string(),
+        step: 0,
+        what: "connect",
+        reason,
+    };
+    let node = services::node(&cell.name, "link-client").map_err(|e| fail(e.to_string()))?;
+    let link = RemoteLink::connect(&node, &cell.name, connect_timeout).map_err(fail)?;
+    let mut planner = Planner::new(cell, Box::new(link), abort, program)?;
+    planner.run(program)
+}
+
 struct Planner<'a> {
     cell: &'a CellConfig,
-    handoff: &'a Handoff,
+    link: Box<dyn CellLink + 'a>,
     abort: &'a AtomicBool,
     publisher: services::SetpointPublisher,
     _node: Node<ipc::Service>,
@@ -137,7 +161,7 @@ struct Planner<'a> {
 impl<'a> Planner<'a> {
     fn new(
         cell: &'a CellConfig,
-        handoff: &'a Handoff,
+        link: Box<dyn CellLink + 'a>,
         abort: &'a AtomicBool,
         program: &Program,
     ) -> Result<Self, ProgramError> {
@@ -152,7 +176,7 @@ impl<'a> Planner<'a> {
             services::setpoint_publisher(&node, &cell.name, cell.axes.len()).map_err(fail)?;
         Ok(Planner {
             cell,
-            handoff,
+            link,
             abort,
             publisher,
             _node: node,
@@ -179,9 +203,17 @@ impl<'a> Planner<'a> {
         }
     }
 
+    fn aborted(&self) -> bool {
+        self.abort.load(Ordering::Acquire)
+    }
+
+    fn status(&mut self) -> Result<StatusSnapshot, ProgramError> {
+        self.link.status().map_err(|e| self.err(e))
+    }
+
     fn run(&mut self, program: &Program) -> Result<(), ProgramError> {
         for (i, step) in program.steps.iter().enumerate() {
-            if self.abort.load(Ordering::Acquire) {
+            if self.aborted() {
                 return Ok(());
             }
             self.step = i;
@@ -196,6 +228,17 @@ impl<'a> Planner<'a> {
                     self.command(CellCommand::PowerOff)?;
                     self.wait_for_state(CellState::Disabled, POWER_TIMEOUT)?;
                 }
+                Step::Reset => {
+                    self.what = "reset";
+                    let state = self.status()?.state;
+                    if matches!(state, CellState::Stopped | CellState::Faulted) {
+                        self.command(CellCommand::Reset)?;
+                        self.wait_for(
+                            |s| !matches!(s, CellState::Stopped | CellState::Faulted),
+                            POWER_TIMEOUT,
+                        )?;
+                    }
+                }
                 Step::Wait(s) => {
                     self.what = "wait";
                     self.sleep(Duration::from_secs_f64(*s));
@@ -209,16 +252,13 @@ impl<'a> Planner<'a> {
         Ok(())
     }
 
-    fn command(&self, cmd: CellCommand) -> Result<(), ProgramError> {
-        self.handoff
-            .commands
-            .push(cmd)
-            .map_err(|_| self.err("command queue to the RT thread is full"))
+    fn command(&mut self, cmd: CellCommand) -> Result<(), ProgramError> {
+        self.link.command(cmd).map_err(|e| self.err(e))
     }
 
     fn sleep(&self, d: Duration) {
         let end = Instant::now() + d;
-        while !self.abort.load(Ordering::Acquire) {
+        while !self.aborted() {
             let now = Instant::now();
             if now >= end {
                 break;
@@ -227,21 +267,38 @@ impl<'a> Planner<'a> {
         }
     }
 
-    fn wait_for_state(&self, want: CellState, timeout: Duration) -> Result<(), ProgramError> {
+    fn wait_for_state(&mut self, want: CellState, timeout: Duration) -> Result<(), ProgramError> {
+        self.wait_for(|s| s == want, timeout).map_err(|e| {
+            if e.reason.is_empty() {
+                self.err(format!(
+                    "cell did not become {} within {timeout:?}",
+                    want.as_str()
+                ))
+            } else {
+                e
+            }
+        })
+    }
+
+    /// Waits until the cell state satisfies `done`; fails on a fault (unless waited for) or
+    /// after `timeout` (with an empty reason, filled in by the caller).
+    fn wait_for(
+        &mut self,
+        done: impl Fn(CellState) -> bool,
+        timeout: Duration,
+    ) -> Result<(), ProgramError> {
         let end = Instant::now() + timeout;
         loop {
-            let s = self.handoff.status.state();
-            if s == want || self.abort.load(Ordering::Acquire) {
+            let s = self.status()?.state;
+            if done(s) || self.aborted() {
                 return Ok(());
             }
-            if s == CellState::Faulted && want != CellState::Faulted {
+            if s == CellState::Faulted {
                 return Err(self.err("the cell faulted (see the events)"));
             }
             if Instant::now() >= end {
                 return Err(self.err(format!(
-                    "cell did not become {} within {:?} (it is {})",
-                    want.as_str(),
-                    timeout,
+                    "timed out after {timeout:?}; the cell is {}",
                     s.as_str()
                 )));
             }
@@ -250,16 +307,15 @@ impl<'a> Planner<'a> {
     }
 
     fn run_move(&mut self, targets: &[MoveTarget]) -> Result<(), ProgramError> {
-        let status = &self.handoff.status;
-        let state = status.state();
-        if state != CellState::Idle {
+        let status = self.status()?;
+        if status.state != CellState::Idle {
             return Err(self.err(format!(
                 "the cell is {}, not idle (power on first, or reset after a stop)",
-                state.as_str()
+                status.state.as_str()
             )));
         }
         let n = self.cell.axes.len();
-        let hold: Vec<f64> = (0..n).map(|i| status.hold(i)).collect();
+        let hold: Vec<f64> = status.hold[..n].to_vec();
         let axes: Vec<MoveAxis> = targets
             .iter()
             .map(|t| {
@@ -284,16 +340,12 @@ impl<'a> Planner<'a> {
             return Ok(());
         }
 
-        let motion_id = status
-            .motion_id
-            .load(Ordering::Acquire)
-            .wrapping_add(1)
-            .max(1);
+        let motion_id = status.motion_id.wrapping_add(1).max(1);
         let cycle_ns = self.cell.cycle_time.as_nanos() as f64;
         let delay = (self.cell.setpoints.start_delay * 1e9 / cycle_ns).ceil() as u64;
         let lookahead = ((self.cell.setpoints.lookahead * 1e9 / cycle_ns).ceil() as u64)
             .max(2 * BLOCK_CYCLES as u64);
-        let start_cycle = status.cycle() + delay.max(2);
+        let start_cycle = status.cycle + delay.max(2);
 
         let mut sample = vec![AxisState::default(); targets.len()];
         let mut rows = vec![AxisSetpoint::default(); BLOCK_CYCLES * n];
@@ -301,18 +353,20 @@ impl<'a> Planner<'a> {
         while k <= total {
             let block_start = start_cycle + (k - 1);
             // Keep at most `lookahead` cycles ahead of the RT thread.
-            while block_start > status.cycle() + lookahead {
-                if self.abort.load(Ordering::Acquire) {
+            loop {
+                if self.aborted() {
                     return Ok(());
                 }
-                self.check_running(motion_id, block_start)?;
+                let now = self.check_running(motion_id, block_start)?;
+                if block_start <= now + lookahead {
+                    break;
+                }
                 std::thread::sleep(Duration::from_secs_f64((period / 2.0).min(1e-3)));
             }
-            if self.abort.load(Ordering::Acquire) {
+            self.inject_stall()?;
+            if self.aborted() {
                 return Ok(());
             }
-            self.inject_stall();
-            self.check_running(motion_id, block_start)?;
             let cycles = (total - k + 1).min(BLOCK_CYCLES as u64) as usize;
             for c in 0..cycles {
                 sampler.fill(k + c as u64, &mut sample);
@@ -356,12 +410,11 @@ impl<'a> Planner<'a> {
         // Wait for the RT thread to finish the motion.
         let end_cycle = start_cycle + total;
         loop {
-            if self.abort.load(Ordering::Acquire) {
+            if self.aborted() {
                 return Ok(());
             }
-            if status.motion_done.load(Ordering::Acquire) == motion_id
-                && status.state() == CellState::Idle
-            {
+            let s = self.status()?;
+            if s.motion_done == motion_id && s.state == CellState::Idle {
                 return Ok(());
             }
             self.check_running(motion_id, end_cycle)?;
@@ -370,43 +423,38 @@ impl<'a> Planner<'a> {
     }
 
     /// Fault injection: stops publishing for a while once a scheduled planner stall is due.
-    fn inject_stall(&mut self) {
-        let now = self.handoff.status.cycle();
+    fn inject_stall(&mut self) -> Result<(), ProgramError> {
+        let now = self.status()?.cycle;
         if let Some(pos) = self.stalls.iter().position(|(c, _)| *c <= now) {
             let (_, ns) = self.stalls.remove(pos);
-            let _ = self.handoff.events.push(crate::handoff::EventRecord {
-                cycle: now,
-                kind: crate::handoff::EventKind::FaultInjected,
-                axis: crate::handoff::NO_AXIS,
-                value: 3,
-            });
+            self.link.event(EventKind::FaultInjected, 3);
             self.sleep(Duration::from_nanos(ns));
         }
+        Ok(())
     }
 
-    /// Fails the step if the RT thread stopped the motion or never started it.
-    fn check_running(&self, motion_id: u32, next_cycle: u64) -> Result<(), ProgramError> {
-        let status = &self.handoff.status;
-        match status.state() {
+    /// Fails the step if the RT thread stopped the motion or never started it; returns the
+    /// cell's current cycle.
+    fn check_running(&mut self, motion_id: u32, next_cycle: u64) -> Result<u64, ProgramError> {
+        let s = self.status()?;
+        match s.state {
             CellState::Stopping | CellState::Stopped | CellState::Faulted => {
-                let why = status
-                    .stop_reason()
-                    .map(|r| r.as_str())
-                    .unwrap_or("unknown");
-                Err(self.err(format!("motion {motion_id} was stopped by the RT thread ({why})")))
+                let why = s.stop_reason.map(|r| r.as_str()).unwrap_or("unknown");
+                Err(self.err(format!(
+                    "motion {motion_id} was stopped by the RT thread ({why})"
+                )))
             }
             CellState::Disabled | CellState::Disabling | CellState::Enabling => Err(self.err(
-                format!("the cell is {} during motion {motion_id}", status.state().as_str()),
+                format!("the cell is {} during motion {motion_id}", s.state.as_str()),
             )),
             CellState::Idle
-                if status.motion_id.load(Ordering::Acquire) != motion_id
-                    && status.cycle() > next_cycle + 2 * BLOCK_CYCLES as u64 =>
+                if s.motion_id != motion_id && s.cycle > next_cycle + 2 * BLOCK_CYCLES as u64 =>
             {
                 Err(self.err(format!(
                     "the RT thread did not start motion {motion_id} (its first block was rejected; see the events)"
                 )))
             }
-            _ => Ok(()),
+            _ => Ok(s.cycle),
         }
     }
 }

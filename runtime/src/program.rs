@@ -14,6 +14,8 @@
 //! [[step]]
 //! do = "power_off"
 //! ```
+//!
+//! `do = "reset"` clears a cell stopped by a watchdog (MC_Reset).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -44,6 +46,8 @@ pub enum RawStep {
     PowerOn,
     /// Clean shutdown of every axis.
     PowerOff,
+    /// Clear a stopped or faulted cell (MC_Reset); nothing to do otherwise.
+    Reset,
     /// Jerk-limited synchronised move to absolute targets.
     Move {
         /// Axis name → target in units.
@@ -75,6 +79,8 @@ pub enum Step {
     PowerOn,
     /// Clean shutdown of every axis.
     PowerOff,
+    /// Clear a stopped or faulted cell.
+    Reset,
     /// Move the listed axes (index, target in units, limits in units).
     Move(Vec<MoveTarget>),
     /// Pause for this many seconds.
@@ -153,6 +159,7 @@ fn validate_step(
     Ok(match step {
         RawStep::PowerOn => Step::PowerOn,
         RawStep::PowerOff => Step::PowerOff,
+        RawStep::Reset => Step::Reset,
         RawStep::Wait { seconds } => {
             if !seconds.is_finite() || !(0.0..=MAX_WAIT_SECONDS).contains(&seconds) {
                 return Err(ConfigError::new(

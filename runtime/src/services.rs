@@ -3,9 +3,10 @@
 use iceoryx2::config::Config;
 use iceoryx2::node::{Node, NodeBuilder};
 use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
-use crate::setpoints::{AxisSetpoint, SetpointHeader, SetpointSubscriber, BLOCK_CYCLES};
+use crate::setpoints::{AxisSetpoint, SetpointHeader, SetpointSubscriber, BLOCK_CYCLES, MAX_AXES};
 
 /// The setpoint service's publisher type.
 pub type SetpointPublisher = Publisher<ipc::Service, [AxisSetpoint], SetpointHeader>;
@@ -22,12 +23,89 @@ pub struct ServiceError {
     detail: String,
 }
 
+impl ServiceError {
+    /// A helper thread of the services could not run.
+    pub fn thread(detail: &str) -> ServiceError {
+        ServiceError {
+            what: "link thread",
+            cell: String::new(),
+            detail: detail.to_string(),
+        }
+    }
+}
+
 fn service_error(what: &'static str, cell: &str, e: impl std::fmt::Debug) -> ServiceError {
     ServiceError {
         what,
         cell: cell.to_string(),
         detail: format!("{e:?}"),
     }
+}
+
+/// Status of a cell as published to other processes (planner, CLI): the fields of
+/// [`crate::handoff::CellStatus`] at one cycle.
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+#[type_name("cellrt::StatusSample")]
+pub struct StatusSample {
+    /// Last executed cycle.
+    pub cycle: u64,
+    /// Cycle time, ns.
+    pub cycle_time_ns: u64,
+    /// `CellState as u8`.
+    pub state: u8,
+    /// `StopReason as u8`, 0 for none.
+    pub stop_reason: u8,
+    /// Reserved.
+    pub reserved: [u8; 2],
+    /// Motion running or last started.
+    pub motion_id: u32,
+    /// Last motion finished normally.
+    pub motion_done: u32,
+    /// Axes valid in `hold`.
+    pub axis_count: u32,
+    /// Hold position per axis, counts.
+    pub hold: [f64; MAX_AXES],
+}
+
+impl Default for StatusSample {
+    fn default() -> Self {
+        StatusSample {
+            cycle: 0,
+            cycle_time_ns: 0,
+            state: 0,
+            stop_reason: 0,
+            reserved: [0; 2],
+            motion_id: 0,
+            motion_done: 0,
+            axis_count: 0,
+            hold: [0.0; MAX_AXES],
+        }
+    }
+}
+
+/// A command from another process (`CellCommand` code, see `CellCommand::from_code`).
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("cellrt::CommandSample")]
+pub struct CommandSample {
+    /// Command code.
+    pub code: u32,
+}
+
+/// The status service name of `cell`.
+pub fn status_service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/status")
+}
+
+/// The command service name of `cell`.
+pub fn command_service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/commands")
+}
+
+/// The iceoryx2 node name of a cell's planner (in-process or its own process).
+pub fn planner_node_name(cell: &str) -> String {
+    format!("cellrt-{cell}-planner")
 }
 
 /// The setpoint service name of `cell`.
@@ -38,7 +116,7 @@ pub fn setpoint_service_name(cell: &str) -> String {
 /// iceoryx2 configuration: each user gets its own root directory and resource prefix, so cells
 /// of different users (root and an operator) never collide on files the other may not open
 /// (iceoryx2 creates them mode 0600 / 0750).
-fn config() -> Config {
+pub fn config() -> Config {
     let uid = nix::unistd::getuid().as_raw();
     let mut config = Config::default();
     let root = format!("{}/cellrt-iceoryx2-u{uid}/", std::env::temp_dir().display());
@@ -114,4 +192,74 @@ pub fn setpoint_subscriber(
         .subscriber_builder()
         .create()
         .map_err(|e| service_error("setpoint subscriber", cell, e))
+}
+
+fn pubsub<T: std::fmt::Debug + ZeroCopySend>(
+    node: &Node<ipc::Service>,
+    cell: &str,
+    name: &str,
+    publishers: usize,
+    subscribers: usize,
+    history: usize,
+) -> Result<
+    iceoryx2::service::port_factory::publish_subscribe::PortFactory<ipc::Service, T, ()>,
+    ServiceError,
+> {
+    let service_name =
+        ServiceName::new(name).map_err(|e| service_error("service name", cell, e))?;
+    node.service_builder(&service_name)
+        .publish_subscribe::<T>()
+        .max_publishers(publishers)
+        .max_subscribers(subscribers)
+        .history_size(history)
+        .subscriber_max_buffer_size(history.max(16))
+        .enable_safe_overflow(true)
+        .open_or_create()
+        .map_err(|e| service_error("service", cell, e))
+}
+
+/// The controller's publisher of cell status.
+pub fn status_publisher(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Publisher<ipc::Service, StatusSample, ()>, ServiceError> {
+    pubsub::<StatusSample>(node, cell, &status_service_name(cell), 1, 16, 1)?
+        .publisher_builder()
+        .backpressure_strategy(BackpressureStrategy::DiscardData)
+        .create()
+        .map_err(|e| service_error("status publisher", cell, e))
+}
+
+/// A client's subscriber to cell status (the latest sample arrives on connect).
+pub fn status_subscriber(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Subscriber<ipc::Service, StatusSample, ()>, ServiceError> {
+    pubsub::<StatusSample>(node, cell, &status_service_name(cell), 1, 16, 1)?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| service_error("status subscriber", cell, e))
+}
+
+/// A client's publisher of commands to the cell.
+pub fn command_publisher(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Publisher<ipc::Service, CommandSample, ()>, ServiceError> {
+    pubsub::<CommandSample>(node, cell, &command_service_name(cell), 8, 1, 0)?
+        .publisher_builder()
+        .backpressure_strategy(BackpressureStrategy::DiscardData)
+        .create()
+        .map_err(|e| service_error("command publisher", cell, e))
+}
+
+/// The controller's subscriber of commands.
+pub fn command_subscriber(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Subscriber<ipc::Service, CommandSample, ()>, ServiceError> {
+    pubsub::<CommandSample>(node, cell, &command_service_name(cell), 8, 1, 0)?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| service_error("command subscriber", cell, e))
 }

@@ -18,6 +18,9 @@ pub struct Cli {
 pub enum Command {
     /// Run a cell controller: RT loop, planner, drives, recording.
     Run(RunArgs),
+    /// Run a program as a planner process of its own, against a running `cellrt run
+    /// --external-planner` of the same cell.
+    Planner(PlannerArgs),
 }
 
 /// `cellrt run`.
@@ -43,4 +46,21 @@ pub struct RunArgs {
     /// Also write the summary as JSON to this file.
     #[arg(long, value_name = "FILE")]
     pub summary_json: Option<PathBuf>,
+    /// Run no planner in this process: a `cellrt planner` process provides the setpoints
+    /// (the controller runs until SIGINT/SIGTERM or --duration).
+    #[arg(long, conflicts_with_all = ["program", "no_program"])]
+    pub external_planner: bool,
+}
+
+/// `cellrt planner`.
+#[derive(Debug, Args)]
+pub struct PlannerArgs {
+    /// Cell configuration (TOML), the same file the controller runs.
+    pub config: PathBuf,
+    /// Program to run instead of the one the configuration names.
+    #[arg(long)]
+    pub program: Option<PathBuf>,
+    /// How long to wait for the controller, in seconds.
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    pub connect_timeout: f64,
 }

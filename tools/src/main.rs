@@ -19,6 +19,7 @@ fn main() {
     let cli = cli::Cli::parse();
     let code = match cli.command {
         cli::Command::Run(args) => commands::run::run(args),
+        cli::Command::Planner(args) => commands::planner::run(args),
     };
     std::process::exit(code.code());
 }

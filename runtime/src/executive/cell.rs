@@ -60,6 +60,11 @@ impl<B: Bus> Executive<B> {
                     true
                 }
                 (CellCommand::Stop, _) => true,
+                (CellCommand::PlannerLost, CellState::Moving) => {
+                    self.react(StopReason::PlannerLost);
+                    true
+                }
+                (CellCommand::PlannerLost, _) => true,
                 (CellCommand::Reset, CellState::Stopped) => {
                     self.stop_reason = None;
                     self.handoff.status.stop_reason.store(0, Ordering::Release);
@@ -396,7 +401,9 @@ impl<B: Bus> Executive<B> {
     pub(super) fn react(&mut self, reason: StopReason) {
         let reaction = match reason {
             StopReason::Command => FaultReaction::ControlledStop,
-            StopReason::Underrun | StopReason::SetpointRejected => self.watchdogs.underrun_reaction,
+            StopReason::Underrun | StopReason::SetpointRejected | StopReason::PlannerLost => {
+                self.watchdogs.underrun_reaction
+            }
             StopReason::DriveFault => self.watchdogs.drive_fault_reaction,
             StopReason::Overrun => self.watchdogs.overrun_reaction,
         };

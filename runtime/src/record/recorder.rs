@@ -427,6 +427,7 @@ impl Drain<'_> {
             | EventKind::MasterTimeout
             | EventKind::BusError
             | EventKind::CommandRefused
+            | EventKind::PlannerLost
             | EventKind::RecordsDropped => tracing::warn!("{line}"),
             _ => tracing::debug!("{line}"),
         }
@@ -490,7 +491,11 @@ pub fn describe_event(e: &EventRecord) -> String {
             .copied()
             .unwrap_or("unknown")
             .to_string(),
-        EventKind::StopFinished | EventKind::MasterTimeout | EventKind::BusError => String::new(),
+        EventKind::StopFinished
+        | EventKind::MasterTimeout
+        | EventKind::BusError
+        | EventKind::PlannerConnected
+        | EventKind::PlannerLost => String::new(),
     }
 }
 

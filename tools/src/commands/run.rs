@@ -19,7 +19,7 @@ pub fn run(args: RunArgs) -> Exit {
         Ok(c) => c,
         Err(e) => return bad_input(e),
     };
-    let program = if args.no_program {
+    let program = if args.no_program || args.external_planner {
         None
     } else if let Some(p) = &args.program {
         match Program::load(p, &cell) {
@@ -82,6 +82,12 @@ pub fn run(args: RunArgs) -> Exit {
             .map(|p| format!(", recording to {}", p.display()))
             .unwrap_or_default()
     );
+    if args.external_planner {
+        eprintln!(
+            "cellrt: waiting for a planner: cellrt planner {}",
+            args.config.display()
+        );
+    }
     let result = controller::run(
         &cell,
         RunOptions {
@@ -90,6 +96,7 @@ pub fn run(args: RunArgs) -> Exit {
             record,
             shutdown,
             hook: None,
+            external_planner: args.external_planner,
         },
     );
     let summary = match result {

@@ -1,0 +1,175 @@
+//! How a planner reaches its cell: the same few operations in-process (atomics and the RT
+//! command queue) or from another process (the cell's iceoryx2 status and command services).
+
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::*;
+
+use crate::handoff::{
+    CellCommand, CellState, EventKind, EventRecord, Handoff, StopReason, NO_AXIS,
+};
+use crate::services::{self, CommandSample, ServiceError, StatusSample};
+use crate::setpoints::MAX_AXES;
+
+/// A remote cell whose status is older than this is considered gone.
+pub const STATUS_TIMEOUT: Duration = Duration::from_millis(500);
+
+/// The cell's state as a planner needs it.
+#[derive(Debug, Clone, Copy)]
+pub struct StatusSnapshot {
+    /// Last executed cycle.
+    pub cycle: u64,
+    /// Cell state.
+    pub state: CellState,
+    /// Why the last stop happened, since reset.
+    pub stop_reason: Option<StopReason>,
+    /// Motion running or last started.
+    pub motion_id: u32,
+    /// Last motion finished normally.
+    pub motion_done: u32,
+    /// Hold position per axis, counts.
+    pub hold: [f64; MAX_AXES],
+}
+
+/// A planner's connection to its cell.
+pub trait CellLink {
+    /// The latest status; an error if the cell cannot be reached.
+    fn status(&mut self) -> Result<StatusSnapshot, String>;
+    /// Sends a command to the RT thread.
+    fn command(&mut self, c: CellCommand) -> Result<(), String>;
+    /// Records an event of the planner's own (fault injection), where the link allows it.
+    fn event(&mut self, kind: EventKind, value: i64);
+}
+
+/// The in-process link: the RT thread's status atomics and command queue.
+pub struct LocalLink {
+    handoff: Arc<Handoff>,
+    axes: usize,
+}
+
+impl LocalLink {
+    /// Links to the RT thread behind `handoff`.
+    pub fn new(handoff: Arc<Handoff>, axes: usize) -> Self {
+        LocalLink { handoff, axes }
+    }
+}
+
+/// Reads the RT thread's status atomics into a snapshot.
+pub fn snapshot(handoff: &Handoff, axes: usize) -> StatusSnapshot {
+    let s = &handoff.status;
+    let mut hold = [0.0; MAX_AXES];
+    for (i, h) in hold.iter_mut().enumerate().take(axes) {
+        *h = s.hold(i);
+    }
+    StatusSnapshot {
+        cycle: s.cycle(),
+        state: s.state(),
+        stop_reason: s.stop_reason(),
+        motion_id: s.motion_id.load(Ordering::Acquire),
+        motion_done: s.motion_done.load(Ordering::Acquire),
+        hold,
+    }
+}
+
+impl CellLink for LocalLink {
+    fn status(&mut self) -> Result<StatusSnapshot, String> {
+        Ok(snapshot(&self.handoff, self.axes))
+    }
+
+    fn command(&mut self, c: CellCommand) -> Result<(), String> {
+        self.handoff
+            .commands
+            .push(c)
+            .map_err(|_| "command queue to the RT thread is full".to_string())
+    }
+
+    fn event(&mut self, kind: EventKind, value: i64) {
+        let _ = self.handoff.events.push(EventRecord {
+            cycle: self.handoff.status.cycle(),
+            kind,
+            axis: NO_AXIS,
+            value,
+        });
+    }
+}
+
+/// The link from another process, over the cell's status and command services.
+pub struct RemoteLink {
+    status: Subscriber<ipc::Service, StatusSample, ()>,
+    commands: Publisher<ipc::Service, CommandSample, ()>,
+    latest: Option<(StatusSnapshot, Instant)>,
+    cell: String,
+}
+
+impl RemoteLink {
+    /// Connects to `cell` through `node`, waiting up to `timeout` for its first status.
+    pub fn connect(
+        node: &Node<ipc::Service>,
+        cell: &str,
+        timeout: Duration,
+    ) -> Result<RemoteLink, String> {
+        let e = |e: ServiceError| e.to_string();
+        let mut link = RemoteLink {
+            status: services::status_subscriber(node, cell).map_err(e)?,
+            commands: services::command_publisher(node, cell).map_err(e)?,
+            latest: None,
+            cell: cell.to_string(),
+        };
+        let end = Instant::now() + timeout;
+        loop {
+            if link.status().is_ok() {
+                return Ok(link);
+            }
+            if Instant::now() >= end {
+                return Err(format!(
+                    "no controller of cell '{cell}' answered within {timeout:?} (start `cellrt run <CONFIG> --external-planner` first)"
+                ));
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+}
+
+impl CellLink for RemoteLink {
+    fn status(&mut self) -> Result<StatusSnapshot, String> {
+        while let Ok(Some(sample)) = self.status.receive() {
+            let s = sample.payload();
+            let state = CellState::from_u8(s.state)
+                .ok_or_else(|| format!("malformed status from cell '{}'", self.cell))?;
+            self.latest = Some((
+                StatusSnapshot {
+                    cycle: s.cycle,
+                    state,
+                    stop_reason: StopReason::from_u8(s.stop_reason),
+                    motion_id: s.motion_id,
+                    motion_done: s.motion_done,
+                    hold: s.hold,
+                },
+                Instant::now(),
+            ));
+        }
+        match self.latest {
+            Some((snap, at)) if at.elapsed() < STATUS_TIMEOUT => Ok(snap),
+            Some(_) => Err(format!(
+                "cell '{}' stopped publishing its status (controller gone?)",
+                self.cell
+            )),
+            None => Err(format!("no status from cell '{}' yet", self.cell)),
+        }
+    }
+
+    fn command(&mut self, c: CellCommand) -> Result<(), String> {
+        self.commands
+            .send_copy(CommandSample {
+                code: c.event_value() as u32,
+            })
+            .map(|_| ())
+            .map_err(|e| format!("sending {} to cell '{}': {e:?}", c.as_str(), self.cell))
+    }
+
+    fn event(&mut self, _kind: EventKind, _value: i64) {}
+}

@@ -1,0 +1,151 @@
+//! The controller's non-RT link thread: publishes the cell status for other processes, forwards
+//! their commands to the RT thread, and watches the planner's iceoryx2 node (planner connect and
+//! loss are events; loss during motion makes the RT thread stop the axes).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use iceoryx2::node::{NodeState, NodeView};
+use iceoryx2::prelude::*;
+
+use crate::config::CellConfig;
+use crate::handoff::{CellCommand, EventKind, EventRecord, Handoff, NO_AXIS};
+use crate::link::snapshot;
+use crate::services::{self, ServiceError, StatusSample};
+
+/// How often the planner's node is looked for.
+pub const PLANNER_CHECK: Duration = Duration::from_millis(20);
+
+/// Handle of the link thread.
+pub struct LinkServer {
+    stop: Arc<AtomicBool>,
+    handle: JoinHandle<()>,
+}
+
+impl LinkServer {
+    /// Starts the link thread; returns once its services exist.
+    pub fn spawn(cell: &CellConfig, handoff: Arc<Handoff>) -> Result<LinkServer, ServiceError> {
+        let stop = Arc::new(AtomicBool::new(false));
+        let stop2 = stop.clone();
+        let cell = cell.clone();
+        let (ready_tx, ready_rx) = std::sync::mpsc::channel();
+        let handle = std::thread::Builder::new()
+            .name("cellrt-link".into())
+            .spawn(move || {
+                let setup = (|| {
+                    let node = services::node(&cell.name, "link")?;
+                    let status = services::status_publisher(&node, &cell.name)?;
+                    let commands = services::command_subscriber(&node, &cell.name)?;
+                    Ok::<_, ServiceError>((node, status, commands))
+                })();
+                let (node, status, commands) = match setup {
+                    Ok(v) => {
+                        let _ = ready_tx.send(Ok(()));
+                        v
+                    }
+                    Err(e) => {
+                        let _ = ready_tx.send(Err(e));
+                        return;
+                    }
+                };
+                let period =
+                    Duration::from_nanos(cell.cycle_time.as_nanos()).max(Duration::from_millis(1));
+                let n = cell.axes.len();
+                let planner_name = services::planner_node_name(&cell.name);
+                let mut planner_alive = false;
+                let mut last_check = Instant::now() - PLANNER_CHECK;
+                while !stop2.load(Ordering::Acquire) {
+                    let snap = snapshot(&handoff, n);
+                    let sample = StatusSample {
+                        cycle: snap.cycle,
+                        cycle_time_ns: cell.cycle_time.as_nanos(),
+                        state: snap.state as u8,
+                        stop_reason: snap.stop_reason.map(|r| r as u8).unwrap_or(0),
+                        motion_id: snap.motion_id,
+                        motion_done: snap.motion_done,
+                        axis_count: n as u32,
+                        hold: snap.hold,
+                        ..StatusSample::default()
+                    };
+                    let _ = status.send_copy(sample);
+                    while let Ok(Some(c)) = commands.receive() {
+                        forward(&handoff, c.payload().code);
+                    }
+                    if last_check.elapsed() >= PLANNER_CHECK {
+                        last_check = Instant::now();
+                        let alive = planner_is_alive(&planner_name);
+                        if alive != planner_alive {
+                            planner_alive = alive;
+                            let kind = if alive {
+                                EventKind::PlannerConnected
+                            } else {
+                                EventKind::PlannerLost
+                            };
+                            push_event(&handoff, kind, 0);
+                            if !alive {
+                                let _ = handoff.commands.push(CellCommand::PlannerLost);
+                                node.try_cleanup_dead_nodes();
+                            }
+                        }
+                    }
+                    std::thread::sleep(period);
+                }
+            })
+            .map_err(|e| ServiceError::thread(&e.to_string()))?;
+        match ready_rx.recv() {
+            Ok(Ok(())) => Ok(LinkServer { stop, handle }),
+            Ok(Err(e)) => Err(e),
+            Err(_) => Err(ServiceError::thread("link thread died during set-up")),
+        }
+    }
+
+    /// Stops the link thread.
+    pub fn stop(self) {
+        self.stop.store(true, Ordering::Release);
+        let _ = self.handle.join();
+    }
+}
+
+/// Forwards a command from another process; `quit` and unknown codes are refused.
+fn forward(handoff: &Handoff, code: u32) {
+    match CellCommand::from_code(i64::from(code)) {
+        Some(CellCommand::Quit) | Some(CellCommand::PlannerLost) | None => {
+            push_event(handoff, EventKind::CommandRefused, i64::from(code));
+        }
+        Some(c) => {
+            if handoff.commands.push(c).is_err() {
+                push_event(handoff, EventKind::CommandRefused, i64::from(code));
+            }
+        }
+    }
+}
+
+fn push_event(handoff: &Handoff, kind: EventKind, value: i64) {
+    let _ = handoff.events.push(EventRecord {
+        cycle: handoff.status.cycle(),
+        kind,
+        axis: NO_AXIS,
+        value,
+    });
+}
+
+/// Whether a live node named `name` exists (in-process or in another process).
+fn planner_is_alive(name: &str) -> bool {
+    let mut alive = false;
+    let _ = Node::<ipc::Service>::list(&services::config(), |state| {
+        if let NodeState::Alive(view) = &state {
+            if view
+                .details()
+                .as_ref()
+                .is_some_and(|d| d.name().as_str() == name)
+            {
+                alive = true;
+                return CallbackProgression::Stop;
+            }
+        }
+        CallbackProgression::Continue
+    });
+    alive
+}

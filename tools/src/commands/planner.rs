@@ -1,0 +1,67 @@
+//! `cellrt planner`: runs a program in a process of its own against a running controller.
+
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::Duration;
+
+use cellrt_runtime::config::CellConfig;
+use cellrt_runtime::planner;
+use cellrt_runtime::program::Program;
+
+use crate::cli::PlannerArgs;
+use crate::exit::Exit;
+
+/// Runs `cellrt planner`.
+pub fn run(args: PlannerArgs) -> Exit {
+    let bad = |e: &dyn std::fmt::Display| {
+        eprintln!("error: {e}");
+        Exit::BadInput
+    };
+    let cell = match CellConfig::load(&args.config) {
+        Ok(c) => c,
+        Err(e) => return bad(&e),
+    };
+    let Some(path) = args.program.clone().or_else(|| cell.program.clone()) else {
+        return bad(&format!(
+            "{}: cell.program: no program named; pass --program FILE",
+            args.config.display()
+        ));
+    };
+    let program = match Program::load(&path, &cell) {
+        Ok(p) => p,
+        Err(e) => return bad(&e),
+    };
+    if !(args.connect_timeout.is_finite() && args.connect_timeout > 0.0) {
+        return bad(&format!(
+            "--connect-timeout: must be a positive number of seconds (got {})",
+            args.connect_timeout
+        ));
+    }
+    let abort = Arc::new(AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        if let Err(e) = signal_hook::flag::register(sig, abort.clone()) {
+            eprintln!("error: cannot install the signal handler: {e}");
+            return Exit::Failed;
+        }
+    }
+    eprintln!(
+        "cellrt planner: cell '{}', program {}",
+        cell.name,
+        program.source.display()
+    );
+    match planner::run_external(
+        &cell,
+        &program,
+        &abort,
+        Duration::from_secs_f64(args.connect_timeout),
+    ) {
+        Ok(()) => {
+            eprintln!("cellrt planner: program ended");
+            Exit::Ok
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            Exit::Failed
+        }
+    }
+}

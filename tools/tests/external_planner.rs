@@ -1,0 +1,185 @@
+//! The planner as its own process: killing it (SIGKILL) mid-move makes the controller stop every
+//! axis with its controlled stop (no setpoint step, deceleration within the limit); a restarted
+//! planner reconnects, resets the cell and moves it again.
+
+mod common;
+
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc::Receiver;
+use std::time::{Duration, Instant};
+
+use cellrt_runtime::config::CellConfig;
+use common::{demo_cell, read_recording};
+use nix::sys::signal::{kill, Signal};
+use nix::unistd::Pid;
+
+const FIRST: &str = r#"
+[[step]]
+do = "power_on"
+[[step]]
+do = "move"
+target = { x = 780.0, y = 580.0 }
+"#;
+
+const SECOND: &str = r#"
+[[step]]
+do = "reset"
+[[step]]
+do = "move"
+target = { x = 100.0, y = 120.0 }
+"#;
+
+fn lines(child: &mut Child) -> Receiver<String> {
+    let stderr = child.stderr.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    rx
+}
+
+fn wait_line(rx: &Receiver<String>, what: &str, log: &mut Vec<String>) {
+    let end = Instant::now() + Duration::from_secs(30);
+    loop {
+        let left = end.saturating_duration_since(Instant::now());
+        match rx.recv_timeout(left) {
+            Ok(l) => {
+                let hit = l.contains(what);
+                log.push(l);
+                if hit {
+                    return;
+                }
+            }
+            Err(_) => panic!("no '{what}' within 30 s:\n{}", log.join("\n")),
+        }
+    }
+}
+
+fn planner(cfg: &Path, program: &Path) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .arg("planner")
+        .arg(cfg)
+        .arg("--program")
+        .arg(program)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+fn wait_exit(child: &mut Child, secs: u64) -> Option<i32> {
+    let end = Instant::now() + Duration::from_secs(secs);
+    loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            return s.code();
+        }
+        if Instant::now() > end {
+            let _ = child.kill();
+            panic!("process did not exit within {secs} s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn killed_planner_stops_the_cell_and_a_new_one_takes_over() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = demo_cell(dir.path(), FIRST);
+    let second = dir.path().join("second.toml");
+    std::fs::write(&second, SECOND).unwrap();
+    let rec_path = dir.path().join("run.mcap");
+    let json = dir.path().join("summary.json");
+
+    let mut controller = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .args(["run", "--external-planner", "--record"])
+        .arg(&rec_path)
+        .arg("--summary-json")
+        .arg(&json)
+        .arg(&cfg)
+        .env("CELLRT_LOG", "debug")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let ctl = lines(&mut controller);
+    let mut log = Vec::new();
+    wait_line(&ctl, "waiting for a planner", &mut log);
+
+    // First planner: power on and a long move; killed mid-move.
+    let mut p1 = planner(&cfg, &dir.path().join("program.toml"));
+    wait_line(&ctl, "motion_started", &mut log);
+    std::thread::sleep(Duration::from_millis(500));
+    kill(Pid::from_raw(p1.id() as i32), Signal::SIGKILL).unwrap();
+    let _ = p1.wait();
+    wait_line(&ctl, "stop_finished", &mut log);
+
+    // Second planner: reset, then a move that must complete.
+    let mut p2 = planner(&cfg, &second);
+    let p2_log = lines(&mut p2);
+    let code = wait_exit(&mut p2, 30);
+    let p2_text: Vec<String> = p2_log.try_iter().collect();
+    assert_eq!(code, Some(0), "second planner: {}", p2_text.join("\n"));
+
+    kill(Pid::from_raw(controller.id() as i32), Signal::SIGINT).unwrap();
+    assert_eq!(
+        wait_exit(&mut controller, 30),
+        Some(0),
+        "{}",
+        log.join("\n")
+    );
+
+    let rec = read_recording(&rec_path);
+    let kinds: Vec<(&str, &str)> = rec
+        .events
+        .iter()
+        .map(|e| (e.kind.as_str(), e.detail.as_str()))
+        .collect();
+    let count = |k: &str| kinds.iter().filter(|(kind, _)| *kind == k).count();
+    assert_eq!(count("planner_connected"), 2, "{kinds:?}");
+    assert!(count("planner_lost") >= 1, "{kinds:?}");
+    let stop = rec
+        .events
+        .iter()
+        .find(|e| e.kind == "stop_started")
+        .expect("stop");
+    assert_eq!(stop.detail, "planner_lost (controlled_stop)", "{kinds:?}");
+    assert_eq!(
+        count("motion_finished"),
+        1,
+        "the second planner's move ends: {kinds:?}"
+    );
+
+    // The stop: no setpoint step above the velocity limit, deceleration within the stop limit.
+    let cell = CellConfig::load(&cfg).unwrap();
+    let dt = cell.period();
+    for name in ["x", "y"] {
+        let a = &cell.axes[cell.axis_index(name).unwrap()];
+        let s = &rec.axes[name];
+        for w in s.windows(2) {
+            let gap = (w[1].cycle - w[0].cycle) as f64;
+            let step = (w[1].setpoint_position - w[0].setpoint_position).abs();
+            assert!(step <= a.limits.velocity * dt * gap * (1.0 + 1e-6) + 1e-9);
+            if gap == 1.0 && w[0].cycle >= stop.cycle {
+                let dec = (w[1].setpoint_velocity - w[0].setpoint_velocity).abs() / dt;
+                assert!(dec <= a.limits.acceleration * (1.0 + 1e-6), "{name}: {dec}");
+            }
+        }
+        let at_stop = s.iter().find(|r| r.cycle >= stop.cycle).unwrap();
+        assert!(at_stop.setpoint_velocity.abs() > 1.0, "{name} was moving");
+    }
+    // The second planner's targets were reached.
+    let last = |n: &str| {
+        rec.axes[n]
+            .iter()
+            .rev()
+            .find(|r| r.fsa_state == 5)
+            .unwrap()
+            .setpoint_position
+    };
+    assert!((last("x") - 100.0).abs() < 1e-6, "x {}", last("x"));
+    assert!((last("y") - 120.0).abs() < 1e-6, "y {}", last("y"));
+}

@@ -22,6 +22,19 @@ pub trait Bus {
         let _ = (axis, code);
         false
     }
+    /// Fault injection: `axis`' RxPDO is not delivered for the next `cycles` exchanges (lost
+    /// frames; the drive's communication checks count them). False where unsupported.
+    fn inject_rx_loss(&mut self, axis: usize, cycles: u32) -> bool {
+        let _ = (axis, cycles);
+        false
+    }
+    /// Fault injection: the communication counter `axis`' drive receives is corrupted for the
+    /// next `cycles` exchanges (on [`SimBus`]: frozen at its first value, like stale frames the
+    /// NIC resends, mr-j3-t04.md TV-IC-3). False where unsupported or the map has no counter.
+    fn inject_counter_corruption(&mut self, axis: usize, cycles: u32) -> bool {
+        let _ = (axis, cycles);
+        false
+    }
 }
 
 /// A failed exchange, naming the axis.
@@ -43,6 +56,14 @@ pub struct SimBus {
     drives: Vec<SimDrive>,
     rx: Vec<Vec<u8>>,
     tx: Vec<Vec<u8>>,
+    /// Per axis: exchanges left without RxPDO delivery.
+    rx_loss: Vec<u32>,
+    /// Per axis: exchanges left with a corrupted counter.
+    corrupt: Vec<u32>,
+    /// Per axis: scratch image for the corrupted delivery (preallocated).
+    scratch: Vec<Vec<u8>>,
+    /// Per axis: the counter value frozen at the start of a corruption.
+    frozen: Vec<Option<u8>>,
 }
 
 impl SimBus {
@@ -56,7 +77,34 @@ impl SimBus {
             .iter()
             .map(|d| vec![0u8; d.profile().tx_pdo.byte_len()])
             .collect();
-        SimBus { drives, rx, tx }
+        let n = drives.len();
+        let scratch = drives
+            .iter()
+            .map(|d| vec![0u8; d.profile().rx_pdo.byte_len()])
+            .collect();
+        SimBus {
+            drives,
+            rx,
+            tx,
+            rx_loss: vec![0; n],
+            corrupt: vec![0; n],
+            scratch,
+            frozen: vec![None; n],
+        }
+    }
+
+    /// The AL state of the station(s) leaves OP: every drive's [`SimDrive::leave_op`] (one ESM
+    /// per station; multi-axis units re-initialise every axis). Returns how many raised an alarm.
+    pub fn leave_op(&mut self) -> usize {
+        self.drives
+            .iter_mut()
+            .filter_map(SimDrive::leave_op)
+            .count()
+    }
+
+    /// Every drive back to OP ([`SimDrive::enter_op`]).
+    pub fn enter_op(&mut self) {
+        self.drives.iter_mut().for_each(SimDrive::enter_op);
     }
 
     /// The drive of `axis`.
@@ -104,11 +152,62 @@ impl Bus for SimBus {
         }
     }
 
+    fn inject_rx_loss(&mut self, axis: usize, cycles: u32) -> bool {
+        match self.rx_loss.get_mut(axis) {
+            Some(n) => {
+                *n = cycles;
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn inject_counter_corruption(&mut self, axis: usize, cycles: u32) -> bool {
+        let mapped = self
+            .drives
+            .get(axis)
+            .is_some_and(|d| d.profile().rx_pdo.has_counter());
+        match self.corrupt.get_mut(axis) {
+            Some(n) if mapped => {
+                *n = cycles;
+                true
+            }
+            _ => false,
+        }
+    }
+
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {
         let mut first = Ok(());
         let images = self.rx.iter().zip(self.tx.iter_mut());
-        for (axis, (drive, (rx, tx))) in self.drives.iter_mut().zip(images).enumerate() {
-            if let Err(source) = drive.cycle(rx, tx, elapsed) {
+        let inject = self
+            .rx_loss
+            .iter_mut()
+            .zip(self.corrupt.iter_mut())
+            .zip(self.scratch.iter_mut().zip(self.frozen.iter_mut()));
+        for (axis, ((drive, (rx, tx)), ((loss, corrupt), (scratch, frozen)))) in
+            self.drives.iter_mut().zip(images).zip(inject).enumerate()
+        {
+            let result = if *loss > 0 {
+                *loss -= 1;
+                drive.cycle_lost(tx, elapsed)
+            } else if *corrupt > 0 {
+                *corrupt -= 1;
+                let n = scratch.len().min(rx.len());
+                scratch[..n].copy_from_slice(&rx[..n]);
+                if let Some(b) = drive
+                    .profile()
+                    .rx_pdo
+                    .counter_offset()
+                    .and_then(|o| scratch.get_mut(o))
+                {
+                    *b = *frozen.get_or_insert(*b);
+                }
+                drive.cycle(&scratch[..n], tx, elapsed)
+            } else {
+                *frozen = None;
+                drive.cycle(rx, tx, elapsed)
+            };
+            if let Err(source) = result {
                 if first.is_ok() {
                     first = Err(BusError::Pdo { axis, source });
                 }

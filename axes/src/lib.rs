@@ -8,6 +8,7 @@
 
 pub mod bus;
 pub mod cia402;
+pub mod comm;
 pub mod cycles;
 pub mod pdo;
 pub mod profiles;
@@ -16,11 +17,17 @@ pub mod sim;
 pub use bus::{Bus, BusError, SimBus};
 pub use cia402::controlword::{Command, Controlword};
 pub use cia402::fsa::{drive_transition, FsaQuirks, FsaState};
-pub use cia402::master::{AxisMaster, MasterParams, MasterRequest, MasterState};
+pub use cia402::master::{
+    AxisMaster, MasterParams, MasterRequest, MasterState, QuickStopSubstitute,
+};
 pub use cia402::mode::ModeOfOperation;
 pub use cia402::statusword::Statusword;
+pub use comm::{
+    CounterParams, CounterVerdict, Detection, DetectorParams, ErrorDetector, IncrementalCounter,
+};
 pub use cycles::{CycleTime, CycleTimeError, Cycles};
 pub use pdo::{PdoEntry, PdoError, PdoMap, RxPdo, TxPdo};
 pub use profiles::{profile, DriveModel, DriveProfile};
+pub use sim::comm::CommParams;
 pub use sim::drive::{SimDrive, SimDriveParams};
 pub use sim::plant::{PlantParams, ServoPlant};

@@ -80,3 +80,58 @@ fn steady_state_cycle_is_allocation_free() {
     assert_eq!(allocations() - before, 0);
     assert!(masters[0].is_enabled());
 }
+
+#[test]
+fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
+    use cellrt_axes::{CounterParams, IncrementalCounter};
+    let ct = CycleTime::from_micros(1000).unwrap();
+    let drives: Vec<SimDrive> = DriveModel::ALL
+        .iter()
+        .map(|m| SimDrive::new(profile(*m), SimDriveParams::default(), ct))
+        .collect();
+    let n = drives.len();
+    let mut bus = SimBus::new(drives);
+    let mut masters: Vec<AxisMaster> = (0..n)
+        .map(|i| AxisMaster::for_profile(bus.drive(i).profile(), ct, Cycles(200)))
+        .collect();
+    let mut counters: Vec<IncrementalCounter> = (0..n)
+        .map(|_| IncrementalCounter::new(CounterParams::default(), 0))
+        .collect();
+    for m in &mut masters {
+        m.request(MasterRequest::Enable);
+    }
+    let before = allocations();
+    for k in 0..10_000i32 {
+        match k {
+            3_000 => {
+                bus.inject_rx_loss(0, 1);
+                bus.inject_counter_corruption(3, 2);
+            }
+            6_000 => masters[2].set_halt(true),
+            6_500 => masters[2].set_halt(false),
+            _ => {}
+        }
+        for axis in 0..n {
+            let p = bus.drive(axis).profile();
+            let tx = p.tx_pdo.decode_tx(bus.tx_image(axis)).unwrap();
+            let _ = counters[axis].check_rx(tx.counter);
+            let m = &mut masters[axis];
+            let cw = m.update(tx.statusword);
+            let rx = RxPdo {
+                mode: 8,
+                controlword: cw,
+                target_position: if m.is_enabled() {
+                    tx.position_actual.wrapping_add(50)
+                } else {
+                    tx.position_actual
+                },
+                counter: counters[axis].next_tx(),
+                ..RxPdo::default()
+            };
+            p.rx_pdo.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+        }
+        bus.exchange(Cycles(1)).unwrap();
+    }
+    assert_eq!(allocations() - before, 0);
+    assert!(masters[1].is_enabled());
+}

@@ -81,8 +81,10 @@ fn ramp_following_error_is_nonzero_but_bounded() {
 
 #[test]
 fn velocity_saturation_is_respected() {
+    // Commands far beyond the motor's speed: overspeed detection off to see the saturation.
     let params = SimDriveParams {
         following_error_limit: u32::MAX,
+        overspeed_limit: Some(f64::INFINITY),
         ..SimDriveParams::default()
     };
     let vmax = params.plant.max_velocity;

@@ -337,6 +337,10 @@ pub struct AxisRecord {
     pub mode_display: i8,
     /// Error code (603Fh).
     pub error_code: u16,
+    /// Target torque sent (6071h), 0.1 % of rated torque (0 in csp).
+    pub target_torque: i16,
+    /// Torque actual value (6077h), 0.1 % of rated torque.
+    pub torque_actual: i16,
 }
 
 /// Status the RT thread publishes every cycle for the non-RT side (planner, CLI).

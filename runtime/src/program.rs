@@ -21,6 +21,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use cellrt_trajectory::limits::KinematicLimits;
+use cellrt_trajectory::planner::MAX_MOVE_AXES;
 use serde::Deserialize;
 
 use crate::config::{CellConfig, ConfigError};
@@ -185,6 +186,16 @@ fn validate_step(
                     "a move needs at least one axis target",
                 ));
             }
+            if target.len() > MAX_MOVE_AXES {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.target"),
+                    format!(
+                        "a move plans at most {MAX_MOVE_AXES} axes at once ({} given); split it into several steps",
+                        target.len()
+                    ),
+                ));
+            }
             for (name, lim) in [
                 ("velocity", &velocity),
                 ("acceleration", &acceleration),
@@ -266,4 +277,48 @@ fn validate_step(
             Step::Move(out)
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cell(axes: usize) -> CellConfig {
+        let mut text = String::from("[cell]\nname = \"p\"\ncycle_time_us = 1000\n");
+        for i in 0..axes {
+            text.push_str(&format!(
+                "[[axes]]\nname = \"a{i}\"\ndrive = \"mr-j5-g-n1\"\ncounts_per_unit = 1000\nlimits = {{ position = [0.0, 100.0], velocity = 10.0, acceleration = 100.0, jerk = 1000.0 }}\n"
+            ));
+        }
+        CellConfig::parse(Path::new("c.toml"), &text).unwrap()
+    }
+
+    fn program(targets: usize) -> String {
+        let t: Vec<String> = (0..targets).map(|i| format!("a{i} = 1.0")).collect();
+        format!("[[step]]\ndo = \"move\"\ntarget = {{ {} }}\n", t.join(", "))
+    }
+
+    #[test]
+    fn a_move_of_more_axes_than_the_planner_takes_is_refused_up_front() {
+        let c = cell(20);
+        Program::parse(Path::new("p.toml"), &program(MAX_MOVE_AXES), &c).unwrap();
+        let e = Program::parse(Path::new("p.toml"), &program(MAX_MOVE_AXES + 1), &c).unwrap_err();
+        assert_eq!(e.key, "step[0].target");
+        assert!(e.message.contains("at most"), "{e}");
+    }
+
+    #[test]
+    fn per_move_limits_may_lower_but_never_raise_the_axis_limit() {
+        let c = cell(2);
+        let ok = "[[step]]\ndo = \"move\"\ntarget = { a0 = 5.0 }\nvelocity = 5.0\n";
+        let p = Program::parse(Path::new("p.toml"), ok, &c).unwrap();
+        let Step::Move(t) = &p.steps[0] else { panic!() };
+        assert_eq!(t[0].limits.velocity, 5.0);
+        let bad = "[[step]]\ndo = \"move\"\ntarget = { a0 = 5.0 }\nvelocity = { a0 = 50.0 }\n";
+        let e = Program::parse(Path::new("p.toml"), bad, &c).unwrap_err();
+        assert_eq!(e.key, "step[0].velocity");
+        let stray = "[[step]]\ndo = \"move\"\ntarget = { a0 = 5.0 }\njerk = { a1 = 5.0 }\n";
+        let e = Program::parse(Path::new("p.toml"), stray, &c).unwrap_err();
+        assert_eq!(e.key, "step[0].jerk.a1");
+    }
 }

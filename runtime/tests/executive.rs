@@ -17,10 +17,15 @@ use cellrt_runtime::setpoints::{AxisSetpoint, SetpointHeader, SetpointStream, FL
 const COUNTS_PER_MM: f64 = 1000.0;
 
 fn cell() -> CellConfig {
+    cell_with("a", "")
+}
+
+/// A one-axis cell named uniquely per test (`tag`) and process.
+fn cell_with(tag: &str, extra: &str) -> CellConfig {
     let text = format!(
         r#"
 [cell]
-name = "exec-{}"
+name = "exec-{tag}-{}"
 cycle_time_us = 1000
 [watchdogs]
 max_consecutive_overruns = 0
@@ -30,6 +35,7 @@ drive = "mr-j5-g-n1"
 counts_per_unit = 1000
 limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0 }}
 sim = {{ initial_position = 100.0 }}
+{extra}
 "#,
         std::process::id()
     );
@@ -240,4 +246,53 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     assert_eq!(stats.underruns, 1);
     assert_eq!(stats.rejected_setpoints, 3);
     assert_eq!(stats.final_state, CellState::Disabled);
+}
+
+#[test]
+fn a_faulted_cell_needs_reset_and_power_on_before_it_moves_again() {
+    // The drive raises an alarm 300 ms after the loop starts.
+    let cell = cell_with(
+        "b",
+        "[[inject]]\nat_ms = 300\nfault = \"drive_alarm\"\naxis = \"x\"\ncode = 0x2220",
+    );
+    let mut rig = Rig::start(&cell);
+    rig.command(CellCommand::PowerOn);
+    rig.wait_state(CellState::Idle);
+    rig.wait_state(CellState::Faulted);
+    assert!(rig.events.iter().any(|e| e.kind == EventKind::DriveFault));
+
+    // Faulted: power on is refused, motion is refused.
+    rig.command(CellCommand::PowerOn);
+    let start = rig.cycle() + 30;
+    rig.publish_move(1, start, 2, true);
+    rig.wait_cycles(80);
+    assert_eq!(rig.handoff.status.state(), CellState::Faulted);
+    assert!(rig
+        .events
+        .iter()
+        .any(|e| e.kind == EventKind::CommandRefused));
+    assert_eq!(*rig.rejections().last().unwrap(), 6, "not_accepting");
+
+    // Reset: the fault is acknowledged (held fault reset) and the cell ends Disabled.
+    rig.command(CellCommand::Reset);
+    rig.wait_state(CellState::Disabled);
+    rig.command(CellCommand::PowerOn);
+    rig.wait_state(CellState::Idle);
+    let start = rig.cycle() + 30;
+    let target = rig.publish_move(2, start, 2, true);
+    let end = Instant::now() + Duration::from_secs(5);
+    while rig
+        .handoff
+        .status
+        .motion_done
+        .load(std::sync::atomic::Ordering::Acquire)
+        != 2
+    {
+        assert!(Instant::now() < end, "motion 2 never finished");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    rig.wait_state(CellState::Idle);
+    assert!((rig.hold_mm() - target).abs() < 1e-9);
+    let stats = rig.stop();
+    assert_eq!(stats.faults, 1);
 }

@@ -21,6 +21,55 @@ pub enum Command {
     /// Run a program as a planner process of its own, against a running `cellrt run
     /// --external-planner` of the same cell.
     Planner(PlannerArgs),
+    /// Summarise a recording: cell, channels, timing percentiles, events and faults.
+    Inspect(InspectArgs),
+    /// Rewrite a truncated recording (after a crash) into a complete, indexed one.
+    Recover(RecoverArgs),
+    /// Plots per axis and a latency histogram of a recording, with index.html (and CSV).
+    Report(ReportArgs),
+    /// Re-run a recording's setpoint stream through simulated drives and compare the feedback.
+    Replay(ReplayArgs),
+    /// Benchmarks: wakeup latency, comparison with cyclictest, the full loop with N axes.
+    Bench(crate::commands::bench::BenchArgs),
+}
+
+/// `cellrt inspect`.
+#[derive(Debug, Args)]
+pub struct InspectArgs {
+    /// The recording (MCAP).
+    pub file: PathBuf,
+    /// Print how long the inspection took (to stderr).
+    #[arg(long)]
+    pub timing: bool,
+}
+
+/// `cellrt recover`.
+#[derive(Debug, Args)]
+pub struct RecoverArgs {
+    /// The truncated recording.
+    pub input: PathBuf,
+    /// Where to write the recovered, indexed recording.
+    pub output: PathBuf,
+}
+
+/// `cellrt report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// The recording (MCAP).
+    pub file: PathBuf,
+    /// Output folder (created).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Also export per-cycle data as CSV (one file per axis, one for the cycle timing).
+    #[arg(long)]
+    pub csv: bool,
+}
+
+/// `cellrt replay`.
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// The recording (MCAP) to replay.
+    pub file: PathBuf,
 }
 
 /// `cellrt run`.

@@ -3,6 +3,7 @@
 mod cli;
 mod commands;
 mod exit;
+mod recording;
 mod summary;
 
 use clap::Parser;
@@ -20,6 +21,11 @@ fn main() {
     let code = match cli.command {
         cli::Command::Run(args) => commands::run::run(args),
         cli::Command::Planner(args) => commands::planner::run(args),
+        cli::Command::Inspect(args) => commands::inspect::run(args),
+        cli::Command::Recover(args) => commands::recover::run(args),
+        cli::Command::Report(args) => commands::report::run(args),
+        cli::Command::Replay(args) => commands::replay::run(args),
+        cli::Command::Bench(args) => commands::bench::run(args),
     };
     std::process::exit(code.code());
 }

@@ -86,6 +86,15 @@ pub fn render(s: &Summary) -> String {
                 s.recording.axis_messages,
                 s.recording.events
             );
+            if s.recording.files.len() > 1 {
+                let _ = writeln!(
+                    o,
+                    "            rotated into {} files: {} … {}",
+                    s.recording.files.len(),
+                    s.recording.files[0].display(),
+                    s.recording.files[s.recording.files.len() - 1].display()
+                );
+            }
         }
         None => {
             let _ = writeln!(o, "recording   off ({} events seen)", s.recording.events);

@@ -3,10 +3,24 @@
 //! Controlword choices follow mr-j5-g-n1.md §3.1/§3.2; the fault-reset hold follows §2.4 / manual §7.1.
 //! Called once per cycle; allocation-free, no clock (time is counted in [`Cycles`]).
 
-use super::controlword::Controlword;
+use super::controlword::{Command, Controlword};
 use super::fsa::FsaState;
 use super::statusword::Statusword;
-use crate::cycles::Cycles;
+use crate::cycles::{CycleTime, Cycles};
+use crate::profiles::DriveProfile;
+
+/// What [`MasterRequest::QuickStop`] sends to a drive that has no quick stop (MR-J3-T04:
+/// "Masters must not use Quick stop on this drive. Use Disable operation, Shutdown or MSTOP",
+/// mr-j3-t04.md §3.3). The drive then does not ramp: the RT loop must bring the axis to a stop
+/// with its own setpoints (controlled stop) before requesting it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum QuickStopSubstitute {
+    /// Shutdown (0x0006): (8) servo off to Ready to switch on, the clean state for leaving OP.
+    /// The default for drives without quick stop.
+    Shutdown,
+    /// Disable Voltage (0x0000): (9) servo off to Switch on disabled.
+    DisableVoltage,
+}
 
 /// What the application wants from an axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -80,6 +94,8 @@ pub struct AxisMaster {
     waited: u32,
     reset: ResetPhase,
     may_reset: bool,
+    quick_stop: Option<QuickStopSubstitute>,
+    halt: bool,
 }
 
 impl AxisMaster {
@@ -94,7 +110,66 @@ impl AxisMaster {
             waited: 0,
             reset: ResetPhase::Ready,
             may_reset: false,
+            quick_stop: None,
+            halt: false,
         }
+    }
+
+    /// A master for a drive of `profile` at `cycle`: the model's fault-reset hold
+    /// ([`DriveProfile::fault_reset_hold`]) and, on a drive without quick stop, the
+    /// [`QuickStopSubstitute::Shutdown`] substitute.
+    pub fn for_profile(
+        profile: &DriveProfile,
+        cycle: CycleTime,
+        transition_timeout: Cycles,
+    ) -> Self {
+        let mut m = AxisMaster::new(MasterParams {
+            fault_reset_hold: profile.fault_reset_hold(cycle),
+            transition_timeout,
+        });
+        if !profile.quirks.has_quick_stop {
+            m.quick_stop = Some(QuickStopSubstitute::Shutdown);
+        }
+        m
+    }
+
+    /// Sets what [`MasterRequest::QuickStop`] sends: `None` = the drive's own Quick Stop
+    /// (0x0002), `Some` = a substitute for drives without one.
+    pub fn set_quick_stop_substitute(&mut self, substitute: Option<QuickStopSubstitute>) {
+        self.quick_stop = substitute;
+    }
+
+    /// The quick-stop substitute in use, if any.
+    pub fn quick_stop_substitute(&self) -> Option<QuickStopSubstitute> {
+        self.quick_stop
+    }
+
+    /// Sets controlword bit 8 HALT on every Enable Operation word from the next
+    /// [`AxisMaster::update`] on (§3.3). Whether the drive acts on it depends on the model and
+    /// mode (`DriveProfile::halt_in_cyclic_modes`; MR-J3-T04 and MR-J4-TM: not in csp/csv/cst).
+    pub fn set_halt(&mut self, on: bool) {
+        self.halt = on;
+    }
+
+    /// True while HALT is requested.
+    pub fn halt(&self) -> bool {
+        self.halt
+    }
+
+    /// True when the drive may leave OP without a communication alarm: the clean shutdown has
+    /// reached Ready to switch on (or the drive is in Switch on disabled, Fault or not ready).
+    /// Sequence: stop the motion, [`MasterRequest::Disable`] (Shutdown), wait for this, then
+    /// request PRE-OP (spec README "Leaving OP").
+    pub fn ready_to_leave_op(&self) -> bool {
+        matches!(
+            self.drive_state,
+            Some(
+                FsaState::ReadyToSwitchOn
+                    | FsaState::SwitchOnDisabled
+                    | FsaState::Fault
+                    | FsaState::NotReadyToSwitchOn
+            )
+        )
     }
 
     /// Sets the goal. Repeating the current request is a no-op, except from
@@ -129,7 +204,10 @@ impl AxisMaster {
             self.waited = 0;
             self.drive_state = ds;
         }
-        let cw = self.step(ds);
+        let mut cw = self.step(ds);
+        if self.halt && !cw.fault_reset() && cw.state_command() == Command::EnableOperation {
+            cw = cw.with_halt(true);
+        }
         self.last_cw = cw;
         cw
     }
@@ -219,9 +297,23 @@ impl AxisMaster {
                 S::QuickStopActive => self.waiting(M::Disabling, Controlword::DISABLE_VOLTAGE), // (12)
                 _ => self.waiting(M::Disabling, Controlword::SHUTDOWN), // (8), (6), (2)
             },
-            MasterRequest::QuickStop => match ds {
-                S::SwitchOnDisabled => self.reached(M::Disabled, Controlword::QUICK_STOP),
-                _ => self.waiting(M::QuickStopping, Controlword::QUICK_STOP), // (11), (10), (7)
+            MasterRequest::QuickStop => match (self.quick_stop, ds) {
+                (None, S::SwitchOnDisabled) => self.reached(M::Disabled, Controlword::QUICK_STOP),
+                (None, _) => self.waiting(M::QuickStopping, Controlword::QUICK_STOP), // (11), (10), (7)
+                // Substitutes on a drive without quick stop (MR-J3-T04 §3.3).
+                (Some(QuickStopSubstitute::Shutdown), S::ReadyToSwitchOn) => {
+                    self.reached(M::Disabled, Controlword::SHUTDOWN)
+                }
+                (Some(QuickStopSubstitute::Shutdown), _) => {
+                    self.waiting(M::QuickStopping, Controlword::SHUTDOWN) // (8), (6), (2)
+                }
+                (Some(QuickStopSubstitute::DisableVoltage), S::SwitchOnDisabled) => {
+                    self.reached(M::Disabled, Controlword::DISABLE_VOLTAGE)
+                }
+                (Some(QuickStopSubstitute::DisableVoltage), _) => {
+                    self.waiting(M::QuickStopping, Controlword::DISABLE_VOLTAGE)
+                    // (9), (10), (7)
+                }
             },
         }
     }

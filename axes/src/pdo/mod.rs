@@ -39,6 +39,12 @@ impl PdoEntry {
     pub const fn is_padding(&self) -> bool {
         self.index == 0
     }
+
+    /// The CoE mapping word `index << 16 | sub << 8 | bits` (e.g. 60400010h), as written to
+    /// 16xxh/1Axxh. Sizes above 255 bits do not occur in a mapping entry and are truncated.
+    pub const fn mapping_word(&self) -> u32 {
+        ((self.index as u32) << 16) | ((self.sub as u32) << 8) | (self.bits as u32 & 0xFF)
+    }
 }
 
 /// A PDO mapping object (e.g. 1600h) and the entries it maps, in wire order.
@@ -97,6 +103,20 @@ impl PdoMap {
             bit += usize::from(e.bits);
         }
         None
+    }
+
+    /// True if the map carries a communication counter (2020h/2021h incremental counter of the
+    /// MR-J3-T04, 2D23h/2D24h watchdog counter of the MR-J4-TM), i.e. [`RxPdo::counter`] /
+    /// [`TxPdo::counter`] reach the wire.
+    pub fn has_counter(&self) -> bool {
+        self.counter_offset().is_some()
+    }
+
+    /// Byte offset of the communication counter in the image, if mapped.
+    pub fn counter_offset(&self) -> Option<usize> {
+        objects::COUNTER_OBJECTS
+            .iter()
+            .find_map(|&i| self.offset_of(i, 0))
     }
 
     /// True if object `index` (any sub) is mapped.
@@ -226,6 +246,7 @@ mod tests {
                 target_velocity: vel,
                 velocity_limit: lim,
                 target_torque: tq,
+                ..RxPdo::default()
             };
             let mut buf = [0u8; 24];
             RX_PDO_1600.encode_rx(&pdo, &mut buf).unwrap();

@@ -14,15 +14,38 @@ use crate::cia402::mode::ModeOfOperation;
 use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::PdoMap;
 
+pub mod facts;
+pub mod mr_j3_t04;
+pub mod mr_j4_tm;
 pub mod mr_j5_g_n1;
+pub mod mr_jet_g_n1;
+
+pub use facts::{
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, Identity, OdEntry, Pdo,
+    StopBehaviour, Units,
+};
 
 /// A supported drive model, named in configuration by its kebab-case part number.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
-#[serde(rename_all = "kebab-case")]
 pub enum DriveModel {
     /// Mitsubishi MR-J5-G-N1, 1-axis EtherCAT amplifier (spec `mr-j5-g-n1.md`).
     #[serde(rename = "mr-j5-g-n1")]
     MrJ5GN1,
+    /// Mitsubishi MR-J5W2-G-N1, 2-axis EtherCAT amplifier (spec `mr-j5-g-n1.md`).
+    #[serde(rename = "mr-j5w2-g-n1")]
+    MrJ5W2GN1,
+    /// Mitsubishi MR-J5W3-G-N1, 3-axis EtherCAT amplifier (spec `mr-j5-g-n1.md`).
+    #[serde(rename = "mr-j5w3-g-n1")]
+    MrJ5W3GN1,
+    /// Mitsubishi MR-J3-□A-RJ158 with the MR-J3-T04 EtherCAT option (spec `mr-j3-t04.md`).
+    #[serde(rename = "mr-j3-t04")]
+    MrJ3T04,
+    /// Mitsubishi MR-J4-_TM_ with the ABCC-M40-ECT EtherCAT module (spec `mr-j4-tm.md`).
+    #[serde(rename = "mr-j4-tm")]
+    MrJ4TM,
+    /// Mitsubishi MR-JET-G-N1 (spec `mr-jet-g-n1.md`).
+    #[serde(rename = "mr-jet-g-n1")]
+    MrJetGN1,
 }
 
 /// A model name that is not supported.
@@ -38,12 +61,24 @@ pub struct ParseModelError {
 
 impl DriveModel {
     /// Every supported model.
-    pub const ALL: &'static [DriveModel] = &[DriveModel::MrJ5GN1];
+    pub const ALL: &'static [DriveModel] = &[
+        DriveModel::MrJ5GN1,
+        DriveModel::MrJ5W2GN1,
+        DriveModel::MrJ5W3GN1,
+        DriveModel::MrJ3T04,
+        DriveModel::MrJ4TM,
+        DriveModel::MrJetGN1,
+    ];
 
     /// The configuration name, e.g. "mr-j5-g-n1".
     pub const fn as_str(self) -> &'static str {
         match self {
             DriveModel::MrJ5GN1 => "mr-j5-g-n1",
+            DriveModel::MrJ5W2GN1 => "mr-j5w2-g-n1",
+            DriveModel::MrJ5W3GN1 => "mr-j5w3-g-n1",
+            DriveModel::MrJ3T04 => "mr-j3-t04",
+            DriveModel::MrJ4TM => "mr-j4-tm",
+            DriveModel::MrJetGN1 => "mr-jet-g-n1",
         }
     }
 
@@ -78,10 +113,8 @@ pub struct DriveProfile {
     pub model: DriveModel,
     /// Human-readable product name.
     pub name: &'static str,
-    /// EtherCAT vendor ID, when a source documents it (`None`: not in the manual).
-    pub vendor_id: Option<u32>,
-    /// EtherCAT product code, when a source documents it.
-    pub product_code: Option<u32>,
+    /// EtherCAT identity (1018h), with the gaps cited.
+    pub identity: Identity,
     /// Modes of operation the drive accepts in 6060h.
     pub modes: &'static [ModeOfOperation],
     /// Supported PDO cycle times in µs.
@@ -98,8 +131,28 @@ pub struct DriveProfile {
     pub fault_reset_hold_long_cycle_ms: u32,
     /// The cycle time (µs) from which `fault_reset_hold_long_cycle_ms` applies.
     pub long_cycle_from_us: u32,
-    /// Axes per amplifier (1 for MR-J5-G-N1, 2/3 for MR-J5W2/W3).
+    /// Axes per amplifier (1, or 2/3 for MR-J5W2/W3).
     pub axes_per_unit: u8,
+    /// Encoder resolution and object units.
+    pub units: Units,
+    /// The object-dictionary entries the runtime and the simulator use.
+    pub objects: &'static [OdEntry],
+    /// The alarms and warnings the manual names, with their stop behaviour.
+    pub alarms: &'static [AlarmInfo],
+    /// The cyclic communication check.
+    pub comm_check: CommCheck,
+    /// Alarm raised when the AL state leaves OP while the PDS is switched on or enabled
+    /// (spec README "Leaving OP").
+    pub leave_op_alarm: u16,
+    /// True if leaving OP re-initialises the drive (PDS back to Switch on disabled; MR-JET/MR-J5
+    /// §2.2, MR-J4-TM §2.2). MR-J3-T04 states no re-initialisation.
+    pub reinit_on_leaving_op: bool,
+    /// Alarm for an excessive following error (603Fh code).
+    pub following_error_alarm: u16,
+    /// Alarm for a command implying more than the maximum speed (603Fh code).
+    pub overspeed_alarm: u16,
+    /// True if controlword bit 8 HALT acts in csp/csv/cst (false: hm/profile modes only).
+    pub halt_in_cyclic_modes: bool,
 }
 
 impl DriveProfile {
@@ -124,12 +177,57 @@ impl DriveProfile {
         let n = cycle.cycles_for(Duration::from_millis(u64::from(ms)));
         Cycles(n.0.max(1))
     }
+
+    /// EtherCAT vendor ID, when a source documents it.
+    pub const fn vendor_id(&self) -> Option<u32> {
+        self.identity.vendor_id
+    }
+
+    /// EtherCAT product code, when a source documents it.
+    pub const fn product_code(&self) -> Option<u32> {
+        self.identity.product_code
+    }
+
+    /// The object-dictionary entry `index:sub`, if the profile lists it.
+    pub fn object(&self, index: u16, sub: u8) -> Option<&'static OdEntry> {
+        self.objects
+            .iter()
+            .find(|o| o.index == index && o.sub == sub)
+    }
+
+    /// The alarm or warning with `code`, if the manual names it.
+    pub fn alarm(&self, code: u16) -> Option<&'static AlarmInfo> {
+        self.alarms.iter().find(|a| a.code == code)
+    }
+
+    /// True if a Fault Reset clears alarm `code` (codes the manual does not name are treated as
+    /// resettable, e.g. injected test alarms).
+    pub fn alarm_resettable(&self, code: u16) -> bool {
+        self.alarm(code).is_none_or(AlarmInfo::resettable)
+    }
+
+    /// The supported cycle times as text, e.g. "500, 1000, 2000 µs".
+    pub fn cycle_times_text(&self) -> String {
+        let v: Vec<String> = self.cycle_times_us.iter().map(u32::to_string).collect();
+        format!("{} µs", v.join(", "))
+    }
+
+    /// The supported modes as text, e.g. "hm, csp, csv".
+    pub fn modes_text(&self) -> String {
+        let v: Vec<&str> = self.modes.iter().map(|m| m.as_str()).collect();
+        v.join(", ")
+    }
 }
 
 /// The static profile of `model`.
 pub fn profile(model: DriveModel) -> &'static DriveProfile {
     match model {
         DriveModel::MrJ5GN1 => &mr_j5_g_n1::PROFILE,
+        DriveModel::MrJ5W2GN1 => &mr_j5_g_n1::PROFILE_W2,
+        DriveModel::MrJ5W3GN1 => &mr_j5_g_n1::PROFILE_W3,
+        DriveModel::MrJ3T04 => &mr_j3_t04::PROFILE,
+        DriveModel::MrJ4TM => &mr_j4_tm::PROFILE,
+        DriveModel::MrJetGN1 => &mr_jet_g_n1::PROFILE,
     }
 }
 
@@ -147,6 +245,10 @@ mod tests {
         assert!(e.contains("\"mr-j9\"") && e.contains("mr-j5-g-n1"), "{e}");
         for m in DriveModel::ALL {
             assert_eq!(profile(*m).model, *m);
+            assert_eq!(m.as_str().parse::<DriveModel>(), Ok(*m));
+            let de: StrDeserializer<'_, DeError> = m.as_str().into_deserializer();
+            assert_eq!(DriveModel::deserialize(de), Ok(*m));
+            assert!(e.contains(m.as_str()), "{e}");
         }
     }
 

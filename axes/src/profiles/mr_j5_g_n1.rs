@@ -1,6 +1,10 @@
 //! Mitsubishi MR-J5-G-N1 (1-axis), from mr-j5-g-n1.md (manual SH(NA)-030372CHN-A).
 
-use super::{DriveModel, DriveProfile};
+use super::facts::{alarm, od};
+use super::{
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
+    Identity, OdEntry, Pdo, StopBehaviour, Units,
+};
 use crate::cia402::fsa::FsaQuirks;
 use crate::cia402::mode::ModeOfOperation as M;
 use crate::cycles::ALLOWED_MICROS;
@@ -44,6 +48,361 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
     ],
 };
 
+/// Alarm code encoding of this module: AL.XXX.Y → 0xXXXY (AL.086.1 → 0x0861). The manual
+/// names no alarm object (§6), so the encoding is cellrt's.
+pub const AL_086_1: u16 = 0x0861;
+/// AL.011.2 Invalid axis setting error (§8, 1-axis SW3 setting).
+pub const AL_011_2: u16 = 0x0112;
+/// Following-error alarm code: the manual has no alarm list (§9); CiA 402 8611h "following error"
+/// [background] is used, configurable through `SimDriveParams`.
+pub const FOLLOWING_ERROR: u16 = 0x8611;
+/// Overspeed alarm code: not in the manual (§9); CiA 402 8400h "velocity speed controller"
+/// [background].
+pub const OVERSPEED: u16 = 0x8400;
+
+/// The alarms and warnings the manual names (§9). Stop methods are not in this manual.
+pub const ALARMS: &[AlarmInfo] = &[
+    alarm(
+        AL_011_2,
+        "AL.011.2",
+        "Invalid axis setting error",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§9; §8 Point (SW3 on a 1-axis unit)",
+    ),
+    alarm(
+        0x0250,
+        "AL.025",
+        "Absolute position lost",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§9, §8.1",
+    ),
+    alarm(
+        0x0251,
+        "AL.025.1",
+        "Servo motor encoder absolute position lost",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::PowerCycle,
+        "§8.1: cycle the power after 5 s",
+    ),
+    alarm(
+        AL_086_1,
+        "AL.086.1",
+        "Network receive data error (Network communication error 1)",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§2.4, §9: PN18 / 10F1h:02; counting rule not given",
+    ),
+    alarm(
+        0x0901,
+        "AL.090.1",
+        "Homing incomplete",
+        AlarmKind::Warning,
+        StopBehaviour::Unstated,
+        Clearing::Automatic,
+        "§8, §9",
+    ),
+    alarm(
+        0x09E9,
+        "AL.09E.9",
+        "Control mode setting warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§1.4: FW < B6, free-run csp/csv/cst",
+    ),
+    alarm(
+        0x0E31,
+        "AL.0E3.1",
+        "Absolute position counter warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§8.1",
+    ),
+    alarm(
+        FOLLOWING_ERROR,
+        "8611h",
+        "Following error (CiA 402)",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::FaultReset,
+        "not in the manual (§9 has no alarm list): CiA 402 [background]",
+    ),
+    alarm(
+        OVERSPEED,
+        "8400h",
+        "Overspeed (CiA 402)",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::FaultReset,
+        "not in the manual (§9 has no alarm list): CiA 402 [background]",
+    ),
+];
+
+/// The objects the runtime and the simulator use (§6; axis A indexes, +800h per axis for CiA 402
+/// objects, +1000h for manufacturer objects, §1.5). Types of 60xxh are [background]/[inferred]
+/// from the map sizes (§5.2, §6 note).
+pub const OBJECTS: &[OdEntry] = &[
+    od(
+        0x10F1,
+        2,
+        "Sync Error Counter Limit",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::No,
+        None,
+        None,
+        "events",
+        "§2.4: type, default and counting rule not stated",
+    ),
+    od(
+        0x1C32,
+        2,
+        "Cycle time",
+        DataType::U32,
+        Access::Rw,
+        Pdo::No,
+        Some(250_000),
+        None,
+        "ns [background]",
+        "§1.3: 125000…8000000 (W2/W3 from 250000), written in PreOp",
+    ),
+    od(
+        0x2D01,
+        0,
+        "Control DI 1",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "",
+        "§6",
+    ),
+    od(
+        0x2D20,
+        0,
+        "Velocity limit value",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Rx,
+        None,
+        None,
+        "",
+        "§5.2: 4 bytes inferred from the map size",
+    ),
+    od(
+        0x6040,
+        0,
+        "Controlword",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "",
+        "§3.3",
+    ),
+    od(
+        0x6041,
+        0,
+        "Statusword",
+        DataType::U16,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§3.4",
+    ),
+    od(
+        0x605A,
+        0,
+        "Quick stop option code",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Unstated,
+        None,
+        Some((1, 4)),
+        "",
+        "§3.5: only 1–4 documented",
+    ),
+    od(
+        0x6060,
+        0,
+        "Modes of operation",
+        DataType::I8,
+        Access::Rw,
+        Pdo::Rx,
+        Some(8),
+        None,
+        "",
+        "§1.2: initial 8 with PT01.2 = pulse",
+    ),
+    od(
+        0x6061,
+        0,
+        "Modes of operation display",
+        DataType::I8,
+        Access::Ro,
+        Pdo::Tx,
+        Some(8),
+        None,
+        "",
+        "§1.2",
+    ),
+    od(
+        0x6064,
+        0,
+        "Position actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "pulse",
+        "§6 (type inferred)",
+    ),
+    od(
+        0x606C,
+        0,
+        "Velocity actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "not stated",
+        "§6 (type inferred)",
+    ),
+    od(
+        0x6071,
+        0,
+        "Target torque",
+        DataType::I16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "0.1 % rated [background]",
+        "§6 (type inferred)",
+    ),
+    od(
+        0x6077,
+        0,
+        "Torque actual value",
+        DataType::I16,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "0.1 % rated [background]",
+        "§6 (type inferred)",
+    ),
+    od(
+        0x607A,
+        0,
+        "Target position",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "pulse",
+        "§6 (type inferred)",
+    ),
+    od(
+        0x60E0,
+        0,
+        "Positive torque limit value",
+        DataType::U16,
+        Access::Unstated,
+        Pdo::Unstated,
+        None,
+        None,
+        "0.1 % rated",
+        "§8: = PA11",
+    ),
+    od(
+        0x60E1,
+        0,
+        "Negative torque limit value",
+        DataType::U16,
+        Access::Unstated,
+        Pdo::Unstated,
+        None,
+        None,
+        "0.1 % rated",
+        "§8: = PA12",
+    ),
+    od(
+        0x60F4,
+        0,
+        "Following error actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "pulse",
+        "§6 (type inferred)",
+    ),
+    od(
+        0x60FF,
+        0,
+        "Target velocity",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "not stated",
+        "§6 (type inferred)",
+    ),
+    od(
+        0x6502,
+        0,
+        "Supported drive modes",
+        DataType::U32,
+        Access::Ro,
+        Pdo::No,
+        Some(0x0002_03AD),
+        None,
+        "",
+        "§1.2: bits 0, 2, 3, 5, 7, 8, 9, 17",
+    ),
+];
+
+/// Encoder and units: the manual gives no encoder resolution or factor group (§8).
+pub const UNITS: Units = Units {
+    counts_per_rev: None,
+    other_counts_per_rev: &[],
+    position: "pulse (electronic gear PA06/PA07 not in this manual)",
+    velocity: "not stated (Object Dictionary manual)",
+    torque: "0.1 % of rated torque",
+    source:
+        "mr-j5-g-n1.md §8: no encoder resolution, electronic gear or factor group in this manual",
+};
+
+const FSA: FsaQuirks = FsaQuirks {
+    shortcut_transitions: true,
+    has_quick_stop: true,
+    quick_stop_returns_to_enabled: false,
+};
+
+const IDENTITY: Identity = Identity {
+    vendor_id: None,
+    product_code: None,
+    revision: None,
+    source: "mr-j5-g-n1.md §1.1: vendor ID / product code only in the ESI",
+};
+
 /// The MR-J5-G-N1 1-axis profile.
 ///
 /// Identity is `None`: vendor ID and product code are only in the ESI (§1.1). Modes: all seven
@@ -53,8 +412,7 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
 pub const PROFILE: DriveProfile = DriveProfile {
     model: DriveModel::MrJ5GN1,
     name: "Mitsubishi MR-J5-G-N1",
-    vendor_id: None,
-    product_code: None,
+    identity: IDENTITY,
     modes: &[
         M::ProfilePosition,
         M::ProfileVelocity,
@@ -67,16 +425,69 @@ pub const PROFILE: DriveProfile = DriveProfile {
     cycle_times_us: &ALLOWED_MICROS,
     rx_pdo: RX_PDO_1600,
     tx_pdo: TX_PDO_1A00,
-    quirks: FsaQuirks {
-        shortcut_transitions: true,
-        has_quick_stop: true,
-        quick_stop_returns_to_enabled: false,
-    },
+    quirks: FSA,
     fault_reset_hold_ms: 10,
     fault_reset_hold_long_cycle_ms: 20,
     long_cycle_from_us: 8000,
     axes_per_unit: 1,
+    units: UNITS,
+    objects: OBJECTS,
+    alarms: ALARMS,
+    comm_check: CommCheck::SyncErrorCounter { alarm: AL_086_1 },
+    leave_op_alarm: AL_086_1,
+    reinit_on_leaving_op: true,
+    following_error_alarm: FOLLOWING_ERROR,
+    overspeed_alarm: OVERSPEED,
+    // §3.5: "HALT (bit 8) = 1 means temporary stop"; modes not restricted there [inferred].
+    halt_in_cyclic_modes: true,
 };
+
+/// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).
+pub const MULTI_AXIS_MODES: &[M] = &[
+    M::ProfilePosition,
+    M::Homing,
+    M::CyclicSyncPosition,
+    M::CyclicSyncVelocity,
+    M::CyclicSyncTorque,
+];
+
+/// Cycle times of the multi-axis units: no 0.125 ms (§1.3, §2.1 remark).
+pub const MULTI_AXIS_CYCLES_US: &[u32] = &[250, 500, 1000, 2000, 4000, 8000];
+
+/// The MR-J5W2-G-N1 (2-axis) profile: per axis the same maps as axis A at offset indexes (§1.5).
+pub const PROFILE_W2: DriveProfile = DriveProfile {
+    model: DriveModel::MrJ5W2GN1,
+    name: "Mitsubishi MR-J5W2-G-N1",
+    modes: MULTI_AXIS_MODES,
+    cycle_times_us: MULTI_AXIS_CYCLES_US,
+    axes_per_unit: 2,
+    ..PROFILE
+};
+
+/// The MR-J5W3-G-N1 (3-axis) profile.
+pub const PROFILE_W3: DriveProfile = DriveProfile {
+    model: DriveModel::MrJ5W3GN1,
+    name: "Mitsubishi MR-J5W3-G-N1",
+    axes_per_unit: 3,
+    ..PROFILE_W2
+};
+
+/// The index of axis-A object `index` on axis `axis` (0 = A) of a multi-axis unit (§1.5):
+/// +800h per axis in the CiA 402 area (6000h–67FFh), +1000h in the manufacturer areas
+/// (2000h–2FFFh), +10h for the PDO mapping objects (1600h–1603h, 1A00h–1A03h); 1000h–1FFFh
+/// otherwise shared. `None` for an axis the area has no copy for.
+pub const fn axis_index(index: u16, axis: u8) -> Option<u16> {
+    if axis > 2 {
+        return None;
+    }
+    let a = axis as u16;
+    Some(match index {
+        0x6000..=0x67FF => index + 0x800 * a,
+        0x2000..=0x2FFF => index + 0x1000 * a,
+        0x1600..=0x1603 | 0x1A00..=0x1A03 => index + 0x10 * a,
+        _ => index,
+    })
+}
 
 #[cfg(test)]
 mod tests {
@@ -143,6 +554,7 @@ mod tests {
             target_velocity: 0x0102_0304,
             velocity_limit: 0xA0B0_C0D0,
             target_torque: -300,
+            ..RxPdo::default()
         };
         let mut buf = [0xEEu8; 24];
         PROFILE.rx_pdo.encode_rx(&pdo, &mut buf).unwrap();
@@ -167,6 +579,7 @@ mod tests {
             following_error: -12345,
             torque_actual: i16::MIN,
             error_code: 0x8611,
+            counter: 0,
         };
         let mut buf = [0u8; 24];
         PROFILE.tx_pdo.encode_tx(&pdo, &mut buf).unwrap();
@@ -209,8 +622,8 @@ mod tests {
     #[test]
     fn identity_modes_cycles_quirks() {
         let p = profile(DriveModel::MrJ5GN1);
-        assert_eq!(p.vendor_id, None);
-        assert_eq!(p.product_code, None);
+        assert_eq!(p.vendor_id(), None);
+        assert_eq!(p.product_code(), None);
         assert_eq!(p.modes.len(), 7);
         for us in ALLOWED_MICROS {
             assert!(p.supports_cycle_time(CycleTime::from_micros(us).unwrap()));

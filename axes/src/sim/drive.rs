@@ -1,10 +1,16 @@
-//! The simulated drive: PDS, modes, alarms and PDO images around a [`ServoPlant`].
+//! The simulated drive: PDS, modes, alarms, communication checks and PDO images around a
+//! [`ServoPlant`], with every model difference read from its [`DriveProfile`].
 //!
-//! Follows the simulator checklist of mr-j5-g-n1.md §10 where this crate models it: PDS with
-//! shortcuts and no transition 16 (§3.1/§3.2), quick stop ending in SOD, Fault Reset on the
-//! edge, statusword bits 8/14 = 0 and no statusword in NRTSO (§3.4), byte-exact default maps
-//! (§5.2), the zero-speed gate on mode switches (§4.3). Deterministic and allocation-free.
+//! Follows the simulator checklists ("What a faithful simulator must reproduce") of the four
+//! EtherCAT spec extracts where this crate models them: PDS with the model's quirks (shortcuts,
+//! no quick stop on the MR-J3-T04 with statusword bit 5 always 1, no transition 16), quick stop
+//! ending in SOD, Fault Reset on the edge clearing only resettable alarms (the rest need
+//! [`SimDrive::power_cycle`]), statusword bits 8/14 = 0 and no statusword in NRTSO, byte-exact
+//! default maps, the zero-speed gate on mode switches, csp/csv/cst with the torque limits,
+//! following-error and overspeed alarms, the communication checks of `sim::comm`, and the alarm
+//! on leaving OP while switched on ([`SimDrive::leave_op`]). Deterministic and allocation-free.
 
+use super::comm::{CommParams, DriveComm};
 use super::plant::{PlantParams, ServoPlant};
 use crate::cia402::controlword::Controlword;
 use crate::cia402::fsa::{drive_transition, FsaState};
@@ -14,8 +20,9 @@ use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::{PdoError, RxPdo, TxPdo};
 use crate::profiles::DriveProfile;
 
-/// Error code (603Fh) of the following-error alarm: CiA 402 8611h "following error" [background].
-pub const FOLLOWING_ERROR_ALARM: u16 = 0x8611;
+/// Error code (603Fh) of the MR-J5 following-error alarm: CiA 402 8611h "following error"
+/// [background]; each model's code is `DriveProfile::following_error_alarm`.
+pub const FOLLOWING_ERROR_ALARM: u16 = crate::profiles::mr_j5_g_n1::FOLLOWING_ERROR;
 
 /// Configuration of one simulated drive.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,8 +42,16 @@ pub struct SimDriveParams {
     /// Speed (counts/s) at or below which the motor counts as stopped: ends a quick stop or
     /// fault reaction, and opens the mode-switch gate (S_ZSP, §4.3 rules 4–5).
     pub zero_speed: f64,
-    /// 6061h at start-up (csp with PT01.2 = pulse, §1.2).
+    /// 6061h at start-up (csp with PT01.2 = pulse, §1.2; MR-J3-T04: from PO02).
     pub initial_mode: ModeOfOperation,
+    /// Communication checks (counter, RxPDO loss, sync-error counter).
+    pub comm: CommParams,
+    /// Command speed (counts/s) above which a csp target step raises the model's overspeed alarm
+    /// (MR-J3-T04 AL.35); `None`: 1.2 × `plant.max_velocity` (the MR-J3 clamps 60FFh at 120 %
+    /// of the maximum speed, §9.6). csv targets are clamped to it instead.
+    pub overspeed_limit: Option<f64>,
+    /// Alarm codes overriding the profile's (following error, overspeed); `None`: profile's.
+    pub alarm_codes: Option<(u16, u16)>,
 }
 
 impl Default for SimDriveParams {
@@ -50,6 +65,9 @@ impl Default for SimDriveParams {
             velocity_feedforward: 0.0,
             zero_speed: 0.0,
             initial_mode: ModeOfOperation::CyclicSyncPosition,
+            comm: CommParams::default(),
+            overspeed_limit: None,
+            alarm_codes: None,
         }
     }
 }
@@ -71,6 +89,13 @@ pub struct SimDrive {
     prev_target: i32,
     following_error: i32,
     tx: TxPdo,
+    /// The last RxPDO received (held when a frame is lost: §1.5 "keeps the previous command").
+    last_cmd: RxPdo,
+    comm: DriveComm,
+    /// AL state Operational: commands are acted on only in OP.
+    op: bool,
+    /// 6060h as last written by SDO (used when the RxPDO does not map 6060h, e.g. MR-J3-T04).
+    sdo_mode: i8,
 }
 
 impl SimDrive {
@@ -81,13 +106,19 @@ impl SimDrive {
         cycle_time: CycleTime,
     ) -> Self {
         let pos = f64::from(params.initial_position);
+        let counter_mapped = profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter();
+        let initial_mode = if profile.supports_mode(params.initial_mode) {
+            params.initial_mode
+        } else {
+            ModeOfOperation::CyclicSyncPosition
+        };
         let mut d = SimDrive {
             profile,
             params,
             cycle_time,
             state: FsaState::NotReadyToSwitchOn,
             prev_cw: Controlword::DISABLE_VOLTAGE,
-            mode_display: params.initial_mode,
+            mode_display: initial_mode,
             plant: ServoPlant::new(params.plant, pos),
             alarm: None,
             startup_left: params.startup_cycles,
@@ -95,9 +126,36 @@ impl SimDrive {
             prev_target: params.initial_position,
             following_error: 0,
             tx: TxPdo::default(),
+            last_cmd: RxPdo {
+                mode: 0,
+                controlword: Controlword::DISABLE_VOLTAGE,
+                target_position: params.initial_position,
+                ..RxPdo::default()
+            },
+            comm: DriveComm::new(profile.comm_check, params.comm, cycle_time, counter_mapped),
+            op: true,
+            sdo_mode: 0,
         };
         d.tx = d.make_tx();
         d
+    }
+
+    /// SDO download of 6060h Modes of operation. Refused with the model's abort code when 6060h
+    /// is mapped in the RxPDO (MR-J3-T04 §3.9: 0x06010000; MR-J4-TM/MR-JET/MR-J5: 0x06010006).
+    /// The switch itself waits for zero speed like a PDO request and stays pending until then.
+    pub fn sdo_write_mode(&mut self, raw: i8) -> Result<(), u32> {
+        if self
+            .profile
+            .rx_pdo
+            .maps(crate::pdo::objects::MODES_OF_OPERATION)
+        {
+            return Err(match self.profile.model {
+                crate::profiles::DriveModel::MrJ3T04 => 0x0601_0000,
+                _ => 0x0601_0006,
+            });
+        }
+        self.sdo_mode = raw;
+        Ok(())
     }
 
     /// One bus cycle: decode `rx`, run the PDS and the plant for `elapsed` cycles, encode `tx`.
@@ -107,13 +165,121 @@ impl SimDrive {
     pub fn cycle(&mut self, rx: &[u8], tx: &mut [u8], elapsed: Cycles) -> Result<(), PdoError> {
         let cmd = self.profile.rx_pdo.decode_rx(rx)?;
         self.profile.tx_pdo.check_len(tx.len())?;
-        let dt = self.cycle_time.as_secs_f64() * f64::from(elapsed.0);
+        if self.op {
+            if let Some(code) = self.comm.received(cmd.counter) {
+                self.raise(code);
+            }
+        }
+        self.last_cmd = cmd;
+        self.run(cmd, elapsed);
+        self.profile.tx_pdo.encode_tx(&self.tx, tx)
+    }
 
-        self.run_pds(cmd.controlword, elapsed);
-        self.switch_mode(cmd.mode);
+    /// One bus cycle in which this drive's RxPDO did not arrive (lost or late frame): the
+    /// communication checks count it, the drive keeps the previous command (§1.5 free-run rule;
+    /// the DC-mode behaviour is not stated), the counter echo repeats last good + 1.
+    pub fn cycle_lost(&mut self, tx: &mut [u8], elapsed: Cycles) -> Result<(), PdoError> {
+        self.profile.tx_pdo.check_len(tx.len())?;
+        if self.op {
+            if let Some(code) = self.comm.lost() {
+                self.raise(code);
+            }
+        }
+        let cmd = self.last_cmd;
+        self.run(cmd, elapsed);
+        self.profile.tx_pdo.encode_tx(&self.tx, tx)
+    }
+
+    fn run(&mut self, cmd: RxPdo, elapsed: Cycles) {
+        let dt = self.cycle_time.as_secs_f64() * f64::from(elapsed.0);
+        // Outside OP the controlword and the command values are not acted on (spec §2.1).
+        let cw = if self.op {
+            cmd.controlword
+        } else {
+            self.prev_cw
+        };
+        self.run_pds(cw, elapsed);
+        if self.op {
+            let raw = if self
+                .profile
+                .rx_pdo
+                .maps(crate::pdo::objects::MODES_OF_OPERATION)
+            {
+                cmd.mode
+            } else {
+                self.sdo_mode
+            };
+            self.switch_mode(raw);
+        }
+        self.apply_torque_limits(&cmd);
         self.run_plant(&cmd, dt);
         self.tx = self.make_tx();
-        self.profile.tx_pdo.encode_tx(&self.tx, tx)
+    }
+
+    fn apply_torque_limits(&mut self, cmd: &RxPdo) {
+        // 0.1 % of rated torque; the plant's max_acceleration stands for 300 % rated.
+        let f = |v: u16| f64::from(v) / 3000.0;
+        self.plant
+            .set_torque_limits(f(cmd.torque_limit_positive), f(cmd.torque_limit_negative));
+    }
+
+    /// The AL state leaves OP (to SafeOp, PreOp or Init). Switched on, Operation enabled or
+    /// Quick stop active at that moment raises the model's `leave_op_alarm` (MR-J3-T04 AL.61 per
+    /// §2.5's recommended model; AL.086.1 / AL. 86.1 on the others, spec README "Leaving OP");
+    /// Ready to switch on and below leave cleanly and silence the communication checks. Drives
+    /// that re-initialise on leaving OP return to Switch on disabled. Returns the alarm raised.
+    pub fn leave_op(&mut self) -> Option<u16> {
+        if !self.op {
+            return None;
+        }
+        let operating = matches!(
+            self.state,
+            FsaState::SwitchedOn | FsaState::OperationEnabled | FsaState::QuickStopActive
+        );
+        let alarm = operating.then_some(self.profile.leave_op_alarm);
+        if let Some(code) = alarm {
+            self.raise(code);
+        } else if self.profile.reinit_on_leaving_op
+            && !self.state.is_fault()
+            && self.state != FsaState::NotReadyToSwitchOn
+        {
+            self.state = FsaState::SwitchOnDisabled;
+        }
+        self.op = false;
+        self.tx = self.make_tx();
+        alarm
+    }
+
+    /// The AL state returns to OP: the checks start afresh with the next frame.
+    pub fn enter_op(&mut self) {
+        if !self.op {
+            self.op = true;
+            self.comm.reset();
+        }
+    }
+
+    /// True while the AL state is Operational.
+    pub fn in_op(&self) -> bool {
+        self.op
+    }
+
+    /// Control-power cycle: every alarm clears, the drive restarts in Not ready to switch on
+    /// (the motor stays where it is), the checks restart, the AL state is OP again.
+    pub fn power_cycle(&mut self) {
+        self.alarm = None;
+        self.state = FsaState::NotReadyToSwitchOn;
+        self.startup_left = self.params.startup_cycles;
+        self.prev_cw = Controlword::DISABLE_VOLTAGE;
+        self.plant.hold(0.0);
+        self.comm.reset();
+        self.op = true;
+        self.following_error = 0;
+        self.tx = self.make_tx();
+    }
+
+    /// The sync-error counter of the communication check (0 on the MR-J3-T04).
+    pub fn sync_errors(&self) -> u32 {
+        self.comm.sync_errors()
     }
 
     /// PDS: own transitions (1) and the controlword transitions of [`drive_transition`].
@@ -131,10 +297,18 @@ impl SimDrive {
             s => {
                 let next = drive_transition(s, cw, self.prev_cw, &self.profile.quirks);
                 if s == FsaState::Fault && next == FsaState::SwitchOnDisabled {
-                    // (15): every simulated alarm is resettable.
-                    self.alarm = None;
+                    // (15) resets only the alarms a fault reset can clear; the others stay
+                    // latched until a power cycle (e.g. MR-J3-T04 AL.34/36/61).
+                    match self.alarm {
+                        Some(code) if !self.profile.alarm_resettable(code) => {}
+                        _ => {
+                            self.alarm = None;
+                            self.state = next;
+                        }
+                    }
+                } else {
+                    self.state = next;
                 }
-                self.state = next;
             }
         }
         self.prev_cw = cw;
@@ -196,9 +370,43 @@ impl SimDrive {
         self.plant.velocity().abs() <= self.params.zero_speed
     }
 
-    /// Servo on in the current mode. csp follows 607Ah, csv integrates 60FFh; the profile modes
-    /// and cst are not simulated and hold the position.
+    fn overspeed_limit(&self) -> f64 {
+        self.params
+            .overspeed_limit
+            .unwrap_or(1.2 * self.params.plant.max_velocity.abs())
+    }
+
+    fn following_error_code(&self) -> u16 {
+        self.params
+            .alarm_codes
+            .map_or(self.profile.following_error_alarm, |c| c.0)
+    }
+
+    fn overspeed_code(&self) -> u16 {
+        self.params
+            .alarm_codes
+            .map_or(self.profile.overspeed_alarm, |c| c.1)
+    }
+
+    /// Servo on in the current mode. csp follows 607Ah, csv integrates 60FFh (clamped at the
+    /// overspeed limit), cst applies 6071h (0.1 % rated, 300 % = `max_acceleration`) within the
+    /// speed limit 2D20h (counts/s). The profile modes are not simulated and hold the position.
+    /// HALT (bit 8) stops and holds where the model honours it in the cyclic modes.
     fn follow(&mut self, cmd: &RxPdo, dt: f64) {
+        if cmd.controlword.halt() && self.profile.halt_in_cyclic_modes {
+            self.plant.hold(dt);
+            self.demand = self.plant.position();
+            self.prev_target = cmd.target_position;
+            return;
+        }
+        if self.mode_display == ModeOfOperation::CyclicSyncTorque {
+            let amax = self.params.plant.max_acceleration.abs();
+            let a = f64::from(cmd.target_torque) / 3000.0 * amax;
+            self.plant.step_torque(a, f64::from(cmd.velocity_limit), dt);
+            self.demand = self.plant.position();
+            self.prev_target = self.position_actual();
+            return;
+        }
         let ff = match self.mode_display {
             ModeOfOperation::CyclicSyncPosition => {
                 // Work in the i32 domain relative to the actual position so 607Ah may wrap.
@@ -206,6 +414,11 @@ impl SimDrive {
                 self.demand = self.plant.position() + f64::from(rel);
                 let step = cmd.target_position.wrapping_sub(self.prev_target);
                 self.prev_target = cmd.target_position;
+                if dt > 0.0 && f64::from(step).abs() / dt > self.overspeed_limit() {
+                    // A command implying more than the maximum speed (MR-J3-T04 AL.35).
+                    self.raise(self.overspeed_code());
+                    return;
+                }
                 if dt > 0.0 {
                     self.params.velocity_feedforward * f64::from(step) / dt
                 } else {
@@ -213,7 +426,8 @@ impl SimDrive {
                 }
             }
             ModeOfOperation::CyclicSyncVelocity => {
-                let v = f64::from(cmd.target_velocity);
+                let lim = self.overspeed_limit();
+                let v = f64::from(cmd.target_velocity).clamp(-lim, lim);
                 self.demand += v * dt;
                 v
             }
@@ -232,7 +446,7 @@ impl SimDrive {
             ModeOfOperation::CyclicSyncPosition | ModeOfOperation::ProfilePosition
         );
         if checked && self.following_error.unsigned_abs() > self.params.following_error_limit {
-            self.raise(FOLLOWING_ERROR_ALARM);
+            self.raise(self.following_error_code());
         }
     }
 
@@ -274,6 +488,7 @@ impl SimDrive {
             following_error: self.following_error,
             torque_actual: torque,
             error_code: self.alarm.unwrap_or(0),
+            counter: self.comm.echo(),
         }
     }
 

@@ -1,5 +1,6 @@
 //! The simulated servo drive: a mechanical plant under a cascaded servo loop (`plant`) and the
 //! drive firmware around it (`drive`: PDS, modes, alarms, PDO images).
 
+pub mod comm;
 pub mod drive;
 pub mod plant;

@@ -48,6 +48,9 @@ pub struct ServoPlant {
     acceleration: f64,
     /// The position command at the end of the previous step (interpolation start).
     last_command: f64,
+    /// Fractions of `max_acceleration` allowed in the positive / negative direction (torque
+    /// limits 60E0h/60E1h), 0.0…1.0.
+    accel_scale: (f64, f64),
 }
 
 impl ServoPlant {
@@ -59,6 +62,7 @@ impl ServoPlant {
             velocity: 0.0,
             acceleration: 0.0,
             last_command: initial_position_counts,
+            accel_scale: (1.0, 1.0),
         }
     }
 
@@ -97,7 +101,8 @@ impl ServoPlant {
             let cmd = start + (position_command - start) * frac;
             let v_cmd = (ff + kp * (cmd - self.position)).clamp(-vmax, vmax);
             let a = if h > 0.0 {
-                (kv_h * (v_cmd - self.velocity) / h).clamp(-amax, amax)
+                (kv_h * (v_cmd - self.velocity) / h)
+                    .clamp(-amax * self.accel_scale.1, amax * self.accel_scale.0)
             } else {
                 0.0
             };
@@ -106,6 +111,48 @@ impl ServoPlant {
         if n > 0 {
             self.last_command = position_command;
         }
+    }
+
+    /// Torque control for `dt_s`: accelerate at `acceleration` (counts/s², clamped by the torque
+    /// limits) while keeping |velocity| ≤ `velocity_limit` (the cst speed limit 2D20h).
+    pub fn step_torque(&mut self, acceleration: f64, velocity_limit: f64, dt_s: f64) {
+        let (n, h) = Self::substeps(dt_s);
+        let amax = self.params.max_acceleration.abs();
+        let vlim = velocity_limit.abs().min(self.params.max_velocity.abs());
+        let a_cmd = if acceleration.is_finite() {
+            acceleration.clamp(-amax * self.accel_scale.1, amax * self.accel_scale.0)
+        } else {
+            0.0
+        };
+        for _ in 0..n {
+            // Speed limit: never accelerate beyond ±vlim; brake back inside it at max torque.
+            let a = if h <= 0.0 {
+                0.0
+            } else if self.velocity + a_cmd * h > vlim {
+                ((vlim - self.velocity) / h).clamp(-amax, amax)
+            } else if self.velocity + a_cmd * h < -vlim {
+                ((-vlim - self.velocity) / h).clamp(-amax, amax)
+            } else {
+                a_cmd
+            };
+            self.integrate(a, h, vlim);
+        }
+        if n > 0 {
+            self.last_command = self.position;
+        }
+    }
+
+    /// Sets the torque limits as fractions of `max_acceleration` (clamped to 0.0…1.0); 0.0 in a
+    /// direction means no torque there.
+    pub fn set_torque_limits(&mut self, positive: f64, negative: f64) {
+        let c = |v: f64| {
+            if v.is_finite() {
+                v.clamp(0.0, 1.0)
+            } else {
+                1.0
+            }
+        };
+        self.accel_scale = (c(positive), c(negative));
     }
 
     /// Servo off (or a stop ramp) for `dt_s`: decelerate to standstill at `max_acceleration`.

@@ -81,6 +81,13 @@ pub struct RecordingConfig {
     pub chunk_size: u64,
     /// Hand-off queue length between the RT thread and the recorder, in seconds of cycles.
     pub queue_seconds: f64,
+    /// The recorder closes the open chunk and flushes the file at least this often, ms
+    /// (bounds in time what a crash can lose).
+    pub flush_ms: u64,
+    /// Start a new file once the current one has this many bytes (`None`: never).
+    pub rotate_bytes: Option<u64>,
+    /// Start a new file once the current one spans this many seconds (`None`: never).
+    pub rotate_seconds: Option<f64>,
 }
 
 /// Setpoint transport settings.

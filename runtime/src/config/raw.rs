@@ -85,6 +85,15 @@ pub struct RawRecording {
     /// Hand-off queue length in seconds of cycles.
     #[serde(default = "default_queue_seconds")]
     pub queue_seconds: f64,
+    /// Longest time between chunk flushes, ms.
+    #[serde(default = "default_flush_ms")]
+    pub flush_ms: u64,
+    /// Rotate to a new file at this size, MiB.
+    #[serde(default)]
+    pub rotate_mib: Option<u64>,
+    /// Rotate to a new file after this many seconds.
+    #[serde(default)]
+    pub rotate_seconds: Option<f64>,
 }
 
 impl Default for RawRecording {
@@ -95,6 +104,9 @@ impl Default for RawRecording {
             compression: default_compression(),
             chunk_size_kib: default_chunk_kib(),
             queue_seconds: default_queue_seconds(),
+            flush_ms: default_flush_ms(),
+            rotate_mib: None,
+            rotate_seconds: None,
         }
     }
 }
@@ -189,6 +201,13 @@ pub struct RawAxis {
     /// `[axes.sim]`.
     #[serde(default)]
     pub sim: RawSimAxis,
+    /// Multi-axis amplifier this axis belongs to (any label, e.g. "w3-1"); axes with the same
+    /// label share one unit. None: the axis has an amplifier of its own.
+    #[serde(default)]
+    pub amplifier: Option<String>,
+    /// The axis' slot on its amplifier, 0-based (0 = axis A); defaults to the order in the file.
+    #[serde(default)]
+    pub amplifier_axis: Option<u8>,
 }
 
 /// `[axes.limits]`.
@@ -248,6 +267,10 @@ fn default_recording_path() -> String {
 fn default_compression() -> String {
     "zstd".to_string()
 }
+fn default_flush_ms() -> u64 {
+    200
+}
+
 fn default_chunk_kib() -> u64 {
     1024
 }

@@ -91,3 +91,33 @@ fn lookahead_beyond_the_setpoint_buffer_is_refused() {
     // 1000 ms fits at 1 ms cycles.
     parse(&demo_text().replace("lookahead_ms = 50", "lookahead_ms = 1000")).unwrap();
 }
+
+#[test]
+fn recording_rotation_and_flush_are_validated() {
+    let with = |extra: &str| {
+        demo_text().replace(
+            r#"compression = "zstd""#,
+            &format!("compression = \"zstd\"\n{extra}"),
+        )
+    };
+    let c = parse(&with(
+        "rotate_mib = 64\nrotate_seconds = 600\nflush_ms = 100",
+    ))
+    .unwrap();
+    assert_eq!(c.recording.rotate_bytes, Some(64 * 1024 * 1024));
+    assert_eq!(c.recording.rotate_seconds, Some(600.0));
+    assert_eq!(c.recording.flush_ms, 100);
+    let d = parse(&demo_text()).unwrap();
+    assert_eq!(d.recording.rotate_bytes, None);
+    assert_eq!(d.recording.rotate_seconds, None);
+    assert_eq!(d.recording.flush_ms, 200);
+    for (extra, key) in [
+        ("rotate_mib = 0", "recording.rotate_mib"),
+        ("rotate_seconds = 0.5", "recording.rotate_seconds"),
+        ("rotate_seconds = nan", "recording.rotate_seconds"),
+        ("flush_ms = 5", "recording.flush_ms"),
+    ] {
+        let e = parse(&with(extra)).unwrap_err();
+        assert_eq!(e.key, key, "{extra}: {e}");
+    }
+}

@@ -127,12 +127,40 @@ pub(super) fn validate(
             format!("must be at most 60 s (got {queue_seconds})"),
         ));
     }
+    if !(10..=60_000).contains(&raw.recording.flush_ms) {
+        return Err(ConfigError::new(
+            file,
+            "recording.flush_ms",
+            format!("must be 10..=60000 ms (got {})", raw.recording.flush_ms),
+        ));
+    }
+    if let Some(mib) = raw.recording.rotate_mib {
+        if !(1..=1_048_576).contains(&mib) {
+            return Err(ConfigError::new(
+                file,
+                "recording.rotate_mib",
+                format!("must be 1..=1048576 MiB (got {mib})"),
+            ));
+        }
+    }
+    if let Some(secs) = raw.recording.rotate_seconds {
+        if !(secs.is_finite() && (1.0..=1e7).contains(&secs)) {
+            return Err(ConfigError::new(
+                file,
+                "recording.rotate_seconds",
+                format!("must be 1..=1e7 seconds (got {secs})"),
+            ));
+        }
+    }
     let recording = RecordingConfig {
         enabled: raw.recording.enabled,
         path: raw.recording.path,
         compression,
         chunk_size: raw.recording.chunk_size_kib * 1024,
         queue_seconds,
+        flush_ms: raw.recording.flush_ms,
+        rotate_bytes: raw.recording.rotate_mib.map(|m| m * 1024 * 1024),
+        rotate_seconds: raw.recording.rotate_seconds,
     };
 
     let lookahead = positive(file, "setpoints.lookahead_ms", raw.setpoints.lookahead_ms)? / 1e3;
@@ -206,8 +234,10 @@ pub(super) fn validate(
     }
     let mut seen = HashSet::new();
     let mut axes = Vec::with_capacity(raw.axes.len());
+    let mut amplifiers: Vec<(String, DriveModel, Vec<u8>)> = Vec::new();
     for (i, a) in raw.axes.into_iter().enumerate() {
         let key = format!("axes[{i}]");
+        check_amplifier(file, &key, &a, &mut amplifiers)?;
         if !seen.insert(a.name.clone()) {
             return Err(ConfigError::new(
                 file,
@@ -314,6 +344,74 @@ fn validate_injections(
     Ok(out)
 }
 
+/// `axes.amplifier` / `axes.amplifier_axis`: axes sharing an amplifier label must name the same
+/// model, take distinct slots, and be no more than the model's axes per unit (W2 = 2, W3 = 3).
+fn check_amplifier(
+    file: &Path,
+    key: &str,
+    a: &RawAxis,
+    amplifiers: &mut Vec<(String, DriveModel, Vec<u8>)>,
+) -> Result<(), ConfigError> {
+    let Some(label) = &a.amplifier else {
+        if a.amplifier_axis.is_some() {
+            return Err(ConfigError::new(
+                file,
+                format!("{key}.amplifier_axis"),
+                format!("axis '{}': amplifier_axis needs amplifier", a.name),
+            ));
+        }
+        return Ok(());
+    };
+    let Ok(model) = a.drive.parse::<DriveModel>() else {
+        return Ok(()); // reported with the axis' drive key
+    };
+    let per_unit = profile(model).axes_per_unit;
+    let err = |sub: &str, msg: String| ConfigError::new(file, format!("{key}.{sub}"), msg);
+    let idx = match amplifiers.iter().position(|(l, _, _)| l == label) {
+        Some(i) => i,
+        None => {
+            amplifiers.push((label.clone(), model, Vec::new()));
+            amplifiers.len() - 1
+        }
+    };
+    let (_, unit_model, slots) = &mut amplifiers[idx];
+    if *unit_model != model {
+        return Err(err(
+            "amplifier",
+            format!(
+                "axis '{}': amplifier '{label}' is a {unit_model}, not a {model}",
+                a.name
+            ),
+        ));
+    }
+    let slot = a.amplifier_axis.unwrap_or(slots.len() as u8);
+    if slot >= per_unit || slots.len() >= usize::from(per_unit) {
+        return Err(err(
+            if a.amplifier_axis.is_some() && slot >= per_unit {
+                "amplifier_axis"
+            } else {
+                "amplifier"
+            },
+            format!(
+                "axis '{}': amplifier '{label}' ({model}) has {per_unit} axis slot(s) (allowed amplifier_axis 0..={})",
+                a.name,
+                per_unit - 1
+            ),
+        ));
+    }
+    if slots.contains(&slot) {
+        return Err(err(
+            "amplifier_axis",
+            format!(
+                "axis '{}': slot {slot} of amplifier '{label}' ({model}) is already used",
+                a.name
+            ),
+        ));
+    }
+    slots.push(slot);
+    Ok(())
+}
+
 fn validate_axis(
     file: &Path,
     key: &str,
@@ -332,11 +430,11 @@ fn validate_axis(
         return Err(err(
             "drive",
             format!(
-                "axis '{}': {} does not support a {} µs cycle (allowed: {:?} µs)",
+                "axis '{}': {drive} ({}) does not support a {} µs cycle (allowed: {})",
                 a.name,
                 profile.name,
                 cycle_time.as_micros(),
-                profile.cycle_times_us
+                profile.cycle_times_text()
             ),
         ));
     }
@@ -354,10 +452,11 @@ fn validate_axis(
         return Err(err(
             "mode",
             format!(
-                "axis '{}': {} has no mode {}",
+                "axis '{}': {drive} ({}) has no mode {} (allowed: {})",
                 a.name,
                 profile.name,
-                mode.as_str()
+                mode.as_str(),
+                profile.modes_text()
             ),
         ));
     }

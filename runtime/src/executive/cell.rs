@@ -80,6 +80,7 @@ impl<B: Bus> Executive<B> {
                     true
                 }
                 (CellCommand::Reset, CellState::Faulted) => {
+                    self.fault_reset_pending = true;
                     self.stop_reason = None;
                     self.handoff.status.stop_reason.store(0, Ordering::Release);
                     for ch in &mut self.axes {
@@ -190,9 +191,11 @@ impl<B: Bus> Executive<B> {
             CellState::Faulted => {
                 self.track_all();
                 self.refuse_motion();
-                if self.stop_reason.is_none()
+                // The fault must be reset before the cell can be disabled and powered again.
+                if self.fault_reset_pending
                     && self.axes.iter().all(|a| !a.feedback.statusword.fault())
                 {
+                    self.fault_reset_pending = false;
                     self.request_all(MasterRequest::Disable);
                     self.set_state(CellState::Disabling);
                 }
@@ -252,9 +255,8 @@ impl<B: Bus> Executive<B> {
             .store(StopReason::DriveFault as u8, Ordering::Release);
         self.request_all(MasterRequest::Disable);
         self.stream.discard_all();
+        self.fault_reset_pending = false;
         self.set_state(CellState::Faulted);
-        // The fault must be reset before the cell can be disabled and powered again.
-        self.stop_reason = Some(StopReason::DriveFault);
     }
 
     pub(super) fn set_state(&mut self, s: CellState) {

@@ -114,6 +114,8 @@ pub struct Executive<B: Bus> {
     stop_reason: Option<crate::handoff::StopReason>,
     /// How the current stop is carried out.
     reaction: FaultReaction,
+    /// A Reset arrived while Faulted: leave Faulted once no drive reports a fault.
+    fault_reset_pending: bool,
     /// Watchdog settings.
     watchdogs: WatchdogConfig,
     /// Deadlines missed in a row (reset by a cycle that starts on time).
@@ -125,6 +127,8 @@ pub struct Executive<B: Bus> {
     /// Cycles since the previous executed cycle (more than 1 after an overrun).
     elapsed: Cycles,
     stats: RtStats,
+    /// Records were dropped since the last `records_dropped` event.
+    drops_unreported: bool,
     hook: Option<PhaseHook>,
 }
 
@@ -155,6 +159,7 @@ impl<B: Bus> Executive<B> {
             motion_id: 0,
             stop_reason: None,
             reaction: FaultReaction::ControlledStop,
+            fault_reset_pending: false,
             watchdogs: cell.watchdogs,
             overrun_streak: 0,
             injections: cell
@@ -178,6 +183,7 @@ impl<B: Bus> Executive<B> {
                 final_positions: vec![0; n],
                 final_state: CellState::Disabled,
             },
+            drops_unreported: false,
             hook,
         }
     }
@@ -348,10 +354,11 @@ impl<B: Bus> Executive<B> {
                     fsa_state: ch.feedback.statusword.state(),
                     mode_display: ch.feedback.mode_display,
                     error_code: ch.feedback.error_code,
+                    target_torque: rx.target_torque,
+                    torque_actual: ch.feedback.torque_actual,
                 };
-                if self.handoff.axes.push(rec).is_err() {
-                    self.stats.dropped_records += 1;
-                }
+                let pushed = self.handoff.axes.push(rec).is_ok();
+                self.record_pushed(pushed);
             }
         }
     }
@@ -371,9 +378,24 @@ impl<B: Bus> Executive<B> {
                 cell_state: self.state,
                 dropped_records: self.stats.dropped_records,
             };
-            if self.handoff.cycles.push(rec).is_err() {
-                self.stats.dropped_records += 1;
-            }
+            let pushed = self.handoff.cycles.push(rec).is_ok();
+            self.record_pushed(pushed);
+        }
+    }
+
+    /// Counts a record the recorder queue refused; once a push succeeds again after drops,
+    /// records one `records_dropped` event (value: dropped so far). Allocation-free.
+    fn record_pushed(&mut self, pushed: bool) {
+        if !pushed {
+            self.stats.dropped_records += 1;
+            self.drops_unreported = true;
+        } else if self.drops_unreported {
+            self.drops_unreported = false;
+            self.event(
+                EventKind::RecordsDropped,
+                NO_AXIS,
+                self.stats.dropped_records.min(i64::MAX as u64) as i64,
+            );
         }
     }
 

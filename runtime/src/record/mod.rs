@@ -5,4 +5,4 @@ pub mod proto;
 mod recorder;
 pub mod topics;
 
-pub use recorder::{Recorder, RecorderError, RecordingInfo};
+pub use recorder::{part_path, Recorder, RecorderError, RecordingInfo};

@@ -3,12 +3,12 @@
 
 use std::collections::BTreeMap;
 use std::fs::File;
-use std::io::BufWriter;
+use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, WriteOptions, Writer};
@@ -52,9 +52,11 @@ pub enum RecorderError {
 /// What was recorded.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct RecordingInfo {
-    /// The MCAP file, if recording was on.
+    /// The (first) MCAP file, if recording was on.
     pub path: Option<PathBuf>,
-    /// File size in bytes.
+    /// Every file written, in order (more than one when the recording rotated).
+    pub files: Vec<PathBuf>,
+    /// Size of all files, bytes.
     pub bytes: u64,
     /// Cycle messages written.
     pub cycle_messages: u64,
@@ -78,10 +80,94 @@ struct Channels {
     axes: Vec<u16>,
 }
 
+/// A file that counts the bytes written to it (for rotation by size).
+struct CountingFile {
+    file: BufWriter<File>,
+    pos: u64,
+    /// Bytes in the file so far, shared with the [`Sink`].
+    len: Arc<AtomicU64>,
+}
+
+impl Write for CountingFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.file.write(buf)?;
+        self.pos += n as u64;
+        self.len.fetch_max(self.pos, Ordering::Relaxed);
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
+
+impl Seek for CountingFile {
+    fn seek(&mut self, to: SeekFrom) -> std::io::Result<u64> {
+        self.pos = self.file.seek(to)?;
+        self.len.fetch_max(self.pos, Ordering::Relaxed);
+        Ok(self.pos)
+    }
+}
+
 struct Sink {
-    writer: Writer<BufWriter<File>>,
+    writer: Writer<CountingFile>,
     channels: Channels,
     path: PathBuf,
+    /// Bytes written to the file so far.
+    len: Arc<AtomicU64>,
+    /// When the open chunk was last closed and the file flushed.
+    last_flush: Instant,
+    /// Deadline of the first cycle in this file (for rotation by duration).
+    first_deadline: Option<u64>,
+}
+
+impl Sink {
+    fn writer_len(&self) -> u64 {
+        self.len.load(Ordering::Relaxed)
+    }
+
+    /// Closes the open chunk and hands everything to the OS: after a crash (even SIGKILL) the
+    /// file is readable up to here.
+    fn flush(&mut self) -> Result<(), RecorderError> {
+        self.last_flush = Instant::now();
+        self.writer.flush().map_err(|source| RecorderError::Mcap {
+            path: self.path.clone(),
+            source,
+        })
+    }
+
+    /// Writes the summary and indexes, syncs, and returns the file and its size.
+    fn finish(mut self) -> Result<(PathBuf, u64), RecorderError> {
+        self.writer.finish().map_err(|source| RecorderError::Mcap {
+            path: self.path.clone(),
+            source,
+        })?;
+        let file = self.writer.into_inner();
+        let io_err = |source| RecorderError::Create {
+            path: self.path.clone(),
+            source,
+        };
+        let file = file.file.into_inner().map_err(|e| io_err(e.into_error()))?;
+        file.sync_all().map_err(io_err)?;
+        let bytes = std::fs::metadata(&self.path).map(|m| m.len()).unwrap_or(0);
+        Ok((self.path, bytes))
+    }
+}
+
+/// Path of part `n` of a rotating recording: `run.mcap`, `run.1.mcap`, `run.2.mcap`, …
+pub fn part_path(first: &Path, n: u32) -> PathBuf {
+    if n == 0 {
+        return first.to_path_buf();
+    }
+    let stem = first
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "recording".into());
+    let ext = first
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mcap".into());
+    first.with_file_name(format!("{stem}.{n}.{ext}"))
 }
 
 impl Recorder {
@@ -129,6 +215,7 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
         path: path.to_path_buf(),
         source,
     };
+    let len = Arc::new(AtomicU64::new(0));
     let compression = match cell.recording.compression {
         Compression::Zstd => Some(mcap::Compression::Zstd),
         Compression::Lz4 => Some(mcap::Compression::Lz4),
@@ -139,7 +226,11 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
         .chunk_size(Some(cell.recording.chunk_size))
         .profile("")
         .library(format!("cellrt {}", env!("CARGO_PKG_VERSION")))
-        .create(BufWriter::with_capacity(1 << 20, file))
+        .create(CountingFile {
+            file: BufWriter::with_capacity(1 << 20, file),
+            pos: 0,
+            len: len.clone(),
+        })
         .map_err(mcap_err)?;
 
     let schema =
@@ -224,7 +315,7 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
         })
         .map_err(mcap_err)?;
 
-    Ok(Sink {
+    let mut sink = Sink {
         writer,
         channels: Channels {
             cycle,
@@ -232,12 +323,23 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
             axes,
         },
         path: path.to_path_buf(),
-    })
+        len,
+        last_flush: Instant::now(),
+        first_deadline: None,
+    };
+    // Header, schemas, channels, metadata and the configuration reach the disk at once.
+    sink.flush()?;
+    Ok(sink)
 }
 
 struct Drain<'a> {
     cell: &'a CellConfig,
     sink: Option<Sink>,
+    /// Part number of the open file (rotation).
+    part: u32,
+    /// Records popped ahead of their cycle record.
+    pending_axis: Option<AxisRecord>,
+    pending_event: Option<EventRecord>,
     offset: i128,
     seq: u32,
     buf: Vec<u8>,
@@ -256,6 +358,9 @@ fn drain_loop(
     let mut d = Drain {
         cell,
         sink,
+        part: 0,
+        pending_axis: None,
+        pending_event: None,
         offset: realtime_offset_ns(),
         seq: 0,
         buf: Vec::with_capacity(512),
@@ -264,51 +369,103 @@ fn drain_loop(
         last_cycle: 0,
     };
     let period = cell.cycle_time.as_nanos();
+    let flush_every = Duration::from_millis(cell.recording.flush_ms);
     loop {
         let finishing = stop.load(Ordering::Acquire);
         let mut n = 0usize;
-        // Cycle records first: they carry the deadline that time-stamps the axis records.
+        // Cycle by cycle: the cycle record (it carries the deadline that time-stamps the rest),
+        // then that cycle's axis records (pushed before it) and events, so a file rotates at a
+        // cycle boundary and messages are in time order.
         while let Some(c) = handoff.cycles.pop() {
+            d.rotate_if_due(&c)?;
             d.cycle(&c, period)?;
             n += 1;
+            while let Some(a) = d.pending_axis.take().or_else(|| handoff.axes.pop()) {
+                if a.cycle > c.cycle {
+                    d.pending_axis = Some(a);
+                    break;
+                }
+                d.axis(&a, period)?;
+                n += 1;
+            }
+            while let Some(e) = d.pending_event.take().or_else(|| handoff.events.pop()) {
+                if e.cycle > c.cycle {
+                    d.pending_event = Some(e);
+                    break;
+                }
+                d.event(&e, period)?;
+                n += 1;
+            }
+            d.flush_if_due(flush_every)?;
         }
-        while let Some(a) = handoff.axes.pop() {
-            d.axis(&a, period)?;
-            n += 1;
-        }
-        while let Some(e) = handoff.events.pop() {
-            d.event(&e, period)?;
-            n += 1;
+        // Without a file (or at the end) nothing waits for its cycle record.
+        if d.sink.is_none() || finishing {
+            while let Some(a) = d.pending_axis.take().or_else(|| handoff.axes.pop()) {
+                d.axis(&a, period)?;
+                n += 1;
+            }
+            while let Some(e) = d.pending_event.take().or_else(|| handoff.events.pop()) {
+                d.event(&e, period)?;
+                n += 1;
+            }
         }
         if finishing && n == 0 {
             break;
         }
+        d.flush_if_due(flush_every)?;
         if n == 0 {
             std::thread::sleep(Duration::from_millis(2));
         }
     }
-    if let Some(mut sink) = d.sink.take() {
-        let mcap_err = |source| RecorderError::Mcap {
-            path: sink.path.clone(),
-            source,
-        };
-        sink.writer.finish().map_err(mcap_err)?;
-        let file = sink.writer.into_inner();
-        let file = file.into_inner().map_err(|e| RecorderError::Create {
-            path: sink.path.clone(),
-            source: e.into_error(),
-        })?;
-        file.sync_all().map_err(|e| RecorderError::Create {
-            path: sink.path.clone(),
-            source: e,
-        })?;
-        d.info.bytes = std::fs::metadata(&sink.path).map(|m| m.len()).unwrap_or(0);
-        d.info.path = Some(sink.path);
+    if let Some(sink) = d.sink.take() {
+        d.close(sink)?;
     }
     Ok(d.info)
 }
 
 impl Drain<'_> {
+    /// Finishes `sink` and adds it to the files written.
+    fn close(&mut self, sink: Sink) -> Result<(), RecorderError> {
+        let (path, bytes) = sink.finish()?;
+        self.info.bytes += bytes;
+        if self.info.path.is_none() {
+            self.info.path = Some(path.clone());
+        }
+        self.info.files.push(path);
+        Ok(())
+    }
+
+    fn flush_if_due(&mut self, every: Duration) -> Result<(), RecorderError> {
+        match self.sink.as_mut() {
+            Some(sink) if sink.last_flush.elapsed() >= every => sink.flush(),
+            _ => Ok(()),
+        }
+    }
+
+    /// Starts the next file before cycle `c` when the open one is over its size or duration.
+    fn rotate_if_due(&mut self, c: &CycleRecord) -> Result<(), RecorderError> {
+        let rec = &self.cell.recording;
+        let Some(sink) = self.sink.as_mut() else {
+            return Ok(());
+        };
+        let first = *sink.first_deadline.get_or_insert(c.deadline_ns);
+        let by_size = rec.rotate_bytes.is_some_and(|b| sink.writer_len() >= b);
+        let by_time = rec
+            .rotate_seconds
+            .is_some_and(|s| c.deadline_ns.saturating_sub(first) as f64 >= s * 1e9);
+        if !(by_size || by_time) {
+            return Ok(());
+        }
+        let first_path = self.info.path.clone().unwrap_or_else(|| sink.path.clone());
+        let old = self.sink.take().expect("checked above");
+        self.close(old)?;
+        self.part += 1;
+        let mut next = open(self.cell, &part_path(&first_path, self.part))?;
+        next.first_deadline = Some(c.deadline_ns);
+        self.sink = Some(next);
+        Ok(())
+    }
+
     fn time_of(&self, cycle: u64, period: u64) -> u64 {
         // Deadline of `cycle`, extrapolated from the latest cycle record.
         let mono =
@@ -385,6 +542,11 @@ impl Drain<'_> {
             fsa_state: a.fsa_state.map(fsa_index).unwrap_or(0) as i32,
             mode_display: i32::from(a.mode_display),
             error_code: u32::from(a.error_code),
+            setpoint_torque: i32::from(a.target_torque),
+            actual_torque: i32::from(a.torque_actual),
+            // The drive profiles map no incremental counter yet.
+            counter_sent: 0,
+            counter_received: 0,
         };
         self.buf.clear();
         msg.encode(&mut self.buf).expect("Vec grows");

@@ -1,4 +1,9 @@
 //! One module per subcommand.
 
+pub mod bench;
+pub mod inspect;
 pub mod planner;
+pub mod recover;
+pub mod replay;
+pub mod report;
 pub mod run;

@@ -1,0 +1,298 @@
+//! The static fact tables a drive profile is made of: object dictionary entries, alarms,
+//! encoder and units, identity, communication checks.
+//!
+//! Each model module declares its facts once as `const` tables of these types; the simulator and
+//! the master read them from the profile, never from literals of their own.
+
+use std::fmt;
+
+/// CoE data type of an object (the subset the cyclic objects use).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DataType {
+    /// BOOLEAN.
+    Bool,
+    /// INTEGER8.
+    I8,
+    /// INTEGER16.
+    I16,
+    /// INTEGER32.
+    I32,
+    /// UNSIGNED8.
+    U8,
+    /// UNSIGNED16.
+    U16,
+    /// UNSIGNED32.
+    U32,
+    /// Not stated by the source manual (the entry cites the gap).
+    Unstated,
+}
+
+impl DataType {
+    /// Size in bits, `None` for [`DataType::Unstated`].
+    pub const fn bits(self) -> Option<u16> {
+        match self {
+            Self::Bool => Some(1),
+            Self::I8 | Self::U8 => Some(8),
+            Self::I16 | Self::U16 => Some(16),
+            Self::I32 | Self::U32 => Some(32),
+            Self::Unstated => None,
+        }
+    }
+}
+
+/// Access right of an object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Access {
+    /// Read only.
+    Ro,
+    /// Read/write.
+    Rw,
+    /// Write only.
+    Wo,
+    /// Not stated by the source manual.
+    Unstated,
+}
+
+/// Which PDO an object may be mapped into.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Pdo {
+    /// RxPDO (master → drive).
+    Rx,
+    /// TxPDO (drive → master).
+    Tx,
+    /// SDO only.
+    No,
+    /// Not stated by the source manual.
+    Unstated,
+}
+
+/// One object-dictionary entry, as far as the source manual states it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct OdEntry {
+    /// Object index (axis A on multi-axis units).
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// Name as in the manual.
+    pub name: &'static str,
+    /// Data type.
+    pub data_type: DataType,
+    /// Access.
+    pub access: Access,
+    /// PDO mapping.
+    pub pdo: Pdo,
+    /// Default value, `None` where the manual gives none.
+    pub default: Option<i64>,
+    /// Value range (inclusive), `None` where the manual gives none.
+    pub range: Option<(i64, i64)>,
+    /// Units of one LSB, "" for dimensionless.
+    pub units: &'static str,
+    /// Spec section the row comes from, with the gap named where a field is not stated.
+    pub source: &'static str,
+}
+
+/// Alarm or warning.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AlarmKind {
+    /// Alarm: statusword bit 3, (13) Fault reaction active → (14) Fault.
+    Alarm,
+    /// Warning: statusword bit 7, no PDS state change (unless its stop says otherwise).
+    Warning,
+}
+
+/// What the drive does to the motor when the alarm or warning occurs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum StopBehaviour {
+    /// Base circuit off and dynamic brake (sudden stop).
+    DynamicBrake,
+    /// Slow stop on a deceleration ramp.
+    SlowStop,
+    /// Operation continues (warning only).
+    Continues,
+    /// Servo off (base off + dynamic brake) while the warning lasts, PDS state kept.
+    ServoOff,
+    /// Not stated by the source manual.
+    Unstated,
+}
+
+/// How an alarm is cleared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Clearing {
+    /// Controlword Fault Reset edge (transition 15) once the cause is gone.
+    FaultReset,
+    /// Only a control-power cycle.
+    PowerCycle,
+    /// Clears itself when the cause goes (warnings).
+    Automatic,
+    /// Not stated by the source manual (the simulator treats it as [`Clearing::FaultReset`]).
+    Unstated,
+}
+
+/// One alarm or warning of a model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct AlarmInfo {
+    /// The code the simulator reports in 603Fh/2041h (encoding per model module).
+    pub code: u16,
+    /// Display number as printed, e.g. "AL.34" or "AL.086.1".
+    pub display: &'static str,
+    /// Name as printed.
+    pub name: &'static str,
+    /// Alarm or warning.
+    pub kind: AlarmKind,
+    /// Stop behaviour.
+    pub stop: StopBehaviour,
+    /// How it is cleared.
+    pub clearing: Clearing,
+    /// Spec section, or the gap it fills.
+    pub source: &'static str,
+}
+
+impl AlarmInfo {
+    /// True if a Fault Reset edge clears it (unstated clearing counts as resettable).
+    pub const fn resettable(&self) -> bool {
+        matches!(self.clearing, Clearing::FaultReset | Clearing::Unstated)
+    }
+}
+
+/// EtherCAT identity (1018h), each `None` where the manual does not give it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Identity {
+    /// 1018h:01 vendor ID.
+    pub vendor_id: Option<u32>,
+    /// 1018h:02 product code.
+    pub product_code: Option<u32>,
+    /// 1018h:03 revision number.
+    pub revision: Option<u32>,
+    /// Where the values come from, or which gap leaves them `None`.
+    pub source: &'static str,
+}
+
+/// Encoder resolution and the units of the cyclic objects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Units {
+    /// Encoder counts per motor revolution, `None` where the manual gives none.
+    pub counts_per_rev: Option<u32>,
+    /// Other resolutions the manual names (e.g. the 17-bit motors of the MR-J3).
+    pub other_counts_per_rev: &'static [u32],
+    /// Position objects (607Ah, 6064h, 60F4h).
+    pub position: &'static str,
+    /// Velocity objects (60FFh, 606Ch) as the manual states them.
+    pub velocity: &'static str,
+    /// Torque objects (6071h, 6077h, 60E0h/60E1h).
+    pub torque: &'static str,
+    /// Source and gaps.
+    pub source: &'static str,
+}
+
+/// The model's cyclic communication check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CommCheck {
+    /// 8-bit incremental counter: master sends `rx_index`, the drive echoes last good + 1 in
+    /// `tx_index`; `counter_alarm` for counter update errors, `loss_alarm` for lost RxPDOs
+    /// (MR-J3-T04 §6).
+    IncrementalCounter {
+        /// RxPDO object (2020h).
+        rx_index: u16,
+        /// TxPDO object (2021h).
+        tx_index: u16,
+        /// Counter update error alarm (AL.34).
+        counter_alarm: u16,
+        /// RxPDO reception error alarm (AL.36).
+        loss_alarm: u16,
+    },
+    /// Watchdog counters whose algorithm the manual's missing §6.2 would give (MR-J4-TM):
+    /// provisional echo of DL + 1 in UL when both are mapped; lost frames count like
+    /// [`CommCheck::SyncErrorCounter`].
+    WatchdogCounter {
+        /// RxPDO object (2D23h Watch dog counter DL).
+        rx_index: u16,
+        /// TxPDO object (2D24h Watch dog counter UL).
+        tx_index: u16,
+        /// Alarm for lost process data (AL. 86.1).
+        loss_alarm: u16,
+    },
+    /// Sync-error counter against 10F1h:02 raising `alarm` (MR-JET, MR-J5: AL.086.1).
+    SyncErrorCounter {
+        /// The alarm raised when the counter passes the limit.
+        alarm: u16,
+    },
+}
+
+impl CommCheck {
+    /// The (rx, tx) counter objects, if the check has a counter.
+    pub const fn counter_objects(&self) -> Option<(u16, u16)> {
+        match *self {
+            Self::IncrementalCounter {
+                rx_index, tx_index, ..
+            }
+            | Self::WatchdogCounter {
+                rx_index, tx_index, ..
+            } => Some((rx_index, tx_index)),
+            Self::SyncErrorCounter { .. } => None,
+        }
+    }
+
+    /// The alarm a lost RxPDO eventually raises.
+    pub const fn loss_alarm(&self) -> u16 {
+        match *self {
+            Self::IncrementalCounter { loss_alarm, .. }
+            | Self::WatchdogCounter { loss_alarm, .. } => loss_alarm,
+            Self::SyncErrorCounter { alarm } => alarm,
+        }
+    }
+}
+
+impl fmt::Display for AlarmInfo {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} {} ({:#06X})", self.display, self.name, self.code)
+    }
+}
+
+/// Shorthand for a table row; used by the model modules.
+#[allow(clippy::too_many_arguments)]
+pub(crate) const fn od(
+    index: u16,
+    sub: u8,
+    name: &'static str,
+    data_type: DataType,
+    access: Access,
+    pdo: Pdo,
+    default: Option<i64>,
+    range: Option<(i64, i64)>,
+    units: &'static str,
+    source: &'static str,
+) -> OdEntry {
+    OdEntry {
+        index,
+        sub,
+        name,
+        data_type,
+        access,
+        pdo,
+        default,
+        range,
+        units,
+        source,
+    }
+}
+
+/// Shorthand for an alarm row; used by the model modules.
+pub(crate) const fn alarm(
+    code: u16,
+    display: &'static str,
+    name: &'static str,
+    kind: AlarmKind,
+    stop: StopBehaviour,
+    clearing: Clearing,
+    source: &'static str,
+) -> AlarmInfo {
+    AlarmInfo {
+        code,
+        display,
+        name,
+        kind,
+        stop,
+        clearing,
+        source,
+    }
+}

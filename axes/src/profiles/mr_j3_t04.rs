@@ -1,0 +1,653 @@
+//! Mitsubishi MR-J3-□A-RJ158 + MR-J3-T04 EtherCAT option, from mr-j3-t04.md (manual
+//! "MR-J3-□A-RJ158 / MR-J3-T04 Specifications", 2011-12-01).
+
+use super::facts::{alarm, od};
+use super::{
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
+    Identity, OdEntry, Pdo, StopBehaviour, Units,
+};
+use crate::cia402::fsa::FsaQuirks;
+use crate::cia402::mode::ModeOfOperation as M;
+use crate::pdo::{PdoEntry, PdoMap};
+
+const fn obj(index: u16, bits: u16) -> PdoEntry {
+    PdoEntry::object(index, 0, bits)
+}
+
+/// Default RxPDO 1614h, 30 bytes (mr-j3-t04.md §4.1 / manual §8.6.2, 13 entries).
+pub const RX_PDO_1614: PdoMap = PdoMap {
+    index: 0x1614,
+    entries: &[
+        obj(0x2020, 8),  // 0  Incremental counter (RxPDO)
+        obj(0x2022, 8),  // 1  Frame ID (reserved)
+        obj(0x6040, 16), // 2  Controlword
+        obj(0x2001, 16), // 4  Controlword2
+        obj(0x2002, 16), // 6  Controlword3 (reserved)
+        obj(0x2003, 16), // 8  Controlword4 (reserved)
+        obj(0x2004, 16), // 10 Controlword5 (reserved)
+        obj(0x607A, 32), // 12 Target position
+        obj(0x60FF, 32), // 16 Target velocity
+        obj(0x2050, 32), // 20 Max velocity (reserved)
+        obj(0x6071, 16), // 24 Target torque (reserved)
+        obj(0x60E0, 16), // 26 Positive torque limit value
+        obj(0x60E1, 16), // 28 Negative torque limit value
+    ],
+};
+
+/// Default TxPDO 1A14h, 26 bytes (mr-j3-t04.md §4.2 / manual §8.6.2, 11 entries).
+pub const TX_PDO_1A14: PdoMap = PdoMap {
+    index: 0x1A14,
+    entries: &[
+        obj(0x2021, 8),  // 0  Incremental counter (TxPDO)
+        obj(0x2023, 8),  // 1  Frame ID (reserved, sent as 0)
+        obj(0x6041, 16), // 2  Statusword
+        obj(0x2011, 16), // 4  Statusword2
+        obj(0x2012, 16), // 6  Statusword3 (reserved)
+        obj(0x2013, 16), // 8  Statusword4 (reserved)
+        obj(0x2014, 16), // 10 Statusword5 (reserved)
+        obj(0x6064, 32), // 12 Position actual value
+        obj(0x606C, 32), // 16 Velocity actual value
+        obj(0x60F4, 32), // 20 Following error actual value
+        obj(0x6077, 16), // 24 Torque actual value
+    ],
+};
+
+/// Alarm code encoding: the display number as hex-coded BCD, AL.34 → 0x0034 (2041h encoding is
+/// not in the manual; mr-j3-t04.md §5.3 (inferred) default, configurable).
+pub const AL_34: u16 = 0x0034;
+/// AL.35 Command frequency error: commands beyond the maximum motor speed (§7.2).
+pub const AL_35: u16 = 0x0035;
+/// AL.36 Receive error 2: RxPDO lost for about 7 ms (§6.4).
+pub const AL_36: u16 = 0x0036;
+/// AL.37 Parameter error (§7.2).
+pub const AL_37: u16 = 0x0037;
+/// AL.52 Error excessive: standard MR-J3-A alarm, **not in this manual** (§7.1).
+pub const AL_52: u16 = 0x0052;
+/// AL.61 Operation error: AL state left OP during operation (§2.5, §7.2).
+pub const AL_61: u16 = 0x0061;
+
+/// The alarms and warnings of mr-j3-t04.md §7.2 (deactivation columns of §7.1).
+pub const ALARMS: &[AlarmInfo] = &[
+    alarm(
+        0x0013,
+        "AL.13",
+        "Clock error",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::PowerCycle,
+        "§7.2; reset rule from the standard J3A manual (not in manual)",
+    ),
+    alarm(
+        0x0026,
+        "AL.26",
+        "Home position setting error",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::PowerCycle,
+        "§7.2",
+    ),
+    alarm(
+        AL_34,
+        "AL.34",
+        "Receive error 1",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::PowerCycle,
+        "§6.4, §7.2: incremental-counter update error",
+    ),
+    alarm(
+        AL_35,
+        "AL.35",
+        "Command frequency error",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::FaultReset,
+        "§7.2: the only alarm of this manual cleared by fault reset",
+    ),
+    alarm(
+        AL_36,
+        "AL.36",
+        "Receive error 2",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::PowerCycle,
+        "§6.4, §7.2: RxPDO lost about 7 ms",
+    ),
+    alarm(
+        AL_37,
+        "AL.37",
+        "Parameter error",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::PowerCycle,
+        "§7.2",
+    ),
+    alarm(
+        AL_52,
+        "AL.52",
+        "Error excessive",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::FaultReset,
+        "not in manual: standard MR-J3-A (±3 rev), §7.1",
+    ),
+    alarm(
+        AL_61,
+        "AL.61",
+        "Operation error",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::PowerCycle,
+        "§2.5, §7.2",
+    ),
+    alarm(
+        0x0074,
+        "AL.74",
+        "Option card error",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::PowerCycle,
+        "§7.2",
+    ),
+    alarm(
+        0x0076,
+        "AL.76",
+        "Synchronization error",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::PowerCycle,
+        "§7.2",
+    ),
+    alarm(
+        0x0090,
+        "AL.90",
+        "Home position not completed",
+        AlarmKind::Warning,
+        StopBehaviour::SlowStop,
+        Clearing::Automatic,
+        "§7.2: homing aborted",
+    ),
+    alarm(
+        0x0092,
+        "AL.92",
+        "Battery cable disconnection",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§7.2 (standard J3A)",
+    ),
+    alarm(
+        0x0096,
+        "AL.96",
+        "Home position setting warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§7.2",
+    ),
+    alarm(
+        0x0099,
+        "AL.99",
+        "Stroke limit warning",
+        AlarmKind::Warning,
+        StopBehaviour::SlowStop,
+        Clearing::Automatic,
+        "§7.2, §9.1",
+    ),
+    alarm(
+        0x009F,
+        "AL.9F",
+        "Battery warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§7.2 (standard J3A)",
+    ),
+    alarm(
+        0x00E3,
+        "AL.E3",
+        "Absolute position counter warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§7.2",
+    ),
+    alarm(
+        0x00E6,
+        "AL.E6",
+        "Servo emergency stop",
+        AlarmKind::Warning,
+        StopBehaviour::ServoOff,
+        Clearing::Automatic,
+        "§3.7, §7.2",
+    ),
+    alarm(
+        0x00E9,
+        "AL.E9",
+        "Main circuit off warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§7.2",
+    ),
+    alarm(
+        0x00EA,
+        "AL.EA",
+        "(name not given)",
+        AlarmKind::Warning,
+        StopBehaviour::ServoOff,
+        Clearing::Automatic,
+        "§7.2",
+    ),
+];
+
+/// The objects the runtime and the simulator use (mr-j3-t04.md §5.2–§5.4).
+pub const OBJECTS: &[OdEntry] = &[
+    od(
+        0x1C32,
+        2,
+        "Cycle time",
+        DataType::U32,
+        Access::Rw,
+        Pdo::No,
+        Some(500_000),
+        Some((500_000, 2_000_000)),
+        "ns",
+        "§5.2: only 500000/1000000/2000000",
+    ),
+    od(
+        0x2001,
+        0,
+        "Controlword2",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "",
+        "§3.6",
+    ),
+    od(
+        0x2011,
+        0,
+        "Statusword2",
+        DataType::U16,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§3.6",
+    ),
+    od(
+        0x2020,
+        0,
+        "Incremental counter (RxPDO)",
+        DataType::U8,
+        Access::Rw,
+        Pdo::Rx,
+        None,
+        Some((0, 255)),
+        "",
+        "§6",
+    ),
+    od(
+        0x2021,
+        0,
+        "Incremental counter (TxPDO)",
+        DataType::U8,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        Some((0, 255)),
+        "",
+        "§6",
+    ),
+    od(
+        0x2041,
+        0,
+        "Current alarm",
+        DataType::U16,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§5.3: encoding not specified",
+    ),
+    od(
+        0x6040,
+        0,
+        "Controlword",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "",
+        "§5.4",
+    ),
+    od(
+        0x6041,
+        0,
+        "Statusword",
+        DataType::U16,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§5.4",
+    ),
+    od(
+        0x605D,
+        0,
+        "Halt option code",
+        DataType::I16,
+        Access::Rw,
+        Pdo::No,
+        Some(1),
+        Some((1, 1)),
+        "",
+        "§3.8: hm only",
+    ),
+    od(
+        0x6060,
+        0,
+        "Modes of operation",
+        DataType::I8,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "",
+        "§5.4: 0, 6, 8, 9",
+    ),
+    od(
+        0x6061,
+        0,
+        "Modes of operation display",
+        DataType::I8,
+        Access::Ro,
+        Pdo::Tx,
+        Some(0),
+        None,
+        "",
+        "§5.4: set from PO02 at power-on",
+    ),
+    od(
+        0x6064,
+        0,
+        "Position actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "pulse",
+        "§5.4",
+    ),
+    od(
+        0x606C,
+        0,
+        "Velocity actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "0.001 r/min",
+        "§5.4",
+    ),
+    od(
+        0x6071,
+        0,
+        "Target torque",
+        DataType::I16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "reserved",
+        "§5.4: not supported",
+    ),
+    od(
+        0x6077,
+        0,
+        "Torque actual value",
+        DataType::I16,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "0.1 % rated",
+        "§5.4 (printed RW, treated RO)",
+    ),
+    od(
+        0x607A,
+        0,
+        "Target position",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "pulse",
+        "§5.4",
+    ),
+    od(
+        0x60E0,
+        0,
+        "Positive torque limit value",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(3000),
+        None,
+        "0.1 % rated",
+        "§5.4, §9.4",
+    ),
+    od(
+        0x60E1,
+        0,
+        "Negative torque limit value",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(3000),
+        None,
+        "0.1 % rated",
+        "§5.4, §9.4",
+    ),
+    od(
+        0x60F4,
+        0,
+        "Following error actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "pulse",
+        "§5.4: csp only",
+    ),
+    od(
+        0x60FF,
+        0,
+        "Target velocity",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "0.001 r/min",
+        "§5.4: clamped at 120 % max speed",
+    ),
+    od(
+        0x6502,
+        0,
+        "Supported drive modes",
+        DataType::U32,
+        Access::Ro,
+        Pdo::No,
+        Some(0x0000_01A0),
+        None,
+        "",
+        "§1.2: bits 5, 7, 8",
+    ),
+];
+
+/// Encoder and units (mr-j3-t04.md §1.5, §9.6).
+pub const UNITS: Units = Units {
+    counts_per_rev: Some(262_144),
+    other_counts_per_rev: &[131_072],
+    position: "pulse (electronic gear fixed at 1/1)",
+    velocity: "0.001 r/min (commands truncated to 0.01 r/min)",
+    torque: "0.1 % of rated torque",
+    source: "mr-j3-t04.md §1.5, §9.5, §9.6",
+};
+
+/// The MR-J3-T04 profile.
+///
+/// Identity from §1.1. Modes hm, csp, csv; **no cst** (§1.2). Cycles 0.5/1/2 ms (§1.3). Quirks:
+/// shortcuts (§3.2), **no quick stop** (bit 5 always 1; Quick Stop in OE acts as Disable
+/// Voltage, the simulator default of §3.3), no (16). Fault Reset held ≥ 10 ms (§3.3).
+pub const PROFILE: DriveProfile = DriveProfile {
+    model: DriveModel::MrJ3T04,
+    name: "Mitsubishi MR-J3-T04",
+    identity: Identity {
+        vendor_id: Some(0x0000_0A1E),
+        product_code: Some(0x0000_0102),
+        revision: Some(0x0200_0000),
+        source: "mr-j3-t04.md §1.1 (manual §8.1(4))",
+    },
+    modes: &[M::Homing, M::CyclicSyncPosition, M::CyclicSyncVelocity],
+    cycle_times_us: &[500, 1000, 2000],
+    rx_pdo: RX_PDO_1614,
+    tx_pdo: TX_PDO_1A14,
+    quirks: FsaQuirks {
+        shortcut_transitions: true,
+        has_quick_stop: false,
+        quick_stop_returns_to_enabled: false,
+    },
+    fault_reset_hold_ms: 10,
+    fault_reset_hold_long_cycle_ms: 10,
+    long_cycle_from_us: u32::MAX,
+    axes_per_unit: 1,
+    units: UNITS,
+    objects: OBJECTS,
+    alarms: ALARMS,
+    comm_check: CommCheck::IncrementalCounter {
+        rx_index: 0x2020,
+        tx_index: 0x2021,
+        counter_alarm: AL_34,
+        loss_alarm: AL_36,
+    },
+    leave_op_alarm: AL_61,
+    // §2.2: no re-initialisation is stated; the alarm (or none) is the whole effect.
+    reinit_on_leaving_op: false,
+    following_error_alarm: AL_52,
+    overspeed_alarm: AL_35,
+    // §3.8: halt is invalid in csp and csv (hm only).
+    halt_in_cyclic_modes: false,
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tv_pdo_default_rx_layout_1614h() {
+        // §4.1 offsets and §4.3 mapping words.
+        let m = &PROFILE.rx_pdo;
+        assert_eq!(m.byte_len(), 30);
+        let expect = [
+            (0x2020, 0),
+            (0x2022, 1),
+            (0x6040, 2),
+            (0x2001, 4),
+            (0x2002, 6),
+            (0x2003, 8),
+            (0x2004, 10),
+            (0x607A, 12),
+            (0x60FF, 16),
+            (0x2050, 20),
+            (0x6071, 24),
+            (0x60E0, 26),
+            (0x60E1, 28),
+        ];
+        for (idx, off) in expect {
+            assert_eq!(m.offset_of(idx, 0), Some(off), "{idx:#06x}");
+        }
+        let words: Vec<u32> = m.entries.iter().map(|e| e.mapping_word()).collect();
+        assert_eq!(
+            words,
+            [
+                0x2020_0008,
+                0x2022_0008,
+                0x6040_0010,
+                0x2001_0010,
+                0x2002_0010,
+                0x2003_0010,
+                0x2004_0010,
+                0x607A_0020,
+                0x60FF_0020,
+                0x2050_0020,
+                0x6071_0010,
+                0x60E0_0010,
+                0x60E1_0010
+            ]
+        );
+        assert!(m.has_counter());
+    }
+
+    #[test]
+    fn tv_pdo_default_tx_layout_1a14h() {
+        let m = &PROFILE.tx_pdo;
+        assert_eq!(m.byte_len(), 26);
+        let words: Vec<u32> = m.entries.iter().map(|e| e.mapping_word()).collect();
+        assert_eq!(
+            words,
+            [
+                0x2021_0008,
+                0x2023_0008,
+                0x6041_0010,
+                0x2011_0010,
+                0x2012_0010,
+                0x2013_0010,
+                0x2014_0010,
+                0x6064_0020,
+                0x606C_0020,
+                0x60F4_0020,
+                0x6077_0010
+            ]
+        );
+        for (idx, off) in [
+            (0x2021, 0),
+            (0x6041, 2),
+            (0x6064, 12),
+            (0x606C, 16),
+            (0x60F4, 20),
+            (0x6077, 24),
+        ] {
+            assert_eq!(m.offset_of(idx, 0), Some(off), "{idx:#06x}");
+        }
+        assert!(m.has_counter());
+    }
+
+    #[test]
+    fn identity_modes_cycles() {
+        assert_eq!(PROFILE.vendor_id(), Some(0xA1E));
+        assert_eq!(PROFILE.product_code(), Some(0x102));
+        assert_eq!(PROFILE.identity.revision, Some(0x0200_0000));
+        assert!(!PROFILE.supports_mode(M::CyclicSyncTorque));
+        assert_eq!(PROFILE.modes_text(), "hm, csp, csv");
+        assert_eq!(PROFILE.cycle_times_text(), "500, 1000, 2000 µs");
+        assert!(!PROFILE.alarm_resettable(AL_34) && PROFILE.alarm_resettable(AL_35));
+        assert_eq!(
+            PROFILE.object(0x60E0, 0).and_then(|o| o.default),
+            Some(3000)
+        );
+        assert_eq!(PROFILE.units.counts_per_rev, Some(262_144));
+    }
+}

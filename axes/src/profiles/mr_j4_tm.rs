@@ -1,0 +1,563 @@
+//! Mitsubishi MR-J4-_TM_ with the ABCC-M40-ECT EtherCAT module, from mr-j4-tm.md (manual
+//! SH(NA)030208 rev. E, **truncated after §5.4.10**: no §5.5–§5.12, §6, chapter 7; mr-j4-tm.md §0).
+
+use super::facts::{alarm, od};
+use super::{
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
+    Identity, OdEntry, Pdo, StopBehaviour, Units,
+};
+use crate::cia402::fsa::FsaQuirks;
+use crate::cia402::mode::ModeOfOperation as M;
+use crate::pdo::{PdoEntry, PdoMap};
+
+const fn obj(index: u16, bits: u16) -> PdoEntry {
+    PdoEntry::object(index, 0, bits)
+}
+
+/// Default RxPDO 1600h (csp/csv/cst/hm), 29 bytes, fields unaligned after the 1-byte 6060h
+/// (mr-j4-tm.md §5.2; offsets derived from the chapter 5 types).
+pub const RX_PDO_1600: PdoMap = PdoMap {
+    index: 0x1600,
+    entries: &[
+        obj(0x6060, 8),  // 0  Modes of operation
+        obj(0x6040, 16), // 1  Controlword
+        obj(0x2D01, 16), // 3  Control DI 1
+        obj(0x2D02, 16), // 5  Control DI 2
+        obj(0x2D03, 16), // 7  Control DI 3
+        obj(0x607A, 32), // 9  Target position
+        obj(0x60FF, 32), // 13 Target velocity
+        obj(0x2D20, 32), // 17 Velocity limit value
+        obj(0x6071, 16), // 21 Target torque
+        obj(0x60E0, 16), // 23 Positive torque limit value
+        obj(0x60E1, 16), // 25 Negative torque limit value
+        obj(0x60B8, 16), // 27 Touch probe function
+    ],
+};
+
+/// Default TxPDO 1A00h, 41 bytes (mr-j4-tm.md §5.3).
+pub const TX_PDO_1A00: PdoMap = PdoMap {
+    index: 0x1A00,
+    entries: &[
+        obj(0x6061, 8),  // 0  Modes of operation display
+        obj(0x6041, 16), // 1  Statusword
+        obj(0x2D11, 16), // 3  Status DO 1
+        obj(0x2D12, 16), // 5  Status DO 2
+        obj(0x2D13, 16), // 7  Status DO 3
+        obj(0x6064, 32), // 9  Position actual value
+        obj(0x606C, 32), // 13 Velocity actual value
+        obj(0x60F4, 32), // 17 Following error actual value
+        obj(0x6077, 16), // 21 Torque actual value
+        obj(0x60B9, 16), // 23 Touch probe status
+        obj(0x60BA, 32), // 25 Touch probe pos1 pos value
+        obj(0x60BB, 32), // 29 Touch probe pos1 neg value
+        obj(0x60BC, 32), // 33 Touch probe pos2 pos value
+        obj(0x60BD, 32), // 37 Touch probe pos2 neg value
+    ],
+};
+
+/// Alarm code encoding of this module: AL. XX.Y → 0x0XXY (AL. 86.1 → 0x0861); the alarm
+/// objects are in the missing §6.4.
+pub const AL_86_1: u16 = 0x0861;
+/// Following-error alarm: no alarm chapter in this manual (mr-j4-tm.md §9); CiA 402 8611h
+/// [background], configurable.
+pub const FOLLOWING_ERROR: u16 = 0x8611;
+/// Overspeed alarm: not in this manual; CiA 402 8400h [background].
+pub const OVERSPEED: u16 = 0x8400;
+
+/// The alarms and warnings the seed names (mr-j4-tm.md §9; resettability mostly [MISSING]).
+pub const ALARMS: &[AlarmInfo] = &[
+    alarm(
+        0x0100,
+        "AL. 10",
+        "Undervoltage",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§9",
+    ),
+    alarm(
+        0x0250,
+        "AL. 25",
+        "Absolute position erased",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§9",
+    ),
+    alarm(
+        0x0370,
+        "AL. 37",
+        "Parameter error",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::PowerCycle,
+        "§9 [EXT]: not cleared by fault reset",
+    ),
+    alarm(
+        0x0690,
+        "AL. 69",
+        "Command error",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§9",
+    ),
+    alarm(
+        AL_86_1,
+        "AL. 86.1",
+        "Network communication error 1",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::FaultReset,
+        "§2.4, §8.3; [EXT] clears with fault reset",
+    ),
+    alarm(
+        0x0900,
+        "AL. 90",
+        "Home position return incomplete warning",
+        AlarmKind::Warning,
+        StopBehaviour::SlowStop,
+        Clearing::Automatic,
+        "§9: the motor stops",
+    ),
+    alarm(
+        0x0905,
+        "AL. 90.5",
+        "Z-phase unpassed",
+        AlarmKind::Warning,
+        StopBehaviour::Unstated,
+        Clearing::Automatic,
+        "§9",
+    ),
+    alarm(
+        0x0920,
+        "AL. 92",
+        "Battery cable disconnection warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§9",
+    ),
+    alarm(
+        0x09F0,
+        "AL. 9F",
+        "Battery warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§9",
+    ),
+    alarm(
+        0x0E30,
+        "AL. E3",
+        "Absolute position counter warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§9",
+    ),
+    alarm(
+        0x0F40,
+        "AL. F4",
+        "Positioning warning",
+        AlarmKind::Warning,
+        StopBehaviour::Unstated,
+        Clearing::Automatic,
+        "§9: reset by C_ORST",
+    ),
+    alarm(
+        0x0F48,
+        "AL. F4.8",
+        "Positioning warning (relative pp in degree)",
+        AlarmKind::Warning,
+        StopBehaviour::Unstated,
+        Clearing::Automatic,
+        "§9",
+    ),
+    alarm(
+        FOLLOWING_ERROR,
+        "8611h",
+        "Following error (CiA 402)",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::FaultReset,
+        "not in this manual (no alarm chapter, §0): CiA 402 [background]",
+    ),
+    alarm(
+        OVERSPEED,
+        "8400h",
+        "Overspeed (CiA 402)",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::FaultReset,
+        "not in this manual (no alarm chapter, §0): CiA 402 [background]",
+    ),
+];
+
+/// The objects the runtime and the simulator use (mr-j4-tm.md §7, chapter 7 itself MISSING).
+pub const OBJECTS: &[OdEntry] = &[
+    od(
+        0x1C32,
+        2,
+        "Cycle time",
+        DataType::U32,
+        Access::Rw,
+        Pdo::No,
+        Some(250_000),
+        Some((250_000, 2_000_000)),
+        "ns",
+        "§1.6: 250000/500000/1000000/2000000",
+    ),
+    od(
+        0x2D20,
+        0,
+        "Velocity limit value",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(50_000),
+        None,
+        "0.01 r/min",
+        "§5.2; default 50000 vs 5000 unresolved (§13 q7)",
+    ),
+    od(
+        0x2D23,
+        0,
+        "Watch dog counter DL",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Rx,
+        None,
+        None,
+        "",
+        "§8.3: §6.2 MISSING (width, rule, alarm unknown)",
+    ),
+    od(
+        0x2D24,
+        0,
+        "Watch dog counter UL",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§8.3: §6.2 MISSING",
+    ),
+    od(
+        0x6040,
+        0,
+        "Controlword",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "",
+        "§3.4",
+    ),
+    od(
+        0x6041,
+        0,
+        "Statusword",
+        DataType::U16,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§3.5",
+    ),
+    od(
+        0x605A,
+        0,
+        "Quick stop option code",
+        DataType::I16,
+        Access::Rw,
+        Pdo::Unstated,
+        Some(2),
+        None,
+        "",
+        "§8.1: values in MISSING §5.6",
+    ),
+    od(
+        0x605D,
+        0,
+        "Halt option code",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Unstated,
+        None,
+        None,
+        "",
+        "§8.2: values in MISSING §5.7",
+    ),
+    od(
+        0x6060,
+        0,
+        "Modes of operation",
+        DataType::I8,
+        Access::Rw,
+        Pdo::Rx,
+        Some(8),
+        None,
+        "",
+        "§1.3",
+    ),
+    od(
+        0x6061,
+        0,
+        "Modes of operation display",
+        DataType::I8,
+        Access::Ro,
+        Pdo::Tx,
+        Some(8),
+        None,
+        "",
+        "§1.3",
+    ),
+    od(
+        0x6064,
+        0,
+        "Position actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "pulse",
+        "§5.3",
+    ),
+    od(
+        0x606C,
+        0,
+        "Velocity actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "0.01 r/min",
+        "§4.2",
+    ),
+    od(
+        0x6071,
+        0,
+        "Target torque",
+        DataType::I16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "0.1 % rated",
+        "§4.2",
+    ),
+    od(
+        0x6077,
+        0,
+        "Torque actual value",
+        DataType::I16,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "0.1 % rated",
+        "§5.3 (printed I32 in ch. 5, mapped 16 bits)",
+    ),
+    od(
+        0x607A,
+        0,
+        "Target position",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "pulse",
+        "§5.2",
+    ),
+    od(
+        0x6085,
+        0,
+        "Quick stop deceleration",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Unstated,
+        Some(100),
+        None,
+        "ms",
+        "§8.1",
+    ),
+    od(
+        0x60E0,
+        0,
+        "Positive torque limit value",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(10_000),
+        None,
+        "0.1 % rated",
+        "§8.6: 0 = no torque",
+    ),
+    od(
+        0x60E1,
+        0,
+        "Negative torque limit value",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(10_000),
+        None,
+        "0.1 % rated",
+        "§8.6: 0 = no torque",
+    ),
+    od(
+        0x60F4,
+        0,
+        "Following error actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "pulse",
+        "§5.3",
+    ),
+    od(
+        0x60FF,
+        0,
+        "Target velocity",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "0.01 r/min",
+        "§4.2",
+    ),
+];
+
+/// Encoder and units (mr-j4-tm.md §1.1, §4.2).
+pub const UNITS: Units = Units {
+    counts_per_rev: Some(4_194_304),
+    other_counts_per_rev: &[],
+    position: "pulse (csp: pulses only)",
+    velocity: "0.01 r/min",
+    torque: "0.1 % of rated torque",
+    source: "mr-j4-tm.md §1.1 (22-bit rotary encoder), §4.2",
+};
+
+/// The MR-J4-TM profile (PA01 = `___0`/`___1`: the cyclic group csp/csv/cst/hm).
+///
+/// Identity: vendor/product only from an external source ([EXT] linuxcnc-ethercat), so `None`
+/// here per the spec rule (manual silent). Cycles 0.25–2 ms (§1.6; no 0.125, 4 or 8 ms). Quirks:
+/// skips allowed (§3.2), quick stop present, **never returns from Quick stop active** (16 not
+/// supported, §3.3). Fault reset held ≥ 10 ms (§3.2).
+pub const PROFILE: DriveProfile = DriveProfile {
+    model: DriveModel::MrJ4TM,
+    name: "Mitsubishi MR-J4-TM",
+    identity: Identity {
+        vendor_id: None,
+        product_code: None,
+        revision: None,
+        source: "mr-j4-tm.md §1.1: not in the manual; [EXT] 0x00000A1E / 0x00000201 unverified",
+    },
+    // §1.3: the PA01 groups are exclusive; the default group is csp/csv/cst/hm ([EXT]/[G]).
+    modes: &[
+        M::Homing,
+        M::CyclicSyncPosition,
+        M::CyclicSyncVelocity,
+        M::CyclicSyncTorque,
+    ],
+    cycle_times_us: &[250, 500, 1000, 2000],
+    rx_pdo: RX_PDO_1600,
+    tx_pdo: TX_PDO_1A00,
+    quirks: FsaQuirks {
+        shortcut_transitions: true,
+        has_quick_stop: true,
+        quick_stop_returns_to_enabled: false,
+    },
+    fault_reset_hold_ms: 10,
+    fault_reset_hold_long_cycle_ms: 10,
+    long_cycle_from_us: u32::MAX,
+    axes_per_unit: 1,
+    units: UNITS,
+    objects: OBJECTS,
+    alarms: ALARMS,
+    comm_check: CommCheck::WatchdogCounter {
+        rx_index: 0x2D23,
+        tx_index: 0x2D24,
+        loss_alarm: AL_86_1,
+    },
+    leave_op_alarm: AL_86_1,
+    // §10: leaving Op clears the internal state (servo off, SOD) [D].
+    reinit_on_leaving_op: true,
+    following_error_alarm: FOLLOWING_ERROR,
+    overspeed_alarm: OVERSPEED,
+    // §8.2: bit 8 is reserved in csp/csv/cst.
+    halt_in_cyclic_modes: false,
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cycles::CycleTime;
+
+    #[test]
+    fn tv_6_rx_1600h_offsets_unaligned() {
+        // TV-6 step 2 bytes 0, 1–2, 9–12, 17–20, 23–24, 25–26 of the 29-byte 1600h.
+        let m = &PROFILE.rx_pdo;
+        assert_eq!(m.byte_len(), 29);
+        let expect = [
+            (0x6060, 0),
+            (0x6040, 1),
+            (0x2D01, 3),
+            (0x2D02, 5),
+            (0x2D03, 7),
+            (0x607A, 9),
+            (0x60FF, 13),
+            (0x2D20, 17),
+            (0x6071, 21),
+            (0x60E0, 23),
+            (0x60E1, 25),
+            (0x60B8, 27),
+        ];
+        for (idx, off) in expect {
+            assert_eq!(m.offset_of(idx, 0), Some(off), "{idx:#06x}");
+        }
+        assert!(!m.has_counter(), "2D23h is not in the default map");
+    }
+
+    #[test]
+    fn tx_1a00h_offsets() {
+        let m = &PROFILE.tx_pdo;
+        assert_eq!(m.byte_len(), 41);
+        for (idx, off) in [
+            (0x6061, 0),
+            (0x6041, 1),
+            (0x6064, 9),
+            (0x606C, 13),
+            (0x60F4, 17),
+            (0x6077, 21),
+            (0x60B9, 23),
+            (0x60BD, 37),
+        ] {
+            assert_eq!(m.offset_of(idx, 0), Some(off), "{idx:#06x}");
+        }
+    }
+
+    #[test]
+    fn cycles_and_modes() {
+        for us in [250, 500, 1000, 2000] {
+            assert!(PROFILE.supports_cycle_time(CycleTime::from_micros(us).unwrap()));
+        }
+        for us in [125, 4000, 8000] {
+            assert!(!PROFILE.supports_cycle_time(CycleTime::from_micros(us).unwrap()));
+        }
+        assert!(PROFILE.supports_mode(M::CyclicSyncTorque));
+        assert!(!PROFILE.supports_mode(M::ProfilePosition));
+        assert_eq!(PROFILE.vendor_id(), None);
+        assert_eq!(PROFILE.units.counts_per_rev, Some(4_194_304));
+    }
+}

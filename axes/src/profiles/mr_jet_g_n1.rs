@@ -1,0 +1,521 @@
+//! Mitsubishi MR-JET-G-N1, from mr-jet-g-n1.md (manual IB(NA)-0300500ENG-H).
+
+use super::facts::{alarm, od};
+use super::{
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
+    Identity, OdEntry, Pdo, StopBehaviour, Units,
+};
+use crate::cia402::fsa::FsaQuirks;
+use crate::cia402::mode::ModeOfOperation as M;
+use crate::cycles::ALLOWED_MICROS;
+use crate::pdo::{PdoEntry, PdoMap};
+
+const fn obj(index: u16, bits: u16) -> PdoEntry {
+    PdoEntry::object(index, 0, bits)
+}
+
+/// Default 1st RxPDO 1600h, 24 bytes (mr-jet-g-n1.md §5.2; sizes inferred from the total).
+pub const RX_PDO_1600: PdoMap = PdoMap {
+    index: 0x1600,
+    entries: &[
+        obj(0x6060, 8),       // 0  Modes of operation
+        PdoEntry::padding(8), // 1  padding
+        obj(0x6040, 16),      // 2  Controlword
+        obj(0x2D01, 16),      // 4  Control DI 1
+        obj(0x2D02, 16),      // 6  Control DI 2
+        obj(0x2D03, 16),      // 8  Control DI 3
+        obj(0x607A, 32),      // 10 Target position
+        obj(0x60FF, 32),      // 14 Target velocity
+        obj(0x2D20, 32),      // 18 Velocity limit value
+        obj(0x6071, 16),      // 22 Target torque
+    ],
+};
+
+/// Default 1st TxPDO 1A00h, 24 bytes (mr-jet-g-n1.md §5.3).
+pub const TX_PDO_1A00: PdoMap = PdoMap {
+    index: 0x1A00,
+    entries: &[
+        obj(0x6061, 8),       // 0  Modes of operation display
+        PdoEntry::padding(8), // 1  padding
+        obj(0x6041, 16),      // 2  Statusword
+        obj(0x2D11, 16),      // 4  Status DO 1
+        obj(0x2D12, 16),      // 6  Status DO 2
+        obj(0x2D13, 16),      // 8  Status DO 3
+        obj(0x6064, 32),      // 10 Position actual value
+        obj(0x606C, 32),      // 14 Velocity actual value
+        obj(0x60F4, 32),      // 18 Following error actual value
+        obj(0x6077, 16),      // 22 Torque actual value
+    ],
+};
+
+/// Alarm code encoding: AL.XXX.Y → 0xXXXY (AL.086.1 → 0x0861); no alarm object in the manual.
+pub const AL_086_1: u16 = 0x0861;
+/// Following-error alarm: the manual has no alarm list (§9); CiA 402 8611h [background].
+pub const FOLLOWING_ERROR: u16 = 0x8611;
+/// Overspeed alarm: not in the manual (§9); CiA 402 8400h [background].
+pub const OVERSPEED: u16 = 0x8400;
+
+/// The alarms and warnings the manual names (mr-jet-g-n1.md §9; no stop methods there).
+pub const ALARMS: &[AlarmInfo] = &[
+    alarm(
+        0x0250,
+        "AL.025",
+        "Absolute position erased",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§9, §8",
+    ),
+    alarm(
+        0x0251,
+        "AL.025.1",
+        "Servo motor encoder absolute position erased",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::PowerCycle,
+        "§8: cycle the power after 5 s",
+    ),
+    alarm(
+        0x0370,
+        "AL.037",
+        "Parameter error",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§1.2, §8.2",
+    ),
+    alarm(
+        AL_086_1,
+        "AL.086.1",
+        "Network receive data error (Network communication error 1)",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§2.4: PN18 / 10F1h:02, counting rule not given",
+    ),
+    alarm(
+        0x0901,
+        "AL.090.1",
+        "Homing incomplete",
+        AlarmKind::Warning,
+        StopBehaviour::Unstated,
+        Clearing::Automatic,
+        "§8",
+    ),
+    alarm(
+        0x0905,
+        "AL.090.5",
+        "Homing incomplete warning",
+        AlarmKind::Warning,
+        StopBehaviour::Unstated,
+        Clearing::Automatic,
+        "§8.2",
+    ),
+    alarm(
+        0x09E9,
+        "AL.09E.9",
+        "Control mode setting warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§1.4",
+    ),
+    alarm(
+        0x0E31,
+        "AL.0E3.1",
+        "Multi-revolution counter travel distance exceeded warning",
+        AlarmKind::Warning,
+        StopBehaviour::Continues,
+        Clearing::Automatic,
+        "§8, §8.2",
+    ),
+    alarm(
+        0x5372,
+        "AL.537.2",
+        "Parameter combination error A (safety)",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§9",
+    ),
+    alarm(
+        0x5841,
+        "AL.584.1",
+        "FSoE Address mismatch error",
+        AlarmKind::Alarm,
+        StopBehaviour::Unstated,
+        Clearing::Unstated,
+        "§9",
+    ),
+    alarm(
+        FOLLOWING_ERROR,
+        "8611h",
+        "Following error (CiA 402)",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::FaultReset,
+        "not in the manual (§9 has no complete list): CiA 402 [background]",
+    ),
+    alarm(
+        OVERSPEED,
+        "8400h",
+        "Overspeed (CiA 402)",
+        AlarmKind::Alarm,
+        StopBehaviour::DynamicBrake,
+        Clearing::FaultReset,
+        "not in the manual: CiA 402 [background]",
+    ),
+];
+
+/// The objects the runtime and the simulator use (mr-jet-g-n1.md §6).
+pub const OBJECTS: &[OdEntry] = &[
+    od(
+        0x10F1,
+        2,
+        "Sync Error Counter Limit",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::No,
+        None,
+        None,
+        "events",
+        "§2.4: type, default, counting rule not stated",
+    ),
+    od(
+        0x1C32,
+        2,
+        "Cycle time",
+        DataType::U32,
+        Access::Rw,
+        Pdo::No,
+        Some(250_000),
+        Some((125_000, 8_000_000)),
+        "ns [background]",
+        "§1.3, §6",
+    ),
+    od(
+        0x2D01,
+        0,
+        "Control DI 1",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "",
+        "§6",
+    ),
+    od(
+        0x2D20,
+        0,
+        "Velocity limit value",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Rx,
+        None,
+        None,
+        "",
+        "§6: 4 bytes inferred",
+    ),
+    od(
+        0x2D6D,
+        2,
+        "Positive torque limit value 2",
+        DataType::U16,
+        Access::Rw,
+        Pdo::No,
+        Some(10_000),
+        Some((0, 10_000)),
+        "0.1 % rated",
+        "§6, §8.1",
+    ),
+    od(
+        0x6040,
+        0,
+        "Controlword",
+        DataType::U16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "",
+        "§3.3",
+    ),
+    od(
+        0x6041,
+        0,
+        "Statusword",
+        DataType::U16,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§3.4",
+    ),
+    od(
+        0x605A,
+        0,
+        "Quick stop option code",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Unstated,
+        None,
+        Some((1, 8)),
+        "",
+        "§3.5: 5–8 FW D0 or later; default not stated",
+    ),
+    od(
+        0x6060,
+        0,
+        "Modes of operation",
+        DataType::I8,
+        Access::Rw,
+        Pdo::Rx,
+        Some(8),
+        None,
+        "",
+        "§1.2",
+    ),
+    od(
+        0x6061,
+        0,
+        "Modes of operation display",
+        DataType::I8,
+        Access::Ro,
+        Pdo::Tx,
+        Some(8),
+        None,
+        "",
+        "§1.2",
+    ),
+    od(
+        0x6064,
+        0,
+        "Position actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "pos units",
+        "§6 (type inferred)",
+    ),
+    od(
+        0x606C,
+        0,
+        "Velocity actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "not stated",
+        "§6",
+    ),
+    od(
+        0x6071,
+        0,
+        "Target torque",
+        DataType::I16,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "0.1 % rated [background]",
+        "§6",
+    ),
+    od(
+        0x6077,
+        0,
+        "Torque actual value",
+        DataType::I16,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "0.1 % rated [background]",
+        "§6",
+    ),
+    od(
+        0x607A,
+        0,
+        "Target position",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "pos units",
+        "§6",
+    ),
+    od(
+        0x60E0,
+        0,
+        "Positive torque limit value",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Unstated,
+        None,
+        None,
+        "0.1 % rated",
+        "§6: = PA11",
+    ),
+    od(
+        0x60E1,
+        0,
+        "Negative torque limit value",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Unstated,
+        None,
+        None,
+        "0.1 % rated",
+        "§6: = PA12",
+    ),
+    od(
+        0x60F4,
+        0,
+        "Following error actual value",
+        DataType::I32,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "pos units",
+        "§6",
+    ),
+    od(
+        0x60FF,
+        0,
+        "Target velocity",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "not stated",
+        "§6",
+    ),
+    od(
+        0x6502,
+        0,
+        "Supported drive modes",
+        DataType::U32,
+        Access::Ro,
+        Pdo::No,
+        Some(0x0003_03AD),
+        None,
+        "",
+        "§1.2: bits 0, 2, 3, 5, 7, 8, 9, 16, 17",
+    ),
+];
+
+/// Encoder and units (mr-jet-g-n1.md §8): 2^26 appears only as an example resolution.
+pub const UNITS: Units = Units {
+    counts_per_rev: None,
+    other_counts_per_rev: &[67_108_864],
+    position: "pos units (electronic gear PA06/PA07)",
+    velocity: "not stated (Object Dictionary manual)",
+    torque: "0.1 % of rated torque",
+    source: "mr-jet-g-n1.md §8: 2^26 pulses/rev only in the infinite-feed example; factor group not in this manual",
+};
+
+/// The MR-JET-G-N1 profile (PA01.0 = 0, PT01.2 = pulse: pp, pv, tq, hm, csp, csv, cst; jg/pt
+/// need PA01.0 = 6 and are not modes this crate models).
+pub const PROFILE: DriveProfile = DriveProfile {
+    model: DriveModel::MrJetGN1,
+    name: "Mitsubishi MR-JET-G-N1",
+    identity: Identity {
+        vendor_id: None,
+        product_code: None,
+        revision: None,
+        source: "mr-jet-g-n1.md §1.1: not in this manual (in the ESI file)",
+    },
+    modes: &[
+        M::ProfilePosition,
+        M::ProfileVelocity,
+        M::ProfileTorque,
+        M::Homing,
+        M::CyclicSyncPosition,
+        M::CyclicSyncVelocity,
+        M::CyclicSyncTorque,
+    ],
+    cycle_times_us: &ALLOWED_MICROS,
+    rx_pdo: RX_PDO_1600,
+    tx_pdo: TX_PDO_1A00,
+    // (16) only with 605Ah 5–8 on FW D0+; the default option code is in 1–4 (§3.5) [inferred].
+    quirks: FsaQuirks {
+        shortcut_transitions: true,
+        has_quick_stop: true,
+        quick_stop_returns_to_enabled: false,
+    },
+    fault_reset_hold_ms: 10,
+    fault_reset_hold_long_cycle_ms: 20,
+    long_cycle_from_us: 8000,
+    axes_per_unit: 1,
+    units: UNITS,
+    objects: OBJECTS,
+    alarms: ALARMS,
+    comm_check: CommCheck::SyncErrorCounter { alarm: AL_086_1 },
+    leave_op_alarm: AL_086_1,
+    reinit_on_leaving_op: true,
+    following_error_alarm: FOLLOWING_ERROR,
+    overspeed_alarm: OVERSPEED,
+    halt_in_cyclic_modes: true,
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cycles::{CycleTime, Cycles};
+
+    #[test]
+    fn default_maps_24_bytes_at_the_offsets() {
+        let rx = &PROFILE.rx_pdo;
+        assert_eq!(rx.byte_len(), 24);
+        for (idx, off) in [
+            (0x6060, 0),
+            (0x6040, 2),
+            (0x2D01, 4),
+            (0x2D02, 6),
+            (0x2D03, 8),
+            (0x607A, 10),
+            (0x60FF, 14),
+            (0x2D20, 18),
+            (0x6071, 22),
+        ] {
+            assert_eq!(rx.offset_of(idx, 0), Some(off), "{idx:#06x}");
+        }
+        let tx = &PROFILE.tx_pdo;
+        assert_eq!(tx.byte_len(), 24);
+        for (idx, off) in [
+            (0x6061, 0),
+            (0x6041, 2),
+            (0x2D11, 4),
+            (0x6064, 10),
+            (0x606C, 14),
+            (0x60F4, 18),
+            (0x6077, 22),
+        ] {
+            assert_eq!(tx.offset_of(idx, 0), Some(off), "{idx:#06x}");
+        }
+    }
+
+    #[test]
+    fn tv_4_fault_reset_hold_cycles() {
+        // mr-jet-g-n1.md TV-4 cycle counts.
+        for (us, n) in [
+            (125, 80),
+            (250, 40),
+            (500, 20),
+            (1000, 10),
+            (2000, 5),
+            (4000, 3),
+            (8000, 3),
+        ] {
+            let c = CycleTime::from_micros(us).unwrap();
+            assert_eq!(PROFILE.fault_reset_hold(c), Cycles(n), "{us} µs");
+        }
+    }
+}

@@ -1,0 +1,553 @@
+//! Test vectors of mr-j4-tm.md §12, mr-jet-g-n1.md §11 and mr-j5-g-n1.md §11 against the
+//! simulated drives and the master. Vectors the Review logs mark "do not rely on" are tested
+//! only as the documented simulator default (named `*_configured_default`).
+
+mod common;
+
+use cellrt_axes::profiles::{mr_j4_tm, mr_j5_g_n1, mr_jet_g_n1};
+use cellrt_axes::{
+    profile, AxisMaster, Bus, Controlword, CycleTime, Cycles, DriveModel, FsaState, MasterRequest,
+    ModeOfOperation, RxPdo, SimBus, SimDrive, SimDriveParams,
+};
+use common::{boot, csp, drive, enabled, exchange, lost, masked, move_csp, send};
+
+const CYCLIC_1601: [DriveModel; 3] = [
+    DriveModel::MrJ4TM,
+    DriveModel::MrJetGN1,
+    DriveModel::MrJ5GN1,
+];
+
+fn d(model: DriveModel) -> SimDrive {
+    drive(model, 1000, SimDriveParams::default())
+}
+
+/// TV-1 of every model: SOD → RTSO → SO → OE (and back on MR-JET).
+fn tv_1(model: DriveModel) {
+    let mut d = d(model);
+    boot(&mut d);
+    assert!(masked(send(&mut d, 0x0000), 0x414F, 0x0040));
+    assert!(masked(send(&mut d, 0x0006), 0x416F, 0x0021));
+    assert!(masked(send(&mut d, 0x0007), 0x416F, 0x0023));
+    assert!(masked(send(&mut d, 0x000F), 0x416F, 0x0027));
+    assert!(masked(send(&mut d, 0x0007), 0x416F, 0x0023));
+    assert!(masked(send(&mut d, 0x0006), 0x416F, 0x0021));
+    assert!(masked(send(&mut d, 0x0000), 0x414F, 0x0040));
+}
+
+#[test]
+fn tv_1_normal_enable_mr_j4_tm() {
+    tv_1(DriveModel::MrJ4TM);
+}
+
+#[test]
+fn tv_1_normal_enable_mr_jet_g_n1() {
+    tv_1(DriveModel::MrJetGN1);
+}
+
+#[test]
+fn tv_1_enable_axis_a_mr_j5_g_n1() {
+    tv_1(DriveModel::MrJ5GN1);
+    tv_1(DriveModel::MrJ5W2GN1);
+    tv_1(DriveModel::MrJ5W3GN1);
+}
+
+#[test]
+fn tv_2_skipped_enable_and_tv_3_shortcuts() {
+    // J4-TM TV-2, JET TV-2, J5 TV-3.
+    for model in CYCLIC_1601 {
+        for (path, cw, want) in [
+            (&[][..], 0x0007u16, 0x0023u16),
+            (&[][..], 0x000F, 0x0027),
+            (&[0x06u16][..], 0x000F, 0x0027),
+        ] {
+            let mut d = d(model);
+            boot(&mut d);
+            for &w in path {
+                send(&mut d, w);
+            }
+            assert!(masked(send(&mut d, cw), 0x006F, want), "{model}");
+        }
+    }
+}
+
+#[test]
+fn tv_3_disable_paths_mr_j4_tm() {
+    let cases: [(&[u16], u16, u16, u16); 7] = [
+        (&[0x0F], 0x0007, 0x6F, 0x23),
+        (&[0x0F], 0x0006, 0x6F, 0x21),
+        (&[0x0F], 0x0000, 0x4F, 0x40),
+        (&[0x06, 0x07], 0x0006, 0x6F, 0x21),
+        (&[0x06, 0x07], 0x0000, 0x4F, 0x40),
+        (&[0x06, 0x07], 0x0002, 0x4F, 0x40),
+        (&[0x06], 0x0002, 0x4F, 0x40),
+    ];
+    for (path, cw, mask, want) in cases {
+        let mut d = d(DriveModel::MrJ4TM);
+        boot(&mut d);
+        for &w in path {
+            send(&mut d, w);
+        }
+        assert!(masked(send(&mut d, cw), mask, want), "{path:?} + {cw:#06x}");
+    }
+}
+
+#[test]
+fn tv_5_disable_voltage_from_oe_mr_jet_g_n1() {
+    let mut d = d(DriveModel::MrJetGN1);
+    enabled(&mut d);
+    assert!(masked(send(&mut d, 0x0000), 0x414F, 0x0040));
+}
+
+/// Quick stop from a moving OE: QSA with bit 5 = 0, 0x000F does not return to OE, SOD by itself.
+fn tv_quick_stop(model: DriveModel) {
+    let mut d = d(model);
+    enabled(&mut d);
+    move_csp(&mut d, 2_000, 200);
+    assert!(d.tx_pdo().statusword.quick_stop());
+    let sw = send(&mut d, 0x000B);
+    assert!(
+        masked(sw, 0x416F, 0x0007) && !sw.quick_stop(),
+        "{model}: {sw}"
+    );
+    let mut states = Vec::new();
+    for _ in 0..1000 {
+        let sw = send(&mut d, 0x000F);
+        states.push(sw.state());
+        if d.state() == FsaState::SwitchOnDisabled {
+            break;
+        }
+    }
+    assert!(
+        !states.contains(&Some(FsaState::OperationEnabled)),
+        "{model}: no (16)"
+    );
+    assert_eq!(
+        d.state(),
+        FsaState::SwitchOnDisabled,
+        "{model}: (12) by itself"
+    );
+    assert_eq!(d.plant().velocity(), 0.0);
+    // (12b): Disable Voltage during QSA.
+    let mut d2 = drive(model, 1000, SimDriveParams::default());
+    enabled(&mut d2);
+    move_csp(&mut d2, 2_000, 200);
+    send(&mut d2, 0x000B);
+    assert!(masked(send(&mut d2, 0x0000), 0x414F, 0x0040));
+}
+
+#[test]
+fn tv_4_quick_stop_mr_j4_tm() {
+    tv_quick_stop(DriveModel::MrJ4TM);
+}
+
+#[test]
+fn tv_3_quick_stop_mr_jet_g_n1() {
+    tv_quick_stop(DriveModel::MrJetGN1);
+}
+
+#[test]
+fn tv_4_quick_stop_mr_j5_g_n1() {
+    tv_quick_stop(DriveModel::MrJ5GN1);
+    tv_quick_stop(DriveModel::MrJ5W3GN1);
+}
+
+/// Fault → 0x0000 → 0x0080 held for the model's hold → SOD → enable; the master holds exactly
+/// the hold at every cycle time the model supports.
+fn tv_fault_reset(model: DriveModel, expect: &[(u32, u32)]) {
+    let p = profile(model);
+    for &(us, n) in expect {
+        let ct = CycleTime::from_micros(us).unwrap();
+        assert_eq!(p.fault_reset_hold(ct), Cycles(n), "{model} {us} µs");
+        let mut d = SimDrive::new(p, SimDriveParams::default(), ct);
+        enabled(&mut d);
+        d.inject_alarm(0x0321);
+        let sw = send(&mut d, 0x000F);
+        assert!(masked(sw, 0x414F, 0x0008) && sw.fault());
+        let mut m = AxisMaster::for_profile(p, ct, Cycles(200));
+        m.request(MasterRequest::Enable);
+        let mut cws = Vec::new();
+        for _ in 0..400 {
+            let cw = m.update(d.tx_pdo().statusword);
+            cws.push(cw);
+            send(&mut d, cw.0);
+            if m.is_enabled() {
+                break;
+            }
+        }
+        let first = cws.iter().position(|c| c.fault_reset()).unwrap();
+        assert!(first == 0 || !cws[first - 1].fault_reset());
+        let held = cws[first..].iter().take_while(|c| c.fault_reset()).count() as u32;
+        assert_eq!(held, n, "{model} {us} µs");
+        assert!(m.is_enabled(), "{model} {us} µs");
+    }
+    // A non-resettable alarm stays in Fault.
+    if let Some(a) = p.alarms.iter().find(|a| !a.resettable()) {
+        let mut d = d(model);
+        enabled(&mut d);
+        d.inject_alarm(a.code);
+        send(&mut d, 0);
+        for _ in 0..20 {
+            send(&mut d, 0x80);
+        }
+        assert!(
+            masked(d.tx_pdo().statusword, 0x414F, 0x0008),
+            "{model} {}",
+            a.display
+        );
+    }
+}
+
+#[test]
+fn tv_5_fault_and_reset_mr_j4_tm() {
+    tv_fault_reset(
+        DriveModel::MrJ4TM,
+        &[(250, 40), (500, 20), (1000, 10), (2000, 5)],
+    );
+}
+
+#[test]
+fn tv_4_fault_and_reset_mr_jet_g_n1() {
+    tv_fault_reset(
+        DriveModel::MrJetGN1,
+        &[
+            (125, 80),
+            (250, 40),
+            (500, 20),
+            (1000, 10),
+            (2000, 5),
+            (4000, 3),
+            (8000, 3),
+        ],
+    );
+}
+
+#[test]
+fn tv_5_fault_reset_hold_8ms_mr_j5_g_n1() {
+    tv_fault_reset(
+        DriveModel::MrJ5GN1,
+        &[
+            (125, 80),
+            (250, 40),
+            (500, 20),
+            (1000, 10),
+            (2000, 5),
+            (4000, 3),
+            (8000, 3),
+        ],
+    );
+    tv_fault_reset(DriveModel::MrJ5W2GN1, &[(250, 40), (8000, 3)]);
+}
+
+#[test]
+fn tv_6_csp_start_mr_j4_tm() {
+    let mut d = d(DriveModel::MrJ4TM);
+    boot(&mut d);
+    let p = d.profile();
+    let pos = d.tx_pdo().position_actual;
+    let rx = RxPdo {
+        mode: 8,
+        controlword: Controlword(0),
+        target_position: pos,
+        velocity_limit: 50_000,
+        torque_limit_positive: 0x2710,
+        torque_limit_negative: 0x2710,
+        ..RxPdo::default()
+    };
+    let mut b = [0u8; 29];
+    p.rx_pdo.encode_rx(&rx, &mut b).unwrap();
+    assert_eq!(b[0], 0x08);
+    assert_eq!(&b[1..3], &[0, 0]);
+    assert_eq!(&b[9..13], &pos.to_le_bytes());
+    assert_eq!(&b[17..21], &50_000u32.to_le_bytes());
+    assert_eq!(&b[23..25], &[0x10, 0x27]);
+    assert_eq!(&b[25..27], &[0x10, 0x27]);
+    assert_eq!(exchange(&mut d, &rx).mode_display, 8);
+    for cw in [0x06, 0x07, 0x0F] {
+        send(&mut d, cw);
+    }
+    let tx = exchange(
+        &mut d,
+        &RxPdo {
+            controlword: Controlword(0x0F),
+            ..rx
+        },
+    );
+    assert!(tx.statusword.drive_follows_command() && !tx.statusword.following_error());
+    move_csp(&mut d, 500, 200);
+    let tx = *d.tx_pdo();
+    assert!(tx.position_actual > pos + 50_000 && tx.following_error > 0);
+    // §5.2 warning: 60E0h/60E1h = 0 give no torque: the motor cannot follow.
+    let mut z = drive(DriveModel::MrJ4TM, 1000, SimDriveParams::default());
+    enabled(&mut z);
+    let start = z.tx_pdo().position_actual;
+    for k in 1..=50 {
+        exchange(
+            &mut z,
+            &RxPdo {
+                torque_limit_positive: 0,
+                torque_limit_negative: 0,
+                ..csp(Controlword(0x0F), start + 500 * k)
+            },
+        );
+    }
+    assert!(
+        (z.tx_pdo().position_actual - start).abs() <= 1,
+        "no torque, no motion"
+    );
+}
+
+/// Mode switch to/from a position mode waits for zero speed while 6060h keeps being sent.
+fn mode_gate(model: DriveModel, from: i8, to: i8) {
+    let mut d = drive(
+        model,
+        1000,
+        SimDriveParams {
+            zero_speed: 10.0,
+            ..SimDriveParams::default()
+        },
+    );
+    enabled(&mut d);
+    let mut rx = RxPdo {
+        mode: from,
+        controlword: Controlword(0x0F),
+        target_velocity: 50_000,
+        target_position: d.tx_pdo().position_actual,
+        ..RxPdo::default()
+    };
+    exchange(&mut d, &rx);
+    assert_eq!(d.tx_pdo().mode_display, from);
+    if from == 8 {
+        move_csp(&mut d, 1_000, 100);
+    } else {
+        for _ in 0..100 {
+            exchange(&mut d, &rx);
+        }
+    }
+    rx.mode = to;
+    rx.target_position = d.tx_pdo().position_actual + 1_000;
+    assert_eq!(
+        exchange(&mut d, &rx).mode_display,
+        from,
+        "{model}: moving, stays"
+    );
+    rx.target_velocity = 0;
+    let mut n = 0;
+    while d.tx_pdo().mode_display != to && n < 3000 {
+        rx.target_position = d.tx_pdo().position_actual;
+        exchange(&mut d, &rx);
+        n += 1;
+    }
+    assert_eq!(d.tx_pdo().mode_display, to, "{model}");
+}
+
+#[test]
+fn tv_7_mode_switch_gate_mr_j4_tm() {
+    mode_gate(DriveModel::MrJ4TM, 9, 8);
+}
+
+#[test]
+fn tv_6_mode_switch_blocked_by_motion_mr_jet_g_n1() {
+    mode_gate(DriveModel::MrJetGN1, 8, 9);
+}
+
+#[test]
+fn tv_9_mode_switch_gate_mr_j5_g_n1() {
+    mode_gate(DriveModel::MrJ5GN1, 8, 1);
+}
+
+#[test]
+fn tv_8_modes_on_multi_axis_mr_j5w2() {
+    let mut d = d(DriveModel::MrJ5W2GN1);
+    enabled(&mut d);
+    let rx = RxPdo {
+        mode: 3,
+        ..csp(Controlword(0x0F), d.tx_pdo().position_actual)
+    };
+    assert_eq!(
+        exchange(&mut d, &rx).mode_display,
+        8,
+        "pv refused: 6061h keeps 8"
+    );
+    let p = profile(DriveModel::MrJ5W2GN1);
+    assert!(!p.supports_mode(ModeOfOperation::ProfileTorque));
+    assert!(p.supports_mode(ModeOfOperation::ProfilePosition));
+}
+
+#[test]
+fn tv_2_enable_axis_b_on_mr_j5w2() {
+    let p = profile(DriveModel::MrJ5W2GN1);
+    assert_eq!(mr_j5_g_n1::axis_index(0x6040, 1), Some(0x6840));
+    assert_eq!(mr_j5_g_n1::axis_index(0x6041, 2), Some(0x7041));
+    assert_eq!(mr_j5_g_n1::axis_index(0x2D01, 1), Some(0x3D01));
+    assert_eq!(mr_j5_g_n1::axis_index(0x1600, 2), Some(0x1620));
+    assert_eq!(mr_j5_g_n1::axis_index(0x1C12, 1), Some(0x1C12));
+    let ct = CycleTime::from_micros(1000).unwrap();
+    let mut bus = SimBus::new(vec![
+        SimDrive::new(p, SimDriveParams::default(), ct),
+        SimDrive::new(p, SimDriveParams::default(), ct),
+    ]);
+    for k in 0..8 {
+        for axis in 0..2 {
+            let cw = if axis == 1 && k >= 3 {
+                [0x06, 0x07, 0x0F, 0x0F, 0x0F][k - 3]
+            } else {
+                0
+            };
+            p.rx_pdo
+                .encode_rx(&csp(Controlword(cw), 0), bus.rx_image_mut(axis))
+                .unwrap();
+        }
+        bus.exchange(Cycles(1)).unwrap();
+    }
+    assert_eq!(bus.drive(0).state(), FsaState::SwitchOnDisabled);
+    assert_eq!(bus.drive(1).state(), FsaState::OperationEnabled);
+    // Leaving OP resets the station: axis B (enabled) alarms, axis A re-initialises.
+    assert_eq!(bus.leave_op(), 1);
+    assert_eq!(bus.drive(0).state(), FsaState::SwitchOnDisabled);
+    assert_eq!(bus.drive(1).alarm(), Some(mr_j5_g_n1::AL_086_1));
+}
+
+#[test]
+fn tv_6_cycle_time_limits_mr_j5() {
+    let c = |us| CycleTime::from_micros(us).unwrap();
+    assert!(profile(DriveModel::MrJ5GN1).supports_cycle_time(c(125)));
+    for m in [DriveModel::MrJ5W2GN1, DriveModel::MrJ5W3GN1] {
+        assert!(!profile(m).supports_cycle_time(c(125)), "{m}");
+        assert!(profile(m).supports_cycle_time(c(250)), "{m}");
+    }
+}
+
+#[test]
+fn tv_7_pdo_size_mr_j5w3() {
+    // 1600h + 1610h + 1620h = 72 bytes ≤ 120 at 0.25 ms.
+    let p = profile(DriveModel::MrJ5W3GN1);
+    assert_eq!(p.rx_pdo.byte_len() * usize::from(p.axes_per_unit), 72);
+    assert_eq!(p.tx_pdo.byte_len() * usize::from(p.axes_per_unit), 72);
+}
+
+#[test]
+fn tv_10_cycle_time_mr_jet_g_n1() {
+    let p = profile(DriveModel::MrJetGN1);
+    assert!(p.supports_cycle_time(CycleTime::from_micros(125).unwrap()));
+    assert!(p.supports_cycle_time(CycleTime::from_micros(8000).unwrap()));
+    assert!(CycleTime::from_micros(3000).is_err());
+    assert_eq!(p.object(0x1C32, 2).and_then(|o| o.default), Some(250_000));
+}
+
+/// Clean disconnect (stop, Shutdown, PreOp) raises nothing; lost frames raise the model's alarm
+/// under the configured sync-error counter model (+3 per lost, −1 per good, limit 4).
+fn disconnect(model: DriveModel, alarm: u16) {
+    let mut d = d(model);
+    enabled(&mut d);
+    let mut m = AxisMaster::for_profile(d.profile(), d.cycle_time(), Cycles(100));
+    m.request(MasterRequest::Disable);
+    for _ in 0..5 {
+        let cw = m.update(d.tx_pdo().statusword);
+        send(&mut d, cw.0);
+    }
+    assert!(m.ready_to_leave_op());
+    assert_eq!(d.leave_op(), None, "{model}");
+    for _ in 0..50 {
+        lost(&mut d);
+    }
+    assert_eq!(d.alarm(), None);
+    // Straight out of OP while enabled.
+    let mut d = drive(model, 1000, SimDriveParams::default());
+    enabled(&mut d);
+    assert_eq!(d.leave_op(), Some(alarm), "{model}");
+    // Frames lost in OE: configured counter model.
+    let mut d = drive(model, 1000, SimDriveParams::default());
+    enabled(&mut d);
+    lost(&mut d);
+    assert_eq!(d.alarm(), None, "{model}: 3 ≤ 4");
+    send(&mut d, 0x0F);
+    assert_eq!(d.sync_errors(), 2);
+    lost(&mut d);
+    assert_eq!(d.alarm(), Some(alarm), "{model}: 5 > 4");
+}
+
+#[test]
+fn tv_11_disconnect_configured_default_mr_jet_g_n1() {
+    disconnect(DriveModel::MrJetGN1, mr_jet_g_n1::AL_086_1);
+}
+
+#[test]
+fn tv_13_disconnect_configured_default_mr_j5_g_n1() {
+    disconnect(DriveModel::MrJ5GN1, mr_j5_g_n1::AL_086_1);
+}
+
+#[test]
+fn watchdog_counter_provisional_default_mr_j4_tm() {
+    // §8.3: 2D23h/2D24h are not in the default maps; the sim counts lost frames like the
+    // sync-error counter and raises AL. 86.1 (provisional, configurable).
+    disconnect(DriveModel::MrJ4TM, mr_j4_tm::AL_86_1);
+    assert!(!profile(DriveModel::MrJ4TM).rx_pdo.has_counter());
+}
+
+#[test]
+fn halt_stops_in_cyclic_modes_only_where_the_model_honours_it() {
+    for (model, honoured) in [
+        (DriveModel::MrJ5GN1, true),
+        (DriveModel::MrJetGN1, true),
+        (DriveModel::MrJ4TM, false),
+        (DriveModel::MrJ3T04, false),
+    ] {
+        let mut d = d(model);
+        enabled(&mut d);
+        let mut m = AxisMaster::for_profile(d.profile(), d.cycle_time(), Cycles(100));
+        m.request(MasterRequest::Enable);
+        m.set_halt(true);
+        let cw = m.update(d.tx_pdo().statusword);
+        assert_eq!(cw.0, 0x010F, "{model}");
+        let start = d.tx_pdo().position_actual;
+        for k in 1..=100 {
+            exchange(&mut d, &csp(cw, start + 200 * k));
+        }
+        let moved = d.tx_pdo().position_actual - start;
+        assert_eq!(moved.abs() < 100, honoured, "{model}: moved {moved}");
+        assert_eq!(d.state(), FsaState::OperationEnabled);
+    }
+}
+
+#[test]
+fn cst_torque_within_limits_mr_jet_g_n1() {
+    let mut d = d(DriveModel::MrJetGN1);
+    enabled(&mut d);
+    let rx = RxPdo {
+        mode: 10,
+        controlword: Controlword(0x0F),
+        target_torque: 1000, // 100.0 % rated = max_acceleration / 3
+        velocity_limit: 100_000,
+        ..RxPdo::default()
+    };
+    for _ in 0..3 {
+        exchange(&mut d, &rx);
+    }
+    assert_eq!(d.tx_pdo().mode_display, 10);
+    let tq = d.tx_pdo().torque_actual;
+    assert!((990..=1010).contains(&tq), "{tq}");
+    for _ in 0..200 {
+        exchange(&mut d, &rx);
+    }
+    assert!(
+        (d.plant().velocity() - 100_000.0).abs() < 1.0,
+        "speed limit 2D20h"
+    );
+    // Torque limit 60E0h (not mapped on the JET default map: the RxPdo default applies) and
+    // the limit through the plant: 50.0 % caps 100 %.
+    let mut p = SimDrive::new(
+        profile(DriveModel::MrJ4TM),
+        SimDriveParams::default(),
+        CycleTime::from_micros(1000).unwrap(),
+    );
+    enabled(&mut p);
+    let rx = RxPdo {
+        torque_limit_positive: 500,
+        ..rx
+    };
+    for _ in 0..3 {
+        exchange(&mut p, &rx);
+    }
+    let tq = p.tx_pdo().torque_actual;
+    assert!((490..=510).contains(&tq), "{tq}");
+}

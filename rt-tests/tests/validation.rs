@@ -1,0 +1,68 @@
+//! Argument validation of the benchmarks: clear messages naming the option, as bad input.
+
+use cellrt_rt_tests::compare::CompareOptions;
+use cellrt_rt_tests::latency::LatencyOptions;
+use cellrt_rt_tests::loopbench::{config_text, program_text, LoopOptions};
+use cellrt_rt_tests::BenchError;
+
+fn bad(r: Result<impl std::fmt::Debug, BenchError>, option: &str) {
+    match r {
+        Err(BenchError::BadInput(msg)) => assert!(msg.starts_with(option), "{msg}"),
+        other => panic!("expected bad input for {option}, got {other:?}"),
+    }
+}
+
+#[test]
+fn latency_options() {
+    assert!(LatencyOptions::new(1000, 1.0, 80, None).is_ok());
+    assert!(LatencyOptions::new(50, 0.1, 1, Some(0)).is_ok());
+    assert!(LatencyOptions::new(1_000_000, 1.0, 99, None).is_ok());
+    bad(LatencyOptions::new(49, 1.0, 80, None), "--interval");
+    bad(LatencyOptions::new(1_000_001, 1.0, 80, None), "--interval");
+    bad(LatencyOptions::new(1000, 0.0, 80, None), "--duration");
+    bad(LatencyOptions::new(1000, -1.0, 80, None), "--duration");
+    bad(LatencyOptions::new(1000, f64::NAN, 80, None), "--duration");
+    bad(LatencyOptions::new(1000, 1.0, 0, None), "--priority");
+    bad(LatencyOptions::new(1000, 1.0, 100, None), "--priority");
+    bad(LatencyOptions::new(1000, 1.0, 80, Some(4096)), "--cpu");
+}
+
+#[test]
+fn compare_options() {
+    assert!(CompareOptions::new(250, 10.0, 80, None, false, 4).is_ok());
+    bad(
+        CompareOptions::new(250, 1.5, 80, None, false, 4),
+        "--duration",
+    );
+    bad(
+        CompareOptions::new(250, 1.0, 80, None, false, 0),
+        "--rounds",
+    );
+    bad(
+        CompareOptions::new(20, 1.0, 80, None, false, 1),
+        "--interval",
+    );
+}
+
+#[test]
+fn loop_options_and_generated_cell() {
+    assert!(LoopOptions::new(256, 250, 1.0, 80, None).is_ok());
+    bad(LoopOptions::new(0, 1000, 1.0, 80, None), "--axes");
+    bad(LoopOptions::new(257, 1000, 1.0, 80, None), "--axes");
+    bad(LoopOptions::new(4, 300, 1.0, 80, None), "--interval");
+
+    // The generated configuration and program validate at every interval, up to 256 axes.
+    for interval in [125, 250, 1000, 8000] {
+        let o = LoopOptions::new(256, interval, 2.0, 80, None).unwrap();
+        let path = std::path::Path::new("bench.toml");
+        let cell = cellrt_runtime::config::CellConfig::parse(path, &config_text("bench-t", &o))
+            .unwrap_or_else(|e| panic!("{interval} µs: {e}"));
+        assert_eq!(cell.axes.len(), 256);
+        cellrt_runtime::program::Program::parse(
+            std::path::Path::new("p.toml"),
+            &program_text(256, 2.0),
+            &cell,
+        )
+        .unwrap_or_else(|e| panic!("{interval} µs: {e}"));
+    }
+}

@@ -1,0 +1,197 @@
+//! `cellrt bench`: the latency and loop benchmarks of `cellrt-rt-tests`, as a thin CLI.
+
+use std::path::PathBuf;
+
+use cellrt_rt_tests::{compare, latency, loopbench, plot, write_json, BenchError};
+use clap::{Args, Subcommand};
+
+use crate::exit::Exit;
+
+/// `cellrt bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Which benchmark.
+    #[command(subcommand)]
+    pub command: BenchCommand,
+}
+
+/// Benchmarks.
+#[derive(Debug, Subcommand)]
+pub enum BenchCommand {
+    /// Wakeup latency of an absolute-deadline sleep loop on a thread set up like the RT thread
+    /// (the cyclictest equivalent).
+    Latency(LatencyArgs),
+    /// cyclictest and `cellrt bench latency` alternately, side by side, with a verdict.
+    Compare(CompareArgs),
+    /// The full cellrt loop with N simulated axes in motion and recording on.
+    Loop(LoopArgs),
+    /// Loop body time for 1, 4, 16, 64 and 256 axes.
+    Scaling(ScalingArgs),
+}
+
+/// Options every latency benchmark shares.
+#[derive(Debug, Args)]
+pub struct Common {
+    /// Period, µs.
+    #[arg(long, value_name = "µs")]
+    pub interval: u64,
+    /// Length of the run (per round and side for `compare`), seconds.
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub duration: f64,
+    /// SCHED_FIFO priority, 1..=99.
+    #[arg(long, value_name = "N", default_value_t = u32::from(latency::DEFAULT_PRIORITY))]
+    pub priority: u32,
+    /// CPU to pin to (default: the last online CPU).
+    #[arg(long, value_name = "N")]
+    pub cpu: Option<usize>,
+}
+
+/// `cellrt bench latency`.
+#[derive(Debug, Args)]
+pub struct LatencyArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Also write the result as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+/// `cellrt bench compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Run under stress-ng load (installed with apt-get when missing and running as root).
+    #[arg(long)]
+    pub load: bool,
+    /// Rounds; each runs cyclictest, then cellrt.
+    #[arg(long, value_name = "N", default_value_t = 4)]
+    pub rounds: u32,
+    /// Draw both latency histograms into this SVG file.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    /// Also write the result as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+/// `cellrt bench loop`.
+#[derive(Debug, Args)]
+pub struct LoopArgs {
+    /// Number of simulated axes, 1..=256.
+    #[arg(long, value_name = "N")]
+    pub axes: usize,
+    #[command(flatten)]
+    pub common: Common,
+    /// Also write the result as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+/// `cellrt bench scaling`.
+#[derive(Debug, Args)]
+pub struct ScalingArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Also write the rows as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+/// Runs `cellrt bench`.
+pub fn run(args: BenchArgs) -> Exit {
+    let result = match args.command {
+        BenchCommand::Latency(a) => run_latency(a),
+        BenchCommand::Compare(a) => run_compare(a),
+        BenchCommand::Loop(a) => run_loop(a),
+        BenchCommand::Scaling(a) => run_scaling(a),
+    };
+    match result {
+        Ok(()) => Exit::Ok,
+        Err(BenchError::BadInput(e)) => {
+            eprintln!("error: {e}");
+            Exit::BadInput
+        }
+        Err(BenchError::Failed(e)) => {
+            eprintln!("error: {e}");
+            Exit::Failed
+        }
+    }
+}
+
+fn run_latency(a: LatencyArgs) -> Result<(), BenchError> {
+    let c = &a.common;
+    let opts = latency::LatencyOptions::new(c.interval, c.duration, c.priority, c.cpu)?;
+    let run = latency::run(opts)?;
+    let report = run.report(opts);
+    for r in &report.rt.refused {
+        tracing::warn!("{r}");
+    }
+    print!("{}", latency::render(&report));
+    write_json(a.json.as_deref(), &report)
+}
+
+fn run_compare(a: CompareArgs) -> Result<(), BenchError> {
+    let c = &a.common;
+    let opts =
+        compare::CompareOptions::new(c.interval, c.duration, c.priority, c.cpu, a.load, a.rounds)?;
+    if let Some(p) = &a.plot {
+        if p.extension().and_then(|e| e.to_str()) != Some("svg") {
+            return Err(BenchError::bad(format!(
+                "--plot: must name an .svg file (got {})",
+                p.display()
+            )));
+        }
+    }
+    let report = compare::run(&opts, |line| eprintln!("cellrt: {line}"))?;
+    print!("{}", compare::render(&report));
+    if let Some(p) = &a.plot {
+        let title = format!(
+            "wakeup latency at {} µs, CPU {}, SCHED_FIFO {}, {} × {} s{}",
+            opts.interval_us,
+            opts.cpu,
+            opts.priority,
+            opts.rounds,
+            opts.duration_s,
+            if opts.load {
+                ", stress-ng load"
+            } else {
+                ", idle"
+            }
+        );
+        plot::histograms_svg(
+            p,
+            &title,
+            &[
+                ("cyclictest", &report.cyclictest.hist),
+                ("cellrt", &report.cellrt.hist),
+            ],
+        )?;
+        println!("plot        {}", p.display());
+    }
+    write_json(a.json.as_deref(), &report)
+}
+
+fn run_loop(a: LoopArgs) -> Result<(), BenchError> {
+    let c = &a.common;
+    let opts = loopbench::LoopOptions::new(a.axes, c.interval, c.duration, c.priority, c.cpu)?;
+    let report = loopbench::run(&opts)?;
+    print!("{}", loopbench::render(&report));
+    write_json(a.json.as_deref(), &report)
+}
+
+fn run_scaling(a: ScalingArgs) -> Result<(), BenchError> {
+    let c = &a.common;
+    let mut rows = Vec::new();
+    for axes in loopbench::SCALING_AXES {
+        let opts = loopbench::LoopOptions::new(axes, c.interval, c.duration, c.priority, c.cpu)?;
+        let r = loopbench::run(&opts)?;
+        eprintln!(
+            "cellrt: {axes} axes: loop p50 {:.1} µs, p99 {:.1} µs",
+            r.loop_time.p50_us, r.loop_time.p99_us
+        );
+        rows.push(r);
+    }
+    print!("{}", loopbench::render_scaling(&rows));
+    write_json(a.json.as_deref(), &rows)
+}

@@ -1,0 +1,214 @@
+//! `cellrt recover IN.mcap OUT.mcap`: rewrites a recording cut short (a crash, SIGKILL, power
+//! loss) into a complete, indexed file. Reads the input linearly, tolerating a truncated or
+//! damaged end, and copies every schema, channel, metadata record, attachment and every message
+//! of every complete chunk, with the same ids; the open chunk at the moment of the crash is lost
+//! (the recorder closes a chunk at least every `recording.flush_ms`).
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::Path;
+
+use mcap::read::{ChunkReader, LinearReader, Options};
+use mcap::records::{MessageHeader, Record};
+use mcap::{Attachment, WriteOptions, Writer};
+
+use crate::cli::RecoverArgs;
+use crate::exit::Exit;
+
+/// What a recovery copied.
+#[derive(Debug, Default)]
+pub struct Recovered {
+    /// Messages copied.
+    pub messages: u64,
+    /// Complete chunks copied.
+    pub chunks: u64,
+    /// Why reading stopped before the end of the data section, if it did.
+    pub stopped: Option<String>,
+    /// Whether the input already was complete (had its data end record).
+    pub was_complete: bool,
+    /// Last message log time copied, ns.
+    pub last_log_time: u64,
+}
+
+/// Runs `cellrt recover`.
+pub fn run(args: RecoverArgs) -> Exit {
+    let bytes = match std::fs::read(&args.input) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("error: {}: cannot read: {e}", args.input.display());
+            return Exit::BadInput;
+        }
+    };
+    if !bytes.starts_with(mcap::MAGIC) {
+        eprintln!(
+            "error: {}: not an MCAP file (no MCAP magic at the start)",
+            args.input.display()
+        );
+        return Exit::BadInput;
+    }
+    if args.input.canonicalize().ok() == args.output.canonicalize().ok() && args.output.exists() {
+        eprintln!(
+            "error: {}: output must differ from the input",
+            args.output.display()
+        );
+        return Exit::BadInput;
+    }
+    match recover(&bytes, &args.output) {
+        Ok(r) => {
+            println!(
+                "recovered {} messages in {} chunks from {} into {}{}",
+                r.messages,
+                r.chunks,
+                args.input.display(),
+                args.output.display(),
+                if r.was_complete {
+                    " (the input was complete)".to_string()
+                } else {
+                    format!(
+                        "; the input ends early ({}): what followed the last complete chunk is lost",
+                        r.stopped.as_deref().unwrap_or("no data end record")
+                    )
+                }
+            );
+            Exit::Ok
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            Exit::Failed
+        }
+    }
+}
+
+/// Copies everything readable of `input` into a new indexed MCAP at `out`.
+pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
+    let werr = |e: mcap::McapError| format!("{}: {e}", out.display());
+    let mut r = Recovered::default();
+    let mut records =
+        LinearReader::new_with_options(input, Options::IgnoreEndMagic.into()).map_err(werr)?;
+    let (profile, library) = match records.next() {
+        Some(Ok(Record::Header(h))) => (h.profile, h.library),
+        _ => return Err("the input has no MCAP header record".into()),
+    };
+    // The compression of the first chunk, for the rewritten file.
+    let compression = input_compression(input);
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    let file = File::create(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
+    let mut w = WriteOptions::new()
+        .compression(compression)
+        .profile(profile)
+        .library(library)
+        .create(BufWriter::with_capacity(1 << 20, file))
+        .map_err(werr)?;
+    let mut seq_buf: Vec<(MessageHeader, Vec<u8>)> = Vec::new();
+    for rec in records {
+        let rec = match rec {
+            Ok(rec) => rec,
+            Err(e) => {
+                r.stopped = Some(e.to_string());
+                break;
+            }
+        };
+        match rec {
+            Record::Chunk { header, data } => {
+                // All or nothing per chunk: decode it completely before writing from it.
+                seq_buf.clear();
+                let mut defs = Vec::new();
+                let mut bad = None;
+                for inner in ChunkReader::new(header, &data).map_err(werr)? {
+                    match inner {
+                        Ok(Record::Message { header, data }) => {
+                            seq_buf.push((header, data.into_owned()))
+                        }
+                        Ok(other @ (Record::Schema { .. } | Record::Channel(_))) => {
+                            defs.push(other.into_owned())
+                        }
+                        Ok(_) => {}
+                        Err(e) => {
+                            bad = Some(e.to_string());
+                            break;
+                        }
+                    }
+                }
+                if let Some(e) = bad {
+                    r.stopped = Some(format!("damaged chunk: {e}"));
+                    break;
+                }
+                for d in defs {
+                    define(&mut w, d).map_err(werr)?;
+                }
+                for (h, d) in &seq_buf {
+                    w.write_to_known_channel(h, d).map_err(werr)?;
+                    r.messages += 1;
+                    r.last_log_time = r.last_log_time.max(h.log_time);
+                }
+                r.chunks += 1;
+            }
+            Record::Schema { .. } | Record::Channel(_) => define(&mut w, rec).map_err(werr)?,
+            Record::Message { header, data } => {
+                w.write_to_known_channel(&header, &data).map_err(werr)?;
+                r.messages += 1;
+                r.last_log_time = r.last_log_time.max(header.log_time);
+            }
+            Record::Metadata(m) => w.write_metadata(&m).map_err(werr)?,
+            Record::Attachment { header, data, .. } => w
+                .attach(&Attachment {
+                    log_time: header.log_time,
+                    create_time: header.create_time,
+                    name: header.name,
+                    media_type: header.media_type,
+                    data,
+                })
+                .map_err(werr)?,
+            Record::DataEnd(_) => {
+                r.was_complete = true;
+                break;
+            }
+            _ => {}
+        }
+    }
+    w.finish().map_err(werr)?;
+    let file = w
+        .into_inner()
+        .into_inner()
+        .map_err(|e| format!("{}: {}", out.display(), e.error()))?;
+    file.sync_all()
+        .map_err(|e| format!("{}: {e}", out.display()))?;
+    Ok(r)
+}
+
+/// Adds a schema or channel record to `w` with its original id.
+fn define<W: std::io::Write + std::io::Seek>(
+    w: &mut Writer<W>,
+    rec: Record<'_>,
+) -> mcap::McapResult<()> {
+    match rec {
+        Record::Schema { header, data } if header.id != 0 => {
+            w.add_schema_with_id(header.id, &header.name, &header.encoding, &data)?;
+        }
+        Record::Channel(c) => {
+            let meta: BTreeMap<String, String> = c.metadata;
+            w.add_channel_with_id(c.id, c.schema_id, &c.topic, &c.message_encoding, &meta)?;
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// Compression of the first chunk of `input` (zstd if none can be read).
+fn input_compression(input: &[u8]) -> Option<mcap::Compression> {
+    let first = LinearReader::new_with_options(input, Options::IgnoreEndMagic.into())
+        .ok()?
+        .map_while(Result::ok)
+        .find_map(|r| match r {
+            Record::Chunk { header, .. } => Some(header.compression),
+            _ => None,
+        });
+    match first.as_deref() {
+        Some("lz4") => Some(mcap::Compression::Lz4),
+        Some("") => None,
+        _ => Some(mcap::Compression::Zstd),
+    }
+}

@@ -1,0 +1,418 @@
+//! Reading recordings back for `inspect`, `report`, `replay` and `recover`: the whole file in
+//! memory, its summary (when the file is complete), and the decoded per-topic messages, read
+//! chunk by chunk in parallel through the chunk indexes when the file has them.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use cellrt_runtime::record::proto::{AxisCycle, CycleStats, Event};
+use cellrt_runtime::record::topics::{AXIS_TOPIC_PREFIX, CELL_METADATA, CYCLE_TOPIC, EVENTS_TOPIC};
+use mcap::read::{LinearReader, Options};
+use mcap::records::{ChunkIndex, Record};
+use mcap::{Channel, Summary};
+use prost::Message as _;
+
+/// A recording file loaded into memory.
+pub struct RecFile {
+    /// Where it was read from.
+    pub path: PathBuf,
+    /// Its bytes.
+    pub bytes: Vec<u8>,
+    /// The summary section, if the file was finished (not truncated).
+    pub summary: Option<Summary>,
+}
+
+/// One message of a wanted channel, decoded.
+pub enum Decoded {
+    /// `/cell/cycle`.
+    Cycle(CycleStats),
+    /// `/axis/<name>` (axis index in the channel order of the recording's metadata).
+    Axis(usize, AxisCycle),
+    /// `/cell/events`.
+    Event(Event),
+}
+
+/// A recording decoded per topic.
+#[derive(Default)]
+pub struct Records {
+    /// `/cell/cycle`, in file order.
+    pub cycles: Vec<CycleStats>,
+    /// Per axis (in [`CellInfo::axes`] order), in file order.
+    pub axes: Vec<Vec<AxisCycle>>,
+    /// `/cell/events`, in file order.
+    pub events: Vec<Event>,
+    /// Whether reading stopped early at a damaged or truncated end.
+    pub truncated: Option<String>,
+}
+
+/// The cell as the recording's `cellrt.cell` metadata describes it.
+#[derive(Debug, Clone, Default)]
+pub struct CellInfo {
+    /// Cell name.
+    pub name: String,
+    /// Cycle time, µs.
+    pub cycle_time_us: u64,
+    /// Axis names, in order.
+    pub axes: Vec<String>,
+    /// Per axis: the `axis.<name>` description.
+    pub axis_details: Vec<String>,
+    /// Software that wrote it.
+    pub software: String,
+}
+
+impl RecFile {
+    /// Reads `path`; a file that is not MCAP at all is an error naming it.
+    pub fn open(path: &Path) -> Result<RecFile, String> {
+        let bytes =
+            std::fs::read(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        if !bytes.starts_with(mcap::MAGIC) {
+            return Err(format!(
+                "{}: not an MCAP file (no MCAP magic at the start)",
+                path.display()
+            ));
+        }
+        let summary = match mcap::Summary::read(&bytes) {
+            Ok(Some(s)) if !s.chunk_indexes.is_empty() || s.stats.is_some() => Some(s),
+            _ => None,
+        };
+        Ok(RecFile {
+            path: path.to_path_buf(),
+            bytes,
+            summary,
+        })
+    }
+
+    /// Whether the file has a summary with chunk indexes.
+    pub fn indexed(&self) -> bool {
+        self.summary
+            .as_ref()
+            .is_some_and(|s| !s.chunk_indexes.is_empty())
+    }
+
+    /// The records before the first chunk error, read linearly (tolerates truncation): the
+    /// metadata and attachments of an unfinished file.
+    fn linear_records(&self) -> impl Iterator<Item = Record<'_>> {
+        LinearReader::new_with_options(&self.bytes, Options::IgnoreEndMagic.into())
+            .expect("a slice reader cannot fail to start")
+            .map_while(Result::ok)
+    }
+
+    /// The `cellrt.cell` metadata.
+    pub fn cell(&self) -> Result<CellInfo, String> {
+        let mut meta = None;
+        if let Some(s) = &self.summary {
+            for idx in s
+                .metadata_indexes
+                .iter()
+                .filter(|m| m.name == CELL_METADATA)
+            {
+                if let Ok(m) = mcap::read::metadata(&self.bytes, idx) {
+                    meta = Some(m.metadata);
+                    break;
+                }
+            }
+        }
+        if meta.is_none() {
+            meta = self.linear_records().find_map(|r| match r {
+                Record::Metadata(m) if m.name == CELL_METADATA => Some(m.metadata),
+                _ => None,
+            });
+        }
+        let all = meta.ok_or_else(|| {
+            format!(
+                "{}: no '{CELL_METADATA}' metadata: not a cellrt recording",
+                self.path.display()
+            )
+        })?;
+        let axes: Vec<String> = all
+            .get("axes")
+            .map(|a| {
+                a.split(',')
+                    .map(|s| s.trim().to_string())
+                    .filter(|s| !s.is_empty())
+                    .collect()
+            })
+            .unwrap_or_default();
+        Ok(CellInfo {
+            name: all.get("cell").cloned().unwrap_or_default(),
+            cycle_time_us: all
+                .get("cycle_time_us")
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(0),
+            axis_details: axes
+                .iter()
+                .map(|a| all.get(&format!("axis.{a}")).cloned().unwrap_or_default())
+                .collect(),
+            axes,
+            software: all.get("software").cloned().unwrap_or_default(),
+        })
+    }
+
+    /// The attachments (name, bytes).
+    pub fn attachments(&self) -> Vec<(String, Vec<u8>)> {
+        if let Some(s) = &self.summary {
+            if !s.attachment_indexes.is_empty() {
+                return s
+                    .attachment_indexes
+                    .iter()
+                    .filter_map(|i| mcap::read::attachment(&self.bytes, i).ok())
+                    .map(|a| (a.name, a.data.into_owned()))
+                    .collect();
+            }
+        }
+        self.linear_records()
+            .filter_map(|r| match r {
+                Record::Attachment { header, data, .. } => Some((header.name, data.into_owned())),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Decodes every message of the cycle, event and (if `with_axes`) axis channels.
+    pub fn decode(&self, cell: &CellInfo, with_axes: bool) -> Result<Records, String> {
+        let axis_index: HashMap<String, usize> = cell
+            .axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| (format!("{AXIS_TOPIC_PREFIX}{a}"), i))
+            .collect();
+        let classify = |ch: &Channel| -> Option<Kind> {
+            match ch.topic.as_str() {
+                CYCLE_TOPIC => Some(Kind::Cycle),
+                EVENTS_TOPIC => Some(Kind::Event),
+                t if with_axes => axis_index.get(t).map(|i| Kind::Axis(*i)),
+                _ => None,
+            }
+        };
+        let mut out = Records {
+            axes: vec![Vec::new(); cell.axes.len()],
+            ..Records::default()
+        };
+        let mut push = |d: Decoded| match d {
+            Decoded::Cycle(c) => out.cycles.push(c),
+            Decoded::Axis(i, a) => out.axes[i].push(a),
+            Decoded::Event(e) => out.events.push(e),
+        };
+        match self
+            .summary
+            .as_ref()
+            .filter(|s| !s.chunk_indexes.is_empty())
+        {
+            Some(summary) => {
+                let kinds: HashMap<u16, Kind> = summary
+                    .channels
+                    .iter()
+                    .filter_map(|(id, ch)| classify(ch).map(|k| (*id, k)))
+                    .collect();
+                let mut chunks: Vec<&ChunkIndex> = summary.chunk_indexes.iter().collect();
+                chunks.sort_by_key(|c| c.chunk_start_offset);
+                let threads = std::thread::available_parallelism()
+                    .map(|n| n.get())
+                    .unwrap_or(1)
+                    .clamp(1, 8);
+                let per = chunks.len().div_ceil(threads).max(1);
+                let parts: Vec<Result<Vec<Decoded>, String>> = std::thread::scope(|s| {
+                    let handles: Vec<_> = chunks
+                        .chunks(per)
+                        .map(|group| {
+                            let kinds = &kinds;
+                            s.spawn(move || {
+                                let mut v = Vec::new();
+                                for c in group {
+                                    self.decode_chunk(summary, c, kinds, &mut v)?;
+                                }
+                                Ok(v)
+                            })
+                        })
+                        .collect();
+                    handles
+                        .into_iter()
+                        .map(|h| h.join().unwrap_or_else(|_| Err("decoder panicked".into())))
+                        .collect()
+                });
+                for p in parts {
+                    p?.into_iter().for_each(&mut push);
+                }
+            }
+            None => {
+                let stream = mcap::MessageStream::new_with_options(
+                    &self.bytes,
+                    Options::IgnoreEndMagic.into(),
+                )
+                .map_err(|e| format!("{}: {e}", self.path.display()))?;
+                for m in stream {
+                    let m = match m {
+                        Ok(m) => m,
+                        Err(e) => {
+                            out.truncated = Some(e.to_string());
+                            break;
+                        }
+                    };
+                    if let Some(k) = classify(&m.channel) {
+                        push(decode_one(k, &m.data).map_err(|e| {
+                            format!("{}: {}: {e}", self.path.display(), m.channel.topic)
+                        })?);
+                    }
+                }
+                if out.truncated.is_none() {
+                    out.truncated = Some("no summary section".into());
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn decode_chunk(
+        &self,
+        summary: &Summary,
+        chunk: &ChunkIndex,
+        kinds: &HashMap<u16, Kind>,
+        out: &mut Vec<Decoded>,
+    ) -> Result<(), String> {
+        let err = |e: &dyn std::fmt::Display| {
+            format!(
+                "{}: chunk at byte {}: {e}",
+                self.path.display(),
+                chunk.chunk_start_offset
+            )
+        };
+        if self
+            .decode_chunk_fast(chunk, kinds, out)
+            .map_err(|e| err(&e))?
+        {
+            return Ok(());
+        }
+        for m in summary
+            .stream_chunk(&self.bytes, chunk)
+            .map_err(|e| err(&e))?
+        {
+            let m = m.map_err(|e| err(&e))?;
+            let id = m.channel.id;
+            if let Some(k) = kinds.get(&id) {
+                out.push(decode_one(*k, &m.data).map_err(|e| err(&e))?);
+            }
+        }
+        Ok(())
+    }
+
+    /// Decodes a zstd or uncompressed chunk by walking its records in place, decoding only the
+    /// wanted channels' messages (no copy of the others). Returns false for other compressions.
+    fn decode_chunk_fast(
+        &self,
+        chunk: &ChunkIndex,
+        kinds: &HashMap<u16, Kind>,
+        out: &mut Vec<Decoded>,
+    ) -> Result<bool, String> {
+        let start = chunk.chunk_start_offset as usize;
+        let end = start
+            .checked_add(chunk.chunk_length as usize)
+            .filter(|e| *e <= self.bytes.len() && start + 9 <= *e)
+            .ok_or("chunk index points outside the file")?;
+        let (header, data) =
+            match mcap::read::parse_record(mcap::records::op::CHUNK, &self.bytes[start + 9..end]) {
+                Ok(Record::Chunk { header, data }) => (header, data),
+                Ok(_) => return Err("chunk index does not point at a chunk".into()),
+                Err(e) => return Err(e.to_string()),
+            };
+        let owned;
+        let records: &[u8] = match header.compression.as_str() {
+            "" => &data,
+            "zstd" => {
+                owned = zstd::bulk::decompress(&data, header.uncompressed_size as usize)
+                    .map_err(|e| format!("zstd: {e}"))?;
+                &owned
+            }
+            _ => return Ok(false),
+        };
+        let mut rest = records;
+        while rest.len() >= 9 {
+            let op = rest[0];
+            let len = u64::from_le_bytes(rest[1..9].try_into().expect("8 bytes")) as usize;
+            let body = rest
+                .get(9..9usize.saturating_add(len))
+                .ok_or("record runs past the end of its chunk")?;
+            rest = &rest[9 + len..];
+            // Message: channel id u16, sequence u32, log time u64, publish time u64, data.
+            if op == mcap::records::op::MESSAGE && body.len() >= 22 {
+                let channel = u16::from_le_bytes([body[0], body[1]]);
+                if let Some(k) = kinds.get(&channel) {
+                    out.push(decode_one(*k, &body[22..]).map_err(|e| e.to_string())?);
+                }
+            }
+        }
+        Ok(true)
+    }
+
+    /// Message counts per channel topic (summary statistics, or counted linearly).
+    pub fn channel_counts(&self) -> Vec<ChannelCount> {
+        let mut out = Vec::new();
+        if let Some(s) = &self.summary {
+            if let Some(stats) = &s.stats {
+                let mut ids: Vec<&u16> = s.channels.keys().collect();
+                ids.sort();
+                for id in ids {
+                    let ch = &s.channels[id];
+                    out.push(ChannelCount {
+                        topic: ch.topic.clone(),
+                        schema: ch
+                            .schema
+                            .as_ref()
+                            .map(|s| s.name.clone())
+                            .unwrap_or_default(),
+                        count: stats.channel_message_counts.get(id).copied().unwrap_or(0),
+                    });
+                }
+                return out;
+            }
+        }
+        let mut counts: BTreeMap<u16, (Arc<Channel>, u64)> = BTreeMap::new();
+        if let Ok(stream) =
+            mcap::MessageStream::new_with_options(&self.bytes, Options::IgnoreEndMagic.into())
+        {
+            for m in stream.map_while(Result::ok) {
+                counts
+                    .entry(m.channel.id)
+                    .or_insert_with(|| (m.channel.clone(), 0))
+                    .1 += 1;
+            }
+        }
+        for (ch, n) in counts.into_values() {
+            out.push(ChannelCount {
+                topic: ch.topic.clone(),
+                schema: ch
+                    .schema
+                    .as_ref()
+                    .map(|s| s.name.clone())
+                    .unwrap_or_default(),
+                count: n,
+            });
+        }
+        out
+    }
+}
+
+/// Messages on one channel.
+pub struct ChannelCount {
+    /// Topic.
+    pub topic: String,
+    /// Schema name.
+    pub schema: String,
+    /// Messages.
+    pub count: u64,
+}
+
+#[derive(Clone, Copy)]
+enum Kind {
+    Cycle,
+    Axis(usize),
+    Event,
+}
+
+fn decode_one(k: Kind, data: &[u8]) -> Result<Decoded, prost::DecodeError> {
+    Ok(match k {
+        Kind::Cycle => Decoded::Cycle(CycleStats::decode(data)?),
+        Kind::Axis(i) => Decoded::Axis(i, AxisCycle::decode(data)?),
+        Kind::Event => Decoded::Event(Event::decode(data)?),
+    })
+}

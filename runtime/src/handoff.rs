@@ -127,6 +127,8 @@ pub enum StopReason {
     Overrun = 5,
     /// The planner's node died or left during motion.
     PlannerLost = 6,
+    /// The incremental counter check failed (continuous or intermittent errors).
+    Communication = 7,
 }
 
 impl StopReason {
@@ -139,6 +141,7 @@ impl StopReason {
             StopReason::DriveFault => "drive_fault",
             StopReason::Overrun => "overrun",
             StopReason::PlannerLost => "planner_lost",
+            StopReason::Communication => "communication",
         }
     }
 
@@ -152,6 +155,7 @@ impl StopReason {
             DriveFault,
             Overrun,
             PlannerLost,
+            Communication,
         ]
         .into_iter()
         .find(|s| *s as u8 == v)
@@ -239,12 +243,15 @@ pub enum EventKind {
     RecordsDropped,
     /// The bus exchange failed (value: axis index).
     BusError,
-    /// A scheduled fault was injected (value: 1 stall, 2 drive alarm, 3 planner stall).
+    /// A scheduled fault was injected (value: 1 stall, 2 drive alarm, 3 planner stall, 4 RxPDO
+    /// loss, 5 counter corruption).
     FaultInjected,
     /// A planner's iceoryx2 node appeared.
     PlannerConnected,
     /// The planner's iceoryx2 node died or left.
     PlannerLost,
+    /// An axis' incremental counter check failed (value: 1 continuous, 2 intermittent).
+    CommunicationError,
 }
 
 impl EventKind {
@@ -269,6 +276,7 @@ impl EventKind {
             EventKind::FaultInjected => "fault_injected",
             EventKind::PlannerConnected => "planner_connected",
             EventKind::PlannerLost => "planner_lost",
+            EventKind::CommunicationError => "communication_error",
         }
     }
 }
@@ -341,6 +349,10 @@ pub struct AxisRecord {
     pub target_torque: i16,
     /// Torque actual value (6077h), 0.1 % of rated torque.
     pub torque_actual: i16,
+    /// Incremental counter sent (2020h), 0 where the drive has none.
+    pub counter_sent: u8,
+    /// Incremental counter echoed (2021h), 0 where the drive has none.
+    pub counter_received: u8,
 }
 
 /// Status the RT thread publishes every cycle for the non-RT side (planner, CLI).

@@ -146,6 +146,8 @@ pub struct WatchdogConfig {
     pub underrun_reaction: FaultReaction,
     /// Reaction of the other axes when one drive faults.
     pub drive_fault_reaction: FaultReaction,
+    /// Reaction to a continuous or intermittent incremental-counter error (master side).
+    pub communication_reaction: FaultReaction,
 }
 
 /// A fault to inject at a cycle.
@@ -176,6 +178,20 @@ pub enum InjectedFault {
     PlannerStall {
         /// Nanoseconds.
         ns: u64,
+    },
+    /// An axis' RxPDO is not delivered for this many cycles (lost frames).
+    RxLoss {
+        /// Axis index.
+        axis: usize,
+        /// Cycles.
+        cycles: u32,
+    },
+    /// The incremental counter an axis' drive receives is corrupted for this many cycles.
+    CounterCorruption {
+        /// Axis index.
+        axis: usize,
+        /// Cycles.
+        cycles: u32,
     },
 }
 

@@ -148,6 +148,9 @@ pub struct RawWatchdogs {
     /// Reaction of the other axes when one drive faults.
     #[serde(default = "default_reaction")]
     pub drive_fault_reaction: String,
+    /// Reaction to a continuous or intermittent incremental-counter error.
+    #[serde(default = "default_reaction")]
+    pub communication_reaction: String,
 }
 
 impl Default for RawWatchdogs {
@@ -157,6 +160,7 @@ impl Default for RawWatchdogs {
             overrun_reaction: default_reaction(),
             underrun_reaction: default_reaction(),
             drive_fault_reaction: default_reaction(),
+            communication_reaction: default_reaction(),
         }
     }
 }

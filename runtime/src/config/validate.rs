@@ -213,6 +213,10 @@ pub(super) fn validate(
             "drive_fault_reaction",
             &raw.watchdogs.drive_fault_reaction,
         )?,
+        communication_reaction: reaction(
+            "communication_reaction",
+            &raw.watchdogs.communication_reaction,
+        )?,
     };
 
     if raw.axes.is_empty() {
@@ -304,6 +308,21 @@ fn validate_injections(
             "planner_stall" => InjectedFault::PlannerStall {
                 ns: duration(60_000.0)?,
             },
+            "rx_loss" | "counter_corruption" => {
+                let name = r.axis.as_deref().ok_or_else(|| {
+                    ConfigError::new(file, key("axis"), format!("fault '{}' needs axis", r.fault))
+                })?;
+                let axis = axes.iter().position(|a| a.name == name).ok_or_else(|| {
+                    ConfigError::new(file, key("axis"), format!("no axis named '{name}'"))
+                })?;
+                let ns = duration(60_000.0)?;
+                let cycles = (ns / cycle_time.as_nanos()).max(1) as u32;
+                if r.fault == "rx_loss" {
+                    InjectedFault::RxLoss { axis, cycles }
+                } else {
+                    InjectedFault::CounterCorruption { axis, cycles }
+                }
+            }
             "drive_alarm" => {
                 let name = r.axis.as_deref().ok_or_else(|| {
                     ConfigError::new(file, key("axis"), "fault 'drive_alarm' needs axis")
@@ -334,7 +353,7 @@ fn validate_injections(
                 return Err(ConfigError::new(
                     file,
                     key("fault"),
-                    format!("unknown fault '{other}' (allowed: stall, drive_alarm, planner_stall)"),
+                    format!("unknown fault '{other}' (allowed: stall, drive_alarm, planner_stall, rx_loss, counter_corruption)"),
                 ))
             }
         };

@@ -1,7 +1,8 @@
 //! One axis as the RT loop sees it: its CiA 402 master, its current setpoint, and the controlled
 //! stop ramp the RT thread runs on its own.
 
-use cellrt_axes::cia402::master::{AxisMaster, MasterParams};
+use cellrt_axes::cia402::master::AxisMaster;
+use cellrt_axes::comm::{CounterParams, IncrementalCounter};
 use cellrt_axes::pdo::objects::ERROR_CODE;
 use cellrt_axes::pdo::{PdoMap, TxPdo};
 use cellrt_axes::Cycles;
@@ -46,6 +47,11 @@ impl AxisLimitsCounts {
 pub struct AxisChannel {
     /// The CiA 402 master driving this axis' controlword.
     pub master: AxisMaster,
+    /// The master side of the incremental counter, where the drive's PDO maps carry one
+    /// (MR-J3-T04 2020h/2021h).
+    pub counter: Option<IncrementalCounter>,
+    /// A counter error was reported for this axis (once, until reset).
+    pub comm_fault: bool,
     /// Limits in counts.
     pub limits: AxisLimitsCounts,
     /// Setpoint position of the current cycle, counts.
@@ -69,15 +75,21 @@ pub struct AxisChannel {
 impl AxisChannel {
     /// Preallocates the channel of `axis` in `cell`.
     pub fn new(cell: &CellConfig, axis: &AxisConfig) -> Self {
-        let hold = axis.profile.fault_reset_hold(cell.cycle_time);
         let timeout = cell
             .cycle_time
             .cycles_for(std::time::Duration::from_secs(2));
         AxisChannel {
-            master: AxisMaster::new(MasterParams {
-                fault_reset_hold: hold,
-                transition_timeout: Cycles(timeout.0.max(10)),
-            }),
+            master: AxisMaster::for_profile(
+                axis.profile,
+                cell.cycle_time,
+                Cycles(timeout.0.max(10)),
+            ),
+            counter: axis
+                .profile
+                .rx_pdo
+                .has_counter()
+                .then(|| IncrementalCounter::new(CounterParams::default(), 0)),
+            comm_fault: false,
             limits: AxisLimitsCounts::new(axis, cell.period()),
             setpoint: axis.scaling.to_counts(axis.sim.initial_position),
             velocity: 0.0,
@@ -158,6 +170,7 @@ impl AxisChannel {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use cellrt_axes::cia402::master::MasterParams;
 
     fn channel(v: f64, a: f64, decel: f64, jerk: f64) -> AxisChannel {
         AxisChannel {
@@ -165,6 +178,8 @@ mod tests {
                 fault_reset_hold: Cycles(10),
                 transition_timeout: Cycles(100),
             }),
+            counter: None,
+            comm_fault: false,
             limits: AxisLimitsCounts {
                 position_min: -1e12,
                 position_max: 1e12,

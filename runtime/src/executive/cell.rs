@@ -66,6 +66,12 @@ impl<B: Bus> Executive<B> {
                 }
                 (CellCommand::PlannerLost, _) => true,
                 (CellCommand::Reset, CellState::Stopped) => {
+                    for ch in &mut self.axes {
+                        if let Some(c) = ch.counter.as_mut() {
+                            c.reset();
+                        }
+                        ch.comm_fault = false;
+                    }
                     self.stop_reason = None;
                     self.handoff.status.stop_reason.store(0, Ordering::Release);
                     self.stream.discard_all();
@@ -105,6 +111,12 @@ impl<B: Bus> Executive<B> {
 
     /// One cycle of the cell state machine.
     pub(super) fn update_cell(&mut self) {
+        if self.comm_fault_pending {
+            self.comm_fault_pending = false;
+            if matches!(self.state, CellState::Idle | CellState::Moving) {
+                self.react(StopReason::Communication);
+            }
+        }
         let limit = self.watchdogs.max_consecutive_overruns;
         if limit > 0 && self.overrun_streak >= limit {
             self.overrun_streak = 0;
@@ -408,6 +420,7 @@ impl<B: Bus> Executive<B> {
             }
             StopReason::DriveFault => self.watchdogs.drive_fault_reaction,
             StopReason::Overrun => self.watchdogs.overrun_reaction,
+            StopReason::Communication => self.watchdogs.communication_reaction,
         };
         self.stop_reason = Some(reason);
         self.reaction = reaction;

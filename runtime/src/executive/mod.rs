@@ -14,6 +14,7 @@ use std::sync::Arc;
 
 use cellrt_axes::bus::Bus;
 use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::comm::CounterVerdict;
 use cellrt_axes::pdo::RxPdo;
 use cellrt_axes::Cycles;
 use serde::Serialize;
@@ -116,6 +117,8 @@ pub struct Executive<B: Bus> {
     reaction: FaultReaction,
     /// A Reset arrived while Faulted: leave Faulted once no drive reports a fault.
     fault_reset_pending: bool,
+    /// An incremental-counter error was reported this cycle: react in `update_cell`.
+    comm_fault_pending: bool,
     /// Watchdog settings.
     watchdogs: WatchdogConfig,
     /// Deadlines missed in a row (reset by a cycle that starts on time).
@@ -160,6 +163,7 @@ impl<B: Bus> Executive<B> {
             stop_reason: None,
             reaction: FaultReaction::ControlledStop,
             fault_reset_pending: false,
+            comm_fault_pending: false,
             watchdogs: cell.watchdogs,
             overrun_streak: 0,
             injections: cell
@@ -286,9 +290,16 @@ impl<B: Bus> Executive<B> {
                         std::hint::spin_loop();
                     }
                 }
-                InjectedFault::DriveAlarm { axis, code } => {
-                    self.event(EventKind::FaultInjected, axis as u16, 2);
-                    if !self.bus.inject_alarm(axis, code) {
+                InjectedFault::DriveAlarm { axis, .. }
+                | InjectedFault::RxLoss { axis, .. }
+                | InjectedFault::CounterCorruption { axis, .. } => {
+                    let code = match inj.fault {
+                        InjectedFault::DriveAlarm { .. } => 2,
+                        InjectedFault::RxLoss { .. } => 4,
+                        _ => 5,
+                    };
+                    self.event(EventKind::FaultInjected, axis as u16, code);
+                    if !inject_into_bus(&mut self.bus, inj.fault) {
                         self.event(EventKind::BusError, axis as u16, -2);
                     }
                 }
@@ -307,6 +318,21 @@ impl<B: Bus> Executive<B> {
             };
             let old = self.axes[i].feedback;
             self.axes[i].feedback = tx;
+            // Master-side incremental counter (mr-j3-t04.md §6.2): report a continuous or
+            // intermittent echo error once; the cell reacts in `update_cell`.
+            let ch = &mut self.axes[i];
+            if let Some(counter) = ch.counter.as_mut() {
+                let verdict = counter.check_rx(tx.counter);
+                if verdict.is_fault() && !ch.comm_fault {
+                    ch.comm_fault = true;
+                    self.comm_fault_pending = true;
+                    let kind = match verdict {
+                        CounterVerdict::Continuous { .. } => 1,
+                        _ => 2,
+                    };
+                    self.event(EventKind::CommunicationError, i as u16, kind);
+                }
+            }
             if old.statusword.state() != tx.statusword.state() {
                 let v = tx.statusword.state().map(fsa_index).unwrap_or(0);
                 self.event(EventKind::FsaState, i as u16, v);
@@ -332,6 +358,7 @@ impl<B: Bus> Executive<B> {
                 mode: ModeOfOperation::CyclicSyncPosition.as_i8(),
                 controlword,
                 target_position: round_counts(ch.setpoint),
+                counter: ch.counter.as_mut().map_or(0, |c| c.next_tx()),
                 ..RxPdo::default()
             };
             let map = ch.rx_map;
@@ -356,6 +383,8 @@ impl<B: Bus> Executive<B> {
                     error_code: ch.feedback.error_code,
                     target_torque: rx.target_torque,
                     torque_actual: ch.feedback.torque_actual,
+                    counter_sent: rx.counter,
+                    counter_received: ch.feedback.counter,
                 };
                 let pushed = self.handoff.axes.push(rec).is_ok();
                 self.record_pushed(pushed);
@@ -410,6 +439,20 @@ impl<B: Bus> Executive<B> {
         if self.handoff.events.push(ev).is_err() {
             self.stats.dropped_events += 1;
         }
+    }
+}
+
+/// Applies a bus-side injected fault (drive alarm, RxPDO loss, counter corruption) to `bus`;
+/// false if the bus cannot inject it or the fault is not a bus fault. Shared by the executive
+/// and `cellrt replay`, so a replay sees the same faults at the same cycles.
+pub fn inject_into_bus<B: Bus>(bus: &mut B, fault: InjectedFault) -> bool {
+    match fault {
+        InjectedFault::DriveAlarm { axis, code } => bus.inject_alarm(axis, code),
+        InjectedFault::RxLoss { axis, cycles } => bus.inject_rx_loss(axis, cycles),
+        InjectedFault::CounterCorruption { axis, cycles } => {
+            bus.inject_counter_corruption(axis, cycles)
+        }
+        InjectedFault::Stall { .. } | InjectedFault::PlannerStall { .. } => false,
     }
 }
 

@@ -545,8 +545,8 @@ impl Drain<'_> {
             setpoint_torque: i32::from(a.target_torque),
             actual_torque: i32::from(a.torque_actual),
             // The drive profiles map no incremental counter yet.
-            counter_sent: 0,
-            counter_received: 0,
+            counter_sent: u32::from(a.counter_sent),
+            counter_received: u32::from(a.counter_received),
         };
         self.buf.clear();
         msg.encode(&mut self.buf).expect("Vec grows");
@@ -590,6 +590,7 @@ impl Drain<'_> {
             | EventKind::BusError
             | EventKind::CommandRefused
             | EventKind::PlannerLost
+            | EventKind::CommunicationError
             | EventKind::RecordsDropped => tracing::warn!("{line}"),
             _ => tracing::debug!("{line}"),
         }
@@ -648,11 +649,22 @@ pub fn describe_event(e: &EventRecord) -> String {
         }
         EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
         EventKind::RecordsDropped => format!("{} records dropped", e.value),
-        EventKind::FaultInjected => ["", "stall", "drive_alarm", "planner_stall"]
-            .get(e.value as usize)
-            .copied()
-            .unwrap_or("unknown")
-            .to_string(),
+        EventKind::CommunicationError => match e.value {
+            1 => "continuous incremental-counter errors".to_string(),
+            _ => "intermittent incremental-counter errors".to_string(),
+        },
+        EventKind::FaultInjected => [
+            "",
+            "stall",
+            "drive_alarm",
+            "planner_stall",
+            "rx_loss",
+            "counter_corruption",
+        ]
+        .get(e.value as usize)
+        .copied()
+        .unwrap_or("unknown")
+        .to_string(),
         EventKind::StopFinished
         | EventKind::MasterTimeout
         | EventKind::BusError

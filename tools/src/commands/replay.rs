@@ -13,7 +13,7 @@ use cellrt_axes::pdo::{RxPdo, TxPdo};
 use cellrt_axes::Cycles;
 use cellrt_runtime::config::{CellConfig, InjectedFault};
 use cellrt_runtime::controller::sim_bus;
-use cellrt_runtime::executive::AxisChannel;
+use cellrt_runtime::executive::{inject_into_bus, AxisChannel};
 use cellrt_runtime::record::proto::AxisCycle;
 
 use crate::cli::ReplayArgs;
@@ -136,15 +136,20 @@ pub fn replay(
         .map(|a| AxisChannel::new(cell, a))
         .collect();
     let mut bus = sim_bus(cell);
-    let mut alarms: Vec<(u64, usize, u16)> = cell
+    // Bus-side injected faults, already sorted by cycle (as the executive applies them).
+    let alarms: Vec<_> = cell
         .inject
         .iter()
-        .filter_map(|i| match i.fault {
-            InjectedFault::DriveAlarm { axis, code } => Some((i.cycle, axis, code)),
-            _ => None,
+        .filter(|i| {
+            matches!(
+                i.fault,
+                InjectedFault::DriveAlarm { .. }
+                    | InjectedFault::RxLoss { .. }
+                    | InjectedFault::CounterCorruption { .. }
+            )
         })
+        .copied()
         .collect();
-    alarms.sort_by_key(|a| a.0);
     let mut next_alarm = 0;
     // As Executive::run: one exchange of all-zero outputs before cycle 0.
     bus.exchange(Cycles(1))
@@ -158,12 +163,12 @@ pub fn replay(
                 cell.axes[i].name, axes[i][k].cycle, cell.axes[0].name
             ));
         }
-        while let Some(&(at, axis, code)) = alarms.get(next_alarm) {
-            if at > cycle {
+        while let Some(inj) = alarms.get(next_alarm) {
+            if inj.cycle > cycle {
                 break;
             }
             next_alarm += 1;
-            bus.inject_alarm(axis, code);
+            inject_into_bus(&mut bus, inj.fault);
         }
         for (i, ch) in channels.iter().enumerate() {
             let rec = &axes[i][k];
@@ -188,6 +193,7 @@ pub fn replay(
                 controlword: Controlword(rec.controlword as u16),
                 target_position: rec.setpoint_counts,
                 target_torque: rec.setpoint_torque as i16,
+                counter: rec.counter_sent as u8,
                 ..RxPdo::default()
             };
             ch.rx_map

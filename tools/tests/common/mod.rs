@@ -29,7 +29,7 @@ pub fn demo_cell(dir: &Path, program: &str) -> PathBuf {
         // machine is (the watchdog tests switch it back on).
         .replace("lookahead_ms = 50", "lookahead_ms = 1000")
         .replace(
-            "max_consecutive_overruns = 10",
+            "max_consecutive_overruns = 100",
             "max_consecutive_overruns = 0",
         );
     assert!(!text.contains(r#"name = "demo""#) && text.contains("lookahead_ms = 1000"));

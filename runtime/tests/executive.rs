@@ -3,6 +3,7 @@
 //! moves; an underrun stops the cell; the cell refuses motion until reset and moves after it.
 
 use std::path::Path;
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -15,6 +16,10 @@ use cellrt_runtime::services::{self, SetpointPublisher};
 use cellrt_runtime::setpoints::{AxisSetpoint, SetpointHeader, SetpointStream, FLAG_LAST};
 
 const COUNTS_PER_MM: f64 = 1000.0;
+
+/// Cycles between reading the cell's cycle and a block's start: ample for a test thread that a
+/// loaded machine delays (a block that arrives after its start is refused as late).
+const LEAD: u64 = 300;
 
 fn cell() -> CellConfig {
     cell_with("a", "")
@@ -95,10 +100,25 @@ impl Rig {
 
     fn wait_cycles(&mut self, n: u64) {
         let until = self.handoff.status.cycle() + n;
-        while self.handoff.status.cycle() < until {
+        self.wait_until(until);
+    }
+
+    fn wait_until(&mut self, cycle: u64) {
+        while self.handoff.status.cycle() < cycle {
             std::thread::sleep(Duration::from_millis(1));
         }
         self.drain();
+    }
+
+    /// Waits until motion `id` has finished and the cell is idle again.
+    fn wait_motion_done(&mut self, id: u32) {
+        let end = Instant::now() + Duration::from_secs(5);
+        let done = |r: &Rig| r.handoff.status.motion_done.load(Ordering::Acquire);
+        while done(self) != id {
+            assert!(Instant::now() < end, "motion {id} never finished");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        self.wait_state(CellState::Idle);
     }
 
     fn hold_mm(&self) -> f64 {
@@ -183,9 +203,9 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     );
 
     // A block that jumps 5 mm in one cycle (5000 mm/s > 100 mm/s): refused, nothing moves.
-    let start = rig.cycle() + 30;
+    let start = rig.cycle() + LEAD;
     rig.publish(1, start, &[home + 5.0; 16], true);
-    rig.wait_cycles(60);
+    rig.wait_until(start + 60);
     assert_eq!(rig.rejections(), vec![2], "velocity_step"); // RejectReason::VelocityStep
     assert_eq!(rig.handoff.status.state(), CellState::Idle);
     assert_eq!(rig.hold_mm(), home);
@@ -197,14 +217,14 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     assert_eq!(rig.hold_mm(), home);
 
     // A block outside the position range: refused.
-    let start = rig.cycle() + 30;
+    let start = rig.cycle() + LEAD;
     rig.publish(3, start, &[600.0; 16], true);
-    rig.wait_cycles(60);
+    rig.wait_until(start + 60);
     assert_eq!(rig.rejections().len(), 3);
     assert_eq!(rig.hold_mm(), home);
 
     // A motion whose stream ends without its last block: underrun, controlled stop, Stopped.
-    let start = rig.cycle() + 30;
+    let start = rig.cycle() + LEAD;
     rig.publish_move(4, start, 3, false);
     rig.wait_state(CellState::Stopped);
     assert!(rig.events.iter().any(|e| e.kind == EventKind::Underrun));
@@ -212,9 +232,9 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     assert!(stopped_at > home, "it had moved before the underrun");
 
     // Stopped: a valid motion is refused (not accepted) and nothing moves.
-    let start = rig.cycle() + 30;
+    let start = rig.cycle() + LEAD;
     rig.publish_move(5, start, 2, true);
-    rig.wait_cycles(100);
+    rig.wait_until(start + 100);
     assert_eq!(rig.handoff.status.state(), CellState::Stopped);
     assert_eq!(*rig.rejections().last().unwrap(), 6, "not_accepting");
     assert_eq!(rig.hold_mm(), stopped_at);
@@ -222,20 +242,9 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     // After reset the same kind of motion runs to its end.
     rig.command(CellCommand::Reset);
     rig.wait_state(CellState::Idle);
-    let start = rig.cycle() + 30;
+    let start = rig.cycle() + LEAD;
     let target = rig.publish_move(6, start, 3, true);
-    let end = Instant::now() + Duration::from_secs(5);
-    while rig
-        .handoff
-        .status
-        .motion_done
-        .load(std::sync::atomic::Ordering::Acquire)
-        != 6
-    {
-        assert!(Instant::now() < end, "motion 6 never finished");
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    rig.wait_state(CellState::Idle);
+    rig.wait_motion_done(6);
     assert!(
         (rig.hold_mm() - target).abs() < 1e-9,
         "{} vs {target}",
@@ -263,9 +272,9 @@ fn a_faulted_cell_needs_reset_and_power_on_before_it_moves_again() {
 
     // Faulted: power on is refused, motion is refused.
     rig.command(CellCommand::PowerOn);
-    let start = rig.cycle() + 30;
+    let start = rig.cycle() + LEAD;
     rig.publish_move(1, start, 2, true);
-    rig.wait_cycles(80);
+    rig.wait_until(start + 80);
     assert_eq!(rig.handoff.status.state(), CellState::Faulted);
     assert!(rig
         .events
@@ -278,20 +287,9 @@ fn a_faulted_cell_needs_reset_and_power_on_before_it_moves_again() {
     rig.wait_state(CellState::Disabled);
     rig.command(CellCommand::PowerOn);
     rig.wait_state(CellState::Idle);
-    let start = rig.cycle() + 30;
+    let start = rig.cycle() + LEAD;
     let target = rig.publish_move(2, start, 2, true);
-    let end = Instant::now() + Duration::from_secs(5);
-    while rig
-        .handoff
-        .status
-        .motion_done
-        .load(std::sync::atomic::Ordering::Acquire)
-        != 2
-    {
-        assert!(Instant::now() < end, "motion 2 never finished");
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    rig.wait_state(CellState::Idle);
+    rig.wait_motion_done(2);
     assert!((rig.hold_mm() - target).abs() < 1e-9);
     let stats = rig.stop();
     assert_eq!(stats.faults, 1);

@@ -4,68 +4,16 @@
 //! A counting global allocator counts only on the RT thread, between the executive's
 //! `SteadyState` and `Exit` phase hooks.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
+mod common;
+
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::Ordering;
 
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::controller::{run, Outcome, RunOptions};
-use cellrt_runtime::executive::{RtPhase, WARMUP_CYCLES};
+use cellrt_runtime::executive::WARMUP_CYCLES;
 use cellrt_runtime::program::Program;
-
-struct Counting;
-
-static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
-static STEADY_CYCLES_SEEN: AtomicU64 = AtomicU64::new(0);
-
-thread_local! {
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-}
-
-fn counting() -> bool {
-    COUNTING.try_with(|c| c.get()).unwrap_or(false)
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if counting() {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        if counting() {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        if counting() {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        if counting() {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn hook(phase: RtPhase) {
-    match phase {
-        RtPhase::SteadyState => COUNTING.with(|c| c.set(true)),
-        RtPhase::Exit => {
-            COUNTING.with(|c| c.set(false));
-            STEADY_CYCLES_SEEN.fetch_add(1, Ordering::Relaxed);
-        }
-    }
-}
+use common::{hook, ALLOCATIONS, LOOPS_EXITED};
 
 const CELL: &str = r#"
 [cell]
@@ -140,7 +88,7 @@ fn rt_loop_body_does_not_allocate_in_steady_state() {
 
     assert_eq!(summary.outcome, Outcome::ProgramCompleted, "{summary:?}");
     assert_eq!(
-        STEADY_CYCLES_SEEN.load(Ordering::Relaxed),
+        LOOPS_EXITED.load(Ordering::Relaxed),
         1,
         "exit hook ran once"
     );

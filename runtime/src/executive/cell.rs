@@ -354,8 +354,11 @@ impl<B: Bus> Executive<B> {
         let n = self.axes.len();
         // After an overrun the setpoint may move as far as the skipped cycles allow.
         let steps = f64::from(self.elapsed.0.max(1));
-        // At most two blocks are looked at: the one in use and its successor.
-        for _ in 0..2 {
+        // Blocks looked at: the one in use, those an overrun skipped entirely, and the one that
+        // covers this cycle; bounded by the subscriber's buffer.
+        let max_blocks = (self.elapsed.0 as usize / BLOCK_CYCLES + 2)
+            .min(crate::services::SETPOINT_BUFFER_BLOCKS + 2);
+        for _ in 0..max_blocks {
             let front = match self.stream.front() {
                 Ok(Some(b)) => b,
                 _ => return Lookup::Underrun,

@@ -9,7 +9,9 @@ use crossbeam::queue::ArrayQueue;
 use crate::setpoints::MAX_AXES;
 
 /// What a non-RT thread asks of the cell.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
+#[strum(serialize_all = "snake_case")]
+#[repr(u8)]
 pub enum CellCommand {
     /// Bring every axis to Operation enabled (MC_Power on).
     PowerOn,
@@ -28,14 +30,7 @@ pub enum CellCommand {
 impl CellCommand {
     /// Short name for events and messages.
     pub fn as_str(self) -> &'static str {
-        match self {
-            CellCommand::PowerOn => "power_on",
-            CellCommand::PowerOff => "power_off",
-            CellCommand::Stop => "stop",
-            CellCommand::Reset => "reset",
-            CellCommand::Quit => "quit",
-            CellCommand::PlannerLost => "planner_lost",
-        }
+        self.into()
     }
 
     fn code(self) -> i64 {
@@ -44,16 +39,7 @@ impl CellCommand {
 
     /// Inverse of the event value the RT thread records for a command.
     pub fn from_code(v: i64) -> Option<CellCommand> {
-        [
-            CellCommand::PowerOn,
-            CellCommand::PowerOff,
-            CellCommand::Stop,
-            CellCommand::Reset,
-            CellCommand::Quit,
-            CellCommand::PlannerLost,
-        ]
-        .into_iter()
-        .find(|c| c.code() == v)
+        u8::try_from(v).ok().and_then(Self::from_repr)
     }
 
     /// Value recorded with command events.
@@ -63,7 +49,8 @@ impl CellCommand {
 }
 
 /// State of the cell as a whole, owned by the RT thread.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, strum::IntoStaticStr, strum::FromRepr)]
+#[strum(serialize_all = "snake_case")]
 #[repr(u8)]
 pub enum CellState {
     /// Axes not enabled.
@@ -88,31 +75,18 @@ pub enum CellState {
 impl CellState {
     /// Inverse of `as u8`.
     pub fn from_u8(v: u8) -> Option<CellState> {
-        use CellState::*;
-        [
-            Disabled, Enabling, Idle, Moving, Stopping, Stopped, Disabling, Faulted,
-        ]
-        .into_iter()
-        .find(|s| *s as u8 == v)
+        Self::from_repr(v)
     }
 
     /// Lower-case name.
     pub fn as_str(self) -> &'static str {
-        match self {
-            CellState::Disabled => "disabled",
-            CellState::Enabling => "enabling",
-            CellState::Idle => "idle",
-            CellState::Moving => "moving",
-            CellState::Stopping => "stopping",
-            CellState::Stopped => "stopped",
-            CellState::Disabling => "disabling",
-            CellState::Faulted => "faulted",
-        }
+        self.into()
     }
 }
 
 /// Why a controlled stop was started.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
+#[strum(serialize_all = "snake_case")]
 #[repr(u8)]
 pub enum StopReason {
     /// A Stop command (or SIGINT/SIGTERM).
@@ -134,36 +108,18 @@ pub enum StopReason {
 impl StopReason {
     /// Lower-case name.
     pub fn as_str(self) -> &'static str {
-        match self {
-            StopReason::Command => "command",
-            StopReason::Underrun => "underrun",
-            StopReason::SetpointRejected => "setpoint_rejected",
-            StopReason::DriveFault => "drive_fault",
-            StopReason::Overrun => "overrun",
-            StopReason::PlannerLost => "planner_lost",
-            StopReason::Communication => "communication",
-        }
+        self.into()
     }
 
     /// Inverse of `as u8`.
     pub fn from_u8(v: u8) -> Option<StopReason> {
-        use StopReason::*;
-        [
-            Command,
-            Underrun,
-            SetpointRejected,
-            DriveFault,
-            Overrun,
-            PlannerLost,
-            Communication,
-        ]
-        .into_iter()
-        .find(|s| *s as u8 == v)
+        Self::from_repr(v)
     }
 }
 
 /// Why a setpoint was rejected (the `value` of a `SetpointRejected` event).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
+#[strum(serialize_all = "snake_case")]
 #[repr(u8)]
 pub enum RejectReason {
     /// The block's first cycle had already passed when it arrived.
@@ -183,34 +139,18 @@ pub enum RejectReason {
 impl RejectReason {
     /// Lower-case name.
     pub fn as_str(self) -> &'static str {
-        match self {
-            RejectReason::LateBlock => "late_block",
-            RejectReason::VelocityStep => "velocity_step",
-            RejectReason::OutsideRange => "outside_range",
-            RejectReason::Discontinuous => "discontinuous",
-            RejectReason::Malformed => "malformed",
-            RejectReason::NotAccepting => "not_accepting",
-        }
+        self.into()
     }
 
     /// Inverse of `as u8`.
     pub fn from_u8(v: u8) -> Option<RejectReason> {
-        use RejectReason::*;
-        [
-            LateBlock,
-            VelocityStep,
-            OutsideRange,
-            Discontinuous,
-            Malformed,
-            NotAccepting,
-        ]
-        .into_iter()
-        .find(|s| *s as u8 == v)
+        Self::from_repr(v)
     }
 }
 
 /// What an event says; the meaning of [`EventRecord::value`] depends on it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
+#[strum(serialize_all = "snake_case")]
 pub enum EventKind {
     /// Cell state changed (value: new [`CellState`] as u8).
     CellState,
@@ -257,27 +197,7 @@ pub enum EventKind {
 impl EventKind {
     /// Lower-case name used on the events channel.
     pub fn as_str(self) -> &'static str {
-        match self {
-            EventKind::CellState => "cell_state",
-            EventKind::FsaState => "fsa_state",
-            EventKind::Command => "command",
-            EventKind::CommandRefused => "command_refused",
-            EventKind::MotionStarted => "motion_started",
-            EventKind::MotionFinished => "motion_finished",
-            EventKind::Underrun => "underrun",
-            EventKind::SetpointRejected => "setpoint_rejected",
-            EventKind::StopStarted => "stop_started",
-            EventKind::StopFinished => "stop_finished",
-            EventKind::Overrun => "overrun",
-            EventKind::DriveFault => "drive_fault",
-            EventKind::MasterTimeout => "master_timeout",
-            EventKind::RecordsDropped => "records_dropped",
-            EventKind::BusError => "bus_error",
-            EventKind::FaultInjected => "fault_injected",
-            EventKind::PlannerConnected => "planner_connected",
-            EventKind::PlannerLost => "planner_lost",
-            EventKind::CommunicationError => "communication_error",
-        }
+        self.into()
     }
 }
 
@@ -443,5 +363,45 @@ impl Handoff {
             status: CellStatus::default(),
             recording,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_and_codes_round_trip() {
+        // These names are part of the recording format (event kinds and details).
+        assert_eq!(CellState::Idle.as_str(), "idle");
+        assert_eq!(StopReason::SetpointRejected.as_str(), "setpoint_rejected");
+        assert_eq!(RejectReason::NotAccepting.as_str(), "not_accepting");
+        assert_eq!(
+            EventKind::CommunicationError.as_str(),
+            "communication_error"
+        );
+        assert_eq!(CellCommand::PowerOn.as_str(), "power_on");
+        for v in 0..=255u8 {
+            if let Some(s) = CellState::from_u8(v) {
+                assert_eq!(s as u8, v);
+            }
+            if let Some(r) = StopReason::from_u8(v) {
+                assert_eq!(r as u8, v);
+            }
+        }
+        assert_eq!(CellState::from_u8(0), None);
+        assert_eq!(
+            CellState::from_u8(CellState::Faulted as u8),
+            Some(CellState::Faulted)
+        );
+        for c in [
+            CellCommand::PowerOn,
+            CellCommand::Quit,
+            CellCommand::PlannerLost,
+        ] {
+            assert_eq!(CellCommand::from_code(c.event_value()), Some(c));
+        }
+        assert_eq!(CellCommand::from_code(-1), None);
+        assert_eq!(CellCommand::from_code(1000), None);
     }
 }

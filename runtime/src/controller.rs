@@ -309,7 +309,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         outcome,
         program_error,
         rt: report,
-        counters: stats.counters(),
+        counters: stats.counters,
         wakeup_latency: stats.latency.percentiles(),
         loop_time: stats.loop_time.percentiles(),
         final_state: stats.final_state.as_str().to_string(),

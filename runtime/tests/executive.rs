@@ -252,8 +252,8 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     );
 
     let stats = rig.stop();
-    assert_eq!(stats.underruns, 1);
-    assert_eq!(stats.rejected_setpoints, 3);
+    assert_eq!(stats.counters.underruns, 1);
+    assert_eq!(stats.counters.rejected_setpoints, 3);
     assert_eq!(stats.final_state, CellState::Disabled);
 }
 
@@ -292,5 +292,5 @@ fn a_faulted_cell_needs_reset_and_power_on_before_it_moves_again() {
     rig.wait_motion_done(2);
     assert!((rig.hold_mm() - target).abs() < 1e-9);
     let stats = rig.stop();
-    assert_eq!(stats.faults, 1);
+    assert_eq!(stats.counters.faults, 1);
 }

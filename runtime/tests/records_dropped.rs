@@ -82,5 +82,5 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
     assert!(rec.dropped_records >= last);
     handoff.commands.push(CellCommand::Quit).unwrap();
     let stats = rt.join().unwrap();
-    assert!(stats.dropped_records >= last);
+    assert!(stats.counters.dropped_records >= last);
 }

@@ -8,57 +8,14 @@ use super::{
 use crate::cia402::fsa::FsaQuirks;
 use crate::cia402::mode::ModeOfOperation as M;
 use crate::cycles::ALLOWED_MICROS;
-use crate::pdo::{PdoEntry, PdoMap};
 
-const fn obj(index: u16, bits: u16) -> PdoEntry {
-    PdoEntry::object(index, 0, bits)
-}
+// The default 1st RxPDO 1600h / TxPDO 1A00h (24 bytes each, §5.2 / manual §4.3), the alarm
+// code encoding and the AL.086.1, following-error and overspeed codes are the MR-JET-G-N1's
+// (mr-j5-g-n1.md §12 "Same in both"): one definition, in `mr_jet_g_n1`.
+pub use super::mr_jet_g_n1::{AL_086_1, FOLLOWING_ERROR, OVERSPEED, RX_PDO_1600, TX_PDO_1A00};
 
-/// Default 1st RxPDO 1600h, 24 bytes (mr-j5-g-n1.md §5.2 / manual §4.3).
-pub const RX_PDO_1600: PdoMap = PdoMap {
-    index: 0x1600,
-    entries: &[
-        obj(0x6060, 8),       // 0  Modes of operation
-        PdoEntry::padding(8), // 1  padding
-        obj(0x6040, 16),      // 2  Controlword
-        obj(0x2D01, 16),      // 4  Control DI 1
-        obj(0x2D02, 16),      // 6  Control DI 2
-        obj(0x2D03, 16),      // 8  Control DI 3
-        obj(0x607A, 32),      // 10 Target position
-        obj(0x60FF, 32),      // 14 Target velocity
-        obj(0x2D20, 32),      // 18 Velocity limit value
-        obj(0x6071, 16),      // 22 Target torque
-    ],
-};
-
-/// Default 1st TxPDO 1A00h, 24 bytes (mr-j5-g-n1.md §5.2 / manual §4.3).
-pub const TX_PDO_1A00: PdoMap = PdoMap {
-    index: 0x1A00,
-    entries: &[
-        obj(0x6061, 8),       // 0  Modes of operation display
-        PdoEntry::padding(8), // 1  padding
-        obj(0x6041, 16),      // 2  Statusword
-        obj(0x2D11, 16),      // 4  Status DO 1
-        obj(0x2D12, 16),      // 6  Status DO 2
-        obj(0x2D13, 16),      // 8  Status DO 3
-        obj(0x6064, 32),      // 10 Position actual value
-        obj(0x606C, 32),      // 14 Velocity actual value
-        obj(0x60F4, 32),      // 18 Following error actual value
-        obj(0x6077, 16),      // 22 Torque actual value
-    ],
-};
-
-/// Alarm code encoding of this module: AL.XXX.Y → 0xXXXY (AL.086.1 → 0x0861). The manual
-/// names no alarm object (§6), so the encoding is cellrt's.
-pub const AL_086_1: u16 = 0x0861;
 /// AL.011.2 Invalid axis setting error (§8, 1-axis SW3 setting).
 pub const AL_011_2: u16 = 0x0112;
-/// Following-error alarm code: the manual has no alarm list (§9); CiA 402 8611h "following error"
-/// [background] is used, configurable through `SimDriveParams`.
-pub const FOLLOWING_ERROR: u16 = 0x8611;
-/// Overspeed alarm code: not in the manual (§9); CiA 402 8400h "velocity speed controller"
-/// [background].
-pub const OVERSPEED: u16 = 0x8400;
 
 /// The alarms and warnings the manual names (§9). Stop methods are not in this manual.
 pub const ALARMS: &[AlarmInfo] = &[

@@ -170,13 +170,13 @@ impl<B: Bus> Executive<B> {
                         self.set_state(CellState::Idle);
                     }
                     Lookup::Underrun => {
-                        self.stats.underruns += 1;
+                        self.stats.counters.underruns += 1;
                         self.event(EventKind::Underrun, NO_AXIS, i64::from(self.motion_id));
                         self.react(StopReason::Underrun);
                         self.stop_cycle();
                     }
                     Lookup::Rejected(axis, reason) => {
-                        self.stats.rejected_setpoints += 1;
+                        self.stats.counters.rejected_setpoints += 1;
                         self.event(EventKind::SetpointRejected, axis, reason as i64);
                         self.react(StopReason::SetpointRejected);
                         self.stop_cycle();
@@ -322,7 +322,7 @@ impl<B: Bus> Executive<B> {
             None => {}
             Some(Err(None)) => self.stream.pop(),
             Some(Err(Some(reason))) => {
-                self.stats.rejected_setpoints += 1;
+                self.stats.counters.rejected_setpoints += 1;
                 self.event(EventKind::SetpointRejected, NO_AXIS, reason as i64);
                 self.stream.pop();
             }
@@ -335,7 +335,7 @@ impl<B: Bus> Executive<B> {
                         self.set_state(CellState::Moving);
                     }
                     Lookup::Rejected(axis, reason) => {
-                        self.stats.rejected_setpoints += 1;
+                        self.stats.counters.rejected_setpoints += 1;
                         self.event(EventKind::SetpointRejected, axis, reason as i64);
                         self.stream.discard_all();
                     }

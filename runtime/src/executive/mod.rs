@@ -46,18 +46,8 @@ pub const WARMUP_CYCLES: u64 = 200;
 /// Counters and histograms the RT thread hands back when it exits.
 #[derive(Debug, Clone)]
 pub struct RtStats {
-    /// Executed cycles.
-    pub cycles: u64,
-    /// Missed deadlines (skipped cycles).
-    pub overruns: u64,
-    /// Setpoint underruns during motion.
-    pub underruns: u64,
-    /// Rejected setpoint blocks.
-    pub rejected_setpoints: u64,
-    /// Drive faults seen (rising edges of statusword bit 3).
-    pub faults: u64,
-    /// Records that could not be handed to the recorder.
-    pub dropped_records: u64,
+    /// The counters the summary reports.
+    pub counters: RtCounters,
     /// Events that could not be handed over.
     pub dropped_events: u64,
     /// Wakeup latency histogram.
@@ -71,34 +61,20 @@ pub struct RtStats {
 }
 
 /// Summary numbers of [`RtStats`] for printing and JSON.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Copy, Default, Serialize, PartialEq, Eq)]
 pub struct RtCounters {
     /// Executed cycles.
     pub cycles: u64,
-    /// Missed deadlines.
+    /// Missed deadlines (skipped cycles).
     pub overruns: u64,
-    /// Setpoint underruns.
+    /// Setpoint underruns during motion.
     pub underruns: u64,
-    /// Rejected setpoints.
+    /// Rejected setpoint blocks.
     pub rejected_setpoints: u64,
-    /// Drive faults.
+    /// Drive faults seen (rising edges of statusword bit 3).
     pub faults: u64,
-    /// Dropped records.
+    /// Records that could not be handed to the recorder.
     pub dropped_records: u64,
-}
-
-impl RtStats {
-    /// The counters only.
-    pub fn counters(&self) -> RtCounters {
-        RtCounters {
-            cycles: self.cycles,
-            overruns: self.overruns,
-            underruns: self.underruns,
-            rejected_setpoints: self.rejected_setpoints,
-            faults: self.faults,
-            dropped_records: self.dropped_records,
-        }
-    }
 }
 
 /// All state of the RT loop, preallocated from the configuration.
@@ -175,12 +151,7 @@ impl<B: Bus> Executive<B> {
             next_injection: 0,
             elapsed: Cycles(1),
             stats: RtStats {
-                cycles: 0,
-                overruns: 0,
-                underruns: 0,
-                rejected_setpoints: 0,
-                faults: 0,
-                dropped_records: 0,
+                counters: RtCounters::default(),
                 dropped_events: 0,
                 latency: NsHistogram::new(),
                 loop_time: NsHistogram::new(),
@@ -223,7 +194,7 @@ impl<B: Bus> Executive<B> {
             let loop_ns = end.since(wake);
             self.stats.latency.record(latency);
             self.stats.loop_time.record(loop_ns);
-            self.stats.cycles += 1;
+            self.stats.counters.cycles += 1;
             self.publish(deadline, latency, loop_ns);
             if quit {
                 break;
@@ -235,7 +206,7 @@ impl<B: Bus> Executive<B> {
             let now = MonoTime::now();
             if now >= next {
                 let missed = now.since(next) / self.period_ns + 1;
-                self.stats.overruns += missed;
+                self.stats.counters.overruns += missed;
                 self.event(EventKind::Overrun, NO_AXIS, now.since(next) as i64);
                 next = next.plus(missed * self.period_ns);
                 step += missed;
@@ -338,7 +309,7 @@ impl<B: Bus> Executive<B> {
                 self.event(EventKind::FsaState, i as u16, v);
             }
             if tx.statusword.fault() && !old.statusword.fault() {
-                self.stats.faults += 1;
+                self.stats.counters.faults += 1;
                 let code = if self.axes[i].error_code_mapped {
                     i64::from(tx.error_code)
                 } else {
@@ -403,9 +374,9 @@ impl<B: Bus> Executive<B> {
                 deadline_ns: deadline.0,
                 wakeup_latency_ns: latency.min(u64::from(u32::MAX)) as u32,
                 loop_time_ns: loop_ns.min(u64::from(u32::MAX)) as u32,
-                overruns: self.stats.overruns,
+                overruns: self.stats.counters.overruns,
                 cell_state: self.state,
-                dropped_records: self.stats.dropped_records,
+                dropped_records: self.stats.counters.dropped_records,
             };
             let pushed = self.handoff.cycles.push(rec).is_ok();
             self.record_pushed(pushed);
@@ -416,14 +387,14 @@ impl<B: Bus> Executive<B> {
     /// records one `records_dropped` event (value: dropped so far). Allocation-free.
     fn record_pushed(&mut self, pushed: bool) {
         if !pushed {
-            self.stats.dropped_records += 1;
+            self.stats.counters.dropped_records += 1;
             self.drops_unreported = true;
         } else if self.drops_unreported {
             self.drops_unreported = false;
             self.event(
                 EventKind::RecordsDropped,
                 NO_AXIS,
-                self.stats.dropped_records.min(i64::MAX as u64) as i64,
+                self.stats.counters.dropped_records.min(i64::MAX as u64) as i64,
             );
         }
     }

@@ -102,14 +102,20 @@ pub struct RemoteLink {
     status: Subscriber<ipc::Service, StatusSample, ()>,
     commands: Publisher<ipc::Service, CommandSample, ()>,
     latest: Option<(StatusSnapshot, Instant)>,
+    /// Cycle time (ns) and axis count the controller reported last.
+    shape: (u64, u32),
     cell: String,
 }
 
 impl RemoteLink {
-    /// Connects to `cell` through `node`, waiting up to `timeout` for its first status.
+    /// Connects to `cell` through `node`, waiting up to `timeout` for its first status, and
+    /// refuses a controller whose cycle time or axis count differs from the planner's
+    /// configuration (its setpoints would be sampled for another cell).
     pub fn connect(
         node: &Node<ipc::Service>,
         cell: &str,
+        cycle_time_ns: u64,
+        axes: usize,
         timeout: Duration,
     ) -> Result<RemoteLink, String> {
         let e = |e: ServiceError| e.to_string();
@@ -117,11 +123,20 @@ impl RemoteLink {
             status: services::status_subscriber(node, cell).map_err(e)?,
             commands: services::command_publisher(node, cell).map_err(e)?,
             latest: None,
+            shape: (0, 0),
             cell: cell.to_string(),
         };
         let end = Instant::now() + timeout;
         loop {
             if link.status().is_ok() {
+                let (ns, n) = link.shape;
+                if ns != cycle_time_ns || n as usize != axes {
+                    return Err(format!(
+                        "the controller of cell '{cell}' runs {n} axes at {} µs, but this configuration has {axes} axes at {} µs: start the planner with the controller's configuration file",
+                        ns / 1000,
+                        cycle_time_ns / 1000
+                    ));
+                }
                 return Ok(link);
             }
             if Instant::now() >= end {
@@ -140,6 +155,7 @@ impl CellLink for RemoteLink {
             let s = sample.payload();
             let state = CellState::from_u8(s.state)
                 .ok_or_else(|| format!("malformed status from cell '{}'", self.cell))?;
+            self.shape = (s.cycle_time_ns, s.axis_count);
             self.latest = Some((
                 StatusSnapshot {
                     cycle: s.cycle,

@@ -140,7 +140,14 @@ pub fn run_external(
         reason,
     };
     let node = services::node(&cell.name, "link-client").map_err(|e| fail(e.to_string()))?;
-    let link = RemoteLink::connect(&node, &cell.name, connect_timeout).map_err(fail)?;
+    let link = RemoteLink::connect(
+        &node,
+        &cell.name,
+        cell.cycle_time.as_nanos(),
+        cell.axes.len(),
+        connect_timeout,
+    )
+    .map_err(fail)?;
     let mut planner = Planner::new(cell, Box::new(link), abort, program)?;
     planner.run(program)
 }

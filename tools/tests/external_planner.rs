@@ -183,3 +183,52 @@ fn killed_planner_stops_the_cell_and_a_new_one_takes_over() {
     assert!((last("x") - 100.0).abs() < 1e-6, "x {}", last("x"));
     assert!((last("y") - 120.0).abs() < 1e-6, "y {}", last("y"));
 }
+
+#[test]
+fn a_planner_with_another_cells_timing_is_refused_and_nothing_moves() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = demo_cell(dir.path(), FIRST);
+    // Same cell name, other cycle time: its setpoints would be sampled for another cell.
+    let other = dir.path().join("other.toml");
+    let text = std::fs::read_to_string(&cfg)
+        .unwrap()
+        .replace("cycle_time_us = 1000", "cycle_time_us = 2000");
+    std::fs::write(&other, text).unwrap();
+    let json = dir.path().join("summary.json");
+    let mut controller = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .args(["run", "--external-planner", "--no-record", "--summary-json"])
+        .arg(&json)
+        .arg(&cfg)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let ctl = lines(&mut controller);
+    let mut log = Vec::new();
+    wait_line(&ctl, "waiting for a planner", &mut log);
+
+    let mut p = planner(&other, &dir.path().join("program.toml"));
+    let p_log = lines(&mut p);
+    assert_eq!(wait_exit(&mut p, 30), Some(1));
+    let text: Vec<String> = p_log.try_iter().collect();
+    let err = text
+        .iter()
+        .find(|l| l.starts_with("error: "))
+        .expect("an error line");
+    assert!(err.contains("runs 4 axes at 1000 µs"), "{err}");
+    assert!(err.contains("4 axes at 2000 µs"), "{err}");
+
+    kill(Pid::from_raw(controller.id() as i32), Signal::SIGINT).unwrap();
+    assert_eq!(wait_exit(&mut controller, 30), Some(0));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(summary["final_state"], "disabled", "never powered on");
+    for a in summary["axes"].as_array().unwrap() {
+        let start = if a["name"] == "x" || a["name"] == "y" {
+            50.0
+        } else {
+            0.0
+        };
+        assert_eq!(a["final_position"].as_f64(), Some(start), "{a}");
+    }
+}

@@ -1,12 +1,13 @@
 //! Byte-exact process-data images: a PDO map declared as a table of entries, and the
 //! table-driven little-endian codec between images and the typed [`RxPdo`]/[`TxPdo`].
 //!
-//! Entry layout and sizes follow mr-j5-g-n1.md §5.2 / manual §4.3. Encoding and decoding walk
-//! the entry table once, allocation-free.
+//! Entry layout and sizes follow mr-j5-g-n1.md §5.2 / manual §4.3. The cyclic paths hold a
+//! [`PdoLayout`] (the map resolved once); `PdoMap`'s own codec methods resolve it per call.
 
-mod codec;
+mod layout;
 pub mod objects;
 
+pub use layout::{PdoLayout, MAX_LAYOUT_ENTRIES};
 pub use objects::{RxPdo, TxPdo};
 
 /// One mapped object (one sub-entry of a 16xxh/1Axxh mapping object).
@@ -78,6 +79,16 @@ pub enum PdoError {
         index: u16,
         /// The entry's sub-index.
         sub: u8,
+    },
+    /// More entries than a [`PdoLayout`] holds.
+    #[error("PDO map {map:#06X}h has {entries} entries, at most {max} are supported")]
+    TooManyEntries {
+        /// The mapping object index.
+        map: u16,
+        /// Its entry count.
+        entries: usize,
+        /// [`MAX_LAYOUT_ENTRIES`].
+        max: usize,
     },
 }
 
@@ -157,36 +168,24 @@ impl PdoMap {
     ///
     /// Padding and objects `RxPdo` does not carry are written as zero.
     pub fn encode_rx(&self, pdo: &RxPdo, buf: &mut [u8]) -> Result<(), PdoError> {
-        self.check_len(buf.len())?;
-        codec::encode(self, buf, |e| pdo.object_value(e.index, e.sub))
+        PdoLayout::new(self).encode_rx(pdo, buf)
     }
 
     /// Reads an [`RxPdo`] from `buf`; objects it does not carry are ignored, absent ones stay default.
     pub fn decode_rx(&self, buf: &[u8]) -> Result<RxPdo, PdoError> {
-        self.check_len(buf.len())?;
-        let mut pdo = RxPdo::default();
-        codec::decode(self, buf, |e, raw| {
-            pdo.set_object(e.index, e.sub, e.bits, raw)
-        })?;
-        Ok(pdo)
+        PdoLayout::new(self).decode_rx(buf)
     }
 
     /// Writes `pdo` into the first [`PdoMap::byte_len`] bytes of `buf` (trailing bytes untouched).
     ///
     /// Padding and objects `TxPdo` does not carry are written as zero.
     pub fn encode_tx(&self, pdo: &TxPdo, buf: &mut [u8]) -> Result<(), PdoError> {
-        self.check_len(buf.len())?;
-        codec::encode(self, buf, |e| pdo.object_value(e.index, e.sub))
+        PdoLayout::new(self).encode_tx(pdo, buf)
     }
 
     /// Reads a [`TxPdo`] from `buf`; objects it does not carry are ignored, absent ones stay default.
     pub fn decode_tx(&self, buf: &[u8]) -> Result<TxPdo, PdoError> {
-        self.check_len(buf.len())?;
-        let mut pdo = TxPdo::default();
-        codec::decode(self, buf, |e, raw| {
-            pdo.set_object(e.index, e.sub, e.bits, raw)
-        })?;
-        Ok(pdo)
+        PdoLayout::new(self).decode_tx(buf)
     }
 }
 

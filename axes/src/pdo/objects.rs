@@ -128,80 +128,132 @@ fn signed(raw: u64, bits: u16) -> i64 {
     ((raw << shift) as i64) >> shift
 }
 
-impl RxPdo {
-    /// The value of object `index:sub` as raw bits (0 for objects this view does not carry).
-    pub(super) fn object_value(&self, index: u16, sub: u8) -> u64 {
+/// The fields of [`RxPdo`], each resolved once from its object index by a [`crate::PdoLayout`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum RxField {
+    Mode,
+    Controlword,
+    TargetPosition,
+    TargetVelocity,
+    VelocityLimit,
+    TargetTorque,
+    TorqueLimitPositive,
+    TorqueLimitNegative,
+    Counter,
+}
+
+impl RxField {
+    /// The field carrying object `index:sub`, if [`RxPdo`] has one.
+    pub(crate) fn of(index: u16, sub: u8) -> Option<Self> {
         if sub != 0 {
-            return 0;
+            return None;
         }
-        match index {
-            MODES_OF_OPERATION => i64::from(self.mode) as u64,
-            CONTROLWORD => u64::from(self.controlword.0),
-            TARGET_POSITION => i64::from(self.target_position) as u64,
-            TARGET_VELOCITY => i64::from(self.target_velocity) as u64,
-            VELOCITY_LIMIT => u64::from(self.velocity_limit),
-            TARGET_TORQUE => i64::from(self.target_torque) as u64,
-            TORQUE_LIMIT_POSITIVE => u64::from(self.torque_limit_positive),
-            TORQUE_LIMIT_NEGATIVE => u64::from(self.torque_limit_negative),
-            INCREMENTAL_COUNTER_RX | WATCHDOG_COUNTER_DL => u64::from(self.counter),
-            _ => 0,
+        Some(match index {
+            MODES_OF_OPERATION => RxField::Mode,
+            CONTROLWORD => RxField::Controlword,
+            TARGET_POSITION => RxField::TargetPosition,
+            TARGET_VELOCITY => RxField::TargetVelocity,
+            VELOCITY_LIMIT => RxField::VelocityLimit,
+            TARGET_TORQUE => RxField::TargetTorque,
+            TORQUE_LIMIT_POSITIVE => RxField::TorqueLimitPositive,
+            TORQUE_LIMIT_NEGATIVE => RxField::TorqueLimitNegative,
+            INCREMENTAL_COUNTER_RX | WATCHDOG_COUNTER_DL => RxField::Counter,
+            _ => return None,
+        })
+    }
+}
+
+/// The fields of [`TxPdo`], each resolved once from its object index by a [`crate::PdoLayout`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum TxField {
+    ModeDisplay,
+    Statusword,
+    PositionActual,
+    VelocityActual,
+    FollowingError,
+    TorqueActual,
+    ErrorCode,
+    Counter,
+}
+
+impl TxField {
+    /// The field carrying object `index:sub`, if [`TxPdo`] has one.
+    pub(crate) fn of(index: u16, sub: u8) -> Option<Self> {
+        if sub != 0 {
+            return None;
+        }
+        Some(match index {
+            MODES_OF_OPERATION_DISPLAY => TxField::ModeDisplay,
+            STATUSWORD => TxField::Statusword,
+            POSITION_ACTUAL => TxField::PositionActual,
+            VELOCITY_ACTUAL => TxField::VelocityActual,
+            FOLLOWING_ERROR => TxField::FollowingError,
+            TORQUE_ACTUAL => TxField::TorqueActual,
+            ERROR_CODE => TxField::ErrorCode,
+            INCREMENTAL_COUNTER_TX | WATCHDOG_COUNTER_UL => TxField::Counter,
+            _ => return None,
+        })
+    }
+}
+
+impl RxPdo {
+    /// The value of `field` as raw bits (sign-extended).
+    pub(crate) fn get(&self, field: RxField) -> u64 {
+        match field {
+            RxField::Mode => i64::from(self.mode) as u64,
+            RxField::Controlword => u64::from(self.controlword.0),
+            RxField::TargetPosition => i64::from(self.target_position) as u64,
+            RxField::TargetVelocity => i64::from(self.target_velocity) as u64,
+            RxField::VelocityLimit => u64::from(self.velocity_limit),
+            RxField::TargetTorque => i64::from(self.target_torque) as u64,
+            RxField::TorqueLimitPositive => u64::from(self.torque_limit_positive),
+            RxField::TorqueLimitNegative => u64::from(self.torque_limit_negative),
+            RxField::Counter => u64::from(self.counter),
         }
     }
 
-    /// Stores raw bits of object `index:sub` (ignored when this view does not carry it).
-    pub(super) fn set_object(&mut self, index: u16, sub: u8, bits: u16, raw: u64) {
-        if sub != 0 {
-            return;
-        }
-        match index {
-            MODES_OF_OPERATION => self.mode = signed(raw, bits) as i8,
-            CONTROLWORD => self.controlword = Controlword(raw as u16),
-            TARGET_POSITION => self.target_position = signed(raw, bits) as i32,
-            TARGET_VELOCITY => self.target_velocity = signed(raw, bits) as i32,
-            VELOCITY_LIMIT => self.velocity_limit = raw as u32,
-            TARGET_TORQUE => self.target_torque = signed(raw, bits) as i16,
-            TORQUE_LIMIT_POSITIVE => self.torque_limit_positive = raw as u16,
-            TORQUE_LIMIT_NEGATIVE => self.torque_limit_negative = raw as u16,
-            INCREMENTAL_COUNTER_RX | WATCHDOG_COUNTER_DL => self.counter = raw as u8,
-            _ => {}
+    /// Stores the raw bits of a `bits`-wide object into `field`.
+    pub(crate) fn set(&mut self, field: RxField, bits: u16, raw: u64) {
+        match field {
+            RxField::Mode => self.mode = signed(raw, bits) as i8,
+            RxField::Controlword => self.controlword = Controlword(raw as u16),
+            RxField::TargetPosition => self.target_position = signed(raw, bits) as i32,
+            RxField::TargetVelocity => self.target_velocity = signed(raw, bits) as i32,
+            RxField::VelocityLimit => self.velocity_limit = raw as u32,
+            RxField::TargetTorque => self.target_torque = signed(raw, bits) as i16,
+            RxField::TorqueLimitPositive => self.torque_limit_positive = raw as u16,
+            RxField::TorqueLimitNegative => self.torque_limit_negative = raw as u16,
+            RxField::Counter => self.counter = raw as u8,
         }
     }
 }
 
 impl TxPdo {
-    /// The value of object `index:sub` as raw bits (0 for objects this view does not carry).
-    pub(super) fn object_value(&self, index: u16, sub: u8) -> u64 {
-        if sub != 0 {
-            return 0;
-        }
-        match index {
-            MODES_OF_OPERATION_DISPLAY => i64::from(self.mode_display) as u64,
-            STATUSWORD => u64::from(self.statusword.0),
-            POSITION_ACTUAL => i64::from(self.position_actual) as u64,
-            VELOCITY_ACTUAL => i64::from(self.velocity_actual) as u64,
-            FOLLOWING_ERROR => i64::from(self.following_error) as u64,
-            TORQUE_ACTUAL => i64::from(self.torque_actual) as u64,
-            ERROR_CODE => u64::from(self.error_code),
-            INCREMENTAL_COUNTER_TX | WATCHDOG_COUNTER_UL => u64::from(self.counter),
-            _ => 0,
+    /// The value of `field` as raw bits (sign-extended).
+    pub(crate) fn get(&self, field: TxField) -> u64 {
+        match field {
+            TxField::ModeDisplay => i64::from(self.mode_display) as u64,
+            TxField::Statusword => u64::from(self.statusword.0),
+            TxField::PositionActual => i64::from(self.position_actual) as u64,
+            TxField::VelocityActual => i64::from(self.velocity_actual) as u64,
+            TxField::FollowingError => i64::from(self.following_error) as u64,
+            TxField::TorqueActual => i64::from(self.torque_actual) as u64,
+            TxField::ErrorCode => u64::from(self.error_code),
+            TxField::Counter => u64::from(self.counter),
         }
     }
 
-    /// Stores raw bits of object `index:sub` (ignored when this view does not carry it).
-    pub(super) fn set_object(&mut self, index: u16, sub: u8, bits: u16, raw: u64) {
-        if sub != 0 {
-            return;
-        }
-        match index {
-            MODES_OF_OPERATION_DISPLAY => self.mode_display = signed(raw, bits) as i8,
-            STATUSWORD => self.statusword = Statusword(raw as u16),
-            POSITION_ACTUAL => self.position_actual = signed(raw, bits) as i32,
-            VELOCITY_ACTUAL => self.velocity_actual = signed(raw, bits) as i32,
-            FOLLOWING_ERROR => self.following_error = signed(raw, bits) as i32,
-            TORQUE_ACTUAL => self.torque_actual = signed(raw, bits) as i16,
-            ERROR_CODE => self.error_code = raw as u16,
-            INCREMENTAL_COUNTER_TX | WATCHDOG_COUNTER_UL => self.counter = raw as u8,
-            _ => {}
+    /// Stores the raw bits of a `bits`-wide object into `field`.
+    pub(crate) fn set(&mut self, field: TxField, bits: u16, raw: u64) {
+        match field {
+            TxField::ModeDisplay => self.mode_display = signed(raw, bits) as i8,
+            TxField::Statusword => self.statusword = Statusword(raw as u16),
+            TxField::PositionActual => self.position_actual = signed(raw, bits) as i32,
+            TxField::VelocityActual => self.velocity_actual = signed(raw, bits) as i32,
+            TxField::FollowingError => self.following_error = signed(raw, bits) as i32,
+            TxField::TorqueActual => self.torque_actual = signed(raw, bits) as i16,
+            TxField::ErrorCode => self.error_code = raw as u16,
+            TxField::Counter => self.counter = raw as u8,
         }
     }
 }

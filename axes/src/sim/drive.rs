@@ -17,7 +17,7 @@ use crate::cia402::fsa::{drive_transition, FsaState};
 use crate::cia402::mode::ModeOfOperation;
 use crate::cia402::statusword::Statusword;
 use crate::cycles::{CycleTime, Cycles};
-use crate::pdo::{PdoError, RxPdo, TxPdo};
+use crate::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
 use crate::profiles::DriveProfile;
 
 /// Error code (603Fh) of the MR-J5 following-error alarm: CiA 402 8611h "following error"
@@ -82,6 +82,9 @@ pub struct SimDrive {
     prev_cw: Controlword,
     mode_display: ModeOfOperation,
     plant: ServoPlant,
+    /// The profile's RxPDO and TxPDO maps, resolved once for the cyclic codec.
+    rx_layout: PdoLayout,
+    tx_layout: PdoLayout,
     alarm: Option<u16>,
     startup_left: u32,
     /// Position demand in counts (csp: from 607Ah; csv: integrated 60FFh; others: held).
@@ -120,6 +123,8 @@ impl SimDrive {
             prev_cw: Controlword::DISABLE_VOLTAGE,
             mode_display: initial_mode,
             plant: ServoPlant::new(params.plant, pos),
+            rx_layout: PdoLayout::new(&profile.rx_pdo),
+            tx_layout: PdoLayout::new(&profile.tx_pdo),
             alarm: None,
             startup_left: params.startup_cycles,
             demand: pos,
@@ -136,6 +141,7 @@ impl SimDrive {
             op: true,
             sdo_mode: 0,
         };
+        d.plant.prepare_cycle(cycle_time.as_secs_f64());
         d.tx = d.make_tx();
         d
     }
@@ -163,8 +169,8 @@ impl SimDrive {
     /// `elapsed` is the number of cycle periods since the previous call (1 in steady state).
     /// A bad image size returns an error and changes nothing.
     pub fn cycle(&mut self, rx: &[u8], tx: &mut [u8], elapsed: Cycles) -> Result<(), PdoError> {
-        let cmd = self.profile.rx_pdo.decode_rx(rx)?;
-        self.profile.tx_pdo.check_len(tx.len())?;
+        let cmd = self.rx_layout.decode_rx(rx)?;
+        self.tx_layout.check_len(tx.len())?;
         if self.op {
             if let Some(code) = self.comm.received(cmd.counter) {
                 self.raise(code);
@@ -172,14 +178,14 @@ impl SimDrive {
         }
         self.last_cmd = cmd;
         self.run(cmd, elapsed);
-        self.profile.tx_pdo.encode_tx(&self.tx, tx)
+        self.tx_layout.encode_tx(&self.tx, tx)
     }
 
     /// One bus cycle in which this drive's RxPDO did not arrive (lost or late frame): the
     /// communication checks count it, the drive keeps the previous command (§1.5 free-run rule;
     /// the DC-mode behaviour is not stated), the counter echo repeats last good + 1.
     pub fn cycle_lost(&mut self, tx: &mut [u8], elapsed: Cycles) -> Result<(), PdoError> {
-        self.profile.tx_pdo.check_len(tx.len())?;
+        self.tx_layout.check_len(tx.len())?;
         if self.op {
             if let Some(code) = self.comm.lost() {
                 self.raise(code);
@@ -187,7 +193,7 @@ impl SimDrive {
         }
         let cmd = self.last_cmd;
         self.run(cmd, elapsed);
-        self.profile.tx_pdo.encode_tx(&self.tx, tx)
+        self.tx_layout.encode_tx(&self.tx, tx)
     }
 
     fn run(&mut self, cmd: RxPdo, elapsed: Cycles) {

@@ -4,7 +4,7 @@
 use cellrt_axes::cia402::master::AxisMaster;
 use cellrt_axes::comm::{CounterParams, IncrementalCounter};
 use cellrt_axes::pdo::objects::ERROR_CODE;
-use cellrt_axes::pdo::{PdoMap, TxPdo};
+use cellrt_axes::pdo::{PdoLayout, TxPdo};
 use cellrt_axes::Cycles;
 
 use crate::config::{AxisConfig, CellConfig};
@@ -64,10 +64,10 @@ pub struct AxisChannel {
     pub feedback: TxPdo,
     /// Whether the stop ramp of this axis has reached zero velocity.
     pub stopped: bool,
-    /// The drive's RxPDO map (from its profile).
-    pub rx_map: PdoMap,
-    /// The drive's TxPDO map (from its profile).
-    pub tx_map: PdoMap,
+    /// The drive's RxPDO map (from its profile), resolved for the cyclic codec.
+    pub rx_map: PdoLayout,
+    /// The drive's TxPDO map (from its profile), resolved for the cyclic codec.
+    pub tx_map: PdoLayout,
     /// Whether the TxPDO carries the error code (603Fh); if not, it needs an SDO read.
     pub error_code_mapped: bool,
 }
@@ -96,8 +96,8 @@ impl AxisChannel {
             acceleration: 0.0,
             feedback: TxPdo::default(),
             stopped: true,
-            rx_map: axis.profile.rx_pdo,
-            tx_map: axis.profile.tx_pdo,
+            rx_map: PdoLayout::new(&axis.profile.rx_pdo),
+            tx_map: PdoLayout::new(&axis.profile.tx_pdo),
             error_code_mapped: axis
                 .profile
                 .tx_pdo
@@ -192,10 +192,12 @@ mod tests {
             acceleration: a,
             feedback: TxPdo::default(),
             stopped: false,
-            rx_map: cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1)
-                .rx_pdo,
-            tx_map: cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1)
-                .tx_pdo,
+            rx_map: PdoLayout::new(
+                &cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1).rx_pdo,
+            ),
+            tx_map: PdoLayout::new(
+                &cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1).tx_pdo,
+            ),
             error_code_mapped: false,
         }
     }

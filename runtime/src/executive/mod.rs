@@ -332,8 +332,11 @@ impl<B: Bus> Executive<B> {
                 counter: ch.counter.as_mut().map_or(0, |c| c.next_tx()),
                 ..RxPdo::default()
             };
-            let map = ch.rx_map;
-            if map.encode_rx(&rx, self.bus.rx_image_mut(i)).is_err() {
+            if self.axes[i]
+                .rx_map
+                .encode_rx(&rx, self.bus.rx_image_mut(i))
+                .is_err()
+            {
                 self.event(EventKind::BusError, i as u16, i as i64);
             }
             if self.handoff.recording {

@@ -4,7 +4,11 @@
 //! Not from the manual (the communication manual has no servo-loop data); a simple model with
 //! the qualitative behaviour of a position-controlled servo, fixed so runs are reproducible.
 
+mod cycle_map;
+
 use std::f64::consts::TAU;
+
+pub use cycle_map::{CycleMap, MAX_MAPPED_SUBSTEPS};
 
 /// Longest internal integration step; every cycle is split into equal substeps no longer than this.
 pub const MAX_SUBSTEP_S: f64 = 62.5e-6;
@@ -51,6 +55,8 @@ pub struct ServoPlant {
     /// Fractions of `max_acceleration` allowed in the positive / negative direction (torque
     /// limits 60E0h/60E1h), 0.0…1.0.
     accel_scale: (f64, f64),
+    /// The servo-on recurrence composed over one cycle (see [`ServoPlant::prepare_cycle`]).
+    cycle_map: Option<Box<CycleMap>>,
 }
 
 impl ServoPlant {
@@ -63,7 +69,25 @@ impl ServoPlant {
             acceleration: 0.0,
             last_command: initial_position_counts,
             accel_scale: (1.0, 1.0),
+            cycle_map: None,
         }
+    }
+
+    /// Precomputes the servo-on step for time steps of exactly `dt_s` (the drive's cycle), so
+    /// [`ServoPlant::step`] costs a few dot products while no limit engages. Same model: a
+    /// step that would saturate anywhere still runs the substep loop. Allocates; call at
+    /// start-up, not in the cycle.
+    pub fn prepare_cycle(&mut self, dt_s: f64) {
+        let (n, h) = Self::substeps(dt_s);
+        let kp = TAU * self.params.position_bandwidth_hz;
+        let kv = TAU * self.params.velocity_bandwidth_hz;
+        let g = if h > 0.0 { (kv * h).min(1.0) / h } else { 0.0 };
+        self.cycle_map = CycleMap::build(dt_s, n, h, kp, g).map(Box::new);
+    }
+
+    /// Whether a prepared cycle map serves steps of `dt_s`.
+    pub fn has_cycle_map(&self, dt_s: f64) -> bool {
+        self.cycle_map.as_ref().is_some_and(|m| m.dt_s == dt_s)
     }
 
     fn substeps(dt_s: f64) -> (u32, f64) {
@@ -83,6 +107,51 @@ impl ServoPlant {
     /// Servo on for `dt_s`: follow `position_command`, linearly interpolated from the previous
     /// command over the step, with `velocity_feedforward` (counts/s) added to the velocity command.
     pub fn step(&mut self, position_command: f64, velocity_feedforward: f64, dt_s: f64) {
+        let ff = if velocity_feedforward.is_finite() {
+            velocity_feedforward
+        } else {
+            0.0
+        };
+        if self.step_mapped(position_command, ff, dt_s) {
+            return;
+        }
+        self.step_substeps(position_command, ff, dt_s);
+    }
+
+    /// [`ServoPlant::step`] through the cycle map; false (nothing changed) when there is no map
+    /// for `dt_s` or a limit would engage.
+    fn step_mapped(&mut self, position_command: f64, ff: f64, dt_s: f64) -> bool {
+        let Some(map) = self.cycle_map.as_deref() else {
+            return false;
+        };
+        if map.dt_s != dt_s {
+            return false;
+        }
+        let amax = self.params.max_acceleration.abs();
+        let lim = cycle_map::Limits {
+            vmax: self.params.max_velocity.abs(),
+            accel_hi: amax * self.accel_scale.0,
+            accel_lo: -amax * self.accel_scale.1,
+        };
+        let p0 = self.position;
+        let z = [
+            self.velocity,
+            self.last_command - p0,
+            position_command - p0,
+            ff,
+        ];
+        let Some(end) = map.step(z, lim) else {
+            return false;
+        };
+        self.position = p0 + end.delta_position;
+        self.velocity = end.velocity;
+        self.acceleration = end.acceleration;
+        self.last_command = position_command;
+        true
+    }
+
+    /// [`ServoPlant::step`] integrated substep by substep, with every saturation.
+    fn step_substeps(&mut self, position_command: f64, ff: f64, dt_s: f64) {
         let (n, h) = Self::substeps(dt_s);
         let kp = TAU * self.params.position_bandwidth_hz;
         let kv = TAU * self.params.velocity_bandwidth_hz;
@@ -91,11 +160,6 @@ impl ServoPlant {
         let vmax = self.params.max_velocity.abs();
         let amax = self.params.max_acceleration.abs();
         let start = self.last_command;
-        let ff = if velocity_feedforward.is_finite() {
-            velocity_feedforward
-        } else {
-            0.0
-        };
         for i in 1..=n {
             let frac = f64::from(i) / f64::from(n);
             let cmd = start + (position_command - start) * frac;
@@ -161,6 +225,12 @@ impl ServoPlant {
     /// position so a later servo-on starts from where the motor is.
     pub fn hold(&mut self, dt_s: f64) {
         let (n, h) = Self::substeps(dt_s);
+        if self.velocity == 0.0 && n > 0 {
+            // At standstill every substep is a no-op.
+            self.acceleration = 0.0;
+            self.last_command = self.position;
+            return;
+        }
         let amax = self.params.max_acceleration.abs();
         let vmax = self.params.max_velocity.abs();
         for _ in 0..n {
@@ -292,5 +362,90 @@ mod tests {
         assert_eq!(plant.position(), 5.0);
         plant.step(100.0, f64::INFINITY, 1e300);
         assert!(plant.position().is_finite());
+    }
+}
+
+#[cfg(test)]
+mod cycle_map_tests {
+    use super::*;
+
+    /// Runs the same command sequence through a mapped and an unmapped plant.
+    fn compare(commands: &[(f64, f64)], dt: f64, torque: (f64, f64)) -> (usize, f64) {
+        let mut mapped = ServoPlant::new(PlantParams::default(), 1.0e6);
+        mapped.prepare_cycle(dt);
+        mapped.set_torque_limits(torque.0, torque.1);
+        let mut looped = mapped.clone();
+        looped.cycle_map = None;
+        let mut used = 0;
+        let mut worst: f64 = 0.0;
+        for &(cmd, ff) in commands {
+            let before = mapped.clone();
+            if before.clone().step_mapped(cmd, ff, dt) {
+                used += 1;
+            }
+            mapped.step(cmd, ff, dt);
+            looped.step(cmd, ff, dt);
+            worst = worst
+                .max((mapped.position() - looped.position()).abs())
+                .max((mapped.velocity() - looped.velocity()).abs() * dt)
+                .max((mapped.acceleration() - looped.acceleration()).abs() * dt * dt);
+        }
+        (used, worst)
+    }
+
+    /// A smooth 200 000-count move (sine-ramp), then hold.
+    fn smooth_move(cycles: usize) -> Vec<(f64, f64)> {
+        (0..cycles)
+            .map(|i| {
+                let t = (i as f64 / (cycles as f64 * 0.6)).min(1.0);
+                let s = 0.5 - 0.5 * (std::f64::consts::PI * t).cos();
+                (1.0e6 + 2.0e5 * s, 0.0)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn mapped_cycle_equals_the_substep_loop_on_a_smooth_move() {
+        for dt in [125e-6, 250e-6, 1e-3, 4e-3, 8e-3] {
+            let (used, worst) = compare(&smooth_move(3000), dt, (1.0, 1.0));
+            assert!(
+                used > 2000,
+                "dt {dt}: the map served only {used} of 3000 cycles"
+            );
+            assert!(worst < 1e-6, "dt {dt}: mapped and looped differ by {worst}");
+        }
+    }
+
+    #[test]
+    fn saturating_steps_fall_back_to_the_loop_and_still_agree() {
+        // A 5e6-count step saturates velocity and acceleration: the map must refuse those
+        // cycles and the result must still be the substep loop's.
+        let mut cmds = vec![(6.0e6, 0.0); 400];
+        cmds.extend(vec![(1.0e6, 0.0); 400]);
+        let (used, worst) = compare(&cmds, 1e-3, (1.0, 1.0));
+        assert!(used < 800, "saturated cycles must not be mapped");
+        assert!(worst < 1e-6, "differ by {worst}");
+        // With the positive torque limit at 0 no accelerating cycle may be mapped.
+        let (_, worst) = compare(&smooth_move(500), 1e-3, (0.0, 1.0));
+        assert!(worst < 1e-6, "torque-limited: differ by {worst}");
+    }
+
+    #[test]
+    fn the_map_serves_only_its_own_time_step_and_finite_inputs() {
+        let mut p = ServoPlant::new(PlantParams::default(), 0.0);
+        p.prepare_cycle(1e-3);
+        assert!(p.has_cycle_map(1e-3));
+        assert!(
+            !p.clone().step_mapped(10.0, 0.0, 2e-3),
+            "2 ms step with a 1 ms map"
+        );
+        assert!(!p.clone().step_mapped(f64::NAN, 0.0, 1e-3), "NaN command");
+        assert!(p.clone().step_mapped(10.0, 0.0, 1e-3));
+        let mut long = ServoPlant::new(PlantParams::default(), 0.0);
+        long.prepare_cycle(1.0);
+        assert!(
+            !long.has_cycle_map(1.0),
+            "16 000 substeps are above MAX_MAPPED_SUBSTEPS"
+        );
     }
 }

@@ -182,6 +182,7 @@ pub fn spawn(opts: LatencyOptions) -> Result<Running, BenchError> {
                 cpu: Some(opts.cpu),
                 priority: opts.priority,
                 lock_memory: true,
+                reserve_cpu: false,
             });
             let _dma = hold_cpu_dma_latency_zero(&mut rt);
             let mut latency = NsHistogram::new();

@@ -21,7 +21,7 @@ use crate::planner;
 use crate::program::Program;
 use crate::record::{Recorder, RecorderError, RecordingInfo};
 use crate::rt::histogram::Percentiles;
-use crate::rt::thread::{hold_cpu_dma_latency_zero, setup_current_thread, RtReport};
+use crate::rt::thread::{hold_cpu_dma_latency_zero, setup_current_thread, ReservedCpu, RtReport};
 use crate::services;
 use crate::setpoints::SetpointStream;
 
@@ -152,6 +152,8 @@ pub fn sim_bus(cell: &CellConfig) -> SimBus {
 /// Runs `cell` until the program ends, the duration elapses or `shutdown` is set.
 pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let _lock = crate::cell_lock::CellLock::acquire(&cell.name)?;
+    // Before any thread starts: they all inherit the affinity without the RT CPU.
+    let reserved = ReservedCpu::apply(&cell.rt);
     let queue_cycles = (cell.recording.queue_seconds / cell.period())
         .ceil()
         .max(64.0) as usize;
@@ -210,6 +212,9 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
             return Err(RunError::Thread("the RT thread died during set-up".into()));
         }
     };
+    let mut report = report;
+    report.other_threads_cpus = reserved.others.clone();
+    report.refused.extend(reserved.refused.clone());
     for r in &report.refused {
         tracing::warn!("{r}");
     }

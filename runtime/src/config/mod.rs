@@ -55,6 +55,9 @@ pub struct RtConfig {
     pub priority: u8,
     /// mlockall(MCL_CURRENT | MCL_FUTURE) before the loop starts.
     pub lock_memory: bool,
+    /// With `cpu` set: run cellrt's other threads (planner, recorder, services) on the other
+    /// online CPUs, so they neither preempt the RT thread nor evict its caches (default true).
+    pub reserve_cpu: bool,
 }
 
 /// MCAP chunk compression.

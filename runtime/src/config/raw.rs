@@ -54,6 +54,9 @@ pub struct RawRt {
     /// mlockall.
     #[serde(default = "default_true")]
     pub lock_memory: bool,
+    /// Keep cellrt's other threads off `cpu`.
+    #[serde(default = "default_true")]
+    pub reserve_cpu: bool,
 }
 
 impl Default for RawRt {
@@ -62,6 +65,7 @@ impl Default for RawRt {
             cpu: None,
             priority: default_priority(),
             lock_memory: true,
+            reserve_cpu: true,
         }
     }
 }

@@ -66,6 +66,7 @@ pub(super) fn validate(
         cpu: raw.rt.cpu,
         priority: raw.rt.priority,
         lock_memory: raw.rt.lock_memory,
+        reserve_cpu: raw.rt.reserve_cpu,
     };
     if !(1..=99).contains(&rt.priority) {
         return Err(ConfigError::new(

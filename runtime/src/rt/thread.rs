@@ -23,6 +23,9 @@ pub struct RtReport {
     pub stack_prefaulted: usize,
     /// Whether `/dev/cpu_dma_latency` is held at 0 µs (no deep C-states) while running.
     pub cpu_dma_latency_zero: bool,
+    /// CPUs cellrt's other threads were moved to, keeping `cpu` for the RT thread (empty: not
+    /// reserved, see [`ReservedCpu`]).
+    pub other_threads_cpus: Vec<usize>,
     /// One line per refused privilege.
     pub refused: Vec<String>,
 }
@@ -31,10 +34,22 @@ impl RtReport {
     /// One line for the start-up banner.
     pub fn describe(&self) -> String {
         format!(
-            "RT thread: cpu {}, {} priority {}, memory {}, stack prefault {} KiB, cpu_dma_latency {}",
+            "RT thread: cpu {}{}, {} priority {}, memory {}, stack prefault {} KiB, cpu_dma_latency {}",
             self.cpu
                 .map(|c| c.to_string())
                 .unwrap_or_else(|| "any".into()),
+            if self.other_threads_cpus.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    " (reserved; other threads on {})",
+                    self.other_threads_cpus
+                        .iter()
+                        .map(|c| c.to_string())
+                        .collect::<Vec<_>>()
+                        .join(",")
+                )
+            },
             self.policy,
             self.priority,
             if self.memory_locked {
@@ -112,6 +127,72 @@ fn prefault_stack() {
     std::hint::black_box(&buf);
 }
 
+/// Moves the calling thread (and so every thread it spawns afterwards) off the RT thread's CPU
+/// while it lives, when [`RtConfig::reserve_cpu`] is set and another CPU is online; restores
+/// the previous affinity on drop. The RT thread pins itself back to its CPU.
+#[derive(Debug)]
+pub struct ReservedCpu {
+    /// The affinity to restore, if it was changed.
+    previous: Option<nix::sched::CpuSet>,
+    /// The CPUs the other threads run on (empty when nothing was changed).
+    pub others: Vec<usize>,
+    /// Why the reservation did not take effect, if it was asked for and did not.
+    pub refused: Option<String>,
+}
+
+impl ReservedCpu {
+    /// Applies the reservation for `cfg` to the calling thread.
+    pub fn apply(cfg: &RtConfig) -> Self {
+        use nix::sched::{sched_getaffinity, sched_setaffinity, CpuSet};
+        use nix::unistd::Pid;
+        let mut r = ReservedCpu {
+            previous: None,
+            others: Vec::new(),
+            refused: None,
+        };
+        let (Some(rt_cpu), true) = (cfg.cpu, cfg.reserve_cpu) else {
+            return r;
+        };
+        let Ok(previous) = sched_getaffinity(Pid::from_raw(0)) else {
+            r.refused = Some("reserving the RT CPU: cannot read this thread's affinity".into());
+            return r;
+        };
+        let mut set = CpuSet::new();
+        let mut others = Vec::new();
+        for cpu in 0..CpuSet::count() {
+            if cpu != rt_cpu && previous.is_set(cpu).unwrap_or(false) && set.set(cpu).is_ok() {
+                others.push(cpu);
+            }
+        }
+        if others.is_empty() {
+            r.refused = Some(format!(
+                "reserving CPU {rt_cpu} for the RT thread: no other CPU is available; other threads share it"
+            ));
+            return r;
+        }
+        match sched_setaffinity(Pid::from_raw(0), &set) {
+            Ok(()) => {
+                r.previous = Some(previous);
+                r.others = others;
+            }
+            Err(e) => {
+                r.refused = Some(format!(
+                    "reserving CPU {rt_cpu} for the RT thread refused ({e}); other threads share it"
+                ))
+            }
+        }
+        r
+    }
+}
+
+impl Drop for ReservedCpu {
+    fn drop(&mut self) {
+        if let Some(prev) = self.previous.take() {
+            let _ = nix::sched::sched_setaffinity(nix::unistd::Pid::from_raw(0), &prev);
+        }
+    }
+}
+
 /// Keeps `/dev/cpu_dma_latency` at 0 µs while it lives (the PM QoS request ends when the file
 /// is closed), as cyclictest does: no deep C-state exit latency in the wakeup path.
 #[derive(Debug)]
@@ -137,6 +218,56 @@ pub fn hold_cpu_dma_latency_zero(report: &mut RtReport) -> DmaLatencyGuard {
                 "{PATH} refused ({e}); CPU idle states may add wakeup latency (run as root)"
             ));
             DmaLatencyGuard { _file: None }
+        }
+    }
+}
+
+#[cfg(test)]
+mod reserved_cpu_tests {
+    use super::*;
+    use nix::sched::sched_getaffinity;
+    use nix::unistd::Pid;
+
+    fn cfg(cpu: Option<usize>, reserve: bool) -> RtConfig {
+        RtConfig {
+            cpu,
+            priority: 80,
+            lock_memory: false,
+            reserve_cpu: reserve,
+        }
+    }
+
+    #[test]
+    fn reserving_moves_this_thread_off_the_rt_cpu_and_drop_restores_it() {
+        let before = sched_getaffinity(Pid::from_raw(0)).unwrap();
+        let allowed: Vec<usize> = (0..nix::sched::CpuSet::count())
+            .filter(|&c| before.is_set(c).unwrap_or(false))
+            .collect();
+        let rt_cpu = allowed[0];
+        {
+            let r = ReservedCpu::apply(&cfg(Some(rt_cpu), true));
+            if allowed.len() < 2 {
+                eprintln!("SKIPPED the move check: this thread may run on one CPU only");
+                assert!(r.others.is_empty());
+                assert!(r.refused.as_deref().unwrap_or("").contains("no other CPU"));
+                return;
+            }
+            assert_eq!(r.others, allowed[1..].to_vec());
+            let now = sched_getaffinity(Pid::from_raw(0)).unwrap();
+            assert!(!now.is_set(rt_cpu).unwrap(), "still allowed on the RT CPU");
+            assert!(r.refused.is_none());
+        }
+        let after = sched_getaffinity(Pid::from_raw(0)).unwrap();
+        assert_eq!(after, before, "affinity restored on drop");
+    }
+
+    #[test]
+    fn nothing_changes_without_a_cpu_or_when_not_asked() {
+        let before = sched_getaffinity(Pid::from_raw(0)).unwrap();
+        for c in [cfg(None, true), cfg(Some(0), false)] {
+            let r = ReservedCpu::apply(&c);
+            assert!(r.others.is_empty() && r.refused.is_none());
+            assert_eq!(sched_getaffinity(Pid::from_raw(0)).unwrap(), before);
         }
     }
 }

@@ -7,6 +7,7 @@
 mod cycle_map;
 
 use std::f64::consts::TAU;
+use std::sync::Arc;
 
 pub use cycle_map::{CycleMap, MAX_MAPPED_SUBSTEPS};
 
@@ -56,7 +57,7 @@ pub struct ServoPlant {
     /// limits 60E0h/60E1h), 0.0…1.0.
     accel_scale: (f64, f64),
     /// The servo-on recurrence composed over one cycle (see [`ServoPlant::prepare_cycle`]).
-    cycle_map: Option<Box<CycleMap>>,
+    cycle_map: Option<Arc<CycleMap>>,
 }
 
 impl ServoPlant {
@@ -75,14 +76,14 @@ impl ServoPlant {
 
     /// Precomputes the servo-on step for time steps of exactly `dt_s` (the drive's cycle), so
     /// [`ServoPlant::step`] costs a few dot products while no limit engages. Same model: a
-    /// step that would saturate anywhere still runs the substep loop. Allocates; call at
-    /// start-up, not in the cycle.
+    /// step that would saturate anywhere still runs the substep loop. Plants with the same
+    /// gains and cycle share one map. Allocates and locks; call at start-up, not in the cycle.
     pub fn prepare_cycle(&mut self, dt_s: f64) {
         let (n, h) = Self::substeps(dt_s);
         let kp = TAU * self.params.position_bandwidth_hz;
         let kv = TAU * self.params.velocity_bandwidth_hz;
         let g = if h > 0.0 { (kv * h).min(1.0) / h } else { 0.0 };
-        self.cycle_map = CycleMap::build(dt_s, n, h, kp, g).map(Box::new);
+        self.cycle_map = CycleMap::shared(dt_s, n, h, kp, g);
     }
 
     /// Whether a prepared cycle map serves steps of `dt_s`.
@@ -441,6 +442,27 @@ mod cycle_map_tests {
         );
         assert!(!p.clone().step_mapped(f64::NAN, 0.0, 1e-3), "NaN command");
         assert!(p.clone().step_mapped(10.0, 0.0, 1e-3));
+        let mut twin = ServoPlant::new(PlantParams::default(), 5.0);
+        twin.prepare_cycle(1e-3);
+        assert!(
+            Arc::ptr_eq(
+                p.cycle_map.as_ref().unwrap(),
+                twin.cycle_map.as_ref().unwrap()
+            ),
+            "identical axes share one map"
+        );
+        let mut other = ServoPlant::new(
+            PlantParams {
+                velocity_bandwidth_hz: 100.0,
+                ..PlantParams::default()
+            },
+            0.0,
+        );
+        other.prepare_cycle(1e-3);
+        assert!(!Arc::ptr_eq(
+            p.cycle_map.as_ref().unwrap(),
+            other.cycle_map.as_ref().unwrap()
+        ));
         let mut long = ServoPlant::new(PlantParams::default(), 0.0);
         long.prepare_cycle(1.0);
         assert!(

@@ -15,6 +15,7 @@ use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::PdoMap;
 
 pub mod facts;
+pub mod matrix;
 pub mod mr_j3_t04;
 pub mod mr_j4_tm;
 pub mod mr_j5_g_n1;

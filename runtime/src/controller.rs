@@ -24,6 +24,7 @@ use crate::rt::histogram::Percentiles;
 use crate::rt::thread::{hold_cpu_dma_latency_zero, setup_current_thread, ReservedCpu, RtReport};
 use crate::services;
 use crate::setpoints::SetpointStream;
+use cellrt_axes::cia402::mode::ModeOfOperation;
 
 /// Stack size of the RT thread (the prefault touches part of it).
 pub const RT_STACK_BYTES: usize = 4 * 1024 * 1024;
@@ -141,6 +142,11 @@ pub fn sim_bus(cell: &CellConfig) -> SimBus {
                 following_error_limit: (a.following_error_limit * s)
                     .round()
                     .min(f64::from(u32::MAX)) as u32,
+                // A cst axis idles and brakes in csv (`AxisChannel::drive_command`).
+                initial_mode: match a.mode {
+                    ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
+                    m => m,
+                },
                 ..SimDriveParams::default()
             };
             SimDrive::new(a.profile, params, cell.cycle_time)

@@ -134,6 +134,10 @@ pub enum RejectReason {
     Malformed = 5,
     /// Motion sent while the cell does not accept it.
     NotAccepting = 6,
+    /// A cst torque setpoint above the axis' `limits.torque`.
+    TorqueLimit = 7,
+    /// A cst torque change faster than the axis' `limits.torque_slope`.
+    TorqueStep = 8,
 }
 
 impl RejectReason {
@@ -267,6 +271,10 @@ pub struct AxisRecord {
     pub error_code: u16,
     /// Target torque sent (6071h), 0.1 % of rated torque (0 in csp).
     pub target_torque: i16,
+    /// 6060h sent.
+    pub mode: i8,
+    /// 60FFh sent, counts/s.
+    pub target_velocity: i32,
     /// Torque actual value (6077h), 0.1 % of rated torque.
     pub torque_actual: i16,
     /// Incremental counter sent (2020h), 0 where the drive has none.

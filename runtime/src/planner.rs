@@ -9,14 +9,15 @@ use std::time::{Duration, Instant};
 
 use cellrt_trajectory::planner::{plan_move, AxisState, MoveAxis};
 use cellrt_trajectory::sampler::MoveSampler;
+use cellrt_trajectory::torque::TorqueRamp;
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, EventKind, Handoff};
 use crate::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
-use crate::program::{MoveTarget, Program, Step};
+use crate::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::services;
-use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, FLAG_LAST};
+use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, FLAG_LAST, FLAG_TORQUE};
 
 /// How long power on / power off may take before the program fails.
 pub const POWER_TIMEOUT: Duration = Duration::from_secs(10);
@@ -254,6 +255,10 @@ impl<'a> Planner<'a> {
                     self.what = "move";
                     self.run_move(targets)?;
                 }
+                Step::Torque { targets, hold_s } => {
+                    self.what = "torque";
+                    self.run_torque(targets, *hold_s)?;
+                }
             }
         }
         Ok(())
@@ -347,14 +352,89 @@ impl<'a> Planner<'a> {
             return Ok(());
         }
 
-        let motion_id = status.motion_id.wrapping_add(1).max(1);
+        let hold: &[f64] = &hold;
+        let cell = self.cell;
+        let mut sample = vec![AxisState::default(); targets.len()];
+        self.publish_motion(status.motion_id, status.cycle, total, 0, |k, row| {
+            sampler.fill(k, &mut sample);
+            for (i, sp) in row.iter_mut().enumerate() {
+                *sp = AxisSetpoint {
+                    position: hold[i],
+                    velocity: 0.0,
+                    torque: 0.0,
+                };
+            }
+            for (t, s) in targets.iter().zip(&sample) {
+                let sc = cell.axes[t.axis].scaling;
+                row[t.axis] = AxisSetpoint {
+                    position: sc.to_counts(s.position),
+                    velocity: sc.to_counts(s.velocity),
+                    torque: 0.0,
+                };
+            }
+        })
+    }
+
+    /// A torque step: every target axis ramps to its torque, holds it, ramps back to zero; the
+    /// other axes hold. Published as one [`FLAG_TORQUE`] motion.
+    fn run_torque(&mut self, targets: &[TorqueTarget], hold_s: f64) -> Result<(), ProgramError> {
+        let status = self.status()?;
+        if status.state != CellState::Idle {
+            return Err(self.err(format!(
+                "the cell is {}, not idle (power on first, or reset after a stop)",
+                status.state.as_str()
+            )));
+        }
+        let ramps = targets
+            .iter()
+            .map(|t| TorqueRamp::new(t.torque, t.slope, hold_s))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| self.err(format!("torque profile: {e}")))?;
+        let period = self.cell.period();
+        let duration = ramps.iter().map(TorqueRamp::duration_s).fold(0.0, f64::max);
+        // One cycle past the end so the last setpoint is zero torque.
+        let total = (duration / period).ceil() as u64 + 1;
+        let n = self.cell.axes.len();
+        let hold: Vec<f64> = status.hold[..n].to_vec();
+        self.publish_motion(
+            status.motion_id,
+            status.cycle,
+            total,
+            FLAG_TORQUE,
+            |k, row| {
+                for (i, sp) in row.iter_mut().enumerate() {
+                    *sp = AxisSetpoint {
+                        position: hold[i],
+                        velocity: 0.0,
+                        torque: 0.0,
+                    };
+                }
+                for (t, r) in targets.iter().zip(&ramps) {
+                    row[t.axis].torque = r.at(k as f64 * period);
+                }
+            },
+        )
+    }
+
+    /// Publishes a motion of `total` cycles (cycle k = 1..=total filled by `fill`) in blocks,
+    /// at most the lookahead ahead of the RT thread, then waits until the RT thread finished it.
+    fn publish_motion(
+        &mut self,
+        last_motion_id: u32,
+        now_cycle: u64,
+        total: u64,
+        flags: u32,
+        mut fill: impl FnMut(u64, &mut [AxisSetpoint]),
+    ) -> Result<(), ProgramError> {
+        let n = self.cell.axes.len();
+        let period = self.cell.period();
+        let motion_id = last_motion_id.wrapping_add(1).max(1);
         let cycle_ns = self.cell.cycle_time.as_nanos() as f64;
         let delay = (self.cell.setpoints.start_delay * 1e9 / cycle_ns).ceil() as u64;
         let lookahead = ((self.cell.setpoints.lookahead * 1e9 / cycle_ns).ceil() as u64)
             .max(2 * BLOCK_CYCLES as u64);
-        let start_cycle = status.cycle + delay.max(2);
+        let start_cycle = now_cycle + delay.max(2);
 
-        let mut sample = vec![AxisState::default(); targets.len()];
         let mut rows = vec![AxisSetpoint::default(); BLOCK_CYCLES * n];
         let mut k = 1u64;
         while k <= total {
@@ -376,21 +456,7 @@ impl<'a> Planner<'a> {
             }
             let cycles = (total - k + 1).min(BLOCK_CYCLES as u64) as usize;
             for c in 0..cycles {
-                sampler.fill(k + c as u64, &mut sample);
-                let row = &mut rows[c * n..(c + 1) * n];
-                for (i, sp) in row.iter_mut().enumerate() {
-                    *sp = AxisSetpoint {
-                        position: hold[i],
-                        velocity: 0.0,
-                    };
-                }
-                for (t, s) in targets.iter().zip(&sample) {
-                    let sc = self.cell.axes[t.axis].scaling;
-                    row[t.axis] = AxisSetpoint {
-                        position: sc.to_counts(s.position),
-                        velocity: sc.to_counts(s.velocity),
-                    };
-                }
+                fill(k + c as u64, &mut rows[c * n..(c + 1) * n]);
             }
             let mut loaned = self
                 .publisher
@@ -398,11 +464,12 @@ impl<'a> Planner<'a> {
                 .map_err(|e| self.err(format!("setpoint loan failed: {e:?}")))?;
             *loaned.user_header_mut() = SetpointHeader {
                 motion_id,
-                flags: if k + cycles as u64 > total {
-                    FLAG_LAST
-                } else {
-                    0
-                },
+                flags: flags
+                    | if k + cycles as u64 > total {
+                        FLAG_LAST
+                    } else {
+                        0
+                    },
                 start_cycle: block_start,
                 cycles: cycles as u32,
                 axis_count: n as u32,

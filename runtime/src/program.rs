@@ -16,6 +16,10 @@
 //! ```
 //!
 //! `do = "reset"` clears a cell stopped by a watchdog (MC_Reset).
+//!
+//! `do = "torque"`, `target = { z = 30.0 }` (% of rated torque), `seconds = 0.5`: on axes in
+//! cst, ramps to the torque at `limits.torque_slope`, holds it, ramps back to zero; an axis left
+//! moving then brakes in csv with its controlled-stop ramp.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -23,6 +27,8 @@ use std::path::{Path, PathBuf};
 use cellrt_trajectory::limits::KinematicLimits;
 use cellrt_trajectory::planner::MAX_MOVE_AXES;
 use serde::Deserialize;
+
+use cellrt_axes::cia402::mode::ModeOfOperation;
 
 use crate::config::{CellConfig, ConfigError};
 
@@ -65,6 +71,13 @@ pub enum RawStep {
         /// Seconds.
         seconds: f64,
     },
+    /// Torque on cst axes: ramp to the target at the axis' torque slope, hold, ramp back to 0.
+    Torque {
+        /// Axis name → torque in % of rated torque.
+        target: BTreeMap<String, f64>,
+        /// Seconds to hold the target torque.
+        seconds: f64,
+    },
 }
 
 #[derive(Debug, Deserialize)]
@@ -86,6 +99,24 @@ pub enum Step {
     Move(Vec<MoveTarget>),
     /// Pause for this many seconds.
     Wait(f64),
+    /// Torque on cst axes, held for `hold_s` seconds between the ramps.
+    Torque {
+        /// The axes and their torques.
+        targets: Vec<TorqueTarget>,
+        /// Seconds at the target torque.
+        hold_s: f64,
+    },
+}
+
+/// One axis of a torque step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TorqueTarget {
+    /// Axis index in the cell (an axis in cst).
+    pub axis: usize,
+    /// Torque in % of rated torque, within the axis' `limits.torque`.
+    pub torque: f64,
+    /// The axis' torque slope, %/s.
+    pub slope: f64,
 }
 
 /// One axis of a move step.
@@ -158,6 +189,72 @@ fn validate_step(
     cell: &CellConfig,
 ) -> Result<Step, ConfigError> {
     Ok(match step {
+        RawStep::Torque { target, seconds } => {
+            if target.is_empty() {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.target"),
+                    "a torque step needs at least one axis target",
+                ));
+            }
+            if !(seconds.is_finite() && (0.0..=MAX_WAIT_SECONDS).contains(&seconds)) {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.seconds"),
+                    format!(
+                        "must be a number of seconds in 0..={MAX_WAIT_SECONDS} (got {seconds})"
+                    ),
+                ));
+            }
+            let mut targets = Vec::with_capacity(target.len());
+            for (name, torque) in target {
+                let k = format!("{key}.target.{name}");
+                let Some(axis) = cell.axis_index(&name) else {
+                    return Err(ConfigError::new(
+                        path,
+                        k,
+                        format!(
+                            "axis '{name}' is not in cell '{}' (axes: {})",
+                            cell.name,
+                            cell.axis_names()
+                        ),
+                    ));
+                };
+                let a = &cell.axes[axis];
+                let Some(limits) = a
+                    .torque
+                    .filter(|_| a.mode == ModeOfOperation::CyclicSyncTorque)
+                else {
+                    return Err(ConfigError::new(
+                        path,
+                        k,
+                        format!(
+                            "axis '{name}' runs in {}; a torque step needs an axis with mode = \"cst\"",
+                            a.mode.as_str()
+                        ),
+                    ));
+                };
+                if !torque.is_finite() || torque.abs() > limits.max.0 {
+                    return Err(ConfigError::new(
+                        path,
+                        k,
+                        format!(
+                            "torque {torque} % is outside the torque limit ±{} % of axis '{name}'",
+                            limits.max.0
+                        ),
+                    ));
+                }
+                targets.push(TorqueTarget {
+                    axis,
+                    torque,
+                    slope: limits.slope,
+                });
+            }
+            Step::Torque {
+                targets,
+                hold_s: seconds,
+            }
+        }
         RawStep::PowerOn => Step::PowerOn,
         RawStep::PowerOff => Step::PowerOff,
         RawStep::Reset => Step::Reset,

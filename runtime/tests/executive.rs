@@ -139,6 +139,7 @@ impl Rig {
                 AxisSetpoint {
                     position: p * COUNTS_PER_MM,
                     velocity: (p - prev) * COUNTS_PER_MM / 1e-3,
+                    torque: 0.0,
                 }
             })
             .collect();

@@ -12,10 +12,12 @@
 pub mod limits;
 pub mod planner;
 pub mod sampler;
+pub mod torque;
 pub mod units;
 mod verify;
 
 pub use limits::{KinematicLimits, LimitsError, PositionRange, Quantity};
 pub use planner::{plan_move, AxisState, MoveAxis, PlanError, PlannedMove, MAX_MOVE_AXES};
 pub use sampler::{MoveSampler, SamplerError};
+pub use torque::{TorqueRamp, TorqueRampError};
 pub use units::{Scaling, UnitsError};

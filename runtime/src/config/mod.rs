@@ -234,6 +234,43 @@ pub struct AxisConfig {
     pub following_error_limit: f64,
     /// Simulated drive settings.
     pub sim: SimAxisConfig,
+    /// Torque limits of cst setpoints (required for cst, optional otherwise).
+    pub torque: Option<TorqueLimits>,
+    /// csv: the master closes the position loop around the drive's velocity loop; 60FFh =
+    /// setpoint velocity + this gain × (setpoint − actual position), 1/s (default
+    /// [`DEFAULT_CSV_POSITION_GAIN`]). The manuals leave the outer loop to the controller.
+    pub csv_position_gain: f64,
+}
+
+/// Default csv position-correction gain, 1/s: removes the drift between the planned positions
+/// and the drive's integration of 60FFh with a time constant of 50 ms.
+pub const DEFAULT_CSV_POSITION_GAIN: f64 = 20.0;
+
+/// Torque limits of an axis, in % of rated torque (the unit of 6071h is 0.1 %).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TorqueLimits {
+    /// Largest |torque| a setpoint may ask for, % (at most [`MAX_TORQUE_PERCENT`]).
+    pub max: TorquePercent,
+    /// Largest torque change, %/s.
+    pub slope: f64,
+}
+
+/// Upper bound of `limits.torque`: 6071h/60E0h/60E1h range 0…10000 × 0.1 % (mr-j4-tm.md §8.6).
+pub const MAX_TORQUE_PERCENT: f64 = 1000.0;
+
+/// Default `limits.torque_slope`: full rated torque in 0.1 s.
+pub const DEFAULT_TORQUE_SLOPE: f64 = 1000.0;
+
+/// A torque in % of the motor's rated torque.
+#[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default)]
+pub struct TorquePercent(pub f64);
+
+impl TorquePercent {
+    /// The drive value in 0.1 % units (6071h), rounded; `None` outside the i16 range.
+    pub fn to_drive(self) -> Option<i16> {
+        let v = (self.0 * 10.0).round();
+        (v.is_finite() && v >= f64::from(i16::MIN) && v <= f64::from(i16::MAX)).then_some(v as i16)
+    }
 }
 
 /// Settings of an axis' simulated drive.

@@ -216,6 +216,8 @@ pub struct RawAxis {
     /// The axis' slot on its amplifier, 0-based (0 = axis A); defaults to the order in the file.
     #[serde(default)]
     pub amplifier_axis: Option<u8>,
+    /// csv: gain of the master's position correction added to the velocity setpoint, 1/s.
+    pub csv_position_gain: Option<f64>,
 }
 
 /// `[axes.limits]`.
@@ -236,6 +238,10 @@ pub struct RawLimits {
     pub stop_jerk: Option<f64>,
     /// Following-error alarm limit in units; defaults to 1 s × velocity / 10.
     pub following_error: Option<f64>,
+    /// Largest torque a cst setpoint may ask for, % of rated torque (required for cst).
+    pub torque: Option<f64>,
+    /// Largest torque change, % of rated torque per second.
+    pub torque_slope: Option<f64>,
 }
 
 /// `[axes.sim]`.

@@ -12,7 +12,9 @@ use cellrt_trajectory::units::Scaling;
 use super::raw::{RawAxis, RawCellConfig};
 use super::{
     AxisConfig, CellConfig, Compression, ConfigError, FaultReaction, InjectedFault, Injection,
-    RecordingConfig, RtConfig, SetpointConfig, SimAxisConfig, Transport, WatchdogConfig, MAX_AXES,
+    RecordingConfig, RtConfig, SetpointConfig, SimAxisConfig, TorqueLimits, TorquePercent,
+    Transport, WatchdogConfig, DEFAULT_CSV_POSITION_GAIN, DEFAULT_TORQUE_SLOPE, MAX_AXES,
+    MAX_TORQUE_PERCENT,
 };
 
 /// Checks a name used in service names and file names: 1–32 of `[A-Za-z0-9_-]`.
@@ -480,11 +482,11 @@ fn validate_axis(
             ),
         ));
     }
-    if mode != ModeOfOperation::CyclicSyncPosition {
+    if !mode.is_cyclic() {
         return Err(err(
             "mode",
             format!(
-                "axis '{}': mode {} is not driven by this runtime yet (available: csp)",
+                "axis '{}': mode {} is not a cyclic mode; the RT loop drives csp, csv and cst",
                 a.name,
                 mode.as_str()
             ),
@@ -535,6 +537,51 @@ fn validate_axis(
         &format!("{key}.limits.following_error"),
         a.limits.following_error.unwrap_or(limits.velocity * 0.1),
     )?;
+    let torque = match a.limits.torque {
+        None if mode == ModeOfOperation::CyclicSyncTorque => {
+            return Err(err(
+                "limits.torque",
+                format!(
+                    "axis '{}' runs in cst and needs limits.torque (% of rated torque, 0 < t ≤ {MAX_TORQUE_PERCENT})",
+                    a.name
+                ),
+            ))
+        }
+        None => None,
+        Some(t) => {
+            if !(t.is_finite() && t > 0.0 && t <= MAX_TORQUE_PERCENT) {
+                return Err(err(
+                    "limits.torque",
+                    format!("{t} is not a torque limit (% of rated torque, 0 < t ≤ {MAX_TORQUE_PERCENT})"),
+                ));
+            }
+            let slope = positive(
+                file,
+                &format!("{key}.limits.torque_slope"),
+                a.limits.torque_slope.unwrap_or(DEFAULT_TORQUE_SLOPE),
+            )?;
+            Some(TorqueLimits {
+                max: TorquePercent(t),
+                slope,
+            })
+        }
+    };
+    if torque.is_none() && a.limits.torque_slope.is_some() {
+        return Err(err(
+            "limits.torque_slope",
+            "is set without limits.torque".to_string(),
+        ));
+    }
+    let csv_position_gain = match a.csv_position_gain {
+        None => DEFAULT_CSV_POSITION_GAIN,
+        Some(g) if g.is_finite() && g >= 0.0 => g,
+        Some(g) => {
+            return Err(err(
+                "csv_position_gain",
+                format!("{g} is not a gain (1/s, finite, ≥ 0)"),
+            ))
+        }
+    };
     let sim = SimAxisConfig {
         initial_position: a.sim.initial_position,
         position_bandwidth_hz: positive(
@@ -571,5 +618,7 @@ fn validate_axis(
         stop_jerk,
         following_error_limit,
         sim,
+        torque,
+        csv_position_gain,
     })
 }

@@ -2,12 +2,14 @@
 //! stop ramp the RT thread runs on its own.
 
 use cellrt_axes::cia402::master::AxisMaster;
+use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::comm::{CounterParams, IncrementalCounter};
 use cellrt_axes::pdo::objects::ERROR_CODE;
 use cellrt_axes::pdo::{PdoLayout, TxPdo};
 use cellrt_axes::Cycles;
 
 use crate::config::{AxisConfig, CellConfig};
+use crate::handoff::RejectReason;
 
 /// Per-axis limits converted to counts and cycles once, at start-up.
 #[derive(Debug, Clone, Copy)]
@@ -70,6 +72,27 @@ pub struct AxisChannel {
     pub tx_map: PdoLayout,
     /// Whether the TxPDO carries the error code (603Fh); if not, it needs an SDO read.
     pub error_code_mapped: bool,
+    /// The axis' configured cyclic mode (6060h).
+    pub mode: ModeOfOperation,
+    /// csv position-correction gain, 1/s (see `AxisConfig::csv_position_gain`).
+    pub csv_position_gain: f64,
+    /// Torque limits in 0.1 % units: (largest |6071h|, largest change per second).
+    pub torque_limits: Option<(f64, f64)>,
+    /// cst: the torque setpoint of this cycle in 0.1 % units, while a torque motion runs.
+    pub torque: Option<f64>,
+    /// Braking in csv from the velocity a torque motion left the axis at.
+    pub braking: bool,
+}
+
+/// What the RxPDO commands this cycle: the mode and the target for it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DriveCommand {
+    /// 6060h.
+    pub mode: ModeOfOperation,
+    /// 60FFh, counts/s (csv).
+    pub target_velocity: i32,
+    /// 6071h, 0.1 % of rated torque (cst).
+    pub target_torque: i16,
 }
 
 impl AxisChannel {
@@ -104,6 +127,11 @@ impl AxisChannel {
                 .entries
                 .iter()
                 .any(|e| e.index == ERROR_CODE),
+            mode: axis.mode,
+            csv_position_gain: axis.csv_position_gain,
+            torque_limits: axis.torque.map(|t| (t.max.0 * 10.0, t.slope * 10.0)),
+            torque: None,
+            braking: false,
         }
     }
 
@@ -112,6 +140,71 @@ impl AxisChannel {
         self.setpoint = f64::from(self.feedback.position_actual);
         self.velocity = 0.0;
         self.acceleration = 0.0;
+        self.torque = None;
+        self.braking = false;
+    }
+
+    /// cst: takes a torque setpoint (0.1 %); the position setpoint follows the motor, so a stop
+    /// ramp or a later position motion starts from where and how fast it moves.
+    pub fn apply_torque(&mut self, torque: f64) {
+        self.torque = Some(torque);
+        self.braking = false;
+        self.setpoint = f64::from(self.feedback.position_actual);
+        self.velocity = f64::from(self.feedback.velocity_actual);
+        self.acceleration = 0.0;
+    }
+
+    /// Checks a cst torque setpoint (0.1 %) against the axis' torque limit and slope over `dt`.
+    pub fn check_torque(&self, torque: f64, dt: f64) -> Result<(), RejectReason> {
+        let Some((max, slope)) = self.torque_limits else {
+            return Err(RejectReason::TorqueLimit);
+        };
+        if !torque.is_finite() {
+            return Err(RejectReason::Malformed);
+        }
+        if torque.abs() > max * (1.0 + STEP_TOLERANCE) {
+            return Err(RejectReason::TorqueLimit);
+        }
+        let last = self.torque.unwrap_or(0.0);
+        if (torque - last).abs() > slope * dt * (1.0 + STEP_TOLERANCE) + 1e-6 {
+            return Err(RejectReason::TorqueStep);
+        }
+        Ok(())
+    }
+
+    /// The mode and target this cycle's RxPDO carries. csp: 607Ah only. csv: the setpoint
+    /// velocity plus the master's position correction. cst: the torque setpoint while a torque
+    /// motion runs; otherwise (idle, stop ramps, position motions) the axis runs in csv.
+    pub fn drive_command(&self) -> DriveCommand {
+        match (self.mode, self.torque) {
+            (ModeOfOperation::CyclicSyncTorque, Some(t)) => DriveCommand {
+                mode: ModeOfOperation::CyclicSyncTorque,
+                target_velocity: 0,
+                target_torque: t.round().clamp(f64::from(i16::MIN), f64::from(i16::MAX)) as i16,
+            },
+            (ModeOfOperation::CyclicSyncVelocity | ModeOfOperation::CyclicSyncTorque, _) => {
+                let error = self.setpoint - f64::from(self.feedback.position_actual);
+                let v = self.velocity + self.csv_position_gain * error;
+                DriveCommand {
+                    mode: ModeOfOperation::CyclicSyncVelocity,
+                    target_velocity: v.round().clamp(f64::from(i32::MIN), f64::from(i32::MAX))
+                        as i32,
+                    target_torque: 0,
+                }
+            }
+            _ => DriveCommand {
+                mode: ModeOfOperation::CyclicSyncPosition,
+                target_velocity: 0,
+                target_torque: 0,
+            },
+        }
+    }
+
+    /// The speed limit for cst (2D20h), counts/s: the axis' velocity limit.
+    pub fn velocity_limit(&self, period: f64) -> u32 {
+        (self.limits.max_step / period)
+            .round()
+            .clamp(0.0, f64::from(u32::MAX)) as u32
     }
 
     /// Takes a new setpoint from the stream; `dt` is the time since the previous one.
@@ -121,14 +214,31 @@ impl AxisChannel {
         self.velocity = velocity;
     }
 
-    /// Holds the current setpoint at rest.
-    pub fn hold(&mut self) {
+    /// Holds the current setpoint at rest. An axis a torque motion left moving brakes first,
+    /// with the controlled-stop ramp, in csv.
+    pub fn hold(&mut self, period: f64) {
+        if self.torque.take().is_some() {
+            self.braking = true;
+            self.stopped = self.velocity == 0.0;
+        }
+        if self.braking {
+            self.stop_step(period);
+            self.braking = !self.stopped;
+            return;
+        }
+        self.velocity = 0.0;
+        self.acceleration = 0.0;
+    }
+
+    fn rest(&mut self) {
         self.velocity = 0.0;
         self.acceleration = 0.0;
     }
 
     /// Starts the controlled stop ramp from the current setpoint velocity.
     pub fn begin_stop(&mut self) {
+        self.torque = None;
+        self.braking = false;
         self.stopped = self.velocity == 0.0;
     }
 
@@ -145,7 +255,7 @@ impl AxisChannel {
         let (v, a) = (self.velocity, self.acceleration);
         let dir = v.signum();
         if v == 0.0 {
-            self.hold();
+            self.rest();
             self.stopped = true;
             return;
         }
@@ -157,7 +267,7 @@ impl AxisChannel {
             // current braking and stop.
             let a_brake = a_next.abs().max(f64::MIN_POSITIVE);
             self.setpoint += v * v.abs() / (2.0 * a_brake.max(v.abs() / period));
-            self.hold();
+            self.rest();
             self.stopped = true;
         } else {
             self.setpoint += 0.5 * (v + v_next) * period;
@@ -199,6 +309,11 @@ mod tests {
                 &cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1).tx_pdo,
             ),
             error_code_mapped: false,
+            mode: ModeOfOperation::CyclicSyncPosition,
+            csv_position_gain: 0.0,
+            torque_limits: None,
+            torque: None,
+            braking: false,
         }
     }
 

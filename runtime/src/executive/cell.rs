@@ -5,6 +5,7 @@ use std::sync::atomic::Ordering;
 
 use cellrt_axes::bus::Bus;
 use cellrt_axes::cia402::master::{MasterRequest, MasterState};
+use cellrt_axes::cia402::mode::ModeOfOperation;
 
 use super::Executive;
 use crate::config::FaultReaction;
@@ -153,21 +154,17 @@ impl<B: Bus> Executive<B> {
                     self.publish_holds();
                     return;
                 }
+                if self.finishing {
+                    self.finish_motion();
+                    self.publish_holds();
+                    return;
+                }
                 match self.follow_stream() {
                     Lookup::Applied => {}
                     Lookup::Finished => {
                         self.stream.pop();
-                        self.hold_all();
-                        self.handoff
-                            .status
-                            .motion_done
-                            .store(self.motion_id, Ordering::Release);
-                        self.event(
-                            EventKind::MotionFinished,
-                            NO_AXIS,
-                            i64::from(self.motion_id),
-                        );
-                        self.set_state(CellState::Idle);
+                        self.finishing = true;
+                        self.finish_motion();
                     }
                     Lookup::Underrun => {
                         self.stats.counters.underruns += 1;
@@ -216,6 +213,26 @@ impl<B: Bus> Executive<B> {
         self.publish_holds();
     }
 
+    /// Holds every axis; once none is still braking after a torque motion, reports the motion
+    /// done and returns to Idle.
+    fn finish_motion(&mut self) {
+        self.hold_all();
+        if self.axes.iter().any(|a| a.braking) {
+            return;
+        }
+        self.finishing = false;
+        self.handoff
+            .status
+            .motion_done
+            .store(self.motion_id, Ordering::Release);
+        self.event(
+            EventKind::MotionFinished,
+            NO_AXIS,
+            i64::from(self.motion_id),
+        );
+        self.set_state(CellState::Idle);
+    }
+
     fn request_all(&mut self, req: MasterRequest) {
         for ch in &mut self.axes {
             ch.master.request(req);
@@ -229,9 +246,10 @@ impl<B: Bus> Executive<B> {
     }
 
     fn hold_all(&mut self) {
+        let period = self.period_s;
         for ch in &mut self.axes {
             if ch.master.is_enabled() {
-                ch.hold();
+                ch.hold(period);
             } else {
                 ch.track_actual();
             }
@@ -386,10 +404,23 @@ impl<B: Bus> Executive<B> {
                 }
             }
             // Check every axis first, then apply: a rejected cycle changes nothing.
+            let torque_block = front.is_torque();
+            let dt = self.period_s * steps;
             for (i, ch) in self.axes.iter().enumerate() {
                 let Some(sp) = front.get(cycle, i) else {
                     return Lookup::Rejected(i as u16, RejectReason::Malformed);
                 };
+                if torque_block && ch.mode == ModeOfOperation::CyclicSyncTorque {
+                    if let Err(reason) = ch.check_torque(sp.torque * 10.0, dt) {
+                        return Lookup::Rejected(i as u16, reason);
+                    }
+                    // Torque does not steer the position: stop once the motor leaves its range.
+                    let actual = f64::from(ch.feedback.position_actual);
+                    if actual < ch.limits.position_min || actual > ch.limits.position_max {
+                        return Lookup::Rejected(i as u16, RejectReason::OutsideRange);
+                    }
+                    continue;
+                }
                 if !sp.position.is_finite() || !sp.velocity.is_finite() {
                     return Lookup::Rejected(i as u16, RejectReason::Malformed);
                 }
@@ -402,10 +433,13 @@ impl<B: Bus> Executive<B> {
                     return Lookup::Rejected(i as u16, RejectReason::VelocityStep);
                 }
             }
-            let dt = self.period_s * steps;
             for (i, ch) in self.axes.iter_mut().enumerate() {
                 if let Some(sp) = front.get(cycle, i) {
-                    ch.apply(sp.position, sp.velocity, dt);
+                    if torque_block && ch.mode == ModeOfOperation::CyclicSyncTorque {
+                        ch.apply_torque(sp.torque * 10.0);
+                    } else {
+                        ch.apply(sp.position, sp.velocity, dt);
+                    }
                 }
             }
             return Lookup::Applied;
@@ -427,6 +461,7 @@ impl<B: Bus> Executive<B> {
         };
         self.stop_reason = Some(reason);
         self.reaction = reaction;
+        self.finishing = false;
         self.handoff
             .status
             .stop_reason

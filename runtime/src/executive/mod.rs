@@ -13,7 +13,6 @@ use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 use cellrt_axes::bus::Bus;
-use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::comm::CounterVerdict;
 use cellrt_axes::pdo::RxPdo;
 use cellrt_axes::Cycles;
@@ -95,6 +94,9 @@ pub struct Executive<B: Bus> {
     fault_reset_pending: bool,
     /// An incremental-counter error was reported this cycle: react in `update_cell`.
     comm_fault_pending: bool,
+    /// The motion's last setpoint was applied; it finishes once every axis a torque motion left
+    /// moving has braked to rest.
+    finishing: bool,
     /// Watchdog settings.
     watchdogs: WatchdogConfig,
     /// Deadlines missed in a row (reset by a cycle that starts on time).
@@ -140,6 +142,7 @@ impl<B: Bus> Executive<B> {
             reaction: FaultReaction::ControlledStop,
             fault_reset_pending: false,
             comm_fault_pending: false,
+            finishing: false,
             watchdogs: cell.watchdogs,
             overrun_streak: 0,
             injections: cell
@@ -325,10 +328,14 @@ impl<B: Bus> Executive<B> {
         for i in 0..self.axes.len() {
             let ch = &mut self.axes[i];
             let controlword = ch.master.update(ch.feedback.statusword);
+            let cmd = ch.drive_command();
             let rx = RxPdo {
-                mode: ModeOfOperation::CyclicSyncPosition.as_i8(),
+                mode: cmd.mode.as_i8(),
                 controlword,
                 target_position: round_counts(ch.setpoint),
+                target_velocity: cmd.target_velocity,
+                target_torque: cmd.target_torque,
+                velocity_limit: ch.velocity_limit(self.period_s),
                 counter: ch.counter.as_mut().map_or(0, |c| c.next_tx()),
                 ..RxPdo::default()
             };
@@ -356,6 +363,8 @@ impl<B: Bus> Executive<B> {
                     mode_display: ch.feedback.mode_display,
                     error_code: ch.feedback.error_code,
                     target_torque: rx.target_torque,
+                    mode: rx.mode,
+                    target_velocity: rx.target_velocity,
                     torque_actual: ch.feedback.torque_actual,
                     counter_sent: rx.counter,
                     counter_received: ch.feedback.counter,

@@ -547,6 +547,8 @@ impl Drain<'_> {
             // The drive profiles map no incremental counter yet.
             counter_sent: u32::from(a.counter_sent),
             counter_received: u32::from(a.counter_received),
+            mode: i32::from(a.mode),
+            setpoint_velocity_counts: a.target_velocity,
         };
         self.buf.clear();
         msg.encode(&mut self.buf).expect("Vec grows");

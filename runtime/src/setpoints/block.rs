@@ -12,15 +12,22 @@ pub const BLOCK_CYCLES: usize = 16;
 /// Block flag: the motion ends with this block; the axes hold its last setpoint afterwards.
 pub const FLAG_LAST: u32 = 1;
 
+/// Block flag: a torque motion. Axes in cst take [`AxisSetpoint::torque`] (their position and
+/// velocity are ignored); the other axes hold as usual. Without it cst axes follow the position
+/// and velocity setpoints in csv.
+pub const FLAG_TORQUE: u32 = 2;
+
 /// One axis' setpoint for one cycle, in drive counts.
 #[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("cellrt::AxisSetpoint")]
+#[type_name("cellrt::AxisSetpoint.v2")]
 pub struct AxisSetpoint {
     /// Position setpoint in counts (fractional; rounded at the PDO).
     pub position: f64,
-    /// Velocity of the setpoint trajectory in counts/s (feed-forward, stop ramps).
+    /// Velocity of the setpoint trajectory in counts/s (csv target, feed-forward, stop ramps).
     pub velocity: f64,
+    /// Torque setpoint in % of rated torque (cst axes in a [`FLAG_TORQUE`] block; else 0).
+    pub torque: f64,
 }
 
 /// Header of a setpoint block (the iceoryx2 user header of each sample).
@@ -54,6 +61,11 @@ impl SetpointBlock<'_> {
     /// One past the last cycle this block covers.
     pub fn end_cycle(&self) -> u64 {
         self.header.start_cycle + u64::from(self.header.cycles)
+    }
+
+    /// Whether this block belongs to a torque motion ([`FLAG_TORQUE`]).
+    pub fn is_torque(&self) -> bool {
+        self.header.flags & FLAG_TORQUE != 0
     }
 
     /// Whether the motion ends with this block.
@@ -98,6 +110,7 @@ mod tests {
             .map(|i| AxisSetpoint {
                 position: f64::from(i),
                 velocity: 0.0,
+                torque: 0.0,
             })
             .collect();
         let b = SetpointBlock {

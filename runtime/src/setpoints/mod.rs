@@ -3,5 +3,7 @@
 mod block;
 mod stream;
 
-pub use block::{AxisSetpoint, SetpointBlock, SetpointHeader, BLOCK_CYCLES, FLAG_LAST, MAX_AXES};
+pub use block::{
+    AxisSetpoint, SetpointBlock, SetpointHeader, BLOCK_CYCLES, FLAG_LAST, FLAG_TORQUE, MAX_AXES,
+};
 pub use stream::{SetpointStream, SetpointSubscriber, StreamError};

@@ -189,9 +189,16 @@ pub fn replay(
                 ));
             }
             let rx = RxPdo {
-                mode: ModeOfOperation::CyclicSyncPosition.as_i8(),
+                // Recordings made before field 20 existed were csp only.
+                mode: if rec.mode == 0 {
+                    ModeOfOperation::CyclicSyncPosition.as_i8()
+                } else {
+                    rec.mode as i8
+                },
                 controlword: Controlword(rec.controlword as u16),
                 target_position: rec.setpoint_counts,
+                target_velocity: rec.setpoint_velocity_counts,
+                velocity_limit: ch.velocity_limit(cell.period()),
                 target_torque: rec.setpoint_torque as i16,
                 counter: rec.counter_sent as u8,
                 ..RxPdo::default()

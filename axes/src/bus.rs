@@ -35,6 +35,12 @@ pub trait Bus {
         let _ = (axis, cycles);
         false
     }
+    /// 603Fh Error code of `axis` by acyclic read (an SDO upload on a real bus), for maps that
+    /// do not carry it. Called once per fault edge, not every cycle. `None` where unsupported.
+    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
+        let _ = axis;
+        None
+    }
 }
 
 /// A failed exchange, naming the axis.
@@ -174,6 +180,10 @@ impl Bus for SimBus {
             }
             _ => false,
         }
+    }
+
+    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
+        self.get_drive(axis).map(|d| d.tx_pdo().error_code)
     }
 
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {

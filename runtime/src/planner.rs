@@ -241,10 +241,7 @@ impl<'a> Planner<'a> {
                     let state = self.status()?.state;
                     if matches!(state, CellState::Stopped | CellState::Faulted) {
                         self.command(CellCommand::Reset)?;
-                        self.wait_for(
-                            |s| !matches!(s, CellState::Stopped | CellState::Faulted),
-                            POWER_TIMEOUT,
-                        )?;
+                        self.wait_reset(POWER_TIMEOUT)?;
                     }
                 }
                 Step::Wait(s) => {
@@ -290,6 +287,28 @@ impl<'a> Planner<'a> {
                 e
             }
         })
+    }
+
+    /// Waits until a reset has cleared the Stopped or Faulted state and the cell has settled
+    /// (the fault-reset hold of the slowest drive is part of it), so the next step's command is
+    /// accepted; a cell that stays faulted fails after `timeout`.
+    fn wait_reset(&mut self, timeout: Duration) -> Result<(), ProgramError> {
+        let end = Instant::now() + timeout;
+        loop {
+            let s = self.status()?.state;
+            // Settled: Idle (a stop reset with the drives still enabled) or Disabled (after a
+            // fault reset or a drive-side reaction, once the drives have been disabled).
+            if matches!(s, CellState::Idle | CellState::Disabled) || self.aborted() {
+                return Ok(());
+            }
+            if Instant::now() >= end {
+                return Err(self.err(format!(
+                    "the reset did not clear the cell within {timeout:?}; it is {} (see the events)",
+                    s.as_str()
+                )));
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
     }
 
     /// Waits until the cell state satisfies `done`; fails on a fault (unless waited for) or

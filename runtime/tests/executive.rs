@@ -19,7 +19,7 @@ const COUNTS_PER_MM: f64 = 1000.0;
 
 /// Cycles between reading the cell's cycle and a block's start: ample for a test thread that a
 /// loaded machine delays (a block that arrives after its start is refused as late).
-const LEAD: u64 = 300;
+const LEAD: u64 = 1000;
 
 fn cell() -> CellConfig {
     cell_with("a", "")

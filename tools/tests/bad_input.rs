@@ -508,3 +508,78 @@ fn negative_duration_separate_word() {
         "stderr:\n{stderr}"
     );
 }
+
+// --- Cyclic modes and torque (issue 3). ---
+
+const C_LIMITS: &str =
+    "limits = { position = [-360.0, 360.0], velocity = 180.0, acceleration = 720.0, jerk = 3600.0 }";
+
+/// The demo config with axis `c`'s `unit = "deg"` line followed by `extra`, and its limits
+/// line replaced by `limits`.
+fn c_axis_edit(extra: &str, limits: &str) -> impl FnOnce(&str) -> String {
+    let extra = extra.to_owned();
+    let limits = limits.to_owned();
+    move |t: &str| {
+        let t = replace_once(t, "unit = \"deg\"", &format!("unit = \"deg\"\n{extra}"));
+        replace_once(&t, C_LIMITS, &limits)
+    }
+}
+
+#[test]
+fn cst_without_a_torque_limit() {
+    let (run, config) = run_config_edit(c_axis_edit("mode = \"cst\"", C_LIMITS));
+    run.expect_error(
+        &config,
+        "axes[3].limits.torque",
+        &["'c'", "cst", "limits.torque"],
+    );
+}
+
+#[test]
+fn torque_limit_out_of_range() {
+    let bad = C_LIMITS.replace(" }", ", torque = 1500.0 }");
+    let (run, config) = run_config_edit(c_axis_edit("mode = \"cst\"", &bad));
+    run.expect_error(&config, "axes[3].limits.torque", &["1500", "0 < t ≤ 1000"]);
+}
+
+#[test]
+fn non_cyclic_mode_is_refused() {
+    let (run, config) = run_config_edit(c_axis_edit("mode = \"hm\"", C_LIMITS));
+    run.expect_error(&config, "axes[3].mode", &["'c'", "hm", "not a cyclic mode"]);
+}
+
+#[test]
+fn mode_the_model_lacks_is_refused() {
+    let (run, config) = run_config_edit(|t| {
+        let t = replace_once(
+            t,
+            "name = \"c\"\ndrive = \"mr-j5-g-n1\"",
+            "name = \"c\"\ndrive = \"mr-j3-t04\"\nmode = \"cst\"",
+        );
+        replace_once(&t, C_LIMITS, &C_LIMITS.replace(" }", ", torque = 100.0 }"))
+    });
+    run.expect_error(
+        &config,
+        "axes[3].mode",
+        &["'c'", "mr-j3-t04", "cst", "hm, csp, csv"],
+    );
+}
+
+#[test]
+fn torque_step_on_a_csp_axis() {
+    let (run, program) = run_program(&format!(
+        "{DEMO_PROGRAM}\n[[step]]\ndo = \"torque\"\ntarget = {{ c = 10.0 }}\nseconds = 0.1\n"
+    ));
+    let steps = DEMO_PROGRAM.matches("[[step]]").count();
+    run.expect_error(
+        &program,
+        &format!("step[{steps}].target.c"),
+        &["'c'", "runs in csp", "cst"],
+    );
+}
+
+#[test]
+fn csv_position_gain_negative() {
+    let (run, config) = run_config_edit(c_axis_edit("csv_position_gain = -1.0", C_LIMITS));
+    run.expect_error(&config, "axes[3].csv_position_gain", &["-1", "gain"]);
+}

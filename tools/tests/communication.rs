@@ -7,7 +7,7 @@ mod common;
 
 use std::process::Command;
 
-use common::{read_recording, unique_cell_name};
+use common::{read_recording, run_recorded, unique_cell_name};
 
 const PROGRAM: &str = r#"
 [[step]]
@@ -31,17 +31,7 @@ fn counter_corruption_on_mr_j3_t04_stops_the_cell() {
         + "\n[setpoints]\nlookahead_ms = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n\
            [[inject]]\nat_ms = 500\nfault = \"counter_corruption\"\naxis = \"x\"\nduration_ms = 20\n";
     assert!(!text.contains(r#"name = "mr-j3-t04""#));
-    let cfg = dir.path().join("cell.toml");
-    std::fs::write(&cfg, text).unwrap();
-    std::fs::write(dir.path().join("program.toml"), PROGRAM).unwrap();
-    let rec_path = dir.path().join("run.mcap");
-    let out = Command::new(env!("CARGO_BIN_EXE_cellrt"))
-        .arg("run")
-        .arg(&cfg)
-        .arg("--record")
-        .arg(&rec_path)
-        .output()
-        .unwrap();
+    let (out, rec_path) = run_recorded(dir.path(), &text, PROGRAM);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     let rec = read_recording(&rec_path);

@@ -214,12 +214,10 @@ fn a_drive_fault_stops_the_other_axes_too() {
         .find(|e| e.kind == "drive_fault")
         .expect("drive fault event");
     assert_eq!(fault.axis, "y");
-    // MR-J5-G-N1's default TxPDO (1A00h) does not map 603Fh (mr-j5-g-n1.md §5.2).
-    assert!(
-        fault.detail.contains("not in the TxPDO map"),
-        "{}",
-        fault.detail
-    );
+    // MR-J5-G-N1's default TxPDO (1A00h) does not map 603Fh (mr-j5-g-n1.md §5.2): the
+    // master reads it once, acyclically, at the fault edge.
+    assert_eq!(fault.value, 0x2220, "{}", fault.detail);
+    assert!(fault.detail.contains("0x2220"), "{}", fault.detail);
     let (cycle, detail) = stop_detail(&run.rec);
     assert_eq!(detail, "drive_fault (controlled_stop)");
     // The healthy axis ramps down; the faulted one is stopped by its drive.

@@ -313,10 +313,11 @@ impl<B: Bus> Executive<B> {
             }
             if tx.statusword.fault() && !old.statusword.fault() {
                 self.stats.counters.faults += 1;
+                // 603Fh: from the TxPDO where mapped, else one acyclic read at the fault edge.
                 let code = if self.axes[i].error_code_mapped {
                     i64::from(tx.error_code)
                 } else {
-                    -1
+                    self.bus.read_error_code(i).map_or(-1, i64::from)
                 };
                 self.event(EventKind::DriveFault, i as u16, code);
             }

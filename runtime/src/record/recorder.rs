@@ -647,7 +647,7 @@ pub fn describe_event(e: &EventRecord) -> String {
         }
         EventKind::Overrun => format!("woke {} µs past the next deadline", e.value / 1000),
         EventKind::DriveFault if e.value < 0 => {
-            "fault (603Fh error code not in the TxPDO map)".to_string()
+            "fault (603Fh error code neither mapped nor readable)".to_string()
         }
         EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
         EventKind::RecordsDropped => format!("{} records dropped", e.value),

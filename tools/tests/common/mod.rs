@@ -40,6 +40,23 @@ pub fn demo_cell(dir: &Path, program: &str) -> PathBuf {
     cfg
 }
 
+/// Writes `config` and `program` (as `cell.toml` / `program.toml`) into `dir` and runs
+/// `cellrt run` on them with a recording; returns the process output and the recording path.
+pub fn run_recorded(dir: &Path, config: &str, program: &str) -> (std::process::Output, PathBuf) {
+    let cfg = dir.join("cell.toml");
+    std::fs::write(&cfg, config).unwrap();
+    std::fs::write(dir.join("program.toml"), program).unwrap();
+    let rec = dir.join("run.mcap");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .arg("run")
+        .arg(&cfg)
+        .arg("--record")
+        .arg(&rec)
+        .output()
+        .unwrap();
+    (out, rec)
+}
+
 /// A cell name no other test or user run shares (services and locks are per cell name).
 pub fn unique_cell_name() -> String {
     use std::sync::atomic::{AtomicU32, Ordering};

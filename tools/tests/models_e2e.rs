@@ -1,0 +1,222 @@
+//! One end-to-end run per drive model (issue 3): the example cell of the model is powered on,
+//! moves in each cyclic mode the model has (x in csp, y in csv, c in cst where the model has
+//! it), takes an injected following-error alarm on x (the model's own code) while idle, is
+//! reset with the model's fault-reset hold, powered on again, moved home and powered off. The
+//! statusword, the alarm code and the motion are asserted from the MCAP recording.
+
+mod common;
+
+use cellrt_axes::pdo::objects::MODES_OF_OPERATION_DISPLAY;
+use cellrt_axes::profiles::{profile, DriveModel};
+use common::{read_recording, run_recorded, unique_cell_name};
+
+/// Operation enabled: statusword bits 0–3, 5, 6 = 0110 0111 under mask 0110 1111.
+fn operation_enabled(sw: u32) -> bool {
+    sw & 0x6F == 0x27
+}
+
+fn fault(sw: u32) -> bool {
+    sw & 0x08 != 0
+}
+
+struct Expect {
+    config: &'static str,
+    model: DriveModel,
+    cst: bool,
+}
+
+fn run_model(e: Expect) {
+    let dir = tempfile::tempdir().unwrap();
+    let base = std::fs::read_to_string(format!(
+        "{}/../configs/{}",
+        env!("CARGO_MANIFEST_DIR"),
+        e.config
+    ))
+    .unwrap();
+    let code = profile(e.model).following_error_alarm;
+    // The cell's own program is replaced; the alarm comes during the long wait.
+    let cell_name = unique_cell_name();
+    let mut text = String::new();
+    let mut in_cell = false;
+    for line in base.lines() {
+        if line.starts_with('[') {
+            in_cell = line == "[cell]";
+        }
+        if in_cell && line.starts_with("name = ") {
+            text.push_str(&format!("name = \"{cell_name}\"\n"));
+        } else if in_cell && line.starts_with("program = ") {
+            text.push_str("program = \"program.toml\"\n");
+        } else if line.starts_with("cpu = ") {
+            continue;
+        } else {
+            text.push_str(line);
+            text.push('\n');
+        }
+    }
+    text.push_str(&format!(
+        "\n[setpoints]\nlookahead_ms = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n\
+         [[inject]]\nat_ms = 4000\nfault = \"drive_alarm\"\naxis = \"x\"\ncode = {code}\n"
+    ));
+    let c_move = if e.cst { "" } else { ", c = 45.0" };
+    let torque = if e.cst {
+        "[[step]]\ndo = \"torque\"\ntarget = { c = 30.0 }\nseconds = 0.3\n"
+    } else {
+        ""
+    };
+    let program = format!(
+        "[[step]]\ndo = \"power_on\"\n\
+         [[step]]\ndo = \"move\"\ntarget = {{ x = 300.0, y = 200.0{c_move} }}\n\
+         {torque}\
+         [[step]]\ndo = \"wait\"\nseconds = 6.0\n\
+         [[step]]\ndo = \"reset\"\n\
+         [[step]]\ndo = \"power_on\"\n\
+         [[step]]\ndo = \"move\"\ntarget = {{ x = 50.0, y = 50.0, c = 0.0 }}\n\
+         [[step]]\ndo = \"power_off\"\n"
+    );
+    let (out, rec_path) = run_recorded(dir.path(), &text, &program);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}: {stdout}{stderr}", e.config);
+    let rec = read_recording(&rec_path);
+    let x = &rec.axes["x"];
+    let y = &rec.axes["y"];
+    let c = &rec.axes["c"];
+
+    // Power on: every axis reaches Operation enabled.
+    for (name, a) in [("x", x), ("y", y), ("c", c)] {
+        assert!(
+            a.iter().any(|r| operation_enabled(r.statusword)),
+            "{}: {name} never enabled",
+            e.config
+        );
+    }
+    // csp on x, csv on y: the mode sent and the mode displayed, and the targets reached.
+    // 6061h reaches the recording only where the TxPDO maps it (not on MR-J3-T04, whose mode
+    // comes from parameter PO02 / an SDO write of 6060h, mr-j3-t04.md §3.9).
+    let p = profile(e.model);
+    let shows = |mode: i32, r: &cellrt_runtime::record::proto::AxisCycle| {
+        !p.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY) || r.mode_display == mode
+    };
+    assert!(x.iter().any(|r| r.mode == 8 && shows(8, r)));
+    assert!(x.iter().all(|r| r.mode == 8), "x sends csp only");
+    assert!(y
+        .iter()
+        .any(|r| r.mode == 9 && shows(9, r) && r.setpoint_velocity_counts != 0));
+    for (name, a, target) in [("x", x, 300.0), ("y", y, 200.0)] {
+        assert!(
+            a.iter().any(|r| (r.actual_position - target).abs() < 0.05),
+            "{}: {name} never reached {target}",
+            e.config
+        );
+    }
+    if e.cst {
+        // The torque step: 6071h ramps to 30 % (300 × 0.1 %) in cst, the motor accelerates, and
+        // after the step the axis brakes to rest in csv.
+        let torque: Vec<_> = c.iter().filter(|r| r.mode == 10).collect();
+        assert!(!torque.is_empty(), "{}: c never in cst", e.config);
+        assert_eq!(torque.iter().map(|r| r.setpoint_torque).max(), Some(300));
+        assert!(torque.iter().any(|r| r.mode_display == 10));
+        assert!(
+            torque.iter().any(|r| r.actual_velocity.abs() > 1.0),
+            "c did not move under torque"
+        );
+        for w in torque.windows(2) {
+            // 500 %/s at this cycle time: at most 5000 × 0.1 % per second.
+            assert!((w[1].setpoint_torque - w[0].setpoint_torque).abs() <= 25);
+        }
+        let last_cst = torque.last().unwrap().cycle;
+        assert!(c
+            .iter()
+            .any(|r| r.cycle > last_cst && r.mode == 9 && r.actual_velocity.abs() < 0.01));
+    } else {
+        assert!(c.iter().any(|r| (r.actual_position - 45.0).abs() < 0.05));
+    }
+
+    // The injected following-error alarm: statusword fault on x, the model's code in the event,
+    // the other axes taken down with it, then a fault reset and a second power-on.
+    let faulted = x
+        .iter()
+        .find(|r| fault(r.statusword))
+        .unwrap_or_else(|| panic!("{}: x never faulted", e.config));
+    let cycle_s = rec.cycles[1]
+        .deadline_ns
+        .saturating_sub(rec.cycles[0].deadline_ns) as f64
+        * 1e-9;
+    assert!(
+        faulted.cycle as f64 * cycle_s >= 3.9,
+        "{}: fault at cycle {}",
+        e.config,
+        faulted.cycle
+    );
+    let ev = rec
+        .events
+        .iter()
+        .find(|ev| ev.kind == "drive_fault" && ev.axis == "x")
+        .expect("drive_fault event");
+    assert_eq!(ev.value, i64::from(code), "{}: {}", e.config, ev.detail);
+    let reset_done = x
+        .iter()
+        .find(|r| r.cycle > faulted.cycle && !fault(r.statusword))
+        .expect("fault reset cleared the alarm");
+    assert!(x
+        .iter()
+        .any(|r| r.cycle > reset_done.cycle && operation_enabled(r.statusword)));
+    // Home again, and powered off at the end.
+    assert!((x.last().unwrap().actual_position - 50.0).abs() < 0.05);
+    assert!((c.last().unwrap().actual_position).abs() < 0.05);
+    assert!(!operation_enabled(x.last().unwrap().statusword));
+}
+
+#[test]
+fn mr_j3_t04_cell() {
+    run_model(Expect {
+        config: "mr-j3-t04.toml",
+        model: DriveModel::MrJ3T04,
+        cst: false,
+    });
+}
+
+#[test]
+fn mr_j4_tm_cell() {
+    run_model(Expect {
+        config: "mr-j4-tm.toml",
+        model: DriveModel::MrJ4TM,
+        cst: true,
+    });
+}
+
+#[test]
+fn mr_jet_g_n1_cell() {
+    run_model(Expect {
+        config: "mr-jet-g-n1.toml",
+        model: DriveModel::MrJetGN1,
+        cst: true,
+    });
+}
+
+#[test]
+fn mr_j5w2_g_n1_cell() {
+    run_model(Expect {
+        config: "mr-j5w2-g-n1.toml",
+        model: DriveModel::MrJ5W2GN1,
+        cst: true,
+    });
+}
+
+#[test]
+fn mr_j5w3_g_n1_cell() {
+    run_model(Expect {
+        config: "mr-j5w3-g-n1.toml",
+        model: DriveModel::MrJ5W3GN1,
+        cst: true,
+    });
+}
+
+#[test]
+fn mr_j5_g_n1_cell() {
+    run_model(Expect {
+        config: "mr-j5-g-n1.toml",
+        model: DriveModel::MrJ5GN1,
+        cst: true,
+    });
+}

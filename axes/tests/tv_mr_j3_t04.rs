@@ -1,10 +1,11 @@
 //! mr-j3-t04.md §12 test vectors against the simulated MR-J3-T04 (and the master where it
-//! applies). Vectors needing models this crate does not have (main circuit/EM1, homing, stroke
-//! ends, torque-limit selection, SDO) are listed in the report, not faked here.
+//! applies). Vectors needing models this crate does not have yet (main circuit/EM1, homing,
+//! stroke ends) are listed in the closing note, not faked here.
 
 mod common;
 
 use cellrt_axes::profiles::mr_j3_t04::{AL_34, AL_35, AL_36, AL_61};
+use cellrt_axes::sim::drive::InternalTorqueLimits;
 use cellrt_axes::{
     profile, AxisMaster, Bus, CommParams, Controlword, CounterParams, CounterVerdict, Cycles,
     DriveModel, FsaState, IncrementalCounter, MasterRequest, MasterState, PdoEntry, PdoMap, RxPdo,
@@ -496,4 +497,67 @@ fn bus_injections_reach_the_drive() {
         bus.exchange(Cycles(1)).unwrap();
     }
     assert_eq!(bus.drive(0).alarm(), Some(AL_36));
+}
+
+#[test]
+fn tv_tl_1_torque_limit_selection() {
+    let mut d = j3(SimDriveParams {
+        internal_torque_limits: InternalTorqueLimits {
+            pa11_forward: 200.0,
+            pa12_reverse: 150.0,
+            pc35_internal: 100.0,
+        },
+        ..SimDriveParams::default()
+    });
+    boot(&mut d);
+    // (C_TL1, C_TL) → (CCW-drive limit, CW-drive limit), with 60E0h = 800, 60E1h = 3000.
+    let rows = [
+        (0, 0, 200.0, 150.0),
+        (0, 1, 80.0, 150.0),
+        (1, 0, 100.0, 100.0),
+        (1, 1, 80.0, 100.0),
+    ];
+    for (tl1, tl, ccw, cw) in rows {
+        let rx = RxPdo {
+            controlword2: (tl1 << 4) | (tl << 3),
+            torque_limit_positive: 800,
+            torque_limit_negative: 3000,
+            ..csp(Controlword(0x000F), 0)
+        };
+        assert_eq!(
+            d.torque_limits_percent(&rx),
+            (ccw, cw),
+            "C_TL1 {tl1} C_TL {tl}"
+        );
+    }
+}
+
+#[test]
+fn c_tl_limits_the_acceleration_the_motor_develops() {
+    // 60E0h = 30 (3 %) selected by C_TL: an accelerating csp ramp may use at most 1 % of the
+    // plant's 300 % maximum; without C_TL the same ramp accelerates much harder.
+    let peak = |cw2: u16| {
+        let mut d = j3(SimDriveParams::default());
+        boot(&mut d);
+        for cw in [0x0006, 0x0007, 0x000F] {
+            send(&mut d, cw);
+        }
+        let amax = d.plant().params().max_acceleration;
+        let mut peak: f64 = 0.0;
+        for k in 1..=50i32 {
+            let rx = RxPdo {
+                controlword2: cw2,
+                torque_limit_positive: 30,
+                torque_limit_negative: 30,
+                ..csp(Controlword(0x000F), k * k * 20)
+            };
+            exchange(&mut d, &rx);
+            peak = peak.max(d.plant().acceleration() / amax);
+        }
+        peak
+    };
+    let limited = peak(1 << 3);
+    assert!(limited <= 0.01 + 1e-12, "C_TL: {limited}");
+    assert!(limited > 0.009, "the limit is reached: {limited}");
+    assert!(peak(0) > 0.05, "without C_TL: {}", peak(0));
 }

@@ -10,6 +10,8 @@ pub const CONTROLWORD: u16 = 0x6040;
 pub const STATUSWORD: u16 = 0x6041;
 /// 603Fh Error code.
 pub const ERROR_CODE: u16 = 0x603F;
+/// 2001h Controlword2 (MR-J3-T04 control inputs C_TL, C_TL1, C_MSTOP…; mr-j3-t04.md §3.3).
+pub const CONTROLWORD2: u16 = 0x2001;
 /// 6060h Modes of operation.
 pub const MODES_OF_OPERATION: u16 = 0x6060;
 /// 6061h Modes of operation display.
@@ -76,6 +78,8 @@ pub struct RxPdo {
     pub torque_limit_positive: u16,
     /// 60E1h Negative torque limit value, 0.1 % of rated torque (0 = no torque).
     pub torque_limit_negative: u16,
+    /// 2001h Controlword2 (MR-J3-T04; bit 3 C_TL, bit 4 C_TL1: torque-limit selection).
+    pub controlword2: u16,
     /// Communication counter: 2020h (MR-J3-T04) or 2D23h (MR-J4-TM), where the map carries it
     /// ([`crate::PdoMap::has_counter`]). See [`crate::IncrementalCounter`].
     pub counter: u8,
@@ -93,6 +97,7 @@ impl Default for RxPdo {
             target_torque: 0,
             torque_limit_positive: DEFAULT_TORQUE_LIMIT,
             torque_limit_negative: DEFAULT_TORQUE_LIMIT,
+            controlword2: 0,
             counter: 0,
         }
     }
@@ -139,6 +144,7 @@ pub(crate) enum RxField {
     TargetTorque,
     TorqueLimitPositive,
     TorqueLimitNegative,
+    Controlword2,
     Counter,
 }
 
@@ -157,6 +163,7 @@ impl RxField {
             TARGET_TORQUE => RxField::TargetTorque,
             TORQUE_LIMIT_POSITIVE => RxField::TorqueLimitPositive,
             TORQUE_LIMIT_NEGATIVE => RxField::TorqueLimitNegative,
+            CONTROLWORD2 => RxField::Controlword2,
             INCREMENTAL_COUNTER_RX | WATCHDOG_COUNTER_DL => RxField::Counter,
             _ => return None,
         })
@@ -208,6 +215,7 @@ impl RxPdo {
             RxField::TargetTorque => i64::from(self.target_torque) as u64,
             RxField::TorqueLimitPositive => u64::from(self.torque_limit_positive),
             RxField::TorqueLimitNegative => u64::from(self.torque_limit_negative),
+            RxField::Controlword2 => u64::from(self.controlword2),
             RxField::Counter => u64::from(self.counter),
         }
     }
@@ -223,6 +231,7 @@ impl RxPdo {
             RxField::TargetTorque => self.target_torque = signed(raw, bits) as i16,
             RxField::TorqueLimitPositive => self.torque_limit_positive = raw as u16,
             RxField::TorqueLimitNegative => self.torque_limit_negative = raw as u16,
+            RxField::Controlword2 => self.controlword2 = raw as u16,
             RxField::Counter => self.counter = raw as u8,
         }
     }

@@ -184,6 +184,22 @@ pub struct Units {
     pub source: &'static str,
 }
 
+/// Where the drive's torque limits come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TorqueLimitSelection {
+    /// 60E0h / 60E1h as received, in 0.1 % of rated torque (CiA 402).
+    Objects,
+    /// MR-J3-T04 (mr-j3-t04.md §9.4, manual §8.14): Controlword2 bits C_TL / C_TL1 select
+    /// between the parameters PA11 (forward) / PA12 (reverse), PC35 (internal) and 60E0h/60E1h;
+    /// each direction takes the lowest selected value.
+    Controlword2 {
+        /// Bit of 2001h that adds 60E0h/60E1h (C_TL).
+        c_tl_bit: u8,
+        /// Bit of 2001h that adds PC35 (C_TL1).
+        c_tl1_bit: u8,
+    },
+}
+
 /// The model's cyclic communication check.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum CommCheck {

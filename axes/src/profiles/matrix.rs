@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{profile, CommCheck, DriveModel, DriveProfile};
+use super::{profile, CommCheck, DriveModel, DriveProfile, TorqueLimitSelection};
 
 /// Marker line before the generated table in README.md.
 pub const BEGIN_MARKER: &str = "<!-- drive-matrix:begin (generated from axes/src/profiles; UPDATE_README=1 cargo test -p cellrt-axes --test readme_matrix) -->";
@@ -65,6 +65,19 @@ fn quirks_text(p: &DriveProfile) -> String {
     }
 }
 
+/// Where the torque limits come from, in one cell.
+fn torque_limit_text(p: &DriveProfile) -> String {
+    match p.torque_limit_selection {
+        TorqueLimitSelection::Objects => "60E0h/60E1h".to_owned(),
+        TorqueLimitSelection::Controlword2 {
+            c_tl_bit,
+            c_tl1_bit,
+        } => format!(
+            "PA11/PA12; + PC35 (2001h bit {c_tl1_bit}); + 60E0h/60E1h (2001h bit {c_tl_bit})"
+        ),
+    }
+}
+
 /// Fault-reset hold, e.g. "10 ms (20 ms from 8000 µs)".
 fn reset_text(p: &DriveProfile) -> String {
     if p.fault_reset_hold_long_cycle_ms == p.fault_reset_hold_ms {
@@ -80,13 +93,13 @@ fn reset_text(p: &DriveProfile) -> String {
 /// The markdown table, one row per [`DriveModel`].
 pub fn render() -> String {
     let mut s = String::new();
-    s.push_str("| `model` | drive | axes/unit | modes (6060h) | cycle times | communication check | fault reset hold | FSA quirks | leaving OP enabled | following error |\n");
-    s.push_str("|---|---|---:|---|---|---|---|---|---|---|\n");
+    s.push_str("| `model` | drive | axes/unit | modes (6060h) | cycle times | communication check | fault reset hold | FSA quirks | torque limits | leaving OP enabled | following error |\n");
+    s.push_str("|---|---|---:|---|---|---|---|---|---|---|---|\n");
     for &m in DriveModel::ALL {
         let p = profile(m);
         let _ = writeln!(
             s,
-            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             m.as_str(),
             p.name,
             p.axes_per_unit,
@@ -95,6 +108,7 @@ pub fn render() -> String {
             comm_text(p),
             reset_text(p),
             quirks_text(p),
+            torque_limit_text(p),
             alarm_text(p, p.leave_op_alarm),
             alarm_text(p, p.following_error_alarm),
         );
@@ -120,6 +134,10 @@ mod tests {
         let j3 = t.lines().find(|l| l.contains("`mr-j3-t04`")).unwrap();
         assert!(j3.contains("AL.34") && j3.contains("2020h/2021h"), "{j3}");
         assert!(j3.contains("no quick stop"), "{j3}");
+        assert!(
+            j3.contains("PA11/PA12") && j3.contains("2001h bit 3"),
+            "{j3}"
+        );
         let j4 = t.lines().find(|l| l.contains("`mr-j4-tm`")).unwrap();
         assert!(
             !j4.contains("125,") && !j4.contains("4000"),

@@ -23,7 +23,7 @@ pub mod mr_jet_g_n1;
 
 pub use facts::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, Identity, OdEntry, Pdo,
-    StopBehaviour, Units,
+    StopBehaviour, TorqueLimitSelection, Units,
 };
 
 /// A supported drive model, named in configuration by its kebab-case part number.
@@ -154,6 +154,8 @@ pub struct DriveProfile {
     pub overspeed_alarm: u16,
     /// True if controlword bit 8 HALT acts in csp/csv/cst (false: hm/profile modes only).
     pub halt_in_cyclic_modes: bool,
+    /// Where the torque limits come from.
+    pub torque_limit_selection: TorqueLimitSelection,
 }
 
 impl DriveProfile {

@@ -2,6 +2,7 @@
 //! "MR-J3-□A-RJ158 / MR-J3-T04 Specifications", 2011-12-01).
 
 use super::facts::{alarm, od};
+use super::TorqueLimitSelection;
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, StopBehaviour, Units,
@@ -550,6 +551,10 @@ pub const PROFILE: DriveProfile = DriveProfile {
     overspeed_alarm: AL_35,
     // §3.8: halt is invalid in csp and csv (hm only).
     halt_in_cyclic_modes: false,
+    torque_limit_selection: TorqueLimitSelection::Controlword2 {
+        c_tl_bit: 3,
+        c_tl1_bit: 4,
+    },
 };
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! SH(NA)030208 rev. E, **truncated after §5.4.10**: no §5.5–§5.12, §6, chapter 7; mr-j4-tm.md §0).
 
 use super::facts::{alarm, od};
+use super::TorqueLimitSelection;
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, StopBehaviour, Units,
@@ -497,6 +498,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     overspeed_alarm: OVERSPEED,
     // §8.2: bit 8 is reserved in csp/csv/cst.
     halt_in_cyclic_modes: false,
+    torque_limit_selection: TorqueLimitSelection::Objects,
 };
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! Mitsubishi MR-J5-G-N1 (1-axis), from mr-j5-g-n1.md (manual SH(NA)-030372CHN-A).
 
 use super::facts::{alarm, od};
+use super::TorqueLimitSelection;
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, StopBehaviour, Units,
@@ -397,6 +398,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     overspeed_alarm: OVERSPEED,
     // §3.5: "HALT (bit 8) = 1 means temporary stop"; modes not restricted there [inferred].
     halt_in_cyclic_modes: true,
+    torque_limit_selection: TorqueLimitSelection::Objects,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

@@ -1,6 +1,7 @@
 //! Mitsubishi MR-JET-G-N1, from mr-jet-g-n1.md (manual IB(NA)-0300500ENG-H).
 
 use super::facts::{alarm, od};
+use super::TorqueLimitSelection;
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, StopBehaviour, Units,
@@ -463,6 +464,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     following_error_alarm: FOLLOWING_ERROR,
     overspeed_alarm: OVERSPEED,
     halt_in_cyclic_modes: true,
+    torque_limit_selection: TorqueLimitSelection::Objects,
 };
 
 #[cfg(test)]

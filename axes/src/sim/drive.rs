@@ -18,7 +18,7 @@ use crate::cia402::mode::ModeOfOperation;
 use crate::cia402::statusword::Statusword;
 use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
-use crate::profiles::DriveProfile;
+use crate::profiles::{DriveProfile, TorqueLimitSelection};
 
 /// Error code (603Fh) of the MR-J5 following-error alarm: CiA 402 8611h "following error"
 /// [background]; each model's code is `DriveProfile::following_error_alarm`.
@@ -52,6 +52,38 @@ pub struct SimDriveParams {
     pub overspeed_limit: Option<f64>,
     /// Alarm codes overriding the profile's (following error, overspeed); `None`: profile's.
     pub alarm_codes: Option<(u16, u16)>,
+    /// The drive's own torque-limit parameters, used where the profile selects them
+    /// ([`TorqueLimitSelection::Controlword2`], MR-J3-T04).
+    pub internal_torque_limits: InternalTorqueLimits,
+}
+
+/// MR-J3-T04 torque-limit parameters, % of rated torque (mr-j3-t04.md §9.4). Their defaults
+/// are in the J3A manual, which the extract does not include: the default here is the motor
+/// maximum, [`InternalTorqueLimits::MOTOR_MAXIMUM_PERCENT`], so an unconfigured drive does not
+/// limit below what the plant can do.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InternalTorqueLimits {
+    /// PA11 forward (CCW driving / CW regeneration) torque limit.
+    pub pa11_forward: f64,
+    /// PA12 reverse (CW driving / CCW regeneration) torque limit.
+    pub pa12_reverse: f64,
+    /// PC35 internal torque limit (selected by C_TL1).
+    pub pc35_internal: f64,
+}
+
+impl InternalTorqueLimits {
+    /// The plant's maximum torque: `PlantParams::max_acceleration` stands for 300 % rated.
+    pub const MOTOR_MAXIMUM_PERCENT: f64 = 300.0;
+}
+
+impl Default for InternalTorqueLimits {
+    fn default() -> Self {
+        InternalTorqueLimits {
+            pa11_forward: Self::MOTOR_MAXIMUM_PERCENT,
+            pa12_reverse: Self::MOTOR_MAXIMUM_PERCENT,
+            pc35_internal: Self::MOTOR_MAXIMUM_PERCENT,
+        }
+    }
 }
 
 impl Default for SimDriveParams {
@@ -68,6 +100,7 @@ impl Default for SimDriveParams {
             comm: CommParams::default(),
             overspeed_limit: None,
             alarm_codes: None,
+            internal_torque_limits: InternalTorqueLimits::default(),
         }
     }
 }
@@ -222,11 +255,40 @@ impl SimDrive {
         self.tx = self.make_tx();
     }
 
+    /// The torque limits in effect for `cmd`, % of rated torque: (positive / CCW driving,
+    /// negative / CW driving), per the profile's [`TorqueLimitSelection`].
+    pub fn torque_limits_percent(&self, cmd: &RxPdo) -> (f64, f64) {
+        let objects = (
+            f64::from(cmd.torque_limit_positive) / 10.0,
+            f64::from(cmd.torque_limit_negative) / 10.0,
+        );
+        match self.profile.torque_limit_selection {
+            TorqueLimitSelection::Objects => objects,
+            TorqueLimitSelection::Controlword2 {
+                c_tl_bit,
+                c_tl1_bit,
+            } => {
+                // §9.4 table: each direction takes the lowest of the selected sources.
+                let p = self.params.internal_torque_limits;
+                let bit = |b: u8| cmd.controlword2 & (1 << b) != 0;
+                let (mut fwd, mut rev) = (p.pa11_forward, p.pa12_reverse);
+                if bit(c_tl1_bit) {
+                    fwd = fwd.min(p.pc35_internal);
+                    rev = rev.min(p.pc35_internal);
+                }
+                if bit(c_tl_bit) {
+                    fwd = fwd.min(objects.0);
+                    rev = rev.min(objects.1);
+                }
+                (fwd, rev)
+            }
+        }
+    }
+
     fn apply_torque_limits(&mut self, cmd: &RxPdo) {
-        // 0.1 % of rated torque; the plant's max_acceleration stands for 300 % rated.
-        let f = |v: u16| f64::from(v) / 3000.0;
-        self.plant
-            .set_torque_limits(f(cmd.torque_limit_positive), f(cmd.torque_limit_negative));
+        let (pos, neg) = self.torque_limits_percent(cmd);
+        let max = InternalTorqueLimits::MOTOR_MAXIMUM_PERCENT;
+        self.plant.set_torque_limits(pos / max, neg / max);
     }
 
     /// The AL state leaves OP (to SafeOp, PreOp or Init). Switched on, Operation enabled or

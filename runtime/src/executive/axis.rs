@@ -4,8 +4,9 @@
 use cellrt_axes::cia402::master::AxisMaster;
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::comm::{CounterParams, IncrementalCounter};
-use cellrt_axes::pdo::objects::ERROR_CODE;
+use cellrt_axes::pdo::objects::{DEFAULT_TORQUE_LIMIT, ERROR_CODE};
 use cellrt_axes::pdo::{PdoLayout, TxPdo};
+use cellrt_axes::profiles::TorqueLimitSelection;
 use cellrt_axes::Cycles;
 
 use crate::config::{AxisConfig, CellConfig};
@@ -78,10 +79,27 @@ pub struct AxisChannel {
     pub csv_position_gain: f64,
     /// Torque limits in 0.1 % units: (largest |6071h|, largest change per second).
     pub torque_limits: Option<(f64, f64)>,
+    /// 60E0h/60E1h and Controlword2 sent every cycle: `limits.torque` where configured (and, on
+    /// a drive that selects its limits by Controlword2, the bit that applies them).
+    pub torque_limit_objects: (u16, u16, u16),
     /// cst: the torque setpoint of this cycle in 0.1 % units, while a torque motion runs.
     pub torque: Option<f64>,
     /// Braking in csv from the velocity a torque motion left the axis at.
     pub braking: bool,
+}
+
+/// (60E0h, 60E1h, Controlword2) for `axis`: its `limits.torque` in 0.1 % in both directions,
+/// selected by C_TL on a drive that needs it (MR-J3-T04 §9.4); the no-limit default otherwise.
+fn torque_limit_objects(axis: &AxisConfig) -> (u16, u16, u16) {
+    let Some(t) = axis.torque else {
+        return (DEFAULT_TORQUE_LIMIT, DEFAULT_TORQUE_LIMIT, 0);
+    };
+    let v = (t.max.0 * 10.0).round().clamp(0.0, f64::from(u16::MAX)) as u16;
+    let cw2 = match axis.profile.torque_limit_selection {
+        TorqueLimitSelection::Objects => 0,
+        TorqueLimitSelection::Controlword2 { c_tl_bit, .. } => 1 << c_tl_bit,
+    };
+    (v, v, cw2)
 }
 
 /// What the RxPDO commands this cycle: the mode and the target for it.
@@ -130,6 +148,7 @@ impl AxisChannel {
             mode: axis.mode,
             csv_position_gain: axis.csv_position_gain,
             torque_limits: axis.torque.map(|t| (t.max.0 * 10.0, t.slope * 10.0)),
+            torque_limit_objects: torque_limit_objects(axis),
             torque: None,
             braking: false,
         }
@@ -312,6 +331,7 @@ mod tests {
             mode: ModeOfOperation::CyclicSyncPosition,
             csv_position_gain: 0.0,
             torque_limits: None,
+            torque_limit_objects: (DEFAULT_TORQUE_LIMIT, DEFAULT_TORQUE_LIMIT, 0),
             torque: None,
             braking: false,
         }

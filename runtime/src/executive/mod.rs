@@ -337,8 +337,10 @@ impl<B: Bus> Executive<B> {
                 target_velocity: cmd.target_velocity,
                 target_torque: cmd.target_torque,
                 velocity_limit: ch.velocity_limit(self.period_s),
+                torque_limit_positive: ch.torque_limit_objects.0,
+                torque_limit_negative: ch.torque_limit_objects.1,
+                controlword2: ch.torque_limit_objects.2,
                 counter: ch.counter.as_mut().map_or(0, |c| c.next_tx()),
-                ..RxPdo::default()
             };
             if self.axes[i]
                 .rx_map

@@ -5,6 +5,7 @@
 mod common;
 
 use cellrt_axes::profiles::{mr_j4_tm, mr_j5_g_n1, mr_jet_g_n1};
+use cellrt_axes::sim::drive::TorqueLimit2;
 use cellrt_axes::{
     profile, AxisMaster, Bus, Controlword, CycleTime, Cycles, DriveModel, FsaState, MasterRequest,
     ModeOfOperation, RxPdo, SimBus, SimDrive, SimDriveParams,
@@ -550,4 +551,80 @@ fn cst_torque_within_limits_mr_jet_g_n1() {
     }
     let tq = p.tx_pdo().torque_actual;
     assert!((490..=510).contains(&tq), "{tq}");
+}
+
+fn with_limit_2(model: DriveModel, t2: TorqueLimit2) -> SimDrive {
+    drive(
+        model,
+        1000,
+        SimDriveParams {
+            torque_limit_2: t2,
+            ..SimDriveParams::default()
+        },
+    )
+}
+
+fn limits(d: &SimDrive, cw: u16, p: u16, n: u16) -> (f64, f64) {
+    d.torque_limits_percent(&RxPdo {
+        torque_limit_positive: p,
+        torque_limit_negative: n,
+        ..csp(Controlword(cw), 0)
+    })
+}
+
+#[test]
+fn tv_8_torque_limit_2_mr_jet_g_n1() {
+    let t2 = TorqueLimit2 {
+        select: true,
+        positive: 500,
+        ..TorqueLimit2::default()
+    };
+    let d = with_limit_2(DriveModel::MrJetGN1, t2);
+    assert_eq!(limits(&d, 0x000F, 3000, 3000).0, 300.0, "bit 11 = 0: 60E0h");
+    assert_eq!(
+        limits(&d, 0x080F, 3000, 3000).0,
+        50.0,
+        "bit 11 = 1: 2D6Dh:02"
+    );
+    let off = with_limit_2(
+        DriveModel::MrJetGN1,
+        TorqueLimit2 {
+            select: false,
+            ..t2
+        },
+    );
+    assert_eq!(
+        limits(&off, 0x080F, 3000, 3000).0,
+        300.0,
+        "2D6Dh:01 = 0: no effect"
+    );
+}
+
+#[test]
+fn tv_11_torque_limit_2_mr_j5_g_n1() {
+    let d = with_limit_2(
+        DriveModel::MrJ5GN1,
+        TorqueLimit2 {
+            select: true,
+            negative: 300,
+            ..TorqueLimit2::default()
+        },
+    );
+    assert_eq!(
+        limits(&d, 0x100F, 2000, 2000),
+        (200.0, 30.0),
+        "bit 12: reverse 30.0 %"
+    );
+    assert_eq!(
+        limits(&d, 0x000F, 2000, 1500),
+        (200.0, 150.0),
+        "no bit: 60E1h"
+    );
+    // The bits do not disturb the PDS: the drive still enables with them set.
+    let mut e = with_limit_2(DriveModel::MrJ5GN1, TorqueLimit2::default());
+    boot(&mut e);
+    for cw in [0x1806, 0x1807, 0x180F] {
+        send(&mut e, cw);
+    }
+    assert_eq!(e.state(), FsaState::OperationEnabled);
 }

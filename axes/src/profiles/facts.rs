@@ -198,6 +198,14 @@ pub enum TorqueLimitSelection {
         /// Bit of 2001h that adds PC35 (C_TL1).
         c_tl1_bit: u8,
     },
+    /// MR-JET / MR-J5 torque limit 2 (mr-jet-g-n1.md §8.1/§9.1, mr-j5-g-n1.md §8): with
+    /// 2D6Dh:01 = 1, controlword bit CPTL / CNTL replaces 60E0h / 60E1h by 2D6Dh:02 / :03.
+    TorqueLimit2 {
+        /// Controlword bit selecting the forward limit 2 (CPTL, bit 11).
+        cptl_bit: u8,
+        /// Controlword bit selecting the reverse limit 2 (CNTL, bit 12).
+        cntl_bit: u8,
+    },
 }
 
 /// The model's cyclic communication check.

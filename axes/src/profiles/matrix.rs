@@ -75,6 +75,9 @@ fn torque_limit_text(p: &DriveProfile) -> String {
         } => format!(
             "PA11/PA12; + PC35 (2001h bit {c_tl1_bit}); + 60E0h/60E1h (2001h bit {c_tl_bit})"
         ),
+        TorqueLimitSelection::TorqueLimit2 { cptl_bit, cntl_bit } => format!(
+            "60E0h/60E1h, or 2D6Dh:02/:03 by controlword bits {cptl_bit}/{cntl_bit} when 2D6Dh:01 = 1"
+        ),
     }
 }
 

@@ -398,7 +398,10 @@ pub const PROFILE: DriveProfile = DriveProfile {
     overspeed_alarm: OVERSPEED,
     // §3.5: "HALT (bit 8) = 1 means temporary stop"; modes not restricted there [inferred].
     halt_in_cyclic_modes: true,
-    torque_limit_selection: TorqueLimitSelection::Objects,
+    torque_limit_selection: TorqueLimitSelection::TorqueLimit2 {
+        cptl_bit: 11,
+        cntl_bit: 12,
+    },
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

@@ -464,7 +464,10 @@ pub const PROFILE: DriveProfile = DriveProfile {
     following_error_alarm: FOLLOWING_ERROR,
     overspeed_alarm: OVERSPEED,
     halt_in_cyclic_modes: true,
-    torque_limit_selection: TorqueLimitSelection::Objects,
+    torque_limit_selection: TorqueLimitSelection::TorqueLimit2 {
+        cptl_bit: 11,
+        cntl_bit: 12,
+    },
 };
 
 #[cfg(test)]

@@ -55,6 +55,32 @@ pub struct SimDriveParams {
     /// The drive's own torque-limit parameters, used where the profile selects them
     /// ([`TorqueLimitSelection::Controlword2`], MR-J3-T04).
     pub internal_torque_limits: InternalTorqueLimits,
+    /// Torque limit 2 (2D6Dh), used where the profile selects it by controlword
+    /// ([`TorqueLimitSelection::TorqueLimit2`], MR-JET / MR-J5).
+    pub torque_limit_2: TorqueLimit2,
+}
+
+/// 2D6Dh Torque limit 2 (mr-jet-g-n1.md §6/§9.1), in 0.1 % of rated torque; defaults per the
+/// object table: select 0, both values 10000. Polarity (POL, which swaps :02 and :03) is taken
+/// as disabled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TorqueLimit2 {
+    /// 2D6Dh:01 = 1: controlword bits CPTL / CNTL switch to the values below.
+    pub select: bool,
+    /// 2D6Dh:02 Positive torque limit value 2.
+    pub positive: u16,
+    /// 2D6Dh:03 Negative torque limit value 2.
+    pub negative: u16,
+}
+
+impl Default for TorqueLimit2 {
+    fn default() -> Self {
+        TorqueLimit2 {
+            select: false,
+            positive: 10_000,
+            negative: 10_000,
+        }
+    }
 }
 
 /// MR-J3-T04 torque-limit parameters, % of rated torque (mr-j3-t04.md §9.4). Their defaults
@@ -101,6 +127,7 @@ impl Default for SimDriveParams {
             overspeed_limit: None,
             alarm_codes: None,
             internal_torque_limits: InternalTorqueLimits::default(),
+            torque_limit_2: TorqueLimit2::default(),
         }
     }
 }
@@ -281,6 +308,22 @@ impl SimDrive {
                     rev = rev.min(objects.1);
                 }
                 (fwd, rev)
+            }
+            TorqueLimitSelection::TorqueLimit2 { cptl_bit, cntl_bit } => {
+                let t2 = self.params.torque_limit_2;
+                let bit = |b: u8| t2.select && cmd.controlword.0 & (1 << b) != 0;
+                (
+                    if bit(cptl_bit) {
+                        f64::from(t2.positive) / 10.0
+                    } else {
+                        objects.0
+                    },
+                    if bit(cntl_bit) {
+                        f64::from(t2.negative) / 10.0
+                    } else {
+                        objects.1
+                    },
+                )
             }
         }
     }

@@ -96,7 +96,7 @@ fn torque_limit_objects(axis: &AxisConfig) -> (u16, u16, u16) {
     };
     let v = (t.max.0 * 10.0).round().clamp(0.0, f64::from(u16::MAX)) as u16;
     let cw2 = match axis.profile.torque_limit_selection {
-        TorqueLimitSelection::Objects => 0,
+        TorqueLimitSelection::Objects | TorqueLimitSelection::TorqueLimit2 { .. } => 0,
         TorqueLimitSelection::Controlword2 { c_tl_bit, .. } => 1 << c_tl_bit,
     };
     (v, v, cw2)

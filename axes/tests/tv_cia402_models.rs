@@ -628,3 +628,61 @@ fn tv_11_torque_limit_2_mr_j5_g_n1() {
     }
     assert_eq!(e.state(), FsaState::OperationEnabled);
 }
+
+#[test]
+fn tv_10_sdo_negative_cases_mr_j4_tm() {
+    use cellrt_axes::sim::sdo::SdoAbort;
+    let mut d = d(DriveModel::MrJ4TM);
+    boot(&mut d);
+    // Write 1C32h:3 (any value) → 0609 0030h.
+    assert_eq!(
+        d.sdo_download(0x1C32, 3, &[0; 4]),
+        Err(SdoAbort(0x0609_0030))
+    );
+    // 6040h is in the RxPDO → 0601 0006h.
+    assert_eq!(
+        d.sdo_download(0x6040, 0, &[0x0F, 0]),
+        Err(SdoAbort(0x0601_0006))
+    );
+    // A non-existent index → 0602 0000h.
+    assert_eq!(d.sdo_upload(0x5FFE, 0), Err(SdoAbort(0x0602_0000)));
+    // A sub-index that does not exist → 0609 0011h.
+    assert_eq!(
+        d.sdo_download(0x6085, 7, &[0; 4]),
+        Err(SdoAbort(0x0609_0011))
+    );
+    // 6041h (read only) → 0601 0002h.
+    assert_eq!(
+        d.sdo_download(0x6041, 0, &[0, 0]),
+        Err(SdoAbort(0x0601_0002))
+    );
+    // A U32 object written with 2 bytes → 0607 0013h.
+    assert_eq!(
+        d.sdo_download(0x6085, 0, &[100, 0]),
+        Err(SdoAbort(0x0607_0013))
+    );
+    // A good write reads back; PDO-mapped objects read their live value.
+    d.sdo_download(0x6085, 0, &250u32.to_le_bytes()).unwrap();
+    assert_eq!(d.sdo_upload(0x6085, 0), Ok(250));
+    assert_eq!(
+        d.sdo_upload(0x6041, 0),
+        Ok(i64::from(d.tx_pdo().statusword.0))
+    );
+    // Out of range (1C32h:02 allows 250 000…2 000 000 ns) → 0609 0030h, nothing stored.
+    assert_eq!(
+        d.sdo_download(0x1C32, 2, &100u32.to_le_bytes()),
+        Err(SdoAbort(0x0609_0030))
+    );
+    assert_eq!(d.sdo_upload(0x1C32, 2), Ok(250_000));
+}
+
+#[test]
+fn tv_12_sdo_write_to_a_mapped_controlword_mr_j5_g_n1() {
+    use cellrt_axes::sim::sdo::SdoAbort;
+    let mut d = d(DriveModel::MrJ5GN1);
+    assert_eq!(
+        d.sdo_download(0x6040, 0, &[0x06, 0]),
+        Err(SdoAbort(0x0601_0006))
+    );
+    assert_eq!(d.sdo_download(0x6060, 0, &[9]), Err(SdoAbort(0x0601_0006)));
+}

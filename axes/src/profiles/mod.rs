@@ -156,6 +156,8 @@ pub struct DriveProfile {
     pub halt_in_cyclic_modes: bool,
     /// Where the torque limits come from.
     pub torque_limit_selection: TorqueLimitSelection,
+    /// SDO downloads the model refuses with a specific abort code: (index, sub, code).
+    pub sdo_write_refusals: &'static [(u16, u8, u32)],
 }
 
 impl DriveProfile {

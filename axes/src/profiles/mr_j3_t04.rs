@@ -555,6 +555,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         c_tl_bit: 3,
         c_tl1_bit: 4,
     },
+    sdo_write_refusals: &[],
 };
 
 #[cfg(test)]

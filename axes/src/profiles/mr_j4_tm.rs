@@ -499,6 +499,10 @@ pub const PROFILE: DriveProfile = DriveProfile {
     // §8.2: bit 8 is reserved in csp/csv/cst.
     halt_in_cyclic_modes: false,
     torque_limit_selection: TorqueLimitSelection::Objects,
+    sdo_write_refusals: &[
+        // §12 TV-10: the shift time 1C32h:03 is not settable (0609 0030h).
+        (0x1C32, 3, 0x0609_0030),
+    ],
 };
 
 #[cfg(test)]

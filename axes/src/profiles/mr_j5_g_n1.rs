@@ -402,6 +402,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         cptl_bit: 11,
         cntl_bit: 12,
     },
+    sdo_write_refusals: &[],
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

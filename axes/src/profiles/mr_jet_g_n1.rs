@@ -468,6 +468,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         cptl_bit: 11,
         cntl_bit: 12,
     },
+    sdo_write_refusals: &[],
 };
 
 #[cfg(test)]

@@ -159,6 +159,8 @@ pub struct SimDrive {
     op: bool,
     /// 6060h as last written by SDO (used when the RxPDO does not map 6060h, e.g. MR-J3-T04).
     sdo_mode: i8,
+    /// Objects written by SDO download ([`SimDrive::sdo_download`]), by index and sub-index.
+    sdo_values: Vec<(u16, u8, i64)>,
 }
 
 impl SimDrive {
@@ -200,6 +202,7 @@ impl SimDrive {
             comm: DriveComm::new(profile.comm_check, params.comm, cycle_time, counter_mapped),
             op: true,
             sdo_mode: 0,
+            sdo_values: Vec::new(),
         };
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
         d.tx = d.make_tx();
@@ -210,18 +213,8 @@ impl SimDrive {
     /// is mapped in the RxPDO (MR-J3-T04 §3.9: 0x06010000; MR-J4-TM/MR-JET/MR-J5: 0x06010006).
     /// The switch itself waits for zero speed like a PDO request and stays pending until then.
     pub fn sdo_write_mode(&mut self, raw: i8) -> Result<(), u32> {
-        if self
-            .profile
-            .rx_pdo
-            .maps(crate::pdo::objects::MODES_OF_OPERATION)
-        {
-            return Err(match self.profile.model {
-                crate::profiles::DriveModel::MrJ3T04 => 0x0601_0000,
-                _ => 0x0601_0006,
-            });
-        }
-        self.sdo_mode = raw;
-        Ok(())
+        self.sdo_download(crate::pdo::objects::MODES_OF_OPERATION, 0, &[raw as u8])
+            .map_err(|e| e.0)
     }
 
     /// One bus cycle: decode `rx`, run the PDS and the plant for `elapsed` cycles, encode `tx`.
@@ -626,6 +619,33 @@ impl SimDrive {
     /// The motor model.
     pub fn plant(&self) -> &ServoPlant {
         &self.plant
+    }
+
+    /// The last RxPDO received (held over lost frames).
+    pub fn last_command(&self) -> &RxPdo {
+        &self.last_cmd
+    }
+
+    pub(super) fn set_sdo_mode(&mut self, raw: i8) {
+        self.sdo_mode = raw;
+    }
+
+    pub(super) fn sdo_value(&self, index: u16, sub: u8) -> Option<i64> {
+        self.sdo_values
+            .iter()
+            .find(|(i, s, _)| *i == index && *s == sub)
+            .map(|v| v.2)
+    }
+
+    pub(super) fn store_sdo_value(&mut self, index: u16, sub: u8, value: i64) {
+        match self
+            .sdo_values
+            .iter_mut()
+            .find(|(i, s, _)| *i == index && *s == sub)
+        {
+            Some(v) => v.2 = value,
+            None => self.sdo_values.push((index, sub, value)),
+        }
     }
 
     /// The drive's profile.

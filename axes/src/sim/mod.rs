@@ -4,3 +4,4 @@
 pub mod comm;
 pub mod drive;
 pub mod plant;
+pub mod sdo;

@@ -686,3 +686,61 @@ fn tv_12_sdo_write_to_a_mapped_controlword_mr_j5_g_n1() {
     );
     assert_eq!(d.sdo_download(0x6060, 0, &[9]), Err(SdoAbort(0x0601_0006)));
 }
+
+#[test]
+fn tv_8_homing_handshake_mr_j4_tm() {
+    let mut d = drive(
+        DriveModel::MrJ4TM,
+        1000,
+        SimDriveParams {
+            initial_position: 777_000,
+            home_position_address: 5000,
+            ..SimDriveParams::default()
+        },
+    );
+    enabled(&mut d);
+    d.sdo_download(0x6098, 0, &[35]).unwrap();
+    // 6060h = 6 through the RxPDO (mapped in 1600h).
+    let tx = hm_cycle(&mut d, 0x000F);
+    assert_eq!(tx.mode_display, 6);
+    assert_eq!(tx.statusword.0 & 0x3400, 0x0400, "not started: 0/0/1");
+    // HOS: completed successfully within 50 ms.
+    let mut done_at = None;
+    for k in 0..50 {
+        let tx = hm_cycle(&mut d, 0x001F);
+        if tx.statusword.0 & 0x3400 == 0x1400 {
+            done_at = Some(k);
+            break;
+        }
+    }
+    assert!(done_at.is_some(), "bits 13/12/10 never 0/1/1");
+    // ≥ 8 ms later 6064h is the home position address and stays there (no motion).
+    for _ in 0..10 {
+        hm_cycle(&mut d, 0x001F);
+    }
+    let p = d.tx_pdo().position_actual;
+    assert_eq!(p, 5000);
+    for _ in 0..20 {
+        assert_eq!(hm_cycle(&mut d, 0x000F).position_actual, 5000);
+    }
+    assert_eq!(d.sdo_upload(0x607C, 0), Ok(0), "607Ch stays 0 without ABS");
+}
+
+#[test]
+fn homing_on_a_drive_whose_manual_lists_no_method_is_an_error() {
+    let mut d = d(DriveModel::MrJetGN1);
+    enabled(&mut d);
+    hm_cycle(&mut d, 0x000F);
+    let tx = hm_cycle(&mut d, 0x001F);
+    assert_eq!(tx.mode_display, 6);
+    assert_eq!(tx.statusword.0 & 0x3400, 0x2400);
+}
+
+/// One hm cycle (6060h = 6 in the RxPDO, target at the actual position) with controlword `cw`.
+fn hm_cycle(d: &mut SimDrive, cw: u16) -> cellrt_axes::TxPdo {
+    let rx = RxPdo {
+        mode: 6,
+        ..csp(Controlword(cw), d.tx_pdo().position_actual)
+    };
+    exchange(d, &rx)
+}

@@ -561,3 +561,34 @@ fn c_tl_limits_the_acceleration_the_motor_develops() {
     assert!(limited > 0.009, "the limit is reached: {limited}");
     assert!(peak(0) > 0.05, "without C_TL: {}", peak(0));
 }
+
+#[test]
+fn tv_home_1_method_35_sets_the_home_offset_without_motion() {
+    let mut d = j3(SimDriveParams {
+        initial_position: -123_456,
+        ..SimDriveParams::default()
+    });
+    boot(&mut d);
+    d.sdo_download(0x6098, 0, &[35]).unwrap();
+    d.sdo_write_mode(6).unwrap();
+    send(&mut d, 0x0006);
+    assert_eq!(d.mode_display(), cellrt_axes::ModeOfOperation::Homing);
+    // Outside Operation enabled (Ready to switch on), HOS rising: 607Ch := −(raw position).
+    let sw = send(&mut d, 0x0016);
+    assert_eq!(d.sdo_upload(0x607C, 0), Ok(123_456));
+    assert_eq!(d.tx_pdo().position_actual, -123_456, "6064h stays raw");
+    assert_eq!(sw.0 & 0x3400, 0x1400, "bits 13/12/10 = 0/1/1: completed");
+    // The user arithmetic of §8.2: user target 5000 → 607Ah = 5000 − 607Ch.
+    assert_eq!(5000 - d.home_offset(), 5000 - 123_456);
+}
+
+#[test]
+fn tv_home_1_dog_methods_are_not_simulated_and_report_a_homing_error() {
+    let mut d = j3(SimDriveParams::default());
+    boot(&mut d);
+    d.sdo_write_mode(6).unwrap(); // 6098h stays at its default −1 (dog type)
+    send(&mut d, 0x0006);
+    let sw = send(&mut d, 0x0016);
+    assert_eq!(sw.0 & 0x3400, 0x2400, "bit 13: homing error, velocity 0");
+    assert_eq!(d.home_offset(), 0);
+}

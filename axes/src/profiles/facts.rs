@@ -184,6 +184,17 @@ pub struct Units {
     pub source: &'static str,
 }
 
+/// What a completed homing changes (the home position reference).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum HomeReference {
+    /// 607Ch Home offset := −(raw position); 6064h stays raw and the master converts
+    /// (MR-J3-T04 §8.2).
+    OffsetObject,
+    /// 6064h is preset to the home position address (MR-J4-TM §4.10 TV-8: "6064h = the home
+    /// position address"; 607Ch stays 0 without absolute detection).
+    PositionPreset,
+}
+
 /// Where the drive's torque limits come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum TorqueLimitSelection {

@@ -81,6 +81,25 @@ fn torque_limit_text(p: &DriveProfile) -> String {
     }
 }
 
+/// Homing methods (6098h), the simulated data-set ones in bold.
+fn homing_text(p: &DriveProfile) -> String {
+    if p.homing_methods.is_empty() {
+        return "none listed".to_owned();
+    }
+    let v: Vec<String> = p
+        .homing_methods
+        .iter()
+        .map(|m| {
+            if p.data_set_homing_methods.contains(m) {
+                format!("**{m}**")
+            } else {
+                m.to_string()
+            }
+        })
+        .collect();
+    v.join(", ")
+}
+
 /// Fault-reset hold, e.g. "10 ms (20 ms from 8000 µs)".
 fn reset_text(p: &DriveProfile) -> String {
     if p.fault_reset_hold_long_cycle_ms == p.fault_reset_hold_ms {
@@ -96,13 +115,13 @@ fn reset_text(p: &DriveProfile) -> String {
 /// The markdown table, one row per [`DriveModel`].
 pub fn render() -> String {
     let mut s = String::new();
-    s.push_str("| `model` | drive | axes/unit | modes (6060h) | cycle times | communication check | fault reset hold | FSA quirks | torque limits | leaving OP enabled | following error |\n");
-    s.push_str("|---|---|---:|---|---|---|---|---|---|---|---|\n");
+    s.push_str("| `model` | drive | axes/unit | modes (6060h) | cycle times | communication check | fault reset hold | FSA quirks | torque limits | homing methods (6098h; **simulated**) | leaving OP enabled | following error |\n");
+    s.push_str("|---|---|---:|---|---|---|---|---|---|---|---|---|\n");
     for &m in DriveModel::ALL {
         let p = profile(m);
         let _ = writeln!(
             s,
-            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             m.as_str(),
             p.name,
             p.axes_per_unit,
@@ -112,6 +131,7 @@ pub fn render() -> String {
             reset_text(p),
             quirks_text(p),
             torque_limit_text(p),
+            homing_text(p),
             alarm_text(p, p.leave_op_alarm),
             alarm_text(p, p.following_error_alarm),
         );

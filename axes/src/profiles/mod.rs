@@ -22,8 +22,8 @@ pub mod mr_j5_g_n1;
 pub mod mr_jet_g_n1;
 
 pub use facts::{
-    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, Identity, OdEntry, Pdo,
-    StopBehaviour, TorqueLimitSelection, Units,
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, HomeReference, Identity, OdEntry,
+    Pdo, StopBehaviour, TorqueLimitSelection, Units,
 };
 
 /// A supported drive model, named in configuration by its kebab-case part number.
@@ -158,6 +158,12 @@ pub struct DriveProfile {
     pub torque_limit_selection: TorqueLimitSelection,
     /// SDO downloads the model refuses with a specific abort code: (index, sub, code).
     pub sdo_write_refusals: &'static [(u16, u8, u32)],
+    /// Homing methods (6098h) the manual lists; empty where it lists none (MR-JET, MR-J5).
+    pub homing_methods: &'static [i8],
+    /// Of those, the data-set methods: home = the current position, no motion.
+    pub data_set_homing_methods: &'static [i8],
+    /// What a completed homing changes.
+    pub home_reference: HomeReference,
 }
 
 impl DriveProfile {

@@ -2,11 +2,11 @@
 //! "MR-J3-□A-RJ158 / MR-J3-T04 Specifications", 2011-12-01).
 
 use super::facts::{alarm, od};
-use super::TorqueLimitSelection;
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, StopBehaviour, Units,
 };
+use super::{HomeReference, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
 use crate::cia402::mode::ModeOfOperation as M;
 use crate::pdo::{PdoEntry, PdoMap};
@@ -244,6 +244,30 @@ pub const ALARMS: &[AlarmInfo] = &[
 
 /// The objects the runtime and the simulator use (mr-j3-t04.md §5.2–§5.4).
 pub const OBJECTS: &[OdEntry] = &[
+    od(
+        0x6098,
+        0,
+        "Homing method",
+        DataType::I8,
+        Access::Rw,
+        Pdo::No,
+        Some(-1),
+        Some((-17, 35)),
+        "",
+        "§8.1: −1 (default), −17, 35",
+    ),
+    od(
+        0x607C,
+        0,
+        "Home offset",
+        DataType::I32,
+        Access::Ro,
+        Pdo::No,
+        Some(0),
+        None,
+        "pulse",
+        "§8.2: −(raw position of the home)",
+    ),
     od(
         0x1C32,
         2,
@@ -556,6 +580,10 @@ pub const PROFILE: DriveProfile = DriveProfile {
         c_tl1_bit: 4,
     },
     sdo_write_refusals: &[],
+    // §8.1: dog type −1 / −17 and data set 35.
+    homing_methods: &[-1, -17, 35],
+    data_set_homing_methods: &[35],
+    home_reference: HomeReference::OffsetObject,
 };
 
 #[cfg(test)]

@@ -2,11 +2,11 @@
 //! SH(NA)030208 rev. E, **truncated after §5.4.10**: no §5.5–§5.12, §6, chapter 7; mr-j4-tm.md §0).
 
 use super::facts::{alarm, od};
-use super::TorqueLimitSelection;
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, StopBehaviour, Units,
 };
+use super::{HomeReference, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
 use crate::cia402::mode::ModeOfOperation as M;
 use crate::pdo::{PdoEntry, PdoMap};
@@ -197,6 +197,30 @@ pub const ALARMS: &[AlarmInfo] = &[
 
 /// The objects the runtime and the simulator use (mr-j4-tm.md §7, chapter 7 itself MISSING).
 pub const OBJECTS: &[OdEntry] = &[
+    od(
+        0x6098,
+        0,
+        "Homing method",
+        DataType::I8,
+        Access::Rw,
+        Pdo::No,
+        Some(-1),
+        Some((-43, 37)),
+        "",
+        "§4.10: default −1 (seed; the general manual gives 37)",
+    ),
+    od(
+        0x607C,
+        0,
+        "Home offset",
+        DataType::I32,
+        Access::Ro,
+        Pdo::No,
+        Some(0),
+        None,
+        "pulse",
+        "§4.10: always 0 without absolute position detection",
+    ),
     od(
         0x1C32,
         2,
@@ -503,6 +527,13 @@ pub const PROFILE: DriveProfile = DriveProfile {
         // §12 TV-10: the shift time 1C32h:03 is not settable (0609 0030h).
         (0x1C32, 3, 0x0609_0030),
     ],
+    // §4.10.1: the 39 methods of 60E3h (−3 data set, 35/37 current position).
+    homing_methods: &[
+        -1, -33, -2, -34, -3, -4, -36, -6, -38, -7, -39, -8, -40, -9, -41, -10, -42, -11, -43, 3,
+        4, 5, 6, 7, 8, 11, 12, 19, 20, 21, 22, 23, 24, 27, 28, 33, 34, 35, 37,
+    ],
+    data_set_homing_methods: &[-3, 35, 37],
+    home_reference: HomeReference::PositionPreset,
 };
 
 #[cfg(test)]

@@ -1,11 +1,11 @@
 //! Mitsubishi MR-J5-G-N1 (1-axis), from mr-j5-g-n1.md (manual SH(NA)-030372CHN-A).
 
 use super::facts::{alarm, od};
-use super::TorqueLimitSelection;
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, StopBehaviour, Units,
 };
+use super::{HomeReference, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
 use crate::cia402::mode::ModeOfOperation as M;
 use crate::cycles::ALLOWED_MICROS;
@@ -403,6 +403,10 @@ pub const PROFILE: DriveProfile = DriveProfile {
         cntl_bit: 12,
     },
     sdo_write_refusals: &[],
+    // §8: hm exists, but the methods are not in this manual.
+    homing_methods: &[],
+    data_set_homing_methods: &[],
+    home_reference: HomeReference::PositionPreset,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

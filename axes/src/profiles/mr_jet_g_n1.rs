@@ -1,11 +1,11 @@
 //! Mitsubishi MR-JET-G-N1, from mr-jet-g-n1.md (manual IB(NA)-0300500ENG-H).
 
 use super::facts::{alarm, od};
-use super::TorqueLimitSelection;
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, StopBehaviour, Units,
 };
+use super::{HomeReference, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
 use crate::cia402::mode::ModeOfOperation as M;
 use crate::cycles::ALLOWED_MICROS;
@@ -469,6 +469,10 @@ pub const PROFILE: DriveProfile = DriveProfile {
         cntl_bit: 12,
     },
     sdo_write_refusals: &[],
+    // §8.1: hm exists, but the methods are not in this manual.
+    homing_methods: &[],
+    data_set_homing_methods: &[],
+    home_reference: HomeReference::PositionPreset,
 };
 
 #[cfg(test)]

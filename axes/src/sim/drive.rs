@@ -18,7 +18,7 @@ use crate::cia402::mode::ModeOfOperation;
 use crate::cia402::statusword::Statusword;
 use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
-use crate::profiles::{DriveProfile, TorqueLimitSelection};
+use crate::profiles::{DriveProfile, HomeReference, TorqueLimitSelection};
 
 /// Error code (603Fh) of the MR-J5 following-error alarm: CiA 402 8611h "following error"
 /// [background]; each model's code is `DriveProfile::following_error_alarm`.
@@ -58,6 +58,9 @@ pub struct SimDriveParams {
     /// Torque limit 2 (2D6Dh), used where the profile selects it by controlword
     /// ([`TorqueLimitSelection::TorqueLimit2`], MR-JET / MR-J5).
     pub torque_limit_2: TorqueLimit2,
+    /// 6064h after a homing on a drive that presets it ([`HomeReference::PositionPreset`],
+    /// MR-J4-TM): the "home position address" parameter, not in the extract; default 0.
+    pub home_position_address: i32,
 }
 
 /// 2D6Dh Torque limit 2 (mr-jet-g-n1.md §6/§9.1), in 0.1 % of rated torque; defaults per the
@@ -128,6 +131,7 @@ impl Default for SimDriveParams {
             alarm_codes: None,
             internal_torque_limits: InternalTorqueLimits::default(),
             torque_limit_2: TorqueLimit2::default(),
+            home_position_address: 0,
         }
     }
 }
@@ -161,6 +165,23 @@ pub struct SimDrive {
     sdo_mode: i8,
     /// Objects written by SDO download ([`SimDrive::sdo_download`]), by index and sub-index.
     sdo_values: Vec<(u16, u8, i64)>,
+    /// Homing state (hm): 607Ch, the 6064h preset, statusword bits 12/13, the HOS edge.
+    homing: HomingState,
+}
+
+/// What homing has done to this drive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct HomingState {
+    /// 607Ch Home offset.
+    home_offset: i32,
+    /// Added to the motor position to give 6064h ([`HomeReference::PositionPreset`]).
+    position_shift: i64,
+    /// Statusword bit 12 in hm: homing attained (cleared at power-on and at homing start).
+    attained: bool,
+    /// Statusword bit 13 in hm: homing error.
+    error: bool,
+    /// Controlword bit 4 (HOS) of the previous cycle.
+    hos: bool,
 }
 
 impl SimDrive {
@@ -203,6 +224,7 @@ impl SimDrive {
             op: true,
             sdo_mode: 0,
             sdo_values: Vec::new(),
+            homing: HomingState::default(),
         };
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
         d.tx = d.make_tx();
@@ -269,6 +291,9 @@ impl SimDrive {
                 self.sdo_mode
             };
             self.switch_mode(raw);
+        }
+        if self.op {
+            self.run_homing(cw);
         }
         self.apply_torque_limits(&cmd);
         self.run_plant(&cmd, dt);
@@ -570,13 +595,67 @@ impl SimDrive {
 
     fn position_actual(&self) -> i32 {
         // Wraps like a 32-bit position counter.
-        (self.plant.position().round() as i64) as i32
+        (self.plant.position().round() as i64).wrapping_add(self.homing.position_shift) as i32
+    }
+
+    /// hm (6060h = 6): a rising controlword bit 4 (HOS) starts the method in 6098h. The
+    /// data-set methods set home at the current position at once, without motion (also outside
+    /// Operation enabled, mr-j3-t04.md §8.1); a method the manual does not list, or 0, ends in
+    /// a homing error (bit 13). Methods that search a dog, a stroke end or the Z phase are not
+    /// simulated (no dog or Z-phase model) and also end in a homing error.
+    fn run_homing(&mut self, cw: Controlword) {
+        let hos = cw.0 & (1 << 4) != 0;
+        let start = hos && !self.homing.hos;
+        self.homing.hos = hos;
+        if self.mode_display != ModeOfOperation::Homing || !start {
+            return;
+        }
+        if matches!(self.state, FsaState::Fault | FsaState::FaultReactionActive) {
+            return;
+        }
+        let method = self
+            .sdo_value(0x6098, 0)
+            .or_else(|| self.profile.object(0x6098, 0).and_then(|o| o.default))
+            .unwrap_or(0) as i8;
+        // Homing start clears bit 12 (mr-j4-tm.md §4.10 retention rules).
+        self.homing.attained = false;
+        self.homing.error = false;
+        if !self.profile.data_set_homing_methods.contains(&method) {
+            self.homing.error = true;
+            return;
+        }
+        let raw = (self.plant.position().round() as i64) as i32;
+        match self.profile.home_reference {
+            HomeReference::OffsetObject => self.homing.home_offset = raw.wrapping_neg(),
+            HomeReference::PositionPreset => {
+                self.homing.position_shift =
+                    i64::from(self.params.home_position_address) - i64::from(raw);
+                // Re-reference the held command so the motor does not move.
+                self.demand = self.plant.position();
+                self.plant.set_last_command(self.demand);
+                self.prev_target = self.position_actual();
+            }
+        }
+        self.homing.attained = true;
+    }
+
+    /// 607Ch Home offset.
+    pub fn home_offset(&self) -> i32 {
+        self.homing.home_offset
     }
 
     fn make_tx(&self) -> TxPdo {
         let oe = self.state == FsaState::OperationEnabled;
-        let sw = Statusword::for_state(self.state)
+        let mut sw = Statusword::for_state(self.state)
             .with_drive_follows_command(oe && self.mode_display.is_cyclic());
+        if self.mode_display == ModeOfOperation::Homing {
+            // hm bits 13 / 12 / 10 (mr-j4-tm.md §4.10): no simulated method moves, so target
+            // reached (bit 10) is always 1: "not started", "completed" or "error, v = 0".
+            sw.0 = (sw.0 & !((1 << 13) | (1 << 12) | (1 << 10)))
+                | (u16::from(self.homing.error) << 13)
+                | (u16::from(self.homing.attained) << 12)
+                | (1 << 10);
+        }
         let amax = self.params.plant.max_acceleration.abs();
         // Torque proxy in 0.1 % of rated torque, with max_acceleration = 300 % rated.
         let torque = if amax > 0.0 {

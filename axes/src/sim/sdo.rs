@@ -8,6 +8,9 @@ use super::drive::SimDrive;
 use crate::pdo::objects::{RxField, TxField, MODES_OF_OPERATION};
 use crate::profiles::{Access, DriveModel};
 
+/// 607Ch Home offset (kept by the homing model, read live).
+const HOME_OFFSET: u16 = 0x607C;
+
 /// A CiA 301 SDO abort code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct SdoAbort(pub u32);
@@ -70,6 +73,9 @@ impl SimDrive {
             }
         }
         let entry = self.od_entry(index, sub)?;
+        if (index, sub) == (HOME_OFFSET, 0) {
+            return Ok(i64::from(self.home_offset()));
+        }
         if entry.access == Access::Wo {
             return Err(SdoAbort::WRITE_ONLY);
         }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use cellrt_axes::profiles::mr_j3_t04::{AL_34, AL_35, AL_36, AL_61};
+use cellrt_axes::profiles::mr_j3_t04::{AL_34, AL_35, AL_36, AL_61, AL_99};
 use cellrt_axes::sim::drive::InternalTorqueLimits;
 use cellrt_axes::{
     profile, AxisMaster, Bus, CommParams, Controlword, CounterParams, CounterVerdict, Cycles,
@@ -591,4 +591,71 @@ fn tv_home_1_dog_methods_are_not_simulated_and_report_a_homing_error() {
     let sw = send(&mut d, 0x0016);
     assert_eq!(sw.0 & 0x3400, 0x2400, "bit 13: homing error, velocity 0");
     assert_eq!(d.home_offset(), 0);
+}
+
+/// One csv cycle with 60FFh = `v` (counter incrementing, controlword Enable operation).
+fn csv_cycle(d: &mut SimDrive, v: i32) -> cellrt_axes::TxPdo {
+    let rx = RxPdo {
+        mode: 9,
+        target_velocity: v,
+        counter: next_counter(),
+        ..csp(Controlword(0x000F), d.tx_pdo().position_actual)
+    };
+    exchange(d, &rx)
+}
+
+#[test]
+fn tv_stroke_1_csv_at_the_forward_limit() {
+    let mut d = j3(SimDriveParams {
+        initial_mode: cellrt_axes::ModeOfOperation::CyclicSyncVelocity,
+        slow_stop_time_ms: 1000,
+        ..SimDriveParams::default()
+    });
+    enabled(&mut d);
+    for _ in 0..300 {
+        csv_cycle(&mut d, 500_000);
+    }
+    let v0 = d.tx_pdo().velocity_actual;
+    assert!((v0 - 500_000).abs() < 5_000, "at speed: {v0}");
+    // LSP OFF: AL.99 (bit 7), slow stop with PC02; 60FFh is ignored during the stop, even a
+    // reversal.
+    d.set_stroke_end_inputs(false, true);
+    let tx = csv_cycle(&mut d, -100_000);
+    assert_eq!(d.warning(), Some(AL_99));
+    assert!(tx.statusword.0 & 0x80 != 0, "warning bit 7");
+    let mut last = tx.velocity_actual;
+    let mut stop_cycles = 0;
+    while d.tx_pdo().velocity_actual.abs() > 1_000 {
+        let tx = csv_cycle(&mut d, -100_000);
+        assert!(tx.velocity_actual <= last + 2_000, "decelerating");
+        assert!(tx.velocity_actual > -20_000, "no reversal during the stop");
+        last = tx.velocity_actual;
+        stop_cycles += 1;
+        assert!(stop_cycles < 400, "stops within PC02 scaled to the speed");
+    }
+    // 500 000 of 4 000 000 counts/s at PC02 = 1000 ms: about 125 ms.
+    assert!(
+        (100..=200).contains(&stop_cycles),
+        "stop took {stop_cycles} ms"
+    );
+    for _ in 0..50 {
+        csv_cycle(&mut d, 0);
+    }
+    // At standstill: CCW (+) stays blocked, CW (−) is accepted.
+    for _ in 0..100 {
+        csv_cycle(&mut d, 100_000);
+    }
+    assert!(d.tx_pdo().velocity_actual.abs() < 1_000, "CCW blocked");
+    for _ in 0..200 {
+        csv_cycle(&mut d, -100_000);
+    }
+    assert!(d.tx_pdo().velocity_actual < -90_000, "CW accepted");
+    // LSP back ON: both directions, AL.99 clears by itself.
+    d.set_stroke_end_inputs(true, true);
+    for _ in 0..300 {
+        csv_cycle(&mut d, 100_000);
+    }
+    assert!(d.tx_pdo().velocity_actual > 90_000);
+    assert_eq!(d.warning(), None);
+    assert_eq!(d.tx_pdo().statusword.0 & 0x80, 0);
 }

@@ -115,13 +115,13 @@ fn reset_text(p: &DriveProfile) -> String {
 /// The markdown table, one row per [`DriveModel`].
 pub fn render() -> String {
     let mut s = String::new();
-    s.push_str("| `model` | drive | axes/unit | modes (6060h) | cycle times | communication check | fault reset hold | FSA quirks | torque limits | homing methods (6098h; **simulated**) | leaving OP enabled | following error |\n");
-    s.push_str("|---|---|---:|---|---|---|---|---|---|---|---|---|\n");
+    s.push_str("| `model` | drive | axes/unit | modes (6060h) | cycle times | communication check | fault reset hold | FSA quirks | torque limits | homing methods (6098h; **simulated**) | stroke ends (LSP/LSN) | leaving OP enabled | following error |\n");
+    s.push_str("|---|---|---:|---|---|---|---|---|---|---|---|---|---|\n");
     for &m in DriveModel::ALL {
         let p = profile(m);
         let _ = writeln!(
             s,
-            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             m.as_str(),
             p.name,
             p.axes_per_unit,
@@ -132,6 +132,10 @@ pub fn render() -> String {
             quirks_text(p),
             torque_limit_text(p),
             homing_text(p),
+            p.stroke_end_warning.map_or_else(
+                || "not modelled".to_owned(),
+                |w| format!("{} warning, slow stop in csv", alarm_text(p, w))
+            ),
             alarm_text(p, p.leave_op_alarm),
             alarm_text(p, p.following_error_alarm),
         );

@@ -164,6 +164,9 @@ pub struct DriveProfile {
     pub data_set_homing_methods: &'static [i8],
     /// What a completed homing changes.
     pub home_reference: HomeReference,
+    /// Warning raised while a stroke-end input (LSP/LSN) is OFF, where the sim models stroke
+    /// ends (MR-J3-T04 AL.99, §9.1); `None`: not modelled for this drive.
+    pub stroke_end_warning: Option<u16>,
 }
 
 impl DriveProfile {

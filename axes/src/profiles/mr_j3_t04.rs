@@ -60,6 +60,8 @@ pub const AL_34: u16 = 0x0034;
 pub const AL_35: u16 = 0x0035;
 /// AL.36 Receive error 2: RxPDO lost for about 7 ms (§6.4).
 pub const AL_36: u16 = 0x0036;
+/// AL.99 Stroke limit warning: LSP or LSN in the commanded direction is OFF (§7.2, §9.1).
+pub const AL_99: u16 = 0x0099;
 /// AL.37 Parameter error (§7.2).
 pub const AL_37: u16 = 0x0037;
 /// AL.52 Error excessive: standard MR-J3-A alarm, **not in this manual** (§7.1).
@@ -187,7 +189,7 @@ pub const ALARMS: &[AlarmInfo] = &[
         "§7.2",
     ),
     alarm(
-        0x0099,
+        AL_99,
         "AL.99",
         "Stroke limit warning",
         AlarmKind::Warning,
@@ -584,6 +586,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     homing_methods: &[-1, -17, 35],
     data_set_homing_methods: &[35],
     home_reference: HomeReference::OffsetObject,
+    stroke_end_warning: Some(AL_99),
 };
 
 #[cfg(test)]

@@ -473,6 +473,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     homing_methods: &[],
     data_set_homing_methods: &[],
     home_reference: HomeReference::PositionPreset,
+    stroke_end_warning: None,
 };
 
 #[cfg(test)]

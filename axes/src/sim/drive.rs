@@ -58,6 +58,10 @@ pub struct SimDriveParams {
     /// Torque limit 2 (2D6Dh), used where the profile selects it by controlword
     /// ([`TorqueLimitSelection::TorqueLimit2`], MR-JET / MR-J5).
     pub torque_limit_2: TorqueLimit2,
+    /// PC02 slow-stop time (ms, rated speed to 0) of a stroke-end stop on MR-J3-T04
+    /// (mr-j3-t04.md §9.1); "rated speed" is taken as `plant.max_velocity`. 0: stop at the
+    /// plant's maximum deceleration.
+    pub slow_stop_time_ms: u32,
     /// 6064h after a homing on a drive that presets it ([`HomeReference::PositionPreset`],
     /// MR-J4-TM): the "home position address" parameter, not in the extract; default 0.
     pub home_position_address: i32,
@@ -132,6 +136,7 @@ impl Default for SimDriveParams {
             internal_torque_limits: InternalTorqueLimits::default(),
             torque_limit_2: TorqueLimit2::default(),
             home_position_address: 0,
+            slow_stop_time_ms: 0,
         }
     }
 }
@@ -150,6 +155,8 @@ pub struct SimDrive {
     rx_layout: PdoLayout,
     tx_layout: PdoLayout,
     alarm: Option<u16>,
+    /// The active warning (statusword bit 7), e.g. MR-J3-T04 AL.99.
+    warning: Option<u16>,
     startup_left: u32,
     /// Position demand in counts (csp: from 607Ah; csv: integrated 60FFh; others: held).
     demand: f64,
@@ -167,6 +174,32 @@ pub struct SimDrive {
     sdo_values: Vec<(u16, u8, i64)>,
     /// Homing state (hm): 607Ch, the 6064h preset, statusword bits 12/13, the HOS edge.
     homing: HomingState,
+    /// Stroke-end inputs and the stop they cause.
+    stroke: StrokeState,
+}
+
+/// LSP/LSN inputs (ON = may run in that direction) and the stroke-end slow stop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct StrokeState {
+    /// LSP: CCW (positive) motion allowed.
+    lsp: bool,
+    /// LSN: CW (negative) motion allowed.
+    lsn: bool,
+    /// The slow stop runs: commands are discarded until the motor has stopped once.
+    stopping: bool,
+    /// Velocity of the slow-stop ramp, counts/s.
+    ramp_velocity: f64,
+}
+
+impl Default for StrokeState {
+    fn default() -> Self {
+        StrokeState {
+            lsp: true,
+            lsn: true,
+            stopping: false,
+            ramp_velocity: 0.0,
+        }
+    }
 }
 
 /// What homing has done to this drive.
@@ -209,6 +242,7 @@ impl SimDrive {
             rx_layout: PdoLayout::new(&profile.rx_pdo),
             tx_layout: PdoLayout::new(&profile.tx_pdo),
             alarm: None,
+            warning: None,
             startup_left: params.startup_cycles,
             demand: pos,
             prev_target: params.initial_position,
@@ -225,6 +259,7 @@ impl SimDrive {
             sdo_mode: 0,
             sdo_values: Vec::new(),
             homing: HomingState::default(),
+            stroke: StrokeState::default(),
         };
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
         d.tx = d.make_tx();
@@ -557,6 +592,7 @@ impl SimDrive {
             ModeOfOperation::CyclicSyncVelocity => {
                 let lim = self.overspeed_limit();
                 let v = f64::from(cmd.target_velocity).clamp(-lim, lim);
+                let v = self.stroke_limited_velocity(v, dt);
                 self.demand += v * dt;
                 v
             }
@@ -639,6 +675,63 @@ impl SimDrive {
         self.homing.attained = true;
     }
 
+    /// Sets the stroke-end inputs LSP (CCW allowed) and LSN (CW allowed); ON = may run. On a
+    /// model with a stroke-end warning an input OFF raises it (MR-J3-T04 AL.99, §9.1); it
+    /// clears by itself once both are ON again and the slow stop is over.
+    pub fn set_stroke_end_inputs(&mut self, lsp: bool, lsn: bool) {
+        self.stroke.lsp = lsp;
+        self.stroke.lsn = lsn;
+    }
+
+    /// csv under the stroke-end rules (mr-j3-t04.md §9.1, TV-STROKE-1): moving into an OFF
+    /// input starts a PC02 slow stop during which 60FFh is discarded; after the stop the
+    /// blocked direction stays refused and the other one is accepted.
+    fn stroke_limited_velocity(&mut self, v: f64, dt: f64) -> f64 {
+        let Some(warning) = self.profile.stroke_end_warning else {
+            return v;
+        };
+        let moving = self.plant.velocity();
+        let blocked = |dir: f64, s: &StrokeState| (dir > 0.0 && !s.lsp) || (dir < 0.0 && !s.lsn);
+        if !self.stroke.stopping
+            && blocked(moving, &self.stroke)
+            && moving.abs() > self.params.zero_speed
+        {
+            self.stroke.stopping = true;
+            self.stroke.ramp_velocity = moving;
+        }
+        if self.stroke.lsp && self.stroke.lsn {
+            if !self.stroke.stopping && self.warning == Some(warning) {
+                self.warning = None;
+            }
+        } else {
+            self.warning = Some(warning);
+        }
+        if self.stroke.stopping {
+            let amax = self.params.plant.max_acceleration.abs();
+            let decel = if self.params.slow_stop_time_ms == 0 {
+                amax
+            } else {
+                (self.params.plant.max_velocity.abs() * 1000.0
+                    / f64::from(self.params.slow_stop_time_ms))
+                .min(amax)
+            };
+            let r = self.stroke.ramp_velocity;
+            let next = r - r.signum() * decel * dt;
+            self.stroke.ramp_velocity = if next * r <= 0.0 { 0.0 } else { next };
+            // "Until the motor has stopped once": the motor, not only the ramp (at or below
+            // `zero_speed`, and never above 1 count/s).
+            if self.stroke.ramp_velocity == 0.0 && moving.abs() <= self.params.zero_speed.max(1.0) {
+                self.stroke.stopping = false;
+            }
+            return self.stroke.ramp_velocity;
+        }
+        if blocked(v, &self.stroke) {
+            0.0
+        } else {
+            v
+        }
+    }
+
     /// 607Ch Home offset.
     pub fn home_offset(&self) -> i32 {
         self.homing.home_offset
@@ -648,6 +741,9 @@ impl SimDrive {
         let oe = self.state == FsaState::OperationEnabled;
         let mut sw = Statusword::for_state(self.state)
             .with_drive_follows_command(oe && self.mode_display.is_cyclic());
+        if self.warning.is_some() {
+            sw.0 |= 1 << 7;
+        }
         if self.mode_display == ModeOfOperation::Homing {
             // hm bits 13 / 12 / 10 (mr-j4-tm.md §4.10): no simulated method moves, so target
             // reached (bit 10) is always 1: "not started", "completed" or "error, v = 0".
@@ -678,6 +774,11 @@ impl SimDrive {
     /// The PDS state.
     pub fn state(&self) -> FsaState {
         self.state
+    }
+
+    /// The active warning code, if any (statusword bit 7).
+    pub fn warning(&self) -> Option<u16> {
+        self.warning
     }
 
     /// The latched alarm code, if any (cleared by a successful Fault Reset).

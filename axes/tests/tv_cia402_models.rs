@@ -744,3 +744,15 @@ fn hm_cycle(d: &mut SimDrive, cw: u16) -> cellrt_axes::TxPdo {
     };
     exchange(d, &rx)
 }
+
+#[test]
+fn tv_13_infinite_feed_check_mr_jet_g_n1() {
+    use cellrt_axes::profiles::mr_jet_g_n1::{infinite_feed_gear, AL_037};
+    assert_eq!(infinite_feed_gear(48, 1, 1 << 26), Ok((3072, 1)));
+    assert_eq!(infinite_feed_gear(1, 1, 1 << 17), Err(AL_037), "m = 32768");
+    // Just below and at the bound: 2^32 / 2^18 = 16384 is refused, 2^32 × 3 / (2^20 × 1) =
+    // 12288 accepted.
+    assert_eq!(infinite_feed_gear(1, 1, 1 << 18), Err(AL_037));
+    assert_eq!(infinite_feed_gear(3, 1, 1 << 20), Ok((12288, 1)));
+    assert_eq!(infinite_feed_gear(0, 1, 1 << 26), Err(AL_037));
+}

@@ -51,6 +51,31 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
 
 /// Alarm code encoding: AL.XXX.Y → 0xXXXY (AL.086.1 → 0x0861); no alarm object in the manual.
 pub const AL_086_1: u16 = 0x0861;
+/// AL.037 Parameter error (§1.2, §8.2: e.g. an infinite-feed gear whose reduced m ≥ 16384).
+pub const AL_037: u16 = 0x0370;
+/// Infinite feed (PT85.0 = 1): the reduced numerator m of 2^32 × cmx / (fbpm × cdv) must be
+/// below this (§8.2).
+pub const INFINITE_FEED_MAX_M: u64 = 16384;
+
+/// The infinite-feed gear check of §8.2 (TV-13): reduces 2^32 × cmx / (fbpm × cdv) to m/n
+/// and returns it, or [`AL_037`] when m ≥ [`INFINITE_FEED_MAX_M`] or a term is zero.
+/// `cmx`/`cdv` are the electronic gear [Pr. PA06]/[Pr. PA07], `fbpm` the encoder pulses/rev.
+pub fn infinite_feed_gear(cmx: u32, cdv: u32, fbpm: u32) -> Result<(u64, u64), u16> {
+    if cmx == 0 || cdv == 0 || fbpm == 0 {
+        return Err(AL_037);
+    }
+    let num = (1u128 << 32) * u128::from(cmx);
+    let den = u128::from(fbpm) * u128::from(cdv);
+    let (mut a, mut b) = (num, den);
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    let (m, n) = (num / a, den / a);
+    if m >= u128::from(INFINITE_FEED_MAX_M) {
+        return Err(AL_037);
+    }
+    Ok((m as u64, n as u64))
+}
 /// Following-error alarm: the manual has no alarm list (§9); CiA 402 8611h [background].
 pub const FOLLOWING_ERROR: u16 = 0x8611;
 /// Overspeed alarm: not in the manual (§9); CiA 402 8400h [background].
@@ -77,7 +102,7 @@ pub const ALARMS: &[AlarmInfo] = &[
         "§8: cycle the power after 5 s",
     ),
     alarm(
-        0x0370,
+        AL_037,
         "AL.037",
         "Parameter error",
         AlarmKind::Alarm,

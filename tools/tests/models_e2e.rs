@@ -25,16 +25,9 @@ struct Expect {
     cst: bool,
 }
 
-fn run_model(e: Expect) {
-    let dir = tempfile::tempdir().unwrap();
-    let base = std::fs::read_to_string(format!(
-        "{}/../configs/{}",
-        env!("CARGO_MANIFEST_DIR"),
-        e.config
-    ))
-    .unwrap();
-    let code = profile(e.model).following_error_alarm;
-    // The cell's own program is replaced; the alarm comes during the long wait.
+/// `base` config text with a unique cell name, `program.toml` as its program, no CPU pinning,
+/// a long lookahead, the overrun watchdog off, and `extra` appended.
+fn test_cell(base: &str, extra: &str) -> String {
     let cell_name = unique_cell_name();
     let mut text = String::new();
     let mut in_cell = false;
@@ -53,10 +46,26 @@ fn run_model(e: Expect) {
             text.push('\n');
         }
     }
-    text.push_str(&format!(
-        "\n[setpoints]\nlookahead_ms = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n\
-         [[inject]]\nat_ms = 4000\nfault = \"drive_alarm\"\naxis = \"x\"\ncode = {code}\n"
-    ));
+    text.push_str(
+        "\n[setpoints]\nlookahead_ms = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n",
+    );
+    text + extra
+}
+
+fn read_config(name: &str) -> String {
+    std::fs::read_to_string(format!("{}/../configs/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+fn run_model(e: Expect) {
+    let dir = tempfile::tempdir().unwrap();
+    let code = profile(e.model).following_error_alarm;
+    // The cell's own program is replaced; the alarm comes during the long wait.
+    let text = test_cell(
+        &read_config(e.config),
+        &format!(
+            "[[inject]]\nat_ms = 4000\nfault = \"drive_alarm\"\naxis = \"x\"\ncode = {code}\n"
+        ),
+    );
     let c_move = if e.cst { "" } else { ", c = 45.0" };
     let torque = if e.cst {
         "[[step]]\ndo = \"torque\"\ntarget = { c = 30.0 }\nseconds = 0.3\n"
@@ -219,4 +228,74 @@ fn mr_j5_g_n1_cell() {
         model: DriveModel::MrJ5GN1,
         cst: true,
     });
+}
+
+/// The communication check of each model, end to end: a counter corruption where the model has
+/// a counter (MR-J3-T04 2020h/2021h, MR-J4-TM 2D23h/2D24h), lost RxPDOs where it counts sync
+/// errors (MR-JET, MR-J5: AL.086.1). Either the master's counter check or the drive's own alarm
+/// (with the model's code) must stop the cell; the recording shows which.
+#[test]
+fn communication_faults_of_each_model() {
+    for (config, model) in [
+        ("mr-j3-t04.toml", DriveModel::MrJ3T04),
+        ("mr-j4-tm.toml", DriveModel::MrJ4TM),
+        ("mr-jet-g-n1.toml", DriveModel::MrJetGN1),
+        ("mr-j5-g-n1.toml", DriveModel::MrJ5GN1),
+    ] {
+        let p = profile(model);
+        let fault = if p.rx_pdo.has_counter() {
+            "counter_corruption"
+        } else {
+            "rx_loss"
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let text = test_cell(
+            &read_config(config),
+            &format!(
+                "[[inject]]\nat_ms = 1500\nfault = \"{fault}\"\naxis = \"x\"\nduration_ms = 50\n"
+            ),
+        );
+        // A wait does not watch the cell; the move after it finds the cell stopped.
+        let program = "[[step]]\ndo = \"power_on\"\n[[step]]\ndo = \"wait\"\nseconds = 3.0\n\
+                       [[step]]\ndo = \"move\"\ntarget = { x = 60.0 }\n";
+        let (out, rec_path) = run_recorded(dir.path(), &text, program);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(
+            out.status.code(),
+            Some(1),
+            "{config}: the cell must stop: {stdout}"
+        );
+        let rec = read_recording(&rec_path);
+        let master = rec
+            .events
+            .iter()
+            .find(|e| e.kind == "communication_error" && e.axis == "x");
+        let drive = rec
+            .events
+            .iter()
+            .find(|e| e.kind == "drive_fault" && e.axis == "x");
+        match (master, drive) {
+            (Some(m), _) => assert!(m.cycle as f64 >= 1.4 / cycle_seconds(&rec), "{config}"),
+            (None, Some(d)) => {
+                let codes = [p.comm_check.loss_alarm(), p.leave_op_alarm];
+                assert!(
+                    codes.contains(&(d.value as u16)),
+                    "{config}: drive fault {} is not the model's communication alarm",
+                    d.detail
+                );
+            }
+            (None, None) => panic!("{config}: no communication fault recorded"),
+        }
+        assert!(rec
+            .events
+            .iter()
+            .any(|e| e.kind == "stop_started" || e.kind == "drive_fault"));
+    }
+}
+
+fn cycle_seconds(rec: &common::Recording) -> f64 {
+    rec.cycles[1]
+        .deadline_ns
+        .saturating_sub(rec.cycles[0].deadline_ns) as f64
+        * 1e-9
 }

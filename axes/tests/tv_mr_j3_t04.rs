@@ -4,7 +4,7 @@
 
 mod common;
 
-use cellrt_axes::profiles::mr_j3_t04::{AL_34, AL_35, AL_36, AL_61, AL_99};
+use cellrt_axes::profiles::mr_j3_t04::{AL_34, AL_35, AL_36, AL_61, AL_99, AL_E6, AL_E9};
 use cellrt_axes::sim::drive::InternalTorqueLimits;
 use cellrt_axes::{
     profile, AxisMaster, Bus, CommParams, Controlword, CounterParams, CounterVerdict, Cycles,
@@ -658,4 +658,49 @@ fn tv_stroke_1_csv_at_the_forward_limit() {
     assert!(d.tx_pdo().velocity_actual > 90_000);
     assert_eq!(d.warning(), None);
     assert_eq!(d.tx_pdo().statusword.0 & 0x80, 0);
+}
+
+#[test]
+fn tv_fsa_4_main_circuit_off_and_e9() {
+    let mut d = j3(SimDriveParams::default());
+    enabled(&mut d);
+    d.set_main_circuit_power(false);
+    let sw = send(&mut d, 0x000F);
+    assert_eq!(sw.0 & 0x006F, 0x0021, "(8B) to Ready to switch on");
+    let sw = send(&mut d, 0x000F);
+    assert_eq!(sw.0 & 0x006F, 0x0021, "stays Ready to switch on");
+    assert_eq!(d.warning(), Some(AL_E9));
+    assert!(sw.0 & 0x80 != 0, "warning bit 7");
+    d.set_main_circuit_power(true);
+    let sw = send(&mut d, 0x000F);
+    assert_eq!(sw.0 & 0x006F, 0x0027, "Operation enabled again");
+    assert_eq!(d.warning(), None);
+}
+
+#[test]
+fn tv_fsa_4_em1_stops_the_motor_and_it_resumes_on_release() {
+    let mut d = j3(SimDriveParams {
+        initial_mode: cellrt_axes::ModeOfOperation::CyclicSyncVelocity,
+        ..SimDriveParams::default()
+    });
+    enabled(&mut d);
+    for _ in 0..300 {
+        csv_cycle(&mut d, 100_000);
+    }
+    assert!((d.tx_pdo().velocity_actual - 100_000).abs() < 2_000);
+    d.set_em1(false);
+    let tx = csv_cycle(&mut d, 100_000);
+    assert_eq!(d.warning(), Some(AL_E6));
+    assert!(tx.statusword.0 & 0x80 != 0);
+    for _ in 0..50 {
+        csv_cycle(&mut d, 100_000);
+    }
+    assert_eq!(d.tx_pdo().velocity_actual, 0, "base off, dynamic brake");
+    // Released with 60FFh still 100 000: the motor runs again without a new controlword.
+    d.set_em1(true);
+    for _ in 0..300 {
+        csv_cycle(&mut d, 100_000);
+    }
+    assert!((d.tx_pdo().velocity_actual - 100_000).abs() < 2_000);
+    assert_eq!(d.warning(), None);
 }

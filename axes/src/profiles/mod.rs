@@ -167,6 +167,9 @@ pub struct DriveProfile {
     /// Warning raised while a stroke-end input (LSP/LSN) is OFF, where the sim models stroke
     /// ends (MR-J3-T04 AL.99, §9.1); `None`: not modelled for this drive.
     pub stroke_end_warning: Option<u16>,
+    /// (EM1 forced stop, main circuit off) warnings where the sim models those inputs
+    /// (MR-J3-T04 AL.E6 / AL.E9, §3.7); `None`: not modelled.
+    pub power_warnings: Option<(u16, u16)>,
 }
 
 impl DriveProfile {

@@ -60,6 +60,10 @@ pub const AL_34: u16 = 0x0034;
 pub const AL_35: u16 = 0x0035;
 /// AL.36 Receive error 2: RxPDO lost for about 7 ms (§6.4).
 pub const AL_36: u16 = 0x0036;
+/// AL.E6 Servo emergency stop (warning): EM1 OFF (§3.7).
+pub const AL_E6: u16 = 0x00E6;
+/// AL.E9 Main circuit off warning: Enable operation with the main circuit off (§3.7).
+pub const AL_E9: u16 = 0x00E9;
 /// AL.99 Stroke limit warning: LSP or LSN in the commanded direction is OFF (§7.2, §9.1).
 pub const AL_99: u16 = 0x0099;
 /// AL.37 Parameter error (§7.2).
@@ -216,7 +220,7 @@ pub const ALARMS: &[AlarmInfo] = &[
         "§7.2",
     ),
     alarm(
-        0x00E6,
+        AL_E6,
         "AL.E6",
         "Servo emergency stop",
         AlarmKind::Warning,
@@ -225,7 +229,7 @@ pub const ALARMS: &[AlarmInfo] = &[
         "§3.7, §7.2",
     ),
     alarm(
-        0x00E9,
+        AL_E9,
         "AL.E9",
         "Main circuit off warning",
         AlarmKind::Warning,
@@ -587,6 +591,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     data_set_homing_methods: &[35],
     home_reference: HomeReference::OffsetObject,
     stroke_end_warning: Some(AL_99),
+    power_warnings: Some((AL_E6, AL_E9)),
 };
 
 #[cfg(test)]

@@ -535,6 +535,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     data_set_homing_methods: &[-3, 35, 37],
     home_reference: HomeReference::PositionPreset,
     stroke_end_warning: None,
+    power_warnings: None,
 };
 
 #[cfg(test)]

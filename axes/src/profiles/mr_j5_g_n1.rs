@@ -408,6 +408,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     data_set_homing_methods: &[],
     home_reference: HomeReference::PositionPreset,
     stroke_end_warning: None,
+    power_warnings: None,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

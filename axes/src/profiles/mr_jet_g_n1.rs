@@ -499,6 +499,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     data_set_homing_methods: &[],
     home_reference: HomeReference::PositionPreset,
     stroke_end_warning: None,
+    power_warnings: None,
 };
 
 #[cfg(test)]

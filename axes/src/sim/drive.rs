@@ -155,8 +155,9 @@ pub struct SimDrive {
     rx_layout: PdoLayout,
     tx_layout: PdoLayout,
     alarm: Option<u16>,
-    /// The active warning (statusword bit 7), e.g. MR-J3-T04 AL.99.
-    warning: Option<u16>,
+    /// Main circuit power and forced stop EM1 inputs (MR-J3-T04 §3.7), and AL.E9 latched by
+    /// an Enable operation refused for a missing main circuit.
+    power: PowerInputs,
     startup_left: u32,
     /// Position demand in counts (csp: from 607Ah; csv: integrated 60FFh; others: held).
     demand: f64,
@@ -178,6 +179,25 @@ pub struct SimDrive {
     stroke: StrokeState,
 }
 
+/// Main circuit power and EM1 (forced stop) inputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct PowerInputs {
+    main_circuit: bool,
+    em1: bool,
+    /// AL.E9: Enable operation was asked for while the main circuit was off.
+    main_off_warning: bool,
+}
+
+impl Default for PowerInputs {
+    fn default() -> Self {
+        PowerInputs {
+            main_circuit: true,
+            em1: true,
+            main_off_warning: false,
+        }
+    }
+}
+
 /// LSP/LSN inputs (ON = may run in that direction) and the stroke-end slow stop.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct StrokeState {
@@ -189,6 +209,8 @@ struct StrokeState {
     stopping: bool,
     /// Velocity of the slow-stop ramp, counts/s.
     ramp_velocity: f64,
+    /// AL.99 active: an input is OFF or its slow stop still runs.
+    warning: bool,
 }
 
 impl Default for StrokeState {
@@ -198,6 +220,7 @@ impl Default for StrokeState {
             lsn: true,
             stopping: false,
             ramp_velocity: 0.0,
+            warning: false,
         }
     }
 }
@@ -242,7 +265,7 @@ impl SimDrive {
             rx_layout: PdoLayout::new(&profile.rx_pdo),
             tx_layout: PdoLayout::new(&profile.tx_pdo),
             alarm: None,
-            warning: None,
+            power: PowerInputs::default(),
             startup_left: params.startup_cycles,
             demand: pos,
             prev_target: params.initial_position,
@@ -476,6 +499,18 @@ impl SimDrive {
             }
         }
         self.prev_cw = cw;
+        if self.profile.power_warnings.is_some() && !self.power.main_circuit {
+            // (8B) main circuit off → Ready to switch on; asking for more raises AL.E9.
+            if matches!(
+                self.state,
+                FsaState::SwitchedOn | FsaState::OperationEnabled
+            ) {
+                if before == FsaState::ReadyToSwitchOn {
+                    self.power.main_off_warning = true;
+                }
+                self.state = FsaState::ReadyToSwitchOn;
+            }
+        }
         if self.state == FsaState::OperationEnabled && before != FsaState::OperationEnabled {
             self.servo_on();
         }
@@ -557,6 +592,13 @@ impl SimDrive {
     /// speed limit 2D20h (counts/s). The profile modes are not simulated and hold the position.
     /// HALT (bit 8) stops and holds where the model honours it in the cyclic modes.
     fn follow(&mut self, cmd: &RxPdo, dt: f64) {
+        if self.profile.power_warnings.is_some() && !self.power.em1 {
+            // EM1 OFF: base off, dynamic-brake stop; the commands stay live (§3.7).
+            self.plant.hold(dt);
+            self.demand = self.plant.position();
+            self.prev_target = cmd.target_position;
+            return;
+        }
         if cmd.controlword.halt() && self.profile.halt_in_cyclic_modes {
             self.plant.hold(dt);
             self.demand = self.plant.position();
@@ -687,9 +729,9 @@ impl SimDrive {
     /// input starts a PC02 slow stop during which 60FFh is discarded; after the stop the
     /// blocked direction stays refused and the other one is accepted.
     fn stroke_limited_velocity(&mut self, v: f64, dt: f64) -> f64 {
-        let Some(warning) = self.profile.stroke_end_warning else {
+        if self.profile.stroke_end_warning.is_none() {
             return v;
-        };
+        }
         let moving = self.plant.velocity();
         let blocked = |dir: f64, s: &StrokeState| (dir > 0.0 && !s.lsp) || (dir < 0.0 && !s.lsn);
         if !self.stroke.stopping
@@ -699,13 +741,7 @@ impl SimDrive {
             self.stroke.stopping = true;
             self.stroke.ramp_velocity = moving;
         }
-        if self.stroke.lsp && self.stroke.lsn {
-            if !self.stroke.stopping && self.warning == Some(warning) {
-                self.warning = None;
-            }
-        } else {
-            self.warning = Some(warning);
-        }
+        self.stroke.warning = !(self.stroke.lsp && self.stroke.lsn) || self.stroke.stopping;
         if self.stroke.stopping {
             let amax = self.params.plant.max_acceleration.abs();
             let decel = if self.params.slow_stop_time_ms == 0 {
@@ -741,7 +777,7 @@ impl SimDrive {
         let oe = self.state == FsaState::OperationEnabled;
         let mut sw = Statusword::for_state(self.state)
             .with_drive_follows_command(oe && self.mode_display.is_cyclic());
-        if self.warning.is_some() {
+        if self.warning().is_some() {
             sw.0 |= 1 << 7;
         }
         if self.mode_display == ModeOfOperation::Homing {
@@ -776,9 +812,38 @@ impl SimDrive {
         self.state
     }
 
-    /// The active warning code, if any (statusword bit 7).
+    /// The active warning code, if any (statusword bit 7); the most severe first: EM1 (AL.E6),
+    /// main circuit off (AL.E9), stroke end (AL.99).
     pub fn warning(&self) -> Option<u16> {
-        self.warning
+        let pw = self.profile.power_warnings;
+        if let Some((e6, e9)) = pw {
+            if !self.power.em1 {
+                return Some(e6);
+            }
+            if self.power.main_off_warning {
+                return Some(e9);
+            }
+        }
+        self.profile
+            .stroke_end_warning
+            .filter(|_| self.stroke.warning)
+    }
+
+    /// Sets the main circuit power input. Off in Switched on or Operation enabled goes to Ready
+    /// to switch on (8B); Enable operation while it is off raises AL.E9 and stays there
+    /// (mr-j3-t04.md §3.7, on models with [`DriveProfile::power_warnings`]).
+    pub fn set_main_circuit_power(&mut self, on: bool) {
+        self.power.main_circuit = on;
+        if on {
+            self.power.main_off_warning = false;
+        }
+    }
+
+    /// Sets the forced stop input EM1 (ON = run). OFF: base circuit off with a dynamic-brake
+    /// stop and warning AL.E6; the FSA state is kept (the spec's inferred default) and commands
+    /// keep being processed, so the motor follows them again as soon as EM1 is ON.
+    pub fn set_em1(&mut self, on: bool) {
+        self.power.em1 = on;
     }
 
     /// The latched alarm code, if any (cleared by a successful Fault Reset).

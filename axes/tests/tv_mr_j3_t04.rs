@@ -704,3 +704,60 @@ fn tv_fsa_4_em1_stops_the_motor_and_it_resumes_on_release() {
     assert!((d.tx_pdo().velocity_actual - 100_000).abs() < 2_000);
     assert_eq!(d.warning(), None);
 }
+
+#[test]
+fn tv_stroke_2_csp_manual_stop_and_follow_up() {
+    let mut d = j3(SimDriveParams {
+        slow_stop_time_ms: 1000,
+        ..SimDriveParams::default()
+    });
+    enabled(&mut d);
+    // csp at 200 counts/ms = 200 000 counts/s.
+    let mut target = d.tx_pdo().position_actual;
+    let cycle = |d: &mut SimDrive, target: i32, cw2: u16| {
+        let rx = RxPdo {
+            controlword2: cw2,
+            counter: next_counter(),
+            ..csp(Controlword(0x000F), target)
+        };
+        exchange(d, &rx)
+    };
+    for _ in 0..300 {
+        target += 200;
+        cycle(&mut d, target, 0);
+    }
+    // C_MSTOP: targets keep running away, but the drive ramps down linearly and raises S_FLW.
+    let mut flw_at = None;
+    for k in 0..400 {
+        target += 200;
+        let tx = cycle(&mut d, target, 0x0100);
+        assert_eq!(tx.statusword.0 & (1 << 12), 0, "bit 12 off during MSTOP");
+        if tx.statusword.0 & (1 << 14) != 0 {
+            flw_at = Some(k);
+            break;
+        }
+    }
+    // 200 000 of 4 000 000 counts/s at PC02 = 1000 ms: about 50 ms.
+    let k = flw_at.expect("S_FLW never set");
+    assert!((40..=60).contains(&k), "ramp took {k} cycles");
+    for _ in 0..50 {
+        cycle(&mut d, target, 0x0100);
+    }
+    let stop = d.position_demand();
+    assert!(
+        (d.tx_pdo().position_actual - stop).abs() < 50,
+        "motor at the demand"
+    );
+    assert!(
+        target - stop > 5_000,
+        "stopped away from the runaway target"
+    );
+    // Follow-up: 607Ah := 6062h, then clear C_MSTOP: bit 12 back, no jump.
+    let tx = cycle(&mut d, stop, 0x0100);
+    assert!(tx.statusword.0 & (1 << 14) != 0);
+    for _ in 0..100 {
+        let tx = cycle(&mut d, stop, 0);
+        assert!(tx.statusword.0 & (1 << 12) != 0, "tracking again");
+        assert!((tx.position_actual - stop).abs() < 50, "no jump");
+    }
+}

@@ -170,6 +170,8 @@ pub struct DriveProfile {
     /// (EM1 forced stop, main circuit off) warnings where the sim models those inputs
     /// (MR-J3-T04 AL.E6 / AL.E9, §3.7); `None`: not modelled.
     pub power_warnings: Option<(u16, u16)>,
+    /// Controlword2 bit of the csp manual stop C_MSTOP where modelled (MR-J3-T04 bit 8, §9.2).
+    pub manual_stop_bit: Option<u8>,
 }
 
 impl DriveProfile {

@@ -592,6 +592,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     home_reference: HomeReference::OffsetObject,
     stroke_end_warning: Some(AL_99),
     power_warnings: Some((AL_E6, AL_E9)),
+    manual_stop_bit: Some(8),
 };
 
 #[cfg(test)]

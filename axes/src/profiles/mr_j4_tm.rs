@@ -536,6 +536,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     home_reference: HomeReference::PositionPreset,
     stroke_end_warning: None,
     power_warnings: None,
+    manual_stop_bit: None,
 };
 
 #[cfg(test)]

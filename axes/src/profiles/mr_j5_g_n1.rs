@@ -409,6 +409,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     home_reference: HomeReference::PositionPreset,
     stroke_end_warning: None,
     power_warnings: None,
+    manual_stop_bit: None,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

@@ -177,6 +177,19 @@ pub struct SimDrive {
     homing: HomingState,
     /// Stroke-end inputs and the stop they cause.
     stroke: StrokeState,
+    /// csp manual stop (MR-J3-T04 C_MSTOP, Controlword2 bit 8).
+    mstop: ManualStop,
+}
+
+/// The csp manual stop of mr-j3-t04.md §9.2 (TV-STROKE-2).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct ManualStop {
+    /// C_MSTOP is on: 607Ah is discarded.
+    active: bool,
+    /// Velocity of the linear PC02 ramp of the demand, counts/s.
+    ramp_velocity: f64,
+    /// The internal command has been fully output: S_FLW (statusword bit 14).
+    done: bool,
 }
 
 /// Main circuit power and EM1 (forced stop) inputs.
@@ -283,6 +296,7 @@ impl SimDrive {
             sdo_values: Vec::new(),
             homing: HomingState::default(),
             stroke: StrokeState::default(),
+            mstop: ManualStop::default(),
         };
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
         d.tx = d.make_tx();
@@ -613,7 +627,10 @@ impl SimDrive {
             self.prev_target = self.position_actual();
             return;
         }
+        let manual_stop =
+            self.mode_display == ModeOfOperation::CyclicSyncPosition && self.manual_stop(cmd, dt);
         let ff = match self.mode_display {
+            ModeOfOperation::CyclicSyncPosition if manual_stop => 0.0,
             ModeOfOperation::CyclicSyncPosition => {
                 // Work in the i32 domain relative to the actual position so 607Ah may wrap.
                 let rel = cmd.target_position.wrapping_sub(self.position_actual());
@@ -743,14 +760,7 @@ impl SimDrive {
         }
         self.stroke.warning = !(self.stroke.lsp && self.stroke.lsn) || self.stroke.stopping;
         if self.stroke.stopping {
-            let amax = self.params.plant.max_acceleration.abs();
-            let decel = if self.params.slow_stop_time_ms == 0 {
-                amax
-            } else {
-                (self.params.plant.max_velocity.abs() * 1000.0
-                    / f64::from(self.params.slow_stop_time_ms))
-                .min(amax)
-            };
+            let decel = self.slow_stop_deceleration();
             let r = self.stroke.ramp_velocity;
             let next = r - r.signum() * decel * dt;
             self.stroke.ramp_velocity = if next * r <= 0.0 { 0.0 } else { next };
@@ -768,6 +778,56 @@ impl SimDrive {
         }
     }
 
+    /// The PC02 deceleration of slow stops (stroke end, manual stop), counts/s².
+    fn slow_stop_deceleration(&self) -> f64 {
+        let amax = self.params.plant.max_acceleration.abs();
+        if self.params.slow_stop_time_ms == 0 {
+            amax
+        } else {
+            (self.params.plant.max_velocity.abs() * 1000.0
+                / f64::from(self.params.slow_stop_time_ms))
+            .min(amax)
+        }
+    }
+
+    /// csp with C_MSTOP (mr-j3-t04.md §9.2): while it is on, 607Ah is discarded and the demand
+    /// ramps linearly to rest with PC02; S_FLW = 1 once it has been fully output. Cleared, the
+    /// drive tracks 607Ah again from where it stopped (the master copies 6062h into 607Ah
+    /// first, or the motor jumps to the old target). True while the manual stop owns the demand.
+    fn manual_stop(&mut self, cmd: &RxPdo, dt: f64) -> bool {
+        let Some(bit) = self.profile.manual_stop_bit else {
+            return false;
+        };
+        let on = cmd.controlword2 & (1 << bit) != 0;
+        if on && !self.mstop.active {
+            self.mstop = ManualStop {
+                active: true,
+                ramp_velocity: self.plant.velocity(),
+                done: false,
+            };
+        }
+        if !on {
+            if self.mstop.active {
+                self.mstop = ManualStop::default();
+                self.prev_target = cmd.target_position;
+            }
+            return false;
+        }
+        let r = self.mstop.ramp_velocity;
+        let next = r - r.signum() * self.slow_stop_deceleration() * dt;
+        self.mstop.ramp_velocity = if next * r <= 0.0 { 0.0 } else { next };
+        self.demand += 0.5 * (r + self.mstop.ramp_velocity) * dt;
+        self.mstop.done = self.mstop.ramp_velocity == 0.0;
+        self.prev_target = cmd.target_position;
+        true
+    }
+
+    /// 6062h Position demand value, counts (what the master copies into 607Ah after a manual
+    /// stop).
+    pub fn position_demand(&self) -> i32 {
+        (self.demand.round() as i64).wrapping_add(self.homing.position_shift) as i32
+    }
+
     /// 607Ch Home offset.
     pub fn home_offset(&self) -> i32 {
         self.homing.home_offset
@@ -776,7 +836,10 @@ impl SimDrive {
     fn make_tx(&self) -> TxPdo {
         let oe = self.state == FsaState::OperationEnabled;
         let mut sw = Statusword::for_state(self.state)
-            .with_drive_follows_command(oe && self.mode_display.is_cyclic());
+            .with_drive_follows_command(oe && self.mode_display.is_cyclic() && !self.mstop.active);
+        if self.mstop.active && self.mstop.done {
+            sw.0 |= 1 << 14; // S_FLW
+        }
         if self.warning().is_some() {
             sw.0 |= 1 << 7;
         }

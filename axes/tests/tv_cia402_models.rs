@@ -756,3 +756,48 @@ fn tv_13_infinite_feed_check_mr_jet_g_n1() {
     assert_eq!(infinite_feed_gear(3, 1, 1 << 20), Ok((12288, 1)));
     assert_eq!(infinite_feed_gear(0, 1, 1 << 26), Err(AL_037));
 }
+
+#[test]
+fn tv_9_sdo_mr_jet_g_n1() {
+    use cellrt_axes::sim::sdo::{SdoAbort, LOAD_SIGNATURE, SAVE_SIGNATURE};
+    let mut d = drive(
+        DriveModel::MrJetGN1,
+        1000,
+        SimDriveParams {
+            store_parameters_ms: 50,
+            ..SimDriveParams::default()
+        },
+    );
+    boot(&mut d);
+    assert_eq!(
+        d.sdo_download(0x6040, 0, &[0x06, 0]),
+        Err(SdoAbort(0x0601_0006))
+    );
+    assert_eq!(
+        d.sdo_download(0x6041, 0, &[0, 0]),
+        Err(SdoAbort(0x0601_0002))
+    );
+    assert_eq!(d.sdo_upload(0x5FFF, 0), Err(SdoAbort(0x0602_0000)));
+    assert_eq!(d.sdo_upload(0x1C32, 3), Err(SdoAbort(0x0609_0011)));
+    // Save: bit0 = 0 while saving, then 1.
+    assert_eq!(d.sdo_upload(0x1010, 1), Ok(1));
+    d.sdo_download(0x1010, 1, &SAVE_SIGNATURE.to_le_bytes())
+        .unwrap();
+    assert_eq!(d.sdo_upload(0x1010, 1), Ok(0));
+    for _ in 0..60 {
+        send(&mut d, 0);
+    }
+    assert_eq!(d.sdo_upload(0x1010, 1), Ok(1));
+    assert_eq!(
+        d.sdo_download(0x1010, 1, &0x1234_5678u32.to_le_bytes()),
+        Err(SdoAbort::CANNOT_STORE)
+    );
+    // Restore: only "load" is accepted; reads back 1.
+    assert_eq!(
+        d.sdo_download(0x1011, 1, &0x1234_5678u32.to_le_bytes()),
+        Err(SdoAbort::CANNOT_STORE)
+    );
+    d.sdo_download(0x1011, 1, &LOAD_SIGNATURE.to_le_bytes())
+        .unwrap();
+    assert_eq!(d.sdo_upload(0x1011, 1), Ok(1));
+}

@@ -196,6 +196,30 @@ pub const ALARMS: &[AlarmInfo] = &[
 /// The objects the runtime and the simulator use (mr-jet-g-n1.md §6).
 pub const OBJECTS: &[OdEntry] = &[
     od(
+        0x1010,
+        1,
+        "Save all parameters",
+        DataType::U32,
+        Access::Rw,
+        Pdo::No,
+        Some(1),
+        None,
+        "",
+        "§6 (manual §3.2): write 65766173h; bit0 = 0 while saving (about 25 s)",
+    ),
+    od(
+        0x1011,
+        1,
+        "Restore all default parameters",
+        DataType::U32,
+        Access::Rw,
+        Pdo::No,
+        Some(1),
+        None,
+        "",
+        "§6 (manual §3.2): write 64616F6Ch; any other value is an error",
+    ),
+    od(
         0x10F1,
         2,
         "Sync Error Counter Limit",

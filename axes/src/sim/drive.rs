@@ -62,6 +62,8 @@ pub struct SimDriveParams {
     /// (mr-j3-t04.md §9.1); "rated speed" is taken as `plant.max_velocity`. 0: stop at the
     /// plant's maximum deceleration.
     pub slow_stop_time_ms: u32,
+    /// How long a parameter save through 1010h:01 takes (mr-jet-g-n1.md §6: "about 25 s").
+    pub store_parameters_ms: u32,
     /// 6064h after a homing on a drive that presets it ([`HomeReference::PositionPreset`],
     /// MR-J4-TM): the "home position address" parameter, not in the extract; default 0.
     pub home_position_address: i32,
@@ -137,6 +139,7 @@ impl Default for SimDriveParams {
             torque_limit_2: TorqueLimit2::default(),
             home_position_address: 0,
             slow_stop_time_ms: 0,
+            store_parameters_ms: 25_000,
         }
     }
 }
@@ -173,6 +176,8 @@ pub struct SimDrive {
     sdo_mode: i8,
     /// Objects written by SDO download ([`SimDrive::sdo_download`]), by index and sub-index.
     sdo_values: Vec<(u16, u8, i64)>,
+    /// Cycles left of a parameter save started through 1010h:01.
+    saving_left: u32,
     /// Homing state (hm): 607Ch, the 6064h preset, statusword bits 12/13, the HOS edge.
     homing: HomingState,
     /// Stroke-end inputs and the stop they cause.
@@ -294,6 +299,7 @@ impl SimDrive {
             op: true,
             sdo_mode: 0,
             sdo_values: Vec::new(),
+            saving_left: 0,
             homing: HomingState::default(),
             stroke: StrokeState::default(),
             mstop: ManualStop::default(),
@@ -344,6 +350,7 @@ impl SimDrive {
     }
 
     fn run(&mut self, cmd: RxPdo, elapsed: Cycles) {
+        self.saving_left = self.saving_left.saturating_sub(elapsed.0);
         let dt = self.cycle_time.as_secs_f64() * f64::from(elapsed.0);
         // Outside OP the controlword and the command values are not acted on (spec §2.1).
         let cw = if self.op {
@@ -932,6 +939,21 @@ impl SimDrive {
     /// The last RxPDO received (held over lost frames).
     pub fn last_command(&self) -> &RxPdo {
         &self.last_cmd
+    }
+
+    /// Whether a parameter save (1010h:01) is still running.
+    pub fn saving(&self) -> bool {
+        self.saving_left > 0
+    }
+
+    pub(super) fn start_saving(&mut self) {
+        let ms = u64::from(self.params.store_parameters_ms);
+        let cycles = self
+            .cycle_time
+            .cycles_for(std::time::Duration::from_millis(ms))
+            .0
+            .max(1);
+        self.saving_left = cycles;
     }
 
     pub(super) fn set_sdo_mode(&mut self, raw: i8) {

@@ -10,6 +10,14 @@ use crate::profiles::{Access, DriveModel};
 
 /// 607Ch Home offset (kept by the homing model, read live).
 const HOME_OFFSET: u16 = 0x607C;
+/// 1010h:01 Save all parameters; the signature "save".
+const STORE_PARAMETERS: (u16, u8) = (0x1010, 1);
+/// The value that starts a save ("save", little-endian ASCII).
+pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
+/// 1011h:01 Restore all default parameters.
+const RESTORE_DEFAULTS: (u16, u8) = (0x1011, 1);
+/// The value that restores the defaults ("load").
+pub const LOAD_SIGNATURE: u32 = 0x6461_6F6C;
 
 /// A CiA 301 SDO abort code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -34,6 +42,9 @@ impl SdoAbort {
     pub const NO_SUBINDEX: SdoAbort = SdoAbort(0x0609_0011);
     /// 0609 0030h Value range of parameter exceeded.
     pub const VALUE_RANGE: SdoAbort = SdoAbort(0x0609_0030);
+    /// 0800 0020h Data cannot be transferred or stored: the simulator's answer to a wrong
+    /// store/restore signature, whose abort code mr-jet-g-n1.md §6 leaves unstated.
+    pub const CANNOT_STORE: SdoAbort = SdoAbort(0x0800_0020);
 }
 
 impl fmt::Display for SdoAbort {
@@ -75,6 +86,10 @@ impl SimDrive {
         let entry = self.od_entry(index, sub)?;
         if (index, sub) == (HOME_OFFSET, 0) {
             return Ok(i64::from(self.home_offset()));
+        }
+        if (index, sub) == STORE_PARAMETERS {
+            // bit0: 1 when idle, 0 while saving; bit1: no automatic save.
+            return Ok(i64::from(!self.saving()));
         }
         if entry.access == Access::Wo {
             return Err(SdoAbort::WRITE_ONLY);
@@ -132,6 +147,20 @@ impl SimDrive {
             if value < lo || value > hi {
                 return Err(SdoAbort::VALUE_RANGE);
             }
+        }
+        if (index, sub) == STORE_PARAMETERS {
+            if value as u32 != SAVE_SIGNATURE {
+                return Err(SdoAbort::CANNOT_STORE);
+            }
+            self.start_saving();
+            return Ok(());
+        }
+        if (index, sub) == RESTORE_DEFAULTS {
+            return if value as u32 == LOAD_SIGNATURE {
+                Ok(())
+            } else {
+                Err(SdoAbort::CANNOT_STORE)
+            };
         }
         if index == MODES_OF_OPERATION && sub == 0 {
             self.set_sdo_mode(value as i8);

@@ -172,6 +172,8 @@ pub struct DriveProfile {
     pub power_warnings: Option<(u16, u16)>,
     /// Controlword2 bit of the csp manual stop C_MSTOP where modelled (MR-J3-T04 bit 8, §9.2).
     pub manual_stop_bit: Option<u8>,
+    /// Store/restore objects (1010h/1011h) the SDO surface serves besides `objects`.
+    pub store_restore_objects: &'static [OdEntry],
 }
 
 impl DriveProfile {
@@ -211,6 +213,7 @@ impl DriveProfile {
     pub fn object(&self, index: u16, sub: u8) -> Option<&'static OdEntry> {
         self.objects
             .iter()
+            .chain(self.store_restore_objects)
             .find(|o| o.index == index && o.sub == sub)
     }
 

@@ -593,6 +593,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     stroke_end_warning: Some(AL_99),
     power_warnings: Some((AL_E6, AL_E9)),
     manual_stop_bit: Some(8),
+    store_restore_objects: &[],
 };
 
 #[cfg(test)]

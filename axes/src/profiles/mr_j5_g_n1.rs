@@ -108,30 +108,6 @@ pub const ALARMS: &[AlarmInfo] = &[
 /// from the map sizes (§5.2, §6 note).
 pub const OBJECTS: &[OdEntry] = &[
     od(
-        0x1010,
-        1,
-        "Save all parameters",
-        DataType::U32,
-        Access::Rw,
-        Pdo::No,
-        Some(1),
-        None,
-        "",
-        "TV-12: write 65766173h; bit0 goes 0 → 1 within about 25 s",
-    ),
-    od(
-        0x1011,
-        1,
-        "Restore all default parameters",
-        DataType::U32,
-        Access::Rw,
-        Pdo::No,
-        Some(1),
-        None,
-        "",
-        "TV-12: anything other than 64616F6Ch is an error",
-    ),
-    od(
         0x10F1,
         2,
         "Sync Error Counter Limit",
@@ -434,6 +410,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     stroke_end_warning: None,
     power_warnings: None,
     manual_stop_bit: None,
+    store_restore_objects: super::mr_jet_g_n1::STORE_RESTORE_OBJECTS,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

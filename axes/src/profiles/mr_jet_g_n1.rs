@@ -193,8 +193,9 @@ pub const ALARMS: &[AlarmInfo] = &[
     ),
 ];
 
-/// The objects the runtime and the simulator use (mr-jet-g-n1.md §6).
-pub const OBJECTS: &[OdEntry] = &[
+/// 1010h:01 / 1011h:01 store and restore (mr-jet-g-n1.md §6, manual §3.2; MR-J5 the same,
+/// mr-j5-g-n1.md §6 and TV-12), served by the simulator's SDO surface.
+pub const STORE_RESTORE_OBJECTS: &[OdEntry] = &[
     od(
         0x1010,
         1,
@@ -219,6 +220,10 @@ pub const OBJECTS: &[OdEntry] = &[
         "",
         "§6 (manual §3.2): write 64616F6Ch; any other value is an error",
     ),
+];
+
+/// The objects the runtime and the simulator use (mr-jet-g-n1.md §6).
+pub const OBJECTS: &[OdEntry] = &[
     od(
         0x10F1,
         2,
@@ -525,6 +530,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     stroke_end_warning: None,
     power_warnings: None,
     manual_stop_bit: None,
+    store_restore_objects: STORE_RESTORE_OBJECTS,
 };
 
 #[cfg(test)]

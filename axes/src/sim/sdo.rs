@@ -174,7 +174,11 @@ impl SimDrive {
         if let Some(e) = p.object(index, sub) {
             return Ok(e);
         }
-        if p.objects.iter().any(|o| o.index == index) {
+        if p.objects
+            .iter()
+            .chain(p.store_restore_objects)
+            .any(|o| o.index == index)
+        {
             Err(SdoAbort::NO_SUBINDEX)
         } else {
             Err(SdoAbort::NO_OBJECT)

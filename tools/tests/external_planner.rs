@@ -42,6 +42,16 @@ fn lines(child: &mut Child) -> Receiver<String> {
     rx
 }
 
+/// Every line of an exited child's stderr: waits for the reader thread to reach end of file
+/// (`try_iter` right after the exit could miss lines still in flight).
+fn all_lines(rx: &Receiver<String>) -> Vec<String> {
+    let mut out = Vec::new();
+    while let Ok(l) = rx.recv_timeout(Duration::from_secs(10)) {
+        out.push(l);
+    }
+    out
+}
+
 fn wait_line(rx: &Receiver<String>, what: &str, log: &mut Vec<String>) {
     let end = Instant::now() + Duration::from_secs(30);
     loop {
@@ -121,7 +131,7 @@ fn killed_planner_stops_the_cell_and_a_new_one_takes_over() {
     let mut p2 = planner(&cfg, &second);
     let p2_log = lines(&mut p2);
     let code = wait_exit(&mut p2, 30);
-    let p2_text: Vec<String> = p2_log.try_iter().collect();
+    let p2_text: Vec<String> = all_lines(&p2_log);
     assert_eq!(code, Some(0), "second planner: {}", p2_text.join("\n"));
 
     kill(Pid::from_raw(controller.id() as i32), Signal::SIGINT).unwrap();
@@ -210,7 +220,7 @@ fn a_planner_with_another_cells_timing_is_refused_and_nothing_moves() {
     let mut p = planner(&other, &dir.path().join("program.toml"));
     let p_log = lines(&mut p);
     assert_eq!(wait_exit(&mut p, 30), Some(1));
-    let text: Vec<String> = p_log.try_iter().collect();
+    let text: Vec<String> = all_lines(&p_log);
     let err = text
         .iter()
         .find(|l| l.starts_with("error: "))

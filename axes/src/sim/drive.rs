@@ -157,6 +157,8 @@ pub struct SimDrive {
     /// The profile's RxPDO and TxPDO maps, resolved once for the cyclic codec.
     rx_layout: PdoLayout,
     tx_layout: PdoLayout,
+    /// The RxPDO carries 6060h (else the mode comes by SDO, e.g. MR-J3-T04).
+    mode_mapped: bool,
     alarm: Option<u16>,
     /// Main circuit power and forced stop EM1 inputs (MR-J3-T04 §3.7), and AL.E9 latched by
     /// an Enable operation refused for a missing main circuit.
@@ -281,6 +283,9 @@ impl SimDrive {
             mode_display: initial_mode,
             plant: ServoPlant::new(params.plant, pos),
             rx_layout: PdoLayout::new(&profile.rx_pdo),
+            mode_mapped: profile
+                .rx_pdo
+                .maps(crate::pdo::objects::MODES_OF_OPERATION),
             tx_layout: PdoLayout::new(&profile.tx_pdo),
             alarm: None,
             power: PowerInputs::default(),
@@ -360,11 +365,7 @@ impl SimDrive {
         };
         self.run_pds(cw, elapsed);
         if self.op {
-            let raw = if self
-                .profile
-                .rx_pdo
-                .maps(crate::pdo::objects::MODES_OF_OPERATION)
-            {
+            let raw = if self.mode_mapped {
                 cmd.mode
             } else {
                 self.sdo_mode

@@ -283,9 +283,7 @@ impl SimDrive {
             mode_display: initial_mode,
             plant: ServoPlant::new(params.plant, pos),
             rx_layout: PdoLayout::new(&profile.rx_pdo),
-            mode_mapped: profile
-                .rx_pdo
-                .maps(crate::pdo::objects::MODES_OF_OPERATION),
+            mode_mapped: profile.rx_pdo.maps(crate::pdo::objects::MODES_OF_OPERATION),
             tx_layout: PdoLayout::new(&profile.tx_pdo),
             alarm: None,
             power: PowerInputs::default(),

@@ -316,13 +316,11 @@ impl OnlineMotion {
         let mut changed = false;
         for i in 0..self.axes.len() {
             match self.goals[i] {
-                AxisGoal::Velocity(v) if v == 0.0 || self.feed_override == 0.0 => {
-                    if v == 0.0 {
-                        self.goals[i] = AxisGoal::Position(self.input.current_position[i]);
-                        self.input.current_velocity[i] = 0.0;
-                        self.input.current_acceleration[i] = 0.0;
-                        changed = true;
-                    }
+                AxisGoal::Velocity(v) if v == 0.0 => {
+                    self.goals[i] = AxisGoal::Position(self.input.current_position[i]);
+                    self.input.current_velocity[i] = 0.0;
+                    self.input.current_acceleration[i] = 0.0;
+                    changed = true;
                 }
                 AxisGoal::Position(p) if self.feed_override > 0.0 => {
                     self.input.current_position[i] = p;

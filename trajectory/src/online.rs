@@ -316,7 +316,7 @@ impl OnlineMotion {
         let mut changed = false;
         for i in 0..self.axes.len() {
             match self.goals[i] {
-                AxisGoal::Velocity(v) if v == 0.0 => {
+                AxisGoal::Velocity(0.0) => {
                     self.goals[i] = AxisGoal::Position(self.input.current_position[i]);
                     self.input.current_velocity[i] = 0.0;
                     self.input.current_acceleration[i] = 0.0;

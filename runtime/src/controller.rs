@@ -245,8 +245,12 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     } else {
         opts.program
     };
-    let mut planner = match program {
-        Some(p) => match planner::spawn(cell, p, handoff.clone()) {
+    // Without a program the planner thread serves the operator service (unless an external
+    // planner process provides the setpoints).
+    let mut planner = if opts.external_planner {
+        None
+    } else {
+        match planner::spawn(cell, program, handoff.clone()) {
             Ok(p) => Some(p),
             Err(e) => {
                 let _ = go_tx.send(false);
@@ -255,8 +259,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
                 let _ = recorder.finish();
                 return Err(RunError::Thread(format!("cannot start the planner: {e}")));
             }
-        },
-        None => None,
+        }
     };
 
     let _ = go_tx.send(true);

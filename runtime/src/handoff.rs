@@ -1,7 +1,9 @@
 //! Lock-free hand-offs between the RT thread and the non-RT threads: preallocated bounded
 //! queues (crossbeam `ArrayQueue`) for records, events and commands, and atomics for status.
 
-use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, AtomicU8, Ordering};
+use std::sync::atomic::{
+    AtomicBool, AtomicI32, AtomicU16, AtomicU32, AtomicU64, AtomicU8, Ordering,
+};
 
 use cellrt_axes::cia402::fsa::FsaState;
 use crossbeam::queue::ArrayQueue;
@@ -300,6 +302,23 @@ pub struct CellStatus {
     pub hold: [AtomicU64; MAX_AXES],
     /// Set by the RT thread once the loop runs.
     pub running: AtomicBool,
+    /// Latest feedback of each axis, for the operator's status.
+    pub live: [AxisLive; MAX_AXES],
+}
+
+/// Latest feedback of one axis (TxPDO values), stored by the RT thread every cycle.
+#[derive(Debug, Default)]
+pub struct AxisLive {
+    /// 6064h, counts.
+    pub position_actual: AtomicI32,
+    /// 606Ch, counts/s.
+    pub velocity_actual: AtomicI32,
+    /// 60F4h, counts.
+    pub following_error: AtomicI32,
+    /// 6041h.
+    pub statusword: AtomicU16,
+    /// 603Fh.
+    pub error_code: AtomicU16,
 }
 
 impl Default for CellStatus {
@@ -312,6 +331,7 @@ impl Default for CellStatus {
             motion_done: AtomicU32::new(0),
             hold: std::array::from_fn(|_| AtomicU64::new(0f64.to_bits())),
             running: AtomicBool::new(false),
+            live: std::array::from_fn(|_| AxisLive::default()),
         }
     }
 }

@@ -8,6 +8,8 @@ pub mod executive;
 pub mod handoff;
 pub mod link;
 pub mod link_server;
+pub mod motion;
+pub mod operator;
 pub mod planner;
 pub mod program;
 pub mod record;

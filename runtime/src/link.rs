@@ -12,7 +12,7 @@ use iceoryx2::prelude::*;
 use crate::handoff::{
     CellCommand, CellState, EventKind, EventRecord, Handoff, StopReason, NO_AXIS,
 };
-use crate::services::{self, CommandSample, ServiceError, StatusSample};
+use crate::services::{self, CommandSample, LiveAxis, ServiceError, StatusSample};
 use crate::setpoints::MAX_AXES;
 
 /// A remote cell whose status is older than this is considered gone.
@@ -33,6 +33,8 @@ pub struct StatusSnapshot {
     pub motion_done: u32,
     /// Hold position per axis, counts.
     pub hold: [f64; MAX_AXES],
+    /// Latest feedback of each axis.
+    pub live: [LiveAxis; MAX_AXES],
 }
 
 /// A planner's connection to its cell.
@@ -62,8 +64,17 @@ impl LocalLink {
 pub fn snapshot(handoff: &Handoff, axes: usize) -> StatusSnapshot {
     let s = &handoff.status;
     let mut hold = [0.0; MAX_AXES];
-    for (i, h) in hold.iter_mut().enumerate().take(axes) {
+    let mut live = [LiveAxis::default(); MAX_AXES];
+    for (i, (h, l)) in hold.iter_mut().zip(live.iter_mut()).enumerate().take(axes) {
         *h = s.hold(i);
+        let a = &s.live[i];
+        *l = LiveAxis {
+            position_actual: a.position_actual.load(Ordering::Relaxed),
+            velocity_actual: a.velocity_actual.load(Ordering::Relaxed),
+            following_error: a.following_error.load(Ordering::Relaxed),
+            statusword: a.statusword.load(Ordering::Relaxed),
+            error_code: a.error_code.load(Ordering::Relaxed),
+        };
     }
     StatusSnapshot {
         cycle: s.cycle(),
@@ -72,6 +83,7 @@ pub fn snapshot(handoff: &Handoff, axes: usize) -> StatusSnapshot {
         motion_id: s.motion_id.load(Ordering::Acquire),
         motion_done: s.motion_done.load(Ordering::Acquire),
         hold,
+        live,
     }
 }
 
@@ -164,6 +176,7 @@ impl CellLink for RemoteLink {
                     motion_id: s.motion_id,
                     motion_done: s.motion_done,
                     hold: s.hold,
+                    live: s.live,
                 },
                 Instant::now(),
             ));

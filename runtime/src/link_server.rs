@@ -67,6 +67,7 @@ impl LinkServer {
                         motion_done: snap.motion_done,
                         axis_count: n as u32,
                         hold: snap.hold,
+                        live: snap.live,
                         ..StatusSample::default()
                     };
                     let _ = status.send_copy(sample);

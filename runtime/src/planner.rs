@@ -7,17 +7,18 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use cellrt_trajectory::planner::{plan_move, AxisState, MoveAxis};
-use cellrt_trajectory::sampler::MoveSampler;
-use cellrt_trajectory::torque::TorqueRamp;
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, CellState, EventKind, Handoff};
+use crate::handoff::{CellCommand, CellState, Handoff};
 use crate::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
+use crate::motion::{MotionEngine, MotionRequest, Progress};
+use crate::operator::server::{Context, Followup, OperatorServer};
 use crate::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::services;
-use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, FLAG_LAST, FLAG_TORQUE};
+
+/// How often the planner looks at the cell while a motion runs.
+const TICK: Duration = Duration::from_millis(1);
 
 /// How long power on / power off may take before the program fails.
 pub const POWER_TIMEOUT: Duration = Duration::from_secs(10);
@@ -81,10 +82,11 @@ impl PlannerHandle {
     }
 }
 
-/// Starts the planner thread running `program` on `cell`.
+/// Starts the planner thread on `cell`: it runs `program` (the handle's result is the
+/// program's), or without one serves the operator service until [`PlannerHandle::finish`].
 pub fn spawn(
     cell: &CellConfig,
-    program: Program,
+    program: Option<Program>,
     handoff: Arc<Handoff>,
 ) -> std::io::Result<PlannerHandle> {
     let abort = Arc::new(AtomicBool::new(false));
@@ -98,11 +100,15 @@ pub fn spawn(
         .name("cellrt-planner".into())
         .spawn(move || {
             let link = LocalLink::new(handoff, cell.axes.len());
-            let planner = Planner::new(&cell, Box::new(link), &abort2, &program);
+            let source = program
+                .as_ref()
+                .map(|p| p.source.display().to_string())
+                .unwrap_or_default();
+            let planner = Planner::new(&cell, Box::new(link), &abort2, source);
             let _ = ready_tx.send(());
             match planner {
                 Ok(mut p) => {
-                    let _ = result_tx.send(p.run(&program));
+                    let _ = result_tx.send(p.serve(program));
                     // Keep the publisher (inside `p`) until released.
                     while !release2.load(Ordering::Acquire) {
                         std::thread::sleep(Duration::from_millis(5));
@@ -149,21 +155,24 @@ pub fn run_external(
         connect_timeout,
     )
     .map_err(fail)?;
-    let mut planner = Planner::new(cell, Box::new(link), abort, program)?;
-    planner.run(program)
+    let source = program.source.display().to_string();
+    let mut planner = Planner::new(cell, Box::new(link), abort, source)?;
+    planner.serve(Some(program.clone()))
 }
 
 struct Planner<'a> {
     cell: &'a CellConfig,
     link: Box<dyn CellLink + 'a>,
     abort: &'a AtomicBool,
-    publisher: services::SetpointPublisher,
+    engine: MotionEngine,
+    operator: OperatorServer,
+    /// The operator halted or stopped the program in execution.
+    program_aborted: bool,
+    program_running: bool,
     _node: Node<ipc::Service>,
     source: String,
     step: usize,
     what: &'static str,
-    /// Planner stalls still to inject: (cycle, duration ns).
-    stalls: Vec<(u64, u64)>,
 }
 
 impl<'a> Planner<'a> {
@@ -171,10 +180,10 @@ impl<'a> Planner<'a> {
         cell: &'a CellConfig,
         link: Box<dyn CellLink + 'a>,
         abort: &'a AtomicBool,
-        program: &Program,
+        source: String,
     ) -> Result<Self, ProgramError> {
         let fail = |e: services::ServiceError| ProgramError {
-            program: program.source.display().to_string(),
+            program: source.clone(),
             step: 0,
             what: "planner",
             reason: e.to_string(),
@@ -182,23 +191,19 @@ impl<'a> Planner<'a> {
         let node = services::node(&cell.name, "planner").map_err(fail)?;
         let publisher =
             services::setpoint_publisher(&node, &cell.name, cell.axes.len()).map_err(fail)?;
+        let operator = OperatorServer::new(&node, &cell.name).map_err(fail)?;
         Ok(Planner {
             cell,
             link,
             abort,
-            publisher,
+            engine: MotionEngine::new(cell, publisher),
+            operator,
+            program_aborted: false,
+            program_running: false,
             _node: node,
-            source: program.source.display().to_string(),
+            source,
             step: 0,
             what: "",
-            stalls: cell
-                .inject
-                .iter()
-                .filter_map(|i| match i.fault {
-                    crate::config::InjectedFault::PlannerStall { ns } => Some((i.cycle, ns)),
-                    _ => None,
-                })
-                .collect(),
         })
     }
 
@@ -216,13 +221,72 @@ impl<'a> Planner<'a> {
     }
 
     fn status(&mut self) -> Result<StatusSnapshot, ProgramError> {
+        self.poll_operator();
         self.link.status().map_err(|e| self.err(e))
+    }
+
+    /// Runs `program` if given and returns its result; without one, serves the operator
+    /// service (programs it starts included) until aborted.
+    fn serve(&mut self, program: Option<Program>) -> Result<(), ProgramError> {
+        let stay = program.is_none();
+        let mut next = program;
+        loop {
+            if self.aborted() {
+                return Ok(());
+            }
+            if let Some(p) = next.take() {
+                self.source = p.source.display().to_string();
+                self.program_aborted = false;
+                self.program_running = true;
+                let r = self.run(&p);
+                self.program_running = false;
+                self.operator
+                    .finish_active(r.as_ref().map(|_| ()).map_err(|e| e.to_string()));
+                if !stay {
+                    return r;
+                }
+                if let Err(e) = r {
+                    tracing::warn!("{e}");
+                }
+                continue;
+            }
+            if let Followup::RunProgram(p) = self.poll_operator() {
+                next = Some(p);
+                continue;
+            }
+            let mut ctx = Context {
+                cell: self.cell,
+                engine: &mut self.engine,
+                link: self.link.as_mut(),
+                program_running: false,
+            };
+            self.operator.tick(&mut ctx);
+            std::thread::sleep(TICK);
+        }
+    }
+
+    /// Answers pending operator requests.
+    fn poll_operator(&mut self) -> Followup {
+        let mut ctx = Context {
+            cell: self.cell,
+            engine: &mut self.engine,
+            link: self.link.as_mut(),
+            program_running: self.program_running,
+        };
+        let f = self.operator.poll(&mut ctx);
+        if matches!(f, Followup::AbortProgram) {
+            self.program_aborted = true;
+        }
+        f
     }
 
     fn run(&mut self, program: &Program) -> Result<(), ProgramError> {
         for (i, step) in program.steps.iter().enumerate() {
             if self.aborted() {
                 return Ok(());
+            }
+            if self.program_aborted {
+                return Err(self.err("the program was halted or stopped by the operator"));
             }
             self.step = i;
             match step {
@@ -265,13 +329,14 @@ impl<'a> Planner<'a> {
         self.link.command(cmd).map_err(|e| self.err(e))
     }
 
-    fn sleep(&self, d: Duration) {
+    fn sleep(&mut self, d: Duration) {
         let end = Instant::now() + d;
-        while !self.aborted() {
+        while !self.aborted() && !self.program_aborted {
             let now = Instant::now();
             if now >= end {
                 break;
             }
+            self.poll_operator();
             std::thread::sleep((end - now).min(Duration::from_millis(10)));
         }
     }
@@ -338,216 +403,44 @@ impl<'a> Planner<'a> {
     }
 
     fn run_move(&mut self, targets: &[MoveTarget]) -> Result<(), ProgramError> {
-        let status = self.status()?;
-        if status.state != CellState::Idle {
-            return Err(self.err(format!(
-                "the cell is {}, not idle (power on first, or reset after a stop)",
-                status.state.as_str()
-            )));
-        }
-        let n = self.cell.axes.len();
-        let hold: Vec<f64> = status.hold[..n].to_vec();
-        let axes: Vec<MoveAxis> = targets
-            .iter()
-            .map(|t| {
-                let s = self.cell.axes[t.axis].scaling;
-                MoveAxis {
-                    start: AxisState {
-                        position: s.to_units(hold[t.axis]),
-                        velocity: 0.0,
-                        acceleration: 0.0,
-                    },
-                    target: t.target,
-                    limits: t.limits,
-                }
-            })
-            .collect();
-        let plan = plan_move(&axes).map_err(|e| self.err(format!("planning failed: {e}")))?;
-        let period = self.cell.period();
-        let sampler = MoveSampler::new(plan, period)
-            .map_err(|e| self.err(format!("sampling failed: {e}")))?;
-        let total = sampler.cycles();
-        if total == 0 {
-            return Ok(());
-        }
-
-        let hold: &[f64] = &hold;
-        let cell = self.cell;
-        let mut sample = vec![AxisState::default(); targets.len()];
-        self.publish_motion(status.motion_id, status.cycle, total, 0, |k, row| {
-            sampler.fill(k, &mut sample);
-            for (i, sp) in row.iter_mut().enumerate() {
-                *sp = AxisSetpoint {
-                    position: hold[i],
-                    velocity: 0.0,
-                    torque: 0.0,
-                };
-            }
-            for (t, s) in targets.iter().zip(&sample) {
-                let sc = cell.axes[t.axis].scaling;
-                row[t.axis] = AxisSetpoint {
-                    position: sc.to_counts(s.position),
-                    velocity: sc.to_counts(s.velocity),
-                    torque: 0.0,
-                };
-            }
-        })
+        let req = MotionRequest::Move(
+            targets
+                .iter()
+                .map(|t| (t.axis, t.target, t.limits))
+                .collect(),
+        );
+        self.run_motion(req)
     }
 
     /// A torque step: every target axis ramps to its torque, holds it, ramps back to zero; the
-    /// other axes hold. Published as one [`FLAG_TORQUE`] motion.
+    /// other axes hold.
     fn run_torque(&mut self, targets: &[TorqueTarget], hold_s: f64) -> Result<(), ProgramError> {
-        let status = self.status()?;
-        if status.state != CellState::Idle {
-            return Err(self.err(format!(
-                "the cell is {}, not idle (power on first, or reset after a stop)",
-                status.state.as_str()
-            )));
-        }
-        let ramps = targets
-            .iter()
-            .map(|t| TorqueRamp::new(t.torque, t.slope, hold_s))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| self.err(format!("torque profile: {e}")))?;
-        let period = self.cell.period();
-        let duration = ramps.iter().map(TorqueRamp::duration_s).fold(0.0, f64::max);
-        // One cycle past the end so the last setpoint is zero torque.
-        let total = (duration / period).ceil() as u64 + 1;
-        let n = self.cell.axes.len();
-        let hold: Vec<f64> = status.hold[..n].to_vec();
-        self.publish_motion(
-            status.motion_id,
-            status.cycle,
-            total,
-            FLAG_TORQUE,
-            |k, row| {
-                for (i, sp) in row.iter_mut().enumerate() {
-                    *sp = AxisSetpoint {
-                        position: hold[i],
-                        velocity: 0.0,
-                        torque: 0.0,
-                    };
-                }
-                for (t, r) in targets.iter().zip(&ramps) {
-                    row[t.axis].torque = r.at(k as f64 * period);
-                }
-            },
-        )
+        let req = MotionRequest::Torque {
+            targets: targets
+                .iter()
+                .map(|t| (t.axis, t.torque, t.slope))
+                .collect(),
+            hold_s,
+        };
+        self.run_motion(req)
     }
 
-    /// Publishes a motion of `total` cycles (cycle k = 1..=total filled by `fill`) in blocks,
-    /// at most the lookahead ahead of the RT thread, then waits until the RT thread finished it.
-    fn publish_motion(
-        &mut self,
-        last_motion_id: u32,
-        now_cycle: u64,
-        total: u64,
-        flags: u32,
-        mut fill: impl FnMut(u64, &mut [AxisSetpoint]),
-    ) -> Result<(), ProgramError> {
-        let n = self.cell.axes.len();
-        let period = self.cell.period();
-        let motion_id = last_motion_id.wrapping_add(1).max(1);
-        let cycle_ns = self.cell.cycle_time.as_nanos() as f64;
-        let delay = (self.cell.setpoints.start_delay * 1e9 / cycle_ns).ceil() as u64;
-        let lookahead = ((self.cell.setpoints.lookahead * 1e9 / cycle_ns).ceil() as u64)
-            .max(2 * BLOCK_CYCLES as u64);
-        let start_cycle = now_cycle + delay.max(2);
-
-        let mut rows = vec![AxisSetpoint::default(); BLOCK_CYCLES * n];
-        let mut k = 1u64;
-        while k <= total {
-            let block_start = start_cycle + (k - 1);
-            // Keep at most `lookahead` cycles ahead of the RT thread.
-            loop {
-                if self.aborted() {
-                    return Ok(());
-                }
-                let now = self.check_running(motion_id, block_start)?;
-                if block_start <= now + lookahead {
-                    break;
-                }
-                std::thread::sleep(Duration::from_secs_f64((period / 2.0).min(1e-3)));
-            }
-            self.inject_stall()?;
-            if self.aborted() {
-                return Ok(());
-            }
-            let cycles = (total - k + 1).min(BLOCK_CYCLES as u64) as usize;
-            for c in 0..cycles {
-                fill(k + c as u64, &mut rows[c * n..(c + 1) * n]);
-            }
-            let mut loaned = self
-                .publisher
-                .loan_slice_uninit(cycles * n)
-                .map_err(|e| self.err(format!("setpoint loan failed: {e:?}")))?;
-            *loaned.user_header_mut() = SetpointHeader {
-                motion_id,
-                flags: flags
-                    | if k + cycles as u64 > total {
-                        FLAG_LAST
-                    } else {
-                        0
-                    },
-                start_cycle: block_start,
-                cycles: cycles as u32,
-                axis_count: n as u32,
-            };
-            loaned
-                .write_from_slice(&rows[..cycles * n])
-                .send()
-                .map_err(|e| self.err(format!("setpoint publish failed: {e:?}")))?;
-            k += cycles as u64;
+    /// Hands `req` to the motion engine and follows it until the RT thread finished it.
+    fn run_motion(&mut self, req: MotionRequest) -> Result<(), ProgramError> {
+        if let Err(e) = self.engine.submit(req, self.link.as_mut()) {
+            return Err(self.err(e));
         }
-
-        // Wait for the RT thread to finish the motion.
-        let end_cycle = start_cycle + total;
         loop {
             if self.aborted() {
                 return Ok(());
             }
-            let s = self.status()?;
-            if s.motion_done == motion_id && s.state == CellState::Idle {
-                return Ok(());
+            self.poll_operator();
+            match self.engine.tick(self.link.as_mut()) {
+                Ok(Progress::Running) => {}
+                Ok(Progress::Idle | Progress::Finished(_)) => return Ok(()),
+                Err(e) => return Err(self.err(e)),
             }
-            self.check_running(motion_id, end_cycle)?;
-            std::thread::sleep(Duration::from_millis(1));
-        }
-    }
-
-    /// Fault injection: stops publishing for a while once a scheduled planner stall is due.
-    fn inject_stall(&mut self) -> Result<(), ProgramError> {
-        let now = self.status()?.cycle;
-        if let Some(pos) = self.stalls.iter().position(|(c, _)| *c <= now) {
-            let (_, ns) = self.stalls.remove(pos);
-            self.link.event(EventKind::FaultInjected, 3);
-            self.sleep(Duration::from_nanos(ns));
-        }
-        Ok(())
-    }
-
-    /// Fails the step if the RT thread stopped the motion or never started it; returns the
-    /// cell's current cycle.
-    fn check_running(&mut self, motion_id: u32, next_cycle: u64) -> Result<u64, ProgramError> {
-        let s = self.status()?;
-        match s.state {
-            CellState::Stopping | CellState::Stopped | CellState::Faulted => {
-                let why = s.stop_reason.map(|r| r.as_str()).unwrap_or("unknown");
-                Err(self.err(format!(
-                    "motion {motion_id} was stopped by the RT thread ({why})"
-                )))
-            }
-            CellState::Disabled | CellState::Disabling | CellState::Enabling => Err(self.err(
-                format!("the cell is {} during motion {motion_id}", s.state.as_str()),
-            )),
-            CellState::Idle
-                if s.motion_id != motion_id && s.cycle > next_cycle + 2 * BLOCK_CYCLES as u64 =>
-            {
-                Err(self.err(format!(
-                    "the RT thread did not start motion {motion_id} (its first block was rejected; see the events)"
-                )))
-            }
-            _ => Ok(s.cycle),
+            std::thread::sleep(TICK);
         }
     }
 }

@@ -34,7 +34,11 @@ impl ServiceError {
     }
 }
 
-fn service_error(what: &'static str, cell: &str, e: impl std::fmt::Debug) -> ServiceError {
+pub(crate) fn service_error(
+    what: &'static str,
+    cell: &str,
+    e: impl std::fmt::Debug,
+) -> ServiceError {
     ServiceError {
         what,
         cell: cell.to_string(),
@@ -66,6 +70,25 @@ pub struct StatusSample {
     pub axis_count: u32,
     /// Hold position per axis, counts.
     pub hold: [f64; MAX_AXES],
+    /// Latest feedback of each axis (first `axis_count` valid).
+    pub live: [LiveAxis; MAX_AXES],
+}
+
+/// Latest feedback of one axis, as the operator's status shows it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("cellrt::LiveAxis")]
+pub struct LiveAxis {
+    /// 6064h, counts.
+    pub position_actual: i32,
+    /// 606Ch, counts/s.
+    pub velocity_actual: i32,
+    /// 60F4h, counts.
+    pub following_error: i32,
+    /// 6041h.
+    pub statusword: u16,
+    /// 603Fh.
+    pub error_code: u16,
 }
 
 impl Default for StatusSample {
@@ -80,6 +103,7 @@ impl Default for StatusSample {
             motion_done: 0,
             axis_count: 0,
             hold: [0.0; MAX_AXES],
+            live: [LiveAxis::default(); MAX_AXES],
         }
     }
 }

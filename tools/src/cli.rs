@@ -11,6 +11,9 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+    /// Which running cell the operator commands address.
+    #[command(flatten)]
+    pub target: crate::commands::operate::Target,
 }
 
 /// Subcommands.
@@ -31,6 +34,9 @@ pub enum Command {
     Replay(ReplayArgs),
     /// Benchmarks: wakeup latency, comparison with cyclictest, the full loop with N axes.
     Bench(crate::commands::bench::BenchArgs),
+    /// Operator commands to a running cell.
+    #[command(flatten)]
+    Operate(crate::commands::operate::OperatorCommand),
 }
 
 /// `cellrt inspect`.

@@ -9,6 +9,10 @@ pub enum Exit {
     Failed,
     /// Bad input: configuration, program or command line.
     BadInput,
+    /// The cell rejected the command (nothing changed).
+    Rejected,
+    /// No running cell, or it did not answer.
+    Unreachable,
 }
 
 impl Exit {
@@ -18,6 +22,8 @@ impl Exit {
             Exit::Ok => 0,
             Exit::Failed => 1,
             Exit::BadInput => 2,
+            Exit::Rejected => 3,
+            Exit::Unreachable => 4,
         }
     }
 }

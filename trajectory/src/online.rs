@@ -23,6 +23,10 @@ use crate::planner::AxisState;
 /// at the end of the position range (covers the setpoint lookahead of the caller).
 pub const JOG_RANGE_RESERVE_CYCLES: f64 = 4.0;
 
+/// Relative distance to a position target below which a sample is the target (numerical
+/// noise of the profile evaluation, far below any encoder resolution).
+pub const POLISH_TOLERANCE: f64 = 1e-9;
+
 /// One axis as the online motion sees it: its limits and its position range.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OnlineAxis {
@@ -293,6 +297,7 @@ impl OnlineMotion {
             other => return Err(OnlineError::Ruckig(format!("{other:?}"))),
         }
         self.output.pass_to_input(&mut self.input);
+        self.polish();
         self.finished = result == RuckigResult::Finished;
         if self.finished {
             self.settle();
@@ -332,6 +337,20 @@ impl OnlineMotion {
         }
         if changed {
             self.apply_goals();
+        }
+    }
+
+    /// Removes floating-point noise at a position target (rsruckig's last working sample may
+    /// pass it by ~1e-15): a position within [`POLISH_TOLERANCE`] of its target is the target,
+    /// so a target at the end of the range never leaves the range by noise.
+    fn polish(&mut self) {
+        for i in 0..self.axes.len() {
+            if let AxisGoal::Position(target) = self.goals[i] {
+                let p = &mut self.input.current_position[i];
+                if (*p - target).abs() <= POLISH_TOLERANCE * target.abs().max(1.0) {
+                    *p = target;
+                }
+            }
         }
     }
 

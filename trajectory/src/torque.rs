@@ -43,6 +43,11 @@ impl TorqueRamp {
         })
     }
 
+    /// The slope, %/s.
+    pub fn slope(&self) -> f64 {
+        self.slope
+    }
+
     /// Time of one ramp, s.
     pub fn ramp_s(&self) -> f64 {
         self.target.abs() / self.slope

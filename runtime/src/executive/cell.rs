@@ -259,6 +259,16 @@ impl<B: Bus> Executive<B> {
     fn publish_holds(&self) {
         for (i, ch) in self.axes.iter().enumerate() {
             self.handoff.status.hold[i].store(ch.setpoint.to_bits(), Ordering::Release);
+            let live = &self.handoff.status.live[i];
+            let f = &ch.feedback;
+            live.position_actual
+                .store(f.position_actual, Ordering::Relaxed);
+            live.velocity_actual
+                .store(f.velocity_actual, Ordering::Relaxed);
+            live.following_error
+                .store(f.following_error, Ordering::Relaxed);
+            live.statusword.store(f.statusword.0, Ordering::Relaxed);
+            live.error_code.store(f.error_code, Ordering::Relaxed);
         }
     }
 

@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod inspect;
+pub mod operate;
 pub mod planner;
 pub mod recover;
 pub mod replay;

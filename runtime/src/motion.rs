@@ -1,0 +1,510 @@
+//! The motion engine of the non-RT side: turns motion requests (moves, jogs, halts, torque,
+//! the feed override) into one continuous setpoint stream for the RT thread.
+//!
+//! A motion, for the RT thread, is a run of contiguous setpoint blocks with one motion id that
+//! ends with a block flagged last. The engine keeps publishing at most the lookahead ahead of
+//! the RT thread's cycle, sampling [`OnlineMotion`] once per cycle, so a request that arrives
+//! during a motion changes the goal from the first cycle not yet published: the motion goes on
+//! under the same id, continuous in position, velocity and acceleration (re-targeting). A
+//! request arriving after the last block went out waits for the RT thread to finish that
+//! motion (at most the lookahead) and starts the next one.
+
+use std::time::{Duration, Instant};
+
+use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_trajectory::{AxisState, KinematicLimits, OnlineAxis, OnlineMotion, TorqueRamp};
+
+use crate::config::CellConfig;
+use crate::handoff::{CellState, EventKind};
+use crate::link::{CellLink, StatusSnapshot};
+use crate::services::SetpointPublisher;
+use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, FLAG_LAST, FLAG_TORQUE};
+
+/// How long a request waits for the motion whose last block is out to finish.
+pub const FINISH_WAIT: Duration = Duration::from_secs(2);
+
+/// What a request asks of the motion.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MotionRequest {
+    /// Move the listed axes (index, target in units, limits in units), time-synchronised.
+    Move(Vec<(usize, f64, KinematicLimits)>),
+    /// Jog one axis at a signed velocity (units/s) with these limits.
+    Jog {
+        /// Axis index.
+        axis: usize,
+        /// Velocity, unit/s.
+        velocity: f64,
+        /// Limits of the ramp.
+        limits: KinematicLimits,
+    },
+    /// Brake the listed axes (all when `None`) to rest and hold.
+    Halt(Option<Vec<usize>>),
+    /// Torque on cst axes: (axis index, torque %, slope %/s), held `hold_s` seconds.
+    Torque {
+        /// Axes, torques and slopes.
+        targets: Vec<(usize, f64, f64)>,
+        /// Seconds at the target torque.
+        hold_s: f64,
+    },
+}
+
+/// Torque motion in progress: the ramps from its start, or a ramp down from a halt.
+struct TorqueMotion {
+    ramps: Vec<(usize, TorqueRamp)>,
+    /// Cycle index of a halt and the torque of each ramp then.
+    halted: Option<(u64, Vec<f64>)>,
+    end: u64,
+}
+
+impl TorqueMotion {
+    fn value(&self, index: usize, k: u64, period: f64) -> f64 {
+        let (_, ramp) = &self.ramps[index];
+        match &self.halted {
+            Some((kh, at)) if k >= *kh => {
+                let t = (k - kh) as f64 * period;
+                let mag = (at[index].abs() - ramp.slope() * t).max(0.0);
+                mag * at[index].signum()
+            }
+            _ => ramp.at(k as f64 * period),
+        }
+    }
+}
+
+enum Kind {
+    Online,
+    Torque(TorqueMotion),
+}
+
+/// The motion the RT thread is (about to be) running.
+struct Active {
+    motion_id: u32,
+    start_cycle: u64,
+    /// Next cycle index (1-based) to publish.
+    next: u64,
+    last_published: bool,
+    kind: Kind,
+}
+
+/// What [`MotionEngine::tick`] saw.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Progress {
+    /// No motion.
+    Idle,
+    /// A motion runs.
+    Running,
+    /// The motion ended this tick (the RT thread reported it done).
+    Finished(u32),
+}
+
+/// The engine: the cell's online motion and the setpoint publisher.
+pub struct MotionEngine {
+    cell: CellConfig,
+    publisher: SetpointPublisher,
+    online: OnlineMotion,
+    active: Option<Active>,
+    rows: Vec<AxisSetpoint>,
+    states: Vec<AxisState>,
+    hold: Vec<f64>,
+    /// Planner stalls still to inject: (cycle, duration ns).
+    stalls: Vec<(u64, u64)>,
+}
+
+impl MotionEngine {
+    /// An engine publishing on `publisher` for `cell`.
+    pub fn new(cell: &CellConfig, publisher: SetpointPublisher) -> MotionEngine {
+        let n = cell.axes.len();
+        let axes = cell
+            .axes
+            .iter()
+            .map(|a| OnlineAxis {
+                limits: a.limits,
+                range: a.position,
+            })
+            .collect();
+        let start: Vec<f64> = cell
+            .axes
+            .iter()
+            .map(|a| a.position.min.max(0.0).min(a.position.max))
+            .collect();
+        MotionEngine {
+            online: OnlineMotion::new(axes, cell.period(), &start),
+            publisher,
+            active: None,
+            rows: vec![AxisSetpoint::default(); BLOCK_CYCLES * n],
+            states: vec![AxisState::default(); n],
+            hold: vec![0.0; n],
+            stalls: cell
+                .inject
+                .iter()
+                .filter_map(|i| match i.fault {
+                    crate::config::InjectedFault::PlannerStall { ns } => Some((i.cycle, ns)),
+                    _ => None,
+                })
+                .collect(),
+            cell: cell.clone(),
+        }
+    }
+
+    /// Whether a motion is in flight.
+    pub fn is_busy(&self) -> bool {
+        self.active.is_some()
+    }
+
+    /// The id of the motion in flight.
+    pub fn motion_id(&self) -> Option<u32> {
+        self.active.as_ref().map(|a| a.motion_id)
+    }
+
+    /// The commanded position of axis `i` in units: where the motion in flight has got to in
+    /// publishing, or the RT thread's hold position.
+    pub fn position(
+        &self,
+        i: usize,
+        status: &StatusSnapshot,
+        axis: &crate::config::AxisConfig,
+    ) -> f64 {
+        match self.active.as_ref().map(|a| &a.kind) {
+            Some(Kind::Online) => self.online.state(i).position,
+            _ => axis.scaling.to_units(status.hold[i]),
+        }
+    }
+
+    /// The feed override in effect, 0..=1.
+    pub fn feed_override(&self) -> f64 {
+        self.online.feed_override()
+    }
+
+    /// Sets the feed override (0..=1); a motion in flight follows it smoothly.
+    pub fn set_override(&mut self, value: f64) -> Result<(), String> {
+        self.online.set_override(value).map_err(|e| e.to_string())
+    }
+
+    /// Applies `req`: changes the motion in flight or starts one. Refused (with the reason,
+    /// nothing changed) when the cell cannot take it.
+    pub fn submit(&mut self, req: MotionRequest, link: &mut dyn CellLink) -> Result<(), String> {
+        self.check_request(&req)?;
+        if self.active.as_ref().is_some_and(|a| a.last_published) {
+            self.wait_finished(link)?;
+        }
+        let torque_active = matches!(self.active.as_ref().map(|a| &a.kind), Some(Kind::Torque(_)));
+        match (&req, self.active.is_some()) {
+            (MotionRequest::Halt(_), false) => return Ok(()),
+            (MotionRequest::Halt(_), true) if torque_active => {
+                let period = self.cell.period();
+                let Some(Active {
+                    next,
+                    kind: Kind::Torque(t),
+                    ..
+                }) = self.active.as_mut()
+                else {
+                    unreachable!("torque_active")
+                };
+                if t.halted.is_none() {
+                    let k = *next;
+                    let at: Vec<f64> = (0..t.ramps.len()).map(|i| t.value(i, k, period)).collect();
+                    let ramp_s = t
+                        .ramps
+                        .iter()
+                        .zip(&at)
+                        .map(|((_, r), v)| v.abs() / r.slope())
+                        .fold(0.0, f64::max);
+                    t.end = k + (ramp_s / period).ceil() as u64 + 1;
+                    t.halted = Some((k, at));
+                }
+                return Ok(());
+            }
+            (_, true) if torque_active => {
+                return Err(
+                    "a torque command is active: halt it (or wait for its end) first".into(),
+                )
+            }
+            (MotionRequest::Torque { .. }, true) => {
+                return Err("a motion is active: halt it (or wait for its end) first".into())
+            }
+            _ => {}
+        }
+        if self.active.is_none() {
+            let status = link.status()?;
+            if status.state != CellState::Idle {
+                return Err(format!(
+                    "the cell is {}, not idle (power on first, or reset after a stop)",
+                    status.state.as_str()
+                ));
+            }
+            let kind = match &req {
+                MotionRequest::Torque { targets, hold_s } => {
+                    let ramps = targets
+                        .iter()
+                        .map(|&(axis, torque, slope)| {
+                            TorqueRamp::new(torque, slope, *hold_s).map(|r| (axis, r))
+                        })
+                        .collect::<Result<Vec<_>, _>>()
+                        .map_err(|e| format!("torque profile: {e}"))?;
+                    let duration = ramps
+                        .iter()
+                        .map(|(_, r)| r.duration_s())
+                        .fold(0.0, f64::max);
+                    // One cycle past the end so the last setpoint is zero torque.
+                    let end = (duration / self.cell.period()).ceil() as u64 + 1;
+                    Kind::Torque(TorqueMotion {
+                        ramps,
+                        halted: None,
+                        end,
+                    })
+                }
+                _ => Kind::Online,
+            };
+            self.begin(&status, kind);
+        }
+        let r = match req {
+            MotionRequest::Move(targets) => self.online.move_to(&targets),
+            MotionRequest::Jog {
+                axis,
+                velocity,
+                limits,
+            } => self.online.jog(axis, velocity, limits),
+            MotionRequest::Halt(axes) => self.online.halt(axes.as_deref()),
+            MotionRequest::Torque { .. } => Ok(()),
+        };
+        r.map_err(|e| self.describe(e))
+    }
+
+    /// Refusals that depend on the configuration only (before anything changes).
+    fn check_request(&self, req: &MotionRequest) -> Result<(), String> {
+        let axes = &self.cell.axes;
+        match req {
+            // A cst axis positions in csv between torque commands (`AxisChannel::drive_command`).
+            MotionRequest::Move(targets) => {
+                if targets.is_empty() {
+                    return Err("a move needs at least one axis target".into());
+                }
+                if let Some(&(i, _, _)) = targets.iter().find(|t| t.0 >= axes.len()) {
+                    return Err(format!("axis index {i} unknown"));
+                }
+            }
+            MotionRequest::Jog { axis, .. } => {
+                if *axis >= axes.len() {
+                    return Err(format!("axis index {axis} unknown"));
+                }
+            }
+            MotionRequest::Halt(_) => {}
+            MotionRequest::Torque { targets, .. } => {
+                if targets.is_empty() {
+                    return Err("a torque command needs at least one axis".into());
+                }
+                for &(i, torque, _) in targets {
+                    let a = axes
+                        .get(i)
+                        .ok_or_else(|| format!("axis index {i} unknown"))?;
+                    let limits = a
+                        .torque
+                        .filter(|_| a.mode == ModeOfOperation::CyclicSyncTorque);
+                    let Some(limits) = limits else {
+                        return Err(format!(
+                            "axis '{}' runs in {}; torque needs an axis with mode = \"cst\"",
+                            a.name,
+                            a.mode.as_str()
+                        ));
+                    };
+                    if !torque.is_finite() || torque.abs() > limits.max.0 {
+                        return Err(format!(
+                            "torque {torque} % is outside the torque limit ±{} % of axis '{}'",
+                            limits.max.0, a.name
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Names the axis in an online-motion refusal.
+    fn describe(&self, e: cellrt_trajectory::OnlineError) -> String {
+        use cellrt_trajectory::OnlineError as E;
+        let axis = match &e {
+            E::NotFinite { axis, .. } | E::Limits { axis, .. } => Some(*axis),
+            E::VelocityAboveLimit { axis, .. } => Some(*axis),
+            _ => None,
+        };
+        let text = e.to_string();
+        match axis.and_then(|i| self.cell.axes.get(i)) {
+            Some(a) => text.replacen(
+                &format!("axis {}", axis.unwrap_or(0)),
+                &format!("axis '{}' ({})", a.name, a.unit),
+                1,
+            ),
+            None => text,
+        }
+    }
+
+    /// A new motion from rest at the RT thread's hold positions.
+    fn begin(&mut self, status: &StatusSnapshot, kind: Kind) {
+        let n = self.cell.axes.len();
+        for (i, a) in self.cell.axes.iter().enumerate() {
+            self.hold[i] = status.hold[i];
+            self.states[i] = AxisState {
+                position: a.scaling.to_units(status.hold[i]),
+                ..AxisState::default()
+            };
+        }
+        let positions: Vec<f64> = self.states[..n].iter().map(|s| s.position).collect();
+        self.online.reset(&positions);
+        let cycle_ns = self.cell.cycle_time.as_nanos() as f64;
+        let delay = (self.cell.setpoints.start_delay * 1e9 / cycle_ns).ceil() as u64;
+        self.active = Some(Active {
+            motion_id: status.motion_id.wrapping_add(1).max(1),
+            start_cycle: status.cycle + delay.max(2),
+            next: 1,
+            last_published: false,
+            kind,
+        });
+    }
+
+    /// Waits (at most [`FINISH_WAIT`]) for the motion whose last block is out to end.
+    fn wait_finished(&mut self, link: &mut dyn CellLink) -> Result<(), String> {
+        let end = Instant::now() + FINISH_WAIT;
+        while self.active.is_some() {
+            self.tick(link)?;
+            if Instant::now() >= end {
+                return Err("the previous motion did not finish".into());
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        Ok(())
+    }
+
+    /// Abandons the motion in flight without publishing more (after a stop or power off).
+    pub fn abandon(&mut self) {
+        self.active = None;
+    }
+
+    /// Publishes what the lookahead allows and follows the RT thread; fails (and drops the
+    /// motion) when the RT thread stopped it or never started it.
+    pub fn tick(&mut self, link: &mut dyn CellLink) -> Result<Progress, String> {
+        let Some(active) = self.active.as_ref() else {
+            return Ok(Progress::Idle);
+        };
+        let id = active.motion_id;
+        let s = link.status()?;
+        let next_cycle = active.start_cycle + active.next - 1;
+        if let Err(e) = check_running(&s, id, next_cycle) {
+            self.active = None;
+            return Err(e);
+        }
+        if active.last_published {
+            if s.motion_done == id && s.state == CellState::Idle {
+                self.active = None;
+                return Ok(Progress::Finished(id));
+            }
+            return Ok(Progress::Running);
+        }
+        let cycle_ns = self.cell.cycle_time.as_nanos() as f64;
+        let lookahead = ((self.cell.setpoints.lookahead * 1e9 / cycle_ns).ceil() as u64)
+            .max(2 * BLOCK_CYCLES as u64);
+        let mut now = s.cycle;
+        while let Some(a) = self.active.as_ref() {
+            if a.last_published || a.start_cycle + a.next - 1 > now + lookahead {
+                break;
+            }
+            if let Some(pos) = self.stalls.iter().position(|(c, _)| *c <= now) {
+                let (_, ns) = self.stalls.remove(pos);
+                link.event(EventKind::FaultInjected, 3);
+                std::thread::sleep(Duration::from_nanos(ns));
+                now = link.status()?.cycle;
+                continue;
+            }
+            self.publish_block()?;
+        }
+        Ok(Progress::Running)
+    }
+
+    /// Samples and publishes the next block of the active motion.
+    fn publish_block(&mut self) -> Result<(), String> {
+        let n = self.cell.axes.len();
+        let period = self.cell.period();
+        let Some(a) = self.active.as_mut() else {
+            return Ok(());
+        };
+        let mut cycles = 0;
+        let mut last = false;
+        let flags = match &a.kind {
+            Kind::Online => 0,
+            Kind::Torque(_) => FLAG_TORQUE,
+        };
+        while cycles < BLOCK_CYCLES && !last {
+            let k = a.next + cycles as u64;
+            let row = &mut self.rows[cycles * n..(cycles + 1) * n];
+            match &a.kind {
+                Kind::Online => {
+                    self.online
+                        .step(&mut self.states)
+                        .map_err(|e| format!("planning failed: {e}"))?;
+                    for ((sp, st), ax) in row.iter_mut().zip(&self.states).zip(&self.cell.axes) {
+                        *sp = AxisSetpoint {
+                            position: ax.scaling.to_counts(st.position),
+                            velocity: ax.scaling.to_counts(st.velocity),
+                            torque: 0.0,
+                        };
+                    }
+                    last = self.online.is_done();
+                }
+                Kind::Torque(t) => {
+                    for (sp, h) in row.iter_mut().zip(&self.hold) {
+                        *sp = AxisSetpoint {
+                            position: *h,
+                            velocity: 0.0,
+                            torque: 0.0,
+                        };
+                    }
+                    for (i, (axis, _)) in t.ramps.iter().enumerate() {
+                        row[*axis].torque = t.value(i, k, period);
+                    }
+                    last = k >= t.end;
+                }
+            }
+            cycles += 1;
+        }
+        let mut loaned = self
+            .publisher
+            .loan_slice_uninit(cycles * n)
+            .map_err(|e| format!("setpoint loan failed: {e:?}"))?;
+        *loaned.user_header_mut() = SetpointHeader {
+            motion_id: a.motion_id,
+            flags: flags | if last { FLAG_LAST } else { 0 },
+            start_cycle: a.start_cycle + a.next - 1,
+            cycles: cycles as u32,
+            axis_count: n as u32,
+        };
+        loaned
+            .write_from_slice(&self.rows[..cycles * n])
+            .send()
+            .map_err(|e| format!("setpoint publish failed: {e:?}"))?;
+        a.next += cycles as u64;
+        a.last_published = last;
+        Ok(())
+    }
+}
+
+/// Fails if the RT thread stopped motion `id` or never started it.
+fn check_running(s: &StatusSnapshot, id: u32, next_cycle: u64) -> Result<(), String> {
+    match s.state {
+        CellState::Stopping | CellState::Stopped | CellState::Faulted => {
+            let why = s.stop_reason.map(|r| r.as_str()).unwrap_or("unknown");
+            Err(format!("motion {id} was stopped by the RT thread ({why})"))
+        }
+        CellState::Disabled | CellState::Disabling | CellState::Enabling => Err(format!(
+            "the cell is {} during motion {id}",
+            s.state.as_str()
+        )),
+        CellState::Idle
+            if s.motion_id != id
+                && s.motion_done != id
+                && s.cycle > next_cycle + 2 * BLOCK_CYCLES as u64 =>
+        {
+            Err(format!(
+                "the RT thread did not start motion {id} (its first block was rejected; see the events)"
+            ))
+        }
+        _ => Ok(()),
+    }
+}

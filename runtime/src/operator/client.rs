@@ -1,0 +1,162 @@
+//! The operator service's client end (the CLI and any other process): finds the running cell,
+//! sends a request and waits for its reply.
+
+use std::time::{Duration, Instant};
+
+use iceoryx2::node::{NodeState, NodeView};
+use iceoryx2::prelude::*;
+
+use super::wire::{self, Reply, Request};
+use super::OperatorClientPort;
+use crate::services;
+
+/// How long a request waits for its reply by default.
+pub const REPLY_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// Why a request got no reply.
+#[derive(Debug, thiserror::Error)]
+pub enum ClientError {
+    /// No cell runs, or not the one named.
+    #[error("{0}")]
+    NoCell(String),
+    /// The iceoryx2 side failed.
+    #[error("operator service: {0}")]
+    Service(String),
+    /// No reply in time.
+    #[error("cell '{cell}' did not answer within {timeout:?}")]
+    Timeout {
+        /// Cell name.
+        cell: String,
+        /// How long we waited.
+        timeout: Duration,
+    },
+    /// The reply is not a reply document.
+    #[error("cell '{cell}' sent a malformed reply: {detail}")]
+    BadReply {
+        /// Cell name.
+        cell: String,
+        /// Decoder message.
+        detail: String,
+    },
+}
+
+/// Names of the cells whose planner (the operator service's owner) is alive.
+pub fn running_cells() -> Vec<String> {
+    let mut cells = Vec::new();
+    let _ = Node::<ipc::Service>::list(&services::config(), |state| {
+        if let NodeState::Alive(view) = &state {
+            if let Some(d) = NodeView::details(view).as_ref() {
+                let name = d.name().as_str();
+                if let Some(cell) = name
+                    .strip_prefix("cellrt-")
+                    .and_then(|n| n.strip_suffix("-planner"))
+                {
+                    if !cells.iter().any(|c| c == cell) {
+                        cells.push(cell.to_string());
+                    }
+                }
+            }
+        }
+        CallbackProgression::Continue
+    });
+    cells.sort();
+    cells
+}
+
+/// A connection to one cell's operator service.
+pub struct OperatorClient {
+    port: OperatorClientPort,
+    _node: Node<ipc::Service>,
+    cell: String,
+}
+
+impl OperatorClient {
+    /// Connects to `cell`, or to the only running cell when `None`.
+    pub fn connect(cell: Option<&str>) -> Result<OperatorClient, ClientError> {
+        let running = running_cells();
+        let cell = match cell {
+            Some(c) if running.iter().any(|r| r == c) => c.to_string(),
+            Some(c) => {
+                return Err(ClientError::NoCell(format!(
+                    "no cell named '{c}' is running{}",
+                    others(&running)
+                )))
+            }
+            None => match running.as_slice() {
+                [one] => one.clone(),
+                [] => {
+                    return Err(ClientError::NoCell(
+                        "no cell is running (start one with `cellrt run CONFIG --no-program`)"
+                            .into(),
+                    ))
+                }
+                many => {
+                    return Err(ClientError::NoCell(format!(
+                        "{} cells are running ({}); name one with --cell",
+                        many.len(),
+                        many.join(", ")
+                    )))
+                }
+            },
+        };
+        let role = format!("cli-{}", std::process::id());
+        let node = services::node(&cell, &role).map_err(|e| ClientError::Service(e.to_string()))?;
+        let port =
+            super::client_port(&node, &cell).map_err(|e| ClientError::Service(e.to_string()))?;
+        Ok(OperatorClient {
+            port,
+            _node: node,
+            cell,
+        })
+    }
+
+    /// The cell connected to.
+    pub fn cell(&self) -> &str {
+        &self.cell
+    }
+
+    /// Sends `req` and waits up to `timeout` for the reply.
+    pub fn request(&self, req: &Request, timeout: Duration) -> Result<Reply, ClientError> {
+        self.request_bytes(&wire::encode(req), timeout)
+    }
+
+    /// Sends raw bytes as a request (for tools and tests of malformed payloads).
+    pub fn request_bytes(&self, bytes: &[u8], timeout: Duration) -> Result<Reply, ClientError> {
+        let service = |e: String| ClientError::Service(e);
+        let pending = self
+            .port
+            .loan_slice_uninit(bytes.len().max(1))
+            .map_err(|e| service(format!("{e:?}")))?
+            .write_from_fn(|i| bytes.get(i).copied().unwrap_or(b' '))
+            .send()
+            .map_err(|e| service(format!("{e:?}")))?;
+        let end = Instant::now() + timeout;
+        loop {
+            match pending.receive() {
+                Ok(Some(r)) => {
+                    return serde_json::from_slice(r.payload()).map_err(|e| ClientError::BadReply {
+                        cell: self.cell.clone(),
+                        detail: e.to_string(),
+                    })
+                }
+                Ok(None) => {}
+                Err(e) => return Err(service(format!("{e:?}"))),
+            }
+            if Instant::now() >= end {
+                return Err(ClientError::Timeout {
+                    cell: self.cell.clone(),
+                    timeout,
+                });
+            }
+            std::thread::sleep(Duration::from_micros(100));
+        }
+    }
+}
+
+fn others(running: &[String]) -> String {
+    if running.is_empty() {
+        String::new()
+    } else {
+        format!(" (running: {})", running.join(", "))
+    }
+}

@@ -1,0 +1,63 @@
+//! The operator interface: an iceoryx2 request-response service per cell
+//! (`cellrt/<cell>/operator`) through which the CLI and other processes power, move, halt, stop,
+//! reset and query the cell. Requests and replies are JSON ([`wire`]).
+
+pub mod client;
+pub mod server;
+pub mod wire;
+
+use iceoryx2::port::client::Client;
+use iceoryx2::port::server::Server;
+use iceoryx2::prelude::*;
+use iceoryx2::service::port_factory::request_response::PortFactory;
+
+use crate::services::{self, ServiceError};
+
+/// Initial size of reply buffers, bytes (grown by power of two for a large status).
+pub const SERVICE_RESPONSE_BYTES: usize = 16 * 1024;
+
+/// Server end of the operator service.
+pub type OperatorServerPort = Server<ipc::Service, [u8], (), [u8], ()>;
+/// Client end of the operator service.
+pub type OperatorClientPort = Client<ipc::Service, [u8], (), [u8], ()>;
+
+/// The operator service (JSON bytes both ways, no user headers).
+type OperatorService = PortFactory<ipc::Service, [u8], (), [u8], ()>;
+
+/// The operator service's name for `cell`.
+pub fn service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/operator")
+}
+
+fn service(node: &Node<ipc::Service>, cell: &str) -> Result<OperatorService, ServiceError> {
+    let name = ServiceName::new(&service_name(cell))
+        .map_err(|e| services::service_error("service name", cell, e))?;
+    node.service_builder(&name)
+        .request_response::<[u8], [u8]>()
+        .max_clients(16)
+        .max_servers(1)
+        .max_active_requests_per_client(2)
+        .max_response_buffer_size(2)
+        .enable_safe_overflow_for_requests(true)
+        .enable_safe_overflow_for_responses(true)
+        .open_or_create()
+        .map_err(|e| services::service_error("operator service", cell, e))
+}
+
+fn server_port(node: &Node<ipc::Service>, cell: &str) -> Result<OperatorServerPort, ServiceError> {
+    service(node, cell)?
+        .server_builder()
+        .initial_max_slice_len(SERVICE_RESPONSE_BYTES)
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .create()
+        .map_err(|e| services::service_error("operator server", cell, e))
+}
+
+fn client_port(node: &Node<ipc::Service>, cell: &str) -> Result<OperatorClientPort, ServiceError> {
+    service(node, cell)?
+        .client_builder()
+        .initial_max_slice_len(wire::MAX_REQUEST_BYTES.min(4096))
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .create()
+        .map_err(|e| services::service_error("operator client", cell, e))
+}

@@ -1,0 +1,448 @@
+//! The operator service's server end: runs in the planner thread (the owner of the motion
+//! engine), answers each request with accepted or rejected, and tracks the command in execution.
+
+use cellrt_axes::cia402::statusword::Statusword;
+use cellrt_trajectory::KinematicLimits;
+use iceoryx2::prelude::*;
+
+use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
+use super::{OperatorServerPort, SERVICE_RESPONSE_BYTES};
+use crate::config::CellConfig;
+use crate::handoff::{CellCommand, CellState};
+use crate::link::CellLink;
+use crate::motion::{MotionEngine, MotionRequest, Progress};
+use crate::program::Program;
+use crate::services::ServiceError;
+
+/// What the planner thread must do after a request.
+pub enum Followup {
+    /// Nothing.
+    None,
+    /// Run this program (already validated).
+    RunProgram(Program),
+    /// Abort the program in execution (halt or stop by the operator).
+    AbortProgram,
+}
+
+/// The server: the iceoryx2 port and the command bookkeeping.
+pub struct OperatorServer {
+    port: OperatorServerPort,
+    next_id: u64,
+    active: Option<ActiveCommand>,
+    last_finished: Option<FinishedCommand>,
+}
+
+/// What a request may touch.
+pub struct Context<'a> {
+    /// The cell.
+    pub cell: &'a CellConfig,
+    /// The motion engine.
+    pub engine: &'a mut MotionEngine,
+    /// The RT thread.
+    pub link: &'a mut dyn CellLink,
+    /// Whether a program runs.
+    pub program_running: bool,
+}
+
+impl OperatorServer {
+    /// Opens the cell's operator service.
+    pub fn new(node: &Node<ipc::Service>, cell: &str) -> Result<OperatorServer, ServiceError> {
+        Ok(OperatorServer {
+            port: super::server_port(node, cell)?,
+            next_id: 1,
+            active: None,
+            last_finished: None,
+        })
+    }
+
+    /// Marks the command in execution as ended (`Ok`) or failed.
+    pub fn finish_active(&mut self, result: Result<(), String>) {
+        if let Some(a) = self.active.take() {
+            self.last_finished = Some(FinishedCommand {
+                id: a.id,
+                command: a.command,
+                error: result.err(),
+            });
+        }
+    }
+
+    /// Follows the motion engine when no program drives it.
+    pub fn tick(&mut self, ctx: &mut Context<'_>) {
+        match ctx.engine.tick(ctx.link) {
+            Ok(Progress::Finished(_)) => self.finish_active(Ok(())),
+            Ok(Progress::Idle) => {
+                if self
+                    .active
+                    .as_ref()
+                    .is_some_and(|a| MOTION_COMMANDS.contains(&a.command.as_str()))
+                {
+                    self.finish_active(Ok(()));
+                }
+            }
+            Ok(Progress::Running) => {}
+            Err(e) => self.finish_active(Err(e)),
+        }
+    }
+
+    /// Answers every pending request; returns what the caller must do next.
+    pub fn poll(&mut self, ctx: &mut Context<'_>) -> Followup {
+        let mut followup = Followup::None;
+        loop {
+            let active = match self.port.receive() {
+                Ok(Some(r)) => r,
+                Ok(None) => break,
+                Err(e) => {
+                    tracing::warn!("operator service: receive failed: {e:?}");
+                    break;
+                }
+            };
+            let (reply, f) = match wire::decode_request(active.payload()) {
+                Ok(req) => self.handle(req, ctx),
+                Err(reason) => (Reply::Rejected { reason }, Followup::None),
+            };
+            if !matches!(f, Followup::None) {
+                followup = f;
+            }
+            let bytes = wire::encode(&reply);
+            let sent = match active.loan_slice_uninit(bytes.len().max(1)) {
+                Ok(r) => r
+                    .write_from_fn(|i| bytes.get(i).copied().unwrap_or(b' '))
+                    .send()
+                    .map_err(|e| format!("{e:?}")),
+                Err(e) => Err(format!("{e:?}")),
+            };
+            if let Err(e) = sent {
+                tracing::warn!(
+                    "operator service: reply of {} bytes (limit {SERVICE_RESPONSE_BYTES}) not sent: {e}",
+                    bytes.len()
+                );
+            }
+        }
+        followup
+    }
+
+    fn accept(&mut self, command: &str, tracked: bool) -> Reply {
+        let id = self.next_id;
+        self.next_id += 1;
+        if tracked {
+            if let Some(a) = self.active.take() {
+                // Replaced by this one (PLCopen "aborting" buffer mode).
+                self.last_finished = Some(FinishedCommand {
+                    id: a.id,
+                    command: a.command,
+                    error: Some(format!("replaced by command {id} ({command})")),
+                });
+            }
+            self.active = Some(ActiveCommand {
+                id,
+                command: command.to_string(),
+            });
+        }
+        Reply::Accepted { id }
+    }
+
+    fn handle(&mut self, req: Request, ctx: &mut Context<'_>) -> (Reply, Followup) {
+        let name = req.name();
+        let reject = |reason: String| (Reply::Rejected { reason }, Followup::None);
+        if ctx.program_running
+            && !matches!(
+                req,
+                Request::Status | Request::Halt { .. } | Request::Stop | Request::Override { .. }
+            )
+        {
+            return reject(format!(
+                "{name}: a program is running; halt or stop it first"
+            ));
+        }
+        let state = match ctx.link.status() {
+            Ok(s) => s,
+            Err(e) => return reject(format!("{name}: the RT thread does not answer: {e}")),
+        };
+        match req {
+            Request::Status => (
+                Reply::Status(Box::new(self.report(ctx, &state))),
+                Followup::None,
+            ),
+            Request::Power { on } => {
+                let blocked = if on {
+                    matches!(state.state, CellState::Stopped | CellState::Faulted)
+                        .then_some("reset it first")
+                } else {
+                    matches!(state.state, CellState::Moving | CellState::Stopping)
+                        .then_some("halt or stop the motion first")
+                };
+                if let Some(what) = blocked {
+                    return reject(format!(
+                        "power: the cell is {}; {what}",
+                        state.state.as_str()
+                    ));
+                }
+                let cmd = if on {
+                    CellCommand::PowerOn
+                } else {
+                    CellCommand::PowerOff
+                };
+                match ctx.link.command(cmd) {
+                    Ok(()) => (self.accept(name, false), Followup::None),
+                    Err(e) => reject(format!("power: {e}")),
+                }
+            }
+            Request::Move {
+                targets,
+                relative,
+                velocity,
+                acceleration,
+                jerk,
+                clamp,
+            } => {
+                let mut list = Vec::with_capacity(targets.len());
+                for (axis, value) in &targets {
+                    let i = match axis_index(ctx.cell, axis) {
+                        Ok(i) => i,
+                        Err(e) => return reject(format!("move: {e}")),
+                    };
+                    let a = &ctx.cell.axes[i];
+                    let limits = match move_limits(a, velocity, acceleration, jerk, clamp) {
+                        Ok(l) => l,
+                        Err(e) => return reject(format!("move: {e}")),
+                    };
+                    if !value.is_finite() {
+                        return reject(format!(
+                            "move: axis '{axis}': target {value} is not a finite number"
+                        ));
+                    }
+                    let target = if relative {
+                        ctx.engine.position(i, &state, a) + value
+                    } else {
+                        *value
+                    };
+                    list.push((i, target, limits));
+                }
+                self.motion(name, MotionRequest::Move(list), ctx)
+            }
+            Request::Velocity {
+                axis,
+                velocity,
+                acceleration,
+                clamp,
+            } => {
+                let i = match axis_index(ctx.cell, &axis) {
+                    Ok(i) => i,
+                    Err(e) => return reject(format!("velocity: {e}")),
+                };
+                let a = &ctx.cell.axes[i];
+                let limits = match move_limits(a, None, acceleration, None, clamp) {
+                    Ok(l) => l,
+                    Err(e) => return reject(format!("velocity: {e}")),
+                };
+                if !velocity.is_finite() {
+                    return reject(format!(
+                        "velocity: axis '{axis}': velocity {velocity} is not a finite number"
+                    ));
+                }
+                let v = if clamp {
+                    velocity.clamp(-a.limits.velocity, a.limits.velocity)
+                } else {
+                    velocity
+                };
+                self.motion(
+                    name,
+                    MotionRequest::Jog {
+                        axis: i,
+                        velocity: v,
+                        limits,
+                    },
+                    ctx,
+                )
+            }
+            Request::Torque { targets, seconds } => {
+                let mut list = Vec::with_capacity(targets.len());
+                for (axis, torque) in &targets {
+                    let i = match axis_index(ctx.cell, axis) {
+                        Ok(i) => i,
+                        Err(e) => return reject(format!("torque: {e}")),
+                    };
+                    let slope = ctx.cell.axes[i].torque.map(|t| t.slope).unwrap_or(f64::NAN);
+                    list.push((i, *torque, slope));
+                }
+                if !(seconds.is_finite() && seconds >= 0.0) {
+                    return reject(format!(
+                        "torque: seconds {seconds} must be a finite number ≥ 0"
+                    ));
+                }
+                self.motion(
+                    name,
+                    MotionRequest::Torque {
+                        targets: list,
+                        hold_s: seconds,
+                    },
+                    ctx,
+                )
+            }
+            Request::Halt { axes } => {
+                let list = if axes.is_empty() {
+                    None
+                } else {
+                    match axes
+                        .iter()
+                        .map(|a| axis_index(ctx.cell, a))
+                        .collect::<Result<Vec<_>, _>>()
+                    {
+                        Ok(l) => Some(l),
+                        Err(e) => return reject(format!("halt: {e}")),
+                    }
+                };
+                let abort = ctx.program_running;
+                if !ctx.engine.is_busy() {
+                    return (self.accept(name, false), program_abort(abort));
+                }
+                match ctx.engine.submit(MotionRequest::Halt(list), ctx.link) {
+                    Ok(()) => (self.accept(name, true), program_abort(abort)),
+                    Err(e) => reject(format!("halt: {e}")),
+                }
+            }
+            Request::Stop => match ctx.link.command(CellCommand::Stop) {
+                Ok(()) => {
+                    let reply = self.accept(name, false);
+                    (reply, program_abort(ctx.program_running))
+                }
+                Err(e) => reject(format!("stop: {e}")),
+            },
+            Request::Reset => {
+                if !matches!(state.state, CellState::Stopped | CellState::Faulted) {
+                    return (self.accept(name, false), Followup::None);
+                }
+                ctx.engine.abandon();
+                match ctx.link.command(CellCommand::Reset) {
+                    Ok(()) => (self.accept(name, false), Followup::None),
+                    Err(e) => reject(format!("reset: {e}")),
+                }
+            }
+            Request::Override { percent } => {
+                if !(percent.is_finite() && (0.0..=100.0).contains(&percent)) {
+                    return reject(format!("override: {percent} % is outside 0–100 %"));
+                }
+                match ctx.engine.set_override(percent / 100.0) {
+                    Ok(()) => (self.accept(name, false), Followup::None),
+                    Err(e) => reject(format!("override: {e}")),
+                }
+            }
+            Request::Program { path } => {
+                if ctx.engine.is_busy() {
+                    return reject("program: a motion is active; halt it first".into());
+                }
+                match Program::load(&path, ctx.cell) {
+                    Ok(p) => (self.accept(name, true), Followup::RunProgram(p)),
+                    Err(e) => reject(format!("program: {e}")),
+                }
+            }
+        }
+    }
+
+    fn motion(
+        &mut self,
+        name: &str,
+        req: MotionRequest,
+        ctx: &mut Context<'_>,
+    ) -> (Reply, Followup) {
+        match ctx.engine.submit(req, ctx.link) {
+            Ok(()) => (self.accept(name, true), Followup::None),
+            Err(e) => (
+                Reply::Rejected {
+                    reason: format!("{name}: {e}"),
+                },
+                Followup::None,
+            ),
+        }
+    }
+
+    fn report(&self, ctx: &Context<'_>, s: &crate::link::StatusSnapshot) -> StatusReport {
+        let axes = ctx
+            .cell
+            .axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                let l = s.live[i];
+                let sc = a.scaling;
+                AxisStatus {
+                    name: a.name.clone(),
+                    unit: a.unit.clone(),
+                    mode: a.mode.as_str().to_string(),
+                    fsa: Statusword(l.statusword)
+                        .state()
+                        .map(|f| f.as_str())
+                        .unwrap_or("unknown")
+                        .to_string(),
+                    setpoint: sc.to_units(s.hold[i]),
+                    position: sc.to_units(f64::from(l.position_actual)),
+                    velocity: sc.to_units(f64::from(l.velocity_actual)),
+                    following_error: sc.to_units(f64::from(l.following_error)),
+                    error_code: l.error_code,
+                }
+            })
+            .collect();
+        StatusReport {
+            cell: ctx.cell.name.clone(),
+            cycle: s.cycle,
+            cycle_time_us: ctx.cell.cycle_time.as_nanos() as f64 / 1e3,
+            state: s.state.as_str().to_string(),
+            stop_reason: s.stop_reason.map(|r| r.as_str().to_string()),
+            override_percent: ctx.engine.feed_override() * 100.0,
+            active_command: self.active.clone(),
+            last_finished: self.last_finished.clone(),
+            axes,
+        }
+    }
+}
+
+/// Commands that end when their motion ends.
+const MOTION_COMMANDS: [&str; 4] = ["move", "velocity", "torque", "halt"];
+
+fn program_abort(program_running: bool) -> Followup {
+    if program_running {
+        Followup::AbortProgram
+    } else {
+        Followup::None
+    }
+}
+
+fn axis_index(cell: &CellConfig, name: &str) -> Result<usize, String> {
+    cell.axes
+        .iter()
+        .position(|a| a.name == name)
+        .ok_or_else(|| {
+            let names: Vec<&str> = cell.axes.iter().map(|a| a.name.as_str()).collect();
+            format!("unknown axis '{name}' (the cell has {})", names.join(", "))
+        })
+}
+
+/// Per-move limits: the axis limits, lowered where the request asks; a request above the axis
+/// limit is refused unless `clamp`.
+fn move_limits(
+    a: &crate::config::AxisConfig,
+    velocity: Option<f64>,
+    acceleration: Option<f64>,
+    jerk: Option<f64>,
+    clamp: bool,
+) -> Result<KinematicLimits, String> {
+    let pick = |what: &str, unit: &str, req: Option<f64>, limit: f64| {
+        match req {
+        None => Ok(limit),
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(format!(
+            "axis '{}': {what} {v} must be a finite number > 0",
+            a.name
+        )),
+        Some(v) if v > limit && !clamp => Err(format!(
+            "axis '{}': {what} {v} {}{unit} exceeds the axis limit {limit} {}{unit} (add --clamp to use the limit)",
+            a.name, a.unit, a.unit
+        )),
+        Some(v) => Ok(v.min(limit)),
+    }
+    };
+    Ok(KinematicLimits {
+        velocity: pick("velocity", "/s", velocity, a.limits.velocity)?,
+        acceleration: pick("acceleration", "/s²", acceleration, a.limits.acceleration)?,
+        jerk: pick("jerk", "/s³", jerk, a.limits.jerk)?,
+    })
+}

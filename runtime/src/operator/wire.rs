@@ -1,0 +1,205 @@
+//! The operator service's messages: JSON documents in byte payloads, so any process (a shell
+//! tool, a Python HMI) can speak it and a malformed request gets a precise reason back.
+//!
+//! PLCopen counterparts: `power` MC_Power, `move` MC_MoveAbsolute / MC_MoveRelative (`relative`),
+//! `velocity` MC_MoveVelocity, `torque` MC_TorqueControl, `halt` MC_Halt, `stop` MC_Stop,
+//! `reset` MC_Reset, `override` MC_SetOverride.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+/// Largest request accepted, bytes.
+pub const MAX_REQUEST_BYTES: usize = 64 * 1024;
+
+/// A request to the cell.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "command", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Request {
+    /// The cell and axis status.
+    Status,
+    /// MC_Power: enable (`on`) or cleanly disable every axis of the cell.
+    Power {
+        /// On or off.
+        on: bool,
+    },
+    /// MC_MoveAbsolute / MC_MoveRelative: a time-synchronised move of the named axes.
+    Move {
+        /// Axis name → target (or distance when `relative`), in the axis unit.
+        targets: BTreeMap<String, f64>,
+        /// Targets are distances from the current position.
+        #[serde(default)]
+        relative: bool,
+        /// Velocity limit of the move, unit/s (axis limit when absent).
+        #[serde(default)]
+        velocity: Option<f64>,
+        /// Acceleration limit of the move, unit/s² (axis limit when absent).
+        #[serde(default)]
+        acceleration: Option<f64>,
+        /// Jerk limit of the move, unit/s³ (axis limit when absent).
+        #[serde(default)]
+        jerk: Option<f64>,
+        /// Lower a limit above an axis limit to it instead of refusing the move.
+        #[serde(default)]
+        clamp: bool,
+    },
+    /// MC_MoveVelocity: jog one axis at a signed velocity until halted (or the range ends).
+    Velocity {
+        /// Axis name.
+        axis: String,
+        /// Velocity, unit/s (signed).
+        velocity: f64,
+        /// Acceleration of the ramp, unit/s² (axis limit when absent).
+        #[serde(default)]
+        acceleration: Option<f64>,
+        /// Lower a velocity above the axis limit to it instead of refusing.
+        #[serde(default)]
+        clamp: bool,
+    },
+    /// MC_TorqueControl: torque on cst axes, ramped at the axis slope, held, ramped to zero.
+    Torque {
+        /// Axis name → torque, % of rated torque.
+        targets: BTreeMap<String, f64>,
+        /// Seconds at the target torque.
+        seconds: f64,
+    },
+    /// MC_Halt: brake the motion (all axes, or the named ones) to rest; the cell stays usable.
+    Halt {
+        /// Axes to halt (all when empty).
+        #[serde(default)]
+        axes: Vec<String>,
+    },
+    /// MC_Stop: the RT thread's controlled stop; the motion is abandoned.
+    Stop,
+    /// MC_Reset: clear a stopped or faulted cell.
+    Reset,
+    /// MC_SetOverride: feed override, 0–100 %, applied smoothly.
+    Override {
+        /// Percent of the programmed velocity.
+        percent: f64,
+    },
+    /// Run a program file (validated against the cell first).
+    Program {
+        /// The program (TOML).
+        path: PathBuf,
+    },
+}
+
+impl Request {
+    /// The command's name (the `command` tag).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Request::Status => "status",
+            Request::Power { .. } => "power",
+            Request::Move { .. } => "move",
+            Request::Velocity { .. } => "velocity",
+            Request::Torque { .. } => "torque",
+            Request::Halt { .. } => "halt",
+            Request::Stop => "stop",
+            Request::Reset => "reset",
+            Request::Override { .. } => "override",
+            Request::Program { .. } => "program",
+        }
+    }
+}
+
+/// The answer to a request.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "reply", rename_all = "snake_case")]
+pub enum Reply {
+    /// Taken; `id` names the command in the status.
+    Accepted {
+        /// Command id (increasing per cell run).
+        id: u64,
+    },
+    /// Refused; nothing changed.
+    Rejected {
+        /// Why, naming what is wrong.
+        reason: String,
+    },
+    /// The status.
+    Status(Box<StatusReport>),
+}
+
+/// Status of the cell as the operator sees it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StatusReport {
+    /// Cell name.
+    pub cell: String,
+    /// RT cycle.
+    pub cycle: u64,
+    /// Cycle time, µs.
+    pub cycle_time_us: f64,
+    /// Cell state (`disabled`, `idle`, `moving`, …).
+    pub state: String,
+    /// Why the last stop happened, while stopped or faulted.
+    pub stop_reason: Option<String>,
+    /// Feed override, %.
+    pub override_percent: f64,
+    /// The command being executed.
+    pub active_command: Option<ActiveCommand>,
+    /// The last command that ended (done, failed or replaced).
+    pub last_finished: Option<FinishedCommand>,
+    /// Per axis.
+    pub axes: Vec<AxisStatus>,
+}
+
+/// A command in execution.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ActiveCommand {
+    /// Its id.
+    pub id: u64,
+    /// Its name.
+    pub command: String,
+}
+
+/// A command that ended.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FinishedCommand {
+    /// Its id.
+    pub id: u64,
+    /// Its name.
+    pub command: String,
+    /// Why it did not complete (`None`: done).
+    pub error: Option<String>,
+}
+
+/// Status of one axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxisStatus {
+    /// Axis name.
+    pub name: String,
+    /// Unit of positions.
+    pub unit: String,
+    /// Configured mode (csp, csv, cst).
+    pub mode: String,
+    /// CiA 402 FSA state from the statusword.
+    pub fsa: String,
+    /// Position setpoint, unit.
+    pub setpoint: f64,
+    /// Actual position, unit.
+    pub position: f64,
+    /// Actual velocity, unit/s.
+    pub velocity: f64,
+    /// Following error, unit.
+    pub following_error: f64,
+    /// Alarm / error code (603Fh), 0 when none.
+    pub error_code: u16,
+}
+
+/// Encodes a message.
+pub fn encode<T: Serialize>(message: &T) -> Vec<u8> {
+    serde_json::to_vec(message).expect("operator messages serialise")
+}
+
+/// Decodes a request, naming what is wrong with a malformed one.
+pub fn decode_request(bytes: &[u8]) -> Result<Request, String> {
+    if bytes.len() > MAX_REQUEST_BYTES {
+        return Err(format!(
+            "malformed request: {} bytes is more than the {MAX_REQUEST_BYTES} allowed",
+            bytes.len()
+        ));
+    }
+    serde_json::from_slice(bytes).map_err(|e| format!("malformed request: {e}"))
+}

@@ -1,0 +1,454 @@
+//! The operator commands (`cellrt status`, `power`, `move`, `jog`, `torque`, `halt`, `stop`,
+//! `reset`, `override`, `program`): clients of the running cell's operator service.
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use cellrt_runtime::operator::client::{ClientError, OperatorClient};
+use cellrt_runtime::operator::wire::{Reply, Request, StatusReport};
+use clap::{Args, Subcommand};
+
+use crate::exit::Exit;
+
+/// How long `--wait` follows a command by default.
+const WAIT_TIMEOUT: Duration = Duration::from_secs(120);
+
+/// Options every operator command takes.
+#[derive(Debug, Args)]
+pub struct Target {
+    /// The cell (its `cell.name`); default: the only running cell.
+    #[arg(long, global = true, value_name = "NAME")]
+    pub cell: Option<String>,
+    /// Seconds to wait for the cell's reply.
+    #[arg(long, global = true, value_name = "SECONDS", default_value_t = 5.0)]
+    pub reply_timeout: f64,
+}
+
+/// An operator command.
+#[derive(Debug, Subcommand)]
+pub enum OperatorCommand {
+    /// Cell and axis status (MC_ReadStatus / MC_ReadActualPosition).
+    Status {
+        /// Redraw every 200 ms until Ctrl-C.
+        #[arg(long)]
+        watch: bool,
+        /// Print the status as JSON.
+        #[arg(long, conflicts_with = "watch")]
+        json: bool,
+    },
+    /// MC_Power: enable (on) or cleanly disable (off) every axis.
+    Power {
+        /// on or off.
+        #[arg(value_parser = ["on", "off"])]
+        state: String,
+        /// Return once accepted instead of waiting for the cell to get there.
+        #[arg(long)]
+        no_wait: bool,
+    },
+    /// MC_MoveAbsolute / MC_MoveRelative: `cellrt move x=100 y=20`, time-synchronised.
+    Move {
+        /// AXIS=POSITION pairs, in the axis units.
+        #[arg(required = true, value_name = "AXIS=POSITION")]
+        targets: Vec<String>,
+        /// Velocity limit of the move, unit/s.
+        #[arg(long = "vel", value_name = "V")]
+        velocity: Option<f64>,
+        /// Acceleration limit, unit/s².
+        #[arg(long = "acc", value_name = "A")]
+        acceleration: Option<f64>,
+        /// Jerk limit, unit/s³.
+        #[arg(long, value_name = "J")]
+        jerk: Option<f64>,
+        /// Positions are distances from the current position.
+        #[arg(long = "rel")]
+        relative: bool,
+        /// Use the axis limit where a requested limit exceeds it (default: refuse).
+        #[arg(long)]
+        clamp: bool,
+        /// Return once accepted instead of waiting for the end of the move.
+        #[arg(long)]
+        no_wait: bool,
+    },
+    /// MC_MoveVelocity: jog AXIS at VELOCITY (unit/s, signed) until `cellrt halt`.
+    Jog {
+        /// Axis name.
+        axis: String,
+        /// Velocity, unit/s.
+        #[arg(allow_negative_numbers = true)]
+        velocity: f64,
+        /// Acceleration of the ramp, unit/s².
+        #[arg(long = "acc", value_name = "A")]
+        acceleration: Option<f64>,
+        /// Use the axis limit if VELOCITY exceeds it (default: refuse).
+        #[arg(long)]
+        clamp: bool,
+    },
+    /// MC_TorqueControl: `cellrt torque c=20 --seconds 1` on cst axes (ramped, held, released).
+    Torque {
+        /// AXIS=PERCENT pairs (% of rated torque).
+        #[arg(
+            required = true,
+            value_name = "AXIS=PERCENT",
+            allow_negative_numbers = true
+        )]
+        targets: Vec<String>,
+        /// Seconds at the torque.
+        #[arg(long, default_value_t = 1.0)]
+        seconds: f64,
+        /// Return once accepted.
+        #[arg(long)]
+        no_wait: bool,
+    },
+    /// MC_Halt: brake to rest (all axes, or the named ones); the cell stays ready.
+    Halt {
+        /// Axes (all when none).
+        axes: Vec<String>,
+    },
+    /// MC_Stop: the RT thread's controlled stop.
+    Stop,
+    /// MC_Reset: clear a stopped or faulted cell.
+    Reset {
+        /// Return once accepted.
+        #[arg(long)]
+        no_wait: bool,
+    },
+    /// MC_SetOverride: feed override in percent (0–100), applied smoothly.
+    Override {
+        /// Percent.
+        percent: f64,
+    },
+    /// Run a program file on the cell.
+    Program {
+        /// The program (TOML).
+        file: PathBuf,
+        /// Return once accepted.
+        #[arg(long)]
+        no_wait: bool,
+    },
+}
+
+/// Runs one operator command.
+pub fn run(command: OperatorCommand, target: Target) -> Exit {
+    if !(target.reply_timeout.is_finite() && target.reply_timeout > 0.0) {
+        eprintln!(
+            "error: --reply-timeout: must be a number of seconds > 0 (got {})",
+            target.reply_timeout
+        );
+        return Exit::BadInput;
+    }
+    let timeout = Duration::from_secs_f64(target.reply_timeout);
+    let (request, wait) = match build(&command) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Exit::BadInput;
+        }
+    };
+    let client = match OperatorClient::connect(target.cell.as_deref()) {
+        Ok(c) => c,
+        Err(e) => return unreachable(e),
+    };
+    if let OperatorCommand::Status { watch, json } = command {
+        return status(&client, timeout, watch, json);
+    }
+    let id = match client.request(&request, timeout) {
+        Ok(Reply::Accepted { id }) => id,
+        Ok(Reply::Rejected { reason }) => {
+            eprintln!("rejected: {reason}");
+            return Exit::Rejected;
+        }
+        Ok(Reply::Status(_)) => {
+            eprintln!("error: the cell answered with a status instead of accepting");
+            return Exit::Unreachable;
+        }
+        Err(e) => return unreachable(e),
+    };
+    println!("accepted: {} (command {id})", request.name());
+    match wait {
+        Wait::No => Exit::Ok,
+        Wait::Finished => wait_finished(&client, id, timeout),
+        Wait::State(states) => wait_state(&client, states, timeout),
+    }
+}
+
+/// What to follow after acceptance.
+enum Wait {
+    No,
+    Finished,
+    State(&'static [&'static str]),
+}
+
+fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
+    let wait = |no_wait: bool, w: Wait| if no_wait { Wait::No } else { w };
+    Ok(match command {
+        OperatorCommand::Status { .. } => (Request::Status, Wait::No),
+        OperatorCommand::Power { state, no_wait } => {
+            let on = state == "on";
+            let states: &'static [&'static str] = if on { &["idle"] } else { &["disabled"] };
+            (Request::Power { on }, wait(*no_wait, Wait::State(states)))
+        }
+        OperatorCommand::Move {
+            targets,
+            velocity,
+            acceleration,
+            jerk,
+            relative,
+            clamp,
+            no_wait,
+        } => (
+            Request::Move {
+                targets: pairs("move", targets)?,
+                relative: *relative,
+                velocity: *velocity,
+                acceleration: *acceleration,
+                jerk: *jerk,
+                clamp: *clamp,
+            },
+            wait(*no_wait, Wait::Finished),
+        ),
+        OperatorCommand::Jog {
+            axis,
+            velocity,
+            acceleration,
+            clamp,
+        } => (
+            Request::Velocity {
+                axis: axis.clone(),
+                velocity: *velocity,
+                acceleration: *acceleration,
+                clamp: *clamp,
+            },
+            Wait::No,
+        ),
+        OperatorCommand::Torque {
+            targets,
+            seconds,
+            no_wait,
+        } => (
+            Request::Torque {
+                targets: pairs("torque", targets)?,
+                seconds: *seconds,
+            },
+            wait(*no_wait, Wait::Finished),
+        ),
+        OperatorCommand::Halt { axes } => (Request::Halt { axes: axes.clone() }, Wait::No),
+        OperatorCommand::Stop => (Request::Stop, Wait::No),
+        OperatorCommand::Reset { no_wait } => (
+            Request::Reset,
+            wait(*no_wait, Wait::State(&["idle", "disabled"])),
+        ),
+        OperatorCommand::Override { percent } => {
+            (Request::Override { percent: *percent }, Wait::No)
+        }
+        OperatorCommand::Program { file, no_wait } => {
+            // The cell resolves paths from its own working directory: send an absolute one.
+            let path = std::fs::canonicalize(file)
+                .map_err(|e| format!("program: {}: {e}", file.display()))?;
+            (Request::Program { path }, wait(*no_wait, Wait::Finished))
+        }
+    })
+}
+
+/// Parses `AXIS=VALUE` arguments.
+fn pairs(what: &str, args: &[String]) -> Result<BTreeMap<String, f64>, String> {
+    let mut out = BTreeMap::new();
+    for a in args {
+        let (axis, value) = a
+            .split_once('=')
+            .ok_or_else(|| format!("{what}: '{a}' is not AXIS=VALUE"))?;
+        let v: f64 = value
+            .trim()
+            .parse()
+            .map_err(|_| format!("{what}: '{a}': '{value}' is not a number"))?;
+        if out.insert(axis.trim().to_string(), v).is_some() {
+            return Err(format!("{what}: axis '{axis}' is given twice"));
+        }
+    }
+    Ok(out)
+}
+
+fn unreachable(e: ClientError) -> Exit {
+    eprintln!("error: {e}");
+    Exit::Unreachable
+}
+
+fn fetch(client: &OperatorClient, timeout: Duration) -> Result<StatusReport, Exit> {
+    match client.request(&Request::Status, timeout) {
+        Ok(Reply::Status(s)) => Ok(*s),
+        Ok(other) => {
+            eprintln!("error: unexpected reply to status: {other:?}");
+            Err(Exit::Unreachable)
+        }
+        Err(e) => Err(unreachable(e)),
+    }
+}
+
+/// Follows command `id` until it ends; fails if it ended with an error.
+fn wait_finished(client: &OperatorClient, id: u64, timeout: Duration) -> Exit {
+    let end = Instant::now() + WAIT_TIMEOUT;
+    loop {
+        let s = match fetch(client, timeout) {
+            Ok(s) => s,
+            Err(e) => return e,
+        };
+        if let Some(f) = s.last_finished.as_ref().filter(|f| f.id >= id) {
+            if f.id == id {
+                return match &f.error {
+                    None => {
+                        println!("done: command {id}");
+                        Exit::Ok
+                    }
+                    Some(e) => {
+                        eprintln!("failed: command {id}: {e}");
+                        Exit::Failed
+                    }
+                };
+            }
+        }
+        if s.active_command.as_ref().is_none_or(|a| a.id != id)
+            && s.last_finished.as_ref().is_none_or(|f| f.id < id)
+        {
+            // Ended without a trace (a command that completes at once).
+            println!("done: command {id}");
+            return Exit::Ok;
+        }
+        if Instant::now() >= end {
+            eprintln!("error: command {id} did not end within {WAIT_TIMEOUT:?}");
+            return Exit::Failed;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Waits until the cell state is one of `states`; fails on a fault or stop.
+fn wait_state(client: &OperatorClient, states: &[&str], timeout: Duration) -> Exit {
+    let end = Instant::now() + Duration::from_secs(15);
+    // Let the RT thread take the command before judging the state.
+    std::thread::sleep(Duration::from_millis(50));
+    loop {
+        let s = match fetch(client, timeout) {
+            Ok(s) => s,
+            Err(e) => return e,
+        };
+        if states.contains(&s.state.as_str()) {
+            println!("done: cell {}", s.state);
+            return Exit::Ok;
+        }
+        if s.state == "faulted" && !states.contains(&"faulted") {
+            eprintln!(
+                "failed: the cell faulted ({})",
+                s.stop_reason.as_deref().unwrap_or("see cellrt status")
+            );
+            return Exit::Failed;
+        }
+        if Instant::now() >= end {
+            eprintln!(
+                "failed: the cell is {}, not {}",
+                s.state,
+                states.join(" or ")
+            );
+            return Exit::Failed;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn status(client: &OperatorClient, timeout: Duration, watch: bool, json: bool) -> Exit {
+    loop {
+        let s = match fetch(client, timeout) {
+            Ok(s) => s,
+            Err(e) => return e,
+        };
+        if json {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&s).expect("status serialises")
+            );
+            return Exit::Ok;
+        }
+        let text = render(&s);
+        if watch {
+            // Clear the screen and home the cursor, then redraw.
+            print!("\x1b[2J\x1b[H{text}");
+            let _ = std::io::stdout().flush();
+            std::thread::sleep(Duration::from_millis(200));
+        } else {
+            print!("{text}");
+            return Exit::Ok;
+        }
+    }
+}
+
+/// The compact status table.
+pub fn render(s: &StatusReport) -> String {
+    let mut out = format!(
+        "cell {}  state {}{}  cycle {} at {} µs  override {:.0} %\n",
+        s.cell,
+        s.state,
+        s.stop_reason
+            .as_ref()
+            .map(|r| format!(" ({r})"))
+            .unwrap_or_default(),
+        s.cycle,
+        s.cycle_time_us,
+        s.override_percent
+    );
+    if let Some(a) = &s.active_command {
+        out += &format!("active  {} (command {})\n", a.command, a.id);
+    }
+    if let Some(f) = &s.last_finished {
+        out += &format!(
+            "last    {} (command {}): {}\n",
+            f.command,
+            f.id,
+            f.error.as_deref().unwrap_or("done")
+        );
+    }
+    out += &format!(
+        "{:<8} {:<5} {:<22} {:>12} {:>12} {:>11} {:>10} {:>6}\n",
+        "axis", "mode", "fsa", "position", "setpoint", "velocity", "follow err", "alarm"
+    );
+    for a in &s.axes {
+        out += &format!(
+            "{:<8} {:<5} {:<22} {:>9.3} {:<2} {:>12.3} {:>11.3} {:>10.4} {:>6}\n",
+            a.name,
+            a.mode,
+            a.fsa,
+            a.position,
+            a.unit,
+            a.setpoint,
+            a.velocity,
+            a.following_error,
+            if a.error_code == 0 {
+                "-".to_string()
+            } else {
+                format!("{:04X}h", a.error_code)
+            }
+        );
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_value_pairs() {
+        let p = pairs("move", &["x=100".into(), "y = -2.5".into()]).unwrap();
+        assert_eq!(p["x"], 100.0);
+        assert_eq!(p["y"], -2.5);
+        assert_eq!(
+            pairs("move", &["x100".into()]).unwrap_err(),
+            "move: 'x100' is not AXIS=VALUE"
+        );
+        assert!(pairs("move", &["x=abc".into()])
+            .unwrap_err()
+            .contains("'abc' is not a number"));
+        assert!(pairs("move", &["x=1".into(), "x=2".into()])
+            .unwrap_err()
+            .contains("given twice"));
+    }
+}

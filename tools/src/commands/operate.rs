@@ -262,6 +262,9 @@ fn pairs(what: &str, args: &[String]) -> Result<BTreeMap<String, f64>, String> {
             .trim()
             .parse()
             .map_err(|_| format!("{what}: '{a}': '{value}' is not a number"))?;
+        if !v.is_finite() {
+            return Err(format!("{what}: '{a}': '{value}' is not a finite number"));
+        }
         if out.insert(axis.trim().to_string(), v).is_some() {
             return Err(format!("{what}: axis '{axis}' is given twice"));
         }
@@ -447,6 +450,9 @@ mod tests {
         assert!(pairs("move", &["x=abc".into()])
             .unwrap_err()
             .contains("'abc' is not a number"));
+        assert!(pairs("move", &["x=inf".into()])
+            .unwrap_err()
+            .contains("not a finite number"));
         assert!(pairs("move", &["x=1".into(), "x=2".into()])
             .unwrap_err()
             .contains("given twice"));

@@ -1,0 +1,297 @@
+//! The operator interface end to end: a running cell (`cellrt run --no-program`) driven from
+//! other processes (`cellrt power/move/jog/halt/override/stop/reset/torque/status`) through the
+//! iceoryx2 operator service; every check reads the recorded motion, not only the replies.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use cellrt_runtime::operator::client::OperatorClient;
+use cellrt_runtime::operator::wire::Reply;
+use common::{demo_cell, max_derivatives, read_recording, unique_cell_name};
+
+struct Cell {
+    name: String,
+    child: Child,
+}
+
+impl Cell {
+    fn start(cfg: &Path, rec: &Path) -> Cell {
+        let text = std::fs::read_to_string(cfg).unwrap();
+        let name = text
+            .lines()
+            .find_map(|l| l.strip_prefix("name = \""))
+            .and_then(|l| l.strip_suffix('"'))
+            .expect("cell name")
+            .to_string();
+        let child = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+            .arg("run")
+            .arg(cfg)
+            .arg("--no-program")
+            .arg("--duration")
+            .arg("120")
+            .arg("--record")
+            .arg(rec)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let cell = Cell { name, child };
+        let end = Instant::now() + Duration::from_secs(20);
+        while cell.cli(&["status"]).0 != 0 {
+            assert!(Instant::now() < end, "the cell did not come up");
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        cell
+    }
+
+    /// Runs `cellrt ARGS --cell NAME`; returns exit code, stdout, stderr.
+    fn cli(&self, args: &[&str]) -> (i32, String, String) {
+        let out = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+            .args(args)
+            .arg("--cell")
+            .arg(&self.name)
+            .output()
+            .unwrap();
+        (
+            out.status.code().unwrap_or(-1),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    }
+
+    fn ok(&self, args: &[&str]) -> String {
+        let (code, out, err) = self.cli(args);
+        assert_eq!(code, 0, "cellrt {args:?}: {out}{err}");
+        out
+    }
+
+    /// Expects a rejection (exit 3) whose reason contains `why`.
+    fn rejected(&self, args: &[&str], why: &str) {
+        let (code, out, err) = self.cli(args);
+        assert_eq!(code, 3, "cellrt {args:?} should be rejected: {out}{err}");
+        assert!(err.contains(why), "cellrt {args:?}: '{err}' lacks '{why}'");
+    }
+
+    fn wait_state(&self, want: &str) {
+        let end = Instant::now() + Duration::from_secs(20);
+        loop {
+            let s = self.ok(&["status"]);
+            if s.contains(&format!("state {want}")) {
+                return;
+            }
+            assert!(Instant::now() < end, "cell never became {want}: {s}");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    fn end(mut self) {
+        nix::sys::signal::kill(
+            nix::unistd::Pid::from_raw(self.child.id() as i32),
+            nix::sys::signal::Signal::SIGINT,
+        )
+        .unwrap();
+        let status = self.child.wait().unwrap();
+        assert!(status.success(), "controller exit: {status:?}");
+    }
+}
+
+/// Positions (units) of `axis` per cycle between two cycles.
+fn positions(rec: &common::Recording, axis: &str) -> Vec<(u64, f64)> {
+    rec.axes[axis]
+        .iter()
+        .map(|a| (a.cycle, a.setpoint_position))
+        .collect()
+}
+
+fn cell_config(dir: &Path, extra: &str) -> std::path::PathBuf {
+    let cfg = demo_cell(dir, "");
+    let text = std::fs::read_to_string(&cfg)
+        .unwrap()
+        .replace("lookahead_ms = 1000", "lookahead_ms = 200");
+    std::fs::write(&cfg, text + extra).unwrap();
+    cfg
+}
+
+#[test]
+fn operator_commands_drive_a_running_cell() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = cell_config(dir.path(), "");
+    let rec = dir.path().join("run.mcap");
+    let cell = Cell::start(&cfg, &rec);
+
+    // Nothing moves while the cell is not powered.
+    cell.rejected(&["move", "x=300"], "not idle");
+    cell.ok(&["power", "on"]);
+    assert!(cell.ok(&["status"]).contains("operation_enabled"));
+
+    // Bad input, each refused with its reason; nothing moves.
+    cell.rejected(&["move", "q=1"], "unknown axis 'q'");
+    cell.rejected(&["move", "x=900"], "outside");
+    let (code, _, err) = cell.cli(&["move", "x=nan"]);
+    assert!(code == 2 && err.contains("not a finite number"), "{err}");
+    cell.rejected(&["move", "x=200", "--vel", "500"], "exceeds the axis limit");
+    cell.rejected(&["jog", "x", "401"], "exceeds the axis limit");
+    cell.rejected(&["override", "150"], "outside 0–100 %");
+    cell.rejected(&["torque", "x=10"], "mode = \"cst\"");
+    let (code, _, err) = cell.cli(&["move", "x100"]);
+    assert_eq!(code, 2, "{err}");
+    let client = OperatorClient::connect(Some(&cell.name)).unwrap();
+    match client
+        .request_bytes(
+            b"{\"command\": \"move\", \"targets\": 7}",
+            Duration::from_secs(5),
+        )
+        .unwrap()
+    {
+        Reply::Rejected { reason } => assert!(reason.contains("malformed request"), "{reason}"),
+        other => panic!("{other:?}"),
+    }
+
+    // A synchronised move, waited for.
+    cell.ok(&["move", "x=300", "y=200"]);
+    // Clamping on request: the velocity above the limit is lowered to it.
+    cell.ok(&["move", "y=150", "--vel", "1000", "--clamp"]);
+    // Re-target mid-move: x heads for 780, then turns round to 100.
+    cell.ok(&["move", "x=780", "--no-wait"]);
+    std::thread::sleep(Duration::from_millis(700));
+    cell.ok(&["move", "x=100"]);
+    // Jog, then halt.
+    cell.ok(&["jog", "y", "100"]);
+    std::thread::sleep(Duration::from_millis(800));
+    cell.ok(&["halt"]);
+    cell.wait_state("idle");
+    // Feed override at 50 %.
+    cell.ok(&["override", "50"]);
+    cell.ok(&["move", "x=500"]);
+    cell.ok(&["override", "100"]);
+    // MC_Stop mid-move: the RT thread's controlled stop; the move fails, the cell is ready.
+    cell.ok(&["move", "x=100", "--no-wait"]);
+    std::thread::sleep(Duration::from_millis(500));
+    cell.ok(&["stop"]);
+    cell.wait_state("idle");
+    let s = cell.ok(&["status"]);
+    assert!(s.contains("stopped by the RT thread (command)"), "{s}");
+    cell.ok(&["power", "off"]);
+    cell.end();
+
+    let r = read_recording(&rec);
+    let dt = 1e-3;
+    let x = positions(&r, "x");
+    let y = positions(&r, "y");
+    let (vx, ax, _) = max_derivatives(&x, dt);
+    let (vy, ay, _) = max_derivatives(&y, dt);
+    assert!(
+        vx <= 400.0 * 1.01 && ax <= 2000.0 * 1.05,
+        "x: v {vx} a {ax}"
+    );
+    assert!(
+        vy <= 400.0 * 1.01 && ay <= 2000.0 * 1.05,
+        "y: v {vy} a {ay}"
+    );
+    // The re-target: x turned round before 780, then reached 100 exactly.
+    let peak = x.iter().map(|p| p.1).fold(f64::MIN, f64::max);
+    assert!(peak > 400.0 && peak < 779.0, "x peak {peak}");
+    let turned = x.iter().position(|p| p.1 == peak).unwrap();
+    assert!(
+        x[turned..].iter().any(|p| (p.1 - 100.0).abs() < 1e-6),
+        "x reached 100 after the re-target"
+    );
+    // The jog reached 100 mm/s on y.
+    let at_jog_velocity = r.axes["y"]
+        .iter()
+        .filter(|a| (a.setpoint_velocity - 100.0).abs() < 1e-6)
+        .count();
+    assert!(
+        at_jog_velocity > 300,
+        "{at_jog_velocity} cycles at 100 mm/s"
+    );
+    // The 50 % override move (x from 100 to 500) ran at most 200 mm/s.
+    let start = x[turned..]
+        .iter()
+        .position(|p| (p.1 - 100.0).abs() < 1e-6)
+        .unwrap()
+        + turned;
+    let to_500 = x[start..]
+        .iter()
+        .position(|p| (p.1 - 500.0).abs() < 1e-6)
+        .unwrap()
+        + start;
+    let (v_ov, _, _) = max_derivatives(&x[start..=to_500], dt);
+    assert!(
+        v_ov <= 200.0 * 1.01 && v_ov > 190.0,
+        "override move at {v_ov} mm/s"
+    );
+}
+
+#[test]
+fn torque_and_reset_after_a_fault_through_the_operator_service() {
+    let dir = tempfile::tempdir().unwrap();
+    // The MR-JET cell: c runs in cst.
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../configs/mr-jet-g-n1.toml"
+    ))
+    .unwrap();
+    let name = unique_cell_name();
+    let text = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("name = ") && !l.contains("\"x\"") && l.contains("jet") {
+                format!("name = \"{name}\"")
+            } else if l.starts_with("cpu = ") || l.starts_with("program = ") {
+                format!("# {l}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n[[inject]]\nat_ms = 6000\nfault = \"drive_alarm\"\naxis = \"y\"\ncode = 0x2220\n";
+    assert!(text.contains(&name), "cell name replaced");
+    let cfg = dir.path().join("cell.toml");
+    std::fs::write(&cfg, text).unwrap();
+    let rec = dir.path().join("run.mcap");
+    let cell = Cell::start(&cfg, &rec);
+    cell.ok(&["power", "on"]);
+    cell.ok(&["torque", "c=30", "--seconds", "0.3"]);
+    cell.rejected(&["torque", "c=500"], "outside the torque limit");
+    // The injected alarm faults the cell; reset, power on and move again.
+    cell.wait_state("faulted");
+    cell.rejected(&["power", "on"], "reset it first");
+    cell.ok(&["reset"]);
+    cell.ok(&["power", "on"]);
+    cell.ok(&["move", "x=120"]);
+    cell.ok(&["power", "off"]);
+    cell.end();
+
+    let r = read_recording(&rec);
+    let c = &r.axes["c"];
+    let peak = c.iter().map(|a| a.setpoint_torque).max().unwrap();
+    assert_eq!(peak, 300, "30 % in 0.1 % units");
+    // Ramped: no torque step above the slope (500 %/s → 0.5 % per 1 ms… per cycle).
+    let period_s = 0.5e-3;
+    let max_step = c
+        .windows(2)
+        .map(|w| (w[1].setpoint_torque - w[0].setpoint_torque).abs())
+        .max()
+        .unwrap();
+    assert!(
+        f64::from(max_step) <= 500.0 * 10.0 * period_s + 1.0,
+        "torque step {max_step}"
+    );
+    assert!(
+        r.events
+            .iter()
+            .any(|e| e.kind == "drive_fault" && e.axis == "y" && e.detail.contains("0x2220")),
+        "the alarm is recorded: {:?}",
+        r.events
+    );
+    let x_end = r.axes["x"].last().unwrap().setpoint_position;
+    assert!(
+        (x_end - 120.0).abs() < 1e-6,
+        "moved after the reset: {x_end}"
+    );
+}

@@ -27,6 +27,16 @@ pub enum BenchCommand {
     Loop(LoopArgs),
     /// Loop body time for 1, 4, 16, 64 and 256 axes.
     Scaling(ScalingArgs),
+    /// Round trip of operator requests (status) to a running cell (`--cell NAME`).
+    Operator(OperatorArgs),
+}
+
+/// `cellrt bench operator`.
+#[derive(Debug, Args)]
+pub struct OperatorArgs {
+    /// Requests to time.
+    #[arg(long, default_value_t = 2000)]
+    pub count: u32,
 }
 
 /// Options every latency benchmark shares.
@@ -99,8 +109,9 @@ pub struct ScalingArgs {
 }
 
 /// Runs `cellrt bench`.
-pub fn run(args: BenchArgs) -> Exit {
+pub fn run(args: BenchArgs, cell: Option<String>) -> Exit {
     let result = match args.command {
+        BenchCommand::Operator(a) => run_operator(a, cell.as_deref()),
         BenchCommand::Latency(a) => run_latency(a),
         BenchCommand::Compare(a) => run_compare(a),
         BenchCommand::Loop(a) => run_loop(a),
@@ -117,6 +128,36 @@ pub fn run(args: BenchArgs) -> Exit {
             Exit::Failed
         }
     }
+}
+
+/// Times `count` status requests (request out, reply decoded) and prints the percentiles.
+fn run_operator(a: OperatorArgs, cell: Option<&str>) -> Result<(), BenchError> {
+    use cellrt_runtime::operator::client::{OperatorClient, REPLY_TIMEOUT};
+    use cellrt_runtime::operator::wire::Request;
+    if a.count == 0 {
+        return Err(BenchError::bad("--count: must be > 0"));
+    }
+    let client = OperatorClient::connect(cell).map_err(|e| BenchError::Failed(e.to_string()))?;
+    let mut us = Vec::with_capacity(a.count as usize);
+    for _ in 0..a.count {
+        let t = std::time::Instant::now();
+        client
+            .request(&Request::Status, REPLY_TIMEOUT)
+            .map_err(|e| BenchError::Failed(e.to_string()))?;
+        us.push(t.elapsed().as_secs_f64() * 1e6);
+    }
+    us.sort_by(f64::total_cmp);
+    let q = |p: f64| us[((us.len() - 1) as f64 * p).round() as usize];
+    println!(
+        "operator round trip (status request → reply), cell {}, {} requests: min {:.1} µs  p50 {:.1} µs  p99 {:.1} µs  max {:.1} µs",
+        client.cell(),
+        us.len(),
+        us[0],
+        q(0.5),
+        q(0.99),
+        us[us.len() - 1]
+    );
+    Ok(())
 }
 
 fn run_latency(a: LatencyArgs) -> Result<(), BenchError> {

@@ -261,7 +261,7 @@ impl<'a> Planner<'a> {
                 program_running: false,
             };
             self.operator.tick(&mut ctx);
-            std::thread::sleep(TICK);
+            self.operator.wait(TICK);
         }
     }
 

@@ -66,6 +66,7 @@ pub fn running_cells() -> Vec<String> {
 /// A connection to one cell's operator service.
 pub struct OperatorClient {
     port: OperatorClientPort,
+    wake: iceoryx2::port::notifier::Notifier<ipc::Service>,
     _node: Node<ipc::Service>,
     cell: String,
 }
@@ -103,8 +104,11 @@ impl OperatorClient {
         let node = services::node(&cell, &role).map_err(|e| ClientError::Service(e.to_string()))?;
         let port =
             super::client_port(&node, &cell).map_err(|e| ClientError::Service(e.to_string()))?;
+        let wake =
+            super::wake_notifier(&node, &cell).map_err(|e| ClientError::Service(e.to_string()))?;
         Ok(OperatorClient {
             port,
+            wake,
             _node: node,
             cell,
         })
@@ -130,6 +134,8 @@ impl OperatorClient {
             .write_from_fn(|i| bytes.get(i).copied().unwrap_or(b' '))
             .send()
             .map_err(|e| service(format!("{e:?}")))?;
+        // Without the wake-up the server still answers at its next poll (≤ 1 ms).
+        let _ = self.wake.notify();
         let end = Instant::now() + timeout;
         loop {
             match pending.receive() {
@@ -148,7 +154,7 @@ impl OperatorClient {
                     timeout,
                 });
             }
-            std::thread::sleep(Duration::from_micros(100));
+            std::thread::sleep(Duration::from_micros(20));
         }
     }
 }

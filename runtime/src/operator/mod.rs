@@ -7,6 +7,8 @@ pub mod server;
 pub mod wire;
 
 use iceoryx2::port::client::Client;
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::server::Server;
 use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory::request_response::PortFactory;
@@ -42,6 +44,46 @@ fn service(node: &Node<ipc::Service>, cell: &str) -> Result<OperatorService, Ser
         .enable_safe_overflow_for_responses(true)
         .open_or_create()
         .map_err(|e| services::service_error("operator service", cell, e))
+}
+
+/// The event service a client notifies after sending a request, so the server answers at once
+/// instead of at its next poll.
+pub fn wake_service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/operator-wake")
+}
+
+fn wake_service(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<iceoryx2::service::port_factory::event::PortFactory<ipc::Service>, ServiceError> {
+    let name = ServiceName::new(&wake_service_name(cell))
+        .map_err(|e| services::service_error("service name", cell, e))?;
+    node.service_builder(&name)
+        .event()
+        .max_notifiers(16)
+        .max_listeners(2)
+        .open_or_create()
+        .map_err(|e| services::service_error("operator wake service", cell, e))
+}
+
+fn wake_listener(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Listener<ipc::Service>, ServiceError> {
+    wake_service(node, cell)?
+        .listener_builder()
+        .create()
+        .map_err(|e| services::service_error("operator wake listener", cell, e))
+}
+
+fn wake_notifier(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Notifier<ipc::Service>, ServiceError> {
+    wake_service(node, cell)?
+        .notifier_builder()
+        .create()
+        .map_err(|e| services::service_error("operator wake notifier", cell, e))
 }
 
 fn server_port(node: &Node<ipc::Service>, cell: &str) -> Result<OperatorServerPort, ServiceError> {

@@ -27,6 +27,7 @@ pub enum Followup {
 /// The server: the iceoryx2 port and the command bookkeeping.
 pub struct OperatorServer {
     port: OperatorServerPort,
+    wake: iceoryx2::port::listener::Listener<ipc::Service>,
     next_id: u64,
     active: Option<ActiveCommand>,
     last_finished: Option<FinishedCommand>,
@@ -49,10 +50,18 @@ impl OperatorServer {
     pub fn new(node: &Node<ipc::Service>, cell: &str) -> Result<OperatorServer, ServiceError> {
         Ok(OperatorServer {
             port: super::server_port(node, cell)?,
+            wake: super::wake_listener(node, cell)?,
             next_id: 1,
             active: None,
             last_finished: None,
         })
+    }
+
+    /// Sleeps up to `timeout`, waking early when a client signals a request.
+    pub fn wait(&self, timeout: std::time::Duration) {
+        if self.wake.timed_wait(|_| {}, timeout).is_err() {
+            std::thread::sleep(timeout);
+        }
     }
 
     /// Marks the command in execution as ended (`Ok`) or failed.

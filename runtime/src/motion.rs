@@ -12,7 +12,9 @@
 use std::time::{Duration, Instant};
 
 use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_trajectory::{AxisState, KinematicLimits, OnlineAxis, OnlineMotion, TorqueRamp};
+use cellrt_trajectory::{
+    AxisState, KinematicLimits, LineMove, OnlineAxis, OnlineMotion, TorqueRamp,
+};
 
 use crate::config::CellConfig;
 use crate::handoff::{CellState, EventKind};
@@ -39,6 +41,14 @@ pub enum MotionRequest {
     },
     /// Brake the listed axes (all when `None`) to rest and hold.
     Halt(Option<Vec<usize>>),
+    /// A straight line of an axis group (one unit) from rest: (axis index, end, axis limits
+    /// for this move), the path speed at most `path_velocity`.
+    Line {
+        /// Axes of the group with their end positions and limits.
+        targets: Vec<(usize, f64, KinematicLimits)>,
+        /// Path velocity cap, unit/s.
+        path_velocity: Option<f64>,
+    },
     /// Torque on cst axes: (axis index, torque %, slope %/s), held `hold_s` seconds.
     Torque {
         /// Axes, torques and slopes.
@@ -73,6 +83,8 @@ impl TorqueMotion {
 enum Kind {
     Online,
     Torque(TorqueMotion),
+    /// A line and the cell indices of its axes.
+    Line(Box<LineMove>, Vec<usize>),
 }
 
 /// The motion the RT thread is (about to be) running.
@@ -176,7 +188,15 @@ impl MotionEngine {
 
     /// Sets the feed override (0..=1); a motion in flight follows it smoothly.
     pub fn set_override(&mut self, value: f64) -> Result<(), String> {
-        self.online.set_override(value).map_err(|e| e.to_string())
+        self.online.set_override(value).map_err(|e| e.to_string())?;
+        if let Some(Active {
+            kind: Kind::Line(line, _),
+            ..
+        }) = self.active.as_mut()
+        {
+            line.set_override(value).map_err(|e| e.to_string())?;
+        }
+        Ok(())
     }
 
     /// Applies `req`: changes the motion in flight or starts one. Refused (with the reason,
@@ -252,6 +272,30 @@ impl MotionEngine {
                         end,
                     })
                 }
+                MotionRequest::Line {
+                    targets,
+                    path_velocity,
+                } => {
+                    let axes: Vec<usize> = targets.iter().map(|t| t.0).collect();
+                    let start: Vec<f64> = axes
+                        .iter()
+                        .map(|&i| self.cell.axes[i].scaling.to_units(status.hold[i]))
+                        .collect();
+                    let end: Vec<f64> = targets.iter().map(|t| t.1).collect();
+                    let limits: Vec<KinematicLimits> = targets.iter().map(|t| t.2).collect();
+                    for &(i, end, _) in targets {
+                        let a = &self.cell.axes[i];
+                        a.position
+                            .check(end)
+                            .map_err(|e| format!("axis '{}' ({}): {e}", a.name, a.unit))?;
+                    }
+                    let mut line =
+                        LineMove::new(&start, &end, &limits, *path_velocity, self.cell.period())
+                            .map_err(|e| format!("line: {e}"))?;
+                    line.set_override(self.online.feed_override())
+                        .map_err(|e| format!("line: {e}"))?;
+                    Kind::Line(Box::new(line), axes)
+                }
                 _ => Kind::Online,
             };
             self.begin(&status, kind);
@@ -264,7 +308,7 @@ impl MotionEngine {
                 limits,
             } => self.online.jog(axis, velocity, limits),
             MotionRequest::Halt(axes) => self.online.halt(axes.as_deref()),
-            MotionRequest::Torque { .. } => Ok(()),
+            MotionRequest::Torque { .. } | MotionRequest::Line { .. } => Ok(()),
         };
         r.map_err(|e| self.describe(e))
     }
@@ -288,6 +332,25 @@ impl MotionEngine {
                 }
             }
             MotionRequest::Halt(_) => {}
+            MotionRequest::Line { targets, .. } => {
+                if targets.len() < 2 || targets.len() > cellrt_trajectory::MAX_MOVE_AXES {
+                    return Err(format!(
+                        "a line needs 2 to {} axes (got {})",
+                        cellrt_trajectory::MAX_MOVE_AXES,
+                        targets.len()
+                    ));
+                }
+                if let Some(&(i, _, _)) = targets.iter().find(|t| t.0 >= axes.len()) {
+                    return Err(format!("axis index {i} unknown"));
+                }
+                let unit = &axes[targets[0].0].unit;
+                if let Some(&(i, _, _)) = targets.iter().find(|t| &axes[t.0].unit != unit) {
+                    return Err(format!(
+                        "a line needs axes of one unit: '{}' is in {}, '{}' in {}",
+                        axes[targets[0].0].name, unit, axes[i].name, axes[i].unit
+                    ));
+                }
+            }
             MotionRequest::Torque { targets, .. } => {
                 if targets.is_empty() {
                     return Err("a torque command needs at least one axis".into());
@@ -428,13 +491,34 @@ impl MotionEngine {
         let mut cycles = 0;
         let mut last = false;
         let flags = match &a.kind {
-            Kind::Online => 0,
+            Kind::Online | Kind::Line(..) => 0,
             Kind::Torque(_) => FLAG_TORQUE,
         };
         while cycles < BLOCK_CYCLES && !last {
             let k = a.next + cycles as u64;
             let row = &mut self.rows[cycles * n..(cycles + 1) * n];
-            match &a.kind {
+            match &mut a.kind {
+                Kind::Line(line, axes) => {
+                    let mut group = [AxisState::default(); cellrt_trajectory::MAX_MOVE_AXES];
+                    line.step(&mut group[..axes.len()])
+                        .map_err(|e| format!("line: {e}"))?;
+                    for (sp, h) in row.iter_mut().zip(&self.hold) {
+                        *sp = AxisSetpoint {
+                            position: *h,
+                            velocity: 0.0,
+                            torque: 0.0,
+                        };
+                    }
+                    for (&i, st) in axes.iter().zip(&group) {
+                        let sc = self.cell.axes[i].scaling;
+                        row[i] = AxisSetpoint {
+                            position: sc.to_counts(st.position),
+                            velocity: sc.to_counts(st.velocity),
+                            torque: 0.0,
+                        };
+                    }
+                    last = line.is_done();
+                }
                 Kind::Online => {
                     self.online
                         .step(&mut self.states)

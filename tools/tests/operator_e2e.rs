@@ -174,6 +174,14 @@ fn operator_commands_drive_a_running_cell() {
     cell.wait_state("idle");
     let s = cell.ok(&["status"]);
     assert!(s.contains("stopped by the RT thread (command)"), "{s}");
+    // A straight line of the gantry axes at 250 mm/s path speed.
+    cell.rejected(
+        &[
+            "move", "x=450", "y=300", "z=-120", "--line", "--vel", "1000",
+        ],
+        "the most every axis allows",
+    );
+    cell.ok(&["move", "x=450", "y=300", "z=-120", "--line", "--vel", "250"]);
     cell.ok(&["power", "off"]);
     cell.end();
 
@@ -224,6 +232,8 @@ fn operator_commands_drive_a_running_cell() {
         v_ov <= 200.0 * 1.01 && v_ov > 190.0,
         "override move at {v_ov} mm/s"
     );
+    // Matched csp axes: the actual path stays within 0.05 mm of the line.
+    assert_last_motion_on_line(&r, [450.0, 300.0, -120.0], 250.0, dt, 0.05);
 }
 
 #[test]
@@ -264,6 +274,7 @@ fn torque_and_reset_after_a_fault_through_the_operator_service() {
     cell.ok(&["reset"]);
     cell.ok(&["power", "on"]);
     cell.ok(&["move", "x=120"]);
+    cell.rejected(&["move", "x=100", "c=10", "--line"], "one unit");
     cell.ok(&["power", "off"]);
     cell.end();
 
@@ -289,9 +300,80 @@ fn torque_and_reset_after_a_fault_through_the_operator_service() {
         "the alarm is recorded: {:?}",
         r.events
     );
-    let x_end = r.axes["x"].last().unwrap().setpoint_position;
     assert!(
-        (x_end - 120.0).abs() < 1e-6,
-        "moved after the reset: {x_end}"
+        r.axes["x"]
+            .iter()
+            .any(|a| (a.setpoint_position - 120.0).abs() < 1e-6),
+        "moved after the reset"
     );
+}
+
+/// The last motion of `r` is a line of x, y, z to `b`: every setpoint between its start and end
+/// lies on the line (to 1 nm), every actual position within `actual_tol` mm of it, the path speed
+/// at most `v` (and close to it).
+fn assert_last_motion_on_line(
+    r: &common::Recording,
+    b: [f64; 3],
+    v: f64,
+    period_s: f64,
+    actual_tol: f64,
+) {
+    let started = r
+        .events
+        .iter()
+        .rfind(|e| e.kind == "motion_started")
+        .unwrap()
+        .cycle;
+    let finished = r
+        .events
+        .iter()
+        .rfind(|e| e.kind == "motion_finished")
+        .unwrap()
+        .cycle;
+    let at = |axis: &str, cycle: u64| *r.axes[axis].iter().find(|a| a.cycle == cycle).unwrap();
+    let a: Vec<f64> = ["x", "y", "z"]
+        .iter()
+        .map(|n| at(n, started - 1).setpoint_position)
+        .collect();
+    let (mut worst_set, mut worst_act, mut speed) = (0.0f64, 0.0f64, 0.0f64);
+    let mut prev: Option<Vec<f64>> = None;
+    for cycle in started..finished {
+        let s: Vec<_> = ["x", "y", "z"].iter().map(|n| at(n, cycle)).collect();
+        let set: Vec<f64> = s.iter().map(|c| c.setpoint_position).collect();
+        let act: Vec<f64> = s.iter().map(|c| c.actual_position).collect();
+        worst_set = worst_set.max(off_line(&set, &a, &b));
+        worst_act = worst_act.max(off_line(&act, &a, &b));
+        if let Some(p) = &prev {
+            let d: f64 = p.iter().zip(&set).map(|(p, q)| (q - p).powi(2)).sum();
+            speed = speed.max(d.sqrt() / period_s);
+        }
+        prev = Some(set);
+    }
+    assert!(worst_set < 1e-6, "setpoints {worst_set} mm off the line");
+    assert!(
+        worst_act < actual_tol,
+        "actual positions {worst_act} mm off the line"
+    );
+    assert!(speed <= v * 1.001 && speed > v * 0.96, "path speed {speed}");
+    let end: Vec<f64> = ["x", "y", "z"]
+        .iter()
+        .map(|n| at(n, finished).setpoint_position)
+        .collect();
+    assert!(
+        end.iter().zip(&b).all(|(e, t)| (e - t).abs() < 1e-6),
+        "{end:?}"
+    );
+}
+
+/// Distance of `p` from the line through `a` and `b`.
+fn off_line(p: &[f64], a: &[f64], b: &[f64]) -> f64 {
+    let d: Vec<f64> = a.iter().zip(b).map(|(a, b)| b - a).collect();
+    let len = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let w: Vec<f64> = p.iter().zip(a).map(|(p, a)| p - a).collect();
+    let t = w.iter().zip(&d).map(|(w, d)| w * d).sum::<f64>() / len;
+    w.iter()
+        .zip(&d)
+        .map(|(w, d)| (w - t * d / len).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }

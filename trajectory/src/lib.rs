@@ -10,6 +10,7 @@
 #![warn(missing_docs)]
 
 pub mod limits;
+pub mod line;
 pub mod online;
 pub mod planner;
 pub mod sampler;
@@ -18,6 +19,7 @@ pub mod units;
 mod verify;
 
 pub use limits::{KinematicLimits, LimitsError, PositionRange, Quantity};
+pub use line::{LineError, LineMove};
 pub use online::{AxisGoal, OnlineAxis, OnlineError, OnlineMotion};
 pub use planner::{plan_move, AxisState, MoveAxis, PlanError, PlannedMove, MAX_MOVE_AXES};
 pub use sampler::{MoveSampler, SamplerError};

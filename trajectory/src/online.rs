@@ -297,7 +297,6 @@ impl OnlineMotion {
             other => return Err(OnlineError::Ruckig(format!("{other:?}"))),
         }
         self.output.pass_to_input(&mut self.input);
-        self.polish();
         self.finished = result == RuckigResult::Finished;
         if self.finished {
             self.settle();
@@ -305,6 +304,7 @@ impl OnlineMotion {
         for (i, o) in out.iter_mut().enumerate().take(self.axes.len()) {
             *o = self.state(i);
         }
+        self.polish(out);
         Ok(())
     }
 
@@ -340,15 +340,16 @@ impl OnlineMotion {
         }
     }
 
-    /// Removes floating-point noise at a position target (rsruckig's last working sample may
-    /// pass it by ~1e-15): a position within [`POLISH_TOLERANCE`] of its target is the target,
-    /// so a target at the end of the range never leaves the range by noise.
-    fn polish(&mut self) {
-        for i in 0..self.axes.len() {
-            if let AxisGoal::Position(target) = self.goals[i] {
-                let p = &mut self.input.current_position[i];
-                if (*p - target).abs() <= POLISH_TOLERANCE * target.abs().max(1.0) {
-                    *p = target;
+    /// Removes floating-point noise at a position target from the samples handed out (rsruckig's
+    /// last working sample may pass a target by ~1e-15): a position within
+    /// [`POLISH_TOLERANCE`] of its target is the target, so a target at the end of the range
+    /// never leaves the range by noise. rsruckig's own state is left as it computed it (an
+    /// edited state would make it recalculate from a degenerate input).
+    fn polish(&self, out: &mut [AxisState]) {
+        for (o, goal) in out.iter_mut().zip(&self.goals) {
+            if let AxisGoal::Position(target) = *goal {
+                if (o.position - target).abs() <= POLISH_TOLERANCE * target.abs().max(1.0) {
+                    o.position = target;
                 }
             }
         }

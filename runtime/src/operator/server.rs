@@ -203,6 +203,64 @@ impl OperatorServer {
                 acceleration,
                 jerk,
                 clamp,
+                line: true,
+            } => {
+                let mut list = Vec::with_capacity(targets.len());
+                for (axis, value) in &targets {
+                    let i = match axis_index(ctx.cell, axis) {
+                        Ok(i) => i,
+                        Err(e) => return reject(format!("move: {e}")),
+                    };
+                    let a = &ctx.cell.axes[i];
+                    let limits = match move_limits(a, None, acceleration, jerk, clamp) {
+                        Ok(l) => l,
+                        Err(e) => return reject(format!("move: {e}")),
+                    };
+                    if !value.is_finite() {
+                        return reject(format!(
+                            "move: axis '{axis}': target {value} is not a finite number"
+                        ));
+                    }
+                    let here = ctx.engine.position(i, &state, a);
+                    list.push((
+                        i,
+                        if relative { here + value } else { *value },
+                        limits,
+                        here,
+                    ));
+                }
+                let start: Vec<f64> = list.iter().map(|t| t.3).collect();
+                let end: Vec<f64> = list.iter().map(|t| t.1).collect();
+                let limits: Vec<KinematicLimits> = list.iter().map(|t| t.2).collect();
+                let max = cellrt_trajectory::line::max_path_velocity(&start, &end, &limits);
+                let path_velocity = match velocity {
+                    Some(v) if !(v.is_finite() && v > 0.0) => {
+                        return reject(format!(
+                            "move: path velocity {v} must be a finite number > 0"
+                        ))
+                    }
+                    Some(v) if v > max && !clamp => {
+                        return reject(format!(
+                            "move: path velocity {v} exceeds {max:.3}, the most every axis allows along this line (add --clamp to use it)"
+                        ))
+                    }
+                    Some(v) => Some(v.min(max)),
+                    None => None,
+                };
+                let req = MotionRequest::Line {
+                    targets: list.iter().map(|t| (t.0, t.1, t.2)).collect(),
+                    path_velocity,
+                };
+                self.motion(name, req, ctx)
+            }
+            Request::Move {
+                targets,
+                relative,
+                velocity,
+                acceleration,
+                jerk,
+                clamp,
+                line: false,
             } => {
                 let mut list = Vec::with_capacity(targets.len());
                 for (axis, value) in &targets {

@@ -43,6 +43,10 @@ pub enum Request {
         /// Lower a limit above an axis limit to it instead of refusing the move.
         #[serde(default)]
         clamp: bool,
+        /// A straight line in the axes' space (a gantry; all axes of one unit): `velocity` is
+        /// then the path speed.
+        #[serde(default)]
+        line: bool,
     },
     /// MC_MoveVelocity: jog one axis at a signed velocity until halted (or the range ends).
     Velocity {

@@ -67,6 +67,9 @@ pub enum OperatorCommand {
         /// Use the axis limit where a requested limit exceeds it (default: refuse).
         #[arg(long)]
         clamp: bool,
+        /// A straight line in the axes' space (gantry; one unit); --vel is the path speed.
+        #[arg(long)]
+        line: bool,
         /// Return once accepted instead of waiting for the end of the move.
         #[arg(long)]
         no_wait: bool,
@@ -196,6 +199,7 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
             jerk,
             relative,
             clamp,
+            line,
             no_wait,
         } => (
             Request::Move {
@@ -205,6 +209,7 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
                 acceleration: *acceleration,
                 jerk: *jerk,
                 clamp: *clamp,
+                line: *line,
             },
             wait(*no_wait, Wait::Finished),
         ),

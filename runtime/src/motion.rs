@@ -13,7 +13,8 @@ use std::time::{Duration, Instant};
 
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_trajectory::{
-    AxisState, KinematicLimits, LineMove, OnlineAxis, OnlineMotion, TorqueRamp,
+    plan_waypoints, AxisState, KinematicLimits, LineMove, MoveAxis, MoveSampler, OnlineAxis,
+    OnlineMotion, TorqueRamp,
 };
 
 use crate::config::CellConfig;
@@ -41,6 +42,14 @@ pub enum MotionRequest {
     },
     /// Brake the listed axes (all when `None`) to rest and hold.
     Halt(Option<Vec<usize>>),
+    /// A waypoint move from rest: (axis index, final target, limits) and the intermediate
+    /// positions (one per listed axis each).
+    Path {
+        /// Axes with their final targets and limits.
+        targets: Vec<(usize, f64, KinematicLimits)>,
+        /// Intermediate positions.
+        via: Vec<Vec<f64>>,
+    },
     /// A straight line of an axis group (one unit) from rest: (axis index, end, axis limits
     /// for this move), the path speed at most `path_velocity`.
     Line {
@@ -85,6 +94,8 @@ enum Kind {
     Torque(TorqueMotion),
     /// A line and the cell indices of its axes.
     Line(Box<LineMove>, Vec<usize>),
+    /// A planned (waypoint) move and the cell indices of its axes.
+    Planned(Box<MoveSampler>, Vec<usize>),
 }
 
 /// The motion the RT thread is (about to be) running.
@@ -206,9 +217,42 @@ impl MotionEngine {
         if self.active.as_ref().is_some_and(|a| a.last_published) {
             self.wait_finished(link)?;
         }
+        if matches!(
+            (&req, self.active.as_ref().map(|a| &a.kind)),
+            (
+                MotionRequest::Move(_) | MotionRequest::Jog { .. } | MotionRequest::Halt(_),
+                Some(Kind::Planned(..))
+            )
+        ) {
+            self.take_over_planned();
+        }
         let torque_active = matches!(self.active.as_ref().map(|a| &a.kind), Some(Kind::Torque(_)));
+        let line_active = matches!(self.active.as_ref().map(|a| &a.kind), Some(Kind::Line(..)));
         match (&req, self.active.is_some()) {
             (MotionRequest::Halt(_), false) => return Ok(()),
+            (MotionRequest::Halt(_), true) if line_active => {
+                if let Some(Active {
+                    kind: Kind::Line(line, _),
+                    ..
+                }) = self.active.as_mut()
+                {
+                    line.halt();
+                }
+                return Ok(());
+            }
+            (_, true) if line_active => {
+                return Err("a line move is active: halt it (or wait for its end) first".into())
+            }
+            (MotionRequest::Line { .. } | MotionRequest::Path { .. }, true) => {
+                return Err(format!(
+                    "a {} starts from rest: halt the motion (or wait for its end) first",
+                    if matches!(req, MotionRequest::Line { .. }) {
+                        "line"
+                    } else {
+                        "waypoint path"
+                    }
+                ))
+            }
             (MotionRequest::Halt(_), true) if torque_active => {
                 let period = self.cell.period();
                 let Some(Active {
@@ -296,6 +340,23 @@ impl MotionEngine {
                         .map_err(|e| format!("line: {e}"))?;
                     Kind::Line(Box::new(line), axes)
                 }
+                MotionRequest::Path { targets, via } => {
+                    let axes: Vec<MoveAxis> = targets
+                        .iter()
+                        .map(|&(i, target, limits)| MoveAxis {
+                            start: AxisState {
+                                position: self.cell.axes[i].scaling.to_units(status.hold[i]),
+                                ..AxisState::default()
+                            },
+                            target,
+                            limits,
+                        })
+                        .collect();
+                    let plan = plan_waypoints(&axes, via).map_err(|e| format!("path: {e}"))?;
+                    let sampler = MoveSampler::new(plan, self.cell.period())
+                        .map_err(|e| format!("path: {e}"))?;
+                    Kind::Planned(Box::new(sampler), targets.iter().map(|t| t.0).collect())
+                }
                 _ => Kind::Online,
             };
             self.begin(&status, kind);
@@ -308,7 +369,9 @@ impl MotionEngine {
                 limits,
             } => self.online.jog(axis, velocity, limits),
             MotionRequest::Halt(axes) => self.online.halt(axes.as_deref()),
-            MotionRequest::Torque { .. } | MotionRequest::Line { .. } => Ok(()),
+            MotionRequest::Torque { .. }
+            | MotionRequest::Line { .. }
+            | MotionRequest::Path { .. } => Ok(()),
         };
         r.map_err(|e| self.describe(e))
     }
@@ -332,6 +395,39 @@ impl MotionEngine {
                 }
             }
             MotionRequest::Halt(_) => {}
+            MotionRequest::Path { targets, via } => {
+                if targets.is_empty() || targets.len() > cellrt_trajectory::MAX_MOVE_AXES {
+                    return Err(format!(
+                        "a waypoint path needs 1 to {} axes (got {})",
+                        cellrt_trajectory::MAX_MOVE_AXES,
+                        targets.len()
+                    ));
+                }
+                if let Some(&(i, _, _)) = targets.iter().find(|t| t.0 >= axes.len()) {
+                    return Err(format!("axis index {i} unknown"));
+                }
+                for (w, point) in via.iter().enumerate() {
+                    if point.len() != targets.len() {
+                        return Err(format!(
+                            "waypoint {w} has {} positions for {} axes",
+                            point.len(),
+                            targets.len()
+                        ));
+                    }
+                    for (&(i, _, _), &p) in targets.iter().zip(point) {
+                        let a = &axes[i];
+                        a.position.check(p).map_err(|e| {
+                            format!("waypoint {w}: axis '{}' ({}): {e}", a.name, a.unit)
+                        })?;
+                    }
+                }
+                for &(i, t, _) in targets {
+                    let a = &axes[i];
+                    a.position
+                        .check(t)
+                        .map_err(|e| format!("axis '{}' ({}): {e}", a.name, a.unit))?;
+                }
+            }
             MotionRequest::Line { targets, .. } => {
                 if targets.len() < 2 || targets.len() > cellrt_trajectory::MAX_MOVE_AXES {
                     return Err(format!(
@@ -423,6 +519,38 @@ impl MotionEngine {
         });
     }
 
+    /// Turns the waypoint path in flight into an online motion at its last published state, so
+    /// a halt or a new target continues from there without a step.
+    fn take_over_planned(&mut self) {
+        let Some(Active {
+            next,
+            kind: Kind::Planned(sampler, axes),
+            ..
+        }) = self.active.as_ref()
+        else {
+            return;
+        };
+        let mut states: Vec<AxisState> = self
+            .cell
+            .axes
+            .iter()
+            .zip(&self.hold)
+            .map(|(a, h)| AxisState {
+                position: a.scaling.to_units(*h),
+                ..AxisState::default()
+            })
+            .collect();
+        let mut group = [AxisState::default(); cellrt_trajectory::MAX_MOVE_AXES];
+        sampler.fill(next.saturating_sub(1), &mut group[..axes.len()]);
+        for (&i, st) in axes.iter().zip(&group) {
+            states[i] = *st;
+        }
+        self.online.continue_from(&states);
+        if let Some(a) = self.active.as_mut() {
+            a.kind = Kind::Online;
+        }
+    }
+
     /// Waits (at most [`FINISH_WAIT`]) for the motion whose last block is out to end.
     fn wait_finished(&mut self, link: &mut dyn CellLink) -> Result<(), String> {
         let end = Instant::now() + FINISH_WAIT;
@@ -491,7 +619,7 @@ impl MotionEngine {
         let mut cycles = 0;
         let mut last = false;
         let flags = match &a.kind {
-            Kind::Online | Kind::Line(..) => 0,
+            Kind::Online | Kind::Line(..) | Kind::Planned(..) => 0,
             Kind::Torque(_) => FLAG_TORQUE,
         };
         while cycles < BLOCK_CYCLES && !last {
@@ -502,22 +630,14 @@ impl MotionEngine {
                     let mut group = [AxisState::default(); cellrt_trajectory::MAX_MOVE_AXES];
                     line.step(&mut group[..axes.len()])
                         .map_err(|e| format!("line: {e}"))?;
-                    for (sp, h) in row.iter_mut().zip(&self.hold) {
-                        *sp = AxisSetpoint {
-                            position: *h,
-                            velocity: 0.0,
-                            torque: 0.0,
-                        };
-                    }
-                    for (&i, st) in axes.iter().zip(&group) {
-                        let sc = self.cell.axes[i].scaling;
-                        row[i] = AxisSetpoint {
-                            position: sc.to_counts(st.position),
-                            velocity: sc.to_counts(st.velocity),
-                            torque: 0.0,
-                        };
-                    }
+                    group_row(row, &self.hold, &self.cell, axes, &group);
                     last = line.is_done();
+                }
+                Kind::Planned(sampler, axes) => {
+                    let mut group = [AxisState::default(); cellrt_trajectory::MAX_MOVE_AXES];
+                    sampler.fill(k, &mut group[..axes.len()]);
+                    group_row(row, &self.hold, &self.cell, axes, &group);
+                    last = k >= sampler.cycles();
                 }
                 Kind::Online => {
                     self.online
@@ -566,6 +686,32 @@ impl MotionEngine {
         a.next += cycles as u64;
         a.last_published = last;
         Ok(())
+    }
+}
+
+/// One cycle's setpoints for a motion of an axis group: the group's `states` (units) on its
+/// `axes`, every other axis holding.
+fn group_row(
+    row: &mut [AxisSetpoint],
+    hold: &[f64],
+    cell: &CellConfig,
+    axes: &[usize],
+    states: &[AxisState],
+) {
+    for (sp, h) in row.iter_mut().zip(hold) {
+        *sp = AxisSetpoint {
+            position: *h,
+            velocity: 0.0,
+            torque: 0.0,
+        };
+    }
+    for (&i, st) in axes.iter().zip(states) {
+        let sc = cell.axes[i].scaling;
+        row[i] = AxisSetpoint {
+            position: sc.to_counts(st.position),
+            velocity: sc.to_counts(st.velocity),
+            torque: 0.0,
+        };
     }
 }
 

@@ -174,6 +174,10 @@ fn operator_commands_drive_a_running_cell() {
     cell.wait_state("idle");
     let s = cell.ok(&["status"]);
     assert!(s.contains("stopped by the RT thread (command)"), "{s}");
+    // A waypoint path: through (200, 100) and (350, 250), to (250, 400) at rest.
+    cell.rejected(&["path", "x=200,y=100", "x=350"], "names other axes");
+    cell.rejected(&["path", "x=200,y=900", "x=250,y=400"], "waypoint 0");
+    cell.ok(&["path", "x=200,y=100", "x=350,y=250", "x=250,y=400"]);
     // A straight line of the gantry axes at 250 mm/s path speed.
     cell.rejected(
         &[
@@ -234,6 +238,33 @@ fn operator_commands_drive_a_running_cell() {
     );
     // Matched csp axes: the actual path stays within 0.05 mm of the line.
     assert_last_motion_on_line(&r, [450.0, 300.0, -120.0], 250.0, dt, 0.05);
+    // The path (the motion before the line) passed its waypoints and ended on its target.
+    let starts: Vec<u64> = r
+        .events
+        .iter()
+        .filter(|e| e.kind == "motion_started")
+        .map(|e| e.cycle)
+        .collect();
+    let (from, to) = (starts[starts.len() - 2], starts[starts.len() - 1]);
+    let xy: Vec<(f64, f64)> = r.axes["x"]
+        .iter()
+        .zip(&r.axes["y"])
+        .filter(|(a, _)| a.cycle >= from && a.cycle < to)
+        .map(|(a, b)| (a.setpoint_position, b.setpoint_position))
+        .collect();
+    for w in [(200.0, 100.0), (350.0, 250.0)] {
+        let d = xy
+            .iter()
+            .map(|p| ((p.0 - w.0).powi(2) + (p.1 - w.1).powi(2)).sqrt())
+            .fold(f64::INFINITY, f64::min);
+        // Sampled every 1 ms at ≤ 400 mm/s per axis.
+        assert!(d < 0.6, "the path passed {w:?} at {d} mm");
+    }
+    let end = xy.last().unwrap();
+    assert!(
+        (end.0 - 250.0).abs() < 1e-6 && (end.1 - 400.0).abs() < 1e-6,
+        "{end:?}"
+    );
 }
 
 #[test]
@@ -275,6 +306,21 @@ fn torque_and_reset_after_a_fault_through_the_operator_service() {
     cell.ok(&["power", "on"]);
     cell.ok(&["move", "x=120"]);
     cell.rejected(&["move", "x=100", "c=10", "--line"], "one unit");
+    // A line halted midway stops on the line; nothing else is taken while it runs.
+    cell.ok(&[
+        "move",
+        "x=400",
+        "y=300",
+        "z=-100",
+        "--line",
+        "--vel",
+        "100",
+        "--no-wait",
+    ]);
+    std::thread::sleep(Duration::from_millis(400));
+    cell.rejected(&["move", "x=200"], "line move is active");
+    cell.ok(&["halt"]);
+    cell.wait_state("idle");
     cell.ok(&["power", "off"]);
     cell.end();
 
@@ -306,6 +352,40 @@ fn torque_and_reset_after_a_fault_through_the_operator_service() {
             .any(|a| (a.setpoint_position - 120.0).abs() < 1e-6),
         "moved after the reset"
     );
+    // The halted line: from its start, every setpoint on the line to (400, 300, -100), ending
+    // at rest short of it.
+    let last_start = r
+        .events
+        .iter()
+        .rfind(|e| e.kind == "motion_started")
+        .unwrap()
+        .cycle;
+    let last_end = r
+        .events
+        .iter()
+        .rfind(|e| e.kind == "motion_finished")
+        .unwrap()
+        .cycle;
+    let point = |cycle: u64| -> Vec<f64> {
+        ["x", "y", "z"]
+            .iter()
+            .map(|n| at(&r, n, cycle).setpoint_position)
+            .collect()
+    };
+    let a = point(last_start - 1);
+    let b = [400.0, 300.0, -100.0];
+    for cycle in last_start..=last_end {
+        let p = point(cycle);
+        assert!(
+            off_line(&p, &a, &b) < 1e-6,
+            "cycle {cycle}: {p:?} off the line"
+        );
+    }
+    let stop = point(last_end);
+    assert!(
+        stop[0] > a[0] + 1.0 && stop[0] < 399.0,
+        "halted at {stop:?}"
+    );
 }
 
 /// The last motion of `r` is a line of x, y, z to `b`: every setpoint between its start and end
@@ -330,24 +410,30 @@ fn assert_last_motion_on_line(
         .rfind(|e| e.kind == "motion_finished")
         .unwrap()
         .cycle;
-    let at = |axis: &str, cycle: u64| *r.axes[axis].iter().find(|a| a.cycle == cycle).unwrap();
+    // Cycles an overrun skipped have no record: look up the ones that exist.
+    let cycles: Vec<u64> = r.axes["x"]
+        .iter()
+        .map(|a| a.cycle)
+        .filter(|c| (started..finished).contains(c))
+        .collect();
+    let at = |axis: &str, cycle: u64| at(r, axis, cycle);
     let a: Vec<f64> = ["x", "y", "z"]
         .iter()
         .map(|n| at(n, started - 1).setpoint_position)
         .collect();
     let (mut worst_set, mut worst_act, mut speed) = (0.0f64, 0.0f64, 0.0f64);
-    let mut prev: Option<Vec<f64>> = None;
-    for cycle in started..finished {
+    let mut prev: Option<(u64, Vec<f64>)> = None;
+    for &cycle in &cycles {
         let s: Vec<_> = ["x", "y", "z"].iter().map(|n| at(n, cycle)).collect();
         let set: Vec<f64> = s.iter().map(|c| c.setpoint_position).collect();
         let act: Vec<f64> = s.iter().map(|c| c.actual_position).collect();
         worst_set = worst_set.max(off_line(&set, &a, &b));
         worst_act = worst_act.max(off_line(&act, &a, &b));
-        if let Some(p) = &prev {
+        if let Some((c, p)) = &prev {
             let d: f64 = p.iter().zip(&set).map(|(p, q)| (q - p).powi(2)).sum();
-            speed = speed.max(d.sqrt() / period_s);
+            speed = speed.max(d.sqrt() / (period_s * (cycle - c) as f64));
         }
-        prev = Some(set);
+        prev = Some((cycle, set));
     }
     assert!(worst_set < 1e-6, "setpoints {worst_set} mm off the line");
     assert!(
@@ -363,6 +449,11 @@ fn assert_last_motion_on_line(
         end.iter().zip(&b).all(|(e, t)| (e - t).abs() < 1e-6),
         "{end:?}"
     );
+}
+
+/// The record of `axis` at `cycle`, or the last before it (an overrun skips cycles).
+fn at(r: &common::Recording, axis: &str, cycle: u64) -> cellrt_runtime::record::proto::AxisCycle {
+    *r.axes[axis].iter().rfind(|a| a.cycle <= cycle).unwrap()
 }
 
 /// Distance of `p` from the line through `a` and `b`.

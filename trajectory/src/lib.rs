@@ -17,6 +17,7 @@ pub mod sampler;
 pub mod torque;
 pub mod units;
 mod verify;
+pub mod waypoints;
 
 pub use limits::{KinematicLimits, LimitsError, PositionRange, Quantity};
 pub use line::{LineError, LineMove};
@@ -25,3 +26,4 @@ pub use planner::{plan_move, AxisState, MoveAxis, PlanError, PlannedMove, MAX_MO
 pub use sampler::{MoveSampler, SamplerError};
 pub use torque::{TorqueRamp, TorqueRampError};
 pub use units::{Scaling, UnitsError};
+pub use waypoints::{plan_waypoints, MAX_WAYPOINTS};

@@ -50,6 +50,7 @@ pub enum LineError {
 /// A straight-line move in progress.
 pub struct LineMove {
     start: DVector<f64>,
+    end: DVector<f64>,
     direction: DVector<f64>,
     length: f64,
     path: OnlineMotion,
@@ -84,7 +85,8 @@ impl LineMove {
                 .map_err(|source| LineError::Path(OnlineError::Limits { axis: 0, source }))?;
         }
         let start = DVector::from_column_slice(start);
-        let delta = DVector::from_column_slice(end) - &start;
+        let end = DVector::from_column_slice(end);
+        let delta = &end - &start;
         let length = delta.norm();
         let direction = if length > MIN_LINE_LENGTH {
             delta / length
@@ -114,6 +116,7 @@ impl LineMove {
         );
         let mut line = LineMove {
             start,
+            end,
             direction,
             length,
             path,
@@ -159,8 +162,18 @@ impl LineMove {
             self.path.step(&mut s)?;
             self.state = s[0];
         }
+        let at_end = self.state.position == self.length;
         for (i, o) in out.iter_mut().enumerate().take(self.start.len()) {
             let u = self.direction[i];
+            if at_end {
+                // Exactly the end point (start + u·L can differ from it by rounding).
+                *o = AxisState {
+                    position: self.end[i],
+                    velocity: 0.0,
+                    acceleration: 0.0,
+                };
+                continue;
+            }
             *o = AxisState {
                 position: self.start[i] + u * self.state.position,
                 velocity: u * self.state.velocity,

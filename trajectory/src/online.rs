@@ -146,6 +146,23 @@ impl OnlineMotion {
         self.apply_goals();
     }
 
+    /// Takes over a motion planned elsewhere at its current `states` (each axis then holds
+    /// where it is until given a goal: call [`OnlineMotion::halt`] or
+    /// [`OnlineMotion::move_to`] next to brake or re-target smoothly).
+    pub fn continue_from(&mut self, states: &[AxisState]) {
+        for (i, s) in states.iter().enumerate().take(self.axes.len()) {
+            self.input.current_position[i] = s.position;
+            self.input.current_velocity[i] = s.velocity;
+            self.input.current_acceleration[i] = s.acceleration;
+            self.goals[i] = AxisGoal::Position(s.position);
+            self.limits[i] = self.axes[i].limits;
+            self.synchronised[i] = false;
+        }
+        self.otg.reset();
+        self.finished = false;
+        self.apply_goals();
+    }
+
     /// Number of axes.
     pub fn axis_count(&self) -> usize {
         self.axes.len()

@@ -81,6 +81,24 @@ pub enum PlanError {
         /// [`MAX_MOVE_AXES`].
         max: usize,
     },
+    /// More intermediate positions than [`crate::waypoints::MAX_WAYPOINTS`].
+    #[error("a waypoint move takes at most {max} waypoints, got {count}")]
+    TooManyWaypoints {
+        /// Waypoints given.
+        count: usize,
+        /// The maximum.
+        max: usize,
+    },
+    /// A waypoint does not give one position per axis.
+    #[error("waypoint {waypoint} has {got} positions for {axes} axes")]
+    WaypointShape {
+        /// Index of the waypoint.
+        waypoint: usize,
+        /// Positions it has.
+        got: usize,
+        /// Axes of the move.
+        axes: usize,
+    },
     /// A target position is NaN or infinite.
     #[error("axis {axis}: target position {value} is not finite")]
     NonFiniteTarget {
@@ -208,7 +226,7 @@ pub fn plan_move(axes: &[MoveAxis]) -> Result<PlannedMove, PlanError> {
 }
 
 /// rsruckig input for a time-synchronised move of `axes` to rest.
-fn ruckig_input(axes: &[MoveAxis]) -> InputParameter<0> {
+pub(crate) fn ruckig_input(axes: &[MoveAxis]) -> InputParameter<0> {
     let mut input = InputParameter::<0>::new(Some(axes.len()));
     input.synchronization = Synchronization::Time;
     for (i, axis) in axes.iter().enumerate() {
@@ -331,7 +349,11 @@ fn validate(axes: &[MoveAxis]) -> Result<(), PlanError> {
 }
 
 impl PlannedMove {
-    fn new(trajectory: Trajectory<0>, axis_count: usize, targets: [f64; MAX_MOVE_AXES]) -> Self {
+    pub(crate) fn new(
+        trajectory: Trajectory<0>,
+        axis_count: usize,
+        targets: [f64; MAX_MOVE_AXES],
+    ) -> Self {
         PlannedMove {
             trajectory,
             axis_count,

@@ -287,6 +287,41 @@ impl OperatorServer {
                 }
                 self.motion(name, MotionRequest::Move(list), ctx)
             }
+            Request::Path {
+                waypoints,
+                velocity,
+                acceleration,
+                jerk,
+                clamp,
+            } => {
+                let Some(last) = waypoints.last() else {
+                    return reject("path: no waypoints".into());
+                };
+                let mut targets = Vec::with_capacity(last.len());
+                for (axis, value) in last {
+                    let i = match axis_index(ctx.cell, axis) {
+                        Ok(i) => i,
+                        Err(e) => return reject(format!("path: {e}")),
+                    };
+                    let limits =
+                        match move_limits(&ctx.cell.axes[i], velocity, acceleration, jerk, clamp) {
+                            Ok(l) => l,
+                            Err(e) => return reject(format!("path: {e}")),
+                        };
+                    targets.push((i, *value, limits));
+                }
+                let mut via = Vec::with_capacity(waypoints.len() - 1);
+                for (w, point) in waypoints[..waypoints.len() - 1].iter().enumerate() {
+                    if point.len() != last.len() || point.keys().any(|k| !last.contains_key(k)) {
+                        return reject(format!(
+                            "path: waypoint {w} names other axes than the target ({})",
+                            last.keys().cloned().collect::<Vec<_>>().join(", ")
+                        ));
+                    }
+                    via.push(last.keys().map(|k| point[k]).collect());
+                }
+                self.motion(name, MotionRequest::Path { targets, via }, ctx)
+            }
             Request::Velocity {
                 axis,
                 velocity,
@@ -464,7 +499,7 @@ impl OperatorServer {
 }
 
 /// Commands that end when their motion ends.
-const MOTION_COMMANDS: [&str; 4] = ["move", "velocity", "torque", "halt"];
+const MOTION_COMMANDS: [&str; 5] = ["move", "path", "velocity", "torque", "halt"];
 
 fn program_abort(program_running: bool) -> Followup {
     if program_running {

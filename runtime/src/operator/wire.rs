@@ -48,6 +48,24 @@ pub enum Request {
         #[serde(default)]
         line: bool,
     },
+    /// A waypoint move from rest: through each waypoint but the last, to the last at rest
+    /// (every waypoint names the same axes).
+    Path {
+        /// Axis name → position, per waypoint; the last is the target.
+        waypoints: Vec<BTreeMap<String, f64>>,
+        /// Velocity limit, unit/s (axis limit when absent).
+        #[serde(default)]
+        velocity: Option<f64>,
+        /// Acceleration limit, unit/s² (axis limit when absent).
+        #[serde(default)]
+        acceleration: Option<f64>,
+        /// Jerk limit, unit/s³ (axis limit when absent).
+        #[serde(default)]
+        jerk: Option<f64>,
+        /// Lower a limit above an axis limit to it instead of refusing.
+        #[serde(default)]
+        clamp: bool,
+    },
     /// MC_MoveVelocity: jog one axis at a signed velocity until halted (or the range ends).
     Velocity {
         /// Axis name.
@@ -97,6 +115,7 @@ impl Request {
             Request::Status => "status",
             Request::Power { .. } => "power",
             Request::Move { .. } => "move",
+            Request::Path { .. } => "path",
             Request::Velocity { .. } => "velocity",
             Request::Torque { .. } => "torque",
             Request::Halt { .. } => "halt",

@@ -26,6 +26,23 @@ pub struct Target {
     pub reply_timeout: f64,
 }
 
+/// Per-move limits of `move` and `path`.
+#[derive(Debug, Args)]
+pub struct LimitArgs {
+    /// Velocity limit, unit/s (for `--line`: the path speed).
+    #[arg(long = "vel", value_name = "V")]
+    velocity: Option<f64>,
+    /// Acceleration limit, unit/s².
+    #[arg(long = "acc", value_name = "A")]
+    acceleration: Option<f64>,
+    /// Jerk limit, unit/s³.
+    #[arg(long, value_name = "J")]
+    jerk: Option<f64>,
+    /// Use the axis limit where a requested limit exceeds it (default: refuse).
+    #[arg(long)]
+    clamp: bool,
+}
+
 /// An operator command.
 #[derive(Debug, Subcommand)]
 pub enum OperatorCommand {
@@ -52,25 +69,27 @@ pub enum OperatorCommand {
         /// AXIS=POSITION pairs, in the axis units.
         #[arg(required = true, value_name = "AXIS=POSITION")]
         targets: Vec<String>,
-        /// Velocity limit of the move, unit/s.
-        #[arg(long = "vel", value_name = "V")]
-        velocity: Option<f64>,
-        /// Acceleration limit, unit/s².
-        #[arg(long = "acc", value_name = "A")]
-        acceleration: Option<f64>,
-        /// Jerk limit, unit/s³.
-        #[arg(long, value_name = "J")]
-        jerk: Option<f64>,
+        #[command(flatten)]
+        limits: LimitArgs,
         /// Positions are distances from the current position.
         #[arg(long = "rel")]
         relative: bool,
-        /// Use the axis limit where a requested limit exceeds it (default: refuse).
-        #[arg(long)]
-        clamp: bool,
         /// A straight line in the axes' space (gantry; one unit); --vel is the path speed.
         #[arg(long)]
         line: bool,
         /// Return once accepted instead of waiting for the end of the move.
+        #[arg(long)]
+        no_wait: bool,
+    },
+    /// A waypoint move: `cellrt path x=100,y=20 x=300,y=50 x=400,y=0` passes the first
+    /// waypoints and ends at rest at the last.
+    Path {
+        /// Waypoints, each AXIS=POS[,AXIS=POS…]; the last is the target.
+        #[arg(required = true, value_name = "AXIS=POS,…")]
+        waypoints: Vec<String>,
+        #[command(flatten)]
+        limits: LimitArgs,
+        /// Return once accepted.
         #[arg(long)]
         no_wait: bool,
     },
@@ -194,22 +213,41 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
         }
         OperatorCommand::Move {
             targets,
-            velocity,
-            acceleration,
-            jerk,
+            limits,
             relative,
-            clamp,
             line,
             no_wait,
         } => (
             Request::Move {
                 targets: pairs("move", targets)?,
                 relative: *relative,
-                velocity: *velocity,
-                acceleration: *acceleration,
-                jerk: *jerk,
-                clamp: *clamp,
+                velocity: limits.velocity,
+                acceleration: limits.acceleration,
+                jerk: limits.jerk,
+                clamp: limits.clamp,
                 line: *line,
+            },
+            wait(*no_wait, Wait::Finished),
+        ),
+        OperatorCommand::Path {
+            waypoints,
+            limits,
+            no_wait,
+        } => (
+            Request::Path {
+                waypoints: waypoints
+                    .iter()
+                    .map(|w| {
+                        pairs(
+                            "path",
+                            &w.split(',').map(str::to_string).collect::<Vec<_>>(),
+                        )
+                    })
+                    .collect::<Result<_, _>>()?,
+                velocity: limits.velocity,
+                acceleration: limits.acceleration,
+                jerk: limits.jerk,
+                clamp: limits.clamp,
             },
             wait(*no_wait, Wait::Finished),
         ),

@@ -17,6 +17,14 @@ use crate::operator::server::{Context, Followup, OperatorServer};
 use crate::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::services;
 
+/// The engine's form of a move-like step's targets.
+fn move_list(targets: &[MoveTarget]) -> Vec<(usize, f64, cellrt_trajectory::KinematicLimits)> {
+    targets
+        .iter()
+        .map(|t| (t.axis, t.target, t.limits))
+        .collect()
+}
+
 /// How often the planner looks at the cell while a motion runs.
 const TICK: Duration = Duration::from_millis(1);
 
@@ -320,6 +328,51 @@ impl<'a> Planner<'a> {
                     self.what = "torque";
                     self.run_torque(targets, *hold_s)?;
                 }
+                Step::Line {
+                    targets,
+                    path_velocity,
+                } => {
+                    self.what = "line";
+                    self.run_motion(
+                        MotionRequest::Line {
+                            targets: move_list(targets),
+                            path_velocity: *path_velocity,
+                        },
+                        None,
+                    )?;
+                }
+                Step::Path { targets, via } => {
+                    self.what = "path";
+                    self.run_motion(
+                        MotionRequest::Path {
+                            targets: move_list(targets),
+                            via: via.clone(),
+                        },
+                        None,
+                    )?;
+                }
+                Step::Jog {
+                    axis,
+                    velocity,
+                    seconds,
+                } => {
+                    self.what = "jog";
+                    let limits = self.cell.axes[*axis].limits;
+                    self.run_motion(
+                        MotionRequest::Jog {
+                            axis: *axis,
+                            velocity: *velocity,
+                            limits,
+                        },
+                        Some(Duration::from_secs_f64(*seconds)),
+                    )?;
+                }
+                Step::Override(value) => {
+                    self.what = "override";
+                    if let Err(e) = self.engine.set_override(*value) {
+                        return Err(self.err(e));
+                    }
+                }
             }
         }
         Ok(())
@@ -403,13 +456,7 @@ impl<'a> Planner<'a> {
     }
 
     fn run_move(&mut self, targets: &[MoveTarget]) -> Result<(), ProgramError> {
-        let req = MotionRequest::Move(
-            targets
-                .iter()
-                .map(|t| (t.axis, t.target, t.limits))
-                .collect(),
-        );
-        self.run_motion(req)
+        self.run_motion(MotionRequest::Move(move_list(targets)), None)
     }
 
     /// A torque step: every target axis ramps to its torque, holds it, ramps back to zero; the
@@ -422,17 +469,33 @@ impl<'a> Planner<'a> {
                 .collect(),
             hold_s,
         };
-        self.run_motion(req)
+        self.run_motion(req, None)
     }
 
-    /// Hands `req` to the motion engine and follows it until the RT thread finished it.
-    fn run_motion(&mut self, req: MotionRequest) -> Result<(), ProgramError> {
+    /// Hands `req` to the motion engine and follows it until the RT thread finished it; with
+    /// `halt_after`, halts it after that long (a jog).
+    fn run_motion(
+        &mut self,
+        req: MotionRequest,
+        halt_after: Option<Duration>,
+    ) -> Result<(), ProgramError> {
         if let Err(e) = self.engine.submit(req, self.link.as_mut()) {
             return Err(self.err(e));
         }
+        let halt_at = halt_after.map(|d| Instant::now() + d);
+        let mut halted = false;
         loop {
             if self.aborted() {
                 return Ok(());
+            }
+            if !halted && halt_at.is_some_and(|t| Instant::now() >= t) {
+                halted = true;
+                if let Err(e) = self
+                    .engine
+                    .submit(MotionRequest::Halt(None), self.link.as_mut())
+                {
+                    return Err(self.err(e));
+                }
             }
             self.poll_operator();
             match self.engine.tick(self.link.as_mut()) {

@@ -66,6 +66,50 @@ pub enum RawStep {
         /// Per-move jerk limit.
         jerk: Option<RawLimit>,
     },
+    /// Straight line of axes of one unit (a gantry) to absolute targets; `velocity` is the
+    /// path speed.
+    Line {
+        /// Axis name → target in units.
+        target: BTreeMap<String, f64>,
+        /// Path speed limit, unit/s.
+        velocity: Option<f64>,
+        /// Per-axis acceleration limit.
+        acceleration: Option<RawLimit>,
+        /// Per-axis jerk limit.
+        jerk: Option<RawLimit>,
+    },
+    /// Waypoint move: through every waypoint but the last, to the last at rest.
+    Path {
+        /// Axis name → position, per waypoint (all name the same axes).
+        waypoints: Vec<BTreeMap<String, f64>>,
+        /// Per-move velocity limit.
+        velocity: Option<RawLimit>,
+        /// Per-move acceleration limit.
+        acceleration: Option<RawLimit>,
+        /// Per-move jerk limit.
+        jerk: Option<RawLimit>,
+    },
+    /// Jog one axis at a velocity for some seconds, then halt (MC_MoveVelocity, MC_Halt).
+    Jog {
+        /// Axis name.
+        axis: String,
+        /// Velocity, unit/s (signed).
+        velocity: f64,
+        /// Seconds at (or ramping to) the velocity before the halt.
+        seconds: f64,
+    },
+    /// Feed override, 0–100 % (MC_SetOverride).
+    Override {
+        /// Percent.
+        percent: f64,
+    },
+    /// Run the nested steps `count` times.
+    Repeat {
+        /// How many times (1..=10000).
+        count: u32,
+        /// The steps.
+        steps: Vec<RawStep>,
+    },
     /// Pause.
     Wait {
         /// Seconds.
@@ -106,7 +150,38 @@ pub enum Step {
         /// Seconds at the target torque.
         hold_s: f64,
     },
+    /// Straight line of the listed axes (one unit) to their targets.
+    Line {
+        /// The axes, targets and per-axis limits.
+        targets: Vec<MoveTarget>,
+        /// Path speed limit, unit/s.
+        path_velocity: Option<f64>,
+    },
+    /// Waypoint move of the listed axes through `via` (one position per axis each).
+    Path {
+        /// The axes, final targets and limits.
+        targets: Vec<MoveTarget>,
+        /// Intermediate positions.
+        via: Vec<Vec<f64>>,
+    },
+    /// Jog for `seconds`, then halt.
+    Jog {
+        /// Axis index.
+        axis: usize,
+        /// Velocity, unit/s.
+        velocity: f64,
+        /// Seconds before the halt.
+        seconds: f64,
+    },
+    /// Feed override, 0..=1.
+    Override(f64),
 }
+
+/// Most steps a program may expand to (repeats included).
+pub const MAX_PROGRAM_STEPS: usize = 100_000;
+
+/// Most repetitions of one `repeat` step.
+pub const MAX_REPEAT: u32 = 10_000;
 
 /// One axis of a torque step.
 #[derive(Debug, Clone, PartialEq)]
@@ -156,30 +231,84 @@ impl Program {
                 "a program needs at least one [[step]]",
             ));
         }
-        let steps = raw
-            .step
-            .into_iter()
-            .enumerate()
-            .map(|(i, s)| validate_step(path, &format!("step[{i}]"), s, cell))
-            .collect::<Result<Vec<_>, _>>()?;
+        let mut steps = Vec::new();
+        expand(path, "step", raw.step, cell, &mut steps)?;
         Ok(Program {
             source: path.to_path_buf(),
             steps,
         })
     }
 
-    /// The last target each axis is moved to, by axis index.
+    /// The last target each axis is moved to, by axis index (`None` after a jog).
     pub fn final_targets(&self, axes: usize) -> Vec<Option<f64>> {
         let mut out = vec![None; axes];
         for s in &self.steps {
-            if let Step::Move(targets) = s {
-                for t in targets {
-                    out[t.axis] = Some(t.target);
+            match s {
+                Step::Move(targets) | Step::Line { targets, .. } | Step::Path { targets, .. } => {
+                    for t in targets {
+                        out[t.axis] = Some(t.target);
+                    }
                 }
+                Step::Jog { axis, .. } => out[*axis] = None,
+                _ => {}
             }
         }
         out
     }
+}
+
+/// Validates `raw` (keys `{key}[i]`) into `out`, expanding repeats.
+fn expand(
+    path: &Path,
+    key: &str,
+    raw: Vec<RawStep>,
+    cell: &CellConfig,
+    out: &mut Vec<Step>,
+) -> Result<(), ConfigError> {
+    for (i, step) in raw.into_iter().enumerate() {
+        let k = format!("{key}[{i}]");
+        match step {
+            RawStep::Repeat { count, steps } => {
+                if !(1..=MAX_REPEAT).contains(&count) {
+                    return Err(ConfigError::new(
+                        path,
+                        format!("{k}.count"),
+                        format!("must be 1..={MAX_REPEAT} (got {count})"),
+                    ));
+                }
+                if steps.is_empty() {
+                    return Err(ConfigError::new(
+                        path,
+                        format!("{k}.steps"),
+                        "a repeat needs at least one step",
+                    ));
+                }
+                let mut body = Vec::new();
+                expand(path, &format!("{k}.steps"), steps, cell, &mut body)?;
+                if out.len() + body.len() * count as usize > MAX_PROGRAM_STEPS {
+                    return Err(ConfigError::new(
+                        path,
+                        format!("{k}.count"),
+                        format!("the program would run more than {MAX_PROGRAM_STEPS} steps"),
+                    ));
+                }
+                for _ in 0..count {
+                    out.extend(body.iter().cloned());
+                }
+            }
+            other => {
+                if out.len() >= MAX_PROGRAM_STEPS {
+                    return Err(ConfigError::new(
+                        path,
+                        k,
+                        format!("the program would run more than {MAX_PROGRAM_STEPS} steps"),
+                    ));
+                }
+                out.push(validate_step(path, &k, other, cell)?);
+            }
+        }
+    }
+    Ok(())
 }
 
 fn validate_step(
@@ -275,16 +404,177 @@ fn validate_step(
             velocity,
             acceleration,
             jerk,
+        } => Step::Move(move_targets(
+            path,
+            key,
+            target,
+            [&velocity, &acceleration, &jerk],
+            cell,
+        )?),
+        RawStep::Line {
+            target,
+            velocity,
+            acceleration,
+            jerk,
         } => {
-            if target.is_empty() {
+            if target.len() < 2 {
                 return Err(ConfigError::new(
                     path,
                     format!("{key}.target"),
-                    "a move needs at least one axis target",
+                    "a line needs at least two axes",
                 ));
             }
-            if target.len() > MAX_MOVE_AXES {
+            if let Some(v) = velocity.filter(|v| !(v.is_finite() && *v > 0.0)) {
                 return Err(ConfigError::new(
+                    path,
+                    format!("{key}.velocity"),
+                    format!("the path speed must be a finite number > 0 (got {v})"),
+                ));
+            }
+            let targets = move_targets(path, key, target, [&None, &acceleration, &jerk], cell)?;
+            let unit = &cell.axes[targets[0].axis].unit;
+            if let Some(t) = targets.iter().find(|t| &cell.axes[t.axis].unit != unit) {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.target.{}", cell.axes[t.axis].name),
+                    format!(
+                        "a line needs axes of one unit: '{}' is in {}, '{}' in {unit}",
+                        cell.axes[t.axis].name,
+                        cell.axes[t.axis].unit,
+                        cell.axes[targets[0].axis].name
+                    ),
+                ));
+            }
+            Step::Line {
+                targets,
+                path_velocity: velocity,
+            }
+        }
+        RawStep::Path {
+            mut waypoints,
+            velocity,
+            acceleration,
+            jerk,
+        } => {
+            let Some(last) = waypoints.pop() else {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.waypoints"),
+                    "a path needs at least one waypoint (the last is the target)",
+                ));
+            };
+            if waypoints.len() > cellrt_trajectory::MAX_WAYPOINTS {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.waypoints"),
+                    format!(
+                        "at most {} waypoints before the target",
+                        cellrt_trajectory::MAX_WAYPOINTS
+                    ),
+                ));
+            }
+            let names: Vec<String> = last.keys().cloned().collect();
+            let targets = move_targets(path, key, last, [&velocity, &acceleration, &jerk], cell)?;
+            let mut via = Vec::with_capacity(waypoints.len());
+            for (w, point) in waypoints.into_iter().enumerate() {
+                let k = format!("{key}.waypoints[{w}]");
+                if point.len() != names.len() || names.iter().any(|n| !point.contains_key(n)) {
+                    return Err(ConfigError::new(
+                        path,
+                        k,
+                        format!("must name the target's axes ({})", names.join(", ")),
+                    ));
+                }
+                let mut row = Vec::with_capacity(names.len());
+                for (name, t) in names.iter().zip(&targets) {
+                    let v = point[name];
+                    let a = &cell.axes[t.axis];
+                    if !v.is_finite() || a.position.check(v).is_err() {
+                        return Err(ConfigError::new(
+                            path,
+                            format!("{k}.{name}"),
+                            format!(
+                                "{v} {} is outside the position range [{}, {}] of axis '{name}'",
+                                a.unit, a.position.min, a.position.max
+                            ),
+                        ));
+                    }
+                    row.push(v);
+                }
+                via.push(row);
+            }
+            Step::Path { targets, via }
+        }
+        RawStep::Jog {
+            axis,
+            velocity,
+            seconds,
+        } => {
+            let Some(i) = cell.axis_index(&axis) else {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.axis"),
+                    format!(
+                        "axis '{axis}' is not in cell '{}' (axes: {})",
+                        cell.name,
+                        cell.axis_names()
+                    ),
+                ));
+            };
+            let limit = cell.axes[i].limits.velocity;
+            if !velocity.is_finite() || velocity.abs() > limit {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.velocity"),
+                    format!("{velocity} is outside ±{limit}, the velocity limit of axis '{axis}'"),
+                ));
+            }
+            if !(seconds.is_finite() && (0.0..=MAX_WAIT_SECONDS).contains(&seconds)) {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.seconds"),
+                    format!(
+                        "must be a number of seconds in 0..={MAX_WAIT_SECONDS} (got {seconds})"
+                    ),
+                ));
+            }
+            Step::Jog {
+                axis: i,
+                velocity,
+                seconds,
+            }
+        }
+        RawStep::Override { percent } => {
+            if !(percent.is_finite() && (0.0..=100.0).contains(&percent)) {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.percent"),
+                    format!("must be 0–100 % (got {percent})"),
+                ));
+            }
+            Step::Override(percent / 100.0)
+        }
+        RawStep::Repeat { .. } => unreachable!("expanded by `expand`"),
+    })
+}
+
+/// Validates the targets and per-move limits of a move-like step.
+fn move_targets(
+    path: &Path,
+    key: &str,
+    target: BTreeMap<String, f64>,
+    [velocity, acceleration, jerk]: [&Option<RawLimit>; 3],
+    cell: &CellConfig,
+) -> Result<Vec<MoveTarget>, ConfigError> {
+    if target.is_empty() {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.target"),
+            "a move needs at least one axis target",
+        ));
+    }
+    if target.len() > MAX_MOVE_AXES {
+        return Err(ConfigError::new(
                     path,
                     format!("{key}.target"),
                     format!(
@@ -292,88 +582,86 @@ fn validate_step(
                         target.len()
                     ),
                 ));
+    }
+    for (name, lim) in [
+        ("velocity", &velocity),
+        ("acceleration", &acceleration),
+        ("jerk", &jerk),
+    ] {
+        if let Some(RawLimit::PerAxis(m)) = lim {
+            if let Some(bad) = m.keys().find(|k| !target.contains_key(*k)) {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.{name}.{bad}"),
+                    format!("axis '{bad}' is not moved by this step"),
+                ));
             }
-            for (name, lim) in [
-                ("velocity", &velocity),
-                ("acceleration", &acceleration),
-                ("jerk", &jerk),
-            ] {
-                if let Some(RawLimit::PerAxis(m)) = lim {
-                    if let Some(bad) = m.keys().find(|k| !target.contains_key(*k)) {
-                        return Err(ConfigError::new(
-                            path,
-                            format!("{key}.{name}.{bad}"),
-                            format!("axis '{bad}' is not moved by this step"),
-                        ));
-                    }
-                }
+        }
+    }
+    let mut out = Vec::with_capacity(target.len());
+    for (name, pos) in target {
+        let Some(axis) = cell.axis_index(&name) else {
+            return Err(ConfigError::new(
+                path,
+                format!("{key}.target.{name}"),
+                format!(
+                    "axis '{name}' is not in cell '{}' (axes: {})",
+                    cell.name,
+                    cell.axis_names()
+                ),
+            ));
+        };
+        let a = &cell.axes[axis];
+        a.position.check(pos).map_err(|_| {
+            ConfigError::new(
+                path,
+                format!("{key}.target.{name}"),
+                format!(
+                    "target {pos} {} is outside the position range [{}, {}] of axis '{name}'",
+                    a.unit, a.position.min, a.position.max
+                ),
+            )
+        })?;
+        let pick = |lim: &Option<RawLimit>, default: f64, what: &str| {
+            let v = match lim {
+                None => return Ok(default),
+                Some(RawLimit::All(v)) => *v,
+                Some(RawLimit::PerAxis(m)) => match m.get(&name) {
+                    Some(v) => *v,
+                    None => return Ok(default),
+                },
+            };
+            let k = format!("{key}.{what}");
+            if !v.is_finite() || v <= 0.0 {
+                return Err(ConfigError::new(
+                    path,
+                    k,
+                    format!("must be a finite number > 0 (got {v})"),
+                ));
             }
-            let mut out = Vec::with_capacity(target.len());
-            for (name, pos) in target {
-                let Some(axis) = cell.axis_index(&name) else {
-                    return Err(ConfigError::new(
-                        path,
-                        format!("{key}.target.{name}"),
-                        format!(
-                            "axis '{name}' is not in cell '{}' (axes: {})",
-                            cell.name,
-                            cell.axis_names()
-                        ),
-                    ));
-                };
-                let a = &cell.axes[axis];
-                a.position.check(pos).map_err(|_| {
-                    ConfigError::new(
-                        path,
-                        format!("{key}.target.{name}"),
-                        format!(
-                            "target {pos} {} is outside the position range [{}, {}] of axis '{name}'",
-                            a.unit, a.position.min, a.position.max
-                        ),
-                    )
-                })?;
-                let pick = |lim: &Option<RawLimit>, default: f64, what: &str| {
-                    let v = match lim {
-                        None => return Ok(default),
-                        Some(RawLimit::All(v)) => *v,
-                        Some(RawLimit::PerAxis(m)) => match m.get(&name) {
-                            Some(v) => *v,
-                            None => return Ok(default),
-                        },
-                    };
-                    let k = format!("{key}.{what}");
-                    if !v.is_finite() || v <= 0.0 {
-                        return Err(ConfigError::new(
-                            path,
-                            k,
-                            format!("must be a finite number > 0 (got {v})"),
-                        ));
-                    }
-                    if v > default {
-                        return Err(ConfigError::new(
+            if v > default {
+                return Err(ConfigError::new(
                             path,
                             k,
                             format!(
                                 "{v} is above the {what} limit {default} of axis '{name}' (per-move limits may only lower it)"
                             ),
                         ));
-                    }
-                    Ok(v)
-                };
-                let limits = KinematicLimits {
-                    velocity: pick(&velocity, a.limits.velocity, "velocity")?,
-                    acceleration: pick(&acceleration, a.limits.acceleration, "acceleration")?,
-                    jerk: pick(&jerk, a.limits.jerk, "jerk")?,
-                };
-                out.push(MoveTarget {
-                    axis,
-                    target: pos,
-                    limits,
-                });
             }
-            Step::Move(out)
-        }
-    })
+            Ok(v)
+        };
+        let limits = KinematicLimits {
+            velocity: pick(&velocity, a.limits.velocity, "velocity")?,
+            acceleration: pick(&acceleration, a.limits.acceleration, "acceleration")?,
+            jerk: pick(&jerk, a.limits.jerk, "jerk")?,
+        };
+        out.push(MoveTarget {
+            axis,
+            target: pos,
+            limits,
+        });
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -402,6 +690,98 @@ mod tests {
         let e = Program::parse(Path::new("p.toml"), &program(MAX_MOVE_AXES + 1), &c).unwrap_err();
         assert_eq!(e.key, "step[0].target");
         assert!(e.message.contains("at most"), "{e}");
+    }
+
+    fn parse(text: &str) -> Result<Program, ConfigError> {
+        Program::parse(Path::new("p.toml"), text, &cell(3))
+    }
+
+    #[test]
+    fn repeat_expands_its_steps_count_times() {
+        let p = parse(
+            "[[step]]\ndo = \"repeat\"\ncount = 3\n[[step.steps]]\ndo = \"move\"\ntarget = { a0 = 1.0 }\n[[step.steps]]\ndo = \"override\"\npercent = 50\n[[step]]\ndo = \"power_off\"\n",
+        )
+        .unwrap();
+        assert_eq!(p.steps.len(), 7);
+        assert_eq!(p.steps[1], Step::Override(0.5));
+        assert!(matches!(p.steps[4], Step::Move(_)));
+        assert_eq!(p.steps[6], Step::PowerOff);
+        let e = parse("[[step]]\ndo = \"repeat\"\ncount = 0\n[[step.steps]]\ndo = \"power_on\"\n")
+            .unwrap_err();
+        assert_eq!(e.key, "step[0].count");
+        let e = parse("[[step]]\ndo = \"repeat\"\ncount = 2\nsteps = []\n").unwrap_err();
+        assert_eq!(e.key, "step[0].steps");
+        let e = parse(
+            "[[step]]\ndo = \"repeat\"\ncount = 2\n[[step.steps]]\ndo = \"move\"\ntarget = { q = 1.0 }\n",
+        )
+        .unwrap_err();
+        assert_eq!(e.key, "step[0].steps[0].target.q");
+        let e = parse(
+            "[[step]]\ndo = \"repeat\"\ncount = 10000\n[[step.steps]]\ndo = \"repeat\"\ncount = 10000\n[[step.steps.steps]]\ndo = \"power_on\"\n",
+        )
+        .unwrap_err();
+        assert!(e.message.contains("more than"), "{e}");
+    }
+
+    #[test]
+    fn line_path_jog_and_override_steps_are_checked() {
+        let p = parse(
+            "[[step]]\ndo = \"line\"\ntarget = { a0 = 5.0, a1 = 6.0 }\nvelocity = 4.0\n\
+             [[step]]\ndo = \"path\"\nwaypoints = [{ a0 = 1.0, a1 = 2.0 }, { a0 = 3.0, a1 = 4.0 }]\n\
+             [[step]]\ndo = \"jog\"\naxis = \"a2\"\nvelocity = -5.0\nseconds = 1.0\n",
+        )
+        .unwrap();
+        assert!(
+            matches!(&p.steps[0], Step::Line { targets, path_velocity: Some(v) } if targets.len() == 2 && *v == 4.0)
+        );
+        assert!(
+            matches!(&p.steps[1], Step::Path { targets, via } if via == &vec![vec![1.0, 2.0]] && targets[1].target == 4.0)
+        );
+        assert_eq!(
+            p.steps[2],
+            Step::Jog {
+                axis: 2,
+                velocity: -5.0,
+                seconds: 1.0
+            }
+        );
+        for (text, key) in [
+            (
+                "[[step]]\ndo = \"line\"\ntarget = { a0 = 5.0 }\n",
+                "step[0].target",
+            ),
+            (
+                "[[step]]\ndo = \"line\"\ntarget = { a0 = 5.0, a1 = 1.0 }\nvelocity = -1.0\n",
+                "step[0].velocity",
+            ),
+            (
+                "[[step]]\ndo = \"path\"\nwaypoints = [{ a0 = 1.0 }, { a0 = 3.0, a1 = 4.0 }]\n",
+                "step[0].waypoints[0]",
+            ),
+            (
+                "[[step]]\ndo = \"path\"\nwaypoints = [{ a0 = 101.0 }, { a0 = 3.0 }]\n",
+                "step[0].waypoints[0].a0",
+            ),
+            (
+                "[[step]]\ndo = \"path\"\nwaypoints = []\n",
+                "step[0].waypoints",
+            ),
+            (
+                "[[step]]\ndo = \"jog\"\naxis = \"a0\"\nvelocity = 11.0\nseconds = 1.0\n",
+                "step[0].velocity",
+            ),
+            (
+                "[[step]]\ndo = \"jog\"\naxis = \"zz\"\nvelocity = 1.0\nseconds = 1.0\n",
+                "step[0].axis",
+            ),
+            (
+                "[[step]]\ndo = \"override\"\npercent = 101\n",
+                "step[0].percent",
+            ),
+        ] {
+            let e = parse(text).unwrap_err();
+            assert_eq!(e.key, key, "{text}: {e}");
+        }
     }
 
     #[test]

@@ -16,16 +16,29 @@ fn every_example_cell_completes_its_program() {
         .collect();
     names.sort();
     assert!(names.len() >= 7, "{names:?}");
-    let mut failures = Vec::new();
+    // (config, program): each config's own program, and the example programs the README
+    // runs on the demo cell.
+    let mut runs: Vec<(String, String)> = Vec::new();
     for name in &names {
         let text = std::fs::read_to_string(format!("{configs}/{name}")).unwrap();
-        let Some(program) = text
+        if let Some(program) = text
             .lines()
             .find_map(|l| l.strip_prefix("program = \""))
             .and_then(|l| l.split('"').next())
-        else {
-            continue;
-        };
+        {
+            runs.push((name.clone(), program.to_string()));
+        }
+    }
+    runs.push(("demo.toml".into(), "demo-pick-and-place.toml".into()));
+    let mut failures = Vec::new();
+    for (name, program) in &runs {
+        let text = std::fs::read_to_string(format!("{configs}/{name}")).unwrap();
+        let own = text
+            .lines()
+            .find(|l| l.starts_with("program = "))
+            .expect("program line")
+            .to_string();
+        let text = text.replacen(&own, &format!("program = \"{program}\""), 1);
         // Same folder layout: the program sits beside the config.
         std::fs::copy(format!("{configs}/{program}"), dir.path().join(program)).unwrap();
         let cell_line = text
@@ -66,9 +79,9 @@ fn every_example_cell_completes_its_program() {
         } else {
             format!("{text}\n\n[watchdogs]\nmax_consecutive_overruns = 0\n")
         };
-        let cfg = dir.path().join(name);
+        let cfg = dir.path().join(format!("{program}.cell.toml"));
         std::fs::write(&cfg, text).unwrap();
-        let json = dir.path().join(format!("{name}.json"));
+        let json = dir.path().join(format!("{program}.json"));
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_cellrt"))
             .arg("run")
             .arg(&cfg)
@@ -82,7 +95,7 @@ fn every_example_cell_completes_its_program() {
                 .unwrap_or_default();
         if !out.status.success() || summary["outcome"] != "program_completed" {
             failures.push(format!(
-                "{name}: {}{}",
+                "{name} with {program}: {}{}",
                 String::from_utf8_lossy(&out.stdout),
                 String::from_utf8_lossy(&out.stderr)
             ));

@@ -651,9 +651,9 @@ fn move_targets(
             Ok(v)
         };
         let limits = KinematicLimits {
-            velocity: pick(&velocity, a.limits.velocity, "velocity")?,
-            acceleration: pick(&acceleration, a.limits.acceleration, "acceleration")?,
-            jerk: pick(&jerk, a.limits.jerk, "jerk")?,
+            velocity: pick(velocity, a.limits.velocity, "velocity")?,
+            acceleration: pick(acceleration, a.limits.acceleration, "acceleration")?,
+            jerk: pick(jerk, a.limits.jerk, "jerk")?,
         };
         out.push(MoveTarget {
             axis,

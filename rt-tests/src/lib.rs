@@ -6,6 +6,7 @@ pub mod compare;
 pub mod cyclictest;
 pub mod error;
 pub mod hist;
+pub mod ipc;
 pub mod latency;
 pub mod loopbench;
 pub mod plot;

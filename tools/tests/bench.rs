@@ -194,3 +194,38 @@ fn short_latency_run_writes_sane_json() {
     assert_eq!(buckets, count);
     assert!(v["rt"]["policy"].is_string());
 }
+
+#[test]
+fn bench_ipc_measures_both_paths_and_refuses_bad_sizes() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("ipc.json");
+    let out = cellrt(&[
+        "bench",
+        "ipc",
+        "--axes",
+        "2",
+        "--rounds",
+        "1",
+        "--count",
+        "50",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["payload_bytes"], 16 * 2 * 24);
+    for side in ["cellrt", "raw"] {
+        assert_eq!(r[side]["count"], 50, "{r}");
+        let p50 = r[side]["p50_us"].as_f64().unwrap();
+        let p99 = r[side]["p99_us"].as_f64().unwrap();
+        assert!(p50 > 0.0 && p50 <= p99, "{side}: {r}");
+    }
+    let out = cellrt(&["bench", "ipc", "--axes", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--axes"));
+}

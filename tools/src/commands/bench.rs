@@ -29,6 +29,25 @@ pub enum BenchCommand {
     Scaling(ScalingArgs),
     /// Round trip of operator requests (status) to a running cell (`--cell NAME`).
     Operator(OperatorArgs),
+    /// Setpoint block delivery (planner → RT reader) beside raw iceoryx2, alternating rounds.
+    Ipc(IpcArgs),
+}
+
+/// `cellrt bench ipc`.
+#[derive(Debug, Args)]
+pub struct IpcArgs {
+    /// Axes per block (the payload is 16 cycles × axes × 24 bytes).
+    #[arg(long, default_value_t = 4)]
+    pub axes: usize,
+    /// Rounds per side.
+    #[arg(long, default_value_t = 4)]
+    pub rounds: u32,
+    /// Blocks per round.
+    #[arg(long, default_value_t = 2000)]
+    pub count: u32,
+    /// Also write the result as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
 }
 
 /// `cellrt bench operator`.
@@ -112,6 +131,7 @@ pub struct ScalingArgs {
 pub fn run(args: BenchArgs, cell: Option<String>) -> Exit {
     let result = match args.command {
         BenchCommand::Operator(a) => run_operator(a, cell.as_deref()),
+        BenchCommand::Ipc(a) => run_ipc(a),
         BenchCommand::Latency(a) => run_latency(a),
         BenchCommand::Compare(a) => run_compare(a),
         BenchCommand::Loop(a) => run_loop(a),
@@ -128,6 +148,12 @@ pub fn run(args: BenchArgs, cell: Option<String>) -> Exit {
             Exit::Failed
         }
     }
+}
+
+fn run_ipc(a: IpcArgs) -> Result<(), BenchError> {
+    let report = cellrt_rt_tests::ipc::run(a.axes, a.rounds, a.count)?;
+    print!("{}", cellrt_rt_tests::ipc::render(&report));
+    write_json(a.json.as_deref(), &report)
 }
 
 /// Times `count` status requests (request out, reply decoded) and prints the percentiles.

@@ -35,6 +35,13 @@ pub trait Bus {
         let _ = (axis, cycles);
         false
     }
+    /// Acyclic write (an SDO download on a real bus) of `data` to `index:sub` of `axis`; called
+    /// at a homing start (6098h), not every cycle. `Err(abort code)`, [`SDO_UNSUPPORTED`] where
+    /// the bus has no acyclic channel.
+    fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
+        let _ = (axis, index, sub, data);
+        Err(SDO_UNSUPPORTED)
+    }
     /// 603Fh Error code of `axis` by acyclic read (an SDO upload on a real bus), for maps that
     /// do not carry it. Called once per fault edge, not every cycle. `None` where unsupported.
     fn read_error_code(&mut self, axis: usize) -> Option<u16> {
@@ -42,6 +49,10 @@ pub trait Bus {
         None
     }
 }
+
+/// The abort code [`Bus::sdo_download`] returns where there is no acyclic channel (CiA 301
+/// 0601 0000h, unsupported access to an object).
+pub const SDO_UNSUPPORTED: u32 = 0x0601_0000;
 
 /// A failed exchange, naming the axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -184,6 +195,13 @@ impl Bus for SimBus {
 
     fn read_error_code(&mut self, axis: usize) -> Option<u16> {
         self.get_drive(axis).map(|d| d.tx_pdo().error_code)
+    }
+
+    fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
+        match self.drives.get_mut(axis) {
+            Some(d) => d.sdo_download(index, sub, data).map_err(|a| a.0),
+            None => Err(SDO_UNSUPPORTED),
+        }
     }
 
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {

@@ -72,6 +72,8 @@ pub enum CellState {
     Disabling = 7,
     /// A drive faulted or did not answer; needs reset.
     Faulted = 8,
+    /// One axis runs its drive's homing mode (hm); refuses motion.
+    Homing = 9,
 }
 
 impl CellState {
@@ -198,6 +200,67 @@ pub enum EventKind {
     PlannerLost,
     /// An axis' incremental counter check failed (value: 1 continuous, 2 intermittent).
     CommunicationError,
+    /// Homing started on an axis (value: the 6098h method).
+    HomingStarted,
+    /// Homing ended on an axis (value: 0 attained, else the `HomingFailure` code).
+    HomingFinished,
+}
+
+/// A homing request from the non-RT side, packed for [`Handoff::home_request`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HomeRequest {
+    /// Axis index.
+    pub axis: u16,
+    /// 6098h homing method.
+    pub method: i8,
+}
+
+impl HomeRequest {
+    /// Packed form (never 0).
+    pub fn encode(self) -> u32 {
+        0x8000_0000 | (u32::from(self.axis) << 8) | u32::from(self.method as u8)
+    }
+
+    /// Inverse of [`HomeRequest::encode`]; `None` for 0 (no request).
+    pub fn decode(v: u32) -> Option<HomeRequest> {
+        (v & 0x8000_0000 != 0).then_some(HomeRequest {
+            axis: ((v >> 8) & 0xFFFF) as u16,
+            method: (v & 0xFF) as u8 as i8,
+        })
+    }
+}
+
+/// Where the latest homing stands, packed for [`CellStatus::homing`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct HomingStatus {
+    /// Homings started since the RT loop began (0: none yet).
+    pub seq: u32,
+    /// Axis index.
+    pub axis: u16,
+    /// Still running.
+    pub running: bool,
+    /// Failure code (`HomingFailure as u8`); 0 = attained (when not running).
+    pub failure: u8,
+}
+
+impl HomingStatus {
+    /// Packed form.
+    pub fn encode(self) -> u64 {
+        (u64::from(self.seq) << 32)
+            | (u64::from(self.running) << 24)
+            | (u64::from(self.failure) << 16)
+            | u64::from(self.axis)
+    }
+
+    /// Inverse of [`HomingStatus::encode`].
+    pub fn decode(v: u64) -> HomingStatus {
+        HomingStatus {
+            seq: (v >> 32) as u32,
+            running: (v >> 24) & 1 == 1,
+            failure: ((v >> 16) & 0xFF) as u8,
+            axis: (v & 0xFFFF) as u16,
+        }
+    }
 }
 
 impl EventKind {
@@ -304,6 +367,8 @@ pub struct CellStatus {
     pub running: AtomicBool,
     /// Latest feedback of each axis, for the operator's status.
     pub live: [AxisLive; MAX_AXES],
+    /// The latest homing ([`HomingStatus`] packed).
+    pub homing: AtomicU64,
 }
 
 /// Latest feedback of one axis (TxPDO values), stored by the RT thread every cycle.
@@ -332,6 +397,7 @@ impl Default for CellStatus {
             hold: std::array::from_fn(|_| AtomicU64::new(0f64.to_bits())),
             running: AtomicBool::new(false),
             live: std::array::from_fn(|_| AxisLive::default()),
+            homing: AtomicU64::new(0),
         }
     }
 }
@@ -373,6 +439,8 @@ pub struct Handoff {
     pub status: CellStatus,
     /// Whether a recorder drains the record queues (if not, the RT thread skips pushing).
     pub recording: bool,
+    /// A pending homing request ([`HomeRequest`] packed; 0 = none), taken by the RT thread.
+    pub home_request: AtomicU32,
 }
 
 impl Handoff {
@@ -381,6 +449,7 @@ impl Handoff {
         let queue_cycles = queue_cycles.max(64);
         Handoff {
             commands: ArrayQueue::new(64),
+            home_request: AtomicU32::new(0),
             cycles: ArrayQueue::new(if recording { queue_cycles } else { 1 }),
             axes: ArrayQueue::new(if recording {
                 queue_cycles * axes.max(1)

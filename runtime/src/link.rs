@@ -10,7 +10,8 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
 use crate::handoff::{
-    CellCommand, CellState, EventKind, EventRecord, Handoff, StopReason, NO_AXIS,
+    CellCommand, CellState, EventKind, EventRecord, Handoff, HomeRequest, HomingStatus, StopReason,
+    NO_AXIS,
 };
 use crate::services::{self, CommandSample, LiveAxis, ServiceError, StatusSample};
 use crate::setpoints::MAX_AXES;
@@ -35,6 +36,8 @@ pub struct StatusSnapshot {
     pub hold: [f64; MAX_AXES],
     /// Latest feedback of each axis.
     pub live: [LiveAxis; MAX_AXES],
+    /// The latest homing.
+    pub homing: HomingStatus,
 }
 
 /// A planner's connection to its cell.
@@ -43,6 +46,8 @@ pub trait CellLink {
     fn status(&mut self) -> Result<StatusSnapshot, String>;
     /// Sends a command to the RT thread.
     fn command(&mut self, c: CellCommand) -> Result<(), String>;
+    /// Asks the RT thread to home an axis (taken in Idle).
+    fn home(&mut self, request: HomeRequest) -> Result<(), String>;
     /// Records an event of the planner's own (fault injection), where the link allows it.
     fn event(&mut self, kind: EventKind, value: i64);
 }
@@ -84,6 +89,7 @@ pub fn snapshot(handoff: &Handoff, axes: usize) -> StatusSnapshot {
         motion_done: s.motion_done.load(Ordering::Acquire),
         hold,
         live,
+        homing: HomingStatus::decode(s.homing.load(Ordering::Acquire)),
     }
 }
 
@@ -97,6 +103,13 @@ impl CellLink for LocalLink {
             .commands
             .push(c)
             .map_err(|_| "command queue to the RT thread is full".to_string())
+    }
+
+    fn home(&mut self, request: HomeRequest) -> Result<(), String> {
+        self.handoff
+            .home_request
+            .store(request.encode(), Ordering::Release);
+        Ok(())
     }
 
     fn event(&mut self, kind: EventKind, value: i64) {
@@ -177,6 +190,7 @@ impl CellLink for RemoteLink {
                     motion_done: s.motion_done,
                     hold: s.hold,
                     live: s.live,
+                    homing: HomingStatus::decode(s.homing),
                 },
                 Instant::now(),
             ));
@@ -195,9 +209,20 @@ impl CellLink for RemoteLink {
         self.commands
             .send_copy(CommandSample {
                 code: c.event_value() as u32,
+                arg: 0,
             })
             .map(|_| ())
             .map_err(|e| format!("sending {} to cell '{}': {e:?}", c.as_str(), self.cell))
+    }
+
+    fn home(&mut self, request: HomeRequest) -> Result<(), String> {
+        self.commands
+            .send_copy(CommandSample {
+                code: services::HOME_COMMAND_CODE,
+                arg: request.encode(),
+            })
+            .map(|_| ())
+            .map_err(|e| format!("sending home to cell '{}': {e:?}", self.cell))
     }
 
     fn event(&mut self, _kind: EventKind, _value: i64) {}

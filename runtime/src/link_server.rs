@@ -68,11 +68,17 @@ impl LinkServer {
                         axis_count: n as u32,
                         hold: snap.hold,
                         live: snap.live,
+                        homing: snap.homing.encode(),
                         ..StatusSample::default()
                     };
                     let _ = status.send_copy(sample);
                     while let Ok(Some(c)) = commands.receive() {
-                        forward(&handoff, c.payload().code);
+                        let c = c.payload();
+                        if c.code == services::HOME_COMMAND_CODE {
+                            handoff.home_request.store(c.arg, Ordering::Release);
+                        } else {
+                            forward(&handoff, c.code);
+                        }
                     }
                     if last_check.elapsed() >= PLANNER_CHECK {
                         last_check = Instant::now();

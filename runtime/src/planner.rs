@@ -10,12 +10,14 @@ use std::time::{Duration, Instant};
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, CellState, Handoff};
+use crate::executive::HOMING_TIMEOUT;
+use crate::handoff::{CellCommand, CellState, Handoff, HomeRequest};
 use crate::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
 use crate::motion::{MotionEngine, MotionRequest, Progress};
 use crate::operator::server::{Context, Followup, OperatorServer};
 use crate::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::services;
+use cellrt_axes::cia402::homing::HomingFailure;
 
 /// The engine's form of a move-like step's targets.
 fn move_list(targets: &[MoveTarget]) -> Vec<(usize, f64, cellrt_trajectory::KinematicLimits)> {
@@ -367,6 +369,10 @@ impl<'a> Planner<'a> {
                         Some(Duration::from_secs_f64(*seconds)),
                     )?;
                 }
+                Step::Home { axis, method } => {
+                    self.what = "home";
+                    self.run_home(*axis, *method)?;
+                }
                 Step::Override(value) => {
                     self.what = "override";
                     if let Err(e) = self.engine.set_override(*value) {
@@ -452,6 +458,44 @@ impl<'a> Planner<'a> {
                 )));
             }
             std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+
+    /// Homes `axis` with `method` and waits for the RT thread's result.
+    fn run_home(&mut self, axis: usize, method: i8) -> Result<(), ProgramError> {
+        let before = self.status()?;
+        if before.state != CellState::Idle {
+            return Err(self.err(format!(
+                "the cell is {}, not idle (power on first)",
+                before.state.as_str()
+            )));
+        }
+        let request = HomeRequest {
+            axis: axis as u16,
+            method,
+        };
+        if let Err(e) = self.link.home(request) {
+            return Err(self.err(e));
+        }
+        let end = Instant::now() + HOMING_TIMEOUT + Duration::from_secs(5);
+        loop {
+            if self.aborted() {
+                return Ok(());
+            }
+            let s = self.status()?;
+            if s.homing.seq > before.homing.seq && !s.homing.running {
+                return match HomingFailure::from_u8(s.homing.failure) {
+                    None => Ok(()),
+                    Some(f) => Err(self.err(f.as_str())),
+                };
+            }
+            if s.state == CellState::Faulted {
+                return Err(self.err("the cell faulted during homing (see the events)"));
+            }
+            if Instant::now() >= end {
+                return Err(self.err("homing did not end in time"));
+            }
+            std::thread::sleep(TICK);
         }
     }
 

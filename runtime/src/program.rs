@@ -103,6 +103,13 @@ pub enum RawStep {
         /// Percent.
         percent: f64,
     },
+    /// MC_Home in the drive's homing mode (hm).
+    Home {
+        /// Axis name.
+        axis: String,
+        /// 6098h method (default: the model's data-set method).
+        method: Option<i8>,
+    },
     /// Run the nested steps `count` times.
     Repeat {
         /// How many times (1..=10000).
@@ -175,6 +182,13 @@ pub enum Step {
     },
     /// Feed override, 0..=1.
     Override(f64),
+    /// Home an axis with a method its drive's manual lists.
+    Home {
+        /// Axis index.
+        axis: usize,
+        /// 6098h method.
+        method: i8,
+    },
 }
 
 /// Most steps a program may expand to (repeats included).
@@ -553,6 +567,47 @@ fn validate_step(
                 ));
             }
             Step::Override(percent / 100.0)
+        }
+        RawStep::Home { axis, method } => {
+            let Some(i) = cell.axis_index(&axis) else {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.axis"),
+                    format!(
+                        "axis '{axis}' is not in cell '{}' (axes: {})",
+                        cell.name,
+                        cell.axis_names()
+                    ),
+                ));
+            };
+            let p = cell.axes[i].profile;
+            let method = match method {
+                Some(m) if p.homing_methods.contains(&m) => m,
+                Some(m) => {
+                    return Err(ConfigError::new(
+                        path,
+                        format!("{key}.method"),
+                        format!(
+                            "the {} manual lists no homing method {m} (6098h; it lists {:?})",
+                            p.name, p.homing_methods
+                        ),
+                    ))
+                }
+                None => match p.data_set_homing_methods.first() {
+                    Some(&m) => m,
+                    None => {
+                        return Err(ConfigError::new(
+                            path,
+                            format!("{key}.axis"),
+                            format!(
+                                "axis '{axis}': the {} manual lists no homing methods (6098h); hm cannot be used on it",
+                                p.name
+                            ),
+                        ))
+                    }
+                },
+            };
+            Step::Home { axis: i, method }
         }
         RawStep::Repeat { .. } => unreachable!("expanded by `expand`"),
     })

@@ -72,6 +72,8 @@ pub struct StatusSample {
     pub hold: [f64; MAX_AXES],
     /// Latest feedback of each axis (first `axis_count` valid).
     pub live: [LiveAxis; MAX_AXES],
+    /// The latest homing (`HomingStatus` packed).
+    pub homing: u64,
 }
 
 /// Latest feedback of one axis, as the operator's status shows it.
@@ -104,6 +106,7 @@ impl Default for StatusSample {
             axis_count: 0,
             hold: [0.0; MAX_AXES],
             live: [LiveAxis::default(); MAX_AXES],
+            homing: 0,
         }
     }
 }
@@ -115,7 +118,12 @@ impl Default for StatusSample {
 pub struct CommandSample {
     /// Command code.
     pub code: u32,
+    /// Argument ([`HOME_COMMAND_CODE`]: the packed `HomeRequest`).
+    pub arg: u32,
 }
+
+/// [`CommandSample::code`] of a homing request (not a `CellCommand`: it carries an axis).
+pub const HOME_COMMAND_CODE: u32 = 0x100;
 
 /// The status service name of `cell`.
 pub fn status_service_name(cell: &str) -> String {

@@ -136,6 +136,7 @@ fn operator_commands_drive_a_running_cell() {
     cell.rejected(&["jog", "x", "401"], "exceeds the axis limit");
     cell.rejected(&["override", "150"], "outside 0–100 %");
     cell.rejected(&["torque", "x=10"], "mode = \"cst\"");
+    cell.rejected(&["home", "x"], "lists no homing methods");
     let (code, _, err) = cell.cli(&["move", "x100"]);
     assert_eq!(code, 2, "{err}");
     let client = OperatorClient::connect(Some(&cell.name)).unwrap();
@@ -265,6 +266,110 @@ fn operator_commands_drive_a_running_cell() {
         (end.0 - 250.0).abs() < 1e-6 && (end.1 - 400.0).abs() < 1e-6,
         "{end:?}"
     );
+}
+
+/// A copy of an example cell config with a unique name, no CPU pinning, no program, and
+/// `extra` appended.
+fn example_cell(dir: &Path, config: &str, extra: &str) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(format!(
+        "{}/../configs/{config}",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let name = unique_cell_name();
+    let own = text
+        .lines()
+        .find(|l| l.starts_with("name = "))
+        .unwrap()
+        .to_string();
+    let text = text
+        .replacen(&own, &format!("name = \"{name}\""), 1)
+        .lines()
+        .map(|l| {
+            if l.starts_with("cpu = ") || l.starts_with("program = ") {
+                format!("# {l}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + extra;
+    let cfg = dir.join("cell.toml");
+    std::fs::write(&cfg, text).unwrap();
+    cfg
+}
+
+#[test]
+fn homing_in_the_drive_homing_mode_through_the_operator_service() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = example_cell(dir.path(), "mr-j4-tm.toml", "");
+    let rec = dir.path().join("run.mcap");
+    let cell = Cell::start(&cfg, &rec);
+    cell.rejected(&["home", "x"], "homing starts from idle");
+    cell.ok(&["power", "on"]);
+    cell.ok(&["move", "x=300"]);
+    cell.rejected(
+        &["home", "x", "--method", "99"],
+        "lists no homing method 99",
+    );
+    // Method -3 (data set, the default): home = here; the drive presets 6064h to the home
+    // position address (0), the setpoint follows, nothing moves.
+    cell.ok(&["home", "x"]);
+    let s = cell.ok(&["status"]);
+    assert!(s.contains("last    home"), "{s}");
+    // A dog method the simulation has no dog for: the drive reports a homing error.
+    let (code, _, err) = cell.cli(&["home", "z", "--method", "-1"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("homing error"), "{err}");
+    // The cell is usable after both; moves are in the new reference.
+    cell.ok(&["move", "x=120"]);
+    cell.ok(&["power", "off"]);
+    cell.end();
+
+    let r = read_recording(&rec);
+    let x = &r.axes["x"];
+    let homing: Vec<_> = x.iter().filter(|a| a.mode == 6).collect();
+    assert!(!homing.is_empty(), "x never in hm");
+    assert!(
+        homing.iter().any(|a| a.controlword & (1 << 4) != 0),
+        "no HOS"
+    );
+    assert!(
+        homing.iter().any(|a| a.statusword & (1 << 12) != 0),
+        "no homing attained"
+    );
+    let after = x
+        .iter()
+        .find(|a| a.cycle > homing.last().unwrap().cycle && a.mode == 8)
+        .unwrap();
+    assert!(
+        after.actual_position.abs() < 1e-3,
+        "x after homing: {after:?}"
+    );
+    assert!(
+        (after.setpoint_position - after.actual_position).abs() < 1e-3,
+        "setpoint follows the preset: {after:?}"
+    );
+    // No position step against the preset: around the homing the axis stands still, its
+    // setpoint following the preset actual position (no following error).
+    let (from, to) = (homing[0].cycle - 5, after.cycle + 50);
+    let worst = x
+        .iter()
+        .filter(|a| a.cycle >= from && a.cycle <= to)
+        .map(|a| a.following_error.abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 0.01, "following error around the homing: {worst}");
+    assert!(r
+        .events
+        .iter()
+        .any(|e| e.kind == "homing_finished" && e.axis == "x" && e.detail == "homing attained"));
+    assert!(r.events.iter().any(|e| e.kind == "homing_finished"
+        && e.axis == "z"
+        && e.detail.contains("homing error")));
+    assert!(r.events.iter().all(|e| e.kind != "drive_fault"));
+    let x_end = x.last().unwrap().setpoint_position;
+    assert!((x_end - 120.0).abs() < 1e-3, "{x_end}");
 }
 
 #[test]

@@ -30,6 +30,7 @@ fn every_example_cell_completes_its_program() {
         }
     }
     runs.push(("demo.toml".into(), "demo-pick-and-place.toml".into()));
+    runs.push(("mr-j4-tm.toml".into(), "mr-j4-tm-homing-jog.toml".into()));
     let mut failures = Vec::new();
     for (name, program) in &runs {
         let text = std::fs::read_to_string(format!("{configs}/{name}")).unwrap();

@@ -5,6 +5,7 @@
 
 pub mod controlword;
 pub mod fsa;
+pub mod homing;
 pub mod master;
 pub mod mode;
 pub mod statusword;

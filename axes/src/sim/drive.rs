@@ -664,8 +664,9 @@ impl SimDrive {
             _ => 0.0,
         };
         self.plant.step(self.demand, ff, dt);
-        // 60F4h = demand − 6064h in the wrapping i32 domain of the wire values.
-        let demand = (self.demand.round() as i64) as i32;
+        // 60F4h = demand − 6064h in the wrapping i32 domain of the wire values (the demand in
+        // 6064h's reference: shifted like it after a homing preset).
+        let demand = self.position_demand();
         let demand = match self.mode_display {
             ModeOfOperation::CyclicSyncPosition => cmd.target_position,
             _ => demand,

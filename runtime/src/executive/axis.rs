@@ -1,10 +1,11 @@
 //! One axis as the RT loop sees it: its CiA 402 master, its current setpoint, and the controlled
 //! stop ramp the RT thread runs on its own.
 
+use cellrt_axes::cia402::homing::{HomingParams, HomingSequencer};
 use cellrt_axes::cia402::master::AxisMaster;
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::comm::{CounterParams, IncrementalCounter};
-use cellrt_axes::pdo::objects::{DEFAULT_TORQUE_LIMIT, ERROR_CODE};
+use cellrt_axes::pdo::objects::{DEFAULT_TORQUE_LIMIT, ERROR_CODE, MODES_OF_OPERATION_DISPLAY};
 use cellrt_axes::pdo::{PdoLayout, TxPdo};
 use cellrt_axes::profiles::TorqueLimitSelection;
 use cellrt_axes::Cycles;
@@ -86,7 +87,18 @@ pub struct AxisChannel {
     pub torque: Option<f64>,
     /// Braking in csv from the velocity a torque motion left the axis at.
     pub braking: bool,
+    /// Homing in the drive's hm mode.
+    pub homing: HomingSequencer,
+    /// Whether the TxPDO carries 6061h (else mode changes count as done after a settle time).
+    pub mode_display_mapped: bool,
 }
+
+/// How long a homing may take before it fails.
+pub const HOMING_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// Cycles after which a mode change counts as done on a drive whose TxPDO lacks 6061h (no
+/// figure in the manuals; see `cellrt_axes::cia402::homing`).
+pub const HOMING_MODE_SETTLE: Cycles = Cycles(4);
 
 /// (60E0h, 60E1h, Controlword2) for `axis`: its `limits.torque` in 0.1 % in both directions,
 /// selected by C_TL on a drive that needs it (MR-J3-T04 §9.4); the no-limit default otherwise.
@@ -151,6 +163,18 @@ impl AxisChannel {
             torque_limit_objects: torque_limit_objects(axis),
             torque: None,
             braking: false,
+            homing: HomingSequencer::new(
+                HomingParams {
+                    timeout: cell.cycle_time.cycles_for(HOMING_TIMEOUT),
+                    mode_settle: HOMING_MODE_SETTLE,
+                },
+                // A cst axis idles in csv (`drive_command`).
+                match axis.mode {
+                    ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
+                    m => m,
+                },
+            ),
+            mode_display_mapped: axis.profile.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY),
         }
     }
 
@@ -334,6 +358,14 @@ mod tests {
             torque_limit_objects: (DEFAULT_TORQUE_LIMIT, DEFAULT_TORQUE_LIMIT, 0),
             torque: None,
             braking: false,
+            homing: HomingSequencer::new(
+                HomingParams {
+                    timeout: Cycles(100),
+                    mode_settle: HOMING_MODE_SETTLE,
+                },
+                ModeOfOperation::CyclicSyncPosition,
+            ),
+            mode_display_mapped: true,
         }
     }
 

@@ -9,7 +9,13 @@ use cellrt_axes::cia402::mode::ModeOfOperation;
 
 use super::Executive;
 use crate::config::FaultReaction;
-use crate::handoff::{CellCommand, CellState, EventKind, RejectReason, StopReason, NO_AXIS};
+use crate::handoff::{
+    CellCommand, CellState, EventKind, HomeRequest, HomingStatus, RejectReason, StopReason, NO_AXIS,
+};
+use cellrt_axes::cia402::homing::{HomingFailure, HomingPhase};
+
+/// 6098h Homing method.
+const HOMING_METHOD: u16 = 0x6098;
 use crate::setpoints::BLOCK_CYCLES;
 
 /// Commands taken per cycle at most (bounds the cycle's work).
@@ -49,8 +55,12 @@ impl<B: Bus> Executive<B> {
                     | CellState::Stopped
                     | CellState::Faulted
                     | CellState::Disabling
-                    | CellState::Disabled,
+                    | CellState::Disabled
+                    | CellState::Homing,
                 ) => {
+                    if self.state == CellState::Homing {
+                        self.end_homing(Some(HomingFailure::NotEnabled));
+                    }
                     self.request_all(MasterRequest::Disable);
                     self.stream.discard_all();
                     self.set_state(CellState::Disabling);
@@ -144,7 +154,18 @@ impl<B: Bus> Executive<B> {
                     self.enter_faulted();
                 } else {
                     self.hold_all();
-                    self.poll_motion_start();
+                    self.poll_home_request();
+                    if self.state == CellState::Idle {
+                        self.poll_motion_start();
+                    }
+                }
+            }
+            CellState::Homing => {
+                if self.any_fault_or_timeout() {
+                    self.end_homing(Some(HomingFailure::NotEnabled));
+                    self.enter_faulted();
+                } else {
+                    self.homing_cycle();
                 }
             }
             CellState::Moving => {
@@ -211,6 +232,91 @@ impl<B: Bus> Executive<B> {
             }
         }
         self.publish_holds();
+    }
+
+    /// In Idle: starts a requested homing (6098h written acyclically first; a refusal is
+    /// reported as a failed homing and the cell stays Idle).
+    fn poll_home_request(&mut self) {
+        let Some(req) = HomeRequest::decode(self.handoff.home_request.swap(0, Ordering::AcqRel))
+        else {
+            return;
+        };
+        let axis = usize::from(req.axis);
+        let seq = HomingStatus::decode(self.handoff.status.homing.load(Ordering::Acquire)).seq + 1;
+        let mut status = HomingStatus {
+            seq,
+            axis: req.axis,
+            running: true,
+            failure: 0,
+        };
+        if axis >= self.axes.len() || !self.axes[axis].master.is_enabled() {
+            status.running = false;
+            status.failure = HomingFailure::NotEnabled as u8;
+        } else if let Err(code) = self
+            .bus
+            .sdo_download(axis, HOMING_METHOD, 0, &[req.method as u8])
+        {
+            status.running = false;
+            status.failure = HomingFailure::MethodRefused as u8;
+            self.event(
+                EventKind::HomingFinished,
+                req.axis,
+                i64::from(HomingFailure::MethodRefused as u8),
+            );
+            self.event(EventKind::BusError, req.axis, i64::from(code));
+        } else {
+            self.axes[axis].homing.start();
+            self.event(EventKind::HomingStarted, req.axis, i64::from(req.method));
+            self.set_state(CellState::Homing);
+        }
+        self.handoff
+            .status
+            .homing
+            .store(status.encode(), Ordering::Release);
+    }
+
+    /// One cycle of homing: the other axes hold, the homing axis follows its actual position
+    /// (the drive moves it, or presets 6064h); ends when the sequencer has returned to the
+    /// cyclic mode.
+    fn homing_cycle(&mut self) {
+        let period = self.period_s;
+        let mut done = None;
+        for ch in &mut self.axes {
+            if ch.homing.is_active() {
+                ch.track_actual();
+            } else if let HomingPhase::Done(r) = ch.homing.phase() {
+                ch.track_actual();
+                done = Some(r);
+            } else if ch.master.is_enabled() {
+                ch.hold(period);
+            } else {
+                ch.track_actual();
+            }
+        }
+        self.refuse_motion();
+        if let Some(r) = done {
+            self.end_homing(r);
+            self.set_state(CellState::Idle);
+        }
+    }
+
+    /// Reports the homing result and clears the sequencers.
+    fn end_homing(&mut self, failure: Option<HomingFailure>) {
+        let mut status = HomingStatus::decode(self.handoff.status.homing.load(Ordering::Acquire));
+        for ch in &mut self.axes {
+            ch.homing.clear();
+        }
+        status.running = false;
+        status.failure = failure.map_or(0, |f| f as u8);
+        self.event(
+            EventKind::HomingFinished,
+            status.axis,
+            i64::from(status.failure),
+        );
+        self.handoff
+            .status
+            .homing
+            .store(status.encode(), Ordering::Release);
     }
 
     /// Holds every axis; once none is still braking after a torque motion, reports the motion

@@ -7,7 +7,7 @@
 mod axis;
 mod cell;
 
-pub use axis::{AxisChannel, AxisLimitsCounts, STEP_TOLERANCE};
+pub use axis::{AxisChannel, AxisLimitsCounts, HOMING_MODE_SETTLE, HOMING_TIMEOUT, STEP_TOLERANCE};
 
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
@@ -328,8 +328,14 @@ impl<B: Bus> Executive<B> {
     fn write_outputs(&mut self) {
         for i in 0..self.axes.len() {
             let ch = &mut self.axes[i];
-            let controlword = ch.master.update(ch.feedback.statusword);
-            let cmd = ch.drive_command();
+            let mut controlword = ch.master.update(ch.feedback.statusword);
+            let mut cmd = ch.drive_command();
+            let display = ch.mode_display_mapped.then_some(ch.feedback.mode_display);
+            let enabled = ch.master.is_enabled();
+            if let Some(h) = ch.homing.update(ch.feedback.statusword, enabled, display) {
+                cmd.mode = h.mode;
+                controlword.0 |= h.start_bit;
+            }
             let rx = RxPdo {
                 mode: cmd.mode.as_i8(),
                 controlword,

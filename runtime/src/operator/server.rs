@@ -8,11 +8,12 @@ use iceoryx2::prelude::*;
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
 use super::{OperatorServerPort, SERVICE_RESPONSE_BYTES};
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, CellState};
+use crate::handoff::{CellCommand, CellState, HomeRequest};
 use crate::link::CellLink;
 use crate::motion::{MotionEngine, MotionRequest, Progress};
 use crate::program::Program;
 use crate::services::ServiceError;
+use cellrt_axes::cia402::homing::HomingFailure;
 
 /// What the planner thread must do after a request.
 pub enum Followup {
@@ -31,6 +32,8 @@ pub struct OperatorServer {
     next_id: u64,
     active: Option<ActiveCommand>,
     last_finished: Option<FinishedCommand>,
+    /// The RT thread's homing sequence number when the active `home` was sent.
+    home_seq: u32,
 }
 
 /// What a request may touch.
@@ -54,6 +57,7 @@ impl OperatorServer {
             next_id: 1,
             active: None,
             last_finished: None,
+            home_seq: 0,
         })
     }
 
@@ -77,6 +81,19 @@ impl OperatorServer {
 
     /// Follows the motion engine when no program drives it.
     pub fn tick(&mut self, ctx: &mut Context<'_>) {
+        if self.active.as_ref().is_some_and(|a| a.command == "home") {
+            if let Ok(s) = ctx.link.status() {
+                let h = s.homing;
+                if h.seq > self.home_seq && !h.running {
+                    let r = match HomingFailure::from_u8(h.failure) {
+                        None => Ok(()),
+                        Some(f) => Err(f.as_str().to_string()),
+                    };
+                    self.finish_active(r);
+                }
+            }
+            return;
+        }
         match ctx.engine.tick(ctx.link) {
             Ok(Progress::Finished(_)) => self.finish_active(Ok(())),
             Ok(Progress::Idle) => {
@@ -381,6 +398,47 @@ impl OperatorServer {
                     ctx,
                 )
             }
+            Request::Home { axis, method } => {
+                let i = match axis_index(ctx.cell, &axis) {
+                    Ok(i) => i,
+                    Err(e) => return reject(format!("home: {e}")),
+                };
+                let a = &ctx.cell.axes[i];
+                let p = a.profile;
+                let method = match method {
+                    Some(m) if p.homing_methods.contains(&m) => m,
+                    Some(m) => {
+                        return reject(format!(
+                            "home: axis '{axis}': the {} manual lists no homing method {m} (6098h){}",
+                            p.name,
+                            listed(p.homing_methods)
+                        ))
+                    }
+                    None => match p.data_set_homing_methods.first() {
+                        Some(&m) => m,
+                        None => {
+                            return reject(format!(
+                                "home: axis '{axis}': the {} manual lists no homing methods (6098h); hm cannot be used on it",
+                                p.name
+                            ))
+                        }
+                    },
+                };
+                if ctx.engine.is_busy() || state.state != CellState::Idle {
+                    return reject(format!(
+                        "home: the cell is {}; homing starts from idle (power on, halt or wait first)",
+                        state.state.as_str()
+                    ));
+                }
+                self.home_seq = state.homing.seq;
+                match ctx.link.home(HomeRequest {
+                    axis: i as u16,
+                    method,
+                }) {
+                    Ok(()) => (self.accept(name, true), Followup::None),
+                    Err(e) => reject(format!("home: {e}")),
+                }
+            }
             Request::Halt { axes } => {
                 let list = if axes.is_empty() {
                     None
@@ -495,6 +553,16 @@ impl OperatorServer {
             last_finished: self.last_finished.clone(),
             axes,
         }
+    }
+}
+
+/// ", methods it lists: …" for a message.
+fn listed(methods: &[i8]) -> String {
+    if methods.is_empty() {
+        String::new()
+    } else {
+        let m: Vec<String> = methods.iter().map(|m| m.to_string()).collect();
+        format!(" (it lists {})", m.join(", "))
     }
 }
 

@@ -86,6 +86,15 @@ pub enum Request {
         /// Seconds at the target torque.
         seconds: f64,
     },
+    /// MC_Home: home one axis in its drive's homing mode (hm) with a method the drive's manual
+    /// lists (the model's data-set method by default: home = the current position).
+    Home {
+        /// Axis name.
+        axis: String,
+        /// 6098h homing method (default: the model's data-set method).
+        #[serde(default)]
+        method: Option<i8>,
+    },
     /// MC_Halt: brake the motion (all axes, or the named ones) to rest; the cell stays usable.
     Halt {
         /// Axes to halt (all when empty).
@@ -118,6 +127,7 @@ impl Request {
             Request::Path { .. } => "path",
             Request::Velocity { .. } => "velocity",
             Request::Torque { .. } => "torque",
+            Request::Home { .. } => "home",
             Request::Halt { .. } => "halt",
             Request::Stop => "stop",
             Request::Reset => "reset",

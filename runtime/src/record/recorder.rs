@@ -651,6 +651,14 @@ pub fn describe_event(e: &EventRecord) -> String {
         }
         EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
         EventKind::RecordsDropped => format!("{} records dropped", e.value),
+        EventKind::HomingStarted => format!("method {} (6098h)", e.value),
+        EventKind::HomingFinished => match u8::try_from(e.value)
+            .ok()
+            .and_then(cellrt_axes::cia402::homing::HomingFailure::from_u8)
+        {
+            None => "homing attained".to_string(),
+            Some(f) => f.as_str().to_string(),
+        },
         EventKind::CommunicationError => match e.value {
             1 => "continuous incremental-counter errors".to_string(),
             _ => "intermittent incremental-counter errors".to_string(),

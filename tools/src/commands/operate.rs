@@ -123,6 +123,17 @@ pub enum OperatorCommand {
         #[arg(long)]
         no_wait: bool,
     },
+    /// MC_Home: home AXIS in its drive's homing mode (hm); waits for the result.
+    Home {
+        /// Axis name.
+        axis: String,
+        /// 6098h homing method (default: the drive model's data-set method).
+        #[arg(long, allow_negative_numbers = true)]
+        method: Option<i8>,
+        /// Return once accepted.
+        #[arg(long)]
+        no_wait: bool,
+    },
     /// MC_Halt: brake to rest (all axes, or the named ones); the cell stays ready.
     Halt {
         /// Axes (all when none).
@@ -273,6 +284,17 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
             Request::Torque {
                 targets: pairs("torque", targets)?,
                 seconds: *seconds,
+            },
+            wait(*no_wait, Wait::Finished),
+        ),
+        OperatorCommand::Home {
+            axis,
+            method,
+            no_wait,
+        } => (
+            Request::Home {
+                axis: axis.clone(),
+                method: *method,
             },
             wait(*no_wait, Wait::Finished),
         ),

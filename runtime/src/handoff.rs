@@ -384,6 +384,8 @@ pub struct AxisLive {
     pub statusword: AtomicU16,
     /// 603Fh.
     pub error_code: AtomicU16,
+    /// 6061h.
+    pub mode_display: std::sync::atomic::AtomicI8,
 }
 
 impl Default for CellStatus {
@@ -441,15 +443,42 @@ pub struct Handoff {
     pub recording: bool,
     /// A pending homing request ([`HomeRequest`] packed; 0 = none), taken by the RT thread.
     pub home_request: AtomicU32,
+    /// The last [`RECENT_EVENTS`] event lines, kept by the recorder thread for the operator's
+    /// status (non-RT threads only: the RT thread never touches this lock).
+    recent_events: std::sync::Mutex<std::collections::VecDeque<String>>,
 }
 
+/// Event lines kept for the operator's status.
+pub const RECENT_EVENTS: usize = 8;
+
 impl Handoff {
+    /// Adds an event line to the recent events (recorder thread).
+    pub fn remember_event(&self, line: &str) {
+        if let Ok(mut q) = self.recent_events.lock() {
+            if q.len() == RECENT_EVENTS {
+                q.pop_front();
+            }
+            q.push_back(line.to_string());
+        }
+    }
+
+    /// The recent event lines, oldest first.
+    pub fn recent_events(&self) -> Vec<String> {
+        self.recent_events
+            .lock()
+            .map(|q| q.iter().cloned().collect())
+            .unwrap_or_default()
+    }
+
     /// Preallocates queues for `queue_cycles` cycles of `axes` axes.
     pub fn new(axes: usize, queue_cycles: usize, recording: bool) -> Self {
         let queue_cycles = queue_cycles.max(64);
         Handoff {
             commands: ArrayQueue::new(64),
             home_request: AtomicU32::new(0),
+            recent_events: std::sync::Mutex::new(std::collections::VecDeque::with_capacity(
+                RECENT_EVENTS,
+            )),
             cycles: ArrayQueue::new(if recording { queue_cycles } else { 1 }),
             axes: ArrayQueue::new(if recording {
                 queue_cycles * axes.max(1)

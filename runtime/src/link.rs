@@ -48,6 +48,10 @@ pub trait CellLink {
     fn command(&mut self, c: CellCommand) -> Result<(), String>;
     /// Asks the RT thread to home an axis (taken in Idle).
     fn home(&mut self, request: HomeRequest) -> Result<(), String>;
+    /// The latest event lines (in-process only; empty from another process).
+    fn recent_events(&mut self) -> Vec<String> {
+        Vec::new()
+    }
     /// Records an event of the planner's own (fault injection), where the link allows it.
     fn event(&mut self, kind: EventKind, value: i64);
 }
@@ -79,6 +83,8 @@ pub fn snapshot(handoff: &Handoff, axes: usize) -> StatusSnapshot {
             following_error: a.following_error.load(Ordering::Relaxed),
             statusword: a.statusword.load(Ordering::Relaxed),
             error_code: a.error_code.load(Ordering::Relaxed),
+            mode_display: a.mode_display.load(Ordering::Relaxed),
+            reserved: [0; 3],
         };
     }
     StatusSnapshot {
@@ -110,6 +116,10 @@ impl CellLink for LocalLink {
             .home_request
             .store(request.encode(), Ordering::Release);
         Ok(())
+    }
+
+    fn recent_events(&mut self) -> Vec<String> {
+        self.handoff.recent_events()
     }
 
     fn event(&mut self, kind: EventKind, value: i64) {

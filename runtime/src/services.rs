@@ -91,6 +91,10 @@ pub struct LiveAxis {
     pub statusword: u16,
     /// 603Fh.
     pub error_code: u16,
+    /// 6061h.
+    pub mode_display: i8,
+    /// Padding.
+    pub reserved: [u8; 3],
 }
 
 impl Default for StatusSample {

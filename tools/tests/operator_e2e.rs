@@ -9,7 +9,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use cellrt_runtime::operator::client::OperatorClient;
-use cellrt_runtime::operator::wire::Reply;
+use cellrt_runtime::operator::wire::{Reply, StatusReport};
 use common::{demo_cell, max_derivatives, read_recording, unique_cell_name};
 
 struct Cell {
@@ -126,6 +126,37 @@ fn operator_commands_drive_a_running_cell() {
     cell.rejected(&["move", "x=300"], "not idle");
     cell.ok(&["power", "on"]);
     assert!(cell.ok(&["status"]).contains("operation_enabled"));
+    // The status publish-subscribe service: per-axis state, cell state, last command, events.
+    let node = cellrt_runtime::services::node(&cell.name, "test-status").unwrap();
+    let sub = cellrt_runtime::operator::status_subscriber(&node, &cell.name).unwrap();
+    let end = Instant::now() + Duration::from_secs(5);
+    let report: StatusReport = loop {
+        if let Ok(Some(s)) = sub.receive() {
+            let r: StatusReport = serde_json::from_slice(s.payload()).unwrap();
+            if r.state == "idle" {
+                break r;
+            }
+        }
+        assert!(Instant::now() < end, "no status sample");
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    assert_eq!(report.axes.len(), 4);
+    assert!(report
+        .axes
+        .iter()
+        .all(|a| a.fsa == "operation_enabled" && a.mode_display == "csp"));
+    assert_eq!(
+        report.last_finished.as_ref().map(|f| f.command.as_str()),
+        None
+    );
+    assert!(
+        report
+            .recent_events
+            .iter()
+            .any(|e| e.contains("cell_state: idle")),
+        "{:?}",
+        report.recent_events
+    );
 
     // Bad input, each refused with its reason; nothing moves.
     cell.rejected(&["move", "q=1"], "unknown axis 'q'");

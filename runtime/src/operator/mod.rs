@@ -86,6 +86,64 @@ fn wake_notifier(
         .map_err(|e| services::service_error("operator wake notifier", cell, e))
 }
 
+/// The status publish-subscribe service: the operator's [`wire::StatusReport`] as JSON, every
+/// [`STATUS_PERIOD`] and after each command, history 1 (a new subscriber gets the latest).
+pub fn status_service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/operator-status")
+}
+
+/// How often the operator status is published.
+pub const STATUS_PERIOD: std::time::Duration = std::time::Duration::from_millis(100);
+
+/// Publisher of the operator status.
+pub type StatusPublisher = iceoryx2::port::publisher::Publisher<ipc::Service, [u8], ()>;
+/// Subscriber of the operator status.
+pub type StatusSubscriber = iceoryx2::port::subscriber::Subscriber<ipc::Service, [u8], ()>;
+
+fn status_service(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<
+    iceoryx2::service::port_factory::publish_subscribe::PortFactory<ipc::Service, [u8], ()>,
+    ServiceError,
+> {
+    let name = ServiceName::new(&status_service_name(cell))
+        .map_err(|e| services::service_error("service name", cell, e))?;
+    node.service_builder(&name)
+        .publish_subscribe::<[u8]>()
+        .max_publishers(1)
+        .max_subscribers(16)
+        .history_size(1)
+        .subscriber_max_buffer_size(4)
+        .enable_safe_overflow(true)
+        .open_or_create()
+        .map_err(|e| services::service_error("operator status service", cell, e))
+}
+
+fn status_publisher(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<StatusPublisher, ServiceError> {
+    status_service(node, cell)?
+        .publisher_builder()
+        .initial_max_slice_len(SERVICE_RESPONSE_BYTES)
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .backpressure_strategy(BackpressureStrategy::DiscardData)
+        .create()
+        .map_err(|e| services::service_error("operator status publisher", cell, e))
+}
+
+/// Subscribes to `cell`'s operator status (decode each sample with `serde_json`).
+pub fn status_subscriber(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<StatusSubscriber, ServiceError> {
+    status_service(node, cell)?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| services::service_error("operator status subscriber", cell, e))
+}
+
 fn server_port(node: &Node<ipc::Service>, cell: &str) -> Result<OperatorServerPort, ServiceError> {
     service(node, cell)?
         .server_builder()

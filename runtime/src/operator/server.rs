@@ -1,6 +1,7 @@
 //! The operator service's server end: runs in the planner thread (the owner of the motion
 //! engine), answers each request with accepted or rejected, and tracks the command in execution.
 
+use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::cia402::statusword::Statusword;
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
@@ -34,6 +35,8 @@ pub struct OperatorServer {
     last_finished: Option<FinishedCommand>,
     /// The RT thread's homing sequence number when the active `home` was sent.
     home_seq: u32,
+    status: super::StatusPublisher,
+    last_status: std::time::Instant,
 }
 
 /// What a request may touch.
@@ -58,6 +61,8 @@ impl OperatorServer {
             active: None,
             last_finished: None,
             home_seq: 0,
+            status: super::status_publisher(node, cell)?,
+            last_status: std::time::Instant::now() - super::STATUS_PERIOD,
         })
     }
 
@@ -113,6 +118,7 @@ impl OperatorServer {
     /// Answers every pending request; returns what the caller must do next.
     pub fn poll(&mut self, ctx: &mut Context<'_>) -> Followup {
         let mut followup = Followup::None;
+        let mut answered = false;
         loop {
             let active = match self.port.receive() {
                 Ok(Some(r)) => r,
@@ -129,6 +135,7 @@ impl OperatorServer {
             if !matches!(f, Followup::None) {
                 followup = f;
             }
+            answered = true;
             let bytes = wire::encode(&reply);
             let sent = match active.loan_slice_uninit(bytes.len().max(1)) {
                 Ok(r) => r
@@ -144,7 +151,22 @@ impl OperatorServer {
                 );
             }
         }
+        if answered || self.last_status.elapsed() >= super::STATUS_PERIOD {
+            self.publish_status(ctx);
+        }
         followup
+    }
+
+    /// Publishes the status on the operator-status service.
+    fn publish_status(&mut self, ctx: &mut Context<'_>) {
+        self.last_status = std::time::Instant::now();
+        let Ok(s) = ctx.link.status() else {
+            return;
+        };
+        let bytes = wire::encode(&self.report(ctx, &s));
+        if let Ok(sample) = self.status.loan_slice_uninit(bytes.len()) {
+            let _ = sample.write_from_slice(&bytes).send();
+        }
     }
 
     fn accept(&mut self, command: &str, tracked: bool) -> Reply {
@@ -516,7 +538,7 @@ impl OperatorServer {
         }
     }
 
-    fn report(&self, ctx: &Context<'_>, s: &crate::link::StatusSnapshot) -> StatusReport {
+    fn report(&self, ctx: &mut Context<'_>, s: &crate::link::StatusSnapshot) -> StatusReport {
         let axes = ctx
             .cell
             .axes
@@ -529,6 +551,9 @@ impl OperatorServer {
                     name: a.name.clone(),
                     unit: a.unit.clone(),
                     mode: a.mode.as_str().to_string(),
+                    mode_display: ModeOfOperation::from_i8(l.mode_display)
+                        .map_or("?", |m| m.as_str())
+                        .to_string(),
                     fsa: Statusword(l.statusword)
                         .state()
                         .map(|f| f.as_str())
@@ -551,6 +576,7 @@ impl OperatorServer {
             override_percent: ctx.engine.feed_override() * 100.0,
             active_command: self.active.clone(),
             last_finished: self.last_finished.clone(),
+            recent_events: ctx.link.recent_events(),
             axes,
         }
     }

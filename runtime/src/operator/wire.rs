@@ -174,6 +174,9 @@ pub struct StatusReport {
     pub active_command: Option<ActiveCommand>,
     /// The last command that ended (done, failed or replaced).
     pub last_finished: Option<FinishedCommand>,
+    /// The latest events, oldest first ("cycle N: kind [axis]: detail"; in-process only).
+    #[serde(default)]
+    pub recent_events: Vec<String>,
     /// Per axis.
     pub axes: Vec<AxisStatus>,
 }
@@ -207,6 +210,9 @@ pub struct AxisStatus {
     pub unit: String,
     /// Configured mode (csp, csv, cst).
     pub mode: String,
+    /// Mode the drive displays (6061h: csp, csv, cst, hm, …; "?" where not mapped or unknown).
+    #[serde(default)]
+    pub mode_display: String,
     /// CiA 402 FSA state from the statusword.
     pub fsa: String,
     /// Position setpoint, unit.

@@ -349,6 +349,13 @@ struct Drain<'a> {
     last_cycle: u64,
 }
 
+/// Keeps the line of the event just logged among the handoff's recent events (operator status).
+fn remember_event(handoff: &Handoff, log: &[String]) {
+    if let Some(line) = log.last() {
+        handoff.remember_event(line);
+    }
+}
+
 fn drain_loop(
     cell: &CellConfig,
     sink: Option<Sink>,
@@ -394,6 +401,7 @@ fn drain_loop(
                     break;
                 }
                 d.event(&e, period)?;
+                remember_event(handoff, &d.info.event_log);
                 n += 1;
             }
             d.flush_if_due(flush_every)?;
@@ -406,6 +414,7 @@ fn drain_loop(
             }
             while let Some(e) = d.pending_event.take().or_else(|| handoff.events.pop()) {
                 d.event(&e, period)?;
+                remember_event(handoff, &d.info.event_log);
                 n += 1;
             }
         }

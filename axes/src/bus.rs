@@ -35,6 +35,14 @@ pub trait Bus {
         let _ = (axis, cycles);
         false
     }
+    /// Acyclic read (an SDO upload on a real bus) of `index:sub` of `axis`; called at start-up
+    /// and after a homing (607Ch), not every cycle. `Err(abort code)` as for
+    /// [`Bus::sdo_download`].
+    fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
+        let _ = (axis, index, sub);
+        Err(SDO_UNSUPPORTED)
+    }
+
     /// Acyclic write (an SDO download on a real bus) of `data` to `index:sub` of `axis`; called
     /// at a homing start (6098h), not every cycle. `Err(abort code)`, [`SDO_UNSUPPORTED`] where
     /// the bus has no acyclic channel.
@@ -195,6 +203,13 @@ impl Bus for SimBus {
 
     fn read_error_code(&mut self, axis: usize) -> Option<u16> {
         self.get_drive(axis).map(|d| d.tx_pdo().error_code)
+    }
+
+    fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
+        match self.drives.get(axis) {
+            Some(d) => d.sdo_upload(index, sub).map_err(|a| a.0),
+            None => Err(SDO_UNSUPPORTED),
+        }
     }
 
     fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {

@@ -580,33 +580,10 @@ fn validate_step(
                     ),
                 ));
             };
-            let p = cell.axes[i].profile;
-            let method = match method {
-                Some(m) if p.homing_methods.contains(&m) => m,
-                Some(m) => {
-                    return Err(ConfigError::new(
-                        path,
-                        format!("{key}.method"),
-                        format!(
-                            "the {} manual lists no homing method {m} (6098h; it lists {:?})",
-                            p.name, p.homing_methods
-                        ),
-                    ))
-                }
-                None => match p.data_set_homing_methods.first() {
-                    Some(&m) => m,
-                    None => {
-                        return Err(ConfigError::new(
-                            path,
-                            format!("{key}.axis"),
-                            format!(
-                                "axis '{axis}': the {} manual lists no homing methods (6098h); hm cannot be used on it",
-                                p.name
-                            ),
-                        ))
-                    }
-                },
-            };
+            let method = cellrt_axes::cia402::homing::choose_method(cell.axes[i].profile, method)
+                .map_err(|e| {
+                ConfigError::new(path, format!("{key}.axis"), format!("axis '{axis}': {e}"))
+            })?;
             Step::Home { axis: i, method }
         }
         RawStep::Repeat { .. } => unreachable!("expanded by `expand`"),

@@ -8,8 +8,10 @@
 //! before the start (the caller's job).
 //!
 //! Where the TxPDO does not map 6061h (MR-J3-T04, mr-j3-t04.md §3.9) the mode is taken to have
-//! switched after [`HomingParams::mode_settle`] cycles: the manual gives no figure, so this is a
-//! named parameter.
+//! switched after [`HomingParams::mode_settle`] consecutive cycles at standstill (a drive
+//! changes a position mode only at zero speed, and statusword bit 12 means "following the
+//! command" in csp, so it must not be read as "homing attained" before the switch): the manual
+//! gives no figure, so this is a named parameter.
 
 use super::mode::ModeOfOperation;
 use super::statusword::Statusword;
@@ -21,6 +23,43 @@ pub const HOMING_ATTAINED_BIT: u16 = 1 << 12;
 pub const HOMING_ERROR_BIT: u16 = 1 << 13;
 /// Controlword bit 4 in hm: homing operation start (HOS).
 pub const HOMING_START_BIT: u16 = 1 << 4;
+
+/// The 6098h method to home a drive of `profile` with: `requested` if its manual lists it,
+/// else the model's first data-set method (home = the current position). Refused, with the
+/// reason, where the manual lists none, or where the TxPDO does not carry 6061h (in csp bit 12
+/// of the statusword means "following the command", so homing attained could not be told
+/// apart without the mode display).
+pub fn choose_method(
+    profile: &crate::profiles::DriveProfile,
+    requested: Option<i8>,
+) -> Result<i8, String> {
+    if !profile
+        .tx_pdo
+        .maps(crate::pdo::objects::MODES_OF_OPERATION_DISPLAY)
+    {
+        return Err(format!(
+            "the {} default TxPDO does not carry 6061h, so the end of a homing in hm cannot be told from csp's statusword bit 12",
+            profile.name
+        ));
+    }
+    match requested {
+        Some(m) if profile.homing_methods.contains(&m) => Ok(m),
+        Some(m) => Err(format!(
+            "the {} manual lists no homing method {m} (6098h; it lists {:?})",
+            profile.name, profile.homing_methods
+        )),
+        None => profile
+            .data_set_homing_methods
+            .first()
+            .copied()
+            .ok_or_else(|| {
+                format!(
+                    "the {} manual lists no homing methods (6098h); hm cannot be used on it",
+                    profile.name
+                )
+            }),
+    }
+}
 
 /// Timing of the sequence.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -103,6 +142,8 @@ pub struct HomingSequencer {
     elapsed: u32,
     /// Cycles in the current phase.
     in_phase: u32,
+    /// Consecutive standstill cycles in the current phase (mode change without 6061h).
+    quiet: u32,
 }
 
 impl HomingSequencer {
@@ -114,6 +155,7 @@ impl HomingSequencer {
             phase: HomingPhase::Idle,
             elapsed: 0,
             in_phase: 0,
+            quiet: 0,
         }
     }
 
@@ -122,6 +164,7 @@ impl HomingSequencer {
         self.phase = HomingPhase::EnterHm;
         self.elapsed = 0;
         self.in_phase = 0;
+        self.quiet = 0;
     }
 
     /// Where it stands.
@@ -139,32 +182,37 @@ impl HomingSequencer {
         self.phase = HomingPhase::Idle;
     }
 
-    /// One cycle: from the statusword and 6061h (`None` where the TxPDO does not map it),
-    /// the mode and HOS bit to send, or `None` when not homing.
+    /// One cycle: from the statusword, 6061h (`None` where the TxPDO does not map it) and
+    /// whether the motor stands still (606Ch = 0), the mode and HOS bit to send, or `None` when
+    /// not homing.
     pub fn update(
         &mut self,
         statusword: Statusword,
         enabled: bool,
         mode_display: Option<i8>,
+        standstill: bool,
     ) -> Option<HomingCommand> {
         if !self.is_active() {
             return None;
         }
         self.elapsed = self.elapsed.saturating_add(1);
         self.in_phase = self.in_phase.saturating_add(1);
-        let settled =
-            |want: ModeOfOperation, in_phase: u32, params: &HomingParams| match mode_display {
-                Some(m) => m == want.as_i8(),
-                None => in_phase > params.mode_settle.0,
-            };
+        self.quiet = if standstill {
+            self.quiet.saturating_add(1)
+        } else {
+            0
+        };
+        let settled = |want: ModeOfOperation, quiet: u32, params: &HomingParams| match mode_display
+        {
+            Some(m) => m == want.as_i8(),
+            None => quiet > params.mode_settle.0,
+        };
         let timed_out = self.elapsed > self.params.timeout.0;
         let next = match self.phase {
             HomingPhase::EnterHm if !enabled => {
                 HomingPhase::LeaveHm(Some(HomingFailure::NotEnabled))
             }
-            HomingPhase::EnterHm
-                if settled(ModeOfOperation::Homing, self.in_phase, &self.params) =>
-            {
+            HomingPhase::EnterHm if settled(ModeOfOperation::Homing, self.quiet, &self.params) => {
                 HomingPhase::Running
             }
             HomingPhase::EnterHm if timed_out => HomingPhase::LeaveHm(Some(HomingFailure::Timeout)),
@@ -182,7 +230,7 @@ impl HomingSequencer {
                 HomingPhase::LeaveHm(None)
             }
             HomingPhase::Running if timed_out => HomingPhase::LeaveHm(Some(HomingFailure::Timeout)),
-            HomingPhase::LeaveHm(r) if settled(self.cyclic, self.in_phase, &self.params) => {
+            HomingPhase::LeaveHm(r) if settled(self.cyclic, self.quiet, &self.params) => {
                 HomingPhase::Done(r)
             }
             HomingPhase::LeaveHm(r)
@@ -195,6 +243,7 @@ impl HomingSequencer {
         if next != self.phase {
             self.phase = next;
             self.in_phase = 0;
+            self.quiet = 0;
         }
         Some(match self.phase {
             HomingPhase::EnterHm => HomingCommand {
@@ -227,42 +276,63 @@ mod tests {
     }
 
     #[test]
+    fn the_method_is_one_the_manual_lists_on_a_drive_that_shows_6061h() {
+        use crate::profiles::{profile, DriveModel};
+        let j4 = profile(DriveModel::MrJ4TM);
+        assert_eq!(choose_method(j4, None), Ok(-3));
+        assert_eq!(choose_method(j4, Some(35)), Ok(35));
+        assert!(choose_method(j4, Some(99))
+            .unwrap_err()
+            .contains("no homing method 99"));
+        let j5 = profile(DriveModel::MrJ5GN1);
+        assert!(choose_method(j5, None)
+            .unwrap_err()
+            .contains("lists no homing methods"));
+        let j3 = profile(DriveModel::MrJ3T04);
+        assert!(choose_method(j3, Some(35)).unwrap_err().contains("6061h"));
+    }
+
+    #[test]
     fn enters_hm_starts_waits_for_attained_and_leaves() {
         let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
-        assert_eq!(h.update(sw(0), true, Some(8)), None);
+        assert_eq!(h.update(sw(0), true, Some(8), true), None);
         h.start();
-        let c = h.update(sw(0), true, Some(8)).unwrap();
+        let c = h.update(sw(0), true, Some(8), true).unwrap();
         assert_eq!((c.mode, c.start_bit), (ModeOfOperation::Homing, 0));
         // 6061h shows hm: the start bit goes out.
-        let c = h.update(sw(0), true, Some(6)).unwrap();
+        let c = h.update(sw(0), true, Some(6), true).unwrap();
         assert_eq!(c.start_bit, HOMING_START_BIT);
         // A stale bit 12 in the first cycle of the start is not taken as the result.
-        let c = h.update(sw(HOMING_ATTAINED_BIT), true, Some(6)).unwrap();
+        let c = h
+            .update(sw(HOMING_ATTAINED_BIT), true, Some(6), true)
+            .unwrap();
         assert_eq!(c.start_bit, HOMING_START_BIT);
         assert_eq!(h.phase(), HomingPhase::Running);
-        let c = h.update(sw(HOMING_ATTAINED_BIT), true, Some(6)).unwrap();
+        let c = h
+            .update(sw(HOMING_ATTAINED_BIT), true, Some(6), true)
+            .unwrap();
         assert_eq!(c.mode, ModeOfOperation::CyclicSyncPosition);
         assert_eq!(h.phase(), HomingPhase::LeaveHm(None));
-        h.update(sw(0), true, Some(8));
+        h.update(sw(0), true, Some(8), true);
         assert_eq!(h.phase(), HomingPhase::Done(None));
         assert!(!h.is_active());
-        assert_eq!(h.update(sw(0), true, Some(8)), None);
+        assert_eq!(h.update(sw(0), true, Some(8), true), None);
     }
 
     #[test]
     fn a_homing_error_or_a_disable_fails_and_still_returns_to_the_cyclic_mode() {
         let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncVelocity);
         h.start();
-        h.update(sw(0), true, Some(6));
-        h.update(sw(0), true, Some(6));
-        h.update(sw(HOMING_ERROR_BIT), true, Some(6));
+        h.update(sw(0), true, Some(6), true);
+        h.update(sw(0), true, Some(6), true);
+        h.update(sw(HOMING_ERROR_BIT), true, Some(6), true);
         assert_eq!(
             h.phase(),
             HomingPhase::LeaveHm(Some(HomingFailure::DriveError))
         );
-        let c = h.update(sw(0), true, Some(6)).unwrap();
+        let c = h.update(sw(0), true, Some(6), true).unwrap();
         assert_eq!(c.mode, ModeOfOperation::CyclicSyncVelocity);
-        h.update(sw(0), true, Some(9));
+        h.update(sw(0), true, Some(9), true);
         assert_eq!(
             h.phase(),
             HomingPhase::Done(Some(HomingFailure::DriveError))
@@ -270,7 +340,7 @@ mod tests {
 
         let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
         h.start();
-        h.update(sw(0), false, Some(8));
+        h.update(sw(0), false, Some(8), true);
         assert_eq!(
             h.phase(),
             HomingPhase::LeaveHm(Some(HomingFailure::NotEnabled))
@@ -278,17 +348,35 @@ mod tests {
     }
 
     #[test]
+    fn without_6061h_a_moving_motor_holds_the_switch_and_bit_12_is_not_taken_for_attained() {
+        let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
+        h.start();
+        // Still settling after a move: csp's bit 12 ("following the command") is set.
+        for _ in 0..20 {
+            let c = h
+                .update(sw(HOMING_ATTAINED_BIT), true, None, false)
+                .unwrap();
+            assert_eq!(c.start_bit, 0);
+            assert_eq!(h.phase(), HomingPhase::EnterHm);
+        }
+        for _ in 0..4 {
+            h.update(sw(HOMING_ATTAINED_BIT), true, None, true);
+        }
+        assert_eq!(h.phase(), HomingPhase::Running);
+    }
+
+    #[test]
     fn without_6061h_the_mode_counts_as_switched_after_the_settle_cycles_and_a_hang_times_out() {
         let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
         h.start();
         for _ in 0..3 {
-            h.update(sw(0), true, None);
+            h.update(sw(0), true, None, true);
             assert_eq!(h.phase(), HomingPhase::EnterHm);
         }
-        h.update(sw(0), true, None);
+        h.update(sw(0), true, None, true);
         assert_eq!(h.phase(), HomingPhase::Running);
         for _ in 0..200 {
-            h.update(sw(0), true, None);
+            h.update(sw(0), true, None, true);
         }
         assert_eq!(h.phase(), HomingPhase::Done(Some(HomingFailure::Timeout)));
     }

@@ -28,6 +28,10 @@ pub const TORQUE_ACTUAL: u16 = 0x6077;
 pub const TARGET_POSITION: u16 = 0x607A;
 /// 60F4h Following error actual value.
 pub const FOLLOWING_ERROR: u16 = 0x60F4;
+/// 6098h Homing method (written by SDO before a homing).
+pub const HOMING_METHOD: u16 = 0x6098;
+/// 607Ch Home offset.
+pub const HOME_OFFSET: u16 = 0x607C;
 /// 60FFh Target velocity.
 pub const TARGET_VELOCITY: u16 = 0x60FF;
 /// 2D20h Velocity limit value (cst/tq speed limit).

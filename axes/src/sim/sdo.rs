@@ -2,6 +2,7 @@
 //! entries with the CiA 301 abort codes the spec files list (mr-j4-tm.md §12 TV-10,
 //! mr-j5-g-n1.md TV-12, mr-j3-t04.md §3.9). Acyclic and off the RT path: it may allocate.
 
+use crate::pdo::objects::HOME_OFFSET;
 use std::fmt;
 
 use super::drive::SimDrive;
@@ -9,7 +10,6 @@ use crate::pdo::objects::{RxField, TxField, MODES_OF_OPERATION};
 use crate::profiles::{Access, DriveModel};
 
 /// 607Ch Home offset (kept by the homing model, read live).
-const HOME_OFFSET: u16 = 0x607C;
 /// 1010h:01 Save all parameters; the signature "save".
 const STORE_PARAMETERS: (u16, u8) = (0x1010, 1);
 /// The value that starts a save ("save", little-endian ASCII).

@@ -5,9 +5,11 @@ use cellrt_axes::cia402::homing::{HomingParams, HomingSequencer};
 use cellrt_axes::cia402::master::AxisMaster;
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::comm::{CounterParams, IncrementalCounter};
-use cellrt_axes::pdo::objects::{DEFAULT_TORQUE_LIMIT, ERROR_CODE, MODES_OF_OPERATION_DISPLAY};
+use cellrt_axes::pdo::objects::{
+    DEFAULT_TORQUE_LIMIT, ERROR_CODE, MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY,
+};
 use cellrt_axes::pdo::{PdoLayout, TxPdo};
-use cellrt_axes::profiles::TorqueLimitSelection;
+use cellrt_axes::profiles::{HomeReference, TorqueLimitSelection};
 use cellrt_axes::Cycles;
 
 use crate::config::{AxisConfig, CellConfig};
@@ -91,6 +93,14 @@ pub struct AxisChannel {
     pub homing: HomingSequencer,
     /// Whether the TxPDO carries 6061h (else mode changes count as done after a settle time).
     pub mode_display_mapped: bool,
+    /// Where the RxPDO lacks 6060h (MR-J3-T04, mr-j3-t04.md §3.9): the mode last written by
+    /// SDO (the drive starts in its parameter's mode, the cyclic one); `None` where mapped.
+    pub sdo_mode: Option<ModeOfOperation>,
+    /// 607Ch in counts where the drive does not shift 6064h by it (MR-J3-T04, mr-j3-t04.md
+    /// §8.2): the master works in user counts, user = raw + home offset; 0 elsewhere.
+    pub home_offset: i32,
+    /// Whether the drive reports its home as 607Ch instead of presetting 6064h.
+    pub offset_home: bool,
 }
 
 /// How long a homing may take before it fails.
@@ -175,6 +185,12 @@ impl AxisChannel {
                 },
             ),
             mode_display_mapped: axis.profile.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY),
+            home_offset: 0,
+            offset_home: axis.profile.home_reference == HomeReference::OffsetObject,
+            sdo_mode: (!axis.profile.rx_pdo.maps(MODES_OF_OPERATION)).then_some(match axis.mode {
+                ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
+                m => m,
+            }),
         }
     }
 
@@ -366,6 +382,9 @@ mod tests {
                 ModeOfOperation::CyclicSyncPosition,
             ),
             mode_display_mapped: true,
+            sdo_mode: None,
+            home_offset: 0,
+            offset_home: false,
         }
     }
 

@@ -12,11 +12,9 @@ use crate::config::FaultReaction;
 use crate::handoff::{
     CellCommand, CellState, EventKind, HomeRequest, HomingStatus, RejectReason, StopReason, NO_AXIS,
 };
-use cellrt_axes::cia402::homing::{HomingFailure, HomingPhase};
-
-/// 6098h Homing method.
-const HOMING_METHOD: u16 = 0x6098;
 use crate::setpoints::BLOCK_CYCLES;
+use cellrt_axes::cia402::homing::{HomingFailure, HomingPhase};
+use cellrt_axes::pdo::objects::HOMING_METHOD;
 
 /// Commands taken per cycle at most (bounds the cycle's work).
 const COMMANDS_PER_CYCLE: usize = 4;
@@ -308,6 +306,12 @@ impl<B: Bus> Executive<B> {
         }
         status.running = false;
         status.failure = failure.map_or(0, |f| f as u8);
+        let axis = usize::from(status.axis);
+        if failure.is_none() && axis < self.axes.len() {
+            // A drive that reports its home as 607Ch: the axis' user position moves with it.
+            self.load_home_offset(axis);
+            self.axes[axis].track_actual();
+        }
         self.event(
             EventKind::HomingFinished,
             status.axis,

@@ -14,6 +14,7 @@ use std::sync::Arc;
 
 use cellrt_axes::bus::Bus;
 use cellrt_axes::comm::CounterVerdict;
+use cellrt_axes::pdo::objects::HOME_OFFSET;
 use cellrt_axes::pdo::RxPdo;
 use cellrt_axes::Cycles;
 use serde::Serialize;
@@ -173,6 +174,9 @@ impl<B: Bus> Executive<B> {
         if self.bus.exchange(Cycles(1)).is_err() {
             self.event(EventKind::BusError, NO_AXIS, -1);
         }
+        for i in 0..self.axes.len() {
+            self.load_home_offset(i);
+        }
         self.read_inputs();
         for ch in &mut self.axes {
             ch.track_actual();
@@ -282,14 +286,37 @@ impl<B: Bus> Executive<B> {
         }
     }
 
+    /// Reads 607Ch of a drive that keeps 6064h raw (at start-up and after a homing; acyclic)
+    /// and moves the axis' user coordinates with it: user = raw + home offset.
+    pub(super) fn load_home_offset(&mut self, i: usize) {
+        if !self.axes[i].offset_home {
+            return;
+        }
+        match self.bus.sdo_upload(i, HOME_OFFSET, 0) {
+            Ok(v) => {
+                let ch = &mut self.axes[i];
+                let new = v as i32;
+                ch.feedback.position_actual = ch
+                    .feedback
+                    .position_actual
+                    .wrapping_sub(ch.home_offset)
+                    .wrapping_add(new);
+                ch.home_offset = new;
+            }
+            Err(code) => self.event(EventKind::BusError, i as u16, i64::from(code)),
+        }
+    }
+
     /// Decodes every axis' TxPDO image and watches for FSA changes and faults.
     fn read_inputs(&mut self) {
         for i in 0..self.axes.len() {
             let decoded = self.axes[i].tx_map.decode_tx(self.bus.tx_image(i));
-            let Ok(tx) = decoded else {
+            let Ok(mut tx) = decoded else {
                 self.event(EventKind::BusError, i as u16, i as i64);
                 continue;
             };
+            // User counts where the drive keeps 6064h raw (mr-j3-t04.md §8.2).
+            tx.position_actual = tx.position_actual.wrapping_add(self.axes[i].home_offset);
             let old = self.axes[i].feedback;
             self.axes[i].feedback = tx;
             // Master-side incremental counter (mr-j3-t04.md §6.2): report a continuous or
@@ -332,14 +359,33 @@ impl<B: Bus> Executive<B> {
             let mut cmd = ch.drive_command();
             let display = ch.mode_display_mapped.then_some(ch.feedback.mode_display);
             let enabled = ch.master.is_enabled();
-            if let Some(h) = ch.homing.update(ch.feedback.statusword, enabled, display) {
+            let standstill = ch.feedback.velocity_actual == 0;
+            if let Some(h) = ch
+                .homing
+                .update(ch.feedback.statusword, enabled, display, standstill)
+            {
                 cmd.mode = h.mode;
                 controlword.0 |= h.start_bit;
             }
+            // A drive without 6060h in its RxPDO changes mode by SDO (only at a homing's
+            // start and end, never in steady state).
+            if ch.sdo_mode.is_some_and(|m| m != cmd.mode) {
+                let written = self.bus.sdo_download(
+                    i,
+                    cellrt_axes::pdo::objects::MODES_OF_OPERATION,
+                    0,
+                    &[cmd.mode.as_i8() as u8],
+                );
+                match written {
+                    Ok(()) => self.axes[i].sdo_mode = Some(cmd.mode),
+                    Err(code) => self.event(EventKind::BusError, i as u16, i64::from(code)),
+                }
+            }
+            let ch = &mut self.axes[i];
             let rx = RxPdo {
                 mode: cmd.mode.as_i8(),
                 controlword,
-                target_position: round_counts(ch.setpoint),
+                target_position: round_counts(ch.setpoint).wrapping_sub(ch.home_offset),
                 target_velocity: cmd.target_velocity,
                 target_torque: cmd.target_torque,
                 velocity_limit: ch.velocity_limit(self.period_s),

@@ -14,7 +14,7 @@ use crate::link::CellLink;
 use crate::motion::{MotionEngine, MotionRequest, Progress};
 use crate::program::Program;
 use crate::services::ServiceError;
-use cellrt_axes::cia402::homing::HomingFailure;
+use cellrt_axes::cia402::homing::{choose_method, HomingFailure};
 
 /// What the planner thread must do after a request.
 pub enum Followup {
@@ -426,25 +426,9 @@ impl OperatorServer {
                     Err(e) => return reject(format!("home: {e}")),
                 };
                 let a = &ctx.cell.axes[i];
-                let p = a.profile;
-                let method = match method {
-                    Some(m) if p.homing_methods.contains(&m) => m,
-                    Some(m) => {
-                        return reject(format!(
-                            "home: axis '{axis}': the {} manual lists no homing method {m} (6098h){}",
-                            p.name,
-                            listed(p.homing_methods)
-                        ))
-                    }
-                    None => match p.data_set_homing_methods.first() {
-                        Some(&m) => m,
-                        None => {
-                            return reject(format!(
-                                "home: axis '{axis}': the {} manual lists no homing methods (6098h); hm cannot be used on it",
-                                p.name
-                            ))
-                        }
-                    },
+                let method = match choose_method(a.profile, method) {
+                    Ok(m) => m,
+                    Err(e) => return reject(format!("home: axis '{axis}': {e}")),
                 };
                 if ctx.engine.is_busy() || state.state != CellState::Idle {
                     return reject(format!(
@@ -579,16 +563,6 @@ impl OperatorServer {
             recent_events: ctx.link.recent_events(),
             axes,
         }
-    }
-}
-
-/// ", methods it lists: …" for a message.
-fn listed(methods: &[i8]) -> String {
-    if methods.is_empty() {
-        String::new()
-    } else {
-        let m: Vec<String> = methods.iter().map(|m| m.to_string()).collect();
-        format!(" (it lists {})", m.join(", "))
     }
 }
 

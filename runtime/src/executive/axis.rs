@@ -194,6 +194,17 @@ impl AxisChannel {
         }
     }
 
+    /// A raw 6064h as the master's user counts: raw + 607Ch on a drive that reports home as an
+    /// offset (mr-j3-t04.md §8.2, TV-HOME-1), raw elsewhere (offset 0).
+    pub fn to_user(&self, raw: i32) -> i32 {
+        raw.wrapping_add(self.home_offset)
+    }
+
+    /// A user position as the raw 607Ah the drive expects: user − 607Ch (TV-HOME-1).
+    pub fn to_raw(&self, user: i32) -> i32 {
+        user.wrapping_sub(self.home_offset)
+    }
+
     /// Follows the drive's actual position (while not enabled: no jump at enable).
     pub fn track_actual(&mut self) {
         self.setpoint = f64::from(self.feedback.position_actual);
@@ -386,6 +397,21 @@ mod tests {
             home_offset: 0,
             offset_home: false,
         }
+    }
+
+    /// mr-j3-t04.md TV-HOME-1: home at raw 10000 → 607Ch = −10000; user target 5000 goes out
+    /// as 607Ah = 15000, user 0 as 10000; raw 15000 reads as user 5000.
+    #[test]
+    fn tv_home_1_master_converts_user_and_raw_counts() {
+        let mut ch = channel(0.0, 0.0, 1.0, 1.0);
+        assert_eq!((ch.to_raw(5000), ch.to_user(10000)), (5000, 10000));
+        ch.home_offset = -10000;
+        assert_eq!(ch.to_raw(5000), 15000);
+        assert_eq!(ch.to_raw(0), 10000);
+        assert_eq!(ch.to_user(15000), 5000);
+        assert_eq!(ch.to_user(10000), 0);
+        // The wire is a wrapping 32-bit position.
+        assert_eq!(ch.to_raw(i32::MIN), i32::MIN.wrapping_add(10000));
     }
 
     /// Runs a stop to the end; returns (cycles, distance, max |Δv|/dt, max |Δa|/dt before the

@@ -316,7 +316,7 @@ impl<B: Bus> Executive<B> {
                 continue;
             };
             // User counts where the drive keeps 6064h raw (mr-j3-t04.md §8.2).
-            tx.position_actual = tx.position_actual.wrapping_add(self.axes[i].home_offset);
+            tx.position_actual = self.axes[i].to_user(tx.position_actual);
             let old = self.axes[i].feedback;
             self.axes[i].feedback = tx;
             // Master-side incremental counter (mr-j3-t04.md §6.2): report a continuous or
@@ -385,7 +385,7 @@ impl<B: Bus> Executive<B> {
             let rx = RxPdo {
                 mode: cmd.mode.as_i8(),
                 controlword,
-                target_position: round_counts(ch.setpoint).wrapping_sub(ch.home_offset),
+                target_position: ch.to_raw(round_counts(ch.setpoint)),
                 target_velocity: cmd.target_velocity,
                 target_torque: cmd.target_torque,
                 velocity_limit: ch.velocity_limit(self.period_s),

@@ -352,17 +352,7 @@ fn validate_step(
             let mut targets = Vec::with_capacity(target.len());
             for (name, torque) in target {
                 let k = format!("{key}.target.{name}");
-                let Some(axis) = cell.axis_index(&name) else {
-                    return Err(ConfigError::new(
-                        path,
-                        k,
-                        format!(
-                            "axis '{name}' is not in cell '{}' (axes: {})",
-                            cell.name,
-                            cell.axis_names()
-                        ),
-                    ));
-                };
+                let axis = axis_of(path, k.clone(), &name, cell)?;
                 let a = &cell.axes[axis];
                 let Some(limits) = a
                     .torque
@@ -524,17 +514,7 @@ fn validate_step(
             velocity,
             seconds,
         } => {
-            let Some(i) = cell.axis_index(&axis) else {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.axis"),
-                    format!(
-                        "axis '{axis}' is not in cell '{}' (axes: {})",
-                        cell.name,
-                        cell.axis_names()
-                    ),
-                ));
-            };
+            let i = axis_of(path, format!("{key}.axis"), &axis, cell)?;
             let limit = cell.axes[i].limits.velocity;
             if !velocity.is_finite() || velocity.abs() > limit {
                 return Err(ConfigError::new(
@@ -569,17 +549,7 @@ fn validate_step(
             Step::Override(percent / 100.0)
         }
         RawStep::Home { axis, method } => {
-            let Some(i) = cell.axis_index(&axis) else {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.axis"),
-                    format!(
-                        "axis '{axis}' is not in cell '{}' (axes: {})",
-                        cell.name,
-                        cell.axis_names()
-                    ),
-                ));
-            };
+            let i = axis_of(path, format!("{key}.axis"), &axis, cell)?;
             let method = cellrt_axes::cia402::homing::choose_method(cell.axes[i].profile, method)
                 .map_err(|e| {
                 ConfigError::new(path, format!("{key}.axis"), format!("axis '{axis}': {e}"))
@@ -587,6 +557,26 @@ fn validate_step(
             Step::Home { axis: i, method }
         }
         RawStep::Repeat { .. } => unreachable!("expanded by `expand`"),
+    })
+}
+
+/// The index of axis `name` in `cell`, or an error at `key` naming the cell's axes.
+fn axis_of(
+    path: &Path,
+    key: impl Into<String>,
+    name: &str,
+    cell: &CellConfig,
+) -> Result<usize, ConfigError> {
+    cell.axis_index(name).ok_or_else(|| {
+        ConfigError::new(
+            path,
+            key,
+            format!(
+                "axis '{name}' is not in cell '{}' (axes: {})",
+                cell.name,
+                cell.axis_names()
+            ),
+        )
     })
 }
 
@@ -632,17 +622,7 @@ fn move_targets(
     }
     let mut out = Vec::with_capacity(target.len());
     for (name, pos) in target {
-        let Some(axis) = cell.axis_index(&name) else {
-            return Err(ConfigError::new(
-                path,
-                format!("{key}.target.{name}"),
-                format!(
-                    "axis '{name}' is not in cell '{}' (axes: {})",
-                    cell.name,
-                    cell.axis_names()
-                ),
-            ));
-        };
+        let axis = axis_of(path, format!("{key}.target.{name}"), &name, cell)?;
         let a = &cell.axes[axis];
         a.position.check(pos).map_err(|_| {
             ConfigError::new(

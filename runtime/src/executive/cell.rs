@@ -250,6 +250,16 @@ impl<B: Bus> Executive<B> {
         if axis >= self.axes.len() || !self.axes[axis].master.is_enabled() {
             status.running = false;
             status.failure = HomingFailure::NotEnabled as u8;
+        } else if !self.axes[axis].mode_display_mapped {
+            // Requests from other processes bypass `choose_method`: without 6061h the end of
+            // a homing cannot be told from csp's bit 12, so the RT thread refuses it too.
+            status.running = false;
+            status.failure = HomingFailure::MethodRefused as u8;
+            self.event(
+                EventKind::HomingFinished,
+                req.axis,
+                i64::from(HomingFailure::MethodRefused as u8),
+            );
         } else if let Err(code) = self
             .bus
             .sdo_download(axis, HOMING_METHOD, 0, &[req.method as u8])

@@ -244,30 +244,12 @@ impl OperatorServer {
                 clamp,
                 line: true,
             } => {
-                let mut list = Vec::with_capacity(targets.len());
-                for (axis, value) in &targets {
-                    let i = match axis_index(ctx.cell, axis) {
-                        Ok(i) => i,
-                        Err(e) => return reject(format!("move: {e}")),
-                    };
-                    let a = &ctx.cell.axes[i];
-                    let limits = match move_limits(a, None, acceleration, jerk, clamp) {
-                        Ok(l) => l,
-                        Err(e) => return reject(format!("move: {e}")),
-                    };
-                    if !value.is_finite() {
-                        return reject(format!(
-                            "move: axis '{axis}': target {value} is not a finite number"
-                        ));
-                    }
-                    let here = ctx.engine.position(i, &state, a);
-                    list.push((
-                        i,
-                        if relative { here + value } else { *value },
-                        limits,
-                        here,
-                    ));
-                }
+                let list = match resolve_targets(ctx, &state, &targets, relative, |a| {
+                    move_limits(a, None, acceleration, jerk, clamp)
+                }) {
+                    Ok(l) => l,
+                    Err(e) => return reject(format!("move: {e}")),
+                };
                 let start: Vec<f64> = list.iter().map(|t| t.3).collect();
                 let end: Vec<f64> = list.iter().map(|t| t.1).collect();
                 let limits: Vec<KinematicLimits> = list.iter().map(|t| t.2).collect();
@@ -301,29 +283,12 @@ impl OperatorServer {
                 clamp,
                 line: false,
             } => {
-                let mut list = Vec::with_capacity(targets.len());
-                for (axis, value) in &targets {
-                    let i = match axis_index(ctx.cell, axis) {
-                        Ok(i) => i,
-                        Err(e) => return reject(format!("move: {e}")),
-                    };
-                    let a = &ctx.cell.axes[i];
-                    let limits = match move_limits(a, velocity, acceleration, jerk, clamp) {
-                        Ok(l) => l,
-                        Err(e) => return reject(format!("move: {e}")),
-                    };
-                    if !value.is_finite() {
-                        return reject(format!(
-                            "move: axis '{axis}': target {value} is not a finite number"
-                        ));
-                    }
-                    let target = if relative {
-                        ctx.engine.position(i, &state, a) + value
-                    } else {
-                        *value
-                    };
-                    list.push((i, target, limits));
-                }
+                let list = match resolve_targets(ctx, &state, &targets, relative, |a| {
+                    move_limits(a, velocity, acceleration, jerk, clamp)
+                }) {
+                    Ok(l) => l.into_iter().map(|(i, t, l, _)| (i, t, l)).collect(),
+                    Err(e) => return reject(format!("move: {e}")),
+                };
                 self.motion(name, MotionRequest::Move(list), ctx)
             }
             Request::Path {
@@ -336,19 +301,12 @@ impl OperatorServer {
                 let Some(last) = waypoints.last() else {
                     return reject("path: no waypoints".into());
                 };
-                let mut targets = Vec::with_capacity(last.len());
-                for (axis, value) in last {
-                    let i = match axis_index(ctx.cell, axis) {
-                        Ok(i) => i,
-                        Err(e) => return reject(format!("path: {e}")),
-                    };
-                    let limits =
-                        match move_limits(&ctx.cell.axes[i], velocity, acceleration, jerk, clamp) {
-                            Ok(l) => l,
-                            Err(e) => return reject(format!("path: {e}")),
-                        };
-                    targets.push((i, *value, limits));
-                }
+                let targets = match resolve_targets(ctx, &state, last, false, |a| {
+                    move_limits(a, velocity, acceleration, jerk, clamp)
+                }) {
+                    Ok(l) => l.into_iter().map(|(i, t, l, _)| (i, t, l)).collect(),
+                    Err(e) => return reject(format!("path: {e}")),
+                };
                 let mut via = Vec::with_capacity(waypoints.len() - 1);
                 for (w, point) in waypoints[..waypoints.len() - 1].iter().enumerate() {
                     if point.len() != last.len() || point.keys().any(|k| !last.contains_key(k)) {
@@ -575,6 +533,39 @@ fn program_abort(program_running: bool) -> Followup {
     } else {
         Followup::None
     }
+}
+
+/// One axis of a move-like request: index, target in units, limits, commanded position now.
+type Resolved = (usize, f64, KinematicLimits, f64);
+
+/// Resolves the named targets of a move-like request: axis names, finite targets (relative
+/// ones from the commanded position), and each axis' limits from `limits_of`.
+fn resolve_targets(
+    ctx: &Context<'_>,
+    state: &crate::link::StatusSnapshot,
+    targets: &std::collections::BTreeMap<String, f64>,
+    relative: bool,
+    limits_of: impl Fn(&crate::config::AxisConfig) -> Result<KinematicLimits, String>,
+) -> Result<Vec<Resolved>, String> {
+    let mut list = Vec::with_capacity(targets.len());
+    for (axis, value) in targets {
+        let i = axis_index(ctx.cell, axis)?;
+        let a = &ctx.cell.axes[i];
+        let limits = limits_of(a)?;
+        if !value.is_finite() {
+            return Err(format!(
+                "axis '{axis}': target {value} is not a finite number"
+            ));
+        }
+        let here = ctx.engine.position(i, state, a);
+        list.push((
+            i,
+            if relative { here + value } else { *value },
+            limits,
+            here,
+        ));
+    }
+    Ok(list)
 }
 
 fn axis_index(cell: &CellConfig, name: &str) -> Result<usize, String> {

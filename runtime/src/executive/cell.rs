@@ -247,35 +247,37 @@ impl<B: Bus> Executive<B> {
             running: true,
             failure: 0,
         };
-        if axis >= self.axes.len() || !self.axes[axis].master.is_enabled() {
-            status.running = false;
-            status.failure = HomingFailure::NotEnabled as u8;
+        // Requests from other processes bypass `choose_method`: without 6061h the end of a
+        // homing cannot be told from csp's bit 12, so the RT thread refuses it too.
+        let refused = if axis >= self.axes.len() || !self.axes[axis].master.is_enabled() {
+            Some(HomingFailure::NotEnabled)
         } else if !self.axes[axis].mode_display_mapped {
-            // Requests from other processes bypass `choose_method`: without 6061h the end of
-            // a homing cannot be told from csp's bit 12, so the RT thread refuses it too.
-            status.running = false;
-            status.failure = HomingFailure::MethodRefused as u8;
-            self.event(
-                EventKind::HomingFinished,
-                req.axis,
-                i64::from(HomingFailure::MethodRefused as u8),
-            );
+            Some(HomingFailure::MethodRefused)
         } else if let Err(code) = self
             .bus
             .sdo_download(axis, HOMING_METHOD, 0, &[req.method as u8])
         {
-            status.running = false;
-            status.failure = HomingFailure::MethodRefused as u8;
-            self.event(
-                EventKind::HomingFinished,
-                req.axis,
-                i64::from(HomingFailure::MethodRefused as u8),
-            );
             self.event(EventKind::BusError, req.axis, i64::from(code));
+            Some(HomingFailure::MethodRefused)
         } else {
-            self.axes[axis].homing.start();
-            self.event(EventKind::HomingStarted, req.axis, i64::from(req.method));
-            self.set_state(CellState::Homing);
+            None
+        };
+        match refused {
+            // A cell-level refusal (not enabled) is reported in the status only, as before.
+            Some(HomingFailure::NotEnabled) => {
+                status.running = false;
+                status.failure = HomingFailure::NotEnabled as u8;
+            }
+            Some(f) => {
+                status.running = false;
+                status.failure = f as u8;
+                self.event(EventKind::HomingFinished, req.axis, i64::from(f as u8));
+            }
+            None => {
+                self.axes[axis].homing.start();
+                self.event(EventKind::HomingStarted, req.axis, i64::from(req.method));
+                self.set_state(CellState::Homing);
+            }
         }
         self.handoff
             .status

@@ -11,9 +11,8 @@ use crossbeam::queue::ArrayQueue;
 use crate::setpoints::MAX_AXES;
 
 /// What a non-RT thread asks of the cell.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr)]
 #[strum(serialize_all = "snake_case")]
-#[repr(u8)]
 pub enum CellCommand {
     /// Bring every axis to Operation enabled (MC_Power on).
     PowerOn,
@@ -27,7 +26,17 @@ pub enum CellCommand {
     Quit,
     /// The planner's node died or left: stop any motion (the link thread sends this).
     PlannerLost,
+    /// Bring one axis (index) to Operation enabled, the others as they are (MC_Power on one
+    /// axis).
+    PowerOnAxis(u16),
+    /// Clean shutdown of one axis (index); the cell powers off when no axis stays powered.
+    PowerOffAxis(u16),
 }
+
+/// First code of [`CellCommand::PowerOnAxis`] (plus the axis index).
+const POWER_ON_AXIS_CODE: i64 = 0x200;
+/// First code of [`CellCommand::PowerOffAxis`] (plus the axis index).
+const POWER_OFF_AXIS_CODE: i64 = 0x300;
 
 impl CellCommand {
     /// Short name for events and messages.
@@ -36,12 +45,48 @@ impl CellCommand {
     }
 
     fn code(self) -> i64 {
-        self as i64
+        match self {
+            CellCommand::PowerOn => 0,
+            CellCommand::PowerOff => 1,
+            CellCommand::Stop => 2,
+            CellCommand::Reset => 3,
+            CellCommand::Quit => 4,
+            CellCommand::PlannerLost => 5,
+            CellCommand::PowerOnAxis(a) => POWER_ON_AXIS_CODE + i64::from(a),
+            CellCommand::PowerOffAxis(a) => POWER_OFF_AXIS_CODE + i64::from(a),
+        }
     }
 
     /// Inverse of the event value the RT thread records for a command.
     pub fn from_code(v: i64) -> Option<CellCommand> {
-        u8::try_from(v).ok().and_then(Self::from_repr)
+        let axis = |base: i64| {
+            u16::try_from(v - base)
+                .ok()
+                .filter(|&a| usize::from(a) < MAX_AXES)
+        };
+        Some(match v {
+            0 => CellCommand::PowerOn,
+            1 => CellCommand::PowerOff,
+            2 => CellCommand::Stop,
+            3 => CellCommand::Reset,
+            4 => CellCommand::Quit,
+            5 => CellCommand::PlannerLost,
+            _ if (POWER_ON_AXIS_CODE..POWER_OFF_AXIS_CODE).contains(&v) => {
+                CellCommand::PowerOnAxis(axis(POWER_ON_AXIS_CODE)?)
+            }
+            _ if (POWER_OFF_AXIS_CODE..POWER_OFF_AXIS_CODE + 0x100).contains(&v) => {
+                CellCommand::PowerOffAxis(axis(POWER_OFF_AXIS_CODE)?)
+            }
+            _ => return None,
+        })
+    }
+
+    /// The axis a per-axis command names.
+    pub fn axis(self) -> Option<u16> {
+        match self {
+            CellCommand::PowerOnAxis(a) | CellCommand::PowerOffAxis(a) => Some(a),
+            _ => None,
+        }
     }
 
     /// Value recorded with command events.
@@ -142,6 +187,8 @@ pub enum RejectReason {
     TorqueLimit = 7,
     /// A cst torque change faster than the axis' `limits.torque_slope`.
     TorqueStep = 8,
+    /// Motion for an axis that is not powered (MC_Power off for that axis).
+    AxisNotPowered = 9,
 }
 
 impl RejectReason {
@@ -386,6 +433,8 @@ pub struct AxisLive {
     pub error_code: AtomicU16,
     /// 6061h.
     pub mode_display: std::sync::atomic::AtomicI8,
+    /// MC_Power is on for the axis.
+    pub powered: AtomicBool,
 }
 
 impl Default for CellStatus {
@@ -520,14 +569,24 @@ mod tests {
             CellState::from_u8(CellState::Faulted as u8),
             Some(CellState::Faulted)
         );
+        assert_eq!(CellCommand::PowerOffAxis(3).as_str(), "power_off_axis");
         for c in [
             CellCommand::PowerOn,
+            CellCommand::PowerOff,
+            CellCommand::Stop,
+            CellCommand::Reset,
             CellCommand::Quit,
             CellCommand::PlannerLost,
+            CellCommand::PowerOnAxis(0),
+            CellCommand::PowerOnAxis(255),
+            CellCommand::PowerOffAxis(0),
+            CellCommand::PowerOffAxis(255),
         ] {
             assert_eq!(CellCommand::from_code(c.event_value()), Some(c));
         }
         assert_eq!(CellCommand::from_code(-1), None);
-        assert_eq!(CellCommand::from_code(1000), None);
+        assert_eq!(CellCommand::from_code(0x400), None);
+        assert_eq!(CellCommand::from_code(6), None);
+        assert_eq!(CellCommand::from_code(0x100), None);
     }
 }

@@ -84,7 +84,8 @@ pub fn snapshot(handoff: &Handoff, axes: usize) -> StatusSnapshot {
             statusword: a.statusword.load(Ordering::Relaxed),
             error_code: a.error_code.load(Ordering::Relaxed),
             mode_display: a.mode_display.load(Ordering::Relaxed),
-            reserved: [0; 3],
+            powered: u8::from(a.powered.load(Ordering::Relaxed)),
+            reserved: [0; 2],
         };
     }
     StatusSnapshot {

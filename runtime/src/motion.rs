@@ -214,6 +214,7 @@ impl MotionEngine {
     /// nothing changed) when the cell cannot take it.
     pub fn submit(&mut self, req: MotionRequest, link: &mut dyn CellLink) -> Result<(), String> {
         self.check_request(&req)?;
+        self.check_powered(&req, link)?;
         if self.active.as_ref().is_some_and(|a| a.last_published) {
             self.wait_finished(link)?;
         }
@@ -374,6 +375,28 @@ impl MotionEngine {
             | MotionRequest::Path { .. } => Ok(()),
         };
         r.map_err(|e| self.describe(e))
+    }
+
+    /// Refuses motion of an axis whose MC_Power is off (the RT thread would refuse its
+    /// setpoints and stop the cell).
+    fn check_powered(&self, req: &MotionRequest, link: &mut dyn CellLink) -> Result<(), String> {
+        let moved: Vec<usize> = match req {
+            MotionRequest::Move(t) | MotionRequest::Path { targets: t, .. } => {
+                t.iter().map(|t| t.0).collect()
+            }
+            MotionRequest::Line { targets, .. } => targets.iter().map(|t| t.0).collect(),
+            MotionRequest::Torque { targets, .. } => targets.iter().map(|t| t.0).collect(),
+            MotionRequest::Jog { axis, .. } => vec![*axis],
+            MotionRequest::Halt(_) => return Ok(()),
+        };
+        let status = link.status()?;
+        match moved.iter().find(|&&i| status.live[i].powered == 0) {
+            Some(&i) => Err(format!(
+                "axis '{}' is not powered (power it on first)",
+                self.cell.axes[i].name
+            )),
+            None => Ok(()),
+        }
     }
 
     /// Refusals that depend on the configuration only (before anything changes).

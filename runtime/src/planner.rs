@@ -17,7 +17,9 @@ use crate::motion::{MotionEngine, MotionRequest, Progress};
 use crate::operator::server::{Context, Followup, OperatorServer};
 use crate::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::services;
+use cellrt_axes::cia402::fsa::FsaState;
 use cellrt_axes::cia402::homing::HomingFailure;
+use cellrt_axes::cia402::statusword::Statusword;
 
 /// The engine's form of a move-like step's targets.
 fn move_list(targets: &[MoveTarget]) -> Vec<(usize, f64, cellrt_trajectory::KinematicLimits)> {
@@ -300,15 +302,29 @@ impl<'a> Planner<'a> {
             }
             self.step = i;
             match step {
-                Step::PowerOn => {
+                Step::PowerOn(axes) if axes.is_empty() => {
                     self.what = "power_on";
                     self.command(CellCommand::PowerOn)?;
                     self.wait_for_state(CellState::Idle, POWER_TIMEOUT)?;
                 }
-                Step::PowerOff => {
+                Step::PowerOff(axes) if axes.is_empty() => {
                     self.what = "power_off";
                     self.command(CellCommand::PowerOff)?;
                     self.wait_for_state(CellState::Disabled, POWER_TIMEOUT)?;
+                }
+                Step::PowerOn(axes) => {
+                    self.what = "power_on";
+                    for &a in axes {
+                        self.command(CellCommand::PowerOnAxis(a as u16))?;
+                    }
+                    self.wait_power(axes, true, POWER_TIMEOUT)?;
+                }
+                Step::PowerOff(axes) => {
+                    self.what = "power_off";
+                    for &a in axes {
+                        self.command(CellCommand::PowerOffAxis(a as u16))?;
+                    }
+                    self.wait_power(axes, false, POWER_TIMEOUT)?;
                 }
                 Step::Reset => {
                     self.what = "reset";
@@ -411,6 +427,41 @@ impl<'a> Planner<'a> {
                 e
             }
         })
+    }
+
+    /// Waits until the listed axes are powered and in Operation enabled (`on`), or unpowered
+    /// and out of it, and the cell has settled.
+    fn wait_power(
+        &mut self,
+        axes: &[usize],
+        on: bool,
+        timeout: Duration,
+    ) -> Result<(), ProgramError> {
+        let end = Instant::now() + timeout;
+        loop {
+            let s = self.status()?;
+            let pending = axes.iter().find(|&&i| {
+                let l = s.live[i];
+                let enabled = Statusword(l.statusword).state() == Some(FsaState::OperationEnabled);
+                (l.powered != 0) != on || enabled != on
+            });
+            let settled = !matches!(s.state, CellState::Enabling | CellState::Disabling);
+            if (pending.is_none() && settled) || self.aborted() {
+                return Ok(());
+            }
+            if s.state == CellState::Faulted {
+                return Err(self.err("the cell faulted (see the events)"));
+            }
+            if Instant::now() >= end {
+                let name = pending.map_or("", |&i| self.cell.axes[i].name.as_str());
+                return Err(self.err(format!(
+                    "timed out after {timeout:?}; axis '{name}' is not {}, the cell is {}",
+                    if on { "powered" } else { "unpowered" },
+                    s.state.as_str()
+                )));
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
     }
 
     /// Waits until a reset has cleared the Stopped or Faulted state and the cell has settled

@@ -49,10 +49,18 @@ pub enum RawLimit {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(tag = "do", rename_all = "snake_case", deny_unknown_fields)]
 pub enum RawStep {
-    /// Enable every axis.
-    PowerOn,
-    /// Clean shutdown of every axis.
-    PowerOff,
+    /// Enable the named axes (every axis when none).
+    PowerOn {
+        /// Axis names; empty = the whole cell.
+        #[serde(default)]
+        axes: Vec<String>,
+    },
+    /// Clean shutdown of the named axes (every axis when none).
+    PowerOff {
+        /// Axis names; empty = the whole cell.
+        #[serde(default)]
+        axes: Vec<String>,
+    },
     /// Clear a stopped or faulted cell (MC_Reset); nothing to do otherwise.
     Reset,
     /// Jerk-limited synchronised move to absolute targets.
@@ -140,10 +148,10 @@ struct RawProgram {
 /// A validated program step.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Step {
-    /// Enable every axis.
-    PowerOn,
-    /// Clean shutdown of every axis.
-    PowerOff,
+    /// Enable the listed axes (indices; every axis when empty).
+    PowerOn(Vec<usize>),
+    /// Clean shutdown of the listed axes (indices; every axis when empty).
+    PowerOff(Vec<usize>),
     /// Clear a stopped or faulted cell.
     Reset,
     /// Move the listed axes (index, target in units, limits in units).
@@ -388,8 +396,8 @@ fn validate_step(
                 hold_s: seconds,
             }
         }
-        RawStep::PowerOn => Step::PowerOn,
-        RawStep::PowerOff => Step::PowerOff,
+        RawStep::PowerOn { axes } => Step::PowerOn(power_axes(path, key, &axes, cell)?),
+        RawStep::PowerOff { axes } => Step::PowerOff(power_axes(path, key, &axes, cell)?),
         RawStep::Reset => Step::Reset,
         RawStep::Wait { seconds } => {
             if !seconds.is_finite() || !(0.0..=MAX_WAIT_SECONDS).contains(&seconds) {
@@ -580,6 +588,28 @@ fn axis_of(
     })
 }
 
+/// The axes of a power step: indices of the named axes, each once; empty = the whole cell.
+fn power_axes(
+    path: &Path,
+    key: &str,
+    names: &[String],
+    cell: &CellConfig,
+) -> Result<Vec<usize>, ConfigError> {
+    let mut list = Vec::with_capacity(names.len());
+    for name in names {
+        let i = axis_of(path, format!("{key}.axes"), name, cell)?;
+        if list.contains(&i) {
+            return Err(ConfigError::new(
+                path,
+                format!("{key}.axes"),
+                format!("axis '{name}' is named twice"),
+            ));
+        }
+        list.push(i);
+    }
+    Ok(list)
+}
+
 /// Validates the targets and per-move limits of a move-like step.
 fn move_targets(
     path: &Path,
@@ -709,6 +739,29 @@ mod tests {
     }
 
     #[test]
+    fn power_steps_name_axes_or_the_whole_cell() {
+        let p = parse(
+            "[[step]]\ndo = \"power_on\"\naxes = [\"a2\", \"a0\"]\n[[step]]\ndo = \"power_off\"\naxes = [\"a0\"]\n[[step]]\ndo = \"power_on\"\n",
+        )
+        .unwrap();
+        assert_eq!(
+            p.steps,
+            vec![
+                Step::PowerOn(vec![2, 0]),
+                Step::PowerOff(vec![0]),
+                Step::PowerOn(vec![])
+            ]
+        );
+        let e = parse("[[step]]\ndo = \"power_on\"\naxes = [\"q\"]\n").unwrap_err();
+        assert_eq!(e.key, "step[0].axes");
+        assert!(e.message.contains("axis 'q' is not in cell"), "{e}");
+        let e = parse("[[step]]\ndo = \"power_off\"\naxes = [\"a1\", \"a1\"]\n").unwrap_err();
+        assert!(e.message.contains("named twice"), "{e}");
+        let e = parse("[[step]]\ndo = \"power_on\"\naxis = \"a1\"\n").unwrap_err();
+        assert!(e.message.contains("unknown field"), "{e}");
+    }
+
+    #[test]
     fn repeat_expands_its_steps_count_times() {
         let p = parse(
             "[[step]]\ndo = \"repeat\"\ncount = 3\n[[step.steps]]\ndo = \"move\"\ntarget = { a0 = 1.0 }\n[[step.steps]]\ndo = \"override\"\npercent = 50\n[[step]]\ndo = \"power_off\"\n",
@@ -717,7 +770,7 @@ mod tests {
         assert_eq!(p.steps.len(), 7);
         assert_eq!(p.steps[1], Step::Override(0.5));
         assert!(matches!(p.steps[4], Step::Move(_)));
-        assert_eq!(p.steps[6], Step::PowerOff);
+        assert_eq!(p.steps[6], Step::PowerOff(vec![]));
         let e = parse("[[step]]\ndo = \"repeat\"\ncount = 0\n[[step.steps]]\ndo = \"power_on\"\n")
             .unwrap_err();
         assert_eq!(e.key, "step[0].count");

@@ -93,8 +93,10 @@ pub struct LiveAxis {
     pub error_code: u16,
     /// 6061h.
     pub mode_display: i8,
+    /// 1 when MC_Power is on for the axis (the operator wants it enabled).
+    pub powered: u8,
     /// Padding.
-    pub reserved: [u8; 3],
+    pub reserved: [u8; 2],
 }
 
 impl Default for StatusSample {

@@ -57,9 +57,10 @@ struct Rig {
 
 impl Rig {
     fn start(cell: &CellConfig) -> Rig {
-        let handoff = Arc::new(Handoff::new(1, 1000, false));
+        let n = cell.axes.len();
+        let handoff = Arc::new(Handoff::new(n, 1000, false));
         let node = services::node(&cell.name, "test").unwrap();
-        let publisher = services::setpoint_publisher(&node, &cell.name, 1).unwrap();
+        let publisher = services::setpoint_publisher(&node, &cell.name, n).unwrap();
         let (c, h) = (cell.clone(), handoff.clone());
         let rt = std::thread::spawn(move || {
             let node = services::node(&c.name, "rt").unwrap();
@@ -131,25 +132,31 @@ impl Rig {
 
     /// Publishes one block of `positions` (mm) starting at `start`.
     fn publish(&self, motion_id: u32, start: u64, positions: &[f64], last: bool) {
-        let sp: Vec<AxisSetpoint> = positions
-            .iter()
-            .enumerate()
-            .map(|(k, p)| {
-                let prev = if k == 0 { *p } else { positions[k - 1] };
-                AxisSetpoint {
+        let rows: Vec<Vec<f64>> = positions.iter().map(|&p| vec![p]).collect();
+        self.publish_rows(motion_id, start, &rows, last);
+    }
+
+    /// Publishes one block of per-cycle rows of positions (mm), one per axis.
+    fn publish_rows(&self, motion_id: u32, start: u64, rows: &[Vec<f64>], last: bool) {
+        let axes = rows[0].len();
+        let mut sp = Vec::with_capacity(rows.len() * axes);
+        for (k, row) in rows.iter().enumerate() {
+            for (i, p) in row.iter().enumerate() {
+                let prev = if k == 0 { *p } else { rows[k - 1][i] };
+                sp.push(AxisSetpoint {
                     position: p * COUNTS_PER_MM,
                     velocity: (p - prev) * COUNTS_PER_MM / 1e-3,
                     torque: 0.0,
-                }
-            })
-            .collect();
+                });
+            }
+        }
         let mut s = self.publisher.loan_slice_uninit(sp.len()).unwrap();
         *s.user_header_mut() = SetpointHeader {
             motion_id,
             flags: if last { FLAG_LAST } else { 0 },
             start_cycle: start,
-            cycles: sp.len() as u32,
-            axis_count: 1,
+            cycles: rows.len() as u32,
+            axis_count: axes as u32,
         };
         s.write_from_slice(&sp).send().unwrap();
     }
@@ -294,4 +301,120 @@ fn a_faulted_cell_needs_reset_and_power_on_before_it_moves_again() {
     assert!((rig.hold_mm() - target).abs() < 1e-9);
     let stats = rig.stop();
     assert_eq!(stats.counters.faults, 1);
+}
+
+/// A two-axis cell whose second axis (`y`) is not powered.
+fn two_axis_cell(tag: &str) -> CellConfig {
+    cell_with(
+        tag,
+        r#"
+[[axes]]
+name = "y"
+drive = "mr-j5-g-n1"
+counts_per_unit = 1000
+limits = { position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0 }
+sim = { initial_position = 50.0 }
+"#,
+    )
+}
+
+fn enabled(rig: &Rig, axis: usize) -> bool {
+    let sw = rig.handoff.status.live[axis]
+        .statusword
+        .load(Ordering::Relaxed);
+    cellrt_axes::cia402::statusword::Statusword(sw).state()
+        == Some(cellrt_axes::cia402::fsa::FsaState::OperationEnabled)
+}
+
+fn powered(rig: &Rig, axis: usize) -> bool {
+    rig.handoff.status.live[axis]
+        .powered
+        .load(Ordering::Relaxed)
+}
+
+#[test]
+fn single_axes_power_on_and_off_and_an_unpowered_axis_takes_no_motion() {
+    let cell = two_axis_cell("p");
+    let mut rig = Rig::start(&cell);
+
+    // MC_Power on x only: the cell is idle with x enabled and y still disabled.
+    rig.command(CellCommand::PowerOnAxis(0));
+    rig.wait_state(CellState::Idle);
+    rig.wait_cycles(20);
+    assert!(enabled(&rig, 0) && powered(&rig, 0));
+    assert!(!enabled(&rig, 1) && !powered(&rig, 1));
+
+    // x moves while y holds: accepted, x arrives, y stays put.
+    let y = rig.handoff.status.hold(1) / COUNTS_PER_MM;
+    let mut x = rig.hold_mm();
+    let start = rig.cycle() + LEAD;
+    for b in 0..2u64 {
+        let rows: Vec<Vec<f64>> = (0..16)
+            .map(|_| {
+                x += 0.01;
+                vec![x, y]
+            })
+            .collect();
+        rig.publish_rows(1, start + 16 * b, &rows, b == 1);
+    }
+    rig.wait_motion_done(1);
+    assert!((rig.hold_mm() - x).abs() < 1e-9);
+    assert_eq!(rig.handoff.status.hold(1) / COUNTS_PER_MM, y);
+
+    // Motion of the unpowered y: refused (axis_not_powered), the cell stops; y never moved.
+    let start = rig.cycle() + LEAD;
+    let rows: Vec<Vec<f64>> = (1..=16).map(|k| vec![x, y + 0.01 * k as f64]).collect();
+    rig.publish_rows(2, start, &rows, true);
+    rig.wait_state(CellState::Stopped);
+    assert_eq!(*rig.rejections().last().unwrap(), 9, "axis_not_powered");
+    assert!(rig
+        .events
+        .iter()
+        .any(|e| e.kind == EventKind::SetpointRejected && e.axis == 1));
+    assert!((rig.handoff.status.hold(1) / COUNTS_PER_MM - y).abs() < 1e-3);
+
+    // Reset: idle again with x still powered and y still not.
+    rig.command(CellCommand::Reset);
+    rig.wait_state(CellState::Idle);
+    assert!(enabled(&rig, 0) && !enabled(&rig, 1));
+
+    // Power y on as well, then power x off: the cell stays idle on y alone.
+    rig.command(CellCommand::PowerOnAxis(1));
+    let end = Instant::now() + Duration::from_secs(5);
+    while !enabled(&rig, 1) {
+        assert!(Instant::now() < end, "y never reached operation enabled");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    rig.wait_cycles(5);
+    rig.wait_state(CellState::Idle);
+    assert!(rig
+        .events
+        .iter()
+        .any(|e| e.kind == EventKind::CellState && e.value == CellState::Enabling as i64));
+    assert!(enabled(&rig, 0) && enabled(&rig, 1));
+    rig.command(CellCommand::PowerOffAxis(0));
+    let end = Instant::now() + Duration::from_secs(5);
+    while enabled(&rig, 0) {
+        assert!(Instant::now() < end, "x never left operation enabled");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    rig.wait_cycles(20);
+    assert_eq!(rig.handoff.status.state(), CellState::Idle);
+    assert!(enabled(&rig, 1) && !powered(&rig, 0));
+
+    // An axis index the cell lacks is refused, nothing changes.
+    rig.command(CellCommand::PowerOnAxis(7));
+    rig.wait_cycles(20);
+    assert!(rig
+        .events
+        .iter()
+        .any(|e| e.kind == EventKind::CommandRefused && e.axis == 7));
+    assert_eq!(rig.handoff.status.state(), CellState::Idle);
+
+    // The last powered axis off: the cell powers off.
+    rig.command(CellCommand::PowerOffAxis(1));
+    rig.wait_state(CellState::Disabled);
+    assert!(!enabled(&rig, 0) && !enabled(&rig, 1));
+    rig.command(CellCommand::Quit);
+    rig.rt.take().unwrap().join().unwrap();
 }

@@ -123,7 +123,18 @@ fn operator_commands_drive_a_running_cell() {
     let cell = Cell::start(&cfg, &rec);
 
     // Nothing moves while the cell is not powered.
-    cell.rejected(&["move", "x=300"], "not idle");
+    cell.rejected(&["move", "x=300"], "not powered");
+    // MC_Power per axis: x alone, then off again; y takes no motion meanwhile.
+    cell.rejected(&["power", "on", "q"], "unknown axis 'q'");
+    cell.ok(&["power", "on", "x"]);
+    let r: StatusReport = serde_json::from_str(&cell.ok(&["status", "--json"])).unwrap();
+    assert_eq!(r.state, "idle");
+    let axis = |n: &str| r.axes.iter().find(|a| a.name == n).unwrap().clone();
+    assert!(axis("x").powered && axis("x").fsa == "operation_enabled");
+    assert!(!axis("y").powered && axis("y").fsa != "operation_enabled");
+    cell.rejected(&["move", "x=300", "y=200"], "axis 'y' is not powered");
+    cell.ok(&["power", "off", "x"]);
+    cell.wait_state("disabled");
     cell.ok(&["power", "on"]);
     assert!(cell.ok(&["status"]).contains("operation_enabled"));
     // The status publish-subscribe service: per-axis state, cell state, last command, events.

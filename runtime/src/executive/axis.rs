@@ -101,6 +101,9 @@ pub struct AxisChannel {
     pub home_offset: i32,
     /// Whether the drive reports its home as 607Ch instead of presetting 6064h.
     pub offset_home: bool,
+    /// MC_Power of this axis: the operator wants it in Operation enabled. An axis without
+    /// power follows its actual position and takes no motion.
+    pub powered: bool,
 }
 
 /// How long a homing may take before it fails.
@@ -187,6 +190,7 @@ impl AxisChannel {
             mode_display_mapped: axis.profile.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY),
             home_offset: 0,
             offset_home: axis.profile.home_reference == HomeReference::OffsetObject,
+            powered: false,
             sdo_mode: (!axis.profile.rx_pdo.maps(MODES_OF_OPERATION)).then_some(match axis.mode {
                 ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
                 m => m,
@@ -394,6 +398,7 @@ mod tests {
             ),
             mode_display_mapped: true,
             sdo_mode: None,
+            powered: true,
             home_offset: 0,
             offset_home: false,
         }

@@ -40,12 +40,49 @@ impl<B: Bus> Executive<B> {
             };
             let accepted = match (cmd, self.state) {
                 (CellCommand::Quit, _) => return true,
-                (CellCommand::PowerOn, CellState::Disabled) => {
-                    self.request_all(MasterRequest::Enable);
-                    self.set_state(CellState::Enabling);
+                (
+                    CellCommand::PowerOn,
+                    CellState::Disabled | CellState::Enabling | CellState::Idle,
+                ) => {
+                    let mut any = false;
+                    for ch in &mut self.axes {
+                        if !ch.powered {
+                            ch.powered = true;
+                            ch.master.request(MasterRequest::Enable);
+                            any = true;
+                        }
+                    }
+                    if any {
+                        self.set_state(CellState::Enabling);
+                    }
                     true
                 }
-                (CellCommand::PowerOn, CellState::Enabling | CellState::Idle) => true,
+                (
+                    CellCommand::PowerOnAxis(a),
+                    CellState::Disabled | CellState::Enabling | CellState::Idle,
+                ) if usize::from(a) < self.axes.len() => {
+                    let ch = &mut self.axes[usize::from(a)];
+                    if !ch.powered {
+                        ch.powered = true;
+                        ch.master.request(MasterRequest::Enable);
+                        self.set_state(CellState::Enabling);
+                    }
+                    true
+                }
+                (CellCommand::PowerOffAxis(a), CellState::Idle | CellState::Enabling)
+                    if usize::from(a) < self.axes.len() =>
+                {
+                    let ch = &mut self.axes[usize::from(a)];
+                    ch.powered = false;
+                    ch.master.request(MasterRequest::Disable);
+                    if !self.axes.iter().any(|ch| ch.powered) {
+                        self.stream.discard_all();
+                        self.set_state(CellState::Disabling);
+                    }
+                    true
+                }
+                // Nothing is powered: nothing to do.
+                (CellCommand::PowerOffAxis(_), CellState::Disabled | CellState::Disabling) => true,
                 (
                     CellCommand::PowerOff,
                     CellState::Idle
@@ -58,6 +95,9 @@ impl<B: Bus> Executive<B> {
                 ) => {
                     if self.state == CellState::Homing {
                         self.end_homing(Some(HomingFailure::NotEnabled));
+                    }
+                    for ch in &mut self.axes {
+                        ch.powered = false;
                     }
                     self.request_all(MasterRequest::Disable);
                     self.stream.discard_all();
@@ -84,11 +124,14 @@ impl<B: Bus> Executive<B> {
                     self.stop_reason = None;
                     self.handoff.status.stop_reason.store(0, Ordering::Release);
                     self.stream.discard_all();
-                    if self.axes.iter().all(|a| a.master.is_enabled()) {
+                    if self.axes.iter().all(|a| a.master.is_enabled() == a.powered) {
                         self.set_state(CellState::Idle);
                     } else {
                         // A quick stop or disable reaction left drives disabled: power off
                         // cleanly; the next power on starts from Disabled.
+                        for ch in &mut self.axes {
+                            ch.powered = false;
+                        }
                         self.request_all(MasterRequest::Disable);
                         self.set_state(CellState::Disabling);
                     }
@@ -113,7 +156,7 @@ impl<B: Bus> Executive<B> {
             } else {
                 EventKind::CommandRefused
             };
-            self.event(kind, NO_AXIS, cmd.event_value());
+            self.event(kind, cmd.axis().unwrap_or(NO_AXIS), cmd.event_value());
         }
         false
     }
@@ -143,7 +186,11 @@ impl<B: Bus> Executive<B> {
                 self.refuse_motion();
                 if self.any_fault_or_timeout() {
                     self.enter_faulted();
-                } else if self.axes.iter().all(|a| a.master.is_enabled()) {
+                } else if self
+                    .axes
+                    .iter()
+                    .all(|a| !a.powered || a.master.is_enabled())
+                {
                     self.set_state(CellState::Idle);
                 }
             }
@@ -392,6 +439,7 @@ impl<B: Bus> Executive<B> {
             live.statusword.store(f.statusword.0, Ordering::Relaxed);
             live.error_code.store(f.error_code, Ordering::Relaxed);
             live.mode_display.store(f.mode_display, Ordering::Relaxed);
+            live.powered.store(ch.powered, Ordering::Relaxed);
         }
     }
 
@@ -416,6 +464,9 @@ impl<B: Bus> Executive<B> {
             .status
             .stop_reason
             .store(StopReason::DriveFault as u8, Ordering::Release);
+        for ch in &mut self.axes {
+            ch.powered = false;
+        }
         self.request_all(MasterRequest::Disable);
         self.stream.discard_all();
         self.fault_reset_pending = false;
@@ -543,6 +594,13 @@ impl<B: Bus> Executive<B> {
                 let Some(sp) = front.get(cycle, i) else {
                     return Lookup::Rejected(i as u16, RejectReason::Malformed);
                 };
+                if !ch.powered {
+                    // Its rows hold (the planner's idea of where it is); anything else is motion.
+                    if sp.velocity != 0.0 || sp.torque != 0.0 {
+                        return Lookup::Rejected(i as u16, RejectReason::AxisNotPowered);
+                    }
+                    continue;
+                }
                 if torque_block && ch.mode == ModeOfOperation::CyclicSyncTorque {
                     if let Err(reason) = ch.check_torque(sp.torque * 10.0, dt) {
                         return Lookup::Rejected(i as u16, reason);
@@ -567,7 +625,9 @@ impl<B: Bus> Executive<B> {
                 }
             }
             for (i, ch) in self.axes.iter_mut().enumerate() {
-                if let Some(sp) = front.get(cycle, i) {
+                if !ch.powered {
+                    ch.track_actual();
+                } else if let Some(sp) = front.get(cycle, i) {
                     if torque_block && ch.mode == ModeOfOperation::CyclicSyncTorque {
                         ch.apply_torque(sp.torque * 10.0);
                     } else {
@@ -605,7 +665,11 @@ impl<B: Bus> Executive<B> {
                     ch.begin_stop();
                 }
             }
-            FaultReaction::QuickStop => self.request_all(MasterRequest::QuickStop),
+            FaultReaction::QuickStop => {
+                for ch in self.axes.iter_mut().filter(|ch| ch.powered) {
+                    ch.master.request(MasterRequest::QuickStop);
+                }
+            }
             FaultReaction::Disable => self.request_all(MasterRequest::Disable),
         }
         self.stream.discard_all();

@@ -211,13 +211,35 @@ impl OperatorServer {
                 Reply::Status(Box::new(self.report(ctx, &state))),
                 Followup::None,
             ),
-            Request::Power { on } => {
+            Request::Power { on, axes } => {
+                let mut indices = Vec::with_capacity(axes.len());
+                for a in &axes {
+                    match axis_index(ctx.cell, a) {
+                        Ok(i) if indices.contains(&i) => {
+                            return reject(format!("power: axis '{a}' named twice"))
+                        }
+                        Ok(i) => indices.push(i),
+                        Err(e) => return reject(format!("power: {e}")),
+                    }
+                }
                 let blocked = if on {
-                    matches!(state.state, CellState::Stopped | CellState::Faulted)
-                        .then_some("reset it first")
-                } else {
+                    match state.state {
+                        CellState::Stopped | CellState::Faulted => Some("reset it first"),
+                        CellState::Moving
+                        | CellState::Stopping
+                        | CellState::Homing
+                        | CellState::Disabling => Some("wait for it to end first"),
+                        _ => None,
+                    }
+                } else if indices.is_empty() {
                     matches!(state.state, CellState::Moving | CellState::Stopping)
                         .then_some("halt or stop the motion first")
+                } else {
+                    (!matches!(
+                        state.state,
+                        CellState::Idle | CellState::Enabling | CellState::Disabled
+                    ))
+                    .then_some("single axes power off from idle: halt or stop the motion, or power off the whole cell")
                 };
                 if let Some(what) = blocked {
                     return reject(format!(
@@ -225,15 +247,24 @@ impl OperatorServer {
                         state.state.as_str()
                     ));
                 }
-                let cmd = if on {
-                    CellCommand::PowerOn
-                } else {
-                    CellCommand::PowerOff
+                let cmds: Vec<CellCommand> = match (on, indices.is_empty()) {
+                    (true, true) => vec![CellCommand::PowerOn],
+                    (false, true) => vec![CellCommand::PowerOff],
+                    (true, false) => indices
+                        .iter()
+                        .map(|&i| CellCommand::PowerOnAxis(i as u16))
+                        .collect(),
+                    (false, false) => indices
+                        .iter()
+                        .map(|&i| CellCommand::PowerOffAxis(i as u16))
+                        .collect(),
                 };
-                match ctx.link.command(cmd) {
-                    Ok(()) => (self.accept(name, false), Followup::None),
-                    Err(e) => reject(format!("power: {e}")),
+                for cmd in cmds {
+                    if let Err(e) = ctx.link.command(cmd) {
+                        return reject(format!("power: {e}"));
+                    }
                 }
+                (self.accept(name, false), Followup::None)
             }
             Request::Move {
                 targets,
@@ -496,6 +527,7 @@ impl OperatorServer {
                     mode_display: ModeOfOperation::from_i8(l.mode_display)
                         .map_or("?", |m| m.as_str())
                         .to_string(),
+                    powered: l.powered != 0,
                     fsa: Statusword(l.statusword)
                         .state()
                         .map(|f| f.as_str())

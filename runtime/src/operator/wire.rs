@@ -19,10 +19,13 @@ pub const MAX_REQUEST_BYTES: usize = 64 * 1024;
 pub enum Request {
     /// The cell and axis status.
     Status,
-    /// MC_Power: enable (`on`) or cleanly disable every axis of the cell.
+    /// MC_Power: enable (`on`) or cleanly disable the named axes (every axis when none).
     Power {
         /// On or off.
         on: bool,
+        /// Axis names; empty = the whole cell.
+        #[serde(default)]
+        axes: Vec<String>,
     },
     /// MC_MoveAbsolute / MC_MoveRelative: a time-synchronised move of the named axes.
     Move {
@@ -213,6 +216,9 @@ pub struct AxisStatus {
     /// Mode the drive displays (6061h: csp, csv, cst, hm, …; "?" where not mapped or unknown).
     #[serde(default)]
     pub mode_display: String,
+    /// MC_Power is on for the axis.
+    #[serde(default)]
+    pub powered: bool,
     /// CiA 402 FSA state from the statusword.
     pub fsa: String,
     /// Position setpoint, unit.

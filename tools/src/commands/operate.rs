@@ -55,11 +55,13 @@ pub enum OperatorCommand {
         #[arg(long, conflicts_with = "watch")]
         json: bool,
     },
-    /// MC_Power: enable (on) or cleanly disable (off) every axis.
+    /// MC_Power: enable (on) or cleanly disable (off) the named axes, or every axis.
     Power {
         /// on or off.
         #[arg(value_parser = ["on", "off"])]
         state: String,
+        /// Axis names (the whole cell when none).
+        axes: Vec<String>,
         /// Return once accepted instead of waiting for the cell to get there.
         #[arg(long)]
         no_wait: bool,
@@ -203,6 +205,7 @@ pub fn run(command: OperatorCommand, target: Target) -> Exit {
         Wait::No => Exit::Ok,
         Wait::Finished => wait_finished(&client, id, timeout),
         Wait::State(states) => wait_state(&client, states, timeout),
+        Wait::Power { axes, on } => wait_power(&client, &axes, on, timeout),
     }
 }
 
@@ -211,16 +214,38 @@ enum Wait {
     No,
     Finished,
     State(&'static [&'static str]),
+    /// The named axes in Operation enabled (`on`) or out of it, and the cell settled.
+    Power {
+        axes: Vec<String>,
+        on: bool,
+    },
 }
 
 fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
     let wait = |no_wait: bool, w: Wait| if no_wait { Wait::No } else { w };
     Ok(match command {
         OperatorCommand::Status { .. } => (Request::Status, Wait::No),
-        OperatorCommand::Power { state, no_wait } => {
+        OperatorCommand::Power {
+            state,
+            axes,
+            no_wait,
+        } => {
             let on = state == "on";
-            let states: &'static [&'static str] = if on { &["idle"] } else { &["disabled"] };
-            (Request::Power { on }, wait(*no_wait, Wait::State(states)))
+            let w = if axes.is_empty() {
+                Wait::State(if on { &["idle"] } else { &["disabled"] })
+            } else {
+                Wait::Power {
+                    axes: axes.clone(),
+                    on,
+                }
+            };
+            (
+                Request::Power {
+                    on,
+                    axes: axes.clone(),
+                },
+                wait(*no_wait, w),
+            )
         }
         OperatorCommand::Move {
             targets,
@@ -390,8 +415,57 @@ fn wait_finished(client: &OperatorClient, id: u64, timeout: Duration) -> Exit {
     }
 }
 
-/// Waits until the cell state is one of `states`; fails on a fault or stop.
+/// Waits until the cell state is one of `states`; fails on a fault.
 fn wait_state(client: &OperatorClient, states: &[&str], timeout: Duration) -> Exit {
+    poll_status(client, timeout, states.contains(&"faulted"), |s| {
+        if states.contains(&s.state.as_str()) {
+            Ok(format!("cell {}", s.state))
+        } else {
+            Err(format!(
+                "the cell is {}, not {}",
+                s.state,
+                states.join(" or ")
+            ))
+        }
+    })
+}
+
+/// Waits until the named axes are (`on`) or are not in Operation enabled and the cell has
+/// settled.
+fn wait_power(client: &OperatorClient, axes: &[String], on: bool, timeout: Duration) -> Exit {
+    poll_status(client, timeout, false, |s| {
+        let pending: Vec<&str> = s
+            .axes
+            .iter()
+            .filter(|a| axes.contains(&a.name) && (a.fsa == "operation_enabled") != on)
+            .map(|a| a.name.as_str())
+            .collect();
+        let settled = !matches!(s.state.as_str(), "enabling" | "disabling");
+        let (done, not_done) = if on {
+            ("powered", "not enabled")
+        } else {
+            ("unpowered", "enabled")
+        };
+        if pending.is_empty() && settled {
+            Ok(format!("{} {done}, cell {}", axes.join(", "), s.state))
+        } else {
+            Err(format!(
+                "{} still {not_done} (cell {})",
+                pending.join(", "),
+                s.state
+            ))
+        }
+    })
+}
+
+/// Polls the status until `judge` says done (`Ok(what)`), the cell faults (unless
+/// `faulted_ok`), or 15 s pass (`Err(what is still pending)` is printed).
+fn poll_status(
+    client: &OperatorClient,
+    timeout: Duration,
+    faulted_ok: bool,
+    judge: impl Fn(&StatusReport) -> Result<String, String>,
+) -> Exit {
     let end = Instant::now() + Duration::from_secs(15);
     // Let the RT thread take the command before judging the state.
     std::thread::sleep(Duration::from_millis(50));
@@ -400,11 +474,12 @@ fn wait_state(client: &OperatorClient, states: &[&str], timeout: Duration) -> Ex
             Ok(s) => s,
             Err(e) => return e,
         };
-        if states.contains(&s.state.as_str()) {
-            println!("done: cell {}", s.state);
+        let verdict = judge(&s);
+        if let Ok(what) = &verdict {
+            println!("done: {what}");
             return Exit::Ok;
         }
-        if s.state == "faulted" && !states.contains(&"faulted") {
+        if s.state == "faulted" && !faulted_ok {
             eprintln!(
                 "failed: the cell faulted ({})",
                 s.stop_reason.as_deref().unwrap_or("see cellrt status")
@@ -412,11 +487,9 @@ fn wait_state(client: &OperatorClient, states: &[&str], timeout: Duration) -> Ex
             return Exit::Failed;
         }
         if Instant::now() >= end {
-            eprintln!(
-                "failed: the cell is {}, not {}",
-                s.state,
-                states.join(" or ")
-            );
+            if let Err(what) = verdict {
+                eprintln!("failed: {what}");
+            }
             return Exit::Failed;
         }
         std::thread::sleep(Duration::from_millis(20));

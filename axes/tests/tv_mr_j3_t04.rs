@@ -593,6 +593,128 @@ fn tv_home_1_dog_methods_are_not_simulated_and_report_a_homing_error() {
     assert_eq!(d.home_offset(), 0);
 }
 
+/// One csp cycle holding at `target` with Controlword2 = `cw2` (Enable operation).
+fn cw2_cycle(d: &mut SimDrive, target: i32, cw2: u16) -> cellrt_axes::TxPdo {
+    let rx = RxPdo {
+        controlword2: cw2,
+        counter: next_counter(),
+        ..csp(Controlword(0x000F), target)
+    };
+    exchange(d, &rx)
+}
+
+const C_CR: u16 = 1 << 7;
+const C_CR2: u16 = 1 << 6;
+const S_ZPAS: u16 = 1 << 7;
+const S_OSET: u16 = 1 << 8;
+
+#[test]
+fn tv_home_1_c_cr_sets_home_at_the_current_position_in_csp() {
+    let mut d = j3(SimDriveParams {
+        initial_position: 10_000,
+        ..SimDriveParams::default()
+    });
+    enabled(&mut d);
+    let tx = cw2_cycle(&mut d, 10_000, 0);
+    assert_eq!(tx.statusword2 & S_OSET, 0);
+    // C_CR 0→1 at standstill: 607Ch = −10000, S_OSET = 1; 6064h stays raw.
+    let tx = cw2_cycle(&mut d, 10_000, C_CR);
+    assert_eq!(d.sdo_upload(0x607C, 0), Ok(-10_000));
+    assert_eq!(tx.statusword2 & S_OSET, S_OSET);
+    assert_eq!(tx.position_actual, 10_000);
+    // Holding the bit changes nothing more; dropping it clears S_OSET (no edge, no change).
+    cw2_cycle(&mut d, 10_000, C_CR);
+    let tx = cw2_cycle(&mut d, 10_000, 0);
+    assert_eq!(tx.statusword2 & S_OSET, 0);
+    assert_eq!(d.home_offset(), -10_000);
+    // User point B = 5000 is sent as 607Ah = 15000; 6064h then reads raw 15000.
+    let target = 5000 - d.home_offset();
+    assert_eq!(target, 15_000);
+    move_csp(&mut d, 50, 100);
+    for _ in 0..200 {
+        cw2_cycle(&mut d, target, 0);
+    }
+    assert!((d.tx_pdo().position_actual - 15_000).abs() <= 1);
+    assert_eq!(
+        0 - d.home_offset(),
+        10_000,
+        "user point A = 0 is 607Ah = 10000"
+    );
+}
+
+#[test]
+fn tv_home_1_c_cr2_needs_the_z_phase_and_wins_over_c_cr() {
+    let mut d = j3(SimDriveParams {
+        initial_position: 261_000,
+        z_phase_position: 262_100,
+        ..SimDriveParams::default()
+    });
+    enabled(&mut d);
+    // After power-up S_ZPAS = 0: C_CR2 0→1 → AL.96 warning, home not changed.
+    let tx = cw2_cycle(&mut d, 261_000, C_CR2);
+    assert_eq!(tx.statusword2 & (S_ZPAS | S_OSET), 0);
+    assert_eq!(d.warning(), Some(0x0096));
+    assert!(tx.statusword.0 & (1 << 7) != 0, "statusword bit 7: warning");
+    assert_eq!(d.home_offset(), 0);
+    assert_eq!(d.state(), FsaState::OperationEnabled, "operation continues");
+    let tx = cw2_cycle(&mut d, 261_000, 0);
+    assert_eq!(d.warning(), None, "clears with C_CR2 off");
+    assert_eq!(tx.statusword.0 & (1 << 7), 0);
+    // Travel past the Z phase at raw 262100 (S_ZPAS = 1), then stop further on.
+    move_csp(&mut d, 20, 100); // to 263000
+    for _ in 0..100 {
+        cw2_cycle(&mut d, 263_000, 0);
+    }
+    let tx = cw2_cycle(&mut d, 263_000, 0);
+    assert_eq!(tx.statusword2 & S_ZPAS, S_ZPAS);
+    // C_CR and C_CR2 rise together: C_CR2 wins, 607Ch = −(last Z) = −262100.
+    let tx = cw2_cycle(&mut d, 263_000, C_CR | C_CR2);
+    assert_eq!(d.sdo_upload(0x607C, 0), Ok(-262_100));
+    assert_eq!(tx.statusword2 & S_OSET, S_OSET);
+    // At different times the later edge wins: C_CR now sets the current position.
+    let tx = cw2_cycle(&mut d, 263_000, C_CR2);
+    assert_eq!(d.home_offset(), -262_100);
+    cw2_cycle(&mut d, 263_000, C_CR2 | C_CR);
+    assert_eq!(d.home_offset(), -tx.position_actual);
+}
+
+#[test]
+fn tv_home_1_c_cr2_before_the_z_phase_may_be_configured_as_al26() {
+    let mut d = j3(SimDriveParams {
+        before_z_reaction: cellrt_axes::sim::home_setting::BeforeZReaction::Alarm,
+        ..SimDriveParams::default()
+    });
+    enabled(&mut d);
+    cw2_cycle(&mut d, 0, 0);
+    cw2_cycle(&mut d, 0, C_CR2);
+    for _ in 0..5 {
+        cw2_cycle(&mut d, 0, C_CR2);
+    }
+    assert_eq!(d.alarm(), Some(0x0026));
+    assert_eq!(d.state(), FsaState::Fault);
+    assert_eq!(d.home_offset(), 0);
+}
+
+#[test]
+fn c_cr_is_not_acted_on_in_hm() {
+    let mut d = j3(SimDriveParams {
+        initial_position: 5000,
+        ..SimDriveParams::default()
+    });
+    boot(&mut d);
+    d.sdo_write_mode(6).unwrap();
+    send(&mut d, 0x0006);
+    assert_eq!(d.mode_display(), cellrt_axes::ModeOfOperation::Homing);
+    let rx = RxPdo {
+        controlword2: C_CR,
+        counter: next_counter(),
+        ..csp(Controlword(0x0006), 5000)
+    };
+    let tx = exchange(&mut d, &rx);
+    assert_eq!(d.home_offset(), 0);
+    assert_eq!(tx.statusword2 & S_OSET, 0);
+}
+
 /// One csv cycle with 60FFh = `v` (counter incrementing, controlword Enable operation).
 fn csv_cycle(d: &mut SimDrive, v: i32) -> cellrt_axes::TxPdo {
     let rx = RxPdo {

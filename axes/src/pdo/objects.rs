@@ -12,6 +12,8 @@ pub const STATUSWORD: u16 = 0x6041;
 pub const ERROR_CODE: u16 = 0x603F;
 /// 2001h Controlword2 (MR-J3-T04 control inputs C_TL, C_TL1, C_MSTOP…; mr-j3-t04.md §3.3).
 pub const CONTROLWORD2: u16 = 0x2001;
+/// 2011h Statusword2 (MR-J3-T04 status outputs S_ZPAS, S_OSET…; mr-j3-t04.md §3.3).
+pub const STATUSWORD2: u16 = 0x2011;
 /// 6060h Modes of operation.
 pub const MODES_OF_OPERATION: u16 = 0x6060;
 /// 6061h Modes of operation display.
@@ -126,6 +128,8 @@ pub struct TxPdo {
     pub error_code: u16,
     /// Communication counter echo: 2021h (MR-J3-T04) or 2D24h (MR-J4-TM), where mapped.
     pub counter: u8,
+    /// 2011h Statusword2 (MR-J3-T04), 0 where not mapped.
+    pub statusword2: u16,
 }
 
 /// Sign-extends the low `bits` of `raw`.
@@ -185,6 +189,7 @@ pub(crate) enum TxField {
     TorqueActual,
     ErrorCode,
     Counter,
+    Statusword2,
 }
 
 impl TxField {
@@ -202,6 +207,7 @@ impl TxField {
             TORQUE_ACTUAL => TxField::TorqueActual,
             ERROR_CODE => TxField::ErrorCode,
             INCREMENTAL_COUNTER_TX | WATCHDOG_COUNTER_UL => TxField::Counter,
+            STATUSWORD2 => TxField::Statusword2,
             _ => return None,
         })
     }
@@ -253,6 +259,7 @@ impl TxPdo {
             TxField::TorqueActual => i64::from(self.torque_actual) as u64,
             TxField::ErrorCode => u64::from(self.error_code),
             TxField::Counter => u64::from(self.counter),
+            TxField::Statusword2 => u64::from(self.statusword2),
         }
     }
 
@@ -267,6 +274,7 @@ impl TxPdo {
             TxField::TorqueActual => self.torque_actual = signed(raw, bits) as i16,
             TxField::ErrorCode => self.error_code = raw as u16,
             TxField::Counter => self.counter = raw as u8,
+            TxField::Statusword2 => self.statusword2 = raw as u16,
         }
     }
 }

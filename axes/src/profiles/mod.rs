@@ -22,8 +22,8 @@ pub mod mr_j5_g_n1;
 pub mod mr_jet_g_n1;
 
 pub use facts::{
-    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, HomeReference, Identity, OdEntry,
-    Pdo, StopBehaviour, TorqueLimitSelection, Units,
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, HomeReference, HomeSetting,
+    Identity, OdEntry, Pdo, StopBehaviour, TorqueLimitSelection, Units,
 };
 
 /// A supported drive model, named in configuration by its kebab-case part number.
@@ -172,6 +172,9 @@ pub struct DriveProfile {
     pub power_warnings: Option<(u16, u16)>,
     /// Controlword2 bit of the csp manual stop C_MSTOP where modelled (MR-J3-T04 bit 8, §9.2).
     pub manual_stop_bit: Option<u8>,
+    /// Home setting by Controlword2 edges in csp/csv (MR-J3-T04 §8.3); `None`: the model has
+    /// none.
+    pub home_setting: Option<HomeSetting>,
     /// Store/restore objects (1010h/1011h) the SDO surface serves besides `objects`.
     pub store_restore_objects: &'static [OdEntry],
 }

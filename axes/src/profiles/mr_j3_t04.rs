@@ -6,7 +6,7 @@ use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, StopBehaviour, Units,
 };
-use super::{HomeReference, TorqueLimitSelection};
+use super::{HomeReference, HomeSetting, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
 use crate::cia402::mode::ModeOfOperation as M;
 use crate::pdo::{PdoEntry, PdoMap};
@@ -593,6 +593,17 @@ pub const PROFILE: DriveProfile = DriveProfile {
     stroke_end_warning: Some(AL_99),
     power_warnings: Some((AL_E6, AL_E9)),
     manual_stop_bit: Some(8),
+    // §8.3 (manual §8.11.6): C_CR = 2001h bit 7, C_CR2 = bit 6; 2011h S_OSET bit 8, S_ZPAS
+    // bit 7, S_OP bit 9 (§3.3 tables).
+    home_setting: Some(HomeSetting {
+        clear_bit: 7,
+        clear_z_bit: 6,
+        set_bit: 8,
+        z_passed_bit: 7,
+        z_pulse_bit: 9,
+        before_z_warning: 0x0096,
+        before_z_alarm: 0x0026,
+    }),
     store_restore_objects: &[],
 };
 

@@ -410,6 +410,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     stroke_end_warning: None,
     power_warnings: None,
     manual_stop_bit: None,
+    home_setting: None,
     store_restore_objects: super::mr_jet_g_n1::STORE_RESTORE_OBJECTS,
 };
 
@@ -551,6 +552,7 @@ mod tests {
             torque_actual: i16::MIN,
             error_code: 0x8611,
             counter: 0,
+            statusword2: 0,
         };
         let mut buf = [0u8; 24];
         PROFILE.tx_pdo.encode_tx(&pdo, &mut buf).unwrap();

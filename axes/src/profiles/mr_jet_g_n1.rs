@@ -530,6 +530,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     stroke_end_warning: None,
     power_warnings: None,
     manual_stop_bit: None,
+    home_setting: None,
     store_restore_objects: STORE_RESTORE_OBJECTS,
 };
 

@@ -11,6 +11,7 @@
 //! on leaving OP while switched on ([`SimDrive::leave_op`]). Deterministic and allocation-free.
 
 use super::comm::{CommParams, DriveComm};
+use super::home_setting::{BeforeZReaction, HomeSettingOutcome, HomeSettingState, ZPhase};
 use super::plant::{PlantParams, ServoPlant};
 use crate::cia402::controlword::Controlword;
 use crate::cia402::fsa::{drive_transition, FsaState};
@@ -67,6 +68,12 @@ pub struct SimDriveParams {
     /// 6064h after a homing on a drive that presets it ([`HomeReference::PositionPreset`],
     /// MR-J4-TM): the "home position address" parameter, not in the extract; default 0.
     pub home_position_address: i32,
+    /// What C_CR2 before the first Z phase raises on a model with Controlword2 home setting
+    /// (MR-J3-T04: AL.96 warning by default, AL.26 selectable; mr-j3-t04.md §7.2).
+    pub before_z_reaction: BeforeZReaction,
+    /// Raw position of the encoder's Z phase within a revolution (counts; the manual gives no
+    /// figure, TV-HOME-1 uses 262100); default 0.
+    pub z_phase_position: i32,
 }
 
 /// 2D6Dh Torque limit 2 (mr-jet-g-n1.md §6/§9.1), in 0.1 % of rated torque; defaults per the
@@ -138,6 +145,8 @@ impl Default for SimDriveParams {
             internal_torque_limits: InternalTorqueLimits::default(),
             torque_limit_2: TorqueLimit2::default(),
             home_position_address: 0,
+            before_z_reaction: BeforeZReaction::Warning,
+            z_phase_position: 0,
             slow_stop_time_ms: 0,
             store_parameters_ms: 25_000,
         }
@@ -186,6 +195,7 @@ pub struct SimDrive {
     stroke: StrokeState,
     /// csp manual stop (MR-J3-T04 C_MSTOP, Controlword2 bit 8).
     mstop: ManualStop,
+    home_set: HomeSettingState,
 }
 
 /// The csp manual stop of mr-j3-t04.md §9.2 (TV-STROKE-2).
@@ -306,6 +316,7 @@ impl SimDrive {
             homing: HomingState::default(),
             stroke: StrokeState::default(),
             mstop: ManualStop::default(),
+            home_set: HomeSettingState::default(),
         };
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
         d.tx = d.make_tx();
@@ -375,7 +386,46 @@ impl SimDrive {
         }
         self.apply_torque_limits(&cmd);
         self.run_plant(&cmd, dt);
+        self.run_home_setting(&cmd);
         self.tx = self.make_tx();
+    }
+
+    /// Controlword2 home setting and the Z phase, on models that have them (MR-J3-T04 §8.3).
+    fn run_home_setting(&mut self, cmd: &RxPdo) {
+        let Some(bits) = self.profile.home_setting else {
+            return;
+        };
+        let raw = self.plant.position().round() as i64;
+        if let Some(cpr) = self.profile.units.counts_per_rev {
+            let z = ZPhase {
+                counts_per_rev: i64::from(cpr),
+                position: i64::from(self.params.z_phase_position),
+            };
+            self.home_set.track_encoder(raw, z);
+        }
+        let cyclic_position_or_velocity = matches!(
+            self.mode_display,
+            ModeOfOperation::CyclicSyncPosition | ModeOfOperation::CyclicSyncVelocity
+        );
+        if !(self.op && cyclic_position_or_velocity) {
+            self.home_set.ignore(cmd.controlword2, &bits);
+            return;
+        }
+        let position = self.position_actual();
+        match self.home_set.controlword2(
+            cmd.controlword2,
+            &bits,
+            position,
+            self.params.before_z_reaction,
+        ) {
+            Some(HomeSettingOutcome::HomeOffset(v)) => {
+                self.homing.home_offset = v;
+                // PD22 note: the CR rising edge also clears the droop pulses.
+                self.demand = self.plant.position();
+            }
+            Some(HomeSettingOutcome::Alarm(code)) => self.raise(code),
+            None => {}
+        }
     }
 
     /// The torque limits in effect for `cmd`, % of rated torque: (positive / CCW driving,
@@ -481,6 +531,8 @@ impl SimDrive {
         self.comm.reset();
         self.op = true;
         self.following_error = 0;
+        // S_ZPAS is "since power-on"; the C_CR edges start afresh.
+        self.home_set = HomeSettingState::default();
         self.tx = self.make_tx();
     }
 
@@ -874,6 +926,10 @@ impl SimDrive {
             torque_actual: torque,
             error_code: self.alarm.unwrap_or(0),
             counter: self.comm.echo(),
+            statusword2: self
+                .profile
+                .home_setting
+                .map_or(0, |b| self.home_set.statusword2(&b)),
         }
     }
 
@@ -893,6 +949,13 @@ impl SimDrive {
             if self.power.main_off_warning {
                 return Some(e9);
             }
+        }
+        if let Some(w) = self
+            .profile
+            .home_setting
+            .and_then(|b| self.home_set.warning(&b))
+        {
+            return Some(w);
         }
         self.profile
             .stroke_end_warning

@@ -3,5 +3,6 @@
 
 pub mod comm;
 pub mod drive;
+pub mod home_setting;
 pub mod plant;
 pub mod sdo;

@@ -143,6 +143,10 @@ pub fn sim_bus(cell: &CellConfig) -> SimBus {
                     .round()
                     .min(f64::from(u32::MAX)) as u32,
                 // A cst axis idles and brakes in csv (`AxisChannel::drive_command`).
+                z_phase_position: a
+                    .scaling
+                    .to_counts_i32(a.sim.z_phase_position)
+                    .unwrap_or_default(),
                 initial_mode: match a.mode {
                     ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
                     m => m,

@@ -6,6 +6,7 @@ use std::sync::atomic::{
 };
 
 use cellrt_axes::cia402::fsa::FsaState;
+use cellrt_axes::cia402::homing::{HomeProcedure, HomeSettingEdge};
 use crossbeam::queue::ArrayQueue;
 
 use crate::setpoints::MAX_AXES;
@@ -247,7 +248,7 @@ pub enum EventKind {
     PlannerLost,
     /// An axis' incremental counter check failed (value: 1 continuous, 2 intermittent).
     CommunicationError,
-    /// Homing started on an axis (value: the 6098h method).
+    /// Homing started on an axis (value: [`HomeRequest::procedure_code`]).
     HomingStarted,
     /// Homing ended on an axis (value: 0 attained, else the `HomingFailure` code).
     HomingFinished,
@@ -258,22 +259,52 @@ pub enum EventKind {
 pub struct HomeRequest {
     /// Axis index.
     pub axis: u16,
-    /// 6098h homing method.
-    pub method: i8,
+    /// hm with a 6098h method, or a Controlword2 edge.
+    pub procedure: HomeProcedure,
 }
 
+/// [`HomeRequest::procedure_code`] of a C_CR home setting (outside the i8 range of 6098h).
+pub const HOME_BY_C_CR: i64 = 0x100;
+/// [`HomeRequest::procedure_code`] of a C_CR2 home setting.
+pub const HOME_BY_C_CR2: i64 = 0x101;
+
 impl HomeRequest {
-    /// Packed form (never 0).
+    /// Packed form (never 0): bit 31 set, bits 24–25 the procedure (0 hm, 1 C_CR, 2 C_CR2),
+    /// bits 8–23 the axis, bits 0–7 the 6098h method.
     pub fn encode(self) -> u32 {
-        0x8000_0000 | (u32::from(self.axis) << 8) | u32::from(self.method as u8)
+        let (kind, method) = match self.procedure {
+            HomeProcedure::HomingMode(m) => (0, m),
+            HomeProcedure::Controlword2(HomeSettingEdge::Clear) => (1, 0),
+            HomeProcedure::Controlword2(HomeSettingEdge::ClearZ) => (2, 0),
+        };
+        0x8000_0000 | (kind << 24) | (u32::from(self.axis) << 8) | u32::from(method as u8)
     }
 
-    /// Inverse of [`HomeRequest::encode`]; `None` for 0 (no request).
+    /// Inverse of [`HomeRequest::encode`]; `None` for 0 (no request) or an unknown procedure.
     pub fn decode(v: u32) -> Option<HomeRequest> {
-        (v & 0x8000_0000 != 0).then_some(HomeRequest {
+        if v & 0x8000_0000 == 0 {
+            return None;
+        }
+        let procedure = match (v >> 24) & 0x7F {
+            0 => HomeProcedure::HomingMode((v & 0xFF) as u8 as i8),
+            1 => HomeProcedure::Controlword2(HomeSettingEdge::Clear),
+            2 => HomeProcedure::Controlword2(HomeSettingEdge::ClearZ),
+            _ => return None,
+        };
+        Some(HomeRequest {
             axis: ((v >> 8) & 0xFFFF) as u16,
-            method: (v & 0xFF) as u8 as i8,
+            procedure,
         })
+    }
+
+    /// Value of the `HomingStarted` event: the 6098h method, or [`HOME_BY_C_CR`] /
+    /// [`HOME_BY_C_CR2`].
+    pub fn procedure_code(self) -> i64 {
+        match self.procedure {
+            HomeProcedure::HomingMode(m) => i64::from(m),
+            HomeProcedure::Controlword2(HomeSettingEdge::Clear) => HOME_BY_C_CR,
+            HomeProcedure::Controlword2(HomeSettingEdge::ClearZ) => HOME_BY_C_CR2,
+        }
     }
 }
 
@@ -586,6 +617,21 @@ mod tests {
         }
         assert_eq!(CellCommand::from_code(-1), None);
         assert_eq!(CellCommand::from_code(0x400), None);
+        for procedure in [
+            HomeProcedure::HomingMode(-17),
+            HomeProcedure::HomingMode(35),
+            HomeProcedure::Controlword2(HomeSettingEdge::Clear),
+            HomeProcedure::Controlword2(HomeSettingEdge::ClearZ),
+        ] {
+            let r = HomeRequest {
+                axis: 300,
+                procedure,
+            };
+            assert_ne!(r.encode(), 0);
+            assert_eq!(HomeRequest::decode(r.encode()), Some(r));
+        }
+        assert_eq!(HomeRequest::decode(0), None);
+        assert_eq!(HomeRequest::decode(0x8300_0000), None, "unknown procedure");
         assert_eq!(CellCommand::from_code(6), None);
         assert_eq!(CellCommand::from_code(0x100), None);
     }

@@ -18,7 +18,7 @@ use crate::operator::server::{Context, Followup, OperatorServer};
 use crate::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::services;
 use cellrt_axes::cia402::fsa::FsaState;
-use cellrt_axes::cia402::homing::HomingFailure;
+use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure};
 use cellrt_axes::cia402::statusword::Statusword;
 
 /// The engine's form of a move-like step's targets.
@@ -385,9 +385,9 @@ impl<'a> Planner<'a> {
                         Some(Duration::from_secs_f64(*seconds)),
                     )?;
                 }
-                Step::Home { axis, method } => {
+                Step::Home { axis, procedure } => {
                     self.what = "home";
-                    self.run_home(*axis, *method)?;
+                    self.run_home(*axis, *procedure)?;
                 }
                 Step::Override(value) => {
                     self.what = "override";
@@ -512,8 +512,8 @@ impl<'a> Planner<'a> {
         }
     }
 
-    /// Homes `axis` with `method` and waits for the RT thread's result.
-    fn run_home(&mut self, axis: usize, method: i8) -> Result<(), ProgramError> {
+    /// Homes `axis` by `procedure` and waits for the RT thread's result.
+    fn run_home(&mut self, axis: usize, procedure: HomeProcedure) -> Result<(), ProgramError> {
         let before = self.status()?;
         if before.state != CellState::Idle {
             return Err(self.err(format!(
@@ -523,7 +523,7 @@ impl<'a> Planner<'a> {
         }
         let request = HomeRequest {
             axis: axis as u16,
-            method,
+            procedure,
         };
         if let Err(e) = self.link.home(request) {
             return Err(self.err(e));

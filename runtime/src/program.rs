@@ -28,6 +28,7 @@ use cellrt_trajectory::limits::KinematicLimits;
 use cellrt_trajectory::planner::MAX_MOVE_AXES;
 use serde::Deserialize;
 
+use cellrt_axes::cia402::homing::{choose_procedure, HomeProcedure, HomeSettingEdge};
 use cellrt_axes::cia402::mode::ModeOfOperation;
 
 use crate::config::{CellConfig, ConfigError};
@@ -111,12 +112,14 @@ pub enum RawStep {
         /// Percent.
         percent: f64,
     },
-    /// MC_Home in the drive's homing mode (hm).
+    /// MC_Home: in the drive's homing mode (hm), or by a Controlword2 edge (MR-J3-T04).
     Home {
         /// Axis name.
         axis: String,
         /// 6098h method (default: the model's data-set method).
         method: Option<i8>,
+        /// Home setting by Controlword2 instead: "clear" (C_CR) or "clear_z" (C_CR2).
+        setting: Option<HomeSettingEdge>,
     },
     /// Run the nested steps `count` times.
     Repeat {
@@ -190,12 +193,12 @@ pub enum Step {
     },
     /// Feed override, 0..=1.
     Override(f64),
-    /// Home an axis with a method its drive's manual lists.
+    /// Home an axis with a procedure its drive's manual gives.
     Home {
         /// Axis index.
         axis: usize,
-        /// 6098h method.
-        method: i8,
+        /// hm with a 6098h method, or a Controlword2 edge.
+        procedure: HomeProcedure,
     },
 }
 
@@ -556,13 +559,17 @@ fn validate_step(
             }
             Step::Override(percent / 100.0)
         }
-        RawStep::Home { axis, method } => {
+        RawStep::Home {
+            axis,
+            method,
+            setting,
+        } => {
             let i = axis_of(path, format!("{key}.axis"), &axis, cell)?;
-            let method = cellrt_axes::cia402::homing::choose_method(cell.axes[i].profile, method)
-                .map_err(|e| {
-                ConfigError::new(path, format!("{key}.axis"), format!("axis '{axis}': {e}"))
-            })?;
-            Step::Home { axis: i, method }
+            let procedure =
+                choose_procedure(cell.axes[i].profile, method, setting).map_err(|e| {
+                    ConfigError::new(path, format!("{key}.axis"), format!("axis '{axis}': {e}"))
+                })?;
+            Step::Home { axis: i, procedure }
         }
         RawStep::Repeat { .. } => unreachable!("expanded by `expand`"),
     })

@@ -415,6 +415,78 @@ fn homing_in_the_drive_homing_mode_through_the_operator_service() {
 }
 
 #[test]
+fn home_setting_by_controlword2_on_the_mr_j3_t04() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = example_cell(dir.path(), "mr-j3-t04.toml", "");
+    // x's encoder Z phase at 100 mm (one per motor revolution = 1000 mm).
+    let text = std::fs::read_to_string(&cfg).unwrap().replacen(
+        "sim = { initial_position = 50.0 }",
+        "sim = { initial_position = 50.0, z_phase_position = 100.0 }",
+        1,
+    );
+    std::fs::write(&cfg, text).unwrap();
+    let rec = dir.path().join("run.mcap");
+    let cell = Cell::start(&cfg, &rec);
+    cell.ok(&["power", "on"]);
+    // hm cannot be told apart without 6061h in the TxPDO: a method is refused.
+    cell.rejected(&["home", "x", "--method", "35"], "6061h");
+    // C_CR2 before the Z phase was passed: AL.96, home unchanged, the cell usable.
+    let (code, _, err) = cell.cli(&["home", "x", "--setting", "clear-z"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("AL.96"), "{err}");
+    // Pass the Z phase at 100 mm, stop at 300 mm: C_CR2 sets home at the Z phase (x = 200).
+    cell.ok(&["move", "x=150"]);
+    cell.ok(&["move", "x=300"]);
+    cell.ok(&["home", "x", "--setting", "clear-z"]);
+    let r: StatusReport = serde_json::from_str(&cell.ok(&["status", "--json"])).unwrap();
+    let x = r.axes.iter().find(|a| a.name == "x").unwrap();
+    assert!((x.position - 200.0).abs() < 0.01, "{x:?}");
+    // The default: the manual's clear method, C_CR, home where x stands (x = 0).
+    cell.ok(&["home", "x"]);
+    let r: StatusReport = serde_json::from_str(&cell.ok(&["status", "--json"])).unwrap();
+    let x = r.axes.iter().find(|a| a.name == "x").unwrap();
+    assert!(x.position.abs() < 0.01 && x.setpoint.abs() < 0.01, "{x:?}");
+    // Moves are in the new reference.
+    cell.ok(&["move", "x=100"]);
+    cell.ok(&["power", "off"]);
+    cell.end();
+
+    let r = read_recording(&rec);
+    let x = &r.axes["x"];
+    let end = x.last().unwrap();
+    // One count is 1/262.144 mm.
+    assert!((end.setpoint_position - 100.0).abs() < 0.01, "{end:?}");
+    assert!((end.actual_position - 100.0).abs() < 0.01, "{end:?}");
+    // No mode change and no position step: x never left csp, never a following error.
+    assert!(x.iter().all(|a| a.mode == 8), "x left csp");
+    let worst = x
+        .iter()
+        .map(|a| a.following_error.abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 5.0, "following error {worst}");
+    let homings: Vec<_> = r
+        .events
+        .iter()
+        .filter(|e| e.kind == "homing_started" && e.axis == "x")
+        .map(|e| e.detail.clone())
+        .collect();
+    assert_eq!(homings.len(), 3, "{homings:?}");
+    assert!(
+        homings[0].contains("C_CR2") && homings[2].contains("C_CR "),
+        "{homings:?}"
+    );
+    let finished: Vec<_> = r
+        .events
+        .iter()
+        .filter(|e| e.kind == "homing_finished" && e.axis == "x")
+        .map(|e| e.detail.clone())
+        .collect();
+    assert!(finished[0].contains("AL.96"), "{finished:?}");
+    assert_eq!(finished[1..], ["homing attained", "homing attained"]);
+    assert!(r.events.iter().all(|e| e.kind != "drive_fault"));
+}
+
+#[test]
 fn torque_and_reset_after_a_fault_through_the_operator_service() {
     let dir = tempfile::tempdir().unwrap();
     // The MR-JET cell: c runs in cst.

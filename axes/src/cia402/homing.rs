@@ -12,6 +12,11 @@
 //! changes a position mode only at zero speed, and statusword bit 12 means "following the
 //! command" in csp, so it must not be read as "homing attained" before the switch): the manual
 //! gives no figure, so this is a named parameter.
+//!
+//! A drive with home setting by Controlword2 (MR-J3-T04 C_CR / C_CR2, mr-j3-t04.md §8.3) is
+//! homed in its cyclic mode instead: raise the bit, wait for S_OSET (statusword2), drop the
+//! bit, wait for S_OSET to drop; the master then reads 607Ch (the caller's job). C_CR is the
+//! manual's "clear method" (§8.11.6.5): home = where the axis stands.
 
 use super::mode::ModeOfOperation;
 use super::statusword::Statusword;
@@ -23,6 +28,77 @@ pub const HOMING_ATTAINED_BIT: u16 = 1 << 12;
 pub const HOMING_ERROR_BIT: u16 = 1 << 13;
 /// Controlword bit 4 in hm: homing operation start (HOS).
 pub const HOMING_START_BIT: u16 = 1 << 4;
+
+/// Which Controlword2 edge sets home (MR-J3-T04 §8.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HomeSettingEdge {
+    /// C_CR: home = the current position (use at standstill).
+    Clear,
+    /// C_CR2: home = the last Z-phase position (needs S_ZPAS).
+    ClearZ,
+}
+
+impl HomeSettingEdge {
+    /// The Controlword2 bit of this edge on a drive with `bits`.
+    pub fn bit(self, bits: &crate::profiles::HomeSetting) -> u8 {
+        match self {
+            HomeSettingEdge::Clear => bits.clear_bit,
+            HomeSettingEdge::ClearZ => bits.clear_z_bit,
+        }
+    }
+}
+
+/// How an axis is homed (MC_Home).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HomeProcedure {
+    /// The drive's homing mode (hm) with this 6098h method.
+    HomingMode(i8),
+    /// In the cyclic mode by a Controlword2 edge.
+    Controlword2(HomeSettingEdge),
+}
+
+/// Whether `profile` can set home by Controlword2 with its default maps (2001h in the RxPDO,
+/// 2011h in the TxPDO).
+fn controlword2_home_setting(profile: &crate::profiles::DriveProfile) -> Result<(), String> {
+    use crate::pdo::objects::{CONTROLWORD2, STATUSWORD2};
+    if profile.home_setting.is_none() {
+        return Err(format!(
+            "the {} has no home setting by Controlword2 (C_CR / C_CR2)",
+            profile.name
+        ));
+    }
+    if !profile.rx_pdo.maps(CONTROLWORD2) || !profile.tx_pdo.maps(STATUSWORD2) {
+        return Err(format!(
+            "the {} default PDOs do not carry 2001h and 2011h for C_CR / S_OSET",
+            profile.name
+        ));
+    }
+    Ok(())
+}
+
+/// How to home a drive of `profile`: hm with `method` (see [`choose_method`]) or the
+/// Controlword2 `edge` as asked; by default the model's data-set method in hm where hm can be
+/// used, else the manual's clear method by C_CR (MR-J3-T04 §8.11.6.5: home where it stands).
+pub fn choose_procedure(
+    profile: &crate::profiles::DriveProfile,
+    method: Option<i8>,
+    edge: Option<HomeSettingEdge>,
+) -> Result<HomeProcedure, String> {
+    match (method, edge) {
+        (Some(_), Some(_)) => Err("name a homing method or a Controlword2 edge, not both".into()),
+        (None, Some(e)) => {
+            controlword2_home_setting(profile).map(|()| HomeProcedure::Controlword2(e))
+        }
+        (Some(m), None) => choose_method(profile, Some(m)).map(HomeProcedure::HomingMode),
+        (None, None) => match choose_method(profile, None) {
+            Ok(m) => Ok(HomeProcedure::HomingMode(m)),
+            Err(hm) => controlword2_home_setting(profile)
+                .map(|()| HomeProcedure::Controlword2(HomeSettingEdge::Clear))
+                .map_err(|_| hm),
+        },
+    }
+}
 
 /// The 6098h method to home a drive of `profile` with: `requested` if its manual lists it,
 /// else the model's first data-set method (home = the current position). Refused, with the
@@ -81,8 +157,12 @@ pub enum HomingFailure {
     Timeout = 2,
     /// The axis left Operation enabled (fault, disable) during homing.
     NotEnabled = 3,
-    /// The drive refused the method written to 6098h (SDO abort).
+    /// The drive refused the method written to 6098h (SDO abort), or has no home setting by
+    /// Controlword2.
     MethodRefused = 4,
+    /// The drive answered a Controlword2 home setting with a warning instead of S_OSET
+    /// (MR-J3-T04 AL.96: C_CR2 before the Z phase was passed).
+    SettingRefused = 5,
 }
 
 impl HomingFailure {
@@ -93,6 +173,9 @@ impl HomingFailure {
             HomingFailure::Timeout => "homing did not complete within the timeout",
             HomingFailure::NotEnabled => "the axis left Operation enabled during homing",
             HomingFailure::MethodRefused => "the drive refused the homing method (6098h)",
+            HomingFailure::SettingRefused => {
+                "the drive answered the home setting with a warning (AL.96: C_CR2 before the Z phase was passed)"
+            }
         }
     }
 
@@ -103,6 +186,7 @@ impl HomingFailure {
             2 => Some(HomingFailure::Timeout),
             3 => Some(HomingFailure::NotEnabled),
             4 => Some(HomingFailure::MethodRefused),
+            5 => Some(HomingFailure::SettingRefused),
             _ => None,
         }
     }
@@ -119,6 +203,10 @@ pub enum HomingPhase {
     Running,
     /// Back to the cyclic mode; waiting for 6061h. Carries the result to report.
     LeaveHm(Option<HomingFailure>),
+    /// Controlword2 edge raised; waiting for S_OSET (statusword2).
+    Setting,
+    /// Controlword2 bit dropped; waiting for S_OSET to drop. Carries the result to report.
+    SettingRelease(Option<HomingFailure>),
     /// Ended: `None` = homing attained.
     Done(Option<HomingFailure>),
 }
@@ -130,7 +218,12 @@ pub struct HomingCommand {
     pub mode: ModeOfOperation,
     /// Controlword bit 4 (HOS) to OR into the controlword.
     pub start_bit: u16,
+    /// Bits to OR into Controlword2 (C_CR / C_CR2 of a home setting).
+    pub controlword2: u16,
 }
+
+/// Statusword bit 7: warning (a home-setting warning such as MR-J3-T04 AL.96 shows here).
+const WARNING_BIT: u16 = 1 << 7;
 
 /// The homing sequence of one axis.
 #[derive(Debug, Clone, Copy)]
@@ -144,6 +237,10 @@ pub struct HomingSequencer {
     in_phase: u32,
     /// Consecutive standstill cycles in the current phase (mode change without 6061h).
     quiet: u32,
+    /// Home setting by Controlword2: (edge bit mask, S_OSET mask in statusword2).
+    setting: (u16, u16),
+    /// Statusword bit 7 when the setting started (a warning already present is not its).
+    warning_before: bool,
 }
 
 impl HomingSequencer {
@@ -156,6 +253,8 @@ impl HomingSequencer {
             elapsed: 0,
             in_phase: 0,
             quiet: 0,
+            setting: (0, 0),
+            warning_before: false,
         }
     }
 
@@ -165,6 +264,20 @@ impl HomingSequencer {
         self.elapsed = 0;
         self.in_phase = 0;
         self.quiet = 0;
+    }
+
+    /// Starts a home setting by the Controlword2 `edge` on a drive with `bits`, in the cyclic
+    /// mode; `statusword` is the latest one (a warning already present is not a failure).
+    pub fn start_setting(
+        &mut self,
+        edge: HomeSettingEdge,
+        bits: &crate::profiles::HomeSetting,
+        statusword: Statusword,
+    ) {
+        self.start();
+        self.phase = HomingPhase::Setting;
+        self.setting = (1 << edge.bit(bits), 1 << bits.set_bit);
+        self.warning_before = statusword.0 & WARNING_BIT != 0;
     }
 
     /// Where it stands.
@@ -182,12 +295,13 @@ impl HomingSequencer {
         self.phase = HomingPhase::Idle;
     }
 
-    /// One cycle: from the statusword, 6061h (`None` where the TxPDO does not map it) and
-    /// whether the motor stands still (606Ch = 0), the mode and HOS bit to send, or `None` when
-    /// not homing.
+    /// One cycle: from the statusword, statusword2 (0 where not mapped), 6061h (`None` where
+    /// the TxPDO does not map it) and whether the motor stands still (606Ch = 0), the mode, HOS
+    /// bit and Controlword2 bits to send, or `None` when not homing.
     pub fn update(
         &mut self,
         statusword: Statusword,
+        statusword2: u16,
         enabled: bool,
         mode_display: Option<i8>,
         standstill: bool,
@@ -238,6 +352,26 @@ impl HomingSequencer {
             {
                 HomingPhase::Done(r.or(Some(HomingFailure::Timeout)))
             }
+            HomingPhase::Setting if !enabled => {
+                HomingPhase::SettingRelease(Some(HomingFailure::NotEnabled))
+            }
+            HomingPhase::Setting if statusword2 & self.setting.1 != 0 => {
+                HomingPhase::SettingRelease(None)
+            }
+            HomingPhase::Setting
+                if self.in_phase > 1 && !self.warning_before && statusword.0 & WARNING_BIT != 0 =>
+            {
+                HomingPhase::SettingRelease(Some(HomingFailure::SettingRefused))
+            }
+            HomingPhase::Setting if timed_out => {
+                HomingPhase::SettingRelease(Some(HomingFailure::Timeout))
+            }
+            HomingPhase::SettingRelease(r)
+                if statusword2 & self.setting.1 == 0
+                    || self.in_phase > self.params.mode_settle.0 =>
+            {
+                HomingPhase::Done(r)
+            }
             p => p,
         };
         if next != self.phase {
@@ -249,14 +383,22 @@ impl HomingSequencer {
             HomingPhase::EnterHm => HomingCommand {
                 mode: ModeOfOperation::Homing,
                 start_bit: 0,
+                controlword2: 0,
             },
             HomingPhase::Running => HomingCommand {
                 mode: ModeOfOperation::Homing,
                 start_bit: HOMING_START_BIT,
+                controlword2: 0,
+            },
+            HomingPhase::Setting => HomingCommand {
+                mode: self.cyclic,
+                start_bit: 0,
+                controlword2: self.setting.0,
             },
             _ => HomingCommand {
                 mode: self.cyclic,
                 start_bit: 0,
+                controlword2: 0,
             },
         })
     }
@@ -293,46 +435,132 @@ mod tests {
     }
 
     #[test]
+    fn the_procedure_is_hm_where_it_can_be_used_else_the_c_cr_clear_method() {
+        use crate::profiles::{profile, DriveModel};
+        let j3 = profile(DriveModel::MrJ3T04);
+        assert_eq!(
+            choose_procedure(j3, None, None),
+            Ok(HomeProcedure::Controlword2(HomeSettingEdge::Clear))
+        );
+        assert_eq!(
+            choose_procedure(j3, None, Some(HomeSettingEdge::ClearZ)),
+            Ok(HomeProcedure::Controlword2(HomeSettingEdge::ClearZ))
+        );
+        assert!(choose_procedure(j3, Some(35), None)
+            .unwrap_err()
+            .contains("6061h"));
+        assert!(choose_procedure(j3, Some(35), Some(HomeSettingEdge::Clear))
+            .unwrap_err()
+            .contains("not both"));
+        let j4 = profile(DriveModel::MrJ4TM);
+        assert_eq!(
+            choose_procedure(j4, None, None),
+            Ok(HomeProcedure::HomingMode(-3))
+        );
+        assert!(choose_procedure(j4, None, Some(HomeSettingEdge::Clear))
+            .unwrap_err()
+            .contains("no home setting by Controlword2"));
+        let j5 = profile(DriveModel::MrJ5GN1);
+        assert!(choose_procedure(j5, None, None)
+            .unwrap_err()
+            .contains("lists no homing methods"));
+    }
+
+    #[test]
+    fn a_controlword2_setting_raises_the_edge_until_s_oset_then_drops_it() {
+        use crate::profiles::{profile, DriveModel};
+        let bits = profile(DriveModel::MrJ3T04).home_setting.unwrap();
+        let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
+        h.start_setting(HomeSettingEdge::Clear, &bits, sw(0));
+        let c = h.update(sw(0), 0, true, None, true).unwrap();
+        assert_eq!(
+            c.mode,
+            ModeOfOperation::CyclicSyncPosition,
+            "no mode change"
+        );
+        assert_eq!((c.start_bit, c.controlword2), (0, 1 << 7));
+        let c = h.update(sw(0), 0, true, None, true).unwrap();
+        assert_eq!(c.controlword2, 1 << 7);
+        // S_OSET: drop the bit, wait for S_OSET to drop.
+        let c = h.update(sw(0), 1 << 8, true, None, true).unwrap();
+        assert_eq!(c.controlword2, 0);
+        assert_eq!(h.phase(), HomingPhase::SettingRelease(None));
+        h.update(sw(0), 1 << 8, true, None, true);
+        assert!(h.is_active());
+        h.update(sw(0), 0, true, None, true);
+        assert_eq!(h.phase(), HomingPhase::Done(None));
+
+        // C_CR2 answered by a new warning (AL.96): refused; an older warning is not its answer.
+        h.start_setting(HomeSettingEdge::ClearZ, &bits, sw(0));
+        let c = h.update(sw(0), 0, true, None, true).unwrap();
+        assert_eq!(c.controlword2, 1 << 6);
+        let c = h.update(sw(1 << 7), 0, true, None, true).unwrap();
+        assert_eq!(
+            h.phase(),
+            HomingPhase::SettingRelease(Some(HomingFailure::SettingRefused))
+        );
+        assert_eq!(c.controlword2, 0);
+        h.update(sw(1 << 7), 0, true, None, true);
+        assert_eq!(
+            h.phase(),
+            HomingPhase::Done(Some(HomingFailure::SettingRefused))
+        );
+        h.start_setting(HomeSettingEdge::Clear, &bits, sw(1 << 7));
+        for _ in 0..5 {
+            h.update(sw(1 << 7), 0, true, None, true);
+        }
+        assert_eq!(h.phase(), HomingPhase::Setting);
+        // Never answered: times out (timeout 100 cycles), the bit is dropped.
+        let mut raised = 0;
+        while let Some(c) = h.update(sw(1 << 7), 0, true, None, true) {
+            raised += usize::from(c.controlword2 != 0);
+            assert!(raised < 200, "never times out");
+        }
+        assert_eq!(h.phase(), HomingPhase::Done(Some(HomingFailure::Timeout)));
+        assert!((100..=101).contains(&(raised + 5)), "5 above + {raised}");
+    }
+
+    #[test]
     fn enters_hm_starts_waits_for_attained_and_leaves() {
         let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
-        assert_eq!(h.update(sw(0), true, Some(8), true), None);
+        assert_eq!(h.update(sw(0), 0, true, Some(8), true), None);
         h.start();
-        let c = h.update(sw(0), true, Some(8), true).unwrap();
+        let c = h.update(sw(0), 0, true, Some(8), true).unwrap();
         assert_eq!((c.mode, c.start_bit), (ModeOfOperation::Homing, 0));
         // 6061h shows hm: the start bit goes out.
-        let c = h.update(sw(0), true, Some(6), true).unwrap();
+        let c = h.update(sw(0), 0, true, Some(6), true).unwrap();
         assert_eq!(c.start_bit, HOMING_START_BIT);
         // A stale bit 12 in the first cycle of the start is not taken as the result.
         let c = h
-            .update(sw(HOMING_ATTAINED_BIT), true, Some(6), true)
+            .update(sw(HOMING_ATTAINED_BIT), 0, true, Some(6), true)
             .unwrap();
         assert_eq!(c.start_bit, HOMING_START_BIT);
         assert_eq!(h.phase(), HomingPhase::Running);
         let c = h
-            .update(sw(HOMING_ATTAINED_BIT), true, Some(6), true)
+            .update(sw(HOMING_ATTAINED_BIT), 0, true, Some(6), true)
             .unwrap();
         assert_eq!(c.mode, ModeOfOperation::CyclicSyncPosition);
         assert_eq!(h.phase(), HomingPhase::LeaveHm(None));
-        h.update(sw(0), true, Some(8), true);
+        h.update(sw(0), 0, true, Some(8), true);
         assert_eq!(h.phase(), HomingPhase::Done(None));
         assert!(!h.is_active());
-        assert_eq!(h.update(sw(0), true, Some(8), true), None);
+        assert_eq!(h.update(sw(0), 0, true, Some(8), true), None);
     }
 
     #[test]
     fn a_homing_error_or_a_disable_fails_and_still_returns_to_the_cyclic_mode() {
         let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncVelocity);
         h.start();
-        h.update(sw(0), true, Some(6), true);
-        h.update(sw(0), true, Some(6), true);
-        h.update(sw(HOMING_ERROR_BIT), true, Some(6), true);
+        h.update(sw(0), 0, true, Some(6), true);
+        h.update(sw(0), 0, true, Some(6), true);
+        h.update(sw(HOMING_ERROR_BIT), 0, true, Some(6), true);
         assert_eq!(
             h.phase(),
             HomingPhase::LeaveHm(Some(HomingFailure::DriveError))
         );
-        let c = h.update(sw(0), true, Some(6), true).unwrap();
+        let c = h.update(sw(0), 0, true, Some(6), true).unwrap();
         assert_eq!(c.mode, ModeOfOperation::CyclicSyncVelocity);
-        h.update(sw(0), true, Some(9), true);
+        h.update(sw(0), 0, true, Some(9), true);
         assert_eq!(
             h.phase(),
             HomingPhase::Done(Some(HomingFailure::DriveError))
@@ -340,7 +568,7 @@ mod tests {
 
         let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
         h.start();
-        h.update(sw(0), false, Some(8), true);
+        h.update(sw(0), 0, false, Some(8), true);
         assert_eq!(
             h.phase(),
             HomingPhase::LeaveHm(Some(HomingFailure::NotEnabled))
@@ -354,13 +582,13 @@ mod tests {
         // Still settling after a move: csp's bit 12 ("following the command") is set.
         for _ in 0..20 {
             let c = h
-                .update(sw(HOMING_ATTAINED_BIT), true, None, false)
+                .update(sw(HOMING_ATTAINED_BIT), 0, true, None, false)
                 .unwrap();
             assert_eq!(c.start_bit, 0);
             assert_eq!(h.phase(), HomingPhase::EnterHm);
         }
         for _ in 0..4 {
-            h.update(sw(HOMING_ATTAINED_BIT), true, None, true);
+            h.update(sw(HOMING_ATTAINED_BIT), 0, true, None, true);
         }
         assert_eq!(h.phase(), HomingPhase::Running);
     }
@@ -370,13 +598,13 @@ mod tests {
         let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
         h.start();
         for _ in 0..3 {
-            h.update(sw(0), true, None, true);
+            h.update(sw(0), 0, true, None, true);
             assert_eq!(h.phase(), HomingPhase::EnterHm);
         }
-        h.update(sw(0), true, None, true);
+        h.update(sw(0), 0, true, None, true);
         assert_eq!(h.phase(), HomingPhase::Running);
         for _ in 0..200 {
-            h.update(sw(0), true, None, true);
+            h.update(sw(0), 0, true, None, true);
         }
         assert_eq!(h.phase(), HomingPhase::Done(Some(HomingFailure::Timeout)));
     }

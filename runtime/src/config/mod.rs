@@ -282,6 +282,9 @@ pub struct SimAxisConfig {
     pub position_bandwidth_hz: f64,
     /// Velocity loop bandwidth, Hz.
     pub velocity_bandwidth_hz: f64,
+    /// Position of the encoder's Z phase, in units (one per motor revolution; used by the
+    /// MR-J3-T04 C_CR2 home setting and S_ZPAS; the manuals give no figure).
+    pub z_phase_position: f64,
 }
 
 impl CellConfig {

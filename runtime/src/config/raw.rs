@@ -257,6 +257,9 @@ pub struct RawSimAxis {
     /// Velocity loop bandwidth, Hz.
     #[serde(default = "default_velocity_bw")]
     pub velocity_bandwidth_hz: f64,
+    /// Position of the encoder's Z phase, in units.
+    #[serde(default)]
+    pub z_phase_position: f64,
 }
 
 impl Default for RawSimAxis {
@@ -265,6 +268,7 @@ impl Default for RawSimAxis {
             initial_position: 0.0,
             position_bandwidth_hz: default_position_bw(),
             velocity_bandwidth_hz: default_velocity_bw(),
+            z_phase_position: 0.0,
         }
     }
 }

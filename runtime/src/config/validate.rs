@@ -594,7 +594,11 @@ fn validate_axis(
             &format!("{key}.sim.velocity_bandwidth_hz"),
             a.sim.velocity_bandwidth_hz,
         )?,
+        z_phase_position: a.sim.z_phase_position,
     };
+    if let Err(e) = scaling.to_counts_i32(sim.z_phase_position) {
+        return Err(err("sim.z_phase_position", e.to_string()));
+    }
     if !sim.initial_position.is_finite() || position.check(sim.initial_position).is_err() {
         return Err(err(
             "sim.initial_position",

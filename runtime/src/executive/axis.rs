@@ -6,10 +6,11 @@ use cellrt_axes::cia402::master::AxisMaster;
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::comm::{CounterParams, IncrementalCounter};
 use cellrt_axes::pdo::objects::{
-    DEFAULT_TORQUE_LIMIT, ERROR_CODE, MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY,
+    CONTROLWORD2, DEFAULT_TORQUE_LIMIT, ERROR_CODE, MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY,
+    STATUSWORD2,
 };
 use cellrt_axes::pdo::{PdoLayout, TxPdo};
-use cellrt_axes::profiles::{HomeReference, TorqueLimitSelection};
+use cellrt_axes::profiles::{HomeReference, HomeSetting, TorqueLimitSelection};
 use cellrt_axes::Cycles;
 
 use crate::config::{AxisConfig, CellConfig};
@@ -101,6 +102,9 @@ pub struct AxisChannel {
     pub home_offset: i32,
     /// Whether the drive reports its home as 607Ch instead of presetting 6064h.
     pub offset_home: bool,
+    /// Home setting by Controlword2 where the model has it and the maps carry 2001h/2011h
+    /// (MR-J3-T04 C_CR / C_CR2, mr-j3-t04.md §8.3).
+    pub home_setting: Option<HomeSetting>,
     /// MC_Power of this axis: the operator wants it in Operation enabled. An axis without
     /// power follows its actual position and takes no motion.
     pub powered: bool,
@@ -190,6 +194,9 @@ impl AxisChannel {
             mode_display_mapped: axis.profile.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY),
             home_offset: 0,
             offset_home: axis.profile.home_reference == HomeReference::OffsetObject,
+            home_setting: axis.profile.home_setting.filter(|_| {
+                axis.profile.rx_pdo.maps(CONTROLWORD2) && axis.profile.tx_pdo.maps(STATUSWORD2)
+            }),
             powered: false,
             sdo_mode: (!axis.profile.rx_pdo.maps(MODES_OF_OPERATION)).then_some(match axis.mode {
                 ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
@@ -398,6 +405,7 @@ mod tests {
             ),
             mode_display_mapped: true,
             sdo_mode: None,
+            home_setting: None,
             powered: true,
             home_offset: 0,
             offset_home: false,

@@ -13,7 +13,7 @@ use crate::handoff::{
     CellCommand, CellState, EventKind, HomeRequest, HomingStatus, RejectReason, StopReason, NO_AXIS,
 };
 use crate::setpoints::BLOCK_CYCLES;
-use cellrt_axes::cia402::homing::{HomingFailure, HomingPhase};
+use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure, HomingPhase};
 use cellrt_axes::pdo::objects::HOMING_METHOD;
 
 /// Commands taken per cycle at most (bounds the cycle's work).
@@ -294,20 +294,33 @@ impl<B: Bus> Executive<B> {
             running: true,
             failure: 0,
         };
-        // Requests from other processes bypass `choose_method`: without 6061h the end of a
-        // homing cannot be told from csp's bit 12, so the RT thread refuses it too.
+        // Requests from other processes bypass `choose_procedure`: without 6061h the end of a
+        // homing cannot be told from csp's bit 12, so the RT thread refuses hm there too, and
+        // a Controlword2 edge where the drive has no such home setting.
         let refused = if axis >= self.axes.len() || !self.axes[axis].master.is_enabled() {
             Some(HomingFailure::NotEnabled)
-        } else if !self.axes[axis].mode_display_mapped {
-            Some(HomingFailure::MethodRefused)
-        } else if let Err(code) = self
-            .bus
-            .sdo_download(axis, HOMING_METHOD, 0, &[req.method as u8])
-        {
-            self.event(EventKind::BusError, req.axis, i64::from(code));
-            Some(HomingFailure::MethodRefused)
         } else {
-            None
+            match req.procedure {
+                HomeProcedure::HomingMode(_) if !self.axes[axis].mode_display_mapped => {
+                    Some(HomingFailure::MethodRefused)
+                }
+                HomeProcedure::HomingMode(method) => {
+                    match self
+                        .bus
+                        .sdo_download(axis, HOMING_METHOD, 0, &[method as u8])
+                    {
+                        Ok(()) => None,
+                        Err(code) => {
+                            self.event(EventKind::BusError, req.axis, i64::from(code));
+                            Some(HomingFailure::MethodRefused)
+                        }
+                    }
+                }
+                HomeProcedure::Controlword2(_) if self.axes[axis].home_setting.is_none() => {
+                    Some(HomingFailure::MethodRefused)
+                }
+                HomeProcedure::Controlword2(_) => None,
+            }
         };
         match refused {
             // A cell-level refusal (not enabled) is reported in the status only, as before.
@@ -321,8 +334,14 @@ impl<B: Bus> Executive<B> {
                 self.event(EventKind::HomingFinished, req.axis, i64::from(f as u8));
             }
             None => {
-                self.axes[axis].homing.start();
-                self.event(EventKind::HomingStarted, req.axis, i64::from(req.method));
+                let ch = &mut self.axes[axis];
+                match (req.procedure, ch.home_setting) {
+                    (HomeProcedure::Controlword2(edge), Some(bits)) => {
+                        ch.homing.start_setting(edge, &bits, ch.feedback.statusword)
+                    }
+                    _ => ch.homing.start(),
+                }
+                self.event(EventKind::HomingStarted, req.axis, req.procedure_code());
                 self.set_state(CellState::Homing);
             }
         }

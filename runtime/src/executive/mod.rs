@@ -360,12 +360,17 @@ impl<B: Bus> Executive<B> {
             let display = ch.mode_display_mapped.then_some(ch.feedback.mode_display);
             let enabled = ch.master.is_enabled();
             let standstill = ch.feedback.velocity_actual == 0;
-            if let Some(h) = ch
-                .homing
-                .update(ch.feedback.statusword, enabled, display, standstill)
-            {
+            let mut controlword2 = ch.torque_limit_objects.2;
+            if let Some(h) = ch.homing.update(
+                ch.feedback.statusword,
+                ch.feedback.statusword2,
+                enabled,
+                display,
+                standstill,
+            ) {
                 cmd.mode = h.mode;
                 controlword.0 |= h.start_bit;
+                controlword2 |= h.controlword2;
             }
             // A drive without 6060h in its RxPDO changes mode by SDO (only at a homing's
             // start and end, never in steady state).
@@ -391,7 +396,7 @@ impl<B: Bus> Executive<B> {
                 velocity_limit: ch.velocity_limit(self.period_s),
                 torque_limit_positive: ch.torque_limit_objects.0,
                 torque_limit_negative: ch.torque_limit_objects.1,
-                controlword2: ch.torque_limit_objects.2,
+                controlword2,
                 counter: ch.counter.as_mut().map_or(0, |c| c.next_tx()),
             };
             if self.axes[i]

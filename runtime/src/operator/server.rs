@@ -14,7 +14,7 @@ use crate::link::CellLink;
 use crate::motion::{MotionEngine, MotionRequest, Progress};
 use crate::program::Program;
 use crate::services::ServiceError;
-use cellrt_axes::cia402::homing::{choose_method, HomingFailure};
+use cellrt_axes::cia402::homing::{choose_procedure, HomingFailure};
 
 /// What the planner thread must do after a request.
 pub enum Followup {
@@ -409,14 +409,18 @@ impl OperatorServer {
                     ctx,
                 )
             }
-            Request::Home { axis, method } => {
+            Request::Home {
+                axis,
+                method,
+                setting,
+            } => {
                 let i = match axis_index(ctx.cell, &axis) {
                     Ok(i) => i,
                     Err(e) => return reject(format!("home: {e}")),
                 };
                 let a = &ctx.cell.axes[i];
-                let method = match choose_method(a.profile, method) {
-                    Ok(m) => m,
+                let procedure = match choose_procedure(a.profile, method, setting) {
+                    Ok(p) => p,
                     Err(e) => return reject(format!("home: axis '{axis}': {e}")),
                 };
                 if ctx.engine.is_busy() || state.state != CellState::Idle {
@@ -428,7 +432,7 @@ impl OperatorServer {
                 self.home_seq = state.homing.seq;
                 match ctx.link.home(HomeRequest {
                     axis: i as u16,
-                    method,
+                    procedure,
                 }) {
                     Ok(()) => (self.accept(name, true), Followup::None),
                     Err(e) => reject(format!("home: {e}")),

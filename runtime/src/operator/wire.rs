@@ -97,6 +97,10 @@ pub enum Request {
         /// 6098h homing method (default: the model's data-set method).
         #[serde(default)]
         method: Option<i8>,
+        /// Home setting by a Controlword2 edge instead of hm: "clear" (C_CR, home where the
+        /// axis stands) or "clear_z" (C_CR2, home at the last Z phase); MR-J3-T04 §8.3.
+        #[serde(default)]
+        setting: Option<cellrt_axes::cia402::homing::HomeSettingEdge>,
     },
     /// MC_Halt: brake the motion (all axes, or the named ones) to rest; the cell stays usable.
     Halt {

@@ -660,7 +660,11 @@ pub fn describe_event(e: &EventRecord) -> String {
         }
         EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
         EventKind::RecordsDropped => format!("{} records dropped", e.value),
-        EventKind::HomingStarted => format!("method {} (6098h)", e.value),
+        EventKind::HomingStarted => match e.value {
+            crate::handoff::HOME_BY_C_CR => "home setting by C_CR (current position)".to_string(),
+            crate::handoff::HOME_BY_C_CR2 => "home setting by C_CR2 (last Z phase)".to_string(),
+            m => format!("method {m} (6098h)"),
+        },
         EventKind::HomingFinished => match u8::try_from(e.value)
             .ok()
             .and_then(cellrt_axes::cia402::homing::HomingFailure::from_u8)

@@ -1,6 +1,7 @@
 //! The operator commands (`cellrt status`, `power`, `move`, `jog`, `torque`, `halt`, `stop`,
 //! `reset`, `override`, `program`): clients of the running cell's operator service.
 
+use cellrt_axes::cia402::homing::HomeSettingEdge;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::PathBuf;
@@ -132,6 +133,10 @@ pub enum OperatorCommand {
         /// 6098h homing method (default: the drive model's data-set method).
         #[arg(long, allow_negative_numbers = true)]
         method: Option<i8>,
+        /// Home by a Controlword2 edge in the cyclic mode instead of hm (MR-J3-T04): clear =
+        /// C_CR, home where the axis stands; clear-z = C_CR2, home at the last Z phase.
+        #[arg(long, value_enum, conflicts_with = "method")]
+        setting: Option<SettingArg>,
         /// Return once accepted.
         #[arg(long)]
         no_wait: bool,
@@ -207,6 +212,15 @@ pub fn run(command: OperatorCommand, target: Target) -> Exit {
         Wait::State(states) => wait_state(&client, states, timeout),
         Wait::Power { axes, on } => wait_power(&client, &axes, on, timeout),
     }
+}
+
+/// `cellrt home --setting`: the Controlword2 edge.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum SettingArg {
+    /// C_CR: home where the axis stands.
+    Clear,
+    /// C_CR2: home at the last Z phase.
+    ClearZ,
 }
 
 /// What to follow after acceptance.
@@ -315,11 +329,16 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
         OperatorCommand::Home {
             axis,
             method,
+            setting,
             no_wait,
         } => (
             Request::Home {
                 axis: axis.clone(),
                 method: *method,
+                setting: setting.map(|s| match s {
+                    SettingArg::Clear => HomeSettingEdge::Clear,
+                    SettingArg::ClearZ => HomeSettingEdge::ClearZ,
+                }),
             },
             wait(*no_wait, Wait::Finished),
         ),

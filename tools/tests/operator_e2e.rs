@@ -75,6 +75,12 @@ impl Cell {
         assert!(err.contains(why), "cellrt {args:?}: '{err}' lacks '{why}'");
     }
 
+    /// `cellrt status --json`'s entry for `axis`.
+    fn axis_status(&self, axis: &str) -> cellrt_runtime::operator::wire::AxisStatus {
+        let r: StatusReport = serde_json::from_str(&self.ok(&["status", "--json"])).unwrap();
+        r.axes.into_iter().find(|a| a.name == axis).unwrap()
+    }
+
     fn wait_state(&self, want: &str) {
         let end = Instant::now() + Duration::from_secs(20);
         loop {
@@ -438,13 +444,11 @@ fn home_setting_by_controlword2_on_the_mr_j3_t04() {
     cell.ok(&["move", "x=150"]);
     cell.ok(&["move", "x=300"]);
     cell.ok(&["home", "x", "--setting", "clear-z"]);
-    let r: StatusReport = serde_json::from_str(&cell.ok(&["status", "--json"])).unwrap();
-    let x = r.axes.iter().find(|a| a.name == "x").unwrap();
+    let x = cell.axis_status("x");
     assert!((x.position - 200.0).abs() < 0.01, "{x:?}");
     // The default: the manual's clear method, C_CR, home where x stands (x = 0).
     cell.ok(&["home", "x"]);
-    let r: StatusReport = serde_json::from_str(&cell.ok(&["status", "--json"])).unwrap();
-    let x = r.axes.iter().find(|a| a.name == "x").unwrap();
+    let x = cell.axis_status("x");
     assert!(x.position.abs() < 0.01 && x.setpoint.abs() < 0.01, "{x:?}");
     // Moves are in the new reference.
     cell.ok(&["move", "x=100"]);

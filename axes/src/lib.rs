@@ -10,6 +10,7 @@ pub mod bus;
 pub mod cia402;
 pub mod comm;
 pub mod cycles;
+pub mod ethercat;
 pub mod pdo;
 pub mod profiles;
 pub mod sim;

@@ -1,0 +1,17 @@
+//! The EtherCAT SubDevice emulator: the Mitsubishi drives presented as EtherCAT SubDevices,
+//! with ESC registers, SII EEPROM, CoE mailbox and process data wired to the simulated drive
+//! models. Runs in-process ([`Segment::process`] on each frame) or on a network interface.
+
+pub mod coe;
+pub mod layout;
+pub mod segment;
+pub mod sii;
+pub mod station;
+
+pub use segment::Segment;
+pub use station::Station;
+
+/// True if `profile` runs its PDOs at a cycle of `ns` nanoseconds (1C32h:02, SYNC0 cycle).
+pub fn allows_cycle_ns(profile: &crate::profiles::DriveProfile, ns: u32) -> bool {
+    ns.is_multiple_of(1000) && profile.cycle_times_us.contains(&(ns / 1000))
+}

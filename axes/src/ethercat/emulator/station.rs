@@ -1,0 +1,509 @@
+//! One emulated EtherCAT SubDevice: an ESC (registers, SII EEPROM, FMMUs, SyncManagers with
+//! mailbox semantics, DC registers, the AL state machine) in front of a simulated drive.
+//!
+//! The ESC is modelled as its 12 KiB address space (registers 0000h–0FFFh, process RAM from
+//! 1000h); datagrams read and write it, and the registers with side effects (AL control, SII
+//! control, DC latch, mailbox buffers) act on access.
+
+use super::coe::{self, CoeContext, PdoConfig};
+use super::layout::StationLayout;
+use super::sii;
+use crate::cycles::Cycles;
+use crate::ethercat::frame::Command;
+use crate::ethercat::identity::SubDeviceIdentity;
+use crate::ethercat::register::{self as reg, al_code, AlState, AL_ERROR_INDICATION};
+use crate::sim::drive::SimDrive;
+
+/// Bytes of the emulated address space.
+const MEMORY_LEN: usize = 0x3000;
+/// Process RAM in KiB (register 0006h).
+const RAM_KIB: u8 = 8;
+/// ESC type (0000h): an ET1100-class ESC.
+const ESC_TYPE: u8 = 0x11;
+/// Features (0008h): FMMU bit-wise, DC supported, 64-bit DC.
+const FEATURES: u16 = 0x0001 | 0x0004 | 0x0008;
+/// Propagation delay per hop in the emulated line, ns (a named parameter; real ESC + cable
+/// delays are tens to hundreds of ns).
+pub const HOP_DELAY_NS: u64 = 100;
+/// SII control bit: read (0502h bit 8).
+const SII_READ: u16 = 0x0100;
+/// SII control bit: 8-byte reads (0502h bit 6).
+const SII_READ_8: u16 = 0x0040;
+/// At most this many missed SYNC0 cycles are replayed as lost RxPDOs after a gap (1 s at
+/// 1 ms; every model's communication alarm has fired long before).
+const MAX_LOST_REPLAY: u64 = 1000;
+/// SM status bit 3: mailbox full.
+const SM_FULL: u8 = 0x08;
+
+/// What processing one datagram did at this station.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Access {
+    /// Working-counter increment.
+    pub wkc: u16,
+}
+
+/// An emulated drive on the segment.
+#[derive(Debug)]
+pub struct Station {
+    mem: Vec<u8>,
+    sii: Vec<u8>,
+    layout: StationLayout,
+    identity: SubDeviceIdentity,
+    drive: SimDrive,
+    pdo: PdoConfig,
+    mailbox_counter: u8,
+    al_state: AlState,
+    /// Position in the line (0 = next to the master) and line length, for DC receive times.
+    position: u16,
+    line_len: u16,
+    /// The local time of the last process-data exchange, for the drive's elapsed cycles.
+    last_exchange_ns: Option<u64>,
+    /// Exchanges the drive has run (diagnostics).
+    exchanges: u64,
+}
+
+impl Station {
+    /// A station in INIT with `drive` behind it at `position` of a line of `line_len`.
+    pub fn new(mut drive: SimDrive, position: u16, line_len: u16) -> Self {
+        let profile = drive.profile();
+        let identity = SubDeviceIdentity::of_profile(profile);
+        let layout = StationLayout::of_profile(profile);
+        let sii = sii::image(
+            identity,
+            profile.name,
+            &layout,
+            &profile.rx_pdo,
+            &profile.tx_pdo,
+        );
+        drive.leave_op();
+        let mut s = Station {
+            mem: vec![0; MEMORY_LEN],
+            sii,
+            layout,
+            identity,
+            pdo: PdoConfig::new(profile.rx_pdo, profile.tx_pdo),
+            drive,
+            mailbox_counter: 0,
+            al_state: AlState::Init,
+            position,
+            line_len,
+            last_exchange_ns: None,
+            exchanges: 0,
+        };
+        s.mem[usize::from(reg::TYPE)] = ESC_TYPE;
+        s.mem[usize::from(reg::FMMU_COUNT)] = 8;
+        s.mem[usize::from(reg::SM_COUNT)] = 8;
+        s.mem[usize::from(reg::RAM_SIZE)] = RAM_KIB;
+        s.mem[usize::from(reg::PORT_DESCRIPTOR)] = 0x0F; // ports 0/1 EBUS... MII
+        s.put16(reg::SUPPORT_FLAGS, FEATURES);
+        let last = position + 1 == line_len;
+        // DL status: PDI operational, watchdog ok, link and communication on port 0, and on
+        // port 1 unless this is the last station of the line.
+        let mut dl = 0x0001 | 0x0002 | 0x0010 | 0x0200;
+        if !last {
+            dl |= 0x0020 | 0x0800;
+        }
+        s.put16(reg::DL_STATUS, dl);
+        s.set_al_status(AlState::Init, None);
+        s.put16(reg::SII_CONTROL, SII_READ_8);
+        s
+    }
+
+    /// The simulated drive.
+    pub fn drive(&self) -> &SimDrive {
+        &self.drive
+    }
+
+    /// The simulated drive, mutably (fault injection).
+    pub fn drive_mut(&mut self) -> &mut SimDrive {
+        &mut self.drive
+    }
+
+    /// The AL state.
+    pub fn al_state(&self) -> AlState {
+        self.al_state
+    }
+
+    /// The AL status code (0 when no error is indicated).
+    pub fn al_status_code(&self) -> u16 {
+        self.get16(reg::AL_STATUS_CODE)
+    }
+
+    /// The configured station address.
+    pub fn station_address(&self) -> u16 {
+        self.get16(reg::STATION_ADDRESS)
+    }
+
+    /// The identity it presents.
+    pub fn identity(&self) -> SubDeviceIdentity {
+        self.identity
+    }
+
+    /// Process-data exchanges the drive has run.
+    pub fn exchanges(&self) -> u64 {
+        self.exchanges
+    }
+
+    fn get16(&self, at: u16) -> u16 {
+        let a = usize::from(at);
+        u16::from_le_bytes([self.mem[a], self.mem[a + 1]])
+    }
+
+    fn put16(&mut self, at: u16, v: u16) {
+        let a = usize::from(at);
+        self.mem[a..a + 2].copy_from_slice(&v.to_le_bytes());
+    }
+
+    fn get_u64(&self, at: u16) -> u64 {
+        let a = usize::from(at);
+        let mut b = [0u8; 8];
+        b.copy_from_slice(&self.mem[a..a + 8]);
+        u64::from_le_bytes(b)
+    }
+
+    fn put_u64(&mut self, at: u16, v: u64) {
+        let a = usize::from(at);
+        self.mem[a..a + 8].copy_from_slice(&v.to_le_bytes());
+    }
+
+    fn set_al_status(&mut self, state: AlState, error: Option<u16>) {
+        self.al_state = state;
+        let flag = if error.is_some() {
+            AL_ERROR_INDICATION
+        } else {
+            0
+        };
+        self.mem[usize::from(reg::AL_STATUS)] = state as u8 | flag;
+        self.put16(reg::AL_STATUS_CODE, error.unwrap_or(0));
+    }
+
+    /// Handles a physical-address datagram (APxx/FPxx/Bxx, and the addressed side of xRMW)
+    /// on `data` at register `ado` at local time `now_ns`.
+    pub fn physical(&mut self, command: Command, ado: u16, data: &mut [u8], now_ns: u64) -> Access {
+        let start = usize::from(ado);
+        let end = start + data.len();
+        if end > MEMORY_LEN {
+            return Access::default();
+        }
+        let mut wkc = 0;
+        if command.reads() {
+            self.refresh_for_read(start, end, now_ns);
+            if command == Command::Brd || command == Command::Brw {
+                for (d, m) in data.iter_mut().zip(&self.mem[start..end]) {
+                    *d |= *m;
+                }
+            } else {
+                data.copy_from_slice(&self.mem[start..end]);
+            }
+            self.after_read(start, end);
+            wkc += 1;
+        }
+        if command.writes() && !matches!(command, Command::Armw | Command::Frmw) {
+            self.write(start, data, now_ns);
+            wkc += if command.reads() { 2 } else { 1 };
+        }
+        Access { wkc }
+    }
+
+    /// The writing side of ARMW/FRMW (every station but the addressed one).
+    pub fn rmw_write(&mut self, ado: u16, data: &[u8], now_ns: u64) -> Access {
+        let start = usize::from(ado);
+        if start + data.len() > MEMORY_LEN {
+            return Access::default();
+        }
+        self.write(start, data, now_ns);
+        Access { wkc: 1 }
+    }
+
+    /// Registers whose value is computed at read time: the DC system time.
+    fn refresh_for_read(&mut self, start: usize, end: usize, now_ns: u64) {
+        let sys = usize::from(reg::DC_SYSTEM_TIME);
+        if start < sys + 8 && end > sys {
+            let offset = self.get_u64(reg::DC_SYSTEM_TIME_OFFSET);
+            self.put_u64(reg::DC_SYSTEM_TIME, now_ns.wrapping_add(offset));
+        }
+    }
+
+    /// Reading the last byte of the SubDevice→master mailbox empties it.
+    fn after_read(&mut self, start: usize, end: usize) {
+        let mb = self.layout.mailbox_in;
+        let last = usize::from(mb.start + mb.len - 1);
+        if self.sm_enabled(1) && start <= last && end > last {
+            self.mem[usize::from(reg::sync_manager(1)) + 5] &= !SM_FULL;
+        }
+    }
+
+    fn sm_enabled(&self, n: u8) -> bool {
+        self.mem[usize::from(reg::sync_manager(n)) + 6] & 1 != 0
+    }
+
+    fn writable(addr: usize) -> bool {
+        let sm_end = usize::from(reg::sync_manager(16));
+        match addr {
+            0x0010..=0x0013 | 0x0120..=0x0121 | 0x0400..=0x0443 | 0x0500..=0x050F => true,
+            0x0600..=0x06FF => true,
+            a if (usize::from(reg::SM_BASE)..sm_end).contains(&a) => (a - 0x800) % 8 != 5,
+            0x0900..=0x09FF => !(0x0910..0x0918).contains(&addr),
+            a => a >= usize::from(reg::PROCESS_RAM) && a < MEMORY_LEN,
+        }
+    }
+
+    fn write(&mut self, start: usize, data: &[u8], now_ns: u64) {
+        for (i, &b) in data.iter().enumerate() {
+            if Self::writable(start + i) {
+                self.mem[start + i] = b;
+            }
+        }
+        let end = start + data.len();
+        let touches = |r: u16, n: usize| start < usize::from(r) + n && end > usize::from(r);
+        if touches(reg::AL_CONTROL, 1) {
+            self.al_control(self.mem[usize::from(reg::AL_CONTROL)], now_ns);
+        }
+        if touches(reg::SII_CONTROL, 2) {
+            self.sii_command();
+        }
+        if touches(reg::DC_TIME_PORT0, 1) {
+            self.latch_receive_times(now_ns);
+        }
+        let mb = self.layout.mailbox_out;
+        let last = usize::from(mb.start + mb.len - 1);
+        if self.sm_enabled(0) && start <= last && end > last {
+            self.mailbox_request();
+        }
+    }
+
+    fn sii_command(&mut self) {
+        let control = self.get16(reg::SII_CONTROL);
+        if control & SII_READ != 0 {
+            let word = usize::from(self.get16(reg::SII_ADDRESS));
+            let mut data = [0u8; 8];
+            for (i, d) in data.iter_mut().enumerate() {
+                *d = self.sii.get(2 * word + i).copied().unwrap_or(0xFF);
+            }
+            let a = usize::from(reg::SII_DATA);
+            self.mem[a..a + 8].copy_from_slice(&data);
+        }
+        // Not busy, no errors, 8-byte reads; write and reload requests are ignored (the image
+        // is generated from the profile and read-only).
+        self.put16(reg::SII_CONTROL, SII_READ_8);
+    }
+
+    fn latch_receive_times(&mut self, now_ns: u64) {
+        let p = u64::from(self.position);
+        let n = u64::from(self.line_len);
+        let port0 = now_ns + p * HOP_DELAY_NS;
+        let port1 = if p + 1 < n {
+            now_ns + (2 * n - 2 - p) * HOP_DELAY_NS
+        } else {
+            0
+        };
+        let a = usize::from(reg::DC_TIME_PORT0);
+        self.mem[a..a + 4].copy_from_slice(&(port0 as u32).to_le_bytes());
+        self.mem[a + 4..a + 8].copy_from_slice(&(port1 as u32).to_le_bytes());
+        self.mem[a + 8..a + 16].fill(0);
+        self.put_u64(reg::DC_RECEIVE_TIME, port0);
+    }
+
+    fn mailbox_request(&mut self) {
+        let out = self.layout.mailbox_out;
+        let inb = self.layout.mailbox_in;
+        let req_start = usize::from(out.start);
+        let request: Vec<u8> = self.mem[req_start..req_start + usize::from(out.len)].to_vec();
+        let mut response = vec![0u8; usize::from(inb.len)];
+        let mut ctx = CoeContext {
+            drive: &mut self.drive,
+            identity: self.identity,
+            al_state: self.al_state,
+            pdo: &mut self.pdo,
+            counter: &mut self.mailbox_counter,
+        };
+        if coe::serve(&mut ctx, &request, &mut response) {
+            let rs = usize::from(inb.start);
+            self.mem[rs..rs + response.len()].copy_from_slice(&response);
+            self.mem[usize::from(reg::sync_manager(1)) + 5] |= SM_FULL;
+        }
+        // The request is consumed at once: SM0 is empty again.
+        self.mem[usize::from(reg::sync_manager(0)) + 5] &= !SM_FULL;
+    }
+
+    /// True if SyncManager `n` is enabled with exactly `area`'s start and length.
+    fn sm_matches(&self, n: u8, start: u16, len: u16) -> bool {
+        let r = reg::sync_manager(n);
+        self.sm_enabled(n) && self.get16(r) == start && self.get16(r + 2) == len
+    }
+
+    fn al_control(&mut self, control: u8, now_ns: u64) {
+        let _ = now_ns;
+        let ack = control & AL_ERROR_INDICATION != 0;
+        let error_pending = self.mem[usize::from(reg::AL_STATUS)] & AL_ERROR_INDICATION != 0;
+        if error_pending && !ack {
+            // ETG.1000.6 §6.4.1.4: with an error indicated, a request without the
+            // acknowledge bit keeps the state and the error.
+            return;
+        }
+        let Some(target) = AlState::from_bits(control) else {
+            self.set_al_status(self.al_state, Some(al_code::UNKNOWN_STATE));
+            return;
+        };
+        let from = self.al_state;
+        let result = match (from, target) {
+            (_, AlState::Bootstrap) => Err(al_code::INVALID_STATE_CHANGE),
+            (_, AlState::Init) => Ok(()),
+            (AlState::Init, AlState::PreOp) => {
+                let (o, i) = (self.layout.mailbox_out, self.layout.mailbox_in);
+                if self.sm_matches(0, o.start, o.len) && self.sm_matches(1, i.start, i.len) {
+                    Ok(())
+                } else {
+                    Err(al_code::INVALID_MAILBOX_CONFIG)
+                }
+            }
+            (AlState::PreOp | AlState::SafeOp | AlState::Op, AlState::PreOp) => Ok(()),
+            (AlState::PreOp, AlState::SafeOp) => self.check_process_data(),
+            (AlState::SafeOp | AlState::Op, AlState::SafeOp) => Ok(()),
+            (AlState::SafeOp | AlState::Op, AlState::Op) => Ok(()),
+            _ => Err(al_code::INVALID_STATE_CHANGE),
+        };
+        match result {
+            Ok(()) => {
+                if from == AlState::Op && target != AlState::Op {
+                    self.drive.leave_op();
+                }
+                if target == AlState::Op && from != AlState::Op {
+                    self.drive.enter_op();
+                }
+                if target == AlState::Init {
+                    self.pdo =
+                        PdoConfig::new(self.drive.profile().rx_pdo, self.drive.profile().tx_pdo);
+                    self.last_exchange_ns = None;
+                }
+                self.set_al_status(target, None);
+            }
+            Err(code) => self.set_al_status(from, Some(code)),
+        }
+    }
+
+    fn check_process_data(&self) -> Result<(), u16> {
+        let (o, i) = (self.layout.outputs, self.layout.inputs);
+        if !self.pdo.complete() || !self.sm_matches(2, o.start, o.len) {
+            return Err(al_code::INVALID_OUTPUT_CONFIG);
+        }
+        if !self.sm_matches(3, i.start, i.len) {
+            return Err(al_code::INVALID_INPUT_CONFIG);
+        }
+        if self.mem[usize::from(reg::DC_SYNC_ACTIVE)] & 0x03 != 0 {
+            let a = usize::from(reg::DC_SYNC0_CYCLE);
+            let ns = u32::from_le_bytes([
+                self.mem[a],
+                self.mem[a + 1],
+                self.mem[a + 2],
+                self.mem[a + 3],
+            ]);
+            if !super::allows_cycle_ns(self.drive.profile(), ns) {
+                return Err(al_code::INVALID_SYNC_CYCLE);
+            }
+        }
+        Ok(())
+    }
+
+    /// Handles the station's part of a logical datagram at `logical` on `data`: outputs are
+    /// written through the write FMMUs, the drive runs one exchange (as if SYNC0 fell as the
+    /// frame passed, so the images match `SimBus`), then inputs are read through the read FMMUs.
+    pub fn logical(
+        &mut self,
+        command: Command,
+        logical: u32,
+        data: &mut [u8],
+        now_ns: u64,
+    ) -> Access {
+        let mut wrote = false;
+        let mut read = false;
+        let mut fmmus = [(0u32, 0u16, 0u16, 0u8); 8];
+        for (n, f) in fmmus.iter_mut().enumerate() {
+            let r = usize::from(reg::fmmu(n as u8));
+            let m = &self.mem[r..r + 16];
+            let enabled = m[12] & 1 != 0;
+            *f = (
+                u32::from_le_bytes([m[0], m[1], m[2], m[3]]),
+                u16::from_le_bytes([m[4], m[5]]),
+                u16::from_le_bytes([m[8], m[9]]),
+                if enabled { m[11] & 3 } else { 0 },
+            );
+        }
+        let data_len = data.len() as u64;
+        let overlap = |(ls, len, ps, _): (u32, u16, u16, u8)| {
+            let (ds, de) = (u64::from(logical), u64::from(logical) + data_len);
+            let (fs, fe) = (u64::from(ls), u64::from(ls) + u64::from(len));
+            let (s, e) = (ds.max(fs), de.min(fe));
+            (s < e).then(|| {
+                (
+                    (s - ds) as usize,
+                    u64::from(ps) + (s - fs),
+                    (e - s) as usize,
+                )
+            })
+        };
+        if !matches!(self.al_state, AlState::SafeOp | AlState::Op) {
+            return Access::default();
+        }
+        if command.writes() {
+            for f in fmmus.iter().filter(|f| f.3 & 2 != 0) {
+                if let Some((d, p, n)) = overlap(*f) {
+                    let p = p as usize;
+                    if p + n <= MEMORY_LEN {
+                        self.mem[p..p + n].copy_from_slice(&data[d..d + n]);
+                        wrote = true;
+                    }
+                }
+            }
+        }
+        if wrote {
+            self.exchange(now_ns);
+        }
+        if command.reads() {
+            for f in fmmus.iter().filter(|f| f.3 & 1 != 0) {
+                if let Some((d, p, n)) = overlap(*f) {
+                    let p = p as usize;
+                    if p + n <= MEMORY_LEN {
+                        data[d..d + n].copy_from_slice(&self.mem[p..p + n]);
+                        read = true;
+                    }
+                }
+            }
+        }
+        Access {
+            wkc: u16::from(read) + 2 * u16::from(wrote),
+        }
+    }
+
+    /// One drive exchange: RxPDO from SM2, TxPDO to SM3. The SYNC0 cycle time and the local
+    /// time since the previous exchange tell how many cycles passed without a frame.
+    fn exchange(&mut self, now_ns: u64) {
+        let a = usize::from(reg::DC_SYNC0_CYCLE);
+        let cycle = u64::from(u32::from_le_bytes([
+            self.mem[a],
+            self.mem[a + 1],
+            self.mem[a + 2],
+            self.mem[a + 3],
+        ]));
+        let elapsed = match self.last_exchange_ns {
+            Some(last) if cycle > 0 && now_ns > last => {
+                ((now_ns - last + cycle / 2) / cycle).max(1)
+            }
+            _ => 1,
+        };
+        self.last_exchange_ns = Some(now_ns);
+        let (o, i) = (self.layout.outputs, self.layout.inputs);
+        let (os, ol) = (usize::from(o.start), usize::from(o.len));
+        let (is, il) = (usize::from(i.start), usize::from(i.len));
+        let (lo, hi) = self.mem.split_at_mut(is);
+        let rx = &lo[os..os + ol];
+        let tx = &mut hi[..il];
+        // SYNC0 fired at every cycle in between without new outputs: those count as lost
+        // RxPDOs for the drive's communication checks.
+        for _ in 1..elapsed.min(MAX_LOST_REPLAY) {
+            let _ = self.drive.cycle_lost(tx, Cycles(1));
+        }
+        let _ = self.drive.cycle(rx, tx, Cycles(1));
+        self.exchanges += 1;
+    }
+}

@@ -1,0 +1,679 @@
+//! The EtherCAT MainDevice as a [`Bus`]: ethercrab brings the segment up (INIT → PRE-OP, SII,
+//! mailboxes, the PDO assignment by SDO, SAFE-OP, OP); in OP the cyclic exchange is cellrt's
+//! own frame (one LRW over the process image, preallocated, no heap allocation per cycle; see
+//! ARCHITECTURE.md on ethercrab's `tx_rx_dc()`), with the working counter checked every cycle.
+
+use std::future::Future;
+use std::ops::Range;
+use std::pin::pin;
+use std::task::{Context, Poll, Waker};
+use std::time::Duration;
+
+use ethercrab::std::ethercat_now;
+use ethercrab::subdevice_group::{DcConfiguration, HasDc, Op};
+use ethercrab::{
+    DcSync, DefaultLock, MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, SubDeviceGroup,
+    Timeouts,
+};
+
+use super::link::Link;
+use crate::bus::{Bus, BusError, SDO_UNSUPPORTED};
+use crate::cia402::mode::ModeOfOperation;
+use crate::cycles::{CycleTime, Cycles};
+use crate::ethercat::frame::{self, Command, FrameBuilder};
+use crate::ethercat::identity::{ExpectedIdentity, SubDeviceIdentity};
+use crate::ethercat::register::{self as reg, AlState};
+use crate::pdo::objects::MODES_OF_OPERATION;
+use crate::profiles::{DataType, DriveProfile};
+
+/// SubDevices one segment can hold.
+pub const MAX_SUBDEVICES: usize = 16;
+/// Bytes of process image one segment can hold.
+pub const MAX_PDI: usize = 1024;
+/// Frames in flight during bring-up.
+const MAX_FRAMES: usize = 16;
+/// ethercrab's PDU storage element size.
+const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
+/// Bytes of an Ethernet frame buffer (1514 without FCS, rounded up).
+const FRAME_BUF: usize = 1536;
+/// The source MAC of cellrt's own cyclic frames (ethercrab's MainDevice address, so a
+/// segment sees one master).
+const MASTER_MAC: [u8; 6] = [0x10, 0x10, 0x10, 0x10, 0x10, 0x10];
+/// Delay from DC configuration to the first SYNC0 pulse.
+const SYNC0_START_DELAY: Duration = Duration::from_millis(10);
+/// 1C32h:02 SM2 cycle time.
+const SM2_CYCLE_TIME: (u16, u8) = (0x1C32, 2);
+/// 1C12h / 1C13h PDO assignment.
+const RX_ASSIGN: u16 = 0x1C12;
+const TX_ASSIGN: u16 = 0x1C13;
+
+/// One drive of the segment, in line order.
+#[derive(Debug, Clone)]
+pub struct SegmentDrive {
+    /// The axis name (for errors).
+    pub axis: String,
+    /// The drive's profile.
+    pub profile: &'static DriveProfile,
+    /// What its 1018h must show.
+    pub identity: ExpectedIdentity,
+    /// The mode written to 6060h at bring-up where 6060h is not in the RxPDO.
+    pub mode: ModeOfOperation,
+}
+
+/// The segment cellrt expects on the link.
+#[derive(Debug, Clone)]
+pub struct SegmentConfig {
+    /// The cycle time of the cell.
+    pub cycle: CycleTime,
+    /// The drives in line order.
+    pub drives: Vec<SegmentDrive>,
+}
+
+/// A bring-up or shutdown that failed, naming the drive and the step.
+#[derive(Debug, thiserror::Error)]
+pub enum EthercatError {
+    /// An ethercrab operation failed.
+    #[error("EtherCAT {step}: {source}")]
+    Bringup {
+        /// What was being done.
+        step: String,
+        /// ethercrab's error.
+        source: ethercrab::error::Error,
+    },
+    /// The segment does not have the configured number of drives.
+    #[error("EtherCAT segment has {found} SubDevice(s), the cell config names {expected}")]
+    Count {
+        /// Configured.
+        expected: usize,
+        /// Found on the wire.
+        found: usize,
+    },
+    /// A drive's identity does not match its configured model.
+    #[error(
+        "EtherCAT SubDevice {position} (axis '{axis}', configured as {model}): identity vendor \
+         {found_vendor:#010x} product {found_product:#010x} does not match the model (expected vendor \
+         {expected_vendor:#010x}{expected_product})"
+    )]
+    Identity {
+        /// Position in the line.
+        position: usize,
+        /// The axis.
+        axis: String,
+        /// The configured model.
+        model: &'static str,
+        /// 1018h:01 found.
+        found_vendor: u32,
+        /// 1018h:02 found.
+        found_product: u32,
+        /// Required vendor.
+        expected_vendor: u32,
+        /// ", product …" or "".
+        expected_product: String,
+    },
+    /// The cycle time is not one the model allows.
+    #[error("axis '{axis}': {model} does not support a {cycle_us} µs cycle (allowed: {allowed})")]
+    CycleTime {
+        /// The axis.
+        axis: String,
+        /// The model.
+        model: &'static str,
+        /// The cell's cycle.
+        cycle_us: u32,
+        /// The model's cycles.
+        allowed: String,
+    },
+    /// A multi-axis unit (one station, several axes) is not yet served over EtherCAT.
+    #[error("axis '{axis}': {model} is a multi-axis unit; the EtherCAT backend drives one axis per station")]
+    MultiAxis {
+        /// The axis.
+        axis: String,
+        /// The model.
+        model: &'static str,
+    },
+    /// A drive refused the process image, or the image does not fit.
+    #[error("EtherCAT SubDevice {position} (axis '{axis}'): {what}")]
+    ProcessImage {
+        /// Position.
+        position: usize,
+        /// Axis.
+        axis: String,
+        /// What is wrong.
+        what: String,
+    },
+    /// A state change did not complete.
+    #[error("EtherCAT: SubDevice {position} did not reach {state} (AL status {status:#04x}, AL status code {code:#06x})")]
+    State {
+        /// Position.
+        position: usize,
+        /// The requested state.
+        state: &'static str,
+        /// AL status read.
+        status: u8,
+        /// AL status code read.
+        code: u16,
+    },
+    /// The link failed.
+    #[error("EtherCAT link: {0}")]
+    Link(#[from] super::link::LinkError),
+}
+
+fn step<T>(
+    what: impl Into<String>,
+    r: Result<T, ethercrab::error::Error>,
+) -> Result<T, EthercatError> {
+    r.map_err(|source| EthercatError::Bringup {
+        step: what.into(),
+        source,
+    })
+}
+
+/// Drives an ethercrab future to completion, passing its frames over `link`.
+fn pump<F: Future>(
+    fut: F,
+    tx: &mut PduTx<'static>,
+    rx: &mut PduRx<'static>,
+    link: &mut dyn Link,
+    buf: &mut [u8],
+) -> F::Output {
+    let mut fut = pin!(fut);
+    let mut cx = Context::from_waker(Waker::noop());
+    loop {
+        if let Poll::Ready(v) = fut.as_mut().poll(&mut cx) {
+            return v;
+        }
+        let mut sent = false;
+        while let Some(frame) = tx.next_sendable_frame() {
+            sent = true;
+            let mut len = 0;
+            let ok = frame.send_blocking(|data| {
+                len = data.len().min(buf.len());
+                buf[..len].copy_from_slice(&data[..len]);
+                Ok(data.len())
+            });
+            if ok.is_ok() {
+                if let Ok(n) = link.round_trip(buf, len) {
+                    let _ = rx.receive_frame(&buf[..n]);
+                }
+            }
+        }
+        if !sent {
+            std::thread::sleep(Duration::from_micros(20));
+        }
+    }
+}
+
+/// One axis' place in the process image and its images.
+#[derive(Debug)]
+struct AxisImage {
+    outputs: Range<usize>,
+    inputs: Range<usize>,
+    rx: Vec<u8>,
+    tx: Vec<u8>,
+}
+
+/// Counters of the cyclic exchange.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ExchangeCounters {
+    /// Cyclic frames sent.
+    pub frames: u64,
+    /// Frames that did not return.
+    pub lost: u64,
+    /// Frames that returned with a wrong working counter.
+    pub wkc_errors: u64,
+}
+
+/// An EtherCAT segment in OP as a [`Bus`].
+pub struct EthercatBus {
+    link: Box<dyn Link>,
+    tx: PduTx<'static>,
+    rx: PduRx<'static>,
+    maindevice: MainDevice<'static>,
+    group: SubDeviceGroup<MAX_SUBDEVICES, MAX_PDI, DefaultLock, Op, HasDc>,
+    config: SegmentConfig,
+    axes: Vec<AxisImage>,
+    pdi: Vec<u8>,
+    frame: Vec<u8>,
+    expected_wkc: u16,
+    counters: ExchangeCounters,
+    index: u8,
+}
+
+impl std::fmt::Debug for EthercatBus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EthercatBus")
+            .field("axes", &self.axes.len())
+            .field("pdi", &self.pdi.len())
+            .field("counters", &self.counters)
+            .finish_non_exhaustive()
+    }
+}
+
+impl EthercatBus {
+    /// Checks `config` against the models, then brings the segment on `link` to OP.
+    pub fn bring_up(config: SegmentConfig, mut link: Box<dyn Link>) -> Result<Self, EthercatError> {
+        for d in &config.drives {
+            if d.profile.axes_per_unit > 1 {
+                return Err(EthercatError::MultiAxis {
+                    axis: d.axis.clone(),
+                    model: d.profile.model.as_str(),
+                });
+            }
+            if !d.profile.supports_cycle_time(config.cycle) {
+                return Err(EthercatError::CycleTime {
+                    axis: d.axis.clone(),
+                    model: d.profile.model.as_str(),
+                    cycle_us: config.cycle.as_micros(),
+                    allowed: d.profile.cycle_times_text(),
+                });
+            }
+        }
+        let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
+            Box::leak(Box::new(PduStorage::new()));
+        let (mut tx, mut rx, pdu_loop) =
+            storage.try_split().map_err(|()| EthercatError::Bringup {
+                step: "PDU storage".into(),
+                source: ethercrab::error::Error::Internal,
+            })?;
+        let maindevice = MainDevice::new(
+            pdu_loop,
+            Timeouts {
+                wait_loop_delay: Duration::from_micros(100),
+                mailbox_response: Duration::from_millis(1000),
+                ..Timeouts::default()
+            },
+            MainDeviceConfig {
+                dc_static_sync_iterations: 100,
+                ..MainDeviceConfig::default()
+            },
+        );
+        let mut buf = vec![0u8; FRAME_BUF];
+        let link_ref: &mut dyn Link = link.as_mut();
+        let group = step(
+            "bring-up to PRE-OP",
+            pump(
+                maindevice.init_single_group::<MAX_SUBDEVICES, MAX_PDI>(ethercat_now),
+                &mut tx,
+                &mut rx,
+                link_ref,
+                &mut buf,
+            ),
+        )?;
+        let found = group.len();
+        if found != config.drives.len() {
+            return Err(EthercatError::Count {
+                expected: config.drives.len(),
+                found,
+            });
+        }
+        for (position, (sd, d)) in group.iter(&maindevice).zip(&config.drives).enumerate() {
+            let id = sd.identity();
+            let found = SubDeviceIdentity {
+                vendor_id: id.vendor_id,
+                product_code: id.product_id,
+                revision: id.revision,
+                serial: id.serial,
+            };
+            if !d.identity.matches(&found) {
+                return Err(EthercatError::Identity {
+                    position,
+                    axis: d.axis.clone(),
+                    model: d.profile.model.as_str(),
+                    found_vendor: found.vendor_id,
+                    found_product: found.product_code,
+                    expected_vendor: d.identity.vendor_id,
+                    expected_product: d
+                        .identity
+                        .product_code
+                        .map(|p| format!(", product {p:#010x}"))
+                        .unwrap_or_default(),
+                });
+            }
+        }
+        for (position, d) in config.drives.iter().enumerate() {
+            let sd = step("SubDevice lookup", group.subdevice(&maindevice, position))?;
+            let p = d.profile;
+            let axis = &d.axis;
+            let configure = async {
+                // PDO assignment and mapping, each count written last (mr-j3-t04.md §3.3,
+                // mr-j5-g-n1.md §5.1).
+                for (assign, map) in [(RX_ASSIGN, &p.rx_pdo), (TX_ASSIGN, &p.tx_pdo)] {
+                    sd.sdo_write(assign, 0, 0u8).await?;
+                    sd.sdo_write(map.index, 0, 0u8).await?;
+                    for (i, e) in map.entries.iter().enumerate() {
+                        sd.sdo_write(map.index, (i + 1) as u8, e.mapping_word())
+                            .await?;
+                    }
+                    sd.sdo_write(map.index, 0, map.entries.len() as u8).await?;
+                    sd.sdo_write(assign, 1, map.index).await?;
+                    sd.sdo_write(assign, 0, 1u8).await?;
+                }
+                if !p.rx_pdo.maps(MODES_OF_OPERATION) {
+                    sd.sdo_write(MODES_OF_OPERATION, 0, d.mode.as_i8()).await?;
+                }
+                if p.object(SM2_CYCLE_TIME.0, SM2_CYCLE_TIME.1).is_some() {
+                    sd.sdo_write(
+                        SM2_CYCLE_TIME.0,
+                        SM2_CYCLE_TIME.1,
+                        config.cycle.as_nanos() as u32,
+                    )
+                    .await?;
+                }
+                Ok::<(), ethercrab::error::Error>(())
+            };
+            step(
+                format!("PDO configuration of axis '{axis}' (SubDevice {position})"),
+                pump(configure, &mut tx, &mut rx, link_ref, &mut buf),
+            )?;
+        }
+        // Distributed clocks: SYNC0 at the cell's cycle time on every drive.
+        let mut group = group;
+        for mut sd in group.iter_mut(&maindevice) {
+            sd.set_dc_sync(DcSync::Sync0);
+        }
+        let cycle = config.cycle.as_duration();
+        let up = async {
+            let g = group.into_pre_op_pdi(&maindevice).await?;
+            let g = g
+                .configure_dc_sync(
+                    &maindevice,
+                    DcConfiguration {
+                        start_delay: SYNC0_START_DELAY,
+                        sync0_period: cycle,
+                        sync0_shift: Duration::ZERO,
+                    },
+                )
+                .await?;
+            g.into_safe_op(&maindevice)
+                .await?
+                .into_op(&maindevice)
+                .await
+        };
+        let group = step(
+            "PRE-OP → SAFE-OP → OP",
+            pump(up, &mut tx, &mut rx, link_ref, &mut buf),
+        )?;
+
+        // Where each drive's images sit in the logical process image: read back its FMMUs.
+        let mut axes = Vec::with_capacity(config.drives.len());
+        let mut pdi_len = 0usize;
+        let mut expected_wkc = 0u16;
+        for (position, d) in config.drives.iter().enumerate() {
+            let sd = step("SubDevice lookup", group.subdevice(&maindevice, position))?;
+            let mut outputs = 0..0;
+            let mut inputs = 0..0;
+            for n in 0..4u8 {
+                let r = reg::fmmu(n);
+                let read = async {
+                    let start: u32 = sd.register_read(r).await?;
+                    let len: u16 = sd.register_read(r + 4).await?;
+                    let kind: u8 = sd.register_read(r + 11).await?;
+                    let enable: u8 = sd.register_read(r + 12).await?;
+                    Ok::<_, ethercrab::error::Error>((
+                        start as usize,
+                        usize::from(len),
+                        kind,
+                        enable,
+                    ))
+                };
+                let (start, len, kind, enable) = step(
+                    "FMMU read-back",
+                    pump(read, &mut tx, &mut rx, link_ref, &mut buf),
+                )?;
+                if enable & 1 == 0 {
+                    continue;
+                }
+                match kind & 3 {
+                    2 => outputs = start..start + len,
+                    1 => inputs = start..start + len,
+                    _ => {}
+                }
+            }
+            let (rx_len, tx_len) = (p_len(&d.profile.rx_pdo), p_len(&d.profile.tx_pdo));
+            if outputs.len() != rx_len || inputs.len() != tx_len {
+                return Err(EthercatError::ProcessImage {
+                    position,
+                    axis: d.axis.clone(),
+                    what: format!(
+                        "process image of {} output and {} input bytes, the {} maps need {rx_len} and {tx_len}",
+                        outputs.len(),
+                        inputs.len(),
+                        d.profile.model.as_str()
+                    ),
+                });
+            }
+            pdi_len = pdi_len.max(outputs.end).max(inputs.end);
+            expected_wkc += 3;
+            axes.push(AxisImage {
+                outputs,
+                inputs,
+                rx: vec![0; rx_len],
+                tx: vec![0; tx_len],
+            });
+        }
+        Ok(EthercatBus {
+            link,
+            tx,
+            rx,
+            maindevice,
+            group,
+            config,
+            axes,
+            pdi: vec![0; pdi_len],
+            frame: buf,
+            expected_wkc,
+            counters: ExchangeCounters::default(),
+            index: 0,
+        })
+    }
+
+    /// Counters of the cyclic exchange.
+    pub fn counters(&self) -> ExchangeCounters {
+        self.counters
+    }
+
+    /// The link (tests and fault injection reach the emulated segment through it).
+    pub fn link_mut(&mut self) -> &mut dyn Link {
+        self.link.as_mut()
+    }
+
+    /// The clean shutdown's bus part (after the master has sent Shutdown by controlword):
+    /// every SubDevice to PRE-OP, so that none raises its leaving-OP alarm.
+    pub fn leave_op(&mut self) -> Result<(), EthercatError> {
+        self.request_state(AlState::PreOp)
+    }
+
+    fn request_state(&mut self, state: AlState) -> Result<(), EthercatError> {
+        let mut len = {
+            let mut b = FrameBuilder::new(&mut self.frame, MASTER_MAC);
+            b.push(
+                Command::Bwr,
+                0,
+                u32::from(reg::AL_CONTROL) << 16,
+                &[state as u8, 0],
+            );
+            b.finish()
+        };
+        len = self.link.round_trip(&mut self.frame, len)?;
+        let _ = len;
+        for position in 0..self.axes.len() {
+            let adp = (position as u16).wrapping_neg();
+            let mut b = FrameBuilder::new(&mut self.frame, MASTER_MAC);
+            let span = b
+                .push(
+                    Command::Aprd,
+                    1,
+                    (u32::from(reg::AL_STATUS) << 16) | u32::from(adp),
+                    &[0; 6],
+                )
+                .expect("frame buffer holds one datagram");
+            let n = b.finish();
+            self.link.round_trip(&mut self.frame, n)?;
+            let d = &self.frame[span.data_offset..span.data_offset + 6];
+            let status = d[0];
+            let code = u16::from_le_bytes([d[4], d[5]]);
+            if status & 0x0F != state as u8 || status & reg::AL_ERROR_INDICATION != 0 {
+                return Err(EthercatError::State {
+                    position,
+                    state: state.as_str(),
+                    status,
+                    code,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn sdo_read_value(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
+        let d = self.config.drives.get(axis).ok_or(SDO_UNSUPPORTED)?;
+        let data_type = object_type(d.profile, index, sub);
+        let sd = self
+            .group
+            .subdevice(&self.maindevice, axis)
+            .map_err(|_| SDO_UNSUPPORTED)?;
+        let read = async {
+            Ok::<i64, ethercrab::error::Error>(match data_type {
+                DataType::I8 => i64::from(sd.sdo_read::<i8>(index, sub).await?),
+                DataType::U8 | DataType::Bool => i64::from(sd.sdo_read::<u8>(index, sub).await?),
+                DataType::I16 => i64::from(sd.sdo_read::<i16>(index, sub).await?),
+                DataType::U16 => i64::from(sd.sdo_read::<u16>(index, sub).await?),
+                DataType::U32 => i64::from(sd.sdo_read::<u32>(index, sub).await?),
+                DataType::I32 | DataType::Unstated => {
+                    i64::from(sd.sdo_read::<i32>(index, sub).await?)
+                }
+            })
+        };
+        pump(
+            read,
+            &mut self.tx,
+            &mut self.rx,
+            self.link.as_mut(),
+            &mut self.frame,
+        )
+        .map_err(abort_code)
+    }
+}
+
+/// The data type of `index:sub`: the communication objects by CiA 301 / ETG.1000.6, the
+/// mapped objects by their mapping size, the rest from the profile (INTEGER32 where unknown).
+fn object_type(profile: &DriveProfile, index: u16, sub: u8) -> DataType {
+    let mapped_bits = profile
+        .rx_pdo
+        .entries
+        .iter()
+        .chain(profile.tx_pdo.entries)
+        .find(|e| !e.is_padding() && e.index == index && e.sub == sub)
+        .map(|e| e.bits);
+    match (index, sub) {
+        (0x1018 | 0x1C12 | 0x1C13 | 0x1600..=0x17FF | 0x1A00..=0x1BFF, 0) => DataType::U8,
+        (0x1C12 | 0x1C13, _) => DataType::U16,
+        (0x1000 | 0x1018 | 0x1600..=0x17FF | 0x1A00..=0x1BFF, _) => DataType::U32,
+        _ => match (profile.object(index, sub), mapped_bits) {
+            (Some(o), _) if o.data_type != DataType::Unstated => o.data_type,
+            (_, Some(8)) => DataType::I8,
+            (_, Some(16)) => DataType::I16,
+            _ => DataType::I32,
+        },
+    }
+}
+
+fn p_len(map: &crate::pdo::PdoMap) -> usize {
+    map.byte_len()
+}
+
+/// The SDO abort code of an ethercrab error (0800 0000h general error for others).
+fn abort_code(e: ethercrab::error::Error) -> u32 {
+    match e {
+        ethercrab::error::Error::Mailbox(ethercrab::error::MailboxError::Aborted {
+            code, ..
+        }) => u32::from(code),
+        _ => 0x0800_0000,
+    }
+}
+
+impl Bus for EthercatBus {
+    fn axis_count(&self) -> usize {
+        self.axes.len()
+    }
+
+    fn rx_image_mut(&mut self, axis: usize) -> &mut [u8] {
+        self.axes
+            .get_mut(axis)
+            .map_or(&mut [], |a| a.rx.as_mut_slice())
+    }
+
+    fn tx_image(&self, axis: usize) -> &[u8] {
+        self.axes.get(axis).map_or(&[], |a| a.tx.as_slice())
+    }
+
+    fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {
+        self.link
+            .advance(u64::from(elapsed.0) * self.config.cycle.as_nanos());
+        for a in &self.axes {
+            self.pdi[a.outputs.clone()].copy_from_slice(&a.rx);
+        }
+        self.index = self.index.wrapping_add(1);
+        let (span, len) = {
+            let mut b = FrameBuilder::new(&mut self.frame, MASTER_MAC);
+            let Some(span) = b.push(Command::Lrw, self.index, 0, &self.pdi) else {
+                return Err(BusError::FrameTooLarge {
+                    bytes: self.pdi.len(),
+                });
+            };
+            (span, b.finish())
+        };
+        self.counters.frames += 1;
+        if self.link.round_trip(&mut self.frame, len).is_err() {
+            self.counters.lost += 1;
+            return Err(BusError::FrameLost);
+        }
+        let wkc = frame::wkc(&self.frame, &span);
+        if wkc != self.expected_wkc {
+            self.counters.wkc_errors += 1;
+            return Err(BusError::WorkingCounter {
+                expected: self.expected_wkc,
+                found: wkc,
+            });
+        }
+        let data = &self.frame[span.data_offset..span.data_offset + self.pdi.len()];
+        for a in &mut self.axes {
+            a.tx.copy_from_slice(&data[a.inputs.clone()]);
+        }
+        Ok(())
+    }
+
+    fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
+        self.sdo_read_value(axis, index, sub)
+    }
+
+    fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
+        let sd = self
+            .group
+            .subdevice(&self.maindevice, axis)
+            .map_err(|_| SDO_UNSUPPORTED)?;
+        let write = async {
+            match *data {
+                [a] => sd.sdo_write(index, sub, a).await,
+                [a, b] => sd.sdo_write(index, sub, u16::from_le_bytes([a, b])).await,
+                [a, b, c, d] => {
+                    sd.sdo_write(index, sub, u32::from_le_bytes([a, b, c, d]))
+                        .await
+                }
+                _ => Err(ethercrab::error::Error::Internal),
+            }
+        };
+        pump(
+            write,
+            &mut self.tx,
+            &mut self.rx,
+            self.link.as_mut(),
+            &mut self.frame,
+        )
+        .map_err(abort_code)
+    }
+
+    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
+        self.sdo_read_value(axis, crate::pdo::objects::ERROR_CODE, 0)
+            .ok()
+            .map(|v| v as u16)
+    }
+}

@@ -1,0 +1,99 @@
+//! The link a MainDevice sends frames over: one frame out, its return in. The in-process link
+//! passes frames through an emulated [`Segment`] on a virtual clock; the raw-socket link (on a
+//! network interface) is in `raw_socket`.
+
+use crate::ethercat::emulator::Segment;
+
+/// A frame round trip that did not complete.
+#[derive(Debug, thiserror::Error)]
+pub enum LinkError {
+    /// The frame did not come back in time (lost, or no segment on the wire).
+    #[error("no frame returned within {0} µs")]
+    Timeout(u64),
+    /// The socket failed.
+    #[error("link I/O: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+/// Sends a frame and receives its return.
+pub trait Link: Send {
+    /// Sends `buf[..len]` and writes the returned frame into `buf`; returns its length.
+    fn round_trip(&mut self, buf: &mut [u8], len: usize) -> Result<usize, LinkError>;
+
+    /// The cyclic exchange moved on by `elapsed_ns` (a virtual clock advances; a real one
+    /// ignores it).
+    fn advance(&mut self, elapsed_ns: u64) {
+        let _ = elapsed_ns;
+    }
+
+    /// Fault injection: the next `n` frames are lost on the wire. False where the link cannot
+    /// inject (a real network).
+    fn drop_frames(&mut self, n: u32) -> bool {
+        let _ = n;
+        false
+    }
+
+    /// The emulated segment behind the link, where there is one (tests and fault injection).
+    fn segment_mut(&mut self) -> Option<&mut Segment> {
+        None
+    }
+}
+
+/// Frame loss injected on an in-process link: the next `n` frames do not return.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DropFrames(pub u32);
+
+/// An emulated segment in this process: no network, no root; deterministic for a given
+/// configuration because the ESC clocks run on the virtual time the cyclic exchange advances.
+#[derive(Debug)]
+pub struct InProcessLink {
+    segment: Segment,
+    now_ns: u64,
+    drop: DropFrames,
+}
+
+/// The virtual clock's start: 1 s after the EtherCAT epoch, so DC times are non-zero.
+const VIRTUAL_EPOCH_NS: u64 = 1_000_000_000;
+
+impl InProcessLink {
+    /// A link to `segment`.
+    pub fn new(segment: Segment) -> Self {
+        InProcessLink {
+            segment,
+            now_ns: VIRTUAL_EPOCH_NS,
+            drop: DropFrames::default(),
+        }
+    }
+
+    /// The segment.
+    pub fn segment(&self) -> &Segment {
+        &self.segment
+    }
+}
+
+impl Link for InProcessLink {
+    fn round_trip(&mut self, buf: &mut [u8], len: usize) -> Result<usize, LinkError> {
+        if self.drop.0 > 0 {
+            self.drop.0 -= 1;
+            return Err(LinkError::Timeout(0));
+        }
+        // A malformed frame is dropped by the segment, as on a wire.
+        match self.segment.process(&mut buf[..len], self.now_ns) {
+            Ok(()) => Ok(len),
+            Err(_) => Err(LinkError::Timeout(0)),
+        }
+    }
+
+    fn advance(&mut self, elapsed_ns: u64) {
+        self.now_ns += elapsed_ns;
+    }
+
+    fn drop_frames(&mut self, n: u32) -> bool {
+        self.drop = DropFrames(n);
+        true
+    }
+
+    fn segment_mut(&mut self) -> Option<&mut Segment> {
+        Some(&mut self.segment)
+    }
+}

@@ -1,0 +1,7 @@
+//! The EtherCAT MainDevice side: links (in-process, raw socket) and the bus.
+
+pub mod bus;
+pub mod link;
+
+pub use bus::{EthercatBus, EthercatError, SegmentConfig, SegmentDrive};
+pub use link::{InProcessLink, Link, LinkError};

@@ -1,0 +1,137 @@
+//! ESC register addresses and the values cellrt reads or the emulator serves (ETG.1000.4
+//! §6, Beckhoff ESC datasheet section II). One definition, used by the emulator and the master.
+
+/// 0000h Type.
+pub const TYPE: u16 = 0x0000;
+/// 0004h FMMUs supported.
+pub const FMMU_COUNT: u16 = 0x0004;
+/// 0005h SyncManagers supported.
+pub const SM_COUNT: u16 = 0x0005;
+/// 0006h Process RAM size in KiB.
+pub const RAM_SIZE: u16 = 0x0006;
+/// 0007h Port descriptor.
+pub const PORT_DESCRIPTOR: u16 = 0x0007;
+/// 0008h ESC features supported.
+pub const SUPPORT_FLAGS: u16 = 0x0008;
+/// 0010h Configured station address.
+pub const STATION_ADDRESS: u16 = 0x0010;
+/// 0012h Configured station alias.
+pub const STATION_ALIAS: u16 = 0x0012;
+/// 0110h DL status.
+pub const DL_STATUS: u16 = 0x0110;
+/// 0120h AL control.
+pub const AL_CONTROL: u16 = 0x0120;
+/// 0130h AL status.
+pub const AL_STATUS: u16 = 0x0130;
+/// 0134h AL status code.
+pub const AL_STATUS_CODE: u16 = 0x0134;
+/// 0400h Watchdog divider.
+pub const WATCHDOG_DIVIDER: u16 = 0x0400;
+/// 0420h SyncManager watchdog time.
+pub const SM_WATCHDOG: u16 = 0x0420;
+/// 0500h SII EEPROM configuration.
+pub const SII_CONFIG: u16 = 0x0500;
+/// 0502h SII EEPROM control/status.
+pub const SII_CONTROL: u16 = 0x0502;
+/// 0504h SII EEPROM address (words).
+pub const SII_ADDRESS: u16 = 0x0504;
+/// 0508h SII EEPROM data.
+pub const SII_DATA: u16 = 0x0508;
+/// 0600h FMMU 0; 16 bytes each.
+pub const FMMU_BASE: u16 = 0x0600;
+/// Bytes of one FMMU.
+pub const FMMU_LEN: u16 = 16;
+/// 0800h SyncManager 0; 8 bytes each.
+pub const SM_BASE: u16 = 0x0800;
+/// Bytes of one SyncManager.
+pub const SM_LEN: u16 = 8;
+/// 0900h Receive time port 0 (a write latches the port receive times).
+pub const DC_TIME_PORT0: u16 = 0x0900;
+/// 0910h System time.
+pub const DC_SYSTEM_TIME: u16 = 0x0910;
+/// 0918h Receive time processing unit.
+pub const DC_RECEIVE_TIME: u16 = 0x0918;
+/// 0920h System time offset.
+pub const DC_SYSTEM_TIME_OFFSET: u16 = 0x0920;
+/// 0928h System time delay.
+pub const DC_SYSTEM_TIME_DELAY: u16 = 0x0928;
+/// 0981h Sync activation.
+pub const DC_SYNC_ACTIVE: u16 = 0x0981;
+/// 0990h Start time of SYNC0.
+pub const DC_SYNC_START_TIME: u16 = 0x0990;
+/// 09A0h SYNC0 cycle time (ns).
+pub const DC_SYNC0_CYCLE: u16 = 0x09A0;
+/// The first byte of process RAM.
+pub const PROCESS_RAM: u16 = 0x1000;
+
+/// The register of FMMU `n`.
+pub const fn fmmu(n: u8) -> u16 {
+    FMMU_BASE + FMMU_LEN * n as u16
+}
+
+/// The register of SyncManager `n`.
+pub const fn sync_manager(n: u8) -> u16 {
+    SM_BASE + SM_LEN * n as u16
+}
+
+/// The AL states (AL control/status bits 0–3, ETG.1000.6 §6.4.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum AlState {
+    /// INIT.
+    Init = 1,
+    /// PRE-OP: mailbox.
+    PreOp = 2,
+    /// BOOT: firmware update.
+    Bootstrap = 3,
+    /// SAFE-OP: inputs valid, outputs safe.
+    SafeOp = 4,
+    /// OP.
+    Op = 8,
+}
+
+impl AlState {
+    /// The state of the low nibble of AL control/status, `None` for a code that is no state.
+    pub const fn from_bits(bits: u8) -> Option<AlState> {
+        Some(match bits & 0x0F {
+            1 => AlState::Init,
+            2 => AlState::PreOp,
+            3 => AlState::Bootstrap,
+            4 => AlState::SafeOp,
+            8 => AlState::Op,
+            _ => return None,
+        })
+    }
+
+    /// The ESM name as printed in the manuals.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            AlState::Init => "INIT",
+            AlState::PreOp => "PRE-OP",
+            AlState::Bootstrap => "BOOT",
+            AlState::SafeOp => "SAFE-OP",
+            AlState::Op => "OP",
+        }
+    }
+}
+
+/// AL status bit 4: an error is indicated, the state is the one before the refused request.
+pub const AL_ERROR_INDICATION: u8 = 0x10;
+
+/// AL status codes the emulator raises (ETG.1000.6 Table 11, ETG.1020 §14).
+pub mod al_code {
+    /// 0011h Invalid requested state change.
+    pub const INVALID_STATE_CHANGE: u16 = 0x0011;
+    /// 0012h Unknown requested state.
+    pub const UNKNOWN_STATE: u16 = 0x0012;
+    /// 0016h Invalid mailbox configuration.
+    pub const INVALID_MAILBOX_CONFIG: u16 = 0x0016;
+    /// 001Bh Sync manager watchdog.
+    pub const SM_WATCHDOG: u16 = 0x001B;
+    /// 001Dh Invalid output configuration.
+    pub const INVALID_OUTPUT_CONFIG: u16 = 0x001D;
+    /// 001Eh Invalid input configuration.
+    pub const INVALID_INPUT_CONFIG: u16 = 0x001E;
+    /// 0035h Invalid sync cycle time.
+    pub const INVALID_SYNC_CYCLE: u16 = 0x0035;
+}

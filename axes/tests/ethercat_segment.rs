@@ -1,0 +1,267 @@
+//! The EtherCAT backend against the in-process SubDevice emulator: bring-up of a segment of
+//! each EtherCAT model to OP through ethercrab, PDO layouts read back by SDO, the cyclic
+//! exchange, identity and cycle-time refusals, and the clean and dirty shutdowns.
+
+use cellrt_axes::ethercat::emulator::Segment;
+use cellrt_axes::ethercat::identity::ExpectedIdentity;
+use cellrt_axes::ethercat::master::{
+    EthercatBus, EthercatError, InProcessLink, SegmentConfig, SegmentDrive,
+};
+use cellrt_axes::ethercat::register::AlState;
+use cellrt_axes::pdo::{PdoLayout, RxPdo};
+use cellrt_axes::{
+    profile, Bus, Controlword, CycleTime, Cycles, DriveModel, FsaState, ModeOfOperation, SimDrive,
+    SimDriveParams,
+};
+
+const MODELS: [DriveModel; 4] = [
+    DriveModel::MrJ3T04,
+    DriveModel::MrJ4TM,
+    DriveModel::MrJetGN1,
+    DriveModel::MrJ5GN1,
+];
+
+fn segment(models: &[DriveModel], cycle: CycleTime) -> Segment {
+    Segment::new(
+        models
+            .iter()
+            .map(|&m| SimDrive::new(profile(m), SimDriveParams::default(), cycle))
+            .collect(),
+    )
+}
+
+fn config(models: &[DriveModel], cycle: CycleTime) -> SegmentConfig {
+    SegmentConfig {
+        cycle,
+        drives: models
+            .iter()
+            .enumerate()
+            .map(|(i, &m)| SegmentDrive {
+                axis: format!("a{i}"),
+                profile: profile(m),
+                identity: ExpectedIdentity::of_profile(profile(m)),
+                mode: ModeOfOperation::CyclicSyncPosition,
+            })
+            .collect(),
+    }
+}
+
+fn bring_up(models: &[DriveModel]) -> EthercatBus {
+    let cycle = CycleTime::from_micros(1000).unwrap();
+    let link = InProcessLink::new(segment(models, cycle));
+    EthercatBus::bring_up(config(models, cycle), Box::new(link)).expect("bring-up")
+}
+
+fn stations(bus: &mut EthercatBus) -> &Segment {
+    bus.link_mut()
+        .segment_mut()
+        .map(|s| &*s)
+        .expect("in-process link")
+}
+
+#[test]
+fn a_segment_of_each_ethercat_model_comes_up_to_op() {
+    let mut bus = bring_up(&MODELS);
+    assert_eq!(bus.axis_count(), 4);
+    for (i, st) in stations(&mut bus).stations().iter().enumerate() {
+        assert_eq!(st.al_state(), AlState::Op, "station {i}");
+        assert_eq!(st.al_status_code(), 0, "station {i}");
+        assert_eq!(st.station_address(), 0x1000 + i as u16);
+    }
+    for (axis, m) in MODELS.iter().enumerate() {
+        let p = profile(*m);
+        assert_eq!(bus.rx_image_mut(axis).len(), p.rx_pdo.byte_len());
+        assert_eq!(bus.tx_image(axis).len(), p.tx_pdo.byte_len());
+    }
+}
+
+#[test]
+fn pdo_layouts_read_back_by_sdo_equal_the_profiles() {
+    let mut bus = bring_up(&MODELS);
+    for (axis, m) in MODELS.iter().enumerate() {
+        let p = profile(*m);
+        for map in [&p.rx_pdo, &p.tx_pdo] {
+            let n = bus.sdo_upload(axis, map.index, 0).unwrap();
+            assert_eq!(n as usize, map.entries.len(), "{m:?} {:#06x}:00", map.index);
+            for (i, e) in map.entries.iter().enumerate() {
+                let w = bus.sdo_upload(axis, map.index, i as u8 + 1).unwrap() as u32;
+                assert_eq!(w, e.mapping_word(), "{m:?} {:#06x}:{:02}", map.index, i + 1);
+            }
+        }
+        assert_eq!(
+            bus.sdo_upload(axis, 0x1C12, 1).unwrap() as u16,
+            p.rx_pdo.index
+        );
+        assert_eq!(
+            bus.sdo_upload(axis, 0x1C13, 1).unwrap() as u16,
+            p.tx_pdo.index
+        );
+    }
+}
+
+/// Runs `cycles` exchanges commanding `cw` to every axis (holding position, counter + 1 each
+/// cycle); returns the FSA state of each axis after the last one.
+fn run(
+    bus: &mut EthercatBus,
+    models: &[DriveModel],
+    cycles: u32,
+    cw: Controlword,
+    counter: &mut u8,
+) -> Vec<Option<FsaState>> {
+    let layouts: Vec<(PdoLayout, PdoLayout)> = models
+        .iter()
+        .map(|m| {
+            (
+                PdoLayout::new(&profile(*m).rx_pdo),
+                PdoLayout::new(&profile(*m).tx_pdo),
+            )
+        })
+        .collect();
+    for _ in 0..cycles {
+        *counter = counter.wrapping_add(1);
+        for (axis, (rxl, txl)) in layouts.iter().enumerate() {
+            let tx = txl.decode_tx(bus.tx_image(axis)).unwrap();
+            let rx = RxPdo {
+                controlword: cw,
+                mode: ModeOfOperation::CyclicSyncPosition.as_i8(),
+                target_position: tx.position_actual,
+                counter: *counter,
+                ..RxPdo::default()
+            };
+            rxl.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+        }
+        bus.exchange(Cycles(1)).unwrap();
+    }
+    layouts
+        .iter()
+        .enumerate()
+        .map(|(axis, (_, txl))| {
+            txl.decode_tx(bus.tx_image(axis))
+                .unwrap()
+                .statusword
+                .state()
+        })
+        .collect()
+}
+
+fn enable(bus: &mut EthercatBus, models: &[DriveModel], counter: &mut u8) -> Vec<Option<FsaState>> {
+    run(bus, models, 50, Controlword::SHUTDOWN, counter);
+    run(bus, models, 50, Controlword::SWITCH_ON, counter);
+    run(bus, models, 300, Controlword::ENABLE_OPERATION, counter)
+}
+
+#[test]
+fn the_cyclic_exchange_enables_every_drive_through_the_emulated_segment() {
+    let mut bus = bring_up(&MODELS);
+    let mut counter = 0;
+    let states = enable(&mut bus, &MODELS, &mut counter);
+    assert_eq!(states, vec![Some(FsaState::OperationEnabled); 4]);
+    assert_eq!(bus.counters().wkc_errors, 0);
+    assert_eq!(bus.counters().frames, 400);
+}
+
+#[test]
+fn clean_shutdown_leaves_no_alarm_and_a_dirty_one_raises_each_models_leaving_op_alarm() {
+    let mut bus = bring_up(&MODELS);
+    let mut counter = 0;
+    enable(&mut bus, &MODELS, &mut counter);
+    // Clean: Shutdown by controlword (Ready to switch on), then PRE-OP.
+    let states = run(&mut bus, &MODELS, 20, Controlword::SHUTDOWN, &mut counter);
+    assert_eq!(states, vec![Some(FsaState::ReadyToSwitchOn); 4]);
+    bus.leave_op().expect("every SubDevice in PRE-OP");
+    for st in stations(&mut bus).stations() {
+        assert_eq!(st.al_state(), AlState::PreOp);
+        assert_eq!(st.drive().alarm(), None, "{}", st.drive().profile().name);
+    }
+
+    // Dirty: leaving OP while Operation enabled.
+    let mut bus = bring_up(&MODELS);
+    enable(&mut bus, &MODELS, &mut counter);
+    bus.leave_op().expect("PRE-OP");
+    for st in stations(&mut bus).stations() {
+        let p = st.drive().profile();
+        assert_eq!(st.drive().alarm(), Some(p.leave_op_alarm), "{}", p.name);
+    }
+}
+
+#[test]
+fn a_drive_whose_identity_is_not_its_configured_model_is_refused_by_name() {
+    let cycle = CycleTime::from_micros(1000).unwrap();
+    // The wire has an MR-J4-TM where the config says MR-J3-T04.
+    let link = InProcessLink::new(segment(&[DriveModel::MrJ5GN1, DriveModel::MrJ4TM], cycle));
+    let e = EthercatBus::bring_up(
+        config(&[DriveModel::MrJ5GN1, DriveModel::MrJ3T04], cycle),
+        Box::new(link),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, EthercatError::Identity { position: 1, .. }),
+        "{e}"
+    );
+    let text = e.to_string();
+    assert!(
+        text.contains("axis 'a1'") && text.contains("mr-j3-t04") && text.contains("0x00000201"),
+        "{text}"
+    );
+
+    let link = InProcessLink::new(segment(&[DriveModel::MrJ5GN1], cycle));
+    let e = EthercatBus::bring_up(
+        config(&[DriveModel::MrJ5GN1, DriveModel::MrJ5GN1], cycle),
+        Box::new(link),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            EthercatError::Count {
+                expected: 2,
+                found: 1
+            }
+        ),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_cycle_time_the_model_does_not_allow_is_refused_before_bring_up() {
+    // MR-J3-T04 runs 0.5, 1 and 2 ms only (mr-j3-t04.md §1.2).
+    let cycle = CycleTime::from_micros(250).unwrap();
+    let link = InProcessLink::new(segment(&[DriveModel::MrJ3T04], cycle));
+    let e =
+        EthercatBus::bring_up(config(&[DriveModel::MrJ3T04], cycle), Box::new(link)).unwrap_err();
+    assert!(matches!(e, EthercatError::CycleTime { .. }), "{e}");
+    assert!(
+        e.to_string().contains("250 µs") && e.to_string().contains("axis 'a0'"),
+        "{e}"
+    );
+}
+
+#[test]
+fn lost_frames_raise_the_drives_communication_alarm_and_count_on_the_master() {
+    let models = [DriveModel::MrJ3T04];
+    let mut bus = bring_up(&models);
+    let mut counter = 0;
+    assert_eq!(
+        enable(&mut bus, &models, &mut counter),
+        vec![Some(FsaState::OperationEnabled)]
+    );
+    // MR-J3-T04: AL.36 after about 7 ms without RxPDO (mr-j3-t04.md §4); 20 frames lost.
+    assert!(bus.link_mut().drop_frames(20));
+    for _ in 0..20 {
+        assert_eq!(
+            bus.exchange(Cycles(1)),
+            Err(cellrt_axes::BusError::FrameLost)
+        );
+    }
+    assert_eq!(bus.counters().lost, 20);
+    let states = run(
+        &mut bus,
+        &models,
+        1,
+        Controlword::ENABLE_OPERATION,
+        &mut counter,
+    );
+    assert_eq!(states, vec![Some(FsaState::Fault)]);
+    let alarm = stations(&mut bus).stations()[0].drive().alarm();
+    assert_eq!(alarm, Some(0x36), "AL.36");
+}

@@ -135,3 +135,54 @@ fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
     assert_eq!(allocations() - before, 0);
     assert!(masters[1].is_enabled());
 }
+
+#[test]
+fn the_ethercat_cyclic_exchange_is_allocation_free() {
+    use cellrt_axes::ethercat::emulator::Segment;
+    use cellrt_axes::ethercat::identity::ExpectedIdentity;
+    use cellrt_axes::ethercat::master::{EthercatBus, InProcessLink, SegmentConfig, SegmentDrive};
+    use cellrt_axes::ModeOfOperation;
+
+    let ct = CycleTime::from_micros(1000).unwrap();
+    let models = [DriveModel::MrJ3T04, DriveModel::MrJ5GN1];
+    let segment = Segment::new(
+        models
+            .iter()
+            .map(|&m| SimDrive::new(profile(m), SimDriveParams::default(), ct))
+            .collect(),
+    );
+    let config = SegmentConfig {
+        cycle: ct,
+        drives: models
+            .iter()
+            .map(|&m| SegmentDrive {
+                axis: m.as_str().into(),
+                profile: profile(m),
+                identity: ExpectedIdentity::of_profile(profile(m)),
+                mode: ModeOfOperation::CyclicSyncPosition,
+            })
+            .collect(),
+    };
+    let mut bus = EthercatBus::bring_up(config, Box::new(InProcessLink::new(segment))).unwrap();
+    let layouts: Vec<_> = models
+        .iter()
+        .map(|&m| cellrt_axes::pdo::PdoLayout::new(&profile(m).rx_pdo))
+        .collect();
+    bus.exchange(Cycles(1)).unwrap();
+    let before = allocations();
+    for k in 0..2_000u32 {
+        for (axis, l) in layouts.iter().enumerate() {
+            let rx = RxPdo {
+                counter: k as u8,
+                ..RxPdo::default()
+            };
+            l.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+        }
+        bus.exchange(Cycles(1)).unwrap();
+    }
+    assert_eq!(
+        allocations() - before,
+        0,
+        "master frame, emulated segment and drives"
+    );
+}

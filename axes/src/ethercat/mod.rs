@@ -5,4 +5,5 @@ pub mod emulator;
 pub mod frame;
 pub mod identity;
 pub mod master;
+pub mod raw_socket;
 pub mod register;

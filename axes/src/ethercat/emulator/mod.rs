@@ -7,6 +7,7 @@ pub mod layout;
 pub mod segment;
 pub mod sii;
 pub mod station;
+pub mod wire;
 
 pub use segment::Segment;
 pub use station::Station;

@@ -97,3 +97,44 @@ impl Link for InProcessLink {
         Some(&mut self.segment)
     }
 }
+
+/// A segment on a network interface, reached through a raw socket.
+#[derive(Debug)]
+pub struct RawSocketLink {
+    socket: crate::ethercat::raw_socket::RawSocket,
+    timeout: std::time::Duration,
+}
+
+impl RawSocketLink {
+    /// Opens `interface`; a frame not back within `timeout` is lost.
+    pub fn open(interface: &str, timeout: std::time::Duration) -> std::io::Result<Self> {
+        Ok(RawSocketLink {
+            socket: crate::ethercat::raw_socket::RawSocket::open(interface)?,
+            timeout,
+        })
+    }
+}
+
+/// Byte of the first datagram's index in a frame: replies are matched to requests by it.
+const FIRST_INDEX_BYTE: usize =
+    crate::ethercat::frame::ETHERNET_HEADER_LEN + crate::ethercat::frame::ECAT_HEADER_LEN + 1;
+
+impl Link for RawSocketLink {
+    fn round_trip(&mut self, buf: &mut [u8], len: usize) -> Result<usize, LinkError> {
+        let index = buf.get(FIRST_INDEX_BYTE).copied();
+        self.socket.send(&buf[..len])?;
+        let deadline = std::time::Instant::now() + self.timeout;
+        loop {
+            let left = deadline.saturating_duration_since(std::time::Instant::now());
+            match self.socket.recv(buf, left)? {
+                None => return Err(LinkError::Timeout(self.timeout.as_micros() as u64)),
+                // Our own frame seen on the way out, or a stale reply: keep waiting.
+                Some(n)
+                    if n <= FIRST_INDEX_BYTE
+                        || buf[6] & crate::ethercat::frame::REPLY_SOURCE_MAC_BIT == 0 => {}
+                Some(_) if Some(buf[FIRST_INDEX_BYTE]) != index => {}
+                Some(n) => return Ok(n),
+            }
+        }
+    }
+}

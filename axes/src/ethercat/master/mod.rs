@@ -4,4 +4,4 @@ pub mod bus;
 pub mod link;
 
 pub use bus::{EthercatBus, EthercatError, SegmentConfig, SegmentDrive};
-pub use link::{InProcessLink, Link, LinkError};
+pub use link::{InProcessLink, Link, LinkError, RawSocketLink};

@@ -1,0 +1,104 @@
+//! The EtherCAT backend over real raw sockets: a veth pair, the emulator on one end, the
+//! MainDevice on the other. Needs root (CAP_NET_ADMIN for the pair, CAP_NET_RAW for the
+//! sockets) and `ip` from iproute2; says so plainly and skips where either is missing.
+
+use std::process::Command;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+use cellrt_axes::ethercat::emulator::{wire, Segment};
+use cellrt_axes::ethercat::identity::ExpectedIdentity;
+use cellrt_axes::ethercat::master::{EthercatBus, RawSocketLink, SegmentConfig, SegmentDrive};
+use cellrt_axes::ethercat::raw_socket::RawSocket;
+use cellrt_axes::{
+    profile, Bus, CycleTime, Cycles, DriveModel, ModeOfOperation, SimDrive, SimDriveParams,
+};
+
+struct VethPair(String);
+
+impl VethPair {
+    fn create(name: &str) -> Option<VethPair> {
+        let ip = |args: &[&str]| {
+            Command::new("ip")
+                .args(args)
+                .status()
+                .is_ok_and(|s| s.success())
+        };
+        let _ = Command::new("ip").args(["link", "del", name]).output();
+        let peer = format!("{name}p");
+        if !ip(&["link", "add", name, "type", "veth", "peer", "name", &peer]) {
+            return None;
+        }
+        let up = ip(&["link", "set", name, "up"]) && ip(&["link", "set", &peer, "up"]);
+        up.then(|| VethPair(name.to_owned()))
+    }
+}
+
+impl Drop for VethPair {
+    fn drop(&mut self) {
+        let _ = Command::new("ip").args(["link", "del", &self.0]).output();
+    }
+}
+
+#[test]
+fn a_segment_on_a_veth_pair_comes_up_and_exchanges_over_raw_sockets() {
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } != 0 {
+        eprintln!("SKIPPED: the veth EtherCAT test needs root (CAP_NET_ADMIN, CAP_NET_RAW)");
+        return;
+    }
+    let Some(pair) = VethPair::create("crtveth0") else {
+        eprintln!("SKIPPED: cannot create a veth pair (is iproute2 installed?)");
+        return;
+    };
+    let ct = CycleTime::from_micros(1000).unwrap();
+    let models = [
+        DriveModel::MrJ3T04,
+        DriveModel::MrJ4TM,
+        DriveModel::MrJetGN1,
+        DriveModel::MrJ5GN1,
+    ];
+    let mut segment = Segment::new(
+        models
+            .iter()
+            .map(|&m| SimDrive::new(profile(m), SimDriveParams::default(), ct))
+            .collect(),
+    );
+    let socket = RawSocket::open(&format!("{}p", pair.0)).expect("emulator socket");
+    let stop = Arc::new(AtomicBool::new(false));
+    let stop2 = stop.clone();
+    let emulator = std::thread::spawn(move || {
+        let stats = wire::serve(&socket, &mut segment, &stop2).expect("serve");
+        (stats, segment)
+    });
+    let link = RawSocketLink::open(&pair.0, Duration::from_millis(20)).expect("master socket");
+    let config = SegmentConfig {
+        cycle: ct,
+        drives: models
+            .iter()
+            .enumerate()
+            .map(|(i, &m)| SegmentDrive {
+                axis: format!("a{i}"),
+                profile: profile(m),
+                identity: ExpectedIdentity::of_profile(profile(m)),
+                mode: ModeOfOperation::CyclicSyncPosition,
+            })
+            .collect(),
+    };
+    let mut bus = EthercatBus::bring_up(config, Box::new(link)).expect("bring-up over veth");
+    for _ in 0..200 {
+        bus.exchange(Cycles(1)).expect("exchange");
+        std::thread::sleep(Duration::from_micros(500));
+    }
+    bus.leave_op().expect("PRE-OP");
+    assert_eq!(bus.counters().lost, 0);
+    assert_eq!(bus.counters().wkc_errors, 0);
+    stop.store(true, Ordering::Release);
+    let (stats, segment) = emulator.join().unwrap();
+    assert!(stats.frames >= 200, "{stats:?}");
+    for st in segment.stations() {
+        assert_eq!(st.drive().alarm(), None, "{}", st.drive().profile().name);
+        assert!(st.exchanges() >= 200);
+    }
+}

@@ -50,6 +50,11 @@ pub trait Bus {
         let _ = (axis, index, sub, data);
         Err(SDO_UNSUPPORTED)
     }
+    /// The bus part of the clean shutdown, after the loop's last exchange (EtherCAT: every
+    /// SubDevice to PRE-OP). `Err` names what did not complete.
+    fn close(&mut self) -> Result<(), String> {
+        Ok(())
+    }
     /// 603Fh Error code of `axis` by acyclic read (an SDO upload on a real bus), for maps that
     /// do not carry it. Called once per fault edge, not every cycle. `None` where unsupported.
     fn read_error_code(&mut self, axis: usize) -> Option<u16> {

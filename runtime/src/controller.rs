@@ -61,6 +61,9 @@ pub enum RunError {
     /// A thread could not be started or died.
     #[error("{0}")]
     Thread(String),
+    /// The bus could not be opened (EtherCAT bring-up).
+    #[error("{0}")]
+    Bus(String),
 }
 
 /// How the run ended.
@@ -122,8 +125,12 @@ pub struct Summary {
 
 /// Builds the simulated bus of `cell`.
 pub fn sim_bus(cell: &CellConfig) -> SimBus {
-    let drives = cell
-        .axes
+    SimBus::new(sim_drives(cell))
+}
+
+/// The simulated drives of `cell`'s axes (behind a [`SimBus`] or an emulated EtherCAT segment).
+pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
+    cell.axes
         .iter()
         .map(|a| {
             let s = a.scaling.counts_per_unit();
@@ -155,8 +162,7 @@ pub fn sim_bus(cell: &CellConfig) -> SimBus {
             };
             SimDrive::new(a.profile, params, cell.cycle_time)
         })
-        .collect();
-    SimBus::new(drives)
+        .collect()
 }
 
 /// Runs `cell` until the program ends, the duration elapses or `shutdown` is set.
@@ -179,7 +185,13 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let (go_tx, go_rx) = mpsc::channel::<bool>();
     let rt_cell = cell.clone();
     let rt_handoff = handoff.clone();
-    let bus = sim_bus(cell);
+    let bus = match crate::cell_bus::CellBus::open(cell) {
+        Ok(b) => b,
+        Err(e) => {
+            let _ = recorder.finish();
+            return Err(RunError::Bus(e.to_string()));
+        }
+    };
     let hook = opts.hook;
     let rt = std::thread::Builder::new()
         .name("cellrt-rt".into())

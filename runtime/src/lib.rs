@@ -1,6 +1,7 @@
 //! cellrt runtime: the cell configuration, the RT thread and its cyclic executive, the lock-free
 //! hand-offs, the iceoryx2 setpoint transport, the non-RT planner thread and the MCAP recorder.
 
+pub mod cell_bus;
 pub mod cell_lock;
 pub mod config;
 pub mod controller;

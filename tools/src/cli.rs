@@ -32,6 +32,8 @@ pub enum Command {
     Report(ReportArgs),
     /// Re-run a recording's setpoint stream through simulated drives and compare the feedback.
     Replay(ReplayArgs),
+    /// Emulate a cell's drives on a network (EtherCAT SubDevices on an interface).
+    DriveSim(DriveSimArgs),
     /// Benchmarks: wakeup latency, comparison with cyclictest, the full loop with N axes.
     Bench(crate::commands::bench::BenchArgs),
     /// Operator commands to a running cell.
@@ -105,6 +107,31 @@ pub struct RunArgs {
     /// (the controller runs until SIGINT/SIGTERM or --duration).
     #[arg(long, conflicts_with_all = ["program", "no_program"])]
     pub external_planner: bool,
+    /// The EtherCAT interface instead of the configuration's `[ethercat] interface`
+    /// ("in-process": the emulated segment, no network or root).
+    #[arg(long, value_name = "IF")]
+    pub interface: Option<String>,
+}
+
+/// `cellrt drive-sim`.
+#[derive(Debug, Args)]
+pub struct DriveSimArgs {
+    /// Which bus to emulate.
+    #[command(subcommand)]
+    pub bus: DriveSimBus,
+}
+
+/// The buses `cellrt drive-sim` emulates.
+#[derive(Debug, Subcommand)]
+pub enum DriveSimBus {
+    /// Present the drives of the cell configuration given as `--cell CONFIG` as EtherCAT
+    /// SubDevices on a network interface (line topology, in axis order), until SIGINT/SIGTERM.
+    Ethercat {
+        /// The network interface (e.g. one end of a veth pair).
+        #[arg(long, value_name = "IF")]
+        interface: String,
+        // The cell configuration comes as the global `--cell CONFIG`.
+    },
 }
 
 /// `cellrt planner`.

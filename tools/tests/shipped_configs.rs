@@ -83,9 +83,20 @@ fn every_example_cell_completes_its_program() {
         let cfg = dir.path().join(format!("{program}.cell.toml"));
         std::fs::write(&cfg, text).unwrap();
         let json = dir.path().join(format!("{program}.json"));
+        // EtherCAT cells run on the in-process emulated segment here; the veth test
+        // (rt-tests) runs one on a network interface.
+        let interface: &[&str] = if std::fs::read_to_string(&cfg)
+            .unwrap()
+            .contains("[ethercat]")
+        {
+            &["--interface", "in-process"]
+        } else {
+            &[]
+        };
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_cellrt"))
             .arg("run")
             .arg(&cfg)
+            .args(interface)
             .arg("--no-record")
             .arg("--summary-json")
             .arg(&json)

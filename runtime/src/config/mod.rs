@@ -44,6 +44,8 @@ pub struct CellConfig {
     pub inject: Vec<Injection>,
     /// The axes, in configuration order (the index is the axis id everywhere).
     pub axes: Vec<AxisConfig>,
+    /// The EtherCAT segment, where the axes use `transport = "ethercat"`.
+    pub ethercat: Option<EthercatConfig>,
 }
 
 /// RT thread settings; each is best effort when the OS refuses it.
@@ -203,7 +205,69 @@ pub enum InjectedFault {
 pub enum Transport {
     /// The in-process simulated drive.
     Sim,
+    /// A SubDevice of the cell's EtherCAT segment (`[ethercat]`).
+    Ethercat,
 }
+
+/// The interface name that selects the in-process emulated segment.
+pub const IN_PROCESS_INTERFACE: &str = "in-process";
+
+/// Where the EtherCAT segment is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum EthercatInterface {
+    /// The emulated segment in this process (no network, no root).
+    InProcess,
+    /// A network interface, by name (raw sockets: root or CAP_NET_RAW).
+    Nic(String),
+}
+
+impl EthercatInterface {
+    /// A NIC name (1–15 characters, no '/', spaces or NUL) or [`IN_PROCESS_INTERFACE`].
+    pub fn parse(name: &str) -> Result<EthercatInterface, String> {
+        let name = name.trim();
+        if name == IN_PROCESS_INTERFACE {
+            Ok(EthercatInterface::InProcess)
+        } else if name.is_empty() || name.len() > 15 || name.contains(['/', ' ', '\0']) {
+            Err(format!(
+                "'{name}' is not a network interface name (1–15 characters, no '/' or spaces) nor \"{IN_PROCESS_INTERFACE}\""
+            ))
+        } else {
+            Ok(EthercatInterface::Nic(name.to_owned()))
+        }
+    }
+}
+
+impl CellConfig {
+    /// Points the cell's EtherCAT segment at `interface` (the `--interface` option); an error
+    /// if the cell has no EtherCAT axes or the name is not an interface name.
+    pub fn set_ethercat_interface(&mut self, interface: &str) -> Result<(), String> {
+        let parsed =
+            EthercatInterface::parse(interface).map_err(|e| format!("--interface: {e}"))?;
+        match &mut self.ethercat {
+            Some(ec) => {
+                ec.interface = parsed;
+                Ok(())
+            }
+            None => Err(format!(
+                "--interface: cell '{}' has no EtherCAT axes (no [ethercat] section)",
+                self.name
+            )),
+        }
+    }
+}
+
+/// `[ethercat]`: the cell's EtherCAT segment.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct EthercatConfig {
+    /// The interface.
+    pub interface: EthercatInterface,
+    /// A cyclic frame not back within this time is lost.
+    pub frame_timeout: std::time::Duration,
+}
+
+/// Default `[ethercat] frame_timeout_us`: half of a 1 ms cycle is more than a line of drives
+/// needs (ARCHITECTURE.md: ≈ 9–40 µs round trip on a veth pair).
+pub const DEFAULT_FRAME_TIMEOUT_US: u32 = 500;
 
 /// One axis of the cell.
 #[derive(Debug, Clone)]
@@ -216,6 +280,9 @@ pub struct AxisConfig {
     pub profile: &'static DriveProfile,
     /// Transport to the drive.
     pub transport: Transport,
+    /// What the drive's 1018h must show on EtherCAT (the model's identity unless
+    /// `[axes.ethercat]` overrides it).
+    pub ethercat_identity: cellrt_axes::ethercat::identity::ExpectedIdentity,
     /// Cyclic mode of operation (6060h).
     pub mode: ModeOfOperation,
     /// Display name of the axis unit (e.g. "mm", "deg").

@@ -25,9 +25,32 @@ pub struct RawCellConfig {
     /// `[[inject]]`: scheduled fault injection.
     #[serde(default)]
     pub inject: Vec<RawInjection>,
+    /// `[ethercat]`: the EtherCAT segment of axes with `transport = "ethercat"`.
+    #[serde(default)]
+    pub ethercat: Option<RawEthercat>,
     /// `[[axes]]`.
     #[serde(default)]
     pub axes: Vec<RawAxis>,
+}
+
+/// `[ethercat]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawEthercat {
+    /// Network interface of the segment, or "in-process" for the emulated segment.
+    pub interface: String,
+    /// A cyclic frame not back within this time is lost, µs.
+    pub frame_timeout_us: Option<u32>,
+}
+
+/// `[axes.ethercat]`: the identity the drive must report, where it differs from the model's.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawEthercatAxis {
+    /// 1018h:01 required.
+    pub vendor_id: Option<u32>,
+    /// 1018h:02 required.
+    pub product_code: Option<u32>,
 }
 
 /// `[cell]`.
@@ -193,9 +216,12 @@ pub struct RawAxis {
     pub name: String,
     /// Drive model name, e.g. "mr-j5-g-n1".
     pub drive: String,
-    /// "sim".
+    /// "sim" or "ethercat".
     #[serde(default = "default_transport")]
     pub transport: String,
+    /// `[axes.ethercat]`.
+    #[serde(default)]
+    pub ethercat: RawEthercatAxis,
     /// Mode name, e.g. "csp".
     #[serde(default = "default_mode")]
     pub mode: String,

@@ -11,11 +11,13 @@ use cellrt_trajectory::units::Scaling;
 
 use super::raw::{RawAxis, RawCellConfig};
 use super::{
-    AxisConfig, CellConfig, Compression, ConfigError, FaultReaction, InjectedFault, Injection,
-    RecordingConfig, RtConfig, SetpointConfig, SimAxisConfig, TorqueLimits, TorquePercent,
-    Transport, WatchdogConfig, DEFAULT_CSV_POSITION_GAIN, DEFAULT_TORQUE_SLOPE, MAX_AXES,
-    MAX_TORQUE_PERCENT,
+    AxisConfig, CellConfig, Compression, ConfigError, EthercatConfig, EthercatInterface,
+    FaultReaction, InjectedFault, Injection, RecordingConfig, RtConfig, SetpointConfig,
+    SimAxisConfig, TorqueLimits, TorquePercent, Transport, WatchdogConfig,
+    DEFAULT_CSV_POSITION_GAIN, DEFAULT_FRAME_TIMEOUT_US, DEFAULT_TORQUE_SLOPE,
+    IN_PROCESS_INTERFACE, MAX_AXES, MAX_TORQUE_PERCENT,
 };
+use cellrt_axes::ethercat::identity::ExpectedIdentity;
 
 /// Checks a name used in service names and file names: 1–32 of `[A-Za-z0-9_-]`.
 pub(crate) fn check_name(file: &Path, key: &str, name: &str) -> Result<(), ConfigError> {
@@ -256,6 +258,7 @@ pub(super) fn validate(
     }
 
     let inject = validate_injections(file, cycle_time, &raw.inject, &axes)?;
+    let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
 
     Ok(CellConfig {
         source: file.to_path_buf(),
@@ -269,7 +272,61 @@ pub(super) fn validate(
         watchdogs,
         inject,
         axes,
+        ethercat,
     })
+}
+
+/// `[ethercat]` against the axes' transports: one cell runs one transport, EtherCAT axes need
+/// the section and the section needs EtherCAT axes.
+fn validate_ethercat(
+    file: &Path,
+    raw: Option<super::raw::RawEthercat>,
+    axes: &[AxisConfig],
+) -> Result<Option<EthercatConfig>, ConfigError> {
+    let ethercat_axis = axes.iter().position(|a| a.transport == Transport::Ethercat);
+    let sim_axis = axes.iter().position(|a| a.transport == Transport::Sim);
+    if let (Some(e), Some(s)) = (ethercat_axis, sim_axis) {
+        return Err(ConfigError::new(
+            file,
+            format!("axes[{s}].transport"),
+            format!(
+                "axis '{}' uses transport 'sim' and axis '{}' uses 'ethercat'; a cell runs one transport",
+                axes[s].name, axes[e].name
+            ),
+        ));
+    }
+    match (raw, ethercat_axis) {
+        (None, None) => Ok(None),
+        (None, Some(e)) => Err(ConfigError::new(
+            file,
+            format!("axes[{e}].transport"),
+            format!(
+                "axis '{}' uses transport 'ethercat' but the config has no [ethercat] section (interface = \"<NIC>\" or \"{IN_PROCESS_INTERFACE}\")",
+                axes[e].name
+            ),
+        )),
+        (Some(_), None) => Err(ConfigError::new(
+            file,
+            "ethercat",
+            "[ethercat] is set but no axis has transport = \"ethercat\"",
+        )),
+        (Some(r), Some(_)) => {
+            let interface = EthercatInterface::parse(&r.interface)
+                .map_err(|e| ConfigError::new(file, "ethercat.interface", e))?;
+            let us = r.frame_timeout_us.unwrap_or(DEFAULT_FRAME_TIMEOUT_US);
+            if !(10..=1_000_000).contains(&us) {
+                return Err(ConfigError::new(
+                    file,
+                    "ethercat.frame_timeout_us",
+                    format!("must be 10..=1000000 µs (got {us})"),
+                ));
+            }
+            Ok(Some(EthercatConfig {
+                interface,
+                frame_timeout: std::time::Duration::from_micros(u64::from(us)),
+            }))
+        }
+    }
 }
 
 fn validate_injections(
@@ -462,13 +519,30 @@ fn validate_axis(
     }
     let transport = match a.transport.as_str() {
         "sim" => Transport::Sim,
+        "ethercat" => Transport::Ethercat,
         other => {
             return Err(err(
                 "transport",
-                format!("unknown transport '{other}' (available: sim)"),
+                format!("unknown transport '{other}' (available: sim, ethercat)"),
             ))
         }
     };
+    if transport == Transport::Ethercat && profile.axes_per_unit > 1 {
+        return Err(err(
+            "transport",
+            format!(
+                "axis '{}': {drive} is a multi-axis unit; the EtherCAT backend drives one axis per SubDevice (use transport = \"sim\")",
+                a.name
+            ),
+        ));
+    }
+    let mut ethercat_identity = ExpectedIdentity::of_profile(profile);
+    if let Some(v) = a.ethercat.vendor_id {
+        ethercat_identity.vendor_id = v;
+    }
+    if let Some(p) = a.ethercat.product_code {
+        ethercat_identity.product_code = Some(p);
+    }
     let mode: ModeOfOperation = a.mode.parse().map_err(|e| err("mode", format!("{e}")))?;
     if !profile.supports_mode(mode) {
         return Err(err(
@@ -613,6 +687,7 @@ fn validate_axis(
         drive,
         profile,
         transport,
+        ethercat_identity,
         mode,
         unit: a.unit,
         scaling,

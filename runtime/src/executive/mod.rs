@@ -230,6 +230,10 @@ impl<B: Bus> Executive<B> {
         if let Some(hook) = self.hook {
             hook(RtPhase::Exit);
         }
+        // Out of the steady state: the bus's shutdown may block and log.
+        if let Err(e) = self.bus.close() {
+            tracing::warn!("bus shutdown: {e}");
+        }
         self.handoff.status.running.store(false, Ordering::Release);
         for (i, a) in self.axes.iter().enumerate() {
             self.stats.final_positions[i] = a.feedback.position_actual;

@@ -15,10 +15,15 @@ use crate::summary;
 
 /// Runs `cellrt run`.
 pub fn run(args: RunArgs) -> Exit {
-    let cell = match CellConfig::load(&args.config) {
+    let mut cell = match CellConfig::load(&args.config) {
         Ok(c) => c,
         Err(e) => return bad_input(e),
     };
+    if let Some(interface) = &args.interface {
+        if let Err(e) = cell.set_ethercat_interface(interface) {
+            return bad_input(e);
+        }
+    }
     let program = if args.no_program || args.external_planner {
         None
     } else if let Some(p) = &args.program {

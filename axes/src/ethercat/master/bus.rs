@@ -671,6 +671,27 @@ impl Bus for EthercatBus {
         .map_err(abort_code)
     }
 
+    /// On the in-process segment: the emulated drive of `axis` raises `code`.
+    fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
+        match self.link.segment_mut().and_then(|s| s.station_mut(axis)) {
+            Some(st) => {
+                st.drive_mut().inject_alarm(code);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The next `cycles` cyclic frames are lost on the wire: every SubDevice misses them (one
+    /// frame carries the whole segment's process data), not only `axis`'.
+    fn inject_rx_loss(&mut self, axis: usize, cycles: u32) -> bool {
+        axis < self.axes.len() && self.link.drop_frames(cycles)
+    }
+
+    fn close(&mut self) -> Result<(), String> {
+        self.leave_op().map_err(|e| e.to_string())
+    }
+
     fn read_error_code(&mut self, axis: usize) -> Option<u16> {
         self.sdo_read_value(axis, crate::pdo::objects::ERROR_CODE, 0)
             .ok()

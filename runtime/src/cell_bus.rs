@@ -1,0 +1,127 @@
+//! The bus a cell runs on, chosen by its config: the in-process simulated drives, or an
+//! EtherCAT segment (emulated in-process or on a network interface).
+
+use cellrt_axes::ethercat::emulator::Segment;
+use cellrt_axes::ethercat::master::{
+    EthercatBus, InProcessLink, Link, RawSocketLink, SegmentConfig, SegmentDrive,
+};
+use cellrt_axes::{Bus, BusError, Cycles, SimBus};
+
+use crate::config::{CellConfig, EthercatInterface};
+use crate::controller::sim_drives;
+
+/// The cell's bus.
+#[derive(Debug)]
+pub enum CellBus {
+    /// Simulated drives called directly.
+    Sim(SimBus),
+    /// An EtherCAT segment.
+    Ethercat(Box<EthercatBus>),
+}
+
+/// A bus that could not be opened, with the reason.
+#[derive(Debug, thiserror::Error)]
+pub enum BusOpenError {
+    /// The network interface could not be opened.
+    #[error("EtherCAT interface '{interface}': {source}")]
+    Interface {
+        /// The interface.
+        interface: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Bring-up failed.
+    #[error(transparent)]
+    Ethercat(#[from] cellrt_axes::ethercat::master::EthercatError),
+}
+
+/// The EtherCAT segment `cell` expects, in axis order.
+pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
+    SegmentConfig {
+        cycle: cell.cycle_time,
+        drives: cell
+            .axes
+            .iter()
+            .map(|a| SegmentDrive {
+                axis: a.name.clone(),
+                profile: a.profile,
+                identity: a.ethercat_identity,
+                mode: a.mode,
+            })
+            .collect(),
+    }
+}
+
+/// The emulated segment of `cell`'s drives (what `cellrt drive-sim ethercat` serves).
+pub fn emulated_segment(cell: &CellConfig) -> Segment {
+    Segment::new(sim_drives(cell))
+}
+
+impl CellBus {
+    /// Opens the bus `cell` names; EtherCAT segments are brought to OP here.
+    pub fn open(cell: &CellConfig) -> Result<CellBus, BusOpenError> {
+        let Some(ec) = &cell.ethercat else {
+            return Ok(CellBus::Sim(SimBus::new(sim_drives(cell))));
+        };
+        let link: Box<dyn Link> = match &ec.interface {
+            EthercatInterface::InProcess => Box::new(InProcessLink::new(emulated_segment(cell))),
+            EthercatInterface::Nic(name) => Box::new(
+                RawSocketLink::open(name, ec.frame_timeout).map_err(|source| {
+                    BusOpenError::Interface {
+                        interface: name.clone(),
+                        source,
+                    }
+                })?,
+            ),
+        };
+        Ok(CellBus::Ethercat(Box::new(EthercatBus::bring_up(
+            segment_config(cell),
+            link,
+        )?)))
+    }
+}
+
+macro_rules! each {
+    ($self:ident, $b:ident => $e:expr) => {
+        match $self {
+            CellBus::Sim($b) => $e,
+            CellBus::Ethercat($b) => $e,
+        }
+    };
+}
+
+impl Bus for CellBus {
+    fn axis_count(&self) -> usize {
+        each!(self, b => b.axis_count())
+    }
+    fn rx_image_mut(&mut self, axis: usize) -> &mut [u8] {
+        each!(self, b => b.rx_image_mut(axis))
+    }
+    fn tx_image(&self, axis: usize) -> &[u8] {
+        each!(self, b => b.tx_image(axis))
+    }
+    fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {
+        each!(self, b => b.exchange(elapsed))
+    }
+    fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
+        each!(self, b => b.inject_alarm(axis, code))
+    }
+    fn inject_rx_loss(&mut self, axis: usize, cycles: u32) -> bool {
+        each!(self, b => b.inject_rx_loss(axis, cycles))
+    }
+    fn inject_counter_corruption(&mut self, axis: usize, cycles: u32) -> bool {
+        each!(self, b => b.inject_counter_corruption(axis, cycles))
+    }
+    fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
+        each!(self, b => b.sdo_upload(axis, index, sub))
+    }
+    fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
+        each!(self, b => b.sdo_download(axis, index, sub, data))
+    }
+    fn close(&mut self) -> Result<(), String> {
+        each!(self, b => b.close())
+    }
+    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
+        each!(self, b => b.read_error_code(axis))
+    }
+}

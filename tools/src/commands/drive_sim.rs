@@ -1,0 +1,95 @@
+//! `cellrt drive-sim ethercat`: the cell's drives as emulated EtherCAT SubDevices on a network
+//! interface, for a `cellrt run` of the same cell on the other end of the link.
+
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+
+use cellrt_axes::ethercat::emulator::wire;
+use cellrt_axes::ethercat::raw_socket::RawSocket;
+use cellrt_runtime::cell_bus::emulated_segment;
+use cellrt_runtime::config::CellConfig;
+
+use crate::cli::{DriveSimArgs, DriveSimBus};
+use crate::exit::Exit;
+
+/// Runs `cellrt drive-sim`.
+pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
+    let DriveSimBus::Ethercat { interface } = args.bus;
+    let Some(cell) = cell.map(std::path::PathBuf::from) else {
+        eprintln!(
+            "error: --cell CONFIG: the cell configuration whose drives to emulate is required"
+        );
+        return Exit::BadInput;
+    };
+    let config = match CellConfig::load(&cell) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Exit::BadInput;
+        }
+    };
+    if config.ethercat.is_none() {
+        eprintln!(
+            "error: {}: cell '{}' has no EtherCAT axes (transport = \"ethercat\" and an [ethercat] section)",
+            cell.display(),
+            config.name
+        );
+        return Exit::BadInput;
+    }
+    let socket = match RawSocket::open(&interface) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Exit::Failed;
+        }
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        if let Err(e) = signal_hook::flag::register(sig, stop.clone()) {
+            eprintln!("error: cannot install the signal handler: {e}");
+            return Exit::Failed;
+        }
+    }
+    // Like a drive's hardware, the emulator answers at once: on the cell's RT CPU, one
+    // priority above its RT thread (best effort without root), memory locked.
+    let rt = cellrt_runtime::config::RtConfig {
+        cpu: config.rt.cpu,
+        priority: config.rt.priority.saturating_add(1).min(99),
+        lock_memory: true,
+        reserve_cpu: false,
+    };
+    let report = cellrt_runtime::rt::thread::setup_current_thread(&rt);
+    eprintln!("cellrt drive-sim: {}", report.describe());
+    let mut segment = emulated_segment(&config);
+    let names: Vec<String> = config
+        .axes
+        .iter()
+        .map(|a| format!("{} ({})", a.name, a.drive))
+        .collect();
+    eprintln!(
+        "cellrt drive-sim: {} EtherCAT SubDevice(s) on {interface}: {}",
+        names.len(),
+        names.join(", ")
+    );
+    match wire::serve(&socket, &mut segment, &stop) {
+        Ok(stats) => {
+            eprintln!(
+                "cellrt drive-sim: {} frames served, {} malformed dropped",
+                stats.frames, stats.malformed
+            );
+            for (a, st) in config.axes.iter().zip(segment.stations()) {
+                let alarm = st
+                    .drive()
+                    .alarm()
+                    .map(|c| format!(", alarm {c:#06x}"))
+                    .unwrap_or_default();
+                eprintln!("  {}: AL state {}{}", a.name, st.al_state().as_str(), alarm);
+            }
+            Exit::Ok
+        }
+        Err(e) => {
+            eprintln!("error: {interface}: {e}");
+            Exit::Failed
+        }
+    }
+}

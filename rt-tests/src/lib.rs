@@ -9,6 +9,7 @@ pub mod hist;
 pub mod ipc;
 pub mod latency;
 pub mod loopbench;
+pub mod netns;
 pub mod plot;
 pub mod procscan;
 pub mod tools;

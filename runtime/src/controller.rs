@@ -138,8 +138,7 @@ pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
                 plant: PlantParams {
                     position_bandwidth_hz: a.sim.position_bandwidth_hz,
                     velocity_bandwidth_hz: a.sim.velocity_bandwidth_hz,
-                    // The motor can do a bit more than the axis is allowed to.
-                    max_velocity: a.limits.velocity * s * 1.5,
+                    max_velocity: a.limits.velocity * s * a.sim.motor_speed_factor,
                     max_acceleration: a.limits.acceleration * s * 3.0,
                 },
                 initial_position: a

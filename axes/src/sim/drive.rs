@@ -68,6 +68,9 @@ pub struct SimDriveParams {
     /// 6064h after a homing on a drive that presets it ([`HomeReference::PositionPreset`],
     /// MR-J4-TM): the "home position address" parameter, not in the extract; default 0.
     pub home_position_address: i32,
+    /// What the drive commands at a SYNC0 that brought no RxPDO in DC mode (the manuals state
+    /// only the free-run rule — hold the last command — and leave DC mode unstated).
+    pub dc_missed_command: MissedCommand,
     /// What C_CR2 before the first Z phase raises on a model with Controlword2 home setting
     /// (MR-J3-T04: AL.96 warning by default, AL.26 selectable; mr-j3-t04.md §7.2).
     pub before_z_reaction: BeforeZReaction,
@@ -145,12 +148,25 @@ impl Default for SimDriveParams {
             internal_torque_limits: InternalTorqueLimits::default(),
             torque_limit_2: TorqueLimit2::default(),
             home_position_address: 0,
+            dc_missed_command: MissedCommand::Extrapolate,
             before_z_reaction: BeforeZReaction::Warning,
             z_phase_position: 0,
             slow_stop_time_ms: 0,
             store_parameters_ms: 25_000,
         }
     }
+}
+
+/// A drive's command in a DC cycle whose RxPDO is missing (a named parameter: the manuals
+/// are silent, mr-j4-tm.md §1.5 and mr-j5-g-n1.md §1.4 state only the free-run hold).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MissedCommand {
+    /// Keep the last command (the free-run rule): a moving csp axis stops for the cycle and
+    /// the next target jumps by two cycles' travel.
+    Hold,
+    /// csp: continue the last target step (the interpolator runs on); csv/cst: hold.
+    #[default]
+    Extrapolate,
 }
 
 /// One simulated servo axis that exchanges PDO images like the real drive.
@@ -176,6 +192,8 @@ pub struct SimDrive {
     /// Position demand in counts (csp: from 607Ah; csv: integrated 60FFh; others: held).
     demand: f64,
     prev_target: i32,
+    /// 607Ah step between the last two commands received (for [`MissedCommand::Extrapolate`]).
+    last_step: i32,
     following_error: i32,
     tx: TxPdo,
     /// The last RxPDO received (held when a frame is lost: §1.5 "keeps the previous command").
@@ -300,6 +318,7 @@ impl SimDrive {
             startup_left: params.startup_cycles,
             demand: pos,
             prev_target: params.initial_position,
+            last_step: 0,
             following_error: 0,
             tx: TxPdo::default(),
             last_cmd: RxPdo {
@@ -343,6 +362,9 @@ impl SimDrive {
                 self.raise(code);
             }
         }
+        self.last_step = cmd
+            .target_position
+            .wrapping_sub(self.last_cmd.target_position);
         self.last_cmd = cmd;
         self.run(cmd, elapsed);
         self.tx_layout.encode_tx(&self.tx, tx)
@@ -360,6 +382,24 @@ impl SimDrive {
         }
         let cmd = self.last_cmd;
         self.run(cmd, elapsed);
+        self.tx_layout.encode_tx(&self.tx, tx)
+    }
+
+    /// A SYNC0 in DC mode that brought no RxPDO: counted like [`SimDrive::cycle_lost`], the
+    /// command per [`SimDriveParams::dc_missed_command`].
+    pub fn cycle_missed_sync0(&mut self, tx: &mut [u8]) -> Result<(), PdoError> {
+        self.tx_layout.check_len(tx.len())?;
+        if self.op {
+            if let Some(code) = self.comm.lost() {
+                self.raise(code);
+            }
+        }
+        let mut cmd = self.last_cmd;
+        if self.params.dc_missed_command == MissedCommand::Extrapolate {
+            cmd.target_position = cmd.target_position.wrapping_add(self.last_step);
+            self.last_cmd.target_position = cmd.target_position;
+        }
+        self.run(cmd, Cycles(1));
         self.tx_layout.encode_tx(&self.tx, tx)
     }
 

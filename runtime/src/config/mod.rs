@@ -352,7 +352,13 @@ pub struct SimAxisConfig {
     /// Position of the encoder's Z phase, in units (one per motor revolution; used by the
     /// MR-J3-T04 C_CR2 home setting and S_ZPAS; the manuals give no figure).
     pub z_phase_position: f64,
+    /// The simulated motor's maximum speed as a multiple of the axis velocity limit; the
+    /// drive's overspeed alarm trips at 1.2 × that (a csp target step implying more).
+    pub motor_speed_factor: f64,
 }
+
+/// Default `sim.motor_speed_factor`: the motor can do a bit more than the axis is allowed to.
+pub const DEFAULT_MOTOR_SPEED_FACTOR: f64 = 1.5;
 
 impl CellConfig {
     /// Reads and validates a cell configuration file.

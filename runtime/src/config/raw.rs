@@ -286,6 +286,9 @@ pub struct RawSimAxis {
     /// Position of the encoder's Z phase, in units.
     #[serde(default)]
     pub z_phase_position: f64,
+    /// The motor's speed as a multiple of the axis velocity limit.
+    #[serde(default = "default_motor_speed_factor")]
+    pub motor_speed_factor: f64,
 }
 
 impl Default for RawSimAxis {
@@ -295,8 +298,13 @@ impl Default for RawSimAxis {
             position_bandwidth_hz: default_position_bw(),
             velocity_bandwidth_hz: default_velocity_bw(),
             z_phase_position: 0.0,
+            motor_speed_factor: default_motor_speed_factor(),
         }
     }
+}
+
+fn default_motor_speed_factor() -> f64 {
+    crate::config::DEFAULT_MOTOR_SPEED_FACTOR
 }
 
 fn default_true() -> bool {

@@ -121,3 +121,94 @@ fn recording_rotation_and_flush_are_validated() {
         assert_eq!(e.key, key, "{extra}: {e}");
     }
 }
+
+fn ethercat_text() -> String {
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../configs/ethercat-cell.toml"
+    ))
+    .expect("configs/ethercat-cell.toml")
+}
+
+#[test]
+fn the_ethercat_cell_is_valid_and_typed() {
+    let c = parse(&ethercat_text()).expect("ethercat cell parses");
+    let ec = c.ethercat.as_ref().expect("[ethercat]");
+    assert_eq!(ec.interface, EthercatInterface::Nic("ecat0".into()));
+    assert_eq!(ec.frame_timeout, std::time::Duration::from_micros(500));
+    assert!(c.axes.iter().all(|a| a.transport == Transport::Ethercat));
+    // The MR-J3-T04 identity from its manual; the others: Mitsubishi's vendor, any product.
+    assert_eq!(c.axes[0].ethercat_identity.product_code, Some(0x102));
+    assert_eq!(c.axes[3].ethercat_identity.product_code, None);
+    let mut c = c;
+    c.set_ethercat_interface("in-process").unwrap();
+    assert_eq!(c.ethercat.unwrap().interface, EthercatInterface::InProcess);
+    let mut demo = parse(&demo_text()).unwrap();
+    let e = demo.set_ethercat_interface("eth0").unwrap_err();
+    assert!(e.contains("no EtherCAT axes"), "{e}");
+}
+
+#[test]
+fn ethercat_bad_input_names_the_key_and_the_reason() {
+    let cases: [(String, &str, &str); 7] = [
+        (
+            ethercat_text().replacen("transport = \"ethercat\"", "transport = \"profinet\"", 1),
+            "axes[0].transport",
+            "available: sim, ethercat",
+        ),
+        (
+            ethercat_text().replacen("transport = \"ethercat\"", "transport = \"sim\"", 1),
+            "axes[0].transport",
+            "a cell runs one transport",
+        ),
+        (
+            ethercat_text()
+                .replace("[ethercat]", "[unused]")
+                .replace("interface = \"ecat0\"", "")
+                .replace("frame_timeout_us = 500", "")
+                .replace("[unused]", ""),
+            "axes[0].transport",
+            "no [ethercat] section",
+        ),
+        (
+            demo_text() + "\n[ethercat]\ninterface = \"eth0\"\n",
+            "ethercat",
+            "no axis has transport",
+        ),
+        (
+            ethercat_text().replace("interface = \"ecat0\"", "interface = \"a/b\""),
+            "ethercat.interface",
+            "not a network interface name",
+        ),
+        (
+            ethercat_text().replace("frame_timeout_us = 500", "frame_timeout_us = 5"),
+            "ethercat.frame_timeout_us",
+            "10..=1000000",
+        ),
+        (
+            ethercat_text().replacen(
+                "sim = { initial_position",
+                "sim = { motor_speed_factor = 0.5, initial_position",
+                1,
+            ),
+            "axes[0].sim.motor_speed_factor",
+            "must be 1..=10",
+        ),
+    ];
+    for (text, key, reason) in cases {
+        let e = parse(&text).unwrap_err();
+        assert_eq!(e.key, key, "{e}");
+        assert!(e.message.contains(reason), "{e}");
+    }
+}
+
+#[test]
+fn a_multi_axis_unit_over_ethercat_is_refused_by_name() {
+    let text = ethercat_text().replacen("drive = \"mr-j5-g-n1\"", "drive = \"mr-j5w2-g-n1\"", 1);
+    let e = parse(&text).unwrap_err();
+    assert_eq!(e.key, "axes[3].transport");
+    assert!(
+        e.message.contains("multi-axis") && e.message.contains("'c'"),
+        "{e}"
+    );
+}

@@ -669,7 +669,17 @@ fn validate_axis(
             a.sim.velocity_bandwidth_hz,
         )?,
         z_phase_position: a.sim.z_phase_position,
+        motor_speed_factor: a.sim.motor_speed_factor,
     };
+    if !(1.0..=10.0).contains(&sim.motor_speed_factor) {
+        return Err(err(
+            "sim.motor_speed_factor",
+            format!(
+                "must be 1..=10 (the motor's speed over the axis velocity limit; got {})",
+                sim.motor_speed_factor
+            ),
+        ));
+    }
     if let Err(e) = scaling.to_counts_i32(sim.z_phase_position) {
         return Err(err("sim.z_phase_position", e.to_string()));
     }

@@ -6,6 +6,7 @@
 
 use crate::ethercat::identity::SubDeviceIdentity;
 use crate::ethercat::register::AlState;
+use crate::pdo::objects::ERROR_CODE;
 use crate::pdo::PdoMap;
 use crate::sim::drive::SimDrive;
 use crate::sim::sdo::SdoAbort;
@@ -143,6 +144,11 @@ fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Value, SdoAbo
             };
         }
         (SM3_SYNC, 2) => return upload(ctx, SM2_SYNC, 2),
+        // 603Fh Error code: mandatory in CiA 402, served live where the model's table and
+        // TxPDO leave it out (MR-JET-G-N1, MR-J5-G-N1).
+        (ERROR_CODE, 0) if profile.object(ERROR_CODE, 0).is_none() => {
+            return Ok(u16v(ctx.drive.tx_pdo().error_code))
+        }
         _ => {}
     }
     if let Some(obj) = ctx.pdo.object(index) {

@@ -32,6 +32,13 @@ const SII_READ_8: u16 = 0x0040;
 /// At most this many missed SYNC0 cycles are replayed as lost RxPDOs after a gap (1 s at
 /// 1 ms; every model's communication alarm has fired long before).
 const MAX_LOST_REPLAY: u64 = 1000;
+/// Frames over which the SYNC0 grid locks to the master's phase before misses count.
+const LOCK_FRAMES: u32 = 16;
+/// Frames are placed 1/SYNC0_MARGIN_DIVISOR of a cycle after the grid edge: a frame may be
+/// late by the rest of the cycle (7/8) or early by this (1/8) before it misses SYNC0.
+const SYNC0_MARGIN_DIVISOR: i64 = 8;
+/// The SYNC0 grid follows 1/PLL_DIVISOR of each frame's phase error once locked.
+const PLL_DIVISOR: i64 = 16;
 /// SM status bit 3: mailbox full.
 const SM_FULL: u8 = 0x08;
 
@@ -56,8 +63,11 @@ pub struct Station {
     /// Position in the line (0 = next to the master) and line length, for DC receive times.
     position: u16,
     line_len: u16,
-    /// The local time of the last process-data exchange, for the drive's elapsed cycles.
-    last_exchange_ns: Option<u64>,
+    /// The SYNC0 grid's origin (local time) and the last SYNC0 edge a frame was taken at.
+    sync_anchor: Option<i64>,
+    last_edge: Option<i64>,
+    /// Frames taken while locking the grid.
+    lock_frames: u32,
     /// Exchanges the drive has run (diagnostics).
     exchanges: u64,
 }
@@ -87,7 +97,9 @@ impl Station {
             al_state: AlState::Init,
             position,
             line_len,
-            last_exchange_ns: None,
+            sync_anchor: None,
+            last_edge: None,
+            lock_frames: 0,
             exchanges: 0,
         };
         s.mem[usize::from(reg::TYPE)] = ESC_TYPE;
@@ -374,7 +386,9 @@ impl Station {
                 if target == AlState::Init {
                     self.pdo =
                         PdoConfig::new(self.drive.profile().rx_pdo, self.drive.profile().tx_pdo);
-                    self.last_exchange_ns = None;
+                    self.sync_anchor = None;
+                    self.last_edge = None;
+                    self.lock_frames = 0;
                 }
                 self.set_al_status(target, None);
             }
@@ -485,13 +499,42 @@ impl Station {
             self.mem[a + 2],
             self.mem[a + 3],
         ]));
-        let elapsed = match self.last_exchange_ns {
-            Some(last) if cycle > 0 && now_ns > last => {
-                ((now_ns - last + cycle / 2) / cycle).max(1)
+        // The SYNC0 grid follows the master's frames so that they arrive 1/SYNC0_MARGIN_DIVISOR
+        // of a cycle after a grid edge, i.e. SYNC0 falls late in the cycle (the usual SYNC0
+        // shift for a master that sends at cycle start and aligns its cycle to the DC system
+        // time): locked hard on the first frames, then pulled by 1/PLL_DIVISOR of the phase
+        // error per frame. A frame later than the rest of the cycle misses its SYNC0, as on a
+        // real segment.
+        let edges = if cycle == 0 {
+            1
+        } else {
+            let cycle = cycle as i64;
+            let now = now_ns as i64;
+            let target = cycle / SYNC0_MARGIN_DIVISOR;
+            let anchor = self.sync_anchor.get_or_insert(now - target);
+            let rel = now - *anchor;
+            let edge = rel.div_euclid(cycle);
+            let error = rel.rem_euclid(cycle) - target;
+            let locking = self.lock_frames < LOCK_FRAMES;
+            if locking {
+                *anchor += error;
+                self.lock_frames += 1;
+            } else {
+                *anchor += error / PLL_DIVISOR;
             }
-            _ => 1,
+            let edges = match self.last_edge {
+                Some(last) if !locking => (edge - last).max(0) as u64,
+                _ => 1,
+            };
+            self.last_edge = Some(edge);
+            edges
         };
-        self.last_exchange_ns = Some(now_ns);
+        if edges == 0 {
+            // A second frame before the next SYNC0 (the previous one was over half a cycle
+            // late): its outputs wait in SM2 for that SYNC0; the inputs are the last ones.
+            return;
+        }
+        let elapsed = edges;
         let (o, i) = (self.layout.outputs, self.layout.inputs);
         let (os, ol) = (usize::from(o.start), usize::from(o.len));
         let (is, il) = (usize::from(i.start), usize::from(i.len));
@@ -501,7 +544,7 @@ impl Station {
         // SYNC0 fired at every cycle in between without new outputs: those count as lost
         // RxPDOs for the drive's communication checks.
         for _ in 1..elapsed.min(MAX_LOST_REPLAY) {
-            let _ = self.drive.cycle_lost(tx, Cycles(1));
+            let _ = self.drive.cycle_missed_sync0(tx);
         }
         let _ = self.drive.cycle(rx, tx, Cycles(1));
         self.exchanges += 1;

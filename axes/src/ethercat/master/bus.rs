@@ -12,8 +12,8 @@ use std::time::Duration;
 use ethercrab::std::ethercat_now;
 use ethercrab::subdevice_group::{DcConfiguration, HasDc, Op};
 use ethercrab::{
-    DcSync, DefaultLock, MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, SubDeviceGroup,
-    Timeouts,
+    DcSync, DefaultLock, MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, RetryBehaviour,
+    SubDeviceGroup, Timeouts,
 };
 
 use super::link::Link;
@@ -39,6 +39,8 @@ const FRAME_BUF: usize = 1536;
 /// The source MAC of cellrt's own cyclic frames (ethercrab's MainDevice address, so a
 /// segment sees one master).
 const MASTER_MAC: [u8; 6] = [0x10, 0x10, 0x10, 0x10, 0x10, 0x10];
+/// Retries of a bring-up PDU that timed out.
+const BRINGUP_RETRIES: usize = 3;
 /// Delay from DC configuration to the first SYNC0 pulse.
 const SYNC0_START_DELAY: Duration = Duration::from_millis(10);
 /// 1C32h:02 SM2 cycle time.
@@ -283,7 +285,8 @@ impl EthercatBus {
             },
             MainDeviceConfig {
                 dc_static_sync_iterations: 100,
-                ..MainDeviceConfig::default()
+                // A frame lost on the wire during bring-up is sent again.
+                retry_behaviour: RetryBehaviour::Count(BRINGUP_RETRIES),
             },
         );
         let mut buf = vec![0u8; FRAME_BUF];
@@ -564,6 +567,7 @@ fn object_type(profile: &DriveProfile, index: u16, sub: u8) -> DataType {
         .find(|e| !e.is_padding() && e.index == index && e.sub == sub)
         .map(|e| e.bits);
     match (index, sub) {
+        (crate::pdo::objects::ERROR_CODE, 0) => DataType::U16,
         (0x1018 | 0x1C12 | 0x1C13 | 0x1600..=0x17FF | 0x1A00..=0x1BFF, 0) => DataType::U8,
         (0x1C12 | 0x1C13, _) => DataType::U16,
         (0x1000 | 0x1018 | 0x1600..=0x17FF | 0x1A00..=0x1BFF, _) => DataType::U32,

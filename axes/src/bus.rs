@@ -35,6 +35,12 @@ pub trait Bus {
         let _ = (axis, cycles);
         false
     }
+    /// Fault injection (EtherCAT): `axis`' SubDevice does not answer for the next `cycles`
+    /// exchanges. False where unsupported.
+    fn inject_subdevice_stall(&mut self, axis: usize, cycles: u32) -> bool {
+        let _ = (axis, cycles);
+        false
+    }
     /// Acyclic read (an SDO upload on a real bus) of `index:sub` of `axis`; called at start-up
     /// and after a homing (607Ch), not every cycle. `Err(abort code)` as for
     /// [`Bus::sdo_download`].

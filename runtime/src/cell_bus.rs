@@ -112,6 +112,9 @@ impl Bus for CellBus {
     fn inject_counter_corruption(&mut self, axis: usize, cycles: u32) -> bool {
         each!(self, b => b.inject_counter_corruption(axis, cycles))
     }
+    fn inject_subdevice_stall(&mut self, axis: usize, cycles: u32) -> bool {
+        each!(self, b => b.inject_subdevice_stall(axis, cycles))
+    }
     fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
         each!(self, b => b.sdo_upload(axis, index, sub))
     }

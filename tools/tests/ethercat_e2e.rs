@@ -304,3 +304,64 @@ fn veth_attempt(
     let status = drives.wait().unwrap();
     (out, rest, status)
 }
+
+#[test]
+fn a_stalled_subdevice_stops_the_cell_and_faults_its_drive() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = ethercat_cell(dir.path(), "in-process");
+    // y (MR-J4-TM) stops answering for 30 ms during a move.
+    let text = std::fs::read_to_string(&cfg).unwrap().replace(
+        "program = \"demo-program.toml\"",
+        "program = \"stall-program.toml\"",
+    ) + "\n[[inject]]\nat_ms = 600\nfault = \"subdevice_stall\"\naxis = \"y\"\nduration_ms = 30\n";
+    std::fs::write(&cfg, text).unwrap();
+    std::fs::write(
+        dir.path().join("stall-program.toml"),
+        "[[step]]\ndo = \"power_on\"\n[[step]]\ndo = \"move\"\ntarget = { x = 400.0, y = 300.0 }\n",
+    )
+    .unwrap();
+    let rec_path = dir.path().join("stall.mcap");
+    // Judged on a run the machine did not disturb (an overrun would add its own missed SYNC0).
+    let mut attempt = 0;
+    let (out, rec) = loop {
+        attempt += 1;
+        let out = run(&cfg, &rec_path);
+        let rec = read_recording(&rec_path);
+        if longest_stall_ns(&rec) == 0 || attempt == 4 {
+            break (out, rec);
+        }
+        eprintln!("attempt {attempt}: an overrun disturbed the run; running again");
+    };
+    assert!(
+        !out.status.success(),
+        "the program must fail: the cell stops"
+    );
+    let at = |kind: &str| rec.events.iter().find(|e| e.kind == kind).map(|e| e.cycle);
+    let injected = at("fault_injected").expect("fault_injected event");
+    // The master: a working-counter error in the very cycle, then the communication
+    // watchdog's controlled stop within a few cycles.
+    assert_eq!(at("bus_error"), Some(injected));
+    let stop = at("stop_started").expect("controlled stop");
+    assert!(
+        stop > injected && stop <= injected + 5,
+        "stop at {stop}, stall at {injected}"
+    );
+    // The stalled drive: its lost-process-data alarm (MR-J4-TM AL. 86.1, 603Fh 0861h).
+    // (603Fh is not in its TxPDO: the master reads it by SDO on the fault edge.)
+    let faults: Vec<(&str, i64)> = rec
+        .events
+        .iter()
+        .filter(|e| e.kind == "drive_fault")
+        .map(|e| (e.axis.as_str(), e.value))
+        .collect();
+    assert_eq!(faults, [("y", 0x0861)], "{faults:?}");
+    // The others were stopped by the master, not faulted, and came to rest.
+    for axis in ["x", "z", "c"] {
+        let a = &rec.axes[axis];
+        assert!(
+            a.last().unwrap().actual_velocity.abs() < 1e-3,
+            "{axis} still moving"
+        );
+    }
+}

@@ -198,6 +198,14 @@ pub enum InjectedFault {
         /// Cycles.
         cycles: u32,
     },
+    /// EtherCAT: an axis' SubDevice does not answer for this many cycles (working-counter
+    /// errors at the master, missed SYNC0 data at the drive).
+    SubdeviceStall {
+        /// Axis index.
+        axis: usize,
+        /// Cycles.
+        cycles: u32,
+    },
 }
 
 /// Where an axis' drive is reached.

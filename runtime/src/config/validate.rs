@@ -368,7 +368,7 @@ fn validate_injections(
             "planner_stall" => InjectedFault::PlannerStall {
                 ns: duration(60_000.0)?,
             },
-            "rx_loss" | "counter_corruption" => {
+            "rx_loss" | "counter_corruption" | "subdevice_stall" => {
                 let name = r.axis.as_deref().ok_or_else(|| {
                     ConfigError::new(file, key("axis"), format!("fault '{}' needs axis", r.fault))
                 })?;
@@ -377,10 +377,10 @@ fn validate_injections(
                 })?;
                 let ns = duration(60_000.0)?;
                 let cycles = (ns / cycle_time.as_nanos()).max(1) as u32;
-                if r.fault == "rx_loss" {
-                    InjectedFault::RxLoss { axis, cycles }
-                } else {
-                    InjectedFault::CounterCorruption { axis, cycles }
+                match r.fault.as_str() {
+                    "rx_loss" => InjectedFault::RxLoss { axis, cycles },
+                    "subdevice_stall" => InjectedFault::SubdeviceStall { axis, cycles },
+                    _ => InjectedFault::CounterCorruption { axis, cycles },
                 }
             }
             "drive_alarm" => {
@@ -413,7 +413,7 @@ fn validate_injections(
                 return Err(ConfigError::new(
                     file,
                     key("fault"),
-                    format!("unknown fault '{other}' (allowed: stall, drive_alarm, planner_stall, rx_loss, counter_corruption)"),
+                    format!("unknown fault '{other}' (allowed: stall, drive_alarm, planner_stall, rx_loss, counter_corruption, subdevice_stall)"),
                 ))
             }
         };

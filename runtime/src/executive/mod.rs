@@ -274,10 +274,12 @@ impl<B: Bus> Executive<B> {
                 }
                 InjectedFault::DriveAlarm { axis, .. }
                 | InjectedFault::RxLoss { axis, .. }
-                | InjectedFault::CounterCorruption { axis, .. } => {
+                | InjectedFault::CounterCorruption { axis, .. }
+                | InjectedFault::SubdeviceStall { axis, .. } => {
                     let code = match inj.fault {
                         InjectedFault::DriveAlarm { .. } => 2,
                         InjectedFault::RxLoss { .. } => 4,
+                        InjectedFault::SubdeviceStall { .. } => 6,
                         _ => 5,
                     };
                     self.event(EventKind::FaultInjected, axis as u16, code);
@@ -499,6 +501,7 @@ pub fn inject_into_bus<B: Bus>(bus: &mut B, fault: InjectedFault) -> bool {
         InjectedFault::CounterCorruption { axis, cycles } => {
             bus.inject_counter_corruption(axis, cycles)
         }
+        InjectedFault::SubdeviceStall { axis, cycles } => bus.inject_subdevice_stall(axis, cycles),
         InjectedFault::Stall { .. } | InjectedFault::PlannerStall { .. } => false,
     }
 }

@@ -683,6 +683,7 @@ pub fn describe_event(e: &EventRecord) -> String {
             "planner_stall",
             "rx_loss",
             "counter_corruption",
+            "subdevice_stall",
         ]
         .get(e.value as usize)
         .copied()

@@ -146,6 +146,7 @@ pub fn replay(
                 InjectedFault::DriveAlarm { .. }
                     | InjectedFault::RxLoss { .. }
                     | InjectedFault::CounterCorruption { .. }
+                    | InjectedFault::SubdeviceStall { .. }
             )
         })
         .copied()

@@ -10,6 +10,8 @@ use crate::sim::drive::SimDrive;
 #[derive(Debug)]
 pub struct Segment {
     stations: Vec<Station>,
+    /// Per station: frames left during which it does not answer (fault injection).
+    stalled: Vec<u32>,
     frames: u64,
 }
 
@@ -23,6 +25,7 @@ impl Segment {
             .map(|(i, d)| Station::new(d, i as u16, n))
             .collect();
         Segment {
+            stalled: vec![0; n as usize],
             stations,
             frames: 0,
         }
@@ -36,6 +39,19 @@ impl Segment {
     /// Station `n`, mutably (fault injection).
     pub fn station_mut(&mut self, n: usize) -> Option<&mut Station> {
         self.stations.get_mut(n)
+    }
+
+    /// Fault injection: station `n` does not answer the next `frames` frames (it forwards
+    /// them untouched: no data, no working counter, its drive sees no SYNC0 data). False if
+    /// there is no such station.
+    pub fn stall(&mut self, n: usize, frames: u32) -> bool {
+        match self.stalled.get_mut(n) {
+            Some(s) => {
+                *s = frames;
+                true
+            }
+            None => false,
+        }
     }
 
     /// Frames processed.
@@ -63,7 +79,24 @@ impl Segment {
             let mut wkc = frame::wkc(frame, span);
             let (data, _) = frame[span.data_offset..].split_at_mut(usize::from(h.len));
             let mut rmw_read = false;
-            for st in &mut self.stations {
+            for (st, stalled) in self.stations.iter_mut().zip(&self.stalled) {
+                if *stalled > 0 {
+                    // Forwarded unprocessed; an auto-increment address still counts it, as
+                    // the port logic of a stuck ESC forwards and increments.
+                    if matches!(
+                        h.command,
+                        Command::Aprd
+                            | Command::Apwr
+                            | Command::Aprw
+                            | Command::Armw
+                            | Command::Brd
+                            | Command::Bwr
+                            | Command::Brw
+                    ) {
+                        adp = adp.wrapping_add(1);
+                    }
+                    continue;
+                }
                 let inc = match h.command {
                     Command::Nop => 0,
                     Command::Aprd | Command::Apwr | Command::Aprw => {
@@ -112,6 +145,9 @@ impl Segment {
             frame[span.wkc_offset..span.wkc_offset + 2].copy_from_slice(&wkc.to_le_bytes());
         }
         frame[6] |= REPLY_SOURCE_MAC_BIT;
+        for s in &mut self.stalled {
+            *s = s.saturating_sub(1);
+        }
         self.frames += 1;
         Ok(())
     }

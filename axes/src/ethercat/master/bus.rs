@@ -692,6 +692,10 @@ impl Bus for EthercatBus {
         axis < self.axes.len() && self.link.drop_frames(cycles)
     }
 
+    fn inject_subdevice_stall(&mut self, axis: usize, cycles: u32) -> bool {
+        axis < self.axes.len() && self.link.stall_subdevice(axis, cycles)
+    }
+
     fn close(&mut self) -> Result<(), String> {
         self.leave_op().map_err(|e| e.to_string())
     }

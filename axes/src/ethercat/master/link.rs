@@ -33,6 +33,13 @@ pub trait Link: Send {
         false
     }
 
+    /// Fault injection: SubDevice `n` does not answer the next `frames` frames. False where
+    /// the link cannot inject.
+    fn stall_subdevice(&mut self, n: usize, frames: u32) -> bool {
+        let _ = (n, frames);
+        false
+    }
+
     /// The emulated segment behind the link, where there is one (tests and fault injection).
     fn segment_mut(&mut self) -> Option<&mut Segment> {
         None
@@ -91,6 +98,10 @@ impl Link for InProcessLink {
     fn drop_frames(&mut self, n: u32) -> bool {
         self.drop = DropFrames(n);
         true
+    }
+
+    fn stall_subdevice(&mut self, n: usize, frames: u32) -> bool {
+        self.segment.stall(n, frames)
     }
 
     fn segment_mut(&mut self) -> Option<&mut Segment> {

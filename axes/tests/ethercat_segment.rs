@@ -265,3 +265,110 @@ fn lost_frames_raise_the_drives_communication_alarm_and_count_on_the_master() {
     let alarm = stations(&mut bus).stations()[0].drive().alarm();
     assert_eq!(alarm, Some(0x36), "AL.36");
 }
+
+/// A mapping other than the model's default, as a cell configuration gives it: the master writes
+/// it by SDO, the emulated drive takes it at SAFE-OP, and the process data follow it
+/// (mr-j3-t04.md TV-PDO-1's csv-only RxPDO; a shortened MR-J5-G-N1 TxPDO).
+#[test]
+fn a_variable_mapping_is_written_taken_by_the_drive_and_exchanged() {
+    use cellrt_axes::PdoEntry;
+    let cycle = CycleTime::from_micros(1000).unwrap();
+    let models = [DriveModel::MrJ3T04, DriveModel::MrJ5GN1];
+    let j3 = profile(DriveModel::MrJ3T04);
+    let j3_rx = [
+        PdoEntry::object(0x2020, 0, 8),
+        PdoEntry::padding(8),
+        PdoEntry::object(0x6040, 0, 16),
+        PdoEntry::object(0x2001, 0, 16),
+        PdoEntry::object(0x60FF, 0, 32),
+    ];
+    let j5 = profile(DriveModel::MrJ5GN1);
+    let j5_tx: Vec<PdoEntry> = j5
+        .tx_pdo
+        .entries
+        .iter()
+        .copied()
+        .filter(|e| matches!(e.index, 0x6041 | 0x6064 | 0x606C | 0x6061))
+        .collect();
+    let profiles = [
+        j3.with_pdo_maps(&j3_rx, j3.tx_pdo.entries).unwrap(),
+        j5.with_pdo_maps(j5.rx_pdo.entries, &j5_tx).unwrap(),
+    ];
+    let mut cfg = config(&models, cycle);
+    for (d, p) in cfg.drives.iter_mut().zip(profiles) {
+        d.profile = p;
+        d.mode = ModeOfOperation::CyclicSyncVelocity;
+    }
+    let link = InProcessLink::new(segment(&models, cycle));
+    let mut bus = EthercatBus::bring_up(cfg, Box::new(link)).expect("bring-up");
+    assert_eq!(bus.rx_image_mut(0).len(), 10);
+    assert_eq!(bus.tx_image(1).len(), 2 + 4 + 4 + 1);
+    for (axis, p) in profiles.iter().enumerate() {
+        assert_eq!(
+            stations(&mut bus).stations()[axis].drive().profile().rx_pdo,
+            p.rx_pdo,
+            "axis {axis} runs the written RxPDO"
+        );
+        for map in [&p.rx_pdo, &p.tx_pdo] {
+            let n = bus.sdo_upload(axis, map.index, 0).unwrap();
+            assert_eq!(n as usize, map.entries.len());
+            for (i, e) in map.entries.iter().enumerate() {
+                let w = bus.sdo_upload(axis, map.index, i as u8 + 1).unwrap() as u32;
+                assert_eq!(w, e.mapping_word());
+            }
+        }
+    }
+    // Enable both in csv and turn them at 100 r/min-ish for 200 ms: the drives decode the
+    // remapped images (60FFh at byte 6 of the J3's 10-byte RxPDO).
+    let layouts: Vec<(PdoLayout, PdoLayout)> = profiles
+        .iter()
+        .map(|p| (PdoLayout::new(&p.rx_pdo), PdoLayout::new(&p.tx_pdo)))
+        .collect();
+    let mut counter = 0u8;
+    let mut step = |bus: &mut EthercatBus, cw: Controlword, velocity: i32| {
+        counter = counter.wrapping_add(1);
+        for (axis, (rxl, _)) in layouts.iter().enumerate() {
+            let rx = RxPdo {
+                controlword: cw,
+                mode: ModeOfOperation::CyclicSyncVelocity.as_i8(),
+                target_velocity: velocity,
+                counter,
+                ..RxPdo::default()
+            };
+            rxl.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+        }
+        bus.exchange(Cycles(1)).unwrap();
+    };
+    for (cw, n) in [
+        (Controlword::SHUTDOWN, 50),
+        (Controlword::SWITCH_ON, 50),
+        (Controlword::ENABLE_OPERATION, 300),
+    ] {
+        for _ in 0..n {
+            step(&mut bus, cw, 0);
+        }
+    }
+    let read = |bus: &EthercatBus| -> Vec<_> {
+        layouts
+            .iter()
+            .enumerate()
+            .map(|(axis, (_, txl))| txl.decode_tx(bus.tx_image(axis)).unwrap())
+            .collect()
+    };
+    let before = read(&bus);
+    for tx in &before {
+        assert_eq!(tx.statusword.state(), Some(FsaState::OperationEnabled));
+    }
+    for _ in 0..200 {
+        step(&mut bus, Controlword::ENABLE_OPERATION, 100_000);
+    }
+    let after = read(&bus);
+    for (axis, (b, a)) in before.iter().zip(&after).enumerate() {
+        assert!(
+            a.position_actual > b.position_actual + 100 && a.velocity_actual > 0,
+            "axis {axis} turned: {b:?} -> {a:?}"
+        );
+        assert_eq!(a.statusword.state(), Some(FsaState::OperationEnabled));
+    }
+    assert_eq!(bus.counters().wkc_errors, 0);
+}

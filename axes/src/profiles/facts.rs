@@ -351,3 +351,48 @@ pub(crate) const fn alarm(
         source,
     }
 }
+
+/// How a model's variable PDO mapping may be changed by SDO (16xxh/1Axxh in PRE-OP: count to
+/// 0, entries, count last), and the abort codes it answers with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PdoRules {
+    /// Most entries in one mapping object.
+    pub max_entries: u8,
+    /// Most bytes of the RxPDO (master → drive).
+    pub max_rx_bytes: u16,
+    /// Most bytes of the TxPDO (drive → master).
+    pub max_tx_bytes: u16,
+    /// Objects that may be mapped into the RxPDO besides the model's default RxPDO entries and
+    /// the object table's `Pdo::Rx` rows (the manual's list where it gives one).
+    pub rx_mappable: &'static [u16],
+    /// Objects that may be mapped into the TxPDO, likewise.
+    pub tx_mappable: &'static [u16],
+    /// Abort for an object that cannot be mapped.
+    pub not_mappable_abort: u32,
+    /// Abort for a mapping longer than the PDO allows.
+    pub too_long_abort: u32,
+    /// Abort for writing an entry, or a non-zero count, while the mapping is valid (locked).
+    pub locked_abort: u32,
+    /// Abort for an SDO download to an object the RxPDO maps (written cyclically instead).
+    pub mapped_write_abort: u32,
+    /// Abort for a mapping or cycle-time write outside PRE-OP (or once frozen).
+    pub wrong_state_abort: u32,
+    /// Which parts of the PDO assignment 1C12h/1C13h the master may write.
+    pub assignment: PdoAssignment,
+    /// True if the mapping and the PDO cycle (1C32h:02) freeze once the drive has reached
+    /// SAFE-OP, until power-off (MR-J3-T04 §2.2 (4), §4.4).
+    pub frozen_after_safe_op: bool,
+    /// Spec sections, with the gaps named.
+    pub source: &'static str,
+}
+
+/// How writable a model's PDO assignment objects (1C12h/1C13h) are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PdoAssignment {
+    /// Count and entries read/write in PRE-OP (count to 0, entries, count last).
+    Writable,
+    /// The count is fixed at 1 (read-only); sub 1 selects the mapping object (MR-J4-TM §5.1).
+    FixedCount,
+    /// Read-only: one fixed mapping object per direction (MR-J3-T04 §4.3, §4.4).
+    ReadOnly,
+}

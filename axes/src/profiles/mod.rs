@@ -15,6 +15,7 @@ use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::PdoMap;
 
 pub mod facts;
+pub mod mapping;
 pub mod matrix;
 pub mod mr_j3_t04;
 pub mod mr_j4_tm;
@@ -23,7 +24,7 @@ pub mod mr_jet_g_n1;
 
 pub use facts::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, HomeReference, HomeSetting,
-    Identity, OdEntry, Pdo, StopBehaviour, TorqueLimitSelection, Units,
+    Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, TorqueLimitSelection, Units,
 };
 
 /// A supported drive model, named in configuration by its kebab-case part number.
@@ -177,6 +178,8 @@ pub struct DriveProfile {
     pub home_setting: Option<HomeSetting>,
     /// Store/restore objects (1010h/1011h) the SDO surface serves besides `objects`.
     pub store_restore_objects: &'static [OdEntry],
+    /// How the PDO mapping may be changed by SDO, with the abort codes.
+    pub pdo_rules: PdoRules,
 }
 
 impl DriveProfile {

@@ -4,7 +4,7 @@
 use super::facts::{alarm, od};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
-    Identity, OdEntry, Pdo, StopBehaviour, Units,
+    Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
 };
 use super::{HomeReference, HomeSetting, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
@@ -605,6 +605,30 @@ pub const PROFILE: DriveProfile = DriveProfile {
         before_z_alarm: 0x0026,
     }),
     store_restore_objects: &[],
+    pdo_rules: PdoRules {
+        max_entries: 15,
+        max_rx_bytes: 30,
+        max_tx_bytes: 30,
+        // §4.5: the manual's lists (reserved objects may be mapped but do nothing).
+        rx_mappable: &[
+            0x2020, 0x2022, 0x6040, 0x2001, 0x2002, 0x2003, 0x2004, 0x607A, 0x60FF, 0x2050,
+            0x6071, 0x60E0, 0x60E1, 0x6060,
+        ],
+        tx_mappable: &[
+            0x2021, 0x2023, 0x6041, 0x2011, 0x2012, 0x2013, 0x2014, 0x6064, 0x606C, 0x60F4,
+            0x6077, 0x6061, 0x6062, 0x60FC, 0x2041,
+        ],
+        not_mappable_abort: 0x0604_0041,
+        too_long_abort: 0x0604_0042,
+        locked_abort: 0x0601_0000,
+        // §4.4, §3.9: any PDO-mapped object, 6060h included.
+        mapped_write_abort: 0x0601_0000,
+        // §5.8: "write to an object that is not writable in the current AL state".
+        wrong_state_abort: 0x0601_0002,
+        assignment: PdoAssignment::ReadOnly,
+        frozen_after_safe_op: true,
+        source: "mr-j3-t04.md §4.4, §4.5, §5.8 (manual §8.6.1, §8.6.2, §8.7)",
+    },
 };
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 use super::facts::{alarm, od};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
-    Identity, OdEntry, Pdo, StopBehaviour, Units,
+    Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
 };
 use super::{HomeReference, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
@@ -539,6 +539,12 @@ pub const PROFILE: DriveProfile = DriveProfile {
     manual_stop_bit: None,
     home_setting: None,
     store_restore_objects: &[],
+    pdo_rules: PdoRules {
+        // §5.1: 1C12h:0 = 1C13h:0 = 1 read-only; sub 1 selects one of 1600h–1603h / 1A00h–1A03h.
+        assignment: PdoAssignment::FixedCount,
+        source: "mr-j4-tm.md §5.1 (32 objects, 64 bytes, only in PRE-OP), §6.2 (the same abort list as the MR-JET)",
+        ..super::mr_jet_g_n1::PDO_RULES
+    },
 };
 
 #[cfg(test)]

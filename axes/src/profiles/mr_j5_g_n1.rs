@@ -412,6 +412,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     manual_stop_bit: None,
     home_setting: None,
     store_restore_objects: super::mr_jet_g_n1::STORE_RESTORE_OBJECTS,
+    pdo_rules: super::mr_jet_g_n1::PDO_RULES,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

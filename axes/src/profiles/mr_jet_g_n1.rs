@@ -3,7 +3,7 @@
 use super::facts::{alarm, od};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
-    Identity, OdEntry, Pdo, StopBehaviour, Units,
+    Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
 };
 use super::{HomeReference, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
@@ -476,6 +476,28 @@ pub const UNITS: Units = Units {
     source: "mr-jet-g-n1.md §8: 2^26 pulses/rev only in the infinite-feed example; factor group not in this manual",
 };
 
+/// The variable-mapping rules of the MR-JET-G-N1 (and the MR-J5-G-N1 1-axis unit, whose
+/// manual states the same limits: mr-j5-g-n1.md §5.1).
+pub const PDO_RULES: PdoRules = PdoRules {
+    max_entries: 32,
+    max_rx_bytes: 64,
+    max_tx_bytes: 64,
+    rx_mappable: &[],
+    tx_mappable: &[],
+    // The family's abort list (mr-jet-g-n1.md §6.2) has no 0604 0041h/0604 0042h: a mapping
+    // the drive cannot take is answered with 0604 0043h (general parameter
+    // incompatibility), and a write the state forbids with 0800 0022h (present device
+    // state); the manual states neither case [D].
+    not_mappable_abort: 0x0604_0043,
+    too_long_abort: 0x0604_0043,
+    locked_abort: 0x0800_0022,
+    mapped_write_abort: 0x0601_0006,
+    wrong_state_abort: 0x0800_0022,
+    assignment: PdoAssignment::Writable,
+    frozen_after_safe_op: false,
+    source: "mr-jet-g-n1.md §5.1 (32 objects, 64 bytes, only in PRE-OP), §6.2; mr-j5-g-n1.md §5.1, §4.2",
+};
+
 /// The MR-JET-G-N1 profile (PA01.0 = 0, PT01.2 = pulse: pp, pv, tq, hm, csp, csv, cst; jg/pt
 /// need PA01.0 = 6 and are not modes this crate models).
 pub const PROFILE: DriveProfile = DriveProfile {
@@ -532,6 +554,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     manual_stop_bit: None,
     home_setting: None,
     store_restore_objects: STORE_RESTORE_OBJECTS,
+    pdo_rules: PDO_RULES,
 };
 
 #[cfg(test)]

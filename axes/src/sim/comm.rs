@@ -113,6 +113,11 @@ impl DriveComm {
         }
     }
 
+    /// Whether the PDOs carry the counter (a remapped drive may drop it).
+    pub(crate) fn set_counter_mapped(&mut self, mapped: bool) {
+        self.counter_mapped = mapped;
+    }
+
     /// Restarts the checks (power cycle, new PDO start).
     pub(crate) fn reset(&mut self) {
         self.last_rx = 0;

@@ -342,6 +342,24 @@ impl SimDrive {
         d
     }
 
+    /// Runs `rx` and `tx` as the drive's PDO mapping from now on: a variable mapping the master
+    /// wrote by SDO (taken when the EtherCAT emulator goes to SAFE-OP), checked against the
+    /// model's [`crate::profiles::PdoRules`].
+    pub fn remap(
+        &mut self,
+        rx: &[crate::pdo::PdoEntry],
+        tx: &[crate::pdo::PdoEntry],
+    ) -> Result<(), crate::profiles::mapping::MappingError> {
+        let profile = self.profile.with_pdo_maps(rx, tx)?;
+        self.profile = profile;
+        self.rx_layout = PdoLayout::new(&profile.rx_pdo);
+        self.tx_layout = PdoLayout::new(&profile.tx_pdo);
+        self.mode_mapped = profile.rx_pdo.maps(crate::pdo::objects::MODES_OF_OPERATION);
+        self.comm
+            .set_counter_mapped(profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter());
+        Ok(())
+    }
+
     /// SDO download of 6060h Modes of operation. Refused with the model's abort code when 6060h
     /// is mapped in the RxPDO (MR-J3-T04 §3.9: 0x06010000; MR-J4-TM/MR-JET/MR-J5: 0x06010006).
     /// The switch itself waits for zero speed like a PDO request and stays pending until then.

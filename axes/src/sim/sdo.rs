@@ -7,7 +7,7 @@ use std::fmt;
 
 use super::drive::SimDrive;
 use crate::pdo::objects::{RxField, TxField, MODES_OF_OPERATION};
-use crate::profiles::{Access, DriveModel};
+use crate::profiles::Access;
 
 /// 607Ch Home offset (kept by the homing model, read live).
 /// 1010h:01 Save all parameters; the signature "save".
@@ -113,14 +113,8 @@ impl SimDrive {
             return Err(SdoAbort(code));
         }
         if p.rx_pdo.maps(index) {
-            // MR-J3-T04 answers a mapped 6060h with 0601 0000h (§3.9); the others 0601 0006h.
-            return Err(
-                if p.model == DriveModel::MrJ3T04 && index == MODES_OF_OPERATION {
-                    SdoAbort::UNSUPPORTED_ACCESS
-                } else {
-                    SdoAbort::MAPPED_TO_RXPDO
-                },
-            );
+            // MR-J3-T04: 0601 0000h (§4.4, §3.9); the others 0601 0006h.
+            return Err(SdoAbort(p.pdo_rules.mapped_write_abort));
         }
         if p.tx_pdo.maps(index) {
             return Err(SdoAbort::READ_ONLY);

@@ -7,7 +7,9 @@
 use crate::ethercat::identity::SubDeviceIdentity;
 use crate::ethercat::register::AlState;
 use crate::pdo::objects::ERROR_CODE;
-use crate::pdo::PdoMap;
+use crate::pdo::{PdoEntry, PdoMap};
+use crate::profiles::mapping::PdoDirection;
+use crate::profiles::{DriveProfile, PdoAssignment, PdoRules};
 use crate::sim::drive::SimDrive;
 use crate::sim::sdo::SdoAbort;
 
@@ -50,61 +52,101 @@ pub struct CoeContext<'a> {
     pub counter: &'a mut u8,
 }
 
-/// The PDO assignment (1C12h/1C13h) and mapping (16xxh/1Axxh) objects of a station. The
-/// emulated drive runs its profile's default maps, so a mapping can be rewritten (count to 0,
-/// entries, count last) but must end equal to the default; anything else is refused with
-/// 0604 0043h when the count is written (a documented emulator limit).
+/// The PDO assignment (1C12h/1C13h) and mapping (16xxh/1Axxh) objects of a station: variable
+/// mapping as the model's [`PdoRules`] allow it (in PRE-OP: count to 0, entries, count last;
+/// each entry checked when written, the whole mapping when the count is written). The drive
+/// takes the mapping at PRE-OP → SAFE-OP ([`PdoConfig::mapping`]). Only the model's default
+/// mapping objects (e.g. 1600h/1A00h, 1614h/1A14h) can be assigned.
 #[derive(Debug, Clone)]
 pub struct PdoConfig {
     rx: PdoObject,
     tx: PdoObject,
     /// 1C12h:00 / 1C13h:00 counts (0 while being rewritten).
     assign_counts: [u8; 2],
+    rules: PdoRules,
+    /// The mapping and the cycle time are frozen until power-off
+    /// ([`PdoRules::frozen_after_safe_op`], set once the station has reached SAFE-OP).
+    frozen: bool,
 }
 
 #[derive(Debug, Clone)]
 struct PdoObject {
-    map: PdoMap,
+    index: u16,
+    direction: PdoDirection,
     count: u8,
+    /// Every sub-index 1..=max_entries, as written (0 where never written).
     words: Vec<u32>,
 }
 
 impl PdoObject {
-    fn new(map: PdoMap) -> Self {
-        let words: Vec<u32> = map.entries.iter().map(|e| e.mapping_word()).collect();
+    fn new(map: PdoMap, direction: PdoDirection, max_entries: u8) -> Self {
+        let mut words = vec![0u32; usize::from(max_entries).max(map.entries.len())];
+        for (w, e) in words.iter_mut().zip(map.entries) {
+            *w = e.mapping_word();
+        }
         PdoObject {
-            map,
-            count: words.len() as u8,
+            index: map.index,
+            direction,
+            count: map.entries.len() as u8,
             words,
         }
     }
 
-    fn default_words(&self) -> impl Iterator<Item = u32> + '_ {
-        self.map.entries.iter().map(|e| e.mapping_word())
+    fn entries(&self) -> Vec<PdoEntry> {
+        self.words[..usize::from(self.count)]
+            .iter()
+            .map(|w| entry_of(*w))
+            .collect()
+    }
+}
+
+/// The mapping entry of a CoE mapping word `index << 16 | sub << 8 | bits`.
+pub fn entry_of(word: u32) -> PdoEntry {
+    PdoEntry {
+        index: (word >> 16) as u16,
+        sub: (word >> 8) as u8,
+        bits: (word & 0xFF) as u16,
     }
 }
 
 impl PdoConfig {
-    /// The defaults of the drive's profile.
-    pub fn new(rx: PdoMap, tx: PdoMap) -> Self {
+    /// The mapping of `profile` (its default maps, or the mapping it runs), with its rules.
+    pub fn new(profile: &DriveProfile) -> Self {
+        let rules = profile.pdo_rules;
         PdoConfig {
-            rx: PdoObject::new(rx),
-            tx: PdoObject::new(tx),
+            rx: PdoObject::new(profile.rx_pdo, PdoDirection::Rx, rules.max_entries),
+            tx: PdoObject::new(profile.tx_pdo, PdoDirection::Tx, rules.max_entries),
             assign_counts: [1, 1],
+            rules,
+            frozen: false,
         }
     }
 
     /// True if the RxPDO and TxPDO are assigned and mapped (what SAFE-OP requires).
     pub fn complete(&self) -> bool {
-        self.assign_counts == [1, 1]
-            && usize::from(self.rx.count) == self.rx.map.entries.len()
-            && usize::from(self.tx.count) == self.tx.map.entries.len()
+        self.assign_counts == [1, 1] && self.rx.count != 0 && self.tx.count != 0
+    }
+
+    /// The RxPDO and TxPDO entries as mapped now.
+    pub fn mapping(&self) -> (Vec<PdoEntry>, Vec<PdoEntry>) {
+        (self.rx.entries(), self.tx.entries())
+    }
+
+    /// The station reached SAFE-OP: a model whose mapping freezes then keeps it until power-off.
+    pub fn reached_safe_op(&mut self) {
+        self.frozen |= self.rules.frozen_after_safe_op;
+    }
+
+    /// True if mapping and cycle-time writes are refused now (frozen, see
+    /// [`PdoRules::frozen_after_safe_op`]).
+    pub fn frozen(&self) -> bool {
+        self.frozen
     }
 
     fn object(&mut self, index: u16) -> Option<&mut PdoObject> {
-        if index == self.rx.map.index {
+        if index == self.rx.index {
             Some(&mut self.rx)
-        } else if index == self.tx.map.index {
+        } else if index == self.tx.index {
             Some(&mut self.tx)
         } else {
             None
@@ -133,13 +175,13 @@ fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Value, SdoAbo
         (0x1C12 | 0x1C13, s) => {
             let i = usize::from(index == 0x1C13);
             let map = if i == 0 {
-                ctx.pdo.rx.map
+                ctx.pdo.rx.index
             } else {
-                ctx.pdo.tx.map
+                ctx.pdo.tx.index
             };
             return match s {
                 0 => Ok(u8v(ctx.pdo.assign_counts[i])),
-                1 => Ok(u16v(map.index)),
+                1 => Ok(u16v(map)),
                 _ => Err(SdoAbort::NO_SUBINDEX),
             };
         }
@@ -182,30 +224,42 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
     match index {
         0x1000 | 0x1008 | 0x1018 => return Err(SdoAbort::READ_ONLY),
         0x1C12 | 0x1C13 => {
-            if ctx.al_state != AlState::PreOp {
-                return Err(ABORT_DEVICE_STATE);
-            }
+            let rules = ctx.pdo.rules;
             let i = usize::from(index == 0x1C13);
             let own = if i == 0 {
-                ctx.pdo.rx.map.index
+                ctx.pdo.rx.index
             } else {
-                ctx.pdo.tx.map.index
+                ctx.pdo.tx.index
             };
-            return match sub {
-                0 if data.len() != 1 => Err(SdoAbort::TOO_LONG),
-                0 if data[0] > 1 => Err(SdoAbort::VALUE_RANGE),
-                0 => {
+            return match (sub, rules.assignment) {
+                (0 | 1, PdoAssignment::ReadOnly) | (0, PdoAssignment::FixedCount) => {
+                    Err(SdoAbort::READ_ONLY)
+                }
+                _ if ctx.al_state != AlState::PreOp || ctx.pdo.frozen => {
+                    Err(SdoAbort(rules.wrong_state_abort))
+                }
+                (0, _) if data.len() != 1 => Err(SdoAbort::TOO_LONG),
+                (0, _) if data[0] > 1 => Err(SdoAbort::VALUE_RANGE),
+                (0, _) => {
                     ctx.pdo.assign_counts[i] = data[0];
                     Ok(())
                 }
-                1 if ctx.pdo.assign_counts[i] != 0 => Err(SdoAbort::UNSUPPORTED_ACCESS),
-                1 if word(data) as u16 != own => Err(ABORT_PARAMETER_INCOMPATIBLE),
-                1 => Ok(()),
+                (1, PdoAssignment::Writable) if ctx.pdo.assign_counts[i] != 0 => {
+                    Err(SdoAbort(rules.locked_abort))
+                }
+                (1, _) if data.len() != 2 => Err(SdoAbort::TOO_SHORT),
+                (1, _) if word(data) as u16 != own => Err(ABORT_PARAMETER_INCOMPATIBLE),
+                (1, _) => Ok(()),
                 _ => Err(SdoAbort::NO_SUBINDEX),
             };
         }
         SM3_SYNC => return Err(SdoAbort::READ_ONLY),
         SM2_SYNC if sub == 2 => {
+            // mr-j3-t04.md TV-IC-5: written only in PRE-OP, and (MR-J3-T04) never once the
+            // drive has reached SAFE-OP; the others: only in PRE-OP (§2.1 of each extract).
+            if ctx.al_state != AlState::PreOp || ctx.pdo.frozen {
+                return Err(SdoAbort(ctx.pdo.rules.wrong_state_abort));
+            }
             let ns = word(data);
             if !super::allows_cycle_ns(ctx.drive.profile(), ns) {
                 return Err(SdoAbort::VALUE_RANGE);
@@ -214,30 +268,43 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
         _ => {}
     }
     let pre_op = ctx.al_state == AlState::PreOp;
+    let rules = ctx.pdo.rules;
+    let frozen = ctx.pdo.frozen;
+    let profile = ctx.drive.profile();
     if let Some(obj) = ctx.pdo.object(index) {
-        if !pre_op {
-            return Err(ABORT_DEVICE_STATE);
+        if !pre_op || frozen {
+            return Err(SdoAbort(rules.wrong_state_abort));
         }
+        let max = usize::from(rules.max_entries);
         return match sub {
+            0 if data.len() != 1 => Err(SdoAbort::TOO_LONG),
+            0 if data[0] == 0 => {
+                obj.count = 0;
+                Ok(())
+            }
+            0 if obj.count != 0 => Err(SdoAbort(rules.locked_abort)),
+            0 if usize::from(data[0]) > max => Err(SdoAbort::VALUE_RANGE),
             0 => {
-                let n = usize::from(data[0]);
-                if n != 0
-                    && (n != obj.map.entries.len()
-                        || !obj.default_words().eq(obj.words.iter().copied()))
-                {
-                    return Err(ABORT_PARAMETER_INCOMPATIBLE);
-                }
+                let entries: Vec<PdoEntry> = obj.words[..usize::from(data[0])]
+                    .iter()
+                    .map(|w| entry_of(*w))
+                    .collect();
+                profile
+                    .check_mapping(obj.direction, &entries)
+                    .map_err(|e| SdoAbort(e.abort_code(&rules)))?;
                 obj.count = data[0];
                 Ok(())
             }
-            _ if obj.count != 0 => Err(SdoAbort::UNSUPPORTED_ACCESS),
-            s if usize::from(s) > crate::pdo::MAX_LAYOUT_ENTRIES => Err(SdoAbort::NO_SUBINDEX),
+            s if usize::from(s) > max => Err(SdoAbort::NO_SUBINDEX),
+            _ if obj.count != 0 => Err(SdoAbort(rules.locked_abort)),
+            _ if data.len() < 4 => Err(SdoAbort::TOO_SHORT),
+            _ if data.len() > 4 => Err(SdoAbort::TOO_LONG),
             s => {
-                let at = usize::from(s) - 1;
-                if obj.words.len() <= at {
-                    obj.words.resize(at + 1, 0);
-                }
-                obj.words[at] = word(data);
+                let w = word(data);
+                profile
+                    .check_mapping_entry(obj.direction, entry_of(w))
+                    .map_err(|e| SdoAbort(e.abort_code(&rules)))?;
+                obj.words[usize::from(s) - 1] = w;
                 Ok(())
             }
         };
@@ -347,4 +414,135 @@ pub fn serve(ctx: &mut CoeContext<'_>, request: &[u8], response: &mut [u8]) -> b
 fn write_abort(out: &mut [u8; 10], abort: SdoAbort) {
     out[2] = 0x80;
     out[6..10].copy_from_slice(&abort.0.to_le_bytes());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cycles::CycleTime;
+    use crate::profiles::{profile, DriveModel};
+    use crate::sim::drive::SimDriveParams;
+
+    /// A drive of `model` behind a CoE server in `al_state`.
+    struct Server {
+        drive: SimDrive,
+        pdo: PdoConfig,
+        al_state: AlState,
+        counter: u8,
+    }
+
+    impl Server {
+        fn new(model: DriveModel) -> Self {
+            let p = profile(model);
+            Server {
+                drive: SimDrive::new(p, SimDriveParams::default(), CycleTime::from_micros(1000).unwrap()),
+                pdo: PdoConfig::new(p),
+                al_state: AlState::PreOp,
+                counter: 0,
+            }
+        }
+
+        fn ctx(&mut self) -> CoeContext<'_> {
+            let identity = SubDeviceIdentity::of_profile(self.drive.profile());
+            CoeContext {
+                drive: &mut self.drive,
+                identity,
+                al_state: self.al_state,
+                pdo: &mut self.pdo,
+                counter: &mut self.counter,
+            }
+        }
+
+        fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
+            download(&mut self.ctx(), index, sub, data).map_err(|e| e.0)
+        }
+
+        fn write_u32(&mut self, index: u16, sub: u8, v: u32) -> Result<(), u32> {
+            self.write(index, sub, &v.to_le_bytes())
+        }
+
+        fn read(&mut self, index: u16, sub: u8) -> Result<Vec<u8>, u32> {
+            upload(&mut self.ctx(), index, sub).map_err(|e| e.0)
+        }
+    }
+
+    /// mr-j3-t04.md §12 TV-PDO-1: remap the RxPDO for csv only, with the listed abort codes.
+    #[test]
+    fn tv_pdo_1_csv_only_remap_by_sdo_and_its_abort_codes() {
+        let mut s = Server::new(DriveModel::MrJ3T04);
+        // An SDO write to 6040h while the (default) RxPDO maps it: 0601 0000h.
+        assert_eq!(s.write(0x6040, 0, &[0x06, 0x00]), Err(0x0601_0000));
+        // Entries while the mapping is valid (locked): 0601 0000h.
+        assert_eq!(s.write_u32(0x1614, 1, 0x6040_0010), Err(0x0601_0000));
+        assert_eq!(s.write(0x1614, 0, &[0]), Ok(()));
+        for (sub, word) in [
+            (1, 0x2020_0008),
+            (2, 0x0000_0008),
+            (3, 0x6040_0010),
+            (4, 0x2001_0010),
+            (5, 0x60FF_0020),
+        ] {
+            assert_eq!(s.write_u32(0x1614, sub, word), Ok(()), "1614h:{sub}");
+        }
+        // Mapping 6041h into 1614h: 0604 0041h (and the entry is not taken).
+        assert_eq!(s.write_u32(0x1614, 6, 0x6041_0010), Err(0x0604_0041));
+        assert_eq!(s.write(0x1614, 0, &[5]), Ok(()));
+        assert_eq!(s.read(0x1614, 0), Ok(vec![5]));
+        assert_eq!(s.read(0x1614, 5), Ok(0x60FF_0020u32.to_le_bytes().to_vec()));
+        // Writing 1614h:06 now (locked): 0601 0000h.
+        assert_eq!(s.write_u32(0x1614, 6, 0x60E0_0010), Err(0x0601_0000));
+        // The mapping is 10 bytes: counter, gap, controlword, controlword2, target velocity.
+        let (rx, _) = s.pdo.mapping();
+        let p = s.drive.profile().with_pdo_maps(&rx, s.drive.profile().tx_pdo.entries);
+        let p = p.expect("the TV-PDO-1 mapping is valid");
+        assert_eq!(p.rx_pdo.byte_len(), 10);
+        assert_eq!(p.rx_pdo.offset_of(0x2020, 0), Some(0));
+        assert_eq!(p.rx_pdo.offset_of(0x6040, 0), Some(2));
+        assert_eq!(p.rx_pdo.offset_of(0x2001, 0), Some(4));
+        assert_eq!(p.rx_pdo.offset_of(0x60FF, 0), Some(6));
+        // A mapping totalling 32 bytes: 0604 0042h, and the count stays 0.
+        assert_eq!(s.write(0x1614, 0, &[0]), Ok(()));
+        for sub in 1..=8 {
+            assert_eq!(s.write_u32(0x1614, sub, 0x607A_0020), Ok(()));
+        }
+        assert_eq!(s.write(0x1614, 0, &[8]), Err(0x0604_0042));
+        assert_eq!(s.read(0x1614, 0), Ok(vec![0]));
+        // More than 15 entries do not exist.
+        assert_eq!(s.write_u32(0x1614, 16, 0x6040_0010), Err(0x0609_0011));
+    }
+
+    /// mr-j3-t04.md TV-IC-5 rows 3 and 4: 1C32h:02 takes only the three cycles, only in PRE-OP,
+    /// and never again once SAFE-OP has been reached (mapping likewise, §4.4).
+    #[test]
+    fn tv_ic_5_cycle_time_writes_and_the_freeze_after_safe_op() {
+        let mut s = Server::new(DriveModel::MrJ3T04);
+        assert_eq!(s.write_u32(0x1C32, 2, 1_500_000), Err(0x0609_0030));
+        assert_eq!(s.write_u32(0x1C32, 2, 1_000_000), Ok(()));
+        // The assignment is read-only on this drive (§4.3).
+        assert_eq!(s.write(0x1C12, 0, &[0]), Err(0x0601_0002));
+        s.al_state = AlState::SafeOp;
+        s.pdo.reached_safe_op();
+        assert_eq!(s.write_u32(0x1C32, 2, 1_000_000), Err(0x0601_0002));
+        assert_eq!(s.write(0x1614, 0, &[0]), Err(0x0601_0002));
+        s.al_state = AlState::PreOp;
+        assert_eq!(s.write_u32(0x1C32, 2, 1_000_000), Err(0x0601_0002));
+        assert_eq!(s.write(0x1614, 0, &[0]), Err(0x0601_0002));
+    }
+
+    /// mr-j4-tm.md §12 TV-10, last row: 1600h:0 in SAFE-OP/OP is refused (0800 0022h assumed,
+    /// [D]); in PRE-OP it is taken. The count of 1C12h is read-only (§5.1).
+    #[test]
+    fn tv_10_mapping_writes_outside_pre_op_mr_j4_tm() {
+        let mut s = Server::new(DriveModel::MrJ4TM);
+        for state in [AlState::SafeOp, AlState::Op] {
+            s.al_state = state;
+            assert_eq!(s.write(0x1600, 0, &[0]), Err(0x0800_0022), "{state:?}");
+        }
+        s.al_state = AlState::PreOp;
+        assert_eq!(s.write(0x1C12, 0, &[0]), Err(0x0601_0002));
+        assert_eq!(s.write(0x1C12, 1, &0x1600u16.to_le_bytes()), Ok(()));
+        assert_eq!(s.write(0x1600, 0, &[0]), Ok(()));
+        // The family answers an object it cannot map with 0604 0043h.
+        assert_eq!(s.write_u32(0x1600, 1, 0x6041_0010), Err(0x0604_0043));
+    }
 }

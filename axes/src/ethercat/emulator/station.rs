@@ -91,7 +91,7 @@ impl Station {
             sii,
             layout,
             identity,
-            pdo: PdoConfig::new(profile.rx_pdo, profile.tx_pdo),
+            pdo: PdoConfig::new(profile),
             drive,
             mailbox_counter: 0,
             al_state: AlState::Init,
@@ -383,9 +383,12 @@ impl Station {
                 if target == AlState::Op && from != AlState::Op {
                     self.drive.enter_op();
                 }
+                if target == AlState::SafeOp && from == AlState::PreOp {
+                    self.pdo.reached_safe_op();
+                }
                 if target == AlState::Init {
-                    self.pdo =
-                        PdoConfig::new(self.drive.profile().rx_pdo, self.drive.profile().tx_pdo);
+                    // The mapping objects keep what was written (until power-off); the SYNC0
+                    // grid starts anew.
                     self.sync_anchor = None;
                     self.last_edge = None;
                     self.lock_frames = 0;
@@ -396,14 +399,28 @@ impl Station {
         }
     }
 
-    fn check_process_data(&self) -> Result<(), u16> {
+    /// PRE-OP → SAFE-OP: the PDOs must be assigned and mapped, SM2/SM3 must match the mapping's
+    /// lengths, and the drive takes the mapping (a variable mapping, [`PdoConfig`]).
+    fn check_process_data(&mut self) -> Result<(), u16> {
         let (o, i) = (self.layout.outputs, self.layout.inputs);
-        if !self.pdo.complete() || !self.sm_matches(2, o.start, o.len) {
+        if !self.pdo.complete() {
             return Err(al_code::INVALID_OUTPUT_CONFIG);
         }
-        if !self.sm_matches(3, i.start, i.len) {
+        let (rx, tx) = self.pdo.mapping();
+        let len = |e: &[crate::pdo::PdoEntry]| {
+            (e.iter().map(|e| usize::from(e.bits)).sum::<usize>() / 8) as u16
+        };
+        if !self.sm_matches(2, o.start, len(&rx)) {
+            return Err(al_code::INVALID_OUTPUT_CONFIG);
+        }
+        if !self.sm_matches(3, i.start, len(&tx)) {
             return Err(al_code::INVALID_INPUT_CONFIG);
         }
+        if self.drive.remap(&rx, &tx).is_err() {
+            return Err(al_code::INVALID_OUTPUT_CONFIG);
+        }
+        self.layout.outputs.len = len(&rx);
+        self.layout.inputs.len = len(&tx);
         if self.mem[usize::from(reg::DC_SYNC_ACTIVE)] & 0x03 != 0 {
             let a = usize::from(reg::DC_SYNC0_CYCLE);
             let ns = u32::from_le_bytes([

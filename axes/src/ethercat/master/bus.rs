@@ -23,6 +23,7 @@ use crate::cycles::{CycleTime, Cycles};
 use crate::ethercat::frame::{self, Command, FrameBuilder};
 use crate::ethercat::identity::{ExpectedIdentity, SubDeviceIdentity};
 use crate::ethercat::register::{self as reg, AlState};
+use crate::profiles::PdoAssignment;
 use crate::pdo::objects::MODES_OF_OPERATION;
 use crate::profiles::{DataType, DriveProfile};
 
@@ -339,16 +340,25 @@ impl EthercatBus {
             let configure = async {
                 // PDO assignment and mapping, each count written last (mr-j3-t04.md §3.3,
                 // mr-j5-g-n1.md §5.1).
+                // The assignment only as far as the model lets it be written (MR-J3-T04:
+                // 1C12h/1C13h read-only, §4.4; MR-J4-TM: the count fixed at 1, §5.1).
+                let assignment = p.pdo_rules.assignment;
                 for (assign, map) in [(RX_ASSIGN, &p.rx_pdo), (TX_ASSIGN, &p.tx_pdo)] {
-                    sd.sdo_write(assign, 0, 0u8).await?;
+                    if assignment == PdoAssignment::Writable {
+                        sd.sdo_write(assign, 0, 0u8).await?;
+                    }
                     sd.sdo_write(map.index, 0, 0u8).await?;
                     for (i, e) in map.entries.iter().enumerate() {
                         sd.sdo_write(map.index, (i + 1) as u8, e.mapping_word())
                             .await?;
                     }
                     sd.sdo_write(map.index, 0, map.entries.len() as u8).await?;
-                    sd.sdo_write(assign, 1, map.index).await?;
-                    sd.sdo_write(assign, 0, 1u8).await?;
+                    if assignment != PdoAssignment::ReadOnly {
+                        sd.sdo_write(assign, 1, map.index).await?;
+                    }
+                    if assignment == PdoAssignment::Writable {
+                        sd.sdo_write(assign, 0, 1u8).await?;
+                    }
                 }
                 if !p.rx_pdo.maps(MODES_OF_OPERATION) {
                     sd.sdo_write(MODES_OF_OPERATION, 0, d.mode.as_i8()).await?;

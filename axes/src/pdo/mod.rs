@@ -41,6 +41,15 @@ impl PdoEntry {
         self.index == 0
     }
 
+    /// The entry a CoE mapping word `index << 16 | sub << 8 | bits` names (index 0: padding).
+    pub const fn from_mapping_word(word: u32) -> Self {
+        PdoEntry {
+            index: (word >> 16) as u16,
+            sub: (word >> 8) as u8,
+            bits: (word & 0xFF) as u16,
+        }
+    }
+
     /// The CoE mapping word `index << 16 | sub << 8 | bits` (e.g. 60400010h), as written to
     /// 16xxh/1Axxh. Sizes above 255 bits do not occur in a mapping entry and are truncated.
     pub const fn mapping_word(&self) -> u32 {

@@ -212,7 +212,8 @@ impl DriveProfile {
         }) {
             return Ok(p);
         }
-        let leak = |e: &[PdoEntry]| -> &'static [PdoEntry] { Box::leak(e.to_vec().into_boxed_slice()) };
+        let leak =
+            |e: &[PdoEntry]| -> &'static [PdoEntry] { Box::leak(e.to_vec().into_boxed_slice()) };
         let p: &'static DriveProfile = Box::leak(Box::new(DriveProfile {
             rx_pdo: PdoMap {
                 index: self.rx_pdo.index,

@@ -495,7 +495,8 @@ pub const PDO_RULES: PdoRules = PdoRules {
     wrong_state_abort: 0x0800_0022,
     assignment: PdoAssignment::Writable,
     frozen_after_safe_op: false,
-    source: "mr-jet-g-n1.md §5.1 (32 objects, 64 bytes, only in PRE-OP), §6.2; mr-j5-g-n1.md §5.1, §4.2",
+    source:
+        "mr-jet-g-n1.md §5.1 (32 objects, 64 bytes, only in PRE-OP), §6.2; mr-j5-g-n1.md §5.1, §4.2",
 };
 
 /// The MR-JET-G-N1 profile (PA01.0 = 0, PT01.2 = pulse: pp, pv, tq, hm, csp, csv, cst; jg/pt

@@ -53,6 +53,17 @@ pub struct RawEthercatAxis {
     pub product_code: Option<u32>,
 }
 
+/// `[axes.pdo]`: a PDO mapping other than the model's default, as CoE mapping words
+/// (`index << 16 | sub << 8 | bits`, e.g. 0x60400010).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPdo {
+    /// RxPDO entries (master → drive), in order.
+    pub rx: Option<Vec<u32>>,
+    /// TxPDO entries (drive → master), in order.
+    pub tx: Option<Vec<u32>>,
+}
+
 /// `[cell]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -222,6 +233,9 @@ pub struct RawAxis {
     /// `[axes.ethercat]`.
     #[serde(default)]
     pub ethercat: RawEthercatAxis,
+    /// `[axes.pdo]`.
+    #[serde(default)]
+    pub pdo: RawPdo,
     /// Mode name, e.g. "csp".
     #[serde(default = "default_mode")]
     pub mode: String,

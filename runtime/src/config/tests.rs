@@ -212,3 +212,43 @@ fn a_multi_axis_unit_over_ethercat_is_refused_by_name() {
         "{e}"
     );
 }
+
+/// `[axes.pdo]`: a mapping other than the model's default, checked against the model's rules and
+/// against what the axis' mode needs; the axis' profile runs it.
+#[test]
+fn a_pdo_mapping_from_the_config_is_checked_and_runs_in_the_axis_profile() {
+    let with = |pdo: &str| {
+        ethercat_text().replacen(
+            "sim = { initial_position = 50.0 }",
+            &format!("sim = {{ initial_position = 50.0 }}\npdo = {{ {pdo} }}"),
+            1,
+        )
+    };
+    let c = parse(&with(
+        "rx = [0x20200008, 0x00000008, 0x60400010, 0x20010010, 0x607A0020]",
+    ))
+    .expect("a csp-only RxPDO of the MR-J3-T04");
+    let x = &c.axes[0].profile;
+    assert_eq!(x.rx_pdo.byte_len(), 10);
+    assert_eq!(x.rx_pdo.offset_of(0x607A, 0), Some(6));
+    assert_eq!(x.rx_pdo.index, 0x1614);
+    assert_eq!(
+        x.tx_pdo,
+        cellrt_axes::profile(cellrt_axes::DriveModel::MrJ3T04).tx_pdo
+    );
+    assert!(!x.default_mapping() && c.axes[1].profile.default_mapping());
+    for (pdo, key, reason) in [
+        ("rx = [0x60400010, 0x60410010, 0x607A0020]", "axes[0].pdo.rx", "cannot map object 6041h:00 into the RxPDO"),
+        ("rx = [0x60400010, 0x60FF0020]", "axes[0].pdo.rx", "must map 607Ah for mode csp"),
+        ("tx = [0x60410010, 0x606C0020]", "axes[0].pdo.tx", "must map 6064h"),
+        ("rx = [0x60400010, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020]", "axes[0].pdo.rx", "34 bytes, the drive takes at most 30"),
+        ("rx = [0x60400010, 0x0000000C, 0x607A0020]", "axes[0].pdo.rx", "not byte aligned"),
+        ("rxpdo = []", "axes[0].pdo", "unknown field"),
+    ] {
+        let Err(e) = parse(&with(pdo)) else {
+            panic!("{pdo}: accepted");
+        };
+        assert!(e.key.starts_with(key), "{pdo}: {e}");
+        assert!(e.to_string().contains(reason), "{pdo}: {e}");
+    }
+}

@@ -544,6 +544,8 @@ fn validate_axis(
         ethercat_identity.product_code = Some(p);
     }
     let mode: ModeOfOperation = a.mode.parse().map_err(|e| err("mode", format!("{e}")))?;
+    let profile = pdo_mapping(profile, mode, &a.pdo)
+        .map_err(|(k, m)| err(k, format!("axis '{}': {m}", a.name)))?;
     if !profile.supports_mode(mode) {
         return Err(err(
             "mode",
@@ -710,4 +712,71 @@ fn validate_axis(
         torque,
         csv_position_gain,
     })
+}
+
+/// The axis' profile with its `[axes.pdo]` mapping (the model's default maps where a direction
+/// is not given), checked against the model's rules and against what the RT loop exchanges:
+/// controlword, statusword, actual position, and the cyclic mode's target (csp 607Ah, csv
+/// 60FFh, cst 6071h and 60FFh: the axis runs in csv between torque steps).
+fn pdo_mapping(
+    base: &'static cellrt_axes::DriveProfile,
+    mode: ModeOfOperation,
+    pdo: &super::raw::RawPdo,
+) -> Result<&'static cellrt_axes::DriveProfile, (&'static str, String)> {
+    use cellrt_axes::pdo::objects::{
+        CONTROLWORD, POSITION_ACTUAL, STATUSWORD, TARGET_POSITION, TARGET_TORQUE, TARGET_VELOCITY,
+    };
+    use cellrt_axes::profiles::mapping::{MappingError, PdoDirection};
+    use cellrt_axes::PdoEntry;
+    if pdo.rx.is_none() && pdo.tx.is_none() {
+        return Ok(base);
+    }
+    let entries = |words: &Option<Vec<u32>>, default: &'static [PdoEntry]| -> Vec<PdoEntry> {
+        words.as_ref().map_or_else(
+            || default.to_vec(),
+            |w| w.iter().map(|w| PdoEntry::from_mapping_word(*w)).collect(),
+        )
+    };
+    let rx = entries(&pdo.rx, base.rx_pdo.entries);
+    let tx = entries(&pdo.tx, base.tx_pdo.entries);
+    let key = |d: PdoDirection| match d {
+        PdoDirection::Rx => "pdo.rx",
+        PdoDirection::Tx => "pdo.tx",
+    };
+    let profile = base.with_pdo_maps(&rx, &tx).map_err(|e| {
+        let d = match e {
+            MappingError::TooManyEntries { direction, .. }
+            | MappingError::NotMappable { direction, .. }
+            | MappingError::Unaligned { direction, .. }
+            | MappingError::TooLong { direction, .. } => direction,
+        };
+        (key(d), e.to_string())
+    })?;
+    let mut needed_rx = vec![CONTROLWORD];
+    needed_rx.extend(match mode {
+        ModeOfOperation::CyclicSyncPosition => &[TARGET_POSITION][..],
+        ModeOfOperation::CyclicSyncVelocity => &[TARGET_VELOCITY][..],
+        ModeOfOperation::CyclicSyncTorque => &[TARGET_TORQUE, TARGET_VELOCITY][..],
+        _ => &[][..],
+    });
+    for (direction, map, needed) in [
+        (PdoDirection::Rx, &profile.rx_pdo, needed_rx),
+        (
+            PdoDirection::Tx,
+            &profile.tx_pdo,
+            vec![STATUSWORD, POSITION_ACTUAL],
+        ),
+    ] {
+        if let Some(missing) = needed.iter().find(|i| !map.maps(**i)) {
+            return Err((
+                key(direction),
+                format!(
+                    "the {} must map {missing:04X}h for mode {}",
+                    direction.name(),
+                    mode.as_str()
+                ),
+            ));
+        }
+    }
+    Ok(profile)
 }

@@ -95,17 +95,8 @@ impl PdoObject {
     fn entries(&self) -> Vec<PdoEntry> {
         self.words[..usize::from(self.count)]
             .iter()
-            .map(|w| entry_of(*w))
+            .map(|w| PdoEntry::from_mapping_word(*w))
             .collect()
-    }
-}
-
-/// The mapping entry of a CoE mapping word `index << 16 | sub << 8 | bits`.
-pub fn entry_of(word: u32) -> PdoEntry {
-    PdoEntry {
-        index: (word >> 16) as u16,
-        sub: (word >> 8) as u8,
-        bits: (word & 0xFF) as u16,
     }
 }
 
@@ -287,7 +278,7 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
             0 => {
                 let entries: Vec<PdoEntry> = obj.words[..usize::from(data[0])]
                     .iter()
-                    .map(|w| entry_of(*w))
+                    .map(|w| PdoEntry::from_mapping_word(*w))
                     .collect();
                 profile
                     .check_mapping(obj.direction, &entries)
@@ -302,7 +293,7 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
             s => {
                 let w = word(data);
                 profile
-                    .check_mapping_entry(obj.direction, entry_of(w))
+                    .check_mapping_entry(obj.direction, PdoEntry::from_mapping_word(w))
                     .map_err(|e| SdoAbort(e.abort_code(&rules)))?;
                 obj.words[usize::from(s) - 1] = w;
                 Ok(())
@@ -435,7 +426,11 @@ mod tests {
         fn new(model: DriveModel) -> Self {
             let p = profile(model);
             Server {
-                drive: SimDrive::new(p, SimDriveParams::default(), CycleTime::from_micros(1000).unwrap()),
+                drive: SimDrive::new(
+                    p,
+                    SimDriveParams::default(),
+                    CycleTime::from_micros(1000).unwrap(),
+                ),
                 pdo: PdoConfig::new(p),
                 al_state: AlState::PreOp,
                 counter: 0,
@@ -493,7 +488,10 @@ mod tests {
         assert_eq!(s.write_u32(0x1614, 6, 0x60E0_0010), Err(0x0601_0000));
         // The mapping is 10 bytes: counter, gap, controlword, controlword2, target velocity.
         let (rx, _) = s.pdo.mapping();
-        let p = s.drive.profile().with_pdo_maps(&rx, s.drive.profile().tx_pdo.entries);
+        let p = s
+            .drive
+            .profile()
+            .with_pdo_maps(&rx, s.drive.profile().tx_pdo.entries);
         let p = p.expect("the TV-PDO-1 mapping is valid");
         assert_eq!(p.rx_pdo.byte_len(), 10);
         assert_eq!(p.rx_pdo.offset_of(0x2020, 0), Some(0));

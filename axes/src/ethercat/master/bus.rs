@@ -23,8 +23,8 @@ use crate::cycles::{CycleTime, Cycles};
 use crate::ethercat::frame::{self, Command, FrameBuilder};
 use crate::ethercat::identity::{ExpectedIdentity, SubDeviceIdentity};
 use crate::ethercat::register::{self as reg, AlState};
-use crate::profiles::PdoAssignment;
 use crate::pdo::objects::MODES_OF_OPERATION;
+use crate::profiles::PdoAssignment;
 use crate::profiles::{DataType, DriveProfile};
 
 /// SubDevices one segment can hold.

@@ -239,6 +239,19 @@ pub enum TorqueLimitSelection {
     },
 }
 
+/// A DIP-switch setting the amplifier refuses with an alarm (MR-J5-G-N1 SW3, mr-j5-g-n1.md §1.5
+/// and TV-14, manual §8 Point: on a 1-axis amplifier SW3-1 OFF with SW3-2 ON raises AL.011.2).
+/// The manual does not say what SW3 selects, nor when the setting is checked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct InvalidAxisSwitch {
+    /// SW3-1 in the refused setting (ON = up).
+    pub sw3_1: bool,
+    /// SW3-2 in the refused setting (ON = up).
+    pub sw3_2: bool,
+    /// The alarm raised (603Fh code).
+    pub alarm: u16,
+}
+
 /// The model's cyclic communication check.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum CommCheck {

@@ -23,7 +23,7 @@ pub mod mr_jet_g_n1;
 
 pub use facts::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, HomeReference, HomeSetting,
-    Identity, OdEntry, Pdo, StopBehaviour, TorqueLimitSelection, Units,
+    Identity, InvalidAxisSwitch, OdEntry, Pdo, StopBehaviour, TorqueLimitSelection, Units,
 };
 
 /// A supported drive model, named in configuration by its kebab-case part number.
@@ -177,6 +177,9 @@ pub struct DriveProfile {
     pub home_setting: Option<HomeSetting>,
     /// Store/restore objects (1010h/1011h) the SDO surface serves besides `objects`.
     pub store_restore_objects: &'static [OdEntry],
+    /// The axis-selection switch setting the amplifier refuses at power-on (MR-J5-G-N1 1-axis:
+    /// SW3-1 OFF / SW3-2 ON → AL.011.2, mr-j5-g-n1.md §1.5, TV-14); `None`: no such rule stated.
+    pub invalid_axis_switch: Option<InvalidAxisSwitch>,
 }
 
 impl DriveProfile {

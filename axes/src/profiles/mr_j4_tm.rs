@@ -539,6 +539,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     manual_stop_bit: None,
     home_setting: None,
     store_restore_objects: &[],
+    invalid_axis_switch: None,
 };
 
 #[cfg(test)]

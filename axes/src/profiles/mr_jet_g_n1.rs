@@ -532,6 +532,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     manual_stop_bit: None,
     home_setting: None,
     store_restore_objects: STORE_RESTORE_OBJECTS,
+    invalid_axis_switch: None,
 };
 
 #[cfg(test)]

@@ -77,6 +77,26 @@ pub struct SimDriveParams {
     /// Raw position of the encoder's Z phase within a revolution (counts; the manual gives no
     /// figure, TV-HOME-1 uses 262100); default 0.
     pub z_phase_position: i32,
+    /// The DIP switch SW3 (axis selection) as set on the amplifier, read at power-on; see
+    /// [`AxisSwitch`].
+    pub axis_switch: AxisSwitch,
+}
+
+/// DIP switch SW3 of the MR-J5-G-N1 family (mr-j5-g-n1.md §1.5, TV-14; ON = up).
+///
+/// The manual states one rule: on a 1-axis amplifier SW3-1 OFF with SW3-2 ON raises AL.011.2
+/// Invalid axis setting error (the profile's [`DriveProfile::invalid_axis_switch`]). It does not
+/// say what SW3 selects, what the factory setting is, what multi-axis units accept, nor when
+/// the setting is checked. **[inferred]** The simulator checks it at power-on
+/// ([`SimDrive::new`], [`SimDrive::power_cycle`]) like the other start-up settings of manual
+/// §8, so a switch changed while the drive runs ([`SimDrive::set_axis_switch`]) takes effect at
+/// the next power cycle. The default (both OFF) is a setting the manual does not refuse.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AxisSwitch {
+    /// SW3-1 (ON = up).
+    pub sw3_1: bool,
+    /// SW3-2 (ON = up).
+    pub sw3_2: bool,
 }
 
 /// 2D6Dh Torque limit 2 (mr-jet-g-n1.md §6/§9.1), in 0.1 % of rated torque; defaults per the
@@ -151,6 +171,7 @@ impl Default for SimDriveParams {
             dc_missed_command: MissedCommand::Extrapolate,
             before_z_reaction: BeforeZReaction::Warning,
             z_phase_position: 0,
+            axis_switch: AxisSwitch::default(),
             slow_stop_time_ms: 0,
             store_parameters_ms: 25_000,
         }
@@ -338,8 +359,27 @@ impl SimDrive {
             home_set: HomeSettingState::default(),
         };
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
+        d.power_on_checks();
         d.tx = d.make_tx();
         d
+    }
+
+    /// The settings the amplifier checks at power-on: the axis switch SW3 against the
+    /// profile's refused setting (MR-J5-G-N1 1-axis AL.011.2, TV-14; the moment of detection is
+    /// [inferred], see [`AxisSwitch`]).
+    fn power_on_checks(&mut self) {
+        if let Some(rule) = self.profile.invalid_axis_switch {
+            let sw = self.params.axis_switch;
+            if sw.sw3_1 == rule.sw3_1 && sw.sw3_2 == rule.sw3_2 {
+                self.raise(rule.alarm);
+            }
+        }
+    }
+
+    /// Sets the DIP switch SW3; the amplifier reads it at the next power-on
+    /// ([`SimDrive::power_cycle`]).
+    pub fn set_axis_switch(&mut self, switch: AxisSwitch) {
+        self.params.axis_switch = switch;
     }
 
     /// SDO download of 6060h Modes of operation. Refused with the model's abort code when 6060h
@@ -573,6 +613,7 @@ impl SimDrive {
         self.following_error = 0;
         // S_ZPAS is "since power-on"; the C_CR edges start afresh.
         self.home_set = HomeSettingState::default();
+        self.power_on_checks();
         self.tx = self.make_tx();
     }
 

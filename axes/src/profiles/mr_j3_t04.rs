@@ -606,6 +606,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     }),
     store_restore_objects: &[],
     invalid_axis_switch: None,
+    fsoe: None,
 };
 
 #[cfg(test)]

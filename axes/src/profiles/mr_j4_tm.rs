@@ -540,6 +540,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     home_setting: None,
     store_restore_objects: &[],
     invalid_axis_switch: None,
+    fsoe: None,
 };
 
 #[cfg(test)]

@@ -424,6 +424,8 @@ pub const PROFILE: DriveProfile = DriveProfile {
     home_setting: None,
     store_restore_objects: super::mr_jet_g_n1::STORE_RESTORE_OBJECTS,
     invalid_axis_switch: Some(INVALID_AXIS_SWITCH_1_AXIS),
+    // §7: this manual has no safety PDOs and no FSoE objects ("should not expose 1608h/1A08h").
+    fsoe: None,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

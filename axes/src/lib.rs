@@ -1,7 +1,8 @@
 //! CiA 402, drive profiles, PDO images, simulated drives and bus backends.
 //!
 //! `cia402` holds the wire words and both state machines, `pdo` the byte-exact images,
-//! `profiles` one module per drive model, `sim` the simulated servo drive, `bus` the backends.
+//! `profiles` one module per drive model, `sim` the simulated servo drive, `bus` the backends,
+//! `fsoe` the master's side of the FSoE safety process data.
 //! Everything called per cycle is allocation-free and lock-free.
 
 #![warn(missing_docs)]
@@ -11,6 +12,7 @@ pub mod cia402;
 pub mod comm;
 pub mod cycles;
 pub mod ethercat;
+pub mod fsoe;
 pub mod pdo;
 pub mod profiles;
 pub mod sim;

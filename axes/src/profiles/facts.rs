@@ -239,6 +239,169 @@ pub enum TorqueLimitSelection {
     },
 }
 
+/// A DIP-switch setting the amplifier refuses with an alarm (MR-J5-G-N1 SW3, mr-j5-g-n1.md §1.5
+/// and TV-14, manual §8 Point: on a 1-axis amplifier SW3-1 OFF with SW3-2 ON raises AL.011.2).
+/// The manual does not say what SW3 selects, nor when the setting is checked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct InvalidAxisSwitch {
+    /// SW3-1 in the refused setting (ON = up).
+    pub sw3_1: bool,
+    /// SW3-2 in the refused setting (ON = up).
+    pub sw3_2: bool,
+    /// The alarm raised (603Fh code).
+    pub alarm: u16,
+}
+
+/// One bit of the FSoE SafeData (mr-jet-g-n1.md §7.2, manual §9.3): SafeData byte 0–3, bit
+/// 0–7, and the sub-index of its object (F701h for the master's commands, F601h for the
+/// slave's status).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SafeBit {
+    /// SafeData byte, 0–3.
+    pub byte: u8,
+    /// Bit in that byte, 0–7.
+    pub bit: u8,
+    /// Sub-index of the bit's F701h / F601h entry.
+    pub sub: u8,
+}
+
+impl SafeBit {
+    /// Bit `bit` of SafeData byte `byte`, object sub-index `sub`.
+    pub const fn new(byte: u8, bit: u8, sub: u8) -> SafeBit {
+        SafeBit { byte, bit, sub }
+    }
+
+    /// The bit's value in `safe_data` (false for a byte outside it).
+    pub fn get(self, safe_data: &[u8; 4]) -> bool {
+        safe_data
+            .get(usize::from(self.byte))
+            .is_some_and(|b| (b >> (self.bit & 7)) & 1 != 0)
+    }
+
+    /// Sets the bit in `safe_data` (nothing for a byte outside it).
+    pub fn set(self, safe_data: &mut [u8; 4], on: bool) {
+        if let Some(b) = safe_data.get_mut(usize::from(self.byte)) {
+            let m = 1u8 << (self.bit & 7);
+            if on {
+                *b |= m;
+            } else {
+                *b &= !m;
+            }
+        }
+    }
+}
+
+/// The master's SafeData command bits (safety RxPDO 1608h, F701h): **0 activates** the
+/// function (safe state), 1 cancels it; Error Ack acts on its 0→1 edge (mr-jet-g-n1.md §7.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FsoeCommandBits {
+    /// STOC, STO command.
+    pub sto: SafeBit,
+    /// SS1C, SS1 command.
+    pub ss1: SafeBit,
+    /// SDIPC, safe direction positive.
+    pub sdip: SafeBit,
+    /// SDINC, safe direction negative.
+    pub sdin: SafeBit,
+    /// Error Ack (error clear command, rising edge).
+    pub error_ack: SafeBit,
+    /// SLS1C–SLS4C, safely-limited speed 1–4.
+    pub sls: [SafeBit; 4],
+    /// SLT1C–SLT4C, safely-limited torque 1–4.
+    pub slt: [SafeBit; 4],
+}
+
+/// The slave's SafeData status bits (safety TxPDO 1A08h, F601h): **1 = function active**
+/// (mr-jet-g-n1.md §7.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FsoeStatusBits {
+    /// STOS: STO active, energy cut.
+    pub sto: SafeBit,
+    /// SSMS: speed at or below the SSM speed (0 with SSM disabled).
+    pub ssm: SafeBit,
+    /// Error: an error is present.
+    pub error: SafeBit,
+    /// SS1S.
+    pub ss1: SafeBit,
+    /// SDIPS.
+    pub sdip: SafeBit,
+    /// SDINS.
+    pub sdin: SafeBit,
+    /// SLS1S–SLS4S.
+    pub sls: [SafeBit; 4],
+    /// SBCS: STO active and the brake supply cut.
+    pub sbc: SafeBit,
+    /// SLT1S–SLT4S.
+    pub slt: [SafeBit; 4],
+}
+
+/// Byte offsets of one FSoE frame in a safety PDO (mr-jet-g-n1.md §5.4): the same layout both
+/// ways (1608h master → slave, 1A08h slave → master).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FsoeFrameLayout {
+    /// Frame size in bytes.
+    pub len: u8,
+    /// FSoE Command (E700h:01 / E600h:01), 1 byte.
+    pub command: u8,
+    /// SafeData[0]–[3], 1 byte each.
+    pub safe_data: [u8; 4],
+    /// CRC_0 (E700h:03 / E600h:03) and CRC_1 (:04), 2 bytes each.
+    pub crc: [u8; 2],
+    /// ConnectionID (E700h:02 / E600h:02), 2 bytes.
+    pub connection_id: u8,
+}
+
+/// What a model's manual states about FSoE (Safety over EtherCAT, ETG.5100): the safety PDOs,
+/// the SafeData bits, the objects, the watchdog and address rules (MR-JET-G-N1:
+/// mr-jet-g-n1.md §5.4, §6, §7). The ETG.5100 command byte, CRC and connection sequence are
+/// not described by the manual (§7.1 item 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FsoeFacts {
+    /// Safety RxPDO mapping object (1608h).
+    pub rx_pdo: u16,
+    /// Safety TxPDO mapping object (1A08h).
+    pub tx_pdo: u16,
+    /// Entries of each safety mapping (sub 00h).
+    pub mapping_entries: u8,
+    /// The frame layout.
+    pub frame: FsoeFrameLayout,
+    /// The master's command bits.
+    pub commands: FsoeCommandBits,
+    /// The slave's status bits.
+    pub status: FsoeStatusBits,
+    /// FSoE output object holding the command bits (F701h).
+    pub command_object: u16,
+    /// FSoE input object holding the status bits (F601h).
+    pub status_object: u16,
+    /// FSoE Master frame fields (E700h: :01 Command, :02 ConnectionID, :03/:04 CRC_0/CRC_1).
+    pub master_frame_object: u16,
+    /// FSoE Slave frame fields (E600h, same sub-indexes).
+    pub slave_frame_object: u16,
+    /// FSoE information object of the connection parameter set (E901h).
+    pub info_object: u16,
+    /// E901h sub-index of the Watchdog Time.
+    pub watchdog_sub: u8,
+    /// E901h sub-index of the Communication Parameter Length.
+    pub comm_param_len_sub: u8,
+    /// E901h sub-index of the Application Parameter Length.
+    pub app_param_len_sub: u8,
+    /// T_Ref, the safety refresh response processing time, µs.
+    pub t_ref_us: u32,
+    /// T_Com, the network response time at the shortest FSoE cycle, µs.
+    pub t_com_min_us: u32,
+    /// Minimum configurable watchdog time, ms (T_Ref + 4 × T_Com).
+    pub watchdog_min_ms: u32,
+    /// Shortest PDO cycle with FSoE, µs (**[inferred]** where the manual gives it only
+    /// indirectly).
+    pub min_cycle_us: u32,
+    /// Range of the FSoE slave address parameter (PSC07).
+    pub address_range: (u16, u16),
+    /// Alarm when the slave's address differs from the master's (AL.584.1).
+    pub address_mismatch_alarm: u16,
+    /// The object-dictionary rows of the FSoE objects, as far as the manual states them.
+    pub objects: &'static [OdEntry],
+}
+
 /// The model's cyclic communication check.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum CommCheck {

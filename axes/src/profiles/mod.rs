@@ -23,8 +23,9 @@ pub mod mr_j5_g_n1;
 pub mod mr_jet_g_n1;
 
 pub use facts::{
-    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, HomeReference, HomeSetting,
-    Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, TorqueLimitSelection, Units,
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, FsoeCommandBits, FsoeFacts,
+    FsoeFrameLayout, FsoeStatusBits, HomeReference, HomeSetting, Identity, InvalidAxisSwitch,
+    OdEntry, Pdo, PdoAssignment, PdoRules, SafeBit, StopBehaviour, TorqueLimitSelection, Units,
 };
 
 /// A supported drive model, named in configuration by its kebab-case part number.
@@ -180,6 +181,12 @@ pub struct DriveProfile {
     pub store_restore_objects: &'static [OdEntry],
     /// How the PDO mapping may be changed by SDO, with the abort codes.
     pub pdo_rules: PdoRules,
+    /// The axis-selection switch setting the amplifier refuses at power-on (MR-J5-G-N1 1-axis:
+    /// SW3-1 OFF / SW3-2 ON → AL.011.2, mr-j5-g-n1.md §1.5, TV-14); `None`: no such rule stated.
+    pub invalid_axis_switch: Option<InvalidAxisSwitch>,
+    /// FSoE (safety over EtherCAT) as the manual states it (MR-JET-G-N1, mr-jet-g-n1.md §7);
+    /// `None`: the model has no FSoE.
+    pub fsoe: Option<FsoeFacts>,
 }
 
 impl DriveProfile {

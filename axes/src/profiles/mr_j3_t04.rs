@@ -629,6 +629,8 @@ pub const PROFILE: DriveProfile = DriveProfile {
         frozen_after_safe_op: true,
         source: "mr-j3-t04.md §4.4, §4.5, §5.8 (manual §8.6.1, §8.6.2, §8.7)",
     },
+    invalid_axis_switch: None,
+    fsoe: None,
 };
 
 #[cfg(test)]

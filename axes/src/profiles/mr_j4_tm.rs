@@ -545,6 +545,8 @@ pub const PROFILE: DriveProfile = DriveProfile {
         source: "mr-j4-tm.md §5.1 (32 objects, 64 bytes, only in PRE-OP), §6.2 (the same abort list as the MR-JET)",
         ..super::mr_jet_g_n1::PDO_RULES
     },
+    invalid_axis_switch: None,
+    fsoe: None,
 };
 
 #[cfg(test)]

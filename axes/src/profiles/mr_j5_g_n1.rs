@@ -3,7 +3,7 @@
 use super::facts::{alarm, od};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
-    Identity, OdEntry, Pdo, StopBehaviour, Units,
+    Identity, InvalidAxisSwitch, OdEntry, Pdo, StopBehaviour, Units,
 };
 use super::{HomeReference, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
@@ -18,6 +18,15 @@ pub use super::mr_jet_g_n1::{AL_086_1, FOLLOWING_ERROR, OVERSPEED, RX_PDO_1600, 
 /// AL.011.2 Invalid axis setting error (§8, 1-axis SW3 setting).
 pub const AL_011_2: u16 = 0x0112;
 
+/// The SW3 setting a 1-axis MR-J5-G-N1 refuses: SW3-1 OFF (down) with SW3-2 ON (up) raises
+/// [`AL_011_2`] (mr-j5-g-n1.md §1.5 and TV-14; manual §8 Point, seed 004 L1258). What SW3
+/// selects, and when the amplifier checks it, the manual does not say.
+pub const INVALID_AXIS_SWITCH_1_AXIS: InvalidAxisSwitch = InvalidAxisSwitch {
+    sw3_1: false,
+    sw3_2: true,
+    alarm: AL_011_2,
+};
+
 /// The alarms and warnings the manual names (§9). Stop methods are not in this manual.
 pub const ALARMS: &[AlarmInfo] = &[
     alarm(
@@ -26,8 +35,10 @@ pub const ALARMS: &[AlarmInfo] = &[
         "Invalid axis setting error",
         AlarmKind::Alarm,
         StopBehaviour::Unstated,
-        Clearing::Unstated,
-        "§9; §8 Point (SW3 on a 1-axis unit)",
+        // [inferred] SW3 is read at power-on (TV-14), so a Fault Reset cannot remove the
+        // cause: the simulator keeps the alarm until a power cycle with a valid setting.
+        Clearing::PowerCycle,
+        "§9; §8 Point (SW3 on a 1-axis unit); clearing not stated: power cycle [inferred]",
     ),
     alarm(
         0x0250,
@@ -413,6 +424,9 @@ pub const PROFILE: DriveProfile = DriveProfile {
     home_setting: None,
     store_restore_objects: super::mr_jet_g_n1::STORE_RESTORE_OBJECTS,
     pdo_rules: super::mr_jet_g_n1::PDO_RULES,
+    invalid_axis_switch: Some(INVALID_AXIS_SWITCH_1_AXIS),
+    // §7: this manual has no safety PDOs and no FSoE objects ("should not expose 1608h/1A08h").
+    fsoe: None,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).
@@ -434,6 +448,9 @@ pub const PROFILE_W2: DriveProfile = DriveProfile {
     modes: MULTI_AXIS_MODES,
     cycle_times_us: MULTI_AXIS_CYCLES_US,
     axes_per_unit: 2,
+    // §1.5: the AL.011.2 rule is stated for 1-axis amplifiers only; "Multi-axis SW3 settings
+    // are not given", so no SW3 setting is refused on the W2/W3.
+    invalid_axis_switch: None,
     ..PROFILE
 };
 

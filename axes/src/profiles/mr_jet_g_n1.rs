@@ -3,7 +3,8 @@
 use super::facts::{alarm, od};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
-    Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
+    FsoeCommandBits, FsoeFacts, FsoeFrameLayout, FsoeStatusBits, Identity, OdEntry, Pdo,
+    PdoAssignment, PdoRules, SafeBit, StopBehaviour, Units,
 };
 use super::{HomeReference, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
@@ -76,6 +77,259 @@ pub fn infinite_feed_gear(cmx: u32, cdv: u32, fbpm: u32) -> Result<(u64, u64), u
     }
     Ok((m as u64, n as u64))
 }
+/// AL.537.2 Parameter combination error A (safety sub-function) (§7.1, §9; the triggering
+/// combination is [garbled] in the manual and not simulated).
+pub const AL_537_2: u16 = 0x5372;
+/// AL.584.1 FSoE Address mismatch error (safety sub-function): [Pr. PSC07] differs from the
+/// address configured in the FSoE master (§7.1, §9).
+pub const AL_584_1: u16 = 0x5841;
+
+/// The FSoE frame in the safety PDOs 1608h / 1A08h, 11 bytes each way (§5.4): Command at 0,
+/// SafeData[0] at 1, SafeData[1] at 2, CRC_0 at 3–4, SafeData[2] at 5, SafeData[3] at 6, CRC_1
+/// at 7–8, ConnectionID at 9–10.
+pub const FSOE_FRAME: FsoeFrameLayout = FsoeFrameLayout {
+    len: 11,
+    command: 0,
+    safe_data: [1, 2, 5, 6],
+    crc: [3, 7],
+    connection_id: 9,
+};
+
+/// SafeData commands, master → slave (§7.2 first table; F701h sub-indexes). 0 = function
+/// active. Bits 2–4 of SafeData[0], bit 4 of SafeData[1], bits 1–7 of SafeData[2] and all of
+/// SafeData[3] are "not available" (sent as 0).
+pub const FSOE_COMMANDS: FsoeCommandBits = FsoeCommandBits {
+    sto: SafeBit::new(0, 0, 0x01),
+    ss1: SafeBit::new(0, 1, 0x02),
+    sdip: SafeBit::new(0, 5, 0x04),
+    sdin: SafeBit::new(0, 6, 0x05),
+    error_ack: SafeBit::new(0, 7, 0x06),
+    sls: [
+        SafeBit::new(1, 0, 0x07),
+        SafeBit::new(1, 1, 0x08),
+        SafeBit::new(1, 2, 0x09),
+        SafeBit::new(1, 3, 0x0A),
+    ],
+    slt: [
+        SafeBit::new(1, 5, 0x0C),
+        SafeBit::new(1, 6, 0x0D),
+        SafeBit::new(1, 7, 0x0E),
+        SafeBit::new(2, 0, 0x0F),
+    ],
+};
+
+/// SafeData status, slave → master (§7.2 second table; F601h sub-indexes). 1 = active.
+pub const FSOE_STATUS: FsoeStatusBits = FsoeStatusBits {
+    sto: SafeBit::new(0, 0, 0x01),
+    ssm: SafeBit::new(0, 1, 0x02),
+    error: SafeBit::new(0, 7, 0x04),
+    ss1: SafeBit::new(1, 0, 0x05),
+    sdip: SafeBit::new(1, 2, 0x07),
+    sdin: SafeBit::new(1, 3, 0x08),
+    sls: [
+        SafeBit::new(1, 4, 0x09),
+        SafeBit::new(1, 5, 0x0A),
+        SafeBit::new(1, 6, 0x0B),
+        SafeBit::new(1, 7, 0x0C),
+    ],
+    sbc: SafeBit::new(2, 0, 0x0D),
+    slt: [
+        SafeBit::new(2, 2, 0x0F),
+        SafeBit::new(2, 3, 0x10),
+        SafeBit::new(2, 4, 0x11),
+        SafeBit::new(2, 5, 0x12),
+    ],
+};
+
+/// The FSoE objects as far as the manual states them (§6 table, §7.1; types and access of
+/// E600h/E700h/E901h are not stated).
+pub const FSOE_OBJECTS: &[OdEntry] = &[
+    od(
+        0x1608,
+        0,
+        "9th Receive PDO Mapping (safety)",
+        DataType::U8,
+        Access::Ro,
+        Pdo::No,
+        Some(0x24),
+        None,
+        "",
+        "§5.1, §5.4: 36 entries, fixed (§4.4's \"1 to 104\" conflicts; 36 used)",
+    ),
+    od(
+        0x1A08,
+        0,
+        "9th Transmit PDO Mapping (safety)",
+        DataType::U8,
+        Access::Ro,
+        Pdo::No,
+        Some(0x24),
+        None,
+        "",
+        "§5.1, §5.4: 36 entries, fixed",
+    ),
+    od(
+        0xE600,
+        1,
+        "FSoE Slave Command",
+        DataType::Unstated,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§6: type not stated; ro [background]",
+    ),
+    od(
+        0xE600,
+        2,
+        "FSoE Slave ConnectionID",
+        DataType::Unstated,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§6, §5.4: 2 bytes in the frame",
+    ),
+    od(
+        0xE600,
+        3,
+        "FSoE Slave CRC_0",
+        DataType::Unstated,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§6, §5.4: 2 bytes in the frame",
+    ),
+    od(
+        0xE600,
+        4,
+        "FSoE Slave CRC_1",
+        DataType::Unstated,
+        Access::Ro,
+        Pdo::Tx,
+        None,
+        None,
+        "",
+        "§6, §5.4: 2 bytes in the frame",
+    ),
+    od(
+        0xE700,
+        1,
+        "FSoE Master Command",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Rx,
+        None,
+        None,
+        "",
+        "§6: type and access not stated",
+    ),
+    od(
+        0xE700,
+        2,
+        "FSoE Master ConnectionID",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Rx,
+        None,
+        None,
+        "",
+        "§6, §5.4: 2 bytes in the frame",
+    ),
+    od(
+        0xE700,
+        3,
+        "FSoE Master CRC_0",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Rx,
+        None,
+        None,
+        "",
+        "§6, §5.4: 2 bytes in the frame",
+    ),
+    od(
+        0xE700,
+        4,
+        "FSoE Master CRC_1",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::Rx,
+        None,
+        None,
+        "",
+        "§6, §5.4: 2 bytes in the frame",
+    ),
+    od(
+        0xE901,
+        4,
+        "Watchdog Time",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::No,
+        None,
+        None,
+        "ms",
+        "§7.1 item 4, §7.3: set by the master's connection parameter set; shows the value received",
+    ),
+    od(
+        0xE901,
+        7,
+        "Communication Parameter Length",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::No,
+        None,
+        None,
+        "",
+        "§7.1 item 4",
+    ),
+    od(
+        0xE901,
+        8,
+        "Application Parameter Length",
+        DataType::Unstated,
+        Access::Unstated,
+        Pdo::No,
+        None,
+        None,
+        "",
+        "§7.1 item 4",
+    ),
+];
+
+/// FSoE on the MR-JET-G-N1 (FW D8 or later; §5.4, §6, §7). The watchdog minimum is the
+/// manual's T_Ref + 4 × T_Com = 15 ms + 4 × 0.25 ms = 16 ms (§7.3); FSoE needs a cycle of at
+/// least 0.25 ms (**[inferred]** from §4.4's size table and §9.3's "250 µs or longer", §1.3).
+/// PSC07's range is printed "1 to 65355" (**[garbled]**); 1–65535 is used.
+pub const FSOE: FsoeFacts = FsoeFacts {
+    rx_pdo: 0x1608,
+    tx_pdo: 0x1A08,
+    mapping_entries: 0x24,
+    frame: FSOE_FRAME,
+    commands: FSOE_COMMANDS,
+    status: FSOE_STATUS,
+    command_object: 0xF701,
+    status_object: 0xF601,
+    master_frame_object: 0xE700,
+    slave_frame_object: 0xE600,
+    info_object: 0xE901,
+    watchdog_sub: 0x04,
+    comm_param_len_sub: 0x07,
+    app_param_len_sub: 0x08,
+    t_ref_us: 15_000,
+    t_com_min_us: 250,
+    watchdog_min_ms: 16,
+    min_cycle_us: 250,
+    address_range: (1, 65535),
+    address_mismatch_alarm: AL_584_1,
+    objects: FSOE_OBJECTS,
+};
+
 /// Following-error alarm: the manual has no alarm list (§9); CiA 402 8611h [background].
 pub const FOLLOWING_ERROR: u16 = 0x8611;
 /// Overspeed alarm: not in the manual (§9); CiA 402 8400h [background].
@@ -156,7 +410,7 @@ pub const ALARMS: &[AlarmInfo] = &[
         "§8, §8.2",
     ),
     alarm(
-        0x5372,
+        AL_537_2,
         "AL.537.2",
         "Parameter combination error A (safety)",
         AlarmKind::Alarm,
@@ -165,7 +419,7 @@ pub const ALARMS: &[AlarmInfo] = &[
         "§9",
     ),
     alarm(
-        0x5841,
+        AL_584_1,
         "AL.584.1",
         "FSoE Address mismatch error",
         AlarmKind::Alarm,
@@ -556,6 +810,8 @@ pub const PROFILE: DriveProfile = DriveProfile {
     home_setting: None,
     store_restore_objects: STORE_RESTORE_OBJECTS,
     pdo_rules: PDO_RULES,
+    invalid_axis_switch: None,
+    fsoe: Some(FSOE),
 };
 
 #[cfg(test)]

@@ -8,9 +8,13 @@
 //! [`SimDrive::power_cycle`]), statusword bits 8/14 = 0 and no statusword in NRTSO, byte-exact
 //! default maps, the zero-speed gate on mode switches, csp/csv/cst with the torque limits,
 //! following-error and overspeed alarms, the communication checks of `sim::comm`, and the alarm
-//! on leaving OP while switched on ([`SimDrive::leave_op`]). Deterministic and allocation-free.
+//! on leaving OP while switched on ([`SimDrive::leave_op`]), the axis switch SW3 checked at
+//! power-on ([`AxisSwitch`]), and FSoE safety process data with STO acting on the PDS and the
+//! plant where configured (`sim::fsoe`, [`SimDrive::fsoe_exchange`]). Deterministic and
+//! allocation-free.
 
 use super::comm::{CommParams, DriveComm};
+use super::fsoe::{FsoeSlave, FsoeSlaveParams, StoStop};
 use super::home_setting::{BeforeZReaction, HomeSettingOutcome, HomeSettingState, ZPhase};
 use super::plant::{PlantParams, ServoPlant};
 use crate::cia402::controlword::Controlword;
@@ -18,6 +22,7 @@ use crate::cia402::fsa::{drive_transition, FsaState};
 use crate::cia402::mode::ModeOfOperation;
 use crate::cia402::statusword::Statusword;
 use crate::cycles::{CycleTime, Cycles};
+use crate::fsoe::{ConnectionParams, FsoeError, FsoeFrame, SafetyStatus};
 use crate::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
 use crate::profiles::{DriveProfile, HomeReference, TorqueLimitSelection};
 
@@ -77,6 +82,30 @@ pub struct SimDriveParams {
     /// Raw position of the encoder's Z phase within a revolution (counts; the manual gives no
     /// figure, TV-HOME-1 uses 262100); default 0.
     pub z_phase_position: i32,
+    /// The DIP switch SW3 (axis selection) as set on the amplifier, read at power-on; see
+    /// [`AxisSwitch`].
+    pub axis_switch: AxisSwitch,
+    /// FSoE safety process data (safety PDOs 1608h/1A08h) on a model with FSoE
+    /// ([`DriveProfile::fsoe`], MR-JET-G-N1); `None` (default): FSoE not used, no STO from the
+    /// network. See `sim::fsoe`.
+    pub fsoe: Option<FsoeSlaveParams>,
+}
+
+/// DIP switch SW3 of the MR-J5-G-N1 family (mr-j5-g-n1.md §1.5, TV-14; ON = up).
+///
+/// The manual states one rule: on a 1-axis amplifier SW3-1 OFF with SW3-2 ON raises AL.011.2
+/// Invalid axis setting error (the profile's [`DriveProfile::invalid_axis_switch`]). It does not
+/// say what SW3 selects, what the factory setting is, what multi-axis units accept, nor when
+/// the setting is checked. **[inferred]** The simulator checks it at power-on
+/// ([`SimDrive::new`], [`SimDrive::power_cycle`]) like the other start-up settings of manual
+/// §8, so a switch changed while the drive runs ([`SimDrive::set_axis_switch`]) takes effect at
+/// the next power cycle. The default (both OFF) is a setting the manual does not refuse.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AxisSwitch {
+    /// SW3-1 (ON = up).
+    pub sw3_1: bool,
+    /// SW3-2 (ON = up).
+    pub sw3_2: bool,
 }
 
 /// 2D6Dh Torque limit 2 (mr-jet-g-n1.md §6/§9.1), in 0.1 % of rated torque; defaults per the
@@ -151,6 +180,8 @@ impl Default for SimDriveParams {
             dc_missed_command: MissedCommand::Extrapolate,
             before_z_reaction: BeforeZReaction::Warning,
             z_phase_position: 0,
+            axis_switch: AxisSwitch::default(),
+            fsoe: None,
             slow_stop_time_ms: 0,
             store_parameters_ms: 25_000,
         }
@@ -214,6 +245,8 @@ pub struct SimDrive {
     /// csp manual stop (MR-J3-T04 C_MSTOP, Controlword2 bit 8).
     mstop: ManualStop,
     home_set: HomeSettingState,
+    /// The FSoE slave, when configured on a model with FSoE.
+    fsoe: Option<FsoeSlave>,
 }
 
 /// The csp manual stop of mr-j3-t04.md §9.2 (TV-STROKE-2).
@@ -336,8 +369,13 @@ impl SimDrive {
             stroke: StrokeState::default(),
             mstop: ManualStop::default(),
             home_set: HomeSettingState::default(),
+            fsoe: params
+                .fsoe
+                .zip(profile.fsoe)
+                .map(|(p, f)| FsoeSlave::new(f, p, cycle_time.as_micros())),
         };
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
+        d.power_on_checks();
         d.tx = d.make_tx();
         d
     }
@@ -358,6 +396,84 @@ impl SimDrive {
         self.comm
             .set_counter_mapped(profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter());
         Ok(())
+    }
+
+    /// The settings the amplifier checks at power-on: the axis switch SW3 against the
+    /// profile's refused setting (MR-J5-G-N1 1-axis AL.011.2, TV-14; the moment of detection is
+    /// [inferred], see [`AxisSwitch`]).
+    fn power_on_checks(&mut self) {
+        if let Some(rule) = self.profile.invalid_axis_switch {
+            let sw = self.params.axis_switch;
+            if sw.sw3_1 == rule.sw3_1 && sw.sw3_2 == rule.sw3_2 {
+                self.raise(rule.alarm);
+            }
+        }
+    }
+
+    /// The FSoE connection parameter set from the master (mr-jet-g-n1.md §7.1 item 4; see
+    /// [`FsoeSlave::connect`]). A slave address other than [Pr. PSC07] raises the profile's
+    /// AL.584.1 and returns [`FsoeError::AddressMismatch`]. Without FSoE on this drive:
+    /// [`FsoeError::NotSupported`].
+    pub fn fsoe_connect(&mut self, params: &ConnectionParams) -> Result<(), FsoeError> {
+        let model = self.profile.model;
+        let f = self
+            .fsoe
+            .as_mut()
+            .ok_or(FsoeError::NotSupported { model })?;
+        let r = f.connect(params);
+        if let Err(FsoeError::AddressMismatch { alarm, .. }) = r {
+            self.raise(alarm);
+            self.tx = self.make_tx();
+        }
+        r
+    }
+
+    /// One safety PDO exchange: the master's frame `rx` (1608h, 11 bytes) in, the slave's
+    /// frame (1A08h) into `tx`. Call it once per bus cycle next to [`SimDrive::cycle`]; a cycle
+    /// without it counts against the FSoE watchdog. Bad sizes return an error and change
+    /// nothing. Allocation-free.
+    pub fn fsoe_exchange(&mut self, rx: &[u8], tx: &mut [u8]) -> Result<(), FsoeError> {
+        let model = self.profile.model;
+        let speed = self.plant.velocity();
+        let f = self
+            .fsoe
+            .as_mut()
+            .ok_or(FsoeError::NotSupported { model })?;
+        let layout = self
+            .profile
+            .fsoe
+            .map(|x| x.frame)
+            .ok_or(FsoeError::NotSupported { model })?;
+        if tx.len() != usize::from(layout.len) {
+            return Err(FsoeError::FrameLength {
+                expected: usize::from(layout.len),
+                actual: tx.len(),
+            });
+        }
+        let frame = FsoeFrame::decode(&layout, rx)?;
+        f.frame(&frame, speed).encode(&layout, tx)
+    }
+
+    /// The FSoE status the slave reports now (`None` without FSoE).
+    pub fn fsoe_status(&self) -> Option<SafetyStatus> {
+        let speed = self.plant.velocity();
+        self.fsoe.as_ref().map(|f| f.status(speed))
+    }
+
+    /// The FSoE slave, if configured.
+    pub fn fsoe(&self) -> Option<&FsoeSlave> {
+        self.fsoe.as_ref()
+    }
+
+    /// STO is in effect (FSoE): the drive cannot be switched on and gives no torque.
+    pub fn safe_torque_off(&self) -> bool {
+        self.fsoe.as_ref().is_some_and(FsoeSlave::sto)
+    }
+
+    /// Sets the DIP switch SW3; the amplifier reads it at the next power-on
+    /// ([`SimDrive::power_cycle`]).
+    pub fn set_axis_switch(&mut self, switch: AxisSwitch) {
+        self.params.axis_switch = switch;
     }
 
     /// SDO download of 6060h Modes of operation. Refused with the model's abort code when 6060h
@@ -423,6 +539,9 @@ impl SimDrive {
 
     fn run(&mut self, cmd: RxPdo, elapsed: Cycles) {
         self.saving_left = self.saving_left.saturating_sub(elapsed.0);
+        if let Some(code) = self.fsoe.as_mut().and_then(|f| f.tick(elapsed.0)) {
+            self.raise(code);
+        }
         let dt = self.cycle_time.as_secs_f64() * f64::from(elapsed.0);
         // Outside OP the controlword and the command values are not acted on (spec §2.1).
         let cw = if self.op {
@@ -591,6 +710,10 @@ impl SimDrive {
         self.following_error = 0;
         // S_ZPAS is "since power-on"; the C_CR edges start afresh.
         self.home_set = HomeSettingState::default();
+        if let Some(f) = self.fsoe.as_mut() {
+            f.reset();
+        }
+        self.power_on_checks();
         self.tx = self.make_tx();
     }
 
@@ -629,6 +752,18 @@ impl SimDrive {
             }
         }
         self.prev_cw = cw;
+        if self.safe_torque_off() {
+            // STO (sim::fsoe): no state with the power stage ready; a fault reaction is over
+            // at once, the energy being cut ([inferred], the manual states no PDS reaction).
+            match self.state {
+                FsaState::ReadyToSwitchOn
+                | FsaState::SwitchedOn
+                | FsaState::OperationEnabled
+                | FsaState::QuickStopActive => self.state = FsaState::SwitchOnDisabled,
+                FsaState::FaultReactionActive => self.state = FsaState::Fault,
+                _ => {}
+            }
+        }
         if self.profile.power_warnings.is_some() && !self.power.main_circuit {
             // (8B) main circuit off → Ready to switch on; asking for more raises AL.E9.
             if matches!(
@@ -675,6 +810,15 @@ impl SimDrive {
 
     fn run_plant(&mut self, cmd: &RxPdo, dt: f64) {
         self.following_error = 0;
+        if let Some(stop) = self.fsoe.filter(FsoeSlave::sto).map(|f| f.sto_stop()) {
+            // STO: energy cut, no torque from the drive.
+            match stop {
+                StoStop::Coast => self.plant.coast(dt),
+                StoStop::DynamicBrake => self.plant.hold(dt),
+            }
+            self.demand = self.plant.position();
+            return;
+        }
         match self.state {
             FsaState::OperationEnabled => self.follow(cmd, dt),
             FsaState::QuickStopActive => {

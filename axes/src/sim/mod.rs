@@ -3,6 +3,7 @@
 
 pub mod comm;
 pub mod drive;
+pub mod fsoe;
 pub mod home_setting;
 pub mod plant;
 pub mod sdo;

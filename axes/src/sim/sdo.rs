@@ -83,6 +83,12 @@ impl SimDrive {
                 return Ok(self.last_command().get(f) as i64);
             }
         }
+        if let Some(f) = self.fsoe().filter(|f| f.serves(index)) {
+            // FSoE objects (mr-jet-g-n1.md §6, §7): live values.
+            return f
+                .upload(index, sub, self.plant().velocity())
+                .ok_or(SdoAbort::NO_SUBINDEX);
+        }
         let entry = self.od_entry(index, sub)?;
         if (index, sub) == (HOME_OFFSET, 0) {
             return Ok(i64::from(self.home_offset()));
@@ -117,6 +123,11 @@ impl SimDrive {
             return Err(SdoAbort(p.pdo_rules.mapped_write_abort));
         }
         if p.tx_pdo.maps(index) {
+            return Err(SdoAbort::READ_ONLY);
+        }
+        if self.fsoe().is_some_and(|f| f.serves(index)) {
+            // The FSoE objects are served read-only: E901h is set by the master's connection
+            // parameter set (§7.1 item 4), the others by the safety PDOs [inferred].
             return Err(SdoAbort::READ_ONLY);
         }
         let entry = *self.od_entry(index, sub)?;

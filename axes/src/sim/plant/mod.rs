@@ -248,6 +248,16 @@ impl ServoPlant {
         }
     }
 
+    /// No torque for `dt_s` (safe torque off, energy cut): the motor keeps its speed, as
+    /// friction and load are not modelled; the interpolation start follows the position.
+    pub fn coast(&mut self, dt_s: f64) {
+        self.acceleration = 0.0;
+        if dt_s > 0.0 {
+            self.position += self.velocity * dt_s;
+        }
+        self.last_command = self.position;
+    }
+
     fn integrate(&mut self, a: f64, h: f64, vmax: f64) {
         self.acceleration = a;
         self.velocity = (self.velocity + a * h).clamp(-vmax, vmax);

@@ -177,6 +177,10 @@ pub struct DriveProfile {
     pub home_setting: Option<HomeSetting>,
     /// Store/restore objects (1010h/1011h) the SDO surface serves besides `objects`.
     pub store_restore_objects: &'static [OdEntry],
+    /// Warning raised, with no motion, when a pp set-point asks for a relative move while the
+    /// position unit is degree (MR-J4-TM AL. F4.8, mr-j4-tm.md §4.7 bit 6); `None`: the manual
+    /// states no such rule.
+    pub relative_degree_warning: Option<u16>,
 }
 
 impl DriveProfile {

@@ -605,6 +605,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         before_z_alarm: 0x0026,
     }),
     store_restore_objects: &[],
+    relative_degree_warning: None,
 };
 
 #[cfg(test)]

@@ -13,11 +13,18 @@
 use super::comm::{CommParams, DriveComm};
 use super::home_setting::{BeforeZReaction, HomeSettingOutcome, HomeSettingState, ZPhase};
 use super::plant::{PlantParams, ServoPlant};
+use super::profile_position::{
+    HaltOption, PositionUnit, PpCommand, PpFeedback, PpParams, ProfilePosition,
+};
 use crate::cia402::controlword::Controlword;
 use crate::cia402::fsa::{drive_transition, FsaState};
 use crate::cia402::mode::ModeOfOperation;
 use crate::cia402::statusword::Statusword;
 use crate::cycles::{CycleTime, Cycles};
+use crate::pdo::objects::{
+    RxField, POSITION_OFFSET, POSITION_WINDOW, POSITION_WINDOW_TIME, PROFILE_ACCELERATION,
+    PROFILE_DECELERATION, PROFILE_VELOCITY,
+};
 use crate::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
 use crate::profiles::{DriveProfile, HomeReference, TorqueLimitSelection};
 
@@ -77,6 +84,10 @@ pub struct SimDriveParams {
     /// Raw position of the encoder's Z phase within a revolution (counts; the manual gives no
     /// figure, TV-HOME-1 uses 262100); default 0.
     pub z_phase_position: i32,
+    /// Profile position mode (pp) values the manuals leave open (`sim::profile_position`).
+    pub pp: PpParams,
+    /// [Pr. PT01.2] position data unit (acts on relative pp set-points, mr-j4-tm.md §4.7).
+    pub position_unit: PositionUnit,
 }
 
 /// 2D6Dh Torque limit 2 (mr-jet-g-n1.md §6/§9.1), in 0.1 % of rated torque; defaults per the
@@ -153,6 +164,8 @@ impl Default for SimDriveParams {
             z_phase_position: 0,
             slow_stop_time_ms: 0,
             store_parameters_ms: 25_000,
+            pp: PpParams::default(),
+            position_unit: PositionUnit::Pulse,
         }
     }
 }
@@ -214,6 +227,8 @@ pub struct SimDrive {
     /// csp manual stop (MR-J3-T04 C_MSTOP, Controlword2 bit 8).
     mstop: ManualStop,
     home_set: HomeSettingState,
+    /// Profile position mode (pp): set-point handshake and trajectory generator.
+    pp: ProfilePosition,
 }
 
 /// The csp manual stop of mr-j3-t04.md §9.2 (TV-STROKE-2).
@@ -297,10 +312,18 @@ impl SimDrive {
     ) -> Self {
         let pos = f64::from(params.initial_position);
         let counter_mapped = profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter();
+        // An unsupported initial mode falls back to csp, or to the first mode the profile
+        // lists where csp is not in its group (MR-J4-TM PA01 `___2`: pp).
         let initial_mode = if profile.supports_mode(params.initial_mode) {
             params.initial_mode
-        } else {
+        } else if profile.supports_mode(ModeOfOperation::CyclicSyncPosition) {
             ModeOfOperation::CyclicSyncPosition
+        } else {
+            profile
+                .modes
+                .first()
+                .copied()
+                .unwrap_or(ModeOfOperation::CyclicSyncPosition)
         };
         let mut d = SimDrive {
             profile,
@@ -336,7 +359,9 @@ impl SimDrive {
             stroke: StrokeState::default(),
             mstop: ManualStop::default(),
             home_set: HomeSettingState::default(),
+            pp: ProfilePosition::default(),
         };
+        d.pp.reset(pos, 0);
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
         d.tx = d.make_tx();
         d
@@ -632,7 +657,8 @@ impl SimDrive {
     fn servo_on(&mut self) {
         self.demand = self.plant.position();
         self.plant.set_last_command(self.demand);
-        self.prev_target = self.position_actual();
+        self.prev_target = self.position_actual().wrapping_sub(self.position_offset());
+        self.pp.reset(self.demand, self.prev_cw.0);
     }
 
     /// 6060h → 6061h: supported modes are taken when the zero-speed gate allows (§4.3);
@@ -645,14 +671,104 @@ impl SimDrive {
             return;
         }
         let old = self.mode_display;
-        let gated = old.is_position() || mode.is_position() || old.is_cyclic() != mode.is_cyclic();
+        let gated = crate::cia402::mode_switch::switch_needs_zero_speed(old, mode);
         if gated && self.plant.velocity().abs() > self.params.zero_speed {
             return;
         }
         self.mode_display = mode;
         self.demand = self.plant.position();
         self.plant.set_last_command(self.demand);
-        self.prev_target = self.position_actual();
+        self.prev_target = self.position_actual().wrapping_sub(self.position_offset());
+        self.pp.reset(self.demand, self.prev_cw.0);
+    }
+
+    /// 60B0h Position offset, added to 607Ah in csp (mr-j5-g-n1.md §4.3 rule 2, mr-jet-g-n1.md
+    /// §4.3 rule 3: "607Ah + 60B0h follow 6064h"); only on models that list 60B0h, 0 unless
+    /// written by SDO.
+    pub fn position_offset(&self) -> i32 {
+        if self.profile.object(POSITION_OFFSET, 0).is_none() {
+            return 0;
+        }
+        self.sdo_value(POSITION_OFFSET, 0)
+            .or_else(|| self.profile.object(POSITION_OFFSET, 0)?.default)
+            .unwrap_or(0) as i32
+    }
+
+    /// An object pp reads: from the RxPDO where the map carries it, else the SDO value, else
+    /// the profile's default.
+    fn pp_object(&self, cmd: &RxPdo, index: u16) -> Option<i64> {
+        if self.profile.rx_pdo.maps(index) {
+            if let Some(f) = RxField::of(index, 0) {
+                return Some(cmd.get(f) as i64);
+            }
+        }
+        self.sdo_value(index, 0)
+            .or_else(|| self.profile.object(index, 0)?.default)
+    }
+
+    /// This cycle's pp inputs (sim units: counts, counts/s; 6083h/6084h ms time constants).
+    fn pp_command(&self, cmd: &RxPdo) -> PpCommand {
+        let plant = self.params.plant;
+        let pp = self.params.pp;
+        let amax = plant.max_acceleration.abs();
+        let ref_speed = pp
+            .time_constant_speed
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .unwrap_or(plant.max_velocity.abs());
+        let ramp = |ms: Option<i64>| match ms {
+            Some(ms) if ms > 0 => (ref_speed * 1000.0 / ms as f64).min(amax),
+            _ => amax,
+        };
+        let mut velocity = self
+            .pp_object(cmd, PROFILE_VELOCITY)
+            .unwrap_or(i64::from(pp.profile_velocity)) as f64;
+        if let Some(max) = self.pp_object(cmd, 0x607F) {
+            velocity = velocity.min(max as f64);
+        }
+        let velocity = velocity.clamp(0.0, plant.max_velocity.abs());
+        let deceleration = ramp(self.pp_object(cmd, PROFILE_DECELERATION));
+        let window = self
+            .pp_object(cmd, POSITION_WINDOW)
+            .map_or(pp.position_window, |v| v as u32);
+        let window_ms = self
+            .pp_object(cmd, POSITION_WINDOW_TIME)
+            .map_or(pp.position_window_time_ms, |v| v as u32);
+        PpCommand {
+            controlword: cmd.controlword.0,
+            target: cmd.target_position,
+            velocity,
+            acceleration: ramp(self.pp_object(cmd, PROFILE_ACCELERATION)),
+            deceleration,
+            halt_deceleration: match pp.halt {
+                HaltOption::ProfileDeceleration => deceleration,
+                HaltOption::MaximumDeceleration => amax,
+            },
+            window,
+            window_time_s: f64::from(window_ms) / 1000.0,
+            relative_refused: match self.params.position_unit {
+                PositionUnit::Degree => self.profile.relative_degree_warning,
+                PositionUnit::Pulse => None,
+            },
+        }
+    }
+
+    /// pp in Operation enabled: the drive's own profile toward the accepted set-point
+    /// (`sim::profile_position`), followed by the servo loop; following error checked as csp.
+    fn follow_profile_position(&mut self, cmd: &RxPdo, dt: f64) {
+        let c = self.pp_command(cmd);
+        let fb = PpFeedback {
+            actual: self.position_actual(),
+            position: self.plant.position(),
+            velocity: self.plant.velocity(),
+        };
+        self.demand = self.pp.step(&c, fb, dt);
+        let ff = self.params.velocity_feedforward * self.pp.velocity();
+        self.plant.step(self.demand, ff, dt);
+        self.prev_target = cmd.target_position;
+        self.following_error = self.position_demand().wrapping_sub(self.position_actual());
+        if self.following_error.unsigned_abs() > self.params.following_error_limit {
+            self.raise(self.following_error_code());
+        }
     }
 
     fn run_plant(&mut self, cmd: &RxPdo, dt: f64) {
@@ -711,6 +827,11 @@ impl SimDrive {
             self.prev_target = cmd.target_position;
             return;
         }
+        if self.mode_display == ModeOfOperation::ProfilePosition {
+            // pp handles HALT itself (605Dh, mr-j4-tm.md §4.7).
+            self.follow_profile_position(cmd, dt);
+            return;
+        }
         if cmd.controlword.halt() && self.profile.halt_in_cyclic_modes {
             self.plant.hold(dt);
             self.demand = self.plant.position();
@@ -730,8 +851,12 @@ impl SimDrive {
         let ff = match self.mode_display {
             ModeOfOperation::CyclicSyncPosition if manual_stop => 0.0,
             ModeOfOperation::CyclicSyncPosition => {
-                // Work in the i32 domain relative to the actual position so 607Ah may wrap.
-                let rel = cmd.target_position.wrapping_sub(self.position_actual());
+                // Work in the i32 domain relative to the actual position so 607Ah may wrap;
+                // the command is 607Ah + 60B0h (§4.3 rule 2).
+                let rel = cmd
+                    .target_position
+                    .wrapping_add(self.position_offset())
+                    .wrapping_sub(self.position_actual());
                 self.demand = self.plant.position() + f64::from(rel);
                 let step = cmd.target_position.wrapping_sub(self.prev_target);
                 self.prev_target = cmd.target_position;
@@ -760,7 +885,9 @@ impl SimDrive {
         // 6064h's reference: shifted like it after a homing preset).
         let demand = self.position_demand();
         let demand = match self.mode_display {
-            ModeOfOperation::CyclicSyncPosition => cmd.target_position,
+            ModeOfOperation::CyclicSyncPosition => {
+                cmd.target_position.wrapping_add(self.position_offset())
+            }
             _ => demand,
         };
         self.following_error = demand.wrapping_sub(self.position_actual());
@@ -942,6 +1069,10 @@ impl SimDrive {
         if self.warning().is_some() {
             sw.0 |= 1 << 7;
         }
+        if oe && self.mode_display == ModeOfOperation::ProfilePosition {
+            // pp bits 10 / 12 (mr-j4-tm.md §4.7).
+            sw.0 |= self.pp.status_bits();
+        }
         if self.mode_display == ModeOfOperation::Homing {
             // hm bits 13 / 12 / 10 (mr-j4-tm.md §4.10): no simulated method moves, so target
             // reached (bit 10) is always 1: "not started", "completed" or "error, v = 0".
@@ -989,6 +1120,9 @@ impl SimDrive {
             if self.power.main_off_warning {
                 return Some(e9);
             }
+        }
+        if let Some(w) = self.pp.warning() {
+            return Some(w);
         }
         if let Some(w) = self
             .profile

@@ -5,4 +5,5 @@ pub mod comm;
 pub mod drive;
 pub mod home_setting;
 pub mod plant;
+pub mod profile_position;
 pub mod sdo;

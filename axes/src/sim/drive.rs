@@ -6,7 +6,8 @@
 //! no quick stop on the MR-J3-T04 with statusword bit 5 always 1, no transition 16), quick stop
 //! ending in SOD, Fault Reset on the edge clearing only resettable alarms (the rest need
 //! [`SimDrive::power_cycle`]), statusword bits 8/14 = 0 and no statusword in NRTSO, byte-exact
-//! default maps, the zero-speed gate on mode switches, csp/csv/cst with the torque limits,
+//! default maps, the zero-speed gate on mode switches, csp/csv/cst with the torque limits, pp
+//! (`sim::profile_position`), the csp position offset 60B0h,
 //! following-error and overspeed alarms, the communication checks of `sim::comm`, and the alarm
 //! on leaving OP while switched on ([`SimDrive::leave_op`]). Deterministic and allocation-free.
 
@@ -817,7 +818,8 @@ impl SimDrive {
 
     /// Servo on in the current mode. csp follows 607Ah, csv integrates 60FFh (clamped at the
     /// overspeed limit), cst applies 6071h (0.1 % rated, 300 % = `max_acceleration`) within the
-    /// speed limit 2D20h (counts/s). The profile modes are not simulated and hold the position.
+    /// speed limit 2D20h (counts/s), pp runs the drive's own profile (`sim::profile_position`).
+    /// pv and tq are not simulated and hold the position.
     /// HALT (bit 8) stops and holds where the model honours it in the cyclic modes.
     fn follow(&mut self, cmd: &RxPdo, dt: f64) {
         if self.profile.power_warnings.is_some() && !self.power.em1 {

@@ -24,6 +24,9 @@ pub use cia402::master::{
     AxisMaster, MasterParams, MasterRequest, MasterState, QuickStopSubstitute,
 };
 pub use cia402::mode::ModeOfOperation;
+pub use cia402::mode_switch::{
+    ModeSwitch, ModeSwitchError, ModeSwitchParams, ModeSwitchPhase, ModeSwitchProgress,
+};
 pub use cia402::statusword::Statusword;
 pub use comm::{
     CounterParams, CounterVerdict, Detection, DetectorParams, ErrorDetector, IncrementalCounter,

@@ -4,7 +4,7 @@
 
 mod common;
 
-use cellrt_axes::profiles::mr_j3_t04::{AL_34, AL_35, AL_36, AL_61, AL_99, AL_E6, AL_E9};
+use cellrt_axes::profiles::mr_j3_t04::{AL_34, AL_35, AL_36, AL_37, AL_61, AL_99, AL_E6, AL_E9};
 use cellrt_axes::sim::drive::InternalTorqueLimits;
 use cellrt_axes::{
     profile, AxisMaster, Bus, CommParams, Controlword, CounterParams, CounterVerdict, Cycles,
@@ -337,6 +337,69 @@ fn tv_ic_5_only_the_three_cycle_times() {
         p.object(0x1C32, 2).and_then(|o| o.range),
         Some((500_000, 2_000_000))
     );
+}
+
+/// TV-IC-5 row 1 (§2.4): free-run (PO02 = 0001h) with the incremental-counter check on (PO03 =
+/// 0001h) → AL.37 at power-on; free-run with PO03 = 0200h (the manual's setting) and DC mode
+/// with PO03 = 0001h start cleanly.
+#[test]
+fn tv_ic_5_free_run_with_the_counter_check_raises_al_37_at_power_on() {
+    let with = |po02: u16, po03: u16| {
+        j3(SimDriveParams {
+            comm: CommParams {
+                po02,
+                po03,
+                ..CommParams::default()
+            },
+            ..SimDriveParams::default()
+        })
+    };
+    let mut bad = with(0x0001, 0x0001);
+    assert_eq!(bad.tx_pdo().error_code, AL_37);
+    assert!(bad.tx_pdo().statusword.fault());
+    bad.power_cycle();
+    assert_eq!(
+        bad.tx_pdo().error_code,
+        AL_37,
+        "raised again at every power-on"
+    );
+    for (po02, po03) in [(0x0001, 0x0200), (0x0000, 0x0001)] {
+        let d = with(po02, po03);
+        assert_eq!(
+            d.tx_pdo().error_code,
+            0,
+            "PO02 {po02:04X}h PO03 {po03:04X}h"
+        );
+    }
+}
+
+/// TV-IC-5 row 2: SYNC0 at 1 ms while 1C32h:02 = 500000 raises AL.76 by default, AL.74 where
+/// configured (the manual does not settle which, §8.2.3(1)); a matching SYNC0 raises nothing.
+#[test]
+fn tv_ic_5_sync0_other_than_the_pdo_cycle_raises_al_76_or_al_74() {
+    for (choice, expected) in [
+        (None, 0x0076),
+        (Some(0x0074), 0x0074),
+        (Some(0x0052), 0x0076),
+    ] {
+        let mut d = j3(SimDriveParams {
+            sync_mismatch_alarm: choice,
+            ..SimDriveParams::default()
+        });
+        d.sdo_download(0x1C32, 2, &500_000u32.to_le_bytes())
+            .unwrap();
+        assert_eq!(d.start_sync(1_000_000), Some(expected), "{choice:?}");
+        assert_eq!(d.tx_pdo().error_code, expected);
+        assert!(d.tx_pdo().statusword.fault(), "{choice:?}");
+    }
+    let mut d = j3(SimDriveParams::default());
+    d.sdo_download(0x1C32, 2, &1_000_000u32.to_le_bytes())
+        .unwrap();
+    assert_eq!(d.start_sync(1_000_000), None);
+    assert_eq!(d.tx_pdo().error_code, 0);
+    // Models whose manuals name no such alarm run on SYNC0.
+    let mut j5 = drive(DriveModel::MrJ5GN1, 1000, SimDriveParams::default());
+    assert_eq!(j5.start_sync(2_000_000), None);
 }
 
 #[test]

@@ -36,6 +36,20 @@ pub const HOMING_METHOD: u16 = 0x6098;
 pub const HOME_OFFSET: u16 = 0x607C;
 /// 60FFh Target velocity.
 pub const TARGET_VELOCITY: u16 = 0x60FF;
+/// 6081h Profile velocity (pp; mr-j4-tm.md §4.7).
+pub const PROFILE_VELOCITY: u16 = 0x6081;
+/// 6083h Profile acceleration (pp/pv; a time constant in ms on the Mitsubishi drives, §4.7).
+pub const PROFILE_ACCELERATION: u16 = 0x6083;
+/// 6084h Profile deceleration (pp/pv; a time constant in ms, §4.7).
+pub const PROFILE_DECELERATION: u16 = 0x6084;
+/// 6067h Position window (pp target reached, mr-j4-tm.md §4.7).
+pub const POSITION_WINDOW: u16 = 0x6067;
+/// 6068h Position window time, ms.
+pub const POSITION_WINDOW_TIME: u16 = 0x6068;
+/// 605Dh Halt option code.
+pub const HALT_OPTION_CODE: u16 = 0x605D;
+/// 60B0h Position offset (csp: the command is 607Ah + 60B0h; mr-j5-g-n1.md §4.3 rule 2).
+pub const POSITION_OFFSET: u16 = 0x60B0;
 /// 2D20h Velocity limit value (cst/tq speed limit).
 pub const VELOCITY_LIMIT: u16 = 0x2D20;
 /// 60E0h Positive torque limit value (0.1 % of rated torque).
@@ -86,6 +100,12 @@ pub struct RxPdo {
     pub torque_limit_negative: u16,
     /// 2001h Controlword2 (MR-J3-T04; bit 3 C_TL, bit 4 C_TL1: torque-limit selection).
     pub controlword2: u16,
+    /// 6081h Profile velocity (pp), where the map carries it (e.g. MR-J4-TM 1601h).
+    pub profile_velocity: u32,
+    /// 6083h Profile acceleration (pp), where the map carries it.
+    pub profile_acceleration: u32,
+    /// 6084h Profile deceleration (pp), where the map carries it.
+    pub profile_deceleration: u32,
     /// Communication counter: 2020h (MR-J3-T04) or 2D23h (MR-J4-TM), where the map carries it
     /// ([`crate::PdoMap::has_counter`]). See [`crate::IncrementalCounter`].
     pub counter: u8,
@@ -104,6 +124,9 @@ impl Default for RxPdo {
             torque_limit_positive: DEFAULT_TORQUE_LIMIT,
             torque_limit_negative: DEFAULT_TORQUE_LIMIT,
             controlword2: 0,
+            profile_velocity: 0,
+            profile_acceleration: 0,
+            profile_deceleration: 0,
             counter: 0,
         }
     }
@@ -153,6 +176,9 @@ pub(crate) enum RxField {
     TorqueLimitPositive,
     TorqueLimitNegative,
     Controlword2,
+    ProfileVelocity,
+    ProfileAcceleration,
+    ProfileDeceleration,
     Counter,
 }
 
@@ -172,6 +198,9 @@ impl RxField {
             TORQUE_LIMIT_POSITIVE => RxField::TorqueLimitPositive,
             TORQUE_LIMIT_NEGATIVE => RxField::TorqueLimitNegative,
             CONTROLWORD2 => RxField::Controlword2,
+            PROFILE_VELOCITY => RxField::ProfileVelocity,
+            PROFILE_ACCELERATION => RxField::ProfileAcceleration,
+            PROFILE_DECELERATION => RxField::ProfileDeceleration,
             INCREMENTAL_COUNTER_RX | WATCHDOG_COUNTER_DL => RxField::Counter,
             _ => return None,
         })
@@ -226,6 +255,9 @@ impl RxPdo {
             RxField::TorqueLimitPositive => u64::from(self.torque_limit_positive),
             RxField::TorqueLimitNegative => u64::from(self.torque_limit_negative),
             RxField::Controlword2 => u64::from(self.controlword2),
+            RxField::ProfileVelocity => u64::from(self.profile_velocity),
+            RxField::ProfileAcceleration => u64::from(self.profile_acceleration),
+            RxField::ProfileDeceleration => u64::from(self.profile_deceleration),
             RxField::Counter => u64::from(self.counter),
         }
     }
@@ -242,6 +274,9 @@ impl RxPdo {
             RxField::TorqueLimitPositive => self.torque_limit_positive = raw as u16,
             RxField::TorqueLimitNegative => self.torque_limit_negative = raw as u16,
             RxField::Controlword2 => self.controlword2 = raw as u16,
+            RxField::ProfileVelocity => self.profile_velocity = raw as u32,
+            RxField::ProfileAcceleration => self.profile_acceleration = raw as u32,
+            RxField::ProfileDeceleration => self.profile_deceleration = raw as u32,
             RxField::Counter => self.counter = raw as u8,
         }
     }

@@ -417,6 +417,9 @@ pub enum CommCheck {
         counter_alarm: u16,
         /// RxPDO reception error alarm (AL.36).
         loss_alarm: u16,
+        /// Parameter error raised at power-on when the counter check is enabled (PO03 digit 0
+        /// ≠ 0) in free-run mode (PO02 = 0001h): AL.37 (MR-J3-T04 §2.4, TV-IC-5).
+        free_run_alarm: u16,
     },
     /// Watchdog counters whose algorithm the manual's missing §6.2 would give (MR-J4-TM):
     /// provisional echo of DL + 1 in UL when both are mapped; lost frames count like
@@ -540,6 +543,10 @@ pub struct PdoRules {
     pub mapped_write_abort: u32,
     /// Abort for a mapping or cycle-time write outside PRE-OP (or once frozen).
     pub wrong_state_abort: u32,
+    /// Alarms a SYNC0 cycle other than the PDO cycle written to 1C32h:02 raises when the drive
+    /// starts synchronising (the first is the simulator's default; empty: the manual states
+    /// none and the drive runs on SYNC0).
+    pub sync_mismatch_alarms: &'static [u16],
     /// Which parts of the PDO assignment 1C12h/1C13h the master may write.
     pub assignment: PdoAssignment,
     /// True if the mapping and the PDO cycle (1C32h:02) freeze once the drive has reached

@@ -24,6 +24,7 @@ fn comm_text(p: &DriveProfile) -> String {
             tx_index,
             counter_alarm,
             loss_alarm,
+            ..
         } => format!(
             "incremental counter {rx_index:04X}h/{tx_index:04X}h ({} counter, {} lost RxPDO)",
             alarm_text(p, counter_alarm),

@@ -187,6 +187,10 @@ pub struct DriveProfile {
     /// FSoE (safety over EtherCAT) as the manual states it (MR-JET-G-N1, mr-jet-g-n1.md §7);
     /// `None`: the model has no FSoE.
     pub fsoe: Option<FsoeFacts>,
+    /// Warning raised, with no motion, when a pp set-point asks for a relative move while the
+    /// position unit is degree (MR-J4-TM AL. F4.8, mr-j4-tm.md §4.7 bit 6); `None`: the manual
+    /// states no such rule.
+    pub relative_degree_warning: Option<u16>,
 }
 
 impl DriveProfile {

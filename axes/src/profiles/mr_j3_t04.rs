@@ -573,6 +573,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         tx_index: 0x2021,
         counter_alarm: AL_34,
         loss_alarm: AL_36,
+        free_run_alarm: AL_37,
     },
     leave_op_alarm: AL_61,
     // §2.2: no re-initialisation is stated; the alarm (or none) is the whole effect.
@@ -625,12 +626,18 @@ pub const PROFILE: DriveProfile = DriveProfile {
         mapped_write_abort: 0x0601_0000,
         // §5.8: "write to an object that is not writable in the current AL state".
         wrong_state_abort: 0x0601_0002,
+        // TV-IC-5: §8.2.3(1) says only that invalid cycles make operation "not performed
+        // properly"; AL.76 (synchronization setting incorrect) or AL.74 (initial
+        // synchronisation failed) are the candidates: AL.76 by default, AL.74 selectable
+        // (`SimDriveParams::sync_mismatch_alarm`).
+        sync_mismatch_alarms: &[0x0076, 0x0074],
         assignment: PdoAssignment::ReadOnly,
         frozen_after_safe_op: true,
         source: "mr-j3-t04.md §4.4, §4.5, §5.8 (manual §8.6.1, §8.6.2, §8.7)",
     },
     invalid_axis_switch: None,
     fsoe: None,
+    relative_degree_warning: None,
 };
 
 #[cfg(test)]

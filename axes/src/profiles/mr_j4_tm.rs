@@ -35,6 +35,30 @@ pub const RX_PDO_1600: PdoMap = PdoMap {
     ],
 };
 
+/// Default RxPDO 1601h (pp/pv/tq/hm, the PA01 `___2` profile-mode group), 45 bytes, with
+/// 6081h/6083h/6084h/6087h for the profile modes (mr-j4-tm.md §5.2; offsets derived).
+pub const RX_PDO_1601: PdoMap = PdoMap {
+    index: 0x1601,
+    entries: &[
+        obj(0x6060, 8),  // 0  Modes of operation
+        obj(0x6040, 16), // 1  Controlword
+        obj(0x2D01, 16), // 3  Control DI 1
+        obj(0x2D02, 16), // 5  Control DI 2
+        obj(0x2D03, 16), // 7  Control DI 3
+        obj(0x607A, 32), // 9  Target position
+        obj(0x60FF, 32), // 13 Target velocity
+        obj(0x2D20, 32), // 17 Velocity limit value
+        obj(0x6071, 16), // 21 Target torque
+        obj(0x6081, 32), // 23 Profile velocity
+        obj(0x6083, 32), // 27 Profile acceleration
+        obj(0x6084, 32), // 31 Profile deceleration
+        obj(0x6087, 32), // 35 Torque slope
+        obj(0x60E0, 16), // 39 Positive torque limit value
+        obj(0x60E1, 16), // 41 Negative torque limit value
+        obj(0x60B8, 16), // 43 Touch probe function
+    ],
+};
+
 /// Default TxPDO 1A00h, 41 bytes (mr-j4-tm.md §5.3).
 pub const TX_PDO_1A00: PdoMap = PdoMap {
     index: 0x1A00,
@@ -59,6 +83,8 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
 /// Alarm code encoding of this module: AL. XX.Y → 0x0XXY (AL. 86.1 → 0x0861); the alarm
 /// objects are in the missing §6.4.
 pub const AL_86_1: u16 = 0x0861;
+/// AL. F4.8: a relative pp set-point with the degree position unit (mr-j4-tm.md §4.7 bit 6, §9).
+pub const AL_F4_8: u16 = 0x0F48;
 /// Following-error alarm: no alarm chapter in this manual (mr-j4-tm.md §9); CiA 402 8611h
 /// [background], configurable.
 pub const FOLLOWING_ERROR: u16 = 0x8611;
@@ -167,7 +193,7 @@ pub const ALARMS: &[AlarmInfo] = &[
         "§9: reset by C_ORST",
     ),
     alarm(
-        0x0F48,
+        AL_F4_8,
         "AL. F4.8",
         "Positioning warning (relative pp in degree)",
         AlarmKind::Warning,
@@ -461,6 +487,78 @@ pub const OBJECTS: &[OdEntry] = &[
         "0.01 r/min",
         "§4.2",
     ),
+    od(
+        0x607F,
+        0,
+        "Max profile velocity",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Unstated,
+        Some(2_000_000),
+        None,
+        "0.01 r/min",
+        "§4.7 (pp): limits 6081h",
+    ),
+    od(
+        0x6081,
+        0,
+        "Profile velocity",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(10_000),
+        None,
+        "0.01 r/min",
+        "§4.7 (pp); mapped in 1601h (§5.2)",
+    ),
+    od(
+        0x6083,
+        0,
+        "Profile acceleration",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "ms",
+        "§4.7: acceleration time constant at the start of a move; 1601h",
+    ),
+    od(
+        0x6084,
+        0,
+        "Profile deceleration",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Rx,
+        Some(0),
+        None,
+        "ms",
+        "§4.7: deceleration time constant on arrival; 1601h",
+    ),
+    od(
+        0x6067,
+        0,
+        "Position window",
+        DataType::Unstated,
+        Access::Rw,
+        Pdo::Unstated,
+        None,
+        None,
+        "pulse",
+        "§4.7 (pp target reached); type and default in MISSING ch. 7 (§13 q4)",
+    ),
+    od(
+        0x6068,
+        0,
+        "Position window time",
+        DataType::Unstated,
+        Access::Rw,
+        Pdo::Unstated,
+        None,
+        None,
+        "ms",
+        "§4.7; type and default in MISSING ch. 7 (§13 q4)",
+    ),
 ];
 
 /// Encoder and units (mr-j4-tm.md §1.1, §4.2).
@@ -547,7 +645,54 @@ pub const PROFILE: DriveProfile = DriveProfile {
     },
     invalid_axis_switch: None,
     fsoe: None,
+    relative_degree_warning: Some(AL_F4_8),
 };
+
+/// The PA01 `___2` profile-mode group: pp, pv, tq and hm with the 1601h RxPDO, initial mode pp
+/// (mr-j4-tm.md §1.3 table, §5.2). Never available together with csp/csv/cst (§1.3 [EXT]), so it
+/// is a profile of its own; select it with [`ModeGroup::Profile`]. Everything else as
+/// [`PROFILE`].
+pub const PROFILE_MODE_GROUP: DriveProfile = DriveProfile {
+    name: "Mitsubishi MR-J4-TM (PA01 ___2, profile mode)",
+    modes: &[
+        M::ProfilePosition,
+        M::ProfileVelocity,
+        M::ProfileTorque,
+        M::Homing,
+    ],
+    rx_pdo: RX_PDO_1601,
+    ..PROFILE
+};
+
+/// The control-mode group selected by [Pr. PA01] (last digit, mr-j4-tm.md §1.3 / manual
+/// §5.4.1): the drive parameter that decides which modes 6060h accepts. The default is the
+/// cyclic group (`___0`/`___1`, 6061h = 8 at start-up).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ModeGroup {
+    /// PA01 `___0` (automatic, [G]) or `___1`: csp, csv, cst, hm with 1600h ([`PROFILE`]).
+    #[default]
+    CyclicSynchronous,
+    /// PA01 `___2`: pp, pv, tq, hm with 1601h ([`PROFILE_MODE_GROUP`]).
+    Profile,
+}
+
+impl ModeGroup {
+    /// The drive profile of this group.
+    pub const fn profile(self) -> &'static DriveProfile {
+        match self {
+            ModeGroup::CyclicSynchronous => &PROFILE,
+            ModeGroup::Profile => &PROFILE_MODE_GROUP,
+        }
+    }
+
+    /// The mode 6060h/6061h hold at start-up (§1.3 table "Default 6060h/6061h").
+    pub const fn initial_mode(self) -> M {
+        match self {
+            ModeGroup::CyclicSynchronous => M::CyclicSyncPosition,
+            ModeGroup::Profile => M::ProfilePosition,
+        }
+    }
+}
 
 #[cfg(test)]
 mod tests {
@@ -607,6 +752,16 @@ mod tests {
         }
         assert!(PROFILE.supports_mode(M::CyclicSyncTorque));
         assert!(!PROFILE.supports_mode(M::ProfilePosition));
+        let pm = ModeGroup::Profile.profile();
+        assert!(pm.supports_mode(M::ProfilePosition) && pm.supports_mode(M::Homing));
+        assert!(
+            !pm.supports_mode(M::CyclicSyncPosition),
+            "the groups are exclusive"
+        );
+        assert_eq!(pm.rx_pdo.byte_len(), 45, "1601h is 45 bytes (§5.2)");
+        assert_eq!(pm.rx_pdo.offset_of(0x6081, 0), Some(23));
+        assert_eq!(pm.rx_pdo.offset_of(0x60B8, 0), Some(43));
+        assert_eq!(ModeGroup::default().profile(), &PROFILE);
         assert_eq!(PROFILE.vendor_id(), None);
         assert_eq!(PROFILE.units.counts_per_rev, Some(4_194_304));
     }

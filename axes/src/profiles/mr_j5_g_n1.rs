@@ -346,6 +346,54 @@ pub const OBJECTS: &[OdEntry] = &[
         "",
         "§1.2: bits 0, 2, 3, 5, 7, 8, 9, 17",
     ),
+    od(
+        0x6081,
+        0,
+        "Profile velocity",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Rx,
+        None,
+        None,
+        "not stated",
+        "§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated",
+    ),
+    od(
+        0x6083,
+        0,
+        "Profile acceleration",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Rx,
+        None,
+        None,
+        "not stated",
+        "§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated",
+    ),
+    od(
+        0x6084,
+        0,
+        "Profile deceleration",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Rx,
+        None,
+        None,
+        "not stated",
+        "§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated",
+    ),
+    od(
+        0x60B0,
+        0,
+        "Position offset",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Unstated,
+        Some(0),
+        None,
+        "pulse",
+        "§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])",
+    ),
 ];
 
 /// Encoder and units: the manual gives no encoder resolution or factor group (§8).
@@ -427,6 +475,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     invalid_axis_switch: Some(INVALID_AXIS_SWITCH_1_AXIS),
     // §7: this manual has no safety PDOs and no FSoE objects ("should not expose 1608h/1A08h").
     fsoe: None,
+    relative_degree_warning: None,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

@@ -718,6 +718,54 @@ pub const OBJECTS: &[OdEntry] = &[
         "",
         "§1.2: bits 0, 2, 3, 5, 7, 8, 9, 16, 17",
     ),
+    od(
+        0x6081,
+        0,
+        "Profile velocity",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Rx,
+        None,
+        None,
+        "not stated",
+        "§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated",
+    ),
+    od(
+        0x6083,
+        0,
+        "Profile acceleration",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Rx,
+        None,
+        None,
+        "not stated",
+        "§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated",
+    ),
+    od(
+        0x6084,
+        0,
+        "Profile deceleration",
+        DataType::U32,
+        Access::Rw,
+        Pdo::Rx,
+        None,
+        None,
+        "not stated",
+        "§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated",
+    ),
+    od(
+        0x60B0,
+        0,
+        "Position offset",
+        DataType::I32,
+        Access::Rw,
+        Pdo::Unstated,
+        Some(0),
+        None,
+        "pulse",
+        "§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])",
+    ),
 ];
 
 /// Encoder and units (mr-jet-g-n1.md §8): 2^26 appears only as an example resolution.
@@ -747,6 +795,7 @@ pub const PDO_RULES: PdoRules = PdoRules {
     locked_abort: 0x0800_0022,
     mapped_write_abort: 0x0601_0006,
     wrong_state_abort: 0x0800_0022,
+    sync_mismatch_alarms: &[],
     assignment: PdoAssignment::Writable,
     frozen_after_safe_op: false,
     source:
@@ -812,6 +861,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     pdo_rules: PDO_RULES,
     invalid_axis_switch: None,
     fsoe: Some(FSOE),
+    relative_degree_warning: None,
 };
 
 #[cfg(test)]

@@ -25,6 +25,9 @@ pub struct CommParams {
     /// update error detection (0 off, 1 both, 2 continuous, 3 intermittent), digit 2
     /// (bits 8–11) = RxPDO reception error (0 both, 2 continuous only). Default 0000h.
     pub po03: u16,
+    /// MR-J3-T04 PO02 synchronisation mode (§2.4): digit 0 = 0 DC mode (default), 1 free-run
+    /// (test connections only; with the counter check enabled in PO03 → AL.37 at power-on).
+    pub po02: u16,
     /// Counter update error thresholds (MR-J3-T04 §6.4: "regulated level" not given; placeholder).
     pub counter_errors: DetectorParams,
     /// Continuous RxPDO loss raising AL.36: "about 7 ms" (MR-J3-T04 §6.4), rounded up to whole
@@ -48,6 +51,7 @@ impl Default for CommParams {
         CommParams {
             echo_lag: crate::comm::DEFAULT_ECHO_LAG,
             po03: 0x0000,
+            po02: 0x0000,
             counter_errors: DetectorParams::default(),
             rx_loss_timeout: Duration::from_millis(7),
             rx_loss_intermittent: DetectorParams {

@@ -6,7 +6,8 @@
 //! no quick stop on the MR-J3-T04 with statusword bit 5 always 1, no transition 16), quick stop
 //! ending in SOD, Fault Reset on the edge clearing only resettable alarms (the rest need
 //! [`SimDrive::power_cycle`]), statusword bits 8/14 = 0 and no statusword in NRTSO, byte-exact
-//! default maps, the zero-speed gate on mode switches, csp/csv/cst with the torque limits,
+//! default maps, the zero-speed gate on mode switches, csp/csv/cst with the torque limits, pp
+//! (`sim::profile_position`), the csp position offset 60B0h,
 //! following-error and overspeed alarms, the communication checks of `sim::comm`, and the alarm
 //! on leaving OP while switched on ([`SimDrive::leave_op`]), the axis switch SW3 checked at
 //! power-on ([`AxisSwitch`]), and FSoE safety process data with STO acting on the PDS and the
@@ -17,12 +18,19 @@ use super::comm::{CommParams, DriveComm};
 use super::fsoe::{FsoeSlave, FsoeSlaveParams, StoStop};
 use super::home_setting::{BeforeZReaction, HomeSettingOutcome, HomeSettingState, ZPhase};
 use super::plant::{PlantParams, ServoPlant};
+use super::profile_position::{
+    HaltOption, PositionUnit, PpCommand, PpFeedback, PpParams, ProfilePosition,
+};
 use crate::cia402::controlword::Controlword;
 use crate::cia402::fsa::{drive_transition, FsaState};
 use crate::cia402::mode::ModeOfOperation;
 use crate::cia402::statusword::Statusword;
 use crate::cycles::{CycleTime, Cycles};
 use crate::fsoe::{ConnectionParams, FsoeError, FsoeFrame, SafetyStatus};
+use crate::pdo::objects::{
+    RxField, POSITION_OFFSET, POSITION_WINDOW, POSITION_WINDOW_TIME, PROFILE_ACCELERATION,
+    PROFILE_DECELERATION, PROFILE_VELOCITY,
+};
 use crate::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
 use crate::profiles::{DriveProfile, HomeReference, TorqueLimitSelection};
 
@@ -82,6 +90,14 @@ pub struct SimDriveParams {
     /// Raw position of the encoder's Z phase within a revolution (counts; the manual gives no
     /// figure, TV-HOME-1 uses 262100); default 0.
     pub z_phase_position: i32,
+    /// The alarm a SYNC0 cycle other than 1C32h:02 raises, one of the profile's
+    /// `pdo_rules.sync_mismatch_alarms` (MR-J3-T04 TV-IC-5: AL.76 or AL.74); `None`: the
+    /// profile's first.
+    pub sync_mismatch_alarm: Option<u16>,
+    /// Profile position mode (pp) values the manuals leave open (`sim::profile_position`).
+    pub pp: PpParams,
+    /// [Pr. PT01.2] position data unit (acts on relative pp set-points, mr-j4-tm.md §4.7).
+    pub position_unit: PositionUnit,
     /// The DIP switch SW3 (axis selection) as set on the amplifier, read at power-on; see
     /// [`AxisSwitch`].
     pub axis_switch: AxisSwitch,
@@ -180,10 +196,13 @@ impl Default for SimDriveParams {
             dc_missed_command: MissedCommand::Extrapolate,
             before_z_reaction: BeforeZReaction::Warning,
             z_phase_position: 0,
+            sync_mismatch_alarm: None,
             axis_switch: AxisSwitch::default(),
             fsoe: None,
             slow_stop_time_ms: 0,
             store_parameters_ms: 25_000,
+            pp: PpParams::default(),
+            position_unit: PositionUnit::Pulse,
         }
     }
 }
@@ -245,6 +264,8 @@ pub struct SimDrive {
     /// csp manual stop (MR-J3-T04 C_MSTOP, Controlword2 bit 8).
     mstop: ManualStop,
     home_set: HomeSettingState,
+    /// Profile position mode (pp): set-point handshake and trajectory generator.
+    pp: ProfilePosition,
     /// The FSoE slave, when configured on a model with FSoE.
     fsoe: Option<FsoeSlave>,
 }
@@ -330,10 +351,18 @@ impl SimDrive {
     ) -> Self {
         let pos = f64::from(params.initial_position);
         let counter_mapped = profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter();
+        // An unsupported initial mode falls back to csp, or to the first mode the profile
+        // lists where csp is not in its group (MR-J4-TM PA01 `___2`: pp).
         let initial_mode = if profile.supports_mode(params.initial_mode) {
             params.initial_mode
-        } else {
+        } else if profile.supports_mode(ModeOfOperation::CyclicSyncPosition) {
             ModeOfOperation::CyclicSyncPosition
+        } else {
+            profile
+                .modes
+                .first()
+                .copied()
+                .unwrap_or(ModeOfOperation::CyclicSyncPosition)
         };
         let mut d = SimDrive {
             profile,
@@ -369,11 +398,13 @@ impl SimDrive {
             stroke: StrokeState::default(),
             mstop: ManualStop::default(),
             home_set: HomeSettingState::default(),
+            pp: ProfilePosition::default(),
             fsoe: params
                 .fsoe
                 .zip(profile.fsoe)
                 .map(|(p, f)| FsoeSlave::new(f, p, cycle_time.as_micros())),
         };
+        d.pp.reset(pos, 0);
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
         d.power_on_checks();
         d.tx = d.make_tx();
@@ -402,6 +433,16 @@ impl SimDrive {
     /// profile's refused setting (MR-J5-G-N1 1-axis AL.011.2, TV-14; the moment of detection is
     /// [inferred], see [`AxisSwitch`]).
     fn power_on_checks(&mut self) {
+        // MR-J3-T04 §2.4, TV-IC-5: free-run (PO02 = 0001h) with the incremental-counter check
+        // enabled (PO03 digit 0 ≠ 0) is a parameter error.
+        if let crate::profiles::CommCheck::IncrementalCounter { free_run_alarm, .. } =
+            self.profile.comm_check
+        {
+            let comm = self.params.comm;
+            if comm.po02 & 0xF == 1 && comm.po03 & 0xF != 0 {
+                self.raise(free_run_alarm);
+            }
+        }
         if let Some(rule) = self.profile.invalid_axis_switch {
             let sw = self.params.axis_switch;
             if sw.sw3_1 == rule.sw3_1 && sw.sw3_2 == rule.sw3_2 {
@@ -692,6 +733,25 @@ impl SimDrive {
         }
     }
 
+    /// Distributed clocks start with SYNC0 every `sync0_ns` (SAFE-OP → OP). On a model whose
+    /// manual names an alarm for it, a SYNC0 cycle other than the PDO cycle the master wrote
+    /// to 1C32h:02 raises that alarm (mr-j3-t04.md TV-IC-5, §8.2.3(1)); returns it.
+    pub fn start_sync(&mut self, sync0_ns: u32) -> Option<u16> {
+        let alarms = self.profile.pdo_rules.sync_mismatch_alarms;
+        let alarm = self
+            .params
+            .sync_mismatch_alarm
+            .filter(|a| alarms.contains(a))
+            .or(alarms.first().copied())?;
+        let cycle = self.sdo_upload(0x1C32, 2).ok()?;
+        if cycle == i64::from(sync0_ns) {
+            return None;
+        }
+        self.raise(alarm);
+        self.tx = self.make_tx();
+        Some(alarm)
+    }
+
     /// True while the AL state is Operational.
     pub fn in_op(&self) -> bool {
         self.op
@@ -785,7 +845,8 @@ impl SimDrive {
     fn servo_on(&mut self) {
         self.demand = self.plant.position();
         self.plant.set_last_command(self.demand);
-        self.prev_target = self.position_actual();
+        self.prev_target = self.position_actual().wrapping_sub(self.position_offset());
+        self.pp.reset(self.demand, self.prev_cw.0);
     }
 
     /// 6060h → 6061h: supported modes are taken when the zero-speed gate allows (§4.3);
@@ -798,14 +859,104 @@ impl SimDrive {
             return;
         }
         let old = self.mode_display;
-        let gated = old.is_position() || mode.is_position() || old.is_cyclic() != mode.is_cyclic();
+        let gated = crate::cia402::mode_switch::switch_needs_zero_speed(old, mode);
         if gated && self.plant.velocity().abs() > self.params.zero_speed {
             return;
         }
         self.mode_display = mode;
         self.demand = self.plant.position();
         self.plant.set_last_command(self.demand);
-        self.prev_target = self.position_actual();
+        self.prev_target = self.position_actual().wrapping_sub(self.position_offset());
+        self.pp.reset(self.demand, self.prev_cw.0);
+    }
+
+    /// 60B0h Position offset, added to 607Ah in csp (mr-j5-g-n1.md §4.3 rule 2, mr-jet-g-n1.md
+    /// §4.3 rule 3: "607Ah + 60B0h follow 6064h"); only on models that list 60B0h, 0 unless
+    /// written by SDO.
+    pub fn position_offset(&self) -> i32 {
+        if self.profile.object(POSITION_OFFSET, 0).is_none() {
+            return 0;
+        }
+        self.sdo_value(POSITION_OFFSET, 0)
+            .or_else(|| self.profile.object(POSITION_OFFSET, 0)?.default)
+            .unwrap_or(0) as i32
+    }
+
+    /// An object pp reads: from the RxPDO where the map carries it, else the SDO value, else
+    /// the profile's default.
+    fn pp_object(&self, cmd: &RxPdo, index: u16) -> Option<i64> {
+        if self.profile.rx_pdo.maps(index) {
+            if let Some(f) = RxField::of(index, 0) {
+                return Some(cmd.get(f) as i64);
+            }
+        }
+        self.sdo_value(index, 0)
+            .or_else(|| self.profile.object(index, 0)?.default)
+    }
+
+    /// This cycle's pp inputs (sim units: counts, counts/s; 6083h/6084h ms time constants).
+    fn pp_command(&self, cmd: &RxPdo) -> PpCommand {
+        let plant = self.params.plant;
+        let pp = self.params.pp;
+        let amax = plant.max_acceleration.abs();
+        let ref_speed = pp
+            .time_constant_speed
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .unwrap_or(plant.max_velocity.abs());
+        let ramp = |ms: Option<i64>| match ms {
+            Some(ms) if ms > 0 => (ref_speed * 1000.0 / ms as f64).min(amax),
+            _ => amax,
+        };
+        let mut velocity = self
+            .pp_object(cmd, PROFILE_VELOCITY)
+            .unwrap_or(i64::from(pp.profile_velocity)) as f64;
+        if let Some(max) = self.pp_object(cmd, 0x607F) {
+            velocity = velocity.min(max as f64);
+        }
+        let velocity = velocity.clamp(0.0, plant.max_velocity.abs());
+        let deceleration = ramp(self.pp_object(cmd, PROFILE_DECELERATION));
+        let window = self
+            .pp_object(cmd, POSITION_WINDOW)
+            .map_or(pp.position_window, |v| v as u32);
+        let window_ms = self
+            .pp_object(cmd, POSITION_WINDOW_TIME)
+            .map_or(pp.position_window_time_ms, |v| v as u32);
+        PpCommand {
+            controlword: cmd.controlword.0,
+            target: cmd.target_position,
+            velocity,
+            acceleration: ramp(self.pp_object(cmd, PROFILE_ACCELERATION)),
+            deceleration,
+            halt_deceleration: match pp.halt {
+                HaltOption::ProfileDeceleration => deceleration,
+                HaltOption::MaximumDeceleration => amax,
+            },
+            window,
+            window_time_s: f64::from(window_ms) / 1000.0,
+            relative_refused: match self.params.position_unit {
+                PositionUnit::Degree => self.profile.relative_degree_warning,
+                PositionUnit::Pulse => None,
+            },
+        }
+    }
+
+    /// pp in Operation enabled: the drive's own profile toward the accepted set-point
+    /// (`sim::profile_position`), followed by the servo loop; following error checked as csp.
+    fn follow_profile_position(&mut self, cmd: &RxPdo, dt: f64) {
+        let c = self.pp_command(cmd);
+        let fb = PpFeedback {
+            actual: self.position_actual(),
+            position: self.plant.position(),
+            velocity: self.plant.velocity(),
+        };
+        self.demand = self.pp.step(&c, fb, dt);
+        let ff = self.params.velocity_feedforward * self.pp.velocity();
+        self.plant.step(self.demand, ff, dt);
+        self.prev_target = cmd.target_position;
+        self.following_error = self.position_demand().wrapping_sub(self.position_actual());
+        if self.following_error.unsigned_abs() > self.params.following_error_limit {
+            self.raise(self.following_error_code());
+        }
     }
 
     fn run_plant(&mut self, cmd: &RxPdo, dt: f64) {
@@ -863,7 +1014,8 @@ impl SimDrive {
 
     /// Servo on in the current mode. csp follows 607Ah, csv integrates 60FFh (clamped at the
     /// overspeed limit), cst applies 6071h (0.1 % rated, 300 % = `max_acceleration`) within the
-    /// speed limit 2D20h (counts/s). The profile modes are not simulated and hold the position.
+    /// speed limit 2D20h (counts/s), pp runs the drive's own profile (`sim::profile_position`).
+    /// pv and tq are not simulated and hold the position.
     /// HALT (bit 8) stops and holds where the model honours it in the cyclic modes.
     fn follow(&mut self, cmd: &RxPdo, dt: f64) {
         if self.profile.power_warnings.is_some() && !self.power.em1 {
@@ -871,6 +1023,11 @@ impl SimDrive {
             self.plant.hold(dt);
             self.demand = self.plant.position();
             self.prev_target = cmd.target_position;
+            return;
+        }
+        if self.mode_display == ModeOfOperation::ProfilePosition {
+            // pp handles HALT itself (605Dh, mr-j4-tm.md §4.7).
+            self.follow_profile_position(cmd, dt);
             return;
         }
         if cmd.controlword.halt() && self.profile.halt_in_cyclic_modes {
@@ -892,8 +1049,12 @@ impl SimDrive {
         let ff = match self.mode_display {
             ModeOfOperation::CyclicSyncPosition if manual_stop => 0.0,
             ModeOfOperation::CyclicSyncPosition => {
-                // Work in the i32 domain relative to the actual position so 607Ah may wrap.
-                let rel = cmd.target_position.wrapping_sub(self.position_actual());
+                // Work in the i32 domain relative to the actual position so 607Ah may wrap;
+                // the command is 607Ah + 60B0h (§4.3 rule 2).
+                let rel = cmd
+                    .target_position
+                    .wrapping_add(self.position_offset())
+                    .wrapping_sub(self.position_actual());
                 self.demand = self.plant.position() + f64::from(rel);
                 let step = cmd.target_position.wrapping_sub(self.prev_target);
                 self.prev_target = cmd.target_position;
@@ -922,7 +1083,9 @@ impl SimDrive {
         // 6064h's reference: shifted like it after a homing preset).
         let demand = self.position_demand();
         let demand = match self.mode_display {
-            ModeOfOperation::CyclicSyncPosition => cmd.target_position,
+            ModeOfOperation::CyclicSyncPosition => {
+                cmd.target_position.wrapping_add(self.position_offset())
+            }
             _ => demand,
         };
         self.following_error = demand.wrapping_sub(self.position_actual());
@@ -1104,6 +1267,10 @@ impl SimDrive {
         if self.warning().is_some() {
             sw.0 |= 1 << 7;
         }
+        if oe && self.mode_display == ModeOfOperation::ProfilePosition {
+            // pp bits 10 / 12 (mr-j4-tm.md §4.7).
+            sw.0 |= self.pp.status_bits();
+        }
         if self.mode_display == ModeOfOperation::Homing {
             // hm bits 13 / 12 / 10 (mr-j4-tm.md §4.10): no simulated method moves, so target
             // reached (bit 10) is always 1: "not started", "completed" or "error, v = 0".
@@ -1151,6 +1318,9 @@ impl SimDrive {
             if self.power.main_off_warning {
                 return Some(e9);
             }
+        }
+        if let Some(w) = self.pp.warning() {
+            return Some(w);
         }
         if let Some(w) = self
             .profile

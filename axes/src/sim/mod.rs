@@ -6,4 +6,5 @@ pub mod drive;
 pub mod fsoe;
 pub mod home_setting;
 pub mod plant;
+pub mod profile_position;
 pub mod sdo;

@@ -404,6 +404,7 @@ impl<B: Bus> Executive<B> {
                 torque_limit_negative: ch.torque_limit_objects.1,
                 controlword2,
                 counter: ch.counter.as_mut().map_or(0, |c| c.next_tx()),
+                ..RxPdo::default()
             };
             if self.axes[i]
                 .rx_map

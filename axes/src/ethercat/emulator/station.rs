@@ -382,6 +382,9 @@ impl Station {
                 }
                 if target == AlState::Op && from != AlState::Op {
                     self.drive.enter_op();
+                    if self.mem[usize::from(reg::DC_SYNC_ACTIVE)] & 0x03 != 0 {
+                        let _ = self.drive.start_sync(self.sync0_cycle_ns());
+                    }
                 }
                 if target == AlState::SafeOp && from == AlState::PreOp {
                     self.pdo.reached_safe_op();
@@ -401,6 +404,17 @@ impl Station {
 
     /// PRE-OP → SAFE-OP: the PDOs must be assigned and mapped, SM2/SM3 must match the mapping's
     /// lengths, and the drive takes the mapping (a variable mapping, [`PdoConfig`]).
+    /// The SYNC0 cycle programmed in the DC registers, ns.
+    fn sync0_cycle_ns(&self) -> u32 {
+        let a = usize::from(reg::DC_SYNC0_CYCLE);
+        u32::from_le_bytes([
+            self.mem[a],
+            self.mem[a + 1],
+            self.mem[a + 2],
+            self.mem[a + 3],
+        ])
+    }
+
     fn check_process_data(&mut self) -> Result<(), u16> {
         let (o, i) = (self.layout.outputs, self.layout.inputs);
         if !self.pdo.complete() {

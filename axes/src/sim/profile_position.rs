@@ -1,0 +1,403 @@
+//! Profile position mode (pp, 6060h = 1) of the simulated drive: the set-point handshake and the
+//! trajectory generator the drive runs itself (mr-j4-tm.md §4.7 / manual §5.4.6; MR-JET and
+//! MR-J5 state only that pp exists with 607Ah, 6081h, 6083h, 6084h: mr-jet-g-n1.md §4.2,
+//! mr-j5-g-n1.md §4.1, and use the CiA 402 bit meanings [background]).
+//!
+//! * Controlword bit 4 **new set-point** is taken on its rising edge only; bit 5 **change set
+//!   immediately** = 1 replaces the move at once (single set-point, §4.7 "Behaviour"), = 0 queues
+//!   it behind the current move (set of set-points, one buffered set-point; a newer one
+//!   overwrites it: Mitsubishi's bit 12 wording "the set-point may be overwritten"). Bit 9
+//!   *change on set-point* is not modelled: a queued move always starts from standstill at the
+//!   previous target (bit 9 = 0 behaviour).
+//! * Bit 6 **relative** adds 607Ah to the previous target (CiA 402 default [background]); with the
+//!   degree position unit it raises the profile's `relative_degree_warning` (MR-J4-TM AL. F4.8)
+//!   and the move does not start (§4.7 bit 6). The warning clears at the next accepted
+//!   set-point, at servo on or when pp is left (the manual resets it by C_ORST, not modelled).
+//! * Bit 8 **HALT** decelerates to standstill per [`HaltOption`] (605Dh; its values are in the
+//!   MISSING §5.7, mr-j4-tm.md §13 q2); releasing it resumes the move (CiA 402 [background]).
+//! * Statusword bit 12 **set-point acknowledge** uses Mitsubishi's wording (§4.7): 1 while a
+//!   positioning is being executed, 0 once it has completed. Bit 10 **target reached**: with
+//!   HALT = 0, |6064h − target| has stayed within 6067h for at least 6068h (6067h =
+//!   4294967295 disables the window: reached when the profile has ended, MR-JE-C manual 6067h);
+//!   with HALT = 1, the axis velocity (606Ch) is 0.
+//! * The profile is a linear (trapezoidal) ramp, 6086h = 0: 6083h/6084h are time constants in
+//!   ms from 0 to [`PpParams::time_constant_speed`] (§4.7 "6083h … ms"); 0 ms means the plant's
+//!   maximum acceleration. The S-pattern (6086h = −1, PT51) is not modelled.
+//!
+//! Positions are in the plant's counts (f64); the drive converts 607Ah from 6064h's reference.
+//! Allocation-free: plain copies only.
+
+/// Controlword bit 4: new set-point (rising edge).
+pub const NEW_SET_POINT: u16 = 1 << 4;
+/// Controlword bit 5: change set immediately.
+pub const CHANGE_SET_IMMEDIATELY: u16 = 1 << 5;
+/// Controlword bit 6: relative (1) / absolute (0) target.
+pub const RELATIVE: u16 = 1 << 6;
+/// Controlword bit 8: HALT.
+pub const HALT: u16 = 1 << 8;
+/// Statusword bit 10 in pp: target reached.
+pub const TARGET_REACHED: u16 = 1 << 10;
+/// Statusword bit 12 in pp: set-point acknowledge (Mitsubishi: positioning being executed).
+pub const SET_POINT_ACKNOWLEDGE: u16 = 1 << 12;
+
+/// Distance (counts) below which the generator lands on the target.
+const LANDING_TOLERANCE: f64 = 1e-6;
+
+/// 6067h value that disables the position window (MR-JE-C manual, 6067h "4294967295").
+pub const WINDOW_DISABLED: u32 = u32::MAX;
+
+/// [Pr. PT01.2] position data unit, as far as the simulator acts on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PositionUnit {
+    /// Pulse (mm/inch behave alike here): relative pp allowed.
+    #[default]
+    Pulse,
+    /// Degree: a relative pp set-point raises the profile's `relative_degree_warning` and does
+    /// not start (mr-j4-tm.md §4.7). The 0…359999 modulo and the J5/JET degree mode table
+    /// (pp/pv/tq/hm only) are not modelled.
+    Degree,
+}
+
+/// The deceleration of a pp HALT: 605Dh, whose values the seed lacks (mr-j4-tm.md §8.2, §13 q2)
+/// and MR-JET/MR-J5 do not name (mr-jet-g-n1.md §4.2), so a named parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum HaltOption {
+    /// 605Dh = 1 (CiA 402 default [background]): slow down with 6084h profile deceleration.
+    #[default]
+    ProfileDeceleration,
+    /// Stop at the plant's maximum deceleration (605Dh = 3/4, current limit [background]).
+    MaximumDeceleration,
+}
+
+/// pp parameters where the manual gives no value (each used only if the object is neither
+/// mapped, written by SDO nor given a default by the profile).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PpParams {
+    /// 6067h Position window, counts. Default 100: the MR-JE-C manual's 6067h default
+    /// (seed 001), the only Mitsubishi figure in the seeds.
+    pub position_window: u32,
+    /// 6068h Position window time, ms. Default 10 (MR-JE-C manual 6068h).
+    pub position_window_time_ms: u32,
+    /// 6081h Profile velocity, counts/s (the simulator's velocity unit), where the profile has
+    /// no default (MR-JET, MR-J5). Default 10000, the MR-J4-TM default value (§4.7).
+    pub profile_velocity: u32,
+    /// The speed (counts/s) the 6083h/6084h time constants refer to ("rated speed" in the
+    /// MR-JE-C wording); `None`: `PlantParams::max_velocity`, as for the PC02 slow stop.
+    pub time_constant_speed: Option<f64>,
+    /// 605Dh Halt option.
+    pub halt: HaltOption,
+}
+
+impl Default for PpParams {
+    fn default() -> Self {
+        PpParams {
+            position_window: 100,
+            position_window_time_ms: 10,
+            profile_velocity: 10_000,
+            time_constant_speed: None,
+            halt: HaltOption::default(),
+        }
+    }
+}
+
+/// One cycle's pp inputs, resolved by the drive from the RxPDO, SDO values, profile defaults and
+/// [`PpParams`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct PpCommand {
+    /// 6040h.
+    pub controlword: u16,
+    /// 607Ah as received.
+    pub target: i32,
+    /// Profile velocity (6081h capped by 607Fh and the plant), counts/s, > 0.
+    pub velocity: f64,
+    /// From 6083h, counts/s².
+    pub acceleration: f64,
+    /// From 6084h, counts/s².
+    pub deceleration: f64,
+    /// HALT deceleration, counts/s².
+    pub halt_deceleration: f64,
+    /// 6067h, counts.
+    pub window: u32,
+    /// 6068h, s.
+    pub window_time_s: f64,
+    /// The warning a relative set-point raises (degree unit on a model with the rule).
+    pub relative_refused: Option<u16>,
+}
+
+/// The drive's feedback for one pp cycle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct PpFeedback {
+    /// 6064h before the cycle.
+    pub actual: i32,
+    /// Motor position, plant counts, before the cycle.
+    pub position: f64,
+    /// Motor velocity, counts/s.
+    pub velocity: f64,
+}
+
+/// The pp state of one axis.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) struct ProfilePosition {
+    /// Generator position (the position demand), plant counts.
+    pos: f64,
+    /// Generator velocity, counts/s.
+    vel: f64,
+    /// The set-point being processed, plant counts.
+    target: f64,
+    /// A queued set-point (bit 5 = 0 during a move).
+    pending: Option<f64>,
+    /// Positioning being executed (statusword bit 12).
+    executing: bool,
+    /// Bit 10.
+    reached: bool,
+    /// Time |actual − target| has stayed within the window, s.
+    in_window_s: f64,
+    /// Controlword of the previous cycle (edge detection of bit 4).
+    prev_cw: u16,
+    /// Latched relative-in-degree warning.
+    warning: Option<u16>,
+}
+
+impl ProfilePosition {
+    /// Restarts at rest at `position` (servo on, entering pp); `cw` is the controlword in
+    /// force, so a bit 4 already set is not an edge (OMS bits are ignored until the mode switch
+    /// has finished, §4.1).
+    pub(crate) fn reset(&mut self, position: f64, cw: u16) {
+        *self = ProfilePosition {
+            pos: position,
+            target: position,
+            prev_cw: cw,
+            ..ProfilePosition::default()
+        };
+    }
+
+    /// The latched warning, if any.
+    pub(crate) fn warning(&self) -> Option<u16> {
+        self.warning
+    }
+
+    /// Statusword bits 10 and 12.
+    pub(crate) fn status_bits(&self) -> u16 {
+        (if self.reached { TARGET_REACHED } else { 0 })
+            | (if self.executing {
+                SET_POINT_ACKNOWLEDGE
+            } else {
+                0
+            })
+    }
+
+    /// The generator velocity (counts/s), for the velocity feed-forward.
+    pub(crate) fn velocity(&self) -> f64 {
+        self.vel
+    }
+
+    /// One cycle of `dt` s: takes a new set-point on the bit 4 edge, advances the profile and
+    /// updates bits 10/12. Returns the position demand (plant counts).
+    pub(crate) fn step(&mut self, cmd: &PpCommand, fb: PpFeedback, dt: f64) -> f64 {
+        let cw = cmd.controlword;
+        let edge = cw & NEW_SET_POINT != 0 && self.prev_cw & NEW_SET_POINT == 0;
+        self.prev_cw = cw;
+        if edge {
+            self.new_set_point(cmd, fb);
+        }
+        let halt = cw & HALT != 0;
+        if dt > 0.0 && dt.is_finite() {
+            if halt {
+                self.decelerate(cmd.halt_deceleration, dt);
+            } else {
+                self.advance(cmd, dt);
+            }
+        }
+        let at_target = self.pos == self.target && self.vel == 0.0;
+        if at_target && !halt {
+            if let Some(next) = self.pending.take() {
+                self.start(next);
+            }
+        }
+        self.update_reached(cmd, fb, halt, dt);
+        self.pos
+    }
+
+    fn new_set_point(&mut self, cmd: &PpCommand, fb: PpFeedback) {
+        let relative = cmd.controlword & RELATIVE != 0;
+        if relative {
+            if let Some(code) = cmd.relative_refused {
+                self.warning = Some(code);
+                return;
+            }
+        }
+        self.warning = None;
+        let target = if relative {
+            // Relative to the previous target (the last queued one when a move is pending).
+            self.pending.unwrap_or(self.target) + f64::from(cmd.target)
+        } else {
+            // 607Ah in 6064h's reference, moved into the plant's (wrapping like the wire values).
+            fb.position + f64::from(cmd.target.wrapping_sub(fb.actual))
+        };
+        if cmd.controlword & CHANGE_SET_IMMEDIATELY != 0 || !self.executing {
+            self.pending = None;
+            self.start(target);
+        } else {
+            self.pending = Some(target);
+        }
+    }
+
+    fn start(&mut self, target: f64) {
+        self.target = target;
+        self.executing = true;
+        self.reached = false;
+        self.in_window_s = 0.0;
+    }
+
+    /// HALT: ramp the generator velocity to 0 at `decel`.
+    fn decelerate(&mut self, decel: f64, dt: f64) {
+        let s = self.vel.abs();
+        let s_new = (s - decel * dt).max(0.0);
+        let dir = self.vel.signum();
+        self.pos += dir * s_new * dt;
+        self.vel = dir * s_new;
+    }
+
+    /// A trapezoidal step toward the target: accelerate at 6083h up to 6081h, brake at 6084h so
+    /// as to stop on the target, and land on it exactly.
+    fn advance(&mut self, cmd: &PpCommand, dt: f64) {
+        let d = self.target - self.pos;
+        if d == 0.0 && self.vel == 0.0 {
+            return;
+        }
+        let dir = if d != 0.0 {
+            d.signum()
+        } else {
+            -self.vel.signum()
+        };
+        let s = self.vel * dir; // speed toward the target
+        let (acc, dec, vmax) = (cmd.acceleration, cmd.deceleration, cmd.velocity);
+        let mut s_new = if s < 0.0 {
+            s + dec * dt
+        } else if s > vmax {
+            (s - dec * dt).max(vmax)
+        } else {
+            (s + acc * dt).min(vmax)
+        };
+        // Never faster than what still stops on the target at 6084h after this step:
+        // s² ≤ 2·dec·(|d| − s·dt), the discrete form of the braking curve.
+        let h = dec * dt;
+        s_new = s_new.min(-h + (h * h + 2.0 * dec * d.abs()).sqrt());
+        let dx = s_new * dt;
+        // Land within a micro-count (the braking curve approaches the target geometrically).
+        if s_new >= 0.0 && dx >= d.abs() - LANDING_TOLERANCE {
+            self.pos = self.target;
+            self.vel = 0.0;
+        } else {
+            self.pos += dir * dx;
+            self.vel = dir * s_new;
+        }
+    }
+
+    fn update_reached(&mut self, cmd: &PpCommand, fb: PpFeedback, halt: bool, dt: f64) {
+        if halt {
+            // "HALT = 1: 1 = axis velocity is 0" (606Ch, rounded counts/s).
+            self.reached = self.vel == 0.0 && fb.velocity.abs() < 0.5;
+            self.in_window_s = 0.0;
+            return;
+        }
+        let profile_done = self.pos == self.target && self.vel == 0.0 && self.pending.is_none();
+        let in_window = if cmd.window == WINDOW_DISABLED {
+            true
+        } else {
+            (fb.position.round() - self.target.round()).abs() <= f64::from(cmd.window)
+        };
+        if profile_done && in_window {
+            self.in_window_s += dt.max(0.0);
+        } else {
+            self.in_window_s = 0.0;
+        }
+        let window_time_met =
+            cmd.window == WINDOW_DISABLED || self.in_window_s + 1e-9 >= cmd.window_time_s;
+        self.reached = profile_done && in_window && window_time_met;
+        if self.reached {
+            self.executing = false;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cmd(cw: u16, target: i32) -> PpCommand {
+        PpCommand {
+            controlword: cw,
+            target,
+            velocity: 10_000.0,
+            acceleration: 100_000.0,
+            deceleration: 50_000.0,
+            halt_deceleration: 50_000.0,
+            window: 100,
+            window_time_s: 0.01,
+            relative_refused: None,
+        }
+    }
+
+    /// Runs the generator with an ideal plant (the motor is at the demand).
+    fn run(pp: &mut ProfilePosition, c: &PpCommand, cycles: u32) -> (f64, f64) {
+        let mut peak_v: f64 = 0.0;
+        let mut peak_a: f64 = 0.0;
+        let dt = 1e-3;
+        for _ in 0..cycles {
+            let v0 = pp.velocity();
+            let fb = PpFeedback {
+                actual: pp.pos.round() as i32,
+                position: pp.pos,
+                velocity: pp.vel,
+            };
+            pp.step(c, fb, dt);
+            peak_v = peak_v.max(pp.velocity().abs());
+            peak_a = peak_a.max((pp.velocity() - v0).abs() / dt);
+        }
+        (peak_v, peak_a)
+    }
+
+    #[test]
+    fn trapezoid_respects_velocity_and_ramps_and_lands_exactly() {
+        let mut pp = ProfilePosition::default();
+        pp.reset(0.0, 0x0F);
+        let c = cmd(0x3F, 20_000);
+        let (v, a) = run(&mut pp, &c, 3_000);
+        assert_eq!(pp.pos, 20_000.0);
+        assert!(v <= 10_000.0 + 1e-9, "{v}");
+        assert!(a <= 100_000.0 + 1e-6, "{a}");
+        assert!(pp.reached && !pp.executing);
+    }
+
+    #[test]
+    fn set_point_needs_an_edge_and_halt_stops() {
+        let mut pp = ProfilePosition::default();
+        pp.reset(0.0, 0x1F);
+        run(&mut pp, &cmd(0x3F, 5_000), 50);
+        assert_eq!(pp.pos, 0.0, "bit 4 held from before: no edge");
+        run(&mut pp, &cmd(0x2F, 5_000), 1);
+        run(&mut pp, &cmd(0x3F, 5_000), 100);
+        assert!(pp.executing && pp.pos > 0.0);
+        run(&mut pp, &cmd(0x13F, 5_000), 400);
+        assert_eq!(pp.vel, 0.0);
+        assert!(pp.reached, "halted at standstill: bit 10");
+        assert!(pp.pos < 5_000.0);
+        run(&mut pp, &cmd(0x3F, 5_000), 2_000);
+        assert_eq!(pp.pos, 5_000.0, "halt released: the move resumes");
+    }
+
+    #[test]
+    fn relative_refused_raises_the_warning_without_motion() {
+        let mut pp = ProfilePosition::default();
+        pp.reset(0.0, 0x0F);
+        let c = PpCommand {
+            relative_refused: Some(0x0F48),
+            ..cmd(0x7F, 1_000)
+        };
+        run(&mut pp, &c, 100);
+        assert_eq!(pp.warning(), Some(0x0F48));
+        assert_eq!(pp.pos, 0.0);
+        assert!(!pp.executing);
+    }
+}

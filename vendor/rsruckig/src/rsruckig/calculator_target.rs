@@ -1257,19 +1257,26 @@ impl<const DOF: usize> TargetCalculator<DOF> {
             }
 
             // Check if the final time corresponds to an extremal profile calculated in step 1
+            // (cellrt: the right ends of both blocked intervals are checked, as in Ruckig's C++;
+            // the port's `else if let Some(a) .. else if let Some(b)` never looked at `b` when
+            // `a` existed, and sent the synchronization time of `b` to step 2)
             if (t_profile - self.blocks[dof].t_min).abs() < 2.0 * self.eps {
                 traj.profiles[0][dof] = self.blocks[dof].p_min;
                 continue;
-            } else if let Some(a) = &self.blocks[dof].a {
-                if (t_profile - a.right).abs() < 2.0 * self.eps {
-                    traj.profiles[0][dof] = a.profile;
-                    continue;
-                }
-            } else if let Some(b) = &self.blocks[dof].b {
-                if (t_profile - b.right).abs() < 2.0 * self.eps {
-                    traj.profiles[0][dof] = b.profile;
-                    continue;
-                }
+            } else if let Some(a) = self.blocks[dof]
+                .a
+                .as_ref()
+                .filter(|a| (t_profile - a.right).abs() < 2.0 * self.eps)
+            {
+                traj.profiles[0][dof] = a.profile;
+                continue;
+            } else if let Some(b) = self.blocks[dof]
+                .b
+                .as_ref()
+                .filter(|b| (t_profile - b.right).abs() < 2.0 * self.eps)
+            {
+                traj.profiles[0][dof] = b.profile;
+                continue;
             }
 
             let mut found_time_synchronization = false;

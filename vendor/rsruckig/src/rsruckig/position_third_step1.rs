@@ -184,7 +184,7 @@ impl PositionThirdOrderStep1 {
 
         if profile.check_with_timing(
             ControlSigns::UDDU,
-            ReachedLimits::Vel,
+            ReachedLimits::Acc0Acc1Vel,
             j_max,
             v_max,
             v_min,
@@ -216,7 +216,7 @@ impl PositionThirdOrderStep1 {
 
         if profile.check_with_timing(
             ControlSigns::UDDU,
-            ReachedLimits::Vel,
+            ReachedLimits::Acc1Vel,
             j_max,
             v_max,
             v_min,
@@ -252,7 +252,7 @@ impl PositionThirdOrderStep1 {
 
         if profile.check_with_timing(
             ControlSigns::UDDU,
-            ReachedLimits::Vel,
+            ReachedLimits::Acc0Vel,
             j_max,
             v_max,
             v_min,
@@ -334,9 +334,11 @@ impl PositionThirdOrderStep1 {
                 profile.t[5] = h3 + h1 / a_min;
                 profile.t[6] = profile.t[4] + self.af / j_max;
 
-                if profile.check_with_timing(
+                // cellrt: `set_limits`, as Ruckig's `check<…, true>` (CELLRT-PATCHES.md, fix 1)
+                if profile.check(
                     ControlSigns::UDDU,
                     ReachedLimits::Acc0Acc1,
+                    true,
                     j_max,
                     v_max,
                     v_min,
@@ -361,9 +363,11 @@ impl PositionThirdOrderStep1 {
                 profile.t[5] = h3 - h1 / a_min;
                 profile.t[6] = profile.t[4] + self.af / j_max;
 
-                if profile.check_with_timing(
+                // cellrt: `set_limits`, as Ruckig's `check<…, true>` (CELLRT-PATCHES.md, fix 1)
+                if profile.check(
                     ControlSigns::UDDU,
                     ReachedLimits::Acc0Acc1,
+                    true,
                     j_max,
                     v_max,
                     v_min,
@@ -451,37 +455,10 @@ impl PositionThirdOrderStep1 {
         polynom_acc1[2] = 2.0 * (self.a0 - a_min) * h2_acc1 / (j_max_j_max * j_max);
         polynom_acc1[3] = h0_acc1 / (self.j_max_j_max * self.j_max_j_max);
 
-        let mut polynom_acc0_min = polynom_acc0;
-        polynom_acc0_min[0] += 4.0 * t_min_acc0;
-        polynom_acc0_min[1] += (3.0 * polynom_acc0[0] + 6.0 * t_min_acc0) * t_min_acc0;
-        polynom_acc0_min[2] += (2.0 * polynom_acc0[1]
-            + (3.0 * polynom_acc0[0] + 4.0 * t_min_acc0) * t_min_acc0)
-            * t_min_acc0;
-        polynom_acc0_min[3] += (polynom_acc0[2]
-            + (polynom_acc0[1] + (polynom_acc0[0] + t_min_acc0) * t_min_acc0) * t_min_acc0)
-            * t_min_acc0;
-
-        // const bool polynom_none_has_solution = (polynom_none_min[0] < 0.0) || (polynom_none_min[1] < 0.0) || (polynom_none_min[2] < 0.0) || (polynom_none_min[3] <= 0.0);
-        let polynom_acc0_has_solution = (polynom_acc0_min[0] < 0.0)
-            || (polynom_acc0_min[1] < 0.0)
-            || (polynom_acc0_min[2] < 0.0)
-            || (polynom_acc0_min[3] <= 0.0);
-        let polynom_acc1_has_solution = (polynom_acc1[0] < 0.0)
-            || (polynom_acc1[1] < 0.0)
-            || (polynom_acc1[2] < 0.0)
-            || (polynom_acc1[3] <= 0.0);
-
+        // cellrt: no pre-test of the coefficient signs before solving, as Ruckig 0.19.4
         let roots_none = roots::solve_quart_monic_arr(&polynom_none);
-        let roots_acc0 = if polynom_acc0_has_solution {
-            roots::solve_quart_monic_arr(&polynom_acc0)
-        } else {
-            roots::PositiveSet::new()
-        };
-        let roots_acc1 = if polynom_acc1_has_solution {
-            roots::solve_quart_monic_arr(&polynom_acc1)
-        } else {
-            roots::PositiveSet::new()
-        };
+        let roots_acc0 = roots::solve_quart_monic_arr(&polynom_acc0);
+        let roots_acc1 = roots::solve_quart_monic_arr(&polynom_acc1);
 
         for mut t in &mut roots_none.into_iter() {
             if t < t_min_none || t > t_max_none {
@@ -633,9 +610,11 @@ impl PositionThirdOrderStep1 {
             profile.t[5] = h3_acc1 - (2.0 * self.a0 + j_max * t) * t / a_min;
             profile.t[6] = (self.af - a_min) / j_max;
 
-            if profile.check_with_timing(
+            // cellrt: `set_limits`, as Ruckig's `check<…, true>` (CELLRT-PATCHES.md, fix 1)
+            if profile.check(
                 ControlSigns::UDDU,
                 ReachedLimits::Acc1,
+                true,
                 j_max,
                 v_max,
                 v_min,

@@ -166,7 +166,8 @@ impl Profile {
                 0.0,
                 if self.t[4] > 0.0 { jf } else { 0.0 },
                 0.0,
-                if self.t[6] > 0.0 { jf } else { 0.0 },
+                // cellrt: −jf, as Ruckig (the port had +jf)
+                if self.t[6] > 0.0 { -jf } else { 0.0 },
             ];
         }
 

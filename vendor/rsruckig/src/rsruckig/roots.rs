@@ -39,9 +39,9 @@ impl<T: Copy + Default + PartialEq, const N: usize> Set<T, N> {
     }
 
     pub fn insert(&mut self, value: T) {
-        if !self.data.contains(&value) {
-            self.data.push(value);
-        }
+        // cellrt: no de-duplication, as in Ruckig's C++ `Set::insert` (a double root is tried
+        // twice there, and the number of valid profiles feeds `Block::calculate_block`).
+        self.data.push(value);
     }
 }
 
@@ -132,33 +132,20 @@ impl<const N: usize> Default for PositiveSet<N> {
 pub fn solve_cub(a: f64, b: f64, c: f64, d: f64) -> PositiveSet<3> {
     let mut roots = PositiveSet::new();
 
+    let (mut a, mut b, mut c, mut d) = (a, b, c, d);
     if d.abs() < f64::EPSILON {
         // First solution is x = 0
         roots.insert(0.0);
 
-        // Converting to a quadratic equation
-        let tmp = d;
-        let _d = c;
-        let c = b;
-        let b = a;
-        let _a = 0.0;
+        // Converting to a quadratic equation (cellrt: as in Ruckig's C++ `solve_cubic`; the
+        // port used the old constant term as the new one)
+        d = c;
+        c = b;
+        b = a;
+        a = 0.0;
+    }
 
-        if b.abs() < f64::EPSILON {
-            // Linear equation
-            if c.abs() > f64::EPSILON {
-                roots.insert(-tmp / c);
-            }
-        } else {
-            // Quadratic equation
-            let discriminant = c * c - 4.0 * b * tmp;
-            if discriminant >= 0.0 {
-                let inv2b = 1.0 / (2.0 * b);
-                let y = discriminant.sqrt();
-                roots.insert((-c + y) * inv2b);
-                roots.insert((-c - y) * inv2b);
-            }
-        }
-    } else if a.abs() < f64::EPSILON {
+    if a.abs() < f64::EPSILON {
         if b.abs() < f64::EPSILON {
             // Linear equation
             if c.abs() > f64::EPSILON {
@@ -201,7 +188,11 @@ pub fn solve_cub(a: f64, b: f64, c: f64, d: f64) -> PositiveSet<3> {
 
             // Convert to polar form
             if x.abs() > f64::EPSILON {
-                theta = y.atan2(x);
+                theta = if x > 0.0 {
+                    (y / x).atan()
+                } else {
+                    (y / x).atan() + core::f64::consts::PI
+                };
                 r = (x * x - yy).sqrt();
             } else {
                 // Vertical line
@@ -404,7 +395,7 @@ pub fn poly_eval<const N: usize>(p: &ArrayVec<f64, N>, x: f64) -> f64 {
     let n = p.len();
     if x.abs() < f64::EPSILON {
         result = p[n - 1];
-    } else if (x - 1.0).abs() < f64::EPSILON {
+    } else if x == 1.0 {
         result = p.iter().sum();
     } else {
         let mut xn = 1.0;
@@ -453,7 +444,7 @@ pub fn shrink_interval<const N: usize, const MAX_ITS: usize>(
             dxold = dx;
             dx = (h - l) / 2.0;
             rts = l + dx;
-            if (l - rts).abs() < f64::EPSILON {
+            if l == rts {
                 break;
             }
         } else {
@@ -461,7 +452,7 @@ pub fn shrink_interval<const N: usize, const MAX_ITS: usize>(
             dx = f / df;
             let temp = rts;
             rts -= dx;
-            if (temp - rts).abs() < f64::EPSILON {
+            if temp == rts {
                 break;
             }
         }

@@ -5,19 +5,19 @@
 //!
 //! Run: `cargo test -p cellrt-trajectory --features ruckig-oracle --test ruckig_oracle`.
 //!
-//! The domain: any start position and velocity within the limits, start acceleration zero,
-//! target at rest. Outside it rsruckig 3.0.1 disagrees with the official library, so the
-//! oracle checks only this domain (found by this test; report upstream):
-//! - with a non-zero start acceleration (about 1 problem in 1000–4000) rsruckig returns a valid
-//!   but far slower profile, e.g. one DoF from p 899.693, v −252.854, a −902.842 to p 350.092
-//!   with limits v 925.34, a 2716.31, j 9437.79 takes 3.627 s against the official 1.058 s, or
-//!   refuses a problem the official library solves;
-//! - with a non-zero target velocity it refuses problems the official library solves, e.g. one
-//!   DoF from p −265.654, v −405.827, a 1678.34 to p −295.715, v 359.953 with limits v 820.6,
-//!   a 3916.6, j 25411 ("error in step 1").
+//! The domain, per DoF: limits v 1–1000, a 10–5000, j 100–50 000; start and target positions
+//! in ±1000; start and target velocity within half the velocity limit; start and target
+//! acceleration within half of the smaller of the acceleration limit and the largest |a| from
+//! which the velocity still reaches zero acceleration inside its limit (|v| + a²/(2 j) ≤ v_max,
+//! Ruckig's validity condition on the start and target states). Both libraries must agree on whether a
+//! trajectory exists.
 //!
-//! cellrt's moves from rest are in the domain; a re-target mid-move (non-zero acceleration) is
-//! not, and may be slower than time-optimal there (still within the limits).
+//! rsruckig 3.0.1 as published disagreed here (found by this test, when the domain was
+//! restricted to start acceleration zero and target at rest because of it): with a non-zero
+//! start acceleration or target velocity it refused problems the official library solves or
+//! returned a valid but slower profile, and in time synchronization it refused problems in
+//! step 2. cellrt uses a patched copy (`vendor/rsruckig`, fixes and causes in its
+//! `CELLRT-PATCHES.md`); the failing problems are regression tests in `rsruckig_regressions.rs`.
 
 #![cfg(feature = "ruckig-oracle")]
 
@@ -36,32 +36,44 @@ struct Dof {
     a0: f64,
     pf: f64,
     vf: f64,
+    af: f64,
     vmax: f64,
     amax: f64,
     jmax: f64,
 }
 
-/// A DoF: any start position and velocity within the limits, a target at rest.
+/// The largest |a| a state with velocity `v` may have so that it can still reach zero acceleration
+/// within the velocity limit (jerk `jmax`, either sign): |v| + a²/(2 jmax) ≤ vmax.
+fn a_reachable(v: f64, vmax: f64, jmax: f64) -> f64 {
+    (2.0 * jmax * (vmax - v.abs())).sqrt()
+}
+
+/// A DoF: start and target velocity within half the velocity limit, start and target acceleration
+/// within half the acceleration limit and within half of what still lets the velocity stay inside
+/// its limit (Ruckig's validity condition on the states), any positions.
 fn dof() -> impl Strategy<Value = Dof> {
     (
-        1.0f64..1000.0,     // vmax
-        10.0f64..5000.0,    // amax
-        100.0f64..50_000.0, // jmax
-        -1000.0f64..1000.0,
-        -1000.0f64..1000.0,
-        -0.5f64..0.5,
+        (
+            1.0f64..1000.0,     // vmax
+            10.0f64..5000.0,    // amax
+            100.0f64..50_000.0, // jmax
+        ),
+        (-1000.0f64..1000.0, -0.5f64..0.5, -0.5f64..0.5),
+        (-1000.0f64..1000.0, -0.5f64..0.5, -0.5f64..0.5),
     )
-        .prop_map(|(vmax, amax, jmax, p0, pf, sv0)| Dof {
-            p0,
-            // Well inside the limits, so every problem is feasible.
-            v0: sv0 * vmax,
-            // Zero start acceleration: see the module comment.
-            a0: 0.0,
-            pf,
-            vf: 0.0,
-            vmax,
-            amax,
-            jmax,
+        .prop_map(|((vmax, amax, jmax), (p0, sv0, sa0), (pf, svf, saf))| {
+            let (v0, vf) = (sv0 * vmax, svf * vmax);
+            Dof {
+                p0,
+                v0,
+                a0: sa0 * amax.min(a_reachable(v0, vmax, jmax)),
+                pf,
+                vf,
+                af: saf * amax.min(a_reachable(vf, vmax, jmax)),
+                vmax,
+                amax,
+                jmax,
+            }
         })
 }
 
@@ -72,7 +84,7 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
 
-    /// The problems cellrt plans: any start state, a target at rest.
+    /// Any start state and any target state within the domain above.
     #[test]
     fn rsruckig_matches_the_official_ruckig(dofs in prop::collection::vec(dof(), 1..=8)) {
         compare(&dofs)?;
@@ -92,7 +104,7 @@ fn compare(dofs: &[Dof]) -> Result<(), TestCaseError> {
         rs_in.current_acceleration[i] = d.a0;
         rs_in.target_position[i] = d.pf;
         rs_in.target_velocity[i] = d.vf;
-        rs_in.target_acceleration[i] = 0.0;
+        rs_in.target_acceleration[i] = d.af;
         rs_in.max_velocity[i] = d.vmax;
         rs_in.max_acceleration[i] = d.amax;
         rs_in.max_jerk[i] = d.jmax;
@@ -101,7 +113,7 @@ fn compare(dofs: &[Dof]) -> Result<(), TestCaseError> {
         of_in.current_acceleration[i] = d.a0;
         of_in.target_position[i] = d.pf;
         of_in.target_velocity[i] = d.vf;
-        of_in.target_acceleration[i] = 0.0;
+        of_in.target_acceleration[i] = d.af;
         of_in.max_velocity[i] = d.vmax;
         of_in.max_acceleration[i] = d.amax;
         of_in.max_jerk[i] = d.jmax;

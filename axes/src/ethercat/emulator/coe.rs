@@ -1,5 +1,5 @@
-//! The CoE mailbox server of an emulated drive (ETG.1000.6 §5.6): SDO upload (expedited and
-//! normal) and download (expedited and normal) with CiA 301 abort codes. The communication
+//! The CoE mailbox server of an emulated drive (ETG.1000.6 §5.6): SDO upload (expedited, normal
+//! and segmented) and download (expedited and normal) with CiA 301 abort codes. The communication
 //! objects (1000h, 1008h, 1018h, 1C12h/1C13h, the PDO mapping objects) are served here; every
 //! other object is the simulated drive's own SDO surface (`sim::sdo`), so abort codes such as
 //! MR-J4-TM's 0609 0030h for 1C32h:03 (mr-j4-tm.md §12 TV-10) come from the drive model.
@@ -50,6 +50,84 @@ pub struct CoeContext<'a> {
     pub pdo: &'a mut PdoConfig,
     /// The mailbox counter of the last response (1..=7).
     pub counter: &'a mut u8,
+    /// A segmented upload in progress.
+    pub upload: &'a mut SegmentedUpload,
+}
+
+/// An SDO upload too long for one mailbox (ETG.1000.6 §5.6.2.3, CiA 301 §7.2.4.3.4): the
+/// initiate response gives the complete size with no data, then each Upload SDO Segment
+/// request (toggle bit alternating from 0) is answered with the next part, the last with
+/// bit 0 (no more segments) set. Any other request ends it.
+#[derive(Debug, Clone, Default)]
+pub struct SegmentedUpload {
+    data: Vec<u8>,
+    sent: usize,
+    toggle: bool,
+}
+
+impl SegmentedUpload {
+    /// True while segments remain to be uploaded.
+    pub fn active(&self) -> bool {
+        self.sent < self.data.len()
+    }
+}
+
+/// 0503 0000h Toggle bit not alternated.
+pub const ABORT_TOGGLE: SdoAbort = SdoAbort(0x0503_0000);
+/// CoE command specifier of an Upload SDO Segment request (ccs = 3).
+const CCS_UPLOAD_SEGMENT: u8 = 3;
+/// Bytes of an SDO segment's header (CoE header and the command byte).
+const SEGMENT_HEADER_LEN: usize = 3;
+/// Segment data bytes below which the command byte's `n` counts the unused ones (CiA 301).
+const MIN_SEGMENT_DATA: usize = 7;
+
+/// Answers an Upload SDO Segment request (command byte `cmd`) into `response`.
+fn upload_segment(ctx: &mut CoeContext<'_>, cmd: u8, response: &mut [u8]) {
+    let toggle = cmd & 0x10 != 0;
+    let up = &mut *ctx.upload;
+    let head = MAILBOX_HEADER_LEN;
+    let body_len = if !up.active() || toggle != up.toggle {
+        let abort = if up.active() {
+            ABORT_TOGGLE
+        } else {
+            ABORT_BAD_COMMAND
+        };
+        *up = SegmentedUpload::default();
+        let mut out = [0u8; 10];
+        write_abort(&mut out, abort);
+        out[0..2].copy_from_slice(&(SERVICE_SDO_RESPONSE << 12).to_le_bytes());
+        response[head..head + 10].copy_from_slice(&out);
+        10
+    } else {
+        let room = response.len() - head - SEGMENT_HEADER_LEN;
+        let n = (up.data.len() - up.sent).min(room);
+        let last = up.sent + n == up.data.len();
+        let unused = MIN_SEGMENT_DATA.saturating_sub(n) as u8;
+        let start = head + SEGMENT_HEADER_LEN;
+        response[head..head + 2].copy_from_slice(&(SERVICE_SDO_RESPONSE << 12).to_le_bytes());
+        response[head + 2] = (u8::from(toggle) << 4) | (unused << 1) | u8::from(last);
+        response[start..start + n].copy_from_slice(&up.data[up.sent..up.sent + n]);
+        response[start + n..(start + MIN_SEGMENT_DATA).max(start + n)].fill(0);
+        up.sent += n;
+        up.toggle = !up.toggle;
+        if last {
+            *up = SegmentedUpload::default();
+        }
+        SEGMENT_HEADER_LEN + n.max(MIN_SEGMENT_DATA)
+    };
+    finish_response(ctx, response, body_len);
+}
+
+/// The mailbox header of a response of `body_len` bytes, with the next mailbox counter.
+fn finish_response(ctx: &mut CoeContext<'_>, response: &mut [u8], body_len: usize) {
+    response[0..2].copy_from_slice(&(body_len as u16).to_le_bytes());
+    response[2..5].fill(0);
+    *ctx.counter = if *ctx.counter >= 7 {
+        1
+    } else {
+        *ctx.counter + 1
+    };
+    response[5] = MAILBOX_TYPE_COE | (*ctx.counter << 4);
 }
 
 /// The PDO assignment (1C12h/1C13h) and mapping (16xxh/1Axxh) objects of a station: variable
@@ -323,6 +401,12 @@ pub fn serve(ctx: &mut CoeContext<'_>, request: &[u8], response: &mut [u8]) -> b
     let sub = body[5];
     let data = &body[6..];
     let ccs = cmd >> 5;
+    if ccs == CCS_UPLOAD_SEGMENT {
+        upload_segment(ctx, cmd, response);
+        return true;
+    }
+    // Any other request (an abort included) ends a segmented upload.
+    *ctx.upload = SegmentedUpload::default();
     if ccs == 4 {
         return false;
     }
@@ -371,12 +455,18 @@ pub fn serve(ctx: &mut CoeContext<'_>, request: &[u8], response: &mut [u8]) -> b
         }
         Ok(Some(v)) => {
             let room = response.len().saturating_sub(MAILBOX_HEADER_LEN + 10);
+            out[6..10].copy_from_slice(&(v.len() as u32).to_le_bytes());
             if v.len() > room {
-                write_abort(&mut out, SdoAbort::TOO_LONG);
+                // Segmented: the complete size now, the data in Upload SDO Segments.
+                out[2] = 0x41;
+                *ctx.upload = SegmentedUpload {
+                    data: v,
+                    sent: 0,
+                    toggle: false,
+                };
                 10
             } else {
                 out[2] = 0x41;
-                out[6..10].copy_from_slice(&(v.len() as u32).to_le_bytes());
                 let start = MAILBOX_HEADER_LEN + 10;
                 response[start..start + v.len()].copy_from_slice(&v);
                 10 + v.len()
@@ -389,16 +479,9 @@ pub fn serve(ctx: &mut CoeContext<'_>, request: &[u8], response: &mut [u8]) -> b
     };
     let body_len = body_len.max(10);
     out[0..2].copy_from_slice(&(SERVICE_SDO_RESPONSE << 12).to_le_bytes());
-    response[0..2].copy_from_slice(&(body_len as u16).to_le_bytes());
-    response[2..5].fill(0);
-    *ctx.counter = if *ctx.counter >= 7 {
-        1
-    } else {
-        *ctx.counter + 1
-    };
-    response[5] = MAILBOX_TYPE_COE | (*ctx.counter << 4);
     let head = MAILBOX_HEADER_LEN;
     response[head..head + 10].copy_from_slice(&out);
+    finish_response(ctx, response, body_len);
     true
 }
 
@@ -420,6 +503,7 @@ mod tests {
         pdo: PdoConfig,
         al_state: AlState,
         counter: u8,
+        upload: SegmentedUpload,
     }
 
     impl Server {
@@ -434,6 +518,7 @@ mod tests {
                 pdo: PdoConfig::new(p),
                 al_state: AlState::PreOp,
                 counter: 0,
+                upload: SegmentedUpload::default(),
             }
         }
 
@@ -445,6 +530,7 @@ mod tests {
                 al_state: self.al_state,
                 pdo: &mut self.pdo,
                 counter: &mut self.counter,
+                upload: &mut self.upload,
             }
         }
 
@@ -542,5 +628,72 @@ mod tests {
         assert_eq!(s.write(0x1600, 0, &[0]), Ok(()));
         // The family answers an object it cannot map with 0604 0043h.
         assert_eq!(s.write_u32(0x1600, 1, 0x6041_0010), Err(0x0604_0043));
+    }
+
+    /// A CoE SDO request in a mailbox: `cmd`, index, sub-index, then `data`.
+    fn request(cmd: u8, index: u16, sub: u8) -> Vec<u8> {
+        let mut r = vec![0u8; MAILBOX_HEADER_LEN + 10];
+        r[0..2].copy_from_slice(&10u16.to_le_bytes());
+        r[5] = MAILBOX_TYPE_COE;
+        r[6..8].copy_from_slice(&(SERVICE_SDO_REQUEST << 12).to_le_bytes());
+        r[8] = cmd;
+        r[9..11].copy_from_slice(&index.to_le_bytes());
+        r[11] = sub;
+        r
+    }
+
+    /// An upload longer than the mailbox goes in segments: the initiate response gives the size,
+    /// each segment request (toggle alternating) the next part, the last one flagged; a wrong
+    /// toggle aborts with 0503 0000h, a segment request without an upload with 0504 0001h.
+    #[test]
+    fn long_uploads_are_segmented() {
+        let mut s = Server::new(DriveModel::MrJ3T04);
+        let name = s.drive.profile().name.as_bytes().to_vec();
+        // A 32-byte mailbox: 16 bytes of data fit a normal response, the name does not.
+        let mut rsp = vec![0u8; 32];
+        assert!(serve(&mut s.ctx(), &request(0x40, 0x1008, 0), &mut rsp));
+        assert_eq!(rsp[8], 0x41, "normal upload, size indicated");
+        assert_eq!(
+            u16::from_le_bytes([rsp[0], rsp[1]]),
+            10,
+            "no data in the initiate"
+        );
+        assert_eq!(
+            u32::from_le_bytes([rsp[12], rsp[13], rsp[14], rsp[15]]) as usize,
+            name.len()
+        );
+        let mut got = Vec::new();
+        let mut toggle = false;
+        loop {
+            let mut rsp = vec![0u8; 32];
+            assert!(serve(
+                &mut s.ctx(),
+                &request(0x60 | (u8::from(toggle) << 4), 0, 0),
+                &mut rsp
+            ));
+            let cmd = rsp[8];
+            assert_eq!(cmd >> 5, 0, "upload segment response");
+            assert_eq!(cmd & 0x10 != 0, toggle);
+            let mut n = usize::from(u16::from_le_bytes([rsp[0], rsp[1]])) - 3;
+            if n == 7 {
+                n -= usize::from((cmd >> 1) & 7);
+            }
+            got.extend_from_slice(&rsp[9..9 + n]);
+            if cmd & 1 != 0 {
+                break;
+            }
+            toggle = !toggle;
+            assert!(got.len() < 100, "the upload ends");
+        }
+        assert_eq!(got, name);
+        let abort = |rsp: &[u8]| u32::from_le_bytes([rsp[12], rsp[13], rsp[14], rsp[15]]);
+        // No upload in progress any more.
+        let mut rsp = vec![0u8; 32];
+        assert!(serve(&mut s.ctx(), &request(0x60, 0, 0), &mut rsp));
+        assert_eq!((rsp[8], abort(&rsp)), (0x80, 0x0504_0001));
+        // A toggle bit that does not alternate.
+        assert!(serve(&mut s.ctx(), &request(0x40, 0x1008, 0), &mut rsp));
+        assert!(serve(&mut s.ctx(), &request(0x70, 0, 0), &mut rsp));
+        assert_eq!((rsp[8], abort(&rsp)), (0x80, 0x0503_0000));
     }
 }

@@ -5,7 +5,7 @@
 //! 1000h); datagrams read and write it, and the registers with side effects (AL control, SII
 //! control, DC latch, mailbox buffers) act on access.
 
-use super::coe::{self, CoeContext, PdoConfig};
+use super::coe::{self, CoeContext, PdoConfig, SegmentedUpload};
 use super::layout::StationLayout;
 use super::sii;
 use crate::cycles::Cycles;
@@ -59,6 +59,8 @@ pub struct Station {
     drive: SimDrive,
     pdo: PdoConfig,
     mailbox_counter: u8,
+    /// A segmented SDO upload in progress.
+    upload: SegmentedUpload,
     al_state: AlState,
     /// Position in the line (0 = next to the master) and line length, for DC receive times.
     position: u16,
@@ -94,6 +96,7 @@ impl Station {
             pdo: PdoConfig::new(profile),
             drive,
             mailbox_counter: 0,
+            upload: SegmentedUpload::default(),
             al_state: AlState::Init,
             position,
             line_len,
@@ -328,6 +331,7 @@ impl Station {
             al_state: self.al_state,
             pdo: &mut self.pdo,
             counter: &mut self.mailbox_counter,
+            upload: &mut self.upload,
         };
         if coe::serve(&mut ctx, &request, &mut response) {
             let rs = usize::from(inb.start);

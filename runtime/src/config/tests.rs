@@ -218,16 +218,15 @@ fn a_multi_axis_unit_over_ethercat_is_refused_by_name() {
 #[test]
 fn a_pdo_mapping_from_the_config_is_checked_and_runs_in_the_axis_profile() {
     let with = |pdo: &str| {
-        ethercat_text().replacen(
-            "sim = { initial_position = 50.0 }",
-            &format!("sim = {{ initial_position = 50.0 }}\npdo = {{ {pdo} }}"),
-            1,
-        )
+        let text = ethercat_text();
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("pdo = "))
+            .expect("the example cell maps axis x")
+            .to_owned();
+        text.replacen(&line, &format!("pdo = {{ {pdo} }}"), 1)
     };
-    let c = parse(&with(
-        "rx = [0x20200008, 0x00000008, 0x60400010, 0x20010010, 0x607A0020]",
-    ))
-    .expect("a csp-only RxPDO of the MR-J3-T04");
+    let c = parse(&ethercat_text()).expect("the example cell's csp-only RxPDO of the MR-J3-T04");
     let x = &c.axes[0].profile;
     assert_eq!(x.rx_pdo.byte_len(), 10);
     assert_eq!(x.rx_pdo.offset_of(0x607A, 0), Some(6));

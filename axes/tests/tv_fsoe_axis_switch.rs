@@ -5,9 +5,6 @@
 
 mod common;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use cellrt_axes::fsoe::{
     decode_commands, ConnectionParams, FsoeError, FsoeFrame, FsoeMaster, FsoeMasterConfig,
     SafetyRequest, SafetyStatus, WatchdogRule,
@@ -23,29 +20,9 @@ use cellrt_axes::{
 };
 use common::{boot, csp, drive, exchange, masked, next_counter, send};
 
-/// Counts this thread's allocations (for the allocation-free check of the FSoE cycle).
-struct Counting;
-
-thread_local! {
-    static ALLOCS: Cell<u64> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static COUNTING: Counting = Counting;
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocations;
 
 fn switch(sw3_1: bool, sw3_2: bool) -> SimDriveParams {
     SimDriveParams {
@@ -800,7 +777,7 @@ fn fsoe_safety_pdo_layout_matches_section_5_4() {
 #[test]
 fn fsoe_cycle_is_allocation_free() {
     let mut r = Rig::running(FsoeSlaveParams::default());
-    let before = ALLOCS.with(Cell::get);
+    let before = allocations();
     for k in 0..2_000 {
         if k == 1_000 {
             r.m.request(SafetyRequest::STO);
@@ -811,5 +788,5 @@ fn fsoe_cycle_is_allocation_free() {
         }
         r.step(0x0F);
     }
-    assert_eq!(ALLOCS.with(Cell::get) - before, 0);
+    assert_eq!(allocations() - before, 0);
 }

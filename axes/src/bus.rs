@@ -16,6 +16,13 @@ pub trait Bus {
     fn tx_image(&self, axis: usize) -> &[u8];
     /// One exchange; `elapsed` is the cycle periods since the previous one (1 in steady state).
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError>;
+    /// How far to move the RT loop's next deadline, ns (positive: later), so that the cycle
+    /// stays aligned to the bus's clock (EtherCAT distributed clocks); 0 where the bus follows
+    /// the loop (the in-process simulated drives). Taken once: the next call returns the
+    /// correction that has come since.
+    fn deadline_correction_ns(&mut self) -> i64 {
+        0
+    }
     /// Fault injection: makes `axis`' drive raise alarm `code`. Returns false where the bus
     /// cannot inject (real drives).
     fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {

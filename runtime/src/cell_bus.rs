@@ -103,6 +103,9 @@ impl Bus for CellBus {
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {
         each!(self, b => b.exchange(elapsed))
     }
+    fn deadline_correction_ns(&mut self) -> i64 {
+        each!(self, b => b.deadline_correction_ns())
+    }
     fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
         each!(self, b => b.inject_alarm(axis, code))
     }

@@ -208,7 +208,11 @@ impl<B: Bus> Executive<B> {
             }
 
             // Next deadline; deadlines already past are counted and skipped, never caught up.
-            let mut next = deadline.plus(self.period_ns);
+            // Aligned to the bus clock where it has one (EtherCAT DC: the frame's place in the
+            // SYNC0 cycle); the correction moves the grid, it does not count as lateness.
+            let mut next = deadline
+                .plus(self.period_ns)
+                .shifted(self.bus.deadline_correction_ns());
             let mut step = 1u64;
             let now = MonoTime::now();
             if now >= next {

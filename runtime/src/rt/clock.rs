@@ -21,6 +21,11 @@ impl MonoTime {
         self.0.saturating_sub(earlier.0)
     }
 
+    /// This time moved by `ns` nanoseconds (negative: earlier), never below zero.
+    pub fn shifted(self, ns: i64) -> MonoTime {
+        MonoTime(self.0.saturating_add_signed(ns))
+    }
+
     /// This time plus `ns` nanoseconds.
     pub fn plus(self, ns: u64) -> MonoTime {
         MonoTime(self.0 + ns)

@@ -32,13 +32,8 @@ const SII_READ_8: u16 = 0x0040;
 /// At most this many missed SYNC0 cycles are replayed as lost RxPDOs after a gap (1 s at
 /// 1 ms; every model's communication alarm has fired long before).
 const MAX_LOST_REPLAY: u64 = 1000;
-/// Frames over which the SYNC0 grid locks to the master's phase before misses count.
+/// Frames in OP taken one SYNC0 each while the master locks onto the SYNC0 grid, before misses count.
 const LOCK_FRAMES: u32 = 16;
-/// Frames are placed 1/SYNC0_MARGIN_DIVISOR of a cycle after the grid edge: a frame may be
-/// late by the rest of the cycle (7/8) or early by this (1/8) before it misses SYNC0.
-const SYNC0_MARGIN_DIVISOR: i64 = 8;
-/// The SYNC0 grid follows 1/PLL_DIVISOR of each frame's phase error once locked.
-const PLL_DIVISOR: i64 = 16;
 /// SM status bit 3: mailbox full.
 const SM_FULL: u8 = 0x08;
 
@@ -65,10 +60,9 @@ pub struct Station {
     /// Position in the line (0 = next to the master) and line length, for DC receive times.
     position: u16,
     line_len: u16,
-    /// The SYNC0 grid's origin (local time) and the last SYNC0 edge a frame was taken at.
-    sync_anchor: Option<i64>,
-    last_edge: Option<i64>,
-    /// Frames taken while locking the grid.
+    /// The last SYNC0 edge (cycles since the DC start time) a frame was taken at.
+    last_edge: Option<u64>,
+    /// Frames taken while the master locks on.
     lock_frames: u32,
     /// Exchanges the drive has run (diagnostics).
     exchanges: u64,
@@ -100,7 +94,6 @@ impl Station {
             al_state: AlState::Init,
             position,
             line_len,
-            sync_anchor: None,
             last_edge: None,
             lock_frames: 0,
             exchanges: 0,
@@ -396,7 +389,6 @@ impl Station {
                 if target == AlState::Init {
                     // The mapping objects keep what was written (until power-off); the SYNC0
                     // grid starts anew.
-                    self.sync_anchor = None;
                     self.last_edge = None;
                     self.lock_frames = 0;
                 }
@@ -534,34 +526,30 @@ impl Station {
             self.mem[a + 2],
             self.mem[a + 3],
         ]));
-        // The SYNC0 grid follows the master's frames so that they arrive 1/SYNC0_MARGIN_DIVISOR
-        // of a cycle after a grid edge, i.e. SYNC0 falls late in the cycle (the usual SYNC0
-        // shift for a master that sends at cycle start and aligns its cycle to the DC system
-        // time): locked hard on the first frames, then pulled by 1/PLL_DIVISOR of the phase
-        // error per frame. A frame later than the rest of the cycle misses its SYNC0, as on a
-        // real segment.
+        // SYNC0 falls at the DC start time (0990h) plus whole cycles (09A0h) of this station's
+        // system time (local time + 0920h offset), as on a real ESC; the master aligns its
+        // frames to this grid (`EthercatBus` reads the reference clock's 0910h in every frame).
+        // The first frames in OP, and any before the start time, are taken one SYNC0 each while
+        // the master locks on; after that the SYNC0 edges between two frames decide: none (two
+        // frames in one cycle: the second waits in SM2), one (in step), or more (frames that
+        // missed their SYNC0: lost RxPDOs for the drive's checks).
         let edges = if cycle == 0 {
             1
         } else {
-            let cycle = cycle as i64;
-            let now = now_ns as i64;
-            let target = cycle / SYNC0_MARGIN_DIVISOR;
-            let anchor = self.sync_anchor.get_or_insert(now - target);
-            let rel = now - *anchor;
-            let edge = rel.div_euclid(cycle);
-            let error = rel.rem_euclid(cycle) - target;
-            let locking = self.lock_frames < LOCK_FRAMES;
+            let system = now_ns.wrapping_add(self.get_u64(reg::DC_SYSTEM_TIME_OFFSET));
+            let start = self.get_u64(reg::DC_SYNC_START_TIME);
+            let edge = (system >= start).then(|| (system - start) / cycle);
+            let locking = self.lock_frames < LOCK_FRAMES || edge.is_none();
             if locking {
-                *anchor += error;
-                self.lock_frames += 1;
-            } else {
-                *anchor += error / PLL_DIVISOR;
+                self.lock_frames = self.lock_frames.saturating_add(1);
             }
-            let edges = match self.last_edge {
-                Some(last) if !locking => (edge - last).max(0) as u64,
+            let edges = match (self.last_edge, edge) {
+                (Some(last), Some(e)) if !locking => e.saturating_sub(last),
                 _ => 1,
             };
-            self.last_edge = Some(edge);
+            if let Some(e) = edge {
+                self.last_edge = Some(e);
+            }
             edges
         };
         if edges == 0 {

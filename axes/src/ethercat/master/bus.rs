@@ -44,6 +44,15 @@ const MASTER_MAC: [u8; 6] = [0x10, 0x10, 0x10, 0x10, 0x10, 0x10];
 const BRINGUP_RETRIES: usize = 3;
 /// Delay from DC configuration to the first SYNC0 pulse.
 const SYNC0_START_DELAY: Duration = Duration::from_millis(10);
+/// Where in the SYNC0 cycle the cyclic frame should pass the DC reference clock: this fraction
+/// of a cycle after a SYNC0 edge, so the drives take its outputs at the next edge and the frame
+/// may be late by the rest of the cycle (wakeup latency is one-sided) before it misses it.
+pub const SYNC0_FRAME_PHASE_DIVISOR: u64 = 8;
+/// Share of the DC phase error corrected per cycle once locked (1/16: the wakeup jitter of a
+/// non-RT kernel averages out; a step of the reference clock is followed in about 50 cycles).
+const DC_PHASE_GAIN_DIVISOR: i64 = 16;
+/// Largest deadline correction per cycle once locked, as a share of the cycle (1/50 = 2 %).
+const DC_MAX_STEP_DIVISOR: i64 = 50;
 /// 1C32h:02 SM2 cycle time.
 const SM2_CYCLE_TIME: (u16, u8) = (0x1C32, 2);
 /// 1C12h / 1C13h PDO assignment.
@@ -239,6 +248,56 @@ pub struct EthercatBus {
     expected_wkc: u16,
     counters: ExchangeCounters,
     index: u8,
+    dc: DcAlignment,
+    /// The correction the RT loop took since the last exchange, ns.
+    dc_taken: i64,
+}
+
+/// The RT loop's deadline aligned to the DC system time: each cyclic frame carries an FRMW of
+/// the reference clock's system time (0910h, which also keeps the other clocks on it), whose
+/// phase in the SYNC0 grid (start 0990h, cycle 09A0h) gives how far the master's cycle is off
+/// [`SYNC0_FRAME_PHASE_DIVISOR`]; the next deadline is moved by the correction
+/// ([`Bus::deadline_correction_ns`]): at once on the first frame, then by a share of the error.
+#[derive(Debug, Clone, Copy, Default)]
+struct DcAlignment {
+    /// Configured address of the reference clock (the first SubDevice).
+    reference: u16,
+    /// SYNC0 start time in DC system time, ns.
+    start: u64,
+    /// SYNC0 cycle, ns.
+    cycle: u64,
+    /// The correction not yet taken by the RT loop, ns.
+    pending: i64,
+    /// The last phase error, ns (frame phase − target, in (−cycle/2, cycle/2]).
+    error: i64,
+    /// A first phase has been measured.
+    locked: bool,
+}
+
+impl DcAlignment {
+    /// Takes the reference clock's system time `t` seen by this cycle's frame.
+    fn observe(&mut self, t: u64) {
+        if self.cycle == 0 || t < self.start {
+            return;
+        }
+        let cycle = self.cycle as i64;
+        let phase = ((t - self.start) % self.cycle) as i64;
+        let mut error = phase - cycle / SYNC0_FRAME_PHASE_DIVISOR as i64;
+        if error > cycle / 2 {
+            error -= cycle;
+        } else if error <= -cycle / 2 {
+            error += cycle;
+        }
+        self.error = error;
+        let step = if self.locked {
+            let max = cycle / DC_MAX_STEP_DIVISOR;
+            (-error / DC_PHASE_GAIN_DIVISOR).clamp(-max, max)
+        } else {
+            self.locked = true;
+            -error
+        };
+        self.pending += step;
+    }
 }
 
 impl std::fmt::Debug for EthercatBus {
@@ -463,6 +522,24 @@ impl EthercatBus {
                 tx: vec![0; tx_len],
             });
         }
+        // The SYNC0 grid of the reference clock (the first SubDevice, ethercrab's choice).
+        let reference = step("SubDevice lookup", group.subdevice(&maindevice, 0))?;
+        let reference_address = reference.configured_address();
+        let read = async {
+            let start: u64 = reference.register_read(reg::DC_SYNC_START_TIME).await?;
+            let cycle: u32 = reference.register_read(reg::DC_SYNC0_CYCLE).await?;
+            Ok::<_, ethercrab::error::Error>((start, cycle))
+        };
+        let (start, sync0_cycle) = step(
+            "DC SYNC0 read-back",
+            pump(read, &mut tx, &mut rx, link_ref, &mut buf),
+        )?;
+        let dc = DcAlignment {
+            reference: reference_address,
+            start,
+            cycle: u64::from(sync0_cycle),
+            ..DcAlignment::default()
+        };
         Ok(EthercatBus {
             link,
             tx,
@@ -476,12 +553,20 @@ impl EthercatBus {
             expected_wkc,
             counters: ExchangeCounters::default(),
             index: 0,
+            dc,
+            dc_taken: 0,
         })
     }
 
     /// Counters of the cyclic exchange.
     pub fn counters(&self) -> ExchangeCounters {
         self.counters
+    }
+
+    /// The last DC phase error of the cyclic frame against its target place in the SYNC0
+    /// cycle, ns; `None` before the first frame has passed the reference clock.
+    pub fn dc_phase_error_ns(&self) -> Option<i64> {
+        self.dc.locked.then_some(self.dc.error)
     }
 
     /// The link (tests and fault injection reach the emulated segment through it).
@@ -620,25 +705,41 @@ impl Bus for EthercatBus {
     }
 
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {
+        // The time since the last frame: the cycles passed, moved by the deadline correction the
+        // RT loop took (a virtual clock follows it; a real one ignores it).
+        let period = u64::from(elapsed.0) * self.config.cycle.as_nanos();
         self.link
-            .advance(u64::from(elapsed.0) * self.config.cycle.as_nanos());
+            .advance(period.saturating_add_signed(self.dc_taken));
+        self.dc_taken = 0;
         for a in &self.axes {
             self.pdi[a.outputs.clone()].copy_from_slice(&a.rx);
         }
         self.index = self.index.wrapping_add(1);
-        let (span, len) = {
+        let (span, dc_span, len) = {
             let mut b = FrameBuilder::new(&mut self.frame, MASTER_MAC);
             let Some(span) = b.push(Command::Lrw, self.index, 0, &self.pdi) else {
                 return Err(BusError::FrameTooLarge {
                     bytes: self.pdi.len(),
                 });
             };
-            (span, b.finish())
+            let address = (u32::from(reg::DC_SYSTEM_TIME) << 16) | u32::from(self.dc.reference);
+            let Some(dc_span) = b.push(Command::Frmw, self.index, address, &[0; 8]) else {
+                return Err(BusError::FrameTooLarge {
+                    bytes: self.pdi.len() + 8,
+                });
+            };
+            (span, dc_span, b.finish())
         };
         self.counters.frames += 1;
         if self.link.round_trip(&mut self.frame, len).is_err() {
             self.counters.lost += 1;
             return Err(BusError::FrameLost);
+        }
+        if frame::wkc(&self.frame, &dc_span) != 0 {
+            let at = dc_span.data_offset;
+            let mut t = [0u8; 8];
+            t.copy_from_slice(&self.frame[at..at + 8]);
+            self.dc.observe(u64::from_le_bytes(t));
         }
         let wkc = frame::wkc(&self.frame, &span);
         if wkc != self.expected_wkc {
@@ -653,6 +754,12 @@ impl Bus for EthercatBus {
             a.tx.copy_from_slice(&data[a.inputs.clone()]);
         }
         Ok(())
+    }
+
+    fn deadline_correction_ns(&mut self) -> i64 {
+        let c = std::mem::take(&mut self.dc.pending);
+        self.dc_taken += c;
+        c
     }
 
     fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {

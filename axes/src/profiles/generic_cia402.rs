@@ -410,10 +410,11 @@ pub const PROFILE: DriveProfile = DriveProfile {
     torque_limit_selection: TorqueLimitSelection::Objects,
     sdo_write_refusals: &[],
     // CiA 402 homing on the current position: 35 (the original number) and 37 (its
-    // replacement in the current edition). Other methods need switches or an index pulse the
-    // generic model cannot assert; a real drive lists its own in its manual.
+    // replacement in the current edition, first: the default `cellrt home` uses). Other
+    // methods need switches or an index pulse the generic model cannot assert; a real drive
+    // lists its own in its manual.
     homing_methods: &[35, 37],
-    data_set_homing_methods: &[35, 37],
+    data_set_homing_methods: &[37, 35],
     // CiA 402: after homing the position actual value is the home position (607Ch).
     home_reference: HomeReference::PositionPreset,
     stroke_end_warning: None,
@@ -499,6 +500,15 @@ mod tests {
         for a in PROFILE.alarms {
             assert!(PROFILE.alarm_resettable(a.code), "{a}");
         }
+    }
+
+    #[test]
+    fn homing_defaults_to_the_current_position_method_37() {
+        use crate::cia402::homing::choose_method;
+        assert_eq!(choose_method(&PROFILE, None), Ok(37));
+        assert_eq!(choose_method(&PROFILE, Some(35)), Ok(35));
+        assert!(choose_method(&PROFILE, Some(1)).is_err());
+        assert_eq!(PROFILE.object(0x6098, 0).and_then(|o| o.default), Some(37));
     }
 
     #[test]

@@ -11,9 +11,9 @@
 //! * Cycle times: every cycle cellrt runs (125–8000 µs). A real drive supports fewer; the
 //!   user must pick one its manual allows (its 1C32h:02 / 1C33h:04).
 //! * Default maps: RxPDO 1600h = 6040h, 6060h, 607Ah, 60FFh, 6071h; TxPDO 1A00h = 6041h,
-//!   6061h, 6064h, 606Ch, 6077h, 60F4h, 603Fh (the objects ETG.6010's CiA 402 mappings carry
-//!   for csp/csv/cst), an 8-bit padding after each 8-bit mode object so the 32-bit values
-//!   stay 16-bit aligned.
+//!   6061h, 6064h, 606Ch, 6077h, 60F4h, 603Fh (the objects the common CiA 402 / ETG.6010
+//!   csp/csv/cst mappings carry; a real drive's predefined mappings may differ), an 8-bit
+//!   padding after each 8-bit mode object so the 32-bit values stay 16-bit aligned.
 //! * FSA: plain CiA 402 (no multi-state jumps, quick stop present, 605Ah default 2: no
 //!   transition (16) back to Operation enabled).
 //! * Communication check: the sync-error counter against 10F1h:02 (ETG.1020).

@@ -10,22 +10,39 @@ use cellrt_axes::ethercat::master::{
 use cellrt_axes::ethercat::register::AlState;
 use cellrt_axes::pdo::{PdoLayout, RxPdo};
 use cellrt_axes::{
-    profile, Bus, Controlword, CycleTime, Cycles, DriveModel, FsaState, ModeOfOperation, SimDrive,
-    SimDriveParams,
+    profile, Bus, Controlword, CycleTime, Cycles, DriveModel, DriveProfile, FsaState,
+    ModeOfOperation, SimDrive, SimDriveParams,
 };
 
-const MODELS: [DriveModel; 4] = [
+const MODELS: [DriveModel; 5] = [
     DriveModel::MrJ3T04,
     DriveModel::MrJ4TM,
     DriveModel::MrJetGN1,
     DriveModel::MrJ5GN1,
+    DriveModel::GenericCia402,
 ];
+
+/// The identity a generic CiA 402 drive is given here, as a cell config's `[axes.ethercat]`
+/// would (placeholders in the style of the emulator's, not a vendor's values).
+const GENERIC_VENDOR: u32 = 0xCE11_0000;
+const GENERIC_PRODUCT: u32 = 0xCE11_0402;
+
+/// The profile of `m` as a cell config gives it: the generic CiA 402 model with the identity
+/// the config names (the model has none of its own), the others as they are.
+fn prof(m: DriveModel) -> &'static DriveProfile {
+    match m {
+        DriveModel::GenericCia402 => {
+            profile(m).with_identity(Some(GENERIC_VENDOR), Some(GENERIC_PRODUCT))
+        }
+        _ => profile(m),
+    }
+}
 
 fn segment(models: &[DriveModel], cycle: CycleTime) -> Segment {
     Segment::new(
         models
             .iter()
-            .map(|&m| SimDrive::new(profile(m), SimDriveParams::default(), cycle))
+            .map(|&m| SimDrive::new(prof(m), SimDriveParams::default(), cycle))
             .collect(),
     )
 }
@@ -38,8 +55,8 @@ fn config(models: &[DriveModel], cycle: CycleTime) -> SegmentConfig {
             .enumerate()
             .map(|(i, &m)| SegmentDrive {
                 axis: format!("a{i}"),
-                profile: profile(m),
-                identity: ExpectedIdentity::of_profile(profile(m)),
+                profile: prof(m),
+                identity: ExpectedIdentity::of_profile(prof(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
             })
             .collect(),
@@ -62,7 +79,7 @@ fn stations(bus: &mut EthercatBus) -> &Segment {
 #[test]
 fn a_segment_of_each_ethercat_model_comes_up_to_op() {
     let mut bus = bring_up(&MODELS);
-    assert_eq!(bus.axis_count(), 4);
+    assert_eq!(bus.axis_count(), MODELS.len());
     for (i, st) in stations(&mut bus).stations().iter().enumerate() {
         assert_eq!(st.al_state(), AlState::Op, "station {i}");
         assert_eq!(st.al_status_code(), 0, "station {i}");
@@ -155,7 +172,7 @@ fn the_cyclic_exchange_enables_every_drive_through_the_emulated_segment() {
     let mut bus = bring_up(&MODELS);
     let mut counter = 0;
     let states = enable(&mut bus, &MODELS, &mut counter);
-    assert_eq!(states, vec![Some(FsaState::OperationEnabled); 4]);
+    assert_eq!(states, vec![Some(FsaState::OperationEnabled); MODELS.len()]);
     assert_eq!(bus.counters().wkc_errors, 0);
     assert_eq!(bus.counters().frames, 400);
 }
@@ -167,7 +184,7 @@ fn clean_shutdown_leaves_no_alarm_and_a_dirty_one_raises_each_models_leaving_op_
     enable(&mut bus, &MODELS, &mut counter);
     // Clean: Shutdown by controlword (Ready to switch on), then PRE-OP.
     let states = run(&mut bus, &MODELS, 20, Controlword::SHUTDOWN, &mut counter);
-    assert_eq!(states, vec![Some(FsaState::ReadyToSwitchOn); 4]);
+    assert_eq!(states, vec![Some(FsaState::ReadyToSwitchOn); MODELS.len()]);
     bus.leave_op().expect("every SubDevice in PRE-OP");
     for st in stations(&mut bus).stations() {
         assert_eq!(st.al_state(), AlState::PreOp);
@@ -424,4 +441,147 @@ fn the_cycle_is_aligned_to_the_dc_sync0_grid() {
             "station {i}: no SYNC0 missed"
         );
     }
+}
+
+/// A segment of generic CiA 402 drives (`drive = "cia402"`): each comes up to OP with the
+/// identity its config gives (1018h read back by SDO), a drive of another vendor or product is
+/// refused by name, and a custom mapping (a csv RxPDO carrying the touch-probe function 60B8h,
+/// a TxPDO with the digital inputs 60FDh) is written, taken and exchanged.
+#[test]
+fn generic_cia402_drives_come_up_with_the_configured_identity_and_mapping() {
+    use cellrt_axes::PdoEntry;
+    let cycle = CycleTime::from_micros(500).unwrap();
+    let generic = profile(DriveModel::GenericCia402);
+    let models = [DriveModel::GenericCia402, DriveModel::GenericCia402];
+    let rx = [
+        PdoEntry::object(0x6040, 0, 16),
+        PdoEntry::object(0x6060, 0, 8),
+        PdoEntry::padding(8),
+        PdoEntry::object(0x60FF, 0, 32),
+        PdoEntry::object(0x60B8, 0, 16),
+    ];
+    let tx = [
+        PdoEntry::object(0x6041, 0, 16),
+        PdoEntry::object(0x6061, 0, 8),
+        PdoEntry::padding(8),
+        PdoEntry::object(0x6064, 0, 32),
+        PdoEntry::object(0x606C, 0, 32),
+        PdoEntry::object(0x60FD, 0, 32),
+        PdoEntry::object(0x603F, 0, 16),
+    ];
+    let remapped = prof(DriveModel::GenericCia402)
+        .with_pdo_maps(&rx, &tx)
+        .unwrap();
+    assert_eq!(remapped.vendor_id(), Some(GENERIC_VENDOR));
+    // The config: axis 0 on the default maps, axis 1 remapped, both in csv.
+    let mut cfg = config(&models, cycle);
+    cfg.drives[1].profile = remapped;
+    for d in &mut cfg.drives {
+        d.mode = ModeOfOperation::CyclicSyncVelocity;
+    }
+    let link = InProcessLink::new(segment(&models, cycle));
+    let mut bus = EthercatBus::bring_up(cfg.clone(), Box::new(link)).expect("bring-up");
+    for (i, st) in stations(&mut bus).stations().iter().enumerate() {
+        assert_eq!(st.al_state(), AlState::Op, "station {i}");
+        assert_eq!(st.identity().vendor_id, GENERIC_VENDOR);
+        assert_eq!(st.identity().product_code, GENERIC_PRODUCT);
+    }
+    for axis in 0..2 {
+        assert_eq!(
+            bus.sdo_upload(axis, 0x1018, 1).unwrap() as u32,
+            GENERIC_VENDOR
+        );
+        assert_eq!(
+            bus.sdo_upload(axis, 0x1018, 2).unwrap() as u32,
+            GENERIC_PRODUCT
+        );
+        // 6502h: hm, csp, csv, cst.
+        assert_eq!(bus.sdo_upload(axis, 0x6502, 0).unwrap(), 0x3A0);
+    }
+    assert_eq!(bus.rx_image_mut(0).len(), generic.rx_pdo.byte_len());
+    assert_eq!(bus.rx_image_mut(1).len(), 2 + 1 + 1 + 4 + 2);
+    assert_eq!(bus.tx_image(1).len(), 2 + 1 + 1 + 4 + 4 + 4 + 2);
+    assert_eq!(
+        stations(&mut bus).stations()[1].drive().profile().rx_pdo,
+        remapped.rx_pdo,
+        "axis 1 runs the written RxPDO"
+    );
+    for (i, e) in remapped.tx_pdo.entries.iter().enumerate() {
+        let w = bus.sdo_upload(1, 0x1A00, i as u8 + 1).unwrap() as u32;
+        assert_eq!(w, e.mapping_word());
+    }
+    // Enabled and turned in csv through both layouts.
+    let layouts: Vec<(PdoLayout, PdoLayout)> = [prof(DriveModel::GenericCia402), remapped]
+        .iter()
+        .map(|p| (PdoLayout::new(&p.rx_pdo), PdoLayout::new(&p.tx_pdo)))
+        .collect();
+    let step = |bus: &mut EthercatBus, cw: Controlword, velocity: i32| {
+        for (axis, (rxl, _)) in layouts.iter().enumerate() {
+            let rx = RxPdo {
+                controlword: cw,
+                mode: ModeOfOperation::CyclicSyncVelocity.as_i8(),
+                target_velocity: velocity,
+                ..RxPdo::default()
+            };
+            rxl.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+        }
+        bus.exchange(Cycles(1)).unwrap();
+    };
+    for (cw, n) in [
+        (Controlword::SHUTDOWN, 50),
+        (Controlword::SWITCH_ON, 50),
+        (Controlword::ENABLE_OPERATION, 300),
+    ] {
+        for _ in 0..n {
+            step(&mut bus, cw, 0);
+        }
+    }
+    let read =
+        |bus: &EthercatBus, axis: usize| layouts[axis].1.decode_tx(bus.tx_image(axis)).unwrap();
+    let before: Vec<_> = (0..2).map(|a| read(&bus, a)).collect();
+    for _ in 0..200 {
+        step(&mut bus, Controlword::ENABLE_OPERATION, 100_000);
+    }
+    for (axis, b) in before.iter().enumerate() {
+        let a = read(&bus, axis);
+        assert_eq!(b.statusword.state(), Some(FsaState::OperationEnabled));
+        assert_eq!(a.mode_display, 9, "axis {axis}: 6061h = csv");
+        assert!(
+            a.position_actual > b.position_actual + 100 && a.velocity_actual > 0,
+            "axis {axis} turned: {b:?} -> {a:?}"
+        );
+    }
+    assert_eq!(bus.counters().wkc_errors, 0);
+    // Leaving OP while enabled: the generic leaving-OP code, 8100h.
+    bus.leave_op().expect("PRE-OP");
+    for st in stations(&mut bus).stations() {
+        assert_eq!(st.drive().alarm(), Some(0x8100));
+    }
+
+    // Another vendor's drive where the config names this identity: refused by name.
+    let mut wrong = cfg.clone();
+    wrong.drives[1].identity = ExpectedIdentity {
+        vendor_id: 0x0000_0002,
+        product_code: Some(GENERIC_PRODUCT),
+    };
+    let link = InProcessLink::new(segment(&models, cycle));
+    let e = EthercatBus::bring_up(wrong, Box::new(link)).unwrap_err();
+    assert!(
+        matches!(e, EthercatError::Identity { position: 1, .. }),
+        "{e}"
+    );
+    let text = e.to_string();
+    assert!(
+        text.contains("axis 'a1'") && text.contains("cia402") && text.contains("0xce110000"),
+        "{text}"
+    );
+    // The same vendor, another product: refused too.
+    let mut wrong = cfg;
+    wrong.drives[0].identity.product_code = Some(GENERIC_PRODUCT + 1);
+    let link = InProcessLink::new(segment(&models, cycle));
+    let e = EthercatBus::bring_up(wrong, Box::new(link)).unwrap_err();
+    assert!(
+        matches!(e, EthercatError::Identity { position: 0, .. }),
+        "{e}"
+    );
 }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use cellrt_axes::profiles::{mr_j4_tm, mr_j5_g_n1, mr_jet_g_n1};
+use cellrt_axes::profiles::{generic_cia402, mr_j4_tm, mr_j5_g_n1, mr_jet_g_n1};
 use cellrt_axes::sim::drive::TorqueLimit2;
 use cellrt_axes::{
     profile, AxisMaster, Bus, Controlword, CycleTime, Cycles, DriveModel, FsaState, MasterRequest,
@@ -492,6 +492,7 @@ fn halt_stops_in_cyclic_modes_only_where_the_model_honours_it() {
         (DriveModel::MrJetGN1, true),
         (DriveModel::MrJ4TM, false),
         (DriveModel::MrJ3T04, false),
+        (DriveModel::GenericCia402, false),
     ] {
         let mut d = d(model);
         enabled(&mut d);
@@ -800,4 +801,154 @@ fn tv_9_sdo_mr_jet_g_n1() {
     d.sdo_download(0x1011, 1, &LOAD_SIGNATURE.to_le_bytes())
         .unwrap();
     assert_eq!(d.sdo_upload(0x1011, 1), Ok(1));
+}
+
+// The generic CiA 402 model (`drive = "cia402"`): plain CiA 402 / ETG.6010 behaviour.
+
+#[test]
+fn generic_cia402_normal_enable_and_no_shortcuts() {
+    tv_1(DriveModel::GenericCia402);
+    // Plain CiA 402: Switch On or Enable Operation from Switch on disabled is no transition;
+    // the drive stays where it is (unlike the Mitsubishi shortcuts above).
+    for cw in [0x0007u16, 0x000F] {
+        let mut d = d(DriveModel::GenericCia402);
+        boot(&mut d);
+        assert!(
+            masked(send(&mut d, cw), 0x004F, 0x0040),
+            "{cw:#06x}: stays in Switch on disabled"
+        );
+    }
+    let mut d = d(DriveModel::GenericCia402);
+    boot(&mut d);
+    send(&mut d, 0x0006);
+    assert!(
+        masked(send(&mut d, 0x000F), 0x006F, 0x0021),
+        "RTSO + Enable Operation: no jump to OE"
+    );
+}
+
+#[test]
+fn generic_cia402_quick_stop_without_transition_16() {
+    tv_quick_stop(DriveModel::GenericCia402);
+}
+
+#[test]
+fn generic_cia402_fault_reset_hold_is_the_named_default_at_every_cycle() {
+    // 10 ms (generic_cia402::FAULT_RESET_HOLD_MS), at least one cycle.
+    assert_eq!(generic_cia402::FAULT_RESET_HOLD_MS, 10);
+    tv_fault_reset(
+        DriveModel::GenericCia402,
+        &[
+            (125, 80),
+            (250, 40),
+            (500, 20),
+            (1000, 10),
+            (2000, 5),
+            (4000, 3),
+            (8000, 2),
+        ],
+    );
+}
+
+#[test]
+fn generic_cia402_lost_frames_and_leaving_op_raise_the_communication_code() {
+    disconnect(DriveModel::GenericCia402, generic_cia402::COMMUNICATION);
+    assert_eq!(generic_cia402::COMMUNICATION, 0x8100);
+}
+
+#[test]
+fn generic_cia402_mode_switch_csp_csv_cst() {
+    mode_gate(DriveModel::GenericCia402, 8, 9);
+    mode_gate(DriveModel::GenericCia402, 9, 8);
+    // cst: the torque follows 6071h, limited by 60E0h/60E1h as received (CiA 402).
+    let mut d = d(DriveModel::GenericCia402);
+    enabled(&mut d);
+    let rx = RxPdo {
+        mode: 10,
+        controlword: Controlword(0x0F),
+        target_torque: 300,
+        ..RxPdo::default()
+    };
+    for _ in 0..3 {
+        exchange(&mut d, &rx);
+    }
+    assert_eq!(d.tx_pdo().mode_display, 10);
+    let tq = d.tx_pdo().torque_actual;
+    assert!((290..=310).contains(&tq), "{tq}");
+    // No velocity-limit object in CiA 402's cst: the motor accelerates up to its maximum speed.
+    let v0 = d.plant().velocity();
+    for _ in 0..50 {
+        exchange(&mut d, &rx);
+    }
+    assert!(d.plant().velocity() > v0 && v0 > 0.0, "{v0}");
+}
+
+#[test]
+fn generic_cia402_following_error_and_overspeed_are_cia402_codes() {
+    let p = profile(DriveModel::GenericCia402);
+    assert_eq!(p.following_error_alarm, 0x8611);
+    assert_eq!(p.overspeed_alarm, 0x8400);
+    let mut d = drive(
+        DriveModel::GenericCia402,
+        1000,
+        SimDriveParams {
+            following_error_limit: 5_000,
+            ..SimDriveParams::default()
+        },
+    );
+    enabled(&mut d);
+    let start = d.tx_pdo().position_actual;
+    for k in 1..=2000 {
+        if exchange(&mut d, &csp(Controlword(0x0F), start + 1_000 * k))
+            .statusword
+            .fault()
+        {
+            break;
+        }
+    }
+    assert_eq!(d.alarm(), Some(0x8611));
+    assert_eq!(d.tx_pdo().error_code, 0x8611, "603Fh in the default TxPDO");
+}
+
+#[test]
+fn generic_cia402_homing_on_the_current_position() {
+    // hm with 6098h = 37 (the profile's default) and 35: home = the current position, no
+    // motion; any other method ends in a homing error (statusword bit 13).
+    for (method, ok) in [(None, true), (Some(35i8), true), (Some(1), false)] {
+        let mut d = d(DriveModel::GenericCia402);
+        enabled(&mut d);
+        let start = d.tx_pdo().position_actual;
+        move_csp(&mut d, 1_000, 50);
+        for _ in 0..300 {
+            exchange(&mut d, &csp(Controlword(0x0F), start + 50_000));
+        }
+        assert_eq!(d.alarm(), None);
+        if let Some(m) = method {
+            d.sdo_download(0x6098, 0, &[m as u8]).unwrap();
+        }
+        let pos = d.tx_pdo().position_actual;
+        let hm = |cw: u16| RxPdo {
+            mode: 6,
+            controlword: Controlword(cw),
+            target_position: pos,
+            ..RxPdo::default()
+        };
+        // The mode switch waits for the axis to stand still.
+        for _ in 0..3000 {
+            if exchange(&mut d, &hm(0x0F)).mode_display == 6 {
+                break;
+            }
+        }
+        assert_eq!(d.tx_pdo().mode_display, 6);
+        let sw = exchange(&mut d, &hm(0x1F)).statusword;
+        let attained = sw.0 & (1 << 12) != 0;
+        let error = sw.0 & (1 << 13) != 0;
+        assert_eq!(
+            (attained, error),
+            (ok, !ok),
+            "{method:?}: {sw} alarm {:?}",
+            d.alarm()
+        );
+        assert_eq!(d.plant().velocity(), 0.0, "{method:?}: no motion");
+    }
 }

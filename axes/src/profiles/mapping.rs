@@ -229,6 +229,43 @@ impl DriveProfile {
         Ok(p)
     }
 
+    /// This profile presenting `vendor_id` / `product_code` in 1018h where given (the cell
+    /// config's `[axes.ethercat]` identity: what the emulator presents and the master
+    /// expects), the profile's own values elsewhere. Built once per distinct identity and
+    /// kept for the life of the process, like [`DriveProfile::with_pdo_maps`].
+    pub fn with_identity(
+        &'static self,
+        vendor_id: Option<u32>,
+        product_code: Option<u32>,
+    ) -> &'static DriveProfile {
+        let identity = super::Identity {
+            vendor_id: vendor_id.or(self.identity.vendor_id),
+            product_code: product_code.or(self.identity.product_code),
+            revision: self.identity.revision,
+            source: if vendor_id.is_some() || product_code.is_some() {
+                "cell config [axes.ethercat]"
+            } else {
+                self.identity.source
+            },
+        };
+        if identity == self.identity {
+            return self;
+        }
+        static IDENTIFIED: Mutex<Vec<&'static DriveProfile>> = Mutex::new(Vec::new());
+        let mut known = IDENTIFIED.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(p) = known.iter().find(|p| {
+            p.model == self.model
+                && p.rx_pdo == self.rx_pdo
+                && p.tx_pdo == self.tx_pdo
+                && p.identity == identity
+        }) {
+            return p;
+        }
+        let p: &'static DriveProfile = Box::leak(Box::new(DriveProfile { identity, ..*self }));
+        known.push(p);
+        p
+    }
+
     /// True if this profile runs its model's default maps.
     pub fn default_mapping(&self) -> bool {
         let base = base_of(self);

@@ -15,6 +15,7 @@ use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::PdoMap;
 
 pub mod facts;
+pub mod generic_cia402;
 pub mod mapping;
 pub mod matrix;
 pub mod mr_j3_t04;
@@ -49,6 +50,10 @@ pub enum DriveModel {
     /// Mitsubishi MR-JET-G-N1 (spec `mr-jet-g-n1.md`).
     #[serde(rename = "mr-jet-g-n1")]
     MrJetGN1,
+    /// Any CoE SubDevice with the CiA 402 drive profile (CiA 402 / ETG.6010, no vendor
+    /// specifics); identity from the cell config (`generic_cia402.rs`).
+    #[serde(rename = "cia402")]
+    GenericCia402,
 }
 
 /// A model name that is not supported.
@@ -71,6 +76,7 @@ impl DriveModel {
         DriveModel::MrJ3T04,
         DriveModel::MrJ4TM,
         DriveModel::MrJetGN1,
+        DriveModel::GenericCia402,
     ];
 
     /// The configuration name, e.g. "mr-j5-g-n1".
@@ -82,6 +88,7 @@ impl DriveModel {
             DriveModel::MrJ3T04 => "mr-j3-t04",
             DriveModel::MrJ4TM => "mr-j4-tm",
             DriveModel::MrJetGN1 => "mr-jet-g-n1",
+            DriveModel::GenericCia402 => "cia402",
         }
     }
 
@@ -267,6 +274,7 @@ pub fn profile(model: DriveModel) -> &'static DriveProfile {
         DriveModel::MrJ3T04 => &mr_j3_t04::PROFILE,
         DriveModel::MrJ4TM => &mr_j4_tm::PROFILE,
         DriveModel::MrJetGN1 => &mr_jet_g_n1::PROFILE,
+        DriveModel::GenericCia402 => &generic_cia402::PROFILE,
     }
 }
 

@@ -1039,7 +1039,7 @@ impl SimDrive {
         if self.mode_display == ModeOfOperation::CyclicSyncTorque {
             let amax = self.params.plant.max_acceleration.abs();
             let a = f64::from(cmd.target_torque) / 3000.0 * amax;
-            self.plant.step_torque(a, f64::from(cmd.velocity_limit), dt);
+            self.plant.step_torque(a, self.cst_velocity_limit(cmd), dt);
             self.demand = self.plant.position();
             self.prev_target = self.position_actual();
             return;
@@ -1156,6 +1156,21 @@ impl SimDrive {
             }
         }
         self.homing.attained = true;
+    }
+
+    /// The cst speed limit: the velocity-limit object (2D20h) as received where the RxPDO maps
+    /// it, else its SDO value or default (0 where none is given); a model without such an
+    /// object (plain CiA 402: the speed in cst is bounded by 6080h Max motor speed, not by a
+    /// cyclic object) runs up to the motor's maximum speed.
+    fn cst_velocity_limit(&self, cmd: &RxPdo) -> f64 {
+        let index = crate::pdo::objects::VELOCITY_LIMIT;
+        if self.profile.rx_pdo.maps(index) {
+            return f64::from(cmd.velocity_limit);
+        }
+        match self.profile.object(index, 0) {
+            Some(o) => self.sdo_value(index, 0).or(o.default).unwrap_or(0) as f64,
+            None => f64::INFINITY,
+        }
     }
 
     /// Sets the stroke-end inputs LSP (CCW allowed) and LSN (CW allowed); ON = may run. On a

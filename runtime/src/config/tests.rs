@@ -217,6 +217,7 @@ fn a_multi_axis_unit_over_ethercat_is_refused_by_name() {
 /// against what the axis' mode needs; the axis' profile runs it.
 #[test]
 fn a_pdo_mapping_from_the_config_is_checked_and_runs_in_the_axis_profile() {
+    // The example cell's x (MR-J3-T04) already has a mapping: replace it.
     let with = |pdo: &str| {
         let text = ethercat_text();
         let line = text
@@ -250,4 +251,179 @@ fn a_pdo_mapping_from_the_config_is_checked_and_runs_in_the_axis_profile() {
         assert!(e.key.starts_with(key), "{pdo}: {e}");
         assert!(e.to_string().contains(reason), "{pdo}: {e}");
     }
+}
+
+fn generic_text() -> String {
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../configs/cia402-generic.toml"
+    ))
+    .expect("configs/cia402-generic.toml")
+}
+
+/// The example cell of the generic CiA 402 model: two EtherCAT axes on the in-process segment,
+/// the configured identity in the expectation and in the profile the emulator presents, x
+/// remapped (csp-only RxPDO), y on the default maps.
+#[test]
+fn the_generic_cia402_cell_is_valid_and_carries_its_identity() {
+    use cellrt_axes::ethercat::identity::SubDeviceIdentity;
+    let c = parse(&generic_text()).expect("cia402-generic parses");
+    assert_eq!(
+        c.ethercat.as_ref().unwrap().interface,
+        EthercatInterface::InProcess
+    );
+    assert_eq!(c.axis_names(), "x, y");
+    for a in &c.axes {
+        assert_eq!(a.drive, cellrt_axes::DriveModel::GenericCia402);
+        assert_eq!(a.transport, Transport::Ethercat);
+        assert_eq!(a.ethercat_identity.vendor_id, 0xCE11_0000);
+        assert_eq!(a.ethercat_identity.product_code, Some(0xCE11_0402));
+        let presented = SubDeviceIdentity::of_profile(a.profile);
+        assert!(a.ethercat_identity.matches(&presented), "{}", a.name);
+        assert_eq!(presented.vendor_id, 0xCE11_0000);
+    }
+    let (x, y) = (&c.axes[0], &c.axes[1]);
+    assert_eq!(x.mode, ModeOfOperation::CyclicSyncPosition);
+    assert_eq!(x.profile.rx_pdo.index, 0x1600);
+    assert_eq!(x.profile.rx_pdo.byte_len(), 8);
+    assert_eq!(x.profile.rx_pdo.offset_of(0x607A, 0), Some(4));
+    assert!(!x.profile.default_mapping());
+    assert_eq!(y.mode, ModeOfOperation::CyclicSyncTorque);
+    assert!(y.profile.default_mapping());
+    assert_eq!(
+        y.profile.rx_pdo,
+        cellrt_axes::profile(cellrt_axes::DriveModel::GenericCia402).rx_pdo
+    );
+}
+
+/// `drive = "cia402"` has no identity of its own: on EtherCAT both keys are required and the
+/// error names the missing one; on the simulated transport they are optional.
+#[test]
+fn a_generic_cia402_axis_on_ethercat_needs_the_subdevices_identity() {
+    let text = generic_text();
+    let without = |key: &str| {
+        text.replacen(
+            "ethercat = { vendor_id = 0xCE110000, product_code = 0xCE110402 }",
+            &match key {
+                "vendor_id" => "ethercat = { product_code = 0xCE110402 }".to_string(),
+                "product_code" => "ethercat = { vendor_id = 0xCE110000 }".to_string(),
+                _ => String::new(),
+            },
+            1,
+        )
+    };
+    for (missing, key) in [
+        ("both", "axes[0].ethercat.vendor_id"),
+        ("vendor_id", "axes[0].ethercat.vendor_id"),
+        ("product_code", "axes[0].ethercat.product_code"),
+    ] {
+        let e = parse(&without(missing)).unwrap_err();
+        assert_eq!(e.key, key, "{missing}: {e}");
+        assert!(
+            e.message
+                .contains("drive 'cia402' needs the SubDevice's identity")
+                && e.message.contains("axis 'x'"),
+            "{missing}: {e}"
+        );
+    }
+    // The second axis is checked too.
+    let second = text
+        .rsplitn(
+            2,
+            "ethercat = { vendor_id = 0xCE110000, product_code = 0xCE110402 }",
+        )
+        .collect::<Vec<_>>();
+    let text2 = format!("{}{}", second[1], second[0]);
+    let e = parse(&text2).unwrap_err();
+    assert_eq!(e.key, "axes[1].ethercat.vendor_id", "{e}");
+    // Simulated drives: no identity needed (nothing on the wire to check).
+    let sim = without("both")
+        .replace("transport = \"ethercat\"", "transport = \"sim\"")
+        .replace("[ethercat]\n", "[unused_ethercat]\n");
+    let sim = sim
+        .lines()
+        .filter(|l| {
+            !l.starts_with("interface = ")
+                && !l.starts_with("frame_timeout_us")
+                && *l != "[unused_ethercat]"
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let c = parse(&sim).expect("a simulated generic cell needs no identity");
+    assert!(c.ethercat.is_none());
+    assert_eq!(c.axes[0].transport, Transport::Sim);
+    // A Mitsubishi model keeps its maker's identity without the keys.
+    let c = parse(&ethercat_text()).unwrap();
+    assert_eq!(c.axes[1].ethercat_identity.vendor_id, 0xA1E);
+}
+
+/// A generic axis with a custom `[axes.pdo]`: every CiA 402 mappable object is accepted, the
+/// CiA 301 limits and the mode's objects are enforced, errors name the key.
+#[test]
+fn a_generic_cia402_axis_takes_a_custom_mapping_checked_against_cia402() {
+    let with = |pdo: &str| {
+        generic_text().replacen(
+            "pdo = { rx = [0x60400010, 0x60600008, 0x00000008, 0x607A0020] }",
+            &format!("pdo = {{ {pdo} }}"),
+            1,
+        )
+    };
+    // csp with touch probe and position offset; a TxPDO with the digital inputs, touch-probe
+    // status and the following error.
+    let c = parse(&with(
+        "rx = [0x60400010, 0x607A0020, 0x60B00020, 0x60B80010], \
+         tx = [0x60410010, 0x60640020, 0x60F40020, 0x60FD0020, 0x60B90010, 0x603F0010]",
+    ))
+    .expect("CiA 402 mappable objects");
+    let x = &c.axes[0].profile;
+    assert_eq!(x.rx_pdo.byte_len(), 12);
+    assert_eq!(x.tx_pdo.byte_len(), 18);
+    assert_eq!(x.tx_pdo.offset_of(0x60FD, 0), Some(10));
+    assert_eq!(x.tx_pdo.index, 0x1A00);
+    // The identity survives the remapping.
+    assert_eq!(x.vendor_id(), Some(0xCE11_0000));
+    for (pdo, key, reason) in [
+        (
+            "rx = [0x60400010, 0x607A0020, 0x20010010]",
+            "axes[0].pdo.rx",
+            "cia402 cannot map object 2001h:00 into the RxPDO",
+        ),
+        (
+            "rx = [0x60400010, 0x607A0020, 0x605A0010]",
+            "axes[0].pdo.rx",
+            "605Ah:00",
+        ),
+        (
+            "tx = [0x60410010, 0x60640020, 0x607A0020]",
+            "axes[0].pdo.tx",
+            "607Ah:00 into the TxPDO",
+        ),
+        (
+            "rx = [0x60400010, 0x60FF0020]",
+            "axes[0].pdo.rx",
+            "must map 607Ah for mode csp",
+        ),
+        (
+            "rx = [0x60400010, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020, 0x607A0020]",
+            "axes[0].pdo.rx",
+            "66 bytes, the drive takes at most 64",
+        ),
+    ] {
+        let Err(e) = parse(&with(pdo)) else {
+            panic!("{pdo}: accepted");
+        };
+        assert_eq!(e.key, key, "{pdo}: {e}");
+        assert!(e.to_string().contains(reason), "{pdo}: {e}");
+    }
+    // cst on the generic axis y needs 6071h and 60FFh in its RxPDO.
+    let text = generic_text();
+    let y_at = text.find("name = \"y\"").expect("axis y");
+    let e = parse(&format!(
+        "{}{}\npdo = {{ rx = [0x60400010, 0x60FF0020] }}\n",
+        &text[..y_at],
+        &text[y_at..]
+    ))
+    .unwrap_err();
+    assert_eq!(e.key, "axes[1].pdo.rx", "{e}");
+    assert!(e.message.contains("6071h"), "{e}");
 }

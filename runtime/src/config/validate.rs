@@ -17,7 +17,7 @@ use super::{
     DEFAULT_CSV_POSITION_GAIN, DEFAULT_FRAME_TIMEOUT_US, DEFAULT_TORQUE_SLOPE,
     IN_PROCESS_INTERFACE, MAX_AXES, MAX_TORQUE_PERCENT,
 };
-use cellrt_axes::ethercat::identity::ExpectedIdentity;
+use cellrt_axes::ethercat::identity::{maker_vendor_id, ExpectedIdentity};
 
 /// Checks a name used in service names and file names: 1–32 of `[A-Za-z0-9_-]`.
 pub(crate) fn check_name(file: &Path, key: &str, name: &str) -> Result<(), ConfigError> {
@@ -536,6 +536,27 @@ fn validate_axis(
             ),
         ));
     }
+    // A model without a maker (the generic CiA 402 drive) has no identity to check the
+    // SubDevice against: an EtherCAT axis must name it.
+    if transport == Transport::Ethercat && maker_vendor_id(drive).is_none() {
+        for (sub, given) in [
+            ("ethercat.vendor_id", a.ethercat.vendor_id.is_some()),
+            ("ethercat.product_code", a.ethercat.product_code.is_some()),
+        ] {
+            if !given {
+                return Err(err(
+                    sub,
+                    format!(
+                        "axis '{}': drive '{drive}' needs the SubDevice's identity: set [axes.ethercat] vendor_id and product_code (1018h:01/02, from the drive's ESI file or manual)",
+                        a.name
+                    ),
+                ));
+            }
+        }
+    }
+    // The configured identity is the one the drive must report and the one the emulator
+    // presents for it.
+    let profile = profile.with_identity(a.ethercat.vendor_id, a.ethercat.product_code);
     let mut ethercat_identity = ExpectedIdentity::of_profile(profile);
     if let Some(v) = a.ethercat.vendor_id {
         ethercat_identity.vendor_id = v;

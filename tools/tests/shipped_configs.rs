@@ -93,18 +93,33 @@ fn every_example_cell_completes_its_program() {
         } else {
             &[]
         };
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_cellrt"))
-            .arg("run")
-            .arg(&cfg)
-            .args(interface)
-            .arg("--no-record")
-            .arg("--summary-json")
-            .arg(&json)
-            .output()
-            .unwrap();
-        let summary: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&json).unwrap_or_default())
-                .unwrap_or_default();
+        // On EtherCAT a stall of the test machine reaches the drives as missed SYNC0s (a real
+        // drive raises its communication alarm the same way): such a run is repeated, not
+        // judged (up to five times), as in ethercat_e2e.rs.
+        let mut attempt = 0;
+        let (out, summary) = loop {
+            attempt += 1;
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_cellrt"))
+                .arg("run")
+                .arg(&cfg)
+                .args(interface)
+                .arg("--no-record")
+                .arg("--summary-json")
+                .arg(&json)
+                .output()
+                .unwrap();
+            let summary: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(&json).unwrap_or_default())
+                    .unwrap_or_default();
+            let completed = out.status.success() && summary["outcome"] == "program_completed";
+            let stalled = summary["overruns"].as_u64().unwrap_or(0) > 0;
+            if completed || interface.is_empty() || !stalled || attempt == 5 {
+                break (out, summary);
+            }
+            eprintln!(
+                "{name}: attempt {attempt} overran (a machine stall the drives saw); running again"
+            );
+        };
         if !out.status.success() || summary["outcome"] != "program_completed" {
             failures.push(format!(
                 "{name} with {program}: {}{}",

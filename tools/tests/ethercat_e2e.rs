@@ -475,3 +475,67 @@ fn a_corrupted_link_stops_the_cell_and_faults_only_the_drives_behind_it() {
         );
     }
 }
+
+#[test]
+fn a_dropped_datagram_stops_the_cell_and_every_drive_raises_its_communication_alarm() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    // The cyclic LRW removed from the frame for 30 ms: working counter 0 at the master, no
+    // process data at any drive.
+    let (out, rec) = run_with_wire_fault(
+        "\n[[inject]]\nat_ms = 600\nfault = \"datagram_drop\"\nduration_ms = 30\n",
+    );
+    assert!(
+        !out.status.success(),
+        "the program must fail: the cell stops"
+    );
+    assert_stopped_by_the_watchdog(&rec, "datagram_drop", "");
+    let mut faults = drive_faults(&rec);
+    faults.sort();
+    assert_eq!(
+        faults,
+        [("c", 0x0861), ("x", 0x36), ("y", 0x0861), ("z", 0x0861)],
+        "{faults:?}"
+    );
+}
+
+#[test]
+fn frames_delayed_past_the_timeout_stop_the_cell_but_reach_the_drives_late() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    // 900 µs late for 30 ms against the 500 µs frame timeout: lost at the master every cycle,
+    // but the drives take each frame, one cycle late (past its SYNC0).
+    let (out, rec) = run_with_wire_fault(
+        "\n[[inject]]\nat_ms = 600\nfault = \"frame_delay\"\ndelay_us = 900\nduration_ms = 30\n",
+    );
+    assert!(
+        !out.status.success(),
+        "the program must fail: the cell stops"
+    );
+    assert_stopped_by_the_watchdog(&rec, "frame_delay", "");
+    let injected = rec
+        .events
+        .iter()
+        .find(|e| e.kind == "fault_injected")
+        .unwrap()
+        .cycle;
+    let lost: Vec<u64> = rec
+        .events
+        .iter()
+        .filter(|e| e.kind == "bus_error")
+        .map(|e| e.cycle)
+        .collect();
+    assert_eq!(
+        lost,
+        (injected..injected + 30).collect::<Vec<_>>(),
+        "one lost frame per delayed cycle"
+    );
+    // No drive missed process data long enough for its communication alarm (where the
+    // delay ends, two frames meet at one SYNC0 and a drive at speed may see two cycles'
+    // travel in one: its command-frequency alarm, not a communication one).
+    let faults = drive_faults(&rec);
+    assert!(
+        faults
+            .iter()
+            .all(|&(_, code)| code != 0x36 && code != 0x0861),
+        "{faults:?}"
+    );
+}

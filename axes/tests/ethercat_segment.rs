@@ -46,10 +46,23 @@ fn config(models: &[DriveModel], cycle: CycleTime) -> SegmentConfig {
     }
 }
 
+/// Bring-ups one at a time: ethercrab's bring-up timeouts (EEPROM, mailbox) run on the real
+/// clock, and a dozen tests bringing segments up side by side on a loaded 2-CPU machine can
+/// starve one of them past a timeout. The cyclic exchange after it runs on the virtual clock.
+static BRING_UP: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn bring_up_one(
+    config: SegmentConfig,
+    link: Box<dyn cellrt_axes::ethercat::master::Link>,
+) -> Result<EthercatBus, EthercatError> {
+    let _one = BRING_UP.lock().unwrap_or_else(|e| e.into_inner());
+    EthercatBus::bring_up(config, link)
+}
+
 fn bring_up(models: &[DriveModel]) -> EthercatBus {
     let cycle = CycleTime::from_micros(1000).unwrap();
     let link = InProcessLink::new(segment(models, cycle));
-    EthercatBus::bring_up(config(models, cycle), Box::new(link)).expect("bring-up")
+    bring_up_one(config(models, cycle), Box::new(link)).expect("bring-up")
 }
 
 fn stations(bus: &mut EthercatBus) -> &Segment {
@@ -189,7 +202,7 @@ fn a_drive_whose_identity_is_not_its_configured_model_is_refused_by_name() {
     let cycle = CycleTime::from_micros(1000).unwrap();
     // The wire has an MR-J4-TM where the config says MR-J3-T04.
     let link = InProcessLink::new(segment(&[DriveModel::MrJ5GN1, DriveModel::MrJ4TM], cycle));
-    let e = EthercatBus::bring_up(
+    let e = bring_up_one(
         config(&[DriveModel::MrJ5GN1, DriveModel::MrJ3T04], cycle),
         Box::new(link),
     )
@@ -205,7 +218,7 @@ fn a_drive_whose_identity_is_not_its_configured_model_is_refused_by_name() {
     );
 
     let link = InProcessLink::new(segment(&[DriveModel::MrJ5GN1], cycle));
-    let e = EthercatBus::bring_up(
+    let e = bring_up_one(
         config(&[DriveModel::MrJ5GN1, DriveModel::MrJ5GN1], cycle),
         Box::new(link),
     )
@@ -227,8 +240,7 @@ fn a_cycle_time_the_model_does_not_allow_is_refused_before_bring_up() {
     // MR-J3-T04 runs 0.5, 1 and 2 ms only (mr-j3-t04.md §1.2).
     let cycle = CycleTime::from_micros(250).unwrap();
     let link = InProcessLink::new(segment(&[DriveModel::MrJ3T04], cycle));
-    let e =
-        EthercatBus::bring_up(config(&[DriveModel::MrJ3T04], cycle), Box::new(link)).unwrap_err();
+    let e = bring_up_one(config(&[DriveModel::MrJ3T04], cycle), Box::new(link)).unwrap_err();
     assert!(matches!(e, EthercatError::CycleTime { .. }), "{e}");
     assert!(
         e.to_string().contains("250 µs") && e.to_string().contains("axis 'a0'"),
@@ -300,7 +312,7 @@ fn a_variable_mapping_is_written_taken_by_the_drive_and_exchanged() {
         d.mode = ModeOfOperation::CyclicSyncVelocity;
     }
     let link = InProcessLink::new(segment(&models, cycle));
-    let mut bus = EthercatBus::bring_up(cfg, Box::new(link)).expect("bring-up");
+    let mut bus = bring_up_one(cfg, Box::new(link)).expect("bring-up");
     assert_eq!(bus.rx_image_mut(0).len(), 10);
     assert_eq!(bus.tx_image(1).len(), 2 + 4 + 4 + 1);
     for (axis, p) in profiles.iter().enumerate() {
@@ -422,7 +434,7 @@ fn enabled_with(
 ) -> (EthercatBus, u8) {
     let cycle = CycleTime::from_micros(1000).unwrap();
     let link = link(segment(models, cycle));
-    let mut bus = EthercatBus::bring_up(config(models, cycle), Box::new(link)).expect("bring-up");
+    let mut bus = bring_up_one(config(models, cycle), Box::new(link)).expect("bring-up");
     let mut counter = 0;
     assert_eq!(
         enable(&mut bus, models, &mut counter),

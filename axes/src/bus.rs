@@ -48,6 +48,32 @@ pub trait Bus {
         let _ = (axis, cycles);
         false
     }
+    /// Fault injection (EtherCAT, emulated segment): the next `cycles` cyclic frames return
+    /// `delay_ns` late; at or beyond the frame timeout they are lost at the master. False
+    /// where unsupported.
+    fn inject_frame_delay(&mut self, delay_ns: u64, cycles: u32) -> bool {
+        let _ = (delay_ns, cycles);
+        false
+    }
+    /// Fault injection (EtherCAT, emulated segment): bit errors on the link in front of
+    /// `axis`' SubDevice for the next `cycles` frames (CRC errors: the SubDevices from there
+    /// on do not process them, the master loses them). False where unsupported.
+    fn inject_frame_corruption(&mut self, axis: usize, cycles: u32) -> bool {
+        let _ = (axis, cycles);
+        false
+    }
+    /// Fault injection (EtherCAT, emulated segment): the cyclic LRW datagram of the next
+    /// `cycles` frames is removed (working counter 0 at the master). False where unsupported.
+    fn inject_datagram_drop(&mut self, cycles: u32) -> bool {
+        let _ = cycles;
+        false
+    }
+    /// Fault injection (EtherCAT, emulated segment): the link in front of `axis`' SubDevice
+    /// is down for the next `cycles` frames. False where unsupported.
+    fn inject_link_loss(&mut self, axis: usize, cycles: u32) -> bool {
+        let _ = (axis, cycles);
+        false
+    }
     /// Acyclic read (an SDO upload on a real bus) of `index:sub` of `axis`; called at start-up
     /// and after a homing (607Ch), not every cycle. `Err(abort code)` as for
     /// [`Bus::sdo_download`].

@@ -63,10 +63,23 @@ fn config(models: &[DriveModel], cycle: CycleTime) -> SegmentConfig {
     }
 }
 
+/// Bring-ups one at a time: ethercrab's bring-up timeouts (EEPROM, mailbox) run on the real
+/// clock, and a dozen tests bringing segments up side by side on a loaded 2-CPU machine can
+/// starve one of them past a timeout. The cyclic exchange after it runs on the virtual clock.
+static BRING_UP: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn bring_up_one(
+    config: SegmentConfig,
+    link: Box<dyn cellrt_axes::ethercat::master::Link>,
+) -> Result<EthercatBus, EthercatError> {
+    let _one = BRING_UP.lock().unwrap_or_else(|e| e.into_inner());
+    EthercatBus::bring_up(config, link)
+}
+
 fn bring_up(models: &[DriveModel]) -> EthercatBus {
     let cycle = CycleTime::from_micros(1000).unwrap();
     let link = InProcessLink::new(segment(models, cycle));
-    EthercatBus::bring_up(config(models, cycle), Box::new(link)).expect("bring-up")
+    bring_up_one(config(models, cycle), Box::new(link)).expect("bring-up")
 }
 
 fn stations(bus: &mut EthercatBus) -> &Segment {
@@ -206,7 +219,7 @@ fn a_drive_whose_identity_is_not_its_configured_model_is_refused_by_name() {
     let cycle = CycleTime::from_micros(1000).unwrap();
     // The wire has an MR-J4-TM where the config says MR-J3-T04.
     let link = InProcessLink::new(segment(&[DriveModel::MrJ5GN1, DriveModel::MrJ4TM], cycle));
-    let e = EthercatBus::bring_up(
+    let e = bring_up_one(
         config(&[DriveModel::MrJ5GN1, DriveModel::MrJ3T04], cycle),
         Box::new(link),
     )
@@ -222,7 +235,7 @@ fn a_drive_whose_identity_is_not_its_configured_model_is_refused_by_name() {
     );
 
     let link = InProcessLink::new(segment(&[DriveModel::MrJ5GN1], cycle));
-    let e = EthercatBus::bring_up(
+    let e = bring_up_one(
         config(&[DriveModel::MrJ5GN1, DriveModel::MrJ5GN1], cycle),
         Box::new(link),
     )
@@ -244,8 +257,7 @@ fn a_cycle_time_the_model_does_not_allow_is_refused_before_bring_up() {
     // MR-J3-T04 runs 0.5, 1 and 2 ms only (mr-j3-t04.md §1.2).
     let cycle = CycleTime::from_micros(250).unwrap();
     let link = InProcessLink::new(segment(&[DriveModel::MrJ3T04], cycle));
-    let e =
-        EthercatBus::bring_up(config(&[DriveModel::MrJ3T04], cycle), Box::new(link)).unwrap_err();
+    let e = bring_up_one(config(&[DriveModel::MrJ3T04], cycle), Box::new(link)).unwrap_err();
     assert!(matches!(e, EthercatError::CycleTime { .. }), "{e}");
     assert!(
         e.to_string().contains("250 µs") && e.to_string().contains("axis 'a0'"),
@@ -317,7 +329,7 @@ fn a_variable_mapping_is_written_taken_by_the_drive_and_exchanged() {
         d.mode = ModeOfOperation::CyclicSyncVelocity;
     }
     let link = InProcessLink::new(segment(&models, cycle));
-    let mut bus = EthercatBus::bring_up(cfg, Box::new(link)).expect("bring-up");
+    let mut bus = bring_up_one(cfg, Box::new(link)).expect("bring-up");
     assert_eq!(bus.rx_image_mut(0).len(), 10);
     assert_eq!(bus.tx_image(1).len(), 2 + 4 + 4 + 1);
     for (axis, p) in profiles.iter().enumerate() {
@@ -584,4 +596,279 @@ fn generic_cia402_drives_come_up_with_the_configured_identity_and_mapping() {
         matches!(e, EthercatError::Identity { position: 0, .. }),
         "{e}"
     );
+}
+
+// Wire faults of the emulated segment (issue "Networked drives over EtherCAT": drop, delay or
+// corrupt frames or single datagrams, lose the link).
+
+use cellrt_axes::ethercat::register as reg;
+use cellrt_axes::profiles::facts::CommCheck;
+use cellrt_axes::BusError;
+
+/// The alarm `model`'s communication check raises for lost process data.
+fn loss_alarm(model: DriveModel) -> u16 {
+    match profile(model).comm_check {
+        CommCheck::IncrementalCounter { loss_alarm, .. }
+        | CommCheck::WatchdogCounter { loss_alarm, .. } => loss_alarm,
+        CommCheck::SyncErrorCounter { alarm } => alarm,
+    }
+}
+
+/// The drives' alarms.
+fn alarms(bus: &mut EthercatBus) -> Vec<Option<u16>> {
+    stations(bus)
+        .stations()
+        .iter()
+        .map(|s| s.drive().alarm())
+        .collect()
+}
+
+/// Per station: the register byte at `addr`.
+fn registers(bus: &mut EthercatBus, addr: u16) -> Vec<u8> {
+    stations(bus)
+        .stations()
+        .iter()
+        .map(|s| s.register(addr))
+        .collect()
+}
+
+/// Runs `n` exchanges holding the last outputs; returns their results.
+fn exchanges(bus: &mut EthercatBus, n: usize) -> Vec<Result<(), BusError>> {
+    (0..n).map(|_| bus.exchange(Cycles(1))).collect()
+}
+
+fn enabled(models: &[DriveModel]) -> (EthercatBus, u8) {
+    enabled_with(models, InProcessLink::new)
+}
+
+fn enabled_with(
+    models: &[DriveModel],
+    link: impl FnOnce(Segment) -> InProcessLink,
+) -> (EthercatBus, u8) {
+    let cycle = CycleTime::from_micros(1000).unwrap();
+    let link = link(segment(models, cycle));
+    let mut bus = bring_up_one(config(models, cycle), Box::new(link)).expect("bring-up");
+    let mut counter = 0;
+    assert_eq!(
+        enable(&mut bus, models, &mut counter),
+        vec![Some(FsaState::OperationEnabled); models.len()]
+    );
+    (bus, counter)
+}
+
+fn missed_sync0(bus: &mut EthercatBus) -> Vec<u64> {
+    stations(bus)
+        .stations()
+        .iter()
+        .map(|s| s.missed_sync0())
+        .collect()
+}
+
+#[test]
+fn a_frame_delay_below_the_timeout_arrives_late_and_past_sync0_is_applied_a_cycle_late() {
+    let models = [DriveModel::MrJ3T04];
+    // 300 µs: inside the cycle's margin before SYNC0, nothing visible.
+    let (mut bus, _) = enabled(&models);
+    assert!(bus.link_mut().delay_frames(300_000, 20));
+    assert!(exchanges(&mut bus, 20).iter().all(Result::is_ok));
+    assert_eq!(bus.counters().lost, 0);
+    assert_eq!(missed_sync0(&mut bus), [0]);
+
+    // 900 µs with a 1 ms timeout: the frames come back, but each reaches the drive after the
+    // SYNC0 it was meant for: the first delayed frame leaves one SYNC0 without data, the
+    // others are applied one cycle late; when the delay ends the first undelayed frame lands
+    // before the same SYNC0 as the last delayed one and waits for the next.
+    let (mut bus, mut counter) = enabled_with(&models, |s| {
+        InProcessLink::with_frame_timeout(s, std::time::Duration::from_millis(1))
+    });
+    assert!(bus.link_mut().delay_frames(900_000, 20));
+    assert!(exchanges(&mut bus, 20).iter().all(Result::is_ok));
+    assert_eq!(bus.counters().lost, 0);
+    assert_eq!(missed_sync0(&mut bus), [1]);
+    let states = run(
+        &mut bus,
+        &models,
+        50,
+        Controlword::ENABLE_OPERATION,
+        &mut counter,
+    );
+    assert_eq!(states, vec![Some(FsaState::OperationEnabled)]);
+    assert_eq!(alarms(&mut bus), [None]);
+    assert_eq!(missed_sync0(&mut bus), [1]);
+
+    // The same delay against the default 500 µs timeout: lost at the master every cycle (the
+    // drive still takes them, late).
+    let (mut bus, _) = enabled(&models);
+    assert!(bus.link_mut().delay_frames(900_000, 20));
+    let r = exchanges(&mut bus, 20);
+    assert!(r.iter().all(|r| *r == Err(BusError::FrameLost)), "{r:?}");
+    assert_eq!(bus.counters().lost, 20);
+    assert_eq!(missed_sync0(&mut bus), [1]);
+    assert!(exchanges(&mut bus, 5).iter().all(Result::is_ok));
+}
+
+#[test]
+fn a_corrupted_frame_is_not_processed_behind_the_bad_link_counts_rx_errors_and_is_lost() {
+    let (mut bus, mut counter) = enabled(&MODELS);
+    let before: Vec<u64> = stations(&mut bus)
+        .stations()
+        .iter()
+        .map(|s| s.exchanges())
+        .collect();
+    // Bit errors on the link between SubDevice 1 and SubDevice 2 for 20 frames.
+    assert!(bus.link_mut().corrupt_frames(2, 20));
+    let r = exchanges(&mut bus, 20);
+    assert!(r.iter().all(|r| *r == Err(BusError::FrameLost)), "{r:?}");
+    assert_eq!(bus.counters().lost, 20);
+    let done: Vec<u64> = stations(&mut bus)
+        .stations()
+        .iter()
+        .zip(&before)
+        .map(|(s, b)| s.exchanges() - b)
+        .collect();
+    assert_eq!(done, [20, 20, 0, 0], "stations in front still process it");
+    // Invalid frame counter port 0: only the station behind the bad link; the one after it
+    // counts the marked frame as forwarded on port 0; on the way back every station with a
+    // station behind it counts it forwarded on port 1.
+    assert_eq!(registers(&mut bus, reg::RX_ERROR_COUNTER), [0, 0, 20, 0]);
+    assert_eq!(registers(&mut bus, reg::RX_ERROR_COUNTER + 2), [0; 4]);
+    assert_eq!(
+        registers(&mut bus, reg::FORWARDED_RX_ERROR_COUNTER),
+        [0, 0, 0, 20]
+    );
+    assert_eq!(
+        registers(&mut bus, reg::FORWARDED_RX_ERROR_COUNTER + 1),
+        [20, 20, 20, 0]
+    );
+    // The drives behind it lost 20 frames: their communication alarms; the others run on.
+    run(
+        &mut bus,
+        &MODELS,
+        1,
+        Controlword::ENABLE_OPERATION,
+        &mut counter,
+    );
+    assert_eq!(
+        alarms(&mut bus),
+        [
+            None,
+            None,
+            Some(loss_alarm(MODELS[2])),
+            Some(loss_alarm(MODELS[3]))
+        ]
+    );
+    // Counters saturate at FFh.
+    assert!(bus.link_mut().corrupt_frames(0, 300));
+    let _ = exchanges(&mut bus, 300);
+    assert_eq!(registers(&mut bus, reg::RX_ERROR_COUNTER), [255, 0, 20, 0]);
+    assert_eq!(
+        registers(&mut bus, reg::FORWARDED_RX_ERROR_COUNTER),
+        [0, 255, 255, 255]
+    );
+    assert_eq!(bus.counters().lost, 320);
+}
+
+#[test]
+fn a_dropped_datagram_returns_the_frame_with_working_counter_zero() {
+    let (mut bus, mut counter) = enabled(&MODELS);
+    let before = bus.counters();
+    assert!(bus.link_mut().drop_datagrams(20));
+    let r = exchanges(&mut bus, 20);
+    assert!(
+        r.iter().all(|r| *r
+            == Err(BusError::WorkingCounter {
+                expected: 12,
+                found: 0
+            })),
+        "{r:?}"
+    );
+    assert_eq!(bus.counters().wkc_errors - before.wkc_errors, 20);
+    assert_eq!(bus.counters().lost, 0);
+    run(
+        &mut bus,
+        &MODELS,
+        1,
+        Controlword::ENABLE_OPERATION,
+        &mut counter,
+    );
+    let expected: Vec<Option<u16>> = MODELS.iter().map(|&m| Some(loss_alarm(m))).collect();
+    assert_eq!(alarms(&mut bus), expected);
+}
+
+#[test]
+fn a_lost_link_shows_in_dl_status_stops_frames_behind_it_and_comes_back() {
+    let link_bits = reg::DL_LINK_PORT0 | reg::DL_COMM_PORT0;
+    let port1_bits = reg::DL_LINK_PORT1 | reg::DL_COMM_PORT1;
+    let dl = |bus: &mut EthercatBus| -> Vec<u16> {
+        stations(bus)
+            .stations()
+            .iter()
+            .map(|s| s.register16(reg::DL_STATUS))
+            .collect()
+    };
+
+    // The master's own link (the default): every frame lost, every drive alarms.
+    let models = [DriveModel::MrJ3T04, DriveModel::MrJ4TM];
+    let (mut bus, mut counter) = enabled(&models);
+    let up = dl(&mut bus);
+    assert!(bus.link_mut().lose_link(0, 20));
+    assert_eq!(dl(&mut bus)[0] & link_bits, 0, "port 0 link down");
+    assert_eq!(dl(&mut bus)[1], up[1]);
+    let r = exchanges(&mut bus, 20);
+    assert!(r.iter().all(|r| *r == Err(BusError::FrameLost)), "{r:?}");
+    assert_eq!(dl(&mut bus), up, "the link is back after 20 frames");
+    assert_eq!(registers(&mut bus, reg::LOST_LINK_COUNTER), [1, 0]);
+    run(
+        &mut bus,
+        &models,
+        1,
+        Controlword::ENABLE_OPERATION,
+        &mut counter,
+    );
+    // MR-J3-T04 AL.36 (about 7 ms without RxPDO), MR-J4-TM AL. 86.1.
+    assert_eq!(alarms(&mut bus), [Some(0x36), Some(0x0861)]);
+
+    // Further down the line: the SubDevice in front closes its port 1 and returns the frame
+    // with its own working counter only.
+    let (mut bus, mut counter) = enabled(&MODELS);
+    let up = dl(&mut bus);
+    assert!(bus.link_mut().lose_link(2, 20));
+    let down = dl(&mut bus);
+    assert_eq!(down[1] & port1_bits, 0);
+    assert_ne!(down[1] & reg::DL_LOOP_PORT1, 0, "port 1 closed");
+    assert_eq!(down[2] & link_bits, 0);
+    assert_eq!((down[0], down[3]), (up[0], up[3]));
+    let r = exchanges(&mut bus, 20);
+    assert!(
+        r.iter().all(|r| *r
+            == Err(BusError::WorkingCounter {
+                expected: 12,
+                found: 6
+            })),
+        "{r:?}"
+    );
+    assert_eq!(dl(&mut bus), up);
+    assert_eq!(
+        registers(&mut bus, reg::LOST_LINK_COUNTER + 1),
+        [0, 1, 0, 0]
+    );
+    assert_eq!(registers(&mut bus, reg::LOST_LINK_COUNTER), [0, 0, 1, 0]);
+    run(
+        &mut bus,
+        &MODELS,
+        1,
+        Controlword::ENABLE_OPERATION,
+        &mut counter,
+    );
+    assert_eq!(
+        alarms(&mut bus),
+        [
+            None,
+            None,
+            Some(loss_alarm(MODELS[2])),
+            Some(loss_alarm(MODELS[3]))
+        ]
+    );
+    assert!(!bus.link_mut().lose_link(4, 1), "no SubDevice 4");
+    assert!(!bus.link_mut().corrupt_frames(4, 1));
 }

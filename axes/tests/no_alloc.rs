@@ -144,7 +144,19 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
         .collect();
     bus.exchange(Cycles(1)).unwrap();
     let before = allocations();
+    let mut errors = 0;
     for k in 0..2_000u32 {
+        // The emulated segment's wire faults, 5 frames each.
+        let link = bus.link_mut();
+        match k {
+            200 => assert!(link.delay_frames(900_000, 5)),
+            400 => assert!(link.corrupt_frames(1, 5)),
+            600 => assert!(link.drop_datagrams(5)),
+            800 => assert!(link.lose_link(1, 5)),
+            1000 => assert!(link.lose_link(0, 5)),
+            1200 => assert!(link.stall_subdevice(0, 5)),
+            _ => {}
+        }
         for (axis, l) in layouts.iter().enumerate() {
             let rx = RxPdo {
                 counter: k as u8,
@@ -152,7 +164,9 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
             };
             l.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
         }
-        bus.exchange(Cycles(1)).unwrap();
+        if bus.exchange(Cycles(1)).is_err() {
+            errors += 1;
+        }
         // The RT loop takes the DC alignment every cycle.
         let _ = bus.deadline_correction_ns();
     }
@@ -162,4 +176,5 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
         0,
         "master frame, DC alignment, emulated segment and drives"
     );
+    assert_eq!(errors, 30, "every faulty frame an error");
 }

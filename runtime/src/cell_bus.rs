@@ -64,7 +64,10 @@ impl CellBus {
             return Ok(CellBus::Sim(SimBus::new(sim_drives(cell))));
         };
         let link: Box<dyn Link> = match &ec.interface {
-            EthercatInterface::InProcess => Box::new(InProcessLink::new(emulated_segment(cell))),
+            EthercatInterface::InProcess => Box::new(InProcessLink::with_frame_timeout(
+                emulated_segment(cell),
+                ec.frame_timeout,
+            )),
             EthercatInterface::Nic(name) => Box::new(
                 RawSocketLink::open(name, ec.frame_timeout).map_err(|source| {
                     BusOpenError::Interface {
@@ -117,6 +120,18 @@ impl Bus for CellBus {
     }
     fn inject_subdevice_stall(&mut self, axis: usize, cycles: u32) -> bool {
         each!(self, b => b.inject_subdevice_stall(axis, cycles))
+    }
+    fn inject_frame_delay(&mut self, delay_ns: u64, cycles: u32) -> bool {
+        each!(self, b => b.inject_frame_delay(delay_ns, cycles))
+    }
+    fn inject_frame_corruption(&mut self, axis: usize, cycles: u32) -> bool {
+        each!(self, b => b.inject_frame_corruption(axis, cycles))
+    }
+    fn inject_datagram_drop(&mut self, cycles: u32) -> bool {
+        each!(self, b => b.inject_datagram_drop(cycles))
+    }
+    fn inject_link_loss(&mut self, axis: usize, cycles: u32) -> bool {
+        each!(self, b => b.inject_link_loss(axis, cycles))
     }
     fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
         each!(self, b => b.sdo_upload(axis, index, sub))

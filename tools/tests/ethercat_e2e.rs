@@ -365,3 +365,177 @@ fn a_stalled_subdevice_stops_the_cell_and_faults_its_drive() {
         );
     }
 }
+
+/// The example cell on the in-process segment, moving x and y, with `inject` appended; runs it
+/// (again where an overrun of the loaded machine disturbed the run, up to four times) and
+/// returns the output and the recording.
+fn run_with_wire_fault(inject: &str) -> (std::process::Output, Recording) {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = ethercat_cell(dir.path(), "in-process");
+    let text = std::fs::read_to_string(&cfg).unwrap().replace(
+        "program = \"demo-program.toml\"",
+        "program = \"fault-program.toml\"",
+    ) + inject;
+    std::fs::write(&cfg, text).unwrap();
+    std::fs::write(
+        dir.path().join("fault-program.toml"),
+        "[[step]]\ndo = \"power_on\"\n[[step]]\ndo = \"move\"\ntarget = { x = 400.0, y = 300.0 }\n",
+    )
+    .unwrap();
+    let rec_path = dir.path().join("fault.mcap");
+    let mut attempt = 0;
+    loop {
+        attempt += 1;
+        let out = run(&cfg, &rec_path);
+        let rec = read_recording(&rec_path);
+        if longest_stall_ns(&rec) == 0 || attempt == 4 {
+            return (out, rec);
+        }
+        eprintln!("attempt {attempt}: an overrun disturbed the run; running again");
+    }
+}
+
+/// The cell was stopped by the master's communication watchdog within a few cycles of the
+/// injection (a `bus_error` in the very cycle), and the `fault_injected` event names `fault`
+/// on `axis`.
+fn assert_stopped_by_the_watchdog(rec: &Recording, fault: &str, axis: &str) {
+    let injected = rec
+        .events
+        .iter()
+        .find(|e| e.kind == "fault_injected")
+        .expect("fault_injected event");
+    assert_eq!(
+        (injected.detail.as_str(), injected.axis.as_str()),
+        (fault, axis)
+    );
+    let at = |kind: &str| rec.events.iter().find(|e| e.kind == kind).map(|e| e.cycle);
+    assert_eq!(at("bus_error"), Some(injected.cycle));
+    let stop = at("stop_started").expect("controlled stop");
+    assert!(
+        stop > injected.cycle && stop <= injected.cycle + 5,
+        "stop at {stop}, {fault} at {}",
+        injected.cycle
+    );
+}
+
+/// `drive_fault` events as (axis, 603Fh code).
+fn drive_faults(rec: &Recording) -> Vec<(&str, i64)> {
+    rec.events
+        .iter()
+        .filter(|e| e.kind == "drive_fault")
+        .map(|e| (e.axis.as_str(), e.value))
+        .collect()
+}
+
+#[test]
+fn a_lost_link_stops_the_cell_and_every_drive_behind_it_raises_its_communication_alarm() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    // The master's own link (the default) down for 30 ms during the move.
+    let (out, rec) =
+        run_with_wire_fault("\n[[inject]]\nat_ms = 600\nfault = \"link_loss\"\nduration_ms = 30\n");
+    assert!(
+        !out.status.success(),
+        "the program must fail: the cell stops"
+    );
+    assert_stopped_by_the_watchdog(&rec, "link_loss", "x");
+    // No frame reached any drive for 30 ms: each one's lost-process-data alarm once the link
+    // is back (MR-J3-T04 AL.36 after about 7 ms; MR-J4-TM AL. 86.1; MR-JET and MR-J5 AL.086.1
+    // by the sync-error counter).
+    let mut faults = drive_faults(&rec);
+    faults.sort();
+    assert_eq!(
+        faults,
+        [("c", 0x0861), ("x", 0x36), ("y", 0x0861), ("z", 0x0861)],
+        "{faults:?}"
+    );
+}
+
+#[test]
+fn a_corrupted_link_stops_the_cell_and_faults_only_the_drives_behind_it() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    // Bit errors on the link between y and z for 30 ms: x and y still take every frame, z and
+    // c count CRC errors and get nothing; the master's NIC discards every frame.
+    let (out, rec) = run_with_wire_fault(
+        "\n[[inject]]\nat_ms = 600\nfault = \"frame_corruption\"\naxis = \"z\"\nduration_ms = 30\n",
+    );
+    assert!(
+        !out.status.success(),
+        "the program must fail: the cell stops"
+    );
+    assert_stopped_by_the_watchdog(&rec, "frame_corruption", "z");
+    let mut faults = drive_faults(&rec);
+    faults.sort();
+    assert_eq!(faults, [("c", 0x0861), ("z", 0x0861)], "{faults:?}");
+    // x and y were stopped by the master, not faulted, and came to rest.
+    for axis in ["x", "y"] {
+        let a = &rec.axes[axis];
+        assert!(
+            a.last().unwrap().actual_velocity.abs() < 1e-3,
+            "{axis} still moving"
+        );
+    }
+}
+
+#[test]
+fn a_dropped_datagram_stops_the_cell_and_every_drive_raises_its_communication_alarm() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    // The cyclic LRW removed from the frame for 30 ms: working counter 0 at the master, no
+    // process data at any drive.
+    let (out, rec) = run_with_wire_fault(
+        "\n[[inject]]\nat_ms = 600\nfault = \"datagram_drop\"\nduration_ms = 30\n",
+    );
+    assert!(
+        !out.status.success(),
+        "the program must fail: the cell stops"
+    );
+    assert_stopped_by_the_watchdog(&rec, "datagram_drop", "");
+    let mut faults = drive_faults(&rec);
+    faults.sort();
+    assert_eq!(
+        faults,
+        [("c", 0x0861), ("x", 0x36), ("y", 0x0861), ("z", 0x0861)],
+        "{faults:?}"
+    );
+}
+
+#[test]
+fn frames_delayed_past_the_timeout_stop_the_cell_but_reach_the_drives_late() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    // 900 µs late for 30 ms against the 500 µs frame timeout: lost at the master every cycle,
+    // but the drives take each frame, one cycle late (past its SYNC0).
+    let (out, rec) = run_with_wire_fault(
+        "\n[[inject]]\nat_ms = 600\nfault = \"frame_delay\"\ndelay_us = 900\nduration_ms = 30\n",
+    );
+    assert!(
+        !out.status.success(),
+        "the program must fail: the cell stops"
+    );
+    assert_stopped_by_the_watchdog(&rec, "frame_delay", "");
+    let injected = rec
+        .events
+        .iter()
+        .find(|e| e.kind == "fault_injected")
+        .unwrap()
+        .cycle;
+    let lost: Vec<u64> = rec
+        .events
+        .iter()
+        .filter(|e| e.kind == "bus_error")
+        .map(|e| e.cycle)
+        .collect();
+    assert_eq!(
+        lost,
+        (injected..injected + 30).collect::<Vec<_>>(),
+        "one lost frame per delayed cycle"
+    );
+    // No drive missed process data long enough for its communication alarm (where the
+    // delay ends, two frames meet at one SYNC0 and a drive at speed may see two cycles'
+    // travel in one: its command-frequency alarm, not a communication one).
+    let faults = drive_faults(&rec);
+    assert!(
+        faults
+            .iter()
+            .all(|&(_, code)| code != 0x36 && code != 0x0861),
+        "{faults:?}"
+    );
+}

@@ -19,6 +19,25 @@ pub const STATION_ADDRESS: u16 = 0x0010;
 pub const STATION_ALIAS: u16 = 0x0012;
 /// 0110h DL status.
 pub const DL_STATUS: u16 = 0x0110;
+/// DL status bits (0110h): physical link on port 0 / port 1.
+pub const DL_LINK_PORT0: u16 = 0x0010;
+/// DL status: physical link on port 1.
+pub const DL_LINK_PORT1: u16 = 0x0020;
+/// DL status: loop port 1 closed.
+pub const DL_LOOP_PORT1: u16 = 0x0400;
+/// DL status: communication established on port 0.
+pub const DL_COMM_PORT0: u16 = 0x0200;
+/// DL status: communication established on port 1.
+pub const DL_COMM_PORT1: u16 = 0x0800;
+/// RX error counters (0300h–0307h): per port p, 0300h + 2p the invalid frame counter (frames
+/// with a CRC error, counted by the first ESC that detects it), 0301h + 2p the RX error
+/// counter (physical layer errors). Saturate at FFh; a write to 0300h–0313h clears them all.
+pub const RX_ERROR_COUNTER: u16 = 0x0300;
+/// Forwarded RX error counters (0308h–030Bh): per port, frames already marked as erroneous by
+/// a previous ESC.
+pub const FORWARDED_RX_ERROR_COUNTER: u16 = 0x0308;
+/// Lost link counters (0310h–0313h): per port, link losses.
+pub const LOST_LINK_COUNTER: u16 = 0x0310;
 /// 0120h AL control.
 pub const AL_CONTROL: u16 = 0x0120;
 /// 0130h AL status.

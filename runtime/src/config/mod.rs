@@ -206,6 +206,65 @@ pub enum InjectedFault {
         /// Cycles.
         cycles: u32,
     },
+    /// EtherCAT, in-process segment: every cyclic frame returns `delay_ns` late for this many
+    /// cycles (at or beyond `frame_timeout` lost at the master).
+    FrameDelay {
+        /// The delay, ns.
+        delay_ns: u64,
+        /// Cycles.
+        cycles: u32,
+    },
+    /// EtherCAT, in-process segment: bit errors on the link in front of an axis' SubDevice
+    /// (CRC errors) for this many cycles.
+    FrameCorruption {
+        /// Axis index (the link in front of its SubDevice; 0: the master's link).
+        axis: usize,
+        /// Cycles.
+        cycles: u32,
+    },
+    /// EtherCAT, in-process segment: the cyclic LRW datagram is removed for this many cycles.
+    DatagramDrop {
+        /// Cycles.
+        cycles: u32,
+    },
+    /// EtherCAT, in-process segment: the link in front of an axis' SubDevice is down for this
+    /// many cycles.
+    LinkLoss {
+        /// Axis index (the link in front of its SubDevice; 0: the master's link).
+        axis: usize,
+        /// Cycles.
+        cycles: u32,
+    },
+}
+
+impl InjectedFault {
+    /// True for the faults only the in-process emulated EtherCAT segment can inject.
+    pub fn needs_emulated_segment(&self) -> bool {
+        matches!(
+            self,
+            InjectedFault::SubdeviceStall { .. }
+                | InjectedFault::FrameDelay { .. }
+                | InjectedFault::FrameCorruption { .. }
+                | InjectedFault::DatagramDrop { .. }
+                | InjectedFault::LinkLoss { .. }
+        )
+    }
+
+    /// The fault's name in the configuration (`[[inject]] fault`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            InjectedFault::Stall { .. } => "stall",
+            InjectedFault::DriveAlarm { .. } => "drive_alarm",
+            InjectedFault::PlannerStall { .. } => "planner_stall",
+            InjectedFault::RxLoss { .. } => "rx_loss",
+            InjectedFault::CounterCorruption { .. } => "counter_corruption",
+            InjectedFault::SubdeviceStall { .. } => "subdevice_stall",
+            InjectedFault::FrameDelay { .. } => "frame_delay",
+            InjectedFault::FrameCorruption { .. } => "frame_corruption",
+            InjectedFault::DatagramDrop { .. } => "datagram_drop",
+            InjectedFault::LinkLoss { .. } => "link_loss",
+        }
+    }
 }
 
 /// Where an axis' drive is reached.
@@ -253,6 +312,18 @@ impl CellConfig {
             EthercatInterface::parse(interface).map_err(|e| format!("--interface: {e}"))?;
         match &mut self.ethercat {
             Some(ec) => {
+                if let (EthercatInterface::Nic(name), Some(inj)) = (
+                    &parsed,
+                    self.inject
+                        .iter()
+                        .find(|i| i.fault.needs_emulated_segment()),
+                ) {
+                    return Err(format!(
+                        "--interface: cell '{}' injects fault '{}', which only the emulated segment (interface \"{IN_PROCESS_INTERFACE}\") can inject, not the network interface '{name}'",
+                        self.name,
+                        inj.fault.name()
+                    ));
+                }
                 ec.interface = parsed;
                 Ok(())
             }

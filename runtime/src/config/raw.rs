@@ -215,8 +215,10 @@ pub struct RawInjection {
     pub axis: Option<String>,
     /// Alarm code, 603Fh (drive_alarm).
     pub code: Option<u32>,
-    /// Duration in ms (stall, planner_stall).
+    /// Duration in ms (stall, planner_stall, rx_loss, … link_loss).
     pub duration_ms: Option<f64>,
+    /// Frame delay in µs (frame_delay).
+    pub delay_us: Option<f64>,
 }
 
 /// `[[axes]]`.

@@ -427,3 +427,142 @@ fn a_generic_cia402_axis_takes_a_custom_mapping_checked_against_cia402() {
     assert_eq!(e.key, "axes[1].pdo.rx", "{e}");
     assert!(e.message.contains("6071h"), "{e}");
 }
+
+/// The EtherCAT cell on the in-process segment with `inject` appended.
+fn ethercat_in_process_with(inject: &str) -> String {
+    ethercat_text().replace("interface = \"ecat0\"", "interface = \"in-process\"") + inject
+}
+
+#[test]
+fn the_wire_faults_parse_on_the_emulated_segment() {
+    let c = parse(&ethercat_in_process_with(
+        "\n[[inject]]\nat_ms = 100\nfault = \"frame_delay\"\ndelay_us = 250\nduration_ms = 20\n\
+         [[inject]]\nat_ms = 200\nfault = \"frame_corruption\"\nduration_ms = 5\naxis = \"z\"\n\
+         [[inject]]\nat_ms = 300\nfault = \"frame_corruption\"\nduration_ms = 5\n\
+         [[inject]]\nat_ms = 400\nfault = \"datagram_drop\"\nduration_ms = 3\n\
+         [[inject]]\nat_ms = 500\nfault = \"link_loss\"\nduration_ms = 30\naxis = \"y\"\n\
+         [[inject]]\nat_ms = 600\nfault = \"link_loss\"\nduration_ms = 30\n",
+    ))
+    .expect("parses");
+    let faults: Vec<InjectedFault> = c.inject.iter().map(|i| i.fault).collect();
+    assert_eq!(
+        faults,
+        [
+            InjectedFault::FrameDelay {
+                delay_ns: 250_000,
+                cycles: 20
+            },
+            InjectedFault::FrameCorruption { axis: 2, cycles: 5 },
+            InjectedFault::FrameCorruption { axis: 0, cycles: 5 },
+            InjectedFault::DatagramDrop { cycles: 3 },
+            InjectedFault::LinkLoss {
+                axis: 1,
+                cycles: 30
+            },
+            InjectedFault::LinkLoss {
+                axis: 0,
+                cycles: 30
+            },
+        ]
+    );
+    let names: Vec<&str> = faults.iter().map(InjectedFault::name).collect();
+    assert_eq!(
+        names,
+        [
+            "frame_delay",
+            "frame_corruption",
+            "frame_corruption",
+            "datagram_drop",
+            "link_loss",
+            "link_loss"
+        ]
+    );
+}
+
+#[test]
+fn wire_fault_bad_input_names_the_key() {
+    let cases: [(&str, &str, &str); 8] = [
+        (
+            "fault = \"frame_delay\"\nduration_ms = 20",
+            "inject[0].delay_us",
+            "needs delay_us",
+        ),
+        (
+            "fault = \"frame_delay\"\ndelay_us = 0\nduration_ms = 20",
+            "inject[0].delay_us",
+            "must be > 0",
+        ),
+        (
+            "fault = \"frame_delay\"\ndelay_us = 100",
+            "inject[0].duration_ms",
+            "needs duration_ms",
+        ),
+        (
+            "fault = \"link_loss\"\nduration_ms = 5\ndelay_us = 3",
+            "inject[0].delay_us",
+            "only fault 'frame_delay'",
+        ),
+        (
+            "fault = \"link_loss\"\nduration_ms = 5\naxis = \"w\"",
+            "inject[0].axis",
+            "no axis named 'w'",
+        ),
+        (
+            "fault = \"frame_corruption\"\nduration_ms = -1",
+            "inject[0].duration_ms",
+            "must be > 0",
+        ),
+        (
+            "fault = \"datagram_drop\"",
+            "inject[0].duration_ms",
+            "needs duration_ms",
+        ),
+        (
+            "fault = \"frame_drop\"\nduration_ms = 5",
+            "inject[0].fault",
+            "link_loss",
+        ),
+    ];
+    for (body, key, says) in cases {
+        let text = ethercat_in_process_with(&format!("\n[[inject]]\nat_ms = 10\n{body}\n"));
+        let e = parse(&text).unwrap_err();
+        assert_eq!(e.key, key, "{body}: {e}");
+        assert!(e.message.contains(says), "{body}: {e}");
+    }
+}
+
+#[test]
+fn wire_faults_are_refused_on_a_network_interface_and_without_ethercat() {
+    for fault in [
+        "fault = \"frame_delay\"\ndelay_us = 100",
+        "fault = \"frame_corruption\"",
+        "fault = \"datagram_drop\"",
+        "fault = \"link_loss\"",
+        "fault = \"subdevice_stall\"\naxis = \"x\"",
+    ] {
+        let inject = format!("\n[[inject]]\nat_ms = 10\nduration_ms = 5\n{fault}\n");
+        // On the NIC of configs/ethercat-cell.toml.
+        let e = parse(&(ethercat_text() + &inject)).unwrap_err();
+        assert_eq!(e.key, "inject[0].fault", "{fault}: {e}");
+        assert!(
+            e.message.contains("in-process") && e.message.contains("ecat0"),
+            "{fault}: {e}"
+        );
+        // On sim drives.
+        let e = parse(&(demo_text() + &inject)).unwrap_err();
+        assert_eq!(e.key, "inject[0].fault", "{fault}: {e}");
+        assert!(e.message.contains("no EtherCAT axes"), "{fault}: {e}");
+        // In-process, then moved to a NIC by --interface.
+        let mut c = parse(&ethercat_in_process_with(&inject)).expect(fault);
+        let e = c.set_ethercat_interface("eth1").unwrap_err();
+        assert!(
+            e.contains("--interface") && e.contains("eth1") && e.contains("in-process"),
+            "{e}"
+        );
+        assert_eq!(
+            c.ethercat.as_ref().unwrap().interface,
+            EthercatInterface::InProcess
+        );
+        c.set_ethercat_interface("in-process").unwrap();
+    }
+}

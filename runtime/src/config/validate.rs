@@ -257,8 +257,8 @@ pub(super) fn validate(
         axes.push(validate_axis(file, &key, cycle_time, a)?);
     }
 
-    let inject = validate_injections(file, cycle_time, &raw.inject, &axes)?;
     let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
+    let inject = validate_injections(file, cycle_time, &raw.inject, &axes, ethercat.as_ref())?;
 
     Ok(CellConfig {
         source: file.to_path_buf(),
@@ -334,6 +334,7 @@ fn validate_injections(
     cycle_time: CycleTime,
     raw: &[super::raw::RawInjection],
     axes: &[AxisConfig],
+    ethercat: Option<&EthercatConfig>,
 ) -> Result<Vec<Injection>, ConfigError> {
     let mut out = Vec::with_capacity(raw.len());
     for (i, r) in raw.iter().enumerate() {
@@ -361,7 +362,59 @@ fn validate_injections(
                 )),
             }
         };
+        let axis_named = |name: &str| {
+            axes.iter().position(|a| a.name == name).ok_or_else(|| {
+                ConfigError::new(file, key("axis"), format!("no axis named '{name}'"))
+            })
+        };
+        let cycles_of = |ns: u64| (ns / cycle_time.as_nanos()).max(1) as u32;
+        if r.delay_us.is_some() && r.fault != "frame_delay" {
+            return Err(ConfigError::new(
+                file,
+                key("delay_us"),
+                format!(
+                    "only fault 'frame_delay' takes delay_us (fault is '{}')",
+                    r.fault
+                ),
+            ));
+        }
         let fault = match r.fault.as_str() {
+            "frame_delay" => {
+                let delay_ns = match r.delay_us {
+                    Some(d) if d.is_finite() && d > 0.0 && d <= 1_000_000.0 => (d * 1e3) as u64,
+                    Some(d) => {
+                        return Err(ConfigError::new(
+                            file,
+                            key("delay_us"),
+                            format!("must be > 0 and at most 1000000 µs (got {d})"),
+                        ))
+                    }
+                    None => {
+                        return Err(ConfigError::new(
+                            file,
+                            key("delay_us"),
+                            "fault 'frame_delay' needs delay_us",
+                        ))
+                    }
+                };
+                let cycles = cycles_of(duration(60_000.0)?);
+                InjectedFault::FrameDelay { delay_ns, cycles }
+            }
+            "datagram_drop" => InjectedFault::DatagramDrop {
+                cycles: cycles_of(duration(60_000.0)?),
+            },
+            "frame_corruption" | "link_loss" => {
+                let axis = match r.axis.as_deref() {
+                    Some(name) => axis_named(name)?,
+                    None => 0,
+                };
+                let cycles = cycles_of(duration(60_000.0)?);
+                if r.fault == "link_loss" {
+                    InjectedFault::LinkLoss { axis, cycles }
+                } else {
+                    InjectedFault::FrameCorruption { axis, cycles }
+                }
+            }
             "stall" => InjectedFault::Stall {
                 ns: duration(1000.0)?,
             },
@@ -413,10 +466,35 @@ fn validate_injections(
                 return Err(ConfigError::new(
                     file,
                     key("fault"),
-                    format!("unknown fault '{other}' (allowed: stall, drive_alarm, planner_stall, rx_loss, counter_corruption, subdevice_stall)"),
+                    format!("unknown fault '{other}' (allowed: stall, drive_alarm, planner_stall, rx_loss, counter_corruption, subdevice_stall, frame_delay, frame_corruption, datagram_drop, link_loss)"),
                 ))
             }
         };
+        if fault.needs_emulated_segment() {
+            match ethercat.map(|e| &e.interface) {
+                Some(EthercatInterface::InProcess) => {}
+                Some(EthercatInterface::Nic(name)) => {
+                    return Err(ConfigError::new(
+                        file,
+                        key("fault"),
+                        format!(
+                            "fault '{}' is injected by the emulated EtherCAT segment only: set [ethercat] interface = \"{IN_PROCESS_INTERFACE}\" (the cell runs on the network interface '{name}')",
+                            r.fault
+                        ),
+                    ))
+                }
+                None => {
+                    return Err(ConfigError::new(
+                        file,
+                        key("fault"),
+                        format!(
+                            "fault '{}' is an EtherCAT fault of the emulated segment; the cell has no EtherCAT axes",
+                            r.fault
+                        ),
+                    ))
+                }
+            }
+        }
         out.push(Injection { cycle, fault });
     }
     out.sort_by_key(|i| i.cycle);

@@ -276,19 +276,29 @@ impl<B: Bus> Executive<B> {
                         std::hint::spin_loop();
                     }
                 }
-                InjectedFault::DriveAlarm { axis, .. }
-                | InjectedFault::RxLoss { axis, .. }
-                | InjectedFault::CounterCorruption { axis, .. }
-                | InjectedFault::SubdeviceStall { axis, .. } => {
-                    let code = match inj.fault {
-                        InjectedFault::DriveAlarm { .. } => 2,
-                        InjectedFault::RxLoss { .. } => 4,
-                        InjectedFault::SubdeviceStall { .. } => 6,
-                        _ => 5,
+                InjectedFault::DriveAlarm { .. }
+                | InjectedFault::RxLoss { .. }
+                | InjectedFault::CounterCorruption { .. }
+                | InjectedFault::SubdeviceStall { .. }
+                | InjectedFault::FrameDelay { .. }
+                | InjectedFault::FrameCorruption { .. }
+                | InjectedFault::DatagramDrop { .. }
+                | InjectedFault::LinkLoss { .. } => {
+                    // Event value: the fault's index in the recorder's fault names.
+                    let (axis, code) = match inj.fault {
+                        InjectedFault::DriveAlarm { axis, .. } => (axis as u16, 2),
+                        InjectedFault::RxLoss { axis, .. } => (axis as u16, 4),
+                        InjectedFault::CounterCorruption { axis, .. } => (axis as u16, 5),
+                        InjectedFault::SubdeviceStall { axis, .. } => (axis as u16, 6),
+                        InjectedFault::FrameDelay { .. } => (NO_AXIS, 7),
+                        InjectedFault::FrameCorruption { axis, .. } => (axis as u16, 8),
+                        InjectedFault::DatagramDrop { .. } => (NO_AXIS, 9),
+                        InjectedFault::LinkLoss { axis, .. } => (axis as u16, 10),
+                        _ => (NO_AXIS, 0),
                     };
-                    self.event(EventKind::FaultInjected, axis as u16, code);
+                    self.event(EventKind::FaultInjected, axis, code);
                     if !inject_into_bus(&mut self.bus, inj.fault) {
-                        self.event(EventKind::BusError, axis as u16, -2);
+                        self.event(EventKind::BusError, axis, -2);
                     }
                 }
                 InjectedFault::PlannerStall { .. } => {}
@@ -507,6 +517,12 @@ pub fn inject_into_bus<B: Bus>(bus: &mut B, fault: InjectedFault) -> bool {
             bus.inject_counter_corruption(axis, cycles)
         }
         InjectedFault::SubdeviceStall { axis, cycles } => bus.inject_subdevice_stall(axis, cycles),
+        InjectedFault::FrameDelay { delay_ns, cycles } => bus.inject_frame_delay(delay_ns, cycles),
+        InjectedFault::FrameCorruption { axis, cycles } => {
+            bus.inject_frame_corruption(axis, cycles)
+        }
+        InjectedFault::DatagramDrop { cycles } => bus.inject_datagram_drop(cycles),
+        InjectedFault::LinkLoss { axis, cycles } => bus.inject_link_loss(axis, cycles),
         InjectedFault::Stall { .. } | InjectedFault::PlannerStall { .. } => false,
     }
 }

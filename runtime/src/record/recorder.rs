@@ -684,6 +684,10 @@ pub fn describe_event(e: &EventRecord) -> String {
             "rx_loss",
             "counter_corruption",
             "subdevice_stall",
+            "frame_delay",
+            "frame_corruption",
+            "datagram_drop",
+            "link_loss",
         ]
         .get(e.value as usize)
         .copied()

@@ -147,6 +147,10 @@ pub fn replay(
                     | InjectedFault::RxLoss { .. }
                     | InjectedFault::CounterCorruption { .. }
                     | InjectedFault::SubdeviceStall { .. }
+                    | InjectedFault::FrameDelay { .. }
+                    | InjectedFault::FrameCorruption { .. }
+                    | InjectedFault::DatagramDrop { .. }
+                    | InjectedFault::LinkLoss { .. }
             )
         })
         .copied()

@@ -9,7 +9,7 @@ pub mod sii;
 pub mod station;
 pub mod wire;
 
-pub use segment::Segment;
+pub use segment::{Delivery, Segment};
 pub use station::Station;
 
 /// True if `profile` runs its PDOs at a cycle of `ns` nanoseconds (1C32h:02, SYNC0 cycle).

@@ -66,6 +66,8 @@ pub struct Station {
     lock_frames: u32,
     /// Exchanges the drive has run (diagnostics).
     exchanges: u64,
+    /// SYNC0 edges that brought the drive no RxPDO (diagnostics).
+    missed_sync0: u64,
 }
 
 impl Station {
@@ -97,6 +99,7 @@ impl Station {
             last_edge: None,
             lock_frames: 0,
             exchanges: 0,
+            missed_sync0: 0,
         };
         s.mem[usize::from(reg::TYPE)] = ESC_TYPE;
         s.mem[usize::from(reg::FMMU_COUNT)] = 8;
@@ -150,6 +153,64 @@ impl Station {
     /// Process-data exchanges the drive has run.
     pub fn exchanges(&self) -> u64 {
         self.exchanges
+    }
+
+    /// SYNC0 edges at which the drive had no new RxPDO (counted as lost by its communication
+    /// checks).
+    pub fn missed_sync0(&self) -> u64 {
+        self.missed_sync0
+    }
+
+    /// The byte at register `addr` of the ESC address space (0 outside it).
+    pub fn register(&self, addr: u16) -> u8 {
+        self.mem.get(usize::from(addr)).copied().unwrap_or(0)
+    }
+
+    /// The little-endian word at register `addr` (e.g. [`reg::DL_STATUS`]).
+    pub fn register16(&self, addr: u16) -> u16 {
+        u16::from_le_bytes([self.register(addr), self.register(addr.wrapping_add(1))])
+    }
+
+    /// A frame with a CRC error reached `port` (0 or 1): the first ESC to see the error counts
+    /// it in its invalid frame counter (0300h + 2·port) and marks the frame; the following
+    /// ones count the marked frame in their forwarded RX error counter (0308h + port). The
+    /// frame is not processed. Counters saturate at FFh.
+    pub fn rx_error(&mut self, port: u8, first: bool) {
+        let at = if first {
+            reg::RX_ERROR_COUNTER + 2 * u16::from(port)
+        } else {
+            reg::FORWARDED_RX_ERROR_COUNTER + u16::from(port)
+        };
+        let b = &mut self.mem[usize::from(at)];
+        *b = b.saturating_add(1);
+    }
+
+    /// The physical link on `port` (0 or 1) goes down or comes back: DL status link and
+    /// communication bits; port 1 closes (loops back) while its link is down, as in the ESC's
+    /// auto loop mode. A link going down counts in the lost link counter (0310h + port).
+    pub fn set_link(&mut self, port: u8, up: bool) {
+        let (link, comm) = if port == 0 {
+            (reg::DL_LINK_PORT0, reg::DL_COMM_PORT0)
+        } else {
+            (reg::DL_LINK_PORT1, reg::DL_COMM_PORT1)
+        };
+        let mut dl = self.get16(reg::DL_STATUS);
+        if up {
+            dl |= link | comm;
+            if port == 1 {
+                dl &= !reg::DL_LOOP_PORT1;
+            }
+        } else {
+            if dl & link != 0 {
+                let b = &mut self.mem[usize::from(reg::LOST_LINK_COUNTER + u16::from(port))];
+                *b = b.saturating_add(1);
+            }
+            dl &= !(link | comm);
+            if port == 1 {
+                dl |= reg::DL_LOOP_PORT1;
+            }
+        }
+        self.put16(reg::DL_STATUS, dl);
     }
 
     fn get16(&self, at: u16) -> u16 {
@@ -264,6 +325,11 @@ impl Station {
         }
         let end = start + data.len();
         let touches = |r: u16, n: usize| start < usize::from(r) + n && end > usize::from(r);
+        if touches(reg::RX_ERROR_COUNTER, 0x14) {
+            // Writing any error counter clears them all (0300h–0313h).
+            let a = usize::from(reg::RX_ERROR_COUNTER);
+            self.mem[a..a + 0x14].fill(0);
+        }
         if touches(reg::AL_CONTROL, 1) {
             self.al_control(self.mem[usize::from(reg::AL_CONTROL)], now_ns);
         }
@@ -568,6 +634,7 @@ impl Station {
         // RxPDOs for the drive's communication checks.
         for _ in 1..elapsed.min(MAX_LOST_REPLAY) {
             let _ = self.drive.cycle_missed_sync0(tx);
+            self.missed_sync0 += 1;
         }
         let _ = self.drive.cycle(rx, tx, Cycles(1));
         self.exchanges += 1;

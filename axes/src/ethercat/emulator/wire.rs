@@ -5,7 +5,7 @@ use std::io;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use super::Segment;
+use super::{Delivery, Segment};
 use crate::ethercat::frame::REPLY_SOURCE_MAC_BIT;
 use crate::ethercat::raw_socket::RawSocket;
 
@@ -30,6 +30,8 @@ pub struct WireStats {
     pub frames: u64,
     /// Frames that were not EtherCAT datagram frames and were dropped.
     pub malformed: u64,
+    /// Frames the segment did not return (an injected wire fault).
+    pub lost: u64,
 }
 
 /// Serves `segment` on `socket` until `stop` is set.
@@ -49,10 +51,11 @@ pub fn serve(
             continue;
         }
         match segment.process(&mut buf[..n], monotonic_ns()) {
-            Ok(()) => {
+            Ok(Delivery::Returned) => {
                 socket.send(&buf[..n])?;
                 stats.frames += 1;
             }
+            Ok(Delivery::Lost) => stats.lost += 1,
             Err(_) => stats.malformed += 1,
         }
     }

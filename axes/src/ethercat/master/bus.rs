@@ -813,6 +813,22 @@ impl Bus for EthercatBus {
         axis < self.axes.len() && self.link.stall_subdevice(axis, cycles)
     }
 
+    fn inject_frame_delay(&mut self, delay_ns: u64, cycles: u32) -> bool {
+        self.link.delay_frames(delay_ns, cycles)
+    }
+
+    fn inject_frame_corruption(&mut self, axis: usize, cycles: u32) -> bool {
+        axis < self.axes.len() && self.link.corrupt_frames(axis, cycles)
+    }
+
+    fn inject_datagram_drop(&mut self, cycles: u32) -> bool {
+        self.link.drop_datagrams(cycles)
+    }
+
+    fn inject_link_loss(&mut self, axis: usize, cycles: u32) -> bool {
+        axis < self.axes.len() && self.link.lose_link(axis, cycles)
+    }
+
     fn close(&mut self) -> Result<(), String> {
         self.leave_op().map_err(|e| e.to_string())
     }

@@ -2,7 +2,7 @@
 //! passes frames through an emulated [`Segment`] on a virtual clock; the raw-socket link (on a
 //! network interface) is in `raw_socket`.
 
-use crate::ethercat::emulator::Segment;
+use crate::ethercat::emulator::{Delivery, Segment};
 
 /// A frame round trip that did not complete.
 #[derive(Debug, thiserror::Error)]
@@ -40,6 +40,35 @@ pub trait Link: Send {
         false
     }
 
+    /// Fault injection: the next `frames` frames reach the segment and return `delay_ns` late
+    /// (on the link's clock); one delayed to the frame timeout or beyond is lost at the master.
+    /// False where the link cannot inject.
+    fn delay_frames(&mut self, delay_ns: u64, frames: u32) -> bool {
+        let _ = (delay_ns, frames);
+        false
+    }
+
+    /// Fault injection: the link segment in front of SubDevice `n` corrupts the next `frames`
+    /// frames (CRC errors; see [`Segment::corrupt`]). False where the link cannot inject.
+    fn corrupt_frames(&mut self, n: usize, frames: u32) -> bool {
+        let _ = (n, frames);
+        false
+    }
+
+    /// Fault injection: the logical datagrams of the next `frames` frames are removed (see
+    /// [`Segment::drop_datagrams`]). False where the link cannot inject.
+    fn drop_datagrams(&mut self, frames: u32) -> bool {
+        let _ = frames;
+        false
+    }
+
+    /// Fault injection: the link in front of SubDevice `n` is down for the next `frames`
+    /// frames (see [`Segment::lose_link`]). False where the link cannot inject.
+    fn lose_link(&mut self, n: usize, frames: u32) -> bool {
+        let _ = (n, frames);
+        false
+    }
+
     /// The emulated segment behind the link, where there is one (tests and fault injection).
     fn segment_mut(&mut self) -> Option<&mut Segment> {
         None
@@ -50,6 +79,19 @@ pub trait Link: Send {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct DropFrames(pub u32);
 
+/// Frame delay injected on an in-process link: the next `frames` frames are `ns` late.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DelayFrames {
+    /// The delay, ns.
+    pub ns: u64,
+    /// Frames left.
+    pub frames: u32,
+}
+
+/// The frame timeout of an in-process link made with [`InProcessLink::new`] (the
+/// `[ethercat] frame_timeout_us` default).
+pub const DEFAULT_FRAME_TIMEOUT: std::time::Duration = std::time::Duration::from_micros(500);
+
 /// An emulated segment in this process: no network, no root; deterministic for a given
 /// configuration because the ESC clocks run on the virtual time the cyclic exchange advances.
 #[derive(Debug)]
@@ -57,18 +99,27 @@ pub struct InProcessLink {
     segment: Segment,
     now_ns: u64,
     drop: DropFrames,
+    delay: DelayFrames,
+    timeout_ns: u64,
 }
 
 /// The virtual clock's start: 1 s after the EtherCAT epoch, so DC times are non-zero.
 const VIRTUAL_EPOCH_NS: u64 = 1_000_000_000;
 
 impl InProcessLink {
-    /// A link to `segment`.
+    /// A link to `segment` with the [`DEFAULT_FRAME_TIMEOUT`].
     pub fn new(segment: Segment) -> Self {
+        Self::with_frame_timeout(segment, DEFAULT_FRAME_TIMEOUT)
+    }
+
+    /// A link to `segment` on which a frame not back within `timeout` (virtual time) is lost.
+    pub fn with_frame_timeout(segment: Segment, timeout: std::time::Duration) -> Self {
         InProcessLink {
             segment,
             now_ns: VIRTUAL_EPOCH_NS,
             drop: DropFrames::default(),
+            delay: DelayFrames::default(),
+            timeout_ns: u64::try_from(timeout.as_nanos()).unwrap_or(u64::MAX),
         }
     }
 
@@ -84,10 +135,17 @@ impl Link for InProcessLink {
             self.drop.0 -= 1;
             return Err(LinkError::Timeout(0));
         }
-        // A malformed frame is dropped by the segment, as on a wire.
-        match self.segment.process(&mut buf[..len], self.now_ns) {
-            Ok(()) => Ok(len),
-            Err(_) => Err(LinkError::Timeout(0)),
+        let mut delay = 0;
+        if self.delay.frames > 0 {
+            self.delay.frames -= 1;
+            delay = self.delay.ns;
+        }
+        // A malformed frame is dropped by the segment, as on a wire. A delayed frame reaches
+        // the stations late (after their SYNC0 if it pushes it past: applied a cycle late);
+        // at or beyond the timeout the master has given up on it.
+        match self.segment.process(&mut buf[..len], self.now_ns + delay) {
+            Ok(Delivery::Returned) if delay < self.timeout_ns => Ok(len),
+            Ok(_) | Err(_) => Err(LinkError::Timeout(self.timeout_ns / 1000)),
         }
     }
 
@@ -102,6 +160,27 @@ impl Link for InProcessLink {
 
     fn stall_subdevice(&mut self, n: usize, frames: u32) -> bool {
         self.segment.stall(n, frames)
+    }
+
+    fn delay_frames(&mut self, delay_ns: u64, frames: u32) -> bool {
+        self.delay = DelayFrames {
+            ns: delay_ns,
+            frames,
+        };
+        true
+    }
+
+    fn corrupt_frames(&mut self, n: usize, frames: u32) -> bool {
+        self.segment.corrupt(n, frames)
+    }
+
+    fn drop_datagrams(&mut self, frames: u32) -> bool {
+        self.segment.drop_datagrams(frames);
+        true
+    }
+
+    fn lose_link(&mut self, n: usize, frames: u32) -> bool {
+        self.segment.lose_link(n, frames)
     }
 
     fn segment_mut(&mut self) -> Option<&mut Segment> {

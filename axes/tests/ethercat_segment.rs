@@ -872,3 +872,48 @@ fn a_lost_link_shows_in_dl_status_stops_frames_behind_it_and_comes_back() {
     assert!(!bus.link_mut().lose_link(4, 1), "no SubDevice 4");
     assert!(!bus.link_mut().corrupt_frames(4, 1));
 }
+
+/// An overrun of the master's RT loop on an in-process segment: with the link excusing host
+/// stalls (what `cellrt run` uses for `interface = "in-process"`) the skipped cycles are time for
+/// the drives, not missed SYNC0s, so no drive counts a lost frame or faults; without it (the
+/// emulator on a network) the same stall is missed SYNC0s at every station.
+#[test]
+fn an_in_process_segment_excusing_host_stalls_runs_the_drives_on() {
+    for excuse in [true, false] {
+        let (mut bus, mut counter) = enabled_with(&MODELS, |s| {
+            let link = InProcessLink::new(s);
+            if excuse {
+                link.excusing_host_stalls()
+            } else {
+                link
+            }
+        });
+        let layouts: Vec<PdoLayout> = MODELS
+            .iter()
+            .map(|m| PdoLayout::new(&profile(*m).rx_pdo))
+            .collect();
+        for k in 0..40 {
+            counter = counter.wrapping_add(1);
+            for (axis, l) in layouts.iter().enumerate() {
+                let rx = RxPdo {
+                    controlword: Controlword::ENABLE_OPERATION,
+                    mode: ModeOfOperation::CyclicSyncPosition.as_i8(),
+                    target_position: 0,
+                    counter,
+                    ..RxPdo::default()
+                };
+                l.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+            }
+            // Every tenth cycle the loop overran by four cycles.
+            let elapsed = if k % 10 == 9 { Cycles(5) } else { Cycles(1) };
+            bus.exchange(elapsed).unwrap();
+        }
+        let missed = missed_sync0(&mut bus);
+        if excuse {
+            assert_eq!(missed, vec![0; MODELS.len()]);
+            assert_eq!(alarms(&mut bus), vec![None; MODELS.len()]);
+        } else {
+            assert!(missed.iter().all(|m| *m == 16), "{missed:?}");
+        }
+    }
+}

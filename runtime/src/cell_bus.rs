@@ -64,10 +64,10 @@ impl CellBus {
             return Ok(CellBus::Sim(SimBus::new(sim_drives(cell))));
         };
         let link: Box<dyn Link> = match &ec.interface {
-            EthercatInterface::InProcess => Box::new(InProcessLink::with_frame_timeout(
-                emulated_segment(cell),
-                ec.frame_timeout,
-            )),
+            EthercatInterface::InProcess => Box::new(
+                InProcessLink::with_frame_timeout(emulated_segment(cell), ec.frame_timeout)
+                    .excusing_host_stalls(),
+            ),
             EthercatInterface::Nic(name) => Box::new(
                 RawSocketLink::open(name, ec.frame_timeout).map_err(|source| {
                     BusOpenError::Interface {

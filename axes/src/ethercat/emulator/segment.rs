@@ -61,6 +61,15 @@ impl Segment {
         &self.stations
     }
 
+    /// The master's host stalled for `cycles` cycles before its next frame: on an in-process
+    /// segment the drives run on the master's clock, so (like `transport = "sim"`) that time
+    /// passes for them without counting lost frames. Frames lost on the wire still count.
+    pub fn excuse_host_stall(&mut self, cycles: u64) {
+        for st in &mut self.stations {
+            st.excuse_host_stall(cycles);
+        }
+    }
+
     /// Station `n`, mutably (fault injection).
     pub fn station_mut(&mut self, n: usize) -> Option<&mut Station> {
         self.stations.get_mut(n)

@@ -62,6 +62,8 @@ pub struct Station {
     line_len: u16,
     /// The last SYNC0 edge (cycles since the DC start time) a frame was taken at.
     last_edge: Option<u64>,
+    /// SYNC0 edges before the next frame that are a stall of the master's host, not lost frames.
+    excused_sync0: u64,
     /// Frames taken while the master locks on.
     lock_frames: u32,
     /// Exchanges the drive has run (diagnostics).
@@ -97,6 +99,7 @@ impl Station {
             position,
             line_len,
             last_edge: None,
+            excused_sync0: 0,
             lock_frames: 0,
             exchanges: 0,
             missed_sync0: 0,
@@ -118,6 +121,12 @@ impl Station {
         s.set_al_status(AlState::Init, None);
         s.put16(reg::SII_CONTROL, SII_READ_8);
         s
+    }
+
+    /// The next frame comes `cycles` SYNC0 edges late because the master's host stalled (an
+    /// overrun of its RT loop): those edges run the drive on, they are not lost RxPDOs.
+    pub fn excuse_host_stall(&mut self, cycles: u64) {
+        self.excused_sync0 = cycles;
     }
 
     /// The simulated drive.
@@ -623,7 +632,11 @@ impl Station {
             // late): its outputs wait in SM2 for that SYNC0; the inputs are the last ones.
             return;
         }
-        let elapsed = edges;
+        // SYNC0 edges the master excused as a stall of its own host (in-process segment: the
+        // emulated drives live on the master's clock, see `Segment::excuse_host_stall`) are
+        // elapsed time for the drive, not lost frames.
+        let excused = std::mem::take(&mut self.excused_sync0).min(edges - 1);
+        let elapsed = edges - excused;
         let (o, i) = (self.layout.outputs, self.layout.inputs);
         let (os, ol) = (usize::from(o.start), usize::from(o.len));
         let (is, il) = (usize::from(i.start), usize::from(i.len));
@@ -636,7 +649,11 @@ impl Station {
             let _ = self.drive.cycle_missed_sync0(tx);
             self.missed_sync0 += 1;
         }
-        let _ = self.drive.cycle(rx, tx, Cycles(1));
+        let _ = self.drive.cycle(
+            rx,
+            tx,
+            Cycles(1 + excused.min(u64::from(u32::MAX - 1)) as u32),
+        );
         self.exchanges += 1;
     }
 }

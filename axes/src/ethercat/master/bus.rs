@@ -711,6 +711,9 @@ impl Bus for EthercatBus {
         self.link
             .advance(period.saturating_add_signed(self.dc_taken));
         self.dc_taken = 0;
+        if elapsed.0 > 1 {
+            self.link.host_stall(u64::from(elapsed.0 - 1));
+        }
         for a in &self.axes {
             self.pdi[a.outputs.clone()].copy_from_slice(&a.rx);
         }

@@ -26,6 +26,13 @@ pub trait Link: Send {
         let _ = elapsed_ns;
     }
 
+    /// The master's RT loop overran: its next frame comes `cycles` cycles late. A link to an
+    /// in-process segment that excuses host stalls ([`InProcessLink::excusing_host_stalls`])
+    /// lets the drives run on; elsewhere the drives see missed SYNC0s, as real ones do.
+    fn host_stall(&mut self, cycles: u64) {
+        let _ = cycles;
+    }
+
     /// Fault injection: the next `n` frames are lost on the wire. False where the link cannot
     /// inject (a real network).
     fn drop_frames(&mut self, n: u32) -> bool {
@@ -101,6 +108,7 @@ pub struct InProcessLink {
     drop: DropFrames,
     delay: DelayFrames,
     timeout_ns: u64,
+    excuse_stalls: bool,
 }
 
 /// The virtual clock's start: 1 s after the EtherCAT epoch, so DC times are non-zero.
@@ -120,7 +128,17 @@ impl InProcessLink {
             drop: DropFrames::default(),
             delay: DelayFrames::default(),
             timeout_ns: u64::try_from(timeout.as_nanos()).unwrap_or(u64::MAX),
+            excuse_stalls: false,
         }
+    }
+
+    /// This link, telling the segment when the master's host stalled so the drives run on
+    /// instead of counting missed SYNC0s (what `cellrt run` uses for `interface =
+    /// "in-process"`: the emulated drives live on the master's clock, like `transport =
+    /// "sim"`, so a loaded machine does not fault them; frames lost on the wire still count).
+    pub fn excusing_host_stalls(mut self) -> Self {
+        self.excuse_stalls = true;
+        self
     }
 
     /// The segment.
@@ -151,6 +169,12 @@ impl Link for InProcessLink {
 
     fn advance(&mut self, elapsed_ns: u64) {
         self.now_ns += elapsed_ns;
+    }
+
+    fn host_stall(&mut self, cycles: u64) {
+        if self.excuse_stalls {
+            self.segment.excuse_host_stall(cycles);
+        }
     }
 
     fn drop_frames(&mut self, n: u32) -> bool {

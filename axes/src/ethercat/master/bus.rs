@@ -42,6 +42,11 @@ const FRAME_BUF: usize = 1536;
 const MASTER_MAC: [u8; 6] = [0x10, 0x10, 0x10, 0x10, 0x10, 0x10];
 /// Retries of a bring-up PDU that timed out.
 const BRINGUP_RETRIES: usize = 3;
+/// How long bring-up waits for an SII EEPROM read (ethercrab's default is 10 ms; a host that
+/// stalls for milliseconds — a virtual machine, a loaded emulator — needs more; bring-up only).
+const BRINGUP_EEPROM_TIMEOUT: Duration = Duration::from_millis(100);
+/// How long bring-up waits for a PDU's return (the cyclic exchange has its own frame timeout).
+const BRINGUP_PDU_TIMEOUT: Duration = Duration::from_millis(100);
 /// Delay from DC configuration to the first SYNC0 pulse.
 const SYNC0_START_DELAY: Duration = Duration::from_millis(10);
 /// Where in the SYNC0 cycle the cyclic frame should pass the DC reference clock: this fraction
@@ -341,6 +346,8 @@ impl EthercatBus {
             Timeouts {
                 wait_loop_delay: Duration::from_micros(100),
                 mailbox_response: Duration::from_millis(1000),
+                eeprom: BRINGUP_EEPROM_TIMEOUT,
+                pdu: BRINGUP_PDU_TIMEOUT,
                 ..Timeouts::default()
             },
             MainDeviceConfig {

@@ -599,7 +599,15 @@ fn generic_cia402_drives_come_up_with_the_configured_identity_and_mapping() {
 }
 
 // Wire faults of the emulated segment (issue "Networked drives over EtherCAT": drop, delay or
-// corrupt frames or single datagrams, lose the link).
+// corrupt frames or single datagrams, lose the link), on a segment of the four Mitsubishi models.
+
+/// The Mitsubishi EtherCAT models, one each, in line order.
+const MITSUBISHI: [DriveModel; 4] = [
+    DriveModel::MrJ3T04,
+    DriveModel::MrJ4TM,
+    DriveModel::MrJetGN1,
+    DriveModel::MrJ5GN1,
+];
 
 use cellrt_axes::ethercat::register as reg;
 use cellrt_axes::profiles::facts::CommCheck;
@@ -709,7 +717,7 @@ fn a_frame_delay_below_the_timeout_arrives_late_and_past_sync0_is_applied_a_cycl
 
 #[test]
 fn a_corrupted_frame_is_not_processed_behind_the_bad_link_counts_rx_errors_and_is_lost() {
-    let (mut bus, mut counter) = enabled(&MODELS);
+    let (mut bus, mut counter) = enabled(&MITSUBISHI);
     let before: Vec<u64> = stations(&mut bus)
         .stations()
         .iter()
@@ -743,7 +751,7 @@ fn a_corrupted_frame_is_not_processed_behind_the_bad_link_counts_rx_errors_and_i
     // The drives behind it lost 20 frames: their communication alarms; the others run on.
     run(
         &mut bus,
-        &MODELS,
+        &MITSUBISHI,
         1,
         Controlword::ENABLE_OPERATION,
         &mut counter,
@@ -753,8 +761,8 @@ fn a_corrupted_frame_is_not_processed_behind_the_bad_link_counts_rx_errors_and_i
         [
             None,
             None,
-            Some(loss_alarm(MODELS[2])),
-            Some(loss_alarm(MODELS[3]))
+            Some(loss_alarm(MITSUBISHI[2])),
+            Some(loss_alarm(MITSUBISHI[3]))
         ]
     );
     // Counters saturate at FFh.
@@ -770,7 +778,7 @@ fn a_corrupted_frame_is_not_processed_behind_the_bad_link_counts_rx_errors_and_i
 
 #[test]
 fn a_dropped_datagram_returns_the_frame_with_working_counter_zero() {
-    let (mut bus, mut counter) = enabled(&MODELS);
+    let (mut bus, mut counter) = enabled(&MITSUBISHI);
     let before = bus.counters();
     assert!(bus.link_mut().drop_datagrams(20));
     let r = exchanges(&mut bus, 20);
@@ -786,12 +794,12 @@ fn a_dropped_datagram_returns_the_frame_with_working_counter_zero() {
     assert_eq!(bus.counters().lost, 0);
     run(
         &mut bus,
-        &MODELS,
+        &MITSUBISHI,
         1,
         Controlword::ENABLE_OPERATION,
         &mut counter,
     );
-    let expected: Vec<Option<u16>> = MODELS.iter().map(|&m| Some(loss_alarm(m))).collect();
+    let expected: Vec<Option<u16>> = MITSUBISHI.iter().map(|&m| Some(loss_alarm(m))).collect();
     assert_eq!(alarms(&mut bus), expected);
 }
 
@@ -830,7 +838,7 @@ fn a_lost_link_shows_in_dl_status_stops_frames_behind_it_and_comes_back() {
 
     // Further down the line: the SubDevice in front closes its port 1 and returns the frame
     // with its own working counter only.
-    let (mut bus, mut counter) = enabled(&MODELS);
+    let (mut bus, mut counter) = enabled(&MITSUBISHI);
     let up = dl(&mut bus);
     assert!(bus.link_mut().lose_link(2, 20));
     let down = dl(&mut bus);
@@ -855,7 +863,7 @@ fn a_lost_link_shows_in_dl_status_stops_frames_behind_it_and_comes_back() {
     assert_eq!(registers(&mut bus, reg::LOST_LINK_COUNTER), [0, 0, 1, 0]);
     run(
         &mut bus,
-        &MODELS,
+        &MITSUBISHI,
         1,
         Controlword::ENABLE_OPERATION,
         &mut counter,
@@ -865,8 +873,8 @@ fn a_lost_link_shows_in_dl_status_stops_frames_behind_it_and_comes_back() {
         [
             None,
             None,
-            Some(loss_alarm(MODELS[2])),
-            Some(loss_alarm(MODELS[3]))
+            Some(loss_alarm(MITSUBISHI[2])),
+            Some(loss_alarm(MITSUBISHI[3]))
         ]
     );
     assert!(!bus.link_mut().lose_link(4, 1), "no SubDevice 4");

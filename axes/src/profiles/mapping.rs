@@ -81,6 +81,16 @@ pub enum MappingError {
 }
 
 impl MappingError {
+    /// The PDO the error is about.
+    pub fn direction(&self) -> PdoDirection {
+        match *self {
+            MappingError::TooManyEntries { direction, .. }
+            | MappingError::NotMappable { direction, .. }
+            | MappingError::Unaligned { direction, .. }
+            | MappingError::TooLong { direction, .. } => direction,
+        }
+    }
+
     /// The SDO abort code the model answers this with.
     pub fn abort_code(&self, rules: &PdoRules) -> u32 {
         match self {

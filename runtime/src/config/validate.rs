@@ -825,7 +825,7 @@ fn pdo_mapping(
     use cellrt_axes::pdo::objects::{
         CONTROLWORD, POSITION_ACTUAL, STATUSWORD, TARGET_POSITION, TARGET_TORQUE, TARGET_VELOCITY,
     };
-    use cellrt_axes::profiles::mapping::{MappingError, PdoDirection};
+    use cellrt_axes::profiles::mapping::PdoDirection;
     use cellrt_axes::PdoEntry;
     if pdo.rx.is_none() && pdo.tx.is_none() {
         return Ok(base);
@@ -842,15 +842,9 @@ fn pdo_mapping(
         PdoDirection::Rx => "pdo.rx",
         PdoDirection::Tx => "pdo.tx",
     };
-    let profile = base.with_pdo_maps(&rx, &tx).map_err(|e| {
-        let d = match e {
-            MappingError::TooManyEntries { direction, .. }
-            | MappingError::NotMappable { direction, .. }
-            | MappingError::Unaligned { direction, .. }
-            | MappingError::TooLong { direction, .. } => direction,
-        };
-        (key(d), e.to_string())
-    })?;
+    let profile = base
+        .with_pdo_maps(&rx, &tx)
+        .map_err(|e| (key(e.direction()), e.to_string()))?;
     let mut needed_rx = vec![CONTROLWORD];
     needed_rx.extend(match mode {
         ModeOfOperation::CyclicSyncPosition => &[TARGET_POSITION][..],

@@ -454,7 +454,7 @@ impl Station {
                 }
                 if target == AlState::Op && from != AlState::Op {
                     self.drive.enter_op();
-                    if self.mem[usize::from(reg::DC_SYNC_ACTIVE)] & 0x03 != 0 {
+                    if self.sync_active() {
                         let _ = self.drive.start_sync(self.sync0_cycle_ns());
                     }
                 }
@@ -473,8 +473,6 @@ impl Station {
         }
     }
 
-    /// PRE-OP → SAFE-OP: the PDOs must be assigned and mapped, SM2/SM3 must match the mapping's
-    /// lengths, and the drive takes the mapping (a variable mapping, [`PdoConfig`]).
     /// The SYNC0 cycle programmed in the DC registers, ns.
     fn sync0_cycle_ns(&self) -> u32 {
         let a = usize::from(reg::DC_SYNC0_CYCLE);
@@ -486,6 +484,13 @@ impl Station {
         ])
     }
 
+    /// True if the master has activated SYNC0/SYNC1 generation (0981h).
+    fn sync_active(&self) -> bool {
+        self.mem[usize::from(reg::DC_SYNC_ACTIVE)] & 0x03 != 0
+    }
+
+    /// PRE-OP → SAFE-OP: the PDOs must be assigned and mapped, SM2/SM3 must match the mapping's
+    /// lengths, and the drive takes the mapping (a variable mapping, [`PdoConfig`]).
     fn check_process_data(&mut self) -> Result<(), u16> {
         let (o, i) = (self.layout.outputs, self.layout.inputs);
         if !self.pdo.complete() {
@@ -506,17 +511,10 @@ impl Station {
         }
         self.layout.outputs.len = len(&rx);
         self.layout.inputs.len = len(&tx);
-        if self.mem[usize::from(reg::DC_SYNC_ACTIVE)] & 0x03 != 0 {
-            let a = usize::from(reg::DC_SYNC0_CYCLE);
-            let ns = u32::from_le_bytes([
-                self.mem[a],
-                self.mem[a + 1],
-                self.mem[a + 2],
-                self.mem[a + 3],
-            ]);
-            if !super::allows_cycle_ns(self.drive.profile(), ns) {
-                return Err(al_code::INVALID_SYNC_CYCLE);
-            }
+        if self.sync_active()
+            && !super::allows_cycle_ns(self.drive.profile(), self.sync0_cycle_ns())
+        {
+            return Err(al_code::INVALID_SYNC_CYCLE);
         }
         Ok(())
     }
@@ -594,13 +592,7 @@ impl Station {
     /// One drive exchange: RxPDO from SM2, TxPDO to SM3. The SYNC0 cycle time and the local
     /// time since the previous exchange tell how many cycles passed without a frame.
     fn exchange(&mut self, now_ns: u64) {
-        let a = usize::from(reg::DC_SYNC0_CYCLE);
-        let cycle = u64::from(u32::from_le_bytes([
-            self.mem[a],
-            self.mem[a + 1],
-            self.mem[a + 2],
-            self.mem[a + 3],
-        ]));
+        let cycle = u64::from(self.sync0_cycle_ns());
         // SYNC0 falls at the DC start time (0990h) plus whole cycles (09A0h) of this station's
         // system time (local time + 0920h offset), as on a real ESC; the master aligns its
         // frames to this grid (`EthercatBus` reads the reference clock's 0910h in every frame).

@@ -161,6 +161,8 @@ fn run(
             rxl.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
         }
         bus.exchange(Cycles(1)).unwrap();
+        // As the RT loop does: keep the cycle aligned to the SYNC0 grid.
+        let _ = bus.deadline_correction_ns();
     }
     layouts
         .iter()
@@ -610,16 +612,11 @@ const MITSUBISHI: [DriveModel; 4] = [
 ];
 
 use cellrt_axes::ethercat::register as reg;
-use cellrt_axes::profiles::facts::CommCheck;
 use cellrt_axes::BusError;
 
 /// The alarm `model`'s communication check raises for lost process data.
 fn loss_alarm(model: DriveModel) -> u16 {
-    match profile(model).comm_check {
-        CommCheck::IncrementalCounter { loss_alarm, .. }
-        | CommCheck::WatchdogCounter { loss_alarm, .. } => loss_alarm,
-        CommCheck::SyncErrorCounter { alarm } => alarm,
-    }
+    profile(model).comm_check.loss_alarm()
 }
 
 /// The drives' alarms.
@@ -642,7 +639,13 @@ fn registers(bus: &mut EthercatBus, addr: u16) -> Vec<u8> {
 
 /// Runs `n` exchanges holding the last outputs; returns their results.
 fn exchanges(bus: &mut EthercatBus, n: usize) -> Vec<Result<(), BusError>> {
-    (0..n).map(|_| bus.exchange(Cycles(1))).collect()
+    (0..n)
+        .map(|_| {
+            let r = bus.exchange(Cycles(1));
+            let _ = bus.deadline_correction_ns();
+            r
+        })
+        .collect()
 }
 
 fn enabled(models: &[DriveModel]) -> (EthercatBus, u8) {

@@ -346,6 +346,7 @@ impl EthercatBus {
             Timeouts {
                 wait_loop_delay: Duration::from_micros(100),
                 mailbox_response: Duration::from_millis(1000),
+                mailbox_echo: Duration::from_millis(1000),
                 eeprom: BRINGUP_EEPROM_TIMEOUT,
                 pdu: BRINGUP_PDU_TIMEOUT,
                 ..Timeouts::default()

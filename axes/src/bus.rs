@@ -100,6 +100,23 @@ pub trait Bus {
         let _ = axis;
         None
     }
+    /// Counters of the cyclic frames, on a bus that sends frames (EtherCAT); `None` for the
+    /// in-process simulated drives.
+    fn frame_counters(&self) -> Option<FrameCounters> {
+        None
+    }
+}
+
+/// Counters of a bus's cyclic frames: what the summary and `cellrt bench ethercat` report
+/// as lost frames and working-counter errors.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct FrameCounters {
+    /// Cyclic frames sent.
+    pub frames: u64,
+    /// Frames that did not return.
+    pub lost: u64,
+    /// Frames that returned with a wrong working counter.
+    pub wkc_errors: u64,
 }
 
 /// The abort code [`Bus::sdo_download`] returns where there is no acyclic channel (CiA 301

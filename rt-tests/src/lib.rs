@@ -5,6 +5,7 @@
 pub mod compare;
 pub mod cyclictest;
 pub mod error;
+pub mod ethercat;
 pub mod hist;
 pub mod ipc;
 pub mod latency;

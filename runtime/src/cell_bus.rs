@@ -106,6 +106,9 @@ impl Bus for CellBus {
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {
         each!(self, b => b.exchange(elapsed))
     }
+    fn frame_counters(&self) -> Option<cellrt_axes::FrameCounters> {
+        each!(self, b => b.frame_counters())
+    }
     fn deadline_correction_ns(&mut self) -> i64 {
         each!(self, b => b.deadline_correction_ns())
     }

@@ -20,7 +20,7 @@ use crate::link_server::LinkServer;
 use crate::planner;
 use crate::program::Program;
 use crate::record::{Recorder, RecorderError, RecordingInfo};
-use crate::rt::histogram::Percentiles;
+use crate::rt::histogram::{NsHistogram, Percentiles};
 use crate::rt::thread::{hold_cpu_dma_latency_zero, setup_current_thread, ReservedCpu, RtReport};
 use crate::services;
 use crate::setpoints::SetpointStream;
@@ -95,6 +95,17 @@ pub struct AxisSummary {
     pub error: Option<f64>,
 }
 
+/// The histograms of a run's RT loop.
+#[derive(Debug, Clone, Default)]
+pub struct RunHistograms {
+    /// Wakeup latency.
+    pub wakeup_latency: NsHistogram,
+    /// Loop body time.
+    pub loop_time: NsHistogram,
+    /// Bus exchange time.
+    pub exchange_time: NsHistogram,
+}
+
 /// Everything the run reports at exit (printed, and written by `--summary-json`).
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
@@ -115,6 +126,13 @@ pub struct Summary {
     pub wakeup_latency: Percentiles,
     /// Loop body time percentiles.
     pub loop_time: Percentiles,
+    /// Bus exchange time percentiles (part of the loop body).
+    pub exchange_time: Percentiles,
+    /// Cyclic frames sent, lost and with a wrong working counter (EtherCAT cells).
+    pub frames: Option<cellrt_axes::FrameCounters>,
+    /// The histograms behind the percentiles (for benchmarks that merge runs).
+    #[serde(skip)]
+    pub histograms: RunHistograms,
     /// Final cell state.
     pub final_state: String,
     /// Per axis.
@@ -341,6 +359,13 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         counters: stats.counters,
         wakeup_latency: stats.latency.percentiles(),
         loop_time: stats.loop_time.percentiles(),
+        exchange_time: stats.exchange_time.percentiles(),
+        frames: stats.frames,
+        histograms: RunHistograms {
+            wakeup_latency: stats.latency,
+            loop_time: stats.loop_time,
+            exchange_time: stats.exchange_time,
+        },
         final_state: stats.final_state.as_str().to_string(),
         axes,
         recording,

@@ -56,6 +56,19 @@ pub fn render(s: &Summary) -> String {
         "loop time   p50 {:.1} µs   p99 {:.1} µs   max {:.1} µs",
         t.p50_us, t.p99_us, t.max_us
     );
+    let x = &s.exchange_time;
+    let _ = writeln!(
+        o,
+        "exchange    p50 {:.1} µs   p99 {:.1} µs   max {:.1} µs",
+        x.p50_us, x.p99_us, x.max_us
+    );
+    if let Some(f) = &s.frames {
+        let _ = writeln!(
+            o,
+            "frames      {} sent   {} lost   {} working-counter errors",
+            f.frames, f.lost, f.wkc_errors
+        );
+    }
     let _ = writeln!(o, "axes        final position vs target");
     for a in &s.axes {
         match (a.target, a.error) {

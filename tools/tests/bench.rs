@@ -11,6 +11,22 @@ fn cellrt(args: &[&str]) -> std::process::Output {
         .expect("cellrt runs")
 }
 
+/// The run exited 0; its stdout and the JSON report it wrote to `json`.
+fn succeeded_with_json(
+    out: &std::process::Output,
+    json: &std::path::Path,
+) -> (String, serde_json::Value) {
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v = serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    (stdout, v)
+}
+
 #[test]
 fn bad_arguments_exit_2_naming_the_option() {
     let cases: &[(&[&str], &str)] = &[
@@ -159,16 +175,8 @@ fn short_latency_run_writes_sane_json() {
         "--json",
         json.to_str().unwrap(),
     ]);
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (stdout, v) = succeeded_with_json(&out, &json);
     assert!(stdout.contains("p99.9"), "{stdout}");
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let w = &v["wakeup_latency"];
     let count = w["count"].as_u64().unwrap();
     let overruns = v["overruns"].as_u64().unwrap();
@@ -228,4 +236,107 @@ fn bench_ipc_measures_both_paths_and_refuses_bad_sizes() {
     let out = cellrt(&["bench", "ipc", "--axes", "0"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--axes"));
+}
+
+#[test]
+fn bench_ethercat_refuses_bad_arguments_naming_the_option() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--interval", "300", "--duration", "2"], "--interval"),
+        (&["--interval", "1000", "--duration", "0"], "--duration"),
+        (
+            &["--interval", "1000", "--duration", "2", "--rounds", "0"],
+            "--rounds",
+        ),
+        (
+            &["--interval", "1000", "--duration", "2", "--rounds", "4"],
+            "--duration",
+        ),
+        (
+            &[
+                "--interval",
+                "1000",
+                "--duration",
+                "10",
+                "--latency-duration",
+                "-1",
+            ],
+            "--latency-duration",
+        ),
+        (
+            &["--interval", "1000", "--duration", "10", "--priority", "0"],
+            "--priority",
+        ),
+    ];
+    for (args, option) in cases {
+        let mut full = vec!["bench", "ethercat", "--in-process"];
+        full.extend_from_slice(args);
+        let out = cellrt(&full);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{full:?}: {stderr}");
+        assert!(
+            stderr
+                .lines()
+                .any(|l| l.starts_with("error:") && l.contains(option)),
+            "{full:?}: {stderr}"
+        );
+    }
+}
+
+/// An in-process segment of four drives: every cyclic frame returns with the right working
+/// counter, each round reports exchange time and both wakeup latencies, and the totals add up.
+/// No assertion on the values (the machine is noisy).
+#[test]
+fn bench_ethercat_in_process_counts_frames_and_reports_every_round() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("ethercat.json");
+    let out = cellrt(&[
+        "bench",
+        "ethercat",
+        "--in-process",
+        "--interval",
+        "1000",
+        "--duration",
+        "2",
+        "--rounds",
+        "2",
+        "--latency-duration",
+        "0.2",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    let (stdout, v) = succeeded_with_json(&out, &json);
+    assert!(stdout.contains("exchange time µs"), "{stdout}");
+    assert_eq!(
+        v["models"],
+        serde_json::json!(["mr-j3-t04", "mr-j4-tm", "mr-jet-g-n1", "mr-j5-g-n1"])
+    );
+    let rounds = v["ethercat"].as_array().unwrap();
+    assert_eq!(rounds.len(), 2);
+    assert_eq!(v["latency"].as_array().unwrap().len(), 2);
+    let mut sent = 0;
+    for r in rounds {
+        let cycles = r["cycles"].as_u64().unwrap();
+        let overruns = r["overruns"].as_u64().unwrap();
+        // 1 s per round at 1 ms, whatever the runs it took.
+        assert!(
+            (900..=1100).contains(&(cycles + overruns)),
+            "{cycles} + {overruns}"
+        );
+        assert_eq!(r["frames"]["lost"], 0, "{r}");
+        assert_eq!(r["frames"]["wkc_errors"], 0, "{r}");
+        let x = &r["exchange_time"];
+        assert_eq!(x["count"].as_u64().unwrap(), cycles, "{r}");
+        assert!(x["p50_us"].as_f64().unwrap() > 0.0, "{r}");
+        assert!(x["p50_us"].as_f64() <= x["p99_us"].as_f64(), "{r}");
+        sent += r["frames"]["frames"].as_u64().unwrap();
+    }
+    assert_eq!(v["frames"]["frames"].as_u64().unwrap(), sent);
+    assert!(v["bench_latency"]["count"].as_u64().unwrap() >= 100, "{v}");
+    assert_eq!(
+        v["exchange_time"]["count"].as_u64().unwrap(),
+        rounds
+            .iter()
+            .map(|r| r["cycles"].as_u64().unwrap())
+            .sum::<u64>()
+    );
 }

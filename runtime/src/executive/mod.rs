@@ -54,6 +54,10 @@ pub struct RtStats {
     pub latency: NsHistogram,
     /// Loop body time histogram.
     pub loop_time: NsHistogram,
+    /// Bus exchange time histogram (the process-data round trip: frame out to inputs copied).
+    pub exchange_time: NsHistogram,
+    /// The bus's frame counters at the end of the loop, where it sends frames (EtherCAT).
+    pub frames: Option<cellrt_axes::FrameCounters>,
     /// Final actual position of each axis, counts.
     pub final_positions: Vec<i32>,
     /// Final cell state.
@@ -159,6 +163,8 @@ impl<B: Bus> Executive<B> {
                 dropped_events: 0,
                 latency: NsHistogram::new(),
                 loop_time: NsHistogram::new(),
+                exchange_time: NsHistogram::new(),
+                frames: None,
                 final_positions: vec![0; n],
                 final_state: CellState::Disabled,
             },
@@ -234,6 +240,7 @@ impl<B: Bus> Executive<B> {
         if let Some(hook) = self.hook {
             hook(RtPhase::Exit);
         }
+        self.stats.frames = self.bus.frame_counters();
         // Out of the steady state: the bus's shutdown may block and log.
         if let Err(e) = self.bus.close() {
             tracing::warn!("bus shutdown: {e}");
@@ -255,7 +262,10 @@ impl<B: Bus> Executive<B> {
         let quit = self.take_commands();
         self.update_cell();
         self.write_outputs();
-        if self.bus.exchange(elapsed).is_err() {
+        let sent = MonoTime::now();
+        let exchanged = self.bus.exchange(elapsed);
+        self.stats.exchange_time.record(MonoTime::now().since(sent));
+        if exchanged.is_err() {
             self.event(EventKind::BusError, NO_AXIS, -1);
         }
         quit

@@ -84,6 +84,13 @@ impl NsHistogram {
         }
     }
 
+    /// Adds the samples of `other` (merging the runs of a benchmark; allocation-free, both
+    /// have the same bounds).
+    pub fn merge(&mut self, other: &NsHistogram) {
+        // Same bounds and precision on both sides: `add` cannot fail.
+        let _ = self.inner.add(&other.inner);
+    }
+
     /// Non-empty buckets as (upper bound ns, count), for plots and exports.
     pub fn buckets(&self) -> Vec<(u64, u64)> {
         self.inner

@@ -31,6 +31,38 @@ pub enum BenchCommand {
     Operator(OperatorArgs),
     /// Setpoint block delivery (planner → RT reader) beside raw iceoryx2, alternating rounds.
     Ipc(IpcArgs),
+    /// The cell loop over EtherCAT (4 emulated drives on a veth pair, or in-process): exchange
+    /// time, lost frames and wakeup latency, in rounds alternating with `bench latency`.
+    Ethercat(EthercatArgs),
+}
+
+/// `cellrt bench ethercat`.
+#[derive(Debug, Args)]
+pub struct EthercatArgs {
+    /// Cycle time, µs (125, 250, 500, 1000, 2000, 4000 or 8000).
+    #[arg(long, value_name = "µs")]
+    pub interval: u64,
+    /// EtherCAT time over all rounds, seconds.
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub duration: f64,
+    /// Rounds; each runs the cell over EtherCAT, then `bench latency`.
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub rounds: u32,
+    /// Length of each round's `bench latency` run, seconds (default: a third of a round).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub latency_duration: Option<f64>,
+    /// SCHED_FIFO priority of the RT thread (the emulator runs one above it).
+    #[arg(long, value_name = "N", default_value_t = u32::from(latency::DEFAULT_PRIORITY))]
+    pub priority: u32,
+    /// CPU of the RT thread, the emulator and the latency runs (default: the last online CPU).
+    #[arg(long, value_name = "N")]
+    pub cpu: Option<usize>,
+    /// Run the segment in-process instead of on a veth pair (no network, no root).
+    #[arg(long)]
+    pub in_process: bool,
+    /// Also write the result as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
 }
 
 /// `cellrt bench ipc`.
@@ -136,6 +168,7 @@ pub fn run(args: BenchArgs, cell: Option<String>) -> Exit {
         BenchCommand::Compare(a) => run_compare(a),
         BenchCommand::Loop(a) => run_loop(a),
         BenchCommand::Scaling(a) => run_scaling(a),
+        BenchCommand::Ethercat(a) => run_ethercat(a),
     };
     match result {
         Ok(()) => Exit::Ok,
@@ -184,6 +217,30 @@ fn run_operator(a: OperatorArgs, cell: Option<&str>) -> Result<(), BenchError> {
         us[us.len() - 1]
     );
     Ok(())
+}
+
+fn run_ethercat(a: EthercatArgs) -> Result<(), BenchError> {
+    use cellrt_rt_tests::ethercat::{self as bench, EthercatBenchOptions, SegmentPlace};
+    let exe = std::env::current_exe()
+        .map_err(|e| BenchError::failed(format!("cannot find the cellrt executable: {e}")))?;
+    let opts = EthercatBenchOptions::new(
+        a.interval,
+        a.duration,
+        a.rounds,
+        a.latency_duration,
+        a.priority,
+        a.cpu,
+        if a.in_process {
+            SegmentPlace::InProcess
+        } else {
+            SegmentPlace::Veth
+        },
+        exe,
+    )?;
+    println!("{}", bench::render_header(&opts));
+    let report = bench::run(&opts, &mut |row| println!("{row}"))?;
+    print!("{}", bench::render_totals(&report));
+    write_json(a.json.as_deref(), &report)
 }
 
 fn run_latency(a: LatencyArgs) -> Result<(), BenchError> {

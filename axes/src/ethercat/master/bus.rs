@@ -17,7 +17,7 @@ use ethercrab::{
 };
 
 use super::link::Link;
-use crate::bus::{Bus, BusError, SDO_UNSUPPORTED};
+use crate::bus::{Bus, BusError, FrameCounters, SDO_UNSUPPORTED};
 use crate::cia402::mode::ModeOfOperation;
 use crate::cycles::{CycleTime, Cycles};
 use crate::ethercat::frame::{self, Command, FrameBuilder};
@@ -228,17 +228,6 @@ struct AxisImage {
     tx: Vec<u8>,
 }
 
-/// Counters of the cyclic exchange.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct ExchangeCounters {
-    /// Cyclic frames sent.
-    pub frames: u64,
-    /// Frames that did not return.
-    pub lost: u64,
-    /// Frames that returned with a wrong working counter.
-    pub wkc_errors: u64,
-}
-
 /// An EtherCAT segment in OP as a [`Bus`].
 pub struct EthercatBus {
     link: Box<dyn Link>,
@@ -251,7 +240,7 @@ pub struct EthercatBus {
     pdi: Vec<u8>,
     frame: Vec<u8>,
     expected_wkc: u16,
-    counters: ExchangeCounters,
+    counters: FrameCounters,
     index: u8,
     dc: DcAlignment,
     /// The correction the RT loop took since the last exchange, ns.
@@ -559,7 +548,7 @@ impl EthercatBus {
             pdi: vec![0; pdi_len],
             frame: buf,
             expected_wkc,
-            counters: ExchangeCounters::default(),
+            counters: FrameCounters::default(),
             index: 0,
             dc,
             dc_taken: 0,
@@ -567,7 +556,7 @@ impl EthercatBus {
     }
 
     /// Counters of the cyclic exchange.
-    pub fn counters(&self) -> ExchangeCounters {
+    pub fn counters(&self) -> FrameCounters {
         self.counters
     }
 
@@ -765,6 +754,10 @@ impl Bus for EthercatBus {
             a.tx.copy_from_slice(&data[a.inputs.clone()]);
         }
         Ok(())
+    }
+
+    fn frame_counters(&self) -> Option<FrameCounters> {
+        Some(self.counters)
     }
 
     fn deadline_correction_ns(&mut self) -> i64 {

@@ -134,6 +134,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
                 profile: profile(m),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
+                amplifier: None,
             })
             .collect(),
     };

@@ -722,6 +722,33 @@ mod tests {
         assert_eq!(p.axes_per_unit, 1);
     }
 
+    /// §1.5 offsets both ways, and the §5.1 unit PDO limits (TV-7: a J5W3 at 0.25 ms takes 120
+    /// bytes; no multi-axis entry at 0.125 ms).
+    #[test]
+    fn multi_axis_offsets_and_unit_pdo_limits() {
+        for (index, axis, at) in [
+            (0x6040, 1, 0x6840),
+            (0x6041, 2, 0x7041),
+            (0x2D01, 2, 0x4D01),
+            (0x1A00, 1, 0x1A10),
+            (0x1C32, 2, 0x1C32),
+        ] {
+            assert_eq!(axis_index(index, axis), Some(at));
+            let back = if at == 0x1C32 { (0, at) } else { (axis, index) };
+            assert_eq!(index_axis(at, 3), Some(back));
+        }
+        assert_eq!(axis_index(0x6040, 3), None);
+        assert_eq!(index_axis(0x7040, 2), None, "no axis C on a J5W2");
+        assert_eq!(PROFILE_W2.object_slot(0x6840), Some((1, 0x6040)));
+        assert_eq!(PROFILE.object_slot(0x6840), Some((0, 0x6840)));
+        assert_eq!(PROFILE_W3.axis_object(0x1600, 2), Some(0x1620));
+        assert_eq!(unit_pdo_limit(3, 250), Some((120, 120)));
+        assert_eq!(unit_pdo_limit(3, 500), Some((144, 162)));
+        assert_eq!(unit_pdo_limit(2, 8000), Some((108, 120)));
+        assert_eq!(unit_pdo_limit(2, 125), None);
+        assert_eq!(unit_pdo_limit(1, 125), Some((64, 64)));
+    }
+
     #[test]
     fn fault_reset_hold_per_cycle_time() {
         // mr-j5-g-n1.md TV-5.

@@ -732,6 +732,51 @@ mod tests {
         assert_eq!(s.write_u32(0x1600, 1, 0x6041_0010), Err(0x0604_0043));
     }
 
+    /// mr-j5-g-n1.md §1.5 on a J5W3: the mapping objects of axis B/C at +10h carry the axis'
+    /// objects at +800h (an axis-A object is not mappable there); 1C12h sub n assigns axis n's
+    /// object; TV-6: 1C32h:02 = 0.125 ms refused (0609 0030h, the spec's natural code), 0.25 ms
+    /// taken by every axis; per-axis objects routed to the axis' drive.
+    #[test]
+    fn a_j5w3_serves_each_axis_at_its_offset_indexes() {
+        let mut s = Server::new(DriveModel::MrJ5W3GN1);
+        assert_eq!(s.drives.len(), 3);
+        assert_eq!(s.read(0x1610, 0), Ok(vec![10]));
+        assert_eq!(s.read(0x1620, 3), Ok(0x7040_0010u32.to_le_bytes().to_vec()));
+        assert_eq!(s.read(0x1A10, 3), Ok(0x6841_0010u32.to_le_bytes().to_vec()));
+        assert_eq!(s.read(0x1630, 0), Err(0x0602_0000), "no axis D");
+        assert_eq!(s.write(0x1610, 0, &[0]), Ok(()));
+        let not_mappable = Err(profile(DriveModel::MrJ5W3GN1).pdo_rules.not_mappable_abort);
+        assert_eq!(s.write_u32(0x1610, 1, 0x6040_0010), not_mappable);
+        assert_eq!(s.write_u32(0x1610, 1, 0x7040_0010), not_mappable);
+        assert_eq!(s.write_u32(0x1610, 1, 0x6840_0010), Ok(()));
+        assert_eq!(s.write(0x1610, 0, &[1]), Ok(()));
+        let (rx, _) = s.pdo.mapping(profile(DriveModel::MrJ5W3GN1), 1);
+        assert_eq!(rx, vec![PdoEntry::object(0x6040, 0, 16)]);
+
+        assert_eq!(s.write(0x1C12, 0, &[0]), Ok(()));
+        assert_eq!(
+            s.write(0x1C12, 2, &0x1600u16.to_le_bytes()),
+            Err(0x0604_0043)
+        );
+        assert_eq!(s.write(0x1C12, 2, &0x1610u16.to_le_bytes()), Ok(()));
+        assert_eq!(
+            s.write(0x1C12, 4, &0x1630u16.to_le_bytes()),
+            Err(0x0609_0011)
+        );
+        assert_eq!(s.write(0x1C12, 0, &[4]), Err(0x0609_0030));
+        assert_eq!(s.write(0x1C12, 0, &[3]), Ok(()));
+        assert_eq!(s.read(0x1C12, 3), Ok(0x1620u16.to_le_bytes().to_vec()));
+
+        assert_eq!(s.write_u32(0x1C32, 2, 125_000), Err(0x0609_0030));
+        assert_eq!(s.write_u32(0x1C32, 2, 250_000), Ok(()));
+        for d in &s.drives {
+            assert_eq!(d.sdo_upload(0x1C32, 2), Ok(250_000));
+        }
+        // 7060h (axis C's modes of operation) reaches axis C's drive only: it is mapped there.
+        assert_eq!(s.write(0x7060, 0, &[1]), Err(0x0601_0006));
+        assert_eq!(s.read(0x7041, 0), Ok(vec![0, 0]));
+    }
+
     /// A CoE SDO request in a mailbox: `cmd`, index, sub-index, then `data`.
     fn request(cmd: u8, index: u16, sub: u8) -> Vec<u8> {
         let mut r = vec![0u8; MAILBOX_HEADER_LEN + 10];

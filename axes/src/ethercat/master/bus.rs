@@ -861,7 +861,9 @@ impl EthercatBus {
 
     fn sdo_read_value(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
         let d = self.config.drives.get(axis).ok_or(SDO_UNSUPPORTED)?;
-        let data_type = object_type(d.profile, index, sub);
+        // The type of an object given at another axis' offset index is its axis-A object's.
+        let base = d.profile.object_slot(index).map_or(index, |(_, b)| b);
+        let data_type = object_type(d.profile, base, sub);
         let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
         let sd = self
             .group

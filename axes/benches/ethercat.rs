@@ -29,6 +29,7 @@ fn bus(models: &[DriveModel]) -> EthercatBus {
                 profile: profile(m),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
+                amplifier: None,
             })
             .collect(),
     };

@@ -58,6 +58,7 @@ fn config(models: &[DriveModel], cycle: CycleTime) -> SegmentConfig {
                 profile: prof(m),
                 identity: ExpectedIdentity::of_profile(prof(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
+                amplifier: None,
             })
             .collect(),
     }

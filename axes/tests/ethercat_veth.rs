@@ -83,6 +83,7 @@ fn a_segment_on_a_veth_pair_comes_up_and_exchanges_over_raw_sockets() {
                 profile: profile(m),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
+                amplifier: None,
             })
             .collect(),
     };

@@ -134,6 +134,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
                 profile: profile(m),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
+                amplifier: None,
             })
             .collect(),
     };
@@ -177,4 +178,110 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
         "master frame, DC alignment, emulated segment and drives"
     );
     assert_eq!(errors, 30, "every faulty frame an error");
+}
+
+/// A multi-axis station (mr-j5-g-n1.md §1.5) on the cyclic path: the master splits the PDI per
+/// axis and the emulated J5W3 runs each axis' drive on its part of the process data, without
+/// allocating; two of its three slots used, beside a 1-axis drive; the axes enabled, then the
+/// SubDevice stalled and its link lost for 5 frames each.
+#[test]
+fn the_ethercat_cyclic_exchange_of_a_multi_axis_station_is_allocation_free() {
+    use cellrt_axes::ethercat::emulator::Segment;
+    use cellrt_axes::ethercat::identity::ExpectedIdentity;
+    use cellrt_axes::ethercat::master::{
+        AmplifierSlot, EthercatBus, InProcessLink, SegmentConfig, SegmentDrive,
+    };
+    use cellrt_axes::{Controlword, ModeOfOperation};
+
+    let ct = CycleTime::from_micros(1000).unwrap();
+    let axes = [
+        (DriveModel::MrJ5W3GN1, Some(2u8)),
+        (DriveModel::MrJ5GN1, None),
+        (DriveModel::MrJ5W3GN1, Some(0u8)),
+    ];
+    let config = SegmentConfig {
+        cycle: ct,
+        drives: axes
+            .iter()
+            .enumerate()
+            .map(|(i, &(m, slot))| SegmentDrive {
+                axis: format!("a{i}"),
+                profile: profile(m),
+                identity: ExpectedIdentity::of_profile(profile(m)),
+                mode: ModeOfOperation::CyclicSyncPosition,
+                amplifier: slot.map(|slot| AmplifierSlot {
+                    label: "w3".into(),
+                    slot,
+                }),
+            })
+            .collect(),
+    };
+    let units = config
+        .stations()
+        .unwrap()
+        .iter()
+        .map(|st| {
+            st.slots
+                .iter()
+                .map(|_| SimDrive::new(st.model, SimDriveParams::default(), ct))
+                .collect()
+        })
+        .collect();
+    let segment = Segment::of_units(units).unwrap();
+    let mut bus = EthercatBus::bring_up(config, Box::new(InProcessLink::new(segment))).unwrap();
+    let layouts: Vec<_> = axes
+        .iter()
+        .map(|&(m, _)| {
+            (
+                cellrt_axes::pdo::PdoLayout::new(&profile(m).rx_pdo),
+                cellrt_axes::pdo::PdoLayout::new(&profile(m).tx_pdo),
+            )
+        })
+        .collect();
+    bus.exchange(Cycles(1)).unwrap();
+    let before = allocations();
+    let mut errors = 0;
+    for k in 0..2_000u32 {
+        let link = bus.link_mut();
+        match k {
+            1200 => assert!(link.stall_subdevice(0, 5)),
+            1400 => assert!(link.lose_link(1, 5)),
+            _ => {}
+        }
+        let cw = match k {
+            0..=49 => Controlword::SHUTDOWN,
+            50..=99 => Controlword::SWITCH_ON,
+            _ => Controlword::ENABLE_OPERATION,
+        };
+        for (axis, (rxl, txl)) in layouts.iter().enumerate() {
+            let tx = txl.decode_tx(bus.tx_image(axis)).unwrap();
+            let rx = RxPdo {
+                controlword: cw,
+                mode: ModeOfOperation::CyclicSyncPosition.as_i8(),
+                target_position: tx.position_actual,
+                ..RxPdo::default()
+            };
+            rxl.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+        }
+        if bus.exchange(Cycles(1)).is_err() {
+            errors += 1;
+        }
+        let _ = bus.deadline_correction_ns();
+        if k == 1000 {
+            for (axis, (_, txl)) in layouts.iter().enumerate() {
+                let sw = txl.decode_tx(bus.tx_image(axis)).unwrap().statusword;
+                assert_eq!(
+                    sw.state(),
+                    Some(cellrt_axes::FsaState::OperationEnabled),
+                    "axis {axis}"
+                );
+            }
+        }
+    }
+    assert_eq!(
+        allocations() - before,
+        0,
+        "master PDI split, multi-axis station and its drives"
+    );
+    assert_eq!(errors, 10, "every faulty frame an error");
 }

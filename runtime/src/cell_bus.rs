@@ -5,7 +5,7 @@ use cellrt_axes::ethercat::emulator::Segment;
 use cellrt_axes::ethercat::master::{
     EthercatBus, InProcessLink, Link, RawSocketLink, SegmentConfig, SegmentDrive,
 };
-use cellrt_axes::{Bus, BusError, Cycles, SimBus};
+use cellrt_axes::{Bus, BusError, Cycles, SimBus, SimDrive, SimDriveParams};
 
 use crate::config::{CellConfig, EthercatInterface};
 use crate::controller::sim_drives;
@@ -33,6 +33,9 @@ pub enum BusOpenError {
     /// Bring-up failed.
     #[error(transparent)]
     Ethercat(#[from] cellrt_axes::ethercat::master::EthercatError),
+    /// The emulated segment's units could not be built.
+    #[error("emulated EtherCAT segment: {0}")]
+    Unit(#[from] cellrt_axes::ethercat::emulator::UnitError),
 }
 
 /// The EtherCAT segment `cell` expects, in axis order.
@@ -47,14 +50,33 @@ pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
                 profile: a.profile,
                 identity: a.ethercat_identity,
                 mode: a.mode,
+                amplifier: a.amplifier.clone(),
             })
             .collect(),
     }
 }
 
-/// The emulated segment of `cell`'s drives (what `cellrt drive-sim ethercat` serves).
-pub fn emulated_segment(cell: &CellConfig) -> Segment {
-    Segment::new(sim_drives(cell))
+/// The emulated segment of `cell`'s drives (what `cellrt drive-sim ethercat` serves): one
+/// station per SubDevice of [`segment_config`], a multi-axis amplifier presenting the drives
+/// of all its slots (an unused slot: a drive of the model with default settings).
+pub fn emulated_segment(cell: &CellConfig) -> Result<Segment, BusOpenError> {
+    let stations = segment_config(cell).stations()?;
+    let mut drives: Vec<Option<SimDrive>> = sim_drives(cell).into_iter().map(Some).collect();
+    let units = stations
+        .iter()
+        .map(|st| {
+            st.slots
+                .iter()
+                .map(|slot| {
+                    slot.and_then(|a| drives.get_mut(a).and_then(Option::take))
+                        .unwrap_or_else(|| {
+                            SimDrive::new(st.model, SimDriveParams::default(), cell.cycle_time)
+                        })
+                })
+                .collect()
+        })
+        .collect();
+    Ok(Segment::of_units(units)?)
 }
 
 impl CellBus {
@@ -65,7 +87,7 @@ impl CellBus {
         };
         let link: Box<dyn Link> = match &ec.interface {
             EthercatInterface::InProcess => Box::new(
-                InProcessLink::with_frame_timeout(emulated_segment(cell), ec.frame_timeout)
+                InProcessLink::with_frame_timeout(emulated_segment(cell)?, ec.frame_timeout)
                     .excusing_host_stalls(),
             ),
             EthercatInterface::Nic(name) => Box::new(

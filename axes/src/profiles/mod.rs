@@ -258,6 +258,34 @@ impl DriveProfile {
         format!("{} µs", v.join(", "))
     }
 
+    /// True if one station carries several axes (MR-J5W2/W3-G-N1).
+    pub const fn is_multi_axis(&self) -> bool {
+        self.axes_per_unit > 1
+    }
+
+    /// The index of axis-A object `index` on slot `slot` of this model's unit (mr-j5-g-n1.md
+    /// §1.5 offsets on a multi-axis unit; `index` itself on a 1-axis drive's slot 0). `None` for
+    /// a slot the unit does not have.
+    pub const fn axis_object(&self, index: u16, slot: u8) -> Option<u16> {
+        if slot >= self.axes_per_unit {
+            None
+        } else if self.is_multi_axis() {
+            mr_j5_g_n1::axis_index(index, slot)
+        } else {
+            Some(index)
+        }
+    }
+
+    /// The slot and axis-A index of object `index` of this model's unit (the inverse of
+    /// [`DriveProfile::axis_object`]); `None` for the area of a slot the unit does not have.
+    pub const fn object_slot(&self, index: u16) -> Option<(u8, u16)> {
+        if self.is_multi_axis() {
+            mr_j5_g_n1::index_axis(index, self.axes_per_unit)
+        } else {
+            Some((0, index))
+        }
+    }
+
     /// The supported modes as text, e.g. "hm, csp, csv".
     pub fn modes_text(&self) -> String {
         let v: Vec<&str> = self.modes.iter().map(|m| m.as_str()).collect();

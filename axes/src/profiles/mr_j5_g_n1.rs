@@ -511,21 +511,70 @@ pub const PROFILE_W3: DriveProfile = DriveProfile {
     ..PROFILE_W2
 };
 
+/// Offset per axis of the CiA 402 area 6000h–67FFh (axis B 6800h, axis C 7000h; §1.5, manual §3.1).
+pub const AXIS_OFFSET_CIA402: u16 = 0x800;
+/// Offset per axis of the manufacturer areas 2000h–2FFFh (axis B 3000h, axis C 4000h; §1.5).
+pub const AXIS_OFFSET_MANUFACTURER: u16 = 0x1000;
+/// Offset per axis of the PDO mapping objects 1600h–1603h / 1A00h–1A03h (axis B 1610h, axis C
+/// 1620h; §1.5, manual §4.4).
+pub const AXIS_OFFSET_PDO_MAPPING: u16 = 0x10;
+/// Most axes a unit has (MR-J5W3-G-N1).
+pub const MAX_UNIT_AXES: u8 = 3;
+
 /// The index of axis-A object `index` on axis `axis` (0 = A) of a multi-axis unit (§1.5):
 /// +800h per axis in the CiA 402 area (6000h–67FFh), +1000h in the manufacturer areas
 /// (2000h–2FFFh), +10h for the PDO mapping objects (1600h–1603h, 1A00h–1A03h); 1000h–1FFFh
 /// otherwise shared. `None` for an axis the area has no copy for.
 pub const fn axis_index(index: u16, axis: u8) -> Option<u16> {
-    if axis > 2 {
+    if axis >= MAX_UNIT_AXES {
         return None;
     }
     let a = axis as u16;
     Some(match index {
-        0x6000..=0x67FF => index + 0x800 * a,
-        0x2000..=0x2FFF => index + 0x1000 * a,
-        0x1600..=0x1603 | 0x1A00..=0x1A03 => index + 0x10 * a,
+        0x6000..=0x67FF => index + AXIS_OFFSET_CIA402 * a,
+        0x2000..=0x2FFF => index + AXIS_OFFSET_MANUFACTURER * a,
+        0x1600..=0x1603 | 0x1A00..=0x1A03 => index + AXIS_OFFSET_PDO_MAPPING * a,
         _ => index,
     })
+}
+
+/// The axis and axis-A index of object `index` on a unit of `axes` axes, the inverse of
+/// [`axis_index`]; a shared object is axis 0's. `None` for an index in the per-axis area of an
+/// axis the unit does not have (e.g. 7040h on an MR-J5W2).
+pub const fn index_axis(index: u16, axes: u8) -> Option<(u8, u16)> {
+    let (axis, base) = match index {
+        0x6000..=0x77FF => (
+            (index - 0x6000) / AXIS_OFFSET_CIA402,
+            0x6000 + (index - 0x6000) % AXIS_OFFSET_CIA402,
+        ),
+        0x2000..=0x4FFF => (
+            (index - 0x2000) / AXIS_OFFSET_MANUFACTURER,
+            0x2000 + (index - 0x2000) % AXIS_OFFSET_MANUFACTURER,
+        ),
+        0x1600..=0x1603 | 0x1A00..=0x1A03 => (0, index),
+        0x1610..=0x1613 | 0x1A10..=0x1A13 => (1, index - AXIS_OFFSET_PDO_MAPPING),
+        0x1620..=0x1623 | 0x1A20..=0x1A23 => (2, index - 2 * AXIS_OFFSET_PDO_MAPPING),
+        _ => (0, index),
+    };
+    if axis as u8 >= axes {
+        None
+    } else {
+        Some((axis as u8, base))
+    }
+}
+
+/// The most RxPDO and TxPDO bytes a unit of `axes` axes exchanges per cycle at `cycle_us`
+/// (§5.1, manual §4.4: 1-axis 64/64; 2-axis 108/120; 3-axis 120/120 at 0.25 ms, 144/162 from
+/// 0.5 ms). `None` where the table has no entry (multi-axis at 0.125 ms).
+pub const fn unit_pdo_limit(axes: u8, cycle_us: u32) -> Option<(u16, u16)> {
+    match (axes, cycle_us) {
+        (1, _) => Some((64, 64)),
+        (_, 0..=249) => None,
+        (2, _) => Some((108, 120)),
+        (3, 250) => Some((120, 120)),
+        (3, _) => Some((144, 162)),
+        _ => None,
+    }
 }
 
 #[cfg(test)]
@@ -671,6 +720,33 @@ mod tests {
         assert!(p.quirks.shortcut_transitions && p.quirks.has_quick_stop);
         assert!(!p.quirks.quick_stop_returns_to_enabled);
         assert_eq!(p.axes_per_unit, 1);
+    }
+
+    /// §1.5 offsets both ways, and the §5.1 unit PDO limits (TV-7: a J5W3 at 0.25 ms takes 120
+    /// bytes; no multi-axis entry at 0.125 ms).
+    #[test]
+    fn multi_axis_offsets_and_unit_pdo_limits() {
+        for (index, axis, at) in [
+            (0x6040, 1, 0x6840),
+            (0x6041, 2, 0x7041),
+            (0x2D01, 2, 0x4D01),
+            (0x1A00, 1, 0x1A10),
+            (0x1C32, 2, 0x1C32),
+        ] {
+            assert_eq!(axis_index(index, axis), Some(at));
+            let back = if at == 0x1C32 { (0, at) } else { (axis, index) };
+            assert_eq!(index_axis(at, 3), Some(back));
+        }
+        assert_eq!(axis_index(0x6040, 3), None);
+        assert_eq!(index_axis(0x7040, 2), None, "no axis C on a J5W2");
+        assert_eq!(PROFILE_W2.object_slot(0x6840), Some((1, 0x6040)));
+        assert_eq!(PROFILE.object_slot(0x6840), Some((0, 0x6840)));
+        assert_eq!(PROFILE_W3.axis_object(0x1600, 2), Some(0x1620));
+        assert_eq!(unit_pdo_limit(3, 250), Some((120, 120)));
+        assert_eq!(unit_pdo_limit(3, 500), Some((144, 162)));
+        assert_eq!(unit_pdo_limit(2, 8000), Some((108, 120)));
+        assert_eq!(unit_pdo_limit(2, 125), None);
+        assert_eq!(unit_pdo_limit(1, 125), Some((64, 64)));
     }
 
     #[test]

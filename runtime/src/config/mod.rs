@@ -386,6 +386,9 @@ pub struct AxisConfig {
     /// setpoint velocity + this gain × (setpoint − actual position), 1/s (default
     /// [`DEFAULT_CSV_POSITION_GAIN`]). The manuals leave the outer loop to the controller.
     pub csv_position_gain: f64,
+    /// The multi-axis amplifier and slot (`amplifier`, `amplifier_axis`; the slot defaults to
+    /// the order in the file); `None`: the axis has an amplifier of its own.
+    pub amplifier: Option<cellrt_axes::ethercat::master::AmplifierSlot>,
 }
 
 /// Default csv position-correction gain, 1/s: removes the drift between the planned positions

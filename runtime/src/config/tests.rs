@@ -202,13 +202,35 @@ fn ethercat_bad_input_names_the_key_and_the_reason() {
     }
 }
 
+/// A multi-axis amplifier over EtherCAT: its axes keep their amplifier slots (one SubDevice);
+/// a cycle of 0.125 ms, which the J5W2/W3 do not run (mr-j5-g-n1.md §1.3, TV-6), is refused
+/// naming the axis.
 #[test]
-fn a_multi_axis_unit_over_ethercat_is_refused_by_name() {
-    let text = ethercat_text().replacen("drive = \"mr-j5-g-n1\"", "drive = \"mr-j5w2-g-n1\"", 1);
+fn a_multi_axis_unit_over_ethercat_keeps_its_slots_and_refuses_125_us() {
+    let text = ethercat_text().replacen(
+        "drive = \"mr-j5-g-n1\"",
+        "drive = \"mr-j5w2-g-n1\"\namplifier = \"w2\"\namplifier_axis = 1",
+        1,
+    );
+    let c = parse(&text).expect("a J5W2 axis over EtherCAT");
+    let slot = c.axes[3].amplifier.as_ref().expect("amplifier slot");
+    assert_eq!((slot.label.as_str(), slot.slot), ("w2", 1));
+    assert!(c.axes[0].amplifier.is_none());
+
+    let text: String = text
+        .lines()
+        .filter(|l| !l.starts_with("pdo = "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let text = text
+        .replacen("cycle_time_us = 1000", "cycle_time_us = 125", 1)
+        .replace("drive = \"mr-j3-t04\"", "drive = \"mr-j5-g-n1\"")
+        .replace("drive = \"mr-j4-tm\"", "drive = \"mr-j5-g-n1\"")
+        .replace("drive = \"mr-jet-g-n1\"", "drive = \"mr-j5-g-n1\"");
     let e = parse(&text).unwrap_err();
-    assert_eq!(e.key, "axes[3].transport");
+    assert_eq!(e.key, "axes[3].drive", "{e}");
     assert!(
-        e.message.contains("multi-axis") && e.message.contains("'c'"),
+        e.message.contains("'c'") && e.message.contains("125"),
         "{e}"
     );
 }

@@ -18,6 +18,7 @@ use super::{
     IN_PROCESS_INTERFACE, MAX_AXES, MAX_TORQUE_PERCENT,
 };
 use cellrt_axes::ethercat::identity::{maker_vendor_id, ExpectedIdentity};
+use cellrt_axes::ethercat::master::AmplifierSlot;
 
 /// Checks a name used in service names and file names: 1–32 of `[A-Za-z0-9_-]`.
 pub(crate) fn check_name(file: &Path, key: &str, name: &str) -> Result<(), ConfigError> {
@@ -246,7 +247,7 @@ pub(super) fn validate(
     let mut amplifiers: Vec<(String, DriveModel, Vec<u8>)> = Vec::new();
     for (i, a) in raw.axes.into_iter().enumerate() {
         let key = format!("axes[{i}]");
-        check_amplifier(file, &key, &a, &mut amplifiers)?;
+        let amplifier = check_amplifier(file, &key, &a, &mut amplifiers)?;
         if !seen.insert(a.name.clone()) {
             return Err(ConfigError::new(
                 file,
@@ -254,7 +255,9 @@ pub(super) fn validate(
                 format!("duplicate axis name '{}'", a.name),
             ));
         }
-        axes.push(validate_axis(file, &key, cycle_time, a)?);
+        let mut axis = validate_axis(file, &key, cycle_time, a)?;
+        axis.amplifier = amplifier;
+        axes.push(axis);
     }
 
     let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
@@ -503,12 +506,13 @@ fn validate_injections(
 
 /// `axes.amplifier` / `axes.amplifier_axis`: axes sharing an amplifier label must name the same
 /// model, take distinct slots, and be no more than the model's axes per unit (W2 = 2, W3 = 3).
+/// Returns the axis' amplifier and slot.
 fn check_amplifier(
     file: &Path,
     key: &str,
     a: &RawAxis,
     amplifiers: &mut Vec<(String, DriveModel, Vec<u8>)>,
-) -> Result<(), ConfigError> {
+) -> Result<Option<AmplifierSlot>, ConfigError> {
     let Some(label) = &a.amplifier else {
         if a.amplifier_axis.is_some() {
             return Err(ConfigError::new(
@@ -517,10 +521,10 @@ fn check_amplifier(
                 format!("axis '{}': amplifier_axis needs amplifier", a.name),
             ));
         }
-        return Ok(());
+        return Ok(None);
     };
     let Ok(model) = a.drive.parse::<DriveModel>() else {
-        return Ok(()); // reported with the axis' drive key
+        return Ok(None); // reported with the axis' drive key
     };
     let per_unit = profile(model).axes_per_unit;
     let err = |sub: &str, msg: String| ConfigError::new(file, format!("{key}.{sub}"), msg);
@@ -566,7 +570,10 @@ fn check_amplifier(
         ));
     }
     slots.push(slot);
-    Ok(())
+    Ok(Some(AmplifierSlot {
+        label: label.clone(),
+        slot,
+    }))
 }
 
 fn validate_axis(
@@ -605,15 +612,6 @@ fn validate_axis(
             ))
         }
     };
-    if transport == Transport::Ethercat && profile.axes_per_unit > 1 {
-        return Err(err(
-            "transport",
-            format!(
-                "axis '{}': {drive} is a multi-axis unit; the EtherCAT backend drives one axis per SubDevice (use transport = \"sim\")",
-                a.name
-            ),
-        ));
-    }
     // A model without a maker (the generic CiA 402 drive) has no identity to check the
     // SubDevice against: an EtherCAT axis must name it.
     if transport == Transport::Ethercat && maker_vendor_id(drive).is_none() {
@@ -810,6 +808,7 @@ fn validate_axis(
         sim,
         torque,
         csv_position_gain,
+        amplifier: None,
     })
 }
 

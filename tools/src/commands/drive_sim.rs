@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use cellrt_axes::ethercat::emulator::wire;
 use cellrt_axes::ethercat::raw_socket::RawSocket;
-use cellrt_runtime::cell_bus::emulated_segment;
+use cellrt_runtime::cell_bus::{emulated_segment, segment_config};
 use cellrt_runtime::config::CellConfig;
 
 use crate::cli::{DriveSimArgs, DriveSimBus};
@@ -60,11 +60,32 @@ pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
     };
     let report = cellrt_runtime::rt::thread::setup_current_thread(&rt);
     eprintln!("cellrt drive-sim: {}", report.describe());
-    let mut segment = emulated_segment(&config);
-    let names: Vec<String> = config
-        .axes
+    let mut segment = match emulated_segment(&config) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Exit::Failed;
+        }
+    };
+    let stations = match segment_config(&config).stations() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Exit::Failed;
+        }
+    };
+    let axis_names = |st: &cellrt_axes::ethercat::master::SegmentStation| -> String {
+        let v: Vec<&str> = st
+            .slots
+            .iter()
+            .flatten()
+            .map(|&a| config.axes[a].name.as_str())
+            .collect();
+        v.join("+")
+    };
+    let names: Vec<String> = stations
         .iter()
-        .map(|a| format!("{} ({})", a.name, a.drive))
+        .map(|st| format!("{} ({})", axis_names(st), st.model.model))
         .collect();
     eprintln!(
         "cellrt drive-sim: {} EtherCAT SubDevice(s) on {interface}: {}",
@@ -77,13 +98,18 @@ pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
                 "cellrt drive-sim: {} frames served, {} malformed dropped",
                 stats.frames, stats.malformed
             );
-            for (a, st) in config.axes.iter().zip(segment.stations()) {
-                let alarm = st
-                    .drive()
-                    .alarm()
-                    .map(|c| format!(", alarm {c:#06x}"))
-                    .unwrap_or_default();
-                eprintln!("  {}: AL state {}{}", a.name, st.al_state().as_str(), alarm);
+            for (plan, st) in stations.iter().zip(segment.stations()) {
+                let alarms: Vec<String> = st
+                    .drives()
+                    .iter()
+                    .filter_map(|d| d.alarm().map(|c| format!(", alarm {c:#06x}")))
+                    .collect();
+                eprintln!(
+                    "  {}: AL state {}{}",
+                    axis_names(plan),
+                    st.al_state().as_str(),
+                    alarms.concat()
+                );
             }
             Exit::Ok
         }

@@ -37,11 +37,11 @@ const SM2_SYNC: u16 = 0x1C32;
 /// 1C33h SM3 synchronisation; sub 2 follows 1C32h:02.
 const SM3_SYNC: u16 = 0x1C33;
 
-/// The station-level state the CoE server needs besides the drive.
+/// The station-level state the CoE server needs besides the drives.
 #[derive(Debug)]
 pub struct CoeContext<'a> {
-    /// The drive behind the station.
-    pub drive: &'a mut SimDrive,
+    /// The drives behind the station, one per axis of the unit (slot 0 = axis A).
+    pub drives: &'a mut [SimDrive],
     /// 1018h.
     pub identity: SubDeviceIdentity,
     /// The AL state (PDO configuration only in PRE-OP).
@@ -52,6 +52,13 @@ pub struct CoeContext<'a> {
     pub counter: &'a mut u8,
     /// A segmented upload in progress.
     pub upload: &'a mut SegmentedUpload,
+}
+
+impl CoeContext<'_> {
+    /// The unit's model (every axis' drive runs the same model).
+    fn profile(&self) -> &'static DriveProfile {
+        self.drives[0].profile()
+    }
 }
 
 /// An SDO upload too long for one mailbox (ETG.1000.6 §5.6.2.3, CiA 301 §7.2.4.3.4): the
@@ -132,13 +139,14 @@ fn finish_response(ctx: &mut CoeContext<'_>, response: &mut [u8], body_len: usiz
 
 /// The PDO assignment (1C12h/1C13h) and mapping (16xxh/1Axxh) objects of a station: variable
 /// mapping as the model's [`PdoRules`] allow it (in PRE-OP: count to 0, entries, count last;
-/// each entry checked when written, the whole mapping when the count is written). The drive
-/// takes the mapping at PRE-OP → SAFE-OP ([`PdoConfig::mapping`]). Only the model's default
-/// mapping objects (e.g. 1600h/1A00h, 1614h/1A14h) can be assigned.
+/// each entry checked when written, the whole mapping when the count is written). The drives
+/// take the mapping at PRE-OP → SAFE-OP ([`PdoConfig::mapping`]). Only the model's default
+/// mapping objects (e.g. 1600h/1A00h, 1614h/1A14h) can be assigned; on a multi-axis unit each
+/// axis has its own at the offset index (1610h, 1620h…; mr-j5-g-n1.md §1.5).
 #[derive(Debug, Clone)]
 pub struct PdoConfig {
-    rx: PdoObject,
-    tx: PdoObject,
+    /// Per axis of the unit: its RxPDO and TxPDO mapping objects.
+    axes: Vec<[PdoObject; 2]>,
     /// 1C12h:00 / 1C13h:00 counts (0 while being rewritten).
     assign_counts: [u8; 2],
     rules: PdoRules,
@@ -152,24 +160,35 @@ struct PdoObject {
     index: u16,
     direction: PdoDirection,
     count: u8,
-    /// Every sub-index 1..=max_entries, as written (0 where never written).
+    /// Every sub-index 1..=max_entries, as written (0 where never written); on a multi-axis
+    /// unit at the axis' own object indexes.
     words: Vec<u32>,
 }
 
+/// `entry` of axis `slot` at its offset index on `profile`'s unit (padding unchanged).
+fn entry_at_slot(profile: &DriveProfile, entry: PdoEntry, slot: u8) -> PdoEntry {
+    match profile.axis_object(entry.index, slot) {
+        Some(index) if !entry.is_padding() => PdoEntry { index, ..entry },
+        _ => entry,
+    }
+}
+
 impl PdoObject {
-    fn new(map: PdoMap, direction: PdoDirection, max_entries: u8) -> Self {
+    fn new(profile: &DriveProfile, map: PdoMap, direction: PdoDirection, slot: u8) -> Self {
+        let max_entries = profile.pdo_rules.max_entries;
         let mut words = vec![0u32; usize::from(max_entries).max(map.entries.len())];
         for (w, e) in words.iter_mut().zip(map.entries) {
-            *w = e.mapping_word();
+            *w = entry_at_slot(profile, *e, slot).mapping_word();
         }
         PdoObject {
-            index: map.index,
+            index: profile.axis_object(map.index, slot).unwrap_or(map.index),
             direction,
             count: map.entries.len() as u8,
             words,
         }
     }
 
+    /// The entries as written (at the axis' own indexes).
     fn entries(&self) -> Vec<PdoEntry> {
         self.words[..usize::from(self.count)]
             .iter()
@@ -178,27 +197,89 @@ impl PdoObject {
     }
 }
 
+/// `entry` as written into the mapping object of axis `slot`, at the axis-A index the drive
+/// model knows; `None` if it names another axis' object (e.g. 6040h in axis B's 1610h).
+fn entry_of_slot(profile: &DriveProfile, entry: PdoEntry, slot: u8) -> Option<PdoEntry> {
+    if entry.is_padding() {
+        return Some(entry);
+    }
+    match profile.object_slot(entry.index) {
+        Some((s, index)) if s == slot => Some(PdoEntry { index, ..entry }),
+        _ => None,
+    }
+}
+
 impl PdoConfig {
-    /// The mapping of `profile` (its default maps, or the mapping it runs), with its rules.
-    pub fn new(profile: &DriveProfile) -> Self {
-        let rules = profile.pdo_rules;
+    /// The mapping of `drives` (each drive's default maps, or the mapping it runs), one per
+    /// axis of the unit, with the model's rules.
+    pub fn new(drives: &[SimDrive]) -> Self {
+        let axes: Vec<[PdoObject; 2]> = drives
+            .iter()
+            .enumerate()
+            .map(|(slot, d)| {
+                let p = d.profile();
+                [
+                    PdoObject::new(p, p.rx_pdo, PdoDirection::Rx, slot as u8),
+                    PdoObject::new(p, p.tx_pdo, PdoDirection::Tx, slot as u8),
+                ]
+            })
+            .collect();
+        let n = axes.len() as u8;
         PdoConfig {
-            rx: PdoObject::new(profile.rx_pdo, PdoDirection::Rx, rules.max_entries),
-            tx: PdoObject::new(profile.tx_pdo, PdoDirection::Tx, rules.max_entries),
-            assign_counts: [1, 1],
-            rules,
+            axes,
+            assign_counts: [n, n],
+            rules: drives
+                .first()
+                .map_or(crate::profiles::generic_cia402::PROFILE.pdo_rules, |d| {
+                    d.profile().pdo_rules
+                }),
             frozen: false,
         }
     }
 
-    /// True if the RxPDO and TxPDO are assigned and mapped (what SAFE-OP requires).
-    pub fn complete(&self) -> bool {
-        self.assign_counts == [1, 1] && self.rx.count != 0 && self.tx.count != 0
+    /// Axes of the unit.
+    fn axis_count(&self) -> u8 {
+        self.axes.len() as u8
     }
 
-    /// The RxPDO and TxPDO entries as mapped now.
-    pub fn mapping(&self) -> (Vec<PdoEntry>, Vec<PdoEntry>) {
-        (self.rx.entries(), self.tx.entries())
+    /// True if every axis' RxPDO and TxPDO is assigned and mapped (what SAFE-OP requires; on a
+    /// multi-axis unit one assigned PDO per axis, mr-j5-g-n1.md §1.5 [inferred]).
+    pub fn complete(&self) -> bool {
+        let n = self.axis_count();
+        self.assign_counts == [n, n]
+            && self
+                .axes
+                .iter()
+                .all(|[rx, tx]| rx.count != 0 && tx.count != 0)
+    }
+
+    /// The RxPDO and TxPDO entries of axis `slot` as mapped now, at the axis-A indexes the
+    /// drive model knows (`profile`: the unit's model).
+    pub fn mapping(&self, profile: &DriveProfile, slot: u8) -> (Vec<PdoEntry>, Vec<PdoEntry>) {
+        let Some([rx, tx]) = self.axes.get(usize::from(slot)) else {
+            return (Vec::new(), Vec::new());
+        };
+        let base = |o: &PdoObject| {
+            o.entries()
+                .into_iter()
+                .filter_map(|e| entry_of_slot(profile, e, slot))
+                .collect()
+        };
+        (base(rx), base(tx))
+    }
+
+    /// The RxPDO and TxPDO bytes of axis `slot` as mapped now.
+    pub fn byte_lens(&self, slot: u8) -> (u16, u16) {
+        let len = |o: &PdoObject| {
+            (o.entries()
+                .iter()
+                .map(|e| usize::from(e.bits))
+                .sum::<usize>()
+                / 8) as u16
+        };
+        self.axes
+            .get(usize::from(slot))
+            .map_or((0, 0), |[rx, tx]| (len(rx), len(tx)))
     }
 
     /// The station reached SAFE-OP: a model whose mapping freezes then keeps it until power-off.
@@ -212,14 +293,19 @@ impl PdoConfig {
         self.frozen
     }
 
-    fn object(&mut self, index: u16) -> Option<&mut PdoObject> {
-        if index == self.rx.index {
-            Some(&mut self.rx)
-        } else if index == self.tx.index {
-            Some(&mut self.tx)
-        } else {
-            None
-        }
+    /// The mapping object `index` and the axis it belongs to.
+    fn object(&mut self, index: u16) -> Option<(&mut PdoObject, u8)> {
+        self.axes.iter_mut().enumerate().find_map(|(slot, objs)| {
+            objs.iter_mut()
+                .find(|o| o.index == index)
+                .map(|o| (o, slot as u8))
+        })
+    }
+
+    /// The mapping object of `direction` of axis `slot`: the one sub-index `slot + 1` of
+    /// 1C12h/1C13h assigns.
+    fn assigned(&self, direction: usize, slot: usize) -> Option<u16> {
+        self.axes.get(slot).map(|objs| objs[direction].index)
     }
 }
 
@@ -230,7 +316,7 @@ fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Value, SdoAbo
     let u8v = |v: u8| vec![v];
     let u16v = |v: u16| v.to_le_bytes().to_vec();
     let u32v = |v: u32| v.to_le_bytes().to_vec();
-    let profile = ctx.drive.profile();
+    let profile = ctx.profile();
     match (index, sub) {
         (0x1000, 0) => return Ok(u32v(DEVICE_TYPE)),
         (0x1000, _) | (0x1008, 1..) => return Err(SdoAbort::NO_SUBINDEX),
@@ -243,33 +329,36 @@ fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Value, SdoAbo
         (0x1018, _) => return Err(SdoAbort::NO_SUBINDEX),
         (0x1C12 | 0x1C13, s) => {
             let i = usize::from(index == 0x1C13);
-            let map = if i == 0 {
-                ctx.pdo.rx.index
-            } else {
-                ctx.pdo.tx.index
-            };
             return match s {
                 0 => Ok(u8v(ctx.pdo.assign_counts[i])),
-                1 => Ok(u16v(map)),
-                _ => Err(SdoAbort::NO_SUBINDEX),
+                s => ctx
+                    .pdo
+                    .assigned(i, usize::from(s) - 1)
+                    .map(u16v)
+                    .ok_or(SdoAbort::NO_SUBINDEX),
             };
         }
         (SM3_SYNC, 2) => return upload(ctx, SM2_SYNC, 2),
-        // 603Fh Error code: mandatory in CiA 402, served live where the model's table and
-        // TxPDO leave it out (MR-JET-G-N1, MR-J5-G-N1).
-        (ERROR_CODE, 0) if profile.object(ERROR_CODE, 0).is_none() => {
-            return Ok(u16v(ctx.drive.tx_pdo().error_code))
-        }
         _ => {}
     }
-    if let Some(obj) = ctx.pdo.object(index) {
+    if let Some((obj, _)) = ctx.pdo.object(index) {
         return match sub {
             0 => Ok(u8v(obj.count)),
             s if usize::from(s) <= obj.words.len() => Ok(u32v(obj.words[usize::from(s) - 1])),
             _ => Err(SdoAbort::NO_SUBINDEX),
         };
     }
-    let value = ctx.drive.sdo_upload(index, sub)?;
+    // The axis' own object: the drive of its slot at the axis-A index (1000h–1FFFh: the
+    // station's, served by axis A's drive).
+    let (slot, index) = profile.object_slot(index).ok_or(SdoAbort::NO_OBJECT)?;
+    let drive = &ctx.drives[usize::from(slot)];
+    let profile = drive.profile();
+    // 603Fh Error code: mandatory in CiA 402, served live where the model's table and
+    // TxPDO leave it out (MR-JET-G-N1, MR-J5-G-N1).
+    if (index, sub) == (ERROR_CODE, 0) && profile.object(ERROR_CODE, 0).is_none() {
+        return Ok(u16v(drive.tx_pdo().error_code));
+    }
+    let value = drive.sdo_upload(index, sub)?;
     let bits = profile
         .rx_pdo
         .entries
@@ -290,16 +379,12 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
         b[..n].copy_from_slice(&d[..n]);
         u32::from_le_bytes(b)
     };
+    let axes = ctx.pdo.axis_count();
     match index {
         0x1000 | 0x1008 | 0x1018 => return Err(SdoAbort::READ_ONLY),
         0x1C12 | 0x1C13 => {
             let rules = ctx.pdo.rules;
             let i = usize::from(index == 0x1C13);
-            let own = if i == 0 {
-                ctx.pdo.rx.index
-            } else {
-                ctx.pdo.tx.index
-            };
             return match (sub, rules.assignment) {
                 (0 | 1, PdoAssignment::ReadOnly) | (0, PdoAssignment::FixedCount) => {
                     Err(SdoAbort::READ_ONLY)
@@ -308,18 +393,22 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
                     Err(SdoAbort(rules.wrong_state_abort))
                 }
                 (0, _) if data.len() != 1 => Err(SdoAbort::TOO_LONG),
-                (0, _) if data[0] > 1 => Err(SdoAbort::VALUE_RANGE),
+                (0, _) if data[0] > axes => Err(SdoAbort::VALUE_RANGE),
                 (0, _) => {
                     ctx.pdo.assign_counts[i] = data[0];
                     Ok(())
                 }
-                (1, PdoAssignment::Writable) if ctx.pdo.assign_counts[i] != 0 => {
+                (s, _) if s == 0 || s > axes => Err(SdoAbort::NO_SUBINDEX),
+                (_, PdoAssignment::Writable) if ctx.pdo.assign_counts[i] != 0 => {
                     Err(SdoAbort(rules.locked_abort))
                 }
-                (1, _) if data.len() != 2 => Err(SdoAbort::TOO_SHORT),
-                (1, _) if word(data) as u16 != own => Err(ABORT_PARAMETER_INCOMPATIBLE),
-                (1, _) => Ok(()),
-                _ => Err(SdoAbort::NO_SUBINDEX),
+                (_, _) if data.len() != 2 => Err(SdoAbort::TOO_SHORT),
+                // Sub-index n assigns axis n's own mapping object (one per axis in axis
+                // order, mr-j5-g-n1.md §1.5 [inferred]).
+                (s, _) if ctx.pdo.assigned(i, usize::from(s) - 1) != Some(word(data) as u16) => {
+                    Err(ABORT_PARAMETER_INCOMPATIBLE)
+                }
+                _ => Ok(()),
             };
         }
         SM3_SYNC => return Err(SdoAbort::READ_ONLY),
@@ -330,21 +419,27 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
                 return Err(SdoAbort(ctx.pdo.rules.wrong_state_abort));
             }
             let ns = word(data);
-            if !super::allows_cycle_ns(ctx.drive.profile(), ns) {
+            if !super::allows_cycle_ns(ctx.profile(), ns) {
                 return Err(SdoAbort::VALUE_RANGE);
             }
+            // One cycle for the station: every axis' drive runs it.
+            for d in ctx.drives.iter_mut() {
+                d.sdo_download(index, sub, data)?;
+            }
+            return Ok(());
         }
         _ => {}
     }
     let pre_op = ctx.al_state == AlState::PreOp;
     let rules = ctx.pdo.rules;
     let frozen = ctx.pdo.frozen;
-    let profile = ctx.drive.profile();
-    if let Some(obj) = ctx.pdo.object(index) {
+    let profile = ctx.profile();
+    if let Some((obj, slot)) = ctx.pdo.object(index) {
         if !pre_op || frozen {
             return Err(SdoAbort(rules.wrong_state_abort));
         }
         let max = usize::from(rules.max_entries);
+        let not_mappable = SdoAbort(rules.not_mappable_abort);
         return match sub {
             0 if data.len() != 1 => Err(SdoAbort::TOO_LONG),
             0 if data[0] == 0 => {
@@ -354,10 +449,11 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
             0 if obj.count != 0 => Err(SdoAbort(rules.locked_abort)),
             0 if usize::from(data[0]) > max => Err(SdoAbort::VALUE_RANGE),
             0 => {
-                let entries: Vec<PdoEntry> = obj.words[..usize::from(data[0])]
+                let entries = obj.words[..usize::from(data[0])]
                     .iter()
-                    .map(|w| PdoEntry::from_mapping_word(*w))
-                    .collect();
+                    .map(|w| entry_of_slot(profile, PdoEntry::from_mapping_word(*w), slot))
+                    .collect::<Option<Vec<PdoEntry>>>()
+                    .ok_or(not_mappable)?;
                 profile
                     .check_mapping(obj.direction, &entries)
                     .map_err(|e| SdoAbort(e.abort_code(&rules)))?;
@@ -370,15 +466,18 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
             _ if data.len() > 4 => Err(SdoAbort::TOO_LONG),
             s => {
                 let w = word(data);
+                let entry = entry_of_slot(profile, PdoEntry::from_mapping_word(w), slot)
+                    .ok_or(not_mappable)?;
                 profile
-                    .check_mapping_entry(obj.direction, PdoEntry::from_mapping_word(w))
+                    .check_mapping_entry(obj.direction, entry)
                     .map_err(|e| SdoAbort(e.abort_code(&rules)))?;
                 obj.words[usize::from(s) - 1] = w;
                 Ok(())
             }
         };
     }
-    ctx.drive.sdo_download(index, sub, data)
+    let (slot, index) = profile.object_slot(index).ok_or(SdoAbort::NO_OBJECT)?;
+    ctx.drives[usize::from(slot)].sdo_download(index, sub, data)
 }
 
 /// Handles one mailbox request in `request` (the SM0 buffer) and writes the response into
@@ -499,7 +598,7 @@ mod tests {
 
     /// A drive of `model` behind a CoE server in `al_state`.
     struct Server {
-        drive: SimDrive,
+        drives: Vec<SimDrive>,
         pdo: PdoConfig,
         al_state: AlState,
         counter: u8,
@@ -509,13 +608,18 @@ mod tests {
     impl Server {
         fn new(model: DriveModel) -> Self {
             let p = profile(model);
+            let drives: Vec<SimDrive> = (0..p.axes_per_unit)
+                .map(|_| {
+                    SimDrive::new(
+                        p,
+                        SimDriveParams::default(),
+                        CycleTime::from_micros(1000).unwrap(),
+                    )
+                })
+                .collect();
             Server {
-                drive: SimDrive::new(
-                    p,
-                    SimDriveParams::default(),
-                    CycleTime::from_micros(1000).unwrap(),
-                ),
-                pdo: PdoConfig::new(p),
+                pdo: PdoConfig::new(&drives),
+                drives,
                 al_state: AlState::PreOp,
                 counter: 0,
                 upload: SegmentedUpload::default(),
@@ -523,9 +627,9 @@ mod tests {
         }
 
         fn ctx(&mut self) -> CoeContext<'_> {
-            let identity = SubDeviceIdentity::of_profile(self.drive.profile());
+            let identity = SubDeviceIdentity::of_profile(self.drives[0].profile());
             CoeContext {
-                drive: &mut self.drive,
+                drives: &mut self.drives,
                 identity,
                 al_state: self.al_state,
                 pdo: &mut self.pdo,
@@ -573,11 +677,9 @@ mod tests {
         // Writing 1614h:06 now (locked): 0601 0000h.
         assert_eq!(s.write_u32(0x1614, 6, 0x60E0_0010), Err(0x0601_0000));
         // The mapping is 10 bytes: counter, gap, controlword, controlword2, target velocity.
-        let (rx, _) = s.pdo.mapping();
-        let p = s
-            .drive
-            .profile()
-            .with_pdo_maps(&rx, s.drive.profile().tx_pdo.entries);
+        let j3 = s.drives[0].profile();
+        let (rx, _) = s.pdo.mapping(j3, 0);
+        let p = j3.with_pdo_maps(&rx, j3.tx_pdo.entries);
         let p = p.expect("the TV-PDO-1 mapping is valid");
         assert_eq!(p.rx_pdo.byte_len(), 10);
         assert_eq!(p.rx_pdo.offset_of(0x2020, 0), Some(0));
@@ -630,6 +732,51 @@ mod tests {
         assert_eq!(s.write_u32(0x1600, 1, 0x6041_0010), Err(0x0604_0043));
     }
 
+    /// mr-j5-g-n1.md §1.5 on a J5W3: the mapping objects of axis B/C at +10h carry the axis'
+    /// objects at +800h (an axis-A object is not mappable there); 1C12h sub n assigns axis n's
+    /// object; TV-6: 1C32h:02 = 0.125 ms refused (0609 0030h, the spec's natural code), 0.25 ms
+    /// taken by every axis; per-axis objects routed to the axis' drive.
+    #[test]
+    fn a_j5w3_serves_each_axis_at_its_offset_indexes() {
+        let mut s = Server::new(DriveModel::MrJ5W3GN1);
+        assert_eq!(s.drives.len(), 3);
+        assert_eq!(s.read(0x1610, 0), Ok(vec![10]));
+        assert_eq!(s.read(0x1620, 3), Ok(0x7040_0010u32.to_le_bytes().to_vec()));
+        assert_eq!(s.read(0x1A10, 3), Ok(0x6841_0010u32.to_le_bytes().to_vec()));
+        assert_eq!(s.read(0x1630, 0), Err(0x0602_0000), "no axis D");
+        assert_eq!(s.write(0x1610, 0, &[0]), Ok(()));
+        let not_mappable = Err(profile(DriveModel::MrJ5W3GN1).pdo_rules.not_mappable_abort);
+        assert_eq!(s.write_u32(0x1610, 1, 0x6040_0010), not_mappable);
+        assert_eq!(s.write_u32(0x1610, 1, 0x7040_0010), not_mappable);
+        assert_eq!(s.write_u32(0x1610, 1, 0x6840_0010), Ok(()));
+        assert_eq!(s.write(0x1610, 0, &[1]), Ok(()));
+        let (rx, _) = s.pdo.mapping(profile(DriveModel::MrJ5W3GN1), 1);
+        assert_eq!(rx, vec![PdoEntry::object(0x6040, 0, 16)]);
+
+        assert_eq!(s.write(0x1C12, 0, &[0]), Ok(()));
+        assert_eq!(
+            s.write(0x1C12, 2, &0x1600u16.to_le_bytes()),
+            Err(0x0604_0043)
+        );
+        assert_eq!(s.write(0x1C12, 2, &0x1610u16.to_le_bytes()), Ok(()));
+        assert_eq!(
+            s.write(0x1C12, 4, &0x1630u16.to_le_bytes()),
+            Err(0x0609_0011)
+        );
+        assert_eq!(s.write(0x1C12, 0, &[4]), Err(0x0609_0030));
+        assert_eq!(s.write(0x1C12, 0, &[3]), Ok(()));
+        assert_eq!(s.read(0x1C12, 3), Ok(0x1620u16.to_le_bytes().to_vec()));
+
+        assert_eq!(s.write_u32(0x1C32, 2, 125_000), Err(0x0609_0030));
+        assert_eq!(s.write_u32(0x1C32, 2, 250_000), Ok(()));
+        for d in &s.drives {
+            assert_eq!(d.sdo_upload(0x1C32, 2), Ok(250_000));
+        }
+        // 7060h (axis C's modes of operation) reaches axis C's drive only: it is mapped there.
+        assert_eq!(s.write(0x7060, 0, &[1]), Err(0x0601_0006));
+        assert_eq!(s.read(0x7041, 0), Ok(vec![0, 0]));
+    }
+
     /// A CoE SDO request in a mailbox: `cmd`, index, sub-index, then `data`.
     fn request(cmd: u8, index: u16, sub: u8) -> Vec<u8> {
         let mut r = vec![0u8; MAILBOX_HEADER_LEN + 10];
@@ -648,7 +795,7 @@ mod tests {
     #[test]
     fn long_uploads_are_segmented() {
         let mut s = Server::new(DriveModel::MrJ3T04);
-        let name = s.drive.profile().name.as_bytes().to_vec();
+        let name = s.drives[0].profile().name.as_bytes().to_vec();
         // A 32-byte mailbox: 16 bytes of data fit a normal response, the name does not.
         let mut rsp = vec![0u8; 32];
         assert!(serve(&mut s.ctx(), &request(0x40, 0x1008, 0), &mut rsp));

@@ -51,6 +51,15 @@ pub struct StationLayout {
 impl StationLayout {
     /// The layout for `profile`'s default PDO maps.
     pub fn of_profile(profile: &DriveProfile) -> Self {
+        Self::of_lengths(
+            profile.rx_pdo.byte_len() as u16,
+            profile.tx_pdo.byte_len() as u16,
+        )
+    }
+
+    /// The layout for process data of `rx_len` output and `tx_len` input bytes (on a
+    /// multi-axis unit: every axis' PDOs together).
+    pub fn of_lengths(rx_len: u16, tx_len: u16) -> Self {
         StationLayout {
             mailbox_out: SmArea {
                 start: 0x1000,
@@ -66,13 +75,13 @@ impl StationLayout {
             },
             outputs: SmArea {
                 start: 0x1100,
-                len: profile.rx_pdo.byte_len() as u16,
+                len: rx_len,
                 control: 0x64,
                 usage: SmUsage::Outputs,
             },
             inputs: SmArea {
                 start: 0x1400,
-                len: profile.tx_pdo.byte_len() as u16,
+                len: tx_len,
                 control: 0x20,
                 usage: SmUsage::Inputs,
             },

@@ -10,7 +10,7 @@ pub mod station;
 pub mod wire;
 
 pub use segment::{Delivery, Segment};
-pub use station::Station;
+pub use station::{Station, UnitError};
 
 /// True if `profile` runs its PDOs at a cycle of `ns` nanoseconds (1C32h:02, SYNC0 cycle).
 pub fn allows_cycle_ns(profile: &crate::profiles::DriveProfile, ns: u32) -> bool {

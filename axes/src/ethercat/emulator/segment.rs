@@ -7,7 +7,7 @@
 //! in their RX error counters, the master's NIC discards it), a dropped logical datagram, and
 //! a lost link (DL status, the port before it loops back).
 
-use super::station::Station;
+use super::station::{Station, UnitError};
 use crate::ethercat::frame::{self, Command, FrameError, REPLY_SOURCE_MAC_BIT};
 use crate::sim::drive::SimDrive;
 
@@ -46,10 +46,27 @@ impl Segment {
             .enumerate()
             .map(|(i, d)| Station::new(d, i as u16, n))
             .collect();
+        Self::of_stations(stations)
+    }
+
+    /// A segment of stations in this order, each presenting the drives of one unit (one drive
+    /// for a 1-axis drive; every axis, in slot order, of a multi-axis unit: [`Station::unit`]).
+    pub fn of_units(units: Vec<Vec<SimDrive>>) -> Result<Self, UnitError> {
+        let n = units.len() as u16;
+        let stations = units
+            .into_iter()
+            .enumerate()
+            .map(|(i, drives)| Station::unit(drives, i as u16, n))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self::of_stations(stations))
+    }
+
+    fn of_stations(stations: Vec<Station>) -> Self {
+        let n = stations.len();
         Segment {
-            stalled: vec![0; n as usize],
-            corrupt: vec![0; n as usize],
-            link_down: vec![0; n as usize],
+            stalled: vec![0; n],
+            corrupt: vec![0; n],
+            link_down: vec![0; n],
             datagram_drop: 0,
             stations,
             frames: 0,

@@ -4,7 +4,42 @@
 
 use super::layout::StationLayout;
 use crate::ethercat::identity::SubDeviceIdentity;
-use crate::pdo::PdoMap;
+use crate::pdo::{PdoEntry, PdoMap};
+use crate::profiles::DriveProfile;
+
+/// One PDO as the SII lists it: its mapping object and entries (on a multi-axis unit at the
+/// axis' offset indexes, mr-j5-g-n1.md §1.5).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SiiPdo {
+    /// The mapping object index (1600h, 1610h…).
+    pub index: u16,
+    /// The mapped entries.
+    pub entries: Vec<PdoEntry>,
+}
+
+impl SiiPdo {
+    /// `map` of `profile` as axis `slot` of the unit carries it.
+    pub fn of_slot(profile: &DriveProfile, map: PdoMap, slot: u8) -> Self {
+        let at = |index: u16| profile.axis_object(index, slot).unwrap_or(index);
+        SiiPdo {
+            index: at(map.index),
+            entries: map
+                .entries
+                .iter()
+                .map(|e| {
+                    if e.is_padding() {
+                        *e
+                    } else {
+                        PdoEntry {
+                            index: at(e.index),
+                            ..*e
+                        }
+                    }
+                })
+                .collect(),
+        }
+    }
+}
 
 /// Category codes (ETG.2010 Table 4).
 mod category {
@@ -26,13 +61,14 @@ const FIRST_CATEGORY_WORD: usize = 0x40;
 /// EEPROM size word 003Eh: size in kbit − 1 (a 32 kbit device).
 const SIZE_KBIT_MINUS_1: u16 = 31;
 
-/// Builds the EEPROM image, in bytes, of a SubDevice with `identity`, `name` and `layout`.
+/// Builds the EEPROM image, in bytes, of a SubDevice with `identity`, `name` and `layout`,
+/// listing `rx_pdos` and `tx_pdos` (one per axis of a multi-axis unit, in axis order).
 pub fn image(
     identity: SubDeviceIdentity,
     name: &str,
     layout: &StationLayout,
-    rx_pdo: &PdoMap,
-    tx_pdo: &PdoMap,
+    rx_pdos: &[SiiPdo],
+    tx_pdos: &[SiiPdo],
 ) -> Vec<u8> {
     let mut words = vec![0u16; FIRST_CATEGORY_WORD];
     let put32 = |w: &mut Vec<u16>, at: usize, v: u32| {
@@ -77,19 +113,23 @@ pub fn image(
     }
     push_category(&mut bytes, category::SYNC_MANAGER, &sms);
 
-    push_category(&mut bytes, category::TX_PDO, &pdo_category(tx_pdo, 3, 3));
-    push_category(&mut bytes, category::RX_PDO, &pdo_category(rx_pdo, 2, 2));
+    for pdo in tx_pdos {
+        push_category(&mut bytes, category::TX_PDO, &pdo_category(pdo, 3, 3));
+    }
+    for pdo in rx_pdos {
+        push_category(&mut bytes, category::RX_PDO, &pdo_category(pdo, 2, 2));
+    }
     bytes.extend_from_slice(&category::END.to_le_bytes());
     bytes.extend_from_slice(&[0, 0]);
     bytes
 }
 
 /// One PDO with its entries (ETG.2010 Table 14/15), assigned to SyncManager `sm`.
-fn pdo_category(map: &PdoMap, sm: u8, name: u8) -> Vec<u8> {
+fn pdo_category(map: &SiiPdo, sm: u8, name: u8) -> Vec<u8> {
     let mut v = Vec::new();
     v.extend_from_slice(&map.index.to_le_bytes());
     v.extend_from_slice(&[map.entries.len() as u8, sm, 0, name, 0, 0]);
-    for e in map.entries {
+    for e in &map.entries {
         v.extend_from_slice(&e.index.to_le_bytes());
         v.extend_from_slice(&[e.sub, 0, 0, e.bits as u8, 0, 0]);
     }
@@ -120,7 +160,13 @@ mod tests {
         let p = profile(DriveModel::MrJ3T04);
         let id = SubDeviceIdentity::of_profile(p);
         let layout = StationLayout::of_profile(p);
-        let img = image(id, p.name, &layout, &p.rx_pdo, &p.tx_pdo);
+        let img = image(
+            id,
+            p.name,
+            &layout,
+            &[SiiPdo::of_slot(p, p.rx_pdo, 0)],
+            &[SiiPdo::of_slot(p, p.tx_pdo, 0)],
+        );
         assert_eq!(word(&img, 0x08), 0x0A1E);
         assert_eq!(word(&img, 0x0A), 0x0102);
         assert_eq!(word(&img, 0x18), layout.mailbox_out.start);

@@ -1,5 +1,7 @@
 //! One emulated EtherCAT SubDevice: an ESC (registers, SII EEPROM, FMMUs, SyncManagers with
-//! mailbox semantics, DC registers, the AL state machine) in front of a simulated drive.
+//! mailbox semantics, DC registers, the AL state machine) in front of a simulated drive, or of
+//! the drives of every axis of a multi-axis unit (MR-J5W2/W3-G-N1, mr-j5-g-n1.md §1.5: one ESM
+//! for the station, one PDS per axis, the axes' PDOs concatenated in assignment order).
 //!
 //! The ESC is modelled as its 12 KiB address space (registers 0000h–0FFFh, process RAM from
 //! 1000h); datagrams read and write it, and the registers with side effects (AL control, SII
@@ -7,11 +9,13 @@
 
 use super::coe::{self, CoeContext, PdoConfig, SegmentedUpload};
 use super::layout::StationLayout;
-use super::sii;
+use super::sii::{self, SiiPdo};
 use crate::cycles::Cycles;
 use crate::ethercat::frame::Command;
 use crate::ethercat::identity::SubDeviceIdentity;
 use crate::ethercat::register::{self as reg, al_code, AlState, AL_ERROR_INDICATION};
+use crate::profiles::mapping::PdoDirection;
+use crate::profiles::mr_j5_g_n1::unit_pdo_limit;
 use crate::sim::drive::SimDrive;
 
 /// Bytes of the emulated address space.
@@ -44,14 +48,43 @@ pub struct Access {
     pub wkc: u16,
 }
 
-/// An emulated drive on the segment.
+/// A multi-axis unit that cannot be built from the drives given.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum UnitError {
+    /// No drive given.
+    #[error("a station needs at least one drive")]
+    Empty,
+    /// The drives are not all of one model.
+    #[error("the drives of one station must be of one model ({first} and {other} given)")]
+    MixedModels {
+        /// The first drive's model.
+        first: &'static str,
+        /// Another model.
+        other: &'static str,
+    },
+    /// Not one drive per axis of the unit.
+    #[error("{model} has {per_unit} axis/axes per unit, {given} drive(s) given")]
+    AxisCount {
+        /// The model.
+        model: &'static str,
+        /// Axes per unit.
+        per_unit: u8,
+        /// Drives given.
+        given: usize,
+    },
+}
+
+/// An emulated drive, or multi-axis unit, on the segment.
 #[derive(Debug)]
 pub struct Station {
     mem: Vec<u8>,
     sii: Vec<u8>,
     layout: StationLayout,
     identity: SubDeviceIdentity,
-    drive: SimDrive,
+    /// One drive per axis of the unit (slot 0 = axis A).
+    drives: Vec<SimDrive>,
+    /// Per axis: the RxPDO and TxPDO bytes it takes from SM2 / gives to SM3, in slot order.
+    axis_lens: Vec<(usize, usize)>,
     pdo: PdoConfig,
     mailbox_counter: u8,
     /// A segmented SDO upload in progress.
@@ -74,25 +107,74 @@ pub struct Station {
 
 impl Station {
     /// A station in INIT with `drive` behind it at `position` of a line of `line_len`.
-    pub fn new(mut drive: SimDrive, position: u16, line_len: u16) -> Self {
-        let profile = drive.profile();
+    pub fn new(drive: SimDrive, position: u16, line_len: u16) -> Self {
+        Self::build(vec![drive], position, line_len)
+    }
+
+    /// A station in INIT presenting a multi-axis unit: `drives` are its axes in slot order
+    /// (axis A first), one per axis of the model.
+    pub fn unit(drives: Vec<SimDrive>, position: u16, line_len: u16) -> Result<Self, UnitError> {
+        let first = drives.first().ok_or(UnitError::Empty)?.profile();
+        if let Some(other) = drives.iter().find(|d| d.profile().model != first.model) {
+            return Err(UnitError::MixedModels {
+                first: first.model.as_str(),
+                other: other.profile().model.as_str(),
+            });
+        }
+        if drives.len() != usize::from(first.axes_per_unit) {
+            return Err(UnitError::AxisCount {
+                model: first.model.as_str(),
+                per_unit: first.axes_per_unit,
+                given: drives.len(),
+            });
+        }
+        Ok(Self::build(drives, position, line_len))
+    }
+
+    fn build(mut drives: Vec<SimDrive>, position: u16, line_len: u16) -> Self {
+        let profile = drives[0].profile();
         let identity = SubDeviceIdentity::of_profile(profile);
-        let layout = StationLayout::of_profile(profile);
+        let pdo = PdoConfig::new(&drives);
+        let axis_lens: Vec<(usize, usize)> = (0..drives.len())
+            .map(|slot| {
+                let (rx, tx) = pdo.byte_lens(slot as u8);
+                (usize::from(rx), usize::from(tx))
+            })
+            .collect();
+        let total = |f: fn(&(usize, usize)) -> usize| axis_lens.iter().map(f).sum::<usize>();
+        let layout = StationLayout::of_lengths(total(|l| l.0) as u16, total(|l| l.1) as u16);
+        let pdos = |d: PdoDirection| -> Vec<SiiPdo> {
+            drives
+                .iter()
+                .enumerate()
+                .map(|(slot, drive)| {
+                    let p = drive.profile();
+                    let map = match d {
+                        PdoDirection::Rx => p.rx_pdo,
+                        PdoDirection::Tx => p.tx_pdo,
+                    };
+                    SiiPdo::of_slot(p, map, slot as u8)
+                })
+                .collect()
+        };
         let sii = sii::image(
             identity,
             profile.name,
             &layout,
-            &profile.rx_pdo,
-            &profile.tx_pdo,
+            &pdos(PdoDirection::Rx),
+            &pdos(PdoDirection::Tx),
         );
-        drive.leave_op();
+        for d in &mut drives {
+            d.leave_op();
+        }
         let mut s = Station {
             mem: vec![0; MEMORY_LEN],
             sii,
             layout,
             identity,
-            pdo: PdoConfig::new(profile),
-            drive,
+            pdo,
+            drives,
+            axis_lens,
             mailbox_counter: 0,
             upload: SegmentedUpload::default(),
             al_state: AlState::Init,
@@ -129,14 +211,24 @@ impl Station {
         self.excused_sync0 = cycles;
     }
 
-    /// The simulated drive.
+    /// The simulated drive (axis A of a multi-axis unit).
     pub fn drive(&self) -> &SimDrive {
-        &self.drive
+        &self.drives[0]
     }
 
-    /// The simulated drive, mutably (fault injection).
+    /// The simulated drive, mutably (fault injection; axis A of a multi-axis unit).
     pub fn drive_mut(&mut self) -> &mut SimDrive {
-        &mut self.drive
+        &mut self.drives[0]
+    }
+
+    /// The drives of every axis of the unit, in slot order (one for a 1-axis drive).
+    pub fn drives(&self) -> &[SimDrive] {
+        &self.drives
+    }
+
+    /// The drive of axis `slot` (0 = A), mutably (fault injection).
+    pub fn drive_at_mut(&mut self, slot: usize) -> Option<&mut SimDrive> {
+        self.drives.get_mut(slot)
     }
 
     /// The AL state.
@@ -394,7 +486,7 @@ impl Station {
         let request: Vec<u8> = self.mem[req_start..req_start + usize::from(out.len)].to_vec();
         let mut response = vec![0u8; usize::from(inb.len)];
         let mut ctx = CoeContext {
-            drive: &mut self.drive,
+            drives: &mut self.drives,
             identity: self.identity,
             al_state: self.al_state,
             pdo: &mut self.pdo,
@@ -449,13 +541,18 @@ impl Station {
         };
         match result {
             Ok(()) => {
-                if from == AlState::Op && target != AlState::Op {
-                    self.drive.leave_op();
-                }
-                if target == AlState::Op && from != AlState::Op {
-                    self.drive.enter_op();
-                    if self.sync_active() {
-                        let _ = self.drive.start_sync(self.sync0_cycle_ns());
+                // One ESM for the station: every axis leaves or enters OP with it
+                // (mr-j5-g-n1.md §2.1: leaving OP re-initialises all axes at once).
+                let sync0 = self.sync_active().then(|| self.sync0_cycle_ns());
+                for d in &mut self.drives {
+                    if from == AlState::Op && target != AlState::Op {
+                        d.leave_op();
+                    }
+                    if target == AlState::Op && from != AlState::Op {
+                        d.enter_op();
+                        if let Some(ns) = sync0 {
+                            let _ = d.start_sync(ns);
+                        }
                     }
                 }
                 if target == AlState::SafeOp && from == AlState::PreOp {
@@ -490,32 +587,48 @@ impl Station {
     }
 
     /// PRE-OP → SAFE-OP: the PDOs must be assigned and mapped, SM2/SM3 must match the mapping's
-    /// lengths, and the drive takes the mapping (a variable mapping, [`PdoConfig`]).
+    /// lengths (the axes' PDOs concatenated), the unit's PDO size limit must hold at the SYNC0
+    /// cycle (multi-axis), and each axis' drive takes its mapping ([`PdoConfig`]).
     fn check_process_data(&mut self) -> Result<(), u16> {
         let (o, i) = (self.layout.outputs, self.layout.inputs);
         if !self.pdo.complete() {
             return Err(al_code::INVALID_OUTPUT_CONFIG);
         }
-        let (rx, tx) = self.pdo.mapping();
-        let len = |e: &[crate::pdo::PdoEntry]| {
-            (e.iter().map(|e| usize::from(e.bits)).sum::<usize>() / 8) as u16
-        };
-        if !self.sm_matches(2, o.start, len(&rx)) {
+        let lens: Vec<(u16, u16)> = (0..self.drives.len())
+            .map(|slot| self.pdo.byte_lens(slot as u8))
+            .collect();
+        let rx_len: u16 = lens.iter().map(|l| l.0).sum();
+        let tx_len: u16 = lens.iter().map(|l| l.1).sum();
+        if !self.sm_matches(2, o.start, rx_len) {
             return Err(al_code::INVALID_OUTPUT_CONFIG);
         }
-        if !self.sm_matches(3, i.start, len(&tx)) {
+        if !self.sm_matches(3, i.start, tx_len) {
             return Err(al_code::INVALID_INPUT_CONFIG);
         }
-        if self.drive.remap(&rx, &tx).is_err() {
-            return Err(al_code::INVALID_OUTPUT_CONFIG);
-        }
-        self.layout.outputs.len = len(&rx);
-        self.layout.inputs.len = len(&tx);
-        if self.sync_active()
-            && !super::allows_cycle_ns(self.drive.profile(), self.sync0_cycle_ns())
-        {
+        let profile = self.drives[0].profile();
+        if self.sync_active() && !super::allows_cycle_ns(profile, self.sync0_cycle_ns()) {
             return Err(al_code::INVALID_SYNC_CYCLE);
         }
+        if profile.is_multi_axis() {
+            let cycle_us = self.sync0_cycle_ns() / 1000;
+            match unit_pdo_limit(profile.axes_per_unit, cycle_us) {
+                Some((max_rx, _)) if rx_len > max_rx => return Err(al_code::INVALID_OUTPUT_CONFIG),
+                Some((_, max_tx)) if tx_len > max_tx => return Err(al_code::INVALID_INPUT_CONFIG),
+                _ => {}
+            }
+        }
+        for slot in 0..self.drives.len() {
+            let (rx, tx) = self.pdo.mapping(profile, slot as u8);
+            if self.drives[slot].remap(&rx, &tx).is_err() {
+                return Err(al_code::INVALID_OUTPUT_CONFIG);
+            }
+        }
+        self.axis_lens = lens
+            .iter()
+            .map(|&(r, t)| (usize::from(r), usize::from(t)))
+            .collect();
+        self.layout.outputs.len = rx_len;
+        self.layout.inputs.len = tx_len;
         Ok(())
     }
 
@@ -633,19 +746,27 @@ impl Station {
         let (os, ol) = (usize::from(o.start), usize::from(o.len));
         let (is, il) = (usize::from(i.start), usize::from(i.len));
         let (lo, hi) = self.mem.split_at_mut(is);
-        let rx = &lo[os..os + ol];
-        let tx = &mut hi[..il];
-        // SYNC0 fired at every cycle in between without new outputs: those count as lost
-        // RxPDOs for the drive's communication checks.
-        for _ in 1..elapsed.min(MAX_LOST_REPLAY) {
-            let _ = self.drive.cycle_missed_sync0(tx);
-            self.missed_sync0 += 1;
+        let mut rx = &lo[os..os + ol];
+        let mut tx = &mut hi[..il];
+        // Each axis' drive runs on its part of the images, in slot (assignment) order.
+        for (drive, &(rl, tl)) in self.drives.iter_mut().zip(&self.axis_lens) {
+            let (axis_rx, rest_rx) = rx.split_at(rl.min(rx.len()));
+            let tl = tl.min(tx.len());
+            let (axis_tx, rest_tx) = std::mem::take(&mut tx).split_at_mut(tl);
+            rx = rest_rx;
+            tx = rest_tx;
+            // SYNC0 fired at every cycle in between without new outputs: those count as lost
+            // RxPDOs for the drive's communication checks.
+            for _ in 1..elapsed.min(MAX_LOST_REPLAY) {
+                let _ = drive.cycle_missed_sync0(axis_tx);
+            }
+            let _ = drive.cycle(
+                axis_rx,
+                axis_tx,
+                Cycles(1 + excused.min(u64::from(u32::MAX - 1)) as u32),
+            );
         }
-        let _ = self.drive.cycle(
-            rx,
-            tx,
-            Cycles(1 + excused.min(u64::from(u32::MAX - 1)) as u32),
-        );
+        self.missed_sync0 += elapsed.clamp(1, MAX_LOST_REPLAY) - 1;
         self.exchanges += 1;
     }
 }

@@ -24,6 +24,8 @@ use crate::ethercat::frame::{self, Command, FrameBuilder};
 use crate::ethercat::identity::{ExpectedIdentity, SubDeviceIdentity};
 use crate::ethercat::register::{self as reg, AlState};
 use crate::pdo::objects::MODES_OF_OPERATION;
+use crate::pdo::PdoEntry;
+use crate::profiles::mr_j5_g_n1::unit_pdo_limit;
 use crate::profiles::PdoAssignment;
 use crate::profiles::{DataType, DriveProfile};
 
@@ -64,7 +66,7 @@ const SM2_CYCLE_TIME: (u16, u8) = (0x1C32, 2);
 const RX_ASSIGN: u16 = 0x1C12;
 const TX_ASSIGN: u16 = 0x1C13;
 
-/// One drive of the segment, in line order.
+/// One axis of the segment, in axis order.
 #[derive(Debug, Clone)]
 pub struct SegmentDrive {
     /// The axis name (for errors).
@@ -75,6 +77,17 @@ pub struct SegmentDrive {
     pub identity: ExpectedIdentity,
     /// The mode written to 6060h at bring-up where 6060h is not in the RxPDO.
     pub mode: ModeOfOperation,
+    /// The multi-axis amplifier this axis is a slot of; `None`: a station of its own (slot 0).
+    pub amplifier: Option<AmplifierSlot>,
+}
+
+/// An axis' place on a multi-axis amplifier (config keys `amplifier`, `amplifier_axis`).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct AmplifierSlot {
+    /// The amplifier's label; axes with the same label are one SubDevice.
+    pub label: String,
+    /// The axis' slot on it (0 = axis A).
+    pub slot: u8,
 }
 
 /// The segment cellrt expects on the link.
@@ -82,8 +95,104 @@ pub struct SegmentDrive {
 pub struct SegmentConfig {
     /// The cycle time of the cell.
     pub cycle: CycleTime,
-    /// The drives in line order.
+    /// The axes in axis order; the SubDevices are in line in the order of their first axis.
     pub drives: Vec<SegmentDrive>,
+}
+
+/// One SubDevice of the segment: a drive, or a multi-axis amplifier with its slots.
+#[derive(Debug, Clone)]
+pub struct SegmentStation {
+    /// The model's profile (the unit's base profile).
+    pub model: &'static DriveProfile,
+    /// The amplifier label, where the axes named one.
+    pub label: Option<String>,
+    /// Per slot of the unit: the configured axis (index into `SegmentConfig::drives`); `None`
+    /// for a slot no axis uses (its drive is configured with the model's default maps and
+    /// left disabled).
+    pub slots: Vec<Option<usize>>,
+}
+
+impl SegmentConfig {
+    /// The SubDevices the axes make, in line order (one per amplifier label, or per unlabelled
+    /// axis), with the labels, slots and models checked.
+    pub fn stations(&self) -> Result<Vec<SegmentStation>, EthercatError> {
+        plan_stations(self)
+    }
+}
+
+impl SegmentStation {
+    /// The first configured axis (identity and error messages).
+    pub fn first_axis(&self) -> usize {
+        self.slots.iter().flatten().copied().next().unwrap_or(0)
+    }
+
+    /// The profile slot `slot` runs: its axis' (with its mapping), or the model's default for
+    /// an unused slot.
+    fn slot_profile(&self, config: &SegmentConfig, slot: usize) -> &'static DriveProfile {
+        self.slots[slot].map_or(self.model, |a| config.drives[a].profile)
+    }
+}
+
+/// Groups the axes of `config` into SubDevices (one per amplifier label, or per unlabelled
+/// axis), checking labels, slots and models.
+fn plan_stations(config: &SegmentConfig) -> Result<Vec<SegmentStation>, EthercatError> {
+    let mut plans: Vec<SegmentStation> = Vec::new();
+    for (i, d) in config.drives.iter().enumerate() {
+        let model = crate::profiles::profile(d.profile.model);
+        let per_unit = usize::from(model.axes_per_unit);
+        let amplifier_error = |what: String| EthercatError::Amplifier {
+            axis: d.axis.clone(),
+            what,
+        };
+        let Some(a) = &d.amplifier else {
+            let mut slots = vec![None; per_unit];
+            slots[0] = Some(i);
+            plans.push(SegmentStation {
+                model,
+                label: None,
+                slots,
+            });
+            continue;
+        };
+        let slot = usize::from(a.slot);
+        if slot >= per_unit {
+            return Err(amplifier_error(format!(
+                "amplifier_axis {} on amplifier '{}': {} has slots 0..={}",
+                a.slot,
+                a.label,
+                model.model,
+                per_unit - 1
+            )));
+        }
+        let plan = match plans
+            .iter_mut()
+            .position(|p| p.label.as_deref() == Some(a.label.as_str()))
+        {
+            Some(p) => &mut plans[p],
+            None => {
+                plans.push(SegmentStation {
+                    model,
+                    label: Some(a.label.clone()),
+                    slots: vec![None; per_unit],
+                });
+                plans.last_mut().expect("just pushed")
+            }
+        };
+        if plan.model.model != model.model {
+            return Err(amplifier_error(format!(
+                "amplifier '{}' is a {}, not a {}",
+                a.label, plan.model.model, model.model
+            )));
+        }
+        if let Some(other) = plan.slots[slot] {
+            return Err(amplifier_error(format!(
+                "slot {} of amplifier '{}' is already axis '{}'",
+                a.slot, a.label, config.drives[other].axis
+            )));
+        }
+        plan.slots[slot] = Some(i);
+    }
+    Ok(plans)
 }
 
 /// A bring-up or shutdown that failed, naming the drive and the step.
@@ -139,13 +248,26 @@ pub enum EthercatError {
         /// The model's cycles.
         allowed: String,
     },
-    /// A multi-axis unit (one station, several axes) is not yet served over EtherCAT.
-    #[error("axis '{axis}': {model} is a multi-axis unit; the EtherCAT backend drives one axis per station")]
-    MultiAxis {
+    /// The axes' amplifier labels and slots do not describe the units.
+    #[error("axis '{axis}' (config keys amplifier / amplifier_axis): {what}")]
+    Amplifier {
+        /// The axis.
+        axis: String,
+        /// What is wrong.
+        what: String,
+    },
+    /// The mode is not one the model runs (pv and tq on a multi-axis unit, mr-j5-g-n1.md §1.2,
+    /// TV-8).
+    #[error("axis '{axis}': {model} does not run mode {mode} (allowed: {allowed})")]
+    Mode {
         /// The axis.
         axis: String,
         /// The model.
         model: &'static str,
+        /// The configured mode.
+        mode: &'static str,
+        /// The model's modes.
+        allowed: String,
     },
     /// A drive refused the process image, or the image does not fit.
     #[error("EtherCAT SubDevice {position} (axis '{axis}'): {what}")]
@@ -182,6 +304,112 @@ fn step<T>(
         step: what.into(),
         source,
     })
+}
+
+/// On a multi-axis unit, the sum of its slots' PDOs must fit the unit's limit at the cycle
+/// (mr-j5-g-n1.md §5.1, TV-7: e.g. J5W3 at 0.25 ms: 120 bytes each way).
+fn check_unit_pdo_limits(
+    config: &SegmentConfig,
+    plans: &[SegmentStation],
+) -> Result<(), EthercatError> {
+    for (position, plan) in plans.iter().enumerate() {
+        if !plan.model.is_multi_axis() {
+            continue;
+        }
+        let d = &config.drives[plan.first_axis()];
+        let Some((max_rx, max_tx)) =
+            unit_pdo_limit(plan.model.axes_per_unit, config.cycle.as_micros())
+        else {
+            return Err(EthercatError::CycleTime {
+                axis: d.axis.clone(),
+                model: plan.model.model.as_str(),
+                cycle_us: config.cycle.as_micros(),
+                allowed: plan.model.cycle_times_text(),
+            });
+        };
+        let (mut rx, mut tx) = (0, 0);
+        for slot in 0..plan.slots.len() {
+            let p = plan.slot_profile(config, slot);
+            rx += p.rx_pdo.byte_len();
+            tx += p.tx_pdo.byte_len();
+        }
+        if rx > usize::from(max_rx) || tx > usize::from(max_tx) {
+            return Err(EthercatError::ProcessImage {
+                position,
+                axis: d.axis.clone(),
+                what: format!(
+                    "the axes of amplifier {} map {rx} RxPDO and {tx} TxPDO bytes; {} takes at most {max_rx} and {max_tx} at {} µs",
+                    plan.label.as_deref().unwrap_or("(unlabelled)"),
+                    plan.model.model,
+                    config.cycle.as_micros()
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Configures station `plan` in PRE-OP: each slot's PDO mapping objects at its offset index
+/// (count to 0, entries, count last; mr-j3-t04.md §3.3, mr-j5-g-n1.md §5.1, §1.5), the
+/// assignment 1C12h/1C13h with every slot's PDO in slot order (mr-j5-g-n1.md §1.5
+/// [inferred]: one assigned PDO per axis), as far as the model lets it be written (MR-J3-T04:
+/// read-only, §4.4; MR-J4-TM: the count fixed at 1, §5.1), each axis' 6060h (at its offset
+/// index) where its RxPDO does not carry it, and the station's cycle time 1C32h:02 once.
+async fn configure_station<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
+    sd: &ethercrab::SubDeviceRef<'_, S>,
+    config: &SegmentConfig,
+    plan: &SegmentStation,
+) -> Result<(), ethercrab::error::Error> {
+    let model = plan.model;
+    let assignment = model.pdo_rules.assignment;
+    let at = |index: u16, slot: usize| model.axis_object(index, slot as u8).unwrap_or(index);
+    for (direction, assign) in [RX_ASSIGN, TX_ASSIGN].into_iter().enumerate() {
+        if assignment == PdoAssignment::Writable {
+            sd.sdo_write(assign, 0, 0u8).await?;
+        }
+        for slot in 0..plan.slots.len() {
+            let p = plan.slot_profile(config, slot);
+            let map = if direction == 0 { &p.rx_pdo } else { &p.tx_pdo };
+            let index = at(map.index, slot);
+            sd.sdo_write(index, 0, 0u8).await?;
+            for (i, e) in map.entries.iter().enumerate() {
+                let e = if e.is_padding() {
+                    *e
+                } else {
+                    PdoEntry {
+                        index: at(e.index, slot),
+                        ..*e
+                    }
+                };
+                sd.sdo_write(index, (i + 1) as u8, e.mapping_word()).await?;
+            }
+            sd.sdo_write(index, 0, map.entries.len() as u8).await?;
+            if assignment != PdoAssignment::ReadOnly {
+                sd.sdo_write(assign, (slot + 1) as u8, index).await?;
+            }
+        }
+        if assignment == PdoAssignment::Writable {
+            sd.sdo_write(assign, 0, plan.slots.len() as u8).await?;
+        }
+    }
+    for (slot, axis) in plan.slots.iter().enumerate() {
+        let Some(d) = axis.map(|a| &config.drives[a]) else {
+            continue;
+        };
+        if !d.profile.rx_pdo.maps(MODES_OF_OPERATION) {
+            sd.sdo_write(at(MODES_OF_OPERATION, slot), 0, d.mode.as_i8())
+                .await?;
+        }
+    }
+    if model.object(SM2_CYCLE_TIME.0, SM2_CYCLE_TIME.1).is_some() {
+        sd.sdo_write(
+            SM2_CYCLE_TIME.0,
+            SM2_CYCLE_TIME.1,
+            config.cycle.as_nanos() as u32,
+        )
+        .await?;
+    }
+    Ok(())
 }
 
 /// Drives an ethercrab future to completion, passing its frames over `link`.
@@ -222,6 +450,9 @@ fn pump<F: Future>(
 /// One axis' place in the process image and its images.
 #[derive(Debug)]
 struct AxisImage {
+    /// The SubDevice (position in the line) and the axis' slot on it.
+    station: usize,
+    slot: u8,
     outputs: Range<usize>,
     inputs: Range<usize>,
     rx: Vec<u8>,
@@ -237,6 +468,8 @@ pub struct EthercatBus {
     group: SubDeviceGroup<MAX_SUBDEVICES, MAX_PDI, DefaultLock, Op, HasDc>,
     config: SegmentConfig,
     axes: Vec<AxisImage>,
+    /// SubDevices on the segment.
+    stations: usize,
     pdi: Vec<u8>,
     frame: Vec<u8>,
     expected_wkc: u16,
@@ -308,12 +541,6 @@ impl EthercatBus {
     /// Checks `config` against the models, then brings the segment on `link` to OP.
     pub fn bring_up(config: SegmentConfig, mut link: Box<dyn Link>) -> Result<Self, EthercatError> {
         for d in &config.drives {
-            if d.profile.axes_per_unit > 1 {
-                return Err(EthercatError::MultiAxis {
-                    axis: d.axis.clone(),
-                    model: d.profile.model.as_str(),
-                });
-            }
             if !d.profile.supports_cycle_time(config.cycle) {
                 return Err(EthercatError::CycleTime {
                     axis: d.axis.clone(),
@@ -322,7 +549,17 @@ impl EthercatBus {
                     allowed: d.profile.cycle_times_text(),
                 });
             }
+            if !d.profile.supports_mode(d.mode) {
+                return Err(EthercatError::Mode {
+                    axis: d.axis.clone(),
+                    model: d.profile.model.as_str(),
+                    mode: d.mode.as_str(),
+                    allowed: d.profile.modes_text(),
+                });
+            }
         }
+        let plans = plan_stations(&config)?;
+        check_unit_pdo_limits(&config, &plans)?;
         let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
             Box::leak(Box::new(PduStorage::new()));
         let (mut tx, mut rx, pdu_loop) =
@@ -359,13 +596,14 @@ impl EthercatBus {
             ),
         )?;
         let found = group.len();
-        if found != config.drives.len() {
+        if found != plans.len() {
             return Err(EthercatError::Count {
-                expected: config.drives.len(),
+                expected: plans.len(),
                 found,
             });
         }
-        for (position, (sd, d)) in group.iter(&maindevice).zip(&config.drives).enumerate() {
+        for (position, (sd, plan)) in group.iter(&maindevice).zip(&plans).enumerate() {
+            let d = &config.drives[plan.first_axis()];
             let id = sd.identity();
             let found = SubDeviceIdentity {
                 vendor_id: id.vendor_id,
@@ -389,46 +627,10 @@ impl EthercatBus {
                 });
             }
         }
-        for (position, d) in config.drives.iter().enumerate() {
+        for (position, plan) in plans.iter().enumerate() {
             let sd = step("SubDevice lookup", group.subdevice(&maindevice, position))?;
-            let p = d.profile;
-            let axis = &d.axis;
-            let configure = async {
-                // PDO assignment and mapping, each count written last (mr-j3-t04.md §3.3,
-                // mr-j5-g-n1.md §5.1).
-                // The assignment only as far as the model lets it be written (MR-J3-T04:
-                // 1C12h/1C13h read-only, §4.4; MR-J4-TM: the count fixed at 1, §5.1).
-                let assignment = p.pdo_rules.assignment;
-                for (assign, map) in [(RX_ASSIGN, &p.rx_pdo), (TX_ASSIGN, &p.tx_pdo)] {
-                    if assignment == PdoAssignment::Writable {
-                        sd.sdo_write(assign, 0, 0u8).await?;
-                    }
-                    sd.sdo_write(map.index, 0, 0u8).await?;
-                    for (i, e) in map.entries.iter().enumerate() {
-                        sd.sdo_write(map.index, (i + 1) as u8, e.mapping_word())
-                            .await?;
-                    }
-                    sd.sdo_write(map.index, 0, map.entries.len() as u8).await?;
-                    if assignment != PdoAssignment::ReadOnly {
-                        sd.sdo_write(assign, 1, map.index).await?;
-                    }
-                    if assignment == PdoAssignment::Writable {
-                        sd.sdo_write(assign, 0, 1u8).await?;
-                    }
-                }
-                if !p.rx_pdo.maps(MODES_OF_OPERATION) {
-                    sd.sdo_write(MODES_OF_OPERATION, 0, d.mode.as_i8()).await?;
-                }
-                if p.object(SM2_CYCLE_TIME.0, SM2_CYCLE_TIME.1).is_some() {
-                    sd.sdo_write(
-                        SM2_CYCLE_TIME.0,
-                        SM2_CYCLE_TIME.1,
-                        config.cycle.as_nanos() as u32,
-                    )
-                    .await?;
-                }
-                Ok::<(), ethercrab::error::Error>(())
-            };
+            let axis = &config.drives[plan.first_axis()].axis;
+            let configure = configure_station(&sd, &config, plan);
             step(
                 format!("PDO configuration of axis '{axis}' (SubDevice {position})"),
                 pump(configure, &mut tx, &mut rx, link_ref, &mut buf),
@@ -462,11 +664,12 @@ impl EthercatBus {
             pump(up, &mut tx, &mut rx, link_ref, &mut buf),
         )?;
 
-        // Where each drive's images sit in the logical process image: read back its FMMUs.
-        let mut axes = Vec::with_capacity(config.drives.len());
+        // Where each station's images sit in the logical process image: read back its FMMUs;
+        // each axis has its part, the slots' PDOs in assignment order.
+        let mut axes: Vec<Option<AxisImage>> = config.drives.iter().map(|_| None).collect();
         let mut pdi_len = 0usize;
         let mut expected_wkc = 0u16;
-        for (position, d) in config.drives.iter().enumerate() {
+        for (position, plan) in plans.iter().enumerate() {
             let sd = step("SubDevice lookup", group.subdevice(&maindevice, position))?;
             let mut outputs = 0..0;
             let mut inputs = 0..0;
@@ -497,8 +700,16 @@ impl EthercatBus {
                     _ => {}
                 }
             }
-            let (rx_len, tx_len) = (p_len(&d.profile.rx_pdo), p_len(&d.profile.tx_pdo));
+            let lens: Vec<(usize, usize)> = (0..plan.slots.len())
+                .map(|slot| {
+                    let p = plan.slot_profile(&config, slot);
+                    (p_len(&p.rx_pdo), p_len(&p.tx_pdo))
+                })
+                .collect();
+            let rx_len: usize = lens.iter().map(|l| l.0).sum();
+            let tx_len: usize = lens.iter().map(|l| l.1).sum();
             if outputs.len() != rx_len || inputs.len() != tx_len {
+                let d = &config.drives[plan.first_axis()];
                 return Err(EthercatError::ProcessImage {
                     position,
                     axis: d.axis.clone(),
@@ -512,13 +723,23 @@ impl EthercatBus {
             }
             pdi_len = pdi_len.max(outputs.end).max(inputs.end);
             expected_wkc += 3;
-            axes.push(AxisImage {
-                outputs,
-                inputs,
-                rx: vec![0; rx_len],
-                tx: vec![0; tx_len],
-            });
+            let (mut o, mut i) = (outputs.start, inputs.start);
+            for (slot, (&(rl, tl), a)) in lens.iter().zip(&plan.slots).enumerate() {
+                if let Some(a) = *a {
+                    axes[a] = Some(AxisImage {
+                        station: position,
+                        slot: slot as u8,
+                        outputs: o..o + rl,
+                        inputs: i..i + tl,
+                        rx: vec![0; rl],
+                        tx: vec![0; tl],
+                    });
+                }
+                o += rl;
+                i += tl;
+            }
         }
+        let axes: Vec<AxisImage> = axes.into_iter().flatten().collect();
         // The SYNC0 grid of the reference clock (the first SubDevice, ethercrab's choice).
         let reference = step("SubDevice lookup", group.subdevice(&maindevice, 0))?;
         let reference_address = reference.configured_address();
@@ -545,6 +766,7 @@ impl EthercatBus {
             group,
             config,
             axes,
+            stations: plans.len(),
             pdi: vec![0; pdi_len],
             frame: buf,
             expected_wkc,
@@ -590,7 +812,7 @@ impl EthercatBus {
         };
         len = self.link.round_trip(&mut self.frame, len)?;
         let _ = len;
-        for position in 0..self.axes.len() {
+        for position in 0..self.stations {
             let adp = (position as u16).wrapping_neg();
             let mut b = FrameBuilder::new(&mut self.frame, MASTER_MAC);
             let span = b
@@ -618,12 +840,23 @@ impl EthercatBus {
         Ok(())
     }
 
+    /// The SubDevice of `axis` and the index of its axis-A object `index` there (on a
+    /// multi-axis unit at the axis' offset index, mr-j5-g-n1.md §1.5).
+    fn station_object(&self, axis: usize, index: u16) -> Option<(usize, u16)> {
+        let a = self.axes.get(axis)?;
+        let p = self.config.drives.get(axis)?.profile;
+        Some((a.station, p.axis_object(index, a.slot).unwrap_or(index)))
+    }
+
     fn sdo_read_value(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
         let d = self.config.drives.get(axis).ok_or(SDO_UNSUPPORTED)?;
-        let data_type = object_type(d.profile, index, sub);
+        // The type of an object given at another axis' offset index is its axis-A object's.
+        let base = d.profile.object_slot(index).map_or(index, |(_, b)| b);
+        let data_type = object_type(d.profile, base, sub);
+        let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
         let sd = self
             .group
-            .subdevice(&self.maindevice, axis)
+            .subdevice(&self.maindevice, station)
             .map_err(|_| SDO_UNSUPPORTED)?;
         let read = async {
             Ok::<i64, ethercrab::error::Error>(match data_type {
@@ -771,9 +1004,10 @@ impl Bus for EthercatBus {
     }
 
     fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
+        let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
         let sd = self
             .group
-            .subdevice(&self.maindevice, axis)
+            .subdevice(&self.maindevice, station)
             .map_err(|_| SDO_UNSUPPORTED)?;
         let write = async {
             match *data {
@@ -798,9 +1032,17 @@ impl Bus for EthercatBus {
 
     /// On the in-process segment: the emulated drive of `axis` raises `code`.
     fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
-        match self.link.segment_mut().and_then(|s| s.station_mut(axis)) {
-            Some(st) => {
-                st.drive_mut().inject_alarm(code);
+        let Some(&AxisImage { station, slot, .. }) = self.axes.get(axis) else {
+            return false;
+        };
+        match self
+            .link
+            .segment_mut()
+            .and_then(|s| s.station_mut(station))
+            .and_then(|st| st.drive_at_mut(usize::from(slot)))
+        {
+            Some(d) => {
+                d.inject_alarm(code);
                 true
             }
             None => false,
@@ -813,8 +1055,11 @@ impl Bus for EthercatBus {
         axis < self.axes.len() && self.link.drop_frames(cycles)
     }
 
+    /// The SubDevice of `axis` (with every axis of its unit) stops answering.
     fn inject_subdevice_stall(&mut self, axis: usize, cycles: u32) -> bool {
-        axis < self.axes.len() && self.link.stall_subdevice(axis, cycles)
+        self.axes
+            .get(axis)
+            .is_some_and(|a| self.link.stall_subdevice(a.station, cycles))
     }
 
     fn inject_frame_delay(&mut self, delay_ns: u64, cycles: u32) -> bool {
@@ -822,7 +1067,9 @@ impl Bus for EthercatBus {
     }
 
     fn inject_frame_corruption(&mut self, axis: usize, cycles: u32) -> bool {
-        axis < self.axes.len() && self.link.corrupt_frames(axis, cycles)
+        self.axes
+            .get(axis)
+            .is_some_and(|a| self.link.corrupt_frames(a.station, cycles))
     }
 
     fn inject_datagram_drop(&mut self, cycles: u32) -> bool {
@@ -830,7 +1077,9 @@ impl Bus for EthercatBus {
     }
 
     fn inject_link_loss(&mut self, axis: usize, cycles: u32) -> bool {
-        axis < self.axes.len() && self.link.lose_link(axis, cycles)
+        self.axes
+            .get(axis)
+            .is_some_and(|a| self.link.lose_link(a.station, cycles))
     }
 
     fn close(&mut self) -> Result<(), String> {

@@ -3,5 +3,7 @@
 pub mod bus;
 pub mod link;
 
-pub use bus::{EthercatBus, EthercatError, SegmentConfig, SegmentDrive};
+pub use bus::{
+    AmplifierSlot, EthercatBus, EthercatError, SegmentConfig, SegmentDrive, SegmentStation,
+};
 pub use link::{InProcessLink, Link, LinkError, RawSocketLink};

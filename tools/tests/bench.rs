@@ -317,9 +317,9 @@ fn bench_ethercat_in_process_counts_frames_and_reports_every_round() {
     for r in rounds {
         let cycles = r["cycles"].as_u64().unwrap();
         let overruns = r["overruns"].as_u64().unwrap();
-        // 1 s per round at 1 ms, whatever the runs it took.
+        // 1 s per round at 1 ms, whatever the runs it took, plus each run's final stop.
         assert!(
-            (900..=1100).contains(&(cycles + overruns)),
+            (900..=1600).contains(&(cycles + overruns)),
             "{cycles} + {overruns}"
         );
         assert_eq!(r["frames"]["lost"], 0, "{r}");

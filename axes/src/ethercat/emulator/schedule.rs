@@ -396,14 +396,12 @@ mod tests {
         .unwrap()
     }
 
-    /// Passes one frame through `s` and `seg` at `now`: its fate, and the segment's delivery
-    /// and BRD working counter where it was processed.
-    fn pass(
-        s: &mut FaultSchedule,
-        seg: &mut Segment,
-        process_data: bool,
-        now: u64,
-    ) -> (FrameFate, Option<(Delivery, u16)>) {
+    /// What a frame met: its fate before the segment, and the segment's delivery and BRD
+    /// working counter where it was processed.
+    type Seen = (FrameFate, Option<(Delivery, u16)>);
+
+    /// Passes one frame through `s` and `seg` at `now`.
+    fn pass(s: &mut FaultSchedule, seg: &mut Segment, process_data: bool, now: u64) -> Seen {
         let mut f = frame(process_data);
         let fate = s.before_frame(&f, now, seg);
         if fate != FrameFate::Process {
@@ -483,7 +481,7 @@ mod tests {
             station: 0,
             frames: 2,
         };
-        let cases: [(WireFault, FrameFate, Option<(Delivery, u16)>); 6] = [
+        let cases = [
             (WireFault::FrameLoss { frames: 2 }, FrameFate::Lose, None),
             (
                 WireFault::FrameDelay {

@@ -287,6 +287,36 @@ fn veth_attempt(
     (out, rest, status)
 }
 
+#[test]
+fn a_wire_fault_moved_to_a_nic_by_interface_is_left_to_the_segment_on_the_far_end() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = ethercat_cell(dir.path(), "in-process");
+    let text = std::fs::read_to_string(&cfg).unwrap()
+        + "\n[[inject]]\nat_ms = 100\nfault = \"frame_corruption\"\nduration_ms = 10\n";
+    std::fs::write(&cfg, text).unwrap();
+    // No such NIC here: the run fails opening it, after it has said what it leaves to the far
+    // end (it no longer refuses the fault).
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .arg("run")
+        .arg(&cfg)
+        .args(["--interface", "crtnone0", "--no-record"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(
+            "wire fault(s) frame_corruption at cycle 100 are left to the segment on the far end of 'crtnone0'"
+        ),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("error: EtherCAT interface 'crtnone0'")
+            && stderr.contains("does not exist"),
+        "{stderr}"
+    );
+}
+
 /// The cycle of `a_lost_link_on_the_far_end…`'s link loss, and the window in which the master
 /// must see it: the emulator counts from the first process-data frame, which `cellrt run`
 /// sends (its priming exchange) about a cycle before its loop's cycle 0.

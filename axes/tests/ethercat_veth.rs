@@ -1,5 +1,5 @@
-//! The EtherCAT backend over real raw sockets: a veth pair, the emulator on one end, the
-//! MainDevice on the other. Needs root (CAP_NET_ADMIN for the pair, CAP_NET_RAW for the
+//! The EtherCAT backend over real raw sockets: a veth pair, the emulator on one end (with a
+//! scheduled frame delay), the MainDevice on the other. Needs root (CAP_NET_ADMIN for the pair, CAP_NET_RAW for the
 //! sockets) and `ip` from iproute2; says so plainly and skips where either is missing.
 
 use std::process::Command;
@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use cellrt_axes::ethercat::emulator::{wire, Segment};
+use cellrt_axes::ethercat::emulator::{wire, FaultSchedule, ScheduledFault, Segment, WireFault};
 use cellrt_axes::ethercat::identity::ExpectedIdentity;
 use cellrt_axes::ethercat::master::{EthercatBus, RawSocketLink, SegmentConfig, SegmentDrive};
 use cellrt_axes::ethercat::raw_socket::RawSocket;
@@ -65,11 +65,25 @@ fn a_segment_on_a_veth_pair_comes_up_and_exchanges_over_raw_sockets() {
             .map(|&m| SimDrive::new(profile(m), SimDriveParams::default(), ct))
             .collect(),
     );
+    // Frames 100 µs late for 50 cycles from cycle 100: held by the emulator while it serves
+    // on, returned well within the master's timeout.
+    let mut faults = FaultSchedule::new(
+        vec![ScheduledFault {
+            cycle: 100,
+            fault: WireFault::FrameDelay {
+                delay_ns: 100_000,
+                frames: 50,
+            },
+        }],
+        ct,
+        models.len(),
+    )
+    .unwrap();
     let socket = RawSocket::open(&format!("{}p", pair.0)).expect("emulator socket");
     let stop = Arc::new(AtomicBool::new(false));
     let stop2 = stop.clone();
     let emulator = std::thread::spawn(move || {
-        let stats = wire::serve(&socket, &mut segment, &stop2).expect("serve");
+        let stats = wire::serve(&socket, &mut segment, &mut faults, &stop2).expect("serve");
         (stats, segment)
     });
     let link = RawSocketLink::open(&pair.0, Duration::from_millis(20)).expect("master socket");
@@ -101,6 +115,8 @@ fn a_segment_on_a_veth_pair_comes_up_and_exchanges_over_raw_sockets() {
     stop.store(true, Ordering::Release);
     let (stats, segment) = emulator.join().unwrap();
     assert!(stats.frames >= 200, "{stats:?}");
+    assert_eq!((stats.delayed, stats.lost), (50, 0), "{stats:?}");
+    assert_eq!(stats.injected.frame_delay, 1, "{stats:?}");
     for st in segment.stations() {
         assert_eq!(st.drive().alarm(), None, "{}", st.drive().profile().name);
         assert!(st.exchanges() >= 190, "{}", st.exchanges());

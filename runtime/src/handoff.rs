@@ -240,7 +240,8 @@ pub enum EventKind {
     /// The bus exchange failed (value: axis index).
     BusError,
     /// A scheduled fault was injected (value: 1 stall, 2 drive alarm, 3 planner stall, 4 RxPDO
-    /// loss, 5 counter corruption).
+    /// loss, 5 counter corruption, 6 SubDevice stall, 7 frame delay, 8 frame corruption, 9
+    /// datagram drop, 10 link loss).
     FaultInjected,
     /// A planner's iceoryx2 node appeared.
     PlannerConnected,
@@ -252,6 +253,10 @@ pub enum EventKind {
     HomingStarted,
     /// Homing ended on an axis (value: 0 attained, else the `HomingFailure` code).
     HomingFinished,
+    /// A scheduled wire fault is due, but the cell runs on a network interface: the emulated
+    /// segment on the far end injects it on its own clock, not the master (value: as
+    /// [`EventKind::FaultInjected`]).
+    FaultLeftToSegment,
 }
 
 /// A homing request from the non-RT side, packed for [`Handoff::home_request`].

@@ -126,6 +126,13 @@ pub struct DriveSimArgs {
 pub enum DriveSimBus {
     /// Present the drives of the cell configuration given as `--cell CONFIG` as EtherCAT
     /// SubDevices on a network interface (line topology, in axis order), until SIGINT/SIGTERM.
+    ///
+    /// The cell's wire faults in `[[inject]]` (rx_loss as frame loss, frame_delay,
+    /// frame_corruption, datagram_drop, link_loss, subdevice_stall) are injected here, on the
+    /// cell's cycle clock as the segment sees it: cycle 0 is the first frame with a
+    /// process-data (LRD/LWR/LRW) datagram, cycle n is n cycle times later; `at_ms` counts
+    /// from there and each fault lasts duration_ms worth of frames. `cellrt run` on the other
+    /// end sends that frame one cycle before its own loop's cycle 0.
     Ethercat {
         /// The network interface (e.g. one end of a veth pair).
         #[arg(long, value_name = "IF")]

@@ -595,23 +595,3 @@ fn a_wire_fault_on_sim_drives_is_refused() {
         &["link_loss", "no EtherCAT axes"],
     );
 }
-
-#[test]
-fn a_wire_fault_is_refused_when_interface_moves_the_cell_to_a_nic() {
-    const ETHERCAT_CONFIG: &str = include_str!("../../configs/ethercat-cell.toml");
-    let config = replace_once(
-        &replace_once(
-            ETHERCAT_CONFIG,
-            "interface = \"ecat0\"",
-            "interface = \"in-process\"",
-        ),
-        "\ncpu = 1",
-        "\n# cpu = 1",
-    ) + "\n[[inject]]\nat_ms = 100\nfault = \"frame_corruption\"\nduration_ms = 10\n";
-    let (case, config, _) = Case::with(&config, DEMO_PROGRAM);
-    let run = case.run(&[config.to_str().unwrap(), "--interface", "eth9"]);
-    let line = run.error_line();
-    for w in ["--interface", "frame_corruption", "in-process", "eth9"] {
-        assert!(line.contains(w), "line does not say {w:?}: {line}");
-    }
-}

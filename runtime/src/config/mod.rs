@@ -11,6 +11,7 @@ pub use error::ConfigError;
 use std::path::{Path, PathBuf};
 
 use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::ethercat::emulator::{ScheduledFault, WireFault};
 use cellrt_axes::profiles::{DriveModel, DriveProfile};
 use cellrt_axes::CycleTime;
 use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
@@ -206,7 +207,7 @@ pub enum InjectedFault {
         /// Cycles.
         cycles: u32,
     },
-    /// EtherCAT, in-process segment: every cyclic frame returns `delay_ns` late for this many
+    /// EtherCAT, emulated segment: every cyclic frame returns `delay_ns` late for this many
     /// cycles (at or beyond `frame_timeout` lost at the master).
     FrameDelay {
         /// The delay, ns.
@@ -214,7 +215,7 @@ pub enum InjectedFault {
         /// Cycles.
         cycles: u32,
     },
-    /// EtherCAT, in-process segment: bit errors on the link in front of an axis' SubDevice
+    /// EtherCAT, emulated segment: bit errors on the link in front of an axis' SubDevice
     /// (CRC errors) for this many cycles.
     FrameCorruption {
         /// Axis index (the link in front of its SubDevice; 0: the master's link).
@@ -222,12 +223,12 @@ pub enum InjectedFault {
         /// Cycles.
         cycles: u32,
     },
-    /// EtherCAT, in-process segment: the cyclic LRW datagram is removed for this many cycles.
+    /// EtherCAT, emulated segment: the cyclic LRW datagram is removed for this many cycles.
     DatagramDrop {
         /// Cycles.
         cycles: u32,
     },
-    /// EtherCAT, in-process segment: the link in front of an axis' SubDevice is down for this
+    /// EtherCAT, emulated segment: the link in front of an axis' SubDevice is down for this
     /// many cycles.
     LinkLoss {
         /// Axis index (the link in front of its SubDevice; 0: the master's link).
@@ -238,7 +239,8 @@ pub enum InjectedFault {
 }
 
 impl InjectedFault {
-    /// True for the faults only the in-process emulated EtherCAT segment can inject.
+    /// True for the faults only an emulated EtherCAT segment injects: in process by the
+    /// master's link, on a network interface by `cellrt drive-sim ethercat` on the far end.
     pub fn needs_emulated_segment(&self) -> bool {
         matches!(
             self,
@@ -248,6 +250,35 @@ impl InjectedFault {
                 | InjectedFault::DatagramDrop { .. }
                 | InjectedFault::LinkLoss { .. }
         )
+    }
+
+    /// The fault as the segment injects it on the wire of an EtherCAT cell (`rx_loss` is the
+    /// loss of the segment's frames there); `None` for the faults the controller injects.
+    pub fn wire_fault(&self) -> Option<WireFault> {
+        Some(match *self {
+            InjectedFault::RxLoss { cycles, .. } => WireFault::FrameLoss { frames: cycles },
+            InjectedFault::SubdeviceStall { axis, cycles } => WireFault::SubdeviceStall {
+                station: axis,
+                frames: cycles,
+            },
+            InjectedFault::FrameDelay { delay_ns, cycles } => WireFault::FrameDelay {
+                delay_ns,
+                frames: cycles,
+            },
+            InjectedFault::FrameCorruption { axis, cycles } => WireFault::FrameCorruption {
+                station: axis,
+                frames: cycles,
+            },
+            InjectedFault::DatagramDrop { cycles } => WireFault::DatagramDrop { frames: cycles },
+            InjectedFault::LinkLoss { axis, cycles } => WireFault::LinkLoss {
+                station: axis,
+                frames: cycles,
+            },
+            InjectedFault::Stall { .. }
+            | InjectedFault::DriveAlarm { .. }
+            | InjectedFault::PlannerStall { .. }
+            | InjectedFault::CounterCorruption { .. } => return None,
+        })
     }
 
     /// The fault's name in the configuration (`[[inject]] fault`).
@@ -305,25 +336,46 @@ impl EthercatInterface {
 }
 
 impl CellConfig {
+    /// The cell's wire faults as its EtherCAT segment injects them, by cycle (what `cellrt
+    /// drive-sim ethercat` schedules); empty for a cell without EtherCAT axes.
+    pub fn wire_schedule(&self) -> Vec<ScheduledFault> {
+        if self.ethercat.is_none() {
+            return Vec::new();
+        }
+        self.inject
+            .iter()
+            .filter_map(|i| {
+                i.fault.wire_fault().map(|fault| ScheduledFault {
+                    cycle: i.cycle,
+                    fault,
+                })
+            })
+            .collect()
+    }
+
+    /// The injections the master leaves to the segment on the far end of its network
+    /// interface (the wire faults of a cell on a NIC: the master cannot inject them into a
+    /// real wire); empty on the in-process segment and on sim drives.
+    pub fn faults_left_to_segment(&self) -> Vec<Injection> {
+        match self.ethercat.as_ref().map(|e| &e.interface) {
+            Some(EthercatInterface::Nic(_)) => self
+                .inject
+                .iter()
+                .filter(|i| i.fault.wire_fault().is_some())
+                .copied()
+                .collect(),
+            _ => Vec::new(),
+        }
+    }
+
     /// Points the cell's EtherCAT segment at `interface` (the `--interface` option); an error
-    /// if the cell has no EtherCAT axes or the name is not an interface name.
+    /// if the cell has no EtherCAT axes or the name is not an interface name. On a network
+    /// interface the wire faults are left to the segment ([`CellConfig::faults_left_to_segment`]).
     pub fn set_ethercat_interface(&mut self, interface: &str) -> Result<(), String> {
         let parsed =
             EthercatInterface::parse(interface).map_err(|e| format!("--interface: {e}"))?;
         match &mut self.ethercat {
             Some(ec) => {
-                if let (EthercatInterface::Nic(name), Some(inj)) = (
-                    &parsed,
-                    self.inject
-                        .iter()
-                        .find(|i| i.fault.needs_emulated_segment()),
-                ) {
-                    return Err(format!(
-                        "--interface: cell '{}' injects fault '{}', which only the emulated segment (interface \"{IN_PROCESS_INTERFACE}\") can inject, not the network interface '{name}'",
-                        self.name,
-                        inj.fault.name()
-                    ));
-                }
                 ec.interface = parsed;
                 Ok(())
             }

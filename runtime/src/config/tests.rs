@@ -554,37 +554,49 @@ fn wire_fault_bad_input_names_the_key() {
 }
 
 #[test]
-fn wire_faults_are_refused_on_a_network_interface_and_without_ethercat() {
+fn wire_faults_are_left_to_the_segment_on_a_network_interface_and_refused_without_ethercat() {
     for fault in [
         "fault = \"frame_delay\"\ndelay_us = 100",
         "fault = \"frame_corruption\"",
         "fault = \"datagram_drop\"",
         "fault = \"link_loss\"",
         "fault = \"subdevice_stall\"\naxis = \"x\"",
+        "fault = \"rx_loss\"\naxis = \"x\"",
     ] {
         let inject = format!("\n[[inject]]\nat_ms = 10\nduration_ms = 5\n{fault}\n");
-        // On the NIC of configs/ethercat-cell.toml.
-        let e = parse(&(ethercat_text() + &inject)).unwrap_err();
-        assert_eq!(e.key, "inject[0].fault", "{fault}: {e}");
-        assert!(
-            e.message.contains("in-process") && e.message.contains("ecat0"),
-            "{fault}: {e}"
+        // On the NIC of configs/ethercat-cell.toml: the far end's emulator injects it.
+        let c = parse(&(ethercat_text() + &inject)).expect(fault);
+        assert_eq!(c.faults_left_to_segment(), c.inject, "{fault}");
+        let schedule = c.wire_schedule();
+        assert_eq!(schedule.len(), 1, "{fault}");
+        assert_eq!(schedule[0].cycle, 10);
+        assert_eq!(schedule[0].fault.frames(), 5);
+        assert_eq!(
+            schedule[0].fault.name(),
+            c.inject[0].fault.name(),
+            "{fault}"
         );
+        // In-process the master's link injects it.
+        let mut c = parse(&ethercat_in_process_with(&inject)).expect(fault);
+        assert!(c.faults_left_to_segment().is_empty());
+        // Moved to a NIC by --interface: left to the segment there.
+        c.set_ethercat_interface("eth1").unwrap();
+        assert_eq!(c.faults_left_to_segment().len(), 1, "{fault}");
+        if fault.contains("rx_loss") {
+            // On sim drives rx_loss is the simulated bus's own fault.
+            let c = parse(&(demo_text() + &inject)).expect(fault);
+            assert!(c.wire_schedule().is_empty() && c.faults_left_to_segment().is_empty());
+            continue;
+        }
         // On sim drives.
         let e = parse(&(demo_text() + &inject)).unwrap_err();
         assert_eq!(e.key, "inject[0].fault", "{fault}: {e}");
         assert!(e.message.contains("no EtherCAT axes"), "{fault}: {e}");
-        // In-process, then moved to a NIC by --interface.
-        let mut c = parse(&ethercat_in_process_with(&inject)).expect(fault);
-        let e = c.set_ethercat_interface("eth1").unwrap_err();
-        assert!(
-            e.contains("--interface") && e.contains("eth1") && e.contains("in-process"),
-            "{e}"
-        );
-        assert_eq!(
-            c.ethercat.as_ref().unwrap().interface,
-            EthercatInterface::InProcess
-        );
-        c.set_ethercat_interface("in-process").unwrap();
     }
+    // The faults the controller injects itself are not the segment's.
+    let c = parse(
+        &(ethercat_text() + "\n[[inject]]\nat_ms = 10\nfault = \"stall\"\nduration_ms = 1\n"),
+    )
+    .expect("stall");
+    assert!(c.wire_schedule().is_empty() && c.faults_left_to_segment().is_empty());
 }

@@ -473,30 +473,15 @@ fn validate_injections(
                 ))
             }
         };
-        if fault.needs_emulated_segment() {
-            match ethercat.map(|e| &e.interface) {
-                Some(EthercatInterface::InProcess) => {}
-                Some(EthercatInterface::Nic(name)) => {
-                    return Err(ConfigError::new(
-                        file,
-                        key("fault"),
-                        format!(
-                            "fault '{}' is injected by the emulated EtherCAT segment only: set [ethercat] interface = \"{IN_PROCESS_INTERFACE}\" (the cell runs on the network interface '{name}')",
-                            r.fault
-                        ),
-                    ))
-                }
-                None => {
-                    return Err(ConfigError::new(
-                        file,
-                        key("fault"),
-                        format!(
-                            "fault '{}' is an EtherCAT fault of the emulated segment; the cell has no EtherCAT axes",
-                            r.fault
-                        ),
-                    ))
-                }
-            }
+        if fault.needs_emulated_segment() && ethercat.is_none() {
+            return Err(ConfigError::new(
+                file,
+                key("fault"),
+                format!(
+                    "fault '{}' is an EtherCAT fault of the emulated segment; the cell has no EtherCAT axes",
+                    r.fault
+                ),
+            ));
         }
         out.push(Injection { cycle, fault });
     }

@@ -110,6 +110,9 @@ pub struct Executive<B: Bus> {
     injections: Vec<Injection>,
     /// Index of the next injection due.
     next_injection: usize,
+    /// The cell runs on a network interface: its wire faults are the far end's segment's to
+    /// inject; the loop only records them.
+    wire_faults_remote: bool,
     /// Cycles since the previous executed cycle (more than 1 after an overrun).
     elapsed: Cycles,
     stats: RtStats,
@@ -157,6 +160,7 @@ impl<B: Bus> Executive<B> {
                 .filter(|i| !matches!(i.fault, InjectedFault::PlannerStall { .. }))
                 .collect(),
             next_injection: 0,
+            wire_faults_remote: !cell.faults_left_to_segment().is_empty(),
             elapsed: Cycles(1),
             stats: RtStats {
                 counters: RtCounters::default(),
@@ -306,6 +310,10 @@ impl<B: Bus> Executive<B> {
                         InjectedFault::LinkLoss { axis, .. } => (axis as u16, 10),
                         _ => (NO_AXIS, 0),
                     };
+                    if self.wire_faults_remote && inj.fault.wire_fault().is_some() {
+                        self.event(EventKind::FaultLeftToSegment, axis, code);
+                        continue;
+                    }
                     self.event(EventKind::FaultInjected, axis, code);
                     if !inject_into_bus(&mut self.bus, inj.fault) {
                         self.event(EventKind::BusError, axis, -2);

@@ -676,23 +676,11 @@ pub fn describe_event(e: &EventRecord) -> String {
             1 => "continuous incremental-counter errors".to_string(),
             _ => "intermittent incremental-counter errors".to_string(),
         },
-        EventKind::FaultInjected => [
-            "",
-            "stall",
-            "drive_alarm",
-            "planner_stall",
-            "rx_loss",
-            "counter_corruption",
-            "subdevice_stall",
-            "frame_delay",
-            "frame_corruption",
-            "datagram_drop",
-            "link_loss",
-        ]
-        .get(e.value as usize)
-        .copied()
-        .unwrap_or("unknown")
-        .to_string(),
+        EventKind::FaultInjected | EventKind::FaultLeftToSegment => FAULT_NAMES
+            .get(e.value as usize)
+            .copied()
+            .unwrap_or("unknown")
+            .to_string(),
         EventKind::StopFinished
         | EventKind::MasterTimeout
         | EventKind::BusError
@@ -700,6 +688,21 @@ pub fn describe_event(e: &EventRecord) -> String {
         | EventKind::PlannerLost => String::new(),
     }
 }
+
+/// Names of the injected faults, by the value of a `fault_injected` event.
+const FAULT_NAMES: [&str; 11] = [
+    "",
+    "stall",
+    "drive_alarm",
+    "planner_stall",
+    "rx_loss",
+    "counter_corruption",
+    "subdevice_stall",
+    "frame_delay",
+    "frame_corruption",
+    "datagram_drop",
+    "link_loss",
+];
 
 /// Names of the recording's FSA enum values, by index.
 const FSA_NAMES: [&str; 9] = [

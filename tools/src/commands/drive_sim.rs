@@ -4,7 +4,7 @@
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use cellrt_axes::ethercat::emulator::wire;
+use cellrt_axes::ethercat::emulator::{wire, FaultSchedule, ScheduledFault, WireFault};
 use cellrt_axes::ethercat::raw_socket::RawSocket;
 use cellrt_runtime::cell_bus::{emulated_segment, segment_config};
 use cellrt_runtime::config::CellConfig;
@@ -92,12 +92,47 @@ pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
         names.len(),
         names.join(", ")
     );
-    match wire::serve(&socket, &mut segment, &stop) {
+    // The config names faults by axis; the segment has one station per SubDevice.
+    let schedule = config
+        .wire_schedule()
+        .into_iter()
+        .map(|f| ScheduledFault {
+            fault: match f.fault.station() {
+                Some(axis) => f.fault.at_station(
+                    stations
+                        .iter()
+                        .position(|st| st.slots.contains(&Some(axis)))
+                        .unwrap_or(axis),
+                ),
+                None => f.fault,
+            },
+            ..f
+        })
+        .collect();
+    let station_names: Vec<String> = stations.iter().map(axis_names).collect();
+    let mut faults = match FaultSchedule::new(schedule, config.cycle_time, segment.stations().len())
+    {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {}: {e}", cell.display());
+            return Exit::BadInput;
+        }
+    };
+    announce(&config, &station_names, &faults);
+    match wire::serve(&socket, &mut segment, &mut faults, &stop) {
         Ok(stats) => {
             eprintln!(
-                "cellrt drive-sim: {} frames served, {} malformed dropped",
-                stats.frames, stats.malformed
+                "cellrt drive-sim: {} frames served, {} malformed dropped, {} lost and {} delayed by injected faults",
+                stats.frames, stats.malformed, stats.lost, stats.delayed
             );
+            if !faults.faults().is_empty() {
+                eprintln!(
+                    "cellrt drive-sim: injected {} of {} scheduled wire fault(s): {}",
+                    stats.injected.total(),
+                    faults.faults().len(),
+                    stats.injected.describe()
+                );
+            }
             for (plan, st) in stations.iter().zip(segment.stations()) {
                 let alarms: Vec<String> = st
                     .drives()
@@ -118,4 +153,47 @@ pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
             Exit::Failed
         }
     }
+}
+
+/// Prints the wire faults the segment will inject, and when.
+fn announce(config: &CellConfig, stations: &[String], faults: &FaultSchedule) {
+    if faults.faults().is_empty() {
+        return;
+    }
+    eprintln!(
+        "cellrt drive-sim: {} wire fault(s) of the cell's [[inject]], at cycles of {} µs counted from the first process-data frame (cycle 0):",
+        faults.faults().len(),
+        faults.cycle_time().as_micros()
+    );
+    for f in faults.faults() {
+        eprintln!("  {}", describe(config, stations, f));
+    }
+}
+
+/// One scheduled fault as a line, e.g. "cycle 600 (600 ms): link_loss in front of x, 30 frames".
+fn describe(config: &CellConfig, stations: &[String], f: &ScheduledFault) -> String {
+    let ms = f.cycle as f64 * config.cycle_time.as_nanos() as f64 / 1e6;
+    let at = |station: usize| {
+        stations
+            .get(station)
+            .cloned()
+            .unwrap_or_else(|| format!("SubDevice {station}"))
+    };
+    let what = match f.fault {
+        WireFault::FrameLoss { .. } => "every frame lost (rx_loss)".to_string(),
+        WireFault::FrameDelay { delay_ns, .. } => {
+            format!("frame_delay by {} µs", delay_ns as f64 / 1e3)
+        }
+        WireFault::FrameCorruption { station, .. } => {
+            format!("frame_corruption in front of {}", at(station))
+        }
+        WireFault::DatagramDrop { .. } => "datagram_drop".to_string(),
+        WireFault::LinkLoss { station, .. } => format!("link_loss in front of {}", at(station)),
+        WireFault::SubdeviceStall { station, .. } => format!("subdevice_stall of {}", at(station)),
+    };
+    format!(
+        "cycle {} ({ms} ms): {what}, {} frames",
+        f.cycle,
+        f.fault.frames()
+    )
 }

@@ -191,6 +191,7 @@ fn is_alarm(e: &Event) -> bool {
                 | "overrun"
                 | "records_dropped"
                 | "fault_injected"
+                | "fault_left_to_segment"
                 | "planner_lost"
         )
 }

@@ -87,6 +87,7 @@ pub fn run(args: RunArgs) -> Exit {
             .map(|p| format!(", recording to {}", p.display()))
             .unwrap_or_default()
     );
+    announce_faults_left_to_segment(&cell);
     if args.external_planner {
         eprintln!(
             "cellrt: waiting for a planner: cellrt planner {}",
@@ -123,6 +124,28 @@ pub fn run(args: RunArgs) -> Exit {
         Outcome::ProgramFailed => Exit::Failed,
         _ => Exit::Ok,
     }
+}
+
+/// Says once which wire faults the master leaves to the emulated segment on the far end of its
+/// network interface (it cannot inject them into a real wire).
+fn announce_faults_left_to_segment(cell: &CellConfig) {
+    let left = cell.faults_left_to_segment();
+    let Some(cellrt_runtime::config::EthercatInterface::Nic(nic)) =
+        cell.ethercat.as_ref().map(|e| &e.interface)
+    else {
+        return;
+    };
+    if left.is_empty() {
+        return;
+    }
+    let names: Vec<String> = left
+        .iter()
+        .map(|i| format!("{} at cycle {}", i.fault.name(), i.cycle))
+        .collect();
+    eprintln!(
+        "cellrt: wire fault(s) {} are left to the segment on the far end of '{nic}' (`cellrt drive-sim ethercat --cell` injects them, counting cycles from the first process-data frame); the master does not inject them on a network interface and records each as a fault_left_to_segment event at its cycle",
+        names.join(", ")
+    );
 }
 
 fn bad_input(e: impl std::fmt::Display) -> Exit {

@@ -3,12 +3,15 @@
 //! models. Runs in-process ([`Segment::process`] on each frame) or on a network interface.
 
 pub mod coe;
+pub mod delay_line;
 pub mod layout;
+pub mod schedule;
 pub mod segment;
 pub mod sii;
 pub mod station;
 pub mod wire;
 
+pub use schedule::{FaultSchedule, ScheduledFault, WireFault};
 pub use segment::{Delivery, Segment};
 pub use station::{Station, UnitError};
 

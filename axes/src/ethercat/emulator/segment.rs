@@ -141,6 +141,11 @@ impl Segment {
         self.datagram_drop = frames;
     }
 
+    /// Frames left whose logical datagrams are removed ([`Segment::drop_datagrams`]).
+    pub fn dropping_datagrams(&self) -> u32 {
+        self.datagram_drop
+    }
+
     /// The link in front of station `n` goes up or down at both of its ends.
     fn set_link(&mut self, n: usize, up: bool) {
         if let Some(st) = self.stations.get_mut(n) {

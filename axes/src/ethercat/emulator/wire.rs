@@ -1,10 +1,13 @@
 //! The emulated segment on a network interface: frames from the MainDevice are processed and
-//! returned on the same interface, as the last SubDevice of a line returns them.
+//! returned on the same interface, as the last SubDevice of a line returns them, with the
+//! cell's wire faults injected on their schedule ([`FaultSchedule`]).
 
 use std::io;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
+use super::delay_line::{DelayLine, MAX_FRAME};
+use super::schedule::{FaultSchedule, FrameFate, InjectedCounts};
 use super::{Delivery, Segment};
 use crate::ethercat::frame::REPLY_SOURCE_MAC_BIT;
 use crate::ethercat::raw_socket::RawSocket;
@@ -30,34 +33,81 @@ pub struct WireStats {
     pub frames: u64,
     /// Frames that were not EtherCAT datagram frames and were dropped.
     pub malformed: u64,
-    /// Frames the segment did not return (an injected wire fault).
+    /// Frames not returned because of an injected wire fault (lost, corrupted, behind a lost
+    /// link, or delayed while the delay line was full).
     pub lost: u64,
+    /// Frames returned late by an injected frame delay.
+    pub delayed: u64,
+    /// The scheduled faults injected.
+    pub injected: InjectedCounts,
 }
 
-/// Serves `segment` on `socket` until `stop` is set.
+/// Serves `segment` on `socket` with `faults` injected until `stop` is set. Allocates nothing
+/// per frame.
 pub fn serve(
     socket: &RawSocket,
     segment: &mut Segment,
+    faults: &mut FaultSchedule,
     stop: &AtomicBool,
 ) -> io::Result<WireStats> {
-    let mut buf = vec![0u8; 1536];
+    let mut buf = vec![0u8; MAX_FRAME];
+    let mut late = DelayLine::new();
     let mut stats = WireStats::default();
     while !stop.load(Ordering::Acquire) {
-        let Some(n) = socket.recv(&mut buf, STOP_POLL)? else {
+        // Delayed frames that are due go first, processed when they reach the segment.
+        while let Some(n) = late.pop_due(monotonic_ns(), &mut buf) {
+            if deliver(socket, segment, &mut buf[..n], &mut stats)? {
+                stats.delayed += 1;
+            }
+        }
+        let wait = late.next_due().map_or(STOP_POLL, |due| {
+            STOP_POLL.min(Duration::from_nanos(due.saturating_sub(monotonic_ns())))
+        });
+        let Some(n) = socket.recv(&mut buf, wait)? else {
             continue;
         };
         // Our own replies, seen on the way out.
         if n < 7 || buf[6] & REPLY_SOURCE_MAC_BIT != 0 {
             continue;
         }
-        match segment.process(&mut buf[..n], monotonic_ns()) {
-            Ok(Delivery::Returned) => {
-                socket.send(&buf[..n])?;
-                stats.frames += 1;
+        let now = monotonic_ns();
+        match faults.before_frame(&buf[..n], now, segment) {
+            FrameFate::Process => {
+                deliver(socket, segment, &mut buf[..n], &mut stats)?;
             }
-            Ok(Delivery::Lost) => stats.lost += 1,
-            Err(_) => stats.malformed += 1,
+            FrameFate::Lose => stats.lost += 1,
+            FrameFate::Delay(ns) => {
+                if !late.push(&buf[..n], now.saturating_add(ns)) {
+                    stats.lost += 1;
+                }
+            }
         }
     }
+    stats.injected = faults.injected();
     Ok(stats)
+}
+
+/// Processes `frame` on `segment` now and returns it on `socket` unless the segment lost it;
+/// true if it was returned.
+fn deliver(
+    socket: &RawSocket,
+    segment: &mut Segment,
+    frame: &mut [u8],
+    stats: &mut WireStats,
+) -> io::Result<bool> {
+    match segment.process(frame, monotonic_ns()) {
+        Ok(Delivery::Returned) => {
+            socket.send(frame)?;
+            stats.frames += 1;
+            Ok(true)
+        }
+        Ok(Delivery::Lost) => {
+            stats.lost += 1;
+            Ok(false)
+        }
+        Err(_) => {
+            stats.malformed += 1;
+            Ok(false)
+        }
+    }
 }

@@ -248,18 +248,19 @@ impl FaultSchedule {
         faults.sort_by_key(|f| f.cycle);
         Ok(FaultSchedule {
             faults,
-            next: 0,
-            cycle,
-            origin_ns: None,
-            loss_frames: 0,
-            delay_frames: 0,
-            delay_ns: 0,
-            injected: InjectedCounts::default(),
+            ..FaultSchedule::unstarted(cycle)
         })
     }
 
     /// No faults.
     pub fn empty(cycle: CycleTime) -> Self {
+        FaultSchedule {
+            faults: Vec::new(),
+            ..FaultSchedule::unstarted(cycle)
+        }
+    }
+
+    fn unstarted(cycle: CycleTime) -> Self {
         FaultSchedule {
             faults: Vec::new(),
             next: 0,

@@ -248,19 +248,12 @@ impl FaultSchedule {
         faults.sort_by_key(|f| f.cycle);
         Ok(FaultSchedule {
             faults,
-            ..FaultSchedule::unstarted(cycle)
+            ..FaultSchedule::empty(cycle)
         })
     }
 
     /// No faults.
     pub fn empty(cycle: CycleTime) -> Self {
-        FaultSchedule {
-            faults: Vec::new(),
-            ..FaultSchedule::unstarted(cycle)
-        }
-    }
-
-    fn unstarted(cycle: CycleTime) -> Self {
         FaultSchedule {
             faults: Vec::new(),
             next: 0,

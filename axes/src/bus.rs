@@ -3,6 +3,7 @@
 //! [`SimBus`] runs [`SimDrive`]s in-process; EtherCAT backends implement the same [`Bus`] trait.
 
 use crate::cycles::Cycles;
+use crate::ethercat::register::AlStatus;
 use crate::pdo::PdoError;
 use crate::sim::drive::SimDrive;
 
@@ -103,6 +104,12 @@ pub trait Bus {
     /// Counters of the cyclic frames, on a bus that sends frames (EtherCAT); `None` for the
     /// in-process simulated drives.
     fn frame_counters(&self) -> Option<FrameCounters> {
+        None
+    }
+    /// The AL status of the SubDevice that carries `axis`, as the last cyclic frame read it;
+    /// `None` on a bus without one (the in-process simulated drives) or before it answered.
+    fn al_status(&self, axis: usize) -> Option<AlStatus> {
+        let _ = axis;
         None
     }
 }

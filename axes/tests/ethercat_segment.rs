@@ -7,7 +7,7 @@ use cellrt_axes::ethercat::identity::ExpectedIdentity;
 use cellrt_axes::ethercat::master::{
     EthercatBus, EthercatError, InProcessLink, SegmentConfig, SegmentDrive,
 };
-use cellrt_axes::ethercat::register::AlState;
+use cellrt_axes::ethercat::register::{AlState, AlStatus};
 use cellrt_axes::pdo::{PdoLayout, RxPdo};
 use cellrt_axes::{
     profile, Bus, Controlword, CycleTime, Cycles, DriveModel, DriveProfile, FsaState,
@@ -928,4 +928,73 @@ fn an_in_process_segment_excusing_host_stalls_runs_the_drives_on() {
             assert!(missed.iter().all(|m| *m == 16), "{missed:?}");
         }
     }
+}
+
+/// The process-data watchdog and the master's AL status monitoring: a link lost for longer
+/// than the SyncManager watchdog (0420h × 0400h: 100 ms by default) leaves the SubDevices
+/// behind it without output writes; the first frame through afterwards finds their watchdog
+/// expired (0440h bit 0 clear, 0442h counted), and they are in SAFE-OP with AL status code
+/// 001Bh. The master reads every SubDevice's AL status in each cyclic frame and reports it per
+/// axis. A shorter loss leaves every SubDevice in OP.
+#[test]
+fn a_link_lost_past_the_sm_watchdog_drops_the_subdevices_behind_it_to_safe_op_and_the_master_sees_it(
+) {
+    let (mut bus, _) = enabled(&MITSUBISHI);
+    let op = AlStatus::from_registers(AlState::Op as u16, 0);
+    assert_eq!(
+        (0..4).map(|a| bus.al_status(a)).collect::<Vec<_>>(),
+        vec![Some(op); 4],
+        "every SubDevice in OP, read by the cyclic frame"
+    );
+    assert_eq!(
+        stations(&mut bus).stations()[0].pd_watchdog_ns(),
+        100_000_000,
+        "the ESC's reset values: 1000 × 100 µs"
+    );
+
+    // 50 ms: within the watchdog.
+    assert!(bus.link_mut().lose_link(2, 50));
+    let _ = exchanges(&mut bus, 60);
+    assert_eq!(
+        (0..4).map(|a| bus.al_status(a)).collect::<Vec<_>>(),
+        vec![Some(op); 4]
+    );
+    assert_eq!(registers(&mut bus, reg::SM_WATCHDOG_COUNTER), [0, 0, 0, 0]);
+
+    // 150 ms: the stations behind the link expire.
+    assert!(bus.link_mut().lose_link(2, 150));
+    let r = exchanges(&mut bus, 151);
+    let watchdog = AlStatus::from_registers(
+        AlState::SafeOp as u16 | u16::from(reg::AL_ERROR_INDICATION),
+        reg::al_code::SM_WATCHDOG,
+    );
+    assert_eq!(
+        (0..4).map(|a| bus.al_status(a)).collect::<Vec<_>>(),
+        vec![Some(op), Some(op), Some(watchdog), Some(watchdog)]
+    );
+    assert_eq!(
+        watchdog.describe(),
+        "SAFE-OP, error 001Bh (sync manager watchdog)"
+    );
+    assert_eq!(AlStatus::decode(watchdog.encode()), watchdog);
+    assert_eq!(registers(&mut bus, reg::SM_WATCHDOG_COUNTER), [0, 0, 1, 1]);
+    assert_eq!(registers(&mut bus, reg::SM_WATCHDOG_STATUS), [1, 1, 0, 0]);
+    // In SAFE-OP the two stations no longer write their outputs: 2 × 2 of the working
+    // counter's 12 are missing.
+    assert_eq!(
+        r.last(),
+        Some(&Err(BusError::WorkingCounter {
+            expected: 12,
+            found: 8
+        }))
+    );
+    let states: Vec<AlState> = stations(&mut bus)
+        .stations()
+        .iter()
+        .map(|s| s.al_state())
+        .collect();
+    assert_eq!(
+        states,
+        [AlState::Op, AlState::Op, AlState::SafeOp, AlState::SafeOp]
+    );
 }

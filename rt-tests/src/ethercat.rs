@@ -15,7 +15,7 @@ use std::time::Duration;
 
 use cellrt_axes::{profile, CycleTime, DriveModel, FrameCounters};
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::controller::{self, RunOptions};
+use cellrt_runtime::controller::{self, RunError, RunOptions};
 use cellrt_runtime::program::Program;
 use cellrt_runtime::rt::histogram::{NsHistogram, Percentiles};
 use serde::Serialize;
@@ -165,6 +165,8 @@ fn loop_options(opts: &EthercatBenchOptions) -> LoopOptions {
 pub struct EthercatRound {
     /// Runs it took (a run that a drive fault stopped is followed by another one).
     pub runs: u32,
+    /// Bring-ups that timed out (a host stall) and were tried again.
+    pub bringup_retries: u32,
     /// Why runs stopped early (e.g. a drive's communication alarm after a host stall).
     pub stopped: Vec<String>,
     /// Cycles run.
@@ -216,7 +218,12 @@ pub struct EthercatBenchReport {
 /// Shortest run a round starts for the time it has left.
 const MIN_RUN_NS: u64 = 500_000_000;
 
-/// One run of the bench cell for `seconds` (with its own `cellrt drive-sim` on a veth pair).
+/// Bring-ups a run tries before the benchmark gives up: a host stall during bring-up times the
+/// mailbox or EEPROM access out, which is the machine's, not the transport's.
+const BRINGUP_ATTEMPTS: u32 = 5;
+
+/// One run of the bench cell for `seconds` (with its own `cellrt drive-sim` on a veth pair);
+/// a bring-up that timed out is tried again. Returns the summary and the bring-ups retried.
 fn run_once(
     opts: &EthercatBenchOptions,
     ns: Option<&VethNamespace>,
@@ -225,34 +232,43 @@ fn run_once(
     prog_path: &Path,
     record: &Path,
     seconds: f64,
-) -> Result<controller::Summary, BenchError> {
-    let program = Program::parse(prog_path, &loopbench::program_text(DRIVES, seconds), cell)
-        .map_err(|e| BenchError::failed(format!("generated program: {e}")))?;
-    let sim = match ns {
-        Some(ns) => Some(start_drive_sim(&opts.exe, ns, cfg_path)?),
-        None => None,
-    };
-    let summary = controller::run(
-        cell,
-        RunOptions {
-            program: Some(program),
-            duration: Some(Duration::from_secs_f64(seconds)),
-            record: Some(record.to_path_buf()),
-            shutdown: Arc::new(AtomicBool::new(false)),
-            hook: None,
-            external_planner: false,
-        },
-    );
-    let sim_tail = sim.map(|(child, lines)| stop_drive_sim(child, lines));
-    let _ = std::fs::remove_file(record);
-    summary.map_err(|e| {
-        BenchError::failed(format!(
-            "{e}{}",
-            sim_tail
-                .map(|t| format!(" (drive-sim: {})", t.join(" / ")))
-                .unwrap_or_default()
-        ))
-    })
+) -> Result<(controller::Summary, u32), BenchError> {
+    let mut retries = 0;
+    loop {
+        let program = Program::parse(prog_path, &loopbench::program_text(DRIVES, seconds), cell)
+            .map_err(|e| BenchError::failed(format!("generated program: {e}")))?;
+        let sim = match ns {
+            Some(ns) => Some(start_drive_sim(&opts.exe, ns, cfg_path)?),
+            None => None,
+        };
+        let summary = controller::run(
+            cell,
+            RunOptions {
+                program: Some(program),
+                duration: Some(Duration::from_secs_f64(seconds)),
+                record: Some(record.to_path_buf()),
+                shutdown: Arc::new(AtomicBool::new(false)),
+                hook: None,
+                external_planner: false,
+            },
+        );
+        let sim_tail = sim.map(|(child, lines)| stop_drive_sim(child, lines));
+        let _ = std::fs::remove_file(record);
+        match summary {
+            Ok(s) => return Ok((s, retries)),
+            Err(RunError::Bus(e)) if e.contains("timeout") && retries + 1 < BRINGUP_ATTEMPTS => {
+                retries += 1;
+            }
+            Err(e) => {
+                return Err(BenchError::failed(format!(
+                    "{e}{}",
+                    sim_tail
+                        .map(|t| format!(" (drive-sim: {})", t.join(" / ")))
+                        .unwrap_or_default()
+                )))
+            }
+        }
+    }
 }
 
 /// `cellrt drive-sim ethercat` serving `cfg` on the far end of `ns`, started and ready.
@@ -354,7 +370,7 @@ pub fn run(
             e.runs += 1;
             let left_s = (round_ns - done_ns) as f64 / 1e9;
             let record = dir.path().join(format!("round-{round}-{}.mcap", e.runs));
-            let summary = run_once(
+            let (summary, retries) = run_once(
                 opts,
                 ns.as_ref(),
                 &cell,
@@ -364,6 +380,7 @@ pub fn run(
                 left_s,
             )
             .map_err(|e| BenchError::failed(format!("round {round}: {e}")))?;
+            e.bringup_retries += retries;
             if rt.is_empty() {
                 rt = summary.rt.describe();
             }
@@ -440,6 +457,13 @@ pub fn render_round(round: u32, e: &EthercatRound, l: &LatencyRound) -> String {
         e.runs,
         e.faults
     );
+    if e.bringup_retries > 0 {
+        let _ = write!(
+            s,
+            "\n|       | {} bring-up(s) timed out (host stall) and were tried again",
+            e.bringup_retries
+        );
+    }
     for why in &e.stopped {
         let _ = write!(s, "\n|       | stopped: {why}");
     }

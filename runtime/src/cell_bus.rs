@@ -131,6 +131,9 @@ impl Bus for CellBus {
     fn frame_counters(&self) -> Option<cellrt_axes::FrameCounters> {
         each!(self, b => b.frame_counters())
     }
+    fn al_status(&self, axis: usize) -> Option<cellrt_axes::ethercat::register::AlStatus> {
+        each!(self, b => b.al_status(axis))
+    }
     fn deadline_correction_ns(&mut self) -> i64 {
         each!(self, b => b.deadline_correction_ns())
     }

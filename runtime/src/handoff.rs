@@ -257,6 +257,11 @@ pub enum EventKind {
     /// segment on the far end injects it on its own clock, not the master (value: as
     /// [`EventKind::FaultInjected`]).
     FaultLeftToSegment,
+    /// The AL status of an axis' SubDevice changed (EtherCAT; value: [`AlStatus::encode`]:
+    /// state and error bit, AL status code). Leaving OP is a communication fault of the axis.
+    ///
+    /// [`AlStatus::encode`]: cellrt_axes::ethercat::register::AlStatus::encode
+    AlStatus,
 }
 
 /// A homing request from the non-RT side, packed for [`Handoff::home_request`].

@@ -46,8 +46,18 @@ pub const AL_STATUS: u16 = 0x0130;
 pub const AL_STATUS_CODE: u16 = 0x0134;
 /// 0400h Watchdog divider.
 pub const WATCHDOG_DIVIDER: u16 = 0x0400;
-/// 0420h SyncManager watchdog time.
+/// 0420h SyncManager watchdog time (process data), in watchdog divider units.
 pub const SM_WATCHDOG: u16 = 0x0420;
+/// 0440h SyncManager watchdog status: bit 0 clear once the process-data watchdog expired.
+pub const SM_WATCHDOG_STATUS: u16 = 0x0440;
+/// 0442h SyncManager watchdog counter: expirations of the process-data watchdog.
+pub const SM_WATCHDOG_COUNTER: u16 = 0x0442;
+/// The ESC's reset value of 0400h: (2498 + 2) × 40 ns = 100 µs units.
+pub const WATCHDOG_DIVIDER_DEFAULT: u16 = 0x09C2;
+/// The ESC's reset value of 0420h: 1000 units of 100 µs = 100 ms.
+pub const SM_WATCHDOG_DEFAULT: u16 = 0x03E8;
+/// SyncManager control bit 6: a write to the SyncManager triggers the process-data watchdog.
+pub const SM_CONTROL_WATCHDOG: u8 = 0x40;
 /// 0500h SII EEPROM configuration.
 pub const SII_CONFIG: u16 = 0x0500;
 /// 0502h SII EEPROM control/status.
@@ -153,4 +163,118 @@ pub mod al_code {
     pub const INVALID_INPUT_CONFIG: u16 = 0x001E;
     /// 0035h Invalid sync cycle time.
     pub const INVALID_SYNC_CYCLE: u16 = 0x0035;
+
+    /// The ETG.1000.6 name of an AL status code (Table 11), for events and logs; "vendor
+    /// specific" from 8000h, "unknown" for codes the table does not list.
+    pub fn name(code: u16) -> &'static str {
+        match code {
+            0x0000 => "no error",
+            0x0001 => "unspecified error",
+            0x0002 => "no memory",
+            0x0011 => "invalid requested state change",
+            0x0012 => "unknown requested state",
+            0x0013 => "bootstrap not supported",
+            0x0014 => "no valid firmware",
+            0x0015 => "invalid mailbox configuration (bootstrap)",
+            0x0016 => "invalid mailbox configuration",
+            0x0017 => "invalid sync manager configuration",
+            0x0018 => "no valid inputs available",
+            0x0019 => "no valid outputs",
+            0x001A => "synchronization error",
+            0x001B => "sync manager watchdog",
+            0x001C => "invalid sync manager types",
+            0x001D => "invalid output configuration",
+            0x001E => "invalid input configuration",
+            0x001F => "invalid watchdog configuration",
+            0x0020 => "SubDevice needs cold start",
+            0x0021 => "SubDevice needs INIT",
+            0x0022 => "SubDevice needs PRE-OP",
+            0x0023 => "SubDevice needs SAFE-OP",
+            0x0024 => "invalid input mapping",
+            0x0025 => "invalid output mapping",
+            0x0026 => "inconsistent settings",
+            0x0027 => "free-run not supported",
+            0x0028 => "synchronization not supported",
+            0x0029 => "free-run needs 3-buffer mode",
+            0x002A => "background watchdog",
+            0x002B => "no valid inputs and outputs",
+            0x002C => "fatal sync error",
+            0x002D => "no sync error",
+            0x0030 => "invalid DC SYNC configuration",
+            0x0031 => "invalid DC latch configuration",
+            0x0032 => "PLL error",
+            0x0033 => "DC sync I/O error",
+            0x0034 => "DC sync timeout error",
+            0x0035 => "invalid sync cycle time",
+            0x0036 => "invalid DC SYNC0 cycle time",
+            0x0037 => "invalid DC SYNC1 cycle time",
+            0x8000..=0xFFFF => "vendor specific",
+            _ => "unknown",
+        }
+    }
+}
+
+/// A SubDevice's AL status as the cyclic frame reads it: 0130h (state, error indication) and
+/// 0134h (AL status code).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AlStatus {
+    /// The state; `None` for bits that name no state.
+    pub state: Option<AlState>,
+    /// Error indication (0130h bit 4): the SubDevice refused a request or left a state on its own.
+    pub error: bool,
+    /// AL status code (0134h), meaningful with `error`.
+    pub code: u16,
+}
+
+/// Bytes the cyclic frame reads from [`AL_STATUS`]: the status, a reserved word, the code.
+pub const AL_STATUS_READ_LEN: usize = 6;
+
+impl AlStatus {
+    /// From the AL status and AL status code registers.
+    pub fn from_registers(status: u16, code: u16) -> AlStatus {
+        AlStatus {
+            state: AlState::from_bits(status as u8),
+            error: status as u8 & AL_ERROR_INDICATION != 0,
+            code,
+        }
+    }
+
+    /// From the [`AL_STATUS_READ_LEN`] bytes read at [`AL_STATUS`].
+    pub fn from_bytes(b: &[u8; AL_STATUS_READ_LEN]) -> AlStatus {
+        AlStatus::from_registers(
+            u16::from_le_bytes([b[0], b[1]]),
+            u16::from_le_bytes([b[4], b[5]]),
+        )
+    }
+
+    /// In OP without an error: the SubDevice takes its outputs.
+    pub fn is_op(&self) -> bool {
+        self.state == Some(AlState::Op) && !self.error
+    }
+
+    /// Packed into an event value: bits 0–7 the 0130h status byte, bits 16–31 the code.
+    pub fn encode(&self) -> i64 {
+        let status =
+            self.state.map_or(0, |s| s as u8) | if self.error { AL_ERROR_INDICATION } else { 0 };
+        i64::from(status) | (i64::from(self.code) << 16)
+    }
+
+    /// Inverse of [`AlStatus::encode`].
+    pub fn decode(v: i64) -> AlStatus {
+        AlStatus::from_registers((v & 0xFF) as u16, ((v >> 16) & 0xFFFF) as u16)
+    }
+
+    /// E.g. "SAFE-OP, error 001Bh (sync manager watchdog)" or "OP".
+    pub fn describe(&self) -> String {
+        let state = self.state.map_or("no state", AlState::as_str);
+        if self.error {
+            format!(
+                "{state}, error {:04X}h ({})",
+                self.code,
+                al_code::name(self.code)
+            )
+        } else {
+            state.to_string()
+        }
+    }
 }

@@ -324,6 +324,30 @@ impl<B: Bus> Executive<B> {
         }
     }
 
+    /// Records a change of the AL status of axis `i`'s SubDevice; one that leaves OP (or
+    /// indicates an error) takes the axis' outputs away, a communication fault of the axis
+    /// (ETG.1000.6 §6.4). The first status seen is recorded only if it is not OP.
+    fn watch_al_status(&mut self, i: usize) {
+        let now = self.bus.al_status(i);
+        let ch = &mut self.axes[i];
+        if now == ch.al_status {
+            return;
+        }
+        let first = ch.al_status.is_none();
+        ch.al_status = now;
+        let Some(s) = now else {
+            return;
+        };
+        if first && s.is_op() {
+            return;
+        }
+        if !s.is_op() && !ch.comm_fault {
+            ch.comm_fault = true;
+            self.comm_fault_pending = true;
+        }
+        self.event(EventKind::AlStatus, i as u16, s.encode());
+    }
+
     /// Reads 607Ch of a drive that keeps 6064h raw (at start-up and after a homing; acyclic)
     /// and moves the axis' user coordinates with it: user = raw + home offset.
     pub(super) fn load_home_offset(&mut self, i: usize) {
@@ -372,6 +396,7 @@ impl<B: Bus> Executive<B> {
                     self.event(EventKind::CommunicationError, i as u16, kind);
                 }
             }
+            self.watch_al_status(i);
             if old.statusword.state() != tx.statusword.state() {
                 let v = tx.statusword.state().map(fsa_index).unwrap_or(0);
                 self.event(EventKind::FsaState, i as u16, v);

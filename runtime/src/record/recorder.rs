@@ -602,6 +602,7 @@ impl Drain<'_> {
             | EventKind::CommandRefused
             | EventKind::PlannerLost
             | EventKind::CommunicationError
+            | EventKind::AlStatus
             | EventKind::RecordsDropped => tracing::warn!("{line}"),
             _ => tracing::debug!("{line}"),
         }
@@ -676,6 +677,9 @@ pub fn describe_event(e: &EventRecord) -> String {
             1 => "continuous incremental-counter errors".to_string(),
             _ => "intermittent incremental-counter errors".to_string(),
         },
+        EventKind::AlStatus => {
+            cellrt_axes::ethercat::register::AlStatus::decode(e.value).describe()
+        }
         EventKind::FaultInjected | EventKind::FaultLeftToSegment => FAULT_NAMES
             .get(e.value as usize)
             .copied()

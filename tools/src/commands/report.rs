@@ -192,6 +192,7 @@ fn is_alarm(e: &Event) -> bool {
                 | "records_dropped"
                 | "fault_injected"
                 | "fault_left_to_segment"
+                | "al_status"
                 | "planner_lost"
         )
 }

@@ -103,6 +103,8 @@ pub struct Station {
     exchanges: u64,
     /// SYNC0 edges that brought the drive no RxPDO (diagnostics).
     missed_sync0: u64,
+    /// Local time of the last write to SM2 that triggered the process-data watchdog (in OP).
+    pd_watchdog_trigger: Option<u64>,
 }
 
 impl Station {
@@ -185,6 +187,7 @@ impl Station {
             lock_frames: 0,
             exchanges: 0,
             missed_sync0: 0,
+            pd_watchdog_trigger: None,
         };
         s.mem[usize::from(reg::TYPE)] = ESC_TYPE;
         s.mem[usize::from(reg::FMMU_COUNT)] = 8;
@@ -192,6 +195,9 @@ impl Station {
         s.mem[usize::from(reg::RAM_SIZE)] = RAM_KIB;
         s.mem[usize::from(reg::PORT_DESCRIPTOR)] = 0x0F; // ports 0/1 EBUS... MII
         s.put16(reg::SUPPORT_FLAGS, FEATURES);
+        s.put16(reg::WATCHDOG_DIVIDER, reg::WATCHDOG_DIVIDER_DEFAULT);
+        s.put16(reg::SM_WATCHDOG, reg::SM_WATCHDOG_DEFAULT);
+        s.put16(reg::SM_WATCHDOG_STATUS, 1);
         let last = position + 1 == line_len;
         // DL status: PDI operational, watchdog ok, link and communication on port 0, and on
         // port 1 unless this is the last station of the line.
@@ -209,6 +215,45 @@ impl Station {
     /// overrun of its RT loop): those edges run the drive on, they are not lost RxPDOs.
     pub fn excuse_host_stall(&mut self, cycles: u64) {
         self.excused_sync0 = cycles;
+        // Nor do they run the process-data watchdog down: it counts from the next frame.
+        if self.pd_watchdog_trigger.is_some() {
+            self.pd_watchdog_trigger = None;
+        }
+    }
+
+    /// The process-data watchdog time (0420h × the 0400h divider's (n + 2) × 40 ns), ns; 0 when
+    /// disabled.
+    pub fn pd_watchdog_ns(&self) -> u64 {
+        let unit_ns = (u64::from(self.get16(reg::WATCHDOG_DIVIDER)) + 2) * 40;
+        u64::from(self.get16(reg::SM_WATCHDOG)) * unit_ns
+    }
+
+    /// Expirations of the process-data watchdog (0442h).
+    pub fn pd_watchdog_expirations(&self) -> u8 {
+        self.mem[usize::from(reg::SM_WATCHDOG_COUNTER)]
+    }
+
+    /// The process-data watchdog at local time `now_ns`: in OP, no output write for longer than
+    /// [`Station::pd_watchdog_ns`] expires it (0440h bit 0 cleared, 0442h counted), and the
+    /// application leaves OP for SAFE-OP with AL status code 001Bh (ETG.1000.6 Table 11), as
+    /// a drive's firmware does when its outputs are no longer refreshed. Checked when a frame
+    /// reaches the station: the ESC's timer has no effect that a master could see sooner.
+    fn check_pd_watchdog(&mut self, now_ns: u64) {
+        let Some(at) = self.pd_watchdog_trigger else {
+            return;
+        };
+        let limit = self.pd_watchdog_ns();
+        if self.al_state != AlState::Op || limit == 0 || now_ns.saturating_sub(at) <= limit {
+            return;
+        }
+        self.pd_watchdog_trigger = None;
+        self.put16(reg::SM_WATCHDOG_STATUS, 0);
+        let c = usize::from(reg::SM_WATCHDOG_COUNTER);
+        self.mem[c] = self.mem[c].saturating_add(1);
+        for d in &mut self.drives {
+            d.leave_op();
+        }
+        self.set_al_status(AlState::SafeOp, Some(al_code::SM_WATCHDOG));
     }
 
     /// The simulated drive (axis A of a multi-axis unit).
@@ -356,6 +401,7 @@ impl Station {
             return Access::default();
         }
         let mut wkc = 0;
+        self.check_pd_watchdog(now_ns);
         if command.reads() {
             self.refresh_for_read(start, end, now_ns);
             if command == Command::Brd || command == Command::Brw {
@@ -558,6 +604,9 @@ impl Station {
                 if target == AlState::SafeOp && from == AlState::PreOp {
                     self.pdo.reached_safe_op();
                 }
+                if target != AlState::Op {
+                    self.pd_watchdog_trigger = None;
+                }
                 if target == AlState::Init {
                     // The mapping objects keep what was written (until power-off); the SYNC0
                     // grid starts anew.
@@ -669,10 +718,14 @@ impl Station {
                 )
             })
         };
+        self.check_pd_watchdog(now_ns);
         if !matches!(self.al_state, AlState::SafeOp | AlState::Op) {
             return Access::default();
         }
-        if command.writes() {
+        // The output SyncManager runs in OP only: in SAFE-OP the application keeps its outputs
+        // safe and the ESC takes no output write (ETG.1000.6 §6.4.1), so the working counter
+        // shows a SubDevice that left OP.
+        if command.writes() && self.al_state == AlState::Op {
             for f in fmmus.iter().filter(|f| f.3 & 2 != 0) {
                 if let Some((d, p, n)) = overlap(*f) {
                     let p = p as usize;
@@ -684,6 +737,11 @@ impl Station {
             }
         }
         if wrote {
+            let sm2_control = self.mem[usize::from(reg::sync_manager(2)) + 4];
+            if self.al_state == AlState::Op && sm2_control & reg::SM_CONTROL_WATCHDOG != 0 {
+                self.pd_watchdog_trigger = Some(now_ns);
+                self.put16(reg::SM_WATCHDOG_STATUS, 1);
+            }
             self.exchange(now_ns);
         }
         if command.reads() {

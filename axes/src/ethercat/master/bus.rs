@@ -20,9 +20,9 @@ use super::link::Link;
 use crate::bus::{Bus, BusError, FrameCounters, SDO_UNSUPPORTED};
 use crate::cia402::mode::ModeOfOperation;
 use crate::cycles::{CycleTime, Cycles};
-use crate::ethercat::frame::{self, Command, FrameBuilder};
+use crate::ethercat::frame::{self, Command, DatagramSpan, FrameBuilder};
 use crate::ethercat::identity::{ExpectedIdentity, SubDeviceIdentity};
-use crate::ethercat::register::{self as reg, AlState};
+use crate::ethercat::register::{self as reg, AlState, AlStatus};
 use crate::pdo::objects::MODES_OF_OPERATION;
 use crate::pdo::PdoEntry;
 use crate::profiles::mr_j5_g_n1::unit_pdo_limit;
@@ -470,6 +470,12 @@ pub struct EthercatBus {
     axes: Vec<AxisImage>,
     /// SubDevices on the segment.
     stations: usize,
+    /// Per SubDevice: its configured station address, where its AL status is read each cycle.
+    station_addresses: Vec<u16>,
+    /// Per SubDevice: where its AL status read sits in the current frame.
+    al_spans: Vec<Option<DatagramSpan>>,
+    /// Per SubDevice: the AL status the last returned frame read (ETG.1000.6 §6.4: 0130h, 0134h).
+    al: Vec<Option<AlStatus>>,
     pdi: Vec<u8>,
     frame: Vec<u8>,
     expected_wkc: u16,
@@ -752,6 +758,11 @@ impl EthercatBus {
             "DC SYNC0 read-back",
             pump(read, &mut tx, &mut rx, link_ref, &mut buf),
         )?;
+        let mut station_addresses = Vec::with_capacity(plans.len());
+        for position in 0..plans.len() {
+            let sd = step("SubDevice lookup", group.subdevice(&maindevice, position))?;
+            station_addresses.push(sd.configured_address());
+        }
         let dc = DcAlignment {
             reference: reference_address,
             start,
@@ -767,6 +778,9 @@ impl EthercatBus {
             config,
             axes,
             stations: plans.len(),
+            al_spans: vec![None; station_addresses.len()],
+            al: vec![None; station_addresses.len()],
+            station_addresses,
             pdi: vec![0; pdi_len],
             frame: buf,
             expected_wkc,
@@ -961,6 +975,23 @@ impl Bus for EthercatBus {
                     bytes: self.pdi.len() + 8,
                 });
             };
+            // Each SubDevice's AL status and code (monitoring, ETG.1000.6 §6.4).
+            for (slot, &station) in self.al_spans.iter_mut().zip(&self.station_addresses) {
+                let address = (u32::from(reg::AL_STATUS) << 16) | u32::from(station);
+                *slot = b.push(
+                    Command::Fprd,
+                    self.index,
+                    address,
+                    &[0; reg::AL_STATUS_READ_LEN],
+                );
+                if slot.is_none() {
+                    return Err(BusError::FrameTooLarge {
+                        bytes: self.pdi.len()
+                            + 8
+                            + self.station_addresses.len() * reg::AL_STATUS_READ_LEN,
+                    });
+                }
+            }
             (span, dc_span, b.finish())
         };
         self.counters.frames += 1;
@@ -973,6 +1004,13 @@ impl Bus for EthercatBus {
             let mut t = [0u8; 8];
             t.copy_from_slice(&self.frame[at..at + 8]);
             self.dc.observe(u64::from_le_bytes(t));
+        }
+        for (al, span) in self.al.iter_mut().zip(&self.al_spans) {
+            if let Some(span) = span.filter(|s| frame::wkc(&self.frame, s) == 1) {
+                let mut b = [0u8; reg::AL_STATUS_READ_LEN];
+                b.copy_from_slice(&self.frame[span.data_offset..][..reg::AL_STATUS_READ_LEN]);
+                *al = Some(AlStatus::from_bytes(&b));
+            }
         }
         let wkc = frame::wkc(&self.frame, &span);
         if wkc != self.expected_wkc {
@@ -991,6 +1029,10 @@ impl Bus for EthercatBus {
 
     fn frame_counters(&self) -> Option<FrameCounters> {
         Some(self.counters)
+    }
+
+    fn al_status(&self, axis: usize) -> Option<AlStatus> {
+        self.axes.get(axis).and_then(|a| self.al[a.station])
     }
 
     fn deadline_correction_ns(&mut self) -> i64 {

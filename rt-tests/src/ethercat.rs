@@ -165,7 +165,7 @@ fn loop_options(opts: &EthercatBenchOptions) -> LoopOptions {
 pub struct EthercatRound {
     /// Runs it took (a run that a drive fault stopped is followed by another one).
     pub runs: u32,
-    /// Bring-ups that timed out (a host stall) and were tried again.
+    /// Bring-ups that failed (a host stall: mostly a timeout) and were tried again.
     pub bringup_retries: u32,
     /// Why runs stopped early (e.g. a drive's communication alarm after a host stall).
     pub stopped: Vec<String>,
@@ -234,6 +234,7 @@ fn run_once(
     seconds: f64,
 ) -> Result<(controller::Summary, u32), BenchError> {
     let mut retries = 0;
+    let mut last_bringup_error = String::new();
     loop {
         let program = Program::parse(prog_path, &loopbench::program_text(DRIVES, seconds), cell)
             .map_err(|e| BenchError::failed(format!("generated program: {e}")))?;
@@ -256,16 +257,31 @@ fn run_once(
         let _ = std::fs::remove_file(record);
         match summary {
             Ok(s) => return Ok((s, retries)),
-            Err(RunError::Bus(e)) if e.contains("timeout") && retries + 1 < BRINGUP_ATTEMPTS => {
+            // A bring-up that a host stall upset: mostly a mailbox or EEPROM timeout; once an
+            // SDO abort for the device state was seen as well (noted in the closing note of
+            // the session that saw it), so any bring-up error is tried again, a few times.
+            Err(RunError::Bus(e)) if retries + 1 < BRINGUP_ATTEMPTS => {
                 retries += 1;
-            }
-            Err(e) => {
-                return Err(BenchError::failed(format!(
-                    "{e}{}",
+                eprintln!(
+                    "cellrt bench ethercat: bring-up failed, trying again: {e}{}",
                     sim_tail
                         .map(|t| format!(" (drive-sim: {})", t.join(" / ")))
                         .unwrap_or_default()
-                )))
+                );
+                last_bringup_error = e;
+            }
+            Err(e) => {
+                let earlier = if retries > 0 {
+                    format!(" (after {retries} failed bring-up(s), the last: {last_bringup_error})")
+                } else {
+                    String::new()
+                };
+                return Err(BenchError::failed(format!(
+                    "{e}{earlier}{}",
+                    sim_tail
+                        .map(|t| format!(" (drive-sim: {})", t.join(" / ")))
+                        .unwrap_or_default()
+                )));
             }
         }
     }
@@ -460,7 +476,7 @@ pub fn render_round(round: u32, e: &EthercatRound, l: &LatencyRound) -> String {
     if e.bringup_retries > 0 {
         let _ = write!(
             s,
-            "\n|       | {} bring-up(s) timed out (host stall) and were tried again",
+            "\n|       | {} bring-up(s) failed (host stall) and were tried again",
             e.bringup_retries
         );
     }

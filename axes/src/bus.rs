@@ -24,6 +24,12 @@ pub trait Bus {
     fn deadline_correction_ns(&mut self) -> i64 {
         0
     }
+    /// Where the last exchange's frame passed the bus clock's cycle against its target place,
+    /// ns (EtherCAT DC: its phase in the SYNC0 grid minus the target phase); `None` on a bus
+    /// that follows the loop (the in-process simulated drives) or before the first measurement.
+    fn dc_phase_error_ns(&self) -> Option<i64> {
+        None
+    }
     /// Fault injection: makes `axis`' drive raise alarm `code`. Returns false where the bus
     /// cannot inject (real drives).
     fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {

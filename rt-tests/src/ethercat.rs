@@ -179,6 +179,8 @@ pub struct EthercatRound {
     pub frames: FrameCounters,
     /// Exchange time percentiles.
     pub exchange_time: Percentiles,
+    /// |DC phase error| percentiles: the cyclic frame against its place in the SYNC0 cycle.
+    pub dc_phase_error: Percentiles,
     /// Wakeup latency of the cell's RT loop.
     pub wakeup_latency: Percentiles,
 }
@@ -207,6 +209,8 @@ pub struct EthercatBenchReport {
     pub latency: Vec<LatencyRound>,
     /// All rounds: exchange time.
     pub exchange_time: Percentiles,
+    /// All rounds: |DC phase error| of the cyclic frames.
+    pub dc_phase_error: Percentiles,
     /// All rounds: the cell loop's wakeup latency.
     pub loop_wakeup_latency: Percentiles,
     /// All rounds: `cellrt bench latency`.
@@ -220,7 +224,7 @@ const MIN_RUN_NS: u64 = 500_000_000;
 
 /// Bring-ups a run tries before the benchmark gives up: a host stall during bring-up times the
 /// mailbox or EEPROM access out, which is the machine's, not the transport's.
-const BRINGUP_ATTEMPTS: u32 = 5;
+const BRINGUP_ATTEMPTS: u32 = 10;
 
 /// One run of the bench cell for `seconds` (with its own `cellrt drive-sim` on a veth pair);
 /// a bring-up that timed out is tried again. Returns the summary and the bring-ups retried.
@@ -368,6 +372,7 @@ pub fn run(
         cpu: opts.cpu,
     };
     let mut exchange = NsHistogram::new();
+    let mut dc_phase = NsHistogram::new();
     let mut loop_wakeup = NsHistogram::new();
     let mut bench_wakeup = NsHistogram::new();
     let mut frames = FrameCounters::default();
@@ -378,6 +383,7 @@ pub fn run(
         // A run a drive fault ended (a host stall long enough for the drives' communication
         // check) is counted, and the round goes on with a fresh segment for the time left.
         let mut round_exchange = NsHistogram::new();
+        let mut round_dc_phase = NsHistogram::new();
         let mut round_wakeup = NsHistogram::new();
         let mut e = EthercatRound::default();
         let round_ns = (opts.round_s() * 1e9) as u64;
@@ -404,6 +410,7 @@ pub fn run(
                 * u64::from(opts.interval_us)
                 * 1000;
             round_exchange.merge(&summary.histograms.exchange_time);
+            round_dc_phase.merge(&summary.histograms.dc_phase_error);
             round_wakeup.merge(&summary.histograms.wakeup_latency);
             let f = summary.frames.unwrap_or_default();
             e.frames.frames += f.frames;
@@ -420,6 +427,8 @@ pub fn run(
             }
         }
         e.exchange_time = round_exchange.percentiles();
+        e.dc_phase_error = round_dc_phase.percentiles();
+        dc_phase.merge(&round_dc_phase);
         e.wakeup_latency = round_wakeup.percentiles();
         exchange.merge(&round_exchange);
         loop_wakeup.merge(&round_wakeup);
@@ -446,6 +455,7 @@ pub fn run(
         ethercat,
         latency: lat_rounds,
         exchange_time: exchange.percentiles(),
+        dc_phase_error: dc_phase.percentiles(),
         loop_wakeup_latency: loop_wakeup.percentiles(),
         bench_latency: bench_wakeup.percentiles(),
         frames,
@@ -458,7 +468,7 @@ pub fn render_round(round: u32, e: &EthercatRound, l: &LatencyRound) -> String {
     let w = &e.wakeup_latency;
     let b = &l.wakeup_latency;
     let mut s = format!(
-        "| {round:>5} | {:>8} | {:>5} | {:>4} | {:>8} | {:>8.1} | {:>8.1} | {:>8.1} | {:>8.1} | {:>8.1} | {:>8.1} | {:>8.1} | {:>4} | {:>6}",
+        "| {round:>5} | {:>8} | {:>5} | {:>4} | {:>8} | {:>8.1} | {:>8.1} | {:>8.1} | {:>8.1} | {:>8.1} | {:>8.1} | {:>8.1} | {:>8.1} | {:>4} | {:>6}",
         e.cycles,
         e.frames.lost,
         e.frames.wkc_errors,
@@ -466,6 +476,7 @@ pub fn render_round(round: u32, e: &EthercatRound, l: &LatencyRound) -> String {
         x.p50_us,
         x.p99_us,
         x.max_us,
+        e.dc_phase_error.p99_us,
         w.p50_us,
         w.p99_us,
         b.p50_us,
@@ -500,8 +511,8 @@ pub fn render_header(opts: &EthercatBenchOptions) -> String {
         .collect();
     format!(
         "== cellrt bench ethercat: {} drives ({}) in csp at {} µs, {place}; {} rounds of {:.0} s EtherCAT + {:.0} s latency on CPU {}, SCHED_FIFO {}\n\
-         | round |   cycles |  lost |  wkc | overruns | exch p50 | exch p99 | exch max | wake p50 | wake p99 | lat p50  | lat p99  | runs | faults |\n\
-         |------:|---------:|------:|-----:|---------:|---------:|---------:|---------:|---------:|---------:|---------:|---------:|-----:|-------:|",
+         | round |   cycles |  lost |  wkc | overruns | exch p50 | exch p99 | exch max |  dc p99  | wake p50 | wake p99 | lat p50  | lat p99  | runs | faults |\n\
+         |------:|---------:|------:|-----:|---------:|---------:|---------:|---------:|---------:|---------:|---------:|---------:|---------:|-----:|-------:|",
         DRIVES,
         models.join(", "),
         opts.interval_us,
@@ -530,6 +541,7 @@ pub fn render_totals(r: &EthercatBenchReport) -> String {
         );
     };
     row(&mut s, "exchange time µs", &r.exchange_time);
+    row(&mut s, "|DC phase error| µs", &r.dc_phase_error);
     row(&mut s, "cell loop wakeup µs", &r.loop_wakeup_latency);
     row(&mut s, "cellrt bench latency µs", &r.bench_latency);
     s

@@ -137,6 +137,9 @@ impl Bus for CellBus {
     fn deadline_correction_ns(&mut self) -> i64 {
         each!(self, b => b.deadline_correction_ns())
     }
+    fn dc_phase_error_ns(&self) -> Option<i64> {
+        each!(self, b => b.dc_phase_error_ns())
+    }
     fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
         each!(self, b => b.inject_alarm(axis, code))
     }

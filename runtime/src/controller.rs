@@ -104,6 +104,8 @@ pub struct RunHistograms {
     pub loop_time: NsHistogram,
     /// Bus exchange time.
     pub exchange_time: NsHistogram,
+    /// |DC phase error| of the cyclic frames (EtherCAT).
+    pub dc_phase_error: NsHistogram,
 }
 
 /// Everything the run reports at exit (printed, and written by `--summary-json`).
@@ -130,6 +132,9 @@ pub struct Summary {
     pub exchange_time: Percentiles,
     /// Cyclic frames sent, lost and with a wrong working counter (EtherCAT cells).
     pub frames: Option<cellrt_axes::FrameCounters>,
+    /// |DC phase error| percentiles of the cyclic frames: how far each passed from its place
+    /// in the SYNC0 cycle (EtherCAT cells with distributed clocks).
+    pub dc_phase_error: Option<Percentiles>,
     /// The histograms behind the percentiles (for benchmarks that merge runs).
     #[serde(skip)]
     pub histograms: RunHistograms,
@@ -361,10 +366,13 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         loop_time: stats.loop_time.percentiles(),
         exchange_time: stats.exchange_time.percentiles(),
         frames: stats.frames,
+        dc_phase_error: (!stats.dc_phase_error.is_empty())
+            .then(|| stats.dc_phase_error.percentiles()),
         histograms: RunHistograms {
             wakeup_latency: stats.latency,
             loop_time: stats.loop_time,
             exchange_time: stats.exchange_time,
+            dc_phase_error: stats.dc_phase_error,
         },
         final_state: stats.final_state.as_str().to_string(),
         axes,

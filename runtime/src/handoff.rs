@@ -391,6 +391,8 @@ pub struct CycleRecord {
     pub cell_state: CellState,
     /// Records dropped so far.
     pub dropped_records: u64,
+    /// The bus clock's phase error of this cycle's frame, ns (EtherCAT DC; `None` elsewhere).
+    pub dc_phase_error_ns: Option<i32>,
 }
 
 /// One axis in one executed cycle (drive units: counts).

@@ -15,63 +15,14 @@ use cellrt_runtime::executive::WARMUP_CYCLES;
 use cellrt_runtime::program::Program;
 use common::{hook, ALLOCATIONS, LOOPS_EXITED};
 
-const CELL: &str = r#"
-[cell]
-name = "noalloc"
-cycle_time_us = 250
+const CELL: &str = include_str!("data/steady_cell.toml");
 
-[rt]
-priority = 80
-
-[setpoints]
-lookahead_ms = 1000   # the test must not depend on how loaded the machine is
-
-[watchdogs]
-max_consecutive_overruns = 0
-
-[[axes]]
-name = "x"
-drive = "mr-j5-g-n1"
-counts_per_unit = 1000
-limits = { position = [0.0, 800.0], velocity = 400.0, acceleration = 4000.0, jerk = 40000.0 }
-
-[[axes]]
-name = "y"
-drive = "mr-j5-g-n1"
-counts_per_unit = 1000
-limits = { position = [0.0, 800.0], velocity = 400.0, acceleration = 4000.0, jerk = 40000.0 }
-
-[[axes]]
-name = "c"
-drive = "mr-j5-g-n1"
-unit = "deg"
-counts_per_unit = 1000
-limits = { position = [-360.0, 360.0], velocity = 360.0, acceleration = 3600.0, jerk = 36000.0 }
-"#;
-
-const PROGRAM: &str = r#"
-[[step]]
-do = "power_on"
-[[step]]
-do = "move"
-target = { x = 600.0, y = 300.0, c = 180.0 }
-[[step]]
-do = "move"
-target = { x = 100.0, y = 700.0, c = -180.0 }
-[[step]]
-do = "move"
-target = { x = 500.0, y = 100.0, c = 90.0 }
-[[step]]
-do = "move"
-target = { x = 0.0, y = 0.0, c = 0.0 }
-[[step]]
-do = "power_off"
-"#;
+const PROGRAM: &str = include_str!("data/steady_program.toml");
 
 #[test]
 fn rt_loop_body_does_not_allocate_in_steady_state() {
     let dir = tempfile::tempdir().unwrap();
-    let text = CELL.replace("noalloc", &format!("noalloc-{}", std::process::id()));
+    let text = CELL.replace("\"steady\"", &format!("\"noalloc-{}\"", std::process::id()));
     let cell = CellConfig::parse(Path::new("noalloc.toml"), &text).unwrap();
     let program = Program::parse(Path::new("noalloc-program.toml"), PROGRAM, &cell).unwrap();
     let record = dir.path().join("noalloc.mcap");

@@ -69,6 +69,13 @@ pub fn render(s: &Summary) -> String {
             f.frames, f.lost, f.wkc_errors
         );
     }
+    if let Some(d) = &s.dc_phase_error {
+        let _ = writeln!(
+            o,
+            "dc phase    |error| p50 {:.1} µs   p99 {:.1} µs   max {:.1} µs (frame vs its place in the SYNC0 cycle)",
+            d.p50_us, d.p99_us, d.max_us
+        );
+    }
     let _ = writeln!(o, "axes        final position vs target");
     for a in &s.axes {
         match (a.target, a.error) {

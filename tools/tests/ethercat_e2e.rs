@@ -731,6 +731,31 @@ fn frames_delayed_past_the_timeout_stop_the_cell_but_reach_the_drives_late() {
 /// Runs the EtherCAT cell `ec_cfg` and the same cell on sim `sim_cfg`, and compares the drives'
 /// response motion by motion; returns the EtherCAT recording, or why they differ and whether
 /// either run had a machine stall.
+/// Every EtherCAT cycle after the first few records the frame's DC phase error, and the loop
+/// holds it near its target place in the SYNC0 cycle (median within 20 µs); the simulated
+/// drives have no bus clock, so their cycles carry none.
+fn assert_dc_phase_recorded(ec: &Recording, sim: &Recording) {
+    let mut phase: Vec<i64> = ec
+        .cycles
+        .iter()
+        .skip(10)
+        .map(|c| {
+            let e = c
+                .dc_phase_error_ns
+                .unwrap_or_else(|| panic!("cycle {} of the EtherCAT run has no DC phase", c.cycle));
+            i64::from(e).abs()
+        })
+        .collect();
+    assert!(phase.len() > 5000, "{} cycles", phase.len());
+    phase.sort_unstable();
+    let median = phase[phase.len() / 2];
+    assert!(median < 20_000, "median |DC phase error| {median} ns");
+    assert!(
+        sim.cycles.iter().all(|c| c.dc_phase_error_ns.is_none()),
+        "a sim cell recorded a DC phase"
+    );
+}
+
 fn compare_runs(
     ec_cfg: &std::path::Path,
     sim_cfg: &std::path::Path,
@@ -751,6 +776,7 @@ fn compare_runs(
     let ec = read_recording(&dir.join("ec.mcap"));
     let sim = read_recording(&dir.join("sim.mcap"));
     let stalled = longest_stall_ns(&ec) > 0 || longest_stall_ns(&sim) > 0;
+    assert_dc_phase_recorded(&ec, &sim);
     // Motion by motion, from each one's start (when the planner starts the next motion is not
     // cycle-exact between two runs): the drives' response must be the same.
     let (se, ss) = (motion_starts(&ec), motion_starts(&sim));

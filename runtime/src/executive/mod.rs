@@ -56,6 +56,8 @@ pub struct RtStats {
     pub loop_time: NsHistogram,
     /// Bus exchange time histogram (the process-data round trip: frame out to inputs copied).
     pub exchange_time: NsHistogram,
+    /// |DC phase error| histogram of the cyclic frames (EtherCAT; empty on simulated drives).
+    pub dc_phase_error: NsHistogram,
     /// The bus's frame counters at the end of the loop, where it sends frames (EtherCAT).
     pub frames: Option<cellrt_axes::FrameCounters>,
     /// Final actual position of each axis, counts.
@@ -168,6 +170,7 @@ impl<B: Bus> Executive<B> {
                 latency: NsHistogram::new(),
                 loop_time: NsHistogram::new(),
                 exchange_time: NsHistogram::new(),
+                dc_phase_error: NsHistogram::new(),
                 frames: None,
                 final_positions: vec![0; n],
                 final_state: CellState::Disabled,
@@ -269,6 +272,9 @@ impl<B: Bus> Executive<B> {
         let sent = MonoTime::now();
         let exchanged = self.bus.exchange(elapsed);
         self.stats.exchange_time.record(MonoTime::now().since(sent));
+        if let Some(e) = self.bus.dc_phase_error_ns() {
+            self.stats.dc_phase_error.record(e.unsigned_abs());
+        }
         if exchanged.is_err() {
             self.event(EventKind::BusError, NO_AXIS, -1);
         }
@@ -513,6 +519,10 @@ impl<B: Bus> Executive<B> {
                 overruns: self.stats.counters.overruns,
                 cell_state: self.state,
                 dropped_records: self.stats.counters.dropped_records,
+                dc_phase_error_ns: self
+                    .bus
+                    .dc_phase_error_ns()
+                    .map(|e| e.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32),
             };
             let pushed = self.handoff.cycles.push(rec).is_ok();
             self.record_pushed(pushed);

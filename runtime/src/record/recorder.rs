@@ -517,6 +517,7 @@ impl Drain<'_> {
             overruns: c.overruns,
             cell_state: c.cell_state as i32,
             dropped_records: c.dropped_records,
+            dc_phase_error_ns: c.dc_phase_error_ns,
         };
         self.buf.clear();
         msg.encode(&mut self.buf).expect("Vec grows");

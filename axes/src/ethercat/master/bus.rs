@@ -796,12 +796,6 @@ impl EthercatBus {
         self.counters
     }
 
-    /// The last DC phase error of the cyclic frame against its target place in the SYNC0
-    /// cycle, ns; `None` before the first frame has passed the reference clock.
-    pub fn dc_phase_error_ns(&self) -> Option<i64> {
-        self.dc.locked.then_some(self.dc.error)
-    }
-
     /// The link (tests and fault injection reach the emulated segment through it).
     pub fn link_mut(&mut self) -> &mut dyn Link {
         self.link.as_mut()
@@ -1039,6 +1033,12 @@ impl Bus for EthercatBus {
         let c = std::mem::take(&mut self.dc.pending);
         self.dc_taken += c;
         c
+    }
+
+    /// The cyclic frame's phase error in the SYNC0 cycle; `None` before the first frame has
+    /// passed the reference clock.
+    fn dc_phase_error_ns(&self) -> Option<i64> {
+        self.dc.locked.then_some(self.dc.error)
     }
 
     fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {

@@ -137,6 +137,9 @@ impl Bus for CellBus {
     fn deadline_correction_ns(&mut self) -> i64 {
         each!(self, b => b.deadline_correction_ns())
     }
+    fn take_mailbox_notice(&mut self) -> Option<cellrt_axes::bus::MailboxNotice> {
+        each!(self, b => b.take_mailbox_notice())
+    }
     fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
         each!(self, b => b.inject_alarm(axis, code))
     }

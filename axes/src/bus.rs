@@ -3,6 +3,7 @@
 //! [`SimBus`] runs [`SimDrive`]s in-process; EtherCAT backends implement the same [`Bus`] trait.
 
 use crate::cycles::Cycles;
+use crate::ethercat::emergency::Emergency;
 use crate::ethercat::register::AlStatus;
 use crate::pdo::PdoError;
 use crate::sim::drive::SimDrive;
@@ -118,6 +119,33 @@ pub trait Bus {
         let _ = axis;
         None
     }
+    /// The next message a SubDevice sent unasked into its mailbox (EtherCAT: a CoE Emergency,
+    /// ETG.1000.6 §5.6.2.1), polled by the RT loop every cycle; `None` when there is none. On
+    /// EtherCAT a call may do one acyclic round trip (only in a cycle whose frame saw SM1 full).
+    fn take_mailbox_notice(&mut self) -> Option<MailboxNotice> {
+        None
+    }
+}
+
+/// A mailbox message a SubDevice sent unasked, by axis (see [`Bus::take_mailbox_notice`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MailboxNotice {
+    /// A CoE Emergency of `axis` (on a multi-axis unit the slot it names, else its first axis).
+    Emergency {
+        /// The axis.
+        axis: usize,
+        /// What the drive sent.
+        emergency: Emergency,
+    },
+    /// Something else that was not asked for (not CoE, or another CoE service), discarded.
+    Discarded {
+        /// The first axis of the SubDevice.
+        axis: usize,
+        /// Mailbox type (ETG.1000.4 Table 29; 0 if malformed).
+        mailbox_type: u8,
+        /// CoE service (0 if not CoE).
+        service: u16,
+    },
 }
 
 /// Counters of a bus's cyclic frames: what the summary and `cellrt bench ethercat` report

@@ -358,3 +358,37 @@ fn inconsistent_amplifier_labels_and_slots_are_refused_by_name() {
         );
     }
 }
+
+/// mr-j5-g-n1.md §6.2, §1.5: an alarm of axis B of a J5W2 (and of axis C of a J5W3) is an
+/// Emergency of that axis: the code is the axis' 603Fh (at its offset index 683Fh / 703Fh),
+/// the slot is named in manufacturer byte 0 (cellrt's emulator layout); the SDO read of the
+/// axis' 603Fh after it succeeds.
+#[test]
+fn an_alarm_of_axis_b_or_c_is_an_emergency_of_that_axis() {
+    use cellrt_axes::bus::MailboxNotice;
+    use cellrt_axes::ethercat::emergency::Emergency;
+    let mut bus = bring_up(&UNITS, 1000);
+    enable(&mut bus, &UNITS, &[true; 5]);
+    let code = profile(DriveModel::MrJ5W2GN1).following_error_alarm;
+    assert!(bus.inject_alarm(1, code));
+    assert!(bus.inject_alarm(4, code.wrapping_add(2)));
+    run(&mut bus, &UNITS, 1, &[Controlword::ENABLE_OPERATION; 5]);
+    let mut got = vec![bus.take_mailbox_notice(), bus.take_mailbox_notice()];
+    got.sort_by_key(|n| format!("{n:?}"));
+    let mut want = vec![
+        Some(MailboxNotice::Emergency {
+            axis: 1,
+            emergency: Emergency::of_alarm(code, 1),
+        }),
+        Some(MailboxNotice::Emergency {
+            axis: 4,
+            emergency: Emergency::of_alarm(code.wrapping_add(2), 2),
+        }),
+    ];
+    want.sort_by_key(|n| format!("{n:?}"));
+    assert_eq!(got, want);
+    assert_eq!(bus.take_mailbox_notice(), None);
+    assert_eq!(bus.read_error_code(1), Some(code));
+    assert_eq!(bus.read_error_code(4), Some(code.wrapping_add(2)));
+    assert_eq!(bus.read_error_code(0), Some(0), "axis A has no alarm");
+}

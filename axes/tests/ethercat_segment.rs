@@ -998,3 +998,50 @@ fn a_link_lost_past_the_sm_watchdog_drops_the_subdevices_behind_it_to_safe_op_an
         [AlState::Op, AlState::Op, AlState::SafeOp, AlState::SafeOp]
     );
 }
+
+/// mr-j4-tm.md §6.1: an alarm of an MR-J4-TM in OP is a CoE Emergency; the master sees SM1
+/// full in its cyclic frame, reads it and names the axis and the 603Fh code; an SDO read of
+/// 603Fh afterwards, and one with an Emergency still waiting in SM1, both succeed (ethercrab
+/// 0.7.1 would panic on reading an Emergency as its SDO response, or silently discard it when
+/// clearing SM1). The MR-J3-T04 next to it sends none (mr-j3-t04.md §1.3).
+#[test]
+fn an_alarm_in_op_is_an_emergency_of_its_axis_and_sdo_reads_still_work() {
+    use cellrt_axes::bus::MailboxNotice;
+    use cellrt_axes::ethercat::emergency::Emergency;
+    let models = [DriveModel::MrJ3T04, DriveModel::MrJ4TM];
+    let (mut bus, _) = enabled(&models);
+    assert_eq!(bus.take_mailbox_notice(), None, "no alarm, no notice");
+    let code = profile(DriveModel::MrJ4TM).following_error_alarm;
+    assert!(bus.inject_alarm(1, code));
+    assert!(bus.inject_alarm(0, profile(DriveModel::MrJ3T04).following_error_alarm));
+    assert!(exchanges(&mut bus, 1)[0].is_ok());
+    assert_eq!(
+        bus.take_mailbox_notice(),
+        Some(MailboxNotice::Emergency {
+            axis: 1,
+            emergency: Emergency::of_alarm(code, 0)
+        })
+    );
+    assert_eq!(bus.take_mailbox_notice(), None, "the J3 sends none");
+    assert_eq!(bus.sdo_upload(1, 0x603F, 0), Ok(i64::from(code)));
+    // A second alarm: its Emergency waits in SM1 when the fault edge's SDO read comes.
+    let second = code.wrapping_add(1);
+    bus.link_mut()
+        .segment_mut()
+        .and_then(|s| s.station_mut(1))
+        .expect("station 1")
+        .drive_mut()
+        .inject_alarm(second);
+    assert!(exchanges(&mut bus, 1)[0].is_ok());
+    assert_eq!(bus.read_error_code(1), Some(second));
+    assert_eq!(
+        bus.take_mailbox_notice(),
+        Some(MailboxNotice::Emergency {
+            axis: 1,
+            emergency: Emergency::of_alarm(second, 0)
+        })
+    );
+    assert_eq!(bus.take_mailbox_notice(), None);
+    assert!(exchanges(&mut bus, 5).iter().all(Result::is_ok));
+    assert_eq!(bus.mailbox_notices_dropped(), 0);
+}

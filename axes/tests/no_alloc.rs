@@ -146,7 +146,18 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
     bus.exchange(Cycles(1)).unwrap();
     let before = allocations();
     let mut errors = 0;
+    let mut emergencies = 0;
     for k in 0..2_000u32 {
+        // An alarm of the MR-J5-G-N1: its CoE Emergency is in SM1, the cyclic frame sees it
+        // full and `take_mailbox_notice` reads it by an acyclic round trip, as the RT loop does.
+        if k == 1500 {
+            assert!(bus.inject_alarm(1, 0x2010));
+        }
+        while let Some(n) = bus.take_mailbox_notice() {
+            if let cellrt_axes::bus::MailboxNotice::Emergency { axis: 1, emergency } = n {
+                emergencies += usize::from(emergency.error_code == 0x2010);
+            }
+        }
         // The emulated segment's wire faults, 5 frames each.
         let link = bus.link_mut();
         match k {
@@ -175,9 +186,13 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
     assert_eq!(
         allocations() - before,
         0,
-        "master frame, DC alignment, emulated segment and drives"
+        "master frame, DC alignment, SM1 status and Emergency read, emulated segment and drives"
     );
     assert_eq!(errors, 30, "every faulty frame an error");
+    assert_eq!(
+        emergencies, 1,
+        "the alarm's Emergency was read on the cyclic path"
+    );
 }
 
 /// A multi-axis station (mr-j5-g-n1.md §1.5) on the cyclic path: the master splits the PDI per

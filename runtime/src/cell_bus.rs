@@ -140,6 +140,9 @@ impl Bus for CellBus {
     fn dc_phase_error_ns(&self) -> Option<i64> {
         each!(self, b => b.dc_phase_error_ns())
     }
+    fn take_mailbox_notice(&mut self) -> Option<cellrt_axes::bus::MailboxNotice> {
+        each!(self, b => b.take_mailbox_notice())
+    }
     fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
         each!(self, b => b.inject_alarm(axis, code))
     }

@@ -262,6 +262,36 @@ pub enum EventKind {
     ///
     /// [`AlStatus::encode`]: cellrt_axes::ethercat::register::AlStatus::encode
     AlStatus,
+    /// An axis' drive sent a CoE Emergency (EtherCAT, ETG.1000.6 §5.6.2.1; value:
+    /// [`encode_emergency`]: error code, error register, manufacturer bytes).
+    Emergency,
+    /// A SubDevice's mailbox held a message nobody asked for that is not an Emergency; it was
+    /// discarded (value: mailbox type | CoE service << 8).
+    MailboxDiscarded,
+}
+
+/// The value of an `emergency` event: error code (bits 0–15), error register (16–23), the 5
+/// manufacturer bytes (24–63, byte 0 lowest).
+pub fn encode_emergency(e: &cellrt_axes::ethercat::emergency::Emergency) -> i64 {
+    let mut v = u64::from(e.error_code) | u64::from(e.error_register) << 16;
+    for (i, b) in e.data.iter().enumerate() {
+        v |= u64::from(*b) << (24 + 8 * i);
+    }
+    v as i64
+}
+
+/// Inverse of [`encode_emergency`].
+pub fn decode_emergency(v: i64) -> cellrt_axes::ethercat::emergency::Emergency {
+    let v = v as u64;
+    let mut data = [0u8; 5];
+    for (i, b) in data.iter_mut().enumerate() {
+        *b = (v >> (24 + 8 * i)) as u8;
+    }
+    cellrt_axes::ethercat::emergency::Emergency {
+        error_code: v as u16,
+        error_register: (v >> 16) as u8,
+        data,
+    }
 }
 
 /// A homing request from the non-RT side, packed for [`Handoff::home_request`].

@@ -858,3 +858,46 @@ fn a_link_lost_past_the_sm_watchdog_is_recorded_as_the_subdevices_al_status() {
         "seen with the first frame through, at {first} (link lost at {injected})"
     );
 }
+
+/// mr-j4-tm.md §6.1: a drive alarm injected on y (MR-J4-TM) during the move is recorded as an
+/// `emergency` event of y with its code and error register, next to its `drive_fault`; the
+/// alarm on x (MR-J3-T04, no CoE Emergency, mr-j3-t04.md §1.3) is a `drive_fault` only.
+#[test]
+fn an_injected_drive_alarm_is_recorded_as_the_axis_emergency() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let (out, rec) = run_with_wire_fault(
+        "\n[[inject]]\nat_ms = 300\nfault = \"drive_alarm\"\naxis = \"y\"\ncode = 0x2220\n\
+         \n[[inject]]\nat_ms = 300\nfault = \"drive_alarm\"\naxis = \"x\"\ncode = 0x0032\n",
+    );
+    assert!(!out.status.success(), "the alarms stop the program");
+    let emergencies: Vec<_> = rec
+        .events
+        .iter()
+        .filter(|e| e.kind == "emergency")
+        .map(|e| (e.axis.as_str(), e.value & 0xFF_FFFF, e.detail.as_str()))
+        .collect();
+    assert_eq!(
+        emergencies,
+        [(
+            "y",
+            0x01_2220,
+            "error code 0x2220, error register 0x01, data 00 00 00 00 00"
+        )],
+        "{:?}",
+        rec.events
+    );
+    let mut faults = drive_faults(&rec);
+    faults.sort();
+    assert_eq!(faults, [("x", 0x32), ("y", 0x2220)]);
+    let fault_y = rec
+        .events
+        .iter()
+        .find(|e| e.kind == "drive_fault" && e.axis == "y")
+        .map(|e| e.cycle);
+    let emcy_y = rec
+        .events
+        .iter()
+        .find(|e| e.kind == "emergency")
+        .map(|e| e.cycle);
+    assert_eq!(emcy_y, fault_y, "read in the cycle the fault edge was seen");
+}

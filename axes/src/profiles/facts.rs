@@ -556,6 +556,23 @@ pub struct PdoRules {
     pub source: &'static str,
 }
 
+/// Whether a model reports its alarms by CoE Emergency (ETG.1000.6 §5.6.2.1), with the source.
+/// The payload is cellrt's choice where the manuals give none: [`EMERGENCY_LAYOUT`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct EmergencyFacts {
+    /// True if the drive sends an Emergency when it raises an alarm.
+    pub sends: bool,
+    /// Spec sections, with the gaps named.
+    pub source: &'static str,
+}
+
+/// The Emergency payload every model that sends one is emulated with: error code = the alarm's
+/// 603Fh value (the axis' own 603Fh at its offset index on a multi-axis unit), error register
+/// 1001h = 01h (generic error), manufacturer byte 0 = axis slot (0 = A), bytes 1–4 = 0.
+pub const EMERGENCY_LAYOUT: &str = "CiA 301 §7.2.7.3.1 and ETG.1000.6 §5.6.2.1 (error code, \
+    error register, 5 manufacturer bytes); the Mitsubishi manuals give no payload \
+    (mr-j4-tm.md §8.10 [MISSING], mr-j5-g-n1.md §6.2, mr-jet-g-n1.md §6.2: codes not given)";
+
 /// How writable a model's PDO assignment objects (1C12h/1C13h) are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum PdoAssignment {

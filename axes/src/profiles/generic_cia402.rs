@@ -426,6 +426,13 @@ pub const PROFILE: DriveProfile = DriveProfile {
     invalid_axis_switch: None,
     fsoe: None,
     relative_degree_warning: None,
+    emergency: EMERGENCY,
+};
+
+/// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
+pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
+    sends: true,
+    source: "CiA 301 §7.2.7 (a device sends EMCY on an internal error), ETG.1000.6 §5.6.2.1",
 };
 
 #[cfg(test)]

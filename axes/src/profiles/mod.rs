@@ -24,9 +24,10 @@ pub mod mr_j5_g_n1;
 pub mod mr_jet_g_n1;
 
 pub use facts::{
-    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, FsoeCommandBits, FsoeFacts,
-    FsoeFrameLayout, FsoeStatusBits, HomeReference, HomeSetting, Identity, InvalidAxisSwitch,
-    OdEntry, Pdo, PdoAssignment, PdoRules, SafeBit, StopBehaviour, TorqueLimitSelection, Units,
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, EmergencyFacts, FsoeCommandBits,
+    FsoeFacts, FsoeFrameLayout, FsoeStatusBits, HomeReference, HomeSetting, Identity,
+    InvalidAxisSwitch, OdEntry, Pdo, PdoAssignment, PdoRules, SafeBit, StopBehaviour,
+    TorqueLimitSelection, Units, EMERGENCY_LAYOUT,
 };
 
 /// A supported drive model, named in configuration by its kebab-case part number.
@@ -198,6 +199,8 @@ pub struct DriveProfile {
     /// position unit is degree (MR-J4-TM AL. F4.8, mr-j4-tm.md §4.7 bit 6); `None`: the manual
     /// states no such rule.
     pub relative_degree_warning: Option<u16>,
+    /// Whether alarms are also reported by CoE Emergency (ETG.1000.6 §5.6.2.1).
+    pub emergency: EmergencyFacts,
 }
 
 impl DriveProfile {

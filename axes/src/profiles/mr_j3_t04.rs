@@ -638,6 +638,13 @@ pub const PROFILE: DriveProfile = DriveProfile {
     invalid_axis_switch: None,
     fsoe: None,
     relative_degree_warning: None,
+    emergency: EMERGENCY,
+};
+
+/// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
+pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
+    sends: false,
+    source: "mr-j3-t04.md §1.3: \"The manual describes no CoE Emergency messages\" (alarms by PDO only: statusword bit 3)",
 };
 
 #[cfg(test)]

@@ -646,6 +646,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     invalid_axis_switch: None,
     fsoe: None,
     relative_degree_warning: Some(AL_F4_8),
+    emergency: EMERGENCY,
 };
 
 /// The PA01 `___2` profile-mode group: pp, pv, tq and hm with the 1601h RxPDO, initial mode pp
@@ -693,6 +694,13 @@ impl ModeGroup {
         }
     }
 }
+
+/// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
+pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
+    sends: true,
+    source:
+        "mr-j4-tm.md §6.1 (\"Alarms are reported by CoE Emergency\"), §8.10 (payload [MISSING])",
+};
 
 #[cfg(test)]
 mod tests {

@@ -476,6 +476,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     // §7: this manual has no safety PDOs and no FSoE objects ("should not expose 1608h/1A08h").
     fsoe: None,
     relative_degree_warning: None,
+    emergency: EMERGENCY,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).
@@ -576,6 +577,12 @@ pub const fn unit_pdo_limit(axes: u8, cycle_us: u32) -> Option<(u16, u16)> {
         _ => None,
     }
 }
+
+/// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
+pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
+    sends: true,
+    source: "mr-j5-g-n1.md §6.2 (Emergency: alarm notification; codes not given), also MR-J5W2/W3",
+};
 
 #[cfg(test)]
 mod tests {

@@ -862,6 +862,13 @@ pub const PROFILE: DriveProfile = DriveProfile {
     invalid_axis_switch: None,
     fsoe: Some(FSOE),
     relative_degree_warning: None,
+    emergency: EMERGENCY,
+};
+
+/// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
+pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
+    sends: true,
+    source: "mr-jet-g-n1.md §6.2 (Emergency reports an alarm; the EMCY codes are not given)",
 };
 
 #[cfg(test)]

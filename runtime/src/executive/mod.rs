@@ -12,7 +12,7 @@ pub use axis::{AxisChannel, AxisLimitsCounts, HOMING_MODE_SETTLE, HOMING_TIMEOUT
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
-use cellrt_axes::bus::Bus;
+use cellrt_axes::bus::{Bus, MailboxNotice};
 use cellrt_axes::comm::CounterVerdict;
 use cellrt_axes::pdo::objects::HOME_OFFSET;
 use cellrt_axes::pdo::RxPdo;
@@ -39,6 +39,10 @@ pub enum RtPhase {
     /// The loop is about to exit.
     Exit,
 }
+
+/// Mailbox notices (Emergencies) the loop takes per cycle at most: each may cost an acyclic
+/// round trip on EtherCAT.
+pub const MAILBOX_NOTICES_PER_CYCLE: usize = 2;
 
 /// Cycles the loop runs before it calls itself steady (first iceoryx2 receives, page faults).
 pub const WARMUP_CYCLES: u64 = 200;
@@ -266,6 +270,7 @@ impl<B: Bus> Executive<B> {
         self.elapsed = elapsed;
         self.inject_due_faults();
         self.read_inputs();
+        self.take_mailbox_notices();
         let quit = self.take_commands();
         self.update_cell();
         self.write_outputs();
@@ -352,6 +357,30 @@ impl<B: Bus> Executive<B> {
             self.comm_fault_pending = true;
         }
         self.event(EventKind::AlStatus, i as u16, s.encode());
+    }
+
+    /// Records what SubDevices sent unasked (CoE Emergencies, ETG.1000.6 §5.6.2.1), at most
+    /// [`MAILBOX_NOTICES_PER_CYCLE`] per cycle; the rest wait for the next ones.
+    fn take_mailbox_notices(&mut self) {
+        for _ in 0..MAILBOX_NOTICES_PER_CYCLE {
+            match self.bus.take_mailbox_notice() {
+                None => return,
+                Some(MailboxNotice::Emergency { axis, emergency }) => self.event(
+                    EventKind::Emergency,
+                    axis as u16,
+                    crate::handoff::encode_emergency(&emergency),
+                ),
+                Some(MailboxNotice::Discarded {
+                    axis,
+                    mailbox_type,
+                    service,
+                }) => self.event(
+                    EventKind::MailboxDiscarded,
+                    axis as u16,
+                    i64::from(mailbox_type) | i64::from(service) << 8,
+                ),
+            }
+        }
     }
 
     /// Reads 607Ch of a drive that keeps 6064h raw (at start-up and after a homing; acyclic)

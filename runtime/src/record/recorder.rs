@@ -604,6 +604,8 @@ impl Drain<'_> {
             | EventKind::PlannerLost
             | EventKind::CommunicationError
             | EventKind::AlStatus
+            | EventKind::Emergency
+            | EventKind::MailboxDiscarded
             | EventKind::RecordsDropped => tracing::warn!("{line}"),
             _ => tracing::debug!("{line}"),
         }
@@ -681,6 +683,19 @@ pub fn describe_event(e: &EventRecord) -> String {
         EventKind::AlStatus => {
             cellrt_axes::ethercat::register::AlStatus::decode(e.value).describe()
         }
+        EventKind::Emergency => {
+            let m = crate::handoff::decode_emergency(e.value);
+            let d = m.data;
+            format!(
+                "error code 0x{:04X}, error register 0x{:02X}, data {:02X} {:02X} {:02X} {:02X} {:02X}",
+                m.error_code, m.error_register, d[0], d[1], d[2], d[3], d[4]
+            )
+        }
+        EventKind::MailboxDiscarded => format!(
+            "mailbox type {}, CoE service {} (discarded)",
+            e.value & 0xFF,
+            e.value >> 8
+        ),
         EventKind::FaultInjected | EventKind::FaultLeftToSegment => FAULT_NAMES
             .get(e.value as usize)
             .copied()

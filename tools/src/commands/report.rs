@@ -193,6 +193,8 @@ fn is_alarm(e: &Event) -> bool {
                 | "fault_injected"
                 | "fault_left_to_segment"
                 | "al_status"
+                | "emergency"
+                | "mailbox_discarded"
                 | "planner_lost"
         )
 }

@@ -7,10 +7,13 @@
 //! 1000h); datagrams read and write it, and the registers with side effects (AL control, SII
 //! control, DC latch, mailbox buffers) act on access.
 
+use std::collections::VecDeque;
+
 use super::coe::{self, CoeContext, PdoConfig, SegmentedUpload};
 use super::layout::StationLayout;
 use super::sii::{self, SiiPdo};
 use crate::cycles::Cycles;
+use crate::ethercat::emergency::Emergency;
 use crate::ethercat::frame::Command;
 use crate::ethercat::identity::SubDeviceIdentity;
 use crate::ethercat::register::{self as reg, al_code, AlState, AL_ERROR_INDICATION};
@@ -40,6 +43,10 @@ const MAX_LOST_REPLAY: u64 = 1000;
 const LOCK_FRAMES: u32 = 16;
 /// SM status bit 3: mailbox full.
 const SM_FULL: u8 = 0x08;
+/// Emergencies a station holds while SM1 is occupied (preallocated; one more is dropped and
+/// counted in [`Station::emergencies_lost`]). 8: a J5W3 can raise one alarm per axis and its
+/// leaving-OP alarms at once with room to spare.
+pub const EMERGENCY_QUEUE: usize = 8;
 
 /// What processing one datagram did at this station.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -105,6 +112,31 @@ pub struct Station {
     missed_sync0: u64,
     /// Local time of the last write to SM2 that triggered the process-data watchdog (in OP).
     pd_watchdog_trigger: Option<u64>,
+    /// The mailbox traffic to the master waiting for SM1 ([`Station::fill_mailbox_in`]).
+    outbox: Outbox,
+}
+
+/// What the SubDevice firmware has to write into SM1 (one buffer: ETG.1000.4 §6.7.2 "1-buffer
+/// mode"): Emergencies raised and not yet written, and at most one SDO response (the master
+/// waits for it before its next request). Whenever SM1 is empty (read by the master, or at
+/// the firmware's next event: a mailbox request, a process-data cycle) the next one is
+/// written: Emergencies first, in the order raised, then the response. A queued Emergency was
+/// raised at a process-data cycle, so before any request that is waiting now (emulated
+/// requests are served at once), and CiA 301 §7.2.7 gives EMCY the higher priority.
+#[derive(Debug)]
+struct Outbox {
+    /// The model sends Emergencies ([`crate::profiles::EmergencyFacts`]).
+    sends_emergencies: bool,
+    emergencies: VecDeque<Emergency>,
+    /// Emergencies dropped because the queue was full.
+    lost: u64,
+    /// Per axis: the alarm last reported (an Emergency goes out when it changes to `Some`).
+    alarms: Vec<Option<u16>>,
+    /// The SDO response not yet written into SM1 (`response_len` bytes of `response`).
+    response: Vec<u8>,
+    response_len: usize,
+    /// The mailbox counter of the last message written into SM1 (1..=7).
+    counter: u8,
 }
 
 impl Station {
@@ -169,6 +201,7 @@ impl Station {
         for d in &mut drives {
             d.leave_op();
         }
+        let mailbox_in_len = usize::from(layout.mailbox_in.len);
         let mut s = Station {
             mem: vec![0; MEMORY_LEN],
             sii,
@@ -188,7 +221,17 @@ impl Station {
             exchanges: 0,
             missed_sync0: 0,
             pd_watchdog_trigger: None,
+            outbox: Outbox {
+                sends_emergencies: profile.emergency.sends,
+                emergencies: VecDeque::with_capacity(EMERGENCY_QUEUE),
+                lost: 0,
+                alarms: Vec::new(),
+                response: vec![0; mailbox_in_len],
+                response_len: 0,
+                counter: 0,
+            },
         };
+        s.outbox.alarms = s.drives.iter().map(SimDrive::alarm).collect();
         s.mem[usize::from(reg::TYPE)] = ESC_TYPE;
         s.mem[usize::from(reg::FMMU_COUNT)] = 8;
         s.mem[usize::from(reg::SM_COUNT)] = 8;
@@ -254,6 +297,70 @@ impl Station {
             d.leave_op();
         }
         self.set_al_status(AlState::SafeOp, Some(al_code::SM_WATCHDOG));
+        self.watch_alarms();
+    }
+
+    /// Emergencies dropped because [`EMERGENCY_QUEUE`] was full (diagnostics).
+    pub fn emergencies_lost(&self) -> u64 {
+        self.outbox.lost
+    }
+
+    /// Emergencies raised and not yet written into SM1.
+    pub fn emergencies_queued(&self) -> usize {
+        self.outbox.emergencies.len()
+    }
+
+    /// Queues an Emergency for each axis whose drive raised an alarm since the last look
+    /// (603Fh = the alarm code; [`Emergency::of_alarm`] names the slot), where the model sends
+    /// them ([`crate::profiles::EmergencyFacts`]), and writes SM1 if it is empty.
+    fn watch_alarms(&mut self) {
+        let out = &mut self.outbox;
+        for (slot, (d, last)) in self.drives.iter().zip(out.alarms.iter_mut()).enumerate() {
+            let now = d.alarm();
+            if now == *last {
+                continue;
+            }
+            *last = now;
+            let Some(code) = now else {
+                continue;
+            };
+            if !out.sends_emergencies {
+                continue;
+            }
+            if out.emergencies.len() < EMERGENCY_QUEUE {
+                out.emergencies
+                    .push_back(Emergency::of_alarm(code, slot as u8));
+            } else {
+                out.lost += 1;
+            }
+        }
+        self.fill_mailbox_in();
+    }
+
+    /// The firmware writes the next outgoing mailbox message ([`Outbox`]) into SM1 if SM1 is
+    /// enabled and empty, with the next mailbox counter.
+    fn fill_mailbox_in(&mut self) {
+        let sm1 = usize::from(reg::sync_manager(1)) + 5;
+        if !self.sm_enabled(1) || self.mem[sm1] & SM_FULL != 0 {
+            return;
+        }
+        let mb = self.layout.mailbox_in;
+        let (start, len) = (usize::from(mb.start), usize::from(mb.len));
+        let out = &mut self.outbox;
+        let counter = if out.counter >= 7 { 1 } else { out.counter + 1 };
+        let buf = &mut self.mem[start..start + len];
+        if let Some(e) = out.emergencies.pop_front() {
+            e.encode(counter, buf);
+        } else if out.response_len > 0 {
+            let n = out.response_len.min(len);
+            buf[..n].copy_from_slice(&out.response[..n]);
+            buf[5] = (buf[5] & 0x0F) | (counter << 4);
+            out.response_len = 0;
+        } else {
+            return;
+        }
+        out.counter = counter;
+        self.mem[sm1] |= SM_FULL;
     }
 
     /// The simulated drive (axis A of a multi-axis unit).
@@ -446,6 +553,7 @@ impl Station {
         let last = usize::from(mb.start + mb.len - 1);
         if self.sm_enabled(1) && start <= last && end > last {
             self.mem[usize::from(reg::sync_manager(1)) + 5] &= !SM_FULL;
+            self.fill_mailbox_in();
         }
     }
 
@@ -530,22 +638,25 @@ impl Station {
         let inb = self.layout.mailbox_in;
         let req_start = usize::from(out.start);
         let request: Vec<u8> = self.mem[req_start..req_start + usize::from(out.len)].to_vec();
-        let mut response = vec![0u8; usize::from(inb.len)];
+        let response = &mut self.outbox.response;
+        response.resize(usize::from(inb.len), 0);
+        response.fill(0);
         let mut ctx = CoeContext {
             drives: &mut self.drives,
             identity: self.identity,
             al_state: self.al_state,
             pdo: &mut self.pdo,
+            // The counter is set when the response is written into SM1 (`fill_mailbox_in`).
             counter: &mut self.mailbox_counter,
             upload: &mut self.upload,
         };
-        if coe::serve(&mut ctx, &request, &mut response) {
-            let rs = usize::from(inb.start);
-            self.mem[rs..rs + response.len()].copy_from_slice(&response);
-            self.mem[usize::from(reg::sync_manager(1)) + 5] |= SM_FULL;
+        if coe::serve(&mut ctx, &request, response) {
+            // A response the master never read is replaced: it has moved on.
+            self.outbox.response_len = response.len();
         }
         // The request is consumed at once: SM0 is empty again.
         self.mem[usize::from(reg::sync_manager(0)) + 5] &= !SM_FULL;
+        self.fill_mailbox_in();
     }
 
     /// True if SyncManager `n` is enabled with exactly `area`'s start and length.
@@ -609,11 +720,14 @@ impl Station {
                 }
                 if target == AlState::Init {
                     // The mapping objects keep what was written (until power-off); the SYNC0
-                    // grid starts anew.
+                    // grid starts anew; the mailboxes are reset (ETG.1000.6 §6.4.1.1).
                     self.last_edge = None;
                     self.lock_frames = 0;
+                    self.outbox.emergencies.clear();
+                    self.outbox.response_len = 0;
                 }
                 self.set_al_status(target, None);
+                self.watch_alarms();
             }
             Err(code) => self.set_al_status(from, Some(code)),
         }
@@ -826,5 +940,156 @@ impl Station {
         }
         self.missed_sync0 += elapsed.clamp(1, MAX_LOST_REPLAY) - 1;
         self.exchanges += 1;
+        self.watch_alarms();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cycles::CycleTime;
+    use crate::ethercat::emergency::{MailboxMessage, EMERGENCY_MAILBOX_LEN};
+    use crate::profiles::{profile, DriveModel};
+    use crate::sim::drive::SimDriveParams;
+
+    /// A station of `model` (every axis of the unit) in PRE-OP, its mailboxes configured.
+    fn pre_op(model: DriveModel) -> Station {
+        let p = profile(model);
+        let drives = (0..p.axes_per_unit)
+            .map(|_| {
+                let cycle = CycleTime::from_micros(1000).expect("1 ms");
+                SimDrive::new(p, SimDriveParams::default(), cycle)
+            })
+            .collect();
+        let mut s = Station::unit(drives, 0, 1).expect("one drive per axis");
+        let (o, i) = (s.layout.mailbox_out, s.layout.mailbox_in);
+        for (n, sm) in [(0u8, o), (1, i)] {
+            let mut r = [0u8; 8];
+            r[0..2].copy_from_slice(&sm.start.to_le_bytes());
+            r[2..4].copy_from_slice(&sm.len.to_le_bytes());
+            r[4] = sm.control;
+            r[6] = 1;
+            s.physical(Command::Fpwr, reg::sync_manager(n), &mut r, 0);
+        }
+        s.physical(
+            Command::Fpwr,
+            reg::AL_CONTROL,
+            &mut [AlState::PreOp as u8, 0],
+            0,
+        );
+        assert_eq!(s.al_state(), AlState::PreOp);
+        s
+    }
+
+    fn sm1_full(s: &mut Station) -> bool {
+        let mut b = [0u8];
+        s.physical(Command::Fprd, reg::sync_manager(1) + 5, &mut b, 0);
+        b[0] & SM_FULL != 0
+    }
+
+    /// Reads the whole SM1 buffer (which empties it).
+    fn read_sm1(s: &mut Station) -> Vec<u8> {
+        let mb = s.layout.mailbox_in;
+        let mut b = vec![0u8; usize::from(mb.len)];
+        s.physical(Command::Fprd, mb.start, &mut b, 0);
+        b
+    }
+
+    /// Writes an SDO upload request of `index:00` into SM0.
+    fn request_upload(s: &mut Station, index: u16) {
+        let mb = s.layout.mailbox_out;
+        let mut r = vec![0u8; usize::from(mb.len)];
+        r[0..2].copy_from_slice(&10u16.to_le_bytes());
+        r[5] = coe::MAILBOX_TYPE_COE;
+        r[6..8].copy_from_slice(&(2u16 << 12).to_le_bytes());
+        r[8] = 0x40;
+        r[9..11].copy_from_slice(&index.to_le_bytes());
+        s.physical(Command::Fpwr, mb.start, &mut r, 0);
+    }
+
+    /// mr-j4-tm.md §6.1: an alarm is reported by CoE Emergency: at the drive's next cycle SM1
+    /// holds it (error code = 603Fh, error register 01h, slot 0), and reading it empties SM1.
+    #[test]
+    fn an_mr_j4_tm_alarm_is_an_emergency_in_sm1() {
+        let mut s = pre_op(DriveModel::MrJ4TM);
+        assert!(!sm1_full(&mut s));
+        let code = s.drive().profile().leave_op_alarm;
+        s.drive_mut().inject_alarm(code);
+        s.watch_alarms();
+        assert!(sm1_full(&mut s));
+        let got = read_sm1(&mut s);
+        let mut want = [0u8; EMERGENCY_MAILBOX_LEN];
+        Emergency::of_alarm(code, 0).encode(1, &mut want);
+        assert_eq!(&got[..EMERGENCY_MAILBOX_LEN], &want);
+        assert_eq!(&got[8..11], &[code as u8, (code >> 8) as u8, 0x01]);
+        assert!(!sm1_full(&mut s), "read, and nothing else to send");
+        // The same alarm still latched is not reported again.
+        s.watch_alarms();
+        assert!(!sm1_full(&mut s));
+    }
+
+    /// mr-j3-t04.md §1.3: the MR-J3-T04 sends no CoE Emergency (PDO only).
+    #[test]
+    fn an_mr_j3_t04_alarm_sends_no_emergency() {
+        let mut s = pre_op(DriveModel::MrJ3T04);
+        s.drive_mut().inject_alarm(0x3400);
+        s.watch_alarms();
+        assert!(!sm1_full(&mut s));
+        assert_eq!(s.emergencies_queued(), 0);
+    }
+
+    /// Two alarms on a J5W2 (axes A and B) and an SDO request before the master read SM1:
+    /// the Emergencies come first, in order, each naming its slot with the axis' code, then
+    /// the SDO response; none is lost or overwritten.
+    #[test]
+    fn an_sdo_request_behind_queued_emergencies_still_gets_its_response() {
+        let mut s = pre_op(DriveModel::MrJ5W2GN1);
+        s.drive_at_mut(0).expect("axis A").inject_alarm(0x1010);
+        s.drive_at_mut(1).expect("axis B").inject_alarm(0x2020);
+        s.watch_alarms();
+        assert!(sm1_full(&mut s));
+        assert_eq!(s.emergencies_queued(), 1);
+        request_upload(&mut s, 0x1000);
+        let first = MailboxMessage::decode(&read_sm1(&mut s));
+        assert_eq!(
+            first,
+            MailboxMessage::Emergency(Emergency::of_alarm(0x1010, 0))
+        );
+        assert!(sm1_full(&mut s), "the next message follows at once");
+        let second = MailboxMessage::decode(&read_sm1(&mut s));
+        assert_eq!(
+            second,
+            MailboxMessage::Emergency(Emergency::of_alarm(0x2020, 1))
+        );
+        let third = read_sm1(&mut s);
+        assert_eq!(
+            MailboxMessage::decode(&third),
+            MailboxMessage::Other {
+                mailbox_type: 3,
+                service: 3
+            }
+        );
+        assert_eq!(third[8], 0x43, "expedited upload response");
+        assert_eq!(u16::from_le_bytes([third[9], third[10]]), 0x1000);
+        assert_eq!(
+            u32::from_le_bytes([third[12], third[13], third[14], third[15]]),
+            coe::DEVICE_TYPE
+        );
+        // Counters 1, 2, 3 in the order written.
+        assert_eq!(third[5] >> 4, 3);
+        assert!(!sm1_full(&mut s));
+        assert_eq!(s.emergencies_lost(), 0);
+    }
+
+    /// More alarms than [`EMERGENCY_QUEUE`] holds while SM1 is occupied: the excess is counted.
+    #[test]
+    fn a_full_emergency_queue_counts_what_it_drops() {
+        let mut s = pre_op(DriveModel::MrJ4TM);
+        for k in 0..(EMERGENCY_QUEUE as u16 + 3) {
+            s.drive_mut().inject_alarm(0x1000 + k);
+            s.watch_alarms();
+        }
+        assert_eq!(s.emergencies_queued(), EMERGENCY_QUEUE);
+        assert_eq!(s.emergencies_lost(), 2);
     }
 }

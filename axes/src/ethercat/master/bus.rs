@@ -3,6 +3,7 @@
 //! own frame (one LRW over the process image, preallocated, no heap allocation per cycle; see
 //! ARCHITECTURE.md on ethercrab's `tx_rx_dc()`), with the working counter checked every cycle.
 
+use std::collections::VecDeque;
 use std::future::Future;
 use std::ops::Range;
 use std::pin::pin;
@@ -17,9 +18,10 @@ use ethercrab::{
 };
 
 use super::link::Link;
-use crate::bus::{Bus, BusError, FrameCounters, SDO_UNSUPPORTED};
+use crate::bus::{Bus, BusError, FrameCounters, MailboxNotice, SDO_UNSUPPORTED};
 use crate::cia402::mode::ModeOfOperation;
 use crate::cycles::{CycleTime, Cycles};
+use crate::ethercat::emergency::MailboxMessage;
 use crate::ethercat::frame::{self, Command, DatagramSpan, FrameBuilder};
 use crate::ethercat::identity::{ExpectedIdentity, SubDeviceIdentity};
 use crate::ethercat::register::{self as reg, AlState, AlStatus};
@@ -65,6 +67,17 @@ const SM2_CYCLE_TIME: (u16, u8) = (0x1C32, 2);
 /// 1C12h / 1C13h PDO assignment.
 const RX_ASSIGN: u16 = 0x1C12;
 const TX_ASSIGN: u16 = 0x1C13;
+/// SM status (0805h + 8n) bit 3: mailbox full.
+const SM_STATUS_FULL: u8 = 0x08;
+/// Largest SM1 mailbox the master drains itself (bigger ones are left to ethercrab's clearing).
+const MAX_MAILBOX_READ: usize = 1024;
+/// Zeros to send as the data of a mailbox read (no allocation per read).
+static MAILBOX_READ_ZEROS: [u8; MAX_MAILBOX_READ] = [0; MAX_MAILBOX_READ];
+/// Mailbox messages drained before an SDO at most (a firmware that refills SM1 faster than
+/// this is left to ethercrab's clearing, which discards).
+const MAX_DRAIN: usize = 8;
+/// Notices held for [`Bus::take_mailbox_notice`] (preallocated; more are dropped and counted).
+const NOTICE_QUEUE: usize = 16;
 
 /// One axis of the segment, in axis order.
 #[derive(Debug, Clone)]
@@ -447,6 +460,32 @@ fn pump<F: Future>(
     }
 }
 
+/// A SubDevice's SubDevice→master mailbox (SM1), read back at bring-up.
+#[derive(Debug, Clone, Copy)]
+struct MailboxIn {
+    /// Physical start address and length of the buffer.
+    start: u16,
+    len: u16,
+}
+
+/// Per SubDevice with a mailbox: the SM1 drain that keeps CoE Emergencies from ethercrab,
+/// whose 0.7.1 `mailbox_write_read` panics on one (`assert_ne!(…, CoeService::Emergency)`).
+#[derive(Debug, Default)]
+struct MailboxWatch {
+    /// Per SubDevice: its SM1, `None` without a mailbox (or one over [`MAX_MAILBOX_READ`]).
+    sm1: Vec<Option<MailboxIn>>,
+    /// Per SubDevice: where the cyclic frame's read of its SM1 status sits.
+    spans: Vec<Option<DatagramSpan>>,
+    /// Per SubDevice: the last cyclic frame saw SM1 full.
+    full: Vec<bool>,
+    /// Per SubDevice: the axes of its slots (slot 0 = axis A) and whether it is multi-axis.
+    slots: Vec<(Vec<Option<usize>>, bool)>,
+    /// Decoded messages not yet taken.
+    notices: VecDeque<MailboxNotice>,
+    /// Notices dropped because [`NOTICE_QUEUE`] was full.
+    dropped: u64,
+}
+
 /// One axis' place in the process image and its images.
 #[derive(Debug)]
 struct AxisImage {
@@ -484,6 +523,7 @@ pub struct EthercatBus {
     dc: DcAlignment,
     /// The correction the RT loop took since the last exchange, ns.
     dc_taken: i64,
+    mailbox: MailboxWatch,
 }
 
 /// The RT loop's deadline aligned to the DC system time: each cyclic frame carries an FRMW of
@@ -759,10 +799,39 @@ impl EthercatBus {
             pump(read, &mut tx, &mut rx, link_ref, &mut buf),
         )?;
         let mut station_addresses = Vec::with_capacity(plans.len());
+        let mut sm1 = Vec::with_capacity(plans.len());
         for position in 0..plans.len() {
             let sd = step("SubDevice lookup", group.subdevice(&maindevice, position))?;
             station_addresses.push(sd.configured_address());
+            let r = reg::sync_manager(1);
+            let read = async {
+                let start: u16 = sd.register_read(r).await?;
+                let len: u16 = sd.register_read(r + 2).await?;
+                let control: u8 = sd.register_read(r + 4).await?;
+                let activate: u8 = sd.register_read(r + 6).await?;
+                Ok::<_, ethercrab::error::Error>((start, len, control, activate))
+            };
+            let (start, len, control, activate) = step(
+                "SM1 read-back",
+                pump(read, &mut tx, &mut rx, link_ref, &mut buf),
+            )?;
+            // A mailbox (control bits 0–1 = 10b), enabled, that the drain can read in one go.
+            let mailbox = control & 0x03 == 0x02
+                && activate & 1 != 0
+                && (8..=MAX_MAILBOX_READ).contains(&usize::from(len));
+            sm1.push(mailbox.then_some(MailboxIn { start, len }));
         }
+        let mailbox = MailboxWatch {
+            spans: vec![None; sm1.len()],
+            full: vec![false; sm1.len()],
+            slots: plans
+                .iter()
+                .map(|p| (p.slots.clone(), p.model.is_multi_axis()))
+                .collect(),
+            sm1,
+            notices: VecDeque::with_capacity(NOTICE_QUEUE),
+            dropped: 0,
+        };
         let dc = DcAlignment {
             reference: reference_address,
             start,
@@ -788,7 +857,99 @@ impl EthercatBus {
             index: 0,
             dc,
             dc_taken: 0,
+            mailbox,
         })
+    }
+
+    /// Notices dropped because the queue of untaken ones was full (diagnostics).
+    pub fn mailbox_notices_dropped(&self) -> u64 {
+        self.mailbox.dropped
+    }
+
+    /// Reads SubDevice `station`'s SM1 status and, in the same frame, its buffer (which frees
+    /// it; ETG.1000.4 §6.7.2): the message if SM1 was full. One acyclic round trip, no heap
+    /// allocation. `Ok(false)`: SM1 was empty (or the station has no mailbox).
+    fn read_mailbox(&mut self, station: usize) -> Result<bool, BusError> {
+        let Some(Some(mb)) = self.mailbox.sm1.get(station).copied() else {
+            return Ok(false);
+        };
+        let adp = u32::from(self.station_addresses[station]);
+        let (status, data, len) = {
+            let mut b = FrameBuilder::new(&mut self.frame, MASTER_MAC);
+            let status = b.push(
+                Command::Fprd,
+                0,
+                (u32::from(reg::sync_manager(1) + 5) << 16) | adp,
+                &[0],
+            );
+            let data = b.push(
+                Command::Fprd,
+                0,
+                (u32::from(mb.start) << 16) | adp,
+                &MAILBOX_READ_ZEROS[..usize::from(mb.len)],
+            );
+            let (Some(status), Some(data)) = (status, data) else {
+                return Err(BusError::FrameTooLarge {
+                    bytes: usize::from(mb.len) + 1,
+                });
+            };
+            (status, data, b.finish())
+        };
+        if self.link.round_trip(&mut self.frame, len).is_err() {
+            return Err(BusError::FrameLost);
+        }
+        let full = frame::wkc(&self.frame, &status) == 1
+            && self.frame[status.data_offset] & SM_STATUS_FULL != 0;
+        if !full || frame::wkc(&self.frame, &data) != 1 {
+            return Ok(false);
+        }
+        let message =
+            MailboxMessage::decode(&self.frame[data.data_offset..][..usize::from(mb.len)]);
+        let (slots, multi) = &self.mailbox.slots[station];
+        let first = slots.iter().flatten().copied().next().unwrap_or(0);
+        let notice = match message {
+            MailboxMessage::Emergency(emergency) => {
+                let slot = if *multi {
+                    usize::from(emergency.slot())
+                } else {
+                    0
+                };
+                let axis = slots.get(slot).copied().flatten().unwrap_or(first);
+                MailboxNotice::Emergency { axis, emergency }
+            }
+            MailboxMessage::Other {
+                mailbox_type,
+                service,
+            } => MailboxNotice::Discarded {
+                axis: first,
+                mailbox_type,
+                service,
+            },
+            MailboxMessage::Malformed => MailboxNotice::Discarded {
+                axis: first,
+                mailbox_type: 0,
+                service: 0,
+            },
+        };
+        if self.mailbox.notices.len() < NOTICE_QUEUE {
+            self.mailbox.notices.push_back(notice);
+        } else {
+            self.mailbox.dropped += 1;
+        }
+        Ok(true)
+    }
+
+    /// Empties SubDevice `station`'s SM1 into the notices before an SDO transaction, so that
+    /// ethercrab never reads an Emergency (bounded: [`MAX_DRAIN`] messages).
+    fn drain_mailbox(&mut self, station: usize) {
+        for _ in 0..MAX_DRAIN {
+            if !matches!(self.read_mailbox(station), Ok(true)) {
+                break;
+            }
+        }
+        if let Some(f) = self.mailbox.full.get_mut(station) {
+            *f = false;
+        }
     }
 
     /// Counters of the cyclic exchange.
@@ -862,6 +1023,7 @@ impl EthercatBus {
         let base = d.profile.object_slot(index).map_or(index, |(_, b)| b);
         let data_type = object_type(d.profile, base, sub);
         let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
+        self.drain_mailbox(station);
         let sd = self
             .group
             .subdevice(&self.maindevice, station)
@@ -986,6 +1148,27 @@ impl Bus for EthercatBus {
                     });
                 }
             }
+            // Each mailbox SubDevice's SM1 status: full means a message it sent unasked (an
+            // Emergency), read by `take_mailbox_notice` (ETG.1000.4 §6.7.2).
+            for ((slot, &station), mb) in self
+                .mailbox
+                .spans
+                .iter_mut()
+                .zip(&self.station_addresses)
+                .zip(&self.mailbox.sm1)
+            {
+                *slot = None;
+                if mb.is_none() {
+                    continue;
+                }
+                let address = (u32::from(reg::sync_manager(1) + 5) << 16) | u32::from(station);
+                *slot = b.push(Command::Fprd, self.index, address, &[0]);
+                if slot.is_none() {
+                    return Err(BusError::FrameTooLarge {
+                        bytes: self.pdi.len() + 8 + self.station_addresses.len() * 8,
+                    });
+                }
+            }
             (span, dc_span, b.finish())
         };
         self.counters.frames += 1;
@@ -1004,6 +1187,11 @@ impl Bus for EthercatBus {
                 let mut b = [0u8; reg::AL_STATUS_READ_LEN];
                 b.copy_from_slice(&self.frame[span.data_offset..][..reg::AL_STATUS_READ_LEN]);
                 *al = Some(AlStatus::from_bytes(&b));
+            }
+        }
+        for (full, span) in self.mailbox.full.iter_mut().zip(&self.mailbox.spans) {
+            if let Some(span) = span.filter(|s| frame::wkc(&self.frame, s) == 1) {
+                *full |= self.frame[span.data_offset] & SM_STATUS_FULL != 0;
             }
         }
         let wkc = frame::wkc(&self.frame, &span);
@@ -1029,6 +1217,19 @@ impl Bus for EthercatBus {
         self.axes.get(axis).and_then(|a| self.al[a.station])
     }
 
+    /// A notice already read (before an SDO), else one acyclic read of the first SubDevice
+    /// whose SM1 the last cyclic frame saw full. A lost read frame is tried again next cycle.
+    fn take_mailbox_notice(&mut self) -> Option<MailboxNotice> {
+        if let Some(n) = self.mailbox.notices.pop_front() {
+            return Some(n);
+        }
+        let station = self.mailbox.full.iter().position(|&f| f)?;
+        if self.read_mailbox(station).is_ok() {
+            self.mailbox.full[station] = false;
+        }
+        self.mailbox.notices.pop_front()
+    }
+
     fn deadline_correction_ns(&mut self) -> i64 {
         let c = std::mem::take(&mut self.dc.pending);
         self.dc_taken += c;
@@ -1047,6 +1248,7 @@ impl Bus for EthercatBus {
 
     fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
         let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
+        self.drain_mailbox(station);
         let sd = self
             .group
             .subdevice(&self.maindevice, station)

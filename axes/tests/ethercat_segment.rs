@@ -1045,3 +1045,66 @@ fn an_alarm_in_op_is_an_emergency_of_its_axis_and_sdo_reads_still_work() {
     assert!(exchanges(&mut bus, 5).iter().all(Result::is_ok));
     assert_eq!(bus.mailbox_notices_dropped(), 0);
 }
+
+/// An alarm raised with no cyclic frame in between goes out as an Emergency ahead of the SDO
+/// response the master is waiting for (the drive's firmware sends it when the alarm occurs).
+/// ethercrab 0.7.1 failed the SDO on it or panicked (vendor/ethercrab/CELLRT-PATCHES.md); now
+/// the SDO meets an Emergency error, the master records it for the axis and repeats the SDO,
+/// which reads the alarm's 603Fh (the first request's late response is read from SM1 and
+/// discarded as such). A download (6085h) likewise.
+#[test]
+fn an_emergency_where_the_sdo_response_should_be_is_recorded_and_the_sdo_repeated() {
+    use cellrt_axes::bus::MailboxNotice;
+    let models = [DriveModel::MrJ4TM, DriveModel::MrJ5GN1];
+    let (mut bus, _) = enabled(&models);
+    fn drive(bus: &mut EthercatBus, n: usize) -> &mut SimDrive {
+        bus.link_mut()
+            .segment_mut()
+            .and_then(|s| s.station_mut(n))
+            .expect("station")
+            .drive_mut()
+    }
+    let code = profile(DriveModel::MrJ5GN1).following_error_alarm;
+    drive(&mut bus, 1).inject_alarm(code);
+    assert_eq!(bus.sdo_upload(1, 0x603F, 0), Ok(i64::from(code)));
+    match bus.take_mailbox_notice() {
+        Some(MailboxNotice::Emergency { axis, emergency }) => {
+            assert_eq!((axis, emergency.error_code), (1, code));
+        }
+        other => panic!("expected the J5's Emergency, got {other:?}"),
+    }
+    // The response to the first request came after the Emergency; the repeat found it in SM1.
+    assert_eq!(
+        bus.take_mailbox_notice(),
+        Some(MailboxNotice::Discarded {
+            axis: 1,
+            mailbox_type: 3,
+            service: 3
+        }),
+        "the first request's SDO response (CoE, service 3) is read and discarded"
+    );
+    let code = profile(DriveModel::MrJ4TM).following_error_alarm;
+    drive(&mut bus, 0).inject_alarm(code);
+    // 6085h Quick stop deceleration: the repeated download is the one that takes effect.
+    let decel: u32 = 123_456;
+    assert_eq!(bus.sdo_download(0, 0x6085, 0, &decel.to_le_bytes()), Ok(()));
+    match bus.take_mailbox_notice() {
+        Some(MailboxNotice::Emergency { axis, emergency }) => {
+            assert_eq!((axis, emergency.error_code), (0, code));
+        }
+        other => panic!("expected the J4-TM's Emergency, got {other:?}"),
+    }
+    assert_eq!(bus.sdo_upload(0, 0x6085, 0), Ok(i64::from(decel)));
+    assert!(matches!(
+        bus.take_mailbox_notice(),
+        Some(MailboxNotice::Discarded { axis: 0, .. })
+    ));
+    // The cyclic exchange goes on; no Emergency twice.
+    assert!(exchanges(&mut bus, 5).iter().all(Result::is_ok));
+    while let Some(n) = bus.take_mailbox_notice() {
+        assert!(
+            !matches!(n, MailboxNotice::Emergency { .. }),
+            "one Emergency per alarm: {n:?}"
+        );
+    }
+}

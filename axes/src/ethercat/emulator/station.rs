@@ -656,7 +656,10 @@ impl Station {
         }
         // The request is consumed at once: SM0 is empty again.
         self.mem[usize::from(reg::sync_manager(0)) + 5] &= !SM_FULL;
-        self.fill_mailbox_in();
+        // An alarm raised since the last look goes out ahead of the response, as a drive's
+        // firmware sends its Emergency when the alarm occurs (the master must expect one where
+        // its SDO response should be).
+        self.watch_alarms();
     }
 
     /// True if SyncManager `n` is enabled with exactly `area`'s start and length.

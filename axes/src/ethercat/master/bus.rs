@@ -21,7 +21,7 @@ use super::link::Link;
 use crate::bus::{Bus, BusError, FrameCounters, MailboxNotice, SDO_UNSUPPORTED};
 use crate::cia402::mode::ModeOfOperation;
 use crate::cycles::{CycleTime, Cycles};
-use crate::ethercat::emergency::MailboxMessage;
+use crate::ethercat::emergency::{Emergency, MailboxMessage};
 use crate::ethercat::frame::{self, Command, DatagramSpan, FrameBuilder};
 use crate::ethercat::identity::{ExpectedIdentity, SubDeviceIdentity};
 use crate::ethercat::register::{self as reg, AlState, AlStatus};
@@ -931,12 +931,17 @@ impl EthercatBus {
                 service: 0,
             },
         };
+        self.push_notice(notice);
+        Ok(true)
+    }
+
+    /// Queues a mailbox notice for the executive; a full queue counts it as dropped.
+    fn push_notice(&mut self, notice: MailboxNotice) {
         if self.mailbox.notices.len() < NOTICE_QUEUE {
             self.mailbox.notices.push_back(notice);
         } else {
             self.mailbox.dropped += 1;
         }
-        Ok(true)
     }
 
     /// Empties SubDevice `station`'s SM1 into the notices before an SDO transaction, so that
@@ -1023,31 +1028,69 @@ impl EthercatBus {
         let base = d.profile.object_slot(index).map_or(index, |(_, b)| b);
         let data_type = object_type(d.profile, base, sub);
         let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
-        self.drain_mailbox(station);
-        let sd = self
-            .group
-            .subdevice(&self.maindevice, station)
-            .map_err(|_| SDO_UNSUPPORTED)?;
-        let read = async {
-            Ok::<i64, ethercrab::error::Error>(match data_type {
-                DataType::I8 => i64::from(sd.sdo_read::<i8>(index, sub).await?),
-                DataType::U8 | DataType::Bool => i64::from(sd.sdo_read::<u8>(index, sub).await?),
-                DataType::I16 => i64::from(sd.sdo_read::<i16>(index, sub).await?),
-                DataType::U16 => i64::from(sd.sdo_read::<u16>(index, sub).await?),
-                DataType::U32 => i64::from(sd.sdo_read::<u32>(index, sub).await?),
-                DataType::I32 | DataType::Unstated => {
-                    i64::from(sd.sdo_read::<i32>(index, sub).await?)
-                }
-            })
+        let mut emergency_met = false;
+        loop {
+            self.drain_mailbox(station);
+            let sd = self
+                .group
+                .subdevice(&self.maindevice, station)
+                .map_err(|_| SDO_UNSUPPORTED)?;
+            let read = async {
+                Ok::<i64, ethercrab::error::Error>(match data_type {
+                    DataType::I8 => i64::from(sd.sdo_read::<i8>(index, sub).await?),
+                    DataType::U8 | DataType::Bool => {
+                        i64::from(sd.sdo_read::<u8>(index, sub).await?)
+                    }
+                    DataType::I16 => i64::from(sd.sdo_read::<i16>(index, sub).await?),
+                    DataType::U16 => i64::from(sd.sdo_read::<u16>(index, sub).await?),
+                    DataType::U32 => i64::from(sd.sdo_read::<u32>(index, sub).await?),
+                    DataType::I32 | DataType::Unstated => {
+                        i64::from(sd.sdo_read::<i32>(index, sub).await?)
+                    }
+                })
+            };
+            let result = pump(
+                read,
+                &mut self.tx,
+                &mut self.rx,
+                self.link.as_mut(),
+                &mut self.frame,
+            );
+            if !self.emergency_in_sdo(axis, &result, &mut emergency_met) {
+                return result.map_err(abort_code);
+            }
+        }
+    }
+
+    /// An SDO of `axis` that met a CoE Emergency where its response should be (the drive
+    /// raised an alarm after the request; patched ethercrab returns it as an error): the
+    /// Emergency becomes a notice of `axis` and the SDO is repeated once. True: repeat it.
+    fn emergency_in_sdo<T>(
+        &mut self,
+        axis: usize,
+        result: &Result<T, ethercrab::error::Error>,
+        met: &mut bool,
+    ) -> bool {
+        let Err(ethercrab::error::Error::Mailbox(ethercrab::error::MailboxError::Emergency {
+            error_code,
+            error_register,
+        })) = *result
+        else {
+            return false;
         };
-        pump(
-            read,
-            &mut self.tx,
-            &mut self.rx,
-            self.link.as_mut(),
-            &mut self.frame,
-        )
-        .map_err(abort_code)
+        // ethercrab passes code and register only; the manufacturer bytes are not known here.
+        let notice = MailboxNotice::Emergency {
+            axis,
+            emergency: Emergency {
+                error_code,
+                error_register,
+                data: [0; 5],
+            },
+        };
+        self.push_notice(notice);
+        let repeat = !*met;
+        *met = true;
+        repeat
     }
 }
 
@@ -1248,30 +1291,35 @@ impl Bus for EthercatBus {
 
     fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
         let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
-        self.drain_mailbox(station);
-        let sd = self
-            .group
-            .subdevice(&self.maindevice, station)
-            .map_err(|_| SDO_UNSUPPORTED)?;
-        let write = async {
-            match *data {
-                [a] => sd.sdo_write(index, sub, a).await,
-                [a, b] => sd.sdo_write(index, sub, u16::from_le_bytes([a, b])).await,
-                [a, b, c, d] => {
-                    sd.sdo_write(index, sub, u32::from_le_bytes([a, b, c, d]))
-                        .await
+        let mut emergency_met = false;
+        loop {
+            self.drain_mailbox(station);
+            let sd = self
+                .group
+                .subdevice(&self.maindevice, station)
+                .map_err(|_| SDO_UNSUPPORTED)?;
+            let write = async {
+                match *data {
+                    [a] => sd.sdo_write(index, sub, a).await,
+                    [a, b] => sd.sdo_write(index, sub, u16::from_le_bytes([a, b])).await,
+                    [a, b, c, d] => {
+                        sd.sdo_write(index, sub, u32::from_le_bytes([a, b, c, d]))
+                            .await
+                    }
+                    _ => Err(ethercrab::error::Error::Internal),
                 }
-                _ => Err(ethercrab::error::Error::Internal),
+            };
+            let result = pump(
+                write,
+                &mut self.tx,
+                &mut self.rx,
+                self.link.as_mut(),
+                &mut self.frame,
+            );
+            if !self.emergency_in_sdo(axis, &result, &mut emergency_met) {
+                return result.map_err(abort_code);
             }
-        };
-        pump(
-            write,
-            &mut self.tx,
-            &mut self.rx,
-            self.link.as_mut(),
-            &mut self.frame,
-        )
-        .map_err(abort_code)
+        }
     }
 
     /// On the in-process segment: the emulated drive of `axis` raises `code`.

@@ -122,16 +122,21 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
             .collect(),
     };
     let mut bus = EthercatBus::bring_up(config, Box::new(link)).expect("bring-up over veth");
-    // Paced at the 1 ms cycle: the emulated drives take one frame per SYNC0.
+    // Paced at the 1 ms cycle and aligned to the DC SYNC0 grid as the RT loop is (the
+    // correction taken every cycle): the emulated drives take one frame per SYNC0. Unaligned,
+    // a frame near a SYNC0 edge plus the 100 µs delay below missed SYNC0s (AL.36 on the J3).
     let start = std::time::Instant::now();
     let mut last = start;
     let mut max_gap = Duration::ZERO;
+    let mut shift_ns = 0i64;
     for k in 1..=200u32 {
         bus.exchange(Cycles(1)).expect("exchange");
         let now = std::time::Instant::now();
         max_gap = max_gap.max(now - last);
         last = now;
-        let next = start + Duration::from_millis(u64::from(k));
+        shift_ns += bus.deadline_correction_ns();
+        let next_ns = i64::from(k) * 1_000_000 + shift_ns;
+        let next = start + Duration::from_nanos(next_ns.max(0) as u64);
         std::thread::sleep(next.saturating_duration_since(std::time::Instant::now()));
     }
     bus.leave_op().expect("PRE-OP");

@@ -392,3 +392,29 @@ fn an_alarm_of_axis_b_or_c_is_an_emergency_of_that_axis() {
     assert_eq!(bus.read_error_code(4), Some(code.wrapping_add(2)));
     assert_eq!(bus.read_error_code(0), Some(0), "axis A has no alarm");
 }
+
+/// An alarm of axis B raised just before an SDO to axis A of the same J5W2: the Emergency
+/// comes where A's SDO response should be, and is still recorded for axis B (the slot it
+/// names, with its manufacturer bytes, which the patched ethercrab passes on); A's read is
+/// repeated and succeeds.
+#[test]
+fn an_emergency_of_axis_b_met_by_an_sdo_of_axis_a_is_axis_bs() {
+    use cellrt_axes::bus::MailboxNotice;
+    use cellrt_axes::ethercat::emergency::Emergency;
+    let mut bus = bring_up(&UNITS, 1000);
+    let code = profile(DriveModel::MrJ5W2GN1).following_error_alarm;
+    bus.link_mut()
+        .segment_mut()
+        .and_then(|s| s.station_mut(0))
+        .and_then(|st| st.drive_at_mut(1))
+        .expect("the J5W2's axis B")
+        .inject_alarm(code);
+    assert_eq!(bus.read_error_code(0), Some(0), "axis A has no alarm");
+    assert_eq!(
+        bus.take_mailbox_notice(),
+        Some(MailboxNotice::Emergency {
+            axis: 1,
+            emergency: Emergency::of_alarm(code, 1),
+        })
+    );
+}

@@ -286,6 +286,8 @@ pub enum MailboxError {
         error_code: u16,
         /// Error register.
         error_register: u8,
+        /// Manufacturer-specific error field (cellrt patch: was not passed on).
+        data: [u8; 5],
     },
 }
 
@@ -315,6 +317,7 @@ impl core::fmt::Display for MailboxError {
             MailboxError::Emergency {
                 error_code,
                 error_register,
+                ..
             } => write!(
                 f,
                 "emergency: code {:#06x}, register {:#04x}",

@@ -905,18 +905,18 @@ impl EthercatBus {
         }
         let message =
             MailboxMessage::decode(&self.frame[data.data_offset..][..usize::from(mb.len)]);
-        let (slots, multi) = &self.mailbox.slots[station];
-        let first = slots.iter().flatten().copied().next().unwrap_or(0);
+        let first = self.mailbox.slots[station]
+            .0
+            .iter()
+            .flatten()
+            .copied()
+            .next()
+            .unwrap_or(0);
         let notice = match message {
-            MailboxMessage::Emergency(emergency) => {
-                let slot = if *multi {
-                    usize::from(emergency.slot())
-                } else {
-                    0
-                };
-                let axis = slots.get(slot).copied().flatten().unwrap_or(first);
-                MailboxNotice::Emergency { axis, emergency }
-            }
+            MailboxMessage::Emergency(emergency) => MailboxNotice::Emergency {
+                axis: self.emergency_axis(station, &emergency),
+                emergency,
+            },
             MailboxMessage::Other {
                 mailbox_type,
                 service,
@@ -933,6 +933,19 @@ impl EthercatBus {
         };
         self.push_notice(notice);
         Ok(true)
+    }
+
+    /// The axis an Emergency of SubDevice `station` is about: on a multi-axis unit the slot it
+    /// names, else (or for a slot no axis uses) the SubDevice's first axis.
+    fn emergency_axis(&self, station: usize, emergency: &Emergency) -> usize {
+        let (slots, multi) = &self.mailbox.slots[station];
+        let first = slots.iter().flatten().copied().next().unwrap_or(0);
+        let slot = if *multi {
+            usize::from(emergency.slot())
+        } else {
+            0
+        };
+        slots.get(slot).copied().flatten().unwrap_or(first)
     }
 
     /// Queues a mailbox notice for the executive; a full queue counts it as dropped.
@@ -1064,7 +1077,8 @@ impl EthercatBus {
 
     /// An SDO of `axis` that met a CoE Emergency where its response should be (the drive
     /// raised an alarm after the request; patched ethercrab returns it as an error): the
-    /// Emergency becomes a notice of `axis` and the SDO is repeated once. True: repeat it.
+    /// Emergency becomes a notice of the axis it names and the SDO is repeated once. True:
+    /// repeat it.
     fn emergency_in_sdo<T>(
         &mut self,
         axis: usize,
@@ -1074,20 +1088,21 @@ impl EthercatBus {
         let Err(ethercrab::error::Error::Mailbox(ethercrab::error::MailboxError::Emergency {
             error_code,
             error_register,
+            data,
         })) = *result
         else {
             return false;
         };
-        // ethercrab passes code and register only; the manufacturer bytes are not known here.
-        let notice = MailboxNotice::Emergency {
-            axis,
-            emergency: Emergency {
-                error_code,
-                error_register,
-                data: [0; 5],
-            },
+        let emergency = Emergency {
+            error_code,
+            error_register,
+            data,
         };
-        self.push_notice(notice);
+        let axis = self
+            .axes
+            .get(axis)
+            .map_or(axis, |a| self.emergency_axis(a.station, &emergency));
+        self.push_notice(MailboxNotice::Emergency { axis, emergency });
         let repeat = !*met;
         *met = true;
         repeat

@@ -275,6 +275,7 @@ where
             return Err(Error::Mailbox(MailboxError::Emergency {
                 error_code: decoded.error_code,
                 error_register: decoded.error_register,
+                data: decoded.extra_data,
             }));
         }
 

@@ -14,7 +14,7 @@ use ethercrab::std::ethercat_now;
 use ethercrab::subdevice_group::{DcConfiguration, HasDc, Op};
 use ethercrab::{
     DcSync, DefaultLock, MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, RetryBehaviour,
-    SubDeviceGroup, Timeouts,
+    SubDeviceGroup, SubDevicePdi, SubDeviceRef, Timeouts,
 };
 
 use super::link::Link;
@@ -1041,6 +1041,31 @@ impl EthercatBus {
         let base = d.profile.object_slot(index).map_or(index, |(_, b)| b);
         let data_type = object_type(d.profile, base, sub);
         let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
+        self.sdo_transfer(axis, station, async |sd| {
+            Ok(match data_type {
+                DataType::I8 => i64::from(sd.sdo_read::<i8>(index, sub).await?),
+                DataType::U8 | DataType::Bool => i64::from(sd.sdo_read::<u8>(index, sub).await?),
+                DataType::I16 => i64::from(sd.sdo_read::<i16>(index, sub).await?),
+                DataType::U16 => i64::from(sd.sdo_read::<u16>(index, sub).await?),
+                DataType::U32 => i64::from(sd.sdo_read::<u32>(index, sub).await?),
+                DataType::I32 | DataType::Unstated => {
+                    i64::from(sd.sdo_read::<i32>(index, sub).await?)
+                }
+            })
+        })
+    }
+
+    /// One SDO transfer with SubDevice `station` for `axis`: SM1 emptied first (so ethercrab
+    /// meets no Emergency left there), repeated once where an Emergency came in its response's
+    /// place. `Err(abort code)`.
+    fn sdo_transfer<T>(
+        &mut self,
+        axis: usize,
+        station: usize,
+        transfer: impl AsyncFn(
+            &SubDeviceRef<'_, SubDevicePdi<'_, MAX_PDI, DefaultLock>>,
+        ) -> Result<T, ethercrab::error::Error>,
+    ) -> Result<T, u32> {
         let mut emergency_met = false;
         loop {
             self.drain_mailbox(station);
@@ -1048,22 +1073,8 @@ impl EthercatBus {
                 .group
                 .subdevice(&self.maindevice, station)
                 .map_err(|_| SDO_UNSUPPORTED)?;
-            let read = async {
-                Ok::<i64, ethercrab::error::Error>(match data_type {
-                    DataType::I8 => i64::from(sd.sdo_read::<i8>(index, sub).await?),
-                    DataType::U8 | DataType::Bool => {
-                        i64::from(sd.sdo_read::<u8>(index, sub).await?)
-                    }
-                    DataType::I16 => i64::from(sd.sdo_read::<i16>(index, sub).await?),
-                    DataType::U16 => i64::from(sd.sdo_read::<u16>(index, sub).await?),
-                    DataType::U32 => i64::from(sd.sdo_read::<u32>(index, sub).await?),
-                    DataType::I32 | DataType::Unstated => {
-                        i64::from(sd.sdo_read::<i32>(index, sub).await?)
-                    }
-                })
-            };
             let result = pump(
-                read,
+                transfer(&sd),
                 &mut self.tx,
                 &mut self.rx,
                 self.link.as_mut(),
@@ -1306,35 +1317,15 @@ impl Bus for EthercatBus {
 
     fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
         let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
-        let mut emergency_met = false;
-        loop {
-            self.drain_mailbox(station);
-            let sd = self
-                .group
-                .subdevice(&self.maindevice, station)
-                .map_err(|_| SDO_UNSUPPORTED)?;
-            let write = async {
-                match *data {
-                    [a] => sd.sdo_write(index, sub, a).await,
-                    [a, b] => sd.sdo_write(index, sub, u16::from_le_bytes([a, b])).await,
-                    [a, b, c, d] => {
-                        sd.sdo_write(index, sub, u32::from_le_bytes([a, b, c, d]))
-                            .await
-                    }
-                    _ => Err(ethercrab::error::Error::Internal),
-                }
-            };
-            let result = pump(
-                write,
-                &mut self.tx,
-                &mut self.rx,
-                self.link.as_mut(),
-                &mut self.frame,
-            );
-            if !self.emergency_in_sdo(axis, &result, &mut emergency_met) {
-                return result.map_err(abort_code);
+        self.sdo_transfer(axis, station, async |sd| match *data {
+            [a] => sd.sdo_write(index, sub, a).await,
+            [a, b] => sd.sdo_write(index, sub, u16::from_le_bytes([a, b])).await,
+            [a, b, c, d] => {
+                sd.sdo_write(index, sub, u32::from_le_bytes([a, b, c, d]))
+                    .await
             }
-        }
+            _ => Err(ethercrab::error::Error::Internal),
+        })
     }
 
     /// On the in-process segment: the emulated drive of `axis` raises `code`.

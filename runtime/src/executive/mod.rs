@@ -277,9 +277,6 @@ impl<B: Bus> Executive<B> {
         let sent = MonoTime::now();
         let exchanged = self.bus.exchange(elapsed);
         self.stats.exchange_time.record(MonoTime::now().since(sent));
-        if let Some(e) = self.bus.dc_phase_error_ns() {
-            self.stats.dc_phase_error.record(e.unsigned_abs());
-        }
         if exchanged.is_err() {
             self.event(EventKind::BusError, NO_AXIS, -1);
         }
@@ -539,6 +536,10 @@ impl<B: Bus> Executive<B> {
         let status = &self.handoff.status;
         status.cycle.store(self.cycle, Ordering::Release);
         status.state.store(self.state as u8, Ordering::Release);
+        let dc_phase = self.bus.dc_phase_error_ns();
+        if let Some(e) = dc_phase {
+            self.stats.dc_phase_error.record(e.unsigned_abs());
+        }
         if self.handoff.recording {
             let rec = CycleRecord {
                 cycle: self.cycle,
@@ -548,9 +549,7 @@ impl<B: Bus> Executive<B> {
                 overruns: self.stats.counters.overruns,
                 cell_state: self.state,
                 dropped_records: self.stats.counters.dropped_records,
-                dc_phase_error_ns: self
-                    .bus
-                    .dc_phase_error_ns()
+                dc_phase_error_ns: dc_phase
                     .map(|e| e.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32),
             };
             let pushed = self.handoff.cycles.push(rec).is_ok();

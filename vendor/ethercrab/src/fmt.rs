@@ -73,17 +73,6 @@ macro_rules! debug_assert_ne_ {
     };
 }
 
-macro_rules! todo_ {
-    ($($x:tt)*) => {
-        {
-            #[cfg(not(feature = "defmt"))]
-            ::core::todo!($($x)*);
-            #[cfg(feature = "defmt")]
-            ::defmt::todo!($($x)*);
-        }
-    };
-}
-
 macro_rules! unreachable_ {
     ($($x:tt)*) => {
         {
@@ -235,7 +224,6 @@ pub(crate) use debug_assert_ne_ as debug_assert_ne;
 pub(crate) use error_ as error;
 pub(crate) use info_ as info;
 pub(crate) use panic_ as panic;
-pub(crate) use todo_ as todo;
 pub(crate) use trace_ as trace;
 pub(crate) use unreachable_ as unreachable;
 pub(crate) use unwrap_ as unwrap;

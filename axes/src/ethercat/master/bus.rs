@@ -468,8 +468,9 @@ struct MailboxIn {
     len: u16,
 }
 
-/// Per SubDevice with a mailbox: the SM1 drain that keeps CoE Emergencies from ethercrab,
-/// whose 0.7.1 `mailbox_write_read` panics on one (`assert_ne!(…, CoeService::Emergency)`).
+/// Per SubDevice with a mailbox: the SM1 watch and drain that read CoE Emergencies in the cyclic
+/// frame's cycle and before every SDO, so that ethercrab meets none left over (one that comes
+/// during an SDO is [`EthercatBus::emergency_in_sdo`]'s).
 #[derive(Debug, Default)]
 struct MailboxWatch {
     /// Per SubDevice: its SM1, `None` without a mailbox (or one over [`MAX_MAILBOX_READ`]).
@@ -905,13 +906,7 @@ impl EthercatBus {
         }
         let message =
             MailboxMessage::decode(&self.frame[data.data_offset..][..usize::from(mb.len)]);
-        let first = self.mailbox.slots[station]
-            .0
-            .iter()
-            .flatten()
-            .copied()
-            .next()
-            .unwrap_or(0);
+        let first = self.first_axis(station);
         let notice = match message {
             MailboxMessage::Emergency(emergency) => MailboxNotice::Emergency {
                 axis: self.emergency_axis(station, &emergency),
@@ -939,13 +934,27 @@ impl EthercatBus {
     /// names, else (or for a slot no axis uses) the SubDevice's first axis.
     fn emergency_axis(&self, station: usize, emergency: &Emergency) -> usize {
         let (slots, multi) = &self.mailbox.slots[station];
-        let first = slots.iter().flatten().copied().next().unwrap_or(0);
         let slot = if *multi {
             usize::from(emergency.slot())
         } else {
             0
         };
-        slots.get(slot).copied().flatten().unwrap_or(first)
+        slots
+            .get(slot)
+            .copied()
+            .flatten()
+            .unwrap_or_else(|| self.first_axis(station))
+    }
+
+    /// The first axis SubDevice `station` carries (0 if none: a unit with no slot used).
+    fn first_axis(&self, station: usize) -> usize {
+        self.mailbox.slots[station]
+            .0
+            .iter()
+            .flatten()
+            .copied()
+            .next()
+            .unwrap_or(0)
     }
 
     /// Queues a mailbox notice for the executive; a full queue counts it as dropped.

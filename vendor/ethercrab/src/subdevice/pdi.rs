@@ -168,12 +168,12 @@ impl<const MAX_PDI: usize, R: RawRwLock> SubDeviceRef<'_, SubDevicePdi<'_, MAX_P
     ///
     /// let io = subdevice.io_raw();
     ///
-    /// dbg!(io.inputs()[0]);
+    /// println!("{}", io.inputs()[0]);
     ///
     /// // Not allowed to mutate the outputs
     /// // io.outputs()[0] = 0xff;
     /// // But we can read them
-    /// dbg!(io.outputs()[0]);
+    /// println!("{}", io.outputs()[0]);
     /// # }
     /// ```
     pub fn io_raw(&self) -> PdiIoRawReadGuard<'_, MAX_PDI, R> {

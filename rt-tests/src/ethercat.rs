@@ -15,8 +15,8 @@ use std::time::Duration;
 
 use cellrt_axes::{profile, CycleTime, DriveModel, FrameCounters};
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::controller::{self, RunError, RunOptions};
-use cellrt_runtime::program::Program;
+use cellrt_runtime::host::controller::{self, RunError, RunOptions};
+use cellrt_runtime::host::program::Program;
 use cellrt_runtime::rt::histogram::{NsHistogram, Percentiles};
 use serde::Serialize;
 

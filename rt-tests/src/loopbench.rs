@@ -1,7 +1,7 @@
 //! `cellrt bench loop` and `cellrt bench scaling`: the full cellrt loop (simulated MR-J5-G-N1
 //! drives in csp, the planner, recording on) with N axes enabled and moving (at most 16 at once,
 //! the planner's limit per move), from a generated configuration and program, through
-//! `cellrt_runtime::controller::run`.
+//! `cellrt_runtime::host::controller::run`.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -10,9 +10,9 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use cellrt_runtime::config::{CellConfig, MAX_AXES};
-use cellrt_runtime::controller::{self, RunOptions};
-use cellrt_runtime::executive::RtCounters;
-use cellrt_runtime::program::Program;
+use cellrt_runtime::host::controller::{self, RunOptions};
+use cellrt_runtime::rt::executive::RtCounters;
+use cellrt_runtime::host::program::Program;
 use cellrt_runtime::rt::histogram::Percentiles;
 use cellrt_runtime::rt::thread::RtReport;
 use cellrt_trajectory::MAX_MOVE_AXES;

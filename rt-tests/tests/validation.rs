@@ -58,7 +58,7 @@ fn loop_options_and_generated_cell() {
         let cell = cellrt_runtime::config::CellConfig::parse(path, &config_text("bench-t", &o))
             .unwrap_or_else(|e| panic!("{interval} µs: {e}"));
         assert_eq!(cell.axes.len(), 256);
-        cellrt_runtime::program::Program::parse(
+        cellrt_runtime::host::program::Program::parse(
             std::path::Path::new("p.toml"),
             &program_text(256, 2.0),
             &cell,

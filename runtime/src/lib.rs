@@ -1,19 +1,14 @@
 //! cellrt runtime: the cell configuration, the RT thread and its cyclic executive, the lock-free
 //! hand-offs, the iceoryx2 setpoint transport, the non-RT planner thread and the MCAP recorder.
+//!
+//! The folders follow the RT boundary: [`rt`] is what runs on the RT thread (and nothing else
+//! runs there), [`handoff`] is the only way in and out of it, and [`host`] is every non-RT
+//! thread of the controller process. [`config`], [`setpoints`] and [`services`] are shared
+//! declarations: the cell's configuration, the setpoint payload and the iceoryx2 services.
 
-pub mod cell_bus;
-pub mod cell_lock;
 pub mod config;
-pub mod controller;
-pub mod executive;
 pub mod handoff;
-pub mod link;
-pub mod link_server;
-pub mod motion;
-pub mod operator;
-pub mod planner;
-pub mod program;
-pub mod record;
+pub mod host;
 pub mod rt;
 pub mod services;
 pub mod setpoints;

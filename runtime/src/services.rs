@@ -6,10 +6,13 @@ use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
-use crate::setpoints::{AxisSetpoint, SetpointHeader, SetpointSubscriber, BLOCK_CYCLES, MAX_AXES};
+use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, MAX_AXES};
 
 /// The setpoint service's publisher type.
 pub type SetpointPublisher = Publisher<ipc::Service, [AxisSetpoint], SetpointHeader>;
+/// The setpoint service's subscriber type (the RT thread's end, read by
+/// [`crate::rt::setpoint_stream::SetpointStream`]).
+pub type SetpointSubscriber = Subscriber<ipc::Service, [AxisSetpoint], SetpointHeader>;
 
 /// Setpoint blocks the subscriber buffers (the RT thread's lookahead, in blocks).
 pub const SETPOINT_BUFFER_BLOCKS: usize = 256;

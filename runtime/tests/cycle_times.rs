@@ -6,9 +6,9 @@ use std::path::Path;
 use std::time::Duration;
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::controller::{run, RunOptions};
-use cellrt_runtime::record::proto::CycleStats;
-use cellrt_runtime::record::topics::CYCLE_TOPIC;
+use cellrt_runtime::host::controller::{run, RunOptions};
+use cellrt_runtime::host::record::proto::CycleStats;
+use cellrt_runtime::host::record::topics::CYCLE_TOPIC;
 use prost::Message;
 
 /// Cycles each cycle time runs for.

@@ -9,11 +9,12 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::controller::sim_bus;
-use cellrt_runtime::executive::{Executive, RtStats};
+use cellrt_runtime::host::controller::sim_bus;
+use cellrt_runtime::rt::executive::{Executive, RtStats};
 use cellrt_runtime::handoff::{CellCommand, CellState, EventKind, EventRecord, Handoff};
 use cellrt_runtime::services::{self, SetpointPublisher};
-use cellrt_runtime::setpoints::{AxisSetpoint, SetpointHeader, SetpointStream, FLAG_LAST};
+use cellrt_runtime::rt::setpoint_stream::SetpointStream;
+use cellrt_runtime::setpoints::{AxisSetpoint, SetpointHeader, FLAG_LAST};
 
 const COUNTS_PER_MM: f64 = 1000.0;
 

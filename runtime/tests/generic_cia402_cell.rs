@@ -10,8 +10,8 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::controller::{run, Outcome, RunOptions};
-use cellrt_runtime::program::Program;
+use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
+use cellrt_runtime::host::program::Program;
 use common::{hook, ALLOCATIONS};
 
 /// The example cell's text with a unique cell name, a long planner lookahead and the overrun
@@ -31,7 +31,7 @@ fn cell_text(tag: &str) -> String {
         + "\n[setpoints]\nlookahead_ms = 1000\n"
 }
 
-fn run_cell(text: &str) -> cellrt_runtime::controller::Summary {
+fn run_cell(text: &str) -> cellrt_runtime::host::controller::Summary {
     let configs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
     let path = configs.join("cia402-generic.toml");
     let cell = CellConfig::parse(&path, text).unwrap_or_else(|e| panic!("{e}"));
@@ -39,7 +39,7 @@ fn run_cell(text: &str) -> cellrt_runtime::controller::Summary {
     assert!(program
         .steps
         .iter()
-        .any(|s| matches!(s, cellrt_runtime::program::Step::Torque { .. })));
+        .any(|s| matches!(s, cellrt_runtime::host::program::Step::Torque { .. })));
     run(
         &cell,
         RunOptions {
@@ -51,7 +51,7 @@ fn run_cell(text: &str) -> cellrt_runtime::controller::Summary {
     .expect("cell runs")
 }
 
-fn assert_completed(summary: &cellrt_runtime::controller::Summary, what: &str) {
+fn assert_completed(summary: &cellrt_runtime::host::controller::Summary, what: &str) {
     assert_eq!(
         summary.outcome,
         Outcome::ProgramCompleted,
@@ -75,7 +75,7 @@ fn assert_completed(summary: &cellrt_runtime::controller::Summary, what: &str) {
 /// the RT thread woke a whole cycle late: the emulated drives then miss their SYNC0 frames and
 /// count sync errors (10F1h:02), as a real drive would. That is the machine's load (a shared
 /// test host), not the cell; any other failure is not excused.
-fn stopped_by_a_late_wakeup(summary: &cellrt_runtime::controller::Summary) -> bool {
+fn stopped_by_a_late_wakeup(summary: &cellrt_runtime::host::controller::Summary) -> bool {
     let log = &summary.recording.event_log;
     let late = log.iter().any(|e| {
         e.split("overrun: woke ")

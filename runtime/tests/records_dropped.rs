@@ -6,11 +6,11 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::controller::sim_bus;
-use cellrt_runtime::executive::Executive;
+use cellrt_runtime::host::controller::sim_bus;
+use cellrt_runtime::rt::executive::Executive;
 use cellrt_runtime::handoff::{CellCommand, EventKind, Handoff};
 use cellrt_runtime::services;
-use cellrt_runtime::setpoints::SetpointStream;
+use cellrt_runtime::rt::setpoint_stream::SetpointStream;
 
 #[test]
 fn dropped_records_are_counted_and_reported_once_the_queue_drains() {

@@ -10,9 +10,9 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::controller::{run, Outcome, RunOptions};
-use cellrt_runtime::executive::WARMUP_CYCLES;
-use cellrt_runtime::program::Program;
+use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
+use cellrt_runtime::rt::executive::WARMUP_CYCLES;
+use cellrt_runtime::host::program::Program;
 use common::{hook, ALLOCATIONS, LOOPS_EXITED};
 
 const CELL: &str = include_str!("data/steady_cell.toml");

@@ -8,8 +8,8 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::controller::{run, Outcome, RunOptions};
-use cellrt_runtime::program::Program;
+use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
+use cellrt_runtime::host::program::Program;
 use common::{hook, ALLOCATIONS, LOOPS_EXITED};
 
 const PROGRAM: &str = r#"

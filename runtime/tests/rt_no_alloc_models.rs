@@ -8,8 +8,8 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::controller::{run, Outcome, RunOptions};
-use cellrt_runtime::program::Program;
+use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
+use cellrt_runtime::host::program::Program;
 use common::{hook, ALLOCATIONS, LOOPS_EXITED};
 
 const MODELS: [&str; 6] = [
@@ -39,7 +39,7 @@ fn a_cell_of_each_model_runs_without_allocating_on_the_rt_thread() {
         torque_steps += program
             .steps
             .iter()
-            .filter(|s| matches!(s, cellrt_runtime::program::Step::Torque { .. }))
+            .filter(|s| matches!(s, cellrt_runtime::host::program::Step::Torque { .. }))
             .count();
         let before = ALLOCATIONS.load(Ordering::Relaxed);
         let summary = run(

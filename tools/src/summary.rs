@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use cellrt_runtime::controller::{Outcome, Summary};
+use cellrt_runtime::host::controller::{Outcome, Summary};
 
 /// Renders the summary printed at exit.
 pub fn render(s: &Summary) -> String {

@@ -10,7 +10,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::program::Program;
+use cellrt_runtime::host::program::Program;
 
 const DEMO_CONFIG_FILE: &str = include_str!("../../configs/demo.toml");
 const DEMO_PROGRAM: &str = include_str!("../../configs/demo-program.toml");

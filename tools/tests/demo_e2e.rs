@@ -6,7 +6,7 @@ mod common;
 use std::process::Command;
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::record::proto::FsaState;
+use cellrt_runtime::host::record::proto::FsaState;
 use common::{demo_cell, max_derivatives, read_recording};
 
 const PROGRAM: &str = r#"

@@ -103,7 +103,7 @@ fn run_model(e: Expect) {
     // 6061h reaches the recording only where the TxPDO maps it (not on MR-J3-T04, whose mode
     // comes from parameter PO02 / an SDO write of 6060h, mr-j3-t04.md §3.9).
     let p = profile(e.model);
-    let shows = |mode: i32, r: &cellrt_runtime::record::proto::AxisCycle| {
+    let shows = |mode: i32, r: &cellrt_runtime::host::record::proto::AxisCycle| {
         !p.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY) || r.mode_display == mode
     };
     assert!(x.iter().any(|r| r.mode == 8 && shows(8, r)));

@@ -8,8 +8,8 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::operator::client::OperatorClient;
-use cellrt_runtime::operator::wire::{Reply, StatusReport};
+use cellrt_runtime::host::operator::client::OperatorClient;
+use cellrt_runtime::host::operator::wire::{Reply, StatusReport};
 use common::{demo_cell, max_derivatives, read_recording, unique_cell_name};
 
 struct Cell {
@@ -90,7 +90,7 @@ impl Cell {
     }
 
     /// `cellrt status --json`'s entry for `axis`.
-    fn axis_status(&self, axis: &str) -> cellrt_runtime::operator::wire::AxisStatus {
+    fn axis_status(&self, axis: &str) -> cellrt_runtime::host::operator::wire::AxisStatus {
         let r: StatusReport = serde_json::from_str(&self.ok(&["status", "--json"])).unwrap();
         r.axes.into_iter().find(|a| a.name == axis).unwrap()
     }
@@ -159,7 +159,7 @@ fn operator_commands_drive_a_running_cell() {
     assert!(cell.ok(&["status"]).contains("operation_enabled"));
     // The status publish-subscribe service: per-axis state, cell state, last command, events.
     let node = cellrt_runtime::services::node(&cell.name, "test-status").unwrap();
-    let sub = cellrt_runtime::operator::status_subscriber(&node, &cell.name).unwrap();
+    let sub = cellrt_runtime::host::operator::status_subscriber(&node, &cell.name).unwrap();
     let end = Instant::now() + Duration::from_secs(5);
     let report: StatusReport = loop {
         if let Ok(Some(s)) = sub.receive() {
@@ -692,7 +692,7 @@ fn assert_last_motion_on_line(
 }
 
 /// The record of `axis` at `cycle`, or the last before it (an overrun skips cycles).
-fn at(r: &common::Recording, axis: &str, cycle: u64) -> cellrt_runtime::record::proto::AxisCycle {
+fn at(r: &common::Recording, axis: &str, cycle: u64) -> cellrt_runtime::host::record::proto::AxisCycle {
     *r.axes[axis].iter().rfind(|a| a.cycle <= cycle).unwrap()
 }
 

@@ -8,8 +8,8 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use cellrt_runtime::record::proto::CycleStats;
-use cellrt_runtime::record::topics::CYCLE_TOPIC;
+use cellrt_runtime::host::record::proto::CycleStats;
+use cellrt_runtime::host::record::topics::CYCLE_TOPIC;
 use common::{demo_cell, read_recording};
 use prost::Message;
 
@@ -340,7 +340,7 @@ fn replay_is_bit_identical_and_reports_the_first_divergence() {
     let tampered = dir.path().join("tampered.mcap");
     rewrite(&rec, &tampered, |topic, data| {
         if topic == "/axis/y" {
-            let mut a = cellrt_runtime::record::proto::AxisCycle::decode(&data[..]).unwrap();
+            let mut a = cellrt_runtime::host::record::proto::AxisCycle::decode(&data[..]).unwrap();
             if a.cycle == target {
                 a.actual_position_counts += 1;
                 *data = a.encode_to_vec();

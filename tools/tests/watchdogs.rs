@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::record::proto::AxisCycle;
+use cellrt_runtime::host::record::proto::AxisCycle;
 use common::{demo_cell, read_recording, Recording};
 
 const LONG_MOVE: &str = r#"

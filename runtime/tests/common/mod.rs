@@ -5,7 +5,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use cellrt_runtime::executive::RtPhase;
+use cellrt_runtime::rt::executive::RtPhase;
 
 struct Counting;
 

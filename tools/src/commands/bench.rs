@@ -191,8 +191,8 @@ fn run_ipc(a: IpcArgs) -> Result<(), BenchError> {
 
 /// Times `count` status requests (request out, reply decoded) and prints the percentiles.
 fn run_operator(a: OperatorArgs, cell: Option<&str>) -> Result<(), BenchError> {
-    use cellrt_runtime::operator::client::{OperatorClient, REPLY_TIMEOUT};
-    use cellrt_runtime::operator::wire::Request;
+    use cellrt_runtime::host::operator::client::{OperatorClient, REPLY_TIMEOUT};
+    use cellrt_runtime::host::operator::wire::Request;
     if a.count == 0 {
         return Err(BenchError::bad("--count: must be > 0"));
     }

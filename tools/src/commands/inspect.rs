@@ -153,7 +153,7 @@ fn render(file: &RecFile, cell: &CellInfo, recs: &Records) -> String {
 
 /// `cycle N (t s): kind [axis]: detail`.
 pub fn event_line(
-    e: &cellrt_runtime::record::proto::Event,
+    e: &cellrt_runtime::host::record::proto::Event,
     first_cycle: u64,
     period_us: u64,
 ) -> String {

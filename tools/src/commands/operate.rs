@@ -7,8 +7,8 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::operator::client::{ClientError, OperatorClient};
-use cellrt_runtime::operator::wire::{Reply, Request, StatusReport};
+use cellrt_runtime::host::operator::client::{ClientError, OperatorClient};
+use cellrt_runtime::host::operator::wire::{Reply, Request, StatusReport};
 use clap::{Args, Subcommand};
 
 use crate::exit::Exit;

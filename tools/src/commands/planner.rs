@@ -5,8 +5,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::planner;
-use cellrt_runtime::program::Program;
+use cellrt_runtime::host::planner;
+use cellrt_runtime::host::program::Program;
 
 use crate::cli::PlannerArgs;
 use crate::exit::Exit;

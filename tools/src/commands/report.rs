@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
 
-use cellrt_runtime::record::proto::{AxisCycle, Event};
+use cellrt_runtime::host::record::proto::{AxisCycle, Event};
 use cellrt_runtime::rt::histogram::NsHistogram;
 use plotters::prelude::*;
 

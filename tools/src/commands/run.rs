@@ -6,8 +6,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::controller::{self, Outcome, RunOptions};
-use cellrt_runtime::program::Program;
+use cellrt_runtime::host::controller::{self, Outcome, RunOptions};
+use cellrt_runtime::host::program::Program;
 
 use crate::cli::RunArgs;
 use crate::exit::Exit;

@@ -5,8 +5,8 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use cellrt_runtime::record::proto::{AxisCycle, CycleStats, Event};
-use cellrt_runtime::record::topics::{AXIS_TOPIC_PREFIX, CYCLE_TOPIC, EVENTS_TOPIC};
+use cellrt_runtime::host::record::proto::{AxisCycle, CycleStats, Event};
+use cellrt_runtime::host::record::topics::{AXIS_TOPIC_PREFIX, CYCLE_TOPIC, EVENTS_TOPIC};
 use prost::Message;
 
 /// The demo configuration, rewritten into `dir` with the given program, a unique cell name, a

@@ -19,7 +19,7 @@ use cellrt_trajectory::{
 
 use crate::config::CellConfig;
 use crate::handoff::{CellState, EventKind};
-use crate::link::{CellLink, StatusSnapshot};
+use crate::host::link::{CellLink, StatusSnapshot};
 use crate::services::SetpointPublisher;
 use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, FLAG_LAST, FLAG_TORQUE};
 

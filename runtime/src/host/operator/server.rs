@@ -10,9 +10,9 @@ use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Reque
 use super::{OperatorServerPort, SERVICE_RESPONSE_BYTES};
 use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, HomeRequest};
-use crate::link::CellLink;
-use crate::motion::{MotionEngine, MotionRequest, Progress};
-use crate::program::Program;
+use crate::host::link::CellLink;
+use crate::host::motion::{MotionEngine, MotionRequest, Progress};
+use crate::host::program::Program;
 use crate::services::ServiceError;
 use cellrt_axes::cia402::homing::{choose_procedure, HomingFailure};
 
@@ -515,7 +515,7 @@ impl OperatorServer {
         }
     }
 
-    fn report(&self, ctx: &mut Context<'_>, s: &crate::link::StatusSnapshot) -> StatusReport {
+    fn report(&self, ctx: &mut Context<'_>, s: &crate::host::link::StatusSnapshot) -> StatusReport {
         let axes = ctx
             .cell
             .axes
@@ -578,7 +578,7 @@ type Resolved = (usize, f64, KinematicLimits, f64);
 /// ones from the commanded position), and each axis' limits from `limits_of`.
 fn resolve_targets(
     ctx: &Context<'_>,
-    state: &crate::link::StatusSnapshot,
+    state: &crate::host::link::StatusSnapshot,
     targets: &std::collections::BTreeMap<String, f64>,
     relative: bool,
     limits_of: impl Fn(&crate::config::AxisConfig) -> Result<KinematicLimits, String>,

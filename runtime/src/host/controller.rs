@@ -14,16 +14,16 @@ use cellrt_axes::sim::plant::PlantParams;
 use serde::Serialize;
 
 use crate::config::CellConfig;
-use crate::executive::{Executive, PhaseHook, RtCounters, RtStats};
+use crate::rt::executive::{Executive, PhaseHook, RtCounters, RtStats};
 use crate::handoff::{CellCommand, CellState, Handoff};
-use crate::link_server::LinkServer;
-use crate::planner;
-use crate::program::Program;
-use crate::record::{Recorder, RecorderError, RecordingInfo};
+use crate::host::link_server::LinkServer;
+use crate::host::planner;
+use crate::host::program::Program;
+use crate::host::record::{Recorder, RecorderError, RecordingInfo};
 use crate::rt::histogram::{NsHistogram, Percentiles};
 use crate::rt::thread::{hold_cpu_dma_latency_zero, setup_current_thread, ReservedCpu, RtReport};
 use crate::services;
-use crate::setpoints::SetpointStream;
+use crate::rt::setpoint_stream::SetpointStream;
 use cellrt_axes::cia402::mode::ModeOfOperation;
 
 /// Stack size of the RT thread (the prefault touches part of it).
@@ -54,7 +54,7 @@ pub enum RunError {
     Recorder(#[from] RecorderError),
     /// Another controller runs this cell.
     #[error(transparent)]
-    CellLock(#[from] crate::cell_lock::CellLockError),
+    CellLock(#[from] crate::host::cell_lock::CellLockError),
     /// iceoryx2 set-up failed.
     #[error(transparent)]
     Service(#[from] services::ServiceError),
@@ -189,7 +189,7 @@ pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
 
 /// Runs `cell` until the program ends, the duration elapses or `shutdown` is set.
 pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
-    let _lock = crate::cell_lock::CellLock::acquire(&cell.name)?;
+    let _lock = crate::host::cell_lock::CellLock::acquire(&cell.name)?;
     // Before any thread starts: they all inherit the affinity without the RT CPU.
     let reserved = ReservedCpu::apply(&cell.rt);
     let queue_cycles = (cell.recording.queue_seconds / cell.period())
@@ -207,7 +207,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let (go_tx, go_rx) = mpsc::channel::<bool>();
     let rt_cell = cell.clone();
     let rt_handoff = handoff.clone();
-    let bus = match crate::cell_bus::CellBus::open(cell) {
+    let bus = match crate::host::cell_bus::CellBus::open(cell) {
         Ok(b) => b,
         Err(e) => {
             let _ = recorder.finish();

@@ -12,7 +12,7 @@ use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
 use crate::handoff::{CellCommand, EventKind, EventRecord, Handoff, NO_AXIS};
-use crate::link::snapshot;
+use crate::host::link::snapshot;
 use crate::services::{self, ServiceError, StatusSample};
 
 /// How often the planner's node is looked for.

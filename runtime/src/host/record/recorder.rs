@@ -18,7 +18,7 @@ use serde::Serialize;
 use super::proto;
 use super::topics::*;
 use crate::config::{CellConfig, Compression};
-use crate::executive::fsa_index;
+use crate::rt::executive::fsa_index;
 use crate::handoff::{
     AxisRecord, CellCommand, CellState, CycleRecord, EventKind, EventRecord, Handoff, RejectReason,
     StopReason, NO_AXIS,

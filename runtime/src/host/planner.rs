@@ -10,12 +10,12 @@ use std::time::{Duration, Instant};
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
-use crate::executive::HOMING_TIMEOUT;
+use crate::rt::executive::HOMING_TIMEOUT;
 use crate::handoff::{CellCommand, CellState, Handoff, HomeRequest};
-use crate::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
-use crate::motion::{MotionEngine, MotionRequest, Progress};
-use crate::operator::server::{Context, Followup, OperatorServer};
-use crate::program::{MoveTarget, Program, Step, TorqueTarget};
+use crate::host::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
+use crate::host::motion::{MotionEngine, MotionRequest, Progress};
+use crate::host::operator::server::{Context, Followup, OperatorServer};
+use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::services;
 use cellrt_axes::cia402::fsa::FsaState;
 use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure};

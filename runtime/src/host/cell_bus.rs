@@ -8,7 +8,7 @@ use cellrt_axes::ethercat::master::{
 use cellrt_axes::{Bus, BusError, Cycles, SimBus, SimDrive, SimDriveParams};
 
 use crate::config::{CellConfig, EthercatInterface};
-use crate::controller::sim_drives;
+use crate::host::controller::sim_drives;
 
 /// The cell's bus.
 #[derive(Debug)]

@@ -3,14 +3,11 @@
 //! Blocks are consumed in order; the RT thread holds at most one borrowed sample, so the
 //! subscriber buffer is the lookahead queue and nothing is copied.
 
-use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use iceoryx2::sample::Sample;
 
-use super::{AxisSetpoint, SetpointBlock, SetpointHeader};
-
-/// The setpoint service's subscriber type.
-pub type SetpointSubscriber = Subscriber<ipc::Service, [AxisSetpoint], SetpointHeader>;
+use crate::services::SetpointSubscriber;
+use crate::setpoints::{AxisSetpoint, SetpointBlock, SetpointHeader};
 
 /// Receiving from the setpoint service failed (the iceoryx2 error, kept allocation-free).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]

@@ -25,7 +25,7 @@ use crate::handoff::{
 };
 use crate::rt::clock::{sleep_until, MonoTime};
 use crate::rt::histogram::NsHistogram;
-use crate::setpoints::SetpointStream;
+use crate::rt::setpoint_stream::SetpointStream;
 
 /// Hook called by the RT thread at phase changes (test instrumentation; a plain fn pointer so
 /// calling it allocates nothing).

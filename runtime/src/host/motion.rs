@@ -857,3 +857,37 @@ fn check_running(s: &StatusSnapshot, id: u32, next_cycle: u64) -> Result<(), Mot
         _ => Ok(()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refusals_keep_the_text_operators_and_tests_read() {
+        let busy = MotionError::Busy {
+            active: "line move",
+        };
+        assert_eq!(
+            busy.to_string(),
+            "a line move is active: halt it (or wait for its end) first"
+        );
+        assert_eq!(
+            MotionError::NotAtRest("waypoint path").to_string(),
+            "a waypoint path starts from rest: halt the motion (or wait for its end) first"
+        );
+        assert_eq!(
+            MotionError::planning("torque profile")(&"slope 0").to_string(),
+            "torque profile: slope 0"
+        );
+        let stopped = MotionError::StoppedByRt {
+            id: 3,
+            why: "underrun",
+        };
+        assert_eq!(
+            stopped.to_string(),
+            "motion 3 was stopped by the RT thread (underrun)"
+        );
+        let link = MotionError::from(LinkError::NoStatus("c".into()));
+        assert_eq!(link.to_string(), "no status from cell 'c' yet");
+    }
+}

@@ -9,17 +9,23 @@
 
 use std::collections::VecDeque;
 
-use super::coe::{self, CoeContext, PdoConfig, SegmentedUpload};
+use super::coe::{PdoConfig, SegmentedUpload};
 use super::layout::StationLayout;
 use super::sii::{self, SiiPdo};
 use crate::cycles::Cycles;
-use crate::ethercat::emergency::Emergency;
 use crate::ethercat::frame::Command;
 use crate::ethercat::identity::SubDeviceIdentity;
 use crate::ethercat::register::{self as reg, al_code, AlState, AL_ERROR_INDICATION};
 use crate::profiles::mapping::PdoDirection;
 use crate::profiles::mr_j5_g_n1::unit_pdo_limit;
 use crate::sim::drive::SimDrive;
+
+mod esc;
+mod mailbox;
+#[cfg(test)]
+mod tests;
+
+use mailbox::Outbox;
 
 /// Bytes of the emulated address space.
 const MEMORY_LEN: usize = 0x3000;
@@ -114,29 +120,6 @@ pub struct Station {
     pd_watchdog_trigger: Option<u64>,
     /// The mailbox traffic to the master waiting for SM1 ([`Station::fill_mailbox_in`]).
     outbox: Outbox,
-}
-
-/// What the SubDevice firmware has to write into SM1 (one buffer: ETG.1000.4 §6.7.2 "1-buffer
-/// mode"): Emergencies raised and not yet written, and at most one SDO response (the master
-/// waits for it before its next request). Whenever SM1 is empty (read by the master, or at
-/// the firmware's next event: a mailbox request, a process-data cycle) the next one is
-/// written: Emergencies first, in the order raised, then the response. A queued Emergency was
-/// raised at a process-data cycle, so before any request that is waiting now (emulated
-/// requests are served at once), and CiA 301 §7.2.7 gives EMCY the higher priority.
-#[derive(Debug)]
-struct Outbox {
-    /// The model sends Emergencies ([`crate::profiles::EmergencyFacts`]).
-    sends_emergencies: bool,
-    emergencies: VecDeque<Emergency>,
-    /// Emergencies dropped because the queue was full.
-    lost: u64,
-    /// Per axis: the alarm last reported (an Emergency goes out when it changes to `Some`).
-    alarms: Vec<Option<u16>>,
-    /// The SDO response not yet written into SM1 (`response_len` bytes of `response`).
-    response: Vec<u8>,
-    response_len: usize,
-    /// The mailbox counter of the last message written into SM1 (1..=7).
-    counter: u8,
 }
 
 impl Station {
@@ -300,69 +283,6 @@ impl Station {
         self.watch_alarms();
     }
 
-    /// Emergencies dropped because [`EMERGENCY_QUEUE`] was full (diagnostics).
-    pub fn emergencies_lost(&self) -> u64 {
-        self.outbox.lost
-    }
-
-    /// Emergencies raised and not yet written into SM1.
-    pub fn emergencies_queued(&self) -> usize {
-        self.outbox.emergencies.len()
-    }
-
-    /// Queues an Emergency for each axis whose drive raised an alarm since the last look
-    /// (603Fh = the alarm code; [`Emergency::of_alarm`] names the slot), where the model sends
-    /// them ([`crate::profiles::EmergencyFacts`]), and writes SM1 if it is empty.
-    fn watch_alarms(&mut self) {
-        let out = &mut self.outbox;
-        for (slot, (d, last)) in self.drives.iter().zip(out.alarms.iter_mut()).enumerate() {
-            let now = d.alarm();
-            if now == *last {
-                continue;
-            }
-            *last = now;
-            let Some(code) = now else {
-                continue;
-            };
-            if !out.sends_emergencies {
-                continue;
-            }
-            if out.emergencies.len() < EMERGENCY_QUEUE {
-                out.emergencies
-                    .push_back(Emergency::of_alarm(code, slot as u8));
-            } else {
-                out.lost += 1;
-            }
-        }
-        self.fill_mailbox_in();
-    }
-
-    /// The firmware writes the next outgoing mailbox message ([`Outbox`]) into SM1 if SM1 is
-    /// enabled and empty, with the next mailbox counter.
-    fn fill_mailbox_in(&mut self) {
-        let sm1 = usize::from(reg::sync_manager(1)) + 5;
-        if !self.sm_enabled(1) || self.mem[sm1] & SM_FULL != 0 {
-            return;
-        }
-        let mb = self.layout.mailbox_in;
-        let (start, len) = (usize::from(mb.start), usize::from(mb.len));
-        let out = &mut self.outbox;
-        let counter = if out.counter >= 7 { 1 } else { out.counter + 1 };
-        let buf = &mut self.mem[start..start + len];
-        if let Some(e) = out.emergencies.pop_front() {
-            e.encode(counter, buf);
-        } else if out.response_len > 0 {
-            let n = out.response_len.min(len);
-            buf[..n].copy_from_slice(&out.response[..n]);
-            buf[5] = (buf[5] & 0x0F) | (counter << 4);
-            out.response_len = 0;
-        } else {
-            return;
-        }
-        out.counter = counter;
-        self.mem[sm1] |= SM_FULL;
-    }
-
     /// The simulated drive (axis A of a multi-axis unit).
     pub fn drive(&self) -> &SimDrive {
         &self.drives[0]
@@ -414,80 +334,6 @@ impl Station {
         self.missed_sync0
     }
 
-    /// The byte at register `addr` of the ESC address space (0 outside it).
-    pub fn register(&self, addr: u16) -> u8 {
-        self.mem.get(usize::from(addr)).copied().unwrap_or(0)
-    }
-
-    /// The little-endian word at register `addr` (e.g. [`reg::DL_STATUS`]).
-    pub fn register16(&self, addr: u16) -> u16 {
-        u16::from_le_bytes([self.register(addr), self.register(addr.wrapping_add(1))])
-    }
-
-    /// A frame with a CRC error reached `port` (0 or 1): the first ESC to see the error counts
-    /// it in its invalid frame counter (0300h + 2·port) and marks the frame; the following
-    /// ones count the marked frame in their forwarded RX error counter (0308h + port). The
-    /// frame is not processed. Counters saturate at FFh.
-    pub fn rx_error(&mut self, port: u8, first: bool) {
-        let at = if first {
-            reg::RX_ERROR_COUNTER + 2 * u16::from(port)
-        } else {
-            reg::FORWARDED_RX_ERROR_COUNTER + u16::from(port)
-        };
-        let b = &mut self.mem[usize::from(at)];
-        *b = b.saturating_add(1);
-    }
-
-    /// The physical link on `port` (0 or 1) goes down or comes back: DL status link and
-    /// communication bits; port 1 closes (loops back) while its link is down, as in the ESC's
-    /// auto loop mode. A link going down counts in the lost link counter (0310h + port).
-    pub fn set_link(&mut self, port: u8, up: bool) {
-        let (link, comm) = if port == 0 {
-            (reg::DL_LINK_PORT0, reg::DL_COMM_PORT0)
-        } else {
-            (reg::DL_LINK_PORT1, reg::DL_COMM_PORT1)
-        };
-        let mut dl = self.get16(reg::DL_STATUS);
-        if up {
-            dl |= link | comm;
-            if port == 1 {
-                dl &= !reg::DL_LOOP_PORT1;
-            }
-        } else {
-            if dl & link != 0 {
-                let b = &mut self.mem[usize::from(reg::LOST_LINK_COUNTER + u16::from(port))];
-                *b = b.saturating_add(1);
-            }
-            dl &= !(link | comm);
-            if port == 1 {
-                dl |= reg::DL_LOOP_PORT1;
-            }
-        }
-        self.put16(reg::DL_STATUS, dl);
-    }
-
-    fn get16(&self, at: u16) -> u16 {
-        let a = usize::from(at);
-        u16::from_le_bytes([self.mem[a], self.mem[a + 1]])
-    }
-
-    fn put16(&mut self, at: u16, v: u16) {
-        let a = usize::from(at);
-        self.mem[a..a + 2].copy_from_slice(&v.to_le_bytes());
-    }
-
-    fn get_u64(&self, at: u16) -> u64 {
-        let a = usize::from(at);
-        let mut b = [0u8; 8];
-        b.copy_from_slice(&self.mem[a..a + 8]);
-        u64::from_le_bytes(b)
-    }
-
-    fn put_u64(&mut self, at: u16, v: u64) {
-        let a = usize::from(at);
-        self.mem[a..a + 8].copy_from_slice(&v.to_le_bytes());
-    }
-
     fn set_al_status(&mut self, state: AlState, error: Option<u16>) {
         self.al_state = state;
         let flag = if error.is_some() {
@@ -497,175 +343,6 @@ impl Station {
         };
         self.mem[usize::from(reg::AL_STATUS)] = state as u8 | flag;
         self.put16(reg::AL_STATUS_CODE, error.unwrap_or(0));
-    }
-
-    /// Handles a physical-address datagram (APxx/FPxx/Bxx, and the addressed side of xRMW)
-    /// on `data` at register `ado` at local time `now_ns`.
-    pub fn physical(&mut self, command: Command, ado: u16, data: &mut [u8], now_ns: u64) -> Access {
-        let start = usize::from(ado);
-        let end = start + data.len();
-        if end > MEMORY_LEN {
-            return Access::default();
-        }
-        let mut wkc = 0;
-        self.check_pd_watchdog(now_ns);
-        if command.reads() {
-            self.refresh_for_read(start, end, now_ns);
-            if command == Command::Brd || command == Command::Brw {
-                for (d, m) in data.iter_mut().zip(&self.mem[start..end]) {
-                    *d |= *m;
-                }
-            } else {
-                data.copy_from_slice(&self.mem[start..end]);
-            }
-            self.after_read(start, end);
-            wkc += 1;
-        }
-        if command.writes() && !matches!(command, Command::Armw | Command::Frmw) {
-            self.write(start, data, now_ns);
-            wkc += if command.reads() { 2 } else { 1 };
-        }
-        Access { wkc }
-    }
-
-    /// The writing side of ARMW/FRMW (every station but the addressed one).
-    pub fn rmw_write(&mut self, ado: u16, data: &[u8], now_ns: u64) -> Access {
-        let start = usize::from(ado);
-        if start + data.len() > MEMORY_LEN {
-            return Access::default();
-        }
-        self.write(start, data, now_ns);
-        Access { wkc: 1 }
-    }
-
-    /// Registers whose value is computed at read time: the DC system time.
-    fn refresh_for_read(&mut self, start: usize, end: usize, now_ns: u64) {
-        let sys = usize::from(reg::DC_SYSTEM_TIME);
-        if start < sys + 8 && end > sys {
-            let offset = self.get_u64(reg::DC_SYSTEM_TIME_OFFSET);
-            self.put_u64(reg::DC_SYSTEM_TIME, now_ns.wrapping_add(offset));
-        }
-    }
-
-    /// Reading the last byte of the SubDevice→master mailbox empties it.
-    fn after_read(&mut self, start: usize, end: usize) {
-        let mb = self.layout.mailbox_in;
-        let last = usize::from(mb.start + mb.len - 1);
-        if self.sm_enabled(1) && start <= last && end > last {
-            self.mem[usize::from(reg::sync_manager(1)) + 5] &= !SM_FULL;
-            self.fill_mailbox_in();
-        }
-    }
-
-    fn sm_enabled(&self, n: u8) -> bool {
-        self.mem[usize::from(reg::sync_manager(n)) + 6] & 1 != 0
-    }
-
-    fn writable(addr: usize) -> bool {
-        let sm_end = usize::from(reg::sync_manager(16));
-        match addr {
-            0x0010..=0x0013 | 0x0120..=0x0121 | 0x0400..=0x0443 | 0x0500..=0x050F => true,
-            0x0600..=0x06FF => true,
-            a if (usize::from(reg::SM_BASE)..sm_end).contains(&a) => (a - 0x800) % 8 != 5,
-            0x0900..=0x09FF => !(0x0910..0x0918).contains(&addr),
-            a => a >= usize::from(reg::PROCESS_RAM) && a < MEMORY_LEN,
-        }
-    }
-
-    fn write(&mut self, start: usize, data: &[u8], now_ns: u64) {
-        for (i, &b) in data.iter().enumerate() {
-            if Self::writable(start + i) {
-                self.mem[start + i] = b;
-            }
-        }
-        let end = start + data.len();
-        let touches = |r: u16, n: usize| start < usize::from(r) + n && end > usize::from(r);
-        if touches(reg::RX_ERROR_COUNTER, 0x14) {
-            // Writing any error counter clears them all (0300h–0313h).
-            let a = usize::from(reg::RX_ERROR_COUNTER);
-            self.mem[a..a + 0x14].fill(0);
-        }
-        if touches(reg::AL_CONTROL, 1) {
-            self.al_control(self.mem[usize::from(reg::AL_CONTROL)], now_ns);
-        }
-        if touches(reg::SII_CONTROL, 2) {
-            self.sii_command();
-        }
-        if touches(reg::DC_TIME_PORT0, 1) {
-            self.latch_receive_times(now_ns);
-        }
-        let mb = self.layout.mailbox_out;
-        let last = usize::from(mb.start + mb.len - 1);
-        if self.sm_enabled(0) && start <= last && end > last {
-            self.mailbox_request();
-        }
-    }
-
-    fn sii_command(&mut self) {
-        let control = self.get16(reg::SII_CONTROL);
-        if control & SII_READ != 0 {
-            let word = usize::from(self.get16(reg::SII_ADDRESS));
-            let mut data = [0u8; 8];
-            for (i, d) in data.iter_mut().enumerate() {
-                *d = self.sii.get(2 * word + i).copied().unwrap_or(0xFF);
-            }
-            let a = usize::from(reg::SII_DATA);
-            self.mem[a..a + 8].copy_from_slice(&data);
-        }
-        // Not busy, no errors, 8-byte reads; write and reload requests are ignored (the image
-        // is generated from the profile and read-only).
-        self.put16(reg::SII_CONTROL, SII_READ_8);
-    }
-
-    fn latch_receive_times(&mut self, now_ns: u64) {
-        let p = u64::from(self.position);
-        let n = u64::from(self.line_len);
-        let port0 = now_ns + p * HOP_DELAY_NS;
-        let port1 = if p + 1 < n {
-            now_ns + (2 * n - 2 - p) * HOP_DELAY_NS
-        } else {
-            0
-        };
-        let a = usize::from(reg::DC_TIME_PORT0);
-        self.mem[a..a + 4].copy_from_slice(&(port0 as u32).to_le_bytes());
-        self.mem[a + 4..a + 8].copy_from_slice(&(port1 as u32).to_le_bytes());
-        self.mem[a + 8..a + 16].fill(0);
-        self.put_u64(reg::DC_RECEIVE_TIME, port0);
-    }
-
-    fn mailbox_request(&mut self) {
-        let out = self.layout.mailbox_out;
-        let inb = self.layout.mailbox_in;
-        let req_start = usize::from(out.start);
-        let request: Vec<u8> = self.mem[req_start..req_start + usize::from(out.len)].to_vec();
-        let response = &mut self.outbox.response;
-        response.resize(usize::from(inb.len), 0);
-        response.fill(0);
-        let mut ctx = CoeContext {
-            drives: &mut self.drives,
-            identity: self.identity,
-            al_state: self.al_state,
-            pdo: &mut self.pdo,
-            // The counter is set when the response is written into SM1 (`fill_mailbox_in`).
-            counter: &mut self.mailbox_counter,
-            upload: &mut self.upload,
-        };
-        if coe::serve(&mut ctx, &request, response) {
-            // A response the master never read is replaced: it has moved on.
-            self.outbox.response_len = response.len();
-        }
-        // The request is consumed at once: SM0 is empty again.
-        self.mem[usize::from(reg::sync_manager(0)) + 5] &= !SM_FULL;
-        // An alarm raised since the last look goes out ahead of the response, as a drive's
-        // firmware sends its Emergency when the alarm occurs (the master must expect one where
-        // its SDO response should be).
-        self.watch_alarms();
-    }
-
-    /// True if SyncManager `n` is enabled with exactly `area`'s start and length.
-    fn sm_matches(&self, n: u8, start: u16, len: u16) -> bool {
-        let r = reg::sync_manager(n);
-        self.sm_enabled(n) && self.get16(r) == start && self.get16(r + 2) == len
     }
 
     fn al_control(&mut self, control: u8, now_ns: u64) {
@@ -944,155 +621,5 @@ impl Station {
         self.missed_sync0 += elapsed.clamp(1, MAX_LOST_REPLAY) - 1;
         self.exchanges += 1;
         self.watch_alarms();
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::cycles::CycleTime;
-    use crate::ethercat::emergency::{MailboxMessage, EMERGENCY_MAILBOX_LEN};
-    use crate::profiles::{profile, DriveModel};
-    use crate::sim::drive::SimDriveParams;
-
-    /// A station of `model` (every axis of the unit) in PRE-OP, its mailboxes configured.
-    fn pre_op(model: DriveModel) -> Station {
-        let p = profile(model);
-        let drives = (0..p.axes_per_unit)
-            .map(|_| {
-                let cycle = CycleTime::from_micros(1000).expect("1 ms");
-                SimDrive::new(p, SimDriveParams::default(), cycle)
-            })
-            .collect();
-        let mut s = Station::unit(drives, 0, 1).expect("one drive per axis");
-        let (o, i) = (s.layout.mailbox_out, s.layout.mailbox_in);
-        for (n, sm) in [(0u8, o), (1, i)] {
-            let mut r = [0u8; 8];
-            r[0..2].copy_from_slice(&sm.start.to_le_bytes());
-            r[2..4].copy_from_slice(&sm.len.to_le_bytes());
-            r[4] = sm.control;
-            r[6] = 1;
-            s.physical(Command::Fpwr, reg::sync_manager(n), &mut r, 0);
-        }
-        s.physical(
-            Command::Fpwr,
-            reg::AL_CONTROL,
-            &mut [AlState::PreOp as u8, 0],
-            0,
-        );
-        assert_eq!(s.al_state(), AlState::PreOp);
-        s
-    }
-
-    fn sm1_full(s: &mut Station) -> bool {
-        let mut b = [0u8];
-        s.physical(Command::Fprd, reg::sync_manager(1) + 5, &mut b, 0);
-        b[0] & SM_FULL != 0
-    }
-
-    /// Reads the whole SM1 buffer (which empties it).
-    fn read_sm1(s: &mut Station) -> Vec<u8> {
-        let mb = s.layout.mailbox_in;
-        let mut b = vec![0u8; usize::from(mb.len)];
-        s.physical(Command::Fprd, mb.start, &mut b, 0);
-        b
-    }
-
-    /// Writes an SDO upload request of `index:00` into SM0.
-    fn request_upload(s: &mut Station, index: u16) {
-        let mb = s.layout.mailbox_out;
-        let mut r = vec![0u8; usize::from(mb.len)];
-        r[0..2].copy_from_slice(&10u16.to_le_bytes());
-        r[5] = coe::MAILBOX_TYPE_COE;
-        r[6..8].copy_from_slice(&(2u16 << 12).to_le_bytes());
-        r[8] = 0x40;
-        r[9..11].copy_from_slice(&index.to_le_bytes());
-        s.physical(Command::Fpwr, mb.start, &mut r, 0);
-    }
-
-    /// mr-j4-tm.md §6.1: an alarm is reported by CoE Emergency: at the drive's next cycle SM1
-    /// holds it (error code = 603Fh, error register 01h, slot 0), and reading it empties SM1.
-    #[test]
-    fn an_mr_j4_tm_alarm_is_an_emergency_in_sm1() {
-        let mut s = pre_op(DriveModel::MrJ4TM);
-        assert!(!sm1_full(&mut s));
-        let code = s.drive().profile().leave_op_alarm;
-        s.drive_mut().inject_alarm(code);
-        s.watch_alarms();
-        assert!(sm1_full(&mut s));
-        let got = read_sm1(&mut s);
-        let mut want = [0u8; EMERGENCY_MAILBOX_LEN];
-        Emergency::of_alarm(code, 0).encode(1, &mut want);
-        assert_eq!(&got[..EMERGENCY_MAILBOX_LEN], &want);
-        assert_eq!(&got[8..11], &[code as u8, (code >> 8) as u8, 0x01]);
-        assert!(!sm1_full(&mut s), "read, and nothing else to send");
-        // The same alarm still latched is not reported again.
-        s.watch_alarms();
-        assert!(!sm1_full(&mut s));
-    }
-
-    /// mr-j3-t04.md §1.3: the MR-J3-T04 sends no CoE Emergency (PDO only).
-    #[test]
-    fn an_mr_j3_t04_alarm_sends_no_emergency() {
-        let mut s = pre_op(DriveModel::MrJ3T04);
-        s.drive_mut().inject_alarm(0x3400);
-        s.watch_alarms();
-        assert!(!sm1_full(&mut s));
-        assert_eq!(s.emergencies_queued(), 0);
-    }
-
-    /// Two alarms on a J5W2 (axes A and B) and an SDO request before the master read SM1:
-    /// the Emergencies come first, in order, each naming its slot with the axis' code, then
-    /// the SDO response; none is lost or overwritten.
-    #[test]
-    fn an_sdo_request_behind_queued_emergencies_still_gets_its_response() {
-        let mut s = pre_op(DriveModel::MrJ5W2GN1);
-        s.drive_at_mut(0).expect("axis A").inject_alarm(0x1010);
-        s.drive_at_mut(1).expect("axis B").inject_alarm(0x2020);
-        s.watch_alarms();
-        assert!(sm1_full(&mut s));
-        assert_eq!(s.emergencies_queued(), 1);
-        request_upload(&mut s, 0x1000);
-        let first = MailboxMessage::decode(&read_sm1(&mut s));
-        assert_eq!(
-            first,
-            MailboxMessage::Emergency(Emergency::of_alarm(0x1010, 0))
-        );
-        assert!(sm1_full(&mut s), "the next message follows at once");
-        let second = MailboxMessage::decode(&read_sm1(&mut s));
-        assert_eq!(
-            second,
-            MailboxMessage::Emergency(Emergency::of_alarm(0x2020, 1))
-        );
-        let third = read_sm1(&mut s);
-        assert_eq!(
-            MailboxMessage::decode(&third),
-            MailboxMessage::Other {
-                mailbox_type: 3,
-                service: 3
-            }
-        );
-        assert_eq!(third[8], 0x43, "expedited upload response");
-        assert_eq!(u16::from_le_bytes([third[9], third[10]]), 0x1000);
-        assert_eq!(
-            u32::from_le_bytes([third[12], third[13], third[14], third[15]]),
-            coe::DEVICE_TYPE
-        );
-        // Counters 1, 2, 3 in the order written.
-        assert_eq!(third[5] >> 4, 3);
-        assert!(!sm1_full(&mut s));
-        assert_eq!(s.emergencies_lost(), 0);
-    }
-
-    /// More alarms than [`EMERGENCY_QUEUE`] holds while SM1 is occupied: the excess is counted.
-    #[test]
-    fn a_full_emergency_queue_counts_what_it_drops() {
-        let mut s = pre_op(DriveModel::MrJ4TM);
-        for k in 0..(EMERGENCY_QUEUE as u16 + 3) {
-            s.drive_mut().inject_alarm(0x1000 + k);
-            s.watch_alarms();
-        }
-        assert_eq!(s.emergencies_queued(), EMERGENCY_QUEUE);
-        assert_eq!(s.emergencies_lost(), 2);
     }
 }

@@ -1,9 +1,20 @@
 //! The EtherCAT MainDevice side: links (in-process, raw socket) and the bus.
 
+mod al_state;
+mod bring_up;
 pub mod bus;
+mod dc;
+mod error;
 pub mod link;
+mod mailbox;
+mod pdo_config;
+mod process_image;
+mod pump;
+mod sdo;
+mod segment;
 
-pub use bus::{
-    AmplifierSlot, EthercatBus, EthercatError, SegmentConfig, SegmentDrive, SegmentStation,
-};
+pub use bus::EthercatBus;
+pub use dc::SYNC0_FRAME_PHASE_DIVISOR;
+pub use error::EthercatError;
 pub use link::{InProcessLink, Link, LinkError, RawSocketLink};
+pub use segment::{AmplifierSlot, SegmentConfig, SegmentDrive, SegmentStation};

@@ -1,0 +1,217 @@
+//! Bring-up of the segment to OP, one function per AL state step: INIT → PRE-OP with the
+//! identities checked, the PDO configuration in PRE-OP, PRE-OP → SAFE-OP → OP with distributed
+//! clocks; then what OP runs on is read back (process image, SYNC0 grid, mailboxes).
+
+use std::time::Duration;
+
+use ethercrab::std::ethercat_now;
+use ethercrab::subdevice_group::{DcConfiguration, HasDc, Op, PreOp};
+use ethercrab::{
+    DcSync, DefaultLock, MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, RetryBehaviour,
+    SubDeviceGroup, Timeouts,
+};
+
+use super::bus::{check_unit_pdo_limits, EthercatBus, MAX_PDI, MAX_SUBDEVICES};
+use super::dc::DcAlignment;
+use super::error::{step, EthercatError};
+use super::link::Link;
+use super::mailbox::MailboxWatch;
+use super::pdo_config::configure_station;
+use super::process_image::ProcessImage;
+use super::pump::Wire;
+use super::segment::{check_models, SegmentConfig, SegmentStation};
+use crate::bus::FrameCounters;
+use crate::cycles::CycleTime;
+use crate::ethercat::identity::SubDeviceIdentity;
+
+/// Frames in flight during bring-up.
+const MAX_FRAMES: usize = 16;
+/// ethercrab's PDU storage element size.
+const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
+/// Bytes of an Ethernet frame buffer (1514 without FCS, rounded up).
+const FRAME_BUF: usize = 1536;
+/// Retries of a bring-up PDU that timed out.
+const BRINGUP_RETRIES: usize = 3;
+/// How long bring-up waits for an SII EEPROM read (ethercrab's default is 10 ms; a host that
+/// stalls for milliseconds — a virtual machine, a loaded emulator — needs more; bring-up only).
+const BRINGUP_EEPROM_TIMEOUT: Duration = Duration::from_millis(100);
+/// How long bring-up waits for a PDU's return (the cyclic exchange has its own frame timeout).
+const BRINGUP_PDU_TIMEOUT: Duration = Duration::from_millis(100);
+/// Delay from DC configuration to the first SYNC0 pulse.
+const SYNC0_START_DELAY: Duration = Duration::from_millis(10);
+
+/// The segment in PRE-OP, as ethercrab's INIT → PRE-OP leaves it.
+type PreOpGroup = SubDeviceGroup<MAX_SUBDEVICES, MAX_PDI, DefaultLock, PreOp>;
+/// The segment in OP with distributed clocks.
+pub(super) type OpGroup = SubDeviceGroup<MAX_SUBDEVICES, MAX_PDI, DefaultLock, Op, HasDc>;
+
+impl EthercatBus {
+    /// Checks `config` against the models, then brings the segment on `link` to OP.
+    pub fn bring_up(config: SegmentConfig, mut link: Box<dyn Link>) -> Result<Self, EthercatError> {
+        check_models(&config)?;
+        let plans = config.stations()?;
+        check_unit_pdo_limits(&config, &plans)?;
+        let (mut tx, mut rx, maindevice) = start_maindevice()?;
+        let mut buf = vec![0u8; FRAME_BUF];
+        let mut wire = Wire {
+            tx: &mut tx,
+            rx: &mut rx,
+            link: link.as_mut(),
+            buf: &mut buf,
+        };
+        let group = init_to_pre_op(&maindevice, &mut wire, &config, &plans)?;
+        configure_pdos(&group, &maindevice, &mut wire, &config, &plans)?;
+        let group = pre_op_to_op(group, &maindevice, &mut wire, config.cycle)?;
+        let image = ProcessImage::read_back(&group, &maindevice, &mut wire, &config, &plans)?;
+        let dc = DcAlignment::read_back(&group, &maindevice, &mut wire)?;
+        let mailbox = MailboxWatch::read_back(&group, &maindevice, &mut wire, &plans)?;
+        let mut station_addresses = Vec::with_capacity(plans.len());
+        for position in 0..plans.len() {
+            let sd = step("SubDevice lookup", group.subdevice(&maindevice, position))?;
+            station_addresses.push(sd.configured_address());
+        }
+        Ok(EthercatBus {
+            link,
+            tx,
+            rx,
+            maindevice,
+            group,
+            config,
+            axes: image.axes,
+            stations: plans.len(),
+            al_spans: vec![None; station_addresses.len()],
+            al: vec![None; station_addresses.len()],
+            station_addresses,
+            pdi: vec![0; image.pdi_len],
+            frame: buf,
+            expected_wkc: image.expected_wkc,
+            counters: FrameCounters::default(),
+            index: 0,
+            dc,
+            dc_taken: 0,
+            mailbox,
+        })
+    }
+}
+
+/// ethercrab's PDU loop (its storage lives as long as the process) and the MainDevice with
+/// cellrt's bring-up timeouts and retries.
+fn start_maindevice() -> Result<(PduTx<'static>, PduRx<'static>, MainDevice<'static>), EthercatError>
+{
+    let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
+        Box::leak(Box::new(PduStorage::new()));
+    let (tx, rx, pdu_loop) = storage.try_split().map_err(|()| EthercatError::Bringup {
+        step: "PDU storage".into(),
+        source: ethercrab::error::Error::Internal,
+    })?;
+    let maindevice = MainDevice::new(
+        pdu_loop,
+        Timeouts {
+            wait_loop_delay: Duration::from_micros(100),
+            mailbox_response: Duration::from_millis(1000),
+            mailbox_echo: Duration::from_millis(1000),
+            eeprom: BRINGUP_EEPROM_TIMEOUT,
+            pdu: BRINGUP_PDU_TIMEOUT,
+            ..Timeouts::default()
+        },
+        MainDeviceConfig {
+            dc_static_sync_iterations: 100,
+            // A frame lost on the wire during bring-up is sent again.
+            retry_behaviour: RetryBehaviour::Count(BRINGUP_RETRIES),
+        },
+    );
+    Ok((tx, rx, maindevice))
+}
+
+/// INIT → PRE-OP (ethercrab: addresses, SII, mailboxes), then the SubDevices found checked
+/// against the stations planned: their number and each one's identity (1018h).
+fn init_to_pre_op(
+    maindevice: &MainDevice<'static>,
+    wire: &mut Wire<'_>,
+    config: &SegmentConfig,
+    plans: &[SegmentStation],
+) -> Result<PreOpGroup, EthercatError> {
+    let group = wire.run(
+        "bring-up to PRE-OP",
+        maindevice.init_single_group::<MAX_SUBDEVICES, MAX_PDI>(ethercat_now),
+    )?;
+    let found = group.len();
+    if found != plans.len() {
+        return Err(EthercatError::Count {
+            expected: plans.len(),
+            found,
+        });
+    }
+    for (position, (sd, plan)) in group.iter(maindevice).zip(plans).enumerate() {
+        let d = &config.drives[plan.first_axis()];
+        let id = sd.identity();
+        let found = SubDeviceIdentity {
+            vendor_id: id.vendor_id,
+            product_code: id.product_id,
+            revision: id.revision,
+            serial: id.serial,
+        };
+        if !d.identity.matches(&found) {
+            return Err(EthercatError::Identity {
+                position,
+                axis: d.axis.clone(),
+                model: d.profile.model.as_str(),
+                found_vendor: found.vendor_id,
+                found_product: found.product_code,
+                expected_vendor: d.identity.vendor_id,
+                expected_product: d
+                    .identity
+                    .product_code
+                    .map(|p| format!(", product {p:#010x}"))
+                    .unwrap_or_default(),
+            });
+        }
+    }
+    Ok(group)
+}
+
+/// The PDO configuration of every station, in PRE-OP.
+fn configure_pdos(
+    group: &PreOpGroup,
+    maindevice: &MainDevice<'static>,
+    wire: &mut Wire<'_>,
+    config: &SegmentConfig,
+    plans: &[SegmentStation],
+) -> Result<(), EthercatError> {
+    for (position, plan) in plans.iter().enumerate() {
+        let sd = step("SubDevice lookup", group.subdevice(maindevice, position))?;
+        let axis = &config.drives[plan.first_axis()].axis;
+        wire.run(
+            format!("PDO configuration of axis '{axis}' (SubDevice {position})"),
+            configure_station(&sd, config, plan),
+        )?;
+    }
+    Ok(())
+}
+
+/// PRE-OP → SAFE-OP → OP with distributed clocks: SYNC0 at the cell's cycle time on every drive.
+fn pre_op_to_op(
+    mut group: PreOpGroup,
+    maindevice: &MainDevice<'static>,
+    wire: &mut Wire<'_>,
+    cycle: CycleTime,
+) -> Result<OpGroup, EthercatError> {
+    for mut sd in group.iter_mut(maindevice) {
+        sd.set_dc_sync(DcSync::Sync0);
+    }
+    let up = async {
+        let g = group.into_pre_op_pdi(maindevice).await?;
+        let g = g
+            .configure_dc_sync(
+                maindevice,
+                DcConfiguration {
+                    start_delay: SYNC0_START_DELAY,
+                    sync0_period: cycle.as_duration(),
+                    sync0_shift: Duration::ZERO,
+                },
+            )
+            .await?;
+        g.into_safe_op(maindevice).await?.into_op(maindevice).await
+    };
+    wire.run("PRE-OP → SAFE-OP → OP", up)
+}

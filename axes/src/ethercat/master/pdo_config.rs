@@ -1,0 +1,76 @@
+//! The PDO configuration in PRE-OP: mapping objects, their assignment, the mode where the RxPDO
+//! does not carry it, and the SM2 cycle time.
+
+use super::segment::{SegmentConfig, SegmentStation};
+use crate::pdo::objects::MODES_OF_OPERATION;
+use crate::pdo::PdoEntry;
+use crate::profiles::PdoAssignment;
+
+/// 1C32h:02 SM2 cycle time.
+const SM2_CYCLE_TIME: (u16, u8) = (0x1C32, 2);
+/// 1C12h / 1C13h PDO assignment.
+const RX_ASSIGN: u16 = 0x1C12;
+const TX_ASSIGN: u16 = 0x1C13;
+
+/// Configures station `plan` in PRE-OP: each slot's PDO mapping objects at its offset index
+/// (count to 0, entries, count last; mr-j3-t04.md §3.3, mr-j5-g-n1.md §5.1, §1.5), the
+/// assignment 1C12h/1C13h with every slot's PDO in slot order (mr-j5-g-n1.md §1.5
+/// [inferred]: one assigned PDO per axis), as far as the model lets it be written (MR-J3-T04:
+/// read-only, §4.4; MR-J4-TM: the count fixed at 1, §5.1), each axis' 6060h (at its offset
+/// index) where its RxPDO does not carry it, and the station's cycle time 1C32h:02 once.
+pub(super) async fn configure_station<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
+    sd: &ethercrab::SubDeviceRef<'_, S>,
+    config: &SegmentConfig,
+    plan: &SegmentStation,
+) -> Result<(), ethercrab::error::Error> {
+    let model = plan.model;
+    let assignment = model.pdo_rules.assignment;
+    let at = |index: u16, slot: usize| model.axis_object(index, slot as u8).unwrap_or(index);
+    for (direction, assign) in [RX_ASSIGN, TX_ASSIGN].into_iter().enumerate() {
+        if assignment == PdoAssignment::Writable {
+            sd.sdo_write(assign, 0, 0u8).await?;
+        }
+        for slot in 0..plan.slots.len() {
+            let p = plan.slot_profile(config, slot);
+            let map = if direction == 0 { &p.rx_pdo } else { &p.tx_pdo };
+            let index = at(map.index, slot);
+            sd.sdo_write(index, 0, 0u8).await?;
+            for (i, e) in map.entries.iter().enumerate() {
+                let e = if e.is_padding() {
+                    *e
+                } else {
+                    PdoEntry {
+                        index: at(e.index, slot),
+                        ..*e
+                    }
+                };
+                sd.sdo_write(index, (i + 1) as u8, e.mapping_word()).await?;
+            }
+            sd.sdo_write(index, 0, map.entries.len() as u8).await?;
+            if assignment != PdoAssignment::ReadOnly {
+                sd.sdo_write(assign, (slot + 1) as u8, index).await?;
+            }
+        }
+        if assignment == PdoAssignment::Writable {
+            sd.sdo_write(assign, 0, plan.slots.len() as u8).await?;
+        }
+    }
+    for (slot, axis) in plan.slots.iter().enumerate() {
+        let Some(d) = axis.map(|a| &config.drives[a]) else {
+            continue;
+        };
+        if !d.profile.rx_pdo.maps(MODES_OF_OPERATION) {
+            sd.sdo_write(at(MODES_OF_OPERATION, slot), 0, d.mode.as_i8())
+                .await?;
+        }
+    }
+    if model.object(SM2_CYCLE_TIME.0, SM2_CYCLE_TIME.1).is_some() {
+        sd.sdo_write(
+            SM2_CYCLE_TIME.0,
+            SM2_CYCLE_TIME.1,
+            config.cycle.as_nanos() as u32,
+        )
+        .await?;
+    }
+    Ok(())
+}

@@ -1,0 +1,194 @@
+//! The configuration of a simulated drive: the values the manuals leave to the amplifier's
+//! parameters or do not state.
+
+#[cfg(doc)]
+use super::{SimDrive, FOLLOWING_ERROR_ALARM};
+use crate::cia402::mode::ModeOfOperation;
+#[cfg(doc)]
+use crate::profiles::{DriveProfile, HomeReference, TorqueLimitSelection};
+use crate::sim::comm::CommParams;
+use crate::sim::fsoe::FsoeSlaveParams;
+use crate::sim::home_setting::BeforeZReaction;
+use crate::sim::plant::PlantParams;
+use crate::sim::profile_position::{PositionUnit, PpParams};
+
+/// Configuration of one simulated drive.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimDriveParams {
+    /// The motor and its servo loops.
+    pub plant: PlantParams,
+    /// Position actual value (6064h) at start-up, in counts.
+    pub initial_position: i32,
+    /// Following-error limit in counts; exceeding it in Operation enabled (csp) raises
+    /// [`FOLLOWING_ERROR_ALARM`] → Fault reaction active → Fault.
+    pub following_error_limit: u32,
+    /// Cycles spent in Not ready to switch on after start before (1) to Switch on disabled.
+    pub startup_cycles: u32,
+    /// Velocity feed-forward gain in csp, 0.0…1.0 of the target's rate of change.
+    /// Default 0: Mitsubishi's feed-forward gain defaults to 0 % [background].
+    pub velocity_feedforward: f64,
+    /// Speed (counts/s) at or below which the motor counts as stopped: ends a quick stop or
+    /// fault reaction, and opens the mode-switch gate (S_ZSP, §4.3 rules 4–5).
+    pub zero_speed: f64,
+    /// 6061h at start-up (csp with PT01.2 = pulse, §1.2; MR-J3-T04: from PO02).
+    pub initial_mode: ModeOfOperation,
+    /// Communication checks (counter, RxPDO loss, sync-error counter).
+    pub comm: CommParams,
+    /// Command speed (counts/s) above which a csp target step raises the model's overspeed alarm
+    /// (MR-J3-T04 AL.35); `None`: 1.2 × `plant.max_velocity` (the MR-J3 clamps 60FFh at 120 %
+    /// of the maximum speed, §9.6). csv targets are clamped to it instead.
+    pub overspeed_limit: Option<f64>,
+    /// Alarm codes overriding the profile's (following error, overspeed); `None`: profile's.
+    pub alarm_codes: Option<(u16, u16)>,
+    /// The drive's own torque-limit parameters, used where the profile selects them
+    /// ([`TorqueLimitSelection::Controlword2`], MR-J3-T04).
+    pub internal_torque_limits: InternalTorqueLimits,
+    /// Torque limit 2 (2D6Dh), used where the profile selects it by controlword
+    /// ([`TorqueLimitSelection::TorqueLimit2`], MR-JET / MR-J5).
+    pub torque_limit_2: TorqueLimit2,
+    /// PC02 slow-stop time (ms, rated speed to 0) of a stroke-end stop on MR-J3-T04
+    /// (mr-j3-t04.md §9.1); "rated speed" is taken as `plant.max_velocity`. 0: stop at the
+    /// plant's maximum deceleration.
+    pub slow_stop_time_ms: u32,
+    /// How long a parameter save through 1010h:01 takes (mr-jet-g-n1.md §6: "about 25 s").
+    pub store_parameters_ms: u32,
+    /// 6064h after a homing on a drive that presets it ([`HomeReference::PositionPreset`],
+    /// MR-J4-TM): the "home position address" parameter, not in the extract; default 0.
+    pub home_position_address: i32,
+    /// What the drive commands at a SYNC0 that brought no RxPDO in DC mode (the manuals state
+    /// only the free-run rule — hold the last command — and leave DC mode unstated).
+    pub dc_missed_command: MissedCommand,
+    /// What C_CR2 before the first Z phase raises on a model with Controlword2 home setting
+    /// (MR-J3-T04: AL.96 warning by default, AL.26 selectable; mr-j3-t04.md §7.2).
+    pub before_z_reaction: BeforeZReaction,
+    /// Raw position of the encoder's Z phase within a revolution (counts; the manual gives no
+    /// figure, TV-HOME-1 uses 262100); default 0.
+    pub z_phase_position: i32,
+    /// The alarm a SYNC0 cycle other than 1C32h:02 raises, one of the profile's
+    /// `pdo_rules.sync_mismatch_alarms` (MR-J3-T04 TV-IC-5: AL.76 or AL.74); `None`: the
+    /// profile's first.
+    pub sync_mismatch_alarm: Option<u16>,
+    /// Profile position mode (pp) values the manuals leave open (`sim::profile_position`).
+    pub pp: PpParams,
+    /// [Pr. PT01.2] position data unit (acts on relative pp set-points, mr-j4-tm.md §4.7).
+    pub position_unit: PositionUnit,
+    /// The DIP switch SW3 (axis selection) as set on the amplifier, read at power-on; see
+    /// [`AxisSwitch`].
+    pub axis_switch: AxisSwitch,
+    /// FSoE safety process data (safety PDOs 1608h/1A08h) on a model with FSoE
+    /// ([`DriveProfile::fsoe`], MR-JET-G-N1); `None` (default): FSoE not used, no STO from the
+    /// network. See `sim::fsoe`.
+    pub fsoe: Option<FsoeSlaveParams>,
+}
+
+/// DIP switch SW3 of the MR-J5-G-N1 family (mr-j5-g-n1.md §1.5, TV-14; ON = up).
+///
+/// The manual states one rule: on a 1-axis amplifier SW3-1 OFF with SW3-2 ON raises AL.011.2
+/// Invalid axis setting error (the profile's [`DriveProfile::invalid_axis_switch`]). It does not
+/// say what SW3 selects, what the factory setting is, what multi-axis units accept, nor when
+/// the setting is checked. **[inferred]** The simulator checks it at power-on
+/// ([`SimDrive::new`], [`SimDrive::power_cycle`]) like the other start-up settings of manual
+/// §8, so a switch changed while the drive runs ([`SimDrive::set_axis_switch`]) takes effect at
+/// the next power cycle. The default (both OFF) is a setting the manual does not refuse.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AxisSwitch {
+    /// SW3-1 (ON = up).
+    pub sw3_1: bool,
+    /// SW3-2 (ON = up).
+    pub sw3_2: bool,
+}
+
+/// 2D6Dh Torque limit 2 (mr-jet-g-n1.md §6/§9.1), in 0.1 % of rated torque; defaults per the
+/// object table: select 0, both values 10000. Polarity (POL, which swaps :02 and :03) is taken
+/// as disabled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TorqueLimit2 {
+    /// 2D6Dh:01 = 1: controlword bits CPTL / CNTL switch to the values below.
+    pub select: bool,
+    /// 2D6Dh:02 Positive torque limit value 2.
+    pub positive: u16,
+    /// 2D6Dh:03 Negative torque limit value 2.
+    pub negative: u16,
+}
+
+impl Default for TorqueLimit2 {
+    fn default() -> Self {
+        TorqueLimit2 {
+            select: false,
+            positive: 10_000,
+            negative: 10_000,
+        }
+    }
+}
+
+/// MR-J3-T04 torque-limit parameters, % of rated torque (mr-j3-t04.md §9.4). Their defaults
+/// are in the J3A manual, which the extract does not include: the default here is the motor
+/// maximum, [`InternalTorqueLimits::MOTOR_MAXIMUM_PERCENT`], so an unconfigured drive does not
+/// limit below what the plant can do.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InternalTorqueLimits {
+    /// PA11 forward (CCW driving / CW regeneration) torque limit.
+    pub pa11_forward: f64,
+    /// PA12 reverse (CW driving / CCW regeneration) torque limit.
+    pub pa12_reverse: f64,
+    /// PC35 internal torque limit (selected by C_TL1).
+    pub pc35_internal: f64,
+}
+
+impl InternalTorqueLimits {
+    /// The plant's maximum torque: `PlantParams::max_acceleration` stands for 300 % rated.
+    pub const MOTOR_MAXIMUM_PERCENT: f64 = 300.0;
+}
+
+impl Default for InternalTorqueLimits {
+    fn default() -> Self {
+        InternalTorqueLimits {
+            pa11_forward: Self::MOTOR_MAXIMUM_PERCENT,
+            pa12_reverse: Self::MOTOR_MAXIMUM_PERCENT,
+            pc35_internal: Self::MOTOR_MAXIMUM_PERCENT,
+        }
+    }
+}
+
+impl Default for SimDriveParams {
+    /// Default plant, position 0, 200 000 counts following-error limit, 2 start-up cycles.
+    fn default() -> Self {
+        SimDriveParams {
+            plant: PlantParams::default(),
+            initial_position: 0,
+            following_error_limit: 200_000,
+            startup_cycles: 2,
+            velocity_feedforward: 0.0,
+            zero_speed: 0.0,
+            initial_mode: ModeOfOperation::CyclicSyncPosition,
+            comm: CommParams::default(),
+            overspeed_limit: None,
+            alarm_codes: None,
+            internal_torque_limits: InternalTorqueLimits::default(),
+            torque_limit_2: TorqueLimit2::default(),
+            home_position_address: 0,
+            dc_missed_command: MissedCommand::Extrapolate,
+            before_z_reaction: BeforeZReaction::Warning,
+            z_phase_position: 0,
+            sync_mismatch_alarm: None,
+            axis_switch: AxisSwitch::default(),
+            fsoe: None,
+            slow_stop_time_ms: 0,
+            store_parameters_ms: 25_000,
+            pp: PpParams::default(),
+            position_unit: PositionUnit::Pulse,
+        }
+    }
+}
+
+/// A drive's command in a DC cycle whose RxPDO is missing (a named parameter: the manuals
+/// are silent, mr-j4-tm.md §1.5 and mr-j5-g-n1.md §1.4 state only the free-run hold).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MissedCommand {
+    /// Keep the last command (the free-run rule): a moving csp axis stops for the cycle and
+    /// the next target jumps by two cycles' travel.
+    Hold,
+    /// csp: continue the last target step (the interpolator runs on); csv/cst: hold.
+    #[default]
+    Extrapolate,
+}

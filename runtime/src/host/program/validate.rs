@@ -68,6 +68,7 @@ pub(super) fn expand(
     Ok(())
 }
 
+/// One step (not a repeat) validated at `key`.
 fn validate_step(
     path: &Path,
     key: &str,
@@ -75,77 +76,11 @@ fn validate_step(
     cell: &CellConfig,
 ) -> Result<Step, ConfigError> {
     Ok(match step {
-        RawStep::Torque { target, seconds } => {
-            if target.is_empty() {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.target"),
-                    "a torque step needs at least one axis target",
-                ));
-            }
-            if !(seconds.is_finite() && (0.0..=MAX_WAIT_SECONDS).contains(&seconds)) {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.seconds"),
-                    format!(
-                        "must be a number of seconds in 0..={MAX_WAIT_SECONDS} (got {seconds})"
-                    ),
-                ));
-            }
-            let mut targets = Vec::with_capacity(target.len());
-            for (name, torque) in target {
-                let k = format!("{key}.target.{name}");
-                let axis = axis_of(path, k.clone(), &name, cell)?;
-                let a = &cell.axes[axis];
-                let Some(limits) = a
-                    .torque
-                    .filter(|_| a.mode == ModeOfOperation::CyclicSyncTorque)
-                else {
-                    return Err(ConfigError::new(
-                        path,
-                        k,
-                        format!(
-                            "axis '{name}' runs in {}; a torque step needs an axis with mode = \"cst\"",
-                            a.mode.as_str()
-                        ),
-                    ));
-                };
-                if !torque.is_finite() || torque.abs() > limits.max.0 {
-                    return Err(ConfigError::new(
-                        path,
-                        k,
-                        format!(
-                            "torque {torque} % is outside the torque limit ±{} % of axis '{name}'",
-                            limits.max.0
-                        ),
-                    ));
-                }
-                targets.push(TorqueTarget {
-                    axis,
-                    torque,
-                    slope: limits.slope,
-                });
-            }
-            Step::Torque {
-                targets,
-                hold_s: seconds,
-            }
-        }
+        RawStep::Torque { target, seconds } => torque_step(path, key, target, seconds, cell)?,
         RawStep::PowerOn { axes } => Step::PowerOn(power_axes(path, key, &axes, cell)?),
         RawStep::PowerOff { axes } => Step::PowerOff(power_axes(path, key, &axes, cell)?),
         RawStep::Reset => Step::Reset,
-        RawStep::Wait { seconds } => {
-            if !seconds.is_finite() || !(0.0..=MAX_WAIT_SECONDS).contains(&seconds) {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.seconds"),
-                    format!(
-                        "must be a number of seconds in 0..={MAX_WAIT_SECONDS} (got {seconds})"
-                    ),
-                ));
-            }
-            Step::Wait(seconds)
-        }
+        RawStep::Wait { seconds } => Step::Wait(step_seconds(path, key, seconds)?),
         RawStep::Move {
             target,
             velocity,
@@ -163,95 +98,19 @@ fn validate_step(
             velocity,
             acceleration,
             jerk,
-        } => {
-            if target.len() < 2 {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.target"),
-                    "a line needs at least two axes",
-                ));
-            }
-            if let Some(v) = velocity.filter(|v| !(v.is_finite() && *v > 0.0)) {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.velocity"),
-                    format!("the path speed must be a finite number > 0 (got {v})"),
-                ));
-            }
-            let targets = move_targets(path, key, target, [&None, &acceleration, &jerk], cell)?;
-            let unit = &cell.axes[targets[0].axis].unit;
-            if let Some(t) = targets.iter().find(|t| &cell.axes[t.axis].unit != unit) {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.target.{}", cell.axes[t.axis].name),
-                    format!(
-                        "a line needs axes of one unit: '{}' is in {}, '{}' in {unit}",
-                        cell.axes[t.axis].name,
-                        cell.axes[t.axis].unit,
-                        cell.axes[targets[0].axis].name
-                    ),
-                ));
-            }
-            Step::Line {
-                targets,
-                path_velocity: velocity,
-            }
-        }
+        } => line_step(path, key, target, velocity, [&acceleration, &jerk], cell)?,
         RawStep::Path {
-            mut waypoints,
+            waypoints,
             velocity,
             acceleration,
             jerk,
-        } => {
-            let Some(last) = waypoints.pop() else {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.waypoints"),
-                    "a path needs at least one waypoint (the last is the target)",
-                ));
-            };
-            if waypoints.len() > cellrt_trajectory::MAX_WAYPOINTS {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.waypoints"),
-                    format!(
-                        "at most {} waypoints before the target",
-                        cellrt_trajectory::MAX_WAYPOINTS
-                    ),
-                ));
-            }
-            let names: Vec<String> = last.keys().cloned().collect();
-            let targets = move_targets(path, key, last, [&velocity, &acceleration, &jerk], cell)?;
-            let mut via = Vec::with_capacity(waypoints.len());
-            for (w, point) in waypoints.into_iter().enumerate() {
-                let k = format!("{key}.waypoints[{w}]");
-                if point.len() != names.len() || names.iter().any(|n| !point.contains_key(n)) {
-                    return Err(ConfigError::new(
-                        path,
-                        k,
-                        format!("must name the target's axes ({})", names.join(", ")),
-                    ));
-                }
-                let mut row = Vec::with_capacity(names.len());
-                for (name, t) in names.iter().zip(&targets) {
-                    let v = point[name];
-                    let a = &cell.axes[t.axis];
-                    if !v.is_finite() || a.position.check(v).is_err() {
-                        return Err(ConfigError::new(
-                            path,
-                            format!("{k}.{name}"),
-                            format!(
-                                "{v} {} is outside the position range [{}, {}] of axis '{name}'",
-                                a.unit, a.position.min, a.position.max
-                            ),
-                        ));
-                    }
-                    row.push(v);
-                }
-                via.push(row);
-            }
-            Step::Path { targets, via }
-        }
+        } => path_step(
+            path,
+            key,
+            waypoints,
+            [&velocity, &acceleration, &jerk],
+            cell,
+        )?,
         RawStep::Jog {
             axis,
             velocity,
@@ -266,19 +125,10 @@ fn validate_step(
                     format!("{velocity} is outside ±{limit}, the velocity limit of axis '{axis}'"),
                 ));
             }
-            if !(seconds.is_finite() && (0.0..=MAX_WAIT_SECONDS).contains(&seconds)) {
-                return Err(ConfigError::new(
-                    path,
-                    format!("{key}.seconds"),
-                    format!(
-                        "must be a number of seconds in 0..={MAX_WAIT_SECONDS} (got {seconds})"
-                    ),
-                ));
-            }
             Step::Jog {
                 axis: i,
                 velocity,
-                seconds,
+                seconds: step_seconds(path, key, seconds)?,
             }
         }
         RawStep::Override { percent } => {
@@ -305,6 +155,171 @@ fn validate_step(
         }
         RawStep::Repeat { .. } => unreachable!("expanded by `expand`"),
     })
+}
+
+/// `seconds` of a wait, jog or torque step: 0..=[`MAX_WAIT_SECONDS`].
+fn step_seconds(path: &Path, key: &str, seconds: f64) -> Result<f64, ConfigError> {
+    if seconds.is_finite() && (0.0..=MAX_WAIT_SECONDS).contains(&seconds) {
+        return Ok(seconds);
+    }
+    Err(ConfigError::new(
+        path,
+        format!("{key}.seconds"),
+        format!("must be a number of seconds in 0..={MAX_WAIT_SECONDS} (got {seconds})"),
+    ))
+}
+
+/// A torque step: axes in cst, each torque within the axis' torque limit.
+fn torque_step(
+    path: &Path,
+    key: &str,
+    target: BTreeMap<String, f64>,
+    seconds: f64,
+    cell: &CellConfig,
+) -> Result<Step, ConfigError> {
+    if target.is_empty() {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.target"),
+            "a torque step needs at least one axis target",
+        ));
+    }
+    let hold_s = step_seconds(path, key, seconds)?;
+    let mut targets = Vec::with_capacity(target.len());
+    for (name, torque) in target {
+        let k = format!("{key}.target.{name}");
+        let axis = axis_of(path, k.clone(), &name, cell)?;
+        let a = &cell.axes[axis];
+        let Some(limits) = a
+            .torque
+            .filter(|_| a.mode == ModeOfOperation::CyclicSyncTorque)
+        else {
+            return Err(ConfigError::new(
+                path,
+                k,
+                format!(
+                    "axis '{name}' runs in {}; a torque step needs an axis with mode = \"cst\"",
+                    a.mode.as_str()
+                ),
+            ));
+        };
+        if !torque.is_finite() || torque.abs() > limits.max.0 {
+            return Err(ConfigError::new(
+                path,
+                k,
+                format!(
+                    "torque {torque} % is outside the torque limit ±{} % of axis '{name}'",
+                    limits.max.0
+                ),
+            ));
+        }
+        targets.push(TorqueTarget {
+            axis,
+            torque,
+            slope: limits.slope,
+        });
+    }
+    Ok(Step::Torque { targets, hold_s })
+}
+
+/// A line: two or more axes of one unit; `velocity` is the path speed.
+fn line_step(
+    path: &Path,
+    key: &str,
+    target: BTreeMap<String, f64>,
+    velocity: Option<f64>,
+    [acceleration, jerk]: [&Option<RawLimit>; 2],
+    cell: &CellConfig,
+) -> Result<Step, ConfigError> {
+    if target.len() < 2 {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.target"),
+            "a line needs at least two axes",
+        ));
+    }
+    if let Some(v) = velocity.filter(|v| !(v.is_finite() && *v > 0.0)) {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.velocity"),
+            format!("the path speed must be a finite number > 0 (got {v})"),
+        ));
+    }
+    let targets = move_targets(path, key, target, [&None, acceleration, jerk], cell)?;
+    let unit = &cell.axes[targets[0].axis].unit;
+    if let Some(t) = targets.iter().find(|t| &cell.axes[t.axis].unit != unit) {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.target.{}", cell.axes[t.axis].name),
+            format!(
+                "a line needs axes of one unit: '{}' is in {}, '{}' in {unit}",
+                cell.axes[t.axis].name, cell.axes[t.axis].unit, cell.axes[targets[0].axis].name
+            ),
+        ));
+    }
+    Ok(Step::Line {
+        targets,
+        path_velocity: velocity,
+    })
+}
+
+/// A path: the last waypoint is the target; every waypoint before it names the same axes,
+/// within their position ranges.
+fn path_step(
+    path: &Path,
+    key: &str,
+    mut waypoints: Vec<BTreeMap<String, f64>>,
+    limits: [&Option<RawLimit>; 3],
+    cell: &CellConfig,
+) -> Result<Step, ConfigError> {
+    let Some(last) = waypoints.pop() else {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.waypoints"),
+            "a path needs at least one waypoint (the last is the target)",
+        ));
+    };
+    if waypoints.len() > cellrt_trajectory::MAX_WAYPOINTS {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.waypoints"),
+            format!(
+                "at most {} waypoints before the target",
+                cellrt_trajectory::MAX_WAYPOINTS
+            ),
+        ));
+    }
+    let names: Vec<String> = last.keys().cloned().collect();
+    let targets = move_targets(path, key, last, limits, cell)?;
+    let mut via = Vec::with_capacity(waypoints.len());
+    for (w, point) in waypoints.into_iter().enumerate() {
+        let k = format!("{key}.waypoints[{w}]");
+        if point.len() != names.len() || names.iter().any(|n| !point.contains_key(n)) {
+            return Err(ConfigError::new(
+                path,
+                k,
+                format!("must name the target's axes ({})", names.join(", ")),
+            ));
+        }
+        let mut row = Vec::with_capacity(names.len());
+        for (name, t) in names.iter().zip(&targets) {
+            let v = point[name];
+            let a = &cell.axes[t.axis];
+            if !v.is_finite() || a.position.check(v).is_err() {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{k}.{name}"),
+                    format!(
+                        "{v} {} is outside the position range [{}, {}] of axis '{name}'",
+                        a.unit, a.position.min, a.position.max
+                    ),
+                ));
+            }
+            row.push(v);
+        }
+        via.push(row);
+    }
+    Ok(Step::Path { targets, via })
 }
 
 /// The index of axis `name` in `cell`, or an error at `key` naming the cell's axes.

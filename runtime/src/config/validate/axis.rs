@@ -6,7 +6,7 @@ use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::ethercat::identity::{maker_vendor_id, ExpectedIdentity};
 use cellrt_axes::ethercat::master::AmplifierSlot;
 use cellrt_axes::profiles::{profile, DriveModel};
-use cellrt_axes::CycleTime;
+use cellrt_axes::{CycleTime, DriveProfile};
 use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
 use cellrt_trajectory::units::Scaling;
 
@@ -89,6 +89,30 @@ pub(super) fn check_amplifier(
     }))
 }
 
+/// Where an axis' keys live (`axes[i]` of `file`): errors name `axes[i].<sub>`.
+struct AxisKey<'a> {
+    file: &'a Path,
+    key: &'a str,
+}
+
+impl AxisKey<'_> {
+    fn err(&self, sub: &str, msg: String) -> ConfigError {
+        ConfigError::new(self.file, format!("{}.{sub}", self.key), msg)
+    }
+
+    fn positive(&self, sub: &str, v: f64) -> Result<f64, ConfigError> {
+        positive(self.file, &format!("{}.{sub}", self.key), v)
+    }
+}
+
+/// The drive model of an axis, its profile and the SubDevice identity it must report.
+struct AxisDrive {
+    drive: DriveModel,
+    profile: &'static DriveProfile,
+    transport: Transport,
+    ethercat_identity: ExpectedIdentity,
+}
+
 pub(super) fn validate_axis(
     file: &Path,
     key: &str,
@@ -96,214 +120,44 @@ pub(super) fn validate_axis(
     a: RawAxis,
 ) -> Result<AxisConfig, ConfigError> {
     check_name(file, &format!("{key}.name"), &a.name)?;
-    let err = |sub: &str, msg: String| ConfigError::new(file, format!("{key}.{sub}"), msg);
-
-    let drive: DriveModel = a
-        .drive
-        .parse()
-        .map_err(|e: cellrt_axes::profiles::ParseModelError| err("drive", e.to_string()))?;
-    let profile = profile(drive);
-    if !profile.supports_cycle_time(cycle_time) {
-        return Err(err(
-            "drive",
-            format!(
-                "axis '{}': {drive} ({}) does not support a {} µs cycle (allowed: {})",
-                a.name,
-                profile.name,
-                cycle_time.as_micros(),
-                profile.cycle_times_text()
-            ),
-        ));
-    }
-    let transport = match a.transport.as_str() {
-        "sim" => Transport::Sim,
-        "ethercat" => Transport::Ethercat,
-        other => {
-            return Err(err(
-                "transport",
-                format!("unknown transport '{other}' (available: sim, ethercat)"),
-            ))
-        }
-    };
-    // A model without a maker (the generic CiA 402 drive) has no identity to check the
-    // SubDevice against: an EtherCAT axis must name it.
-    if transport == Transport::Ethercat && maker_vendor_id(drive).is_none() {
-        for (sub, given) in [
-            ("ethercat.vendor_id", a.ethercat.vendor_id.is_some()),
-            ("ethercat.product_code", a.ethercat.product_code.is_some()),
-        ] {
-            if !given {
-                return Err(err(
-                    sub,
-                    format!(
-                        "axis '{}': drive '{drive}' needs the SubDevice's identity: set [axes.ethercat] vendor_id and product_code (1018h:01/02, from the drive's ESI file or manual)",
-                        a.name
-                    ),
-                ));
-            }
-        }
-    }
-    // The configured identity is the one the drive must report and the one the emulator
-    // presents for it.
-    let profile = profile.with_identity(a.ethercat.vendor_id, a.ethercat.product_code);
-    let mut ethercat_identity = ExpectedIdentity::of_profile(profile);
-    if let Some(v) = a.ethercat.vendor_id {
-        ethercat_identity.vendor_id = v;
-    }
-    if let Some(p) = a.ethercat.product_code {
-        ethercat_identity.product_code = Some(p);
-    }
-    let mode: ModeOfOperation = a.mode.parse().map_err(|e| err("mode", format!("{e}")))?;
-    let profile = pdo_mapping(profile, mode, &a.pdo)
-        .map_err(|(k, m)| err(k, format!("axis '{}': {m}", a.name)))?;
-    if !profile.supports_mode(mode) {
-        return Err(err(
-            "mode",
-            format!(
-                "axis '{}': {drive} ({}) has no mode {} (allowed: {})",
-                a.name,
-                profile.name,
-                mode.as_str(),
-                profile.modes_text()
-            ),
-        ));
-    }
-    if !mode.is_cyclic() {
-        return Err(err(
-            "mode",
-            format!(
-                "axis '{}': mode {} is not a cyclic mode; the RT loop drives csp, csv and cst",
-                a.name,
-                mode.as_str()
-            ),
-        ));
-    }
-    let scaling =
-        Scaling::new(a.counts_per_unit).map_err(|e| err("counts_per_unit", e.to_string()))?;
-    let position = PositionRange {
-        min: a.limits.position[0],
-        max: a.limits.position[1],
-    };
-    position
-        .validate()
-        .map_err(|e| err("limits.position", e.to_string()))?;
-    for (end, v) in [("min", position.min), ("max", position.max)] {
-        scaling.to_counts_i32(v).map_err(|_| {
-            err(
-                "limits.position",
-                format!(
-                    "position {end} {v} {} is {} counts, outside the drive's 32-bit position range",
-                    a.unit,
-                    scaling.to_counts(v)
-                ),
-            )
-        })?;
-    }
+    let at = AxisKey { file, key };
+    let AxisDrive {
+        drive,
+        profile,
+        transport,
+        ethercat_identity,
+    } = axis_drive(&at, &a, cycle_time)?;
+    let (mode, profile) = cyclic_mode(&at, &a, drive, profile)?;
+    let (scaling, position) = scaling_and_range(&at, &a)?;
     let limits = KinematicLimits {
-        velocity: positive(file, &format!("{key}.limits.velocity"), a.limits.velocity)?,
-        acceleration: positive(
-            file,
-            &format!("{key}.limits.acceleration"),
-            a.limits.acceleration,
-        )?,
-        jerk: positive(file, &format!("{key}.limits.jerk"), a.limits.jerk)?,
+        velocity: at.positive("limits.velocity", a.limits.velocity)?,
+        acceleration: at.positive("limits.acceleration", a.limits.acceleration)?,
+        jerk: at.positive("limits.jerk", a.limits.jerk)?,
     };
-    let stop_deceleration = positive(
-        file,
-        &format!("{key}.limits.stop_deceleration"),
+    let stop_deceleration = at.positive(
+        "limits.stop_deceleration",
         a.limits.stop_deceleration.unwrap_or(limits.acceleration),
     )?;
-    let stop_jerk = positive(
-        file,
-        &format!("{key}.limits.stop_jerk"),
+    let stop_jerk = at.positive(
+        "limits.stop_jerk",
         a.limits.stop_jerk.unwrap_or(limits.jerk),
     )?;
-    let following_error_limit = positive(
-        file,
-        &format!("{key}.limits.following_error"),
+    let following_error_limit = at.positive(
+        "limits.following_error",
         a.limits.following_error.unwrap_or(limits.velocity * 0.1),
     )?;
-    let torque = match a.limits.torque {
-        None if mode == ModeOfOperation::CyclicSyncTorque => {
-            return Err(err(
-                "limits.torque",
-                format!(
-                    "axis '{}' runs in cst and needs limits.torque (% of rated torque, 0 < t ≤ {MAX_TORQUE_PERCENT})",
-                    a.name
-                ),
-            ))
-        }
-        None => None,
-        Some(t) => {
-            if !(t.is_finite() && t > 0.0 && t <= MAX_TORQUE_PERCENT) {
-                return Err(err(
-                    "limits.torque",
-                    format!("{t} is not a torque limit (% of rated torque, 0 < t ≤ {MAX_TORQUE_PERCENT})"),
-                ));
-            }
-            let slope = positive(
-                file,
-                &format!("{key}.limits.torque_slope"),
-                a.limits.torque_slope.unwrap_or(DEFAULT_TORQUE_SLOPE),
-            )?;
-            Some(TorqueLimits {
-                max: TorquePercent(t),
-                slope,
-            })
-        }
-    };
-    if torque.is_none() && a.limits.torque_slope.is_some() {
-        return Err(err(
-            "limits.torque_slope",
-            "is set without limits.torque".to_string(),
-        ));
-    }
+    let torque = torque_limits(&at, &a, mode)?;
     let csv_position_gain = match a.csv_position_gain {
         None => DEFAULT_CSV_POSITION_GAIN,
         Some(g) if g.is_finite() && g >= 0.0 => g,
         Some(g) => {
-            return Err(err(
+            return Err(at.err(
                 "csv_position_gain",
                 format!("{g} is not a gain (1/s, finite, ≥ 0)"),
             ))
         }
     };
-    let sim = SimAxisConfig {
-        initial_position: a.sim.initial_position,
-        position_bandwidth_hz: positive(
-            file,
-            &format!("{key}.sim.position_bandwidth_hz"),
-            a.sim.position_bandwidth_hz,
-        )?,
-        velocity_bandwidth_hz: positive(
-            file,
-            &format!("{key}.sim.velocity_bandwidth_hz"),
-            a.sim.velocity_bandwidth_hz,
-        )?,
-        z_phase_position: a.sim.z_phase_position,
-        motor_speed_factor: a.sim.motor_speed_factor,
-    };
-    if !(1.0..=10.0).contains(&sim.motor_speed_factor) {
-        return Err(err(
-            "sim.motor_speed_factor",
-            format!(
-                "must be 1..=10 (the motor's speed over the axis velocity limit; got {})",
-                sim.motor_speed_factor
-            ),
-        ));
-    }
-    if let Err(e) = scaling.to_counts_i32(sim.z_phase_position) {
-        return Err(err("sim.z_phase_position", e.to_string()));
-    }
-    if !sim.initial_position.is_finite() || position.check(sim.initial_position).is_err() {
-        return Err(err(
-            "sim.initial_position",
-            format!(
-                "{} is outside the position range [{}, {}]",
-                sim.initial_position, position.min, position.max
-            ),
-        ));
-    }
+    let sim = sim_axis(&at, &a, scaling, position)?;
     Ok(AxisConfig {
         name: a.name,
         drive,
@@ -325,15 +179,232 @@ pub(super) fn validate_axis(
     })
 }
 
+/// `drive`, `transport` and `[axes.ethercat]`: a model that runs the cell's cycle time, and the
+/// identity the SubDevice must report (the configured one, else the model's).
+fn axis_drive(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    cycle_time: CycleTime,
+) -> Result<AxisDrive, ConfigError> {
+    let drive: DriveModel = a
+        .drive
+        .parse()
+        .map_err(|e: cellrt_axes::profiles::ParseModelError| at.err("drive", e.to_string()))?;
+    let profile = profile(drive);
+    if !profile.supports_cycle_time(cycle_time) {
+        return Err(at.err(
+            "drive",
+            format!(
+                "axis '{}': {drive} ({}) does not support a {} µs cycle (allowed: {})",
+                a.name,
+                profile.name,
+                cycle_time.as_micros(),
+                profile.cycle_times_text()
+            ),
+        ));
+    }
+    let transport = match a.transport.as_str() {
+        "sim" => Transport::Sim,
+        "ethercat" => Transport::Ethercat,
+        other => {
+            return Err(at.err(
+                "transport",
+                format!("unknown transport '{other}' (available: sim, ethercat)"),
+            ))
+        }
+    };
+    // A model without a maker (the generic CiA 402 drive) has no identity to check the
+    // SubDevice against: an EtherCAT axis must name it.
+    if transport == Transport::Ethercat && maker_vendor_id(drive).is_none() {
+        for (sub, given) in [
+            ("ethercat.vendor_id", a.ethercat.vendor_id.is_some()),
+            ("ethercat.product_code", a.ethercat.product_code.is_some()),
+        ] {
+            if !given {
+                return Err(at.err(
+                    sub,
+                    format!(
+                        "axis '{}': drive '{drive}' needs the SubDevice's identity: set [axes.ethercat] vendor_id and product_code (1018h:01/02, from the drive's ESI file or manual)",
+                        a.name
+                    ),
+                ));
+            }
+        }
+    }
+    // The configured identity is the one the drive must report and the one the emulator
+    // presents for it.
+    let profile = profile.with_identity(a.ethercat.vendor_id, a.ethercat.product_code);
+    let mut ethercat_identity = ExpectedIdentity::of_profile(profile);
+    if let Some(v) = a.ethercat.vendor_id {
+        ethercat_identity.vendor_id = v;
+    }
+    if let Some(p) = a.ethercat.product_code {
+        ethercat_identity.product_code = Some(p);
+    }
+    Ok(AxisDrive {
+        drive,
+        profile,
+        transport,
+        ethercat_identity,
+    })
+}
+
+/// `mode` and `[axes.pdo]`: a cyclic mode the drive has, with a PDO mapping that carries it.
+fn cyclic_mode(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    drive: DriveModel,
+    profile: &'static DriveProfile,
+) -> Result<(ModeOfOperation, &'static DriveProfile), ConfigError> {
+    let mode: ModeOfOperation = a.mode.parse().map_err(|e| at.err("mode", format!("{e}")))?;
+    let profile = pdo_mapping(profile, mode, &a.pdo)
+        .map_err(|(k, m)| at.err(k, format!("axis '{}': {m}", a.name)))?;
+    if !profile.supports_mode(mode) {
+        return Err(at.err(
+            "mode",
+            format!(
+                "axis '{}': {drive} ({}) has no mode {} (allowed: {})",
+                a.name,
+                profile.name,
+                mode.as_str(),
+                profile.modes_text()
+            ),
+        ));
+    }
+    if !mode.is_cyclic() {
+        return Err(at.err(
+            "mode",
+            format!(
+                "axis '{}': mode {} is not a cyclic mode; the RT loop drives csp, csv and cst",
+                a.name,
+                mode.as_str()
+            ),
+        ));
+    }
+    Ok((mode, profile))
+}
+
+/// `counts_per_unit` and `limits.position`: a range whose ends fit the drive's 32-bit position.
+fn scaling_and_range(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+) -> Result<(Scaling, PositionRange), ConfigError> {
+    let scaling =
+        Scaling::new(a.counts_per_unit).map_err(|e| at.err("counts_per_unit", e.to_string()))?;
+    let position = PositionRange {
+        min: a.limits.position[0],
+        max: a.limits.position[1],
+    };
+    position
+        .validate()
+        .map_err(|e| at.err("limits.position", e.to_string()))?;
+    for (end, v) in [("min", position.min), ("max", position.max)] {
+        scaling.to_counts_i32(v).map_err(|_| {
+            at.err(
+                "limits.position",
+                format!(
+                    "position {end} {v} {} is {} counts, outside the drive's 32-bit position range",
+                    a.unit,
+                    scaling.to_counts(v)
+                ),
+            )
+        })?;
+    }
+    Ok((scaling, position))
+}
+
+/// `limits.torque` and `limits.torque_slope`: required in cst, optional otherwise.
+fn torque_limits(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    mode: ModeOfOperation,
+) -> Result<Option<TorqueLimits>, ConfigError> {
+    let torque = match a.limits.torque {
+        None if mode == ModeOfOperation::CyclicSyncTorque => {
+            return Err(at.err(
+                "limits.torque",
+                format!(
+                    "axis '{}' runs in cst and needs limits.torque (% of rated torque, 0 < t ≤ {MAX_TORQUE_PERCENT})",
+                    a.name
+                ),
+            ))
+        }
+        None => None,
+        Some(t) => {
+            if !(t.is_finite() && t > 0.0 && t <= MAX_TORQUE_PERCENT) {
+                return Err(at.err(
+                    "limits.torque",
+                    format!("{t} is not a torque limit (% of rated torque, 0 < t ≤ {MAX_TORQUE_PERCENT})"),
+                ));
+            }
+            let slope = at.positive(
+                "limits.torque_slope",
+                a.limits.torque_slope.unwrap_or(DEFAULT_TORQUE_SLOPE),
+            )?;
+            Some(TorqueLimits {
+                max: TorquePercent(t),
+                slope,
+            })
+        }
+    };
+    if torque.is_none() && a.limits.torque_slope.is_some() {
+        return Err(at.err(
+            "limits.torque_slope",
+            "is set without limits.torque".to_string(),
+        ));
+    }
+    Ok(torque)
+}
+
+/// `[axes.sim]`: the simulated drive's plant, start position and Z phase.
+fn sim_axis(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    scaling: Scaling,
+    position: PositionRange,
+) -> Result<SimAxisConfig, ConfigError> {
+    let sim = SimAxisConfig {
+        initial_position: a.sim.initial_position,
+        position_bandwidth_hz: at
+            .positive("sim.position_bandwidth_hz", a.sim.position_bandwidth_hz)?,
+        velocity_bandwidth_hz: at
+            .positive("sim.velocity_bandwidth_hz", a.sim.velocity_bandwidth_hz)?,
+        z_phase_position: a.sim.z_phase_position,
+        motor_speed_factor: a.sim.motor_speed_factor,
+    };
+    if !(1.0..=10.0).contains(&sim.motor_speed_factor) {
+        return Err(at.err(
+            "sim.motor_speed_factor",
+            format!(
+                "must be 1..=10 (the motor's speed over the axis velocity limit; got {})",
+                sim.motor_speed_factor
+            ),
+        ));
+    }
+    if let Err(e) = scaling.to_counts_i32(sim.z_phase_position) {
+        return Err(at.err("sim.z_phase_position", e.to_string()));
+    }
+    if !sim.initial_position.is_finite() || position.check(sim.initial_position).is_err() {
+        return Err(at.err(
+            "sim.initial_position",
+            format!(
+                "{} is outside the position range [{}, {}]",
+                sim.initial_position, position.min, position.max
+            ),
+        ));
+    }
+    Ok(sim)
+}
+
 /// The axis' profile with its `[axes.pdo]` mapping (the model's default maps where a direction
 /// is not given), checked against the model's rules and against what the RT loop exchanges:
 /// controlword, statusword, actual position, and the cyclic mode's target (csp 607Ah, csv
 /// 60FFh, cst 6071h and 60FFh: the axis runs in csv between torque steps).
 fn pdo_mapping(
-    base: &'static cellrt_axes::DriveProfile,
+    base: &'static DriveProfile,
     mode: ModeOfOperation,
     pdo: &crate::config::raw::RawPdo,
-) -> Result<&'static cellrt_axes::DriveProfile, (&'static str, String)> {
+) -> Result<&'static DriveProfile, (&'static str, String)> {
     use cellrt_axes::pdo::objects::{
         CONTROLWORD, POSITION_ACTUAL, STATUSWORD, TARGET_POSITION, TARGET_TORQUE, TARGET_VELOCITY,
     };

@@ -6,7 +6,7 @@ use std::path::Path;
 use cellrt_axes::profiles::DriveModel;
 use cellrt_axes::CycleTime;
 
-use super::raw::RawCellConfig;
+use super::raw::{RawAxis, RawCellConfig, RawRecording, RawRt, RawSetpoints, RawWatchdogs};
 use super::{
     AxisConfig, CellConfig, Compression, ConfigError, EthercatConfig, EthercatInterface,
     FaultReaction, RecordingConfig, RtConfig, SetpointConfig, Transport, WatchdogConfig,
@@ -49,6 +49,8 @@ pub(crate) fn positive(file: &Path, key: &str, v: f64) -> Result<f64, ConfigErro
     }
 }
 
+/// Checks every section of `raw` (read from `file`, whose `text` the config keeps) and builds
+/// the cell configuration.
 pub(super) fn validate(
     file: &Path,
     text: &str,
@@ -65,11 +67,38 @@ pub(super) fn validate(
         }
     });
 
+    let rt = rt_config(file, &raw.rt)?;
+    let recording = recording_config(file, raw.recording)?;
+    let setpoints = setpoint_config(file, &raw.setpoints, cycle_time)?;
+    let watchdogs = watchdog_config(file, &raw.watchdogs)?;
+    let axes = validate_axes(file, cycle_time, raw.axes)?;
+
+    let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
+    let inject = validate_injections(file, cycle_time, &raw.inject, &axes, ethercat.as_ref())?;
+
+    Ok(CellConfig {
+        source: file.to_path_buf(),
+        text: text.to_string(),
+        name: raw.cell.name,
+        cycle_time,
+        program,
+        rt,
+        recording,
+        setpoints,
+        watchdogs,
+        inject,
+        axes,
+        ethercat,
+    })
+}
+
+/// `[rt]`: the RT thread's CPU and SCHED_FIFO priority.
+fn rt_config(file: &Path, raw: &RawRt) -> Result<RtConfig, ConfigError> {
     let rt = RtConfig {
-        cpu: raw.rt.cpu,
-        priority: raw.rt.priority,
-        lock_memory: raw.rt.lock_memory,
-        reserve_cpu: raw.rt.reserve_cpu,
+        cpu: raw.cpu,
+        priority: raw.priority,
+        lock_memory: raw.lock_memory,
+        reserve_cpu: raw.reserve_cpu,
     };
     if !(1..=99).contains(&rt.priority) {
         return Err(ConfigError::new(
@@ -93,8 +122,12 @@ pub(super) fn validate(
             ));
         }
     }
+    Ok(rt)
+}
 
-    let compression = match raw.recording.compression.as_str() {
+/// `[recording]`: compression, chunk size, queue, flush and rotation of the MCAP recording.
+fn recording_config(file: &Path, raw: RawRecording) -> Result<RecordingConfig, ConfigError> {
+    let compression = match raw.compression.as_str() {
         "zstd" => Compression::Zstd,
         "lz4" => Compression::Lz4,
         "none" => Compression::None,
@@ -106,24 +139,21 @@ pub(super) fn validate(
             ))
         }
     };
-    if raw.recording.path.trim().is_empty() {
+    if raw.path.trim().is_empty() {
         return Err(ConfigError::new(
             file,
             "recording.path",
             "must not be empty",
         ));
     }
-    if !(1..=65536).contains(&raw.recording.chunk_size_kib) {
+    if !(1..=65536).contains(&raw.chunk_size_kib) {
         return Err(ConfigError::new(
             file,
             "recording.chunk_size_kib",
-            format!(
-                "must be 1..=65536 KiB (got {})",
-                raw.recording.chunk_size_kib
-            ),
+            format!("must be 1..=65536 KiB (got {})", raw.chunk_size_kib),
         ));
     }
-    let queue_seconds = positive(file, "recording.queue_seconds", raw.recording.queue_seconds)?;
+    let queue_seconds = positive(file, "recording.queue_seconds", raw.queue_seconds)?;
     if queue_seconds > 60.0 {
         return Err(ConfigError::new(
             file,
@@ -131,14 +161,14 @@ pub(super) fn validate(
             format!("must be at most 60 s (got {queue_seconds})"),
         ));
     }
-    if !(10..=60_000).contains(&raw.recording.flush_ms) {
+    if !(10..=60_000).contains(&raw.flush_ms) {
         return Err(ConfigError::new(
             file,
             "recording.flush_ms",
-            format!("must be 10..=60000 ms (got {})", raw.recording.flush_ms),
+            format!("must be 10..=60000 ms (got {})", raw.flush_ms),
         ));
     }
-    if let Some(mib) = raw.recording.rotate_mib {
+    if let Some(mib) = raw.rotate_mib {
         if !(1..=1_048_576).contains(&mib) {
             return Err(ConfigError::new(
                 file,
@@ -147,7 +177,7 @@ pub(super) fn validate(
             ));
         }
     }
-    if let Some(secs) = raw.recording.rotate_seconds {
+    if let Some(secs) = raw.rotate_seconds {
         if !(secs.is_finite() && (1.0..=1e7).contains(&secs)) {
             return Err(ConfigError::new(
                 file,
@@ -156,23 +186,27 @@ pub(super) fn validate(
             ));
         }
     }
-    let recording = RecordingConfig {
-        enabled: raw.recording.enabled,
-        path: raw.recording.path,
+    Ok(RecordingConfig {
+        enabled: raw.enabled,
+        path: raw.path,
         compression,
-        chunk_size: raw.recording.chunk_size_kib * 1024,
+        chunk_size: raw.chunk_size_kib * 1024,
         queue_seconds,
-        flush_ms: raw.recording.flush_ms,
-        rotate_bytes: raw.recording.rotate_mib.map(|m| m * 1024 * 1024),
-        rotate_seconds: raw.recording.rotate_seconds,
-    };
+        flush_ms: raw.flush_ms,
+        rotate_bytes: raw.rotate_mib.map(|m| m * 1024 * 1024),
+        rotate_seconds: raw.rotate_seconds,
+    })
+}
 
-    let lookahead = positive(file, "setpoints.lookahead_ms", raw.setpoints.lookahead_ms)? / 1e3;
-    let start_delay = positive(
-        file,
-        "setpoints.start_delay_ms",
-        raw.setpoints.start_delay_ms,
-    )? / 1e3;
+/// `[setpoints]`: lookahead and start delay, within what the setpoint buffer holds at this
+/// cycle time.
+fn setpoint_config(
+    file: &Path,
+    raw: &RawSetpoints,
+    cycle_time: CycleTime,
+) -> Result<SetpointConfig, ConfigError> {
+    let lookahead = positive(file, "setpoints.lookahead_ms", raw.lookahead_ms)? / 1e3;
+    let start_delay = positive(file, "setpoints.start_delay_ms", raw.start_delay_ms)? / 1e3;
     if lookahead > 10.0 || start_delay > 10.0 {
         return Err(ConfigError::new(
             file,
@@ -195,11 +229,14 @@ pub(super) fn validate(
             ),
         ));
     }
-    let setpoints = SetpointConfig {
+    Ok(SetpointConfig {
         lookahead,
         start_delay,
-    };
+    })
+}
 
+/// `[watchdogs]`: the fault reaction of each watchdog.
+fn watchdog_config(file: &Path, raw: &RawWatchdogs) -> Result<WatchdogConfig, ConfigError> {
     let reaction = |key: &str, v: &str| {
         FaultReaction::parse(v).ok_or_else(|| {
             ConfigError::new(
@@ -209,41 +246,43 @@ pub(super) fn validate(
             )
         })
     };
-    let watchdogs = WatchdogConfig {
-        max_consecutive_overruns: raw.watchdogs.max_consecutive_overruns,
-        overrun_reaction: reaction("overrun_reaction", &raw.watchdogs.overrun_reaction)?,
-        underrun_reaction: reaction("underrun_reaction", &raw.watchdogs.underrun_reaction)?,
-        drive_fault_reaction: reaction(
-            "drive_fault_reaction",
-            &raw.watchdogs.drive_fault_reaction,
-        )?,
-        communication_reaction: reaction(
-            "communication_reaction",
-            &raw.watchdogs.communication_reaction,
-        )?,
-    };
+    Ok(WatchdogConfig {
+        max_consecutive_overruns: raw.max_consecutive_overruns,
+        overrun_reaction: reaction("overrun_reaction", &raw.overrun_reaction)?,
+        underrun_reaction: reaction("underrun_reaction", &raw.underrun_reaction)?,
+        drive_fault_reaction: reaction("drive_fault_reaction", &raw.drive_fault_reaction)?,
+        communication_reaction: reaction("communication_reaction", &raw.communication_reaction)?,
+    })
+}
 
-    if raw.axes.is_empty() {
+/// `[[axes]]`: at least one, at most [`MAX_AXES`], unique names, amplifier slots shared
+/// consistently.
+fn validate_axes(
+    file: &Path,
+    cycle_time: CycleTime,
+    raw: Vec<RawAxis>,
+) -> Result<Vec<AxisConfig>, ConfigError> {
+    if raw.is_empty() {
         return Err(ConfigError::new(
             file,
             "axes",
             "a cell needs at least one [[axes]] entry",
         ));
     }
-    if raw.axes.len() > MAX_AXES {
+    if raw.len() > MAX_AXES {
         return Err(ConfigError::new(
             file,
             "axes",
             format!(
                 "{} axes configured; a cell has at most {MAX_AXES}",
-                raw.axes.len()
+                raw.len()
             ),
         ));
     }
     let mut seen = HashSet::new();
-    let mut axes = Vec::with_capacity(raw.axes.len());
+    let mut axes = Vec::with_capacity(raw.len());
     let mut amplifiers: Vec<(String, DriveModel, Vec<u8>)> = Vec::new();
-    for (i, a) in raw.axes.into_iter().enumerate() {
+    for (i, a) in raw.into_iter().enumerate() {
         let key = format!("axes[{i}]");
         let amplifier = check_amplifier(file, &key, &a, &mut amplifiers)?;
         if !seen.insert(a.name.clone()) {
@@ -257,24 +296,7 @@ pub(super) fn validate(
         axis.amplifier = amplifier;
         axes.push(axis);
     }
-
-    let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
-    let inject = validate_injections(file, cycle_time, &raw.inject, &axes, ethercat.as_ref())?;
-
-    Ok(CellConfig {
-        source: file.to_path_buf(),
-        text: text.to_string(),
-        name: raw.cell.name,
-        cycle_time,
-        program,
-        rt,
-        recording,
-        setpoints,
-        watchdogs,
-        inject,
-        axes,
-        ethercat,
-    })
+    Ok(axes)
 }
 
 /// `[ethercat]` against the axes' transports: one cell runs one transport, EtherCAT axes need

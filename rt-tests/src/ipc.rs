@@ -11,8 +11,8 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::services;
 use cellrt_runtime::rt::setpoint_stream::SetpointStream;
+use cellrt_runtime::services;
 use cellrt_runtime::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES};
 use iceoryx2::prelude::*;
 use serde::Serialize;

@@ -11,8 +11,8 @@ use std::time::Duration;
 
 use cellrt_runtime::config::{CellConfig, MAX_AXES};
 use cellrt_runtime::host::controller::{self, RunOptions};
-use cellrt_runtime::rt::executive::RtCounters;
 use cellrt_runtime::host::program::Program;
+use cellrt_runtime::rt::executive::RtCounters;
 use cellrt_runtime::rt::histogram::Percentiles;
 use cellrt_runtime::rt::thread::RtReport;
 use cellrt_trajectory::MAX_MOVE_AXES;

@@ -2,9 +2,10 @@
 //! hand-offs, the iceoryx2 setpoint transport, the non-RT planner thread and the MCAP recorder.
 //!
 //! The folders follow the RT boundary: [`rt`] is what runs on the RT thread (and nothing else
-//! runs there), [`handoff`] is the only way in and out of it, and [`host`] is every non-RT
-//! thread of the controller process. [`config`], [`setpoints`] and [`services`] are shared
-//! declarations: the cell's configuration, the setpoint payload and the iceoryx2 services.
+//! runs there), [`handoff`] is the only way in and out of it (an RT end and a host end), and
+//! [`host`] is every non-RT thread of the controller process. [`config`], [`setpoints`] and
+//! [`services`] are shared declarations: the cell's configuration, the setpoint payload and the
+//! iceoryx2 services.
 
 pub mod config;
 pub mod handoff;

@@ -1,10 +1,16 @@
-//! Every iceoryx2 service of a cell, declared once: names, payload types and QoS.
+//! Every iceoryx2 service of a cell, declared once: names, payload types and QoS. The cell's
+//! own services (setpoints, status, commands) and the operator's (requests, wake-up, status).
 
 use iceoryx2::config::Config;
 use iceoryx2::node::{Node, NodeBuilder};
+use iceoryx2::port::client::Client;
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::server::Server;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
+use iceoryx2::service::port_factory::{event, publish_subscribe, request_response};
 
 use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, MAX_AXES};
 
@@ -154,6 +160,23 @@ pub fn setpoint_service_name(cell: &str) -> String {
     format!("cellrt/{cell}/setpoints")
 }
 
+/// The operator service name of `cell` (request-response, JSON both ways).
+pub fn operator_service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/operator")
+}
+
+/// The event service a client notifies after sending an operator request, so the server
+/// answers at once instead of at its next poll.
+pub fn operator_wake_service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/operator-wake")
+}
+
+/// The operator status service name of `cell`: the operator's status report as JSON, history 1
+/// (a new subscriber gets the latest).
+pub fn operator_status_service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/operator-status")
+}
+
 /// iceoryx2 configuration: each user gets its own root directory and resource prefix, so cells
 /// of different users (root and an operator) never collide on files the other may not open
 /// (iceoryx2 creates them mode 0600 / 0750).
@@ -186,11 +209,7 @@ fn setpoint_service(
     node: &Node<ipc::Service>,
     cell: &str,
 ) -> Result<
-    iceoryx2::service::port_factory::publish_subscribe::PortFactory<
-        ipc::Service,
-        [AxisSetpoint],
-        SetpointHeader,
-    >,
+    publish_subscribe::PortFactory<ipc::Service, [AxisSetpoint], SetpointHeader>,
     ServiceError,
 > {
     let name = ServiceName::new(&setpoint_service_name(cell))
@@ -242,10 +261,7 @@ fn pubsub<T: std::fmt::Debug + ZeroCopySend>(
     publishers: usize,
     subscribers: usize,
     history: usize,
-) -> Result<
-    iceoryx2::service::port_factory::publish_subscribe::PortFactory<ipc::Service, T, ()>,
-    ServiceError,
-> {
+) -> Result<publish_subscribe::PortFactory<ipc::Service, T, ()>, ServiceError> {
     let service_name =
         ServiceName::new(name).map_err(|e| service_error("service name", cell, e))?;
     node.service_builder(&service_name)
@@ -303,4 +319,144 @@ pub fn command_subscriber(
         .subscriber_builder()
         .create()
         .map_err(|e| service_error("command subscriber", cell, e))
+}
+
+/// Largest operator request accepted, bytes.
+pub const MAX_OPERATOR_REQUEST_BYTES: usize = 64 * 1024;
+/// Initial size of operator reply and status buffers, bytes (grown by powers of two for a large
+/// status).
+pub const OPERATOR_RESPONSE_BYTES: usize = 16 * 1024;
+
+/// Server end of the operator service.
+pub type OperatorServerPort = Server<ipc::Service, [u8], (), [u8], ()>;
+/// Client end of the operator service.
+pub type OperatorClientPort = Client<ipc::Service, [u8], (), [u8], ()>;
+/// Publisher of the operator status.
+pub type OperatorStatusPublisher = Publisher<ipc::Service, [u8], ()>;
+/// Subscriber of the operator status.
+pub type OperatorStatusSubscriber = Subscriber<ipc::Service, [u8], ()>;
+
+/// The operator service (JSON bytes both ways, no user headers).
+type OperatorService = request_response::PortFactory<ipc::Service, [u8], (), [u8], ()>;
+
+fn operator_service(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<OperatorService, ServiceError> {
+    let name = ServiceName::new(&operator_service_name(cell))
+        .map_err(|e| service_error("service name", cell, e))?;
+    node.service_builder(&name)
+        .request_response::<[u8], [u8]>()
+        .max_clients(16)
+        .max_servers(1)
+        .max_active_requests_per_client(2)
+        .max_response_buffer_size(2)
+        .enable_safe_overflow_for_requests(true)
+        .enable_safe_overflow_for_responses(true)
+        .open_or_create()
+        .map_err(|e| service_error("operator service", cell, e))
+}
+
+/// The planner thread's end of the operator service.
+pub fn operator_server(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<OperatorServerPort, ServiceError> {
+    operator_service(node, cell)?
+        .server_builder()
+        .initial_max_slice_len(OPERATOR_RESPONSE_BYTES)
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .create()
+        .map_err(|e| service_error("operator server", cell, e))
+}
+
+/// A client's end of the operator service (the CLI or another process).
+pub fn operator_client(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<OperatorClientPort, ServiceError> {
+    operator_service(node, cell)?
+        .client_builder()
+        .initial_max_slice_len(MAX_OPERATOR_REQUEST_BYTES.min(4096))
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .create()
+        .map_err(|e| service_error("operator client", cell, e))
+}
+
+fn operator_wake_service(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<event::PortFactory<ipc::Service>, ServiceError> {
+    let name = ServiceName::new(&operator_wake_service_name(cell))
+        .map_err(|e| service_error("service name", cell, e))?;
+    node.service_builder(&name)
+        .event()
+        .max_notifiers(16)
+        .max_listeners(2)
+        .open_or_create()
+        .map_err(|e| service_error("operator wake service", cell, e))
+}
+
+/// The operator server's listener: woken by a client after each request.
+pub fn operator_wake_listener(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Listener<ipc::Service>, ServiceError> {
+    operator_wake_service(node, cell)?
+        .listener_builder()
+        .create()
+        .map_err(|e| service_error("operator wake listener", cell, e))
+}
+
+/// A client's notifier that wakes the operator server after a request.
+pub fn operator_wake_notifier(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Notifier<ipc::Service>, ServiceError> {
+    operator_wake_service(node, cell)?
+        .notifier_builder()
+        .create()
+        .map_err(|e| service_error("operator wake notifier", cell, e))
+}
+
+fn operator_status_service(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<publish_subscribe::PortFactory<ipc::Service, [u8], ()>, ServiceError> {
+    let name = ServiceName::new(&operator_status_service_name(cell))
+        .map_err(|e| service_error("service name", cell, e))?;
+    node.service_builder(&name)
+        .publish_subscribe::<[u8]>()
+        .max_publishers(1)
+        .max_subscribers(16)
+        .history_size(1)
+        .subscriber_max_buffer_size(4)
+        .enable_safe_overflow(true)
+        .open_or_create()
+        .map_err(|e| service_error("operator status service", cell, e))
+}
+
+/// The operator server's publisher of its status report.
+pub fn operator_status_publisher(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<OperatorStatusPublisher, ServiceError> {
+    operator_status_service(node, cell)?
+        .publisher_builder()
+        .initial_max_slice_len(OPERATOR_RESPONSE_BYTES)
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .backpressure_strategy(BackpressureStrategy::DiscardData)
+        .create()
+        .map_err(|e| service_error("operator status publisher", cell, e))
+}
+
+/// Subscribes to `cell`'s operator status (decode each sample with `serde_json`).
+pub fn operator_status_subscriber(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<OperatorStatusSubscriber, ServiceError> {
+    operator_status_service(node, cell)?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| service_error("operator status subscriber", cell, e))
 }

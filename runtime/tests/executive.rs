@@ -4,16 +4,15 @@
 
 use std::path::Path;
 use std::sync::atomic::Ordering;
-use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::host::controller::sim_bus;
+use cellrt_runtime::handoff::{self, CellCommand, CellState, EventKind, EventRecord, HostEnd};
+use cellrt_runtime::host::cell_bus::sim_bus;
 use cellrt_runtime::rt::executive::{Executive, RtStats};
-use cellrt_runtime::handoff::{CellCommand, CellState, EventKind, EventRecord, Handoff};
-use cellrt_runtime::services::{self, SetpointPublisher};
 use cellrt_runtime::rt::setpoint_stream::SetpointStream;
+use cellrt_runtime::services::{self, SetpointPublisher};
 use cellrt_runtime::setpoints::{AxisSetpoint, SetpointHeader, FLAG_LAST};
 
 const COUNTS_PER_MM: f64 = 1000.0;
@@ -49,7 +48,7 @@ sim = {{ initial_position = 100.0 }}
 }
 
 struct Rig {
-    handoff: Arc<Handoff>,
+    handoff: HostEnd,
     rt: Option<JoinHandle<RtStats>>,
     publisher: SetpointPublisher,
     _node: iceoryx2::node::Node<iceoryx2::prelude::ipc::Service>,
@@ -59,10 +58,10 @@ struct Rig {
 impl Rig {
     fn start(cell: &CellConfig) -> Rig {
         let n = cell.axes.len();
-        let handoff = Arc::new(Handoff::new(n, 1000, false));
+        let (h, handoff) = handoff::new(n, 1000, false);
         let node = services::node(&cell.name, "test").unwrap();
         let publisher = services::setpoint_publisher(&node, &cell.name, n).unwrap();
-        let (c, h) = (cell.clone(), handoff.clone());
+        let c = cell.clone();
         let rt = std::thread::spawn(move || {
             let node = services::node(&c.name, "rt").unwrap();
             let sub = services::setpoint_subscriber(&node, &c.name).unwrap();
@@ -78,22 +77,22 @@ impl Rig {
     }
 
     fn command(&self, c: CellCommand) {
-        self.handoff.commands.push(c).unwrap();
+        self.handoff.send_command(c).unwrap();
     }
 
     fn drain(&mut self) {
-        while let Some(e) = self.handoff.events.pop() {
+        while let Some(e) = self.handoff.pop_event() {
             self.events.push(e);
         }
     }
 
     fn wait_state(&mut self, s: CellState) {
         let end = Instant::now() + Duration::from_secs(10);
-        while self.handoff.status.state() != s {
+        while self.handoff.status().state() != s {
             assert!(
                 Instant::now() < end,
                 "never {s:?}, is {:?}",
-                self.handoff.status.state()
+                self.handoff.status().state()
             );
             std::thread::sleep(Duration::from_millis(1));
         }
@@ -101,12 +100,12 @@ impl Rig {
     }
 
     fn wait_cycles(&mut self, n: u64) {
-        let until = self.handoff.status.cycle() + n;
+        let until = self.handoff.status().cycle() + n;
         self.wait_until(until);
     }
 
     fn wait_until(&mut self, cycle: u64) {
-        while self.handoff.status.cycle() < cycle {
+        while self.handoff.status().cycle() < cycle {
             std::thread::sleep(Duration::from_millis(1));
         }
         self.drain();
@@ -115,7 +114,7 @@ impl Rig {
     /// Waits until motion `id` has finished and the cell is idle again.
     fn wait_motion_done(&mut self, id: u32) {
         let end = Instant::now() + Duration::from_secs(5);
-        let done = |r: &Rig| r.handoff.status.motion_done.load(Ordering::Acquire);
+        let done = |r: &Rig| r.handoff.status().motion_done.load(Ordering::Acquire);
         while done(self) != id {
             assert!(Instant::now() < end, "motion {id} never finished");
             std::thread::sleep(Duration::from_millis(1));
@@ -124,11 +123,11 @@ impl Rig {
     }
 
     fn hold_mm(&self) -> f64 {
-        self.handoff.status.hold(0) / COUNTS_PER_MM
+        self.handoff.status().hold(0) / COUNTS_PER_MM
     }
 
     fn cycle(&self) -> u64 {
-        self.handoff.status.cycle()
+        self.handoff.status().cycle()
     }
 
     /// Publishes one block of `positions` (mm) starting at `start`.
@@ -216,7 +215,7 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     rig.publish(1, start, &[home + 5.0; 16], true);
     rig.wait_until(start + 60);
     assert_eq!(rig.rejections(), vec![2], "velocity_step"); // RejectReason::VelocityStep
-    assert_eq!(rig.handoff.status.state(), CellState::Idle);
+    assert_eq!(rig.handoff.status().state(), CellState::Idle);
     assert_eq!(rig.hold_mm(), home);
 
     // A block whose first cycle has passed: refused as late.
@@ -244,7 +243,7 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     let start = rig.cycle() + LEAD;
     rig.publish_move(5, start, 2, true);
     rig.wait_until(start + 100);
-    assert_eq!(rig.handoff.status.state(), CellState::Stopped);
+    assert_eq!(rig.handoff.status().state(), CellState::Stopped);
     assert_eq!(*rig.rejections().last().unwrap(), 6, "not_accepting");
     assert_eq!(rig.hold_mm(), stopped_at);
 
@@ -284,7 +283,7 @@ fn a_faulted_cell_needs_reset_and_power_on_before_it_moves_again() {
     let start = rig.cycle() + LEAD;
     rig.publish_move(1, start, 2, true);
     rig.wait_until(start + 80);
-    assert_eq!(rig.handoff.status.state(), CellState::Faulted);
+    assert_eq!(rig.handoff.status().state(), CellState::Faulted);
     assert!(rig
         .events
         .iter()
@@ -320,7 +319,7 @@ sim = { initial_position = 50.0 }
 }
 
 fn enabled(rig: &Rig, axis: usize) -> bool {
-    let sw = rig.handoff.status.live[axis]
+    let sw = rig.handoff.status().live[axis]
         .statusword
         .load(Ordering::Relaxed);
     cellrt_axes::cia402::statusword::Statusword(sw).state()
@@ -328,7 +327,7 @@ fn enabled(rig: &Rig, axis: usize) -> bool {
 }
 
 fn powered(rig: &Rig, axis: usize) -> bool {
-    rig.handoff.status.live[axis]
+    rig.handoff.status().live[axis]
         .powered
         .load(Ordering::Relaxed)
 }
@@ -346,7 +345,7 @@ fn single_axes_power_on_and_off_and_an_unpowered_axis_takes_no_motion() {
     assert!(!enabled(&rig, 1) && !powered(&rig, 1));
 
     // x moves while y holds: accepted, x arrives, y stays put.
-    let y = rig.handoff.status.hold(1) / COUNTS_PER_MM;
+    let y = rig.handoff.status().hold(1) / COUNTS_PER_MM;
     let mut x = rig.hold_mm();
     let start = rig.cycle() + LEAD;
     for b in 0..2u64 {
@@ -360,7 +359,7 @@ fn single_axes_power_on_and_off_and_an_unpowered_axis_takes_no_motion() {
     }
     rig.wait_motion_done(1);
     assert!((rig.hold_mm() - x).abs() < 1e-9);
-    assert_eq!(rig.handoff.status.hold(1) / COUNTS_PER_MM, y);
+    assert_eq!(rig.handoff.status().hold(1) / COUNTS_PER_MM, y);
 
     // Motion of the unpowered y: refused (axis_not_powered), the cell stops; y never moved.
     let start = rig.cycle() + LEAD;
@@ -372,7 +371,7 @@ fn single_axes_power_on_and_off_and_an_unpowered_axis_takes_no_motion() {
         .events
         .iter()
         .any(|e| e.kind == EventKind::SetpointRejected && e.axis == 1));
-    assert!((rig.handoff.status.hold(1) / COUNTS_PER_MM - y).abs() < 1e-3);
+    assert!((rig.handoff.status().hold(1) / COUNTS_PER_MM - y).abs() < 1e-3);
 
     // Reset: idle again with x still powered and y still not.
     rig.command(CellCommand::Reset);
@@ -400,7 +399,7 @@ fn single_axes_power_on_and_off_and_an_unpowered_axis_takes_no_motion() {
         std::thread::sleep(Duration::from_millis(1));
     }
     rig.wait_cycles(20);
-    assert_eq!(rig.handoff.status.state(), CellState::Idle);
+    assert_eq!(rig.handoff.status().state(), CellState::Idle);
     assert!(enabled(&rig, 1) && !powered(&rig, 0));
 
     // An axis index the cell lacks is refused, nothing changes.
@@ -410,7 +409,7 @@ fn single_axes_power_on_and_off_and_an_unpowered_axis_takes_no_motion() {
         .events
         .iter()
         .any(|e| e.kind == EventKind::CommandRefused && e.axis == 7));
-    assert_eq!(rig.handoff.status.state(), CellState::Idle);
+    assert_eq!(rig.handoff.status().state(), CellState::Idle);
 
     // The last powered axis off: the cell powers off.
     rig.command(CellCommand::PowerOffAxis(1));

@@ -2,15 +2,14 @@
 //! and, once a push succeeds again, records one `records_dropped` event with the count so far.
 
 use std::path::Path;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::host::controller::sim_bus;
+use cellrt_runtime::handoff::{self, CellCommand, EventKind};
+use cellrt_runtime::host::cell_bus::sim_bus;
 use cellrt_runtime::rt::executive::Executive;
-use cellrt_runtime::handoff::{CellCommand, EventKind, Handoff};
-use cellrt_runtime::services;
 use cellrt_runtime::rt::setpoint_stream::SetpointStream;
+use cellrt_runtime::services;
 
 #[test]
 fn dropped_records_are_counted_and_reported_once_the_queue_drains() {
@@ -31,10 +30,10 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
     );
     let cell = CellConfig::parse(Path::new("drops.toml"), &text).unwrap();
     // Queues of 64 cycles that nobody drains (yet).
-    let handoff = Arc::new(Handoff::new(1, 64, true));
+    let (h, handoff) = handoff::new(1, 64, true);
     let node = services::node(&cell.name, "test").unwrap();
     let _publisher = services::setpoint_publisher(&node, &cell.name, 1).unwrap();
-    let (c, h) = (cell.clone(), handoff.clone());
+    let c = cell.clone();
     let rt = std::thread::spawn(move || {
         let node = services::node(&c.name, "rt").unwrap();
         let sub = services::setpoint_subscriber(&node, &c.name).unwrap();
@@ -42,14 +41,14 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
     });
     let wait_cycle = |n: u64| {
         let end = Instant::now() + Duration::from_secs(20);
-        while handoff.status.cycle() < n {
+        while handoff.status().cycle() < n {
             assert!(Instant::now() < end, "the RT loop does not advance");
             std::thread::sleep(Duration::from_millis(5));
         }
     };
     wait_cycle(200);
     let mut events = Vec::new();
-    while let Some(e) = handoff.events.pop() {
+    while let Some(e) = handoff.pop_event() {
         events.push(e);
     }
     assert!(
@@ -57,11 +56,11 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
         "no event while the queue stays full"
     );
     // Drain: the next pushes succeed and the RT thread reports what it dropped.
-    while handoff.cycles.pop().is_some() {}
-    while handoff.axes.pop().is_some() {}
-    let now = handoff.status.cycle();
+    while handoff.pop_cycle().is_some() {}
+    while handoff.pop_axis().is_some() {}
+    let now = handoff.status().cycle();
     wait_cycle(now + 5);
-    while let Some(e) = handoff.events.pop() {
+    while let Some(e) = handoff.pop_event() {
         events.push(e);
     }
     let drops: Vec<_> = events
@@ -74,13 +73,10 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
     assert!(drops[0].value > 100, "dropped so far: {}", drops[0].value);
     assert!(drops.windows(2).all(|w| w[1].value > w[0].value));
     // The cycle record written after the drain carries the same count.
-    let rec = handoff
-        .cycles
-        .pop()
-        .expect("a cycle record after the drain");
+    let rec = handoff.pop_cycle().expect("a cycle record after the drain");
     let last = drops.last().unwrap().value as u64;
     assert!(rec.dropped_records >= last);
-    handoff.commands.push(CellCommand::Quit).unwrap();
+    handoff.send_command(CellCommand::Quit).unwrap();
     let stats = rt.join().unwrap();
     assert!(stats.counters.dropped_records >= last);
 }

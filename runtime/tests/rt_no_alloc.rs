@@ -11,8 +11,8 @@ use std::sync::atomic::Ordering;
 
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
-use cellrt_runtime::rt::executive::WARMUP_CYCLES;
 use cellrt_runtime::host::program::Program;
+use cellrt_runtime::rt::executive::WARMUP_CYCLES;
 use common::{hook, ALLOCATIONS, LOOPS_EXITED};
 
 const CELL: &str = include_str!("data/steady_cell.toml");

@@ -14,8 +14,8 @@ use std::time::{Duration, Instant};
 
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
-use cellrt_runtime::rt::executive::RtPhase;
 use cellrt_runtime::host::program::Program;
+use cellrt_runtime::rt::executive::RtPhase;
 
 /// The RT thread's id, published by the hook at steady state.
 static RT_TID: AtomicI32 = AtomicI32::new(0);

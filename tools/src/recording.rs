@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use cellrt_runtime::host::record::proto::{AxisCycle, CycleStats, Event};
-use cellrt_runtime::host::record::topics::{AXIS_TOPIC_PREFIX, CELL_METADATA, CYCLE_TOPIC, EVENTS_TOPIC};
+use cellrt_runtime::host::record::topics::{
+    AXIS_TOPIC_PREFIX, CELL_METADATA, CYCLE_TOPIC, EVENTS_TOPIC,
+};
 use mcap::read::{LinearReader, Options};
 use mcap::records::{ChunkIndex, Record};
 use mcap::{Channel, Summary};

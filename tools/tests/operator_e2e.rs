@@ -159,7 +159,7 @@ fn operator_commands_drive_a_running_cell() {
     assert!(cell.ok(&["status"]).contains("operation_enabled"));
     // The status publish-subscribe service: per-axis state, cell state, last command, events.
     let node = cellrt_runtime::services::node(&cell.name, "test-status").unwrap();
-    let sub = cellrt_runtime::host::operator::status_subscriber(&node, &cell.name).unwrap();
+    let sub = cellrt_runtime::services::operator_status_subscriber(&node, &cell.name).unwrap();
     let end = Instant::now() + Duration::from_secs(5);
     let report: StatusReport = loop {
         if let Ok(Some(s)) = sub.receive() {
@@ -692,7 +692,11 @@ fn assert_last_motion_on_line(
 }
 
 /// The record of `axis` at `cycle`, or the last before it (an overrun skips cycles).
-fn at(r: &common::Recording, axis: &str, cycle: u64) -> cellrt_runtime::host::record::proto::AxisCycle {
+fn at(
+    r: &common::Recording,
+    axis: &str,
+    cycle: u64,
+) -> cellrt_runtime::host::record::proto::AxisCycle {
     *r.axes[axis].iter().rfind(|a| a.cycle <= cycle).unwrap()
 }
 

@@ -319,16 +319,30 @@ pub enum EthercatInterface {
     Nic(String),
 }
 
+/// A name that is neither a network interface name nor [`IN_PROCESS_INTERFACE`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("'{0}' is not a network interface name (1–15 characters, no '/' or spaces) nor \"{in_process}\"", in_process = IN_PROCESS_INTERFACE)]
+pub struct BadInterfaceName(pub String);
+
+/// Why the `--interface` option could not be applied to a cell.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum InterfaceOptionError {
+    /// Not an interface name.
+    #[error("--interface: {0}")]
+    BadName(#[from] BadInterfaceName),
+    /// The cell has no EtherCAT segment to point anywhere.
+    #[error("--interface: cell '{0}' has no EtherCAT axes (no [ethercat] section)")]
+    NoEthercat(String),
+}
+
 impl EthercatInterface {
     /// A NIC name (1–15 characters, no '/', spaces or NUL) or [`IN_PROCESS_INTERFACE`].
-    pub fn parse(name: &str) -> Result<EthercatInterface, String> {
+    pub fn parse(name: &str) -> Result<EthercatInterface, BadInterfaceName> {
         let name = name.trim();
         if name == IN_PROCESS_INTERFACE {
             Ok(EthercatInterface::InProcess)
         } else if name.is_empty() || name.len() > 15 || name.contains(['/', ' ', '\0']) {
-            Err(format!(
-                "'{name}' is not a network interface name (1–15 characters, no '/' or spaces) nor \"{IN_PROCESS_INTERFACE}\""
-            ))
+            Err(BadInterfaceName(name.to_owned()))
         } else {
             Ok(EthercatInterface::Nic(name.to_owned()))
         }
@@ -371,18 +385,14 @@ impl CellConfig {
     /// Points the cell's EtherCAT segment at `interface` (the `--interface` option); an error
     /// if the cell has no EtherCAT axes or the name is not an interface name. On a network
     /// interface the wire faults are left to the segment ([`CellConfig::faults_left_to_segment`]).
-    pub fn set_ethercat_interface(&mut self, interface: &str) -> Result<(), String> {
-        let parsed =
-            EthercatInterface::parse(interface).map_err(|e| format!("--interface: {e}"))?;
+    pub fn set_ethercat_interface(&mut self, interface: &str) -> Result<(), InterfaceOptionError> {
+        let parsed = EthercatInterface::parse(interface)?;
         match &mut self.ethercat {
             Some(ec) => {
                 ec.interface = parsed;
                 Ok(())
             }
-            None => Err(format!(
-                "--interface: cell '{}' has no EtherCAT axes (no [ethercat] section)",
-                self.name
-            )),
+            None => Err(InterfaceOptionError::NoEthercat(self.name.clone())),
         }
     }
 }

@@ -144,7 +144,7 @@ fn the_ethercat_cell_is_valid_and_typed() {
     c.set_ethercat_interface("in-process").unwrap();
     assert_eq!(c.ethercat.unwrap().interface, EthercatInterface::InProcess);
     let mut demo = parse(&demo_text()).unwrap();
-    let e = demo.set_ethercat_interface("eth0").unwrap_err();
+    let e = demo.set_ethercat_interface("eth0").unwrap_err().to_string();
     assert!(e.contains("no EtherCAT axes"), "{e}");
 }
 

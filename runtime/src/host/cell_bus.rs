@@ -1,14 +1,15 @@
 //! The bus a cell runs on, chosen by its config: the in-process simulated drives, or an
 //! EtherCAT segment (emulated in-process or on a network interface).
 
+use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::ethercat::emulator::Segment;
 use cellrt_axes::ethercat::master::{
     EthercatBus, InProcessLink, Link, RawSocketLink, SegmentConfig, SegmentDrive,
 };
+use cellrt_axes::sim::plant::PlantParams;
 use cellrt_axes::{Bus, BusError, Cycles, SimBus, SimDrive, SimDriveParams};
 
 use crate::config::{CellConfig, EthercatInterface};
-use crate::host::controller::sim_drives;
 
 /// The cell's bus.
 #[derive(Debug)]
@@ -36,6 +37,47 @@ pub enum BusOpenError {
     /// The emulated segment's units could not be built.
     #[error("emulated EtherCAT segment: {0}")]
     Unit(#[from] cellrt_axes::ethercat::emulator::UnitError),
+}
+
+/// Builds the simulated bus of `cell`.
+pub fn sim_bus(cell: &CellConfig) -> SimBus {
+    SimBus::new(sim_drives(cell))
+}
+
+/// The simulated drives of `cell`'s axes (behind a [`SimBus`] or an emulated EtherCAT segment).
+pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
+    cell.axes
+        .iter()
+        .map(|a| {
+            let s = a.scaling.counts_per_unit();
+            let params = SimDriveParams {
+                plant: PlantParams {
+                    position_bandwidth_hz: a.sim.position_bandwidth_hz,
+                    velocity_bandwidth_hz: a.sim.velocity_bandwidth_hz,
+                    max_velocity: a.limits.velocity * s * a.sim.motor_speed_factor,
+                    max_acceleration: a.limits.acceleration * s * 3.0,
+                },
+                initial_position: a
+                    .scaling
+                    .to_counts_i32(a.sim.initial_position)
+                    .unwrap_or_default(),
+                following_error_limit: (a.following_error_limit * s)
+                    .round()
+                    .min(f64::from(u32::MAX)) as u32,
+                // A cst axis idles and brakes in csv (`AxisChannel::drive_command`).
+                z_phase_position: a
+                    .scaling
+                    .to_counts_i32(a.sim.z_phase_position)
+                    .unwrap_or_default(),
+                initial_mode: match a.mode {
+                    ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
+                    m => m,
+                },
+                ..SimDriveParams::default()
+            };
+            SimDrive::new(a.profile, params, cell.cycle_time)
+        })
+        .collect()
 }
 
 /// The EtherCAT segment `cell` expects, in axis order.
@@ -83,7 +125,7 @@ impl CellBus {
     /// Opens the bus `cell` names; EtherCAT segments are brought to OP here.
     pub fn open(cell: &CellConfig) -> Result<CellBus, BusOpenError> {
         let Some(ec) = &cell.ethercat else {
-            return Ok(CellBus::Sim(SimBus::new(sim_drives(cell))));
+            return Ok(CellBus::Sim(sim_bus(cell)));
         };
         let link: Box<dyn Link> = match &ec.interface {
             EthercatInterface::InProcess => Box::new(

@@ -9,13 +9,10 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use cellrt_axes::bus::SimBus;
-use cellrt_axes::sim::drive::{SimDrive, SimDriveParams};
-use cellrt_axes::sim::plant::PlantParams;
 use serde::Serialize;
 
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, CellState, Handoff};
+use crate::handoff::{self, CellCommand, CellState, HostEnd, RtEnd};
 use crate::host::link_server::LinkServer;
 use crate::host::planner::{self, PlannerHandle};
 use crate::host::program::Program;
@@ -25,7 +22,6 @@ use crate::rt::histogram::{NsHistogram, Percentiles};
 use crate::rt::setpoint_stream::SetpointStream;
 use crate::rt::thread::{hold_cpu_dma_latency_zero, setup_current_thread, ReservedCpu, RtReport};
 use crate::services;
-use cellrt_axes::cia402::mode::ModeOfOperation;
 
 /// Stack size of the RT thread (the prefault touches part of it).
 pub const RT_STACK_BYTES: usize = 4 * 1024 * 1024;
@@ -147,61 +143,18 @@ pub struct Summary {
     pub recording: RecordingInfo,
 }
 
-/// Builds the simulated bus of `cell`.
-pub fn sim_bus(cell: &CellConfig) -> SimBus {
-    SimBus::new(sim_drives(cell))
-}
-
-/// The simulated drives of `cell`'s axes (behind a [`SimBus`] or an emulated EtherCAT segment).
-pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
-    cell.axes
-        .iter()
-        .map(|a| {
-            let s = a.scaling.counts_per_unit();
-            let params = SimDriveParams {
-                plant: PlantParams {
-                    position_bandwidth_hz: a.sim.position_bandwidth_hz,
-                    velocity_bandwidth_hz: a.sim.velocity_bandwidth_hz,
-                    max_velocity: a.limits.velocity * s * a.sim.motor_speed_factor,
-                    max_acceleration: a.limits.acceleration * s * 3.0,
-                },
-                initial_position: a
-                    .scaling
-                    .to_counts_i32(a.sim.initial_position)
-                    .unwrap_or_default(),
-                following_error_limit: (a.following_error_limit * s)
-                    .round()
-                    .min(f64::from(u32::MAX)) as u32,
-                // A cst axis idles and brakes in csv (`AxisChannel::drive_command`).
-                z_phase_position: a
-                    .scaling
-                    .to_counts_i32(a.sim.z_phase_position)
-                    .unwrap_or_default(),
-                initial_mode: match a.mode {
-                    ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
-                    m => m,
-                },
-                ..SimDriveParams::default()
-            };
-            SimDrive::new(a.profile, params, cell.cycle_time)
-        })
-        .collect()
-}
-
 /// Runs `cell` until the program ends, the duration elapses or `shutdown` is set.
 pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let _lock = crate::host::cell_lock::CellLock::acquire(&cell.name)?;
     // Before any thread starts: they all inherit the affinity without the RT CPU.
     let reserved = ReservedCpu::apply(&cell.rt);
-    let handoff = Arc::new(Handoff::new(
-        cell.axes.len(),
-        queue_cycles(cell),
-        opts.record.is_some(),
-    ));
+    let (rt_handoff, handoff) =
+        handoff::new(cell.axes.len(), queue_cycles(cell), opts.record.is_some());
+    let handoff = Arc::new(handoff);
     let recording = Recording::start(cell, opts.record.as_deref(), handoff.clone())?;
     let bus =
         crate::host::cell_bus::CellBus::open(cell).map_err(|e| RunError::Bus(e.to_string()))?;
-    let (rt, mut report) = spawn_rt(cell, bus, handoff.clone(), opts.hook)?;
+    let (rt, mut report) = spawn_rt(cell, bus, rt_handoff, opts.hook)?;
     report.other_threads_cpus = reserved.others.clone();
     report.refused.extend(reserved.refused.clone());
     for r in &report.refused {
@@ -290,7 +243,7 @@ impl Recording {
     fn start(
         cell: &CellConfig,
         path: Option<&std::path::Path>,
-        handoff: Arc<Handoff>,
+        handoff: Arc<HostEnd>,
     ) -> Result<Recording, RecorderError> {
         Recorder::start(cell, path, handoff).map(|r| Recording(Some(r)))
     }
@@ -336,10 +289,10 @@ impl Drop for RtStart {
 fn spawn_rt(
     cell: &CellConfig,
     bus: crate::host::cell_bus::CellBus,
-    handoff: Arc<Handoff>,
+    handoff: RtEnd,
     hook: Option<PhaseHook>,
 ) -> Result<(RtStart, RtReport), RunError> {
-    let (ready_tx, ready_rx) = mpsc::channel::<Result<RtReport, String>>();
+    let (ready_tx, ready_rx) = mpsc::channel::<Result<RtReport, services::ServiceError>>();
     let (go_tx, go_rx) = mpsc::channel::<bool>();
     let rt_cell = cell.clone();
     let thread = std::thread::Builder::new()
@@ -351,14 +304,14 @@ fn spawn_rt(
             let node = match services::node(&rt_cell.name, "rt") {
                 Ok(n) => n,
                 Err(e) => {
-                    let _ = ready_tx.send(Err(e.to_string()));
+                    let _ = ready_tx.send(Err(e));
                     return None;
                 }
             };
             let sub = match services::setpoint_subscriber(&node, &rt_cell.name) {
                 Ok(s) => s,
                 Err(e) => {
-                    let _ = ready_tx.send(Err(e.to_string()));
+                    let _ = ready_tx.send(Err(e));
                     return None;
                 }
             };
@@ -377,7 +330,7 @@ fn spawn_rt(
     };
     match ready_rx.recv() {
         Ok(Ok(report)) => Ok((rt, report)),
-        Ok(Err(e)) => Err(RunError::Thread(e)),
+        Ok(Err(e)) => Err(e.into()),
         Err(_) => Err(RunError::Thread("the RT thread died during set-up".into())),
     }
 }
@@ -430,8 +383,8 @@ fn axis_summaries(cell: &CellConfig, stats: &RtStats, targets: &[Option<f64>]) -
 }
 
 /// Brings the cell to rest and powered off, then tells the RT thread to quit.
-fn shutdown(cell: &CellConfig, handoff: &Handoff) {
-    let status = &handoff.status;
+fn shutdown(cell: &CellConfig, handoff: &HostEnd) {
+    let status = handoff.status();
     let wait = |pred: &dyn Fn(CellState) -> bool, timeout: Duration| {
         let end = Instant::now() + timeout;
         while !pred(status.state()) && Instant::now() < end {
@@ -447,15 +400,15 @@ fn shutdown(cell: &CellConfig, handoff: &Handoff) {
     let stop_timeout = Duration::from_secs_f64(stop_time + 2.0);
 
     if matches!(status.state(), CellState::Moving | CellState::Stopping) {
-        let _ = handoff.commands.push(CellCommand::Stop);
+        let _ = handoff.send_command(CellCommand::Stop);
         wait(
             &|s| !matches!(s, CellState::Moving | CellState::Stopping),
             stop_timeout,
         );
     }
     if status.state() != CellState::Disabled {
-        let _ = handoff.commands.push(CellCommand::PowerOff);
+        let _ = handoff.send_command(CellCommand::PowerOff);
         wait(&|s| s == CellState::Disabled, planner::POWER_TIMEOUT);
     }
-    let _ = handoff.commands.push(CellCommand::Quit);
+    let _ = handoff.send_command(CellCommand::Quit);
 }

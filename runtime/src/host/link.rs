@@ -10,7 +10,7 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
 use crate::handoff::{
-    CellCommand, CellState, EventKind, EventRecord, Handoff, HomeRequest, HomingStatus, StopReason,
+    CellCommand, CellState, EventKind, EventRecord, HomeRequest, HomingStatus, HostEnd, StopReason,
     NO_AXIS,
 };
 use crate::services::{self, CommandSample, LiveAxis, ServiceError, StatusSample};
@@ -18,6 +18,58 @@ use crate::setpoints::MAX_AXES;
 
 /// A remote cell whose status is older than this is considered gone.
 pub const STATUS_TIMEOUT: Duration = Duration::from_millis(500);
+
+/// Why a planner could not reach its cell.
+#[derive(Debug, thiserror::Error)]
+pub enum LinkError {
+    /// The in-process command queue to the RT thread is full.
+    #[error("command queue to the RT thread is full")]
+    CommandQueueFull,
+    /// The cell's status or command service could not be opened.
+    #[error(transparent)]
+    Service(#[from] ServiceError),
+    /// The controller runs another cycle time or axis count than the planner's configuration.
+    #[error("the controller of cell '{cell}' runs {axes} axes at {cycle_us} µs, but this configuration has {expected_axes} axes at {expected_cycle_us} µs: start the planner with the controller's configuration file")]
+    OtherShape {
+        /// Cell name.
+        cell: String,
+        /// The controller's axis count.
+        axes: u32,
+        /// The controller's cycle time, µs.
+        cycle_us: u64,
+        /// The configuration's axis count.
+        expected_axes: usize,
+        /// The configuration's cycle time, µs.
+        expected_cycle_us: u64,
+    },
+    /// No controller published a status in time.
+    #[error("no controller of cell '{cell}' answered within {timeout:?} (start `cellrt run <CONFIG> --external-planner` first)")]
+    NoController {
+        /// Cell name.
+        cell: String,
+        /// How long the planner waited.
+        timeout: Duration,
+    },
+    /// A status sample with an unknown cell state.
+    #[error("malformed status from cell '{0}'")]
+    MalformedStatus(String),
+    /// The controller published before but no longer.
+    #[error("cell '{0}' stopped publishing its status (controller gone?)")]
+    StatusStale(String),
+    /// The controller has not published yet.
+    #[error("no status from cell '{0}' yet")]
+    NoStatus(String),
+    /// A command sample could not be sent.
+    #[error("sending {command} to cell '{cell}': {detail}")]
+    Send {
+        /// The command's name.
+        command: &'static str,
+        /// Cell name.
+        cell: String,
+        /// The iceoryx2 error.
+        detail: String,
+    },
+}
 
 /// The cell's state as a planner needs it.
 #[derive(Debug, Clone, Copy)]
@@ -43,11 +95,11 @@ pub struct StatusSnapshot {
 /// A planner's connection to its cell.
 pub trait CellLink {
     /// The latest status; an error if the cell cannot be reached.
-    fn status(&mut self) -> Result<StatusSnapshot, String>;
+    fn status(&mut self) -> Result<StatusSnapshot, LinkError>;
     /// Sends a command to the RT thread.
-    fn command(&mut self, c: CellCommand) -> Result<(), String>;
+    fn command(&mut self, c: CellCommand) -> Result<(), LinkError>;
     /// Asks the RT thread to home an axis (taken in Idle).
-    fn home(&mut self, request: HomeRequest) -> Result<(), String>;
+    fn home(&mut self, request: HomeRequest) -> Result<(), LinkError>;
     /// The latest event lines (in-process only; empty from another process).
     fn recent_events(&mut self) -> Vec<String> {
         Vec::new()
@@ -58,20 +110,20 @@ pub trait CellLink {
 
 /// The in-process link: the RT thread's status atomics and command queue.
 pub struct LocalLink {
-    handoff: Arc<Handoff>,
+    handoff: Arc<HostEnd>,
     axes: usize,
 }
 
 impl LocalLink {
     /// Links to the RT thread behind `handoff`.
-    pub fn new(handoff: Arc<Handoff>, axes: usize) -> Self {
+    pub fn new(handoff: Arc<HostEnd>, axes: usize) -> Self {
         LocalLink { handoff, axes }
     }
 }
 
 /// Reads the RT thread's status atomics into a snapshot.
-pub fn snapshot(handoff: &Handoff, axes: usize) -> StatusSnapshot {
-    let s = &handoff.status;
+pub fn snapshot(handoff: &HostEnd, axes: usize) -> StatusSnapshot {
+    let s = handoff.status();
     let mut hold = [0.0; MAX_AXES];
     let mut live = [LiveAxis::default(); MAX_AXES];
     for (i, (h, l)) in hold.iter_mut().zip(live.iter_mut()).enumerate().take(axes) {
@@ -101,21 +153,18 @@ pub fn snapshot(handoff: &Handoff, axes: usize) -> StatusSnapshot {
 }
 
 impl CellLink for LocalLink {
-    fn status(&mut self) -> Result<StatusSnapshot, String> {
+    fn status(&mut self) -> Result<StatusSnapshot, LinkError> {
         Ok(snapshot(&self.handoff, self.axes))
     }
 
-    fn command(&mut self, c: CellCommand) -> Result<(), String> {
+    fn command(&mut self, c: CellCommand) -> Result<(), LinkError> {
         self.handoff
-            .commands
-            .push(c)
-            .map_err(|_| "command queue to the RT thread is full".to_string())
+            .send_command(c)
+            .map_err(|_| LinkError::CommandQueueFull)
     }
 
-    fn home(&mut self, request: HomeRequest) -> Result<(), String> {
-        self.handoff
-            .home_request
-            .store(request.encode(), Ordering::Release);
+    fn home(&mut self, request: HomeRequest) -> Result<(), LinkError> {
+        self.handoff.request_homing(request);
         Ok(())
     }
 
@@ -124,8 +173,8 @@ impl CellLink for LocalLink {
     }
 
     fn event(&mut self, kind: EventKind, value: i64) {
-        let _ = self.handoff.events.push(EventRecord {
-            cycle: self.handoff.status.cycle(),
+        let _ = self.handoff.push_event(EventRecord {
+            cycle: self.handoff.status().cycle(),
             kind,
             axis: NO_AXIS,
             value,
@@ -153,11 +202,10 @@ impl RemoteLink {
         cycle_time_ns: u64,
         axes: usize,
         timeout: Duration,
-    ) -> Result<RemoteLink, String> {
-        let e = |e: ServiceError| e.to_string();
+    ) -> Result<RemoteLink, LinkError> {
         let mut link = RemoteLink {
-            status: services::status_subscriber(node, cell).map_err(e)?,
-            commands: services::command_publisher(node, cell).map_err(e)?,
+            status: services::status_subscriber(node, cell)?,
+            commands: services::command_publisher(node, cell)?,
             latest: None,
             shape: (0, 0),
             cell: cell.to_string(),
@@ -167,18 +215,21 @@ impl RemoteLink {
             if link.status().is_ok() {
                 let (ns, n) = link.shape;
                 if ns != cycle_time_ns || n as usize != axes {
-                    return Err(format!(
-                        "the controller of cell '{cell}' runs {n} axes at {} µs, but this configuration has {axes} axes at {} µs: start the planner with the controller's configuration file",
-                        ns / 1000,
-                        cycle_time_ns / 1000
-                    ));
+                    return Err(LinkError::OtherShape {
+                        cell: cell.to_string(),
+                        axes: n,
+                        cycle_us: ns / 1000,
+                        expected_axes: axes,
+                        expected_cycle_us: cycle_time_ns / 1000,
+                    });
                 }
                 return Ok(link);
             }
             if Instant::now() >= end {
-                return Err(format!(
-                    "no controller of cell '{cell}' answered within {timeout:?} (start `cellrt run <CONFIG> --external-planner` first)"
-                ));
+                return Err(LinkError::NoController {
+                    cell: cell.to_string(),
+                    timeout,
+                });
             }
             std::thread::sleep(Duration::from_millis(5));
         }
@@ -186,11 +237,11 @@ impl RemoteLink {
 }
 
 impl CellLink for RemoteLink {
-    fn status(&mut self) -> Result<StatusSnapshot, String> {
+    fn status(&mut self) -> Result<StatusSnapshot, LinkError> {
         while let Ok(Some(sample)) = self.status.receive() {
             let s = sample.payload();
             let state = CellState::from_u8(s.state)
-                .ok_or_else(|| format!("malformed status from cell '{}'", self.cell))?;
+                .ok_or_else(|| LinkError::MalformedStatus(self.cell.clone()))?;
             self.shape = (s.cycle_time_ns, s.axis_count);
             self.latest = Some((
                 StatusSnapshot {
@@ -208,32 +259,37 @@ impl CellLink for RemoteLink {
         }
         match self.latest {
             Some((snap, at)) if at.elapsed() < STATUS_TIMEOUT => Ok(snap),
-            Some(_) => Err(format!(
-                "cell '{}' stopped publishing its status (controller gone?)",
-                self.cell
-            )),
-            None => Err(format!("no status from cell '{}' yet", self.cell)),
+            Some(_) => Err(LinkError::StatusStale(self.cell.clone())),
+            None => Err(LinkError::NoStatus(self.cell.clone())),
         }
     }
 
-    fn command(&mut self, c: CellCommand) -> Result<(), String> {
+    fn command(&mut self, c: CellCommand) -> Result<(), LinkError> {
         self.commands
             .send_copy(CommandSample {
                 code: c.event_value() as u32,
                 arg: 0,
             })
             .map(|_| ())
-            .map_err(|e| format!("sending {} to cell '{}': {e:?}", c.as_str(), self.cell))
+            .map_err(|e| LinkError::Send {
+                command: c.as_str(),
+                cell: self.cell.clone(),
+                detail: format!("{e:?}"),
+            })
     }
 
-    fn home(&mut self, request: HomeRequest) -> Result<(), String> {
+    fn home(&mut self, request: HomeRequest) -> Result<(), LinkError> {
         self.commands
             .send_copy(CommandSample {
                 code: services::HOME_COMMAND_CODE,
                 arg: request.encode(),
             })
             .map(|_| ())
-            .map_err(|e| format!("sending home to cell '{}': {e:?}", self.cell))
+            .map_err(|e| LinkError::Send {
+                command: "home",
+                cell: self.cell.clone(),
+                detail: format!("{e:?}"),
+            })
     }
 
     fn event(&mut self, _kind: EventKind, _value: i64) {}

@@ -11,7 +11,7 @@ use iceoryx2::node::{NodeState, NodeView};
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, EventKind, EventRecord, Handoff, NO_AXIS};
+use crate::handoff::{CellCommand, EventKind, EventRecord, HomeRequest, HostEnd, NO_AXIS};
 use crate::host::link::snapshot;
 use crate::services::{self, ServiceError, StatusSample};
 
@@ -26,7 +26,7 @@ pub struct LinkServer {
 
 impl LinkServer {
     /// Starts the link thread; returns once its services exist.
-    pub fn spawn(cell: &CellConfig, handoff: Arc<Handoff>) -> Result<LinkServer, ServiceError> {
+    pub fn spawn(cell: &CellConfig, handoff: Arc<HostEnd>) -> Result<LinkServer, ServiceError> {
         let stop = Arc::new(AtomicBool::new(false));
         let stop2 = stop.clone();
         let cell = cell.clone();
@@ -75,7 +75,9 @@ impl LinkServer {
                     while let Ok(Some(c)) = commands.receive() {
                         let c = c.payload();
                         if c.code == services::HOME_COMMAND_CODE {
-                            handoff.home_request.store(c.arg, Ordering::Release);
+                            if let Some(request) = HomeRequest::decode(c.arg) {
+                                handoff.request_homing(request);
+                            }
                         } else {
                             forward(&handoff, c.code);
                         }
@@ -92,7 +94,7 @@ impl LinkServer {
                             };
                             push_event(&handoff, kind, 0);
                             if !alive {
-                                let _ = handoff.commands.push(CellCommand::PlannerLost);
+                                let _ = handoff.send_command(CellCommand::PlannerLost);
                                 node.try_cleanup_dead_nodes();
                             }
                         }
@@ -116,22 +118,22 @@ impl LinkServer {
 }
 
 /// Forwards a command from another process; `quit` and unknown codes are refused.
-fn forward(handoff: &Handoff, code: u32) {
+fn forward(handoff: &HostEnd, code: u32) {
     match CellCommand::from_code(i64::from(code)) {
         Some(CellCommand::Quit) | Some(CellCommand::PlannerLost) | None => {
             push_event(handoff, EventKind::CommandRefused, i64::from(code));
         }
         Some(c) => {
-            if handoff.commands.push(c).is_err() {
+            if handoff.send_command(c).is_err() {
                 push_event(handoff, EventKind::CommandRefused, i64::from(code));
             }
         }
     }
 }
 
-fn push_event(handoff: &Handoff, kind: EventKind, value: i64) {
-    let _ = handoff.events.push(EventRecord {
-        cycle: handoff.status.cycle(),
+fn push_event(handoff: &HostEnd, kind: EventKind, value: i64) {
+    let _ = handoff.push_event(EventRecord {
+        cycle: handoff.status().cycle(),
         kind,
         axis: NO_AXIS,
         value,

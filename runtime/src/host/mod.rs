@@ -1,7 +1,7 @@
 //! The non-RT side of the controller process: the controller that starts and joins the threads,
 //! the bus a cell runs on, the planner thread and its programs and motions, the link thread to
 //! other processes, the operator service and the MCAP recorder. Nothing here runs on the RT
-//! thread; it reaches the RT thread only through [`crate::handoff`].
+//! thread; it reaches the RT thread only through the [`crate::handoff::HostEnd`].
 
 pub mod cell_bus;
 pub mod cell_lock;

@@ -10,12 +10,12 @@ use std::time::{Duration, Instant};
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
-use crate::rt::executive::HOMING_TIMEOUT;
-use crate::handoff::{CellCommand, CellState, Handoff, HomeRequest};
+use crate::handoff::{CellCommand, CellState, HomeRequest, HostEnd};
 use crate::host::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionRequest, Progress};
 use crate::host::operator::server::{Context, Followup, OperatorServer};
 use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
+use crate::rt::executive::HOMING_TIMEOUT;
 use crate::services;
 use cellrt_axes::cia402::fsa::FsaState;
 use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure};
@@ -99,7 +99,7 @@ impl PlannerHandle {
 pub fn spawn(
     cell: &CellConfig,
     program: Option<Program>,
-    handoff: Arc<Handoff>,
+    handoff: Arc<HostEnd>,
 ) -> std::io::Result<PlannerHandle> {
     let abort = Arc::new(AtomicBool::new(false));
     let abort2 = abort.clone();
@@ -166,7 +166,7 @@ pub fn run_external(
         cell.axes.len(),
         connect_timeout,
     )
-    .map_err(fail)?;
+    .map_err(|e| fail(e.to_string()))?;
     let source = program.source.display().to_string();
     let mut planner = Planner::new(cell, Box::new(link), abort, source)?;
     planner.serve(Some(program.clone()))
@@ -219,12 +219,12 @@ impl<'a> Planner<'a> {
         })
     }
 
-    fn err(&self, reason: impl Into<String>) -> ProgramError {
+    fn err(&self, reason: impl std::fmt::Display) -> ProgramError {
         ProgramError {
             program: self.source.clone(),
             step: self.step,
             what: self.what,
-            reason: reason.into(),
+            reason: reason.to_string(),
         }
     }
 

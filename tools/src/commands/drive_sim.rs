@@ -6,8 +6,8 @@ use std::sync::Arc;
 
 use cellrt_axes::ethercat::emulator::{wire, FaultSchedule, ScheduledFault, WireFault};
 use cellrt_axes::ethercat::raw_socket::RawSocket;
-use cellrt_runtime::host::cell_bus::{emulated_segment, segment_config};
 use cellrt_runtime::config::CellConfig;
+use cellrt_runtime::host::cell_bus::{emulated_segment, segment_config};
 
 use crate::cli::{DriveSimArgs, DriveSimBus};
 use crate::exit::Exit;

@@ -12,9 +12,9 @@ use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::pdo::{RxPdo, TxPdo};
 use cellrt_axes::Cycles;
 use cellrt_runtime::config::{CellConfig, InjectedFault};
-use cellrt_runtime::host::controller::sim_bus;
-use cellrt_runtime::rt::executive::{inject_into_bus, AxisChannel};
+use cellrt_runtime::host::cell_bus::sim_bus;
 use cellrt_runtime::host::record::proto::AxisCycle;
+use cellrt_runtime::rt::executive::{inject_into_bus, AxisChannel};
 
 use crate::cli::ReplayArgs;
 use crate::exit::Exit;

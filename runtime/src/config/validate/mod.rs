@@ -335,7 +335,7 @@ fn validate_ethercat(
         )),
         (Some(r), Some(_)) => {
             let interface = EthercatInterface::parse(&r.interface)
-                .map_err(|e| ConfigError::new(file, "ethercat.interface", e))?;
+                .map_err(|e| ConfigError::new(file, "ethercat.interface", e.to_string()))?;
             let us = r.frame_timeout_us.unwrap_or(DEFAULT_FRAME_TIMEOUT_US);
             if !(10..=1_000_000).contains(&us) {
                 return Err(ConfigError::new(

@@ -7,8 +7,7 @@ use iceoryx2::node::{NodeState, NodeView};
 use iceoryx2::prelude::*;
 
 use super::wire::{self, Reply, Request};
-use super::OperatorClientPort;
-use crate::services;
+use crate::services::{self, OperatorClientPort};
 
 /// How long a request waits for its reply by default.
 pub const REPLY_TIMEOUT: Duration = Duration::from_secs(5);
@@ -102,10 +101,10 @@ impl OperatorClient {
         };
         let role = format!("cli-{}", std::process::id());
         let node = services::node(&cell, &role).map_err(|e| ClientError::Service(e.to_string()))?;
-        let port =
-            super::client_port(&node, &cell).map_err(|e| ClientError::Service(e.to_string()))?;
-        let wake =
-            super::wake_notifier(&node, &cell).map_err(|e| ClientError::Service(e.to_string()))?;
+        let port = services::operator_client(&node, &cell)
+            .map_err(|e| ClientError::Service(e.to_string()))?;
+        let wake = services::operator_wake_notifier(&node, &cell)
+            .map_err(|e| ClientError::Service(e.to_string()))?;
         Ok(OperatorClient {
             port,
             wake,

@@ -7,13 +7,12 @@ use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
-use super::{OperatorServerPort, SERVICE_RESPONSE_BYTES};
 use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, HomeRequest};
 use crate::host::link::{CellLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionRequest, Progress};
 use crate::host::program::Program;
-use crate::services::ServiceError;
+use crate::services::{self, OperatorServerPort, ServiceError, OPERATOR_RESPONSE_BYTES};
 use cellrt_axes::cia402::homing::{choose_procedure, HomeSettingEdge, HomingFailure};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -37,7 +36,7 @@ pub struct OperatorServer {
     last_finished: Option<FinishedCommand>,
     /// The RT thread's homing sequence number when the active `home` was sent.
     home_seq: u32,
-    status: super::StatusPublisher,
+    status: services::OperatorStatusPublisher,
     last_status: std::time::Instant,
 }
 
@@ -57,13 +56,13 @@ impl OperatorServer {
     /// Opens the cell's operator service.
     pub fn new(node: &Node<ipc::Service>, cell: &str) -> Result<OperatorServer, ServiceError> {
         Ok(OperatorServer {
-            port: super::server_port(node, cell)?,
-            wake: super::wake_listener(node, cell)?,
+            port: services::operator_server(node, cell)?,
+            wake: services::operator_wake_listener(node, cell)?,
             next_id: 1,
             active: None,
             last_finished: None,
             home_seq: 0,
-            status: super::status_publisher(node, cell)?,
+            status: services::operator_status_publisher(node, cell)?,
             last_status: std::time::Instant::now() - super::STATUS_PERIOD,
         })
     }
@@ -113,7 +112,7 @@ impl OperatorServer {
                 }
             }
             Ok(Progress::Running) => {}
-            Err(e) => self.finish_active(Err(e)),
+            Err(e) => self.finish_active(Err(e.to_string())),
         }
     }
 
@@ -132,7 +131,12 @@ impl OperatorServer {
             };
             let (reply, f) = match wire::decode_request(active.payload()) {
                 Ok(req) => self.handle(req, ctx),
-                Err(reason) => (Reply::Rejected { reason }, Followup::None),
+                Err(e) => (
+                    Reply::Rejected {
+                        reason: e.to_string(),
+                    },
+                    Followup::None,
+                ),
             };
             if !matches!(f, Followup::None) {
                 followup = f;
@@ -148,7 +152,7 @@ impl OperatorServer {
             };
             if let Err(e) = sent {
                 tracing::warn!(
-                    "operator service: reply of {} bytes (limit {SERVICE_RESPONSE_BYTES}) not sent: {e}",
+                    "operator service: reply of {} bytes (limit {OPERATOR_RESPONSE_BYTES}) not sent: {e}",
                     bytes.len()
                 );
             }
@@ -679,6 +683,53 @@ fn program_abort(program_running: bool) -> Followup {
     }
 }
 
+/// Why the axes, targets or limits a request names do not fit the cell.
+#[derive(Debug, thiserror::Error)]
+pub enum TargetError {
+    /// No axis of that name.
+    #[error("unknown axis '{name}' (the cell has {axes})")]
+    UnknownAxis {
+        /// The name asked for.
+        name: String,
+        /// The cell's axis names, comma-separated.
+        axes: String,
+    },
+    /// A target that is NaN or infinite.
+    #[error("axis '{axis}': target {value} is not a finite number")]
+    NotFinite {
+        /// Axis name.
+        axis: String,
+        /// The target.
+        value: f64,
+    },
+    /// A requested velocity, acceleration or jerk that is not a positive number.
+    #[error("axis '{axis}': {what} {value} must be a finite number > 0")]
+    BadLimit {
+        /// Axis name.
+        axis: String,
+        /// "velocity", "acceleration" or "jerk".
+        what: &'static str,
+        /// The requested value.
+        value: f64,
+    },
+    /// A requested limit above the axis limit, without `clamp`.
+    #[error("axis '{axis}': {what} {value} {unit}{per} exceeds the axis limit {limit} {unit}{per} (add --clamp to use the limit)")]
+    AboveLimit {
+        /// Axis name.
+        axis: String,
+        /// "velocity", "acceleration" or "jerk".
+        what: &'static str,
+        /// The requested value.
+        value: f64,
+        /// The axis' unit.
+        unit: String,
+        /// "/s", "/s²" or "/s³".
+        per: &'static str,
+        /// The axis limit.
+        limit: f64,
+    },
+}
+
 /// One axis of a move-like request: index, target in units, limits, commanded position now.
 type Resolved = (usize, f64, KinematicLimits, f64);
 
@@ -689,17 +740,18 @@ fn resolve_targets(
     state: &StatusSnapshot,
     targets: &BTreeMap<String, f64>,
     relative: bool,
-    limits_of: impl Fn(&crate::config::AxisConfig) -> Result<KinematicLimits, String>,
-) -> Result<Vec<Resolved>, String> {
+    limits_of: impl Fn(&crate::config::AxisConfig) -> Result<KinematicLimits, TargetError>,
+) -> Result<Vec<Resolved>, TargetError> {
     let mut list = Vec::with_capacity(targets.len());
     for (axis, value) in targets {
         let i = axis_index(ctx.cell, axis)?;
         let a = &ctx.cell.axes[i];
         let limits = limits_of(a)?;
         if !value.is_finite() {
-            return Err(format!(
-                "axis '{axis}': target {value} is not a finite number"
-            ));
+            return Err(TargetError::NotFinite {
+                axis: axis.clone(),
+                value: *value,
+            });
         }
         let here = ctx.engine.position(i, state, a);
         list.push((
@@ -712,13 +764,16 @@ fn resolve_targets(
     Ok(list)
 }
 
-fn axis_index(cell: &CellConfig, name: &str) -> Result<usize, String> {
+fn axis_index(cell: &CellConfig, name: &str) -> Result<usize, TargetError> {
     cell.axes
         .iter()
         .position(|a| a.name == name)
         .ok_or_else(|| {
             let names: Vec<&str> = cell.axes.iter().map(|a| a.name.as_str()).collect();
-            format!("unknown axis '{name}' (the cell has {})", names.join(", "))
+            TargetError::UnknownAxis {
+                name: name.to_string(),
+                axes: names.join(", "),
+            }
         })
 }
 
@@ -730,20 +785,23 @@ fn move_limits(
     acceleration: Option<f64>,
     jerk: Option<f64>,
     clamp: bool,
-) -> Result<KinematicLimits, String> {
-    let pick = |what: &str, unit: &str, req: Option<f64>, limit: f64| {
-        match req {
+) -> Result<KinematicLimits, TargetError> {
+    let pick = |what: &'static str, per: &'static str, req: Option<f64>, limit: f64| match req {
         None => Ok(limit),
-        Some(v) if !(v.is_finite() && v > 0.0) => Err(format!(
-            "axis '{}': {what} {v} must be a finite number > 0",
-            a.name
-        )),
-        Some(v) if v > limit && !clamp => Err(format!(
-            "axis '{}': {what} {v} {}{unit} exceeds the axis limit {limit} {}{unit} (add --clamp to use the limit)",
-            a.name, a.unit, a.unit
-        )),
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(TargetError::BadLimit {
+            axis: a.name.clone(),
+            what,
+            value: v,
+        }),
+        Some(v) if v > limit && !clamp => Err(TargetError::AboveLimit {
+            axis: a.name.clone(),
+            what,
+            value: v,
+            unit: a.unit.clone(),
+            per,
+            limit,
+        }),
         Some(v) => Ok(v.min(limit)),
-    }
     };
     Ok(KinematicLimits {
         velocity: pick("velocity", "/s", velocity, a.limits.velocity)?,

@@ -10,8 +10,7 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
-/// Largest request accepted, bytes.
-pub const MAX_REQUEST_BYTES: usize = 64 * 1024;
+use crate::services::MAX_OPERATOR_REQUEST_BYTES;
 
 /// A request to the cell.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -242,13 +241,21 @@ pub fn encode<T: Serialize>(message: &T) -> Vec<u8> {
     serde_json::to_vec(message).expect("operator messages serialise")
 }
 
+/// What is wrong with a request that could not be decoded.
+#[derive(Debug, thiserror::Error)]
+pub enum MalformedRequest {
+    /// Longer than [`MAX_OPERATOR_REQUEST_BYTES`] (bytes).
+    #[error("malformed request: {0} bytes is more than the {max} allowed", max = MAX_OPERATOR_REQUEST_BYTES)]
+    TooLong(usize),
+    /// Not a request document.
+    #[error("malformed request: {0}")]
+    Json(#[from] serde_json::Error),
+}
+
 /// Decodes a request, naming what is wrong with a malformed one.
-pub fn decode_request(bytes: &[u8]) -> Result<Request, String> {
-    if bytes.len() > MAX_REQUEST_BYTES {
-        return Err(format!(
-            "malformed request: {} bytes is more than the {MAX_REQUEST_BYTES} allowed",
-            bytes.len()
-        ));
+pub fn decode_request(bytes: &[u8]) -> Result<Request, MalformedRequest> {
+    if bytes.len() > MAX_OPERATOR_REQUEST_BYTES {
+        return Err(MalformedRequest::TooLong(bytes.len()));
     }
-    serde_json::from_slice(bytes).map_err(|e| format!("malformed request: {e}"))
+    Ok(serde_json::from_slice(bytes)?)
 }

@@ -19,7 +19,7 @@ use super::proto;
 use super::topics::*;
 use crate::config::{CellConfig, Compression};
 use crate::handoff::{
-    AxisRecord, CellCommand, CellState, CycleRecord, EventKind, EventRecord, Handoff, RejectReason,
+    AxisRecord, CellCommand, CellState, CycleRecord, EventKind, EventRecord, HostEnd, RejectReason,
     StopReason, NO_AXIS,
 };
 use crate::rt::clock::realtime_offset_ns;
@@ -176,7 +176,7 @@ impl Recorder {
     pub fn start(
         cell: &CellConfig,
         path: Option<&Path>,
-        handoff: Arc<Handoff>,
+        handoff: Arc<HostEnd>,
     ) -> Result<Recorder, RecorderError> {
         let sink = match path {
             Some(p) => Some(open(cell, p)?),
@@ -357,7 +357,7 @@ struct Drain<'a> {
 }
 
 /// Keeps the line of the event just logged among the handoff's recent events (operator status).
-fn remember_event(handoff: &Handoff, log: &[String]) {
+fn remember_event(handoff: &HostEnd, log: &[String]) {
     if let Some(line) = log.last() {
         handoff.remember_event(line);
     }
@@ -366,7 +366,7 @@ fn remember_event(handoff: &Handoff, log: &[String]) {
 fn drain_loop(
     cell: &CellConfig,
     sink: Option<Sink>,
-    handoff: &Handoff,
+    handoff: &HostEnd,
     stop: &AtomicBool,
 ) -> Result<RecordingInfo, RecorderError> {
     let mut d = Drain {
@@ -390,11 +390,11 @@ fn drain_loop(
         // Cycle by cycle: the cycle record (it carries the deadline that time-stamps the rest),
         // then that cycle's axis records (pushed before it) and events, so a file rotates at a
         // cycle boundary and messages are in time order.
-        while let Some(c) = handoff.cycles.pop() {
+        while let Some(c) = handoff.pop_cycle() {
             d.rotate_if_due(&c)?;
             d.cycle(&c, period)?;
             n += 1;
-            while let Some(a) = d.pending_axis.take().or_else(|| handoff.axes.pop()) {
+            while let Some(a) = d.pending_axis.take().or_else(|| handoff.pop_axis()) {
                 if a.cycle > c.cycle {
                     d.pending_axis = Some(a);
                     break;
@@ -402,7 +402,7 @@ fn drain_loop(
                 d.axis(&a, period)?;
                 n += 1;
             }
-            while let Some(e) = d.pending_event.take().or_else(|| handoff.events.pop()) {
+            while let Some(e) = d.pending_event.take().or_else(|| handoff.pop_event()) {
                 if e.cycle > c.cycle {
                     d.pending_event = Some(e);
                     break;
@@ -415,11 +415,11 @@ fn drain_loop(
         }
         // Without a file (or at the end) nothing waits for its cycle record.
         if d.sink.is_none() || finishing {
-            while let Some(a) = d.pending_axis.take().or_else(|| handoff.axes.pop()) {
+            while let Some(a) = d.pending_axis.take().or_else(|| handoff.pop_axis()) {
                 d.axis(&a, period)?;
                 n += 1;
             }
-            while let Some(e) = d.pending_event.take().or_else(|| handoff.events.pop()) {
+            while let Some(e) = d.pending_event.take().or_else(|| handoff.pop_event()) {
                 d.event(&e, period)?;
                 remember_event(handoff, &d.info.event_log);
                 n += 1;

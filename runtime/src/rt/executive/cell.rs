@@ -10,7 +10,7 @@ use cellrt_axes::cia402::mode::ModeOfOperation;
 use super::Executive;
 use crate::config::FaultReaction;
 use crate::handoff::{
-    CellCommand, CellState, EventKind, HomeRequest, HomingStatus, RejectReason, StopReason, NO_AXIS,
+    CellCommand, CellState, EventKind, HomingStatus, RejectReason, StopReason, NO_AXIS,
 };
 use crate::setpoints::BLOCK_CYCLES;
 use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure, HomingPhase};
@@ -35,7 +35,7 @@ impl<B: Bus> Executive<B> {
     /// Takes pending commands; returns true on Quit.
     pub(super) fn take_commands(&mut self) -> bool {
         for _ in 0..COMMANDS_PER_CYCLE {
-            let Some(cmd) = self.handoff.commands.pop() else {
+            let Some(cmd) = self.handoff.next_command() else {
                 break;
             };
             let accepted = match (cmd, self.state) {
@@ -122,7 +122,10 @@ impl<B: Bus> Executive<B> {
                         ch.comm_fault = false;
                     }
                     self.stop_reason = None;
-                    self.handoff.status.stop_reason.store(0, Ordering::Release);
+                    self.handoff
+                        .status()
+                        .stop_reason
+                        .store(0, Ordering::Release);
                     self.stream.discard_all();
                     if self.axes.iter().all(|a| a.master.is_enabled() == a.powered) {
                         self.set_state(CellState::Idle);
@@ -140,7 +143,10 @@ impl<B: Bus> Executive<B> {
                 (CellCommand::Reset, CellState::Faulted) => {
                     self.fault_reset_pending = true;
                     self.stop_reason = None;
-                    self.handoff.status.stop_reason.store(0, Ordering::Release);
+                    self.handoff
+                        .status()
+                        .stop_reason
+                        .store(0, Ordering::Release);
                     for ch in &mut self.axes {
                         if ch.feedback.statusword.fault() {
                             ch.master.request(MasterRequest::FaultReset);
@@ -282,12 +288,12 @@ impl<B: Bus> Executive<B> {
     /// In Idle: starts a requested homing (6098h written acyclically first; a refusal is
     /// reported as a failed homing and the cell stays Idle).
     fn poll_home_request(&mut self) {
-        let Some(req) = HomeRequest::decode(self.handoff.home_request.swap(0, Ordering::AcqRel))
-        else {
+        let Some(req) = self.handoff.take_home_request() else {
             return;
         };
         let axis = usize::from(req.axis);
-        let seq = HomingStatus::decode(self.handoff.status.homing.load(Ordering::Acquire)).seq + 1;
+        let seq =
+            HomingStatus::decode(self.handoff.status().homing.load(Ordering::Acquire)).seq + 1;
         let mut status = HomingStatus {
             seq,
             axis: req.axis,
@@ -346,7 +352,7 @@ impl<B: Bus> Executive<B> {
             }
         }
         self.handoff
-            .status
+            .status()
             .homing
             .store(status.encode(), Ordering::Release);
     }
@@ -378,7 +384,7 @@ impl<B: Bus> Executive<B> {
 
     /// Reports the homing result and clears the sequencers.
     fn end_homing(&mut self, failure: Option<HomingFailure>) {
-        let mut status = HomingStatus::decode(self.handoff.status.homing.load(Ordering::Acquire));
+        let mut status = HomingStatus::decode(self.handoff.status().homing.load(Ordering::Acquire));
         for ch in &mut self.axes {
             ch.homing.clear();
         }
@@ -396,7 +402,7 @@ impl<B: Bus> Executive<B> {
             i64::from(status.failure),
         );
         self.handoff
-            .status
+            .status()
             .homing
             .store(status.encode(), Ordering::Release);
     }
@@ -410,7 +416,7 @@ impl<B: Bus> Executive<B> {
         }
         self.finishing = false;
         self.handoff
-            .status
+            .status()
             .motion_done
             .store(self.motion_id, Ordering::Release);
         self.event(
@@ -446,8 +452,8 @@ impl<B: Bus> Executive<B> {
 
     fn publish_holds(&self) {
         for (i, ch) in self.axes.iter().enumerate() {
-            self.handoff.status.hold[i].store(ch.setpoint.to_bits(), Ordering::Release);
-            let live = &self.handoff.status.live[i];
+            self.handoff.status().hold[i].store(ch.setpoint.to_bits(), Ordering::Release);
+            let live = &self.handoff.status().live[i];
             let f = &ch.feedback;
             live.position_actual
                 .store(f.position_actual, Ordering::Relaxed);
@@ -480,7 +486,7 @@ impl<B: Bus> Executive<B> {
         }
         self.stop_reason = Some(StopReason::DriveFault);
         self.handoff
-            .status
+            .status()
             .stop_reason
             .store(StopReason::DriveFault as u8, Ordering::Release);
         for ch in &mut self.axes {
@@ -495,7 +501,10 @@ impl<B: Bus> Executive<B> {
     pub(super) fn set_state(&mut self, s: CellState) {
         if self.state != s {
             self.state = s;
-            self.handoff.status.state.store(s as u8, Ordering::Release);
+            self.handoff
+                .status()
+                .state
+                .store(s as u8, Ordering::Release);
             self.event(EventKind::CellState, NO_AXIS, s as i64);
         }
     }
@@ -549,7 +558,7 @@ impl<B: Bus> Executive<B> {
             }
             Some(Ok(id)) => {
                 self.motion_id = id;
-                self.handoff.status.motion_id.store(id, Ordering::Release);
+                self.handoff.status().motion_id.store(id, Ordering::Release);
                 match self.follow_stream() {
                     Lookup::Applied => {
                         self.event(EventKind::MotionStarted, NO_AXIS, i64::from(id));
@@ -675,7 +684,7 @@ impl<B: Bus> Executive<B> {
         self.reaction = reaction;
         self.finishing = false;
         self.handoff
-            .status
+            .status()
             .stop_reason
             .store(reason as u8, Ordering::Release);
         match reaction {

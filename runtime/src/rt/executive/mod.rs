@@ -10,7 +10,6 @@ mod cell;
 pub use axis::{AxisChannel, AxisLimitsCounts, HOMING_MODE_SETTLE, HOMING_TIMEOUT, STEP_TOLERANCE};
 
 use std::sync::atomic::Ordering;
-use std::sync::Arc;
 
 use cellrt_axes::bus::{Bus, MailboxNotice};
 use cellrt_axes::comm::CounterVerdict;
@@ -20,9 +19,7 @@ use cellrt_axes::Cycles;
 use serde::Serialize;
 
 use crate::config::{CellConfig, FaultReaction, InjectedFault, Injection, WatchdogConfig};
-use crate::handoff::{
-    AxisRecord, CellState, CycleRecord, EventKind, EventRecord, Handoff, NO_AXIS,
-};
+use crate::handoff::{AxisRecord, CellState, CycleRecord, EventKind, EventRecord, RtEnd, NO_AXIS};
 use crate::rt::clock::{sleep_until, MonoTime};
 use crate::rt::histogram::NsHistogram;
 use crate::rt::setpoint_stream::SetpointStream;
@@ -92,7 +89,7 @@ pub struct Executive<B: Bus> {
     bus: B,
     axes: Vec<AxisChannel>,
     stream: SetpointStream,
-    handoff: Arc<Handoff>,
+    handoff: RtEnd,
     period_ns: u64,
     period_s: f64,
     cycle: u64,
@@ -133,7 +130,7 @@ impl<B: Bus> Executive<B> {
         cell: &CellConfig,
         bus: B,
         stream: SetpointStream,
-        handoff: Arc<Handoff>,
+        handoff: RtEnd,
         hook: Option<PhaseHook>,
     ) -> Self {
         let axes: Vec<AxisChannel> = cell
@@ -200,7 +197,7 @@ impl<B: Bus> Executive<B> {
         }
         let start = MonoTime::now().plus(self.period_ns);
         let mut deadline = start;
-        self.handoff.status.running.store(true, Ordering::Release);
+        self.handoff.status().running.store(true, Ordering::Release);
         let mut elapsed = Cycles(1);
         loop {
             sleep_until(deadline);
@@ -256,7 +253,10 @@ impl<B: Bus> Executive<B> {
         if let Err(e) = self.bus.close() {
             tracing::warn!("bus shutdown: {e}");
         }
-        self.handoff.status.running.store(false, Ordering::Release);
+        self.handoff
+            .status()
+            .running
+            .store(false, Ordering::Release);
         for (i, a) in self.axes.iter().enumerate() {
             self.stats.final_positions[i] = a.feedback.position_actual;
         }
@@ -502,7 +502,7 @@ impl<B: Bus> Executive<B> {
             {
                 self.event(EventKind::BusError, i as u16, i as i64);
             }
-            if self.handoff.recording {
+            if self.handoff.recording() {
                 let ch = &self.axes[i];
                 let rec = AxisRecord {
                     cycle: self.cycle,
@@ -525,7 +525,7 @@ impl<B: Bus> Executive<B> {
                     counter_sent: rx.counter,
                     counter_received: ch.feedback.counter,
                 };
-                let pushed = self.handoff.axes.push(rec).is_ok();
+                let pushed = self.handoff.push_axis(rec);
                 self.record_pushed(pushed);
             }
         }
@@ -533,14 +533,14 @@ impl<B: Bus> Executive<B> {
 
     /// Hands the cycle record and the status to the non-RT side.
     fn publish(&mut self, deadline: MonoTime, latency: u64, loop_ns: u64) {
-        let status = &self.handoff.status;
+        let status = self.handoff.status();
         status.cycle.store(self.cycle, Ordering::Release);
         status.state.store(self.state as u8, Ordering::Release);
         let dc_phase = self.bus.dc_phase_error_ns();
         if let Some(e) = dc_phase {
             self.stats.dc_phase_error.record(e.unsigned_abs());
         }
-        if self.handoff.recording {
+        if self.handoff.recording() {
             let rec = CycleRecord {
                 cycle: self.cycle,
                 deadline_ns: deadline.0,
@@ -552,7 +552,7 @@ impl<B: Bus> Executive<B> {
                 dc_phase_error_ns: dc_phase
                     .map(|e| e.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32),
             };
-            let pushed = self.handoff.cycles.push(rec).is_ok();
+            let pushed = self.handoff.push_cycle(rec);
             self.record_pushed(pushed);
         }
     }
@@ -581,7 +581,7 @@ impl<B: Bus> Executive<B> {
             axis,
             value,
         };
-        if self.handoff.events.push(ev).is_err() {
+        if !self.handoff.push_event(ev) {
             self.stats.dropped_events += 1;
         }
     }

@@ -9,6 +9,8 @@
 //! request arriving after the last block went out waits for the RT thread to finish that
 //! motion (at most the lookahead) and starts the next one.
 
+mod error;
+
 use std::time::{Duration, Instant};
 
 use cellrt_axes::cia402::mode::ModeOfOperation;
@@ -22,6 +24,8 @@ use crate::handoff::{CellState, EventKind};
 use crate::host::link::{CellLink, StatusSnapshot};
 use crate::services::SetpointPublisher;
 use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, FLAG_LAST, FLAG_TORQUE};
+use error::refused;
+pub use error::MotionError;
 
 /// How long a request waits for the motion whose last block is out to finish.
 pub const FINISH_WAIT: Duration = Duration::from_secs(2);
@@ -198,21 +202,28 @@ impl MotionEngine {
     }
 
     /// Sets the feed override (0..=1); a motion in flight follows it smoothly.
-    pub fn set_override(&mut self, value: f64) -> Result<(), String> {
-        self.online.set_override(value).map_err(|e| e.to_string())?;
+    pub fn set_override(&mut self, value: f64) -> Result<(), MotionError> {
+        self.online
+            .set_override(value)
+            .map_err(|e| MotionError::Refused(e.to_string()))?;
         if let Some(Active {
             kind: Kind::Line(line, _),
             ..
         }) = self.active.as_mut()
         {
-            line.set_override(value).map_err(|e| e.to_string())?;
+            line.set_override(value)
+                .map_err(|e| MotionError::Refused(e.to_string()))?;
         }
         Ok(())
     }
 
     /// Applies `req`: changes the motion in flight or starts one. Refused (with the reason,
     /// nothing changed) when the cell cannot take it.
-    pub fn submit(&mut self, req: MotionRequest, link: &mut dyn CellLink) -> Result<(), String> {
+    pub fn submit(
+        &mut self,
+        req: MotionRequest,
+        link: &mut dyn CellLink,
+    ) -> Result<(), MotionError> {
         self.check_request(&req)?;
         self.check_powered(&req, link)?;
         if self.active.as_ref().is_some_and(|a| a.last_published) {
@@ -242,16 +253,17 @@ impl MotionEngine {
                 return Ok(());
             }
             (_, true) if line_active => {
-                return Err("a line move is active: halt it (or wait for its end) first".into())
+                return Err(MotionError::Busy {
+                    active: "line move",
+                })
             }
             (MotionRequest::Line { .. } | MotionRequest::Path { .. }, true) => {
-                return Err(format!(
-                    "a {} starts from rest: halt the motion (or wait for its end) first",
+                return Err(MotionError::NotAtRest(
                     if matches!(req, MotionRequest::Line { .. }) {
                         "line"
                     } else {
                         "waypoint path"
-                    }
+                    },
                 ))
             }
             (MotionRequest::Halt(_), true) if torque_active => {
@@ -279,22 +291,19 @@ impl MotionEngine {
                 return Ok(());
             }
             (_, true) if torque_active => {
-                return Err(
-                    "a torque command is active: halt it (or wait for its end) first".into(),
-                )
+                return Err(MotionError::Busy {
+                    active: "torque command",
+                })
             }
             (MotionRequest::Torque { .. }, true) => {
-                return Err("a motion is active: halt it (or wait for its end) first".into())
+                return Err(MotionError::Busy { active: "motion" })
             }
             _ => {}
         }
         if self.active.is_none() {
             let status = link.status()?;
             if status.state != CellState::Idle {
-                return Err(format!(
-                    "the cell is {}, not idle (power on first, or reset after a stop)",
-                    status.state.as_str()
-                ));
+                return Err(MotionError::NotIdle(status.state.as_str()));
             }
             let kind = match &req {
                 MotionRequest::Torque { targets, hold_s } => {
@@ -304,7 +313,7 @@ impl MotionEngine {
                             TorqueRamp::new(torque, slope, *hold_s).map(|r| (axis, r))
                         })
                         .collect::<Result<Vec<_>, _>>()
-                        .map_err(|e| format!("torque profile: {e}"))?;
+                        .map_err(|e| MotionError::planning("torque profile")(&e))?;
                     let duration = ramps
                         .iter()
                         .map(|(_, r)| r.duration_s())
@@ -330,15 +339,15 @@ impl MotionEngine {
                     let limits: Vec<KinematicLimits> = targets.iter().map(|t| t.2).collect();
                     for &(i, end, _) in targets {
                         let a = &self.cell.axes[i];
-                        a.position
-                            .check(end)
-                            .map_err(|e| format!("axis '{}' ({}): {e}", a.name, a.unit))?;
+                        a.position.check(end).map_err(|e| {
+                            MotionError::Refused(format!("axis '{}' ({}): {e}", a.name, a.unit))
+                        })?;
                     }
                     let mut line =
                         LineMove::new(&start, &end, &limits, *path_velocity, self.cell.period())
-                            .map_err(|e| format!("line: {e}"))?;
+                            .map_err(|e| MotionError::planning("line")(&e))?;
                     line.set_override(self.online.feed_override())
-                        .map_err(|e| format!("line: {e}"))?;
+                        .map_err(|e| MotionError::planning("line")(&e))?;
                     Kind::Line(Box::new(line), axes)
                 }
                 MotionRequest::Path { targets, via } => {
@@ -353,9 +362,10 @@ impl MotionEngine {
                             limits,
                         })
                         .collect();
-                    let plan = plan_waypoints(&axes, via).map_err(|e| format!("path: {e}"))?;
+                    let plan = plan_waypoints(&axes, via)
+                        .map_err(|e| MotionError::planning("path")(&e))?;
                     let sampler = MoveSampler::new(plan, self.cell.period())
-                        .map_err(|e| format!("path: {e}"))?;
+                        .map_err(|e| MotionError::planning("path")(&e))?;
                     Kind::Planned(Box::new(sampler), targets.iter().map(|t| t.0).collect())
                 }
                 _ => Kind::Online,
@@ -374,12 +384,16 @@ impl MotionEngine {
             | MotionRequest::Line { .. }
             | MotionRequest::Path { .. } => Ok(()),
         };
-        r.map_err(|e| self.describe(e))
+        r.map_err(|e| MotionError::Refused(self.describe(e)))
     }
 
     /// Refuses motion of an axis whose MC_Power is off (the RT thread would refuse its
     /// setpoints and stop the cell).
-    fn check_powered(&self, req: &MotionRequest, link: &mut dyn CellLink) -> Result<(), String> {
+    fn check_powered(
+        &self,
+        req: &MotionRequest,
+        link: &mut dyn CellLink,
+    ) -> Result<(), MotionError> {
         let moved: Vec<usize> = match req {
             MotionRequest::Move(t) | MotionRequest::Path { targets: t, .. } => {
                 t.iter().map(|t| t.0).collect()
@@ -391,56 +405,53 @@ impl MotionEngine {
         };
         let status = link.status()?;
         match moved.iter().find(|&&i| status.live[i].powered == 0) {
-            Some(&i) => Err(format!(
-                "axis '{}' is not powered (power it on first)",
-                self.cell.axes[i].name
-            )),
+            Some(&i) => Err(MotionError::NotPowered(self.cell.axes[i].name.clone())),
             None => Ok(()),
         }
     }
 
     /// Refusals that depend on the configuration only (before anything changes).
-    fn check_request(&self, req: &MotionRequest) -> Result<(), String> {
+    fn check_request(&self, req: &MotionRequest) -> Result<(), MotionError> {
         let axes = &self.cell.axes;
         match req {
             // A cst axis positions in csv between torque commands (`AxisChannel::drive_command`).
             MotionRequest::Move(targets) => {
                 if targets.is_empty() {
-                    return Err("a move needs at least one axis target".into());
+                    return Err(refused("a move needs at least one axis target"));
                 }
                 if let Some(&(i, _, _)) = targets.iter().find(|t| t.0 >= axes.len()) {
-                    return Err(format!("axis index {i} unknown"));
+                    return Err(MotionError::UnknownAxis(i));
                 }
             }
             MotionRequest::Jog { axis, .. } => {
                 if *axis >= axes.len() {
-                    return Err(format!("axis index {axis} unknown"));
+                    return Err(MotionError::UnknownAxis(*axis));
                 }
             }
             MotionRequest::Halt(_) => {}
             MotionRequest::Path { targets, via } => {
                 if targets.is_empty() || targets.len() > cellrt_trajectory::MAX_MOVE_AXES {
-                    return Err(format!(
+                    return Err(refused(format!(
                         "a waypoint path needs 1 to {} axes (got {})",
                         cellrt_trajectory::MAX_MOVE_AXES,
                         targets.len()
-                    ));
+                    )));
                 }
                 if let Some(&(i, _, _)) = targets.iter().find(|t| t.0 >= axes.len()) {
-                    return Err(format!("axis index {i} unknown"));
+                    return Err(MotionError::UnknownAxis(i));
                 }
                 for (w, point) in via.iter().enumerate() {
                     if point.len() != targets.len() {
-                        return Err(format!(
+                        return Err(refused(format!(
                             "waypoint {w} has {} positions for {} axes",
                             point.len(),
                             targets.len()
-                        ));
+                        )));
                     }
                     for (&(i, _, _), &p) in targets.iter().zip(point) {
                         let a = &axes[i];
                         a.position.check(p).map_err(|e| {
-                            format!("waypoint {w}: axis '{}' ({}): {e}", a.name, a.unit)
+                            refused(format!("waypoint {w}: axis '{}' ({}): {e}", a.name, a.unit))
                         })?;
                     }
                 }
@@ -448,51 +459,49 @@ impl MotionEngine {
                     let a = &axes[i];
                     a.position
                         .check(t)
-                        .map_err(|e| format!("axis '{}' ({}): {e}", a.name, a.unit))?;
+                        .map_err(|e| refused(format!("axis '{}' ({}): {e}", a.name, a.unit)))?;
                 }
             }
             MotionRequest::Line { targets, .. } => {
                 if targets.len() < 2 || targets.len() > cellrt_trajectory::MAX_MOVE_AXES {
-                    return Err(format!(
+                    return Err(refused(format!(
                         "a line needs 2 to {} axes (got {})",
                         cellrt_trajectory::MAX_MOVE_AXES,
                         targets.len()
-                    ));
+                    )));
                 }
                 if let Some(&(i, _, _)) = targets.iter().find(|t| t.0 >= axes.len()) {
-                    return Err(format!("axis index {i} unknown"));
+                    return Err(MotionError::UnknownAxis(i));
                 }
                 let unit = &axes[targets[0].0].unit;
                 if let Some(&(i, _, _)) = targets.iter().find(|t| &axes[t.0].unit != unit) {
-                    return Err(format!(
+                    return Err(refused(format!(
                         "a line needs axes of one unit: '{}' is in {}, '{}' in {}",
                         axes[targets[0].0].name, unit, axes[i].name, axes[i].unit
-                    ));
+                    )));
                 }
             }
             MotionRequest::Torque { targets, .. } => {
                 if targets.is_empty() {
-                    return Err("a torque command needs at least one axis".into());
+                    return Err(refused("a torque command needs at least one axis"));
                 }
                 for &(i, torque, _) in targets {
-                    let a = axes
-                        .get(i)
-                        .ok_or_else(|| format!("axis index {i} unknown"))?;
+                    let a = axes.get(i).ok_or(MotionError::UnknownAxis(i))?;
                     let limits = a
                         .torque
                         .filter(|_| a.mode == ModeOfOperation::CyclicSyncTorque);
                     let Some(limits) = limits else {
-                        return Err(format!(
+                        return Err(refused(format!(
                             "axis '{}' runs in {}; torque needs an axis with mode = \"cst\"",
                             a.name,
                             a.mode.as_str()
-                        ));
+                        )));
                     };
                     if !torque.is_finite() || torque.abs() > limits.max.0 {
-                        return Err(format!(
+                        return Err(refused(format!(
                             "torque {torque} % is outside the torque limit ±{} % of axis '{}'",
                             limits.max.0, a.name
-                        ));
+                        )));
                     }
                 }
             }
@@ -575,12 +584,12 @@ impl MotionEngine {
     }
 
     /// Waits (at most [`FINISH_WAIT`]) for the motion whose last block is out to end.
-    fn wait_finished(&mut self, link: &mut dyn CellLink) -> Result<(), String> {
+    fn wait_finished(&mut self, link: &mut dyn CellLink) -> Result<(), MotionError> {
         let end = Instant::now() + FINISH_WAIT;
         while self.active.is_some() {
             self.tick(link)?;
             if Instant::now() >= end {
-                return Err("the previous motion did not finish".into());
+                return Err(MotionError::PreviousNotFinished);
             }
             std::thread::sleep(Duration::from_millis(1));
         }
@@ -594,7 +603,7 @@ impl MotionEngine {
 
     /// Publishes what the lookahead allows and follows the RT thread; fails (and drops the
     /// motion) when the RT thread stopped it or never started it.
-    pub fn tick(&mut self, link: &mut dyn CellLink) -> Result<Progress, String> {
+    pub fn tick(&mut self, link: &mut dyn CellLink) -> Result<Progress, MotionError> {
         let Some(active) = self.active.as_ref() else {
             return Ok(Progress::Idle);
         };
@@ -633,7 +642,7 @@ impl MotionEngine {
     }
 
     /// Samples and publishes the next block of the active motion.
-    fn publish_block(&mut self) -> Result<(), String> {
+    fn publish_block(&mut self) -> Result<(), MotionError> {
         let n = self.cell.axes.len();
         let period = self.cell.period();
         let Some(a) = self.active.as_mut() else {
@@ -652,7 +661,7 @@ impl MotionEngine {
                 Kind::Line(line, axes) => {
                     let mut group = [AxisState::default(); cellrt_trajectory::MAX_MOVE_AXES];
                     line.step(&mut group[..axes.len()])
-                        .map_err(|e| format!("line: {e}"))?;
+                        .map_err(|e| MotionError::planning("line")(&e))?;
                     group_row(row, &self.hold, &self.cell, axes, &group);
                     last = line.is_done();
                 }
@@ -665,7 +674,7 @@ impl MotionEngine {
                 Kind::Online => {
                     self.online
                         .step(&mut self.states)
-                        .map_err(|e| format!("planning failed: {e}"))?;
+                        .map_err(|e| MotionError::planning("planning failed")(&e))?;
                     for ((sp, st), ax) in row.iter_mut().zip(&self.states).zip(&self.cell.axes) {
                         *sp = AxisSetpoint {
                             position: ax.scaling.to_counts(st.position),
@@ -691,10 +700,13 @@ impl MotionEngine {
             }
             cycles += 1;
         }
-        let mut loaned = self
-            .publisher
-            .loan_slice_uninit(cycles * n)
-            .map_err(|e| format!("setpoint loan failed: {e:?}"))?;
+        let mut loaned =
+            self.publisher
+                .loan_slice_uninit(cycles * n)
+                .map_err(|e| MotionError::Setpoints {
+                    what: "loan",
+                    detail: format!("{e:?}"),
+                })?;
         *loaned.user_header_mut() = SetpointHeader {
             motion_id: a.motion_id,
             flags: flags | if last { FLAG_LAST } else { 0 },
@@ -705,7 +717,10 @@ impl MotionEngine {
         loaned
             .write_from_slice(&self.rows[..cycles * n])
             .send()
-            .map_err(|e| format!("setpoint publish failed: {e:?}"))?;
+            .map_err(|e| MotionError::Setpoints {
+                what: "publish",
+                detail: format!("{e:?}"),
+            })?;
         a.next += cycles as u64;
         a.last_published = last;
         Ok(())
@@ -739,24 +754,24 @@ fn group_row(
 }
 
 /// Fails if the RT thread stopped motion `id` or never started it.
-fn check_running(s: &StatusSnapshot, id: u32, next_cycle: u64) -> Result<(), String> {
+fn check_running(s: &StatusSnapshot, id: u32, next_cycle: u64) -> Result<(), MotionError> {
     match s.state {
         CellState::Stopping | CellState::Stopped | CellState::Faulted => {
             let why = s.stop_reason.map(|r| r.as_str()).unwrap_or("unknown");
-            Err(format!("motion {id} was stopped by the RT thread ({why})"))
+            Err(MotionError::StoppedByRt { id, why })
         }
-        CellState::Disabled | CellState::Disabling | CellState::Enabling => Err(format!(
-            "the cell is {} during motion {id}",
-            s.state.as_str()
-        )),
+        CellState::Disabled | CellState::Disabling | CellState::Enabling => {
+            Err(MotionError::LeftPower {
+                state: s.state.as_str(),
+                id,
+            })
+        }
         CellState::Idle
             if s.motion_id != id
                 && s.motion_done != id
                 && s.cycle > next_cycle + 2 * BLOCK_CYCLES as u64 =>
         {
-            Err(format!(
-                "the RT thread did not start motion {id} (its first block was rejected; see the events)"
-            ))
+            Err(MotionError::NotStarted(id))
         }
         _ => Ok(()),
     }

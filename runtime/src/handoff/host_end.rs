@@ -1,0 +1,86 @@
+//! The non-RT threads' end of the hand-off (controller, link, planner, operator, recorder):
+//! everything the RT end offers from the other side, and what may block.
+
+use std::collections::VecDeque;
+use std::sync::atomic::Ordering;
+use std::sync::{Arc, Mutex};
+
+use super::lanes::Lanes;
+use super::{AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest};
+
+/// Event lines kept for the operator's status.
+pub const RECENT_EVENTS: usize = 8;
+
+/// What the non-RT threads share (behind an `Arc`): the command queue's producer side, the
+/// record queues' consumer side, events both ways, the status, and the recent event lines
+/// behind a lock the RT end has no way to.
+#[derive(Debug)]
+pub struct HostEnd {
+    lanes: Arc<Lanes>,
+    /// The last [`RECENT_EVENTS`] event lines, kept by the recorder for the operator's status.
+    recent_events: Mutex<VecDeque<String>>,
+}
+
+impl HostEnd {
+    pub(super) fn new(lanes: Arc<Lanes>) -> Self {
+        HostEnd {
+            lanes,
+            recent_events: Mutex::new(VecDeque::with_capacity(RECENT_EVENTS)),
+        }
+    }
+
+    /// Queues a command for the RT thread; gives it back if the queue is full.
+    pub fn send_command(&self, command: CellCommand) -> Result<(), CellCommand> {
+        self.lanes.commands.push(command)
+    }
+
+    /// Leaves a homing request for the RT thread (replacing one not yet taken).
+    pub fn request_homing(&self, request: HomeRequest) {
+        self.lanes
+            .home_request
+            .store(request.encode(), Ordering::Release);
+    }
+
+    /// Records an event of a non-RT thread (planner, link); false if the queue is full.
+    pub fn push_event(&self, event: EventRecord) -> bool {
+        self.lanes.events.push(event).is_ok()
+    }
+
+    /// The next cycle record for the recorder.
+    pub fn pop_cycle(&self) -> Option<CycleRecord> {
+        self.lanes.cycles.pop()
+    }
+
+    /// The next axis record for the recorder.
+    pub fn pop_axis(&self) -> Option<AxisRecord> {
+        self.lanes.axes.pop()
+    }
+
+    /// The next event for the recorder.
+    pub fn pop_event(&self) -> Option<EventRecord> {
+        self.lanes.events.pop()
+    }
+
+    /// The status the RT thread publishes.
+    pub fn status(&self) -> &CellStatus {
+        &self.lanes.status
+    }
+
+    /// Adds an event line to the recent events (recorder thread).
+    pub fn remember_event(&self, line: &str) {
+        if let Ok(mut q) = self.recent_events.lock() {
+            if q.len() == RECENT_EVENTS {
+                q.pop_front();
+            }
+            q.push_back(line.to_string());
+        }
+    }
+
+    /// The recent event lines, oldest first.
+    pub fn recent_events(&self) -> Vec<String> {
+        self.recent_events
+            .lock()
+            .map(|q| q.iter().cloned().collect())
+            .unwrap_or_default()
+    }
+}

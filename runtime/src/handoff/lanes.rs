@@ -1,0 +1,53 @@
+//! The lock-free lanes both ends of the hand-off share: preallocated bounded queues (crossbeam
+//! `ArrayQueue`) and status atomics, in one allocation. Only the two ends see the fields.
+
+use std::sync::atomic::AtomicU32;
+
+use crossbeam::queue::ArrayQueue;
+
+use super::{AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord};
+
+/// Commands the queue holds before a sender is refused.
+const COMMAND_QUEUE: usize = 64;
+/// Events the queue holds before the RT thread drops one.
+const EVENT_QUEUE: usize = 8192;
+
+/// Queues and atomics shared by the RT end and the host end.
+#[derive(Debug)]
+pub(super) struct Lanes {
+    /// Commands to the RT thread.
+    pub(super) commands: ArrayQueue<CellCommand>,
+    /// Per-cycle timing records to the recorder.
+    pub(super) cycles: ArrayQueue<CycleRecord>,
+    /// Per-cycle, per-axis records to the recorder.
+    pub(super) axes: ArrayQueue<AxisRecord>,
+    /// Events to the recorder.
+    pub(super) events: ArrayQueue<EventRecord>,
+    /// Status for the non-RT side.
+    pub(super) status: CellStatus,
+    /// Whether a recorder drains the record queues (if not, the RT thread skips pushing).
+    pub(super) recording: bool,
+    /// A pending homing request (`HomeRequest` packed; 0 = none), taken by the RT thread.
+    pub(super) home_request: AtomicU32,
+}
+
+impl Lanes {
+    /// Preallocates queues for `queue_cycles` cycles (at least 64) of `axes` axes; without a
+    /// recorder the record queues hold one record.
+    pub(super) fn new(axes: usize, queue_cycles: usize, recording: bool) -> Self {
+        let queue_cycles = queue_cycles.max(64);
+        Lanes {
+            commands: ArrayQueue::new(COMMAND_QUEUE),
+            cycles: ArrayQueue::new(if recording { queue_cycles } else { 1 }),
+            axes: ArrayQueue::new(if recording {
+                queue_cycles * axes.max(1)
+            } else {
+                1
+            }),
+            events: ArrayQueue::new(EVENT_QUEUE),
+            status: CellStatus::default(),
+            recording,
+            home_request: AtomicU32::new(0),
+        }
+    }
+}

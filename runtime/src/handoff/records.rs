@@ -1,0 +1,220 @@
+//! What the RT thread hands to the recorder: one cycle record per cycle, one axis record per
+//! axis and cycle, and events (with the codes of their values).
+
+use cellrt_axes::cia402::fsa::FsaState;
+
+use super::CellState;
+
+/// Why a setpoint was rejected (the `value` of a `SetpointRejected` event).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
+#[strum(serialize_all = "snake_case")]
+#[repr(u8)]
+pub enum RejectReason {
+    /// The block's first cycle had already passed when it arrived.
+    LateBlock = 1,
+    /// A step between consecutive setpoints above the velocity limit.
+    VelocityStep = 2,
+    /// A setpoint outside the axis' position range.
+    OutsideRange = 3,
+    /// A block for another motion or with a gap in cycles.
+    Discontinuous = 4,
+    /// NaN, infinity, or a malformed header.
+    Malformed = 5,
+    /// Motion sent while the cell does not accept it.
+    NotAccepting = 6,
+    /// A cst torque setpoint above the axis' `limits.torque`.
+    TorqueLimit = 7,
+    /// A cst torque change faster than the axis' `limits.torque_slope`.
+    TorqueStep = 8,
+    /// Motion for an axis that is not powered (MC_Power off for that axis).
+    AxisNotPowered = 9,
+}
+
+impl RejectReason {
+    /// Lower-case name.
+    pub fn as_str(self) -> &'static str {
+        self.into()
+    }
+
+    /// Inverse of `as u8`.
+    pub fn from_u8(v: u8) -> Option<RejectReason> {
+        Self::from_repr(v)
+    }
+}
+
+/// What an event says; the meaning of [`EventRecord::value`] depends on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
+#[strum(serialize_all = "snake_case")]
+pub enum EventKind {
+    /// Cell state changed (value: new [`CellState`] as u8).
+    CellState,
+    /// An axis' FSA state changed (value: [`FsaState`] index).
+    FsaState,
+    /// A command was taken (value: command code).
+    Command,
+    /// A command was refused in the current state (value: command code).
+    CommandRefused,
+    /// A motion started (value: motion id).
+    MotionStarted,
+    /// A motion ended normally (value: motion id).
+    MotionFinished,
+    /// Setpoints missing during motion (value: motion id).
+    Underrun,
+    /// A setpoint was rejected (value: [`RejectReason`] as u8).
+    SetpointRejected,
+    /// A fault reaction or commanded stop started (value: [`StopReason`](super::StopReason) as u8 × 16 +
+    /// reaction: 0 controlled stop, 1 quick stop, 2 disable).
+    StopStarted,
+    /// A controlled stop ended.
+    StopFinished,
+    /// Deadlines missed (value: how late the wakeup was, ns; the count is in the cycle record).
+    Overrun,
+    /// An axis' drive reports a fault (value: 603Fh error code).
+    DriveFault,
+    /// An axis' master gave up waiting for the drive.
+    MasterTimeout,
+    /// Records were dropped because the recorder queue was full (value: count so far).
+    RecordsDropped,
+    /// The bus exchange failed (value: axis index).
+    BusError,
+    /// A scheduled fault was injected (value: 1 stall, 2 drive alarm, 3 planner stall, 4 RxPDO
+    /// loss, 5 counter corruption, 6 SubDevice stall, 7 frame delay, 8 frame corruption, 9
+    /// datagram drop, 10 link loss).
+    FaultInjected,
+    /// A planner's iceoryx2 node appeared.
+    PlannerConnected,
+    /// The planner's iceoryx2 node died or left.
+    PlannerLost,
+    /// An axis' incremental counter check failed (value: 1 continuous, 2 intermittent).
+    CommunicationError,
+    /// Homing started on an axis (value: [`HomeRequest::procedure_code`](super::HomeRequest::procedure_code)).
+    HomingStarted,
+    /// Homing ended on an axis (value: 0 attained, else the `HomingFailure` code).
+    HomingFinished,
+    /// A scheduled wire fault is due, but the cell runs on a network interface: the emulated
+    /// segment on the far end injects it on its own clock, not the master (value: as
+    /// [`EventKind::FaultInjected`]).
+    FaultLeftToSegment,
+    /// The AL status of an axis' SubDevice changed (EtherCAT; value: [`AlStatus::encode`]:
+    /// state and error bit, AL status code). Leaving OP is a communication fault of the axis.
+    ///
+    /// [`AlStatus::encode`]: cellrt_axes::ethercat::register::AlStatus::encode
+    AlStatus,
+    /// An axis' drive sent a CoE Emergency (EtherCAT, ETG.1000.6 §5.6.2.1; value:
+    /// [`encode_emergency`]: error code, error register, manufacturer bytes).
+    Emergency,
+    /// A SubDevice's mailbox held a message nobody asked for that is not an Emergency; it was
+    /// discarded (value: mailbox type | CoE service << 8).
+    MailboxDiscarded,
+}
+
+/// The value of an `emergency` event: error code (bits 0–15), error register (16–23), the 5
+/// manufacturer bytes (24–63, byte 0 lowest).
+pub fn encode_emergency(e: &cellrt_axes::ethercat::emergency::Emergency) -> i64 {
+    let mut v = u64::from(e.error_code) | u64::from(e.error_register) << 16;
+    for (i, b) in e.data.iter().enumerate() {
+        v |= u64::from(*b) << (24 + 8 * i);
+    }
+    v as i64
+}
+
+/// Inverse of [`encode_emergency`].
+pub fn decode_emergency(v: i64) -> cellrt_axes::ethercat::emergency::Emergency {
+    let v = v as u64;
+    let mut data = [0u8; 5];
+    for (i, b) in data.iter_mut().enumerate() {
+        *b = (v >> (24 + 8 * i)) as u8;
+    }
+    cellrt_axes::ethercat::emergency::Emergency {
+        error_code: v as u16,
+        error_register: (v >> 16) as u8,
+        data,
+    }
+}
+
+impl EventKind {
+    /// Lower-case name used on the events channel.
+    pub fn as_str(self) -> &'static str {
+        self.into()
+    }
+}
+
+/// Axis index for cell-wide events.
+pub const NO_AXIS: u16 = u16::MAX;
+
+/// An event, as handed from the RT thread to the recorder.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EventRecord {
+    /// Cycle it happened in.
+    pub cycle: u64,
+    /// What happened.
+    pub kind: EventKind,
+    /// Axis index, or [`NO_AXIS`].
+    pub axis: u16,
+    /// Kind-specific value.
+    pub value: i64,
+}
+
+/// Timing of one executed cycle.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CycleRecord {
+    /// Cycle number (deadline index since start).
+    pub cycle: u64,
+    /// Absolute deadline, CLOCK_MONOTONIC ns.
+    pub deadline_ns: u64,
+    /// Wakeup minus deadline, ns.
+    pub wakeup_latency_ns: u32,
+    /// Loop body time, ns.
+    pub loop_time_ns: u32,
+    /// Missed deadlines so far.
+    pub overruns: u64,
+    /// Cell state at the end of the cycle.
+    pub cell_state: CellState,
+    /// Records dropped so far.
+    pub dropped_records: u64,
+    /// The bus clock's phase error of this cycle's frame, ns (EtherCAT DC; `None` elsewhere).
+    pub dc_phase_error_ns: Option<i32>,
+}
+
+/// One axis in one executed cycle (drive units: counts).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct AxisRecord {
+    /// Cycle number.
+    pub cycle: u64,
+    /// Axis index.
+    pub axis: u16,
+    /// Setpoint position, counts (fractional, before rounding).
+    pub setpoint: f64,
+    /// Setpoint velocity, counts/s.
+    pub setpoint_velocity: f64,
+    /// Target position written to the RxPDO, counts.
+    pub target_position: i32,
+    /// Position actual value (6064h), counts.
+    pub position_actual: i32,
+    /// Velocity actual value (606Ch), counts/s.
+    pub velocity_actual: i32,
+    /// Following error actual value (60F4h), counts.
+    pub following_error: i32,
+    /// Controlword sent (6040h).
+    pub controlword: u16,
+    /// Statusword received (6041h).
+    pub statusword: u16,
+    /// Decoded FSA state.
+    pub fsa_state: Option<FsaState>,
+    /// Modes of operation display (6061h).
+    pub mode_display: i8,
+    /// Error code (603Fh).
+    pub error_code: u16,
+    /// Target torque sent (6071h), 0.1 % of rated torque (0 in csp).
+    pub target_torque: i16,
+    /// 6060h sent.
+    pub mode: i8,
+    /// 60FFh sent, counts/s.
+    pub target_velocity: i32,
+    /// Torque actual value (6077h), 0.1 % of rated torque.
+    pub torque_actual: i16,
+    /// Incremental counter sent (2020h), 0 where the drive has none.
+    pub counter_sent: u8,
+    /// Incremental counter echoed (2021h), 0 where the drive has none.
+    pub counter_received: u8,
+}

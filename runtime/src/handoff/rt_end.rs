@@ -1,0 +1,71 @@
+//! The RT thread's end of the hand-off: lock-free and allocation-free by its type (it holds
+//! only the shared lanes, never the host end's lock).
+
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+
+use super::lanes::Lanes;
+use super::{AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest};
+
+/// What the RT thread may touch: the command queue's consumer side, the record and event
+/// queues' producer side, the pending homing request and the status atomics.
+///
+/// It cannot reach the host end's recent events (a `Mutex`):
+///
+/// ```compile_fail
+/// fn on_the_rt_thread(rt: &cellrt_runtime::handoff::RtEnd) {
+///     rt.remember_event("a lock on the RT thread");
+/// }
+/// ```
+#[derive(Debug)]
+pub struct RtEnd {
+    lanes: Arc<Lanes>,
+}
+
+impl RtEnd {
+    pub(super) fn new(lanes: Arc<Lanes>) -> Self {
+        RtEnd { lanes }
+    }
+
+    /// The next command from the non-RT side, if any.
+    #[inline]
+    pub fn next_command(&self) -> Option<CellCommand> {
+        self.lanes.commands.pop()
+    }
+
+    /// Takes the pending homing request, if any (the slot is empty afterwards).
+    #[inline]
+    pub fn take_home_request(&self) -> Option<HomeRequest> {
+        HomeRequest::decode(self.lanes.home_request.swap(0, Ordering::AcqRel))
+    }
+
+    /// Whether a recorder drains the record queues (if not, skip building records).
+    #[inline]
+    pub fn recording(&self) -> bool {
+        self.lanes.recording
+    }
+
+    /// Hands a cycle record to the recorder; false if its queue is full.
+    #[inline]
+    pub fn push_cycle(&self, record: CycleRecord) -> bool {
+        self.lanes.cycles.push(record).is_ok()
+    }
+
+    /// Hands an axis record to the recorder; false if its queue is full.
+    #[inline]
+    pub fn push_axis(&self, record: AxisRecord) -> bool {
+        self.lanes.axes.push(record).is_ok()
+    }
+
+    /// Hands an event to the recorder; false if its queue is full.
+    #[inline]
+    pub fn push_event(&self, event: EventRecord) -> bool {
+        self.lanes.events.push(event).is_ok()
+    }
+
+    /// The status the RT thread publishes.
+    #[inline]
+    pub fn status(&self) -> &CellStatus {
+        &self.lanes.status
+    }
+}

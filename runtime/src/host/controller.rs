@@ -6,14 +6,15 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::sync::Arc;
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
 use crate::config::CellConfig;
-use crate::handoff::{self, CellCommand, CellState, HostEnd};
+use crate::handoff::{self, CellCommand, CellState, HostEnd, RtEnd};
 use crate::host::link_server::LinkServer;
-use crate::host::planner;
+use crate::host::planner::{self, PlannerHandle};
 use crate::host::program::Program;
 use crate::host::record::{Recorder, RecorderError, RecordingInfo};
 use crate::rt::executive::{Executive, PhaseHook, RtCounters, RtStats};
@@ -147,67 +148,13 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let _lock = crate::host::cell_lock::CellLock::acquire(&cell.name)?;
     // Before any thread starts: they all inherit the affinity without the RT CPU.
     let reserved = ReservedCpu::apply(&cell.rt);
-    let queue_cycles = (cell.recording.queue_seconds / cell.period())
-        .ceil()
-        .max(64.0) as usize;
-    let (rt_handoff, handoff) = handoff::new(cell.axes.len(), queue_cycles, opts.record.is_some());
+    let (rt_handoff, handoff) =
+        handoff::new(cell.axes.len(), queue_cycles(cell), opts.record.is_some());
     let handoff = Arc::new(handoff);
-    let recorder = Recorder::start(cell, opts.record.as_deref(), handoff.clone())?;
-
-    // The RT thread builds its own iceoryx2 port (ports are not Send).
-    let (ready_tx, ready_rx) = mpsc::channel::<Result<RtReport, services::ServiceError>>();
-    let (go_tx, go_rx) = mpsc::channel::<bool>();
-    let rt_cell = cell.clone();
-    let bus = match crate::host::cell_bus::CellBus::open(cell) {
-        Ok(b) => b,
-        Err(e) => {
-            let _ = recorder.finish();
-            return Err(RunError::Bus(e.to_string()));
-        }
-    };
-    let hook = opts.hook;
-    let rt = std::thread::Builder::new()
-        .name("cellrt-rt".into())
-        .stack_size(RT_STACK_BYTES)
-        .spawn(move || -> Option<RtStats> {
-            let mut report = setup_current_thread(&rt_cell.rt);
-            let _dma = hold_cpu_dma_latency_zero(&mut report);
-            let node = match services::node(&rt_cell.name, "rt") {
-                Ok(n) => n,
-                Err(e) => {
-                    let _ = ready_tx.send(Err(e));
-                    return None;
-                }
-            };
-            let sub = match services::setpoint_subscriber(&node, &rt_cell.name) {
-                Ok(s) => s,
-                Err(e) => {
-                    let _ = ready_tx.send(Err(e));
-                    return None;
-                }
-            };
-            let exec = Executive::new(&rt_cell, bus, SetpointStream::new(sub), rt_handoff, hook);
-            let _ = ready_tx.send(Ok(report));
-            // Start the loop only once every peer of the setpoint service exists.
-            if go_rx.recv() != Ok(true) {
-                return None;
-            }
-            Some(exec.run())
-        })
-        .map_err(|e| RunError::Thread(format!("cannot start the RT thread: {e}")))?;
-    let report = match ready_rx.recv() {
-        Ok(Ok(r)) => r,
-        Ok(Err(e)) => {
-            let _ = rt.join();
-            let _ = recorder.finish();
-            return Err(e.into());
-        }
-        Err(_) => {
-            let _ = recorder.finish();
-            return Err(RunError::Thread("the RT thread died during set-up".into()));
-        }
-    };
-    let mut report = report;
+    let recording = Recording::start(cell, opts.record.as_deref(), handoff.clone())?;
+    let bus =
+        crate::host::cell_bus::CellBus::open(cell).map_err(|e| RunError::Bus(e.to_string()))?;
+    let (rt, mut report) = spawn_rt(cell, bus, rt_handoff, opts.hook)?;
     report.other_threads_cpus = reserved.others.clone();
     report.refused.extend(reserved.refused.clone());
     for r in &report.refused {
@@ -220,58 +167,23 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .as_ref()
         .map(|p| p.final_targets(cell.axes.len()))
         .unwrap_or_else(|| vec![None; cell.axes.len()]);
-    let link = match LinkServer::spawn(cell, handoff.clone()) {
-        Ok(l) => l,
-        Err(e) => {
-            let _ = go_tx.send(false);
-            let _ = rt.join();
-            let _ = recorder.finish();
-            return Err(e.into());
-        }
-    };
-    let program = if opts.external_planner {
-        None
-    } else {
-        opts.program
-    };
+    let link = LinkServer::spawn(cell, handoff.clone())?;
     // Without a program the planner thread serves the operator service (unless an external
     // planner process provides the setpoints).
     let mut planner = if opts.external_planner {
         None
     } else {
-        match planner::spawn(cell, program, handoff.clone()) {
+        match planner::spawn(cell, opts.program, handoff.clone()) {
             Ok(p) => Some(p),
             Err(e) => {
-                let _ = go_tx.send(false);
-                let _ = rt.join();
                 link.stop();
-                let _ = recorder.finish();
                 return Err(RunError::Thread(format!("cannot start the planner: {e}")));
             }
         }
     };
 
-    let _ = go_tx.send(true);
-    let started = Instant::now();
-    let outcome = loop {
-        std::thread::sleep(Duration::from_millis(5));
-        if opts.shutdown.load(Ordering::Acquire) {
-            break Outcome::Interrupted;
-        }
-        if let Some(r) = planner.as_mut().and_then(|p| p.poll()) {
-            break if r.is_err() {
-                Outcome::ProgramFailed
-            } else {
-                Outcome::ProgramCompleted
-            };
-        }
-        if opts.duration.is_some_and(|d| started.elapsed() >= d) {
-            break Outcome::DurationElapsed;
-        }
-        if rt.is_finished() {
-            break Outcome::ProgramFailed;
-        }
-    };
+    let rt = rt.go();
+    let outcome = wait_for_end(&opts.shutdown, opts.duration, planner.as_mut(), &rt);
     // Stop publishing before the controlled stop; release the publisher after the RT thread.
     if let Some(p) = planner.as_ref() {
         p.stop_publishing();
@@ -283,23 +195,8 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .ok_or_else(|| RunError::Thread("the RT thread ended without statistics".into()))?;
     link.stop();
     let program_result = planner.map(|p| p.finish());
-    let recording = recorder.finish()?;
+    let recording = recording.finish()?;
 
-    let axes = cell
-        .axes
-        .iter()
-        .enumerate()
-        .map(|(i, a)| {
-            let pos = a.scaling.to_units(f64::from(stats.final_positions[i]));
-            AxisSummary {
-                name: a.name.clone(),
-                unit: a.unit.clone(),
-                final_position: pos,
-                target: targets[i],
-                error: targets[i].map(|t| pos - t),
-            }
-        })
-        .collect();
     let program_error = program_result.and_then(|r| r.err()).map(|e| e.to_string());
     let outcome = if program_error.is_some() && outcome != Outcome::Interrupted {
         Outcome::ProgramFailed
@@ -319,6 +216,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         frames: stats.frames,
         dc_phase_error: (!stats.dc_phase_error.is_empty())
             .then(|| stats.dc_phase_error.percentiles()),
+        axes: axis_summaries(cell, &stats, &targets),
         histograms: RunHistograms {
             wakeup_latency: stats.latency,
             loop_time: stats.loop_time,
@@ -326,9 +224,162 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
             dc_phase_error: stats.dc_phase_error,
         },
         final_state: stats.final_state.as_str().to_string(),
-        axes,
         recording,
     })
+}
+
+/// Cycles the hand-off queues hold: the configured seconds of recording, at least 64.
+fn queue_cycles(cell: &CellConfig) -> usize {
+    (cell.recording.queue_seconds / cell.period())
+        .ceil()
+        .max(64.0) as usize
+}
+
+/// The run's recorder, finished exactly once: by [`Recording::finish`] at the end of the run,
+/// or when dropped on an early exit, so every MCAP file gets its summary and indexes.
+struct Recording(Option<Recorder>);
+
+impl Recording {
+    fn start(
+        cell: &CellConfig,
+        path: Option<&std::path::Path>,
+        handoff: Arc<HostEnd>,
+    ) -> Result<Recording, RecorderError> {
+        Recorder::start(cell, path, handoff).map(|r| Recording(Some(r)))
+    }
+
+    fn finish(mut self) -> Result<RecordingInfo, RecorderError> {
+        self.0.take().expect("finished once").finish()
+    }
+}
+
+impl Drop for Recording {
+    fn drop(&mut self) {
+        if let Some(r) = self.0.take() {
+            let _ = r.finish();
+        }
+    }
+}
+
+/// The RT thread between its set-up and the start of its loop: [`RtStart::go`] starts the
+/// loop; dropped before, it tells the thread to end without looping and joins it.
+struct RtStart {
+    go: mpsc::Sender<bool>,
+    thread: Option<JoinHandle<Option<RtStats>>>,
+}
+
+impl RtStart {
+    fn go(mut self) -> JoinHandle<Option<RtStats>> {
+        let _ = self.go.send(true);
+        self.thread.take().expect("started once")
+    }
+}
+
+impl Drop for RtStart {
+    fn drop(&mut self) {
+        if let Some(t) = self.thread.take() {
+            let _ = self.go.send(false);
+            let _ = t.join();
+        }
+    }
+}
+
+/// Spawns the RT thread and waits until it has set itself up (RT scheduling, its own iceoryx2
+/// port: ports are not Send); it waits for [`RtStart::go`] to start the loop.
+fn spawn_rt(
+    cell: &CellConfig,
+    bus: crate::host::cell_bus::CellBus,
+    handoff: RtEnd,
+    hook: Option<PhaseHook>,
+) -> Result<(RtStart, RtReport), RunError> {
+    let (ready_tx, ready_rx) = mpsc::channel::<Result<RtReport, services::ServiceError>>();
+    let (go_tx, go_rx) = mpsc::channel::<bool>();
+    let rt_cell = cell.clone();
+    let thread = std::thread::Builder::new()
+        .name("cellrt-rt".into())
+        .stack_size(RT_STACK_BYTES)
+        .spawn(move || -> Option<RtStats> {
+            let mut report = setup_current_thread(&rt_cell.rt);
+            let _dma = hold_cpu_dma_latency_zero(&mut report);
+            let node = match services::node(&rt_cell.name, "rt") {
+                Ok(n) => n,
+                Err(e) => {
+                    let _ = ready_tx.send(Err(e));
+                    return None;
+                }
+            };
+            let sub = match services::setpoint_subscriber(&node, &rt_cell.name) {
+                Ok(s) => s,
+                Err(e) => {
+                    let _ = ready_tx.send(Err(e));
+                    return None;
+                }
+            };
+            let exec = Executive::new(&rt_cell, bus, SetpointStream::new(sub), handoff, hook);
+            let _ = ready_tx.send(Ok(report));
+            // Start the loop only once every peer of the setpoint service exists.
+            if go_rx.recv() != Ok(true) {
+                return None;
+            }
+            Some(exec.run())
+        })
+        .map_err(|e| RunError::Thread(format!("cannot start the RT thread: {e}")))?;
+    let rt = RtStart {
+        go: go_tx,
+        thread: Some(thread),
+    };
+    match ready_rx.recv() {
+        Ok(Ok(report)) => Ok((rt, report)),
+        Ok(Err(e)) => Err(e.into()),
+        Err(_) => Err(RunError::Thread("the RT thread died during set-up".into())),
+    }
+}
+
+/// Waits until the run ends: a signal, the program's end, the duration, or the RT thread ended.
+fn wait_for_end(
+    shutdown: &AtomicBool,
+    duration: Option<Duration>,
+    mut planner: Option<&mut PlannerHandle>,
+    rt: &JoinHandle<Option<RtStats>>,
+) -> Outcome {
+    let started = Instant::now();
+    loop {
+        std::thread::sleep(Duration::from_millis(5));
+        if shutdown.load(Ordering::Acquire) {
+            return Outcome::Interrupted;
+        }
+        if let Some(r) = planner.as_mut().and_then(|p| p.poll()) {
+            return if r.is_err() {
+                Outcome::ProgramFailed
+            } else {
+                Outcome::ProgramCompleted
+            };
+        }
+        if duration.is_some_and(|d| started.elapsed() >= d) {
+            return Outcome::DurationElapsed;
+        }
+        if rt.is_finished() {
+            return Outcome::ProgramFailed;
+        }
+    }
+}
+
+/// Each axis' final position against the program's last target.
+fn axis_summaries(cell: &CellConfig, stats: &RtStats, targets: &[Option<f64>]) -> Vec<AxisSummary> {
+    cell.axes
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            let pos = a.scaling.to_units(f64::from(stats.final_positions[i]));
+            AxisSummary {
+                name: a.name.clone(),
+                unit: a.unit.clone(),
+                final_position: pos,
+                target: targets[i],
+                error: targets[i].map(|t| pos - t),
+            }
+        })
+        .collect()
 }
 
 /// Brings the cell to rest and powered off, then tells the RT thread to quit.

@@ -9,11 +9,13 @@ use iceoryx2::prelude::*;
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
 use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, HomeRequest};
-use crate::host::link::CellLink;
+use crate::host::link::{CellLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionRequest, Progress};
 use crate::host::program::Program;
 use crate::services::{self, OperatorServerPort, ServiceError, OPERATOR_RESPONSE_BYTES};
-use cellrt_axes::cia402::homing::{choose_procedure, HomingFailure};
+use cellrt_axes::cia402::homing::{choose_procedure, HomeSettingEdge, HomingFailure};
+use std::collections::BTreeMap;
+use std::path::Path;
 
 /// What the planner thread must do after a request.
 pub enum Followup {
@@ -195,81 +197,26 @@ impl OperatorServer {
 
     fn handle(&mut self, req: Request, ctx: &mut Context<'_>) -> (Reply, Followup) {
         let name = req.name();
-        let reject = |reason: String| (Reply::Rejected { reason }, Followup::None);
         if ctx.program_running
             && !matches!(
                 req,
                 Request::Status | Request::Halt { .. } | Request::Stop | Request::Override { .. }
             )
         {
-            return reject(format!(
+            return rejected(format!(
                 "{name}: a program is running; halt or stop it first"
             ));
         }
         let state = match ctx.link.status() {
             Ok(s) => s,
-            Err(e) => return reject(format!("{name}: the RT thread does not answer: {e}")),
+            Err(e) => return rejected(format!("{name}: the RT thread does not answer: {e}")),
         };
         match req {
             Request::Status => (
                 Reply::Status(Box::new(self.report(ctx, &state))),
                 Followup::None,
             ),
-            Request::Power { on, axes } => {
-                let mut indices = Vec::with_capacity(axes.len());
-                for a in &axes {
-                    match axis_index(ctx.cell, a) {
-                        Ok(i) if indices.contains(&i) => {
-                            return reject(format!("power: axis '{a}' named twice"))
-                        }
-                        Ok(i) => indices.push(i),
-                        Err(e) => return reject(format!("power: {e}")),
-                    }
-                }
-                let blocked = if on {
-                    match state.state {
-                        CellState::Stopped | CellState::Faulted => Some("reset it first"),
-                        CellState::Moving
-                        | CellState::Stopping
-                        | CellState::Homing
-                        | CellState::Disabling => Some("wait for it to end first"),
-                        _ => None,
-                    }
-                } else if indices.is_empty() {
-                    matches!(state.state, CellState::Moving | CellState::Stopping)
-                        .then_some("halt or stop the motion first")
-                } else {
-                    (!matches!(
-                        state.state,
-                        CellState::Idle | CellState::Enabling | CellState::Disabled
-                    ))
-                    .then_some("single axes power off from idle: halt or stop the motion, or power off the whole cell")
-                };
-                if let Some(what) = blocked {
-                    return reject(format!(
-                        "power: the cell is {}; {what}",
-                        state.state.as_str()
-                    ));
-                }
-                let cmds: Vec<CellCommand> = match (on, indices.is_empty()) {
-                    (true, true) => vec![CellCommand::PowerOn],
-                    (false, true) => vec![CellCommand::PowerOff],
-                    (true, false) => indices
-                        .iter()
-                        .map(|&i| CellCommand::PowerOnAxis(i as u16))
-                        .collect(),
-                    (false, false) => indices
-                        .iter()
-                        .map(|&i| CellCommand::PowerOffAxis(i as u16))
-                        .collect(),
-                };
-                for cmd in cmds {
-                    if let Err(e) = ctx.link.command(cmd) {
-                        return reject(format!("power: {e}"));
-                    }
-                }
-                (self.accept(name, false), Followup::None)
-            }
+            Request::Power { on, axes } => self.power(ctx, &state, on, &axes),
             Request::Move {
                 targets,
                 relative,
@@ -277,54 +224,15 @@ impl OperatorServer {
                 acceleration,
                 jerk,
                 clamp,
-                line: true,
+                line,
             } => {
-                let list = match resolve_targets(ctx, &state, &targets, relative, |a| {
-                    move_limits(a, None, acceleration, jerk, clamp)
-                }) {
-                    Ok(l) => l,
-                    Err(e) => return reject(format!("move: {e}")),
+                let asked = Asked {
+                    velocity,
+                    acceleration,
+                    jerk,
+                    clamp,
                 };
-                let start: Vec<f64> = list.iter().map(|t| t.3).collect();
-                let end: Vec<f64> = list.iter().map(|t| t.1).collect();
-                let limits: Vec<KinematicLimits> = list.iter().map(|t| t.2).collect();
-                let max = cellrt_trajectory::line::max_path_velocity(&start, &end, &limits);
-                let path_velocity = match velocity {
-                    Some(v) if !(v.is_finite() && v > 0.0) => {
-                        return reject(format!(
-                            "move: path velocity {v} must be a finite number > 0"
-                        ))
-                    }
-                    Some(v) if v > max && !clamp => {
-                        return reject(format!(
-                            "move: path velocity {v} exceeds {max:.3}, the most every axis allows along this line (add --clamp to use it)"
-                        ))
-                    }
-                    Some(v) => Some(v.min(max)),
-                    None => None,
-                };
-                let req = MotionRequest::Line {
-                    targets: list.iter().map(|t| (t.0, t.1, t.2)).collect(),
-                    path_velocity,
-                };
-                self.motion(name, req, ctx)
-            }
-            Request::Move {
-                targets,
-                relative,
-                velocity,
-                acceleration,
-                jerk,
-                clamp,
-                line: false,
-            } => {
-                let list = match resolve_targets(ctx, &state, &targets, relative, |a| {
-                    move_limits(a, velocity, acceleration, jerk, clamp)
-                }) {
-                    Ok(l) => l.into_iter().map(|(i, t, l, _)| (i, t, l)).collect(),
-                    Err(e) => return reject(format!("move: {e}")),
-                };
-                self.motion(name, MotionRequest::Move(list), ctx)
+                self.move_axes(ctx, &state, &targets, relative, line, asked)
             }
             Request::Path {
                 waypoints,
@@ -333,172 +241,357 @@ impl OperatorServer {
                 jerk,
                 clamp,
             } => {
-                let Some(last) = waypoints.last() else {
-                    return reject("path: no waypoints".into());
+                let asked = Asked {
+                    velocity,
+                    acceleration,
+                    jerk,
+                    clamp,
                 };
-                let targets = match resolve_targets(ctx, &state, last, false, |a| {
-                    move_limits(a, velocity, acceleration, jerk, clamp)
-                }) {
-                    Ok(l) => l.into_iter().map(|(i, t, l, _)| (i, t, l)).collect(),
-                    Err(e) => return reject(format!("path: {e}")),
-                };
-                let mut via = Vec::with_capacity(waypoints.len() - 1);
-                for (w, point) in waypoints[..waypoints.len() - 1].iter().enumerate() {
-                    if point.len() != last.len() || point.keys().any(|k| !last.contains_key(k)) {
-                        return reject(format!(
-                            "path: waypoint {w} names other axes than the target ({})",
-                            last.keys().cloned().collect::<Vec<_>>().join(", ")
-                        ));
-                    }
-                    via.push(last.keys().map(|k| point[k]).collect());
-                }
-                self.motion(name, MotionRequest::Path { targets, via }, ctx)
+                self.path(ctx, &state, &waypoints, asked)
             }
             Request::Velocity {
                 axis,
                 velocity,
                 acceleration,
                 clamp,
-            } => {
-                let i = match axis_index(ctx.cell, &axis) {
-                    Ok(i) => i,
-                    Err(e) => return reject(format!("velocity: {e}")),
-                };
-                let a = &ctx.cell.axes[i];
-                let limits = match move_limits(a, None, acceleration, None, clamp) {
-                    Ok(l) => l,
-                    Err(e) => return reject(format!("velocity: {e}")),
-                };
-                if !velocity.is_finite() {
-                    return reject(format!(
-                        "velocity: axis '{axis}': velocity {velocity} is not a finite number"
-                    ));
-                }
-                let v = if clamp {
-                    velocity.clamp(-a.limits.velocity, a.limits.velocity)
-                } else {
-                    velocity
-                };
-                self.motion(
-                    name,
-                    MotionRequest::Jog {
-                        axis: i,
-                        velocity: v,
-                        limits,
-                    },
-                    ctx,
-                )
-            }
-            Request::Torque { targets, seconds } => {
-                let mut list = Vec::with_capacity(targets.len());
-                for (axis, torque) in &targets {
-                    let i = match axis_index(ctx.cell, axis) {
-                        Ok(i) => i,
-                        Err(e) => return reject(format!("torque: {e}")),
-                    };
-                    let slope = ctx.cell.axes[i].torque.map(|t| t.slope).unwrap_or(f64::NAN);
-                    list.push((i, *torque, slope));
-                }
-                if !(seconds.is_finite() && seconds >= 0.0) {
-                    return reject(format!(
-                        "torque: seconds {seconds} must be a finite number ≥ 0"
-                    ));
-                }
-                self.motion(
-                    name,
-                    MotionRequest::Torque {
-                        targets: list,
-                        hold_s: seconds,
-                    },
-                    ctx,
-                )
-            }
+            } => self.velocity(ctx, &axis, velocity, acceleration, clamp),
+            Request::Torque { targets, seconds } => self.torque(ctx, &targets, seconds),
             Request::Home {
                 axis,
                 method,
                 setting,
-            } => {
-                let i = match axis_index(ctx.cell, &axis) {
-                    Ok(i) => i,
-                    Err(e) => return reject(format!("home: {e}")),
-                };
-                let a = &ctx.cell.axes[i];
-                let procedure = match choose_procedure(a.profile, method, setting) {
-                    Ok(p) => p,
-                    Err(e) => return reject(format!("home: axis '{axis}': {e}")),
-                };
-                if ctx.engine.is_busy() || state.state != CellState::Idle {
-                    return reject(format!(
-                        "home: the cell is {}; homing starts from idle (power on, halt or wait first)",
-                        state.state.as_str()
-                    ));
+            } => self.home(ctx, &state, &axis, method, setting),
+            Request::Halt { axes } => self.halt(ctx, &axes),
+            Request::Stop => self.stop(ctx),
+            Request::Reset => self.reset(ctx, &state),
+            Request::Override { percent } => self.set_override(ctx, percent),
+            Request::Program { path } => self.program(ctx, &path),
+        }
+    }
+
+    /// MC_Power: the whole cell or the named axes, on or off, where the cell state allows it.
+    fn power(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        on: bool,
+        axes: &[String],
+    ) -> (Reply, Followup) {
+        let mut indices = Vec::with_capacity(axes.len());
+        for a in axes {
+            match axis_index(ctx.cell, a) {
+                Ok(i) if indices.contains(&i) => {
+                    return rejected(format!("power: axis '{a}' named twice"))
                 }
-                self.home_seq = state.homing.seq;
-                match ctx.link.home(HomeRequest {
-                    axis: i as u16,
-                    procedure,
-                }) {
-                    Ok(()) => (self.accept(name, true), Followup::None),
-                    Err(e) => reject(format!("home: {e}")),
-                }
+                Ok(i) => indices.push(i),
+                Err(e) => return rejected(format!("power: {e}")),
             }
-            Request::Halt { axes } => {
-                let list = if axes.is_empty() {
-                    None
-                } else {
-                    match axes
-                        .iter()
-                        .map(|a| axis_index(ctx.cell, a))
-                        .collect::<Result<Vec<_>, _>>()
-                    {
-                        Ok(l) => Some(l),
-                        Err(e) => return reject(format!("halt: {e}")),
-                    }
-                };
-                let abort = ctx.program_running;
-                if !ctx.engine.is_busy() {
-                    return (self.accept(name, false), program_abort(abort));
-                }
-                match ctx.engine.submit(MotionRequest::Halt(list), ctx.link) {
-                    Ok(()) => (self.accept(name, true), program_abort(abort)),
-                    Err(e) => reject(format!("halt: {e}")),
-                }
+        }
+        let blocked = if on {
+            match state.state {
+                CellState::Stopped | CellState::Faulted => Some("reset it first"),
+                CellState::Moving
+                | CellState::Stopping
+                | CellState::Homing
+                | CellState::Disabling => Some("wait for it to end first"),
+                _ => None,
             }
-            Request::Stop => match ctx.link.command(CellCommand::Stop) {
-                Ok(()) => {
-                    let reply = self.accept(name, false);
-                    (reply, program_abort(ctx.program_running))
-                }
-                Err(e) => reject(format!("stop: {e}")),
+        } else if indices.is_empty() {
+            matches!(state.state, CellState::Moving | CellState::Stopping)
+                .then_some("halt or stop the motion first")
+        } else {
+            (!matches!(
+                state.state,
+                CellState::Idle | CellState::Enabling | CellState::Disabled
+            ))
+            .then_some("single axes power off from idle: halt or stop the motion, or power off the whole cell")
+        };
+        if let Some(what) = blocked {
+            return rejected(format!(
+                "power: the cell is {}; {what}",
+                state.state.as_str()
+            ));
+        }
+        let cmds: Vec<CellCommand> = match (on, indices.is_empty()) {
+            (true, true) => vec![CellCommand::PowerOn],
+            (false, true) => vec![CellCommand::PowerOff],
+            (true, false) => indices
+                .iter()
+                .map(|&i| CellCommand::PowerOnAxis(i as u16))
+                .collect(),
+            (false, false) => indices
+                .iter()
+                .map(|&i| CellCommand::PowerOffAxis(i as u16))
+                .collect(),
+        };
+        for cmd in cmds {
+            if let Err(e) = ctx.link.command(cmd) {
+                return rejected(format!("power: {e}"));
+            }
+        }
+        (self.accept("power", false), Followup::None)
+    }
+
+    /// MC_MoveAbsolute / MC_MoveRelative: a time-synchronised move, or with `line` a straight
+    /// line whose asked velocity is the path velocity.
+    fn move_axes(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        targets: &BTreeMap<String, f64>,
+        relative: bool,
+        line: bool,
+        asked: Asked,
+    ) -> (Reply, Followup) {
+        let axis_velocity = if line { None } else { asked.velocity };
+        let list = match resolve_targets(ctx, state, targets, relative, |a| {
+            move_limits(
+                a,
+                axis_velocity,
+                asked.acceleration,
+                asked.jerk,
+                asked.clamp,
+            )
+        }) {
+            Ok(l) => l,
+            Err(e) => return rejected(format!("move: {e}")),
+        };
+        if !line {
+            let list = list.into_iter().map(|(i, t, l, _)| (i, t, l)).collect();
+            return self.motion("move", MotionRequest::Move(list), ctx);
+        }
+        let start: Vec<f64> = list.iter().map(|t| t.3).collect();
+        let end: Vec<f64> = list.iter().map(|t| t.1).collect();
+        let limits: Vec<KinematicLimits> = list.iter().map(|t| t.2).collect();
+        let max = cellrt_trajectory::line::max_path_velocity(&start, &end, &limits);
+        let path_velocity = match asked.velocity {
+            Some(v) if !(v.is_finite() && v > 0.0) => {
+                return rejected(format!(
+                    "move: path velocity {v} must be a finite number > 0"
+                ))
+            }
+            Some(v) if v > max && !asked.clamp => {
+                return rejected(format!(
+                    "move: path velocity {v} exceeds {max:.3}, the most every axis allows along this line (add --clamp to use it)"
+                ))
+            }
+            Some(v) => Some(v.min(max)),
+            None => None,
+        };
+        let req = MotionRequest::Line {
+            targets: list.iter().map(|t| (t.0, t.1, t.2)).collect(),
+            path_velocity,
+        };
+        self.motion("move", req, ctx)
+    }
+
+    /// A waypoint move from rest: through each waypoint but the last, to the last at rest.
+    fn path(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        waypoints: &[BTreeMap<String, f64>],
+        asked: Asked,
+    ) -> (Reply, Followup) {
+        let Some(last) = waypoints.last() else {
+            return rejected("path: no waypoints".into());
+        };
+        let targets = match resolve_targets(ctx, state, last, false, |a| {
+            move_limits(
+                a,
+                asked.velocity,
+                asked.acceleration,
+                asked.jerk,
+                asked.clamp,
+            )
+        }) {
+            Ok(l) => l.into_iter().map(|(i, t, l, _)| (i, t, l)).collect(),
+            Err(e) => return rejected(format!("path: {e}")),
+        };
+        let mut via = Vec::with_capacity(waypoints.len() - 1);
+        for (w, point) in waypoints[..waypoints.len() - 1].iter().enumerate() {
+            if point.len() != last.len() || point.keys().any(|k| !last.contains_key(k)) {
+                return rejected(format!(
+                    "path: waypoint {w} names other axes than the target ({})",
+                    last.keys().cloned().collect::<Vec<_>>().join(", ")
+                ));
+            }
+            via.push(last.keys().map(|k| point[k]).collect());
+        }
+        self.motion("path", MotionRequest::Path { targets, via }, ctx)
+    }
+
+    /// MC_MoveVelocity: jogs one axis at a signed velocity until halted.
+    fn velocity(
+        &mut self,
+        ctx: &mut Context<'_>,
+        axis: &str,
+        velocity: f64,
+        acceleration: Option<f64>,
+        clamp: bool,
+    ) -> (Reply, Followup) {
+        let i = match axis_index(ctx.cell, axis) {
+            Ok(i) => i,
+            Err(e) => return rejected(format!("velocity: {e}")),
+        };
+        let a = &ctx.cell.axes[i];
+        let limits = match move_limits(a, None, acceleration, None, clamp) {
+            Ok(l) => l,
+            Err(e) => return rejected(format!("velocity: {e}")),
+        };
+        if !velocity.is_finite() {
+            return rejected(format!(
+                "velocity: axis '{axis}': velocity {velocity} is not a finite number"
+            ));
+        }
+        let v = if clamp {
+            velocity.clamp(-a.limits.velocity, a.limits.velocity)
+        } else {
+            velocity
+        };
+        self.motion(
+            "velocity",
+            MotionRequest::Jog {
+                axis: i,
+                velocity: v,
+                limits,
             },
-            Request::Reset => {
-                if !matches!(state.state, CellState::Stopped | CellState::Faulted) {
-                    return (self.accept(name, false), Followup::None);
-                }
-                ctx.engine.abandon();
-                match ctx.link.command(CellCommand::Reset) {
-                    Ok(()) => (self.accept(name, false), Followup::None),
-                    Err(e) => reject(format!("reset: {e}")),
-                }
+            ctx,
+        )
+    }
+
+    /// MC_TorqueControl: torque on cst axes, held for `seconds`.
+    fn torque(
+        &mut self,
+        ctx: &mut Context<'_>,
+        targets: &BTreeMap<String, f64>,
+        seconds: f64,
+    ) -> (Reply, Followup) {
+        let mut list = Vec::with_capacity(targets.len());
+        for (axis, torque) in targets {
+            let i = match axis_index(ctx.cell, axis) {
+                Ok(i) => i,
+                Err(e) => return rejected(format!("torque: {e}")),
+            };
+            let slope = ctx.cell.axes[i].torque.map(|t| t.slope).unwrap_or(f64::NAN);
+            list.push((i, *torque, slope));
+        }
+        if !(seconds.is_finite() && seconds >= 0.0) {
+            return rejected(format!(
+                "torque: seconds {seconds} must be a finite number ≥ 0"
+            ));
+        }
+        self.motion(
+            "torque",
+            MotionRequest::Torque {
+                targets: list,
+                hold_s: seconds,
+            },
+            ctx,
+        )
+    }
+
+    /// MC_Home: one axis, from idle, in its drive's homing mode; tracked until the RT thread
+    /// reports the homing sequence ended.
+    fn home(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        axis: &str,
+        method: Option<i8>,
+        setting: Option<HomeSettingEdge>,
+    ) -> (Reply, Followup) {
+        let i = match axis_index(ctx.cell, axis) {
+            Ok(i) => i,
+            Err(e) => return rejected(format!("home: {e}")),
+        };
+        let a = &ctx.cell.axes[i];
+        let procedure = match choose_procedure(a.profile, method, setting) {
+            Ok(p) => p,
+            Err(e) => return rejected(format!("home: axis '{axis}': {e}")),
+        };
+        if ctx.engine.is_busy() || state.state != CellState::Idle {
+            return rejected(format!(
+                "home: the cell is {}; homing starts from idle (power on, halt or wait first)",
+                state.state.as_str()
+            ));
+        }
+        self.home_seq = state.homing.seq;
+        match ctx.link.home(HomeRequest {
+            axis: i as u16,
+            procedure,
+        }) {
+            Ok(()) => (self.accept("home", true), Followup::None),
+            Err(e) => rejected(format!("home: {e}")),
+        }
+    }
+
+    /// MC_Halt: the named axes (every axis when none) ramp down; a running program is aborted.
+    fn halt(&mut self, ctx: &mut Context<'_>, axes: &[String]) -> (Reply, Followup) {
+        let list = if axes.is_empty() {
+            None
+        } else {
+            match axes
+                .iter()
+                .map(|a| axis_index(ctx.cell, a))
+                .collect::<Result<Vec<_>, _>>()
+            {
+                Ok(l) => Some(l),
+                Err(e) => return rejected(format!("halt: {e}")),
             }
-            Request::Override { percent } => {
-                if !(percent.is_finite() && (0.0..=100.0).contains(&percent)) {
-                    return reject(format!("override: {percent} % is outside 0–100 %"));
-                }
-                match ctx.engine.set_override(percent / 100.0) {
-                    Ok(()) => (self.accept(name, false), Followup::None),
-                    Err(e) => reject(format!("override: {e}")),
-                }
+        };
+        let abort = ctx.program_running;
+        if !ctx.engine.is_busy() {
+            return (self.accept("halt", false), program_abort(abort));
+        }
+        match ctx.engine.submit(MotionRequest::Halt(list), ctx.link) {
+            Ok(()) => (self.accept("halt", true), program_abort(abort)),
+            Err(e) => rejected(format!("halt: {e}")),
+        }
+    }
+
+    /// MC_Stop: the RT thread stops the cell; a running program is aborted.
+    fn stop(&mut self, ctx: &mut Context<'_>) -> (Reply, Followup) {
+        match ctx.link.command(CellCommand::Stop) {
+            Ok(()) => {
+                let reply = self.accept("stop", false);
+                (reply, program_abort(ctx.program_running))
             }
-            Request::Program { path } => {
-                if ctx.engine.is_busy() {
-                    return reject("program: a motion is active; halt it first".into());
-                }
-                match Program::load(&path, ctx.cell) {
-                    Ok(p) => (self.accept(name, true), Followup::RunProgram(p)),
-                    Err(e) => reject(format!("program: {e}")),
-                }
-            }
+            Err(e) => rejected(format!("stop: {e}")),
+        }
+    }
+
+    /// MC_Reset: leaves a stopped or faulted cell (nothing to do otherwise).
+    fn reset(&mut self, ctx: &mut Context<'_>, state: &StatusSnapshot) -> (Reply, Followup) {
+        if !matches!(state.state, CellState::Stopped | CellState::Faulted) {
+            return (self.accept("reset", false), Followup::None);
+        }
+        ctx.engine.abandon();
+        match ctx.link.command(CellCommand::Reset) {
+            Ok(()) => (self.accept("reset", false), Followup::None),
+            Err(e) => rejected(format!("reset: {e}")),
+        }
+    }
+
+    /// The feed override, 0–100 %.
+    fn set_override(&mut self, ctx: &mut Context<'_>, percent: f64) -> (Reply, Followup) {
+        if !(percent.is_finite() && (0.0..=100.0).contains(&percent)) {
+            return rejected(format!("override: {percent} % is outside 0–100 %"));
+        }
+        match ctx.engine.set_override(percent / 100.0) {
+            Ok(()) => (self.accept("override", false), Followup::None),
+            Err(e) => rejected(format!("override: {e}")),
+        }
+    }
+
+    /// Loads and validates a program for the planner thread to run.
+    fn program(&mut self, ctx: &mut Context<'_>, path: &Path) -> (Reply, Followup) {
+        if ctx.engine.is_busy() {
+            return rejected("program: a motion is active; halt it first".into());
+        }
+        match Program::load(path, ctx.cell) {
+            Ok(p) => (self.accept("program", true), Followup::RunProgram(p)),
+            Err(e) => rejected(format!("program: {e}")),
         }
     }
 
@@ -519,7 +612,7 @@ impl OperatorServer {
         }
     }
 
-    fn report(&self, ctx: &mut Context<'_>, s: &crate::host::link::StatusSnapshot) -> StatusReport {
+    fn report(&self, ctx: &mut Context<'_>, s: &StatusSnapshot) -> StatusReport {
         let axes = ctx
             .cell
             .axes
@@ -566,6 +659,21 @@ impl OperatorServer {
 
 /// Commands that end when their motion ends.
 const MOTION_COMMANDS: [&str; 5] = ["move", "path", "velocity", "torque", "halt"];
+
+/// The refusal of a request, with its reason.
+fn rejected(reason: String) -> (Reply, Followup) {
+    (Reply::Rejected { reason }, Followup::None)
+}
+
+/// The limits a move-like request asks for (each axis' own limit where absent).
+#[derive(Clone, Copy)]
+struct Asked {
+    velocity: Option<f64>,
+    acceleration: Option<f64>,
+    jerk: Option<f64>,
+    /// Lower a limit above an axis limit to it instead of refusing.
+    clamp: bool,
+}
 
 fn program_abort(program_running: bool) -> Followup {
     if program_running {
@@ -629,8 +737,8 @@ type Resolved = (usize, f64, KinematicLimits, f64);
 /// ones from the commanded position), and each axis' limits from `limits_of`.
 fn resolve_targets(
     ctx: &Context<'_>,
-    state: &crate::host::link::StatusSnapshot,
-    targets: &std::collections::BTreeMap<String, f64>,
+    state: &StatusSnapshot,
+    targets: &BTreeMap<String, f64>,
     relative: bool,
     limits_of: impl Fn(&crate::config::AxisConfig) -> Result<KinematicLimits, TargetError>,
 ) -> Result<Vec<Resolved>, TargetError> {

@@ -202,6 +202,8 @@ impl Recorder {
     }
 }
 
+/// Creates the MCAP file of `path` with its schemas, channels, the cell's metadata and its
+/// configuration file attached, and flushes that header to disk.
 fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
     let create_err = |source| RecorderError::Create {
         path: path.to_path_buf(),
@@ -232,19 +234,35 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
             len: len.clone(),
         })
         .map_err(mcap_err)?;
+    let channels = add_channels(&mut writer, cell).map_err(mcap_err)?;
+    write_cell_metadata(&mut writer, cell).map_err(mcap_err)?;
+    let mut sink = Sink {
+        writer,
+        channels,
+        path: path.to_path_buf(),
+        len,
+        last_flush: Instant::now(),
+        first_deadline: None,
+    };
+    // Header, schemas, channels, metadata and the configuration reach the disk at once.
+    sink.flush()?;
+    Ok(sink)
+}
 
+/// The protobuf schemas and the channels: cycle, events, and one per axis (its unit, scaling,
+/// drive and mode as channel metadata).
+fn add_channels<W: Write + Seek>(
+    writer: &mut Writer<W>,
+    cell: &CellConfig,
+) -> Result<Channels, mcap::McapError> {
     let schema =
         |w: &mut Writer<_>, name| w.add_schema(name, "protobuf", proto::FILE_DESCRIPTOR_SET);
-    let cycle_schema = schema(&mut writer, CYCLE_SCHEMA).map_err(mcap_err)?;
-    let axis_schema = schema(&mut writer, AXIS_SCHEMA).map_err(mcap_err)?;
-    let event_schema = schema(&mut writer, EVENT_SCHEMA).map_err(mcap_err)?;
+    let cycle_schema = schema(writer, CYCLE_SCHEMA)?;
+    let axis_schema = schema(writer, AXIS_SCHEMA)?;
+    let event_schema = schema(writer, EVENT_SCHEMA)?;
     let none = BTreeMap::new();
-    let cycle = writer
-        .add_channel(cycle_schema, CYCLE_TOPIC, "protobuf", &none)
-        .map_err(mcap_err)?;
-    let events = writer
-        .add_channel(event_schema, EVENTS_TOPIC, "protobuf", &none)
-        .map_err(mcap_err)?;
+    let cycle = writer.add_channel(cycle_schema, CYCLE_TOPIC, "protobuf", &none)?;
+    let events = writer.add_channel(event_schema, EVENTS_TOPIC, "protobuf", &none)?;
     let mut axes = Vec::with_capacity(cell.axes.len());
     for a in &cell.axes {
         let meta = BTreeMap::from([
@@ -256,13 +274,21 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
             ("drive".to_string(), a.profile.name.to_string()),
             ("mode".to_string(), a.mode.as_str().to_string()),
         ]);
-        axes.push(
-            writer
-                .add_channel(axis_schema, &axis_topic(&a.name), "protobuf", &meta)
-                .map_err(mcap_err)?,
-        );
+        axes.push(writer.add_channel(axis_schema, &axis_topic(&a.name), "protobuf", &meta)?);
     }
+    Ok(Channels {
+        cycle,
+        events,
+        axes,
+    })
+}
 
+/// The cell metadata record (cell, cycle time, axes and their limits, software) and the
+/// configuration file as an attachment, so a recording explains itself.
+fn write_cell_metadata<W: Write + Seek>(
+    writer: &mut Writer<W>,
+    cell: &CellConfig,
+) -> Result<(), mcap::McapError> {
     let mut cell_meta = BTreeMap::from([
         ("cell".to_string(), cell.name.clone()),
         (
@@ -293,43 +319,24 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
             ),
         );
     }
-    writer
-        .write_metadata(&Metadata {
-            name: CELL_METADATA.to_string(),
-            metadata: cell_meta,
-        })
-        .map_err(mcap_err)?;
+    writer.write_metadata(&Metadata {
+        name: CELL_METADATA.to_string(),
+        metadata: cell_meta,
+    })?;
     let now =
         (realtime_offset_ns() + i128::from(crate::rt::clock::MonoTime::now().0)).max(0) as u64;
-    writer
-        .attach(&Attachment {
-            log_time: now,
-            create_time: now,
-            name: cell
-                .source
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "cell.toml".into()),
-            media_type: "application/toml".to_string(),
-            data: std::borrow::Cow::Borrowed(cell.text.as_bytes()),
-        })
-        .map_err(mcap_err)?;
-
-    let mut sink = Sink {
-        writer,
-        channels: Channels {
-            cycle,
-            events,
-            axes,
-        },
-        path: path.to_path_buf(),
-        len,
-        last_flush: Instant::now(),
-        first_deadline: None,
-    };
-    // Header, schemas, channels, metadata and the configuration reach the disk at once.
-    sink.flush()?;
-    Ok(sink)
+    writer.attach(&Attachment {
+        log_time: now,
+        create_time: now,
+        name: cell
+            .source
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "cell.toml".into()),
+        media_type: "application/toml".to_string(),
+        data: std::borrow::Cow::Borrowed(cell.text.as_bytes()),
+    })?;
+    Ok(())
 }
 
 struct Drain<'a> {

@@ -1,0 +1,458 @@
+//! `[[axes]]`: one axis' drive, transport, mode, PDO mapping, scaling and limits.
+
+use std::path::Path;
+
+use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::ethercat::identity::{maker_vendor_id, ExpectedIdentity};
+use cellrt_axes::ethercat::master::AmplifierSlot;
+use cellrt_axes::profiles::{profile, DriveModel};
+use cellrt_axes::{CycleTime, DriveProfile};
+use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
+use cellrt_trajectory::units::Scaling;
+
+use super::{check_name, positive};
+use crate::config::raw::RawAxis;
+use crate::config::{
+    AxisConfig, ConfigError, SimAxisConfig, TorqueLimits, TorquePercent, Transport,
+    DEFAULT_CSV_POSITION_GAIN, DEFAULT_TORQUE_SLOPE, MAX_TORQUE_PERCENT,
+};
+
+/// `axes.amplifier` / `axes.amplifier_axis`: axes sharing an amplifier label must name the same
+/// model, take distinct slots, and be no more than the model's axes per unit (W2 = 2, W3 = 3).
+/// Returns the axis' amplifier and slot.
+pub(super) fn check_amplifier(
+    file: &Path,
+    key: &str,
+    a: &RawAxis,
+    amplifiers: &mut Vec<(String, DriveModel, Vec<u8>)>,
+) -> Result<Option<AmplifierSlot>, ConfigError> {
+    let Some(label) = &a.amplifier else {
+        if a.amplifier_axis.is_some() {
+            return Err(ConfigError::new(
+                file,
+                format!("{key}.amplifier_axis"),
+                format!("axis '{}': amplifier_axis needs amplifier", a.name),
+            ));
+        }
+        return Ok(None);
+    };
+    let Ok(model) = a.drive.parse::<DriveModel>() else {
+        return Ok(None); // reported with the axis' drive key
+    };
+    let per_unit = profile(model).axes_per_unit;
+    let err = |sub: &str, msg: String| ConfigError::new(file, format!("{key}.{sub}"), msg);
+    let idx = match amplifiers.iter().position(|(l, _, _)| l == label) {
+        Some(i) => i,
+        None => {
+            amplifiers.push((label.clone(), model, Vec::new()));
+            amplifiers.len() - 1
+        }
+    };
+    let (_, unit_model, slots) = &mut amplifiers[idx];
+    if *unit_model != model {
+        return Err(err(
+            "amplifier",
+            format!(
+                "axis '{}': amplifier '{label}' is a {unit_model}, not a {model}",
+                a.name
+            ),
+        ));
+    }
+    let slot = a.amplifier_axis.unwrap_or(slots.len() as u8);
+    if slot >= per_unit || slots.len() >= usize::from(per_unit) {
+        return Err(err(
+            if a.amplifier_axis.is_some() && slot >= per_unit {
+                "amplifier_axis"
+            } else {
+                "amplifier"
+            },
+            format!(
+                "axis '{}': amplifier '{label}' ({model}) has {per_unit} axis slot(s) (allowed amplifier_axis 0..={})",
+                a.name,
+                per_unit - 1
+            ),
+        ));
+    }
+    if slots.contains(&slot) {
+        return Err(err(
+            "amplifier_axis",
+            format!(
+                "axis '{}': slot {slot} of amplifier '{label}' ({model}) is already used",
+                a.name
+            ),
+        ));
+    }
+    slots.push(slot);
+    Ok(Some(AmplifierSlot {
+        label: label.clone(),
+        slot,
+    }))
+}
+
+/// Where an axis' keys live (`axes[i]` of `file`): errors name `axes[i].<sub>`.
+struct AxisKey<'a> {
+    file: &'a Path,
+    key: &'a str,
+}
+
+impl AxisKey<'_> {
+    fn err(&self, sub: &str, msg: String) -> ConfigError {
+        ConfigError::new(self.file, format!("{}.{sub}", self.key), msg)
+    }
+
+    fn positive(&self, sub: &str, v: f64) -> Result<f64, ConfigError> {
+        positive(self.file, &format!("{}.{sub}", self.key), v)
+    }
+}
+
+/// The drive model of an axis, its profile and the SubDevice identity it must report.
+struct AxisDrive {
+    drive: DriveModel,
+    profile: &'static DriveProfile,
+    transport: Transport,
+    ethercat_identity: ExpectedIdentity,
+}
+
+pub(super) fn validate_axis(
+    file: &Path,
+    key: &str,
+    cycle_time: CycleTime,
+    a: RawAxis,
+) -> Result<AxisConfig, ConfigError> {
+    check_name(file, &format!("{key}.name"), &a.name)?;
+    let at = AxisKey { file, key };
+    let AxisDrive {
+        drive,
+        profile,
+        transport,
+        ethercat_identity,
+    } = axis_drive(&at, &a, cycle_time)?;
+    let (mode, profile) = cyclic_mode(&at, &a, drive, profile)?;
+    let (scaling, position) = scaling_and_range(&at, &a)?;
+    let limits = KinematicLimits {
+        velocity: at.positive("limits.velocity", a.limits.velocity)?,
+        acceleration: at.positive("limits.acceleration", a.limits.acceleration)?,
+        jerk: at.positive("limits.jerk", a.limits.jerk)?,
+    };
+    let stop_deceleration = at.positive(
+        "limits.stop_deceleration",
+        a.limits.stop_deceleration.unwrap_or(limits.acceleration),
+    )?;
+    let stop_jerk = at.positive(
+        "limits.stop_jerk",
+        a.limits.stop_jerk.unwrap_or(limits.jerk),
+    )?;
+    let following_error_limit = at.positive(
+        "limits.following_error",
+        a.limits.following_error.unwrap_or(limits.velocity * 0.1),
+    )?;
+    let torque = torque_limits(&at, &a, mode)?;
+    let csv_position_gain = match a.csv_position_gain {
+        None => DEFAULT_CSV_POSITION_GAIN,
+        Some(g) if g.is_finite() && g >= 0.0 => g,
+        Some(g) => {
+            return Err(at.err(
+                "csv_position_gain",
+                format!("{g} is not a gain (1/s, finite, ≥ 0)"),
+            ))
+        }
+    };
+    let sim = sim_axis(&at, &a, scaling, position)?;
+    Ok(AxisConfig {
+        name: a.name,
+        drive,
+        profile,
+        transport,
+        ethercat_identity,
+        mode,
+        unit: a.unit,
+        scaling,
+        position,
+        limits,
+        stop_deceleration,
+        stop_jerk,
+        following_error_limit,
+        sim,
+        torque,
+        csv_position_gain,
+        amplifier: None,
+    })
+}
+
+/// `drive`, `transport` and `[axes.ethercat]`: a model that runs the cell's cycle time, and the
+/// identity the SubDevice must report (the configured one, else the model's).
+fn axis_drive(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    cycle_time: CycleTime,
+) -> Result<AxisDrive, ConfigError> {
+    let drive: DriveModel = a
+        .drive
+        .parse()
+        .map_err(|e: cellrt_axes::profiles::ParseModelError| at.err("drive", e.to_string()))?;
+    let profile = profile(drive);
+    if !profile.supports_cycle_time(cycle_time) {
+        return Err(at.err(
+            "drive",
+            format!(
+                "axis '{}': {drive} ({}) does not support a {} µs cycle (allowed: {})",
+                a.name,
+                profile.name,
+                cycle_time.as_micros(),
+                profile.cycle_times_text()
+            ),
+        ));
+    }
+    let transport = match a.transport.as_str() {
+        "sim" => Transport::Sim,
+        "ethercat" => Transport::Ethercat,
+        other => {
+            return Err(at.err(
+                "transport",
+                format!("unknown transport '{other}' (available: sim, ethercat)"),
+            ))
+        }
+    };
+    // A model without a maker (the generic CiA 402 drive) has no identity to check the
+    // SubDevice against: an EtherCAT axis must name it.
+    if transport == Transport::Ethercat && maker_vendor_id(drive).is_none() {
+        for (sub, given) in [
+            ("ethercat.vendor_id", a.ethercat.vendor_id.is_some()),
+            ("ethercat.product_code", a.ethercat.product_code.is_some()),
+        ] {
+            if !given {
+                return Err(at.err(
+                    sub,
+                    format!(
+                        "axis '{}': drive '{drive}' needs the SubDevice's identity: set [axes.ethercat] vendor_id and product_code (1018h:01/02, from the drive's ESI file or manual)",
+                        a.name
+                    ),
+                ));
+            }
+        }
+    }
+    // The configured identity is the one the drive must report and the one the emulator
+    // presents for it.
+    let profile = profile.with_identity(a.ethercat.vendor_id, a.ethercat.product_code);
+    let mut ethercat_identity = ExpectedIdentity::of_profile(profile);
+    if let Some(v) = a.ethercat.vendor_id {
+        ethercat_identity.vendor_id = v;
+    }
+    if let Some(p) = a.ethercat.product_code {
+        ethercat_identity.product_code = Some(p);
+    }
+    Ok(AxisDrive {
+        drive,
+        profile,
+        transport,
+        ethercat_identity,
+    })
+}
+
+/// `mode` and `[axes.pdo]`: a cyclic mode the drive has, with a PDO mapping that carries it.
+fn cyclic_mode(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    drive: DriveModel,
+    profile: &'static DriveProfile,
+) -> Result<(ModeOfOperation, &'static DriveProfile), ConfigError> {
+    let mode: ModeOfOperation = a.mode.parse().map_err(|e| at.err("mode", format!("{e}")))?;
+    let profile = pdo_mapping(profile, mode, &a.pdo)
+        .map_err(|(k, m)| at.err(k, format!("axis '{}': {m}", a.name)))?;
+    if !profile.supports_mode(mode) {
+        return Err(at.err(
+            "mode",
+            format!(
+                "axis '{}': {drive} ({}) has no mode {} (allowed: {})",
+                a.name,
+                profile.name,
+                mode.as_str(),
+                profile.modes_text()
+            ),
+        ));
+    }
+    if !mode.is_cyclic() {
+        return Err(at.err(
+            "mode",
+            format!(
+                "axis '{}': mode {} is not a cyclic mode; the RT loop drives csp, csv and cst",
+                a.name,
+                mode.as_str()
+            ),
+        ));
+    }
+    Ok((mode, profile))
+}
+
+/// `counts_per_unit` and `limits.position`: a range whose ends fit the drive's 32-bit position.
+fn scaling_and_range(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+) -> Result<(Scaling, PositionRange), ConfigError> {
+    let scaling =
+        Scaling::new(a.counts_per_unit).map_err(|e| at.err("counts_per_unit", e.to_string()))?;
+    let position = PositionRange {
+        min: a.limits.position[0],
+        max: a.limits.position[1],
+    };
+    position
+        .validate()
+        .map_err(|e| at.err("limits.position", e.to_string()))?;
+    for (end, v) in [("min", position.min), ("max", position.max)] {
+        scaling.to_counts_i32(v).map_err(|_| {
+            at.err(
+                "limits.position",
+                format!(
+                    "position {end} {v} {} is {} counts, outside the drive's 32-bit position range",
+                    a.unit,
+                    scaling.to_counts(v)
+                ),
+            )
+        })?;
+    }
+    Ok((scaling, position))
+}
+
+/// `limits.torque` and `limits.torque_slope`: required in cst, optional otherwise.
+fn torque_limits(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    mode: ModeOfOperation,
+) -> Result<Option<TorqueLimits>, ConfigError> {
+    let torque = match a.limits.torque {
+        None if mode == ModeOfOperation::CyclicSyncTorque => {
+            return Err(at.err(
+                "limits.torque",
+                format!(
+                    "axis '{}' runs in cst and needs limits.torque (% of rated torque, 0 < t ≤ {MAX_TORQUE_PERCENT})",
+                    a.name
+                ),
+            ))
+        }
+        None => None,
+        Some(t) => {
+            if !(t.is_finite() && t > 0.0 && t <= MAX_TORQUE_PERCENT) {
+                return Err(at.err(
+                    "limits.torque",
+                    format!("{t} is not a torque limit (% of rated torque, 0 < t ≤ {MAX_TORQUE_PERCENT})"),
+                ));
+            }
+            let slope = at.positive(
+                "limits.torque_slope",
+                a.limits.torque_slope.unwrap_or(DEFAULT_TORQUE_SLOPE),
+            )?;
+            Some(TorqueLimits {
+                max: TorquePercent(t),
+                slope,
+            })
+        }
+    };
+    if torque.is_none() && a.limits.torque_slope.is_some() {
+        return Err(at.err(
+            "limits.torque_slope",
+            "is set without limits.torque".to_string(),
+        ));
+    }
+    Ok(torque)
+}
+
+/// `[axes.sim]`: the simulated drive's plant, start position and Z phase.
+fn sim_axis(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    scaling: Scaling,
+    position: PositionRange,
+) -> Result<SimAxisConfig, ConfigError> {
+    let sim = SimAxisConfig {
+        initial_position: a.sim.initial_position,
+        position_bandwidth_hz: at
+            .positive("sim.position_bandwidth_hz", a.sim.position_bandwidth_hz)?,
+        velocity_bandwidth_hz: at
+            .positive("sim.velocity_bandwidth_hz", a.sim.velocity_bandwidth_hz)?,
+        z_phase_position: a.sim.z_phase_position,
+        motor_speed_factor: a.sim.motor_speed_factor,
+    };
+    if !(1.0..=10.0).contains(&sim.motor_speed_factor) {
+        return Err(at.err(
+            "sim.motor_speed_factor",
+            format!(
+                "must be 1..=10 (the motor's speed over the axis velocity limit; got {})",
+                sim.motor_speed_factor
+            ),
+        ));
+    }
+    if let Err(e) = scaling.to_counts_i32(sim.z_phase_position) {
+        return Err(at.err("sim.z_phase_position", e.to_string()));
+    }
+    if !sim.initial_position.is_finite() || position.check(sim.initial_position).is_err() {
+        return Err(at.err(
+            "sim.initial_position",
+            format!(
+                "{} is outside the position range [{}, {}]",
+                sim.initial_position, position.min, position.max
+            ),
+        ));
+    }
+    Ok(sim)
+}
+
+/// The axis' profile with its `[axes.pdo]` mapping (the model's default maps where a direction
+/// is not given), checked against the model's rules and against what the RT loop exchanges:
+/// controlword, statusword, actual position, and the cyclic mode's target (csp 607Ah, csv
+/// 60FFh, cst 6071h and 60FFh: the axis runs in csv between torque steps).
+fn pdo_mapping(
+    base: &'static DriveProfile,
+    mode: ModeOfOperation,
+    pdo: &crate::config::raw::RawPdo,
+) -> Result<&'static DriveProfile, (&'static str, String)> {
+    use cellrt_axes::pdo::objects::{
+        CONTROLWORD, POSITION_ACTUAL, STATUSWORD, TARGET_POSITION, TARGET_TORQUE, TARGET_VELOCITY,
+    };
+    use cellrt_axes::profiles::mapping::PdoDirection;
+    use cellrt_axes::PdoEntry;
+    if pdo.rx.is_none() && pdo.tx.is_none() {
+        return Ok(base);
+    }
+    let entries = |words: &Option<Vec<u32>>, default: &'static [PdoEntry]| -> Vec<PdoEntry> {
+        words.as_ref().map_or_else(
+            || default.to_vec(),
+            |w| w.iter().map(|w| PdoEntry::from_mapping_word(*w)).collect(),
+        )
+    };
+    let rx = entries(&pdo.rx, base.rx_pdo.entries);
+    let tx = entries(&pdo.tx, base.tx_pdo.entries);
+    let key = |d: PdoDirection| match d {
+        PdoDirection::Rx => "pdo.rx",
+        PdoDirection::Tx => "pdo.tx",
+    };
+    let profile = base
+        .with_pdo_maps(&rx, &tx)
+        .map_err(|e| (key(e.direction()), e.to_string()))?;
+    let mut needed_rx = vec![CONTROLWORD];
+    needed_rx.extend(match mode {
+        ModeOfOperation::CyclicSyncPosition => &[TARGET_POSITION][..],
+        ModeOfOperation::CyclicSyncVelocity => &[TARGET_VELOCITY][..],
+        ModeOfOperation::CyclicSyncTorque => &[TARGET_TORQUE, TARGET_VELOCITY][..],
+        _ => &[][..],
+    });
+    for (direction, map, needed) in [
+        (PdoDirection::Rx, &profile.rx_pdo, needed_rx),
+        (
+            PdoDirection::Tx,
+            &profile.tx_pdo,
+            vec![STATUSWORD, POSITION_ACTUAL],
+        ),
+    ] {
+        if let Some(missing) = needed.iter().find(|i| !map.maps(**i)) {
+            return Err((
+                key(direction),
+                format!(
+                    "the {} must map {missing:04X}h for mode {}",
+                    direction.name(),
+                    mode.as_str()
+                ),
+            ));
+        }
+    }
+    Ok(profile)
+}

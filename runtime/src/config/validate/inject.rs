@@ -1,0 +1,181 @@
+//! `[[inject]]`: the faults a test run injects, each at a cycle, checked against the cell's
+//! axes and transport.
+
+use std::path::Path;
+
+use cellrt_axes::CycleTime;
+
+use crate::config::raw::RawInjection;
+use crate::config::{AxisConfig, ConfigError, EthercatConfig, InjectedFault, Injection};
+
+/// `[[inject]]`: each fault at its cycle (sorted), with the keys its kind takes; faults of the
+/// emulated EtherCAT segment only in a cell with EtherCAT axes.
+pub(super) fn validate_injections(
+    file: &Path,
+    cycle_time: CycleTime,
+    raw: &[RawInjection],
+    axes: &[AxisConfig],
+    ethercat: Option<&EthercatConfig>,
+) -> Result<Vec<Injection>, ConfigError> {
+    let mut out = Vec::with_capacity(raw.len());
+    for (i, r) in raw.iter().enumerate() {
+        let key = |k: &str| format!("inject[{i}].{k}");
+        if !r.at_ms.is_finite() || r.at_ms < 0.0 || r.at_ms > 86_400_000.0 {
+            return Err(ConfigError::new(
+                file,
+                key("at_ms"),
+                format!("must be 0..=86400000 ms (got {})", r.at_ms),
+            ));
+        }
+        let cycle = (r.at_ms * 1e3 / f64::from(cycle_time.as_micros())).round() as u64;
+        let fault = injected_fault(file, i, r, cycle_time, axes)?;
+        if fault.needs_emulated_segment() && ethercat.is_none() {
+            return Err(ConfigError::new(
+                file,
+                key("fault"),
+                format!(
+                    "fault '{}' is an EtherCAT fault of the emulated segment; the cell has no EtherCAT axes",
+                    r.fault
+                ),
+            ));
+        }
+        out.push(Injection { cycle, fault });
+    }
+    out.sort_by_key(|i| i.cycle);
+    Ok(out)
+}
+
+/// The fault of injection `i` from its `fault` name and the keys that fault takes.
+fn injected_fault(
+    file: &Path,
+    i: usize,
+    r: &RawInjection,
+    cycle_time: CycleTime,
+    axes: &[AxisConfig],
+) -> Result<InjectedFault, ConfigError> {
+    let key = |k: &str| format!("inject[{i}].{k}");
+    let duration = |max_ms: f64| -> Result<u64, ConfigError> {
+        match r.duration_ms {
+            Some(d) if d.is_finite() && d > 0.0 && d <= max_ms => Ok((d * 1e6) as u64),
+            Some(d) => Err(ConfigError::new(
+                file,
+                key("duration_ms"),
+                format!("must be > 0 and at most {max_ms} ms (got {d})"),
+            )),
+            None => Err(ConfigError::new(
+                file,
+                key("duration_ms"),
+                format!("fault '{}' needs duration_ms", r.fault),
+            )),
+        }
+    };
+    let axis_named = |name: &str| {
+        axes.iter()
+            .position(|a| a.name == name)
+            .ok_or_else(|| ConfigError::new(file, key("axis"), format!("no axis named '{name}'")))
+    };
+    let cycles_of = |ns: u64| (ns / cycle_time.as_nanos()).max(1) as u32;
+    if r.delay_us.is_some() && r.fault != "frame_delay" {
+        return Err(ConfigError::new(
+            file,
+            key("delay_us"),
+            format!(
+                "only fault 'frame_delay' takes delay_us (fault is '{}')",
+                r.fault
+            ),
+        ));
+    }
+    let fault = match r.fault.as_str() {
+        "frame_delay" => {
+            let delay_ns = match r.delay_us {
+                Some(d) if d.is_finite() && d > 0.0 && d <= 1_000_000.0 => (d * 1e3) as u64,
+                Some(d) => {
+                    return Err(ConfigError::new(
+                        file,
+                        key("delay_us"),
+                        format!("must be > 0 and at most 1000000 µs (got {d})"),
+                    ))
+                }
+                None => {
+                    return Err(ConfigError::new(
+                        file,
+                        key("delay_us"),
+                        "fault 'frame_delay' needs delay_us",
+                    ))
+                }
+            };
+            let cycles = cycles_of(duration(60_000.0)?);
+            InjectedFault::FrameDelay { delay_ns, cycles }
+        }
+        "datagram_drop" => InjectedFault::DatagramDrop {
+            cycles: cycles_of(duration(60_000.0)?),
+        },
+        "frame_corruption" | "link_loss" => {
+            let axis = match r.axis.as_deref() {
+                Some(name) => axis_named(name)?,
+                None => 0,
+            };
+            let cycles = cycles_of(duration(60_000.0)?);
+            if r.fault == "link_loss" {
+                InjectedFault::LinkLoss { axis, cycles }
+            } else {
+                InjectedFault::FrameCorruption { axis, cycles }
+            }
+        }
+        "stall" => InjectedFault::Stall {
+            ns: duration(1000.0)?,
+        },
+        "planner_stall" => InjectedFault::PlannerStall {
+            ns: duration(60_000.0)?,
+        },
+        "rx_loss" | "counter_corruption" | "subdevice_stall" => {
+            let name = r.axis.as_deref().ok_or_else(|| {
+                ConfigError::new(file, key("axis"), format!("fault '{}' needs axis", r.fault))
+            })?;
+            let axis = axes.iter().position(|a| a.name == name).ok_or_else(|| {
+                ConfigError::new(file, key("axis"), format!("no axis named '{name}'"))
+            })?;
+            let ns = duration(60_000.0)?;
+            let cycles = (ns / cycle_time.as_nanos()).max(1) as u32;
+            match r.fault.as_str() {
+                "rx_loss" => InjectedFault::RxLoss { axis, cycles },
+                "subdevice_stall" => InjectedFault::SubdeviceStall { axis, cycles },
+                _ => InjectedFault::CounterCorruption { axis, cycles },
+            }
+        }
+        "drive_alarm" => {
+            let name = r.axis.as_deref().ok_or_else(|| {
+                ConfigError::new(file, key("axis"), "fault 'drive_alarm' needs axis")
+            })?;
+            let axis = axes.iter().position(|a| a.name == name).ok_or_else(|| {
+                ConfigError::new(file, key("axis"), format!("no axis named '{name}'"))
+            })?;
+            let code = match r.code {
+                Some(c @ 1..=0xFFFF) => c as u16,
+                Some(c) => {
+                    return Err(ConfigError::new(
+                        file,
+                        key("code"),
+                        format!("alarm code must be 0x0001..=0xFFFF (got {c:#x})"),
+                    ))
+                }
+                None => {
+                    return Err(ConfigError::new(
+                        file,
+                        key("code"),
+                        "fault 'drive_alarm' needs code",
+                    ))
+                }
+            };
+            InjectedFault::DriveAlarm { axis, code }
+        }
+        other => {
+            return Err(ConfigError::new(
+                file,
+                key("fault"),
+                format!("unknown fault '{other}' (allowed: stall, drive_alarm, planner_stall, rx_loss, counter_corruption, subdevice_stall, frame_delay, frame_corruption, datagram_drop, link_loss)"),
+            ))
+        }
+    };
+    Ok(fault)
+}

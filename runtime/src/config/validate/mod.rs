@@ -1,0 +1,353 @@
+//! Cross-field validation of a parsed configuration into a [`CellConfig`].
+
+use std::collections::HashSet;
+use std::path::Path;
+
+use cellrt_axes::profiles::DriveModel;
+use cellrt_axes::CycleTime;
+
+use super::raw::{RawAxis, RawCellConfig, RawRecording, RawRt, RawSetpoints, RawWatchdogs};
+use super::{
+    AxisConfig, CellConfig, Compression, ConfigError, EthercatConfig, EthercatInterface,
+    FaultReaction, RecordingConfig, RtConfig, SetpointConfig, Transport, WatchdogConfig,
+    DEFAULT_FRAME_TIMEOUT_US, IN_PROCESS_INTERFACE, MAX_AXES,
+};
+
+mod axis;
+mod inject;
+use axis::{check_amplifier, validate_axis};
+use inject::validate_injections;
+
+/// Checks a name used in service names and file names: 1–32 of `[A-Za-z0-9_-]`.
+pub(crate) fn check_name(file: &Path, key: &str, name: &str) -> Result<(), ConfigError> {
+    let ok = !name.is_empty()
+        && name.len() <= 32
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if ok {
+        Ok(())
+    } else {
+        Err(ConfigError::new(
+            file,
+            key,
+            format!("'{name}' is not a valid name (1-32 characters of A-Z a-z 0-9 _ -)"),
+        ))
+    }
+}
+
+/// A finite number > 0.
+pub(crate) fn positive(file: &Path, key: &str, v: f64) -> Result<f64, ConfigError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(ConfigError::new(
+            file,
+            key,
+            format!("must be a finite number > 0 (got {v})"),
+        ))
+    }
+}
+
+/// Checks every section of `raw` (read from `file`, whose `text` the config keeps) and builds
+/// the cell configuration.
+pub(super) fn validate(
+    file: &Path,
+    text: &str,
+    raw: RawCellConfig,
+) -> Result<CellConfig, ConfigError> {
+    check_name(file, "cell.name", &raw.cell.name)?;
+    let cycle_time = CycleTime::from_micros(raw.cell.cycle_time_us)
+        .map_err(|e| ConfigError::new(file, "cell.cycle_time_us", e.to_string()))?;
+    let program = raw.cell.program.map(|p| {
+        if p.is_absolute() {
+            p
+        } else {
+            file.parent().unwrap_or(Path::new(".")).join(p)
+        }
+    });
+
+    let rt = rt_config(file, &raw.rt)?;
+    let recording = recording_config(file, raw.recording)?;
+    let setpoints = setpoint_config(file, &raw.setpoints, cycle_time)?;
+    let watchdogs = watchdog_config(file, &raw.watchdogs)?;
+    let axes = validate_axes(file, cycle_time, raw.axes)?;
+
+    let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
+    let inject = validate_injections(file, cycle_time, &raw.inject, &axes, ethercat.as_ref())?;
+
+    Ok(CellConfig {
+        source: file.to_path_buf(),
+        text: text.to_string(),
+        name: raw.cell.name,
+        cycle_time,
+        program,
+        rt,
+        recording,
+        setpoints,
+        watchdogs,
+        inject,
+        axes,
+        ethercat,
+    })
+}
+
+/// `[rt]`: the RT thread's CPU and SCHED_FIFO priority.
+fn rt_config(file: &Path, raw: &RawRt) -> Result<RtConfig, ConfigError> {
+    let rt = RtConfig {
+        cpu: raw.cpu,
+        priority: raw.priority,
+        lock_memory: raw.lock_memory,
+        reserve_cpu: raw.reserve_cpu,
+    };
+    if !(1..=99).contains(&rt.priority) {
+        return Err(ConfigError::new(
+            file,
+            "rt.priority",
+            format!("SCHED_FIFO priority must be 1..=99 (got {})", rt.priority),
+        ));
+    }
+    if let Some(cpu) = rt.cpu {
+        let n = std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1);
+        if cpu >= n {
+            return Err(ConfigError::new(
+                file,
+                "rt.cpu",
+                format!(
+                    "CPU {cpu} does not exist (this machine has CPUs 0..={})",
+                    n - 1
+                ),
+            ));
+        }
+    }
+    Ok(rt)
+}
+
+/// `[recording]`: compression, chunk size, queue, flush and rotation of the MCAP recording.
+fn recording_config(file: &Path, raw: RawRecording) -> Result<RecordingConfig, ConfigError> {
+    let compression = match raw.compression.as_str() {
+        "zstd" => Compression::Zstd,
+        "lz4" => Compression::Lz4,
+        "none" => Compression::None,
+        other => {
+            return Err(ConfigError::new(
+                file,
+                "recording.compression",
+                format!("unknown compression '{other}' (allowed: zstd, lz4, none)"),
+            ))
+        }
+    };
+    if raw.path.trim().is_empty() {
+        return Err(ConfigError::new(
+            file,
+            "recording.path",
+            "must not be empty",
+        ));
+    }
+    if !(1..=65536).contains(&raw.chunk_size_kib) {
+        return Err(ConfigError::new(
+            file,
+            "recording.chunk_size_kib",
+            format!("must be 1..=65536 KiB (got {})", raw.chunk_size_kib),
+        ));
+    }
+    let queue_seconds = positive(file, "recording.queue_seconds", raw.queue_seconds)?;
+    if queue_seconds > 60.0 {
+        return Err(ConfigError::new(
+            file,
+            "recording.queue_seconds",
+            format!("must be at most 60 s (got {queue_seconds})"),
+        ));
+    }
+    if !(10..=60_000).contains(&raw.flush_ms) {
+        return Err(ConfigError::new(
+            file,
+            "recording.flush_ms",
+            format!("must be 10..=60000 ms (got {})", raw.flush_ms),
+        ));
+    }
+    if let Some(mib) = raw.rotate_mib {
+        if !(1..=1_048_576).contains(&mib) {
+            return Err(ConfigError::new(
+                file,
+                "recording.rotate_mib",
+                format!("must be 1..=1048576 MiB (got {mib})"),
+            ));
+        }
+    }
+    if let Some(secs) = raw.rotate_seconds {
+        if !(secs.is_finite() && (1.0..=1e7).contains(&secs)) {
+            return Err(ConfigError::new(
+                file,
+                "recording.rotate_seconds",
+                format!("must be 1..=1e7 seconds (got {secs})"),
+            ));
+        }
+    }
+    Ok(RecordingConfig {
+        enabled: raw.enabled,
+        path: raw.path,
+        compression,
+        chunk_size: raw.chunk_size_kib * 1024,
+        queue_seconds,
+        flush_ms: raw.flush_ms,
+        rotate_bytes: raw.rotate_mib.map(|m| m * 1024 * 1024),
+        rotate_seconds: raw.rotate_seconds,
+    })
+}
+
+/// `[setpoints]`: lookahead and start delay, within what the setpoint buffer holds at this
+/// cycle time.
+fn setpoint_config(
+    file: &Path,
+    raw: &RawSetpoints,
+    cycle_time: CycleTime,
+) -> Result<SetpointConfig, ConfigError> {
+    let lookahead = positive(file, "setpoints.lookahead_ms", raw.lookahead_ms)? / 1e3;
+    let start_delay = positive(file, "setpoints.start_delay_ms", raw.start_delay_ms)? / 1e3;
+    if lookahead > 10.0 || start_delay > 10.0 {
+        return Err(ConfigError::new(
+            file,
+            "setpoints",
+            "lookahead_ms and start_delay_ms must be at most 10000 ms",
+        ));
+    }
+    // The subscriber's buffer is the lookahead queue; more would overwrite unread blocks.
+    let max_cycles = (crate::services::SETPOINT_BUFFER_BLOCKS - 4) * crate::setpoints::BLOCK_CYCLES;
+    let cycles = (lookahead.max(start_delay) * 1e6 / f64::from(cycle_time.as_micros())).ceil();
+    if cycles > max_cycles as f64 {
+        return Err(ConfigError::new(
+            file,
+            "setpoints.lookahead_ms",
+            format!(
+                "{} ms is {cycles} cycles at {} µs; the setpoint buffer holds at most {max_cycles} cycles ({:.0} ms)",
+                lookahead.max(start_delay) * 1e3,
+                cycle_time.as_micros(),
+                max_cycles as f64 * f64::from(cycle_time.as_micros()) / 1e3
+            ),
+        ));
+    }
+    Ok(SetpointConfig {
+        lookahead,
+        start_delay,
+    })
+}
+
+/// `[watchdogs]`: the fault reaction of each watchdog.
+fn watchdog_config(file: &Path, raw: &RawWatchdogs) -> Result<WatchdogConfig, ConfigError> {
+    let reaction = |key: &str, v: &str| {
+        FaultReaction::parse(v).ok_or_else(|| {
+            ConfigError::new(
+                file,
+                format!("watchdogs.{key}"),
+                format!("unknown reaction '{v}' (allowed: controlled_stop, quick_stop, disable)"),
+            )
+        })
+    };
+    Ok(WatchdogConfig {
+        max_consecutive_overruns: raw.max_consecutive_overruns,
+        overrun_reaction: reaction("overrun_reaction", &raw.overrun_reaction)?,
+        underrun_reaction: reaction("underrun_reaction", &raw.underrun_reaction)?,
+        drive_fault_reaction: reaction("drive_fault_reaction", &raw.drive_fault_reaction)?,
+        communication_reaction: reaction("communication_reaction", &raw.communication_reaction)?,
+    })
+}
+
+/// `[[axes]]`: at least one, at most [`MAX_AXES`], unique names, amplifier slots shared
+/// consistently.
+fn validate_axes(
+    file: &Path,
+    cycle_time: CycleTime,
+    raw: Vec<RawAxis>,
+) -> Result<Vec<AxisConfig>, ConfigError> {
+    if raw.is_empty() {
+        return Err(ConfigError::new(
+            file,
+            "axes",
+            "a cell needs at least one [[axes]] entry",
+        ));
+    }
+    if raw.len() > MAX_AXES {
+        return Err(ConfigError::new(
+            file,
+            "axes",
+            format!(
+                "{} axes configured; a cell has at most {MAX_AXES}",
+                raw.len()
+            ),
+        ));
+    }
+    let mut seen = HashSet::new();
+    let mut axes = Vec::with_capacity(raw.len());
+    let mut amplifiers: Vec<(String, DriveModel, Vec<u8>)> = Vec::new();
+    for (i, a) in raw.into_iter().enumerate() {
+        let key = format!("axes[{i}]");
+        let amplifier = check_amplifier(file, &key, &a, &mut amplifiers)?;
+        if !seen.insert(a.name.clone()) {
+            return Err(ConfigError::new(
+                file,
+                format!("{key}.name"),
+                format!("duplicate axis name '{}'", a.name),
+            ));
+        }
+        let mut axis = validate_axis(file, &key, cycle_time, a)?;
+        axis.amplifier = amplifier;
+        axes.push(axis);
+    }
+    Ok(axes)
+}
+
+/// `[ethercat]` against the axes' transports: one cell runs one transport, EtherCAT axes need
+/// the section and the section needs EtherCAT axes.
+fn validate_ethercat(
+    file: &Path,
+    raw: Option<super::raw::RawEthercat>,
+    axes: &[AxisConfig],
+) -> Result<Option<EthercatConfig>, ConfigError> {
+    let ethercat_axis = axes.iter().position(|a| a.transport == Transport::Ethercat);
+    let sim_axis = axes.iter().position(|a| a.transport == Transport::Sim);
+    if let (Some(e), Some(s)) = (ethercat_axis, sim_axis) {
+        return Err(ConfigError::new(
+            file,
+            format!("axes[{s}].transport"),
+            format!(
+                "axis '{}' uses transport 'sim' and axis '{}' uses 'ethercat'; a cell runs one transport",
+                axes[s].name, axes[e].name
+            ),
+        ));
+    }
+    match (raw, ethercat_axis) {
+        (None, None) => Ok(None),
+        (None, Some(e)) => Err(ConfigError::new(
+            file,
+            format!("axes[{e}].transport"),
+            format!(
+                "axis '{}' uses transport 'ethercat' but the config has no [ethercat] section (interface = \"<NIC>\" or \"{IN_PROCESS_INTERFACE}\")",
+                axes[e].name
+            ),
+        )),
+        (Some(_), None) => Err(ConfigError::new(
+            file,
+            "ethercat",
+            "[ethercat] is set but no axis has transport = \"ethercat\"",
+        )),
+        (Some(r), Some(_)) => {
+            let interface = EthercatInterface::parse(&r.interface)
+                .map_err(|e| ConfigError::new(file, "ethercat.interface", e.to_string()))?;
+            let us = r.frame_timeout_us.unwrap_or(DEFAULT_FRAME_TIMEOUT_US);
+            if !(10..=1_000_000).contains(&us) {
+                return Err(ConfigError::new(
+                    file,
+                    "ethercat.frame_timeout_us",
+                    format!("must be 10..=1000000 µs (got {us})"),
+                ));
+            }
+            Ok(Some(EthercatConfig {
+                interface,
+                frame_timeout: std::time::Duration::from_micros(u64::from(us)),
+            }))
+        }
+    }
+}

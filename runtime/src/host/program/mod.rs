@@ -1,0 +1,287 @@
+//! Programs: a TOML list of steps (power on, move, wait, power off) validated against a cell.
+//!
+//! ```toml
+//! [[step]]
+//! do = "power_on"
+//! [[step]]
+//! do = "move"
+//! target = { x = 400.0, y = 250.0 }
+//! velocity = { x = 300.0 }        # optional per-move limits: one number for every moved axis,
+//! acceleration = 2000.0           # or a table per axis; never above the axis limit
+//! [[step]]
+//! do = "wait"
+//! seconds = 0.5
+//! [[step]]
+//! do = "power_off"
+//! ```
+//!
+//! `do = "reset"` clears a cell stopped by a watchdog (MC_Reset).
+//!
+//! `do = "torque"`, `target = { z = 30.0 }` (% of rated torque), `seconds = 0.5`: on axes in
+//! cst, ramps to the torque at `limits.torque_slope`, holds it, ramps back to zero; an axis left
+//! moving then brakes in csv with its controlled-stop ramp.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use cellrt_trajectory::limits::KinematicLimits;
+use serde::Deserialize;
+
+use cellrt_axes::cia402::homing::{HomeProcedure, HomeSettingEdge};
+
+use crate::config::{CellConfig, ConfigError};
+
+mod validate;
+use validate::expand;
+
+/// Longest wait a program step may ask for, seconds.
+pub const MAX_WAIT_SECONDS: f64 = 86_400.0;
+
+/// A per-move limit: one value for every moved axis, or one per axis.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum RawLimit {
+    /// The same value for every moved axis.
+    All(f64),
+    /// A value per axis name.
+    PerAxis(BTreeMap<String, f64>),
+}
+
+/// A program step as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "do", rename_all = "snake_case", deny_unknown_fields)]
+pub enum RawStep {
+    /// Enable the named axes (every axis when none).
+    PowerOn {
+        /// Axis names; empty = the whole cell.
+        #[serde(default)]
+        axes: Vec<String>,
+    },
+    /// Clean shutdown of the named axes (every axis when none).
+    PowerOff {
+        /// Axis names; empty = the whole cell.
+        #[serde(default)]
+        axes: Vec<String>,
+    },
+    /// Clear a stopped or faulted cell (MC_Reset); nothing to do otherwise.
+    Reset,
+    /// Jerk-limited synchronised move to absolute targets.
+    Move {
+        /// Axis name → target in units.
+        target: BTreeMap<String, f64>,
+        /// Per-move velocity limit.
+        velocity: Option<RawLimit>,
+        /// Per-move acceleration limit.
+        acceleration: Option<RawLimit>,
+        /// Per-move jerk limit.
+        jerk: Option<RawLimit>,
+    },
+    /// Straight line of axes of one unit (a gantry) to absolute targets; `velocity` is the
+    /// path speed.
+    Line {
+        /// Axis name → target in units.
+        target: BTreeMap<String, f64>,
+        /// Path speed limit, unit/s.
+        velocity: Option<f64>,
+        /// Per-axis acceleration limit.
+        acceleration: Option<RawLimit>,
+        /// Per-axis jerk limit.
+        jerk: Option<RawLimit>,
+    },
+    /// Waypoint move: through every waypoint but the last, to the last at rest.
+    Path {
+        /// Axis name → position, per waypoint (all name the same axes).
+        waypoints: Vec<BTreeMap<String, f64>>,
+        /// Per-move velocity limit.
+        velocity: Option<RawLimit>,
+        /// Per-move acceleration limit.
+        acceleration: Option<RawLimit>,
+        /// Per-move jerk limit.
+        jerk: Option<RawLimit>,
+    },
+    /// Jog one axis at a velocity for some seconds, then halt (MC_MoveVelocity, MC_Halt).
+    Jog {
+        /// Axis name.
+        axis: String,
+        /// Velocity, unit/s (signed).
+        velocity: f64,
+        /// Seconds at (or ramping to) the velocity before the halt.
+        seconds: f64,
+    },
+    /// Feed override, 0–100 % (MC_SetOverride).
+    Override {
+        /// Percent.
+        percent: f64,
+    },
+    /// MC_Home: in the drive's homing mode (hm), or by a Controlword2 edge (MR-J3-T04).
+    Home {
+        /// Axis name.
+        axis: String,
+        /// 6098h method (default: the model's data-set method).
+        method: Option<i8>,
+        /// Home setting by Controlword2 instead: "clear" (C_CR) or "clear_z" (C_CR2).
+        setting: Option<HomeSettingEdge>,
+    },
+    /// Run the nested steps `count` times.
+    Repeat {
+        /// How many times (1..=10000).
+        count: u32,
+        /// The steps.
+        steps: Vec<RawStep>,
+    },
+    /// Pause.
+    Wait {
+        /// Seconds.
+        seconds: f64,
+    },
+    /// Torque on cst axes: ramp to the target at the axis' torque slope, hold, ramp back to 0.
+    Torque {
+        /// Axis name → torque in % of rated torque.
+        target: BTreeMap<String, f64>,
+        /// Seconds to hold the target torque.
+        seconds: f64,
+    },
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawProgram {
+    step: Vec<RawStep>,
+}
+
+/// A validated program step.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Step {
+    /// Enable the listed axes (indices; every axis when empty).
+    PowerOn(Vec<usize>),
+    /// Clean shutdown of the listed axes (indices; every axis when empty).
+    PowerOff(Vec<usize>),
+    /// Clear a stopped or faulted cell.
+    Reset,
+    /// Move the listed axes (index, target in units, limits in units).
+    Move(Vec<MoveTarget>),
+    /// Pause for this many seconds.
+    Wait(f64),
+    /// Torque on cst axes, held for `hold_s` seconds between the ramps.
+    Torque {
+        /// The axes and their torques.
+        targets: Vec<TorqueTarget>,
+        /// Seconds at the target torque.
+        hold_s: f64,
+    },
+    /// Straight line of the listed axes (one unit) to their targets.
+    Line {
+        /// The axes, targets and per-axis limits.
+        targets: Vec<MoveTarget>,
+        /// Path speed limit, unit/s.
+        path_velocity: Option<f64>,
+    },
+    /// Waypoint move of the listed axes through `via` (one position per axis each).
+    Path {
+        /// The axes, final targets and limits.
+        targets: Vec<MoveTarget>,
+        /// Intermediate positions.
+        via: Vec<Vec<f64>>,
+    },
+    /// Jog for `seconds`, then halt.
+    Jog {
+        /// Axis index.
+        axis: usize,
+        /// Velocity, unit/s.
+        velocity: f64,
+        /// Seconds before the halt.
+        seconds: f64,
+    },
+    /// Feed override, 0..=1.
+    Override(f64),
+    /// Home an axis with a procedure its drive's manual gives.
+    Home {
+        /// Axis index.
+        axis: usize,
+        /// hm with a 6098h method, or a Controlword2 edge.
+        procedure: HomeProcedure,
+    },
+}
+
+/// Most steps a program may expand to (repeats included).
+pub const MAX_PROGRAM_STEPS: usize = 100_000;
+
+/// Most repetitions of one `repeat` step.
+pub const MAX_REPEAT: u32 = 10_000;
+
+/// One axis of a torque step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TorqueTarget {
+    /// Axis index in the cell (an axis in cst).
+    pub axis: usize,
+    /// Torque in % of rated torque, within the axis' `limits.torque`.
+    pub torque: f64,
+    /// The axis' torque slope, %/s.
+    pub slope: f64,
+}
+
+/// One axis of a move step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MoveTarget {
+    /// Axis index in the cell.
+    pub axis: usize,
+    /// Target position in units.
+    pub target: f64,
+    /// Limits of this move (axis limits unless the step lowers them).
+    pub limits: KinematicLimits,
+}
+
+/// A validated program.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Program {
+    /// Where it was read from.
+    pub source: PathBuf,
+    /// The steps in order.
+    pub steps: Vec<Step>,
+}
+
+impl Program {
+    /// Reads a program file and validates it against `cell`.
+    pub fn load(path: &Path, cell: &CellConfig) -> Result<Program, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ConfigError::io(path, e))?;
+        Self::parse(path, &text, cell)
+    }
+
+    /// Parses and validates program text.
+    pub fn parse(path: &Path, text: &str, cell: &CellConfig) -> Result<Program, ConfigError> {
+        let raw: RawProgram = crate::config::parse_toml(path, text)?;
+        if raw.step.is_empty() {
+            return Err(ConfigError::new(
+                path,
+                "step",
+                "a program needs at least one [[step]]",
+            ));
+        }
+        let mut steps = Vec::new();
+        expand(path, "step", raw.step, cell, &mut steps)?;
+        Ok(Program {
+            source: path.to_path_buf(),
+            steps,
+        })
+    }
+
+    /// The last target each axis is moved to, by axis index (`None` after a jog).
+    pub fn final_targets(&self, axes: usize) -> Vec<Option<f64>> {
+        let mut out = vec![None; axes];
+        for s in &self.steps {
+            match s {
+                Step::Move(targets) | Step::Line { targets, .. } | Step::Path { targets, .. } => {
+                    for t in targets {
+                        out[t.axis] = Some(t.target);
+                    }
+                }
+                Step::Jog { axis, .. } => out[*axis] = None,
+                _ => {}
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -27,7 +27,6 @@ use crate::ethercat::identity::{ExpectedIdentity, SubDeviceIdentity};
 use crate::ethercat::register::{self as reg, AlState, AlStatus};
 use crate::pdo::objects::MODES_OF_OPERATION;
 use crate::pdo::PdoEntry;
-use crate::profiles::mr_j5_g_n1::unit_pdo_limit;
 use crate::profiles::PdoAssignment;
 use crate::profiles::{DataType, DriveProfile};
 
@@ -330,9 +329,7 @@ fn check_unit_pdo_limits(
             continue;
         }
         let d = &config.drives[plan.first_axis()];
-        let Some((max_rx, max_tx)) =
-            unit_pdo_limit(plan.model.axes_per_unit, config.cycle.as_micros())
-        else {
+        let Some((max_rx, max_tx)) = plan.model.unit_pdo_limit(config.cycle.as_micros()) else {
             return Err(EthercatError::CycleTime {
                 axis: d.axis.clone(),
                 model: plan.model.model.as_str(),

@@ -6,6 +6,7 @@
 
 use std::fmt;
 
+pub use crate::cia402::homing::HomeSetting;
 use crate::pdo::PdoEntry;
 
 /// CoE data type of an object (the subset the cyclic objects use).
@@ -195,26 +196,6 @@ pub enum HomeReference {
     /// 6064h is preset to the home position address (MR-J4-TM §4.10 TV-8: "6064h = the home
     /// position address"; 607Ch stays 0 without absolute detection).
     PositionPreset,
-}
-
-/// Home position setting in the cyclic modes by Controlword2 edges, without hm (MR-J3-T04
-/// C_CR / C_CR2, mr-j3-t04.md §8.3, manual §8.11.6).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct HomeSetting {
-    /// Controlword2 bit C_CR: rising edge → 607Ch := −(current position).
-    pub clear_bit: u8,
-    /// Controlword2 bit C_CR2: rising edge → 607Ch := −(last Z-phase position).
-    pub clear_z_bit: u8,
-    /// Statusword2 (2011h) bit S_OSET: home setting by C_CR/C_CR2 completed.
-    pub set_bit: u8,
-    /// Statusword2 bit S_ZPAS: Z phase passed at least once since power-on.
-    pub z_passed_bit: u8,
-    /// Statusword2 bit S_OP: the encoder is at its Z phase.
-    pub z_pulse_bit: u8,
-    /// Warning for C_CR2 before the Z phase (AL.96; the manual's procedures name it).
-    pub before_z_warning: u16,
-    /// The alarm the manual's alarm list gives for the same cause (AL.26; §7.2 ambiguity).
-    pub before_z_alarm: u16,
 }
 
 /// Where the drive's torque limits come from.

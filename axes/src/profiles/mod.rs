@@ -14,6 +14,7 @@ use crate::cia402::mode::ModeOfOperation;
 use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::PdoMap;
 
+mod cia402_facts;
 pub mod facts;
 pub mod generic_cia402;
 pub mod mapping;

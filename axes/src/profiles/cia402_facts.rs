@@ -61,8 +61,23 @@ impl ModeSwitch {
 
 #[cfg(test)]
 mod tests {
-    use crate::cia402::homing::{choose_method, choose_procedure, HomeProcedure, HomeSettingEdge};
+    use crate::cia402::homing::{
+        choose_method, choose_procedure, HomeProcedure, HomeSettingEdge, HomingFailure,
+        HomingParams, HomingPhase, HomingSequencer,
+    };
+    use crate::cia402::mode::ModeOfOperation;
+    use crate::cia402::statusword::Statusword;
+    use crate::cycles::Cycles;
     use crate::profiles::{profile, DriveModel};
+
+    const P: HomingParams = HomingParams {
+        timeout: Cycles(100),
+        mode_settle: Cycles(3),
+    };
+
+    fn sw(bits: u16) -> Statusword {
+        Statusword(0x0027 | bits)
+    }
 
     #[test]
     fn the_method_is_one_the_manual_lists_on_a_drive_that_shows_6061h() {
@@ -109,5 +124,58 @@ mod tests {
         assert!(choose_procedure(j5, None, None)
             .unwrap_err()
             .contains("lists no homing methods"));
+    }
+
+    #[test]
+    fn a_controlword2_setting_raises_the_edge_until_s_oset_then_drops_it() {
+        let bits = profile(DriveModel::MrJ3T04).home_setting.unwrap();
+        let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
+        h.start_setting(HomeSettingEdge::Clear, &bits, sw(0));
+        let c = h.update(sw(0), 0, true, None, true).unwrap();
+        assert_eq!(
+            c.mode,
+            ModeOfOperation::CyclicSyncPosition,
+            "no mode change"
+        );
+        assert_eq!((c.start_bit, c.controlword2), (0, 1 << 7));
+        let c = h.update(sw(0), 0, true, None, true).unwrap();
+        assert_eq!(c.controlword2, 1 << 7);
+        // S_OSET: drop the bit, wait for S_OSET to drop.
+        let c = h.update(sw(0), 1 << 8, true, None, true).unwrap();
+        assert_eq!(c.controlword2, 0);
+        assert_eq!(h.phase(), HomingPhase::SettingRelease(None));
+        h.update(sw(0), 1 << 8, true, None, true);
+        assert!(h.is_active());
+        h.update(sw(0), 0, true, None, true);
+        assert_eq!(h.phase(), HomingPhase::Done(None));
+
+        // C_CR2 answered by a new warning (AL.96): refused; an older warning is not its answer.
+        h.start_setting(HomeSettingEdge::ClearZ, &bits, sw(0));
+        let c = h.update(sw(0), 0, true, None, true).unwrap();
+        assert_eq!(c.controlword2, 1 << 6);
+        let c = h.update(sw(1 << 7), 0, true, None, true).unwrap();
+        assert_eq!(
+            h.phase(),
+            HomingPhase::SettingRelease(Some(HomingFailure::SettingRefused))
+        );
+        assert_eq!(c.controlword2, 0);
+        h.update(sw(1 << 7), 0, true, None, true);
+        assert_eq!(
+            h.phase(),
+            HomingPhase::Done(Some(HomingFailure::SettingRefused))
+        );
+        h.start_setting(HomeSettingEdge::Clear, &bits, sw(1 << 7));
+        for _ in 0..5 {
+            h.update(sw(1 << 7), 0, true, None, true);
+        }
+        assert_eq!(h.phase(), HomingPhase::Setting);
+        // Never answered: times out (timeout 100 cycles), the bit is dropped.
+        let mut raised = 0;
+        while let Some(c) = h.update(sw(1 << 7), 0, true, None, true) {
+            raised += usize::from(c.controlword2 != 0);
+            assert!(raised < 200, "never times out");
+        }
+        assert_eq!(h.phase(), HomingPhase::Done(Some(HomingFailure::Timeout)));
+        assert!((100..=101).contains(&(raised + 5)), "5 above + {raised}");
     }
 }

@@ -439,15 +439,17 @@ impl HomingSequencer {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    const P: HomingParams = HomingParams {
+    /// Timing for the sequencer tests.
+    pub(crate) const P: HomingParams = HomingParams {
         timeout: Cycles(100),
         mode_settle: Cycles(3),
     };
 
-    fn sw(bits: u16) -> Statusword {
+    /// A statusword in Operation enabled with `bits` set.
+    pub(crate) fn sw(bits: u16) -> Statusword {
         Statusword(0x0027 | bits)
     }
 

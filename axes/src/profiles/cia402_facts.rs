@@ -61,23 +61,13 @@ impl ModeSwitch {
 
 #[cfg(test)]
 mod tests {
+    use crate::cia402::homing::tests::{sw, P};
     use crate::cia402::homing::{
         choose_method, choose_procedure, HomeProcedure, HomeSettingEdge, HomingFailure,
-        HomingParams, HomingPhase, HomingSequencer,
+        HomingPhase, HomingSequencer,
     };
     use crate::cia402::mode::ModeOfOperation;
-    use crate::cia402::statusword::Statusword;
-    use crate::cycles::Cycles;
     use crate::profiles::{profile, DriveModel};
-
-    const P: HomingParams = HomingParams {
-        timeout: Cycles(100),
-        mode_settle: Cycles(3),
-    };
-
-    fn sw(bits: u16) -> Statusword {
-        Statusword(0x0027 | bits)
-    }
 
     #[test]
     fn the_method_is_one_the_manual_lists_on_a_drive_that_shows_6061h() {

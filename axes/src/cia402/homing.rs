@@ -181,48 +181,40 @@ pub struct HomingParams {
 }
 
 /// Why homing failed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
 #[repr(u8)]
 pub enum HomingFailure {
     /// The drive set statusword bit 13 (e.g. a method it does not run).
+    #[strum(serialize = "the drive reported a homing error (statusword bit 13)")]
     DriveError = 1,
     /// 6061h never showed hm, or never came back to the cyclic mode, or the method never
     /// ended, within the timeout.
+    #[strum(serialize = "homing did not complete within the timeout")]
     Timeout = 2,
     /// The axis left Operation enabled (fault, disable) during homing.
+    #[strum(serialize = "the axis left Operation enabled during homing")]
     NotEnabled = 3,
     /// The drive refused the method written to 6098h (SDO abort), or has no home setting by
     /// Controlword2.
+    #[strum(serialize = "the drive refused the homing method (6098h)")]
     MethodRefused = 4,
     /// The drive answered a Controlword2 home setting with a warning instead of S_OSET
     /// (MR-J3-T04 AL.96: C_CR2 before the Z phase was passed).
+    #[strum(
+        serialize = "the drive answered the home setting with a warning (AL.96: C_CR2 before the Z phase was passed)"
+    )]
     SettingRefused = 5,
 }
 
 impl HomingFailure {
     /// Short name for events and messages.
     pub fn as_str(self) -> &'static str {
-        match self {
-            HomingFailure::DriveError => "the drive reported a homing error (statusword bit 13)",
-            HomingFailure::Timeout => "homing did not complete within the timeout",
-            HomingFailure::NotEnabled => "the axis left Operation enabled during homing",
-            HomingFailure::MethodRefused => "the drive refused the homing method (6098h)",
-            HomingFailure::SettingRefused => {
-                "the drive answered the home setting with a warning (AL.96: C_CR2 before the Z phase was passed)"
-            }
-        }
+        self.into()
     }
 
     /// Inverse of `as u8`.
     pub fn from_u8(v: u8) -> Option<HomingFailure> {
-        match v {
-            1 => Some(HomingFailure::DriveError),
-            2 => Some(HomingFailure::Timeout),
-            3 => Some(HomingFailure::NotEnabled),
-            4 => Some(HomingFailure::MethodRefused),
-            5 => Some(HomingFailure::SettingRefused),
-            _ => None,
-        }
+        Self::from_repr(v)
     }
 }
 

@@ -2,29 +2,33 @@
 //!
 //! Transitions from mr-j5-g-n1.md §3.1 / manual §7.1; shortcuts from §3.2.
 
-use std::fmt;
-
 use super::controlword::{Command, Controlword};
 
-/// A PDS state (mr-j5-g-n1.md §3.1, §3.4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// A PDS state (mr-j5-g-n1.md §3.1, §3.4), numbered from 1 in CiA 402 order (the number the
+/// recordings store, 0 being "unknown": `FsaState` in `runtime/proto/cellrt.proto`) and named
+/// in snake_case for logs, records and the operator ("operation_enabled").
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, strum::Display, strum::IntoStaticStr, strum::FromRepr,
+)]
+#[strum(serialize_all = "snake_case")]
+#[repr(u8)]
 pub enum FsaState {
     /// Initialising after control-circuit power-on; no statusword is sent (§3.4 \*1).
-    NotReadyToSwitchOn,
+    NotReadyToSwitchOn = 1,
     /// Initialised, power stage disabled; the state after start-up and after a fault reset.
-    SwitchOnDisabled,
+    SwitchOnDisabled = 2,
     /// Ready for Switch On; dynamic brake applied.
-    ReadyToSwitchOn,
+    ReadyToSwitchOn = 3,
     /// Power stage ready, servo off; dynamic brake released.
-    SwitchedOn,
+    SwitchedOn = 4,
     /// Servo on: the drive follows its setpoints.
-    OperationEnabled,
+    OperationEnabled = 5,
     /// Quick stop ramp running; ends in Switch on disabled on MR-J5 (§3.1 (12)).
-    QuickStopActive,
+    QuickStopActive = 6,
     /// An alarm is being processed (servo off, dynamic brake); left automatically to Fault.
-    FaultReactionActive,
+    FaultReactionActive = 7,
     /// An alarm is latched; left only by a Fault Reset edge (15).
-    Fault,
+    Fault = 8,
 }
 
 impl FsaState {
@@ -41,17 +45,13 @@ impl FsaState {
     ];
 
     /// A snake_case name for logs and records, e.g. "operation_enabled".
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Self::NotReadyToSwitchOn => "not_ready_to_switch_on",
-            Self::SwitchOnDisabled => "switch_on_disabled",
-            Self::ReadyToSwitchOn => "ready_to_switch_on",
-            Self::SwitchedOn => "switched_on",
-            Self::OperationEnabled => "operation_enabled",
-            Self::QuickStopActive => "quick_stop_active",
-            Self::FaultReactionActive => "fault_reaction_active",
-            Self::Fault => "fault",
-        }
+    pub fn as_str(self) -> &'static str {
+        self.into()
+    }
+
+    /// The state's number (1–8, CiA 402 order); [`FsaState::from_repr`] is the inverse.
+    pub const fn code(self) -> u8 {
+        self as u8
     }
 
     /// True in the states where the servo is on and the motor is controlled (OE, QSA).
@@ -62,12 +62,6 @@ impl FsaState {
     /// True in Fault reaction active and Fault.
     pub const fn is_fault(self) -> bool {
         matches!(self, Self::FaultReactionActive | Self::Fault)
-    }
-}
-
-impl fmt::Display for FsaState {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
     }
 }
 

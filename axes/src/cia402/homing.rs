@@ -29,6 +29,45 @@ pub const HOMING_ERROR_BIT: u16 = 1 << 13;
 /// Controlword bit 4 in hm: homing operation start (HOS).
 pub const HOMING_START_BIT: u16 = 1 << 4;
 
+/// Home position setting in the cyclic modes by Controlword2 edges, without hm (MR-J3-T04
+/// C_CR / C_CR2, MR-J3-T04 manual §8.11.6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct HomeSetting {
+    /// Controlword2 bit C_CR: rising edge → 607Ch := −(current position).
+    pub clear_bit: u8,
+    /// Controlword2 bit C_CR2: rising edge → 607Ch := −(last Z-phase position).
+    pub clear_z_bit: u8,
+    /// Statusword2 (2011h) bit S_OSET: home setting by C_CR/C_CR2 completed.
+    pub set_bit: u8,
+    /// Statusword2 bit S_ZPAS: Z phase passed at least once since power-on.
+    pub z_passed_bit: u8,
+    /// Statusword2 bit S_OP: the encoder is at its Z phase.
+    pub z_pulse_bit: u8,
+    /// Warning for C_CR2 before the Z phase (AL.96; the manual's procedures name it).
+    pub before_z_warning: u16,
+    /// The alarm the manual's alarm list gives for the same cause (AL.26; §7.2 ambiguity).
+    pub before_z_alarm: u16,
+}
+
+/// What homing needs to know of a drive model, built from its profile
+/// (`DriveProfile::homing_facts`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HomingFacts {
+    /// Product name, for the refusals.
+    pub name: &'static str,
+    /// Homing methods (6098h) the manual lists.
+    pub methods: &'static [i8],
+    /// Of those, the data-set methods: home = the current position, no motion.
+    pub data_set_methods: &'static [i8],
+    /// Home setting by Controlword2 edges, where the model has it.
+    pub home_setting: Option<HomeSetting>,
+    /// True if the default TxPDO carries 6061h (modes of operation display).
+    pub shows_mode: bool,
+    /// True if the default PDOs carry Controlword2 (2001h, RxPDO) and Statusword2 (2011h,
+    /// TxPDO).
+    pub carries_controlword2: bool,
+}
+
 /// Which Controlword2 edge sets home (MR-J3-T04 §8.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -41,7 +80,7 @@ pub enum HomeSettingEdge {
 
 impl HomeSettingEdge {
     /// The Controlword2 bit of this edge on a drive with `bits`.
-    pub fn bit(self, bits: &crate::profiles::HomeSetting) -> u8 {
+    pub fn bit(self, bits: &HomeSetting) -> u8 {
         match self {
             HomeSettingEdge::Clear => bits.clear_bit,
             HomeSettingEdge::ClearZ => bits.clear_z_bit,
@@ -58,82 +97,77 @@ pub enum HomeProcedure {
     Controlword2(HomeSettingEdge),
 }
 
-/// Whether `profile` can set home by Controlword2 with its default maps (2001h in the RxPDO,
+/// Whether `drive` can set home by Controlword2 with its default maps (2001h in the RxPDO,
 /// 2011h in the TxPDO).
-fn controlword2_home_setting(profile: &crate::profiles::DriveProfile) -> Result<(), String> {
-    use crate::pdo::objects::{CONTROLWORD2, STATUSWORD2};
-    if profile.home_setting.is_none() {
+fn controlword2_home_setting(drive: &HomingFacts) -> Result<(), String> {
+    if drive.home_setting.is_none() {
         return Err(format!(
             "the {} has no home setting by Controlword2 (C_CR / C_CR2)",
-            profile.name
+            drive.name
         ));
     }
-    if !profile.rx_pdo.maps(CONTROLWORD2) || !profile.tx_pdo.maps(STATUSWORD2) {
+    if !drive.carries_controlword2 {
         return Err(format!(
             "the {} default PDOs do not carry 2001h and 2011h for C_CR / S_OSET",
-            profile.name
+            drive.name
         ));
     }
     Ok(())
 }
 
-/// How to home a drive of `profile`: hm with `method` (see [`choose_method`]) or the
-/// Controlword2 `edge` as asked; by default the model's data-set method in hm where hm can be
-/// used, else the manual's clear method by C_CR (MR-J3-T04 §8.11.6.5: home where it stands).
+/// How to home `drive` (its [`HomingFacts`], e.g. from a `DriveProfile`): hm with `method`
+/// (see [`choose_method`]) or the Controlword2 `edge` as asked; by default the model's data-set
+/// method in hm where hm can be used, else the manual's clear method by C_CR (MR-J3-T04
+/// §8.11.6.5: home where it stands).
 pub fn choose_procedure(
-    profile: &crate::profiles::DriveProfile,
+    drive: impl Into<HomingFacts>,
     method: Option<i8>,
     edge: Option<HomeSettingEdge>,
 ) -> Result<HomeProcedure, String> {
+    let drive = drive.into();
     match (method, edge) {
         (Some(_), Some(_)) => Err("name a homing method or a Controlword2 edge, not both".into()),
         (None, Some(e)) => {
-            controlword2_home_setting(profile).map(|()| HomeProcedure::Controlword2(e))
+            controlword2_home_setting(&drive).map(|()| HomeProcedure::Controlword2(e))
         }
-        (Some(m), None) => choose_method(profile, Some(m)).map(HomeProcedure::HomingMode),
-        (None, None) => match choose_method(profile, None) {
+        (Some(m), None) => method_of(&drive, Some(m)).map(HomeProcedure::HomingMode),
+        (None, None) => match method_of(&drive, None) {
             Ok(m) => Ok(HomeProcedure::HomingMode(m)),
-            Err(hm) => controlword2_home_setting(profile)
+            Err(hm) => controlword2_home_setting(&drive)
                 .map(|()| HomeProcedure::Controlword2(HomeSettingEdge::Clear))
                 .map_err(|_| hm),
         },
     }
 }
 
-/// The 6098h method to home a drive of `profile` with: `requested` if its manual lists it,
-/// else the model's first data-set method (home = the current position). Refused, with the
-/// reason, where the manual lists none, or where the TxPDO does not carry 6061h (in csp bit 12
-/// of the statusword means "following the command", so homing attained could not be told
-/// apart without the mode display).
-pub fn choose_method(
-    profile: &crate::profiles::DriveProfile,
-    requested: Option<i8>,
-) -> Result<i8, String> {
-    if !profile
-        .tx_pdo
-        .maps(crate::pdo::objects::MODES_OF_OPERATION_DISPLAY)
-    {
+/// The 6098h method to home `drive` with: `requested` if its manual lists it, else the model's
+/// first data-set method (home = the current position). Refused, with the reason, where the
+/// manual lists none, or where the TxPDO does not carry 6061h (in csp bit 12 of the statusword
+/// means "following the command", so homing attained could not be told apart without the mode
+/// display).
+pub fn choose_method(drive: impl Into<HomingFacts>, requested: Option<i8>) -> Result<i8, String> {
+    method_of(&drive.into(), requested)
+}
+
+fn method_of(drive: &HomingFacts, requested: Option<i8>) -> Result<i8, String> {
+    if !drive.shows_mode {
         return Err(format!(
             "the {} default TxPDO does not carry 6061h, so the end of a homing in hm cannot be told from csp's statusword bit 12",
-            profile.name
+            drive.name
         ));
     }
     match requested {
-        Some(m) if profile.homing_methods.contains(&m) => Ok(m),
+        Some(m) if drive.methods.contains(&m) => Ok(m),
         Some(m) => Err(format!(
             "the {} manual lists no homing method {m} (6098h; it lists {:?})",
-            profile.name, profile.homing_methods
+            drive.name, drive.methods
         )),
-        None => profile
-            .data_set_homing_methods
-            .first()
-            .copied()
-            .ok_or_else(|| {
-                format!(
-                    "the {} manual lists no homing methods (6098h); hm cannot be used on it",
-                    profile.name
-                )
-            }),
+        None => drive.data_set_methods.first().copied().ok_or_else(|| {
+            format!(
+                "the {} manual lists no homing methods (6098h); hm cannot be used on it",
+                drive.name
+            )
+        }),
     }
 }
 
@@ -147,48 +181,40 @@ pub struct HomingParams {
 }
 
 /// Why homing failed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
 #[repr(u8)]
 pub enum HomingFailure {
     /// The drive set statusword bit 13 (e.g. a method it does not run).
+    #[strum(serialize = "the drive reported a homing error (statusword bit 13)")]
     DriveError = 1,
     /// 6061h never showed hm, or never came back to the cyclic mode, or the method never
     /// ended, within the timeout.
+    #[strum(serialize = "homing did not complete within the timeout")]
     Timeout = 2,
     /// The axis left Operation enabled (fault, disable) during homing.
+    #[strum(serialize = "the axis left Operation enabled during homing")]
     NotEnabled = 3,
     /// The drive refused the method written to 6098h (SDO abort), or has no home setting by
     /// Controlword2.
+    #[strum(serialize = "the drive refused the homing method (6098h)")]
     MethodRefused = 4,
     /// The drive answered a Controlword2 home setting with a warning instead of S_OSET
     /// (MR-J3-T04 AL.96: C_CR2 before the Z phase was passed).
+    #[strum(
+        serialize = "the drive answered the home setting with a warning (AL.96: C_CR2 before the Z phase was passed)"
+    )]
     SettingRefused = 5,
 }
 
 impl HomingFailure {
     /// Short name for events and messages.
     pub fn as_str(self) -> &'static str {
-        match self {
-            HomingFailure::DriveError => "the drive reported a homing error (statusword bit 13)",
-            HomingFailure::Timeout => "homing did not complete within the timeout",
-            HomingFailure::NotEnabled => "the axis left Operation enabled during homing",
-            HomingFailure::MethodRefused => "the drive refused the homing method (6098h)",
-            HomingFailure::SettingRefused => {
-                "the drive answered the home setting with a warning (AL.96: C_CR2 before the Z phase was passed)"
-            }
-        }
+        self.into()
     }
 
     /// Inverse of `as u8`.
     pub fn from_u8(v: u8) -> Option<HomingFailure> {
-        match v {
-            1 => Some(HomingFailure::DriveError),
-            2 => Some(HomingFailure::Timeout),
-            3 => Some(HomingFailure::NotEnabled),
-            4 => Some(HomingFailure::MethodRefused),
-            5 => Some(HomingFailure::SettingRefused),
-            _ => None,
-        }
+        Self::from_repr(v)
     }
 }
 
@@ -271,7 +297,7 @@ impl HomingSequencer {
     pub fn start_setting(
         &mut self,
         edge: HomeSettingEdge,
-        bits: &crate::profiles::HomeSetting,
+        bits: &HomeSetting,
         statusword: Statusword,
     ) {
         self.start();
@@ -405,119 +431,18 @@ impl HomingSequencer {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    const P: HomingParams = HomingParams {
+    /// Timing for the sequencer tests.
+    pub(crate) const P: HomingParams = HomingParams {
         timeout: Cycles(100),
         mode_settle: Cycles(3),
     };
 
-    fn sw(bits: u16) -> Statusword {
+    /// A statusword in Operation enabled with `bits` set.
+    pub(crate) fn sw(bits: u16) -> Statusword {
         Statusword(0x0027 | bits)
-    }
-
-    #[test]
-    fn the_method_is_one_the_manual_lists_on_a_drive_that_shows_6061h() {
-        use crate::profiles::{profile, DriveModel};
-        let j4 = profile(DriveModel::MrJ4TM);
-        assert_eq!(choose_method(j4, None), Ok(-3));
-        assert_eq!(choose_method(j4, Some(35)), Ok(35));
-        assert!(choose_method(j4, Some(99))
-            .unwrap_err()
-            .contains("no homing method 99"));
-        let j5 = profile(DriveModel::MrJ5GN1);
-        assert!(choose_method(j5, None)
-            .unwrap_err()
-            .contains("lists no homing methods"));
-        let j3 = profile(DriveModel::MrJ3T04);
-        assert!(choose_method(j3, Some(35)).unwrap_err().contains("6061h"));
-    }
-
-    #[test]
-    fn the_procedure_is_hm_where_it_can_be_used_else_the_c_cr_clear_method() {
-        use crate::profiles::{profile, DriveModel};
-        let j3 = profile(DriveModel::MrJ3T04);
-        assert_eq!(
-            choose_procedure(j3, None, None),
-            Ok(HomeProcedure::Controlword2(HomeSettingEdge::Clear))
-        );
-        assert_eq!(
-            choose_procedure(j3, None, Some(HomeSettingEdge::ClearZ)),
-            Ok(HomeProcedure::Controlword2(HomeSettingEdge::ClearZ))
-        );
-        assert!(choose_procedure(j3, Some(35), None)
-            .unwrap_err()
-            .contains("6061h"));
-        assert!(choose_procedure(j3, Some(35), Some(HomeSettingEdge::Clear))
-            .unwrap_err()
-            .contains("not both"));
-        let j4 = profile(DriveModel::MrJ4TM);
-        assert_eq!(
-            choose_procedure(j4, None, None),
-            Ok(HomeProcedure::HomingMode(-3))
-        );
-        assert!(choose_procedure(j4, None, Some(HomeSettingEdge::Clear))
-            .unwrap_err()
-            .contains("no home setting by Controlword2"));
-        let j5 = profile(DriveModel::MrJ5GN1);
-        assert!(choose_procedure(j5, None, None)
-            .unwrap_err()
-            .contains("lists no homing methods"));
-    }
-
-    #[test]
-    fn a_controlword2_setting_raises_the_edge_until_s_oset_then_drops_it() {
-        use crate::profiles::{profile, DriveModel};
-        let bits = profile(DriveModel::MrJ3T04).home_setting.unwrap();
-        let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
-        h.start_setting(HomeSettingEdge::Clear, &bits, sw(0));
-        let c = h.update(sw(0), 0, true, None, true).unwrap();
-        assert_eq!(
-            c.mode,
-            ModeOfOperation::CyclicSyncPosition,
-            "no mode change"
-        );
-        assert_eq!((c.start_bit, c.controlword2), (0, 1 << 7));
-        let c = h.update(sw(0), 0, true, None, true).unwrap();
-        assert_eq!(c.controlword2, 1 << 7);
-        // S_OSET: drop the bit, wait for S_OSET to drop.
-        let c = h.update(sw(0), 1 << 8, true, None, true).unwrap();
-        assert_eq!(c.controlword2, 0);
-        assert_eq!(h.phase(), HomingPhase::SettingRelease(None));
-        h.update(sw(0), 1 << 8, true, None, true);
-        assert!(h.is_active());
-        h.update(sw(0), 0, true, None, true);
-        assert_eq!(h.phase(), HomingPhase::Done(None));
-
-        // C_CR2 answered by a new warning (AL.96): refused; an older warning is not its answer.
-        h.start_setting(HomeSettingEdge::ClearZ, &bits, sw(0));
-        let c = h.update(sw(0), 0, true, None, true).unwrap();
-        assert_eq!(c.controlword2, 1 << 6);
-        let c = h.update(sw(1 << 7), 0, true, None, true).unwrap();
-        assert_eq!(
-            h.phase(),
-            HomingPhase::SettingRelease(Some(HomingFailure::SettingRefused))
-        );
-        assert_eq!(c.controlword2, 0);
-        h.update(sw(1 << 7), 0, true, None, true);
-        assert_eq!(
-            h.phase(),
-            HomingPhase::Done(Some(HomingFailure::SettingRefused))
-        );
-        h.start_setting(HomeSettingEdge::Clear, &bits, sw(1 << 7));
-        for _ in 0..5 {
-            h.update(sw(1 << 7), 0, true, None, true);
-        }
-        assert_eq!(h.phase(), HomingPhase::Setting);
-        // Never answered: times out (timeout 100 cycles), the bit is dropped.
-        let mut raised = 0;
-        while let Some(c) = h.update(sw(1 << 7), 0, true, None, true) {
-            raised += usize::from(c.controlword2 != 0);
-            assert!(raised < 200, "never times out");
-        }
-        assert_eq!(h.phase(), HomingPhase::Done(Some(HomingFailure::Timeout)));
-        assert!((100..=101).contains(&(raised + 5)), "5 above + {raised}");
     }
 
     #[test]

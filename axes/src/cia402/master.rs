@@ -4,10 +4,9 @@
 //! Called once per cycle; allocation-free, no clock (time is counted in [`Cycles`]).
 
 use super::controlword::{Command, Controlword};
-use super::fsa::FsaState;
+use super::fsa::{FsaQuirks, FsaState};
 use super::statusword::Statusword;
-use crate::cycles::{CycleTime, Cycles};
-use crate::profiles::DriveProfile;
+use crate::cycles::Cycles;
 
 /// What [`MasterRequest::QuickStop`] sends to a drive that has no quick stop (MR-J3-T04:
 /// "Masters must not use Quick stop on this drive. Use Disable operation, Shutdown or MSTOP",
@@ -115,19 +114,12 @@ impl AxisMaster {
         }
     }
 
-    /// A master for a drive of `profile` at `cycle`: the model's fault-reset hold
-    /// ([`DriveProfile::fault_reset_hold`]) and, on a drive without quick stop, the
-    /// [`QuickStopSubstitute::Shutdown`] substitute.
-    pub fn for_profile(
-        profile: &DriveProfile,
-        cycle: CycleTime,
-        transition_timeout: Cycles,
-    ) -> Self {
-        let mut m = AxisMaster::new(MasterParams {
-            fault_reset_hold: profile.fault_reset_hold(cycle),
-            transition_timeout,
-        });
-        if !profile.quirks.has_quick_stop {
+    /// A master for a drive with `quirks` (its model's PDS deviations): on a drive without quick
+    /// stop, the [`QuickStopSubstitute::Shutdown`] substitute. `AxisMaster::for_profile` builds
+    /// it from a drive profile.
+    pub fn for_drive(params: MasterParams, quirks: FsaQuirks) -> Self {
+        let mut m = AxisMaster::new(params);
+        if !quirks.has_quick_stop {
             m.quick_stop = Some(QuickStopSubstitute::Shutdown);
         }
         m

@@ -5,6 +5,7 @@
 //! `mode_switch` the controller-side change of the mode of operation (607Ah/60B0h rule for csp).
 
 pub mod controlword;
+pub mod error_code;
 pub mod fsa;
 pub mod homing;
 pub mod master;

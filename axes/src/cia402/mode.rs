@@ -2,28 +2,48 @@
 //!
 //! Values from mr-j5-g-n1.md §1.2 / manual §7.4.
 
-use std::fmt;
 use std::str::FromStr;
 
 /// A CiA 402 mode of operation, as written to 6060h and echoed in 6061h.
 ///
 /// Only the standard modes are listed; the manufacturer mode −101 is undocumented (§1.2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+///
+/// The names are the short symbols used in configuration and logs (§1.2 "Symbol").
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    strum::Display,
+    strum::IntoStaticStr,
+    strum::FromRepr,
+)]
 #[repr(i8)]
 pub enum ModeOfOperation {
     /// Profile position (pp): the drive plans a move to an end position.
+    #[strum(serialize = "pp")]
     ProfilePosition = 1,
     /// Profile velocity (pv): the drive ramps to a target speed.
+    #[strum(serialize = "pv")]
     ProfileVelocity = 3,
     /// Profile torque (tq): the drive ramps to a target torque.
+    #[strum(serialize = "tq")]
     ProfileTorque = 4,
     /// Homing (hm): the drive runs the method selected in 6098h.
+    #[strum(serialize = "hm")]
     Homing = 6,
     /// Cyclic synchronous position (csp): an absolute position setpoint every cycle.
+    #[strum(serialize = "csp")]
     CyclicSyncPosition = 8,
     /// Cyclic synchronous velocity (csv): a velocity setpoint every cycle.
+    #[strum(serialize = "csv")]
     CyclicSyncVelocity = 9,
     /// Cyclic synchronous torque (cst): a torque setpoint every cycle.
+    #[strum(serialize = "cst")]
     CyclicSyncTorque = 10,
 }
 
@@ -49,16 +69,7 @@ impl ModeOfOperation {
 
     /// Decodes a 6060h/6061h value; `None` for 0 (no mode), manufacturer modes and garbage.
     pub const fn from_i8(v: i8) -> Option<Self> {
-        match v {
-            1 => Some(Self::ProfilePosition),
-            3 => Some(Self::ProfileVelocity),
-            4 => Some(Self::ProfileTorque),
-            6 => Some(Self::Homing),
-            8 => Some(Self::CyclicSyncPosition),
-            9 => Some(Self::CyclicSyncVelocity),
-            10 => Some(Self::CyclicSyncTorque),
-            _ => None,
-        }
+        Self::from_repr(v)
     }
 
     /// The 6060h value.
@@ -67,16 +78,8 @@ impl ModeOfOperation {
     }
 
     /// The short symbol used in configuration and logs ("csp", "pp", …; §1.2 "Symbol").
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Self::ProfilePosition => "pp",
-            Self::ProfileVelocity => "pv",
-            Self::ProfileTorque => "tq",
-            Self::Homing => "hm",
-            Self::CyclicSyncPosition => "csp",
-            Self::CyclicSyncVelocity => "csv",
-            Self::CyclicSyncTorque => "cst",
-        }
+    pub fn as_str(self) -> &'static str {
+        self.into()
     }
 
     /// True for the cyclic synchronous modes (csp, csv, cst) that need a setpoint every cycle.
@@ -90,12 +93,6 @@ impl ModeOfOperation {
     /// True for the position modes (pp, csp), which switch only at zero speed (§4.3 rule 4).
     pub const fn is_position(self) -> bool {
         matches!(self, Self::ProfilePosition | Self::CyclicSyncPosition)
-    }
-}
-
-impl fmt::Display for ModeOfOperation {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
     }
 }
 

@@ -23,7 +23,6 @@
 use super::mode::ModeOfOperation;
 use crate::cycles::Cycles;
 use crate::pdo::{RxPdo, TxPdo};
-use crate::profiles::DriveProfile;
 
 /// Controlword bit 4: new set-point (pp) / homing start (hm); held at 0 during a switch.
 const START_BIT: u16 = 1 << 4;
@@ -154,14 +153,15 @@ impl ModeSwitch {
         })
     }
 
-    /// [`ModeSwitch::new`], refusing a mode `profile` does not list.
-    pub fn for_profile(
-        profile: &DriveProfile,
+    /// [`ModeSwitch::new`], refusing a mode not in `supported` (the modes the drive accepts in
+    /// 6060h; `ModeSwitch::for_profile` takes them from a drive profile).
+    pub fn for_modes(
+        supported: &[ModeOfOperation],
         to: ModeOfOperation,
         position_offset: i32,
         params: ModeSwitchParams,
     ) -> Result<Self, ModeSwitchError> {
-        if !profile.supports_mode(to) {
+        if !supported.contains(&to) {
             return Err(ModeSwitchError::Unsupported { to });
         }
         Self::new(to, position_offset, params)

@@ -202,8 +202,18 @@ impl PdoMap {
 mod tests {
     use super::*;
     use crate::cia402::controlword::Controlword;
-    use crate::profiles::mr_j5_g_n1::{RX_PDO_1600, TX_PDO_1A00};
+    use crate::profiles::{profile, DriveModel};
     use proptest::prelude::*;
+
+    /// The MR-J5-G-N1 default RxPDO 1600h (24 bytes).
+    fn rx_1600() -> PdoMap {
+        profile(DriveModel::MrJ5GN1).rx_pdo
+    }
+
+    /// The MR-J5-G-N1 default TxPDO 1A00h (24 bytes).
+    fn tx_1a00() -> PdoMap {
+        profile(DriveModel::MrJ5GN1).tx_pdo
+    }
 
     const ODD: PdoMap = PdoMap {
         index: 0x1601,
@@ -232,15 +242,15 @@ mod tests {
     #[test]
     fn longer_buffers_keep_their_tail() {
         let mut buf = [0xAAu8; 30];
-        RX_PDO_1600.encode_rx(&RxPdo::default(), &mut buf).unwrap();
+        rx_1600().encode_rx(&RxPdo::default(), &mut buf).unwrap();
         assert_eq!(&buf[24..], &[0xAA; 6]);
     }
 
     proptest! {
         #[test]
         fn decoding_random_bytes_never_panics(bytes in prop::collection::vec(any::<u8>(), 0..40)) {
-            let rx = RX_PDO_1600.decode_rx(&bytes);
-            let tx = TX_PDO_1A00.decode_tx(&bytes);
+            let rx = rx_1600().decode_rx(&bytes);
+            let tx = tx_1a00().decode_tx(&bytes);
             prop_assert_eq!(rx.is_ok(), bytes.len() >= 24);
             prop_assert_eq!(tx.is_ok(), bytes.len() >= 24);
         }
@@ -257,8 +267,8 @@ mod tests {
                 ..RxPdo::default()
             };
             let mut buf = [0u8; 24];
-            RX_PDO_1600.encode_rx(&pdo, &mut buf).unwrap();
-            prop_assert_eq!(RX_PDO_1600.decode_rx(&buf).unwrap(), pdo);
+            rx_1600().encode_rx(&pdo, &mut buf).unwrap();
+            prop_assert_eq!(rx_1600().decode_rx(&buf).unwrap(), pdo);
         }
     }
 }

@@ -6,6 +6,9 @@
 
 use std::fmt;
 
+pub use crate::cia402::homing::HomeSetting;
+use crate::pdo::PdoEntry;
+
 /// CoE data type of an object (the subset the cyclic objects use).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum DataType {
@@ -193,26 +196,6 @@ pub enum HomeReference {
     /// 6064h is preset to the home position address (MR-J4-TM §4.10 TV-8: "6064h = the home
     /// position address"; 607Ch stays 0 without absolute detection).
     PositionPreset,
-}
-
-/// Home position setting in the cyclic modes by Controlword2 edges, without hm (MR-J3-T04
-/// C_CR / C_CR2, mr-j3-t04.md §8.3, manual §8.11.6).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct HomeSetting {
-    /// Controlword2 bit C_CR: rising edge → 607Ch := −(current position).
-    pub clear_bit: u8,
-    /// Controlword2 bit C_CR2: rising edge → 607Ch := −(last Z-phase position).
-    pub clear_z_bit: u8,
-    /// Statusword2 (2011h) bit S_OSET: home setting by C_CR/C_CR2 completed.
-    pub set_bit: u8,
-    /// Statusword2 bit S_ZPAS: Z phase passed at least once since power-on.
-    pub z_passed_bit: u8,
-    /// Statusword2 bit S_OP: the encoder is at its Z phase.
-    pub z_pulse_bit: u8,
-    /// Warning for C_CR2 before the Z phase (AL.96; the manual's procedures name it).
-    pub before_z_warning: u16,
-    /// The alarm the manual's alarm list gives for the same cause (AL.26; §7.2 ambiguity).
-    pub before_z_alarm: u16,
 }
 
 /// Where the drive's torque limits come from.
@@ -469,8 +452,14 @@ impl fmt::Display for AlarmInfo {
     }
 }
 
-/// Shorthand for a table row; used by the model modules.
-#[allow(clippy::too_many_arguments)]
+/// An object-dictionary row being written: [`od`] gives what every row has, the optional
+/// default, range and units follow, and [`OdRow::cite`] completes it, so no row goes without
+/// its source.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct OdRow(OdEntry);
+
+/// Starts an object-dictionary row (index, sub-index, name, type, access, PDO mapping); used by
+/// the model modules.
 pub(crate) const fn od(
     index: u16,
     sub: u8,
@@ -478,23 +467,53 @@ pub(crate) const fn od(
     data_type: DataType,
     access: Access,
     pdo: Pdo,
-    default: Option<i64>,
-    range: Option<(i64, i64)>,
-    units: &'static str,
-    source: &'static str,
-) -> OdEntry {
-    OdEntry {
+) -> OdRow {
+    OdRow(OdEntry {
         index,
         sub,
         name,
         data_type,
         access,
         pdo,
-        default,
-        range,
-        units,
-        source,
+        default: None,
+        range: None,
+        units: "",
+        source: "",
+    })
+}
+
+impl OdRow {
+    /// The default value the manual gives.
+    pub(crate) const fn default(self, value: i64) -> OdRow {
+        OdRow(OdEntry {
+            default: Some(value),
+            ..self.0
+        })
     }
+
+    /// The value range (inclusive) the manual gives.
+    pub(crate) const fn range(self, min: i64, max: i64) -> OdRow {
+        OdRow(OdEntry {
+            range: Some((min, max)),
+            ..self.0
+        })
+    }
+
+    /// The units of one LSB (dimensionless when not given).
+    pub(crate) const fn units(self, units: &'static str) -> OdRow {
+        OdRow(OdEntry { units, ..self.0 })
+    }
+
+    /// The finished row, with the spec section it comes from and the gap named where a field
+    /// is not stated.
+    pub(crate) const fn cite(self, source: &'static str) -> OdEntry {
+        OdEntry { source, ..self.0 }
+    }
+}
+
+/// Shorthand for a PDO mapping entry of sub-index 0; used by the model modules' default maps.
+pub(crate) const fn obj(index: u16, bits: u16) -> PdoEntry {
+    PdoEntry::object(index, 0, bits)
 }
 
 /// Shorthand for an alarm row; used by the model modules.
@@ -516,6 +535,20 @@ pub(crate) const fn alarm(
         clearing,
         source,
     }
+}
+
+/// The most PDO bytes one amplifier exchanges per cycle over all its axes, for a range of
+/// cycle times (MR-J5-G-N1 manual §4.4): one row of the manual's table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct UnitPdoLimit {
+    /// Shortest cycle time (µs) the row applies to.
+    pub from_us: u32,
+    /// Longest cycle time (µs) the row applies to.
+    pub to_us: u32,
+    /// Most RxPDO bytes (master → unit).
+    pub max_rx_bytes: u16,
+    /// Most TxPDO bytes (unit → master).
+    pub max_tx_bytes: u16,
 }
 
 /// How a model's variable PDO mapping may be changed by SDO (16xxh/1Axxh in PRE-OP: count to

@@ -18,7 +18,7 @@
 //!   transition (16) back to Operation enabled).
 //! * Communication check: the sync-error counter against 10F1h:02 (ETG.1020).
 
-use super::facts::{alarm, od};
+use super::facts::{alarm, obj, od};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
@@ -31,10 +31,6 @@ use crate::pdo::{PdoEntry, PdoMap};
 
 /// Where the facts of this module come from.
 pub const SOURCE: &str = "CiA 402 / ETG.6010";
-
-const fn obj(index: u16, bits: u16) -> PdoEntry {
-    PdoEntry::object(index, 0, bits)
-}
 
 /// Default RxPDO 1600h, 14 bytes (CiA 402 / ETG.6010 csp/csv/cst objects).
 pub const RX_PDO_1600: PdoMap = PdoMap {
@@ -64,11 +60,9 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
     ],
 };
 
-/// 603Fh code for a following error (CiA 402 error code 8611h "Following error").
-pub const FOLLOWING_ERROR: u16 = 0x8611;
-/// 603Fh code for a command beyond the maximum speed (CiA 402 8400h "Velocity speed
-/// controller", the overspeed class).
-pub const OVERSPEED: u16 = 0x8400;
+// 603Fh codes for a following error and for a command beyond the maximum speed: the CiA 402
+// error codes.
+pub use crate::cia402::error_code::{FOLLOWING_ERROR, OVERSPEED};
 /// 603Fh code for lost process data and for leaving OP while the PDS is switched on: CiA 301
 /// 8100h "Communication – generic". Chosen over CiA 402 8700h "Sync controller" because both
 /// events are a loss of the cyclic communication, not a fault of the drive's synchronisation
@@ -87,52 +81,12 @@ pub const SUPPORTED_DRIVE_MODES: i64 = (1 << 5) | (1 << 7) | (1 << 8) | (1 << 9)
 /// The 603Fh codes this profile raises (CiA 402 / CiA 301 error codes). CiA 402 leaves the
 /// fault reaction (605Eh) and what a reset clears to the manufacturer: every code here is
 /// cleared by a Fault Reset once its cause is gone.
+#[rustfmt::skip]
 pub const ALARMS: &[AlarmInfo] = &[
-    alarm(
-        COMMUNICATION,
-        "8100h",
-        "Communication (CiA 301)",
-        AlarmKind::Alarm,
-        StopBehaviour::Unstated,
-        Clearing::FaultReset,
-        "CiA 301 emergency error code 8100h; used for lost process data (10F1h:02, ETG.1020) and leaving OP (CiA 402 / ETG.6010 choice, see COMMUNICATION)",
-    ),
-    alarm(
-        OVERSPEED,
-        "8400h",
-        "Velocity speed controller (CiA 402)",
-        AlarmKind::Alarm,
-        StopBehaviour::Unstated,
-        Clearing::FaultReset,
-        "CiA 402 / ETG.6010 error code 8400h; reaction per 605Eh (manufacturer-specific)",
-    ),
-    alarm(
-        FOLLOWING_ERROR,
-        "8611h",
-        "Following error (CiA 402)",
-        AlarmKind::Alarm,
-        StopBehaviour::Unstated,
-        Clearing::FaultReset,
-        "CiA 402 / ETG.6010 error code 8611h; window 6065h, time-out 6066h",
-    ),
+    alarm(COMMUNICATION, "8100h", "Communication (CiA 301)", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::FaultReset, "CiA 301 emergency error code 8100h; used for lost process data (10F1h:02, ETG.1020) and leaving OP (CiA 402 / ETG.6010 choice, see COMMUNICATION)"),
+    alarm(OVERSPEED, "8400h", "Velocity speed controller (CiA 402)", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::FaultReset, "CiA 402 / ETG.6010 error code 8400h; reaction per 605Eh (manufacturer-specific)"),
+    alarm(FOLLOWING_ERROR, "8611h", "Following error (CiA 402)", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::FaultReset, "CiA 402 / ETG.6010 error code 8611h; window 6065h, time-out 6066h"),
 ];
-
-/// A CiA 402 / ETG.6010 object row.
-#[allow(clippy::too_many_arguments)]
-const fn row(
-    index: u16,
-    sub: u8,
-    name: &'static str,
-    data_type: DataType,
-    access: Access,
-    pdo: Pdo,
-    default: Option<i64>,
-    units: &'static str,
-) -> OdEntry {
-    od(
-        index, sub, name, data_type, access, pdo, default, None, units, SOURCE,
-    )
-}
 
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32, U8};
@@ -141,185 +95,65 @@ use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 /// The objects of the CiA 402 profile the runtime, the simulator and the mapping checks use,
 /// with CiA 402's types, access and PDO mapping (the mappable ones are marked `Rx`/`Tx`; CiA
 /// 402 marks most of them "optional" mappable: a real drive may map fewer).
+#[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
-    od(
-        0x10F1,
-        2,
-        "Sync Error Counter Limit",
-        U16,
-        Rw,
-        No,
-        Some(SYNC_ERROR_COUNTER_LIMIT),
-        None,
-        "events",
-        "ETG.1020 (10F1h:02); default the simulator's, a real drive's differs",
-    ),
-    od(
-        0x1C32,
-        2,
-        "Cycle time",
-        U32,
-        Rw,
-        No,
-        Some(1_000_000),
-        Some((125_000, 8_000_000)),
-        "ns",
-        "ETG.1020 / ETG.6010 (1C32h:02); range = the cycles cellrt runs, the drive's own limits are the user's to respect",
-    ),
-    row(0x603F, 0, "Error code", U16, Ro, PdoTx, Some(0), ""),
-    row(0x6040, 0, "Controlword", U16, Rw, PdoRx, Some(0), ""),
-    row(0x6041, 0, "Statusword", U16, Ro, PdoTx, None, ""),
-    od(
-        0x605A,
-        0,
-        "Quick stop option code",
-        I16,
-        Rw,
-        No,
-        Some(2),
-        Some((0, 8)),
-        "",
-        "CiA 402 / ETG.6010: default 2 (quick stop ramp, then Switch on disabled: no transition 16)",
-    ),
-    od(
-        0x605B,
-        0,
-        "Shutdown option code",
-        I16,
-        Rw,
-        No,
-        Some(0),
-        Some((0, 1)),
-        "",
-        SOURCE,
-    ),
-    od(
-        0x605C,
-        0,
-        "Disable operation option code",
-        I16,
-        Rw,
-        No,
-        Some(1),
-        Some((0, 1)),
-        "",
-        SOURCE,
-    ),
-    od(
-        0x605D,
-        0,
-        "Halt option code",
-        I16,
-        Rw,
-        No,
-        Some(1),
-        Some((1, 4)),
-        "",
-        SOURCE,
-    ),
-    od(
-        0x605E,
-        0,
-        "Fault reaction option code",
-        I16,
-        Rw,
-        No,
-        Some(2),
-        Some((0, 4)),
-        "",
-        "CiA 402 / ETG.6010: default manufacturer-specific (2 = quick stop ramp assumed)",
-    ),
-    row(0x6060, 0, "Modes of operation", I8, Rw, PdoRx, Some(0), ""),
-    row(0x6061, 0, "Modes of operation display", I8, Ro, PdoTx, Some(0), ""),
-    row(0x6062, 0, "Position demand value", I32, Ro, PdoTx, None, "pos units"),
-    row(0x6063, 0, "Position actual internal value", I32, Ro, PdoTx, None, "inc"),
-    row(0x6064, 0, "Position actual value", I32, Ro, PdoTx, None, "pos units"),
-    row(0x6065, 0, "Following error window", U32, Rw, PdoRx, None, "pos units"),
-    row(0x6066, 0, "Following error time out", U16, Rw, PdoRx, None, "ms"),
-    row(0x606B, 0, "Velocity demand value", I32, Ro, PdoTx, None, "vel units"),
-    row(0x606C, 0, "Velocity actual value", I32, Ro, PdoTx, None, "vel units"),
-    row(0x6071, 0, "Target torque", I16, Rw, PdoRx, Some(0), "0.1 % rated"),
-    row(0x6072, 0, "Max torque", U16, Rw, PdoRx, None, "0.1 % rated"),
-    row(0x6074, 0, "Torque demand", I16, Ro, PdoTx, None, "0.1 % rated"),
-    row(0x6077, 0, "Torque actual value", I16, Ro, PdoTx, None, "0.1 % rated"),
-    row(0x607A, 0, "Target position", I32, Rw, PdoRx, Some(0), "pos units"),
-    row(0x607C, 0, "Home offset", I32, Rw, PdoRx, Some(0), "pos units"),
-    row(0x607D, 1, "Min position limit", I32, Rw, PdoRx, None, "pos units"),
-    row(0x607D, 2, "Max position limit", I32, Rw, PdoRx, None, "pos units"),
-    row(0x607F, 0, "Max profile velocity", U32, Rw, PdoRx, None, "vel units"),
-    row(0x6080, 0, "Max motor speed", U32, Rw, PdoRx, None, "r/min"),
-    row(0x6081, 0, "Profile velocity", U32, Rw, PdoRx, None, "vel units"),
-    row(0x6083, 0, "Profile acceleration", U32, Rw, PdoRx, None, "acc units"),
-    row(0x6084, 0, "Profile deceleration", U32, Rw, PdoRx, None, "acc units"),
-    row(0x6085, 0, "Quick stop deceleration", U32, Rw, PdoRx, None, "acc units"),
-    od(
-        0x6098,
-        0,
-        "Homing method",
-        I8,
-        Rw,
-        PdoRx,
-        Some(37),
-        Some((-128, 127)),
-        "",
-        "CiA 402 / ETG.6010: default manufacturer-specific; 37 (homing on the current position) assumed",
-    ),
-    row(0x6099, 1, "Speed during search for switch", U32, Rw, PdoRx, None, "vel units"),
-    row(0x6099, 2, "Speed during search for zero", U32, Rw, PdoRx, None, "vel units"),
-    row(0x609A, 0, "Homing acceleration", U32, Rw, PdoRx, None, "acc units"),
-    row(0x60B0, 0, "Position offset", I32, Rw, PdoRx, Some(0), "pos units"),
-    row(0x60B1, 0, "Velocity offset", I32, Rw, PdoRx, Some(0), "vel units"),
-    row(0x60B2, 0, "Torque offset", I16, Rw, PdoRx, Some(0), "0.1 % rated"),
-    row(0x60B8, 0, "Touch probe function", U16, Rw, PdoRx, Some(0), ""),
-    row(0x60B9, 0, "Touch probe status", U16, Ro, PdoTx, None, ""),
-    row(0x60BA, 0, "Touch probe 1 positive edge", I32, Ro, PdoTx, None, "pos units"),
-    row(0x60BB, 0, "Touch probe 1 negative edge", I32, Ro, PdoTx, None, "pos units"),
-    row(0x60BC, 0, "Touch probe 2 positive edge", I32, Ro, PdoTx, None, "pos units"),
-    row(0x60BD, 0, "Touch probe 2 negative edge", I32, Ro, PdoTx, None, "pos units"),
-    od(
-        0x60C2,
-        1,
-        "Interpolation time period value",
-        U8,
-        Rw,
-        No,
-        None,
-        None,
-        "",
-        SOURCE,
-    ),
-    od(
-        0x60C2,
-        2,
-        "Interpolation time index",
-        I8,
-        Rw,
-        No,
-        Some(-3),
-        None,
-        "",
-        SOURCE,
-    ),
-    row(0x60E0, 0, "Positive torque limit value", U16, Rw, PdoRx, None, "0.1 % rated"),
-    row(0x60E1, 0, "Negative torque limit value", U16, Rw, PdoRx, None, "0.1 % rated"),
-    row(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx, None, "pos units"),
-    row(0x60FC, 0, "Position demand internal value", I32, Ro, PdoTx, None, "inc"),
-    row(0x60FD, 0, "Digital inputs", U32, Ro, PdoTx, None, ""),
-    row(0x60FE, 1, "Digital outputs: physical outputs", U32, Rw, PdoRx, Some(0), ""),
-    row(0x60FE, 2, "Digital outputs: bit mask", U32, Rw, No, Some(0), ""),
-    row(0x60FF, 0, "Target velocity", I32, Rw, PdoRx, Some(0), "vel units"),
-    od(
-        0x6502,
-        0,
-        "Supported drive modes",
-        U32,
-        Ro,
-        No,
-        Some(SUPPORTED_DRIVE_MODES),
-        None,
-        "",
-        "CiA 402 / ETG.6010: bits 5 (hm), 7 (csp), 8 (csv), 9 (cst)",
-    ),
+    od(0x10F1, 2, "Sync Error Counter Limit", U16, Rw, No).default(SYNC_ERROR_COUNTER_LIMIT).units("events").cite("ETG.1020 (10F1h:02); default the simulator's, a real drive's differs"),
+    od(0x1C32, 2, "Cycle time", U32, Rw, No).default(1_000_000).range(125_000, 8_000_000).units("ns").cite("ETG.1020 / ETG.6010 (1C32h:02); range = the cycles cellrt runs, the drive's own limits are the user's to respect"),
+    od(0x603F, 0, "Error code", U16, Ro, PdoTx).default(0).cite(SOURCE),
+    od(0x6040, 0, "Controlword", U16, Rw, PdoRx).default(0).cite(SOURCE),
+    od(0x6041, 0, "Statusword", U16, Ro, PdoTx).cite(SOURCE),
+    od(0x605A, 0, "Quick stop option code", I16, Rw, No).default(2).range(0, 8).cite("CiA 402 / ETG.6010: default 2 (quick stop ramp, then Switch on disabled: no transition 16)"),
+    od(0x605B, 0, "Shutdown option code", I16, Rw, No).default(0).range(0, 1).cite(SOURCE),
+    od(0x605C, 0, "Disable operation option code", I16, Rw, No).default(1).range(0, 1).cite(SOURCE),
+    od(0x605D, 0, "Halt option code", I16, Rw, No).default(1).range(1, 4).cite(SOURCE),
+    od(0x605E, 0, "Fault reaction option code", I16, Rw, No).default(2).range(0, 4).cite("CiA 402 / ETG.6010: default manufacturer-specific (2 = quick stop ramp assumed)"),
+    od(0x6060, 0, "Modes of operation", I8, Rw, PdoRx).default(0).cite(SOURCE),
+    od(0x6061, 0, "Modes of operation display", I8, Ro, PdoTx).default(0).cite(SOURCE),
+    od(0x6062, 0, "Position demand value", I32, Ro, PdoTx).units("pos units").cite(SOURCE),
+    od(0x6063, 0, "Position actual internal value", I32, Ro, PdoTx).units("inc").cite(SOURCE),
+    od(0x6064, 0, "Position actual value", I32, Ro, PdoTx).units("pos units").cite(SOURCE),
+    od(0x6065, 0, "Following error window", U32, Rw, PdoRx).units("pos units").cite(SOURCE),
+    od(0x6066, 0, "Following error time out", U16, Rw, PdoRx).units("ms").cite(SOURCE),
+    od(0x606B, 0, "Velocity demand value", I32, Ro, PdoTx).units("vel units").cite(SOURCE),
+    od(0x606C, 0, "Velocity actual value", I32, Ro, PdoTx).units("vel units").cite(SOURCE),
+    od(0x6071, 0, "Target torque", I16, Rw, PdoRx).default(0).units("0.1 % rated").cite(SOURCE),
+    od(0x6072, 0, "Max torque", U16, Rw, PdoRx).units("0.1 % rated").cite(SOURCE),
+    od(0x6074, 0, "Torque demand", I16, Ro, PdoTx).units("0.1 % rated").cite(SOURCE),
+    od(0x6077, 0, "Torque actual value", I16, Ro, PdoTx).units("0.1 % rated").cite(SOURCE),
+    od(0x607A, 0, "Target position", I32, Rw, PdoRx).default(0).units("pos units").cite(SOURCE),
+    od(0x607C, 0, "Home offset", I32, Rw, PdoRx).default(0).units("pos units").cite(SOURCE),
+    od(0x607D, 1, "Min position limit", I32, Rw, PdoRx).units("pos units").cite(SOURCE),
+    od(0x607D, 2, "Max position limit", I32, Rw, PdoRx).units("pos units").cite(SOURCE),
+    od(0x607F, 0, "Max profile velocity", U32, Rw, PdoRx).units("vel units").cite(SOURCE),
+    od(0x6080, 0, "Max motor speed", U32, Rw, PdoRx).units("r/min").cite(SOURCE),
+    od(0x6081, 0, "Profile velocity", U32, Rw, PdoRx).units("vel units").cite(SOURCE),
+    od(0x6083, 0, "Profile acceleration", U32, Rw, PdoRx).units("acc units").cite(SOURCE),
+    od(0x6084, 0, "Profile deceleration", U32, Rw, PdoRx).units("acc units").cite(SOURCE),
+    od(0x6085, 0, "Quick stop deceleration", U32, Rw, PdoRx).units("acc units").cite(SOURCE),
+    od(0x6098, 0, "Homing method", I8, Rw, PdoRx).default(37).range(-128, 127).cite("CiA 402 / ETG.6010: default manufacturer-specific; 37 (homing on the current position) assumed"),
+    od(0x6099, 1, "Speed during search for switch", U32, Rw, PdoRx).units("vel units").cite(SOURCE),
+    od(0x6099, 2, "Speed during search for zero", U32, Rw, PdoRx).units("vel units").cite(SOURCE),
+    od(0x609A, 0, "Homing acceleration", U32, Rw, PdoRx).units("acc units").cite(SOURCE),
+    od(0x60B0, 0, "Position offset", I32, Rw, PdoRx).default(0).units("pos units").cite(SOURCE),
+    od(0x60B1, 0, "Velocity offset", I32, Rw, PdoRx).default(0).units("vel units").cite(SOURCE),
+    od(0x60B2, 0, "Torque offset", I16, Rw, PdoRx).default(0).units("0.1 % rated").cite(SOURCE),
+    od(0x60B8, 0, "Touch probe function", U16, Rw, PdoRx).default(0).cite(SOURCE),
+    od(0x60B9, 0, "Touch probe status", U16, Ro, PdoTx).cite(SOURCE),
+    od(0x60BA, 0, "Touch probe 1 positive edge", I32, Ro, PdoTx).units("pos units").cite(SOURCE),
+    od(0x60BB, 0, "Touch probe 1 negative edge", I32, Ro, PdoTx).units("pos units").cite(SOURCE),
+    od(0x60BC, 0, "Touch probe 2 positive edge", I32, Ro, PdoTx).units("pos units").cite(SOURCE),
+    od(0x60BD, 0, "Touch probe 2 negative edge", I32, Ro, PdoTx).units("pos units").cite(SOURCE),
+    od(0x60C2, 1, "Interpolation time period value", U8, Rw, No).cite(SOURCE),
+    od(0x60C2, 2, "Interpolation time index", I8, Rw, No).default(-3).cite(SOURCE),
+    od(0x60E0, 0, "Positive torque limit value", U16, Rw, PdoRx).units("0.1 % rated").cite(SOURCE),
+    od(0x60E1, 0, "Negative torque limit value", U16, Rw, PdoRx).units("0.1 % rated").cite(SOURCE),
+    od(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx).units("pos units").cite(SOURCE),
+    od(0x60FC, 0, "Position demand internal value", I32, Ro, PdoTx).units("inc").cite(SOURCE),
+    od(0x60FD, 0, "Digital inputs", U32, Ro, PdoTx).cite(SOURCE),
+    od(0x60FE, 1, "Digital outputs: physical outputs", U32, Rw, PdoRx).default(0).cite(SOURCE),
+    od(0x60FE, 2, "Digital outputs: bit mask", U32, Rw, No).default(0).cite(SOURCE),
+    od(0x60FF, 0, "Target velocity", I32, Rw, PdoRx).default(0).units("vel units").cite(SOURCE),
+    od(0x6502, 0, "Supported drive modes", U32, Ro, No).default(SUPPORTED_DRIVE_MODES).cite("CiA 402 / ETG.6010: bits 5 (hm), 7 (csp), 8 (csv), 9 (cst)"),
 ];
 
 /// Units (CiA 402 factor group 608Fh–6092h: the drive's user units; cellrt's
@@ -392,6 +226,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     fault_reset_hold_long_cycle_ms: FAULT_RESET_HOLD_MS,
     long_cycle_from_us: u32::MAX,
     axes_per_unit: 1,
+    unit_pdo_limits: &[],
     units: UNITS,
     objects: OBJECTS,
     alarms: ALARMS,

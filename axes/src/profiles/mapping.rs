@@ -9,21 +9,20 @@ use super::{DriveProfile, PdoRules};
 use crate::pdo::{PdoEntry, PdoMap};
 
 /// The direction of a PDO.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, strum::IntoStaticStr)]
 pub enum PdoDirection {
     /// RxPDO, master → drive (16xxh).
+    #[strum(serialize = "RxPDO")]
     Rx,
     /// TxPDO, drive → master (1Axxh).
+    #[strum(serialize = "TxPDO")]
     Tx,
 }
 
 impl PdoDirection {
     /// "RxPDO" or "TxPDO".
-    pub const fn name(self) -> &'static str {
-        match self {
-            PdoDirection::Rx => "RxPDO",
-            PdoDirection::Tx => "TxPDO",
-        }
+    pub fn name(self) -> &'static str {
+        self.into()
     }
 }
 

@@ -14,6 +14,7 @@ use crate::cia402::mode::ModeOfOperation;
 use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::PdoMap;
 
+mod cia402_facts;
 pub mod facts;
 pub mod generic_cia402;
 pub mod mapping;
@@ -27,7 +28,7 @@ pub use facts::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, EmergencyFacts, FsoeCommandBits,
     FsoeFacts, FsoeFrameLayout, FsoeStatusBits, HomeReference, HomeSetting, Identity,
     InvalidAxisSwitch, OdEntry, Pdo, PdoAssignment, PdoRules, SafeBit, StopBehaviour,
-    TorqueLimitSelection, Units, EMERGENCY_LAYOUT,
+    TorqueLimitSelection, UnitPdoLimit, Units, EMERGENCY_LAYOUT,
 };
 
 /// A supported drive model, named in configuration by its kebab-case part number.
@@ -144,6 +145,9 @@ pub struct DriveProfile {
     pub long_cycle_from_us: u32,
     /// Axes per amplifier (1, or 2/3 for MR-J5W2/W3).
     pub axes_per_unit: u8,
+    /// The amplifier's PDO byte limits over all its axes, per cycle-time range (MR-J5-G-N1
+    /// manual §4.4); empty where the manual states none.
+    pub unit_pdo_limits: &'static [UnitPdoLimit],
     /// Encoder resolution and object units.
     pub units: Units,
     /// The object-dictionary entries the runtime and the simulator use.
@@ -287,6 +291,15 @@ impl DriveProfile {
         } else {
             Some((0, index))
         }
+    }
+
+    /// The most (RxPDO, TxPDO) bytes the whole amplifier exchanges at `cycle_us`; `None` where
+    /// the profile's table has no row for that cycle.
+    pub fn unit_pdo_limit(&self, cycle_us: u32) -> Option<(u16, u16)> {
+        self.unit_pdo_limits
+            .iter()
+            .find(|l| (l.from_us..=l.to_us).contains(&cycle_us))
+            .map(|l| (l.max_rx_bytes, l.max_tx_bytes))
     }
 
     /// The supported modes as text, e.g. "hm, csp, csv".

@@ -27,9 +27,9 @@ use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
 use crate::profiles::DriveProfile;
 
-/// Error code (603Fh) of the MR-J5 following-error alarm: CiA 402 8611h "following error"
+/// Error code (603Fh) of the following-error alarm: CiA 402 8611h "following error"
 /// [background]; each model's code is `DriveProfile::following_error_alarm`.
-pub const FOLLOWING_ERROR_ALARM: u16 = crate::profiles::mr_j5_g_n1::FOLLOWING_ERROR;
+pub const FOLLOWING_ERROR_ALARM: u16 = crate::cia402::error_code::FOLLOWING_ERROR;
 
 mod homing;
 mod modes;

@@ -1,6 +1,7 @@
 //! The operator commands (`cellrt status`, `power`, `move`, `jog`, `torque`, `halt`, `stop`,
 //! `reset`, `override`, `program`): clients of the running cell's operator service.
 
+use cellrt_axes::cia402::fsa::FsaState;
 use cellrt_axes::cia402::homing::HomeSettingEdge;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -456,7 +457,9 @@ fn wait_power(client: &OperatorClient, axes: &[String], on: bool, timeout: Durat
         let pending: Vec<&str> = s
             .axes
             .iter()
-            .filter(|a| axes.contains(&a.name) && (a.fsa == "operation_enabled") != on)
+            .filter(|a| {
+                axes.contains(&a.name) && (a.fsa == FsaState::OperationEnabled.as_str()) != on
+            })
             .map(|a| a.name.as_str())
             .collect();
         let settled = !matches!(s.state.as_str(), "enabling" | "disabling");

@@ -17,7 +17,6 @@ use crate::ethercat::frame::Command;
 use crate::ethercat::identity::SubDeviceIdentity;
 use crate::ethercat::register::{self as reg, al_code, AlState, AL_ERROR_INDICATION};
 use crate::profiles::mapping::PdoDirection;
-use crate::profiles::mr_j5_g_n1::unit_pdo_limit;
 use crate::sim::drive::SimDrive;
 
 mod esc;
@@ -454,7 +453,7 @@ impl Station {
         }
         if profile.is_multi_axis() {
             let cycle_us = self.sync0_cycle_ns() / 1000;
-            match unit_pdo_limit(profile.axes_per_unit, cycle_us) {
+            match profile.unit_pdo_limit(cycle_us) {
                 Some((max_rx, _)) if rx_len > max_rx => return Err(al_code::INVALID_OUTPUT_CONFIG),
                 Some((_, max_tx)) if tx_len > max_tx => return Err(al_code::INVALID_INPUT_CONFIG),
                 _ => {}

@@ -16,7 +16,6 @@ use crate::bus::{Bus, BusError, FrameCounters, MailboxNotice, SDO_UNSUPPORTED};
 use crate::cycles::Cycles;
 use crate::ethercat::frame::{self, Command, DatagramSpan, FrameBuilder};
 use crate::ethercat::register::{self as reg, AlStatus};
-use crate::profiles::mr_j5_g_n1::unit_pdo_limit;
 
 /// SubDevices one segment can hold.
 pub const MAX_SUBDEVICES: usize = 16;
@@ -37,9 +36,7 @@ pub(super) fn check_unit_pdo_limits(
             continue;
         }
         let d = &config.drives[plan.first_axis()];
-        let Some((max_rx, max_tx)) =
-            unit_pdo_limit(plan.model.axes_per_unit, config.cycle.as_micros())
-        else {
+        let Some((max_rx, max_tx)) = plan.model.unit_pdo_limit(config.cycle.as_micros()) else {
             return Err(EthercatError::CycleTime {
                 axis: d.axis.clone(),
                 model: plan.model.model.as_str(),

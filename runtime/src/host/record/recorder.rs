@@ -10,6 +10,7 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+use cellrt_axes::cia402::fsa::FsaState;
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, WriteOptions, Writer};
 use prost::Message;
@@ -641,10 +642,10 @@ pub fn describe_event(e: &EventRecord) -> String {
         EventKind::CellState => CellState::from_u8(e.value as u8)
             .map(|s| s.as_str().to_string())
             .unwrap_or_default(),
-        EventKind::FsaState => FSA_NAMES
-            .get(e.value as usize)
-            .copied()
-            .unwrap_or("unknown")
+        EventKind::FsaState => u8::try_from(e.value)
+            .ok()
+            .and_then(FsaState::from_repr)
+            .map_or("unknown", FsaState::as_str)
             .to_string(),
         EventKind::Command | EventKind::CommandRefused => CellCommand::from_code(e.value)
             .map(|c| c.as_str().to_string())
@@ -729,17 +730,4 @@ const FAULT_NAMES: [&str; 11] = [
     "frame_corruption",
     "datagram_drop",
     "link_loss",
-];
-
-/// Names of the recording's FSA enum values, by index.
-const FSA_NAMES: [&str; 9] = [
-    "unknown",
-    "not_ready_to_switch_on",
-    "switch_on_disabled",
-    "ready_to_switch_on",
-    "switched_on",
-    "operation_enabled",
-    "quick_stop_active",
-    "fault_reaction_active",
-    "fault",
 ];

@@ -614,17 +614,9 @@ fn round_counts(v: f64) -> i32 {
     v.round().clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32
 }
 
-/// Index of an FSA state in the recording's `FsaState` enum.
+/// Index of an FSA state in the recording's `FsaState` enum (its [`FsaState::code`]).
+///
+/// [`FsaState::code`]: cellrt_axes::cia402::fsa::FsaState::code
 pub fn fsa_index(s: cellrt_axes::cia402::fsa::FsaState) -> i64 {
-    use cellrt_axes::cia402::fsa::FsaState::*;
-    match s {
-        NotReadyToSwitchOn => 1,
-        SwitchOnDisabled => 2,
-        ReadyToSwitchOn => 3,
-        SwitchedOn => 4,
-        OperationEnabled => 5,
-        QuickStopActive => 6,
-        FaultReactionActive => 7,
-        Fault => 8,
-    }
+    i64::from(s.code())
 }

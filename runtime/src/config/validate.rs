@@ -8,10 +8,11 @@ use cellrt_axes::profiles::{profile, DriveModel};
 use cellrt_axes::CycleTime;
 use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
 use cellrt_trajectory::units::Scaling;
+use strum::VariantNames;
 
 use super::raw::{RawAxis, RawCellConfig};
 use super::{
-    AxisConfig, CellConfig, Compression, ConfigError, EthercatConfig, EthercatInterface,
+    AxisConfig, CellConfig, Compression, ConfigError, EthercatConfig, EthercatInterface, FaultKind,
     FaultReaction, InjectedFault, Injection, RecordingConfig, RtConfig, SetpointConfig,
     SimAxisConfig, TorqueLimits, TorquePercent, Transport, WatchdogConfig,
     DEFAULT_CSV_POSITION_GAIN, DEFAULT_FRAME_TIMEOUT_US, DEFAULT_TORQUE_SLOPE,
@@ -371,7 +372,7 @@ fn validate_injections(
             })
         };
         let cycles_of = |ns: u64| (ns / cycle_time.as_nanos()).max(1) as u32;
-        if r.delay_us.is_some() && r.fault != "frame_delay" {
+        if r.delay_us.is_some() && r.fault.parse() != Ok(FaultKind::FrameDelay) {
             return Err(ConfigError::new(
                 file,
                 key("delay_us"),
@@ -381,8 +382,19 @@ fn validate_injections(
                 ),
             ));
         }
-        let fault = match r.fault.as_str() {
-            "frame_delay" => {
+        let kind = r.fault.parse::<FaultKind>().map_err(|_| {
+            ConfigError::new(
+                file,
+                key("fault"),
+                format!(
+                    "unknown fault '{}' (allowed: {})",
+                    r.fault,
+                    FaultKind::VARIANTS.join(", ")
+                ),
+            )
+        })?;
+        let fault = match kind {
+            FaultKind::FrameDelay => {
                 let delay_ns = match r.delay_us {
                     Some(d) if d.is_finite() && d > 0.0 && d <= 1_000_000.0 => (d * 1e3) as u64,
                     Some(d) => {
@@ -403,28 +415,28 @@ fn validate_injections(
                 let cycles = cycles_of(duration(60_000.0)?);
                 InjectedFault::FrameDelay { delay_ns, cycles }
             }
-            "datagram_drop" => InjectedFault::DatagramDrop {
+            FaultKind::DatagramDrop => InjectedFault::DatagramDrop {
                 cycles: cycles_of(duration(60_000.0)?),
             },
-            "frame_corruption" | "link_loss" => {
+            FaultKind::FrameCorruption | FaultKind::LinkLoss => {
                 let axis = match r.axis.as_deref() {
                     Some(name) => axis_named(name)?,
                     None => 0,
                 };
                 let cycles = cycles_of(duration(60_000.0)?);
-                if r.fault == "link_loss" {
+                if kind == FaultKind::LinkLoss {
                     InjectedFault::LinkLoss { axis, cycles }
                 } else {
                     InjectedFault::FrameCorruption { axis, cycles }
                 }
             }
-            "stall" => InjectedFault::Stall {
+            FaultKind::Stall => InjectedFault::Stall {
                 ns: duration(1000.0)?,
             },
-            "planner_stall" => InjectedFault::PlannerStall {
+            FaultKind::PlannerStall => InjectedFault::PlannerStall {
                 ns: duration(60_000.0)?,
             },
-            "rx_loss" | "counter_corruption" | "subdevice_stall" => {
+            FaultKind::RxLoss | FaultKind::CounterCorruption | FaultKind::SubdeviceStall => {
                 let name = r.axis.as_deref().ok_or_else(|| {
                     ConfigError::new(file, key("axis"), format!("fault '{}' needs axis", r.fault))
                 })?;
@@ -433,13 +445,13 @@ fn validate_injections(
                 })?;
                 let ns = duration(60_000.0)?;
                 let cycles = (ns / cycle_time.as_nanos()).max(1) as u32;
-                match r.fault.as_str() {
-                    "rx_loss" => InjectedFault::RxLoss { axis, cycles },
-                    "subdevice_stall" => InjectedFault::SubdeviceStall { axis, cycles },
+                match kind {
+                    FaultKind::RxLoss => InjectedFault::RxLoss { axis, cycles },
+                    FaultKind::SubdeviceStall => InjectedFault::SubdeviceStall { axis, cycles },
                     _ => InjectedFault::CounterCorruption { axis, cycles },
                 }
             }
-            "drive_alarm" => {
+            FaultKind::DriveAlarm => {
                 let name = r.axis.as_deref().ok_or_else(|| {
                     ConfigError::new(file, key("axis"), "fault 'drive_alarm' needs axis")
                 })?;
@@ -464,13 +476,6 @@ fn validate_injections(
                     }
                 };
                 InjectedFault::DriveAlarm { axis, code }
-            }
-            other => {
-                return Err(ConfigError::new(
-                    file,
-                    key("fault"),
-                    format!("unknown fault '{other}' (allowed: stall, drive_alarm, planner_stall, rx_loss, counter_corruption, subdevice_stall, frame_delay, frame_corruption, datagram_drop, link_loss)"),
-                ))
             }
         };
         if fault.needs_emulated_segment() && ethercat.is_none() {

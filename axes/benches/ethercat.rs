@@ -9,7 +9,7 @@ use cellrt_axes::ethercat::emulator::Segment;
 use cellrt_axes::ethercat::identity::ExpectedIdentity;
 use cellrt_axes::ethercat::master::{EthercatBus, InProcessLink, SegmentConfig, SegmentDrive};
 use cellrt_axes::{
-    profile, Bus, CycleTime, Cycles, DriveModel, ModeOfOperation, SimDrive, SimDriveParams,
+    profile, CycleTime, Cycles, CyclicBus, DriveModel, ModeOfOperation, SimDrive, SimDriveParams,
 };
 
 fn bus(models: &[DriveModel]) -> EthercatBus {

@@ -17,7 +17,7 @@ pub mod pdo;
 pub mod profiles;
 pub mod sim;
 
-pub use bus::{Bus, BusError, FrameCounters, SimBus};
+pub use bus::{AcyclicBus, BusError, CyclicBus, FaultInjection, FrameCounters, SimBus};
 pub use cia402::controlword::{Command, Controlword};
 pub use cia402::fsa::{drive_transition, FsaQuirks, FsaState};
 pub use cia402::master::{

@@ -13,8 +13,8 @@ use cellrt_axes::ethercat::register::AlState;
 use cellrt_axes::pdo::{PdoLayout, RxPdo};
 use cellrt_axes::profiles::mr_j5_g_n1::axis_index;
 use cellrt_axes::{
-    profile, Bus, Controlword, CycleTime, Cycles, DriveModel, FsaState, ModeOfOperation, SimDrive,
-    SimDriveParams,
+    profile, AcyclicBus, Controlword, CycleTime, Cycles, CyclicBus, DriveModel, FaultInjection,
+    FsaState, ModeOfOperation, SimDrive, SimDriveParams,
 };
 
 /// One axis of the test cell: its model and, on a multi-axis unit, (label, slot).

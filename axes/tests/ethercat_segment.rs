@@ -10,8 +10,8 @@ use cellrt_axes::ethercat::master::{
 use cellrt_axes::ethercat::register::{AlState, AlStatus};
 use cellrt_axes::pdo::{PdoLayout, RxPdo};
 use cellrt_axes::{
-    profile, Bus, Controlword, CycleTime, Cycles, DriveModel, DriveProfile, FsaState,
-    ModeOfOperation, SimDrive, SimDriveParams,
+    profile, AcyclicBus, Controlword, CycleTime, Cycles, CyclicBus, DriveModel, DriveProfile,
+    FaultInjection, FsaState, ModeOfOperation, SimDrive, SimDriveParams,
 };
 
 const MODELS: [DriveModel; 5] = [

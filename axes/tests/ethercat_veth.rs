@@ -12,7 +12,7 @@ use cellrt_axes::ethercat::identity::ExpectedIdentity;
 use cellrt_axes::ethercat::master::{EthercatBus, RawSocketLink, SegmentConfig, SegmentDrive};
 use cellrt_axes::ethercat::raw_socket::RawSocket;
 use cellrt_axes::{
-    profile, Bus, CycleTime, Cycles, DriveModel, ModeOfOperation, SimDrive, SimDriveParams,
+    profile, CycleTime, Cycles, CyclicBus, DriveModel, ModeOfOperation, SimDrive, SimDriveParams,
 };
 
 struct VethPair(String);

@@ -1,8 +1,8 @@
 //! The per-cycle calls allocate nothing (ARCHITECTURE.md "Rules of the RT thread" 1).
 
 use cellrt_axes::{
-    profile, AxisMaster, Bus, CycleTime, Cycles, DriveModel, MasterParams, MasterRequest, RxPdo,
-    SimBus, SimDrive, SimDriveParams,
+    profile, AxisMaster, CycleTime, Cycles, CyclicBus, DriveModel, FaultInjection, MasterParams,
+    MasterRequest, RxPdo, SimBus, SimDrive, SimDriveParams,
 };
 
 #[path = "common/counting_alloc.rs"]

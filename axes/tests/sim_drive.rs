@@ -4,7 +4,8 @@ mod common;
 
 use cellrt_axes::sim::drive::FOLLOWING_ERROR_ALARM;
 use cellrt_axes::{
-    Bus, Controlword, Cycles, FsaState, PlantParams, RxPdo, SimBus, SimDriveParams, Statusword,
+    Controlword, Cycles, CyclicBus, FsaState, PlantParams, RxPdo, SimBus, SimDriveParams,
+    Statusword,
 };
 use common::{csp, exchange, j5};
 

@@ -7,8 +7,8 @@ mod common;
 use cellrt_axes::profiles::{generic_cia402, mr_j4_tm, mr_j5_g_n1, mr_jet_g_n1};
 use cellrt_axes::sim::drive::TorqueLimit2;
 use cellrt_axes::{
-    profile, AxisMaster, Bus, Controlword, CycleTime, Cycles, DriveModel, FsaState, MasterRequest,
-    ModeOfOperation, RxPdo, SimBus, SimDrive, SimDriveParams,
+    profile, AxisMaster, Controlword, CycleTime, Cycles, CyclicBus, DriveModel, FsaState,
+    MasterRequest, ModeOfOperation, RxPdo, SimBus, SimDrive, SimDriveParams,
 };
 use common::{boot, csp, drive, enabled, exchange, lost, masked, move_csp, send};
 

@@ -7,9 +7,9 @@ mod common;
 use cellrt_axes::profiles::mr_j3_t04::{AL_34, AL_35, AL_36, AL_37, AL_61, AL_99, AL_E6, AL_E9};
 use cellrt_axes::sim::drive::InternalTorqueLimits;
 use cellrt_axes::{
-    profile, AxisMaster, Bus, CommParams, Controlword, CounterParams, CounterVerdict, Cycles,
-    DriveModel, FsaState, IncrementalCounter, MasterRequest, MasterState, PdoEntry, PdoMap, RxPdo,
-    SimBus, SimDrive, SimDriveParams,
+    profile, AxisMaster, CommParams, Controlword, CounterParams, CounterVerdict, Cycles, CyclicBus,
+    DriveModel, FaultInjection, FsaState, IncrementalCounter, MasterRequest, MasterState, PdoEntry,
+    PdoMap, RxPdo, SimBus, SimDrive, SimDriveParams,
 };
 use common::{boot, csp, drive, enabled, exchange, lost, masked, move_csp, next_counter, send};
 

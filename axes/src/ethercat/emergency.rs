@@ -5,6 +5,11 @@
 //! channel/priority, type 3 = CoE | counter << 4), the CoE header (2 bytes: number 0, service 1 =
 //! Emergency << 12), then the 8 EMCY bytes: error code (u16 LE), error register (1001h, u8),
 //! 5 bytes manufacturer-specific ([`Emergency::data`], see [`EMERGENCY_SLOT_BYTE`]).
+//!
+//! The message itself is the bus-neutral [`Emergency`]; this module adds its CoE mailbox
+//! encoding and the slot convention of cellrt's emulated multi-axis units.
+
+pub use crate::bus::{Emergency, ERROR_REGISTER_GENERIC};
 
 /// Mailbox header bytes (ETG.1000.4 §5.7).
 const MAILBOX_HEADER_LEN: usize = 6;
@@ -16,23 +21,11 @@ pub const COE_SERVICE_EMERGENCY: u16 = 1;
 const EMERGENCY_BODY_LEN: usize = 2 + 8;
 /// Bytes of an Emergency in the mailbox, headers included.
 pub const EMERGENCY_MAILBOX_LEN: usize = MAILBOX_HEADER_LEN + EMERGENCY_BODY_LEN;
-/// Error register (1001h) bit 0: generic error, set with every alarm (CiA 301 §7.5.2.2).
-pub const ERROR_REGISTER_GENERIC: u8 = 0x01;
 /// Which manufacturer-specific byte carries the axis slot of a multi-axis unit (0 = A, 1 = B,
 /// 2 = C): cellrt's choice, the manuals give no layout (mr-j5-g-n1.md §6.2 "codes not given").
 pub const EMERGENCY_SLOT_BYTE: usize = 0;
 
-/// One CoE Emergency (CiA 301 §7.2.7.3.1 EMCY write: error code, error register, 5 bytes).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Emergency {
-    /// Emergency error code; on a CiA 402 drive the alarm's 603Fh value.
-    pub error_code: u16,
-    /// The error register 1001h at the time of the alarm.
-    pub error_register: u8,
-    /// Manufacturer-specific bytes (cellrt's emulator: [`EMERGENCY_SLOT_BYTE`] = axis slot).
-    pub data: [u8; 5],
-}
-
+/// The CoE side of an Emergency: cellrt's emulated alarms and the mailbox bytes.
 impl Emergency {
     /// The Emergency cellrt's emulated drives send for alarm `code` (603Fh) of axis `slot`:
     /// error register [`ERROR_REGISTER_GENERIC`], the slot in byte [`EMERGENCY_SLOT_BYTE`], the

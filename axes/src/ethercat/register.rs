@@ -226,6 +226,17 @@ pub struct AlStatus {
     pub code: u16,
 }
 
+/// The AL status as the bus-neutral link state the RT loop watches: operational in OP without
+/// error, the record value [`AlStatus::encode`].
+impl From<AlStatus> for crate::bus::LinkState {
+    fn from(s: AlStatus) -> Self {
+        crate::bus::LinkState {
+            operational: s.is_op(),
+            encoded: s.encode(),
+        }
+    }
+}
+
 /// Bytes the cyclic frame reads from [`AL_STATUS`]: the status, a reserved word, the code.
 pub const AL_STATUS_READ_LEN: usize = 6;
 

@@ -2,16 +2,18 @@
 //! the typed [`CellConfig`] before anything starts. Every error names the file and the key.
 
 mod error;
+mod fault;
 pub mod raw;
 mod validate;
 
 pub(crate) use error::parse_toml;
 pub use error::ConfigError;
+pub use fault::{FaultKind, InjectedFault, Injection};
 
 use std::path::{Path, PathBuf};
 
 use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::ethercat::emulator::{ScheduledFault, WireFault};
+use cellrt_axes::ethercat::emulator::ScheduledFault;
 use cellrt_axes::profiles::{DriveModel, DriveProfile};
 use cellrt_axes::CycleTime;
 use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
@@ -154,148 +156,6 @@ pub struct WatchdogConfig {
     pub drive_fault_reaction: FaultReaction,
     /// Reaction to a continuous or intermittent incremental-counter error (master side).
     pub communication_reaction: FaultReaction,
-}
-
-/// A fault to inject at a cycle.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Injection {
-    /// Cycle (from the RT loop's start) at which it happens.
-    pub cycle: u64,
-    /// What happens.
-    pub fault: InjectedFault,
-}
-
-/// Kinds of injected faults.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum InjectedFault {
-    /// The RT loop body busy-waits this long (overruns).
-    Stall {
-        /// Nanoseconds.
-        ns: u64,
-    },
-    /// The drive of an axis raises an alarm (603Fh code).
-    DriveAlarm {
-        /// Axis index.
-        axis: usize,
-        /// Alarm code.
-        code: u16,
-    },
-    /// The planner publishes nothing for this long (underrun once the lookahead is used up).
-    PlannerStall {
-        /// Nanoseconds.
-        ns: u64,
-    },
-    /// An axis' RxPDO is not delivered for this many cycles (lost frames).
-    RxLoss {
-        /// Axis index.
-        axis: usize,
-        /// Cycles.
-        cycles: u32,
-    },
-    /// The incremental counter an axis' drive receives is corrupted for this many cycles.
-    CounterCorruption {
-        /// Axis index.
-        axis: usize,
-        /// Cycles.
-        cycles: u32,
-    },
-    /// EtherCAT: an axis' SubDevice does not answer for this many cycles (working-counter
-    /// errors at the master, missed SYNC0 data at the drive).
-    SubdeviceStall {
-        /// Axis index.
-        axis: usize,
-        /// Cycles.
-        cycles: u32,
-    },
-    /// EtherCAT, emulated segment: every cyclic frame returns `delay_ns` late for this many
-    /// cycles (at or beyond `frame_timeout` lost at the master).
-    FrameDelay {
-        /// The delay, ns.
-        delay_ns: u64,
-        /// Cycles.
-        cycles: u32,
-    },
-    /// EtherCAT, emulated segment: bit errors on the link in front of an axis' SubDevice
-    /// (CRC errors) for this many cycles.
-    FrameCorruption {
-        /// Axis index (the link in front of its SubDevice; 0: the master's link).
-        axis: usize,
-        /// Cycles.
-        cycles: u32,
-    },
-    /// EtherCAT, emulated segment: the cyclic LRW datagram is removed for this many cycles.
-    DatagramDrop {
-        /// Cycles.
-        cycles: u32,
-    },
-    /// EtherCAT, emulated segment: the link in front of an axis' SubDevice is down for this
-    /// many cycles.
-    LinkLoss {
-        /// Axis index (the link in front of its SubDevice; 0: the master's link).
-        axis: usize,
-        /// Cycles.
-        cycles: u32,
-    },
-}
-
-impl InjectedFault {
-    /// True for the faults only an emulated EtherCAT segment injects: in process by the
-    /// master's link, on a network interface by `cellrt drive-sim ethercat` on the far end.
-    pub fn needs_emulated_segment(&self) -> bool {
-        matches!(
-            self,
-            InjectedFault::SubdeviceStall { .. }
-                | InjectedFault::FrameDelay { .. }
-                | InjectedFault::FrameCorruption { .. }
-                | InjectedFault::DatagramDrop { .. }
-                | InjectedFault::LinkLoss { .. }
-        )
-    }
-
-    /// The fault as the segment injects it on the wire of an EtherCAT cell (`rx_loss` is the
-    /// loss of the segment's frames there); `None` for the faults the controller injects.
-    pub fn wire_fault(&self) -> Option<WireFault> {
-        Some(match *self {
-            InjectedFault::RxLoss { cycles, .. } => WireFault::FrameLoss { frames: cycles },
-            InjectedFault::SubdeviceStall { axis, cycles } => WireFault::SubdeviceStall {
-                station: axis,
-                frames: cycles,
-            },
-            InjectedFault::FrameDelay { delay_ns, cycles } => WireFault::FrameDelay {
-                delay_ns,
-                frames: cycles,
-            },
-            InjectedFault::FrameCorruption { axis, cycles } => WireFault::FrameCorruption {
-                station: axis,
-                frames: cycles,
-            },
-            InjectedFault::DatagramDrop { cycles } => WireFault::DatagramDrop { frames: cycles },
-            InjectedFault::LinkLoss { axis, cycles } => WireFault::LinkLoss {
-                station: axis,
-                frames: cycles,
-            },
-            InjectedFault::Stall { .. }
-            | InjectedFault::DriveAlarm { .. }
-            | InjectedFault::PlannerStall { .. }
-            | InjectedFault::CounterCorruption { .. } => return None,
-        })
-    }
-
-    /// The fault's name in the configuration (`[[inject]] fault`).
-    pub fn name(&self) -> &'static str {
-        match self {
-            InjectedFault::Stall { .. } => "stall",
-            InjectedFault::DriveAlarm { .. } => "drive_alarm",
-            InjectedFault::PlannerStall { .. } => "planner_stall",
-            InjectedFault::RxLoss { .. } => "rx_loss",
-            InjectedFault::CounterCorruption { .. } => "counter_corruption",
-            InjectedFault::SubdeviceStall { .. } => "subdevice_stall",
-            InjectedFault::FrameDelay { .. } => "frame_delay",
-            InjectedFault::FrameCorruption { .. } => "frame_corruption",
-            InjectedFault::DatagramDrop { .. } => "datagram_drop",
-            InjectedFault::LinkLoss { .. } => "link_loss",
-        }
-    }
 }
 
 /// Where an axis' drive is reached.

@@ -77,9 +77,8 @@ pub enum EventKind {
     RecordsDropped,
     /// The bus exchange failed (value: axis index).
     BusError,
-    /// A scheduled fault was injected (value: 1 stall, 2 drive alarm, 3 planner stall, 4 RxPDO
-    /// loss, 5 counter corruption, 6 SubDevice stall, 7 frame delay, 8 frame corruption, 9
-    /// datagram drop, 10 link loss).
+    /// A scheduled fault was injected (value: its [`FaultKind`](crate::config::FaultKind)
+    /// code).
     FaultInjected,
     /// A planner's iceoryx2 node appeared.
     PlannerConnected,

@@ -1,13 +1,17 @@
 //! The bus a cell runs on, chosen by its config: the in-process simulated drives, or an
 //! EtherCAT segment (emulated in-process or on a network interface).
 
+use cellrt_axes::bus::{LinkState, MailboxNotice};
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::ethercat::emulator::Segment;
 use cellrt_axes::ethercat::master::{
     EthercatBus, InProcessLink, Link, RawSocketLink, SegmentConfig, SegmentDrive,
 };
 use cellrt_axes::sim::plant::PlantParams;
-use cellrt_axes::{Bus, BusError, Cycles, SimBus, SimDrive, SimDriveParams};
+use cellrt_axes::{
+    AcyclicBus, BusError, Cycles, CyclicBus, FaultInjection, FrameCounters, SimBus, SimDrive,
+    SimDriveParams,
+};
 
 use crate::config::{CellConfig, EthercatInterface};
 
@@ -157,7 +161,7 @@ macro_rules! each {
     };
 }
 
-impl Bus for CellBus {
+impl CyclicBus for CellBus {
     fn axis_count(&self) -> usize {
         each!(self, b => b.axis_count())
     }
@@ -170,11 +174,11 @@ impl Bus for CellBus {
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {
         each!(self, b => b.exchange(elapsed))
     }
-    fn frame_counters(&self) -> Option<cellrt_axes::FrameCounters> {
+    fn frame_counters(&self) -> Option<FrameCounters> {
         each!(self, b => b.frame_counters())
     }
-    fn al_status(&self, axis: usize) -> Option<cellrt_axes::ethercat::register::AlStatus> {
-        each!(self, b => b.al_status(axis))
+    fn link_state(&self, axis: usize) -> Option<LinkState> {
+        each!(self, b => b.link_state(axis))
     }
     fn deadline_correction_ns(&mut self) -> i64 {
         each!(self, b => b.deadline_correction_ns())
@@ -182,9 +186,27 @@ impl Bus for CellBus {
     fn dc_phase_error_ns(&self) -> Option<i64> {
         each!(self, b => b.dc_phase_error_ns())
     }
-    fn take_mailbox_notice(&mut self) -> Option<cellrt_axes::bus::MailboxNotice> {
+    fn take_mailbox_notice(&mut self) -> Option<MailboxNotice> {
         each!(self, b => b.take_mailbox_notice())
     }
+}
+
+impl AcyclicBus for CellBus {
+    fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
+        each!(self, b => b.sdo_upload(axis, index, sub))
+    }
+    fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
+        each!(self, b => b.sdo_download(axis, index, sub, data))
+    }
+    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
+        each!(self, b => b.read_error_code(axis))
+    }
+    fn close(&mut self) -> Result<(), String> {
+        each!(self, b => b.close())
+    }
+}
+
+impl FaultInjection for CellBus {
     fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
         each!(self, b => b.inject_alarm(axis, code))
     }
@@ -208,17 +230,5 @@ impl Bus for CellBus {
     }
     fn inject_link_loss(&mut self, axis: usize, cycles: u32) -> bool {
         each!(self, b => b.inject_link_loss(axis, cycles))
-    }
-    fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
-        each!(self, b => b.sdo_upload(axis, index, sub))
-    }
-    fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
-        each!(self, b => b.sdo_download(axis, index, sub, data))
-    }
-    fn close(&mut self) -> Result<(), String> {
-        each!(self, b => b.close())
-    }
-    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
-        each!(self, b => b.read_error_code(axis))
     }
 }

@@ -6,15 +6,16 @@
 
 use std::path::Path;
 
-use cellrt_axes::bus::Bus;
+use cellrt_axes::bus::CyclicBus;
 use cellrt_axes::cia402::controlword::Controlword;
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::pdo::{RxPdo, TxPdo};
 use cellrt_axes::Cycles;
-use cellrt_runtime::config::{CellConfig, InjectedFault};
+use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::cell_bus::sim_bus;
 use cellrt_runtime::host::record::proto::AxisCycle;
-use cellrt_runtime::rt::executive::{inject_into_bus, AxisChannel};
+use cellrt_runtime::rt::executive::AxisChannel;
+use cellrt_runtime::rt::injection::InjectionSchedule;
 
 use crate::cli::ReplayArgs;
 use crate::exit::Exit;
@@ -136,26 +137,8 @@ pub fn replay(
         .map(|a| AxisChannel::new(cell, a))
         .collect();
     let mut bus = sim_bus(cell);
-    // Bus-side injected faults, already sorted by cycle (as the executive applies them).
-    let alarms: Vec<_> = cell
-        .inject
-        .iter()
-        .filter(|i| {
-            matches!(
-                i.fault,
-                InjectedFault::DriveAlarm { .. }
-                    | InjectedFault::RxLoss { .. }
-                    | InjectedFault::CounterCorruption { .. }
-                    | InjectedFault::SubdeviceStall { .. }
-                    | InjectedFault::FrameDelay { .. }
-                    | InjectedFault::FrameCorruption { .. }
-                    | InjectedFault::DatagramDrop { .. }
-                    | InjectedFault::LinkLoss { .. }
-            )
-        })
-        .copied()
-        .collect();
-    let mut next_alarm = 0;
+    // The bus faults at the cycles the executive applied them (a stall is the loop's own).
+    let mut faults = InjectionSchedule::in_process(cell);
     // As Executive::run: one exchange of all-zero outputs before cycle 0.
     bus.exchange(Cycles(1))
         .map_err(|e| format!("bus exchange: {e:?}"))?;
@@ -168,13 +151,7 @@ pub fn replay(
                 cell.axes[i].name, axes[i][k].cycle, cell.axes[0].name
             ));
         }
-        while let Some(inj) = alarms.get(next_alarm) {
-            if inj.cycle > cycle {
-                break;
-            }
-            next_alarm += 1;
-            inject_into_bus(&mut bus, inj.fault);
-        }
+        while faults.next_due(cycle, &mut bus).is_some() {}
         for (i, ch) in channels.iter().enumerate() {
             let rec = &axes[i][k];
             let tx = ch

@@ -1,4 +1,4 @@
-//! The EtherCAT MainDevice as a [`Bus`]: ethercrab brings the segment up (INIT → PRE-OP, SII,
+//! The EtherCAT MainDevice as a [`CyclicBus`]: ethercrab brings the segment up (INIT → PRE-OP, SII,
 //! mailboxes, the PDO assignment by SDO, SAFE-OP, OP); in OP the cyclic exchange is cellrt's
 //! own frame (one LRW over the process image, preallocated, no heap allocation per cycle; see
 //! ARCHITECTURE.md on ethercrab's `tx_rx_dc()`), with the working counter checked every cycle.
@@ -12,7 +12,10 @@ use super::link::Link;
 use super::mailbox::{MailboxWatch, SM_STATUS_FULL};
 use super::process_image::AxisImage;
 use super::segment::{SegmentConfig, SegmentStation};
-use crate::bus::{Bus, BusError, FrameCounters, MailboxNotice, SDO_UNSUPPORTED};
+use crate::bus::{
+    AcyclicBus, BusError, CyclicBus, FaultInjection, FrameCounters, LinkState, MailboxNotice,
+    SDO_UNSUPPORTED,
+};
 use crate::cycles::Cycles;
 use crate::ethercat::frame::{self, Command, DatagramSpan, FrameBuilder};
 use crate::ethercat::register::{self as reg, AlStatus};
@@ -126,7 +129,15 @@ pub(super) fn abort_code(e: ethercrab::error::Error) -> u32 {
     }
 }
 
-impl Bus for EthercatBus {
+impl EthercatBus {
+    /// The AL status of the SubDevice that carries `axis`, as the last cyclic frame read it
+    /// (ETG.1000.6 §6.4); `None` before it answered.
+    pub fn al_status(&self, axis: usize) -> Option<AlStatus> {
+        self.axes.get(axis).and_then(|a| self.al[a.station])
+    }
+}
+
+impl CyclicBus for EthercatBus {
     fn axis_count(&self) -> usize {
         self.axes.len()
     }
@@ -250,8 +261,8 @@ impl Bus for EthercatBus {
         Some(self.counters)
     }
 
-    fn al_status(&self, axis: usize) -> Option<AlStatus> {
-        self.axes.get(axis).and_then(|a| self.al[a.station])
+    fn link_state(&self, axis: usize) -> Option<LinkState> {
+        self.al_status(axis).map(LinkState::from)
     }
 
     /// A notice already read (before an SDO), else one acyclic read of the first SubDevice
@@ -278,7 +289,9 @@ impl Bus for EthercatBus {
     fn dc_phase_error_ns(&self) -> Option<i64> {
         self.dc.locked.then_some(self.dc.error)
     }
+}
 
+impl AcyclicBus for EthercatBus {
     fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
         self.sdo_read_value(axis, index, sub)
     }
@@ -296,6 +309,18 @@ impl Bus for EthercatBus {
         })
     }
 
+    fn close(&mut self) -> Result<(), String> {
+        self.leave_op().map_err(|e| e.to_string())
+    }
+
+    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
+        self.sdo_read_value(axis, crate::pdo::objects::ERROR_CODE, 0)
+            .ok()
+            .map(|v| v as u16)
+    }
+}
+
+impl FaultInjection for EthercatBus {
     /// On the in-process segment: the emulated drive of `axis` raises `code`.
     fn inject_alarm(&mut self, axis: usize, code: u16) -> bool {
         let Some(&AxisImage { station, slot, .. }) = self.axes.get(axis) else {
@@ -346,15 +371,5 @@ impl Bus for EthercatBus {
         self.axes
             .get(axis)
             .is_some_and(|a| self.link.lose_link(a.station, cycles))
-    }
-
-    fn close(&mut self) -> Result<(), String> {
-        self.leave_op().map_err(|e| e.to_string())
-    }
-
-    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
-        self.sdo_read_value(axis, crate::pdo::objects::ERROR_CODE, 0)
-            .ok()
-            .map(|v| v as u16)
     }
 }

@@ -4,9 +4,12 @@
 use std::path::Path;
 
 use cellrt_axes::CycleTime;
+use strum::VariantNames;
 
 use crate::config::raw::RawInjection;
-use crate::config::{AxisConfig, ConfigError, EthercatConfig, InjectedFault, Injection};
+use crate::config::{
+    AxisConfig, ConfigError, EthercatConfig, FaultKind, InjectedFault, Injection,
+};
 
 /// `[[inject]]`: each fault at its cycle (sorted), with the keys its kind takes; faults of the
 /// emulated EtherCAT segment only in a cell with EtherCAT axes.
@@ -75,7 +78,7 @@ fn injected_fault(
             .ok_or_else(|| ConfigError::new(file, key("axis"), format!("no axis named '{name}'")))
     };
     let cycles_of = |ns: u64| (ns / cycle_time.as_nanos()).max(1) as u32;
-    if r.delay_us.is_some() && r.fault != "frame_delay" {
+    if r.delay_us.is_some() && r.fault.parse() != Ok(FaultKind::FrameDelay) {
         return Err(ConfigError::new(
             file,
             key("delay_us"),
@@ -85,8 +88,19 @@ fn injected_fault(
             ),
         ));
     }
-    let fault = match r.fault.as_str() {
-        "frame_delay" => {
+    let kind = r.fault.parse::<FaultKind>().map_err(|_| {
+        ConfigError::new(
+            file,
+            key("fault"),
+            format!(
+                "unknown fault '{}' (allowed: {})",
+                r.fault,
+                FaultKind::VARIANTS.join(", ")
+            ),
+        )
+    })?;
+    let fault = match kind {
+        FaultKind::FrameDelay => {
             let delay_ns = match r.delay_us {
                 Some(d) if d.is_finite() && d > 0.0 && d <= 1_000_000.0 => (d * 1e3) as u64,
                 Some(d) => {
@@ -107,28 +121,28 @@ fn injected_fault(
             let cycles = cycles_of(duration(60_000.0)?);
             InjectedFault::FrameDelay { delay_ns, cycles }
         }
-        "datagram_drop" => InjectedFault::DatagramDrop {
+        FaultKind::DatagramDrop => InjectedFault::DatagramDrop {
             cycles: cycles_of(duration(60_000.0)?),
         },
-        "frame_corruption" | "link_loss" => {
+        FaultKind::FrameCorruption | FaultKind::LinkLoss => {
             let axis = match r.axis.as_deref() {
                 Some(name) => axis_named(name)?,
                 None => 0,
             };
             let cycles = cycles_of(duration(60_000.0)?);
-            if r.fault == "link_loss" {
+            if kind == FaultKind::LinkLoss {
                 InjectedFault::LinkLoss { axis, cycles }
             } else {
                 InjectedFault::FrameCorruption { axis, cycles }
             }
         }
-        "stall" => InjectedFault::Stall {
+        FaultKind::Stall => InjectedFault::Stall {
             ns: duration(1000.0)?,
         },
-        "planner_stall" => InjectedFault::PlannerStall {
+        FaultKind::PlannerStall => InjectedFault::PlannerStall {
             ns: duration(60_000.0)?,
         },
-        "rx_loss" | "counter_corruption" | "subdevice_stall" => {
+        FaultKind::RxLoss | FaultKind::CounterCorruption | FaultKind::SubdeviceStall => {
             let name = r.axis.as_deref().ok_or_else(|| {
                 ConfigError::new(file, key("axis"), format!("fault '{}' needs axis", r.fault))
             })?;
@@ -137,13 +151,13 @@ fn injected_fault(
             })?;
             let ns = duration(60_000.0)?;
             let cycles = (ns / cycle_time.as_nanos()).max(1) as u32;
-            match r.fault.as_str() {
-                "rx_loss" => InjectedFault::RxLoss { axis, cycles },
-                "subdevice_stall" => InjectedFault::SubdeviceStall { axis, cycles },
+            match kind {
+                FaultKind::RxLoss => InjectedFault::RxLoss { axis, cycles },
+                FaultKind::SubdeviceStall => InjectedFault::SubdeviceStall { axis, cycles },
                 _ => InjectedFault::CounterCorruption { axis, cycles },
             }
         }
-        "drive_alarm" => {
+        FaultKind::DriveAlarm => {
             let name = r.axis.as_deref().ok_or_else(|| {
                 ConfigError::new(file, key("axis"), "fault 'drive_alarm' needs axis")
             })?;
@@ -168,13 +182,6 @@ fn injected_fault(
                 }
             };
             InjectedFault::DriveAlarm { axis, code }
-        }
-        other => {
-            return Err(ConfigError::new(
-                file,
-                key("fault"),
-                format!("unknown fault '{other}' (allowed: stall, drive_alarm, planner_stall, rx_loss, counter_corruption, subdevice_stall, frame_delay, frame_corruption, datagram_drop, link_loss)"),
-            ))
         }
     };
     Ok(fault)

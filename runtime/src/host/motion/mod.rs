@@ -631,7 +631,10 @@ impl MotionEngine {
             }
             if let Some(pos) = self.stalls.iter().position(|(c, _)| *c <= now) {
                 let (_, ns) = self.stalls.remove(pos);
-                link.event(EventKind::FaultInjected, 3);
+                link.event(
+                    EventKind::FaultInjected,
+                    crate::config::FaultKind::PlannerStall.code(),
+                );
                 std::thread::sleep(Duration::from_nanos(ns));
                 now = link.status()?.cycle;
                 continue;

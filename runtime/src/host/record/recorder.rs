@@ -704,11 +704,11 @@ pub fn describe_event(e: &EventRecord) -> String {
             e.value & 0xFF,
             e.value >> 8
         ),
-        EventKind::FaultInjected | EventKind::FaultLeftToSegment => FAULT_NAMES
-            .get(e.value as usize)
-            .copied()
-            .unwrap_or("unknown")
-            .to_string(),
+        EventKind::FaultInjected | EventKind::FaultLeftToSegment => {
+            crate::config::FaultKind::from_code(e.value)
+                .map_or("unknown", crate::config::FaultKind::name)
+                .to_string()
+        }
         EventKind::StopFinished
         | EventKind::MasterTimeout
         | EventKind::BusError
@@ -717,17 +717,3 @@ pub fn describe_event(e: &EventRecord) -> String {
     }
 }
 
-/// Names of the injected faults, by the value of a `fault_injected` event.
-const FAULT_NAMES: [&str; 11] = [
-    "",
-    "stall",
-    "drive_alarm",
-    "planner_stall",
-    "rx_loss",
-    "counter_corruption",
-    "subdevice_stall",
-    "frame_delay",
-    "frame_corruption",
-    "datagram_drop",
-    "link_loss",
-];

@@ -59,8 +59,8 @@ pub struct AxisChannel {
     pub counter: Option<IncrementalCounter>,
     /// A counter error was reported for this axis (once, until reset).
     pub comm_fault: bool,
-    /// The AL status of the axis' SubDevice last seen (EtherCAT).
-    pub al_status: Option<cellrt_axes::ethercat::register::AlStatus>,
+    /// The link state of the axis' node last seen (EtherCAT: its SubDevice's AL status).
+    pub link_state: Option<cellrt_axes::bus::LinkState>,
     /// Limits in counts.
     pub limits: AxisLimitsCounts,
     /// Setpoint position of the current cycle, counts.
@@ -162,7 +162,7 @@ impl AxisChannel {
                 .has_counter()
                 .then(|| IncrementalCounter::new(CounterParams::default(), 0)),
             comm_fault: false,
-            al_status: None,
+            link_state: None,
             limits: AxisLimitsCounts::new(axis, cell.period()),
             setpoint: axis.scaling.to_counts(axis.sim.initial_position),
             velocity: 0.0,
@@ -374,7 +374,7 @@ mod tests {
             }),
             counter: None,
             comm_fault: false,
-            al_status: None,
+            link_state: None,
             limits: AxisLimitsCounts {
                 position_min: -1e12,
                 position_max: 1e12,

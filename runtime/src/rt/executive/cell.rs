@@ -3,7 +3,7 @@
 
 use std::sync::atomic::Ordering;
 
-use cellrt_axes::bus::Bus;
+use cellrt_axes::bus::{AcyclicBus, CyclicBus};
 use cellrt_axes::cia402::master::{MasterRequest, MasterState};
 use cellrt_axes::cia402::mode::ModeOfOperation;
 
@@ -31,7 +31,7 @@ enum Lookup {
     Rejected(u16, RejectReason),
 }
 
-impl<B: Bus> Executive<B> {
+impl<B: CyclicBus + AcyclicBus> Executive<B> {
     /// Takes pending commands; returns true on Quit.
     pub(super) fn take_commands(&mut self) -> bool {
         for _ in 0..COMMANDS_PER_CYCLE {

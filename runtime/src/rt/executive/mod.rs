@@ -11,17 +11,18 @@ pub use axis::{AxisChannel, AxisLimitsCounts, HOMING_MODE_SETTLE, HOMING_TIMEOUT
 
 use std::sync::atomic::Ordering;
 
-use cellrt_axes::bus::{Bus, MailboxNotice};
+use cellrt_axes::bus::{AcyclicBus, CyclicBus, FaultInjection, MailboxNotice};
 use cellrt_axes::comm::CounterVerdict;
 use cellrt_axes::pdo::objects::HOME_OFFSET;
 use cellrt_axes::pdo::RxPdo;
 use cellrt_axes::Cycles;
 use serde::Serialize;
 
-use crate::config::{CellConfig, FaultReaction, InjectedFault, Injection, WatchdogConfig};
+use crate::config::{CellConfig, FaultReaction, InjectedFault, WatchdogConfig};
 use crate::handoff::{AxisRecord, CellState, CycleRecord, EventKind, EventRecord, RtEnd, NO_AXIS};
 use crate::rt::clock::{sleep_until, MonoTime};
 use crate::rt::histogram::NsHistogram;
+use crate::rt::injection::{InjectionSchedule, Outcome};
 use crate::rt::setpoint_stream::SetpointStream;
 
 /// Hook called by the RT thread at phase changes (test instrumentation; a plain fn pointer so
@@ -85,7 +86,7 @@ pub struct RtCounters {
 }
 
 /// All state of the RT loop, preallocated from the configuration.
-pub struct Executive<B: Bus> {
+pub struct Executive<B: CyclicBus + AcyclicBus> {
     bus: B,
     axes: Vec<AxisChannel>,
     stream: SetpointStream,
@@ -109,13 +110,8 @@ pub struct Executive<B: Bus> {
     watchdogs: WatchdogConfig,
     /// Deadlines missed in a row (reset by a cycle that starts on time).
     overrun_streak: u32,
-    /// Scheduled faults the RT thread applies (stall, drive alarm), by cycle.
-    injections: Vec<Injection>,
-    /// Index of the next injection due.
-    next_injection: usize,
-    /// The cell runs on a network interface: its wire faults are the far end's segment's to
-    /// inject; the loop only records them.
-    wire_faults_remote: bool,
+    /// Scheduled faults the RT thread applies (stall, bus faults), by cycle.
+    faults: InjectionSchedule<B>,
     /// Cycles since the previous executed cycle (more than 1 after an overrun).
     elapsed: Cycles,
     stats: RtStats,
@@ -124,15 +120,20 @@ pub struct Executive<B: Bus> {
     hook: Option<PhaseHook>,
 }
 
-impl<B: Bus> Executive<B> {
+impl<B: CyclicBus + AcyclicBus> Executive<B> {
     /// Builds the executive for `cell` on the RT thread (the setpoint stream's port is not `Send`).
+    /// Only here is the bus a [`FaultInjection`]: it goes into the cell's fault schedule, and
+    /// the loop sees a bus without it.
     pub fn new(
         cell: &CellConfig,
         bus: B,
         stream: SetpointStream,
         handoff: RtEnd,
         hook: Option<PhaseHook>,
-    ) -> Self {
+    ) -> Self
+    where
+        B: FaultInjection,
+    {
         let axes: Vec<AxisChannel> = cell
             .axes
             .iter()
@@ -156,14 +157,7 @@ impl<B: Bus> Executive<B> {
             finishing: false,
             watchdogs: cell.watchdogs,
             overrun_streak: 0,
-            injections: cell
-                .inject
-                .iter()
-                .copied()
-                .filter(|i| !matches!(i.fault, InjectedFault::PlannerStall { .. }))
-                .collect(),
-            next_injection: 0,
-            wire_faults_remote: !cell.faults_left_to_segment().is_empty(),
+            faults: InjectionSchedule::for_cell(cell),
             elapsed: Cycles(1),
             stats: RtStats {
                 counters: RtCounters::default(),
@@ -283,77 +277,53 @@ impl<B: Bus> Executive<B> {
         quit
     }
 
-    /// Applies the scheduled faults due at this cycle (fault injection; off in normal runs).
+    /// Applies the scheduled faults due at this cycle (fault injection; off in normal runs)
+    /// and records each (event value: its [`FaultKind`](crate::config::FaultKind) code).
     fn inject_due_faults(&mut self) {
-        while let Some(inj) = self.injections.get(self.next_injection).copied() {
-            if inj.cycle > self.cycle {
-                break;
+        while let Some(due) = self.faults.next_due(self.cycle, &mut self.bus) {
+            let axis = due.fault.axis().map_or(NO_AXIS, |a| a as u16);
+            let code = due.fault.kind().code();
+            if due.outcome == Outcome::LeftToSegment {
+                self.event(EventKind::FaultLeftToSegment, axis, code);
+                continue;
             }
-            self.next_injection += 1;
-            match inj.fault {
-                InjectedFault::Stall { ns } => {
-                    self.event(EventKind::FaultInjected, NO_AXIS, 1);
+            self.event(EventKind::FaultInjected, axis, code);
+            match (due.outcome, due.fault) {
+                (Outcome::Refused, _) => self.event(EventKind::BusError, axis, -2),
+                (Outcome::ForTheLoop, InjectedFault::Stall { ns }) => {
                     let until = MonoTime::now().plus(ns);
                     while MonoTime::now() < until {
                         std::hint::spin_loop();
                     }
                 }
-                InjectedFault::DriveAlarm { .. }
-                | InjectedFault::RxLoss { .. }
-                | InjectedFault::CounterCorruption { .. }
-                | InjectedFault::SubdeviceStall { .. }
-                | InjectedFault::FrameDelay { .. }
-                | InjectedFault::FrameCorruption { .. }
-                | InjectedFault::DatagramDrop { .. }
-                | InjectedFault::LinkLoss { .. } => {
-                    // Event value: the fault's index in the recorder's fault names.
-                    let (axis, code) = match inj.fault {
-                        InjectedFault::DriveAlarm { axis, .. } => (axis as u16, 2),
-                        InjectedFault::RxLoss { axis, .. } => (axis as u16, 4),
-                        InjectedFault::CounterCorruption { axis, .. } => (axis as u16, 5),
-                        InjectedFault::SubdeviceStall { axis, .. } => (axis as u16, 6),
-                        InjectedFault::FrameDelay { .. } => (NO_AXIS, 7),
-                        InjectedFault::FrameCorruption { axis, .. } => (axis as u16, 8),
-                        InjectedFault::DatagramDrop { .. } => (NO_AXIS, 9),
-                        InjectedFault::LinkLoss { axis, .. } => (axis as u16, 10),
-                        _ => (NO_AXIS, 0),
-                    };
-                    if self.wire_faults_remote && inj.fault.wire_fault().is_some() {
-                        self.event(EventKind::FaultLeftToSegment, axis, code);
-                        continue;
-                    }
-                    self.event(EventKind::FaultInjected, axis, code);
-                    if !inject_into_bus(&mut self.bus, inj.fault) {
-                        self.event(EventKind::BusError, axis, -2);
-                    }
-                }
-                InjectedFault::PlannerStall { .. } => {}
+                _ => {}
             }
         }
     }
 
-    /// Records a change of the AL status of axis `i`'s SubDevice; one that leaves OP (or
-    /// indicates an error) takes the axis' outputs away, a communication fault of the axis
-    /// (ETG.1000.6 §6.4). The first status seen is recorded only if it is not OP.
-    fn watch_al_status(&mut self, i: usize) {
-        let now = self.bus.al_status(i);
+    /// Records a change of the link state of axis `i`'s node (EtherCAT: its SubDevice's AL
+    /// status); one that is not operational takes the axis' outputs away, a communication
+    /// fault of the axis (ETG.1000.6 §6.4). The first state seen is recorded only if it is not
+    /// operational.
+    fn watch_link_state(&mut self, i: usize) {
+        let now = self.bus.link_state(i);
         let ch = &mut self.axes[i];
-        if now == ch.al_status {
+        if now == ch.link_state {
             return;
         }
-        let first = ch.al_status.is_none();
-        ch.al_status = now;
+        let first = ch.link_state.is_none();
+        ch.link_state = now;
         let Some(s) = now else {
             return;
         };
-        if first && s.is_op() {
+        if first && s.operational {
             return;
         }
-        if !s.is_op() && !ch.comm_fault {
+        if !s.operational && !ch.comm_fault {
             ch.comm_fault = true;
             self.comm_fault_pending = true;
         }
-        self.event(EventKind::AlStatus, i as u16, s.encode());
+        self.event(EventKind::AlStatus, i as u16, s.encoded);
     }
 
     /// Records what SubDevices sent unasked (CoE Emergencies, ETG.1000.6 §5.6.2.1), at most
@@ -428,7 +398,7 @@ impl<B: Bus> Executive<B> {
                     self.event(EventKind::CommunicationError, i as u16, kind);
                 }
             }
-            self.watch_al_status(i);
+            self.watch_link_state(i);
             if old.statusword.state() != tx.statusword.state() {
                 let v = tx.statusword.state().map(fsa_index).unwrap_or(0);
                 self.event(EventKind::FsaState, i as u16, v);
@@ -584,27 +554,6 @@ impl<B: Bus> Executive<B> {
         if !self.handoff.push_event(ev) {
             self.stats.dropped_events += 1;
         }
-    }
-}
-
-/// Applies a bus-side injected fault (drive alarm, RxPDO loss, counter corruption) to `bus`;
-/// false if the bus cannot inject it or the fault is not a bus fault. Shared by the executive
-/// and `cellrt replay`, so a replay sees the same faults at the same cycles.
-pub fn inject_into_bus<B: Bus>(bus: &mut B, fault: InjectedFault) -> bool {
-    match fault {
-        InjectedFault::DriveAlarm { axis, code } => bus.inject_alarm(axis, code),
-        InjectedFault::RxLoss { axis, cycles } => bus.inject_rx_loss(axis, cycles),
-        InjectedFault::CounterCorruption { axis, cycles } => {
-            bus.inject_counter_corruption(axis, cycles)
-        }
-        InjectedFault::SubdeviceStall { axis, cycles } => bus.inject_subdevice_stall(axis, cycles),
-        InjectedFault::FrameDelay { delay_ns, cycles } => bus.inject_frame_delay(delay_ns, cycles),
-        InjectedFault::FrameCorruption { axis, cycles } => {
-            bus.inject_frame_corruption(axis, cycles)
-        }
-        InjectedFault::DatagramDrop { cycles } => bus.inject_datagram_drop(cycles),
-        InjectedFault::LinkLoss { axis, cycles } => bus.inject_link_loss(axis, cycles),
-        InjectedFault::Stall { .. } | InjectedFault::PlannerStall { .. } => false,
     }
 }
 

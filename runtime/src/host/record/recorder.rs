@@ -716,4 +716,3 @@ pub fn describe_event(e: &EventRecord) -> String {
         | EventKind::PlannerLost => String::new(),
     }
 }
-

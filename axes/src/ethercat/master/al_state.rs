@@ -1,7 +1,8 @@
 //! AL state requests outside ethercrab: the clean shutdown's step back to PRE-OP.
 
-use super::bus::{EthercatBus, MASTER_MAC};
+use super::bus::EthercatBus;
 use super::error::EthercatError;
+use super::group::MASTER_MAC;
 use crate::ethercat::frame::{Command, FrameBuilder};
 use crate::ethercat::register::{self as reg, AlState};
 

@@ -5,21 +5,22 @@
 use std::time::Duration;
 
 use ethercrab::std::ethercat_now;
-use ethercrab::subdevice_group::{DcConfiguration, HasDc, Op, PreOp};
+use ethercrab::subdevice_group::{DcConfiguration, PreOp};
 use ethercrab::{
     DcSync, DefaultLock, MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, RetryBehaviour,
     SubDeviceGroup, Timeouts,
 };
 
-use super::bus::{check_unit_pdo_limits, EthercatBus, MAX_PDI, MAX_SUBDEVICES};
+use super::bus::EthercatBus;
 use super::dc::DcAlignment;
 use super::error::{step, EthercatError};
+use super::group::{OpGroup, MAX_PDI, MAX_SUBDEVICES};
 use super::link::Link;
 use super::mailbox::MailboxWatch;
 use super::pdo_config::configure_station;
 use super::process_image::ProcessImage;
 use super::pump::Wire;
-use super::segment::{check_models, SegmentConfig, SegmentStation};
+use super::segment::{check_models, check_unit_pdo_limits, SegmentConfig, SegmentStation};
 use crate::bus::FrameCounters;
 use crate::cycles::CycleTime;
 use crate::ethercat::identity::SubDeviceIdentity;
@@ -42,8 +43,6 @@ const SYNC0_START_DELAY: Duration = Duration::from_millis(10);
 
 /// The segment in PRE-OP, as ethercrab's INIT → PRE-OP leaves it.
 type PreOpGroup = SubDeviceGroup<MAX_SUBDEVICES, MAX_PDI, DefaultLock, PreOp>;
-/// The segment in OP with distributed clocks.
-pub(super) type OpGroup = SubDeviceGroup<MAX_SUBDEVICES, MAX_PDI, DefaultLock, Op, HasDc>;
 
 impl EthercatBus {
     /// Checks `config` against the models, then brings the segment on `link` to OP.

@@ -5,13 +5,14 @@
 
 use ethercrab::{MainDevice, PduRx, PduTx};
 
-use super::bring_up::OpGroup;
 use super::dc::DcAlignment;
-use super::error::EthercatError;
+use super::group::OpGroup;
+use super::group::MASTER_MAC;
+pub use super::group::{MAX_PDI, MAX_SUBDEVICES};
 use super::link::Link;
 use super::mailbox::{MailboxWatch, SM_STATUS_FULL};
 use super::process_image::AxisImage;
-use super::segment::{SegmentConfig, SegmentStation};
+use super::segment::SegmentConfig;
 use crate::bus::{
     AcyclicBus, BusError, CyclicBus, FaultInjection, FrameCounters, LinkState, MailboxNotice,
     SDO_UNSUPPORTED,
@@ -19,55 +20,6 @@ use crate::bus::{
 use crate::cycles::Cycles;
 use crate::ethercat::frame::{self, Command, DatagramSpan, FrameBuilder};
 use crate::ethercat::register::{self as reg, AlStatus};
-
-/// SubDevices one segment can hold.
-pub const MAX_SUBDEVICES: usize = 16;
-/// Bytes of process image one segment can hold.
-pub const MAX_PDI: usize = 1024;
-/// The source MAC of cellrt's own cyclic frames (ethercrab's MainDevice address, so a
-/// segment sees one master).
-pub(super) const MASTER_MAC: [u8; 6] = [0x10, 0x10, 0x10, 0x10, 0x10, 0x10];
-
-/// On a multi-axis unit, the sum of its slots' PDOs must fit the unit's limit at the cycle
-/// (mr-j5-g-n1.md §5.1, TV-7: e.g. J5W3 at 0.25 ms: 120 bytes each way).
-pub(super) fn check_unit_pdo_limits(
-    config: &SegmentConfig,
-    plans: &[SegmentStation],
-) -> Result<(), EthercatError> {
-    for (position, plan) in plans.iter().enumerate() {
-        if !plan.model.is_multi_axis() {
-            continue;
-        }
-        let d = &config.drives[plan.first_axis()];
-        let Some((max_rx, max_tx)) = plan.model.unit_pdo_limit(config.cycle.as_micros()) else {
-            return Err(EthercatError::CycleTime {
-                axis: d.axis.clone(),
-                model: plan.model.model.as_str(),
-                cycle_us: config.cycle.as_micros(),
-                allowed: plan.model.cycle_times_text(),
-            });
-        };
-        let (mut rx, mut tx) = (0, 0);
-        for slot in 0..plan.slots.len() {
-            let p = plan.slot_profile(config, slot);
-            rx += p.rx_pdo.byte_len();
-            tx += p.tx_pdo.byte_len();
-        }
-        if rx > usize::from(max_rx) || tx > usize::from(max_tx) {
-            return Err(EthercatError::ProcessImage {
-                position,
-                axis: d.axis.clone(),
-                what: format!(
-                    "the axes of amplifier {} map {rx} RxPDO and {tx} TxPDO bytes; {} takes at most {max_rx} and {max_tx} at {} µs",
-                    plan.label.as_deref().unwrap_or("(unlabelled)"),
-                    plan.model.model,
-                    config.cycle.as_micros()
-                ),
-            });
-        }
-    }
-    Ok(())
-}
 
 /// An EtherCAT segment in OP as a [`Bus`].
 pub struct EthercatBus {

@@ -1,7 +1,7 @@
 //! The RT loop's deadline aligned to the distributed clocks' SYNC0 grid.
 
-use super::bring_up::OpGroup;
 use super::error::{step, EthercatError};
+use super::group::OpGroup;
 use super::pump::Wire;
 use crate::ethercat::register as reg;
 use ethercrab::MainDevice;

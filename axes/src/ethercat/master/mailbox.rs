@@ -3,14 +3,12 @@
 
 use std::collections::VecDeque;
 
-use super::bring_up::OpGroup;
-use super::bus::{EthercatBus, MASTER_MAC};
 use super::error::{step, EthercatError};
+use super::group::OpGroup;
 use super::pump::Wire;
 use super::segment::SegmentStation;
-use crate::bus::{BusError, MailboxNotice};
-use crate::ethercat::emergency::{Emergency, MailboxMessage};
-use crate::ethercat::frame::{self, Command, DatagramSpan, FrameBuilder};
+use crate::bus::MailboxNotice;
+use crate::ethercat::frame::DatagramSpan;
 use crate::ethercat::register as reg;
 use ethercrab::MainDevice;
 
@@ -19,19 +17,19 @@ pub(super) const SM_STATUS_FULL: u8 = 0x08;
 /// Largest SM1 mailbox the master drains itself (bigger ones are left to ethercrab's clearing).
 const MAX_MAILBOX_READ: usize = 1024;
 /// Zeros to send as the data of a mailbox read (no allocation per read).
-static MAILBOX_READ_ZEROS: [u8; MAX_MAILBOX_READ] = [0; MAX_MAILBOX_READ];
+pub(super) static MAILBOX_READ_ZEROS: [u8; MAX_MAILBOX_READ] = [0; MAX_MAILBOX_READ];
 /// Mailbox messages drained before an SDO at most (a firmware that refills SM1 faster than
 /// this is left to ethercrab's clearing, which discards).
-const MAX_DRAIN: usize = 8;
+pub(super) const MAX_DRAIN: usize = 8;
 /// Notices held for [`Bus::take_mailbox_notice`] (preallocated; more are dropped and counted).
-const NOTICE_QUEUE: usize = 16;
+pub(super) const NOTICE_QUEUE: usize = 16;
 
 /// A SubDevice's SubDevice→master mailbox (SM1), read back at bring-up.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct MailboxIn {
     /// Physical start address and length of the buffer.
-    start: u16,
-    len: u16,
+    pub(super) start: u16,
+    pub(super) len: u16,
 }
 
 /// Per SubDevice with a mailbox: the SM1 watch and drain that read CoE Emergencies in the cyclic
@@ -46,11 +44,11 @@ pub(super) struct MailboxWatch {
     /// Per SubDevice: the last cyclic frame saw SM1 full.
     pub(super) full: Vec<bool>,
     /// Per SubDevice: the axes of its slots (slot 0 = axis A) and whether it is multi-axis.
-    slots: Vec<(Vec<Option<usize>>, bool)>,
+    pub(super) slots: Vec<(Vec<Option<usize>>, bool)>,
     /// Decoded messages not yet taken.
     pub(super) notices: VecDeque<MailboxNotice>,
     /// Notices dropped because [`NOTICE_QUEUE`] was full.
-    dropped: u64,
+    pub(super) dropped: u64,
 }
 
 impl MailboxWatch {
@@ -90,124 +88,5 @@ impl MailboxWatch {
             notices: VecDeque::with_capacity(NOTICE_QUEUE),
             dropped: 0,
         })
-    }
-}
-
-impl EthercatBus {
-    /// Notices dropped because the queue of untaken ones was full (diagnostics).
-    pub fn mailbox_notices_dropped(&self) -> u64 {
-        self.mailbox.dropped
-    }
-
-    /// Reads SubDevice `station`'s SM1 status and, in the same frame, its buffer (which frees
-    /// it; ETG.1000.4 §6.7.2): the message if SM1 was full. One acyclic round trip, no heap
-    /// allocation. `Ok(false)`: SM1 was empty (or the station has no mailbox).
-    pub(super) fn read_mailbox(&mut self, station: usize) -> Result<bool, BusError> {
-        let Some(Some(mb)) = self.mailbox.sm1.get(station).copied() else {
-            return Ok(false);
-        };
-        let adp = u32::from(self.station_addresses[station]);
-        let (status, data, len) = {
-            let mut b = FrameBuilder::new(&mut self.frame, MASTER_MAC);
-            let status = b.push(
-                Command::Fprd,
-                0,
-                (u32::from(reg::sync_manager(1) + 5) << 16) | adp,
-                &[0],
-            );
-            let data = b.push(
-                Command::Fprd,
-                0,
-                (u32::from(mb.start) << 16) | adp,
-                &MAILBOX_READ_ZEROS[..usize::from(mb.len)],
-            );
-            let (Some(status), Some(data)) = (status, data) else {
-                return Err(BusError::FrameTooLarge {
-                    bytes: usize::from(mb.len) + 1,
-                });
-            };
-            (status, data, b.finish())
-        };
-        if self.link.round_trip(&mut self.frame, len).is_err() {
-            return Err(BusError::FrameLost);
-        }
-        let full = frame::wkc(&self.frame, &status) == 1
-            && self.frame[status.data_offset] & SM_STATUS_FULL != 0;
-        if !full || frame::wkc(&self.frame, &data) != 1 {
-            return Ok(false);
-        }
-        let message =
-            MailboxMessage::decode(&self.frame[data.data_offset..][..usize::from(mb.len)]);
-        let first = self.first_axis(station);
-        let notice = match message {
-            MailboxMessage::Emergency(emergency) => MailboxNotice::Emergency {
-                axis: self.emergency_axis(station, &emergency),
-                emergency,
-            },
-            MailboxMessage::Other {
-                mailbox_type,
-                service,
-            } => MailboxNotice::Discarded {
-                axis: first,
-                mailbox_type,
-                service,
-            },
-            MailboxMessage::Malformed => MailboxNotice::Discarded {
-                axis: first,
-                mailbox_type: 0,
-                service: 0,
-            },
-        };
-        self.push_notice(notice);
-        Ok(true)
-    }
-
-    /// The axis an Emergency of SubDevice `station` is about: on a multi-axis unit the slot it
-    /// names, else (or for a slot no axis uses) the SubDevice's first axis.
-    pub(super) fn emergency_axis(&self, station: usize, emergency: &Emergency) -> usize {
-        let (slots, multi) = &self.mailbox.slots[station];
-        let slot = if *multi {
-            usize::from(emergency.slot())
-        } else {
-            0
-        };
-        slots
-            .get(slot)
-            .copied()
-            .flatten()
-            .unwrap_or_else(|| self.first_axis(station))
-    }
-
-    /// The first axis SubDevice `station` carries (0 if none: a unit with no slot used).
-    fn first_axis(&self, station: usize) -> usize {
-        self.mailbox.slots[station]
-            .0
-            .iter()
-            .flatten()
-            .copied()
-            .next()
-            .unwrap_or(0)
-    }
-
-    /// Queues a mailbox notice for the executive; a full queue counts it as dropped.
-    pub(super) fn push_notice(&mut self, notice: MailboxNotice) {
-        if self.mailbox.notices.len() < NOTICE_QUEUE {
-            self.mailbox.notices.push_back(notice);
-        } else {
-            self.mailbox.dropped += 1;
-        }
-    }
-
-    /// Empties SubDevice `station`'s SM1 into the notices before an SDO transaction, so that
-    /// ethercrab never reads an Emergency (bounded: [`MAX_DRAIN`] messages).
-    pub(super) fn drain_mailbox(&mut self, station: usize) {
-        for _ in 0..MAX_DRAIN {
-            if !matches!(self.read_mailbox(station), Ok(true)) {
-                break;
-            }
-        }
-        if let Some(f) = self.mailbox.full.get_mut(station) {
-            *f = false;
-        }
     }
 }

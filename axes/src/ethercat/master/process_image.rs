@@ -5,8 +5,8 @@ use std::ops::Range;
 
 use ethercrab::MainDevice;
 
-use super::bring_up::OpGroup;
 use super::error::{step, EthercatError};
+use super::group::OpGroup;
 use super::pump::Wire;
 use super::segment::{SegmentConfig, SegmentStation};
 use crate::ethercat::register as reg;

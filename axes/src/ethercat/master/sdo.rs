@@ -3,7 +3,8 @@
 
 use ethercrab::{DefaultLock, SubDevicePdi, SubDeviceRef};
 
-use super::bus::{abort_code, EthercatBus, MAX_PDI};
+use super::bus::{abort_code, EthercatBus};
+use super::group::MAX_PDI;
 use super::pump::pump;
 use crate::bus::{MailboxNotice, SDO_UNSUPPORTED};
 use crate::ethercat::emergency::Emergency;

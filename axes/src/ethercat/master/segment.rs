@@ -162,3 +162,44 @@ pub(super) fn check_models(config: &SegmentConfig) -> Result<(), EthercatError> 
     }
     Ok(())
 }
+
+/// On a multi-axis unit, the sum of its slots' PDOs must fit the unit's limit at the cycle
+/// (mr-j5-g-n1.md §5.1, TV-7: e.g. J5W3 at 0.25 ms: 120 bytes each way).
+pub(super) fn check_unit_pdo_limits(
+    config: &SegmentConfig,
+    plans: &[SegmentStation],
+) -> Result<(), EthercatError> {
+    for (position, plan) in plans.iter().enumerate() {
+        if !plan.model.is_multi_axis() {
+            continue;
+        }
+        let d = &config.drives[plan.first_axis()];
+        let Some((max_rx, max_tx)) = plan.model.unit_pdo_limit(config.cycle.as_micros()) else {
+            return Err(EthercatError::CycleTime {
+                axis: d.axis.clone(),
+                model: plan.model.model.as_str(),
+                cycle_us: config.cycle.as_micros(),
+                allowed: plan.model.cycle_times_text(),
+            });
+        };
+        let (mut rx, mut tx) = (0, 0);
+        for slot in 0..plan.slots.len() {
+            let p = plan.slot_profile(config, slot);
+            rx += p.rx_pdo.byte_len();
+            tx += p.tx_pdo.byte_len();
+        }
+        if rx > usize::from(max_rx) || tx > usize::from(max_tx) {
+            return Err(EthercatError::ProcessImage {
+                position,
+                axis: d.axis.clone(),
+                what: format!(
+                    "the axes of amplifier {} map {rx} RxPDO and {tx} TxPDO bytes; {} takes at most {max_rx} and {max_tx} at {} µs",
+                    plan.label.as_deref().unwrap_or("(unlabelled)"),
+                    plan.model.model,
+                    config.cycle.as_micros()
+                ),
+            });
+        }
+    }
+    Ok(())
+}

@@ -5,9 +5,10 @@ use cellrt_axes::{
     MasterRequest, RxPdo, SimBus, SimDrive, SimDriveParams,
 };
 
-#[path = "common/counting_alloc.rs"]
-mod counting_alloc;
-use counting_alloc::allocations;
+use cellrt_test_support::counting_alloc::{thread_heap_calls, CountingAllocator};
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn steady_state_cycle_is_allocation_free() {
@@ -29,7 +30,7 @@ fn steady_state_cycle_is_allocation_free() {
     for m in &mut masters {
         m.request(MasterRequest::Enable);
     }
-    let before = allocations();
+    let before = thread_heap_calls();
     for k in 0..10_000i32 {
         if k == 5_000 {
             bus.drive_mut(1).inject_alarm(0x0123);
@@ -51,7 +52,7 @@ fn steady_state_cycle_is_allocation_free() {
         }
         bus.exchange(Cycles(1)).unwrap();
     }
-    assert_eq!(allocations() - before, 0);
+    assert_eq!(thread_heap_calls() - before, 0);
     assert!(masters[0].is_enabled());
 }
 
@@ -74,7 +75,7 @@ fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
     for m in &mut masters {
         m.request(MasterRequest::Enable);
     }
-    let before = allocations();
+    let before = thread_heap_calls();
     for k in 0..10_000i32 {
         match k {
             3_000 => {
@@ -106,7 +107,7 @@ fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
         }
         bus.exchange(Cycles(1)).unwrap();
     }
-    assert_eq!(allocations() - before, 0);
+    assert_eq!(thread_heap_calls() - before, 0);
     assert!(masters[1].is_enabled());
 }
 
@@ -144,7 +145,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
         .map(|&m| cellrt_axes::pdo::PdoLayout::new(&profile(m).rx_pdo))
         .collect();
     bus.exchange(Cycles(1)).unwrap();
-    let before = allocations();
+    let before = thread_heap_calls();
     let mut errors = 0;
     let mut emergencies = 0;
     for k in 0..2_000u32 {
@@ -184,7 +185,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
     }
     assert!(bus.dc_phase_error_ns().is_some(), "DC alignment ran");
     assert_eq!(
-        allocations() - before,
+        thread_heap_calls() - before,
         0,
         "master frame, DC alignment, SM1 status and Emergency read, emulated segment and drives"
     );
@@ -254,7 +255,7 @@ fn the_ethercat_cyclic_exchange_of_a_multi_axis_station_is_allocation_free() {
         })
         .collect();
     bus.exchange(Cycles(1)).unwrap();
-    let before = allocations();
+    let before = thread_heap_calls();
     let mut errors = 0;
     for k in 0..2_000u32 {
         let link = bus.link_mut();
@@ -294,7 +295,7 @@ fn the_ethercat_cyclic_exchange_of_a_multi_axis_station_is_allocation_free() {
         }
     }
     assert_eq!(
-        allocations() - before,
+        thread_heap_calls() - before,
         0,
         "master PDI split, multi-axis station and its drives"
     );

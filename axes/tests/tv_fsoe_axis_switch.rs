@@ -20,9 +20,10 @@ use cellrt_axes::{
 };
 use common::{boot, csp, drive, exchange, masked, next_counter, send};
 
-#[path = "common/counting_alloc.rs"]
-mod counting_alloc;
-use counting_alloc::allocations;
+use cellrt_test_support::counting_alloc::{thread_heap_calls, CountingAllocator};
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 fn switch(sw3_1: bool, sw3_2: bool) -> SimDriveParams {
     SimDriveParams {
@@ -777,7 +778,7 @@ fn fsoe_safety_pdo_layout_matches_section_5_4() {
 #[test]
 fn fsoe_cycle_is_allocation_free() {
     let mut r = Rig::running(FsoeSlaveParams::default());
-    let before = allocations();
+    let before = thread_heap_calls();
     for k in 0..2_000 {
         if k == 1_000 {
             r.m.request(SafetyRequest::STO);
@@ -788,5 +789,5 @@ fn fsoe_cycle_is_allocation_free() {
         }
         r.step(0x0F);
     }
-    assert_eq!(allocations() - before, 0);
+    assert_eq!(thread_heap_calls() - before, 0);
 }

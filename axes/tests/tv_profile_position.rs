@@ -16,9 +16,10 @@ use cellrt_axes::{
 };
 use common::{drive, enabled, exchange};
 
-#[path = "common/counting_alloc.rs"]
-mod counting_alloc;
-use counting_alloc::allocations;
+use cellrt_test_support::counting_alloc::{thread_heap_calls, CountingAllocator};
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 /// The drive's zero speed (PC07) in these tests, counts/s.
 const ZERO_SPEED: f64 = 10.0;
@@ -659,7 +660,7 @@ fn pp_and_the_mode_switch_are_allocation_free() {
         ModeSwitchParams::default(),
     )
     .unwrap();
-    let before = allocations();
+    let before = thread_heap_calls();
     // A pp move with HALT and the refused relative word on the MR-J4-TM...
     exchange(&mut j4, &with_cw(base, 0x003F));
     for k in 0..3_000 {
@@ -681,7 +682,7 @@ fn pp_and_the_mode_switch_are_allocation_free() {
         }
         exchange(&mut d, &rx);
     }
-    assert_eq!(allocations() - before, 0);
+    assert_eq!(thread_heap_calls() - before, 0);
     assert!(done);
     assert_eq!(j4.warning(), Some(mr_j4_tm::AL_F4_8));
 }

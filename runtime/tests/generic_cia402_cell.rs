@@ -7,12 +7,11 @@
 mod common;
 
 use std::path::Path;
-use std::sync::atomic::Ordering;
 
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
 use cellrt_runtime::host::program::Program;
-use common::{hook, ALLOCATIONS};
+use common::{hook, marked_heap_calls};
 
 /// The example cell's text with a unique cell name, a long planner lookahead and the overrun
 /// watchdog off (the program's logic is under test, not the machine's load).
@@ -98,14 +97,14 @@ fn the_generic_cia402_cell_runs_its_program_on_ethercat_and_on_sim() {
     // lost frames).
     let mut attempts = Vec::new();
     let summary = loop {
-        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        let before = marked_heap_calls();
         let mut text = cell_text(&format!("ec{}", attempts.len()));
         if !attempts.is_empty() {
             text = text.replace("cycle_time_us = 1000", "cycle_time_us = 4000");
         }
         let summary = run_cell(&text);
         assert_eq!(
-            ALLOCATIONS.load(Ordering::Relaxed) - before,
+            marked_heap_calls() - before,
             0,
             "the RT loop allocated in steady state"
         );

@@ -13,7 +13,7 @@ use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
 use cellrt_runtime::host::program::Program;
 use cellrt_runtime::rt::executive::WARMUP_CYCLES;
-use common::{hook, ALLOCATIONS, LOOPS_EXITED};
+use common::{hook, marked_heap_calls, LOOPS_EXITED};
 
 const CELL: &str = include_str!("data/steady_cell.toml");
 
@@ -73,7 +73,7 @@ fn rt_loop_body_does_not_allocate_in_steady_state() {
     assert_eq!(summary.recording.cycle_messages, summary.counters.cycles);
     assert_eq!(summary.counters.dropped_records, 0);
     assert_eq!(
-        ALLOCATIONS.load(Ordering::Relaxed),
+        marked_heap_calls(),
         0,
         "the RT loop allocated in steady state"
     );

@@ -10,7 +10,7 @@ use std::sync::atomic::Ordering;
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
 use cellrt_runtime::host::program::Program;
-use common::{hook, ALLOCATIONS, LOOPS_EXITED};
+use common::{hook, marked_heap_calls, LOOPS_EXITED};
 
 const PROGRAM: &str = r#"
 [[step]]
@@ -104,7 +104,7 @@ fn fault_reactions_do_not_allocate_on_the_rt_thread() {
     );
     assert_eq!(LOOPS_EXITED.load(Ordering::Relaxed), 4);
     assert_eq!(
-        ALLOCATIONS.load(Ordering::Relaxed),
+        marked_heap_calls(),
         0,
         "the RT loop allocated on a fault path"
     );

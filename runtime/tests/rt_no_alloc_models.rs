@@ -10,7 +10,7 @@ use std::sync::atomic::Ordering;
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
 use cellrt_runtime::host::program::Program;
-use common::{hook, ALLOCATIONS, LOOPS_EXITED};
+use common::{hook, marked_heap_calls, LOOPS_EXITED};
 
 const MODELS: [&str; 6] = [
     "mr-j3-t04",
@@ -41,7 +41,7 @@ fn a_cell_of_each_model_runs_without_allocating_on_the_rt_thread() {
             .iter()
             .filter(|s| matches!(s, cellrt_runtime::host::program::Step::Torque { .. }))
             .count();
-        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        let before = marked_heap_calls();
         let summary = run(
             &cell,
             RunOptions {
@@ -57,7 +57,7 @@ fn a_cell_of_each_model_runs_without_allocating_on_the_rt_thread() {
             "{model}: {summary:?}"
         );
         assert_eq!(
-            ALLOCATIONS.load(Ordering::Relaxed) - before,
+            marked_heap_calls() - before,
             0,
             "{model}: the RT loop allocated in steady state"
         );

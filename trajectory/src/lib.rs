@@ -9,6 +9,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod axis;
 pub mod limits;
 pub mod line;
 pub mod online;
@@ -19,10 +20,11 @@ pub mod units;
 mod verify;
 pub mod waypoints;
 
+pub use axis::{AxisState, MoveAxis};
 pub use limits::{KinematicLimits, LimitsError, PositionRange, Quantity};
 pub use line::{LineError, LineMove};
 pub use online::{AxisGoal, OnlineAxis, OnlineError, OnlineMotion};
-pub use planner::{plan_move, AxisState, MoveAxis, PlanError, PlannedMove, MAX_MOVE_AXES};
+pub use planner::{plan_move, PlanError, PlannedMove, MAX_MOVE_AXES};
 pub use sampler::{MoveSampler, SamplerError};
 pub use torque::{TorqueRamp, TorqueRampError};
 pub use units::{Scaling, UnitsError};

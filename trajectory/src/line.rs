@@ -9,9 +9,9 @@
 use nalgebra::DVector;
 use thiserror::Error;
 
+use crate::axis::AxisState;
 use crate::limits::{KinematicLimits, PositionRange};
 use crate::online::{OnlineAxis, OnlineError, OnlineMotion};
-use crate::planner::AxisState;
 
 /// Shortest line (in axis units) planned as a move; shorter ones are already there.
 pub const MIN_LINE_LENGTH: f64 = 1e-9;

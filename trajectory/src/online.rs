@@ -16,8 +16,8 @@ use rsruckig::prelude::{
 };
 use thiserror::Error;
 
+use crate::axis::AxisState;
 use crate::limits::{KinematicLimits, LimitsError, PositionRange};
-use crate::planner::AxisState;
 
 /// Cycles of travel at the current velocity kept in reserve when a jog is turned into a stop
 /// at the end of the position range (covers the setpoint lookahead of the caller).

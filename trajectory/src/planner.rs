@@ -9,10 +9,10 @@ use rsruckig::prelude::{
     Trajectory,
 };
 use rsruckig::util::integrate;
-use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::limits::{KinematicLimits, LimitsError, PositionRange, Quantity};
+use crate::axis::{AxisState, MoveAxis};
+use crate::limits::{LimitsError, Quantity};
 use crate::verify::{polish_end_state, verify_axis, Violation};
 
 /// Most axes one move plans at once (the fixed capacity of a [`PlannedMove`]'s targets).
@@ -22,50 +22,6 @@ pub const MAX_MOVE_AXES: usize = 16;
 /// `update()`, neither of which is used: moves are continuous-time and sampled by
 /// [`crate::sampler::MoveSampler`].
 const RUCKIG_DELTA_TIME: f64 = 1e-3;
-
-/// Kinematic state of one axis, in axis units: unit, unit/s, unit/s².
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct AxisState {
-    /// Position, unit.
-    pub position: f64,
-    /// Velocity, unit/s.
-    pub velocity: f64,
-    /// Acceleration, unit/s².
-    pub acceleration: f64,
-}
-
-/// One axis of a move: where it is now, where it should stop, and the limits for this move.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct MoveAxis {
-    /// Current state (the move starts continuous with it; may be moving: re-targeting).
-    pub start: AxisState,
-    /// Target position, unit; the axis arrives at rest (velocity and acceleration zero).
-    pub target: f64,
-    /// Limits for this move (check them against the axis with [`KinematicLimits::capped_by`]).
-    pub limits: KinematicLimits,
-}
-
-impl MoveAxis {
-    /// Builds a move axis after checking `move_limits` against the axis' `axis_limits`
-    /// ([`KinematicLimits::capped_by`]) and, if given, `target` against the axis' `range`.
-    pub fn checked(
-        start: AxisState,
-        target: f64,
-        move_limits: &KinematicLimits,
-        axis_limits: &KinematicLimits,
-        range: Option<&PositionRange>,
-    ) -> Result<MoveAxis, LimitsError> {
-        let limits = move_limits.capped_by(axis_limits)?;
-        if let Some(range) = range {
-            range.check(target)?;
-        }
-        Ok(MoveAxis {
-            start,
-            target,
-            limits,
-        })
-    }
-}
 
 /// Why a move could not be planned.
 #[derive(Debug, Error)]
@@ -115,7 +71,7 @@ pub enum PlanError {
         /// The start state.
         state: AxisState,
     },
-    /// An axis' limits failed [`KinematicLimits::validate`].
+    /// An axis' limits failed [`crate::limits::KinematicLimits::validate`].
     #[error("axis {axis}: {source}")]
     InvalidLimits {
         /// Index of the axis in the move.
@@ -133,8 +89,7 @@ pub enum PlanError {
     /// rsruckig produced a trajectory whose duration is negative or not finite.
     #[error("planned duration {0} s is not finite and >= 0")]
     BadDuration(f64),
-    /// Every plan rsruckig produced (including the fallbacks of [`plan_move`]) exceeds a
-    /// limit; reported for the first plan.
+    /// rsruckig's plan exceeds a limit (the first violation found); the plan is refused.
     #[error("axis {axis}: planned {quantity} {value} {} exceeds the limit {limit} {}", quantity.unit(), quantity.unit())]
     LimitViolation {
         /// Index of the axis in the move.
@@ -148,6 +103,17 @@ pub enum PlanError {
     },
 }
 
+impl From<Violation> for PlanError {
+    fn from(v: Violation) -> Self {
+        PlanError::LimitViolation {
+            axis: v.axis,
+            quantity: v.quantity,
+            value: v.value,
+            limit: v.limit,
+        }
+    }
+}
+
 /// A planned move: all axes start at their start state and reach their targets at rest
 /// together after [`PlannedMove::duration`] seconds.
 #[derive(Debug, Clone)]
@@ -157,72 +123,28 @@ pub struct PlannedMove {
     targets: [f64; MAX_MOVE_AXES],
 }
 
-/// Minimum durations, as factors of the first plan's duration, tried (time-synchronised)
-/// when the first plan fails the limit check (`verify::verify_axis`).
-const RETRY_DURATION_FACTORS: [f64; 3] = [1.0 + 1e-6, 1.0 + 1e-4, 1.0 + 1e-2];
-
 /// Plans a time-synchronised, jerk-limited move of `axes` to rest at their targets.
 ///
-/// rsruckig's result is post-processed (see `verify.rs` for the finding and the checks):
-/// every phase of every axis is checked against the limits, then each axis' profile is
-/// polished so that it ends at its target to rounding — rsruckig tolerates an end-position
-/// error of up to 1e-8, which the exact end state would turn into a position step (a jerk
-/// spike) in the last cycle — and the polished profile is kept if it passes the same check.
-/// If the check of rsruckig's own plan fails, the move is re-planned, in this order, until
-/// one passes:
-///
-/// 1. time-synchronised with `minimum_duration` = 1 + 1e-6, 1 + 1e-4, 1 + 1e-2 times the
-///    first plan's duration;
-/// 2. phase-synchronised (rsruckig falls back to time synchronisation where phase
-///    synchronisation is impossible);
-/// 3. every axis planned on its own (no synchronisation between axes) with the longest
-///    duration of (1) as its minimum duration, so all still end together.
-///
-/// If none passes: [`PlanError::LimitViolation`] for the first plan's violation. A plan that
-/// violates a limit is never returned.
+/// rsruckig's plan is checked and post-processed (module `verify`): every phase of every axis
+/// is checked against the limits, then each axis' profile is polished so that it ends at its
+/// target to rounding — rsruckig tolerates an end-position error of up to 1e-8, which the
+/// exact end state would turn into a position step (a jerk spike) in the last cycle — and the
+/// polished profile is kept if it passes the same check. A plan that violates a limit is never
+/// returned: [`PlanError::LimitViolation`]. That happens only for a start state outside the
+/// move's limits (|a0|, |v0| or the velocity reached while ramping a0 to zero above them: a
+/// moving axis re-targeted with lower limits), and re-planning such a move with a longer
+/// duration, phase synchronisation or per axis does not find a plan within the limits either.
 ///
 /// Allocates (rsruckig dynamic-DoF mode); call it off the RT thread.
 pub fn plan_move(axes: &[MoveAxis]) -> Result<PlannedMove, PlanError> {
     validate(axes)?;
-    let n = axes.len();
-    let mut input = ruckig_input(axes);
     let mut targets = [0.0; MAX_MOVE_AXES];
     for (slot, axis) in targets.iter_mut().zip(axes) {
         *slot = axis.target;
     }
-
-    let mut trajectory = calculate(&input)?;
-    let first = match finish(&mut trajectory, axes) {
-        Ok(()) => return Ok(PlannedMove::new(trajectory, n, targets)),
-        Err(v) => v,
-    };
-
-    // 1. Slightly longer, still time-synchronised.
-    let base = trajectory.get_duration();
-    let mut longest = base;
-    for factor in RETRY_DURATION_FACTORS {
-        input.minimum_duration = Some(base * factor);
-        if let Some(t) = attempt(&input, axes) {
-            return Ok(PlannedMove::new(t, n, targets));
-        }
-        longest = base * factor;
-    }
-    // 2. Phase synchronisation.
-    input.minimum_duration = None;
-    input.synchronization = Synchronization::Phase;
-    if let Some(t) = attempt(&input, axes) {
-        return Ok(PlannedMove::new(t, n, targets));
-    }
-    // 3. Each axis on its own, all stretched to the longest duration tried.
-    if let Some(t) = attempt_per_axis(axes, longest) {
-        return Ok(PlannedMove::new(t, n, targets));
-    }
-    Err(PlanError::LimitViolation {
-        axis: first.axis,
-        quantity: first.quantity,
-        value: first.value,
-        limit: first.limit,
-    })
+    let mut trajectory = calculate(&ruckig_input(axes))?;
+    finish(&mut trajectory, axes)?;
+    Ok(PlannedMove::new(trajectory, axes.len(), targets))
 }
 
 /// rsruckig input for a time-synchronised move of `axes` to rest.
@@ -285,38 +207,6 @@ fn finish(trajectory: &mut Trajectory<0>, axes: &[MoveAxis]) -> Result<(), Viola
     trajectory.duration = duration;
     trajectory.cumulative_times[0] = duration;
     Ok(())
-}
-
-/// One fallback plan: `Some` if rsruckig plans it and it passes [`finish`].
-fn attempt(input: &InputParameter<0>, axes: &[MoveAxis]) -> Option<Trajectory<0>> {
-    let mut trajectory = calculate(input).ok()?;
-    finish(&mut trajectory, axes).ok()?;
-    Some(trajectory)
-}
-
-/// Last fallback: plans each axis alone (no synchronisation between axes: the equivalent of
-/// per-axis `Synchronization::None`), each stretched to `minimum_duration` (a one-DoF
-/// time-synchronised plan; rsruckig ignores `minimum_duration` for a `None` DoF), and
-/// combines the profiles into one trajectory (its duration is the longest axis duration).
-fn attempt_per_axis(axes: &[MoveAxis], minimum_duration: f64) -> Option<Trajectory<0>> {
-    let n = axes.len();
-    let mut combined = Trajectory::<0>::new(Some(n));
-    let mut duration = 0.0_f64;
-    for (i, axis) in axes.iter().enumerate() {
-        let mut input = ruckig_input(core::slice::from_ref(axis));
-        input.minimum_duration = Some(minimum_duration);
-        let single = calculate(&input).ok()?;
-        if single.profiles.len() != 1 {
-            return None;
-        }
-        combined.profiles[0][i] = single.profiles[0][0];
-        combined.independent_min_durations[i] = single.independent_min_durations[0];
-        duration = duration.max(single.get_duration());
-    }
-    combined.duration = duration;
-    combined.cumulative_times[0] = duration;
-    finish(&mut combined, axes).ok()?;
-    Some(combined)
 }
 
 /// Checks the move's shape and every axis' numbers before handing them to rsruckig.
@@ -415,6 +305,7 @@ impl PlannedMove {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::limits::KinematicLimits;
 
     const L: KinematicLimits = KinematicLimits {
         velocity: 1.0,
@@ -470,45 +361,6 @@ mod tests {
         }; 5];
         assert_eq!(m.state_at(0.1, &mut big), 3);
         assert_eq!(big[3].position, 9.0);
-    }
-
-    #[test]
-    fn per_axis_fallback_is_synchronised_and_exact() {
-        let axes = [
-            axis(1.0),
-            MoveAxis {
-                start: AxisState {
-                    position: 0.5,
-                    velocity: 0.3,
-                    acceleration: -1.0,
-                },
-                target: -0.2,
-                limits: L,
-            },
-        ];
-        let normal = plan_move(&axes).unwrap();
-        let t = attempt_per_axis(&axes, normal.duration() * 1.01).unwrap();
-        let m = PlannedMove::new(
-            t,
-            2,
-            [
-                1.0, -0.2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-            ],
-        );
-        let d = m.duration();
-        assert!((d - normal.duration() * 1.01).abs() < 1e-9, "{d}");
-        let mut s = [AxisState::default(); 2];
-        m.state_at(0.0, &mut s);
-        assert_eq!(s[1], axes[1].start);
-        m.state_at(d * (1.0 - 1e-12), &mut s);
-        assert!(
-            (s[0].position - 1.0).abs() < 1e-9 && (s[1].position + 0.2).abs() < 1e-9,
-            "{s:?}"
-        );
-        for p in m.trajectory.profiles[0].iter() {
-            // Both axes are stretched to the common duration.
-            assert!((p.brake.duration + p.t_sum[6] - d).abs() < 1e-9);
-        }
     }
 
     #[test]

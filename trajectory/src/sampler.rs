@@ -2,7 +2,8 @@
 
 use thiserror::Error;
 
-use crate::planner::{AxisState, PlannedMove};
+use crate::axis::AxisState;
+use crate::planner::PlannedMove;
 
 /// Relative slack when counting cycles, so that a duration that is a whole number of periods
 /// up to rounding (e.g. 0.5 s / 1 ms = 500.0000000001) does not get an extra cycle.
@@ -95,8 +96,9 @@ impl MoveSampler {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::axis::MoveAxis;
     use crate::limits::KinematicLimits;
-    use crate::planner::{plan_move, MoveAxis};
+    use crate::planner::plan_move;
 
     fn plan(target: f64) -> PlannedMove {
         plan_move(&[MoveAxis {

@@ -1,29 +1,17 @@
-//! Post-processing of rsruckig trajectories: end-state polish and limit verification.
+//! The checks between rsruckig and a [`crate::PlannedMove`]: every planned profile is verified
+//! against the move's limits, and each axis' end state is polished onto its target.
 //!
-//! # Finding (proptest `random_moves_respect_limits`, regression test
-//! `regression_stretched_axis_end_gap_jerk`)
-//!
-//! A two-axis move failed the finite-difference jerk check on axis 0 (≈ 31 vs the limit 27.8)
-//! in the *last* sampled cycle. rsruckig's profile for that axis — the stretched, time
-//! synchronised one (step 2) — is within every limit: all phase jerks are exactly
-//! ±27.796…, the plateau acceleration is 6.7 < 21.5 and the cruise velocity 0.0066. Neither is
-//! our sampling wrong: `state_at` integrates the stored phases exactly. The profile ends at
-//! `p[7] = -0.964841734424` instead of the target `-0.964841730895`, a gap of 3.5e-9. rsruckig
-//! accepts step-2 solutions whose end position is off by up to its `P_PRECISION` (1e-8) and
-//! whose end velocity/acceleration are off by up to 1e-8/1e-10. Our move ends exactly at the
-//! target (`state_at(t >= duration)` snaps to it), so the gap became a position step in the
-//! last cycle, i.e. an extra `gap / dt³` = 3.5 unit/s³ of jerk at 1 ms (1800 unit/s³ at
-//! 125 µs). Gaps of tens of ulps are common and gaps of 1e-10 and more occur in a few percent
-//! of random multi-axis moves; re-planning with another duration or with phase
-//! synchronisation does not reliably shrink them.
-//!
-//! Fix: [`polish_end_state`] closes the gap with a few Newton steps on the phase durations
-//! (jerks, phase structure and the axis' total duration unchanged), so the trajectory itself
-//! ends at the target to rounding. [`verify_axis`] checks rsruckig's profiles and the polished
-//! ones against the limits; a polished profile is kept only if it passes, and the planner
-//! re-plans with fallback strategies if rsruckig's own plan fails. Across 3 × 1024 random
-//! proptest moves neither a fallback nor a rejected polish occurred; after polishing the end
-//! gap was 0 ulp (median), ≈ 1 ulp (99th percentile), < 8 ulp (max).
+//! * [`verify_axis`]: a move is sampled into setpoints the drives follow, so a plan must never
+//!   exceed a limit, whatever the solver returns; a plan that does is refused
+//!   ([`crate::PlanError::LimitViolation`]), loudly, instead of being sampled.
+//! * [`polish_end_state`]: rsruckig accepts profiles that end off the target by up to its
+//!   position precision (1e-8; end velocity and acceleration up to 1e-8 and 1e-10), while a
+//!   planned move ends exactly at the target ([`crate::PlannedMove::state_at`]). The gap would
+//!   be a position step in the last cycle, an extra jerk of `gap / dt³` (a gap of 3.5e-9 is
+//!   3.5 unit/s³ at 1 ms, 1 800 unit/s³ at 125 µs; `regression_stretched_axis_end_gap_jerk` in
+//!   `tests/motion.rs`). Polishing changes phase durations only (jerks and phase structure
+//!   unchanged), so that the profile itself ends at the target to rounding; the polished
+//!   profile is kept only if it passes [`verify_axis`] too.
 
 // `!(x > y)` is deliberate throughout: NaN must fail the check. Phase arrays are indexed in
 // lock-step (t, j, a, v, p), which reads better with indices.
@@ -32,8 +20,8 @@
 use rsruckig::brake::BrakeProfile;
 use rsruckig::prelude::Profile;
 
+use crate::axis::MoveAxis;
 use crate::limits::Quantity;
-use crate::planner::MoveAxis;
 
 /// Relative slack on every limit check (solver and polish round-off).
 pub(crate) const LIMIT_TOLERANCE: f64 = 1e-9;
@@ -348,8 +336,8 @@ pub(crate) fn verify_axis(axis: usize, profile: &Profile, m: &MoveAxis) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::axis::AxisState;
     use crate::limits::KinematicLimits;
-    use crate::planner::AxisState;
     use rsruckig::prelude::{
         InputParameter, Ruckig, Synchronization, ThrowErrorHandler, Trajectory,
     };

@@ -4,7 +4,8 @@
 
 use rsruckig::prelude::{Ruckig, RuckigResult, ThrowErrorHandler, Trajectory};
 
-use crate::planner::{ruckig_input, AxisState, MoveAxis, PlanError, PlannedMove, MAX_MOVE_AXES};
+use crate::axis::{AxisState, MoveAxis};
+use crate::planner::{ruckig_input, PlanError, PlannedMove, MAX_MOVE_AXES};
 use crate::verify::verify_axis;
 
 /// Most intermediate positions of one waypoint move.
@@ -79,12 +80,7 @@ pub fn plan_waypoints(axes: &[MoveAxis], via: &[Vec<f64>]) -> Result<PlannedMove
     }
     for section in &trajectory.profiles {
         for (i, (profile, axis)) in section.iter().zip(axes).enumerate() {
-            verify_axis(i, profile, axis).map_err(|v| PlanError::LimitViolation {
-                axis: v.axis,
-                quantity: v.quantity,
-                value: v.value,
-                limit: v.limit,
-            })?;
+            verify_axis(i, profile, axis)?;
         }
     }
     Ok(PlannedMove::new(trajectory, n, targets))

@@ -1,37 +1,10 @@
 //! Evaluating a planned move does not allocate (counting global allocator, this thread only).
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
+use cellrt_test_support::counting_alloc::{thread_heap_calls, CountingAllocator};
 use cellrt_trajectory::{plan_move, AxisState, KinematicLimits, MoveAxis, MoveSampler};
 
-struct Counting;
-
-thread_local! {
-    static ALLOCS: Cell<u64> = const { Cell::new(0) };
-}
-
-// SAFETY: forwards to the system allocator; only counts calls.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocs() -> u64 {
-    ALLOCS.with(|c| c.get())
-}
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn sampling_does_not_allocate() {
@@ -51,21 +24,21 @@ fn sampling_does_not_allocate() {
             limits,
         })
         .collect();
-    let before_plan = allocs();
+    let before_plan = thread_heap_calls();
     let plan = plan_move(&axes).unwrap();
     assert!(
-        allocs() > before_plan,
+        thread_heap_calls() > before_plan,
         "counter must see the planner's allocations"
     );
     let sampler = MoveSampler::new(plan, 125e-6).unwrap();
     let mut out = [AxisState::default(); 6];
     let mut checksum = 0.0;
-    let before = allocs();
+    let before = thread_heap_calls();
     for k in 0..=sampler.cycles() + 10 {
         sampler.fill(k, &mut out);
         checksum += out[5].position;
     }
     sampler.plan().state_at(f64::NAN, &mut out);
-    assert_eq!(allocs(), before);
+    assert_eq!(thread_heap_calls(), before);
     assert!(checksum.is_finite());
 }

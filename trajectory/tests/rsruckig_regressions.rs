@@ -7,24 +7,12 @@
 //! The reference durations were taken from the official library; with the `ruckig-oracle`
 //! feature, `reference_durations_are_the_official_ones` recomputes them.
 
-use rsruckig::prelude::{
-    InputParameter, Ruckig, RuckigResult, Synchronization, ThrowErrorHandler, Trajectory,
-};
-use rsruckig::util::DataArrayOrVec;
+#[path = "common/ruckig_problem.rs"]
+mod ruckig_problem;
 
-/// One DoF of a problem: current state, target state and limits.
-#[derive(Debug, Clone, Copy)]
-struct Dof {
-    p0: f64,
-    v0: f64,
-    a0: f64,
-    pf: f64,
-    vf: f64,
-    af: f64,
-    vmax: f64,
-    amax: f64,
-    jmax: f64,
-}
+use rsruckig::prelude::{Ruckig, RuckigResult, ThrowErrorHandler, Trajectory};
+use rsruckig::util::DataArrayOrVec;
+use ruckig_problem::{close, rsruckig_input, Dof};
 
 /// A problem and the official library's trajectory duration for it.
 struct Case {
@@ -227,26 +215,10 @@ const CASES: [&Case; 8] = [
     &SYNC_CUBIC,
 ];
 
-fn close(a: f64, b: f64, tol: f64) -> bool {
-    (a - b).abs() <= tol * 1f64.max(a.abs()).max(b.abs())
-}
-
 /// Plans `case` with rsruckig (time synchronization) and checks duration and end state.
 fn check(case: &Case) {
     let n = case.dofs.len();
-    let mut inp = InputParameter::<0>::new(Some(n));
-    inp.synchronization = Synchronization::Time;
-    for (i, d) in case.dofs.iter().enumerate() {
-        inp.current_position[i] = d.p0;
-        inp.current_velocity[i] = d.v0;
-        inp.current_acceleration[i] = d.a0;
-        inp.target_position[i] = d.pf;
-        inp.target_velocity[i] = d.vf;
-        inp.target_acceleration[i] = d.af;
-        inp.max_velocity[i] = d.vmax;
-        inp.max_acceleration[i] = d.amax;
-        inp.max_jerk[i] = d.jmax;
-    }
+    let inp = rsruckig_input(case.dofs);
     let mut ruckig = Ruckig::<0, ThrowErrorHandler>::new(Some(n), 1e-3);
     let mut traj = Trajectory::<0>::new(Some(n));
     let result = ruckig.calculate(&inp, &mut traj);
@@ -348,18 +320,7 @@ fn time_synchronization_through_a_cubic_with_zero_constant_term() {
 fn reference_durations_are_the_official_ones() {
     for case in CASES {
         let n = case.dofs.len();
-        let mut inp = ruckig::InputParameter::new(n);
-        for (i, d) in case.dofs.iter().enumerate() {
-            inp.current_position[i] = d.p0;
-            inp.current_velocity[i] = d.v0;
-            inp.current_acceleration[i] = d.a0;
-            inp.target_position[i] = d.pf;
-            inp.target_velocity[i] = d.vf;
-            inp.target_acceleration[i] = d.af;
-            inp.max_velocity[i] = d.vmax;
-            inp.max_acceleration[i] = d.amax;
-            inp.max_jerk[i] = d.jmax;
-        }
+        let mut inp = ruckig_problem::official_input(case.dofs);
         let mut of = ruckig::Ruckig::new_direct(n, 1e-3);
         let mut traj = ruckig::Trajectory::new_direct(n);
         assert_eq!(

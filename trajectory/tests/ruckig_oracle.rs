@@ -21,26 +21,15 @@
 
 #![cfg(feature = "ruckig-oracle")]
 
+#[path = "common/ruckig_problem.rs"]
+mod ruckig_problem;
+
 use proptest::prelude::*;
 use rsruckig::prelude::{
-    InputParameter as RsInput, Ruckig as RsRuckig, RuckigResult, Synchronization as RsSync,
-    ThrowErrorHandler, Trajectory as RsTrajectory,
+    Ruckig as RsRuckig, RuckigResult, ThrowErrorHandler, Trajectory as RsTrajectory,
 };
 use rsruckig::util::DataArrayOrVec;
-
-/// One DoF of a problem: current state, target state and limits.
-#[derive(Debug, Clone)]
-struct Dof {
-    p0: f64,
-    v0: f64,
-    a0: f64,
-    pf: f64,
-    vf: f64,
-    af: f64,
-    vmax: f64,
-    amax: f64,
-    jmax: f64,
-}
+use ruckig_problem::{close, official_input, rsruckig_input, Dof};
 
 /// The largest |a| a state with velocity `v` may have so that it can still reach zero acceleration
 /// within the velocity limit (jerk `jmax`, either sign): |v| + a²/(2 jmax) ≤ vmax.
@@ -77,10 +66,6 @@ fn dof() -> impl Strategy<Value = Dof> {
         })
 }
 
-fn close(a: f64, b: f64, tol: f64) -> bool {
-    (a - b).abs() <= tol * 1f64.max(a.abs()).max(b.abs())
-}
-
 proptest! {
     #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
 
@@ -93,31 +78,8 @@ proptest! {
 
 fn compare(dofs: &[Dof]) -> Result<(), TestCaseError> {
     let n = dofs.len();
-    // rsruckig.
-    let mut rs_in = RsInput::<0>::new(Some(n));
-    rs_in.synchronization = RsSync::Time;
-    // Official.
-    let mut of_in = ruckig::InputParameter::new(n);
-    for (i, d) in dofs.iter().enumerate() {
-        rs_in.current_position[i] = d.p0;
-        rs_in.current_velocity[i] = d.v0;
-        rs_in.current_acceleration[i] = d.a0;
-        rs_in.target_position[i] = d.pf;
-        rs_in.target_velocity[i] = d.vf;
-        rs_in.target_acceleration[i] = d.af;
-        rs_in.max_velocity[i] = d.vmax;
-        rs_in.max_acceleration[i] = d.amax;
-        rs_in.max_jerk[i] = d.jmax;
-        of_in.current_position[i] = d.p0;
-        of_in.current_velocity[i] = d.v0;
-        of_in.current_acceleration[i] = d.a0;
-        of_in.target_position[i] = d.pf;
-        of_in.target_velocity[i] = d.vf;
-        of_in.target_acceleration[i] = d.af;
-        of_in.max_velocity[i] = d.vmax;
-        of_in.max_acceleration[i] = d.amax;
-        of_in.max_jerk[i] = d.jmax;
-    }
+    let rs_in = rsruckig_input(dofs);
+    let mut of_in = official_input(dofs);
     let mut rs = RsRuckig::<0, ThrowErrorHandler>::new(Some(n), 1e-3);
     let mut rs_traj = RsTrajectory::<0>::new(Some(n));
     let rs_result = rs.calculate(&rs_in, &mut rs_traj);

@@ -1,0 +1,6 @@
+//! Test-only helpers shared by the cellrt crates (a dev-dependency, never linked into a
+//! shipped binary).
+
+#![warn(missing_docs)]
+
+pub mod counting_alloc;

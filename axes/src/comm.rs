@@ -2,7 +2,7 @@
 //! intermittent error detector and the master side of the MR-J3-T04 incremental counter.
 //!
 //! The MR-J3-T04 manual says a counter error raises its alarm when it happens "consecutively or
-//! frequently more than a regulated level" without giving the level (mr-j3-t04.md §6.4, errata
+//! frequently more than a regulated level" without giving the level (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7, errata
 //! #3). The thresholds here are therefore named parameters with documented **placeholder**
 //! defaults, not facts about the drive. Everything is allocation-free and clock-free.
 
@@ -21,7 +21,7 @@ pub struct DetectorParams {
 /// Largest supported [`DetectorParams::intermittent`].
 pub const MAX_INTERMITTENT: u8 = 16;
 
-/// Placeholder: 3 bad cycles in a row are a continuous error (mr-j3-t04.md §6.4 suggestion;
+/// Placeholder: 3 bad cycles in a row are a continuous error (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7 suggestion;
 /// **not from the manual**).
 pub const DEFAULT_CONTINUOUS_ERRORS: u32 = 3;
 /// Placeholder: 3 bad cycles …
@@ -118,7 +118,7 @@ impl ErrorDetector {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct CounterParams {
     /// Echo lag L in cycles: the echo read after exchange k answers the value sent in exchange
-    /// k − L. The manual's timing figure is lost (mr-j3-t04.md §6.2, errata #4); default 1, the
+    /// k − L. The manual's timing figure is lost (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7, errata #4); default 1, the
     /// simulator's default too. At most [`MAX_ECHO_LAG`].
     pub echo_lag: u8,
     /// Thresholds for continuous and intermittent echo errors.
@@ -128,7 +128,7 @@ pub struct CounterParams {
 /// Largest supported echo lag.
 pub const MAX_ECHO_LAG: u8 = 3;
 
-/// Default echo lag L = 1 (mr-j3-t04.md §6.2 (inferred), configurable).
+/// Default echo lag L = 1 (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7 (inferred), configurable).
 pub const DEFAULT_ECHO_LAG: u8 = 1;
 
 impl Default for CounterParams {
@@ -177,7 +177,7 @@ impl CounterVerdict {
     }
 }
 
-/// Master side of the 8-bit incremental counter (2020h out, 2021h back; mr-j3-t04.md §6.2).
+/// Master side of the 8-bit incremental counter (2020h out, 2021h back; MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7).
 ///
 /// Each cycle the RT loop calls [`IncrementalCounter::check_rx`] with the echo of the TxPDO it
 /// just read, then [`IncrementalCounter::next_tx`] for the RxPDO it writes. Allocation-free.

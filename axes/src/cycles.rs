@@ -1,7 +1,7 @@
 //! Bus-cycle counts and the communication cycle time.
 //!
 //! The cycle times are the seven PDO cycles of the Mitsubishi CoE drives
-//! (mr-j5-g-n1.md §1.3 / manual §2.1, §6.2).
+//! (MR-J5-G-N1 manual §2.1, §4.1, §6.2, §6.3, §6.2).
 
 use std::fmt;
 use std::time::Duration;
@@ -28,7 +28,7 @@ impl fmt::Display for Cycles {
     }
 }
 
-/// The PDO cycle times accepted by the drives, in µs (0.125 … 8 ms; mr-j5-g-n1.md §1.3).
+/// The PDO cycle times accepted by the drives, in µs (0.125 … 8 ms; MR-J5-G-N1 manual §2.1, §4.1, §6.2, §6.3).
 pub const ALLOWED_MICROS: [u32; 7] = [125, 250, 500, 1000, 2000, 4000, 8000];
 
 /// A validated communication cycle time (one of [`ALLOWED_MICROS`]).

@@ -1,5 +1,5 @@
 //! FSoE (Safety over EtherCAT) safety process data, master side, at the level the MR-JET-G-N1
-//! manual describes it (mr-jet-g-n1.md §5.4, §7; manual §9.3).
+//! manual describes it (MR-JET-G-N1 manual §4.3, §9.3, §7; manual §9.3).
 //!
 //! What is modelled: the 11-byte frames of the safety PDOs 1608h (master → slave) and 1A08h
 //! (slave → master) with their byte layout ([`FsoeFrame`]), the SafeData bit assignment in both
@@ -34,10 +34,10 @@ pub enum FsoeError {
         /// The model.
         model: DriveModel,
     },
-    /// The watchdog is below the minimum configurable value (mr-jet-g-n1.md §7.3).
+    /// The watchdog is below the minimum configurable value (MR-JET-G-N1 manual §9.3).
     #[error(
         "FSoE watchdog {watchdog_ms} ms refused: the minimum is {minimum_ms} ms \
-         (T_Ref + 4 × T_Com, mr-jet-g-n1.md §7.3)"
+         (T_Ref + 4 × T_Com, MR-JET-G-N1 manual §9.3)"
     )]
     WatchdogTooShort {
         /// The configured watchdog, ms.
@@ -45,10 +45,10 @@ pub enum FsoeError {
         /// The minimum, ms.
         minimum_ms: u32,
     },
-    /// The PDO cycle is too short for FSoE (mr-jet-g-n1.md §1.3, [inferred]).
+    /// The PDO cycle is too short for FSoE (MR-JET-G-N1 manual §2.1, §4.1, §6.2, §6.3, [inferred]).
     #[error(
         "FSoE needs a PDO cycle of at least {minimum_us} µs; the cycle is {cycle_us} µs \
-         (mr-jet-g-n1.md §1.3)"
+         (MR-JET-G-N1 manual §2.1, §4.1, §6.2, §6.3)"
     )]
     CycleTooShort {
         /// The cycle, µs.
@@ -58,7 +58,7 @@ pub enum FsoeError {
     },
     /// The FSoE slave address is outside PSC07's range.
     #[error(
-        "FSoE slave address {address} is outside {min}..={max} ([Pr. PSC07], mr-jet-g-n1.md §7.1)"
+        "FSoE slave address {address} is outside {min}..={max} ([Pr. PSC07], MR-JET-G-N1 manual §9.3)"
     )]
     AddressOutOfRange {
         /// The address.
@@ -70,7 +70,7 @@ pub enum FsoeError {
     },
     /// A safety PDO image of the wrong size.
     #[error(
-        "FSoE frame of {actual} bytes; the safety PDO holds {expected} bytes (mr-jet-g-n1.md §5.4)"
+        "FSoE frame of {actual} bytes; the safety PDO holds {expected} bytes (MR-JET-G-N1 manual §4.3, §9.3)"
     )]
     FrameLength {
         /// Bytes the safety PDO holds.
@@ -93,19 +93,19 @@ pub enum FsoeError {
     },
     /// [Pr. PSA01.0] = 0: safety sub-functions are disabled on the slave.
     #[error(
-        "FSoE refused: safety sub-functions are disabled ([Pr. PSA01.0] = 0, mr-jet-g-n1.md §7.1)"
+        "FSoE refused: safety sub-functions are disabled ([Pr. PSA01.0] = 0, MR-JET-G-N1 manual §9.3)"
     )]
     SafetyDisabled,
     /// [Pr. PSA01.1] = 0: safety sub-functions are controlled by input devices, not the network.
     #[error(
         "FSoE refused: [Pr. PSA01.1] = 0 (safety sub-functions by input devices); set 1 for \
-         network control (mr-jet-g-n1.md §7.1)"
+         network control (MR-JET-G-N1 manual §9.3)"
     )]
     NotNetworkMode,
 }
 
 /// The safety sub-functions the master asks for; `true` = **activate** the function (the wire
-/// bit is then 0, mr-jet-g-n1.md §7.2). [`SafetyRequest::RUN`] cancels them all.
+/// bit is then 0, MR-JET-G-N1 manual §9.3). [`SafetyRequest::RUN`] cancels them all.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct SafetyRequest {
     /// STO (safe torque off).
@@ -150,7 +150,7 @@ impl SafetyRequest {
     };
 }
 
-/// The slave's SafeData status (mr-jet-g-n1.md §7.2); `true` = active / present.
+/// The slave's SafeData status (MR-JET-G-N1 manual §9.3); `true` = active / present.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct SafetyStatus {
     /// STOS: STO active, energy cut.
@@ -315,7 +315,7 @@ fn check_len(layout: &FsoeFrameLayout, actual: usize) -> Result<(), FsoeError> {
     }
 }
 
-/// The FSoE Connection Parameter Set the master sends during start-up (mr-jet-g-n1.md §7.1
+/// The FSoE Connection Parameter Set the master sends during start-up (MR-JET-G-N1 manual §9.3
 /// item 4), plus the slave address the connection is opened with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ConnectionParams {
@@ -331,7 +331,7 @@ pub struct ConnectionParams {
     pub app_param_len: u16,
 }
 
-/// How the master derives the minimum watchdog (mr-jet-g-n1.md §7.3).
+/// How the master derives the minimum watchdog (MR-JET-G-N1 manual §9.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum WatchdogRule {
     /// The manual's minimum configurable value, T_Ref + 4 × T_Com = 16 ms, at every cycle.
@@ -486,7 +486,7 @@ impl FsoeMaster {
     }
 
     /// Asks for errors to be cleared: the next frames carry an Error Ack 0→1 edge (a 0 first if
-    /// the last frame had the bit set), then the bit returns to 0 (mr-jet-g-n1.md §7.2, TV-12:
+    /// the last frame had the bit set), then the bit returns to 0 (MR-JET-G-N1 manual §9.3, TV-12:
     /// 0x63 followed by 0xE3).
     pub fn acknowledge_errors(&mut self) {
         self.ack_pending = true;

@@ -1,5 +1,5 @@
 //! Multi-axis amplifiers (MR-J5W2/W3-G-N1) as one EtherCAT SubDevice each, against the
-//! in-process emulator (mr-j5-g-n1.md §1.5): bring-up to OP, the per-axis PDO mapping objects
+//! in-process emulator (MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4): bring-up to OP, the per-axis PDO mapping objects
 //! read back by SDO at the offset indexes, TV-2 (axis B enabled, axis A untouched), TV-6/TV-7
 //! (0.125 ms refused, a J5W3 at 0.25 ms with 72 bytes of RxPDO), TV-8 (pv/tq refused), and the
 //! refusal of inconsistent amplifier labels and slots.
@@ -359,7 +359,7 @@ fn inconsistent_amplifier_labels_and_slots_are_refused_by_name() {
     }
 }
 
-/// mr-j5-g-n1.md §6.2, §1.5: an alarm of axis B of a J5W2 (and of axis C of a J5W3) is an
+/// MR-J5-G-N1 manual §5, §1.5: an alarm of axis B of a J5W2 (and of axis C of a J5W3) is an
 /// Emergency of that axis: the code is the axis' 603Fh (at its offset index 683Fh / 703Fh),
 /// the slot is named in manufacturer byte 0 (cellrt's emulator layout); the SDO read of the
 /// axis' 603Fh after it succeeds.

@@ -257,7 +257,7 @@ fn a_drive_whose_identity_is_not_its_configured_model_is_refused_by_name() {
 
 #[test]
 fn a_cycle_time_the_model_does_not_allow_is_refused_before_bring_up() {
-    // MR-J3-T04 runs 0.5, 1 and 2 ms only (mr-j3-t04.md §1.2).
+    // MR-J3-T04 runs 0.5, 1 and 2 ms only (MR-J3-T04 manual §1.1, §1.3, §8.4.2, §5.1).
     let cycle = CycleTime::from_micros(250).unwrap();
     let link = InProcessLink::new(segment(&[DriveModel::MrJ3T04], cycle));
     let e = bring_up_one(config(&[DriveModel::MrJ3T04], cycle), Box::new(link)).unwrap_err();
@@ -277,7 +277,7 @@ fn lost_frames_raise_the_drives_communication_alarm_and_count_on_the_master() {
         enable(&mut bus, &models, &mut counter),
         vec![Some(FsaState::OperationEnabled)]
     );
-    // MR-J3-T04: AL.36 after about 7 ms without RxPDO (mr-j3-t04.md §4); 20 frames lost.
+    // MR-J3-T04: AL.36 after about 7 ms without RxPDO (MR-J3-T04 manual §8.5, §8.6); 20 frames lost.
     assert!(bus.link_mut().drop_frames(20));
     for _ in 0..20 {
         assert_eq!(
@@ -300,7 +300,7 @@ fn lost_frames_raise_the_drives_communication_alarm_and_count_on_the_master() {
 
 /// A mapping other than the model's default, as a cell configuration gives it: the master writes
 /// it by SDO, the emulated drive takes it at SAFE-OP, and the process data follow it
-/// (mr-j3-t04.md TV-PDO-1's csv-only RxPDO; a shortened MR-J5-G-N1 TxPDO).
+/// (MR-J3-T04 TV-PDO-1 (docs/test-vectors.md)'s csv-only RxPDO; a shortened MR-J5-G-N1 TxPDO).
 #[test]
 fn a_variable_mapping_is_written_taken_by_the_drive_and_exchanged() {
     use cellrt_axes::PdoEntry;
@@ -999,11 +999,11 @@ fn a_link_lost_past_the_sm_watchdog_drops_the_subdevices_behind_it_to_safe_op_an
     );
 }
 
-/// mr-j4-tm.md §6.1: an alarm of an MR-J4-TM in OP is a CoE Emergency; the master sees SM1
+/// MR-J4-TM manual §4.1: an alarm of an MR-J4-TM in OP is a CoE Emergency; the master sees SM1
 /// full in its cyclic frame, reads it and names the axis and the 603Fh code; an SDO read of
 /// 603Fh afterwards, and one with an Emergency still waiting in SM1, both succeed (ethercrab
 /// 0.7.1 would panic on reading an Emergency as its SDO response, or silently discard it when
-/// clearing SM1). The MR-J3-T04 next to it sends none (mr-j3-t04.md §1.3).
+/// clearing SM1). The MR-J3-T04 next to it sends none (MR-J3-T04 manual §1.7, §8.2.2, §8.2.3).
 #[test]
 fn an_alarm_in_op_is_an_emergency_of_its_axis_and_sdo_reads_still_work() {
     use cellrt_axes::bus::MailboxNotice;

@@ -1,4 +1,4 @@
-//! The per-cycle calls allocate nothing (ARCHITECTURE.md "Rules of the RT thread" 1).
+//! The per-cycle calls allocate nothing (docs/architecture.md "Rules of the RT thread" 1).
 
 use cellrt_axes::{
     profile, AxisMaster, CycleTime, Cycles, CyclicBus, DriveModel, FaultInjection, MasterParams,
@@ -196,7 +196,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
     );
 }
 
-/// A multi-axis station (mr-j5-g-n1.md §1.5) on the cyclic path: the master splits the PDI per
+/// A multi-axis station (MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4) on the cyclic path: the master splits the PDI per
 /// axis and the emulated J5W3 runs each axis' drive on its part of the process data, without
 /// allocating; two of its three slots used, beside a 1-axis drive; the axes enabled, then the
 /// SubDevice stalled and its link lost for 5 frames each.

@@ -1,4 +1,4 @@
-//! Test vectors of mr-j4-tm.md §12, mr-jet-g-n1.md §11 and mr-j5-g-n1.md §11 against the
+//! Test vectors of MR-J4-TM manual, MR-JET-G-N1 manual and MR-J5-G-N1 manual against the
 //! simulated drives and the master. Vectors the Review logs mark "do not rely on" are tested
 //! only as the documented simulator default (named `*_configured_default`).
 

@@ -1,5 +1,5 @@
-//! Test vectors mr-jet-g-n1.md §11 TV-12 (FSoE: the safety process data of the MR-JET-G-N1
-//! and the master's side of it) and mr-j5-g-n1.md §11 TV-14 (the axis-selection switch SW3),
+//! Test vectors MR-JET-G-N1 TV-12 (docs/test-vectors.md) (FSoE: the safety process data of the MR-JET-G-N1
+//! and the master's side of it) and MR-J5-G-N1 TV-14 (docs/test-vectors.md) (the axis-selection switch SW3),
 //! against the simulated drives. Items the specs mark "not stated" / [inferred] are tested only
 //! as the simulator's named, documented parameters.
 
@@ -99,7 +99,7 @@ fn tv_14_setting_changed_at_run_time_raises_at_the_next_power_on() {
 
 #[test]
 fn tv_14_multi_axis_and_other_models_have_no_stated_sw3_rule() {
-    // mr-j5-g-n1.md §1.5: "Multi-axis SW3 settings are not given"; the other models have no SW3
+    // MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4: "Multi-axis SW3 settings are not given"; the other models have no SW3
     // rule in their manuals.
     for model in [
         DriveModel::MrJ5W2GN1,
@@ -115,7 +115,7 @@ fn tv_14_multi_axis_and_other_models_have_no_stated_sw3_rule() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// MR-JET-G-N1 TV-12: FSoE (mr-jet-g-n1.md §5.4, §7, §11 TV-12)
+// MR-JET-G-N1 TV-12: FSoE (MR-JET-G-N1 manual §4.3, §9.3, §7, §11 TV-12)
 // ---------------------------------------------------------------------------------------------
 
 const US: u32 = 1000;

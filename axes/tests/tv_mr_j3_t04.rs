@@ -1,4 +1,4 @@
-//! mr-j3-t04.md §12 test vectors against the simulated MR-J3-T04 (and the master where it
+//! MR-J3-T04 manual test vectors against the simulated MR-J3-T04 (and the master where it
 //! applies). Vectors needing models this crate does not have yet (main circuit/EM1, homing,
 //! stroke ends) are listed in the closing note, not faked here.
 

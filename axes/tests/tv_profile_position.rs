@@ -1,5 +1,5 @@
 //! Profile position mode (pp) of the simulated drives and the master-side mode change into csp:
-//! mr-j4-tm.md §12 TV-9, mr-j5-g-n1.md §11 TV-10, mr-jet-g-n1.md §11 TV-7, and pp basics on
+//! MR-J4-TM TV-9 (docs/test-vectors.md), MR-J5-G-N1 TV-10 (docs/test-vectors.md), MR-JET-G-N1 TV-7 (docs/test-vectors.md), and pp basics on
 //! MR-J5 / MR-JET (SDO-set 6081h/6083h/6084h, trapezoid, handshake, relative, set-point modes).
 
 mod common;

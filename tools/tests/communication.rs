@@ -1,5 +1,5 @@
 //! The master-side incremental counter on a drive that has one (MR-J3-T04, 2020h/2021h,
-//! mr-j3-t04.md §6.2): the counter runs and is recorded every cycle, and an injected counter
+//! MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7): the counter runs and is recorded every cycle, and an injected counter
 //! corruption is detected as a continuous error that stops the cell with the configured
 //! communication reaction.
 

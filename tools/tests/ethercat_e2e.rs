@@ -859,9 +859,9 @@ fn a_link_lost_past_the_sm_watchdog_is_recorded_as_the_subdevices_al_status() {
     );
 }
 
-/// mr-j4-tm.md §6.1: a drive alarm injected on y (MR-J4-TM) during the move is recorded as an
+/// MR-J4-TM manual §4.1: a drive alarm injected on y (MR-J4-TM) during the move is recorded as an
 /// `emergency` event of y with its code and error register, next to its `drive_fault`; the
-/// alarm on x (MR-J3-T04, no CoE Emergency, mr-j3-t04.md §1.3) is a `drive_fault` only.
+/// alarm on x (MR-J3-T04, no CoE Emergency, MR-J3-T04 manual §1.7, §8.2.2, §8.2.3) is a `drive_fault` only.
 #[test]
 fn an_injected_drive_alarm_is_recorded_as_the_axis_emergency() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());

@@ -101,7 +101,7 @@ fn run_model(e: Expect) {
     }
     // csp on x, csv on y: the mode sent and the mode displayed, and the targets reached.
     // 6061h reaches the recording only where the TxPDO maps it (not on MR-J3-T04, whose mode
-    // comes from parameter PO02 / an SDO write of 6060h, mr-j3-t04.md §3.9).
+    // comes from parameter PO02 / an SDO write of 6060h, MR-J3-T04 manual §8.4.2).
     let p = profile(e.model);
     let shows = |mode: i32, r: &cellrt_runtime::host::record::proto::AxisCycle| {
         !p.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY) || r.mode_display == mode

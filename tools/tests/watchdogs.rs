@@ -214,7 +214,7 @@ fn a_drive_fault_stops_the_other_axes_too() {
         .find(|e| e.kind == "drive_fault")
         .expect("drive fault event");
     assert_eq!(fault.axis, "y");
-    // MR-J5-G-N1's default TxPDO (1A00h) does not map 603Fh (mr-j5-g-n1.md §5.2): the
+    // MR-J5-G-N1's default TxPDO (1A00h) does not map 603Fh (MR-J5-G-N1 manual §4.3): the
     // master reads it once, acyclically, at the fault edge.
     assert_eq!(fault.value, 0x2220, "{}", fault.detail);
     assert!(fault.detail.contains("0x2220"), "{}", fault.detail);

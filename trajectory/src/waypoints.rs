@@ -1,6 +1,6 @@
 //! Waypoint sequences: one jerk-limited move from rest through intermediate positions to a
 //! target at rest, planned offline by rsruckig's waypoint calculator (never the official
-//! `ruckig` crate, which sends waypoint problems to a cloud service; ARCHITECTURE.md).
+//! `ruckig` crate, which sends waypoint problems to a cloud service; docs/architecture.md).
 
 use rsruckig::prelude::{Ruckig, RuckigResult, ThrowErrorHandler, Trajectory};
 

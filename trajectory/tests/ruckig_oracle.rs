@@ -1,7 +1,7 @@
 //! Differential test against the official Ruckig (C++ through the `ruckig` crate), behind the
 //! `ruckig-oracle` feature: on random feasible state-to-state problems of 1–8 DoF, rsruckig's
 //! trajectory duration matches within 1e-9 relative and the sampled states within 1e-9.
-//! Never with waypoints (the official crate sends those to a cloud service; ARCHITECTURE.md).
+//! Never with waypoints (the official crate sends those to a cloud service; docs/architecture.md).
 //!
 //! Run: `cargo test -p cellrt-trajectory --features ruckig-oracle --test ruckig_oracle`.
 //!

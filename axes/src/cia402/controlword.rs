@@ -1,6 +1,6 @@
 //! Controlword (6040h, U16): the master's command word.
 //!
-//! Bits from mr-j5-g-n1.md §3.3 / manual §7.2; commands from §3.2 / manual §7.1.
+//! Bits from MR-J5-G-N1 manual §7.2; commands from §7.1.
 
 use std::fmt;
 
@@ -154,7 +154,7 @@ mod tests {
 
     #[test]
     fn typical_words_decode_to_their_command() {
-        // mr-j5-g-n1.md §3.2 "Typical word" column.
+        // MR-J5-G-N1 manual §7.1 "Typical word" column.
         let cases = [
             (Controlword::SHUTDOWN, Command::Shutdown),
             (Controlword::SWITCH_ON, Command::SwitchOn),

@@ -1,10 +1,10 @@
 //! The CiA 402 power drive system (PDS) finite state automaton, drive side.
 //!
-//! Transitions from mr-j5-g-n1.md §3.1 / manual §7.1; shortcuts from §3.2.
+//! Transitions from MR-J5-G-N1 manual §7.1; shortcuts from §3.2.
 
 use super::controlword::{Command, Controlword};
 
-/// A PDS state (mr-j5-g-n1.md §3.1, §3.4), numbered from 1 in CiA 402 order (the number the
+/// A PDS state (MR-J5-G-N1 manual §7.1, §3.4), numbered from 1 in CiA 402 order (the number the
 /// recordings store, 0 being "unknown": `FsaState` in `runtime/proto/cellrt.proto`) and named
 /// in snake_case for logs, records and the operator ("operation_enabled").
 #[derive(
@@ -69,7 +69,7 @@ impl FsaState {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct FsaQuirks {
     /// One controlword jumps several states: SOD+Switch On → SO, SOD/RTSO+Enable Operation → OE
-    /// (mr-j5-g-n1.md §3.2 shortcut table).
+    /// (MR-J5-G-N1 manual §7.1 shortcut table).
     pub shortcut_transitions: bool,
     /// The drive has Quick stop active; without it a Quick Stop in OE acts as Disable Voltage (9)
     /// (MR-J3-T04 has no quick stop, statusword bit 5 always 1).
@@ -178,7 +178,7 @@ mod tests {
         drive_transition(s, Controlword(cw), CW0, q)
     }
 
-    /// (transition number, from, controlword, to), mr-j5-g-n1.md §3.1 with the §3.2 typical words.
+    /// (transition number, from, controlword, to), MR-J5-G-N1 manual §7.1 with the §3.2 typical words.
     const TRANSITIONS: [(u8, FsaState, u16, FsaState); 16] = [
         (2, SwitchOnDisabled, 0x0006, ReadyToSwitchOn),
         (3, ReadyToSwitchOn, 0x0007, SwitchedOn),

@@ -1,19 +1,19 @@
 //! Master-side homing in the drive's homing mode (hm), cycle-driven and allocation-free.
 //!
-//! The sequence is the one the MR-J5-G-N1 / MR-JET-G-N1 bring-up gives (mr-j5-g-n1.md §2.2
-//! step 5, mr-jet-g-n1.md §2.2): with the axis in Operation enabled, set 6060h = 6 and wait for
+//! The sequence is the one the MR-J5-G-N1 / MR-JET-G-N1 bring-up gives (MR-J5-G-N1 manual §8.3
+//! step 5, MR-JET-G-N1 manual §8.3): with the axis in Operation enabled, set 6060h = 6 and wait for
 //! 6061h = 6, start the method selected in 6098h with controlword bit 4 (homing operation
 //! start), wait for statusword bit 12 (homing attained) or bit 13 (homing error), then switch
 //! back to the cyclic mode and wait for 6061h to show it. 6098h itself is written acyclically
 //! before the start (the caller's job).
 //!
-//! Where the TxPDO does not map 6061h (MR-J3-T04, mr-j3-t04.md §3.9) the mode is taken to have
+//! Where the TxPDO does not map 6061h (MR-J3-T04, MR-J3-T04 manual §8.4.2) the mode is taken to have
 //! switched after [`HomingParams::mode_settle`] consecutive cycles at standstill (a drive
 //! changes a position mode only at zero speed, and statusword bit 12 means "following the
 //! command" in csp, so it must not be read as "homing attained" before the switch): the manual
 //! gives no figure, so this is a named parameter.
 //!
-//! A drive with home setting by Controlword2 (MR-J3-T04 C_CR / C_CR2, mr-j3-t04.md §8.3) is
+//! A drive with home setting by Controlword2 (MR-J3-T04 C_CR / C_CR2, MR-J3-T04 manual §8.11.6) is
 //! homed in its cyclic mode instead: raise the bit, wait for S_OSET (statusword2), drop the
 //! bit, wait for S_OSET to drop; the master then reads 607Ch (the caller's job). C_CR is the
 //! manual's "clear method" (§8.11.6.5): home = where the axis stands.
@@ -360,7 +360,7 @@ impl HomingSequencer {
                 HomingPhase::LeaveHm(Some(HomingFailure::NotEnabled))
             }
             // Bits 12/13 are read only after the start has been sent once (a previous
-            // homing's bit 12 is cleared by the start, mr-j4-tm.md §4.10).
+            // homing's bit 12 is cleared by the start, MR-J4-TM manual §5.4.9).
             HomingPhase::Running if self.in_phase > 1 && statusword.0 & HOMING_ERROR_BIT != 0 => {
                 HomingPhase::LeaveHm(Some(HomingFailure::DriveError))
             }

@@ -1,6 +1,6 @@
 //! The master-side sequencer: walks one drive's PDS to the state a request asks for.
 //!
-//! Controlword choices follow mr-j5-g-n1.md §3.1/§3.2; the fault-reset hold follows §2.4 / manual §7.1.
+//! Controlword choices follow MR-J5-G-N1 manual §7.1/§3.2; the fault-reset hold follows §7.1.
 //! Called once per cycle; allocation-free, no clock (time is counted in [`Cycles`]).
 
 use super::controlword::{Command, Controlword};
@@ -10,7 +10,7 @@ use crate::cycles::Cycles;
 
 /// What [`MasterRequest::QuickStop`] sends to a drive that has no quick stop (MR-J3-T04:
 /// "Masters must not use Quick stop on this drive. Use Disable operation, Shutdown or MSTOP",
-/// mr-j3-t04.md §3.3). The drive then does not ramp: the RT loop must bring the axis to a stop
+/// MR-J3-T04 manual §8.4.1(3)). The drive then does not ramp: the RT loop must bring the axis to a stop
 /// with its own setpoints (controlled stop) before requesting it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum QuickStopSubstitute {

@@ -1,6 +1,6 @@
 //! Modes of operation (6060h / 6061h).
 //!
-//! Values from mr-j5-g-n1.md §1.2 / manual §7.4.
+//! Values from MR-J5-G-N1 manual §1.1, §6.1, §7.4.
 
 use std::str::FromStr;
 

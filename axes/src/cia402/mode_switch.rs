@@ -1,6 +1,6 @@
 //! Master-side change of the mode of operation (6060h), cycle by cycle and allocation-free.
 //!
-//! The rules it follows (mr-j5-g-n1.md §4.3 / manual §7.4, mr-jet-g-n1.md §4.3, mr-j4-tm.md §4.1):
+//! The rules it follows (MR-J5-G-N1 manual §7.4, MR-JET-G-N1 manual §7.4, MR-J4-TM manual §5.4.2):
 //!
 //! 1. Switches into or out of a position mode, and between a cyclic and a profile mode, happen
 //!    only at zero speed (S_ZSP; otherwise the drive keeps 6061h). The procedure does not
@@ -12,7 +12,7 @@
 //! 3. The old mode's commands are kept until 6061h shows the new mode: the caller fills the
 //!    RxPDO as for the old mode every cycle and [`ModeSwitch::update`] overrides only 6060h, 607Ah
 //!    (csp) and controlword bit 4, which it holds at 0 ("switch only while the start command is
-//!    off", mr-jet-g-n1.md §4.3 rule 2; OMS bits are ignored until the switch has finished).
+//!    off", MR-JET-G-N1 manual §7.4 rule 2; OMS bits are ignored until the switch has finished).
 //! 4. A switch that 6061h has not confirmed within [`ModeSwitchParams::timeout`] cycles fails
 //!    with [`ModeSwitchError::Timeout`] and the request is withdrawn (6060h = the old mode); a
 //!    fault (statusword bit 3) fails it at once.
@@ -28,8 +28,8 @@ use crate::pdo::{RxPdo, TxPdo};
 const START_BIT: u16 = 1 << 4;
 
 /// True if a switch between `from` and `to` waits for zero speed (S_ZSP): a position mode on
-/// either side, or cyclic ↔ profile (mr-j5-g-n1.md §4.3 rules 4–5, mr-jet-g-n1.md §4.3 rule 5,
-/// mr-j4-tm.md §4.1).
+/// either side, or cyclic ↔ profile (MR-J5-G-N1 manual §7.4 rules 4–5, MR-JET-G-N1 manual §7.4 rule 5,
+/// MR-J4-TM manual §5.4.2).
 pub const fn switch_needs_zero_speed(from: ModeOfOperation, to: ModeOfOperation) -> bool {
     from.is_position() || to.is_position() || from.is_cyclic() != to.is_cyclic()
 }

@@ -1,6 +1,6 @@
 //! Statusword (6041h, U16): the drive's state report.
 //!
-//! Bits from mr-j5-g-n1.md §3.4 / manual §7.3.
+//! Bits from MR-J5-G-N1 manual §7.3.
 
 use std::fmt;
 
@@ -36,7 +36,7 @@ impl Statusword {
     }
 
     /// Decodes the PDS state as a master must: CiA 402 masks 0x004F / 0x006F, ignoring the
-    /// "undefined" bits 8 and 14 (mr-j5-g-n1.md §3.4). `None` for a pattern of no state.
+    /// "undefined" bits 8 and 14 (MR-J5-G-N1 manual §7.3). `None` for a pattern of no state.
     pub const fn state(self) -> Option<FsaState> {
         Self::decode(self.0 & MASK_NO_QS, self.0 & MASK_WITH_QS)
     }
@@ -188,7 +188,7 @@ mod tests {
     use super::*;
     use FsaState::*;
 
-    /// mr-j5-g-n1.md §3.4 decode table: (state, strict mask, value).
+    /// MR-J5-G-N1 manual §7.3 decode table: (state, strict mask, value).
     const TABLE: [(FsaState, u16, u16); 8] = [
         (NotReadyToSwitchOn, 0x414F, 0x0000),
         (SwitchOnDisabled, 0x414F, 0x0040),

@@ -22,7 +22,7 @@ const EMERGENCY_BODY_LEN: usize = 2 + 8;
 /// Bytes of an Emergency in the mailbox, headers included.
 pub const EMERGENCY_MAILBOX_LEN: usize = MAILBOX_HEADER_LEN + EMERGENCY_BODY_LEN;
 /// Which manufacturer-specific byte carries the axis slot of a multi-axis unit (0 = A, 1 = B,
-/// 2 = C): cellrt's choice, the manuals give no layout (mr-j5-g-n1.md §6.2 "codes not given").
+/// 2 = C): cellrt's choice, the manuals give no layout (MR-J5-G-N1 manual §5 "codes not given").
 pub const EMERGENCY_SLOT_BYTE: usize = 0;
 
 /// The CoE side of an Emergency: cellrt's emulated alarms and the mailbox bytes.

@@ -3,8 +3,8 @@
 
 use crate::profiles::{DriveModel, DriveProfile};
 
-/// Mitsubishi Electric's EtherCAT vendor ID (mr-j3-t04.md §1.1, manual §8.1(4): "A1Eh";
-/// mr-j4-tm.md §1.1 [EXT] gives the same value).
+/// Mitsubishi Electric's EtherCAT vendor ID (MR-J3-T04 manual §8.1(4), §1.4.1(3), manual §8.1(4): "A1Eh";
+/// MR-J4-TM manual [EXT] gives the same value).
 pub const MITSUBISHI_VENDOR_ID: u32 = 0x0000_0A1E;
 
 /// The vendor ID presented by the emulator, and expected by the master, for a generic CiA 402
@@ -56,8 +56,8 @@ pub struct SubDeviceIdentity {
 }
 
 /// The product code the emulator presents for a model whose manual gives none — a named
-/// placeholder, not Mitsubishi's value (the ESI files are not in `shared/seeds/`). MR-J4-TM
-/// uses the [EXT] value of mr-j4-tm.md §1.1 (0x201, unverified).
+/// placeholder, not Mitsubishi's value (no ESI file was available to cellrt). MR-J4-TM
+/// uses the [EXT] value of MR-J4-TM manual (0x201, unverified).
 pub const fn emulator_product_code(model: DriveModel) -> u32 {
     match model {
         DriveModel::MrJ3T04 => 0x0000_0102,

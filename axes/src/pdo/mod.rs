@@ -1,7 +1,7 @@
 //! Byte-exact process-data images: a PDO map declared as a table of entries, and the
 //! table-driven little-endian codec between images and the typed [`RxPdo`]/[`TxPdo`].
 //!
-//! Entry layout and sizes follow mr-j5-g-n1.md §5.2 / manual §4.3. The cyclic paths hold a
+//! Entry layout and sizes follow MR-J5-G-N1 manual §4.3. The cyclic paths hold a
 //! [`PdoLayout`] (the map resolved once); `PdoMap`'s own codec methods resolve it per call.
 
 mod layout;

@@ -1,5 +1,5 @@
 //! The typed views of the RxPDO and TxPDO images and the object indexes they carry
-//! (mr-j5-g-n1.md §5.2 and §6, axis-A indexes).
+//! (MR-J5-G-N1 manual §4.3 and §6, axis-A indexes).
 
 use crate::cia402::controlword::Controlword;
 use crate::cia402::statusword::Statusword;
@@ -10,9 +10,9 @@ pub const CONTROLWORD: u16 = 0x6040;
 pub const STATUSWORD: u16 = 0x6041;
 /// 603Fh Error code.
 pub const ERROR_CODE: u16 = 0x603F;
-/// 2001h Controlword2 (MR-J3-T04 control inputs C_TL, C_TL1, C_MSTOP…; mr-j3-t04.md §3.3).
+/// 2001h Controlword2 (MR-J3-T04 control inputs C_TL, C_TL1, C_MSTOP…; MR-J3-T04 manual §8.4.1(3)).
 pub const CONTROLWORD2: u16 = 0x2001;
-/// 2011h Statusword2 (MR-J3-T04 status outputs S_ZPAS, S_OSET…; mr-j3-t04.md §3.3).
+/// 2011h Statusword2 (MR-J3-T04 status outputs S_ZPAS, S_OSET…; MR-J3-T04 manual §8.4.1(3)).
 pub const STATUSWORD2: u16 = 0x2011;
 /// 6060h Modes of operation.
 pub const MODES_OF_OPERATION: u16 = 0x6060;
@@ -36,19 +36,19 @@ pub const HOMING_METHOD: u16 = 0x6098;
 pub const HOME_OFFSET: u16 = 0x607C;
 /// 60FFh Target velocity.
 pub const TARGET_VELOCITY: u16 = 0x60FF;
-/// 6081h Profile velocity (pp; mr-j4-tm.md §4.7).
+/// 6081h Profile velocity (pp; MR-J4-TM manual §5.4.6).
 pub const PROFILE_VELOCITY: u16 = 0x6081;
 /// 6083h Profile acceleration (pp/pv; a time constant in ms on the Mitsubishi drives, §4.7).
 pub const PROFILE_ACCELERATION: u16 = 0x6083;
 /// 6084h Profile deceleration (pp/pv; a time constant in ms, §4.7).
 pub const PROFILE_DECELERATION: u16 = 0x6084;
-/// 6067h Position window (pp target reached, mr-j4-tm.md §4.7).
+/// 6067h Position window (pp target reached, MR-J4-TM manual §5.4.6).
 pub const POSITION_WINDOW: u16 = 0x6067;
 /// 6068h Position window time, ms.
 pub const POSITION_WINDOW_TIME: u16 = 0x6068;
 /// 605Dh Halt option code.
 pub const HALT_OPTION_CODE: u16 = 0x605D;
-/// 60B0h Position offset (csp: the command is 607Ah + 60B0h; mr-j5-g-n1.md §4.3 rule 2).
+/// 60B0h Position offset (csp: the command is 607Ah + 60B0h; MR-J5-G-N1 manual §7.4 rule 2).
 pub const POSITION_OFFSET: u16 = 0x60B0;
 /// 2D20h Velocity limit value (cst/tq speed limit).
 pub const VELOCITY_LIMIT: u16 = 0x2D20;
@@ -56,11 +56,11 @@ pub const VELOCITY_LIMIT: u16 = 0x2D20;
 pub const TORQUE_LIMIT_POSITIVE: u16 = 0x60E0;
 /// 60E1h Negative torque limit value (0.1 % of rated torque).
 pub const TORQUE_LIMIT_NEGATIVE: u16 = 0x60E1;
-/// 2020h Incremental counter (RxPDO), MR-J3-T04 (mr-j3-t04.md §6).
+/// 2020h Incremental counter (RxPDO), MR-J3-T04 (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7).
 pub const INCREMENTAL_COUNTER_RX: u16 = 0x2020;
 /// 2021h Incremental counter (TxPDO), MR-J3-T04.
 pub const INCREMENTAL_COUNTER_TX: u16 = 0x2021;
-/// 2D23h Watch dog counter DL (RxPDO), MR-J4-TM (mr-j4-tm.md §8.3; rule in the missing §6.2).
+/// 2D23h Watch dog counter DL (RxPDO), MR-J4-TM (MR-J4-TM manual §6.2; rule in the missing §6.2).
 pub const WATCHDOG_COUNTER_DL: u16 = 0x2D23;
 /// 2D24h Watch dog counter UL (TxPDO), MR-J4-TM.
 pub const WATCHDOG_COUNTER_UL: u16 = 0x2D24;
@@ -73,7 +73,7 @@ pub const COUNTER_OBJECTS: [u16; 4] = [
 ];
 
 /// [`RxPdo`]'s default torque limit: 10000 = 1000.0 % of rated torque, the MR-J4-TM default of
-/// 60E0h/60E1h (mr-j4-tm.md §8.6), i.e. no limit below the drive's own maximum. A zero limit
+/// 60E0h/60E1h (MR-J4-TM manual §5.9), i.e. no limit below the drive's own maximum. A zero limit
 /// means "no torque" (§5.2 warning), so the default image must not be zero there.
 pub const DEFAULT_TORQUE_LIMIT: u16 = 10_000;
 

@@ -203,7 +203,7 @@ pub enum HomeReference {
 pub enum TorqueLimitSelection {
     /// 60E0h / 60E1h as received, in 0.1 % of rated torque (CiA 402).
     Objects,
-    /// MR-J3-T04 (mr-j3-t04.md §9.4, manual §8.14): Controlword2 bits C_TL / C_TL1 select
+    /// MR-J3-T04 (MR-J3-T04 manual §8.14, §1.2.1, manual §8.14): Controlword2 bits C_TL / C_TL1 select
     /// between the parameters PA11 (forward) / PA12 (reverse), PC35 (internal) and 60E0h/60E1h;
     /// each direction takes the lowest selected value.
     Controlword2 {
@@ -212,7 +212,7 @@ pub enum TorqueLimitSelection {
         /// Bit of 2001h that adds PC35 (C_TL1).
         c_tl1_bit: u8,
     },
-    /// MR-JET / MR-J5 torque limit 2 (mr-jet-g-n1.md §8.1/§9.1, mr-j5-g-n1.md §8): with
+    /// MR-JET / MR-J5 torque limit 2 (MR-JET-G-N1 manual §9.1/§9.1, MR-J5-G-N1 manual): with
     /// 2D6Dh:01 = 1, controlword bit CPTL / CNTL replaces 60E0h / 60E1h by 2D6Dh:02 / :03.
     TorqueLimit2 {
         /// Controlword bit selecting the forward limit 2 (CPTL, bit 11).
@@ -222,7 +222,7 @@ pub enum TorqueLimitSelection {
     },
 }
 
-/// A DIP-switch setting the amplifier refuses with an alarm (MR-J5-G-N1 SW3, mr-j5-g-n1.md §1.5
+/// A DIP-switch setting the amplifier refuses with an alarm (MR-J5-G-N1 SW3, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4
 /// and TV-14, manual §8 Point: on a 1-axis amplifier SW3-1 OFF with SW3-2 ON raises AL.011.2).
 /// The manual does not say what SW3 selects, nor when the setting is checked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -235,7 +235,7 @@ pub struct InvalidAxisSwitch {
     pub alarm: u16,
 }
 
-/// One bit of the FSoE SafeData (mr-jet-g-n1.md §7.2, manual §9.3): SafeData byte 0–3, bit
+/// One bit of the FSoE SafeData (MR-JET-G-N1 manual §9.3, manual §9.3): SafeData byte 0–3, bit
 /// 0–7, and the sub-index of its object (F701h for the master's commands, F601h for the
 /// slave's status).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -275,7 +275,7 @@ impl SafeBit {
 }
 
 /// The master's SafeData command bits (safety RxPDO 1608h, F701h): **0 activates** the
-/// function (safe state), 1 cancels it; Error Ack acts on its 0→1 edge (mr-jet-g-n1.md §7.2).
+/// function (safe state), 1 cancels it; Error Ack acts on its 0→1 edge (MR-JET-G-N1 manual §9.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct FsoeCommandBits {
     /// STOC, STO command.
@@ -295,7 +295,7 @@ pub struct FsoeCommandBits {
 }
 
 /// The slave's SafeData status bits (safety TxPDO 1A08h, F601h): **1 = function active**
-/// (mr-jet-g-n1.md §7.2).
+/// (MR-JET-G-N1 manual §9.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct FsoeStatusBits {
     /// STOS: STO active, energy cut.
@@ -318,7 +318,7 @@ pub struct FsoeStatusBits {
     pub slt: [SafeBit; 4],
 }
 
-/// Byte offsets of one FSoE frame in a safety PDO (mr-jet-g-n1.md §5.4): the same layout both
+/// Byte offsets of one FSoE frame in a safety PDO (MR-JET-G-N1 manual §4.3, §9.3): the same layout both
 /// ways (1608h master → slave, 1A08h slave → master).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct FsoeFrameLayout {
@@ -336,7 +336,7 @@ pub struct FsoeFrameLayout {
 
 /// What a model's manual states about FSoE (Safety over EtherCAT, ETG.5100): the safety PDOs,
 /// the SafeData bits, the objects, the watchdog and address rules (MR-JET-G-N1:
-/// mr-jet-g-n1.md §5.4, §6, §7). The ETG.5100 command byte, CRC and connection sequence are
+/// MR-JET-G-N1 manual §4.3, §9.3, §6, §7). The ETG.5100 command byte, CRC and connection sequence are
 /// not described by the manual (§7.1 item 5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct FsoeFacts {
@@ -604,7 +604,7 @@ pub struct EmergencyFacts {
 /// 1001h = 01h (generic error), manufacturer byte 0 = axis slot (0 = A), bytes 1–4 = 0.
 pub const EMERGENCY_LAYOUT: &str = "CiA 301 §7.2.7.3.1 and ETG.1000.6 §5.6.2.1 (error code, \
     error register, 5 manufacturer bytes); the Mitsubishi manuals give no payload \
-    (mr-j4-tm.md §8.10 [MISSING], mr-j5-g-n1.md §6.2, mr-jet-g-n1.md §6.2: codes not given)";
+    (MR-J4-TM manual §6.4 [MISSING], MR-J5-G-N1 manual §5, MR-JET-G-N1 manual §5: codes not given)";
 
 /// How writable a model's PDO assignment objects (1C12h/1C13h) are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

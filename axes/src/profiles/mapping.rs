@@ -309,7 +309,7 @@ mod tests {
     #[test]
     fn mappings_are_checked_against_the_models_rules() {
         let j3 = profile(DriveModel::MrJ3T04);
-        // mr-j3-t04.md TV-PDO-1: 6041h cannot go into the RxPDO (0604 0041h) ...
+        // MR-J3-T04 TV-PDO-1 (docs/test-vectors.md): 6041h cannot go into the RxPDO (0604 0041h) ...
         let e = j3
             .check_mapping(PdoDirection::Rx, &[PdoEntry::object(0x6041, 0, 16)])
             .unwrap_err();

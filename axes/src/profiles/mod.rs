@@ -34,22 +34,22 @@ pub use facts::{
 /// A supported drive model, named in configuration by its kebab-case part number.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
 pub enum DriveModel {
-    /// Mitsubishi MR-J5-G-N1, 1-axis EtherCAT amplifier (spec `mr-j5-g-n1.md`).
+    /// Mitsubishi MR-J5-G-N1, 1-axis EtherCAT amplifier (MR-J5-G-N1 manual, docs/manuals.md).
     #[serde(rename = "mr-j5-g-n1")]
     MrJ5GN1,
-    /// Mitsubishi MR-J5W2-G-N1, 2-axis EtherCAT amplifier (spec `mr-j5-g-n1.md`).
+    /// Mitsubishi MR-J5W2-G-N1, 2-axis EtherCAT amplifier (MR-J5-G-N1 manual, docs/manuals.md).
     #[serde(rename = "mr-j5w2-g-n1")]
     MrJ5W2GN1,
-    /// Mitsubishi MR-J5W3-G-N1, 3-axis EtherCAT amplifier (spec `mr-j5-g-n1.md`).
+    /// Mitsubishi MR-J5W3-G-N1, 3-axis EtherCAT amplifier (MR-J5-G-N1 manual, docs/manuals.md).
     #[serde(rename = "mr-j5w3-g-n1")]
     MrJ5W3GN1,
-    /// Mitsubishi MR-J3-□A-RJ158 with the MR-J3-T04 EtherCAT option (spec `mr-j3-t04.md`).
+    /// Mitsubishi MR-J3-□A-RJ158 with the MR-J3-T04 EtherCAT option (MR-J3-T04 manual, docs/manuals.md).
     #[serde(rename = "mr-j3-t04")]
     MrJ3T04,
-    /// Mitsubishi MR-J4-_TM_ with the ABCC-M40-ECT EtherCAT module (spec `mr-j4-tm.md`).
+    /// Mitsubishi MR-J4-_TM_ with the ABCC-M40-ECT EtherCAT module (MR-J4-TM manual, docs/manuals.md).
     #[serde(rename = "mr-j4-tm")]
     MrJ4TM,
-    /// Mitsubishi MR-JET-G-N1 (spec `mr-jet-g-n1.md`).
+    /// Mitsubishi MR-JET-G-N1 (MR-JET-G-N1 manual, docs/manuals.md).
     #[serde(rename = "mr-jet-g-n1")]
     MrJetGN1,
     /// Any CoE SubDevice with the CiA 402 drive profile (CiA 402 / ETG.6010, no vendor
@@ -194,13 +194,13 @@ pub struct DriveProfile {
     /// How the PDO mapping may be changed by SDO, with the abort codes.
     pub pdo_rules: PdoRules,
     /// The axis-selection switch setting the amplifier refuses at power-on (MR-J5-G-N1 1-axis:
-    /// SW3-1 OFF / SW3-2 ON → AL.011.2, mr-j5-g-n1.md §1.5, TV-14); `None`: no such rule stated.
+    /// SW3-1 OFF / SW3-2 ON → AL.011.2, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4, TV-14); `None`: no such rule stated.
     pub invalid_axis_switch: Option<InvalidAxisSwitch>,
-    /// FSoE (safety over EtherCAT) as the manual states it (MR-JET-G-N1, mr-jet-g-n1.md §7);
+    /// FSoE (safety over EtherCAT) as the manual states it (MR-JET-G-N1, MR-JET-G-N1 manual §9.3);
     /// `None`: the model has no FSoE.
     pub fsoe: Option<FsoeFacts>,
     /// Warning raised, with no motion, when a pp set-point asks for a relative move while the
-    /// position unit is degree (MR-J4-TM AL. F4.8, mr-j4-tm.md §4.7 bit 6); `None`: the manual
+    /// position unit is degree (MR-J4-TM AL. F4.8, MR-J4-TM manual §5.4.6 bit 6); `None`: the manual
     /// states no such rule.
     pub relative_degree_warning: Option<u16>,
     /// Whether alarms are also reported by CoE Emergency (ETG.1000.6 §5.6.2.1).
@@ -270,7 +270,7 @@ impl DriveProfile {
         self.axes_per_unit > 1
     }
 
-    /// The index of axis-A object `index` on slot `slot` of this model's unit (mr-j5-g-n1.md
+    /// The index of axis-A object `index` on slot `slot` of this model's unit (MR-J5-G-N1 manual
     /// §1.5 offsets on a multi-axis unit; `index` itself on a 1-axis drive's slot 0). `None` for
     /// a slot the unit does not have.
     pub const fn axis_object(&self, index: u16, slot: u8) -> Option<u16> {

@@ -1,4 +1,4 @@
-//! Mitsubishi MR-J3-□A-RJ158 + MR-J3-T04 EtherCAT option, from mr-j3-t04.md (manual
+//! Mitsubishi MR-J3-□A-RJ158 + MR-J3-T04 EtherCAT option, per the MR-J3-T04 manual (
 //! "MR-J3-□A-RJ158 / MR-J3-T04 Specifications", 2011-12-01).
 
 use super::facts::{alarm, obj, od};
@@ -14,7 +14,7 @@ use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32, U8};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 
-/// Default RxPDO 1614h, 30 bytes (mr-j3-t04.md §4.1 / manual §8.6.2, 13 entries).
+/// Default RxPDO 1614h, 30 bytes (MR-J3-T04 manual §8.5.1, §8.6.2, 13 entries).
 pub const RX_PDO_1614: PdoMap = PdoMap {
     index: 0x1614,
     entries: &[
@@ -34,7 +34,7 @@ pub const RX_PDO_1614: PdoMap = PdoMap {
     ],
 };
 
-/// Default TxPDO 1A14h, 26 bytes (mr-j3-t04.md §4.2 / manual §8.6.2, 11 entries).
+/// Default TxPDO 1A14h, 26 bytes (MR-J3-T04 manual §8.5.2, §8.6.2, 11 entries).
 pub const TX_PDO_1A14: PdoMap = PdoMap {
     index: 0x1A14,
     entries: &[
@@ -53,7 +53,7 @@ pub const TX_PDO_1A14: PdoMap = PdoMap {
 };
 
 /// Alarm code encoding: the display number as hex-coded BCD, AL.34 → 0x0034 (2041h encoding is
-/// not in the manual; mr-j3-t04.md §5.3 (inferred) default, configurable).
+/// not in the manual; MR-J3-T04 manual (inferred) default, configurable).
 pub const AL_34: u16 = 0x0034;
 /// AL.35 Command frequency error: commands beyond the maximum motor speed (§7.2).
 pub const AL_35: u16 = 0x0035;
@@ -72,7 +72,7 @@ pub const AL_52: u16 = 0x0052;
 /// AL.61 Operation error: AL state left OP during operation (§2.5, §7.2).
 pub const AL_61: u16 = 0x0061;
 
-/// The alarms and warnings of mr-j3-t04.md §7.2 (deactivation columns of §7.1).
+/// The alarms and warnings of MR-J3-T04 manual §7.1, §7.2, §3.7, §3.9, §5.1, §8.5.2 (deactivation columns of §7.1).
 #[rustfmt::skip]
 pub const ALARMS: &[AlarmInfo] = &[
     alarm(0x0013, "AL.13", "Clock error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2; reset rule from the standard J3A manual (not in manual)"),
@@ -96,7 +96,7 @@ pub const ALARMS: &[AlarmInfo] = &[
     alarm(0x00EA, "AL.EA", "(name not given)", AlarmKind::Warning, StopBehaviour::ServoOff, Clearing::Automatic, "§7.2"),
 ];
 
-/// The objects the runtime and the simulator use (mr-j3-t04.md §5.2–§5.4).
+/// The objects the runtime and the simulator use (MR-J3-T04 manual–§5.4).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
     od(0x6098, 0, "Homing method", I8, Rw, No).default(-1).range(-17, 35).cite("§8.1: −1 (default), −17, 35"),
@@ -124,14 +124,14 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x6502, 0, "Supported drive modes", U32, Ro, No).default(0x0000_01A0).cite("§1.2: bits 5, 7, 8"),
 ];
 
-/// Encoder and units (mr-j3-t04.md §1.5, §9.6).
+/// Encoder and units (MR-J3-T04 manual §1.3, §1.5, §8.11.3, §9.6).
 pub const UNITS: Units = Units {
     counts_per_rev: Some(262_144),
     other_counts_per_rev: &[131_072],
     position: "pulse (electronic gear fixed at 1/1)",
     velocity: "0.001 r/min (commands truncated to 0.01 r/min)",
     torque: "0.1 % of rated torque",
-    source: "mr-j3-t04.md §1.5, §9.5, §9.6",
+    source: "MR-J3-T04 manual §1.3, §1.5, §8.11.3, §9.5, §9.6",
 };
 
 /// The MR-J3-T04 profile.
@@ -146,7 +146,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         vendor_id: Some(0x0000_0A1E),
         product_code: Some(0x0000_0102),
         revision: Some(0x0200_0000),
-        source: "mr-j3-t04.md §1.1 (manual §8.1(4))",
+        source: "MR-J3-T04 manual §8.1(4), §1.4.1(3) (manual §8.1(4))",
     },
     modes: &[M::Homing, M::CyclicSyncPosition, M::CyclicSyncVelocity],
     cycle_times_us: &[500, 1000, 2000],
@@ -230,7 +230,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         sync_mismatch_alarms: &[0x0076, 0x0074],
         assignment: PdoAssignment::ReadOnly,
         frozen_after_safe_op: true,
-        source: "mr-j3-t04.md §4.4, §4.5, §5.8 (manual §8.6.1, §8.6.2, §8.7)",
+        source: "MR-J3-T04 manual §8.6.1, §8.6.2, §8.7.1, §4.5, §5.8 (manual §8.6.1, §8.6.2, §8.7)",
     },
     invalid_axis_switch: None,
     fsoe: None,
@@ -241,7 +241,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
 pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
     sends: false,
-    source: "mr-j3-t04.md §1.3: \"The manual describes no CoE Emergency messages\" (alarms by PDO only: statusword bit 3)",
+    source: "MR-J3-T04 manual §1.7, §8.2.2, §8.2.3: \"The manual describes no CoE Emergency messages\" (alarms by PDO only: statusword bit 3)",
 };
 
 #[cfg(test)]

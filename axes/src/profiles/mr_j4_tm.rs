@@ -1,5 +1,5 @@
-//! Mitsubishi MR-J4-_TM_ with the ABCC-M40-ECT EtherCAT module, from mr-j4-tm.md (manual
-//! SH(NA)030208 rev. E, **truncated after §5.4.10**: no §5.5–§5.12, §6, chapter 7; mr-j4-tm.md §0).
+//! Mitsubishi MR-J4-_TM_ with the ABCC-M40-ECT EtherCAT module, per the MR-J4-TM manual (
+//! SH(NA)030208 rev. E, **truncated after §5.4.10**: no §5.5–§5.12, §6, chapter 7; MR-J4-TM manual).
 
 use super::facts::{alarm, obj, od};
 use super::{
@@ -15,7 +15,7 @@ use DataType::{I16, I32, I8, U16, U32};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 
 /// Default RxPDO 1600h (csp/csv/cst/hm), 29 bytes, fields unaligned after the 1-byte 6060h
-/// (mr-j4-tm.md §5.2; offsets derived from the chapter 5 types).
+/// (MR-J4-TM manual §3.3(1); offsets derived from the chapter 5 types).
 pub const RX_PDO_1600: PdoMap = PdoMap {
     index: 0x1600,
     entries: &[
@@ -35,7 +35,7 @@ pub const RX_PDO_1600: PdoMap = PdoMap {
 };
 
 /// Default RxPDO 1601h (pp/pv/tq/hm, the PA01 `___2` profile-mode group), 45 bytes, with
-/// 6081h/6083h/6084h/6087h for the profile modes (mr-j4-tm.md §5.2; offsets derived).
+/// 6081h/6083h/6084h/6087h for the profile modes (MR-J4-TM manual §3.3(1); offsets derived).
 pub const RX_PDO_1601: PdoMap = PdoMap {
     index: 0x1601,
     entries: &[
@@ -58,7 +58,7 @@ pub const RX_PDO_1601: PdoMap = PdoMap {
     ],
 };
 
-/// Default TxPDO 1A00h, 41 bytes (mr-j4-tm.md §5.3).
+/// Default TxPDO 1A00h, 41 bytes (MR-J4-TM manual §3.3(2)).
 pub const TX_PDO_1A00: PdoMap = PdoMap {
     index: 0x1A00,
     entries: &[
@@ -82,13 +82,13 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
 /// Alarm code encoding of this module: AL. XX.Y → 0x0XXY (AL. 86.1 → 0x0861); the alarm
 /// objects are in the missing §6.4.
 pub const AL_86_1: u16 = 0x0861;
-/// AL. F4.8: a relative pp set-point with the degree position unit (mr-j4-tm.md §4.7 bit 6, §9).
+/// AL. F4.8: a relative pp set-point with the degree position unit (MR-J4-TM manual §5.4.6 bit 6, §9).
 pub const AL_F4_8: u16 = 0x0F48;
-// Following-error and overspeed alarms: no alarm chapter in this manual (mr-j4-tm.md §9);
+// Following-error and overspeed alarms: no alarm chapter in this manual (MR-J4-TM manual);
 // CiA 402 8611h (configurable) and 8400h [background].
 pub use crate::cia402::error_code::{FOLLOWING_ERROR, OVERSPEED};
 
-/// The alarms and warnings the seed names (mr-j4-tm.md §9; resettability mostly [MISSING]).
+/// The alarms and warnings the seed names (MR-J4-TM manual; resettability mostly [MISSING]).
 #[rustfmt::skip]
 pub const ALARMS: &[AlarmInfo] = &[
     alarm(0x0100, "AL. 10", "Undervoltage", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
@@ -107,7 +107,7 @@ pub const ALARMS: &[AlarmInfo] = &[
     alarm(OVERSPEED, "8400h", "Overspeed (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in this manual (no alarm chapter, §0): CiA 402 [background]"),
 ];
 
-/// The objects the runtime and the simulator use (mr-j4-tm.md §7, chapter 7 itself MISSING).
+/// The objects the runtime and the simulator use (MR-J4-TM manual, chapter 7 itself MISSING).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
     od(0x6098, 0, "Homing method", I8, Rw, No).default(-1).range(-43, 37).cite("§4.10: default −1 (seed; the general manual gives 37)"),
@@ -140,14 +140,14 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x6068, 0, "Position window time", DataType::Unstated, Rw, Pdo::Unstated).units("ms").cite("§4.7; type and default in MISSING ch. 7 (§13 q4)"),
 ];
 
-/// Encoder and units (mr-j4-tm.md §1.1, §4.2).
+/// Encoder and units (MR-J4-TM manual, §4.2).
 pub const UNITS: Units = Units {
     counts_per_rev: Some(4_194_304),
     other_counts_per_rev: &[],
     position: "pulse (csp: pulses only)",
     velocity: "0.01 r/min",
     torque: "0.1 % of rated torque",
-    source: "mr-j4-tm.md §1.1 (22-bit rotary encoder), §4.2",
+    source: "MR-J4-TM manual (22-bit rotary encoder), §4.2",
 };
 
 /// The MR-J4-TM profile (PA01 = `___0`/`___1`: the cyclic group csp/csv/cst/hm).
@@ -163,7 +163,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         vendor_id: None,
         product_code: None,
         revision: None,
-        source: "mr-j4-tm.md §1.1: not in the manual; [EXT] 0x00000A1E / 0x00000201 unverified",
+        source: "MR-J4-TM manual: not in the manual; [EXT] 0x00000A1E / 0x00000201 unverified",
     },
     // §1.3: the PA01 groups are exclusive; the default group is csp/csv/cst/hm ([EXT]/[G]).
     modes: &[
@@ -220,7 +220,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     pdo_rules: PdoRules {
         // §5.1: 1C12h:0 = 1C13h:0 = 1 read-only; sub 1 selects one of 1600h–1603h / 1A00h–1A03h.
         assignment: PdoAssignment::FixedCount,
-        source: "mr-j4-tm.md §5.1 (32 objects, 64 bytes, only in PRE-OP), §6.2 (the same abort list as the MR-JET)",
+        source: "MR-J4-TM manual §3.2, §3.4 (32 objects, 64 bytes, only in PRE-OP), §6.2 (the same abort list as the MR-JET)",
         ..super::mr_jet_g_n1::PDO_RULES
     },
     invalid_axis_switch: None,
@@ -230,7 +230,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
 };
 
 /// The PA01 `___2` profile-mode group: pp, pv, tq and hm with the 1601h RxPDO, initial mode pp
-/// (mr-j4-tm.md §1.3 table, §5.2). Never available together with csp/csv/cst (§1.3 [EXT]), so it
+/// (MR-J4-TM manual §1.1(2), §5.4.1 table, §5.2). Never available together with csp/csv/cst (§1.3 [EXT]), so it
 /// is a profile of its own; select it with [`ModeGroup::Profile`]. Everything else as
 /// [`PROFILE`].
 pub const PROFILE_MODE_GROUP: DriveProfile = DriveProfile {
@@ -245,7 +245,7 @@ pub const PROFILE_MODE_GROUP: DriveProfile = DriveProfile {
     ..PROFILE
 };
 
-/// The control-mode group selected by [Pr. PA01] (last digit, mr-j4-tm.md §1.3 / manual
+/// The control-mode group selected by [Pr. PA01] (last digit, MR-J4-TM manual §1.1(2), §5.4.1 / manual
 /// §5.4.1): the drive parameter that decides which modes 6060h accepts. The default is the
 /// cyclic group (`___0`/`___1`, 6061h = 8 at start-up).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -279,7 +279,7 @@ impl ModeGroup {
 pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
     sends: true,
     source:
-        "mr-j4-tm.md §6.1 (\"Alarms are reported by CoE Emergency\"), §8.10 (payload [MISSING])",
+        "MR-J4-TM manual §4.1 (\"Alarms are reported by CoE Emergency\"), §8.10 (payload [MISSING])",
 };
 
 #[cfg(test)]

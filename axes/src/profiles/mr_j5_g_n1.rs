@@ -1,4 +1,4 @@
-//! Mitsubishi MR-J5-G-N1 (1-axis), from mr-j5-g-n1.md (manual SH(NA)-030372CHN-A).
+//! Mitsubishi MR-J5-G-N1 (1-axis), per the MR-J5-G-N1 manual ( SH(NA)-030372CHN-A).
 
 use super::facts::{alarm, od};
 use super::{
@@ -13,16 +13,16 @@ use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 
-// The default 1st RxPDO 1600h / TxPDO 1A00h (24 bytes each, §5.2 / manual §4.3), the alarm
+// The default 1st RxPDO 1600h / TxPDO 1A00h (24 bytes each, §4.3), the alarm
 // code encoding and the AL.086.1, following-error and overspeed codes are the MR-JET-G-N1's
-// (mr-j5-g-n1.md §12 "Same in both"): one definition, in `mr_jet_g_n1`.
+// (MR-J5-G-N1 manual "Same in both"): one definition, in `mr_jet_g_n1`.
 pub use super::mr_jet_g_n1::{AL_086_1, FOLLOWING_ERROR, OVERSPEED, RX_PDO_1600, TX_PDO_1A00};
 
 /// AL.011.2 Invalid axis setting error (§8, 1-axis SW3 setting).
 pub const AL_011_2: u16 = 0x0112;
 
 /// The SW3 setting a 1-axis MR-J5-G-N1 refuses: SW3-1 OFF (down) with SW3-2 ON (up) raises
-/// [`AL_011_2`] (mr-j5-g-n1.md §1.5 and TV-14; manual §8 Point, seed 004 L1258). What SW3
+/// [`AL_011_2`] (MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4 and TV-14; manual §8 Point, seed 004 L1258). What SW3
 /// selects, and when the amplifier checks it, the manual does not say.
 pub const INVALID_AXIS_SWITCH_1_AXIS: InvalidAxisSwitch = InvalidAxisSwitch {
     sw3_1: false,
@@ -84,7 +84,7 @@ pub const UNITS: Units = Units {
     velocity: "not stated (Object Dictionary manual)",
     torque: "0.1 % of rated torque",
     source:
-        "mr-j5-g-n1.md §8: no encoder resolution, electronic gear or factor group in this manual",
+        "MR-J5-G-N1 manual: no encoder resolution, electronic gear or factor group in this manual",
 };
 
 const FSA: FsaQuirks = FsaQuirks {
@@ -97,7 +97,7 @@ const IDENTITY: Identity = Identity {
     vendor_id: None,
     product_code: None,
     revision: None,
-    source: "mr-j5-g-n1.md §1.1: vendor ID / product code only in the ESI",
+    source: "MR-J5-G-N1 manual §1.1, §2.1: vendor ID / product code only in the ESI",
 };
 
 /// The MR-J5-G-N1 1-axis profile.
@@ -105,7 +105,7 @@ const IDENTITY: Identity = Identity {
 /// Identity is `None`: vendor ID and product code are only in the ESI (§1.1). Modes: all seven
 /// with PT01.2 = pulse (§1.2). Cycles 0.125–8 ms (§1.3). Quirks: shortcut transitions (§3.2),
 /// quick stop present, transition 16 not supported (§3.1). Fault Reset held ≥ 10 ms, ≥ 20 ms at
-/// the 8 ms cycle (§2.4 / manual §7.1).
+/// the 8 ms cycle (§7.1).
 pub const PROFILE: DriveProfile = DriveProfile {
     model: DriveModel::MrJ5GN1,
     name: "Mitsubishi MR-J5-G-N1",
@@ -288,7 +288,8 @@ pub fn unit_pdo_limit(axes: u8, cycle_us: u32) -> Option<(u16, u16)> {
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
 pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
     sends: true,
-    source: "mr-j5-g-n1.md §6.2 (Emergency: alarm notification; codes not given), also MR-J5W2/W3",
+    source:
+        "MR-J5-G-N1 manual §5 (Emergency: alarm notification; codes not given), also MR-J5W2/W3",
 };
 
 #[cfg(test)]
@@ -302,7 +303,7 @@ mod tests {
 
     #[test]
     fn rx_offsets_match_spec_table() {
-        // mr-j5-g-n1.md §5.2, 1st RxPDO.
+        // MR-J5-G-N1 manual §4.3, 1st RxPDO.
         let m = &PROFILE.rx_pdo;
         assert_eq!(m.byte_len(), 24);
         let expect = [
@@ -327,7 +328,7 @@ mod tests {
 
     #[test]
     fn tx_offsets_match_spec_table() {
-        // mr-j5-g-n1.md §5.2, 1st TxPDO.
+        // MR-J5-G-N1 manual §4.3, 1st TxPDO.
         let m = &PROFILE.tx_pdo;
         assert_eq!(m.byte_len(), 24);
         let expect = [
@@ -465,7 +466,7 @@ mod tests {
 
     #[test]
     fn fault_reset_hold_per_cycle_time() {
-        // mr-j5-g-n1.md TV-5.
+        // MR-J5-G-N1 TV-5 (docs/test-vectors.md).
         let expect = [
             (125, 80),
             (250, 40),

@@ -1,4 +1,4 @@
-//! Mitsubishi MR-JET-G-N1, from mr-jet-g-n1.md (manual IB(NA)-0300500ENG-H).
+//! Mitsubishi MR-JET-G-N1, per the MR-JET-G-N1 manual ( IB(NA)-0300500ENG-H).
 
 use super::facts::{alarm, obj, od};
 use super::{
@@ -15,7 +15,7 @@ use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32, U8};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 
-/// Default 1st RxPDO 1600h, 24 bytes (mr-jet-g-n1.md §5.2; sizes inferred from the total).
+/// Default 1st RxPDO 1600h, 24 bytes (MR-JET-G-N1 manual §4.3; sizes inferred from the total).
 pub const RX_PDO_1600: PdoMap = PdoMap {
     index: 0x1600,
     entries: &[
@@ -32,7 +32,7 @@ pub const RX_PDO_1600: PdoMap = PdoMap {
     ],
 };
 
-/// Default 1st TxPDO 1A00h, 24 bytes (mr-jet-g-n1.md §5.3).
+/// Default 1st TxPDO 1A00h, 24 bytes (MR-JET-G-N1 manual §4.3).
 pub const TX_PDO_1A00: PdoMap = PdoMap {
     index: 0x1A00,
     entries: &[
@@ -191,7 +191,7 @@ pub const FSOE: FsoeFacts = FsoeFacts {
 // 8400h [background].
 pub use crate::cia402::error_code::{FOLLOWING_ERROR, OVERSPEED};
 
-/// The alarms and warnings the manual names (mr-jet-g-n1.md §9; no stop methods there).
+/// The alarms and warnings the manual names (MR-JET-G-N1 manual; no stop methods there).
 #[rustfmt::skip]
 pub const ALARMS: &[AlarmInfo] = &[
     alarm(0x0250, "AL.025", "Absolute position erased", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9, §8"),
@@ -208,15 +208,15 @@ pub const ALARMS: &[AlarmInfo] = &[
     alarm(OVERSPEED, "8400h", "Overspeed (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in the manual: CiA 402 [background]"),
 ];
 
-/// 1010h:01 / 1011h:01 store and restore (mr-jet-g-n1.md §6, manual §3.2; MR-J5 the same,
-/// mr-j5-g-n1.md §6 and TV-12), served by the simulator's SDO surface.
+/// 1010h:01 / 1011h:01 store and restore (MR-JET-G-N1 manual, manual §3.2; MR-J5 the same,
+/// MR-J5-G-N1 manual and TV-12), served by the simulator's SDO surface.
 #[rustfmt::skip]
 pub const STORE_RESTORE_OBJECTS: &[OdEntry] = &[
     od(0x1010, 1, "Save all parameters", U32, Rw, No).default(1).cite("§6 (manual §3.2): write 65766173h; bit0 = 0 while saving (about 25 s)"),
     od(0x1011, 1, "Restore all default parameters", U32, Rw, No).default(1).cite("§6 (manual §3.2): write 64616F6Ch; any other value is an error"),
 ];
 
-/// The objects the runtime and the simulator use (mr-jet-g-n1.md §6).
+/// The objects the runtime and the simulator use (MR-JET-G-N1 manual).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
     od(0x10F1, 2, "Sync Error Counter Limit", DataType::Unstated, Access::Unstated, No).units("events").cite("§2.4: type, default, counting rule not stated"),
@@ -245,25 +245,25 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x60B0, 0, "Position offset", I32, Rw, Pdo::Unstated).default(0).units("pulse").cite("§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])"),
 ];
 
-/// Encoder and units (mr-jet-g-n1.md §8): 2^26 appears only as an example resolution.
+/// Encoder and units (MR-JET-G-N1 manual): 2^26 appears only as an example resolution.
 pub const UNITS: Units = Units {
     counts_per_rev: None,
     other_counts_per_rev: &[67_108_864],
     position: "pos units (electronic gear PA06/PA07)",
     velocity: "not stated (Object Dictionary manual)",
     torque: "0.1 % of rated torque",
-    source: "mr-jet-g-n1.md §8: 2^26 pulses/rev only in the infinite-feed example; factor group not in this manual",
+    source: "MR-JET-G-N1 manual: 2^26 pulses/rev only in the infinite-feed example; factor group not in this manual",
 };
 
 /// The variable-mapping rules of the MR-JET-G-N1 (and the MR-J5-G-N1 1-axis unit, whose
-/// manual states the same limits: mr-j5-g-n1.md §5.1).
+/// manual states the same limits: MR-J5-G-N1 manual §2.1, §4.4).
 pub const PDO_RULES: PdoRules = PdoRules {
     max_entries: 32,
     max_rx_bytes: 64,
     max_tx_bytes: 64,
     rx_mappable: &[],
     tx_mappable: &[],
-    // The family's abort list (mr-jet-g-n1.md §6.2) has no 0604 0041h/0604 0042h: a mapping
+    // The family's abort list (MR-JET-G-N1 manual §5) has no 0604 0041h/0604 0042h: a mapping
     // the drive cannot take is answered with 0604 0043h (general parameter
     // incompatibility), and a write the state forbids with 0800 0022h (present device
     // state); the manual states neither case [D].
@@ -276,7 +276,7 @@ pub const PDO_RULES: PdoRules = PdoRules {
     assignment: PdoAssignment::Writable,
     frozen_after_safe_op: false,
     source:
-        "mr-jet-g-n1.md §5.1 (32 objects, 64 bytes, only in PRE-OP), §6.2; mr-j5-g-n1.md §5.1, §4.2",
+        "MR-JET-G-N1 manual §2.1, §4.4 (32 objects, 64 bytes, only in PRE-OP), §6.2; MR-J5-G-N1 manual §2.1, §4.4, §4.2",
 };
 
 /// The MR-JET-G-N1 profile (PA01.0 = 0, PT01.2 = pulse: pp, pv, tq, hm, csp, csv, cst; jg/pt
@@ -288,7 +288,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         vendor_id: None,
         product_code: None,
         revision: None,
-        source: "mr-jet-g-n1.md §1.1: not in this manual (in the ESI file)",
+        source: "MR-JET-G-N1 manual §1.1, §2.1: not in this manual (in the ESI file)",
     },
     modes: &[
         M::ProfilePosition,
@@ -346,7 +346,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
 pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
     sends: true,
-    source: "mr-jet-g-n1.md §6.2 (Emergency reports an alarm; the EMCY codes are not given)",
+    source: "MR-JET-G-N1 manual §5 (Emergency reports an alarm; the EMCY codes are not given)",
 };
 
 #[cfg(test)]
@@ -388,7 +388,7 @@ mod tests {
 
     #[test]
     fn tv_4_fault_reset_hold_cycles() {
-        // mr-jet-g-n1.md TV-4 cycle counts.
+        // MR-JET-G-N1 TV-4 (docs/test-vectors.md) cycle counts.
         for (us, n) in [
             (125, 80),
             (250, 40),

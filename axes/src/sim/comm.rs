@@ -1,12 +1,12 @@
 //! The drive side of the cyclic communication checks, per model (`DriveProfile::comm_check`).
 //!
-//! * MR-J3-T04 (mr-j3-t04.md §6): incremental counter echo (last good received + 1, delayed by
+//! * MR-J3-T04 (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7): incremental counter echo (last good received + 1, delayed by
 //!   the echo lag), counter update errors against PO03 digit 0 → AL.34, RxPDO loss against PO03
 //!   digit 2 → AL.36 (continuous after about 7 ms).
 //! * MR-JET / MR-J5 (§2.4): a sync-error counter against 10F1h:02 → AL.086.1; the manual gives
 //!   no counting rule, so the ETG.1020 convention (+3 per lost frame, −1 per good one) is used
 //!   as a configurable default.
-//! * MR-J4-TM (mr-j4-tm.md §8.3, §6.2 MISSING): provisional echo of 2D23h + 1 in 2D24h when both
+//! * MR-J4-TM (MR-J4-TM manual §6.2, §6.2 MISSING): provisional echo of 2D23h + 1 in 2D24h when both
 //!   are mapped; lost frames count like the sync-error counter → AL. 86.1.
 
 use std::time::Duration;

@@ -288,11 +288,11 @@ impl SimDrive {
             sw.0 |= 1 << 7;
         }
         if oe && self.mode_display == ModeOfOperation::ProfilePosition {
-            // pp bits 10 / 12 (mr-j4-tm.md §4.7).
+            // pp bits 10 / 12 (MR-J4-TM manual §5.4.6).
             sw.0 |= self.pp.status_bits();
         }
         if self.mode_display == ModeOfOperation::Homing {
-            // hm bits 13 / 12 / 10 (mr-j4-tm.md §4.10): no simulated method moves, so target
+            // hm bits 13 / 12 / 10 (MR-J4-TM manual §5.4.9): no simulated method moves, so target
             // reached (bit 10) is always 1: "not started", "completed" or "error, v = 0".
             sw.0 = (sw.0 & !((1 << 13) | (1 << 12) | (1 << 10)))
                 | (u16::from(self.homing.error) << 13)

@@ -1,4 +1,4 @@
-//! The simulated drive's FSoE slave (MR-JET-G-N1, mr-jet-g-n1.md §5.4, §7; manual §9.3), at
+//! The simulated drive's FSoE slave (MR-JET-G-N1, MR-JET-G-N1 manual §4.3, §9.3, §7; manual §9.3), at
 //! the level the manual describes: SafeData in the 11-byte safety PDOs, the connection
 //! parameter set, the address check, the watchdog, and STO acting on the drive.
 //!
@@ -146,7 +146,7 @@ impl FsoeSlave {
         *self = FsoeSlave::new(self.facts, self.params, self.cycle_us);
     }
 
-    /// The connection parameter set (mr-jet-g-n1.md §7.1 item 4). Refused when PSA01.0 = 0 or
+    /// The connection parameter set (MR-JET-G-N1 manual §9.3 item 4). Refused when PSA01.0 = 0 or
     /// PSA01.1 = 0 (§7.1: set both before connecting), when the cycle is below the FSoE minimum
     /// (§1.3, [inferred]), or when the master's slave address differs from PSC07
     /// ([`FsoeError::AddressMismatch`]; the caller raises AL.584.1). A watchdog below the 16 ms

@@ -1,10 +1,10 @@
 //! Home position setting in csp/csv by Controlword2 edges, without hm (MR-J3-T04 C_CR / C_CR2,
-//! mr-j3-t04.md §8.3, manual §8.11.6, TV-HOME-1), and the encoder Z phase it uses (S_ZPAS,
+//! MR-J3-T04 manual §8.11.6, manual §8.11.6, TV-HOME-1), and the encoder Z phase it uses (S_ZPAS,
 //! S_OP, the latched last Z position).
 
 use crate::profiles::HomeSetting;
 
-/// What C_CR2 before the first Z phase raises: the manual names both (mr-j3-t04.md §7.2
+/// What C_CR2 before the first Z phase raises: the manual names both (MR-J3-T04 manual §7.1, §7.2, §3.7, §3.9, §5.1, §8.5.2
 /// ambiguity); the home-setting procedures (§8.11.6.3/4) name the warning, the default.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum BeforeZReaction {
@@ -19,7 +19,7 @@ pub enum BeforeZReaction {
 /// The encoder's Z phase: once per revolution, at `position` within it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ZPhase {
-    /// Encoder counts per revolution (mr-j3-t04.md: 2^18 or 2^17).
+    /// Encoder counts per revolution (MR-J3-T04 manual: 2^18 or 2^17).
     pub counts_per_rev: i64,
     /// Raw position of a Z pulse (any one; the others lie a whole revolution apart).
     pub position: i64,

@@ -1,7 +1,7 @@
 //! Profile position mode (pp, 6060h = 1) of the simulated drive: the set-point handshake and the
-//! trajectory generator the drive runs itself (mr-j4-tm.md §4.7 / manual §5.4.6; MR-JET and
-//! MR-J5 state only that pp exists with 607Ah, 6081h, 6083h, 6084h: mr-jet-g-n1.md §4.2,
-//! mr-j5-g-n1.md §4.1, and use the CiA 402 bit meanings [background]).
+//! trajectory generator the drive runs itself (MR-J4-TM manual §5.4.6; MR-JET and
+//! MR-J5 state only that pp exists with 607Ah, 6081h, 6083h, 6084h: MR-JET-G-N1 manual §7.4, §4.5, §6.3,
+//! MR-J5-G-N1 manual §4.5, and use the CiA 402 bit meanings [background]).
 //!
 //! * Controlword bit 4 **new set-point** is taken on its rising edge only; bit 5 **change set
 //!   immediately** = 1 replaces the move at once (single set-point, §4.7 "Behaviour"), = 0 queues
@@ -14,7 +14,7 @@
 //!   and the move does not start (§4.7 bit 6). The warning clears at the next accepted
 //!   set-point, at servo on or when pp is left (the manual resets it by C_ORST, not modelled).
 //! * Bit 8 **HALT** decelerates to standstill per [`HaltOption`] (605Dh; its values are in the
-//!   MISSING §5.7, mr-j4-tm.md §13 q2); releasing it resumes the move (CiA 402 [background]).
+//!   MISSING §5.7, MR-J4-TM manual q2); releasing it resumes the move (CiA 402 [background]).
 //! * Statusword bit 12 **set-point acknowledge** uses Mitsubishi's wording (§4.7): 1 while a
 //!   positioning is being executed, 0 once it has completed. Bit 10 **target reached**: with
 //!   HALT = 0, |6064h − target| has stayed within 6067h for at least 6068h (6067h =
@@ -53,13 +53,13 @@ pub enum PositionUnit {
     #[default]
     Pulse,
     /// Degree: a relative pp set-point raises the profile's `relative_degree_warning` and does
-    /// not start (mr-j4-tm.md §4.7). The 0…359999 modulo and the J5/JET degree mode table
+    /// not start (MR-J4-TM manual §5.4.6). The 0…359999 modulo and the J5/JET degree mode table
     /// (pp/pv/tq/hm only) are not modelled.
     Degree,
 }
 
-/// The deceleration of a pp HALT: 605Dh, whose values the seed lacks (mr-j4-tm.md §8.2, §13 q2)
-/// and MR-JET/MR-J5 do not name (mr-jet-g-n1.md §4.2), so a named parameter.
+/// The deceleration of a pp HALT: 605Dh, whose values the seed lacks (MR-J4-TM manual, §13 q2)
+/// and MR-JET/MR-J5 do not name (MR-JET-G-N1 manual §7.4, §4.5, §6.3), so a named parameter.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum HaltOption {
     /// 605Dh = 1 (CiA 402 default [background]): slow down with 6084h profile deceleration.

@@ -1,6 +1,6 @@
 //! The simulated drive's SDO (CoE mailbox) surface: upload and download of object-dictionary
-//! entries with the CiA 301 abort codes the spec files list (mr-j4-tm.md §12 TV-10,
-//! mr-j5-g-n1.md TV-12, mr-j3-t04.md §3.9). Acyclic and off the RT path: it may allocate.
+//! entries with the CiA 301 abort codes the spec files list (MR-J4-TM TV-10 (docs/test-vectors.md),
+//! MR-J5-G-N1 TV-12 (docs/test-vectors.md), MR-J3-T04 manual §8.4.2). Acyclic and off the RT path: it may allocate.
 
 use crate::pdo::objects::HOME_OFFSET;
 use std::fmt;
@@ -43,7 +43,7 @@ impl SdoAbort {
     /// 0609 0030h Value range of parameter exceeded.
     pub const VALUE_RANGE: SdoAbort = SdoAbort(0x0609_0030);
     /// 0800 0020h Data cannot be transferred or stored: the simulator's answer to a wrong
-    /// store/restore signature, whose abort code mr-jet-g-n1.md §6 leaves unstated.
+    /// store/restore signature, whose abort code MR-JET-G-N1 manual leaves unstated.
     pub const CANNOT_STORE: SdoAbort = SdoAbort(0x0800_0020);
 }
 
@@ -84,7 +84,7 @@ impl SimDrive {
             }
         }
         if let Some(f) = self.fsoe().filter(|f| f.serves(index)) {
-            // FSoE objects (mr-jet-g-n1.md §6, §7): live values.
+            // FSoE objects (MR-JET-G-N1 manual, §7): live values.
             return f
                 .upload(index, sub, self.plant().velocity())
                 .ok_or(SdoAbort::NO_SUBINDEX);

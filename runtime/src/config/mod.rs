@@ -267,7 +267,7 @@ pub struct EthercatConfig {
 }
 
 /// Default `[ethercat] frame_timeout_us`: half of a 1 ms cycle is more than a line of drives
-/// needs (ARCHITECTURE.md: ≈ 9–40 µs round trip on a veth pair).
+/// needs (docs/architecture.md: ≈ 9–40 µs round trip on a veth pair).
 pub const DEFAULT_FRAME_TIMEOUT_US: u32 = 500;
 
 /// One axis of the cell.
@@ -326,7 +326,7 @@ pub struct TorqueLimits {
     pub slope: f64,
 }
 
-/// Upper bound of `limits.torque`: 6071h/60E0h/60E1h range 0…10000 × 0.1 % (mr-j4-tm.md §8.6).
+/// Upper bound of `limits.torque`: 6071h/60E0h/60E1h range 0…10000 × 0.1 % (MR-J4-TM manual §5.9).
 pub const MAX_TORQUE_PERCENT: f64 = 1000.0;
 
 /// Default `limits.torque_slope`: full rated torque in 0.1 s.

@@ -203,7 +203,7 @@ fn ethercat_bad_input_names_the_key_and_the_reason() {
 }
 
 /// A multi-axis amplifier over EtherCAT: its axes keep their amplifier slots (one SubDevice);
-/// a cycle of 0.125 ms, which the J5W2/W3 do not run (mr-j5-g-n1.md §1.3, TV-6), is refused
+/// a cycle of 0.125 ms, which the J5W2/W3 do not run (MR-J5-G-N1 manual §2.1, §4.1, §6.2, §6.3, TV-6), is refused
 /// naming the axis.
 #[test]
 fn a_multi_axis_unit_over_ethercat_keeps_its_slots_and_refuses_125_us() {

@@ -51,7 +51,7 @@ pub struct ProgramError {
 
 /// Handle of the planner thread. The thread keeps its publisher until [`PlannerHandle::finish`],
 /// so the RT thread never sees the peer leave while it runs (a leaving peer makes the next
-/// iceoryx2 receive free memory; ARCHITECTURE.md).
+/// iceoryx2 receive free memory; docs/architecture.md).
 pub struct PlannerHandle {
     abort: Arc<AtomicBool>,
     release: Arc<AtomicBool>,

@@ -1,5 +1,5 @@
 //! RT thread setup. Each privilege is requested separately; what the OS refuses is reported once,
-//! by name, and the loop runs best effort (ARCHITECTURE.md, rule 5).
+//! by name, and the loop runs best effort (docs/architecture.md, rule 5).
 
 use serde::Serialize;
 

@@ -2,7 +2,7 @@
 //! and segmented) and download (expedited and normal) with CiA 301 abort codes. The communication
 //! objects (1000h, 1008h, 1018h, 1C12h/1C13h, the PDO mapping objects) are served here; every
 //! other object is the simulated drive's own SDO surface (`sim::sdo`), so abort codes such as
-//! MR-J4-TM's 0609 0030h for 1C32h:03 (mr-j4-tm.md §12 TV-10) come from the drive model.
+//! MR-J4-TM's 0609 0030h for 1C32h:03 (MR-J4-TM TV-10 (docs/test-vectors.md)) come from the drive model.
 
 use crate::ethercat::identity::SubDeviceIdentity;
 use crate::ethercat::register::AlState;
@@ -142,7 +142,7 @@ fn finish_response(ctx: &mut CoeContext<'_>, response: &mut [u8], body_len: usiz
 /// each entry checked when written, the whole mapping when the count is written). The drives
 /// take the mapping at PRE-OP → SAFE-OP ([`PdoConfig::mapping`]). Only the model's default
 /// mapping objects (e.g. 1600h/1A00h, 1614h/1A14h) can be assigned; on a multi-axis unit each
-/// axis has its own at the offset index (1610h, 1620h…; mr-j5-g-n1.md §1.5).
+/// axis has its own at the offset index (1610h, 1620h…; MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4).
 #[derive(Debug, Clone)]
 pub struct PdoConfig {
     /// Per axis of the unit: its RxPDO and TxPDO mapping objects.
@@ -243,7 +243,7 @@ impl PdoConfig {
     }
 
     /// True if every axis' RxPDO and TxPDO is assigned and mapped (what SAFE-OP requires; on a
-    /// multi-axis unit one assigned PDO per axis, mr-j5-g-n1.md §1.5 [inferred]).
+    /// multi-axis unit one assigned PDO per axis, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4 [inferred]).
     pub fn complete(&self) -> bool {
         let n = self.axis_count();
         self.assign_counts == [n, n]
@@ -404,7 +404,7 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
                 }
                 (_, _) if data.len() != 2 => Err(SdoAbort::TOO_SHORT),
                 // Sub-index n assigns axis n's own mapping object (one per axis in axis
-                // order, mr-j5-g-n1.md §1.5 [inferred]).
+                // order, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4 [inferred]).
                 (s, _) if ctx.pdo.assigned(i, usize::from(s) - 1) != Some(word(data) as u16) => {
                     Err(ABORT_PARAMETER_INCOMPATIBLE)
                 }
@@ -413,7 +413,7 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
         }
         SM3_SYNC => return Err(SdoAbort::READ_ONLY),
         SM2_SYNC if sub == 2 => {
-            // mr-j3-t04.md TV-IC-5: written only in PRE-OP, and (MR-J3-T04) never once the
+            // MR-J3-T04 TV-IC-5 (docs/test-vectors.md): written only in PRE-OP, and (MR-J3-T04) never once the
             // drive has reached SAFE-OP; the others: only in PRE-OP (§2.1 of each extract).
             if ctx.al_state != AlState::PreOp || ctx.pdo.frozen {
                 return Err(SdoAbort(ctx.pdo.rules.wrong_state_abort));

@@ -8,7 +8,7 @@ use crate::pdo::{PdoEntry, PdoMap};
 use crate::profiles::DriveProfile;
 
 /// One PDO as the SII lists it: its mapping object and entries (on a multi-axis unit at the
-/// axis' offset indexes, mr-j5-g-n1.md §1.5).
+/// axis' offset indexes, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SiiPdo {
     /// The mapping object index (1600h, 1610h…).

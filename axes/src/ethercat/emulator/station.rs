@@ -1,6 +1,6 @@
 //! One emulated EtherCAT SubDevice: an ESC (registers, SII EEPROM, FMMUs, SyncManagers with
 //! mailbox semantics, DC registers, the AL state machine) in front of a simulated drive, or of
-//! the drives of every axis of a multi-axis unit (MR-J5W2/W3-G-N1, mr-j5-g-n1.md §1.5: one ESM
+//! the drives of every axis of a multi-axis unit (MR-J5W2/W3-G-N1, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4: one ESM
 //! for the station, one PDS per axis, the axes' PDOs concatenated in assignment order).
 //!
 //! The ESC is modelled as its 12 KiB address space (registers 0000h–0FFFh, process RAM from
@@ -378,7 +378,7 @@ impl Station {
         match result {
             Ok(()) => {
                 // One ESM for the station: every axis leaves or enters OP with it
-                // (mr-j5-g-n1.md §2.1: leaving OP re-initialises all axes at once).
+                // (MR-J5-G-N1 manual §2.2: leaving OP re-initialises all axes at once).
                 let sync0 = self.sync_active().then(|| self.sync0_cycle_ns());
                 for d in &mut self.drives {
                     if from == AlState::Op && target != AlState::Op {

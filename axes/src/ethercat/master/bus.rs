@@ -1,7 +1,7 @@
 //! The EtherCAT MainDevice as a [`CyclicBus`]: ethercrab brings the segment up (INIT → PRE-OP, SII,
 //! mailboxes, the PDO assignment by SDO, SAFE-OP, OP); in OP the cyclic exchange is cellrt's
 //! own frame (one LRW over the process image, preallocated, no heap allocation per cycle; see
-//! ARCHITECTURE.md on ethercrab's `tx_rx_dc()`), with the working counter checked every cycle.
+//! docs/architecture.md on ethercrab's `tx_rx_dc()`), with the working counter checked every cycle.
 
 use ethercrab::{MainDevice, PduRx, PduTx};
 

@@ -61,7 +61,7 @@ pub enum EthercatError {
         /// What is wrong.
         what: String,
     },
-    /// The mode is not one the model runs (pv and tq on a multi-axis unit, mr-j5-g-n1.md §1.2,
+    /// The mode is not one the model runs (pv and tq on a multi-axis unit, MR-J5-G-N1 manual §1.1, §6.1, §7.4,
     /// TV-8).
     #[error("axis '{axis}': {model} does not run mode {mode} (allowed: {allowed})")]
     Mode {

@@ -13,8 +13,8 @@ const RX_ASSIGN: u16 = 0x1C12;
 const TX_ASSIGN: u16 = 0x1C13;
 
 /// Configures station `plan` in PRE-OP: each slot's PDO mapping objects at its offset index
-/// (count to 0, entries, count last; mr-j3-t04.md §3.3, mr-j5-g-n1.md §5.1, §1.5), the
-/// assignment 1C12h/1C13h with every slot's PDO in slot order (mr-j5-g-n1.md §1.5
+/// (count to 0, entries, count last; MR-J3-T04 manual §8.4.1(3), MR-J5-G-N1 manual §2.1, §4.4, §1.5), the
+/// assignment 1C12h/1C13h with every slot's PDO in slot order (MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4
 /// [inferred]: one assigned PDO per axis), as far as the model lets it be written (MR-J3-T04:
 /// read-only, §4.4; MR-J4-TM: the count fixed at 1, §5.1), each axis' 6060h (at its offset
 /// index) where its RxPDO does not carry it, and the station's cycle time 1C32h:02 once.

@@ -12,7 +12,7 @@ use crate::profiles::{DataType, DriveProfile};
 
 impl EthercatBus {
     /// The SubDevice of `axis` and the index of its axis-A object `index` there (on a
-    /// multi-axis unit at the axis' offset index, mr-j5-g-n1.md §1.5).
+    /// multi-axis unit at the axis' offset index, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4).
     pub(super) fn station_object(&self, axis: usize, index: u16) -> Option<(usize, u16)> {
         let a = self.axes.get(axis)?;
         let p = self.config.drives.get(axis)?.profile;

@@ -164,7 +164,7 @@ pub(super) fn check_models(config: &SegmentConfig) -> Result<(), EthercatError> 
 }
 
 /// On a multi-axis unit, the sum of its slots' PDOs must fit the unit's limit at the cycle
-/// (mr-j5-g-n1.md §5.1, TV-7: e.g. J5W3 at 0.25 ms: 120 bytes each way).
+/// (MR-J5-G-N1 manual §2.1, §4.4, TV-7: e.g. J5W3 at 0.25 ms: 120 bytes each way).
 pub(super) fn check_unit_pdo_limits(
     config: &SegmentConfig,
     plans: &[SegmentStation],

@@ -26,7 +26,7 @@ pub(super) struct HomingState {
 impl SimDrive {
     /// hm (6060h = 6): a rising controlword bit 4 (HOS) starts the method in 6098h. The
     /// data-set methods set home at the current position at once, without motion (also outside
-    /// Operation enabled, mr-j3-t04.md §8.1); a method the manual does not list, or 0, ends in
+    /// Operation enabled, MR-J3-T04 manual §8.11.3, §8.11.6); a method the manual does not list, or 0, ends in
     /// a homing error (bit 13). Methods that search a dog, a stroke end or the Z phase are not
     /// simulated (no dog or Z-phase model) and also end in a homing error.
     pub(super) fn run_homing(&mut self, cw: Controlword) {
@@ -43,7 +43,7 @@ impl SimDrive {
             .sdo_value(0x6098, 0)
             .or_else(|| self.profile.object(0x6098, 0).and_then(|o| o.default))
             .unwrap_or(0) as i8;
-        // Homing start clears bit 12 (mr-j4-tm.md §4.10 retention rules).
+        // Homing start clears bit 12 (MR-J4-TM manual §5.4.9 retention rules).
         self.homing.attained = false;
         self.homing.error = false;
         if !self.profile.data_set_homing_methods.contains(&method) {

@@ -31,7 +31,7 @@ impl SimDrive {
         self.pp.reset(self.demand, self.prev_cw.0);
     }
 
-    /// 60B0h Position offset, added to 607Ah in csp (mr-j5-g-n1.md §4.3 rule 2, mr-jet-g-n1.md
+    /// 60B0h Position offset, added to 607Ah in csp (MR-J5-G-N1 manual §7.4 rule 2, MR-JET-G-N1 manual
     /// §4.3 rule 3: "607Ah + 60B0h follow 6064h"); only on models that list 60B0h, 0 unless
     /// written by SDO.
     pub fn position_offset(&self) -> i32 {
@@ -110,7 +110,7 @@ impl SimDrive {
             return;
         }
         if self.mode_display == ModeOfOperation::ProfilePosition {
-            // pp handles HALT itself (605Dh, mr-j4-tm.md §4.7).
+            // pp handles HALT itself (605Dh, MR-J4-TM manual §5.4.6).
             self.follow_profile_position(cmd, dt);
             return;
         }

@@ -47,10 +47,10 @@ pub struct SimDriveParams {
     /// ([`TorqueLimitSelection::TorqueLimit2`], MR-JET / MR-J5).
     pub torque_limit_2: TorqueLimit2,
     /// PC02 slow-stop time (ms, rated speed to 0) of a stroke-end stop on MR-J3-T04
-    /// (mr-j3-t04.md §9.1); "rated speed" is taken as `plant.max_velocity`. 0: stop at the
+    /// (MR-J3-T04 manual §3.9, §8.11.7); "rated speed" is taken as `plant.max_velocity`. 0: stop at the
     /// plant's maximum deceleration.
     pub slow_stop_time_ms: u32,
-    /// How long a parameter save through 1010h:01 takes (mr-jet-g-n1.md §6: "about 25 s").
+    /// How long a parameter save through 1010h:01 takes (MR-JET-G-N1 manual: "about 25 s").
     pub store_parameters_ms: u32,
     /// 6064h after a homing on a drive that presets it ([`HomeReference::PositionPreset`],
     /// MR-J4-TM): the "home position address" parameter, not in the extract; default 0.
@@ -59,7 +59,7 @@ pub struct SimDriveParams {
     /// only the free-run rule — hold the last command — and leave DC mode unstated).
     pub dc_missed_command: MissedCommand,
     /// What C_CR2 before the first Z phase raises on a model with Controlword2 home setting
-    /// (MR-J3-T04: AL.96 warning by default, AL.26 selectable; mr-j3-t04.md §7.2).
+    /// (MR-J3-T04: AL.96 warning by default, AL.26 selectable; MR-J3-T04 manual §7.1, §7.2, §3.7, §3.9, §5.1, §8.5.2).
     pub before_z_reaction: BeforeZReaction,
     /// Raw position of the encoder's Z phase within a revolution (counts; the manual gives no
     /// figure, TV-HOME-1 uses 262100); default 0.
@@ -70,7 +70,7 @@ pub struct SimDriveParams {
     pub sync_mismatch_alarm: Option<u16>,
     /// Profile position mode (pp) values the manuals leave open (`sim::profile_position`).
     pub pp: PpParams,
-    /// [Pr. PT01.2] position data unit (acts on relative pp set-points, mr-j4-tm.md §4.7).
+    /// [Pr. PT01.2] position data unit (acts on relative pp set-points, MR-J4-TM manual §5.4.6).
     pub position_unit: PositionUnit,
     /// The DIP switch SW3 (axis selection) as set on the amplifier, read at power-on; see
     /// [`AxisSwitch`].
@@ -81,7 +81,7 @@ pub struct SimDriveParams {
     pub fsoe: Option<FsoeSlaveParams>,
 }
 
-/// DIP switch SW3 of the MR-J5-G-N1 family (mr-j5-g-n1.md §1.5, TV-14; ON = up).
+/// DIP switch SW3 of the MR-J5-G-N1 family (MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4, TV-14; ON = up).
 ///
 /// The manual states one rule: on a 1-axis amplifier SW3-1 OFF with SW3-2 ON raises AL.011.2
 /// Invalid axis setting error (the profile's [`DriveProfile::invalid_axis_switch`]). It does not
@@ -98,7 +98,7 @@ pub struct AxisSwitch {
     pub sw3_2: bool,
 }
 
-/// 2D6Dh Torque limit 2 (mr-jet-g-n1.md §6/§9.1), in 0.1 % of rated torque; defaults per the
+/// 2D6Dh Torque limit 2 (MR-JET-G-N1 manual/§9.1), in 0.1 % of rated torque; defaults per the
 /// object table: select 0, both values 10000. Polarity (POL, which swaps :02 and :03) is taken
 /// as disabled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -121,7 +121,7 @@ impl Default for TorqueLimit2 {
     }
 }
 
-/// MR-J3-T04 torque-limit parameters, % of rated torque (mr-j3-t04.md §9.4). Their defaults
+/// MR-J3-T04 torque-limit parameters, % of rated torque (MR-J3-T04 manual §8.14, §1.2.1). Their defaults
 /// are in the J3A manual, which the extract does not include: the default here is the motor
 /// maximum, [`InternalTorqueLimits::MOTOR_MAXIMUM_PERCENT`], so an unconfigured drive does not
 /// limit below what the plant can do.
@@ -182,7 +182,7 @@ impl Default for SimDriveParams {
 }
 
 /// A drive's command in a DC cycle whose RxPDO is missing (a named parameter: the manuals
-/// are silent, mr-j4-tm.md §1.5 and mr-j5-g-n1.md §1.4 state only the free-run hold).
+/// are silent, MR-J4-TM manual §1.1(4) and MR-J5-G-N1 manual §6 state only the free-run hold).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum MissedCommand {
     /// Keep the last command (the free-run rule): a moving csp axis stops for the cycle and

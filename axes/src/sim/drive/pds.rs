@@ -94,7 +94,7 @@ impl SimDrive {
 
     /// Distributed clocks start with SYNC0 every `sync0_ns` (SAFE-OP → OP). On a model whose
     /// manual names an alarm for it, a SYNC0 cycle other than the PDO cycle the master wrote
-    /// to 1C32h:02 raises that alarm (mr-j3-t04.md TV-IC-5, §8.2.3(1)); returns it.
+    /// to 1C32h:02 raises that alarm (MR-J3-T04 TV-IC-5 (docs/test-vectors.md), §8.2.3(1)); returns it.
     pub fn start_sync(&mut self, sync0_ns: u32) -> Option<u16> {
         let alarms = self.profile.pdo_rules.sync_mismatch_alarms;
         let alarm = self
@@ -251,7 +251,7 @@ impl SimDrive {
 
     /// Sets the main circuit power input. Off in Switched on or Operation enabled goes to Ready
     /// to switch on (8B); Enable operation while it is off raises AL.E9 and stays there
-    /// (mr-j3-t04.md §3.7, on models with [`DriveProfile::power_warnings`]).
+    /// (MR-J3-T04 manual §8.4.1, §8.5.1, §8.5.2, §3.7, §3.10, §4.1(4), §7, on models with [`DriveProfile::power_warnings`]).
     pub fn set_main_circuit_power(&mut self, on: bool) {
         self.power.main_circuit = on;
         if on {

@@ -5,7 +5,7 @@ use crate::fsoe::{ConnectionParams, FsoeError, FsoeFrame, SafetyStatus};
 use crate::sim::fsoe::FsoeSlave;
 
 impl SimDrive {
-    /// The FSoE connection parameter set from the master (mr-jet-g-n1.md §7.1 item 4; see
+    /// The FSoE connection parameter set from the master (MR-JET-G-N1 manual §9.3 item 4; see
     /// [`FsoeSlave::connect`]). A slave address other than [Pr. PSC07] raises the profile's
     /// AL.584.1 and returns [`FsoeError::AddressMismatch`]. Without FSoE on this drive:
     /// [`FsoeError::NotSupported`].

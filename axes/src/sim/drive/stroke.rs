@@ -3,7 +3,7 @@
 use super::SimDrive;
 use crate::pdo::RxPdo;
 
-/// The csp manual stop of mr-j3-t04.md §9.2 (TV-STROKE-2).
+/// The csp manual stop of MR-J3-T04 manual §8.13 (TV-STROKE-2).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct ManualStop {
     /// C_MSTOP is on: 607Ah is discarded.
@@ -50,7 +50,7 @@ impl SimDrive {
         self.stroke.lsn = lsn;
     }
 
-    /// csv under the stroke-end rules (mr-j3-t04.md §9.1, TV-STROKE-1): moving into an OFF
+    /// csv under the stroke-end rules (MR-J3-T04 manual §3.9, §8.11.7, TV-STROKE-1): moving into an OFF
     /// input starts a PC02 slow stop during which 60FFh is discarded; after the stop the
     /// blocked direction stays refused and the other one is accepted.
     pub(super) fn stroke_limited_velocity(&mut self, v: f64, dt: f64) -> f64 {
@@ -98,7 +98,7 @@ impl SimDrive {
         }
     }
 
-    /// csp with C_MSTOP (mr-j3-t04.md §9.2): while it is on, 607Ah is discarded and the demand
+    /// csp with C_MSTOP (MR-J3-T04 manual §8.13): while it is on, 607Ah is discarded and the demand
     /// ramps linearly to rest with PC02; S_FLW = 1 once it has been fully output. Cleared, the
     /// drive tracks 607Ah again from where it stopped (the master copies 6062h into 607Ah
     /// first, or the motor jumps to the old target). True while the manual stop owns the demand.

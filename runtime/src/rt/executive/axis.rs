@@ -96,16 +96,16 @@ pub struct AxisChannel {
     pub homing: HomingSequencer,
     /// Whether the TxPDO carries 6061h (else mode changes count as done after a settle time).
     pub mode_display_mapped: bool,
-    /// Where the RxPDO lacks 6060h (MR-J3-T04, mr-j3-t04.md §3.9): the mode last written by
+    /// Where the RxPDO lacks 6060h (MR-J3-T04, MR-J3-T04 manual §8.4.2): the mode last written by
     /// SDO (the drive starts in its parameter's mode, the cyclic one); `None` where mapped.
     pub sdo_mode: Option<ModeOfOperation>,
-    /// 607Ch in counts where the drive does not shift 6064h by it (MR-J3-T04, mr-j3-t04.md
+    /// 607Ch in counts where the drive does not shift 6064h by it (MR-J3-T04, MR-J3-T04 manual
     /// §8.2): the master works in user counts, user = raw + home offset; 0 elsewhere.
     pub home_offset: i32,
     /// Whether the drive reports its home as 607Ch instead of presetting 6064h.
     pub offset_home: bool,
     /// Home setting by Controlword2 where the model has it and the maps carry 2001h/2011h
-    /// (MR-J3-T04 C_CR / C_CR2, mr-j3-t04.md §8.3).
+    /// (MR-J3-T04 C_CR / C_CR2, MR-J3-T04 manual §8.11.6).
     pub home_setting: Option<HomeSetting>,
     /// MC_Power of this axis: the operator wants it in Operation enabled. An axis without
     /// power follows its actual position and takes no motion.
@@ -209,7 +209,7 @@ impl AxisChannel {
     }
 
     /// A raw 6064h as the master's user counts: raw + 607Ch on a drive that reports home as an
-    /// offset (mr-j3-t04.md §8.2, TV-HOME-1), raw elsewhere (offset 0).
+    /// offset (MR-J3-T04 manual §8.11.4.2, §8.11.6, §9.1, TV-HOME-1), raw elsewhere (offset 0).
     pub fn to_user(&self, raw: i32) -> i32 {
         raw.wrapping_add(self.home_offset)
     }
@@ -416,7 +416,7 @@ mod tests {
         }
     }
 
-    /// mr-j3-t04.md TV-HOME-1: home at raw 10000 → 607Ch = −10000; user target 5000 goes out
+    /// MR-J3-T04 TV-HOME-1 (docs/test-vectors.md): home at raw 10000 → 607Ch = −10000; user target 5000 goes out
     /// as 607Ah = 15000, user 0 as 10000; raw 15000 reads as user 5000.
     #[test]
     fn tv_home_1_master_converts_user_and_raw_counts() {

@@ -1,4 +1,4 @@
-//! The cyclic executive: one fixed sequence of small steps per cycle (ARCHITECTURE.md, "Data
+//! The cyclic executive: one fixed sequence of small steps per cycle (docs/architecture.md, "Data
 //! flow of one cycle"), run on the pinned RT thread with absolute deadlines.
 //!
 //! Steady state does no heap allocation, takes no lock and makes no syscall other than the cycle
@@ -379,11 +379,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 self.event(EventKind::BusError, i as u16, i as i64);
                 continue;
             };
-            // User counts where the drive keeps 6064h raw (mr-j3-t04.md §8.2).
+            // User counts where the drive keeps 6064h raw (MR-J3-T04 manual §8.11.4.2, §8.11.6, §9.1).
             tx.position_actual = self.axes[i].to_user(tx.position_actual);
             let old = self.axes[i].feedback;
             self.axes[i].feedback = tx;
-            // Master-side incremental counter (mr-j3-t04.md §6.2): report a continuous or
+            // Master-side incremental counter (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7): report a continuous or
             // intermittent echo error once; the cell reacts in `update_cell`.
             let ch = &mut self.axes[i];
             if let Some(counter) = ch.counter.as_mut() {

@@ -60,7 +60,7 @@ impl Server {
     }
 }
 
-/// mr-j3-t04.md §12 TV-PDO-1: remap the RxPDO for csv only, with the listed abort codes.
+/// MR-J3-T04 TV-PDO-1 (docs/test-vectors.md): remap the RxPDO for csv only, with the listed abort codes.
 #[test]
 fn tv_pdo_1_csv_only_remap_by_sdo_and_its_abort_codes() {
     let mut s = Server::new(DriveModel::MrJ3T04);
@@ -106,7 +106,7 @@ fn tv_pdo_1_csv_only_remap_by_sdo_and_its_abort_codes() {
     assert_eq!(s.write_u32(0x1614, 16, 0x6040_0010), Err(0x0609_0011));
 }
 
-/// mr-j3-t04.md TV-IC-5 rows 3 and 4: 1C32h:02 takes only the three cycles, only in PRE-OP,
+/// MR-J3-T04 TV-IC-5 (docs/test-vectors.md) rows 3 and 4: 1C32h:02 takes only the three cycles, only in PRE-OP,
 /// and never again once SAFE-OP has been reached (mapping likewise, §4.4).
 #[test]
 fn tv_ic_5_cycle_time_writes_and_the_freeze_after_safe_op() {
@@ -124,7 +124,7 @@ fn tv_ic_5_cycle_time_writes_and_the_freeze_after_safe_op() {
     assert_eq!(s.write(0x1614, 0, &[0]), Err(0x0601_0002));
 }
 
-/// mr-j4-tm.md §12 TV-10, last row: 1600h:0 in SAFE-OP/OP is refused (0800 0022h assumed,
+/// MR-J4-TM TV-10 (docs/test-vectors.md), last row: 1600h:0 in SAFE-OP/OP is refused (0800 0022h assumed,
 /// [D]); in PRE-OP it is taken. The count of 1C12h is read-only (§5.1).
 #[test]
 fn tv_10_mapping_writes_outside_pre_op_mr_j4_tm() {
@@ -141,7 +141,7 @@ fn tv_10_mapping_writes_outside_pre_op_mr_j4_tm() {
     assert_eq!(s.write_u32(0x1600, 1, 0x6041_0010), Err(0x0604_0043));
 }
 
-/// mr-j5-g-n1.md §1.5 on a J5W3: the mapping objects of axis B/C at +10h carry the axis'
+/// MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4 on a J5W3: the mapping objects of axis B/C at +10h carry the axis'
 /// objects at +800h (an axis-A object is not mappable there); 1C12h sub n assigns axis n's
 /// object; TV-6: 1C32h:02 = 0.125 ms refused (0609 0030h, the spec's natural code), 0.25 ms
 /// taken by every axis; per-axis objects routed to the axis' drive.

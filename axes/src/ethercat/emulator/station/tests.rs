@@ -62,7 +62,7 @@ fn request_upload(s: &mut Station, index: u16) {
     s.physical(Command::Fpwr, mb.start, &mut r, 0);
 }
 
-/// mr-j4-tm.md §6.1: an alarm is reported by CoE Emergency: at the drive's next cycle SM1
+/// MR-J4-TM manual §4.1: an alarm is reported by CoE Emergency: at the drive's next cycle SM1
 /// holds it (error code = 603Fh, error register 01h, slot 0), and reading it empties SM1.
 #[test]
 fn an_mr_j4_tm_alarm_is_an_emergency_in_sm1() {
@@ -83,7 +83,7 @@ fn an_mr_j4_tm_alarm_is_an_emergency_in_sm1() {
     assert!(!sm1_full(&mut s));
 }
 
-/// mr-j3-t04.md §1.3: the MR-J3-T04 sends no CoE Emergency (PDO only).
+/// MR-J3-T04 manual §1.7, §8.2.2, §8.2.3: the MR-J3-T04 sends no CoE Emergency (PDO only).
 #[test]
 fn an_mr_j3_t04_alarm_sends_no_emergency() {
     let mut s = pre_op(DriveModel::MrJ3T04);

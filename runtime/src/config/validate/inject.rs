@@ -75,6 +75,12 @@ fn injected_fault(
             .position(|a| a.name == name)
             .ok_or_else(|| ConfigError::new(file, key("axis"), format!("no axis named '{name}'")))
     };
+    let required_axis = || {
+        let name = r.axis.as_deref().ok_or_else(|| {
+            ConfigError::new(file, key("axis"), format!("fault '{}' needs axis", r.fault))
+        })?;
+        axis_named(name)
+    };
     let cycles_of = |ns: u64| (ns / cycle_time.as_nanos()).max(1) as u32;
     if r.delay_us.is_some() && r.fault.parse() != Ok(FaultKind::FrameDelay) {
         return Err(ConfigError::new(
@@ -99,23 +105,7 @@ fn injected_fault(
     })?;
     let fault = match kind {
         FaultKind::FrameDelay => {
-            let delay_ns = match r.delay_us {
-                Some(d) if d.is_finite() && d > 0.0 && d <= 1_000_000.0 => (d * 1e3) as u64,
-                Some(d) => {
-                    return Err(ConfigError::new(
-                        file,
-                        key("delay_us"),
-                        format!("must be > 0 and at most 1000000 µs (got {d})"),
-                    ))
-                }
-                None => {
-                    return Err(ConfigError::new(
-                        file,
-                        key("delay_us"),
-                        "fault 'frame_delay' needs delay_us",
-                    ))
-                }
-            };
+            let delay_ns = frame_delay_ns(r.delay_us).map_err(|e| e.at(file, key("delay_us")))?;
             let cycles = cycles_of(duration(60_000.0)?);
             InjectedFault::FrameDelay { delay_ns, cycles }
         }
@@ -141,14 +131,8 @@ fn injected_fault(
             ns: duration(60_000.0)?,
         },
         FaultKind::RxLoss | FaultKind::CounterCorruption | FaultKind::SubdeviceStall => {
-            let name = r.axis.as_deref().ok_or_else(|| {
-                ConfigError::new(file, key("axis"), format!("fault '{}' needs axis", r.fault))
-            })?;
-            let axis = axes.iter().position(|a| a.name == name).ok_or_else(|| {
-                ConfigError::new(file, key("axis"), format!("no axis named '{name}'"))
-            })?;
-            let ns = duration(60_000.0)?;
-            let cycles = (ns / cycle_time.as_nanos()).max(1) as u32;
+            let axis = required_axis()?;
+            let cycles = cycles_of(duration(60_000.0)?);
             match kind {
                 FaultKind::RxLoss => InjectedFault::RxLoss { axis, cycles },
                 FaultKind::SubdeviceStall => InjectedFault::SubdeviceStall { axis, cycles },
@@ -156,31 +140,41 @@ fn injected_fault(
             }
         }
         FaultKind::DriveAlarm => {
-            let name = r.axis.as_deref().ok_or_else(|| {
-                ConfigError::new(file, key("axis"), "fault 'drive_alarm' needs axis")
-            })?;
-            let axis = axes.iter().position(|a| a.name == name).ok_or_else(|| {
-                ConfigError::new(file, key("axis"), format!("no axis named '{name}'"))
-            })?;
-            let code = match r.code {
-                Some(c @ 1..=0xFFFF) => c as u16,
-                Some(c) => {
-                    return Err(ConfigError::new(
-                        file,
-                        key("code"),
-                        format!("alarm code must be 0x0001..=0xFFFF (got {c:#x})"),
-                    ))
-                }
-                None => {
-                    return Err(ConfigError::new(
-                        file,
-                        key("code"),
-                        "fault 'drive_alarm' needs code",
-                    ))
-                }
-            };
+            let axis = required_axis()?;
+            let code = alarm_code(r.code).map_err(|e| e.at(file, key("code")))?;
             InjectedFault::DriveAlarm { axis, code }
         }
     };
     Ok(fault)
+}
+
+/// A key's value is wrong; the message, before the file and key are known.
+struct BadValue(String);
+
+impl BadValue {
+    fn at(self, file: &Path, key: String) -> ConfigError {
+        ConfigError::new(file, key, self.0)
+    }
+}
+
+/// `delay_us` of a `frame_delay`, in ns: above 0, at most 1 s.
+fn frame_delay_ns(delay_us: Option<f64>) -> Result<u64, BadValue> {
+    match delay_us {
+        Some(d) if d.is_finite() && d > 0.0 && d <= 1_000_000.0 => Ok((d * 1e3) as u64),
+        Some(d) => Err(BadValue(format!(
+            "must be > 0 and at most 1000000 µs (got {d})"
+        ))),
+        None => Err(BadValue("fault 'frame_delay' needs delay_us".into())),
+    }
+}
+
+/// `code` of a `drive_alarm`: a 16-bit alarm code other than 0.
+fn alarm_code(code: Option<u32>) -> Result<u16, BadValue> {
+    match code {
+        Some(c @ 1..=0xFFFF) => Ok(c as u16),
+        Some(c) => Err(BadValue(format!(
+            "alarm code must be 0x0001..=0xFFFF (got {c:#x})"
+        ))),
+        None => Err(BadValue("fault 'drive_alarm' needs code".into())),
+    }
 }

@@ -238,138 +238,15 @@ impl MotionEngine {
         ) {
             self.take_over_planned();
         }
-        let torque_active = matches!(self.active.as_ref().map(|a| &a.kind), Some(Kind::Torque(_)));
-        let line_active = matches!(self.active.as_ref().map(|a| &a.kind), Some(Kind::Line(..)));
-        match (&req, self.active.is_some()) {
-            (MotionRequest::Halt(_), false) => return Ok(()),
-            (MotionRequest::Halt(_), true) if line_active => {
-                if let Some(Active {
-                    kind: Kind::Line(line, _),
-                    ..
-                }) = self.active.as_mut()
-                {
-                    line.halt();
-                }
-                return Ok(());
-            }
-            (_, true) if line_active => {
-                return Err(MotionError::Busy {
-                    active: "line move",
-                })
-            }
-            (MotionRequest::Line { .. } | MotionRequest::Path { .. }, true) => {
-                return Err(MotionError::NotAtRest(
-                    if matches!(req, MotionRequest::Line { .. }) {
-                        "line"
-                    } else {
-                        "waypoint path"
-                    },
-                ))
-            }
-            (MotionRequest::Halt(_), true) if torque_active => {
-                let period = self.cell.period();
-                let Some(Active {
-                    next,
-                    kind: Kind::Torque(t),
-                    ..
-                }) = self.active.as_mut()
-                else {
-                    unreachable!("torque_active")
-                };
-                if t.halted.is_none() {
-                    let k = *next;
-                    let at: Vec<f64> = (0..t.ramps.len()).map(|i| t.value(i, k, period)).collect();
-                    let ramp_s = t
-                        .ramps
-                        .iter()
-                        .zip(&at)
-                        .map(|((_, r), v)| v.abs() / r.slope())
-                        .fold(0.0, f64::max);
-                    t.end = k + (ramp_s / period).ceil() as u64 + 1;
-                    t.halted = Some((k, at));
-                }
-                return Ok(());
-            }
-            (_, true) if torque_active => {
-                return Err(MotionError::Busy {
-                    active: "torque command",
-                })
-            }
-            (MotionRequest::Torque { .. }, true) => {
-                return Err(MotionError::Busy { active: "motion" })
-            }
-            _ => {}
+        if self.settle_with_active(&req)? {
+            return Ok(());
         }
         if self.active.is_none() {
             let status = link.status()?;
             if status.state != CellState::Idle {
                 return Err(MotionError::NotIdle(status.state.as_str()));
             }
-            let kind = match &req {
-                MotionRequest::Torque { targets, hold_s } => {
-                    let ramps = targets
-                        .iter()
-                        .map(|&(axis, torque, slope)| {
-                            TorqueRamp::new(torque, slope, *hold_s).map(|r| (axis, r))
-                        })
-                        .collect::<Result<Vec<_>, _>>()
-                        .map_err(|e| MotionError::planning("torque profile")(&e))?;
-                    let duration = ramps
-                        .iter()
-                        .map(|(_, r)| r.duration_s())
-                        .fold(0.0, f64::max);
-                    // One cycle past the end so the last setpoint is zero torque.
-                    let end = (duration / self.cell.period()).ceil() as u64 + 1;
-                    Kind::Torque(TorqueMotion {
-                        ramps,
-                        halted: None,
-                        end,
-                    })
-                }
-                MotionRequest::Line {
-                    targets,
-                    path_velocity,
-                } => {
-                    let axes: Vec<usize> = targets.iter().map(|t| t.0).collect();
-                    let start: Vec<f64> = axes
-                        .iter()
-                        .map(|&i| self.cell.axes[i].scaling.to_units(status.hold[i]))
-                        .collect();
-                    let end: Vec<f64> = targets.iter().map(|t| t.1).collect();
-                    let limits: Vec<KinematicLimits> = targets.iter().map(|t| t.2).collect();
-                    for &(i, end, _) in targets {
-                        let a = &self.cell.axes[i];
-                        a.position.check(end).map_err(|e| {
-                            MotionError::Refused(format!("axis '{}' ({}): {e}", a.name, a.unit))
-                        })?;
-                    }
-                    let mut line =
-                        LineMove::new(&start, &end, &limits, *path_velocity, self.cell.period())
-                            .map_err(|e| MotionError::planning("line")(&e))?;
-                    line.set_override(self.online.feed_override())
-                        .map_err(|e| MotionError::planning("line")(&e))?;
-                    Kind::Line(Box::new(line), axes)
-                }
-                MotionRequest::Path { targets, via } => {
-                    let axes: Vec<MoveAxis> = targets
-                        .iter()
-                        .map(|&(i, target, limits)| MoveAxis {
-                            start: AxisState {
-                                position: self.cell.axes[i].scaling.to_units(status.hold[i]),
-                                ..AxisState::default()
-                            },
-                            target,
-                            limits,
-                        })
-                        .collect();
-                    let plan = plan_waypoints(&axes, via)
-                        .map_err(|e| MotionError::planning("path")(&e))?;
-                    let sampler = MoveSampler::new(plan, self.cell.period())
-                        .map_err(|e| MotionError::planning("path")(&e))?;
-                    Kind::Planned(Box::new(sampler), targets.iter().map(|t| t.0).collect())
-                }
-                _ => Kind::Online,
-            };
+            let kind = self.new_motion(&req, &status)?;
             self.begin(&status, kind);
         }
         let r = match req {
@@ -385,6 +262,157 @@ impl MotionEngine {
             | MotionRequest::Path { .. } => Ok(()),
         };
         r.map_err(|e| MotionError::Refused(self.describe(e)))
+    }
+
+    /// What `req` means for the motion in flight (a line move or torque command takes only a
+    /// halt; lines, paths and torque need the cell at rest): `Ok(true)` when that settles it.
+    fn settle_with_active(&mut self, req: &MotionRequest) -> Result<bool, MotionError> {
+        let torque_active = matches!(self.active.as_ref().map(|a| &a.kind), Some(Kind::Torque(_)));
+        let line_active = matches!(self.active.as_ref().map(|a| &a.kind), Some(Kind::Line(..)));
+        match (req, self.active.is_some()) {
+            (MotionRequest::Halt(_), false) => Ok(true),
+            (MotionRequest::Halt(_), true) if line_active => {
+                if let Some(Active {
+                    kind: Kind::Line(line, _),
+                    ..
+                }) = self.active.as_mut()
+                {
+                    line.halt();
+                }
+                Ok(true)
+            }
+            (_, true) if line_active => Err(MotionError::Busy {
+                active: "line move",
+            }),
+            (MotionRequest::Line { .. } | MotionRequest::Path { .. }, true) => Err(
+                MotionError::NotAtRest(if matches!(req, MotionRequest::Line { .. }) {
+                    "line"
+                } else {
+                    "waypoint path"
+                }),
+            ),
+            (MotionRequest::Halt(_), true) if torque_active => {
+                self.halt_torque();
+                Ok(true)
+            }
+            (_, true) if torque_active => Err(MotionError::Busy {
+                active: "torque command",
+            }),
+            (MotionRequest::Torque { .. }, true) => Err(MotionError::Busy { active: "motion" }),
+            _ => Ok(false),
+        }
+    }
+
+    /// Halts the torque command in flight: every axis ramps from where it is to zero at its
+    /// slope (once; a second halt changes nothing).
+    fn halt_torque(&mut self) {
+        let period = self.cell.period();
+        let Some(Active {
+            next,
+            kind: Kind::Torque(t),
+            ..
+        }) = self.active.as_mut()
+        else {
+            return;
+        };
+        if t.halted.is_none() {
+            let k = *next;
+            let at: Vec<f64> = (0..t.ramps.len()).map(|i| t.value(i, k, period)).collect();
+            let ramp_s = t
+                .ramps
+                .iter()
+                .zip(&at)
+                .map(|((_, r), v)| v.abs() / r.slope())
+                .fold(0.0, f64::max);
+            t.end = k + (ramp_s / period).ceil() as u64 + 1;
+            t.halted = Some((k, at));
+        }
+    }
+
+    /// The motion `req` starts from the cell at rest in `status`.
+    fn new_motion(
+        &self,
+        req: &MotionRequest,
+        status: &StatusSnapshot,
+    ) -> Result<Kind, MotionError> {
+        Ok(match req {
+            MotionRequest::Torque { targets, hold_s } => self.torque_motion(targets, *hold_s)?,
+            MotionRequest::Line {
+                targets,
+                path_velocity,
+            } => self.line_motion(targets, *path_velocity, status)?,
+            MotionRequest::Path { targets, via } => {
+                let axes: Vec<MoveAxis> = targets
+                    .iter()
+                    .map(|&(i, target, limits)| MoveAxis {
+                        start: AxisState {
+                            position: self.cell.axes[i].scaling.to_units(status.hold[i]),
+                            ..AxisState::default()
+                        },
+                        target,
+                        limits,
+                    })
+                    .collect();
+                let plan =
+                    plan_waypoints(&axes, via).map_err(|e| MotionError::planning("path")(&e))?;
+                let sampler = MoveSampler::new(plan, self.cell.period())
+                    .map_err(|e| MotionError::planning("path")(&e))?;
+                Kind::Planned(Box::new(sampler), targets.iter().map(|t| t.0).collect())
+            }
+            _ => Kind::Online,
+        })
+    }
+
+    /// A torque command from rest: each axis ramps to its torque at its slope, holds it
+    /// `hold_s` seconds and ramps back to zero.
+    fn torque_motion(
+        &self,
+        targets: &[(usize, f64, f64)],
+        hold_s: f64,
+    ) -> Result<Kind, MotionError> {
+        let ramps = targets
+            .iter()
+            .map(|&(axis, torque, slope)| TorqueRamp::new(torque, slope, hold_s).map(|r| (axis, r)))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| MotionError::planning("torque profile")(&e))?;
+        let duration = ramps
+            .iter()
+            .map(|(_, r)| r.duration_s())
+            .fold(0.0, f64::max);
+        // One cycle past the end so the last setpoint is zero torque.
+        let end = (duration / self.cell.period()).ceil() as u64 + 1;
+        Ok(Kind::Torque(TorqueMotion {
+            ramps,
+            halted: None,
+            end,
+        }))
+    }
+
+    /// A straight line of an axis group from the hold positions in `status`.
+    fn line_motion(
+        &self,
+        targets: &[(usize, f64, KinematicLimits)],
+        path_velocity: Option<f64>,
+        status: &StatusSnapshot,
+    ) -> Result<Kind, MotionError> {
+        let axes: Vec<usize> = targets.iter().map(|t| t.0).collect();
+        let start: Vec<f64> = axes
+            .iter()
+            .map(|&i| self.cell.axes[i].scaling.to_units(status.hold[i]))
+            .collect();
+        let end: Vec<f64> = targets.iter().map(|t| t.1).collect();
+        let limits: Vec<KinematicLimits> = targets.iter().map(|t| t.2).collect();
+        for &(i, end, _) in targets {
+            let a = &self.cell.axes[i];
+            a.position.check(end).map_err(|e| {
+                MotionError::Refused(format!("axis '{}' ({}): {e}", a.name, a.unit))
+            })?;
+        }
+        let mut line = LineMove::new(&start, &end, &limits, path_velocity, self.cell.period())
+            .map_err(|e| MotionError::planning("line")(&e))?;
+        line.set_override(self.online.feed_override())
+            .map_err(|e| MotionError::planning("line")(&e))?;
+        Ok(Kind::Line(Box::new(line), axes))
     }
 
     /// Refuses motion of an axis whose MC_Power is off (the RT thread would refuse its

@@ -5,6 +5,7 @@
 
 pub mod client;
 pub mod server;
+mod targets;
 pub mod wire;
 
 /// How often the operator status is published.

@@ -6,7 +6,7 @@ use cellrt_axes::cia402::statusword::Statusword;
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
-use super::targets::{axis_index, move_limits, TargetError};
+use super::targets::{axis_index, move_limits, Asked, TargetError};
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
 use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, HomeRequest};
@@ -348,10 +348,10 @@ impl OperatorServer {
         let list = match resolve_targets(ctx, state, targets, relative, |a| {
             move_limits(
                 a,
-                axis_velocity,
-                asked.acceleration,
-                asked.jerk,
-                asked.clamp,
+                Asked {
+                    velocity: axis_velocity,
+                    ..asked
+                },
             )
         }) {
             Ok(l) => l,
@@ -397,15 +397,7 @@ impl OperatorServer {
         let Some(last) = waypoints.last() else {
             return rejected("path: no waypoints".into());
         };
-        let targets = match resolve_targets(ctx, state, last, false, |a| {
-            move_limits(
-                a,
-                asked.velocity,
-                asked.acceleration,
-                asked.jerk,
-                asked.clamp,
-            )
-        }) {
+        let targets = match resolve_targets(ctx, state, last, false, |a| move_limits(a, asked)) {
             Ok(l) => l.into_iter().map(|(i, t, l, _)| (i, t, l)).collect(),
             Err(e) => return rejected(format!("path: {e}")),
         };
@@ -436,7 +428,13 @@ impl OperatorServer {
             Err(e) => return rejected(format!("velocity: {e}")),
         };
         let a = &ctx.cell.axes[i];
-        let limits = match move_limits(a, None, acceleration, None, clamp) {
+        let asked = Asked {
+            velocity: None,
+            acceleration,
+            jerk: None,
+            clamp,
+        };
+        let limits = match move_limits(a, asked) {
             Ok(l) => l,
             Err(e) => return rejected(format!("velocity: {e}")),
         };
@@ -664,16 +662,6 @@ const MOTION_COMMANDS: [&str; 5] = ["move", "path", "velocity", "torque", "halt"
 /// The refusal of a request, with its reason.
 fn rejected(reason: String) -> (Reply, Followup) {
     (Reply::Rejected { reason }, Followup::None)
-}
-
-/// The limits a move-like request asks for (each axis' own limit where absent).
-#[derive(Clone, Copy)]
-struct Asked {
-    velocity: Option<f64>,
-    acceleration: Option<f64>,
-    jerk: Option<f64>,
-    /// Lower a limit above an axis limit to it instead of refusing.
-    clamp: bool,
 }
 
 fn program_abort(program_running: bool) -> Followup {

@@ -4,6 +4,16 @@ use cellrt_trajectory::KinematicLimits;
 
 use crate::config::{AxisConfig, CellConfig};
 
+/// The limits a move-like request asks for (each axis' own limit where absent).
+#[derive(Clone, Copy)]
+pub(super) struct Asked {
+    pub(super) velocity: Option<f64>,
+    pub(super) acceleration: Option<f64>,
+    pub(super) jerk: Option<f64>,
+    /// Lower a limit above an axis limit to it instead of refusing.
+    pub(super) clamp: bool,
+}
+
 /// Why the axes, targets or limits a request names do not fit the cell.
 #[derive(Debug, thiserror::Error)]
 pub enum TargetError {
@@ -67,13 +77,13 @@ pub(super) fn axis_index(cell: &CellConfig, name: &str) -> Result<usize, TargetE
 
 /// Per-move limits: the axis limits, lowered where the request asks; a request above the axis
 /// limit is refused unless `clamp`.
-pub(super) fn move_limits(
-    a: &AxisConfig,
-    velocity: Option<f64>,
-    acceleration: Option<f64>,
-    jerk: Option<f64>,
-    clamp: bool,
-) -> Result<KinematicLimits, TargetError> {
+pub(super) fn move_limits(a: &AxisConfig, asked: Asked) -> Result<KinematicLimits, TargetError> {
+    let Asked {
+        velocity,
+        acceleration,
+        jerk,
+        clamp,
+    } = asked;
     let pick = |what: &'static str, per: &'static str, req: Option<f64>, limit: f64| match req {
         None => Ok(limit),
         Some(v) if !(v.is_finite() && v > 0.0) => Err(TargetError::BadLimit {

@@ -181,6 +181,7 @@ pub fn spawn(opts: LatencyOptions) -> Result<Running, BenchError> {
             let mut rt = setup_current_thread(&RtConfig {
                 cpu: Some(opts.cpu),
                 priority: opts.priority,
+                planner_priority: None,
                 lock_memory: true,
                 reserve_cpu: false,
             });

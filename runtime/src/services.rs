@@ -75,8 +75,12 @@ pub struct StatusSample {
     pub motion_id: u32,
     /// Last motion finished normally.
     pub motion_done: u32,
+    /// Last motion whose first block the RT thread refused (never started).
+    pub motion_refused: u32,
     /// Axes valid in `hold`.
     pub axis_count: u32,
+    /// Padding (keeps `hold` 8-byte aligned without implicit padding).
+    pub reserved2: [u8; 4],
     /// Hold position per axis, counts.
     pub hold: [f64; MAX_AXES],
     /// Latest feedback of each axis (first `axis_count` valid).
@@ -118,7 +122,9 @@ impl Default for StatusSample {
             reserved: [0; 2],
             motion_id: 0,
             motion_done: 0,
+            motion_refused: 0,
             axis_count: 0,
+            reserved2: [0; 4],
             hold: [0.0; MAX_AXES],
             live: [LiveAxis::default(); MAX_AXES],
             homing: 0,

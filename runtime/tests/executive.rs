@@ -217,12 +217,34 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     assert_eq!(rig.rejections(), vec![2], "velocity_step"); // RejectReason::VelocityStep
     assert_eq!(rig.handoff.status().state(), CellState::Idle);
     assert_eq!(rig.hold_mm(), home);
+    // The motion never started, and the status says so (its planner stops waiting for it).
+    assert_eq!(rig.handoff.status().motion_id.load(Ordering::Acquire), 0);
+    assert_eq!(
+        rig.handoff.status().motion_refused.load(Ordering::Acquire),
+        1
+    );
+    // Its later blocks are dropped without a rejection each.
+    let start = rig.cycle() + LEAD;
+    rig.publish(1, start, &[home; 16], true);
+    rig.wait_until(start + 20);
+    assert_eq!(rig.rejections(), vec![2]);
+    assert!(
+        !rig.events
+            .iter()
+            .any(|e| e.kind == EventKind::MotionStarted),
+        "a refused motion does not start from a later block"
+    );
+    assert_eq!(rig.handoff.status().state(), CellState::Idle);
 
     // A block whose first cycle has passed: refused as late.
     rig.publish(2, rig.cycle().saturating_sub(5), &[home; 16], true);
     rig.wait_cycles(20);
     assert_eq!(rig.rejections(), vec![2, 1], "late_block");
     assert_eq!(rig.hold_mm(), home);
+    assert_eq!(
+        rig.handoff.status().motion_refused.load(Ordering::Acquire),
+        2
+    );
 
     // A block outside the position range: refused.
     let start = rig.cycle() + LEAD;

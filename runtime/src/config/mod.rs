@@ -58,6 +58,10 @@ pub struct RtConfig {
     pub cpu: Option<usize>,
     /// SCHED_FIFO priority, 1..=99.
     pub priority: u8,
+    /// SCHED_FIFO priority of the planner thread, the setpoint producer, below `priority`:
+    /// so the recorder and services cannot hold back setpoints until the lookahead runs out
+    /// (an underrun stops the cell). `None` (config 0): SCHED_OTHER.
+    pub planner_priority: Option<u8>,
     /// mlockall(MCL_CURRENT | MCL_FUTURE) before the loop starts.
     pub lock_memory: bool,
     /// With `cpu` set: run cellrt's other threads (planner, recorder, services) on the other
@@ -360,6 +364,9 @@ pub struct SimAxisConfig {
     /// drive's overspeed alarm trips at 1.2 × that (a csp target step implying more).
     pub motor_speed_factor: f64,
 }
+
+/// Default `rt.planner_priority`: above ordinary threads, well below the RT thread's default 80.
+pub const DEFAULT_PLANNER_PRIORITY: u8 = 40;
 
 /// Default `sim.motor_speed_factor`: the motor can do a bit more than the axis is allowed to.
 pub const DEFAULT_MOTOR_SPEED_FACTOR: f64 = 1.5;

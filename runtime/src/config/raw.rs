@@ -85,6 +85,9 @@ pub struct RawRt {
     /// SCHED_FIFO priority.
     #[serde(default = "default_priority")]
     pub priority: u8,
+    /// The planner thread's SCHED_FIFO priority (0: SCHED_OTHER).
+    #[serde(default = "default_planner_priority")]
+    pub planner_priority: u8,
     /// mlockall.
     #[serde(default = "default_true")]
     pub lock_memory: bool,
@@ -98,6 +101,7 @@ impl Default for RawRt {
         RawRt {
             cpu: None,
             priority: default_priority(),
+            planner_priority: default_planner_priority(),
             lock_memory: true,
             reserve_cpu: true,
         }
@@ -328,6 +332,9 @@ fn default_true() -> bool {
 }
 fn default_priority() -> u8 {
     80
+}
+fn default_planner_priority() -> u8 {
+    crate::config::DEFAULT_PLANNER_PRIORITY
 }
 fn default_recording_path() -> String {
     "recordings/{cell}-{timestamp}.mcap".to_string()

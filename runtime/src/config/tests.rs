@@ -62,6 +62,17 @@ fn bad_cell_name_and_priority_are_refused() {
 }
 
 #[test]
+fn the_planner_thread_runs_below_the_rt_thread_or_sched_other() {
+    assert_eq!(parse(&demo_text()).unwrap().rt.planner_priority, Some(40));
+    let e =
+        parse(&demo_text().replace("planner_priority = 40", "planner_priority = 80")).unwrap_err();
+    assert_eq!(e.key, "rt.planner_priority");
+    assert!(e.message.contains("below the RT thread's (80)"), "{e}");
+    let off = parse(&demo_text().replace("planner_priority = 40", "planner_priority = 0")).unwrap();
+    assert_eq!(off.rt.planner_priority, None);
+}
+
+#[test]
 fn initial_position_outside_range_is_refused() {
     let text = demo_text().replacen(
         "sim = { initial_position = 50.0 }",
@@ -84,12 +95,12 @@ fn errors_render_file_line_key_message() {
 fn lookahead_beyond_the_setpoint_buffer_is_refused() {
     let text = demo_text()
         .replace("cycle_time_us = 1000", "cycle_time_us = 125")
-        .replace("lookahead_ms = 50", "lookahead_ms = 1000");
+        .replace("lookahead_ms = 100", "lookahead_ms = 1000");
     let e = parse(&text).unwrap_err();
     assert_eq!(e.key, "setpoints.lookahead_ms");
     assert!(e.message.contains("setpoint buffer"), "{e}");
     // 1000 ms fits at 1 ms cycles.
-    parse(&demo_text().replace("lookahead_ms = 50", "lookahead_ms = 1000")).unwrap();
+    parse(&demo_text().replace("lookahead_ms = 100", "lookahead_ms = 1000")).unwrap();
 }
 
 #[test]

@@ -124,6 +124,8 @@ pub struct CellStatus {
     pub motion_id: AtomicU32,
     /// Id of the last motion that finished normally.
     pub motion_done: AtomicU32,
+    /// Id of the last motion whose first block was refused: it never started.
+    pub motion_refused: AtomicU32,
     /// Hold position of each axis (f64 bits, counts): where its next motion must start.
     pub hold: [AtomicU64; MAX_AXES],
     /// Set by the RT thread once the loop runs.
@@ -161,6 +163,7 @@ impl Default for CellStatus {
             stop_reason: AtomicU8::new(0),
             motion_id: AtomicU32::new(0),
             motion_done: AtomicU32::new(0),
+            motion_refused: AtomicU32::new(0),
             hold: std::array::from_fn(|_| AtomicU64::new(0f64.to_bits())),
             running: AtomicBool::new(false),
             live: std::array::from_fn(|_| AxisLive::default()),

@@ -155,12 +155,6 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let bus =
         crate::host::cell_bus::CellBus::open(cell).map_err(|e| RunError::Bus(e.to_string()))?;
     let (rt, mut report) = spawn_rt(cell, bus, rt_handoff, opts.hook)?;
-    report.other_threads_cpus = reserved.others.clone();
-    report.refused.extend(reserved.refused.clone());
-    for r in &report.refused {
-        tracing::warn!("{r}");
-    }
-    tracing::info!("{}", report.describe());
 
     let targets = opts
         .program
@@ -182,6 +176,16 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         }
     };
 
+    report.other_threads_cpus = reserved.others.clone();
+    report.refused.extend(reserved.refused.clone());
+    if let Some(p) = planner.as_ref() {
+        report.planner_priority = p.priority;
+        report.refused.extend(p.priority_refused.clone());
+    }
+    for r in &report.refused {
+        tracing::warn!("{r}");
+    }
+    tracing::info!("{}", report.describe());
     let rt = rt.go();
     let outcome = wait_for_end(&opts.shutdown, opts.duration, planner.as_mut(), &rt);
     // Stop publishing before the controlled stop; release the publisher after the RT thread.

@@ -84,6 +84,8 @@ pub struct StatusSnapshot {
     pub motion_id: u32,
     /// Last motion finished normally.
     pub motion_done: u32,
+    /// Last motion whose first block the RT thread refused (never started).
+    pub motion_refused: u32,
     /// Hold position per axis, counts.
     pub hold: [f64; MAX_AXES],
     /// Latest feedback of each axis.
@@ -146,6 +148,7 @@ pub fn snapshot(handoff: &HostEnd, axes: usize) -> StatusSnapshot {
         stop_reason: s.stop_reason(),
         motion_id: s.motion_id.load(Ordering::Acquire),
         motion_done: s.motion_done.load(Ordering::Acquire),
+        motion_refused: s.motion_refused.load(Ordering::Acquire),
         hold,
         live,
         homing: HomingStatus::decode(s.homing.load(Ordering::Acquire)),
@@ -250,6 +253,7 @@ impl CellLink for RemoteLink {
                     stop_reason: StopReason::from_u8(s.stop_reason),
                     motion_id: s.motion_id,
                     motion_done: s.motion_done,
+                    motion_refused: s.motion_refused,
                     hold: s.hold,
                     live: s.live,
                     homing: HomingStatus::decode(s.homing),

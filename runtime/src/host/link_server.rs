@@ -65,6 +65,7 @@ impl LinkServer {
                         stop_reason: snap.stop_reason.map(|r| r as u8).unwrap_or(0),
                         motion_id: snap.motion_id,
                         motion_done: snap.motion_done,
+                        motion_refused: snap.motion_refused,
                         axis_count: n as u32,
                         hold: snap.hold,
                         live: snap.live,

@@ -16,6 +16,7 @@ use crate::host::motion::{MotionEngine, MotionRequest, Progress};
 use crate::host::operator::server::{Context, Followup, OperatorServer};
 use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::rt::executive::HOMING_TIMEOUT;
+use crate::rt::thread::raise_planner_thread;
 use crate::services;
 use cellrt_axes::cia402::fsa::FsaState;
 use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure};
@@ -53,6 +54,10 @@ pub struct ProgramError {
 /// so the RT thread never sees the peer leave while it runs (a leaving peer makes the next
 /// iceoryx2 receive free memory; docs/architecture.md).
 pub struct PlannerHandle {
+    /// The planner thread's SCHED_FIFO priority in effect (0: SCHED_OTHER).
+    pub priority: u8,
+    /// Why the planner thread's priority was not raised, if it was asked for and refused.
+    pub priority_refused: Option<String>,
     abort: Arc<AtomicBool>,
     release: Arc<AtomicBool>,
     handle: JoinHandle<()>,
@@ -106,18 +111,20 @@ pub fn spawn(
     let cell = cell.clone();
     let release = Arc::new(AtomicBool::new(false));
     let release2 = release.clone();
-    let (ready_tx, ready_rx) = std::sync::mpsc::channel::<()>();
+    let (ready_tx, ready_rx) = std::sync::mpsc::channel::<Result<u8, String>>();
+    let planner_priority = cell.rt.planner_priority;
     let (result_tx, result_rx) = std::sync::mpsc::channel();
     let handle = std::thread::Builder::new()
         .name("cellrt-planner".into())
         .spawn(move || {
+            let priority = planner_priority.map_or(Ok(0), |p| raise_planner_thread(p).map(|()| p));
             let link = LocalLink::new(handoff, cell.axes.len());
             let source = program
                 .as_ref()
                 .map(|p| p.source.display().to_string())
                 .unwrap_or_default();
             let planner = Planner::new(&cell, Box::new(link), &abort2, source);
-            let _ = ready_tx.send(());
+            let _ = ready_tx.send(priority);
             match planner {
                 Ok(mut p) => {
                     let _ = result_tx.send(p.serve(program));
@@ -132,8 +139,10 @@ pub fn spawn(
             }
         })?;
     // Returns once the publisher exists, so the RT thread's warm-up sees it join.
-    let _ = ready_rx.recv();
+    let priority = ready_rx.recv().unwrap_or(Ok(0));
     Ok(PlannerHandle {
+        priority: *priority.as_ref().unwrap_or(&0),
+        priority_refused: priority.err(),
         abort,
         release,
         handle,
@@ -167,6 +176,11 @@ pub fn run_external(
         connect_timeout,
     )
     .map_err(|e| fail(e.to_string()))?;
+    if let Some(p) = cell.rt.planner_priority {
+        if let Err(refused) = raise_planner_thread(p) {
+            tracing::warn!("{refused}");
+        }
+    }
     let source = program.source.display().to_string();
     let mut planner = Planner::new(cell, Box::new(link), abort, source)?;
     planner.serve(Some(program.clone()))

@@ -17,6 +17,8 @@ pub struct RtReport {
     pub policy: String,
     /// SCHED_FIFO priority in effect (0 under SCHED_OTHER).
     pub priority: u8,
+    /// The planner thread's SCHED_FIFO priority in effect (0: SCHED_OTHER, or no planner).
+    pub planner_priority: u8,
     /// Whether mlockall(MCL_CURRENT | MCL_FUTURE) took effect.
     pub memory_locked: bool,
     /// Bytes of stack prefaulted.
@@ -34,7 +36,7 @@ impl RtReport {
     /// One line for the start-up banner.
     pub fn describe(&self) -> String {
         format!(
-            "RT thread: cpu {}{}, {} priority {}, memory {}, stack prefault {} KiB, cpu_dma_latency {}",
+            "RT thread: cpu {}{}, {} priority {}, memory {}, stack prefault {} KiB, cpu_dma_latency {}{}",
             self.cpu
                 .map(|c| c.to_string())
                 .unwrap_or_else(|| "any".into()),
@@ -62,8 +64,31 @@ impl RtReport {
                 "0 µs"
             } else {
                 "not held"
+            },
+            if self.planner_priority > 0 {
+                format!("; planner SCHED_FIFO priority {}", self.planner_priority)
+            } else {
+                String::new()
             }
         )
+    }
+}
+
+/// Puts the calling (planner) thread under SCHED_FIFO at `priority`; the refusal, named, if
+/// the OS says no (the thread then stays SCHED_OTHER).
+pub fn raise_planner_thread(priority: u8) -> Result<(), String> {
+    let param = libc::sched_param {
+        sched_priority: i32::from(priority),
+    };
+    // SAFETY: pthread_self() is the calling thread and `param` is a valid sched_param.
+    let rc = unsafe { libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) };
+    if rc == 0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "planner thread SCHED_FIFO priority {priority} refused ({}); it runs SCHED_OTHER",
+            nix::errno::Errno::from_raw(rc)
+        ))
     }
 }
 
@@ -230,6 +255,7 @@ mod reserved_cpu_tests {
 
     fn cfg(cpu: Option<usize>, reserve: bool) -> RtConfig {
         RtConfig {
+            planner_priority: None,
             cpu,
             priority: 80,
             lock_memory: false,

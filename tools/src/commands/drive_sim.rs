@@ -55,6 +55,7 @@ pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
     let rt = cellrt_runtime::config::RtConfig {
         cpu: config.rt.cpu,
         priority: config.rt.priority.saturating_add(1).min(99),
+        planner_priority: None,
         lock_memory: true,
         reserve_cpu: false,
     };

@@ -27,7 +27,7 @@ pub fn demo_cell(dir: &Path, program: &str) -> PathBuf {
         )
         // Generous lookahead and no overrun watchdog: a test must not depend on how loaded the
         // machine is (the watchdog tests switch it back on).
-        .replace("lookahead_ms = 50", "lookahead_ms = 1000")
+        .replace("lookahead_ms = 100", "lookahead_ms = 1000")
         .replace(
             "max_consecutive_overruns = 100",
             "max_consecutive_overruns = 0",

@@ -97,6 +97,7 @@ fn rt_config(file: &Path, raw: &RawRt) -> Result<RtConfig, ConfigError> {
     let rt = RtConfig {
         cpu: raw.cpu,
         priority: raw.priority,
+        planner_priority: (raw.planner_priority != 0).then_some(raw.planner_priority),
         lock_memory: raw.lock_memory,
         reserve_cpu: raw.reserve_cpu,
     };
@@ -105,6 +106,16 @@ fn rt_config(file: &Path, raw: &RawRt) -> Result<RtConfig, ConfigError> {
             file,
             "rt.priority",
             format!("SCHED_FIFO priority must be 1..=99 (got {})", rt.priority),
+        ));
+    }
+    if raw.planner_priority >= rt.priority {
+        return Err(ConfigError::new(
+            file,
+            "rt.planner_priority",
+            format!(
+                "the planner thread's SCHED_FIFO priority must be below the RT thread's ({}), or 0 for SCHED_OTHER (got {})",
+                rt.priority, raw.planner_priority
+            ),
         ));
     }
     if let Some(cpu) = rt.cpu {

@@ -797,6 +797,7 @@ fn check_running(s: &StatusSnapshot, id: u32, next_cycle: u64) -> Result<(), Mot
                 id,
             })
         }
+        CellState::Idle if s.motion_refused == id => Err(MotionError::NotStarted(id)),
         CellState::Idle
             if s.motion_id != id
                 && s.motion_done != id
@@ -805,5 +806,51 @@ fn check_running(s: &StatusSnapshot, id: u32, next_cycle: u64) -> Result<(), Mot
             Err(MotionError::NotStarted(id))
         }
         _ => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::handoff::HomingStatus;
+    use crate::services::LiveAxis;
+    use crate::setpoints::MAX_AXES;
+
+    fn idle_at(
+        cycle: u64,
+        motion_id: u32,
+        motion_done: u32,
+        motion_refused: u32,
+    ) -> StatusSnapshot {
+        StatusSnapshot {
+            cycle,
+            state: CellState::Idle,
+            stop_reason: None,
+            motion_id,
+            motion_done,
+            motion_refused,
+            hold: [0.0; MAX_AXES],
+            live: [LiveAxis::default(); MAX_AXES],
+            homing: HomingStatus::default(),
+        }
+    }
+
+    #[test]
+    fn a_motion_whose_first_block_was_refused_fails_at_once() {
+        // Motion 7 is refused at its start cycle 100: the planner knows in the next status.
+        let s = idle_at(101, 6, 6, 7);
+        assert!(matches!(
+            check_running(&s, 7, 500),
+            Err(MotionError::NotStarted(7))
+        ));
+        // A motion not yet started and not refused keeps waiting for its start cycle.
+        let s = idle_at(101, 6, 6, 5);
+        assert!(check_running(&s, 7, 500).is_ok());
+        // Without a word from the RT thread it fails once its blocks are long past.
+        let s = idle_at(500 + 2 * BLOCK_CYCLES as u64 + 1, 6, 6, 5);
+        assert!(matches!(
+            check_running(&s, 7, 500),
+            Err(MotionError::NotStarted(7))
+        ));
     }
 }

@@ -526,7 +526,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         }
     }
 
-    /// In Idle: starts the motion whose first block begins this cycle.
+    /// In Idle: starts the motion whose first block begins this cycle. A motion whose first
+    /// block is refused never starts: the status names it (`motion_refused`) so its planner
+    /// stops waiting, and its later blocks are dropped.
     fn poll_motion_start(&mut self) {
         let cycle = self.cycle;
         let n = self.axes.len();
@@ -534,8 +536,10 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         let verdict = match self.stream.front() {
             Ok(Some(b)) => {
                 let h = b.header;
-                if h.motion_id <= last_motion && h.motion_id != 0 && last_motion != 0 {
-                    Some(Err(None)) // stale block of an ended motion
+                if (h.motion_id <= last_motion && h.motion_id != 0 && last_motion != 0)
+                    || (h.motion_id == self.refused_motion && h.motion_id != 0)
+                {
+                    Some(Err(None)) // stale block of an ended or refused motion
                 } else if !b.is_well_formed(n) {
                     Some(Err(Some(RejectReason::Malformed)))
                 } else if h.start_cycle < cycle {
@@ -552,15 +556,24 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             None => {}
             Some(Err(None)) => self.stream.pop(),
             Some(Err(Some(reason))) => {
+                let id = self
+                    .stream
+                    .front()
+                    .ok()
+                    .flatten()
+                    .map(|b| b.header.motion_id);
                 self.stats.counters.rejected_setpoints += 1;
                 self.event(EventKind::SetpointRejected, NO_AXIS, reason as i64);
                 self.stream.pop();
+                if let Some(id) = id {
+                    self.refuse_start(id);
+                }
             }
             Some(Ok(id)) => {
                 self.motion_id = id;
-                self.handoff.status().motion_id.store(id, Ordering::Release);
                 match self.follow_stream() {
                     Lookup::Applied => {
+                        self.handoff.status().motion_id.store(id, Ordering::Release);
                         self.event(EventKind::MotionStarted, NO_AXIS, i64::from(id));
                         self.set_state(CellState::Moving);
                     }
@@ -568,13 +581,26 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                         self.stats.counters.rejected_setpoints += 1;
                         self.event(EventKind::SetpointRejected, axis, reason as i64);
                         self.stream.discard_all();
+                        self.motion_id = last_motion;
+                        self.refuse_start(id);
                     }
                     Lookup::Finished | Lookup::Underrun => {
                         self.stream.pop();
+                        self.motion_id = last_motion;
+                        self.refuse_start(id);
                     }
                 }
             }
         }
+    }
+
+    /// Marks motion `id` as never started, for its planner and for the blocks still to come.
+    fn refuse_start(&mut self, id: u32) {
+        self.refused_motion = id;
+        self.handoff
+            .status()
+            .motion_refused
+            .store(id, Ordering::Release);
     }
 
     /// Applies this cycle's setpoints from the stream, checking continuity and limits before

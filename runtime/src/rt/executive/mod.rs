@@ -96,6 +96,8 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     cycle: u64,
     state: CellState,
     motion_id: u32,
+    /// The last motion whose first block was refused: its later blocks are dropped unseen.
+    refused_motion: u32,
     stop_reason: Option<crate::handoff::StopReason>,
     /// How the current stop is carried out.
     reaction: FaultReaction,
@@ -150,6 +152,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             cycle: 0,
             state: CellState::Disabled,
             motion_id: 0,
+            refused_motion: 0,
             stop_reason: None,
             reaction: FaultReaction::ControlledStop,
             fault_reset_pending: false,

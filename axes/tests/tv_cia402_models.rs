@@ -146,6 +146,34 @@ fn tv_3_quick_stop_mr_jet_g_n1() {
     tv_quick_stop(DriveModel::MrJetGN1);
 }
 
+/// MR-JET-G-N1 TV-3 with 605Ah ∈ 5–8 (FW D0 or later, §7.1): the drive stays in Quick stop
+/// active after the stop; Enable Operation returns it to Operation enabled (16), and Disable
+/// Voltage after the stop gives Switch on disabled (12B).
+#[test]
+fn tv_3_quick_stop_options_5_to_8_stay_in_qsa_mr_jet_g_n1() {
+    for code in 5i16..=8 {
+        for (cw, want_mask, want) in [(0x000Fu16, 0x416F, 0x0027), (0x0000, 0x414F, 0x0040)] {
+            let mut d = d(DriveModel::MrJetGN1);
+            d.sdo_download(0x605A, 0, &code.to_le_bytes()).unwrap();
+            enabled(&mut d);
+            move_csp(&mut d, 2_000, 200);
+            let sw = send(&mut d, 0x000B);
+            assert!(masked(sw, 0x416F, 0x0007), "{code}: QSA {sw}");
+            // The stop ends and the drive stays in QSA (0x0007), not SOD.
+            for _ in 0..1000 {
+                send(&mut d, 0x000B);
+            }
+            assert_eq!(d.plant().velocity(), 0.0, "{code}: stopped");
+            assert_eq!(d.state(), FsaState::QuickStopActive, "{code}");
+            let sw = send(&mut d, cw);
+            assert!(masked(sw, want_mask, want), "{code}: {cw:#06x} gives {sw}");
+        }
+    }
+    // MR-J5 does not support (16) and 605Ah 5–8 is outside its documented 1–4.
+    let mut j5 = d(DriveModel::MrJ5GN1);
+    assert!(j5.sdo_download(0x605A, 0, &6i16.to_le_bytes()).is_err());
+}
+
 #[test]
 fn tv_4_quick_stop_mr_j5_g_n1() {
     tv_quick_stop(DriveModel::MrJ5GN1);

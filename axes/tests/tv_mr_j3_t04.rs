@@ -937,6 +937,42 @@ fn tv_stroke_2_csp_manual_stop_and_follow_up() {
         target - stop > 5_000,
         "stopped away from the runaway target"
     );
+    // Negative case: clearing C_MSTOP while 607Ah is still a far-away target is a sudden
+    // motion toward it, limited by the drive's acceleration (torque), and by AL.35 where the
+    // step implies more than the maximum motor speed (§7.2; overspeed at 1.2 × 4 000 000
+    // counts/s: 4 800 counts in one 1 ms cycle).
+    let mut sudden = d.clone();
+    let near = stop + 3_000;
+    let mut peak_velocity = 0.0f64;
+    for _ in 0..200 {
+        cycle(&mut sudden, near, 0);
+        peak_velocity = peak_velocity.max(sudden.plant().velocity().abs());
+    }
+    assert_eq!(
+        sudden.state(),
+        FsaState::OperationEnabled,
+        "3 000 counts: no alarm"
+    );
+    assert!(
+        (sudden.tx_pdo().position_actual - near).abs() < 50,
+        "the motor jumped to the old target"
+    );
+    assert!(
+        peak_velocity > 200_000.0,
+        "faster than before the stop: {peak_velocity}"
+    );
+    let mut runaway = d.clone();
+    assert!(
+        target - stop > 4_800,
+        "the runaway target is beyond one cycle at 1.2 × max"
+    );
+    let tx = cycle(&mut runaway, target, 0);
+    assert!(
+        tx.statusword.fault() || runaway.state().is_fault(),
+        "AL.35: {}",
+        tx.statusword
+    );
+    assert_eq!(runaway.alarm(), Some(AL_35));
     // Follow-up: 607Ah := 6062h, then clear C_MSTOP: bit 12 back, no jump.
     let tx = cycle(&mut d, stop, 0x0100);
     assert!(tx.statusword.0 & (1 << 14) != 0);

@@ -74,8 +74,13 @@ pub struct FsaQuirks {
     /// The drive has Quick stop active; without it a Quick Stop in OE acts as Disable Voltage (9)
     /// (MR-J3-T04 has no quick stop, statusword bit 5 always 1).
     pub has_quick_stop: bool,
-    /// Transition (16) QSA → OE on Enable Operation (unsupported on MR-J5, §3.1).
+    /// Transition (16) QSA → OE on Enable Operation, whatever 605Ah says (unsupported on MR-J5,
+    /// §3.1). See [`FsaQuirks::for_quick_stop_option`] for drives where 605Ah decides.
     pub quick_stop_returns_to_enabled: bool,
+    /// The drive honours 605Ah quick stop option codes 5–8: it stays in Quick stop active after
+    /// the stop, and Enable Operation returns it to Operation enabled (16) (MR-JET-G-N1 manual
+    /// §7.1, FW D0 or later; CiA 402). Codes 1–4 end the stop in Switch on disabled (12).
+    pub quick_stop_options_5_to_8: bool,
 }
 
 impl FsaQuirks {
@@ -84,7 +89,24 @@ impl FsaQuirks {
         shortcut_transitions: false,
         has_quick_stop: true,
         quick_stop_returns_to_enabled: false,
+        quick_stop_options_5_to_8: true,
     };
+
+    /// Whether a quick stop under option code `option` (605Ah) ends in Quick stop active rather
+    /// than Switch on disabled.
+    pub fn quick_stop_stays_active(self, option: Option<i64>) -> bool {
+        self.quick_stop_options_5_to_8 && matches!(option, Some(5..=8))
+    }
+
+    /// The quirks in effect under 605Ah = `option`: (16) is open when the code keeps the
+    /// drive in Quick stop active.
+    pub fn for_quick_stop_option(self, option: Option<i64>) -> FsaQuirks {
+        FsaQuirks {
+            quick_stop_returns_to_enabled: self.quick_stop_returns_to_enabled
+                || self.quick_stop_stays_active(option),
+            ..self
+        }
+    }
 }
 
 /// The drive-side PDS transition for one received controlword (§3.1 transitions 2–16).
@@ -171,6 +193,7 @@ mod tests {
         shortcut_transitions: true,
         has_quick_stop: true,
         quick_stop_returns_to_enabled: false,
+        quick_stop_options_5_to_8: false,
     };
     const CW0: Controlword = Controlword(0);
 
@@ -237,6 +260,28 @@ mod tests {
         // Shutdown / Switch On do not leave QSA.
         assert_eq!(step(QuickStopActive, 0x0006, &J5), QuickStopActive);
         assert_eq!(step(QuickStopActive, 0x0007, &J5), QuickStopActive);
+    }
+
+    #[test]
+    fn option_codes_5_to_8_open_transition_16_only_where_the_drive_honours_them() {
+        let jet = FsaQuirks {
+            quick_stop_options_5_to_8: true,
+            ..J5
+        };
+        for code in 5..=8 {
+            let q = jet.for_quick_stop_option(Some(code));
+            assert!(jet.quick_stop_stays_active(Some(code)));
+            assert_eq!(step(QuickStopActive, 0x000F, &q), OperationEnabled);
+            assert_eq!(step(QuickStopActive, 0x0000, &q), SwitchOnDisabled);
+        }
+        for code in [None, Some(0), Some(1), Some(2), Some(4), Some(9)] {
+            assert!(!jet.quick_stop_stays_active(code), "{code:?}");
+            let q = jet.for_quick_stop_option(code);
+            assert_eq!(step(QuickStopActive, 0x000F, &q), QuickStopActive);
+        }
+        // MR-J5: (16) unsupported whatever 605Ah holds.
+        let q = J5.for_quick_stop_option(Some(6));
+        assert_eq!(step(QuickStopActive, 0x000F, &q), QuickStopActive);
     }
 
     #[test]
@@ -315,10 +360,13 @@ mod tests {
     }
 
     fn any_quirks() -> impl Strategy<Value = FsaQuirks> {
-        (any::<bool>(), any::<bool>(), any::<bool>()).prop_map(|(a, b, c)| FsaQuirks {
-            shortcut_transitions: a,
-            has_quick_stop: b,
-            quick_stop_returns_to_enabled: c,
+        (any::<bool>(), any::<bool>(), any::<bool>(), any::<bool>()).prop_map(|(a, b, c, d)| {
+            FsaQuirks {
+                shortcut_transitions: a,
+                has_quick_stop: b,
+                quick_stop_returns_to_enabled: c,
+                quick_stop_options_5_to_8: d,
+            }
         })
     }
 

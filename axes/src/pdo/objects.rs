@@ -46,6 +46,9 @@ pub const PROFILE_DECELERATION: u16 = 0x6084;
 pub const POSITION_WINDOW: u16 = 0x6067;
 /// 6068h Position window time, ms.
 pub const POSITION_WINDOW_TIME: u16 = 0x6068;
+/// 605Ah Quick stop option code (1–4: the stop ends in Switch on disabled; 5–8: it stays in
+/// Quick stop active, MR-JET-G-N1 manual §7.1).
+pub const QUICK_STOP_OPTION: u16 = 0x605A;
 /// 605Dh Halt option code.
 pub const HALT_OPTION_CODE: u16 = 0x605D;
 /// 60B0h Position offset (csp: the command is 607Ah + 60B0h; MR-J5-G-N1 manual §7.4 rule 2).

@@ -179,6 +179,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         shortcut_transitions: true,
         has_quick_stop: true,
         quick_stop_returns_to_enabled: false,
+        quick_stop_options_5_to_8: false,
     },
     fault_reset_hold_ms: 10,
     fault_reset_hold_long_cycle_ms: 10,

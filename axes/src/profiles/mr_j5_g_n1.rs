@@ -91,6 +91,7 @@ const FSA: FsaQuirks = FsaQuirks {
     shortcut_transitions: true,
     has_quick_stop: true,
     quick_stop_returns_to_enabled: false,
+    quick_stop_options_5_to_8: false,
 };
 
 const IDENTITY: Identity = Identity {

@@ -302,11 +302,13 @@ pub const PROFILE: DriveProfile = DriveProfile {
     cycle_times_us: &ALLOWED_MICROS,
     rx_pdo: RX_PDO_1600,
     tx_pdo: TX_PDO_1A00,
-    // (16) only with 605Ah 5–8 on FW D0+; the default option code is in 1–4 (§3.5) [inferred].
+    // (16) only with 605Ah 5–8 on FW D0+ (§7.1); the default option code is in 1–4 (§3.5)
+    // [inferred]: the simulated drive has no 605Ah value until one is written.
     quirks: FsaQuirks {
         shortcut_transitions: true,
         has_quick_stop: true,
         quick_stop_returns_to_enabled: false,
+        quick_stop_options_5_to_8: true,
     },
     fault_reset_hold_ms: 10,
     fault_reset_hold_long_cycle_ms: 20,

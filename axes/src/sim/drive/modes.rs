@@ -4,7 +4,7 @@
 use super::{InternalTorqueLimits, SimDrive};
 use crate::cia402::fsa::FsaState;
 use crate::cia402::mode::ModeOfOperation;
-use crate::pdo::objects::POSITION_OFFSET;
+use crate::pdo::objects::{POSITION_OFFSET, QUICK_STOP_OPTION};
 use crate::pdo::RxPdo;
 use crate::profiles::TorqueLimitSelection;
 use crate::sim::fsoe::{FsoeSlave, StoStop};
@@ -43,6 +43,13 @@ impl SimDrive {
             .unwrap_or(0) as i32
     }
 
+    /// 605Ah Quick stop option code: the written value, else the model's default (none where
+    /// the manual states none).
+    pub(super) fn quick_stop_option(&self) -> Option<i64> {
+        self.sdo_value(QUICK_STOP_OPTION, 0)
+            .or_else(|| self.profile.object(QUICK_STOP_OPTION, 0)?.default)
+    }
+
     pub(super) fn run_plant(&mut self, cmd: &RxPdo, dt: f64) {
         self.following_error = 0;
         if let Some(stop) = self.fsoe.filter(FsoeSlave::sto).map(|f| f.sto_stop()) {
@@ -58,8 +65,13 @@ impl SimDrive {
             FsaState::OperationEnabled => self.follow(cmd, dt),
             FsaState::QuickStopActive => {
                 self.plant.hold(dt);
-                if self.stopped() {
-                    // (12) automatic at the end of the quick stop (option codes 1–4, §3.1).
+                let stays = self
+                    .profile
+                    .quirks
+                    .quick_stop_stays_active(self.quick_stop_option());
+                if self.stopped() && !stays {
+                    // (12) automatic at the end of the quick stop (option codes 1–4, §3.1);
+                    // codes 5–8 stay in Quick stop active where the drive honours them.
                     self.state = FsaState::SwitchOnDisabled;
                 }
             }

@@ -154,7 +154,11 @@ impl SimDrive {
             }
             FsaState::FaultReactionActive => {} // (14) when the motor has stopped, see run_plant.
             s => {
-                let next = drive_transition(s, cw, self.prev_cw, &self.profile.quirks);
+                let quirks = self
+                    .profile
+                    .quirks
+                    .for_quick_stop_option(self.quick_stop_option());
+                let next = drive_transition(s, cw, self.prev_cw, &quirks);
                 if s == FsaState::Fault && next == FsaState::SwitchOnDisabled {
                     // (15) resets only the alarms a fault reset can clear; the others stay
                     // latched until a power cycle (e.g. MR-J3-T04 AL.34/36/61).

@@ -116,8 +116,10 @@ impl SimDrive {
         }
         if !on {
             if self.mstop.active {
+                // The command resumes from the stop point: a 607Ah left far away is one big
+                // step (TV-STROKE-2's negative case), checked like any other (AL.35).
                 self.mstop = ManualStop::default();
-                self.prev_target = cmd.target_position;
+                self.prev_target = self.position_demand().wrapping_sub(self.position_offset());
             }
             return false;
         }

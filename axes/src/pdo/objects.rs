@@ -14,6 +14,8 @@ pub const ERROR_CODE: u16 = 0x603F;
 pub const CONTROLWORD2: u16 = 0x2001;
 /// 2011h Statusword2 (MR-J3-T04 status outputs S_ZPAS, S_OSET…; MR-J3-T04 manual §8.4.1(3)).
 pub const STATUSWORD2: u16 = 0x2011;
+/// 2D11h–2D13h Status DO 1–3 (MR-J4-TM manual §5.3.2, MR-J5-G-N1 manual §7.3).
+pub const STATUS_DO: [u16; 3] = [0x2D11, 0x2D12, 0x2D13];
 /// 6060h Modes of operation.
 pub const MODES_OF_OPERATION: u16 = 0x6060;
 /// 6061h Modes of operation display.
@@ -156,6 +158,8 @@ pub struct TxPdo {
     pub counter: u8,
     /// 2011h Statusword2 (MR-J3-T04), 0 where not mapped.
     pub statusword2: u16,
+    /// 2D11h–2D13h Status DO 1–3, 0 where not mapped.
+    pub status_do: crate::profiles::status_do::StatusDo,
 }
 
 /// Sign-extends the low `bits` of `raw`.
@@ -222,6 +226,8 @@ pub(crate) enum TxField {
     ErrorCode,
     Counter,
     Statusword2,
+    /// Status DO word 0–2.
+    StatusDo(u8),
 }
 
 impl TxField {
@@ -240,6 +246,7 @@ impl TxField {
             ERROR_CODE => TxField::ErrorCode,
             INCREMENTAL_COUNTER_TX | WATCHDOG_COUNTER_UL => TxField::Counter,
             STATUSWORD2 => TxField::Statusword2,
+            i if STATUS_DO.contains(&i) => TxField::StatusDo((i - STATUS_DO[0]) as u8),
             _ => return None,
         })
     }
@@ -298,6 +305,7 @@ impl TxPdo {
             TxField::ErrorCode => u64::from(self.error_code),
             TxField::Counter => u64::from(self.counter),
             TxField::Statusword2 => u64::from(self.statusword2),
+            TxField::StatusDo(w) => u64::from(self.status_do.0[usize::from(w)]),
         }
     }
 
@@ -313,6 +321,7 @@ impl TxPdo {
             TxField::ErrorCode => self.error_code = raw as u16,
             TxField::Counter => self.counter = raw as u8,
             TxField::Statusword2 => self.statusword2 = raw as u16,
+            TxField::StatusDo(w) => self.status_do.0[usize::from(w)] = raw as u16,
         }
     }
 }

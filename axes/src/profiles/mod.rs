@@ -23,6 +23,7 @@ pub mod mr_j3_t04;
 pub mod mr_j4_tm;
 pub mod mr_j5_g_n1;
 pub mod mr_jet_g_n1;
+pub mod status_do;
 
 pub use facts::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, EmergencyFacts, FsoeCommandBits,

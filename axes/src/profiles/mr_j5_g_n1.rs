@@ -385,6 +385,7 @@ mod tests {
             error_code: 0x8611,
             counter: 0,
             statusword2: 0,
+            status_do: crate::profiles::status_do::StatusDo([0x1000, 0x0008, 0x0020]),
         };
         let mut buf = [0u8; 24];
         PROFILE.tx_pdo.encode_tx(&pdo, &mut buf).unwrap();
@@ -397,6 +398,8 @@ mod tests {
             }
         );
         assert_eq!(&buf[2..4], &[0x37, 0x02]);
+        // Status DO 1–3 at bytes 4, 6, 8 (§4.3): S_INP, S_ZSP, S_STO.
+        assert_eq!(&buf[4..10], &[0x00, 0x10, 0x08, 0x00, 0x20, 0x00]);
     }
 
     #[test]

@@ -38,6 +38,7 @@ mod params;
 mod pds;
 mod pp;
 mod safety;
+mod status_do;
 mod stroke;
 
 use homing::HomingState;
@@ -60,6 +61,8 @@ pub struct SimDrive {
     tx_layout: PdoLayout,
     /// The RxPDO carries 6060h (else the mode comes by SDO, e.g. MR-J3-T04).
     mode_mapped: bool,
+    /// The TxPDO carries Status DO 1 (2D11h): the Status DO words are computed.
+    status_do_mapped: bool,
     alarm: Option<u16>,
     /// Main circuit power and forced stop EM1 inputs (MR-J3-T04 §3.7), and AL.E9 latched by
     /// an Enable operation refused for a missing main circuit.
@@ -128,6 +131,7 @@ impl SimDrive {
             plant: ServoPlant::new(params.plant, pos),
             rx_layout: PdoLayout::new(&profile.rx_pdo),
             mode_mapped: profile.rx_pdo.maps(crate::pdo::objects::MODES_OF_OPERATION),
+            status_do_mapped: profile.tx_pdo.maps(crate::pdo::objects::STATUS_DO[0]),
             tx_layout: PdoLayout::new(&profile.tx_pdo),
             alarm: None,
             power: PowerInputs::default(),
@@ -178,6 +182,7 @@ impl SimDrive {
         self.rx_layout = PdoLayout::new(&profile.rx_pdo);
         self.tx_layout = PdoLayout::new(&profile.tx_pdo);
         self.mode_mapped = profile.rx_pdo.maps(crate::pdo::objects::MODES_OF_OPERATION);
+        self.status_do_mapped = profile.tx_pdo.maps(crate::pdo::objects::STATUS_DO[0]);
         self.comm
             .set_counter_mapped(profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter());
         Ok(())
@@ -319,6 +324,7 @@ impl SimDrive {
                 .profile
                 .home_setting
                 .map_or(0, |b| self.home_set.statusword2(&b)),
+            status_do: self.status_do(),
         }
     }
 

@@ -30,6 +30,12 @@ pub struct SimDriveParams {
     /// Speed (counts/s) at or below which the motor counts as stopped: ends a quick stop or
     /// fault reaction, and opens the mode-switch gate (S_ZSP, §4.3 rules 4–5).
     pub zero_speed: f64,
+    /// S_INP in-position range in counts ([Pr. PA10]; the manuals' default is 100 pulses
+    /// [background]): the droop at or below which a position mode reports in-position.
+    pub in_position_range: u32,
+    /// The fixed part of the S_SA speed-reached band, counts/s (MR-J4-TM manual §5.3.2: 20
+    /// r/min, here in the simulated motor's counts; default 0: the 5 % part only).
+    pub speed_reached_band: f64,
     /// 6061h at start-up (csp with PT01.2 = pulse, §1.2; MR-J3-T04: from PO02).
     pub initial_mode: ModeOfOperation,
     /// Communication checks (counter, RxPDO loss, sync-error counter).
@@ -160,6 +166,8 @@ impl Default for SimDriveParams {
             startup_cycles: 2,
             velocity_feedforward: 0.0,
             zero_speed: 0.0,
+            in_position_range: 100,
+            speed_reached_band: 0.0,
             initial_mode: ModeOfOperation::CyclicSyncPosition,
             comm: CommParams::default(),
             overspeed_limit: None,

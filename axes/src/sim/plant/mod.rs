@@ -284,6 +284,15 @@ impl ServoPlant {
         self.acceleration
     }
 
+    /// The last substep's acceleration is at a torque limit (S_TLC): pushing with all the
+    /// torque the limits allow in its direction.
+    pub fn at_torque_limit(&self) -> bool {
+        let amax = self.params.max_acceleration.abs();
+        let a = self.acceleration;
+        (a > 0.0 && a >= amax * self.accel_scale.0 * (1.0 - 1e-9))
+            || (a < 0.0 && -a >= amax * self.accel_scale.1 * (1.0 - 1e-9))
+    }
+
     /// The parameters the plant was built with.
     pub fn params(&self) -> &PlantParams {
         &self.params

@@ -108,8 +108,8 @@ pub struct LiveAxis {
     pub mode_display: i8,
     /// 1 when MC_Power is on for the axis (the operator wants it enabled).
     pub powered: u8,
-    /// Padding.
-    pub reserved: [u8; 2],
+    /// 2D11h–2D13h Status DO 1–3 (0 where the drive does not map them).
+    pub status_do: [u16; 3],
 }
 
 impl Default for StatusSample {

@@ -152,11 +152,22 @@ fn operator_commands_drive_a_running_cell() {
     let axis = |n: &str| r.axes.iter().find(|a| a.name == n).unwrap().clone();
     assert!(axis("x").powered && axis("x").fsa == "operation_enabled");
     assert!(!axis("y").powered && axis("y").fsa != "operation_enabled");
+    // Status DO from the MR-J5-G-N1's TxPDO: x servo on at rest, y servo off.
+    assert_eq!(
+        axis("x").status_do,
+        ["S_SA", "S_MBR", "S_INP", "S_ZSP", "S_DB"],
+        "x"
+    );
+    assert_eq!(axis("y").status_do, ["S_ZSP"], "y");
     cell.rejected(&["move", "x=300", "y=200"], "axis 'y' is not powered");
     cell.ok(&["power", "off", "x"]);
     cell.wait_state("disabled");
     cell.ok(&["power", "on"]);
-    assert!(cell.ok(&["status"]).contains("operation_enabled"));
+    let text = cell.ok(&["status"]);
+    assert!(
+        text.contains("operation_enabled") && text.contains("S_INP S_ZSP"),
+        "{text}"
+    );
     // The status publish-subscribe service: per-axis state, cell state, last command, events.
     let node = cellrt_runtime::services::node(&cell.name, "test-status").unwrap();
     let sub = cellrt_runtime::services::operator_status_subscriber(&node, &cell.name).unwrap();

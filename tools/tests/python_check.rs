@@ -75,6 +75,7 @@ fn python_mcap_protobuf_reads_every_channel() {
         .arg("x,y,z,c")
         .arg("--cycles")
         .arg(rec.cycles.len().to_string())
+        .arg("--status-do")
         .output()
         .expect("python runs");
     let so = String::from_utf8_lossy(&out.stdout);

@@ -216,4 +216,6 @@ pub struct AxisRecord {
     pub counter_sent: u8,
     /// Incremental counter echoed (2021h), 0 where the drive has none.
     pub counter_received: u8,
+    /// Status DO 1–3 received (2D11h–2D13h), 0 where the drive does not map them.
+    pub status_do: [u16; 3],
 }

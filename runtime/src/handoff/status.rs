@@ -153,6 +153,8 @@ pub struct AxisLive {
     pub mode_display: AtomicI8,
     /// MC_Power is on for the axis.
     pub powered: AtomicBool,
+    /// 2D11h–2D13h Status DO 1–3 (0 where the drive does not map them).
+    pub status_do: [AtomicU16; 3],
 }
 
 impl Default for CellStatus {

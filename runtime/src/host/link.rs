@@ -139,7 +139,7 @@ pub fn snapshot(handoff: &HostEnd, axes: usize) -> StatusSnapshot {
             error_code: a.error_code.load(Ordering::Relaxed),
             mode_display: a.mode_display.load(Ordering::Relaxed),
             powered: u8::from(a.powered.load(Ordering::Relaxed)),
-            reserved: [0; 2],
+            status_do: std::array::from_fn(|w| a.status_do[w].load(Ordering::Relaxed)),
         };
     }
     StatusSnapshot {

@@ -570,12 +570,20 @@ pub fn render(s: &StatusReport) -> String {
         );
     }
     out += &format!(
-        "{:<8} {:<5} {:<22} {:>12} {:>12} {:>11} {:>10} {:>6}\n",
-        "axis", "mode", "fsa", "position", "setpoint", "velocity", "follow err", "alarm"
+        "{:<8} {:<5} {:<22} {:>12} {:>12} {:>11} {:>10} {:>6}  {}\n",
+        "axis",
+        "mode",
+        "fsa",
+        "position",
+        "setpoint",
+        "velocity",
+        "follow err",
+        "alarm",
+        "status DO"
     );
     for a in &s.axes {
         out += &format!(
-            "{:<8} {:<5} {:<22} {:>9.3} {:<2} {:>12.3} {:>11.3} {:>10.4} {:>6}\n",
+            "{:<8} {:<5} {:<22} {:>9.3} {:<2} {:>12.3} {:>11.3} {:>10.4} {:>6}  {}\n",
             a.name,
             a.mode,
             a.fsa,
@@ -588,6 +596,11 @@ pub fn render(s: &StatusReport) -> String {
                 "-".to_string()
             } else {
                 format!("{:04X}h", a.error_code)
+            },
+            if a.status_do.is_empty() {
+                "-".to_string()
+            } else {
+                a.status_do.join(" ")
             }
         );
     }

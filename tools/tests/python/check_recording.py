@@ -28,6 +28,7 @@ AXIS_FIELDS = [
     "actual_velocity", "setpoint_counts", "actual_position_counts", "actual_velocity_counts",
     "following_error_counts", "controlword", "statusword", "fsa_state", "mode_display",
     "error_code", "setpoint_torque", "actual_torque", "counter_sent", "counter_received",
+    "status_do_1", "status_do_2", "status_do_3",
 ]
 CYCLE_FIELDS = [
     "cycle", "deadline_ns", "wakeup_latency_ns", "loop_time_ns", "overruns", "cell_state",
@@ -40,11 +41,16 @@ def main() -> int:
     ap.add_argument("file")
     ap.add_argument("--axes", help="expected axis names, comma-separated")
     ap.add_argument("--cycles", type=int, help="expected number of cycle messages")
+    ap.add_argument("--status-do", action="store_true",
+                    help="the drives map Status DO (2D11h-2D13h): expect S_ZSP (2D12h bit 3) "
+                         "in Operation enabled at rest and its absence in motion")
     args = ap.parse_args()
     failures = []
 
     counts = {}
     last_cycle = {}
+    # (at rest in Operation enabled with S_ZSP, moving in Operation enabled without S_ZSP)
+    zero_speed = [0, 0]
     with open(args.file, "rb") as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()])
         summary = reader.get_summary()
@@ -71,6 +77,12 @@ def main() -> int:
                 if prev is not None and proto.cycle <= prev:
                     failures.append(f"{topic}: cycle {proto.cycle} after {prev}")
                 last_cycle[topic] = proto.cycle
+                if topic.startswith("/axis/") and (proto.statusword & 0x6F) == 0x27:
+                    zsp = proto.status_do_2 & 0x0008 != 0
+                    if proto.actual_velocity_counts == 0 and zsp:
+                        zero_speed[0] += 1
+                    elif abs(proto.actual_velocity_counts) > 10000 and not zsp:
+                        zero_speed[1] += 1
             if len(failures) > 20:
                 break
         metadata = {m.name: dict(m.metadata) for m in reader.iter_metadata()}
@@ -98,6 +110,9 @@ def main() -> int:
             n = counts.get(f"/axis/{axis}", 0)
             if n != n_cycles:
                 failures.append(f"/axis/{axis}: {n} messages, expected {n_cycles}")
+    if args.status_do and (zero_speed[0] == 0 or zero_speed[1] == 0):
+        failures.append(f"Status DO: S_ZSP at rest / not in motion in Operation enabled: "
+                        f"{zero_speed[0]} / {zero_speed[1]} messages")
     if "/cell/events" not in counts:
         failures.append("no /cell/events messages")
 

@@ -3,6 +3,7 @@
 
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::cia402::statusword::Statusword;
+use cellrt_axes::profiles::status_do::StatusDo;
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
@@ -638,6 +639,10 @@ impl OperatorServer {
                     velocity: sc.to_units(f64::from(l.velocity_actual)),
                     following_error: sc.to_units(f64::from(l.following_error)),
                     error_code: l.error_code,
+                    status_do: StatusDo(l.status_do)
+                        .symbols_on()
+                        .map(str::to_string)
+                        .collect(),
                 }
             })
             .collect();

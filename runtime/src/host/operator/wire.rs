@@ -234,6 +234,10 @@ pub struct AxisStatus {
     pub following_error: f64,
     /// Alarm / error code (603Fh), 0 when none.
     pub error_code: u16,
+    /// The Status DO signals that are on (2D11h–2D13h: S_ZSP, S_INP, …), in the manual's order;
+    /// empty where the drive does not map them.
+    #[serde(default)]
+    pub status_do: Vec<String>,
 }
 
 /// Encodes a message.

@@ -567,6 +567,9 @@ impl Drain<'_> {
             counter_received: u32::from(a.counter_received),
             mode: i32::from(a.mode),
             setpoint_velocity_counts: a.target_velocity,
+            status_do_1: u32::from(a.status_do[0]),
+            status_do_2: u32::from(a.status_do[1]),
+            status_do_3: u32::from(a.status_do[2]),
         };
         self.buf.clear();
         msg.encode(&mut self.buf).expect("Vec grows");

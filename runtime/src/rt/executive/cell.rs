@@ -465,6 +465,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             live.error_code.store(f.error_code, Ordering::Relaxed);
             live.mode_display.store(f.mode_display, Ordering::Relaxed);
             live.powered.store(ch.powered, Ordering::Relaxed);
+            for (word, value) in live.status_do.iter().zip(f.status_do.0) {
+                word.store(value, Ordering::Relaxed);
+            }
         }
     }
 

@@ -497,6 +497,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     torque_actual: ch.feedback.torque_actual,
                     counter_sent: rx.counter,
                     counter_received: ch.feedback.counter,
+                    status_do: ch.feedback.status_do.0,
                 };
                 let pushed = self.handoff.push_axis(rec);
                 self.record_pushed(pushed);

@@ -77,3 +77,50 @@ fn a_model_without_status_do_in_its_txpdo_sends_none() {
     enabled(&mut d);
     assert_eq!(d.tx_pdo().status_do, StatusDo::default());
 }
+
+/// Statusword bit 13 in csp: set once the droop has stayed at or above the window for the time
+/// out (MR-J3-T04 manual §8.5.2, MR-J4-TM manual §5.4.4), cleared when it falls below.
+#[test]
+fn statusword_bit_13_after_the_following_error_time_out() {
+    for model in [DriveModel::MrJ3T04, DriveModel::MrJ4TM] {
+        let params = SimDriveParams {
+            following_error_window: 500,
+            following_error_time_out_ms: 10,
+            ..SimDriveParams::default()
+        };
+        let mut d = drive(model, 1000, params);
+        enabled(&mut d);
+        let mut target = d.tx_pdo().position_actual;
+        let mut over = 0;
+        let mut bit_at = None;
+        for k in 0..200 {
+            target += 2_000;
+            let rx = RxPdo {
+                counter: next_counter(),
+                ..csp(Controlword(0x000F), target)
+            };
+            let tx = exchange(&mut d, &rx);
+            let bit = tx.statusword.0 & (1 << 13) != 0;
+            if tx.following_error.unsigned_abs() >= 500 {
+                over += 1;
+            } else {
+                over = 0;
+            }
+            // Set exactly from the 10th cycle (10 ms) in a row over the window.
+            assert_eq!(bit, over >= 10, "{model}: cycle {k}, {over} cycles over");
+            if bit {
+                bit_at.get_or_insert(k);
+            }
+        }
+        assert!(bit_at.is_some(), "{model}: bit 13 never set");
+        // At rest the droop settles inside the window and the bit clears.
+        for _ in 0..300 {
+            let rx = RxPdo {
+                counter: next_counter(),
+                ..csp(Controlword(0x000F), target)
+            };
+            exchange(&mut d, &rx);
+        }
+        assert_eq!(d.tx_pdo().statusword.0 & (1 << 13), 0, "{model}");
+    }
+}

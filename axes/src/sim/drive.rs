@@ -31,6 +31,7 @@ use crate::profiles::DriveProfile;
 /// [background]; each model's code is `DriveProfile::following_error_alarm`.
 pub const FOLLOWING_ERROR_ALARM: u16 = crate::cia402::error_code::FOLLOWING_ERROR;
 
+mod following_error;
 mod homing;
 mod modes;
 mod objects;
@@ -74,6 +75,8 @@ pub struct SimDrive {
     /// 607Ah step between the last two commands received (for [`MissedCommand::Extrapolate`]).
     last_step: i32,
     following_error: i32,
+    /// Seconds the droop has stayed at or above the following error window (statusword bit 13).
+    following_error_over: f64,
     tx: TxPdo,
     /// The last RxPDO received (held when a frame is lost: §1.5 "keeps the previous command").
     last_cmd: RxPdo,
@@ -140,6 +143,7 @@ impl SimDrive {
             prev_target: params.initial_position,
             last_step: 0,
             following_error: 0,
+            following_error_over: 0.0,
             tx: TxPdo::default(),
             last_cmd: RxPdo {
                 mode: 0,
@@ -267,6 +271,7 @@ impl SimDrive {
         }
         self.apply_torque_limits(&cmd);
         self.run_plant(&cmd, dt);
+        self.watch_following_error(dt);
         self.run_home_setting(&cmd);
         self.tx = self.make_tx();
     }
@@ -291,6 +296,9 @@ impl SimDrive {
         }
         if self.warning().is_some() {
             sw.0 |= 1 << 7;
+        }
+        if self.following_error_bit() {
+            sw.0 |= 1 << 13;
         }
         if oe && self.mode_display == ModeOfOperation::ProfilePosition {
             // pp bits 10 / 12 (MR-J4-TM manual §5.4.6).

@@ -30,6 +30,12 @@ pub struct SimDriveParams {
     /// Speed (counts/s) at or below which the motor counts as stopped: ends a quick stop or
     /// fault reaction, and opens the mode-switch gate (S_ZSP, §4.3 rules 4–5).
     pub zero_speed: f64,
+    /// Statusword bit 13 following error window in counts, where 6065h has not been written
+    /// (the manuals give no default; default 100 000, half the default alarm limit).
+    pub following_error_window: u32,
+    /// Statusword bit 13 following error time out in ms, where 6066h has not been written
+    /// (the manuals give no default; default 10 ms).
+    pub following_error_time_out_ms: u16,
     /// S_INP in-position range in counts ([Pr. PA10]; the manuals' default is 100 pulses
     /// [background]): the droop at or below which a position mode reports in-position.
     pub in_position_range: u32,
@@ -167,6 +173,8 @@ impl Default for SimDriveParams {
             velocity_feedforward: 0.0,
             zero_speed: 0.0,
             in_position_range: 100,
+            following_error_window: 100_000,
+            following_error_time_out_ms: 10,
             speed_reached_band: 0.0,
             initial_mode: ModeOfOperation::CyclicSyncPosition,
             comm: CommParams::default(),

@@ -184,6 +184,100 @@ fn kernel() -> String {
     format!("{} {}", read("osrelease"), read("version"))
 }
 
+/// One side of one round as measured, before it joins its [`Side`].
+struct Measured {
+    round: u32,
+    hist: UsHistogram,
+    scan: Scan,
+}
+
+impl Measured {
+    /// The progress line of this side (`name` padded to align the two sides).
+    fn line(&self, name: &str, rounds: u32, extra: &str) -> String {
+        let p = self.hist.percentiles();
+        format!(
+            "round {}/{rounds} {name}  p50 {:.0} µs  p99 {:.0} µs  max {:.0} µs{extra}{}",
+            self.round,
+            p.p50_us,
+            p.p99_us,
+            p.max_us,
+            if self.scan.contaminated() {
+                "  (contaminated)"
+            } else {
+                ""
+            }
+        )
+    }
+}
+
+impl Side {
+    /// Adds a round's histogram and per-round percentiles; its scan joins `scan`.
+    fn add(&mut self, m: Measured, scan: &mut Scan) {
+        self.rounds.push(RoundSide {
+            round: m.round,
+            latency: m.hist.percentiles(),
+            contaminated: m.scan.contaminated(),
+        });
+        self.hist.merge(&m.hist);
+        scan.merge(m.scan);
+    }
+}
+
+/// One cyclictest run of the round, scanned for competing RT threads while it runs; with the
+/// command line it ran.
+fn cyclictest_round(
+    opts: &CompareOptions,
+    bin: &std::path::Path,
+    dir: &std::path::Path,
+    round: u32,
+) -> Result<(Measured, String), BenchError> {
+    let histfile = dir.join(format!("cyclictest-{round}.hist"));
+    let args = cyclictest::args(
+        opts.interval_us,
+        opts.duration_s,
+        opts.priority,
+        opts.cpu,
+        &histfile,
+    );
+    let command = format!("cyclictest {}", args.join(" "));
+    let child = cyclictest::spawn(bin, &args)?;
+    let child_pid = child.id() as i32;
+    std::thread::sleep(scan_delay(opts.duration_s));
+    let me = std::process::id() as i32;
+    let scan = procscan::scan(opts.cpu, opts.priority, &[child_pid, me], &[]);
+    let parsed = cyclictest::finish(child, &histfile)?;
+    Ok((
+        Measured {
+            round,
+            hist: parsed.hist,
+            scan,
+        },
+        command,
+    ))
+}
+
+/// One cellrt latency run of the round on its own thread, scanned like cyclictest's; with the
+/// RT set-up that took effect and its overruns.
+fn cellrt_round(
+    opts: &CompareOptions,
+    lat_opts: LatencyOptions,
+    round: u32,
+) -> Result<(Measured, RtReport, u64), BenchError> {
+    let running = latency::spawn(lat_opts)?;
+    std::thread::sleep(scan_delay(opts.duration_s));
+    let scan = procscan::scan(opts.cpu, opts.priority, &[], &[running.tid]);
+    let run = running.join()?;
+    Ok((
+        Measured {
+            round,
+            hist: UsHistogram::from_ns(&run.latency),
+            scan,
+        },
+        run.rt,
+        run.overruns,
+    ))
+}
+
 /// Runs the comparison; `progress` gets one line per finished round side.
 pub fn run(
     opts: &CompareOptions,
@@ -223,67 +317,17 @@ pub fn run(
     let mut scan = Scan::default();
     let mut cellrt_rt = RtReport::default();
     let mut command = String::new();
-    let me = std::process::id() as i32;
     for round in 1..=opts.rounds {
-        // A: cyclictest.
-        let histfile = dir.path().join(format!("cyclictest-{round}.hist"));
-        let args = cyclictest::args(
-            opts.interval_us,
-            opts.duration_s,
-            opts.priority,
-            opts.cpu,
-            &histfile,
-        );
-        command = format!("cyclictest {}", args.join(" "));
-        let child = cyclictest::spawn(&bin, &args)?;
-        let child_pid = child.id() as i32;
-        std::thread::sleep(scan_delay(opts.duration_s));
-        let s = procscan::scan(opts.cpu, opts.priority, &[child_pid, me], &[]);
-        let contaminated = s.contaminated();
-        scan.merge(s);
-        let parsed = cyclictest::finish(child, &histfile)?;
-        let p = parsed.hist.percentiles();
-        progress(&format!(
-            "round {round}/{} cyclictest  p50 {:.0} µs  p99 {:.0} µs  max {:.0} µs{}",
-            opts.rounds,
-            p.p50_us,
-            p.p99_us,
-            p.max_us,
-            if contaminated { "  (contaminated)" } else { "" }
-        ));
-        cyc.rounds.push(RoundSide {
-            round,
-            latency: p,
-            contaminated,
-        });
-        cyc.hist.merge(&parsed.hist);
-
-        // B: cellrt, in this process on its own thread.
-        let running = latency::spawn(lat_opts)?;
-        std::thread::sleep(scan_delay(opts.duration_s));
-        let s = procscan::scan(opts.cpu, opts.priority, &[], &[running.tid]);
-        let contaminated = s.contaminated();
-        scan.merge(s);
-        let run = running.join()?;
-        let h = UsHistogram::from_ns(&run.latency);
-        let p = h.percentiles();
-        progress(&format!(
-            "round {round}/{} cellrt      p50 {:.0} µs  p99 {:.0} µs  max {:.0} µs  overruns {}{}",
-            opts.rounds,
-            p.p50_us,
-            p.p99_us,
-            p.max_us,
-            run.overruns,
-            if contaminated { "  (contaminated)" } else { "" }
-        ));
-        cellrt.rounds.push(RoundSide {
-            round,
-            latency: p,
-            contaminated,
-        });
-        cellrt.hist.merge(&h);
-        cellrt.overruns = Some(cellrt.overruns.unwrap_or(0) + run.overruns);
-        cellrt_rt = run.rt;
+        // A: cyclictest, then B: cellrt, in this process on its own thread.
+        let (a, cmd) = cyclictest_round(opts, &bin, dir.path(), round)?;
+        command = cmd;
+        progress(&a.line("cyclictest", opts.rounds, ""));
+        cyc.add(a, &mut scan);
+        let (b, rt, overruns) = cellrt_round(opts, lat_opts, round)?;
+        progress(&b.line("cellrt    ", opts.rounds, &format!("  overruns {overruns}")));
+        cellrt.add(b, &mut scan);
+        cellrt.overruns = Some(cellrt.overruns.unwrap_or(0) + overruns);
+        cellrt_rt = rt;
     }
     let load_command = load.as_ref().map(|l| l.command.clone());
     if let Some(l) = load.as_mut() {

@@ -245,22 +245,8 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
             axes,
             no_wait,
         } => {
-            let on = state == "on";
-            let w = if axes.is_empty() {
-                Wait::State(if on { &["idle"] } else { &["disabled"] })
-            } else {
-                Wait::Power {
-                    axes: axes.clone(),
-                    on,
-                }
-            };
-            (
-                Request::Power {
-                    on,
-                    axes: axes.clone(),
-                },
-                wait(*no_wait, w),
-            )
+            let (request, w) = power(state == "on", axes);
+            (request, wait(*no_wait, w))
         }
         OperatorCommand::Move {
             targets,
@@ -284,24 +270,7 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
             waypoints,
             limits,
             no_wait,
-        } => (
-            Request::Path {
-                waypoints: waypoints
-                    .iter()
-                    .map(|w| {
-                        pairs(
-                            "path",
-                            &w.split(',').map(str::to_string).collect::<Vec<_>>(),
-                        )
-                    })
-                    .collect::<Result<_, _>>()?,
-                velocity: limits.velocity,
-                acceleration: limits.acceleration,
-                jerk: limits.jerk,
-                clamp: limits.clamp,
-            },
-            wait(*no_wait, Wait::Finished),
-        ),
+        } => (path(waypoints, limits)?, wait(*no_wait, Wait::Finished)),
         OperatorCommand::Jog {
             axis,
             velocity,
@@ -358,6 +327,44 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
                 .map_err(|e| format!("program: {}: {e}", file.display()))?;
             (Request::Program { path }, wait(*no_wait, Wait::Finished))
         }
+    })
+}
+
+/// MC_Power for the cell (no axes named) or the named axes, and what settles it.
+fn power(on: bool, axes: &[String]) -> (Request, Wait) {
+    let w = if axes.is_empty() {
+        Wait::State(if on { &["idle"] } else { &["disabled"] })
+    } else {
+        Wait::Power {
+            axes: axes.to_vec(),
+            on,
+        }
+    };
+    (
+        Request::Power {
+            on,
+            axes: axes.to_vec(),
+        },
+        w,
+    )
+}
+
+/// A waypoint path: each waypoint is `AXIS=VALUE,AXIS=VALUE,…`.
+fn path(waypoints: &[String], limits: &LimitArgs) -> Result<Request, String> {
+    Ok(Request::Path {
+        waypoints: waypoints
+            .iter()
+            .map(|w| {
+                pairs(
+                    "path",
+                    &w.split(',').map(str::to_string).collect::<Vec<_>>(),
+                )
+            })
+            .collect::<Result<_, _>>()?,
+        velocity: limits.velocity,
+        acceleration: limits.acceleration,
+        jerk: limits.jerk,
+        clamp: limits.clamp,
     })
 }
 

@@ -13,6 +13,7 @@ pub mod comm;
 pub mod cycles;
 pub mod ethercat;
 pub mod fsoe;
+pub mod modbus;
 pub mod pdo;
 pub mod profiles;
 pub mod sim;

@@ -17,6 +17,7 @@ pub mod modbus;
 pub mod pdo;
 pub mod profiles;
 pub mod sim;
+pub mod slmp;
 
 pub use bus::{AcyclicBus, BusError, CyclicBus, FaultInjection, FrameCounters, SimBus};
 pub use cia402::controlword::{Command, Controlword};

@@ -8,6 +8,7 @@
 #![warn(missing_docs)]
 
 pub mod bus;
+pub mod cclink_ief_basic;
 pub mod cia402;
 pub mod comm;
 pub mod cycles;

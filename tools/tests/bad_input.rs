@@ -595,3 +595,36 @@ fn a_wire_fault_on_sim_drives_is_refused() {
         &["link_loss", "no EtherCAT axes"],
     );
 }
+
+/// Operator numbers are checked before anything is sent: NaN, infinities and out-of-range
+/// values give exit 2 naming the argument (no cell needs to run).
+#[test]
+fn operator_numbers_are_refused_at_the_command_line() {
+    for (args, named) in [
+        (&["move", "x=100", "--vel", "nan"][..], "--vel"),
+        (&["move", "x=100", "--acc", "inf"], "--acc"),
+        (&["move", "x=100", "--jerk=-inf"], "--jerk"),
+        (&["move", "x=100", "--vel", "0"], "--vel"),
+        (&["move", "x=100", "--line", "--vel", "nan"], "--vel"),
+        (&["path", "x=1", "x=2", "--acc", "nan"], "--acc"),
+        (&["jog", "x", "nan"], "<VELOCITY>"),
+        (&["jog", "x", "10", "--acc", "nan"], "--acc"),
+        (&["override", "nan"], "<PERCENT>"),
+        (&["torque", "c=20", "--seconds", "nan"], "--seconds"),
+        (&["status", "--reply-timeout", "1e300"], "--reply-timeout"),
+        (&["status", "--reply-timeout", "1e20"], "--reply-timeout"),
+        (&["status", "--reply-timeout", "nan"], "--reply-timeout"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "cellrt {args:?}: {err}");
+        assert!(
+            err.contains(named)
+                && (err.contains("finite") || err.contains("> 0") || err.contains("longer")),
+            "cellrt {args:?}: {err}"
+        );
+    }
+}

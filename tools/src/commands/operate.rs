@@ -24,7 +24,8 @@ pub struct Target {
     #[arg(long, global = true, value_name = "NAME")]
     pub cell: Option<String>,
     /// Seconds to wait for the cell's reply.
-    #[arg(long, global = true, value_name = "SECONDS", default_value_t = 5.0)]
+    #[arg(long, global = true, value_name = "SECONDS", default_value_t = 5.0,
+          value_parser = crate::numbers::reply_timeout)]
     pub reply_timeout: f64,
 }
 
@@ -32,13 +33,13 @@ pub struct Target {
 #[derive(Debug, Args)]
 pub struct LimitArgs {
     /// Velocity limit, unit/s (for `--line`: the path speed).
-    #[arg(long = "vel", value_name = "V")]
+    #[arg(long = "vel", value_name = "V", value_parser = crate::numbers::positive)]
     velocity: Option<f64>,
     /// Acceleration limit, unit/s².
-    #[arg(long = "acc", value_name = "A")]
+    #[arg(long = "acc", value_name = "A", value_parser = crate::numbers::positive)]
     acceleration: Option<f64>,
     /// Jerk limit, unit/s³.
-    #[arg(long, value_name = "J")]
+    #[arg(long, value_name = "J", value_parser = crate::numbers::positive)]
     jerk: Option<f64>,
     /// Use the axis limit where a requested limit exceeds it (default: refuse).
     #[arg(long)]
@@ -102,10 +103,10 @@ pub enum OperatorCommand {
         /// Axis name.
         axis: String,
         /// Velocity, unit/s.
-        #[arg(allow_negative_numbers = true)]
+        #[arg(allow_negative_numbers = true, value_parser = crate::numbers::finite)]
         velocity: f64,
         /// Acceleration of the ramp, unit/s².
-        #[arg(long = "acc", value_name = "A")]
+        #[arg(long = "acc", value_name = "A", value_parser = crate::numbers::positive)]
         acceleration: Option<f64>,
         /// Use the axis limit if VELOCITY exceeds it (default: refuse).
         #[arg(long)]
@@ -121,7 +122,7 @@ pub enum OperatorCommand {
         )]
         targets: Vec<String>,
         /// Seconds at the torque.
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, value_parser = crate::numbers::positive)]
         seconds: f64,
         /// Return once accepted.
         #[arg(long)]
@@ -158,6 +159,7 @@ pub enum OperatorCommand {
     /// MC_SetOverride: feed override in percent (0–100), applied smoothly.
     Override {
         /// Percent.
+        #[arg(value_parser = crate::numbers::finite)]
         percent: f64,
     },
     /// Run a program file on the cell.
@@ -172,13 +174,6 @@ pub enum OperatorCommand {
 
 /// Runs one operator command.
 pub fn run(command: OperatorCommand, target: Target) -> Exit {
-    if !(target.reply_timeout.is_finite() && target.reply_timeout > 0.0) {
-        eprintln!(
-            "error: --reply-timeout: must be a number of seconds > 0 (got {})",
-            target.reply_timeout
-        );
-        return Exit::BadInput;
-    }
     let timeout = Duration::from_secs_f64(target.reply_timeout);
     let (request, wait) = match build(&command) {
         Ok(r) => r,

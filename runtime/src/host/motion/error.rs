@@ -85,14 +85,40 @@ impl MotionError {
     ) -> impl FnOnce(&dyn std::fmt::Display) -> MotionError {
         move |e| MotionError::Planning {
             what,
-            detail: e.to_string(),
+            detail: one_line(&e.to_string()),
         }
     }
 }
 
+/// The first line of a planner's message, at most [`MAX_DETAIL_CHARS`] characters: the
+/// operator gets one line, not the planner's state dump.
+pub(super) fn one_line(text: &str) -> String {
+    let first = text.lines().next().unwrap_or("").trim();
+    match first.char_indices().nth(MAX_DETAIL_CHARS) {
+        Some((at, _)) => format!("{}…", &first[..at]),
+        None => first.to_string(),
+    }
+}
+
+/// The longest planner detail an error message carries.
+const MAX_DETAIL_CHARS: usize = 160;
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_planner_dump_becomes_one_line() {
+        let dump = "Calculator error: error in step 1, dof: 0 input: inp.current_position = [\n 0.0,\n]\nmore";
+        let e = MotionError::planning("line")(&dump);
+        let text = e.to_string();
+        assert!(!text.contains('\n'), "{text}");
+        assert!(
+            text.starts_with("line: Calculator error: error in step 1"),
+            "{text}"
+        );
+        assert!(one_line(&"x".repeat(500)).chars().count() <= MAX_DETAIL_CHARS + 1);
+    }
 
     #[test]
     fn refusals_keep_the_text_operators_and_tests_read() {

@@ -545,7 +545,7 @@ impl MotionEngine {
             E::VelocityAboveLimit { axis, .. } => Some(*axis),
             _ => None,
         };
-        let text = e.to_string();
+        let text = error::one_line(&e.to_string());
         match axis.and_then(|i| self.cell.axes.get(i)) {
             Some(a) => text.replacen(
                 &format!("axis {}", axis.unwrap_or(0)),

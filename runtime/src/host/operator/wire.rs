@@ -34,13 +34,25 @@ pub enum Request {
         #[serde(default)]
         relative: bool,
         /// Velocity limit of the move, unit/s (axis limit when absent).
-        #[serde(default)]
+        #[serde(
+            default,
+            deserialize_with = "number_or_absent",
+            skip_serializing_if = "Option::is_none"
+        )]
         velocity: Option<f64>,
         /// Acceleration limit of the move, unit/s² (axis limit when absent).
-        #[serde(default)]
+        #[serde(
+            default,
+            deserialize_with = "number_or_absent",
+            skip_serializing_if = "Option::is_none"
+        )]
         acceleration: Option<f64>,
         /// Jerk limit of the move, unit/s³ (axis limit when absent).
-        #[serde(default)]
+        #[serde(
+            default,
+            deserialize_with = "number_or_absent",
+            skip_serializing_if = "Option::is_none"
+        )]
         jerk: Option<f64>,
         /// Lower a limit above an axis limit to it instead of refusing the move.
         #[serde(default)]
@@ -56,13 +68,25 @@ pub enum Request {
         /// Axis name → position, per waypoint; the last is the target.
         waypoints: Vec<BTreeMap<String, f64>>,
         /// Velocity limit, unit/s (axis limit when absent).
-        #[serde(default)]
+        #[serde(
+            default,
+            deserialize_with = "number_or_absent",
+            skip_serializing_if = "Option::is_none"
+        )]
         velocity: Option<f64>,
         /// Acceleration limit, unit/s² (axis limit when absent).
-        #[serde(default)]
+        #[serde(
+            default,
+            deserialize_with = "number_or_absent",
+            skip_serializing_if = "Option::is_none"
+        )]
         acceleration: Option<f64>,
         /// Jerk limit, unit/s³ (axis limit when absent).
-        #[serde(default)]
+        #[serde(
+            default,
+            deserialize_with = "number_or_absent",
+            skip_serializing_if = "Option::is_none"
+        )]
         jerk: Option<f64>,
         /// Lower a limit above an axis limit to it instead of refusing.
         #[serde(default)]
@@ -75,7 +99,11 @@ pub enum Request {
         /// Velocity, unit/s (signed).
         velocity: f64,
         /// Acceleration of the ramp, unit/s² (axis limit when absent).
-        #[serde(default)]
+        #[serde(
+            default,
+            deserialize_with = "number_or_absent",
+            skip_serializing_if = "Option::is_none"
+        )]
         acceleration: Option<f64>,
         /// Lower a velocity above the axis limit to it instead of refusing.
         #[serde(default)]
@@ -240,6 +268,12 @@ pub struct AxisStatus {
     pub status_do: Vec<String>,
 }
 
+/// An optional number: left out when not given. `null` is refused: a NaN or infinity encoded
+/// as JSON arrives as `null` and must not turn into "not given".
+fn number_or_absent<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+    f64::deserialize(d).map(Some)
+}
+
 /// Encodes a message.
 pub fn encode<T: Serialize>(message: &T) -> Vec<u8> {
     serde_json::to_vec(message).expect("operator messages serialise")
@@ -262,4 +296,44 @@ pub fn decode_request(bytes: &[u8]) -> Result<Request, MalformedRequest> {
         return Err(MalformedRequest::TooLong(bytes.len()));
     }
     Ok(serde_json::from_slice(bytes)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_limit_left_out_is_not_given_and_a_null_is_refused() {
+        let given =
+            decode_request(br#"{"command":"move","targets":{"x":100.0},"velocity":50.0}"#).unwrap();
+        assert!(matches!(given, Request::Move { velocity: Some(v), .. } if v == 50.0));
+        let absent = decode_request(br#"{"command":"move","targets":{"x":100.0}}"#).unwrap();
+        assert!(matches!(absent, Request::Move { velocity: None, .. }));
+        // serde_json writes NaN and infinities as null: such a request is refused.
+        for field in ["velocity", "acceleration", "jerk"] {
+            let text = format!(r#"{{"command":"move","targets":{{"x":100.0}},"{field}":null}}"#);
+            let e = decode_request(text.as_bytes()).unwrap_err();
+            assert!(e.to_string().contains("null"), "{field}: {e}");
+        }
+        let e = decode_request(
+            br#"{"command":"velocity","axis":"x","velocity":1.0,"acceleration":null}"#,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("null"), "{e}");
+        // What the CLI encodes for "not given" decodes as not given.
+        let bytes = encode(&Request::Move {
+            targets: BTreeMap::from([("x".to_string(), 1.0)]),
+            relative: false,
+            velocity: None,
+            acceleration: Some(10.0),
+            jerk: None,
+            clamp: false,
+            line: false,
+        });
+        assert!(!String::from_utf8_lossy(&bytes).contains("null"));
+        assert!(matches!(
+            decode_request(&bytes).unwrap(),
+            Request::Move { velocity: None, acceleration: Some(a), .. } if a == 10.0
+        ));
+    }
 }

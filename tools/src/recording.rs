@@ -279,6 +279,7 @@ impl RecFile {
                 chunk.chunk_start_offset
             )
         };
+        check_chunk_size(chunk.uncompressed_size).map_err(|e| err(&e))?;
         if self
             .decode_chunk_fast(chunk, kinds, out)
             .map_err(|e| err(&e))?
@@ -317,24 +318,12 @@ impl RecFile {
                 Ok(_) => return Err("chunk index does not point at a chunk".into()),
                 Err(e) => return Err(e.to_string()),
             };
-        let owned;
-        let records: &[u8] = match header.compression.as_str() {
-            "" => &data,
-            "zstd" => {
-                owned = zstd::bulk::decompress(&data, header.uncompressed_size as usize)
-                    .map_err(|e| format!("zstd: {e}"))?;
-                &owned
-            }
-            _ => return Ok(false),
-        };
-        let mut rest = records;
-        while rest.len() >= 9 {
-            let op = rest[0];
-            let len = u64::from_le_bytes(rest[1..9].try_into().expect("8 bytes")) as usize;
-            let body = rest
-                .get(9..9usize.saturating_add(len))
-                .ok_or("record runs past the end of its chunk")?;
-            rest = &rest[9 + len..];
+        if !matches!(header.compression.as_str(), "" | "zstd") {
+            return Ok(false);
+        }
+        let records = chunk_records(&header, &data)?;
+        for record in RecordWalker::new(&records, 0) {
+            let (op, body) = record?;
             // Message: channel id u16, sequence u32, log time u64, publish time u64, data.
             if op == mcap::records::op::MESSAGE && body.len() >= 22 {
                 let channel = u16::from_le_bytes([body[0], body[1]]);
@@ -409,6 +398,91 @@ enum Kind {
     Cycle,
     Axis(usize),
     Event,
+}
+
+/// The most bytes a chunk may claim uncompressed: four times the largest chunk the recorder
+/// writes (`recording.chunk_size_kib` ≤ 64 MiB). A claim beyond it is refused before anything
+/// is allocated for it.
+pub const MAX_CHUNK_BYTES: u64 = 256 << 20;
+
+/// The records of `bytes` from offset `at` on, each as (opcode, body), framed by their length
+/// fields; a length that runs past the end is an error and ends the walk.
+pub struct RecordWalker<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> RecordWalker<'a> {
+    /// Walks `bytes` from `at`.
+    pub fn new(bytes: &'a [u8], at: usize) -> Self {
+        RecordWalker { bytes, at }
+    }
+}
+
+impl<'a> Iterator for RecordWalker<'a> {
+    type Item = Result<(u8, &'a [u8]), String>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        let rest = self.bytes.get(self.at..)?;
+        if rest.len() < 9 {
+            return None;
+        }
+        let op = rest[0];
+        let len = u64::from_le_bytes(rest[1..9].try_into().expect("8 bytes"));
+        let Some(body) = usize::try_from(len)
+            .ok()
+            .and_then(|len| rest.get(9..9usize.checked_add(len)?))
+        else {
+            let at = self.at;
+            self.at = self.bytes.len();
+            return Some(Err(format!(
+                "record {op:#04x} at byte {at} claims {len} bytes, past the end"
+            )));
+        };
+        self.at += 9 + body.len();
+        Some(Ok((op, body)))
+    }
+}
+
+/// The records of a chunk, decompressed into at most its claimed size (itself at most
+/// [`MAX_CHUNK_BYTES`]): a damaged size field or compressed stream cannot make it allocate more.
+pub fn chunk_records<'a>(
+    header: &mcap::records::ChunkHeader,
+    data: &'a [u8],
+) -> Result<std::borrow::Cow<'a, [u8]>, String> {
+    use std::io::Read;
+    check_chunk_size(header.uncompressed_size)?;
+    let size = header.uncompressed_size as usize;
+    let out = match header.compression.as_str() {
+        "" => return Ok(std::borrow::Cow::Borrowed(data)),
+        "zstd" => zstd::bulk::decompress(data, size).map_err(|e| format!("zstd: {e}"))?,
+        "lz4" => {
+            let mut out = Vec::with_capacity(size);
+            lz4::Decoder::new(data)
+                .and_then(|d| d.take(size as u64 + 1).read_to_end(&mut out))
+                .map_err(|e| format!("lz4: {e}"))?;
+            out
+        }
+        other => return Err(format!("unknown compression '{other}'")),
+    };
+    if out.len() != size {
+        return Err(format!(
+            "decompresses to {} bytes, the chunk says {size}",
+            out.len()
+        ));
+    }
+    Ok(std::borrow::Cow::Owned(out))
+}
+
+/// Refuses a chunk whose claimed uncompressed size is beyond [`MAX_CHUNK_BYTES`].
+fn check_chunk_size(uncompressed: u64) -> Result<(), String> {
+    if uncompressed > MAX_CHUNK_BYTES {
+        return Err(format!(
+            "claims {uncompressed} bytes uncompressed, more than the {} MiB a chunk may hold",
+            MAX_CHUNK_BYTES >> 20
+        ));
+    }
+    Ok(())
 }
 
 fn decode_one(k: Kind, data: &[u8]) -> Result<Decoded, prost::DecodeError> {

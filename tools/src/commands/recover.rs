@@ -4,17 +4,18 @@
 //! of every complete chunk, with the same ids; the open chunk at the moment of the crash is lost
 //! (the recorder closes a chunk at least every `recording.flush_ms`).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashSet};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
 
-use mcap::read::{ChunkReader, LinearReader, Options};
+use mcap::read::parse_record;
 use mcap::records::{MessageHeader, Record};
 use mcap::{Attachment, WriteOptions, Writer};
 
 use crate::cli::RecoverArgs;
 use crate::exit::Exit;
+use crate::recording::{chunk_records, RecordWalker};
 
 /// What a recovery copied.
 #[derive(Debug, Default)]
@@ -23,12 +24,24 @@ pub struct Recovered {
     pub messages: u64,
     /// Complete chunks copied.
     pub chunks: u64,
+    /// Damaged chunks skipped (their messages are lost), and why the first one was.
+    pub damaged: (u64, Option<String>),
+    /// Messages dropped because their channel was defined only in a damaged chunk and the
+    /// file has no summary to take it from.
+    pub undefined: u64,
     /// Why reading stopped before the end of the data section, if it did.
     pub stopped: Option<String>,
     /// Whether the input already was complete (had its data end record).
     pub was_complete: bool,
     /// Last message log time copied, ns.
     pub last_log_time: u64,
+}
+
+impl Recovered {
+    fn skip_damaged(&mut self, why: String) {
+        self.damaged.0 += 1;
+        self.damaged.1.get_or_insert(why);
+    }
 }
 
 /// Runs `cellrt recover`.
@@ -56,6 +69,19 @@ pub fn run(args: RecoverArgs) -> Exit {
     }
     match recover(&bytes, &args.output) {
         Ok(r) => {
+            if let (n @ 1.., Some(why)) = &r.damaged {
+                eprintln!(
+                    "warning: {}: {n} damaged chunk(s) skipped, their messages lost (first: {why})",
+                    args.input.display()
+                );
+            }
+            if r.undefined > 0 {
+                eprintln!(
+                    "warning: {}: {} messages dropped: their channel was defined only in a damaged chunk",
+                    args.input.display(),
+                    r.undefined
+                );
+            }
             println!(
                 "recovered {} messages in {} chunks from {} into {}{}",
                 r.messages,
@@ -84,10 +110,9 @@ pub fn run(args: RecoverArgs) -> Exit {
 pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
     let werr = |e: mcap::McapError| format!("{}: {e}", out.display());
     let mut r = Recovered::default();
-    let mut records =
-        LinearReader::new_with_options(input, Options::IgnoreEndMagic.into()).map_err(werr)?;
-    let (profile, library) = match records.next() {
-        Some(Ok(Record::Header(h))) => (h.profile, h.library),
+    let mut records = RecordWalker::new(input, mcap::MAGIC.len());
+    let (profile, library) = match records.next().map(|r| r.map(|(op, b)| parse_record(op, b))) {
+        Some(Ok(Ok(Record::Header(h)))) => (h.profile, h.library),
         _ => return Err("the input has no MCAP header record".into()),
     };
     // The compression of the first chunk, for the rewritten file.
@@ -103,12 +128,24 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
         .create(BufWriter::with_capacity(1 << 20, file))
         .map_err(werr)?;
     let mut seq_buf: Vec<(MessageHeader, Vec<u8>)> = Vec::new();
-    for rec in records {
-        let rec = match rec {
+    // Channels defined in a damaged chunk come from the summary section, where there is one.
+    let summary = mcap::Summary::read(input).ok().flatten();
+    let mut defined = Defined::default();
+    for item in records {
+        // A record that runs past the end ends the data; one that does not parse is skipped
+        // (its length still frames the next).
+        let (op, body) = match item {
+            Ok(record) => record,
+            Err(e) => {
+                r.stopped = Some(e);
+                break;
+            }
+        };
+        let rec = match parse_record(op, body) {
             Ok(rec) => rec,
             Err(e) => {
-                r.stopped = Some(e.to_string());
-                break;
+                r.skip_damaged(format!("record {op:#04x}: {e}"));
+                continue;
             }
         };
         match rec {
@@ -117,7 +154,16 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
                 seq_buf.clear();
                 let mut defs = Vec::new();
                 let mut bad = None;
-                for inner in ChunkReader::new(header, &data).map_err(werr)? {
+                let inner_bytes = match chunk_records(&header, &data) {
+                    Ok(bytes) => bytes,
+                    Err(e) => {
+                        r.skip_damaged(e);
+                        continue;
+                    }
+                };
+                let inner_records = RecordWalker::new(&inner_bytes, 0)
+                    .map(|i| i.and_then(|(op, b)| parse_record(op, b).map_err(|e| e.to_string())));
+                for inner in inner_records {
                     match inner {
                         Ok(Record::Message { header, data }) => {
                             seq_buf.push((header, data.into_owned()))
@@ -133,21 +179,38 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
                     }
                 }
                 if let Some(e) = bad {
-                    r.stopped = Some(format!("damaged chunk: {e}"));
-                    break;
+                    // The chunk's own length framed it: the records after it are intact.
+                    r.skip_damaged(e);
+                    continue;
                 }
                 for d in defs {
-                    define(&mut w, d).map_err(werr)?;
+                    defined.define(&mut w, d).map_err(werr)?;
                 }
                 for (h, d) in &seq_buf {
+                    if !defined
+                        .ensure(&mut w, h.channel_id, summary.as_ref())
+                        .map_err(werr)?
+                    {
+                        r.undefined += 1;
+                        continue;
+                    }
                     w.write_to_known_channel(h, d).map_err(werr)?;
                     r.messages += 1;
                     r.last_log_time = r.last_log_time.max(h.log_time);
                 }
                 r.chunks += 1;
             }
-            Record::Schema { .. } | Record::Channel(_) => define(&mut w, rec).map_err(werr)?,
+            Record::Schema { .. } | Record::Channel(_) => {
+                defined.define(&mut w, rec).map_err(werr)?
+            }
             Record::Message { header, data } => {
+                if !defined
+                    .ensure(&mut w, header.channel_id, summary.as_ref())
+                    .map_err(werr)?
+                {
+                    r.undefined += 1;
+                    continue;
+                }
                 w.write_to_known_channel(&header, &data).map_err(werr)?;
                 r.messages += 1;
                 r.last_log_time = r.last_log_time.max(header.log_time);
@@ -179,31 +242,70 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
     Ok(r)
 }
 
-/// Adds a schema or channel record to `w` with its original id.
-fn define<W: std::io::Write + std::io::Seek>(
-    w: &mut Writer<W>,
-    rec: Record<'_>,
-) -> mcap::McapResult<()> {
-    match rec {
-        Record::Schema { header, data } if header.id != 0 => {
-            w.add_schema_with_id(header.id, &header.name, &header.encoding, &data)?;
+/// The schema and channel ids written to the output so far.
+#[derive(Default)]
+struct Defined {
+    schemas: HashSet<u16>,
+    channels: HashSet<u16>,
+}
+
+impl Defined {
+    /// Adds a schema or channel record to `w` with its original id.
+    fn define<W: std::io::Write + std::io::Seek>(
+        &mut self,
+        w: &mut Writer<W>,
+        rec: Record<'_>,
+    ) -> mcap::McapResult<()> {
+        match rec {
+            Record::Schema { header, data } if header.id != 0 => {
+                w.add_schema_with_id(header.id, &header.name, &header.encoding, &data)?;
+                self.schemas.insert(header.id);
+            }
+            Record::Channel(c) => {
+                let meta: BTreeMap<String, String> = c.metadata;
+                w.add_channel_with_id(c.id, c.schema_id, &c.topic, &c.message_encoding, &meta)?;
+                self.channels.insert(c.id);
+            }
+            _ => {}
         }
-        Record::Channel(c) => {
-            let meta: BTreeMap<String, String> = c.metadata;
-            w.add_channel_with_id(c.id, c.schema_id, &c.topic, &c.message_encoding, &meta)?;
-        }
-        _ => {}
+        Ok(())
     }
-    Ok(())
+
+    /// Whether channel `id` is defined in the output, defining it (and its schema) from the
+    /// input's summary section where it is not yet.
+    fn ensure<W: std::io::Write + std::io::Seek>(
+        &mut self,
+        w: &mut Writer<W>,
+        id: u16,
+        summary: Option<&mcap::Summary>,
+    ) -> mcap::McapResult<bool> {
+        if self.channels.contains(&id) {
+            return Ok(true);
+        }
+        let Some(c) = summary.and_then(|s| s.channels.get(&id)) else {
+            return Ok(false);
+        };
+        let schema_id = match &c.schema {
+            Some(s) => {
+                if self.schemas.insert(s.id) {
+                    w.add_schema_with_id(s.id, &s.name, &s.encoding, &s.data)?;
+                }
+                s.id
+            }
+            None => 0,
+        };
+        w.add_channel_with_id(id, schema_id, &c.topic, &c.message_encoding, &c.metadata)?;
+        self.channels.insert(id);
+        Ok(true)
+    }
 }
 
 /// Compression of the first chunk of `input` (zstd if none can be read).
 fn input_compression(input: &[u8]) -> Option<mcap::Compression> {
-    let first = LinearReader::new_with_options(input, Options::IgnoreEndMagic.into())
-        .ok()?
+    let first = RecordWalker::new(input, mcap::MAGIC.len())
         .map_while(Result::ok)
-        .find_map(|r| match r {
-            Record::Chunk { header, .. } => Some(header.compression),
+        .find_map(|(op, body)| match parse_record(op, body) {
+            Ok(Record::Chunk { header, .. }) => Some(header.compression),
             _ => None,
         });
     match first.as_deref() {

@@ -318,6 +318,7 @@ impl RecFile {
                 Ok(_) => return Err("chunk index does not point at a chunk".into()),
                 Err(e) => return Err(e.to_string()),
             };
+        check_chunk_size(header.uncompressed_size)?;
         if !matches!(header.compression.as_str(), "" | "zstd") {
             return Ok(false);
         }

@@ -11,5 +11,6 @@ pub mod config;
 pub mod handoff;
 pub mod host;
 pub mod rt;
+pub mod runtime_dir;
 pub mod services;
 pub mod setpoints;

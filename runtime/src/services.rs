@@ -183,13 +183,13 @@ pub fn operator_status_service_name(cell: &str) -> String {
     format!("cellrt/{cell}/operator-status")
 }
 
-/// iceoryx2 configuration: each user gets its own root directory and resource prefix, so cells
-/// of different users (root and an operator) never collide on files the other may not open
-/// (iceoryx2 creates them mode 0600 / 0750).
+/// iceoryx2 configuration: each user gets its own root directory (inside the user's private
+/// runtime directory, [`crate::runtime_dir`]) and resource prefix, so cells of different users
+/// (root and an operator) never collide on files the other may not open.
 pub fn config() -> Config {
     let uid = nix::unistd::getuid().as_raw();
     let mut config = Config::default();
-    let root = format!("{}/cellrt-iceoryx2-u{uid}/", std::env::temp_dir().display());
+    let root = format!("{}/iceoryx2/", crate::runtime_dir::path().display());
     if let Ok(p) = Path::new(root.as_bytes()) {
         config.global.set_root_path(&p);
     }
@@ -201,6 +201,11 @@ pub fn config() -> Config {
 
 /// Creates an iceoryx2 node for one thread of a cell (ports are not `Send`).
 pub fn node(cell: &str, role: &str) -> Result<Node<ipc::Service>, ServiceError> {
+    crate::runtime_dir::ensure().map_err(|e| ServiceError {
+        what: "runtime directory",
+        cell: cell.to_string(),
+        detail: e.to_string(),
+    })?;
     let name = format!("cellrt-{cell}-{role}");
     let node_name = NodeName::new(&name).map_err(|e| service_error("node name", cell, e))?;
     NodeBuilder::new()

@@ -66,8 +66,8 @@ pub struct CellInfo {
 impl RecFile {
     /// Reads `path`; a file that is not MCAP at all is an error naming it.
     pub fn open(path: &Path) -> Result<RecFile, String> {
-        let bytes =
-            std::fs::read(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let bytes = cellrt_runtime::config::input_file::read_bytes(path, None)
+            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
         if !bytes.starts_with(mcap::MAGIC) {
             return Err(format!(
                 "{}: not an MCAP file (no MCAP magic at the start)",

@@ -208,6 +208,12 @@ fn operator_commands_drive_a_running_cell() {
     cell.rejected(&["move", "x=200", "--vel", "500"], "exceeds the axis limit");
     cell.rejected(&["jog", "x", "401"], "exceeds the axis limit");
     cell.rejected(&["override", "150"], "outside 0–100 %");
+    // A program that is a FIFO (or a device) is refused at once: the service is not blocked.
+    let fifo = dir.path().join("program.fifo");
+    nix::unistd::mkfifo(&fifo, nix::sys::stat::Mode::S_IRWXU).unwrap();
+    cell.rejected(&["program", fifo.to_str().unwrap()], "not a regular file");
+    cell.rejected(&["program", "/dev/zero"], "not a regular file");
+    assert!(cell.ok(&["status"]).contains("state idle"));
     cell.rejected(&["torque", "x=10"], "mode = \"cst\"");
     cell.rejected(&["home", "x"], "lists no homing methods");
     let (code, _, err) = cell.cli(&["move", "x100"]);

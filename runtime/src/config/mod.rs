@@ -3,6 +3,7 @@
 
 mod error;
 mod fault;
+pub mod input_file;
 pub mod raw;
 mod validate;
 
@@ -374,7 +375,7 @@ pub const DEFAULT_MOTOR_SPEED_FACTOR: f64 = 1.5;
 impl CellConfig {
     /// Reads and validates a cell configuration file.
     pub fn load(path: &Path) -> Result<CellConfig, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|e| ConfigError::io(path, e))?;
+        let text = input_file::read_text(path).map_err(|e| ConfigError::io(path, e))?;
         Self::parse(path, &text)
     }
 

@@ -46,7 +46,7 @@ impl Recovered {
 
 /// Runs `cellrt recover`.
 pub fn run(args: RecoverArgs) -> Exit {
-    let bytes = match std::fs::read(&args.input) {
+    let bytes = match cellrt_runtime::config::input_file::read_bytes(&args.input, None) {
         Ok(b) => b,
         Err(e) => {
             eprintln!("error: {}: cannot read: {e}", args.input.display());

@@ -243,7 +243,8 @@ pub struct Program {
 impl Program {
     /// Reads a program file and validates it against `cell`.
     pub fn load(path: &Path, cell: &CellConfig) -> Result<Program, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|e| ConfigError::io(path, e))?;
+        let text =
+            crate::config::input_file::read_text(path).map_err(|e| ConfigError::io(path, e))?;
         Self::parse(path, &text, cell)
     }
 

@@ -67,6 +67,9 @@ pub enum MotionError {
     /// A request names an axis index the cell does not have.
     #[error("axis index {0} unknown")]
     UnknownAxis(usize),
+    /// The RT thread went idle after the motion without reporting its end.
+    #[error("the RT thread is idle after motion {0} without reporting its end")]
+    EndNotReported(u32),
     /// The RT thread never started the motion.
     #[error(
         "the RT thread did not start motion {0} (its first block was rejected; see the events)"

@@ -798,6 +798,14 @@ fn check_running(s: &StatusSnapshot, id: u32, next_cycle: u64) -> Result<(), Mot
             })
         }
         CellState::Idle if s.motion_refused == id => Err(MotionError::NotStarted(id)),
+        // Idle past the motion's last block without reporting it done: never wait for it.
+        CellState::Idle
+            if s.motion_id == id
+                && s.motion_done != id
+                && s.cycle > next_cycle + 2 * BLOCK_CYCLES as u64 =>
+        {
+            Err(MotionError::EndNotReported(id))
+        }
         CellState::Idle
             if s.motion_id != id
                 && s.motion_done != id
@@ -846,6 +854,13 @@ mod tests {
         // A motion not yet started and not refused keeps waiting for its start cycle.
         let s = idle_at(101, 6, 6, 5);
         assert!(check_running(&s, 7, 500).is_ok());
+        // Started, then idle past its end without a report: an error, not a wait.
+        let s = idle_at(500 + 2 * BLOCK_CYCLES as u64 + 1, 7, 6, 5);
+        assert!(matches!(
+            check_running(&s, 7, 500),
+            Err(MotionError::EndNotReported(7))
+        ));
+        assert!(check_running(&idle_at(501, 7, 6, 5), 7, 500).is_ok());
         // Without a word from the RT thread it fails once its blocks are long past.
         let s = idle_at(500 + 2 * BLOCK_CYCLES as u64 + 1, 6, 6, 5);
         assert!(matches!(

@@ -5,6 +5,7 @@
 //! emulator. The PDU codec is the `modbus-core` crate's; the framing rules the drive adds
 //! (protocol and unit identifiers, strict MBAP length, slave address, CRC) are here.
 
+pub mod client;
 mod error;
 mod pdu;
 pub mod rtu;

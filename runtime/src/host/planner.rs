@@ -12,7 +12,7 @@ use iceoryx2::prelude::*;
 use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, HomeRequest, HostEnd};
 use crate::host::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
-use crate::host::motion::{MotionEngine, MotionRequest, Progress};
+use crate::host::motion::{MotionEngine, MotionError, MotionRequest, Progress};
 use crate::host::operator::server::{Context, Followup, OperatorServer};
 use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::rt::executive::HOMING_TIMEOUT;
@@ -32,6 +32,10 @@ fn move_list(targets: &[MoveTarget]) -> Vec<(usize, f64, cellrt_trajectory::Kine
 
 /// How often the planner looks at the cell while a motion runs.
 const TICK: Duration = Duration::from_millis(1);
+
+/// How often a program step whose motion the RT thread did not start (its first block came
+/// too late) is started again before the program fails.
+const MAX_RESTARTS: u32 = 3;
 
 /// How long power on / power off may take before the program fails.
 pub const POWER_TIMEOUT: Duration = Duration::from_secs(10);
@@ -588,11 +592,12 @@ impl<'a> Planner<'a> {
         req: MotionRequest,
         halt_after: Option<Duration>,
     ) -> Result<(), ProgramError> {
-        if let Err(e) = self.engine.submit(req, self.link.as_mut()) {
+        if let Err(e) = self.engine.submit(req.clone(), self.link.as_mut()) {
             return Err(self.err(e));
         }
         let halt_at = halt_after.map(|d| Instant::now() + d);
         let mut halted = false;
+        let mut restarts = 0;
         loop {
             if self.aborted() {
                 return Ok(());
@@ -610,6 +615,17 @@ impl<'a> Planner<'a> {
             match self.engine.tick(self.link.as_mut()) {
                 Ok(Progress::Running) => {}
                 Ok(Progress::Idle | Progress::Finished(_)) => return Ok(()),
+                // Its first block reached the RT thread too late (a stalled machine): nothing
+                // moved, so the step starts over, a bounded number of times.
+                Err(MotionError::NotStarted(id)) if !halted && restarts < MAX_RESTARTS => {
+                    restarts += 1;
+                    tracing::warn!(
+                        "motion {id} did not start (its first block was refused); starting the step again ({restarts}/{MAX_RESTARTS})"
+                    );
+                    if let Err(e) = self.engine.submit(req.clone(), self.link.as_mut()) {
+                        return Err(self.err(e));
+                    }
+                }
                 Err(e) => return Err(self.err(e)),
             }
             std::thread::sleep(TICK);

@@ -571,7 +571,12 @@ impl MotionEngine {
         let cycle_ns = self.cell.cycle_time.as_nanos() as f64;
         let delay = (self.cell.setpoints.start_delay * 1e9 / cycle_ns).ceil() as u64;
         self.active = Some(Active {
-            motion_id: status.motion_id.wrapping_add(1).max(1),
+            // After the last motion started or refused: a refused id is never used again.
+            motion_id: status
+                .motion_id
+                .max(status.motion_refused)
+                .wrapping_add(1)
+                .max(1),
             start_cycle: status.cycle + delay.max(2),
             next: 1,
             last_published: false,

@@ -3,8 +3,9 @@
 //!
 //! The MR-J3-T04 manual says a counter error raises its alarm when it happens "consecutively or
 //! frequently more than a regulated level" without giving the level (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7, errata
-//! #3). The thresholds here are therefore named parameters with documented **placeholder**
-//! defaults, not facts about the drive. Everything is allocation-free and clock-free.
+//! #3). The thresholds are therefore named parameters; each model's profile states its
+//! defaults (`CommCheck::master_counter`), documented as placeholders where the manual is
+//! silent, and `[watchdogs]` may override them. Everything is allocation-free and clock-free.
 
 /// Thresholds of an [`ErrorDetector`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -20,26 +21,6 @@ pub struct DetectorParams {
 
 /// Largest supported [`DetectorParams::intermittent`].
 pub const MAX_INTERMITTENT: u8 = 16;
-
-/// Placeholder: 3 bad cycles in a row are a continuous error (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7 suggestion;
-/// **not from the manual**).
-pub const DEFAULT_CONTINUOUS_ERRORS: u32 = 3;
-/// Placeholder: 3 bad cycles …
-pub const DEFAULT_INTERMITTENT_ERRORS: u8 = 3;
-/// … within 1000 cycles are an intermittent error (**not from the manual**).
-pub const DEFAULT_INTERMITTENT_WINDOW: u32 = 1000;
-
-impl Default for DetectorParams {
-    /// The placeholders [`DEFAULT_CONTINUOUS_ERRORS`], [`DEFAULT_INTERMITTENT_ERRORS`] in
-    /// [`DEFAULT_INTERMITTENT_WINDOW`].
-    fn default() -> Self {
-        DetectorParams {
-            continuous: DEFAULT_CONTINUOUS_ERRORS,
-            intermittent: DEFAULT_INTERMITTENT_ERRORS,
-            intermittent_window: DEFAULT_INTERMITTENT_WINDOW,
-        }
-    }
-}
 
 /// What an [`ErrorDetector`] concluded this cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -128,17 +109,8 @@ pub struct CounterParams {
 /// Largest supported echo lag.
 pub const MAX_ECHO_LAG: u8 = 3;
 
-/// Default echo lag L = 1 (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7 (inferred), configurable).
+/// Echo lag L = 1 (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7 (inferred), configurable).
 pub const DEFAULT_ECHO_LAG: u8 = 1;
-
-impl Default for CounterParams {
-    fn default() -> Self {
-        CounterParams {
-            echo_lag: DEFAULT_ECHO_LAG,
-            detector: DetectorParams::default(),
-        }
-    }
-}
 
 /// The master's view of one received echo.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -298,7 +270,7 @@ mod tests {
 
     #[test]
     fn master_counter_wraps_and_checks_with_lag() {
-        let mut c = IncrementalCounter::new(CounterParams::default(), 252);
+        let mut c = IncrementalCounter::new(crate::profiles::mr_j3_t04::MASTER_COUNTER_CHECK, 252);
         assert_eq!(c.check_rx(0), CounterVerdict::Warmup);
         assert_eq!(c.next_tx(), 253);
         assert_eq!(

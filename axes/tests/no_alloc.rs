@@ -58,7 +58,7 @@ fn steady_state_cycle_is_allocation_free() {
 
 #[test]
 fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
-    use cellrt_axes::{CounterParams, IncrementalCounter};
+    use cellrt_axes::IncrementalCounter;
     let ct = CycleTime::from_micros(1000).unwrap();
     let drives: Vec<SimDrive> = DriveModel::ALL
         .iter()
@@ -70,7 +70,7 @@ fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
         .map(|i| AxisMaster::for_profile(bus.drive(i).profile(), ct, Cycles(200)))
         .collect();
     let mut counters: Vec<IncrementalCounter> = (0..n)
-        .map(|_| IncrementalCounter::new(CounterParams::default(), 0))
+        .map(|_| IncrementalCounter::new(cellrt_axes::profiles::mr_j3_t04::MASTER_COUNTER_CHECK, 0))
         .collect();
     for m in &mut masters {
         m.request(MasterRequest::Enable);

@@ -4,7 +4,9 @@
 
 mod common;
 
-use cellrt_axes::profiles::mr_j3_t04::{AL_34, AL_35, AL_36, AL_37, AL_61, AL_99, AL_E6, AL_E9};
+use cellrt_axes::profiles::mr_j3_t04::{
+    AL_34, AL_35, AL_36, AL_37, AL_61, AL_99, AL_E6, AL_E9, MASTER_COUNTER_CHECK,
+};
 use cellrt_axes::sim::drive::InternalTorqueLimits;
 use cellrt_axes::{
     profile, AxisMaster, CommParams, Controlword, CounterParams, CounterVerdict, Cycles, CyclicBus,
@@ -209,7 +211,7 @@ fn tv_ic_1_normal_echo_and_wrap() {
     // Master and drive together through the bus: never an error, across the wrap.
     let mut bus = SimBus::new(vec![j3(po03(0x0001))]);
     let p = bus.drive(0).profile();
-    let mut ctr = IncrementalCounter::new(CounterParams::default(), 250);
+    let mut ctr = IncrementalCounter::new(MASTER_COUNTER_CHECK, 250);
     for k in 0..600 {
         let tx = p.tx_pdo.decode_tx(bus.tx_image(0)).unwrap();
         let v = ctr.check_rx(tx.counter);
@@ -250,7 +252,7 @@ fn tv_ic_2_one_lost_rx_frame() {
     let mut c = IncrementalCounter::new(
         CounterParams {
             echo_lag: 0,
-            ..CounterParams::default()
+            ..MASTER_COUNTER_CHECK
         },
         9,
     );
@@ -292,7 +294,7 @@ fn tv_ic_3_master_stops_incrementing() {
         }
     }
     // The master sees a constant echo and must stop the axis itself: continuous error.
-    let mut c = IncrementalCounter::new(CounterParams::default(), 19);
+    let mut c = IncrementalCounter::new(MASTER_COUNTER_CHECK, 19);
     let mut verdicts = Vec::new();
     for _ in 0..6 {
         verdicts.push(c.check_rx(21));

@@ -7,6 +7,7 @@
 use std::fmt;
 
 pub use crate::cia402::homing::HomeSetting;
+use crate::comm::CounterParams;
 use crate::pdo::PdoEntry;
 
 /// CoE data type of an object (the subset the cyclic objects use).
@@ -403,6 +404,8 @@ pub enum CommCheck {
         /// Parameter error raised at power-on when the counter check is enabled (PO03 digit 0
         /// ≠ 0) in free-run mode (PO02 = 0001h): AL.37 (MR-J3-T04 §2.4, TV-IC-5).
         free_run_alarm: u16,
+        /// The master's check of the echo: lag and the error levels that stop the cell.
+        master: CounterParams,
     },
     /// Watchdog counters whose algorithm the manual's missing §6.2 would give (MR-J4-TM):
     /// provisional echo of DL + 1 in UL when both are mapped; lost frames count like
@@ -414,6 +417,8 @@ pub enum CommCheck {
         tx_index: u16,
         /// Alarm for lost process data (AL. 86.1).
         loss_alarm: u16,
+        /// The master's check of the echo: lag and the error levels that stop the cell.
+        master: CounterParams,
     },
     /// Sync-error counter against 10F1h:02 raising `alarm` (MR-JET, MR-J5: AL.086.1).
     SyncErrorCounter {
@@ -432,6 +437,16 @@ impl CommCheck {
             | Self::WatchdogCounter {
                 rx_index, tx_index, ..
             } => Some((rx_index, tx_index)),
+            Self::SyncErrorCounter { .. } => None,
+        }
+    }
+
+    /// The master's default check of the counter echo, if the check has a counter.
+    pub const fn master_counter(&self) -> Option<CounterParams> {
+        match *self {
+            Self::IncrementalCounter { master, .. } | Self::WatchdogCounter { master, .. } => {
+                Some(master)
+            }
             Self::SyncErrorCounter { .. } => None,
         }
     }

@@ -34,6 +34,7 @@ fn comm_text(p: &DriveProfile) -> String {
             rx_index,
             tx_index,
             loss_alarm,
+            ..
         } => format!(
             "watchdog counter {rx_index:04X}h/{tx_index:04X}h ({} lost process data)",
             alarm_text(p, loss_alarm)

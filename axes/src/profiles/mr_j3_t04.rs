@@ -9,10 +9,25 @@ use super::{
 use super::{HomeReference, HomeSetting, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
 use crate::cia402::mode::ModeOfOperation as M;
+use crate::comm::{CounterParams, DetectorParams};
 use crate::pdo::PdoMap;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32, U8};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
+
+/// The master's check of the 2021h echo: lag L = 1 (the timing figure is lost, MR-J3-T04
+/// manual §8.11.1, errata #4) and 3 wrong echoes in a row, or 3 within 1000 cycles, stop the
+/// cell. The manual raises AL.34 "consecutively or frequently more than a regulated level"
+/// without the level (§8.11.1, errata #3): **placeholders**, `[watchdogs]` `counter_*` override
+/// them.
+pub const MASTER_COUNTER_CHECK: CounterParams = CounterParams {
+    echo_lag: crate::comm::DEFAULT_ECHO_LAG,
+    detector: DetectorParams {
+        continuous: 3,
+        intermittent: 3,
+        intermittent_window: 1000,
+    },
+};
 
 /// Default RxPDO 1614h, 30 bytes (MR-J3-T04 manual §8.5.1, §8.6.2, 13 entries).
 pub const RX_PDO_1614: PdoMap = PdoMap {
@@ -172,6 +187,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         counter_alarm: AL_34,
         loss_alarm: AL_36,
         free_run_alarm: AL_37,
+        master: MASTER_COUNTER_CHECK,
     },
     leave_op_alarm: AL_61,
     // §2.2: no re-initialisation is stated; the alarm (or none) is the whole effect.

@@ -9,6 +9,7 @@ use super::{
 use super::{HomeReference, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
 use crate::cia402::mode::ModeOfOperation as M;
+use crate::comm::CounterParams;
 use crate::pdo::PdoMap;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32};
@@ -82,6 +83,12 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
 /// Alarm code encoding of this module: AL. XX.Y → 0x0XXY (AL. 86.1 → 0x0861); the alarm
 /// objects are in the missing §6.4.
 pub const AL_86_1: u16 = 0x0861;
+
+/// The master's check of the 2D24h echo (Watch dog counter UL = DL + 1, provisional): the
+/// algorithm's section is missing from the manual (MR-J4-TM manual §6.2), so the lag and the
+/// levels are the MR-J3-T04's placeholders; `[watchdogs]` `counter_*` override them.
+pub const MASTER_COUNTER_CHECK: CounterParams = super::mr_j3_t04::MASTER_COUNTER_CHECK;
+
 /// AL. F4.8: a relative pp set-point with the degree position unit (MR-J4-TM manual §5.4.6 bit 6, §9).
 pub const AL_F4_8: u16 = 0x0F48;
 // Following-error and overspeed alarms: no alarm chapter in this manual (MR-J4-TM manual);
@@ -193,6 +200,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         rx_index: 0x2D23,
         tx_index: 0x2D24,
         loss_alarm: AL_86_1,
+        master: MASTER_COUNTER_CHECK,
     },
     leave_op_alarm: AL_86_1,
     // §10: leaving Op clears the internal state (servo off, SOD) [D].

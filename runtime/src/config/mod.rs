@@ -1,12 +1,17 @@
 //! The cell configuration: a TOML file parsed into raw serde structs ([`raw`]) and validated into
 //! the typed [`CellConfig`] before anything starts. Every error names the file and the key.
 
+mod comm_watchdog;
 mod error;
 mod fault;
 pub mod input_file;
 pub mod raw;
 mod validate;
 
+pub use comm_watchdog::{
+    CommWatchdog, CommWatchdogConfig, DEFAULT_MAX_CYCLES_OUT_OF_OP, DEFAULT_MAX_LOST_FRAMES,
+    DEFAULT_MAX_WORKING_COUNTER_ERRORS,
+};
 pub(crate) use error::parse_toml;
 pub use error::ConfigError;
 pub use fault::{FaultKind, InjectedFault, Injection};
@@ -159,8 +164,10 @@ pub struct WatchdogConfig {
     pub underrun_reaction: FaultReaction,
     /// Reaction of the other axes when one drive faults.
     pub drive_fault_reaction: FaultReaction,
-    /// Reaction to a continuous or intermittent incremental-counter error (master side).
+    /// Reaction to any communication watchdog ([`WatchdogConfig::comm`]).
     pub communication_reaction: FaultReaction,
+    /// The communication watchdog's thresholds.
+    pub comm: CommWatchdogConfig,
 }
 
 /// Where an axis' drive is reached.

@@ -190,9 +190,24 @@ pub struct RawWatchdogs {
     /// Reaction of the other axes when one drive faults.
     #[serde(default = "default_reaction")]
     pub drive_fault_reaction: String,
-    /// Reaction to a continuous or intermittent incremental-counter error.
+    /// Reaction to any communication watchdog.
     #[serde(default = "default_reaction")]
     pub communication_reaction: String,
+    /// Cyclic frames lost in a row that stop the cell; 0 disables.
+    #[serde(default = "default_max_lost_frames")]
+    pub max_lost_frames: u32,
+    /// Working-counter errors in a row that stop the cell; 0 disables.
+    #[serde(default = "default_max_working_counter_errors")]
+    pub max_working_counter_errors: u32,
+    /// Cycles a SubDevice may stay out of OP; 0 disables.
+    #[serde(default = "default_max_cycles_out_of_op")]
+    pub max_cycles_out_of_op: u32,
+    /// Incremental-counter errors in a row (default: the model's).
+    pub counter_continuous_errors: Option<u32>,
+    /// Incremental-counter errors within the window (default: the model's).
+    pub counter_intermittent_errors: Option<u32>,
+    /// The intermittent check's window, cycles (default: the model's).
+    pub counter_intermittent_window: Option<u32>,
 }
 
 impl Default for RawWatchdogs {
@@ -203,6 +218,12 @@ impl Default for RawWatchdogs {
             underrun_reaction: default_reaction(),
             drive_fault_reaction: default_reaction(),
             communication_reaction: default_reaction(),
+            max_lost_frames: default_max_lost_frames(),
+            max_working_counter_errors: default_max_working_counter_errors(),
+            max_cycles_out_of_op: default_max_cycles_out_of_op(),
+            counter_continuous_errors: None,
+            counter_intermittent_errors: None,
+            counter_intermittent_window: None,
         }
     }
 }
@@ -360,6 +381,15 @@ fn default_start_delay_ms() -> f64 {
 }
 fn default_consecutive_overruns() -> u32 {
     10
+}
+fn default_max_lost_frames() -> u32 {
+    super::DEFAULT_MAX_LOST_FRAMES
+}
+fn default_max_working_counter_errors() -> u32 {
+    super::DEFAULT_MAX_WORKING_COUNTER_ERRORS
+}
+fn default_max_cycles_out_of_op() -> u32 {
+    super::DEFAULT_MAX_CYCLES_OUT_OF_OP
 }
 fn default_reaction() -> String {
     "controlled_stop".to_string()

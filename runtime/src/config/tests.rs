@@ -611,3 +611,48 @@ fn wire_faults_are_left_to_the_segment_on_a_network_interface_and_refused_withou
     .expect("stall");
     assert!(c.wire_schedule().is_empty() && c.faults_left_to_segment().is_empty());
 }
+
+#[test]
+fn the_communication_watchdog_defaults_and_its_counter_levels_are_checked() {
+    let c = parse(&demo_text()).unwrap();
+    assert_eq!(c.watchdogs.comm, CommWatchdogConfig::default());
+    assert_eq!(
+        (
+            c.watchdogs.comm.max_lost_frames,
+            c.watchdogs.comm.max_cycles_out_of_op
+        ),
+        (3, 1)
+    );
+    let with = |extra: &str| demo_text().replace("[watchdogs]", &format!("[watchdogs]\n{extra}"));
+    let c = parse(&with(
+        "max_lost_frames = 0\ncounter_continuous_errors = 5\ncounter_intermittent_errors = 4\n\
+         counter_intermittent_window = 200",
+    ))
+    .unwrap();
+    assert_eq!(c.watchdogs.comm.max_lost_frames, 0);
+    let model = cellrt_axes::profiles::mr_j3_t04::MASTER_COUNTER_CHECK;
+    let params = c.watchdogs.comm.counter_params(model);
+    assert_eq!(
+        (
+            params.echo_lag,
+            params.detector.continuous,
+            params.detector.intermittent
+        ),
+        (model.echo_lag, 5, 4)
+    );
+    let e = parse(&with("counter_continuous_errors = 5")).unwrap_err();
+    assert_eq!(e.key, "watchdogs.counter_intermittent_errors", "{e}");
+    let e = parse(&with(
+        "counter_continuous_errors = 5\ncounter_intermittent_errors = 17\ncounter_intermittent_window = 9",
+    ))
+    .unwrap_err();
+    assert_eq!(e.key, "watchdogs.counter_intermittent_errors", "{e}");
+    assert!(e.message.contains("16"), "{e}");
+    let e = parse(&with(
+        "counter_continuous_errors = 5\ncounter_intermittent_errors = 2\ncounter_intermittent_window = 0",
+    ))
+    .unwrap_err();
+    assert_eq!(e.key, "watchdogs.counter_intermittent_window", "{e}");
+    let e = parse(&with("max_lost_frames = -1")).unwrap_err();
+    assert!(e.key.contains("max_lost_frames"), "{e}");
+}

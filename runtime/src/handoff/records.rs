@@ -84,7 +84,8 @@ pub enum EventKind {
     PlannerConnected,
     /// The planner's iceoryx2 node died or left.
     PlannerLost,
-    /// An axis' incremental counter check failed (value: 1 continuous, 2 intermittent).
+    /// A communication watchdog tripped on an axis, or on the segment with [`NO_AXIS`] (value:
+    /// [`CommWatchdog`](crate::config::CommWatchdog) code).
     CommunicationError,
     /// Homing started on an axis (value: [`HomeRequest::procedure_code`](super::HomeRequest::procedure_code)).
     HomingStarted,

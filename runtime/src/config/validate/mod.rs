@@ -3,14 +3,15 @@
 use std::collections::HashSet;
 use std::path::Path;
 
+use cellrt_axes::comm::{DetectorParams, MAX_INTERMITTENT};
 use cellrt_axes::profiles::DriveModel;
 use cellrt_axes::CycleTime;
 
 use super::raw::{RawAxis, RawCellConfig, RawRecording, RawRt, RawSetpoints, RawWatchdogs};
 use super::{
-    AxisConfig, CellConfig, Compression, ConfigError, EthercatConfig, EthercatInterface,
-    FaultReaction, RecordingConfig, RtConfig, SetpointConfig, Transport, WatchdogConfig,
-    DEFAULT_FRAME_TIMEOUT_US, IN_PROCESS_INTERFACE, MAX_AXES,
+    AxisConfig, CellConfig, CommWatchdogConfig, Compression, ConfigError, EthercatConfig,
+    EthercatInterface, FaultReaction, RecordingConfig, RtConfig, SetpointConfig, Transport,
+    WatchdogConfig, DEFAULT_FRAME_TIMEOUT_US, IN_PROCESS_INTERFACE, MAX_AXES,
 };
 
 mod axis;
@@ -263,7 +264,62 @@ fn watchdog_config(file: &Path, raw: &RawWatchdogs) -> Result<WatchdogConfig, Co
         underrun_reaction: reaction("underrun_reaction", &raw.underrun_reaction)?,
         drive_fault_reaction: reaction("drive_fault_reaction", &raw.drive_fault_reaction)?,
         communication_reaction: reaction("communication_reaction", &raw.communication_reaction)?,
+        comm: CommWatchdogConfig {
+            max_lost_frames: raw.max_lost_frames,
+            max_working_counter_errors: raw.max_working_counter_errors,
+            max_cycles_out_of_op: raw.max_cycles_out_of_op,
+            counter: counter_levels(file, raw)?,
+        },
     })
+}
+
+/// `watchdogs.counter_*`: all three or none (then each model's own levels).
+fn counter_levels(file: &Path, raw: &RawWatchdogs) -> Result<Option<DetectorParams>, ConfigError> {
+    let set = [
+        ("counter_continuous_errors", raw.counter_continuous_errors),
+        (
+            "counter_intermittent_errors",
+            raw.counter_intermittent_errors,
+        ),
+        (
+            "counter_intermittent_window",
+            raw.counter_intermittent_window,
+        ),
+    ];
+    if set.iter().all(|(_, v)| v.is_none()) {
+        return Ok(None);
+    }
+    if let Some((key, _)) = set.iter().find(|(_, v)| v.is_none()) {
+        return Err(ConfigError::new(
+            file,
+            format!("watchdogs.{key}"),
+            "missing: the counter_* levels are set all three together (or none: each model's own)",
+        ));
+    }
+    let [continuous, intermittent, window] = set.map(|(_, v)| v.unwrap_or(0));
+    let max = u32::from(MAX_INTERMITTENT);
+    let intermittent = u8::try_from(intermittent)
+        .ok()
+        .filter(|&n| u32::from(n) <= max)
+        .ok_or_else(|| {
+            ConfigError::new(
+                file,
+                "watchdogs.counter_intermittent_errors",
+                format!("{intermittent} is above the largest supported level {max}"),
+            )
+        })?;
+    if intermittent > 0 && window == 0 {
+        return Err(ConfigError::new(
+            file,
+            "watchdogs.counter_intermittent_window",
+            "must be at least 1 cycle while counter_intermittent_errors is on",
+        ));
+    }
+    Ok(Some(DetectorParams {
+        continuous,
+        intermittent,
+        intermittent_window: window,
+    }))
 }
 
 /// `[[axes]]`: at least one, at most [`MAX_AXES`], unique names, amplifier slots shared

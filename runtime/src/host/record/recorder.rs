@@ -687,10 +687,12 @@ pub fn describe_event(e: &EventRecord) -> String {
             None => "homing attained".to_string(),
             Some(f) => f.as_str().to_string(),
         },
-        EventKind::CommunicationError => match e.value {
-            1 => "continuous incremental-counter errors".to_string(),
-            _ => "intermittent incremental-counter errors".to_string(),
-        },
+        EventKind::CommunicationError => crate::config::CommWatchdog::from_code(e.value)
+            .map_or(
+                "unknown communication watchdog",
+                crate::config::CommWatchdog::describe,
+            )
+            .to_string(),
         EventKind::AlStatus => {
             cellrt_axes::ethercat::register::AlStatus::decode(e.value).describe()
         }

@@ -4,7 +4,7 @@
 use cellrt_axes::cia402::homing::{HomingParams, HomingSequencer};
 use cellrt_axes::cia402::master::AxisMaster;
 use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::comm::{CounterParams, IncrementalCounter};
+use cellrt_axes::comm::IncrementalCounter;
 use cellrt_axes::pdo::objects::{
     CONTROLWORD2, DEFAULT_TORQUE_LIMIT, ERROR_CODE, MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY,
     STATUSWORD2,
@@ -158,9 +158,10 @@ impl AxisChannel {
             ),
             counter: axis
                 .profile
-                .rx_pdo
-                .has_counter()
-                .then(|| IncrementalCounter::new(CounterParams::default(), 0)),
+                .comm_check
+                .master_counter()
+                .filter(|_| axis.profile.rx_pdo.has_counter())
+                .map(|model| IncrementalCounter::new(cell.watchdogs.comm.counter_params(model), 0)),
             comm_fault: false,
             link_state: None,
             limits: AxisLimitsCounts::new(axis, cell.period()),

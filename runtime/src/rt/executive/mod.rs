@@ -6,13 +6,13 @@
 
 mod axis;
 mod cell;
+mod comm_watchdog;
 
 pub use axis::{AxisChannel, AxisLimitsCounts, HOMING_MODE_SETTLE, HOMING_TIMEOUT, STEP_TOLERANCE};
 
 use std::sync::atomic::Ordering;
 
 use cellrt_axes::bus::{AcyclicBus, CyclicBus, FaultInjection, MailboxNotice};
-use cellrt_axes::comm::CounterVerdict;
 use cellrt_axes::pdo::objects::HOME_OFFSET;
 use cellrt_axes::pdo::RxPdo;
 use cellrt_axes::Cycles;
@@ -103,8 +103,10 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     reaction: FaultReaction,
     /// A Reset arrived while Faulted: leave Faulted once no drive reports a fault.
     fault_reset_pending: bool,
-    /// An incremental-counter error was reported this cycle: react in `update_cell`.
+    /// A communication watchdog tripped: react in `update_cell`.
     comm_fault_pending: bool,
+    /// Error streaks of the communication watchdog.
+    comm_streaks: comm_watchdog::CommStreaks,
     /// The motion's last setpoint was applied; it finishes once every axis a torque motion left
     /// moving has braked to rest.
     finishing: bool,
@@ -157,6 +159,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             reaction: FaultReaction::ControlledStop,
             fault_reset_pending: false,
             comm_fault_pending: false,
+            comm_streaks: comm_watchdog::CommStreaks::new(cell.watchdogs.comm, n),
             finishing: false,
             watchdogs: cell.watchdogs,
             overrun_streak: 0,
@@ -274,9 +277,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         let sent = MonoTime::now();
         let exchanged = self.bus.exchange(elapsed);
         self.stats.exchange_time.record(MonoTime::now().since(sent));
-        if exchanged.is_err() {
-            self.event(EventKind::BusError, NO_AXIS, -1);
-        }
+        self.watch_exchange(exchanged);
         quit
     }
 
@@ -302,31 +303,6 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 _ => {}
             }
         }
-    }
-
-    /// Records a change of the link state of axis `i`'s node (EtherCAT: its SubDevice's AL
-    /// status); one that is not operational takes the axis' outputs away, a communication
-    /// fault of the axis (ETG.1000.6 §6.4). The first state seen is recorded only if it is not
-    /// operational.
-    fn watch_link_state(&mut self, i: usize) {
-        let now = self.bus.link_state(i);
-        let ch = &mut self.axes[i];
-        if now == ch.link_state {
-            return;
-        }
-        let first = ch.link_state.is_none();
-        ch.link_state = now;
-        let Some(s) = now else {
-            return;
-        };
-        if first && s.operational {
-            return;
-        }
-        if !s.operational && !ch.comm_fault {
-            ch.comm_fault = true;
-            self.comm_fault_pending = true;
-        }
-        self.event(EventKind::AlStatus, i as u16, s.encoded);
     }
 
     /// Records what SubDevices sent unasked (CoE Emergencies, ETG.1000.6 §5.6.2.1), at most
@@ -386,21 +362,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             tx.position_actual = self.axes[i].to_user(tx.position_actual);
             let old = self.axes[i].feedback;
             self.axes[i].feedback = tx;
-            // Master-side incremental counter (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7): report a continuous or
-            // intermittent echo error once; the cell reacts in `update_cell`.
-            let ch = &mut self.axes[i];
-            if let Some(counter) = ch.counter.as_mut() {
-                let verdict = counter.check_rx(tx.counter);
-                if verdict.is_fault() && !ch.comm_fault {
-                    ch.comm_fault = true;
-                    self.comm_fault_pending = true;
-                    let kind = match verdict {
-                        CounterVerdict::Continuous { .. } => 1,
-                        _ => 2,
-                    };
-                    self.event(EventKind::CommunicationError, i as u16, kind);
-                }
-            }
+            self.watch_counter(i, tx.counter);
             self.watch_link_state(i);
             if old.statusword.state() != tx.statusword.state() {
                 let v = tx.statusword.state().map(fsa_index).unwrap_or(0);

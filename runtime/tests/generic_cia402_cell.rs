@@ -51,12 +51,13 @@ fn run_cell(text: &str) -> cellrt_runtime::host::controller::Summary {
 }
 
 fn assert_completed(summary: &cellrt_runtime::host::controller::Summary, what: &str) {
+    let log = &summary.recording.event_log;
     assert_eq!(
         summary.outcome,
         Outcome::ProgramCompleted,
-        "{what}: {summary:?}"
+        "{what}: {log:?}"
     );
-    assert_eq!(summary.counters.faults, 0, "{what}: {summary:?}");
+    assert_eq!(summary.counters.faults, 0, "{what}: {log:?}");
     // Home within 0.05 mm at 1 ms (as the models' end-to-end tests ask); y ends its last move
     // in csv, whose master-side position correction settles in proportion to the cycle.
     let tolerance = 0.05 * f64::from(summary.cycle_time_us) / 1000.0;
@@ -110,14 +111,24 @@ fn run_despite_late_wakeups(
             0,
             "the RT loop allocated in steady state"
         );
-        if summary.outcome == Outcome::ProgramCompleted
-            || !stopped_by_a_late_wakeup(&summary)
-            || attempts.len() == 4
-        {
+        let load = stopped_by_a_late_wakeup(&summary) || late_block_under_load(&summary);
+        if summary.outcome == Outcome::ProgramCompleted || !load || attempts.len() == 4 {
             return (summary, attempts);
         }
         attempts.push(summary.recording.event_log.clone());
     }
+}
+
+/// True if the run failed only because a setpoint block came late while the RT thread
+/// overran (the planner thread starved by the machine's load): no fault, a `late_block`
+/// rejection and an overrun in the log.
+fn late_block_under_load(summary: &cellrt_runtime::host::controller::Summary) -> bool {
+    let log = &summary.recording.event_log;
+    summary.counters.faults == 0
+        && log
+            .iter()
+            .any(|e| e.contains("setpoint_rejected: late_block"))
+        && log.iter().any(|e| e.contains(": overrun: "))
 }
 
 #[test]

@@ -591,7 +591,9 @@ impl Station {
         // frames in one cycle: the second waits in SM2), one (in step), or more (frames that
         // missed their SYNC0: lost RxPDOs for the drive's checks).
         let edges = if cycle == 0 {
-            1
+            // Free-run (no SYNC0): each frame is one cycle of the drive, plus the cycles of a
+            // stall of the master's host it excused (the drive lives on the master's clock).
+            1 + self.excused_sync0.min(MAX_LOST_REPLAY)
         } else {
             let system = now_ns.wrapping_add(self.get_u64(reg::DC_SYSTEM_TIME_OFFSET));
             let start = self.get_u64(reg::DC_SYNC_START_TIME);

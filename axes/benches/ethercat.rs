@@ -30,6 +30,7 @@ fn bus(models: &[DriveModel]) -> EthercatBus {
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
+                distributed_clocks: true,
             })
             .collect(),
     };

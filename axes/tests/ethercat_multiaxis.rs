@@ -44,6 +44,7 @@ fn config(axes: &[AxisSpec], cycle: CycleTime) -> SegmentConfig {
                     label: label.into(),
                     slot,
                 }),
+                distributed_clocks: true,
             })
             .collect(),
     }

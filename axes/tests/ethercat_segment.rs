@@ -59,6 +59,7 @@ fn config(models: &[DriveModel], cycle: CycleTime) -> SegmentConfig {
                 identity: ExpectedIdentity::of_profile(prof(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
+                distributed_clocks: true,
             })
             .collect(),
     }

@@ -118,6 +118,7 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
+                distributed_clocks: true,
             })
             .collect(),
     };

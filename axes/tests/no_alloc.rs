@@ -136,6 +136,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
+                distributed_clocks: true,
             })
             .collect(),
     };
@@ -229,6 +230,7 @@ fn the_ethercat_cyclic_exchange_of_a_multi_axis_station_is_allocation_free() {
                     label: "w3".into(),
                     slot,
                 }),
+                distributed_clocks: true,
             })
             .collect(),
     };

@@ -34,6 +34,8 @@ pub enum Command {
     Replay(ReplayArgs),
     /// Emulate a cell's drives on a network (EtherCAT SubDevices on an interface).
     DriveSim(DriveSimArgs),
+    /// Look at a fieldbus without running a cell.
+    Bus(BusArgs),
     /// Benchmarks: wakeup latency, comparison with cyclictest, the full loop with N axes.
     Bench(crate::commands::bench::BenchArgs),
     /// Operator commands to a running cell.
@@ -111,6 +113,28 @@ pub struct RunArgs {
     /// ("in-process": the emulated segment, no network or root).
     #[arg(long, value_name = "IF")]
     pub interface: Option<String>,
+}
+
+/// `cellrt bus`.
+#[derive(Debug, Args)]
+pub struct BusArgs {
+    /// What to do on the bus.
+    #[command(subcommand)]
+    pub command: BusCommand,
+}
+
+/// `cellrt bus` subcommands.
+#[derive(Debug, Subcommand)]
+pub enum BusCommand {
+    /// List the EtherCAT SubDevices on a network interface without configuring anything:
+    /// position, identity (vendor, product, revision, serial), name from the SII, AL state and
+    /// status code, mailbox protocols, distributed clocks. Needs a raw socket (root or
+    /// CAP_NET_RAW).
+    Scan {
+        /// The network interface the SubDevices are wired to.
+        #[arg(long, value_name = "IF")]
+        interface: String,
+    },
 }
 
 /// `cellrt drive-sim`.

@@ -5,9 +5,6 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
-use std::process::Stdio;
-
 use cellrt_rt_tests::netns::VethNamespace;
 use common::{read_recording, unique_cell_name, Recording};
 
@@ -272,19 +269,7 @@ fn veth_attempt(
     cfg: &std::path::Path,
     rec: &std::path::Path,
 ) -> (std::process::Output, Vec<String>, std::process::ExitStatus) {
-    let mut drives = ns
-        .command(std::path::Path::new(env!("CARGO_BIN_EXE_cellrt")))
-        .args(["drive-sim", "ethercat", "--interface", &ns.far, "--cell"])
-        .arg(cfg)
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start cellrt drive-sim in the namespace");
-    let mut lines = BufReader::new(drives.stderr.take().unwrap()).lines();
-    let ready = lines
-        .by_ref()
-        .map_while(Result::ok)
-        .find(|l| l.contains("EtherCAT SubDevice(s) on"));
-    assert!(ready.is_some(), "cellrt drive-sim did not start");
+    let (mut drives, lines) = common::spawn_drive_sim(ns, cfg);
     let out = run(cfg, rec);
     let _ = nix::sys::signal::kill(
         nix::unistd::Pid::from_raw(drives.id() as i32),

@@ -161,6 +161,8 @@ pub mod al_code {
     pub const INVALID_OUTPUT_CONFIG: u16 = 0x001D;
     /// 001Eh Invalid input configuration.
     pub const INVALID_INPUT_CONFIG: u16 = 0x001E;
+    /// 0030h Invalid DC SYNC configuration.
+    pub const INVALID_DC_SYNC: u16 = 0x0030;
     /// 0035h Invalid sync cycle time.
     pub const INVALID_SYNC_CYCLE: u16 = 0x0035;
 

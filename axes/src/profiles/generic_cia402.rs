@@ -270,6 +270,32 @@ pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
     source: "CiA 301 §7.2.7 (a device sends EMCY on an internal error), ETG.1000.6 §5.6.2.1",
 };
 
+/// Likely causes of a refused state change by AL status code (ETG.1000.6 Table 11 meanings,
+/// ETG.6010 / ETG.1020 for what a CiA 402 drive checks at PRE-OP → SAFE-OP).
+pub const BRING_UP_CAUSES: &[super::BringUpCause] = &[
+    super::BringUpCause {
+        al_codes: &[0x0027, 0x0028, 0x0030, 0x0036],
+        modes: &[],
+        free_run_only: false,
+        cause: "the drive needs (or rejects) SYNC0 as configured: check [axes.ethercat] distributed_clocks against the DC modes of its ESI",
+        source: "ETG.1000.6 Table 11, ETG.6010 (DC synchronous mode)",
+    },
+    super::BringUpCause {
+        al_codes: &[0x001D, 0x001E, 0x0024, 0x0025],
+        modes: &[],
+        free_run_only: false,
+        cause: "the drive does not take the PDO mapping or assignment written in PRE-OP: check [axes.pdo] against its ESI's PDOs",
+        source: "ETG.1000.6 Table 11, ETG.1020 (PDO assignment 1C12h/1C13h)",
+    },
+    super::BringUpCause {
+        al_codes: &[0x0035],
+        modes: &[],
+        free_run_only: false,
+        cause: "the cell's cycle time is not one the drive runs: check its minimum cycle (1C32h:05) and the cycle times of its manual",
+        source: "ETG.1000.6 Table 11, ETG.1020 (1C32h SM output parameter)",
+    },
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;

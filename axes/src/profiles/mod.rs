@@ -14,6 +14,8 @@ use crate::cia402::mode::ModeOfOperation;
 use crate::cycles::{CycleTime, Cycles};
 use crate::pdo::PdoMap;
 
+pub mod bring_up_causes;
+pub use bring_up_causes::{bring_up_causes, BringUpCause};
 mod cia402_facts;
 pub mod facts;
 pub mod generic_cia402;

@@ -291,6 +291,33 @@ pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
         "MR-J4-TM manual §4.1 (\"Alarms are reported by CoE Emergency\"), §8.10 (payload [MISSING])",
 };
 
+/// Likely causes of a refused state change (bring-up names those that fit beside the AL status
+/// code). The AL. 37 clearing class is not in the MR-J4-TM manual: it is from a reading of the
+/// troubleshooting manual (SH(NA)030109) outside the manuals cellrt follows, marked so.
+pub const BRING_UP_CAUSES: &[super::BringUpCause] = &[
+    super::BringUpCause {
+        al_codes: &[],
+        modes: &[M::CyclicSyncPosition, M::CyclicSyncVelocity, M::CyclicSyncTorque],
+        free_run_only: false,
+        cause: "csp, csv and cst run only with [Pr. PA01] last digit 0 or 1 (the cyclic synchronous group); PA01 ___2 selects the profile modes pp/pv/tq instead",
+        source: "MR-J4-TM manual §5.4.1, §1.1(2)",
+    },
+    super::BringUpCause {
+        al_codes: &[],
+        modes: &[M::CyclicSyncPosition, M::CyclicSyncVelocity, M::CyclicSyncTorque],
+        free_run_only: true,
+        cause: "software B3 or earlier runs csp/csv/cst only in DC mode (free-run answers \"state transition not allowed\"); set distributed_clocks = true",
+        source: "MR-J4-TM manual §1.1(2) Note 1, §1.3",
+    },
+    super::BringUpCause {
+        al_codes: &[],
+        modes: &[],
+        free_run_only: false,
+        cause: "AL. 37 (parameter error, e.g. 6091h gear ratio other than 1 in the cyclic synchronous modes on software B2 or earlier) clears only with a communication reset (AL state back to INIT) or a power cycle, not with a fault reset (clearing class from the troubleshooting manual SH(NA)030109, outside the manuals cellrt follows: verify)",
+        source: "MR-J4-TM manual §5.4.3(2)",
+    },
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -323,6 +323,9 @@ pub struct AxisConfig {
     /// The multi-axis amplifier and slot (`amplifier`, `amplifier_axis`; the slot defaults to
     /// the order in the file); `None`: the axis has an amplifier of its own.
     pub amplifier: Option<cellrt_axes::ethercat::master::AmplifierSlot>,
+    /// SYNC0 from distributed clocks on the axis' SubDevice (`[axes.ethercat]
+    /// distributed_clocks`, default true); false: the SubDevice runs free (SM2-synchronous).
+    pub distributed_clocks: bool,
 }
 
 /// Default csv position-correction gain, 1/s: removes the drift between the planned positions
@@ -371,6 +374,9 @@ pub struct SimAxisConfig {
     /// The simulated motor's maximum speed as a multiple of the axis velocity limit; the
     /// drive's overspeed alarm trips at 1.2 × that (a csp target step implying more).
     pub motor_speed_factor: f64,
+    /// How the emulated SubDevice departs from its profile (`sim.cycle_time_object`,
+    /// `sim.following_error_object`, `sim.distributed_clocks`; generic CiA 402 drives only).
+    pub subdevice: cellrt_axes::ethercat::emulator::SubDeviceVariant,
 }
 
 /// Default `rt.planner_priority`: above ordinary threads, well below the RT thread's default 80.

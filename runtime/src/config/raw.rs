@@ -51,6 +51,8 @@ pub struct RawEthercatAxis {
     pub vendor_id: Option<u32>,
     /// 1018h:02 required.
     pub product_code: Option<u32>,
+    /// SYNC0 from distributed clocks on this SubDevice (default true); false: free-run.
+    pub distributed_clocks: Option<bool>,
 }
 
 /// `[axes.pdo]`: a PDO mapping other than the model's default, as CoE mapping words
@@ -330,6 +332,16 @@ pub struct RawSimAxis {
     /// The motor's speed as a multiple of the axis velocity limit.
     #[serde(default = "default_motor_speed_factor")]
     pub motor_speed_factor: f64,
+    /// Emulated SubDevice (`drive = "cia402"`): 1C32h:02 "read-write", "read-only" or "absent".
+    #[serde(default)]
+    pub cycle_time_object: Option<String>,
+    /// Emulated SubDevice (`drive = "cia402"`): 60F4h in the object dictionary.
+    #[serde(default)]
+    pub following_error_object: Option<bool>,
+    /// Emulated SubDevice (`drive = "cia402"`): distributed clocks "optional", "required" or
+    /// "absent".
+    #[serde(default)]
+    pub distributed_clocks: Option<String>,
 }
 
 impl Default for RawSimAxis {
@@ -340,6 +352,9 @@ impl Default for RawSimAxis {
             velocity_bandwidth_hz: default_velocity_bw(),
             z_phase_position: 0.0,
             motor_speed_factor: default_motor_speed_factor(),
+            cycle_time_object: None,
+            following_error_object: None,
+            distributed_clocks: None,
         }
     }
 }

@@ -656,3 +656,61 @@ fn the_communication_watchdog_defaults_and_its_counter_levels_are_checked() {
     let e = parse(&with("max_lost_frames = -1")).unwrap_err();
     assert!(e.key.contains("max_lost_frames"), "{e}");
 }
+
+/// `[axes.ethercat] distributed_clocks` (default on) and the emulated SubDevice's departures in
+/// `[axes.sim]` (a read-only 1C32h:02 holds the cell's cycle); unknown values, and the sim keys
+/// on a Mitsubishi model, are refused naming the key.
+#[test]
+fn distributed_clocks_and_the_emulated_subdevice_variant_are_read_and_checked() {
+    use cellrt_axes::ethercat::emulator::{CycleTimeObject, EmulatedDc, SubDeviceVariant};
+    let c = parse(&generic_text()).unwrap();
+    assert!(c.axes.iter().all(|a| a.distributed_clocks));
+    assert_eq!(c.axes[0].sim.subdevice, SubDeviceVariant::default());
+    let text = generic_text()
+        .replacen(
+            "product_code = 0xCE110402 }",
+            "product_code = 0xCE110402, distributed_clocks = false }",
+            1,
+        )
+        .replacen(
+            "sim = { initial_position = 50.0 }",
+            "sim = { initial_position = 50.0, cycle_time_object = \"read-only\", following_error_object = false, distributed_clocks = \"required\" }",
+            1,
+        );
+    let c = parse(&text).unwrap();
+    assert!(!c.axes[0].distributed_clocks && c.axes[1].distributed_clocks);
+    assert_eq!(
+        c.axes[0].sim.subdevice,
+        SubDeviceVariant {
+            cycle_time: CycleTimeObject::ReadOnly(1_000_000),
+            following_error_object: false,
+            distributed_clocks: EmulatedDc::Required,
+        }
+    );
+    for (from, to, key, reason) in [
+        (
+            "sim = { initial_position = 50.0 }",
+            "sim = { initial_position = 50.0, cycle_time_object = \"ro\" }",
+            "axes[0].sim.cycle_time_object",
+            "available: read-write, read-only, absent",
+        ),
+        (
+            "sim = { initial_position = 50.0 }",
+            "sim = { initial_position = 50.0, distributed_clocks = \"yes\" }",
+            "axes[0].sim.distributed_clocks",
+            "available: optional, required, absent",
+        ),
+    ] {
+        let e = parse(&generic_text().replacen(from, to, 1)).unwrap_err();
+        assert_eq!(e.key, key, "{e}");
+        assert!(e.message.contains(reason), "{e}");
+    }
+    let e = parse(&ethercat_text().replacen(
+        "sim = { initial_position",
+        "sim = { following_error_object = false, initial_position",
+        1,
+    ))
+    .unwrap_err();
+    assert_eq!(e.key, "axes[0].sim.following_error_object", "{e}");
+    assert!(e.message.contains("only for drive = \"cia402\""), "{e}");
+}

@@ -15,8 +15,8 @@ use std::sync::Arc;
 pub use commands::{CellCommand, HomeRequest, HOME_BY_C_CR, HOME_BY_C_CR2};
 pub use host_end::{HostEnd, RECENT_EVENTS};
 pub use records::{
-    decode_emergency, encode_emergency, AxisRecord, CycleRecord, EventKind, EventRecord,
-    RejectReason, NO_AXIS,
+    decode_emergency, decode_refused_sdo, encode_emergency, encode_refused_sdo, AxisRecord,
+    CycleRecord, EventKind, EventRecord, RejectReason, NO_AXIS,
 };
 pub use rt_end::RtEnd;
 pub use status::{AxisLive, CellState, CellStatus, HomingStatus, StopReason};

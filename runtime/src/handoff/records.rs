@@ -106,6 +106,24 @@ pub enum EventKind {
     /// A SubDevice's mailbox held a message nobody asked for that is not an Emergency; it was
     /// discarded (value: mailbox type | CoE service << 8).
     MailboxDiscarded,
+    /// Bring-up skipped an optional setting of an axis' SubDevice that refused it (pushed by
+    /// the controller before the loop starts; value: [`encode_refused_sdo`]).
+    BringUpWarning,
+}
+
+/// The value of a `bring_up_warning` event: abort code (bits 0–31), sub-index (32–39), index
+/// (40–55).
+pub fn encode_refused_sdo(r: &cellrt_axes::ethercat::master::RefusedSdo) -> i64 {
+    i64::from(r.abort) | i64::from(r.sub) << 32 | i64::from(r.index) << 40
+}
+
+/// Inverse of [`encode_refused_sdo`].
+pub fn decode_refused_sdo(v: i64) -> cellrt_axes::ethercat::master::RefusedSdo {
+    cellrt_axes::ethercat::master::RefusedSdo {
+        index: (v >> 40) as u16,
+        sub: (v >> 32) as u8,
+        abort: v as u32,
+    }
 }
 
 /// The value of an `emergency` event: error code (bits 0–15), error register (16–23), the 5

@@ -97,6 +97,7 @@ pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
                 identity: a.ethercat_identity,
                 mode: a.mode,
                 amplifier: a.amplifier.clone(),
+                distributed_clocks: a.distributed_clocks,
             })
             .collect(),
     }
@@ -122,10 +123,24 @@ pub fn emulated_segment(cell: &CellConfig) -> Result<Segment, BusOpenError> {
                 .collect()
         })
         .collect();
-    Ok(Segment::of_units(units)?)
+    let mut segment = Segment::of_units(units)?;
+    for (n, st) in stations.iter().enumerate() {
+        if let Some(station) = segment.station_mut(n) {
+            station.present(cell.axes[st.first_axis()].sim.subdevice);
+        }
+    }
+    Ok(segment)
 }
 
 impl CellBus {
+    /// The optional settings bring-up skipped (none on simulated drives).
+    pub fn bring_up_warnings(&self) -> &[cellrt_axes::ethercat::master::BringUpWarning] {
+        match self {
+            CellBus::Sim(_) => &[],
+            CellBus::Ethercat(bus) => bus.bring_up_warnings(),
+        }
+    }
+
     /// Opens the bus `cell` names; EtherCAT segments are brought to OP here.
     pub fn open(cell: &CellConfig) -> Result<CellBus, BusOpenError> {
         let Some(ec) = &cell.ethercat else {

@@ -154,6 +154,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let recording = Recording::start(cell, opts.record.as_deref(), handoff.clone())?;
     let bus =
         crate::host::cell_bus::CellBus::open(cell).map_err(|e| RunError::Bus(e.to_string()))?;
+    record_bring_up_warnings(cell, &bus, &handoff);
     let (rt, mut report) = spawn_rt(cell, bus, rt_handoff, opts.hook)?;
 
     let targets = opts
@@ -230,6 +231,28 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         final_state: stats.final_state.as_str().to_string(),
         recording,
     })
+}
+
+/// Each optional setting bring-up skipped becomes a `bring_up_warning` event of its axis at
+/// cycle 0 (the recorder logs it and writes it into the recording).
+fn record_bring_up_warnings(
+    cell: &CellConfig,
+    bus: &crate::host::cell_bus::CellBus,
+    handoff: &HostEnd,
+) {
+    for w in bus.bring_up_warnings() {
+        let axis = cell
+            .axes
+            .iter()
+            .position(|a| a.name == w.axis)
+            .map_or(handoff::NO_AXIS, |i| i as u16);
+        handoff.push_event(handoff::EventRecord {
+            cycle: 0,
+            kind: handoff::EventKind::BringUpWarning,
+            axis,
+            value: handoff::encode_refused_sdo(&w.sdo),
+        });
+    }
 }
 
 /// Cycles the hand-off queues hold: the configured seconds of recording, at least 64.

@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod bench;
+pub mod bus;
 pub mod drive_sim;
 pub mod inspect;
 pub mod operate;

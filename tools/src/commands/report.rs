@@ -195,6 +195,7 @@ fn is_alarm(e: &Event) -> bool {
                 | "al_status"
                 | "emergency"
                 | "mailbox_discarded"
+                | "bring_up_warning"
                 | "planner_lost"
         )
 }

@@ -133,3 +133,29 @@ pub fn max_derivatives(samples: &[(u64, f64)], dt: f64) -> (f64, f64, f64) {
     }
     (v, a, j)
 }
+
+/// Starts `cellrt drive-sim ethercat` with the drives of `cfg` on the far end of `ns` and waits
+/// until it serves; returns the process and the rest of its stderr, line by line.
+pub fn spawn_drive_sim(
+    ns: &cellrt_rt_tests::netns::VethNamespace,
+    cfg: &Path,
+) -> (
+    std::process::Child,
+    std::io::Lines<std::io::BufReader<std::process::ChildStderr>>,
+) {
+    use std::io::BufRead;
+    let mut drives = ns
+        .command(Path::new(env!("CARGO_BIN_EXE_cellrt")))
+        .args(["drive-sim", "ethercat", "--interface", &ns.far, "--cell"])
+        .arg(cfg)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start cellrt drive-sim in the namespace");
+    let mut lines = std::io::BufReader::new(drives.stderr.take().unwrap()).lines();
+    let ready = lines
+        .by_ref()
+        .map_while(Result::ok)
+        .find(|l| l.contains("EtherCAT SubDevice(s) on"));
+    assert!(ready.is_some(), "cellrt drive-sim did not start");
+    (drives, lines)
+}

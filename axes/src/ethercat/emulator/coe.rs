@@ -52,6 +52,8 @@ pub struct CoeContext<'a> {
     pub counter: &'a mut u8,
     /// A segmented upload in progress.
     pub upload: &'a mut SegmentedUpload,
+    /// How the station departs from its profile (objects it lacks, a read-only 1C32h:02).
+    pub variant: &'a super::SubDeviceVariant,
 }
 
 impl CoeContext<'_> {
@@ -317,6 +319,9 @@ fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Value, SdoAbo
     let u16v = |v: u16| v.to_le_bytes().to_vec();
     let u32v = |v: u32| v.to_le_bytes().to_vec();
     let profile = ctx.profile();
+    if let Some(answer) = ctx.variant.upload(index, sub) {
+        return answer;
+    }
     match (index, sub) {
         (0x1000, 0) => return Ok(u32v(DEVICE_TYPE)),
         (0x1000, _) | (0x1008, 1..) => return Err(SdoAbort::NO_SUBINDEX),
@@ -380,6 +385,9 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
         u32::from_le_bytes(b)
     };
     let axes = ctx.pdo.axis_count();
+    if let Some(abort) = ctx.variant.refuses_download(index, sub) {
+        return Err(abort);
+    }
     match index {
         0x1000 | 0x1008 | 0x1018 => return Err(SdoAbort::READ_ONLY),
         0x1C12 | 0x1C13 => {
@@ -434,6 +442,7 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
     let rules = ctx.pdo.rules;
     let frozen = ctx.pdo.frozen;
     let profile = ctx.profile();
+    let variant = *ctx.variant;
     if let Some((obj, slot)) = ctx.pdo.object(index) {
         if !pre_op || frozen {
             return Err(SdoAbort(rules.wrong_state_abort));
@@ -467,6 +476,7 @@ fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Resul
             s => {
                 let w = word(data);
                 let entry = entry_of_slot(profile, PdoEntry::from_mapping_word(w), slot)
+                    .filter(|e| e.is_padding() || !variant.lacks(e.index))
                     .ok_or(not_mappable)?;
                 profile
                     .check_mapping_entry(obj.direction, entry)

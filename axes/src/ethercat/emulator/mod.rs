@@ -9,11 +9,13 @@ pub mod schedule;
 pub mod segment;
 pub mod sii;
 pub mod station;
+pub mod variant;
 pub mod wire;
 
 pub use schedule::{FaultSchedule, ScheduledFault, WireFault};
 pub use segment::{Delivery, Segment};
 pub use station::{Station, UnitError};
+pub use variant::{CycleTimeObject, EmulatedDc, SubDeviceVariant};
 
 /// True if `profile` runs its PDOs at a cycle of `ns` nanoseconds (1C32h:02, SYNC0 cycle).
 pub fn allows_cycle_ns(profile: &crate::profiles::DriveProfile, ns: u32) -> bool {

@@ -98,7 +98,9 @@ pub fn image(
     push_category(&mut bytes, category::STRINGS, &s);
 
     let mut general = [0u8; 32];
-    general[3] = 1; // name string index
+    // Order number and name string index: the emulated drive's order number is its name.
+    general[2] = 1;
+    general[3] = 1;
     general[5] = COE_DETAILS;
     push_category(&mut bytes, category::GENERAL, &general);
 

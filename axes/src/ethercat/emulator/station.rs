@@ -12,6 +12,7 @@ use std::collections::VecDeque;
 use super::coe::{PdoConfig, SegmentedUpload};
 use super::layout::StationLayout;
 use super::sii::{self, SiiPdo};
+use super::variant::{EmulatedDc, SubDeviceVariant};
 use crate::cycles::Cycles;
 use crate::ethercat::frame::Command;
 use crate::ethercat::identity::SubDeviceIdentity;
@@ -33,7 +34,9 @@ const RAM_KIB: u8 = 8;
 /// ESC type (0000h): an ET1100-class ESC.
 const ESC_TYPE: u8 = 0x11;
 /// Features (0008h): FMMU bit-wise, DC supported, 64-bit DC.
-const FEATURES: u16 = 0x0001 | 0x0004 | 0x0008;
+const FEATURES: u16 = 0x0001 | FEATURE_DC | 0x0008;
+/// Feature bit 2 (0008h): distributed clocks.
+const FEATURE_DC: u16 = 0x0004;
 /// Propagation delay per hop in the emulated line, ns (a named parameter; real ESC + cable
 /// delays are tens to hundreds of ns).
 pub const HOP_DELAY_NS: u64 = 100;
@@ -119,6 +122,8 @@ pub struct Station {
     pd_watchdog_trigger: Option<u64>,
     /// The mailbox traffic to the master waiting for SM1 ([`Station::fill_mailbox_in`]).
     outbox: Outbox,
+    /// How this SubDevice departs from its profile ([`Station::present`]).
+    variant: SubDeviceVariant,
 }
 
 impl Station {
@@ -203,6 +208,7 @@ impl Station {
             exchanges: 0,
             missed_sync0: 0,
             pd_watchdog_trigger: None,
+            variant: SubDeviceVariant::default(),
             outbox: Outbox {
                 sends_emergencies: profile.emergency.sends,
                 emergencies: VecDeque::with_capacity(EMERGENCY_QUEUE),
@@ -234,6 +240,23 @@ impl Station {
         s.set_al_status(AlState::Init, None);
         s.put16(reg::SII_CONTROL, SII_READ_8);
         s
+    }
+
+    /// Presents the SubDevice as `variant` departs from its profile (before bring-up): a
+    /// variant without distributed clocks clears the ESC's DC feature bit (0008h bit 2).
+    pub fn present(&mut self, variant: SubDeviceVariant) {
+        let dc = if variant.distributed_clocks == EmulatedDc::Absent {
+            0
+        } else {
+            FEATURE_DC
+        };
+        self.put16(reg::SUPPORT_FLAGS, (FEATURES & !FEATURE_DC) | dc);
+        self.variant = variant;
+    }
+
+    /// How this SubDevice departs from its profile.
+    pub fn variant(&self) -> SubDeviceVariant {
+        self.variant
     }
 
     /// The next frame comes `cycles` SYNC0 edges late because the master's host stalled (an
@@ -448,6 +471,9 @@ impl Station {
             return Err(al_code::INVALID_INPUT_CONFIG);
         }
         let profile = self.drives[0].profile();
+        if self.variant.distributed_clocks == EmulatedDc::Required && !self.sync_active() {
+            return Err(al_code::INVALID_DC_SYNC);
+        }
         if self.sync_active() && !super::allows_cycle_ns(profile, self.sync0_cycle_ns()) {
             return Err(al_code::INVALID_SYNC_CYCLE);
         }
@@ -565,7 +591,9 @@ impl Station {
         // frames in one cycle: the second waits in SM2), one (in step), or more (frames that
         // missed their SYNC0: lost RxPDOs for the drive's checks).
         let edges = if cycle == 0 {
-            1
+            // Free-run (no SYNC0): each frame is one cycle of the drive, plus the cycles of a
+            // stall of the master's host it excused (the drive lives on the master's clock).
+            1 + self.excused_sync0.min(MAX_LOST_REPLAY)
         } else {
             let system = now_ns.wrapping_add(self.get_u64(reg::DC_SYSTEM_TIME_OFFSET));
             let start = self.get_u64(reg::DC_SYNC_START_TIME);

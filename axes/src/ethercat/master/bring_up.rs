@@ -17,9 +17,10 @@ use super::error::{step, EthercatError};
 use super::group::{OpGroup, MAX_PDI, MAX_SUBDEVICES};
 use super::link::Link;
 use super::mailbox::MailboxWatch;
-use super::pdo_config::configure_station;
+use super::pdo_config::{configure_station, CycleTimeOutcome};
 use super::process_image::ProcessImage;
 use super::pump::Wire;
+use super::refusal::{explain_refusal, BringUpWarning, RefusedSdo};
 use super::segment::{check_models, check_unit_pdo_limits, SegmentConfig, SegmentStation};
 use crate::bus::FrameCounters;
 use crate::cycles::CycleTime;
@@ -58,11 +59,18 @@ impl EthercatBus {
             link: link.as_mut(),
             buf: &mut buf,
         };
-        let group = init_to_pre_op(&maindevice, &mut wire, &config, &plans)?;
-        configure_pdos(&group, &maindevice, &mut wire, &config, &plans)?;
-        let group = pre_op_to_op(group, &maindevice, &mut wire, config.cycle)?;
+        let (group, names) = init_to_pre_op(&maindevice, &mut wire, &config, &plans)?;
+        let setup = configure_pdos(&group, &maindevice, &mut wire, &config, &plans)?;
+        let group =
+            pre_op_to_op(group, &maindevice, &mut wire, config.cycle, &plans).map_err(|e| {
+                let seen = SeenAtBringUp {
+                    names: &names,
+                    last_refused: &setup.last_refused,
+                };
+                explain_refusal(e, wire.link, wire.buf, &config, &plans, &seen)
+            })?;
         let image = ProcessImage::read_back(&group, &maindevice, &mut wire, &config, &plans)?;
-        let dc = DcAlignment::read_back(&group, &maindevice, &mut wire)?;
+        let dc = DcAlignment::read_back(&group, &maindevice, &mut wire, &plans)?;
         let mailbox = MailboxWatch::read_back(&group, &maindevice, &mut wire, &plans)?;
         let mut station_addresses = Vec::with_capacity(plans.len());
         for position in 0..plans.len() {
@@ -89,6 +97,7 @@ impl EthercatBus {
             dc,
             dc_taken: 0,
             mailbox,
+            warnings: setup.warnings,
         })
     }
 }
@@ -122,14 +131,23 @@ fn start_maindevice() -> Result<(PduTx<'static>, PduRx<'static>, MainDevice<'sta
     Ok((tx, rx, maindevice))
 }
 
+/// What bring-up saw of each SubDevice that can explain a refusal later.
+pub(super) struct SeenAtBringUp<'a> {
+    /// Per SubDevice: its name from the SII.
+    pub(super) names: &'a [String],
+    /// Per SubDevice: the last SDO it refused (an optional setting skipped).
+    pub(super) last_refused: &'a [Option<RefusedSdo>],
+}
+
 /// INIT → PRE-OP (ethercrab: addresses, SII, mailboxes), then the SubDevices found checked
-/// against the stations planned: their number and each one's identity (1018h).
+/// against the stations planned: their number, each one's identity (1018h), and distributed
+/// clocks in the ESC of each that is to run SYNC0. Returns the SubDevices' SII names too.
 fn init_to_pre_op(
     maindevice: &MainDevice<'static>,
     wire: &mut Wire<'_>,
     config: &SegmentConfig,
     plans: &[SegmentStation],
-) -> Result<PreOpGroup, EthercatError> {
+) -> Result<(PreOpGroup, Vec<String>), EthercatError> {
     let group = wire.run(
         "bring-up to PRE-OP",
         maindevice.init_single_group::<MAX_SUBDEVICES, MAX_PDI>(ethercat_now),
@@ -165,38 +183,94 @@ fn init_to_pre_op(
                     .unwrap_or_default(),
             });
         }
+        if plan.distributed_clocks && !sd.dc_support().any() {
+            return Err(EthercatError::NoDistributedClocks {
+                position,
+                name: sd.name().to_string(),
+                axis: d.axis.clone(),
+            });
+        }
     }
-    Ok(group)
+    let names = group
+        .iter(maindevice)
+        .map(|sd| sd.name().to_string())
+        .collect();
+    Ok((group, names))
 }
 
-/// The PDO configuration of every station, in PRE-OP.
+/// What the PDO configuration leaves for later: the optional settings skipped (warnings) and,
+/// per SubDevice, the last SDO it refused.
+struct StationSetup {
+    warnings: Vec<BringUpWarning>,
+    last_refused: Vec<Option<RefusedSdo>>,
+}
+
+/// The PDO configuration of every station, in PRE-OP. A cycle time 1C32h:02 the drive does
+/// not have or does not let be written is a warning where SYNC0 sets the cycle, an error where
+/// the SubDevice runs free.
 fn configure_pdos(
     group: &PreOpGroup,
     maindevice: &MainDevice<'static>,
     wire: &mut Wire<'_>,
     config: &SegmentConfig,
     plans: &[SegmentStation],
-) -> Result<(), EthercatError> {
+) -> Result<StationSetup, EthercatError> {
+    let mut setup = StationSetup {
+        warnings: Vec::new(),
+        last_refused: vec![None; plans.len()],
+    };
     for (position, plan) in plans.iter().enumerate() {
         let sd = step("SubDevice lookup", group.subdevice(maindevice, position))?;
         let axis = &config.drives[plan.first_axis()].axis;
-        wire.run(
+        let outcome = wire.run(
             format!("PDO configuration of axis '{axis}' (SubDevice {position})"),
             configure_station(&sd, config, plan),
         )?;
+        let CycleTimeOutcome::Refused { read, sdo } = outcome else {
+            continue;
+        };
+        let wanted = config.cycle.as_nanos() as u32;
+        if !plan.distributed_clocks {
+            return Err(EthercatError::CycleTimeNotSet {
+                position,
+                axis: axis.clone(),
+                sdo,
+                read,
+                wanted,
+            });
+        }
+        setup.last_refused[position] = Some(sdo);
+        setup.warnings.push(BringUpWarning {
+            position,
+            axis: axis.clone(),
+            sdo,
+            read,
+            wanted,
+        });
     }
-    Ok(())
+    Ok(setup)
 }
 
-/// PRE-OP → SAFE-OP → OP with distributed clocks: SYNC0 at the cell's cycle time on every drive.
+/// PRE-OP → SAFE-OP → OP: SYNC0 at the cell's cycle time on every SubDevice configured for
+/// distributed clocks; the others run free (SM2-synchronous). Without any, no DC set-up.
 fn pre_op_to_op(
     mut group: PreOpGroup,
     maindevice: &MainDevice<'static>,
     wire: &mut Wire<'_>,
     cycle: CycleTime,
+    plans: &[SegmentStation],
 ) -> Result<OpGroup, EthercatError> {
-    for mut sd in group.iter_mut(maindevice) {
-        sd.set_dc_sync(DcSync::Sync0);
+    for (mut sd, plan) in group.iter_mut(maindevice).zip(plans) {
+        if plan.distributed_clocks {
+            sd.set_dc_sync(DcSync::Sync0);
+        }
+    }
+    if !plans.iter().any(|p| p.distributed_clocks) {
+        let up = async {
+            let g = group.into_pre_op_pdi(maindevice).await?;
+            g.into_safe_op(maindevice).await?.into_op(maindevice).await
+        };
+        return wire.run("PRE-OP → SAFE-OP → OP", up).map(OpGroup::FreeRun);
     }
     let up = async {
         let g = group.into_pre_op_pdi(maindevice).await?;
@@ -212,5 +286,5 @@ fn pre_op_to_op(
             .await?;
         g.into_safe_op(maindevice).await?.into_op(maindevice).await
     };
-    wire.run("PRE-OP → SAFE-OP → OP", up)
+    wire.run("PRE-OP → SAFE-OP → OP", up).map(OpGroup::Dc)
 }

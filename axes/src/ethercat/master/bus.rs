@@ -47,6 +47,8 @@ pub struct EthercatBus {
     /// The correction the RT loop took since the last exchange, ns.
     pub(super) dc_taken: i64,
     pub(super) mailbox: MailboxWatch,
+    /// Optional settings bring-up skipped.
+    pub(super) warnings: Vec<super::refusal::BringUpWarning>,
 }
 
 impl std::fmt::Debug for EthercatBus {
@@ -63,6 +65,12 @@ impl EthercatBus {
     /// Counters of the cyclic exchange.
     pub fn counters(&self) -> FrameCounters {
         self.counters
+    }
+
+    /// The optional settings bring-up skipped because a SubDevice does not have them or does
+    /// not let them be written (the segment came up without them).
+    pub fn bring_up_warnings(&self) -> &[super::refusal::BringUpWarning] {
+        &self.warnings
     }
 
     /// The link (tests and fault injection reach the emulated segment through it).

@@ -3,6 +3,7 @@
 use super::error::{step, EthercatError};
 use super::group::OpGroup;
 use super::pump::Wire;
+use super::segment::SegmentStation;
 use crate::ethercat::register as reg;
 use ethercrab::MainDevice;
 
@@ -38,21 +39,39 @@ pub(super) struct DcAlignment {
 }
 
 impl DcAlignment {
-    /// Reads the SYNC0 grid of the reference clock (the first SubDevice, ethercrab's choice).
+    /// Reads the SYNC0 grid of the first SubDevice that runs SYNC0; the frame reads the
+    /// system time of the reference clock (the first SubDevice with distributed clocks,
+    /// ethercrab's choice). Without SYNC0 anywhere (every SubDevice free-run) there is no grid
+    /// (cycle 0) and the RT loop keeps its own clock.
     pub(super) fn read_back(
         group: &OpGroup,
         maindevice: &MainDevice<'static>,
         wire: &mut Wire<'_>,
+        plans: &[SegmentStation],
     ) -> Result<Self, EthercatError> {
-        let reference = step("SubDevice lookup", group.subdevice(maindevice, 0))?;
+        let mut reference = None;
+        for position in 0..plans.len() {
+            let sd = step("SubDevice lookup", group.subdevice(maindevice, position))?;
+            if sd.dc_support().any() {
+                reference = Some(sd.configured_address());
+                break;
+            }
+        }
+        let Some(synced) = plans.iter().position(|p| p.distributed_clocks) else {
+            return Ok(DcAlignment {
+                reference: reference.unwrap_or(0),
+                ..DcAlignment::default()
+            });
+        };
+        let sd = step("SubDevice lookup", group.subdevice(maindevice, synced))?;
         let read = async {
-            let start: u64 = reference.register_read(reg::DC_SYNC_START_TIME).await?;
-            let cycle: u32 = reference.register_read(reg::DC_SYNC0_CYCLE).await?;
+            let start: u64 = sd.register_read(reg::DC_SYNC_START_TIME).await?;
+            let cycle: u32 = sd.register_read(reg::DC_SYNC0_CYCLE).await?;
             Ok::<_, ethercrab::error::Error>((start, cycle))
         };
         let (start, cycle) = wire.run("DC SYNC0 read-back", read)?;
         Ok(DcAlignment {
-            reference: reference.configured_address(),
+            reference: reference.unwrap_or_else(|| sd.configured_address()),
             start,
             cycle: u64::from(cycle),
             ..DcAlignment::default()

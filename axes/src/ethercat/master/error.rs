@@ -96,6 +96,39 @@ pub enum EthercatError {
         /// AL status code read.
         code: u16,
     },
+    /// A SubDevice refused its cycle time 1C32h:02 (absent or read-only with another value)
+    /// and runs without SYNC0, so nothing sets its cycle.
+    #[error(
+        "EtherCAT SubDevice {position} (axis '{axis}'): {sdo}{read_text}, and distributed clocks are off for it ([axes.ethercat] distributed_clocks = false): nothing sets its cycle to {wanted} ns; switch distributed clocks on or set the drive's cycle time to it",
+        read_text = read.map(|v| format!(" (it reports {v} ns)")).unwrap_or_default()
+    )]
+    CycleTimeNotSet {
+        /// Position.
+        position: usize,
+        /// Axis.
+        axis: String,
+        /// The refused SDO.
+        sdo: super::refusal::RefusedSdo,
+        /// The value read, where it could be.
+        read: Option<u32>,
+        /// The cell's cycle, ns.
+        wanted: u32,
+    },
+    /// Distributed clocks are configured for a SubDevice whose ESC has none.
+    #[error(
+        "EtherCAT SubDevice {position} '{name}' (axis '{axis}'): its ESC reports no distributed clocks (feature register 0008h bit 2); set [axes.ethercat] distributed_clocks = false to run it free (SM2-synchronous)"
+    )]
+    NoDistributedClocks {
+        /// Position.
+        position: usize,
+        /// Its SII name.
+        name: String,
+        /// Axis.
+        axis: String,
+    },
+    /// A SubDevice refused a state change during bring-up.
+    #[error("{0}")]
+    StateRefused(Box<super::refusal::StateRefusal>),
     /// The link failed.
     #[error("EtherCAT link: {0}")]
     Link(#[from] super::link::LinkError),

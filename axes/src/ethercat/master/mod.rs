@@ -12,6 +12,8 @@ mod notices;
 mod pdo_config;
 mod process_image;
 mod pump;
+mod refusal;
+pub mod scan;
 mod sdo;
 mod segment;
 
@@ -19,4 +21,7 @@ pub use bus::EthercatBus;
 pub use dc::SYNC0_FRAME_PHASE_DIVISOR;
 pub use error::EthercatError;
 pub use link::{InProcessLink, Link, LinkError, RawSocketLink};
+pub use refusal::{
+    abort_meaning, fitting_causes, BringUpWarning, RefusedSdo, StateRefusal, OPTIONAL_OBJECT_ABORTS,
+};
 pub use segment::{AmplifierSlot, SegmentConfig, SegmentDrive, SegmentStation};

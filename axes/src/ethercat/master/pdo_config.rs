@@ -1,6 +1,7 @@
 //! The PDO configuration in PRE-OP: mapping objects, their assignment, the mode where the RxPDO
-//! does not carry it, and the SM2 cycle time.
+//! does not carry it (all required), and the SM2 cycle time (best effort where SYNC0 sets it).
 
+use super::refusal::RefusedSdo;
 use super::segment::{SegmentConfig, SegmentStation};
 use crate::pdo::objects::MODES_OF_OPERATION;
 use crate::pdo::PdoEntry;
@@ -17,12 +18,13 @@ const TX_ASSIGN: u16 = 0x1C13;
 /// assignment 1C12h/1C13h with every slot's PDO in slot order (MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4
 /// [inferred]: one assigned PDO per axis), as far as the model lets it be written (MR-J3-T04:
 /// read-only, §4.4; MR-J4-TM: the count fixed at 1, §5.1), each axis' 6060h (at its offset
-/// index) where its RxPDO does not carry it, and the station's cycle time 1C32h:02 once.
+/// index) where its RxPDO does not carry it, and the station's cycle time 1C32h:02 once
+/// ([`set_cycle_time`]).
 pub(super) async fn configure_station<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
     sd: &ethercrab::SubDeviceRef<'_, S>,
     config: &SegmentConfig,
     plan: &SegmentStation,
-) -> Result<(), ethercrab::error::Error> {
+) -> Result<CycleTimeOutcome, ethercrab::error::Error> {
     let model = plan.model;
     let assignment = model.pdo_rules.assignment;
     let at = |index: u16, slot: usize| model.axis_object(index, slot as u8).unwrap_or(index);
@@ -64,13 +66,53 @@ pub(super) async fn configure_station<S: std::ops::Deref<Target = ethercrab::Sub
                 .await?;
         }
     }
-    if model.object(SM2_CYCLE_TIME.0, SM2_CYCLE_TIME.1).is_some() {
-        sd.sdo_write(
-            SM2_CYCLE_TIME.0,
-            SM2_CYCLE_TIME.1,
-            config.cycle.as_nanos() as u32,
-        )
-        .await?;
+    if model.object(SM2_CYCLE_TIME.0, SM2_CYCLE_TIME.1).is_none() {
+        return Ok(CycleTimeOutcome::NotAnObject);
     }
-    Ok(())
+    set_cycle_time(sd, config.cycle.as_nanos() as u32).await
+}
+
+/// What became of 1C32h:02 at a station.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum CycleTimeOutcome {
+    /// The model has no 1C32h:02 in its profile: not touched.
+    NotAnObject,
+    /// It already held the cycle (read-only or not: nothing to write).
+    Matches,
+    /// Written.
+    Written,
+    /// The drive does not have it or does not let it be written (an abort of
+    /// [`super::refusal::OPTIONAL_OBJECT_ABORTS`]); the value read first, where it could be.
+    Refused {
+        /// The value read.
+        read: Option<u32>,
+        /// The refused SDO.
+        sdo: RefusedSdo,
+    },
+}
+
+/// 1C32h:02 read first (ETG.1020: some drives declare it read-only); written only where it
+/// differs. An absent or read-only object is [`CycleTimeOutcome::Refused`], for bring-up to
+/// accept where SYNC0 sets the cycle; any other abort is an error.
+async fn set_cycle_time<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
+    sd: &ethercrab::SubDeviceRef<'_, S>,
+    wanted_ns: u32,
+) -> Result<CycleTimeOutcome, ethercrab::error::Error> {
+    let (index, sub) = SM2_CYCLE_TIME;
+    let read = sd.sdo_read::<u32>(index, sub).await;
+    let error = match read {
+        Ok(v) if v == wanted_ns => return Ok(CycleTimeOutcome::Matches),
+        Ok(_) => match sd.sdo_write(index, sub, wanted_ns).await {
+            Ok(()) => return Ok(CycleTimeOutcome::Written),
+            Err(e) => e,
+        },
+        Err(e) => e,
+    };
+    match RefusedSdo::of(&error).filter(RefusedSdo::is_optional_object_abort) {
+        Some(sdo) => Ok(CycleTimeOutcome::Refused {
+            read: read.ok(),
+            sdo,
+        }),
+        None => Err(error),
+    }
 }

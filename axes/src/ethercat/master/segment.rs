@@ -20,6 +20,9 @@ pub struct SegmentDrive {
     pub mode: ModeOfOperation,
     /// The multi-axis amplifier this axis is a slot of; `None`: a station of its own (slot 0).
     pub amplifier: Option<AmplifierSlot>,
+    /// SYNC0 from distributed clocks on this axis' SubDevice (`[axes.ethercat]
+    /// distributed_clocks`); false: the SubDevice runs free (SM2-synchronous, ETG.1020).
+    pub distributed_clocks: bool,
 }
 
 /// An axis' place on a multi-axis amplifier (config keys `amplifier`, `amplifier_axis`).
@@ -51,6 +54,8 @@ pub struct SegmentStation {
     /// for a slot no axis uses (its drive is configured with the model's default maps and
     /// left disabled).
     pub slots: Vec<Option<usize>>,
+    /// SYNC0 from distributed clocks (every axis of a unit says the same).
+    pub distributed_clocks: bool,
 }
 
 impl SegmentConfig {
@@ -96,6 +101,7 @@ fn plan_stations(config: &SegmentConfig) -> Result<Vec<SegmentStation>, Ethercat
                 model,
                 label: None,
                 slots,
+                distributed_clocks: d.distributed_clocks,
             });
             continue;
         };
@@ -119,6 +125,7 @@ fn plan_stations(config: &SegmentConfig) -> Result<Vec<SegmentStation>, Ethercat
                     model,
                     label: Some(a.label.clone()),
                     slots: vec![None; per_unit],
+                    distributed_clocks: d.distributed_clocks,
                 });
                 plans.last_mut().expect("just pushed")
             }
@@ -127,6 +134,12 @@ fn plan_stations(config: &SegmentConfig) -> Result<Vec<SegmentStation>, Ethercat
             return Err(amplifier_error(format!(
                 "amplifier '{}' is a {}, not a {}",
                 a.label, plan.model.model, model.model
+            )));
+        }
+        if plan.distributed_clocks != d.distributed_clocks {
+            return Err(amplifier_error(format!(
+                "distributed_clocks differs between the axes of amplifier '{}' (one SubDevice, one setting)",
+                a.label
             )));
         }
         if let Some(other) = plan.slots[slot] {

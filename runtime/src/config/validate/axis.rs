@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::ethercat::emulator::{CycleTimeObject, EmulatedDc, SubDeviceVariant};
 use cellrt_axes::ethercat::identity::{maker_vendor_id, ExpectedIdentity};
 use cellrt_axes::ethercat::master::AmplifierSlot;
 use cellrt_axes::profiles::{profile, DriveModel};
@@ -157,7 +158,9 @@ pub(super) fn validate_axis(
             ))
         }
     };
-    let sim = sim_axis(&at, &a, scaling, position)?;
+    let mut sim = sim_axis(&at, &a, scaling, position)?;
+    sim.subdevice = emulated_subdevice(&at, &a, drive, cycle_time)?;
+    let distributed_clocks = a.ethercat.distributed_clocks.unwrap_or(true);
     Ok(AxisConfig {
         name: a.name,
         drive,
@@ -176,6 +179,61 @@ pub(super) fn validate_axis(
         torque,
         csv_position_gain,
         amplifier: None,
+        distributed_clocks,
+    })
+}
+
+/// `sim.cycle_time_object`, `sim.following_error_object`, `sim.distributed_clocks`: how the
+/// emulated SubDevice of a generic CiA 402 axis departs from its profile (a read-only 1C32h:02
+/// holds the cell's cycle). The Mitsubishi models behave as their manuals say: refused there.
+fn emulated_subdevice(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    drive: DriveModel,
+    cycle_time: CycleTime,
+) -> Result<SubDeviceVariant, ConfigError> {
+    let given = [
+        ("sim.cycle_time_object", a.sim.cycle_time_object.is_some()),
+        (
+            "sim.following_error_object",
+            a.sim.following_error_object.is_some(),
+        ),
+        ("sim.distributed_clocks", a.sim.distributed_clocks.is_some()),
+    ];
+    if drive != DriveModel::GenericCia402 {
+        if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+            return Err(at.err(
+                key,
+                format!("only for drive = \"cia402\" (a {drive} emulates its manual)"),
+            ));
+        }
+    }
+    let cycle_time_object = match a.sim.cycle_time_object.as_deref() {
+        None | Some("read-write") => CycleTimeObject::ReadWrite,
+        Some("read-only") => CycleTimeObject::ReadOnly(cycle_time.as_nanos() as u32),
+        Some("absent") => CycleTimeObject::Absent,
+        Some(other) => {
+            return Err(at.err(
+                "sim.cycle_time_object",
+                format!("unknown '{other}' (available: read-write, read-only, absent)"),
+            ))
+        }
+    };
+    let distributed_clocks = match a.sim.distributed_clocks.as_deref() {
+        None | Some("optional") => EmulatedDc::Optional,
+        Some("required") => EmulatedDc::Required,
+        Some("absent") => EmulatedDc::Absent,
+        Some(other) => {
+            return Err(at.err(
+                "sim.distributed_clocks",
+                format!("unknown '{other}' (available: optional, required, absent)"),
+            ))
+        }
+    };
+    Ok(SubDeviceVariant {
+        cycle_time: cycle_time_object,
+        following_error_object: a.sim.following_error_object.unwrap_or(true),
+        distributed_clocks,
     })
 }
 
@@ -371,6 +429,7 @@ fn sim_axis(
             .positive("sim.velocity_bandwidth_hz", a.sim.velocity_bandwidth_hz)?,
         z_phase_position: a.sim.z_phase_position,
         motor_speed_factor: a.sim.motor_speed_factor,
+        subdevice: SubDeviceVariant::default(),
     };
     if !(1.0..=10.0).contains(&sim.motor_speed_factor) {
         return Err(at.err(

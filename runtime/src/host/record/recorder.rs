@@ -617,6 +617,7 @@ impl Drain<'_> {
             | EventKind::AlStatus
             | EventKind::Emergency
             | EventKind::MailboxDiscarded
+            | EventKind::BringUpWarning
             | EventKind::RecordsDropped => tracing::warn!("{line}"),
             _ => tracing::debug!("{line}"),
         }
@@ -708,6 +709,10 @@ pub fn describe_event(e: &EventRecord) -> String {
             "mailbox type {}, CoE service {} (discarded)",
             e.value & 0xFF,
             e.value >> 8
+        ),
+        EventKind::BringUpWarning => format!(
+            "optional {} at bring-up; continued (SYNC0 sets the cycle)",
+            crate::handoff::decode_refused_sdo(e.value)
         ),
         EventKind::FaultInjected | EventKind::FaultLeftToSegment => {
             crate::config::FaultKind::from_code(e.value)

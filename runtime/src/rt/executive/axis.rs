@@ -6,8 +6,8 @@ use cellrt_axes::cia402::master::AxisMaster;
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::comm::IncrementalCounter;
 use cellrt_axes::pdo::objects::{
-    CONTROLWORD2, DEFAULT_TORQUE_LIMIT, ERROR_CODE, MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY,
-    STATUSWORD2,
+    CONTROLWORD2, DEFAULT_TORQUE_LIMIT, ERROR_CODE, FOLLOWING_ERROR, MODES_OF_OPERATION,
+    MODES_OF_OPERATION_DISPLAY, STATUSWORD2,
 };
 use cellrt_axes::pdo::{PdoLayout, TxPdo};
 use cellrt_axes::profiles::{HomeReference, HomeSetting, TorqueLimitSelection};
@@ -79,6 +79,9 @@ pub struct AxisChannel {
     pub tx_map: PdoLayout,
     /// Whether the TxPDO carries the error code (603Fh); if not, it needs an SDO read.
     pub error_code_mapped: bool,
+    /// Whether the TxPDO carries 60F4h; if not, the following error is computed
+    /// ([`AxisChannel::computed_following_error`]).
+    pub following_error_mapped: bool,
     /// The axis' configured cyclic mode (6060h).
     pub mode: ModeOfOperation,
     /// csv position-correction gain, 1/s (see `AxisConfig::csv_position_gain`).
@@ -178,6 +181,7 @@ impl AxisChannel {
                 .entries
                 .iter()
                 .any(|e| e.index == ERROR_CODE),
+            following_error_mapped: axis.profile.tx_pdo.maps(FOLLOWING_ERROR),
             mode: axis.mode,
             csv_position_gain: axis.csv_position_gain,
             torque_limits: axis.torque.map(|t| (t.max.0 * 10.0, t.slope * 10.0)),
@@ -218,6 +222,15 @@ impl AxisChannel {
     /// A user position as the raw 607Ah the drive expects: user − 607Ch (TV-HOME-1).
     pub fn to_raw(&self, user: i32) -> i32 {
         user.wrapping_sub(self.home_offset)
+    }
+
+    /// The following error where the drive does not map 60F4h: the setpoint it was sent
+    /// minus `actual`, counts (CiA 402's definition of 60F4h, computed by the master; some
+    /// drives never fill 60F4h). Saturates at the i32 range.
+    pub fn computed_following_error(&self, actual: i32) -> i32 {
+        (self.setpoint - f64::from(actual))
+            .round()
+            .clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32
     }
 
     /// Follows the drive's actual position (while not enabled: no jump at enable).
@@ -395,6 +408,7 @@ mod tests {
                 &cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1).tx_pdo,
             ),
             error_code_mapped: false,
+            following_error_mapped: true,
             mode: ModeOfOperation::CyclicSyncPosition,
             csv_position_gain: 0.0,
             torque_limits: None,
@@ -487,5 +501,15 @@ mod tests {
         let (_, dist, _, _) = run_stop(&mut ch, 1e-4);
         let ideal = 10_000.0f64.powi(2) / (2.0 * 100_000.0);
         assert!((dist - ideal).abs() / ideal < 0.01, "{dist} vs {ideal}");
+    }
+
+    #[test]
+    fn the_computed_following_error_is_setpoint_minus_actual_and_saturates() {
+        let mut ch = channel(0.0, 0.0, 1.0, 1.0);
+        ch.setpoint = 1000.4;
+        assert_eq!(ch.computed_following_error(990), 10);
+        assert_eq!(ch.computed_following_error(1010), -10);
+        ch.setpoint = 1e12;
+        assert_eq!(ch.computed_following_error(0), i32::MAX);
     }
 }

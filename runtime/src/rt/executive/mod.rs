@@ -360,6 +360,10 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             };
             // User counts where the drive keeps 6064h raw (MR-J3-T04 manual §8.11.4.2, §8.11.6, §9.1).
             tx.position_actual = self.axes[i].to_user(tx.position_actual);
+            // Before this cycle's setpoint is taken: the one the drive was sent.
+            if !self.axes[i].following_error_mapped {
+                tx.following_error = self.axes[i].computed_following_error(tx.position_actual);
+            }
             let old = self.axes[i].feedback;
             self.axes[i].feedback = tx;
             self.watch_counter(i, tx.counter);

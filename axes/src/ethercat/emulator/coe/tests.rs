@@ -12,6 +12,7 @@ struct Server {
     al_state: AlState,
     counter: u8,
     upload: SegmentedUpload,
+    variant: crate::ethercat::emulator::SubDeviceVariant,
 }
 
 impl Server {
@@ -32,6 +33,7 @@ impl Server {
             al_state: AlState::PreOp,
             counter: 0,
             upload: SegmentedUpload::default(),
+            variant: Default::default(),
         }
     }
 
@@ -44,6 +46,7 @@ impl Server {
             pdo: &mut self.pdo,
             counter: &mut self.counter,
             upload: &mut self.upload,
+            variant: &self.variant,
         }
     }
 
@@ -251,4 +254,27 @@ fn long_uploads_are_segmented() {
     assert!(serve(&mut s.ctx(), &request(0x40, 0x1008, 0), &mut rsp));
     assert!(serve(&mut s.ctx(), &request(0x70, 0, 0), &mut rsp));
     assert_eq!((rsp[8], abort(&rsp)), (0x80, 0x0503_0000));
+}
+
+#[test]
+fn a_variant_without_60f4h_refuses_to_map_it_and_a_read_only_cycle_time_its_write() {
+    use crate::ethercat::emulator::{CycleTimeObject, SubDeviceVariant};
+    let mut s = Server::new(DriveModel::GenericCia402);
+    s.variant = SubDeviceVariant {
+        cycle_time: CycleTimeObject::ReadOnly(1_000_000),
+        following_error_object: false,
+        ..SubDeviceVariant::default()
+    };
+    s.write(0x1A00, 0, &[0]).unwrap();
+    // CiA 301 0604 0041h (the generic profile's not-mappable abort) for 60F4h; 6064h maps.
+    assert_eq!(
+        s.write(0x1A00, 1, &0x60F4_0020u32.to_le_bytes()),
+        Err(0x0604_0041)
+    );
+    s.write(0x1A00, 1, &0x6064_0020u32.to_le_bytes()).unwrap();
+    assert_eq!(s.write(0x60F4, 0, &[0; 4]), Err(0x0602_0000));
+    assert_eq!(
+        s.write(0x1C32, 2, &1_000_000u32.to_le_bytes()),
+        Err(0x0601_0002)
+    );
 }

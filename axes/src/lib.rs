@@ -12,6 +12,7 @@ pub mod cclink_ief_basic;
 pub mod cia402;
 pub mod comm;
 pub mod cycles;
+pub mod drive_scaling;
 pub mod ethercat;
 pub mod fsoe;
 pub mod modbus;

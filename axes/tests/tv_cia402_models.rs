@@ -547,7 +547,9 @@ fn cst_torque_within_limits_mr_jet_g_n1() {
         mode: 10,
         controlword: Controlword(0x0F),
         target_torque: 1000, // 100.0 % rated = max_acceleration / 3
-        velocity_limit: 100_000,
+        // 2D20h = 300 × 0.01 r/min (the MR-JET default unit) = 3 r/min = 3 355 443.2 counts/s
+        // of the simulated 2^26 counts/rev motor.
+        velocity_limit: 300,
         ..RxPdo::default()
     };
     for _ in 0..3 {
@@ -556,12 +558,13 @@ fn cst_torque_within_limits_mr_jet_g_n1() {
     assert_eq!(d.tx_pdo().mode_display, 10);
     let tq = d.tx_pdo().torque_actual;
     assert!((990..=1010).contains(&tq), "{tq}");
-    for _ in 0..200 {
+    for _ in 0..400 {
         exchange(&mut d, &rx);
     }
     assert!(
-        (d.plant().velocity() - 100_000.0).abs() < 1.0,
-        "speed limit 2D20h"
+        (d.plant().velocity() - 3_355_443.2).abs() < 1.0,
+        "speed limit 2D20h: {}",
+        d.plant().velocity()
     );
     // Torque limit 60E0h (not mapped on the JET default map: the RxPdo default applies) and
     // the limit through the plant: 50.0 % caps 100 %.

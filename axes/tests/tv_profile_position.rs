@@ -14,7 +14,20 @@ use cellrt_axes::{
     ModeSwitchError, ModeSwitchParams, ModeSwitchPhase, ModeSwitchProgress, RxPdo, SimDrive,
     SimDriveParams, TxPdo,
 };
-use common::{drive, enabled, exchange};
+use common::{drive, enabled};
+
+/// One cycle, with 606Ch replaced by the plant's speed in counts/s: pp runs its profile
+/// (6081h/6083h/6084h) in counts/s (`PpParams`), so its tests judge speeds in counts/s.
+fn exchange(d: &mut SimDrive, rx: &RxPdo) -> TxPdo {
+    let mut tx = common::exchange(d, rx);
+    tx.velocity_actual = counts_per_s(d);
+    tx
+}
+
+/// The plant's speed in counts/s.
+fn counts_per_s(d: &SimDrive) -> i32 {
+    d.plant().velocity().round() as i32
+}
 
 use cellrt_test_support::counting_alloc::{thread_heap_calls, CountingAllocator};
 
@@ -159,7 +172,7 @@ fn tv_9_pp_single_set_point_mr_j4_tm() {
     for _ in 0..20 {
         exchange(&mut d, &with_cw(base, 0x003F));
     }
-    assert!(d.tx_pdo().velocity_actual > 0, "motion started");
+    assert!(counts_per_s(&d) > 0, "motion started");
     // Step 2: bit 4 = 0; positioning continues with bit 12 = 1 (Mitsubishi's wording, §4.7).
     let r = run_until_reached(&mut d, &with_cw(base, 0x002F), 100_000, 100, 20_000);
     // Step 3: bit 10 = 1 and bit 12 = 0 once |6064h − 607Ah| ≤ 6067h for 6068h.
@@ -211,7 +224,7 @@ fn tv_9_halt_stops_per_605dh_and_target_reached_at_zero_velocity_mr_j4_tm() {
     for _ in 0..2_000 {
         exchange(&mut d, &with_cw(base, 0x002F));
     }
-    assert!((d.tx_pdo().velocity_actual - 10_000).abs() < 100);
+    assert!((counts_per_s(&d) - 10_000).abs() < 100);
     // Step 5: 0x013F during the move: decelerate with 6084h (605Dh default, 100 ms from
     // 10000 counts/s); bit 10 = 0 while decelerating, 1 once 606Ch = 0.
     let mut stop_cycles = None;
@@ -407,7 +420,7 @@ fn after_pp_move(model: DriveModel) -> (SimDrive, i32) {
     for _ in 0..200 {
         exchange(&mut d, &pp(0x0F, target));
     }
-    assert_eq!(d.tx_pdo().velocity_actual, 0);
+    assert_eq!(counts_per_s(&d), 0);
     (d, target)
 }
 
@@ -437,7 +450,9 @@ fn switch_to_csp(d: &mut SimDrive, pp_target: i32, offset: i32) -> SwitchLog {
         start_position: d.tx_pdo().position_actual,
     };
     for _ in 0..6_000 {
-        let tx = *d.tx_pdo();
+        // The gate in counts/s like the rest of these pp tests (`exchange`).
+        let mut tx = *d.tx_pdo();
+        tx.velocity_actual = counts_per_s(d);
         let mut rx = pp(0x0F, pp_target);
         match s.update(&tx, &mut rx).unwrap() {
             ModeSwitchProgress::Done { csp_target } => {
@@ -551,7 +566,7 @@ fn mode_switch_waits_for_the_zero_speed_gate() {
     for _ in 0..300 {
         exchange(&mut d, &pp(0x0F, target));
     }
-    assert!(d.tx_pdo().velocity_actual > 40_000);
+    assert!(counts_per_s(&d) > 40_000);
     let log = switch_to_csp(&mut d, target, 0);
     let waited = log.cycles.iter().take_while(|c| c.0 == 1).count();
     assert!(waited > 500, "waited for the move to end: {waited}");

@@ -102,7 +102,7 @@ pub fn config_text(name: &str, opts: &LoopOptions) -> String {
     for i in 0..opts.axes {
         let _ = write!(
             s,
-            "\n[[axes]]\nname = \"a{i}\"\ndrive = \"mr-j5-g-n1\"\ntransport = \"sim\"\nmode = \"csp\"\nunit = \"mm\"\n\
+            "\n[[axes]]\nname = \"a{i}\"\ndrive = \"mr-j5-g-n1\"\ntransport = \"sim\"\nmotor = {{ counts_per_rev = 10000 }}\nmode = \"csp\"\nunit = \"mm\"\n\
              counts_per_unit = 1000\nlimits = {{ position = [-500.0, 500.0], velocity = 400.0, acceleration = 4000.0, jerk = 40000.0 }}\n"
         );
     }

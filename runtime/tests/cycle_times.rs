@@ -25,6 +25,7 @@ max_consecutive_overruns = 0
 [[axes]]
 name = "x"
 drive = "mr-j5-g-n1"
+motor = {{ counts_per_rev = 10000 }}  # position counts per motor revolution (10 mm lead)
 counts_per_unit = 1000
 limits = {{ position = [0.0, 100.0], velocity = 10.0, acceleration = 100.0, jerk = 1000.0 }}
 "#,

@@ -37,6 +37,7 @@ max_consecutive_overruns = 0
 [[axes]]
 name = "x"
 drive = "mr-j5-g-n1"
+motor = {{ counts_per_rev = 10000 }}  # position counts per motor revolution (10 mm lead)
 counts_per_unit = 1000
 limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0 }}
 sim = {{ initial_position = 100.0 }}
@@ -333,6 +334,7 @@ fn two_axis_cell(tag: &str) -> CellConfig {
 [[axes]]
 name = "y"
 drive = "mr-j5-g-n1"
+motor = { counts_per_rev = 10000 }  # position counts per motor revolution (10 mm lead)
 counts_per_unit = 1000
 limits = { position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0 }
 sim = { initial_position = 50.0 }

@@ -35,6 +35,7 @@ max_consecutive_overruns = 0
 name = "x"
 drive = "mr-j5-g-n1"
 counts_per_unit = 1000
+motor = {{ counts_per_rev = 10000 }}
 limits = {{ position = [0.0, 800.0], velocity = 400.0, acceleration = 2000.0, jerk = 20000.0 }}
 sim = {{ initial_position = 100.0 }}
 [[inject]]

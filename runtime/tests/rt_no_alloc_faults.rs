@@ -33,6 +33,7 @@ lookahead_ms = 1000
 [[axes]]
 name = "x"
 drive = "mr-j5-g-n1"
+motor = {{ counts_per_rev = 10000 }}  # position counts per motor revolution (10 mm lead)
 counts_per_unit = 1000
 limits = {{ position = [0.0, 800.0], velocity = 400.0, acceleration = 2000.0, jerk = 20000.0 }}
 [[axes]]

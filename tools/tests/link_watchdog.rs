@@ -14,10 +14,11 @@ const PROGRAM: &str =
 /// A one-axis EtherCAT cell of `drive` on the in-process segment with `watchdogs` and
 /// `inject` appended; the counter levels are set so high that only the frame watchdogs trip.
 fn cell(drive: &str, watchdogs: &str, inject: &str) -> String {
-    let identity = if drive == "cia402" {
-        "ethercat = { vendor_id = 0xCE110000, product_code = 0xCE110402 }\n"
-    } else {
-        ""
+    let identity = match drive {
+        "cia402" => "ethercat = { vendor_id = 0xCE110000, product_code = 0xCE110402 }\n",
+        // The MR-J5 and MR-JET manuals give no encoder resolution: the axis states its own.
+        "mr-jet-g-n1" | "mr-j5-g-n1" => "motor = { counts_per_rev = 10000 }\n",
+        _ => "",
     };
     format!(
         "[cell]\nname = \"{name}\"\ncycle_time_us = 1000\nprogram = \"program.toml\"\n\

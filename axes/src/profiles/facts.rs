@@ -171,23 +171,6 @@ pub struct Identity {
     pub source: &'static str,
 }
 
-/// Encoder resolution and the units of the cyclic objects.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Units {
-    /// Encoder counts per motor revolution, `None` where the manual gives none.
-    pub counts_per_rev: Option<u32>,
-    /// Other resolutions the manual names (e.g. the 17-bit motors of the MR-J3).
-    pub other_counts_per_rev: &'static [u32],
-    /// Position objects (607Ah, 6064h, 60F4h).
-    pub position: &'static str,
-    /// Velocity objects (60FFh, 606Ch) as the manual states them.
-    pub velocity: &'static str,
-    /// Torque objects (6071h, 6077h, 60E0h/60E1h).
-    pub torque: &'static str,
-    /// Source and gaps.
-    pub source: &'static str,
-}
-
 /// What a completed homing changes (the home position reference).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum HomeReference {

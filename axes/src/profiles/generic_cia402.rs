@@ -19,6 +19,7 @@
 //! * Communication check: the sync-error counter against 10F1h:02 (ETG.1020).
 
 use super::facts::{alarm, obj, od};
+use super::{AccelerationUnit, PositionUnit, Stated, TorqueUnit, VelocityUnit};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
@@ -161,10 +162,15 @@ pub const OBJECTS: &[OdEntry] = &[
 pub const UNITS: Units = Units {
     counts_per_rev: None,
     other_counts_per_rev: &[],
-    position: "pos units (factor group 6091h/6092h)",
-    velocity: "vel units (factor group; position units per second by default)",
-    torque: "0.1 % of rated torque",
-    source: "CiA 402 / ETG.6010: encoder resolution and factor group are the drive's",
+    position: PositionUnit::Count,
+    velocity: Stated::Unstated(VelocityUnit::CountsPerSecond),
+    linear_motors: true,
+    command_truncation_exp10: None,
+    acceleration: Stated::Unstated(AccelerationUnit::VelocityUnitsPerSecond),
+    torque: TorqueUnit::PerMilleOfRated,
+    source: "CiA 402 / ETG.6010: velocity units are user-defined by the drive's factor group \
+             (608Fh–6092h); default position units (counts) per second, configurable \
+             (motor.velocity_unit); torque objects 0.1 % of rated torque",
 };
 
 /// Variable PDO mapping (CiA 301 / ETG.1020 / ETG.6010): mapping and assignment written in

@@ -26,12 +26,16 @@ pub mod mr_j4_tm;
 pub mod mr_j5_g_n1;
 pub mod mr_jet_g_n1;
 pub mod status_do;
+pub mod units;
 
 pub use facts::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, EmergencyFacts, FsoeCommandBits,
     FsoeFacts, FsoeFrameLayout, FsoeStatusBits, HomeReference, HomeSetting, Identity,
     InvalidAxisSwitch, OdEntry, Pdo, PdoAssignment, PdoRules, SafeBit, StopBehaviour,
-    TorqueLimitSelection, UnitPdoLimit, Units, EMERGENCY_LAYOUT,
+    TorqueLimitSelection, UnitPdoLimit, EMERGENCY_LAYOUT,
+};
+pub use units::{
+    AccelerationUnit, MotorKind, PositionUnit, Quantity, Stated, TorqueUnit, Units, VelocityUnit,
 };
 
 /// A supported drive model, named in configuration by its kebab-case part number.

@@ -2,6 +2,7 @@
 //! "MR-J3-□A-RJ158 / MR-J3-T04 Specifications", 2011-12-01).
 
 use super::facts::{alarm, obj, od};
+use super::{AccelerationUnit, PositionUnit, Stated, TorqueUnit, VelocityUnit};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
@@ -143,10 +144,16 @@ pub const OBJECTS: &[OdEntry] = &[
 pub const UNITS: Units = Units {
     counts_per_rev: Some(262_144),
     other_counts_per_rev: &[131_072],
-    position: "pulse (electronic gear fixed at 1/1)",
-    velocity: "0.001 r/min (commands truncated to 0.01 r/min)",
-    torque: "0.1 % of rated torque",
-    source: "MR-J3-T04 manual §1.3, §1.5, §8.11.3, §9.5, §9.6",
+    position: PositionUnit::Count,
+    velocity: Stated::Manual(VelocityUnit::MILLI_RPM),
+    linear_motors: false,
+    command_truncation_exp10: Some(-2),
+    acceleration: Stated::Manual(AccelerationUnit::NotSupported),
+    torque: TorqueUnit::PerMilleOfRated,
+    source:
+        "MR-J3-T04 manual §1.3, §1.5, §8.3.2, §8.5.2, §8.5.3, §9.6 (60FFh/606Ch/6099h 0.001 r/min, \
+             commands truncated to 0.01 r/min; 60E0h/60E1h/6077h 0.1 %; 6083h reserved; 18-bit \
+             encoder, 17-bit motors named)",
 };
 
 /// The MR-J3-T04 profile.

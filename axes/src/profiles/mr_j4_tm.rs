@@ -2,6 +2,7 @@
 //! SH(NA)030208 rev. E, **truncated after §5.4.10**: no §5.5–§5.12, §6, chapter 7; MR-J4-TM manual).
 
 use super::facts::{alarm, obj, od};
+use super::{AccelerationUnit, PositionUnit, Stated, TorqueUnit, VelocityUnit};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
@@ -151,10 +152,15 @@ pub const OBJECTS: &[OdEntry] = &[
 pub const UNITS: Units = Units {
     counts_per_rev: Some(4_194_304),
     other_counts_per_rev: &[],
-    position: "pulse (csp: pulses only)",
-    velocity: "0.01 r/min",
-    torque: "0.1 % of rated torque",
-    source: "MR-J4-TM manual (22-bit rotary encoder), §4.2",
+    position: PositionUnit::Count,
+    velocity: Stated::Manual(VelocityUnit::CENTI_RPM),
+    linear_motors: true,
+    command_truncation_exp10: None,
+    acceleration: Stated::Manual(AccelerationUnit::TimeConstantMs),
+    torque: TorqueUnit::PerMilleOfRated,
+    source: "MR-J4-TM manual §1.2 (22-bit rotary encoder), §4.2 (Vel unit 0.01 r/min or 0.01 mm/s \
+             for 60FFh/606Ch/6081h/6099h/2D20h; 6083h–6085h time constants in ms; torque objects \
+             0.1 %)",
 };
 
 /// The MR-J4-TM profile (PA01 = `___0`/`___1`: the cyclic group csp/csv/cst/hm).

@@ -1,6 +1,7 @@
 //! Mitsubishi MR-J5-G-N1 (1-axis), per the MR-J5-G-N1 manual ( SH(NA)-030372CHN-A).
 
 use super::facts::{alarm, od};
+use super::{AccelerationUnit, PositionUnit, Stated, TorqueUnit, VelocityUnit};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, InvalidAxisSwitch, OdEntry, Pdo, StopBehaviour, UnitPdoLimit, Units,
@@ -80,11 +81,15 @@ pub const OBJECTS: &[OdEntry] = &[
 pub const UNITS: Units = Units {
     counts_per_rev: None,
     other_counts_per_rev: &[],
-    position: "pulse (electronic gear PA06/PA07 not in this manual)",
-    velocity: "not stated (Object Dictionary manual)",
-    torque: "0.1 % of rated torque",
-    source:
-        "MR-J5-G-N1 manual: no encoder resolution, electronic gear or factor group in this manual",
+    position: PositionUnit::Count,
+    velocity: Stated::Unstated(VelocityUnit::CENTI_RPM),
+    linear_motors: true,
+    command_truncation_exp10: None,
+    acceleration: Stated::Unstated(AccelerationUnit::TimeConstantMs),
+    torque: TorqueUnit::PerMilleOfRated,
+    source: "MR-J5-G-N1 manual: no encoder resolution, velocity unit or factor group (object \
+             dictionary manual): default 0.01 r/min and ms time constants as on the MR-J4-TM \
+             (Mitsubishi's convention), configurable (motor.velocity_unit); torque 0.1 %",
 };
 
 const FSA: FsaQuirks = FsaQuirks {

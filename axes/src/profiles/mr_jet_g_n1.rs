@@ -1,6 +1,7 @@
 //! Mitsubishi MR-JET-G-N1, per the MR-JET-G-N1 manual ( IB(NA)-0300500ENG-H).
 
 use super::facts::{alarm, obj, od};
+use super::{AccelerationUnit, PositionUnit, Stated, TorqueUnit, VelocityUnit};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     FsoeCommandBits, FsoeFacts, FsoeFrameLayout, FsoeStatusBits, Identity, OdEntry, Pdo,
@@ -249,10 +250,16 @@ pub const OBJECTS: &[OdEntry] = &[
 pub const UNITS: Units = Units {
     counts_per_rev: None,
     other_counts_per_rev: &[67_108_864],
-    position: "pos units (electronic gear PA06/PA07)",
-    velocity: "not stated (Object Dictionary manual)",
-    torque: "0.1 % of rated torque",
-    source: "MR-JET-G-N1 manual: 2^26 pulses/rev only in the infinite-feed example; factor group not in this manual",
+    position: PositionUnit::Count,
+    velocity: Stated::Unstated(VelocityUnit::CENTI_RPM),
+    linear_motors: true,
+    command_truncation_exp10: None,
+    acceleration: Stated::Unstated(AccelerationUnit::TimeConstantMs),
+    torque: TorqueUnit::PerMilleOfRated,
+    source: "MR-JET-G-N1 manual §8 (2^26 pulses/rev only in the infinite-feed example; torque \
+             limits 0.1 %); the velocity and acceleration units are in the separate object \
+             dictionary manual: default 0.01 r/min and ms time constants as on the MR-J4-TM \
+             (Mitsubishi's convention), configurable (motor.velocity_unit)",
 };
 
 /// The variable-mapping rules of the MR-JET-G-N1 (and the MR-J5-G-N1 1-axis unit, whose

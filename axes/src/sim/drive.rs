@@ -41,11 +41,13 @@ mod pp;
 mod safety;
 mod status_do;
 mod stroke;
+mod units;
 
 use homing::HomingState;
 pub use params::{AxisSwitch, InternalTorqueLimits, MissedCommand, SimDriveParams, TorqueLimit2};
 use pds::PowerInputs;
 use stroke::{ManualStop, StrokeState};
+pub use units::{SimMotor, SIM_DEFAULT_COUNTS_PER_REV};
 
 /// One simulated servo axis that exchanges PDO images like the real drive.
 #[derive(Debug, Clone)]
@@ -95,6 +97,8 @@ pub struct SimDrive {
     stroke: StrokeState,
     /// csp manual stop (MR-J3-T04 C_MSTOP, Controlword2 bit 8).
     mstop: ManualStop,
+    /// The ramp velocity (counts/s) of a quick stop on the 6085h time constant, while one runs.
+    quick_stop_ramp: Option<f64>,
     home_set: HomeSettingState,
     /// Profile position mode (pp): set-point handshake and trajectory generator.
     pp: ProfilePosition,
@@ -159,6 +163,7 @@ impl SimDrive {
             homing: HomingState::default(),
             stroke: StrokeState::default(),
             mstop: ManualStop::default(),
+            quick_stop_ramp: None,
             home_set: HomeSettingState::default(),
             pp: ProfilePosition::default(),
             fsoe: params
@@ -323,7 +328,7 @@ impl SimDrive {
             mode_display: self.mode_display.as_i8(),
             statusword: sw,
             position_actual: self.position_actual(),
-            velocity_actual: self.plant.velocity().round() as i32,
+            velocity_actual: self.reported_velocity(self.plant.velocity()),
             following_error: self.following_error,
             torque_actual: torque,
             error_code: self.alarm.unwrap_or(0),

@@ -314,6 +314,8 @@ pub struct AxisConfig {
     pub following_error_limit: f64,
     /// Simulated drive settings.
     pub sim: SimAxisConfig,
+    /// Axis counts ↔ the drive's object units (`[axes.motor]` with the model's units).
+    pub drive_units: cellrt_axes::drive_scaling::DriveScaling,
     /// Torque limits of cst setpoints (required for cst, optional otherwise).
     pub torque: Option<TorqueLimits>,
     /// csv: the master closes the position loop around the drive's velocity loop; 60FFh =

@@ -278,6 +278,9 @@ pub struct RawAxis {
     /// `[axes.sim]`.
     #[serde(default)]
     pub sim: RawSimAxis,
+    /// `[axes.motor]`.
+    #[serde(default)]
+    pub motor: RawMotor,
     /// Multi-axis amplifier this axis belongs to (any label, e.g. "w3-1"); axes with the same
     /// label share one unit. None: the axis has an amplifier of its own.
     #[serde(default)]
@@ -311,6 +314,21 @@ pub struct RawLimits {
     pub torque: Option<f64>,
     /// Largest torque change, % of rated torque per second.
     pub torque_slope: Option<f64>,
+}
+
+/// `[axes.motor]`: the motor behind the drive and the drive's velocity unit where its manual
+/// leaves it open.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMotor {
+    /// Encoder counts per motor revolution (rotary motor).
+    pub counts_per_rev: Option<f64>,
+    /// Encoder counts per mm (linear motor).
+    pub counts_per_mm: Option<f64>,
+    /// The unit of the drive's velocity objects, e.g. "0.01 r/min" or "counts/s".
+    pub velocity_unit: Option<String>,
+    /// The motor's maximum speed, r/min (rotary) or mm/s (linear).
+    pub max_speed: Option<f64>,
 }
 
 /// `[axes.sim]`.

@@ -213,6 +213,9 @@ fn ethercat_bad_input_names_the_key_and_the_reason() {
     }
 }
 
+/// An MR-J5-G-N1 axis with the motor resolution its manual does not give.
+const J5_WITH_MOTOR: &str = "drive = \"mr-j5-g-n1\"\nmotor = { counts_per_rev = 67108864 }";
+
 /// A multi-axis amplifier over EtherCAT: its axes keep their amplifier slots (one SubDevice);
 /// a cycle of 0.125 ms, which the J5W2/W3 do not run (MR-J5-G-N1 manual §2.1, §4.1, §6.2, §6.3, TV-6), is refused
 /// naming the axis.
@@ -235,8 +238,8 @@ fn a_multi_axis_unit_over_ethercat_keeps_its_slots_and_refuses_125_us() {
         .collect();
     let text = text
         .replacen("cycle_time_us = 1000", "cycle_time_us = 125", 1)
-        .replace("drive = \"mr-j3-t04\"", "drive = \"mr-j5-g-n1\"")
-        .replace("drive = \"mr-j4-tm\"", "drive = \"mr-j5-g-n1\"")
+        .replace("drive = \"mr-j3-t04\"", J5_WITH_MOTOR)
+        .replace("drive = \"mr-j4-tm\"", J5_WITH_MOTOR)
         .replace("drive = \"mr-jet-g-n1\"", "drive = \"mr-j5-g-n1\"");
     let e = parse(&text).unwrap_err();
     assert_eq!(e.key, "axes[3].drive", "{e}");

@@ -28,6 +28,10 @@ pub enum RejectReason {
     TorqueStep = 8,
     /// Motion for an axis that is not powered (MC_Power off for that axis).
     AxisNotPowered = 9,
+    /// A command the drive's object cannot represent in its unit (60FFh beyond I32, 6071h
+    /// beyond I16); the load check keeps the configured limits inside, so only a position
+    /// correction past the following-error limit gets here.
+    DriveRange = 10,
 }
 
 impl RejectReason {

@@ -13,7 +13,9 @@ use cellrt_axes::{
     SimDriveParams,
 };
 
-use crate::config::{CellConfig, EthercatInterface};
+use crate::config::{AxisConfig, CellConfig, EthercatInterface};
+use cellrt_axes::profiles::MotorKind;
+use cellrt_axes::sim::drive::SimMotor;
 
 /// The cell's bus.
 #[derive(Debug)]
@@ -41,6 +43,16 @@ pub enum BusOpenError {
     /// The emulated segment's units could not be built.
     #[error("emulated EtherCAT segment: {0}")]
     Unit(#[from] cellrt_axes::ethercat::emulator::UnitError),
+}
+
+/// The simulated motor of axis `a`: its configured resolution and velocity unit.
+fn sim_motor(a: &AxisConfig) -> SimMotor {
+    let u = &a.drive_units;
+    SimMotor {
+        kind: u.motor().map_or(MotorKind::Rotary, |m| m.kind),
+        counts_per: u.motor().map(|m| m.counts_per),
+        velocity_unit: Some(u.velocity_unit()),
+    }
 }
 
 /// Builds the simulated bus of `cell`.
@@ -77,6 +89,8 @@ pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
                     ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
                     m => m,
                 },
+                // The simulated motor is the configured one (its own decoding of the units).
+                motor: sim_motor(a),
                 ..SimDriveParams::default()
             };
             SimDrive::new(a.profile, params, cell.cycle_time)

@@ -180,7 +180,7 @@ pub fn replay(
                 controlword: Controlword(rec.controlword as u16),
                 target_position: rec.setpoint_counts,
                 target_velocity: rec.setpoint_velocity_counts,
-                velocity_limit: ch.velocity_limit(cell.period()),
+                velocity_limit: ch.velocity_limit(),
                 target_torque: rec.setpoint_torque as i16,
                 counter: rec.counter_sent as u8,
                 ..RxPdo::default()

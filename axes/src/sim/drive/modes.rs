@@ -52,6 +52,9 @@ impl SimDrive {
 
     pub(super) fn run_plant(&mut self, cmd: &RxPdo, dt: f64) {
         self.following_error = 0;
+        if self.state != FsaState::QuickStopActive {
+            self.quick_stop_ramp = None;
+        }
         if let Some(stop) = self.fsoe.filter(FsoeSlave::sto).map(|f| f.sto_stop()) {
             // STO: energy cut, no torque from the drive.
             match stop {
@@ -64,12 +67,13 @@ impl SimDrive {
         match self.state {
             FsaState::OperationEnabled => self.follow(cmd, dt),
             FsaState::QuickStopActive => {
-                self.plant.hold(dt);
+                self.quick_stop(dt);
                 let stays = self
                     .profile
                     .quirks
                     .quick_stop_stays_active(self.quick_stop_option());
-                if self.stopped() && !stays {
+                if self.stopped() && self.quick_stop_ramp.is_none_or(|r| r == 0.0) && !stays {
+                    self.quick_stop_ramp = None;
                     // (12) automatic at the end of the quick stop (option codes 1–4, §3.1);
                     // codes 5–8 stay in Quick stop active where the drive honours them.
                     self.state = FsaState::SwitchOnDisabled;
@@ -84,6 +88,46 @@ impl SimDrive {
             }
             _ => self.plant.hold(dt),
         }
+    }
+
+    /// Quick stop active: on a model whose 6085h is a time constant (MR-J4-TM manual §4.2, §8.1:
+    /// ms from the rated speed, taken as `plant.max_velocity`, to 0) the motor follows that
+    /// ramp; elsewhere it stops at the plant's maximum deceleration.
+    fn quick_stop(&mut self, dt: f64) {
+        let Some(ms) = self.quick_stop_time_ms() else {
+            self.plant.hold(dt);
+            return;
+        };
+        let r = *self.quick_stop_ramp.get_or_insert(self.plant.velocity());
+        if r == 0.0 {
+            self.plant.hold(dt);
+            self.demand = self.plant.position();
+            return;
+        }
+        let amax = self.params.plant.max_acceleration.abs();
+        let decel = if ms == 0 {
+            amax
+        } else {
+            (self.params.plant.max_velocity.abs() * 1000.0 / f64::from(ms)).min(amax)
+        };
+        let next = r - r.signum() * decel * dt;
+        let next = if next * r <= 0.0 { 0.0 } else { next };
+        self.quick_stop_ramp = Some(next);
+        self.demand += 0.5 * (r + next) * dt;
+        self.plant.step(self.demand, next, dt);
+    }
+
+    /// 6085h Quick stop deceleration in ms (its SDO value, else the default), on a model whose
+    /// acceleration objects are time constants; `None` elsewhere.
+    pub fn quick_stop_time_ms(&self) -> Option<u32> {
+        use crate::profiles::{AccelerationUnit, Stated};
+        const QUICK_STOP_DECELERATION: u16 = 0x6085;
+        let o = self.profile.object(QUICK_STOP_DECELERATION, 0)?;
+        if self.profile.units.acceleration != Stated::Manual(AccelerationUnit::TimeConstantMs) {
+            return None;
+        }
+        let v = self.sdo_value(QUICK_STOP_DECELERATION, 0).or(o.default)?;
+        u32::try_from(v).ok()
     }
 
     pub(super) fn stopped(&self) -> bool {
@@ -108,9 +152,9 @@ impl SimDrive {
             .map_or(self.profile.overspeed_alarm, |c| c.1)
     }
 
-    /// Servo on in the current mode. csp follows 607Ah, csv integrates 60FFh (clamped at the
-    /// overspeed limit), cst applies 6071h (0.1 % rated, 300 % = `max_acceleration`) within the
-    /// speed limit 2D20h (counts/s), pp runs the drive's own profile (`sim::profile_position`).
+    /// Servo on in the current mode. csp follows 607Ah, csv integrates 60FFh (in the model's
+    /// velocity unit, clamped at the overspeed limit), cst applies 6071h (0.1 % rated, 300 % = `max_acceleration`) within the
+    /// speed limit 2D20h (the model's velocity unit, `units`), pp runs the drive's own profile (`sim::profile_position`).
     /// pv and tq are not simulated and hold the position.
     /// HALT (bit 8) stops and holds where the model honours it in the cyclic modes.
     pub(super) fn follow(&mut self, cmd: &RxPdo, dt: f64) {
@@ -167,7 +211,9 @@ impl SimDrive {
             }
             ModeOfOperation::CyclicSyncVelocity => {
                 let lim = self.overspeed_limit();
-                let v = f64::from(cmd.target_velocity).clamp(-lim, lim);
+                let v = self
+                    .commanded_counts_per_s(i64::from(cmd.target_velocity))
+                    .clamp(-lim, lim);
                 let v = self.stroke_limited_velocity(v, dt);
                 self.demand += v * dt;
                 v
@@ -201,10 +247,12 @@ impl SimDrive {
     pub(super) fn cst_velocity_limit(&self, cmd: &RxPdo) -> f64 {
         let index = crate::pdo::objects::VELOCITY_LIMIT;
         if self.profile.rx_pdo.maps(index) {
-            return f64::from(cmd.velocity_limit);
+            return self.commanded_counts_per_s(i64::from(cmd.velocity_limit));
         }
         match self.profile.object(index, 0) {
-            Some(o) => self.sdo_value(index, 0).or(o.default).unwrap_or(0) as f64,
+            Some(o) => {
+                self.commanded_counts_per_s(self.sdo_value(index, 0).or(o.default).unwrap_or(0))
+            }
             None => f64::INFINITY,
         }
     }

@@ -1,6 +1,7 @@
 //! The configuration of a simulated drive: the values the manuals leave to the amplifier's
 //! parameters or do not state.
 
+use super::units::SimMotor;
 #[cfg(doc)]
 use super::{SimDrive, FOLLOWING_ERROR_ALARM};
 use crate::cia402::mode::ModeOfOperation;
@@ -17,6 +18,9 @@ use crate::sim::profile_position::{PositionUnit, PpParams};
 pub struct SimDriveParams {
     /// The motor and its servo loops.
     pub plant: PlantParams,
+    /// The motor's kind and encoder resolution, and the velocity unit where the manual leaves
+    /// it open: how 60FFh / 2D20h / 606Ch map to the plant's motion.
+    pub motor: SimMotor,
     /// Position actual value (6064h) at start-up, in counts.
     pub initial_position: i32,
     /// Following-error limit in counts; exceeding it in Operation enabled (csp) raises
@@ -167,6 +171,7 @@ impl Default for SimDriveParams {
     fn default() -> Self {
         SimDriveParams {
             plant: PlantParams::default(),
+            motor: SimMotor::default(),
             initial_position: 0,
             following_error_limit: 200_000,
             startup_cycles: 2,

@@ -49,10 +49,13 @@ impl SimDrive {
         s
     }
 
-    /// The speed the command asks for, counts/s: csv 60FFh, csp the last 607Ah step per cycle.
+    /// The speed the command asks for, counts/s: csv 60FFh (in the model's unit), csp the last
+    /// 607Ah step per cycle.
     fn set_speed(&self) -> f64 {
         match self.mode_display {
-            ModeOfOperation::CyclicSyncVelocity => f64::from(self.last_cmd.target_velocity),
+            ModeOfOperation::CyclicSyncVelocity => {
+                self.commanded_counts_per_s(i64::from(self.last_cmd.target_velocity))
+            }
             ModeOfOperation::CyclicSyncPosition => {
                 f64::from(self.last_step) / self.cycle_time.as_secs_f64()
             }

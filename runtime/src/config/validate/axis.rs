@@ -91,17 +91,17 @@ pub(super) fn check_amplifier(
 }
 
 /// Where an axis' keys live (`axes[i]` of `file`): errors name `axes[i].<sub>`.
-struct AxisKey<'a> {
+pub(super) struct AxisKey<'a> {
     file: &'a Path,
     key: &'a str,
 }
 
 impl AxisKey<'_> {
-    fn err(&self, sub: &str, msg: String) -> ConfigError {
+    pub(super) fn err(&self, sub: &str, msg: String) -> ConfigError {
         ConfigError::new(self.file, format!("{}.{sub}", self.key), msg)
     }
 
-    fn positive(&self, sub: &str, v: f64) -> Result<f64, ConfigError> {
+    pub(super) fn positive(&self, sub: &str, v: f64) -> Result<f64, ConfigError> {
         positive(self.file, &format!("{}.{sub}", self.key), v)
     }
 }
@@ -161,6 +161,17 @@ pub(super) fn validate_axis(
     let mut sim = sim_axis(&at, &a, scaling, position)?;
     sim.subdevice = emulated_subdevice(&at, &a, drive, cycle_time)?;
     let distributed_clocks = a.ethercat.distributed_clocks.unwrap_or(true);
+    let s = scaling.counts_per_unit();
+    let drive_units = super::motor::drive_units(
+        &at,
+        &a,
+        profile,
+        super::motor::VelocityDemand {
+            mode,
+            velocity_counts: limits.velocity * s,
+            correction_counts: csv_position_gain * following_error_limit * s,
+        },
+    )?;
     Ok(AxisConfig {
         name: a.name,
         drive,
@@ -176,6 +187,7 @@ pub(super) fn validate_axis(
         stop_jerk,
         following_error_limit,
         sim,
+        drive_units,
         torque,
         csv_position_gain,
         amplifier: None,

@@ -16,6 +16,7 @@ use super::{
 
 mod axis;
 mod inject;
+mod motor;
 use axis::{check_amplifier, validate_axis};
 use inject::validate_injections;
 

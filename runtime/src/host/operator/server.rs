@@ -636,7 +636,7 @@ impl OperatorServer {
                         .to_string(),
                     setpoint: sc.to_units(s.hold[i]),
                     position: sc.to_units(f64::from(l.position_actual)),
-                    velocity: sc.to_units(f64::from(l.velocity_actual)),
+                    velocity: sc.to_units(a.drive_units.velocity_from_drive(l.velocity_actual)),
                     following_error: sc.to_units(f64::from(l.following_error)),
                     error_code: l.error_code,
                     status_do: StatusDo(l.status_do)

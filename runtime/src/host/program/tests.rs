@@ -7,7 +7,7 @@ fn cell(axes: usize) -> CellConfig {
     let mut text = String::from("[cell]\nname = \"p\"\ncycle_time_us = 1000\n");
     for i in 0..axes {
         text.push_str(&format!(
-            "[[axes]]\nname = \"a{i}\"\ndrive = \"mr-j5-g-n1\"\ncounts_per_unit = 1000\nlimits = {{ position = [0.0, 100.0], velocity = 10.0, acceleration = 100.0, jerk = 1000.0 }}\n"
+            "[[axes]]\nname = \"a{i}\"\ndrive = \"mr-j5-g-n1\"\nmotor = {{ counts_per_rev = 10000 }}\ncounts_per_unit = 1000\nlimits = {{ position = [0.0, 100.0], velocity = 10.0, acceleration = 100.0, jerk = 1000.0 }}\n"
         ));
     }
     CellConfig::parse(Path::new("c.toml"), &text).unwrap()

@@ -543,13 +543,14 @@ impl Drain<'_> {
         else {
             return Ok(());
         };
-        let s = self.cell.axes[a.axis as usize].scaling;
+        let axis = &self.cell.axes[a.axis as usize];
+        let s = axis.scaling;
         let msg = proto::AxisCycle {
             cycle: a.cycle,
             setpoint_position: s.to_units(a.setpoint),
             setpoint_velocity: s.to_units(a.setpoint_velocity),
             actual_position: s.to_units(f64::from(a.position_actual)),
-            actual_velocity: s.to_units(f64::from(a.velocity_actual)),
+            actual_velocity: s.to_units(axis.drive_units.velocity_from_drive(a.velocity_actual)),
             following_error: s.to_units(f64::from(a.following_error)),
             setpoint_counts: a.target_position,
             actual_position_counts: a.position_actual,

@@ -5,6 +5,7 @@ use cellrt_axes::cia402::homing::{HomingParams, HomingSequencer};
 use cellrt_axes::cia402::master::AxisMaster;
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::comm::IncrementalCounter;
+use cellrt_axes::drive_scaling::{DriveScaling, OutOfRange};
 use cellrt_axes::pdo::objects::{
     CONTROLWORD2, DEFAULT_TORQUE_LIMIT, ERROR_CODE, FOLLOWING_ERROR, MODES_OF_OPERATION,
     MODES_OF_OPERATION_DISPLAY, STATUSWORD2,
@@ -110,6 +111,13 @@ pub struct AxisChannel {
     /// Home setting by Controlword2 where the model has it and the maps carry 2001h/2011h
     /// (MR-J3-T04 C_CR / C_CR2, MR-J3-T04 manual §8.11.6).
     pub home_setting: Option<HomeSetting>,
+    /// Axis counts ↔ the drive's object units (60FFh/606Ch/2D20h, torque), precomputed.
+    pub drive_units: DriveScaling,
+    /// 2D20h sent every cycle: the axis' velocity limit in the drive's velocity unit (fits:
+    /// checked at config load).
+    pub speed_limit: u32,
+    /// 60FFh of the previous cycle, kept when a new one cannot be represented.
+    pub sent_velocity: i32,
     /// MC_Power of this axis: the operator wants it in Operation enabled. An axis without
     /// power follows its actual position and takes no motion.
     pub powered: bool,
@@ -128,7 +136,11 @@ fn torque_limit_objects(axis: &AxisConfig) -> (u16, u16, u16) {
     let Some(t) = axis.torque else {
         return (DEFAULT_TORQUE_LIMIT, DEFAULT_TORQUE_LIMIT, 0);
     };
-    let v = (t.max.0 * 10.0).round().clamp(0.0, f64::from(u16::MAX)) as u16;
+    // `limits.torque` ≤ MAX_TORQUE_PERCENT (checked at load) always fits 60E0h.
+    let v = axis
+        .drive_units
+        .torque_limit_to_drive(t.max.0)
+        .unwrap_or(DEFAULT_TORQUE_LIMIT);
     let cw2 = match axis.profile.torque_limit_selection {
         TorqueLimitSelection::Objects | TorqueLimitSelection::TorqueLimit2 { .. } => 0,
         TorqueLimitSelection::Controlword2 { c_tl_bit, .. } => 1 << c_tl_bit,
@@ -141,7 +153,7 @@ fn torque_limit_objects(axis: &AxisConfig) -> (u16, u16, u16) {
 pub struct DriveCommand {
     /// 6060h.
     pub mode: ModeOfOperation,
-    /// 60FFh, counts/s (csv).
+    /// 60FFh in the drive's velocity unit (csv).
     pub target_velocity: i32,
     /// 6071h, 0.1 % of rated torque (cst).
     pub target_torque: i16,
@@ -186,6 +198,13 @@ impl AxisChannel {
             csv_position_gain: axis.csv_position_gain,
             torque_limits: axis.torque.map(|t| (t.max.0 * 10.0, t.slope * 10.0)),
             torque_limit_objects: torque_limit_objects(axis),
+            drive_units: axis.drive_units,
+            // Fits: `limits.velocity` is checked against the drive's unit at config load.
+            speed_limit: axis
+                .drive_units
+                .speed_limit_to_drive(axis.limits.velocity * axis.scaling.counts_per_unit())
+                .unwrap_or(0),
+            sent_velocity: 0,
             torque: None,
             braking: false,
             homing: HomingSequencer::new(
@@ -248,7 +267,9 @@ impl AxisChannel {
         self.torque = Some(torque);
         self.braking = false;
         self.setpoint = f64::from(self.feedback.position_actual);
-        self.velocity = f64::from(self.feedback.velocity_actual);
+        self.velocity = self
+            .drive_units
+            .velocity_from_drive(self.feedback.velocity_actual);
         self.acceleration = 0.0;
     }
 
@@ -273,20 +294,21 @@ impl AxisChannel {
     /// The mode and target this cycle's RxPDO carries. csp: 607Ah only. csv: the setpoint
     /// velocity plus the master's position correction. cst: the torque setpoint while a torque
     /// motion runs; otherwise (idle, stop ramps, position motions) the axis runs in csv.
-    pub fn drive_command(&self) -> DriveCommand {
-        match (self.mode, self.torque) {
+    /// Targets in the drive's units; one the drive's object cannot represent is an error, never
+    /// clamped.
+    pub fn drive_command(&self) -> Result<DriveCommand, OutOfRange> {
+        Ok(match (self.mode, self.torque) {
             (ModeOfOperation::CyclicSyncTorque, Some(t)) => DriveCommand {
                 mode: ModeOfOperation::CyclicSyncTorque,
                 target_velocity: 0,
-                target_torque: t.round().clamp(f64::from(i16::MIN), f64::from(i16::MAX)) as i16,
+                target_torque: self.drive_units.torque_to_drive(t / 10.0)?,
             },
             (ModeOfOperation::CyclicSyncVelocity | ModeOfOperation::CyclicSyncTorque, _) => {
                 let error = self.setpoint - f64::from(self.feedback.position_actual);
                 let v = self.velocity + self.csv_position_gain * error;
                 DriveCommand {
                     mode: ModeOfOperation::CyclicSyncVelocity,
-                    target_velocity: v.round().clamp(f64::from(i32::MIN), f64::from(i32::MAX))
-                        as i32,
+                    target_velocity: self.drive_units.velocity_to_drive(v)?,
                     target_torque: 0,
                 }
             }
@@ -295,14 +317,12 @@ impl AxisChannel {
                 target_velocity: 0,
                 target_torque: 0,
             },
-        }
+        })
     }
 
-    /// The speed limit for cst (2D20h), counts/s: the axis' velocity limit.
-    pub fn velocity_limit(&self, period: f64) -> u32 {
-        (self.limits.max_step / period)
-            .round()
-            .clamp(0.0, f64::from(u32::MAX)) as u32
+    /// The speed limit for cst (2D20h) in the drive's velocity unit: the axis' velocity limit.
+    pub fn velocity_limit(&self) -> u32 {
+        self.speed_limit
     }
 
     /// Takes a new setpoint from the stream; `dt` is the time since the previous one.
@@ -413,6 +433,14 @@ mod tests {
             csv_position_gain: 0.0,
             torque_limits: None,
             torque_limit_objects: (DEFAULT_TORQUE_LIMIT, DEFAULT_TORQUE_LIMIT, 0),
+            drive_units: DriveScaling::new(
+                &cellrt_axes::profiles::generic_cia402::UNITS,
+                cellrt_axes::profiles::VelocityUnit::CountsPerSecond,
+                None,
+            )
+            .expect("counts/s needs no resolution"),
+            speed_limit: 0,
+            sent_velocity: 0,
             torque: None,
             braking: false,
             homing: HomingSequencer::new(

@@ -7,6 +7,8 @@
 mod axis;
 mod cell;
 mod comm_watchdog;
+#[cfg(test)]
+mod units_tests;
 
 pub use axis::{AxisChannel, AxisLimitsCounts, HOMING_MODE_SETTLE, HOMING_TIMEOUT, STEP_TOLERANCE};
 
@@ -19,7 +21,10 @@ use cellrt_axes::Cycles;
 use serde::Serialize;
 
 use crate::config::{CellConfig, FaultReaction, InjectedFault, WatchdogConfig};
-use crate::handoff::{AxisRecord, CellState, CycleRecord, EventKind, EventRecord, RtEnd, NO_AXIS};
+use crate::handoff::{
+    AxisRecord, CellState, CycleRecord, EventKind, EventRecord, RejectReason, RtEnd, StopReason,
+    NO_AXIS,
+};
 use crate::rt::clock::{sleep_until, MonoTime};
 use crate::rt::histogram::NsHistogram;
 use crate::rt::injection::{InjectionSchedule, Outcome};
@@ -390,7 +395,29 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         for i in 0..self.axes.len() {
             let ch = &mut self.axes[i];
             let mut controlword = ch.master.update(ch.feedback.statusword);
-            let mut cmd = ch.drive_command();
+            let mut cmd = match ch.drive_command() {
+                Ok(c) => c,
+                Err(_) => {
+                    // Beyond the drive's object (e.g. 60FFh past I32 in its unit): refused
+                    // with a reason, the last command kept for this cycle, the cell stops.
+                    let held = axis::DriveCommand {
+                        mode: ch.mode,
+                        target_velocity: ch.sent_velocity,
+                        target_torque: 0,
+                    };
+                    self.event(
+                        EventKind::SetpointRejected,
+                        i as u16,
+                        RejectReason::DriveRange as i64,
+                    );
+                    if self.stop_reason.is_none() {
+                        self.react(StopReason::SetpointRejected);
+                    }
+                    held
+                }
+            };
+            let ch = &mut self.axes[i];
+            ch.sent_velocity = cmd.target_velocity;
             let display = ch.mode_display_mapped.then_some(ch.feedback.mode_display);
             let enabled = ch.master.is_enabled();
             let standstill = ch.feedback.velocity_actual == 0;
@@ -427,7 +454,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 target_position: ch.to_raw(round_counts(ch.setpoint)),
                 target_velocity: cmd.target_velocity,
                 target_torque: cmd.target_torque,
-                velocity_limit: ch.velocity_limit(self.period_s),
+                velocity_limit: ch.velocity_limit(),
                 torque_limit_positive: ch.torque_limit_objects.0,
                 torque_limit_negative: ch.torque_limit_objects.1,
                 controlword2,

@@ -11,6 +11,7 @@ pub mod bus;
 pub mod cia402;
 pub mod comm;
 pub mod cycles;
+pub mod esi;
 pub mod ethercat;
 pub mod fsoe;
 pub mod pdo;

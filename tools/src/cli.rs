@@ -34,6 +34,8 @@ pub enum Command {
     Replay(ReplayArgs),
     /// Emulate a cell's drives on a network (EtherCAT SubDevices on an interface).
     DriveSim(DriveSimArgs),
+    /// ESI files (EtherCAT Slave Information, ETG.2000): what cellrt takes from them.
+    Esi(crate::commands::esi::EsiArgs),
     /// Benchmarks: wakeup latency, comparison with cyclictest, the full loop with N axes.
     Bench(crate::commands::bench::BenchArgs),
     /// Operator commands to a running cell.

@@ -26,6 +26,7 @@ fn main() {
         cli::Command::Report(args) => commands::report::run(args),
         cli::Command::Replay(args) => commands::replay::run(args),
         cli::Command::DriveSim(args) => commands::drive_sim::run(args, cli.target.cell.clone()),
+        cli::Command::Esi(args) => commands::esi::run(args),
         cli::Command::Bench(args) => commands::bench::run(args, cli.target.cell.clone()),
         cli::Command::Operate(c) => commands::operate::run(c, cli.target),
     };

@@ -28,6 +28,14 @@ pub fn modes_of_6502(value: i64) -> Vec<ModeOfOperation> {
         .collect()
 }
 
+/// The 6502h value listing `modes`.
+pub fn bits_of_modes(modes: &[ModeOfOperation]) -> i64 {
+    MODE_BITS
+        .iter()
+        .filter(|(_, m)| modes.contains(m))
+        .fold(0, |v, (bit, _)| v | 1 << bit)
+}
+
 /// A mailbox protocol a device offers (ETG.2000 `Device/Mailbox`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum MailboxProtocol {

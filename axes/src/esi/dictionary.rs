@@ -146,6 +146,11 @@ fn default_of(info: Option<Node<'_, '_>>) -> Option<i64> {
     child(info, "DefaultData").and_then(|d| le_hex_bytes(&text(d)))
 }
 
+/// True for a data type whose default is a number (not a STRING or OCTET_STRING).
+fn numeric(type_name: &str) -> bool {
+    !type_name.contains("STRING")
+}
+
 /// One `Object`, appended to `out` as its sub-index rows.
 fn object(
     at: &At<'_, '_>,
@@ -164,6 +169,7 @@ fn object(
     let info = child(obj, "Info");
     let def = types.get(&type_name).filter(|t| !t.sub_items.is_empty());
     let Some(def) = def else {
+        let default = default_of(info).filter(|_| numeric(&type_name));
         out.push(EsiObject {
             index,
             sub: 0,
@@ -173,7 +179,7 @@ fn object(
             access: own.access,
             write_restriction: own.write_restriction,
             pdo: own.pdo,
-            default: default_of(info),
+            default,
         });
         return Ok(());
     };
@@ -231,6 +237,9 @@ fn object(
                     .filter(|i| !names.contains(&child_text(**i, "Name")))
             })
             .copied();
+        let default = item
+            .and_then(|i| default_of(child(i, "Info")))
+            .filter(|_| numeric(&row_type));
         out.push(EsiObject {
             index,
             sub,
@@ -240,7 +249,7 @@ fn object(
             access: f.access,
             write_restriction: f.write_restriction,
             pdo: f.pdo,
-            default: item.and_then(|i| default_of(child(i, "Info"))),
+            default,
         });
     }
     Ok(())

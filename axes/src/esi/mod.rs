@@ -4,11 +4,13 @@
 //! dictionary (access rights, PDO mappability, defaults), DC operation modes and the CiA 402
 //! modes it supports (6502h).
 
+pub mod conform;
 pub mod device;
 mod dictionary;
 pub mod error;
 pub mod number;
 mod parse;
+mod profile;
 pub mod select;
 mod xml;
 
@@ -63,5 +65,7 @@ pub fn load(path: &Path) -> Result<Vec<EsiDevice>, EsiFileError> {
     })
 }
 
+#[cfg(test)]
+mod profile_files;
 #[cfg(test)]
 mod tests;

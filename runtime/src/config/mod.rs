@@ -315,6 +315,9 @@ pub struct AxisConfig {
     /// The multi-axis amplifier and slot (`amplifier`, `amplifier_axis`; the slot defaults to
     /// the order in the file); `None`: the axis has an amplifier of its own.
     pub amplifier: Option<cellrt_axes::ethercat::master::AmplifierSlot>,
+    /// The ESI device describing the drive (`esi`), checked against this configuration at
+    /// load; the emulator presents its object dictionary and access rights.
+    pub esi: Option<std::sync::Arc<cellrt_axes::esi::EsiDevice>>,
 }
 
 /// Default csv position-correction gain, 1/s: removes the drift between the planned positions
@@ -405,5 +408,7 @@ impl CellConfig {
     }
 }
 
+#[cfg(test)]
+mod esi_tests;
 #[cfg(test)]
 mod tests;

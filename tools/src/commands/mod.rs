@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod drive_sim;
+pub mod esi;
 pub mod inspect;
 pub mod operate;
 pub mod planner;

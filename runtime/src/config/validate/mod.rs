@@ -14,6 +14,7 @@ use super::{
 };
 
 mod axis;
+mod esi;
 mod inject;
 use axis::{check_amplifier, validate_axis};
 use inject::validate_injections;

@@ -44,6 +44,7 @@ impl Server {
             pdo: &mut self.pdo,
             counter: &mut self.counter,
             upload: &mut self.upload,
+            esi: None,
         }
     }
 

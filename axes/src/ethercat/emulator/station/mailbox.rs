@@ -111,6 +111,7 @@ impl Station {
             // The counter is set when the response is written into SM1 (`fill_mailbox_in`).
             counter: &mut self.mailbox_counter,
             upload: &mut self.upload,
+            esi: self.esi.as_deref(),
         };
         if coe::serve(&mut ctx, &request, response) {
             // A response the master never read is replaced: it has moved on.

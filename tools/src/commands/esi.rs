@@ -169,3 +169,41 @@ fn object(o: &EsiObject) -> String {
     }
     line
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn show_prints_what_cellrt_takes_from_the_vendor_files() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../axes/tests/data/esi");
+        let path = dir.join("microchip-samd51-ethercat-slave.xml");
+        let text = show(&path, &esi::load(&path).unwrap());
+        for line in [
+            "identity: vendor 0x000004d8 (Microchip - SAMD51 EtherCAT Slave FoE), product code 0x00009252, revision 0x00000001",
+            "mailbox: CoE (SDO info, complete access), FoE",
+            "RxPDO 1601h \"Outputs process data mapping\" (fixed, mandatory, Sm 2): 7010h:01/32",
+            "DC \"DC-Synchron\" (AssignActivate 0x0300, SYNC0 at 1× the bus cycle)",
+            "1C32h:02 ro    UDINT   32 bit  Cycle Time",
+            "1C32h:01 rw    UINT    16 bit  Synchronization Type (write: PreOP) = 1 (0x1)",
+            "7010h:01 rw R  UDINT   32 bit  Trigger = 0 (0x0)",
+        ] {
+            assert!(text.contains(line), "{line}\n{text}");
+        }
+        let path = dir.join("rt-labs-am335xice.xml");
+        let text = show(&path, &esi::load(&path).unwrap());
+        assert!(text.contains("DC opmodes: none"), "{text}");
+        assert!(text.contains("CiA 402 modes (6502h): not given"), "{text}");
+    }
+
+    #[test]
+    fn a_malformed_file_exits_2() {
+        let dir = tempfile::tempdir().unwrap();
+        let bad = dir.path().join("bad.xml");
+        std::fs::write(&bad, "<EtherCATInfo><Vendor>").unwrap();
+        let exit = run(EsiArgs {
+            command: EsiCommand::Show { file: bad },
+        });
+        assert_eq!(exit.code(), 2);
+    }
+}

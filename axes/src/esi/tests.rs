@@ -185,3 +185,75 @@ fn malformed_files_name_the_element_and_line() {
     let empty = "<EtherCATInfo><Vendor><Id>1</Id></Vendor><Descriptions><Devices/></Descriptions></EtherCATInfo>";
     assert!(error_of(empty).contains("holds no <Device>"));
 }
+
+#[test]
+fn conformance_refuses_fixed_missing_and_mandatory_pdos_and_fixed_sync0_cycles() {
+    use super::conform::{check, ConflictSubject, Intent};
+    use crate::profiles::{profile, DriveModel};
+    let p = profile(DriveModel::GenericCia402);
+    let intent = Intent {
+        profile: p,
+        modes: &[M::CyclicSyncPosition],
+        cycle_ns: 1_000_000,
+        writes: &[],
+    };
+    // Microchip: RxPDO 1601h only; the generic 1600h does not exist there.
+    let mc = load(&data("microchip-samd51-ethercat-slave.xml"))
+        .unwrap()
+        .remove(0);
+    let e = check(&mc, &intent).unwrap_err();
+    assert_eq!(e.subject, ConflictSubject::RxPdo);
+    assert!(
+        e.message.contains("the ESI has no such PDO (it has 1601h)"),
+        "{}",
+        e.message
+    );
+    // rt-labs: 1600h is fixed with 7000h:00.
+    let rt = load(&data("rt-labs-am335xice.xml")).unwrap().remove(0);
+    let e = check(&rt, &intent).unwrap_err();
+    assert!(
+        e.message
+            .contains("1600h is fixed in the ESI (Fixed) with 7000h:00/32"),
+        "{}",
+        e.message
+    );
+    // A mandatory PDO the configuration leaves out, and a SYNC0 fixed at 2 ms.
+    let mut d = rt.clone();
+    d.rx_pdos[0].fixed = false;
+    d.rx_pdos[0].entries = p.rx_pdo.entries.to_vec();
+    d.objects.clear();
+    d.rx_pdos.push(EsiPdo {
+        index: 0x1601,
+        mandatory: true,
+        ..d.rx_pdos[0].clone()
+    });
+    let e = check(&d, &intent).unwrap_err();
+    assert!(
+        e.message.contains("makes RxPDO 1601h mandatory"),
+        "{}",
+        e.message
+    );
+    d.rx_pdos.pop();
+    d.tx_pdos.clear();
+    d.dc_opmodes.push(DcOpMode {
+        name: "DC".into(),
+        desc: String::new(),
+        assign_activate: 0x300,
+        sync0: Some(SyncCycle {
+            ns: 2_000_000,
+            factor: None,
+        }),
+        shift_sync0_ns: None,
+        sync1: None,
+    });
+    let e = check(&d, &intent).unwrap_err();
+    assert_eq!(e.subject, ConflictSubject::CycleTime);
+    assert!(check(
+        &d,
+        &Intent {
+            cycle_ns: 2_000_000,
+            ..intent
+        }
+    )
+    .is_ok());
+}

@@ -13,6 +13,7 @@ pub mod cia402;
 pub mod comm;
 pub mod cycles;
 pub mod drive_scaling;
+pub mod esi;
 pub mod ethercat;
 pub mod fsoe;
 pub mod modbus;

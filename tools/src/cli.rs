@@ -36,6 +36,8 @@ pub enum Command {
     DriveSim(DriveSimArgs),
     /// Look at a fieldbus without running a cell.
     Bus(BusArgs),
+    /// ESI files (EtherCAT Slave Information, ETG.2000): what cellrt takes from them.
+    Esi(crate::commands::esi::EsiArgs),
     /// Benchmarks: wakeup latency, comparison with cyclictest, the full loop with N axes.
     Bench(crate::commands::bench::BenchArgs),
     /// Operator commands to a running cell.

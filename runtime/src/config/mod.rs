@@ -328,6 +328,9 @@ pub struct AxisConfig {
     /// SYNC0 from distributed clocks on the axis' SubDevice (`[axes.ethercat]
     /// distributed_clocks`, default true); false: the SubDevice runs free (SM2-synchronous).
     pub distributed_clocks: bool,
+    /// The ESI device describing the drive (`esi`), checked against this configuration at
+    /// load; the emulator presents its object dictionary and access rights.
+    pub esi: Option<std::sync::Arc<cellrt_axes::esi::EsiDevice>>,
 }
 
 /// Default csv position-correction gain, 1/s: removes the drift between the planned positions
@@ -421,5 +424,7 @@ impl CellConfig {
     }
 }
 
+#[cfg(test)]
+mod esi_tests;
 #[cfg(test)]
 mod tests;

@@ -290,6 +290,14 @@ pub struct RawAxis {
     pub amplifier_axis: Option<u8>,
     /// csv: gain of the master's position correction added to the velocity setpoint, 1/s.
     pub csv_position_gain: Option<f64>,
+    /// The drive's ESI file (ETG.2000 XML), relative to the config file (`drive = "cia402"`).
+    pub esi: Option<PathBuf>,
+    /// The device in the ESI file, by its Type (order code) or Name.
+    pub esi_device: Option<String>,
+    /// The device in the ESI file, by its product code.
+    pub esi_product_code: Option<u32>,
+    /// The device in the ESI file, by its revision.
+    pub esi_revision: Option<u32>,
 }
 
 /// `[axes.limits]`.

@@ -119,7 +119,8 @@ pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
 
 /// The emulated segment of `cell`'s drives (what `cellrt drive-sim ethercat` serves): one
 /// station per SubDevice of [`segment_config`], a multi-axis amplifier presenting the drives
-/// of all its slots (an unused slot: a drive of the model with default settings).
+/// of all its slots (an unused slot: a drive of the model with default settings), an axis
+/// with an ESI file presenting that device's object dictionary and access rights.
 pub fn emulated_segment(cell: &CellConfig) -> Result<Segment, BusOpenError> {
     let stations = segment_config(cell).stations()?;
     let mut drives: Vec<Option<SimDrive>> = sim_drives(cell).into_iter().map(Some).collect();
@@ -141,6 +142,15 @@ pub fn emulated_segment(cell: &CellConfig) -> Result<Segment, BusOpenError> {
     for (n, st) in stations.iter().enumerate() {
         if let Some(station) = segment.station_mut(n) {
             station.present(cell.axes[st.first_axis()].sim.subdevice);
+        }
+        // An axis described by an ESI file: its station presents that object dictionary.
+        if let Some(esi) = st
+            .slots
+            .iter()
+            .flatten()
+            .find_map(|&a| cell.axes[a].esi.clone())
+        {
+            segment.describe_station(n, esi);
         }
     }
     Ok(segment)

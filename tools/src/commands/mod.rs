@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod bus;
 pub mod drive_sim;
+pub mod esi;
 pub mod inspect;
 pub mod operate;
 pub mod planner;

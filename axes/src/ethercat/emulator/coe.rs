@@ -54,6 +54,9 @@ pub struct CoeContext<'a> {
     pub upload: &'a mut SegmentedUpload,
     /// How the station departs from its profile (objects it lacks, a read-only 1C32h:02).
     pub variant: &'a super::SubDeviceVariant,
+    /// The ESI device the station presents: its dictionary decides which objects exist and
+    /// their access rights ([`super::esi_od`]).
+    pub esi: Option<&'a crate::esi::EsiDevice>,
 }
 
 impl CoeContext<'_> {
@@ -314,7 +317,7 @@ impl PdoConfig {
 /// A value to upload: up to 64 bytes of little-endian data.
 type Value = Vec<u8>;
 
-fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Value, SdoAbort> {
+pub(super) fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Value, SdoAbort> {
     let u8v = |v: u8| vec![v];
     let u16v = |v: u16| v.to_le_bytes().to_vec();
     let u32v = |v: u32| v.to_le_bytes().to_vec();
@@ -377,7 +380,12 @@ fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Value, SdoAbo
     Ok(value.to_le_bytes()[..n].to_vec())
 }
 
-fn download(ctx: &mut CoeContext<'_>, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+pub(super) fn download(
+    ctx: &mut CoeContext<'_>,
+    index: u16,
+    sub: u8,
+    data: &[u8],
+) -> Result<(), SdoAbort> {
     let word = |d: &[u8]| {
         let mut b = [0u8; 4];
         let n = d.len().min(4);
@@ -545,13 +553,13 @@ pub fn serve(ctx: &mut CoeContext<'_>, request: &[u8], response: &mut [u8]) -> b
                 };
                 match value {
                     None => Err(SdoAbort::TOO_SHORT),
-                    Some(v) => download(ctx, index, sub, v).map(|()| {
+                    Some(v) => super::esi_od::download(ctx, index, sub, v, download).map(|()| {
                         out[2] = 0x60;
                         None
                     }),
                 }
             }
-            2 => upload(ctx, index, sub).map(Some),
+            2 => super::esi_od::upload(ctx, index, sub, upload).map(Some),
             _ => Err(ABORT_BAD_COMMAND),
         }
     };

@@ -4,6 +4,7 @@
 
 pub mod coe;
 pub mod delay_line;
+pub mod esi_od;
 pub mod layout;
 pub mod schedule;
 pub mod segment;

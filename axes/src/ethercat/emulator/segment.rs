@@ -87,6 +87,19 @@ impl Segment {
         }
     }
 
+    /// Station `n` presents ESI `device`'s object dictionary and access rights
+    /// ([`Station::describe_by`]); false if there is no such station.
+    pub fn describe_station(
+        &mut self,
+        n: usize,
+        device: std::sync::Arc<crate::esi::EsiDevice>,
+    ) -> bool {
+        self.stations
+            .get_mut(n)
+            .map(|st| st.describe_by(device))
+            .is_some()
+    }
+
     /// Station `n`, mutably (fault injection).
     pub fn station_mut(&mut self, n: usize) -> Option<&mut Station> {
         self.stations.get_mut(n)

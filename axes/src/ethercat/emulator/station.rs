@@ -124,6 +124,8 @@ pub struct Station {
     outbox: Outbox,
     /// How this SubDevice departs from its profile ([`Station::present`]).
     variant: SubDeviceVariant,
+    /// The ESI device this station presents ([`Station::describe_by`]), if any.
+    esi: Option<std::sync::Arc<crate::esi::EsiDevice>>,
 }
 
 impl Station {
@@ -218,6 +220,7 @@ impl Station {
                 response_len: 0,
                 counter: 0,
             },
+            esi: None,
         };
         s.outbox.alarms = s.drives.iter().map(SimDrive::alarm).collect();
         s.mem[usize::from(reg::TYPE)] = ESC_TYPE;
@@ -648,5 +651,17 @@ impl Station {
         self.missed_sync0 += elapsed.clamp(1, MAX_LOST_REPLAY) - 1;
         self.exchanges += 1;
         self.watch_alarms();
+    }
+}
+
+impl Station {
+    /// Presents ESI `device` from now on: an SDO to an object its dictionary lacks aborts
+    /// 0602 0000h (0609 0011h for a missing sub-index), a download to a read-only entry
+    /// 0601 0002h, an upload of a write-only entry 0601 0001h; entries the simulated drive
+    /// does not model read as the ESI's default (writes to them are accepted, not kept).
+    /// The identity (1018h, SII) is the profile's: build the drive with
+    /// [`crate::profiles::DriveProfile::with_esi`].
+    pub fn describe_by(&mut self, device: std::sync::Arc<crate::esi::EsiDevice>) {
+        self.esi = Some(device);
     }
 }

@@ -112,6 +112,7 @@ struct AxisDrive {
     profile: &'static DriveProfile,
     transport: Transport,
     ethercat_identity: ExpectedIdentity,
+    esi: Option<std::sync::Arc<cellrt_axes::esi::EsiDevice>>,
 }
 
 pub(super) fn validate_axis(
@@ -127,8 +128,12 @@ pub(super) fn validate_axis(
         profile,
         transport,
         ethercat_identity,
+        esi,
     } = axis_drive(&at, &a, cycle_time)?;
     let (mode, profile) = cyclic_mode(&at, &a, drive, profile)?;
+    if let Some(device) = &esi {
+        super::esi::check(file, key, &a.name, device, profile, mode, cycle_time)?;
+    }
     let (scaling, position) = scaling_and_range(&at, &a)?;
     let limits = KinematicLimits {
         velocity: at.positive("limits.velocity", a.limits.velocity)?,
@@ -192,6 +197,7 @@ pub(super) fn validate_axis(
         csv_position_gain,
         amplifier: None,
         distributed_clocks,
+        esi,
     })
 }
 
@@ -283,9 +289,10 @@ fn axis_drive(
             ))
         }
     };
+    let esi = super::esi::load_device(at.file, at.key, a, drive)?;
     // A model without a maker (the generic CiA 402 drive) has no identity to check the
-    // SubDevice against: an EtherCAT axis must name it.
-    if transport == Transport::Ethercat && maker_vendor_id(drive).is_none() {
+    // SubDevice against: an EtherCAT axis must name it, or its ESI.
+    if transport == Transport::Ethercat && maker_vendor_id(drive).is_none() && esi.is_none() {
         for (sub, given) in [
             ("ethercat.vendor_id", a.ethercat.vendor_id.is_some()),
             ("ethercat.product_code", a.ethercat.product_code.is_some()),
@@ -294,7 +301,7 @@ fn axis_drive(
                 return Err(at.err(
                     sub,
                     format!(
-                        "axis '{}': drive '{drive}' needs the SubDevice's identity: set [axes.ethercat] vendor_id and product_code (1018h:01/02, from the drive's ESI file or manual)",
+                        "axis '{}': drive '{drive}' needs the SubDevice's identity: set esi (the drive's ESI file) or [axes.ethercat] vendor_id and product_code (1018h:01/02, from the drive's ESI file or manual)",
                         a.name
                     ),
                 ));
@@ -303,7 +310,10 @@ fn axis_drive(
     }
     // The configured identity is the one the drive must report and the one the emulator
     // presents for it.
-    let profile = profile.with_identity(a.ethercat.vendor_id, a.ethercat.product_code);
+    let profile = match &esi {
+        Some(device) => profile.with_esi(device),
+        None => profile.with_identity(a.ethercat.vendor_id, a.ethercat.product_code),
+    };
     let mut ethercat_identity = ExpectedIdentity::of_profile(profile);
     if let Some(v) = a.ethercat.vendor_id {
         ethercat_identity.vendor_id = v;
@@ -316,6 +326,7 @@ fn axis_drive(
         profile,
         transport,
         ethercat_identity,
+        esi,
     })
 }
 

@@ -15,6 +15,7 @@ use super::{
 };
 
 mod axis;
+mod esi;
 mod inject;
 mod motor;
 use axis::{check_amplifier, validate_axis};

@@ -47,6 +47,7 @@ impl Server {
             counter: &mut self.counter,
             upload: &mut self.upload,
             variant: &self.variant,
+            esi: None,
         }
     }
 

@@ -112,6 +112,7 @@ impl Station {
             counter: &mut self.mailbox_counter,
             upload: &mut self.upload,
             variant: &self.variant,
+            esi: self.esi.as_deref(),
         };
         if coe::serve(&mut ctx, &request, response) {
             // A response the master never read is replaced: it has moved on.

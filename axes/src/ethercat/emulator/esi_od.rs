@@ -1,0 +1,130 @@
+//! An emulated station described by an ESI file: its object dictionary decides which objects
+//! exist and what may be read or written (CiA 301 abort codes), before the simulated drive
+//! serves the request.
+
+use super::coe::CoeContext;
+use crate::esi::EsiDevice;
+use crate::profiles::Access;
+use crate::sim::sdo::SdoAbort;
+
+/// A value to upload, little-endian.
+type Value = Vec<u8>;
+
+/// The ESI's verdict on `index:sub`: the entry, or the abort for a missing one.
+fn entry(d: &EsiDevice, index: u16, sub: u8) -> Result<&crate::esi::EsiObject, SdoAbort> {
+    d.object(index, sub)
+        .ok_or(if d.objects.iter().any(|o| o.index == index) {
+            SdoAbort::NO_SUBINDEX
+        } else {
+            SdoAbort::NO_OBJECT
+        })
+}
+
+/// True for the aborts a simulated drive gives for an object it does not model.
+fn unmodelled(a: SdoAbort) -> bool {
+    a == SdoAbort::NO_OBJECT || a == SdoAbort::NO_SUBINDEX
+}
+
+/// An SDO upload through the ESI's dictionary (when the station has one), else `serve`.
+pub fn upload(
+    ctx: &mut CoeContext<'_>,
+    index: u16,
+    sub: u8,
+    serve: fn(&mut CoeContext<'_>, u16, u8) -> Result<Value, SdoAbort>,
+) -> Result<Value, SdoAbort> {
+    let Some(d) = ctx.esi.filter(|d| d.has_dictionary()) else {
+        return serve(ctx, index, sub);
+    };
+    let e = entry(d, index, sub)?;
+    if e.access == Access::Wo {
+        return Err(SdoAbort::WRITE_ONLY);
+    }
+    match serve(ctx, index, sub) {
+        Err(a) if unmodelled(a) => {
+            let v = e.default.unwrap_or(0).to_le_bytes();
+            let n = usize::from(e.bits.div_ceil(8)).clamp(1, 8);
+            Ok(v[..n].to_vec())
+        }
+        other => other,
+    }
+}
+
+/// An SDO download through the ESI's dictionary (when the station has one), else `serve`.
+pub fn download(
+    ctx: &mut CoeContext<'_>,
+    index: u16,
+    sub: u8,
+    data: &[u8],
+    serve: fn(&mut CoeContext<'_>, u16, u8, &[u8]) -> Result<(), SdoAbort>,
+) -> Result<(), SdoAbort> {
+    let Some(d) = ctx.esi.filter(|d| d.has_dictionary()) else {
+        return serve(ctx, index, sub, data);
+    };
+    let e = entry(d, index, sub)?;
+    if e.access == Access::Ro {
+        return Err(SdoAbort::READ_ONLY);
+    }
+    match serve(ctx, index, sub, data) {
+        Err(a) if unmodelled(a) => Ok(()),
+        other => other,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cycles::CycleTime;
+    use crate::ethercat::emulator::coe::{self, PdoConfig, SegmentedUpload};
+    use crate::ethercat::identity::SubDeviceIdentity;
+    use crate::ethercat::register::AlState;
+    use crate::profiles::{profile, DriveModel};
+    use crate::sim::drive::{SimDrive, SimDriveParams};
+
+    /// configs/esi/cia402-example.xml behind the emulated CoE server, in PRE-OP: an SDO write
+    /// to a read-only object aborts 0601 0002h, to an object the ESI lacks 0602 0000h.
+    #[test]
+    fn the_esi_decides_existence_and_access() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../configs/esi/cia402-example.xml");
+        let device = crate::esi::load(&path).unwrap().remove(0);
+        let p = profile(DriveModel::GenericCia402).with_esi(&device);
+        let cycle = CycleTime::from_micros(1000).unwrap();
+        let mut drives = vec![SimDrive::new(p, SimDriveParams::default(), cycle)];
+        let mut pdo = PdoConfig::new(&drives);
+        let (mut counter, mut upload_state) = (0u8, SegmentedUpload::default());
+        let variant = super::super::SubDeviceVariant::default();
+        let mut ctx = CoeContext {
+            variant: &variant,
+            identity: SubDeviceIdentity::of_profile(p),
+            drives: &mut drives,
+            al_state: AlState::PreOp,
+            pdo: &mut pdo,
+            counter: &mut counter,
+            upload: &mut upload_state,
+            esi: Some(&device),
+        };
+        let write = |ctx: &mut CoeContext<'_>, i, s, d: &[u8]| {
+            download(ctx, i, s, d, coe::download).map_err(|e| e.0)
+        };
+        let read = |ctx: &mut CoeContext<'_>, i, s| upload(ctx, i, s, coe::upload).map_err(|e| e.0);
+        // 6502h (ro), 1018h (ro): 0601 0002h; 60F4h and 6081h are not in this ESI: 0602 0000h.
+        assert_eq!(write(&mut ctx, 0x6502, 0, &[0; 4]), Err(0x0601_0002));
+        assert_eq!(write(&mut ctx, 0x1018, 2, &[0; 4]), Err(0x0601_0002));
+        assert_eq!(read(&mut ctx, 0x60F4, 0), Err(0x0602_0000));
+        assert_eq!(write(&mut ctx, 0x6081, 0, &[0; 4]), Err(0x0602_0000));
+        assert_eq!(read(&mut ctx, 0x1C32, 3), Err(0x0609_0011));
+        // What the ESI has: 1018h from the file, 6098h writable, 1C32h:05 its default.
+        assert_eq!(
+            read(&mut ctx, 0x1018, 2),
+            Ok(0xCE11_0403u32.to_le_bytes().to_vec())
+        );
+        assert_eq!(write(&mut ctx, 0x6098, 0, &[37]), Ok(()));
+        assert_eq!(
+            read(&mut ctx, 0x1C32, 5),
+            Ok(250_000u32.to_le_bytes().to_vec())
+        );
+        // Without the ESI the generic drive serves 6081h.
+        ctx.esi = None;
+        assert_eq!(write(&mut ctx, 0x6081, 0, &[0; 4]), Ok(()));
+    }
+}

@@ -13,7 +13,7 @@ const PROGRAM: &str = r#"
 do = "power_on"
 [[step]]
 do = "move"
-target = { x = 120.0 }
+target = { x = 700.0 }
 [[step]]
 do = "power_off"
 "#;
@@ -27,7 +27,8 @@ fn a_step_whose_first_block_came_late_starts_again() {
 name = "late-start-{pid}"
 cycle_time_us = 1000
 [setpoints]
-lookahead_ms = 100
+# A long lookahead: the refused motion's blocks fill the stream ahead of the restarted one.
+lookahead_ms = 1000
 start_delay_ms = 20
 [watchdogs]
 max_consecutive_overruns = 0
@@ -70,7 +71,7 @@ duration_ms = 200
     assert_eq!(summary.counters.underruns, 0, "{log:#?}");
     let x = &summary.axes[0];
     assert!(
-        (x.final_position - 120.0).abs() < 0.01,
+        (x.final_position - 700.0).abs() < 0.01,
         "x reached its target: {}",
         x.final_position
     );

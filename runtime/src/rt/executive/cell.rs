@@ -533,6 +533,18 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
     /// block is refused never starts: the status names it (`motion_refused`) so its planner
     /// stops waiting, and its later blocks are dropped.
     fn poll_motion_start(&mut self) {
+        // Stale blocks (of an ended or refused motion) and a refused motion's first block are
+        // dropped all in one cycle: one per cycle would hold up the next motion's first block
+        // behind them until it is late too. Bounded by the subscriber's buffer.
+        for _ in 0..crate::services::SETPOINT_BUFFER_BLOCKS + 2 {
+            if !self.poll_motion_start_once() {
+                return;
+            }
+        }
+    }
+
+    /// One look at the stream's front in Idle; true when a block was dropped (look again).
+    fn poll_motion_start_once(&mut self) -> bool {
         let cycle = self.cycle;
         let n = self.axes.len();
         let last_motion = self.motion_id;
@@ -556,8 +568,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             _ => None,
         };
         match verdict {
-            None => {}
-            Some(Err(None)) => self.stream.pop(),
+            None => false,
+            Some(Err(None)) => {
+                self.stream.pop();
+                true
+            }
             Some(Err(Some(reason))) => {
                 let id = self
                     .stream
@@ -571,6 +586,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 if let Some(id) = id {
                     self.refuse_start(id);
                 }
+                true
             }
             Some(Ok(id)) => {
                 self.motion_id = id;
@@ -593,6 +609,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                         self.refuse_start(id);
                     }
                 }
+                false
             }
         }
     }

@@ -384,8 +384,9 @@ pub struct SimAxisConfig {
     pub subdevice: cellrt_axes::ethercat::emulator::SubDeviceVariant,
 }
 
-/// Default `rt.planner_priority`: above ordinary threads, well below the RT thread's default 80.
-pub const DEFAULT_PLANNER_PRIORITY: u8 = 40;
+/// Default `rt.planner_priority`: 0, SCHED_OTHER like the other non-RT threads; a cell on a
+/// machine with other load sets it (the demo uses 40, well below the RT thread's 80).
+pub const DEFAULT_PLANNER_PRIORITY: u8 = 0;
 
 /// Default `sim.motor_speed_factor`: the motor can do a bit more than the axis is allowed to.
 pub const DEFAULT_MOTOR_SPEED_FACTOR: f64 = 1.5;

@@ -70,6 +70,11 @@ fn the_planner_thread_runs_below_the_rt_thread_or_sched_other() {
     assert!(e.message.contains("below the RT thread's (80)"), "{e}");
     let off = parse(&demo_text().replace("planner_priority = 40", "planner_priority = 0")).unwrap();
     assert_eq!(off.rt.planner_priority, None);
+    let default = parse(&demo_text().replace("planner_priority = 40", "")).unwrap();
+    assert_eq!(
+        default.rt.planner_priority, None,
+        "SCHED_OTHER unless asked for"
+    );
 }
 
 #[test]

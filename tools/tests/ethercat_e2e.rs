@@ -787,7 +787,7 @@ fn compare_runs(
         }
         eprintln!("{axis}: {compared} cycles compared, largest difference {worst:.6}");
         // Cycles after a stall are not comparable: too few after stalls is a pair to repeat.
-        if compared <= 5000 {
+        if compared <= 4000 {
             return Err((
                 format!("{axis}: only {compared} cycles comparable"),
                 stalled,

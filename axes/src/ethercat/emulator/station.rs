@@ -266,9 +266,12 @@ impl Station {
     /// overrun of its RT loop): those edges run the drive on, they are not lost RxPDOs.
     pub fn excuse_host_stall(&mut self, cycles: u64) {
         self.excused_sync0 = cycles;
-        // Nor do they run the process-data watchdog down: it counts from the next frame.
-        if self.pd_watchdog_trigger.is_some() {
-            self.pd_watchdog_trigger = None;
+        // Nor do they run the process-data watchdog down; a link lost around the stall still
+        // does (with SYNC0 the stall's length is known: the watchdog's start moves by it).
+        if let Some(at) = self.pd_watchdog_trigger {
+            let cycle_ns = u64::from(self.sync0_cycle_ns());
+            self.pd_watchdog_trigger = (self.sync_active() && cycle_ns > 0)
+                .then(|| at.saturating_add(cycles.saturating_mul(cycle_ns)));
         }
     }
 

@@ -556,9 +556,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 {
                     Some(Err(None)) // stale block of an ended or refused motion
                 } else if !b.is_well_formed(n) {
-                    Some(Err(Some(RejectReason::Malformed)))
+                    Some(Err(Some((RejectReason::Malformed, h.motion_id))))
                 } else if h.start_cycle < cycle {
-                    Some(Err(Some(RejectReason::LateBlock)))
+                    Some(Err(Some((RejectReason::LateBlock, h.motion_id))))
                 } else if h.start_cycle == cycle {
                     Some(Ok(h.motion_id))
                 } else {
@@ -573,19 +573,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 self.stream.pop();
                 true
             }
-            Some(Err(Some(reason))) => {
-                let id = self
-                    .stream
-                    .front()
-                    .ok()
-                    .flatten()
-                    .map(|b| b.header.motion_id);
+            Some(Err(Some((reason, id)))) => {
                 self.stats.counters.rejected_setpoints += 1;
                 self.event(EventKind::SetpointRejected, NO_AXIS, reason as i64);
                 self.stream.pop();
-                if let Some(id) = id {
-                    self.refuse_start(id);
-                }
+                self.refuse_start(id);
                 true
             }
             Some(Ok(id)) => {

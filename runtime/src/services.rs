@@ -79,8 +79,8 @@ pub struct StatusSample {
     pub motion_refused: u32,
     /// Axes valid in `hold`.
     pub axis_count: u32,
-    /// Padding (keeps `hold` 8-byte aligned without implicit padding).
-    pub reserved2: [u8; 4],
+    /// Cycles the motion `motion_id` started later than its first block said.
+    pub motion_slip: u32,
     /// Hold position per axis, counts.
     pub hold: [f64; MAX_AXES],
     /// Latest feedback of each axis (first `axis_count` valid).
@@ -124,7 +124,7 @@ impl Default for StatusSample {
             motion_done: 0,
             motion_refused: 0,
             axis_count: 0,
-            reserved2: [0; 4],
+            motion_slip: 0,
             hold: [0.0; MAX_AXES],
             live: [LiveAxis::default(); MAX_AXES],
             homing: 0,

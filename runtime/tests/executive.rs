@@ -21,10 +21,6 @@ const COUNTS_PER_MM: f64 = 1000.0;
 /// loaded machine delays (a block that arrives after its start is refused as late).
 const LEAD: u64 = 1000;
 
-fn cell() -> CellConfig {
-    cell_with("a", "")
-}
-
 /// A one-axis cell named uniquely per test (`tag`) and process.
 fn cell_with(tag: &str, extra: &str) -> CellConfig {
     let text = format!(
@@ -201,7 +197,8 @@ impl Rig {
 
 #[test]
 fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
-    let cell = cell();
+    // A wide start slip: the test thread, stalled on a loaded machine, publishes late itself.
+    let cell = cell_with("refusals", "[setpoints]\nmax_start_slip_ms = 300");
     let mut rig = Rig::start(&cell);
     rig.command(CellCommand::PowerOn);
     rig.wait_state(CellState::Idle);
@@ -237,8 +234,8 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     );
     assert_eq!(rig.handoff.status().state(), CellState::Idle);
 
-    // A block whose first cycle has passed: refused as late.
-    rig.publish(2, rig.cycle().saturating_sub(5), &[home; 16], true);
+    // A first block more than `max_start_slip_ms` (300 cycles) late: refused.
+    rig.publish(2, rig.cycle() - 1000, &[home; 16], true);
     rig.wait_cycles(20);
     assert_eq!(rig.rejections(), vec![2, 1], "late_block");
     assert_eq!(rig.hold_mm(), home);
@@ -276,6 +273,36 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     let start = rig.cycle() + LEAD;
     let target = rig.publish_move(6, start, 3, true);
     rig.wait_motion_done(6);
+    assert!(
+        (rig.hold_mm() - target).abs() < 1e-9,
+        "{} vs {target}",
+        rig.hold_mm()
+    );
+
+    // A first block less late than that: the motion starts from rest when it arrives, and every
+    // block of it is due as many cycles after the cycle it names.
+    let late = rig.cycle() - 30;
+    let target = rig.publish_move(7, late, 3, true);
+    rig.wait_motion_done(7);
+    let slip: Vec<i64> = rig
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::StartSlipped)
+        .map(|e| e.value)
+        .collect();
+    assert_eq!(slip.len(), 1, "{:?}", rig.events);
+    assert!((30..=300).contains(&slip[0]), "slip {slip:?}");
+    assert_eq!(
+        i64::from(rig.handoff.status().motion_slip.load(Ordering::Acquire)),
+        slip[0]
+    );
+    let started = rig
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::MotionStarted && e.value == 7)
+        .unwrap()
+        .cycle;
+    assert_eq!(started, late + slip[0] as u64);
     assert!(
         (rig.hold_mm() - target).abs() < 1e-9,
         "{} vs {target}",

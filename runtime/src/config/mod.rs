@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::ethercat::emulator::ScheduledFault;
 use cellrt_axes::profiles::{DriveModel, DriveProfile};
-use cellrt_axes::CycleTime;
+use cellrt_axes::{CycleTime, Cycles};
 use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
 use cellrt_trajectory::units::Scaling;
 
@@ -116,6 +116,10 @@ pub struct SetpointConfig {
     /// How long the planner waits between the publish of a move's first block and its first cycle,
     /// in seconds (must cover the hand-over latency).
     pub start_delay: f64,
+    /// How many cycles late a motion's first block may reach the RT thread and still start: the
+    /// cell is at rest, so the whole motion then runs that many cycles later than planned
+    /// (a stalled host delays the start instead of failing it). Later than this, it is refused.
+    pub max_start_slip: Cycles,
 }
 
 /// What the RT thread does when a watchdog trips. After any reaction the cell refuses motion

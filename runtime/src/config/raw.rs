@@ -165,6 +165,9 @@ pub struct RawSetpoints {
     /// Delay from first publish to first cycle of a move, ms.
     #[serde(default = "default_start_delay_ms")]
     pub start_delay_ms: f64,
+    /// How late a motion's first block may reach the RT thread and still start, ms (absent:
+    /// 100 ms, or what the setpoint buffer holds beyond the lookahead if that is less).
+    pub max_start_slip_ms: Option<f64>,
 }
 
 impl Default for RawSetpoints {
@@ -172,6 +175,7 @@ impl Default for RawSetpoints {
         RawSetpoints {
             lookahead_ms: default_lookahead_ms(),
             start_delay_ms: default_start_delay_ms(),
+            max_start_slip_ms: None,
         }
     }
 }

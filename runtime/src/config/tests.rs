@@ -109,6 +109,38 @@ fn lookahead_beyond_the_setpoint_buffer_is_refused() {
 }
 
 #[test]
+fn the_start_slip_defaults_to_100_ms_within_the_buffer_and_is_checked() {
+    let c = parse(&demo_text()).unwrap();
+    assert_eq!(c.setpoints.max_start_slip, Cycles(100));
+    // At 125 µs the buffer holds 252 blocks of 16 cycles = 4032 cycles: 500 ms of lookahead
+    // leaves 32 cycles, and the default takes what is left instead of 800.
+    let fast = demo_text()
+        .replace("cycle_time_us = 1000", "cycle_time_us = 125")
+        .replace("lookahead_ms = 100", "lookahead_ms = 500");
+    assert_eq!(parse(&fast).unwrap().setpoints.max_start_slip, Cycles(32));
+    let slip = |v: &str| {
+        demo_text().replace(
+            "start_delay_ms = 20",
+            &format!("start_delay_ms = 20\nmax_start_slip_ms = {v}"),
+        )
+    };
+    assert_eq!(
+        parse(&slip("0")).unwrap().setpoints.max_start_slip,
+        Cycles(0)
+    );
+    assert_eq!(
+        parse(&slip("2.5")).unwrap().setpoints.max_start_slip,
+        Cycles(3)
+    );
+    for bad in ["-1", "nan", "4000"] {
+        let e = parse(&slip(bad)).unwrap_err();
+        assert_eq!(e.key, "setpoints.max_start_slip_ms", "{bad}: {e}");
+    }
+    let e = parse(&slip("4000")).unwrap_err();
+    assert!(e.message.contains("room for 3932 more cycles"), "{e}");
+}
+
+#[test]
 fn recording_rotation_and_flush_are_validated() {
     let with = |extra: &str| {
         demo_text().replace(

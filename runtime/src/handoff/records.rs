@@ -113,6 +113,9 @@ pub enum EventKind {
     /// Bring-up skipped an optional setting of an axis' SubDevice that refused it (pushed by
     /// the controller before the loop starts; value: [`encode_refused_sdo`]).
     BringUpWarning,
+    /// A motion's first block reached the RT thread late, within `setpoints.max_start_slip_ms`:
+    /// the motion started from rest that many cycles late, all of it shifted (value: cycles).
+    StartSlipped,
 }
 
 /// The value of a `bring_up_warning` event: abort code (bits 0–31), sub-index (32–39), index

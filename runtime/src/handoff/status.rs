@@ -126,6 +126,9 @@ pub struct CellStatus {
     pub motion_done: AtomicU32,
     /// Id of the last motion whose first block was refused: it never started.
     pub motion_refused: AtomicU32,
+    /// Cycles the motion `motion_id` started later than its first block said (stored before
+    /// `motion_id`): its blocks are due that much later.
+    pub motion_slip: AtomicU32,
     /// Hold position of each axis (f64 bits, counts): where its next motion must start.
     pub hold: [AtomicU64; MAX_AXES],
     /// Set by the RT thread once the loop runs.
@@ -166,6 +169,7 @@ impl Default for CellStatus {
             motion_id: AtomicU32::new(0),
             motion_done: AtomicU32::new(0),
             motion_refused: AtomicU32::new(0),
+            motion_slip: AtomicU32::new(0),
             hold: std::array::from_fn(|_| AtomicU64::new(0f64.to_bits())),
             running: AtomicBool::new(false),
             live: std::array::from_fn(|_| AxisLive::default()),

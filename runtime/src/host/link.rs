@@ -86,6 +86,8 @@ pub struct StatusSnapshot {
     pub motion_done: u32,
     /// Last motion whose first block the RT thread refused (never started).
     pub motion_refused: u32,
+    /// Cycles `motion_id` started later than planned (its first block came late).
+    pub motion_slip: u32,
     /// Hold position per axis, counts.
     pub hold: [f64; MAX_AXES],
     /// Latest feedback of each axis.
@@ -147,6 +149,7 @@ pub fn snapshot(handoff: &HostEnd, axes: usize) -> StatusSnapshot {
         state: s.state(),
         stop_reason: s.stop_reason(),
         motion_id: s.motion_id.load(Ordering::Acquire),
+        motion_slip: s.motion_slip.load(Ordering::Relaxed),
         motion_done: s.motion_done.load(Ordering::Acquire),
         motion_refused: s.motion_refused.load(Ordering::Acquire),
         hold,
@@ -254,6 +257,7 @@ impl CellLink for RemoteLink {
                     motion_id: s.motion_id,
                     motion_done: s.motion_done,
                     motion_refused: s.motion_refused,
+                    motion_slip: s.motion_slip,
                     hold: s.hold,
                     live: s.live,
                     homing: HomingStatus::decode(s.homing),

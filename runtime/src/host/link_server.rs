@@ -66,6 +66,7 @@ impl LinkServer {
                         motion_id: snap.motion_id,
                         motion_done: snap.motion_done,
                         motion_refused: snap.motion_refused,
+                        motion_slip: snap.motion_slip,
                         axis_count: n as u32,
                         hold: snap.hold,
                         live: snap.live,

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use cellrt_axes::comm::{DetectorParams, MAX_INTERMITTENT};
 use cellrt_axes::profiles::DriveModel;
-use cellrt_axes::CycleTime;
+use cellrt_axes::{CycleTime, Cycles};
 
 use super::raw::{RawAxis, RawCellConfig, RawRecording, RawRt, RawSetpoints, RawWatchdogs};
 use super::{
@@ -243,10 +243,51 @@ fn setpoint_config(
             ),
         ));
     }
+    let max_start_slip = start_slip(file, raw, cycles, max_cycles, cycle_time)?;
     Ok(SetpointConfig {
         lookahead,
         start_delay,
+        max_start_slip,
     })
+}
+
+/// How late a first block may start (`setpoints.max_start_slip_ms`): the blocks published
+/// meanwhile wait in the setpoint buffer, so the slip and the lookahead share its room.
+fn start_slip(
+    file: &Path,
+    raw: &RawSetpoints,
+    lookahead_cycles: f64,
+    max_cycles: usize,
+    cycle_time: CycleTime,
+) -> Result<Cycles, ConfigError> {
+    const DEFAULT_MS: f64 = 100.0;
+    let us = f64::from(cycle_time.as_micros());
+    let room = max_cycles as f64 - lookahead_cycles;
+    let cycles = match raw.max_start_slip_ms {
+        None => (DEFAULT_MS * 1e3 / us).ceil().min(room),
+        Some(ms) if !ms.is_finite() || ms < 0.0 => {
+            return Err(ConfigError::new(
+                file,
+                "setpoints.max_start_slip_ms",
+                format!("{ms} is not a duration of 0 ms or more"),
+            ))
+        }
+        Some(ms) => {
+            let cycles = (ms * 1e3 / us).ceil();
+            if cycles > room {
+                return Err(ConfigError::new(
+                    file,
+                    "setpoints.max_start_slip_ms",
+                    format!(
+                        "{ms} ms is {cycles} cycles; with the lookahead the setpoint buffer has room for {room} more cycles ({:.0} ms)",
+                        room * us / 1e3
+                    ),
+                ));
+            }
+            cycles
+        }
+    };
+    Ok(Cycles(cycles as u32))
 }
 
 /// `[watchdogs]`: the fault reaction of each watchdog.

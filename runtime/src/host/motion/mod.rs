@@ -14,6 +14,7 @@ mod error;
 use std::time::{Duration, Instant};
 
 use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::Cycles;
 use cellrt_trajectory::{
     plan_waypoints, AxisState, KinematicLimits, LineMove, MoveAxis, MoveSampler, OnlineAxis,
     OnlineMotion, TorqueRamp,
@@ -643,7 +644,7 @@ impl MotionEngine {
         let id = active.motion_id;
         let s = link.status()?;
         let next_cycle = active.start_cycle + active.next - 1;
-        if let Err(e) = check_running(&s, id, next_cycle) {
+        if let Err(e) = check_running(&s, id, next_cycle, self.cell.setpoints.max_start_slip) {
             self.active = None;
             return Err(e);
         }
@@ -657,7 +658,7 @@ impl MotionEngine {
         let cycle_ns = self.cell.cycle_time.as_nanos() as f64;
         let lookahead = ((self.cell.setpoints.lookahead * 1e9 / cycle_ns).ceil() as u64)
             .max(2 * BLOCK_CYCLES as u64);
-        let mut now = s.cycle;
+        let mut now = motion_cycle(&s, id);
         while let Some(a) = self.active.as_ref() {
             if a.last_published || a.start_cycle + a.next - 1 > now + lookahead {
                 break;
@@ -669,7 +670,7 @@ impl MotionEngine {
                     crate::config::FaultKind::PlannerStall.code(),
                 );
                 std::thread::sleep(Duration::from_nanos(ns));
-                now = link.status()?.cycle;
+                now = motion_cycle(&link.status()?, id);
                 continue;
             }
             self.publish_block()?;
@@ -789,8 +790,25 @@ fn group_row(
     }
 }
 
-/// Fails if the RT thread stopped motion `id` or never started it.
-fn check_running(s: &StatusSnapshot, id: u32, next_cycle: u64) -> Result<(), MotionError> {
+/// The RT thread's latest cycle on motion `id`'s timeline: the cycle its blocks name, which
+/// runs behind when the motion started late (`setpoints.max_start_slip_ms`).
+fn motion_cycle(s: &StatusSnapshot, id: u32) -> u64 {
+    if s.motion_id == id {
+        s.cycle.saturating_sub(u64::from(s.motion_slip))
+    } else {
+        s.cycle
+    }
+}
+
+/// Fails if the RT thread stopped motion `id` or never started it (`max_slip`: how late the RT
+/// thread may still start it, `setpoints.max_start_slip_ms`).
+fn check_running(
+    s: &StatusSnapshot,
+    id: u32,
+    next_cycle: u64,
+    max_slip: Cycles,
+) -> Result<(), MotionError> {
+    let cycle = motion_cycle(s, id);
     match s.state {
         CellState::Stopping | CellState::Stopped | CellState::Faulted => {
             let why = s.stop_reason.map(|r| r.as_str()).unwrap_or("unknown");
@@ -807,14 +825,14 @@ fn check_running(s: &StatusSnapshot, id: u32, next_cycle: u64) -> Result<(), Mot
         CellState::Idle
             if s.motion_id == id
                 && s.motion_done != id
-                && s.cycle > next_cycle + 2 * BLOCK_CYCLES as u64 =>
+                && cycle > next_cycle + 2 * BLOCK_CYCLES as u64 =>
         {
             Err(MotionError::EndNotReported(id))
         }
         CellState::Idle
             if s.motion_id != id
                 && s.motion_done != id
-                && s.cycle > next_cycle + 2 * BLOCK_CYCLES as u64 =>
+                && cycle > next_cycle + 2 * BLOCK_CYCLES as u64 + u64::from(max_slip.0) =>
         {
             Err(MotionError::NotStarted(id))
         }
@@ -842,35 +860,58 @@ mod tests {
             motion_id,
             motion_done,
             motion_refused,
+            motion_slip: 0,
             hold: [0.0; MAX_AXES],
             live: [LiveAxis::default(); MAX_AXES],
             homing: HomingStatus::default(),
         }
     }
 
+    const SLIP: Cycles = Cycles(100);
+
     #[test]
     fn a_motion_whose_first_block_was_refused_fails_at_once() {
         // Motion 7 is refused at its start cycle 100: the planner knows in the next status.
         let s = idle_at(101, 6, 6, 7);
         assert!(matches!(
-            check_running(&s, 7, 500),
+            check_running(&s, 7, 500, SLIP),
             Err(MotionError::NotStarted(7))
         ));
         // A motion not yet started and not refused keeps waiting for its start cycle.
         let s = idle_at(101, 6, 6, 5);
-        assert!(check_running(&s, 7, 500).is_ok());
+        assert!(check_running(&s, 7, 500, SLIP).is_ok());
         // Started, then idle past its end without a report: an error, not a wait.
         let s = idle_at(500 + 2 * BLOCK_CYCLES as u64 + 1, 7, 6, 5);
         assert!(matches!(
-            check_running(&s, 7, 500),
+            check_running(&s, 7, 500, SLIP),
             Err(MotionError::EndNotReported(7))
         ));
-        assert!(check_running(&idle_at(501, 7, 6, 5), 7, 500).is_ok());
-        // Without a word from the RT thread it fails once its blocks are long past.
-        let s = idle_at(500 + 2 * BLOCK_CYCLES as u64 + 1, 6, 6, 5);
+        assert!(check_running(&idle_at(501, 7, 6, 5), 7, 500, SLIP).is_ok());
+        // Without a word from the RT thread it fails once its blocks are long past, the
+        // start slip the RT thread allows included.
+        let s = idle_at(500 + 2 * BLOCK_CYCLES as u64 + 100, 6, 6, 5);
+        assert!(check_running(&s, 7, 500, SLIP).is_ok());
+        let s = idle_at(500 + 2 * BLOCK_CYCLES as u64 + 101, 6, 6, 5);
         assert!(matches!(
-            check_running(&s, 7, 500),
+            check_running(&s, 7, 500, SLIP),
             Err(MotionError::NotStarted(7))
         ));
+    }
+
+    #[test]
+    fn a_late_started_motion_is_judged_on_its_own_timeline() {
+        // Motion 7 started 40 cycles late: its blocks are due 40 cycles after the cycle they
+        // name, so it has not yet outlived its last published block at cycle 500.
+        let mut s = idle_at(500 + 2 * BLOCK_CYCLES as u64 + 40, 7, 6, 5);
+        s.motion_slip = 40;
+        assert_eq!(motion_cycle(&s, 7), 500 + 2 * BLOCK_CYCLES as u64);
+        assert!(check_running(&s, 7, 500, SLIP).is_ok());
+        s.cycle += 1;
+        assert!(matches!(
+            check_running(&s, 7, 500, SLIP),
+            Err(MotionError::EndNotReported(7))
+        ));
+        // The slip belongs to the motion the status names, not to the next one.
+        assert_eq!(motion_cycle(&s, 8), s.cycle);
     }
 }

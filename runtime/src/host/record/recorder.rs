@@ -677,6 +677,7 @@ pub fn describe_event(e: &EventRecord) -> String {
         }
         EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
         EventKind::RecordsDropped => format!("{} records dropped", e.value),
+        EventKind::StartSlipped => format!("the motion started {} cycles late", e.value),
         EventKind::HomingStarted => match e.value {
             crate::handoff::HOME_BY_C_CR => "home setting by C_CR (current position)".to_string(),
             crate::handoff::HOME_BY_C_CR2 => "home setting by C_CR2 (last Z phase)".to_string(),

@@ -6,6 +6,7 @@ use std::sync::atomic::Ordering;
 use cellrt_axes::bus::{AcyclicBus, CyclicBus};
 use cellrt_axes::cia402::master::{MasterRequest, MasterState};
 use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::Cycles;
 
 use super::Executive;
 use crate::config::FaultReaction;
@@ -557,10 +558,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     Some(Err(None)) // stale block of an ended or refused motion
                 } else if !b.is_well_formed(n) {
                     Some(Err(Some((RejectReason::Malformed, h.motion_id))))
-                } else if h.start_cycle < cycle {
+                } else if h.start_cycle + u64::from(self.max_start_slip.0) < cycle {
                     Some(Err(Some((RejectReason::LateBlock, h.motion_id))))
-                } else if h.start_cycle == cycle {
-                    Some(Ok(h.motion_id))
+                } else if h.start_cycle <= cycle {
+                    // At rest, a late first block shifts the whole motion instead of failing it.
+                    Some(Ok((h.motion_id, Cycles((cycle - h.start_cycle) as u32))))
                 } else {
                     None
                 }
@@ -580,12 +582,18 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 self.refuse_start(id);
                 true
             }
-            Some(Ok(id)) => {
+            Some(Ok((id, slip))) => {
                 self.motion_id = id;
+                self.slip = slip;
                 match self.follow_stream() {
                     Lookup::Applied => {
-                        self.handoff.status().motion_id.store(id, Ordering::Release);
+                        let status = self.handoff.status();
+                        status.motion_slip.store(slip.0, Ordering::Relaxed);
+                        status.motion_id.store(id, Ordering::Release);
                         self.event(EventKind::MotionStarted, NO_AXIS, i64::from(id));
+                        if slip.0 > 0 {
+                            self.event(EventKind::StartSlipped, NO_AXIS, i64::from(slip.0));
+                        }
                         self.set_state(CellState::Moving);
                     }
                     Lookup::Rejected(axis, reason) => {
@@ -618,7 +626,8 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
     /// Applies this cycle's setpoints from the stream, checking continuity and limits before
     /// anything is applied.
     fn follow_stream(&mut self) -> Lookup {
-        let cycle = self.cycle;
+        // The motion's own timeline: the cycle its blocks name.
+        let cycle = self.cycle - u64::from(self.slip.0);
         let n = self.axes.len();
         // After an overrun the setpoint may move as far as the skipped cycles allow.
         let steps = f64::from(self.elapsed.0.max(1));

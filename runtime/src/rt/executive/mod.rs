@@ -103,6 +103,10 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     motion_id: u32,
     /// The last motion whose first block was refused: its later blocks are dropped unseen.
     refused_motion: u32,
+    /// How late a motion's first block may arrive and still start (`setpoints.max_start_slip_ms`).
+    max_start_slip: Cycles,
+    /// How many cycles late the running motion started: its blocks are due that much later.
+    slip: Cycles,
     stop_reason: Option<crate::handoff::StopReason>,
     /// How the current stop is carried out.
     reaction: FaultReaction,
@@ -160,6 +164,8 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             state: CellState::Disabled,
             motion_id: 0,
             refused_motion: 0,
+            max_start_slip: cell.setpoints.max_start_slip,
+            slip: Cycles(0),
             stop_reason: None,
             reaction: FaultReaction::ControlledStop,
             fault_reset_pending: false,

@@ -103,6 +103,7 @@ fn read_only_cycle_time_that_matches_and_no_60f4h_come_up_with_dc_on_and_off() {
             cycle_time: CycleTimeObject::ReadOnly(CYCLE_US * 1000),
             following_error_object: false,
             distributed_clocks: EmulatedDc::Optional,
+            ..SubDeviceVariant::default()
         };
         let mut bus = bring_up(variant, dc).unwrap_or_else(|e| panic!("dc {dc}: {e}"));
         assert_eq!(op(&mut bus), AlState::Op, "dc {dc}");

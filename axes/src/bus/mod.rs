@@ -9,10 +9,12 @@
 //!
 //! [`SimDrive`]: crate::sim::drive::SimDrive
 
+mod acyclic;
 mod error;
 mod notice;
 mod sim;
 
+pub use acyclic::{ImmediateSlot, PostError, SdoData, SdoOutcome, SdoRequest};
 pub use error::BusError;
 pub use notice::{Emergency, LinkState, MailboxNotice, ERROR_REGISTER_GENERIC};
 pub use sim::SimBus;
@@ -63,27 +65,36 @@ pub trait CyclicBus {
     }
 }
 
-/// Acyclic access to the drives (SDO on a real bus) and the bus's shutdown: called at
-/// start-up, at mode changes and homings, at fault edges and at the end, never every cycle.
+/// Acyclic access to the drives (SDO on a real bus) and the bus's shutdown. While the loop
+/// runs it posts requests ([`AcyclicBus::post_sdo`]) and takes their outcomes in later cycles
+/// ([`AcyclicBus::take_sdo`]); the blocking calls are for before the loop starts and after it
+/// ends.
 pub trait AcyclicBus {
-    /// Acyclic read (an SDO upload on a real bus) of `index:sub` of `axis`; called at start-up
-    /// and after a homing (607Ch). `Err(abort code)` as for [`AcyclicBus::sdo_download`].
+    /// Posts `request` for `axis`; its outcome comes from [`AcyclicBus::take_sdo`] in a later
+    /// call. Never blocks: the transfer runs off the RT thread (EtherCAT: the mailbox worker,
+    /// whose frames the cyclic exchange carries). One request per axis at a time.
+    fn post_sdo(&mut self, axis: usize, request: SdoRequest) -> Result<(), PostError> {
+        let _ = (axis, request);
+        Err(PostError::Unsupported)
+    }
+    /// The outcome of `axis`' posted request once it has completed (taken once); `None` while
+    /// it is in flight or when none was posted.
+    fn take_sdo(&mut self, axis: usize) -> Option<SdoOutcome> {
+        let _ = axis;
+        None
+    }
+    /// Acyclic read (an SDO upload on a real bus) of `index:sub` of `axis`, blocking: before
+    /// the loop starts (607Ch). `Err(abort code)` as for [`AcyclicBus::sdo_download`].
     fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
         let _ = (axis, index, sub);
         Err(SDO_UNSUPPORTED)
     }
-    /// Acyclic write (an SDO download on a real bus) of `data` to `index:sub` of `axis`; called
-    /// at a homing start (6098h). `Err(abort code)`, [`SDO_UNSUPPORTED`] where the bus has no
+    /// Acyclic write (an SDO download on a real bus) of `data` to `index:sub` of `axis`,
+    /// blocking: outside the loop. `Err(abort code)`, [`SDO_UNSUPPORTED`] where the bus has no
     /// acyclic channel.
     fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
         let _ = (axis, index, sub, data);
         Err(SDO_UNSUPPORTED)
-    }
-    /// 603Fh Error code of `axis` by acyclic read (an SDO upload on a real bus), for maps that
-    /// do not carry it. Called once per fault edge. `None` where unsupported.
-    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
-        let _ = axis;
-        None
     }
     /// The bus part of the clean shutdown, after the loop's last exchange (EtherCAT: every
     /// SubDevice to PRE-OP). `Err` names what did not complete.

@@ -1,6 +1,9 @@
 //! [`SimBus`]: the simulated drives in-process, called directly at each exchange.
 
-use super::{AcyclicBus, BusError, CyclicBus, FaultInjection, SDO_UNSUPPORTED};
+use super::{
+    AcyclicBus, BusError, CyclicBus, FaultInjection, ImmediateSlot, PostError, SdoOutcome,
+    SdoRequest, SDO_UNSUPPORTED,
+};
 use crate::cycles::Cycles;
 use crate::sim::drive::SimDrive;
 
@@ -18,6 +21,8 @@ pub struct SimBus {
     scratch: Vec<Vec<u8>>,
     /// Per axis: the counter value frozen at the start of a corruption.
     frozen: Vec<Option<u8>>,
+    /// Per axis: the outcome of its posted acyclic request.
+    sdo_slots: Vec<ImmediateSlot>,
 }
 
 impl SimBus {
@@ -44,6 +49,7 @@ impl SimBus {
             corrupt: vec![0; n],
             scratch,
             frozen: vec![None; n],
+            sdo_slots: vec![ImmediateSlot::default(); n],
         }
     }
 
@@ -137,8 +143,23 @@ impl CyclicBus for SimBus {
 }
 
 impl AcyclicBus for SimBus {
-    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
-        self.get_drive(axis).map(|d| d.tx_pdo().error_code)
+    /// The in-process drives answer at once; the outcome waits in the axis' slot.
+    fn post_sdo(&mut self, axis: usize, request: SdoRequest) -> Result<(), PostError> {
+        let Some(d) = self.drives.get_mut(axis) else {
+            return Err(PostError::Unsupported);
+        };
+        self.sdo_slots[axis].post(|| match request {
+            SdoRequest::Upload { index, sub } => d
+                .sdo_upload(index, sub)
+                .map_or_else(|a| SdoOutcome::Aborted(a.0), SdoOutcome::Uploaded),
+            SdoRequest::Download { index, sub, data } => d
+                .sdo_download(index, sub, data.as_slice())
+                .map_or_else(|a| SdoOutcome::Aborted(a.0), |()| SdoOutcome::Downloaded),
+        })
+    }
+
+    fn take_sdo(&mut self, axis: usize) -> Option<SdoOutcome> {
+        self.sdo_slots.get_mut(axis)?.take()
     }
 
     fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {

@@ -89,6 +89,10 @@ impl SimDrive {
                 .upload(index, sub, self.plant().velocity())
                 .ok_or(SdoAbort::NO_SUBINDEX);
         }
+        if (index, sub) == (crate::pdo::objects::ERROR_CODE, 0) {
+            // The live error code, mapped or not (CiA 402 603Fh, mandatory in every drive).
+            return Ok(i64::from(self.tx_pdo().error_code));
+        }
         let entry = self.od_entry(index, sub)?;
         if (index, sub) == (HOME_OFFSET, 0) {
             return Ok(i64::from(self.home_offset()));

@@ -372,6 +372,9 @@ pub struct RawSimAxis {
     /// "absent".
     #[serde(default)]
     pub distributed_clocks: Option<String>,
+    /// Emulated SubDevice (EtherCAT axes): how long its firmware takes to answer an SDO, ms.
+    #[serde(default)]
+    pub sdo_response_ms: Option<f64>,
 }
 
 impl Default for RawSimAxis {
@@ -385,6 +388,7 @@ impl Default for RawSimAxis {
             cycle_time_object: None,
             following_error_object: None,
             distributed_clocks: None,
+            sdo_response_ms: None,
         }
     }
 }

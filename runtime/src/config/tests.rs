@@ -725,6 +725,7 @@ fn distributed_clocks_and_the_emulated_subdevice_variant_are_read_and_checked() 
             cycle_time: CycleTimeObject::ReadOnly(1_000_000),
             following_error_object: false,
             distributed_clocks: EmulatedDc::Required,
+            sdo_response_delay_ns: 0,
         }
     );
     for (from, to, key, reason) in [
@@ -753,4 +754,25 @@ fn distributed_clocks_and_the_emulated_subdevice_variant_are_read_and_checked() 
     .unwrap_err();
     assert_eq!(e.key, "axes[0].sim.following_error_object", "{e}");
     assert!(e.message.contains("only for drive = \"cia402\""), "{e}");
+}
+
+#[test]
+fn the_emulated_sdo_answer_time_is_for_ethercat_axes_and_bounded() {
+    let with = |text: String, v: &str| {
+        text.replacen(
+            "sim = { initial_position = 50.0 }",
+            &format!("sim = {{ initial_position = 50.0, sdo_response_ms = {v} }}"),
+            1,
+        )
+    };
+    let c = parse(&with(ethercat_text(), "50")).unwrap();
+    assert_eq!(c.axes[0].sim.subdevice.sdo_response_delay_ns, 50_000_000);
+    for bad in ["-1", "1001", "nan"] {
+        let e = parse(&with(ethercat_text(), bad)).unwrap_err();
+        assert_eq!(e.key, "axes[0].sim.sdo_response_ms", "{bad}: {e}");
+    }
+    let sim =
+        with(ethercat_text(), "50").replacen("transport = \"ethercat\"", "transport = \"sim\"", 1);
+    let e = parse(&sim).unwrap_err();
+    assert!(e.message.contains("only for transport"), "{e}");
 }

@@ -1,7 +1,7 @@
 //! The bus a cell runs on, chosen by its config: the in-process simulated drives, or an
 //! EtherCAT segment (emulated in-process or on a network interface).
 
-use cellrt_axes::bus::{LinkState, MailboxNotice};
+use cellrt_axes::bus::{LinkState, MailboxNotice, PostError, SdoOutcome, SdoRequest};
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::ethercat::emulator::Segment;
 use cellrt_axes::ethercat::master::{
@@ -237,8 +237,11 @@ impl AcyclicBus for CellBus {
     fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
         each!(self, b => b.sdo_download(axis, index, sub, data))
     }
-    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
-        each!(self, b => b.read_error_code(axis))
+    fn post_sdo(&mut self, axis: usize, request: SdoRequest) -> Result<(), PostError> {
+        each!(self, b => b.post_sdo(axis, request))
+    }
+    fn take_sdo(&mut self, axis: usize) -> Option<SdoOutcome> {
+        each!(self, b => b.take_sdo(axis))
     }
     fn close(&mut self) -> Result<(), String> {
         each!(self, b => b.close())

@@ -93,6 +93,8 @@ pub enum UnitError {
 #[derive(Debug)]
 pub struct Station {
     mem: Vec<u8>,
+    /// The segment's clock at the datagram being handled, ns.
+    now_ns: u64,
     sii: Vec<u8>,
     layout: StationLayout,
     identity: SubDeviceIdentity,
@@ -193,6 +195,7 @@ impl Station {
         let mailbox_in_len = usize::from(layout.mailbox_in.len);
         let mut s = Station {
             mem: vec![0; MEMORY_LEN],
+            now_ns: 0,
             sii,
             layout,
             identity,
@@ -219,6 +222,7 @@ impl Station {
                 response: vec![0; mailbox_in_len],
                 response_len: 0,
                 counter: 0,
+                response_due_ns: 0,
             },
             esi: None,
         };
@@ -441,6 +445,15 @@ impl Station {
         }
     }
 
+    /// The segment's clock moved to `now_ns`: an SDO response that has become due goes into
+    /// SM1.
+    fn tick(&mut self, now_ns: u64) {
+        self.now_ns = self.now_ns.max(now_ns);
+        if self.outbox.response_len > 0 {
+            self.fill_mailbox_in();
+        }
+    }
+
     /// The SYNC0 cycle programmed in the DC registers, ns.
     fn sync0_cycle_ns(&self) -> u32 {
         let a = usize::from(reg::DC_SYNC0_CYCLE);
@@ -516,6 +529,7 @@ impl Station {
         data: &mut [u8],
         now_ns: u64,
     ) -> Access {
+        self.tick(now_ns);
         let mut wrote = false;
         let mut read = false;
         let mut fmmus = [(0u32, 0u16, 0u16, 0u8); 8];

@@ -41,6 +41,10 @@ pub struct SubDeviceVariant {
     pub following_error_object: bool,
     /// Distributed clocks.
     pub distributed_clocks: EmulatedDc,
+    /// How long the firmware takes to answer an SDO request in OP, ns of the segment's clock
+    /// (the manuals give no mailbox answer time; 0: at once; bring-up's SDOs are answered at
+    /// once). Lets a test show that a slow answer does not hold up the cyclic exchange.
+    pub sdo_response_delay_ns: u64,
 }
 
 impl Default for SubDeviceVariant {
@@ -49,6 +53,7 @@ impl Default for SubDeviceVariant {
             cycle_time: CycleTimeObject::ReadWrite,
             following_error_object: true,
             distributed_clocks: EmulatedDc::Optional,
+            sdo_response_delay_ns: 0,
         }
     }
 }

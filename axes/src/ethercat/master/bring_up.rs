@@ -11,7 +11,10 @@ use ethercrab::{
     SubDeviceGroup, Timeouts,
 };
 
+use std::sync::Arc;
+
 use super::bus::EthercatBus;
+use super::carrier::carrier;
 use super::dc::DcAlignment;
 use super::error::{step, EthercatError};
 use super::group::{OpGroup, MAX_PDI, MAX_SUBDEVICES};
@@ -22,6 +25,7 @@ use super::process_image::ProcessImage;
 use super::pump::Wire;
 use super::refusal::{explain_refusal, BringUpWarning, RefusedSdo};
 use super::segment::{check_models, check_unit_pdo_limits, SegmentConfig, SegmentStation};
+use super::worker::{Ethercrab, MailboxWorker, Shared};
 use crate::bus::FrameCounters;
 use crate::cycles::CycleTime;
 use crate::ethercat::identity::SubDeviceIdentity;
@@ -77,12 +81,33 @@ impl EthercatBus {
             let sd = step("SubDevice lookup", group.subdevice(&maindevice, position))?;
             station_addresses.push(sd.configured_address());
         }
+        let (carrier, carried) = carrier();
+        let shared = Arc::new(Shared::new(image.axes.len(), plans.len()));
+        let worker = MailboxWorker {
+            ethercrab: Ethercrab {
+                maindevice,
+                group,
+                tx,
+                rx,
+            },
+            link: carried,
+            frame: vec![0; FRAME_BUF],
+            config: config.clone(),
+            axes: image.axes.iter().map(|a| (a.station, a.slot)).collect(),
+            station_addresses: station_addresses.clone(),
+            sm1: mailbox.sm1.clone(),
+            slots: mailbox.slots.clone(),
+            shared,
+        }
+        .spawn()
+        .map_err(|e| EthercatError::Bringup {
+            step: format!("mailbox worker thread: {e}"),
+            source: ethercrab::error::Error::Internal,
+        })?;
         Ok(EthercatBus {
             link,
-            tx,
-            rx,
-            maindevice,
-            group,
+            carrier,
+            worker,
             config,
             axes: image.axes,
             stations: plans.len(),

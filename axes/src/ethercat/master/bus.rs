@@ -3,31 +3,32 @@
 //! own frame (one LRW over the process image, preallocated, no heap allocation per cycle; see
 //! docs/architecture.md on ethercrab's `tx_rx_dc()`), with the working counter checked every cycle.
 
-use ethercrab::{MainDevice, PduRx, PduTx};
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
 
+use super::carrier::CarrierRt;
 use super::dc::DcAlignment;
-use super::group::OpGroup;
-use super::group::MASTER_MAC;
 pub use super::group::{MAX_PDI, MAX_SUBDEVICES};
 use super::link::Link;
-use super::mailbox::{MailboxWatch, SM_STATUS_FULL};
+use super::mailbox::MailboxWatch;
 use super::process_image::AxisImage;
 use super::segment::SegmentConfig;
+use super::worker::WorkerHandle;
 use crate::bus::{
     AcyclicBus, BusError, CyclicBus, FaultInjection, FrameCounters, LinkState, MailboxNotice,
-    SDO_UNSUPPORTED,
+    PostError, SdoData, SdoOutcome, SdoRequest,
 };
 use crate::cycles::Cycles;
-use crate::ethercat::frame::{self, Command, DatagramSpan, FrameBuilder};
-use crate::ethercat::register::{self as reg, AlStatus};
+use crate::ethercat::frame::DatagramSpan;
+use crate::ethercat::register::AlStatus;
 
 /// An EtherCAT segment in OP as a [`Bus`].
 pub struct EthercatBus {
     pub(super) link: Box<dyn Link>,
-    pub(super) tx: PduTx<'static>,
-    pub(super) rx: PduRx<'static>,
-    pub(super) maindevice: MainDevice<'static>,
-    pub(super) group: OpGroup,
+    /// Carries the mailbox worker's frames after the cyclic one.
+    pub(super) carrier: CarrierRt,
+    /// The mailbox worker: every acyclic transfer in OP.
+    pub(super) worker: WorkerHandle,
     pub(super) config: SegmentConfig,
     pub(super) axes: Vec<AxisImage>,
     /// SubDevices on the segment.
@@ -80,6 +81,11 @@ impl EthercatBus {
 }
 
 /// The SDO abort code of an ethercrab error (0800 0000h general error for others).
+/// CiA 301 abort 0504 0000h "SDO protocol timed out": a blocking transfer got no answer.
+pub const SDO_TIMED_OUT: u32 = 0x0504_0000;
+/// How long a blocking transfer (outside the loop) waits for the mailbox worker.
+const BLOCKING_SDO_TIMEOUT: Duration = Duration::from_secs(5);
+
 pub(super) fn abort_code(e: ethercrab::error::Error) -> u32 {
     match e {
         ethercrab::error::Error::Mailbox(ethercrab::error::MailboxError::Aborted {
@@ -112,109 +118,11 @@ impl CyclicBus for EthercatBus {
         self.axes.get(axis).map_or(&[], |a| a.tx.as_slice())
     }
 
+    /// The cyclic frame, then at most one frame of the mailbox worker.
     fn exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {
-        // The time since the last frame: the cycles passed, moved by the deadline correction the
-        // RT loop took (a virtual clock follows it; a real one ignores it).
-        let period = u64::from(elapsed.0) * self.config.cycle.as_nanos();
-        self.link
-            .advance(period.saturating_add_signed(self.dc_taken));
-        self.dc_taken = 0;
-        if elapsed.0 > 1 {
-            self.link.host_stall(u64::from(elapsed.0 - 1));
-        }
-        for a in &self.axes {
-            self.pdi[a.outputs.clone()].copy_from_slice(&a.rx);
-        }
-        self.index = self.index.wrapping_add(1);
-        let (span, dc_span, len) = {
-            let mut b = FrameBuilder::new(&mut self.frame, MASTER_MAC);
-            let Some(span) = b.push(Command::Lrw, self.index, 0, &self.pdi) else {
-                return Err(BusError::FrameTooLarge {
-                    bytes: self.pdi.len(),
-                });
-            };
-            let address = (u32::from(reg::DC_SYSTEM_TIME) << 16) | u32::from(self.dc.reference);
-            let Some(dc_span) = b.push(Command::Frmw, self.index, address, &[0; 8]) else {
-                return Err(BusError::FrameTooLarge {
-                    bytes: self.pdi.len() + 8,
-                });
-            };
-            // Each SubDevice's AL status and code (monitoring, ETG.1000.6 §6.4).
-            for (slot, &station) in self.al_spans.iter_mut().zip(&self.station_addresses) {
-                let address = (u32::from(reg::AL_STATUS) << 16) | u32::from(station);
-                *slot = b.push(
-                    Command::Fprd,
-                    self.index,
-                    address,
-                    &[0; reg::AL_STATUS_READ_LEN],
-                );
-                if slot.is_none() {
-                    return Err(BusError::FrameTooLarge {
-                        bytes: self.pdi.len()
-                            + 8
-                            + self.station_addresses.len() * reg::AL_STATUS_READ_LEN,
-                    });
-                }
-            }
-            // Each mailbox SubDevice's SM1 status: full means a message it sent unasked (an
-            // Emergency), read by `take_mailbox_notice` (ETG.1000.4 §6.7.2).
-            for ((slot, &station), mb) in self
-                .mailbox
-                .spans
-                .iter_mut()
-                .zip(&self.station_addresses)
-                .zip(&self.mailbox.sm1)
-            {
-                *slot = None;
-                if mb.is_none() {
-                    continue;
-                }
-                let address = (u32::from(reg::sync_manager(1) + 5) << 16) | u32::from(station);
-                *slot = b.push(Command::Fprd, self.index, address, &[0]);
-                if slot.is_none() {
-                    return Err(BusError::FrameTooLarge {
-                        bytes: self.pdi.len() + 8 + self.station_addresses.len() * 8,
-                    });
-                }
-            }
-            (span, dc_span, b.finish())
-        };
-        self.counters.frames += 1;
-        if self.link.round_trip(&mut self.frame, len).is_err() {
-            self.counters.lost += 1;
-            return Err(BusError::FrameLost);
-        }
-        if frame::wkc(&self.frame, &dc_span) != 0 {
-            let at = dc_span.data_offset;
-            let mut t = [0u8; 8];
-            t.copy_from_slice(&self.frame[at..at + 8]);
-            self.dc.observe(u64::from_le_bytes(t));
-        }
-        for (al, span) in self.al.iter_mut().zip(&self.al_spans) {
-            if let Some(span) = span.filter(|s| frame::wkc(&self.frame, s) == 1) {
-                let mut b = [0u8; reg::AL_STATUS_READ_LEN];
-                b.copy_from_slice(&self.frame[span.data_offset..][..reg::AL_STATUS_READ_LEN]);
-                *al = Some(AlStatus::from_bytes(&b));
-            }
-        }
-        for (full, span) in self.mailbox.full.iter_mut().zip(&self.mailbox.spans) {
-            if let Some(span) = span.filter(|s| frame::wkc(&self.frame, s) == 1) {
-                *full |= self.frame[span.data_offset] & SM_STATUS_FULL != 0;
-            }
-        }
-        let wkc = frame::wkc(&self.frame, &span);
-        if wkc != self.expected_wkc {
-            self.counters.wkc_errors += 1;
-            return Err(BusError::WorkingCounter {
-                expected: self.expected_wkc,
-                found: wkc,
-            });
-        }
-        let data = &self.frame[span.data_offset..span.data_offset + self.pdi.len()];
-        for a in &mut self.axes {
-            a.tx.copy_from_slice(&data[a.inputs.clone()]);
-        }
-        Ok(())
+        let result = self.cyclic_exchange(elapsed);
+        self.carrier.carry(self.link.as_mut());
+        result
     }
 
     fn frame_counters(&self) -> Option<FrameCounters> {
@@ -225,17 +133,15 @@ impl CyclicBus for EthercatBus {
         self.al_status(axis).map(LinkState::from)
     }
 
-    /// A notice already read (before an SDO), else one acyclic read of the first SubDevice
-    /// whose SM1 the last cyclic frame saw full. A lost read frame is tried again next cycle.
+    /// A notice the mailbox worker has read; each SubDevice whose SM1 the last cyclic frame
+    /// saw full is handed to the worker to read (its message comes in a later cycle).
     fn take_mailbox_notice(&mut self) -> Option<MailboxNotice> {
-        if let Some(n) = self.mailbox.notices.pop_front() {
-            return Some(n);
+        for (station, full) in self.mailbox.full.iter_mut().enumerate() {
+            if std::mem::take(full) {
+                self.worker.shared.drain[station].store(true, Ordering::Release);
+            }
         }
-        let station = self.mailbox.full.iter().position(|&f| f)?;
-        if self.read_mailbox(station).is_ok() {
-            self.mailbox.full[station] = false;
-        }
-        self.mailbox.notices.pop_front()
+        self.worker.shared.notices.pop()
     }
 
     fn deadline_correction_ns(&mut self) -> i64 {
@@ -251,32 +157,74 @@ impl CyclicBus for EthercatBus {
     }
 }
 
+impl EthercatBus {
+    /// Notices dropped because the queue of untaken ones was full (diagnostics).
+    pub fn mailbox_notices_dropped(&self) -> u64 {
+        self.worker.shared.dropped.load(Ordering::Relaxed)
+    }
+
+    /// A transfer outside the loop: posted to the worker, whose frames this thread carries
+    /// until the outcome is there (or [`BLOCKING_SDO_TIMEOUT`]: [`SDO_TIMED_OUT`]). A virtual
+    /// link clock moves on with the time it takes.
+    fn sdo_blocking(&mut self, axis: usize, request: SdoRequest) -> SdoOutcome {
+        match self.post_sdo(axis, request) {
+            Ok(()) => {}
+            Err(PostError::Unsupported) => return SdoOutcome::Aborted(crate::bus::SDO_UNSUPPORTED),
+            Err(PostError::Busy) => return SdoOutcome::Aborted(SDO_TIMED_OUT),
+        }
+        let start = Instant::now();
+        let mut last = start;
+        loop {
+            let now = Instant::now();
+            self.link
+                .advance(now.duration_since(last).as_nanos() as u64);
+            last = now;
+            self.carrier.carry(self.link.as_mut());
+            if let Some(outcome) = self.take_sdo(axis) {
+                return outcome;
+            }
+            if start.elapsed() > BLOCKING_SDO_TIMEOUT {
+                return SdoOutcome::Aborted(SDO_TIMED_OUT);
+            }
+            std::thread::sleep(Duration::from_micros(20));
+        }
+    }
+}
+
 impl AcyclicBus for EthercatBus {
+    /// Into the axis' slot for the mailbox worker: no frame, no wait.
+    fn post_sdo(&mut self, axis: usize, request: SdoRequest) -> Result<(), PostError> {
+        self.worker
+            .shared
+            .sdo
+            .get(axis)
+            .ok_or(PostError::Unsupported)?
+            .post(request)
+    }
+
+    fn take_sdo(&mut self, axis: usize) -> Option<SdoOutcome> {
+        self.worker.shared.sdo.get(axis)?.take()
+    }
+
     fn sdo_upload(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
-        self.sdo_read_value(axis, index, sub)
+        match self.sdo_blocking(axis, SdoRequest::Upload { index, sub }) {
+            SdoOutcome::Uploaded(v) => Ok(v),
+            SdoOutcome::Aborted(code) => Err(code),
+            SdoOutcome::Downloaded => Err(crate::bus::SDO_UNSUPPORTED),
+        }
     }
 
     fn sdo_download(&mut self, axis: usize, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
-        let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
-        self.sdo_transfer(axis, station, async |sd| match *data {
-            [a] => sd.sdo_write(index, sub, a).await,
-            [a, b] => sd.sdo_write(index, sub, u16::from_le_bytes([a, b])).await,
-            [a, b, c, d] => {
-                sd.sdo_write(index, sub, u32::from_le_bytes([a, b, c, d]))
-                    .await
-            }
-            _ => Err(ethercrab::error::Error::Internal),
-        })
+        let data = SdoData::new(data).ok_or(crate::bus::SDO_UNSUPPORTED)?;
+        match self.sdo_blocking(axis, SdoRequest::Download { index, sub, data }) {
+            SdoOutcome::Downloaded => Ok(()),
+            SdoOutcome::Aborted(code) => Err(code),
+            SdoOutcome::Uploaded(_) => Err(crate::bus::SDO_UNSUPPORTED),
+        }
     }
 
     fn close(&mut self) -> Result<(), String> {
         self.leave_op().map_err(|e| e.to_string())
-    }
-
-    fn read_error_code(&mut self, axis: usize) -> Option<u16> {
-        self.sdo_read_value(axis, crate::pdo::objects::ERROR_CODE, 0)
-            .ok()
-            .map(|v| v as u16)
     }
 }
 

@@ -1,13 +1,10 @@
 //! The SubDevice→master mailbox (SM1) watched in the cyclic frame and drained before each SDO:
 //! CoE Emergencies become [`MailboxNotice`]s of the axis they name (ETG.1000.4 §6.7.2).
 
-use std::collections::VecDeque;
-
 use super::error::{step, EthercatError};
 use super::group::OpGroup;
 use super::pump::Wire;
 use super::segment::SegmentStation;
-use crate::bus::MailboxNotice;
 use crate::ethercat::frame::DatagramSpan;
 use crate::ethercat::register as reg;
 use ethercrab::MainDevice;
@@ -21,7 +18,10 @@ pub(super) static MAILBOX_READ_ZEROS: [u8; MAX_MAILBOX_READ] = [0; MAX_MAILBOX_R
 /// Mailbox messages drained before an SDO at most (a firmware that refills SM1 faster than
 /// this is left to ethercrab's clearing, which discards).
 pub(super) const MAX_DRAIN: usize = 8;
-/// Notices held for [`Bus::take_mailbox_notice`] (preallocated; more are dropped and counted).
+/// Notices held for [`CyclicBus::take_mailbox_notice`] (preallocated; more are dropped and
+/// counted).
+///
+/// [`CyclicBus::take_mailbox_notice`]: crate::bus::CyclicBus::take_mailbox_notice
 pub(super) const NOTICE_QUEUE: usize = 16;
 
 /// A SubDevice's SubDevice→master mailbox (SM1), read back at bring-up.
@@ -32,9 +32,9 @@ pub(super) struct MailboxIn {
     pub(super) len: u16,
 }
 
-/// Per SubDevice with a mailbox: the SM1 watch and drain that read CoE Emergencies in the cyclic
-/// frame's cycle and before every SDO, so that ethercrab meets none left over (one that comes
-/// during an SDO is [`EthercatBus::emergency_in_sdo`]'s).
+/// Per SubDevice with a mailbox: the SM1 watch in the cyclic frame; the mailbox worker reads
+/// CoE Emergencies when it sees SM1 full and before every SDO, so that ethercrab meets none
+/// left over (one that comes during an SDO is `MailboxWorker::emergency_in_sdo`'s).
 #[derive(Debug, Default)]
 pub(super) struct MailboxWatch {
     /// Per SubDevice: its SM1, `None` without a mailbox (or one over [`MAX_MAILBOX_READ`]).
@@ -45,10 +45,6 @@ pub(super) struct MailboxWatch {
     pub(super) full: Vec<bool>,
     /// Per SubDevice: the axes of its slots (slot 0 = axis A) and whether it is multi-axis.
     pub(super) slots: Vec<(Vec<Option<usize>>, bool)>,
-    /// Decoded messages not yet taken.
-    pub(super) notices: VecDeque<MailboxNotice>,
-    /// Notices dropped because [`NOTICE_QUEUE`] was full.
-    pub(super) dropped: u64,
 }
 
 impl MailboxWatch {
@@ -85,8 +81,6 @@ impl MailboxWatch {
                 .map(|p| (p.slots.clone(), p.model.is_multi_axis()))
                 .collect(),
             sm1,
-            notices: VecDeque::with_capacity(NOTICE_QUEUE),
-            dropped: 0,
         })
     }
 }

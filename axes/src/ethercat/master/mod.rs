@@ -3,6 +3,8 @@
 mod al_state;
 mod bring_up;
 pub mod bus;
+mod carrier;
+mod cyclic;
 mod dc;
 mod error;
 mod group;
@@ -15,7 +17,9 @@ mod pump;
 mod refusal;
 pub mod scan;
 mod sdo;
+mod sdo_slot;
 mod segment;
+mod worker;
 
 pub use bus::EthercatBus;
 pub use dc::SYNC0_FRAME_PHASE_DIVISOR;

@@ -1,25 +1,24 @@
-//! The bus's side of the mailbox watch: taking what SubDevices sent unasked (CoE
-//! Emergencies, ETG.1000.6 §5.6.2.1) and emptying SM1, from the cyclic SM1 status.
+//! The mailbox worker's side of the mailbox watch: reading what SubDevices sent unasked (CoE
+//! Emergencies, ETG.1000.6 §5.6.2.1) and emptying SM1, when the cyclic SM1 status saw it full
+//! and before every SDO.
 
-use super::bus::EthercatBus;
+use std::sync::atomic::Ordering;
+
 use super::group::MASTER_MAC;
-use super::mailbox::{MAILBOX_READ_ZEROS, MAX_DRAIN, NOTICE_QUEUE, SM_STATUS_FULL};
+use super::link::Link;
+use super::mailbox::{MAILBOX_READ_ZEROS, MAX_DRAIN, SM_STATUS_FULL};
+use super::worker::MailboxWorker;
 use crate::bus::{BusError, MailboxNotice};
 use crate::ethercat::emergency::{Emergency, MailboxMessage};
 use crate::ethercat::frame::{self, Command, FrameBuilder};
 use crate::ethercat::register as reg;
 
-impl EthercatBus {
-    /// Notices dropped because the queue of untaken ones was full (diagnostics).
-    pub fn mailbox_notices_dropped(&self) -> u64 {
-        self.mailbox.dropped
-    }
-
+impl MailboxWorker {
     /// Reads SubDevice `station`'s SM1 status and, in the same frame, its buffer (which frees
     /// it; ETG.1000.4 §6.7.2): the message if SM1 was full. One acyclic round trip, no heap
     /// allocation. `Ok(false)`: SM1 was empty (or the station has no mailbox).
     pub(super) fn read_mailbox(&mut self, station: usize) -> Result<bool, BusError> {
-        let Some(Some(mb)) = self.mailbox.sm1.get(station).copied() else {
+        let Some(Some(mb)) = self.sm1.get(station).copied() else {
             return Ok(false);
         };
         let adp = u32::from(self.station_addresses[station]);
@@ -81,7 +80,7 @@ impl EthercatBus {
     /// The axis an Emergency of SubDevice `station` is about: on a multi-axis unit the slot it
     /// names, else (or for a slot no axis uses) the SubDevice's first axis.
     pub(super) fn emergency_axis(&self, station: usize, emergency: &Emergency) -> usize {
-        let (slots, multi) = &self.mailbox.slots[station];
+        let (slots, multi) = &self.slots[station];
         let slot = if *multi {
             usize::from(emergency.slot())
         } else {
@@ -96,7 +95,7 @@ impl EthercatBus {
 
     /// The first axis SubDevice `station` carries (0 if none: a unit with no slot used).
     fn first_axis(&self, station: usize) -> usize {
-        self.mailbox.slots[station]
+        self.slots[station]
             .0
             .iter()
             .flatten()
@@ -107,10 +106,8 @@ impl EthercatBus {
 
     /// Queues a mailbox notice for the executive; a full queue counts it as dropped.
     pub(super) fn push_notice(&mut self, notice: MailboxNotice) {
-        if self.mailbox.notices.len() < NOTICE_QUEUE {
-            self.mailbox.notices.push_back(notice);
-        } else {
-            self.mailbox.dropped += 1;
+        if self.shared.notices.push(notice).is_err() {
+            self.shared.dropped.fetch_add(1, Ordering::Relaxed);
         }
     }
 
@@ -121,9 +118,6 @@ impl EthercatBus {
             if !matches!(self.read_mailbox(station), Ok(true)) {
                 break;
             }
-        }
-        if let Some(f) = self.mailbox.full.get_mut(station) {
-            *f = false;
         }
     }
 }

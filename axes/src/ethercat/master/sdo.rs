@@ -1,22 +1,44 @@
-//! SDO transfers in OP: the object's station and offset index on a multi-axis unit, its data
-//! type, and the transfer with SM1 drained first and a met Emergency handed on.
+//! SDO transfers in OP, on the mailbox worker: the object's station and offset index on a
+//! multi-axis unit, its data type, and the transfer with SM1 drained first and a met
+//! Emergency handed on.
 
 use ethercrab::{DefaultLock, SubDevicePdi, SubDeviceRef};
 
-use super::bus::{abort_code, EthercatBus};
+use super::bus::abort_code;
 use super::group::MAX_PDI;
 use super::pump::pump;
+use super::worker::MailboxWorker;
 use crate::bus::{MailboxNotice, SDO_UNSUPPORTED};
 use crate::ethercat::emergency::Emergency;
 use crate::profiles::{DataType, DriveProfile};
 
-impl EthercatBus {
+impl MailboxWorker {
     /// The SubDevice of `axis` and the index of its axis-A object `index` there (on a
     /// multi-axis unit at the axis' offset index, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4).
     pub(super) fn station_object(&self, axis: usize, index: u16) -> Option<(usize, u16)> {
-        let a = self.axes.get(axis)?;
+        let &(station, slot) = self.axes.get(axis)?;
         let p = self.config.drives.get(axis)?.profile;
-        Some((a.station, p.axis_object(index, a.slot).unwrap_or(index)))
+        Some((station, p.axis_object(index, slot).unwrap_or(index)))
+    }
+
+    /// Writes `data` (1, 2 or 4 bytes) to `index:sub` of `axis`. `Err(abort code)`.
+    pub(super) fn sdo_write(
+        &mut self,
+        axis: usize,
+        index: u16,
+        sub: u8,
+        data: &[u8],
+    ) -> Result<(), u32> {
+        let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
+        self.sdo_transfer(axis, station, async |sd| match *data {
+            [a] => sd.sdo_write(index, sub, a).await,
+            [a, b] => sd.sdo_write(index, sub, u16::from_le_bytes([a, b])).await,
+            [a, b, c, d] => {
+                sd.sdo_write(index, sub, u32::from_le_bytes([a, b, c, d]))
+                    .await
+            }
+            _ => Err(ethercrab::error::Error::Internal),
+        })
     }
 
     pub(super) fn sdo_read_value(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
@@ -53,15 +75,16 @@ impl EthercatBus {
         let mut emergency_met = false;
         loop {
             self.drain_mailbox(station);
-            let sd = self
+            let crab = &mut self.ethercrab;
+            let sd = crab
                 .group
-                .subdevice(&self.maindevice, station)
+                .subdevice(&crab.maindevice, station)
                 .map_err(|_| SDO_UNSUPPORTED)?;
             let result = pump(
                 transfer(&sd),
-                &mut self.tx,
-                &mut self.rx,
-                self.link.as_mut(),
+                &mut crab.tx,
+                &mut crab.rx,
+                &mut self.link,
                 &mut self.frame,
             );
             if !self.emergency_in_sdo(axis, &result, &mut emergency_met) {
@@ -93,10 +116,9 @@ impl EthercatBus {
             error_register,
             data,
         };
-        let axis = self
-            .axes
-            .get(axis)
-            .map_or(axis, |a| self.emergency_axis(a.station, &emergency));
+        let axis = self.axes.get(axis).map_or(axis, |&(station, _)| {
+            self.emergency_axis(station, &emergency)
+        });
         self.push_notice(MailboxNotice::Emergency { axis, emergency });
         let repeat = !*met;
         *met = true;

@@ -252,7 +252,26 @@ fn emulated_subdevice(
         cycle_time: cycle_time_object,
         following_error_object: a.sim.following_error_object.unwrap_or(true),
         distributed_clocks,
+        sdo_response_delay_ns: sdo_response(at, a)?,
     })
+}
+
+/// `sim.sdo_response_ms`: the emulated SubDevice's SDO answer time (EtherCAT axes; 0–1000 ms).
+fn sdo_response(at: &AxisKey<'_>, a: &RawAxis) -> Result<u64, ConfigError> {
+    const KEY: &str = "sim.sdo_response_ms";
+    let Some(ms) = a.sim.sdo_response_ms else {
+        return Ok(0);
+    };
+    if a.transport != "ethercat" {
+        return Err(at.err(
+            KEY,
+            "only for transport = \"ethercat\" (SDOs go over a mailbox)".into(),
+        ));
+    }
+    if !ms.is_finite() || !(0.0..=1000.0).contains(&ms) {
+        return Err(at.err(KEY, format!("{ms} is not between 0 and 1000 ms")));
+    }
+    Ok((ms * 1e6).round() as u64)
 }
 
 /// `drive`, `transport` and `[axes.ethercat]`: a model that runs the cell's cycle time, and the

@@ -10,12 +10,12 @@ use cellrt_axes::Cycles;
 
 use super::Executive;
 use crate::config::FaultReaction;
+use crate::handoff::HomeRequest;
 use crate::handoff::{
     CellCommand, CellState, EventKind, HomingStatus, RejectReason, StopReason, NO_AXIS,
 };
 use crate::setpoints::BLOCK_CYCLES;
 use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure, HomingPhase};
-use cellrt_axes::pdo::objects::HOMING_METHOD;
 
 /// Commands taken per cycle at most (bounds the cycle's work).
 const COMMANDS_PER_CYCLE: usize = 4;
@@ -286,8 +286,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         self.publish_holds();
     }
 
-    /// In Idle: starts a requested homing (6098h written acyclically first; a refusal is
-    /// reported as a failed homing and the cell stays Idle).
+    /// In Idle: starts a requested homing. In homing mode the cell enters Homing (every axis
+    /// holds) while 6098h is written acyclically; the sequencer starts when the drive took it,
+    /// and a refusal is reported as a failed homing.
     fn poll_home_request(&mut self) {
         let Some(req) = self.handoff.take_home_request() else {
             return;
@@ -312,16 +313,16 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     Some(HomingFailure::MethodRefused)
                 }
                 HomeProcedure::HomingMode(method) => {
-                    match self
-                        .bus
-                        .sdo_download(axis, HOMING_METHOD, 0, &[method as u8])
-                    {
-                        Ok(()) => None,
-                        Err(code) => {
-                            self.event(EventKind::BusError, req.axis, i64::from(code));
-                            Some(HomingFailure::MethodRefused)
-                        }
+                    if self.request_homing_method(axis, method) {
+                        self.awaiting_method = Some(req);
+                        self.set_state(CellState::Homing);
+                        self.handoff
+                            .status()
+                            .homing
+                            .store(status.encode(), Ordering::Release);
+                        return;
                     }
+                    Some(HomingFailure::MethodRefused)
                 }
                 HomeProcedure::Controlword2(_) if self.axes[axis].home_setting.is_none() => {
                     Some(HomingFailure::MethodRefused)
@@ -340,22 +341,25 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 status.failure = f as u8;
                 self.event(EventKind::HomingFinished, req.axis, i64::from(f as u8));
             }
-            None => {
-                let ch = &mut self.axes[axis];
-                match (req.procedure, ch.home_setting) {
-                    (HomeProcedure::Controlword2(edge), Some(bits)) => {
-                        ch.homing.start_setting(edge, &bits, ch.feedback.statusword)
-                    }
-                    _ => ch.homing.start(),
-                }
-                self.event(EventKind::HomingStarted, req.axis, req.procedure_code());
-                self.set_state(CellState::Homing);
-            }
+            None => self.start_homing(req),
         }
         self.handoff
             .status()
             .homing
             .store(status.encode(), Ordering::Release);
+    }
+
+    /// Starts the homing sequencer of `req`'s axis; the cell is Homing.
+    pub(super) fn start_homing(&mut self, req: HomeRequest) {
+        let ch = &mut self.axes[usize::from(req.axis)];
+        match (req.procedure, ch.home_setting) {
+            (HomeProcedure::Controlword2(edge), Some(bits)) => {
+                ch.homing.start_setting(edge, &bits, ch.feedback.statusword)
+            }
+            _ => ch.homing.start(),
+        }
+        self.event(EventKind::HomingStarted, req.axis, req.procedure_code());
+        self.set_state(CellState::Homing);
     }
 
     /// One cycle of homing: the other axes hold, the homing axis follows its actual position
@@ -377,24 +381,40 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             }
         }
         self.refuse_motion();
-        if let Some(r) = done {
-            self.end_homing(r);
-            self.set_state(CellState::Idle);
+        let Some(r) = done else {
+            return;
+        };
+        // A drive that reports its home as 607Ch: the homing ends once it is read (posted; the
+        // cell stays Homing until then), so no motion starts from the old coordinates.
+        let axis = usize::from(self.homing_axis());
+        if r.is_none()
+            && axis < self.axes.len()
+            && self.axes[axis].offset_home
+            && self.request_home_offset(axis)
+        {
+            return;
         }
+        self.end_homing(r);
+        self.set_state(CellState::Idle);
+    }
+
+    /// The axis of the latest homing.
+    fn homing_axis(&self) -> u16 {
+        HomingStatus::decode(self.handoff.status().homing.load(Ordering::Acquire)).axis
     }
 
     /// Reports the homing result and clears the sequencers.
-    fn end_homing(&mut self, failure: Option<HomingFailure>) {
+    pub(super) fn end_homing(&mut self, failure: Option<HomingFailure>) {
         let mut status = HomingStatus::decode(self.handoff.status().homing.load(Ordering::Acquire));
         for ch in &mut self.axes {
             ch.homing.clear();
         }
+        self.awaiting_method = None;
         status.running = false;
         status.failure = failure.map_or(0, |f| f as u8);
         let axis = usize::from(status.axis);
         if failure.is_none() && axis < self.axes.len() {
-            // A drive that reports its home as 607Ch: the axis' user position moves with it.
-            self.load_home_offset(axis);
+            // Its user position moved with the homing (and 607Ch, read before).
             self.axes[axis].track_actual();
         }
         self.event(

@@ -4,6 +4,7 @@
 //! Steady state does no heap allocation, takes no lock and makes no syscall other than the cycle
 //! sleep, the clock read and the bus exchange (the counting-allocator test proves the first).
 
+mod acyclic;
 mod axis;
 mod cell;
 mod comm_watchdog;
@@ -130,6 +131,10 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     stats: RtStats,
     /// Records were dropped since the last `records_dropped` event.
     drops_unreported: bool,
+    /// Per axis: what its acyclic request in flight is for.
+    pending: Vec<Option<acyclic::Pending>>,
+    /// The homing request whose 6098h write is in flight.
+    awaiting_method: Option<crate::handoff::HomeRequest>,
     hook: Option<PhaseHook>,
 }
 
@@ -188,6 +193,8 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 final_state: CellState::Disabled,
             },
             drops_unreported: false,
+            pending: vec![None; n],
+            awaiting_method: None,
             hook,
         }
     }
@@ -259,6 +266,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         if let Some(hook) = self.hook {
             hook(RtPhase::Exit);
         }
+        self.finish_acyclic();
         self.stats.frames = self.bus.frame_counters();
         // Out of the steady state: the bus's shutdown may block and log.
         if let Err(e) = self.bus.close() {
@@ -282,6 +290,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         self.inject_due_faults();
         self.read_inputs();
         self.take_mailbox_notices();
+        self.poll_acyclic();
         let quit = self.take_commands();
         self.update_cell();
         self.write_outputs();
@@ -340,23 +349,14 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         }
     }
 
-    /// Reads 607Ch of a drive that keeps 6064h raw (at start-up and after a homing; acyclic)
-    /// and moves the axis' user coordinates with it: user = raw + home offset.
-    pub(super) fn load_home_offset(&mut self, i: usize) {
+    /// Reads 607Ch of a drive that keeps 6064h raw, before the loop starts (blocking), and
+    /// moves the axis' user coordinates with it: user = raw + home offset.
+    fn load_home_offset(&mut self, i: usize) {
         if !self.axes[i].offset_home {
             return;
         }
         match self.bus.sdo_upload(i, HOME_OFFSET, 0) {
-            Ok(v) => {
-                let ch = &mut self.axes[i];
-                let new = v as i32;
-                ch.feedback.position_actual = ch
-                    .feedback
-                    .position_actual
-                    .wrapping_sub(ch.home_offset)
-                    .wrapping_add(new);
-                ch.home_offset = new;
-            }
+            Ok(v) => self.apply_home_offset(i, v as i32),
             Err(code) => self.event(EventKind::BusError, i as u16, i64::from(code)),
         }
     }
@@ -385,13 +385,13 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             }
             if tx.statusword.fault() && !old.statusword.fault() {
                 self.stats.counters.faults += 1;
-                // 603Fh: from the TxPDO where mapped, else one acyclic read at the fault edge.
-                let code = if self.axes[i].error_code_mapped {
-                    i64::from(tx.error_code)
+                // 603Fh: from the TxPDO where mapped, else one acyclic read posted at the fault
+                // edge (the event follows with its outcome).
+                if self.axes[i].error_code_mapped {
+                    self.event(EventKind::DriveFault, i as u16, i64::from(tx.error_code));
                 } else {
-                    self.bus.read_error_code(i).map_or(-1, i64::from)
-                };
-                self.event(EventKind::DriveFault, i as u16, code);
+                    self.request_error_code(i);
+                }
             }
         }
     }
@@ -440,18 +440,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 controlword2 |= h.controlword2;
             }
             // A drive without 6060h in its RxPDO changes mode by SDO (only at a homing's
-            // start and end, never in steady state).
+            // start and end), posted: the mode display tells the homing when it took effect.
             if ch.sdo_mode.is_some_and(|m| m != cmd.mode) {
-                let written = self.bus.sdo_download(
-                    i,
-                    cellrt_axes::pdo::objects::MODES_OF_OPERATION,
-                    0,
-                    &[cmd.mode.as_i8() as u8],
-                );
-                match written {
-                    Ok(()) => self.axes[i].sdo_mode = Some(cmd.mode),
-                    Err(code) => self.event(EventKind::BusError, i as u16, i64::from(code)),
-                }
+                self.request_mode(i, cmd.mode);
             }
             let ch = &mut self.axes[i];
             let rx = RxPdo {

@@ -90,6 +90,7 @@ impl Station {
             return Access::default();
         }
         let mut wkc = 0;
+        self.tick(now_ns);
         self.check_pd_watchdog(now_ns);
         if command.reads() {
             self.refresh_for_read(start, end, now_ns);

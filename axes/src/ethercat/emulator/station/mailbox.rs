@@ -29,6 +29,9 @@ pub(super) struct Outbox {
     pub(super) response_len: usize,
     /// The mailbox counter of the last message written into SM1 (1..=7).
     pub(super) counter: u8,
+    /// When the SDO response may go into SM1 (the segment's clock, ns): the firmware's answer
+    /// time ([`SubDeviceVariant::sdo_response_delay_ns`](crate::ethercat::emulator::SubDeviceVariant)).
+    pub(super) response_due_ns: u64,
 }
 
 impl Station {
@@ -83,7 +86,7 @@ impl Station {
         let buf = &mut self.mem[start..start + len];
         if let Some(e) = out.emergencies.pop_front() {
             e.encode(counter, buf);
-        } else if out.response_len > 0 {
+        } else if out.response_len > 0 && self.now_ns >= out.response_due_ns {
             let n = out.response_len.min(len);
             buf[..n].copy_from_slice(&out.response[..n]);
             buf[5] = (buf[5] & 0x0F) | (counter << 4);
@@ -117,6 +120,12 @@ impl Station {
         if coe::serve(&mut ctx, &request, response) {
             // A response the master never read is replaced: it has moved on.
             self.outbox.response_len = response.len();
+            let delay = if self.al_state == crate::ethercat::register::AlState::Op {
+                self.variant.sdo_response_delay_ns
+            } else {
+                0
+            };
+            self.outbox.response_due_ns = self.now_ns + delay;
         }
         // The request is consumed at once: SM0 is empty again.
         self.mem[usize::from(reg::sync_manager(0)) + 5] &= !SM_FULL;

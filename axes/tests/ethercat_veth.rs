@@ -2,7 +2,6 @@
 //! scheduled frame delay), the MainDevice on the other. Needs root (CAP_NET_ADMIN for the pair, CAP_NET_RAW for the
 //! sockets) and `ip` from iproute2; says so plainly and skips where either is missing.
 
-use std::process::Command;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
@@ -14,32 +13,7 @@ use cellrt_axes::ethercat::raw_socket::RawSocket;
 use cellrt_axes::{
     profile, CycleTime, Cycles, CyclicBus, DriveModel, ModeOfOperation, SimDrive, SimDriveParams,
 };
-
-struct VethPair(String);
-
-impl VethPair {
-    fn create(name: &str) -> Option<VethPair> {
-        let ip = |args: &[&str]| {
-            Command::new("ip")
-                .args(args)
-                .status()
-                .is_ok_and(|s| s.success())
-        };
-        let _ = Command::new("ip").args(["link", "del", name]).output();
-        let peer = format!("{name}p");
-        if !ip(&["link", "add", name, "type", "veth", "peer", "name", &peer]) {
-            return None;
-        }
-        let up = ip(&["link", "set", name, "up"]) && ip(&["link", "set", &peer, "up"]);
-        up.then(|| VethPair(name.to_owned()))
-    }
-}
-
-impl Drop for VethPair {
-    fn drop(&mut self) {
-        let _ = Command::new("ip").args(["link", "del", &self.0]).output();
-    }
-}
+use cellrt_test_support::veth::VethPair;
 
 #[test]
 fn a_segment_on_a_veth_pair_comes_up_and_exchanges_over_raw_sockets() {
@@ -99,14 +73,14 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
         models.len(),
     )
     .unwrap();
-    let socket = RawSocket::open(&format!("{}p", pair.0)).expect("emulator socket");
+    let socket = RawSocket::open(&pair.peer()).expect("emulator socket");
     let stop = Arc::new(AtomicBool::new(false));
     let stop2 = stop.clone();
     let emulator = std::thread::spawn(move || {
         let stats = wire::serve(&socket, &mut segment, &mut faults, &stop2).expect("serve");
         (stats, segment)
     });
-    let link = RawSocketLink::open(&pair.0, Duration::from_millis(20)).expect("master socket");
+    let link = RawSocketLink::open(pair.name(), Duration::from_millis(20)).expect("master socket");
     let config = SegmentConfig {
         cycle: ct,
         drives: models

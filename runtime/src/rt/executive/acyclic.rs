@@ -38,9 +38,14 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         true
     }
 
-    /// Posts the 603Fh read of a fault edge; without an acyclic channel the fault is recorded
-    /// at once with the code unknown (-1).
+    /// Posts the 603Fh read of a fault edge, once the axis' request in flight has ended;
+    /// without an acyclic channel the fault is recorded at once with the code unknown (-1).
     pub(super) fn request_error_code(&mut self, i: usize) {
+        if self.pending[i].is_some() {
+            self.error_code_wanted[i] = true;
+            return;
+        }
+        self.error_code_wanted[i] = false;
         let read = SdoRequest::Upload {
             index: ERROR_CODE,
             sub: 0,
@@ -92,9 +97,13 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         self.post_acyclic(i, Pending::HomeOffset, read)
     }
 
-    /// Takes the outcomes that have arrived and finishes what each was for.
+    /// Takes the outcomes that have arrived and finishes what each was for; a fault's 603Fh
+    /// read that waited for the axis' slot is posted.
     pub(super) fn poll_acyclic(&mut self) {
         for i in 0..self.axes.len() {
+            if self.error_code_wanted[i] && self.pending[i].is_none() {
+                self.request_error_code(i);
+            }
             let Some(purpose) = self.pending[i] else {
                 continue;
             };
@@ -141,7 +150,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
     pub(super) fn finish_acyclic(&mut self) {
         let period = std::time::Duration::from_nanos(self.period_ns);
         for _ in 0..FINISH_CYCLES {
-            if self.pending.iter().all(Option::is_none) {
+            if self.pending.iter().all(Option::is_none) && !self.error_code_wanted.contains(&true) {
                 return;
             }
             std::thread::sleep(period);

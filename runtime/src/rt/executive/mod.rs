@@ -133,6 +133,8 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     drops_unreported: bool,
     /// Per axis: what its acyclic request in flight is for.
     pending: Vec<Option<acyclic::Pending>>,
+    /// Per axis: a fault's 603Fh read waits for the request in flight.
+    error_code_wanted: Vec<bool>,
     /// The homing request whose 6098h write is in flight.
     awaiting_method: Option<crate::handoff::HomeRequest>,
     hook: Option<PhaseHook>,
@@ -194,6 +196,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             },
             drops_unreported: false,
             pending: vec![None; n],
+            error_code_wanted: vec![false; n],
             awaiting_method: None,
             hook,
         }

@@ -496,3 +496,41 @@ fn crafted_and_damaged_chunks_are_refused_or_skipped_never_fatal() {
         }
     }
 }
+
+/// One RxPDO builder for the loop and `cellrt replay`: the MR-J4-TM example cell with its cst
+/// axis c limited to 35 % torque (60E0h/60E1h = 350, sent every cycle) runs its program, the
+/// drive's torque saturates at the limit, and the recording replays bit-identically (a replay
+/// sending another limit than the loop diverges at the first saturated cycle).
+#[test]
+fn an_mr_j4_tm_recording_with_torque_limits_replays_bit_identically() {
+    let dir = tempfile::tempdir().unwrap();
+    let configs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
+    let config = std::fs::read_to_string(configs.join("mr-j4-tm.toml"))
+        .unwrap()
+        .replace(
+            "name = \"mr-j4-tm\"",
+            &format!("name = \"{}\"", common::unique_cell_name()),
+        )
+        .replace(
+            "program = \"mr-j4-tm-program.toml\"",
+            "program = \"program.toml\"",
+        )
+        .replace("torque = 100.0", "torque = 35.0")
+        + "\n[setpoints]\nlookahead_ms = 1000\n";
+    assert!(config.contains("torque = 35.0"));
+    let program = std::fs::read_to_string(configs.join("mr-j4-tm-program.toml")).unwrap();
+    let (out, rec) = common::run_recorded(dir.path(), &config, &program);
+    let (so, se) = text(&out);
+    assert!(out.status.success(), "{so}\n{se}");
+    let r = read_recording(&rec);
+    // 6077h: the plant's torque, 350 where the limit holds it (servo-off ramps bypass it).
+    let saturated = r.axes["c"]
+        .iter()
+        .filter(|a| a.actual_torque.abs() == 350)
+        .count();
+    assert!(saturated > 0, "c's torque saturates at its 35 % limit");
+    let out = cellrt(&["replay".as_ref(), rec.as_os_str()]);
+    let (so, se) = text(&out);
+    assert!(out.status.success(), "{so}\n{se}");
+    assert!(so.contains("bit-identical"), "{so}");
+}

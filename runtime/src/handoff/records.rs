@@ -240,6 +240,8 @@ pub struct AxisRecord {
     pub torque_actual: i16,
     /// Incremental counter sent (2020h), 0 where the drive has none.
     pub counter_sent: u8,
+    /// Controlword2 sent (2001h / 2D01h), 0 where the drive has none.
+    pub controlword2: u16,
     /// Incremental counter echoed (2021h), 0 where the drive has none.
     pub counter_received: u8,
     /// Status DO 1–3 received (2D11h–2D13h), 0 where the drive does not map them.

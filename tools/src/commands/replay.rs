@@ -9,12 +9,12 @@ use std::path::Path;
 use cellrt_axes::bus::CyclicBus;
 use cellrt_axes::cia402::controlword::Controlword;
 use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::pdo::{RxPdo, TxPdo};
+use cellrt_axes::pdo::TxPdo;
 use cellrt_axes::Cycles;
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::cell_bus::sim_bus;
 use cellrt_runtime::host::record::proto::AxisCycle;
-use cellrt_runtime::rt::executive::AxisChannel;
+use cellrt_runtime::rt::executive::{AxisChannel, CycleCommand};
 use cellrt_runtime::rt::injection::InjectionSchedule;
 
 use crate::cli::ReplayArgs;
@@ -170,7 +170,7 @@ pub fn replay(
                     }),
                 ));
             }
-            let rx = RxPdo {
+            let rx = ch.rx_pdo(&CycleCommand {
                 // Recordings made before field 20 existed were csp only.
                 mode: if rec.mode == 0 {
                     ModeOfOperation::CyclicSyncPosition.as_i8()
@@ -180,11 +180,15 @@ pub fn replay(
                 controlword: Controlword(rec.controlword as u16),
                 target_position: rec.setpoint_counts,
                 target_velocity: rec.setpoint_velocity_counts,
-                velocity_limit: ch.velocity_limit(),
                 target_torque: rec.setpoint_torque as i16,
+                // Recordings made before field 25 existed sent the configured bits only.
+                controlword2: if rec.controlword2 == 0 {
+                    ch.static_controlword2()
+                } else {
+                    rec.controlword2 as u16
+                },
                 counter: rec.counter_sent as u8,
-                ..RxPdo::default()
-            };
+            });
             ch.rx_map
                 .encode_rx(&rx, bus.rx_image_mut(i))
                 .map_err(|e| format!("axis {}: RxPDO: {e:?}", cell.axes[i].name))?;

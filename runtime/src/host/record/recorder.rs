@@ -571,6 +571,7 @@ impl Drain<'_> {
             status_do_1: u32::from(a.status_do[0]),
             status_do_2: u32::from(a.status_do[1]),
             status_do_3: u32::from(a.status_do[2]),
+            controlword2: u32::from(a.controlword2),
         };
         self.buf.clear();
         msg.encode(&mut self.buf).expect("Vec grows");

@@ -8,16 +8,17 @@ mod acyclic;
 mod axis;
 mod cell;
 mod comm_watchdog;
+mod rx_command;
 #[cfg(test)]
 mod units_tests;
 
 pub use axis::{AxisChannel, AxisLimitsCounts, HOMING_MODE_SETTLE, HOMING_TIMEOUT, STEP_TOLERANCE};
+pub use rx_command::CycleCommand;
 
 use std::sync::atomic::Ordering;
 
 use cellrt_axes::bus::{AcyclicBus, CyclicBus, FaultInjection, MailboxNotice};
 use cellrt_axes::pdo::objects::HOME_OFFSET;
-use cellrt_axes::pdo::RxPdo;
 use cellrt_axes::Cycles;
 use serde::Serialize;
 
@@ -430,7 +431,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             let display = ch.mode_display_mapped.then_some(ch.feedback.mode_display);
             let enabled = ch.master.is_enabled();
             let standstill = ch.feedback.velocity_actual == 0;
-            let mut controlword2 = ch.torque_limit_objects.2;
+            let mut controlword2 = ch.static_controlword2();
             if let Some(h) = ch.homing.update(
                 ch.feedback.statusword,
                 ch.feedback.statusword2,
@@ -448,19 +449,16 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 self.request_mode(i, cmd.mode);
             }
             let ch = &mut self.axes[i];
-            let rx = RxPdo {
+            let counter = ch.counter.as_mut().map_or(0, |c| c.next_tx());
+            let rx = ch.rx_pdo(&CycleCommand {
                 mode: cmd.mode.as_i8(),
                 controlword,
                 target_position: ch.to_raw(round_counts(ch.setpoint)),
                 target_velocity: cmd.target_velocity,
                 target_torque: cmd.target_torque,
-                velocity_limit: ch.velocity_limit(),
-                torque_limit_positive: ch.torque_limit_objects.0,
-                torque_limit_negative: ch.torque_limit_objects.1,
                 controlword2,
-                counter: ch.counter.as_mut().map_or(0, |c| c.next_tx()),
-                ..RxPdo::default()
-            };
+                counter,
+            });
             if self.axes[i]
                 .rx_map
                 .encode_rx(&rx, self.bus.rx_image_mut(i))
@@ -489,6 +487,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     target_velocity: rx.target_velocity,
                     torque_actual: ch.feedback.torque_actual,
                     counter_sent: rx.counter,
+                    controlword2: rx.controlword2,
                     counter_received: ch.feedback.counter,
                     status_do: ch.feedback.status_do.0,
                 };

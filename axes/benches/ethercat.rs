@@ -31,6 +31,7 @@ fn bus(models: &[DriveModel]) -> EthercatBus {
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
                 distributed_clocks: true,
+                fixed_pdo: Default::default(),
             })
             .collect(),
     };

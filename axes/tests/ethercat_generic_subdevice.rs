@@ -49,6 +49,7 @@ fn bring_up(variant: SubDeviceVariant, dc: bool) -> Result<EthercatBus, Ethercat
             mode: ModeOfOperation::CyclicSyncPosition,
             amplifier: None,
             distributed_clocks: dc,
+            fixed_pdo: Default::default(),
         }],
     };
     let _one = BRING_UP.lock().unwrap_or_else(|e| e.into_inner());

@@ -47,6 +47,7 @@ fn config(axes: &[AxisSpec], cycle: CycleTime) -> SegmentConfig {
                     slot,
                 }),
                 distributed_clocks: true,
+                fixed_pdo: Default::default(),
             })
             .collect(),
     }

@@ -62,6 +62,7 @@ fn config(models: &[DriveModel], cycle: CycleTime) -> SegmentConfig {
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
                 distributed_clocks: true,
+                fixed_pdo: Default::default(),
             })
             .collect(),
     }

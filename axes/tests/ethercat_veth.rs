@@ -93,6 +93,7 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
                 distributed_clocks: true,
+                fixed_pdo: Default::default(),
             })
             .collect(),
     };

@@ -137,6 +137,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
                 distributed_clocks: true,
+                fixed_pdo: Default::default(),
             })
             .collect(),
     };
@@ -236,6 +237,7 @@ fn the_ethercat_cyclic_exchange_of_a_multi_axis_station_is_allocation_free() {
                     slot,
                 }),
                 distributed_clocks: true,
+                fixed_pdo: Default::default(),
             })
             .collect(),
     };

@@ -278,3 +278,44 @@ fn cycle(device: &EsiDevice, cycle_ns: u32) -> Result<(), EsiConflict> {
     }
     Ok(())
 }
+
+/// The parts of a device's PDO configuration its ESI does not let the master write: each
+/// direction's mapping (`Fixed`, a read-only mapping object, or CoE `PdoConfig` false) and the
+/// assignment 1C12h/1C13h (CoE `PdoAssign` false, or a read-only sub 1). Bring-up leaves these
+/// as the device has them ([`check`] made sure they are what the configuration runs).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FixedPdo {
+    /// The RxPDO mapping object.
+    pub rx_mapping: bool,
+    /// The TxPDO mapping object.
+    pub tx_mapping: bool,
+    /// The RxPDO assignment 1C12h.
+    pub rx_assignment: bool,
+    /// The TxPDO assignment 1C13h.
+    pub tx_assignment: bool,
+}
+
+impl FixedPdo {
+    /// What `device` fixes of the mappings `rx_index` / `tx_index` and their assignments.
+    pub fn of(device: &EsiDevice, rx_index: u16, tx_index: u16) -> FixedPdo {
+        let mapping = |pdos: &[crate::esi::EsiPdo], index: u16| {
+            let fixed = pdos.iter().any(|p| p.index == index && p.fixed);
+            let ro = device
+                .object(index, 0)
+                .is_some_and(|o| o.access == Access::Ro);
+            fixed || ro || device.coe.is_some_and(|c| !c.pdo_config)
+        };
+        let assignment = |assign: u16| {
+            device.coe.is_some_and(|c| !c.pdo_assign)
+                || device
+                    .object(assign, 1)
+                    .is_some_and(|o| o.access == Access::Ro)
+        };
+        FixedPdo {
+            rx_mapping: mapping(&device.rx_pdos, rx_index),
+            tx_mapping: mapping(&device.tx_pdos, tx_index),
+            rx_assignment: assignment(0x1C12),
+            tx_assignment: assignment(0x1C13),
+        }
+    }
+}

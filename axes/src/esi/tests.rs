@@ -257,3 +257,39 @@ fn conformance_refuses_fixed_missing_and_mandatory_pdos_and_fixed_sync0_cycles()
     )
     .is_ok());
 }
+
+#[test]
+fn what_an_esi_fixes_of_the_pdo_configuration() {
+    use super::conform::FixedPdo;
+    // rt-labs: 1600h Fixed; the others as the file says.
+    let rt = load(&data("rt-labs-am335xice.xml")).unwrap().remove(0);
+    let fixed = FixedPdo::of(&rt, 0x1600, 0x1A00);
+    assert!(fixed.rx_mapping);
+    let mut d = rt.clone();
+    d.rx_pdos[0].fixed = false;
+    d.tx_pdos.iter_mut().for_each(|p| p.fixed = false);
+    d.objects.clear();
+    let coe = d.coe.unwrap();
+    d.coe = Some(CoeDetails {
+        pdo_config: true,
+        pdo_assign: true,
+        ..coe
+    });
+    assert_eq!(FixedPdo::of(&d, 0x1600, 0x1A00), FixedPdo::default());
+    // CoE PdoConfig false fixes both mappings; PdoAssign false both assignments.
+    d.coe = Some(CoeDetails {
+        pdo_config: false,
+        pdo_assign: false,
+        ..coe
+    });
+    let all = FixedPdo::of(&d, 0x1600, 0x1A00);
+    assert_eq!(
+        all,
+        FixedPdo {
+            rx_mapping: true,
+            tx_mapping: true,
+            rx_assignment: true,
+            tx_assignment: true
+        }
+    );
+}

@@ -3,6 +3,7 @@
 
 use cellrt_axes::bus::{LinkState, MailboxNotice, PostError, SdoOutcome, SdoRequest};
 use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::esi::conform::FixedPdo;
 use cellrt_axes::ethercat::emulator::Segment;
 use cellrt_axes::ethercat::master::{
     EthercatBus, InProcessLink, Link, RawSocketLink, SegmentConfig, SegmentDrive,
@@ -112,6 +113,9 @@ pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
                 mode: a.mode,
                 amplifier: a.amplifier.clone(),
                 distributed_clocks: a.distributed_clocks,
+                fixed_pdo: a.esi.as_deref().map_or_else(Default::default, |d| {
+                    FixedPdo::of(d, a.profile.rx_pdo.index, a.profile.tx_pdo.index)
+                }),
             })
             .collect(),
     }

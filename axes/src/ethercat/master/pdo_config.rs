@@ -26,9 +26,23 @@ pub(super) async fn configure_station<S: std::ops::Deref<Target = ethercrab::Sub
     plan: &SegmentStation,
 ) -> Result<CycleTimeOutcome, ethercrab::error::Error> {
     let model = plan.model;
-    let assignment = model.pdo_rules.assignment;
     let at = |index: u16, slot: usize| model.axis_object(index, slot as u8).unwrap_or(index);
+    // What the ESI fixes (a single-slot station: the axis' device) is left as it is.
+    let fixed = plan.slots[0]
+        .and_then(|a| config.drives.get(a))
+        .map(|d| d.fixed_pdo)
+        .unwrap_or_default();
     for (direction, assign) in [RX_ASSIGN, TX_ASSIGN].into_iter().enumerate() {
+        let (mapping_fixed, assignment_fixed) = if direction == 0 {
+            (fixed.rx_mapping, fixed.rx_assignment)
+        } else {
+            (fixed.tx_mapping, fixed.tx_assignment)
+        };
+        let assignment = if assignment_fixed {
+            PdoAssignment::ReadOnly
+        } else {
+            model.pdo_rules.assignment
+        };
         if assignment == PdoAssignment::Writable {
             sd.sdo_write(assign, 0, 0u8).await?;
         }
@@ -36,6 +50,12 @@ pub(super) async fn configure_station<S: std::ops::Deref<Target = ethercrab::Sub
             let p = plan.slot_profile(config, slot);
             let map = if direction == 0 { &p.rx_pdo } else { &p.tx_pdo };
             let index = at(map.index, slot);
+            if mapping_fixed {
+                if assignment != PdoAssignment::ReadOnly {
+                    sd.sdo_write(assign, (slot + 1) as u8, index).await?;
+                }
+                continue;
+            }
             sd.sdo_write(index, 0, 0u8).await?;
             for (i, e) in map.entries.iter().enumerate() {
                 let e = if e.is_padding() {

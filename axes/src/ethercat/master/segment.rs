@@ -23,6 +23,8 @@ pub struct SegmentDrive {
     /// SYNC0 from distributed clocks on this axis' SubDevice (`[axes.ethercat]
     /// distributed_clocks`); false: the SubDevice runs free (SM2-synchronous, ETG.1020).
     pub distributed_clocks: bool,
+    /// What the device's ESI fixes of its PDO configuration: bring-up does not write it.
+    pub fixed_pdo: crate::esi::conform::FixedPdo,
 }
 
 /// An axis' place on a multi-axis amplifier (config keys `amplifier`, `amplifier_axis`).

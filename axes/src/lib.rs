@@ -17,6 +17,7 @@ pub mod esi;
 pub mod ethercat;
 pub mod fsoe;
 pub mod modbus;
+pub mod mr_je_c;
 pub mod pdo;
 pub mod profiles;
 pub mod sim;

@@ -2,8 +2,14 @@
 //! (MR-JE-C manual §7), typed object access shared by the transports (`axes::modbus`,
 //! `axes::slmp`), and a simulated drive serving them.
 
+pub mod access;
+pub mod alarm;
 pub mod objects;
 pub mod types;
+pub mod value;
 
+pub use access::{AccessError, ObjectAccess, OverModbus, TypedObject};
+pub use alarm::Alarm;
 pub use objects::{entry, object, Object, ObjectId, Sub, DICTIONARY};
 pub use types::{Access, DataType, Initial, Range, SoftwareVersion, Unit};
+pub use value::Value;

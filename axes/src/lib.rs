@@ -20,6 +20,7 @@ pub mod modbus;
 pub mod mr_je_c;
 pub mod pdo;
 pub mod profiles;
+mod reply_read;
 pub mod sim;
 pub mod slmp;
 

@@ -4,7 +4,9 @@
 
 pub mod access;
 pub mod alarm;
+pub mod emulator;
 pub mod objects;
+pub mod parameters;
 pub mod types;
 pub mod value;
 

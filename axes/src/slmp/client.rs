@@ -169,23 +169,12 @@ impl SlmpClient {
                     s.read(&mut chunk)
                 }
             };
-            match got {
-                Ok(0) if matches!(self.link, Link::Tcp(_)) => {
-                    return Err(ClientError::Io(std::io::Error::new(
-                        std::io::ErrorKind::UnexpectedEof,
-                        "the drive closed the connection",
-                    )))
-                }
-                Ok(k) => self.inbox.extend_from_slice(&chunk[..k]),
-                Err(e)
-                    if matches!(
-                        e.kind(),
-                        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
-                    ) =>
-                {
+            let stream = matches!(self.link, Link::Tcp(_));
+            match crate::reply_read::sort(got, stream)? {
+                crate::reply_read::Read::Bytes(k) => self.inbox.extend_from_slice(&chunk[..k]),
+                crate::reply_read::Read::TimedOut => {
                     return Err(ClientError::Timeout(self.timeout))
                 }
-                Err(e) => return Err(e.into()),
             }
         }
     }

@@ -139,6 +139,36 @@ pub enum BusCommand {
     },
 }
 
+/// `cellrt drive-sim mr-je-c`.
+#[derive(Debug, Args)]
+pub struct MrJeCSimArgs {
+    /// The IP address to listen on (e.g. 127.0.0.1, or an address in a network namespace).
+    #[arg(long, value_name = "ADDR")]
+    pub listen: std::net::IpAddr,
+    /// Modbus/TCP port (502 on a drive; below 1024 needs root).
+    #[arg(long, value_name = "PORT", default_value_t = 502)]
+    pub modbus_port: u16,
+    /// SLMP UDP port.
+    #[arg(long, value_name = "PORT", default_value_t = 5010)]
+    pub slmp_udp_port: u16,
+    /// SLMP TCP port.
+    #[arg(long, value_name = "PORT", default_value_t = 5012)]
+    pub slmp_tcp_port: u16,
+    /// The drive's software version: A0, A3 or A4 (objects, [Pr. PN10], 6502h).
+    #[arg(long, value_name = "VERSION", default_value = "A4", value_parser = software_version)]
+    pub software: cellrt_axes::mr_je_c::SoftwareVersion,
+}
+
+fn software_version(s: &str) -> Result<cellrt_axes::mr_je_c::SoftwareVersion, String> {
+    use cellrt_axes::mr_je_c::SoftwareVersion as V;
+    match s.to_ascii_uppercase().as_str() {
+        "A0" | "A1" | "A2" => Ok(V::A0),
+        "A3" => Ok(V::A3),
+        "A4" => Ok(V::A4),
+        _ => Err(format!("software version {s:?}: expected A0, A3 or A4")),
+    }
+}
+
 /// `cellrt drive-sim`.
 #[derive(Debug, Args)]
 pub struct DriveSimArgs {
@@ -150,6 +180,12 @@ pub struct DriveSimArgs {
 /// The buses `cellrt drive-sim` emulates.
 #[derive(Debug, Subcommand)]
 pub enum DriveSimBus {
+    /// Serve one simulated MR-JE-C on an address: Modbus/TCP (3 connections), SLMP over UDP
+    /// and TCP (1 connection), one request at a time, until SIGINT/SIGTERM. The drive holds
+    /// its position (profile motion is not simulated); its time-outs ([Pr. PN02], [Pr. PN10],
+    /// [Pr. PF46]) run on the time since start.
+    #[command(name = "mr-je-c")]
+    MrJeC(MrJeCSimArgs),
     /// Present the drives of the cell configuration given as `--cell CONFIG` as EtherCAT
     /// SubDevices on a network interface (line topology, in axis order), until SIGINT/SIGTERM.
     ///

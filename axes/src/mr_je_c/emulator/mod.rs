@@ -8,6 +8,7 @@ mod history;
 pub mod modbus;
 mod refusal;
 pub mod rtu;
+pub mod server;
 pub mod slmp;
 mod store;
 mod watchdog;

@@ -1,0 +1,272 @@
+//! The simulated MR-JE-C on real sockets (MR-JE-C manual §2.2.2, §3.2): Modbus/TCP (at most 3
+//! connections), SLMP over UDP (any number of peers) and over TCP (1 connection). A connection
+//! beyond the limit is closed at once. One request is processed at a time across all of them
+//! (the drive is behind one lock). The virtual clock is the time since the server started; a
+//! ticker advances it every 10 ms so that the time-outs expire while nobody talks.
+
+use std::io::{self, Read, Write};
+use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream, UdpSocket};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use super::{modbus, slmp, MrJeC};
+use crate::modbus::tcp;
+
+/// How often idle threads look at the stop flag and the ticker runs.
+const POLL: Duration = Duration::from_millis(10);
+/// Modbus/TCP connections the drive accepts (§3.2).
+pub const MODBUS_CONNECTIONS: usize = 3;
+/// SLMP TCP connections the drive accepts (§2.2.2).
+pub const SLMP_TCP_CONNECTIONS: usize = 1;
+
+/// The ports to listen on (0: any free port, for tests).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Ports {
+    /// Modbus/TCP (502).
+    pub modbus_tcp: u16,
+    /// SLMP over UDP (5010).
+    pub slmp_udp: u16,
+    /// SLMP over TCP (5012).
+    pub slmp_tcp: u16,
+}
+
+impl Default for Ports {
+    fn default() -> Self {
+        Ports {
+            modbus_tcp: tcp::PORT,
+            slmp_udp: crate::slmp::UDP_PORT,
+            slmp_tcp: crate::slmp::TCP_PORT,
+        }
+    }
+}
+
+struct Shared {
+    drive: Mutex<MrJeC>,
+    stop: AtomicBool,
+    start: Instant,
+}
+
+impl Shared {
+    fn now(&self) -> Duration {
+        self.start.elapsed()
+    }
+
+    fn drive(&self) -> MutexGuard<'_, MrJeC> {
+        self.drive.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// A running emulator.
+pub struct Server {
+    shared: Arc<Shared>,
+    threads: Vec<JoinHandle<()>>,
+    /// Where Modbus/TCP listens.
+    pub modbus_tcp: SocketAddr,
+    /// Where SLMP listens over UDP.
+    pub slmp_udp: SocketAddr,
+    /// Where SLMP listens over TCP.
+    pub slmp_tcp: SocketAddr,
+}
+
+impl Server {
+    /// Serves `drive` on `ip` at `ports`.
+    pub fn start(drive: MrJeC, ip: IpAddr, ports: Ports) -> io::Result<Server> {
+        let shared = Arc::new(Shared {
+            drive: Mutex::new(drive),
+            stop: AtomicBool::new(false),
+            start: Instant::now(),
+        });
+        let modbus = TcpListener::bind((ip, ports.modbus_tcp))?;
+        let udp = UdpSocket::bind((ip, ports.slmp_udp))?;
+        let slmp_tcp = TcpListener::bind((ip, ports.slmp_tcp))?;
+        let addrs = (
+            modbus.local_addr()?,
+            udp.local_addr()?,
+            slmp_tcp.local_addr()?,
+        );
+        let mut threads = Vec::new();
+        let s = shared.clone();
+        threads.push(std::thread::spawn(move || ticker(&s)));
+        let s = shared.clone();
+        threads.push(accept_thread(modbus, MODBUS_CONNECTIONS, s, serve_modbus)?);
+        let s = shared.clone();
+        threads.push(accept_thread(
+            slmp_tcp,
+            SLMP_TCP_CONNECTIONS,
+            s,
+            serve_slmp_tcp,
+        )?);
+        let s = shared.clone();
+        udp.set_read_timeout(Some(POLL))?;
+        threads.push(std::thread::spawn(move || serve_slmp_udp(&udp, &s)));
+        Ok(Server {
+            shared,
+            threads,
+            modbus_tcp: addrs.0,
+            slmp_udp: addrs.1,
+            slmp_tcp: addrs.2,
+        })
+    }
+
+    /// The simulated drive (locked: requests wait meanwhile).
+    pub fn drive(&self) -> MutexGuard<'_, MrJeC> {
+        self.shared.drive()
+    }
+
+    /// The emulator's clock: time since start.
+    pub fn now(&self) -> Duration {
+        self.shared.now()
+    }
+
+    /// Whether a stop was asked for.
+    pub fn stopping(&self) -> bool {
+        self.shared.stop.load(Ordering::Relaxed)
+    }
+
+    /// Stops every thread and waits for them.
+    pub fn stop(mut self) {
+        self.halt();
+    }
+
+    fn halt(&mut self) {
+        self.shared.stop.store(true, Ordering::Relaxed);
+        for t in self.threads.drain(..) {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        self.halt();
+    }
+}
+
+fn ticker(s: &Shared) {
+    while !s.stop.load(Ordering::Relaxed) {
+        let now = s.now();
+        s.drive().tick(now);
+        std::thread::sleep(POLL);
+    }
+}
+
+type Serve = fn(&mut TcpStream, &Shared) -> io::Result<()>;
+
+/// Accepts connections up to `limit` at a time, each served by `serve` on its own thread.
+fn accept_thread(
+    listener: TcpListener,
+    limit: usize,
+    s: Arc<Shared>,
+    serve: Serve,
+) -> io::Result<JoinHandle<()>> {
+    listener.set_nonblocking(true)?;
+    Ok(std::thread::spawn(move || {
+        let open = Arc::new(AtomicUsize::new(0));
+        let mut conns = Vec::new();
+        while !s.stop.load(Ordering::Relaxed) {
+            match listener.accept() {
+                Ok((stream, _)) if open.load(Ordering::SeqCst) >= limit => drop(stream),
+                Ok((mut stream, _)) => {
+                    open.fetch_add(1, Ordering::SeqCst);
+                    let (s, open) = (s.clone(), open.clone());
+                    conns.push(std::thread::spawn(move || {
+                        let ok = stream
+                            .set_nonblocking(false)
+                            .and_then(|()| stream.set_read_timeout(Some(POLL)))
+                            .and_then(|()| stream.set_nodelay(true));
+                        if ok.is_ok() {
+                            let _ = serve(&mut stream, &s);
+                        }
+                        open.fetch_sub(1, Ordering::SeqCst);
+                    }));
+                }
+                Err(_) => std::thread::sleep(POLL),
+            }
+        }
+        for c in conns {
+            let _ = c.join();
+        }
+    }))
+}
+
+/// Reads into `inbox` until it holds a frame `split` can cut, or the peer leaves (`Ok(false)`)
+/// or the server stops.
+fn fill(stream: &mut TcpStream, s: &Shared, inbox: &mut Vec<u8>) -> io::Result<bool> {
+    let mut chunk = [0u8; 1024];
+    loop {
+        if s.stop.load(Ordering::Relaxed) {
+            return Ok(false);
+        }
+        match stream.read(&mut chunk) {
+            Ok(0) => return Ok(false),
+            Ok(k) => {
+                inbox.extend_from_slice(&chunk[..k]);
+                return Ok(true);
+            }
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut
+                ) => {}
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// One Modbus/TCP connection: ADUs framed by the MBAP length; a length that cannot frame an
+/// ADU closes the connection.
+fn serve_modbus(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
+    let mut inbox = Vec::new();
+    loop {
+        let cut = tcp::split(&inbox).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
+        let Some((adu, used)) = cut else {
+            if !fill(stream, s, &mut inbox)? {
+                return Ok(());
+            }
+            continue;
+        };
+        let reply = modbus::answer_adu(&mut s.drive(), &adu, s.now());
+        inbox.drain(..used);
+        if let Some(r) = reply {
+            stream.write_all(&r)?;
+        }
+    }
+}
+
+/// One SLMP TCP connection: frames cut by their request data length.
+fn serve_slmp_tcp(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
+    let mut inbox = Vec::new();
+    loop {
+        let len = crate::slmp::client::frame_length(&inbox)
+            .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
+        match len {
+            Some(n) if inbox.len() >= n => {
+                let reply = slmp::answer_frame(&mut s.drive(), &inbox[..n], s.now());
+                inbox.drain(..n);
+                if let Some(r) = reply {
+                    stream.write_all(&r)?;
+                }
+            }
+            _ => {
+                if !fill(stream, s, &mut inbox)? {
+                    return Ok(());
+                }
+            }
+        }
+    }
+}
+
+fn serve_slmp_udp(socket: &UdpSocket, s: &Shared) {
+    let mut buf = [0u8; crate::slmp::MAX_FRAME];
+    while !s.stop.load(Ordering::Relaxed) {
+        let Ok((n, peer)) = socket.recv_from(&mut buf) else {
+            continue;
+        };
+        let reply = slmp::answer_frame(&mut s.drive(), &buf[..n], s.now());
+        if let Some(r) = reply {
+            let _ = socket.send_to(&r, peer);
+        }
+    }
+}

@@ -36,6 +36,9 @@ pub enum Command {
     DriveSim(DriveSimArgs),
     /// Look at a fieldbus without running a cell.
     Bus(BusArgs),
+    /// Read or write one object of an MR-JE-C over SLMP or Modbus/TCP (commissioning).
+    #[command(name = "je-c")]
+    JeC(crate::commands::je_c::JeCArgs),
     /// ESI files (EtherCAT Slave Information, ETG.2000): what cellrt takes from them.
     Esi(crate::commands::esi::EsiArgs),
     /// Benchmarks: wakeup latency, comparison with cyclictest, the full loop with N axes.
@@ -159,7 +162,8 @@ pub struct MrJeCSimArgs {
     pub software: cellrt_axes::mr_je_c::SoftwareVersion,
 }
 
-fn software_version(s: &str) -> Result<cellrt_axes::mr_je_c::SoftwareVersion, String> {
+/// Parses a software version argument (A0, A3, A4).
+pub fn software_version(s: &str) -> Result<cellrt_axes::mr_je_c::SoftwareVersion, String> {
     use cellrt_axes::mr_je_c::SoftwareVersion as V;
     match s.to_ascii_uppercase().as_str() {
         "A0" | "A1" | "A2" => Ok(V::A0),

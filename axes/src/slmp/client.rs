@@ -180,8 +180,9 @@ impl SlmpClient {
     }
 }
 
-/// The total length of the frame starting `bytes`, once its header is there; a subheader that
-/// is no SLMP response's is an error (the stream has lost its framing).
+/// The total length of the SLMP frame (request or response) starting `bytes`, once its header
+/// is there; a subheader that is no SLMP binary frame's is an error (the stream has lost its
+/// framing).
 pub fn frame_length(bytes: &[u8]) -> Result<Option<usize>, SlmpError> {
     let Some(sh) = bytes.first_chunk::<2>() else {
         return Ok(None);

@@ -1,5 +1,6 @@
-//! `cellrt drive-sim mr-je-c` on loopback: our Modbus/TCP and SLMP clients reach it, SIGTERM
-//! ends it cleanly, and bad arguments are refused naming what is wrong.
+//! The MR-JE-C tools on loopback: `cellrt drive-sim mr-je-c` (our Modbus/TCP and SLMP clients
+//! reach it, SIGTERM ends it cleanly) and `cellrt je-c read|write` against an emulator (values,
+//! end codes and exceptions, unreachable drives), bad arguments refused naming what is wrong.
 
 use std::net::{SocketAddr, TcpListener, UdpSocket};
 use std::process::{Child, Command, Stdio};
@@ -102,4 +103,80 @@ fn bad_arguments_are_refused() {
         stderr.contains("error: cannot listen on 127.0.0.1"),
         "{stderr}"
     );
+}
+
+fn je_c(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .arg("je-c")
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn je_c_reads_and_writes_objects() {
+    use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
+    use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
+    let any = Ports {
+        modbus_tcp: 0,
+        slmp_udp: 0,
+        slmp_tcp: 0,
+    };
+    let s = Server::start(
+        MrJeC::new(MrJeCParams::default()),
+        "127.0.0.1".parse().unwrap(),
+        any,
+    )
+    .unwrap();
+    let (udp, tcp, modbus) = (
+        s.slmp_udp.to_string(),
+        s.slmp_tcp.to_string(),
+        s.modbus_tcp.to_string(),
+    );
+    let (code, out, err) = je_c(&["write", &udp, "607A", "-5000"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(out, "607Ah:0 Target position written -5000 pos units\n");
+    let (code, out, _) = je_c(&["read", &modbus, "607a", "--via", "modbus-tcp"]);
+    assert_eq!(
+        (code, out.as_str()),
+        (Some(0), "607Ah:0 Target position = -5000 pos units\n")
+    );
+    let (code, out, _) = je_c(&["read", &tcp, "1018:2", "--via", "slmp-tcp"]);
+    assert_eq!(
+        (code, out.as_str()),
+        (Some(0), "1018h:2 Product Code = 4099 (00001003h)\n")
+    );
+    // The drive refuses: exit 3 with the end code or the exception.
+    let (code, _, err) = je_c(&["write", &udp, "6041", "0"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("end code CCC9h"), "{err}");
+    let (code, _, err) = je_c(&["write", &modbus, "6098", "40", "--via", "modbus-tcp"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("exception 03h"), "{err}");
+    // Bad input: exit 2 naming the object or value.
+    let (code, _, err) = je_c(&["read", &udp, "5FFF"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("object 5FFFh:0: not in the MR-JE-C object dictionary"),
+        "{err}"
+    );
+    let (code, _, err) = je_c(&["write", &udp, "6060", "300"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("value for 6060h:0"), "{err}");
+    // Nobody there: exit 4.
+    let gone = free_tcp().to_string();
+    let (code, _, err) = je_c(&[
+        "read",
+        &format!("127.0.0.1:{gone}"),
+        "6041",
+        "--via",
+        "modbus-tcp",
+    ]);
+    assert_eq!(code, Some(4), "{err}");
+    assert!(err.starts_with("error: 127.0.0.1:"), "{err}");
 }

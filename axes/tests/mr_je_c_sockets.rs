@@ -27,6 +27,7 @@ const ANY: Ports = Ports {
     modbus_tcp: 0,
     slmp_udp: 0,
     slmp_tcp: 0,
+    cclink: 0,
 };
 const TIMEOUT: Duration = Duration::from_secs(2);
 

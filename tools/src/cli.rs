@@ -157,6 +157,9 @@ pub struct MrJeCSimArgs {
     /// SLMP TCP port.
     #[arg(long, value_name = "PORT", default_value_t = 5012)]
     pub slmp_tcp_port: u16,
+    /// CC-Link IE Field Basic cyclic port (UDP).
+    #[arg(long, value_name = "PORT", default_value_t = 61450)]
+    pub cclink_port: u16,
     /// The drive's software version: A0, A3 or A4 (objects, [Pr. PN10], 6502h).
     #[arg(long, value_name = "VERSION", default_value = "A4", value_parser = software_version)]
     pub software: cellrt_axes::mr_je_c::SoftwareVersion,
@@ -185,7 +188,8 @@ pub struct DriveSimArgs {
 #[derive(Debug, Subcommand)]
 pub enum DriveSimBus {
     /// Serve one simulated MR-JE-C on an address: Modbus/TCP (3 connections), SLMP over UDP
-    /// and TCP (1 connection), one request at a time, until SIGINT/SIGTERM. The drive holds
+    /// and TCP (1 connection), the CC-Link IE Field Basic cyclic link (CSR/SSR, RWw/RWr), one
+    /// request at a time, until SIGINT/SIGTERM. The drive holds
     /// its position (profile motion is not simulated); its time-outs ([Pr. PN02], [Pr. PN10],
     /// [Pr. PF46]) run on the time since start.
     #[command(name = "mr-je-c")]

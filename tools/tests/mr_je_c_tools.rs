@@ -39,7 +39,7 @@ fn cellrt(args: &[String]) -> Child {
 
 #[test]
 fn serves_modbus_and_slmp_until_sigterm() {
-    let (m, u, t) = (free_tcp(), free_udp(), free_tcp());
+    let (m, u, t, c) = (free_tcp(), free_udp(), free_tcp(), free_udp());
     let args = [
         "--listen",
         "127.0.0.1",
@@ -49,6 +49,8 @@ fn serves_modbus_and_slmp_until_sigterm() {
         &u.to_string(),
         "--slmp-tcp-port",
         &t.to_string(),
+        "--cclink-port",
+        &c.to_string(),
     ]
     .map(String::from);
     let child = cellrt(&args);
@@ -94,9 +96,20 @@ fn bad_arguments_are_refused() {
     // A port taken by someone else.
     let taken = TcpListener::bind("127.0.0.1:0").unwrap();
     let port = taken.local_addr().unwrap().port().to_string();
-    let out = cellrt(&["--listen", "127.0.0.1", "--modbus-port", &port].map(String::from))
-        .wait_with_output()
-        .unwrap();
+    let c = free_udp().to_string();
+    let out = cellrt(
+        &[
+            "--listen",
+            "127.0.0.1",
+            "--modbus-port",
+            &port,
+            "--cclink-port",
+            &c,
+        ]
+        .map(String::from),
+    )
+    .wait_with_output()
+    .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
@@ -126,6 +139,7 @@ fn je_c_reads_and_writes_objects() {
         modbus_tcp: 0,
         slmp_udp: 0,
         slmp_tcp: 0,
+        cclink: 0,
     };
     let s = Server::start(
         MrJeC::new(MrJeCParams::default()),

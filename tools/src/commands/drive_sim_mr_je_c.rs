@@ -24,6 +24,7 @@ pub fn run(args: MrJeCSimArgs) -> Exit {
         modbus_tcp: args.modbus_port,
         slmp_udp: args.slmp_udp_port,
         slmp_tcp: args.slmp_tcp_port,
+        cclink: args.cclink_port,
     };
     let params = MrJeCParams {
         software: args.software,
@@ -39,15 +40,15 @@ pub fn run(args: MrJeCSimArgs) -> Exit {
                 ""
             };
             eprintln!(
-                "error: cannot listen on {} (Modbus/TCP {}, SLMP UDP {}, SLMP TCP {}): {e}{hint}",
-                args.listen, ports.modbus_tcp, ports.slmp_udp, ports.slmp_tcp
+                "error: cannot listen on {} (Modbus/TCP {}, SLMP UDP {}, SLMP TCP {}, CC-Link IE Field Basic UDP {}): {e}{hint}",
+                args.listen, ports.modbus_tcp, ports.slmp_udp, ports.slmp_tcp, ports.cclink
             );
             return Exit::Failed;
         }
     };
     eprintln!(
-        "cellrt drive-sim: {model} (software {}) on Modbus/TCP {}, SLMP UDP {}, SLMP TCP {}",
-        args.software, server.modbus_tcp, server.slmp_udp, server.slmp_tcp
+        "cellrt drive-sim: {model} (software {}) on Modbus/TCP {}, SLMP UDP {}, SLMP TCP {}, CC-Link IE Field Basic UDP {}",
+        args.software, server.modbus_tcp, server.slmp_udp, server.slmp_tcp, server.cclink
     );
     while !stop.load(Ordering::Relaxed) {
         std::thread::sleep(Duration::from_millis(50));

@@ -4,6 +4,7 @@
 //! (`now`: time since power-on). Profile motion is not simulated yet: the motor holds its
 //! position and targets are stored.
 
+pub mod cyclic;
 mod history;
 pub mod modbus;
 mod refusal;
@@ -103,14 +104,21 @@ pub struct MrJeC {
     alarm: Option<Alarm>,
     history: AlarmHistory,
     watchdog: watchdog::CommWatchdog,
+    cyclic_ready: bool,
     now: Duration,
 }
 
 impl MrJeC {
-    /// The drive after power-on, in Switch on disabled.
+    /// The drive after power-on, in Switch on disabled; the response mapping 1A00h is the
+    /// default ([`cyclic::DEFAULT_MAPPING`]), as after every power-on (§7.4.6).
     pub fn new(params: MrJeCParams) -> MrJeC {
+        let mut store = store::Store::new(&params);
+        for (k, entry) in cyclic::DEFAULT_MAPPING.iter().enumerate() {
+            store.set(ObjectId::new(0x1A00, k as u8 + 1), Value::U32(*entry));
+        }
         MrJeC {
-            store: store::Store::new(&params),
+            store,
+            cyclic_ready: false,
             params,
             state: FsaState::SwitchOnDisabled,
             last_cw: Controlword(0),
@@ -230,6 +238,53 @@ impl MrJeC {
         }
     }
 
+    /// SSR (RX(n+3)F): the cyclic link imports RWw; the response mapping is locked.
+    pub fn set_cyclic_ready(&mut self, on: bool) {
+        self.cyclic_ready = on;
+    }
+
+    /// Whether SSR is on.
+    pub fn cyclic_ready(&self) -> bool {
+        self.cyclic_ready
+    }
+
+    /// The response mapping: 1A00h:1 to 1A00h:(1A00h:0).
+    pub fn mapping(&self) -> Vec<u32> {
+        let n = self.store.int(ObjectId::new(0x1A00, 0)).clamp(0, 32) as u8;
+        (1..=n)
+            .map(|k| self.store.int(ObjectId::new(0x1A00, k)) as u32)
+            .collect()
+    }
+
+    /// The rules of a 1A00h write `v` to sub-index `sub` (§7.4.6 (2), §2.4.5): locked while SSR
+    /// is on; a non-zero entry count needs mappable entries of at most 64 bytes in all.
+    fn check_mapping(&self, sub: u8, v: i64) -> Result<(), Refusal> {
+        if self.cyclic_ready {
+            return Err(Refusal::MappingLocked);
+        }
+        if sub != 0 || v == 0 {
+            return Ok(());
+        }
+        let sw = self.params.software;
+        let mut bytes = 0;
+        for k in 1..=v.clamp(0, 32) as u8 {
+            let e = self.store.int(ObjectId::new(0x1A00, k)) as u32;
+            let id = ObjectId::new((e >> 16) as u16, (e >> 8) as u8);
+            let bits = (e & 0xFF) as usize;
+            let fits = id.index == 0
+                || super::objects::entry(id, sw)
+                    .is_some_and(|(_, r)| r.mappable && r.ty.bytes() * 8 == bits);
+            if !fits {
+                return Err(Refusal::NotMappable);
+            }
+            bytes += bits / 8;
+        }
+        if bytes > 64 {
+            return Err(Refusal::MappingTooLarge);
+        }
+        Ok(())
+    }
+
     /// Reads `id`.
     pub fn read(&self, id: ObjectId) -> Result<Value, Refusal> {
         let row = store::readable(id, self.params.software)?;
@@ -271,6 +326,9 @@ impl MrJeC {
         let v = value.as_i64().unwrap_or(0);
         let fixed = row.initial.value(sw).unwrap_or(0);
         store::in_range(id, row, v, fixed, i64::from(self.params.permissible_speed))?;
+        if id.index == 0x1A00 {
+            self.check_mapping(id.sub, v)?;
+        }
         self.tick(now);
         self.store.set(id, value.clone());
         self.effects(id, v);

@@ -38,6 +38,15 @@ pub enum Refusal {
     /// In a gap of the range, or a value the object refuses as a whole.
     #[error("value outside the range")]
     OutOfRange,
+    /// A write to the response mapping 1A00h while cyclic communication runs (SSR on).
+    #[error("response mapping locked while cyclic communication runs")]
+    MappingLocked,
+    /// An object that cannot be mapped into the response.
+    #[error("object cannot be mapped")]
+    NotMappable,
+    /// Mapped objects beyond 64 bytes.
+    #[error("mapped objects exceed 64 bytes")]
+    MappingTooLarge,
     /// Modbus registers that split an object, or that chain an object which must be
     /// accessed alone ("continuous read/write impossible", §7.3).
     #[error("registers that do not cover whole objects")]
@@ -59,6 +68,9 @@ impl Refusal {
             Self::BelowRange => EndCode::BelowRange,
             Self::OutOfRange => EndCode::OutOfRange,
             Self::Layout => EndCode::RequestIncorrect,
+            Self::MappingLocked => EndCode::MappedObject,
+            Self::NotMappable => EndCode::NotMappable,
+            Self::MappingTooLarge => EndCode::MappingTooLarge,
         }
     }
 
@@ -66,9 +78,12 @@ impl Refusal {
     /// register cannot take (§3.6.5).
     pub const fn exception(self) -> ExceptionCode {
         match self {
-            Self::NoIndex | Self::NoSubIndex | Self::WriteOnly | Self::ReadOnly | Self::Layout => {
-                ExceptionCode::IllegalDataAddress
-            }
+            Self::NoIndex
+            | Self::NoSubIndex
+            | Self::WriteOnly
+            | Self::ReadOnly
+            | Self::Layout
+            | Self::MappingLocked => ExceptionCode::IllegalDataAddress,
             _ => ExceptionCode::IllegalDataValue,
         }
     }

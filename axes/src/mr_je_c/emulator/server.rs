@@ -1,5 +1,6 @@
-//! The simulated MR-JE-C on real sockets (MR-JE-C manual §2.2.2, §3.2): Modbus/TCP (at most 3
-//! connections), SLMP over UDP (any number of peers) and over TCP (1 connection). A connection
+//! The simulated MR-JE-C on real sockets (MR-JE-C manual §2.2.1, §2.2.2, §3.2): Modbus/TCP (at
+//! most 3 connections), SLMP over UDP (any number of peers) and over TCP (1 connection), and
+//! the CC-Link IE Field Basic cyclic link on UDP (answered to the sender's address). A connection
 //! beyond the limit is closed at once. One request is processed at a time across all of them
 //! (the drive is behind one lock). The virtual clock is the time since the server started; a
 //! ticker advances it every 10 ms so that the time-outs expire while nobody talks.
@@ -30,6 +31,8 @@ pub struct Ports {
     pub slmp_udp: u16,
     /// SLMP over TCP (5012).
     pub slmp_tcp: u16,
+    /// CC-Link IE Field Basic cyclic data (UDP 61450).
+    pub cclink: u16,
 }
 
 impl Default for Ports {
@@ -38,6 +41,7 @@ impl Default for Ports {
             modbus_tcp: tcp::PORT,
             slmp_udp: crate::slmp::UDP_PORT,
             slmp_tcp: crate::slmp::TCP_PORT,
+            cclink: crate::cclink_ief_basic::CYCLIC_PORT,
         }
     }
 }
@@ -68,10 +72,13 @@ pub struct Server {
     pub slmp_udp: SocketAddr,
     /// Where SLMP listens over TCP.
     pub slmp_tcp: SocketAddr,
+    /// Where the cyclic link listens.
+    pub cclink: SocketAddr,
 }
 
 impl Server {
-    /// Serves `drive` on `ip` at `ports`.
+    /// Serves `drive` on `ip` at `ports`; `ip` is the drive's own address, the slave ID the
+    /// cyclic link looks for in a request (so give the drive's address, not 0.0.0.0).
     pub fn start(drive: MrJeC, ip: IpAddr, ports: Ports) -> io::Result<Server> {
         let shared = Arc::new(Shared {
             drive: Mutex::new(drive),
@@ -81,12 +88,20 @@ impl Server {
         let modbus = TcpListener::bind((ip, ports.modbus_tcp))?;
         let udp = UdpSocket::bind((ip, ports.slmp_udp))?;
         let slmp_tcp = TcpListener::bind((ip, ports.slmp_tcp))?;
+        let cclink = UdpSocket::bind((ip, ports.cclink))?;
         let addrs = (
             modbus.local_addr()?,
             udp.local_addr()?,
             slmp_tcp.local_addr()?,
         );
-        let mut threads = Vec::new();
+        let cclink_addr = cclink.local_addr()?;
+        let own = match ip {
+            IpAddr::V4(v4) => u32::from(v4),
+            IpAddr::V6(_) => 0,
+        };
+        cclink.set_read_timeout(Some(POLL))?;
+        let s = shared.clone();
+        let mut threads = vec![std::thread::spawn(move || serve_cclink(&cclink, own, &s))];
         let s = shared.clone();
         threads.push(std::thread::spawn(move || ticker(&s)));
         let s = shared.clone();
@@ -107,6 +122,7 @@ impl Server {
             modbus_tcp: addrs.0,
             slmp_udp: addrs.1,
             slmp_tcp: addrs.2,
+            cclink: cclink_addr,
         })
     }
 
@@ -267,6 +283,37 @@ fn serve_slmp_udp(socket: &UdpSocket, s: &Shared) {
         let reply = slmp::answer_frame(&mut s.drive(), &buf[..n], s.now());
         if let Some(r) = reply {
             let _ = socket.send_to(&r, peer);
+        }
+    }
+}
+
+/// The cyclic link: requests from the connected master, answered to the sender.
+fn serve_cclink(socket: &UdpSocket, own: u32, s: &Shared) {
+    let mut link = super::cyclic::CyclicLink::default();
+    let mut buf = [0u8; 1500];
+    let mut out = [0u8; crate::cclink_ief_basic::RESPONSE_SIZE];
+    while !s.stop.load(Ordering::Relaxed) {
+        let Ok((n, peer)) = socket.recv_from(&mut buf) else {
+            continue;
+        };
+        let IpAddr::V4(source) = peer.ip() else {
+            continue;
+        };
+        let Ok(request) =
+            crate::cclink_ief_basic::CyclicRequest::decode(&buf[..n], u32::from(source))
+        else {
+            continue;
+        };
+        let mut drive = s.drive();
+        if !drive.serves(super::Transport::CcLink) {
+            continue;
+        }
+        let response = link.answer(&mut drive, &request, own, s.now());
+        drop(drive);
+        if let Some(r) = response {
+            if let Ok(k) = r.encode(&mut out) {
+                let _ = socket.send_to(&out[..k], peer);
+            }
         }
     }
 }

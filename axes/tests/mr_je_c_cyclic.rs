@@ -73,7 +73,7 @@ impl Bench {
     }
 
     fn send(&mut self, r: &CyclicRequest, now: Duration) -> Option<CyclicResponse> {
-        self.link.answer(&mut self.drive, r, DRIVE, now)
+        self.link.answer(&mut self.drive, r, DRIVE, true, now)
     }
 }
 

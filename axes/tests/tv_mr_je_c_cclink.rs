@@ -160,7 +160,7 @@ fn the_example_response_from_the_emulator() {
     // The precondition: a request with the transmission bit off connects the master; then
     // Shutdown and Switch On, and the example request (Enable Operation) itself.
     let (mut drive, mut link) = (MrJeC::new(MrJeCParams::default()), CyclicLink::default());
-    let mut send = |r: &CyclicRequest| link.answer(&mut drive, r, DRIVE, Duration::ZERO);
+    let mut send = |r: &CyclicRequest| link.answer(&mut drive, r, DRIVE, true, Duration::ZERO);
     send(&CyclicRequest {
         transmission: 0,
         ..request()

@@ -278,3 +278,57 @@ fn slmp_block_access_and_model_read() {
     .unwrap();
     assert_eq!(&r[11..27], b"MR-JE-20C       ");
 }
+
+mod never_panics {
+    use super::*;
+    use cellrt_axes::modbus::{Query, WordOrder};
+    use cellrt_axes::slmp::{Command, Request, Route, Subheader};
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn any_bytes_on_any_transport(bytes in proptest::collection::vec(any::<u8>(), 0..600)) {
+            let mut d = enabled();
+            let _ = slmp::answer_frame(&mut d, &bytes, T);
+            let _ = rtu::answer(&mut d, &bytes, T);
+            if let Ok(Some((adu, _))) = tcp::split(&bytes) {
+                let _ = modbus::answer_adu(&mut d, &adu, T);
+            }
+        }
+
+        #[test]
+        fn any_register_range(address in any::<u16>(), registers in 1u16..=122, fill in any::<u8>()) {
+            let mut d = enabled();
+            let mut out = Vec::new();
+            let read = Query::Read { address, registers };
+            let _ = modbus::answer(&mut d, &read, WordOrder::LowFirst, T, &mut out);
+            let data = vec![fill; 2 * usize::from(registers)];
+            let write = Query::Write { address, data: &data };
+            let _ = modbus::answer(&mut d, &write, WordOrder::LowFirst, T, &mut out);
+        }
+
+        #[test]
+        fn any_slmp_object_access(
+            index in any::<u16>(),
+            sub in any::<u8>(),
+            data in proptest::collection::vec(any::<u8>(), 0..80),
+        ) {
+            let mut d = enabled();
+            let mut out = Vec::new();
+            for command in [
+                Command::Upload { index, sub },
+                Command::BlockUpload { index, sub },
+                Command::Download { index, sub, data: &data },
+                Command::BlockDownload { index, sub, data: &data },
+            ] {
+                let r = Request {
+                    subheader: Subheader::E3,
+                    route: Route::default(),
+                    monitoring_timer: 0,
+                    command,
+                };
+                let _ = slmp::answer(&mut d, &r, T, &mut out);
+            }
+        }
+    }
+}

@@ -76,6 +76,16 @@ impl SlmpClient {
         } else {
             "[::]:0".parse().expect("literal")
         };
+        Self::udp_from(local, addr, frame, timeout)
+    }
+
+    /// A UDP client of `addr` sending from `local` (the address a drive's IP rules judge).
+    pub fn udp_from(
+        local: SocketAddr,
+        addr: SocketAddr,
+        frame: FrameType,
+        timeout: Duration,
+    ) -> Result<Self, ClientError> {
         let socket = UdpSocket::bind(local)?;
         socket.connect(addr)?;
         Ok(Self::new(Link::Udp(socket), frame, timeout))

@@ -76,12 +76,14 @@ pub struct CyclicLink {
 
 impl CyclicLink {
     /// The response to `request` at `now` for a drive whose IP (slave ID) is `own`; `None`:
-    /// dropped without an answer.
+    /// dropped without an answer. RWw is imported only if the master may `operate` (the
+    /// operation specification IP, §5.2.3); RY, and so the CSR/SSR handshake, always is.
     pub fn answer(
         &mut self,
         drive: &mut MrJeC,
         request: &CyclicRequest,
         own: u32,
+        operate: bool,
         now: Duration,
     ) -> Option<CyclicResponse> {
         let k = request.station_of(own)?;
@@ -129,7 +131,9 @@ impl CyclicLink {
         let csr = bit(&data.bits, READY_BIT);
         drive.set_cyclic_ready(csr);
         if csr {
-            import(drive, &data.words, now);
+            if operate {
+                import(drive, &data.words, now);
+            }
             response.station.words = export(drive);
             set_bit(&mut response.station.bits, READY_BIT, true);
         }

@@ -4,6 +4,7 @@
 //! (`now`: time since power-on). Profile motion is not simulated yet: the motor holds its
 //! position and targets are stored.
 
+mod address_rules;
 pub mod cyclic;
 mod history;
 pub mod modbus;
@@ -25,6 +26,7 @@ use crate::cia402::controlword::Controlword;
 use crate::cia402::fsa::{drive_transition, FsaQuirks, FsaState};
 use crate::cia402::statusword::Statusword;
 
+pub use address_rules::AddressRules;
 pub use history::{AlarmHistory, Occurrence};
 pub use refusal::Refusal;
 pub use watchdog::{Timeouts, Transport};
@@ -105,6 +107,7 @@ pub struct MrJeC {
     history: AlarmHistory,
     watchdog: watchdog::CommWatchdog,
     cyclic_ready: bool,
+    rules: AddressRules,
     now: Duration,
 }
 
@@ -117,6 +120,7 @@ impl MrJeC {
             store.set(ObjectId::new(0x1A00, k as u8 + 1), Value::U32(*entry));
         }
         MrJeC {
+            rules: AddressRules::latch(&store),
             store,
             cyclic_ready: false,
             params,
@@ -127,6 +131,27 @@ impl MrJeC {
             watchdog: Default::default(),
             now: Duration::ZERO,
         }
+    }
+
+    /// Cycles the power: parameters and point tables (EEPROM) are kept, everything else
+    /// starts over (state, alarm, 1A00h mapping, time-outs), and the `*` parameters of the IP
+    /// rules take effect. The history is kept (EEPROM, §7.3). The clock goes on.
+    pub fn power_cycle(&mut self) {
+        let mut fresh = MrJeC::new(self.params.clone());
+        for (id, v) in self.store.iter() {
+            if (0x2001..=0x28FF).contains(&id.index) {
+                fresh.store.set(*id, v.clone());
+            }
+        }
+        fresh.rules = AddressRules::latch(&fresh.store);
+        fresh.history = std::mem::take(&mut self.history);
+        fresh.now = self.now;
+        *self = fresh;
+    }
+
+    /// The IP rules in effect (latched at power-on).
+    pub fn address_rules(&self) -> AddressRules {
+        self.rules
     }
 
     /// Its parameters.

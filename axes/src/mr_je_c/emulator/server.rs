@@ -6,7 +6,7 @@
 //! ticker advances it every 10 ms so that the time-outs expire while nobody talks.
 
 use std::io::{self, Read, Write};
-use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream, UdpSocket};
+use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener, TcpStream, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
@@ -59,6 +59,23 @@ impl Shared {
 
     fn drive(&self) -> MutexGuard<'_, MrJeC> {
         self.drive.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The IP filter admits `peer` (an IPv6 peer only while the filter is off).
+    fn admits(&self, peer: IpAddr) -> bool {
+        self.drive().address_rules().admits(v4(peer))
+    }
+
+    /// The operation specification lets `peer` write.
+    fn may_operate(&self, peer: IpAddr) -> bool {
+        self.drive().address_rules().may_operate(v4(peer))
+    }
+}
+
+fn v4(ip: IpAddr) -> Ipv4Addr {
+    match ip {
+        IpAddr::V4(v4) => v4,
+        IpAddr::V6(v6) => v6.to_ipv4_mapped().unwrap_or(Ipv4Addr::UNSPECIFIED),
     }
 }
 
@@ -184,6 +201,8 @@ fn accept_thread(
         while !s.stop.load(Ordering::Relaxed) {
             match listener.accept() {
                 Ok((stream, _)) if open.load(Ordering::SeqCst) >= limit => drop(stream),
+                // The IP filter: the connection is closed at once.
+                Ok((stream, peer)) if !s.admits(peer.ip()) => drop(stream),
                 Ok((mut stream, _)) => {
                     open.fetch_add(1, Ordering::SeqCst);
                     let (s, open) = (s.clone(), open.clone());
@@ -232,8 +251,10 @@ fn fill(stream: &mut TcpStream, s: &Shared, inbox: &mut Vec<u8>) -> io::Result<b
 }
 
 /// One Modbus/TCP connection: ADUs framed by the MBAP length; a length that cannot frame an
-/// ADU closes the connection.
+/// ADU closes the connection. A 10h from a client the operation specification excludes is
+/// discarded without an answer.
 fn serve_modbus(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
+    let operate = s.may_operate(stream.peer_addr()?.ip());
     let mut inbox = Vec::new();
     loop {
         let cut = tcp::split(&inbox).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
@@ -243,7 +264,12 @@ fn serve_modbus(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
             }
             continue;
         };
-        let reply = modbus::answer_adu(&mut s.drive(), &adu, s.now());
+        let discard = !operate && adu.pdu.first() == Some(&crate::modbus::WRITE);
+        let reply = if discard {
+            None
+        } else {
+            modbus::answer_adu(&mut s.drive(), &adu, s.now())
+        };
         inbox.drain(..used);
         if let Some(r) = reply {
             stream.write_all(&r)?;
@@ -253,13 +279,14 @@ fn serve_modbus(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
 
 /// One SLMP TCP connection: frames cut by their request data length.
 fn serve_slmp_tcp(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
+    let operate = s.may_operate(stream.peer_addr()?.ip());
     let mut inbox = Vec::new();
     loop {
         let len = crate::slmp::client::frame_length(&inbox)
             .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
         match len {
             Some(n) if inbox.len() >= n => {
-                let reply = slmp::answer_frame(&mut s.drive(), &inbox[..n], s.now());
+                let reply = answer_slmp(s, &inbox[..n], operate);
                 inbox.drain(..n);
                 if let Some(r) = reply {
                     stream.write_all(&r)?;
@@ -274,13 +301,32 @@ fn serve_slmp_tcp(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
     }
 }
 
+/// The answer to an SLMP frame; downloads from a peer the operation specification excludes
+/// are discarded without an answer (§5.2.3 PN31–PN36).
+fn answer_slmp(s: &Shared, frame: &[u8], operate: bool) -> Option<Vec<u8>> {
+    use crate::slmp::Command;
+    let write = crate::slmp::decode_request(frame).is_ok_and(|r| {
+        matches!(
+            r.command,
+            Command::Download { .. } | Command::BlockDownload { .. }
+        )
+    });
+    if write && !operate {
+        return None;
+    }
+    slmp::answer_frame(&mut s.drive(), frame, s.now())
+}
+
 fn serve_slmp_udp(socket: &UdpSocket, s: &Shared) {
     let mut buf = [0u8; crate::slmp::MAX_FRAME];
     while !s.stop.load(Ordering::Relaxed) {
         let Ok((n, peer)) = socket.recv_from(&mut buf) else {
             continue;
         };
-        let reply = slmp::answer_frame(&mut s.drive(), &buf[..n], s.now());
+        if !s.admits(peer.ip()) {
+            continue;
+        }
+        let reply = answer_slmp(s, &buf[..n], s.may_operate(peer.ip()));
         if let Some(r) = reply {
             let _ = socket.send_to(&r, peer);
         }
@@ -299,6 +345,10 @@ fn serve_cclink(socket: &UdpSocket, own: u32, s: &Shared) {
         let IpAddr::V4(source) = peer.ip() else {
             continue;
         };
+        if !s.admits(peer.ip()) {
+            continue;
+        }
+        let operate = s.may_operate(peer.ip());
         let Ok(request) =
             crate::cclink_ief_basic::CyclicRequest::decode(&buf[..n], u32::from(source))
         else {
@@ -308,7 +358,7 @@ fn serve_cclink(socket: &UdpSocket, own: u32, s: &Shared) {
         if !drive.serves(super::Transport::CcLink) {
             continue;
         }
-        let response = link.answer(&mut drive, &request, own, s.now());
+        let response = link.answer(&mut drive, &request, own, operate, s.now());
         drop(drive);
         if let Some(r) = response {
             if let Ok(k) = r.encode(&mut out) {

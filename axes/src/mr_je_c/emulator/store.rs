@@ -86,6 +86,11 @@ impl Store {
         self.get(id).and_then(Value::as_i64).unwrap_or(0)
     }
 
+    /// Every value.
+    pub fn iter(&self) -> impl Iterator<Item = (&ObjectId, &Value)> {
+        self.values.iter()
+    }
+
     /// Sets `id`.
     pub fn set(&mut self, id: ObjectId, v: Value) {
         self.values.insert(id, v);

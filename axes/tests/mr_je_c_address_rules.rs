@@ -1,6 +1,7 @@
 //! The MR-JE-C's IP filter ([Pr. PN24]–[Pr. PN30]) and operation specification IP address
-//! ([Pr. PN31]–[Pr. PN36]) (MR-JE-C manual §5.2.3): in the emulator after a power cycle, and on
-//! loopback, where clients send from 127.0.0.1 and 127.0.0.2 (no namespace needed).
+//! ([Pr. PN31]–[Pr. PN36]) (MR-JE-C manual §5.2.3): in the emulator after a power cycle (and
+//! gone after a 1011h restore, §7.4.5), and on loopback, where clients send from 127.0.0.1 and
+//! 127.0.0.2 (no namespace needed).
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::time::Duration;
@@ -53,6 +54,15 @@ fn the_rules_take_effect_at_power_on() {
     assert!(!rules.may_operate(ip("192.168.5.250")) && !rules.may_operate(ip("192.168.3.251")));
     // The parameters survived the power cycle; the state did not.
     assert_eq!(d.read(ObjectId::new(0x2598, 0)).unwrap(), Value::U32(192));
+    // 1011h:4 = "load", then a power cycle: the parameters' factory values, the rules off.
+    let load = Value::U32(0x6461_6F6C);
+    d.write(ObjectId::new(0x1011, 4), &load, Duration::ZERO)
+        .unwrap();
+    assert_eq!(d.read(ObjectId::new(0x1011, 4)).unwrap(), Value::U32(1));
+    d.power_cycle();
+    assert_eq!(d.read(ObjectId::new(0x2598, 0)).unwrap(), Value::U32(0));
+    assert_eq!(d.read(ObjectId::new(0x2582, 0)).unwrap(), Value::U32(1000));
+    assert!(d.address_rules().admits(ip("10.1.2.3")));
 }
 
 const LOCAL: Ipv4Addr = Ipv4Addr::LOCALHOST;

@@ -108,8 +108,19 @@ pub struct MrJeC {
     watchdog: watchdog::CommWatchdog,
     cyclic_ready: bool,
     rules: AddressRules,
+    restore: Restore,
     now: Duration,
 }
+
+/// What a 1011h "load" asked to restore at the next power-on.
+#[derive(Debug, Clone, Copy, Default)]
+struct Restore {
+    parameters: bool,
+    point_tables: bool,
+}
+
+/// "load" (64616F6Ch) written to 1011h.
+const LOAD: i64 = 0x6461_6F6C;
 
 impl MrJeC {
     /// The drive after power-on, in Switch on disabled; the response mapping 1A00h is the
@@ -123,6 +134,7 @@ impl MrJeC {
             rules: AddressRules::latch(&store),
             store,
             cyclic_ready: false,
+            restore: Restore::default(),
             params,
             state: FsaState::SwitchOnDisabled,
             last_cw: Controlword(0),
@@ -136,10 +148,18 @@ impl MrJeC {
     /// Cycles the power: parameters and point tables (EEPROM) are kept, everything else
     /// starts over (state, alarm, 1A00h mapping, time-outs), and the `*` parameters of the IP
     /// rules take effect. The history is kept (EEPROM, §7.3). The clock goes on.
+    ///
+    /// A restore written to 1011h before ("load", §7.4.5) brings back the factory values of
+    /// the parameters (sub 1, 4) and the point tables (sub 1, 5) instead.
     pub fn power_cycle(&mut self) {
         let mut fresh = MrJeC::new(self.params.clone());
+        let kept = |index: u16| match index {
+            0x2001..=0x27FF => !self.restore.parameters,
+            0x2801..=0x28FF => !self.restore.point_tables,
+            _ => false,
+        };
         for (id, v) in self.store.iter() {
-            if (0x2001..=0x28FF).contains(&id.index) {
+            if kept(id.index) {
                 fresh.store.set(*id, v.clone());
             }
         }
@@ -375,6 +395,21 @@ impl MrJeC {
 
     /// What a write does beyond storing the value.
     fn effects(&mut self, id: ObjectId, v: i64) {
+        if matches!(id.index, 0x1010 | 0x1011) {
+            // Saving is immediate here (no EEPROM delay) and both objects keep reading their
+            // status: bit 0 "can save now" (§7.4.4, §7.4.5).
+            let sw = self.params.software;
+            let status = store::row(id, sw).ok().and_then(|r| r.initial.value(sw));
+            let status = status.and_then(|v| Value::from_i64(super::types::DataType::U32, v));
+            if let Some(s) = status {
+                self.store.set(id, s);
+            }
+            if id.index == 0x1011 && v == LOAD {
+                self.restore.parameters |= matches!(id.sub, 1 | 4);
+                self.restore.point_tables |= matches!(id.sub, 1 | 5);
+            }
+            return;
+        }
         match id.index {
             0x6040 => self.controlword(Controlword(v as u16)),
             0x6060 => self.mode(v),

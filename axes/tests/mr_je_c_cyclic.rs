@@ -1,7 +1,7 @@
 //! The simulated MR-JE-C's CC-Link IE Field Basic cyclic link (docs/test-vectors.md, mr-je-c.md
 //! §13.4 CB-0 … CB-6, SL-9 … SL-11): connection, CSR/SSR, RWw import, RWr from 1A00h, master
 //! duplication, AL. 86.1 on the virtual clock; and our cyclic master against the emulator on
-//! loopback.
+//! loopback, allocating nothing per exchange.
 
 use std::net::{IpAddr, Ipv4Addr};
 use std::time::Duration;
@@ -15,6 +15,10 @@ use cellrt_axes::mr_je_c::emulator::cyclic::CyclicLink;
 use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
 use cellrt_axes::mr_je_c::emulator::{slmp, MrJeC, MrJeCParams};
 use cellrt_axes::mr_je_c::{Alarm, ObjectId, Value};
+use cellrt_test_support::counting_alloc::{thread_heap_calls, CountingAllocator};
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 const MASTER: u32 = 0xC0A8_03FA;
 const DRIVE: u32 = 0xC0A8_0301;
@@ -218,8 +222,8 @@ fn al_86_1_after_pn02_and_the_master_lost_after_its_supervision_time() {
     assert_eq!(r.end_code, EndCode::Normal);
 }
 
-#[test]
-fn our_master_against_the_emulator_on_loopback() {
+/// The emulator on loopback and our master of it.
+fn on_loopback() -> (Server, CyclicMaster) {
     let ip = IpAddr::V4(Ipv4Addr::LOCALHOST);
     let any = Ports {
         modbus_tcp: 0,
@@ -232,7 +236,13 @@ fn our_master_against_the_emulator_on_loopback() {
         response_timeout: Duration::from_secs(2),
         ..Default::default()
     };
-    let mut m = CyclicMaster::new((ip, 0).into(), s.cclink, p).unwrap();
+    let m = CyclicMaster::new((ip, 0).into(), s.cclink, p).unwrap();
+    (s, m)
+}
+
+#[test]
+fn our_master_against_the_emulator_on_loopback() {
+    let (s, mut m) = on_loopback();
     let mut rww = [0u8; 64];
     let mut ry = [0u8; 8];
     let r = m.exchange(false, &rww, &ry).unwrap();
@@ -255,4 +265,29 @@ fn our_master_against_the_emulator_on_loopback() {
     }
     assert_eq!(s.drive().alarm(), Some(Alarm::NETWORK_1));
     assert!(s.now() - last >= ms(1000));
+}
+
+#[test]
+fn cyclic_exchanges_are_allocation_free() {
+    // Issue 18: the cyclic client never allocates per cycle (counted on this thread).
+    let (_s, mut m) = on_loopback();
+    let (mut rww, mut ry) = ([0u8; 64], [0u8; 8]);
+    m.exchange(false, &rww, &ry).unwrap();
+    set_bit(&mut ry, READY_BIT, true);
+    rww[0] = 1;
+    rww[2] = 6;
+    m.exchange(true, &rww, &ry).unwrap();
+    let before = thread_heap_calls();
+    let mut ready = 0;
+    for k in 0..200u16 {
+        rww[4] = k as u8;
+        let r = m.exchange(true, &rww, &ry).unwrap();
+        ready += usize::from(bit(&r.station.bits, READY_BIT));
+    }
+    assert_eq!(
+        thread_heap_calls() - before,
+        0,
+        "heap calls in 200 exchanges"
+    );
+    assert_eq!(ready, 200);
 }

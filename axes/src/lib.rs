@@ -17,8 +17,10 @@ pub mod esi;
 pub mod ethercat;
 pub mod fsoe;
 pub mod modbus;
+pub mod mr_je_c;
 pub mod pdo;
 pub mod profiles;
+mod reply_read;
 pub mod sim;
 pub mod slmp;
 

@@ -1,7 +1,7 @@
 //! MR-JE-C CC-Link IE Field Network Basic frames (docs/test-vectors.md, mr-je-c.md §13.4): the
 //! example request and response byte for byte through both ends of `axes::cclink_ief_basic`,
-//! the slave's validation of a request (dropped frames), CSR/SSR at RY/RX bit 63, and the
-//! master-lost supervision time.
+//! the slave's validation of a request (dropped frames), CSR/SSR at RY/RX bit 63, the
+//! master-lost supervision time, and the example response from the simulated drive.
 
 use cellrt_axes::cclink_ief_basic::{
     bit, set_bit, CyclicError, CyclicRequest, CyclicResponse, EndCode, StationData, READY_BIT,
@@ -151,6 +151,35 @@ fn a_slave_drops_what_a_conformant_slave_drops() {
     resp[13] = 0x12;
     assert!(CyclicResponse::decode(&resp).is_err());
     assert!(CyclicResponse::decode(&resp[..130]).is_err());
+}
+
+#[test]
+fn the_example_response_from_the_emulator() {
+    use cellrt_axes::mr_je_c::emulator::{cyclic::CyclicLink, MrJeC, MrJeCParams};
+    use std::time::Duration;
+    // The precondition: a request with the transmission bit off connects the master; then
+    // Shutdown and Switch On, and the example request (Enable Operation) itself.
+    let (mut drive, mut link) = (MrJeC::new(MrJeCParams::default()), CyclicLink::default());
+    let mut send = |r: &CyclicRequest| link.answer(&mut drive, r, DRIVE, true, Duration::ZERO);
+    send(&CyclicRequest {
+        transmission: 0,
+        ..request()
+    })
+    .unwrap();
+    for cw in [6u8, 7] {
+        let mut r = request();
+        r.station[0].words[2] = cw;
+        send(&r).unwrap();
+    }
+    let mut got = [0u8; RESPONSE_SIZE];
+    send(&request()).unwrap().encode(&mut got).unwrap();
+    // Not asserted (the extract): protocol version (11), vendor/model/equipment (31–40), RWr
+    // beyond RWrn01 (63…122).
+    for (at, (g, w)) in got.iter().zip(&hex(RESPONSE)).enumerate() {
+        if at != 11 && !(31..=40).contains(&at) && !(63..123).contains(&at) {
+            assert_eq!(g, w, "byte {at}");
+        }
+    }
 }
 
 mod properties {

@@ -36,6 +36,9 @@ pub enum Command {
     DriveSim(DriveSimArgs),
     /// Look at a fieldbus without running a cell.
     Bus(BusArgs),
+    /// Read or write one object of an MR-JE-C over SLMP or Modbus/TCP (commissioning).
+    #[command(name = "je-c")]
+    JeC(crate::commands::je_c::JeCArgs),
     /// ESI files (EtherCAT Slave Information, ETG.2000): what cellrt takes from them.
     Esi(crate::commands::esi::EsiArgs),
     /// Benchmarks: wakeup latency, comparison with cyclictest, the full loop with N axes.
@@ -139,6 +142,40 @@ pub enum BusCommand {
     },
 }
 
+/// `cellrt drive-sim mr-je-c`.
+#[derive(Debug, Args)]
+pub struct MrJeCSimArgs {
+    /// The IP address to listen on (e.g. 127.0.0.1, or an address in a network namespace).
+    #[arg(long, value_name = "ADDR")]
+    pub listen: std::net::IpAddr,
+    /// Modbus/TCP port (502 on a drive; below 1024 needs root).
+    #[arg(long, value_name = "PORT", default_value_t = 502)]
+    pub modbus_port: u16,
+    /// SLMP UDP port.
+    #[arg(long, value_name = "PORT", default_value_t = 5010)]
+    pub slmp_udp_port: u16,
+    /// SLMP TCP port.
+    #[arg(long, value_name = "PORT", default_value_t = 5012)]
+    pub slmp_tcp_port: u16,
+    /// CC-Link IE Field Basic cyclic port (UDP).
+    #[arg(long, value_name = "PORT", default_value_t = 61450)]
+    pub cclink_port: u16,
+    /// The drive's software version: A0, A3 or A4 (objects, [Pr. PN10], 6502h).
+    #[arg(long, value_name = "VERSION", default_value = "A4", value_parser = software_version)]
+    pub software: cellrt_axes::mr_je_c::SoftwareVersion,
+}
+
+/// Parses a software version argument (A0, A3, A4).
+pub fn software_version(s: &str) -> Result<cellrt_axes::mr_je_c::SoftwareVersion, String> {
+    use cellrt_axes::mr_je_c::SoftwareVersion as V;
+    match s.to_ascii_uppercase().as_str() {
+        "A0" | "A1" | "A2" => Ok(V::A0),
+        "A3" => Ok(V::A3),
+        "A4" => Ok(V::A4),
+        _ => Err(format!("software version {s:?}: expected A0, A3 or A4")),
+    }
+}
+
 /// `cellrt drive-sim`.
 #[derive(Debug, Args)]
 pub struct DriveSimArgs {
@@ -150,6 +187,13 @@ pub struct DriveSimArgs {
 /// The buses `cellrt drive-sim` emulates.
 #[derive(Debug, Subcommand)]
 pub enum DriveSimBus {
+    /// Serve one simulated MR-JE-C on an address: Modbus/TCP (3 connections), SLMP over UDP
+    /// and TCP (1 connection), the CC-Link IE Field Basic cyclic link (CSR/SSR, RWw/RWr), one
+    /// request at a time, until SIGINT/SIGTERM. The drive holds
+    /// its position (profile motion is not simulated); its time-outs ([Pr. PN02], [Pr. PN10],
+    /// [Pr. PF46]) run on the time since start.
+    #[command(name = "mr-je-c")]
+    MrJeC(MrJeCSimArgs),
     /// Present the drives of the cell configuration given as `--cell CONFIG` as EtherCAT
     /// SubDevices on a network interface (line topology, in axis order), until SIGINT/SIGTERM.
     ///

@@ -28,6 +28,7 @@ fn main() {
         cli::Command::Replay(args) => commands::replay::run(args),
         cli::Command::DriveSim(args) => commands::drive_sim::run(args, cli.target.cell.clone()),
         cli::Command::Bus(args) => commands::bus::run(args),
+        cli::Command::JeC(args) => commands::je_c::run(args),
         cli::Command::Esi(args) => commands::esi::run(args),
         cli::Command::Bench(args) => commands::bench::run(args, cli.target.cell.clone()),
         cli::Command::Operate(c) => commands::operate::run(c, cli.target),

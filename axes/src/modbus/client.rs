@@ -130,23 +130,11 @@ impl TcpClient {
             }
             self.stream.set_read_timeout(Some(left))?;
             let mut chunk = [0u8; MAX_ADU];
-            match self.stream.read(&mut chunk) {
-                Ok(0) => {
-                    return Err(ClientError::Io(std::io::Error::new(
-                        std::io::ErrorKind::UnexpectedEof,
-                        "the drive closed the connection",
-                    )))
-                }
-                Ok(k) => self.inbox.extend_from_slice(&chunk[..k]),
-                Err(e)
-                    if matches!(
-                        e.kind(),
-                        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
-                    ) =>
-                {
+            match crate::reply_read::sort(self.stream.read(&mut chunk), true)? {
+                crate::reply_read::Read::Bytes(k) => self.inbox.extend_from_slice(&chunk[..k]),
+                crate::reply_read::Read::TimedOut => {
                     return Err(ClientError::Timeout(self.timeout))
                 }
-                Err(e) => return Err(e.into()),
             }
         }
     }

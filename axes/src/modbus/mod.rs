@@ -13,5 +13,5 @@ pub mod tcp;
 mod words;
 
 pub use error::ModbusError;
-pub use pdu::{ExceptionCode, Query, Reply, MAX_REGISTERS};
+pub use pdu::{ExceptionCode, Query, Reply, MAX_REGISTERS, WRITE};
 pub use words::{value_of, words_of, WordOrder};

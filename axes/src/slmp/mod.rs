@@ -4,6 +4,7 @@
 //! controller's client and the drive emulator. No maintained crate covers SLMP; the frame is
 //! small and table-driven here.
 
+pub mod client;
 mod end_code;
 mod frame;
 

@@ -14,7 +14,10 @@ use crate::exit::Exit;
 
 /// Runs `cellrt drive-sim`.
 pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
-    let DriveSimBus::Ethercat { interface } = args.bus;
+    let interface = match args.bus {
+        DriveSimBus::Ethercat { interface } => interface,
+        DriveSimBus::MrJeC(args) => return super::drive_sim_mr_je_c::run(args),
+    };
     let Some(cell) = cell.map(std::path::PathBuf::from) else {
         eprintln!(
             "error: --cell CONFIG: the cell configuration whose drives to emulate is required"

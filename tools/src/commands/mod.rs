@@ -3,8 +3,10 @@
 pub mod bench;
 pub mod bus;
 pub mod drive_sim;
+pub mod drive_sim_mr_je_c;
 pub mod esi;
 pub mod inspect;
+pub mod je_c;
 pub mod operate;
 pub mod planner;
 pub mod recover;

@@ -1,0 +1,188 @@
+//! The simulated drive's side of the CC-Link IE Field Basic cyclic link (MR-JE-C manual §2.2.1,
+//! §2.3.2, §2.5.1; the connection rules of a conformant slave as the extract records them from
+//! an open implementation): a master is accepted from a request whose transmission bit for the
+//! drive's station is off, another master gets end code CFE0h, a master silent for its
+//! supervision time (timeout × count) is dropped. While the master transmits to the station and
+//! sets CSR (RY(n+3)F), the drive imports RWw into the objects of the manual's Table 2.2
+//! (profile mode) and answers SSR (RX(n+3)F); RWr is built from the 1A00h mapping. Every
+//! request refreshes [Pr. PN02]'s time-out; the sequence number and group are echoed.
+
+use std::time::Duration;
+
+use super::super::objects::ObjectId;
+use super::super::value::Value;
+use super::{MrJeC, Transport};
+use crate::cclink_ief_basic::{
+    bit, set_bit, CyclicRequest, CyclicResponse, EndCode, StationData, READY_BIT,
+};
+
+/// RWw → objects, manual Table 2.2 (profile, P/S/T and homing modes): (device, object).
+/// 32-bit objects take two devices, the low word first; 6060h is the low byte of RWwn00.
+const RWW: [(usize, u16); 19] = [
+    (0x00, 0x6060),
+    (0x01, 0x6040),
+    (0x02, 0x2D01),
+    (0x03, 0x2D02),
+    (0x04, 0x2D03),
+    (0x05, 0x607A),
+    (0x07, 0x60FF),
+    (0x09, 0x2D20),
+    (0x0B, 0x6071),
+    (0x0C, 0x6081),
+    (0x0E, 0x6083),
+    (0x10, 0x6084),
+    (0x12, 0x6087),
+    (0x14, 0x60E0),
+    (0x15, 0x60E1),
+    (0x17, 0x60B8),
+    (0x18, 0x60F2),
+    (0x19, 0x2D05),
+    (0x1A, 0x0000),
+];
+
+/// The default response mapping 1A00h:1–15 (the extract's reconstruction of the garbled
+/// Table 2.2 RWr column: 15 entries, 40 bytes, sub 1 = 60610008h as the manual gives).
+pub const DEFAULT_MAPPING: [u32; 15] = [
+    0x6061_0008,
+    0x0000_0008,
+    0x6041_0010,
+    0x6064_0020,
+    0x606C_0020,
+    0x60F4_0020,
+    0x6077_0010,
+    0x2D11_0010,
+    0x2D12_0010,
+    0x2D13_0010,
+    0x2A42_0010,
+    0x60B9_0010,
+    0x60BA_0020,
+    0x60BB_0020,
+    0x2C12_0120,
+];
+
+/// The connected master.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Master {
+    id: u32,
+    last: Duration,
+    lost_after: Duration,
+}
+
+/// The drive's end of the cyclic link.
+#[derive(Debug, Clone, Default)]
+pub struct CyclicLink {
+    master: Option<Master>,
+}
+
+impl CyclicLink {
+    /// The response to `request` at `now` for a drive whose IP (slave ID) is `own`; `None`:
+    /// dropped without an answer. RWw is imported only if the master may `operate` (the
+    /// operation specification IP, §5.2.3); RY, and so the CSR/SSR handshake, always is.
+    pub fn answer(
+        &mut self,
+        drive: &mut MrJeC,
+        request: &CyclicRequest,
+        own: u32,
+        operate: bool,
+        now: Duration,
+    ) -> Option<CyclicResponse> {
+        let k = request.station_of(own)?;
+        if let Some(m) = self.master {
+            if now.saturating_sub(m.last) > m.lost_after {
+                self.master = None;
+                drive.set_cyclic_ready(false);
+            }
+        }
+        let mut response = CyclicResponse {
+            protocol_version: request.protocol_version,
+            end_code: EndCode::Normal,
+            vendor_code: 0,
+            model_code: 0,
+            equipment_version: 0,
+            unit_info: 1,
+            error_code: 0,
+            local_info: 0,
+            group: request.group,
+            sequence: request.sequence,
+            station: StationData {
+                slave_id: own,
+                ..StationData::default()
+            },
+        };
+        let transmitting = request.transmitting(k);
+        match self.master {
+            None if transmitting => return None,
+            None => {
+                self.connect(request, now);
+                return Some(response);
+            }
+            Some(m) if m.id != request.master_id => {
+                response.end_code = EndCode::MasterDuplication;
+                return Some(response);
+            }
+            Some(_) => self.connect(request, now),
+        }
+        drive.received(Transport::CcLink, now);
+        if !transmitting {
+            drive.set_cyclic_ready(false);
+            return Some(response);
+        }
+        let data = &request.station[k - 1];
+        let csr = bit(&data.bits, READY_BIT);
+        drive.set_cyclic_ready(csr);
+        if csr {
+            if operate {
+                import(drive, &data.words, now);
+            }
+            response.station.words = export(drive);
+            set_bit(&mut response.station.bits, READY_BIT, true);
+        }
+        Some(response)
+    }
+
+    fn connect(&mut self, request: &CyclicRequest, now: Duration) {
+        self.master = Some(Master {
+            id: request.master_id,
+            last: now,
+            lost_after: Duration::from_millis(u64::from(request.master_lost_after_ms())),
+        });
+    }
+}
+
+/// Writes RWw into the objects; a value an object refuses is not taken.
+fn import(drive: &mut MrJeC, words: &[u8; 64], now: Duration) {
+    let sw = drive.params().software;
+    for &(device, index) in RWW.iter().filter(|(_, i)| *i != 0) {
+        let id = ObjectId::new(index, 0);
+        let Ok((_, row)) = super::super::access::lookup(id, sw) else {
+            continue;
+        };
+        let at = 2 * device;
+        let bytes = &words[at..at + row.ty.bytes().min(64 - at)];
+        if let Some(v) = Value::from_le(row.ty, bytes) {
+            let unchanged = drive.read(id).is_ok_and(|old| old == v);
+            if !unchanged || index == 0x6040 {
+                let _ = drive.write(id, &v, now);
+            }
+        }
+    }
+}
+
+/// RWr from the 1A00h mapping: each entry's value in its bit size, gaps as zeros.
+fn export(drive: &MrJeC) -> [u8; 64] {
+    let mut out = [0u8; 64];
+    let mut at = 0;
+    for entry in drive.mapping() {
+        let bytes = (entry & 0xFF) as usize / 8;
+        let id = ObjectId::new((entry >> 16) as u16, (entry >> 8) as u8);
+        if id.index != 0 {
+            if let Ok(v) = drive.read(id) {
+                let le = v.to_le();
+                let n = bytes.min(le.len()).min(64 - at);
+                out[at..at + n].copy_from_slice(&le[..n]);
+            }
+        }
+        at = (at + bytes).min(64);
+    }
+    out
+}

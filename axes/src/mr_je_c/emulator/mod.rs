@@ -1,0 +1,452 @@
+//! A simulated MR-JE-C (MR-JE-C manual §2–§7): the object dictionary with its access rights and
+//! ranges, the CiA 402 FSA with quick-stop option code 2, alarms with their history and reset,
+//! and the communication time-outs, all judged on a virtual clock the caller passes in
+//! (`now`: time since power-on). Profile motion is not simulated yet: the motor holds its
+//! position and targets are stored.
+
+mod address_rules;
+pub mod cyclic;
+mod history;
+pub mod modbus;
+mod refusal;
+pub mod rtu;
+pub mod server;
+pub mod slmp;
+mod store;
+mod watchdog;
+
+use std::time::Duration;
+
+use super::alarm::Alarm;
+use super::objects::ObjectId;
+use super::parameters::{PC70, PF46, PN02, PN08, PN10};
+use super::types::SoftwareVersion;
+use super::value::Value;
+use crate::cia402::controlword::Controlword;
+use crate::cia402::fsa::{drive_transition, FsaQuirks, FsaState};
+use crate::cia402::statusword::Statusword;
+
+pub use address_rules::AddressRules;
+pub use history::{AlarmHistory, Occurrence};
+pub use refusal::Refusal;
+pub use watchdog::{Timeouts, Transport};
+
+/// The unit's own facts, which the manual leaves to the model and the motor (named
+/// parameters of the emulator; defaults: an MR-JE-20C with an HG-KN23 class motor).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MrJeCParams {
+    /// Software version (objects, [Pr. PN10], 6502h, 60E3h).
+    pub software: SoftwareVersion,
+    /// Model name (1008h, 2D30h, SLMP 0101h), e.g. "MR-JE-20C".
+    pub model: String,
+    /// Model code of the SLMP model read; the manual gives none (0).
+    pub model_code: u16,
+    /// Hardware version (1009h), two characters.
+    pub hardware_version: String,
+    /// Software version text (100Ah), 16 characters.
+    pub software_text: String,
+    /// Serial number (2D33h).
+    pub serial_number: String,
+    /// Main circuit power on (statusword bit 4); servo-on needs it.
+    pub main_power: bool,
+    /// Rotary switch SW1/SW2 (00h: the station number is [Pr. PC70]; MR-JE-C manual §4.9.2).
+    pub rotary_switch: u8,
+    /// Encoder resolution, pulses per revolution (608Fh:1).
+    pub encoder_resolution: u32,
+    /// Rated speed, r/min (2D28h).
+    pub rated_speed_rpm: u32,
+    /// Maximum speed, r/min (6080h, 2D29h).
+    pub max_speed_rpm: u32,
+    /// Instantaneous permissible speed, 0.01 r/min (the range of 6081h, 6099h, 2D20h).
+    pub permissible_speed: u32,
+    /// Maximum torque, 0.1 % (6072h).
+    pub max_torque: u16,
+}
+
+impl Default for MrJeCParams {
+    fn default() -> Self {
+        MrJeCParams {
+            software: SoftwareVersion::A4,
+            model: "MR-JE-20C".into(),
+            model_code: 0,
+            hardware_version: "A".into(),
+            software_text: " BCD-B46W750 A4 ".into(),
+            serial_number: "123456789012".into(),
+            main_power: true,
+            rotary_switch: 0,
+            encoder_resolution: 131_072,
+            rated_speed_rpm: 3000,
+            max_speed_rpm: 6000,
+            permissible_speed: 690_000,
+            max_torque: 3000,
+        }
+    }
+}
+
+/// The MR-JE-C's PDS: no shortcuts; option code 2 ends every quick stop in Switch on disabled.
+const QUIRKS: FsaQuirks = FsaQuirks {
+    shortcut_transitions: false,
+    has_quick_stop: true,
+    quick_stop_returns_to_enabled: false,
+    quick_stop_options_5_to_8: false,
+};
+
+/// Profile torque mode (6060h = 4): a quick stop goes straight to Switch on disabled.
+const PROFILE_TORQUE: i64 = 4;
+/// The value that resets (2A46h), clears the history (2A40h) and clears counters.
+const KEY: i64 = 0x1EA5;
+
+/// A simulated MR-JE-C.
+#[derive(Debug, Clone)]
+pub struct MrJeC {
+    params: MrJeCParams,
+    store: store::Store,
+    state: FsaState,
+    last_cw: Controlword,
+    alarm: Option<Alarm>,
+    history: AlarmHistory,
+    watchdog: watchdog::CommWatchdog,
+    cyclic_ready: bool,
+    rules: AddressRules,
+    restore: Restore,
+    now: Duration,
+}
+
+/// What a 1011h "load" asked to restore at the next power-on.
+#[derive(Debug, Clone, Copy, Default)]
+struct Restore {
+    parameters: bool,
+    point_tables: bool,
+}
+
+/// "load" (64616F6Ch) written to 1011h.
+const LOAD: i64 = 0x6461_6F6C;
+
+impl MrJeC {
+    /// The drive after power-on, in Switch on disabled; the response mapping 1A00h is the
+    /// default ([`cyclic::DEFAULT_MAPPING`]), as after every power-on (§7.4.6).
+    pub fn new(params: MrJeCParams) -> MrJeC {
+        let mut store = store::Store::new(&params);
+        for (k, entry) in cyclic::DEFAULT_MAPPING.iter().enumerate() {
+            store.set(ObjectId::new(0x1A00, k as u8 + 1), Value::U32(*entry));
+        }
+        MrJeC {
+            rules: AddressRules::latch(&store),
+            store,
+            cyclic_ready: false,
+            restore: Restore::default(),
+            params,
+            state: FsaState::SwitchOnDisabled,
+            last_cw: Controlword(0),
+            alarm: None,
+            history: AlarmHistory::default(),
+            watchdog: Default::default(),
+            now: Duration::ZERO,
+        }
+    }
+
+    /// Cycles the power: parameters and point tables (EEPROM) are kept, everything else
+    /// starts over (state, alarm, 1A00h mapping, time-outs), and the `*` parameters of the IP
+    /// rules take effect. The history is kept (EEPROM, §7.3). The clock goes on.
+    ///
+    /// A restore written to 1011h before ("load", §7.4.5) brings back the factory values of
+    /// the parameters (sub 1, 4) and the point tables (sub 1, 5) instead.
+    pub fn power_cycle(&mut self) {
+        let mut fresh = MrJeC::new(self.params.clone());
+        let kept = |index: u16| match index {
+            0x2001..=0x27FF => !self.restore.parameters,
+            0x2801..=0x28FF => !self.restore.point_tables,
+            _ => false,
+        };
+        for (id, v) in self.store.iter() {
+            if kept(id.index) {
+                fresh.store.set(*id, v.clone());
+            }
+        }
+        fresh.rules = AddressRules::latch(&fresh.store);
+        fresh.history = std::mem::take(&mut self.history);
+        fresh.now = self.now;
+        *self = fresh;
+    }
+
+    /// The IP rules in effect (latched at power-on).
+    pub fn address_rules(&self) -> AddressRules {
+        self.rules
+    }
+
+    /// Its parameters.
+    pub fn params(&self) -> &MrJeCParams {
+        &self.params
+    }
+
+    /// The PDS state.
+    pub fn state(&self) -> FsaState {
+        self.state
+    }
+
+    /// The current alarm.
+    pub fn alarm(&self) -> Option<Alarm> {
+        self.alarm
+    }
+
+    /// The alarm history, newest first.
+    pub fn history(&self) -> &AlarmHistory {
+        &self.history
+    }
+
+    /// The statusword (MR-JE-C manual §7.6.1): bit 4 the main power, bit 9 left 0 (reserved in
+    /// §7.6.1), bit 10 on in Operation enabled (the motor holds its position, so any target
+    /// counts as reached while motion is not simulated).
+    pub fn statusword(&self) -> Statusword {
+        let sw = Statusword::for_state_with_power(self.state, self.params.main_power).0 & !(1 << 9);
+        let reached = if self.state == FsaState::OperationEnabled {
+            1 << 10
+        } else {
+            0
+        };
+        Statusword(sw | reached)
+    }
+
+    /// Whether `t` is served: [Pr. PN08] digit x___ picks Ethernet (0) or RS-485 (1); the
+    /// other side is silent (§5.2.3).
+    pub fn serves(&self, t: Transport) -> bool {
+        let rs485 = (self.param(PN08.index()) >> 12) & 0xF == 1;
+        rs485 == (t == Transport::ModbusRtu)
+    }
+
+    /// The Modbus RTU station number: the rotary switch, or [Pr. PC70] when it is 00h; 0 never
+    /// answers (§4.9.2).
+    pub fn station(&self) -> u8 {
+        match self.params.rotary_switch {
+            0 => self.param(PC70.index()) as u8,
+            s => s,
+        }
+    }
+
+    fn param(&self, index: u16) -> i64 {
+        self.store.int(ObjectId::new(index, 0))
+    }
+
+    /// The time-outs in effect: [Pr. PN02] ms, [Pr. PN10] s (SW A4+ only), [Pr. PF46] s.
+    pub fn timeouts(&self) -> Timeouts {
+        let secs = |index| Duration::from_secs(self.param(index).max(0) as u64);
+        Timeouts {
+            cclink: Duration::from_millis(self.param(PN02.index()).max(0) as u64),
+            ethernet: if self.params.software >= SoftwareVersion::A4 {
+                secs(PN10.index())
+            } else {
+                Duration::ZERO
+            },
+            rtu: secs(PF46.index()),
+        }
+    }
+
+    /// A message of `t` arrived at `now` (feeds its time-out).
+    pub fn received(&mut self, t: Transport, now: Duration) {
+        self.tick(now);
+        self.watchdog.received(t, now);
+    }
+
+    /// Advances the virtual clock to `now`: time-outs expire, a quick stop ends.
+    pub fn tick(&mut self, now: Duration) {
+        self.now = self.now.max(now);
+        if let Some(alarm) = self.watchdog.expired(self.now, &self.timeouts()) {
+            self.raise(alarm);
+        }
+        // Option code 2: decelerate with 6085h, then Switch on disabled (§7.6.2). The motor
+        // holds its position, so the ramp from standstill ends at the next tick.
+        if self.state == FsaState::QuickStopActive {
+            self.state = FsaState::SwitchOnDisabled;
+        }
+    }
+
+    /// Raises `alarm`: Fault (through Fault reaction active), 1001h bit 0, 603Fh 1000h, the
+    /// current alarm objects and a history entry (§7.3, §7.6.1).
+    pub fn raise(&mut self, alarm: Alarm) {
+        if self.alarm.is_some() {
+            return;
+        }
+        self.alarm = Some(alarm);
+        self.state = FsaState::Fault;
+        self.history.push(Occurrence {
+            alarm,
+            hour: (self.now.as_secs() / 3600) as u32,
+        });
+    }
+
+    /// Resets the alarm (Controlword bit 7 edge, 2A46h = 1EA5h): Switch on disabled, and the
+    /// time-outs wait for the next message.
+    fn reset(&mut self) {
+        if self.alarm.take().is_some() {
+            self.state = FsaState::SwitchOnDisabled;
+            self.watchdog.disarm();
+        }
+    }
+
+    /// SSR (RX(n+3)F): the cyclic link imports RWw; the response mapping is locked.
+    pub fn set_cyclic_ready(&mut self, on: bool) {
+        self.cyclic_ready = on;
+    }
+
+    /// Whether SSR is on.
+    pub fn cyclic_ready(&self) -> bool {
+        self.cyclic_ready
+    }
+
+    /// The response mapping: 1A00h:1 to 1A00h:(1A00h:0).
+    pub fn mapping(&self) -> Vec<u32> {
+        let n = self.store.int(ObjectId::new(0x1A00, 0)).clamp(0, 32) as u8;
+        (1..=n)
+            .map(|k| self.store.int(ObjectId::new(0x1A00, k)) as u32)
+            .collect()
+    }
+
+    /// The rules of a 1A00h write `v` to sub-index `sub` (§7.4.6 (2), §2.4.5): locked while SSR
+    /// is on; a non-zero entry count needs mappable entries of at most 64 bytes in all.
+    fn check_mapping(&self, sub: u8, v: i64) -> Result<(), Refusal> {
+        if self.cyclic_ready {
+            return Err(Refusal::MappingLocked);
+        }
+        if sub != 0 || v == 0 {
+            return Ok(());
+        }
+        let sw = self.params.software;
+        let mut bytes = 0;
+        for k in 1..=v.clamp(0, 32) as u8 {
+            let e = self.store.int(ObjectId::new(0x1A00, k)) as u32;
+            let id = ObjectId::new((e >> 16) as u16, (e >> 8) as u8);
+            let bits = (e & 0xFF) as usize;
+            let fits = id.index == 0
+                || super::objects::entry(id, sw)
+                    .is_some_and(|(_, r)| r.mappable && r.ty.bytes() * 8 == bits);
+            if !fits {
+                return Err(Refusal::NotMappable);
+            }
+            bytes += bits / 8;
+        }
+        if bytes > 64 {
+            return Err(Refusal::MappingTooLarge);
+        }
+        Ok(())
+    }
+
+    /// Reads `id`.
+    pub fn read(&self, id: ObjectId) -> Result<Value, Refusal> {
+        let row = store::readable(id, self.params.software)?;
+        let live = |v: i64| Value::from_i64(row.ty, v);
+        let alarm = self.alarm;
+        let value = match (id.index, id.sub) {
+            (0x6041, 0) => live(i64::from(self.statusword().0)),
+            (0x1001, 0) => live(i64::from(alarm.is_some())),
+            (0x603F, 0) => live(if alarm.is_some() { 0x1000 } else { 0 }),
+            (0x2A41, 0) => live(alarm.map_or(0, |a| i64::from(a.current()))),
+            (0x2A42, 0) => live(alarm.map_or(0, |a| i64::from(a.current2()))),
+            (0x2A00..=0x2A0F, 1..=3) => {
+                let o = self.history.get(usize::from(id.index - 0x2A00));
+                live(o.map_or(0, |o| match id.sub {
+                    1 => i64::from(o.alarm.current()),
+                    2 => i64::from(o.hour),
+                    _ => i64::from(o.alarm.current2()),
+                }))
+            }
+            (0x2C18, 0) => live((self.now.as_secs() / 3600) as i64),
+            _ => None,
+        };
+        Ok(value
+            .or_else(|| self.store.get(id).cloned())
+            .unwrap_or(Value::U8(0)))
+    }
+
+    /// Writes `value` to `id` at `now`.
+    pub fn write(&mut self, id: ObjectId, value: &Value, now: Duration) -> Result<(), Refusal> {
+        let sw = self.params.software;
+        let row = store::writable(id, sw)?;
+        if !value.is(row.ty) {
+            return Err(if value.to_le().len() > row.ty.bytes() {
+                Refusal::TooLarge
+            } else {
+                Refusal::TooSmall
+            });
+        }
+        let v = value.as_i64().unwrap_or(0);
+        let fixed = row.initial.value(sw).unwrap_or(0);
+        store::in_range(id, row, v, fixed, i64::from(self.params.permissible_speed))?;
+        if id.index == 0x1A00 {
+            self.check_mapping(id.sub, v)?;
+        }
+        self.tick(now);
+        self.store.set(id, value.clone());
+        self.effects(id, v);
+        Ok(())
+    }
+
+    /// Writes the SLMP bytes `data` to `id` (size checked after access, §2.4.5).
+    pub fn write_le(&mut self, id: ObjectId, data: &[u8], now: Duration) -> Result<(), Refusal> {
+        let row = store::writable(id, self.params.software)?;
+        let value = match data.len().cmp(&row.ty.bytes()) {
+            std::cmp::Ordering::Greater => return Err(Refusal::TooLarge),
+            std::cmp::Ordering::Less => return Err(Refusal::TooSmall),
+            std::cmp::Ordering::Equal => {
+                Value::from_le(row.ty, data).ok_or(Refusal::SizeDiffers)?
+            }
+        };
+        self.write(id, &value, now)
+    }
+
+    /// What a write does beyond storing the value.
+    fn effects(&mut self, id: ObjectId, v: i64) {
+        if matches!(id.index, 0x1010 | 0x1011) {
+            // Saving is immediate here (no EEPROM delay) and both objects keep reading their
+            // status: bit 0 "can save now" (§7.4.4, §7.4.5).
+            let sw = self.params.software;
+            let status = store::row(id, sw).ok().and_then(|r| r.initial.value(sw));
+            let status = status.and_then(|v| Value::from_i64(super::types::DataType::U32, v));
+            if let Some(s) = status {
+                self.store.set(id, s);
+            }
+            if id.index == 0x1011 && v == LOAD {
+                self.restore.parameters |= matches!(id.sub, 1 | 4);
+                self.restore.point_tables |= matches!(id.sub, 1 | 5);
+            }
+            return;
+        }
+        match id.index {
+            0x6040 => self.controlword(Controlword(v as u16)),
+            0x6060 => self.mode(v),
+            0x2A46 if v == KEY => self.reset(),
+            0x2A40 if v == KEY => self.history.clear(),
+            0x2B01 if v == KEY => self.store.set(id, Value::I32(0)),
+            _ => {}
+        }
+    }
+
+    /// 6061h follows 6060h for the modes the software has (§2.2 of the extract, §7.3).
+    fn mode(&mut self, v: i64) {
+        let a4 = self.params.software >= SoftwareVersion::A4;
+        let supported = matches!(v, 0 | 1 | 3 | 4 | 6 | -20 | -21 | -22)
+            || (a4 && matches!(v, -100 | -101 | -103));
+        if supported {
+            self.store.set(ObjectId::new(0x6061, 0), Value::I8(v as i8));
+        }
+    }
+
+    fn controlword(&mut self, cw: Controlword) {
+        let prev = std::mem::replace(&mut self.last_cw, cw);
+        if self.state == FsaState::Fault && cw.fault_reset_edge(prev) {
+            self.reset();
+            return;
+        }
+        let next = drive_transition(self.state, cw, prev, &QUIRKS);
+        self.state = match next {
+            // Servo-on needs the main circuit.
+            FsaState::OperationEnabled if !self.params.main_power => self.state,
+            // Option code 2 in tq: straight to Switch on disabled (dynamic brake, §7.6.2).
+            FsaState::QuickStopActive
+                if self.store.int(ObjectId::new(0x6061, 0)) == PROFILE_TORQUE =>
+            {
+                FsaState::SwitchOnDisabled
+            }
+            s => s,
+        };
+    }
+}

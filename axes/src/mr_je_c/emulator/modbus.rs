@@ -1,0 +1,179 @@
+//! The simulated drive's side of Modbus (MR-JE-C manual §3.6, §4.8, §7.1): register address =
+//! object index; an object is read and written whole; consecutive addresses advance by one
+//! object; objects without "continuous read/write" must be the whole request; a request of
+//! several objects succeeds if one of them does (the unreadable ones read 0, §3.6.5).
+//! Sub-indexes a record write cannot change (read-only, e.g. "Number of entries") are carried
+//! and ignored, as are sub-indexes written with the value they hold.
+
+use std::time::Duration;
+
+use super::super::objects::{object, Object, ObjectId};
+use super::super::value::Value;
+use super::{MrJeC, Refusal};
+use crate::modbus::{Query, Reply, WordOrder};
+
+/// The drive's reply to `query` at `now`; `out` holds the bytes a read reply points into.
+pub fn answer<'b>(
+    drive: &mut MrJeC,
+    query: &Query<'_>,
+    order: WordOrder,
+    now: Duration,
+    out: &'b mut Vec<u8>,
+) -> Reply<'b> {
+    let refused = |function, r: Refusal| Reply::Exception {
+        function,
+        code: r.exception(),
+    };
+    match *query {
+        Query::Echo(v) => Reply::Echo(v),
+        Query::Read { address, registers } => {
+            let mut words = Vec::new();
+            match walk(
+                drive,
+                address,
+                usize::from(registers),
+                |drive, o, index, _| read_object(drive, o, index, order, &mut words),
+            ) {
+                Ok(()) => {
+                    out.clear();
+                    out.extend(words.iter().flat_map(|w| w.to_be_bytes()));
+                    // Registers of objects that could not be read after a served one read 0.
+                    out.resize(2 * usize::from(registers), 0);
+                    Reply::Read(out)
+                }
+                Err(r) => refused(query.function(), r),
+            }
+        }
+        Query::Write { address, data } => {
+            let words: Vec<u16> = data
+                .chunks_exact(2)
+                .map(|p| u16::from_be_bytes([p[0], p[1]]))
+                .collect();
+            let mut at = 0;
+            match walk(drive, address, words.len(), |drive, o, index, room| {
+                let n = write_object(drive, o, index, &words[at..at + room], order, now)?;
+                at += n;
+                Ok(n)
+            }) {
+                Ok(()) => Reply::Written {
+                    address,
+                    registers: words.len() as u16,
+                },
+                Err(r) => refused(query.function(), r),
+            }
+        }
+    }
+}
+
+/// Visits the objects from `address` on until `registers` are covered; `visit` gets the room
+/// left and returns the registers it took. Fails only if no object was served.
+fn walk(
+    drive: &mut MrJeC,
+    address: u16,
+    registers: usize,
+    mut visit: impl FnMut(&mut MrJeC, &'static Object, u16, usize) -> Result<usize, Refusal>,
+) -> Result<(), Refusal> {
+    let sw = drive.params().software;
+    let (mut index, mut done, mut served) = (address, 0, 0);
+    while done < registers {
+        let result = object(index, sw).ok_or(Refusal::NoIndex).and_then(|o| {
+            let whole = o.registers(sw);
+            let alone = index == address && whole == registers;
+            if whole > registers - done || !(o.continuous || alone) {
+                Err(Refusal::Layout)
+            } else {
+                visit(drive, o, index, registers - done)
+            }
+        });
+        match result {
+            Ok(n) => {
+                done += n;
+                served += 1;
+            }
+            Err(r) if served == 0 => return Err(r),
+            Err(_) => return Ok(()),
+        }
+        index = index.wrapping_add(1);
+    }
+    Ok(())
+}
+
+fn read_object(
+    drive: &mut MrJeC,
+    o: &Object,
+    index: u16,
+    order: WordOrder,
+    words: &mut Vec<u16>,
+) -> Result<usize, Refusal> {
+    let sw = drive.params().software;
+    let start = words.len();
+    for (sub, _) in o.each_sub(sw) {
+        match drive.read(ObjectId::new(index, sub)) {
+            Ok(v) => v.push_words(order, words),
+            Err(r) => {
+                words.truncate(start);
+                return Err(r);
+            }
+        }
+    }
+    Ok(words.len() - start)
+}
+
+fn write_object(
+    drive: &mut MrJeC,
+    o: &Object,
+    index: u16,
+    words: &[u16],
+    order: WordOrder,
+    now: Duration,
+) -> Result<usize, Refusal> {
+    let sw = drive.params().software;
+    let mut at = 0;
+    for (sub, row) in o.each_sub(sw) {
+        let n = row.ty.registers();
+        let id = ObjectId::new(index, sub);
+        let value = Value::from_words(row.ty, &words[at..at + n], order).ok_or(Refusal::Layout)?;
+        at += n;
+        let unchanged = drive.read(id).is_ok_and(|v| v == value);
+        if o.is_record() && (!row.access.writable() || unchanged) {
+            continue;
+        }
+        drive.write(id, &value, now)?;
+    }
+    Ok(at)
+}
+
+/// The reply ADU to one Modbus/TCP ADU at `now`; none where the drive discards the query
+/// (protocol identifier not 0, unit identifier not FFh, §3.5) or Ethernet is not selected.
+pub fn answer_adu(
+    drive: &mut MrJeC,
+    adu: &crate::modbus::tcp::Adu<'_>,
+    now: Duration,
+) -> Option<Vec<u8>> {
+    use crate::modbus::tcp;
+    if !drive.serves(super::Transport::ModbusTcp) {
+        return None;
+    }
+    let mut out = [0u8; tcp::MAX_ADU];
+    let n = match tcp::decode_query(adu) {
+        Ok(query) => {
+            drive.received(super::Transport::ModbusTcp, now);
+            let mut data = Vec::new();
+            let reply = answer(drive, &query, WordOrder::LowFirst, now, &mut data);
+            tcp::encode_reply(adu.transaction, &reply, &mut out).ok()?
+        }
+        Err(e) => {
+            let function = adu.pdu.first().copied().unwrap_or(0);
+            let reply = e.exception(function)?;
+            if matches!(
+                e,
+                crate::modbus::ModbusError::ProtocolId(_) | crate::modbus::ModbusError::UnitId(_)
+            ) {
+                return None;
+            }
+            drive.received(super::Transport::ModbusTcp, now);
+            tcp::encode_reply(adu.transaction, &reply, &mut out).ok()?
+        }
+    };
+    Some(out[..n].to_vec())
+}

@@ -1,0 +1,90 @@
+//! Why the simulated drive refuses an object access, and the code each transport answers it
+//! with (MR-JE-C manual §2.4.5 end codes, §3.6.5 exceptions).
+
+use crate::modbus::ExceptionCode;
+use crate::slmp::EndCode;
+
+/// A refused access, in the order the emulator checks them (index, sub-index, access, size,
+/// range; the manual gives no precedence, this one is ours).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum Refusal {
+    /// No object at that index.
+    #[error("non-existent index")]
+    NoIndex,
+    /// No such sub-index.
+    #[error("non-existent sub-index")]
+    NoSubIndex,
+    /// A write-only object was read.
+    #[error("write-only object")]
+    WriteOnly,
+    /// A read-only object was written.
+    #[error("read-only object")]
+    ReadOnly,
+    /// More bytes than the object's size.
+    #[error("more data than the object's size")]
+    TooLarge,
+    /// Fewer bytes than the object's size.
+    #[error("less data than the object's size")]
+    TooSmall,
+    /// Block data that does not end on a sub-index.
+    #[error("data does not match the object's sizes")]
+    SizeDiffers,
+    /// Above the range.
+    #[error("value above the range")]
+    AboveRange,
+    /// Below the range.
+    #[error("value below the range")]
+    BelowRange,
+    /// In a gap of the range, or a value the object refuses as a whole.
+    #[error("value outside the range")]
+    OutOfRange,
+    /// A write to the response mapping 1A00h while cyclic communication runs (SSR on).
+    #[error("response mapping locked while cyclic communication runs")]
+    MappingLocked,
+    /// An object that cannot be mapped into the response.
+    #[error("object cannot be mapped")]
+    NotMappable,
+    /// Mapped objects beyond 64 bytes.
+    #[error("mapped objects exceed 64 bytes")]
+    MappingTooLarge,
+    /// Modbus registers that split an object, or that chain an object which must be
+    /// accessed alone ("continuous read/write impossible", §7.3).
+    #[error("registers that do not cover whole objects")]
+    Layout,
+}
+
+impl Refusal {
+    /// The SLMP end code.
+    pub const fn end_code(self) -> EndCode {
+        match self {
+            Self::NoIndex => EndCode::NoIndex,
+            Self::NoSubIndex => EndCode::NoSubIndex,
+            Self::WriteOnly => EndCode::WriteOnly,
+            Self::ReadOnly => EndCode::ReadOnly,
+            Self::TooLarge => EndCode::SizeTooLarge,
+            Self::TooSmall => EndCode::SizeTooSmall,
+            Self::SizeDiffers => EndCode::SizeDiffers,
+            Self::AboveRange => EndCode::AboveRange,
+            Self::BelowRange => EndCode::BelowRange,
+            Self::OutOfRange => EndCode::OutOfRange,
+            Self::Layout => EndCode::RequestIncorrect,
+            Self::MappingLocked => EndCode::MappedObject,
+            Self::NotMappable => EndCode::NotMappable,
+            Self::MappingTooLarge => EndCode::MappingTooLarge,
+        }
+    }
+
+    /// The Modbus exception: 02h when the register cannot be accessed, 03h for a value the
+    /// register cannot take (§3.6.5).
+    pub const fn exception(self) -> ExceptionCode {
+        match self {
+            Self::NoIndex
+            | Self::NoSubIndex
+            | Self::WriteOnly
+            | Self::ReadOnly
+            | Self::Layout
+            | Self::MappingLocked => ExceptionCode::IllegalDataAddress,
+            _ => ExceptionCode::IllegalDataValue,
+        }
+    }
+}

@@ -1,0 +1,369 @@
+//! The simulated MR-JE-C on real sockets (MR-JE-C manual §2.2.1, §2.2.2, §3.2): Modbus/TCP (at
+//! most 3 connections), SLMP over UDP (any number of peers) and over TCP (1 connection), and
+//! the CC-Link IE Field Basic cyclic link on UDP (answered to the sender's address). A connection
+//! beyond the limit is closed at once. One request is processed at a time across all of them
+//! (the drive is behind one lock). The virtual clock is the time since the server started; a
+//! ticker advances it every 10 ms so that the time-outs expire while nobody talks.
+
+use std::io::{self, Read, Write};
+use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener, TcpStream, UdpSocket};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use super::{modbus, slmp, MrJeC};
+use crate::modbus::tcp;
+
+/// How often idle threads look at the stop flag and the ticker runs.
+const POLL: Duration = Duration::from_millis(10);
+/// Modbus/TCP connections the drive accepts (§3.2).
+pub const MODBUS_CONNECTIONS: usize = 3;
+/// SLMP TCP connections the drive accepts (§2.2.2).
+pub const SLMP_TCP_CONNECTIONS: usize = 1;
+
+/// The ports to listen on (0: any free port, for tests).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Ports {
+    /// Modbus/TCP (502).
+    pub modbus_tcp: u16,
+    /// SLMP over UDP (5010).
+    pub slmp_udp: u16,
+    /// SLMP over TCP (5012).
+    pub slmp_tcp: u16,
+    /// CC-Link IE Field Basic cyclic data (UDP 61450).
+    pub cclink: u16,
+}
+
+impl Default for Ports {
+    fn default() -> Self {
+        Ports {
+            modbus_tcp: tcp::PORT,
+            slmp_udp: crate::slmp::UDP_PORT,
+            slmp_tcp: crate::slmp::TCP_PORT,
+            cclink: crate::cclink_ief_basic::CYCLIC_PORT,
+        }
+    }
+}
+
+struct Shared {
+    drive: Mutex<MrJeC>,
+    stop: AtomicBool,
+    start: Instant,
+}
+
+impl Shared {
+    fn now(&self) -> Duration {
+        self.start.elapsed()
+    }
+
+    fn drive(&self) -> MutexGuard<'_, MrJeC> {
+        self.drive.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The IP filter admits `peer` (an IPv6 peer only while the filter is off).
+    fn admits(&self, peer: IpAddr) -> bool {
+        self.drive().address_rules().admits(v4(peer))
+    }
+
+    /// The operation specification lets `peer` write.
+    fn may_operate(&self, peer: IpAddr) -> bool {
+        self.drive().address_rules().may_operate(v4(peer))
+    }
+}
+
+fn v4(ip: IpAddr) -> Ipv4Addr {
+    match ip {
+        IpAddr::V4(v4) => v4,
+        IpAddr::V6(v6) => v6.to_ipv4_mapped().unwrap_or(Ipv4Addr::UNSPECIFIED),
+    }
+}
+
+/// A running emulator.
+pub struct Server {
+    shared: Arc<Shared>,
+    threads: Vec<JoinHandle<()>>,
+    /// Where Modbus/TCP listens.
+    pub modbus_tcp: SocketAddr,
+    /// Where SLMP listens over UDP.
+    pub slmp_udp: SocketAddr,
+    /// Where SLMP listens over TCP.
+    pub slmp_tcp: SocketAddr,
+    /// Where the cyclic link listens.
+    pub cclink: SocketAddr,
+}
+
+impl Server {
+    /// Serves `drive` on `ip` at `ports`; `ip` is the drive's own address, the slave ID the
+    /// cyclic link looks for in a request (so give the drive's address, not 0.0.0.0).
+    pub fn start(drive: MrJeC, ip: IpAddr, ports: Ports) -> io::Result<Server> {
+        let shared = Arc::new(Shared {
+            drive: Mutex::new(drive),
+            stop: AtomicBool::new(false),
+            start: Instant::now(),
+        });
+        let modbus = TcpListener::bind((ip, ports.modbus_tcp))?;
+        let udp = UdpSocket::bind((ip, ports.slmp_udp))?;
+        let slmp_tcp = TcpListener::bind((ip, ports.slmp_tcp))?;
+        let cclink = UdpSocket::bind((ip, ports.cclink))?;
+        let addrs = (
+            modbus.local_addr()?,
+            udp.local_addr()?,
+            slmp_tcp.local_addr()?,
+        );
+        let cclink_addr = cclink.local_addr()?;
+        let own = match ip {
+            IpAddr::V4(v4) => u32::from(v4),
+            IpAddr::V6(_) => 0,
+        };
+        cclink.set_read_timeout(Some(POLL))?;
+        let s = shared.clone();
+        let mut threads = vec![std::thread::spawn(move || serve_cclink(&cclink, own, &s))];
+        let s = shared.clone();
+        threads.push(std::thread::spawn(move || ticker(&s)));
+        let s = shared.clone();
+        threads.push(accept_thread(modbus, MODBUS_CONNECTIONS, s, serve_modbus)?);
+        let s = shared.clone();
+        threads.push(accept_thread(
+            slmp_tcp,
+            SLMP_TCP_CONNECTIONS,
+            s,
+            serve_slmp_tcp,
+        )?);
+        let s = shared.clone();
+        udp.set_read_timeout(Some(POLL))?;
+        threads.push(std::thread::spawn(move || serve_slmp_udp(&udp, &s)));
+        Ok(Server {
+            shared,
+            threads,
+            modbus_tcp: addrs.0,
+            slmp_udp: addrs.1,
+            slmp_tcp: addrs.2,
+            cclink: cclink_addr,
+        })
+    }
+
+    /// The simulated drive (locked: requests wait meanwhile).
+    pub fn drive(&self) -> MutexGuard<'_, MrJeC> {
+        self.shared.drive()
+    }
+
+    /// The emulator's clock: time since start.
+    pub fn now(&self) -> Duration {
+        self.shared.now()
+    }
+
+    /// Whether a stop was asked for.
+    pub fn stopping(&self) -> bool {
+        self.shared.stop.load(Ordering::Relaxed)
+    }
+
+    /// Stops every thread and waits for them.
+    pub fn stop(mut self) {
+        self.halt();
+    }
+
+    fn halt(&mut self) {
+        self.shared.stop.store(true, Ordering::Relaxed);
+        for t in self.threads.drain(..) {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        self.halt();
+    }
+}
+
+fn ticker(s: &Shared) {
+    while !s.stop.load(Ordering::Relaxed) {
+        let now = s.now();
+        s.drive().tick(now);
+        std::thread::sleep(POLL);
+    }
+}
+
+type Serve = fn(&mut TcpStream, &Shared) -> io::Result<()>;
+
+/// Accepts connections up to `limit` at a time, each served by `serve` on its own thread.
+fn accept_thread(
+    listener: TcpListener,
+    limit: usize,
+    s: Arc<Shared>,
+    serve: Serve,
+) -> io::Result<JoinHandle<()>> {
+    listener.set_nonblocking(true)?;
+    Ok(std::thread::spawn(move || {
+        let open = Arc::new(AtomicUsize::new(0));
+        let mut conns = Vec::new();
+        while !s.stop.load(Ordering::Relaxed) {
+            match listener.accept() {
+                Ok((stream, _)) if open.load(Ordering::SeqCst) >= limit => drop(stream),
+                // The IP filter: the connection is closed at once.
+                Ok((stream, peer)) if !s.admits(peer.ip()) => drop(stream),
+                Ok((mut stream, _)) => {
+                    open.fetch_add(1, Ordering::SeqCst);
+                    let (s, open) = (s.clone(), open.clone());
+                    conns.push(std::thread::spawn(move || {
+                        let ok = stream
+                            .set_nonblocking(false)
+                            .and_then(|()| stream.set_read_timeout(Some(POLL)))
+                            .and_then(|()| stream.set_nodelay(true));
+                        if ok.is_ok() {
+                            let _ = serve(&mut stream, &s);
+                        }
+                        open.fetch_sub(1, Ordering::SeqCst);
+                    }));
+                }
+                Err(_) => std::thread::sleep(POLL),
+            }
+        }
+        for c in conns {
+            let _ = c.join();
+        }
+    }))
+}
+
+/// Reads into `inbox` until it holds a frame `split` can cut, or the peer leaves (`Ok(false)`)
+/// or the server stops.
+fn fill(stream: &mut TcpStream, s: &Shared, inbox: &mut Vec<u8>) -> io::Result<bool> {
+    let mut chunk = [0u8; 1024];
+    loop {
+        if s.stop.load(Ordering::Relaxed) {
+            return Ok(false);
+        }
+        match stream.read(&mut chunk) {
+            Ok(0) => return Ok(false),
+            Ok(k) => {
+                inbox.extend_from_slice(&chunk[..k]);
+                return Ok(true);
+            }
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut
+                ) => {}
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// One Modbus/TCP connection: ADUs framed by the MBAP length; a length that cannot frame an
+/// ADU closes the connection. A 10h from a client the operation specification excludes is
+/// discarded without an answer.
+fn serve_modbus(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
+    let operate = s.may_operate(stream.peer_addr()?.ip());
+    let mut inbox = Vec::new();
+    loop {
+        let cut = tcp::split(&inbox).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
+        let Some((adu, used)) = cut else {
+            if !fill(stream, s, &mut inbox)? {
+                return Ok(());
+            }
+            continue;
+        };
+        let discard = !operate && adu.pdu.first() == Some(&crate::modbus::WRITE);
+        let reply = if discard {
+            None
+        } else {
+            modbus::answer_adu(&mut s.drive(), &adu, s.now())
+        };
+        inbox.drain(..used);
+        if let Some(r) = reply {
+            stream.write_all(&r)?;
+        }
+    }
+}
+
+/// One SLMP TCP connection: frames cut by their request data length.
+fn serve_slmp_tcp(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
+    let operate = s.may_operate(stream.peer_addr()?.ip());
+    let mut inbox = Vec::new();
+    loop {
+        let len = crate::slmp::client::frame_length(&inbox)
+            .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
+        match len {
+            Some(n) if inbox.len() >= n => {
+                let reply = answer_slmp(s, &inbox[..n], operate);
+                inbox.drain(..n);
+                if let Some(r) = reply {
+                    stream.write_all(&r)?;
+                }
+            }
+            _ => {
+                if !fill(stream, s, &mut inbox)? {
+                    return Ok(());
+                }
+            }
+        }
+    }
+}
+
+/// The answer to an SLMP frame; downloads from a peer the operation specification excludes
+/// are discarded without an answer (§5.2.3 PN31–PN36).
+fn answer_slmp(s: &Shared, frame: &[u8], operate: bool) -> Option<Vec<u8>> {
+    use crate::slmp::Command;
+    let write = crate::slmp::decode_request(frame).is_ok_and(|r| {
+        matches!(
+            r.command,
+            Command::Download { .. } | Command::BlockDownload { .. }
+        )
+    });
+    if write && !operate {
+        return None;
+    }
+    slmp::answer_frame(&mut s.drive(), frame, s.now())
+}
+
+fn serve_slmp_udp(socket: &UdpSocket, s: &Shared) {
+    let mut buf = [0u8; crate::slmp::MAX_FRAME];
+    while !s.stop.load(Ordering::Relaxed) {
+        let Ok((n, peer)) = socket.recv_from(&mut buf) else {
+            continue;
+        };
+        if !s.admits(peer.ip()) {
+            continue;
+        }
+        let reply = answer_slmp(s, &buf[..n], s.may_operate(peer.ip()));
+        if let Some(r) = reply {
+            let _ = socket.send_to(&r, peer);
+        }
+    }
+}
+
+/// The cyclic link: requests from the connected master, answered to the sender.
+fn serve_cclink(socket: &UdpSocket, own: u32, s: &Shared) {
+    let mut link = super::cyclic::CyclicLink::default();
+    let mut buf = [0u8; 1500];
+    let mut out = [0u8; crate::cclink_ief_basic::RESPONSE_SIZE];
+    while !s.stop.load(Ordering::Relaxed) {
+        let Ok((n, peer)) = socket.recv_from(&mut buf) else {
+            continue;
+        };
+        let IpAddr::V4(source) = peer.ip() else {
+            continue;
+        };
+        if !s.admits(peer.ip()) {
+            continue;
+        }
+        let operate = s.may_operate(peer.ip());
+        let Ok(request) =
+            crate::cclink_ief_basic::CyclicRequest::decode(&buf[..n], u32::from(source))
+        else {
+            continue;
+        };
+        let mut drive = s.drive();
+        if !drive.serves(super::Transport::CcLink) {
+            continue;
+        }
+        let response = link.answer(&mut drive, &request, own, operate, s.now());
+        drop(drive);
+        if let Some(r) = response {
+            if let Ok(k) = r.encode(&mut out) {
+                let _ = socket.send_to(&out[..k], peer);
+            }
+        }
+    }
+}

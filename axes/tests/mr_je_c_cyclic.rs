@@ -1,0 +1,293 @@
+//! The simulated MR-JE-C's CC-Link IE Field Basic cyclic link (docs/test-vectors.md, mr-je-c.md
+//! §13.4 CB-0 … CB-6, SL-9 … SL-11): connection, CSR/SSR, RWw import, RWr from 1A00h, master
+//! duplication, AL. 86.1 on the virtual clock; and our cyclic master against the emulator on
+//! loopback, allocating nothing per exchange.
+
+use std::net::{IpAddr, Ipv4Addr};
+use std::time::Duration;
+
+use cellrt_axes::cclink_ief_basic::master::{CyclicMaster, MasterParams};
+use cellrt_axes::cclink_ief_basic::{
+    bit, set_bit, CyclicRequest, CyclicResponse, EndCode, StationData, READY_BIT,
+};
+use cellrt_axes::cia402::fsa::FsaState;
+use cellrt_axes::mr_je_c::emulator::cyclic::CyclicLink;
+use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
+use cellrt_axes::mr_je_c::emulator::{slmp, MrJeC, MrJeCParams};
+use cellrt_axes::mr_je_c::{Alarm, ObjectId, Value};
+use cellrt_test_support::counting_alloc::{thread_heap_calls, CountingAllocator};
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+const MASTER: u32 = 0xC0A8_03FA;
+const DRIVE: u32 = 0xC0A8_0301;
+
+fn hex(s: &str) -> Vec<u8> {
+    s.split_whitespace()
+        .map(|b| u8::from_str_radix(b, 16).unwrap())
+        .collect()
+}
+
+fn ms(v: u64) -> Duration {
+    Duration::from_millis(v)
+}
+
+/// A request of `master` to the drive: transmission bit, RWw words (6060h, 6040h) and CSR.
+fn request(
+    master: u32,
+    sequence: u16,
+    transmit: bool,
+    mode: u8,
+    cw: u16,
+    csr: bool,
+) -> CyclicRequest {
+    let mut station = [StationData::default(); 16];
+    station[0].slave_id = DRIVE;
+    station[0].words[0] = mode;
+    station[0].words[2..4].copy_from_slice(&cw.to_le_bytes());
+    set_bit(&mut station[0].bits, READY_BIT, csr);
+    CyclicRequest {
+        protocol_version: 2,
+        unit_info: 1,
+        clock_ms: 0,
+        master_id: master,
+        group: 1,
+        sequence,
+        timeout_ms: 50,
+        parallel_off_count: 3,
+        parameter_no: 1,
+        transmission: u16::from(transmit),
+        stations: 1,
+        station,
+    }
+}
+
+struct Bench {
+    drive: MrJeC,
+    link: CyclicLink,
+}
+
+impl Bench {
+    fn new() -> Bench {
+        Bench {
+            drive: MrJeC::new(MrJeCParams::default()),
+            link: CyclicLink::default(),
+        }
+    }
+
+    fn send(&mut self, r: &CyclicRequest, now: Duration) -> Option<CyclicResponse> {
+        self.link.answer(&mut self.drive, r, DRIVE, true, now)
+    }
+}
+
+fn ssr(r: &CyclicResponse) -> bool {
+    bit(&r.station.bits, READY_BIT)
+}
+
+#[test]
+fn connection_and_the_ready_handshake() {
+    let mut b = Bench::new();
+    // CB-0: a fresh drive drops a first request with the transmission bit on...
+    assert!(b
+        .send(&request(MASTER, 1, true, 1, 6, true), ms(0))
+        .is_none());
+    // ...and answers one with it off: zero data, end code 0.
+    let r = b
+        .send(&request(MASTER, 2, false, 1, 6, true), ms(10))
+        .unwrap();
+    assert_eq!(
+        (r.end_code, r.station.words, r.station.bits),
+        (EndCode::Normal, [0; 64], [0; 8])
+    );
+    // CB-1: transmitting, CSR off: SSR off, RWw not imported.
+    let r = b
+        .send(&request(MASTER, 3, true, 1, 6, false), ms(20))
+        .unwrap();
+    assert!(!ssr(&r));
+    assert_eq!(
+        b.drive.read(ObjectId::new(0x6060, 0)).unwrap(),
+        Value::I8(0)
+    );
+    // CB-2: CSR on: RWw imported, SSR on within the exchange; 6061h and 6041h in RWr.
+    for (k, cw) in [6u16, 7, 0xF].into_iter().enumerate() {
+        let r = b
+            .send(
+                &request(MASTER, 4 + k as u16, true, 1, cw, true),
+                ms(30 + 10 * k as u64),
+            )
+            .unwrap();
+        assert!(ssr(&r));
+    }
+    assert_eq!(b.drive.state(), FsaState::OperationEnabled);
+    let r = b
+        .send(&request(MASTER, 0x1234, true, 1, 0xF, true), ms(70))
+        .unwrap();
+    assert_eq!(&r.station.words[..4], &[0x01, 0x00, 0x37, 0x04]);
+    // CB-6: the sequence number and group are echoed.
+    assert_eq!((r.sequence, r.group), (0x1234, 1));
+    // CB-3: another master gets CFE0h and no data.
+    let r = b
+        .send(&request(MASTER + 1, 9, true, 1, 0, true), ms(80))
+        .unwrap();
+    assert_eq!(
+        (r.end_code, r.station.words),
+        (EndCode::MasterDuplication, [0; 64])
+    );
+    assert_eq!(b.drive.state(), FsaState::OperationEnabled);
+    // CB-4: transmission off: zero data, SSR off.
+    let r = b
+        .send(&request(MASTER, 10, false, 1, 0xF, true), ms(90))
+        .unwrap();
+    assert_eq!((r.station.words, ssr(&r)), ([0; 64], false));
+}
+
+#[test]
+fn response_mapping_is_locked_while_ssr_is_on() {
+    let mut b = Bench::new();
+    let frame = |s: &str| hex(s);
+    let sl9 = frame("50 00 00 FF FF 03 00 0D 00 00 00 20 40 02 00 00 1A 00 00 01 00 00");
+    let sl10 = frame("50 00 00 FF FF 03 00 10 00 00 00 20 40 02 00 00 1A 01 00 04 00 10 00 41 60");
+    let count1 = frame("50 00 00 FF FF 03 00 0D 00 00 00 20 40 02 00 00 1A 00 00 01 00 01");
+    b.send(&request(MASTER, 0, false, 0, 0, false), ms(0))
+        .unwrap();
+    b.send(&request(MASTER, 1, true, 0, 0, true), ms(10))
+        .unwrap();
+    // SL-11: SSR on: CCC7h.
+    assert_eq!(
+        slmp::answer_frame(&mut b.drive, &sl10, ms(15)),
+        Some(frame(
+            "D0 00 00 FF FF 03 00 0B 00 C7 CC 00 FF FF 03 00 20 40 02 00"
+        ))
+    );
+    // CSR off, then SL-9, SL-10 and 1A00h:0 = 1: RWr starts with the statusword.
+    b.send(&request(MASTER, 2, true, 0, 0, false), ms(20))
+        .unwrap();
+    for f in [&sl9, &sl10, &count1] {
+        let r = slmp::answer_frame(&mut b.drive, f, ms(25)).unwrap();
+        assert_eq!(&r[9..11], &[0, 0], "{r:02X?}");
+    }
+    let r = b
+        .send(&request(MASTER, 3, true, 0, 6, true), ms(30))
+        .unwrap();
+    assert_eq!(&r.station.words[..4], &[0x31, 0x00, 0x00, 0x00]);
+    // Unmappable (1018h:1) or beyond 64 bytes: CCCBh / CCCCh.
+    b.send(&request(MASTER, 4, true, 0, 6, false), ms(40))
+        .unwrap();
+    let mut w = |sub: u8, v: u32| b_write(&mut b.drive, sub, v);
+    assert_eq!(w(0, 0), None);
+    assert_eq!(w(1, 0x1018_0120), None);
+    assert_eq!(w(0, 1), Some([0xCB, 0xCC]));
+    for sub in 1..=17 {
+        assert_eq!(w(sub, 0x6064_0020), None);
+    }
+    assert_eq!(w(0, 17), Some([0xCC, 0xCC]));
+}
+
+/// An SLMP download of 1A00h:`sub` = `v` (sub 0 U8, the others U32); the end code if
+/// abnormal.
+fn b_write(drive: &mut MrJeC, sub: u8, v: u32) -> Option<[u8; 2]> {
+    let data = if sub == 0 {
+        vec![v as u8]
+    } else {
+        v.to_le_bytes().to_vec()
+    };
+    let mut f = hex("50 00 00 FF FF 03 00 00 00 00 00 20 40 02 00 00 1A 00 00 00 00");
+    f[7] = 12 + data.len() as u8;
+    f[17] = sub;
+    f[19] = data.len() as u8;
+    f.extend(data);
+    let r = slmp::answer_frame(drive, &f, ms(50)).unwrap();
+    (r[9..11] != [0, 0]).then(|| [r[9], r[10]])
+}
+
+#[test]
+fn al_86_1_after_pn02_and_the_master_lost_after_its_supervision_time() {
+    let mut b = Bench::new();
+    b.send(&request(MASTER, 0, false, 0, 0, false), ms(0))
+        .unwrap();
+    b.send(&request(MASTER, 1, true, 0, 6, true), ms(10))
+        .unwrap();
+    b.drive.tick(ms(1009));
+    assert_eq!(b.drive.alarm(), None);
+    b.drive.tick(ms(1010));
+    assert_eq!(b.drive.alarm(), Some(Alarm::NETWORK_1));
+    // 150 ms of silence dropped the master: another one may connect (bit off first).
+    assert!(b
+        .send(&request(MASTER + 1, 1, true, 0, 0, true), ms(2000))
+        .is_none());
+    let r = b
+        .send(&request(MASTER + 1, 2, false, 0, 0, false), ms(2010))
+        .unwrap();
+    assert_eq!(r.end_code, EndCode::Normal);
+}
+
+/// The emulator on loopback and our master of it.
+fn on_loopback() -> (Server, CyclicMaster) {
+    let ip = IpAddr::V4(Ipv4Addr::LOCALHOST);
+    let any = Ports {
+        modbus_tcp: 0,
+        slmp_udp: 0,
+        slmp_tcp: 0,
+        cclink: 0,
+    };
+    let s = Server::start(MrJeC::new(MrJeCParams::default()), ip, any).unwrap();
+    let p = MasterParams {
+        response_timeout: Duration::from_secs(2),
+        ..Default::default()
+    };
+    let m = CyclicMaster::new((ip, 0).into(), s.cclink, p).unwrap();
+    (s, m)
+}
+
+#[test]
+fn our_master_against_the_emulator_on_loopback() {
+    let (s, mut m) = on_loopback();
+    let mut rww = [0u8; 64];
+    let mut ry = [0u8; 8];
+    let r = m.exchange(false, &rww, &ry).unwrap();
+    assert!(!bit(&r.station.bits, READY_BIT));
+    rww[0] = 1;
+    set_bit(&mut ry, READY_BIT, true);
+    for cw in [6u16, 7, 0xF] {
+        rww[2..4].copy_from_slice(&cw.to_le_bytes());
+        let r = m.exchange(true, &rww, &ry).unwrap();
+        assert!(bit(&r.station.bits, READY_BIT), "SSR");
+    }
+    let r = m.exchange(true, &rww, &ry).unwrap();
+    assert_eq!(&r.station.words[..4], &[0x01, 0x00, 0x37, 0x04]);
+    assert_eq!(m.stale, 0);
+    // The master stops: AL. 86.1 after [Pr. PN02] (1000 ms), judged on the emulator's clock.
+    let last = s.now();
+    drop(m);
+    while s.drive().alarm().is_none() && s.now() < last + Duration::from_secs(20) {
+        std::thread::sleep(ms(20));
+    }
+    assert_eq!(s.drive().alarm(), Some(Alarm::NETWORK_1));
+    assert!(s.now() - last >= ms(1000));
+}
+
+#[test]
+fn cyclic_exchanges_are_allocation_free() {
+    // Issue 18: the cyclic client never allocates per cycle (counted on this thread).
+    let (_s, mut m) = on_loopback();
+    let (mut rww, mut ry) = ([0u8; 64], [0u8; 8]);
+    m.exchange(false, &rww, &ry).unwrap();
+    set_bit(&mut ry, READY_BIT, true);
+    rww[0] = 1;
+    rww[2] = 6;
+    m.exchange(true, &rww, &ry).unwrap();
+    let before = thread_heap_calls();
+    let mut ready = 0;
+    for k in 0..200u16 {
+        rww[4] = k as u8;
+        let r = m.exchange(true, &rww, &ry).unwrap();
+        ready += usize::from(bit(&r.station.bits, READY_BIT));
+    }
+    assert_eq!(
+        thread_heap_calls() - before,
+        0,
+        "heap calls in 200 exchanges"
+    );
+    assert_eq!(ready, 200);
+}

@@ -1,0 +1,196 @@
+//! The MR-JE-C tools on loopback: `cellrt drive-sim mr-je-c` (our Modbus/TCP and SLMP clients
+//! reach it, SIGTERM ends it cleanly) and `cellrt je-c read|write` against an emulator (values,
+//! end codes and exceptions, unreachable drives), bad arguments refused naming what is wrong.
+
+use std::net::{SocketAddr, TcpListener, UdpSocket};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use cellrt_axes::modbus::client::TcpClient;
+use cellrt_axes::mr_je_c::access::typed::Statusword;
+use cellrt_axes::mr_je_c::{ObjectAccess, OverModbus};
+use cellrt_axes::slmp::client::{FrameType, SlmpClient};
+
+fn free_tcp() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+fn free_udp() -> u16 {
+    UdpSocket::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+fn cellrt(args: &[String]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .args(["drive-sim", "mr-je-c"])
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+#[test]
+fn serves_modbus_and_slmp_until_sigterm() {
+    let (m, u, t, c) = (free_tcp(), free_udp(), free_tcp(), free_udp());
+    let args = [
+        "--listen",
+        "127.0.0.1",
+        "--modbus-port",
+        &m.to_string(),
+        "--slmp-udp-port",
+        &u.to_string(),
+        "--slmp-tcp-port",
+        &t.to_string(),
+        "--cclink-port",
+        &c.to_string(),
+    ]
+    .map(String::from);
+    let child = cellrt(&args);
+    let addr: SocketAddr = format!("127.0.0.1:{m}").parse().unwrap();
+    let end = Instant::now() + Duration::from_secs(30);
+    let client = loop {
+        match TcpClient::connect(addr, Duration::from_secs(1)) {
+            Ok(c) => break c,
+            Err(e) if Instant::now() > end => panic!("drive-sim did not listen: {e}"),
+            Err(_) => std::thread::sleep(Duration::from_millis(50)),
+        }
+    };
+    let mut drive = OverModbus::new(client, Default::default());
+    // Switch on disabled after power-on, main power on.
+    assert_eq!(drive.read::<Statusword>().unwrap().0 & 0x4F, 0x40);
+    let udp: SocketAddr = format!("127.0.0.1:{u}").parse().unwrap();
+    let mut slmp = SlmpClient::udp(udp, FrameType::E4, Duration::from_secs(2)).unwrap();
+    assert_eq!(slmp.model().unwrap().0, "MR-JE-20C");
+    drop(drive);
+    nix::sys::signal::kill(
+        nix::unistd::Pid::from_raw(child.id() as i32),
+        nix::sys::signal::Signal::SIGTERM,
+    )
+    .unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr.contains("MR-JE-20C (software A4) on Modbus/TCP 127.0.0.1:"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("stopped after"), "{stderr}");
+}
+
+#[test]
+fn bad_arguments_are_refused() {
+    let out = cellrt(&["--listen", "127.0.0.1", "--software", "B7"].map(String::from))
+        .wait_with_output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("software version \"B7\""), "{stderr}");
+    // A port taken by someone else.
+    let taken = TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = taken.local_addr().unwrap().port().to_string();
+    let c = free_udp().to_string();
+    let out = cellrt(
+        &[
+            "--listen",
+            "127.0.0.1",
+            "--modbus-port",
+            &port,
+            "--cclink-port",
+            &c,
+        ]
+        .map(String::from),
+    )
+    .wait_with_output()
+    .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("error: cannot listen on 127.0.0.1"),
+        "{stderr}"
+    );
+}
+
+fn je_c(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .arg("je-c")
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn je_c_reads_and_writes_objects() {
+    use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
+    use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
+    let any = Ports {
+        modbus_tcp: 0,
+        slmp_udp: 0,
+        slmp_tcp: 0,
+        cclink: 0,
+    };
+    let s = Server::start(
+        MrJeC::new(MrJeCParams::default()),
+        "127.0.0.1".parse().unwrap(),
+        any,
+    )
+    .unwrap();
+    let (udp, tcp, modbus) = (
+        s.slmp_udp.to_string(),
+        s.slmp_tcp.to_string(),
+        s.modbus_tcp.to_string(),
+    );
+    let (code, out, err) = je_c(&["write", &udp, "607A", "-5000"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(out, "607Ah:0 Target position written -5000 pos units\n");
+    let (code, out, _) = je_c(&["read", &modbus, "607a", "--via", "modbus-tcp"]);
+    assert_eq!(
+        (code, out.as_str()),
+        (Some(0), "607Ah:0 Target position = -5000 pos units\n")
+    );
+    let (code, out, _) = je_c(&["read", &tcp, "1018:2", "--via", "slmp-tcp"]);
+    assert_eq!(
+        (code, out.as_str()),
+        (Some(0), "1018h:2 Product Code = 4099 (00001003h)\n")
+    );
+    // The drive refuses: exit 3 with the end code or the exception.
+    let (code, _, err) = je_c(&["write", &udp, "6041", "0"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("end code CCC9h"), "{err}");
+    let (code, _, err) = je_c(&["write", &modbus, "6098", "40", "--via", "modbus-tcp"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("exception 03h"), "{err}");
+    // Bad input: exit 2 naming the object or value.
+    let (code, _, err) = je_c(&["read", &udp, "5FFF"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("object 5FFFh:0: not in the MR-JE-C object dictionary"),
+        "{err}"
+    );
+    let (code, _, err) = je_c(&["write", &udp, "6060", "300"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("value for 6060h:0"), "{err}");
+    // Nobody there: exit 4.
+    let gone = free_tcp().to_string();
+    let (code, _, err) = je_c(&[
+        "read",
+        &format!("127.0.0.1:{gone}"),
+        "6041",
+        "--via",
+        "modbus-tcp",
+    ]);
+    assert_eq!(code, Some(4), "{err}");
+    assert!(err.starts_with("error: 127.0.0.1:"), "{err}");
+}

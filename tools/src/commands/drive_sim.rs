@@ -18,40 +18,52 @@ pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
         DriveSimBus::Ethercat { interface } => interface,
         DriveSimBus::MrJeC(args) => return super::drive_sim_mr_je_c::run(args),
     };
-    let Some(cell) = cell.map(std::path::PathBuf::from) else {
-        eprintln!(
-            "error: --cell CONFIG: the cell configuration whose drives to emulate is required"
-        );
-        return Exit::BadInput;
-    };
-    let config = match CellConfig::load(&cell) {
-        Ok(c) => c,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Exit::BadInput;
-        }
-    };
-    if config.ethercat.is_none() {
-        eprintln!(
-            "error: {}: cell '{}' has no EtherCAT axes (transport = \"ethercat\" and an [ethercat] section)",
-            cell.display(),
-            config.name
-        );
-        return Exit::BadInput;
+    match serve_ethercat(&interface, cell) {
+        Ok(()) => Exit::Ok,
+        Err(exit) => exit,
     }
-    let socket = match RawSocket::open(&interface) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Exit::Failed;
-        }
+}
+
+/// Prints `e` as the error and returns `exit`.
+fn fail(e: impl std::fmt::Display, exit: Exit) -> Exit {
+    eprintln!("error: {e}");
+    exit
+}
+
+/// The cell whose drives to emulate: `--cell`, with EtherCAT axes.
+fn ethercat_cell(cell: Option<String>) -> Result<(std::path::PathBuf, CellConfig), Exit> {
+    let Some(cell) = cell.map(std::path::PathBuf::from) else {
+        return Err(fail(
+            "--cell CONFIG: the cell configuration whose drives to emulate is required",
+            Exit::BadInput,
+        ));
     };
+    let config = CellConfig::load(&cell).map_err(|e| fail(e, Exit::BadInput))?;
+    if config.ethercat.is_none() {
+        return Err(fail(
+            format!(
+                "{}: cell '{}' has no EtherCAT axes (transport = \"ethercat\" and an [ethercat] section)",
+                cell.display(),
+                config.name
+            ),
+            Exit::BadInput,
+        ));
+    }
+    Ok((cell, config))
+}
+
+/// Serves the cell's drives on `interface` until SIGINT or SIGTERM.
+fn serve_ethercat(interface: &str, cell: Option<String>) -> Result<(), Exit> {
+    let (cell, config) = ethercat_cell(cell)?;
+    let socket = RawSocket::open(interface).map_err(|e| fail(e, Exit::Failed))?;
     let stop = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        if let Err(e) = signal_hook::flag::register(sig, stop.clone()) {
-            eprintln!("error: cannot install the signal handler: {e}");
-            return Exit::Failed;
-        }
+        signal_hook::flag::register(sig, stop.clone()).map_err(|e| {
+            fail(
+                format!("cannot install the signal handler: {e}"),
+                Exit::Failed,
+            )
+        })?;
     }
     // Like a drive's hardware, the emulator answers at once: on the cell's RT CPU, one
     // priority above its RT thread (best effort without root), memory locked.
@@ -64,40 +76,72 @@ pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
     };
     let report = cellrt_runtime::rt::thread::setup_current_thread(&rt);
     eprintln!("cellrt drive-sim: {}", report.describe());
-    let mut segment = match emulated_segment(&config) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Exit::Failed;
-        }
-    };
-    let stations = match segment_config(&config).stations() {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Exit::Failed;
-        }
-    };
-    let axis_names = |st: &cellrt_axes::ethercat::master::SegmentStation| -> String {
-        let v: Vec<&str> = st
-            .slots
-            .iter()
-            .flatten()
-            .map(|&a| config.axes[a].name.as_str())
-            .collect();
-        v.join("+")
-    };
+    let mut segment = emulated_segment(&config).map_err(|e| fail(e, Exit::Failed))?;
+    let stations = segment_config(&config)
+        .stations()
+        .map_err(|e| fail(e, Exit::Failed))?;
+    let station_names: Vec<String> = stations.iter().map(|st| axis_names(&config, st)).collect();
     let names: Vec<String> = stations
         .iter()
-        .map(|st| format!("{} ({})", axis_names(st), st.model.model))
+        .zip(&station_names)
+        .map(|(st, n)| format!("{n} ({})", st.model.model))
         .collect();
     eprintln!(
         "cellrt drive-sim: {} EtherCAT SubDevice(s) on {interface}: {}",
         names.len(),
         names.join(", ")
     );
-    // The config names faults by axis; the segment has one station per SubDevice.
-    let schedule = config
+    let schedule = station_schedule(&config, &stations);
+    let mut faults = FaultSchedule::new(schedule, config.cycle_time, segment.stations().len())
+        .map_err(|e| fail(format!("{}: {e}", cell.display()), Exit::BadInput))?;
+    announce(&config, &station_names, &faults);
+    let stats = wire::serve(&socket, &mut segment, &mut faults, &stop)
+        .map_err(|e| fail(format!("{interface}: {e}"), Exit::Failed))?;
+    eprintln!(
+        "cellrt drive-sim: {} frames served, {} malformed dropped, {} lost and {} delayed by injected faults",
+        stats.frames, stats.malformed, stats.lost, stats.delayed
+    );
+    if !faults.faults().is_empty() {
+        eprintln!(
+            "cellrt drive-sim: injected {} of {} scheduled wire fault(s): {}",
+            stats.injected.total(),
+            faults.faults().len(),
+            stats.injected.describe()
+        );
+    }
+    for (name, st) in station_names.iter().zip(segment.stations()) {
+        let alarms: Vec<String> = st
+            .drives()
+            .iter()
+            .filter_map(|d| d.alarm().map(|c| format!(", alarm {c:#06x}")))
+            .collect();
+        eprintln!(
+            "  {name}: AL state {}{}",
+            st.al_state().as_str(),
+            alarms.concat()
+        );
+    }
+    Ok(())
+}
+
+/// The axes a SubDevice carries, `x+y`.
+fn axis_names(config: &CellConfig, st: &cellrt_axes::ethercat::master::SegmentStation) -> String {
+    let v: Vec<&str> = st
+        .slots
+        .iter()
+        .flatten()
+        .map(|&a| config.axes[a].name.as_str())
+        .collect();
+    v.join("+")
+}
+
+/// The cell's wire faults by station: the config names them by axis, the segment has one
+/// station per SubDevice.
+fn station_schedule(
+    config: &CellConfig,
+    stations: &[cellrt_axes::ethercat::master::SegmentStation],
+) -> Vec<ScheduledFault> {
+    config
         .wire_schedule()
         .into_iter()
         .map(|f| ScheduledFault {
@@ -112,51 +156,7 @@ pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
             },
             ..f
         })
-        .collect();
-    let station_names: Vec<String> = stations.iter().map(axis_names).collect();
-    let mut faults = match FaultSchedule::new(schedule, config.cycle_time, segment.stations().len())
-    {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("error: {}: {e}", cell.display());
-            return Exit::BadInput;
-        }
-    };
-    announce(&config, &station_names, &faults);
-    match wire::serve(&socket, &mut segment, &mut faults, &stop) {
-        Ok(stats) => {
-            eprintln!(
-                "cellrt drive-sim: {} frames served, {} malformed dropped, {} lost and {} delayed by injected faults",
-                stats.frames, stats.malformed, stats.lost, stats.delayed
-            );
-            if !faults.faults().is_empty() {
-                eprintln!(
-                    "cellrt drive-sim: injected {} of {} scheduled wire fault(s): {}",
-                    stats.injected.total(),
-                    faults.faults().len(),
-                    stats.injected.describe()
-                );
-            }
-            for (plan, st) in stations.iter().zip(segment.stations()) {
-                let alarms: Vec<String> = st
-                    .drives()
-                    .iter()
-                    .filter_map(|d| d.alarm().map(|c| format!(", alarm {c:#06x}")))
-                    .collect();
-                eprintln!(
-                    "  {}: AL state {}{}",
-                    axis_names(plan),
-                    st.al_state().as_str(),
-                    alarms.concat()
-                );
-            }
-            Exit::Ok
-        }
-        Err(e) => {
-            eprintln!("error: {interface}: {e}");
-            Exit::Failed
-        }
-    }
+        .collect()
 }
 
 /// Prints the wire faults the segment will inject, and when.

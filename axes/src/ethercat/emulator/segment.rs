@@ -209,61 +209,12 @@ impl Segment {
                 if *stalled > 0 {
                     // Forwarded unprocessed; an auto-increment address still counts it, as
                     // the port logic of a stuck ESC forwards and increments.
-                    if matches!(
-                        h.command,
-                        Command::Aprd
-                            | Command::Apwr
-                            | Command::Aprw
-                            | Command::Armw
-                            | Command::Brd
-                            | Command::Bwr
-                            | Command::Brw
-                    ) {
+                    if increments_position(h.command) {
                         adp = adp.wrapping_add(1);
                     }
                     continue;
                 }
-                let inc = match h.command {
-                    Command::Nop => 0,
-                    Command::Aprd | Command::Apwr | Command::Aprw => {
-                        let hit = adp == 0;
-                        adp = adp.wrapping_add(1);
-                        if hit {
-                            st.physical(h.command, h.ado(), data, now_ns).wkc
-                        } else {
-                            0
-                        }
-                    }
-                    Command::Fprd | Command::Fpwr | Command::Fprw => {
-                        if st.station_address() == adp {
-                            st.physical(h.command, h.ado(), data, now_ns).wkc
-                        } else {
-                            0
-                        }
-                    }
-                    Command::Brd | Command::Bwr | Command::Brw => {
-                        adp = adp.wrapping_add(1);
-                        st.physical(h.command, h.ado(), data, now_ns).wkc
-                    }
-                    Command::Lrd | Command::Lwr | Command::Lrw => {
-                        st.logical(h.command, h.address, data, now_ns).wkc
-                    }
-                    Command::Armw | Command::Frmw => {
-                        let hit = if h.command == Command::Armw {
-                            let hit = adp == 0;
-                            adp = adp.wrapping_add(1);
-                            hit
-                        } else {
-                            st.station_address() == adp
-                        };
-                        if hit && !rmw_read {
-                            rmw_read = true;
-                            st.physical(h.command, h.ado(), data, now_ns).wkc
-                        } else {
-                            st.rmw_write(h.ado(), data, now_ns).wkc
-                        }
-                    }
-                };
+                let inc = datagram_at_station(st, &h, &mut adp, data, now_ns, &mut rmw_read);
                 wkc = wkc.wrapping_add(inc);
             }
             let a = span.header_offset + 2;
@@ -271,25 +222,41 @@ impl Segment {
             frame[span.wkc_offset..span.wkc_offset + 2].copy_from_slice(&wkc.to_le_bytes());
         }
         if let Some(k) = bad {
-            // The corrupted frame runs on to the end of the reachable line and back: the
-            // station behind the bad link detects the CRC error and marks the frame, the others
-            // count the marked frame on the port it arrives at (port 0 on the way out, port 1
-            // on the way back for every station with a station behind it).
-            for (i, st) in self.stations.iter_mut().enumerate().take(cut) {
-                if i >= k {
-                    st.rx_error(0, i == k);
-                }
-                if i + 1 < cut {
-                    st.rx_error(1, false);
-                }
-            }
+            self.count_crc_errors(k, cut);
         }
         frame[6] |= REPLY_SOURCE_MAC_BIT;
+        self.age_wire_faults();
+        self.frames += 1;
+        Ok(if bad.is_some() || cut == 0 {
+            Delivery::Lost
+        } else {
+            Delivery::Returned
+        })
+    }
+
+    /// A frame corrupted in front of station `k` runs on to the end of the reachable line
+    /// (`cut`) and back: the station behind the bad link detects the CRC error and marks the
+    /// frame, the others count the marked frame on the port it arrives at (port 0 on the way
+    /// out, port 1 on the way back for every station with a station behind it).
+    fn count_crc_errors(&mut self, k: usize, cut: usize) {
+        for (i, st) in self.stations.iter_mut().enumerate().take(cut) {
+            if i >= k {
+                st.rx_error(0, i == k);
+            }
+            if i + 1 < cut {
+                st.rx_error(1, false);
+            }
+        }
+    }
+
+    /// One frame has passed: every injected wire fault has one frame less to go; a link
+    /// whose loss has run out comes back.
+    fn age_wire_faults(&mut self) {
         for s in self.stalled.iter_mut().chain(&mut self.corrupt) {
             *s = s.saturating_sub(1);
         }
         self.datagram_drop = self.datagram_drop.saturating_sub(1);
-        for i in 0..n {
+        for i in 0..self.stations.len() {
             if self.link_down[i] > 0 {
                 self.link_down[i] -= 1;
                 if self.link_down[i] == 0 {
@@ -297,11 +264,73 @@ impl Segment {
                 }
             }
         }
-        self.frames += 1;
-        Ok(if bad.is_some() || cut == 0 {
-            Delivery::Lost
-        } else {
-            Delivery::Returned
-        })
+    }
+}
+
+/// True for the commands whose position address every station increments as the frame passes
+/// (auto-increment and broadcast; ETG.1000.4 §5.4.1).
+fn increments_position(command: Command) -> bool {
+    matches!(
+        command,
+        Command::Aprd
+            | Command::Apwr
+            | Command::Aprw
+            | Command::Armw
+            | Command::Brd
+            | Command::Bwr
+            | Command::Brw
+    )
+}
+
+/// Datagram `h` (its `data`) at station `st`: the working-counter increment. `adp` moves on
+/// by the addressing rule; `rmw_read` marks that the read side of an xRMW has happened.
+fn datagram_at_station(
+    st: &mut Station,
+    h: &frame::DatagramHeader,
+    adp: &mut u16,
+    data: &mut [u8],
+    now_ns: u64,
+    rmw_read: &mut bool,
+) -> u16 {
+    match h.command {
+        Command::Nop => 0,
+        Command::Aprd | Command::Apwr | Command::Aprw => {
+            let hit = *adp == 0;
+            *adp = adp.wrapping_add(1);
+            if hit {
+                st.physical(h.command, h.ado(), data, now_ns).wkc
+            } else {
+                0
+            }
+        }
+        Command::Fprd | Command::Fpwr | Command::Fprw => {
+            if st.station_address() == *adp {
+                st.physical(h.command, h.ado(), data, now_ns).wkc
+            } else {
+                0
+            }
+        }
+        Command::Brd | Command::Bwr | Command::Brw => {
+            *adp = adp.wrapping_add(1);
+            st.physical(h.command, h.ado(), data, now_ns).wkc
+        }
+        Command::Lrd | Command::Lwr | Command::Lrw => {
+            st.logical(h.command, h.address, data, now_ns).wkc
+        }
+        Command::Armw | Command::Frmw => {
+            let hit = if h.command == Command::Armw {
+                let hit = *adp == 0;
+                *adp = adp.wrapping_add(1);
+                hit
+            } else {
+                st.station_address() == *adp
+            };
+            if hit && !*rmw_read {
+                *rmw_read = true;
+                st.physical(h.command, h.ado(), data, now_ns).wkc
+            } else {
+                st.rmw_write(h.ado(), data, now_ns).wkc
+            }
+        }
     }
 }

@@ -516,7 +516,7 @@ fn an_mr_j4_tm_recording_with_torque_limits_replays_bit_identically() {
             "program = \"program.toml\"",
         )
         .replace("torque = 100.0", "torque = 35.0")
-        + "\n[setpoints]\nlookahead_ms = 1000\n";
+        + "\n[setpoints]\nlookahead_ms = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n";
     assert!(config.contains("torque = 35.0"));
     let program = std::fs::read_to_string(configs.join("mr-j4-tm-program.toml")).unwrap();
     let (out, rec) = common::run_recorded(dir.path(), &config, &program);

@@ -127,7 +127,6 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
         .library(library)
         .create(BufWriter::with_capacity(1 << 20, file))
         .map_err(werr)?;
-    let mut seq_buf: Vec<(MessageHeader, Vec<u8>)> = Vec::new();
     // Channels defined in a damaged chunk come from the summary section, where there is one.
     let summary = mcap::Summary::read(input).ok().flatten();
     let mut defined = Defined::default();
@@ -150,71 +149,36 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
         };
         match rec {
             Record::Chunk { header, data } => {
-                // All or nothing per chunk: decode it completely before writing from it.
-                seq_buf.clear();
-                let mut defs = Vec::new();
-                let mut bad = None;
-                let inner_bytes = match chunk_records(&header, &data) {
-                    Ok(bytes) => bytes,
+                // All or nothing per chunk: decoded completely before anything is written.
+                let (defs, messages) = match decode_chunk(&header, &data) {
+                    Ok(decoded) => decoded,
                     Err(e) => {
+                        // The chunk's own length framed it: the records after it are intact.
                         r.skip_damaged(e);
                         continue;
                     }
                 };
-                let inner_records = RecordWalker::new(&inner_bytes, 0)
-                    .map(|i| i.and_then(|(op, b)| parse_record(op, b).map_err(|e| e.to_string())));
-                for inner in inner_records {
-                    match inner {
-                        Ok(Record::Message { header, data }) => {
-                            seq_buf.push((header, data.into_owned()))
-                        }
-                        Ok(other @ (Record::Schema { .. } | Record::Channel(_))) => {
-                            defs.push(other.into_owned())
-                        }
-                        Ok(_) => {}
-                        Err(e) => {
-                            bad = Some(e.to_string());
-                            break;
-                        }
-                    }
-                }
-                if let Some(e) = bad {
-                    // The chunk's own length framed it: the records after it are intact.
-                    r.skip_damaged(e);
-                    continue;
-                }
                 for d in defs {
                     defined.define(&mut w, d).map_err(werr)?;
                 }
-                for (h, d) in &seq_buf {
-                    if !defined
-                        .ensure(&mut w, h.channel_id, summary.as_ref())
-                        .map_err(werr)?
-                    {
-                        r.undefined += 1;
-                        continue;
-                    }
-                    w.write_to_known_channel(h, d).map_err(werr)?;
-                    r.messages += 1;
-                    r.last_log_time = r.last_log_time.max(h.log_time);
+                for (h, d) in &messages {
+                    copy_message(&mut w, &mut defined, &mut r, summary.as_ref(), h, d)
+                        .map_err(werr)?;
                 }
                 r.chunks += 1;
             }
             Record::Schema { .. } | Record::Channel(_) => {
                 defined.define(&mut w, rec).map_err(werr)?
             }
-            Record::Message { header, data } => {
-                if !defined
-                    .ensure(&mut w, header.channel_id, summary.as_ref())
-                    .map_err(werr)?
-                {
-                    r.undefined += 1;
-                    continue;
-                }
-                w.write_to_known_channel(&header, &data).map_err(werr)?;
-                r.messages += 1;
-                r.last_log_time = r.last_log_time.max(header.log_time);
-            }
+            Record::Message { header, data } => copy_message(
+                &mut w,
+                &mut defined,
+                &mut r,
+                summary.as_ref(),
+                &header,
+                &data,
+            )
+            .map_err(werr)?,
             Record::Metadata(m) => w.write_metadata(&m).map_err(werr)?,
             Record::Attachment { header, data, .. } => w
                 .attach(&Attachment {
@@ -240,6 +204,47 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
     file.sync_all()
         .map_err(|e| format!("{}: {e}", out.display()))?;
     Ok(r)
+}
+
+/// A chunk's schema and channel records and its messages, all decoded; an error where any
+/// part of it is damaged (the whole chunk is then lost, not half of it).
+#[allow(clippy::type_complexity)]
+fn decode_chunk(
+    header: &mcap::records::ChunkHeader,
+    data: &[u8],
+) -> Result<(Vec<Record<'static>>, Vec<(MessageHeader, Vec<u8>)>), String> {
+    let inner_bytes = chunk_records(header, data)?;
+    let mut defs = Vec::new();
+    let mut messages = Vec::new();
+    for inner in RecordWalker::new(&inner_bytes, 0) {
+        let (op, body) = inner?;
+        match parse_record(op, body).map_err(|e| e.to_string())? {
+            Record::Message { header, data } => messages.push((header, data.into_owned())),
+            other @ (Record::Schema { .. } | Record::Channel(_)) => defs.push(other.into_owned()),
+            _ => {}
+        }
+    }
+    Ok((defs, messages))
+}
+
+/// Writes one message to the output if its channel is (or can be) defined there; counts it
+/// as written or as undefined.
+fn copy_message<W: std::io::Write + std::io::Seek>(
+    w: &mut mcap::Writer<W>,
+    defined: &mut Defined,
+    r: &mut Recovered,
+    summary: Option<&mcap::Summary>,
+    header: &MessageHeader,
+    data: &[u8],
+) -> Result<(), mcap::McapError> {
+    if !defined.ensure(w, header.channel_id, summary)? {
+        r.undefined += 1;
+        return Ok(());
+    }
+    w.write_to_known_channel(header, data)?;
+    r.messages += 1;
+    r.last_log_time = r.last_log_time.max(header.log_time);
+    Ok(())
 }
 
 /// The schema and channel ids written to the output so far.

@@ -77,6 +77,8 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
     let stop = Arc::new(AtomicBool::new(false));
     let stop2 = stop.clone();
     let emulator = std::thread::spawn(move || {
+        // As `cellrt drive-sim` does: the drives' end answers at once (as root).
+        cellrt_test_support::sched::fifo(81);
         let stats = wire::serve(&socket, &mut segment, &mut faults, &stop2).expect("serve");
         (stats, segment)
     });
@@ -98,6 +100,9 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
             .collect(),
     };
     let mut bus = EthercatBus::bring_up(config, Box::new(link)).expect("bring-up over veth");
+    // The paced loop as the RT thread runs (after bring-up: the mailbox worker it starts
+    // stays SCHED_OTHER), until the attempt ends.
+    let _fifo = cellrt_test_support::sched::Fifo::enter(80);
     // Paced at the 1 ms cycle and aligned to the DC SYNC0 grid as the RT loop is (the
     // correction taken every cycle): the emulated drives take one frame per SYNC0. Unaligned,
     // a frame near a SYNC0 edge plus the 100 µs delay below missed SYNC0s (AL.36 on the J3).

@@ -61,6 +61,8 @@ fn traced_run(attempt: u32) -> Option<syscall_trace::SteadyTrace> {
     let stop = Arc::new(AtomicBool::new(false));
     let stop2 = stop.clone();
     let emulator = std::thread::spawn(move || {
+        // As `cellrt drive-sim` does: the drives' end answers at once, above the RT thread.
+        cellrt_test_support::sched::fifo(81);
         wire::serve(&socket, &mut segment, &mut faults, &stop2).expect("serve");
     });
     let text = format!(

@@ -4,4 +4,5 @@
 #![warn(missing_docs)]
 
 pub mod counting_alloc;
+pub mod sched;
 pub mod veth;

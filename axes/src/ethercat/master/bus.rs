@@ -164,8 +164,9 @@ impl EthercatBus {
     }
 
     /// A transfer outside the loop: posted to the worker, whose frames this thread carries
-    /// until the outcome is there (or [`BLOCKING_SDO_TIMEOUT`]: [`SDO_TIMED_OUT`]). A virtual
-    /// link clock moves on with the time it takes.
+    /// until the outcome is there (or [`BLOCKING_SDO_TIMEOUT`]: [`SDO_TIMED_OUT`]). It takes
+    /// no time on a virtual link clock (that moves with the cyclic exchange only), so the
+    /// emulated drives see no cycle missed.
     fn sdo_blocking(&mut self, axis: usize, request: SdoRequest) -> SdoOutcome {
         match self.post_sdo(axis, request) {
             Ok(()) => {}
@@ -173,12 +174,7 @@ impl EthercatBus {
             Err(PostError::Busy) => return SdoOutcome::Aborted(SDO_TIMED_OUT),
         }
         let start = Instant::now();
-        let mut last = start;
         loop {
-            let now = Instant::now();
-            self.link
-                .advance(now.duration_since(last).as_nanos() as u64);
-            last = now;
             self.carrier.carry(self.link.as_mut());
             if let Some(outcome) = self.take_sdo(axis) {
                 return outcome;

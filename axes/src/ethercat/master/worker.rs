@@ -18,9 +18,14 @@ use super::sdo_slot::SdoSlot;
 use super::segment::SegmentConfig;
 use crate::bus::{MailboxNotice, SdoOutcome, SdoRequest};
 
-/// How long the worker sleeps when it has nothing to do (non-RT; bounds how late a posted
-/// request starts).
-const IDLE_POLL: Duration = Duration::from_micros(200);
+/// How long the worker sleeps between looks while transfers come (non-RT; bounds how late a
+/// posted request starts).
+const BUSY_POLL: Duration = Duration::from_micros(200);
+/// How long it sleeps between looks once nothing has come for [`QUIET_AFTER`]: fewer wake-ups
+/// beside the RT thread in steady state; a request then starts at most this late.
+const IDLE_POLL: Duration = Duration::from_millis(1);
+/// Time without work after which the worker polls at [`IDLE_POLL`].
+const QUIET_AFTER: Duration = Duration::from_millis(20);
 
 /// What the RT thread and the worker share: lock-free, preallocated.
 pub(super) struct Shared {
@@ -94,6 +99,7 @@ impl MailboxWorker {
     }
 
     fn run(mut self) {
+        let mut last_work = std::time::Instant::now();
         while !self.shared.stop.load(Ordering::Acquire) {
             let mut worked = false;
             for station in 0..self.shared.drain.len() {
@@ -109,7 +115,11 @@ impl MailboxWorker {
                     worked = true;
                 }
             }
-            if !worked {
+            if worked {
+                last_work = std::time::Instant::now();
+            } else if last_work.elapsed() < QUIET_AFTER {
+                std::thread::sleep(BUSY_POLL);
+            } else {
                 std::thread::sleep(IDLE_POLL);
             }
         }

@@ -30,6 +30,7 @@ impl Cell {
                 &format!("name = \"{name}\""),
             )
             .replace("cpu = 1", "# cpu = 1")
+            .replace("esi = \"esi/", &format!("esi = \"{configs}/esi/"))
             .replace(
                 "max_consecutive_overruns = 100",
                 "max_consecutive_overruns = 0",
@@ -91,6 +92,16 @@ impl Drop for Cell {
     }
 }
 
+/// configs/ethercat-cell.toml on the in-process emulated segment.
+fn ethercat_cell(dir: &Path) -> Cell {
+    Cell::start(
+        dir,
+        "ethercat-cell.toml",
+        "ethercat",
+        &["--interface", "in-process"],
+    )
+}
+
 /// The value of a printed read, "AXIS OBJ NAME (TYPE) = DEC (0xHEX)", with the hex checked.
 fn read_value(line: &str) -> i64 {
     let (_, rest) = line.split_once(" = ").expect(line);
@@ -108,12 +119,7 @@ fn read_value(line: &str) -> i64 {
 #[test]
 fn sdo_reads_and_writes_the_emulated_ethercat_drives_and_refuses_what_must_not_be_sent() {
     let dir = tempfile::tempdir().unwrap();
-    let cell = Cell::start(
-        dir.path(),
-        "ethercat-cell.toml",
-        "ethercat",
-        &["--interface", "in-process"],
-    );
+    let cell = ethercat_cell(dir.path());
     // y is an MR-J4-TM in csp, not powered: CiA 402 Switch on disabled (xxxx xxxx x1xx 0000).
     let line = cell.ok(&["read", "y", "6041"]);
     assert!(
@@ -193,4 +199,65 @@ fn sdo_reads_the_simulated_drives() {
         &["read", "y", "2FFF"],
         "is not in the object dictionary of axis 'y' (Mitsubishi MR-J5-G-N1)",
     );
+}
+
+#[test]
+fn sdo_on_an_esi_axis_follows_the_esi_dictionary() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = Cell::start(dir.path(), "cia402-esi.toml", "cia402-esi", &[]);
+    assert_eq!(
+        cell.ok(&["read", "x", "6061"]),
+        "x 6061h:00 Modes of operation display (INTEGER8) = 8 (0x08)"
+    );
+    // 6098h is rw in configs/esi/cia402-example.xml (SINT).
+    assert_eq!(
+        cell.ok(&["write", "x", "6098", "35"]),
+        "x 6098h:00 Homing method (INTEGER8) written: 35 (0x23)"
+    );
+    assert_eq!(read_value(&cell.ok(&["read", "x", "6098"])), 35);
+    cell.refused(
+        &["write", "x", "6098", "-129"],
+        "takes INTEGER8: -129 is out of its range -128..127",
+    );
+    cell.refused(
+        &["write", "x", "6502", "1"],
+        "6502h:00 of axis 'x' (Supported drive modes) is read-only",
+    );
+    cell.refused(
+        &["read", "x", "2000"],
+        "is not in the object dictionary of axis 'x' (ESI device Example CiA 402 servo drive)",
+    );
+    // The configuration maps 6060h in the RxPDO.
+    cell.refused(&["write", "x", "6060", "8"], "RxPDO");
+}
+
+#[test]
+fn sdo_reads_around_a_homing_neither_fail_it_nor_wait_for_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = ethercat_cell(dir.path());
+    let (code, out, err) = common::cellrt_on_cell(&cell.name, &["power", "on"]);
+    assert_eq!(code, 0, "{out}{err}");
+    for round in 0..2 {
+        let name = cell.name.clone();
+        // Reads of y's 6061h while y homes (its 6098h write and mode changes are SDOs too).
+        let reads = std::thread::spawn(move || {
+            (0..15)
+                .map(|_| common::cellrt_on_cell(&name, &["sdo", "read", "y", "6061"]))
+                .collect::<Vec<_>>()
+        });
+        let (code, out, err) = common::cellrt_on_cell(&cell.name, &["home", "y"]);
+        assert_eq!(code, 0, "homing {round}: {out}{err}");
+        for (code, out, err) in reads.join().unwrap() {
+            match code {
+                0 => assert!(
+                    out.starts_with("y 6061h:00 Modes of operation display"),
+                    "{out}"
+                ),
+                _ => assert!(
+                    err.contains("sdo: the cell is homing; try again when the homing has ended"),
+                    "{out}{err}"
+                ),
+            }
+        }
+    }
 }

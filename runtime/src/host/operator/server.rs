@@ -187,6 +187,14 @@ impl OperatorServer {
             return Err("sdo: a program is running; halt or stop it before writing".into());
         }
         let checked = sdo::check(ctx.cell, axis, index, sub, value)?;
+        // A homing's own acyclic requests come first (the RT thread holds SDOs meanwhile).
+        if ctx
+            .link
+            .status()
+            .is_ok_and(|s| s.state == CellState::Homing)
+        {
+            return Err("sdo: the cell is homing; try again when the homing has ended".into());
+        }
         self.sdo.start(ctx.link, checked)
     }
 

@@ -99,9 +99,17 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         self.post_acyclic(i, Pending::HomeOffset, read)
     }
 
+    /// True while an operator's SDO request is posted on some axis.
+    pub(super) fn user_sdo_in_flight(&self) -> bool {
+        self.pending
+            .iter()
+            .any(|p| matches!(p, Some(Pending::User(_))))
+    }
+
     /// Takes an operator's SDO request from the hand-off and posts it once its axis' slot is
-    /// free (a fault's 603Fh read goes first); an axis without an acyclic channel (or none by
-    /// that index) gets it published as unsupported.
+    /// free (a fault's 603Fh read goes first) and no homing runs (its own requests come
+    /// first); an axis without an acyclic channel (or none by that index) gets it published as
+    /// unsupported.
     fn serve_user_sdo(&mut self) {
         if self.user_sdo.is_none() {
             self.user_sdo = self.handoff.take_sdo_request();
@@ -116,7 +124,8 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 .publish_sdo_outcome(seq, UserSdoOutcome::Unsupported);
             return;
         }
-        if self.pending[i].is_some() || self.error_code_wanted[i] {
+        if self.pending[i].is_some() || self.error_code_wanted[i] || self.state == CellState::Homing
+        {
             return;
         }
         match self.bus.post_sdo(i, request) {

@@ -43,6 +43,9 @@ pub enum Command {
     Esi(crate::commands::esi::EsiArgs),
     /// Benchmarks: wakeup latency, comparison with cyclictest, the full loop with N axes.
     Bench(crate::commands::bench::BenchArgs),
+    /// Read or write one object of an axis' drive on a running cell (SDO), checked against
+    /// the drive's object dictionary first.
+    Sdo(crate::commands::sdo::SdoArgs),
     /// Operator commands to a running cell.
     #[command(flatten)]
     Operate(crate::commands::operate::OperatorCommand),

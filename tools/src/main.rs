@@ -31,6 +31,7 @@ fn main() {
         cli::Command::JeC(args) => commands::je_c::run(args),
         cli::Command::Esi(args) => commands::esi::run(args),
         cli::Command::Bench(args) => commands::bench::run(args, cli.target.cell.clone()),
+        cli::Command::Sdo(args) => commands::sdo::run(args, cli.target),
         cli::Command::Operate(c) => commands::operate::run(c, cli.target),
     };
     std::process::exit(code.code());

@@ -17,6 +17,22 @@ fn number(s: &str) -> Result<f64, String> {
     }
 }
 
+/// An integer in decimal or hex (0x1EA5 / 1EA5h), with an optional minus sign (object values).
+pub fn integer(s: &str) -> Result<i64, String> {
+    let t = s.trim();
+    let (neg, body) = t.strip_prefix('-').map_or((false, t), |b| (true, b));
+    let n = if let Some(h) = body
+        .strip_prefix("0x")
+        .or_else(|| body.strip_suffix(['h', 'H']))
+    {
+        i64::from_str_radix(h, 16)
+    } else {
+        body.parse::<i64>()
+    }
+    .map_err(|_| format!("{s:?} is not a number"))?;
+    Ok(if neg { -n } else { n })
+}
+
 /// Any finite number (a signed jog velocity, an override percentage the cell range-checks).
 pub fn finite(s: &str) -> Result<f64, String> {
     number(s)

@@ -63,17 +63,7 @@ impl Cell {
 
     /// Runs `cellrt ARGS --cell NAME`; returns exit code, stdout, stderr.
     fn cli(&self, args: &[&str]) -> (i32, String, String) {
-        let out = Command::new(env!("CARGO_BIN_EXE_cellrt"))
-            .args(args)
-            .arg("--cell")
-            .arg(&self.name)
-            .output()
-            .unwrap();
-        (
-            out.status.code().unwrap_or(-1),
-            String::from_utf8_lossy(&out.stdout).into_owned(),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
-        )
+        common::cellrt_on_cell(&self.name, args)
     }
 
     fn ok(&self, args: &[&str]) -> String {

@@ -59,6 +59,39 @@ pub enum SdoRequest {
     },
 }
 
+impl SdoRequest {
+    /// The request in 64 bits, for a slot of atomics: data (0–31), index (32–47), sub (48–55),
+    /// data length (56–58), download (63).
+    pub fn to_bits(self) -> u64 {
+        match self {
+            SdoRequest::Upload { index, sub } => u64::from(index) << 32 | u64::from(sub) << 48,
+            SdoRequest::Download { index, sub, data } => {
+                let bytes = data.as_slice();
+                let mut raw = [0u8; 4];
+                raw[..bytes.len()].copy_from_slice(bytes);
+                u64::from(u32::from_le_bytes(raw))
+                    | u64::from(index) << 32
+                    | u64::from(sub) << 48
+                    | (bytes.len() as u64) << 56
+                    | 1 << 63
+            }
+        }
+    }
+
+    /// Inverse of [`SdoRequest::to_bits`].
+    pub fn from_bits(v: u64) -> SdoRequest {
+        let index = (v >> 32) as u16;
+        let sub = (v >> 48) as u8;
+        if v >> 63 == 0 {
+            return SdoRequest::Upload { index, sub };
+        }
+        let len = ((v >> 56) & 0x7) as usize;
+        let raw = (v as u32).to_le_bytes();
+        let data = SdoData::new(&raw[..len.min(4)]).unwrap_or(SdoData::from_u32(v as u32));
+        SdoRequest::Download { index, sub, data }
+    }
+}
+
 /// How a posted request ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SdoOutcome {
@@ -68,6 +101,28 @@ pub enum SdoOutcome {
     Downloaded,
     /// The drive (or the bus) refused it: the CiA 301 abort code.
     Aborted(u32),
+}
+
+impl SdoOutcome {
+    /// The outcome as a kind (0 uploaded, 1 downloaded, 2 aborted) and a value (the upload's
+    /// value or the abort code), for a slot of atomics.
+    pub fn to_parts(self) -> (u8, u64) {
+        match self {
+            SdoOutcome::Uploaded(v) => (0, v as u64),
+            SdoOutcome::Downloaded => (1, 0),
+            SdoOutcome::Aborted(code) => (2, u64::from(code)),
+        }
+    }
+
+    /// Inverse of [`SdoOutcome::to_parts`]; `None` for another kind.
+    pub fn from_parts(kind: u8, value: u64) -> Option<SdoOutcome> {
+        Some(match kind {
+            0 => SdoOutcome::Uploaded(value as i64),
+            1 => SdoOutcome::Downloaded,
+            2 => SdoOutcome::Aborted(value as u32),
+            _ => return None,
+        })
+    }
 }
 
 /// Why a request could not be posted.
@@ -117,6 +172,47 @@ mod tests {
         assert!(SdoData::new(&[]).is_none());
         assert!(SdoData::new(&[1, 2, 3]).is_none());
         assert!(SdoData::new(&[0; 8]).is_none());
+    }
+
+    #[test]
+    fn requests_survive_packing() {
+        for r in [
+            SdoRequest::Upload {
+                index: 0x607C,
+                sub: 0,
+            },
+            SdoRequest::Download {
+                index: 0x6060,
+                sub: 0,
+                data: SdoData::new(&[6]).unwrap(),
+            },
+            SdoRequest::Download {
+                index: 0x2D01,
+                sub: 0xFF,
+                data: SdoData::new(&[0xFF, 0xFE]).unwrap(),
+            },
+            SdoRequest::Download {
+                index: 0xFFFF,
+                sub: 3,
+                data: SdoData::new(&[1, 2, 3, 0x80]).unwrap(),
+            },
+        ] {
+            assert_eq!(SdoRequest::from_bits(r.to_bits()), r);
+        }
+    }
+
+    #[test]
+    fn outcomes_survive_packing() {
+        for o in [
+            SdoOutcome::Uploaded(-2),
+            SdoOutcome::Uploaded(i64::from(u32::MAX)),
+            SdoOutcome::Downloaded,
+            SdoOutcome::Aborted(0x0602_0000),
+        ] {
+            let (kind, value) = o.to_parts();
+            assert_eq!(SdoOutcome::from_parts(kind, value), Some(o));
+        }
+        assert_eq!(SdoOutcome::from_parts(3, 0), None);
     }
 
     #[test]

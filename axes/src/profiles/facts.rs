@@ -42,6 +42,35 @@ impl DataType {
             Self::Unstated => None,
         }
     }
+
+    /// The name CiA 301 §7.4.7 gives the type (e.g. "UNSIGNED16"), "unstated" for
+    /// [`DataType::Unstated`].
+    pub const fn cia301_name(self) -> &'static str {
+        match self {
+            Self::Bool => "BOOLEAN",
+            Self::I8 => "INTEGER8",
+            Self::I16 => "INTEGER16",
+            Self::I32 => "INTEGER32",
+            Self::U8 => "UNSIGNED8",
+            Self::U16 => "UNSIGNED16",
+            Self::U32 => "UNSIGNED32",
+            Self::Unstated => "unstated",
+        }
+    }
+
+    /// The values the type holds (inclusive), `None` for [`DataType::Unstated`].
+    pub const fn value_range(self) -> Option<(i64, i64)> {
+        Some(match self {
+            Self::Bool => (0, 1),
+            Self::I8 => (i8::MIN as i64, i8::MAX as i64),
+            Self::I16 => (i16::MIN as i64, i16::MAX as i64),
+            Self::I32 => (i32::MIN as i64, i32::MAX as i64),
+            Self::U8 => (0, u8::MAX as i64),
+            Self::U16 => (0, u16::MAX as i64),
+            Self::U32 => (0, u32::MAX as i64),
+            Self::Unstated => return None,
+        })
+    }
 }
 
 /// Access right of an object.

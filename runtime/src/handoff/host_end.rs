@@ -6,7 +6,10 @@ use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
 
 use super::lanes::Lanes;
-use super::{AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest};
+use super::{
+    AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest, SdoSlotBusy,
+    UserSdo, UserSdoOutcome,
+};
 
 /// Event lines kept for the operator's status.
 pub const RECENT_EVENTS: usize = 8;
@@ -39,6 +42,17 @@ impl HostEnd {
         self.lanes
             .home_request
             .store(request.encode(), Ordering::Release);
+    }
+
+    /// Leaves an operator SDO request for the RT thread (one requesting thread); refused while
+    /// the previous one is not yet taken.
+    pub fn request_sdo(&self, sdo: UserSdo) -> Result<(), SdoSlotBusy> {
+        self.lanes.sdo_request.put(sdo)
+    }
+
+    /// The outcome of the operator SDO request `seq`, once the RT thread has published it.
+    pub fn sdo_outcome(&self, seq: u16) -> Option<UserSdoOutcome> {
+        self.lanes.sdo_outcome.get(seq)
     }
 
     /// Records an event of a non-RT thread (planner, link); false if the queue is full.

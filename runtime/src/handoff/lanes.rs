@@ -5,6 +5,7 @@ use std::sync::atomic::AtomicU32;
 
 use crossbeam::queue::ArrayQueue;
 
+use super::sdo::{SdoOutcomeSlot, SdoRequestSlot};
 use super::{AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord};
 
 /// Commands the queue holds before a sender is refused.
@@ -29,6 +30,10 @@ pub(super) struct Lanes {
     pub(super) recording: bool,
     /// A pending homing request (`HomeRequest` packed; 0 = none), taken by the RT thread.
     pub(super) home_request: AtomicU32,
+    /// A pending operator SDO request, taken by the RT thread.
+    pub(super) sdo_request: SdoRequestSlot,
+    /// The outcome of the latest operator SDO request.
+    pub(super) sdo_outcome: SdoOutcomeSlot,
 }
 
 impl Lanes {
@@ -48,6 +53,8 @@ impl Lanes {
             status: CellStatus::default(),
             recording,
             home_request: AtomicU32::new(0),
+            sdo_request: SdoRequestSlot::default(),
+            sdo_outcome: SdoOutcomeSlot::default(),
         }
     }
 }

@@ -8,6 +8,7 @@ mod host_end;
 mod lanes;
 mod records;
 mod rt_end;
+mod sdo;
 mod status;
 
 use std::sync::Arc;
@@ -19,6 +20,7 @@ pub use records::{
     CycleRecord, EventKind, EventRecord, RejectReason, NO_AXIS,
 };
 pub use rt_end::RtEnd;
+pub use sdo::{SdoSlotBusy, UserSdo, UserSdoOutcome};
 pub use status::{AxisLive, CellState, CellStatus, HomingStatus, StopReason};
 
 /// The two ends of one hand-off, with queues for `queue_cycles` cycles (at least 64) of `axes`

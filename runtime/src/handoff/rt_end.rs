@@ -5,10 +5,13 @@ use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 use super::lanes::Lanes;
-use super::{AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest};
+use super::{
+    AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest, UserSdo,
+    UserSdoOutcome,
+};
 
 /// What the RT thread may touch: the command queue's consumer side, the record and event
-/// queues' producer side, the pending homing request and the status atomics.
+/// queues' producer side, the pending homing and SDO requests and the status atomics.
 ///
 /// It cannot reach the host end's recent events (a `Mutex`):
 ///
@@ -37,6 +40,18 @@ impl RtEnd {
     #[inline]
     pub fn take_home_request(&self) -> Option<HomeRequest> {
         HomeRequest::decode(self.lanes.home_request.swap(0, Ordering::AcqRel))
+    }
+
+    /// Takes the pending operator SDO request, if any (the slot is empty afterwards).
+    #[inline]
+    pub fn take_sdo_request(&self) -> Option<UserSdo> {
+        self.lanes.sdo_request.take()
+    }
+
+    /// Publishes how the operator SDO request `seq` ended.
+    #[inline]
+    pub fn publish_sdo_outcome(&self, seq: u16, outcome: UserSdoOutcome) {
+        self.lanes.sdo_outcome.publish(seq, outcome);
     }
 
     /// Whether a recorder drains the record queues (if not, skip building records).

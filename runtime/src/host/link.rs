@@ -11,7 +11,7 @@ use iceoryx2::prelude::*;
 
 use crate::handoff::{
     CellCommand, CellState, EventKind, EventRecord, HomeRequest, HomingStatus, HostEnd, StopReason,
-    NO_AXIS,
+    UserSdo, UserSdoOutcome, NO_AXIS,
 };
 use crate::services::{self, CommandSample, LiveAxis, ServiceError, StatusSample};
 use crate::setpoints::MAX_AXES;
@@ -59,6 +59,12 @@ pub enum LinkError {
     /// The controller has not published yet.
     #[error("no status from cell '{0}' yet")]
     NoStatus(String),
+    /// The operation needs the planner in the controller's process.
+    #[error("{0} needs the planner in the controller's process (not `--external-planner`)")]
+    InProcessOnly(&'static str),
+    /// The operator SDO slot to the RT thread is occupied.
+    #[error("{0}")]
+    SdoSlot(String),
     /// A command sample could not be sent.
     #[error("sending {command} to cell '{cell}': {detail}")]
     Send {
@@ -104,6 +110,16 @@ pub trait CellLink {
     fn command(&mut self, c: CellCommand) -> Result<(), LinkError>;
     /// Asks the RT thread to home an axis (taken in Idle).
     fn home(&mut self, request: HomeRequest) -> Result<(), LinkError>;
+    /// Leaves an operator SDO request for the RT thread (in-process only).
+    fn sdo(&mut self, request: UserSdo) -> Result<(), LinkError> {
+        let _ = request;
+        Err(LinkError::InProcessOnly("sdo"))
+    }
+    /// The outcome of the operator SDO request `seq`, once published (in-process only).
+    fn sdo_outcome(&mut self, seq: u16) -> Option<UserSdoOutcome> {
+        let _ = seq;
+        None
+    }
     /// The latest event lines (in-process only; empty from another process).
     fn recent_events(&mut self) -> Vec<String> {
         Vec::new()
@@ -172,6 +188,16 @@ impl CellLink for LocalLink {
     fn home(&mut self, request: HomeRequest) -> Result<(), LinkError> {
         self.handoff.request_homing(request);
         Ok(())
+    }
+
+    fn sdo(&mut self, request: UserSdo) -> Result<(), LinkError> {
+        self.handoff
+            .request_sdo(request)
+            .map_err(|e| LinkError::SdoSlot(e.to_string()))
+    }
+
+    fn sdo_outcome(&mut self, seq: u16) -> Option<UserSdoOutcome> {
+        self.handoff.sdo_outcome(seq)
     }
 
     fn recent_events(&mut self) -> Vec<String> {

@@ -184,17 +184,6 @@ fn resolve(addr: &str, port: u16) -> Result<SocketAddr, String> {
 
 /// `s` as a value of `ty`: decimal, 0x-prefixed or h-suffixed hex.
 fn parse_value(ty: DataType, s: &str) -> Result<Value, String> {
-    let t = s.trim();
-    let (neg, body) = t.strip_prefix('-').map_or((false, t), |b| (true, b));
-    let n = if let Some(h) = body
-        .strip_prefix("0x")
-        .or_else(|| body.strip_suffix(['h', 'H']))
-    {
-        i64::from_str_radix(h, 16)
-    } else {
-        body.parse::<i64>()
-    }
-    .map_err(|_| format!("{s:?} is not a number"))?;
-    let n = if neg { -n } else { n };
+    let n = crate::numbers::integer(s)?;
     Value::from_i64(ty, n).ok_or_else(|| format!("{s} does not fit the object's type"))
 }

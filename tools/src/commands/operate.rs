@@ -195,8 +195,8 @@ pub fn run(command: OperatorCommand, target: Target) -> Exit {
             eprintln!("rejected: {reason}");
             return Exit::Rejected;
         }
-        Ok(Reply::Status(_)) => {
-            eprintln!("error: the cell answered with a status instead of accepting");
+        Ok(Reply::Status(_) | Reply::Sdo(_)) => {
+            eprintln!("error: the cell answered with a report instead of accepting");
             return Exit::Unreachable;
         }
         Err(e) => return unreachable(e),

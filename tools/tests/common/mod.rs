@@ -57,6 +57,22 @@ pub fn run_recorded(dir: &Path, config: &str, program: &str) -> (std::process::O
     (out, rec)
 }
 
+/// Runs `cellrt ARGS --cell CELL` (an operator command to a running cell); returns the exit
+/// code, stdout and stderr.
+pub fn cellrt_on_cell(cell: &str, args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .args(args)
+        .arg("--cell")
+        .arg(cell)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
 /// A cell name no other test or user run shares (services and locks are per cell name).
 pub fn unique_cell_name() -> String {
     use std::sync::atomic::{AtomicU32, Ordering};

@@ -7,6 +7,7 @@ use cellrt_axes::profiles::status_do::StatusDo;
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
+use super::sdo::{self, SdoInFlight};
 use super::targets::{axis_index, move_limits, Asked, TargetError};
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
 use crate::config::CellConfig;
@@ -40,7 +41,13 @@ pub struct OperatorServer {
     home_seq: u32,
     status: services::OperatorStatusPublisher,
     last_status: std::time::Instant,
+    /// The `sdo` request waiting for the drive's answer, and the client's request to answer.
+    sdo: SdoInFlight,
+    sdo_client: Option<ActiveRequest>,
 }
+
+/// A client's request being answered.
+type ActiveRequest = iceoryx2::active_request::ActiveRequest<ipc::Service, [u8], (), [u8], ()>;
 
 /// What a request may touch.
 pub struct Context<'a> {
@@ -66,6 +73,8 @@ impl OperatorServer {
             home_seq: 0,
             status: services::operator_status_publisher(node, cell)?,
             last_status: std::time::Instant::now() - super::STATUS_PERIOD,
+            sdo: SdoInFlight::default(),
+            sdo_client: None,
         })
     }
 
@@ -121,7 +130,7 @@ impl OperatorServer {
     /// Answers every pending request; returns what the caller must do next.
     pub fn poll(&mut self, ctx: &mut Context<'_>) -> Followup {
         let mut followup = Followup::None;
-        let mut answered = false;
+        let mut answered = self.answer_sdo(ctx);
         loop {
             let active = match self.port.receive() {
                 Ok(Some(r)) => r,
@@ -132,6 +141,18 @@ impl OperatorServer {
                 }
             };
             let (reply, f) = match wire::decode_request(active.payload()) {
+                Ok(Request::Sdo {
+                    axis,
+                    index,
+                    sub,
+                    value,
+                }) => match self.start_sdo(ctx, &axis, index, sub, value) {
+                    Ok(()) => {
+                        self.sdo_client = Some(active);
+                        continue;
+                    }
+                    Err(reason) => (Reply::Rejected { reason }, Followup::None),
+                },
                 Ok(req) => self.handle(req, ctx),
                 Err(e) => (
                     Reply::Rejected {
@@ -144,25 +165,56 @@ impl OperatorServer {
                 followup = f;
             }
             answered = true;
-            let bytes = wire::encode(&reply);
-            let sent = match active.loan_slice_uninit(bytes.len().max(1)) {
-                Ok(r) => r
-                    .write_from_fn(|i| bytes.get(i).copied().unwrap_or(b' '))
-                    .send()
-                    .map_err(|e| format!("{e:?}")),
-                Err(e) => Err(format!("{e:?}")),
-            };
-            if let Err(e) = sent {
-                tracing::warn!(
-                    "operator service: reply of {} bytes (limit {OPERATOR_RESPONSE_BYTES}) not sent: {e}",
-                    bytes.len()
-                );
-            }
+            respond(&active, &reply);
         }
         if answered || self.last_status.elapsed() >= super::STATUS_PERIOD {
             self.publish_status(ctx);
         }
         followup
+    }
+
+    /// Checks an `sdo` request and hands it to the RT thread; its reply follows in
+    /// [`OperatorServer::answer_sdo`].
+    fn start_sdo(
+        &mut self,
+        ctx: &mut Context<'_>,
+        axis: &str,
+        index: u16,
+        sub: u8,
+        value: Option<i64>,
+    ) -> Result<(), String> {
+        if ctx.program_running && value.is_some() {
+            return Err("sdo: a program is running; halt or stop it before writing".into());
+        }
+        let checked = sdo::check(ctx.cell, axis, index, sub, value)?;
+        // A homing's own acyclic requests come first (the RT thread holds SDOs meanwhile).
+        if ctx
+            .link
+            .status()
+            .is_ok_and(|s| s.state == CellState::Homing)
+        {
+            return Err("sdo: the cell is homing; try again when the homing has ended".into());
+        }
+        self.sdo.start(ctx.link, checked)
+    }
+
+    /// Answers the `sdo` request in flight once the drive answered (or the wait timed out);
+    /// true if a reply went out.
+    fn answer_sdo(&mut self, ctx: &mut Context<'_>) -> bool {
+        let Some(result) = self.sdo.poll(ctx.link) else {
+            return false;
+        };
+        let reply = match result {
+            Ok(r) => Reply::Sdo(r),
+            Err(reason) => Reply::Rejected { reason },
+        };
+        match self.sdo_client.take() {
+            Some(active) => {
+                respond(&active, &reply);
+                true
+            }
+            None => false,
+        }
     }
 
     /// Publishes the status on the operator-status service.
@@ -268,6 +320,8 @@ impl OperatorServer {
             Request::Reset => self.reset(ctx, &state),
             Request::Override { percent } => self.set_override(ctx, percent),
             Request::Program { path } => self.program(ctx, &path),
+            // Answered later, when the drive has: `poll` takes it before `handle`.
+            Request::Sdo { .. } => rejected("sdo: not an immediate request".into()),
         }
     }
 
@@ -665,6 +719,24 @@ impl OperatorServer {
 const MOTION_COMMANDS: [&str; 5] = ["move", "path", "velocity", "torque", "halt"];
 
 /// The refusal of a request, with its reason.
+/// Sends `reply` to the client of `active` (a failure is logged: the client times out).
+fn respond(active: &ActiveRequest, reply: &Reply) {
+    let bytes = wire::encode(reply);
+    let sent = match active.loan_slice_uninit(bytes.len().max(1)) {
+        Ok(r) => r
+            .write_from_fn(|i| bytes.get(i).copied().unwrap_or(b' '))
+            .send()
+            .map_err(|e| format!("{e:?}")),
+        Err(e) => Err(format!("{e:?}")),
+    };
+    if let Err(e) = sent {
+        tracing::warn!(
+            "operator service: reply of {} bytes (limit {OPERATOR_RESPONSE_BYTES}) not sent: {e}",
+            bytes.len()
+        );
+    }
+}
+
 fn rejected(reason: String) -> (Reply, Followup) {
     (Reply::Rejected { reason }, Followup::None)
 }

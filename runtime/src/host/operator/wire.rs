@@ -149,6 +149,20 @@ pub enum Request {
         /// The program (TOML).
         path: PathBuf,
     },
+    /// Read (no `value`) or write one object of an axis' drive by SDO, checked against the
+    /// drive's object dictionary first.
+    Sdo {
+        /// Axis name.
+        axis: String,
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        #[serde(default)]
+        sub: u8,
+        /// The value to write; absent for a read.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        value: Option<i64>,
+    },
 }
 
 impl Request {
@@ -167,6 +181,7 @@ impl Request {
             Request::Reset => "reset",
             Request::Override { .. } => "override",
             Request::Program { .. } => "program",
+            Request::Sdo { .. } => "sdo",
         }
     }
 }
@@ -187,6 +202,50 @@ pub enum Reply {
     },
     /// The status.
     Status(Box<StatusReport>),
+    /// How an SDO request ended at the drive.
+    Sdo(SdoReply),
+}
+
+/// The answer of a drive to an SDO request.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SdoReply {
+    /// Axis name.
+    pub axis: String,
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// The object's name in the dictionary ("" where the dictionary lists none).
+    pub name: String,
+    /// The object's data type as CiA 301 names it (e.g. "UNSIGNED16").
+    pub data_type: String,
+    /// The type's size in bits (0 where unstated), for the value in hex.
+    pub bits: u16,
+    /// What happened.
+    pub outcome: SdoAnswer,
+}
+
+/// What the drive did with an SDO request.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum SdoAnswer {
+    /// The value read.
+    Read {
+        /// The value, typed by the object's data type.
+        value: i64,
+    },
+    /// The value was written.
+    Written {
+        /// The value written.
+        value: i64,
+    },
+    /// The drive refused: the CiA 301 abort code and its meaning.
+    Aborted {
+        /// Abort code.
+        code: u32,
+        /// CiA 301 meaning.
+        meaning: String,
+    },
 }
 
 /// Status of the cell as the operator sees it.

@@ -2,14 +2,14 @@
 //! finished in the cycle their outcome arrives, so that no cycle waits for a mailbox. One
 //! request per axis at a time, each with what it is for.
 
-use cellrt_axes::bus::{AcyclicBus, CyclicBus, SdoData, SdoOutcome, SdoRequest};
+use cellrt_axes::bus::{AcyclicBus, CyclicBus, PostError, SdoData, SdoOutcome, SdoRequest};
 use cellrt_axes::cia402::homing::HomingFailure;
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::pdo::objects::{ERROR_CODE, HOME_OFFSET, HOMING_METHOD, MODES_OF_OPERATION};
 use cellrt_axes::Cycles;
 
 use super::Executive;
-use crate::handoff::{CellState, EventKind};
+use crate::handoff::{CellState, EventKind, UserSdo, UserSdoOutcome};
 
 /// Cycles the loop's end waits at most for the requests still in flight.
 const FINISH_CYCLES: u32 = 500;
@@ -25,6 +25,8 @@ pub(super) enum Pending {
     HomingMethod,
     /// 607Ch read after a homing, for a drive that keeps 6064h raw: the homing ends with it.
     HomeOffset,
+    /// An operator's request (`cellrt sdo`), by its sequence number: its outcome is published.
+    User(u16),
 }
 
 impl<B: CyclicBus + AcyclicBus> Executive<B> {
@@ -97,9 +99,57 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         self.post_acyclic(i, Pending::HomeOffset, read)
     }
 
+    /// True while an operator's SDO request is posted on some axis.
+    pub(super) fn user_sdo_in_flight(&self) -> bool {
+        self.pending
+            .iter()
+            .any(|p| matches!(p, Some(Pending::User(_))))
+    }
+
+    /// Takes an operator's SDO request from the hand-off and posts it once its axis' slot is
+    /// free (a fault's 603Fh read goes first) and no homing runs (its own requests come
+    /// first); an axis without an acyclic channel (or none by that index) gets it published as
+    /// unsupported.
+    fn serve_user_sdo(&mut self) {
+        if self.user_sdo.is_none() {
+            self.user_sdo = self.handoff.take_sdo_request();
+        }
+        let Some(UserSdo { seq, axis, request }) = self.user_sdo else {
+            return;
+        };
+        let i = usize::from(axis);
+        if i >= self.axes.len() {
+            self.user_sdo = None;
+            self.handoff
+                .publish_sdo_outcome(seq, UserSdoOutcome::Unsupported);
+            return;
+        }
+        if self.pending[i].is_some() || self.error_code_wanted[i] || self.state == CellState::Homing
+        {
+            return;
+        }
+        match self.bus.post_sdo(i, request) {
+            Ok(()) => {
+                self.pending[i] = Some(Pending::User(seq));
+                self.user_sdo = None;
+            }
+            Err(PostError::Busy) => {}
+            Err(PostError::Unsupported) => {
+                self.user_sdo = None;
+                self.handoff
+                    .publish_sdo_outcome(seq, UserSdoOutcome::Unsupported);
+            }
+        }
+    }
+
     /// Takes the outcomes that have arrived and finishes what each was for; a fault's 603Fh
-    /// read that waited for the axis' slot is posted.
+    /// read that waited for the axis' slot is posted, then an operator's request.
     pub(super) fn poll_acyclic(&mut self) {
+        self.poll_outcomes();
+        self.serve_user_sdo();
+    }
+
+    fn poll_outcomes(&mut self) {
         for i in 0..self.axes.len() {
             if self.error_code_wanted[i] && self.pending[i].is_none() {
                 self.request_error_code(i);
@@ -115,7 +165,8 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 SdoOutcome::Aborted(code) => Some(code),
                 _ => None,
             };
-            if let Some(code) = abort.filter(|_| purpose != Pending::ErrorCode) {
+            let internal = !matches!(purpose, Pending::ErrorCode | Pending::User(_));
+            if let Some(code) = abort.filter(|_| internal) {
                 self.event(EventKind::BusError, i as u16, i64::from(code));
             }
             match (purpose, outcome) {
@@ -131,6 +182,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     let taken = outcome == SdoOutcome::Downloaded;
                     self.method_written(i, taken);
                 }
+                (Pending::User(seq), outcome) => self
+                    .handoff
+                    .publish_sdo_outcome(seq, UserSdoOutcome::Done(outcome)),
                 (Pending::HomeOffset, outcome) => {
                     if let SdoOutcome::Uploaded(v) = outcome {
                         self.apply_home_offset(i, v as i32);
@@ -156,7 +210,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             std::thread::sleep(period);
             self.cycle += 1;
             let _ = self.bus.exchange(Cycles(1));
-            self.poll_acyclic();
+            self.poll_outcomes();
         }
     }
 

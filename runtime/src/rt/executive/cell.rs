@@ -290,6 +290,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
     /// holds) while 6098h is written acyclically; the sequencer starts when the drive took it,
     /// and a refusal is reported as a failed homing.
     fn poll_home_request(&mut self) {
+        // An operator's SDO in flight holds its axis' acyclic slot for a few cycles: the
+        // request waits in the hand-off until it has ended.
+        if self.user_sdo_in_flight() {
+            return;
+        }
         let Some(req) = self.handoff.take_home_request() else {
             return;
         };

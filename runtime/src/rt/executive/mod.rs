@@ -138,6 +138,8 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     error_code_wanted: Vec<bool>,
     /// The homing request whose 6098h write is in flight.
     awaiting_method: Option<crate::handoff::HomeRequest>,
+    /// An operator's SDO request taken from the hand-off, waiting for its axis' slot.
+    user_sdo: Option<crate::handoff::UserSdo>,
     hook: Option<PhaseHook>,
 }
 
@@ -199,6 +201,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             pending: vec![None; n],
             error_code_wanted: vec![false; n],
             awaiting_method: None,
+            user_sdo: None,
             hook,
         }
     }

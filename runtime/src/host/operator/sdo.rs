@@ -1,0 +1,287 @@
+//! `sdo`: an operator's read or write of one object of an axis' drive. Checked against the
+//! drive's object dictionary (the ESI's where the axis has one, else the profile's object table)
+//! before anything is sent, then carried by the RT thread's acyclic channel (EtherCAT: the
+//! mailbox worker) and answered when the RT thread publishes the outcome.
+
+use std::time::{Duration, Instant};
+
+use cellrt_axes::bus::{SdoData, SdoOutcome, SdoRequest};
+use cellrt_axes::ethercat::master::abort_meaning;
+use cellrt_axes::profiles::{Access, DataType};
+
+use super::targets::axis_index;
+use super::wire::{SdoAnswer, SdoReply};
+use crate::config::{AxisConfig, CellConfig};
+use crate::handoff::{UserSdo, UserSdoOutcome};
+use crate::host::link::CellLink;
+
+/// How long the operator service waits for the drive's answer before it tells the client so;
+/// below the client's reply timeout (5 s), above a mailbox round trip with its retries.
+pub const SDO_ANSWER_TIMEOUT: Duration = Duration::from_secs(3);
+
+/// An SDO request that passed the checks: what is sent and how its answer is typed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckedSdo {
+    /// Axis index.
+    pub axis: usize,
+    /// The request to the drive.
+    pub request: SdoRequest,
+    /// The reply without its outcome (names and type for the client).
+    reply: SdoReply,
+    data_type: DataType,
+}
+
+/// What the dictionary states of one object.
+struct ObjectFacts {
+    name: String,
+    data_type: DataType,
+    access: Access,
+    range: Option<(i64, i64)>,
+}
+
+/// `index:sub` as the manuals print it, e.g. "607Ch:00".
+pub fn object_text(index: u16, sub: u8) -> String {
+    format!("{index:04X}h:{sub:02X}")
+}
+
+/// Checks a read (`value` absent) or write of `index:sub` on axis `axis` against the axis'
+/// dictionary; a one-line reason where it must not be sent.
+pub fn check(
+    cell: &CellConfig,
+    axis: &str,
+    index: u16,
+    sub: u8,
+    value: Option<i64>,
+) -> Result<CheckedSdo, String> {
+    let i = axis_index(cell, axis).map_err(|e| format!("sdo: {e}"))?;
+    let a = &cell.axes[i];
+    let at = || format!("{} of axis '{axis}'", object_text(index, sub));
+    let facts = object_facts(a, index, sub).ok_or_else(|| {
+        format!(
+            "sdo: object {} is not in the object dictionary of axis '{axis}' ({})",
+            object_text(index, sub),
+            dictionary_name(a)
+        )
+    })?;
+    let named = |what: String| format!("sdo: {} ({}) {what}", at(), facts.name);
+    let request = match value {
+        None if facts.access == Access::Wo => return Err(named("is write-only".into())),
+        None => SdoRequest::Upload { index, sub },
+        Some(_) if facts.access == Access::Ro => return Err(named("is read-only".into())),
+        Some(_) if a.profile.rx_pdo.maps(index) => {
+            return Err(named(
+                "is mapped in the axis' RxPDO (written every cycle); not written by SDO".into(),
+            ))
+        }
+        Some(v) => SdoRequest::Download {
+            index,
+            sub,
+            data: encode(v, &facts).map_err(named)?,
+        },
+    };
+    Ok(CheckedSdo {
+        axis: i,
+        request,
+        reply: SdoReply {
+            axis: axis.to_string(),
+            index,
+            sub,
+            name: facts.name,
+            data_type: facts.data_type.cia301_name().to_string(),
+            bits: facts.data_type.bits().unwrap_or(0),
+            outcome: SdoAnswer::Written { value: 0 },
+        },
+        data_type: facts.data_type,
+    })
+}
+
+/// The dictionary entry of `index:sub`: the ESI's where the axis has one, else the profile's
+/// (an object at another slot's offset of a multi-axis unit typed as its axis-A object); an
+/// empty profile table lists nothing, and then any object is read untyped.
+fn object_facts(a: &AxisConfig, index: u16, sub: u8) -> Option<ObjectFacts> {
+    if let Some(esi) = &a.esi {
+        let o = esi.object(index, sub)?;
+        return Some(ObjectFacts {
+            name: o.name.clone(),
+            data_type: esi_data_type(&o.data_type, o.bits),
+            access: o.access,
+            range: None,
+        });
+    }
+    let base = a.profile.object_slot(index).map_or(index, |(_, b)| b);
+    match a.profile.object(base, sub) {
+        Some(o) => Some(ObjectFacts {
+            name: o.name.to_string(),
+            data_type: o.data_type,
+            access: o.access,
+            range: o.range,
+        }),
+        None if a.profile.objects.is_empty() => Some(ObjectFacts {
+            name: String::new(),
+            data_type: DataType::Unstated,
+            access: Access::Unstated,
+            range: None,
+        }),
+        None => None,
+    }
+}
+
+fn dictionary_name(a: &AxisConfig) -> String {
+    match &a.esi {
+        Some(esi) => format!("ESI device {}", esi.name),
+        None => a.profile.name.to_string(),
+    }
+}
+
+/// The CoE type of an ESI type name (ETG.2000 base types), by size where the name is a bit
+/// string (BYTE, WORD, DWORD).
+fn esi_data_type(name: &str, bits: u16) -> DataType {
+    match (name, bits) {
+        ("BOOL", _) => DataType::Bool,
+        ("SINT", _) => DataType::I8,
+        ("INT", _) => DataType::I16,
+        ("DINT", _) => DataType::I32,
+        (_, 8) => DataType::U8,
+        (_, 16) => DataType::U16,
+        (_, 32) => DataType::U32,
+        _ => DataType::Unstated,
+    }
+}
+
+/// `v` as the object's bytes, within its type's and the dictionary's stated range.
+fn encode(v: i64, facts: &ObjectFacts) -> Result<SdoData, String> {
+    let t = facts.data_type;
+    let (Some((lo, hi)), Some(bits)) = (t.value_range(), t.bits()) else {
+        return Err("has no stated data type; its size is unknown, so it is not written".into());
+    };
+    if !(lo..=hi).contains(&v) {
+        return Err(format!(
+            "takes {}: {v} is out of its range {lo}..{hi}",
+            t.cia301_name()
+        ));
+    }
+    if let Some((lo, hi)) = facts.range.filter(|(lo, hi)| !(lo..=hi).contains(&&v)) {
+        return Err(format!("takes {lo}..{hi} (stated range): {v} is out of it"));
+    }
+    let bytes = v.to_le_bytes();
+    let len = usize::from(bits.div_ceil(8));
+    SdoData::new(&bytes[..len]).ok_or_else(|| format!("has {bits} bits; not written"))
+}
+
+/// `raw` as the object's type holds it (the master types by the profile, which an ESI axis
+/// may not list).
+fn typed(raw: i64, t: DataType) -> i64 {
+    match t {
+        DataType::Bool | DataType::U8 => i64::from(raw as u8),
+        DataType::I8 => i64::from(raw as i8),
+        DataType::I16 => i64::from(raw as i16),
+        DataType::U16 => i64::from(raw as u16),
+        DataType::I32 => i64::from(raw as i32),
+        DataType::U32 => i64::from(raw as u32),
+        DataType::Unstated => raw,
+    }
+}
+
+/// The operator service's one SDO request in flight.
+#[derive(Debug)]
+pub struct SdoInFlight {
+    last_seq: u16,
+    current: Option<(u16, CheckedSdo, Instant)>,
+    timeout: Duration,
+}
+
+impl Default for SdoInFlight {
+    fn default() -> Self {
+        SdoInFlight::with_timeout(SDO_ANSWER_TIMEOUT)
+    }
+}
+
+impl SdoInFlight {
+    /// Waits `timeout` for each answer ([`SDO_ANSWER_TIMEOUT`] by default).
+    pub fn with_timeout(timeout: Duration) -> Self {
+        SdoInFlight {
+            last_seq: 0,
+            current: None,
+            timeout,
+        }
+    }
+
+    /// True while a request waits for its answer.
+    pub fn busy(&self) -> bool {
+        self.current.is_some()
+    }
+
+    /// Hands `checked` to the RT thread.
+    pub fn start(&mut self, link: &mut dyn CellLink, checked: CheckedSdo) -> Result<(), String> {
+        if self.busy() {
+            return Err("sdo: another sdo request is in flight; try again".into());
+        }
+        let seq = self.last_seq.wrapping_add(1).max(1);
+        link.sdo(UserSdo {
+            seq,
+            axis: checked.axis as u16,
+            request: checked.request,
+        })
+        .map_err(|e| format!("sdo: {e}"))?;
+        self.last_seq = seq;
+        self.current = Some((seq, checked, Instant::now() + self.timeout));
+        Ok(())
+    }
+
+    /// The answer of the request in flight once the RT thread published it, or the refusal
+    /// after the timeout: `Ok` the drive's answer, `Err` a reason.
+    pub fn poll(&mut self, link: &mut dyn CellLink) -> Option<Result<SdoReply, String>> {
+        let (seq, checked, deadline) = self.current.as_ref()?;
+        let outcome = match link.sdo_outcome(*seq) {
+            Some(o) => o,
+            None if Instant::now() < *deadline => return None,
+            None => {
+                let r = &checked.reply;
+                let e = format!(
+                    "sdo: no answer for {} of axis '{}' within {:?}",
+                    object_text(r.index, r.sub),
+                    r.axis,
+                    self.timeout
+                );
+                self.current = None;
+                return Some(Err(e));
+            }
+        };
+        let (_, checked, _) = self.current.take()?;
+        Some(answer(checked, outcome))
+    }
+}
+
+fn answer(checked: CheckedSdo, outcome: UserSdoOutcome) -> Result<SdoReply, String> {
+    let mut reply = checked.reply;
+    reply.outcome = match (outcome, checked.request) {
+        (UserSdoOutcome::Unsupported, _) => {
+            return Err(format!(
+                "sdo: axis '{}' has no acyclic channel to its drive",
+                reply.axis
+            ))
+        }
+        (UserSdoOutcome::Done(SdoOutcome::Uploaded(v)), _) => SdoAnswer::Read {
+            value: typed(v, checked.data_type),
+        },
+        (UserSdoOutcome::Done(SdoOutcome::Aborted(code)), _) => SdoAnswer::Aborted {
+            code,
+            meaning: abort_meaning(code).to_string(),
+        },
+        (UserSdoOutcome::Done(SdoOutcome::Downloaded), SdoRequest::Download { data, .. }) => {
+            let mut raw = [0u8; 8];
+            raw[..data.as_slice().len()].copy_from_slice(data.as_slice());
+            SdoAnswer::Written {
+                value: typed(i64::from_le_bytes(raw), checked.data_type),
+            }
+        }
+        (UserSdoOutcome::Done(SdoOutcome::Downloaded), SdoRequest::Upload { .. }) => {
+            return Err("sdo: the drive answered a read as a write".into())
+        }
+    };
+    Ok(reply)
+}
+
+#[cfg(test)]
+#[path = "sdo_tests.rs"]
+mod tests;

@@ -1,0 +1,152 @@
+//! `cellrt sdo read|write AXIS INDEX[:SUB] [VALUE]`: one object of an axis' drive on a running
+//! cell, through the cell's operator service, which checks it against the drive's object
+//! dictionary before the RT thread's acyclic channel carries it.
+
+use std::time::Duration;
+
+use cellrt_axes::mr_je_c::ObjectId;
+use cellrt_runtime::host::operator::client::OperatorClient;
+use cellrt_runtime::host::operator::sdo::object_text;
+use cellrt_runtime::host::operator::wire::{Reply, Request, SdoAnswer, SdoReply};
+use clap::{Args, Subcommand};
+
+use super::operate::Target;
+use crate::exit::Exit;
+
+/// `cellrt sdo`.
+#[derive(Debug, Args)]
+pub struct SdoArgs {
+    /// Read or write.
+    #[command(subcommand)]
+    pub command: SdoCommand,
+    /// Print the cell's reply as JSON.
+    #[arg(long, global = true)]
+    pub json: bool,
+}
+
+/// `cellrt sdo` subcommands.
+#[derive(Debug, Subcommand)]
+pub enum SdoCommand {
+    /// Read one object: its value, typed by the drive's dictionary, in decimal and hex.
+    Read {
+        /// Axis name.
+        axis: String,
+        /// The object: index in hex with an optional decimal sub-index, e.g. 6041 or 1C32:2.
+        object: ObjectId,
+    },
+    /// Write one object (value in decimal, or hex as 0x1EA5 / 1EA5h).
+    Write {
+        /// Axis name.
+        axis: String,
+        /// The object: index in hex with an optional decimal sub-index, e.g. 6085 or 1C32:2.
+        object: ObjectId,
+        /// The value.
+        #[arg(allow_hyphen_values = true, value_parser = crate::numbers::integer)]
+        value: i64,
+    },
+}
+
+/// Runs `cellrt sdo`.
+pub fn run(args: SdoArgs, target: Target) -> Exit {
+    let (axis, object, value) = match args.command {
+        SdoCommand::Read { axis, object } => (axis, object, None),
+        SdoCommand::Write {
+            axis,
+            object,
+            value,
+        } => (axis, object, Some(value)),
+    };
+    let client = match OperatorClient::connect(target.cell.as_deref()) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Exit::Unreachable;
+        }
+    };
+    let request = Request::Sdo {
+        axis,
+        index: object.index,
+        sub: object.sub,
+        value,
+    };
+    let reply = match client.request(&request, Duration::from_secs_f64(target.reply_timeout)) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Exit::Unreachable;
+        }
+    };
+    if args.json {
+        println!("{}", serde_json::to_string(&reply).unwrap_or_default());
+    }
+    match reply {
+        Reply::Sdo(r) => answered(&r, args.json),
+        Reply::Rejected { reason } => {
+            if !args.json {
+                eprintln!("rejected: {reason}");
+            }
+            Exit::Rejected
+        }
+        other => {
+            eprintln!("error: unexpected reply to sdo: {other:?}");
+            Exit::Unreachable
+        }
+    }
+}
+
+/// Prints the drive's answer (unless `json`); an abort is a rejection.
+fn answered(r: &SdoReply, json: bool) -> Exit {
+    let what = format!(
+        "{} {} {} ({})",
+        r.axis,
+        object_text(r.index, r.sub),
+        r.name,
+        r.data_type
+    );
+    let (line, exit) = match &r.outcome {
+        SdoAnswer::Read { value } => (
+            format!("{what} = {value} ({})", hex(*value, r.bits)),
+            Exit::Ok,
+        ),
+        SdoAnswer::Written { value } => (
+            format!("{what} written: {value} ({})", hex(*value, r.bits)),
+            Exit::Ok,
+        ),
+        SdoAnswer::Aborted { code, meaning } => (
+            format!("refused by the drive: {what}: abort code 0x{code:08X} ({meaning})"),
+            Exit::Rejected,
+        ),
+    };
+    if !json {
+        match exit {
+            Exit::Ok => println!("{line}"),
+            _ => eprintln!("{line}"),
+        }
+    }
+    exit
+}
+
+/// `value` in hex as the object's `bits` hold it (two's complement for a negative value).
+fn hex(value: i64, bits: u16) -> String {
+    match bits {
+        1..=63 => {
+            let digits = usize::from(bits.div_ceil(4));
+            format!("0x{:0digits$X}", value as u64 & ((1u64 << bits) - 1))
+        }
+        _ => format!("0x{:X}", value as u64),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::hex;
+
+    #[test]
+    fn hex_shows_the_object_width_in_twos_complement() {
+        assert_eq!(hex(0x1237, 16), "0x1237");
+        assert_eq!(hex(-1, 8), "0xFF");
+        assert_eq!(hex(-100, 32), "0xFFFFFF9C");
+        assert_eq!(hex(250, 32), "0x000000FA");
+        assert_eq!(hex(1, 1), "0x1");
+    }
+}

@@ -1,0 +1,263 @@
+//! `cellrt sdo` end to end: reads and writes on a running cell's drives over the in-process
+//! emulated EtherCAT segment (the mailbox worker carries them) and on the simulated drives, and
+//! each refusal, by the cell before anything is sent or by the drive with its abort code.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use cellrt_axes::ethercat::master::abort_meaning;
+use cellrt_runtime::host::operator::wire::{Reply, SdoAnswer};
+use common::unique_cell_name;
+
+/// A running cell (`cellrt run --no-program`), stopped by SIGINT when dropped.
+struct Cell {
+    name: String,
+    child: Child,
+}
+
+impl Cell {
+    /// Starts `config` (a shipped configuration) under a unique name with `extra` arguments.
+    fn start(dir: &Path, config: &str, old_name: &str, extra: &[&str]) -> Cell {
+        let configs = concat!(env!("CARGO_MANIFEST_DIR"), "/../configs");
+        let name = unique_cell_name();
+        let text = std::fs::read_to_string(format!("{configs}/{config}"))
+            .unwrap()
+            .replace(
+                &format!("name = \"{old_name}\""),
+                &format!("name = \"{name}\""),
+            )
+            .replace("cpu = 1", "# cpu = 1")
+            .replace("esi = \"esi/", &format!("esi = \"{configs}/esi/"))
+            .replace(
+                "max_consecutive_overruns = 100",
+                "max_consecutive_overruns = 0",
+            );
+        assert!(text.contains(&name));
+        let cfg = dir.join(config);
+        std::fs::write(&cfg, text).unwrap();
+        let child = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+            .arg("run")
+            .arg(&cfg)
+            .args(["--no-program", "--duration", "120", "--no-record"])
+            .args(extra)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let cell = Cell { name, child };
+        let end = Instant::now() + Duration::from_secs(30);
+        while cell.sdo(&["read", "x", "6041"]).0 != 0 {
+            assert!(Instant::now() < end, "the cell did not come up");
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        cell
+    }
+
+    /// Runs `cellrt sdo ARGS --cell NAME`; returns exit code, stdout, stderr.
+    fn sdo(&self, args: &[&str]) -> (i32, String, String) {
+        let args: Vec<&str> = std::iter::once("sdo").chain(args.iter().copied()).collect();
+        common::cellrt_on_cell(&self.name, &args)
+    }
+
+    /// The printed line of a successful `cellrt sdo ARGS`.
+    fn ok(&self, args: &[&str]) -> String {
+        let (code, out, err) = self.sdo(args);
+        assert_eq!(code, 0, "cellrt sdo {args:?}: {out}{err}");
+        out.trim().to_string()
+    }
+
+    /// Expects a refusal (exit 3) whose message contains `why`; returns the message.
+    fn refused(&self, args: &[&str], why: &str) -> String {
+        let (code, out, err) = self.sdo(args);
+        assert_eq!(code, 3, "cellrt sdo {args:?} should be refused: {out}{err}");
+        assert!(
+            err.contains(why),
+            "cellrt sdo {args:?}: '{err}' lacks '{why}'"
+        );
+        assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+        err
+    }
+}
+
+impl Drop for Cell {
+    fn drop(&mut self) {
+        let _ = nix::sys::signal::kill(
+            nix::unistd::Pid::from_raw(self.child.id() as i32),
+            nix::sys::signal::Signal::SIGINT,
+        );
+        let _ = self.child.wait();
+    }
+}
+
+/// configs/ethercat-cell.toml on the in-process emulated segment.
+fn ethercat_cell(dir: &Path) -> Cell {
+    Cell::start(
+        dir,
+        "ethercat-cell.toml",
+        "ethercat",
+        &["--interface", "in-process"],
+    )
+}
+
+/// The value of a printed read, "AXIS OBJ NAME (TYPE) = DEC (0xHEX)", with the hex checked.
+fn read_value(line: &str) -> i64 {
+    let (_, rest) = line.split_once(" = ").expect(line);
+    let (dec, hex) = rest.split_once(" (0x").expect(line);
+    let v: i64 = dec.parse().expect(line);
+    let h = u64::from_str_radix(hex.trim_end_matches(')'), 16).expect(line);
+    assert_eq!(
+        h,
+        v as u64 & ((1 << (4 * (hex.len() as u32 - 1))) - 1),
+        "{line}"
+    );
+    v
+}
+
+#[test]
+fn sdo_reads_and_writes_the_emulated_ethercat_drives_and_refuses_what_must_not_be_sent() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = ethercat_cell(dir.path());
+    // y is an MR-J4-TM in csp, not powered: CiA 402 Switch on disabled (xxxx xxxx x1xx 0000).
+    let line = cell.ok(&["read", "y", "6041"]);
+    assert!(
+        line.starts_with("y 6041h:00 Statusword (UNSIGNED16) = "),
+        "{line}"
+    );
+    assert_eq!(read_value(&line) & 0x4F, 0x40, "{line}");
+    assert_eq!(
+        cell.ok(&["read", "y", "6061"]),
+        "y 6061h:00 Modes of operation display (INTEGER8) = 8 (0x08)"
+    );
+    // MR-J4-TM manual §4.10: 607Ch is 0 without absolute position detection.
+    assert_eq!(
+        cell.ok(&["read", "y", "607Ch"]),
+        "y 607Ch:00 Home offset (INTEGER32) = 0 (0x00000000)"
+    );
+    // 6085h Quick stop deceleration (MR-J4-TM manual §8.1, default 100 ms), written and read back.
+    assert_eq!(read_value(&cell.ok(&["read", "y", "0x6085"])), 100);
+    assert_eq!(
+        cell.ok(&["write", "y", "6085", "250"]),
+        "y 6085h:00 Quick stop deceleration (UNSIGNED32) written: 250 (0x000000FA)"
+    );
+    let (code, out, _) = cell.sdo(&["read", "y", "6085", "--json"]);
+    assert_eq!(code, 0);
+    match serde_json::from_str::<Reply>(&out).unwrap() {
+        Reply::Sdo(r) => {
+            assert_eq!((r.index, r.sub, r.bits), (0x6085, 0, 32));
+            assert_eq!(r.outcome, SdoAnswer::Read { value: 250 });
+        }
+        other => panic!("{other:?}"),
+    }
+    // Refused by the drive: the cycle time of a SubDevice in OP (abort code and its meaning).
+    let e = cell.refused(&["write", "y", "1C32:2", "500000"], "abort code 0x08000022");
+    assert!(e.contains(abort_meaning(0x0800_0022)), "{e}");
+    assert_eq!(read_value(&cell.ok(&["read", "y", "1C32:2"])), 1_000_000);
+    // Refused by the cell before anything is sent.
+    cell.refused(
+        &["write", "y", "607C", "5"],
+        "sdo: 607Ch:00 of axis 'y' (Home offset) is read-only",
+    );
+    cell.refused(
+        &["read", "y", "2FFF"],
+        "sdo: object 2FFFh:00 is not in the object dictionary of axis 'y'",
+    );
+    cell.refused(
+        &["write", "y", "6098", "99"],
+        "takes -43..37 (stated range): 99 is out of it",
+    );
+    cell.refused(
+        &["write", "y", "6085", "-1"],
+        "takes UNSIGNED32: -1 is out of its range 0..4294967295",
+    );
+    cell.refused(&["write", "y", "6040", "6"], "RxPDO");
+    cell.refused(&["read", "w", "6041"], "unknown axis 'w'");
+    // Nothing was written by the refusals.
+    assert_eq!(read_value(&cell.ok(&["read", "y", "6085"])), 250);
+    // Every drive of the segment answers (x MR-J3-T04, z MR-JET-G-N1, c MR-J5-G-N1).
+    for axis in ["x", "z", "c"] {
+        let line = cell.ok(&["read", axis, "6041"]);
+        assert_eq!(read_value(&line) & 0x4F, 0x40, "{line}");
+    }
+    // A malformed object is a command-line error.
+    assert_eq!(cell.sdo(&["read", "y", "60G1"]).0, 2);
+}
+
+#[test]
+fn sdo_reads_the_simulated_drives() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = Cell::start(dir.path(), "demo.toml", "demo", &[]);
+    let line = cell.ok(&["read", "y", "6041"]);
+    assert!(
+        line.starts_with("y 6041h:00 Statusword (UNSIGNED16)"),
+        "{line}"
+    );
+    assert_eq!(read_value(&line) & 0x4F, 0x40, "{line}");
+    cell.refused(
+        &["read", "y", "2FFF"],
+        "is not in the object dictionary of axis 'y' (Mitsubishi MR-J5-G-N1)",
+    );
+}
+
+#[test]
+fn sdo_on_an_esi_axis_follows_the_esi_dictionary() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = Cell::start(dir.path(), "cia402-esi.toml", "cia402-esi", &[]);
+    assert_eq!(
+        cell.ok(&["read", "x", "6061"]),
+        "x 6061h:00 Modes of operation display (INTEGER8) = 8 (0x08)"
+    );
+    // 6098h is rw in configs/esi/cia402-example.xml (SINT).
+    assert_eq!(
+        cell.ok(&["write", "x", "6098", "35"]),
+        "x 6098h:00 Homing method (INTEGER8) written: 35 (0x23)"
+    );
+    assert_eq!(read_value(&cell.ok(&["read", "x", "6098"])), 35);
+    cell.refused(
+        &["write", "x", "6098", "-129"],
+        "takes INTEGER8: -129 is out of its range -128..127",
+    );
+    cell.refused(
+        &["write", "x", "6502", "1"],
+        "6502h:00 of axis 'x' (Supported drive modes) is read-only",
+    );
+    cell.refused(
+        &["read", "x", "2000"],
+        "is not in the object dictionary of axis 'x' (ESI device Example CiA 402 servo drive)",
+    );
+    // The configuration maps 6060h in the RxPDO.
+    cell.refused(&["write", "x", "6060", "8"], "RxPDO");
+}
+
+#[test]
+fn sdo_reads_around_a_homing_neither_fail_it_nor_wait_for_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = ethercat_cell(dir.path());
+    let (code, out, err) = common::cellrt_on_cell(&cell.name, &["power", "on"]);
+    assert_eq!(code, 0, "{out}{err}");
+    for round in 0..2 {
+        let name = cell.name.clone();
+        // Reads of y's 6061h while y homes (its 6098h write and mode changes are SDOs too).
+        let reads = std::thread::spawn(move || {
+            (0..15)
+                .map(|_| common::cellrt_on_cell(&name, &["sdo", "read", "y", "6061"]))
+                .collect::<Vec<_>>()
+        });
+        let (code, out, err) = common::cellrt_on_cell(&cell.name, &["home", "y"]);
+        assert_eq!(code, 0, "homing {round}: {out}{err}");
+        for (code, out, err) in reads.join().unwrap() {
+            match code {
+                0 => assert!(
+                    out.starts_with("y 6061h:00 Modes of operation display"),
+                    "{out}"
+                ),
+                _ => assert!(
+                    err.contains("sdo: the cell is homing; try again when the homing has ended"),
+                    "{out}{err}"
+                ),
+            }
+        }
+    }
+}

@@ -469,3 +469,36 @@ fn single_axes_power_on_and_off_and_an_unpowered_axis_takes_no_motion() {
     rig.command(CellCommand::Quit);
     rig.rt.take().unwrap().join().unwrap();
 }
+
+/// A planner lost while the cell is idle (between its motions): a motion whose blocks it had
+/// already published does not start from the buffer (they are refused, not accepting), and
+/// motions start again once a planner is back.
+#[test]
+fn no_motion_starts_while_the_planner_is_lost() {
+    let cell = cell_with("planner-lost", "");
+    let mut rig = Rig::start(&cell);
+    rig.command(CellCommand::PowerOn);
+    rig.wait_state(CellState::Idle);
+    let home = rig.hold_mm();
+    rig.command(CellCommand::PlannerLost);
+    let start = rig.cycle() + LEAD;
+    rig.publish_move(1, start, 2, true);
+    rig.wait_until(start + 100);
+    assert_eq!(rig.handoff.status().state(), CellState::Idle);
+    assert_eq!(rig.hold_mm(), home, "nothing moved");
+    assert!(
+        !rig.events
+            .iter()
+            .any(|e| e.kind == EventKind::MotionStarted),
+        "{:?}",
+        rig.events
+    );
+    assert!(rig.rejections().iter().all(|&r| r == 6), "not_accepting");
+    assert!(!rig.rejections().is_empty());
+    rig.command(CellCommand::PlannerConnected);
+    let start = rig.cycle() + LEAD;
+    let target = rig.publish_move(2, start, 2, true);
+    rig.wait_motion_done(2);
+    assert!((rig.hold_mm() - target).abs() < 1e-9);
+    rig.stop();
+}

@@ -20,8 +20,11 @@ pub enum CellCommand {
     Reset,
     /// Leave the RT loop (after PowerOff).
     Quit,
-    /// The planner's node died or left: stop any motion (the link thread sends this).
+    /// The planner's node died or left: stop any motion, and start none until a planner is
+    /// back (the link thread sends this).
     PlannerLost,
+    /// A planner's node appeared (again): motions may start (the link thread sends this).
+    PlannerConnected,
     /// Bring one axis (index) to Operation enabled, the others as they are (MC_Power on one
     /// axis).
     PowerOnAxis(u16),
@@ -48,6 +51,7 @@ impl CellCommand {
             CellCommand::Reset => 3,
             CellCommand::Quit => 4,
             CellCommand::PlannerLost => 5,
+            CellCommand::PlannerConnected => 6,
             CellCommand::PowerOnAxis(a) => POWER_ON_AXIS_CODE + i64::from(a),
             CellCommand::PowerOffAxis(a) => POWER_OFF_AXIS_CODE + i64::from(a),
         }
@@ -67,6 +71,7 @@ impl CellCommand {
             3 => CellCommand::Reset,
             4 => CellCommand::Quit,
             5 => CellCommand::PlannerLost,
+            6 => CellCommand::PlannerConnected,
             _ if (POWER_ON_AXIS_CODE..POWER_OFF_AXIS_CODE).contains(&v) => {
                 CellCommand::PowerOnAxis(axis(POWER_ON_AXIS_CODE)?)
             }

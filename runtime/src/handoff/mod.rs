@@ -67,6 +67,7 @@ mod tests {
             CellCommand::Reset,
             CellCommand::Quit,
             CellCommand::PlannerLost,
+            CellCommand::PlannerConnected,
             CellCommand::PowerOnAxis(0),
             CellCommand::PowerOnAxis(255),
             CellCommand::PowerOffAxis(0),
@@ -91,7 +92,7 @@ mod tests {
         }
         assert_eq!(HomeRequest::decode(0), None);
         assert_eq!(HomeRequest::decode(0x8300_0000), None, "unknown procedure");
-        assert_eq!(CellCommand::from_code(6), None);
+        assert_eq!(CellCommand::from_code(7), None);
         assert_eq!(CellCommand::from_code(0x100), None);
     }
 }

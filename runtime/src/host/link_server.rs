@@ -95,7 +95,9 @@ impl LinkServer {
                                 EventKind::PlannerLost
                             };
                             push_event(&handoff, kind, 0);
-                            if !alive {
+                            if alive {
+                                let _ = handoff.send_command(CellCommand::PlannerConnected);
+                            } else {
                                 let _ = handoff.send_command(CellCommand::PlannerLost);
                                 node.try_cleanup_dead_nodes();
                             }
@@ -122,7 +124,8 @@ impl LinkServer {
 /// Forwards a command from another process; `quit` and unknown codes are refused.
 fn forward(handoff: &HostEnd, code: u32) {
     match CellCommand::from_code(i64::from(code)) {
-        Some(CellCommand::Quit) | Some(CellCommand::PlannerLost) | None => {
+        Some(CellCommand::Quit | CellCommand::PlannerLost | CellCommand::PlannerConnected)
+        | None => {
             push_event(handoff, EventKind::CommandRefused, i64::from(code));
         }
         Some(c) => {

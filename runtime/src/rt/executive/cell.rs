@@ -110,11 +110,14 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     true
                 }
                 (CellCommand::Stop, _) => true,
-                (CellCommand::PlannerLost, CellState::Moving) => {
-                    self.react(StopReason::PlannerLost);
+                // Latched: a motion its blocks would still start from the buffer is refused too.
+                (CellCommand::PlannerLost | CellCommand::PlannerConnected, state) => {
+                    self.planner_lost = cmd == CellCommand::PlannerLost;
+                    if self.planner_lost && state == CellState::Moving {
+                        self.react(StopReason::PlannerLost);
+                    }
                     true
                 }
-                (CellCommand::PlannerLost, _) => true,
                 (CellCommand::Reset, CellState::Stopped) => {
                     for ch in &mut self.axes {
                         if let Some(c) = ch.counter.as_mut() {
@@ -207,7 +210,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 } else {
                     self.hold_all();
                     self.poll_home_request();
-                    if self.state == CellState::Idle {
+                    if self.state == CellState::Idle && self.planner_lost {
+                        self.refuse_motion();
+                    } else if self.state == CellState::Idle {
                         self.poll_motion_start();
                     }
                 }

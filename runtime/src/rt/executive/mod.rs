@@ -134,6 +134,8 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     drops_unreported: bool,
     /// Per axis: what its acyclic request in flight is for.
     pending: Vec<Option<acyclic::Pending>>,
+    /// The planner's node died or left and none has come back: no motion starts.
+    planner_lost: bool,
     /// Per axis: a fault's 603Fh read waits for the request in flight.
     error_code_wanted: Vec<bool>,
     /// The homing request whose 6098h write is in flight.
@@ -200,6 +202,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             drops_unreported: false,
             pending: vec![None; n],
             error_code_wanted: vec![false; n],
+            planner_lost: false,
             awaiting_method: None,
             user_sdo: None,
             hook,

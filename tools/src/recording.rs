@@ -4,7 +4,6 @@
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use cellrt_runtime::host::record::proto::{AxisCycle, CycleStats, Event};
 use cellrt_runtime::host::record::topics::{
@@ -12,7 +11,7 @@ use cellrt_runtime::host::record::topics::{
 };
 use mcap::read::{LinearReader, Options};
 use mcap::records::{ChunkIndex, Record};
-use mcap::{Channel, Summary};
+use mcap::Summary;
 use prost::Message as _;
 
 /// A recording file loaded into memory.
@@ -68,6 +67,11 @@ impl RecFile {
     pub fn open(path: &Path) -> Result<RecFile, String> {
         let bytes = cellrt_runtime::config::input_file::read_bytes(path, None)
             .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        Self::from_bytes(path, bytes)
+    }
+
+    /// The recording in `bytes`, read from `path` (named in messages).
+    pub fn from_bytes(path: &Path, bytes: Vec<u8>) -> Result<RecFile, String> {
         if !bytes.starts_with(mcap::MAGIC) {
             return Err(format!(
                 "{}: not an MCAP file (no MCAP magic at the start)",
@@ -179,8 +183,8 @@ impl RecFile {
             .enumerate()
             .map(|(i, a)| (format!("{AXIS_TOPIC_PREFIX}{a}"), i))
             .collect();
-        let classify = |ch: &Channel| -> Option<Kind> {
-            match ch.topic.as_str() {
+        let classify = |topic: &str| -> Option<Kind> {
+            match topic {
                 CYCLE_TOPIC => Some(Kind::Cycle),
                 EVENTS_TOPIC => Some(Kind::Event),
                 t if with_axes => axis_index.get(t).map(|i| Kind::Axis(*i)),
@@ -205,7 +209,7 @@ impl RecFile {
                 let kinds: HashMap<u16, Kind> = summary
                     .channels
                     .iter()
-                    .filter_map(|(id, ch)| classify(ch).map(|k| (*id, k)))
+                    .filter_map(|(id, ch)| classify(&ch.topic).map(|k| (*id, k)))
                     .collect();
                 let mut chunks: Vec<&ChunkIndex> = summary.chunk_indexes.iter().collect();
                 chunks.sort_by_key(|c| c.chunk_start_offset);
@@ -238,31 +242,65 @@ impl RecFile {
                 }
             }
             None => {
-                let stream = mcap::MessageStream::new_with_options(
-                    &self.bytes,
-                    Options::IgnoreEndMagic.into(),
-                )
-                .map_err(|e| format!("{}: {e}", self.path.display()))?;
-                for m in stream {
-                    let m = match m {
-                        Ok(m) => m,
-                        Err(e) => {
-                            out.truncated = Some(e.to_string());
-                            break;
-                        }
-                    };
-                    if let Some(k) = classify(&m.channel) {
-                        push(decode_one(k, &m.data).map_err(|e| {
-                            format!("{}: {}: {e}", self.path.display(), m.channel.topic)
-                        })?);
+                let path = self.path.display();
+                let stopped = self.walk_messages(&mut |_, ch, data| {
+                    if let Some(k) = classify(&ch.topic) {
+                        let decoded = decode_one(k, data)
+                            .map_err(|e| format!("{path}: {}: {e}", ch.topic))?;
+                        push(decoded);
                     }
-                }
-                if out.truncated.is_none() {
-                    out.truncated = Some("no summary section".into());
-                }
+                    Ok(())
+                })?;
+                out.truncated = Some(stopped.unwrap_or_else(|| "no summary section".into()));
             }
         }
         Ok(out)
+    }
+
+    /// Calls `each` with every message of the data section in file order (channel id, channel,
+    /// data), read record by record: channels as defined so far, each chunk decompressed
+    /// within its claimed size ([`chunk_records`]). Returns why the walk stopped before the
+    /// data end record (a damaged or truncated file), `None` when it reached it.
+    fn walk_messages(&self, each: &mut MessageVisitor<'_>) -> Result<Option<String>, String> {
+        let mut defs = LinearDefs::default();
+        for item in RecordWalker::new(&self.bytes, mcap::MAGIC.len()) {
+            let (op, body) = match item {
+                Ok(record) => record,
+                Err(e) => return Ok(Some(e)),
+            };
+            match op {
+                mcap::records::op::DATA_END | mcap::records::op::FOOTER => return Ok(None),
+                mcap::records::op::CHUNK => {
+                    let inner = match mcap::read::parse_record(op, body) {
+                        Ok(Record::Chunk { header, data }) => chunk_records(&header, &data)
+                            .map(|b| b.into_owned())
+                            .map_err(|e| format!("chunk: {e}")),
+                        Ok(_) => Err("a chunk record that is no chunk".into()),
+                        Err(e) => Err(format!("chunk: {e}")),
+                    };
+                    let inner = match inner {
+                        Ok(inner) => inner,
+                        Err(e) => return Ok(Some(e)),
+                    };
+                    for item in RecordWalker::new(&inner, 0) {
+                        match item {
+                            Ok((op, body)) => {
+                                if let Some(why) = defs.visit(op, body, each)? {
+                                    return Ok(Some(why));
+                                }
+                            }
+                            Err(e) => return Ok(Some(e)),
+                        }
+                    }
+                }
+                _ => {
+                    if let Some(why) = defs.visit(op, body, each)? {
+                        return Ok(Some(why));
+                    }
+                }
+            }
+        }
+        Ok(Some("the data section has no end".into()))
     }
 
     fn decode_chunk(
@@ -358,29 +396,72 @@ impl RecFile {
                 return out;
             }
         }
-        let mut counts: BTreeMap<u16, (Arc<Channel>, u64)> = BTreeMap::new();
-        if let Ok(stream) =
-            mcap::MessageStream::new_with_options(&self.bytes, Options::IgnoreEndMagic.into())
-        {
-            for m in stream.map_while(Result::ok) {
-                counts
-                    .entry(m.channel.id)
-                    .or_insert_with(|| (m.channel.clone(), 0))
-                    .1 += 1;
-            }
-        }
-        for (ch, n) in counts.into_values() {
-            out.push(ChannelCount {
-                topic: ch.topic.clone(),
-                schema: ch
-                    .schema
-                    .as_ref()
-                    .map(|s| s.name.clone())
-                    .unwrap_or_default(),
-                count: n,
-            });
+        let mut counts: BTreeMap<u16, (ChannelCount, u64)> = BTreeMap::new();
+        let _ = self.walk_messages(&mut |id, ch, _| {
+            counts
+                .entry(id)
+                .or_insert_with(|| {
+                    let count = ChannelCount {
+                        topic: ch.topic.clone(),
+                        schema: ch.schema.clone(),
+                        count: 0,
+                    };
+                    (count, 0)
+                })
+                .1 += 1;
+            Ok(())
+        });
+        for (mut ch, n) in counts.into_values() {
+            ch.count = n;
+            out.push(ch);
         }
         out
+    }
+}
+
+/// What [`RecFile::walk_messages`] calls per message: channel id, channel, data.
+type MessageVisitor<'a> = dyn FnMut(u16, &LinearChannel, &[u8]) -> Result<(), String> + 'a;
+
+/// A channel as a linear read has met it.
+struct LinearChannel {
+    topic: String,
+    schema: String,
+}
+
+/// The schemas and channels a linear read has met so far.
+#[derive(Default)]
+struct LinearDefs {
+    schemas: HashMap<u16, String>,
+    channels: HashMap<u16, LinearChannel>,
+}
+
+impl LinearDefs {
+    /// Takes in one record: a definition is kept, a message on a known channel is handed to
+    /// `each`. Returns why reading must stop (a record that does not parse).
+    fn visit(
+        &mut self,
+        op: u8,
+        body: &[u8],
+        each: &mut MessageVisitor<'_>,
+    ) -> Result<Option<String>, String> {
+        match mcap::read::parse_record(op, body) {
+            Ok(Record::Schema { header, .. }) => {
+                self.schemas.insert(header.id, header.name);
+            }
+            Ok(Record::Channel(c)) => {
+                let schema = self.schemas.get(&c.schema_id).cloned().unwrap_or_default();
+                let topic = c.topic;
+                self.channels.insert(c.id, LinearChannel { topic, schema });
+            }
+            Ok(Record::Message { header, data }) => {
+                if let Some(ch) = self.channels.get(&header.channel_id) {
+                    each(header.channel_id, ch, &data)?;
+                }
+            }
+            Ok(_) => {}
+            Err(e) => return Ok(Some(format!("record {op:#04x}: {e}"))),
+        }
+        Ok(None)
     }
 }
 

@@ -347,6 +347,14 @@ pub type OperatorStatusPublisher = Publisher<ipc::Service, [u8], ()>;
 /// Subscriber of the operator status.
 pub type OperatorStatusSubscriber = Subscriber<ipc::Service, [u8], ()>;
 
+/// Operator clients (each a node with a client port and a wake-up notifier) connected to a
+/// cell at once; one more is refused by iceoryx2. Far more than the hundred concurrent clients
+/// the operator service is tested with.
+pub const MAX_OPERATOR_CLIENTS: usize = 256;
+
+/// Nodes beside the clients that open the operator services (the planner, monitors).
+const OPERATOR_OTHER_NODES: usize = 8;
+
 /// The operator service (JSON bytes both ways, no user headers).
 type OperatorService = request_response::PortFactory<ipc::Service, [u8], (), [u8], ()>;
 
@@ -358,7 +366,8 @@ fn operator_service(
         .map_err(|e| service_error("service name", cell, e))?;
     node.service_builder(&name)
         .request_response::<[u8], [u8]>()
-        .max_clients(16)
+        .max_nodes(MAX_OPERATOR_CLIENTS + OPERATOR_OTHER_NODES)
+        .max_clients(MAX_OPERATOR_CLIENTS)
         .max_servers(1)
         .max_active_requests_per_client(2)
         .max_response_buffer_size(2)
@@ -402,7 +411,8 @@ fn operator_wake_service(
         .map_err(|e| service_error("service name", cell, e))?;
     node.service_builder(&name)
         .event()
-        .max_notifiers(16)
+        .max_nodes(MAX_OPERATOR_CLIENTS + OPERATOR_OTHER_NODES)
+        .max_notifiers(MAX_OPERATOR_CLIENTS)
         .max_listeners(2)
         .open_or_create()
         .map_err(|e| service_error("operator wake service", cell, e))

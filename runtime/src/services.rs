@@ -348,9 +348,10 @@ pub type OperatorStatusPublisher = Publisher<ipc::Service, [u8], ()>;
 pub type OperatorStatusSubscriber = Subscriber<ipc::Service, [u8], ()>;
 
 /// Operator clients (each a node with a client port and a wake-up notifier) connected to a
-/// cell at once; one more is refused by iceoryx2. Far more than the hundred concurrent clients
-/// the operator service is tested with.
-pub const MAX_OPERATOR_CLIENTS: usize = 256;
+/// cell at once; one more is refused by iceoryx2. Above the hundred concurrent clients the
+/// operator service is tested with; each costs the server about 160 KiB of shared memory (one
+/// request and one response in flight per client: a client waits for each reply).
+pub const MAX_OPERATOR_CLIENTS: usize = 128;
 
 /// Nodes beside the clients that open the operator services (the planner, monitors).
 const OPERATOR_OTHER_NODES: usize = 8;
@@ -369,8 +370,8 @@ fn operator_service(
         .max_nodes(MAX_OPERATOR_CLIENTS + OPERATOR_OTHER_NODES)
         .max_clients(MAX_OPERATOR_CLIENTS)
         .max_servers(1)
-        .max_active_requests_per_client(2)
-        .max_response_buffer_size(2)
+        .max_active_requests_per_client(1)
+        .max_response_buffer_size(1)
         .enable_safe_overflow_for_requests(true)
         .enable_safe_overflow_for_responses(true)
         .open_or_create()

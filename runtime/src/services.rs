@@ -187,13 +187,12 @@ pub fn operator_status_service_name(cell: &str) -> String {
 /// runtime directory, [`crate::runtime_dir`]) and resource prefix, so cells of different users
 /// (root and an operator) never collide on files the other may not open.
 pub fn config() -> Config {
-    let uid = nix::unistd::getuid().as_raw();
     let mut config = Config::default();
     let root = format!("{}/iceoryx2/", crate::runtime_dir::path().display());
     if let Ok(p) = Path::new(root.as_bytes()) {
         config.global.set_root_path(&p);
     }
-    if let Ok(p) = FileName::new(format!("iox2_cellrt_u{uid}_").as_bytes()) {
+    if let Ok(p) = FileName::new(shm_prefix().as_bytes()) {
         config.global.prefix = p;
     }
     config
@@ -208,12 +207,31 @@ pub fn node(cell: &str, role: &str) -> Result<Node<ipc::Service>, ServiceError> 
     })?;
     let name = format!("cellrt-{cell}-{role}");
     let node_name = NodeName::new(&name).map_err(|e| service_error("node name", cell, e))?;
-    NodeBuilder::new()
+    let shm = std::path::Path::new(crate::shm_guard::SHM_DIR);
+    let (prefix, uid) = (shm_prefix(), uid());
+    let guard = |e: String| ServiceError {
+        what: "shared memory",
+        cell: cell.to_string(),
+        detail: e,
+    };
+    crate::shm_guard::refuse_foreign(shm, &prefix, uid).map_err(guard)?;
+    let node = NodeBuilder::new()
         .name(&node_name)
         .config(&config())
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<ipc::Service>()
-        .map_err(|e| service_error("node", cell, e))
+        .map_err(|e| service_error("node", cell, e))?;
+    crate::shm_guard::restrict_own(shm, &prefix, uid).map_err(guard)?;
+    Ok(node)
+}
+
+fn uid() -> u32 {
+    nix::unistd::getuid().as_raw()
+}
+
+/// The prefix of the current user's iceoryx2 resources.
+fn shm_prefix() -> String {
+    format!("iox2_cellrt_u{}_", uid())
 }
 
 fn setpoint_service(

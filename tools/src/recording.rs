@@ -89,6 +89,14 @@ impl RecFile {
         })
     }
 
+    /// Whether `length` bytes from `offset` (a summary index's claim) lie inside the file: the
+    /// mcap crate's index readers add the two unchecked and slice with them.
+    fn spans_inside(&self, offset: u64, length: u64) -> bool {
+        offset
+            .checked_add(length)
+            .is_some_and(|end| end <= self.bytes.len() as u64)
+    }
+
     /// Whether the file has a summary with chunk indexes.
     pub fn indexed(&self) -> bool {
         self.summary
@@ -113,6 +121,9 @@ impl RecFile {
                 .iter()
                 .filter(|m| m.name == CELL_METADATA)
             {
+                if !self.spans_inside(idx.offset, idx.length) {
+                    continue;
+                }
                 if let Ok(m) = mcap::read::metadata(&self.bytes, idx) {
                     meta = Some(m.metadata);
                     break;
@@ -162,6 +173,7 @@ impl RecFile {
                 return s
                     .attachment_indexes
                     .iter()
+                    .filter(|i| self.spans_inside(i.offset, i.length))
                     .filter_map(|i| mcap::read::attachment(&self.bytes, i).ok())
                     .map(|a| (a.name, a.data.into_owned()))
                     .collect();
@@ -573,4 +585,59 @@ fn decode_one(k: Kind, data: &[u8]) -> Result<Decoded, prost::DecodeError> {
         Kind::Axis(i) => Decoded::Axis(i, AxisCycle::decode(data)?),
         Kind::Event => Decoded::Event(Event::decode(data)?),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A finished recording with one message and one attachment, and the byte offset of the
+    /// body of its summary's attachment index.
+    fn with_attachment() -> (Vec<u8>, usize) {
+        let mut out = std::io::Cursor::new(Vec::new());
+        let mut w = mcap::Writer::new(&mut out).unwrap();
+        let channel = w
+            .add_channel(0, CYCLE_TOPIC, "protobuf", &BTreeMap::new())
+            .unwrap();
+        let header = mcap::records::MessageHeader {
+            channel_id: channel,
+            sequence: 0,
+            log_time: 0,
+            publish_time: 0,
+        };
+        w.write_to_known_channel(&header, &[]).unwrap();
+        w.attach(&mcap::Attachment {
+            log_time: 0,
+            create_time: 0,
+            name: "config".into(),
+            media_type: "text/plain".into(),
+            data: std::borrow::Cow::Borrowed(b"[cell]"),
+        })
+        .unwrap();
+        w.finish().unwrap();
+        drop(w);
+        let bytes = out.into_inner();
+        let at = RecordWalker::new(&bytes, mcap::MAGIC.len())
+            .map_while(Result::ok)
+            .find(|(op, _)| *op == mcap::records::op::ATTACHMENT_INDEX)
+            .map(|(_, body)| body.as_ptr() as usize - bytes.as_ptr() as usize)
+            .expect("an attachment index");
+        (bytes, at)
+    }
+
+    #[test]
+    fn an_index_past_the_end_of_the_file_is_skipped_not_sliced() {
+        // Found by the mcap_recording fuzz target: the mcap crate adds an index's offset and
+        // length unchecked and slices the file with them (a panic, or a wrap in release).
+        let (good, at) = with_attachment();
+        let file = RecFile::from_bytes(Path::new("ok.mcap"), good.clone()).unwrap();
+        assert_eq!(file.attachments().len(), 1);
+        for offset in [u64::MAX - 4, good.len() as u64] {
+            let mut bad = good.clone();
+            bad[at..at + 8].copy_from_slice(&offset.to_le_bytes());
+            let file = RecFile::from_bytes(Path::new("bad.mcap"), bad).unwrap();
+            assert!(file.attachments().is_empty(), "offset {offset}");
+            assert!(file.cell().is_err());
+        }
+    }
 }

@@ -14,3 +14,4 @@ pub mod rt;
 pub mod runtime_dir;
 pub mod services;
 pub mod setpoints;
+pub mod shm_guard;

@@ -187,13 +187,12 @@ pub fn operator_status_service_name(cell: &str) -> String {
 /// runtime directory, [`crate::runtime_dir`]) and resource prefix, so cells of different users
 /// (root and an operator) never collide on files the other may not open.
 pub fn config() -> Config {
-    let uid = nix::unistd::getuid().as_raw();
     let mut config = Config::default();
     let root = format!("{}/iceoryx2/", crate::runtime_dir::path().display());
     if let Ok(p) = Path::new(root.as_bytes()) {
         config.global.set_root_path(&p);
     }
-    if let Ok(p) = FileName::new(format!("iox2_cellrt_u{uid}_").as_bytes()) {
+    if let Ok(p) = FileName::new(shm_prefix().as_bytes()) {
         config.global.prefix = p;
     }
     config
@@ -208,12 +207,31 @@ pub fn node(cell: &str, role: &str) -> Result<Node<ipc::Service>, ServiceError> 
     })?;
     let name = format!("cellrt-{cell}-{role}");
     let node_name = NodeName::new(&name).map_err(|e| service_error("node name", cell, e))?;
-    NodeBuilder::new()
+    let shm = std::path::Path::new(crate::shm_guard::SHM_DIR);
+    let (prefix, uid) = (shm_prefix(), uid());
+    let guard = |e: String| ServiceError {
+        what: "shared memory",
+        cell: cell.to_string(),
+        detail: e,
+    };
+    crate::shm_guard::refuse_foreign(shm, &prefix, uid).map_err(guard)?;
+    let node = NodeBuilder::new()
         .name(&node_name)
         .config(&config())
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<ipc::Service>()
-        .map_err(|e| service_error("node", cell, e))
+        .map_err(|e| service_error("node", cell, e))?;
+    crate::shm_guard::restrict_own(shm, &prefix, uid).map_err(guard)?;
+    Ok(node)
+}
+
+fn uid() -> u32 {
+    nix::unistd::getuid().as_raw()
+}
+
+/// The prefix of the current user's iceoryx2 resources.
+fn shm_prefix() -> String {
+    format!("iox2_cellrt_u{}_", uid())
 }
 
 fn setpoint_service(
@@ -347,6 +365,15 @@ pub type OperatorStatusPublisher = Publisher<ipc::Service, [u8], ()>;
 /// Subscriber of the operator status.
 pub type OperatorStatusSubscriber = Subscriber<ipc::Service, [u8], ()>;
 
+/// Operator clients (each a node with a client port and a wake-up notifier) connected to a
+/// cell at once; one more is refused by iceoryx2. Above the hundred concurrent clients the
+/// operator service is tested with; each costs the server about 160 KiB of shared memory (one
+/// request and one response in flight per client: a client waits for each reply).
+pub const MAX_OPERATOR_CLIENTS: usize = 128;
+
+/// Nodes beside the clients that open the operator services (the planner, monitors).
+const OPERATOR_OTHER_NODES: usize = 8;
+
 /// The operator service (JSON bytes both ways, no user headers).
 type OperatorService = request_response::PortFactory<ipc::Service, [u8], (), [u8], ()>;
 
@@ -358,10 +385,11 @@ fn operator_service(
         .map_err(|e| service_error("service name", cell, e))?;
     node.service_builder(&name)
         .request_response::<[u8], [u8]>()
-        .max_clients(16)
+        .max_nodes(MAX_OPERATOR_CLIENTS + OPERATOR_OTHER_NODES)
+        .max_clients(MAX_OPERATOR_CLIENTS)
         .max_servers(1)
-        .max_active_requests_per_client(2)
-        .max_response_buffer_size(2)
+        .max_active_requests_per_client(1)
+        .max_response_buffer_size(1)
         .enable_safe_overflow_for_requests(true)
         .enable_safe_overflow_for_responses(true)
         .open_or_create()
@@ -402,7 +430,8 @@ fn operator_wake_service(
         .map_err(|e| service_error("service name", cell, e))?;
     node.service_builder(&name)
         .event()
-        .max_notifiers(16)
+        .max_nodes(MAX_OPERATOR_CLIENTS + OPERATOR_OTHER_NODES)
+        .max_notifiers(MAX_OPERATOR_CLIENTS)
         .max_listeners(2)
         .open_or_create()
         .map_err(|e| service_error("operator wake service", cell, e))

@@ -4,7 +4,6 @@
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 use cellrt_runtime::host::record::proto::{AxisCycle, CycleStats, Event};
 use cellrt_runtime::host::record::topics::{
@@ -12,7 +11,7 @@ use cellrt_runtime::host::record::topics::{
 };
 use mcap::read::{LinearReader, Options};
 use mcap::records::{ChunkIndex, Record};
-use mcap::{Channel, Summary};
+use mcap::Summary;
 use prost::Message as _;
 
 /// A recording file loaded into memory.
@@ -68,6 +67,11 @@ impl RecFile {
     pub fn open(path: &Path) -> Result<RecFile, String> {
         let bytes = cellrt_runtime::config::input_file::read_bytes(path, None)
             .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        Self::from_bytes(path, bytes)
+    }
+
+    /// The recording in `bytes`, read from `path` (named in messages).
+    pub fn from_bytes(path: &Path, bytes: Vec<u8>) -> Result<RecFile, String> {
         if !bytes.starts_with(mcap::MAGIC) {
             return Err(format!(
                 "{}: not an MCAP file (no MCAP magic at the start)",
@@ -83,6 +87,14 @@ impl RecFile {
             bytes,
             summary,
         })
+    }
+
+    /// Whether `length` bytes from `offset` (a summary index's claim) lie inside the file: the
+    /// mcap crate's index readers add the two unchecked and slice with them.
+    fn spans_inside(&self, offset: u64, length: u64) -> bool {
+        offset
+            .checked_add(length)
+            .is_some_and(|end| end <= self.bytes.len() as u64)
     }
 
     /// Whether the file has a summary with chunk indexes.
@@ -109,6 +121,9 @@ impl RecFile {
                 .iter()
                 .filter(|m| m.name == CELL_METADATA)
             {
+                if !self.spans_inside(idx.offset, idx.length) {
+                    continue;
+                }
                 if let Ok(m) = mcap::read::metadata(&self.bytes, idx) {
                     meta = Some(m.metadata);
                     break;
@@ -158,6 +173,7 @@ impl RecFile {
                 return s
                     .attachment_indexes
                     .iter()
+                    .filter(|i| self.spans_inside(i.offset, i.length))
                     .filter_map(|i| mcap::read::attachment(&self.bytes, i).ok())
                     .map(|a| (a.name, a.data.into_owned()))
                     .collect();
@@ -179,8 +195,8 @@ impl RecFile {
             .enumerate()
             .map(|(i, a)| (format!("{AXIS_TOPIC_PREFIX}{a}"), i))
             .collect();
-        let classify = |ch: &Channel| -> Option<Kind> {
-            match ch.topic.as_str() {
+        let classify = |topic: &str| -> Option<Kind> {
+            match topic {
                 CYCLE_TOPIC => Some(Kind::Cycle),
                 EVENTS_TOPIC => Some(Kind::Event),
                 t if with_axes => axis_index.get(t).map(|i| Kind::Axis(*i)),
@@ -205,7 +221,7 @@ impl RecFile {
                 let kinds: HashMap<u16, Kind> = summary
                     .channels
                     .iter()
-                    .filter_map(|(id, ch)| classify(ch).map(|k| (*id, k)))
+                    .filter_map(|(id, ch)| classify(&ch.topic).map(|k| (*id, k)))
                     .collect();
                 let mut chunks: Vec<&ChunkIndex> = summary.chunk_indexes.iter().collect();
                 chunks.sort_by_key(|c| c.chunk_start_offset);
@@ -238,31 +254,65 @@ impl RecFile {
                 }
             }
             None => {
-                let stream = mcap::MessageStream::new_with_options(
-                    &self.bytes,
-                    Options::IgnoreEndMagic.into(),
-                )
-                .map_err(|e| format!("{}: {e}", self.path.display()))?;
-                for m in stream {
-                    let m = match m {
-                        Ok(m) => m,
-                        Err(e) => {
-                            out.truncated = Some(e.to_string());
-                            break;
-                        }
-                    };
-                    if let Some(k) = classify(&m.channel) {
-                        push(decode_one(k, &m.data).map_err(|e| {
-                            format!("{}: {}: {e}", self.path.display(), m.channel.topic)
-                        })?);
+                let path = self.path.display();
+                let stopped = self.walk_messages(&mut |_, ch, data| {
+                    if let Some(k) = classify(&ch.topic) {
+                        let decoded = decode_one(k, data)
+                            .map_err(|e| format!("{path}: {}: {e}", ch.topic))?;
+                        push(decoded);
                     }
-                }
-                if out.truncated.is_none() {
-                    out.truncated = Some("no summary section".into());
-                }
+                    Ok(())
+                })?;
+                out.truncated = Some(stopped.unwrap_or_else(|| "no summary section".into()));
             }
         }
         Ok(out)
+    }
+
+    /// Calls `each` with every message of the data section in file order (channel id, channel,
+    /// data), read record by record: channels as defined so far, each chunk decompressed
+    /// within its claimed size ([`chunk_records`]). Returns why the walk stopped before the
+    /// data end record (a damaged or truncated file), `None` when it reached it.
+    fn walk_messages(&self, each: &mut MessageVisitor<'_>) -> Result<Option<String>, String> {
+        let mut defs = LinearDefs::default();
+        for item in RecordWalker::new(&self.bytes, mcap::MAGIC.len()) {
+            let (op, body) = match item {
+                Ok(record) => record,
+                Err(e) => return Ok(Some(e)),
+            };
+            match op {
+                mcap::records::op::DATA_END | mcap::records::op::FOOTER => return Ok(None),
+                mcap::records::op::CHUNK => {
+                    let inner = match mcap::read::parse_record(op, body) {
+                        Ok(Record::Chunk { header, data }) => chunk_records(&header, &data)
+                            .map(|b| b.into_owned())
+                            .map_err(|e| format!("chunk: {e}")),
+                        Ok(_) => Err("a chunk record that is no chunk".into()),
+                        Err(e) => Err(format!("chunk: {e}")),
+                    };
+                    let inner = match inner {
+                        Ok(inner) => inner,
+                        Err(e) => return Ok(Some(e)),
+                    };
+                    for item in RecordWalker::new(&inner, 0) {
+                        match item {
+                            Ok((op, body)) => {
+                                if let Some(why) = defs.visit(op, body, each)? {
+                                    return Ok(Some(why));
+                                }
+                            }
+                            Err(e) => return Ok(Some(e)),
+                        }
+                    }
+                }
+                _ => {
+                    if let Some(why) = defs.visit(op, body, each)? {
+                        return Ok(Some(why));
+                    }
+                }
+            }
+        }
+        Ok(Some("the data section has no end".into()))
     }
 
     fn decode_chunk(
@@ -358,29 +408,72 @@ impl RecFile {
                 return out;
             }
         }
-        let mut counts: BTreeMap<u16, (Arc<Channel>, u64)> = BTreeMap::new();
-        if let Ok(stream) =
-            mcap::MessageStream::new_with_options(&self.bytes, Options::IgnoreEndMagic.into())
-        {
-            for m in stream.map_while(Result::ok) {
-                counts
-                    .entry(m.channel.id)
-                    .or_insert_with(|| (m.channel.clone(), 0))
-                    .1 += 1;
-            }
-        }
-        for (ch, n) in counts.into_values() {
-            out.push(ChannelCount {
-                topic: ch.topic.clone(),
-                schema: ch
-                    .schema
-                    .as_ref()
-                    .map(|s| s.name.clone())
-                    .unwrap_or_default(),
-                count: n,
-            });
+        let mut counts: BTreeMap<u16, (ChannelCount, u64)> = BTreeMap::new();
+        let _ = self.walk_messages(&mut |id, ch, _| {
+            counts
+                .entry(id)
+                .or_insert_with(|| {
+                    let count = ChannelCount {
+                        topic: ch.topic.clone(),
+                        schema: ch.schema.clone(),
+                        count: 0,
+                    };
+                    (count, 0)
+                })
+                .1 += 1;
+            Ok(())
+        });
+        for (mut ch, n) in counts.into_values() {
+            ch.count = n;
+            out.push(ch);
         }
         out
+    }
+}
+
+/// What [`RecFile::walk_messages`] calls per message: channel id, channel, data.
+type MessageVisitor<'a> = dyn FnMut(u16, &LinearChannel, &[u8]) -> Result<(), String> + 'a;
+
+/// A channel as a linear read has met it.
+struct LinearChannel {
+    topic: String,
+    schema: String,
+}
+
+/// The schemas and channels a linear read has met so far.
+#[derive(Default)]
+struct LinearDefs {
+    schemas: HashMap<u16, String>,
+    channels: HashMap<u16, LinearChannel>,
+}
+
+impl LinearDefs {
+    /// Takes in one record: a definition is kept, a message on a known channel is handed to
+    /// `each`. Returns why reading must stop (a record that does not parse).
+    fn visit(
+        &mut self,
+        op: u8,
+        body: &[u8],
+        each: &mut MessageVisitor<'_>,
+    ) -> Result<Option<String>, String> {
+        match mcap::read::parse_record(op, body) {
+            Ok(Record::Schema { header, .. }) => {
+                self.schemas.insert(header.id, header.name);
+            }
+            Ok(Record::Channel(c)) => {
+                let schema = self.schemas.get(&c.schema_id).cloned().unwrap_or_default();
+                let topic = c.topic;
+                self.channels.insert(c.id, LinearChannel { topic, schema });
+            }
+            Ok(Record::Message { header, data }) => {
+                if let Some(ch) = self.channels.get(&header.channel_id) {
+                    each(header.channel_id, ch, &data)?;
+                }
+            }
+            Ok(_) => {}
+            Err(e) => return Ok(Some(format!("record {op:#04x}: {e}"))),
+        }
+        Ok(None)
     }
 }
 
@@ -492,4 +585,59 @@ fn decode_one(k: Kind, data: &[u8]) -> Result<Decoded, prost::DecodeError> {
         Kind::Axis(i) => Decoded::Axis(i, AxisCycle::decode(data)?),
         Kind::Event => Decoded::Event(Event::decode(data)?),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A finished recording with one message and one attachment, and the byte offset of the
+    /// body of its summary's attachment index.
+    fn with_attachment() -> (Vec<u8>, usize) {
+        let mut out = std::io::Cursor::new(Vec::new());
+        let mut w = mcap::Writer::new(&mut out).unwrap();
+        let channel = w
+            .add_channel(0, CYCLE_TOPIC, "protobuf", &BTreeMap::new())
+            .unwrap();
+        let header = mcap::records::MessageHeader {
+            channel_id: channel,
+            sequence: 0,
+            log_time: 0,
+            publish_time: 0,
+        };
+        w.write_to_known_channel(&header, &[]).unwrap();
+        w.attach(&mcap::Attachment {
+            log_time: 0,
+            create_time: 0,
+            name: "config".into(),
+            media_type: "text/plain".into(),
+            data: std::borrow::Cow::Borrowed(b"[cell]"),
+        })
+        .unwrap();
+        w.finish().unwrap();
+        drop(w);
+        let bytes = out.into_inner();
+        let at = RecordWalker::new(&bytes, mcap::MAGIC.len())
+            .map_while(Result::ok)
+            .find(|(op, _)| *op == mcap::records::op::ATTACHMENT_INDEX)
+            .map(|(_, body)| body.as_ptr() as usize - bytes.as_ptr() as usize)
+            .expect("an attachment index");
+        (bytes, at)
+    }
+
+    #[test]
+    fn an_index_past_the_end_of_the_file_is_skipped_not_sliced() {
+        // Found by the mcap_recording fuzz target: the mcap crate adds an index's offset and
+        // length unchecked and slices the file with them (a panic, or a wrap in release).
+        let (good, at) = with_attachment();
+        let file = RecFile::from_bytes(Path::new("ok.mcap"), good.clone()).unwrap();
+        assert_eq!(file.attachments().len(), 1);
+        for offset in [u64::MAX - 4, good.len() as u64] {
+            let mut bad = good.clone();
+            bad[at..at + 8].copy_from_slice(&offset.to_le_bytes());
+            let file = RecFile::from_bytes(Path::new("bad.mcap"), bad).unwrap();
+            assert!(file.attachments().is_empty(), "offset {offset}");
+            assert!(file.cell().is_err());
+        }
+    }
 }

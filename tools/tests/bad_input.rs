@@ -395,6 +395,22 @@ fn jerk_limit_nan() {
     run.expect_error(&config, "axes[1].limits.jerk", &["finite", "NaN"]);
 }
 
+#[test]
+fn acceleration_and_jerk_beyond_one_cycle_are_refused() {
+    let (run, config) = run_y_limit("acceleration", "1e18");
+    run.expect_error(
+        &config,
+        "axes[1].limits.acceleration",
+        &[
+            "1000000000000000000 mm/s²",
+            "less than one 1000 µs cycle",
+            "at most 400000 mm/s²",
+        ],
+    );
+    let (run, config) = run_y_limit("jerk", "1e18");
+    run.expect_error(&config, "axes[1].limits.jerk", &["at most 2000000 mm/s³"]);
+}
+
 // --- 5. Duplicate axis names. ---
 
 #[test]

@@ -477,6 +477,21 @@ fn crafted_and_damaged_chunks_are_refused_or_skipped_never_fatal() {
     // Bit flips inside that chunk's compressed records: refused or recovered, no crash.
     let len = u64::from_le_bytes(good[chunk + 1..chunk + 9].try_into().unwrap()) as usize;
     let data_end = chunk + 9 + len;
+
+    // A claim near 2^64 in a file without a summary (cut after that chunk), read linearly:
+    // the read stops there, saying why (found by the mcap_recording fuzz target: the linear
+    // reader reserved the claimed size and panicked with "capacity overflow").
+    let mut cut = good.clone();
+    cut[chunk + 9 + 16..chunk + 9 + 24].copy_from_slice(&(u64::MAX - 215).to_le_bytes());
+    cut.truncate(data_end + 1);
+    let cut_path = dir.path().join("cut.mcap");
+    std::fs::write(&cut_path, &cut).unwrap();
+    let out = cellrt(&["inspect".as_ref(), cut_path.as_os_str()]);
+    let (so, se) = text(&out);
+    assert!(out.status.success(), "{so}{se}");
+    assert!(so.contains("claims 18446744073709551400 bytes"), "{so}");
+    let out = cellrt(&["replay".as_ref(), cut_path.as_os_str()]);
+    assert!(matches!(out.status.code(), Some(0..=2)), "{:?}", text(&out));
     let flipped = dir.path().join("flipped.mcap");
     for k in 0..12 {
         let mut bad = good.clone();

@@ -48,12 +48,19 @@ pub enum EsiFileError {
     },
 }
 
-/// The devices of the ESI file at `path` (UTF-8 or ISO-8859-1, as ESI files are written).
+/// The devices of the ESI file at `path` (UTF-8 or ISO-8859-1, as ESI files are written), read
+/// whole: for files the caller trusts (cellrt's config and CLI read ESI files bounded).
 pub fn load(path: &Path) -> Result<Vec<EsiDevice>, EsiFileError> {
     let bytes = std::fs::read(path).map_err(|source| EsiFileError::Read {
         path: path.to_owned(),
         source,
     })?;
+    decode_file(path, bytes)
+}
+
+/// The devices of an ESI file's `bytes` (UTF-8, else ISO-8859-1), read from `path` (named in
+/// errors) by a caller that bounds the read.
+pub fn decode_file(path: &Path, bytes: Vec<u8>) -> Result<Vec<EsiDevice>, EsiFileError> {
     let text = match String::from_utf8(bytes) {
         Ok(t) => t,
         // ISO-8859-1: every byte is the code point of the same value.

@@ -7,8 +7,13 @@ use std::io::{Error, ErrorKind, Read};
 use std::os::unix::fs::OpenOptionsExt;
 use std::path::Path;
 
+use cellrt_axes::esi::EsiFileError;
+
 /// The largest configuration or program cellrt reads.
 pub const MAX_TEXT_BYTES: u64 = 4 << 20;
+
+/// The largest ESI file cellrt reads (vendor files with many devices run to a few MiB).
+pub const MAX_ESI_BYTES: u64 = 64 << 20;
 
 /// Reads `path` if it is a regular file of at most `max` bytes (`None`: any size).
 pub fn read_bytes(path: &Path, max: Option<u64>) -> Result<Vec<u8>, Error> {
@@ -49,6 +54,15 @@ pub fn read_text(path: &Path) -> Result<String, Error> {
     String::from_utf8(bytes).map_err(|e| Error::new(ErrorKind::InvalidData, e.utf8_error()))
 }
 
+/// Reads the devices of an ESI file: a regular file of at most [`MAX_ESI_BYTES`].
+pub fn read_esi(path: &Path) -> Result<Vec<cellrt_axes::esi::EsiDevice>, EsiFileError> {
+    let bytes = read_bytes(path, Some(MAX_ESI_BYTES)).map_err(|source| EsiFileError::Read {
+        path: path.to_owned(),
+        source,
+    })?;
+    cellrt_axes::esi::decode_file(path, bytes)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -81,5 +95,16 @@ mod tests {
         let bad = dir.path().join("bad.toml");
         std::fs::write(&bad, [0xff, 0xfe]).unwrap();
         assert_eq!(read_text(&bad).unwrap_err().kind(), ErrorKind::InvalidData);
+    }
+
+    #[test]
+    fn an_esi_that_is_no_regular_file_is_refused_unread() {
+        let e = read_esi(Path::new("/dev/zero")).unwrap_err();
+        assert!(e.to_string().contains("not a regular file"), "{e}");
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("esi.xml");
+        nix::unistd::mkfifo(&fifo, nix::sys::stat::Mode::S_IRWXU).unwrap();
+        let e = read_esi(&fifo).unwrap_err();
+        assert!(e.to_string().contains("not a regular file"), "{e}");
     }
 }

@@ -9,6 +9,10 @@ pub const MAX_AXES: usize = 256;
 /// Cycles covered by one block.
 pub const BLOCK_CYCLES: usize = 16;
 
+/// Latest first cycle a block may claim (2^62: far beyond any run), so that the RT thread's
+/// sums of a block's cycles (its end, its start plus the allowed start slip) cannot overflow.
+pub const MAX_START_CYCLE: u64 = 1 << 62;
+
 /// Block flag: the motion ends with this block; the axes hold its last setpoint afterwards.
 pub const FLAG_LAST: u32 = 1;
 
@@ -73,10 +77,12 @@ impl SetpointBlock<'_> {
         self.header.flags & FLAG_LAST != 0
     }
 
-    /// Whether the header fits a cell of `axes` axes and the slice holds what it announces.
+    /// Whether the header fits a cell of `axes` axes, starts no later than
+    /// [`MAX_START_CYCLE`], and the slice holds what it announces.
     pub fn is_well_formed(&self, axes: usize) -> bool {
         let h = self.header;
         h.axis_count as usize == axes
+            && h.start_cycle <= MAX_START_CYCLE
             && h.cycles >= 1
             && h.cycles as usize <= BLOCK_CYCLES
             && self.setpoints.len() == h.cycles as usize * axes
@@ -131,5 +137,35 @@ mod tests {
             setpoints: &sp[..5],
         };
         assert!(!short.is_well_formed(3));
+    }
+
+    #[test]
+    fn a_block_starting_past_the_last_start_cycle_is_malformed() {
+        // The RT thread sums a block's start with its cycles and with the allowed start slip;
+        // a start near 2^64 (from the setpoint_block fuzz target) overflowed both.
+        let sp = [AxisSetpoint::default(); 16];
+        let header = |start_cycle| SetpointHeader {
+            motion_id: 1,
+            flags: 0,
+            start_cycle,
+            cycles: 16,
+            axis_count: 1,
+        };
+        for (start, ok) in [
+            (MAX_START_CYCLE, true),
+            (MAX_START_CYCLE + 1, false),
+            (u64::MAX - 3, false),
+        ] {
+            let h = header(start);
+            let b = SetpointBlock {
+                header: &h,
+                setpoints: &sp,
+            };
+            assert_eq!(b.is_well_formed(1), ok, "start {start}");
+            if ok {
+                assert_eq!(b.end_cycle(), MAX_START_CYCLE + 16);
+                assert!(start.checked_add(u64::from(u32::MAX)).is_some());
+            }
+        }
     }
 }

@@ -5,4 +5,5 @@ mod block;
 
 pub use block::{
     AxisSetpoint, SetpointBlock, SetpointHeader, BLOCK_CYCLES, FLAG_LAST, FLAG_TORQUE, MAX_AXES,
+    MAX_START_CYCLE,
 };

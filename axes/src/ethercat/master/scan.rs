@@ -189,15 +189,15 @@ impl Sii<'_> {
         while at < MAX_SII_WORDS {
             let head = self.words(at, 2)?;
             let (kind, len) = (head[0], head[1]);
-            if kind == 0xFFFF || len == 0 || at + 2 + len > MAX_SII_WORDS {
+            let Some(end) = category_end(at, len).filter(|_| kind != 0xFFFF && len != 0) else {
                 break;
-            }
+            };
             match kind {
                 10 => strings = Some(self.bytes(at + 2, len)?),
                 30 => name_index = self.bytes(at + 2, len.min(2))?.get(3).copied(),
                 _ => {}
             }
-            at += 2 + len;
+            at = end;
         }
         Ok(match (strings, name_index) {
             (Some(s), Some(i)) => nth_string(&s, i).unwrap_or_default(),
@@ -212,6 +212,13 @@ impl Sii<'_> {
             .flat_map(|w| w.to_le_bytes())
             .collect())
     }
+}
+
+/// The word after a category of `len` data words whose header is at word `at`, if it ends
+/// within the words a scan reads ([`MAX_SII_WORDS`]); a length word up to FFFFh cannot overflow.
+fn category_end(at: u16, len: u16) -> Option<u16> {
+    let end = u32::from(at) + 2 + u32::from(len);
+    u16::try_from(end).ok().filter(|&end| end <= MAX_SII_WORDS)
 }
 
 /// String `index` (1-based) of a Strings category: a count, then length-prefixed strings.
@@ -245,6 +252,16 @@ mod tests {
         assert_eq!(nth_string(&cat, 0), None);
         assert_eq!(nth_string(&cat, 3), None);
         assert_eq!(nth_string(&[1, 9, b'a'], 1), None, "truncated");
+    }
+
+    #[test]
+    fn a_category_length_past_the_eeprom_ends_the_walk_without_overflow() {
+        // Found by the sii_scan fuzz target: a length word of FFFFh overflowed `at + 2 + len`.
+        assert_eq!(category_end(0x40, 0xFFFF), None);
+        assert_eq!(category_end(MAX_SII_WORDS - 2, 0xFFFF), None);
+        assert_eq!(category_end(0x40, 10), Some(0x4C));
+        assert_eq!(category_end(MAX_SII_WORDS - 8, 6), Some(MAX_SII_WORDS));
+        assert_eq!(category_end(MAX_SII_WORDS - 8, 7), None);
     }
 
     #[test]

@@ -153,6 +153,13 @@ pub(super) fn validate_axis(
         a.limits.following_error.unwrap_or(limits.velocity * 0.1),
     )?;
     let torque = torque_limits(&at, &a, mode)?;
+    let ramps = super::cycle_reach::RampLimits {
+        kinematic: &limits,
+        stop_deceleration,
+        stop_jerk,
+        torque: torque.as_ref(),
+    };
+    super::cycle_reach::check(&at, &a.unit, cycle_time, &ramps)?;
     let csv_position_gain = match a.csv_position_gain {
         None => DEFAULT_CSV_POSITION_GAIN,
         Some(g) if g.is_finite() && g >= 0.0 => g,

@@ -48,7 +48,8 @@ pub(super) fn load_device(
         ));
     }
     let path = file.parent().unwrap_or(Path::new(".")).join(rel);
-    let devices = cellrt_axes::esi::load(&path).map_err(|e| err("esi", e.to_string()))?;
+    let devices =
+        crate::config::input_file::read_esi(&path).map_err(|e| err("esi", e.to_string()))?;
     let selector = DeviceSelector {
         product_code: a.esi_product_code,
         revision: a.esi_revision,

@@ -15,6 +15,7 @@ use super::{
 };
 
 mod axis;
+mod cycle_reach;
 mod esi;
 mod inject;
 mod motor;

@@ -12,6 +12,12 @@ use crate::services::{self, OperatorClientPort};
 /// How long a request waits for its reply by default.
 pub const REPLY_TIMEOUT: Duration = Duration::from_secs(5);
 
+/// First pause between looks for the reply; each further one doubles, up to
+/// [`LAST_REPLY_POLL`], so a hundred waiting clients do not keep the CPUs busy.
+const FIRST_REPLY_POLL: Duration = Duration::from_micros(20);
+/// Longest pause between looks for the reply.
+const LAST_REPLY_POLL: Duration = Duration::from_millis(1);
+
 /// Why a request got no reply.
 #[derive(Debug, thiserror::Error)]
 pub enum ClientError {
@@ -136,6 +142,7 @@ impl OperatorClient {
         // Without the wake-up the server still answers at its next poll (≤ 1 ms).
         let _ = self.wake.notify();
         let end = Instant::now() + timeout;
+        let mut pause = FIRST_REPLY_POLL;
         loop {
             match pending.receive() {
                 Ok(Some(r)) => {
@@ -153,7 +160,8 @@ impl OperatorClient {
                     timeout,
                 });
             }
-            std::thread::sleep(Duration::from_micros(20));
+            std::thread::sleep(pause);
+            pause = (pause * 2).min(LAST_REPLY_POLL);
         }
     }
 }

@@ -150,15 +150,30 @@ fn consecutive_overruns_trip_the_overrun_watchdog() {
     );
     assert_eq!(run.code, Some(1), "{}", run.stderr);
     assert!(run.summary["overruns"].as_u64().unwrap() >= 3);
-    let overrun = run
-        .rec
-        .events
-        .iter()
-        .find(|e| e.kind == "overrun" && e.value >= 2_000_000)
-        .expect("the injected stall is recorded as an overrun with its lateness");
     let (cycle, detail) = stop_detail(&run.rec);
     assert_eq!(detail, "overrun (controlled_stop)");
-    assert!(cycle >= overrun.cycle);
+    let at = |kind: &str| {
+        run.rec
+            .events
+            .iter()
+            .find(|e| e.kind == kind)
+            .map(|e| e.cycle)
+    };
+    assert!(
+        at("overrun").is_some_and(|c| c <= cycle),
+        "the stop follows the overruns"
+    );
+    // The injected 6 ms stall counts 6 missed deadlines at once; a loaded machine may have
+    // stalled the loop 3 deadlines long before it, which trips the same watchdog.
+    if at("fault_injected").is_some_and(|c| c <= cycle) {
+        let overrun = run
+            .rec
+            .events
+            .iter()
+            .find(|e| e.kind == "overrun" && e.value >= 2_000_000)
+            .expect("the injected stall is recorded as an overrun with its lateness");
+        assert!(cycle >= overrun.cycle);
+    }
     assert_controlled_stop(&run, "x", cycle);
 }
 

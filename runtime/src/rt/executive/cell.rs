@@ -45,17 +45,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     CellCommand::PowerOn,
                     CellState::Disabled | CellState::Enabling | CellState::Idle,
                 ) => {
-                    let mut any = false;
-                    for ch in &mut self.axes {
-                        if !ch.powered {
-                            ch.powered = true;
-                            ch.master.request(MasterRequest::Enable);
-                            any = true;
-                        }
-                    }
-                    if any {
-                        self.set_state(CellState::Enabling);
-                    }
+                    self.power_on_all();
                     true
                 }
                 (
@@ -119,43 +109,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     true
                 }
                 (CellCommand::Reset, CellState::Stopped) => {
-                    for ch in &mut self.axes {
-                        if let Some(c) = ch.counter.as_mut() {
-                            c.reset();
-                        }
-                        ch.comm_fault = false;
-                    }
-                    self.stop_reason = None;
-                    self.handoff
-                        .status()
-                        .stop_reason
-                        .store(0, Ordering::Release);
-                    self.stream.discard_all();
-                    if self.axes.iter().all(|a| a.master.is_enabled() == a.powered) {
-                        self.set_state(CellState::Idle);
-                    } else {
-                        // A quick stop or disable reaction left drives disabled: power off
-                        // cleanly; the next power on starts from Disabled.
-                        for ch in &mut self.axes {
-                            ch.powered = false;
-                        }
-                        self.request_all(MasterRequest::Disable);
-                        self.set_state(CellState::Disabling);
-                    }
+                    self.reset_stopped();
                     true
                 }
                 (CellCommand::Reset, CellState::Faulted) => {
-                    self.fault_reset_pending = true;
-                    self.stop_reason = None;
-                    self.handoff
-                        .status()
-                        .stop_reason
-                        .store(0, Ordering::Release);
-                    for ch in &mut self.axes {
-                        if ch.feedback.statusword.fault() {
-                            ch.master.request(MasterRequest::FaultReset);
-                        }
-                    }
+                    self.reset_faulted();
                     true
                 }
                 (CellCommand::Reset, _) => true,
@@ -169,6 +127,65 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             self.event(kind, cmd.axis().unwrap_or(NO_AXIS), cmd.event_value());
         }
         false
+    }
+
+    /// MC_Power on every axis not yet powered; the cell enables them.
+    fn power_on_all(&mut self) {
+        let mut any = false;
+        for ch in &mut self.axes {
+            if !ch.powered {
+                ch.powered = true;
+                ch.master.request(MasterRequest::Enable);
+                any = true;
+            }
+        }
+        if any {
+            self.set_state(CellState::Enabling);
+        }
+    }
+
+    /// MC_Reset of a Stopped cell: counters and the stop reason cleared, the stream emptied;
+    /// Idle, or a clean power-off where a reaction left drives disabled.
+    fn reset_stopped(&mut self) {
+        for ch in &mut self.axes {
+            if let Some(c) = ch.counter.as_mut() {
+                c.reset();
+            }
+            ch.comm_fault = false;
+        }
+        self.clear_stop_reason();
+        self.stream.discard_all();
+        if self.axes.iter().all(|a| a.master.is_enabled() == a.powered) {
+            self.set_state(CellState::Idle);
+        } else {
+            // A quick stop or disable reaction left drives disabled: power off cleanly; the
+            // next power on starts from Disabled.
+            for ch in &mut self.axes {
+                ch.powered = false;
+            }
+            self.request_all(MasterRequest::Disable);
+            self.set_state(CellState::Disabling);
+        }
+    }
+
+    /// MC_Reset of a Faulted cell: a fault reset to every drive in Fault; the cell leaves
+    /// Faulted once none reports one.
+    fn reset_faulted(&mut self) {
+        self.fault_reset_pending = true;
+        self.clear_stop_reason();
+        for ch in &mut self.axes {
+            if ch.feedback.statusword.fault() {
+                ch.master.request(MasterRequest::FaultReset);
+            }
+        }
+    }
+
+    fn clear_stop_reason(&mut self) {
+        self.stop_reason = None;
+        self.handoff
+            .status()
+            .stop_reason
+            .store(0, Ordering::Release);
     }
 
     /// One cycle of the cell state machine.

@@ -198,7 +198,7 @@ impl Rig {
 #[test]
 fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     // A wide start slip: the test thread, stalled on a loaded machine, publishes late itself.
-    let cell = cell_with("refusals", "[setpoints]\nmax_start_slip_ms = 300");
+    let cell = cell_with("refusals", "[setpoints]\nmax_start_slip_ms = 1000");
     let mut rig = Rig::start(&cell);
     rig.command(CellCommand::PowerOn);
     rig.wait_state(CellState::Idle);
@@ -234,8 +234,8 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
     );
     assert_eq!(rig.handoff.status().state(), CellState::Idle);
 
-    // A first block more than `max_start_slip_ms` (300 cycles) late: refused.
-    rig.publish(2, rig.cycle() - 1000, &[home; 16], true);
+    // A first block more than `max_start_slip_ms` (1000 cycles) late: refused.
+    rig.publish(2, rig.cycle() - 2000, &[home; 16], true);
     rig.wait_cycles(20);
     assert_eq!(rig.rejections(), vec![2, 1], "late_block");
     assert_eq!(rig.hold_mm(), home);
@@ -291,7 +291,7 @@ fn bad_blocks_are_refused_underrun_stops_and_motion_waits_for_reset() {
         .map(|e| e.value)
         .collect();
     assert_eq!(slip.len(), 1, "{:?}", rig.events);
-    assert!((30..=300).contains(&slip[0]), "slip {slip:?}");
+    assert!((30..=1000).contains(&slip[0]), "slip {slip:?}");
     assert_eq!(
         i64::from(rig.handoff.status().motion_slip.load(Ordering::Acquire)),
         slip[0]

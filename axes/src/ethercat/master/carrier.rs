@@ -116,6 +116,15 @@ impl CarriedLink {
     }
 }
 
+impl CarriedLink {
+    /// Takes back the frames that have returned without a reply waiting for them.
+    fn reclaim(&mut self) {
+        while let Some(f) = self.queues.to_worker.pop() {
+            self.free.push(f);
+        }
+    }
+}
+
 impl Link for CarriedLink {
     fn round_trip(&mut self, buf: &mut [u8], len: usize) -> Result<usize, LinkError> {
         self.seq += 1;
@@ -123,7 +132,7 @@ impl Link for CarriedLink {
         // A frame given up on earlier may still be out: wait for a free buffer as for a reply.
         let start = Instant::now();
         let mut frame = loop {
-            let _ = self.collect(0, &mut []);
+            self.reclaim();
             if let Some(f) = self.free.pop() {
                 break f;
             }

@@ -164,19 +164,8 @@ pub struct MrJeCSimArgs {
     #[arg(long, value_name = "PORT", default_value_t = 61450)]
     pub cclink_port: u16,
     /// The drive's software version: A0, A3 or A4 (objects, [Pr. PN10], 6502h).
-    #[arg(long, value_name = "VERSION", default_value = "A4", value_parser = software_version)]
+    #[arg(long, value_name = "VERSION", default_value = "A4")]
     pub software: cellrt_axes::mr_je_c::SoftwareVersion,
-}
-
-/// Parses a software version argument (A0, A3, A4).
-pub fn software_version(s: &str) -> Result<cellrt_axes::mr_je_c::SoftwareVersion, String> {
-    use cellrt_axes::mr_je_c::SoftwareVersion as V;
-    match s.to_ascii_uppercase().as_str() {
-        "A0" | "A1" | "A2" => Ok(V::A0),
-        "A3" => Ok(V::A3),
-        "A4" => Ok(V::A4),
-        _ => Err(format!("software version {s:?}: expected A0, A3 or A4")),
-    }
 }
 
 /// `cellrt drive-sim`.

@@ -54,7 +54,7 @@ pub struct Target {
     #[arg(long, value_enum, default_value = "slmp")]
     pub via: Via,
     /// The drive's software version (which objects exist): A0, A3 or A4.
-    #[arg(long, default_value = "A4", value_parser = crate::cli::software_version)]
+    #[arg(long, default_value = "A4")]
     pub software: SoftwareVersion,
     /// How long to wait for the drive's answer, ms.
     #[arg(long, default_value_t = 1000)]

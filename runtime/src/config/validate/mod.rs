@@ -15,6 +15,7 @@ use super::{
 };
 
 mod axis;
+mod axis_key;
 mod cycle_reach;
 mod esi;
 mod inject;

@@ -149,8 +149,15 @@ pub enum BusCommand {
 #[derive(Debug, Args)]
 pub struct MrJeCSimArgs {
     /// The IP address to listen on (e.g. 127.0.0.1, or an address in a network namespace).
-    #[arg(long, value_name = "ADDR")]
-    pub listen: std::net::IpAddr,
+    #[arg(long, value_name = "ADDR", required_unless_present = "rs485_pty")]
+    pub listen: Option<std::net::IpAddr>,
+    /// Serve Modbus RTU instead: an RS-485 line on a new pseudo-terminal, linked at PATH
+    /// (the controller opens PATH as its serial device).
+    #[arg(long, value_name = "PATH", conflicts_with = "listen")]
+    pub rs485_pty: Option<std::path::PathBuf>,
+    /// With `--rs485-pty`: the station numbers of the drives on the line (1–247), one drive each.
+    #[arg(long, value_name = "N,..", value_delimiter = ',', default_value = "1")]
+    pub stations: Vec<u8>,
     /// Modbus/TCP port (502 on a drive; below 1024 needs root).
     #[arg(long, value_name = "PORT", default_value_t = 502)]
     pub modbus_port: u16,
@@ -181,7 +188,8 @@ pub struct DriveSimArgs {
 pub enum DriveSimBus {
     /// Serve one simulated MR-JE-C on an address: Modbus/TCP (3 connections), SLMP over UDP
     /// and TCP (1 connection), the CC-Link IE Field Basic cyclic link (CSR/SSR, RWw/RWr), one
-    /// request at a time, until SIGINT/SIGTERM. The drive holds
+    /// request at a time, until SIGINT/SIGTERM; or with `--rs485-pty` drives on a Modbus RTU
+    /// line. The drive holds
     /// its position (profile motion is not simulated); its time-outs ([Pr. PN02], [Pr. PN10],
     /// [Pr. PF46]) run on the time since start.
     #[command(name = "mr-je-c")]

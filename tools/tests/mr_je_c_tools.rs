@@ -194,3 +194,63 @@ fn je_c_reads_and_writes_objects() {
     assert_eq!(code, Some(4), "{err}");
     assert!(err.starts_with("error: 127.0.0.1:"), "{err}");
 }
+
+/// `cellrt drive-sim mr-je-c --rs485-pty`: two stations on a Modbus RTU line over a
+/// pseudo-terminal, reached by `cellrt je-c --via modbus-rtu`; an absent station is silent
+/// (exit 4), a bad station number or bit rate refused (exit 2); SIGTERM removes the link.
+#[test]
+fn je_c_over_modbus_rtu_on_an_emulated_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let link = dir.path().join("line");
+    let path = link.to_str().unwrap().to_string();
+    let child = cellrt(&["--rs485-pty", &path, "--stations", "1,2"].map(String::from));
+    let end = Instant::now() + Duration::from_secs(30);
+    while !link.exists() {
+        assert!(Instant::now() < end, "drive-sim made no line at {path}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let rtu = |args: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend(["--via", "modbus-rtu"]);
+        je_c(&all)
+    };
+    let (code, out, err) = rtu(&["write", &path, "607A", "-5000", "--station", "2"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("written -5000"), "{out}");
+    let (code, out, _) = rtu(&["read", &path, "607A", "--station", "2"]);
+    assert_eq!(code, Some(0));
+    assert!(out.contains("= -5000"), "{out}");
+    // Station 1 is another drive.
+    let (_, out, _) = rtu(&["read", &path, "607A", "--station", "1"]);
+    assert!(out.contains("= 0 "), "{out}");
+    let (code, _, err) = rtu(&[
+        "read",
+        &path,
+        "6041",
+        "--station",
+        "3",
+        "--timeout-ms",
+        "200",
+    ]);
+    assert_eq!(code, Some(4), "{err}");
+    assert!(err.contains("station 3: no reply"), "{err}");
+    let (code, _, err) = rtu(&["read", &path, "6041", "--station", "0"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--station 0"), "{err}");
+    let (code, _, err) = rtu(&["read", &path, "6041", "--baud", "14400"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("14400"), "{err}");
+    nix::sys::signal::kill(
+        nix::unistd::Pid::from_raw(child.id() as i32),
+        nix::sys::signal::Signal::SIGTERM,
+    )
+    .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!link.exists(), "the link outlived drive-sim");
+}

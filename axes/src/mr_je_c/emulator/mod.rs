@@ -9,6 +9,7 @@ pub mod cyclic;
 mod history;
 pub mod modbus;
 mod refusal;
+pub mod rs485;
 pub mod rtu;
 pub mod server;
 pub mod slmp;

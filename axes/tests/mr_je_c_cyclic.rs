@@ -225,12 +225,7 @@ fn al_86_1_after_pn02_and_the_master_lost_after_its_supervision_time() {
 /// The emulator on loopback and our master of it.
 fn on_loopback() -> (Server, CyclicMaster) {
     let ip = IpAddr::V4(Ipv4Addr::LOCALHOST);
-    let any = Ports {
-        modbus_tcp: 0,
-        slmp_udp: 0,
-        slmp_tcp: 0,
-        cclink: 0,
-    };
+    let any = Ports::ANY;
     let s = Server::start(MrJeC::new(MrJeCParams::default()), ip, any).unwrap();
     let p = MasterParams {
         response_timeout: Duration::from_secs(2),

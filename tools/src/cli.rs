@@ -170,6 +170,13 @@ pub struct MrJeCSimArgs {
     /// CC-Link IE Field Basic cyclic port (UDP).
     #[arg(long, value_name = "PORT", default_value_t = 61450)]
     pub cclink_port: u16,
+    /// NodeSearch / IPAddressSet port (UDP).
+    #[arg(long, value_name = "PORT", default_value_t = 61451)]
+    pub search_port: u16,
+    /// The drive's MAC address (NodeSearch reports it, IPAddressSet picks the drive by it);
+    /// default 02:00 followed by the listen address' four octets.
+    #[arg(long, value_name = "MAC")]
+    pub mac: Option<cellrt_axes::slmp::node_search::Mac>,
     /// The drive's software version: A0, A3 or A4 (objects, [Pr. PN10], 6502h).
     #[arg(long, value_name = "VERSION", default_value = "A4")]
     pub software: cellrt_axes::mr_je_c::SoftwareVersion,

@@ -14,6 +14,7 @@ use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
 use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
 use cellrt_axes::mr_je_c::parameters::{PC70, PN08};
 use cellrt_axes::mr_je_c::{ObjectId, SoftwareVersion, Value};
+use cellrt_axes::slmp::node_search::Mac;
 use serialport::{SerialPort, TTYPort};
 
 use crate::cli::MrJeCSimArgs;
@@ -45,12 +46,14 @@ fn serve_ethernet(ip: IpAddr, args: &MrJeCSimArgs, stop: &AtomicBool) -> Exit {
         slmp_udp: args.slmp_udp_port,
         slmp_tcp: args.slmp_tcp_port,
         cclink: args.cclink_port,
+        search: args.search_port,
     };
     let params = MrJeCParams {
         software: args.software,
+        mac: args.mac.unwrap_or_else(|| mac_of(ip)),
         ..Default::default()
     };
-    let model = params.model.clone();
+    let (model, mac) = (params.model.clone(), params.mac);
     let server = match Server::start(MrJeC::new(params), ip, ports) {
         Ok(s) => s,
         Err(e) => {
@@ -60,15 +63,15 @@ fn serve_ethernet(ip: IpAddr, args: &MrJeCSimArgs, stop: &AtomicBool) -> Exit {
                 ""
             };
             eprintln!(
-                "error: cannot listen on {} (Modbus/TCP {}, SLMP UDP {}, SLMP TCP {}, CC-Link IE Field Basic UDP {}): {e}{hint}",
-                ip, ports.modbus_tcp, ports.slmp_udp, ports.slmp_tcp, ports.cclink
+                "error: cannot listen on {} (Modbus/TCP {}, SLMP UDP {}, SLMP TCP {}, CC-Link IE Field Basic UDP {}, NodeSearch UDP {}): {e}{hint}",
+                ip, ports.modbus_tcp, ports.slmp_udp, ports.slmp_tcp, ports.cclink, ports.search
             );
             return Exit::Failed;
         }
     };
     eprintln!(
-        "cellrt drive-sim: {model} (software {}) on Modbus/TCP {}, SLMP UDP {}, SLMP TCP {}, CC-Link IE Field Basic UDP {}",
-        args.software, server.modbus_tcp, server.slmp_udp, server.slmp_tcp, server.cclink
+        "cellrt drive-sim: {model} (software {}, MAC {mac}) on Modbus/TCP {}, SLMP UDP {}, SLMP TCP {}, CC-Link IE Field Basic UDP {}, NodeSearch UDP {}",
+        args.software, server.modbus_tcp, server.slmp_udp, server.slmp_tcp, server.cclink, server.search
     );
     while !stop.load(Ordering::Relaxed) {
         std::thread::sleep(Duration::from_millis(50));
@@ -145,6 +148,18 @@ fn serve_rs485(link: &Path, args: &MrJeCSimArgs, stop: &AtomicBool) -> Exit {
     drop(slave);
     let _ = std::fs::remove_file(link);
     Exit::Ok
+}
+
+/// A locally administered MAC address made of the drive's IPv4 address: 02:00:a:b:c:d.
+fn mac_of(ip: IpAddr) -> Mac {
+    let o = match ip.to_canonical() {
+        IpAddr::V4(v4) => v4.octets(),
+        IpAddr::V6(v6) => {
+            let s = v6.octets();
+            [s[12], s[13], s[14], s[15]]
+        }
+    };
+    Mac([0x02, 0x00, o[0], o[1], o[2], o[3]])
 }
 
 /// A drive with [Pr. PN08] = RS-485 at station `n` ([Pr. PC70]).

@@ -1,5 +1,6 @@
-//! `cellrt je-c read|write`: one object of an MR-JE-C over SLMP or Modbus/TCP, for
-//! commissioning (MR-JE-C manual §2.4, §3.6, §7.3).
+//! `cellrt je-c read|write`: one object of an MR-JE-C over SLMP, Modbus/TCP or Modbus RTU, for
+//! commissioning (MR-JE-C manual §2.4, §3.6, §4.8, §7.3); `scan` and `set-ip` are in
+//! [`super::je_c_search`].
 
 use std::net::{IpAddr, SocketAddr};
 use std::time::Duration;
@@ -92,6 +93,11 @@ pub enum JeCCommand {
         #[arg(allow_hyphen_values = true)]
         value: String,
     },
+    /// Find the drives on a network (NodeSearch, UDP 61451).
+    Scan(super::je_c_search::ScanArgs),
+    /// Give the drive with a MAC address its IP address, subnet and gateway (IPAddressSet;
+    /// effective at its next power-on).
+    SetIp(super::je_c_search::SetIpArgs),
 }
 
 /// Runs `cellrt je-c`.
@@ -99,6 +105,8 @@ pub fn run(args: JeCArgs) -> Exit {
     let (target, value) = match args.command {
         JeCCommand::Read(t) => (t, None),
         JeCCommand::Write { target, value } => (target, Some(value)),
+        JeCCommand::Scan(a) => return super::je_c_search::scan(&a),
+        JeCCommand::SetIp(a) => return super::je_c_search::set_ip(&a),
     };
     let Some((_, row)) = entry(target.object, target.software) else {
         eprintln!(

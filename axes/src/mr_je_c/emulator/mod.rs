@@ -11,6 +11,7 @@ pub mod modbus;
 mod refusal;
 pub mod rs485;
 pub mod rtu;
+pub mod search;
 pub mod server;
 pub mod slmp;
 mod store;
@@ -62,6 +63,10 @@ pub struct MrJeCParams {
     pub permissible_speed: u32,
     /// Maximum torque, 0.1 % (6072h).
     pub max_torque: u16,
+    /// The unit's MAC address (NodeSearch, IPAddressSet picks the drive by it).
+    pub mac: crate::slmp::node_search::Mac,
+    /// Vendor code in the NodeSearch response; the manual gives none (0).
+    pub vendor_code: u16,
 }
 
 impl Default for MrJeCParams {
@@ -80,6 +85,8 @@ impl Default for MrJeCParams {
             max_speed_rpm: 6000,
             permissible_speed: 690_000,
             max_torque: 3000,
+            mac: crate::slmp::node_search::Mac([0x02, 0x00, 0xC0, 0xA8, 0x03, 0x00]),
+            vendor_code: 0,
         }
     }
 }
@@ -168,6 +175,28 @@ impl MrJeC {
         fresh.history = std::mem::take(&mut self.history);
         fresh.now = self.now;
         *self = fresh;
+    }
+
+    /// The subnet mask of [Pr. PN15]–[Pr. PN18].
+    pub fn subnet_mask(&self) -> std::net::Ipv4Addr {
+        self.pn_octets(15)
+    }
+
+    /// The default gateway of [Pr. PN19]–[Pr. PN22].
+    pub fn default_gateway(&self) -> std::net::Ipv4Addr {
+        self.pn_octets(19)
+    }
+
+    /// An address kept one octet per parameter, [Pr. PN`first`] on.
+    fn pn_octets(&self, first: u8) -> std::net::Ipv4Addr {
+        let o = |k: u8| {
+            let p = super::parameters::Parameter {
+                group: super::parameters::Group::PN,
+                number: first + k,
+            };
+            self.param(p.index()) as u8
+        };
+        std::net::Ipv4Addr::new(o(0), o(1), o(2), o(3))
     }
 
     /// The IP rules in effect (latched at power-on).

@@ -33,6 +33,19 @@ pub struct Ports {
     pub slmp_tcp: u16,
     /// CC-Link IE Field Basic cyclic data (UDP 61450).
     pub cclink: u16,
+    /// NodeSearch and IPAddressSet (UDP 61451).
+    pub search: u16,
+}
+
+impl Ports {
+    /// Any free port for each (tests).
+    pub const ANY: Ports = Ports {
+        modbus_tcp: 0,
+        slmp_udp: 0,
+        slmp_tcp: 0,
+        cclink: 0,
+        search: 0,
+    };
 }
 
 impl Default for Ports {
@@ -42,6 +55,7 @@ impl Default for Ports {
             slmp_udp: crate::slmp::UDP_PORT,
             slmp_tcp: crate::slmp::TCP_PORT,
             cclink: crate::cclink_ief_basic::CYCLIC_PORT,
+            search: crate::cclink_ief_basic::SEARCH_PORT,
         }
     }
 }
@@ -91,6 +105,8 @@ pub struct Server {
     pub slmp_tcp: SocketAddr,
     /// Where the cyclic link listens.
     pub cclink: SocketAddr,
+    /// Where NodeSearch and IPAddressSet are answered.
+    pub search: SocketAddr,
 }
 
 impl Server {
@@ -116,9 +132,32 @@ impl Server {
             IpAddr::V4(v4) => u32::from(v4),
             IpAddr::V6(_) => 0,
         };
-        cclink.set_read_timeout(Some(POLL))?;
-        let s = shared.clone();
-        let mut threads = vec![std::thread::spawn(move || serve_cclink(&cclink, own, &s))];
+        let search = UdpSocket::bind((ip, ports.search))?;
+        let search_addr = search.local_addr()?;
+        let mut threads = Vec::new();
+        let mut cyclic = vec![cclink];
+        let mut searches = vec![search];
+        if let IpAddr::V4(v4) = ip.to_canonical() {
+            if !v4.is_loopback() && !v4.is_unspecified() {
+                // Broadcasts reach only sockets bound to the broadcast address: the cyclic
+                // link's directed broadcast, NodeSearch's limited one.
+                let subnet = shared.drive().subnet_mask();
+                let directed = Ipv4Addr::from(u32::from(v4) | !u32::from(subnet));
+                cyclic.push(broadcast_socket(directed, cclink_addr.port())?);
+                searches.push(broadcast_socket(Ipv4Addr::BROADCAST, search_addr.port())?);
+            }
+        }
+        for socket in cyclic {
+            socket.set_read_timeout(Some(POLL))?;
+            let s = shared.clone();
+            threads.push(std::thread::spawn(move || serve_cclink(&socket, own, &s)));
+        }
+        for socket in searches {
+            socket.set_read_timeout(Some(POLL))?;
+            let s = shared.clone();
+            let own = Ipv4Addr::from(own);
+            threads.push(std::thread::spawn(move || serve_search(&socket, own, &s)));
+        }
         let s = shared.clone();
         threads.push(std::thread::spawn(move || ticker(&s)));
         let s = shared.clone();
@@ -140,6 +179,7 @@ impl Server {
             slmp_udp: addrs.1,
             slmp_tcp: addrs.2,
             cclink: cclink_addr,
+            search: search_addr,
         })
     }
 
@@ -327,6 +367,42 @@ fn serve_slmp_udp(socket: &UdpSocket, s: &Shared) {
             continue;
         }
         let reply = answer_slmp(s, &buf[..n], s.may_operate(peer.ip()));
+        if let Some(r) = reply {
+            let _ = socket.send_to(&r, peer);
+        }
+    }
+}
+
+/// A UDP socket bound to the broadcast address `addr`, shared with other emulated drives on
+/// the host (`SO_REUSEADDR`: each receives every broadcast).
+fn broadcast_socket(addr: Ipv4Addr, port: u16) -> io::Result<UdpSocket> {
+    use socket2::{Domain, Protocol, Socket, Type};
+    let socket = Socket::new(Domain::IPV4, Type::DGRAM, Some(Protocol::UDP))?;
+    socket.set_reuse_address(true)?;
+    socket.set_broadcast(true)?;
+    socket.bind(&SocketAddr::from((addr, port)).into())?;
+    Ok(socket.into())
+}
+
+/// NodeSearch and IPAddressSet, answered to the sender (the IP filter applies; an
+/// IPAddressSet is a write, so the operation specification too).
+fn serve_search(socket: &UdpSocket, own: Ipv4Addr, s: &Shared) {
+    let mut buf = [0u8; 256];
+    while !s.stop.load(Ordering::Relaxed) {
+        let Ok((n, peer)) = socket.recv_from(&mut buf) else {
+            continue;
+        };
+        if !s.admits(peer.ip()) {
+            continue;
+        }
+        let setting = matches!(
+            crate::slmp::node_search::decode_request(&buf[..n]),
+            Ok((crate::slmp::node_search::SearchRequest::IpAddressSet(..), _))
+        );
+        if setting && !s.may_operate(peer.ip()) {
+            continue;
+        }
+        let reply = super::search::answer(&mut s.drive(), own, &buf[..n], s.now());
         if let Some(r) = reply {
             let _ = socket.send_to(&r, peer);
         }

@@ -286,3 +286,35 @@ fn cyclic_exchanges_are_allocation_free() {
     );
     assert_eq!(ready, 200);
 }
+
+/// A group master sent to one drive's address: that station answers, the other (no drive at
+/// 127.0.0.9) stays empty; a group of 0 or 17 stations is refused.
+#[test]
+fn a_group_master_collects_the_stations_that_answer() {
+    use cellrt_axes::cclink_ief_basic::master::{GroupMaster, MasterError};
+    use cellrt_axes::cclink_ief_basic::MAX_STATIONS;
+    let ip = IpAddr::V4(Ipv4Addr::LOCALHOST);
+    let s = Server::start(MrJeC::new(MrJeCParams::default()), ip, Ports::ANY).unwrap();
+    // The absent station's wait (300 ms) stays well within the drive's supervision time
+    // (1000 ms × 3), which would otherwise drop the master between the exchanges.
+    let p = MasterParams {
+        response_timeout: Duration::from_millis(300),
+        timeout_ms: 1000,
+        ..Default::default()
+    };
+    let absent = IpAddr::V4(Ipv4Addr::new(127, 0, 0, 9));
+    let mut m = GroupMaster::new((ip, 0).into(), s.cclink, &[ip, absent], p).unwrap();
+    let mut responses = [None; MAX_STATIONS];
+    assert_eq!(m.exchange(0, &mut responses).unwrap(), 1);
+    assert_eq!(responses[0].unwrap().station.slave_id, 0x7F00_0001);
+    assert!(responses[1].is_none());
+    assert_eq!(m.exchange(0b01, &mut responses).unwrap(), 1);
+    assert_eq!(responses[0].unwrap().end_code, EndCode::Normal);
+    for n in [0, 17] {
+        let many = vec![ip; n];
+        assert!(matches!(
+            GroupMaster::new((ip, 0).into(), s.cclink, &many, p),
+            Err(MasterError::Stations(k)) if k == n
+        ));
+    }
+}

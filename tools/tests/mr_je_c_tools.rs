@@ -252,15 +252,16 @@ fn je_c_over_modbus_rtu_on_an_emulated_line() {
 
 /// As root, two emulated drives in a network namespace behind a veth pair: `je-c scan` on the
 /// near end finds both by a broadcast NodeSearch, `je-c set-ip` by broadcast changes the
-/// addresses of the one with its MAC only ([Pr. PN11]–[Pr. PN14], read back over SLMP).
+/// addresses of the one with its MAC only ([Pr. PN11]–[Pr. PN14], read back over SLMP), and
+/// one cyclic request to the directed broadcast 10.77.0.255 is answered by both stations.
 /// Skipped, saying why, without root.
 #[test]
-fn scan_and_set_ip_by_broadcast_in_a_namespace() {
+fn broadcasts_reach_the_drives_in_a_namespace() {
     use cellrt_rt_tests::netns::VethNamespace;
     let ns = match VethNamespace::create(&format!("jc{}", std::process::id() % 100_000)) {
         Ok(ns) => ns,
         Err(why) => {
-            println!("SKIPPED scan_and_set_ip_by_broadcast_in_a_namespace: {why}");
+            println!("SKIPPED broadcasts_reach_the_drives_in_a_namespace: {why}");
             return;
         }
     };
@@ -333,8 +334,42 @@ fn scan_and_set_ip_by_broadcast_in_a_namespace() {
     let pn14 = |drive: &str| je_c(&["read", drive, "258E"]).1;
     assert!(pn14("10.77.0.3").contains("= 33 "), "{}", pn14("10.77.0.3"));
     assert!(pn14("10.77.0.2").contains("= 0 "), "{}", pn14("10.77.0.2"));
+    directed_broadcast_cycle();
     for mut d in drives {
         let _ = d.kill();
         let _ = d.wait();
     }
+}
+
+/// Cyclic exchanges of a two-station group to 10.77.0.255: both drives answer each, with their
+/// own slave IDs.
+fn directed_broadcast_cycle() {
+    use cellrt_axes::cclink_ief_basic::master::{GroupMaster, MasterParams};
+    use cellrt_axes::cclink_ief_basic::MAX_STATIONS;
+    use std::net::{IpAddr, Ipv4Addr};
+    let drives: [IpAddr; 2] = [
+        Ipv4Addr::new(10, 77, 0, 2).into(),
+        Ipv4Addr::new(10, 77, 0, 3).into(),
+    ];
+    let p = MasterParams {
+        response_timeout: Duration::from_secs(2),
+        ..Default::default()
+    };
+    let mut m = GroupMaster::new(
+        "10.77.0.1:0".parse().unwrap(),
+        "10.77.0.255:61450".parse().unwrap(),
+        &drives,
+        p,
+    )
+    .unwrap();
+    let mut responses = [None; MAX_STATIONS];
+    // A drive takes a new master by a request that does not transmit to it (§2.5.1).
+    assert_eq!(m.exchange(0, &mut responses).unwrap(), 2);
+    assert_eq!(m.exchange(0b11, &mut responses).unwrap(), 2);
+    for (k, ip) in drives.iter().enumerate() {
+        let r = responses[k].expect("station answered");
+        let IpAddr::V4(v4) = ip else { unreachable!() };
+        assert_eq!(r.station.slave_id, u32::from(*v4), "station {}", k + 1);
+    }
+    assert_eq!(m.stale, 0);
 }

@@ -62,6 +62,8 @@ impl Default for Ports {
 
 struct Shared {
     drive: Mutex<MrJeC>,
+    /// The cyclic link's state (its master, CSR/SSR), whichever socket a request came by.
+    cyclic: Mutex<super::cyclic::CyclicLink>,
     stop: AtomicBool,
     start: Instant,
 }
@@ -115,6 +117,7 @@ impl Server {
     pub fn start(drive: MrJeC, ip: IpAddr, ports: Ports) -> io::Result<Server> {
         let shared = Arc::new(Shared {
             drive: Mutex::new(drive),
+            cyclic: Mutex::new(Default::default()),
             stop: AtomicBool::new(false),
             start: Instant::now(),
         });
@@ -147,16 +150,23 @@ impl Server {
                 searches.push(broadcast_socket(Ipv4Addr::BROADCAST, search_addr.port())?);
             }
         }
+        // Answers leave from the drive's own address, also to a broadcast.
+        let cyclic_reply = cyclic[0].try_clone()?;
         for socket in cyclic {
             socket.set_read_timeout(Some(POLL))?;
-            let s = shared.clone();
-            threads.push(std::thread::spawn(move || serve_cclink(&socket, own, &s)));
+            let (s, reply) = (shared.clone(), cyclic_reply.try_clone()?);
+            threads.push(std::thread::spawn(move || {
+                serve_cclink(&socket, &reply, own, &s)
+            }));
         }
+        let search_reply = searches[0].try_clone()?;
         for socket in searches {
             socket.set_read_timeout(Some(POLL))?;
-            let s = shared.clone();
+            let (s, reply) = (shared.clone(), search_reply.try_clone()?);
             let own = Ipv4Addr::from(own);
-            threads.push(std::thread::spawn(move || serve_search(&socket, own, &s)));
+            threads.push(std::thread::spawn(move || {
+                serve_search(&socket, &reply, own, &s)
+            }));
         }
         let s = shared.clone();
         threads.push(std::thread::spawn(move || ticker(&s)));
@@ -386,7 +396,7 @@ fn broadcast_socket(addr: Ipv4Addr, port: u16) -> io::Result<UdpSocket> {
 
 /// NodeSearch and IPAddressSet, answered to the sender (the IP filter applies; an
 /// IPAddressSet is a write, so the operation specification too).
-fn serve_search(socket: &UdpSocket, own: Ipv4Addr, s: &Shared) {
+fn serve_search(socket: &UdpSocket, reply_from: &UdpSocket, own: Ipv4Addr, s: &Shared) {
     let mut buf = [0u8; 256];
     while !s.stop.load(Ordering::Relaxed) {
         let Ok((n, peer)) = socket.recv_from(&mut buf) else {
@@ -404,14 +414,14 @@ fn serve_search(socket: &UdpSocket, own: Ipv4Addr, s: &Shared) {
         }
         let reply = super::search::answer(&mut s.drive(), own, &buf[..n], s.now());
         if let Some(r) = reply {
-            let _ = socket.send_to(&r, peer);
+            let _ = reply_from.send_to(&r, peer);
         }
     }
 }
 
-/// The cyclic link: requests from the connected master, answered to the sender.
-fn serve_cclink(socket: &UdpSocket, own: u32, s: &Shared) {
-    let mut link = super::cyclic::CyclicLink::default();
+/// The cyclic link: requests from the connected master (sent to `socket`), answered to the
+/// sender from `reply_from`.
+fn serve_cclink(socket: &UdpSocket, reply_from: &UdpSocket, own: u32, s: &Shared) {
     let mut buf = [0u8; 1500];
     let mut out = [0u8; crate::cclink_ief_basic::RESPONSE_SIZE];
     while !s.stop.load(Ordering::Relaxed) {
@@ -434,11 +444,13 @@ fn serve_cclink(socket: &UdpSocket, own: u32, s: &Shared) {
         if !drive.serves(super::Transport::CcLink) {
             continue;
         }
+        let mut link = s.cyclic.lock().unwrap_or_else(|e| e.into_inner());
         let response = link.answer(&mut drive, &request, own, operate, s.now());
+        drop(link);
         drop(drive);
         if let Some(r) = response {
             if let Ok(k) = r.encode(&mut out) {
-                let _ = socket.send_to(&out[..k], peer);
+                let _ = reply_from.send_to(&out[..k], peer);
             }
         }
     }

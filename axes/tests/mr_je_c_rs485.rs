@@ -17,7 +17,11 @@ use cellrt_axes::mr_je_c::access::typed::{Controlword, Statusword, TargetPositio
 use cellrt_axes::mr_je_c::emulator::rs485::Rs485Line;
 use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
 use cellrt_axes::mr_je_c::{AccessError, ObjectAccess, ObjectId, OverModbus, Value};
+use cellrt_test_support::counting_alloc::{thread_heap_calls, CountingAllocator};
 use serialport::{SerialPort, TTYPort};
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 const TIMEOUT: Duration = Duration::from_millis(500);
 
@@ -159,4 +163,25 @@ fn pymodbus_masters_the_emulated_line() {
     assert!(out.status.success(), "pymodbus: {text}");
     assert_eq!(line.overlong_frames(), 0);
     drop(port);
+}
+
+/// The RTU master's register reads and writes allocate nothing once it is set up (the drive's
+/// side, on its own thread, is not counted).
+#[test]
+fn the_rtu_master_does_not_allocate_per_request() {
+    let (_line, port) = line();
+    let mut c = client(port, 1);
+    let mut words = [0u16; 2];
+    c.read_registers(0x607A, &mut words).unwrap();
+    let before = thread_heap_calls();
+    for k in 0..50u16 {
+        c.write_registers(0x607A, &[k, 0]).unwrap();
+        c.read_registers(0x607A, &mut words).unwrap();
+        assert_eq!(words, [k, 0]);
+    }
+    assert_eq!(
+        thread_heap_calls() - before,
+        0,
+        "heap calls in 100 requests"
+    );
 }

@@ -8,6 +8,7 @@ pub mod error;
 pub mod ethercat;
 pub mod hist;
 pub mod ipc;
+pub mod je_c;
 pub mod latency;
 pub mod loopbench;
 pub mod netns;

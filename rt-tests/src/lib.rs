@@ -14,6 +14,7 @@ pub mod loopbench;
 pub mod netns;
 pub mod plot;
 pub mod procscan;
+pub mod soak;
 pub mod tools;
 
 pub use error::BenchError;

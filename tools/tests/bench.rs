@@ -390,3 +390,44 @@ fn bench_je_c_samples_every_path_each_tick() {
         assert!(err.contains(option), "{args:?}: {err}");
     }
 }
+
+/// `cellrt bench soak`: a short run with 1 s rotation samples the memory every second, writes
+/// a part per second (the completed ones pruned as it goes), and refuses a zero period.
+#[test]
+fn bench_soak_samples_memory_and_rotates() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("soak.json");
+    let out = cellrt(&[
+        "bench",
+        "soak",
+        "--axes",
+        "2",
+        "--interval",
+        "1000",
+        "--duration",
+        "3",
+        "--rotate",
+        "1",
+        "--sample",
+        "1",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    let (stdout, v) = succeeded_with_json(&out, &json);
+    let rss = v["rss"].as_array().unwrap();
+    assert!(rss.len() >= 2, "{stdout}");
+    assert!(rss.iter().all(|s| s["rss_kib"].as_u64().unwrap() > 0), "{stdout}");
+    assert!(v["files"].as_u64().unwrap() >= 3, "{stdout}");
+    assert!(v["cycles"].as_u64().unwrap() > 0, "{stdout}");
+    assert!(stdout.contains("RSS KiB"), "{stdout}");
+    for (args, option) in [
+        (&["--rotate", "0"][..], "--rotate"),
+        (&["--axes", "0"][..], "--axes"),
+    ] {
+        let base = ["bench", "soak", "--interval", "1000", "--duration", "1"];
+        let out = cellrt(&[&base[..], args].concat());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(option), "{args:?}: {err}");
+    }
+}

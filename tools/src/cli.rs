@@ -143,6 +143,18 @@ pub enum BusCommand {
         #[arg(long, value_name = "IF")]
         interface: String,
     },
+    /// Diagnostics of a running EtherCAT cell (`--cell NAME`): per SubDevice its ports' links
+    /// and ESC error counters (0300h–0313h), AL state and code, DC time difference, mailbox
+    /// messages and Emergencies; the master's lost frames and working-counter errors. Two
+    /// readings `--interval-ms` apart: a port whose counters grew between them is marked.
+    Diag {
+        /// Time between the two readings, ms (0: one reading, nothing marked).
+        #[arg(long, value_name = "MS", default_value_t = 1000)]
+        interval_ms: u64,
+        /// Print the readings as JSON.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 /// `cellrt drive-sim mr-je-c`.

@@ -416,7 +416,10 @@ fn bench_soak_samples_memory_and_rotates() {
     let (stdout, v) = succeeded_with_json(&out, &json);
     let rss = v["rss"].as_array().unwrap();
     assert!(rss.len() >= 2, "{stdout}");
-    assert!(rss.iter().all(|s| s["rss_kib"].as_u64().unwrap() > 0), "{stdout}");
+    assert!(
+        rss.iter().all(|s| s["rss_kib"].as_u64().unwrap() > 0),
+        "{stdout}"
+    );
     assert!(v["files"].as_u64().unwrap() >= 3, "{stdout}");
     assert!(v["cycles"].as_u64().unwrap() > 0, "{stdout}");
     assert!(stdout.contains("RSS KiB"), "{stdout}");

@@ -155,6 +155,9 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let bus =
         crate::host::cell_bus::CellBus::open(cell).map_err(|e| RunError::Bus(e.to_string()))?;
     record_bring_up_warnings(cell, &bus, &handoff);
+    if let Some(d) = bus.diagnostics() {
+        handoff.set_bus_diagnostics(d);
+    }
     let (rt, mut report) = spawn_rt(cell, bus, rt_handoff, opts.hook)?;
 
     let targets = opts

@@ -120,6 +120,10 @@ pub trait CellLink {
         let _ = seq;
         None
     }
+    /// The EtherCAT segment's diagnostics (in-process, on an EtherCAT cell only).
+    fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
+        None
+    }
     /// The latest event lines (in-process only; empty from another process).
     fn recent_events(&mut self) -> Vec<String> {
         Vec::new()
@@ -198,6 +202,10 @@ impl CellLink for LocalLink {
 
     fn sdo_outcome(&mut self, seq: u16) -> Option<UserSdoOutcome> {
         self.handoff.sdo_outcome(seq)
+    }
+
+    fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
+        self.handoff.bus_diagnostics()
     }
 
     fn recent_events(&mut self) -> Vec<String> {

@@ -3,6 +3,7 @@
 //! and a status publisher (all three named and built in [`crate::services`]). Requests, replies
 //! and the status are JSON ([`wire`]).
 
+pub mod bus_diag;
 pub mod client;
 pub mod sdo;
 pub mod server;

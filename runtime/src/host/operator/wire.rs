@@ -163,6 +163,9 @@ pub enum Request {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         value: Option<i64>,
     },
+    /// The EtherCAT segment's diagnostics: per SubDevice its links, ESC error counters, AL
+    /// status and DC time difference; the master's frame counters.
+    BusDiag,
 }
 
 impl Request {
@@ -182,6 +185,7 @@ impl Request {
             Request::Override { .. } => "override",
             Request::Program { .. } => "program",
             Request::Sdo { .. } => "sdo",
+            Request::BusDiag => "bus_diag",
         }
     }
 }
@@ -204,6 +208,8 @@ pub enum Reply {
     Status(Box<StatusReport>),
     /// How an SDO request ended at the drive.
     Sdo(SdoReply),
+    /// The EtherCAT segment's diagnostics.
+    BusDiag(Box<super::bus_diag::BusDiagReply>),
 }
 
 /// The answer of a drive to an SDO request.

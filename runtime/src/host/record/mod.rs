@@ -5,4 +5,6 @@ pub mod proto;
 mod recorder;
 pub mod topics;
 
-pub use recorder::{part_path, Recorder, RecorderError, RecordingInfo};
+pub use recorder::{
+    part_path, Recorder, RecorderError, RecordingInfo, EVENT_LOG_LINES, MAX_CHUNKS_PER_FILE,
+};

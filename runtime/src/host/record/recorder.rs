@@ -26,6 +26,20 @@ use crate::handoff::{
 use crate::rt::clock::realtime_offset_ns;
 use crate::rt::executive::fsa_index;
 
+/// Chunks one file holds at most before the recording rotates to its next part: the MCAP
+/// writer keeps an index entry of every chunk (about 40 bytes per channel) in memory for the
+/// file's summary, so an endless file would grow the recorder without bound. At the default
+/// `flush_ms` of 200 a file spans about 13 minutes; with 16 axes its index holds about 3 MiB.
+pub const MAX_CHUNKS_PER_FILE: u64 = 4096;
+
+/// Event lines the run's summary keeps (the first ones, about 1 MiB): `events` counts every
+/// event and the recording holds them all.
+pub const EVENT_LOG_LINES: usize = 10_000;
+
+/// Bytes an MCAP Message record adds to its payload inside a chunk (opcode, length, channel,
+/// sequence, log and publish time).
+const MESSAGE_RECORD_OVERHEAD: u64 = 31;
+
 /// Recording failed.
 #[derive(Debug, thiserror::Error)]
 pub enum RecorderError {
@@ -65,7 +79,7 @@ pub struct RecordingInfo {
     pub axis_messages: u64,
     /// Events seen (recorded or not).
     pub events: u64,
-    /// The events, as text lines `cycle N: kind [axis]: detail`.
+    /// The first [`EVENT_LOG_LINES`] events, as text lines `cycle N: kind [axis]: detail`.
     pub event_log: Vec<String>,
 }
 
@@ -120,6 +134,12 @@ struct Sink {
     last_flush: Instant,
     /// Deadline of the first cycle in this file (for rotation by duration).
     first_deadline: Option<u64>,
+    /// Chunks closed in this file so far (by flush or by size), for [`MAX_CHUNKS_PER_FILE`].
+    chunks: u64,
+    /// Uncompressed bytes in the open chunk.
+    chunk_bytes: u64,
+    /// Target chunk size, bytes.
+    chunk_size: u64,
 }
 
 impl Sink {
@@ -127,10 +147,24 @@ impl Sink {
         self.len.load(Ordering::Relaxed)
     }
 
+    /// Counts a message of `payload` bytes into the open chunk; the writer closes the chunk
+    /// once it reaches the chunk size.
+    fn count_message(&mut self, payload: usize) {
+        self.chunk_bytes += payload as u64 + MESSAGE_RECORD_OVERHEAD;
+        if self.chunk_bytes >= self.chunk_size {
+            self.chunks += 1;
+            self.chunk_bytes = 0;
+        }
+    }
+
     /// Closes the open chunk and hands everything to the OS: after a crash (even SIGKILL) the
     /// file is readable up to here.
     fn flush(&mut self) -> Result<(), RecorderError> {
         self.last_flush = Instant::now();
+        if self.chunk_bytes > 0 {
+            self.chunks += 1;
+            self.chunk_bytes = 0;
+        }
         self.writer.flush().map_err(|source| RecorderError::Mcap {
             path: self.path.clone(),
             source,
@@ -244,6 +278,9 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
         len,
         last_flush: Instant::now(),
         first_deadline: None,
+        chunks: 0,
+        chunk_bytes: 0,
+        chunk_size: cell.recording.chunk_size,
     };
     // Header, schemas, channels, metadata and the configuration reach the disk at once.
     sink.flush()?;
@@ -357,13 +394,6 @@ struct Drain<'a> {
     last_cycle: u64,
 }
 
-/// Keeps the line of the event just logged among the handoff's recent events (operator status).
-fn remember_event(handoff: &HostEnd, log: &[String]) {
-    if let Some(line) = log.last() {
-        handoff.remember_event(line);
-    }
-}
-
 fn drain_loop(
     cell: &CellConfig,
     sink: Option<Sink>,
@@ -408,8 +438,7 @@ fn drain_loop(
                     d.pending_event = Some(e);
                     break;
                 }
-                d.event(&e, period)?;
-                remember_event(handoff, &d.info.event_log);
+                handoff.remember_event(&d.event(&e, period)?);
                 n += 1;
             }
             d.flush_if_due(flush_every)?;
@@ -421,8 +450,7 @@ fn drain_loop(
                 n += 1;
             }
             while let Some(e) = d.pending_event.take().or_else(|| handoff.pop_event()) {
-                d.event(&e, period)?;
-                remember_event(handoff, &d.info.event_log);
+                handoff.remember_event(&d.event(&e, period)?);
                 n += 1;
             }
         }
@@ -459,7 +487,8 @@ impl Drain<'_> {
         }
     }
 
-    /// Starts the next file before cycle `c` when the open one is over its size or duration.
+    /// Starts the next file before cycle `c` when the open one is over its size, its duration
+    /// or [`MAX_CHUNKS_PER_FILE`].
     fn rotate_if_due(&mut self, c: &CycleRecord) -> Result<(), RecorderError> {
         let rec = &self.cell.recording;
         let Some(sink) = self.sink.as_mut() else {
@@ -470,7 +499,8 @@ impl Drain<'_> {
         let by_time = rec
             .rotate_seconds
             .is_some_and(|s| c.deadline_ns.saturating_sub(first) as f64 >= s * 1e9);
-        if !(by_size || by_time) {
+        let by_chunks = sink.chunks >= MAX_CHUNKS_PER_FILE;
+        if !(by_size || by_time || by_chunks) {
             return Ok(());
         }
         let first_path = self.info.path.clone().unwrap_or_else(|| sink.path.clone());
@@ -495,6 +525,7 @@ impl Drain<'_> {
             return Ok(());
         };
         self.seq = self.seq.wrapping_add(1);
+        sink.count_message(self.buf.len());
         sink.writer
             .write_to_known_channel(
                 &MessageHeader {
@@ -581,7 +612,8 @@ impl Drain<'_> {
         Ok(())
     }
 
-    fn event(&mut self, e: &EventRecord, period: u64) -> Result<(), RecorderError> {
+    /// Logs and records event `e`; returns its line (for the operator's recent events).
+    fn event(&mut self, e: &EventRecord, period: u64) -> Result<String, RecorderError> {
         let axis = if e.axis == NO_AXIS {
             String::new()
         } else {
@@ -624,9 +656,11 @@ impl Drain<'_> {
             _ => tracing::debug!("{line}"),
         }
         self.info.events += 1;
-        self.info.event_log.push(line);
+        if self.info.event_log.len() < EVENT_LOG_LINES {
+            self.info.event_log.push(line.clone());
+        }
         let Some(channel) = self.sink.as_ref().map(|s| s.channels.events) else {
-            return Ok(());
+            return Ok(line);
         };
         let msg = proto::Event {
             cycle: e.cycle,
@@ -638,7 +672,8 @@ impl Drain<'_> {
         self.buf.clear();
         msg.encode(&mut self.buf).expect("Vec grows");
         let t = self.time_of(e.cycle, period);
-        self.write(channel, t)
+        self.write(channel, t)?;
+        Ok(line)
     }
 }
 

@@ -247,7 +247,7 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(create_err)?;
     }
-    let file = File::create(path).map_err(create_err)?;
+    let file = crate::output_file::create(path).map_err(create_err)?;
     let mcap_err = |source| RecorderError::Mcap {
         path: path.to_path_buf(),
         source,

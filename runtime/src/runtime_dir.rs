@@ -1,19 +1,19 @@
-//! The directory of cellrt's runtime files (cell locks, operator sockets, the iceoryx2 root)
-//! for the current user: owned by the user, never a shared world-writable place where another
-//! user could pre-create, replace or link the files. Root uses `/run/cellrt`; other users
-//! `/run/user/UID/cellrt` where their systemd runtime directory exists, else `/tmp/cellrt-uUID`.
-//! The directory is mode 0711: only its user may list, create or remove entries; others may
-//! pass through to a cell's operator socket by name, which its own mode guards (see
-//! `host::operator::socket`). It is refused unless it is a real directory owned by the user
-//! that no one else may write.
+//! The directories of cellrt's runtime files for the current user: owned by the user, never a
+//! shared world-writable place where another user could pre-create, replace or link the files.
+//! The runtime directory (cell locks, the iceoryx2 root) is private, mode 0700: root uses
+//! `/run/cellrt`; other users `/run/user/UID/cellrt` where their systemd runtime directory
+//! exists, else `/tmp/cellrt-uUID`. Beside it, `…-operator` (mode 0711) holds the cells'
+//! operator sockets: only its user may list, create or remove entries; others may pass through
+//! to a socket by name, which the socket's own mode guards (see `host::operator::socket`).
+//! Each is refused unless it is a real directory owned by the user that no one else may write.
 
 use std::os::unix::fs::{DirBuilderExt, MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 
-/// Mode of the runtime directory: its user's; others may only pass through by name.
-pub const DIR_MODE: u32 = 0o711;
+/// Mode of the operator directory: its user's; others may only pass through by name.
+pub const OPERATOR_DIR_MODE: u32 = 0o711;
 
-/// Mode of directories nobody else may enter (the iceoryx2 root).
+/// Mode of the runtime directory and the iceoryx2 root: nobody else may enter.
 pub const PRIVATE_DIR_MODE: u32 = 0o700;
 
 /// Why the runtime directory cannot be used.
@@ -54,6 +54,16 @@ pub fn path_of(uid: u32) -> PathBuf {
     }
 }
 
+/// The directory of the operator sockets of `uid`'s cells: beside its runtime directory.
+pub fn operator_path_of(uid: u32) -> PathBuf {
+    let dir = path_of(uid);
+    let name = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    dir.with_file_name(format!("{name}-operator"))
+}
+
 /// The root of the current user's iceoryx2 files: inside the runtime directory, private.
 pub fn iceoryx2_root() -> PathBuf {
     path().join("iceoryx2")
@@ -62,8 +72,15 @@ pub fn iceoryx2_root() -> PathBuf {
 /// The runtime directory and the iceoryx2 root in it, created if absent and checked.
 pub fn ensure() -> Result<PathBuf, RuntimeDirError> {
     let dir = path();
-    create_owned(&dir, DIR_MODE)?;
+    create_owned(&dir, PRIVATE_DIR_MODE)?;
     create_owned(&iceoryx2_root(), PRIVATE_DIR_MODE)?;
+    Ok(dir)
+}
+
+/// The current user's operator directory, created if absent and checked.
+pub fn ensure_operator() -> Result<PathBuf, RuntimeDirError> {
+    let dir = operator_path_of(nix::unistd::getuid().as_raw());
+    create_owned(&dir, OPERATOR_DIR_MODE)?;
     Ok(dir)
 }
 
@@ -119,7 +136,7 @@ mod tests {
     fn a_directory_is_created_owned_and_a_shared_one_is_refused() {
         let base = tempfile::tempdir().unwrap();
         let dir = base.path().join("rt");
-        create_owned(&dir, DIR_MODE).unwrap();
+        create_owned(&dir, OPERATOR_DIR_MODE).unwrap();
         let mode = std::fs::metadata(&dir).unwrap().permissions().mode() & 0o777;
         assert_eq!(mode, 0o711);
         // Readable by others (an older cellrt, a user's chmod): narrowed, not refused.
@@ -129,20 +146,31 @@ mod tests {
         assert_eq!(mode, 0o700);
         // Writable by the group: refused, with the mode named.
         std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o770)).unwrap();
-        let e = create_owned(&dir, DIR_MODE).unwrap_err();
+        let e = create_owned(&dir, PRIVATE_DIR_MODE).unwrap_err();
         assert!(e.to_string().contains("770"), "{e}");
         // A symbolic link planted where the directory belongs: refused.
         let link = base.path().join("link");
         std::os::unix::fs::symlink(&dir, &link).unwrap();
-        let e = create_owned(&link, DIR_MODE).unwrap_err();
+        let e = create_owned(&link, PRIVATE_DIR_MODE).unwrap_err();
         assert!(e.to_string().contains("symbolic link"), "{e}");
         // A file: refused.
         let file = base.path().join("file");
         std::fs::write(&file, b"x").unwrap();
-        assert!(create_owned(&file, DIR_MODE)
+        assert!(create_owned(&file, PRIVATE_DIR_MODE)
             .unwrap_err()
             .to_string()
             .contains("not a directory"));
+    }
+
+    #[test]
+    fn the_operator_directory_lies_beside_the_runtime_directory() {
+        assert_eq!(operator_path_of(0), Path::new("/run/cellrt-operator"));
+        let uid = nix::unistd::getuid().as_raw();
+        assert_eq!(
+            operator_path_of(uid).parent(),
+            path_of(uid).parent(),
+            "same parent"
+        );
     }
 
     #[test]
@@ -155,7 +183,7 @@ mod tests {
         let dir = base.path().join("theirs");
         std::fs::DirBuilder::new().mode(0o700).create(&dir).unwrap();
         nix::unistd::chown(&dir, Some(nix::unistd::Uid::from_raw(65534)), None).unwrap();
-        let e = create_owned(&dir, DIR_MODE).unwrap_err();
+        let e = create_owned(&dir, PRIVATE_DIR_MODE).unwrap_err();
         assert!(e.to_string().contains("uid 65534"), "{e}");
     }
 }

@@ -87,8 +87,14 @@ fn config(dir: &Path, extra: &str) -> PathBuf {
     cfg
 }
 
-fn runtime_file(cell: &str, ext: &str) -> PathBuf {
-    PathBuf::from(format!("/run/cellrt/{cell}.{ext}"))
+/// root's lock file of `cell`.
+fn lock_file(cell: &str) -> PathBuf {
+    PathBuf::from(format!("/run/cellrt/{cell}.lock"))
+}
+
+/// root's operator socket of `cell`.
+fn socket_file(cell: &str) -> PathBuf {
+    PathBuf::from(format!("/run/cellrt-operator/{cell}.sock"))
 }
 
 #[test]
@@ -107,28 +113,17 @@ fn another_user_is_told_it_is_not_permitted_and_changes_nothing() {
     ] {
         refused_as_not_permitted(&cell.name, args);
     }
-    // Without --cell it sees no cell of its own.
-    let o = as_other("")
-        .args([env!("CARGO_BIN_EXE_cellrt"), "status"])
-        .output()
-        .unwrap();
-    assert_eq!(o.status.code(), Some(4));
-    assert!(
-        stderr(&o).contains("no cell of this user is running"),
-        "{}",
-        stderr(&o)
-    );
     // Nothing changed: the cell is still unpowered and answers its user.
     assert!(!cell.axis_status("x").powered);
     cell.ok(&["power", "on"]);
     cell.wait_state("idle");
     cell.end();
     assert!(
-        !runtime_file(&cell_name_of(&dir), "lock").exists(),
+        !lock_file(&cell_name_of(&dir)).exists(),
         "lock removed at the end"
     );
     assert!(
-        !runtime_file(&cell_name_of(&dir), "sock").exists(),
+        !socket_file(&cell_name_of(&dir)).exists(),
         "socket removed at the end"
     );
 }
@@ -151,14 +146,20 @@ fn another_user_can_neither_block_the_cell_nor_reach_its_files() {
     let dir = tempfile::tempdir().unwrap();
     let cell = Cell::start(&config(dir.path(), ""), &dir.path().join("run.mcap"));
     let name = &cell.name;
-    // The runtime directory: no listing, no new files, no links, no lock, no iceoryx2 files.
+    // The runtime and operator directories: no listing, no new files, no links, no lock, no
+    // iceoryx2 files, no removing the socket.
     for script in [
         "ls /run/cellrt".to_string(),
         "touch /run/cellrt/planted".to_string(),
+        "ls /run/cellrt-operator".to_string(),
+        "touch /run/cellrt-operator/planted".to_string(),
+        format!("ln -s /etc/hostname /run/cellrt-operator/{name}-2.sock"),
         format!("ln -s /etc/hostname /run/cellrt/{name}-2.lock"),
         format!("cat /run/cellrt/{name}.lock"),
         "ls /run/cellrt/iceoryx2".to_string(),
-        format!("rm -f /run/cellrt/{name}.sock && test ! -e /run/cellrt/{name}.sock"),
+        format!(
+            "rm -f /run/cellrt-operator/{name}.sock && test ! -e /run/cellrt-operator/{name}.sock"
+        ),
     ] {
         assert!(!sh_as_other(&script), "{OTHER} could: {script}");
     }
@@ -226,14 +227,14 @@ fn planted_objects_and_files_do_not_keep_roots_cell_from_starting_or_cut_it_off(
     assert!(!sh_as_other(&format!("touch /run/cellrt/{name}.lock")));
     // A lock a killed controller of root left behind.
     std::fs::create_dir_all("/run/cellrt").unwrap();
-    std::fs::write(runtime_file(&name, "lock"), "999999999").unwrap();
+    std::fs::write(lock_file(&name), "999999999").unwrap();
 
     let cell = Cell::start(&cfg, &dir.path().join("run.mcap"));
     assert!(!planted.exists(), "the planted object is removed");
     cell.ok(&["power", "on"]);
     cell.wait_state("idle");
     cell.end();
-    assert!(!runtime_file(&name, "lock").exists());
+    assert!(!lock_file(&name).exists());
     let _ = std::fs::remove_file(format!("/tmp/cellrt-u0-{name}.lock"));
 }
 

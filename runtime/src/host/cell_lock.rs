@@ -122,6 +122,7 @@ fn pid_alive(pid: &str) -> bool {
 /// Removes the lock files in `dir` that no process holds (their controllers were killed), and
 /// the operator sockets of their cells.
 fn sweep_stale(dir: &Path) {
+    let sockets = runtime_dir::operator_path_of(nix::unistd::getuid().as_raw());
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
@@ -136,8 +137,9 @@ fn sweep_stale(dir: &Path) {
         };
         if let Ok(lock) = Flock::lock(file, FlockArg::LockExclusiveNonblock) {
             if still_at(&lock, &path) {
-                let _ =
-                    std::fs::remove_file(crate::host::operator::socket::socket_path_in(dir, cell));
+                let _ = std::fs::remove_file(crate::host::operator::socket::socket_path_in(
+                    &sockets, cell,
+                ));
                 let _ = std::fs::remove_file(&path);
             }
         }
@@ -237,7 +239,8 @@ mod tests {
     fn a_lock_left_by_a_killed_controller_is_taken_over_and_others_are_swept() {
         let name = format!("staletest-{}", std::process::id());
         let other = format!("staletest-other-{}", std::process::id());
-        let dir = runtime_dir::ensure().unwrap();
+        runtime_dir::ensure().unwrap();
+        let dir = runtime_dir::ensure_operator().unwrap();
         // Files of killed controllers: nobody holds their flock; their pids are long gone.
         std::fs::write(lock_path(&name), b"999999999").unwrap();
         std::fs::write(lock_path(&other), b"999999998").unwrap();

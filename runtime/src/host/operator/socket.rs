@@ -1,5 +1,6 @@
 //! The operator socket: how users other than the cell's own reach its operator service. A
-//! Unix socket `NAME.sock` in the runtime directory of the cell's user, mode 0600 (only that
+//! Unix socket `NAME.sock` in the operator directory of the cell's user
+//! ([`crate::runtime_dir::operator_path_of`]), mode 0600 (only that
 //! user and root may connect), or 0660 and owned by the `[operator] group` (its members may
 //! too): the kernel checks the connecting user against the socket's mode. The controller relays
 //! each request to the operator service over iceoryx2 as its own user and writes the reply
@@ -38,7 +39,7 @@ const TAG_REPLY: u8 = b'R';
 /// Tag of an answer carrying an error line.
 const TAG_ERROR: u8 = b'E';
 
-/// Path of the operator socket of `cell` in the runtime directory `dir`.
+/// Path of the operator socket of `cell` in the operator directory `dir`.
 pub fn socket_path_in(dir: &Path, cell: &str) -> PathBuf {
     dir.join(format!("{cell}{SOCKET_SUFFIX}"))
 }
@@ -54,11 +55,11 @@ pub struct OperatorSocket {
 }
 
 impl OperatorSocket {
-    /// Creates the socket of `cell` in the user's runtime directory (replacing one left by a
+    /// Creates the socket of `cell` in the user's operator directory (replacing one left by a
     /// killed controller; the caller holds the cell lock) with the mode `operator` asks for,
     /// and starts serving it.
     pub fn serve(cell: &str, operator: &OperatorConfig) -> Result<OperatorSocket, String> {
-        let dir = crate::runtime_dir::ensure().map_err(|e| e.to_string())?;
+        let dir = crate::runtime_dir::ensure_operator().map_err(|e| e.to_string())?;
         let path = socket_path_in(&dir, cell);
         let listener = bind_with_mode(&dir, &path, operator)?;
         listener
@@ -287,11 +288,11 @@ pub fn find_foreign(cell: &str) -> Option<Found> {
     None
 }
 
-/// The runtime directories other users' cells may use, with their users.
+/// The operator directories other users' cells may use, with their users.
 fn other_users_dirs(me: u32) -> Vec<(u32, PathBuf)> {
     let mut dirs = Vec::new();
     if me != 0 {
-        dirs.push((0, crate::runtime_dir::path_of(0)));
+        dirs.push((0, crate::runtime_dir::operator_path_of(0)));
     }
     let uids_in = |dir: &Path, strip: &dyn Fn(&str) -> Option<u32>| -> Vec<u32> {
         std::fs::read_dir(dir)
@@ -305,12 +306,15 @@ fn other_users_dirs(me: u32) -> Vec<(u32, PathBuf)> {
     };
     let mut uids = uids_in(Path::new("/run/user"), &|n| n.parse().ok());
     uids.extend(uids_in(&std::env::temp_dir(), &|n| {
-        n.strip_prefix("cellrt-u")?.parse().ok()
+        n.strip_prefix("cellrt-u")?
+            .strip_suffix("-operator")?
+            .parse()
+            .ok()
     }));
     uids.sort_unstable();
     uids.dedup();
     for uid in uids.into_iter().filter(|u| *u != me && *u != 0) {
-        dirs.push((uid, crate::runtime_dir::path_of(uid)));
+        dirs.push((uid, crate::runtime_dir::operator_path_of(uid)));
     }
     dirs
 }

@@ -10,27 +10,24 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use cellrt_axes::cia402::fsa::FsaState;
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, WriteOptions, Writer};
 use prost::Message;
 use serde::Serialize;
 
+pub use super::describe::describe_event;
 use super::proto;
 use super::topics::*;
 use crate::config::{CellConfig, Compression};
-use crate::handoff::{
-    AxisRecord, CellCommand, CellState, CycleRecord, EventKind, EventRecord, HostEnd, RejectReason,
-    StopReason, NO_AXIS,
-};
+use crate::handoff::{AxisRecord, CycleRecord, EventKind, EventRecord, HostEnd, NO_AXIS};
 use crate::rt::clock::realtime_offset_ns;
 use crate::rt::executive::fsa_index;
 
 /// Chunks one file holds at most before the recording rotates to its next part: the MCAP
-/// writer keeps an index entry of every chunk (about 40 bytes per channel) in memory for the
+/// writer keeps an index entry of every chunk (about 50 bytes per channel) in memory for the
 /// file's summary, so an endless file would grow the recorder without bound. At the default
-/// `flush_ms` of 200 a file spans about 13 minutes; with 16 axes its index holds about 3 MiB.
-pub const MAX_CHUNKS_PER_FILE: u64 = 4096;
+/// `flush_ms` of 200 a file spans about 7 minutes; with 16 axes its index holds about 2 MiB.
+pub const MAX_CHUNKS_PER_FILE: u64 = 2048;
 
 /// Event lines the run's summary keeps (the first ones, about 1 MiB): `events` counts every
 /// event and the recording holds them all.
@@ -81,6 +78,9 @@ pub struct RecordingInfo {
     pub events: u64,
     /// The first [`EVENT_LOG_LINES`] events, as text lines `cycle N: kind [axis]: detail`.
     pub event_log: Vec<String>,
+    /// Why and where the recording stopped before the run ended (a full disk, an I/O error):
+    /// the cell went on without it; the file holds the records up to its last closed chunk.
+    pub stopped: Option<String>,
 }
 
 /// Handle of the running recorder thread.
@@ -481,10 +481,14 @@ impl Drain<'_> {
     }
 
     fn flush_if_due(&mut self, every: Duration) -> Result<(), RecorderError> {
-        match self.sink.as_mut() {
+        let flushed = match self.sink.as_mut() {
             Some(sink) if sink.last_flush.elapsed() >= every => sink.flush(),
             _ => Ok(()),
+        };
+        if let Err(e) = flushed {
+            self.stop_recording(e);
         }
+        Ok(())
     }
 
     /// Starts the next file before cycle `c` when the open one is over its size, its duration
@@ -505,11 +509,17 @@ impl Drain<'_> {
         }
         let first_path = self.info.path.clone().unwrap_or_else(|| sink.path.clone());
         let old = self.sink.take().expect("checked above");
-        self.close(old)?;
         self.part += 1;
-        let mut next = open(self.cell, &part_path(&first_path, self.part))?;
-        next.first_deadline = Some(c.deadline_ns);
-        self.sink = Some(next);
+        let next = self
+            .close(old)
+            .and_then(|()| open(self.cell, &part_path(&first_path, self.part)));
+        match next {
+            Ok(mut next) => {
+                next.first_deadline = Some(c.deadline_ns);
+                self.sink = Some(next);
+            }
+            Err(e) => self.stop_recording(e),
+        }
         Ok(())
     }
 
@@ -526,7 +536,8 @@ impl Drain<'_> {
         };
         self.seq = self.seq.wrapping_add(1);
         sink.count_message(self.buf.len());
-        sink.writer
+        let written = sink
+            .writer
             .write_to_known_channel(
                 &MessageHeader {
                     channel_id: channel,
@@ -539,7 +550,37 @@ impl Drain<'_> {
             .map_err(|source| RecorderError::Mcap {
                 path: sink.path.clone(),
                 source,
-            })
+            });
+        if let Err(e) = written {
+            self.stop_recording(e);
+        }
+        Ok(())
+    }
+
+    /// Stops recording after `e` (a full disk, an I/O error): the file is finished if it still
+    /// can be, the loss goes into the summary, and the cell goes on without a recording.
+    fn stop_recording(&mut self, e: RecorderError) {
+        let mut why = e.to_string();
+        let mut source = std::error::Error::source(&e);
+        while let Some(s) = source {
+            let text = s.to_string();
+            if !why.contains(&text) {
+                why = format!("{why}: {text}");
+            }
+            source = s.source();
+        }
+        let at = format!("at cycle {}: {why}", self.last_cycle);
+        tracing::error!("recording stopped {at}; the cell goes on without it");
+        self.info.stopped = Some(at);
+        let Some(sink) = self.sink.take() else {
+            return;
+        };
+        let path = sink.path.clone();
+        if self.close(sink).is_err() {
+            self.info.bytes += std::fs::metadata(&path).map_or(0, |m| m.len());
+            self.info.path.get_or_insert_with(|| path.clone());
+            self.info.files.push(path);
+        }
     }
 
     fn cycle(&mut self, c: &CycleRecord, period: u64) -> Result<(), RecorderError> {
@@ -674,93 +715,5 @@ impl Drain<'_> {
         let t = self.time_of(e.cycle, period);
         self.write(channel, t)?;
         Ok(line)
-    }
-}
-
-/// Human-readable detail of an event's value.
-pub fn describe_event(e: &EventRecord) -> String {
-    match e.kind {
-        EventKind::CellState => CellState::from_u8(e.value as u8)
-            .map(|s| s.as_str().to_string())
-            .unwrap_or_default(),
-        EventKind::FsaState => u8::try_from(e.value)
-            .ok()
-            .and_then(FsaState::from_repr)
-            .map_or("unknown", FsaState::as_str)
-            .to_string(),
-        EventKind::Command | EventKind::CommandRefused => CellCommand::from_code(e.value)
-            .map(|c| c.as_str().to_string())
-            .unwrap_or_default(),
-        EventKind::MotionStarted | EventKind::MotionFinished | EventKind::Underrun => {
-            format!("motion {}", e.value)
-        }
-        EventKind::SetpointRejected => RejectReason::from_u8(e.value as u8)
-            .map(|r| r.as_str().to_string())
-            .unwrap_or_default(),
-        EventKind::StopStarted => {
-            let reason = StopReason::from_u8((e.value / 16) as u8)
-                .map(|r| r.as_str())
-                .unwrap_or("unknown");
-            let reaction = ["controlled_stop", "quick_stop", "disable"]
-                .get((e.value % 16) as usize)
-                .copied()
-                .unwrap_or("unknown");
-            format!("{reason} ({reaction})")
-        }
-        EventKind::Overrun => format!("woke {} µs past the next deadline", e.value / 1000),
-        EventKind::DriveFault if e.value < 0 => {
-            "fault (603Fh error code neither mapped nor readable)".to_string()
-        }
-        EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
-        EventKind::RecordsDropped => format!("{} records dropped", e.value),
-        EventKind::StartSlipped => format!("the motion started {} cycles late", e.value),
-        EventKind::HomingStarted => match e.value {
-            crate::handoff::HOME_BY_C_CR => "home setting by C_CR (current position)".to_string(),
-            crate::handoff::HOME_BY_C_CR2 => "home setting by C_CR2 (last Z phase)".to_string(),
-            m => format!("method {m} (6098h)"),
-        },
-        EventKind::HomingFinished => match u8::try_from(e.value)
-            .ok()
-            .and_then(cellrt_axes::cia402::homing::HomingFailure::from_u8)
-        {
-            None => "homing attained".to_string(),
-            Some(f) => f.as_str().to_string(),
-        },
-        EventKind::CommunicationError => crate::config::CommWatchdog::from_code(e.value)
-            .map_or(
-                "unknown communication watchdog",
-                crate::config::CommWatchdog::describe,
-            )
-            .to_string(),
-        EventKind::AlStatus => {
-            cellrt_axes::ethercat::register::AlStatus::decode(e.value).describe()
-        }
-        EventKind::Emergency => {
-            let m = crate::handoff::decode_emergency(e.value);
-            let d = m.data;
-            format!(
-                "error code 0x{:04X}, error register 0x{:02X}, data {:02X} {:02X} {:02X} {:02X} {:02X}",
-                m.error_code, m.error_register, d[0], d[1], d[2], d[3], d[4]
-            )
-        }
-        EventKind::MailboxDiscarded => format!(
-            "mailbox type {}, CoE service {} (discarded)",
-            e.value & 0xFF,
-            e.value >> 8
-        ),
-        EventKind::BringUpWarning => format!(
-            "optional {} at bring-up; continued (SYNC0 sets the cycle)",
-            crate::handoff::decode_refused_sdo(e.value)
-        ),
-        EventKind::FaultInjected | EventKind::FaultLeftToSegment => {
-            crate::config::FaultKind::from_code(e.value)
-                .map_or("unknown", crate::config::FaultKind::name)
-                .to_string()
-        }
-        EventKind::StopFinished
-        | EventKind::MasterTimeout
-        | EventKind::BusError
-        | EventKind::PlannerConnected
-        | EventKind::PlannerLost => String::new(),
     }
 }

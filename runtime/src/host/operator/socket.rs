@@ -102,7 +102,13 @@ fn bind_with_mode(
     path: &Path,
     operator: &OperatorConfig,
 ) -> Result<UnixListener, String> {
-    let staging = dir.join(format!(".staging-{}", std::process::id()));
+    // One per call: cells of one process (tests) may start at once.
+    static STAGED: AtomicUsize = AtomicUsize::new(0);
+    let staging = dir.join(format!(
+        ".staging-{}-{}",
+        std::process::id(),
+        STAGED.fetch_add(1, Ordering::Relaxed)
+    ));
     let _ = std::fs::remove_dir_all(&staging);
     std::fs::DirBuilder::new()
         .mode(0o700)
@@ -344,4 +350,52 @@ fn not_permitted(cell: &str, owner: u32, socket: &std::fs::Metadata) -> String {
         user(owner),
         user(nix::unistd::getuid().as_raw())
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::OperatorGroup;
+
+    fn socket_of(cell: &str) -> PathBuf {
+        let uid = nix::unistd::getuid().as_raw();
+        socket_path_in(&crate::runtime_dir::operator_path_of(uid), cell)
+    }
+
+    #[test]
+    fn the_socket_has_its_mode_refuses_big_requests_and_goes_with_the_controller() {
+        let cell = format!("socktest-{}", std::process::id());
+        let served = OperatorSocket::serve(&cell, &OperatorConfig::default()).unwrap();
+        let path = socket_of(&cell);
+        let m = std::fs::symlink_metadata(&path).unwrap();
+        assert!(m.file_type().is_socket());
+        assert_eq!(m.permissions().mode() & 0o777, 0o600);
+        // Refused before it reaches the cell, with the bound named.
+        let big = vec![b' '; MAX_OPERATOR_REQUEST_BYTES + 1];
+        let e = exchange(&path, &big, Duration::from_secs(5)).unwrap_err();
+        assert!(e.to_string().contains("more than 65536 bytes"), "{e}");
+        drop(served);
+        assert!(!path.exists(), "the socket goes with its controller");
+    }
+
+    #[test]
+    fn with_an_operator_group_the_socket_is_the_groups() {
+        if !nix::unistd::getuid().is_root() {
+            eprintln!(
+                "SKIPPED with_an_operator_group_the_socket_is_the_groups: needs root to chown"
+            );
+            return;
+        }
+        let cell = format!("socktest-group-{}", std::process::id());
+        let group = OperatorConfig {
+            group: Some(OperatorGroup {
+                name: "daemon".into(),
+                gid: 1,
+            }),
+        };
+        let served = OperatorSocket::serve(&cell, &group).unwrap();
+        let m = std::fs::symlink_metadata(socket_of(&cell)).unwrap();
+        assert_eq!((m.permissions().mode() & 0o777, m.gid()), (0o660, 1));
+        drop(served);
+    }
 }

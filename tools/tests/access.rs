@@ -13,6 +13,8 @@ use common::demo_cell;
 
 /// The user the tests act as.
 const OTHER: &str = "nobody";
+/// Its primary group.
+const OTHER_GROUP: &str = "nogroup";
 
 /// Whether the tests can switch users; prints why not.
 fn can_switch_users(test: &str) -> bool {
@@ -24,13 +26,19 @@ fn can_switch_users(test: &str) -> bool {
         eprintln!("SKIPPED {test}: setpriv (util-linux) is not installed");
         return false;
     }
+    let user = nix::unistd::User::from_name(OTHER).ok().flatten();
+    let group = nix::unistd::Group::from_name(OTHER_GROUP).ok().flatten();
+    if user.is_none() || group.is_none() {
+        eprintln!("SKIPPED {test}: no user '{OTHER}' or group '{OTHER_GROUP}' on this machine");
+        return false;
+    }
     true
 }
 
 /// `setpriv` as `nobody`, with `groups` as its supplementary groups (none when empty).
 fn as_other(groups: &str) -> Command {
     let mut c = Command::new("setpriv");
-    c.args(["--reuid", OTHER, "--regid", "nogroup"]);
+    c.args(["--reuid", OTHER, "--regid", OTHER_GROUP]);
     if groups.is_empty() {
         c.arg("--clear-groups");
     } else {

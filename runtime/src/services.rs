@@ -188,7 +188,7 @@ pub fn operator_status_service_name(cell: &str) -> String {
 /// (root and an operator) never collide on files the other may not open.
 pub fn config() -> Config {
     let mut config = Config::default();
-    let root = format!("{}/iceoryx2/", crate::runtime_dir::path().display());
+    let root = format!("{}/", crate::runtime_dir::iceoryx2_root().display());
     if let Ok(p) = Path::new(root.as_bytes()) {
         config.global.set_root_path(&p);
     }
@@ -214,7 +214,7 @@ pub fn node(cell: &str, role: &str) -> Result<Node<ipc::Service>, ServiceError> 
         cell: cell.to_string(),
         detail: e,
     };
-    crate::shm_guard::refuse_foreign(shm, &prefix, uid).map_err(guard)?;
+    crate::shm_guard::clear_foreign(shm, &prefix, uid).map_err(guard)?;
     let node = NodeBuilder::new()
         .name(&node_name)
         .config(&config())

@@ -1,6 +1,7 @@
 //! The cell configuration: a TOML file parsed into raw serde structs ([`raw`]) and validated into
 //! the typed [`CellConfig`] before anything starts. Every error names the file and the key.
 
+pub mod capture;
 mod comm_watchdog;
 mod error;
 mod fault;
@@ -125,6 +126,8 @@ pub struct RecordingConfig {
     pub rotate_bytes: Option<u64>,
     /// Start a new file once the current one spans this many seconds (`None`: never).
     pub rotate_seconds: Option<f64>,
+    /// Triggered capture instead of a continuous recording (`None`: continuous).
+    pub capture: Option<capture::CaptureConfig>,
 }
 
 /// Setpoint transport settings.

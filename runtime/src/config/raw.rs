@@ -149,6 +149,26 @@ pub struct RawRecording {
     /// Rotate to a new file after this many seconds.
     #[serde(default)]
     pub rotate_seconds: Option<f64>,
+    /// "continuous" or "triggered".
+    #[serde(default = "default_recording_mode")]
+    pub mode: String,
+    /// Triggered: seconds kept before a trigger.
+    #[serde(default = "default_capture_s")]
+    pub pre_s: f64,
+    /// Triggered: seconds written after it.
+    #[serde(default = "default_capture_s")]
+    pub post_s: f64,
+    /// Triggered: event kinds and thresholds.
+    #[serde(default)]
+    pub triggers: Vec<String>,
+}
+
+fn default_recording_mode() -> String {
+    "continuous".into()
+}
+
+fn default_capture_s() -> f64 {
+    5.0
 }
 
 impl Default for RawRecording {
@@ -162,6 +182,10 @@ impl Default for RawRecording {
             flush_ms: default_flush_ms(),
             rotate_mib: None,
             rotate_seconds: None,
+            mode: default_recording_mode(),
+            pre_s: default_capture_s(),
+            post_s: default_capture_s(),
+            triggers: Vec::new(),
         }
     }
 }

@@ -125,6 +125,11 @@ pub trait CellLink {
     fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
         None
     }
+    /// Asks the recorder to write its capture ring now; false where it keeps none (or from
+    /// another process).
+    fn request_capture(&mut self) -> bool {
+        false
+    }
     /// The latest event lines (in-process only; empty from another process).
     fn recent_events(&mut self) -> Vec<String> {
         Vec::new()
@@ -207,6 +212,10 @@ impl CellLink for LocalLink {
 
     fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
         self.handoff.bus_diagnostics()
+    }
+
+    fn request_capture(&mut self) -> bool {
+        self.handoff.request_capture()
     }
 
     fn recent_events(&mut self) -> Vec<String> {

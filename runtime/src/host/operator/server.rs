@@ -349,6 +349,16 @@ impl OperatorServer {
             Request::Reset => self.reset(ctx, &state),
             Request::Override { percent } => self.set_override(ctx, percent),
             Request::Program { path } => self.program(ctx, &path),
+            Request::Capture => {
+                if ctx.link.request_capture() {
+                    (self.accept("capture", false), Followup::None)
+                } else {
+                    rejected(
+                        "capture: this cell keeps no capture ring (it needs recording.mode = \"triggered\" and a recording)"
+                            .into(),
+                    )
+                }
+            }
             // Answered later, when the drive has: `poll` takes it before `handle`.
             Request::Sdo { .. } | Request::BusDiag => {
                 rejected(format!("{name}: not an immediate request"))

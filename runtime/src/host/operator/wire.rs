@@ -166,6 +166,9 @@ pub enum Request {
     /// The EtherCAT segment's diagnostics: per SubDevice its links, ESC error counters, AL
     /// status and DC time difference; the master's frame counters.
     BusDiag,
+    /// Write the triggered recording's capture ring now (one file: the last `pre_s` seconds
+    /// and the next `post_s`).
+    Capture,
 }
 
 impl Request {
@@ -186,6 +189,7 @@ impl Request {
             Request::Program { .. } => "program",
             Request::Sdo { .. } => "sdo",
             Request::BusDiag => "bus_diag",
+            Request::Capture => "capture",
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Recording to MCAP: the protobuf schema, topic names, and the non-RT recorder thread that
 //! drains the RT thread's hand-off queues.
 
+pub mod capture;
 mod describe;
 pub mod proto;
 mod recorder;

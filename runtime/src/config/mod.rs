@@ -52,6 +52,8 @@ pub struct CellConfig {
     pub watchdogs: WatchdogConfig,
     /// Who besides the cell's user may command it.
     pub operator: OperatorConfig,
+    /// Where the live view (Foxglove WebSocket protocol) listens; none: no live view.
+    pub live: Option<std::net::SocketAddr>,
     /// Scheduled fault injection, sorted by cycle (tests, commissioning drills).
     pub inject: Vec<Injection>,
     /// The axes, in configuration order (the index is the axis id everywhere).
@@ -455,3 +457,10 @@ impl CellConfig {
 mod esi_tests;
 #[cfg(test)]
 mod tests;
+
+/// `ADDR` of `[live] listen` or `cellrt run --live`: an IP address and port (port 0: any free
+/// one). Loopback unless the address says otherwise.
+pub fn parse_live_addr(text: &str) -> Result<std::net::SocketAddr, String> {
+    text.parse()
+        .map_err(|_| format!("'{text}' is not an address and port like 127.0.0.1:8765"))
+}

@@ -25,6 +25,9 @@ pub struct RawCellConfig {
     /// `[operator]`: who besides the cell's user may command it.
     #[serde(default)]
     pub operator: RawOperator,
+    /// `[live]`: the live view.
+    #[serde(default)]
+    pub live: RawLive,
     /// `[[inject]]`: scheduled fault injection.
     #[serde(default)]
     pub inject: Vec<RawInjection>,
@@ -492,4 +495,13 @@ fn default_position_bw() -> f64 {
 }
 fn default_velocity_bw() -> f64 {
     200.0
+}
+
+/// `[live]`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawLive {
+    /// Where the Foxglove WebSocket server listens (none: no live view).
+    #[serde(default)]
+    pub listen: Option<String>,
 }

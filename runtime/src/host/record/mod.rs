@@ -8,5 +8,6 @@ mod recorder;
 pub mod topics;
 
 pub use recorder::{
-    part_path, Recorder, RecorderError, RecordingInfo, EVENT_LOG_LINES, MAX_CHUNKS_PER_FILE,
+    channel_ids, channel_specs, part_path, ChannelSpec, Recorder, RecorderError, RecordingInfo,
+    EVENT_LOG_LINES, MAX_CHUNKS_PER_FILE,
 };

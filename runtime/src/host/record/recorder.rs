@@ -22,6 +22,7 @@ use super::topics::*;
 use crate::config::capture::Quantity;
 use crate::config::{CellConfig, Compression};
 use crate::handoff::{AxisRecord, CycleRecord, EventKind, EventRecord, HostEnd, NO_AXIS};
+use crate::host::live::LiveFeed;
 use crate::rt::clock::realtime_offset_ns;
 use crate::rt::executive::fsa_index;
 
@@ -217,6 +218,26 @@ impl Recorder {
         path: Option<&Path>,
         handoff: Arc<HostEnd>,
     ) -> Result<Recorder, RecorderError> {
+        Recorder::start_with_live(cell, path, handoff, None)
+    }
+
+    /// [`Recorder::start`], also offering every encoded record to the live view `live`.
+    pub fn start_with_live(
+        cell: &CellConfig,
+        path: Option<&Path>,
+        handoff: Arc<HostEnd>,
+        live: Option<LiveFeed>,
+    ) -> Result<Recorder, RecorderError> {
+        let live = match live {
+            Some(feed) => {
+                let channels = template_channels(cell).map_err(|source| RecorderError::Mcap {
+                    path: PathBuf::new(),
+                    source,
+                })?;
+                Some((feed, channels))
+            }
+            None => None,
+        };
         let (sink, capture) = match (path, &cell.recording.capture) {
             (Some(p), Some(c)) => {
                 let channels = template_channels(cell).map_err(|source| RecorderError::Mcap {
@@ -234,7 +255,7 @@ impl Recorder {
         let cell = cell.clone();
         let handle = std::thread::Builder::new()
             .name("cellrt-recorder".into())
-            .spawn(move || drain_loop(&cell, sink, capture, &handoff, &stop2))
+            .spawn(move || drain_loop(&cell, sink, capture, live, &handoff, &stop2))
             .map_err(|e| RecorderError::Create {
                 path: path.map(Path::to_path_buf).unwrap_or_default(),
                 source: e,
@@ -316,12 +337,48 @@ fn add_channels<W: Write + Seek>(
     let cycle_schema = schema(writer, CYCLE_SCHEMA)?;
     let axis_schema = schema(writer, AXIS_SCHEMA)?;
     let event_schema = schema(writer, EVENT_SCHEMA)?;
-    let none = BTreeMap::new();
-    let cycle = writer.add_channel(cycle_schema, CYCLE_TOPIC, "protobuf", &none)?;
-    let events = writer.add_channel(event_schema, EVENTS_TOPIC, "protobuf", &none)?;
-    let mut axes = Vec::with_capacity(cell.axes.len());
-    for a in &cell.axes {
-        let meta = BTreeMap::from([
+    let mut ids = Vec::new();
+    for spec in channel_specs(cell) {
+        let schema = match spec.schema {
+            CYCLE_SCHEMA => cycle_schema,
+            EVENT_SCHEMA => event_schema,
+            _ => axis_schema,
+        };
+        ids.push(writer.add_channel(schema, &spec.topic, "protobuf", &spec.metadata)?);
+    }
+    Ok(Channels {
+        cycle: ids[0],
+        events: ids[1],
+        axes: ids[2..].to_vec(),
+    })
+}
+
+/// A channel of the recording: topic, schema name and metadata.
+#[derive(Debug, Clone)]
+pub struct ChannelSpec {
+    /// Topic.
+    pub topic: String,
+    /// Schema name (in [`proto::FILE_DESCRIPTOR_SET`]).
+    pub schema: &'static str,
+    /// Channel metadata (an axis' unit, scaling, drive and mode).
+    pub metadata: BTreeMap<String, String>,
+}
+
+/// The channels of `cell`'s recording in their one order: cycle, events, one per axis.
+pub fn channel_specs(cell: &CellConfig) -> Vec<ChannelSpec> {
+    let plain = |topic: &str, schema| ChannelSpec {
+        topic: topic.to_string(),
+        schema,
+        metadata: BTreeMap::new(),
+    };
+    let mut specs = vec![
+        plain(CYCLE_TOPIC, CYCLE_SCHEMA),
+        plain(EVENTS_TOPIC, EVENT_SCHEMA),
+    ];
+    specs.extend(cell.axes.iter().map(|a| ChannelSpec {
+        topic: axis_topic(&a.name),
+        schema: AXIS_SCHEMA,
+        metadata: BTreeMap::from([
             ("unit".to_string(), a.unit.clone()),
             (
                 "counts_per_unit".to_string(),
@@ -329,14 +386,15 @@ fn add_channels<W: Write + Seek>(
             ),
             ("drive".to_string(), a.profile.name.to_string()),
             ("mode".to_string(), a.mode.as_str().to_string()),
-        ]);
-        axes.push(writer.add_channel(axis_schema, &axis_topic(&a.name), "protobuf", &meta)?);
-    }
-    Ok(Channels {
-        cycle,
-        events,
-        axes,
-    })
+        ]),
+    }));
+    specs
+}
+
+/// The MCAP channel ids of `cell`'s recording, in [`channel_specs`] order.
+pub fn channel_ids(cell: &CellConfig) -> Result<Vec<u16>, mcap::McapError> {
+    let c = template_channels(cell)?;
+    Ok([c.cycle, c.events].into_iter().chain(c.axes).collect())
 }
 
 /// The cell metadata record (cell, cycle time, axes and their limits, software) and the
@@ -400,6 +458,8 @@ struct Drain<'a> {
     sink: Option<Sink>,
     /// Triggered capture instead of `sink`.
     capture: Option<Capturer>,
+    /// The live view's feed and the channel ids it knows the records by.
+    live: Option<(LiveFeed, Channels)>,
     /// Part number of the open file (rotation).
     part: u32,
     /// Records popped ahead of their cycle record.
@@ -418,6 +478,7 @@ fn drain_loop(
     cell: &CellConfig,
     sink: Option<Sink>,
     capture: Option<Capturer>,
+    live: Option<(LiveFeed, Channels)>,
     handoff: &HostEnd,
     stop: &AtomicBool,
 ) -> Result<RecordingInfo, RecorderError> {
@@ -425,6 +486,7 @@ fn drain_loop(
         cell,
         sink,
         capture,
+        live,
         part: 0,
         pending_axis: None,
         pending_event: None,
@@ -471,7 +533,7 @@ fn drain_loop(
             d.flush_if_due(flush_every)?;
         }
         // Without a file (or at the end) nothing waits for its cycle record.
-        if (d.sink.is_none() && d.capture.is_none()) || finishing {
+        if (d.sink.is_none() && d.capture.is_none() && d.live.is_none()) || finishing {
             while let Some(a) = d.pending_axis.take().or_else(|| handoff.pop_axis()) {
                 d.axis(&a, period)?;
                 n += 1;
@@ -564,6 +626,7 @@ impl Drain<'_> {
             .as_ref()
             .map(|s| &s.channels)
             .or(self.capture.as_ref().map(|c| &c.channels))
+            .or(self.live.as_ref().map(|(_, c)| c))
     }
 
     /// The open capture's end and the captures written, into the run's recording info.
@@ -582,6 +645,9 @@ impl Drain<'_> {
     }
 
     fn write(&mut self, channel: u16, log_time: u64) -> Result<(), RecorderError> {
+        if let Some((feed, _)) = &self.live {
+            feed.offer(channel, log_time, &self.buf);
+        }
         if let Some(c) = self.capture.as_mut() {
             if let Err(e) = c.record(channel, log_time, self.last_cycle, &self.buf) {
                 // A capture that cannot be written ends the captures, not the cell.

@@ -272,6 +272,9 @@ pub struct RawAxis {
     /// Mode name, e.g. "csp".
     #[serde(default = "default_mode")]
     pub mode: String,
+    /// MR-J4-TM [Pr. PA01] control-mode group: "cyclic" (csp/csv/cst/hm, the default) or
+    /// "profile" (pp/pv/tq/hm).
+    pub mode_group: Option<String>,
     /// Unit name for display.
     #[serde(default = "default_unit")]
     pub unit: String,

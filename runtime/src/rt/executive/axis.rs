@@ -293,7 +293,8 @@ impl AxisChannel {
 
     /// The mode and target this cycle's RxPDO carries. csp: 607Ah only. csv: the setpoint
     /// velocity plus the master's position correction. cst: the torque setpoint while a torque
-    /// motion runs; otherwise (idle, stop ramps, position motions) the axis runs in csv.
+    /// motion runs; otherwise (idle, stop ramps, position motions) the axis runs in csv. pp, pv,
+    /// tq: the axis' own mode, held.
     /// Targets in the drive's units; one the drive's object cannot represent is an error, never
     /// clamped.
     pub fn drive_command(&self) -> Result<DriveCommand, OutOfRange> {
@@ -312,6 +313,18 @@ impl AxisChannel {
                     target_torque: 0,
                 }
             }
+            // A profile axis (pp/pv/tq) stays in its mode with no velocity or torque target;
+            // 607Ah holds the setpoint and no new set-point (bit 4) is given.
+            (
+                m @ (ModeOfOperation::ProfilePosition
+                | ModeOfOperation::ProfileVelocity
+                | ModeOfOperation::ProfileTorque),
+                _,
+            ) => DriveCommand {
+                mode: m,
+                target_velocity: 0,
+                target_torque: 0,
+            },
             _ => DriveCommand {
                 mode: ModeOfOperation::CyclicSyncPosition,
                 target_velocity: 0,

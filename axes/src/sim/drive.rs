@@ -166,7 +166,8 @@ impl SimDrive {
             comm: DriveComm::new(profile.comm_check, params.comm, cycle_time, counter_mapped),
             op: true,
             sdo_mode: 0,
-            sdo_values: Vec::new(),
+            // One slot per object of the dictionary: an SDO write never allocates.
+            sdo_values: Vec::with_capacity(profile.objects.len()),
             saving_left: 0,
             homing: HomingState::default(),
             stroke: StrokeState::default(),

@@ -308,6 +308,9 @@ pub struct AxisConfig {
     /// A profile axis (`mode` pp/pv/tq): its mode and which of its profile objects are in the
     /// RxPDO or go by SDO; `None` for a cyclic axis.
     pub profile_objects: Option<ProfileObjects>,
+    /// `motor.rated_speed` in counts/s: the speed the drive's 6083h/6084h time constants run
+    /// from 0 to (required for pp and pv axes on drives with time-constant objects).
+    pub rated_speed: Option<f64>,
     /// Display name of the axis unit (e.g. "mm", "deg").
     pub unit: String,
     /// Counts per unit at the drive's position interface.

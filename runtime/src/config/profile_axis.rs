@@ -103,6 +103,43 @@ impl ProfileObjects {
     }
 }
 
+/// `motor.rated_speed` of a profile axis as counts/s: required where the mode ramps on the
+/// drive's acceleration objects (pp, pv) and they are time constants to the rated speed
+/// (MR-J4-TM manual §4.2; assumed on MR-JET / MR-J5, see "Units"); `scaling` gives the motor.
+pub(super) fn rated_speed(
+    mode: Option<ProfileMode>,
+    profile: &DriveProfile,
+    rated: Option<f64>,
+    scaling: &cellrt_axes::drive_scaling::DriveScaling,
+) -> Result<Option<f64>, (&'static str, String)> {
+    use cellrt_axes::profiles::AccelerationUnit;
+    const KEY: &str = "motor.rated_speed";
+    let ramps = matches!(mode, Some(ProfileMode::Position | ProfileMode::Velocity));
+    let time_constants = profile.units.acceleration.value() == AccelerationUnit::TimeConstantMs;
+    let Some(speed) = rated else {
+        return if ramps && time_constants {
+            Err((
+                KEY,
+                "is required for a pp or pv axis: the drive's 6083h/6084h are time constants \
+                 from 0 to the rated speed (r/min, or mm/s for a linear motor)"
+                    .into(),
+            ))
+        } else {
+            Ok(None)
+        };
+    };
+    if !(speed.is_finite() && speed > 0.0) {
+        return Err((KEY, format!("{speed} is not a speed (r/min or mm/s, > 0)")));
+    }
+    match scaling.counts_per_s(speed) {
+        Some(c) => Ok(Some(c)),
+        None => Err((
+            KEY,
+            "needs the motor's resolution (motor.counts_per_rev or counts_per_mm)".into(),
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -112,9 +149,17 @@ mod tests {
         p.by_sdo().collect()
     }
 
-    /// A one-axis cell of `drive` with `extra` lines in the axis table.
+    /// A one-axis cell of `drive` with `extra` lines in the axis table, rated speed 3000 r/min.
     fn cell(
         drive: &str,
+        extra: &str,
+    ) -> Result<crate::config::CellConfig, crate::config::ConfigError> {
+        cell_with_motor(drive, "counts_per_rev = 10000, rated_speed = 3000", extra)
+    }
+
+    fn cell_with_motor(
+        drive: &str,
+        motor: &str,
         extra: &str,
     ) -> Result<crate::config::CellConfig, crate::config::ConfigError> {
         let text = format!(
@@ -127,7 +172,7 @@ path = "r.mcap"
 [[axes]]
 name = "x"
 drive = "{drive}"
-motor = {{ counts_per_rev = 10000 }}
+motor = {{ {motor} }}
 unit = "mm"
 counts_per_unit = 1000
 limits = {{ position = [0.0, 100.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0 }}
@@ -183,6 +228,31 @@ limits = {{ position = [0.0, 100.0], velocity = 100.0, acceleration = 1000.0, je
         let e = cell("mr-j4-tm", "mode_group = \"pp\"").unwrap_err();
         assert_eq!(e.key, "axes[0].mode_group");
         assert!(e.message.contains("cyclic, profile"), "{e}");
+    }
+
+    #[test]
+    fn pp_and_pv_need_the_rated_speed_of_their_time_constants() {
+        for mode in ["pp", "pv"] {
+            let e = cell_with_motor(
+                "mr-jet-g-n1",
+                "counts_per_rev = 10000",
+                &format!("mode = \"{mode}\""),
+            )
+            .unwrap_err();
+            assert_eq!(e.key, "axes[0].motor.rated_speed", "{e}");
+        }
+        let e = cell_with_motor(
+            "mr-jet-g-n1",
+            "counts_per_rev = 10000, rated_speed = -1",
+            "mode = \"pv\"",
+        )
+        .unwrap_err();
+        assert_eq!(e.key, "axes[0].motor.rated_speed", "{e}");
+        // tq ramps on 6087h only; 3000 r/min at 10000 counts/rev is 500000 counts/s.
+        let tq = cell_with_motor("mr-jet-g-n1", "counts_per_rev = 10000", "mode = \"tq\"").unwrap();
+        assert_eq!(tq.axes[0].rated_speed, None);
+        let pp = cell("mr-jet-g-n1", "mode = \"pp\"").unwrap();
+        assert_eq!(pp.axes[0].rated_speed, Some(500_000.0));
     }
 
     #[test]

@@ -344,6 +344,9 @@ pub struct RawMotor {
     pub velocity_unit: Option<String>,
     /// The motor's maximum speed, r/min (rotary) or mm/s (linear).
     pub max_speed: Option<f64>,
+    /// The motor's rated speed, r/min (rotary) or mm/s (linear): the speed the drive's
+    /// 6083h/6084h time constants refer to (profile axes).
+    pub rated_speed: Option<f64>,
 }
 
 /// `[axes.sim]`.

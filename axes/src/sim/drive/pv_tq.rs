@@ -71,11 +71,14 @@ impl SimDrive {
     }
 
     /// pv in Operation enabled: the generator's velocity integrated into the position demand
-    /// and fed forward, like csv.
+    /// and fed forward, as csv.
     pub(super) fn follow_profile_velocity(&mut self, cmd: &RxPdo, dt: f64) {
         let c = self.pv_command(cmd);
+        let v0 = self.pv.velocity();
         let v = self.pv.step(&c, self.plant.velocity(), dt);
-        self.demand += v * dt;
+        // The ramp's own distance (trapezoid rule): exact over a cycle, and over the several
+        // cycles of a late exchange.
+        self.demand += 0.5 * (v0 + v) * dt;
         self.plant.step(self.demand, v, dt);
         self.prev_target = cmd.target_position;
     }

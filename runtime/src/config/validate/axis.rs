@@ -185,6 +185,13 @@ pub(super) fn validate_axis(
             correction_counts: csv_position_gain * following_error_limit * s,
         },
     )?;
+    let rated_speed = crate::config::profile_axis::rated_speed(
+        ProfileMode::of(mode),
+        profile,
+        a.motor.rated_speed,
+        &drive_units,
+    )
+    .map_err(|(k, m)| at.err(k, format!("axis '{}': {m}", a.name)))?;
     Ok(AxisConfig {
         name: a.name,
         drive,
@@ -193,6 +200,7 @@ pub(super) fn validate_axis(
         ethercat_identity,
         mode,
         profile_objects: ProfileMode::of(mode).map(|m| ProfileObjects::of_profile(m, profile)),
+        rated_speed,
         unit: a.unit,
         scaling,
         position,

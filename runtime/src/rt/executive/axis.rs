@@ -118,6 +118,8 @@ pub struct AxisChannel {
     pub speed_limit: u32,
     /// 60FFh of the previous cycle, kept when a new one cannot be represented.
     pub sent_velocity: i32,
+    /// A profile axis (pp/pv/tq): its drive-side motion; `None` for a cyclic axis.
+    pub profile: Option<super::profile_axis::ProfileChannel>,
     /// MC_Power of this axis: the operator wants it in Operation enabled. An axis without
     /// power follows its actual position and takes no motion.
     pub powered: bool,
@@ -205,6 +207,9 @@ impl AxisChannel {
                 .speed_limit_to_drive(axis.limits.velocity * axis.scaling.counts_per_unit())
                 .unwrap_or(0),
             sent_velocity: 0,
+            profile: axis
+                .profile_objects
+                .map(|o| super::profile_axis::ProfileChannel::new(o, axis.rated_speed, 0)),
             torque: None,
             braking: false,
             homing: HomingSequencer::new(
@@ -454,6 +459,7 @@ mod tests {
             .expect("counts/s needs no resolution"),
             speed_limit: 0,
             sent_velocity: 0,
+            profile: None,
             torque: None,
             braking: false,
             homing: HomingSequencer::new(

@@ -99,6 +99,10 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     self.react(StopReason::Command);
                     true
                 }
+                (CellCommand::Stop, CellState::Idle) if self.profile_axes_moving() => {
+                    self.react(StopReason::Command);
+                    true
+                }
                 (CellCommand::Stop, _) => true,
                 // Latched: a motion its blocks would still start from the buffer is refused too.
                 (CellCommand::PlannerLost | CellCommand::PlannerConnected, state) => {
@@ -786,6 +790,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 for ch in &mut self.axes {
                     ch.begin_stop();
                 }
+                self.stop_profile_axes();
             }
             FaultReaction::QuickStop => {
                 for ch in self.axes.iter_mut().filter(|ch| ch.powered) {
@@ -816,6 +821,10 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 // The drive stops on its own: the setpoint follows it (no jump at re-enable).
                 ch.track_actual();
                 ch.stopped = !ch.master.is_enabled();
+            } else if let Some(p) = &ch.profile {
+                // A profile axis halts on the drive's own deceleration (605Dh).
+                ch.stopped = p.at_rest();
+                ch.track_actual();
             } else {
                 ch.stop_step(period);
             }

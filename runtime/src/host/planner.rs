@@ -10,9 +10,10 @@ use std::time::{Duration, Instant};
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, CellState, HomeRequest, HostEnd};
+use crate::handoff::{CellCommand, CellState, HomeRequest, HostEnd, ProfileCommand};
 use crate::host::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionError, MotionRequest, Progress};
+use crate::host::operator::profile::{send as send_profile, split_move};
 use crate::host::operator::server::{Context, Followup, OperatorServer};
 use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::rt::executive::HOMING_TIMEOUT;
@@ -568,8 +569,53 @@ impl<'a> Planner<'a> {
         }
     }
 
+    /// A move step: the pp axes' drives get their set-points, the streamed axes their motion
+    /// (it starts within the planner's start delay of them); the step ends when all are done.
     fn run_move(&mut self, targets: &[MoveTarget]) -> Result<(), ProgramError> {
-        self.run_motion(MotionRequest::Move(move_list(targets)), None)
+        let (drive_side, streamed) =
+            split_move(self.cell, move_list(targets)).map_err(|e| self.err(e))?;
+        let before = self.status()?;
+        send_profile(self.link.as_mut(), drive_side.clone()).map_err(|e| self.err(e))?;
+        if !streamed.is_empty() {
+            self.run_motion(MotionRequest::Move(streamed), None)?;
+        }
+        self.wait_profile_axes(&drive_side, &before)
+    }
+
+    /// Waits until each profile axis sent one of `commands` since `before` reports it ended;
+    /// one refused or cancelled fails the step.
+    fn wait_profile_axes(
+        &mut self,
+        commands: &[ProfileCommand],
+        before: &StatusSnapshot,
+    ) -> Result<(), ProgramError> {
+        loop {
+            if self.aborted() || commands.is_empty() {
+                return Ok(());
+            }
+            let s = self.status()?;
+            let mut all = true;
+            for c in commands {
+                let (now, then) = (
+                    s.live[usize::from(c.axis)],
+                    before.live[usize::from(c.axis)],
+                );
+                if now.profile_failed != then.profile_failed {
+                    let name = &self.cell.axes[usize::from(c.axis)].name;
+                    return Err(self.err(format!(
+                        "axis '{name}': its drive-side move was refused or cancelled (see the events)"
+                    )));
+                }
+                all &= now.profile_finished != then.profile_finished;
+            }
+            if all {
+                return Ok(());
+            }
+            if matches!(s.state, CellState::Faulted | CellState::Stopped) {
+                return Err(self.err(format!("the cell is {}", s.state.as_str())));
+            }
+            std::thread::sleep(TICK);
+        }
     }
 
     /// A torque step: every target axis ramps to its torque, holds it, ramps back to zero; the

@@ -4,6 +4,7 @@
 //! and the status are JSON ([`wire`]).
 
 pub mod client;
+pub(crate) mod profile;
 pub mod sdo;
 pub mod server;
 mod targets;

@@ -720,6 +720,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 let Some(sp) = front.get(cycle, i) else {
                     return Lookup::Rejected(i as u16, RejectReason::Malformed);
                 };
+                if ch.profile.is_some() {
+                    // A profile axis' drive moves it; the planner streams none of its motion
+                    // (its rows hold where the planner last saw it).
+                    continue;
+                }
                 if !ch.powered {
                     // Its rows hold (the planner's idea of where it is); anything else is motion.
                     if sp.velocity != 0.0 || sp.torque != 0.0 {
@@ -751,6 +756,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 }
             }
             for (i, ch) in self.axes.iter_mut().enumerate() {
+                if ch.profile.is_some() {
+                    continue; // its setpoint follows the drive (`profile_outputs`)
+                }
                 if !ch.powered {
                     ch.track_actual();
                 } else if let Some(sp) = front.get(cycle, i) {

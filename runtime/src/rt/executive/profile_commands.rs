@@ -2,6 +2,8 @@
 //! writes the profile objects the RxPDO lacks by SDO, runs each axis' `ProfileChannel` in the
 //! outputs and joins the cell's stop (`profile_axis`).
 
+use std::sync::atomic::Ordering;
+
 use cellrt_axes::bus::{AcyclicBus, CyclicBus, SdoData, SdoRequest};
 use cellrt_axes::pdo::RxPdo;
 
@@ -51,7 +53,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         if started {
             self.event(EventKind::ProfileStarted, cmd.axis, cmd.motion.code());
         } else {
-            self.event(EventKind::ProfileFinished, cmd.axis, FINISHED_REFUSED);
+            self.profile_finished(i, FINISHED_REFUSED);
         }
     }
 
@@ -87,7 +89,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             .as_mut()
             .and_then(|p| p.object_written(index, taken));
         if end == Some(ProfileEnd::Refused) {
-            self.event(EventKind::ProfileFinished, i as u16, FINISHED_REFUSED);
+            self.profile_finished(i, FINISHED_REFUSED);
         }
     }
 
@@ -116,9 +118,27 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         p.follow(raw);
         let end = p.cycle(sw, rx, elapsed);
         if cancelled {
-            self.event(EventKind::ProfileFinished, i as u16, FINISHED_CANCELLED);
+            self.profile_finished(i, FINISHED_CANCELLED);
         } else if end == Some(ProfileEnd::Done) {
-            self.event(EventKind::ProfileFinished, i as u16, FINISHED_DONE);
+            self.profile_finished(i, FINISHED_DONE);
+        }
+    }
+
+    /// A drive-side motion of axis `i` ended with `outcome`: the event and the status counters
+    /// (an axis index beyond the cell, from a bad command, only gets the event).
+    fn profile_finished(&mut self, i: usize, outcome: i64) {
+        self.event(EventKind::ProfileFinished, i as u16, outcome);
+        if let Some(live) = self
+            .handoff
+            .status()
+            .live
+            .get(i)
+            .filter(|_| i < self.axes.len())
+        {
+            if outcome != FINISHED_DONE {
+                live.profile_failed.fetch_add(1, Ordering::Relaxed);
+            }
+            live.profile_finished.fetch_add(1, Ordering::Release);
         }
     }
 

@@ -1,0 +1,260 @@
+//! Operator commands on profile axes of a running cell (issue 19): `move` of a pp axis together
+//! with a csp axis, `velocity` and `halt` of a pv axis, `torque` of a tq axis, and the
+//! refusals that name the axis' mode; then a program whose move step mixes a csp and a pp axis. Judged on the positions and speeds the status reports;
+//! the waits are timeouts only.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use cellrt_runtime::config::CellConfig;
+use cellrt_runtime::host::controller::{run, RunOptions};
+use cellrt_runtime::host::operator::client::{running_cells, OperatorClient};
+use cellrt_runtime::host::operator::wire::{AxisStatus, Reply, Request, StatusReport};
+
+fn axis(name: &str, mode: &str) -> String {
+    format!(
+        r#"
+[[axes]]
+name = "{name}"
+drive = "mr-j5-g-n1"
+mode = "{mode}"
+motor = {{ counts_per_rev = 10000, rated_speed = 3000 }}
+unit = "mm"
+counts_per_unit = 1000
+limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0, torque = 50.0 }}
+sim = {{ initial_position = 100.0 }}
+"#
+    )
+}
+
+fn request(c: &OperatorClient, r: &Request) -> Reply {
+    c.request(r, Duration::from_secs(5)).unwrap()
+}
+
+fn status(c: &OperatorClient) -> StatusReport {
+    match request(c, &Request::Status) {
+        Reply::Status(s) => *s,
+        r => panic!("{r:?}"),
+    }
+}
+
+fn axis_of<'a>(s: &'a StatusReport, name: &str) -> &'a AxisStatus {
+    s.axes.iter().find(|a| a.name == name).unwrap()
+}
+
+fn wait(c: &OperatorClient, what: &str, done: impl Fn(&StatusReport) -> bool) -> StatusReport {
+    let end = Instant::now() + Duration::from_secs(30);
+    loop {
+        let s = status(c);
+        if done(&s) {
+            return s;
+        }
+        assert!(Instant::now() < end, "never {what}: {s:?}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn accepted(r: Reply) {
+    assert!(matches!(r, Reply::Accepted { .. }), "{r:?}");
+}
+
+fn rejected(r: Reply) -> String {
+    match r {
+        Reply::Rejected { reason } => reason,
+        r => panic!("{r:?}"),
+    }
+}
+
+#[test]
+fn operator_commands_and_program_steps_drive_profile_axes() {
+    let name = format!("prof-op-{}", std::process::id());
+    let text = format!(
+        "[cell]\nname = \"{name}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n{}{}{}{}",
+        axis("p", "pp"),
+        axis("y", "csp"),
+        axis("v", "pv"),
+        axis("t", "tq"),
+    );
+    let cell = CellConfig::parse(Path::new("prof-op.toml"), &text).unwrap();
+    let shutdown = Arc::new(AtomicBool::new(false));
+    let options = RunOptions {
+        shutdown: shutdown.clone(),
+        ..RunOptions::default()
+    };
+    let controller = std::thread::spawn(move || run(&cell, options).map(|s| s.outcome));
+    let end = Instant::now() + Duration::from_secs(30);
+    while !running_cells().contains(&name) {
+        assert!(Instant::now() < end, "the cell never came up");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let c = OperatorClient::connect(Some(&name)).unwrap();
+    accepted(request(
+        &c,
+        &Request::Power {
+            on: true,
+            axes: vec![],
+        },
+    ));
+    wait(&c, "idle", |s| s.state == "idle");
+
+    // One move: the pp axis by its drive, the csp axis streamed.
+    let targets = BTreeMap::from([("p".to_string(), 130.0), ("y".to_string(), 80.0)]);
+    accepted(request(
+        &c,
+        &Request::Move {
+            targets,
+            relative: false,
+            velocity: Some(50.0),
+            acceleration: None,
+            jerk: None,
+            clamp: false,
+            line: false,
+        },
+    ));
+    let s = wait(&c, "both axes at their targets", |s| {
+        let (p, y) = (axis_of(s, "p"), axis_of(s, "y"));
+        s.state == "idle"
+            && (p.position - 130.0).abs() <= 0.1
+            && (y.position - 80.0).abs() <= 0.1
+            && p.velocity == 0.0
+    });
+    assert_eq!(axis_of(&s, "p").mode_display, "pp");
+
+    // The pv axis runs at 20 mm/s until halted.
+    accepted(request(
+        &c,
+        &Request::Velocity {
+            axis: "v".into(),
+            velocity: 20.0,
+            acceleration: None,
+            clamp: false,
+        },
+    ));
+    wait(&c, "pv at speed", |s| {
+        (axis_of(s, "v").velocity - 20.0).abs() < 0.5
+    });
+    accepted(request(
+        &c,
+        &Request::Halt {
+            axes: vec!["v".into()],
+        },
+    ));
+    wait(&c, "pv halted", |s| axis_of(s, "v").velocity.abs() < 0.01);
+
+    // The tq axis takes a torque (held by the drive until a halt).
+    accepted(request(
+        &c,
+        &Request::Torque {
+            targets: BTreeMap::from([("t".to_string(), 5.0)]),
+            seconds: 0.0,
+        },
+    ));
+    wait(&c, "tq moving", |s| axis_of(s, "t").velocity > 1.0);
+    accepted(request(&c, &Request::Stop));
+    wait(&c, "stopped", |s| s.state == "idle");
+
+    // Refusals name the axis and its mode.
+    let r = rejected(request(
+        &c,
+        &Request::Velocity {
+            axis: "p".into(),
+            velocity: 5.0,
+            acceleration: None,
+            clamp: false,
+        },
+    ));
+    assert!(r.contains("'p'") && r.contains("pp"), "{r}");
+    let r = rejected(request(
+        &c,
+        &Request::Move {
+            targets: BTreeMap::from([("v".to_string(), 120.0)]),
+            relative: false,
+            velocity: None,
+            acceleration: None,
+            jerk: None,
+            clamp: false,
+            line: false,
+        },
+    ));
+    assert!(r.contains("'v'") && r.contains("pv"), "{r}");
+    let r = rejected(request(
+        &c,
+        &Request::Torque {
+            targets: BTreeMap::from([("t".to_string(), 60.0)]),
+            seconds: 0.0,
+        },
+    ));
+    assert!(r.contains("torque limit"), "{r}");
+
+    shutdown.store(true, Ordering::Release);
+    controller.join().unwrap().unwrap();
+    // One controller at a time in this process (each takes the RT CPU out of its affinity).
+    a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done();
+}
+
+/// A program step moving a csp and a pp axis ends when both are done.
+fn a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done() {
+    use cellrt_runtime::host::controller::Outcome;
+    use cellrt_runtime::host::program::Program;
+    let name = format!("prof-prog-{}", std::process::id());
+    let text = format!(
+        "[cell]\nname = \"{name}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n{}{}",
+        axis("p", "pp"),
+        axis("y", "csp"),
+    );
+    let cell = CellConfig::parse(Path::new("prof-prog.toml"), &text).unwrap();
+    // The pp axis travels 3x further than the csp one: the step waits for its drive.
+    let program = r#"
+[[step]]
+do = "power_on"
+[[step]]
+do = "move"
+target = { p = 250.0, y = 120.0 }
+[[step]]
+do = "move"
+target = { p = 90.0 }
+[[step]]
+do = "power_off"
+"#;
+    let program = Program::parse(Path::new("prof-prog-program.toml"), program, &cell).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let summary = run(
+        &cell,
+        RunOptions {
+            program: Some(program),
+            record: Some(dir.path().join("prof-prog.mcap")),
+            ..RunOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(summary.outcome, Outcome::ProgramCompleted, "{summary:?}");
+    // The second step started only after the first one's pp move was done.
+    let log = &summary.recording.event_log;
+    let pos = |what: &str, nth: usize| {
+        log.iter()
+            .enumerate()
+            .filter(|(_, l)| l.contains(what))
+            .nth(nth)
+            .map(|(k, _)| k)
+            .unwrap_or_else(|| panic!("no {what} #{nth}: {log:?}"))
+    };
+    assert!(
+        pos("profile_finished", 0) < pos("profile_started", 1),
+        "{log:?}"
+    );
+    assert!(log[pos("profile_finished", 0)].contains("done"), "{log:?}");
+    let at = |n: &str| {
+        summary
+            .axes
+            .iter()
+            .find(|a| a.name == n)
+            .unwrap()
+            .final_position
+    };
+    // Within the in-position range (100 counts = 0.1 mm).
+    assert!((at("p") - 90.0).abs() <= 0.1, "{}", at("p"));
+    assert!((at("y") - 120.0).abs() <= 0.1, "{}", at("y"));
+}

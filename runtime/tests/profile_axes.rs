@@ -1,6 +1,7 @@
 //! Profile axes (pp/pv/tq) of an in-process cell: the RT executive turns a drive-side motion
 //! from the hand-off into the drive's objects and controlword bits and follows the statusword,
-//! on each model that lists the mode (MR-J4-TM with PA01 `___2`, MR-JET-G-N1, MR-J5-G-N1).
+//! on each model that lists the mode (MR-J4-TM with PA01 `___2`, MR-JET-G-N1, MR-J5-G-N1; pp
+//! also on the MR-J5W2/W3-G-N1).
 //! Judged on the recorded cycles (the emulated clock), not on wall-clock time: the recorded
 //! speeds and accelerations within the commanded profile, the final position within the
 //! in-position range (100 pulses, [Pr. PA10]'s default), the handshake bits in their cycles.
@@ -40,6 +41,20 @@ const MODELS: [(&str, &str, f64); 3] = [
     ),
     (
         "mr-j5-g-n1",
+        "motor = { counts_per_rev = 10000, rated_speed = 3000 }",
+        1000.0,
+    ),
+];
+
+/// The models that list pp only (the MR-J5 multi-axis units: no pv/tq, MR-J5-G-N1 manual §1.2).
+const PP_ONLY_MODELS: [(&str, &str, f64); 2] = [
+    (
+        "mr-j5w2-g-n1",
+        "motor = { counts_per_rev = 10000, rated_speed = 3000 }",
+        1000.0,
+    ),
+    (
+        "mr-j5w3-g-n1",
         "motor = { counts_per_rev = 10000, rated_speed = 3000 }",
         1000.0,
     ),
@@ -215,7 +230,7 @@ const HALT: u16 = 1 << 8;
 
 #[test]
 fn pp_moves_within_its_profile_with_the_set_point_handshake() {
-    for (drive, extra, s) in MODELS {
+    for (drive, extra, s) in MODELS.into_iter().chain(PP_ONLY_MODELS) {
         let mut rig = Rig::start(cell("pp", drive, extra, s, "pp"));
         let start = rig.records.last().unwrap().position_actual;
         let target = start + (30.0 * s) as i32;

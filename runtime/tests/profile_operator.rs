@@ -225,9 +225,10 @@ fn a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done(transport: &
         ""
     };
     let text = format!(
-        "[cell]\nname = \"{name}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{segment}{}{}",
+        "[cell]\nname = \"{name}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{segment}{}{}{}",
         axis_on("p", "pp", transport),
         axis_on("y", "csp", transport),
+        axis_on("v", "pv", transport),
     );
     let cell = CellConfig::parse(Path::new("prof-prog.toml"), &text).unwrap();
     // The pp axis travels 3x further than the csp one: the step waits for its drive.
@@ -240,6 +241,11 @@ target = { p = 250.0, y = 120.0 }
 [[step]]
 do = "move"
 target = { p = 90.0 }
+[[step]]
+do = "jog"
+axis = "v"
+velocity = 20.0
+seconds = 0.5
 [[step]]
 do = "power_off"
 "#;
@@ -285,4 +291,10 @@ do = "power_off"
     // Within the in-position range (100 counts = 0.1 mm).
     assert!((at("p") - 90.0).abs() <= 0.1, "{transport}: {}", at("p"));
     assert!((at("y") - 120.0).abs() <= 0.1, "{transport}: {}", at("y"));
+    // The pv axis ran about 0.5 s at up to 20 mm/s before its halt (ramps at 1000 mm/s²).
+    assert!(
+        (108.0..=111.0).contains(&at("v")),
+        "{transport}: {}",
+        at("v")
+    );
 }

@@ -13,7 +13,9 @@ use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, HomeRequest, HostEnd, ProfileCommand};
 use crate::host::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionError, MotionRequest, Progress};
-use crate::host::operator::profile::{send as send_profile, split_move};
+use crate::host::operator::profile::{
+    halts as profile_halts, jog as profile_jog, send as send_profile, split_move,
+};
 use crate::host::operator::server::{Context, Followup, OperatorServer};
 use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::rt::executive::HOMING_TIMEOUT;
@@ -395,6 +397,10 @@ impl<'a> Planner<'a> {
                 } => {
                     self.what = "jog";
                     let limits = self.cell.axes[*axis].limits;
+                    if self.cell.axes[*axis].profile_objects.is_some() {
+                        self.run_profile_jog(*axis, *velocity, *seconds)?;
+                        continue;
+                    }
                     self.run_motion(
                         MotionRequest::Jog {
                             axis: *axis,
@@ -582,6 +588,32 @@ impl<'a> Planner<'a> {
         self.wait_profile_axes(&drive_side, &before)
     }
 
+    /// A jog step on a pv axis: its drive runs at `velocity` for `seconds`, then HALT; the step
+    /// ends when the drive stands.
+    fn run_profile_jog(
+        &mut self,
+        axis: usize,
+        velocity: f64,
+        seconds: f64,
+    ) -> Result<(), ProgramError> {
+        let a = &self.cell.axes[axis];
+        let jog = profile_jog(axis, a, velocity, &a.limits).map_err(|e| self.err(e))?;
+        let before = self.status()?;
+        send_profile(self.link.as_mut(), vec![jog]).map_err(|e| self.err(e))?;
+        let halt_at = Instant::now() + Duration::from_secs_f64(seconds);
+        while Instant::now() < halt_at {
+            if self.aborted() {
+                return Ok(());
+            }
+            self.status()?;
+            std::thread::sleep(TICK);
+        }
+        let halt = profile_halts(self.cell, Some(&[axis]));
+        send_profile(self.link.as_mut(), halt.clone()).map_err(|e| self.err(e))?;
+        // The jog ended (velocity reached, or superseded by the halt), then the halt.
+        self.wait_profile_axes(&[jog, halt[0]], &before)
+    }
+
     /// Waits until each profile axis sent one of `commands` since `before` reports it ended;
     /// one refused or cancelled fails the step.
     fn wait_profile_axes(
@@ -595,18 +627,20 @@ impl<'a> Planner<'a> {
             }
             let s = self.status()?;
             let mut all = true;
-            for c in commands {
+            for (k, c) in commands.iter().enumerate() {
                 let (now, then) = (
                     s.live[usize::from(c.axis)],
                     before.live[usize::from(c.axis)],
                 );
+                // As many ends on the axis as commands sent to it (each command ends once).
+                let sent = commands[..=k].iter().filter(|o| o.axis == c.axis).count() as u32;
                 if now.profile_failed != then.profile_failed {
                     let name = &self.cell.axes[usize::from(c.axis)].name;
                     return Err(self.err(format!(
                         "axis '{name}': its drive-side move was refused or cancelled (see the events)"
                     )));
                 }
-                all &= now.profile_finished != then.profile_finished;
+                all &= now.profile_finished.wrapping_sub(then.profile_finished) >= sent;
             }
             if all {
                 return Ok(());

@@ -62,7 +62,7 @@ pub(super) fn split_torque(
 }
 
 /// HALT for the profile axes among `axes` (all when `None`).
-pub(super) fn halts(cell: &CellConfig, axes: Option<&[usize]>) -> Vec<ProfileCommand> {
+pub(crate) fn halts(cell: &CellConfig, axes: Option<&[usize]>) -> Vec<ProfileCommand> {
     (0..cell.axes.len())
         .filter(|i| axes.is_none_or(|l| l.contains(i)))
         .filter(|&i| mode_of(&cell.axes[i]).is_some())
@@ -121,7 +121,7 @@ fn move_to(
 }
 
 /// `velocity` of a pv axis: runs at `velocity` (unit/s) ramping at `limits.acceleration`.
-pub(super) fn jog(
+pub(crate) fn jog(
     i: usize,
     a: &AxisConfig,
     velocity: f64,

@@ -690,7 +690,8 @@ pub fn describe_event(e: &EventRecord) -> String {
         EventKind::ProfileFinished => match e.value {
             0 => "done",
             1 => "refused",
-            _ => "cancelled by a stop",
+            2 => "cancelled (the drive left Operation enabled)",
+            _ => "superseded by the next motion",
         }
         .to_string(),
         EventKind::HomingStarted => match e.value {

@@ -19,6 +19,7 @@ const PROFILE_COMMANDS_PER_CYCLE: usize = 4;
 const FINISHED_DONE: i64 = 0;
 const FINISHED_REFUSED: i64 = 1;
 const FINISHED_CANCELLED: i64 = 2;
+const FINISHED_SUPERSEDED: i64 = 3;
 
 impl<B: CyclicBus + AcyclicBus> Executive<B> {
     /// Takes the drive-side motions sent for profile axes: started on an enabled profile axis
@@ -40,16 +41,24 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         let i = usize::from(cmd.axis);
         let accepting = matches!(self.state, CellState::Idle | CellState::Moving);
         let period = self.period_s;
+        let mut superseded = false;
         let started = match self.axes.get_mut(i) {
             Some(ch) if accepting && ch.powered && ch.master.is_enabled() => {
                 let position = ch.to_raw(ch.feedback.position_actual);
                 let units = ch.drive_units;
-                ch.profile
-                    .as_mut()
-                    .is_some_and(|p| p.start(cmd.motion, &units, position, period).is_ok())
+                ch.profile.as_mut().is_some_and(|p| {
+                    let busy = p.busy();
+                    let ok = p.start(cmd.motion, &units, position, period).is_ok();
+                    superseded = busy && ok;
+                    ok
+                })
             }
             _ => false,
         };
+        if superseded {
+            // Every motion taken ends once: the one this replaces ends here.
+            self.profile_finished(i, FINISHED_SUPERSEDED);
+        }
         if started {
             self.event(EventKind::ProfileStarted, cmd.axis, cmd.motion.code());
         } else {
@@ -135,7 +144,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             .get(i)
             .filter(|_| i < self.axes.len())
         {
-            if outcome != FINISHED_DONE {
+            if outcome == FINISHED_REFUSED || outcome == FINISHED_CANCELLED {
                 live.profile_failed.fetch_add(1, Ordering::Relaxed);
             }
             live.profile_finished.fetch_add(1, Ordering::Release);

@@ -144,7 +144,11 @@ impl Rig {
     fn run(&mut self, motion: ProfileMotion) -> (u64, EventRecord) {
         let seen = self.events.len();
         self.handoff
-            .send_profile_command(ProfileCommand { axis: 0, motion })
+            .send_profile_command(ProfileCommand {
+                axis: 0,
+                motion,
+                start_cycle: 0,
+            })
             .unwrap();
         self.wait(
             |r| {

@@ -74,6 +74,15 @@ fn wait(c: &OperatorClient, what: &str, done: impl Fn(&StatusReport) -> bool) ->
     }
 }
 
+/// The cycle of an event-log line ("cycle N: …").
+fn cycle_of(line: &str) -> u64 {
+    line.trim_start_matches("cycle ")
+        .split(':')
+        .next()
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(u64::MAX)
+}
+
 fn accepted(r: Reply) {
     assert!(matches!(r, Reply::Accepted { .. }), "{r:?}");
 }
@@ -280,6 +289,21 @@ do = "power_off"
         "{log:?}"
     );
     assert!(log[pos("profile_finished", 0)].contains("done"), "{log:?}");
+    // The first step's pp axis starts in the streamed motion's first cycle (the cycle its
+    // blocks name: a late first block shifts the streamed motion by `start_slipped`).
+    let cycle = |k: usize| cycle_of(&log[k]);
+    let motion = pos("motion_started", 0);
+    assert_ne!(cycle(motion), u64::MAX, "{}", log[motion]);
+    let slip: u64 = log
+        .iter()
+        .find(|l| l.contains("start_slipped") && cycle_of(l) == cycle(motion))
+        .and_then(|l| l.split("started ").nth(1)?.split(' ').next()?.parse().ok())
+        .unwrap_or(0);
+    assert_eq!(
+        cycle(pos("profile_started", 0)),
+        cycle(motion) - slip,
+        "{transport}: {log:?}"
+    );
     let at = |n: &str| {
         summary
             .axes

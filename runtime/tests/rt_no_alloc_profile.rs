@@ -79,8 +79,12 @@ fn profile_axes_run_without_allocating_on_the_rt_thread() {
         finished
     };
     let send = |axis: u16, motion: ProfileMotion| {
-        h.send_profile_command(ProfileCommand { axis, motion })
-            .unwrap();
+        h.send_profile_command(ProfileCommand {
+            axis,
+            motion,
+            start_cycle: 0,
+        })
+        .unwrap();
     };
     let profile = |target: i32| ProfileMotion::Move {
         target,

@@ -9,6 +9,9 @@ pub struct ProfileCommand {
     pub axis: u16,
     /// What the drive is to do.
     pub motion: ProfileMotion,
+    /// The cycle it starts in (with the streamed motion it goes with); 0 or a past cycle: at
+    /// once.
+    pub start_cycle: u64,
 }
 
 /// What a profile axis' drive is to do.

@@ -122,7 +122,8 @@ pub enum EventKind {
     ProfileStarted,
     /// A profile axis' drive-side motion ended (value: 0 done — pp target reached, pv
     /// velocity reached, tq ramp over; 1 refused — not enabled, no such profile axis, or an
-    /// object the drive refused; 2 cancelled — the drive left Operation enabled; 3 superseded
+    /// object the drive refused; 2 cancelled — the drive left Operation enabled, or a stop came
+    /// before its start cycle; 3 superseded
     /// by the axis' next motion).
     ProfileFinished,
 }

@@ -581,9 +581,10 @@ impl<'a> Planner<'a> {
         let (drive_side, streamed) =
             split_move(self.cell, move_list(targets)).map_err(|e| self.err(e))?;
         let before = self.status()?;
-        send_profile(self.link.as_mut(), drive_side.clone()).map_err(|e| self.err(e))?;
-        if !streamed.is_empty() {
-            self.run_motion(MotionRequest::Move(streamed), None)?;
+        if streamed.is_empty() {
+            send_profile(self.link.as_mut(), drive_side.clone(), 0).map_err(|e| self.err(e))?;
+        } else {
+            self.run_motion_with(MotionRequest::Move(streamed), None, &drive_side)?;
         }
         self.wait_profile_axes(&drive_side, &before)
     }
@@ -599,7 +600,7 @@ impl<'a> Planner<'a> {
         let a = &self.cell.axes[axis];
         let jog = profile_jog(axis, a, velocity, &a.limits).map_err(|e| self.err(e))?;
         let before = self.status()?;
-        send_profile(self.link.as_mut(), vec![jog]).map_err(|e| self.err(e))?;
+        send_profile(self.link.as_mut(), vec![jog], 0).map_err(|e| self.err(e))?;
         let halt_at = Instant::now() + Duration::from_secs_f64(seconds);
         while Instant::now() < halt_at {
             if self.aborted() {
@@ -609,7 +610,7 @@ impl<'a> Planner<'a> {
             std::thread::sleep(TICK);
         }
         let halt = profile_halts(self.cell, Some(&[axis]));
-        send_profile(self.link.as_mut(), halt.clone()).map_err(|e| self.err(e))?;
+        send_profile(self.link.as_mut(), halt.clone(), 0).map_err(|e| self.err(e))?;
         // The jog ended (velocity reached, or superseded by the halt), then the halt.
         self.wait_profile_axes(&[jog, halt[0]], &before)
     }
@@ -672,9 +673,22 @@ impl<'a> Planner<'a> {
         req: MotionRequest,
         halt_after: Option<Duration>,
     ) -> Result<(), ProgramError> {
+        self.run_motion_with(req, halt_after, &[])
+    }
+
+    /// [`Self::run_motion`] with profile axes' drive-side motions that start in the motion's
+    /// first cycle (sent once it is submitted; a restarted motion does not send them again).
+    fn run_motion_with(
+        &mut self,
+        req: MotionRequest,
+        halt_after: Option<Duration>,
+        drive_side: &[ProfileCommand],
+    ) -> Result<(), ProgramError> {
         if let Err(e) = self.engine.submit(req.clone(), self.link.as_mut()) {
             return Err(self.err(e));
         }
+        let start = self.engine.start_cycle().unwrap_or(0);
+        send_profile(self.link.as_mut(), drive_side.to_vec(), start).map_err(|e| self.err(e))?;
         let halt_at = halt_after.map(|d| Instant::now() + d);
         let mut halted = false;
         let mut restarts = 0;

@@ -198,6 +198,11 @@ impl MotionEngine {
         self.active.as_ref().map(|a| a.motion_id)
     }
 
+    /// The cycle the motion in flight starts in (its first block's cycle).
+    pub fn start_cycle(&self) -> Option<u64> {
+        self.active.as_ref().map(|a| a.start_cycle)
+    }
+
     /// The commanded position of axis `i` in units: where the motion in flight has got to in
     /// publishing, or the RT thread's hold position.
     pub fn position(

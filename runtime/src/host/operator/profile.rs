@@ -70,10 +70,16 @@ pub(crate) fn halts(cell: &CellConfig, axes: Option<&[usize]>) -> Vec<ProfileCom
         .collect()
 }
 
-/// Sends drive-side motions to the RT thread, in order.
-pub(crate) fn send(link: &mut dyn CellLink, commands: Vec<ProfileCommand>) -> Result<(), String> {
+/// Sends drive-side motions to the RT thread, in order, to start in `start_cycle` (that of the
+/// streamed motion they go with; 0: at once).
+pub(crate) fn send(
+    link: &mut dyn CellLink,
+    commands: Vec<ProfileCommand>,
+    start_cycle: u64,
+) -> Result<(), String> {
     for c in commands {
-        link.profile(c).map_err(|e| e.to_string())?;
+        link.profile(ProfileCommand { start_cycle, ..c })
+            .map_err(|e| e.to_string())?;
     }
     Ok(())
 }
@@ -117,6 +123,7 @@ fn move_to(
             deceleration: limits.acceleration * s,
             immediate: true,
         },
+        start_cycle: 0,
     })
 }
 
@@ -138,6 +145,7 @@ pub(crate) fn jog(
             acceleration: limits.acceleration * s,
             deceleration: limits.acceleration * s,
         },
+        start_cycle: 0,
     })
 }
 
@@ -161,6 +169,7 @@ fn torque(i: usize, a: &AxisConfig, torque: f64) -> Result<ProfileCommand, Strin
             torque,
             slope: a.torque.map_or(DEFAULT_TORQUE_SLOPE, |t| t.slope),
         },
+        start_cycle: 0,
     })
 }
 
@@ -169,5 +178,6 @@ fn halt(i: usize) -> ProfileCommand {
     ProfileCommand {
         axis: i as u16,
         motion: ProfileMotion::Halt(true),
+        start_cycle: 0,
     }
 }

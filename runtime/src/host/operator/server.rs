@@ -462,7 +462,9 @@ impl OperatorServer {
             }
             r
         };
-        match profile::send(ctx.link, commands) {
+        // The pp axes start in the streamed motion's first cycle.
+        let start = ctx.engine.start_cycle().unwrap_or(0);
+        match profile::send(ctx.link, commands, start) {
             Ok(()) => reply,
             Err(e) => rejected(format!("move: {e}")),
         }
@@ -532,7 +534,7 @@ impl OperatorServer {
         };
         if profile::mode_of(a).is_some() {
             return match profile::jog(i, a, v, &limits)
-                .and_then(|c| profile::send(ctx.link, vec![c]))
+                .and_then(|c| profile::send(ctx.link, vec![c], 0))
             {
                 Ok(()) => (self.accept("velocity", false), Followup::None),
                 Err(e) => rejected(format!("velocity: {e}")),
@@ -562,7 +564,7 @@ impl OperatorServer {
         };
         if !drive_side.is_empty() {
             // tq axes hold their torque until a halt or stop (`seconds` is for cst axes).
-            return match profile::send(ctx.link, drive_side) {
+            return match profile::send(ctx.link, drive_side, 0) {
                 Ok(()) => (self.accept("torque", false), Followup::None),
                 Err(e) => rejected(format!("torque: {e}")),
             };
@@ -632,7 +634,7 @@ impl OperatorServer {
             }
         };
         let abort = ctx.program_running;
-        if let Err(e) = profile::send(ctx.link, profile::halts(ctx.cell, list.as_deref())) {
+        if let Err(e) = profile::send(ctx.link, profile::halts(ctx.cell, list.as_deref()), 0) {
             return rejected(format!("halt: {e}"));
         }
         if !ctx.engine.is_busy() {

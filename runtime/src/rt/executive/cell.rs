@@ -789,6 +789,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         self.stop_reason = Some(reason);
         self.reaction = reaction;
         self.finishing = false;
+        self.cancel_pending_profiles();
         self.handoff
             .status()
             .stop_reason

@@ -144,6 +144,8 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     awaiting_method: Option<crate::handoff::HomeRequest>,
     /// An operator's SDO request taken from the hand-off, waiting for its axis' slot.
     user_sdo: Option<crate::handoff::UserSdo>,
+    /// Per axis: a profile axis' drive-side motion waiting for its start cycle.
+    profile_pending: Vec<Option<crate::handoff::ProfileCommand>>,
     hook: Option<PhaseHook>,
 }
 
@@ -207,6 +209,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             planner_lost: false,
             awaiting_method: None,
             user_sdo: None,
+            profile_pending: vec![None; n],
             hook,
         }
     }

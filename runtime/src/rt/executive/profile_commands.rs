@@ -22,15 +22,29 @@ const FINISHED_CANCELLED: i64 = 2;
 const FINISHED_SUPERSEDED: i64 = 3;
 
 impl<B: CyclicBus + AcyclicBus> Executive<B> {
-    /// Takes the drive-side motions sent for profile axes: started on an enabled profile axis
-    /// while the cell is idle or moving, refused otherwise (`profile_finished`, value 1); then
-    /// posts the next profile object a starting motion needs by SDO.
+    /// Takes the drive-side motions sent for profile axes: each waits for its start cycle (one
+    /// per axis; a newer one supersedes it), then starts on an enabled profile axis while the
+    /// cell is idle or moving, refused otherwise (`profile_finished`, value 1); then posts the
+    /// next profile object a starting motion needs by SDO.
     pub(super) fn take_profile_commands(&mut self) {
         for _ in 0..PROFILE_COMMANDS_PER_CYCLE {
             let Some(cmd) = self.handoff.next_profile_command() else {
                 break;
             };
-            self.start_profile(cmd);
+            let i = usize::from(cmd.axis);
+            if i >= self.axes.len() {
+                self.event(EventKind::ProfileFinished, cmd.axis, FINISHED_REFUSED);
+                continue;
+            }
+            if self.profile_pending[i].replace(cmd).is_some() {
+                self.profile_finished(i, FINISHED_SUPERSEDED);
+            }
+        }
+        for i in 0..self.axes.len() {
+            if let Some(cmd) = self.profile_pending[i].filter(|c| c.start_cycle <= self.cycle) {
+                self.profile_pending[i] = None;
+                self.start_profile(cmd);
+            }
         }
         for i in 0..self.axes.len() {
             self.post_profile_object(i);
@@ -157,6 +171,16 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             .iter()
             .filter_map(|ch| ch.profile.as_ref())
             .any(|p| p.moving())
+    }
+
+    /// A stop of the cell: the drive-side motions still waiting for their start cycle end
+    /// unstarted (`profile_finished` 2).
+    pub(super) fn cancel_pending_profiles(&mut self) {
+        for i in 0..self.axes.len() {
+            if self.profile_pending[i].take().is_some() {
+                self.profile_finished(i, FINISHED_CANCELLED);
+            }
+        }
     }
 
     /// A controlled stop of the profile axes: each halts (605Dh) and drops its motion.

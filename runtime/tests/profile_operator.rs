@@ -15,15 +15,20 @@ use cellrt_runtime::host::operator::client::{running_cells, OperatorClient};
 use cellrt_runtime::host::operator::wire::{AxisStatus, Reply, Request, StatusReport};
 
 fn axis(name: &str, mode: &str) -> String {
-    axis_on(name, mode, "sim")
+    axis_on(name, mode, "sim", J5)
 }
 
-fn axis_on(name: &str, mode: &str, transport: &str) -> String {
+/// The MR-J5-G-N1 (profile objects by SDO: not in its 1600h).
+const J5: &str = "drive = \"mr-j5-g-n1\"";
+/// The MR-J4-TM in PA01 `___2` (profile objects in its 1601h).
+const J4_PROFILE: &str = "drive = \"mr-j4-tm\"\nmode_group = \"profile\"";
+
+fn axis_on(name: &str, mode: &str, transport: &str, drive: &str) -> String {
     format!(
         r#"
 [[axes]]
 name = "{name}"
-drive = "mr-j5-g-n1"
+{drive}
 transport = "{transport}"
 mode = "{mode}"
 motor = {{ counts_per_rev = 10000, rated_speed = 3000 }}
@@ -218,16 +223,18 @@ fn operator_commands_and_program_steps_drive_profile_axes() {
     shutdown.store(true, Ordering::Release);
     controller.join().unwrap().unwrap();
     // One controller at a time in this process (each takes the RT CPU out of its affinity).
-    a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done("sim");
+    a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done("sim", J5);
     // The emulated EtherCAT segment runs the same drives; 6081h–6084h go by CoE SDO.
-    a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done("ethercat");
+    a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done("ethercat", J5);
+    // The MR-J4-TM's profile group runs RxPDO 1601h on the segment (6081h–6084h cyclic).
+    a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done("ethercat", J4_PROFILE);
 }
 
 /// A program step moving a csp and a pp axis over `transport` ends when both are done.
-fn a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done(transport: &str) {
+fn a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done(transport: &str, pp: &str) {
     use cellrt_runtime::host::controller::Outcome;
     use cellrt_runtime::host::program::Program;
-    let name = format!("prof-prog-{transport}-{}", std::process::id());
+    let name = format!("prof-prog-{transport}-{}-{}", pp.len(), std::process::id());
     let segment = if transport == "ethercat" {
         "[ethercat]\ninterface = \"in-process\"\n"
     } else {
@@ -235,9 +242,9 @@ fn a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done(transport: &
     };
     let text = format!(
         "[cell]\nname = \"{name}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{segment}{}{}{}",
-        axis_on("p", "pp", transport),
-        axis_on("y", "csp", transport),
-        axis_on("v", "pv", transport),
+        axis_on("p", "pp", transport, pp),
+        axis_on("y", "csp", transport, J5),
+        axis_on("v", "pv", transport, J5),
     );
     let cell = CellConfig::parse(Path::new("prof-prog.toml"), &text).unwrap();
     // The pp axis travels 3x further than the csp one: the step waits for its drive.

@@ -282,6 +282,13 @@ impl ProfileChannel {
         }
     }
 
+    /// The drive is not in Operation enabled: what it holds from SDO writes is not relied on
+    /// (a drive that reinitialises on leaving OP forgets them), so the next motion writes its
+    /// objects again.
+    pub fn forget_written(&mut self) {
+        self.written = [None; 4];
+    }
+
     /// The drive left Operation enabled: the motion is gone (the drive restarts its profile
     /// at servo on), nothing is held.
     pub fn cancel(&mut self) {
@@ -386,7 +393,9 @@ impl ProfileChannel {
             Phase::Idle | Phase::WritingObjects => None,
             Phase::SetPoint => {
                 if bits & SET_POINT_ACKNOWLEDGE != 0 {
-                    self.begin_running();
+                    // The drive took the set-point: its bits answer it from now on.
+                    self.phase = Phase::Running;
+                    self.settle = 0;
                 }
                 None
             }
@@ -395,9 +404,9 @@ impl ProfileChannel {
                     self.fresh = false;
                     return None;
                 }
+                self.ramp_left = self.ramp_left.saturating_sub(elapsed);
+                self.settle = self.settle.saturating_sub(elapsed);
                 if self.settle > 0 {
-                    self.settle = self.settle.saturating_sub(elapsed);
-                    self.ramp_left = self.ramp_left.saturating_sub(elapsed);
                     return None;
                 }
                 let done = match self.objects.mode {
@@ -405,10 +414,7 @@ impl ProfileChannel {
                         bits & TARGET_REACHED != 0 && bits & SET_POINT_ACKNOWLEDGE == 0
                     }
                     ProfileMode::Position | ProfileMode::Velocity => bits & TARGET_REACHED != 0,
-                    ProfileMode::Torque => {
-                        self.ramp_left = self.ramp_left.saturating_sub(elapsed);
-                        self.ramp_left == 0
-                    }
+                    ProfileMode::Torque => self.ramp_left == 0,
                 };
                 if done {
                     self.phase = Phase::Idle;
@@ -428,4 +434,135 @@ fn ramp_cycles(from: i16, to: i16, slope: f64, period_s: f64) -> u32 {
     }
     let s = (f64::from(to) - f64::from(from)).abs() / slope / period_s;
     s.ceil().min(f64::from(u32::MAX)) as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use cellrt_axes::drive_scaling::Motor;
+    use cellrt_axes::profiles::{profile, DriveModel, MotorKind, VelocityUnit};
+
+    /// An MR-J5-G-N1 axis (profile objects by SDO) at 10000 counts/rev, 0.01 r/min, rated
+    /// 3000 r/min = 500000 counts/s.
+    fn j5(mode: ProfileMode) -> (ProfileChannel, DriveScaling) {
+        let p = profile(DriveModel::MrJ5GN1);
+        let units = DriveScaling::new(
+            &p.units,
+            VelocityUnit::CENTI_RPM,
+            Some(Motor {
+                kind: MotorKind::Rotary,
+                counts_per: 10_000.0,
+            }),
+        )
+        .unwrap();
+        let objects = ProfileObjects::of_profile(mode, p);
+        (ProfileChannel::new(objects, Some(500_000.0), 0), units)
+    }
+
+    fn cycle(p: &mut ProfileChannel, sw: u16) -> RxPdo {
+        let mut rx = RxPdo::default();
+        p.cycle(Statusword(sw), &mut rx, 1);
+        rx
+    }
+
+    #[test]
+    fn pp_writes_its_objects_then_hands_over_the_set_point() {
+        let (mut p, units) = j5(ProfileMode::Position);
+        let mv = |target| ProfileMotion::Move {
+            target,
+            velocity: 50_000.0,        // 300 r/min = 30000 × 0.01 r/min
+            acceleration: 1_000_000.0, // 500000 counts/s in 0.5 s: 500 ms
+            deceleration: 250_000.0,   // 2000 ms
+            immediate: true,
+        };
+        p.start(mv(30_000), &units, 0, 1e-3).unwrap();
+        // 6081h, 6083h, 6084h by SDO first (not in the J5's 1600h), the target held back.
+        let mut written = Vec::new();
+        while let Some((index, value)) = p.next_sdo_object() {
+            assert_eq!(cycle(&mut p, 0).controlword.0 & NEW_SET_POINT, 0);
+            written.push((index, value));
+            assert_eq!(p.object_written(index, true), None);
+        }
+        assert_eq!(written, [(0x6081, 30_000), (0x6083, 500), (0x6084, 2000)]);
+        let rx = cycle(&mut p, 0);
+        assert_eq!(rx.target_position, 30_000);
+        assert_eq!(
+            rx.controlword.0 & (NEW_SET_POINT | CHANGE_SET_IMMEDIATELY),
+            0x30
+        );
+        // Bit 12 acknowledges: bit 4 drops; done at bit 10 with bit 12 = 0 after the settle.
+        assert_eq!(
+            cycle(&mut p, SET_POINT_ACKNOWLEDGE).controlword.0 & NEW_SET_POINT,
+            0
+        );
+        let mut rx = RxPdo::default();
+        let running = SET_POINT_ACKNOWLEDGE;
+        assert_eq!(
+            p.cycle(Statusword(running), &mut rx, 1),
+            None,
+            "positioning"
+        );
+        assert_eq!(
+            p.cycle(Statusword(TARGET_REACHED), &mut rx, 1),
+            Some(ProfileEnd::Done)
+        );
+        // The same profile again: nothing to write, the set-point goes out at once.
+        p.start(mv(0), &units, 30_000, 1e-3).unwrap();
+        assert_eq!(p.next_sdo_object(), None);
+        assert_ne!(cycle(&mut p, 0).controlword.0 & NEW_SET_POINT, 0);
+    }
+
+    #[test]
+    fn a_refused_object_ends_the_motion_and_wrong_modes_are_refused() {
+        let (mut p, units) = j5(ProfileMode::Velocity);
+        let jog = ProfileMotion::Jog {
+            velocity: 10_000.0,
+            acceleration: 100_000.0,
+            deceleration: 100_000.0,
+        };
+        p.start(jog, &units, 0, 1e-3).unwrap();
+        let (index, value) = p.next_sdo_object().unwrap();
+        assert_eq!(
+            (index, value),
+            (0x6083, 5_000),
+            "500000 / 100000 s = 5000 ms"
+        );
+        assert_eq!(p.object_written(index, false), Some(ProfileEnd::Refused));
+        assert!(!p.busy());
+        assert_eq!(cycle(&mut p, 0).target_velocity, 0, "never sent");
+        let torque = ProfileMotion::Torque {
+            torque: 10.0,
+            slope: 100.0,
+        };
+        assert_eq!(
+            p.start(torque, &units, 0, 1e-3),
+            Err(ProfileRefusal::WrongMode)
+        );
+    }
+
+    #[test]
+    fn tq_ends_after_its_ramp_counting_skipped_cycles() {
+        let (mut p, units) = j5(ProfileMode::Torque);
+        let tq = ProfileMotion::Torque {
+            torque: 20.0,
+            slope: 200.0,
+        };
+        p.start(tq, &units, 0, 1e-3).unwrap();
+        assert_eq!(p.next_sdo_object(), Some((0x6087, 2_000)));
+        p.object_written(0x6087, true);
+        let mut rx = RxPdo::default();
+        // 200 (0.1 %) at 2000 (0.1 %/s): 100 cycles; the entering cycle does not count.
+        assert_eq!(p.cycle(Statusword(0), &mut rx, 1), None);
+        assert_eq!(rx.target_torque, 200);
+        assert_eq!(p.cycle(Statusword(0), &mut rx, 60), None);
+        assert_eq!(p.cycle(Statusword(0), &mut rx, 39), None);
+        assert_eq!(p.cycle(Statusword(0), &mut rx, 1), Some(ProfileEnd::Done));
+        // A stop halts it: bit 8, the torque ramps to 0 in 100 cycles, 6071h 0 afterwards.
+        p.stop(1e-3);
+        assert!(p.busy());
+        assert_ne!(cycle(&mut p, 0).controlword.0 & (1 << 8), 0);
+        assert_eq!(p.cycle(Statusword(0), &mut rx, 100), Some(ProfileEnd::Done));
+        assert_eq!(rx.target_torque, 0);
+        assert!(p.at_rest());
+    }
 }

@@ -138,6 +138,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         if cancelled {
             p.cancel();
         }
+        if !enabled {
+            p.forget_written();
+        }
         p.follow(raw);
         let end = p.cycle(sw, rx, elapsed);
         if cancelled {

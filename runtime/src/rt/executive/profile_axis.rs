@@ -110,6 +110,9 @@ pub struct ProfileChannel {
     halt: bool,
     /// A stop dropped the motion: pp releases HALT with a set-point where the axis stands.
     dropped: bool,
+    /// pp: a set-point replaced one not yet acknowledged; bit 4 goes low for a cycle first,
+    /// so the drive sees a new rising edge.
+    rearm: bool,
 }
 
 impl ProfileChannel {
@@ -131,6 +134,7 @@ impl ProfileChannel {
             immediate: false,
             halt: false,
             dropped: false,
+            rearm: false,
         }
     }
 
@@ -167,6 +171,7 @@ impl ProfileChannel {
         period_s: f64,
     ) -> Result<(), ProfileRefusal> {
         let release = self.halt;
+        self.rearm = self.phase == Phase::SetPoint;
         self.next = self.out;
         match (motion, self.objects.mode) {
             (
@@ -377,9 +382,10 @@ impl ProfileChannel {
         rx.torque_slope = o.profile[3];
         let mut cw =
             rx.controlword.with_halt(self.halt).0 & !(NEW_SET_POINT | CHANGE_SET_IMMEDIATELY);
-        if self.phase == Phase::SetPoint {
+        if self.phase == Phase::SetPoint && !self.rearm {
             cw |= NEW_SET_POINT;
         }
+        self.rearm = false;
         if self.immediate {
             cw |= CHANGE_SET_IMMEDIATELY;
         }
@@ -510,6 +516,13 @@ mod tests {
         p.start(mv(0), &units, 30_000, 1e-3).unwrap();
         assert_eq!(p.next_sdo_object(), None);
         assert_ne!(cycle(&mut p, 0).controlword.0 & NEW_SET_POINT, 0);
+        // Replaced before the drive acknowledged it: bit 4 low for a cycle, then a new edge.
+        p.start(mv(5_000), &units, 30_000, 1e-3).unwrap();
+        let rx = cycle(&mut p, 0);
+        assert_eq!(rx.controlword.0 & NEW_SET_POINT, 0);
+        let rx = cycle(&mut p, 0);
+        assert_ne!(rx.controlword.0 & NEW_SET_POINT, 0);
+        assert_eq!(rx.target_position, 5_000);
     }
 
     #[test]

@@ -22,6 +22,9 @@ pub struct RawCellConfig {
     /// `[watchdogs]`.
     #[serde(default)]
     pub watchdogs: RawWatchdogs,
+    /// `[operator]`: who besides the cell's user may command it.
+    #[serde(default)]
+    pub operator: RawOperator,
     /// `[[inject]]`: scheduled fault injection.
     #[serde(default)]
     pub inject: Vec<RawInjection>,
@@ -31,6 +34,14 @@ pub struct RawCellConfig {
     /// `[[axes]]`.
     #[serde(default)]
     pub axes: Vec<RawAxis>,
+}
+
+/// `[operator]`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawOperator {
+    /// A group whose members may command the cell besides its user.
+    pub group: Option<String>,
 }
 
 /// `[ethercat]`.
@@ -138,6 +149,26 @@ pub struct RawRecording {
     /// Rotate to a new file after this many seconds.
     #[serde(default)]
     pub rotate_seconds: Option<f64>,
+    /// "continuous" or "triggered".
+    #[serde(default = "default_recording_mode")]
+    pub mode: String,
+    /// Triggered: seconds kept before a trigger.
+    #[serde(default = "default_capture_s")]
+    pub pre_s: f64,
+    /// Triggered: seconds written after it.
+    #[serde(default = "default_capture_s")]
+    pub post_s: f64,
+    /// Triggered: event kinds and thresholds.
+    #[serde(default)]
+    pub triggers: Vec<String>,
+}
+
+fn default_recording_mode() -> String {
+    "continuous".into()
+}
+
+fn default_capture_s() -> f64 {
+    5.0
 }
 
 impl Default for RawRecording {
@@ -151,6 +182,10 @@ impl Default for RawRecording {
             flush_ms: default_flush_ms(),
             rotate_mib: None,
             rotate_seconds: None,
+            mode: default_recording_mode(),
+            pre_s: default_capture_s(),
+            post_s: default_capture_s(),
+            triggers: Vec::new(),
         }
     }
 }

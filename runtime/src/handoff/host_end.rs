@@ -22,6 +22,12 @@ pub struct HostEnd {
     lanes: Arc<Lanes>,
     /// The last [`RECENT_EVENTS`] event lines, kept by the recorder for the operator's status.
     recent_events: Mutex<VecDeque<String>>,
+    /// The recorder keeps a capture ring (`recording.mode = "triggered"` with a path).
+    capture_armed: std::sync::atomic::AtomicBool,
+    /// The operator asked for a capture; the recorder takes it.
+    capture_requested: std::sync::atomic::AtomicBool,
+    /// The EtherCAT segment's diagnostics, set once the bus is open (none on simulated drives).
+    bus_diagnostics: std::sync::OnceLock<cellrt_axes::ethercat::master::BusDiagnostics>,
 }
 
 impl HostEnd {
@@ -29,7 +35,39 @@ impl HostEnd {
         HostEnd {
             lanes,
             recent_events: Mutex::new(VecDeque::with_capacity(RECENT_EVENTS)),
+            bus_diagnostics: std::sync::OnceLock::new(),
+            capture_armed: Default::default(),
+            capture_requested: Default::default(),
         }
+    }
+
+    /// The recorder keeps a capture ring from now on.
+    pub fn arm_capture(&self) {
+        self.capture_armed.store(true, Ordering::Release);
+    }
+
+    /// Asks the recorder to write its capture ring now; false if it keeps none.
+    pub fn request_capture(&self) -> bool {
+        let armed = self.capture_armed.load(Ordering::Acquire);
+        if armed {
+            self.capture_requested.store(true, Ordering::Release);
+        }
+        armed
+    }
+
+    /// The recorder's side: whether a capture was asked for (the request is taken).
+    pub fn take_capture_request(&self) -> bool {
+        self.capture_requested.swap(false, Ordering::AcqRel)
+    }
+
+    /// Offers the bus' diagnostics to the operator (once, when the bus is open).
+    pub fn set_bus_diagnostics(&self, d: cellrt_axes::ethercat::master::BusDiagnostics) {
+        let _ = self.bus_diagnostics.set(d);
+    }
+
+    /// The bus' diagnostics, on an EtherCAT cell.
+    pub fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
+        self.bus_diagnostics.get()
     }
 
     /// Queues a command for the RT thread; gives it back if the queue is full.

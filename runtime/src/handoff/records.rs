@@ -47,7 +47,9 @@ impl RejectReason {
 }
 
 /// What an event says; the meaning of [`EventRecord::value`] depends on it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr, strum::EnumString,
+)]
 #[strum(serialize_all = "snake_case")]
 pub enum EventKind {
     /// Cell state changed (value: new [`CellState`] as u8).

@@ -170,6 +170,9 @@ pub enum OperatorCommand {
         #[arg(long)]
         no_wait: bool,
     },
+    /// Write the triggered recording's ring now: one MCAP file with the last `pre_s` seconds
+    /// and the next `post_s` (`recording.mode = "triggered"`).
+    Capture,
 }
 
 /// Runs one operator command.
@@ -195,7 +198,7 @@ pub fn run(command: OperatorCommand, target: Target) -> Exit {
             eprintln!("rejected: {reason}");
             return Exit::Rejected;
         }
-        Ok(Reply::Status(_) | Reply::Sdo(_)) => {
+        Ok(Reply::Status(_) | Reply::Sdo(_) | Reply::BusDiag(_)) => {
             eprintln!("error: the cell answered with a report instead of accepting");
             return Exit::Unreachable;
         }
@@ -309,6 +312,7 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
         ),
         OperatorCommand::Halt { axes } => (Request::Halt { axes: axes.clone() }, Wait::No),
         OperatorCommand::Stop => (Request::Stop, Wait::No),
+        OperatorCommand::Capture => (Request::Capture, Wait::No),
         OperatorCommand::Reset { no_wait } => (
             Request::Reset,
             wait(*no_wait, Wait::State(&["idle", "disabled"])),

@@ -15,10 +15,12 @@ use super::{
 };
 
 mod axis;
+mod axis_key;
 mod cycle_reach;
 mod esi;
 mod inject;
 mod motor;
+mod operator;
 use axis::{check_amplifier, validate_axis};
 use inject::validate_injections;
 
@@ -72,10 +74,20 @@ pub(super) fn validate(
     });
 
     let rt = rt_config(file, &raw.rt)?;
-    let recording = recording_config(file, raw.recording)?;
+    let capture_raw = (
+        raw.recording.mode.clone(),
+        raw.recording.pre_s,
+        raw.recording.post_s,
+        raw.recording.triggers.clone(),
+    );
+    let mut recording = recording_config(file, raw.recording)?;
     let setpoints = setpoint_config(file, &raw.setpoints, cycle_time)?;
     let watchdogs = watchdog_config(file, &raw.watchdogs)?;
+    let operator = operator::operator_config(file, &raw.operator)?;
     let axes = validate_axes(file, cycle_time, raw.axes)?;
+    let (mode, pre_s, post_s, triggers) = capture_raw;
+    recording.capture =
+        crate::config::capture::capture_config(file, &mode, pre_s, post_s, &triggers, &axes)?;
 
     let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
     let inject = validate_injections(file, cycle_time, &raw.inject, &axes, ethercat.as_ref())?;
@@ -90,6 +102,7 @@ pub(super) fn validate(
         recording,
         setpoints,
         watchdogs,
+        operator,
         inject,
         axes,
         ethercat,
@@ -210,6 +223,7 @@ fn recording_config(file: &Path, raw: RawRecording) -> Result<RecordingConfig, C
         flush_ms: raw.flush_ms,
         rotate_bytes: raw.rotate_mib.map(|m| m * 1024 * 1024),
         rotate_seconds: raw.rotate_seconds,
+        capture: None,
     })
 }
 

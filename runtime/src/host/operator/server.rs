@@ -7,6 +7,7 @@ use cellrt_axes::profiles::status_do::StatusDo;
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
+use super::bus_diag::DiagInFlight;
 use super::profile;
 use super::sdo::{self, SdoInFlight};
 use super::targets::{axis_index, move_limits, Asked, TargetError};
@@ -45,6 +46,9 @@ pub struct OperatorServer {
     /// The `sdo` request waiting for the drive's answer, and the client's request to answer.
     sdo: SdoInFlight,
     sdo_client: Option<ActiveRequest>,
+    /// The `bus_diag` reading being taken, and the client's request to answer.
+    diag: DiagInFlight,
+    diag_client: Option<ActiveRequest>,
 }
 
 /// A client's request being answered.
@@ -76,6 +80,8 @@ impl OperatorServer {
             last_status: std::time::Instant::now() - super::STATUS_PERIOD,
             sdo: SdoInFlight::default(),
             sdo_client: None,
+            diag: DiagInFlight::default(),
+            diag_client: None,
         })
     }
 
@@ -131,7 +137,7 @@ impl OperatorServer {
     /// Answers every pending request; returns what the caller must do next.
     pub fn poll(&mut self, ctx: &mut Context<'_>) -> Followup {
         let mut followup = Followup::None;
-        let mut answered = self.answer_sdo(ctx);
+        let mut answered = self.answer_sdo(ctx) | self.answer_diag(ctx);
         loop {
             let active = match self.port.receive() {
                 Ok(Some(r)) => r,
@@ -150,6 +156,13 @@ impl OperatorServer {
                 }) => match self.start_sdo(ctx, &axis, index, sub, value) {
                     Ok(()) => {
                         self.sdo_client = Some(active);
+                        continue;
+                    }
+                    Err(reason) => (Reply::Rejected { reason }, Followup::None),
+                },
+                Ok(Request::BusDiag) => match self.diag.start(ctx.link) {
+                    Ok(()) => {
+                        self.diag_client = Some(active);
                         continue;
                     }
                     Err(reason) => (Reply::Rejected { reason }, Followup::None),
@@ -216,6 +229,22 @@ impl OperatorServer {
             }
             None => false,
         }
+    }
+
+    /// Answers the `bus_diag` request once the reading came (or timed out); true if a reply
+    /// went out.
+    fn answer_diag(&mut self, ctx: &mut Context<'_>) -> bool {
+        let Some(result) = self.diag.poll(ctx.link, ctx.cell) else {
+            return false;
+        };
+        let reply = match result {
+            Ok(r) => Reply::BusDiag(Box::new(r)),
+            Err(reason) => Reply::Rejected { reason },
+        };
+        self.diag_client.take().is_some_and(|active| {
+            respond(&active, &reply);
+            true
+        })
     }
 
     /// Publishes the status on the operator-status service.
@@ -321,8 +350,20 @@ impl OperatorServer {
             Request::Reset => self.reset(ctx, &state),
             Request::Override { percent } => self.set_override(ctx, percent),
             Request::Program { path } => self.program(ctx, &path),
+            Request::Capture => {
+                if ctx.link.request_capture() {
+                    (self.accept("capture", false), Followup::None)
+                } else {
+                    rejected(
+                        "capture: this cell keeps no capture ring (it needs recording.mode = \"triggered\" and a recording)"
+                            .into(),
+                    )
+                }
+            }
             // Answered later, when the drive has: `poll` takes it before `handle`.
-            Request::Sdo { .. } => rejected("sdo: not an immediate request".into()),
+            Request::Sdo { .. } | Request::BusDiag => {
+                rejected(format!("{name}: not an immediate request"))
+            }
         }
     }
 

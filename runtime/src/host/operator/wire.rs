@@ -163,6 +163,12 @@ pub enum Request {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         value: Option<i64>,
     },
+    /// The EtherCAT segment's diagnostics: per SubDevice its links, ESC error counters, AL
+    /// status and DC time difference; the master's frame counters.
+    BusDiag,
+    /// Write the triggered recording's capture ring now (one file: the last `pre_s` seconds
+    /// and the next `post_s`).
+    Capture,
 }
 
 impl Request {
@@ -182,6 +188,8 @@ impl Request {
             Request::Override { .. } => "override",
             Request::Program { .. } => "program",
             Request::Sdo { .. } => "sdo",
+            Request::BusDiag => "bus_diag",
+            Request::Capture => "capture",
         }
     }
 }
@@ -204,6 +212,8 @@ pub enum Reply {
     Status(Box<StatusReport>),
     /// How an SDO request ended at the drive.
     Sdo(SdoReply),
+    /// The EtherCAT segment's diagnostics.
+    BusDiag(Box<super::bus_diag::BusDiagReply>),
 }
 
 /// The answer of a drive to an SDO request.

@@ -241,10 +241,11 @@ fn a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done(transport: &
         ""
     };
     let text = format!(
-        "[cell]\nname = \"{name}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{segment}{}{}{}",
+        "[cell]\nname = \"{name}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{segment}{}{}{}{}",
         axis_on("p", "pp", transport, pp),
         axis_on("y", "csp", transport, J5),
         axis_on("v", "pv", transport, J5),
+        axis_on("t", "tq", transport, J5),
     );
     let cell = CellConfig::parse(Path::new("prof-prog.toml"), &text).unwrap();
     // The pp axis travels 3x further than the csp one: the step waits for its drive.
@@ -262,6 +263,10 @@ do = "jog"
 axis = "v"
 velocity = 20.0
 seconds = 0.5
+[[step]]
+do = "torque"
+target = { t = 5.0 }
+seconds = 0.2
 [[step]]
 do = "power_off"
 "#;
@@ -322,6 +327,12 @@ do = "power_off"
     // Within the in-position range (100 counts = 0.1 mm).
     assert!((at("p") - 90.0).abs() <= 0.1, "{transport}: {}", at("p"));
     assert!((at("y") - 120.0).abs() <= 0.1, "{transport}: {}", at("y"));
+    // The tq step: the drive's ramp up, then HALT's ramp back to 0, both done.
+    let tq_done = log
+        .iter()
+        .filter(|l| l.contains("profile_finished [t]: done"))
+        .count();
+    assert_eq!(tq_done, 2, "{transport}: {log:?}");
     // The pv axis ran about 0.5 s at up to 20 mm/s before its halt (ramps at 1000 mm/s²).
     assert!(
         (108.0..=111.0).contains(&at("v")),

@@ -589,6 +589,43 @@ impl<'a> Planner<'a> {
         self.wait_profile_axes(&drive_side, &before)
     }
 
+    /// A torque step on tq axes: their drives ramp to the torque at the axis' slope (6087h),
+    /// hold it `hold_s`, then HALT ramps it back to 0; the step ends when every ramp is over.
+    fn run_profile_torque(
+        &mut self,
+        targets: &[TorqueTarget],
+        hold_s: f64,
+    ) -> Result<(), ProgramError> {
+        use crate::handoff::ProfileMotion;
+        let ramps: Vec<ProfileCommand> = targets
+            .iter()
+            .map(|t| ProfileCommand {
+                axis: t.axis as u16,
+                motion: ProfileMotion::Torque {
+                    torque: t.torque,
+                    slope: t.slope,
+                },
+                start_cycle: 0,
+            })
+            .collect();
+        let before = self.status()?;
+        send_profile(self.link.as_mut(), ramps.clone(), 0).map_err(|e| self.err(e))?;
+        self.wait_profile_axes(&ramps, &before)?;
+        let hold_until = Instant::now() + Duration::from_secs_f64(hold_s);
+        while Instant::now() < hold_until {
+            if self.aborted() {
+                return Ok(());
+            }
+            self.status()?;
+            std::thread::sleep(TICK);
+        }
+        let axes: Vec<usize> = targets.iter().map(|t| t.axis).collect();
+        let halts = profile_halts(self.cell, Some(&axes));
+        send_profile(self.link.as_mut(), halts.clone(), 0).map_err(|e| self.err(e))?;
+        let all: Vec<ProfileCommand> = ramps.into_iter().chain(halts).collect();
+        self.wait_profile_axes(&all, &before)
+    }
+
     /// A jog step on a pv axis: its drive runs at `velocity` for `seconds`, then HALT; the step
     /// ends when the drive stands.
     fn run_profile_jog(
@@ -656,6 +693,12 @@ impl<'a> Planner<'a> {
     /// A torque step: every target axis ramps to its torque, holds it, ramps back to zero; the
     /// other axes hold.
     fn run_torque(&mut self, targets: &[TorqueTarget], hold_s: f64) -> Result<(), ProgramError> {
+        if targets
+            .iter()
+            .any(|t| self.cell.axes[t.axis].profile_objects.is_some())
+        {
+            return self.run_profile_torque(targets, hold_s);
+        }
         let req = MotionRequest::Torque {
             targets: targets
                 .iter()

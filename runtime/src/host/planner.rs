@@ -611,19 +611,28 @@ impl<'a> Planner<'a> {
         let before = self.status()?;
         send_profile(self.link.as_mut(), ramps.clone(), 0).map_err(|e| self.err(e))?;
         self.wait_profile_axes(&ramps, &before)?;
-        let hold_until = Instant::now() + Duration::from_secs_f64(hold_s);
-        while Instant::now() < hold_until {
-            if self.aborted() {
-                return Ok(());
-            }
-            self.status()?;
-            std::thread::sleep(TICK);
+        if !self.serve_for(hold_s)? {
+            return Ok(());
         }
         let axes: Vec<usize> = targets.iter().map(|t| t.axis).collect();
         let halts = profile_halts(self.cell, Some(&axes));
         send_profile(self.link.as_mut(), halts.clone(), 0).map_err(|e| self.err(e))?;
         let all: Vec<ProfileCommand> = ramps.into_iter().chain(halts).collect();
         self.wait_profile_axes(&all, &before)
+    }
+
+    /// Serves the operator and watches the cell for `seconds`; false if the program was aborted
+    /// meanwhile.
+    fn serve_for(&mut self, seconds: f64) -> Result<bool, ProgramError> {
+        let until = Instant::now() + Duration::from_secs_f64(seconds);
+        while Instant::now() < until {
+            if self.aborted() {
+                return Ok(false);
+            }
+            self.status()?;
+            std::thread::sleep(TICK);
+        }
+        Ok(true)
     }
 
     /// A jog step on a pv axis: its drive runs at `velocity` for `seconds`, then HALT; the step
@@ -638,13 +647,8 @@ impl<'a> Planner<'a> {
         let jog = profile_jog(axis, a, velocity, &a.limits).map_err(|e| self.err(e))?;
         let before = self.status()?;
         send_profile(self.link.as_mut(), vec![jog], 0).map_err(|e| self.err(e))?;
-        let halt_at = Instant::now() + Duration::from_secs_f64(seconds);
-        while Instant::now() < halt_at {
-            if self.aborted() {
-                return Ok(());
-            }
-            self.status()?;
-            std::thread::sleep(TICK);
+        if !self.serve_for(seconds)? {
+            return Ok(());
         }
         let halt = profile_halts(self.cell, Some(&[axis]));
         send_profile(self.link.as_mut(), halt.clone(), 0).map_err(|e| self.err(e))?;

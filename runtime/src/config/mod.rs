@@ -6,6 +6,7 @@ mod comm_watchdog;
 mod error;
 mod fault;
 pub mod input_file;
+pub mod profile_axis;
 pub mod raw;
 mod validate;
 
@@ -16,6 +17,7 @@ pub use comm_watchdog::{
 pub(crate) use error::parse_toml;
 pub use error::ConfigError;
 pub use fault::{FaultKind, InjectedFault, Injection};
+pub use profile_axis::{ProfileMode, ProfileObjects};
 
 use std::path::{Path, PathBuf};
 
@@ -324,8 +326,15 @@ pub struct AxisConfig {
     /// What the drive's 1018h must show on EtherCAT (the model's identity unless
     /// `[axes.ethercat]` overrides it).
     pub ethercat_identity: cellrt_axes::ethercat::identity::ExpectedIdentity,
-    /// Cyclic mode of operation (6060h).
+    /// Mode of operation (6060h): a cyclic mode (csp/csv/cst, streamed setpoints) or a profile
+    /// mode (pp/pv/tq, the drive's own profile; see `profile_objects`).
     pub mode: ModeOfOperation,
+    /// A profile axis (`mode` pp/pv/tq): its mode and which of its profile objects are in the
+    /// RxPDO or go by SDO; `None` for a cyclic axis.
+    pub profile_objects: Option<ProfileObjects>,
+    /// `motor.rated_speed` in counts/s: the speed the drive's 6083h/6084h time constants run
+    /// from 0 to (required for pp and pv axes on drives with time-constant objects).
+    pub rated_speed: Option<f64>,
     /// Display name of the axis unit (e.g. "mm", "deg").
     pub unit: String,
     /// Counts per unit at the drive's position interface.

@@ -310,6 +310,9 @@ pub struct RawAxis {
     /// Mode name, e.g. "csp".
     #[serde(default = "default_mode")]
     pub mode: String,
+    /// MR-J4-TM [Pr. PA01] control-mode group: "cyclic" (csp/csv/cst/hm, the default) or
+    /// "profile" (pp/pv/tq/hm).
+    pub mode_group: Option<String>,
     /// Unit name for display.
     #[serde(default = "default_unit")]
     pub unit: String,
@@ -379,6 +382,9 @@ pub struct RawMotor {
     pub velocity_unit: Option<String>,
     /// The motor's maximum speed, r/min (rotary) or mm/s (linear).
     pub max_speed: Option<f64>,
+    /// The motor's rated speed, r/min (rotary) or mm/s (linear): the speed the drive's
+    /// 6083h/6084h time constants refer to (profile axes).
+    pub rated_speed: Option<f64>,
 }
 
 /// `[axes.sim]`.

@@ -7,8 +7,8 @@ use std::sync::{Arc, Mutex};
 
 use super::lanes::Lanes;
 use super::{
-    AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest, SdoSlotBusy,
-    UserSdo, UserSdoOutcome,
+    AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest, ProfileCommand,
+    SdoSlotBusy, UserSdo, UserSdoOutcome,
 };
 
 /// Event lines kept for the operator's status.
@@ -73,6 +73,12 @@ impl HostEnd {
     /// Queues a command for the RT thread; gives it back if the queue is full.
     pub fn send_command(&self, command: CellCommand) -> Result<(), CellCommand> {
         self.lanes.commands.push(command)
+    }
+
+    /// Queues a profile axis' drive-side motion for the RT thread; gives it back if the queue
+    /// is full.
+    pub fn send_profile_command(&self, command: ProfileCommand) -> Result<(), ProfileCommand> {
+        self.lanes.profile_commands.push(command)
     }
 
     /// Leaves a homing request for the RT thread (replacing one not yet taken).

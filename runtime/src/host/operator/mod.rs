@@ -6,6 +6,7 @@
 
 pub mod bus_diag;
 pub mod client;
+pub(crate) mod profile;
 pub mod sdo;
 pub mod server;
 pub mod socket;

@@ -8,6 +8,7 @@ mod acyclic;
 mod axis;
 mod cell;
 mod comm_watchdog;
+mod homing;
 mod profile_axis;
 mod profile_commands;
 mod rx_command;

@@ -20,6 +20,9 @@ use serde::Serialize;
 use crate::loopbench::{config_text, program_text, LoopOptions};
 use crate::{cyclictest, tools, BenchError};
 
+/// SCHED_FIFO priority of the soak cell's planner thread.
+const PLANNER_PRIORITY: u8 = 40;
+
 /// What to run.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct SoakOptions {
@@ -143,11 +146,17 @@ pub fn run(
         .map_err(|e| BenchError::failed(format!("cannot create a temp dir: {e}")))?;
     let name = format!("soak-{}", std::process::id());
     let cfg_path = dir.path().join("soak.toml");
-    let mut text = config_text(&name, &opts.cell);
-    text = text.replace(
-        "[recording]\n",
-        &format!("[recording]\nrotate_seconds = {}\n", opts.rotate_s),
-    );
+    // The planner runs SCHED_FIFO below the RT thread: an hour on a shared machine must not
+    // end in an underrun because a compiler starved the planner past the lookahead.
+    let text = config_text(&name, &opts.cell)
+        .replace(
+            "[recording]\n",
+            &format!("[recording]\nrotate_seconds = {}\n", opts.rotate_s),
+        )
+        .replace(
+            "[rt]\n",
+            &format!("[rt]\nplanner_priority = {}\n", PLANNER_PRIORITY),
+        );
     let cell = CellConfig::parse(&cfg_path, &text).map_err(|e| BenchError::bad(e.to_string()))?;
     let prog_path = dir.path().join("soak-program.toml");
     let program = Program::parse(

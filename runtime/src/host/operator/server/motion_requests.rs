@@ -1,0 +1,334 @@
+//! The operator's motion requests (PLCopen MC_MoveAbsolute / MC_MoveRelative, MC_MoveVelocity,
+//! MC_TorqueControl, MC_Home, MC_Halt, MC_Stop, MC_Reset, MC_SetOverride, programs): each
+//! checked against the cell and handed to the motion engine or the RT thread.
+
+use super::*;
+
+impl OperatorServer {
+    /// MC_MoveAbsolute / MC_MoveRelative: a time-synchronised move, or with `line` a straight
+    /// line whose asked velocity is the path velocity.
+    pub(super) fn move_axes(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        targets: &BTreeMap<String, f64>,
+        relative: bool,
+        line: bool,
+        asked: Asked,
+    ) -> (Reply, Followup) {
+        let axis_velocity = if line { None } else { asked.velocity };
+        let list = match resolve_targets(ctx, state, targets, relative, |a| {
+            move_limits(
+                a,
+                Asked {
+                    velocity: axis_velocity,
+                    ..asked
+                },
+            )
+        }) {
+            Ok(l) => l,
+            Err(e) => return rejected(format!("move: {e}")),
+        };
+        if !line {
+            let list: Vec<_> = list.into_iter().map(|(i, t, l, _)| (i, t, l)).collect();
+            return self.move_with_profile_axes(ctx, list);
+        }
+        let start: Vec<f64> = list.iter().map(|t| t.3).collect();
+        let end: Vec<f64> = list.iter().map(|t| t.1).collect();
+        let limits: Vec<KinematicLimits> = list.iter().map(|t| t.2).collect();
+        let max = cellrt_trajectory::line::max_path_velocity(&start, &end, &limits);
+        let path_velocity = match asked.velocity {
+            Some(v) if !(v.is_finite() && v > 0.0) => {
+                return rejected(format!(
+                    "move: path velocity {v} must be a finite number > 0"
+                ))
+            }
+            Some(v) if v > max && !asked.clamp => {
+                return rejected(format!(
+                    "move: path velocity {v} exceeds {max:.3}, the most every axis allows along this line (add --clamp to use it)"
+                ))
+            }
+            Some(v) => Some(v.min(max)),
+            None => None,
+        };
+        let req = MotionRequest::Line {
+            targets: list.iter().map(|t| (t.0, t.1, t.2)).collect(),
+            path_velocity,
+        };
+        self.motion("move", req, ctx)
+    }
+
+    /// A move whose pp axes the drive moves by itself (`profile::split_move`): the streamed
+    /// axes go to the motion engine first, then each pp axis gets its set-point.
+    pub(super) fn move_with_profile_axes(
+        &mut self,
+        ctx: &mut Context<'_>,
+        list: Vec<(usize, f64, KinematicLimits)>,
+    ) -> (Reply, Followup) {
+        let (commands, streamed) = match profile::split_move(ctx.cell, list) {
+            Ok(split) => split,
+            Err(e) => return rejected(format!("move: {e}")),
+        };
+        let reply = if streamed.is_empty() {
+            (self.accept("move", false), Followup::None)
+        } else {
+            let r = self.motion("move", MotionRequest::Move(streamed), ctx);
+            if matches!(r.0, Reply::Rejected { .. }) {
+                return r; // nothing sent to the pp axes either
+            }
+            r
+        };
+        // The pp axes start in the streamed motion's first cycle.
+        let start = ctx.engine.start_cycle().unwrap_or(0);
+        match profile::send(ctx.link, commands, start) {
+            Ok(()) => reply,
+            Err(e) => rejected(format!("move: {e}")),
+        }
+    }
+
+    /// A waypoint move from rest: through each waypoint but the last, to the last at rest.
+    pub(super) fn path(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        waypoints: &[BTreeMap<String, f64>],
+        asked: Asked,
+    ) -> (Reply, Followup) {
+        let Some(last) = waypoints.last() else {
+            return rejected("path: no waypoints".into());
+        };
+        let targets = match resolve_targets(ctx, state, last, false, |a| move_limits(a, asked)) {
+            Ok(l) => l.into_iter().map(|(i, t, l, _)| (i, t, l)).collect(),
+            Err(e) => return rejected(format!("path: {e}")),
+        };
+        let mut via = Vec::with_capacity(waypoints.len() - 1);
+        for (w, point) in waypoints[..waypoints.len() - 1].iter().enumerate() {
+            if point.len() != last.len() || point.keys().any(|k| !last.contains_key(k)) {
+                return rejected(format!(
+                    "path: waypoint {w} names other axes than the target ({})",
+                    last.keys().cloned().collect::<Vec<_>>().join(", ")
+                ));
+            }
+            via.push(last.keys().map(|k| point[k]).collect());
+        }
+        self.motion("path", MotionRequest::Path { targets, via }, ctx)
+    }
+
+    /// MC_MoveVelocity: jogs one axis at a signed velocity until halted.
+    pub(super) fn velocity(
+        &mut self,
+        ctx: &mut Context<'_>,
+        axis: &str,
+        velocity: f64,
+        acceleration: Option<f64>,
+        clamp: bool,
+    ) -> (Reply, Followup) {
+        let i = match axis_index(ctx.cell, axis) {
+            Ok(i) => i,
+            Err(e) => return rejected(format!("velocity: {e}")),
+        };
+        let a = &ctx.cell.axes[i];
+        let asked = Asked {
+            velocity: None,
+            acceleration,
+            jerk: None,
+            clamp,
+        };
+        let limits = match move_limits(a, asked) {
+            Ok(l) => l,
+            Err(e) => return rejected(format!("velocity: {e}")),
+        };
+        if !velocity.is_finite() {
+            return rejected(format!(
+                "velocity: axis '{axis}': velocity {velocity} is not a finite number"
+            ));
+        }
+        let v = if clamp {
+            velocity.clamp(-a.limits.velocity, a.limits.velocity)
+        } else {
+            velocity
+        };
+        if profile::mode_of(a).is_some() {
+            return match profile::jog(i, a, v, &limits)
+                .and_then(|c| profile::send(ctx.link, vec![c], 0))
+            {
+                Ok(()) => (self.accept("velocity", false), Followup::None),
+                Err(e) => rejected(format!("velocity: {e}")),
+            };
+        }
+        self.motion(
+            "velocity",
+            MotionRequest::Jog {
+                axis: i,
+                velocity: v,
+                limits,
+            },
+            ctx,
+        )
+    }
+
+    /// MC_TorqueControl: torque on cst axes, held for `seconds`.
+    pub(super) fn torque(
+        &mut self,
+        ctx: &mut Context<'_>,
+        targets: &BTreeMap<String, f64>,
+        seconds: f64,
+    ) -> (Reply, Followup) {
+        let (drive_side, list) = match profile::split_torque(ctx.cell, targets) {
+            Ok(split) => split,
+            Err(e) => return rejected(format!("torque: {e}")),
+        };
+        if !drive_side.is_empty() {
+            // tq axes hold their torque until a halt or stop (`seconds` is for cst axes).
+            return match profile::send(ctx.link, drive_side, 0) {
+                Ok(()) => (self.accept("torque", false), Followup::None),
+                Err(e) => rejected(format!("torque: {e}")),
+            };
+        }
+        if !(seconds.is_finite() && seconds >= 0.0) {
+            return rejected(format!(
+                "torque: seconds {seconds} must be a finite number ≥ 0"
+            ));
+        }
+        self.motion(
+            "torque",
+            MotionRequest::Torque {
+                targets: list,
+                hold_s: seconds,
+            },
+            ctx,
+        )
+    }
+
+    /// MC_Home: one axis, from idle, in its drive's homing mode; tracked until the RT thread
+    /// reports the homing sequence ended.
+    pub(super) fn home(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        axis: &str,
+        method: Option<i8>,
+        setting: Option<HomeSettingEdge>,
+    ) -> (Reply, Followup) {
+        let i = match axis_index(ctx.cell, axis) {
+            Ok(i) => i,
+            Err(e) => return rejected(format!("home: {e}")),
+        };
+        let a = &ctx.cell.axes[i];
+        let procedure = match choose_procedure(a.profile, method, setting) {
+            Ok(p) => p,
+            Err(e) => return rejected(format!("home: axis '{axis}': {e}")),
+        };
+        if ctx.engine.is_busy() || state.state != CellState::Idle {
+            return rejected(format!(
+                "home: the cell is {}; homing starts from idle (power on, halt or wait first)",
+                state.state.as_str()
+            ));
+        }
+        self.home_seq = state.homing.seq;
+        match ctx.link.home(HomeRequest {
+            axis: i as u16,
+            procedure,
+        }) {
+            Ok(()) => (self.accept("home", true), Followup::None),
+            Err(e) => rejected(format!("home: {e}")),
+        }
+    }
+
+    /// MC_Halt: the named axes (every axis when none) ramp down; a running program is aborted.
+    pub(super) fn halt(&mut self, ctx: &mut Context<'_>, axes: &[String]) -> (Reply, Followup) {
+        let list = if axes.is_empty() {
+            None
+        } else {
+            match axes
+                .iter()
+                .map(|a| axis_index(ctx.cell, a))
+                .collect::<Result<Vec<_>, _>>()
+            {
+                Ok(l) => Some(l),
+                Err(e) => return rejected(format!("halt: {e}")),
+            }
+        };
+        let abort = ctx.program_running;
+        if let Err(e) = profile::send(ctx.link, profile::halts(ctx.cell, list.as_deref()), 0) {
+            return rejected(format!("halt: {e}"));
+        }
+        if !ctx.engine.is_busy() {
+            return (self.accept("halt", false), program_abort(abort));
+        }
+        match ctx.engine.submit(MotionRequest::Halt(list), ctx.link) {
+            Ok(()) => (self.accept("halt", true), program_abort(abort)),
+            Err(e) => rejected(format!("halt: {e}")),
+        }
+    }
+
+    /// MC_Stop: the RT thread stops the cell; a running program is aborted.
+    pub(super) fn stop(&mut self, ctx: &mut Context<'_>) -> (Reply, Followup) {
+        match ctx.link.command(CellCommand::Stop) {
+            Ok(()) => {
+                let reply = self.accept("stop", false);
+                (reply, program_abort(ctx.program_running))
+            }
+            Err(e) => rejected(format!("stop: {e}")),
+        }
+    }
+
+    /// MC_Reset: leaves a stopped or faulted cell (nothing to do otherwise).
+    pub(super) fn reset(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+    ) -> (Reply, Followup) {
+        if !matches!(state.state, CellState::Stopped | CellState::Faulted) {
+            return (self.accept("reset", false), Followup::None);
+        }
+        ctx.engine.abandon();
+        match ctx.link.command(CellCommand::Reset) {
+            Ok(()) => (self.accept("reset", false), Followup::None),
+            Err(e) => rejected(format!("reset: {e}")),
+        }
+    }
+
+    /// The feed override, 0–100 %.
+    pub(super) fn set_override(
+        &mut self,
+        ctx: &mut Context<'_>,
+        percent: f64,
+    ) -> (Reply, Followup) {
+        if !(percent.is_finite() && (0.0..=100.0).contains(&percent)) {
+            return rejected(format!("override: {percent} % is outside 0–100 %"));
+        }
+        match ctx.engine.set_override(percent / 100.0) {
+            Ok(()) => (self.accept("override", false), Followup::None),
+            Err(e) => rejected(format!("override: {e}")),
+        }
+    }
+
+    /// Loads and validates a program for the planner thread to run.
+    pub(super) fn program(&mut self, ctx: &mut Context<'_>, path: &Path) -> (Reply, Followup) {
+        if ctx.engine.is_busy() {
+            return rejected("program: a motion is active; halt it first".into());
+        }
+        match Program::load(path, ctx.cell) {
+            Ok(p) => (self.accept("program", true), Followup::RunProgram(p)),
+            Err(e) => rejected(format!("program: {e}")),
+        }
+    }
+
+    pub(super) fn motion(
+        &mut self,
+        name: &str,
+        req: MotionRequest,
+        ctx: &mut Context<'_>,
+    ) -> (Reply, Followup) {
+        match ctx.engine.submit(req, ctx.link) {
+            Ok(()) => (self.accept(name, true), Followup::None),
+            Err(e) => (
+                Reply::Rejected {
+                    reason: format!("{name}: {e}"),
+                },
+                Followup::None,
+            ),
+        }
+    }
+}

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use mcap::records::{MessageHeader, Metadata};
 
-use super::recorder::{open, Channels, RecorderError, Sink};
+use super::sink::{open, Channels, RecorderError, Sink};
 use crate::config::capture::{CaptureConfig, Quantity, Trigger};
 use crate::config::CellConfig;
 use crate::handoff::EventKind;

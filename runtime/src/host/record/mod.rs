@@ -5,6 +5,7 @@ pub mod capture;
 mod describe;
 pub mod proto;
 mod recorder;
+mod sink;
 pub mod topics;
 
 pub use recorder::{

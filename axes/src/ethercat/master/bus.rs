@@ -78,7 +78,7 @@ impl EthercatBus {
     /// RT thread; the readings are made by the mailbox worker).
     pub fn diagnostics(&self) -> super::diag::BusDiagnostics {
         super::diag::BusDiagnostics {
-            shared: self.worker.shared.clone(),
+            shared: self.worker.shared.diag.clone(),
         }
     }
 

@@ -7,6 +7,7 @@ mod carrier;
 mod cyclic;
 mod dc;
 pub mod diag;
+mod diag_read;
 mod error;
 mod group;
 pub mod link;

@@ -38,7 +38,7 @@ pub(super) struct Shared {
     /// Notices dropped because the queue was full.
     pub(super) dropped: AtomicU64,
     /// Bus diagnostics: the host's requests, the readings and the counters behind them.
-    pub(super) diag: super::diag::DiagShared,
+    pub(super) diag: Arc<super::diag::DiagShared>,
     /// The worker ends.
     stop: AtomicBool,
 }
@@ -82,7 +82,7 @@ impl Shared {
             drain: (0..stations).map(|_| AtomicBool::new(false)).collect(),
             notices: ArrayQueue::new(NOTICE_QUEUE),
             dropped: AtomicU64::new(0),
-            diag: super::diag::DiagShared::new(stations),
+            diag: Arc::new(super::diag::DiagShared::new(stations)),
             stop: AtomicBool::new(false),
         }
     }

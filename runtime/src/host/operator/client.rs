@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use iceoryx2::node::{NodeState, NodeView};
 use iceoryx2::prelude::*;
 
-use super::socket::{self, Found};
+use super::socket_client::{self as socket, Found};
 use super::wire::{self, Reply, Request};
 use crate::services::{self, OperatorClientPort};
 

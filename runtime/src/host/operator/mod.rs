@@ -10,6 +10,7 @@ pub(crate) mod profile;
 pub mod sdo;
 pub mod server;
 pub mod socket;
+mod socket_client;
 mod targets;
 pub mod wire;
 

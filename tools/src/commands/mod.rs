@@ -8,6 +8,7 @@ pub mod esi;
 pub mod inspect;
 pub mod je_c;
 pub mod operate;
+pub mod param;
 pub mod planner;
 pub mod recover;
 pub mod replay;

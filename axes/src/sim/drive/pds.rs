@@ -129,6 +129,7 @@ impl SimDrive {
         self.following_error = 0;
         // S_ZPAS is "since power-on"; the C_CR edges start afresh.
         self.home_set = HomeSettingState::default();
+        self.reload_parameters();
         if let Some(f) = self.fsoe.as_mut() {
             f.reset();
         }
@@ -213,6 +214,9 @@ impl SimDrive {
     }
 
     pub(super) fn raise(&mut self, code: u16) {
+        if self.alarm != Some(code) {
+            self.record_alarm(code);
+        }
         self.alarm = Some(code);
         if self.state != FsaState::Fault {
             // (13)

@@ -3,8 +3,11 @@
 //! and a status publisher (all three named and built in [`crate::services`]). Requests, replies
 //! and the status are JSON ([`wire`]).
 
+mod alarms;
 pub mod client;
+mod param;
 pub mod sdo;
+mod sdo_job;
 pub mod server;
 mod targets;
 pub mod wire;

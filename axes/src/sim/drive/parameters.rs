@@ -48,6 +48,19 @@ impl SimDrive {
         .unwrap_or_default()
     }
 
+    /// The communication parameters with PO02 and PO03 as in force since power-on (the
+    /// configured ones until a saved change and a power cycle replace them).
+    pub(super) fn comm_in_force(&self) -> crate::sim::comm::CommParams {
+        let mut c = self.params.comm;
+        if let Some(v) = self.parameter_in_force("PO02") {
+            c.po02 = v as u16;
+        }
+        if let Some(v) = self.parameter_in_force("PO03") {
+            c.po03 = v as u16;
+        }
+        c
+    }
+
     /// The values held in the non-volatile memory at start: the manual's initial values, with
     /// the communication parameters the simulator is configured with (PO02, PO03).
     pub(super) fn seed_saved_parameters(&mut self) {
@@ -214,6 +227,24 @@ mod tests {
         // PC02 STB (no *): in force at once.
         write(&mut d, 0x2302, 2, 500).unwrap();
         assert_eq!(d.parameter_in_force("PC02"), Some(500));
+    }
+
+    #[test]
+    fn po02_and_po03_act_from_the_power_on_after_their_save() {
+        // MR-J3-T04 manual §2.4: free-run (PO02 = 0001h) with the counter check on (PO03
+        // digit 0 = 1) is AL.37 at power-on.
+        let mut d = j3();
+        write(&mut d, 0x2309, 2, 0x0001).unwrap();
+        write(&mut d, 0x2309, 3, 0x0001).unwrap();
+        d.power_cycle();
+        assert_eq!(d.alarm(), None, "not saved: lost at the power cycle");
+        write(&mut d, 0x2309, 2, 0x0001).unwrap();
+        write(&mut d, 0x2309, 3, 0x0001).unwrap();
+        save(&mut d).unwrap();
+        assert_eq!(d.alarm(), None, "saved, not in force yet");
+        d.power_cycle();
+        assert_eq!(d.alarm(), Some(mr_j3_t04::AL_37));
+        assert_eq!(d.sdo_upload(0x2030, 1), Ok(i64::from(mr_j3_t04::AL_37)));
     }
 
     #[test]

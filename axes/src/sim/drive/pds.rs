@@ -38,7 +38,7 @@ impl SimDrive {
         if let crate::profiles::CommCheck::IncrementalCounter { free_run_alarm, .. } =
             self.profile.comm_check
         {
-            let comm = self.params.comm;
+            let comm = self.comm_in_force();
             if comm.po02 & 0xF == 1 && comm.po03 & 0xF != 0 {
                 self.raise(free_run_alarm);
             }
@@ -124,12 +124,18 @@ impl SimDrive {
         self.startup_left = self.params.startup_cycles;
         self.prev_cw = Controlword::DISABLE_VOLTAGE;
         self.plant.hold(0.0);
-        self.comm.reset();
+        self.reload_parameters();
+        let counter_mapped = self.profile.rx_pdo.has_counter() && self.profile.tx_pdo.has_counter();
+        self.comm = super::DriveComm::new(
+            self.profile.comm_check,
+            self.comm_in_force(),
+            self.cycle_time,
+            counter_mapped,
+        );
         self.op = true;
         self.following_error = 0;
         // S_ZPAS is "since power-on"; the C_CR edges start afresh.
         self.home_set = HomeSettingState::default();
-        self.reload_parameters();
         if let Some(f) = self.fsoe.as_mut() {
             f.reset();
         }

@@ -213,3 +213,7 @@ fn param_value(p: &Parameter, r: &SdoReply) -> ParamValue {
         effect: p.effect().as_str().to_string(),
     }
 }
+
+#[cfg(test)]
+#[path = "param_tests.rs"]
+mod tests;

@@ -2,7 +2,8 @@
 
 use super::*;
 
-fn shipped(name: &str) -> CellConfig {
+/// The shipped configuration `name` (configs/), parsed.
+pub(in crate::host::operator) fn shipped(name: &str) -> CellConfig {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../configs")
         .join(name);

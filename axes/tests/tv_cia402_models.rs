@@ -942,6 +942,34 @@ fn generic_cia402_following_error_and_overspeed_are_cia402_codes() {
 }
 
 #[test]
+fn mr_j3_t04_following_error_alarm_lands_in_its_alarm_history() {
+    // MR-J3-T04 manual §8.9: the newest alarm in 2030h; AL.52 (standard MR-J3-A error
+    // excessive) is the profile's following-error alarm.
+    let mut d = drive(
+        DriveModel::MrJ3T04,
+        1000,
+        SimDriveParams {
+            following_error_limit: 5_000,
+            ..SimDriveParams::default()
+        },
+    );
+    enabled(&mut d);
+    let start = d.tx_pdo().position_actual;
+    for k in 1..=2000 {
+        if exchange(&mut d, &csp(Controlword(0x0F), start + 1_000 * k))
+            .statusword
+            .fault()
+        {
+            break;
+        }
+    }
+    assert_eq!(d.alarm(), Some(0x0052));
+    assert_eq!(d.sdo_upload(0x2030, 1), Ok(0x0052));
+    assert_eq!(d.sdo_upload(0x2031, 1), Ok(0));
+    assert_eq!(d.alarm_history().entry(0).number, 0x0052);
+}
+
+#[test]
 fn generic_cia402_homing_on_the_current_position() {
     // hm with 6098h = 37 (the profile's default) and 35: home = the current position, no
     // motion; any other method ends in a homing error (statusword bit 13).

@@ -93,7 +93,10 @@ impl SimDrive {
         }
         let entry = self.od_entry(index, sub)?;
         self.parameter_access(index, sub, false)?;
-        if let Some(v) = self.history_value(index, sub) {
+        if let Some(v) = self
+            .history_value(index, sub)
+            .or_else(|| self.derived_parameter(index, sub))
+        {
             return Ok(v);
         }
         if (index, sub) == (HOME_OFFSET, 0) {

@@ -86,6 +86,22 @@ pub struct Parameter {
     pub display: Display,
     /// Whether cellrt writes it while the axis is in Operation enabled.
     pub while_enabled: WhileEnabled,
+    /// A value the drive sets itself, where the manual says so.
+    pub derived: Option<Derived>,
+}
+
+/// A parameter value the drive sets itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Derived {
+    /// Follows the control mode in force: `position` in a position mode or homing, `velocity`
+    /// in a velocity mode (MR-J3-T04 PA01: "automatically changed according to the current
+    /// operating mode", 0 position/homing, 2 speed).
+    ControlMode {
+        /// The value in csp, hm (and the other position modes).
+        position: i64,
+        /// The value in csv (and the other velocity modes).
+        velocity: i64,
+    },
 }
 
 impl Parameter {
@@ -367,6 +383,7 @@ pub(crate) const fn par(
         setting: Setting::DoNotChange,
         display: Display::Decimal,
         while_enabled: WhileEnabled::Allowed,
+        derived: None,
     })
 }
 
@@ -404,6 +421,13 @@ impl ParRow {
     pub(crate) const fn not_while_enabled(self) -> ParRow {
         let mut p = self.0;
         p.while_enabled = WhileEnabled::Refused;
+        ParRow(p)
+    }
+
+    /// Set by the drive from the control mode in force ([`Derived::ControlMode`]).
+    pub(crate) const fn follows_control_mode(self, position: i64, velocity: i64) -> ParRow {
+        let mut p = self.0;
+        p.derived = Some(Derived::ControlMode { position, velocity });
         ParRow(p)
     }
 

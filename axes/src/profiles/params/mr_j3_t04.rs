@@ -22,7 +22,7 @@ const PO: u16 = 0x2309;
 /// marked [inferred] (the spec extract's reading of them).
 #[rustfmt::skip]
 pub const TABLE: &[super::Parameter] = &[
-    par("PA01", "*STY", "Control mode", (PA, 1), I32).default(0).hex().cite("§5.1: set automatically from PO02 / 6060h; do not change"),
+    par("PA01", "*STY", "Control mode", (PA, 1), I32).default(0).hex().follows_control_mode(0x0000, 0x0002).cite("§5.1: set automatically from PO02 / 6060h; do not change"),
     par("PA03", "*ABS", "Absolute position detection system", (PA, 3), I32).default(0).hex().setting(Setting::Digits(&[&[0, 2]])).cite("§5.1: 0 invalid, 2 valid (ABS transfer via EtherCAT)"),
     par("PA05", "*FBP", "For manufacturer setting", (PA, 5), I32).default(0).cite("§5.1: 0, 1000 to 50000; setting is invalid, do not change"),
     par("PA06", "*CMX", "For manufacturer setting", (PA, 6), I32).default(1).cite("§5.1: 1 to 1048576; setting is invalid, do not change"),

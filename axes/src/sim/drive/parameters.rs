@@ -5,7 +5,8 @@
 //! written, by its value at power-on. Off the RT path: the SDO surface may allocate.
 
 use super::SimDrive;
-use crate::profiles::params::{Effect, Parameter, SaveReadback};
+use crate::cia402::mode::ModeOfOperation;
+use crate::profiles::params::{Derived, Effect, Parameter, SaveReadback};
 use crate::sim::sdo::SdoAbort;
 
 /// Saved values and the `*` parameters' values at power-on, by object.
@@ -156,6 +157,17 @@ impl SimDrive {
         }
     }
 
+    /// The value of a parameter the drive sets itself ([`Derived`]), if `index:sub` is one.
+    pub(in crate::sim) fn derived_parameter(&self, index: u16, sub: u8) -> Option<i64> {
+        let p = self.profile.parameters.by_object(index, sub)?;
+        match p.derived? {
+            Derived::ControlMode { position, velocity } => Some(match self.mode_display {
+                ModeOfOperation::CyclicSyncVelocity | ModeOfOperation::ProfileVelocity => velocity,
+                _ => position,
+            }),
+        }
+    }
+
     /// Records alarm `code` in the history, where the model keeps one.
     pub(super) fn record_alarm(&mut self, code: u16) {
         if self.profile.parameters.alarm_history.is_ok() {
@@ -245,6 +257,23 @@ mod tests {
         d.power_cycle();
         assert_eq!(d.alarm(), Some(mr_j3_t04::AL_37));
         assert_eq!(d.sdo_upload(0x2030, 1), Ok(i64::from(mr_j3_t04::AL_37)));
+    }
+
+    #[test]
+    fn pa01_follows_the_control_mode() {
+        // MR-J3-T04 manual §5.1: 0 in csp and hm, 2 in csv (the mode comes from 6060h by SDO).
+        let mut d = j3();
+        assert_eq!(d.sdo_upload(0x2300, 1), Ok(0x0000));
+        d.sdo_download(0x6060, 0, &[9]).unwrap();
+        for _ in 0..5 {
+            d.cycle_lost(
+                &mut [0u8; 64][..d.profile().tx_pdo.byte_len()],
+                crate::cycles::Cycles(1),
+            )
+            .unwrap();
+        }
+        assert_eq!(d.mode_display(), ModeOfOperation::CyclicSyncVelocity);
+        assert_eq!(d.sdo_upload(0x2300, 1), Ok(0x0002));
     }
 
     #[test]

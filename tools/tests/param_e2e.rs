@@ -144,7 +144,7 @@ fn param_list_get_set_diff_save_on_simulated_mr_j3_t04_drives() {
          written while the axis is enabled",
     );
     cell.out(&["param", "set", "x", "PA14", "0"]);
-    cell.out(&["power", "off", "x"]);
+    cell.out(&["power", "off"]);
     cell.out(&["param", "set", "x", "PC02", "200"]);
     assert_eq!(names(&cell.out(&["param", "diff", "x"])), ["PC02", "PO03"]);
     assert_eq!(

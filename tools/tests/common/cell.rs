@@ -17,21 +17,8 @@ pub struct Cell {
 
 impl Cell {
     pub fn start(cfg: &Path, rec: &Path) -> Cell {
-        let mut text = std::fs::read_to_string(cfg).unwrap();
-        // The operator interface is under test, not the machine's load: no overrun watchdog
-        // (a stall of the VM of a few ms would stop the cell), as `common::demo_cell` does.
-        if !text.contains("max_consecutive_overruns") {
-            text = if text.contains("[watchdogs]") {
-                text.replacen(
-                    "[watchdogs]",
-                    "[watchdogs]\nmax_consecutive_overruns = 0",
-                    1,
-                )
-            } else {
-                format!("{text}\n[watchdogs]\nmax_consecutive_overruns = 0\n")
-            };
-            std::fs::write(cfg, &text).unwrap();
-        }
+        let text = without_overrun_watchdog(std::fs::read_to_string(cfg).unwrap());
+        std::fs::write(cfg, &text).unwrap();
         let name = text
             .lines()
             .find_map(|l| l.strip_prefix("name = \""))
@@ -68,6 +55,7 @@ impl Cell {
                 "max_consecutive_overruns = 100",
                 "max_consecutive_overruns = 0",
             );
+        let text = without_overrun_watchdog(text);
         assert!(text.contains(&name));
         let cfg = dir.join(config);
         std::fs::write(&cfg, format!("{text}\n{toml}")).unwrap();
@@ -156,6 +144,23 @@ impl Cell {
         interrupt(&child);
         let status = child.wait().unwrap();
         assert!(status.success(), "controller exit: {status:?}");
+    }
+}
+
+/// `text` with the overrun watchdog off where it does not set it: the operator interface is
+/// under test, not the machine's load (a stall of the VM of a few ms would stop the cell), as
+/// `common::demo_cell` does.
+fn without_overrun_watchdog(text: String) -> String {
+    if text.contains("max_consecutive_overruns") {
+        text
+    } else if text.contains("[watchdogs]") {
+        text.replacen(
+            "[watchdogs]",
+            "[watchdogs]\nmax_consecutive_overruns = 0",
+            1,
+        )
+    } else {
+        format!("{text}\n[watchdogs]\nmax_consecutive_overruns = 0\n")
     }
 }
 

@@ -69,6 +69,11 @@ pub fn run(args: SdoArgs, target: Target) -> Exit {
     }
 }
 
+/// The least a client waits for the reply to a request of many SDO transfers (`param list`,
+/// `alarms`: one transfer after the other through the mailbox, each bounded by the cell's
+/// own 3 s answer timeout); `--reply-timeout` counts where it is longer.
+const MANY_TRANSFERS_REPLY_TIMEOUT: Duration = Duration::from_secs(30);
+
 /// Sends `request` to the target cell and returns the reply (printed as JSON first when
 /// `json`); a rejection is printed (unless `json`) and becomes its exit, as does no answer.
 pub(crate) fn ask(target: &Target, request: &Request, json: bool) -> Result<Reply, Exit> {
@@ -76,7 +81,10 @@ pub(crate) fn ask(target: &Target, request: &Request, json: bool) -> Result<Repl
         eprintln!("error: {e}");
         Exit::Unreachable
     })?;
-    let timeout = Duration::from_secs_f64(target.reply_timeout);
+    let timeout = match request {
+        Request::Sdo { .. } => Duration::from_secs_f64(target.reply_timeout),
+        _ => Duration::from_secs_f64(target.reply_timeout).max(MANY_TRANSFERS_REPLY_TIMEOUT),
+    };
     let reply = client.request(request, timeout).map_err(|e| {
         eprintln!("error: {e}");
         Exit::Unreachable

@@ -55,7 +55,15 @@ pub fn plan(cell: &CellConfig, axis: &str, clear: bool) -> Result<SdoJob, String
 }
 
 impl AlarmsPlan {
-    /// The reply from the drive's answers (three per entry, or the clear's one).
+    /// True if `r` reads an empty entry's Alarm No.: the history fills from its newest entry,
+    /// so the older entries are empty too and are not read [inferred: the manual does not
+    /// say, a history is written newest first and cleared as a whole].
+    pub fn ends_at(&self, r: &SdoReply) -> bool {
+        !self.clear && r.sub == history_sub::NUMBER && value(r) == Some(0)
+    }
+
+    /// The reply from the drive's answers (three per entry up to the first empty one, or the
+    /// clear's one).
     pub fn finish(self, answers: &[SdoReply]) -> Reply {
         if let Some(why) = answers.iter().find_map(aborted) {
             return Reply::Rejected {

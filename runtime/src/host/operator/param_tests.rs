@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::host::operator::alarms;
-use crate::host::operator::sdo::tests::shipped;
+use crate::host::operator::sdo::tests::{shipped, FakeLink};
 use crate::host::operator::wire::SdoAnswer;
 
 fn refused(cell: &CellConfig, axis: &str, op: ParamOp, enabled: bool) -> String {
@@ -150,12 +150,25 @@ fn diff_keeps_the_parameters_off_their_initial_value_and_a_refused_read_shows_it
 fn the_history_lists_the_recorded_alarms_newest_first_by_their_manual_names() {
     let cell = shipped("mr-j3-t04.toml");
     let mut job = alarms::plan(&cell, "x", false).unwrap();
-    // 2030h: AL.36 at 2 h; 2031h: AL.52; 2032h–2035h empty (MR-J3-T04 manual §8.9).
-    for (number, hours) in [(0x36, 2), (0x52, 1), (0, 0), (0, 0), (0, 0), (0, 0)] {
-        for v in [number, hours, 0] {
-            job.answered(read(v));
-        }
+    // 2030h: AL.36 at 2 h; 2031h: AL.52; 2032h empty, so 2032h–2035h are not read further
+    // (MR-J3-T04 manual §8.9).
+    let no = |value| SdoReply {
+        sub: 1,
+        ..read(value)
+    };
+    for (number, hours) in [(0x36, 2), (0x52, 1)] {
+        job.answered(no(number));
+        job.answered(read(hours));
+        job.answered(read(0));
     }
+    job.answered(no(0));
+    let mut sdo = crate::host::operator::sdo::SdoInFlight::default();
+    let mut link = FakeLink::default();
+    assert_eq!(
+        job.start_next(&mut sdo, &mut link),
+        Ok(false),
+        "nothing left"
+    );
     match job.finish() {
         Reply::Alarms(r) => {
             let got: Vec<(u8, &str, u32)> = r

@@ -55,8 +55,12 @@ impl SdoJob {
         }
     }
 
-    /// Takes the answer of the step in flight.
+    /// Takes the answer of the step in flight; the steps left are dropped where the answer
+    /// makes them moot (an empty alarm history entry: the older ones are empty too).
     pub fn answered(&mut self, reply: SdoReply) {
+        if matches!(&self.purpose, Purpose::Alarms(a) if a.ends_at(&reply)) {
+            self.steps.clear();
+        }
         self.answers.push(reply);
     }
 

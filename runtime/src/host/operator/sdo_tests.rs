@@ -147,7 +147,7 @@ fn an_answer_is_typed_by_the_object() {
 
 /// A link whose RT thread takes requests and publishes the outcomes it is given.
 #[derive(Default)]
-struct FakeLink {
+pub(in crate::host::operator) struct FakeLink {
     sent: Vec<UserSdo>,
     outcome: Option<(u16, UserSdoOutcome)>,
 }

@@ -48,6 +48,15 @@ pub struct OperatorServer {
     job: Option<(SdoJob, ActiveRequest)>,
 }
 
+/// True if `axis` is in Operation enabled by its latest statusword.
+fn operation_enabled(cell: &CellConfig, axis: &str, status: Option<&StatusSnapshot>) -> bool {
+    let Some((i, s)) = axis_index(cell, axis).ok().zip(status) else {
+        return false;
+    };
+    Statusword(s.live[i].statusword).state()
+        == Some(cellrt_axes::cia402::fsa::FsaState::OperationEnabled)
+}
+
 /// A client's request being answered.
 type ActiveRequest = iceoryx2::active_request::ActiveRequest<ipc::Service, [u8], (), [u8], ()>;
 
@@ -193,13 +202,7 @@ impl OperatorServer {
                 Purpose::Sdo,
             ),
             Request::Param { axis, op } => {
-                let enabled = axis_index(ctx.cell, axis)
-                    .ok()
-                    .zip(status.as_ref())
-                    .is_some_and(|(i, s)| {
-                        Statusword(s.live[i].statusword).state()
-                            == Some(cellrt_axes::cia402::fsa::FsaState::OperationEnabled)
-                    });
+                let enabled = operation_enabled(ctx.cell, axis, status.as_ref());
                 super::param::plan(ctx.cell, axis, op, enabled)?
             }
             Request::Alarms { axis, clear } => super::alarms::plan(ctx.cell, axis, *clear)?,

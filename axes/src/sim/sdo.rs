@@ -9,8 +9,6 @@ use super::drive::SimDrive;
 use crate::pdo::objects::{RxField, TxField, MODES_OF_OPERATION};
 use crate::profiles::Access;
 
-/// 1010h:01 Save all parameters; the signature "save".
-const STORE_PARAMETERS: (u16, u8) = (0x1010, 1);
 pub use crate::profiles::params::SAVE_SIGNATURE;
 /// 1011h:01 Restore all default parameters.
 const RESTORE_DEFAULTS: (u16, u8) = (0x1011, 1);
@@ -102,8 +100,8 @@ impl SimDrive {
         if (index, sub) == (HOME_OFFSET, 0) {
             return Ok(i64::from(self.home_offset()));
         }
-        if (index, sub) == STORE_PARAMETERS {
-            return Ok(self.save_readback());
+        if let Some(group) = self.store_target(index, sub) {
+            return Ok(self.save_readback(group));
         }
         if entry.access == Access::Wo {
             return Err(SdoAbort::WRITE_ONLY);
@@ -167,11 +165,11 @@ impl SimDrive {
         if self.clear_history(index, value) {
             return Ok(());
         }
-        if (index, sub) == STORE_PARAMETERS {
+        if let Some(group) = self.store_target(index, sub) {
             if value as u32 != SAVE_SIGNATURE {
                 return Err(SdoAbort::CANNOT_STORE);
             }
-            self.save_parameters()?;
+            self.save_parameters(group)?;
             self.start_saving();
             return Ok(());
         }

@@ -302,6 +302,9 @@ pub struct SaveFacts {
     pub signature: u32,
     /// What a read of the object returns.
     pub readback: SaveReadback,
+    /// Sub-indices of the save object that store one parameter group, with the group's
+    /// object (MR-J3-T04 1010h:04 PA … 1010h:13 PO); empty where the model stores all only.
+    pub groups: &'static [(u8, u16)],
     /// The manual's section.
     pub source: &'static str,
 }
@@ -351,6 +354,20 @@ pub struct WriteInhibit {
     pub settings: &'static [(i64, &'static [u16], bool)],
     /// The groups of any other setting (readable and writable).
     pub otherwise: &'static [u16],
+}
+
+impl SaveFacts {
+    /// What writing the signature to save-object sub-index `sub` stores: `Some(None)` every
+    /// parameter, `Some(Some(group))` one group's; `None` for no store sub-index.
+    pub fn stores(&self, sub: u8) -> Option<Option<u16>> {
+        if sub == self.object.1 {
+            return Some(None);
+        }
+        self.groups
+            .iter()
+            .find(|(s, _)| *s == sub)
+            .map(|(_, g)| Some(*g))
+    }
 }
 
 impl WriteInhibit {

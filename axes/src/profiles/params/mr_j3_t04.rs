@@ -45,6 +45,18 @@ pub const TABLE: &[super::Parameter] = &[
     par("PO03", "*CPRO", "Communication protection switch", (PO, 3), I32).default(0).hex().setting(Setting::Digits(&[&[0, 1, 2, 3], &[0], &[0, 2]])).cite("§5.1, §8.11.1: counter detection (digit 0), RxPDO error detection (digit 2)"),
 ];
 
+/// Store Parameter's group sub-indices (§8.10.2): 4 PA, 5 PB, 6 PC, 7 PD, 13 PO.
+const STORE_GROUPS: &[(u8, u16)] = &[(4, PA), (5, PB), (6, PC), (7, PD), (13, PO)];
+
+/// The names of the Store Parameter group sub-indices, in [`STORE_GROUPS`] order.
+const STORE_GROUP_NAMES: [&str; 5] = [
+    "Store basic setting (PA)",
+    "Store gain/filter (PB)",
+    "Store extension setting (PC)",
+    "Store I/O setting (PD)",
+    "Store option unit (PO)",
+];
+
 /// The names of the alarm history records 2030h–2035h (§8.9).
 const HISTORY_NAMES: [&str; 6] = [
     "Alarm history 0",
@@ -69,11 +81,17 @@ const fn history_record(n: usize) -> [OdEntry; 4] {
     ]
 }
 
-/// Store Parameter (§8.10.2), the six alarm history records and the history's clear (§8.9).
+/// Store Parameter for all and by group (§8.10.2), the six alarm history records and the
+/// history's clear (§8.9).
 #[rustfmt::skip]
-const fn objects() -> [OdEntry; 26] {
+const fn objects() -> [OdEntry; 31] {
     let store = od(0x1010, 1, "Store all parameters", U32, Rw, No).default(3).cite("§8.10.2: write 65766173h; read 00000003h storable / 00000000h not (PA19)");
-    let mut out = [store; 26];
+    let mut out = [store; 31];
+    let mut g = 0;
+    while g < STORE_GROUPS.len() {
+        out[26 + g] = od(0x1010, STORE_GROUPS[g].0, STORE_GROUP_NAMES[g], U32, Rw, No).default(3).cite("§8.10.2: write 65766173h to store the group; read 3 / 0 as 1010h:01");
+        g += 1;
+    }
     let mut n = 0;
     while n < HISTORY_NAMES.len() {
         let record = history_record(n);
@@ -100,6 +118,7 @@ pub const FACTS: ParameterFacts = ParameterFacts {
         object: (0x1010, 1),
         signature: super::SAVE_SIGNATURE,
         readback: SaveReadback::Availability,
+        groups: STORE_GROUPS,
         source: "MR-J3-T04 manual §8.10.2",
     }),
     alarm_history: Ok(AlarmHistoryFacts {

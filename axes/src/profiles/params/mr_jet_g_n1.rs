@@ -28,6 +28,7 @@ pub const FACTS: ParameterFacts = ParameterFacts {
         object: (0x1010, 1),
         signature: super::SAVE_SIGNATURE,
         readback: SaveReadback::IdleBit,
+        groups: &[],
         source: "MR-JET-G-N1 / MR-J5-G-N1 manuals §3.2",
     }),
     alarm_history: Err(

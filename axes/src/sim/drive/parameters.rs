@@ -94,11 +94,12 @@ impl SimDrive {
     /// Store Parameter: every parameter's RAM value into the non-volatile memory; refused
     /// while the write inhibit limits writing to itself (the manual's 1010h read returns 0
     /// then; the abort code is not stated, the simulator answers 0800 0020h).
-    pub(in crate::sim) fn save_parameters(&mut self) -> Result<(), SdoAbort> {
-        if !self.storable() {
+    pub(in crate::sim) fn save_parameters(&mut self, group: Option<u16>) -> Result<(), SdoAbort> {
+        if !self.storable(group) {
             return Err(SdoAbort::CANNOT_STORE);
         }
-        for p in self.profile.parameters.table {
+        let rows = self.profile.parameters.table.iter();
+        for p in rows.filter(|p| group.is_none_or(|g| p.object.index == g)) {
             if let Some(v) = self.sdo_value(p.object.index, p.object.sub) {
                 put(&mut self.memory.saved, p, v);
             }
@@ -106,11 +107,12 @@ impl SimDrive {
         Ok(())
     }
 
-    /// What a read of 1010h:01 returns on this model.
-    pub(in crate::sim) fn save_readback(&self) -> i64 {
+    /// What a read of store sub-index `group`'s object returns on this model (1010h:01 for
+    /// every parameter, `group` for one group).
+    pub(in crate::sim) fn save_readback(&self, group: Option<u16>) -> i64 {
         match self.profile.parameters.save.map(|s| s.readback) {
             Ok(SaveReadback::Availability) => {
-                if self.storable() {
+                if self.storable(group) {
                     3
                 } else {
                     0
@@ -120,8 +122,20 @@ impl SimDrive {
         }
     }
 
-    fn storable(&self) -> bool {
-        self.inhibit_access().is_none_or(|(_, only)| !only)
+    /// False while the write inhibit limits writing to itself or leaves `group` out.
+    fn storable(&self, group: Option<u16>) -> bool {
+        self.inhibit_access()
+            .is_none_or(|(groups, only)| !only && group.is_none_or(|g| groups.contains(&g)))
+    }
+
+    /// What a write of the save signature to `index:sub` stores, if it is a store object:
+    /// `Some(None)` every parameter, `Some(Some(group))` one group.
+    pub(in crate::sim) fn store_target(&self, index: u16, sub: u8) -> Option<Option<u16>> {
+        let s = self.profile.parameters.save.ok()?;
+        if index != s.object.0 {
+            return None;
+        }
+        s.stores(sub)
     }
 
     /// The write inhibit in force: (readable group objects, writing limited to itself).
@@ -257,6 +271,27 @@ mod tests {
         d.power_cycle();
         assert_eq!(d.alarm(), Some(mr_j3_t04::AL_37));
         assert_eq!(d.sdo_upload(0x2030, 1), Ok(i64::from(mr_j3_t04::AL_37)));
+    }
+
+    #[test]
+    fn a_group_store_saves_only_its_group() {
+        // MR-J3-T04 manual §8.10.2: 1010h:05 stores PB, 1010h:06 PC.
+        let mut d = j3();
+        write(&mut d, 0x2301, 3, 100).unwrap();
+        write(&mut d, 0x2302, 2, 300).unwrap();
+        let sig = crate::sim::sdo::SAVE_SIGNATURE as i32;
+        write(&mut d, 0x1010, 5, sig).unwrap();
+        assert_eq!(write(&mut d, 0x1010, 6, 1), Err(SdoAbort::CANNOT_STORE));
+        d.power_cycle();
+        assert_eq!(d.sdo_upload(0x2301, 3), Ok(100), "PB stored");
+        assert_eq!(d.sdo_upload(0x2302, 2), Ok(0), "PC not stored");
+        // PA19 = 000Bh (PA, PB, PC): the PD and PO groups cannot be stored.
+        write(&mut d, 0x2300, 19, 0x000B).unwrap();
+        save(&mut d).unwrap();
+        d.power_cycle();
+        assert_eq!(d.sdo_upload(0x1010, 6), Ok(3));
+        assert_eq!(d.sdo_upload(0x1010, 7), Ok(0));
+        assert_eq!(write(&mut d, 0x1010, 13, sig), Err(SdoAbort::CANNOT_STORE));
     }
 
     #[test]

@@ -18,6 +18,8 @@ use crate::config::CellConfig;
 pub struct ParamPlan {
     axis: String,
     model: DriveModel,
+    /// The axis' slot on its amplifier (its objects at the slot's offset, MR-J5W2/W3).
+    slot: u8,
     /// The parameter of each step (none for a save).
     rows: Vec<&'static Parameter>,
     kind: Kind,
@@ -40,6 +42,7 @@ pub fn plan(cell: &CellConfig, axis: &str, op: &ParamOp, enabled: bool) -> Resul
     let plan = |rows: Vec<&'static Parameter>, kind| ParamPlan {
         axis: axis.to_string(),
         model: a.drive,
+        slot: a.amplifier.as_ref().map_or(0, |s| s.slot),
         rows,
         kind,
     };
@@ -158,7 +161,7 @@ impl ParamPlan {
             .rows
             .iter()
             .zip(answers)
-            .map(|(p, r)| param_value(p, r))
+            .map(|(p, r)| param_value(p, r, self.object_index(p)))
             .collect();
         if self.kind == Kind::Diff {
             values.retain(|v| {
@@ -182,6 +185,16 @@ impl ParamPlan {
     }
 }
 
+impl ParamPlan {
+    /// The index of `p`'s object on this axis (axis A's index at the slot's offset).
+    fn object_index(&self, p: &Parameter) -> u16 {
+        let profile = cellrt_axes::profiles::profile(self.model);
+        profile
+            .axis_object(p.object.index, self.slot)
+            .unwrap_or(p.object.index)
+    }
+}
+
 fn save_note(model: DriveModel) -> String {
     let p = cellrt_axes::profiles::profile(model).parameters;
     match p.save {
@@ -195,13 +208,14 @@ fn save_note(model: DriveModel) -> String {
     }
 }
 
-fn param_value(p: &Parameter, r: &SdoReply) -> ParamValue {
+/// `p` as the drive answered it, its object at `index`.
+fn param_value(p: &Parameter, r: &SdoReply, index: u16) -> ParamValue {
     let v = value(r);
     ParamValue {
         name: p.name.to_string(),
         symbol: p.symbol.to_string(),
         title: p.object.name.to_string(),
-        object: object_text(p.object.index, p.object.sub),
+        object: object_text(index, p.object.sub),
         value: v,
         shown: match v {
             Some(v) => p.format(v),

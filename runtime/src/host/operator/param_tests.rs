@@ -190,3 +190,27 @@ fn the_history_lists_the_recorded_alarms_newest_first_by_their_manual_names() {
 
 const MR_J3_T04_TABLE: &[cellrt_axes::profiles::params::Parameter] =
     cellrt_axes::profiles::params::MR_J3_T04.table;
+
+#[test]
+fn a_parameter_of_axis_b_of_a_multi_axis_unit_names_its_own_object() {
+    // ethercat-multiaxis.toml: y is axis B of an MR-J5W2-G-N1 (MR-J5-G-N1 manual §1.5: its
+    // manufacturer objects at +1000h, PC43 at 3D6Dh:02).
+    let cell = shipped("ethercat-multiaxis.toml");
+    let mut job = plan(
+        &cell,
+        "y",
+        &ParamOp::Get {
+            name: "PC43".into(),
+        },
+        false,
+    )
+    .unwrap();
+    job.answered(read(4_000));
+    match job.finish() {
+        Reply::Param(r) => assert_eq!(
+            (r.parameters[0].object.as_str(), r.parameters[0].value),
+            ("3D6Dh:02", Some(4_000))
+        ),
+        other => panic!("{other:?}"),
+    }
+}

@@ -19,6 +19,15 @@ pub struct DetectorParams {
     pub intermittent_window: u32,
 }
 
+/// The thresholds cellrt uses where a manual raises a counter alarm "consecutively or
+/// frequently more than a regulated level" without the level (MR-J3-T04 manual §8.11.1,
+/// errata #3): 3 in a row, or 3 within 1000 cycles. **Placeholders**, overridable per cell.
+pub const UNSTATED_LEVEL: DetectorParams = DetectorParams {
+    continuous: 3,
+    intermittent: 3,
+    intermittent_window: 1000,
+};
+
 /// Largest supported [`DetectorParams::intermittent`].
 pub const MAX_INTERMITTENT: u8 = 16;
 

@@ -1121,3 +1121,47 @@ fn an_emergency_where_the_sdo_response_should_be_is_recorded_and_the_sdo_repeate
         );
     }
 }
+
+/// Bus diagnostics, read by the mailbox worker while the cyclic exchange goes on: the
+/// corruption injected in front of SubDevice 2 shows as its port-0 invalid frames and as
+/// forwarded errors behind and on the way back, the master's lost frames beside them.
+#[test]
+fn bus_diagnostics_show_the_port_of_the_bad_link() {
+    let (mut bus, _) = enabled(&MITSUBISHI);
+    let diag = bus.diagnostics();
+    let lost_before = bus.counters().lost;
+    assert!(bus.link_mut().corrupt_frames(2, 20));
+    let _ = exchanges(&mut bus, 20);
+    diag.request();
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(5);
+    let reading = loop {
+        if let Some(r) = diag.take() {
+            break r;
+        }
+        assert!(std::time::Instant::now() < end, "no diagnostics reading");
+        let _ = bus.exchange(Cycles(1));
+        std::thread::sleep(std::time::Duration::from_micros(200));
+    };
+    let s = &reading.subdevices;
+    assert_eq!(s.len(), 4);
+    assert!(
+        s.iter()
+            .all(|d| d.answered && d.al_state == "OP" && !d.al_error),
+        "{s:?}"
+    );
+    let col = |f: fn(&cellrt_axes::ethercat::master::SubDeviceDiag) -> u8| -> Vec<u8> {
+        s.iter().map(f).collect()
+    };
+    assert_eq!(col(|d| d.ports[0].invalid_frames), [0, 0, 20, 0]);
+    assert_eq!(col(|d| d.ports[0].forwarded_errors), [0, 0, 0, 20]);
+    assert_eq!(col(|d| d.ports[1].forwarded_errors), [20, 20, 20, 0]);
+    assert_eq!(col(|d| d.ports[1].invalid_frames), [0; 4]);
+    // Links: port 0 everywhere, port 1 up to the last SubDevice.
+    assert!(s.iter().all(|d| d.ports[0].link));
+    assert_eq!(
+        s.iter().map(|d| d.ports[1].link).collect::<Vec<_>>(),
+        [true, true, true, false]
+    );
+    assert_eq!(reading.frames_lost - lost_before, 20);
+    assert!(reading.frames >= 20);
+}

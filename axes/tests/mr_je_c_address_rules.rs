@@ -70,12 +70,7 @@ const OTHER: Ipv4Addr = Ipv4Addr::new(127, 0, 0, 2);
 const SHORT: Duration = Duration::from_millis(300);
 
 fn server() -> Server {
-    let any = Ports {
-        modbus_tcp: 0,
-        slmp_udp: 0,
-        slmp_tcp: 0,
-        cclink: 0,
-    };
+    let any = Ports::ANY;
     Server::start(MrJeC::new(MrJeCParams::default()), IpAddr::V4(LOCAL), any).unwrap()
 }
 

@@ -225,12 +225,7 @@ fn al_86_1_after_pn02_and_the_master_lost_after_its_supervision_time() {
 /// The emulator on loopback and our master of it.
 fn on_loopback() -> (Server, CyclicMaster) {
     let ip = IpAddr::V4(Ipv4Addr::LOCALHOST);
-    let any = Ports {
-        modbus_tcp: 0,
-        slmp_udp: 0,
-        slmp_tcp: 0,
-        cclink: 0,
-    };
+    let any = Ports::ANY;
     let s = Server::start(MrJeC::new(MrJeCParams::default()), ip, any).unwrap();
     let p = MasterParams {
         response_timeout: Duration::from_secs(2),
@@ -290,4 +285,109 @@ fn cyclic_exchanges_are_allocation_free() {
         "heap calls in 200 exchanges"
     );
     assert_eq!(ready, 200);
+}
+
+/// A group master sent to one drive's address: that station answers, the other (no drive at
+/// 127.0.0.9) stays empty; a group of 0 or 17 stations is refused.
+#[test]
+fn a_group_master_collects_the_stations_that_answer() {
+    use cellrt_axes::cclink_ief_basic::master::{GroupMaster, MasterError};
+    use cellrt_axes::cclink_ief_basic::MAX_STATIONS;
+    let ip = IpAddr::V4(Ipv4Addr::LOCALHOST);
+    let s = Server::start(MrJeC::new(MrJeCParams::default()), ip, Ports::ANY).unwrap();
+    // The absent station's wait (300 ms) stays well within the drive's supervision time
+    // (1000 ms × 3), which would otherwise drop the master between the exchanges.
+    let p = MasterParams {
+        response_timeout: Duration::from_millis(300),
+        timeout_ms: 1000,
+        ..Default::default()
+    };
+    let absent = IpAddr::V4(Ipv4Addr::new(127, 0, 0, 9));
+    let mut m = GroupMaster::new((ip, 0).into(), s.cclink, &[ip, absent], p).unwrap();
+    let mut responses = [None; MAX_STATIONS];
+    assert_eq!(m.exchange(0, &mut responses).unwrap(), 1);
+    assert_eq!(responses[0].unwrap().station.slave_id, 0x7F00_0001);
+    assert!(responses[1].is_none());
+    assert_eq!(m.exchange(0b01, &mut responses).unwrap(), 1);
+    assert_eq!(responses[0].unwrap().end_code, EndCode::Normal);
+    for n in [0, 17] {
+        let many = vec![ip; n];
+        assert!(matches!(
+            GroupMaster::new((ip, 0).into(), s.cclink, &many, p),
+            Err(MasterError::Stations(k)) if k == n
+        ));
+    }
+}
+
+/// The link's cycle as the I/O thread runs it: the station is connected by a first request
+/// that does not transmit to it, then takes RWw with CSR (6060h = 1, controlword 0006h) and
+/// answers SSR; 200 cycles allocate nothing on the cycling thread.
+#[test]
+fn the_link_cycle_connects_the_station_and_allocates_nothing() {
+    use cellrt_axes::cclink_ief_basic::io_thread::{CyclicIo, StationCommand};
+    use cellrt_axes::cclink_ief_basic::master::GroupMaster;
+    let ip = IpAddr::V4(Ipv4Addr::LOCALHOST);
+    let s = Server::start(MrJeC::new(MrJeCParams::default()), ip, Ports::ANY).unwrap();
+    let p = MasterParams {
+        response_timeout: Duration::from_secs(2),
+        ..Default::default()
+    };
+    let mut io = CyclicIo::new(GroupMaster::new((ip, 0).into(), s.cclink, &[ip], p).unwrap());
+    let link = io.handle();
+    let mut c = StationCommand {
+        transmit: true,
+        ..Default::default()
+    };
+    set_bit(&mut c.ry, READY_BIT, true);
+    c.rww[0] = 1;
+    c.rww[2] = 6;
+    link.command(0, c);
+    io.cycle().unwrap();
+    let f = link.feedback(0).unwrap();
+    assert!(f.connected && f.answered == 1, "{f:?}");
+    assert!(!bit(&f.rx, READY_BIT), "not transmitted to yet: no SSR");
+    io.cycle().unwrap();
+    assert!(bit(&link.feedback(0).unwrap().rx, READY_BIT), "SSR");
+    let before = thread_heap_calls();
+    for _ in 0..200 {
+        io.cycle().unwrap();
+    }
+    assert_eq!(thread_heap_calls() - before, 0, "heap calls in 200 cycles");
+    let f = link.feedback(0).unwrap();
+    assert_eq!((f.cycles, f.answered, f.missed_in_row), (202, 202, 0));
+    assert_eq!(
+        s.drive().read(ObjectId::new(0x6060, 0)).unwrap().as_i64(),
+        Some(1)
+    );
+}
+
+/// On its own thread: the link runs at its period; when the drive goes away the feedback
+/// counts the cycles missed in a row (what the controller's watchdog judges).
+#[test]
+fn the_link_thread_runs_and_counts_missed_answers() {
+    use cellrt_axes::cclink_ief_basic::io_thread::CyclicIo;
+    use cellrt_axes::cclink_ief_basic::master::GroupMaster;
+    let ip = IpAddr::V4(Ipv4Addr::LOCALHOST);
+    let s = Server::start(MrJeC::new(MrJeCParams::default()), ip, Ports::ANY).unwrap();
+    let p = MasterParams {
+        response_timeout: ms(20),
+        timeout_ms: 1000,
+        ..Default::default()
+    };
+    let io = CyclicIo::new(GroupMaster::new((ip, 0).into(), s.cclink, &[ip], p).unwrap());
+    let thread = io.spawn(ms(10)).unwrap();
+    let wait = |what: &str, done: &dyn Fn() -> bool| {
+        let end = std::time::Instant::now() + Duration::from_secs(20);
+        while !done() {
+            assert!(std::time::Instant::now() < end, "{what}");
+            std::thread::sleep(ms(10));
+        }
+    };
+    let f = || thread.handle.feedback(0).unwrap();
+    wait("20 answers", &|| f().answered >= 20);
+    assert!(f().connected);
+    s.stop();
+    wait("3 misses in a row", &|| f().missed_in_row >= 3);
+    assert!(!f().connected);
+    drop(thread);
 }

@@ -23,12 +23,7 @@ use cellrt_axes::slmp::client::{FrameType, SlmpClient};
 use cellrt_axes::slmp::EndCode;
 
 const LOOPBACK: IpAddr = IpAddr::V4(Ipv4Addr::LOCALHOST);
-const ANY: Ports = Ports {
-    modbus_tcp: 0,
-    slmp_udp: 0,
-    slmp_tcp: 0,
-    cclink: 0,
-};
+const ANY: Ports = Ports::ANY;
 const TIMEOUT: Duration = Duration::from_secs(2);
 
 fn server() -> Server {

@@ -332,3 +332,70 @@ mod never_panics {
         }
     }
 }
+
+/// The Modbus diagnostic objects (MR-JE-C manual §7.5.1–§7.5.4): OV-12, 2A64h after reading
+/// 2C12h has 2C12h in its upper word (the lower, 0004h, is the record's last element); a read
+/// of 2B0Dh–2B10h, where 2B10h does not exist, succeeds for the first three objects (2A65h =
+/// 3, 2A60h = 0602 0000h, OV-13's rule); a refused read leaves 2A65h = 0 and its abort code;
+/// a good one clears 2A60h.
+#[test]
+fn modbus_accesses_leave_their_trace_in_2a60h_to_2a65h() {
+    use cellrt_axes::modbus::{Query, Reply, WordOrder};
+    let mut d = enabled();
+    let read = |d: &mut MrJeC, address: u16, registers: u16| {
+        let mut out = Vec::new();
+        let q = Query::Read { address, registers };
+        !matches!(
+            modbus::answer(d, &q, WordOrder::LowFirst, T, &mut out),
+            Reply::Exception { .. }
+        )
+    };
+    let int = |d: &MrJeC, index: u16| d.read(ObjectId::new(index, 0)).unwrap().as_i64().unwrap();
+    // OV-12: 2C12h is 0 + 4 × U32 = 9 registers.
+    assert!(read(&mut d, 0x2C12, 9));
+    assert_eq!(int(&d, 0x2A64) as u32 >> 16, 0x2C12);
+    assert_eq!(int(&d, 0x2A64) as u32, 0x2C12_0004);
+    assert_eq!((int(&d, 0x2A60), int(&d, 0x2A65)), (0, 1));
+    // 2B0Dh (2 registers), 2B0Eh, 2B0Fh, then 2B10h is missing: partial success.
+    assert!(read(&mut d, 0x2B0D, 5));
+    assert_eq!(int(&d, 0x2A65), 3);
+    assert_eq!(int(&d, 0x2A60), 0x0602_0000);
+    assert_eq!(int(&d, 0x2A64) as u32 >> 16, 0x2B0F);
+    // Refused as a whole: the abort code, nothing accessed, the last success kept.
+    assert!(!read(&mut d, 0x5FFF, 1));
+    assert_eq!((int(&d, 0x2A60), int(&d, 0x2A65)), (0x0602_0000, 0));
+    assert_eq!(int(&d, 0x2A64) as u32 >> 16, 0x2B0F);
+    assert!(read(&mut d, 0x6041, 1));
+    assert_eq!((int(&d, 0x2A60), int(&d, 0x2A65)), (0, 1));
+}
+
+/// 2A68h counts RS-485 frames with a CRC or length error, on every drive of the line, and is
+/// cleared by 1EA5h only.
+#[test]
+fn rtu_frame_errors_count_in_2a68h() {
+    let mut d = enabled();
+    d.write(ObjectId::new(0x2588, 0), &Value::U32(0x1000), T)
+        .unwrap();
+    d.write(ObjectId::new(0x2146, 0), &Value::U32(1), T)
+        .unwrap();
+    let count = |d: &MrJeC| d.read(ObjectId::new(0x2A68, 0)).unwrap().as_i64().unwrap();
+    // MR-6 with its CRC's last byte wrong, and a 3-byte frame: no answer, two counts.
+    assert_eq!(
+        rtu::answer(&mut d, &hex("01 03 60 41 00 01 CA 1F"), T),
+        None
+    );
+    assert_eq!(rtu::answer(&mut d, &hex("01 03 60"), T), None);
+    assert_eq!(count(&d), 2);
+    // A good frame to another station is not an error.
+    assert_eq!(
+        rtu::answer(&mut d, &hex("02 03 2B 05 00 04 5D DF"), T),
+        None
+    );
+    assert_eq!(count(&d), 2);
+    assert!(d
+        .write(ObjectId::new(0x2A68, 0), &Value::U16(5), T)
+        .is_err());
+    d.write(ObjectId::new(0x2A68, 0), &Value::U16(0x1EA5), T)
+        .unwrap();
+    assert_eq!(count(&d), 0);
+}

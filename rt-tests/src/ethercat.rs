@@ -334,11 +334,17 @@ fn stop_drive_sim(
     rest
 }
 
-/// Runs the benchmark; `progress` is told what each round measured as it ends.
-pub fn run(
-    opts: &EthercatBenchOptions,
-    progress: &mut dyn FnMut(&str),
-) -> Result<EthercatBenchReport, BenchError> {
+/// What every run of the benchmark shares: the segment's place, the cell and its files.
+struct BenchSetup {
+    ns: Option<VethNamespace>,
+    dir: tempfile::TempDir,
+    cell: CellConfig,
+    cfg_path: PathBuf,
+    prog_path: PathBuf,
+}
+
+/// The segment (a veth pair with a namespace, or in-process) and the bench cell's config.
+fn set_up(opts: &EthercatBenchOptions) -> Result<BenchSetup, BenchError> {
     let ns = match opts.segment {
         SegmentPlace::Veth => Some(
             VethNamespace::create(&format!("bench{}", std::process::id() % 100_000)).map_err(
@@ -365,73 +371,106 @@ pub fn run(
     let cell =
         CellConfig::parse(&cfg_path, &cfg_text).map_err(|e| BenchError::bad(e.to_string()))?;
     let prog_path = dir.path().join("bench-program.toml");
+    Ok(BenchSetup {
+        ns,
+        dir,
+        cell,
+        cfg_path,
+        prog_path,
+    })
+}
+
+/// The histograms of one round, to be merged into the whole run's.
+#[derive(Default)]
+struct RoundHistograms {
+    exchange: NsHistogram,
+    dc_phase: NsHistogram,
+    wakeup: NsHistogram,
+}
+
+/// One round of the cell: runs until the round's time is used, a drive fault ending a run (a
+/// host stall long enough for the drives' communication check) counted and followed by a fresh
+/// segment for the time left. `rt` gets the RT thread's description of the first run.
+fn ethercat_round(
+    opts: &EthercatBenchOptions,
+    setup: &BenchSetup,
+    round: u32,
+    rt: &mut String,
+) -> Result<(EthercatRound, RoundHistograms), BenchError> {
+    let mut h = RoundHistograms::default();
+    let mut e = EthercatRound::default();
+    let round_ns = (opts.round_s() * 1e9) as u64;
+    let mut done_ns = 0u64;
+    while done_ns + MIN_RUN_NS <= round_ns {
+        e.runs += 1;
+        let left_s = (round_ns - done_ns) as f64 / 1e9;
+        let record = setup
+            .dir
+            .path()
+            .join(format!("round-{round}-{}.mcap", e.runs));
+        let (summary, retries) = run_once(
+            opts,
+            setup.ns.as_ref(),
+            &setup.cell,
+            &setup.cfg_path,
+            &setup.prog_path,
+            &record,
+            left_s,
+        )
+        .map_err(|e| BenchError::failed(format!("round {round}: {e}")))?;
+        e.bringup_retries += retries;
+        if rt.is_empty() {
+            *rt = summary.rt.describe();
+        }
+        done_ns += (summary.counters.cycles + summary.counters.overruns)
+            * u64::from(opts.interval_us)
+            * 1000;
+        h.exchange.merge(&summary.histograms.exchange_time);
+        h.dc_phase.merge(&summary.histograms.dc_phase_error);
+        h.wakeup.merge(&summary.histograms.wakeup_latency);
+        let f = summary.frames.unwrap_or_default();
+        e.frames.frames += f.frames;
+        e.frames.lost += f.lost;
+        e.frames.wkc_errors += f.wkc_errors;
+        e.cycles += summary.counters.cycles;
+        e.overruns += summary.counters.overruns;
+        e.faults += summary.counters.faults;
+        if let Some(err) = summary.program_error {
+            e.stopped.push(err);
+        }
+        if summary.counters.cycles == 0 {
+            break;
+        }
+    }
+    e.exchange_time = h.exchange.percentiles();
+    e.dc_phase_error = h.dc_phase.percentiles();
+    e.wakeup_latency = h.wakeup.percentiles();
+    Ok((e, h))
+}
+
+/// Runs the benchmark; `progress` is told what each round measured as it ends.
+pub fn run(
+    opts: &EthercatBenchOptions,
+    progress: &mut dyn FnMut(&str),
+) -> Result<EthercatBenchReport, BenchError> {
+    let setup = set_up(opts)?;
     let lat_opts = LatencyOptions {
         interval_us: u64::from(opts.interval_us),
         duration_s: opts.latency_s,
         priority: opts.priority,
         cpu: opts.cpu,
     };
-    let mut exchange = NsHistogram::new();
-    let mut dc_phase = NsHistogram::new();
-    let mut loop_wakeup = NsHistogram::new();
+    let mut all = RoundHistograms::default();
     let mut bench_wakeup = NsHistogram::new();
     let mut frames = FrameCounters::default();
     let mut rt = String::new();
     let mut ethercat = Vec::new();
     let mut lat_rounds = Vec::new();
     for round in 1..=opts.rounds {
-        // A run a drive fault ended (a host stall long enough for the drives' communication
-        // check) is counted, and the round goes on with a fresh segment for the time left.
-        let mut round_exchange = NsHistogram::new();
-        let mut round_dc_phase = NsHistogram::new();
-        let mut round_wakeup = NsHistogram::new();
-        let mut e = EthercatRound::default();
-        let round_ns = (opts.round_s() * 1e9) as u64;
-        let mut done_ns = 0u64;
-        while done_ns + MIN_RUN_NS <= round_ns {
-            e.runs += 1;
-            let left_s = (round_ns - done_ns) as f64 / 1e9;
-            let record = dir.path().join(format!("round-{round}-{}.mcap", e.runs));
-            let (summary, retries) = run_once(
-                opts,
-                ns.as_ref(),
-                &cell,
-                &cfg_path,
-                &prog_path,
-                &record,
-                left_s,
-            )
-            .map_err(|e| BenchError::failed(format!("round {round}: {e}")))?;
-            e.bringup_retries += retries;
-            if rt.is_empty() {
-                rt = summary.rt.describe();
-            }
-            done_ns += (summary.counters.cycles + summary.counters.overruns)
-                * u64::from(opts.interval_us)
-                * 1000;
-            round_exchange.merge(&summary.histograms.exchange_time);
-            round_dc_phase.merge(&summary.histograms.dc_phase_error);
-            round_wakeup.merge(&summary.histograms.wakeup_latency);
-            let f = summary.frames.unwrap_or_default();
-            e.frames.frames += f.frames;
-            e.frames.lost += f.lost;
-            e.frames.wkc_errors += f.wkc_errors;
-            e.cycles += summary.counters.cycles;
-            e.overruns += summary.counters.overruns;
-            e.faults += summary.counters.faults;
-            if let Some(err) = summary.program_error {
-                e.stopped.push(err);
-            }
-            if summary.counters.cycles == 0 {
-                break;
-            }
-        }
-        e.exchange_time = round_exchange.percentiles();
-        e.dc_phase_error = round_dc_phase.percentiles();
-        dc_phase.merge(&round_dc_phase);
-        e.wakeup_latency = round_wakeup.percentiles();
-        exchange.merge(&round_exchange);
-        loop_wakeup.merge(&round_wakeup);
+        let (e, h) = ethercat_round(opts, &setup, round, &mut rt)?;
+        all.exchange.merge(&h.exchange);
+        all.dc_phase.merge(&h.dc_phase);
+        all.wakeup.merge(&h.wakeup);
         frames.frames += e.frames.frames;
         frames.lost += e.frames.lost;
         frames.wkc_errors += e.frames.wkc_errors;
@@ -454,9 +493,9 @@ pub fn run(
         rt,
         ethercat,
         latency: lat_rounds,
-        exchange_time: exchange.percentiles(),
-        dc_phase_error: dc_phase.percentiles(),
-        loop_wakeup_latency: loop_wakeup.percentiles(),
+        exchange_time: all.exchange.percentiles(),
+        dc_phase_error: all.dc_phase.percentiles(),
+        loop_wakeup_latency: all.wakeup.percentiles(),
         bench_latency: bench_wakeup.percentiles(),
         frames,
     })

@@ -8,11 +8,13 @@ pub mod error;
 pub mod ethercat;
 pub mod hist;
 pub mod ipc;
+pub mod je_c;
 pub mod latency;
 pub mod loopbench;
 pub mod netns;
 pub mod plot;
 pub mod procscan;
+pub mod soak;
 pub mod tools;
 
 pub use error::BenchError;

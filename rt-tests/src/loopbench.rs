@@ -4,7 +4,6 @@
 //! `cellrt_runtime::host::controller::run`.
 
 use std::fmt::Write as _;
-use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Duration;
@@ -202,7 +201,8 @@ pub fn run(opts: &LoopOptions) -> Result<LoopReport, BenchError> {
         },
     )
     .map_err(|e| BenchError::failed(e.to_string()))?;
-    let recording_bytes = file_len(&record);
+    // Every part of the recording (a long run rotates).
+    let recording_bytes = summary.recording.bytes;
     let outcome = serde_json::to_value(&summary.outcome)
         .ok()
         .and_then(|v| v.as_str().map(str::to_string))
@@ -221,10 +221,6 @@ pub fn run(opts: &LoopOptions) -> Result<LoopReport, BenchError> {
         loop_p99_per_axis_us: summary.loop_time.p99_us / n,
         recording_bytes,
     })
-}
-
-fn file_len(p: &Path) -> u64 {
-    std::fs::metadata(p).map(|m| m.len()).unwrap_or(0)
 }
 
 /// The report of one loop run.

@@ -10,6 +10,7 @@
 pub mod config;
 pub mod handoff;
 pub mod host;
+pub mod output_file;
 pub mod rt;
 pub mod runtime_dir;
 pub mod services;

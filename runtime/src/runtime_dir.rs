@@ -1,12 +1,20 @@
-//! The directory of cellrt's runtime files (cell locks, the iceoryx2 root) for the current
-//! user: private to the user, never a shared world-writable place where another user could
-//! pre-create, replace or link the files. Root uses `/run/cellrt`; other users
-//! `/run/user/UID/cellrt` where their systemd runtime directory exists, else `/tmp/cellrt-uUID`.
-//! The directory is created mode 0700 and refused unless it is a real directory owned by the
-//! user that no one else may enter.
+//! The directories of cellrt's runtime files for the current user: owned by the user, never a
+//! shared world-writable place where another user could pre-create, replace or link the files.
+//! The runtime directory (cell locks, the iceoryx2 root) is private, mode 0700: root uses
+//! `/run/cellrt`; other users `/run/user/UID/cellrt` where their systemd runtime directory
+//! exists, else `/tmp/cellrt-uUID`. Beside it, `…-operator` (mode 0711) holds the cells'
+//! operator sockets: only its user may list, create or remove entries; others may pass through
+//! to a socket by name, which the socket's own mode guards (see `host::operator::socket`).
+//! Each is refused unless it is a real directory owned by the user that no one else may write.
 
 use std::os::unix::fs::{DirBuilderExt, MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
+
+/// Mode of the operator directory: its user's; others may only pass through by name.
+pub const OPERATOR_DIR_MODE: u32 = 0o711;
+
+/// Mode of the runtime directory and the iceoryx2 root: nobody else may enter.
+pub const PRIVATE_DIR_MODE: u32 = 0o700;
 
 /// Why the runtime directory cannot be used.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -20,18 +28,22 @@ pub enum RuntimeDirError {
         reason: String,
     },
     /// It exists but another user could interfere with it.
-    #[error("the runtime directory {path} is not safe: {reason} (remove it; cellrt creates it private to its user)")]
+    #[error("the runtime directory {path} is not safe: {reason} (remove it; cellrt creates it owned by its user)")]
     Unsafe {
         /// The directory.
         path: PathBuf,
-        /// What is wrong: a link, another owner, a group or other access.
+        /// What is wrong: a link, another owner, group or other write access.
         reason: String,
     },
 }
 
 /// The runtime directory of the current user (not created; see [`ensure`]).
 pub fn path() -> PathBuf {
-    let uid = nix::unistd::getuid().as_raw();
+    path_of(nix::unistd::getuid().as_raw())
+}
+
+/// The runtime directory `uid` uses (for finding another user's cell).
+pub fn path_of(uid: u32) -> PathBuf {
     if uid == 0 {
         return PathBuf::from("/run/cellrt");
     }
@@ -42,17 +54,40 @@ pub fn path() -> PathBuf {
     }
 }
 
-/// The runtime directory, created private if absent and checked if present.
+/// The directory of the operator sockets of `uid`'s cells: beside its runtime directory.
+pub fn operator_path_of(uid: u32) -> PathBuf {
+    let dir = path_of(uid);
+    let name = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    dir.with_file_name(format!("{name}-operator"))
+}
+
+/// The root of the current user's iceoryx2 files: inside the runtime directory, private.
+pub fn iceoryx2_root() -> PathBuf {
+    path().join("iceoryx2")
+}
+
+/// The runtime directory and the iceoryx2 root in it, created if absent and checked.
 pub fn ensure() -> Result<PathBuf, RuntimeDirError> {
     let dir = path();
-    create_private(&dir)?;
+    create_owned(&dir, PRIVATE_DIR_MODE)?;
+    create_owned(&iceoryx2_root(), PRIVATE_DIR_MODE)?;
     Ok(dir)
 }
 
-/// Creates `dir` mode 0700 (if absent) and checks that it is a directory, not a link, owned by
-/// this user, with no group or other access.
-pub fn create_private(dir: &Path) -> Result<(), RuntimeDirError> {
-    match std::fs::DirBuilder::new().mode(0o700).create(dir) {
+/// The current user's operator directory, created if absent and checked.
+pub fn ensure_operator() -> Result<PathBuf, RuntimeDirError> {
+    let dir = operator_path_of(nix::unistd::getuid().as_raw());
+    create_owned(&dir, OPERATOR_DIR_MODE)?;
+    Ok(dir)
+}
+
+/// Creates `dir` with `mode` (if absent), checks that it is a directory, not a link, owned by
+/// this user, that no one else may write, and sets its mode to `mode`.
+pub fn create_owned(dir: &Path, mode: u32) -> Result<(), RuntimeDirError> {
+    match std::fs::DirBuilder::new().mode(mode).create(dir) {
         Ok(()) => {}
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
         Err(e) => {
@@ -80,9 +115,15 @@ pub fn create_private(dir: &Path) -> Result<(), RuntimeDirError> {
             m.uid()
         )));
     }
-    let mode = m.permissions().mode() & 0o777;
-    if mode & 0o077 != 0 {
-        return Err(unsafe_because(format!("its mode is {mode:03o}, not 700")));
+    let now = m.permissions().mode() & 0o7777;
+    if now & 0o022 != 0 {
+        return Err(unsafe_because(format!(
+            "its mode is {now:03o}: others may write it"
+        )));
+    }
+    if now != mode {
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(mode))
+            .map_err(|e| unsafe_because(format!("cannot set its mode to {mode:03o}: {e}")))?;
     }
     Ok(())
 }
@@ -92,29 +133,44 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_directory_is_created_private_and_a_shared_one_is_refused() {
+    fn a_directory_is_created_owned_and_a_shared_one_is_refused() {
         let base = tempfile::tempdir().unwrap();
         let dir = base.path().join("rt");
-        create_private(&dir).unwrap();
+        create_owned(&dir, OPERATOR_DIR_MODE).unwrap();
+        let mode = std::fs::metadata(&dir).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o711);
+        // Readable by others (an older cellrt, a user's chmod): narrowed, not refused.
+        std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o755)).unwrap();
+        create_owned(&dir, PRIVATE_DIR_MODE).unwrap();
         let mode = std::fs::metadata(&dir).unwrap().permissions().mode() & 0o777;
         assert_eq!(mode, 0o700);
-        create_private(&dir).unwrap();
-        // Opened up to the group: refused, with the mode named.
+        // Writable by the group: refused, with the mode named.
         std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o770)).unwrap();
-        let e = create_private(&dir).unwrap_err();
+        let e = create_owned(&dir, PRIVATE_DIR_MODE).unwrap_err();
         assert!(e.to_string().contains("770"), "{e}");
         // A symbolic link planted where the directory belongs: refused.
         let link = base.path().join("link");
         std::os::unix::fs::symlink(&dir, &link).unwrap();
-        let e = create_private(&link).unwrap_err();
+        let e = create_owned(&link, PRIVATE_DIR_MODE).unwrap_err();
         assert!(e.to_string().contains("symbolic link"), "{e}");
         // A file: refused.
         let file = base.path().join("file");
         std::fs::write(&file, b"x").unwrap();
-        assert!(create_private(&file)
+        assert!(create_owned(&file, PRIVATE_DIR_MODE)
             .unwrap_err()
             .to_string()
             .contains("not a directory"));
+    }
+
+    #[test]
+    fn the_operator_directory_lies_beside_the_runtime_directory() {
+        assert_eq!(operator_path_of(0), Path::new("/run/cellrt-operator"));
+        let uid = nix::unistd::getuid().as_raw();
+        assert_eq!(
+            operator_path_of(uid).parent(),
+            path_of(uid).parent(),
+            "same parent"
+        );
     }
 
     #[test]
@@ -127,7 +183,7 @@ mod tests {
         let dir = base.path().join("theirs");
         std::fs::DirBuilder::new().mode(0o700).create(&dir).unwrap();
         nix::unistd::chown(&dir, Some(nix::unistd::Uid::from_raw(65534)), None).unwrap();
-        let e = create_private(&dir).unwrap_err();
+        let e = create_owned(&dir, PRIVATE_DIR_MODE).unwrap_err();
         assert!(e.to_string().contains("uid 65534"), "{e}");
     }
 }

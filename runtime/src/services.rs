@@ -143,6 +143,73 @@ pub struct CommandSample {
     pub arg: u32,
 }
 
+/// An operator SDO request or its outcome between an external planner and the controller, in
+/// the hand-off's own encoding ([`crate::handoff::UserSdo::to_wire`],
+/// [`crate::handoff::UserSdoOutcome::to_wire`]).
+#[derive(Debug, Clone, Copy, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("cellrt::SdoLinkSample")]
+pub struct SdoLinkSample {
+    /// Sequence number and axis (request) or kind (outcome).
+    pub header: u32,
+    /// The request's or the outcome's data.
+    pub word: u64,
+}
+
+/// The service carrying operator SDO requests from an external planner to the controller.
+pub fn sdo_request_service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/sdo-requests")
+}
+
+/// The service carrying their outcomes back (history 1: the latest).
+pub fn sdo_outcome_service_name(cell: &str) -> String {
+    format!("cellrt/{cell}/sdo-outcomes")
+}
+
+/// The external planner's publisher of SDO requests.
+pub fn sdo_request_publisher(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Publisher<ipc::Service, SdoLinkSample, ()>, ServiceError> {
+    pubsub::<SdoLinkSample>(node, cell, &sdo_request_service_name(cell), 2, 1, 0)?
+        .publisher_builder()
+        .create()
+        .map_err(|e| service_error("SDO request publisher", cell, e))
+}
+
+/// The controller's subscriber of SDO requests.
+pub fn sdo_request_subscriber(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Subscriber<ipc::Service, SdoLinkSample, ()>, ServiceError> {
+    pubsub::<SdoLinkSample>(node, cell, &sdo_request_service_name(cell), 2, 1, 0)?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| service_error("SDO request subscriber", cell, e))
+}
+
+/// The controller's publisher of SDO outcomes.
+pub fn sdo_outcome_publisher(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Publisher<ipc::Service, SdoLinkSample, ()>, ServiceError> {
+    pubsub::<SdoLinkSample>(node, cell, &sdo_outcome_service_name(cell), 1, 2, 1)?
+        .publisher_builder()
+        .create()
+        .map_err(|e| service_error("SDO outcome publisher", cell, e))
+}
+
+/// The external planner's subscriber of SDO outcomes.
+pub fn sdo_outcome_subscriber(
+    node: &Node<ipc::Service>,
+    cell: &str,
+) -> Result<Subscriber<ipc::Service, SdoLinkSample, ()>, ServiceError> {
+    pubsub::<SdoLinkSample>(node, cell, &sdo_outcome_service_name(cell), 1, 2, 1)?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| service_error("SDO outcome subscriber", cell, e))
+}
+
 /// [`CommandSample::code`] of a homing request (not a `CellCommand`: it carries an axis).
 pub const HOME_COMMAND_CODE: u32 = 0x100;
 
@@ -188,7 +255,7 @@ pub fn operator_status_service_name(cell: &str) -> String {
 /// (root and an operator) never collide on files the other may not open.
 pub fn config() -> Config {
     let mut config = Config::default();
-    let root = format!("{}/iceoryx2/", crate::runtime_dir::path().display());
+    let root = format!("{}/", crate::runtime_dir::iceoryx2_root().display());
     if let Ok(p) = Path::new(root.as_bytes()) {
         config.global.set_root_path(&p);
     }
@@ -214,7 +281,7 @@ pub fn node(cell: &str, role: &str) -> Result<Node<ipc::Service>, ServiceError> 
         cell: cell.to_string(),
         detail: e,
     };
-    crate::shm_guard::refuse_foreign(shm, &prefix, uid).map_err(guard)?;
+    crate::shm_guard::clear_foreign(shm, &prefix, uid).map_err(guard)?;
     let node = NodeBuilder::new()
         .name(&node_name)
         .config(&config())

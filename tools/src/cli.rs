@@ -148,14 +148,33 @@ pub enum BusCommand {
         #[arg(long, value_name = "IF")]
         interface: String,
     },
+    /// Diagnostics of a running EtherCAT cell (`--cell NAME`): per SubDevice its ports' links
+    /// and ESC error counters (0300h–0313h), AL state and code, DC time difference, mailbox
+    /// messages and Emergencies; the master's lost frames and working-counter errors. Two
+    /// readings `--interval-ms` apart: a port whose counters grew between them is marked.
+    Diag {
+        /// Time between the two readings, ms (0: one reading, nothing marked).
+        #[arg(long, value_name = "MS", default_value_t = 1000)]
+        interval_ms: u64,
+        /// Print the readings as JSON.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 /// `cellrt drive-sim mr-je-c`.
 #[derive(Debug, Args)]
 pub struct MrJeCSimArgs {
     /// The IP address to listen on (e.g. 127.0.0.1, or an address in a network namespace).
-    #[arg(long, value_name = "ADDR")]
-    pub listen: std::net::IpAddr,
+    #[arg(long, value_name = "ADDR", required_unless_present = "rs485_pty")]
+    pub listen: Option<std::net::IpAddr>,
+    /// Serve Modbus RTU instead: an RS-485 line on a new pseudo-terminal, linked at PATH
+    /// (the controller opens PATH as its serial device).
+    #[arg(long, value_name = "PATH", conflicts_with = "listen")]
+    pub rs485_pty: Option<std::path::PathBuf>,
+    /// With `--rs485-pty`: the station numbers of the drives on the line (1–247), one drive each.
+    #[arg(long, value_name = "N,..", value_delimiter = ',', default_value = "1")]
+    pub stations: Vec<u8>,
     /// Modbus/TCP port (502 on a drive; below 1024 needs root).
     #[arg(long, value_name = "PORT", default_value_t = 502)]
     pub modbus_port: u16,
@@ -168,20 +187,16 @@ pub struct MrJeCSimArgs {
     /// CC-Link IE Field Basic cyclic port (UDP).
     #[arg(long, value_name = "PORT", default_value_t = 61450)]
     pub cclink_port: u16,
+    /// NodeSearch / IPAddressSet port (UDP).
+    #[arg(long, value_name = "PORT", default_value_t = 61451)]
+    pub search_port: u16,
+    /// The drive's MAC address (NodeSearch reports it, IPAddressSet picks the drive by it);
+    /// default 02:00 followed by the listen address' four octets.
+    #[arg(long, value_name = "MAC")]
+    pub mac: Option<cellrt_axes::slmp::node_search::Mac>,
     /// The drive's software version: A0, A3 or A4 (objects, [Pr. PN10], 6502h).
-    #[arg(long, value_name = "VERSION", default_value = "A4", value_parser = software_version)]
+    #[arg(long, value_name = "VERSION", default_value = "A4")]
     pub software: cellrt_axes::mr_je_c::SoftwareVersion,
-}
-
-/// Parses a software version argument (A0, A3, A4).
-pub fn software_version(s: &str) -> Result<cellrt_axes::mr_je_c::SoftwareVersion, String> {
-    use cellrt_axes::mr_je_c::SoftwareVersion as V;
-    match s.to_ascii_uppercase().as_str() {
-        "A0" | "A1" | "A2" => Ok(V::A0),
-        "A3" => Ok(V::A3),
-        "A4" => Ok(V::A4),
-        _ => Err(format!("software version {s:?}: expected A0, A3 or A4")),
-    }
 }
 
 /// `cellrt drive-sim`.
@@ -197,7 +212,8 @@ pub struct DriveSimArgs {
 pub enum DriveSimBus {
     /// Serve one simulated MR-JE-C on an address: Modbus/TCP (3 connections), SLMP over UDP
     /// and TCP (1 connection), the CC-Link IE Field Basic cyclic link (CSR/SSR, RWw/RWr), one
-    /// request at a time, until SIGINT/SIGTERM. The drive holds
+    /// request at a time, until SIGINT/SIGTERM; or with `--rs485-pty` drives on a Modbus RTU
+    /// line. The drive holds
     /// its position (profile motion is not simulated); its time-outs ([Pr. PN02], [Pr. PN10],
     /// [Pr. PF46]) run on the time since start.
     #[command(name = "mr-je-c")]

@@ -115,6 +115,13 @@ pub fn render(s: &Summary) -> String {
                     s.recording.files[s.recording.files.len() - 1].display()
                 );
             }
+            if let Some(why) = &s.recording.stopped {
+                let _ = writeln!(
+                    o,
+                    "            STOPPED {why}; the cell went on without it (the file holds the \
+                     records up to its last closed chunk: `cellrt recover` completes it)"
+                );
+            }
         }
         None => {
             let _ = writeln!(o, "recording   off ({} events seen)", s.recording.events);

@@ -340,3 +340,97 @@ fn bench_ethercat_in_process_counts_frames_and_reports_every_round() {
             .sum::<u64>()
     );
 }
+
+/// `cellrt bench je-c`: every path is sampled once per tick (answered or counted lost), each
+/// transport is compared with its raw echo, and bad arguments are refused naming the option.
+#[test]
+fn bench_je_c_samples_every_path_each_tick() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("je-c.json");
+    let out = cellrt(&[
+        "bench",
+        "je-c",
+        "--duration",
+        "0.2",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    let (stdout, v) = succeeded_with_json(&out, &json);
+    let ticks = v["ticks"].as_u64().unwrap();
+    assert_eq!(ticks, 20, "{stdout}");
+    let paths = v["paths"].as_array().unwrap();
+    let names: Vec<&str> = paths.iter().map(|p| p["path"].as_str().unwrap()).collect();
+    assert_eq!(
+        names,
+        [
+            "cclink",
+            "udp-echo",
+            "slmp-udp",
+            "slmp-tcp",
+            "modbus-tcp",
+            "tcp-echo",
+            "modbus-rtu",
+            "pty-echo"
+        ]
+    );
+    for p in paths {
+        let count = p["round_trip"]["count"].as_u64().unwrap();
+        assert_eq!(count + p["lost"].as_u64().unwrap(), ticks, "{p}");
+    }
+    assert_eq!(paths[0]["against"][0], "udp-echo");
+    assert_eq!(paths[6]["against"][0], "pty-echo");
+    for (args, option) in [
+        (&["--duration", "0"][..], "--duration"),
+        (&["--interval-ms", "0"][..], "--interval-ms"),
+        (&["--paths", "cclink,foo"][..], "--paths"),
+    ] {
+        let out = cellrt(&[&["bench", "je-c"][..], args].concat());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(option), "{args:?}: {err}");
+    }
+}
+
+/// `cellrt bench soak`: a short run with 1 s rotation samples the memory every second, writes
+/// a part per second (the completed ones pruned as it goes), and refuses a zero period.
+#[test]
+fn bench_soak_samples_memory_and_rotates() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("soak.json");
+    let out = cellrt(&[
+        "bench",
+        "soak",
+        "--axes",
+        "2",
+        "--interval",
+        "1000",
+        "--duration",
+        "3",
+        "--rotate",
+        "1",
+        "--sample",
+        "1",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    let (stdout, v) = succeeded_with_json(&out, &json);
+    let rss = v["rss"].as_array().unwrap();
+    assert!(rss.len() >= 2, "{stdout}");
+    assert!(
+        rss.iter().all(|s| s["rss_kib"].as_u64().unwrap() > 0),
+        "{stdout}"
+    );
+    assert!(v["files"].as_u64().unwrap() >= 3, "{stdout}");
+    assert!(v["cycles"].as_u64().unwrap() > 0, "{stdout}");
+    assert!(stdout.contains("RSS KiB"), "{stdout}");
+    for (args, option) in [
+        (&["--rotate", "0"][..], "--rotate"),
+        (&["--axes", "0"][..], "--axes"),
+    ] {
+        let base = ["bench", "soak", "--interval", "1000", "--duration", "1"];
+        let out = cellrt(&[&base[..], args].concat());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(option), "{args:?}: {err}");
+    }
+}

@@ -69,6 +69,23 @@ fn wait_line(rx: &Receiver<String>, what: &str, log: &mut Vec<String>) {
     }
 }
 
+/// `cellrt run --external-planner ARGS CFG`, once it waits for a planner: the process, its
+/// stderr lines and the log read so far.
+fn controller_waiting(cfg: &Path, args: &[&str]) -> (Child, Receiver<String>, Vec<String>) {
+    let mut controller = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .args(["run", "--external-planner"])
+        .args(args)
+        .arg(cfg)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let ctl = lines(&mut controller);
+    let mut log = Vec::new();
+    wait_line(&ctl, "waiting for a planner", &mut log);
+    (controller, ctl, log)
+}
+
 fn planner(cfg: &Path, program: &Path) -> Child {
     Command::new(env!("CARGO_BIN_EXE_cellrt"))
         .arg("planner")
@@ -205,17 +222,9 @@ fn a_planner_with_another_cells_timing_is_refused_and_nothing_moves() {
         .replace("cycle_time_us = 1000", "cycle_time_us = 2000");
     std::fs::write(&other, text).unwrap();
     let json = dir.path().join("summary.json");
-    let mut controller = Command::new(env!("CARGO_BIN_EXE_cellrt"))
-        .args(["run", "--external-planner", "--no-record", "--summary-json"])
-        .arg(&json)
-        .arg(&cfg)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let ctl = lines(&mut controller);
-    let mut log = Vec::new();
-    wait_line(&ctl, "waiting for a planner", &mut log);
+    let json_arg = json.to_str().unwrap();
+    let (mut controller, _ctl, _log) =
+        controller_waiting(&cfg, &["--no-record", "--summary-json", json_arg]);
 
     let mut p = planner(&other, &dir.path().join("program.toml"));
     let p_log = lines(&mut p);
@@ -241,4 +250,82 @@ fn a_planner_with_another_cells_timing_is_refused_and_nothing_moves() {
         };
         assert_eq!(a["final_position"].as_f64(), Some(start), "{a}");
     }
+}
+
+/// `cellrt sdo` on a cell whose planner is its own process: the planner's operator service
+/// sends the request over the cell's SDO link service, the controller's link thread hands it
+/// to the RT thread and the outcome comes back the same way. The drive was powered on by the
+/// planner's program: Operation enabled in 6041h, csp in 6061h; a write is refused while the
+/// program runs.
+#[test]
+fn sdo_reaches_the_drives_through_an_external_planner() {
+    const HOLD: &str = r#"
+[[step]]
+do = "power_on"
+[[step]]
+do = "wait"
+seconds = 60
+"#;
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("cell.toml");
+    let cfg_text = std::fs::read_to_string(demo_cell(dir.path(), HOLD)).unwrap();
+    let name = cfg_text
+        .lines()
+        .find_map(|l| l.strip_prefix("name = \""))
+        .and_then(|l| l.strip_suffix('"'))
+        .unwrap()
+        .to_string();
+    let (mut controller, _ctl, _log) =
+        controller_waiting(&cfg, &["--no-record", "--duration", "120"]);
+    let mut p = planner(&cfg, &dir.path().join("program.toml"));
+    let sdo = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+            .arg("sdo")
+            .args(args)
+            .args(["--cell", &name])
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    // Until the planner's program has powered the axis on.
+    let end = Instant::now() + Duration::from_secs(30);
+    let statusword = loop {
+        let (code, out, err) = sdo(&["read", "y", "6041"]);
+        if code == Some(0) {
+            let v: i64 = out
+                .split('=')
+                .nth(1)
+                .unwrap()
+                .split_whitespace()
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            if v & 0x6F == 0x27 {
+                break v;
+            }
+        }
+        assert!(
+            Instant::now() < end,
+            "no Operation enabled over the link: {out}{err}"
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    assert_eq!(statusword & 0x6F, 0x27);
+    // 6061h: cyclic synchronous position (8) as configured.
+    let (code, out, err) = sdo(&["read", "y", "6061"]);
+    assert_eq!(code, Some(0), "{out}{err}");
+    assert!(out.contains("= 8 "), "{out}");
+    // A write while the planner's program runs is refused by its operator service.
+    let (code, _, err) = sdo(&["write", "y", "6085", "123456"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("a program is running"), "{err}");
+    let _ = p.kill();
+    let _ = p.wait();
+    kill(Pid::from_raw(controller.id() as i32), Signal::SIGINT).unwrap();
+    let _ = wait_exit(&mut controller, 30);
 }

@@ -135,12 +135,7 @@ fn je_c(args: &[&str]) -> (Option<i32>, String, String) {
 fn je_c_reads_and_writes_objects() {
     use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
     use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
-    let any = Ports {
-        modbus_tcp: 0,
-        slmp_udp: 0,
-        slmp_tcp: 0,
-        cclink: 0,
-    };
+    let any = Ports::ANY;
     let s = Server::start(
         MrJeC::new(MrJeCParams::default()),
         "127.0.0.1".parse().unwrap(),
@@ -193,4 +188,188 @@ fn je_c_reads_and_writes_objects() {
     ]);
     assert_eq!(code, Some(4), "{err}");
     assert!(err.starts_with("error: 127.0.0.1:"), "{err}");
+}
+
+/// `cellrt drive-sim mr-je-c --rs485-pty`: two stations on a Modbus RTU line over a
+/// pseudo-terminal, reached by `cellrt je-c --via modbus-rtu`; an absent station is silent
+/// (exit 4), a bad station number or bit rate refused (exit 2); SIGTERM removes the link.
+#[test]
+fn je_c_over_modbus_rtu_on_an_emulated_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let link = dir.path().join("line");
+    let path = link.to_str().unwrap().to_string();
+    let child = cellrt(&["--rs485-pty", &path, "--stations", "1,2"].map(String::from));
+    let end = Instant::now() + Duration::from_secs(30);
+    while !link.exists() {
+        assert!(Instant::now() < end, "drive-sim made no line at {path}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let rtu = |args: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend(["--via", "modbus-rtu"]);
+        je_c(&all)
+    };
+    let (code, out, err) = rtu(&["write", &path, "607A", "-5000", "--station", "2"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("written -5000"), "{out}");
+    let (code, out, _) = rtu(&["read", &path, "607A", "--station", "2"]);
+    assert_eq!(code, Some(0));
+    assert!(out.contains("= -5000"), "{out}");
+    // Station 1 is another drive.
+    let (_, out, _) = rtu(&["read", &path, "607A", "--station", "1"]);
+    assert!(out.contains("= 0 "), "{out}");
+    let (code, _, err) = rtu(&[
+        "read",
+        &path,
+        "6041",
+        "--station",
+        "3",
+        "--timeout-ms",
+        "200",
+    ]);
+    assert_eq!(code, Some(4), "{err}");
+    assert!(err.contains("station 3: no reply"), "{err}");
+    let (code, _, err) = rtu(&["read", &path, "6041", "--station", "0"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--station 0"), "{err}");
+    let (code, _, err) = rtu(&["read", &path, "6041", "--baud", "14400"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("14400"), "{err}");
+    nix::sys::signal::kill(
+        nix::unistd::Pid::from_raw(child.id() as i32),
+        nix::sys::signal::Signal::SIGTERM,
+    )
+    .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!link.exists(), "the link outlived drive-sim");
+}
+
+/// As root, two emulated drives in a network namespace behind a veth pair: `je-c scan` on the
+/// near end finds both by a broadcast NodeSearch, `je-c set-ip` by broadcast changes the
+/// addresses of the one with its MAC only ([Pr. PN11]–[Pr. PN14], read back over SLMP), and
+/// one cyclic request to the directed broadcast 10.77.0.255 is answered by both stations.
+/// Skipped, saying why, without root.
+#[test]
+fn broadcasts_reach_the_drives_in_a_namespace() {
+    use cellrt_rt_tests::netns::VethNamespace;
+    let ns = match VethNamespace::create(&format!("jc{}", std::process::id() % 100_000)) {
+        Ok(ns) => ns,
+        Err(why) => {
+            println!("SKIPPED broadcasts_reach_the_drives_in_a_namespace: {why}");
+            return;
+        }
+    };
+    let ip = |args: &[&str]| {
+        let ok = Command::new("ip").args(args).status().unwrap().success();
+        assert!(ok, "ip {args:?}");
+    };
+    ip(&["addr", "add", "10.77.0.1/24", "dev", &ns.near]);
+    for a in ["10.77.0.2/24", "10.77.0.3/24"] {
+        ip(&["-n", &ns.namespace, "addr", "add", a, "dev", &ns.far]);
+    }
+    let exe = std::path::Path::new(env!("CARGO_BIN_EXE_cellrt"));
+    let drives: Vec<Child> = ["10.77.0.2", "10.77.0.3"]
+        .iter()
+        .map(|addr| {
+            ns.command(exe)
+                .args(["drive-sim", "mr-je-c", "--listen", addr])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    let scan = || {
+        Command::new(exe)
+            .args(["je-c", "scan", "--interface", &ns.near, "--wait-ms", "500"])
+            .output()
+            .unwrap()
+    };
+    let end = Instant::now() + Duration::from_secs(30);
+    let table = loop {
+        let out = scan();
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        if text.contains("02:00:0A:4D:00:02") && text.contains("02:00:0A:4D:00:03") {
+            break text;
+        }
+        assert!(
+            Instant::now() < end,
+            "scan did not find both drives:\n{text}"
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    assert!(
+        table.contains("10.77.0.2 ") && table.contains("10.77.0.3 "),
+        "{table}"
+    );
+    let out = Command::new(exe)
+        .args([
+            "je-c",
+            "set-ip",
+            "02:00:0A:4D:00:03",
+            "10.77.0.33",
+            "--interface",
+            &ns.near,
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let pn14 = |drive: &str| je_c(&["read", drive, "258E"]).1;
+    assert!(pn14("10.77.0.3").contains("= 33 "), "{}", pn14("10.77.0.3"));
+    assert!(pn14("10.77.0.2").contains("= 0 "), "{}", pn14("10.77.0.2"));
+    directed_broadcast_cycle();
+    for mut d in drives {
+        let _ = d.kill();
+        let _ = d.wait();
+    }
+}
+
+/// Cyclic exchanges of a two-station group to 10.77.0.255: both drives answer each, with their
+/// own slave IDs.
+fn directed_broadcast_cycle() {
+    use cellrt_axes::cclink_ief_basic::master::{GroupMaster, MasterParams};
+    use cellrt_axes::cclink_ief_basic::MAX_STATIONS;
+    use std::net::{IpAddr, Ipv4Addr};
+    let drives: [IpAddr; 2] = [
+        Ipv4Addr::new(10, 77, 0, 2).into(),
+        Ipv4Addr::new(10, 77, 0, 3).into(),
+    ];
+    let p = MasterParams {
+        response_timeout: Duration::from_secs(2),
+        ..Default::default()
+    };
+    let mut m = GroupMaster::new(
+        "10.77.0.1:0".parse().unwrap(),
+        "10.77.0.255:61450".parse().unwrap(),
+        &drives,
+        p,
+    )
+    .unwrap();
+    let mut responses = [None; MAX_STATIONS];
+    // A drive takes a new master by a request that does not transmit to it (§2.5.1).
+    assert_eq!(m.exchange(0, &mut responses).unwrap(), 2);
+    assert_eq!(m.exchange(0b11, &mut responses).unwrap(), 2);
+    for (k, ip) in drives.iter().enumerate() {
+        let r = responses[k].expect("station answered");
+        let IpAddr::V4(v4) = ip else { unreachable!() };
+        assert_eq!(r.station.slave_id, u32::from(*v4), "station {}", k + 1);
+    }
+    assert_eq!(m.stale, 0);
 }

@@ -5,6 +5,7 @@
 //! the spec extract records. One station (64 RY/RX bits, 32 RWw/RWr words) per MR-JE-C.
 
 mod frame;
+pub mod io_thread;
 pub mod master;
 
 pub use frame::{

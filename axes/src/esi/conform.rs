@@ -1,7 +1,7 @@
 //! What an ESI forbids a cell configuration: the checks made before the bus is touched, each
 //! naming what the configuration would have to change.
 
-use super::device::EsiDevice;
+use super::device::{EsiDevice, EsiPdo};
 use crate::cia402::mode::ModeOfOperation;
 use crate::pdo::{PdoEntry, PdoMap};
 use crate::profiles::mapping::PdoDirection;
@@ -141,6 +141,20 @@ fn pdo(
             0x1C13,
         ),
     };
+    mapping(device, subject, direction, map, esi_pdos)?;
+    assignment(device, subject, direction, map, esi_pdos, assign)?;
+    mapped_entries(device, subject, direction, map)
+}
+
+/// The PDO `map` against the ESI's PDOs of its direction: it exists, and a PDO the ESI fixes
+/// maps what the configuration needs.
+fn mapping(
+    device: &EsiDevice,
+    subject: ConflictSubject,
+    direction: PdoDirection,
+    map: &PdoMap,
+    esi_pdos: &[EsiPdo],
+) -> Result<(), EsiConflict> {
     let name = direction.name();
     let listed = || {
         let v: Vec<String> = esi_pdos
@@ -184,6 +198,20 @@ fn pdo(
             );
         }
     }
+    Ok(())
+}
+
+/// The PDO assignment (`assign`, 1C12h/1C13h): no other PDO the ESI makes mandatory, and an
+/// assignment the ESI fixes assigns `map`.
+fn assignment(
+    device: &EsiDevice,
+    subject: ConflictSubject,
+    direction: PdoDirection,
+    map: &PdoMap,
+    esi_pdos: &[EsiPdo],
+    assign: u16,
+) -> Result<(), EsiConflict> {
+    let name = direction.name();
     if let Some(m) = esi_pdos
         .iter()
         .find(|p| p.mandatory && p.index != map.index)
@@ -211,6 +239,18 @@ fn pdo(
             format!("the ESI's PDO assignment {assign:04X}h cannot be changed and assigns {d:04X}h; the configuration needs {:04X}h", map.index),
         );
     }
+    Ok(())
+}
+
+/// Each object `map` maps exists in the ESI's dictionary (where it has one) and may be mapped
+/// in `direction`.
+fn mapped_entries(
+    device: &EsiDevice,
+    subject: ConflictSubject,
+    direction: PdoDirection,
+    map: &PdoMap,
+) -> Result<(), EsiConflict> {
+    let name = direction.name();
     for e in map.entries.iter().filter(|e| !e.is_padding()) {
         let Some(o) = device.object(e.index, e.sub) else {
             if device.has_dictionary() {

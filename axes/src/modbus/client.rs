@@ -1,6 +1,7 @@
 //! A Modbus/TCP client for one MR-JE-C (MR-JE-C manual §3): one query in flight (the drive
 //! serves one at a time), replies to an earlier transaction dropped, a reply deadline, buffers
-//! allocated once per connection.
+//! allocated once per connection. [`Registers`] is what Modbus/TCP and Modbus RTU
+//! ([`super::serial`]) both offer the layers above.
 
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
@@ -13,13 +14,13 @@ use super::{ExceptionCode, ModbusError, Query, Reply, MAX_REGISTERS};
 #[derive(Debug, thiserror::Error)]
 pub enum ClientError {
     /// The connection failed or broke.
-    #[error("Modbus/TCP {0}")]
+    #[error("Modbus {0}")]
     Io(#[from] std::io::Error),
     /// A frame was refused.
-    #[error("Modbus/TCP: {0}")]
+    #[error("Modbus: {0}")]
     Frame(#[from] ModbusError),
     /// The drive answered with an exception.
-    #[error("Modbus/TCP: the drive answered exception {code} to function {function:#04x}")]
+    #[error("Modbus: the drive answered exception {code} to function {function:#04x}")]
     Exception {
         /// Function code.
         function: u8,
@@ -27,11 +28,36 @@ pub enum ClientError {
         code: ExceptionCode,
     },
     /// No reply before the deadline.
-    #[error("Modbus/TCP: no reply within {0:?}")]
+    #[error("Modbus: no reply within {0:?}")]
     Timeout(Duration),
     /// More registers than one query carries, or an output slice of the wrong length.
-    #[error("Modbus/TCP: {0}")]
+    #[error("Modbus: {0}")]
     Request(&'static str),
+}
+
+/// Register access to one drive: 03h, 10h and the 08h echo (§3.6.1, §4.8.1), over Modbus/TCP
+/// or one station of a Modbus RTU line.
+pub trait Registers {
+    /// 03h: `out.len()` registers from the object at `address`.
+    fn read_registers(&mut self, address: u16, out: &mut [u16]) -> Result<(), ClientError>;
+    /// 10h: `words` to the objects from `address` on.
+    fn write_registers(&mut self, address: u16, words: &[u16]) -> Result<(), ClientError>;
+    /// 08h: the drive echoes `value`.
+    fn echo(&mut self, value: u16) -> Result<(), ClientError>;
+}
+
+impl Registers for TcpClient {
+    fn read_registers(&mut self, address: u16, out: &mut [u16]) -> Result<(), ClientError> {
+        TcpClient::read_registers(self, address, out)
+    }
+
+    fn write_registers(&mut self, address: u16, words: &[u16]) -> Result<(), ClientError> {
+        TcpClient::write_registers(self, address, words)
+    }
+
+    fn echo(&mut self, value: u16) -> Result<(), ClientError> {
+        TcpClient::echo(self, value)
+    }
 }
 
 /// A connection to one drive's Modbus/TCP server.

@@ -9,6 +9,7 @@ pub mod client;
 mod error;
 mod pdu;
 pub mod rtu;
+pub mod serial;
 pub mod tcp;
 mod words;
 

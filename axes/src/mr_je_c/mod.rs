@@ -13,5 +13,7 @@ pub mod value;
 pub use access::{AccessError, ObjectAccess, OverModbus, TypedObject};
 pub use alarm::Alarm;
 pub use objects::{entry, object, Object, ObjectId, Sub, DICTIONARY};
-pub use types::{Access, DataType, Initial, Range, SoftwareVersion, Unit};
+pub use types::{
+    Access, DataType, Initial, ParseSoftwareVersionError, Range, SoftwareVersion, Unit,
+};
 pub use value::Value;

@@ -15,6 +15,25 @@ pub enum SoftwareVersion {
     A4,
 }
 
+/// Text that names no MR-JE-C software version.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("software version {0:?}: expected A0, A3 or A4")]
+pub struct ParseSoftwareVersionError(pub String);
+
+impl std::str::FromStr for SoftwareVersion {
+    type Err = ParseSoftwareVersionError;
+
+    /// A0–A2 (all without TCP, §1.1), A3 or A4, in either case.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_uppercase().as_str() {
+            "A0" | "A1" | "A2" => Ok(SoftwareVersion::A0),
+            "A3" => Ok(SoftwareVersion::A3),
+            "A4" => Ok(SoftwareVersion::A4),
+            _ => Err(ParseSoftwareVersionError(s.to_string())),
+        }
+    }
+}
+
 /// A data type of the object dictionary (§7.3 "Data Type").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum DataType {

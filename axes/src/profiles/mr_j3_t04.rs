@@ -10,7 +10,7 @@ use super::{
 use super::{HomeReference, HomeSetting, TorqueLimitSelection};
 use crate::cia402::fsa::FsaQuirks;
 use crate::cia402::mode::ModeOfOperation as M;
-use crate::comm::{CounterParams, DetectorParams};
+use crate::comm::CounterParams;
 use crate::pdo::PdoMap;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32, U8};
@@ -23,11 +23,7 @@ use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 /// them.
 pub const MASTER_COUNTER_CHECK: CounterParams = CounterParams {
     echo_lag: crate::comm::DEFAULT_ECHO_LAG,
-    detector: DetectorParams {
-        continuous: 3,
-        intermittent: 3,
-        intermittent_window: 1000,
-    },
+    detector: crate::comm::UNSTATED_LEVEL,
 };
 
 /// Default RxPDO 1614h, 30 bytes (MR-J3-T04 manual §8.5.1, §8.6.2, 13 entries).

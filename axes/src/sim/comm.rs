@@ -52,11 +52,11 @@ impl Default for CommParams {
             echo_lag: crate::comm::DEFAULT_ECHO_LAG,
             po03: 0x0000,
             po02: 0x0000,
-            counter_errors: crate::profiles::mr_j3_t04::MASTER_COUNTER_CHECK.detector,
+            counter_errors: crate::comm::UNSTATED_LEVEL,
             rx_loss_timeout: Duration::from_millis(7),
             rx_loss_intermittent: DetectorParams {
                 continuous: 0,
-                ..crate::profiles::mr_j3_t04::MASTER_COUNTER_CHECK.detector
+                ..crate::comm::UNSTATED_LEVEL
             },
             sync_error_increment: 3,
             sync_error_decrement: 1,

@@ -245,7 +245,7 @@ impl SlmpError {
 }
 
 /// Writes the subheader and route; the offset of the length field.
-fn head(subheader: Subheader, route: Route, request: bool, buf: &mut [u8]) -> usize {
+pub(super) fn head(subheader: Subheader, route: Route, request: bool, buf: &mut [u8]) -> usize {
     let at = match subheader {
         Subheader::E3 => {
             buf[..2].copy_from_slice(if request { &REQUEST_3E } else { &RESPONSE_3E });
@@ -266,7 +266,10 @@ fn head(subheader: Subheader, route: Route, request: bool, buf: &mut [u8]) -> us
 }
 
 /// Reads the subheader and route; the offset of the length field.
-fn read_head(frame: &[u8], request: bool) -> Result<(Subheader, Route, usize), SlmpError> {
+pub(super) fn read_head(
+    frame: &[u8],
+    request: bool,
+) -> Result<(Subheader, Route, usize), SlmpError> {
     let truncated = |need| SlmpError::Truncated {
         got: frame.len(),
         need,

@@ -49,12 +49,31 @@ pub struct CellConfig {
     pub setpoints: SetpointConfig,
     /// Watchdogs and their fault reactions.
     pub watchdogs: WatchdogConfig,
+    /// Who besides the cell's user may command it.
+    pub operator: OperatorConfig,
     /// Scheduled fault injection, sorted by cycle (tests, commissioning drills).
     pub inject: Vec<Injection>,
     /// The axes, in configuration order (the index is the axis id everywhere).
     pub axes: Vec<AxisConfig>,
     /// The EtherCAT segment, where the axes use `transport = "ethercat"`.
     pub ethercat: Option<EthercatConfig>,
+}
+
+/// Who may command the cell: always the user that runs it (and root); with `group`, also the
+/// members of that group (the operator socket is group-owned, mode 0660).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct OperatorConfig {
+    /// The operator group, resolved when the configuration is read.
+    pub group: Option<OperatorGroup>,
+}
+
+/// A local group whose members may command the cell.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct OperatorGroup {
+    /// Its name.
+    pub name: String,
+    /// Its id.
+    pub gid: u32,
 }
 
 /// RT thread settings; each is best effort when the OS refuses it.

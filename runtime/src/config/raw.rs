@@ -22,6 +22,9 @@ pub struct RawCellConfig {
     /// `[watchdogs]`.
     #[serde(default)]
     pub watchdogs: RawWatchdogs,
+    /// `[operator]`: who besides the cell's user may command it.
+    #[serde(default)]
+    pub operator: RawOperator,
     /// `[[inject]]`: scheduled fault injection.
     #[serde(default)]
     pub inject: Vec<RawInjection>,
@@ -31,6 +34,14 @@ pub struct RawCellConfig {
     /// `[[axes]]`.
     #[serde(default)]
     pub axes: Vec<RawAxis>,
+}
+
+/// `[operator]`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawOperator {
+    /// A group whose members may command the cell besides its user.
+    pub group: Option<String>,
 }
 
 /// `[ethercat]`.

@@ -22,6 +22,8 @@ pub struct HostEnd {
     lanes: Arc<Lanes>,
     /// The last [`RECENT_EVENTS`] event lines, kept by the recorder for the operator's status.
     recent_events: Mutex<VecDeque<String>>,
+    /// The EtherCAT segment's diagnostics, set once the bus is open (none on simulated drives).
+    bus_diagnostics: std::sync::OnceLock<cellrt_axes::ethercat::master::BusDiagnostics>,
 }
 
 impl HostEnd {
@@ -29,7 +31,18 @@ impl HostEnd {
         HostEnd {
             lanes,
             recent_events: Mutex::new(VecDeque::with_capacity(RECENT_EVENTS)),
+            bus_diagnostics: std::sync::OnceLock::new(),
         }
+    }
+
+    /// Offers the bus' diagnostics to the operator (once, when the bus is open).
+    pub fn set_bus_diagnostics(&self, d: cellrt_axes::ethercat::master::BusDiagnostics) {
+        let _ = self.bus_diagnostics.set(d);
+    }
+
+    /// The bus' diagnostics, on an EtherCAT cell.
+    pub fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
+        self.bus_diagnostics.get()
     }
 
     /// Queues a command for the RT thread; gives it back if the queue is full.

@@ -55,59 +55,81 @@ pub enum SdoSlotBusy {
     Untaken,
 }
 
+impl UserSdo {
+    /// The request as a header (seq 16–31, never 0; axis 0–15) and a word, as the slot and
+    /// the external planner's link carry it.
+    pub fn to_wire(&self) -> (u32, u64) {
+        (
+            u32::from(self.seq.max(1)) << 16 | u32::from(self.axis),
+            self.request.to_bits(),
+        )
+    }
+
+    /// The request of a header and word ([`UserSdo::to_wire`]); none for header 0.
+    pub fn from_wire(header: u32, word: u64) -> Option<UserSdo> {
+        (header != 0).then(|| UserSdo {
+            seq: (header >> 16) as u16,
+            axis: header as u16,
+            request: SdoRequest::from_bits(word),
+        })
+    }
+}
+
+impl UserSdoOutcome {
+    /// The outcome of request `seq` as a header (seq 16–31, kind 0–7) and a word.
+    pub fn to_wire(self, seq: u16) -> (u32, u64) {
+        let (kind, value) = match self {
+            UserSdoOutcome::Done(o) => o.to_parts(),
+            UserSdoOutcome::Unsupported => (KIND_UNSUPPORTED, 0),
+        };
+        (u32::from(seq) << 16 | u32::from(kind), value)
+    }
+
+    /// The outcome a header and word carry, if it answers request `seq`.
+    pub fn from_wire(header: u32, word: u64, seq: u16) -> Option<UserSdoOutcome> {
+        if (header >> 16) as u16 != seq {
+            return None;
+        }
+        Some(
+            SdoOutcome::from_parts(header as u8, word)
+                .map_or(UserSdoOutcome::Unsupported, UserSdoOutcome::Done),
+        )
+    }
+}
+
 impl SdoRequestSlot {
     /// Host side: leaves `sdo` for the RT thread; refused while the previous one is untaken.
     pub(super) fn put(&self, sdo: UserSdo) -> Result<(), SdoSlotBusy> {
         if self.header.load(Ordering::Acquire) != 0 {
             return Err(SdoSlotBusy::Untaken);
         }
-        self.request.store(sdo.request.to_bits(), Ordering::Relaxed);
-        self.header.store(
-            u32::from(sdo.seq.max(1)) << 16 | u32::from(sdo.axis),
-            Ordering::Release,
-        );
+        let (header, word) = sdo.to_wire();
+        self.request.store(word, Ordering::Relaxed);
+        self.header.store(header, Ordering::Release);
         Ok(())
     }
 
     /// RT side: takes the request, if any (the slot is empty afterwards).
     pub(super) fn take(&self) -> Option<UserSdo> {
         let h = self.header.load(Ordering::Acquire);
-        if h == 0 {
-            return None;
-        }
-        let request = SdoRequest::from_bits(self.request.load(Ordering::Relaxed));
+        let sdo = UserSdo::from_wire(h, self.request.load(Ordering::Relaxed))?;
         self.header.store(0, Ordering::Release);
-        Some(UserSdo {
-            seq: (h >> 16) as u16,
-            axis: h as u16,
-            request,
-        })
+        Some(sdo)
     }
 }
 
 impl SdoOutcomeSlot {
     /// RT side: publishes the outcome of request `seq`.
     pub(super) fn publish(&self, seq: u16, outcome: UserSdoOutcome) {
-        let (kind, value) = match outcome {
-            UserSdoOutcome::Done(o) => o.to_parts(),
-            UserSdoOutcome::Unsupported => (KIND_UNSUPPORTED, 0),
-        };
+        let (header, value) = outcome.to_wire(seq);
         self.value.store(value, Ordering::Relaxed);
-        self.header
-            .store(u32::from(seq) << 16 | u32::from(kind), Ordering::Release);
+        self.header.store(header, Ordering::Release);
     }
 
     /// Host side: the outcome of request `seq`, once published.
     pub(super) fn get(&self, seq: u16) -> Option<UserSdoOutcome> {
         let h = self.header.load(Ordering::Acquire);
-        if (h >> 16) as u16 != seq {
-            return None;
-        }
-        let v = self.value.load(Ordering::Relaxed);
-        Some(
-            SdoOutcome::from_parts(h as u8, v)
-                .map_or(UserSdoOutcome::Unsupported, UserSdoOutcome::Done),
-        )
+        UserSdoOutcome::from_wire(h, self.value.load(Ordering::Relaxed), seq)
     }
 }
 

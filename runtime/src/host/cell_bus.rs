@@ -169,6 +169,14 @@ impl CellBus {
         }
     }
 
+    /// The segment's diagnostics handle, on EtherCAT.
+    pub fn diagnostics(&self) -> Option<cellrt_axes::ethercat::master::BusDiagnostics> {
+        match self {
+            CellBus::Sim(_) => None,
+            CellBus::Ethercat(bus) => Some(bus.diagnostics()),
+        }
+    }
+
     /// Opens the bus `cell` names; EtherCAT segments are brought to OP here.
     pub fn open(cell: &CellConfig) -> Result<CellBus, BusOpenError> {
         let Some(ec) = &cell.ethercat else {

@@ -46,7 +46,10 @@ pub struct RunOptions {
 /// The cell could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
-    /// Recording could not start or finish.
+    /// The recording file cannot be created at the path given (bad input: nothing ran).
+    #[error("{0}")]
+    RecordingPath(RecorderError),
+    /// Recording failed while the cell ran or could not finish.
     #[error(transparent)]
     Recorder(#[from] RecorderError),
     /// Another controller runs this cell.
@@ -58,6 +61,9 @@ pub enum RunError {
     /// A thread could not be started or died.
     #[error("{0}")]
     Thread(String),
+    /// The operator socket (for other users) could not be served.
+    #[error("operator socket: {0}")]
+    OperatorSocket(String),
     /// The bus could not be opened (EtherCAT bring-up).
     #[error("{0}")]
     Bus(String),
@@ -146,15 +152,22 @@ pub struct Summary {
 /// Runs `cell` until the program ends, the duration elapses or `shutdown` is set.
 pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let _lock = crate::host::cell_lock::CellLock::acquire(&cell.name)?;
+    // Dropped before the lock: the socket is gone before another controller may take the cell.
+    let _socket = crate::host::operator::socket::OperatorSocket::serve(&cell.name, &cell.operator)
+        .map_err(RunError::OperatorSocket)?;
     // Before any thread starts: they all inherit the affinity without the RT CPU.
     let reserved = ReservedCpu::apply(&cell.rt);
     let (rt_handoff, handoff) =
         handoff::new(cell.axes.len(), queue_cycles(cell), opts.record.is_some());
     let handoff = Arc::new(handoff);
-    let recording = Recording::start(cell, opts.record.as_deref(), handoff.clone())?;
+    let recording = Recording::start(cell, opts.record.as_deref(), handoff.clone())
+        .map_err(RunError::RecordingPath)?;
     let bus =
         crate::host::cell_bus::CellBus::open(cell).map_err(|e| RunError::Bus(e.to_string()))?;
     record_bring_up_warnings(cell, &bus, &handoff);
+    if let Some(d) = bus.diagnostics() {
+        handoff.set_bus_diagnostics(d);
+    }
     let (rt, mut report) = spawn_rt(cell, bus, rt_handoff, opts.hook)?;
 
     let targets = opts

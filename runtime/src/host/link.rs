@@ -1,5 +1,5 @@
 //! How a planner reaches its cell: the same few operations in-process (atomics and the RT
-//! command queue) or from another process (the cell's iceoryx2 status and command services).
+//! command queue) or from another process (the cell's iceoryx2 status, command and SDO services).
 
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
@@ -13,7 +13,7 @@ use crate::handoff::{
     CellCommand, CellState, EventKind, EventRecord, HomeRequest, HomingStatus, HostEnd, StopReason,
     UserSdo, UserSdoOutcome, NO_AXIS,
 };
-use crate::services::{self, CommandSample, LiveAxis, ServiceError, StatusSample};
+use crate::services::{self, CommandSample, LiveAxis, SdoLinkSample, ServiceError, StatusSample};
 use crate::setpoints::MAX_AXES;
 
 /// A remote cell whose status is older than this is considered gone.
@@ -110,14 +110,19 @@ pub trait CellLink {
     fn command(&mut self, c: CellCommand) -> Result<(), LinkError>;
     /// Asks the RT thread to home an axis (taken in Idle).
     fn home(&mut self, request: HomeRequest) -> Result<(), LinkError>;
-    /// Leaves an operator SDO request for the RT thread (in-process only).
+    /// Leaves an operator SDO request for the RT thread (in-process through the hand-off, from
+    /// another process through the cell's SDO link services).
     fn sdo(&mut self, request: UserSdo) -> Result<(), LinkError> {
         let _ = request;
         Err(LinkError::InProcessOnly("sdo"))
     }
-    /// The outcome of the operator SDO request `seq`, once published (in-process only).
+    /// The outcome of the operator SDO request `seq`, once published.
     fn sdo_outcome(&mut self, seq: u16) -> Option<UserSdoOutcome> {
         let _ = seq;
+        None
+    }
+    /// The EtherCAT segment's diagnostics (in-process, on an EtherCAT cell only).
+    fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
         None
     }
     /// The latest event lines (in-process only; empty from another process).
@@ -200,6 +205,10 @@ impl CellLink for LocalLink {
         self.handoff.sdo_outcome(seq)
     }
 
+    fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
+        self.handoff.bus_diagnostics()
+    }
+
     fn recent_events(&mut self) -> Vec<String> {
         self.handoff.recent_events()
     }
@@ -218,6 +227,11 @@ impl CellLink for LocalLink {
 pub struct RemoteLink {
     status: Subscriber<ipc::Service, StatusSample, ()>,
     commands: Publisher<ipc::Service, CommandSample, ()>,
+    /// Operator SDO requests to the controller and their outcomes back.
+    sdo_requests: Publisher<ipc::Service, SdoLinkSample, ()>,
+    sdo_outcomes: Subscriber<ipc::Service, SdoLinkSample, ()>,
+    /// The latest outcome received (header, word).
+    sdo_latest: Option<(u32, u64)>,
     latest: Option<(StatusSnapshot, Instant)>,
     /// Cycle time (ns) and axis count the controller reported last.
     shape: (u64, u32),
@@ -238,6 +252,9 @@ impl RemoteLink {
         let mut link = RemoteLink {
             status: services::status_subscriber(node, cell)?,
             commands: services::command_publisher(node, cell)?,
+            sdo_requests: services::sdo_request_publisher(node, cell)?,
+            sdo_outcomes: services::sdo_outcome_subscriber(node, cell)?,
+            sdo_latest: None,
             latest: None,
             shape: (0, 0),
             cell: cell.to_string(),
@@ -324,6 +341,27 @@ impl CellLink for RemoteLink {
                 cell: self.cell.clone(),
                 detail: format!("{e:?}"),
             })
+    }
+
+    /// Sends the request to the controller's link thread, which relays it to the RT thread.
+    fn sdo(&mut self, request: UserSdo) -> Result<(), LinkError> {
+        let (header, word) = request.to_wire();
+        self.sdo_requests
+            .send_copy(SdoLinkSample { header, word })
+            .map(|_| ())
+            .map_err(|e| LinkError::Send {
+                command: "sdo",
+                cell: self.cell.clone(),
+                detail: format!("{e:?}"),
+            })
+    }
+
+    fn sdo_outcome(&mut self, seq: u16) -> Option<UserSdoOutcome> {
+        while let Ok(Some(s)) = self.sdo_outcomes.receive() {
+            self.sdo_latest = Some((s.payload().header, s.payload().word));
+        }
+        let (header, word) = self.sdo_latest?;
+        UserSdoOutcome::from_wire(header, word, seq)
     }
 
     fn event(&mut self, _kind: EventKind, _value: i64) {}

@@ -8,12 +8,14 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use iceoryx2::node::{NodeState, NodeView};
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, EventKind, EventRecord, HomeRequest, HostEnd, NO_AXIS};
+use crate::handoff::{CellCommand, EventKind, EventRecord, HomeRequest, HostEnd, UserSdo, NO_AXIS};
 use crate::host::link::snapshot;
-use crate::services::{self, ServiceError, StatusSample};
+use crate::services::{self, SdoLinkSample, ServiceError, StatusSample};
 
 /// How often the planner's node is looked for.
 pub const PLANNER_CHECK: Duration = Duration::from_millis(20);
@@ -38,9 +40,15 @@ impl LinkServer {
                     let node = services::node(&cell.name, "link")?;
                     let status = services::status_publisher(&node, &cell.name)?;
                     let commands = services::command_subscriber(&node, &cell.name)?;
-                    Ok::<_, ServiceError>((node, status, commands))
+                    let sdo = SdoRelay {
+                        requests: services::sdo_request_subscriber(&node, &cell.name)?,
+                        outcomes: services::sdo_outcome_publisher(&node, &cell.name)?,
+                        waiting: None,
+                        pending: None,
+                    };
+                    Ok::<_, ServiceError>((node, status, commands, sdo))
                 })();
-                let (node, status, commands) = match setup {
+                let (node, status, commands, mut sdo) = match setup {
                     Ok(v) => {
                         let _ = ready_tx.send(Ok(()));
                         v
@@ -84,6 +92,7 @@ impl LinkServer {
                             forward(&handoff, c.code);
                         }
                     }
+                    sdo.pump(&handoff);
                     if last_check.elapsed() >= PLANNER_CHECK {
                         last_check = Instant::now();
                         let alive = planner_is_alive(&planner_name);
@@ -118,6 +127,46 @@ impl LinkServer {
     pub fn stop(self) {
         self.stop.store(true, Ordering::Release);
         let _ = self.handle.join();
+    }
+}
+
+/// An external planner's operator SDO requests, relayed to the RT thread through the hand-off's
+/// slot, and their outcomes back: one in flight; a request the slot cannot take yet waits.
+struct SdoRelay {
+    requests: Subscriber<ipc::Service, SdoLinkSample, ()>,
+    outcomes: Publisher<ipc::Service, SdoLinkSample, ()>,
+    /// Received, not yet taken by the slot (a newer request replaces it).
+    waiting: Option<UserSdo>,
+    /// Handed to the RT thread; its outcome not yet published.
+    pending: Option<u16>,
+}
+
+impl SdoRelay {
+    fn pump(&mut self, handoff: &HostEnd) {
+        while let Ok(Some(r)) = self.requests.receive() {
+            let r = r.payload();
+            if let Some(sdo) = UserSdo::from_wire(r.header, r.word) {
+                self.waiting = Some(sdo);
+            }
+        }
+        if let Some(sdo) = self.waiting {
+            if handoff.request_sdo(sdo).is_ok() {
+                self.waiting = None;
+                self.pending = Some(sdo.seq);
+            }
+        }
+        if let Some(seq) = self.pending {
+            if let Some(outcome) = handoff.sdo_outcome(seq) {
+                let (header, word) = outcome.to_wire(seq);
+                if self
+                    .outcomes
+                    .send_copy(SdoLinkSample { header, word })
+                    .is_ok()
+                {
+                    self.pending = None;
+                }
+            }
+        }
     }
 }
 

@@ -34,6 +34,55 @@ pub enum BenchCommand {
     /// The cell loop over EtherCAT (4 emulated drives on a veth pair, or in-process): exchange
     /// time, lost frames and wakeup latency, in rounds alternating with `bench latency`.
     Ethercat(EthercatArgs),
+    /// Round trip of each MR-JE-C transport (CC-Link IE Field Basic, SLMP, Modbus/TCP, Modbus
+    /// RTU) to the emulated drive beside a raw UDP/TCP/pty echo, in the same ticks.
+    #[command(name = "je-c")]
+    JeC(JeCArgs),
+    /// A long run of the loop cell with recording rotation: resident memory sampled, records
+    /// dropped, overruns beside cyclictest on the other CPU.
+    Soak(SoakArgs),
+}
+
+/// `cellrt bench soak`.
+#[derive(Debug, Args)]
+pub struct SoakArgs {
+    /// Number of simulated axes, 1..=256.
+    #[arg(long, value_name = "N", default_value_t = 16)]
+    pub axes: usize,
+    #[command(flatten)]
+    pub common: Common,
+    /// Recording rotation, seconds.
+    #[arg(long, value_name = "SECONDS", default_value_t = 300)]
+    pub rotate: u32,
+    /// Memory sample period, seconds.
+    #[arg(long, value_name = "SECONDS", default_value_t = 10)]
+    pub sample: u32,
+    /// Also write the result as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+/// `cellrt bench je-c`.
+#[derive(Debug, Args)]
+pub struct JeCArgs {
+    /// Time between ticks, ms (each path runs once per tick; the drive answers within 10 ms).
+    #[arg(long, value_name = "MS", default_value_t = 10)]
+    pub interval_ms: u64,
+    /// Length of the run, seconds.
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 10.0,
+        allow_negative_numbers = true
+    )]
+    pub duration: f64,
+    /// Only these paths (comma-separated: cclink, udp-echo, slmp-udp, slmp-tcp, modbus-tcp,
+    /// tcp-echo, modbus-rtu, pty-echo); all by default.
+    #[arg(long, value_delimiter = ',')]
+    pub paths: Vec<String>,
+    /// Also write the result as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
 }
 
 /// `cellrt bench ethercat`.
@@ -164,6 +213,8 @@ pub fn run(args: BenchArgs, cell: Option<String>) -> Exit {
     let result = match args.command {
         BenchCommand::Operator(a) => run_operator(a, cell.as_deref()),
         BenchCommand::Ipc(a) => run_ipc(a),
+        BenchCommand::JeC(a) => run_je_c(a),
+        BenchCommand::Soak(a) => run_soak(a),
         BenchCommand::Latency(a) => run_latency(a),
         BenchCommand::Compare(a) => run_compare(a),
         BenchCommand::Loop(a) => run_loop(a),
@@ -186,6 +237,17 @@ pub fn run(args: BenchArgs, cell: Option<String>) -> Exit {
 fn run_ipc(a: IpcArgs) -> Result<(), BenchError> {
     let report = cellrt_rt_tests::ipc::run(a.axes, a.rounds, a.count)?;
     print!("{}", cellrt_rt_tests::ipc::render(&report));
+    write_json(a.json.as_deref(), &report)
+}
+
+fn run_je_c(a: JeCArgs) -> Result<(), BenchError> {
+    let opts = cellrt_rt_tests::je_c::JeCBenchOptions {
+        interval_ms: a.interval_ms,
+        duration_s: a.duration,
+        paths: a.paths,
+    };
+    let report = cellrt_rt_tests::je_c::run(&opts)?;
+    print!("{}", cellrt_rt_tests::je_c::render(&report));
     write_json(a.json.as_deref(), &report)
 }
 
@@ -301,6 +363,21 @@ fn run_loop(a: LoopArgs) -> Result<(), BenchError> {
     let opts = loopbench::LoopOptions::new(a.axes, c.interval, c.duration, c.priority, c.cpu)?;
     let report = loopbench::run(&opts)?;
     print!("{}", loopbench::render(&report));
+    write_json(a.json.as_deref(), &report)
+}
+
+fn run_soak(a: SoakArgs) -> Result<(), BenchError> {
+    let c = &a.common;
+    let cell = loopbench::LoopOptions::new(a.axes, c.interval, c.duration, c.priority, c.cpu)?;
+    let opts = cellrt_rt_tests::soak::SoakOptions {
+        cell,
+        rotate_s: a.rotate,
+        sample_s: a.sample,
+    };
+    let report = cellrt_rt_tests::soak::run(&opts, &mut |s| {
+        eprintln!("cellrt: t {:.0} s  RSS {} KiB", s.t_s, s.rss_kib);
+    })?;
+    print!("{}", cellrt_rt_tests::soak::render(&report));
     write_json(a.json.as_deref(), &report)
 }
 

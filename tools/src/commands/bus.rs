@@ -1,5 +1,6 @@
 //! `cellrt bus scan --interface IF`: the EtherCAT SubDevices on a network interface, read
-//! without configuring anything (identity, SII name, AL state and code, mailbox protocols, DC).
+//! without configuring anything (identity, SII name, AL state and code, mailbox protocols, DC);
+//! `cellrt bus diag` ([`super::bus_diag`]): a running cell's segment diagnostics.
 
 use std::time::Duration;
 
@@ -14,8 +15,13 @@ use crate::exit::Exit;
 const SCAN_FRAME_TIMEOUT: Duration = Duration::from_millis(100);
 
 /// Runs `cellrt bus`.
-pub fn run(args: BusArgs) -> Exit {
-    let BusCommand::Scan { interface } = args.command;
+pub fn run(args: BusArgs, target: super::operate::Target) -> Exit {
+    let interface = match args.command {
+        BusCommand::Scan { interface } => interface,
+        BusCommand::Diag { interval_ms, json } => {
+            return super::bus_diag::run(&target, interval_ms, json)
+        }
+    };
     let mut link = match RawSocketLink::open(&interface, SCAN_FRAME_TIMEOUT) {
         Ok(l) => l,
         Err(e) => {

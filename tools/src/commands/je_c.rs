@@ -1,5 +1,6 @@
-//! `cellrt je-c read|write`: one object of an MR-JE-C over SLMP or Modbus/TCP, for
-//! commissioning (MR-JE-C manual §2.4, §3.6, §7.3).
+//! `cellrt je-c read|write`: one object of an MR-JE-C over SLMP, Modbus/TCP or Modbus RTU, for
+//! commissioning (MR-JE-C manual §2.4, §3.6, §4.8, §7.3); `scan` and `set-ip` are in
+//! [`super::je_c_search`].
 
 use std::net::{IpAddr, SocketAddr};
 use std::time::Duration;
@@ -7,6 +8,8 @@ use std::time::Duration;
 use clap::{Args, Subcommand, ValueEnum};
 
 use cellrt_axes::modbus::client::TcpClient;
+use cellrt_axes::modbus::serial::{Framing, LineSettings, RtuClient};
+use cellrt_axes::modbus::WordOrder;
 use cellrt_axes::mr_je_c::{
     entry, AccessError, DataType, ObjectAccess, ObjectId, OverModbus, SoftwareVersion, Value,
 };
@@ -31,6 +34,8 @@ pub enum Via {
     SlmpTcp,
     /// Modbus/TCP (port 502).
     ModbusTcp,
+    /// Modbus RTU on an RS-485 line: ADDR is the serial device (e.g. /dev/ttyUSB0).
+    ModbusRtu,
 }
 
 impl Via {
@@ -38,7 +43,7 @@ impl Via {
         match self {
             Via::Slmp => cellrt_axes::slmp::UDP_PORT,
             Via::SlmpTcp => cellrt_axes::slmp::TCP_PORT,
-            Via::ModbusTcp => cellrt_axes::modbus::tcp::PORT,
+            Via::ModbusTcp | Via::ModbusRtu => cellrt_axes::modbus::tcp::PORT,
         }
     }
 }
@@ -46,7 +51,8 @@ impl Via {
 /// Where the drive is and how to reach it.
 #[derive(Debug, Args)]
 pub struct Target {
-    /// The drive: IP or IP:PORT (default port per transport).
+    /// The drive: IP or IP:PORT (default port per transport), or with `--via modbus-rtu` the
+    /// serial device of its RS-485 line.
     pub addr: String,
     /// The object: index in hex with an optional sub-index, e.g. 6041 or 1018:2.
     pub object: ObjectId,
@@ -54,11 +60,23 @@ pub struct Target {
     #[arg(long, value_enum, default_value = "slmp")]
     pub via: Via,
     /// The drive's software version (which objects exist): A0, A3 or A4.
-    #[arg(long, default_value = "A4", value_parser = crate::cli::software_version)]
+    #[arg(long, default_value = "A4")]
     pub software: SoftwareVersion,
     /// How long to wait for the drive's answer, ms.
     #[arg(long, default_value_t = 1000)]
     pub timeout_ms: u64,
+    /// Modbus RTU: the drive's station number, 1–247 (rotary switch or [Pr. PC70]).
+    #[arg(long, default_value_t = 1)]
+    pub station: u8,
+    /// Modbus RTU: bit rate ([Pr. PC71]).
+    #[arg(long, default_value_t = 115_200)]
+    pub baud: u32,
+    /// Modbus RTU: parity and stop bits ([Pr. PF45]): even, odd (1 stop) or none (2 stop).
+    #[arg(long, default_value = "even")]
+    pub framing: Framing,
+    /// Modbus RTU: 32-bit values high word first (the drive's [Pr. PC72] = 1).
+    #[arg(long)]
+    pub high_word_first: bool,
 }
 
 /// `cellrt je-c` subcommands.
@@ -75,6 +93,11 @@ pub enum JeCCommand {
         #[arg(allow_hyphen_values = true)]
         value: String,
     },
+    /// Find the drives on a network (NodeSearch, UDP 61451).
+    Scan(super::je_c_search::ScanArgs),
+    /// Give the drive with a MAC address its IP address, subnet and gateway (IPAddressSet;
+    /// effective at its next power-on).
+    SetIp(super::je_c_search::SetIpArgs),
 }
 
 /// Runs `cellrt je-c`.
@@ -82,6 +105,8 @@ pub fn run(args: JeCArgs) -> Exit {
     let (target, value) = match args.command {
         JeCCommand::Read(t) => (t, None),
         JeCCommand::Write { target, value } => (target, Some(value)),
+        JeCCommand::Scan(a) => return super::je_c_search::scan(&a),
+        JeCCommand::SetIp(a) => return super::je_c_search::set_ip(&a),
     };
     let Some((_, row)) = entry(target.object, target.software) else {
         eprintln!(
@@ -97,19 +122,9 @@ pub fn run(args: JeCArgs) -> Exit {
             return Exit::BadInput;
         }
     };
-    let addr = match resolve(&target.addr, target.via.default_port()) {
-        Ok(a) => a,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Exit::BadInput;
-        }
-    };
-    let mut drive = match connect(&target, addr) {
+    let (addr, mut drive) = match open(&target) {
         Ok(d) => d,
-        Err(e) => {
-            eprintln!("error: {addr} ({:?}): {e}", target.via);
-            return Exit::Unreachable;
-        }
+        Err(e) => return e,
     };
     let result = match &write {
         Some(v) => drive.write_object(target.object, v).map(|()| v.clone()),
@@ -139,6 +154,47 @@ pub fn run(args: JeCArgs) -> Exit {
     }
 }
 
+/// The drive's place as messages name it, and the access to it; a refusal's exit code.
+fn open(t: &Target) -> Result<(String, Box<dyn ObjectAccessDyn>), Exit> {
+    if t.via == Via::ModbusRtu {
+        return open_rtu(t);
+    }
+    let addr = resolve(&t.addr, t.via.default_port()).map_err(|e| {
+        eprintln!("error: {e}");
+        Exit::BadInput
+    })?;
+    let drive = connect(t, addr).map_err(|e| {
+        eprintln!("error: {addr} ({:?}): {e}", t.via);
+        Exit::Unreachable
+    })?;
+    Ok((addr.to_string(), drive))
+}
+
+/// Station `t.station` on the RS-485 line at the serial device `t.addr`.
+fn open_rtu(t: &Target) -> Result<(String, Box<dyn ObjectAccessDyn>), Exit> {
+    let line = LineSettings::new(t.baud, t.framing).map_err(|e| {
+        eprintln!("error: --baud: {e}");
+        Exit::BadInput
+    })?;
+    let place = format!("{} station {}", t.addr, t.station);
+    let timeout = Duration::from_millis(t.timeout_ms.max(1));
+    let port = line.open(&t.addr).map_err(|e| {
+        eprintln!("error: {e}");
+        Exit::Unreachable
+    })?;
+    let client = RtuClient::new(port, line, t.station, timeout).map_err(|e| {
+        eprintln!("error: --station {}: {e}", t.station);
+        Exit::BadInput
+    })?;
+    let order = if t.high_word_first {
+        WordOrder::HighFirst
+    } else {
+        WordOrder::LowFirst
+    };
+    let access = OverModbus::new(client, t.software).with_word_order(order);
+    Ok((place, Box::new(access)))
+}
+
 fn connect(t: &Target, addr: SocketAddr) -> Result<Box<dyn ObjectAccessDyn>, String> {
     let timeout = Duration::from_millis(t.timeout_ms.max(1));
     let slmp = |mut c: SlmpClient| -> Box<dyn ObjectAccessDyn> {
@@ -155,6 +211,7 @@ fn connect(t: &Target, addr: SocketAddr) -> Result<Box<dyn ObjectAccessDyn>, Str
         Via::ModbusTcp => TcpClient::connect(addr, timeout)
             .map(|c| Box::new(OverModbus::new(c, t.software)) as Box<dyn ObjectAccessDyn>)
             .map_err(|e| e.to_string()),
+        Via::ModbusRtu => Err("Modbus RTU runs on a serial line, not an IP address".into()),
     }
 }
 

@@ -2,11 +2,13 @@
 
 pub mod bench;
 pub mod bus;
+pub mod bus_diag;
 pub mod drive_sim;
 pub mod drive_sim_mr_je_c;
 pub mod esi;
 pub mod inspect;
 pub mod je_c;
+pub mod je_c_search;
 pub mod operate;
 pub mod param;
 pub mod planner;

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::host::controller::{self, Outcome, RunOptions};
+use cellrt_runtime::host::controller::{self, Outcome, RunError, RunOptions};
 use cellrt_runtime::host::program::Program;
 
 use crate::cli::RunArgs;
@@ -107,6 +107,10 @@ pub fn run(args: RunArgs) -> Exit {
     );
     let summary = match result {
         Ok(s) => s,
+        Err(e @ RunError::RecordingPath(_)) => {
+            eprintln!("error: {e}");
+            return Exit::BadInput;
+        }
         Err(e) => {
             eprintln!("error: {e}");
             return Exit::Failed;
@@ -115,7 +119,9 @@ pub fn run(args: RunArgs) -> Exit {
     print!("{}", summary::render(&summary));
     if let Some(path) = &args.summary_json {
         let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
-        if let Err(e) = std::fs::write(path, json + "\n") {
+        let written = cellrt_runtime::output_file::create(path)
+            .and_then(|mut f| std::io::Write::write_all(&mut f, (json + "\n").as_bytes()));
+        if let Err(e) = written {
             eprintln!("error: cannot write {}: {e}", path.display());
             return Exit::Failed;
         }

@@ -553,13 +553,15 @@ pub fn serve(ctx: &mut CoeContext<'_>, request: &[u8], response: &mut [u8]) -> b
                 };
                 match value {
                     None => Err(SdoAbort::TOO_SHORT),
-                    Some(v) => super::esi_od::download(ctx, index, sub, v, download).map(|()| {
-                        out[2] = 0x60;
-                        None
-                    }),
+                    Some(v) => {
+                        super::esi_od::download(ctx.esi, ctx, index, sub, v, download).map(|()| {
+                            out[2] = 0x60;
+                            None
+                        })
+                    }
                 }
             }
-            2 => super::esi_od::upload(ctx, index, sub, upload).map(Some),
+            2 => super::esi_od::upload(ctx.esi, ctx, index, sub, upload).map(Some),
             _ => Err(ABORT_BAD_COMMAND),
         }
     };

@@ -2,7 +2,6 @@
 //! exist and what may be read or written (CiA 301 abort codes), before the simulated drive
 //! serves the request.
 
-use super::coe::CoeContext;
 use crate::esi::EsiDevice;
 use crate::profiles::Access;
 use crate::sim::sdo::SdoAbort;
@@ -25,14 +24,16 @@ fn unmodelled(a: SdoAbort) -> bool {
     a == SdoAbort::NO_OBJECT || a == SdoAbort::NO_SUBINDEX
 }
 
-/// An SDO upload through the ESI's dictionary (when the station has one), else `serve`.
-pub fn upload(
-    ctx: &mut CoeContext<'_>,
+/// An SDO upload through the station's ESI dictionary `esi` (when it has one), else `serve`
+/// with the station's context `ctx`.
+pub fn upload<C>(
+    esi: Option<&EsiDevice>,
+    ctx: &mut C,
     index: u16,
     sub: u8,
-    serve: fn(&mut CoeContext<'_>, u16, u8) -> Result<Value, SdoAbort>,
+    serve: fn(&mut C, u16, u8) -> Result<Value, SdoAbort>,
 ) -> Result<Value, SdoAbort> {
-    let Some(d) = ctx.esi.filter(|d| d.has_dictionary()) else {
+    let Some(d) = esi.filter(|d| d.has_dictionary()) else {
         return serve(ctx, index, sub);
     };
     let e = entry(d, index, sub)?;
@@ -49,15 +50,17 @@ pub fn upload(
     }
 }
 
-/// An SDO download through the ESI's dictionary (when the station has one), else `serve`.
-pub fn download(
-    ctx: &mut CoeContext<'_>,
+/// An SDO download through the station's ESI dictionary `esi` (when it has one), else `serve`
+/// with the station's context `ctx`.
+pub fn download<C>(
+    esi: Option<&EsiDevice>,
+    ctx: &mut C,
     index: u16,
     sub: u8,
     data: &[u8],
-    serve: fn(&mut CoeContext<'_>, u16, u8, &[u8]) -> Result<(), SdoAbort>,
+    serve: fn(&mut C, u16, u8, &[u8]) -> Result<(), SdoAbort>,
 ) -> Result<(), SdoAbort> {
-    let Some(d) = ctx.esi.filter(|d| d.has_dictionary()) else {
+    let Some(d) = esi.filter(|d| d.has_dictionary()) else {
         return serve(ctx, index, sub, data);
     };
     let e = entry(d, index, sub)?;
@@ -74,7 +77,7 @@ pub fn download(
 mod tests {
     use super::*;
     use crate::cycles::CycleTime;
-    use crate::ethercat::emulator::coe::{self, PdoConfig, SegmentedUpload};
+    use crate::ethercat::emulator::coe::{self, CoeContext, PdoConfig, SegmentedUpload};
     use crate::ethercat::identity::SubDeviceIdentity;
     use crate::ethercat::register::AlState;
     use crate::profiles::{profile, DriveModel};
@@ -104,9 +107,11 @@ mod tests {
             esi: Some(&device),
         };
         let write = |ctx: &mut CoeContext<'_>, i, s, d: &[u8]| {
-            download(ctx, i, s, d, coe::download).map_err(|e| e.0)
+            download(ctx.esi, ctx, i, s, d, coe::download).map_err(|e| e.0)
         };
-        let read = |ctx: &mut CoeContext<'_>, i, s| upload(ctx, i, s, coe::upload).map_err(|e| e.0);
+        let read = |ctx: &mut CoeContext<'_>, i, s| {
+            upload(ctx.esi, ctx, i, s, coe::upload).map_err(|e| e.0)
+        };
         // 6502h (ro), 1018h (ro): 0601 0002h; 60F4h and 6081h are not in this ESI: 0602 0000h.
         assert_eq!(write(&mut ctx, 0x6502, 0, &[0; 4]), Err(0x0601_0002));
         assert_eq!(write(&mut ctx, 0x1018, 2, &[0; 4]), Err(0x0601_0002));

@@ -13,6 +13,7 @@ use ethercrab::{
 
 use std::sync::Arc;
 
+use super::al_state::read_al_status;
 use super::bus::EthercatBus;
 use super::carrier::carrier;
 use super::dc::DcAlignment;
@@ -23,12 +24,15 @@ use super::mailbox::MailboxWatch;
 use super::pdo_config::{configure_station, CycleTimeOutcome};
 use super::process_image::ProcessImage;
 use super::pump::Wire;
-use super::refusal::{explain_refusal, BringUpWarning, RefusedSdo};
+use super::refusal::{fitting_causes, BringUpWarning, RefusedSdo, StateRefusal};
 use super::segment::{check_models, check_unit_pdo_limits, SegmentConfig, SegmentStation};
 use super::worker::{Ethercrab, MailboxWorker, Shared};
 use crate::bus::FrameCounters;
+use crate::cia402::mode::ModeOfOperation;
 use crate::cycles::CycleTime;
 use crate::ethercat::identity::SubDeviceIdentity;
+use crate::ethercat::register::AlState;
+use crate::profiles::bring_up_causes;
 
 /// Frames in flight during bring-up.
 const MAX_FRAMES: usize = 16;
@@ -312,4 +316,54 @@ fn pre_op_to_op(
         g.into_safe_op(maindevice).await?.into_op(maindevice).await
     };
     wire.run("PRE-OP → SAFE-OP → OP", up).map(OpGroup::Dc)
+}
+
+/// The error of a bring-up whose PRE-OP → SAFE-OP → OP did not complete, explained: the first
+/// SubDevice whose AL status shows an error indication becomes a [`StateRefusal`]; where none
+/// does (or its status cannot be read), `error` as it was.
+fn explain_refusal(
+    error: EthercatError,
+    link: &mut dyn Link,
+    frame: &mut [u8],
+    config: &SegmentConfig,
+    plans: &[SegmentStation],
+    seen: &SeenAtBringUp<'_>,
+) -> EthercatError {
+    for (position, plan) in plans.iter().enumerate() {
+        let Ok(status) = read_al_status(link, frame, position) else {
+            return error;
+        };
+        if !status.error {
+            continue;
+        }
+        let d = &config.drives[plan.first_axis()];
+        let requested = match status.state {
+            Some(AlState::Init) => "PRE-OP",
+            Some(AlState::PreOp) => "SAFE-OP",
+            _ => "OP",
+        };
+        let modes: Vec<ModeOfOperation> = plan
+            .slots
+            .iter()
+            .flatten()
+            .map(|&a| config.drives[a].mode)
+            .collect();
+        return EthercatError::StateRefused(Box::new(StateRefusal {
+            position,
+            name: seen.names.get(position).cloned().unwrap_or_default(),
+            axis: d.axis.clone(),
+            model: d.profile.model.as_str(),
+            requested,
+            state: status.state.map_or("no state", AlState::as_str),
+            code: status.code,
+            last_refused_sdo: seen.last_refused.get(position).copied().flatten(),
+            causes: fitting_causes(
+                bring_up_causes(d.profile.model),
+                status.code,
+                &modes,
+                plan.distributed_clocks,
+            ),
+        }));
+    }
+    error
 }

@@ -74,6 +74,14 @@ impl EthercatBus {
         &self.warnings
     }
 
+    /// A handle on the segment's diagnostics for the host (taken before the bus moves to the
+    /// RT thread; the readings are made by the mailbox worker).
+    pub fn diagnostics(&self) -> super::diag::BusDiagnostics {
+        super::diag::BusDiagnostics {
+            shared: self.worker.shared.clone(),
+        }
+    }
+
     /// The link (tests and fault injection reach the emulated segment through it).
     pub fn link_mut(&mut self) -> &mut dyn Link {
         self.link.as_mut()

@@ -13,6 +13,8 @@ use crate::ethercat::register::{self as reg, AlStatus};
 impl EthercatBus {
     /// Sends the cyclic frame and takes in what it returns; `elapsed` cycles since the last.
     pub(super) fn cyclic_exchange(&mut self, elapsed: Cycles) -> Result<(), BusError> {
+        // The counters so far, for the host's diagnostics (relaxed atomic stores).
+        self.worker.shared.diag.publish(&self.counters);
         // The time since the last frame: the cycles passed, moved by the deadline correction the
         // RT loop took (a virtual clock follows it; a real one ignores it).
         let period = u64::from(elapsed.0) * self.config.cycle.as_nanos();

@@ -6,6 +6,7 @@ pub mod bus;
 mod carrier;
 mod cyclic;
 mod dc;
+pub mod diag;
 mod error;
 mod group;
 pub mod link;
@@ -23,6 +24,7 @@ mod worker;
 
 pub use bus::EthercatBus;
 pub use dc::SYNC0_FRAME_PHASE_DIVISOR;
+pub use diag::{BusDiagnostics, PortDiag, SegmentDiag, SubDeviceDiag};
 pub use error::EthercatError;
 pub use link::{InProcessLink, Link, LinkError, RawSocketLink};
 pub use refusal::{

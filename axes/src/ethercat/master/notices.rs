@@ -53,6 +53,11 @@ impl MailboxWorker {
         }
         let message =
             MailboxMessage::decode(&self.frame[data.data_offset..][..usize::from(mb.len)]);
+        let diag = &self.shared.diag;
+        diag.messages[station].fetch_add(1, Ordering::Relaxed);
+        if matches!(message, MailboxMessage::Emergency(_)) {
+            diag.emergencies[station].fetch_add(1, Ordering::Relaxed);
+        }
         let first = self.first_axis(station);
         let notice = match message {
             MailboxMessage::Emergency(emergency) => MailboxNotice::Emergency {

@@ -2,14 +2,9 @@
 //! setting skipped with a warning, and a state change it would not make, explained with the
 //! AL status code's ETG meaning and the model's likely causes.
 
-use super::al_state::read_al_status;
-use super::bring_up::SeenAtBringUp;
-use super::error::EthercatError;
-use super::link::Link;
-use super::segment::{SegmentConfig, SegmentStation};
 use crate::cia402::mode::ModeOfOperation;
-use crate::ethercat::register::{al_code, AlState};
-use crate::profiles::{bring_up_causes, BringUpCause};
+use crate::ethercat::register::al_code;
+use crate::profiles::BringUpCause;
 
 /// CiA 301 abort codes that say a drive does not have an object or does not let it be
 /// written: 0601 0002h "attempt to write a read only object", 0602 0000h "object does not
@@ -185,60 +180,10 @@ pub fn fitting_causes(
         .collect()
 }
 
-/// The error of a bring-up whose PRE-OP → SAFE-OP → OP did not complete, explained: the first
-/// SubDevice whose AL status shows an error indication becomes a [`StateRefusal`]; where none
-/// does (or its status cannot be read), `error` as it was.
-pub(super) fn explain_refusal(
-    error: EthercatError,
-    link: &mut dyn Link,
-    frame: &mut [u8],
-    config: &SegmentConfig,
-    plans: &[SegmentStation],
-    seen: &SeenAtBringUp<'_>,
-) -> EthercatError {
-    for (position, plan) in plans.iter().enumerate() {
-        let Ok(status) = read_al_status(link, frame, position) else {
-            return error;
-        };
-        if !status.error {
-            continue;
-        }
-        let d = &config.drives[plan.first_axis()];
-        let requested = match status.state {
-            Some(AlState::Init) => "PRE-OP",
-            Some(AlState::PreOp) => "SAFE-OP",
-            _ => "OP",
-        };
-        let modes: Vec<ModeOfOperation> = plan
-            .slots
-            .iter()
-            .flatten()
-            .map(|&a| config.drives[a].mode)
-            .collect();
-        return EthercatError::StateRefused(Box::new(StateRefusal {
-            position,
-            name: seen.names.get(position).cloned().unwrap_or_default(),
-            axis: d.axis.clone(),
-            model: d.profile.model.as_str(),
-            requested,
-            state: status.state.map_or("no state", AlState::as_str),
-            code: status.code,
-            last_refused_sdo: seen.last_refused.get(position).copied().flatten(),
-            causes: fitting_causes(
-                bring_up_causes(d.profile.model),
-                status.code,
-                &modes,
-                plan.distributed_clocks,
-            ),
-        }));
-    }
-    error
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profiles::DriveModel;
+    use crate::profiles::{bring_up_causes, DriveModel};
     use ModeOfOperation::{CyclicSyncPosition as Csp, Homing};
 
     #[test]

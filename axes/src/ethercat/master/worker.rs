@@ -37,6 +37,8 @@ pub(super) struct Shared {
     pub(super) notices: ArrayQueue<MailboxNotice>,
     /// Notices dropped because the queue was full.
     pub(super) dropped: AtomicU64,
+    /// Bus diagnostics: the host's requests, the readings and the counters behind them.
+    pub(super) diag: super::diag::DiagShared,
     /// The worker ends.
     stop: AtomicBool,
 }
@@ -80,6 +82,7 @@ impl Shared {
             drain: (0..stations).map(|_| AtomicBool::new(false)).collect(),
             notices: ArrayQueue::new(NOTICE_QUEUE),
             dropped: AtomicU64::new(0),
+            diag: super::diag::DiagShared::new(stations),
             stop: AtomicBool::new(false),
         }
     }
@@ -115,6 +118,7 @@ impl MailboxWorker {
                     worked = true;
                 }
             }
+            worked |= self.diagnose_if_wanted();
             if worked {
                 last_work = std::time::Instant::now();
             } else if last_work.elapsed() < QUIET_AFTER {

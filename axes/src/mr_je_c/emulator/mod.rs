@@ -9,7 +9,9 @@ pub mod cyclic;
 mod history;
 pub mod modbus;
 mod refusal;
+pub mod rs485;
 pub mod rtu;
+pub mod search;
 pub mod server;
 pub mod slmp;
 mod store;
@@ -61,6 +63,10 @@ pub struct MrJeCParams {
     pub permissible_speed: u32,
     /// Maximum torque, 0.1 % (6072h).
     pub max_torque: u16,
+    /// The unit's MAC address (NodeSearch, IPAddressSet picks the drive by it).
+    pub mac: crate::slmp::node_search::Mac,
+    /// Vendor code in the NodeSearch response; the manual gives none (0).
+    pub vendor_code: u16,
 }
 
 impl Default for MrJeCParams {
@@ -79,6 +85,8 @@ impl Default for MrJeCParams {
             max_speed_rpm: 6000,
             permissible_speed: 690_000,
             max_torque: 3000,
+            mac: crate::slmp::node_search::Mac([0x02, 0x00, 0xC0, 0xA8, 0x03, 0x00]),
+            vendor_code: 0,
         }
     }
 }
@@ -95,6 +103,8 @@ const QUIRKS: FsaQuirks = FsaQuirks {
 const PROFILE_TORQUE: i64 = 4;
 /// The value that resets (2A46h), clears the history (2A40h) and clears counters.
 const KEY: i64 = 0x1EA5;
+/// 2A68h: RS-485 frames with a CRC or frame length error (SW A4+, §7.5.4).
+const COMMUNICATION_ERROR_COUNT: u16 = 0x2A68;
 
 /// A simulated MR-JE-C.
 #[derive(Debug, Clone)]
@@ -167,6 +177,53 @@ impl MrJeC {
         fresh.history = std::mem::take(&mut self.history);
         fresh.now = self.now;
         *self = fresh;
+    }
+
+    /// Counts an RS-485 frame with a CRC or frame length error in 2A68h (SW A4+; saturates).
+    pub fn count_rtu_error(&mut self) {
+        if self.params.software < SoftwareVersion::A4 {
+            return;
+        }
+        let id = ObjectId::new(COMMUNICATION_ERROR_COUNT, 0);
+        let n = self.store.int(id) as u16;
+        self.store.set(id, Value::U16(n.saturating_add(1)));
+    }
+
+    /// Leaves a Modbus access' trace in the diagnostic objects (§7.5.1–§7.5.2; SW A3+):
+    /// 2A60h the abort code (0: none), 2A64h the last object accessed with success (index,
+    /// last sub-index), 2A65h how many objects were.
+    pub fn note_modbus_access(&mut self, abort: u32, last: Option<(u16, u8)>, served: u16) {
+        if self.params.software < SoftwareVersion::A3 {
+            return;
+        }
+        self.store.set(ObjectId::new(0x2A60, 0), Value::U32(abort));
+        if let Some((index, sub)) = last {
+            let log = (u32::from(index) << 16) | u32::from(sub);
+            self.store.set(ObjectId::new(0x2A64, 0), Value::U32(log));
+        }
+        self.store.set(ObjectId::new(0x2A65, 0), Value::U16(served));
+    }
+
+    /// The subnet mask of [Pr. PN15]–[Pr. PN18].
+    pub fn subnet_mask(&self) -> std::net::Ipv4Addr {
+        self.pn_octets(15)
+    }
+
+    /// The default gateway of [Pr. PN19]–[Pr. PN22].
+    pub fn default_gateway(&self) -> std::net::Ipv4Addr {
+        self.pn_octets(19)
+    }
+
+    /// An address kept one octet per parameter, [Pr. PN`first`] on.
+    fn pn_octets(&self, first: u8) -> std::net::Ipv4Addr {
+        let o = |k: u8| {
+            let p = super::parameters::Parameter {
+                group: super::parameters::Group::PN,
+                number: first + k,
+            };
+            self.param(p.index()) as u8
+        };
+        std::net::Ipv4Addr::new(o(0), o(1), o(2), o(3))
     }
 
     /// The IP rules in effect (latched at power-on).
@@ -374,6 +431,11 @@ impl MrJeC {
         if id.index == 0x1A00 {
             self.check_mapping(id.sub, v)?;
         }
+        // The RTU communication error count is only cleared (1EA5h, §7.5.4); the manual gives
+        // no meaning to other values, so the emulator refuses them.
+        if id.index == COMMUNICATION_ERROR_COUNT && v != KEY {
+            return Err(Refusal::OutOfRange);
+        }
         self.tick(now);
         self.store.set(id, value.clone());
         self.effects(id, v);
@@ -416,6 +478,7 @@ impl MrJeC {
             0x2A46 if v == KEY => self.reset(),
             0x2A40 if v == KEY => self.history.clear(),
             0x2B01 if v == KEY => self.store.set(id, Value::I32(0)),
+            COMMUNICATION_ERROR_COUNT => self.store.set(id, Value::U16(0)),
             _ => {}
         }
     }

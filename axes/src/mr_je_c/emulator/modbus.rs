@@ -3,7 +3,11 @@
 //! object; objects without "continuous read/write" must be the whole request; a request of
 //! several objects succeeds if one of them does (the unreadable ones read 0, §3.6.5).
 //! Sub-indexes a record write cannot change (read-only, e.g. "Number of entries") are carried
-//! and ignored, as are sub-indexes written with the value they hold.
+//! and ignored, as are sub-indexes written with the value they hold. Every access leaves its
+//! trace in the diagnostic objects (§7.5.1–§7.5.2): 2A60h the abort code of the object that
+//! failed (0 when none did), 2A64h the last object accessed with success (index in the upper
+//! word, its last sub-index in the lower: 2C12h reads 2C120004h), 2A65h how many objects the
+//! request accessed with success.
 
 use std::time::Duration;
 
@@ -74,7 +78,9 @@ fn walk(
     mut visit: impl FnMut(&mut MrJeC, &'static Object, u16, usize) -> Result<usize, Refusal>,
 ) -> Result<(), Refusal> {
     let sw = drive.params().software;
-    let (mut index, mut done, mut served) = (address, 0, 0);
+    let (mut index, mut done, mut served) = (address, 0, 0u16);
+    let mut last = None;
+    let mut failed = None;
     while done < registers {
         let result = object(index, sw).ok_or(Refusal::NoIndex).and_then(|o| {
             let whole = o.registers(sw);
@@ -82,20 +88,28 @@ fn walk(
             if whole > registers - done || !(o.continuous || alone) {
                 Err(Refusal::Layout)
             } else {
-                visit(drive, o, index, registers - done)
+                let last_sub = o.each_sub(sw).map(|(sub, _)| sub).last().unwrap_or(0);
+                visit(drive, o, index, registers - done).map(|n| (n, last_sub))
             }
         });
         match result {
-            Ok(n) => {
+            Ok((n, last_sub)) => {
                 done += n;
                 served += 1;
+                last = Some((index, last_sub));
             }
-            Err(r) if served == 0 => return Err(r),
-            Err(_) => return Ok(()),
+            Err(r) => {
+                failed = Some(r);
+                break;
+            }
         }
         index = index.wrapping_add(1);
     }
-    Ok(())
+    drive.note_modbus_access(failed.map_or(0, Refusal::abort_code), last, served);
+    match failed {
+        Some(r) if served == 0 => Err(r),
+        _ => Ok(()),
+    }
 }
 
 fn read_object(

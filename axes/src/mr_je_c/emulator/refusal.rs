@@ -74,6 +74,25 @@ impl Refusal {
         }
     }
 
+    /// The CiA 301 abort code the drive keeps in 2A60h after a Modbus access it refused
+    /// (MR-JE-C manual §7.5.1 table).
+    pub const fn abort_code(self) -> u32 {
+        match self {
+            Self::NoIndex => 0x0602_0000,
+            Self::NoSubIndex => 0x0609_0011,
+            Self::WriteOnly => 0x0601_0001,
+            Self::ReadOnly => 0x0601_0002,
+            Self::TooLarge | Self::TooSmall | Self::SizeDiffers => 0x0607_0010,
+            Self::AboveRange => 0x0609_0031,
+            Self::BelowRange => 0x0609_0032,
+            Self::OutOfRange => 0x0609_0030,
+            Self::Layout => 0x0601_0000,
+            Self::MappingLocked => 0x0800_0022,
+            Self::NotMappable => 0x0604_0041,
+            Self::MappingTooLarge => 0x0604_0042,
+        }
+    }
+
     /// The Modbus exception: 02h when the register cannot be accessed, 03h for a value the
     /// register cannot take (§3.6.5).
     pub const fn exception(self) -> ExceptionCode {

@@ -2,7 +2,7 @@
 //! its own station number, never as station 0 (the factory setting of [Pr. PC70]), executes
 //! broadcasts (address 0, 10h only) without answering unless 2D98h disables them (2D9Bh is
 //! executed even then), takes 32-bit words in the order of [Pr. PC72], and is silent while
-//! [Pr. PN08] selects Ethernet.
+//! [Pr. PN08] selects Ethernet. A frame with a CRC or length error counts in 2A68h.
 
 use std::time::Duration;
 
@@ -14,6 +14,11 @@ use crate::modbus::{Query, WordOrder};
 /// The reply frame to the RTU frame `frame` at `now`, if the drive answers.
 pub fn answer(drive: &mut MrJeC, frame: &[u8], now: Duration) -> Option<Vec<u8>> {
     if !drive.serves(Transport::ModbusRtu) {
+        return None;
+    }
+    if crate::modbus::rtu::open(frame).is_err() {
+        // A CRC or frame length error: every drive on the line counts it, none answers.
+        drive.count_rtu_error();
         return None;
     }
     let (slave, query) = decode_query(frame).ok()?;

@@ -33,6 +33,19 @@ pub struct Ports {
     pub slmp_tcp: u16,
     /// CC-Link IE Field Basic cyclic data (UDP 61450).
     pub cclink: u16,
+    /// NodeSearch and IPAddressSet (UDP 61451).
+    pub search: u16,
+}
+
+impl Ports {
+    /// Any free port for each (tests).
+    pub const ANY: Ports = Ports {
+        modbus_tcp: 0,
+        slmp_udp: 0,
+        slmp_tcp: 0,
+        cclink: 0,
+        search: 0,
+    };
 }
 
 impl Default for Ports {
@@ -42,12 +55,15 @@ impl Default for Ports {
             slmp_udp: crate::slmp::UDP_PORT,
             slmp_tcp: crate::slmp::TCP_PORT,
             cclink: crate::cclink_ief_basic::CYCLIC_PORT,
+            search: crate::cclink_ief_basic::SEARCH_PORT,
         }
     }
 }
 
 struct Shared {
     drive: Mutex<MrJeC>,
+    /// The cyclic link's state (its master, CSR/SSR), whichever socket a request came by.
+    cyclic: Mutex<super::cyclic::CyclicLink>,
     stop: AtomicBool,
     start: Instant,
 }
@@ -91,6 +107,8 @@ pub struct Server {
     pub slmp_tcp: SocketAddr,
     /// Where the cyclic link listens.
     pub cclink: SocketAddr,
+    /// Where NodeSearch and IPAddressSet are answered.
+    pub search: SocketAddr,
 }
 
 impl Server {
@@ -99,6 +117,7 @@ impl Server {
     pub fn start(drive: MrJeC, ip: IpAddr, ports: Ports) -> io::Result<Server> {
         let shared = Arc::new(Shared {
             drive: Mutex::new(drive),
+            cyclic: Mutex::new(Default::default()),
             stop: AtomicBool::new(false),
             start: Instant::now(),
         });
@@ -116,9 +135,39 @@ impl Server {
             IpAddr::V4(v4) => u32::from(v4),
             IpAddr::V6(_) => 0,
         };
-        cclink.set_read_timeout(Some(POLL))?;
-        let s = shared.clone();
-        let mut threads = vec![std::thread::spawn(move || serve_cclink(&cclink, own, &s))];
+        let search = UdpSocket::bind((ip, ports.search))?;
+        let search_addr = search.local_addr()?;
+        let mut threads = Vec::new();
+        let mut cyclic = vec![cclink];
+        let mut searches = vec![search];
+        if let IpAddr::V4(v4) = ip.to_canonical() {
+            if !v4.is_loopback() && !v4.is_unspecified() {
+                // Broadcasts reach only sockets bound to the broadcast address: the cyclic
+                // link's directed broadcast, NodeSearch's limited one.
+                let subnet = shared.drive().subnet_mask();
+                let directed = Ipv4Addr::from(u32::from(v4) | !u32::from(subnet));
+                cyclic.push(broadcast_socket(directed, cclink_addr.port())?);
+                searches.push(broadcast_socket(Ipv4Addr::BROADCAST, search_addr.port())?);
+            }
+        }
+        // Answers leave from the drive's own address, also to a broadcast.
+        let cyclic_reply = cyclic[0].try_clone()?;
+        for socket in cyclic {
+            socket.set_read_timeout(Some(POLL))?;
+            let (s, reply) = (shared.clone(), cyclic_reply.try_clone()?);
+            threads.push(std::thread::spawn(move || {
+                serve_cclink(&socket, &reply, own, &s)
+            }));
+        }
+        let search_reply = searches[0].try_clone()?;
+        for socket in searches {
+            socket.set_read_timeout(Some(POLL))?;
+            let (s, reply) = (shared.clone(), search_reply.try_clone()?);
+            let own = Ipv4Addr::from(own);
+            threads.push(std::thread::spawn(move || {
+                serve_search(&socket, &reply, own, &s)
+            }));
+        }
         let s = shared.clone();
         threads.push(std::thread::spawn(move || ticker(&s)));
         let s = shared.clone();
@@ -140,6 +189,7 @@ impl Server {
             slmp_udp: addrs.1,
             slmp_tcp: addrs.2,
             cclink: cclink_addr,
+            search: search_addr,
         })
     }
 
@@ -333,9 +383,45 @@ fn serve_slmp_udp(socket: &UdpSocket, s: &Shared) {
     }
 }
 
-/// The cyclic link: requests from the connected master, answered to the sender.
-fn serve_cclink(socket: &UdpSocket, own: u32, s: &Shared) {
-    let mut link = super::cyclic::CyclicLink::default();
+/// A UDP socket bound to the broadcast address `addr`, shared with other emulated drives on
+/// the host (`SO_REUSEADDR`: each receives every broadcast).
+fn broadcast_socket(addr: Ipv4Addr, port: u16) -> io::Result<UdpSocket> {
+    use socket2::{Domain, Protocol, Socket, Type};
+    let socket = Socket::new(Domain::IPV4, Type::DGRAM, Some(Protocol::UDP))?;
+    socket.set_reuse_address(true)?;
+    socket.set_broadcast(true)?;
+    socket.bind(&SocketAddr::from((addr, port)).into())?;
+    Ok(socket.into())
+}
+
+/// NodeSearch and IPAddressSet, answered to the sender (the IP filter applies; an
+/// IPAddressSet is a write, so the operation specification too).
+fn serve_search(socket: &UdpSocket, reply_from: &UdpSocket, own: Ipv4Addr, s: &Shared) {
+    let mut buf = [0u8; 256];
+    while !s.stop.load(Ordering::Relaxed) {
+        let Ok((n, peer)) = socket.recv_from(&mut buf) else {
+            continue;
+        };
+        if !s.admits(peer.ip()) {
+            continue;
+        }
+        let setting = matches!(
+            crate::slmp::node_search::decode_request(&buf[..n]),
+            Ok((crate::slmp::node_search::SearchRequest::IpAddressSet(..), _))
+        );
+        if setting && !s.may_operate(peer.ip()) {
+            continue;
+        }
+        let reply = super::search::answer(&mut s.drive(), own, &buf[..n], s.now());
+        if let Some(r) = reply {
+            let _ = reply_from.send_to(&r, peer);
+        }
+    }
+}
+
+/// The cyclic link: requests from the connected master (sent to `socket`), answered to the
+/// sender from `reply_from`.
+fn serve_cclink(socket: &UdpSocket, reply_from: &UdpSocket, own: u32, s: &Shared) {
     let mut buf = [0u8; 1500];
     let mut out = [0u8; crate::cclink_ief_basic::RESPONSE_SIZE];
     while !s.stop.load(Ordering::Relaxed) {
@@ -358,11 +444,13 @@ fn serve_cclink(socket: &UdpSocket, own: u32, s: &Shared) {
         if !drive.serves(super::Transport::CcLink) {
             continue;
         }
+        let mut link = s.cyclic.lock().unwrap_or_else(|e| e.into_inner());
         let response = link.answer(&mut drive, &request, own, operate, s.now());
+        drop(link);
         drop(drive);
         if let Some(r) = response {
             if let Ok(k) = r.encode(&mut out) {
-                let _ = socket.send_to(&out[..k], peer);
+                let _ = reply_from.send_to(&out[..k], peer);
             }
         }
     }

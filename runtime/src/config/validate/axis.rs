@@ -11,7 +11,8 @@ use cellrt_axes::{CycleTime, DriveProfile};
 use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
 use cellrt_trajectory::units::Scaling;
 
-use super::{check_name, positive};
+use super::axis_key::AxisKey;
+use super::check_name;
 use crate::config::raw::RawAxis;
 use crate::config::{
     AxisConfig, ConfigError, SimAxisConfig, TorqueLimits, TorquePercent, Transport,
@@ -88,22 +89,6 @@ pub(super) fn check_amplifier(
         label: label.clone(),
         slot,
     }))
-}
-
-/// Where an axis' keys live (`axes[i]` of `file`): errors name `axes[i].<sub>`.
-pub(super) struct AxisKey<'a> {
-    file: &'a Path,
-    key: &'a str,
-}
-
-impl AxisKey<'_> {
-    pub(super) fn err(&self, sub: &str, msg: String) -> ConfigError {
-        ConfigError::new(self.file, format!("{}.{sub}", self.key), msg)
-    }
-
-    pub(super) fn positive(&self, sub: &str, v: f64) -> Result<f64, ConfigError> {
-        positive(self.file, &format!("{}.{sub}", self.key), v)
-    }
 }
 
 /// The drive model of an axis, its profile and the SubDevice identity it must report.

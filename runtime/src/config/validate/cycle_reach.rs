@@ -6,7 +6,7 @@
 use cellrt_axes::CycleTime;
 use cellrt_trajectory::limits::KinematicLimits;
 
-use super::axis::AxisKey;
+use super::axis_key::AxisKey;
 use crate::config::{ConfigError, TorqueLimits};
 
 /// The limits of one axis to check, in the axis' unit.

@@ -15,10 +15,12 @@ use super::{
 };
 
 mod axis;
+mod axis_key;
 mod cycle_reach;
 mod esi;
 mod inject;
 mod motor;
+mod operator;
 use axis::{check_amplifier, validate_axis};
 use inject::validate_injections;
 
@@ -75,6 +77,7 @@ pub(super) fn validate(
     let recording = recording_config(file, raw.recording)?;
     let setpoints = setpoint_config(file, &raw.setpoints, cycle_time)?;
     let watchdogs = watchdog_config(file, &raw.watchdogs)?;
+    let operator = operator::operator_config(file, &raw.operator)?;
     let axes = validate_axes(file, cycle_time, raw.axes)?;
 
     let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
@@ -90,6 +93,7 @@ pub(super) fn validate(
         recording,
         setpoints,
         watchdogs,
+        operator,
         inject,
         axes,
         ethercat,

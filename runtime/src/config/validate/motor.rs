@@ -6,7 +6,7 @@ use cellrt_axes::drive_scaling::{DriveScaling, DriveScalingError, Motor};
 use cellrt_axes::profiles::{MotorKind, Stated, VelocityUnit};
 use cellrt_axes::DriveProfile;
 
-use super::axis::AxisKey;
+use super::axis_key::AxisKey;
 use crate::config::raw::RawAxis;
 use crate::config::ConfigError;
 

@@ -1,14 +1,17 @@
 //! The operator interface: an iceoryx2 request-response service per cell through which the CLI
 //! and other processes power, move, halt, stop, reset and query the cell, with a wake-up event
 //! and a status publisher (all three named and built in [`crate::services`]). Requests, replies
-//! and the status are JSON ([`wire`]).
+//! and the status are JSON ([`wire`]). Users other than the cell's own reach it through its
+//! operator [`socket`], where the cell's `[operator] group` lets them.
 
 mod alarms;
+pub mod bus_diag;
 pub mod client;
 mod param;
 pub mod sdo;
 mod sdo_job;
 pub mod server;
+pub mod socket;
 mod targets;
 pub mod wire;
 

@@ -47,9 +47,9 @@ fn nothing_is_planned_for_a_value_name_or_state_the_table_refuses() {
     );
     let e = refused(&cell, "x", set("PC02", 100), true);
     assert!(e.contains("not written while the axis is enabled"), "{e}");
-    assert!(plan(&cell, "x", &set("PC02", 100), false).unwrap().writes());
+    assert!(plan(&cell, "x", &set("PC02", 100), false).is_ok());
     // A `*` parameter acts at the next power-on: written while enabled.
-    assert!(plan(&cell, "x", &set("PA14", 1), true).unwrap().writes());
+    assert!(plan(&cell, "x", &set("PA14", 1), true).is_ok());
     let e = refused(&cell, "x", set("PA06", 1), false);
     assert!(
         e.contains("PA06 (For manufacturer setting) is not to be changed"),
@@ -68,7 +68,7 @@ fn nothing_is_planned_for_a_value_name_or_state_the_table_refuses() {
         "{e}"
     );
     assert!(e.contains("PA01, PA03"), "{e}");
-    assert!(!plan(&cell, "x", &ParamOp::List, true).unwrap().writes());
+    assert!(plan(&cell, "x", &ParamOp::List, true).is_ok());
     let e = refused(&cell, "q", ParamOp::List, false);
     assert!(e.contains("unknown axis 'q'"), "{e}");
 }
@@ -86,8 +86,8 @@ fn models_without_a_table_save_or_history_are_refused_naming_the_manual() {
     }
     let e = alarms::plan(&cell, "z", false).unwrap_err();
     assert!(e.contains("no alarm history object"), "{e}");
-    assert!(plan(&cell, "z", &ParamOp::Save, false).unwrap().writes());
-    assert!(alarms::plan(&cell, "x", true).unwrap().writes());
+    assert!(plan(&cell, "z", &ParamOp::Save, false).is_ok());
+    assert!(alarms::plan(&cell, "x", true).is_ok());
 }
 
 #[test]
@@ -213,4 +213,23 @@ fn a_parameter_of_axis_b_of_a_multi_axis_unit_names_its_own_object() {
         ),
         other => panic!("{other:?}"),
     }
+}
+
+#[test]
+fn writes_to_a_drive_are_the_requests_a_running_program_refuses() {
+    use crate::host::operator::wire::Request;
+    let param = |op| Request::Param {
+        axis: "x".into(),
+        op,
+    };
+    assert!(param(set("PA14", 1)).writes_to_a_drive());
+    assert!(param(ParamOp::Save).writes_to_a_drive());
+    assert!(!param(ParamOp::List).writes_to_a_drive());
+    assert!(!param(ParamOp::Diff).writes_to_a_drive());
+    let alarms = |clear| Request::Alarms {
+        axis: "x".into(),
+        clear,
+    };
+    assert!(alarms(true).writes_to_a_drive());
+    assert!(!alarms(false).writes_to_a_drive());
 }

@@ -31,13 +31,6 @@ pub struct CheckedSdo {
     data_type: DataType,
 }
 
-impl CheckedSdo {
-    /// True for a download.
-    pub fn writes(&self) -> bool {
-        matches!(self.request, SdoRequest::Download { .. })
-    }
-}
-
 /// What the dictionary states of one object.
 struct ObjectFacts {
     name: String,

@@ -38,11 +38,6 @@ impl SdoJob {
         }
     }
 
-    /// True if a step writes (refused while a program runs).
-    pub fn writes(&self) -> bool {
-        self.steps.iter().any(CheckedSdo::writes)
-    }
-
     /// Hands the next step to the RT thread; `Ok(false)` when none is left.
     pub fn start_next(
         &mut self,

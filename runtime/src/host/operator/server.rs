@@ -7,6 +7,7 @@ use cellrt_axes::profiles::status_do::StatusDo;
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
+use super::bus_diag::DiagInFlight;
 use super::sdo::{self, SdoInFlight};
 use super::sdo_job::{Purpose, SdoJob};
 use super::targets::{axis_index, move_limits, Asked, TargetError};
@@ -46,6 +47,9 @@ pub struct OperatorServer {
     sdo: SdoInFlight,
     /// The request whose transfers run (`sdo`, `param`, `alarms`) and its client.
     job: Option<(SdoJob, ActiveRequest)>,
+    /// The `bus_diag` reading being taken, and the client's request to answer.
+    diag: DiagInFlight,
+    diag_client: Option<ActiveRequest>,
 }
 
 /// True if `axis` is in Operation enabled by its latest statusword.
@@ -86,6 +90,8 @@ impl OperatorServer {
             last_status: std::time::Instant::now() - super::STATUS_PERIOD,
             sdo: SdoInFlight::default(),
             job: None,
+            diag: DiagInFlight::default(),
+            diag_client: None,
         })
     }
 
@@ -141,7 +147,7 @@ impl OperatorServer {
     /// Answers every pending request; returns what the caller must do next.
     pub fn poll(&mut self, ctx: &mut Context<'_>) -> Followup {
         let mut followup = Followup::None;
-        let mut answered = self.answer_sdo(ctx);
+        let mut answered = self.answer_sdo(ctx) | self.answer_diag(ctx);
         loop {
             let active = match self.port.receive() {
                 Ok(Some(r)) => r,
@@ -157,6 +163,13 @@ impl OperatorServer {
                 ) => match self.start_job(ctx, &req) {
                     Ok(job) => {
                         self.job = Some((job, active));
+                        continue;
+                    }
+                    Err(reason) => (Reply::Rejected { reason }, Followup::None),
+                },
+                Ok(Request::BusDiag) => match self.diag.start(ctx.link) {
+                    Ok(()) => {
+                        self.diag_client = Some(active);
                         continue;
                     }
                     Err(reason) => (Reply::Rejected { reason }, Followup::None),
@@ -190,6 +203,11 @@ impl OperatorServer {
                 "{what}: another sdo request is in flight; try again"
             ));
         }
+        if ctx.program_running && req.writes_to_a_drive() {
+            return Err(format!(
+                "{what}: a program is running; halt or stop it before writing"
+            ));
+        }
         let status = ctx.link.status().ok();
         let mut job = match req {
             Request::Sdo {
@@ -208,11 +226,6 @@ impl OperatorServer {
             Request::Alarms { axis, clear } => super::alarms::plan(ctx.cell, axis, *clear)?,
             _ => return Err(format!("{what}: not an sdo request")),
         };
-        if ctx.program_running && job.writes() {
-            return Err(format!(
-                "{what}: a program is running; halt or stop it before writing"
-            ));
-        }
         // A homing's own acyclic requests come first (the RT thread holds SDOs meanwhile).
         if status.is_some_and(|s| s.state == CellState::Homing) {
             return Err(format!(
@@ -248,6 +261,22 @@ impl OperatorServer {
         };
         respond(&active, &reply);
         true
+    }
+
+    /// Answers the `bus_diag` request once the reading came (or timed out); true if a reply
+    /// went out.
+    fn answer_diag(&mut self, ctx: &mut Context<'_>) -> bool {
+        let Some(result) = self.diag.poll(ctx.link, ctx.cell) else {
+            return false;
+        };
+        let reply = match result {
+            Ok(r) => Reply::BusDiag(Box::new(r)),
+            Err(reason) => Reply::Rejected { reason },
+        };
+        self.diag_client.take().is_some_and(|active| {
+            respond(&active, &reply);
+            true
+        })
     }
 
     /// Publishes the status on the operator-status service.
@@ -354,9 +383,10 @@ impl OperatorServer {
             Request::Override { percent } => self.set_override(ctx, percent),
             Request::Program { path } => self.program(ctx, &path),
             // Answered later, when the drive has: `poll` takes it before `handle`.
-            Request::Sdo { .. } | Request::Param { .. } | Request::Alarms { .. } => {
-                rejected(format!("{name}: not an immediate request"))
-            }
+            Request::Sdo { .. }
+            | Request::Param { .. }
+            | Request::Alarms { .. }
+            | Request::BusDiag => rejected(format!("{name}: not an immediate request")),
         }
     }
 

@@ -179,6 +179,9 @@ pub enum Request {
         #[serde(default)]
         clear: bool,
     },
+    /// The EtherCAT segment's diagnostics: per SubDevice its links, ESC error counters, AL
+    /// status and DC time difference; the master's frame counters.
+    BusDiag,
 }
 
 /// A `param` request's operation.
@@ -206,6 +209,17 @@ pub enum ParamOp {
 }
 
 impl Request {
+    /// True for a request that writes to a drive's objects (`sdo write`, `param set`,
+    /// `param save`, `alarms --clear`): refused while a program runs.
+    pub fn writes_to_a_drive(&self) -> bool {
+        match self {
+            Request::Sdo { value, .. } => value.is_some(),
+            Request::Param { op, .. } => matches!(op, ParamOp::Set { .. } | ParamOp::Save),
+            Request::Alarms { clear, .. } => *clear,
+            _ => false,
+        }
+    }
+
     /// The command's name (the `command` tag).
     pub fn name(&self) -> &'static str {
         match self {
@@ -224,6 +238,7 @@ impl Request {
             Request::Sdo { .. } => "sdo",
             Request::Param { .. } => "param",
             Request::Alarms { .. } => "alarms",
+            Request::BusDiag => "bus_diag",
         }
     }
 }
@@ -250,6 +265,8 @@ pub enum Reply {
     Param(ParamReply),
     /// The alarm history read or cleared.
     Alarms(AlarmsReply),
+    /// The EtherCAT segment's diagnostics.
+    BusDiag(Box<super::bus_diag::BusDiagReply>),
 }
 
 /// The answer to a `param` request.

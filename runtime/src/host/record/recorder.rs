@@ -10,21 +10,32 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use cellrt_axes::cia402::fsa::FsaState;
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, WriteOptions, Writer};
 use prost::Message;
 use serde::Serialize;
 
+pub use super::describe::describe_event;
 use super::proto;
 use super::topics::*;
 use crate::config::{CellConfig, Compression};
-use crate::handoff::{
-    AxisRecord, CellCommand, CellState, CycleRecord, EventKind, EventRecord, HostEnd, RejectReason,
-    StopReason, NO_AXIS,
-};
+use crate::handoff::{AxisRecord, CycleRecord, EventKind, EventRecord, HostEnd, NO_AXIS};
 use crate::rt::clock::realtime_offset_ns;
 use crate::rt::executive::fsa_index;
+
+/// Chunks one file holds at most before the recording rotates to its next part: the MCAP
+/// writer keeps an index entry of every chunk (about 50 bytes per channel) in memory for the
+/// file's summary, so an endless file would grow the recorder without bound. At the default
+/// `flush_ms` of 200 a file spans about 7 minutes; with 16 axes its index holds about 2 MiB.
+pub const MAX_CHUNKS_PER_FILE: u64 = 2048;
+
+/// Event lines the run's summary keeps (the first ones, about 1 MiB): `events` counts every
+/// event and the recording holds them all.
+pub const EVENT_LOG_LINES: usize = 10_000;
+
+/// Bytes an MCAP Message record adds to its payload inside a chunk (opcode, length, channel,
+/// sequence, log and publish time).
+const MESSAGE_RECORD_OVERHEAD: u64 = 31;
 
 /// Recording failed.
 #[derive(Debug, thiserror::Error)]
@@ -65,8 +76,11 @@ pub struct RecordingInfo {
     pub axis_messages: u64,
     /// Events seen (recorded or not).
     pub events: u64,
-    /// The events, as text lines `cycle N: kind [axis]: detail`.
+    /// The first [`EVENT_LOG_LINES`] events, as text lines `cycle N: kind [axis]: detail`.
     pub event_log: Vec<String>,
+    /// Why and where the recording stopped before the run ended (a full disk, an I/O error):
+    /// the cell went on without it; the file holds the records up to its last closed chunk.
+    pub stopped: Option<String>,
 }
 
 /// Handle of the running recorder thread.
@@ -120,6 +134,12 @@ struct Sink {
     last_flush: Instant,
     /// Deadline of the first cycle in this file (for rotation by duration).
     first_deadline: Option<u64>,
+    /// Chunks closed in this file so far (by flush or by size), for [`MAX_CHUNKS_PER_FILE`].
+    chunks: u64,
+    /// Uncompressed bytes in the open chunk.
+    chunk_bytes: u64,
+    /// Target chunk size, bytes.
+    chunk_size: u64,
 }
 
 impl Sink {
@@ -127,10 +147,24 @@ impl Sink {
         self.len.load(Ordering::Relaxed)
     }
 
+    /// Counts a message of `payload` bytes into the open chunk; the writer closes the chunk
+    /// once it reaches the chunk size.
+    fn count_message(&mut self, payload: usize) {
+        self.chunk_bytes += payload as u64 + MESSAGE_RECORD_OVERHEAD;
+        if self.chunk_bytes >= self.chunk_size {
+            self.chunks += 1;
+            self.chunk_bytes = 0;
+        }
+    }
+
     /// Closes the open chunk and hands everything to the OS: after a crash (even SIGKILL) the
     /// file is readable up to here.
     fn flush(&mut self) -> Result<(), RecorderError> {
         self.last_flush = Instant::now();
+        if self.chunk_bytes > 0 {
+            self.chunks += 1;
+            self.chunk_bytes = 0;
+        }
         self.writer.flush().map_err(|source| RecorderError::Mcap {
             path: self.path.clone(),
             source,
@@ -213,7 +247,7 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(create_err)?;
     }
-    let file = File::create(path).map_err(create_err)?;
+    let file = crate::output_file::create(path).map_err(create_err)?;
     let mcap_err = |source| RecorderError::Mcap {
         path: path.to_path_buf(),
         source,
@@ -244,6 +278,9 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
         len,
         last_flush: Instant::now(),
         first_deadline: None,
+        chunks: 0,
+        chunk_bytes: 0,
+        chunk_size: cell.recording.chunk_size,
     };
     // Header, schemas, channels, metadata and the configuration reach the disk at once.
     sink.flush()?;
@@ -357,13 +394,6 @@ struct Drain<'a> {
     last_cycle: u64,
 }
 
-/// Keeps the line of the event just logged among the handoff's recent events (operator status).
-fn remember_event(handoff: &HostEnd, log: &[String]) {
-    if let Some(line) = log.last() {
-        handoff.remember_event(line);
-    }
-}
-
 fn drain_loop(
     cell: &CellConfig,
     sink: Option<Sink>,
@@ -408,8 +438,7 @@ fn drain_loop(
                     d.pending_event = Some(e);
                     break;
                 }
-                d.event(&e, period)?;
-                remember_event(handoff, &d.info.event_log);
+                handoff.remember_event(&d.event(&e, period)?);
                 n += 1;
             }
             d.flush_if_due(flush_every)?;
@@ -421,8 +450,7 @@ fn drain_loop(
                 n += 1;
             }
             while let Some(e) = d.pending_event.take().or_else(|| handoff.pop_event()) {
-                d.event(&e, period)?;
-                remember_event(handoff, &d.info.event_log);
+                handoff.remember_event(&d.event(&e, period)?);
                 n += 1;
             }
         }
@@ -453,13 +481,18 @@ impl Drain<'_> {
     }
 
     fn flush_if_due(&mut self, every: Duration) -> Result<(), RecorderError> {
-        match self.sink.as_mut() {
+        let flushed = match self.sink.as_mut() {
             Some(sink) if sink.last_flush.elapsed() >= every => sink.flush(),
             _ => Ok(()),
+        };
+        if let Err(e) = flushed {
+            self.stop_recording(e);
         }
+        Ok(())
     }
 
-    /// Starts the next file before cycle `c` when the open one is over its size or duration.
+    /// Starts the next file before cycle `c` when the open one is over its size, its duration
+    /// or [`MAX_CHUNKS_PER_FILE`].
     fn rotate_if_due(&mut self, c: &CycleRecord) -> Result<(), RecorderError> {
         let rec = &self.cell.recording;
         let Some(sink) = self.sink.as_mut() else {
@@ -470,16 +503,23 @@ impl Drain<'_> {
         let by_time = rec
             .rotate_seconds
             .is_some_and(|s| c.deadline_ns.saturating_sub(first) as f64 >= s * 1e9);
-        if !(by_size || by_time) {
+        let by_chunks = sink.chunks >= MAX_CHUNKS_PER_FILE;
+        if !(by_size || by_time || by_chunks) {
             return Ok(());
         }
         let first_path = self.info.path.clone().unwrap_or_else(|| sink.path.clone());
         let old = self.sink.take().expect("checked above");
-        self.close(old)?;
         self.part += 1;
-        let mut next = open(self.cell, &part_path(&first_path, self.part))?;
-        next.first_deadline = Some(c.deadline_ns);
-        self.sink = Some(next);
+        let next = self
+            .close(old)
+            .and_then(|()| open(self.cell, &part_path(&first_path, self.part)));
+        match next {
+            Ok(mut next) => {
+                next.first_deadline = Some(c.deadline_ns);
+                self.sink = Some(next);
+            }
+            Err(e) => self.stop_recording(e),
+        }
         Ok(())
     }
 
@@ -495,7 +535,9 @@ impl Drain<'_> {
             return Ok(());
         };
         self.seq = self.seq.wrapping_add(1);
-        sink.writer
+        sink.count_message(self.buf.len());
+        let written = sink
+            .writer
             .write_to_known_channel(
                 &MessageHeader {
                     channel_id: channel,
@@ -508,7 +550,37 @@ impl Drain<'_> {
             .map_err(|source| RecorderError::Mcap {
                 path: sink.path.clone(),
                 source,
-            })
+            });
+        if let Err(e) = written {
+            self.stop_recording(e);
+        }
+        Ok(())
+    }
+
+    /// Stops recording after `e` (a full disk, an I/O error): the file is finished if it still
+    /// can be, the loss goes into the summary, and the cell goes on without a recording.
+    fn stop_recording(&mut self, e: RecorderError) {
+        let mut why = e.to_string();
+        let mut source = std::error::Error::source(&e);
+        while let Some(s) = source {
+            let text = s.to_string();
+            if !why.contains(&text) {
+                why = format!("{why}: {text}");
+            }
+            source = s.source();
+        }
+        let at = format!("at cycle {}: {why}", self.last_cycle);
+        tracing::error!("recording stopped {at}; the cell goes on without it");
+        self.info.stopped = Some(at);
+        let Some(sink) = self.sink.take() else {
+            return;
+        };
+        let path = sink.path.clone();
+        if self.close(sink).is_err() {
+            self.info.bytes += std::fs::metadata(&path).map_or(0, |m| m.len());
+            self.info.path.get_or_insert_with(|| path.clone());
+            self.info.files.push(path);
+        }
     }
 
     fn cycle(&mut self, c: &CycleRecord, period: u64) -> Result<(), RecorderError> {
@@ -581,7 +653,8 @@ impl Drain<'_> {
         Ok(())
     }
 
-    fn event(&mut self, e: &EventRecord, period: u64) -> Result<(), RecorderError> {
+    /// Logs and records event `e`; returns its line (for the operator's recent events).
+    fn event(&mut self, e: &EventRecord, period: u64) -> Result<String, RecorderError> {
         let axis = if e.axis == NO_AXIS {
             String::new()
         } else {
@@ -624,9 +697,11 @@ impl Drain<'_> {
             _ => tracing::debug!("{line}"),
         }
         self.info.events += 1;
-        self.info.event_log.push(line);
+        if self.info.event_log.len() < EVENT_LOG_LINES {
+            self.info.event_log.push(line.clone());
+        }
         let Some(channel) = self.sink.as_ref().map(|s| s.channels.events) else {
-            return Ok(());
+            return Ok(line);
         };
         let msg = proto::Event {
             cycle: e.cycle,
@@ -638,94 +713,7 @@ impl Drain<'_> {
         self.buf.clear();
         msg.encode(&mut self.buf).expect("Vec grows");
         let t = self.time_of(e.cycle, period);
-        self.write(channel, t)
-    }
-}
-
-/// Human-readable detail of an event's value.
-pub fn describe_event(e: &EventRecord) -> String {
-    match e.kind {
-        EventKind::CellState => CellState::from_u8(e.value as u8)
-            .map(|s| s.as_str().to_string())
-            .unwrap_or_default(),
-        EventKind::FsaState => u8::try_from(e.value)
-            .ok()
-            .and_then(FsaState::from_repr)
-            .map_or("unknown", FsaState::as_str)
-            .to_string(),
-        EventKind::Command | EventKind::CommandRefused => CellCommand::from_code(e.value)
-            .map(|c| c.as_str().to_string())
-            .unwrap_or_default(),
-        EventKind::MotionStarted | EventKind::MotionFinished | EventKind::Underrun => {
-            format!("motion {}", e.value)
-        }
-        EventKind::SetpointRejected => RejectReason::from_u8(e.value as u8)
-            .map(|r| r.as_str().to_string())
-            .unwrap_or_default(),
-        EventKind::StopStarted => {
-            let reason = StopReason::from_u8((e.value / 16) as u8)
-                .map(|r| r.as_str())
-                .unwrap_or("unknown");
-            let reaction = ["controlled_stop", "quick_stop", "disable"]
-                .get((e.value % 16) as usize)
-                .copied()
-                .unwrap_or("unknown");
-            format!("{reason} ({reaction})")
-        }
-        EventKind::Overrun => format!("woke {} µs past the next deadline", e.value / 1000),
-        EventKind::DriveFault if e.value < 0 => {
-            "fault (603Fh error code neither mapped nor readable)".to_string()
-        }
-        EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
-        EventKind::RecordsDropped => format!("{} records dropped", e.value),
-        EventKind::StartSlipped => format!("the motion started {} cycles late", e.value),
-        EventKind::HomingStarted => match e.value {
-            crate::handoff::HOME_BY_C_CR => "home setting by C_CR (current position)".to_string(),
-            crate::handoff::HOME_BY_C_CR2 => "home setting by C_CR2 (last Z phase)".to_string(),
-            m => format!("method {m} (6098h)"),
-        },
-        EventKind::HomingFinished => match u8::try_from(e.value)
-            .ok()
-            .and_then(cellrt_axes::cia402::homing::HomingFailure::from_u8)
-        {
-            None => "homing attained".to_string(),
-            Some(f) => f.as_str().to_string(),
-        },
-        EventKind::CommunicationError => crate::config::CommWatchdog::from_code(e.value)
-            .map_or(
-                "unknown communication watchdog",
-                crate::config::CommWatchdog::describe,
-            )
-            .to_string(),
-        EventKind::AlStatus => {
-            cellrt_axes::ethercat::register::AlStatus::decode(e.value).describe()
-        }
-        EventKind::Emergency => {
-            let m = crate::handoff::decode_emergency(e.value);
-            let d = m.data;
-            format!(
-                "error code 0x{:04X}, error register 0x{:02X}, data {:02X} {:02X} {:02X} {:02X} {:02X}",
-                m.error_code, m.error_register, d[0], d[1], d[2], d[3], d[4]
-            )
-        }
-        EventKind::MailboxDiscarded => format!(
-            "mailbox type {}, CoE service {} (discarded)",
-            e.value & 0xFF,
-            e.value >> 8
-        ),
-        EventKind::BringUpWarning => format!(
-            "optional {} at bring-up; continued (SYNC0 sets the cycle)",
-            crate::handoff::decode_refused_sdo(e.value)
-        ),
-        EventKind::FaultInjected | EventKind::FaultLeftToSegment => {
-            crate::config::FaultKind::from_code(e.value)
-                .map_or("unknown", crate::config::FaultKind::name)
-                .to_string()
-        }
-        EventKind::StopFinished
-        | EventKind::MasterTimeout
-        | EventKind::BusError
-        | EventKind::PlannerConnected
-        | EventKind::PlannerLost => String::new(),
+        self.write(channel, t)?;
+        Ok(line)
     }
 }

@@ -1,0 +1,401 @@
+//! The operator socket: how users other than the cell's own reach its operator service. A
+//! Unix socket `NAME.sock` in the operator directory of the cell's user
+//! ([`crate::runtime_dir::operator_path_of`]), mode 0600 (only that
+//! user and root may connect), or 0660 and owned by the `[operator] group` (its members may
+//! too): the kernel checks the connecting user against the socket's mode. The controller relays
+//! each request to the operator service over iceoryx2 as its own user and writes the reply
+//! back, so the iceoryx2 resources stay private to the cell's user. A request is the bytes a
+//! client writes before it shuts its side; the answer is `R` and the reply document, or `E`
+//! and a one-line error.
+
+use std::io::{Read, Write};
+use std::os::unix::fs::{DirBuilderExt, FileTypeExt, MetadataExt, PermissionsExt};
+use std::os::unix::net::{UnixListener, UnixStream};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{mpsc, Arc};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use super::client::{OperatorClient, REPLY_TIMEOUT};
+use crate::config::OperatorConfig;
+use crate::services::MAX_OPERATOR_REQUEST_BYTES;
+
+/// How a cell's operator socket's name ends.
+const SOCKET_SUFFIX: &str = ".sock";
+
+/// Connections served at once; more are closed at once (a client holding one open cannot
+/// keep the others out).
+const MAX_CONNECTIONS: usize = 16;
+
+/// How long a connection may take to send its request or read its answer.
+const CONNECTION_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// How often the accepting thread looks at its stop flag.
+const ACCEPT_POLL_MS: i32 = 100;
+
+/// Tag of an answer carrying the reply document.
+const TAG_REPLY: u8 = b'R';
+/// Tag of an answer carrying an error line.
+const TAG_ERROR: u8 = b'E';
+
+/// Path of the operator socket of `cell` in the operator directory `dir`.
+pub fn socket_path_in(dir: &Path, cell: &str) -> PathBuf {
+    dir.join(format!("{cell}{SOCKET_SUFFIX}"))
+}
+
+/// A request waiting for the relay, with where its answer goes.
+type Relayed = (Vec<u8>, mpsc::Sender<Vec<u8>>);
+
+/// The served socket; removed and its threads ended on drop.
+pub struct OperatorSocket {
+    path: PathBuf,
+    stop: Arc<AtomicBool>,
+    accept: Option<JoinHandle<()>>,
+}
+
+impl OperatorSocket {
+    /// Creates the socket of `cell` in the user's operator directory (replacing one left by a
+    /// killed controller; the caller holds the cell lock) with the mode `operator` asks for,
+    /// and starts serving it.
+    pub fn serve(cell: &str, operator: &OperatorConfig) -> Result<OperatorSocket, String> {
+        let dir = crate::runtime_dir::ensure_operator().map_err(|e| e.to_string())?;
+        let path = socket_path_in(&dir, cell);
+        let listener = bind_with_mode(&dir, &path, operator)?;
+        listener
+            .set_nonblocking(true)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let stop = Arc::new(AtomicBool::new(false));
+        let (to_relay, relayed) = mpsc::sync_channel::<Relayed>(MAX_CONNECTIONS);
+        let cell_name = cell.to_string();
+        std::thread::Builder::new()
+            .name("cellrt-op-relay".into())
+            .spawn(move || relay(&cell_name, &relayed))
+            .map_err(|e| format!("cannot start the operator socket relay: {e}"))?;
+        let stop2 = stop.clone();
+        let accept = std::thread::Builder::new()
+            .name("cellrt-op-socket".into())
+            .spawn(move || accept_loop(&listener, &stop2, &to_relay))
+            .map_err(|e| format!("cannot start the operator socket: {e}"))?;
+        Ok(OperatorSocket {
+            path,
+            stop,
+            accept: Some(accept),
+        })
+    }
+}
+
+impl Drop for OperatorSocket {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
+        self.stop.store(true, Ordering::Release);
+        if let Some(a) = self.accept.take() {
+            let _ = a.join();
+        }
+    }
+}
+
+/// Binds the socket in a staging directory only this user may enter, gives it its mode and
+/// group there, and renames it into place: it is never reachable with a wider mode.
+fn bind_with_mode(
+    dir: &Path,
+    path: &Path,
+    operator: &OperatorConfig,
+) -> Result<UnixListener, String> {
+    // One per call: cells of one process (tests) may start at once.
+    static STAGED: AtomicUsize = AtomicUsize::new(0);
+    let staging = dir.join(format!(
+        ".staging-{}-{}",
+        std::process::id(),
+        STAGED.fetch_add(1, Ordering::Relaxed)
+    ));
+    let _ = std::fs::remove_dir_all(&staging);
+    std::fs::DirBuilder::new()
+        .mode(0o700)
+        .create(&staging)
+        .map_err(|e| format!("cannot create {}: {e}", staging.display()))?;
+    let tmp = staging.join("s");
+    let result = (|| {
+        let listener =
+            UnixListener::bind(&tmp).map_err(|e| format!("cannot bind {}: {e}", path.display()))?;
+        let mode = match &operator.group {
+            Some(g) => {
+                nix::unistd::chown(&tmp, None, Some(nix::unistd::Gid::from_raw(g.gid))).map_err(
+                    |e| {
+                        format!(
+                            "operator.group: cannot give the operator socket to group '{}': {e} \
+                             (the cell's user must be root or a member of it)",
+                            g.name
+                        )
+                    },
+                )?;
+                0o660
+            }
+            None => 0o600,
+        };
+        std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(mode))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(listener)
+    })();
+    let _ = std::fs::remove_dir_all(&staging);
+    result
+}
+
+/// Accepts connections until `stop`, each served on its own short-lived thread.
+fn accept_loop(listener: &UnixListener, stop: &AtomicBool, to_relay: &mpsc::SyncSender<Relayed>) {
+    use std::os::fd::AsRawFd;
+    let active = Arc::new(AtomicUsize::new(0));
+    while !stop.load(Ordering::Acquire) {
+        let mut pfd = libc::pollfd {
+            fd: listener.as_raw_fd(),
+            events: libc::POLLIN,
+            revents: 0,
+        };
+        // SAFETY: one valid pollfd for the duration of the call.
+        if unsafe { libc::poll(&mut pfd, 1, ACCEPT_POLL_MS) } <= 0 {
+            continue;
+        }
+        let Ok((stream, _)) = listener.accept() else {
+            continue;
+        };
+        if active.fetch_add(1, Ordering::AcqRel) >= MAX_CONNECTIONS {
+            active.fetch_sub(1, Ordering::AcqRel);
+            continue;
+        }
+        let (active2, to_relay) = (active.clone(), to_relay.clone());
+        let spawned = std::thread::Builder::new()
+            .name("cellrt-op-conn".into())
+            .spawn(move || {
+                serve_connection(stream, &to_relay);
+                active2.fetch_sub(1, Ordering::AcqRel);
+            });
+        if spawned.is_err() {
+            active.fetch_sub(1, Ordering::AcqRel);
+        }
+    }
+}
+
+/// Reads one request (bounded in size and time), has it relayed and writes the answer.
+fn serve_connection(mut stream: UnixStream, to_relay: &mpsc::SyncSender<Relayed>) {
+    let _ = stream.set_nonblocking(false);
+    let _ = stream.set_read_timeout(Some(CONNECTION_TIMEOUT));
+    let _ = stream.set_write_timeout(Some(CONNECTION_TIMEOUT));
+    let mut request = Vec::new();
+    let read = (&mut stream)
+        .take(MAX_OPERATOR_REQUEST_BYTES as u64 + 1)
+        .read_to_end(&mut request);
+    let answer = match read {
+        Err(e) => error_answer(&format!("the request was not received: {e}")),
+        // A look for the cell (a connect, then nothing): no request.
+        Ok(0) => return,
+        Ok(_) if request.len() > MAX_OPERATOR_REQUEST_BYTES => error_answer(&format!(
+            "request refused: more than {MAX_OPERATOR_REQUEST_BYTES} bytes"
+        )),
+        Ok(_) => {
+            let (tx, rx) = mpsc::channel();
+            match to_relay.try_send((request, tx)) {
+                Ok(()) => rx
+                    .recv_timeout(REPLY_TIMEOUT + CONNECTION_TIMEOUT)
+                    .unwrap_or_else(|_| error_answer("the cell did not relay an answer")),
+                Err(_) => error_answer("the operator socket is busy; try again"),
+            }
+        }
+    };
+    let _ = stream.write_all(&answer);
+}
+
+fn error_answer(line: &str) -> Vec<u8> {
+    let mut a = vec![TAG_ERROR];
+    a.extend_from_slice(line.as_bytes());
+    a
+}
+
+/// Passes each request to the cell's operator service as the cell's user, one at a time (the
+/// service answers each within its bound), until every sender is gone.
+fn relay(cell: &str, relayed: &mpsc::Receiver<Relayed>) {
+    let mut client: Option<OperatorClient> = None;
+    while let Ok((request, answer)) = relayed.recv() {
+        if client.is_none() {
+            client = OperatorClient::connect_own(cell).ok();
+        }
+        let reply = match client.as_ref() {
+            None => error_answer(&format!("cell '{cell}' serves no operator requests now")),
+            Some(c) => match c.exchange(&request, REPLY_TIMEOUT) {
+                Ok(doc) => {
+                    let mut a = vec![TAG_REPLY];
+                    a.extend_from_slice(&doc);
+                    a
+                }
+                Err(e) => {
+                    client = None;
+                    error_answer(&e.to_string())
+                }
+            },
+        };
+        let _ = answer.send(reply);
+    }
+}
+
+/// Sends `request` through the socket at `path` and returns the reply document; the cell's
+/// own error line comes back as an error of kind `Other`.
+pub fn exchange(path: &Path, request: &[u8], timeout: Duration) -> std::io::Result<Vec<u8>> {
+    let mut stream = UnixStream::connect(path)?;
+    stream.set_read_timeout(Some(timeout))?;
+    stream.set_write_timeout(Some(timeout))?;
+    stream.write_all(request)?;
+    stream.shutdown(std::net::Shutdown::Write)?;
+    let mut answer = Vec::new();
+    stream.read_to_end(&mut answer)?;
+    match answer.split_first() {
+        Some((&TAG_REPLY, doc)) => Ok(doc.to_vec()),
+        Some((&TAG_ERROR, line)) => Err(std::io::Error::other(
+            String::from_utf8_lossy(line).into_owned(),
+        )),
+        _ => Err(std::io::Error::other(format!(
+            "{}: closed without an answer",
+            path.display()
+        ))),
+    }
+}
+
+/// What a look for another user's cell found.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Found {
+    /// Its socket accepts this user: request through it.
+    Reachable(PathBuf),
+    /// It runs, but this user may not connect (the one-line reason names cell and owner).
+    NotPermitted(String),
+}
+
+/// Looks for a running cell named `cell` of another user: the socket in that user's runtime
+/// directory, owned by that user, that a controller serves.
+pub fn find_foreign(cell: &str) -> Option<Found> {
+    if cell.is_empty() || cell.contains('/') || cell.starts_with('.') {
+        return None;
+    }
+    let me = nix::unistd::getuid().as_raw();
+    for (owner, dir) in other_users_dirs(me) {
+        let path = socket_path_in(&dir, cell);
+        let Ok(m) = std::fs::symlink_metadata(&path) else {
+            continue;
+        };
+        if !m.file_type().is_socket() || m.uid() != owner {
+            continue;
+        }
+        match UnixStream::connect(&path) {
+            Ok(_) => return Some(Found::Reachable(path)),
+            Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => {
+                return Some(Found::NotPermitted(not_permitted(cell, owner, &m)))
+            }
+            Err(_) => continue,
+        }
+    }
+    None
+}
+
+/// The operator directories other users' cells may use, with their users.
+fn other_users_dirs(me: u32) -> Vec<(u32, PathBuf)> {
+    let mut dirs = Vec::new();
+    if me != 0 {
+        dirs.push((0, crate::runtime_dir::operator_path_of(0)));
+    }
+    let uids_in = |dir: &Path, strip: &dyn Fn(&str) -> Option<u32>| -> Vec<u32> {
+        std::fs::read_dir(dir)
+            .map(|entries| {
+                entries
+                    .flatten()
+                    .filter_map(|e| strip(&e.file_name().to_string_lossy()))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let mut uids = uids_in(Path::new("/run/user"), &|n| n.parse().ok());
+    uids.extend(uids_in(&std::env::temp_dir(), &|n| {
+        n.strip_prefix("cellrt-u")?
+            .strip_suffix("-operator")?
+            .parse()
+            .ok()
+    }));
+    uids.sort_unstable();
+    uids.dedup();
+    for uid in uids.into_iter().filter(|u| *u != me && *u != 0) {
+        dirs.push((uid, crate::runtime_dir::operator_path_of(uid)));
+    }
+    dirs
+}
+
+/// "cell 'NAME' runs as USER (uid N); USER (uid M) is not permitted to command it: …".
+fn not_permitted(cell: &str, owner: u32, socket: &std::fs::Metadata) -> String {
+    let user = |uid: u32| {
+        nix::unistd::User::from_uid(nix::unistd::Uid::from_raw(uid))
+            .ok()
+            .flatten()
+            .map_or_else(
+                || format!("uid {uid}"),
+                |u| format!("{} (uid {uid})", u.name),
+            )
+    };
+    let who = if socket.permissions().mode() & 0o060 == 0o060 {
+        let group = nix::unistd::Group::from_gid(nix::unistd::Gid::from_raw(socket.gid()))
+            .ok()
+            .flatten()
+            .map_or_else(|| format!("gid {}", socket.gid()), |g| g.name);
+        format!("only its user and the members of its operator group '{group}' may")
+    } else {
+        "only its user may (it has no [operator] group)".to_string()
+    };
+    format!(
+        "cell '{cell}' runs as {}; {} is not permitted to command it: {who}",
+        user(owner),
+        user(nix::unistd::getuid().as_raw())
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::OperatorGroup;
+
+    fn socket_of(cell: &str) -> PathBuf {
+        let uid = nix::unistd::getuid().as_raw();
+        socket_path_in(&crate::runtime_dir::operator_path_of(uid), cell)
+    }
+
+    #[test]
+    fn the_socket_has_its_mode_refuses_big_requests_and_goes_with_the_controller() {
+        let cell = format!("socktest-{}", std::process::id());
+        let served = OperatorSocket::serve(&cell, &OperatorConfig::default()).unwrap();
+        let path = socket_of(&cell);
+        let m = std::fs::symlink_metadata(&path).unwrap();
+        assert!(m.file_type().is_socket());
+        assert_eq!(m.permissions().mode() & 0o777, 0o600);
+        // Refused before it reaches the cell, with the bound named.
+        let big = vec![b' '; MAX_OPERATOR_REQUEST_BYTES + 1];
+        let e = exchange(&path, &big, Duration::from_secs(5)).unwrap_err();
+        assert!(e.to_string().contains("more than 65536 bytes"), "{e}");
+        drop(served);
+        assert!(!path.exists(), "the socket goes with its controller");
+    }
+
+    #[test]
+    fn with_an_operator_group_the_socket_is_the_groups() {
+        if !nix::unistd::getuid().is_root() {
+            eprintln!(
+                "SKIPPED with_an_operator_group_the_socket_is_the_groups: needs root to chown"
+            );
+            return;
+        }
+        let cell = format!("socktest-group-{}", std::process::id());
+        let group = OperatorConfig {
+            group: Some(OperatorGroup {
+                name: "daemon".into(),
+                gid: 1,
+            }),
+        };
+        let served = OperatorSocket::serve(&cell, &group).unwrap();
+        let m = std::fs::symlink_metadata(socket_of(&cell)).unwrap();
+        assert_eq!((m.permissions().mode() & 0o777, m.gid()), (0o660, 1));
+        drop(served);
+    }
+}

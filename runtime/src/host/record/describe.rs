@@ -1,0 +1,93 @@
+//! The detail text of each event kind, as the recording, the log and the summary show it.
+
+use cellrt_axes::cia402::fsa::FsaState;
+
+use crate::handoff::{CellCommand, CellState, EventKind, EventRecord, RejectReason, StopReason};
+
+/// Human-readable detail of an event's value.
+pub fn describe_event(e: &EventRecord) -> String {
+    match e.kind {
+        EventKind::CellState => CellState::from_u8(e.value as u8)
+            .map(|s| s.as_str().to_string())
+            .unwrap_or_default(),
+        EventKind::FsaState => u8::try_from(e.value)
+            .ok()
+            .and_then(FsaState::from_repr)
+            .map_or("unknown", FsaState::as_str)
+            .to_string(),
+        EventKind::Command | EventKind::CommandRefused => CellCommand::from_code(e.value)
+            .map(|c| c.as_str().to_string())
+            .unwrap_or_default(),
+        EventKind::MotionStarted | EventKind::MotionFinished | EventKind::Underrun => {
+            format!("motion {}", e.value)
+        }
+        EventKind::SetpointRejected => RejectReason::from_u8(e.value as u8)
+            .map(|r| r.as_str().to_string())
+            .unwrap_or_default(),
+        EventKind::StopStarted => {
+            let reason = StopReason::from_u8((e.value / 16) as u8)
+                .map(|r| r.as_str())
+                .unwrap_or("unknown");
+            let reaction = ["controlled_stop", "quick_stop", "disable"]
+                .get((e.value % 16) as usize)
+                .copied()
+                .unwrap_or("unknown");
+            format!("{reason} ({reaction})")
+        }
+        EventKind::Overrun => format!("woke {} µs past the next deadline", e.value / 1000),
+        EventKind::DriveFault if e.value < 0 => {
+            "fault (603Fh error code neither mapped nor readable)".to_string()
+        }
+        EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
+        EventKind::RecordsDropped => format!("{} records dropped", e.value),
+        EventKind::StartSlipped => format!("the motion started {} cycles late", e.value),
+        EventKind::HomingStarted => match e.value {
+            crate::handoff::HOME_BY_C_CR => "home setting by C_CR (current position)".to_string(),
+            crate::handoff::HOME_BY_C_CR2 => "home setting by C_CR2 (last Z phase)".to_string(),
+            m => format!("method {m} (6098h)"),
+        },
+        EventKind::HomingFinished => match u8::try_from(e.value)
+            .ok()
+            .and_then(cellrt_axes::cia402::homing::HomingFailure::from_u8)
+        {
+            None => "homing attained".to_string(),
+            Some(f) => f.as_str().to_string(),
+        },
+        EventKind::CommunicationError => crate::config::CommWatchdog::from_code(e.value)
+            .map_or(
+                "unknown communication watchdog",
+                crate::config::CommWatchdog::describe,
+            )
+            .to_string(),
+        EventKind::AlStatus => {
+            cellrt_axes::ethercat::register::AlStatus::decode(e.value).describe()
+        }
+        EventKind::Emergency => {
+            let m = crate::handoff::decode_emergency(e.value);
+            let d = m.data;
+            format!(
+                "error code 0x{:04X}, error register 0x{:02X}, data {:02X} {:02X} {:02X} {:02X} {:02X}",
+                m.error_code, m.error_register, d[0], d[1], d[2], d[3], d[4]
+            )
+        }
+        EventKind::MailboxDiscarded => format!(
+            "mailbox type {}, CoE service {} (discarded)",
+            e.value & 0xFF,
+            e.value >> 8
+        ),
+        EventKind::BringUpWarning => format!(
+            "optional {} at bring-up; continued (SYNC0 sets the cycle)",
+            crate::handoff::decode_refused_sdo(e.value)
+        ),
+        EventKind::FaultInjected | EventKind::FaultLeftToSegment => {
+            crate::config::FaultKind::from_code(e.value)
+                .map_or("unknown", crate::config::FaultKind::name)
+                .to_string()
+        }
+        EventKind::StopFinished
+        | EventKind::MasterTimeout
+        | EventKind::BusError
+        | EventKind::PlannerConnected
+        | EventKind::PlannerLost => String::new(),
+    }
+}

@@ -5,6 +5,7 @@
 mod common;
 
 use cellrt_axes::profiles::mr_j4_tm;
+use cellrt_axes::sim::drive::SimMotor;
 use cellrt_axes::sim::profile_position::{
     PositionUnit, PpParams, SET_POINT_ACKNOWLEDGE, TARGET_REACHED,
 };
@@ -16,8 +17,9 @@ use cellrt_axes::{
 };
 use common::{drive, enabled};
 
-/// One cycle, with 606Ch replaced by the plant's speed in counts/s: pp runs its profile
-/// (6081h/6083h/6084h) in counts/s (`PpParams`), so its tests judge speeds in counts/s.
+/// One cycle, with 606Ch replaced by the plant's speed in counts/s: with the
+/// [`MOTOR_COUNTS_PER_REV`] motor one 0.01 r/min LSB of 6081h is one count/s, so these tests
+/// judge speeds in counts/s.
 fn exchange(d: &mut SimDrive, rx: &RxPdo) -> TxPdo {
     let mut tx = common::exchange(d, rx);
     tx.velocity_actual = counts_per_s(d);
@@ -37,9 +39,17 @@ static GLOBAL: CountingAllocator = CountingAllocator;
 /// The drive's zero speed (PC07) in these tests, counts/s.
 const ZERO_SPEED: f64 = 10.0;
 
+/// A motor of 6000 counts/rev: 6081h in 0.01 r/min (MR-J4-TM manual §4.2; the default unit of
+/// MR-JET / MR-J5) is then 1 count/s per LSB (100 r/min = 10000 counts/s).
+const MOTOR_COUNTS_PER_REV: f64 = 6_000.0;
+
 fn params(pp: PpParams) -> SimDriveParams {
     SimDriveParams {
         zero_speed: ZERO_SPEED,
+        motor: SimMotor {
+            counts_per: Some(MOTOR_COUNTS_PER_REV),
+            ..SimMotor::default()
+        },
         pp,
         ..SimDriveParams::default()
     }

@@ -3,6 +3,8 @@
 //! drive's 10 ms response time by default) runs one exchange of each path in turn:
 //!
 //! * `cclink`: one CC-Link IE Field Basic cyclic exchange (UDP), against `udp-echo`;
+//! * `cclink-bare`: the same exchange against a bare responder (it decodes the request and
+//!   answers at once, no drive behind it), against `udp-echo`: the client's own cost;
 //! * `slmp-udp` / `slmp-tcp`: an SLMP 4020h upload of 6041h, against `udp-echo` / `tcp-echo`;
 //! * `modbus-tcp`: a Modbus/TCP 03h read of 6041h, against `tcp-echo`;
 //! * `modbus-rtu`: a Modbus RTU 03h read on a pseudo-terminal line, against `pty-echo`. Its
@@ -37,8 +39,9 @@ use serialport::{SerialPort, TTYPort};
 use crate::BenchError;
 
 /// The paths measured, in the order of each tick.
-pub const PATHS: [&str; 8] = [
+pub const PATHS: [&str; 9] = [
     "cclink",
+    "cclink-bare",
     "udp-echo",
     "slmp-udp",
     "slmp-tcp",
@@ -86,7 +89,7 @@ pub struct JeCBenchReport {
 /// The raw echo a transport is compared with.
 fn raw_of(path: &str) -> Option<&'static str> {
     match path {
-        "cclink" | "slmp-udp" => Some("udp-echo"),
+        "cclink" | "cclink-bare" | "slmp-udp" => Some("udp-echo"),
         "slmp-tcp" | "modbus-tcp" => Some("tcp-echo"),
         "modbus-rtu" => Some("pty-echo"),
         _ => None,
@@ -101,6 +104,8 @@ struct Bench {
     cclink: GroupMaster,
     /// The last cyclic exchange went unanswered.
     cclink_lost: bool,
+    /// A master of the bare responder.
+    cclink_bare: GroupMaster,
     slmp_udp: SlmpClient,
     slmp_tcp: SlmpClient,
     modbus_tcp: TcpClient,
@@ -147,6 +152,12 @@ impl Bench {
         cclink
             .exchange(0, &mut r)
             .map_err(|e| failed("the cyclic link")(e.to_string()))?;
+        let bare = bare_responder(&stop)?;
+        let mut cclink_bare = GroupMaster::new((ip, 0).into(), bare, &[ip], params)
+            .map_err(|e| failed("the bare responder's master")(e.to_string()))?;
+        cclink_bare
+            .exchange(0, &mut r)
+            .map_err(|e| failed("the bare responder")(e.to_string()))?;
         let (echo_pty, client_pty) =
             TTYPort::pair().map_err(|e| failed("a pseudo-terminal")(e.to_string()))?;
         Ok(Bench {
@@ -166,6 +177,7 @@ impl Bench {
                 .map_err(|e| failed("Modbus RTU")(e.to_string()))?,
             cclink,
             cclink_lost: false,
+            cclink_bare,
             stop,
             _server: server,
             _line: rs485,
@@ -187,6 +199,10 @@ impl Bench {
                 let ok = self.cclink.exchange(1, &mut r).is_ok_and(|n| n == 1);
                 self.cclink_lost = !ok;
                 ok
+            }
+            "cclink-bare" => {
+                let mut r = [None; MAX_STATIONS];
+                self.cclink_bare.exchange(1, &mut r).is_ok_and(|n| n == 1)
             }
             "slmp-udp" => upload(&mut self.slmp_udp),
             "slmp-tcp" => upload(&mut self.slmp_tcp),
@@ -250,6 +266,53 @@ fn udp_echo(stop: &Arc<AtomicBool>) -> Result<UdpSocket, BenchError> {
         }
     });
     Ok(client)
+}
+
+/// A bare cyclic responder on loopback: decodes each request and answers its station at
+/// once (sequence and group echoed, zero RWr/RX); its address.
+fn bare_responder(stop: &Arc<AtomicBool>) -> Result<std::net::SocketAddr, BenchError> {
+    use cellrt_axes::cclink_ief_basic::{
+        CyclicRequest, CyclicResponse, EndCode, StationData, RESPONSE_SIZE,
+    };
+    let io = |e: std::io::Error| failed("the bare responder")(e.to_string());
+    let socket = UdpSocket::bind("127.0.0.1:0").map_err(io)?;
+    socket
+        .set_read_timeout(Some(Duration::from_millis(50)))
+        .map_err(io)?;
+    let addr = socket.local_addr().map_err(io)?;
+    let own = u32::from(Ipv4Addr::LOCALHOST);
+    let stop = stop.clone();
+    std::thread::spawn(move || {
+        let (mut buf, mut out) = ([0u8; 1500], [0u8; RESPONSE_SIZE]);
+        while !stop.load(Ordering::Relaxed) {
+            let Ok((n, peer)) = socket.recv_from(&mut buf) else {
+                continue;
+            };
+            let Ok(req) = CyclicRequest::decode(&buf[..n], own) else {
+                continue;
+            };
+            let response = CyclicResponse {
+                protocol_version: req.protocol_version,
+                end_code: EndCode::Normal,
+                vendor_code: 0,
+                model_code: 0,
+                equipment_version: 0,
+                unit_info: 1,
+                error_code: 0,
+                local_info: 0,
+                group: req.group,
+                sequence: req.sequence,
+                station: StationData {
+                    slave_id: own,
+                    ..StationData::default()
+                },
+            };
+            if let Ok(k) = response.encode(&mut out) {
+                let _ = socket.send_to(&out[..k], peer);
+            }
+        }
+    });
+    Ok(addr)
 }
 
 /// A TCP echo on loopback; the client's connection to it.

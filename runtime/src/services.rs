@@ -110,6 +110,10 @@ pub struct LiveAxis {
     pub powered: u8,
     /// 2D11h–2D13h Status DO 1–3 (0 where the drive does not map them).
     pub status_do: [u16; 3],
+    /// Drive-side motions of a profile axis that have ended (any outcome), counted.
+    pub profile_finished: u32,
+    /// Of those, the ones refused or cancelled.
+    pub profile_failed: u32,
 }
 
 impl Default for StatusSample {

@@ -126,6 +126,10 @@ pub struct RunArgs {
     /// ("in-process": the emulated segment, no network or root).
     #[arg(long, value_name = "IF")]
     pub interface: Option<String>,
+    /// Serve the live view (Foxglove WebSocket protocol) on ADDR, e.g. 127.0.0.1:8765,
+    /// instead of the configuration's `[live] listen`.
+    #[arg(long, value_name = "ADDR", value_parser = cellrt_runtime::config::parse_live_addr)]
+    pub live: Option<std::net::SocketAddr>,
 }
 
 /// `cellrt bus`.

@@ -364,6 +364,7 @@ fn bench_je_c_samples_every_path_each_tick() {
         names,
         [
             "cclink",
+            "cclink-bare",
             "udp-echo",
             "slmp-udp",
             "slmp-tcp",
@@ -378,7 +379,8 @@ fn bench_je_c_samples_every_path_each_tick() {
         assert_eq!(count + p["lost"].as_u64().unwrap(), ticks, "{p}");
     }
     assert_eq!(paths[0]["against"][0], "udp-echo");
-    assert_eq!(paths[6]["against"][0], "pty-echo");
+    assert_eq!(paths[1]["against"][0], "udp-echo");
+    assert_eq!(paths[7]["against"][0], "pty-echo");
     for (args, option) in [
         (&["--duration", "0"][..], "--duration"),
         (&["--interval-ms", "0"][..], "--interval-ms"),

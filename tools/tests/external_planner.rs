@@ -269,12 +269,7 @@ seconds = 60
     let dir = tempfile::tempdir().unwrap();
     let cfg = dir.path().join("cell.toml");
     let cfg_text = std::fs::read_to_string(demo_cell(dir.path(), HOLD)).unwrap();
-    let name = cfg_text
-        .lines()
-        .find_map(|l| l.strip_prefix("name = \""))
-        .and_then(|l| l.strip_suffix('"'))
-        .unwrap()
-        .to_string();
+    let name = common::cell_name_of(&cfg_text);
     let (mut controller, _ctl, _log) =
         controller_waiting(&cfg, &["--no-record", "--duration", "120"]);
     let mut p = planner(&cfg, &dir.path().join("program.toml"));

@@ -44,6 +44,16 @@ pub const PROFILE_VELOCITY: u16 = 0x6081;
 pub const PROFILE_ACCELERATION: u16 = 0x6083;
 /// 6084h Profile deceleration (pp/pv; a time constant in ms, §4.7).
 pub const PROFILE_DECELERATION: u16 = 0x6084;
+/// 6087h Torque slope (tq; 0.1 %/s, MR-J4-TM manual §5.4.8).
+pub const TORQUE_SLOPE: u16 = 0x6087;
+/// 607Fh Max profile velocity (pp/pv; velocity unit, MR-J4-TM manual §5.4.6).
+pub const MAX_PROFILE_VELOCITY: u16 = 0x607F;
+/// 6080h Max motor speed (r/min on the Mitsubishi drives, MR-J4-TM manual §4.2).
+pub const MAX_MOTOR_SPEED: u16 = 0x6080;
+/// 6085h Quick stop deceleration (a time constant in ms on the Mitsubishi drives).
+pub const QUICK_STOP_DECELERATION: u16 = 0x6085;
+/// 607Dh Software position limit (sub 1 min, sub 2 max; pp, MR-J4-TM manual §5.4.6).
+pub const SOFTWARE_POSITION_LIMIT: u16 = 0x607D;
 /// 6067h Position window (pp target reached, MR-J4-TM manual §5.4.6).
 pub const POSITION_WINDOW: u16 = 0x6067;
 /// 6068h Position window time, ms.
@@ -111,6 +121,8 @@ pub struct RxPdo {
     pub profile_acceleration: u32,
     /// 6084h Profile deceleration (pp), where the map carries it.
     pub profile_deceleration: u32,
+    /// 6087h Torque slope (tq), 0.1 %/s, where the map carries it (e.g. MR-J4-TM 1601h).
+    pub torque_slope: u32,
     /// Communication counter: 2020h (MR-J3-T04) or 2D23h (MR-J4-TM), where the map carries it
     /// ([`crate::PdoMap::has_counter`]). See [`crate::IncrementalCounter`].
     pub counter: u8,
@@ -132,6 +144,7 @@ impl Default for RxPdo {
             profile_velocity: 0,
             profile_acceleration: 0,
             profile_deceleration: 0,
+            torque_slope: 0,
             counter: 0,
         }
     }
@@ -186,6 +199,7 @@ pub(crate) enum RxField {
     ProfileVelocity,
     ProfileAcceleration,
     ProfileDeceleration,
+    TorqueSlope,
     Counter,
 }
 
@@ -208,6 +222,7 @@ impl RxField {
             PROFILE_VELOCITY => RxField::ProfileVelocity,
             PROFILE_ACCELERATION => RxField::ProfileAcceleration,
             PROFILE_DECELERATION => RxField::ProfileDeceleration,
+            TORQUE_SLOPE => RxField::TorqueSlope,
             INCREMENTAL_COUNTER_RX | WATCHDOG_COUNTER_DL => RxField::Counter,
             _ => return None,
         })
@@ -268,6 +283,7 @@ impl RxPdo {
             RxField::ProfileVelocity => u64::from(self.profile_velocity),
             RxField::ProfileAcceleration => u64::from(self.profile_acceleration),
             RxField::ProfileDeceleration => u64::from(self.profile_deceleration),
+            RxField::TorqueSlope => u64::from(self.torque_slope),
             RxField::Counter => u64::from(self.counter),
         }
     }
@@ -287,6 +303,7 @@ impl RxPdo {
             RxField::ProfileVelocity => self.profile_velocity = raw as u32,
             RxField::ProfileAcceleration => self.profile_acceleration = raw as u32,
             RxField::ProfileDeceleration => self.profile_deceleration = raw as u32,
+            RxField::TorqueSlope => self.torque_slope = raw as u32,
             RxField::Counter => self.counter = raw as u8,
         }
     }

@@ -242,6 +242,9 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x6081, 0, "Profile velocity", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
     od(0x6083, 0, "Profile acceleration", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
     od(0x6084, 0, "Profile deceleration", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
+    od(0x6087, 0, "Torque slope", U32, Rw, PdoRx).units("not stated").cite("§4.1 (tq, recommended in the RxPDO) / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated (0.1 %/s: CiA 402 [background])"),
+    od(0x607D, 1, "Min position limit", I32, Rw, Pdo::Unstated).units("pulse").cite("§8.1: 607Dh named only, unusable without a home set in the drive; type I32 and 0/0 = disabled: CiA 402 [background]"),
+    od(0x607D, 2, "Max position limit", I32, Rw, Pdo::Unstated).units("pulse").cite("§8.1: as 607Dh:1"),
     od(0x60B0, 0, "Position offset", I32, Rw, Pdo::Unstated).default(0).units("pulse").cite("§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])"),
 ];
 

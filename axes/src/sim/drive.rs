@@ -6,8 +6,9 @@
 //! no quick stop on the MR-J3-T04 with statusword bit 5 always 1, no transition 16), quick stop
 //! ending in SOD, Fault Reset on the edge clearing only resettable alarms (the rest need
 //! [`SimDrive::power_cycle`]), statusword bits 8/14 = 0 and no statusword in NRTSO, byte-exact
-//! default maps, the zero-speed gate on mode switches, csp/csv/cst with the torque limits, pp
-//! (`sim::profile_position`), the csp position offset 60B0h,
+//! default maps, the zero-speed gate on mode switches, csp/csv/cst with the torque limits, pp,
+//! pv and tq (`sim::profile_position`, `sim::profile_velocity`, `sim::profile_torque`) with
+//! the 605Ah quick-stop and 605Dh halt decelerations, the csp position offset 60B0h,
 //! following-error and overspeed alarms, the communication checks of `sim::comm`, and the alarm
 //! on leaving OP while switched on ([`SimDrive::leave_op`]), the axis switch SW3 checked at
 //! power-on ([`AxisSwitch`]), and FSoE safety process data with STO acting on the PDS and the
@@ -19,6 +20,8 @@ use super::fsoe::FsoeSlave;
 use super::home_setting::HomeSettingState;
 use super::plant::ServoPlant;
 use super::profile_position::ProfilePosition;
+use super::profile_torque::ProfileTorque;
+use super::profile_velocity::ProfileVelocity;
 use crate::cia402::controlword::Controlword;
 use crate::cia402::fsa::FsaState;
 use crate::cia402::mode::ModeOfOperation;
@@ -40,6 +43,7 @@ mod parameters;
 mod params;
 mod pds;
 mod pp;
+mod pv_tq;
 mod safety;
 mod status_do;
 mod stroke;
@@ -110,6 +114,10 @@ pub struct SimDrive {
     home_set: HomeSettingState,
     /// Profile position mode (pp): set-point handshake and trajectory generator.
     pp: ProfilePosition,
+    /// Profile velocity mode (pv): the velocity ramp and its statusword bits.
+    pv: ProfileVelocity,
+    /// Profile torque mode (tq): the torque ramp.
+    tq: ProfileTorque,
     /// The FSoE slave, when configured on a model with FSoE.
     fsoe: Option<FsoeSlave>,
 }
@@ -166,7 +174,8 @@ impl SimDrive {
             comm: DriveComm::new(profile.comm_check, params.comm, cycle_time, counter_mapped),
             op: true,
             sdo_mode: 0,
-            sdo_values: Vec::new(),
+            // One slot per object of the dictionary: an SDO write never allocates.
+            sdo_values: Vec::with_capacity(profile.objects.len()),
             saving_left: 0,
             memory: parameters::ParameterMemory::default(),
             history: alarm_history::AlarmHistory::default(),
@@ -177,6 +186,8 @@ impl SimDrive {
             quick_stop_ramp: None,
             home_set: HomeSettingState::default(),
             pp: ProfilePosition::default(),
+            pv: ProfileVelocity::default(),
+            tq: ProfileTorque::default(),
             fsoe: params
                 .fsoe
                 .zip(profile.fsoe)
@@ -320,8 +331,12 @@ impl SimDrive {
             sw.0 |= 1 << 13;
         }
         if oe && self.mode_display == ModeOfOperation::ProfilePosition {
-            // pp bits 10 / 12 (MR-J4-TM manual §5.4.6).
+            // pp bits 10 / 11 / 12 (MR-J4-TM manual §5.4.6).
             sw.0 |= self.pp.status_bits();
+        }
+        if oe && self.mode_display == ModeOfOperation::ProfileVelocity {
+            // pv bits 10 / 12 (MR-J4-TM manual §5.4.7); tq sends none (§5.4.8).
+            sw.0 |= self.pv.status_bits();
         }
         if self.mode_display == ModeOfOperation::Homing {
             // hm bits 13 / 12 / 10 (MR-J4-TM manual §5.4.9): no simulated method moves, so target

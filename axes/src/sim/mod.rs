@@ -7,4 +7,6 @@ pub mod fsoe;
 pub mod home_setting;
 pub mod plant;
 pub mod profile_position;
+pub mod profile_torque;
+pub mod profile_velocity;
 pub mod sdo;

@@ -13,8 +13,13 @@
 //!   degree position unit it raises the profile's `relative_degree_warning` (MR-J4-TM AL. F4.8)
 //!   and the move does not start (§4.7 bit 6). The warning clears at the next accepted
 //!   set-point, at servo on or when pp is left (the manual resets it by C_ORST, not modelled).
-//! * Bit 8 **HALT** decelerates to standstill per [`HaltOption`] (605Dh; its values are in the
-//!   MISSING §5.7, MR-J4-TM manual q2); releasing it resumes the move (CiA 402 [background]).
+//! * Bit 8 **HALT** decelerates to standstill per 605Dh where the model gives or was written a
+//!   value (CiA 402 codes), else per [`HaltOption`] (the values are in the MISSING §5.7,
+//!   MR-J4-TM manual q2); releasing it resumes the move (CiA 402 [background]).
+//! * 607Dh **software position limits** (min < max; 0/0 disables them, MR-J4-TM manual §5.4.6
+//!   data path "607Ah → position limit function"): a set-point beyond one is clamped to it
+//!   and statusword bit 11 (ILA) is 1 while the generator stands on that limit.
+//! * 6081h is capped by 607Fh (velocity unit), 6080h (r/min) and the plant's maximum speed.
 //! * Statusword bit 12 **set-point acknowledge** uses Mitsubishi's wording (§4.7): 1 while a
 //!   positioning is being executed, 0 once it has completed. Bit 10 **target reached**: with
 //!   HALT = 0, |6064h − target| has stayed within 6067h for at least 6068h (6067h =
@@ -37,6 +42,9 @@ pub const RELATIVE: u16 = 1 << 6;
 pub const HALT: u16 = 1 << 8;
 /// Statusword bit 10 in pp: target reached.
 pub const TARGET_REACHED: u16 = 1 << 10;
+/// Statusword bit 11: internal limit active (a 607Dh software limit reached, MR-J4-TM manual
+/// §5.3 ILA).
+pub const INTERNAL_LIMIT_ACTIVE: u16 = 1 << 11;
 /// Statusword bit 12 in pp: set-point acknowledge (Mitsubishi: positioning being executed).
 pub const SET_POINT_ACKNOWLEDGE: u16 = 1 << 12;
 
@@ -78,11 +86,12 @@ pub struct PpParams {
     pub position_window: u32,
     /// 6068h Position window time, ms. Default 10 (MR-JE-C manual 6068h).
     pub position_window_time_ms: u32,
-    /// 6081h Profile velocity, counts/s (the simulator's velocity unit), where the profile has
-    /// no default (MR-JET, MR-J5). Default 10000, the MR-J4-TM default value (§4.7).
+    /// 6081h Profile velocity in the model's velocity unit, where the profile has no default
+    /// (MR-JET, MR-J5). Default 10000 (100.00 r/min at 0.01 r/min), the MR-J4-TM default
+    /// value (§4.7).
     pub profile_velocity: u32,
-    /// The speed (counts/s) the 6083h/6084h time constants refer to ("rated speed" in the
-    /// MR-JE-C wording); `None`: `PlantParams::max_velocity`, as for the PC02 slow stop.
+    /// The speed (counts/s) the 6083h/6084h/6085h time constants refer to ("rated speed" in
+    /// the MR-JE-C wording); `None`: `PlantParams::max_velocity`, as for the PC02 slow stop.
     pub time_constant_speed: Option<f64>,
     /// 605Dh Halt option.
     pub halt: HaltOption,
@@ -122,6 +131,8 @@ pub(crate) struct PpCommand {
     pub window_time_s: f64,
     /// The warning a relative set-point raises (degree unit on a model with the rule).
     pub relative_refused: Option<u16>,
+    /// 607Dh:1/2 software position limits in 6064h's reference, where enabled.
+    pub limits: Option<(i32, i32)>,
 }
 
 /// The drive's feedback for one pp cycle.
@@ -156,6 +167,8 @@ pub(crate) struct ProfilePosition {
     prev_cw: u16,
     /// Latched relative-in-degree warning.
     warning: Option<u16>,
+    /// The set-point being processed was clamped to a 607Dh limit.
+    limited: bool,
 }
 
 impl ProfilePosition {
@@ -176,9 +189,14 @@ impl ProfilePosition {
         self.warning
     }
 
-    /// Statusword bits 10 and 12.
+    /// Statusword bits 10, 11 and 12.
     pub(crate) fn status_bits(&self) -> u16 {
         (if self.reached { TARGET_REACHED } else { 0 })
+            | (if self.limited && self.pos == self.target {
+                INTERNAL_LIMIT_ACTIVE
+            } else {
+                0
+            })
             | (if self.executing {
                 SET_POINT_ACKNOWLEDGE
             } else {
@@ -234,6 +252,16 @@ impl ProfilePosition {
             // 607Ah in 6064h's reference, moved into the plant's (wrapping like the wire values).
             fb.position + f64::from(cmd.target.wrapping_sub(fb.actual))
         };
+        let (target, limited) = match cmd.limits {
+            Some((min, max)) => {
+                let lo = fb.position + f64::from(min.wrapping_sub(fb.actual));
+                let hi = fb.position + f64::from(max.wrapping_sub(fb.actual));
+                let clamped = target.clamp(lo, hi);
+                (clamped, clamped != target)
+            }
+            None => (target, false),
+        };
+        self.limited = limited;
         if cmd.controlword & CHANGE_SET_IMMEDIATELY != 0 || !self.executing {
             self.pending = None;
             self.start(target);
@@ -336,6 +364,7 @@ mod tests {
             window: 100,
             window_time_s: 0.01,
             relative_refused: None,
+            limits: None,
         }
     }
 

@@ -1,10 +1,12 @@
 //! The cell configuration: a TOML file parsed into raw serde structs ([`raw`]) and validated into
 //! the typed [`CellConfig`] before anything starts. Every error names the file and the key.
 
+pub mod capture;
 mod comm_watchdog;
 mod error;
 mod fault;
 pub mod input_file;
+pub mod profile_axis;
 pub mod raw;
 mod validate;
 
@@ -15,6 +17,7 @@ pub use comm_watchdog::{
 pub(crate) use error::parse_toml;
 pub use error::ConfigError;
 pub use fault::{FaultKind, InjectedFault, Injection};
+pub use profile_axis::{ProfileMode, ProfileObjects};
 
 use std::path::{Path, PathBuf};
 
@@ -51,6 +54,8 @@ pub struct CellConfig {
     pub watchdogs: WatchdogConfig,
     /// Who besides the cell's user may command it.
     pub operator: OperatorConfig,
+    /// Where the live view (Foxglove WebSocket protocol) listens; none: no live view.
+    pub live: Option<std::net::SocketAddr>,
     /// Scheduled fault injection, sorted by cycle (tests, commissioning drills).
     pub inject: Vec<Injection>,
     /// The axes, in configuration order (the index is the axis id everywhere).
@@ -125,6 +130,8 @@ pub struct RecordingConfig {
     pub rotate_bytes: Option<u64>,
     /// Start a new file once the current one spans this many seconds (`None`: never).
     pub rotate_seconds: Option<f64>,
+    /// Triggered capture instead of a continuous recording (`None`: continuous).
+    pub capture: Option<capture::CaptureConfig>,
 }
 
 /// Setpoint transport settings.
@@ -319,8 +326,15 @@ pub struct AxisConfig {
     /// What the drive's 1018h must show on EtherCAT (the model's identity unless
     /// `[axes.ethercat]` overrides it).
     pub ethercat_identity: cellrt_axes::ethercat::identity::ExpectedIdentity,
-    /// Cyclic mode of operation (6060h).
+    /// Mode of operation (6060h): a cyclic mode (csp/csv/cst, streamed setpoints) or a profile
+    /// mode (pp/pv/tq, the drive's own profile; see `profile_objects`).
     pub mode: ModeOfOperation,
+    /// A profile axis (`mode` pp/pv/tq): its mode and which of its profile objects are in the
+    /// RxPDO or go by SDO; `None` for a cyclic axis.
+    pub profile_objects: Option<ProfileObjects>,
+    /// `motor.rated_speed` in counts/s: the speed the drive's 6083h/6084h time constants run
+    /// from 0 to (required for pp and pv axes on drives with time-constant objects).
+    pub rated_speed: Option<f64>,
     /// Display name of the axis unit (e.g. "mm", "deg").
     pub unit: String,
     /// Counts per unit at the drive's position interface.
@@ -452,3 +466,10 @@ impl CellConfig {
 mod esi_tests;
 #[cfg(test)]
 mod tests;
+
+/// `ADDR` of `[live] listen` or `cellrt run --live`: an IP address and port (port 0: any free
+/// one). Loopback unless the address says otherwise.
+pub fn parse_live_addr(text: &str) -> Result<std::net::SocketAddr, String> {
+    text.parse()
+        .map_err(|_| format!("'{text}' is not an address and port like 127.0.0.1:8765"))
+}

@@ -25,6 +25,9 @@ pub struct RawCellConfig {
     /// `[operator]`: who besides the cell's user may command it.
     #[serde(default)]
     pub operator: RawOperator,
+    /// `[live]`: the live view.
+    #[serde(default)]
+    pub live: RawLive,
     /// `[[inject]]`: scheduled fault injection.
     #[serde(default)]
     pub inject: Vec<RawInjection>,
@@ -149,6 +152,26 @@ pub struct RawRecording {
     /// Rotate to a new file after this many seconds.
     #[serde(default)]
     pub rotate_seconds: Option<f64>,
+    /// "continuous" or "triggered".
+    #[serde(default = "default_recording_mode")]
+    pub mode: String,
+    /// Triggered: seconds kept before a trigger.
+    #[serde(default = "default_capture_s")]
+    pub pre_s: f64,
+    /// Triggered: seconds written after it.
+    #[serde(default = "default_capture_s")]
+    pub post_s: f64,
+    /// Triggered: event kinds and thresholds.
+    #[serde(default)]
+    pub triggers: Vec<String>,
+}
+
+fn default_recording_mode() -> String {
+    "continuous".into()
+}
+
+fn default_capture_s() -> f64 {
+    5.0
 }
 
 impl Default for RawRecording {
@@ -162,6 +185,10 @@ impl Default for RawRecording {
             flush_ms: default_flush_ms(),
             rotate_mib: None,
             rotate_seconds: None,
+            mode: default_recording_mode(),
+            pre_s: default_capture_s(),
+            post_s: default_capture_s(),
+            triggers: Vec::new(),
         }
     }
 }
@@ -283,6 +310,9 @@ pub struct RawAxis {
     /// Mode name, e.g. "csp".
     #[serde(default = "default_mode")]
     pub mode: String,
+    /// MR-J4-TM [Pr. PA01] control-mode group: "cyclic" (csp/csv/cst/hm, the default) or
+    /// "profile" (pp/pv/tq/hm).
+    pub mode_group: Option<String>,
     /// Unit name for display.
     #[serde(default = "default_unit")]
     pub unit: String,
@@ -352,6 +382,9 @@ pub struct RawMotor {
     pub velocity_unit: Option<String>,
     /// The motor's maximum speed, r/min (rotary) or mm/s (linear).
     pub max_speed: Option<f64>,
+    /// The motor's rated speed, r/min (rotary) or mm/s (linear): the speed the drive's
+    /// 6083h/6084h time constants refer to (profile axes).
+    pub rated_speed: Option<f64>,
 }
 
 /// `[axes.sim]`.
@@ -468,4 +501,13 @@ fn default_position_bw() -> f64 {
 }
 fn default_velocity_bw() -> f64 {
     200.0
+}
+
+/// `[live]`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawLive {
+    /// Where the Foxglove WebSocket server listens (none: no live view).
+    #[serde(default)]
+    pub listen: Option<String>,
 }

@@ -7,8 +7,8 @@ use std::sync::{Arc, Mutex};
 
 use super::lanes::Lanes;
 use super::{
-    AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest, SdoSlotBusy,
-    UserSdo, UserSdoOutcome,
+    AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest, ProfileCommand,
+    SdoSlotBusy, UserSdo, UserSdoOutcome,
 };
 
 /// Event lines kept for the operator's status.
@@ -22,6 +22,10 @@ pub struct HostEnd {
     lanes: Arc<Lanes>,
     /// The last [`RECENT_EVENTS`] event lines, kept by the recorder for the operator's status.
     recent_events: Mutex<VecDeque<String>>,
+    /// The recorder keeps a capture ring (`recording.mode = "triggered"` with a path).
+    capture_armed: std::sync::atomic::AtomicBool,
+    /// The operator asked for a capture; the recorder takes it.
+    capture_requested: std::sync::atomic::AtomicBool,
     /// The EtherCAT segment's diagnostics, set once the bus is open (none on simulated drives).
     bus_diagnostics: std::sync::OnceLock<cellrt_axes::ethercat::master::BusDiagnostics>,
 }
@@ -32,7 +36,28 @@ impl HostEnd {
             lanes,
             recent_events: Mutex::new(VecDeque::with_capacity(RECENT_EVENTS)),
             bus_diagnostics: std::sync::OnceLock::new(),
+            capture_armed: Default::default(),
+            capture_requested: Default::default(),
         }
+    }
+
+    /// The recorder keeps a capture ring from now on.
+    pub fn arm_capture(&self) {
+        self.capture_armed.store(true, Ordering::Release);
+    }
+
+    /// Asks the recorder to write its capture ring now; false if it keeps none.
+    pub fn request_capture(&self) -> bool {
+        let armed = self.capture_armed.load(Ordering::Acquire);
+        if armed {
+            self.capture_requested.store(true, Ordering::Release);
+        }
+        armed
+    }
+
+    /// The recorder's side: whether a capture was asked for (the request is taken).
+    pub fn take_capture_request(&self) -> bool {
+        self.capture_requested.swap(false, Ordering::AcqRel)
     }
 
     /// Offers the bus' diagnostics to the operator (once, when the bus is open).
@@ -48,6 +73,12 @@ impl HostEnd {
     /// Queues a command for the RT thread; gives it back if the queue is full.
     pub fn send_command(&self, command: CellCommand) -> Result<(), CellCommand> {
         self.lanes.commands.push(command)
+    }
+
+    /// Queues a profile axis' drive-side motion for the RT thread; gives it back if the queue
+    /// is full.
+    pub fn send_profile_command(&self, command: ProfileCommand) -> Result<(), ProfileCommand> {
+        self.lanes.profile_commands.push(command)
     }
 
     /// Leaves a homing request for the RT thread (replacing one not yet taken).

@@ -6,7 +6,7 @@ use std::sync::atomic::AtomicU32;
 use crossbeam::queue::ArrayQueue;
 
 use super::sdo::{SdoOutcomeSlot, SdoRequestSlot};
-use super::{AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord};
+use super::{AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, ProfileCommand};
 
 /// Commands the queue holds before a sender is refused.
 const COMMAND_QUEUE: usize = 64;
@@ -18,6 +18,8 @@ const EVENT_QUEUE: usize = 8192;
 pub(super) struct Lanes {
     /// Commands to the RT thread.
     pub(super) commands: ArrayQueue<CellCommand>,
+    /// Drive-side motions of profile axes to the RT thread.
+    pub(super) profile_commands: ArrayQueue<ProfileCommand>,
     /// Per-cycle timing records to the recorder.
     pub(super) cycles: ArrayQueue<CycleRecord>,
     /// Per-cycle, per-axis records to the recorder.
@@ -43,6 +45,7 @@ impl Lanes {
         let queue_cycles = queue_cycles.max(64);
         Lanes {
             commands: ArrayQueue::new(COMMAND_QUEUE),
+            profile_commands: ArrayQueue::new(COMMAND_QUEUE),
             cycles: ArrayQueue::new(if recording { queue_cycles } else { 1 }),
             axes: ArrayQueue::new(if recording {
                 queue_cycles * axes.max(1)

@@ -47,7 +47,9 @@ impl RejectReason {
 }
 
 /// What an event says; the meaning of [`EventRecord::value`] depends on it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::FromRepr, strum::EnumString,
+)]
 #[strum(serialize_all = "snake_case")]
 pub enum EventKind {
     /// Cell state changed (value: new [`CellState`] as u8).
@@ -116,6 +118,16 @@ pub enum EventKind {
     /// A motion's first block reached the RT thread late, within `setpoints.max_start_slip_ms`:
     /// the motion started from rest that many cycles late, all of it shifted (value: cycles).
     StartSlipped,
+    /// A profile axis' drive-side motion started (value: [`ProfileMotion::code`]).
+    ///
+    /// [`ProfileMotion::code`]: super::ProfileMotion::code
+    ProfileStarted,
+    /// A profile axis' drive-side motion ended (value: 0 done — pp target reached, pv
+    /// velocity reached, tq ramp over; 1 refused — not enabled, no such profile axis, or an
+    /// object the drive refused; 2 cancelled — the drive left Operation enabled, or a stop came
+    /// before its start cycle; 3 superseded
+    /// by the axis' next motion).
+    ProfileFinished,
 }
 
 /// The value of a `bring_up_warning` event: abort code (bits 0–31), sub-index (32–39), index

@@ -6,8 +6,8 @@ use std::sync::Arc;
 
 use super::lanes::Lanes;
 use super::{
-    AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest, UserSdo,
-    UserSdoOutcome,
+    AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest, ProfileCommand,
+    UserSdo, UserSdoOutcome,
 };
 
 /// What the RT thread may touch: the command queue's consumer side, the record and event
@@ -34,6 +34,12 @@ impl RtEnd {
     #[inline]
     pub fn next_command(&self) -> Option<CellCommand> {
         self.lanes.commands.pop()
+    }
+
+    /// The next profile axis' drive-side motion from the non-RT side, if any.
+    #[inline]
+    pub fn next_profile_command(&self) -> Option<ProfileCommand> {
+        self.lanes.profile_commands.pop()
     }
 
     /// Takes the pending homing request, if any (the slot is empty afterwards).

@@ -158,6 +158,10 @@ pub struct AxisLive {
     pub powered: AtomicBool,
     /// 2D11h–2D13h Status DO 1–3 (0 where the drive does not map them).
     pub status_do: [AtomicU16; 3],
+    /// Drive-side motions of a profile axis that have ended (any outcome), counted.
+    pub profile_finished: AtomicU32,
+    /// Of those, the ones refused or cancelled.
+    pub profile_failed: AtomicU32,
 }
 
 impl Default for CellStatus {

@@ -9,6 +9,7 @@ use cellrt_axes::ethercat::master::{
     EthercatBus, InProcessLink, Link, RawSocketLink, SegmentConfig, SegmentDrive,
 };
 use cellrt_axes::sim::plant::PlantParams;
+use cellrt_axes::sim::profile_position::PpParams;
 use cellrt_axes::{
     AcyclicBus, BusError, Cycles, CyclicBus, FaultInjection, FrameCounters, SimBus, SimDrive,
     SimDriveParams,
@@ -92,6 +93,11 @@ pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
                 },
                 // The simulated motor is the configured one (its own decoding of the units).
                 motor: sim_motor(a),
+                // The time constants refer to the configured rated speed, as the master's.
+                pp: PpParams {
+                    time_constant_speed: a.rated_speed,
+                    ..PpParams::default()
+                },
                 ..SimDriveParams::default()
             };
             SimDrive::new(a.profile, params, cell.cycle_time)

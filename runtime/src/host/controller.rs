@@ -14,6 +14,7 @@ use serde::Serialize;
 use crate::config::CellConfig;
 use crate::handoff::{self, CellCommand, CellState, HostEnd, RtEnd};
 use crate::host::link_server::LinkServer;
+use crate::host::live::LiveServer;
 use crate::host::planner::{self, PlannerHandle};
 use crate::host::program::Program;
 use crate::host::record::{Recorder, RecorderError, RecordingInfo};
@@ -67,6 +68,9 @@ pub enum RunError {
     /// The bus could not be opened (EtherCAT bring-up).
     #[error("{0}")]
     Bus(String),
+    /// The live view could not listen.
+    #[error("{0}")]
+    Live(String),
 }
 
 /// How the run ended.
@@ -147,6 +151,19 @@ pub struct Summary {
     pub axes: Vec<AxisSummary>,
     /// The recording.
     pub recording: RecordingInfo,
+    /// The live view, when one ran.
+    pub live: Option<LiveSummary>,
+}
+
+/// What the live view passed on.
+#[derive(Debug, Clone, Serialize)]
+pub struct LiveSummary {
+    /// Where it listened.
+    pub address: String,
+    /// Messages handed to its server (which drops a slow viewer's oldest itself).
+    pub messages_sent: u64,
+    /// Messages dropped before its server because its feeder did not keep up.
+    pub messages_dropped: u64,
 }
 
 /// Runs `cell` until the program ends, the duration elapses or `shutdown` is set.
@@ -160,8 +177,25 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let (rt_handoff, handoff) =
         handoff::new(cell.axes.len(), queue_cycles(cell), opts.record.is_some());
     let handoff = Arc::new(handoff);
-    let recording = Recording::start(cell, opts.record.as_deref(), handoff.clone())
-        .map_err(RunError::RecordingPath)?;
+    let live = match cell.live {
+        Some(addr) => {
+            let server =
+                LiveServer::start(cell, addr).map_err(|e| RunError::Live(e.to_string()))?;
+            tracing::info!(
+                "live view on ws://{} (Foxglove WebSocket protocol)",
+                server.addr
+            );
+            Some(server)
+        }
+        None => None,
+    };
+    let recording = Recording::start(
+        cell,
+        opts.record.as_deref(),
+        handoff.clone(),
+        live.as_ref().map(LiveServer::feed),
+    )
+    .map_err(RunError::RecordingPath)?;
     let bus =
         crate::host::cell_bus::CellBus::open(cell).map_err(|e| RunError::Bus(e.to_string()))?;
     record_bring_up_warnings(cell, &bus, &handoff);
@@ -243,6 +277,11 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         },
         final_state: stats.final_state.as_str().to_string(),
         recording,
+        live: live.as_ref().map(|l| LiveSummary {
+            address: l.addr.to_string(),
+            messages_sent: l.feed().sent(),
+            messages_dropped: l.feed().dropped(),
+        }),
     })
 }
 
@@ -284,8 +323,9 @@ impl Recording {
         cell: &CellConfig,
         path: Option<&std::path::Path>,
         handoff: Arc<HostEnd>,
+        live: Option<crate::host::live::LiveFeed>,
     ) -> Result<Recording, RecorderError> {
-        Recorder::start(cell, path, handoff).map(|r| Recording(Some(r)))
+        Recorder::start_with_live(cell, path, handoff, live).map(|r| Recording(Some(r)))
     }
 
     fn finish(mut self) -> Result<RecordingInfo, RecorderError> {

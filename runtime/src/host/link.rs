@@ -10,8 +10,8 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
 use crate::handoff::{
-    CellCommand, CellState, EventKind, EventRecord, HomeRequest, HomingStatus, HostEnd, StopReason,
-    UserSdo, UserSdoOutcome, NO_AXIS,
+    CellCommand, CellState, EventKind, EventRecord, HomeRequest, HomingStatus, HostEnd,
+    ProfileCommand, StopReason, UserSdo, UserSdoOutcome, NO_AXIS,
 };
 use crate::services::{self, CommandSample, LiveAxis, SdoLinkSample, ServiceError, StatusSample};
 use crate::setpoints::MAX_AXES;
@@ -116,6 +116,11 @@ pub trait CellLink {
         let _ = request;
         Err(LinkError::InProcessOnly("sdo"))
     }
+    /// Sends a profile axis' drive-side motion to the RT thread (in-process only).
+    fn profile(&mut self, command: ProfileCommand) -> Result<(), LinkError> {
+        let _ = command;
+        Err(LinkError::InProcessOnly("a profile axis' motion"))
+    }
     /// The outcome of the operator SDO request `seq`, once published.
     fn sdo_outcome(&mut self, seq: u16) -> Option<UserSdoOutcome> {
         let _ = seq;
@@ -124,6 +129,11 @@ pub trait CellLink {
     /// The EtherCAT segment's diagnostics (in-process, on an EtherCAT cell only).
     fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
         None
+    }
+    /// Asks the recorder to write its capture ring now; false where it keeps none (or from
+    /// another process).
+    fn request_capture(&mut self) -> bool {
+        false
     }
     /// The latest event lines (in-process only; empty from another process).
     fn recent_events(&mut self) -> Vec<String> {
@@ -163,6 +173,8 @@ pub fn snapshot(handoff: &HostEnd, axes: usize) -> StatusSnapshot {
             mode_display: a.mode_display.load(Ordering::Relaxed),
             powered: u8::from(a.powered.load(Ordering::Relaxed)),
             status_do: std::array::from_fn(|w| a.status_do[w].load(Ordering::Relaxed)),
+            profile_finished: a.profile_finished.load(Ordering::Acquire),
+            profile_failed: a.profile_failed.load(Ordering::Acquire),
         };
     }
     StatusSnapshot {
@@ -207,6 +219,16 @@ impl CellLink for LocalLink {
 
     fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
         self.handoff.bus_diagnostics()
+    }
+
+    fn request_capture(&mut self) -> bool {
+        self.handoff.request_capture()
+    }
+
+    fn profile(&mut self, command: ProfileCommand) -> Result<(), LinkError> {
+        self.handoff
+            .send_profile_command(command)
+            .map_err(|_| LinkError::CommandQueueFull)
     }
 
     fn recent_events(&mut self) -> Vec<String> {

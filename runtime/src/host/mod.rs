@@ -8,6 +8,7 @@ pub mod cell_lock;
 pub mod controller;
 pub mod link;
 pub mod link_server;
+pub mod live;
 pub mod motion;
 pub mod operator;
 pub mod planner;

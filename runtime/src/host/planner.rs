@@ -10,9 +10,12 @@ use std::time::{Duration, Instant};
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, CellState, HomeRequest, HostEnd};
+use crate::handoff::{CellCommand, CellState, HomeRequest, HostEnd, ProfileCommand};
 use crate::host::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionError, MotionRequest, Progress};
+use crate::host::operator::profile::{
+    halts as profile_halts, jog as profile_jog, send as send_profile, split_move,
+};
 use crate::host::operator::server::{Context, Followup, OperatorServer};
 use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::rt::executive::HOMING_TIMEOUT;
@@ -394,6 +397,10 @@ impl<'a> Planner<'a> {
                 } => {
                     self.what = "jog";
                     let limits = self.cell.axes[*axis].limits;
+                    if self.cell.axes[*axis].profile_objects.is_some() {
+                        self.run_profile_jog(*axis, *velocity, *seconds)?;
+                        continue;
+                    }
                     self.run_motion(
                         MotionRequest::Jog {
                             axis: *axis,
@@ -568,13 +575,134 @@ impl<'a> Planner<'a> {
         }
     }
 
+    /// A move step: the pp axes' drives get their set-points, the streamed axes their motion
+    /// (it starts within the planner's start delay of them); the step ends when all are done.
     fn run_move(&mut self, targets: &[MoveTarget]) -> Result<(), ProgramError> {
-        self.run_motion(MotionRequest::Move(move_list(targets)), None)
+        let (drive_side, streamed) =
+            split_move(self.cell, move_list(targets)).map_err(|e| self.err(e))?;
+        let before = self.status()?;
+        if streamed.is_empty() {
+            send_profile(self.link.as_mut(), drive_side.clone(), 0).map_err(|e| self.err(e))?;
+        } else {
+            self.run_motion_with(MotionRequest::Move(streamed), None, &drive_side)?;
+        }
+        self.wait_profile_axes(&drive_side, &before)
+    }
+
+    /// A torque step on tq axes: their drives ramp to the torque at the axis' slope (6087h),
+    /// hold it `hold_s`, then HALT ramps it back to 0; the step ends when every ramp is over.
+    fn run_profile_torque(
+        &mut self,
+        targets: &[TorqueTarget],
+        hold_s: f64,
+    ) -> Result<(), ProgramError> {
+        use crate::handoff::ProfileMotion;
+        let ramps: Vec<ProfileCommand> = targets
+            .iter()
+            .map(|t| ProfileCommand {
+                axis: t.axis as u16,
+                motion: ProfileMotion::Torque {
+                    torque: t.torque,
+                    slope: t.slope,
+                },
+                start_cycle: 0,
+            })
+            .collect();
+        let before = self.status()?;
+        send_profile(self.link.as_mut(), ramps.clone(), 0).map_err(|e| self.err(e))?;
+        self.wait_profile_axes(&ramps, &before)?;
+        if !self.serve_for(hold_s)? {
+            return Ok(());
+        }
+        let axes: Vec<usize> = targets.iter().map(|t| t.axis).collect();
+        let halts = profile_halts(self.cell, Some(&axes));
+        send_profile(self.link.as_mut(), halts.clone(), 0).map_err(|e| self.err(e))?;
+        let all: Vec<ProfileCommand> = ramps.into_iter().chain(halts).collect();
+        self.wait_profile_axes(&all, &before)
+    }
+
+    /// Serves the operator and watches the cell for `seconds`; false if the program was aborted
+    /// meanwhile.
+    fn serve_for(&mut self, seconds: f64) -> Result<bool, ProgramError> {
+        let until = Instant::now() + Duration::from_secs_f64(seconds);
+        while Instant::now() < until {
+            if self.aborted() {
+                return Ok(false);
+            }
+            self.status()?;
+            std::thread::sleep(TICK);
+        }
+        Ok(true)
+    }
+
+    /// A jog step on a pv axis: its drive runs at `velocity` for `seconds`, then HALT; the step
+    /// ends when the drive stands.
+    fn run_profile_jog(
+        &mut self,
+        axis: usize,
+        velocity: f64,
+        seconds: f64,
+    ) -> Result<(), ProgramError> {
+        let a = &self.cell.axes[axis];
+        let jog = profile_jog(axis, a, velocity, &a.limits).map_err(|e| self.err(e))?;
+        let before = self.status()?;
+        send_profile(self.link.as_mut(), vec![jog], 0).map_err(|e| self.err(e))?;
+        if !self.serve_for(seconds)? {
+            return Ok(());
+        }
+        let halt = profile_halts(self.cell, Some(&[axis]));
+        send_profile(self.link.as_mut(), halt.clone(), 0).map_err(|e| self.err(e))?;
+        // The jog ended (velocity reached, or superseded by the halt), then the halt.
+        self.wait_profile_axes(&[jog, halt[0]], &before)
+    }
+
+    /// Waits until each profile axis sent one of `commands` since `before` reports it ended;
+    /// one refused or cancelled fails the step.
+    fn wait_profile_axes(
+        &mut self,
+        commands: &[ProfileCommand],
+        before: &StatusSnapshot,
+    ) -> Result<(), ProgramError> {
+        loop {
+            if self.aborted() || commands.is_empty() {
+                return Ok(());
+            }
+            let s = self.status()?;
+            let mut all = true;
+            for (k, c) in commands.iter().enumerate() {
+                let (now, then) = (
+                    s.live[usize::from(c.axis)],
+                    before.live[usize::from(c.axis)],
+                );
+                // As many ends on the axis as commands sent to it (each command ends once).
+                let sent = commands[..=k].iter().filter(|o| o.axis == c.axis).count() as u32;
+                if now.profile_failed != then.profile_failed {
+                    let name = &self.cell.axes[usize::from(c.axis)].name;
+                    return Err(self.err(format!(
+                        "axis '{name}': its drive-side move was refused or cancelled (see the events)"
+                    )));
+                }
+                all &= now.profile_finished.wrapping_sub(then.profile_finished) >= sent;
+            }
+            if all {
+                return Ok(());
+            }
+            if matches!(s.state, CellState::Faulted | CellState::Stopped) {
+                return Err(self.err(format!("the cell is {}", s.state.as_str())));
+            }
+            std::thread::sleep(TICK);
+        }
     }
 
     /// A torque step: every target axis ramps to its torque, holds it, ramps back to zero; the
     /// other axes hold.
     fn run_torque(&mut self, targets: &[TorqueTarget], hold_s: f64) -> Result<(), ProgramError> {
+        if targets
+            .iter()
+            .any(|t| self.cell.axes[t.axis].profile_objects.is_some())
+        {
+            return self.run_profile_torque(targets, hold_s);
+        }
         let req = MotionRequest::Torque {
             targets: targets
                 .iter()
@@ -592,9 +720,22 @@ impl<'a> Planner<'a> {
         req: MotionRequest,
         halt_after: Option<Duration>,
     ) -> Result<(), ProgramError> {
+        self.run_motion_with(req, halt_after, &[])
+    }
+
+    /// [`Self::run_motion`] with profile axes' drive-side motions that start in the motion's
+    /// first cycle (sent once it is submitted; a restarted motion does not send them again).
+    fn run_motion_with(
+        &mut self,
+        req: MotionRequest,
+        halt_after: Option<Duration>,
+        drive_side: &[ProfileCommand],
+    ) -> Result<(), ProgramError> {
         if let Err(e) = self.engine.submit(req.clone(), self.link.as_mut()) {
             return Err(self.err(e));
         }
+        let start = self.engine.start_cycle().unwrap_or(0);
+        send_profile(self.link.as_mut(), drive_side.to_vec(), start).map_err(|e| self.err(e))?;
         let halt_at = halt_after.map(|d| Instant::now() + d);
         let mut halted = false;
         let mut restarts = 0;

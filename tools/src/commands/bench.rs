@@ -76,8 +76,8 @@ pub struct JeCArgs {
         allow_negative_numbers = true
     )]
     pub duration: f64,
-    /// Only these paths (comma-separated: cclink, udp-echo, slmp-udp, slmp-tcp, modbus-tcp,
-    /// tcp-echo, modbus-rtu, pty-echo); all by default.
+    /// Only these paths (comma-separated: cclink, cclink-bare, udp-echo, slmp-udp, slmp-tcp,
+    /// modbus-tcp, tcp-echo, modbus-rtu, pty-echo); all by default.
     #[arg(long, value_delimiter = ',')]
     pub paths: Vec<String>,
     /// Also write the result as JSON to this file.

@@ -170,6 +170,9 @@ pub enum OperatorCommand {
         #[arg(long)]
         no_wait: bool,
     },
+    /// Write the triggered recording's ring now: one MCAP file with the last `pre_s` seconds
+    /// and the next `post_s` (`recording.mode = "triggered"`).
+    Capture,
 }
 
 /// Runs one operator command.
@@ -315,6 +318,7 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
         ),
         OperatorCommand::Halt { axes } => (Request::Halt { axes: axes.clone() }, Wait::No),
         OperatorCommand::Stop => (Request::Stop, Wait::No),
+        OperatorCommand::Capture => (Request::Capture, Wait::No),
         OperatorCommand::Reset { no_wait } => (
             Request::Reset,
             wait(*no_wait, Wait::State(&["idle", "disabled"])),

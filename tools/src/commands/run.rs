@@ -24,6 +24,9 @@ pub fn run(args: RunArgs) -> Exit {
             return bad_input(e);
         }
     }
+    if args.live.is_some() {
+        cell.live = args.live;
+    }
     let program = if args.no_program || args.external_planner {
         None
     } else if let Some(p) = &args.program {

@@ -59,6 +59,16 @@ pub fn run_recorded(dir: &Path, config: &str, program: &str) -> (std::process::O
     (out, rec)
 }
 
+/// The `name = "…"` of a cell configuration's text.
+pub fn cell_name_of(config: &str) -> String {
+    config
+        .lines()
+        .find_map(|l| l.strip_prefix("name = \""))
+        .and_then(|l| l.strip_suffix('"'))
+        .expect("a cell name")
+        .to_string()
+}
+
 /// Runs `cellrt ARGS --cell CELL` (an operator command to a running cell); returns the exit
 /// code, stdout and stderr.
 pub fn cellrt_on_cell(cell: &str, args: &[&str]) -> (i32, String, String) {

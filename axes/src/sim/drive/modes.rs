@@ -4,7 +4,9 @@
 use super::{InternalTorqueLimits, SimDrive};
 use crate::cia402::fsa::FsaState;
 use crate::cia402::mode::ModeOfOperation;
-use crate::pdo::objects::{POSITION_OFFSET, QUICK_STOP_OPTION};
+use crate::pdo::objects::{
+    POSITION_OFFSET, PROFILE_DECELERATION, QUICK_STOP_DECELERATION, QUICK_STOP_OPTION,
+};
 use crate::pdo::RxPdo;
 use crate::profiles::TorqueLimitSelection;
 use crate::sim::fsoe::{FsoeSlave, StoStop};
@@ -28,7 +30,7 @@ impl SimDrive {
         self.demand = self.plant.position();
         self.plant.set_last_command(self.demand);
         self.prev_target = self.position_actual().wrapping_sub(self.position_offset());
-        self.pp.reset(self.demand, self.prev_cw.0);
+        self.reset_profiles();
     }
 
     /// 60B0h Position offset, added to 607Ah in csp (MR-J5-G-N1 manual §7.4 rule 2, MR-JET-G-N1 manual
@@ -91,10 +93,11 @@ impl SimDrive {
     }
 
     /// Quick stop active: on a model whose 6085h is a time constant (MR-J4-TM manual §4.2, §8.1:
-    /// ms from the rated speed, taken as `plant.max_velocity`, to 0) the motor follows that
-    /// ramp; elsewhere it stops at the plant's maximum deceleration.
+    /// ms from the rated speed to 0) the motor follows the ramp 605Ah selects
+    /// ([`SimDrive::quick_stop_deceleration`]); elsewhere it stops at the plant's maximum
+    /// deceleration.
     fn quick_stop(&mut self, dt: f64) {
-        let Some(ms) = self.quick_stop_time_ms() else {
+        let Some(decel) = self.quick_stop_deceleration() else {
             self.plant.hold(dt);
             return;
         };
@@ -104,12 +107,6 @@ impl SimDrive {
             self.demand = self.plant.position();
             return;
         }
-        let amax = self.params.plant.max_acceleration.abs();
-        let decel = if ms == 0 {
-            amax
-        } else {
-            (self.params.plant.max_velocity.abs() * 1000.0 / f64::from(ms)).min(amax)
-        };
         let next = r - r.signum() * decel * dt;
         let next = if next * r <= 0.0 { 0.0 } else { next };
         self.quick_stop_ramp = Some(next);
@@ -117,11 +114,24 @@ impl SimDrive {
         self.plant.step(self.demand, next, dt);
     }
 
+    /// The quick-stop deceleration (counts/s²) by 605Ah, on a model whose 6085h is a time
+    /// constant: 1 the profile deceleration 6084h, 3/4 the current limit (the plant's maximum
+    /// deceleration), 2 and every other code the 6085h ramp (MR-J4-TM manual §8.1 gives 605Ah
+    /// default 2 and no value table, §5.6 MISSING: the CiA 402 codes [background]).
+    pub fn quick_stop_deceleration(&self) -> Option<f64> {
+        let ms = self.quick_stop_time_ms()?;
+        let last = self.last_cmd;
+        Some(match self.quick_stop_option() {
+            Some(1) => self.time_constant_rate(self.pp_object(&last, PROFILE_DECELERATION)),
+            Some(3 | 4) => self.params.plant.max_acceleration.abs(),
+            _ => self.time_constant_rate(Some(i64::from(ms))),
+        })
+    }
+
     /// 6085h Quick stop deceleration in ms (its SDO value, else the default), on a model whose
     /// acceleration objects are time constants; `None` elsewhere.
     pub fn quick_stop_time_ms(&self) -> Option<u32> {
         use crate::profiles::{AccelerationUnit, Stated};
-        const QUICK_STOP_DECELERATION: u16 = 0x6085;
         let o = self.profile.object(QUICK_STOP_DECELERATION, 0)?;
         if self.profile.units.acceleration != Stated::Manual(AccelerationUnit::TimeConstantMs) {
             return None;
@@ -154,8 +164,8 @@ impl SimDrive {
 
     /// Servo on in the current mode. csp follows 607Ah, csv integrates 60FFh (in the model's
     /// velocity unit, clamped at the overspeed limit), cst applies 6071h (0.1 % rated, 300 % = `max_acceleration`) within the
-    /// speed limit 2D20h (the model's velocity unit, `units`), pp runs the drive's own profile (`sim::profile_position`).
-    /// pv and tq are not simulated and hold the position.
+    /// speed limit 2D20h (the model's velocity unit, `units`); pp, pv and tq run the drive's own
+    /// profiles (`sim::profile_position`, `sim::profile_velocity`, `sim::profile_torque`).
     /// HALT (bit 8) stops and holds where the model honours it in the cyclic modes.
     pub(super) fn follow(&mut self, cmd: &RxPdo, dt: f64) {
         if self.profile.power_warnings.is_some() && !self.power.em1 {
@@ -165,10 +175,12 @@ impl SimDrive {
             self.prev_target = cmd.target_position;
             return;
         }
-        if self.mode_display == ModeOfOperation::ProfilePosition {
-            // pp handles HALT itself (605Dh, MR-J4-TM manual §5.4.6).
-            self.follow_profile_position(cmd, dt);
-            return;
+        // The profile modes handle HALT themselves (605Dh, MR-J4-TM manual §5.4.6–§5.4.8).
+        match self.mode_display {
+            ModeOfOperation::ProfilePosition => return self.follow_profile_position(cmd, dt),
+            ModeOfOperation::ProfileVelocity => return self.follow_profile_velocity(cmd, dt),
+            ModeOfOperation::ProfileTorque => return self.follow_profile_torque(cmd, dt),
+            _ => {}
         }
         if cmd.controlword.halt() && self.profile.halt_in_cyclic_modes {
             self.plant.hold(dt);

@@ -12,6 +12,8 @@ use crate::sim::fsoe::FsoeSlaveParams;
 use crate::sim::home_setting::BeforeZReaction;
 use crate::sim::plant::PlantParams;
 use crate::sim::profile_position::{PositionUnit, PpParams};
+use crate::sim::profile_torque::TqParams;
+use crate::sim::profile_velocity::PvParams;
 
 /// Configuration of one simulated drive.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,6 +88,10 @@ pub struct SimDriveParams {
     pub sync_mismatch_alarm: Option<u16>,
     /// Profile position mode (pp) values the manuals leave open (`sim::profile_position`).
     pub pp: PpParams,
+    /// Profile velocity mode (pv) objects the manuals leave open (`sim::profile_velocity`).
+    pub pv: PvParams,
+    /// Profile torque mode (tq) behaviour the manuals leave open (`sim::profile_torque`).
+    pub tq: TqParams,
     /// [Pr. PT01.2] position data unit (acts on relative pp set-points, MR-J4-TM manual §5.4.6).
     pub position_unit: PositionUnit,
     /// The DIP switch SW3 (axis selection) as set on the amplifier, read at power-on; see
@@ -197,6 +203,8 @@ impl Default for SimDriveParams {
             slow_stop_time_ms: 0,
             store_parameters_ms: 25_000,
             pp: PpParams::default(),
+            pv: PvParams::default(),
+            tq: TqParams::default(),
             position_unit: PositionUnit::Pulse,
         }
     }

@@ -216,7 +216,7 @@ impl SimDrive {
         self.demand = self.plant.position();
         self.plant.set_last_command(self.demand);
         self.prev_target = self.position_actual().wrapping_sub(self.position_offset());
-        self.pp.reset(self.demand, self.prev_cw.0);
+        self.reset_profiles();
     }
 
     pub(super) fn raise(&mut self, code: u16) {

@@ -59,7 +59,7 @@ impl SimDrive {
     }
 
     /// counts/s of a motor speed (r/min rotary, mm/s linear).
-    fn counts_of(&self, speed: f64) -> f64 {
+    pub(super) fn counts_of(&self, speed: f64) -> f64 {
         match self.params.motor.kind {
             MotorKind::Rotary => speed / 60.0 * self.motor_resolution(),
             MotorKind::Linear => speed * self.motor_resolution(),

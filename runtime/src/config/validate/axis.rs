@@ -18,6 +18,7 @@ use crate::config::{
     AxisConfig, ConfigError, SimAxisConfig, TorqueLimits, TorquePercent, Transport,
     DEFAULT_CSV_POSITION_GAIN, DEFAULT_TORQUE_SLOPE, MAX_TORQUE_PERCENT,
 };
+use crate::config::{ProfileMode, ProfileObjects};
 
 /// `axes.amplifier` / `axes.amplifier_axis`: axes sharing an amplifier label must name the same
 /// model, take distinct slots, and be no more than the model's axes per unit (W2 = 2, W3 = 3).
@@ -115,7 +116,7 @@ pub(super) fn validate_axis(
         ethercat_identity,
         esi,
     } = axis_drive(&at, &a, cycle_time)?;
-    let (mode, profile) = cyclic_mode(&at, &a, drive, profile)?;
+    let (mode, profile) = axis_mode(&at, &a, drive, profile)?;
     if let Some(device) = &esi {
         super::esi::check(file, key, &a.name, device, profile, mode, cycle_time)?;
     }
@@ -169,6 +170,13 @@ pub(super) fn validate_axis(
             correction_counts: csv_position_gain * following_error_limit * s,
         },
     )?;
+    let rated_speed = crate::config::profile_axis::rated_speed(
+        ProfileMode::of(mode),
+        profile,
+        a.motor.rated_speed,
+        &drive_units,
+    )
+    .map_err(|(k, m)| at.err(k, format!("axis '{}': {m}", a.name)))?;
     Ok(AxisConfig {
         name: a.name,
         drive,
@@ -176,6 +184,8 @@ pub(super) fn validate_axis(
         transport,
         ethercat_identity,
         mode,
+        profile_objects: ProfileMode::of(mode).map(|m| ProfileObjects::of_profile(m, profile)),
+        rated_speed,
         unit: a.unit,
         scaling,
         position,
@@ -341,21 +351,28 @@ fn axis_drive(
     })
 }
 
-/// `mode` and `[axes.pdo]`: a cyclic mode the drive has, with a PDO mapping that carries it.
-fn cyclic_mode(
+/// `mode`, `mode_group` and `[axes.pdo]`: a cyclic (csp/csv/cst) or profile (pp/pv/tq) mode the
+/// drive has in its configured mode group, with a PDO mapping that carries it.
+fn axis_mode(
     at: &AxisKey<'_>,
     a: &RawAxis,
     drive: DriveModel,
     profile: &'static DriveProfile,
 ) -> Result<(ModeOfOperation, &'static DriveProfile), ConfigError> {
     let mode: ModeOfOperation = a.mode.parse().map_err(|e| at.err("mode", format!("{e}")))?;
+    let profile = mode_group(at, a, drive, profile)?;
     let profile = pdo_mapping(profile, mode, &a.pdo)
         .map_err(|(k, m)| at.err(k, format!("axis '{}': {m}", a.name)))?;
     if !profile.supports_mode(mode) {
+        let hint = if drive == DriveModel::MrJ4TM && ProfileMode::of(mode).is_some() {
+            " (the profile modes need [Pr. PA01] ___2: mode_group = \"profile\")"
+        } else {
+            ""
+        };
         return Err(at.err(
             "mode",
             format!(
-                "axis '{}': {drive} ({}) has no mode {} (allowed: {})",
+                "axis '{}': {drive} ({}) has no mode {} (allowed: {}){hint}",
                 a.name,
                 profile.name,
                 mode.as_str(),
@@ -363,17 +380,45 @@ fn cyclic_mode(
             ),
         ));
     }
-    if !mode.is_cyclic() {
+    if !mode.is_cyclic() && ProfileMode::of(mode).is_none() {
         return Err(at.err(
             "mode",
             format!(
-                "axis '{}': mode {} is not a cyclic mode; the RT loop drives csp, csv and cst",
+                "axis '{}': mode {} is not an axis mode; an axis runs in csp, csv, cst (streamed) or pp, pv, tq (drive profile)",
                 a.name,
                 mode.as_str()
             ),
         ));
     }
     Ok((mode, profile))
+}
+
+/// `mode_group`: the MR-J4-TM [Pr. PA01] group (MR-J4-TM manual §1.1(2), §5.4.1: csp/csv/cst/hm
+/// or pp/pv/tq/hm, never together); other models have no such key.
+fn mode_group(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    drive: DriveModel,
+    profile: &'static DriveProfile,
+) -> Result<&'static DriveProfile, ConfigError> {
+    use cellrt_axes::profiles::mr_j4_tm::ModeGroup;
+    let Some(group) = a.mode_group.as_deref() else {
+        return Ok(profile);
+    };
+    if drive != DriveModel::MrJ4TM {
+        return Err(at.err(
+            "mode_group",
+            format!("only for drive = \"mr-j4-tm\" ([Pr. PA01]); a {drive} has no mode groups"),
+        ));
+    }
+    match group {
+        "cyclic" => Ok(ModeGroup::CyclicSynchronous.profile()),
+        "profile" => Ok(ModeGroup::Profile.profile()),
+        other => Err(at.err(
+            "mode_group",
+            format!("unknown '{other}' (available: cyclic, profile)"),
+        )),
+    }
 }
 
 /// `counts_per_unit` and `limits.position`: a range whose ends fit the drive's 32-bit position.
@@ -491,8 +536,8 @@ fn sim_axis(
 
 /// The axis' profile with its `[axes.pdo]` mapping (the model's default maps where a direction
 /// is not given), checked against the model's rules and against what the RT loop exchanges:
-/// controlword, statusword, actual position, and the cyclic mode's target (csp 607Ah, csv
-/// 60FFh, cst 6071h and 60FFh: the axis runs in csv between torque steps).
+/// controlword, statusword, actual position, and the mode's target (csp 607Ah, csv 60FFh, cst
+/// 6071h and 60FFh: the axis runs in csv between torque steps; pp 607Ah, pv 60FFh, tq 6071h).
 fn pdo_mapping(
     base: &'static DriveProfile,
     mode: ModeOfOperation,
@@ -528,6 +573,9 @@ fn pdo_mapping(
         ModeOfOperation::CyclicSyncTorque => &[TARGET_TORQUE, TARGET_VELOCITY][..],
         _ => &[][..],
     });
+    if let Some(p) = ProfileMode::of(mode) {
+        needed_rx.push(p.target());
+    }
     for (direction, map, needed) in [
         (PdoDirection::Rx, &profile.rx_pdo, needed_rx),
         (

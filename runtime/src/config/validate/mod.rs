@@ -74,11 +74,27 @@ pub(super) fn validate(
     });
 
     let rt = rt_config(file, &raw.rt)?;
-    let recording = recording_config(file, raw.recording)?;
+    let capture_raw = (
+        raw.recording.mode.clone(),
+        raw.recording.pre_s,
+        raw.recording.post_s,
+        raw.recording.triggers.clone(),
+    );
+    let mut recording = recording_config(file, raw.recording)?;
     let setpoints = setpoint_config(file, &raw.setpoints, cycle_time)?;
     let watchdogs = watchdog_config(file, &raw.watchdogs)?;
     let operator = operator::operator_config(file, &raw.operator)?;
+    let live = match &raw.live.listen {
+        Some(text) => Some(
+            crate::config::parse_live_addr(text)
+                .map_err(|m| ConfigError::new(file, "live.listen", m))?,
+        ),
+        None => None,
+    };
     let axes = validate_axes(file, cycle_time, raw.axes)?;
+    let (mode, pre_s, post_s, triggers) = capture_raw;
+    recording.capture =
+        crate::config::capture::capture_config(file, &mode, pre_s, post_s, &triggers, &axes)?;
 
     let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
     let inject = validate_injections(file, cycle_time, &raw.inject, &axes, ethercat.as_ref())?;
@@ -94,6 +110,7 @@ pub(super) fn validate(
         setpoints,
         watchdogs,
         operator,
+        live,
         inject,
         axes,
         ethercat,
@@ -214,6 +231,7 @@ fn recording_config(file: &Path, raw: RawRecording) -> Result<RecordingConfig, C
         flush_ms: raw.flush_ms,
         rotate_bytes: raw.rotate_mib.map(|m| m * 1024 * 1024),
         rotate_seconds: raw.rotate_seconds,
+        capture: None,
     })
 }
 

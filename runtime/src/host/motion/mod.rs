@@ -72,6 +72,21 @@ pub enum MotionRequest {
     },
 }
 
+impl MotionRequest {
+    /// The axes the request sets in motion; `None` for a halt.
+    fn moved_axes(&self) -> Option<Vec<usize>> {
+        Some(match self {
+            MotionRequest::Move(t) | MotionRequest::Path { targets: t, .. } => {
+                t.iter().map(|t| t.0).collect()
+            }
+            MotionRequest::Line { targets, .. } => targets.iter().map(|t| t.0).collect(),
+            MotionRequest::Torque { targets, .. } => targets.iter().map(|t| t.0).collect(),
+            MotionRequest::Jog { axis, .. } => vec![*axis],
+            MotionRequest::Halt(_) => return None,
+        })
+    }
+}
+
 /// Torque motion in progress: the ramps from its start, or a ramp down from a halt.
 struct TorqueMotion {
     ramps: Vec<(usize, TorqueRamp)>,
@@ -181,6 +196,11 @@ impl MotionEngine {
     /// The id of the motion in flight.
     pub fn motion_id(&self) -> Option<u32> {
         self.active.as_ref().map(|a| a.motion_id)
+    }
+
+    /// The cycle the motion in flight starts in (its first block's cycle).
+    pub fn start_cycle(&self) -> Option<u64> {
+        self.active.as_ref().map(|a| a.start_cycle)
     }
 
     /// The commanded position of axis `i` in units: where the motion in flight has got to in
@@ -423,14 +443,8 @@ impl MotionEngine {
         req: &MotionRequest,
         link: &mut dyn CellLink,
     ) -> Result<(), MotionError> {
-        let moved: Vec<usize> = match req {
-            MotionRequest::Move(t) | MotionRequest::Path { targets: t, .. } => {
-                t.iter().map(|t| t.0).collect()
-            }
-            MotionRequest::Line { targets, .. } => targets.iter().map(|t| t.0).collect(),
-            MotionRequest::Torque { targets, .. } => targets.iter().map(|t| t.0).collect(),
-            MotionRequest::Jog { axis, .. } => vec![*axis],
-            MotionRequest::Halt(_) => return Ok(()),
+        let Some(moved) = req.moved_axes() else {
+            return Ok(());
         };
         let status = link.status()?;
         match moved.iter().find(|&&i| status.live[i].powered == 0) {
@@ -441,6 +455,7 @@ impl MotionEngine {
 
     /// Refusals that depend on the configuration only (before anything changes).
     fn check_request(&self, req: &MotionRequest) -> Result<(), MotionError> {
+        self.check_streamed(req)?;
         let axes = &self.cell.axes;
         match req {
             // A cst axis positions in csv between torque commands (`AxisChannel::drive_command`).
@@ -536,6 +551,27 @@ impl MotionEngine {
             }
         }
         Ok(())
+    }
+
+    /// Refuses streamed motion of a profile axis (pp/pv/tq): the drive moves it by its own
+    /// profile, the setpoint stream does not reach it.
+    fn check_streamed(&self, req: &MotionRequest) -> Result<(), MotionError> {
+        let Some(moved) = req.moved_axes() else {
+            return Ok(());
+        };
+        let profile_axis = moved
+            .iter()
+            .filter_map(|&i| self.cell.axes.get(i))
+            .find(|a| a.profile_objects.is_some());
+        match profile_axis {
+            Some(a) => Err(refused(format!(
+                "axis '{}' runs in {} (the drive's own profile): streamed moves, jogs and torque \
+                 commands drive csp/csv/cst axes only",
+                a.name,
+                a.mode.as_str()
+            ))),
+            None => Ok(()),
+        }
     }
 
     /// Names the axis in an online-motion refusal.

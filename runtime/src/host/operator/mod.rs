@@ -8,6 +8,7 @@ mod alarms;
 pub mod bus_diag;
 pub mod client;
 mod param;
+pub(crate) mod profile;
 pub mod sdo;
 mod sdo_job;
 pub mod server;

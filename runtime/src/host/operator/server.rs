@@ -8,6 +8,7 @@ use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
 use super::bus_diag::DiagInFlight;
+use super::profile;
 use super::sdo::{self, SdoInFlight};
 use super::sdo_job::{Purpose, SdoJob};
 use super::targets::{axis_index, move_limits, Asked, TargetError};
@@ -382,6 +383,16 @@ impl OperatorServer {
             Request::Reset => self.reset(ctx, &state),
             Request::Override { percent } => self.set_override(ctx, percent),
             Request::Program { path } => self.program(ctx, &path),
+            Request::Capture => {
+                if ctx.link.request_capture() {
+                    (self.accept("capture", false), Followup::None)
+                } else {
+                    rejected(
+                        "capture: this cell keeps no capture ring (it needs recording.mode = \"triggered\" and a recording)"
+                            .into(),
+                    )
+                }
+            }
             // Answered later, when the drive has: `poll` takes it before `handle`.
             Request::Sdo { .. }
             | Request::Param { .. }
@@ -478,8 +489,8 @@ impl OperatorServer {
             Err(e) => return rejected(format!("move: {e}")),
         };
         if !line {
-            let list = list.into_iter().map(|(i, t, l, _)| (i, t, l)).collect();
-            return self.motion("move", MotionRequest::Move(list), ctx);
+            let list: Vec<_> = list.into_iter().map(|(i, t, l, _)| (i, t, l)).collect();
+            return self.move_with_profile_axes(ctx, list);
         }
         let start: Vec<f64> = list.iter().map(|t| t.3).collect();
         let end: Vec<f64> = list.iter().map(|t| t.1).collect();
@@ -504,6 +515,34 @@ impl OperatorServer {
             path_velocity,
         };
         self.motion("move", req, ctx)
+    }
+
+    /// A move whose pp axes the drive moves by itself (`profile::split_move`): the streamed
+    /// axes go to the motion engine first, then each pp axis gets its set-point.
+    fn move_with_profile_axes(
+        &mut self,
+        ctx: &mut Context<'_>,
+        list: Vec<(usize, f64, KinematicLimits)>,
+    ) -> (Reply, Followup) {
+        let (commands, streamed) = match profile::split_move(ctx.cell, list) {
+            Ok(split) => split,
+            Err(e) => return rejected(format!("move: {e}")),
+        };
+        let reply = if streamed.is_empty() {
+            (self.accept("move", false), Followup::None)
+        } else {
+            let r = self.motion("move", MotionRequest::Move(streamed), ctx);
+            if matches!(r.0, Reply::Rejected { .. }) {
+                return r; // nothing sent to the pp axes either
+            }
+            r
+        };
+        // The pp axes start in the streamed motion's first cycle.
+        let start = ctx.engine.start_cycle().unwrap_or(0);
+        match profile::send(ctx.link, commands, start) {
+            Ok(()) => reply,
+            Err(e) => rejected(format!("move: {e}")),
+        }
     }
 
     /// A waypoint move from rest: through each waypoint but the last, to the last at rest.
@@ -568,6 +607,14 @@ impl OperatorServer {
         } else {
             velocity
         };
+        if profile::mode_of(a).is_some() {
+            return match profile::jog(i, a, v, &limits)
+                .and_then(|c| profile::send(ctx.link, vec![c], 0))
+            {
+                Ok(()) => (self.accept("velocity", false), Followup::None),
+                Err(e) => rejected(format!("velocity: {e}")),
+            };
+        }
         self.motion(
             "velocity",
             MotionRequest::Jog {
@@ -586,14 +633,16 @@ impl OperatorServer {
         targets: &BTreeMap<String, f64>,
         seconds: f64,
     ) -> (Reply, Followup) {
-        let mut list = Vec::with_capacity(targets.len());
-        for (axis, torque) in targets {
-            let i = match axis_index(ctx.cell, axis) {
-                Ok(i) => i,
-                Err(e) => return rejected(format!("torque: {e}")),
+        let (drive_side, list) = match profile::split_torque(ctx.cell, targets) {
+            Ok(split) => split,
+            Err(e) => return rejected(format!("torque: {e}")),
+        };
+        if !drive_side.is_empty() {
+            // tq axes hold their torque until a halt or stop (`seconds` is for cst axes).
+            return match profile::send(ctx.link, drive_side, 0) {
+                Ok(()) => (self.accept("torque", false), Followup::None),
+                Err(e) => rejected(format!("torque: {e}")),
             };
-            let slope = ctx.cell.axes[i].torque.map(|t| t.slope).unwrap_or(f64::NAN);
-            list.push((i, *torque, slope));
         }
         if !(seconds.is_finite() && seconds >= 0.0) {
             return rejected(format!(
@@ -660,6 +709,9 @@ impl OperatorServer {
             }
         };
         let abort = ctx.program_running;
+        if let Err(e) = profile::send(ctx.link, profile::halts(ctx.cell, list.as_deref()), 0) {
+            return rejected(format!("halt: {e}"));
+        }
         if !ctx.engine.is_busy() {
             return (self.accept("halt", false), program_abort(abort));
         }

@@ -182,6 +182,9 @@ pub enum Request {
     /// The EtherCAT segment's diagnostics: per SubDevice its links, ESC error counters, AL
     /// status and DC time difference; the master's frame counters.
     BusDiag,
+    /// Write the triggered recording's capture ring now (one file: the last `pre_s` seconds
+    /// and the next `post_s`).
+    Capture,
 }
 
 /// A `param` request's operation.
@@ -239,6 +242,7 @@ impl Request {
             Request::Param { .. } => "param",
             Request::Alarms { .. } => "alarms",
             Request::BusDiag => "bus_diag",
+            Request::Capture => "capture",
         }
     }
 }

@@ -169,7 +169,8 @@ fn step_seconds(path: &Path, key: &str, seconds: f64) -> Result<f64, ConfigError
     ))
 }
 
-/// A torque step: axes in cst, each torque within the axis' torque limit.
+/// A torque step: axes in cst, or axes in tq (their drives ramp the torque, MR-J4-TM manual
+/// §5.4.8; not both kinds in one step), each torque within the axis' torque limit.
 fn torque_step(
     path: &Path,
     key: &str,
@@ -190,19 +191,31 @@ fn torque_step(
         let k = format!("{key}.target.{name}");
         let axis = axis_of(path, k.clone(), &name, cell)?;
         let a = &cell.axes[axis];
-        let Some(limits) = a
-            .torque
-            .filter(|_| a.mode == ModeOfOperation::CyclicSyncTorque)
-        else {
+        let torque_mode = matches!(
+            a.mode,
+            ModeOfOperation::CyclicSyncTorque | ModeOfOperation::ProfileTorque
+        );
+        let Some(limits) = a.torque.filter(|_| torque_mode) else {
             return Err(ConfigError::new(
                 path,
                 k,
                 format!(
-                    "axis '{name}' runs in {}; a torque step needs an axis with mode = \"cst\"",
+                    "axis '{name}' runs in {}; a torque step needs an axis with mode = \"cst\" or \"tq\" and limits.torque",
                     a.mode.as_str()
                 ),
             ));
         };
+        if targets
+            .first()
+            .is_some_and(|t: &TorqueTarget| cell.axes[t.axis].mode != a.mode)
+        {
+            return Err(ConfigError::new(
+                path,
+                k,
+                "cst and tq axes in one torque step (a tq drive ramps by itself): make two steps"
+                    .to_string(),
+            ));
+        }
         if !torque.is_finite() || torque.abs() > limits.max.0 {
             return Err(ConfigError::new(
                 path,

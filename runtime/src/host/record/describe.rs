@@ -41,6 +41,21 @@ pub fn describe_event(e: &EventRecord) -> String {
         EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
         EventKind::RecordsDropped => format!("{} records dropped", e.value),
         EventKind::StartSlipped => format!("the motion started {} cycles late", e.value),
+        EventKind::ProfileStarted => match e.value {
+            1 => "drive-side move (pp)",
+            2 => "drive-side jog (pv)",
+            3 => "drive-side torque (tq)",
+            4 => "halt on",
+            _ => "halt off",
+        }
+        .to_string(),
+        EventKind::ProfileFinished => match e.value {
+            0 => "done",
+            1 => "refused",
+            2 => "cancelled (the drive left Operation enabled, or a stop before its start)",
+            _ => "superseded by the next motion",
+        }
+        .to_string(),
         EventKind::HomingStarted => match e.value {
             crate::handoff::HOME_BY_C_CR => "home setting by C_CR (current position)".to_string(),
             crate::handoff::HOME_BY_C_CR2 => "home setting by C_CR2 (last Z phase)".to_string(),

@@ -15,11 +15,14 @@ use mcap::{Attachment, WriteOptions, Writer};
 use prost::Message;
 use serde::Serialize;
 
+use super::capture::Capturer;
 pub use super::describe::describe_event;
 use super::proto;
 use super::topics::*;
+use crate::config::capture::Quantity;
 use crate::config::{CellConfig, Compression};
 use crate::handoff::{AxisRecord, CycleRecord, EventKind, EventRecord, HostEnd, NO_AXIS};
+use crate::host::live::LiveFeed;
 use crate::rt::clock::realtime_offset_ns;
 use crate::rt::executive::fsa_index;
 
@@ -89,14 +92,16 @@ pub struct Recorder {
     handle: JoinHandle<Result<RecordingInfo, RecorderError>>,
 }
 
-struct Channels {
+/// The channel ids of a cell's recording (the same in every file of the cell).
+#[derive(Debug, Clone)]
+pub(super) struct Channels {
     cycle: u16,
     events: u16,
     axes: Vec<u16>,
 }
 
 /// A file that counts the bytes written to it (for rotation by size).
-struct CountingFile {
+pub(super) struct CountingFile {
     file: BufWriter<File>,
     pos: u64,
     /// Bytes in the file so far, shared with the [`Sink`].
@@ -124,10 +129,10 @@ impl Seek for CountingFile {
     }
 }
 
-struct Sink {
-    writer: Writer<CountingFile>,
+pub(super) struct Sink {
+    pub(super) writer: Writer<CountingFile>,
     channels: Channels,
-    path: PathBuf,
+    pub(super) path: PathBuf,
     /// Bytes written to the file so far.
     len: Arc<AtomicU64>,
     /// When the open chunk was last closed and the file flushed.
@@ -149,7 +154,7 @@ impl Sink {
 
     /// Counts a message of `payload` bytes into the open chunk; the writer closes the chunk
     /// once it reaches the chunk size.
-    fn count_message(&mut self, payload: usize) {
+    pub(super) fn count_message(&mut self, payload: usize) {
         self.chunk_bytes += payload as u64 + MESSAGE_RECORD_OVERHEAD;
         if self.chunk_bytes >= self.chunk_size {
             self.chunks += 1;
@@ -172,7 +177,7 @@ impl Sink {
     }
 
     /// Writes the summary and indexes, syncs, and returns the file and its size.
-    fn finish(mut self) -> Result<(PathBuf, u64), RecorderError> {
+    pub(super) fn finish(mut self) -> Result<(PathBuf, u64), RecorderError> {
         self.writer.finish().map_err(|source| RecorderError::Mcap {
             path: self.path.clone(),
             source,
@@ -213,16 +218,44 @@ impl Recorder {
         path: Option<&Path>,
         handoff: Arc<HostEnd>,
     ) -> Result<Recorder, RecorderError> {
-        let sink = match path {
-            Some(p) => Some(open(cell, p)?),
+        Recorder::start_with_live(cell, path, handoff, None)
+    }
+
+    /// [`Recorder::start`], also offering every encoded record to the live view `live`.
+    pub fn start_with_live(
+        cell: &CellConfig,
+        path: Option<&Path>,
+        handoff: Arc<HostEnd>,
+        live: Option<LiveFeed>,
+    ) -> Result<Recorder, RecorderError> {
+        let live = match live {
+            Some(feed) => {
+                let channels = template_channels(cell).map_err(|source| RecorderError::Mcap {
+                    path: PathBuf::new(),
+                    source,
+                })?;
+                Some((feed, channels))
+            }
             None => None,
+        };
+        let (sink, capture) = match (path, &cell.recording.capture) {
+            (Some(p), Some(c)) => {
+                let channels = template_channels(cell).map_err(|source| RecorderError::Mcap {
+                    path: p.to_path_buf(),
+                    source,
+                })?;
+                handoff.arm_capture();
+                (None, Some(Capturer::new(cell, c.clone(), p, channels)))
+            }
+            (Some(p), None) => (Some(open(cell, p)?), None),
+            (None, _) => (None, None),
         };
         let stop = Arc::new(AtomicBool::new(false));
         let stop2 = stop.clone();
         let cell = cell.clone();
         let handle = std::thread::Builder::new()
             .name("cellrt-recorder".into())
-            .spawn(move || drain_loop(&cell, sink, &handoff, &stop2))
+            .spawn(move || drain_loop(&cell, sink, capture, live, &handoff, &stop2))
             .map_err(|e| RecorderError::Create {
                 path: path.map(Path::to_path_buf).unwrap_or_default(),
                 source: e,
@@ -239,7 +272,7 @@ impl Recorder {
 
 /// Creates the MCAP file of `path` with its schemas, channels, the cell's metadata and its
 /// configuration file attached, and flushes that header to disk.
-fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
+pub(super) fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
     let create_err = |source| RecorderError::Create {
         path: path.to_path_buf(),
         source,
@@ -287,6 +320,12 @@ fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError> {
     Ok(sink)
 }
 
+/// The channel ids every file of `cell` gets (schemas and channels are added in one order).
+fn template_channels(cell: &CellConfig) -> Result<Channels, mcap::McapError> {
+    let mut writer = Writer::new(std::io::Cursor::new(Vec::new()))?;
+    add_channels(&mut writer, cell)
+}
+
 /// The protobuf schemas and the channels: cycle, events, and one per axis (its unit, scaling,
 /// drive and mode as channel metadata).
 fn add_channels<W: Write + Seek>(
@@ -298,12 +337,48 @@ fn add_channels<W: Write + Seek>(
     let cycle_schema = schema(writer, CYCLE_SCHEMA)?;
     let axis_schema = schema(writer, AXIS_SCHEMA)?;
     let event_schema = schema(writer, EVENT_SCHEMA)?;
-    let none = BTreeMap::new();
-    let cycle = writer.add_channel(cycle_schema, CYCLE_TOPIC, "protobuf", &none)?;
-    let events = writer.add_channel(event_schema, EVENTS_TOPIC, "protobuf", &none)?;
-    let mut axes = Vec::with_capacity(cell.axes.len());
-    for a in &cell.axes {
-        let meta = BTreeMap::from([
+    let mut ids = Vec::new();
+    for spec in channel_specs(cell) {
+        let schema = match spec.schema {
+            CYCLE_SCHEMA => cycle_schema,
+            EVENT_SCHEMA => event_schema,
+            _ => axis_schema,
+        };
+        ids.push(writer.add_channel(schema, &spec.topic, "protobuf", &spec.metadata)?);
+    }
+    Ok(Channels {
+        cycle: ids[0],
+        events: ids[1],
+        axes: ids[2..].to_vec(),
+    })
+}
+
+/// A channel of the recording: topic, schema name and metadata.
+#[derive(Debug, Clone)]
+pub struct ChannelSpec {
+    /// Topic.
+    pub topic: String,
+    /// Schema name (in [`proto::FILE_DESCRIPTOR_SET`]).
+    pub schema: &'static str,
+    /// Channel metadata (an axis' unit, scaling, drive and mode).
+    pub metadata: BTreeMap<String, String>,
+}
+
+/// The channels of `cell`'s recording in their one order: cycle, events, one per axis.
+pub fn channel_specs(cell: &CellConfig) -> Vec<ChannelSpec> {
+    let plain = |topic: &str, schema| ChannelSpec {
+        topic: topic.to_string(),
+        schema,
+        metadata: BTreeMap::new(),
+    };
+    let mut specs = vec![
+        plain(CYCLE_TOPIC, CYCLE_SCHEMA),
+        plain(EVENTS_TOPIC, EVENT_SCHEMA),
+    ];
+    specs.extend(cell.axes.iter().map(|a| ChannelSpec {
+        topic: axis_topic(&a.name),
+        schema: AXIS_SCHEMA,
+        metadata: BTreeMap::from([
             ("unit".to_string(), a.unit.clone()),
             (
                 "counts_per_unit".to_string(),
@@ -311,14 +386,15 @@ fn add_channels<W: Write + Seek>(
             ),
             ("drive".to_string(), a.profile.name.to_string()),
             ("mode".to_string(), a.mode.as_str().to_string()),
-        ]);
-        axes.push(writer.add_channel(axis_schema, &axis_topic(&a.name), "protobuf", &meta)?);
-    }
-    Ok(Channels {
-        cycle,
-        events,
-        axes,
-    })
+        ]),
+    }));
+    specs
+}
+
+/// The MCAP channel ids of `cell`'s recording, in [`channel_specs`] order.
+pub fn channel_ids(cell: &CellConfig) -> Result<Vec<u16>, mcap::McapError> {
+    let c = template_channels(cell)?;
+    Ok([c.cycle, c.events].into_iter().chain(c.axes).collect())
 }
 
 /// The cell metadata record (cell, cycle time, axes and their limits, software) and the
@@ -380,6 +456,10 @@ fn write_cell_metadata<W: Write + Seek>(
 struct Drain<'a> {
     cell: &'a CellConfig,
     sink: Option<Sink>,
+    /// Triggered capture instead of `sink`.
+    capture: Option<Capturer>,
+    /// The live view's feed and the channel ids it knows the records by.
+    live: Option<(LiveFeed, Channels)>,
     /// Part number of the open file (rotation).
     part: u32,
     /// Records popped ahead of their cycle record.
@@ -397,12 +477,16 @@ struct Drain<'a> {
 fn drain_loop(
     cell: &CellConfig,
     sink: Option<Sink>,
+    capture: Option<Capturer>,
+    live: Option<(LiveFeed, Channels)>,
     handoff: &HostEnd,
     stop: &AtomicBool,
 ) -> Result<RecordingInfo, RecorderError> {
     let mut d = Drain {
         cell,
         sink,
+        capture,
+        live,
         part: 0,
         pending_axis: None,
         pending_event: None,
@@ -418,6 +502,11 @@ fn drain_loop(
     loop {
         let finishing = stop.load(Ordering::Acquire);
         let mut n = 0usize;
+        if handoff.take_capture_request() {
+            if let Some(c) = d.capture.as_mut() {
+                c.fire(format!("cycle {}: operator request", d.last_cycle));
+            }
+        }
         // Cycle by cycle: the cycle record (it carries the deadline that time-stamps the rest),
         // then that cycle's axis records (pushed before it) and events, so a file rotates at a
         // cycle boundary and messages are in time order.
@@ -444,7 +533,7 @@ fn drain_loop(
             d.flush_if_due(flush_every)?;
         }
         // Without a file (or at the end) nothing waits for its cycle record.
-        if d.sink.is_none() || finishing {
+        if (d.sink.is_none() && d.capture.is_none() && d.live.is_none()) || finishing {
             while let Some(a) = d.pending_axis.take().or_else(|| handoff.pop_axis()) {
                 d.axis(&a, period)?;
                 n += 1;
@@ -465,6 +554,7 @@ fn drain_loop(
     if let Some(sink) = d.sink.take() {
         d.close(sink)?;
     }
+    d.finish_capture();
     Ok(d.info)
 }
 
@@ -530,7 +620,43 @@ impl Drain<'_> {
         (mono + self.offset).max(0) as u64
     }
 
+    /// The channel ids messages are encoded for: the open file's, or the capture's.
+    fn channels(&self) -> Option<&Channels> {
+        self.sink
+            .as_ref()
+            .map(|s| &s.channels)
+            .or(self.capture.as_ref().map(|c| &c.channels))
+            .or(self.live.as_ref().map(|(_, c)| c))
+    }
+
+    /// The open capture's end and the captures written, into the run's recording info.
+    fn finish_capture(&mut self) {
+        let Some(mut c) = self.capture.take() else {
+            return;
+        };
+        if let Err(e) = c.finish(self.cell, self.last_cycle) {
+            self.info.stopped = Some(format!("capture at cycle {}: {e}", self.last_cycle));
+        }
+        for f in c.files {
+            self.info.bytes += std::fs::metadata(&f).map_or(0, |m| m.len());
+            self.info.path.get_or_insert_with(|| f.clone());
+            self.info.files.push(f);
+        }
+    }
+
     fn write(&mut self, channel: u16, log_time: u64) -> Result<(), RecorderError> {
+        if let Some((feed, _)) = &self.live {
+            feed.offer(channel, log_time, &self.buf);
+        }
+        if let Some(c) = self.capture.as_mut() {
+            if let Err(e) = c.record(channel, log_time, self.last_cycle, &self.buf) {
+                // A capture that cannot be written ends the captures, not the cell.
+                tracing::error!("capture stopped at cycle {}: {e}", self.last_cycle);
+                self.finish_capture();
+                self.info.stopped = Some(format!("capture at cycle {}: {e}", self.last_cycle));
+            }
+            return Ok(());
+        }
         let Some(sink) = self.sink.as_mut() else {
             return Ok(());
         };
@@ -586,7 +712,14 @@ impl Drain<'_> {
     fn cycle(&mut self, c: &CycleRecord, period: u64) -> Result<(), RecorderError> {
         self.last_deadline = c.deadline_ns;
         self.last_cycle = c.cycle;
-        let Some(channel) = self.sink.as_ref().map(|s| s.channels.cycle) else {
+        if let Some(capture) = self.capture.as_mut() {
+            if let Err(e) = capture.cycle(self.cell, c.cycle) {
+                tracing::error!("capture stopped at cycle {}: {e}", c.cycle);
+                self.finish_capture();
+                self.info.stopped = Some(format!("capture at cycle {}: {e}", c.cycle));
+            }
+        }
+        let Some(channel) = self.channels().map(|ch| ch.cycle) else {
             return Ok(());
         };
         let msg = proto::CycleStats {
@@ -609,9 +742,8 @@ impl Drain<'_> {
 
     fn axis(&mut self, a: &AxisRecord, period: u64) -> Result<(), RecorderError> {
         let Some(channel) = self
-            .sink
-            .as_ref()
-            .and_then(|s| s.channels.axes.get(a.axis as usize).copied())
+            .channels()
+            .and_then(|ch| ch.axes.get(a.axis as usize).copied())
         else {
             return Ok(());
         };
@@ -645,6 +777,15 @@ impl Drain<'_> {
             status_do_3: u32::from(a.status_do[2]),
             controlword2: u32::from(a.controlword2),
         };
+        if let Some(c) = self.capture.as_mut() {
+            c.on_axis(a.axis as usize, a.cycle, |q| match q {
+                Quantity::FollowingError => msg.following_error,
+                Quantity::ActualPosition => msg.actual_position,
+                Quantity::ActualVelocity => msg.actual_velocity,
+                Quantity::SetpointPosition => msg.setpoint_position,
+                Quantity::SetpointVelocity => msg.setpoint_velocity,
+            });
+        }
         self.buf.clear();
         msg.encode(&mut self.buf).expect("Vec grows");
         let t = self.time_of(a.cycle, period);
@@ -700,7 +841,10 @@ impl Drain<'_> {
         if self.info.event_log.len() < EVENT_LOG_LINES {
             self.info.event_log.push(line.clone());
         }
-        let Some(channel) = self.sink.as_ref().map(|s| s.channels.events) else {
+        if let Some(c) = self.capture.as_mut() {
+            c.on_event(e.kind, &line);
+        }
+        let Some(channel) = self.channels().map(|ch| ch.events) else {
             return Ok(line);
         };
         let msg = proto::Event {

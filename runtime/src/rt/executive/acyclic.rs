@@ -27,6 +27,8 @@ pub(super) enum Pending {
     HomeOffset,
     /// An operator's request (`cellrt sdo`), by its sequence number: its outcome is published.
     User(u16),
+    /// A profile object (6081h, 6083h, 6084h, 6087h) written before a profile axis' motion.
+    ProfileObject(u16),
 }
 
 impl<B: CyclicBus + AcyclicBus> Executive<B> {
@@ -181,6 +183,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 (Pending::HomingMethod, outcome) => {
                     let taken = outcome == SdoOutcome::Downloaded;
                     self.method_written(i, taken);
+                }
+                (Pending::ProfileObject(index), outcome) => {
+                    self.profile_object_written(i, index, outcome == SdoOutcome::Downloaded)
                 }
                 (Pending::User(seq), outcome) => self
                     .handoff

@@ -118,6 +118,8 @@ pub struct AxisChannel {
     pub speed_limit: u32,
     /// 60FFh of the previous cycle, kept when a new one cannot be represented.
     pub sent_velocity: i32,
+    /// A profile axis (pp/pv/tq): its drive-side motion; `None` for a cyclic axis.
+    pub profile: Option<super::profile_axis::ProfileChannel>,
     /// MC_Power of this axis: the operator wants it in Operation enabled. An axis without
     /// power follows its actual position and takes no motion.
     pub powered: bool,
@@ -205,6 +207,9 @@ impl AxisChannel {
                 .speed_limit_to_drive(axis.limits.velocity * axis.scaling.counts_per_unit())
                 .unwrap_or(0),
             sent_velocity: 0,
+            profile: axis
+                .profile_objects
+                .map(|o| super::profile_axis::ProfileChannel::new(o, axis.rated_speed, 0)),
             torque: None,
             braking: false,
             homing: HomingSequencer::new(
@@ -293,7 +298,8 @@ impl AxisChannel {
 
     /// The mode and target this cycle's RxPDO carries. csp: 607Ah only. csv: the setpoint
     /// velocity plus the master's position correction. cst: the torque setpoint while a torque
-    /// motion runs; otherwise (idle, stop ramps, position motions) the axis runs in csv.
+    /// motion runs; otherwise (idle, stop ramps, position motions) the axis runs in csv. pp, pv,
+    /// tq: the axis' own mode, held.
     /// Targets in the drive's units; one the drive's object cannot represent is an error, never
     /// clamped.
     pub fn drive_command(&self) -> Result<DriveCommand, OutOfRange> {
@@ -312,6 +318,18 @@ impl AxisChannel {
                     target_torque: 0,
                 }
             }
+            // A profile axis (pp/pv/tq) stays in its mode with no velocity or torque target;
+            // 607Ah holds the setpoint and no new set-point (bit 4) is given.
+            (
+                m @ (ModeOfOperation::ProfilePosition
+                | ModeOfOperation::ProfileVelocity
+                | ModeOfOperation::ProfileTorque),
+                _,
+            ) => DriveCommand {
+                mode: m,
+                target_velocity: 0,
+                target_torque: 0,
+            },
             _ => DriveCommand {
                 mode: ModeOfOperation::CyclicSyncPosition,
                 target_velocity: 0,
@@ -441,6 +459,7 @@ mod tests {
             .expect("counts/s needs no resolution"),
             speed_limit: 0,
             sent_velocity: 0,
+            profile: None,
             torque: None,
             braking: false,
             homing: HomingSequencer::new(

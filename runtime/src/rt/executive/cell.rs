@@ -99,6 +99,10 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     self.react(StopReason::Command);
                     true
                 }
+                (CellCommand::Stop, CellState::Idle) if self.profile_axes_moving() => {
+                    self.react(StopReason::Command);
+                    true
+                }
                 (CellCommand::Stop, _) => true,
                 // Latched: a motion its blocks would still start from the buffer is refused too.
                 (CellCommand::PlannerLost | CellCommand::PlannerConnected, state) => {
@@ -716,6 +720,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 let Some(sp) = front.get(cycle, i) else {
                     return Lookup::Rejected(i as u16, RejectReason::Malformed);
                 };
+                if ch.profile.is_some() {
+                    // A profile axis' drive moves it; the planner streams none of its motion
+                    // (its rows hold where the planner last saw it).
+                    continue;
+                }
                 if !ch.powered {
                     // Its rows hold (the planner's idea of where it is); anything else is motion.
                     if sp.velocity != 0.0 || sp.torque != 0.0 {
@@ -747,6 +756,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 }
             }
             for (i, ch) in self.axes.iter_mut().enumerate() {
+                if ch.profile.is_some() {
+                    continue; // its setpoint follows the drive (`profile_outputs`)
+                }
                 if !ch.powered {
                     ch.track_actual();
                 } else if let Some(sp) = front.get(cycle, i) {
@@ -777,6 +789,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         self.stop_reason = Some(reason);
         self.reaction = reaction;
         self.finishing = false;
+        self.cancel_pending_profiles();
         self.handoff
             .status()
             .stop_reason
@@ -786,6 +799,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 for ch in &mut self.axes {
                     ch.begin_stop();
                 }
+                self.stop_profile_axes();
             }
             FaultReaction::QuickStop => {
                 for ch in self.axes.iter_mut().filter(|ch| ch.powered) {
@@ -816,6 +830,10 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 // The drive stops on its own: the setpoint follows it (no jump at re-enable).
                 ch.track_actual();
                 ch.stopped = !ch.master.is_enabled();
+            } else if let Some(p) = &ch.profile {
+                // A profile axis halts on the drive's own deceleration (605Dh).
+                ch.stopped = p.at_rest();
+                ch.track_actual();
             } else {
                 ch.stop_step(period);
             }

@@ -8,6 +8,8 @@ mod acyclic;
 mod axis;
 mod cell;
 mod comm_watchdog;
+mod profile_axis;
+mod profile_commands;
 mod rx_command;
 #[cfg(test)]
 mod units_tests;
@@ -142,6 +144,8 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     awaiting_method: Option<crate::handoff::HomeRequest>,
     /// An operator's SDO request taken from the hand-off, waiting for its axis' slot.
     user_sdo: Option<crate::handoff::UserSdo>,
+    /// Per axis: a profile axis' drive-side motion waiting for its start cycle.
+    profile_pending: Vec<Option<crate::handoff::ProfileCommand>>,
     hook: Option<PhaseHook>,
 }
 
@@ -205,6 +209,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             planner_lost: false,
             awaiting_method: None,
             user_sdo: None,
+            profile_pending: vec![None; n],
             hook,
         }
     }
@@ -303,6 +308,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         self.poll_acyclic();
         let quit = self.take_commands();
         self.update_cell();
+        self.take_profile_commands();
         self.write_outputs();
         let sent = MonoTime::now();
         let exchanged = self.bus.exchange(elapsed);
@@ -456,7 +462,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             }
             let ch = &mut self.axes[i];
             let counter = ch.counter.as_mut().map_or(0, |c| c.next_tx());
-            let rx = ch.rx_pdo(&CycleCommand {
+            let mut rx = ch.rx_pdo(&CycleCommand {
                 mode: cmd.mode.as_i8(),
                 controlword,
                 target_position: ch.to_raw(round_counts(ch.setpoint)),
@@ -465,6 +471,8 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 controlword2,
                 counter,
             });
+            self.profile_outputs(i, &mut rx);
+            let controlword = rx.controlword;
             if self.axes[i]
                 .rx_map
                 .encode_rx(&rx, self.bus.rx_image_mut(i))

@@ -1,0 +1,252 @@
+//! Profile velocity mode (pv) of the simulated drive: the drive's own velocity ramp toward
+//! 60FFh and the statusword bits 10 / 12 (MR-J4-TM manual §5.4.7; MR-JET-G-N1 and MR-J5-G-N1
+//! state only "pv: a target velocity" with 6083h/6084h, their bits as CiA 402 [background]).
+//!
+//! * The ramp is linear: the generator velocity (606Bh velocity demand) rises at 6083h and
+//!   falls at 6084h, both time constants in ms from 0 to the rated speed (§5.4.7(4), units as
+//!   pp, `sim::profile_position`). Reversing decelerates to 0 at 6084h, then accelerates at
+//!   6083h. 0 ms means the plant's maximum acceleration.
+//! * Statusword bit 10 **target reached**: with HALT = 0, |606Ch − 60FFh| has stayed within
+//!   606Dh for at least 606Eh; with HALT = 1, the velocity is 0.
+//! * Statusword bit 12 **speed**: 0 once |606Ch| has stayed above 606Fh for at least 6070h,
+//!   1 otherwise ("speed = 0").
+//! * Bit 8 **HALT** ramps the generator to 0 at the drive's halt deceleration (605Dh).
+//!
+//! Velocities are in counts/s of the plant; the drive converts the objects from the model's
+//! velocity unit. Allocation-free: plain copies only.
+
+/// Statusword bit 10 in pv: target reached.
+pub const TARGET_REACHED: u16 = 1 << 10;
+/// Statusword bit 12 in pv: speed (1 = speed is 0).
+pub const SPEED_ZERO: u16 = 1 << 12;
+
+/// pv objects the MR-JET / MR-J5 manuals do not give (used where the model's object dictionary
+/// has no default and the object was not written by SDO). Defaults: the MR-J4-TM manual §5.4.7
+/// object table, in the model's velocity unit (LSBs) and ms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PvParams {
+    /// 606Dh Velocity window, velocity-unit LSBs (2000 = 20.00 r/min at 0.01 r/min).
+    pub velocity_window: u32,
+    /// 606Eh Velocity window time, ms.
+    pub velocity_window_time_ms: u32,
+    /// 606Fh Velocity threshold, velocity-unit LSBs (5000 = 50.00 r/min at 0.01 r/min).
+    pub velocity_threshold: u32,
+    /// 6070h Velocity threshold time, ms.
+    pub velocity_threshold_time_ms: u32,
+}
+
+impl Default for PvParams {
+    fn default() -> Self {
+        PvParams {
+            velocity_window: 2_000,
+            velocity_window_time_ms: 0,
+            velocity_threshold: 5_000,
+            velocity_threshold_time_ms: 10,
+        }
+    }
+}
+
+/// One cycle's pv inputs, resolved by the drive (counts/s, counts/s², s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct PvCommand {
+    /// HALT (controlword bit 8).
+    pub halt: bool,
+    /// 60FFh as received, counts/s (what bit 10 compares with).
+    pub target: f64,
+    /// 60FFh after 607Fh / 6080h / the plant's maximum speed, counts/s.
+    pub limited_target: f64,
+    /// From 6083h, counts/s².
+    pub acceleration: f64,
+    /// From 6084h, counts/s².
+    pub deceleration: f64,
+    /// HALT deceleration, counts/s².
+    pub halt_deceleration: f64,
+    /// 606Dh, counts/s.
+    pub window: f64,
+    /// 606Eh, s.
+    pub window_time_s: f64,
+    /// 606Fh, counts/s.
+    pub threshold: f64,
+    /// 6070h, s.
+    pub threshold_time_s: f64,
+}
+
+/// The pv state of one axis.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) struct ProfileVelocity {
+    /// Generator velocity (606Bh), counts/s.
+    vel: f64,
+    /// Time |606Ch − 60FFh| has stayed within 606Dh, s.
+    in_window_s: f64,
+    /// Time |606Ch| has stayed above 606Fh, s.
+    over_threshold_s: f64,
+    reached: bool,
+    moving: bool,
+}
+
+/// Slack (s) on the window and threshold times, against float sums of cycle times.
+const TIME_SLACK_S: f64 = 1e-9;
+
+impl ProfileVelocity {
+    /// Restarts with the generator at `velocity` (counts/s): servo on or entering pv.
+    pub(crate) fn reset(&mut self, velocity: f64) {
+        *self = ProfileVelocity {
+            vel: velocity,
+            ..ProfileVelocity::default()
+        };
+    }
+
+    /// The generator velocity (606Bh), counts/s.
+    pub(crate) fn velocity(&self) -> f64 {
+        self.vel
+    }
+
+    /// Statusword bits 10 and 12.
+    pub(crate) fn status_bits(&self) -> u16 {
+        (if self.reached { TARGET_REACHED } else { 0 }) | (if self.moving { 0 } else { SPEED_ZERO })
+    }
+
+    /// One cycle of `dt` s: ramps the generator and updates bits 10/12 from the motor's
+    /// `actual` velocity (counts/s). Returns the generator velocity.
+    pub(crate) fn step(&mut self, cmd: &PvCommand, actual: f64, dt: f64) -> f64 {
+        if dt > 0.0 && dt.is_finite() {
+            let (goal, halt_rate) = if cmd.halt {
+                (0.0, Some(cmd.halt_deceleration))
+            } else {
+                (cmd.limited_target, None)
+            };
+            self.ramp(goal, cmd, halt_rate, dt);
+        }
+        self.update_bits(cmd, actual, dt.max(0.0));
+        self.vel
+    }
+
+    /// One ramp step toward `goal`: 6083h while the speed grows in the same direction, 6084h
+    /// (or the halt rate) while it falls; a reversal stops at 0 for the cycle.
+    fn ramp(&mut self, goal: f64, cmd: &PvCommand, halt_rate: Option<f64>, dt: f64) {
+        let v = self.vel;
+        if v == goal {
+            return;
+        }
+        let speeding_up = v == 0.0 || (v.signum() == goal.signum() && goal.abs() > v.abs());
+        let rate = if speeding_up {
+            cmd.acceleration
+        } else {
+            halt_rate.unwrap_or(cmd.deceleration)
+        };
+        let step = rate * dt;
+        // Where the speed falls, the end of this cycle's ramp is 0 on a reversal.
+        let end = if !speeding_up && v.signum() != goal.signum() {
+            0.0
+        } else {
+            goal
+        };
+        let next = v + (end - v).signum() * step;
+        // Land on the end exactly: past it, or within a micro-count/s of float error.
+        let rest = end - next;
+        self.vel = if rest * (end - v) <= 0.0 || rest.abs() <= 1e-6 {
+            end
+        } else {
+            next
+        };
+    }
+
+    fn update_bits(&mut self, cmd: &PvCommand, actual: f64, dt: f64) {
+        if actual.abs() > cmd.threshold {
+            self.over_threshold_s += dt;
+        } else {
+            self.over_threshold_s = 0.0;
+        }
+        self.moving = actual.abs() > cmd.threshold
+            && self.over_threshold_s + TIME_SLACK_S >= cmd.threshold_time_s;
+        if cmd.halt {
+            // "HALT = 1: 1 = velocity 0" (606Ch, rounded counts/s).
+            self.in_window_s = 0.0;
+            self.reached = self.vel == 0.0 && actual.abs() < 0.5;
+            return;
+        }
+        if (actual - cmd.target).abs() <= cmd.window {
+            self.in_window_s += dt;
+            self.reached = self.in_window_s + TIME_SLACK_S >= cmd.window_time_s;
+        } else {
+            self.in_window_s = 0.0;
+            self.reached = false;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 3000 counts/s per ms of ramp: 6083h = 100 ms and 6084h = 50 ms to 300 000 counts/s.
+    fn cmd(target: f64) -> PvCommand {
+        PvCommand {
+            halt: false,
+            target,
+            limited_target: target,
+            acceleration: 300_000.0 * 1000.0 / 100.0,
+            deceleration: 300_000.0 * 1000.0 / 50.0,
+            halt_deceleration: 300_000.0 * 1000.0 / 50.0,
+            window: 1_000.0,
+            window_time_s: 0.0,
+            threshold: 2_000.0,
+            threshold_time_s: 0.010,
+        }
+    }
+
+    /// Cycles (1 ms) until the generator equals `goal`, the motor ideal (actual = generator).
+    fn cycles_to(pv: &mut ProfileVelocity, c: &PvCommand, goal: f64) -> u32 {
+        for k in 1..=10_000 {
+            let v = pv.vel;
+            pv.step(c, v, 1e-3);
+            if pv.vel == goal {
+                return k;
+            }
+        }
+        panic!("never reached {goal}: {}", pv.vel);
+    }
+
+    #[test]
+    fn ramps_take_the_time_constant_share_of_the_rated_speed() {
+        let mut pv = ProfileVelocity::default();
+        // 150 000 counts/s is half the rated speed: half of 6083h = 100 ms → 50 cycles.
+        assert_eq!(cycles_to(&mut pv, &cmd(150_000.0), 150_000.0), 50);
+        // Down to 0 at half of 6084h = 50 ms → 25 cycles.
+        assert_eq!(cycles_to(&mut pv, &cmd(0.0), 0.0), 25);
+        // A reversal: 25 cycles down at 6084h, then 50 up at 6083h (the zero-crossing cycle
+        // stops at 0).
+        pv.reset(150_000.0);
+        assert_eq!(cycles_to(&mut pv, &cmd(-150_000.0), -150_000.0), 75);
+    }
+
+    #[test]
+    fn bit_12_needs_the_threshold_time_and_halt_ramps_to_zero() {
+        let mut pv = ProfileVelocity::default();
+        let c = cmd(150_000.0);
+        let mut first_moving = None;
+        for k in 1..=60 {
+            let v = pv.vel;
+            pv.step(&c, v, 1e-3);
+            if pv.status_bits() & SPEED_ZERO == 0 && first_moving.is_none() {
+                first_moving = Some(k);
+            }
+        }
+        // The generator passes 2000 counts/s in cycle 1 (3000 counts/s); the motor reported
+        // at the start of cycle k is the generator of cycle k − 1: over the threshold from
+        // cycle 2, bit 12 = 0 once 10 ms have elapsed there, in cycle 11.
+        assert_eq!(first_moving, Some(11));
+        assert_ne!(pv.status_bits() & TARGET_REACHED, 0);
+        let h = PvCommand { halt: true, ..c };
+        let mut k = 0;
+        while pv.vel != 0.0 {
+            let v = pv.vel;
+            pv.step(&h, v, 1e-3);
+            assert_eq!(pv.status_bits() & TARGET_REACHED, 0, "decelerating");
+            k += 1;
+        }
+        assert_eq!(k, 25, "halt at 6084h");
+        pv.step(&h, 0.0, 1e-3);
+        assert_eq!(pv.status_bits(), TARGET_REACHED | SPEED_ZERO);
+    }
+}

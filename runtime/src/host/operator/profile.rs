@@ -1,0 +1,183 @@
+//! Operator requests on profile axes (pp/pv/tq): `move`, `velocity`, `torque` and `halt` turned
+//! into the drive-side motions the RT thread runs (`handoff::ProfileCommand`), in counts, with
+//! the request's (or the axis') limits as the drive's profile.
+
+use cellrt_trajectory::KinematicLimits;
+
+use std::collections::BTreeMap;
+
+use super::targets::axis_index;
+use crate::config::{AxisConfig, CellConfig, ProfileMode, DEFAULT_TORQUE_SLOPE};
+use crate::handoff::{ProfileCommand, ProfileMotion};
+use crate::host::link::CellLink;
+
+/// A cst torque target: (axis, torque %, slope %/s).
+type TorqueTarget = (usize, f64, f64);
+
+/// A move's targets: (axis, target, limits).
+pub(crate) type Targets = Vec<(usize, f64, KinematicLimits)>;
+
+/// Splits a move into the pp axes' set-points and the streamed axes' targets; an axis in pv or
+/// tq is refused.
+pub(crate) fn split_move(
+    cell: &CellConfig,
+    list: Targets,
+) -> Result<(Vec<ProfileCommand>, Targets), String> {
+    let (drive_side, streamed): (Targets, Targets) = list
+        .into_iter()
+        .partition(|t| mode_of(&cell.axes[t.0]).is_some());
+    let commands = drive_side
+        .iter()
+        .map(|(i, target, limits)| move_to(*i, &cell.axes[*i], *target, limits))
+        .collect::<Result<_, _>>()?;
+    Ok((commands, streamed))
+}
+
+/// Splits a torque request into the tq axes' commands and the cst axes' (axis, torque, slope);
+/// both kinds in one request are refused (the tq drive holds its torque, cst axes only for the
+/// request's `seconds`).
+pub(super) fn split_torque(
+    cell: &CellConfig,
+    targets: &BTreeMap<String, f64>,
+) -> Result<(Vec<ProfileCommand>, Vec<TorqueTarget>), String> {
+    let mut drive_side = Vec::new();
+    let mut streamed = Vec::new();
+    for (axis, t) in targets {
+        let i = axis_index(cell, axis).map_err(|e| e.to_string())?;
+        let a = &cell.axes[i];
+        if mode_of(a).is_some() {
+            drive_side.push(torque(i, a, *t)?);
+        } else {
+            streamed.push((i, *t, a.torque.map(|t| t.slope).unwrap_or(f64::NAN)));
+        }
+    }
+    if !drive_side.is_empty() && !streamed.is_empty() {
+        return Err(
+            "cst and tq axes in one command (the tq drive holds its torque, cst axes \
+                    for `seconds`): send them apart"
+                .into(),
+        );
+    }
+    Ok((drive_side, streamed))
+}
+
+/// HALT for the profile axes among `axes` (all when `None`).
+pub(crate) fn halts(cell: &CellConfig, axes: Option<&[usize]>) -> Vec<ProfileCommand> {
+    (0..cell.axes.len())
+        .filter(|i| axes.is_none_or(|l| l.contains(i)))
+        .filter(|&i| mode_of(&cell.axes[i]).is_some())
+        .map(halt)
+        .collect()
+}
+
+/// Sends drive-side motions to the RT thread, in order, to start in `start_cycle` (that of the
+/// streamed motion they go with; 0: at once).
+pub(crate) fn send(
+    link: &mut dyn CellLink,
+    commands: Vec<ProfileCommand>,
+    start_cycle: u64,
+) -> Result<(), String> {
+    for c in commands {
+        link.profile(ProfileCommand { start_cycle, ..c })
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// The profile mode of axis `a`, `None` for a streamed (csp/csv/cst) axis.
+pub(super) fn mode_of(a: &AxisConfig) -> Option<ProfileMode> {
+    a.profile_objects.map(|p| p.mode)
+}
+
+/// A request the axis' profile mode does not take, naming what it would need.
+fn wrong_mode(a: &AxisConfig, what: &str, needs: &str) -> String {
+    format!(
+        "axis '{}' runs in {} (the drive's profile): {what} needs {needs}",
+        a.name,
+        a.mode.as_str()
+    )
+}
+
+/// `move` of a pp axis to `target` (units) with `limits`: a single set-point (it replaces a
+/// move in progress, PLCopen "aborting").
+fn move_to(
+    i: usize,
+    a: &AxisConfig,
+    target: f64,
+    limits: &KinematicLimits,
+) -> Result<ProfileCommand, String> {
+    if mode_of(a) != Some(ProfileMode::Position) {
+        return Err(wrong_mode(a, "move", "a csp, csv, cst or pp axis"));
+    }
+    let s = a.scaling.counts_per_unit();
+    let target = a
+        .scaling
+        .to_counts_i32(target)
+        .map_err(|e| format!("axis '{}': {e}", a.name))?;
+    Ok(ProfileCommand {
+        axis: i as u16,
+        motion: ProfileMotion::Move {
+            target,
+            velocity: limits.velocity * s,
+            acceleration: limits.acceleration * s,
+            deceleration: limits.acceleration * s,
+            immediate: true,
+        },
+        start_cycle: 0,
+    })
+}
+
+/// `velocity` of a pv axis: runs at `velocity` (unit/s) ramping at `limits.acceleration`.
+pub(crate) fn jog(
+    i: usize,
+    a: &AxisConfig,
+    velocity: f64,
+    limits: &KinematicLimits,
+) -> Result<ProfileCommand, String> {
+    if mode_of(a) != Some(ProfileMode::Velocity) {
+        return Err(wrong_mode(a, "velocity", "a csp, csv, cst or pv axis"));
+    }
+    let s = a.scaling.counts_per_unit();
+    Ok(ProfileCommand {
+        axis: i as u16,
+        motion: ProfileMotion::Jog {
+            velocity: velocity * s,
+            acceleration: limits.acceleration * s,
+            deceleration: limits.acceleration * s,
+        },
+        start_cycle: 0,
+    })
+}
+
+/// `torque` on a tq axis: `torque` % at the axis' `limits.torque_slope` (or the default),
+/// within `limits.torque` where configured. The drive holds it until a halt or stop.
+fn torque(i: usize, a: &AxisConfig, torque: f64) -> Result<ProfileCommand, String> {
+    if mode_of(a) != Some(ProfileMode::Torque) {
+        return Err(wrong_mode(a, "torque", "a cst or tq axis"));
+    }
+    if let Some(max) = a.torque.map(|t| t.max.0) {
+        if !torque.is_finite() || torque.abs() > max {
+            return Err(format!(
+                "torque {torque} % is outside the torque limit ±{max} % of axis '{}'",
+                a.name
+            ));
+        }
+    }
+    Ok(ProfileCommand {
+        axis: i as u16,
+        motion: ProfileMotion::Torque {
+            torque,
+            slope: a.torque.map_or(DEFAULT_TORQUE_SLOPE, |t| t.slope),
+        },
+        start_cycle: 0,
+    })
+}
+
+/// `halt` of a profile axis: HALT (controlword bit 8), the drive stops per its 605Dh.
+fn halt(i: usize) -> ProfileCommand {
+    ProfileCommand {
+        axis: i as u16,
+        motion: ProfileMotion::Halt(true),
+        start_cycle: 0,
+    }
+}

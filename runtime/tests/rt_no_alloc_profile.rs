@@ -1,0 +1,148 @@
+//! Rule 1 of the RT thread for a cell of profile axes (issue 19): pp, pv and tq axes on the
+//! MR-J5-G-N1 (profile objects written by SDO) and a pp axis on the MR-J4-TM in PA01 `___2`
+//! (objects in its 1601h RxPDO) run drive-side motions, halts and a cell stop, and the RT loop
+//! allocates nothing in steady state.
+
+mod common;
+#[path = "support/rt_thread.rs"]
+mod rt_thread;
+
+use std::path::Path;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+use cellrt_runtime::config::CellConfig;
+use cellrt_runtime::handoff::{
+    self, CellCommand, CellState, EventKind, HostEnd, ProfileCommand, ProfileMotion,
+};
+use cellrt_runtime::rt::executive::WARMUP_CYCLES;
+use cellrt_runtime::services;
+use common::{hook, marked_heap_calls, LOOPS_EXITED};
+
+fn axis(name: &str, drive: &str, mode: &str, extra: &str) -> String {
+    format!(
+        r#"
+[[axes]]
+name = "{name}"
+drive = "{drive}"
+mode = "{mode}"
+{extra}
+unit = "mm"
+counts_per_unit = 1000
+limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0 }}
+sim = {{ initial_position = 100.0 }}
+"#
+    )
+}
+
+fn wait(h: &HostEnd, done: impl Fn(&HostEnd) -> bool, what: &str) {
+    let end = Instant::now() + Duration::from_secs(20);
+    while !done(h) {
+        assert!(Instant::now() < end, "never {what}");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}
+
+#[test]
+fn profile_axes_run_without_allocating_on_the_rt_thread() {
+    let j5 = "motor = { counts_per_rev = 10000, rated_speed = 3000 }";
+    let j4 = "mode_group = \"profile\"\nmotor = { counts_per_rev = 10000, rated_speed = 3000 }";
+    let text = format!(
+        "[cell]\nname = \"na-prof-{}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n{}{}{}{}",
+        std::process::id(),
+        axis("p", "mr-j5-g-n1", "pp", j5),
+        axis("v", "mr-j5-g-n1", "pv", j5),
+        axis("t", "mr-j5-g-n1", "tq", j5),
+        axis("q", "mr-j4-tm", "pp", j4),
+    );
+    let cell = CellConfig::parse(Path::new("na-profile.toml"), &text).unwrap();
+    let (rt_end, h) = handoff::new(cell.axes.len(), 1000, false);
+    let node = services::node(&cell.name, "test").unwrap();
+    let _publisher = services::setpoint_publisher(&node, &cell.name, cell.axes.len()).unwrap();
+    let rt = rt_thread::spawn_rt(&cell, rt_end, Some(hook));
+    h.send_command(CellCommand::PowerOn).unwrap();
+    wait(&h, |h| h.status().state() == CellState::Idle, "idle");
+    wait(
+        &h,
+        |h| h.status().cycle() > WARMUP_CYCLES + 50,
+        "steady state",
+    );
+    let before = marked_heap_calls();
+    let mut finished = 0;
+    let mut count_finished = |h: &HostEnd| {
+        while let Some(e) = h.pop_event() {
+            if e.kind == EventKind::ProfileFinished {
+                assert_eq!(e.value, 0, "{e:?}");
+                finished += 1;
+            }
+        }
+        finished
+    };
+    let send = |axis: u16, motion: ProfileMotion| {
+        h.send_profile_command(ProfileCommand {
+            axis,
+            motion,
+            start_cycle: 0,
+        })
+        .unwrap();
+    };
+    let profile = |target: i32| ProfileMotion::Move {
+        target,
+        velocity: 50_000.0,
+        acceleration: 500_000.0,
+        deceleration: 500_000.0,
+        immediate: true,
+    };
+    send(0, profile(120_000));
+    send(
+        1,
+        ProfileMotion::Jog {
+            velocity: 20_000.0,
+            acceleration: 400_000.0,
+            deceleration: 400_000.0,
+        },
+    );
+    send(
+        2,
+        ProfileMotion::Torque {
+            torque: 5.0,
+            slope: 100.0,
+        },
+    );
+    send(3, profile(80_000));
+    let end = Instant::now() + Duration::from_secs(20);
+    while count_finished(&h) < 4 {
+        assert!(Instant::now() < end, "motions never finished");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    send(2, ProfileMotion::Halt(true));
+    while count_finished(&h) < 5 {
+        assert!(Instant::now() < end, "halt never finished");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    // The pv axis still runs: a cell stop halts it, the cell is idle again.
+    h.send_command(CellCommand::Stop).unwrap();
+    let mut stop_finished = false;
+    while !stop_finished {
+        assert!(Instant::now() < end, "stop never finished");
+        while let Some(e) = h.pop_event() {
+            stop_finished |= e.kind == EventKind::StopFinished;
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    wait(&h, |h| h.status().state() == CellState::Idle, "idle again");
+    h.send_command(CellCommand::PowerOff).unwrap();
+    wait(
+        &h,
+        |h| h.status().state() == CellState::Disabled,
+        "disabled",
+    );
+    h.send_command(CellCommand::Quit).unwrap();
+    rt.join().unwrap();
+    assert_eq!(
+        marked_heap_calls() - before,
+        0,
+        "the RT loop allocated in steady state"
+    );
+    assert_eq!(LOOPS_EXITED.load(Ordering::Relaxed), 1);
+}

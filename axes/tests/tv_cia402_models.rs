@@ -914,13 +914,11 @@ fn generic_cia402_mode_switch_csp_csv_cst() {
     assert!(d.plant().velocity() > v0 && v0 > 0.0, "{v0}");
 }
 
-#[test]
-fn generic_cia402_following_error_and_overspeed_are_cia402_codes() {
-    let p = profile(DriveModel::GenericCia402);
-    assert_eq!(p.following_error_alarm, 0x8611);
-    assert_eq!(p.overspeed_alarm, 0x8400);
+/// A `model` drive with a 5000-count following-error limit, enabled in csp and commanded
+/// ahead by 1000 counts a cycle until it faults.
+fn run_into_following_error(model: DriveModel) -> SimDrive {
     let mut d = drive(
-        DriveModel::GenericCia402,
+        model,
         1000,
         SimDriveParams {
             following_error_limit: 5_000,
@@ -937,8 +935,28 @@ fn generic_cia402_following_error_and_overspeed_are_cia402_codes() {
             break;
         }
     }
+    d
+}
+
+#[test]
+fn generic_cia402_following_error_and_overspeed_are_cia402_codes() {
+    let p = profile(DriveModel::GenericCia402);
+    assert_eq!(p.following_error_alarm, 0x8611);
+    assert_eq!(p.overspeed_alarm, 0x8400);
+    let d = run_into_following_error(DriveModel::GenericCia402);
     assert_eq!(d.alarm(), Some(0x8611));
     assert_eq!(d.tx_pdo().error_code, 0x8611, "603Fh in the default TxPDO");
+}
+
+#[test]
+fn mr_j3_t04_following_error_alarm_lands_in_its_alarm_history() {
+    // MR-J3-T04 manual §8.9: the newest alarm in 2030h; AL.52 (standard MR-J3-A error
+    // excessive) is the profile's following-error alarm.
+    let d = run_into_following_error(DriveModel::MrJ3T04);
+    assert_eq!(d.alarm(), Some(0x0052));
+    assert_eq!(d.sdo_upload(0x2030, 1), Ok(0x0052));
+    assert_eq!(d.sdo_upload(0x2031, 1), Ok(0));
+    assert_eq!(d.alarm_history().entry(0).number, 0x0052);
 }
 
 #[test]

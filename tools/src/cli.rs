@@ -46,6 +46,11 @@ pub enum Command {
     /// Read or write one object of an axis' drive on a running cell (SDO), checked against
     /// the drive's object dictionary first.
     Sdo(crate::commands::sdo::SdoArgs),
+    /// Servo parameters of an axis' drive by their manual names (PA14, PC02, …): list, get,
+    /// set (range-checked first), save (1010h), diff against the initial values.
+    Param(crate::commands::param::ParamArgs),
+    /// The alarm history of an axis' drive, or `--clear` it.
+    Alarms(crate::commands::param::AlarmsArgs),
     /// Operator commands to a running cell.
     #[command(flatten)]
     Operate(crate::commands::operate::OperatorCommand),

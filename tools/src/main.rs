@@ -32,6 +32,8 @@ fn main() {
         cli::Command::Esi(args) => commands::esi::run(args),
         cli::Command::Bench(args) => commands::bench::run(args, cli.target.cell.clone()),
         cli::Command::Sdo(args) => commands::sdo::run(args, cli.target),
+        cli::Command::Param(args) => commands::param::run(args, cli.target),
+        cli::Command::Alarms(args) => commands::param::run_alarms(args, cli.target),
         cli::Command::Operate(c) => commands::operate::run(c, cli.target),
     };
     std::process::exit(code.code());

@@ -7,67 +7,24 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{cellrt_on_cell, unique_cell_name};
-
-struct Cell {
-    name: String,
-    child: Child,
-}
+/// A shipped configuration running for `cellrt bus diag`.
+struct Cell(common::cell::Cell);
 
 impl Cell {
     /// `config` under a unique name, with `append` added to its text, on the in-process bus
     /// for EtherCAT configs.
     fn start(dir: &Path, config: &str, old_name: &str, append: &str, extra: &[&str]) -> Cell {
-        let configs = concat!(env!("CARGO_MANIFEST_DIR"), "/../configs");
-        let name = unique_cell_name();
-        let text = std::fs::read_to_string(format!("{configs}/{config}"))
-            .unwrap()
-            .replace(
-                &format!("name = \"{old_name}\""),
-                &format!("name = \"{name}\""),
-            )
-            .replace("cpu = 1", "# cpu = 1")
-            .replace(
-                "max_consecutive_overruns = 100",
-                "max_consecutive_overruns = 0",
-            )
-            + append;
-        let cfg = dir.join(config);
-        std::fs::write(&cfg, text).unwrap();
-        let child = Command::new(env!("CARGO_BIN_EXE_cellrt"))
-            .arg("run")
-            .arg(&cfg)
-            .args(["--no-program", "--duration", "120", "--no-record"])
-            .args(extra)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let cell = Cell { name, child };
-        let end = Instant::now() + Duration::from_secs(30);
-        while cellrt_on_cell(&cell.name, &["status"]).0 != 0 {
-            assert!(Instant::now() < end, "the cell did not come up");
-            std::thread::sleep(Duration::from_millis(100));
-        }
-        cell
+        let ready = ["status"];
+        Cell(common::cell::Cell::shipped(
+            dir, config, old_name, extra, append, &ready,
+        ))
     }
 
     fn diag(&self, args: &[&str]) -> (i32, String, String) {
         let all: Vec<&str> = ["bus", "diag"].iter().chain(args).copied().collect();
-        cellrt_on_cell(&self.name, &all)
-    }
-}
-
-impl Drop for Cell {
-    fn drop(&mut self) {
-        let _ = nix::sys::signal::kill(
-            nix::unistd::Pid::from_raw(self.child.id() as i32),
-            nix::sys::signal::Signal::SIGINT,
-        );
-        let _ = self.child.wait();
+        self.0.cli(&all)
     }
 }
 

@@ -5,61 +5,25 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
 
 use cellrt_axes::ethercat::master::abort_meaning;
 use cellrt_runtime::host::operator::wire::{Reply, SdoAnswer};
-use common::unique_cell_name;
+use common::cell::Cell;
 
-/// A running cell (`cellrt run --no-program`), stopped by SIGINT when dropped.
-struct Cell {
-    name: String,
-    child: Child,
-}
+/// A shipped configuration running for `cellrt sdo`.
+struct SdoCell(Cell);
 
-impl Cell {
+impl SdoCell {
     /// Starts `config` (a shipped configuration) under a unique name with `extra` arguments.
-    fn start(dir: &Path, config: &str, old_name: &str, extra: &[&str]) -> Cell {
-        let configs = concat!(env!("CARGO_MANIFEST_DIR"), "/../configs");
-        let name = unique_cell_name();
-        let text = std::fs::read_to_string(format!("{configs}/{config}"))
-            .unwrap()
-            .replace(
-                &format!("name = \"{old_name}\""),
-                &format!("name = \"{name}\""),
-            )
-            .replace("cpu = 1", "# cpu = 1")
-            .replace("esi = \"esi/", &format!("esi = \"{configs}/esi/"))
-            .replace(
-                "max_consecutive_overruns = 100",
-                "max_consecutive_overruns = 0",
-            );
-        assert!(text.contains(&name));
-        let cfg = dir.join(config);
-        std::fs::write(&cfg, text).unwrap();
-        let child = Command::new(env!("CARGO_BIN_EXE_cellrt"))
-            .arg("run")
-            .arg(&cfg)
-            .args(["--no-program", "--duration", "120", "--no-record"])
-            .args(extra)
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let cell = Cell { name, child };
-        let end = Instant::now() + Duration::from_secs(30);
-        while cell.sdo(&["read", "x", "6041"]).0 != 0 {
-            assert!(Instant::now() < end, "the cell did not come up");
-            std::thread::sleep(Duration::from_millis(100));
-        }
-        cell
+    fn start(dir: &Path, config: &str, old_name: &str, extra: &[&str]) -> SdoCell {
+        let ready = ["sdo", "read", "x", "6041"];
+        SdoCell(Cell::shipped(dir, config, old_name, extra, "", &ready))
     }
 
     /// Runs `cellrt sdo ARGS --cell NAME`; returns exit code, stdout, stderr.
     fn sdo(&self, args: &[&str]) -> (i32, String, String) {
         let args: Vec<&str> = std::iter::once("sdo").chain(args.iter().copied()).collect();
-        common::cellrt_on_cell(&self.name, &args)
+        self.0.cli(&args)
     }
 
     /// The printed line of a successful `cellrt sdo ARGS`.
@@ -71,30 +35,14 @@ impl Cell {
 
     /// Expects a refusal (exit 3) whose message contains `why`; returns the message.
     fn refused(&self, args: &[&str], why: &str) -> String {
-        let (code, out, err) = self.sdo(args);
-        assert_eq!(code, 3, "cellrt sdo {args:?} should be refused: {out}{err}");
-        assert!(
-            err.contains(why),
-            "cellrt sdo {args:?}: '{err}' lacks '{why}'"
-        );
-        assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
-        err
-    }
-}
-
-impl Drop for Cell {
-    fn drop(&mut self) {
-        let _ = nix::sys::signal::kill(
-            nix::unistd::Pid::from_raw(self.child.id() as i32),
-            nix::sys::signal::Signal::SIGINT,
-        );
-        let _ = self.child.wait();
+        let args: Vec<&str> = std::iter::once("sdo").chain(args.iter().copied()).collect();
+        self.0.refused(&args, why)
     }
 }
 
 /// configs/ethercat-cell.toml on the in-process emulated segment.
-fn ethercat_cell(dir: &Path) -> Cell {
-    Cell::start(
+fn ethercat_cell(dir: &Path) -> SdoCell {
+    SdoCell::start(
         dir,
         "ethercat-cell.toml",
         "ethercat",
@@ -188,7 +136,7 @@ fn sdo_reads_and_writes_the_emulated_ethercat_drives_and_refuses_what_must_not_b
 #[test]
 fn sdo_reads_the_simulated_drives() {
     let dir = tempfile::tempdir().unwrap();
-    let cell = Cell::start(dir.path(), "demo.toml", "demo", &[]);
+    let cell = SdoCell::start(dir.path(), "demo.toml", "demo", &[]);
     let line = cell.ok(&["read", "y", "6041"]);
     assert!(
         line.starts_with("y 6041h:00 Statusword (UNSIGNED16)"),
@@ -204,7 +152,7 @@ fn sdo_reads_the_simulated_drives() {
 #[test]
 fn sdo_on_an_esi_axis_follows_the_esi_dictionary() {
     let dir = tempfile::tempdir().unwrap();
-    let cell = Cell::start(dir.path(), "cia402-esi.toml", "cia402-esi", &[]);
+    let cell = SdoCell::start(dir.path(), "cia402-esi.toml", "cia402-esi", &[]);
     assert_eq!(
         cell.ok(&["read", "x", "6061"]),
         "x 6061h:00 Modes of operation display (INTEGER8) = 8 (0x08)"
@@ -235,17 +183,17 @@ fn sdo_on_an_esi_axis_follows_the_esi_dictionary() {
 fn sdo_reads_around_a_homing_neither_fail_it_nor_wait_for_it() {
     let dir = tempfile::tempdir().unwrap();
     let cell = ethercat_cell(dir.path());
-    let (code, out, err) = common::cellrt_on_cell(&cell.name, &["power", "on"]);
+    let (code, out, err) = common::cellrt_on_cell(&cell.0.name, &["power", "on"]);
     assert_eq!(code, 0, "{out}{err}");
     for round in 0..2 {
-        let name = cell.name.clone();
+        let name = cell.0.name.clone();
         // Reads of y's 6061h while y homes (its 6098h write and mode changes are SDOs too).
         let reads = std::thread::spawn(move || {
             (0..15)
                 .map(|_| common::cellrt_on_cell(&name, &["sdo", "read", "y", "6061"]))
                 .collect::<Vec<_>>()
         });
-        let (code, out, err) = common::cellrt_on_cell(&cell.name, &["home", "y"]);
+        let (code, out, err) = common::cellrt_on_cell(&cell.0.name, &["home", "y"]);
         assert_eq!(code, 0, "homing {round}: {out}{err}");
         for (code, out, err) in reads.join().unwrap() {
             match code {

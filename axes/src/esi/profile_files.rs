@@ -82,9 +82,12 @@ fn flags(p: &DriveProfile, o: &OdEntry) -> String {
 /// unit's modes (the multi-axis MR-J5 units share the 1-axis table, whose 6502h also lists
 /// pv and tq, which they cannot use: MR-J5-G-N1 manual §1.2, §6.1 *2).
 fn described(p: &DriveProfile) -> Vec<OdEntry> {
+    let parameters = p.parameters.table.iter().map(|r| &r.object);
     let mut v: Vec<OdEntry> = p
         .objects
         .iter()
+        .chain(p.parameters.objects)
+        .chain(parameters)
         .filter(|o| esi_type(o.data_type).is_some())
         .map(|o| match (o.index, o.sub) {
             // Bits 16–31 are the manufacturer's modes (CiA 402 §6.2.2): kept as the row has them.

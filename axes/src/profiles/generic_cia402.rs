@@ -268,6 +268,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     fsoe: None,
     relative_degree_warning: None,
     emergency: EMERGENCY,
+    parameters: &super::params::GENERIC_CIA402,
 };
 
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).

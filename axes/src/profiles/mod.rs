@@ -25,6 +25,7 @@ pub mod mr_j3_t04;
 pub mod mr_j4_tm;
 pub mod mr_j5_g_n1;
 pub mod mr_jet_g_n1;
+pub mod params;
 pub mod status_do;
 pub mod units;
 
@@ -212,6 +213,8 @@ pub struct DriveProfile {
     pub relative_degree_warning: Option<u16>,
     /// Whether alarms are also reported by CoE Emergency (ETG.1000.6 §5.6.2.1).
     pub emergency: EmergencyFacts,
+    /// The servo parameters by their manual names, the parameter save and the alarm history.
+    pub parameters: &'static params::ParameterFacts,
 }
 
 impl DriveProfile {
@@ -252,6 +255,8 @@ impl DriveProfile {
         self.objects
             .iter()
             .chain(self.store_restore_objects)
+            .chain(self.parameters.objects)
+            .chain(self.parameters.table.iter().map(|p| &p.object))
             .find(|o| o.index == index && o.sub == sub)
     }
 

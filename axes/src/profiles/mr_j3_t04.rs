@@ -256,6 +256,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     fsoe: None,
     relative_degree_warning: None,
     emergency: EMERGENCY,
+    parameters: &super::params::MR_J3_T04,
 };
 
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).

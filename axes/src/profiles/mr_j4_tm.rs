@@ -250,6 +250,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     fsoe: None,
     relative_degree_warning: Some(AL_F4_8),
     emergency: EMERGENCY,
+    parameters: &super::params::MR_J4_TM,
 };
 
 /// The PA01 `___2` profile-mode group: pp, pv, tq and hm with the 1601h RxPDO, initial mode pp

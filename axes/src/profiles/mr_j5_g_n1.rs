@@ -172,6 +172,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     fsoe: None,
     relative_degree_warning: None,
     emergency: EMERGENCY,
+    parameters: &super::params::MR_JET_G_N1,
 };
 
 /// Modes of the multi-axis units: pv and tq are not usable (§1.2, §6.1 *2).

@@ -224,7 +224,6 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).range(125_000, 8_000_000).units("ns [background]").cite("§1.3, §6"),
     od(0x2D01, 0, "Control DI 1", U16, Rw, PdoRx).default(0).cite("§6"),
     od(0x2D20, 0, "Velocity limit value", DataType::Unstated, Access::Unstated, PdoRx).cite("§6: 4 bytes inferred"),
-    od(0x2D6D, 2, "Positive torque limit value 2", U16, Rw, No).default(10_000).range(0, 10_000).units("0.1 % rated").cite("§6, §8.1"),
     od(0x6040, 0, "Controlword", U16, Rw, PdoRx).default(0).cite("§3.3"),
     od(0x6041, 0, "Statusword", U16, Ro, PdoTx).cite("§3.4"),
     od(0x605A, 0, "Quick stop option code", DataType::Unstated, Access::Unstated, Pdo::Unstated).range(1, 8).cite("§3.5: 5–8 FW D0 or later; default not stated"),
@@ -353,6 +352,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     fsoe: Some(FSOE),
     relative_degree_warning: None,
     emergency: EMERGENCY,
+    parameters: &super::params::MR_JET_G_N1,
 };
 
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).

@@ -34,10 +34,12 @@ use crate::profiles::DriveProfile;
 /// [background]; each model's code is `DriveProfile::following_error_alarm`.
 pub const FOLLOWING_ERROR_ALARM: u16 = crate::cia402::error_code::FOLLOWING_ERROR;
 
+pub mod alarm_history;
 mod following_error;
 mod homing;
 mod modes;
 mod objects;
+mod parameters;
 mod params;
 mod pds;
 mod pp;
@@ -95,6 +97,12 @@ pub struct SimDrive {
     sdo_values: Vec<(u16, u8, i64)>,
     /// Cycles left of a parameter save started through 1010h:01.
     saving_left: u32,
+    /// Saved parameters and the `*` parameters' power-on values (`drive::parameters`).
+    memory: parameters::ParameterMemory,
+    /// The alarm history (`drive::alarm_history`).
+    history: alarm_history::AlarmHistory,
+    /// Cycles since the first start, for the history's hours of operation.
+    uptime_cycles: u64,
     /// Homing state (hm): 607Ch, the 6064h preset, statusword bits 12/13, the HOS edge.
     homing: HomingState,
     /// Stroke-end inputs and the stop they cause.
@@ -169,6 +177,9 @@ impl SimDrive {
             // One slot per object of the dictionary: an SDO write never allocates.
             sdo_values: Vec::with_capacity(profile.objects.len()),
             saving_left: 0,
+            memory: parameters::ParameterMemory::default(),
+            history: alarm_history::AlarmHistory::default(),
+            uptime_cycles: 0,
             homing: HomingState::default(),
             stroke: StrokeState::default(),
             mstop: ManualStop::default(),
@@ -184,6 +195,8 @@ impl SimDrive {
         };
         d.pp.reset(pos, 0);
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
+        d.seed_saved_parameters();
+        d.reload_parameters();
         d.power_on_checks();
         d.tx = d.make_tx();
         d
@@ -263,6 +276,7 @@ impl SimDrive {
 
     fn run(&mut self, cmd: RxPdo, elapsed: Cycles) {
         self.saving_left = self.saving_left.saturating_sub(elapsed.0);
+        self.uptime_cycles += u64::from(elapsed.0);
         if let Some(code) = self.fsoe.as_mut().and_then(|f| f.tick(elapsed.0)) {
             self.raise(code);
         }

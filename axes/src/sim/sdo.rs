@@ -9,11 +9,7 @@ use super::drive::SimDrive;
 use crate::pdo::objects::{RxField, TxField, MODES_OF_OPERATION};
 use crate::profiles::Access;
 
-/// 607Ch Home offset (kept by the homing model, read live).
-/// 1010h:01 Save all parameters; the signature "save".
-const STORE_PARAMETERS: (u16, u8) = (0x1010, 1);
-/// The value that starts a save ("save", little-endian ASCII).
-pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
+pub use crate::profiles::params::SAVE_SIGNATURE;
 /// 1011h:01 Restore all default parameters.
 const RESTORE_DEFAULTS: (u16, u8) = (0x1011, 1);
 /// The value that restores the defaults ("load").
@@ -94,12 +90,18 @@ impl SimDrive {
             return Ok(i64::from(self.tx_pdo().error_code));
         }
         let entry = self.od_entry(index, sub)?;
+        self.parameter_access(index, sub, false)?;
+        if let Some(v) = self
+            .history_value(index, sub)
+            .or_else(|| self.derived_parameter(index, sub))
+        {
+            return Ok(v);
+        }
         if (index, sub) == (HOME_OFFSET, 0) {
             return Ok(i64::from(self.home_offset()));
         }
-        if (index, sub) == STORE_PARAMETERS {
-            // bit0: 1 when idle, 0 while saving; bit1: no automatic save.
-            return Ok(i64::from(!self.saving()));
+        if let Some(group) = self.store_target(index, sub) {
+            return Ok(self.save_readback(group));
         }
         if entry.access == Access::Wo {
             return Err(SdoAbort::WRITE_ONLY);
@@ -152,15 +154,22 @@ impl SimDrive {
                 | crate::profiles::DataType::I32
         );
         let value = value_of(data, signed);
-        if let Some((lo, hi)) = entry.range {
-            if value < lo || value > hi {
-                return Err(SdoAbort::VALUE_RANGE);
-            }
+        self.parameter_access(index, sub, true)?;
+        let parameter = p.parameters.by_object(index, sub);
+        let in_setting = parameter.is_none_or(|p| {
+            p.setting == crate::profiles::params::Setting::DoNotChange || p.setting.allows(value)
+        });
+        if !in_setting || entry.range.is_some_and(|(lo, hi)| value < lo || value > hi) {
+            return Err(SdoAbort::VALUE_RANGE);
         }
-        if (index, sub) == STORE_PARAMETERS {
+        if self.clear_history(index, value) {
+            return Ok(());
+        }
+        if let Some(group) = self.store_target(index, sub) {
             if value as u32 != SAVE_SIGNATURE {
                 return Err(SdoAbort::CANNOT_STORE);
             }
+            self.save_parameters(group)?;
             self.start_saving();
             return Ok(());
         }

@@ -10,6 +10,7 @@ pub mod inspect;
 pub mod je_c;
 pub mod je_c_search;
 pub mod operate;
+pub mod param;
 pub mod planner;
 pub mod recover;
 pub mod replay;

@@ -198,7 +198,13 @@ pub fn run(command: OperatorCommand, target: Target) -> Exit {
             eprintln!("rejected: {reason}");
             return Exit::Rejected;
         }
-        Ok(Reply::Status(_) | Reply::Sdo(_) | Reply::BusDiag(_)) => {
+        Ok(
+            Reply::Status(_)
+            | Reply::Sdo(_)
+            | Reply::Param(_)
+            | Reply::Alarms(_)
+            | Reply::BusDiag(_),
+        ) => {
             eprintln!("error: the cell answered with a report instead of accepting");
             return Exit::Unreachable;
         }

@@ -56,42 +56,57 @@ pub fn run(args: SdoArgs, target: Target) -> Exit {
             value,
         } => (axis, object, Some(value)),
     };
-    let client = match OperatorClient::connect(target.cell.as_deref()) {
-        Ok(c) => c,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Exit::Unreachable;
-        }
-    };
     let request = Request::Sdo {
         axis,
         index: object.index,
         sub: object.sub,
         value,
     };
-    let reply = match client.request(&request, Duration::from_secs_f64(target.reply_timeout)) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Exit::Unreachable;
-        }
+    match ask(&target, &request, args.json) {
+        Ok(Reply::Sdo(r)) => answered(&r, args.json),
+        Ok(other) => unexpected("sdo", &other),
+        Err(exit) => exit,
+    }
+}
+
+/// The least a client waits for the reply to a request of many SDO transfers (`param list`,
+/// `alarms`: one transfer after the other through the mailbox, each bounded by the cell's
+/// own 3 s answer timeout); `--reply-timeout` counts where it is longer.
+const MANY_TRANSFERS_REPLY_TIMEOUT: Duration = Duration::from_secs(30);
+
+/// Sends `request` to the target cell and returns the reply (printed as JSON first when
+/// `json`); a rejection is printed (unless `json`) and becomes its exit, as does no answer.
+pub(crate) fn ask(target: &Target, request: &Request, json: bool) -> Result<Reply, Exit> {
+    let client = OperatorClient::connect(target.cell.as_deref()).map_err(|e| {
+        eprintln!("error: {e}");
+        Exit::Unreachable
+    })?;
+    let timeout = match request {
+        Request::Sdo { .. } => Duration::from_secs_f64(target.reply_timeout),
+        _ => Duration::from_secs_f64(target.reply_timeout).max(MANY_TRANSFERS_REPLY_TIMEOUT),
     };
-    if args.json {
+    let reply = client.request(request, timeout).map_err(|e| {
+        eprintln!("error: {e}");
+        Exit::Unreachable
+    })?;
+    if json {
         println!("{}", serde_json::to_string(&reply).unwrap_or_default());
     }
     match reply {
-        Reply::Sdo(r) => answered(&r, args.json),
         Reply::Rejected { reason } => {
-            if !args.json {
+            if !json {
                 eprintln!("rejected: {reason}");
             }
-            Exit::Rejected
+            Err(Exit::Rejected)
         }
-        other => {
-            eprintln!("error: unexpected reply to sdo: {other:?}");
-            Exit::Unreachable
-        }
+        r => Ok(r),
     }
+}
+
+/// A reply of another kind than `what` asked for.
+pub(crate) fn unexpected(what: &str, reply: &Reply) -> Exit {
+    eprintln!("error: unexpected reply to {what}: {reply:?}");
+    Exit::Unreachable
 }
 
 /// Prints the drive's answer (unless `json`); an abort is a rejection.

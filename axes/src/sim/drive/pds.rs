@@ -38,7 +38,7 @@ impl SimDrive {
         if let crate::profiles::CommCheck::IncrementalCounter { free_run_alarm, .. } =
             self.profile.comm_check
         {
-            let comm = self.params.comm;
+            let comm = self.comm_in_force();
             if comm.po02 & 0xF == 1 && comm.po03 & 0xF != 0 {
                 self.raise(free_run_alarm);
             }
@@ -124,7 +124,14 @@ impl SimDrive {
         self.startup_left = self.params.startup_cycles;
         self.prev_cw = Controlword::DISABLE_VOLTAGE;
         self.plant.hold(0.0);
-        self.comm.reset();
+        self.reload_parameters();
+        let counter_mapped = self.profile.rx_pdo.has_counter() && self.profile.tx_pdo.has_counter();
+        self.comm = super::DriveComm::new(
+            self.profile.comm_check,
+            self.comm_in_force(),
+            self.cycle_time,
+            counter_mapped,
+        );
         self.op = true;
         self.following_error = 0;
         // S_ZPAS is "since power-on"; the C_CR edges start afresh.
@@ -213,6 +220,9 @@ impl SimDrive {
     }
 
     pub(super) fn raise(&mut self, code: u16) {
+        if self.alarm != Some(code) {
+            self.record_alarm(code);
+        }
         self.alarm = Some(code);
         if self.state != FsaState::Fault {
             // (13)

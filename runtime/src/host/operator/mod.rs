@@ -4,10 +4,13 @@
 //! and the status are JSON ([`wire`]). Users other than the cell's own reach it through its
 //! operator [`socket`], where the cell's `[operator] group` lets them.
 
+mod alarms;
 pub mod bus_diag;
 pub mod client;
+mod param;
 pub(crate) mod profile;
 pub mod sdo;
+mod sdo_job;
 pub mod server;
 pub mod socket;
 mod socket_client;

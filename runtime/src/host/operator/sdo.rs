@@ -284,4 +284,4 @@ fn answer(checked: CheckedSdo, outcome: UserSdoOutcome) -> Result<SdoReply, Stri
 
 #[cfg(test)]
 #[path = "sdo_tests.rs"]
-mod tests;
+pub(super) mod tests;

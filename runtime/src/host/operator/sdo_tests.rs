@@ -2,7 +2,8 @@
 
 use super::*;
 
-fn shipped(name: &str) -> CellConfig {
+/// The shipped configuration `name` (configs/), parsed.
+pub(in crate::host::operator) fn shipped(name: &str) -> CellConfig {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../configs")
         .join(name);
@@ -146,7 +147,7 @@ fn an_answer_is_typed_by_the_object() {
 
 /// A link whose RT thread takes requests and publishes the outcomes it is given.
 #[derive(Default)]
-struct FakeLink {
+pub(in crate::host::operator) struct FakeLink {
     sent: Vec<UserSdo>,
     outcome: Option<(u16, UserSdoOutcome)>,
 }

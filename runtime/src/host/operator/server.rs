@@ -12,6 +12,7 @@ mod motion_requests;
 use super::bus_diag::DiagInFlight;
 use super::profile;
 use super::sdo::{self, SdoInFlight};
+use super::sdo_job::{Purpose, SdoJob};
 use super::targets::{axis_index, move_limits, Asked, TargetError};
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
 use crate::config::CellConfig;
@@ -45,12 +46,22 @@ pub struct OperatorServer {
     home_seq: u32,
     status: services::OperatorStatusPublisher,
     last_status: std::time::Instant,
-    /// The `sdo` request waiting for the drive's answer, and the client's request to answer.
+    /// The SDO transfer waiting for the drive's answer.
     sdo: SdoInFlight,
-    sdo_client: Option<ActiveRequest>,
+    /// The request whose transfers run (`sdo`, `param`, `alarms`) and its client.
+    job: Option<(SdoJob, ActiveRequest)>,
     /// The `bus_diag` reading being taken, and the client's request to answer.
     diag: DiagInFlight,
     diag_client: Option<ActiveRequest>,
+}
+
+/// True if `axis` is in Operation enabled by its latest statusword.
+fn operation_enabled(cell: &CellConfig, axis: &str, status: Option<&StatusSnapshot>) -> bool {
+    let Some((i, s)) = axis_index(cell, axis).ok().zip(status) else {
+        return false;
+    };
+    Statusword(s.live[i].statusword).state()
+        == Some(cellrt_axes::cia402::fsa::FsaState::OperationEnabled)
 }
 
 /// A client's request being answered.
@@ -81,7 +92,7 @@ impl OperatorServer {
             status: services::operator_status_publisher(node, cell)?,
             last_status: std::time::Instant::now() - super::STATUS_PERIOD,
             sdo: SdoInFlight::default(),
-            sdo_client: None,
+            job: None,
             diag: DiagInFlight::default(),
             diag_client: None,
         })
@@ -150,14 +161,11 @@ impl OperatorServer {
                 }
             };
             let (reply, f) = match wire::decode_request(active.payload()) {
-                Ok(Request::Sdo {
-                    axis,
-                    index,
-                    sub,
-                    value,
-                }) => match self.start_sdo(ctx, &axis, index, sub, value) {
-                    Ok(()) => {
-                        self.sdo_client = Some(active);
+                Ok(
+                    req @ (Request::Sdo { .. } | Request::Param { .. } | Request::Alarms { .. }),
+                ) => match self.start_job(ctx, &req) {
+                    Ok(job) => {
+                        self.job = Some((job, active));
                         continue;
                     }
                     Err(reason) => (Reply::Rejected { reason }, Followup::None),
@@ -189,48 +197,73 @@ impl OperatorServer {
         followup
     }
 
-    /// Checks an `sdo` request and hands it to the RT thread; its reply follows in
-    /// [`OperatorServer::answer_sdo`].
-    fn start_sdo(
-        &mut self,
-        ctx: &mut Context<'_>,
-        axis: &str,
-        index: u16,
-        sub: u8,
-        value: Option<i64>,
-    ) -> Result<(), String> {
-        if ctx.program_running && value.is_some() {
-            return Err("sdo: a program is running; halt or stop it before writing".into());
+    /// Checks an `sdo`, `param` or `alarms` request and hands its first transfer to the RT
+    /// thread; the rest and the reply follow in [`OperatorServer::answer_sdo`].
+    fn start_job(&mut self, ctx: &mut Context<'_>, req: &Request) -> Result<SdoJob, String> {
+        let what = req.name();
+        if self.job.is_some() || self.sdo.busy() {
+            return Err(format!(
+                "{what}: another sdo request is in flight; try again"
+            ));
         }
-        let checked = sdo::check(ctx.cell, axis, index, sub, value)?;
+        if ctx.program_running && req.writes_to_a_drive() {
+            return Err(format!(
+                "{what}: a program is running; halt or stop it before writing"
+            ));
+        }
+        let status = ctx.link.status().ok();
+        let mut job = match req {
+            Request::Sdo {
+                axis,
+                index,
+                sub,
+                value,
+            } => SdoJob::new(
+                vec![sdo::check(ctx.cell, axis, *index, *sub, *value)?],
+                Purpose::Sdo,
+            ),
+            Request::Param { axis, op } => {
+                let enabled = operation_enabled(ctx.cell, axis, status.as_ref());
+                super::param::plan(ctx.cell, axis, op, enabled)?
+            }
+            Request::Alarms { axis, clear } => super::alarms::plan(ctx.cell, axis, *clear)?,
+            _ => return Err(format!("{what}: not an sdo request")),
+        };
         // A homing's own acyclic requests come first (the RT thread holds SDOs meanwhile).
-        if ctx
-            .link
-            .status()
-            .is_ok_and(|s| s.state == CellState::Homing)
-        {
-            return Err("sdo: the cell is homing; try again when the homing has ended".into());
+        if status.is_some_and(|s| s.state == CellState::Homing) {
+            return Err(format!(
+                "{what}: the cell is homing; try again when the homing has ended"
+            ));
         }
-        self.sdo.start(ctx.link, checked)
+        job.start_next(&mut self.sdo, ctx.link)?;
+        Ok(job)
     }
 
-    /// Answers the `sdo` request in flight once the drive answered (or the wait timed out);
-    /// true if a reply went out.
+    /// Takes the drive's answer to the transfer in flight (or the wait's timeout), starts the
+    /// job's next transfer, and answers the client after the last; true if a reply went out.
     fn answer_sdo(&mut self, ctx: &mut Context<'_>) -> bool {
         let Some(result) = self.sdo.poll(ctx.link) else {
             return false;
         };
+        let Some((mut job, active)) = self.job.take() else {
+            return false;
+        };
         let reply = match result {
-            Ok(r) => Reply::Sdo(r),
+            Ok(r) => {
+                job.answered(r);
+                match job.start_next(&mut self.sdo, ctx.link) {
+                    Ok(true) => {
+                        self.job = Some((job, active));
+                        return false;
+                    }
+                    Ok(false) => job.finish(),
+                    Err(reason) => Reply::Rejected { reason },
+                }
+            }
             Err(reason) => Reply::Rejected { reason },
         };
-        match self.sdo_client.take() {
-            Some(active) => {
-                respond(&active, &reply);
-                true
-            }
-            None => false,
-        }
+        respond(&active, &reply);
+        true
     }
 
     /// Answers the `bus_diag` request once the reading came (or timed out); true if a reply
@@ -363,9 +396,10 @@ impl OperatorServer {
                 }
             }
             // Answered later, when the drive has: `poll` takes it before `handle`.
-            Request::Sdo { .. } | Request::BusDiag => {
-                rejected(format!("{name}: not an immediate request"))
-            }
+            Request::Sdo { .. }
+            | Request::Param { .. }
+            | Request::Alarms { .. }
+            | Request::BusDiag => rejected(format!("{name}: not an immediate request")),
         }
     }
 

@@ -163,6 +163,22 @@ pub enum Request {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         value: Option<i64>,
     },
+    /// The servo parameters of an axis' drive by their manual names (PA14, PC02, …), each
+    /// read or written by SDO through the object that carries it.
+    Param {
+        /// Axis name.
+        axis: String,
+        /// What to do.
+        op: ParamOp,
+    },
+    /// The alarm history of an axis' drive, or its clearing.
+    Alarms {
+        /// Axis name.
+        axis: String,
+        /// Clear the history instead of reading it.
+        #[serde(default)]
+        clear: bool,
+    },
     /// The EtherCAT segment's diagnostics: per SubDevice its links, ESC error counters, AL
     /// status and DC time difference; the master's frame counters.
     BusDiag,
@@ -171,7 +187,42 @@ pub enum Request {
     Capture,
 }
 
+/// A `param` request's operation.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "op", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ParamOp {
+    /// Every parameter of the model's table with its value.
+    List,
+    /// One parameter.
+    Get {
+        /// Its name, e.g. "PA14".
+        name: String,
+    },
+    /// Writes one parameter (range-checked first).
+    Set {
+        /// Its name.
+        name: String,
+        /// The value.
+        value: i64,
+    },
+    /// Stores every parameter in the drive's non-volatile memory (1010h).
+    Save,
+    /// The parameters whose value differs from the model's initial value.
+    Diff,
+}
+
 impl Request {
+    /// True for a request that writes to a drive's objects (`sdo write`, `param set`,
+    /// `param save`, `alarms --clear`): refused while a program runs.
+    pub fn writes_to_a_drive(&self) -> bool {
+        match self {
+            Request::Sdo { value, .. } => value.is_some(),
+            Request::Param { op, .. } => matches!(op, ParamOp::Set { .. } | ParamOp::Save),
+            Request::Alarms { clear, .. } => *clear,
+            _ => false,
+        }
+    }
+
     /// The command's name (the `command` tag).
     pub fn name(&self) -> &'static str {
         match self {
@@ -188,6 +239,8 @@ impl Request {
             Request::Override { .. } => "override",
             Request::Program { .. } => "program",
             Request::Sdo { .. } => "sdo",
+            Request::Param { .. } => "param",
+            Request::Alarms { .. } => "alarms",
             Request::BusDiag => "bus_diag",
             Request::Capture => "capture",
         }
@@ -212,8 +265,80 @@ pub enum Reply {
     Status(Box<StatusReport>),
     /// How an SDO request ended at the drive.
     Sdo(SdoReply),
+    /// The parameters read, written or saved.
+    Param(ParamReply),
+    /// The alarm history read or cleared.
+    Alarms(AlarmsReply),
     /// The EtherCAT segment's diagnostics.
     BusDiag(Box<super::bus_diag::BusDiagReply>),
+}
+
+/// The answer to a `param` request.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParamReply {
+    /// Axis name.
+    pub axis: String,
+    /// Drive model.
+    pub model: String,
+    /// The parameters read or written (none for a save).
+    pub parameters: Vec<ParamValue>,
+    /// What happened beyond the values (a save, a value pending a power cycle).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// One parameter as the drive answered it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParamValue {
+    /// Number, e.g. "PA14".
+    pub name: String,
+    /// Abbreviation as the manual prints it ("*POL": `*` = after power cycle).
+    pub symbol: String,
+    /// The parameter's name.
+    pub title: String,
+    /// The carrying object, e.g. "2300h:0E".
+    pub object: String,
+    /// The value read or written; absent where the drive refused the read.
+    pub value: Option<i64>,
+    /// The value as the manual prints it, or the drive's refusal.
+    pub shown: String,
+    /// The manual's initial value, as printed.
+    pub default: String,
+    /// The values the manual allows.
+    pub setting: String,
+    /// Units of one LSB ("" where dimensionless).
+    pub units: String,
+    /// When a change takes effect ("immediately", "after power cycle").
+    pub effect: String,
+}
+
+/// The answer to an `alarms` request.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AlarmsReply {
+    /// Axis name.
+    pub axis: String,
+    /// Drive model.
+    pub model: String,
+    /// The history, newest first, empty entries left out; empty after a clear.
+    pub entries: Vec<AlarmEntry>,
+    /// The history was cleared.
+    pub cleared: bool,
+}
+
+/// One alarm history entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AlarmEntry {
+    /// Position in the history (0 = newest).
+    pub entry: u8,
+    /// Alarm No. as the drive reports it.
+    pub number: u16,
+    /// The alarm's display name and name from the manual ("AL.52 Error excessive"), or
+    /// the number in hex where the profile does not name it.
+    pub name: String,
+    /// Hours of operation when it occurred.
+    pub hours: u32,
+    /// Alarm detail.
+    pub detail: u16,
 }
 
 /// The answer of a drive to an SDO request.

@@ -1,0 +1,233 @@
+//! `param`: an axis' servo parameters by the names its manual gives them, through the objects
+//! that carry them (the model's table in `cellrt_axes::profiles::params`). Every check is made
+//! before anything is sent: the name, the manual's setting range, "do not change" parameters,
+//! cellrt's rule for parameters that act at once on an enabled axis, and the object's own type
+//! and access (`sdo::check`).
+
+use cellrt_axes::profiles::params::{Effect, Parameter, ParameterFacts, WhileEnabled};
+use cellrt_axes::profiles::DriveModel;
+
+use super::sdo::{self, object_text};
+use super::sdo_job::{aborted, value, Purpose, SdoJob};
+use super::targets::axis_index;
+use super::wire::{ParamOp, ParamReply, ParamValue, Reply, SdoReply};
+use crate::config::CellConfig;
+
+/// How the answers of a `param` request become its reply.
+#[derive(Debug)]
+pub struct ParamPlan {
+    axis: String,
+    model: DriveModel,
+    /// The axis' slot on its amplifier (its objects at the slot's offset, MR-J5W2/W3).
+    slot: u8,
+    /// The parameter of each step (none for a save).
+    rows: Vec<&'static Parameter>,
+    kind: Kind,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Read,
+    Diff,
+    Set,
+    Save,
+}
+
+/// Checks a `param` request on axis `axis` (`enabled`: the axis is in Operation enabled) and
+/// plans its transfers; a one-line reason where nothing may be sent.
+pub fn plan(cell: &CellConfig, axis: &str, op: &ParamOp, enabled: bool) -> Result<SdoJob, String> {
+    let i = axis_index(cell, axis).map_err(|e| format!("param: {e}"))?;
+    let a = &cell.axes[i];
+    let facts = a.profile.parameters;
+    let plan = |rows: Vec<&'static Parameter>, kind| ParamPlan {
+        axis: axis.to_string(),
+        model: a.drive,
+        slot: a.amplifier.as_ref().map_or(0, |s| s.slot),
+        rows,
+        kind,
+    };
+    let read = |p: &Parameter| sdo::check(cell, axis, p.object.index, p.object.sub, None);
+    match op {
+        ParamOp::List | ParamOp::Diff => {
+            let rows = table(facts, axis, a.drive)?;
+            let steps = rows.iter().map(|p| read(p)).collect::<Result<_, _>>()?;
+            let kind = if *op == ParamOp::Diff {
+                Kind::Diff
+            } else {
+                Kind::Read
+            };
+            Ok(SdoJob::new(steps, Purpose::Param(plan(rows, kind))))
+        }
+        ParamOp::Get { name } => {
+            let p = lookup(facts, axis, a.drive, name)?;
+            Ok(SdoJob::new(
+                vec![read(p)?],
+                Purpose::Param(plan(vec![p], Kind::Read)),
+            ))
+        }
+        ParamOp::Set { name, value } => {
+            let p = lookup(facts, axis, a.drive, name)?;
+            if let Some(why) = p.refuse(*value) {
+                return Err(format!("param: {why}"));
+            }
+            if enabled && p.while_enabled == WhileEnabled::Refused {
+                return Err(format!(
+                    "param: {} ({}) of axis '{axis}' takes effect at once and is not written \
+                     while the axis is enabled; power it off first",
+                    p.name, p.object.name
+                ));
+            }
+            let step = sdo::check(cell, axis, p.object.index, p.object.sub, Some(*value))?;
+            Ok(SdoJob::new(
+                vec![step],
+                Purpose::Param(plan(vec![p], Kind::Set)),
+            ))
+        }
+        ParamOp::Save => {
+            let s = facts.save.map_err(|why| {
+                format!(
+                    "param save: axis '{axis}' ({}) has no parameter save: {why}",
+                    a.drive
+                )
+            })?;
+            let step = sdo::check(
+                cell,
+                axis,
+                s.object.0,
+                s.object.1,
+                Some(i64::from(s.signature)),
+            )?;
+            Ok(SdoJob::new(
+                vec![step],
+                Purpose::Param(plan(Vec::new(), Kind::Save)),
+            ))
+        }
+    }
+}
+
+fn table(
+    facts: &'static ParameterFacts,
+    axis: &str,
+    model: DriveModel,
+) -> Result<Vec<&'static Parameter>, String> {
+    if facts.table.is_empty() {
+        return Err(format!(
+            "param: axis '{axis}' ({model}) has no parameter table: {}",
+            facts.table_source
+        ));
+    }
+    Ok(facts.table.iter().collect())
+}
+
+fn lookup(
+    facts: &'static ParameterFacts,
+    axis: &str,
+    model: DriveModel,
+    name: &str,
+) -> Result<&'static Parameter, String> {
+    let rows = table(facts, axis, model)?;
+    facts.parameter(name).ok_or_else(|| {
+        let names: Vec<&str> = rows.iter().map(|p| p.name).collect();
+        format!(
+            "param: {name} is not a parameter of axis '{axis}' ({model}; {} lists {})",
+            facts.table_source,
+            names.join(", ")
+        )
+    })
+}
+
+impl ParamPlan {
+    /// The reply from the drive's answers, one per step in order.
+    pub fn finish(self, answers: &[SdoReply]) -> Reply {
+        let refused = answers.iter().find_map(aborted);
+        match (self.kind, refused) {
+            (Kind::Set | Kind::Save, Some(why)) => {
+                let what = self.rows.first().map_or("save", |p| p.name);
+                return Reply::Rejected {
+                    reason: format!("param: {what} of axis '{}': {why}", self.axis),
+                };
+            }
+            (Kind::Save, None) => {
+                return Reply::Param(ParamReply {
+                    axis: self.axis,
+                    model: self.model.to_string(),
+                    parameters: Vec::new(),
+                    note: Some(save_note(self.model)),
+                })
+            }
+            _ => {}
+        }
+        let mut values: Vec<ParamValue> = self
+            .rows
+            .iter()
+            .zip(answers)
+            .map(|(p, r)| param_value(p, r, self.object_index(p)))
+            .collect();
+        if self.kind == Kind::Diff {
+            values.retain(|v| {
+                let p = self.rows.iter().find(|p| p.name == v.name);
+                v.value.is_some() && v.value != p.and_then(|p| p.object.default)
+            });
+        }
+        let note = match (self.kind, self.rows.first()) {
+            (Kind::Set, Some(p)) if p.effect() == Effect::AfterPowerCycle => Some(format!(
+                "{} takes effect after a power cycle; save it first (cellrt param save) or it is lost",
+                p.name
+            )),
+            _ => None,
+        };
+        Reply::Param(ParamReply {
+            axis: self.axis,
+            model: self.model.to_string(),
+            parameters: values,
+            note,
+        })
+    }
+}
+
+impl ParamPlan {
+    /// The index of `p`'s object on this axis (axis A's index at the slot's offset).
+    fn object_index(&self, p: &Parameter) -> u16 {
+        let profile = cellrt_axes::profiles::profile(self.model);
+        profile
+            .axis_object(p.object.index, self.slot)
+            .unwrap_or(p.object.index)
+    }
+}
+
+fn save_note(model: DriveModel) -> String {
+    let p = cellrt_axes::profiles::profile(model).parameters;
+    match p.save {
+        Ok(s) => format!(
+            "saved: {} written {:08X}h ({})",
+            object_text(s.object.0, s.object.1),
+            s.signature,
+            s.source
+        ),
+        Err(_) => "saved".into(),
+    }
+}
+
+/// `p` as the drive answered it, its object at `index`.
+fn param_value(p: &Parameter, r: &SdoReply, index: u16) -> ParamValue {
+    let v = value(r);
+    ParamValue {
+        name: p.name.to_string(),
+        symbol: p.symbol.to_string(),
+        title: p.object.name.to_string(),
+        object: object_text(index, p.object.sub),
+        value: v,
+        shown: match v {
+            Some(v) => p.format(v),
+            None => aborted(r).unwrap_or_default(),
+        },
+        default: p.object.default.map_or_else(String::new, |d| p.format(d)),
+        setting: p.setting.text(p.display),
+        units: p.object.units.to_string(),
+        effect: p.effect().as_str().to_string(),
+    }
+}
+
+#[cfg(test)]
+#[path = "param_tests.rs"]
+mod tests;

@@ -1,0 +1,93 @@
+//! An operator request that takes one or more SDO transfers (`sdo`, `param`, `alarms`): the
+//! checked transfers in order, the drive's answers as they come, and the reply built from
+//! them once the last one is answered. The transfers go one at a time through [`SdoInFlight`].
+
+use std::collections::VecDeque;
+
+use super::sdo::{CheckedSdo, SdoInFlight};
+use super::wire::{Reply, SdoAnswer, SdoReply};
+use super::{alarms, param};
+use crate::host::link::CellLink;
+
+/// What the answers become.
+#[derive(Debug)]
+pub enum Purpose {
+    /// One `sdo` read or write: its answer.
+    Sdo,
+    /// A `param` request.
+    Param(param::ParamPlan),
+    /// An `alarms` request.
+    Alarms(alarms::AlarmsPlan),
+}
+
+/// A request's SDO transfers and the answers so far.
+#[derive(Debug)]
+pub struct SdoJob {
+    steps: VecDeque<CheckedSdo>,
+    answers: Vec<SdoReply>,
+    purpose: Purpose,
+}
+
+impl SdoJob {
+    /// `steps` in order, answered as `purpose` says.
+    pub fn new(steps: Vec<CheckedSdo>, purpose: Purpose) -> SdoJob {
+        SdoJob {
+            steps: steps.into(),
+            answers: Vec::new(),
+            purpose,
+        }
+    }
+
+    /// Hands the next step to the RT thread; `Ok(false)` when none is left.
+    pub fn start_next(
+        &mut self,
+        sdo: &mut SdoInFlight,
+        link: &mut dyn CellLink,
+    ) -> Result<bool, String> {
+        match self.steps.pop_front() {
+            Some(step) => sdo.start(link, step).map(|()| true),
+            None => Ok(false),
+        }
+    }
+
+    /// Takes the answer of the step in flight; the steps left are dropped where the answer
+    /// makes them moot (an empty alarm history entry: the older ones are empty too).
+    pub fn answered(&mut self, reply: SdoReply) {
+        if matches!(&self.purpose, Purpose::Alarms(a) if a.ends_at(&reply)) {
+            self.steps.clear();
+        }
+        self.answers.push(reply);
+    }
+
+    /// The reply to the client, from every answer.
+    pub fn finish(self) -> Reply {
+        match self.purpose {
+            Purpose::Sdo => match self.answers.into_iter().next() {
+                Some(r) => Reply::Sdo(r),
+                None => Reply::Rejected {
+                    reason: "sdo: no answer".into(),
+                },
+            },
+            Purpose::Param(p) => p.finish(&self.answers),
+            Purpose::Alarms(a) => a.finish(&self.answers),
+        }
+    }
+}
+
+/// The drive's refusal of `r` as text ("abort code 0x06010000 (…)"), if it refused.
+pub fn aborted(r: &SdoReply) -> Option<String> {
+    match &r.outcome {
+        SdoAnswer::Aborted { code, meaning } => Some(format!(
+            "refused by the drive: abort code 0x{code:08X} ({meaning})"
+        )),
+        _ => None,
+    }
+}
+
+/// The value of an answered read or write.
+pub fn value(r: &SdoReply) -> Option<i64> {
+    match r.outcome {
+        SdoAnswer::Read { value } | SdoAnswer::Written { value } => Some(value),
+        SdoAnswer::Aborted { .. } => None,
+    }
+}

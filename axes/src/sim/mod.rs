@@ -10,3 +10,4 @@ pub mod profile_position;
 pub mod profile_torque;
 pub mod profile_velocity;
 pub mod sdo;
+mod sdo_abort;

@@ -7,7 +7,7 @@
 use super::SimDrive;
 use crate::cia402::mode::ModeOfOperation;
 use crate::profiles::params::{Derived, Effect, Parameter, SaveReadback};
-use crate::sim::sdo::SdoAbort;
+use crate::sim::sdo_abort::SdoAbort;
 
 /// Saved values and the `*` parameters' values at power-on, by object.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]

@@ -6,7 +6,7 @@ use cellrt_axes::profiles::params::history_sub;
 use cellrt_axes::profiles::DriveProfile;
 
 use super::sdo;
-use super::sdo_job::{aborted, value, Purpose, SdoJob};
+use super::sdo_job::{aborted, value, JobPurpose, SdoJob};
 use super::targets::axis_index;
 use super::wire::{AlarmEntry, AlarmsReply, Reply, SdoReply};
 use crate::config::CellConfig;
@@ -51,20 +51,20 @@ pub fn plan(cell: &CellConfig, axis: &str, clear: bool) -> Result<SdoJob, String
         profile: a.profile,
         clear,
     };
-    Ok(SdoJob::new(steps, Purpose::Alarms(plan)))
+    Ok(SdoJob::new(steps, plan))
 }
 
-impl AlarmsPlan {
+impl JobPurpose for AlarmsPlan {
     /// True if `r` reads an empty entry's Alarm No.: the history fills from its newest entry,
     /// so the older entries are empty too and are not read [inferred: the manual does not
     /// say, a history is written newest first and cleared as a whole].
-    pub fn ends_at(&self, r: &SdoReply) -> bool {
+    fn ends_at(&self, r: &SdoReply) -> bool {
         !self.clear && r.sub == history_sub::NUMBER && value(r) == Some(0)
     }
 
     /// The reply from the drive's answers (three per entry up to the first empty one, or the
     /// clear's one).
-    pub fn finish(self, answers: &[SdoReply]) -> Reply {
+    fn finish(self: Box<Self>, answers: &[SdoReply]) -> Reply {
         if let Some(why) = answers.iter().find_map(aborted) {
             return Reply::Rejected {
                 reason: format!("alarms: axis '{}': {why}", self.axis),

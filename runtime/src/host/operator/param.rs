@@ -8,7 +8,7 @@ use cellrt_axes::profiles::params::{Effect, Parameter, ParameterFacts, WhileEnab
 use cellrt_axes::profiles::DriveModel;
 
 use super::sdo::{self, object_text};
-use super::sdo_job::{aborted, value, Purpose, SdoJob};
+use super::sdo_job::{aborted, value, JobPurpose, SdoJob};
 use super::targets::axis_index;
 use super::wire::{ParamOp, ParamReply, ParamValue, Reply, SdoReply};
 use crate::config::CellConfig;
@@ -56,14 +56,11 @@ pub fn plan(cell: &CellConfig, axis: &str, op: &ParamOp, enabled: bool) -> Resul
             } else {
                 Kind::Read
             };
-            Ok(SdoJob::new(steps, Purpose::Param(plan(rows, kind))))
+            Ok(SdoJob::new(steps, plan(rows, kind)))
         }
         ParamOp::Get { name } => {
             let p = lookup(facts, axis, a.drive, name)?;
-            Ok(SdoJob::new(
-                vec![read(p)?],
-                Purpose::Param(plan(vec![p], Kind::Read)),
-            ))
+            Ok(SdoJob::new(vec![read(p)?], plan(vec![p], Kind::Read)))
         }
         ParamOp::Set { name, value } => {
             let p = lookup(facts, axis, a.drive, name)?;
@@ -78,10 +75,7 @@ pub fn plan(cell: &CellConfig, axis: &str, op: &ParamOp, enabled: bool) -> Resul
                 ));
             }
             let step = sdo::check(cell, axis, p.object.index, p.object.sub, Some(*value))?;
-            Ok(SdoJob::new(
-                vec![step],
-                Purpose::Param(plan(vec![p], Kind::Set)),
-            ))
+            Ok(SdoJob::new(vec![step], plan(vec![p], Kind::Set)))
         }
         ParamOp::Save => {
             let s = facts.save.map_err(|why| {
@@ -97,10 +91,7 @@ pub fn plan(cell: &CellConfig, axis: &str, op: &ParamOp, enabled: bool) -> Resul
                 s.object.1,
                 Some(i64::from(s.signature)),
             )?;
-            Ok(SdoJob::new(
-                vec![step],
-                Purpose::Param(plan(Vec::new(), Kind::Save)),
-            ))
+            Ok(SdoJob::new(vec![step], plan(Vec::new(), Kind::Save)))
         }
     }
 }
@@ -136,9 +127,9 @@ fn lookup(
     })
 }
 
-impl ParamPlan {
+impl JobPurpose for ParamPlan {
     /// The reply from the drive's answers, one per step in order.
-    pub fn finish(self, answers: &[SdoReply]) -> Reply {
+    fn finish(self: Box<Self>, answers: &[SdoReply]) -> Reply {
         let refused = answers.iter().find_map(aborted);
         match (self.kind, refused) {
             (Kind::Set | Kind::Save, Some(why)) => {

@@ -6,18 +6,33 @@ use std::collections::VecDeque;
 
 use super::sdo::{CheckedSdo, SdoInFlight};
 use super::wire::{Reply, SdoAnswer, SdoReply};
-use super::{alarms, param};
 use crate::host::link::CellLink;
 
-/// What the answers become.
+/// What a job's answers become (the requests built on SDO jobs say it themselves).
+pub trait JobPurpose: std::fmt::Debug {
+    /// Whether `reply` makes the steps left moot.
+    fn ends_at(&self, reply: &SdoReply) -> bool {
+        let _ = reply;
+        false
+    }
+
+    /// The reply to the client, from every answer in order.
+    fn finish(self: Box<Self>, answers: &[SdoReply]) -> Reply;
+}
+
+/// One `sdo` read or write: its answer.
 #[derive(Debug)]
-pub enum Purpose {
-    /// One `sdo` read or write: its answer.
-    Sdo,
-    /// A `param` request.
-    Param(param::ParamPlan),
-    /// An `alarms` request.
-    Alarms(alarms::AlarmsPlan),
+pub struct SingleSdo;
+
+impl JobPurpose for SingleSdo {
+    fn finish(self: Box<Self>, answers: &[SdoReply]) -> Reply {
+        match answers.first() {
+            Some(r) => Reply::Sdo(r.clone()),
+            None => Reply::Rejected {
+                reason: "sdo: no answer".into(),
+            },
+        }
+    }
 }
 
 /// A request's SDO transfers and the answers so far.
@@ -25,16 +40,16 @@ pub enum Purpose {
 pub struct SdoJob {
     steps: VecDeque<CheckedSdo>,
     answers: Vec<SdoReply>,
-    purpose: Purpose,
+    purpose: Box<dyn JobPurpose>,
 }
 
 impl SdoJob {
     /// `steps` in order, answered as `purpose` says.
-    pub fn new(steps: Vec<CheckedSdo>, purpose: Purpose) -> SdoJob {
+    pub fn new(steps: Vec<CheckedSdo>, purpose: impl JobPurpose + 'static) -> SdoJob {
         SdoJob {
             steps: steps.into(),
             answers: Vec::new(),
-            purpose,
+            purpose: Box::new(purpose),
         }
     }
 
@@ -53,7 +68,7 @@ impl SdoJob {
     /// Takes the answer of the step in flight; the steps left are dropped where the answer
     /// makes them moot (an empty alarm history entry: the older ones are empty too).
     pub fn answered(&mut self, reply: SdoReply) {
-        if matches!(&self.purpose, Purpose::Alarms(a) if a.ends_at(&reply)) {
+        if self.purpose.ends_at(&reply) {
             self.steps.clear();
         }
         self.answers.push(reply);
@@ -61,16 +76,7 @@ impl SdoJob {
 
     /// The reply to the client, from every answer.
     pub fn finish(self) -> Reply {
-        match self.purpose {
-            Purpose::Sdo => match self.answers.into_iter().next() {
-                Some(r) => Reply::Sdo(r),
-                None => Reply::Rejected {
-                    reason: "sdo: no answer".into(),
-                },
-            },
-            Purpose::Param(p) => p.finish(&self.answers),
-            Purpose::Alarms(a) => a.finish(&self.answers),
-        }
+        self.purpose.finish(&self.answers)
     }
 }
 

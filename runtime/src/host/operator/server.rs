@@ -12,7 +12,7 @@ mod motion_requests;
 use super::bus_diag::DiagInFlight;
 use super::profile;
 use super::sdo::{self, SdoInFlight};
-use super::sdo_job::{Purpose, SdoJob};
+use super::sdo_job::{SdoJob, SingleSdo};
 use super::targets::{axis_index, move_limits, Asked, TargetError};
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
 use crate::config::CellConfig;
@@ -220,7 +220,7 @@ impl OperatorServer {
                 value,
             } => SdoJob::new(
                 vec![sdo::check(ctx.cell, axis, *index, *sub, *value)?],
-                Purpose::Sdo,
+                SingleSdo,
             ),
             Request::Param { axis, op } => {
                 let enabled = operation_enabled(ctx.cell, axis, status.as_ref());

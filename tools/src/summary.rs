@@ -76,6 +76,20 @@ pub fn render(s: &Summary) -> String {
             d.p50_us, d.p99_us, d.max_us
         );
     }
+    axes(&mut o, s);
+    recording(&mut o, s);
+    if let Some(l) = &s.live {
+        let _ = writeln!(
+            o,
+            "live view   ws://{}: {} messages sent, {} dropped before the server",
+            l.address, l.messages_sent, l.messages_dropped
+        );
+    }
+    o
+}
+
+/// Each axis' final position against its target.
+fn axes(o: &mut String, s: &Summary) {
     let _ = writeln!(o, "axes        final position vs target");
     for a in &s.axes {
         match (a.target, a.error) {
@@ -95,6 +109,10 @@ pub fn render(s: &Summary) -> String {
             }
         }
     }
+}
+
+/// Where the recording went, its size and what happened to it.
+fn recording(o: &mut String, s: &Summary) {
     match &s.recording.path {
         Some(p) => {
             let _ = writeln!(
@@ -127,5 +145,4 @@ pub fn render(s: &Summary) -> String {
             let _ = writeln!(o, "recording   off ({} events seen)", s.recording.events);
         }
     }
-    o
 }

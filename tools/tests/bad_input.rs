@@ -558,10 +558,21 @@ fn torque_limit_out_of_range() {
     run.expect_error(&config, "axes[3].limits.torque", &["1500", "0 < t ≤ 1000"]);
 }
 
+/// Homing is a procedure of an axis, not a mode it runs in: refused naming the modes there are.
 #[test]
-fn non_cyclic_mode_is_refused() {
+fn homing_as_an_axis_mode_is_refused() {
     let (run, config) = run_config_edit(c_axis_edit("mode = \"hm\"", C_LIMITS));
-    run.expect_error(&config, "axes[3].mode", &["'c'", "hm", "not a cyclic mode"]);
+    run.expect_error(
+        &config,
+        "axes[3].mode",
+        &[
+            "'c'",
+            "hm",
+            "not an axis mode",
+            "csp, csv, cst",
+            "pp, pv, tq",
+        ],
+    );
 }
 
 #[test]

@@ -39,7 +39,7 @@ fn cellrt(args: &[String]) -> Child {
 
 #[test]
 fn serves_modbus_and_slmp_until_sigterm() {
-    let (m, u, t, c) = (free_tcp(), free_udp(), free_tcp(), free_udp());
+    let (m, u, t, c, n) = (free_tcp(), free_udp(), free_tcp(), free_udp(), free_udp());
     let args = [
         "--listen",
         "127.0.0.1",
@@ -51,6 +51,8 @@ fn serves_modbus_and_slmp_until_sigterm() {
         &t.to_string(),
         "--cclink-port",
         &c.to_string(),
+        "--search-port",
+        &n.to_string(),
     ]
     .map(String::from);
     let child = cellrt(&args);
@@ -79,7 +81,11 @@ fn serves_modbus_and_slmp_until_sigterm() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{stderr}");
     assert!(
-        stderr.contains("MR-JE-20C (software A4) on Modbus/TCP 127.0.0.1:"),
+        stderr.contains("MR-JE-20C (software A4, MAC 02:00:7F:00:00:01) on Modbus/TCP 127.0.0.1:"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains(&format!("NodeSearch UDP 127.0.0.1:{n}")),
         "{stderr}"
     );
     assert!(stderr.contains("stopped after"), "{stderr}");

@@ -40,6 +40,11 @@ pub struct WireStats {
     pub delayed: u64,
     /// The scheduled faults injected.
     pub injected: InjectedCounts,
+    /// The longest time between two frames the segment processed, ns: a stall of the master
+    /// or of the emulator's own thread (a loaded host), which the drives count as lost frames.
+    pub max_gap_ns: u64,
+    /// When the segment last processed a frame (monotonic ns; 0 before the first).
+    pub last_frame_ns: u64,
 }
 
 /// Serves `segment` on `socket` with `faults` injected until `stop` is set. Allocates nothing
@@ -95,7 +100,14 @@ fn deliver(
     frame: &mut [u8],
     stats: &mut WireStats,
 ) -> io::Result<bool> {
-    match segment.process(frame, monotonic_ns()) {
+    let now = monotonic_ns();
+    if stats.last_frame_ns != 0 {
+        stats.max_gap_ns = stats
+            .max_gap_ns
+            .max(now.saturating_sub(stats.last_frame_ns));
+    }
+    stats.last_frame_ns = now;
+    match segment.process(frame, now) {
         Ok(Delivery::Returned) => {
             socket.send(frame)?;
             stats.frames += 1;

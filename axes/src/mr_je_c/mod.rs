@@ -4,6 +4,7 @@
 
 pub mod access;
 pub mod alarm;
+pub mod cell;
 pub mod emulator;
 pub mod objects;
 pub mod parameters;

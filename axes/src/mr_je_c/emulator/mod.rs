@@ -1,13 +1,14 @@
 //! A simulated MR-JE-C (MR-JE-C manual §2–§7): the object dictionary with its access rights and
 //! ranges, the CiA 402 FSA with quick-stop option code 2, alarms with their history and reset,
 //! and the communication time-outs, all judged on a virtual clock the caller passes in
-//! (`now`: time since power-on). Profile motion is not simulated yet: the motor holds its
-//! position and targets are stored.
+//! (`now`: time since power-on). The motor moves in pp and pv (`motion`); in the other modes it
+//! holds its position and targets are stored.
 
 mod address_rules;
 pub mod cyclic;
 mod history;
 pub mod modbus;
+pub mod motion;
 mod refusal;
 pub mod rs485;
 pub mod rtu;
@@ -119,6 +120,7 @@ pub struct MrJeC {
     cyclic_ready: bool,
     rules: AddressRules,
     restore: Restore,
+    motion: motion::Motion,
     now: Duration,
 }
 
@@ -145,6 +147,7 @@ impl MrJeC {
             store,
             cyclic_ready: false,
             restore: Restore::default(),
+            motion: motion::Motion::default(),
             params,
             state: FsaState::SwitchOnDisabled,
             last_cw: Controlword(0),
@@ -153,6 +156,27 @@ impl MrJeC {
             watchdog: Default::default(),
             now: Duration::ZERO,
         }
+    }
+
+    /// A drive on an RS-485 line: [Pr. PN08] set to RS-485, station `station` by [Pr. PC70]
+    /// (rotary switch 00h), MR-JE-C manual §4.9.2, §5.2.3.
+    pub fn on_rs485_line(params: MrJeCParams, station: u8) -> MrJeC {
+        let mut d = MrJeC::new(MrJeCParams {
+            rotary_switch: 0,
+            ..params
+        });
+        // Both values are in range, so the writes cannot be refused.
+        let _ = d.write(
+            ObjectId::new(PN08.index(), 0),
+            &Value::U32(0x1000),
+            Duration::ZERO,
+        );
+        let _ = d.write(
+            ObjectId::new(PC70.index(), 0),
+            &Value::U32(u32::from(station)),
+            Duration::ZERO,
+        );
+        d
     }
 
     /// Cycles the power: parameters and point tables (EEPROM) are kept, everything else
@@ -252,16 +276,42 @@ impl MrJeC {
     }
 
     /// The statusword (MR-JE-C manual §7.6.1): bit 4 the main power, bit 9 left 0 (reserved in
-    /// §7.6.1), bit 10 on in Operation enabled (the motor holds its position, so any target
-    /// counts as reached while motion is not simulated).
+    /// §7.6.1), bits 10 and 12 from the motion in Operation enabled.
     pub fn statusword(&self) -> Statusword {
         let sw = Statusword::for_state_with_power(self.state, self.params.main_power).0 & !(1 << 9);
-        let reached = if self.state == FsaState::OperationEnabled {
-            1 << 10
+        let bits = if self.state == FsaState::OperationEnabled {
+            self.motion.status_bits(&self.profile(), self.halted())
         } else {
             0
         };
-        Statusword(sw | reached)
+        Statusword(sw | bits)
+    }
+
+    /// Controlword bit 8 (Halt).
+    fn halted(&self) -> bool {
+        self.last_cw.0 & (1 << 8) != 0
+    }
+
+    /// The objects the motion reads.
+    fn profile(&self) -> motion::Profile {
+        let int = |index: u16, sub: u8| self.store.int(ObjectId::new(index, sub));
+        let feed = int(0x6092, 1);
+        motion::Profile {
+            mode: int(0x6061, 0),
+            target_position: int(0x607A, 0),
+            target_velocity: int(0x60FF, 0),
+            profile_velocity: int(0x6081, 0).min(int(0x607F, 0)),
+            acceleration_ms: int(0x6083, 0),
+            deceleration_ms: int(0x6084, 0),
+            rated_speed: i64::from(self.params.rated_speed_rpm) * 100,
+            units_per_rev: if feed > 0 {
+                feed
+            } else {
+                i64::from(self.params.encoder_resolution)
+            },
+            position_window: int(0x6067, 0),
+            velocity_window: int(0x606D, 0),
+        }
     }
 
     /// Whether `t` is served: [Pr. PN08] digit x___ picks Ethernet (0) or RS-485 (1); the
@@ -306,7 +356,13 @@ impl MrJeC {
 
     /// Advances the virtual clock to `now`: time-outs expire, a quick stop ends.
     pub fn tick(&mut self, now: Duration) {
+        let dt = now.saturating_sub(self.now);
         self.now = self.now.max(now);
+        if self.state == FsaState::OperationEnabled {
+            self.motion.advance(dt, &self.profile(), self.halted());
+        } else {
+            self.motion.stand();
+        }
         if let Some(alarm) = self.watchdog.expired(self.now, &self.timeouts()) {
             self.raise(alarm);
         }
@@ -394,6 +450,8 @@ impl MrJeC {
         let alarm = self.alarm;
         let value = match (id.index, id.sub) {
             (0x6041, 0) => live(i64::from(self.statusword().0)),
+            (0x6064, 0) => live(self.motion.position()),
+            (0x606C, 0) => live(self.motion.velocity(&self.profile())),
             (0x1001, 0) => live(i64::from(alarm.is_some())),
             (0x603F, 0) => live(if alarm.is_some() { 0x1000 } else { 0 }),
             (0x2A41, 0) => live(alarm.map_or(0, |a| i64::from(a.current()))),
@@ -511,5 +569,12 @@ impl MrJeC {
             }
             s => s,
         };
+        if self.state == FsaState::OperationEnabled {
+            let bit4 = |c: Controlword| c.0 & (1 << 4) != 0;
+            self.motion
+                .new_set_point(bit4(cw), bit4(prev), &self.profile());
+        } else {
+            self.motion.stand();
+        }
     }
 }

@@ -65,10 +65,16 @@ struct Shared {
     /// The cyclic link's state (its master, CSR/SSR), whichever socket a request came by.
     cyclic: Mutex<super::cyclic::CyclicLink>,
     stop: AtomicBool,
+    /// The link is cut: requests are taken off the wire and dropped unseen by the drive.
+    cut: AtomicBool,
     start: Instant,
 }
 
 impl Shared {
+    fn cut(&self) -> bool {
+        self.cut.load(Ordering::Relaxed)
+    }
+
     fn now(&self) -> Duration {
         self.start.elapsed()
     }
@@ -119,6 +125,7 @@ impl Server {
             drive: Mutex::new(drive),
             cyclic: Mutex::new(Default::default()),
             stop: AtomicBool::new(false),
+            cut: AtomicBool::new(false),
             start: Instant::now(),
         });
         let modbus = TcpListener::bind((ip, ports.modbus_tcp))?;
@@ -201,6 +208,12 @@ impl Server {
     /// The emulator's clock: time since start.
     pub fn now(&self) -> Duration {
         self.shared.now()
+    }
+
+    /// Cuts the link (`true`: every request is dropped before the drive sees it, as a pulled
+    /// cable would; the drive's time-outs run on) or restores it.
+    pub fn cut_link(&self, cut: bool) {
+        self.shared.cut.store(cut, Ordering::Relaxed);
     }
 
     /// Whether a stop was asked for.
@@ -314,7 +327,7 @@ fn serve_modbus(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
             }
             continue;
         };
-        let discard = !operate && adu.pdu.first() == Some(&crate::modbus::WRITE);
+        let discard = s.cut() || (!operate && adu.pdu.first() == Some(&crate::modbus::WRITE));
         let reply = if discard {
             None
         } else {
@@ -336,7 +349,11 @@ fn serve_slmp_tcp(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
             .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
         match len {
             Some(n) if inbox.len() >= n => {
-                let reply = answer_slmp(s, &inbox[..n], operate);
+                let reply = if s.cut() {
+                    None
+                } else {
+                    answer_slmp(s, &inbox[..n], operate)
+                };
                 inbox.drain(..n);
                 if let Some(r) = reply {
                     stream.write_all(&r)?;
@@ -373,7 +390,7 @@ fn serve_slmp_udp(socket: &UdpSocket, s: &Shared) {
         let Ok((n, peer)) = socket.recv_from(&mut buf) else {
             continue;
         };
-        if !s.admits(peer.ip()) {
+        if s.cut() || !s.admits(peer.ip()) {
             continue;
         }
         let reply = answer_slmp(s, &buf[..n], s.may_operate(peer.ip()));
@@ -431,7 +448,7 @@ fn serve_cclink(socket: &UdpSocket, reply_from: &UdpSocket, own: u32, s: &Shared
         let IpAddr::V4(source) = peer.ip() else {
             continue;
         };
-        if !s.admits(peer.ip()) {
+        if s.cut() || !s.admits(peer.ip()) {
             continue;
         }
         let operate = s.may_operate(peer.ip());

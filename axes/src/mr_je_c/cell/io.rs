@@ -1,0 +1,284 @@
+//! One exchange with an MR-JE-C in a cell, the same whatever the transport: the controller's
+//! objects out (controlword, mode, targets and profile), the drive's back (statusword, position,
+//! velocity, alarm). Over CC-Link IE Field Basic they are the RWw/RWr devices of the manual's
+//! Table 2.2 (MR-JE-C manual §2.3.2) with the default response mapping; over SLMP and Modbus
+//! they are object writes (only the objects that changed, the controlword last) and reads.
+
+use std::time::{Duration, Instant};
+
+use super::super::access::ObjectAccess;
+use super::super::objects::ObjectId;
+use super::super::value::Value;
+use crate::cclink_ief_basic::io_thread::{CyclicIo, LinkHandle, StationCommand};
+use crate::cclink_ief_basic::{bit, set_bit, EndCode, READY_BIT};
+
+/// What the controller writes to the drive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Outputs {
+    /// 6040h.
+    pub controlword: u16,
+    /// 6060h.
+    pub mode: i8,
+    /// 607Ah, pos units.
+    pub target_position: i32,
+    /// 60FFh, 0.01 r/min.
+    pub target_velocity: i32,
+    /// 6081h, 0.01 r/min.
+    pub profile_velocity: u32,
+    /// 6083h, ms from 0 to rated speed.
+    pub acceleration_ms: u32,
+    /// 6084h, ms from rated speed to 0.
+    pub deceleration_ms: u32,
+}
+
+/// What the drive answered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Inputs {
+    /// 6041h.
+    pub statusword: u16,
+    /// 6064h, pos units.
+    pub position: i32,
+    /// 606Ch, 0.01 r/min.
+    pub velocity: i32,
+    /// 2A42h current alarm 2 (0: none).
+    pub alarm: u16,
+}
+
+/// Why an exchange brought no answer.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ExchangeError {
+    /// No answer (timeout, refused connection, lost frame).
+    #[error("no answer: {0}")]
+    NoAnswer(String),
+    /// The drive refused an access (end code, exception).
+    #[error("refused: {0}")]
+    Refused(String),
+    /// The cyclic link answered but is not ready yet (connecting, SSR off): not a missed
+    /// response.
+    #[error("cyclic transmission not ready")]
+    NotReady,
+}
+
+/// One exchange per link period.
+pub trait DriveIo: Send {
+    /// Writes `out`, reads the inputs back.
+    fn exchange(&mut self, out: &Outputs) -> Result<Inputs, ExchangeError>;
+
+    /// Writes one object outside the cycle (start-up parameters).
+    fn write_object(&mut self, id: ObjectId, value: &Value) -> Result<(), ExchangeError>;
+
+    /// The last exchange's round trip.
+    fn round_trip(&self) -> Duration;
+}
+
+/// The objects of the outputs besides the controlword, in the order they are written.
+fn profile_objects(o: &Outputs) -> [(u16, Value); 6] {
+    [
+        (0x6060, Value::I8(o.mode)),
+        (0x607A, Value::I32(o.target_position)),
+        (0x60FF, Value::I32(o.target_velocity)),
+        (0x6081, Value::U32(o.profile_velocity)),
+        (0x6083, Value::U32(o.acceleration_ms)),
+        (0x6084, Value::U32(o.deceleration_ms)),
+    ]
+}
+
+/// Writes one object beside the cyclic link (start-up parameters).
+pub type ParameterWrite = Box<dyn FnMut(ObjectId, &Value) -> Result<(), ExchangeError> + Send>;
+
+/// The exchange over object access (SLMP, Modbus/TCP, Modbus RTU).
+pub struct ObjectIo<A> {
+    access: A,
+    last: Option<Outputs>,
+    round_trip: Duration,
+}
+
+impl<A: ObjectAccess> ObjectIo<A> {
+    /// Exchanges through `access`.
+    pub fn new(access: A) -> ObjectIo<A> {
+        ObjectIo {
+            access,
+            last: None,
+            round_trip: Duration::ZERO,
+        }
+    }
+
+    fn put(&mut self, index: u16, v: Value) -> Result<(), ExchangeError> {
+        self.access
+            .write_object(ObjectId::new(index, 0), &v)
+            .map_err(sort)
+    }
+
+    fn get(&mut self, index: u16) -> Result<i64, ExchangeError> {
+        let v = self
+            .access
+            .read_object(ObjectId::new(index, 0))
+            .map_err(sort)?;
+        v.as_i64()
+            .ok_or_else(|| ExchangeError::Refused(format!("{index:04X}h: {v}")))
+    }
+}
+
+fn sort(e: super::super::AccessError) -> ExchangeError {
+    use super::super::AccessError as E;
+    match e {
+        E::Timeout(_) | E::Link(_) => ExchangeError::NoAnswer(e.to_string()),
+        other => ExchangeError::Refused(other.to_string()),
+    }
+}
+
+impl<A: ObjectAccess + Send> DriveIo for ObjectIo<A> {
+    fn exchange(&mut self, out: &Outputs) -> Result<Inputs, ExchangeError> {
+        let t = Instant::now();
+        let last = self.last;
+        // Each its own request: these objects have no continuous access (manual §7.3).
+        for (k, (index, v)) in profile_objects(out).into_iter().enumerate() {
+            if last.is_none_or(|l| profile_objects(&l)[k].1 != v) {
+                self.put(index, v)?;
+            }
+        }
+        self.put(0x6040, Value::U16(out.controlword))?;
+        self.last = Some(*out);
+        let inputs = Inputs {
+            statusword: self.get(0x6041)? as u16,
+            position: self.get(0x6064)? as i32,
+            velocity: self.get(0x606C)? as i32,
+            alarm: self.get(0x2A42)? as u16,
+        };
+        self.round_trip = t.elapsed();
+        Ok(inputs)
+    }
+
+    fn write_object(&mut self, id: ObjectId, value: &Value) -> Result<(), ExchangeError> {
+        self.access.write_object(id, value).map_err(sort)
+    }
+
+    fn round_trip(&self) -> Duration {
+        self.round_trip
+    }
+}
+
+/// RWw devices (manual Table 2.2, profile mode): the word offset of each output.
+mod rww {
+    pub const MODE: usize = 0x00;
+    pub const CONTROLWORD: usize = 0x01;
+    pub const TARGET_POSITION: usize = 0x05;
+    pub const TARGET_VELOCITY: usize = 0x07;
+    pub const PROFILE_VELOCITY: usize = 0x0C;
+    pub const ACCELERATION: usize = 0x0E;
+    pub const DECELERATION: usize = 0x10;
+}
+
+/// RWr byte offsets of the default response mapping 1A00h (6061h, pad, 6041h, 6064h, 606Ch, …,
+/// 2A42h after 24 bytes).
+mod rwr {
+    pub const STATUSWORD: usize = 2;
+    pub const POSITION: usize = 4;
+    pub const VELOCITY: usize = 8;
+    pub const ALARM: usize = 24;
+}
+
+/// The exchange over the CC-Link IE Field Basic cyclic link of one station, run inline on the
+/// axis' thread (one cycle per exchange); a station not yet connected is connected first.
+pub struct CyclicDriveIo {
+    link: CyclicIo,
+    handle: LinkHandle,
+    /// The station's object access for start-up parameters (SLMP beside the cyclic link).
+    parameters: Option<ParameterWrite>,
+    round_trip: Duration,
+}
+
+impl CyclicDriveIo {
+    /// Exchanges on `link` (one station); start-up writes go through `parameters`.
+    pub fn new(link: CyclicIo, parameters: Option<ParameterWrite>) -> CyclicDriveIo {
+        CyclicDriveIo {
+            handle: link.handle(),
+            link,
+            parameters,
+            round_trip: Duration::ZERO,
+        }
+    }
+}
+
+fn put_le(words: &mut [u8; 64], device: usize, bytes: &[u8]) {
+    words[2 * device..2 * device + bytes.len()].copy_from_slice(bytes);
+}
+
+fn le<const N: usize>(block: &[u8; 64], at: usize) -> [u8; N] {
+    let mut b = [0u8; N];
+    b.copy_from_slice(&block[at..at + N]);
+    b
+}
+
+impl DriveIo for CyclicDriveIo {
+    fn exchange(&mut self, out: &Outputs) -> Result<Inputs, ExchangeError> {
+        let mut c = StationCommand {
+            transmit: true,
+            ..StationCommand::default()
+        };
+        put_le(&mut c.rww, rww::MODE, &[out.mode as u8]);
+        put_le(&mut c.rww, rww::CONTROLWORD, &out.controlword.to_le_bytes());
+        put_le(
+            &mut c.rww,
+            rww::TARGET_POSITION,
+            &out.target_position.to_le_bytes(),
+        );
+        put_le(
+            &mut c.rww,
+            rww::TARGET_VELOCITY,
+            &out.target_velocity.to_le_bytes(),
+        );
+        put_le(
+            &mut c.rww,
+            rww::PROFILE_VELOCITY,
+            &out.profile_velocity.to_le_bytes(),
+        );
+        put_le(
+            &mut c.rww,
+            rww::ACCELERATION,
+            &out.acceleration_ms.to_le_bytes(),
+        );
+        put_le(
+            &mut c.rww,
+            rww::DECELERATION,
+            &out.deceleration_ms.to_le_bytes(),
+        );
+        set_bit(&mut c.ry, READY_BIT, true);
+        self.handle.command(0, c);
+        let cycle = self.link.cycle();
+        let f = self.handle.feedback(0).unwrap_or_default();
+        self.round_trip = Duration::from_nanos(f.round_trip_ns);
+        if let Err(e) = cycle {
+            return Err(ExchangeError::NoAnswer(e.to_string()));
+        }
+        if f.missed_in_row > 0 {
+            return Err(ExchangeError::NoAnswer("no cyclic response".into()));
+        }
+        if f.end_code != EndCode::Normal {
+            return Err(ExchangeError::Refused(format!("end code {:?}", f.end_code)));
+        }
+        if !bit(&f.rx, READY_BIT) {
+            // Connected this cycle (the request did not transmit yet), or SSR not yet on.
+            return Err(ExchangeError::NotReady);
+        }
+        Ok(Inputs {
+            statusword: u16::from_le_bytes(le(&f.rwr, rwr::STATUSWORD)),
+            position: i32::from_le_bytes(le(&f.rwr, rwr::POSITION)),
+            velocity: i32::from_le_bytes(le(&f.rwr, rwr::VELOCITY)),
+            alarm: u16::from_le_bytes(le(&f.rwr, rwr::ALARM)),
+        })
+    }
+
+    fn write_object(&mut self, id: ObjectId, value: &Value) -> Result<(), ExchangeError> {
+        match &mut self.parameters {
+            Some(write) => write(id, value),
+            None => Err(ExchangeError::Refused(format!(
+                "{id}: no object access beside the cyclic link"
+            ))),
+        }
+    }
+
+    fn round_trip(&self) -> Duration {
+        self.round_trip
+    }
+}

@@ -1,0 +1,11 @@
+//! MR-JE-C axes in a cell: one exchange per link period on a non-RT thread per axis, the same
+//! over every transport ([`io::DriveIo`]), the controller's power sequence, profile jobs and
+//! communication watchdog ([`control::AxisControl`]).
+
+pub mod control;
+pub mod io;
+pub mod thread;
+
+pub use control::{AxisCommand, AxisControl, StopReaction, Stopped};
+pub use io::{CyclicDriveIo, DriveIo, ExchangeError, Inputs, ObjectIo, Outputs};
+pub use thread::{AxisFeedback, AxisHandle, AxisThread, StartError};

@@ -77,6 +77,7 @@ pub fn render(s: &Summary) -> String {
         );
     }
     axes(&mut o, s);
+    je_c_axes(&mut o, s);
     recording(&mut o, s);
     if let Some(l) = &s.live {
         let _ = writeln!(
@@ -108,6 +109,45 @@ fn axes(o: &mut String, s: &Summary) {
                 );
             }
         }
+    }
+}
+
+/// Each MR-JE-C axis: its final position against its target, its link's figures.
+fn je_c_axes(o: &mut String, s: &Summary) {
+    if s.je_c_axes.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        o,
+        "mr-je-c     final position vs target, link (beside the RT loop)"
+    );
+    for a in &s.je_c_axes {
+        let target = match (a.target, a.error) {
+            (Some(t), Some(e)) => format!("target {t:>12.4}   error {e:+.4}"),
+            _ => "(no target)".to_string(),
+        };
+        let _ = writeln!(
+            o,
+            "  {:<8} {:>12.4} {:<4} {target}",
+            a.name, a.final_position, a.unit
+        );
+        let _ = writeln!(
+            o,
+            "           {}: {} exchanges, {} missed, {} refused, round trip max {:.0} µs{}{}",
+            a.transport,
+            a.exchanges,
+            a.missed,
+            a.refused,
+            a.max_round_trip_us,
+            a.stopped
+                .as_ref()
+                .map(|r| format!(", stopped: {r}"))
+                .unwrap_or_default(),
+            a.drive_alarm
+                .as_ref()
+                .map(|r| format!(", drive alarm {r}"))
+                .unwrap_or_default()
+        );
     }
 }
 

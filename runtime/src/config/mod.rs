@@ -6,6 +6,7 @@ mod comm_watchdog;
 mod error;
 mod fault;
 pub mod input_file;
+pub mod je_c_axis;
 pub mod profile_axis;
 pub mod raw;
 mod validate;
@@ -62,6 +63,9 @@ pub struct CellConfig {
     pub axes: Vec<AxisConfig>,
     /// The EtherCAT segment, where the axes use `transport = "ethercat"`.
     pub ethercat: Option<EthercatConfig>,
+    /// The MR-JE-C axes (`drive = "mr-je-c"`), in configuration order: run by threads of
+    /// their own, never by the RT loop, so not among `axes`.
+    pub je_c_axes: Vec<je_c_axis::JecAxisConfig>,
 }
 
 /// Who may command the cell: always the user that runs it (and root); with `group`, also the
@@ -452,11 +456,17 @@ impl CellConfig {
         self.axes.iter().position(|a| a.name == name)
     }
 
-    /// Comma-separated axis names, for messages.
+    /// Index of the MR-JE-C axis called `name` (in `je_c_axes`).
+    pub fn je_c_axis_index(&self, name: &str) -> Option<usize> {
+        self.je_c_axes.iter().position(|a| a.name == name)
+    }
+
+    /// Comma-separated axis names (the MR-JE-C axes last), for messages.
     pub fn axis_names(&self) -> String {
         self.axes
             .iter()
             .map(|a| a.name.as_str())
+            .chain(self.je_c_axes.iter().map(|a| a.name.as_str()))
             .collect::<Vec<_>>()
             .join(", ")
     }

@@ -343,6 +343,8 @@ pub struct RawAxis {
     pub esi_product_code: Option<u32>,
     /// The device in the ESI file, by its revision.
     pub esi_revision: Option<u32>,
+    /// `[axes.je_c]`: how an `mr-je-c` axis is reached.
+    pub je_c: Option<super::je_c_axis::RawJecAxis>,
 }
 
 /// `[axes.limits]`.

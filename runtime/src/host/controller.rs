@@ -149,6 +149,8 @@ pub struct Summary {
     pub final_state: String,
     /// Per axis.
     pub axes: Vec<AxisSummary>,
+    /// Per MR-JE-C axis (run beside the RT loop).
+    pub je_c_axes: Vec<crate::host::je_c::JecAxisSummary>,
     /// The recording.
     pub recording: RecordingInfo,
     /// The live view, when one ran.
@@ -199,6 +201,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let bus =
         crate::host::cell_bus::CellBus::open(cell).map_err(|e| RunError::Bus(e.to_string()))?;
     record_bring_up_warnings(cell, &bus, &handoff);
+    let je_c = crate::host::je_c::JecCell::start(cell).map_err(RunError::Bus)?;
     if let Some(d) = bus.diagnostics() {
         handoff.set_bus_diagnostics(d);
     }
@@ -209,13 +212,18 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .as_ref()
         .map(|p| p.final_targets(cell.axes.len()))
         .unwrap_or_else(|| vec![None; cell.axes.len()]);
+    let je_c_targets = opts
+        .program
+        .as_ref()
+        .map(|p| p.je_c_final_targets(cell.je_c_axes.len()))
+        .unwrap_or_else(|| vec![None; cell.je_c_axes.len()]);
     let link = LinkServer::spawn(cell, handoff.clone())?;
     // Without a program the planner thread serves the operator service (unless an external
     // planner process provides the setpoints).
     let mut planner = if opts.external_planner {
         None
     } else {
-        match planner::spawn(cell, opts.program, handoff.clone()) {
+        match planner::spawn(cell, opts.program, handoff.clone(), je_c.axes()) {
             Ok(p) => Some(p),
             Err(e) => {
                 link.stop();
@@ -247,6 +255,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .ok_or_else(|| RunError::Thread("the RT thread ended without statistics".into()))?;
     link.stop();
     let program_result = planner.map(|p| p.finish());
+    let je_c_axes = je_c.finish(&je_c_targets);
     let recording = recording.finish()?;
 
     let program_error = program_result.and_then(|r| r.err()).map(|e| e.to_string());
@@ -269,6 +278,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         dc_phase_error: (!stats.dc_phase_error.is_empty())
             .then(|| stats.dc_phase_error.percentiles()),
         axes: axis_summaries(cell, &stats, &targets),
+        je_c_axes,
         histograms: RunHistograms {
             wakeup_latency: stats.latency,
             loop_time: stats.loop_time,

@@ -11,6 +11,7 @@ use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, HomeRequest, HostEnd, ProfileCommand};
+use crate::host::je_c::JecAxes;
 use crate::host::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionError, MotionRequest, Progress};
 use crate::host::operator::profile::{
@@ -24,6 +25,8 @@ use crate::services;
 use cellrt_axes::cia402::fsa::FsaState;
 use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure};
 use cellrt_axes::cia402::statusword::Statusword;
+
+mod je_c;
 
 /// The engine's form of a move-like step's targets.
 fn move_list(targets: &[MoveTarget]) -> Vec<(usize, f64, cellrt_trajectory::KinematicLimits)> {
@@ -112,6 +115,7 @@ pub fn spawn(
     cell: &CellConfig,
     program: Option<Program>,
     handoff: Arc<HostEnd>,
+    je_c: JecAxes,
 ) -> std::io::Result<PlannerHandle> {
     let abort = Arc::new(AtomicBool::new(false));
     let abort2 = abort.clone();
@@ -130,7 +134,7 @@ pub fn spawn(
                 .as_ref()
                 .map(|p| p.source.display().to_string())
                 .unwrap_or_default();
-            let planner = Planner::new(&cell, Box::new(link), &abort2, source);
+            let planner = Planner::new(&cell, Box::new(link), &abort2, source, je_c);
             let _ = ready_tx.send(priority);
             match planner {
                 Ok(mut p) => {
@@ -189,7 +193,12 @@ pub fn run_external(
         }
     }
     let source = program.source.display().to_string();
-    let mut planner = Planner::new(cell, Box::new(link), abort, source)?;
+    if !cell.je_c_axes.is_empty() {
+        return Err(fail(
+            "a cell with MR-JE-C axes runs its program in the controller (cellrt run), not in an external planner".into(),
+        ));
+    }
+    let mut planner = Planner::new(cell, Box::new(link), abort, source, JecAxes::default())?;
     planner.serve(Some(program.clone()))
 }
 
@@ -206,6 +215,8 @@ struct Planner<'a> {
     source: String,
     step: usize,
     what: &'static str,
+    /// The cell's MR-JE-C axes.
+    je_c: JecAxes,
 }
 
 impl<'a> Planner<'a> {
@@ -214,6 +225,7 @@ impl<'a> Planner<'a> {
         link: Box<dyn CellLink + 'a>,
         abort: &'a AtomicBool,
         source: String,
+        je_c: JecAxes,
     ) -> Result<Self, ProgramError> {
         let fail = |e: services::ServiceError| ProgramError {
             program: source.clone(),
@@ -237,6 +249,7 @@ impl<'a> Planner<'a> {
             source,
             step: 0,
             what: "",
+            je_c,
         })
     }
 
@@ -327,11 +340,13 @@ impl<'a> Planner<'a> {
                     self.what = "power_on";
                     self.command(CellCommand::PowerOn)?;
                     self.wait_for_state(CellState::Idle, POWER_TIMEOUT)?;
+                    self.je_c_power(true)?;
                 }
                 Step::PowerOff(axes) if axes.is_empty() => {
                     self.what = "power_off";
                     self.command(CellCommand::PowerOff)?;
                     self.wait_for_state(CellState::Disabled, POWER_TIMEOUT)?;
+                    self.je_c_power(false)?;
                 }
                 Step::PowerOn(axes) => {
                     self.what = "power_on";
@@ -349,6 +364,7 @@ impl<'a> Planner<'a> {
                 }
                 Step::Reset => {
                     self.what = "reset";
+                    self.je_c_reset()?;
                     let state = self.status()?.state;
                     if matches!(state, CellState::Stopped | CellState::Faulted) {
                         self.command(CellCommand::Reset)?;
@@ -359,9 +375,13 @@ impl<'a> Planner<'a> {
                     self.what = "wait";
                     self.sleep(Duration::from_secs_f64(*s));
                 }
-                Step::Move(targets) => {
+                Step::Move(targets, je_c) => {
                     self.what = "move";
-                    self.run_move(targets)?;
+                    let before = self.je_c_start(je_c)?;
+                    if !targets.is_empty() {
+                        self.run_move(targets)?;
+                    }
+                    self.je_c_wait(je_c, &before)?;
                 }
                 Step::Torque { targets, hold_s } => {
                     self.what = "torque";

@@ -77,10 +77,11 @@ pub fn run(args: RunArgs) -> Exit {
     }
 
     eprintln!(
-        "cellrt: cell '{}' — {} axes at {} µs{}{}",
+        "cellrt: cell '{}' — {} axes at {} µs{}{}{}",
         cell.name,
         cell.axes.len(),
         cell.cycle_time.as_micros(),
+        je_c_axes(&cell),
         program
             .as_ref()
             .map(|p| format!(", program {}", p.source.display()))
@@ -196,6 +197,27 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
     let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
     let y = yoe + era * 400 + i64::from(m <= 2);
     (y, m, d)
+}
+
+/// The MR-JE-C axes beside the RT loop, for the start line.
+fn je_c_axes(cell: &CellConfig) -> String {
+    if cell.je_c_axes.is_empty() {
+        return String::new();
+    }
+    let each: Vec<String> = cell
+        .je_c_axes
+        .iter()
+        .map(|a| {
+            format!(
+                "{} over {} every {} ms{}",
+                a.name,
+                a.transport.name(),
+                a.period.as_millis(),
+                if a.emulate { ", emulated" } else { "" }
+            )
+        })
+        .collect();
+    format!(" + MR-JE-C axes {}", each.join("; "))
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ use cellrt_axes::comm::{DetectorParams, MAX_INTERMITTENT};
 use cellrt_axes::profiles::DriveModel;
 use cellrt_axes::{CycleTime, Cycles};
 
+use super::je_c_axis::{self, JecAxisConfig};
 use super::raw::{RawAxis, RawCellConfig, RawRecording, RawRt, RawSetpoints, RawWatchdogs};
 use super::{
     AxisConfig, CellConfig, CommWatchdogConfig, Compression, ConfigError, EthercatConfig,
@@ -91,7 +92,8 @@ pub(super) fn validate(
         ),
         None => None,
     };
-    let axes = validate_axes(file, cycle_time, raw.axes)?;
+    let (axes, je_c_axes) =
+        validate_axes(file, cycle_time, raw.axes, watchdogs.communication_reaction)?;
     let (mode, pre_s, post_s, triggers) = capture_raw;
     recording.capture =
         crate::config::capture::capture_config(file, &mode, pre_s, post_s, &triggers, &axes)?;
@@ -114,6 +116,7 @@ pub(super) fn validate(
         inject,
         axes,
         ethercat,
+        je_c_axes,
     })
 }
 
@@ -388,18 +391,33 @@ fn counter_levels(file: &Path, raw: &RawWatchdogs) -> Result<Option<DetectorPara
     }))
 }
 
-/// `[[axes]]`: at least one, at most [`MAX_AXES`], unique names, amplifier slots shared
-/// consistently.
+/// `[[axes]]`: at least one on the RT loop, at most [`MAX_AXES`] there, unique names,
+/// amplifier slots shared consistently; the MR-JE-C axes apart.
 fn validate_axes(
     file: &Path,
     cycle_time: CycleTime,
     raw: Vec<RawAxis>,
-) -> Result<Vec<AxisConfig>, ConfigError> {
+    communication_reaction: crate::config::FaultReaction,
+) -> Result<(Vec<AxisConfig>, Vec<JecAxisConfig>), ConfigError> {
+    let (je_c_raw, raw): (Vec<_>, Vec<_>) = raw
+        .into_iter()
+        .enumerate()
+        .partition(|(_, a)| a.drive == je_c_axis::DRIVE);
+    let mut seen = HashSet::new();
+    let mut je_c_axes = Vec::with_capacity(je_c_raw.len());
+    for (i, a) in &je_c_raw {
+        let key = format!("axes[{i}]");
+        if !seen.insert(a.name.clone()) {
+            return Err(duplicate(file, &key, &a.name));
+        }
+        check_name(file, &format!("{key}.name"), &a.name)?;
+        je_c_axes.push(je_c_axis::validate(file, &key, a, communication_reaction)?);
+    }
     if raw.is_empty() {
         return Err(ConfigError::new(
             file,
             "axes",
-            "a cell needs at least one [[axes]] entry",
+            "a cell needs at least one [[axes]] entry on the RT loop (sim or ethercat; mr-je-c axes run beside it)",
         ));
     }
     if raw.len() > MAX_AXES {
@@ -412,24 +430,38 @@ fn validate_axes(
             ),
         ));
     }
-    let mut seen = HashSet::new();
     let mut axes = Vec::with_capacity(raw.len());
     let mut amplifiers: Vec<(String, DriveModel, Vec<u8>)> = Vec::new();
-    for (i, a) in raw.into_iter().enumerate() {
+    for (i, a) in raw {
         let key = format!("axes[{i}]");
         let amplifier = check_amplifier(file, &key, &a, &mut amplifiers)?;
         if !seen.insert(a.name.clone()) {
+            return Err(duplicate(file, &key, &a.name));
+        }
+        if a.je_c.is_some() {
             return Err(ConfigError::new(
                 file,
-                format!("{key}.name"),
-                format!("duplicate axis name '{}'", a.name),
+                format!("{key}.je_c"),
+                format!(
+                    "axis '{}': [axes.je_c] is for drive = \"{}\" only",
+                    a.name,
+                    je_c_axis::DRIVE
+                ),
             ));
         }
         let mut axis = validate_axis(file, &key, cycle_time, a)?;
         axis.amplifier = amplifier;
         axes.push(axis);
     }
-    Ok(axes)
+    Ok((axes, je_c_axes))
+}
+
+fn duplicate(file: &Path, key: &str, name: &str) -> ConfigError {
+    ConfigError::new(
+        file,
+        format!("{key}.name"),
+        format!("duplicate axis name '{name}'"),
+    )
 }
 
 /// `[ethercat]` against the axes' transports: one cell runs one transport, EtherCAT axes need

@@ -31,6 +31,7 @@ use cellrt_axes::cia402::homing::{HomeProcedure, HomeSettingEdge};
 
 use crate::config::{CellConfig, ConfigError};
 
+mod je_c;
 mod validate;
 use validate::expand;
 
@@ -158,8 +159,9 @@ pub enum Step {
     PowerOff(Vec<usize>),
     /// Clear a stopped or faulted cell.
     Reset,
-    /// Move the listed axes (index, target in units, limits in units).
-    Move(Vec<MoveTarget>),
+    /// Move the listed axes (index, target in units, limits in units) and the listed MR-JE-C
+    /// axes together; the step ends when all are done.
+    Move(Vec<MoveTarget>, Vec<JecTarget>),
     /// Pause for this many seconds.
     Wait(f64),
     /// Torque on cst axes, held for `hold_s` seconds between the ramps.
@@ -231,6 +233,19 @@ pub struct MoveTarget {
     pub limits: KinematicLimits,
 }
 
+/// One MR-JE-C axis of a move step (a pp move of its drive).
+#[derive(Debug, Clone, PartialEq)]
+pub struct JecTarget {
+    /// Index in the cell's `je_c_axes`.
+    pub axis: usize,
+    /// Target position, units.
+    pub target: f64,
+    /// Profile velocity, unit/s.
+    pub velocity: f64,
+    /// Acceleration and deceleration, unit/s².
+    pub acceleration: f64,
+}
+
 /// A validated program.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Program {
@@ -271,13 +286,28 @@ impl Program {
         let mut out = vec![None; axes];
         for s in &self.steps {
             match s {
-                Step::Move(targets) | Step::Line { targets, .. } | Step::Path { targets, .. } => {
+                Step::Move(targets, _)
+                | Step::Line { targets, .. }
+                | Step::Path { targets, .. } => {
                     for t in targets {
                         out[t.axis] = Some(t.target);
                     }
                 }
                 Step::Jog { axis, .. } => out[*axis] = None,
                 _ => {}
+            }
+        }
+        out
+    }
+
+    /// The last target each MR-JE-C axis is moved to, by its index in `je_c_axes`.
+    pub fn je_c_final_targets(&self, axes: usize) -> Vec<Option<f64>> {
+        let mut out = vec![None; axes];
+        for s in &self.steps {
+            if let Step::Move(_, je_c) = s {
+                for t in je_c {
+                    out[t.axis] = Some(t.target);
+                }
             }
         }
         out

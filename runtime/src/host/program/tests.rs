@@ -62,7 +62,7 @@ fn repeat_expands_its_steps_count_times() {
     .unwrap();
     assert_eq!(p.steps.len(), 7);
     assert_eq!(p.steps[1], Step::Override(0.5));
-    assert!(matches!(p.steps[4], Step::Move(_)));
+    assert!(matches!(p.steps[4], Step::Move(..)));
     assert_eq!(p.steps[6], Step::PowerOff(vec![]));
     let e = parse("[[step]]\ndo = \"repeat\"\ncount = 0\n[[step.steps]]\ndo = \"power_on\"\n")
         .unwrap_err();
@@ -147,7 +147,9 @@ fn per_move_limits_may_lower_but_never_raise_the_axis_limit() {
     let c = cell(2);
     let ok = "[[step]]\ndo = \"move\"\ntarget = { a0 = 5.0 }\nvelocity = 5.0\n";
     let p = Program::parse(Path::new("p.toml"), ok, &c).unwrap();
-    let Step::Move(t) = &p.steps[0] else { panic!() };
+    let Step::Move(t, _) = &p.steps[0] else {
+        panic!()
+    };
     assert_eq!(t[0].limits.velocity, 5.0);
     let bad = "[[step]]\ndo = \"move\"\ntarget = { a0 = 5.0 }\nvelocity = { a0 = 50.0 }\n";
     let e = Program::parse(Path::new("p.toml"), bad, &c).unwrap_err();

@@ -82,17 +82,20 @@ fn validate_step(
         RawStep::Reset => Step::Reset,
         RawStep::Wait { seconds } => Step::Wait(step_seconds(path, key, seconds)?),
         RawStep::Move {
-            target,
-            velocity,
-            acceleration,
-            jerk,
-        } => Step::Move(move_targets(
-            path,
-            key,
-            target,
-            [&velocity, &acceleration, &jerk],
-            cell,
-        )?),
+            mut target,
+            mut velocity,
+            mut acceleration,
+            mut jerk,
+        } => {
+            let limits = [&mut velocity, &mut acceleration, &mut jerk];
+            let je_c = super::je_c::take_targets(path, key, &mut target, limits, cell)?;
+            let streamed = if je_c.is_empty() || !target.is_empty() {
+                move_targets(path, key, target, [&velocity, &acceleration, &jerk], cell)?
+            } else {
+                Vec::new()
+            };
+            Step::Move(streamed, je_c)
+        }
         RawStep::Line {
             target,
             velocity,

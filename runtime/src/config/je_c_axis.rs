@@ -1,0 +1,370 @@
+//! `[[axes]]` with `drive = "mr-je-c"`: an MR-JE-C axis of the cell, reached over Ethernet or
+//! RS-485 (MR-JE-C manual §2–§4) by a non-RT thread of its own, never by the RT loop. Its keys
+//! beside the common ones (`name`, `unit`, `counts_per_unit`, `limits`, `mode` = "pp" | "pv")
+//! are `transport` and the `[axes.je_c]` table.
+
+use std::net::{IpAddr, SocketAddr};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use serde::Deserialize;
+
+use super::raw::RawAxis;
+use super::{ConfigError, FaultReaction};
+
+/// The drive name that selects an MR-JE-C axis.
+pub const DRIVE: &str = "mr-je-c";
+
+/// The shortest link period: the drive's response time (MR-JE-C manual §2.2.1: 10 ms).
+pub const MIN_PERIOD_MS: u64 = 10;
+
+/// `[axes.je_c]` as written.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawJecAxis {
+    /// The drive's IP address (Ethernet transports).
+    pub address: Option<String>,
+    /// The drive's port, where not the transport's own (61450, 5010, 502).
+    pub port: Option<u16>,
+    /// The serial device of the RS-485 line (modbus-rtu).
+    pub serial: Option<PathBuf>,
+    /// The drive's station number on the line, 1–247 (modbus-rtu).
+    pub station: Option<u8>,
+    /// The line's bit rate (modbus-rtu; 115200 by default).
+    pub baud: Option<u32>,
+    /// Link period, ms (≥ 10; 10 by default).
+    pub period_ms: Option<u64>,
+    /// How long one exchange waits for its answer, ms (50 by default).
+    pub response_timeout_ms: Option<u64>,
+    /// The master's watchdog: answers missed in a row that stop the axis (3 by default; 0
+    /// switches it off).
+    pub watchdog_missed: Option<u32>,
+    /// The watchdog's reaction (`watchdogs.communication_reaction` by default).
+    pub watchdog_reaction: Option<String>,
+    /// The drive's own time-out for this transport, ms, written at start-up: [Pr. PN02]
+    /// (cclink-ief-basic, ms), [Pr. PN10] (slmp, modbus-tcp, whole seconds), [Pr. PF46]
+    /// (modbus-rtu, whole seconds). Not written when absent (the drive keeps its setting).
+    pub drive_timeout_ms: Option<u64>,
+    /// Pos units per motor revolution (6092h:1; 131072 by default, the encoder resolution).
+    pub counts_per_rev: Option<f64>,
+    /// The motor's rated speed, r/min, that 6083h/6084h refer to (3000 by default).
+    pub rated_speed: Option<f64>,
+    /// Start an emulated MR-JE-C for the axis on loopback (a pseudo-terminal for
+    /// modbus-rtu) instead of reaching a real drive.
+    #[serde(default)]
+    pub emulate: bool,
+}
+
+/// Where an MR-JE-C is reached.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum JecTransport {
+    /// CC-Link IE Field Basic cyclic data (UDP 61450), start-up writes by SLMP (UDP 5010).
+    CcLink(Option<SocketAddr>),
+    /// SLMP over UDP (5010).
+    Slmp(Option<SocketAddr>),
+    /// Modbus/TCP (502).
+    ModbusTcp(Option<SocketAddr>),
+    /// Modbus RTU on an RS-485 line.
+    ModbusRtu {
+        /// The serial device (none: the emulator's pseudo-terminal).
+        serial: Option<PathBuf>,
+        /// Station number.
+        station: u8,
+        /// Bit rate.
+        baud: u32,
+    },
+}
+
+impl JecTransport {
+    /// The configuration name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            JecTransport::CcLink(_) => "cclink-ief-basic",
+            JecTransport::Slmp(_) => "slmp",
+            JecTransport::ModbusTcp(_) => "modbus-tcp",
+            JecTransport::ModbusRtu { .. } => "modbus-rtu",
+        }
+    }
+}
+
+/// The motion an MR-JE-C axis runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JecMode {
+    /// Profile position: `move` steps.
+    Pp,
+    /// Profile velocity: `jog` steps.
+    Pv,
+}
+
+/// A validated MR-JE-C axis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JecAxisConfig {
+    /// Axis name (unique among all the cell's axes).
+    pub name: String,
+    /// Unit name.
+    pub unit: String,
+    /// Pos units per unit.
+    pub counts_per_unit: f64,
+    /// `[min, max]`, units.
+    pub position: [f64; 2],
+    /// Velocity limit, unit/s.
+    pub velocity: f64,
+    /// Acceleration limit, unit/s².
+    pub acceleration: f64,
+    /// pp or pv.
+    pub mode: JecMode,
+    /// Where the drive is.
+    pub transport: JecTransport,
+    /// Link period.
+    pub period: Duration,
+    /// Answer deadline of one exchange.
+    pub response_timeout: Duration,
+    /// Missed answers in a row that stop the axis (0: never).
+    pub watchdog_missed: u32,
+    /// How the watchdog stops it.
+    pub watchdog_reaction: FaultReaction,
+    /// The drive's own time-out, written at start-up.
+    pub drive_timeout: Option<Duration>,
+    /// Pos units per motor revolution.
+    pub counts_per_rev: f64,
+    /// Rated speed, r/min.
+    pub rated_speed: f64,
+    /// Run an emulated drive.
+    pub emulate: bool,
+}
+
+impl JecAxisConfig {
+    /// A speed in unit/s as 0.01 r/min (6081h, 60FFh).
+    pub fn drive_speed(&self, v: f64) -> i64 {
+        (v * self.counts_per_unit / self.counts_per_rev * 60.0 * 100.0).round() as i64
+    }
+
+    /// An acceleration in unit/s² as the time constant from 0 to the rated speed, ms (6083h,
+    /// 6084h; at least 1).
+    pub fn ramp_ms(&self, a: f64) -> u32 {
+        let rated = self.rated_speed / 60.0 * self.counts_per_rev / self.counts_per_unit;
+        (rated / a * 1000.0).round().clamp(1.0, f64::from(u32::MAX)) as u32
+    }
+
+    /// A position in units as pos units.
+    pub fn counts(&self, x: f64) -> i32 {
+        (x * self.counts_per_unit).round() as i32
+    }
+
+    /// Pos units as units.
+    pub fn units(&self, counts: i32) -> f64 {
+        f64::from(counts) / self.counts_per_unit
+    }
+}
+
+/// Checks an `mr-je-c` axis at `key` of `file`.
+pub fn validate(
+    file: &Path,
+    key: &str,
+    a: &RawAxis,
+    communication_reaction: FaultReaction,
+) -> Result<JecAxisConfig, ConfigError> {
+    let err = |sub: &str, m: String| ConfigError::new(file, format!("{key}.{sub}"), m);
+    let raw = a.je_c.as_ref().ok_or_else(|| {
+        err(
+            "je_c",
+            format!(
+                "axis '{}': an mr-je-c axis needs an [axes.je_c] table",
+                a.name
+            ),
+        )
+    })?;
+    let mode = match a.mode.as_str() {
+        "pp" => JecMode::Pp,
+        "pv" => JecMode::Pv,
+        m => {
+            return Err(err(
+                "mode",
+                format!(
+                    "axis '{}': mode \"{m}\": an MR-JE-C in a cell runs \"pp\" or \"pv\" (it has no cyclic synchronous modes)",
+                    a.name
+                ),
+            ))
+        }
+    };
+    let positive = |sub: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(err(sub, format!("{v} must be positive")))
+        }
+    };
+    let transport = transport(&err, &a.transport, raw)?;
+    let period_ms = raw.period_ms.unwrap_or(MIN_PERIOD_MS);
+    if period_ms < MIN_PERIOD_MS {
+        return Err(err(
+            "je_c.period_ms",
+            format!("{period_ms} ms: the MR-JE-C answers within 10 ms (manual §2.2.1), so the link period is at least {MIN_PERIOD_MS} ms"),
+        ));
+    }
+    let response_timeout_ms = raw.response_timeout_ms.unwrap_or(50);
+    if response_timeout_ms == 0 {
+        return Err(err(
+            "je_c.response_timeout_ms",
+            "must be at least 1 ms".into(),
+        ));
+    }
+    let watchdog_reaction = match &raw.watchdog_reaction {
+        None => communication_reaction,
+        Some(r) => FaultReaction::parse(r).ok_or_else(|| {
+            err(
+                "je_c.watchdog_reaction",
+                format!("\"{r}\": expected \"controlled_stop\", \"quick_stop\" or \"disable\""),
+            )
+        })?,
+    };
+    let drive_timeout = drive_timeout(&err, &transport, raw.drive_timeout_ms)?;
+    let [lo, hi] = a.limits.position;
+    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+        return Err(err(
+            "limits.position",
+            format!("[{lo}, {hi}] is not a range (min < max)"),
+        ));
+    }
+    Ok(JecAxisConfig {
+        name: a.name.clone(),
+        unit: a.unit.clone(),
+        counts_per_unit: positive("counts_per_unit", a.counts_per_unit)?,
+        position: a.limits.position,
+        velocity: positive("limits.velocity", a.limits.velocity)?,
+        acceleration: positive("limits.acceleration", a.limits.acceleration)?,
+        mode,
+        transport,
+        period: Duration::from_millis(period_ms),
+        response_timeout: Duration::from_millis(response_timeout_ms),
+        watchdog_missed: raw.watchdog_missed.unwrap_or(3),
+        watchdog_reaction,
+        drive_timeout,
+        counts_per_rev: positive(
+            "je_c.counts_per_rev",
+            raw.counts_per_rev.unwrap_or(131_072.0),
+        )?,
+        rated_speed: positive("je_c.rated_speed", raw.rated_speed.unwrap_or(3000.0))?,
+        emulate: raw.emulate,
+    })
+}
+
+/// `transport` and the address keys it needs.
+fn transport(
+    err: &dyn Fn(&str, String) -> ConfigError,
+    name: &str,
+    raw: &RawJecAxis,
+) -> Result<JecTransport, ConfigError> {
+    let address = |default_port: u16| -> Result<Option<SocketAddr>, ConfigError> {
+        match (&raw.address, raw.emulate) {
+            (None, true) => Ok(None),
+            (None, false) => Err(err(
+                "je_c.address",
+                "the drive's IP address is needed (or emulate = true)".into(),
+            )),
+            (Some(text), _) => {
+                let ip: IpAddr = text
+                    .parse()
+                    .map_err(|_| err("je_c.address", format!("\"{text}\" is not an IP address")))?;
+                Ok(Some(SocketAddr::new(ip, raw.port.unwrap_or(default_port))))
+            }
+        }
+    };
+    let ethernet_only = |t: JecTransport| {
+        for (set, k) in [
+            (raw.serial.is_some(), "serial"),
+            (raw.station.is_some(), "station"),
+            (raw.baud.is_some(), "baud"),
+        ] {
+            if set {
+                return Err(err(
+                    &format!("je_c.{k}"),
+                    format!("a {} axis has no RS-485 line", t.name()),
+                ));
+            }
+        }
+        Ok(t)
+    };
+    match name {
+        "cclink-ief-basic" => ethernet_only(JecTransport::CcLink(address(
+            cellrt_axes::cclink_ief_basic::CYCLIC_PORT,
+        )?)),
+        "slmp" => ethernet_only(JecTransport::Slmp(address(cellrt_axes::slmp::UDP_PORT)?)),
+        "modbus-tcp" => ethernet_only(JecTransport::ModbusTcp(address(
+            cellrt_axes::modbus::tcp::PORT,
+        )?)),
+        "modbus-rtu" => rtu(err, raw),
+        other => Err(err(
+            "transport",
+            format!("\"{other}\": an mr-je-c axis is reached by \"cclink-ief-basic\", \"slmp\", \"modbus-tcp\" or \"modbus-rtu\""),
+        )),
+    }
+}
+
+fn rtu(
+    err: &dyn Fn(&str, String) -> ConfigError,
+    raw: &RawJecAxis,
+) -> Result<JecTransport, ConfigError> {
+    for (set, k) in [
+        (raw.address.is_some(), "address"),
+        (raw.port.is_some(), "port"),
+    ] {
+        if set {
+            return Err(err(
+                &format!("je_c.{k}"),
+                "a modbus-rtu axis is on a serial line: give serial and station".into(),
+            ));
+        }
+    }
+    if raw.serial.is_none() && !raw.emulate {
+        return Err(err(
+            "je_c.serial",
+            "the RS-485 line's serial device is needed (or emulate = true)".into(),
+        ));
+    }
+    let station = raw.station.ok_or_else(|| {
+        err(
+            "je_c.station",
+            "the drive's station number is needed (1–247)".into(),
+        )
+    })?;
+    if !(1..=247).contains(&station) {
+        return Err(err(
+            "je_c.station",
+            format!("{station} is not a station number (1–247; 0 never answers, manual §4.9.2)"),
+        ));
+    }
+    let baud = raw.baud.unwrap_or(115_200);
+    cellrt_axes::modbus::serial::LineSettings::new(baud, Default::default())
+        .map_err(|m| err("je_c.baud", m))?;
+    Ok(JecTransport::ModbusRtu {
+        serial: raw.serial.clone(),
+        station,
+        baud,
+    })
+}
+
+/// `drive_timeout_ms` in the unit of the transport's parameter.
+fn drive_timeout(
+    err: &dyn Fn(&str, String) -> ConfigError,
+    t: &JecTransport,
+    ms: Option<u64>,
+) -> Result<Option<Duration>, ConfigError> {
+    let Some(ms) = ms else { return Ok(None) };
+    let seconds = !matches!(t, JecTransport::CcLink(_));
+    if seconds && ms % 1000 != 0 {
+        return Err(err(
+            "je_c.drive_timeout_ms",
+            format!(
+                "{ms} ms: the {} time-out ([Pr. {}]) is set in whole seconds",
+                t.name(),
+                if matches!(t, JecTransport::ModbusRtu { .. }) {
+                    "PF46"
+                } else {
+                    "PN10"
+                }
+            ),
+        ));
+    }
+    Ok(Some(Duration::from_millis(ms)))
+}

@@ -1,0 +1,244 @@
+//! The cell's MR-JE-C axes: for each, its emulated drive where the config asks for one, then
+//! its thread (`cellrt-jec-NAME`), one exchange per link period over its transport, with the
+//! drive-side time-out written at start-up. The planner and the summary reach the axes through
+//! [`JecAxes`] (lock-free command queues and feedback cells); the RT thread never does.
+
+pub mod connect;
+pub mod emulated;
+
+use std::sync::Arc;
+
+use cellrt_axes::mr_je_c::cell::{
+    AxisCommand, AxisControl, AxisFeedback, AxisHandle, AxisThread, StopReaction, Stopped,
+};
+use serde::Serialize;
+
+use crate::config::je_c_axis::JecAxisConfig;
+use crate::config::{CellConfig, FaultReaction};
+use emulated::Emulated;
+
+/// One running MR-JE-C axis.
+struct JecAxis {
+    config: JecAxisConfig,
+    // Stopped before its emulated drive.
+    thread: AxisThread,
+    emulated: Option<Emulated>,
+}
+
+/// The cell's MR-JE-C axes, running.
+#[derive(Default)]
+pub struct JecCell {
+    axes: Vec<JecAxis>,
+}
+
+fn reaction(r: FaultReaction) -> StopReaction {
+    match r {
+        FaultReaction::ControlledStop => StopReaction::Halt,
+        FaultReaction::QuickStop => StopReaction::QuickStop,
+        FaultReaction::Disable => StopReaction::Disable,
+    }
+}
+
+impl JecCell {
+    /// Starts every MR-JE-C axis of `cell` (none: nothing runs).
+    pub fn start(cell: &CellConfig) -> Result<JecCell, String> {
+        let mut axes = Vec::with_capacity(cell.je_c_axes.len());
+        for c in &cell.je_c_axes {
+            let fail =
+                |m: String| format!("MR-JE-C axis '{}' ({}): {m}", c.name, c.transport.name());
+            let (emulated, reach) = if c.emulate {
+                let (e, r) = emulated::start(c).map_err(|e| fail(format!("emulator: {e}")))?;
+                (Some(e), r)
+            } else {
+                let reach = match connect::open_line(c).map_err(fail)? {
+                    Some(r) => r,
+                    None => connect::configured(c).ok_or_else(|| fail("no address".into()))?,
+                };
+                (None, reach)
+            };
+            let io = connect::open(c, reach).map_err(fail)?;
+            let control = AxisControl::new(c.watchdog_missed, reaction(c.watchdog_reaction));
+            let parameters = connect::start_up_parameters(c);
+            let thread = AxisThread::start(&c.name, io, &parameters, control, c.period)
+                .map_err(|e| fail(e.to_string()))?;
+            axes.push(JecAxis {
+                config: c.clone(),
+                thread,
+                emulated,
+            });
+        }
+        Ok(JecCell { axes })
+    }
+
+    /// The handles the planner commands the axes with.
+    pub fn axes(&self) -> JecAxes {
+        JecAxes {
+            axes: Arc::new(
+                self.axes
+                    .iter()
+                    .map(|a| (a.config.clone(), a.thread.handle.clone()))
+                    .collect(),
+            ),
+        }
+    }
+
+    /// The emulated drive of axis `name`, if it has one.
+    pub fn emulated(&self, name: &str) -> Option<&Emulated> {
+        self.axes
+            .iter()
+            .find(|a| a.config.name == name)
+            .and_then(|a| a.emulated.as_ref())
+    }
+
+    /// The end of the run: every axis brought to standstill and powered off (within a few
+    /// link periods), its state summarised, its thread and emulated drive stopped.
+    pub fn finish(self, targets: &[Option<f64>]) -> Vec<JecAxisSummary> {
+        let axes = self.axes();
+        let _ = axes.command_all(AxisCommand::PowerOff);
+        let end = std::time::Instant::now() + std::time::Duration::from_millis(500);
+        while (0..axes.len()).any(|k| axes.feedback(k).enabled) && std::time::Instant::now() < end {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        self.summary(targets)
+    }
+
+    /// Each axis' state for the run's summary; `targets`: the program's last target per axis.
+    pub fn summary(&self, targets: &[Option<f64>]) -> Vec<JecAxisSummary> {
+        self.axes
+            .iter()
+            .enumerate()
+            .map(|(k, a)| {
+                let f = a.thread.handle.feedback();
+                JecAxisSummary::of(
+                    &a.config,
+                    &f,
+                    targets.get(k).copied().flatten(),
+                    a.emulated.as_ref(),
+                )
+            })
+            .collect()
+    }
+}
+
+/// The MR-JE-C axes as the planner and the operator see them.
+#[derive(Clone, Default)]
+pub struct JecAxes {
+    axes: Arc<Vec<(JecAxisConfig, AxisHandle)>>,
+}
+
+impl JecAxes {
+    /// How many.
+    pub fn len(&self) -> usize {
+        self.axes.len()
+    }
+
+    /// None at all.
+    pub fn is_empty(&self) -> bool {
+        self.axes.is_empty()
+    }
+
+    /// Axis `k`'s configuration.
+    pub fn config(&self, k: usize) -> &JecAxisConfig {
+        &self.axes[k].0
+    }
+
+    /// Axis `k`'s latest feedback.
+    pub fn feedback(&self, k: usize) -> AxisFeedback {
+        self.axes[k].1.feedback()
+    }
+
+    /// Queues `c` for axis `k`.
+    pub fn command(&self, k: usize, c: AxisCommand) -> Result<(), String> {
+        if self.axes[k].1.command(c) {
+            Ok(())
+        } else {
+            Err(format!(
+                "MR-JE-C axis '{}': command queue full",
+                self.axes[k].0.name
+            ))
+        }
+    }
+
+    /// Queues `c` for every axis.
+    pub fn command_all(&self, c: AxisCommand) -> Result<(), String> {
+        (0..self.len()).try_for_each(|k| self.command(k, c))
+    }
+
+    /// A pp move of axis `k` to `target` units at `velocity` unit/s and `acceleration`
+    /// unit/s² (the axis' limits where none).
+    pub fn move_command(
+        &self,
+        k: usize,
+        target: f64,
+        velocity: f64,
+        acceleration: f64,
+    ) -> AxisCommand {
+        let c = self.config(k);
+        let ramp = c.ramp_ms(acceleration);
+        AxisCommand::Move {
+            target: c.counts(target),
+            velocity: c.drive_speed(velocity).unsigned_abs() as u32,
+            acceleration_ms: ramp,
+            deceleration_ms: ramp,
+        }
+    }
+}
+
+/// One MR-JE-C axis at the end of a run.
+#[derive(Debug, Clone, Serialize)]
+pub struct JecAxisSummary {
+    /// Axis name.
+    pub name: String,
+    /// Transport.
+    pub transport: &'static str,
+    /// Unit.
+    pub unit: String,
+    /// Final position, units.
+    pub final_position: f64,
+    /// The program's last target, units.
+    pub target: Option<f64>,
+    /// final_position − target.
+    pub error: Option<f64>,
+    /// Exchanges run.
+    pub exchanges: u64,
+    /// Exchanges without an answer.
+    pub missed: u64,
+    /// Exchanges the drive refused.
+    pub refused: u64,
+    /// The longest round trip, µs.
+    pub max_round_trip_us: f64,
+    /// Why the axis was stopped, if it was.
+    pub stopped: Option<String>,
+    /// The emulated drive's alarm at the end.
+    pub drive_alarm: Option<String>,
+}
+
+impl JecAxisSummary {
+    fn of(c: &JecAxisConfig, f: &AxisFeedback, target: Option<f64>, e: Option<&Emulated>) -> Self {
+        let position = c.units(f.inputs.position);
+        JecAxisSummary {
+            name: c.name.clone(),
+            transport: c.transport.name(),
+            unit: c.unit.clone(),
+            final_position: position,
+            target,
+            error: target.map(|t| position - t),
+            exchanges: f.cycles,
+            missed: f.missed,
+            refused: f.refused,
+            max_round_trip_us: f.max_round_trip_ns as f64 / 1000.0,
+            stopped: f.stopped.map(stopped_text),
+            drive_alarm: e.and_then(Emulated::alarm).map(|a| a.to_string()),
+        }
+    }
+}
+
+/// Why an axis was stopped, in words.
+pub fn stopped_text(s: Stopped) -> String {
+    match s {
+        Stopped::CommunicationLost(n) => {
+            format!("communication lost ({n} answers missed in a row)")
+        }
+        Stopped::DriveAlarm(code) => format!("drive alarm (2A42h = {code:04X}h)"),
+    }
+}

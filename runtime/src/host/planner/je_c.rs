@@ -1,0 +1,133 @@
+//! The planner's side of the MR-JE-C axes: a program's power, reset and move steps command
+//! them through their threads' queues and wait for their feedback. In a move that mixes
+//! streamed and MR-JE-C axes, the drives get their set-points just before the streamed motion
+//! is handed to the RT thread (so they start within one link period of it), and the step ends
+//! when every axis is done.
+
+use std::time::{Duration, Instant};
+
+use cellrt_axes::mr_je_c::cell::AxisCommand;
+
+use super::{Planner, ProgramError, POWER_TIMEOUT};
+use crate::host::je_c::stopped_text;
+use crate::host::program::JecTarget;
+
+/// Slack on top of a move's own duration before it counts as stuck.
+const MOVE_SLACK: Duration = Duration::from_secs(5);
+
+impl Planner<'_> {
+    /// Powers every MR-JE-C axis on or off and waits until each is (or is not) in Operation
+    /// enabled.
+    pub(super) fn je_c_power(&mut self, on: bool) -> Result<(), ProgramError> {
+        if self.je_c.is_empty() {
+            return Ok(());
+        }
+        let c = if on {
+            AxisCommand::PowerOn
+        } else {
+            AxisCommand::PowerOff
+        };
+        self.je_c.command_all(c).map_err(|e| self.err(e))?;
+        let end = Instant::now() + POWER_TIMEOUT;
+        loop {
+            let pending = (0..self.je_c.len()).find(|&k| {
+                let f = self.je_c.feedback(k);
+                f.enabled != on || (on && f.stopped.is_some())
+            });
+            let Some(k) = pending else { return Ok(()) };
+            let f = self.je_c.feedback(k);
+            let name = &self.je_c.config(k).name;
+            if let (true, Some(s)) = (on, f.stopped) {
+                return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
+            }
+            if Instant::now() >= end || self.aborted() {
+                return Err(self.err(format!(
+                    "MR-JE-C axis '{name}' is not {} after {POWER_TIMEOUT:?} (statusword {:04X}h, {} answers missed)",
+                    if on { "enabled" } else { "disabled" },
+                    f.inputs.statusword,
+                    f.missed
+                )));
+            }
+            self.sleep(Duration::from_millis(5));
+        }
+    }
+
+    /// Clears the MR-JE-C axes stopped by the watchdog or a drive alarm.
+    pub(super) fn je_c_reset(&mut self) -> Result<(), ProgramError> {
+        for k in 0..self.je_c.len() {
+            if self.je_c.feedback(k).stopped.is_some() {
+                self.je_c
+                    .command(k, AxisCommand::Reset)
+                    .map_err(|e| self.err(e))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Sends each MR-JE-C axis of a move its set-point; the feedback before, to wait on.
+    pub(super) fn je_c_start(
+        &mut self,
+        targets: &[JecTarget],
+    ) -> Result<Vec<(u32, u32)>, ProgramError> {
+        let before: Vec<(u32, u32)> = targets
+            .iter()
+            .map(|t| {
+                let f = self.je_c.feedback(t.axis);
+                (f.done, f.failed)
+            })
+            .collect();
+        for t in targets {
+            let c = self
+                .je_c
+                .move_command(t.axis, t.target, t.velocity, t.acceleration);
+            self.je_c.command(t.axis, c).map_err(|e| self.err(e))?;
+        }
+        Ok(before)
+    }
+
+    /// Waits until each MR-JE-C axis of a move reports it done; fails on a stop or after the
+    /// move's time with slack.
+    pub(super) fn je_c_wait(
+        &mut self,
+        targets: &[JecTarget],
+        before: &[(u32, u32)],
+    ) -> Result<(), ProgramError> {
+        let longest = targets
+            .iter()
+            .map(|t| {
+                let c = self.je_c.config(t.axis);
+                let from = c.units(self.je_c.feedback(t.axis).inputs.position);
+                (t.target - from).abs() / t.velocity + 2.0 * t.velocity / t.acceleration
+            })
+            .fold(0.0, f64::max);
+        let end = Instant::now() + Duration::from_secs_f64(2.0 * longest) + MOVE_SLACK;
+        for (t, &(done_before, failed_before)) in targets.iter().zip(before) {
+            let name = self.je_c.config(t.axis).name.clone();
+            loop {
+                let f = self.je_c.feedback(t.axis);
+                if f.done > done_before {
+                    break;
+                }
+                if let Some(s) = f.stopped {
+                    return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
+                }
+                if f.failed > failed_before {
+                    return Err(self.err(format!(
+                        "MR-JE-C axis '{name}': the move was refused or cut short (statusword {:04X}h)",
+                        f.inputs.statusword
+                    )));
+                }
+                if Instant::now() >= end || self.aborted() {
+                    return Err(self.err(format!(
+                        "MR-JE-C axis '{name}' did not reach {} {} in time (at {:.3})",
+                        t.target,
+                        self.je_c.config(t.axis).unit,
+                        self.je_c.config(t.axis).units(f.inputs.position)
+                    )));
+                }
+                self.sleep(Duration::from_millis(2));
+            }
+        }
+        Ok(())
+    }
+}

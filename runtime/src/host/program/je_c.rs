@@ -1,0 +1,80 @@
+//! The MR-JE-C axes of a `move` step: taken out of the step's targets (and its per-axis limits)
+//! before the streamed axes are checked, each checked against its own range and limits. The
+//! drive's own profile has no jerk: a jerk limit does not apply to them.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::{JecTarget, RawLimit};
+use crate::config::{CellConfig, ConfigError};
+
+/// Removes the MR-JE-C axes from `target` and from the per-axis `limits`, and returns them
+/// checked.
+pub(super) fn take_targets(
+    path: &Path,
+    key: &str,
+    target: &mut BTreeMap<String, f64>,
+    limits: [&mut Option<RawLimit>; 3],
+    cell: &CellConfig,
+) -> Result<Vec<JecTarget>, ConfigError> {
+    let names: Vec<String> = target
+        .keys()
+        .filter(|n| cell.je_c_axis_index(n).is_some())
+        .cloned()
+        .collect();
+    let mut out = Vec::with_capacity(names.len());
+    let [velocity, acceleration, jerk] = limits;
+    for name in names {
+        let axis = cell.je_c_axis_index(&name).expect("filtered above");
+        let a = &cell.je_c_axes[axis];
+        let pos = target.remove(&name).expect("a key of target");
+        let [lo, hi] = a.position;
+        if !(pos.is_finite() && (lo..=hi).contains(&pos)) {
+            return Err(ConfigError::new(
+                path,
+                format!("{key}.target.{name}"),
+                format!(
+                    "target {pos} {} is outside the position range [{lo}, {hi}] of axis '{name}'",
+                    a.unit
+                ),
+            ));
+        }
+        let pick = |lim: &mut Option<RawLimit>, default: f64, what: &str| {
+            let v = match lim {
+                None => return Ok(default),
+                Some(RawLimit::All(v)) => *v,
+                Some(RawLimit::PerAxis(m)) => match m.remove(&name) {
+                    Some(v) => v,
+                    None => return Ok(default),
+                },
+            };
+            if !(v.is_finite() && v > 0.0 && v <= default) {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.{what}"),
+                    format!(
+                        "{v} for axis '{name}': must be > 0 and at most its {what} limit {default}"
+                    ),
+                ));
+            }
+            Ok(v)
+        };
+        let velocity = pick(&mut *velocity, a.velocity, "velocity")?;
+        let acceleration = pick(&mut *acceleration, a.acceleration, "acceleration")?;
+        if let Some(RawLimit::PerAxis(m)) = &mut *jerk {
+            m.remove(&name);
+        }
+        out.push(JecTarget {
+            axis,
+            target: pos,
+            velocity,
+            acceleration,
+        });
+    }
+    for lim in [velocity, acceleration, jerk] {
+        if matches!(lim, Some(RawLimit::PerAxis(m)) if m.is_empty()) {
+            *lim = None;
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,241 @@
+//! MR-JE-C axes in cells, end to end through `controller::run`: a cell of one simulated csp axis
+//! and one emulated MR-JE-C runs a program that moves both in one step, over each transport
+//! (Modbus RTU over a pseudo-terminal), with the RT thread allocation-free; the shipped mixed
+//! cell runs its program; a cut link stops the MR-JE-C axis by the master's watchdog and the
+//! drive by its own time-out (AL. 86.4 from [Pr. PN10], set from the config at start-up).
+
+mod common;
+
+use std::net::{IpAddr, Ipv4Addr};
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
+use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
+use cellrt_axes::mr_je_c::Alarm;
+use cellrt_runtime::config::CellConfig;
+use cellrt_runtime::host::controller::{run, Outcome, RunOptions, Summary};
+use cellrt_runtime::host::program::Program;
+use common::{hook, marked_heap_calls};
+
+fn cell_text(tag: &str, transport: &str, je_c: &str) -> String {
+    format!(
+        r#"
+[cell]
+name = "jec-{tag}-{pid}"
+cycle_time_us = 1000
+
+[watchdogs]
+max_consecutive_overruns = 0
+
+[setpoints]
+lookahead_ms = 1000
+
+[[axes]]
+name = "x"
+drive = "mr-j4-tm"
+mode = "csp"
+unit = "mm"
+counts_per_unit = 4194.304
+limits = {{ position = [0.0, 800.0], velocity = 400.0, acceleration = 2000.0, jerk = 20000.0 }}
+sim = {{ initial_position = 50.0 }}
+
+[[axes]]
+name = "belt"
+drive = "mr-je-c"
+transport = "{transport}"
+mode = "pp"
+unit = "mm"
+counts_per_unit = 1310.72
+limits = {{ position = [-500.0, 500.0], velocity = 200.0, acceleration = 1000.0, jerk = 10000.0 }}
+je_c = {{ {je_c} }}
+"#,
+        pid = std::process::id()
+    )
+}
+
+const PROGRAM: &str = r#"
+[[step]]
+do = "power_on"
+[[step]]
+do = "move"
+target = { x = 150.0, belt = 80.0 }
+[[step]]
+do = "move"
+target = { belt = -20.0 }
+[[step]]
+do = "power_off"
+"#;
+
+fn run_cell(text: &str, program: &str) -> Summary {
+    let path = Path::new("je-c-cell.toml");
+    let cell = CellConfig::parse(path, text).unwrap_or_else(|e| panic!("{e}"));
+    let program = Program::parse(Path::new("je-c-program.toml"), program, &cell)
+        .unwrap_or_else(|e| panic!("{e}"));
+    run_counted(&cell, program)
+}
+
+/// Runs `program` on `cell`; the RT loop must not allocate in steady state.
+fn run_counted(cell: &CellConfig, program: Program) -> Summary {
+    let before = marked_heap_calls();
+    let options = RunOptions {
+        program: Some(program),
+        hook: Some(hook),
+        ..RunOptions::default()
+    };
+    let summary = run(cell, options).expect("cell runs");
+    assert_eq!(marked_heap_calls() - before, 0, "the RT loop allocated");
+    summary
+}
+
+/// The program completes, both kinds of axis end at their targets, the RT thread allocates
+/// nothing.
+fn runs_end_to_end(transport: &str, je_c: &str) {
+    let s = run_cell(&cell_text(transport, transport, je_c), PROGRAM);
+    let log = &s.recording.event_log;
+    assert_eq!(
+        s.outcome,
+        Outcome::ProgramCompleted,
+        "{:?} {log:?}",
+        s.program_error
+    );
+    assert!(
+        (s.axes[0].final_position - 150.0).abs() < 0.05,
+        "{:?}",
+        s.axes
+    );
+    let belt = &s.je_c_axes[0];
+    assert_eq!(belt.transport, transport);
+    // Within the drive's position window 6067h (100 pulses = 0.076 mm).
+    assert!((belt.final_position + 20.0).abs() < 0.08, "{belt:?}");
+    assert!(belt.exchanges > 10 && belt.stopped.is_none(), "{belt:?}");
+}
+
+#[test]
+fn cclink_cell_runs_a_program() {
+    runs_end_to_end("cclink-ief-basic", "emulate = true, drive_timeout_ms = 500");
+}
+
+#[test]
+fn slmp_cell_runs_a_program() {
+    runs_end_to_end("slmp", "emulate = true, drive_timeout_ms = 2000");
+}
+
+#[test]
+fn modbus_tcp_cell_runs_a_program() {
+    runs_end_to_end("modbus-tcp", "emulate = true");
+}
+
+#[test]
+fn modbus_rtu_cell_runs_a_program_over_a_pty() {
+    runs_end_to_end(
+        "modbus-rtu",
+        "emulate = true, station = 2, drive_timeout_ms = 3000",
+    );
+}
+
+#[test]
+fn the_shipped_mixed_cell_runs_its_program() {
+    let configs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
+    let path = configs.join("mixed-cell.toml");
+    let text = std::fs::read_to_string(&path).unwrap().replace(
+        "name = \"mixed\"",
+        &format!("name = \"mixed-{}\"", std::process::id()),
+    ) + "\n[setpoints]\nlookahead_ms = 1000\n";
+    let text = text.replace(
+        "max_consecutive_overruns = 100",
+        "max_consecutive_overruns = 0",
+    );
+    let cell = CellConfig::parse(&path, &text).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((cell.axes.len(), cell.je_c_axes.len()), (2, 2));
+    let program = Program::load(&configs.join("mixed-cell-program.toml"), &cell).unwrap();
+    let s = run_counted(&cell, program);
+    assert_eq!(
+        s.outcome,
+        Outcome::ProgramCompleted,
+        "{:?}",
+        s.program_error
+    );
+    for a in &s.je_c_axes {
+        assert!(a.final_position.abs() < 0.08, "{a:?}");
+    }
+}
+
+#[test]
+fn a_cut_link_stops_the_axis_and_the_drive_raises_al_86_4() {
+    let server = Server::start(
+        MrJeC::new(MrJeCParams::default()),
+        IpAddr::V4(Ipv4Addr::LOCALHOST),
+        Ports::ANY,
+    )
+    .unwrap();
+    let je_c = format!(
+        "address = \"127.0.0.1\", port = {}, drive_timeout_ms = 1000, watchdog_missed = 3",
+        server.modbus_tcp.port()
+    );
+    // A long move: 400 mm at 50 mm/s.
+    let program = r#"
+[[step]]
+do = "power_on"
+[[step]]
+do = "move"
+target = { belt = 400.0 }
+velocity = 50.0
+"#;
+    let text = cell_text("cut", "modbus-tcp", &je_c);
+    let cutter = std::thread::scope(|scope| {
+        let cut = scope.spawn(|| {
+            // Once the belt moves, pull the cable.
+            let end = Instant::now() + Duration::from_secs(20);
+            while server.drive().state() != cellrt_axes::cia402::fsa::FsaState::OperationEnabled
+                || server
+                    .drive()
+                    .read(cellrt_axes::mr_je_c::ObjectId::new(0x6064, 0))
+                    .is_ok_and(|v| v.as_i64() == Some(0))
+            {
+                assert!(Instant::now() < end, "the belt never moved");
+                std::thread::sleep(Duration::from_millis(10));
+            }
+            std::thread::sleep(Duration::from_millis(300));
+            server.cut_link(true);
+            Instant::now()
+        });
+        let s = run_cell(&text, program);
+        (s, cut.join().unwrap())
+    });
+    let (s, cut_at) = cutter;
+    assert_eq!(s.outcome, Outcome::ProgramFailed);
+    let err = s.program_error.clone().unwrap_or_default();
+    assert!(err.contains("communication lost"), "{err}");
+    let belt = &s.je_c_axes[0];
+    assert!(
+        belt.stopped
+            .as_deref()
+            .unwrap_or("")
+            .contains("3 answers missed"),
+        "{belt:?}"
+    );
+    // [Pr. PN10] = 1 s from the config: the drive raises AL. 86.4 a second after the cut and
+    // its motor stands.
+    while server.drive().alarm().is_none() && cut_at.elapsed() < Duration::from_secs(5) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert!(cut_at.elapsed() >= Duration::from_millis(900));
+    assert_eq!(server.drive().alarm(), Some(Alarm::NETWORK_4));
+    let at = server
+        .drive()
+        .read(cellrt_axes::mr_je_c::ObjectId::new(0x6064, 0))
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(
+        server
+            .drive()
+            .read(cellrt_axes::mr_je_c::ObjectId::new(0x6064, 0))
+            .unwrap(),
+        at
+    );
+    assert!(
+        at.as_i64().unwrap() < 400 * 1310,
+        "stopped short of the target: {at}"
+    );
+}

@@ -1,7 +1,7 @@
 //! MR-JE-C axes in cells, end to end through `controller::run`: a cell of one simulated csp axis
-//! and one emulated MR-JE-C runs a program that moves both in one step, over each transport
-//! (Modbus RTU over a pseudo-terminal), with the RT thread allocation-free; the shipped mixed
-//! cell runs its program; a cut link stops the MR-JE-C axis by the master's watchdog and the
+//! and one emulated MR-JE-C runs a program that moves both in one step and jogs the MR-JE-C
+//! (pv), over each transport (Modbus RTU over a pseudo-terminal), with the RT thread
+//! allocation-free; the shipped mixed cell runs its program; a cut link stops the MR-JE-C axis by the master's watchdog and the
 //! drive by its own time-out (AL. 86.4 from [Pr. PN10], set from the config at start-up).
 
 mod common;
@@ -60,6 +60,11 @@ do = "power_on"
 [[step]]
 do = "move"
 target = { x = 150.0, belt = 80.0 }
+[[step]]
+do = "jog"
+axis = "belt"
+velocity = -40.0
+seconds = 0.3
 [[step]]
 do = "move"
 target = { belt = -20.0 }

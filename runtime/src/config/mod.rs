@@ -475,6 +475,8 @@ impl CellConfig {
 #[cfg(test)]
 mod esi_tests;
 #[cfg(test)]
+mod je_c_tests;
+#[cfg(test)]
 mod tests;
 
 /// `ADDR` of `[live] listen` or `cellrt run --live`: an IP address and port (port 0: any free

@@ -434,6 +434,14 @@ impl<'a> Planner<'a> {
                     self.what = "home";
                     self.run_home(*axis, *procedure)?;
                 }
+                Step::JecJog {
+                    axis,
+                    velocity,
+                    seconds,
+                } => {
+                    self.what = "jog";
+                    self.je_c_jog(*axis, *velocity, *seconds)?;
+                }
                 Step::Override(value) => {
                     self.what = "override";
                     if let Err(e) = self.engine.set_override(*value) {

@@ -12,6 +12,10 @@ use super::{Planner, ProgramError, POWER_TIMEOUT};
 use crate::host::je_c::stopped_text;
 use crate::host::program::JecTarget;
 
+fn c_acc(p: &Planner<'_>, axis: usize) -> f64 {
+    p.je_c.config(axis).acceleration
+}
+
 /// Slack on top of a move's own duration before it counts as stuck.
 const MOVE_SLACK: Duration = Duration::from_secs(5);
 
@@ -62,6 +66,51 @@ impl Planner<'_> {
             }
         }
         Ok(())
+    }
+
+    /// A jog of an MR-JE-C axis: pv at `velocity` for `seconds`, then Halt; the step ends when
+    /// the drive stands.
+    pub(super) fn je_c_jog(
+        &mut self,
+        axis: usize,
+        velocity: f64,
+        seconds: f64,
+    ) -> Result<(), ProgramError> {
+        let c = self.je_c.config(axis);
+        let ramp = c.ramp_ms(c.acceleration);
+        let jog = AxisCommand::Velocity {
+            velocity: c.drive_speed(velocity) as i32,
+            acceleration_ms: ramp,
+            deceleration_ms: ramp,
+        };
+        let f = self.je_c.feedback(axis);
+        let (done, failed) = (f.done, f.failed);
+        self.je_c.command(axis, jog).map_err(|e| self.err(e))?;
+        self.sleep(Duration::from_secs_f64(seconds));
+        self.je_c
+            .command(axis, AxisCommand::Halt)
+            .map_err(|e| self.err(e))?;
+        let name = self.je_c.config(axis).name.clone();
+        let end = Instant::now()
+            + Duration::from_secs_f64(2.0 * velocity.abs() / c_acc(self, axis))
+            + MOVE_SLACK;
+        loop {
+            let f = self.je_c.feedback(axis);
+            // The velocity job ends with the halt, then the halt at standstill.
+            if f.done >= done + 2 {
+                return Ok(());
+            }
+            if let Some(s) = f.stopped {
+                return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
+            }
+            if f.failed > failed || Instant::now() >= end || self.aborted() {
+                return Err(self.err(format!(
+                    "MR-JE-C axis '{name}': the jog did not end at standstill (statusword {:04X}h)",
+                    f.inputs.statusword
+                )));
+            }
+            self.sleep(Duration::from_millis(2));
+        }
     }
 
     /// Sends each MR-JE-C axis of a move its set-point; the feedback before, to wait on.

@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use super::{JecTarget, RawLimit};
+use super::{JecTarget, RawLimit, Step};
 use crate::config::{CellConfig, ConfigError};
 
 /// Removes the MR-JE-C axes from `target` and from the per-axis `limits`, and returns them
@@ -77,4 +77,29 @@ pub(super) fn take_targets(
         }
     }
     Ok(out)
+}
+
+/// A jog step of the MR-JE-C axis `name`: its velocity within the axis' limit.
+pub(super) fn jog_step(
+    path: &Path,
+    key: &str,
+    name: &str,
+    velocity: f64,
+    seconds: f64,
+    cell: &CellConfig,
+) -> Result<Step, ConfigError> {
+    let axis = cell.je_c_axis_index(name).expect("checked by the caller");
+    let limit = cell.je_c_axes[axis].velocity;
+    if !velocity.is_finite() || velocity.abs() > limit {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.velocity"),
+            format!("{velocity} is outside ±{limit}, the velocity limit of axis '{name}'"),
+        ));
+    }
+    Ok(Step::JecJog {
+        axis,
+        velocity,
+        seconds,
+    })
 }

@@ -194,6 +194,15 @@ pub enum Step {
         /// Seconds before the halt.
         seconds: f64,
     },
+    /// Jog an MR-JE-C axis (pv on its drive) for `seconds`, then halt.
+    JecJog {
+        /// Index in the cell's `je_c_axes`.
+        axis: usize,
+        /// Velocity, unit/s.
+        velocity: f64,
+        /// Seconds before the halt.
+        seconds: f64,
+    },
     /// Feed override, 0..=1.
     Override(f64),
     /// Home an axis with a procedure its drive's manual gives.
@@ -300,14 +309,19 @@ impl Program {
         out
     }
 
-    /// The last target each MR-JE-C axis is moved to, by its index in `je_c_axes`.
+    /// The last target each MR-JE-C axis is moved to, by its index in `je_c_axes` (`None`
+    /// after a jog).
     pub fn je_c_final_targets(&self, axes: usize) -> Vec<Option<f64>> {
         let mut out = vec![None; axes];
         for s in &self.steps {
-            if let Step::Move(_, je_c) = s {
-                for t in je_c {
-                    out[t.axis] = Some(t.target);
+            match s {
+                Step::Move(_, je_c) => {
+                    for t in je_c {
+                        out[t.axis] = Some(t.target);
+                    }
                 }
+                Step::JecJog { axis, .. } => out[*axis] = None,
+                _ => {}
             }
         }
         out

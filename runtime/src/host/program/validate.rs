@@ -118,6 +118,18 @@ fn validate_step(
             axis,
             velocity,
             seconds,
+        } if cell.je_c_axis_index(&axis).is_some() => super::je_c::jog_step(
+            path,
+            key,
+            &axis,
+            velocity,
+            step_seconds(path, key, seconds)?,
+            cell,
+        )?,
+        RawStep::Jog {
+            axis,
+            velocity,
+            seconds,
         } => {
             let i = axis_of(path, format!("{key}.axis"), &axis, cell)?;
             let limit = cell.axes[i].limits.velocity;

@@ -1,0 +1,195 @@
+//! `drive = "mr-je-c"` axes at load: the shipped mixed cell, the keys each transport needs, and
+//! every bad key named.
+
+use std::path::Path;
+use std::time::Duration;
+
+use super::je_c_axis::{JecMode, JecTransport};
+use super::*;
+
+fn mixed() -> String {
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../configs/mixed-cell.toml"
+    ))
+    .expect("configs/mixed-cell.toml")
+}
+
+fn parse(text: &str) -> Result<CellConfig, ConfigError> {
+    CellConfig::parse(Path::new("cell.toml"), text)
+}
+
+/// The mixed cell with the outfeed's table (axes[3].je_c) replaced.
+fn outfeed(transport: &str, je_c: &str) -> Result<CellConfig, ConfigError> {
+    let text = mixed();
+    let at = text.find("name = \"outfeed\"").unwrap();
+    let (head, tail) = text.split_at(at);
+    let tail = tail
+        .replace(
+            "transport = \"modbus-tcp\"",
+            &format!("transport = \"{transport}\""),
+        )
+        .lines()
+        .map(|l| {
+            if l.starts_with("je_c = ") {
+                format!("je_c = {{ {je_c} }}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    parse(&format!("{head}{tail}"))
+}
+
+fn refused(r: Result<CellConfig, ConfigError>, key: &str, says: &str) {
+    let e = r.expect_err(key);
+    assert_eq!(e.key, key, "{e}");
+    assert!(e.message.contains(says), "{e}");
+}
+
+#[test]
+fn the_mixed_cell_keeps_its_je_c_axes_off_the_rt_loop() {
+    let c = parse(&mixed()).unwrap();
+    assert_eq!(c.axis_names(), "x, y, infeed, outfeed");
+    assert_eq!(c.axes.len(), 2);
+    let [infeed, outfeed] = &c.je_c_axes[..] else {
+        panic!()
+    };
+    assert_eq!(infeed.transport, JecTransport::CcLink(None));
+    assert!(infeed.emulate);
+    assert_eq!(infeed.mode, JecMode::Pp);
+    assert_eq!(infeed.period, Duration::from_millis(10));
+    assert_eq!(infeed.drive_timeout, Some(Duration::from_millis(200)));
+    assert_eq!(infeed.watchdog_missed, 5);
+    assert_eq!(outfeed.transport, JecTransport::ModbusTcp(None));
+    // watchdogs.communication_reaction's default.
+    assert_eq!(
+        outfeed.watchdog_reaction,
+        c.watchdogs.communication_reaction
+    );
+    // 200 mm/s = 2 rev/s = 120 r/min = 12000 × 0.01 r/min; 3000 r/min = 5000 mm/s, reached at
+    // 1000 mm/s² in 5000 ms (6083h is a time constant to the rated speed).
+    assert_eq!(infeed.drive_speed(200.0), 12_000);
+    assert_eq!(infeed.ramp_ms(1000.0), 5000);
+}
+
+#[test]
+fn each_transport_takes_its_keys() {
+    let c = outfeed("slmp", "address = \"192.168.3.20\"").unwrap();
+    let a = &c.je_c_axes[1];
+    assert_eq!(
+        a.transport,
+        JecTransport::Slmp(Some("192.168.3.20:5010".parse().unwrap()))
+    );
+    assert!(!a.emulate);
+    let c = outfeed("cclink-ief-basic", "address = \"192.168.3.20\"").unwrap();
+    assert_eq!(
+        c.je_c_axes[1].transport,
+        JecTransport::CcLink(Some("192.168.3.20:61450".parse().unwrap()))
+    );
+    let c = outfeed(
+        "modbus-rtu",
+        "serial = \"/dev/ttyUSB0\", station = 7, baud = 57600",
+    )
+    .unwrap();
+    assert_eq!(
+        c.je_c_axes[1].transport,
+        JecTransport::ModbusRtu {
+            serial: Some("/dev/ttyUSB0".into()),
+            station: 7,
+            baud: 57_600
+        }
+    );
+}
+
+#[test]
+fn bad_je_c_keys_are_named() {
+    let k = "axes[3]";
+    refused(
+        outfeed("ethercat", "emulate = true"),
+        &format!("{k}.transport"),
+        "modbus-rtu",
+    );
+    refused(
+        outfeed("slmp", ""),
+        &format!("{k}.je_c.address"),
+        "IP address is needed",
+    );
+    refused(
+        outfeed("slmp", "address = \"drive-1\""),
+        &format!("{k}.je_c.address"),
+        "not an IP",
+    );
+    refused(
+        outfeed("slmp", "emulate = true, period_ms = 5"),
+        &format!("{k}.je_c.period_ms"),
+        "at least 10 ms",
+    );
+    refused(
+        outfeed("slmp", "emulate = true, station = 3"),
+        &format!("{k}.je_c.station"),
+        "no RS-485 line",
+    );
+    refused(
+        outfeed("modbus-rtu", "emulate = true"),
+        &format!("{k}.je_c.station"),
+        "station number",
+    );
+    refused(
+        outfeed("modbus-rtu", "emulate = true, station = 0"),
+        &format!("{k}.je_c.station"),
+        "0 never answers",
+    );
+    refused(
+        outfeed("modbus-rtu", "station = 1"),
+        &format!("{k}.je_c.serial"),
+        "serial device",
+    );
+    refused(
+        outfeed("modbus-rtu", "emulate = true, station = 1, baud = 1200"),
+        &format!("{k}.je_c.baud"),
+        "PC71",
+    );
+    refused(
+        outfeed(
+            "modbus-rtu",
+            "emulate = true, station = 1, address = \"10.0.0.1\"",
+        ),
+        &format!("{k}.je_c.address"),
+        "serial line",
+    );
+    refused(
+        outfeed("modbus-tcp", "emulate = true, drive_timeout_ms = 1500"),
+        &format!("{k}.je_c.drive_timeout_ms"),
+        "PN10",
+    );
+    refused(
+        outfeed(
+            "modbus-tcp",
+            "emulate = true, watchdog_reaction = \"brake\"",
+        ),
+        &format!("{k}.je_c.watchdog_reaction"),
+        "quick_stop",
+    );
+    refused(
+        outfeed("modbus-tcp", "emulate = true, colour = 1"),
+        &format!("{k}.je_c.colour"),
+        "unknown field",
+    );
+    let no_table = mixed().replace(
+        "je_c = { emulate = true, period_ms = 20, drive_timeout_ms = 1000, watchdog_missed = 3 }",
+        "",
+    );
+    refused(parse(&no_table), &format!("{k}.je_c"), "[axes.je_c]");
+    let csp = mixed().replacen("mode = \"pp\"", "mode = \"csp\"", 1);
+    refused(parse(&csp), "axes[2].mode", "no cyclic synchronous modes");
+    let on_a_servo = mixed().replacen(
+        "sim = { initial_position = 50.0 }",
+        "sim = { initial_position = 50.0 }\nje_c = { emulate = true }",
+        1,
+    );
+    refused(parse(&on_a_servo), "axes[0].je_c", "mr-je-c");
+    let twice = mixed().replace("name = \"outfeed\"", "name = \"infeed\"");
+    refused(parse(&twice), "axes[3].name", "duplicate");
+}

@@ -51,7 +51,8 @@ fn refused(r: Result<CellConfig, ConfigError>, key: &str, says: &str) {
 #[test]
 fn the_mixed_cell_keeps_its_je_c_axes_off_the_rt_loop() {
     let c = parse(&mixed()).unwrap();
-    assert_eq!(c.axis_names(), "x, y, infeed, outfeed");
+    assert_eq!(c.all_axis_names(), "x, y, infeed, outfeed");
+    assert_eq!(c.axis_names(), "x, y");
     assert_eq!(c.axes.len(), 2);
     let [infeed, outfeed] = &c.je_c_axes[..] else {
         panic!()

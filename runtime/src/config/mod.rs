@@ -461,8 +461,17 @@ impl CellConfig {
         self.je_c_axes.iter().position(|a| a.name == name)
     }
 
-    /// Comma-separated axis names (the MR-JE-C axes last), for messages.
+    /// Comma-separated names of the axes on the RT loop (the recording's `axes` metadata).
     pub fn axis_names(&self) -> String {
+        self.axes
+            .iter()
+            .map(|a| a.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// Comma-separated names of every axis, the MR-JE-C axes last, for messages.
+    pub fn all_axis_names(&self) -> String {
         self.axes
             .iter()
             .map(|a| a.name.as_str())

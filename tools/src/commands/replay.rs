@@ -3,6 +3,7 @@
 //! skipped again) to the simulated drives of the recorded configuration (the attached
 //! configuration file) and compares the drives' feedback with the recorded feedback. On
 //! simulated drives the two are bit-identical; the first divergence is reported with its cycle.
+//! MR-JE-C axes are left out of the check, and replay says so.
 
 use std::path::Path;
 
@@ -82,6 +83,9 @@ pub fn run(args: ReplayArgs) -> Exit {
             cell.axes.len()
         ));
     }
+    if let Some(note) = je_c_excluded(&cell) {
+        println!("{note}");
+    }
     match replay(&cell, &recs.axes) {
         Ok((cycles, None)) => {
             println!(
@@ -108,6 +112,25 @@ pub fn run(args: ReplayArgs) -> Exit {
         }
         Err(e) => bad(format!("{}: {e}", args.file.display())),
     }
+}
+
+/// What replay leaves out: the MR-JE-C axes run beside the RT loop, on a link of their own with
+/// the drive's own profile motion, so their recorded exchanges are not a deterministic function
+/// of the RxPDO stream.
+fn je_c_excluded(cell: &CellConfig) -> Option<String> {
+    if cell.je_c_axes.is_empty() {
+        return None;
+    }
+    let names: Vec<String> = cell
+        .je_c_axes
+        .iter()
+        .map(|a| format!("{} ({})", a.name, a.transport.name()))
+        .collect();
+    Some(format!(
+        "replay: MR-JE-C axes {} are NOT replayed and NOT part of the bit-identical check: they \
+         run beside the RT loop on their own link, moved by their drives' own profiles",
+        names.join(", ")
+    ))
 }
 
 /// Replays `axes` (recorded per axis, in cycle order) through the simulated drives of `cell`.

@@ -364,7 +364,7 @@ fn axis_of(
             format!(
                 "axis '{name}' is not in cell '{}' (axes: {})",
                 cell.name,
-                cell.axis_names()
+                cell.all_axis_names()
             ),
         )
     })

@@ -136,6 +136,12 @@ impl AxisControl {
         }
     }
 
+    /// The same, starting in pv (6060h = 3) instead of pp.
+    pub fn starting_in_pv(mut self) -> AxisControl {
+        self.out.mode = PV;
+        self
+    }
+
     /// Whether a job runs.
     pub fn busy(&self) -> bool {
         self.job != Job::Idle

@@ -57,7 +57,10 @@ impl JecCell {
                 (None, reach)
             };
             let io = connect::open(c, reach).map_err(fail)?;
-            let control = AxisControl::new(c.watchdog_missed, reaction(c.watchdog_reaction));
+            let mut control = AxisControl::new(c.watchdog_missed, reaction(c.watchdog_reaction));
+            if c.mode == crate::config::je_c_axis::JecMode::Pv {
+                control = control.starting_in_pv();
+            }
             let parameters = connect::start_up_parameters(c);
             let thread = AxisThread::start(&c.name, io, &parameters, control, c.period)
                 .map_err(|e| fail(e.to_string()))?;

@@ -1,24 +1,70 @@
 //! `cellrt run configs/mixed-cell.toml` (EtherCAT csp axes and two emulated MR-JE-C conveyors)
 //! as a user runs it: the start line and the summary name the MR-JE-C axes and their links,
 //! and `cellrt replay` of its recording says plainly that they are left out of the
-//! bit-identical check while the csp axes replay bit-identical.
+//! bit-identical check while the csp axes replay bit-identical; `cellrt status` of the running
+//! cell lists them with their links.
 
 mod common;
 
 use std::process::Command;
 
-use common::{run_recorded, unique_cell_name};
+use common::{cellrt_on_cell, run_recorded, unique_cell_name};
+
+const CONFIGS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../configs");
+
+/// The shipped mixed cell named `name`.
+fn mixed_cell(name: &str) -> String {
+    std::fs::read_to_string(format!("{CONFIGS}/mixed-cell.toml"))
+        .unwrap()
+        .replace(r#"name = "mixed""#, &format!(r#"name = "{name}""#))
+}
+
+#[test]
+fn status_lists_the_je_c_axes_and_their_links() {
+    let dir = tempfile::tempdir().unwrap();
+    let name = unique_cell_name();
+    let cfg = dir.path().join("cell.toml");
+    std::fs::write(&cfg, mixed_cell(&name)).unwrap();
+    std::fs::copy(
+        format!("{CONFIGS}/mixed-cell-program.toml"),
+        dir.path().join("mixed-cell-program.toml"),
+    )
+    .unwrap();
+    let mut cell = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .args(["run", "--no-program", "--no-record", "--duration", "20"])
+        .arg(&cfg)
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(15);
+    let status = loop {
+        let (code, out, _) = cellrt_on_cell(&name, &["status"]);
+        if code == 0 && out.contains("exchanges") {
+            break out;
+        }
+        assert!(std::time::Instant::now() < end, "no status: {out}");
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    };
+    // SIGTERM: the cell shuts down cleanly.
+    let _ = Command::new("kill").arg(cell.id().to_string()).status();
+    let _ = cell.wait();
+    for (axis, transport) in [("infeed", "cclink-ief-basic"), ("outfeed", "modbus-tcp")] {
+        let line = status
+            .lines()
+            .find(|l| l.starts_with(axis))
+            .unwrap_or_else(|| panic!("{status}"));
+        assert!(line.contains("je-c") && line.contains(transport), "{line}");
+        assert!(
+            line.contains("switch_on_disabled"),
+            "not powered yet: {line}"
+        );
+    }
+}
 
 #[test]
 fn the_mixed_cell_runs_and_replay_names_what_it_leaves_out() {
     let dir = tempfile::tempdir().unwrap();
-    let configs = concat!(env!("CARGO_MANIFEST_DIR"), "/../configs");
-    let text = std::fs::read_to_string(format!("{configs}/mixed-cell.toml"))
-        .unwrap()
-        .replace(
-            r#"name = "mixed""#,
-            &format!(r#"name = "{}""#, unique_cell_name()),
-        )
+    let text = mixed_cell(&unique_cell_name())
         .replace(
             r#"program = "mixed-cell-program.toml""#,
             r#"program = "program.toml""#,
@@ -28,7 +74,7 @@ fn the_mixed_cell_runs_and_replay_names_what_it_leaves_out() {
             "max_consecutive_overruns = 0",
         )
         + "\n[setpoints]\nlookahead_ms = 1000\n";
-    let program = std::fs::read_to_string(format!("{configs}/mixed-cell-program.toml")).unwrap();
+    let program = std::fs::read_to_string(format!("{CONFIGS}/mixed-cell-program.toml")).unwrap();
     let (out, rec) = run_recorded(dir.path(), &text, &program);
     let stderr = String::from_utf8_lossy(&out.stderr);
     let stdout = String::from_utf8_lossy(&out.stdout);

@@ -305,6 +305,7 @@ impl<'a> Planner<'a> {
                 engine: &mut self.engine,
                 link: self.link.as_mut(),
                 program_running: false,
+                je_c: &self.je_c,
             };
             self.operator.tick(&mut ctx);
             self.operator.wait(TICK);
@@ -318,6 +319,7 @@ impl<'a> Planner<'a> {
             engine: &mut self.engine,
             link: self.link.as_mut(),
             program_running: self.program_running,
+            je_c: &self.je_c,
         };
         let f = self.operator.poll(&mut ctx);
         if matches!(f, Followup::AbortProgram) {

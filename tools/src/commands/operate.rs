@@ -616,6 +616,33 @@ pub fn render(s: &StatusReport) -> String {
             }
         );
     }
+    for a in &s.je_c_axes {
+        out += &format!(
+            "{:<8} {:<5} {:<22} {:>9.3} {:<2} {:>12} {:>11.3} {:>10} {:>6}  {} {} exchanges, {} missed ({} in a row), round trip {:.0} µs{}\n",
+            a.name,
+            "je-c",
+            a.fsa,
+            a.position,
+            a.unit,
+            if a.busy { "moving" } else { "-" },
+            a.velocity,
+            "-",
+            if a.alarm == 0 {
+                "-".to_string()
+            } else {
+                format!("{:04X}h", a.alarm)
+            },
+            a.transport,
+            a.exchanges,
+            a.missed,
+            a.missed_in_row,
+            a.round_trip_us,
+            a.stopped
+                .as_ref()
+                .map(|r| format!(", stopped: {r}"))
+                .unwrap_or_default()
+        );
+    }
     out
 }
 

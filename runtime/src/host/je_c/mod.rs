@@ -187,6 +187,36 @@ impl JecAxes {
     }
 }
 
+impl JecAxes {
+    /// Each axis' state for `cellrt status`.
+    pub fn status(&self) -> Vec<crate::host::operator::wire::JecAxisStatus> {
+        self.axes
+            .iter()
+            .map(|(c, h)| {
+                let f = h.feedback();
+                let state =
+                    cellrt_axes::cia402::statusword::Statusword(f.inputs.statusword).state();
+                crate::host::operator::wire::JecAxisStatus {
+                    name: c.name.clone(),
+                    transport: c.transport.name().to_string(),
+                    unit: c.unit.clone(),
+                    fsa: state.map_or("unknown", |s| s.as_str()).to_string(),
+                    position: c.units(f.inputs.position),
+                    velocity: f64::from(f.inputs.velocity) / 100.0 / 60.0 * c.counts_per_rev
+                        / c.counts_per_unit,
+                    busy: f.busy,
+                    stopped: f.stopped.map(stopped_text),
+                    alarm: f.inputs.alarm,
+                    exchanges: f.cycles,
+                    missed: f.missed,
+                    missed_in_row: f.missed_in_row,
+                    round_trip_us: f.round_trip_ns as f64 / 1000.0,
+                }
+            })
+            .collect()
+    }
+}
+
 /// One MR-JE-C axis at the end of a run.
 #[derive(Debug, Clone, Serialize)]
 pub struct JecAxisSummary {

@@ -77,6 +77,8 @@ pub struct Context<'a> {
     pub link: &'a mut dyn CellLink,
     /// Whether a program runs.
     pub program_running: bool,
+    /// The MR-JE-C axes.
+    pub je_c: &'a crate::host::je_c::JecAxes,
 }
 
 impl OperatorServer {
@@ -511,6 +513,7 @@ impl OperatorServer {
             last_finished: self.last_finished.clone(),
             recent_events: ctx.link.recent_events(),
             axes,
+            je_c_axes: ctx.je_c.status(),
         }
     }
 }

@@ -407,6 +407,40 @@ pub struct StatusReport {
     pub recent_events: Vec<String>,
     /// Per axis.
     pub axes: Vec<AxisStatus>,
+    /// Per MR-JE-C axis (beside the RT loop).
+    #[serde(default)]
+    pub je_c_axes: Vec<JecAxisStatus>,
+}
+
+/// Status of one MR-JE-C axis and its link.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JecAxisStatus {
+    /// Axis name.
+    pub name: String,
+    /// Transport (`cclink-ief-basic`, `slmp`, `modbus-tcp`, `modbus-rtu`).
+    pub transport: String,
+    /// Unit.
+    pub unit: String,
+    /// CiA 402 state from the last answer.
+    pub fsa: String,
+    /// Actual position, units.
+    pub position: f64,
+    /// Actual velocity, unit/s.
+    pub velocity: f64,
+    /// A move or jog runs.
+    pub busy: bool,
+    /// Why the axis was stopped, if it was.
+    pub stopped: Option<String>,
+    /// 2A42h (0: no alarm).
+    pub alarm: u16,
+    /// Exchanges run.
+    pub exchanges: u64,
+    /// Exchanges without an answer.
+    pub missed: u64,
+    /// Of them, in a row now.
+    pub missed_in_row: u32,
+    /// The last round trip, µs.
+    pub round_trip_us: f64,
 }
 
 /// A command in execution.

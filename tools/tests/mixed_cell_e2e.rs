@@ -113,3 +113,84 @@ fn the_mixed_cell_runs_and_replay_names_what_it_leaves_out() {
         "{said}"
     );
 }
+
+/// As root, the mixed cell's conveyors as two emulated MR-JE-Cs in a network namespace behind
+/// a veth pair (`cellrt drive-sim mr-je-c --listen` at 10.78.0.2 and 10.78.0.3, their own
+/// ports): the cell reaches them by `address` and runs its program. Skipped, saying why,
+/// without root.
+#[test]
+fn the_mixed_cell_reaches_drives_in_a_namespace() {
+    use cellrt_rt_tests::netns::VethNamespace;
+    let ns = match VethNamespace::create(&format!("mx{}", std::process::id() % 100_000)) {
+        Ok(ns) => ns,
+        Err(why) => {
+            println!("SKIPPED the_mixed_cell_reaches_drives_in_a_namespace: {why}");
+            return;
+        }
+    };
+    let ip = |args: &[&str]| {
+        let ok = Command::new("ip").args(args).status().unwrap().success();
+        assert!(ok, "ip {args:?}");
+    };
+    ip(&["addr", "add", "10.78.0.1/24", "dev", &ns.near]);
+    for a in ["10.78.0.2/24", "10.78.0.3/24"] {
+        ip(&["-n", &ns.namespace, "addr", "add", a, "dev", &ns.far]);
+    }
+    let exe = std::path::Path::new(env!("CARGO_BIN_EXE_cellrt"));
+    let mut drives: Vec<std::process::Child> = ["10.78.0.2", "10.78.0.3"]
+        .iter()
+        .map(|addr| {
+            ns.command(exe)
+                .args(["drive-sim", "mr-je-c", "--listen", addr])
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    let modbus = "10.78.0.3:502".parse().unwrap();
+    while std::net::TcpStream::connect_timeout(&modbus, std::time::Duration::from_millis(200))
+        .is_err()
+    {
+        assert!(std::time::Instant::now() < end, "drive-sim never listened");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let text = mixed_cell(&unique_cell_name())
+        .replace(
+            r#"program = "mixed-cell-program.toml""#,
+            r#"program = "program.toml""#,
+        )
+        .replace(
+            "max_consecutive_overruns = 100",
+            "max_consecutive_overruns = 0",
+        )
+        .replace(
+            "je_c = { emulate = true, period_ms = 10,",
+            "je_c = { address = \"10.78.0.2\", period_ms = 10,",
+        )
+        .replace(
+            "je_c = { emulate = true, period_ms = 20,",
+            "je_c = { address = \"10.78.0.3\", period_ms = 20,",
+        )
+        + "\n[setpoints]\nlookahead_ms = 1000\n";
+    assert!(!text.contains("je_c = { emulate"));
+    let dir = tempfile::tempdir().unwrap();
+    let program = std::fs::read_to_string(format!("{CONFIGS}/mixed-cell-program.toml")).unwrap();
+    let (out, _) = run_recorded(dir.path(), &text, &program);
+    for d in &mut drives {
+        let _ = d.kill();
+        let _ = d.wait();
+    }
+    let all = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stderr),
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert!(out.status.success(), "{all}");
+    assert!(all.contains("program completed"), "{all}");
+    assert!(
+        all.contains("cclink-ief-basic: ") && all.contains("modbus-tcp: "),
+        "{all}"
+    );
+}

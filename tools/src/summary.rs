@@ -157,11 +157,16 @@ fn recording(o: &mut String, s: &Summary) {
         Some(p) => {
             let _ = writeln!(
                 o,
-                "recording   {} ({:.1} MiB, {} cycle and {} axis messages, {} events)",
+                "recording   {} ({:.1} MiB, {} cycle and {} axis messages, {}{} events)",
                 p.display(),
                 s.recording.bytes as f64 / (1024.0 * 1024.0),
                 s.recording.cycle_messages,
                 s.recording.axis_messages,
+                if s.recording.je_c_messages > 0 {
+                    format!("{} MR-JE-C exchange messages, ", s.recording.je_c_messages)
+                } else {
+                    String::new()
+                },
                 s.recording.events
             );
             if s.recording.files.len() > 1 {

@@ -8,7 +8,7 @@ mod common;
 
 use std::process::Command;
 
-use common::{cellrt_on_cell, run_recorded, unique_cell_name};
+use common::{cellrt_on_cell, read_recording, run_recorded, unique_cell_name};
 
 const CONFIGS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../configs");
 
@@ -95,6 +95,24 @@ fn the_mixed_cell_runs_and_replay_names_what_it_leaves_out() {
             .expect("N exchanges");
         assert!(exchanges > 20 && !l.contains("stopped"), "{l}");
     }
+    // Each MR-JE-C axis has its own topic: one message per exchange (10 ms and 20 ms periods).
+    let recording = read_recording(&rec);
+    let infeed = recording
+        .summary_counts
+        .get("/je_c/infeed")
+        .copied()
+        .unwrap_or(0);
+    let outfeed = recording
+        .summary_counts
+        .get("/je_c/outfeed")
+        .copied()
+        .unwrap_or(0);
+    assert!(
+        infeed > 100 && outfeed > 50 && infeed > outfeed,
+        "{:?}",
+        recording.summary_counts
+    );
+    assert!(all.contains("MR-JE-C exchange messages"), "{all}");
     let replay = Command::new(env!("CARGO_BIN_EXE_cellrt"))
         .arg("replay")
         .arg(&rec)

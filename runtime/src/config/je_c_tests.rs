@@ -61,7 +61,7 @@ fn the_mixed_cell_keeps_its_je_c_axes_off_the_rt_loop() {
     assert!(infeed.emulate);
     assert_eq!(infeed.mode, JecMode::Pp);
     assert_eq!(infeed.period, Duration::from_millis(10));
-    assert_eq!(infeed.drive_timeout, Some(Duration::from_millis(200)));
+    assert_eq!(infeed.drive_timeout, Some(Duration::from_millis(500)));
     assert_eq!(infeed.watchdog_missed, 5);
     assert_eq!(outfeed.transport, JecTransport::ModbusTcp(None));
     // watchdogs.communication_reaction's default.

@@ -202,6 +202,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         crate::host::cell_bus::CellBus::open(cell).map_err(|e| RunError::Bus(e.to_string()))?;
     record_bring_up_warnings(cell, &bus, &handoff);
     let je_c = crate::host::je_c::JecCell::start(cell).map_err(RunError::Bus)?;
+    recording.attach_je_c(je_c.axes());
     if let Some(d) = bus.diagnostics() {
         handoff.set_bus_diagnostics(d);
     }
@@ -329,6 +330,13 @@ fn queue_cycles(cell: &CellConfig) -> usize {
 struct Recording(Option<Recorder>);
 
 impl Recording {
+    /// Records the MR-JE-C axes' exchanges too.
+    fn attach_je_c(&self, axes: crate::host::je_c::JecAxes) {
+        if let Some(r) = &self.0 {
+            r.attach_je_c(axes);
+        }
+    }
+
     fn start(
         cell: &CellConfig,
         path: Option<&std::path::Path>,

@@ -7,8 +7,10 @@ pub mod cell;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use cellrt_runtime::host::record::proto::{AxisCycle, CycleStats, Event};
-use cellrt_runtime::host::record::topics::{AXIS_TOPIC_PREFIX, CYCLE_TOPIC, EVENTS_TOPIC};
+use cellrt_runtime::host::record::proto::{AxisCycle, CycleStats, Event, JecExchange};
+use cellrt_runtime::host::record::topics::{
+    AXIS_TOPIC_PREFIX, CYCLE_TOPIC, EVENTS_TOPIC, JE_C_TOPIC_PREFIX,
+};
 use prost::Message;
 
 /// The demo configuration, rewritten into `dir` with the given program, a unique cell name, a
@@ -102,6 +104,8 @@ pub struct Recording {
     pub cycles: Vec<CycleStats>,
     pub axes: BTreeMap<String, Vec<AxisCycle>>,
     pub events: Vec<Event>,
+    /// The MR-JE-C axes' exchanges, per axis.
+    pub je_c: BTreeMap<String, Vec<JecExchange>>,
     /// Whether the file has a summary section with chunk indexes.
     pub indexed: bool,
     /// Message counts from the summary's statistics, per topic.
@@ -128,6 +132,11 @@ pub fn read_recording(path: &Path) -> Recording {
                 .entry(axis.to_string())
                 .or_default()
                 .push(AxisCycle::decode(&*msg.data).expect("AxisCycle"));
+        } else if let Some(axis) = topic.strip_prefix(JE_C_TOPIC_PREFIX) {
+            rec.je_c
+                .entry(axis.to_string())
+                .or_default()
+                .push(JecExchange::decode(&*msg.data).expect("JecExchange"));
         } else {
             panic!("unexpected topic {topic}");
         }

@@ -8,4 +8,4 @@ pub mod thread;
 
 pub use control::{AxisCommand, AxisControl, StopReaction, Stopped};
 pub use io::{CyclicDriveIo, DriveIo, ExchangeError, Inputs, ObjectIo, Outputs};
-pub use thread::{AxisFeedback, AxisHandle, AxisThread, StartError};
+pub use thread::{AxisFeedback, AxisHandle, AxisThread, ExchangeRecord, StartError};

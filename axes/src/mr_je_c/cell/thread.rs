@@ -3,7 +3,7 @@
 //! feedback out through a lock-free cell, so the cell's other threads never wait for the
 //! network. Start-up parameters (the drive-side time-outs) are written before the first cycle.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -18,6 +18,33 @@ use crate::mr_je_c::value::Value;
 
 /// Commands waiting for the axis' thread.
 const QUEUE: usize = 16;
+/// Exchange records waiting for the recorder (40 s at 10 ms).
+const RECORDS: usize = 4096;
+
+/// One exchange, for the recording.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ExchangeRecord {
+    /// Exchange number (from 1).
+    pub exchange: u64,
+    /// When it ended, ns since the Unix epoch.
+    pub time_ns: u64,
+    /// The drive answered.
+    pub answered: bool,
+    /// The last answer's values.
+    pub inputs: Inputs,
+    /// The controlword sent.
+    pub controlword: u16,
+    /// Its round trip, ns.
+    pub round_trip_ns: u64,
+    /// Misses in a row after it.
+    pub missed_in_row: u32,
+    /// Misses in all.
+    pub missed: u64,
+    /// Refusals in all.
+    pub refused: u64,
+    /// The stop in force.
+    pub stopped: Option<Stopped>,
+}
 
 /// What the axis' thread publishes after each exchange.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -51,6 +78,8 @@ pub struct AxisFeedback {
 struct Cells {
     commands: ArrayQueue<AxisCommand>,
     feedback: AtomicCell<AxisFeedback>,
+    records: ArrayQueue<ExchangeRecord>,
+    records_dropped: AtomicU64,
     stop: AtomicBool,
 }
 
@@ -69,6 +98,16 @@ impl AxisHandle {
     /// The latest feedback.
     pub fn feedback(&self) -> AxisFeedback {
         self.cells.feedback.load()
+    }
+
+    /// The oldest exchange record not yet taken (the recorder's).
+    pub fn pop_record(&self) -> Option<ExchangeRecord> {
+        self.cells.records.pop()
+    }
+
+    /// Records dropped because nobody took them in time.
+    pub fn records_dropped(&self) -> u64 {
+        self.cells.records_dropped.load(Ordering::Relaxed)
     }
 }
 
@@ -101,12 +140,13 @@ impl AxisThread {
         period: Duration,
     ) -> Result<AxisThread, StartError> {
         for (id, v) in parameters {
-            io.write_object(*id, v)
-                .map_err(|e| StartError::Parameter(*id, e))?;
+            write_retried(io.as_mut(), *id, v).map_err(|e| StartError::Parameter(*id, e))?;
         }
         let cells = Arc::new(Cells {
             commands: ArrayQueue::new(QUEUE),
             feedback: AtomicCell::new(AxisFeedback::default()),
+            records: ArrayQueue::new(RECORDS),
+            records_dropped: AtomicU64::new(0),
             stop: AtomicBool::new(false),
         });
         let mine = cells.clone();
@@ -120,6 +160,21 @@ impl AxisThread {
     }
 }
 
+/// Tries a start-up write this often before giving up on an unanswered one.
+const START_UP_TRIES: u32 = 5;
+
+/// Writes `v` to `id`, again after an unanswered try (a busy host, a lost datagram); a refusal
+/// is final.
+fn write_retried(io: &mut dyn DriveIo, id: ObjectId, v: &Value) -> Result<(), ExchangeError> {
+    let mut tries = 0;
+    loop {
+        match io.write_object(id, v) {
+            Err(ExchangeError::NoAnswer(_)) if tries + 1 < START_UP_TRIES => tries += 1,
+            other => return other,
+        }
+    }
+}
+
 fn run(cells: &Cells, io: &mut dyn DriveIo, control: &mut AxisControl, period: Duration) {
     let mut f = AxisFeedback::default();
     let mut next = Instant::now();
@@ -127,7 +182,9 @@ fn run(cells: &Cells, io: &mut dyn DriveIo, control: &mut AxisControl, period: D
         while let Some(c) = cells.commands.pop() {
             control.command(c);
         }
+        let sent = control.outputs().controlword;
         let answer = io.exchange(&control.outputs());
+        let answered = answer.is_ok();
         control.step(answer);
         let rtt = io.round_trip().as_nanos() as u64;
         f.cycles += 1;
@@ -144,6 +201,23 @@ fn run(cells: &Cells, io: &mut dyn DriveIo, control: &mut AxisControl, period: D
         f.round_trip_ns = rtt;
         f.max_round_trip_ns = f.max_round_trip_ns.max(rtt);
         cells.feedback.store(f);
+        let record = ExchangeRecord {
+            exchange: f.cycles,
+            time_ns: std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_nanos() as u64),
+            answered,
+            inputs: f.inputs,
+            controlword: sent,
+            round_trip_ns: rtt,
+            missed_in_row: f.missed_in_row,
+            missed: f.missed,
+            refused: f.refused,
+            stopped: f.stopped,
+        };
+        if cells.records.push(record).is_err() {
+            cells.records_dropped.fetch_add(1, Ordering::Relaxed);
+        }
         next += period;
         let now = Instant::now();
         match next.checked_duration_since(now) {

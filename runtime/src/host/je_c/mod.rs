@@ -150,6 +150,11 @@ impl JecAxes {
         self.axes[k].1.feedback()
     }
 
+    /// Axis `k`'s oldest exchange record not yet recorded.
+    pub fn pop_record(&self, k: usize) -> Option<cellrt_axes::mr_je_c::cell::ExchangeRecord> {
+        self.axes[k].1.pop_record()
+    }
+
     /// Queues `c` for axis `k`.
     pub fn command(&self, k: usize, c: AxisCommand) -> Result<(), String> {
         if self.axes[k].1.command(c) {

@@ -19,6 +19,7 @@ use super::sink::{open, template_channels, Channels, Sink};
 use crate::config::capture::Quantity;
 use crate::config::CellConfig;
 use crate::handoff::{AxisRecord, CycleRecord, EventKind, EventRecord, HostEnd, NO_AXIS};
+use crate::host::je_c::{stopped_text, JecAxes};
 use crate::host::live::LiveFeed;
 use crate::rt::clock::realtime_offset_ns;
 use crate::rt::executive::fsa_index;
@@ -46,6 +47,8 @@ pub struct RecordingInfo {
     pub cycle_messages: u64,
     /// Axis messages written.
     pub axis_messages: u64,
+    /// MR-JE-C exchange messages written (topics `/je_c/<name>`).
+    pub je_c_messages: u64,
     /// Events seen (recorded or not).
     pub events: u64,
     /// The first [`EVENT_LOG_LINES`] events, as text lines `cycle N: kind [axis]: detail`.
@@ -59,6 +62,7 @@ pub struct RecordingInfo {
 pub struct Recorder {
     stop: Arc<AtomicBool>,
     handle: JoinHandle<Result<RecordingInfo, RecorderError>>,
+    je_c: Arc<std::sync::OnceLock<JecAxes>>,
 }
 
 /// Path of part `n` of a rotating recording: `run.mcap`, `run.1.mcap`, `run.2.mcap`, …
@@ -120,14 +124,27 @@ impl Recorder {
         let stop = Arc::new(AtomicBool::new(false));
         let stop2 = stop.clone();
         let cell = cell.clone();
+        let je_c = Arc::new(std::sync::OnceLock::new());
+        let je_c2 = je_c.clone();
         let handle = std::thread::Builder::new()
             .name("cellrt-recorder".into())
-            .spawn(move || drain_loop(&cell, sink, capture, live, &handoff, &stop2))
+            .spawn(move || {
+                let sources = Sources {
+                    handoff: &handoff,
+                    je_c: &je_c2,
+                };
+                drain_loop(&cell, sink, capture, live, sources, &stop2)
+            })
             .map_err(|e| RecorderError::Create {
                 path: path.map(Path::to_path_buf).unwrap_or_default(),
                 source: e,
             })?;
-        Ok(Recorder { stop, handle })
+        Ok(Recorder { stop, handle, je_c })
+    }
+
+    /// Records the exchanges of the cell's MR-JE-C axes from now on (topics `/je_c/<name>`).
+    pub fn attach_je_c(&self, axes: JecAxes) {
+        let _ = self.je_c.set(axes);
     }
 
     /// Drains what is left, finishes the file (summary, indexes) and returns what was written.
@@ -158,14 +175,22 @@ struct Drain<'a> {
     last_cycle: u64,
 }
 
+/// Where the recorder's records come from: the RT thread's hand-off, and the MR-JE-C axes'
+/// threads once attached.
+struct Sources<'a> {
+    handoff: &'a HostEnd,
+    je_c: &'a std::sync::OnceLock<JecAxes>,
+}
+
 fn drain_loop(
     cell: &CellConfig,
     sink: Option<Sink>,
     capture: Option<Capturer>,
     live: Option<(LiveFeed, Channels)>,
-    handoff: &HostEnd,
+    sources: Sources<'_>,
     stop: &AtomicBool,
 ) -> Result<RecordingInfo, RecorderError> {
+    let handoff = sources.handoff;
     let mut d = Drain {
         cell,
         sink,
@@ -215,6 +240,9 @@ fn drain_loop(
                 n += 1;
             }
             d.flush_if_due(flush_every)?;
+        }
+        if let Some(je_c) = sources.je_c.get() {
+            n += d.je_c_exchanges(je_c)?;
         }
         // Without a file (or at the end) nothing waits for its cycle record.
         if (d.sink.is_none() && d.capture.is_none() && d.live.is_none()) || finishing {
@@ -476,6 +504,41 @@ impl Drain<'_> {
         self.write(channel, t)?;
         self.info.axis_messages += 1;
         Ok(())
+    }
+
+    /// Records the MR-JE-C axes' exchanges taken since the last call; how many.
+    fn je_c_exchanges(&mut self, je_c: &JecAxes) -> Result<usize, RecorderError> {
+        let mut n = 0;
+        for k in 0..je_c.len() {
+            let Some(channel) = self.channels().and_then(|c| c.je_c.get(k).copied()) else {
+                while je_c.pop_record(k).is_some() {}
+                continue;
+            };
+            let c = je_c.config(k);
+            while let Some(r) = je_c.pop_record(k) {
+                let msg = proto::JecExchange {
+                    exchange: r.exchange,
+                    answered: r.answered,
+                    statusword: u32::from(r.inputs.statusword),
+                    position_counts: r.inputs.position,
+                    position: c.units(r.inputs.position),
+                    velocity_drive: r.inputs.velocity,
+                    alarm: u32::from(r.inputs.alarm),
+                    controlword: u32::from(r.controlword),
+                    round_trip_ns: r.round_trip_ns,
+                    missed_in_row: r.missed_in_row,
+                    missed: r.missed,
+                    refused: r.refused,
+                    stopped: r.stopped.map(stopped_text).unwrap_or_default(),
+                };
+                self.buf.clear();
+                msg.encode(&mut self.buf).expect("Vec grows");
+                self.write(channel, r.time_ns)?;
+                self.info.je_c_messages += 1;
+                n += 1;
+            }
+        }
+        Ok(n)
     }
 
     /// Logs and records event `e`; returns its line (for the operator's recent events).

@@ -52,6 +52,8 @@ pub(super) struct Channels {
     pub(super) cycle: u16,
     pub(super) events: u16,
     pub(super) axes: Vec<u16>,
+    /// One per MR-JE-C axis.
+    pub(super) je_c: Vec<u16>,
 }
 
 /// A file that counts the bytes written to it (for rotation by size).
@@ -215,19 +217,27 @@ fn add_channels<W: Write + Seek>(
     let cycle_schema = schema(writer, CYCLE_SCHEMA)?;
     let axis_schema = schema(writer, AXIS_SCHEMA)?;
     let event_schema = schema(writer, EVENT_SCHEMA)?;
+    let je_c_schema = if cell.je_c_axes.is_empty() {
+        0
+    } else {
+        schema(writer, JE_C_SCHEMA)?
+    };
     let mut ids = Vec::new();
     for spec in channel_specs(cell) {
         let schema = match spec.schema {
             CYCLE_SCHEMA => cycle_schema,
             EVENT_SCHEMA => event_schema,
+            JE_C_SCHEMA => je_c_schema,
             _ => axis_schema,
         };
         ids.push(writer.add_channel(schema, &spec.topic, "protobuf", &spec.metadata)?);
     }
+    let je_c_from = 2 + cell.axes.len();
     Ok(Channels {
         cycle: ids[0],
         events: ids[1],
-        axes: ids[2..].to_vec(),
+        axes: ids[2..je_c_from].to_vec(),
+        je_c: ids[je_c_from..].to_vec(),
     })
 }
 
@@ -242,7 +252,8 @@ pub struct ChannelSpec {
     pub metadata: BTreeMap<String, String>,
 }
 
-/// The channels of `cell`'s recording in their one order: cycle, events, one per axis.
+/// The channels of `cell`'s recording in their one order: cycle, events, one per axis, one per
+/// MR-JE-C axis.
 pub fn channel_specs(cell: &CellConfig) -> Vec<ChannelSpec> {
     let plain = |topic: &str, schema| ChannelSpec {
         topic: topic.to_string(),
@@ -266,13 +277,28 @@ pub fn channel_specs(cell: &CellConfig) -> Vec<ChannelSpec> {
             ("mode".to_string(), a.mode.as_str().to_string()),
         ]),
     }));
+    specs.extend(cell.je_c_axes.iter().map(|a| ChannelSpec {
+        topic: je_c_topic(&a.name),
+        schema: JE_C_SCHEMA,
+        metadata: BTreeMap::from([
+            ("unit".to_string(), a.unit.clone()),
+            ("counts_per_unit".to_string(), a.counts_per_unit.to_string()),
+            ("drive".to_string(), "mr-je-c".to_string()),
+            ("transport".to_string(), a.transport.name().to_string()),
+            ("period_ms".to_string(), a.period.as_millis().to_string()),
+        ]),
+    }));
     specs
 }
 
 /// The MCAP channel ids of `cell`'s recording, in [`channel_specs`] order.
 pub fn channel_ids(cell: &CellConfig) -> Result<Vec<u16>, mcap::McapError> {
     let c = template_channels(cell)?;
-    Ok([c.cycle, c.events].into_iter().chain(c.axes).collect())
+    Ok([c.cycle, c.events]
+        .into_iter()
+        .chain(c.axes)
+        .chain(c.je_c)
+        .collect())
 }
 
 /// The cell metadata record (cell, cycle time, axes and their limits, software) and the

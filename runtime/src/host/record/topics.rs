@@ -14,10 +14,20 @@ pub const AXIS_SCHEMA: &str = "cellrt.AxisCycle";
 /// Schema name of [`EVENTS_TOPIC`].
 pub const EVENT_SCHEMA: &str = "cellrt.Event";
 
+/// Prefix of the MR-JE-C axes' topics: `/je_c/<name>`, schema `cellrt.JecExchange`.
+pub const JE_C_TOPIC_PREFIX: &str = "/je_c/";
+/// Schema name of the MR-JE-C topics.
+pub const JE_C_SCHEMA: &str = "cellrt.JecExchange";
+
 /// MCAP metadata record holding the cell description.
 pub const CELL_METADATA: &str = "cellrt.cell";
 
 /// The topic of axis `name`.
 pub fn axis_topic(name: &str) -> String {
     format!("{AXIS_TOPIC_PREFIX}{name}")
+}
+
+/// The topic of MR-JE-C axis `name`.
+pub fn je_c_topic(name: &str) -> String {
+    format!("{JE_C_TOPIC_PREFIX}{name}")
 }

@@ -19,6 +19,19 @@ fn mixed_cell(name: &str) -> String {
         .replace(r#"name = "mixed""#, &format!(r#"name = "{name}""#))
 }
 
+/// `text` for [`run_recorded`]: its program as `program.toml`, the overrun watchdog off and a
+/// long lookahead (the program's logic is under test, not the machine's load).
+fn for_run_recorded(text: &str) -> String {
+    text.replace(
+        r#"program = "mixed-cell-program.toml""#,
+        r#"program = "program.toml""#,
+    )
+    .replace(
+        "max_consecutive_overruns = 100",
+        "max_consecutive_overruns = 0",
+    ) + "\n[setpoints]\nlookahead_ms = 1000\n"
+}
+
 #[test]
 fn status_lists_the_je_c_axes_and_their_links() {
     let dir = tempfile::tempdir().unwrap();
@@ -64,16 +77,7 @@ fn status_lists_the_je_c_axes_and_their_links() {
 #[test]
 fn the_mixed_cell_runs_and_replay_names_what_it_leaves_out() {
     let dir = tempfile::tempdir().unwrap();
-    let text = mixed_cell(&unique_cell_name())
-        .replace(
-            r#"program = "mixed-cell-program.toml""#,
-            r#"program = "program.toml""#,
-        )
-        .replace(
-            "max_consecutive_overruns = 100",
-            "max_consecutive_overruns = 0",
-        )
-        + "\n[setpoints]\nlookahead_ms = 1000\n";
+    let text = for_run_recorded(&mixed_cell(&unique_cell_name()));
     let program = std::fs::read_to_string(format!("{CONFIGS}/mixed-cell-program.toml")).unwrap();
     let (out, rec) = run_recorded(dir.path(), &text, &program);
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -174,15 +178,7 @@ fn the_mixed_cell_reaches_drives_in_a_namespace() {
         assert!(std::time::Instant::now() < end, "drive-sim never listened");
         std::thread::sleep(std::time::Duration::from_millis(100));
     }
-    let text = mixed_cell(&unique_cell_name())
-        .replace(
-            r#"program = "mixed-cell-program.toml""#,
-            r#"program = "program.toml""#,
-        )
-        .replace(
-            "max_consecutive_overruns = 100",
-            "max_consecutive_overruns = 0",
-        )
+    let text = for_run_recorded(&mixed_cell(&unique_cell_name()))
         .replace(
             "je_c = { emulate = true, period_ms = 10,",
             "je_c = { address = \"10.78.0.2\", period_ms = 10,",
@@ -190,8 +186,7 @@ fn the_mixed_cell_reaches_drives_in_a_namespace() {
         .replace(
             "je_c = { emulate = true, period_ms = 20,",
             "je_c = { address = \"10.78.0.3\", period_ms = 20,",
-        )
-        + "\n[setpoints]\nlookahead_ms = 1000\n";
+        );
     assert!(!text.contains("je_c = { emulate"));
     let dir = tempfile::tempdir().unwrap();
     let program = std::fs::read_to_string(format!("{CONFIGS}/mixed-cell-program.toml")).unwrap();

@@ -157,6 +157,7 @@ fn loop_options(opts: &EthercatBenchOptions) -> LoopOptions {
         duration_s: opts.round_s(),
         priority: opts.priority,
         cpu: opts.cpu,
+        je_c: 0,
     }
 }
 

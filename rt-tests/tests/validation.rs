@@ -66,3 +66,38 @@ fn loop_options_and_generated_cell() {
         .unwrap_or_else(|e| panic!("{interval} µs: {e}"));
     }
 }
+
+#[test]
+fn loop_with_je_c_axes() {
+    let o = LoopOptions::new(16, 1000, 2.0, 80, None).unwrap();
+    bad(o.with_je_c(17), "--je-c");
+    let o = o.with_je_c(4).unwrap();
+    let path = std::path::Path::new("bench.toml");
+    let cell = cellrt_runtime::config::CellConfig::parse(path, &config_text("bench-j", &o))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((cell.axes.len(), cell.je_c_axes.len()), (16, 4));
+    let transports: Vec<_> = cell.je_c_axes.iter().map(|a| a.transport.name()).collect();
+    assert_eq!(
+        transports,
+        ["cclink-ief-basic", "modbus-tcp", "slmp", "modbus-rtu"]
+    );
+    let text = cellrt_rt_tests::loopbench::program_text_with_je_c(16, 4, 2.0);
+    let p =
+        cellrt_runtime::host::program::Program::parse(std::path::Path::new("p.toml"), &text, &cell)
+            .unwrap_or_else(|e| panic!("{e}"));
+    // Every move step moves the four MR-JE-C axes beside the streamed ones.
+    let moves: Vec<_> = p
+        .steps
+        .iter()
+        .filter_map(|s| match s {
+            cellrt_runtime::host::program::Step::Move(streamed, je_c) => {
+                Some((streamed.len(), je_c.len()))
+            }
+            _ => None,
+        })
+        .collect();
+    assert!(
+        !moves.is_empty() && moves.iter().all(|&m| m == (16, 4)),
+        "{moves:?}"
+    );
+}

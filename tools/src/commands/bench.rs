@@ -191,6 +191,10 @@ pub struct LoopArgs {
     /// Number of simulated axes, 1..=256.
     #[arg(long, value_name = "N")]
     pub axes: usize,
+    /// Also run the cell with N emulated MR-JE-C axes beside the loop (moved in the same
+    /// steps), right after the run without, and print the loop p99 of both.
+    #[arg(long = "je-c", value_name = "N", default_value_t = 0)]
+    pub je_c: usize,
     #[command(flatten)]
     pub common: Common,
     /// Also write the result as JSON to this file.
@@ -361,9 +365,16 @@ fn run_compare(a: CompareArgs) -> Result<(), BenchError> {
 fn run_loop(a: LoopArgs) -> Result<(), BenchError> {
     let c = &a.common;
     let opts = loopbench::LoopOptions::new(a.axes, c.interval, c.duration, c.priority, c.cpu)?;
+    let with_je_c = opts.with_je_c(a.je_c)?;
     let report = loopbench::run(&opts)?;
     print!("{}", loopbench::render(&report));
-    write_json(a.json.as_deref(), &report)
+    if a.je_c == 0 {
+        return write_json(a.json.as_deref(), &report);
+    }
+    let with = loopbench::run(&with_je_c)?;
+    print!("{}", loopbench::render(&with));
+    print!("{}", loopbench::render_je_c_delta(&report, &with));
+    write_json(a.json.as_deref(), &[report, with])
 }
 
 fn run_soak(a: SoakArgs) -> Result<(), BenchError> {

@@ -39,12 +39,15 @@ impl Planner<'_> {
                 f.enabled != on || (on && f.stopped.is_some())
             });
             let Some(k) = pending else { return Ok(()) };
+            if self.aborted() {
+                return Ok(());
+            }
             let f = self.je_c.feedback(k);
             let name = &self.je_c.config(k).name;
             if let (true, Some(s)) = (on, f.stopped) {
                 return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
             }
-            if Instant::now() >= end || self.aborted() {
+            if Instant::now() >= end {
                 return Err(self.err(format!(
                     "MR-JE-C axis '{name}' is not {} after {POWER_TIMEOUT:?} (statusword {:04X}h, {} answers missed)",
                     if on { "enabled" } else { "disabled" },
@@ -97,13 +100,13 @@ impl Planner<'_> {
         loop {
             let f = self.je_c.feedback(axis);
             // The velocity job ends with the halt, then the halt at standstill.
-            if f.done >= done + 2 {
+            if f.done >= done + 2 || self.aborted() {
                 return Ok(());
             }
             if let Some(s) = f.stopped {
                 return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
             }
-            if f.failed > failed || Instant::now() >= end || self.aborted() {
+            if f.failed > failed || Instant::now() >= end {
                 return Err(self.err(format!(
                     "MR-JE-C axis '{name}': the jog did not end at standstill (statusword {:04X}h)",
                     f.inputs.statusword
@@ -154,7 +157,7 @@ impl Planner<'_> {
             let name = self.je_c.config(t.axis).name.clone();
             loop {
                 let f = self.je_c.feedback(t.axis);
-                if f.done > done_before {
+                if f.done > done_before || self.aborted() {
                     break;
                 }
                 if let Some(s) = f.stopped {
@@ -166,7 +169,7 @@ impl Planner<'_> {
                         f.inputs.statusword
                     )));
                 }
-                if Instant::now() >= end || self.aborted() {
+                if Instant::now() >= end {
                     return Err(self.err(format!(
                         "MR-JE-C axis '{name}' did not reach {} {} in time (at {:.3})",
                         t.target,

@@ -159,7 +159,7 @@ fn the_mixed_cell_reaches_drives_in_a_namespace() {
         ip(&["-n", &ns.namespace, "addr", "add", a, "dev", &ns.far]);
     }
     let exe = std::path::Path::new(env!("CARGO_BIN_EXE_cellrt"));
-    let mut drives: Vec<std::process::Child> = ["10.78.0.2", "10.78.0.3"]
+    let _drives: Vec<Killed> = ["10.78.0.2", "10.78.0.3"]
         .iter()
         .map(|addr| {
             ns.command(exe)
@@ -167,6 +167,7 @@ fn the_mixed_cell_reaches_drives_in_a_namespace() {
                 .stdout(std::process::Stdio::null())
                 .stderr(std::process::Stdio::null())
                 .spawn()
+                .map(Killed)
                 .unwrap()
         })
         .collect();
@@ -191,10 +192,6 @@ fn the_mixed_cell_reaches_drives_in_a_namespace() {
     let dir = tempfile::tempdir().unwrap();
     let program = std::fs::read_to_string(format!("{CONFIGS}/mixed-cell-program.toml")).unwrap();
     let (out, _) = run_recorded(dir.path(), &text, &program);
-    for d in &mut drives {
-        let _ = d.kill();
-        let _ = d.wait();
-    }
     let all = format!(
         "{}{}",
         String::from_utf8_lossy(&out.stderr),
@@ -206,4 +203,14 @@ fn the_mixed_cell_reaches_drives_in_a_namespace() {
         all.contains("cclink-ief-basic: ") && all.contains("modbus-tcp: "),
         "{all}"
     );
+}
+
+/// A child process killed and reaped when dropped, also when the test fails.
+struct Killed(std::process::Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
 }

@@ -214,3 +214,68 @@ impl Drop for Killed {
         let _ = self.0.wait();
     }
 }
+
+/// `cellrt halt` on a running cell halts an MR-JE-C conveyor in the middle of a program's move
+/// (its drive's Halt) and aborts the program.
+#[test]
+fn halt_stops_a_conveyor_mid_move() {
+    let dir = tempfile::tempdir().unwrap();
+    let name = unique_cell_name();
+    let cfg = dir.path().join("cell.toml");
+    std::fs::write(&cfg, mixed_cell(&name)).unwrap();
+    let program = dir.path().join("long.toml");
+    std::fs::write(
+        &program,
+        "[[step]]\ndo = \"power_on\"\n[[step]]\ndo = \"move\"\ntarget = { infeed = 400.0 }\nvelocity = 20.0\n",
+    )
+    .unwrap();
+    let _cell = Killed(
+        Command::new(env!("CARGO_BIN_EXE_cellrt"))
+            .args(["run", "--no-program", "--no-record", "--duration", "30"])
+            .arg(&cfg)
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
+    let infeed = |status: &str| -> (f64, bool) {
+        let line = status
+            .lines()
+            .find(|l| l.starts_with("infeed"))
+            .unwrap_or("");
+        let position = line
+            .split_whitespace()
+            .nth(3)
+            .and_then(|p| p.parse().ok())
+            .unwrap_or(f64::NAN);
+        (position, line.contains("moving"))
+    };
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while cellrt_on_cell(&name, &["status"]).0 != 0 {
+        assert!(std::time::Instant::now() < end, "the cell never answered");
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    }
+    let (code, _, err) =
+        cellrt_on_cell(&name, &["program", program.to_str().unwrap(), "--no-wait"]);
+    assert_eq!(code, 0, "{err}");
+    loop {
+        assert!(std::time::Instant::now() < end, "the conveyor never moved");
+        let (_, out, _) = cellrt_on_cell(&name, &["status"]);
+        let (p, moving) = infeed(&out);
+        if moving && p > 5.0 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    }
+    let (code, _, err) = cellrt_on_cell(&name, &["halt"]);
+    assert_eq!(code, 0, "{err}");
+    std::thread::sleep(std::time::Duration::from_millis(800));
+    let (_, first, _) = cellrt_on_cell(&name, &["status"]);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let (_, second, _) = cellrt_on_cell(&name, &["status"]);
+    let (p1, _) = infeed(&first);
+    let (p2, moving) = infeed(&second);
+    assert!(
+        p1 < 100.0 && (p1 - p2).abs() < 0.01 && !moving,
+        "{first}\n{second}"
+    );
+}

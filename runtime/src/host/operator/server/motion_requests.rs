@@ -3,6 +3,7 @@
 //! checked against the cell and handed to the motion engine or the RT thread.
 
 use super::*;
+use cellrt_axes::mr_je_c::cell::AxisCommand;
 
 impl OperatorServer {
     /// MC_MoveAbsolute / MC_MoveRelative: a time-synchronised move, or with `line` a straight
@@ -235,8 +236,30 @@ impl OperatorServer {
         }
     }
 
-    /// MC_Halt: the named axes (every axis when none) ramp down; a running program is aborted.
+    /// MC_Halt: the named axes (every axis when none) ramp down, MR-JE-C axes by their
+    /// drives' Halt; a running program is aborted.
     pub(super) fn halt(&mut self, ctx: &mut Context<'_>, axes: &[String]) -> (Reply, Followup) {
+        let (je_c, axes): (Vec<String>, Vec<String>) = axes
+            .iter()
+            .cloned()
+            .partition(|a| ctx.cell.je_c_axis_index(a).is_some());
+        let halted = if je_c.is_empty() && axes.is_empty() {
+            ctx.je_c.command_all(AxisCommand::Halt)
+        } else {
+            je_c.iter().try_for_each(|a| {
+                let k = ctx.cell.je_c_axis_index(a).expect("partitioned above");
+                ctx.je_c.command(k, AxisCommand::Halt)
+            })
+        };
+        if let Err(e) = halted {
+            return rejected(format!("halt: {e}"));
+        }
+        if axes.is_empty() && !je_c.is_empty() {
+            return (
+                self.accept("halt", false),
+                program_abort(ctx.program_running),
+            );
+        }
         let list = if axes.is_empty() {
             None
         } else {
@@ -262,8 +285,12 @@ impl OperatorServer {
         }
     }
 
-    /// MC_Stop: the RT thread stops the cell; a running program is aborted.
+    /// MC_Stop: the RT thread stops the cell, the MR-JE-C axes halt on their drives' ramps; a
+    /// running program is aborted.
     pub(super) fn stop(&mut self, ctx: &mut Context<'_>) -> (Reply, Followup) {
+        if let Err(e) = ctx.je_c.command_all(AxisCommand::Halt) {
+            return rejected(format!("stop: {e}"));
+        }
         match ctx.link.command(CellCommand::Stop) {
             Ok(()) => {
                 let reply = self.accept("stop", false);

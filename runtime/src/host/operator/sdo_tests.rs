@@ -168,6 +168,12 @@ impl CellLink for FakeLink {
         Ok(())
     }
     fn event(&mut self, _: crate::handoff::EventKind, _: i64) {}
+    fn profile(
+        &mut self,
+        _: crate::handoff::ProfileCommand,
+    ) -> Result<(), crate::host::link::LinkError> {
+        Err(crate::host::link::LinkError::InProcessOnly("profile"))
+    }
     fn sdo(&mut self, request: UserSdo) -> Result<(), crate::host::link::LinkError> {
         self.sent.push(request);
         Ok(())

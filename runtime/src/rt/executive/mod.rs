@@ -505,6 +505,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     controlword2: rx.controlword2,
                     counter_received: ch.feedback.counter,
                     status_do: ch.feedback.status_do.0,
+                    profile: ch.profile.as_ref().map_or([0; 4], |p| p.held()),
                 };
                 let pushed = self.handoff.push_axis(rec);
                 self.record_pushed(pushed);

@@ -18,9 +18,7 @@
 use cellrt_axes::cia402::controlword::Controlword;
 use cellrt_axes::cia402::statusword::Statusword;
 use cellrt_axes::drive_scaling::DriveScaling;
-use cellrt_axes::pdo::objects::{
-    PROFILE_ACCELERATION, PROFILE_DECELERATION, PROFILE_VELOCITY, TORQUE_SLOPE,
-};
+use cellrt_axes::pdo::objects::PROFILE_OBJECTS;
 use cellrt_axes::pdo::RxPdo;
 use cellrt_axes::sim::profile_position::{
     CHANGE_SET_IMMEDIATELY, NEW_SET_POINT, SET_POINT_ACKNOWLEDGE, TARGET_REACHED,
@@ -54,14 +52,6 @@ struct Objects {
     /// 6081h, 6083h, 6084h, 6087h as `[velocity, acceleration, deceleration, slope]`.
     profile: [u32; 4],
 }
-
-/// The indexes of `Objects::profile`.
-const PROFILE_INDEXES: [u16; 4] = [
-    PROFILE_VELOCITY,
-    PROFILE_ACCELERATION,
-    PROFILE_DECELERATION,
-    TORQUE_SLOPE,
-];
 
 /// Where the axis' motion is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -97,6 +87,9 @@ pub struct ProfileChannel {
     next: Objects,
     /// The profile objects' values the drive holds from an SDO write.
     written: [Option<u32>; 4],
+    /// The value of each profile object's latest SDO write, from the cycle it was posted (what
+    /// the recording shows and `cellrt replay` writes again).
+    posted: [u32; 4],
     phase: Phase,
     /// Cycles left before the statusword answers the current command.
     settle: u32,
@@ -127,6 +120,7 @@ impl ProfileChannel {
             },
             next: Objects::default(),
             written: [None; 4],
+            posted: [0; 4],
             phase: Phase::Idle,
             settle: 0,
             fresh: false,
@@ -338,13 +332,32 @@ impl ProfileChannel {
     /// The next profile object to write by SDO while writing objects: (index, value).
     pub fn next_sdo_object(&self) -> Option<(u16, u32)> {
         let mode = self.objects.mode;
-        PROFILE_INDEXES
+        PROFILE_OBJECTS
             .iter()
             .enumerate()
             .filter(|(_, index)| mode.profile_objects().contains(index))
             .filter(|(_, index)| !self.objects.is_cyclic(**index))
             .find(|(k, _)| self.written[*k] != Some(self.next.profile[*k]))
             .map(|(k, index)| (*index, self.next.profile[k]))
+    }
+
+    /// The SDO write of `value` to `index` was posted.
+    pub fn posted(&mut self, index: u16, value: u32) {
+        if let Some(k) = PROFILE_OBJECTS.iter().position(|i| *i == index) {
+            self.posted[k] = value;
+        }
+    }
+
+    /// 6081h, 6083h, 6084h, 6087h as the drive has them: those in the RxPDO as sent this
+    /// cycle, the others as last posted by SDO (0: never written).
+    pub fn held(&self) -> [u32; 4] {
+        std::array::from_fn(|k| {
+            if self.objects.is_cyclic(PROFILE_OBJECTS[k]) {
+                self.out.profile[k]
+            } else {
+                self.posted[k]
+            }
+        })
     }
 
     /// Whether the channel waits for its profile objects to be written.
@@ -354,7 +367,7 @@ impl ProfileChannel {
 
     /// The SDO write of `index` ended (`taken`: downloaded). A refusal ends the motion.
     pub fn object_written(&mut self, index: u16, taken: bool) -> Option<ProfileEnd> {
-        let k = PROFILE_INDEXES.iter().position(|i| *i == index)?;
+        let k = PROFILE_OBJECTS.iter().position(|i| *i == index)?;
         if !taken {
             self.written[k] = None;
             self.phase = Phase::Idle;

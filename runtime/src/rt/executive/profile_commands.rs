@@ -98,7 +98,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 sub: 0,
                 data,
             };
-            if !self.post_acyclic(i, Pending::ProfileObject(index), write) {
+            if self.post_acyclic(i, Pending::ProfileObject(index), write) {
+                if let Some(p) = self.axes[i].profile.as_mut() {
+                    p.posted(index, value);
+                }
+            } else {
                 // No acyclic channel: the motion cannot get its objects.
                 self.profile_object_written(i, index, false);
             }

@@ -357,6 +357,8 @@ pub fn sdo_outcome_subscriber(
 
 /// [`CommandSample::code`] of a homing request (not a `CellCommand`: it carries an axis).
 pub const HOME_COMMAND_CODE: u32 = 0x100;
+/// [`CommandSample::code`] of the feed override for the profile axes' drives (arg: ‰, 0–1000).
+pub const OVERRIDE_COMMAND_CODE: u32 = 0x102;
 /// The `command_refused` event value of a profile command sample that was refused.
 pub const PROFILE_COMMAND_CODE: u32 = 0x101;
 

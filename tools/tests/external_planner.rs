@@ -326,14 +326,18 @@ seconds = 60
 }
 
 /// A profile axis driven by a planner in another process: z of the demo cell in pp, moved in
-/// one step with the csp axis x. Its drive-side motion crosses to the controller over the
-/// cell's profile command service; both axes reach their targets and the step ends when both
-/// are done (the planner's program completes).
+/// one step with the csp axis x under a 50 % override. Its drive-side motion and the override
+/// cross to the controller over the cell's services; both axes reach their targets, z's drive
+/// at half its velocity limit, and the step ends when both are done (the planner's program
+/// completes).
 #[test]
 fn a_profile_axis_moves_under_an_external_planner() {
     const PROGRAM: &str = r#"
 [[step]]
 do = "power_on"
+[[step]]
+do = "override"
+percent = 50
 [[step]]
 do = "move"
 target = { x = 200.0, z = -120.0 }
@@ -366,6 +370,12 @@ seconds = 0.1
     let last = |n: &str| rec.axes[n].last().unwrap().actual_position;
     assert!((last("x") - 200.0).abs() < 0.05, "x ends at {}", last("x"));
     assert!((last("z") + 120.0).abs() < 0.05, "z ends at {}", last("z"));
+    // z's drive ran at half of z's 250 mm/s.
+    let peak = rec.axes["z"]
+        .iter()
+        .map(|r| r.actual_velocity.abs())
+        .fold(0.0, f64::max);
+    assert!((peak - 125.0).abs() < 3.0, "z's peak {peak} mm/s");
     // z was moved by its drive in pp (6061h = 1), never streamed.
     assert!(rec.axes["z"]
         .iter()

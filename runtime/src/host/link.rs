@@ -121,6 +121,8 @@ pub trait CellLink {
     /// Sends a profile axis' drive-side motion to the RT thread (in-process through the
     /// hand-off, from another process through the cell's profile command service).
     fn profile(&mut self, command: ProfileCommand) -> Result<(), LinkError>;
+    /// Gives the RT thread the feed override (0..=1) for the profile axes' drives.
+    fn feed_override(&mut self, value: f64) -> Result<(), LinkError>;
     /// The outcome of the operator SDO request `seq`, once published.
     fn sdo_outcome(&mut self, seq: u16) -> Option<UserSdoOutcome> {
         let _ = seq;
@@ -233,6 +235,11 @@ impl CellLink for LocalLink {
 
     fn recent_events(&mut self) -> Vec<String> {
         self.handoff.recent_events()
+    }
+
+    fn feed_override(&mut self, value: f64) -> Result<(), LinkError> {
+        self.handoff.set_feed_override(value);
+        Ok(())
     }
 
     fn event(&mut self, kind: EventKind, value: i64) {
@@ -363,6 +370,21 @@ impl CellLink for RemoteLink {
             .map(|_| ())
             .map_err(|e| LinkError::Send {
                 command: "home",
+                cell: self.cell.clone(),
+                detail: format!("{e:?}"),
+            })
+    }
+
+    /// Sends the override (‰) to the controller's link thread, which hands it to the RT thread.
+    fn feed_override(&mut self, value: f64) -> Result<(), LinkError> {
+        self.commands
+            .send_copy(CommandSample {
+                code: services::OVERRIDE_COMMAND_CODE,
+                arg: (value.clamp(0.0, 1.0) * 1000.0).round() as u32,
+            })
+            .map(|_| ())
+            .map_err(|e| LinkError::Send {
+                command: "override",
                 cell: self.cell.clone(),
                 detail: format!("{e:?}"),
             })

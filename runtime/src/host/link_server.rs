@@ -96,6 +96,12 @@ impl LinkServer {
                             if let Some(request) = HomeRequest::decode(c.arg) {
                                 handoff.request_homing(request);
                             }
+                        } else if c.code == services::OVERRIDE_COMMAND_CODE {
+                            if c.arg <= 1000 {
+                                handoff.set_feed_override(f64::from(c.arg) / 1000.0);
+                            } else {
+                                push_event(&handoff, EventKind::CommandRefused, i64::from(c.code));
+                            }
                         } else {
                             forward(&handoff, c.code);
                         }

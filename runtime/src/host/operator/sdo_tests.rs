@@ -174,6 +174,9 @@ impl CellLink for FakeLink {
     ) -> Result<(), crate::host::link::LinkError> {
         Err(crate::host::link::LinkError::InProcessOnly("profile"))
     }
+    fn feed_override(&mut self, _: f64) -> Result<(), crate::host::link::LinkError> {
+        Ok(())
+    }
     fn sdo(&mut self, request: UserSdo) -> Result<(), crate::host::link::LinkError> {
         self.sent.push(request);
         Ok(())

@@ -7,7 +7,8 @@
 //! This thread only answers GET requests for the three files: the page's data comes from the
 //! live view's server, which keeps a bounded backlog per viewer and drops the oldest messages
 //! of one that does not keep up, so a slow page slows neither the recorder nor the RT thread.
-//! The page counts what it lost by the gaps in the cycle numbers it receives.
+//! The page counts the cycle messages it lost: the jumps in the cycle numbers beyond the
+//! deadlines the RT thread skipped.
 
 use std::net::{SocketAddr, TcpListener};
 use std::sync::Arc;

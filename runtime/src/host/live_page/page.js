@@ -234,10 +234,11 @@
     state.latencyMax = Math.max(state.latencyMax, m.wakeup_latency_ns / 1000);
   }
 
-  /** Counts the cycles a subscription skipped (messages the server dropped for this page). */
-  function countGap(sub, cycle) {
-    if (sub.lastCycle !== undefined && cycle > sub.lastCycle + 1) state.missed += cycle - sub.lastCycle - 1;
-    sub.lastCycle = cycle;
+  /** Counts the cycle messages the server dropped for this page: the cycle number's jump
+   *  beyond one, less the deadlines the RT thread skipped in between (its overrun count). */
+  function countMissed(m) {
+    const last = state.cell;
+    if (last) state.missed += Math.max(0, m.cycle - last.cycle - 1 - (m.overruns - last.overruns));
   }
 
   function onMessage(buffer) {
@@ -249,10 +250,9 @@
     const m = sub.decode(bytes.subarray(13));
     state.received++;
     if (sub.kind === "cycle") {
-      countGap(sub, m.cycle);
+      countMissed(m);
       onCycle(m);
     } else if (sub.kind === "axis") {
-      countGap(sub, m.cycle);
       onAxis(sub.axis, m);
     } else {
       state.newEvents.push(m);

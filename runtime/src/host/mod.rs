@@ -9,6 +9,7 @@ pub mod controller;
 pub mod link;
 pub mod link_server;
 pub mod live;
+pub mod live_page;
 pub mod motion;
 pub mod operator;
 pub mod planner;

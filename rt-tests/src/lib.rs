@@ -10,11 +10,13 @@ pub mod hist;
 pub mod ipc;
 pub mod je_c;
 pub mod latency;
+pub mod livebench;
 pub mod loopbench;
 pub mod netns;
 pub mod plot;
 pub mod procscan;
 pub mod soak;
+pub mod threadcpu;
 pub mod tools;
 
 pub use error::BenchError;

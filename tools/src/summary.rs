@@ -85,6 +85,9 @@ pub fn render(s: &Summary) -> String {
             "live view   ws://{}: {} messages sent, {} dropped before the server",
             l.address, l.messages_sent, l.messages_dropped
         );
+        if let Some(page) = &l.page {
+            let _ = writeln!(o, "live page   {page}");
+        }
     }
     o
 }

@@ -655,3 +655,25 @@ fn operator_numbers_are_refused_at_the_command_line() {
         );
     }
 }
+
+#[test]
+fn live_page_port_without_a_live_view_or_out_of_range() {
+    let (run, config) = run_config_edit(|t| format!("{t}\n[live]\npage_port = 8766\n"));
+    run.expect_error(&config, "live.page_port", &["set live.listen too"]);
+    let (run, config) = run_config_edit(|t| {
+        format!("{t}\n[live]\nlisten = \"127.0.0.1:8765\"\npage_port = 8765\n")
+    });
+    run.expect_error(&config, "live.page_port", &["live view's port 8765"]);
+    let (run, config) =
+        run_config_edit(|t| format!("{t}\n[live]\nlisten = \"127.0.0.1:8765\"\npage_port = -1\n"));
+    run.expect_error(&config, "live.page_port", &["-1 is not a port"]);
+}
+
+#[test]
+fn live_on_the_last_port_leaves_no_port_for_the_page() {
+    let (case, config, _) = Case::with(&demo_config(), DEMO_PROGRAM);
+    let run = case.run(&[config.to_str().unwrap(), "--live", "127.0.0.1:65535"]);
+    let line = run.error_line();
+    assert!(line.contains("--live 127.0.0.1:65535"), "{line}");
+    assert!(line.contains("set live.page_port"), "{line}");
+}

@@ -436,3 +436,55 @@ fn bench_soak_samples_memory_and_rotates() {
         assert!(err.contains(option), "{args:?}: {err}");
     }
 }
+
+/// `cellrt bench live`: each mode's rounds in turn; the viewer's round receives messages and
+/// costs the server CPU, the round without the live view sends nothing; bad rounds and too
+/// short a duration are refused.
+#[test]
+fn bench_live_takes_turns_and_counts_the_viewer() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("live.json");
+    let out = cellrt(&[
+        "bench",
+        "live",
+        "--axes",
+        "2",
+        "--interval",
+        "1000",
+        "--duration",
+        "4",
+        "--rounds",
+        "1",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    let (stdout, v) = succeeded_with_json(&out, &json);
+    let rounds = v["rounds"].as_array().unwrap();
+    let modes: Vec<&str> = rounds.iter().map(|r| r["mode"].as_str().unwrap()).collect();
+    assert_eq!(modes, ["off", "no_viewer", "one_viewer"], "{stdout}");
+    assert_eq!(rounds[0]["live_sent"], 0, "{stdout}");
+    assert!(rounds[1]["live_sent"].as_u64().unwrap() > 1000, "{stdout}");
+    assert_eq!(rounds[1]["viewer_messages"], 0, "{stdout}");
+    assert!(
+        rounds[2]["viewer_messages"].as_u64().unwrap() > 1000,
+        "{stdout}"
+    );
+    assert!(
+        rounds[2]["cpu"]["live_server_pct"].as_f64().unwrap() > 0.0,
+        "{stdout}"
+    );
+    assert!(rounds
+        .iter()
+        .all(|r| r["cpu"]["recorder_pct"].as_f64().unwrap() > 0.0));
+    assert!(stdout.contains("medians per mode"), "{stdout}");
+    for (args, option) in [
+        (&["--rounds", "0", "--duration", "4"][..], "--rounds"),
+        (&["--duration", "2"][..], "--duration"),
+    ] {
+        let base = ["bench", "live", "--axes", "2", "--interval", "1000"];
+        let out = cellrt(&[&base[..], args].concat());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(option), "{args:?}: {err}");
+    }
+}

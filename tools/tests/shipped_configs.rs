@@ -59,27 +59,11 @@ fn every_example_cell_completes_its_program() {
             })
             .collect::<Vec<_>>()
             .join("\n");
-        // The program's logic is under test, not the machine's load: no overrun watchdog.
-        let text = if text.contains("max_consecutive_overruns") {
-            text.lines()
-                .map(|l| {
-                    if l.starts_with("max_consecutive_overruns") {
-                        "max_consecutive_overruns = 0".to_string()
-                    } else {
-                        l.to_string()
-                    }
-                })
-                .collect::<Vec<_>>()
-                .join("\n")
-        } else if text.contains("[watchdogs]") {
-            text.replacen(
-                "[watchdogs]",
-                "[watchdogs]\nmax_consecutive_overruns = 0",
-                1,
-            )
-        } else {
-            format!("{text}\n\n[watchdogs]\nmax_consecutive_overruns = 0\n")
-        };
+        // The program's logic is under test, not the machine's load: no overrun watchdog, and
+        // a generous lookahead (a planner starved by a loaded machine would underrun the
+        // configured one), as in the other end-to-end tests.
+        let text = set_key(&text, "watchdogs", "max_consecutive_overruns", "0");
+        let text = set_key(&text, "setpoints", "lookahead_ms", "1000");
         let cfg = dir.path().join(format!("{program}.cell.toml"));
         std::fs::write(&cfg, text).unwrap();
         let json = dir.path().join(format!("{program}.json"));
@@ -129,4 +113,30 @@ fn every_example_cell_completes_its_program() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// `text` with `key = value` in `[section]`: the key's line replaced where it is set, else added
+/// to the section (appended with it where the section is missing).
+fn set_key(text: &str, section: &str, key: &str, value: &str) -> String {
+    let line = format!("{key} = {value}");
+    let prefix = format!("{key} = ");
+    if text.lines().any(|l| l.starts_with(&prefix)) {
+        return text
+            .lines()
+            .map(|l| {
+                if l.starts_with(&prefix) {
+                    line.as_str()
+                } else {
+                    l
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+    }
+    let header = format!("[{section}]");
+    if text.lines().any(|l| l == header) {
+        text.replacen(&header, &format!("{header}\n{line}"), 1)
+    } else {
+        format!("{text}\n\n{header}\n{line}\n")
+    }
 }

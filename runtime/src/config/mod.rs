@@ -7,6 +7,7 @@ mod error;
 mod fault;
 pub mod input_file;
 pub mod je_c_axis;
+pub mod live;
 pub mod profile_axis;
 pub mod raw;
 mod validate;
@@ -57,6 +58,8 @@ pub struct CellConfig {
     pub operator: OperatorConfig,
     /// Where the live view (Foxglove WebSocket protocol) listens; none: no live view.
     pub live: Option<std::net::SocketAddr>,
+    /// The live page's port beside the live view.
+    pub live_page: live::PagePort,
     /// Scheduled fault injection, sorted by cycle (tests, commissioning drills).
     pub inject: Vec<Injection>,
     /// The axes, in configuration order (the index is the axis id everywhere).

@@ -512,4 +512,7 @@ pub struct RawLive {
     /// Where the Foxglove WebSocket server listens (none: no live view).
     #[serde(default)]
     pub listen: Option<String>,
+    /// The live page's port on the same IP (none: the live view's port + 1).
+    #[serde(default)]
+    pub page_port: Option<i64>,
 }

@@ -15,6 +15,7 @@ use crate::config::CellConfig;
 use crate::handoff::{self, CellCommand, CellState, HostEnd, RtEnd};
 use crate::host::link_server::LinkServer;
 use crate::host::live::LiveServer;
+use crate::host::live_page::LivePage;
 use crate::host::planner::{self, PlannerHandle};
 use crate::host::program::Program;
 use crate::host::record::{Recorder, RecorderError, RecordingInfo};
@@ -162,6 +163,8 @@ pub struct Summary {
 pub struct LiveSummary {
     /// Where it listened.
     pub address: String,
+    /// The live page's URL, when it ran.
+    pub page: Option<String>,
     /// Messages handed to its server (which drops a slow viewer's oldest itself).
     pub messages_sent: u64,
     /// Messages dropped before its server because its feeder did not keep up.
@@ -179,18 +182,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let (rt_handoff, handoff) =
         handoff::new(cell.axes.len(), queue_cycles(cell), opts.record.is_some());
     let handoff = Arc::new(handoff);
-    let live = match cell.live {
-        Some(addr) => {
-            let server =
-                LiveServer::start(cell, addr).map_err(|e| RunError::Live(e.to_string()))?;
-            tracing::info!(
-                "live view on ws://{} (Foxglove WebSocket protocol)",
-                server.addr
-            );
-            Some(server)
-        }
-        None => None,
-    };
+    let (live, page) = start_live(cell)?;
     let recording = Recording::start(
         cell,
         opts.record.as_deref(),
@@ -290,10 +282,41 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         recording,
         live: live.as_ref().map(|l| LiveSummary {
             address: l.addr.to_string(),
+            page: page.as_ref().map(|p| format!("http://{}/", p.addr)),
             messages_sent: l.feed().sent(),
             messages_dropped: l.feed().dropped(),
         }),
     })
+}
+
+/// The live view and its page, when the cell has a live view. A page port the configuration
+/// gave that cannot be served is an error; the default one (the live view's port + 1) taken by
+/// something else is a warning, and the cell runs without the page.
+fn start_live(cell: &CellConfig) -> Result<(Option<LiveServer>, Option<LivePage>), RunError> {
+    let Some(addr) = cell.live else {
+        return Ok((None, None));
+    };
+    let server = LiveServer::start(cell, addr).map_err(|e| RunError::Live(e.to_string()))?;
+    tracing::info!(
+        "live view on ws://{} (Foxglove WebSocket protocol)",
+        server.addr
+    );
+    let page_addr = cell
+        .live_page
+        .addr(addr)
+        .map_err(|e| RunError::Live(format!("live page: {e}")))?;
+    let page = match LivePage::start(&cell.name, page_addr, server.addr.port()) {
+        Ok(p) => {
+            tracing::info!("live page on http://{}/", p.addr);
+            Some(p)
+        }
+        Err(e) if !cell.live_page.given() => {
+            tracing::warn!("{e}; the cell runs without it (set [live] page_port)");
+            None
+        }
+        Err(e) => return Err(RunError::Live(e.to_string())),
+    };
+    Ok((Some(server), page))
 }
 
 /// Each optional setting bring-up skipped becomes a `bring_up_warning` event of its axis at

@@ -10,6 +10,7 @@ pub mod je_c;
 pub mod link;
 pub mod link_server;
 pub mod live;
+pub mod live_page;
 pub mod motion;
 pub mod operator;
 pub mod planner;

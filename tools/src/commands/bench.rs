@@ -41,6 +41,26 @@ pub enum BenchCommand {
     /// A long run of the loop cell with recording rotation: resident memory sampled, records
     /// dropped, overruns beside cyclictest on the other CPU.
     Soak(SoakArgs),
+    /// What the live view costs: the loop cell in rounds without the live view, with it and no
+    /// viewer, and with one viewer; CPU of the recorder, the live view and the viewer, and the
+    /// RT loop's percentiles.
+    Live(LiveArgs),
+}
+
+/// `cellrt bench live`.
+#[derive(Debug, Args)]
+pub struct LiveArgs {
+    /// Number of simulated axes, 1..=256.
+    #[arg(long, value_name = "N", default_value_t = 16)]
+    pub axes: usize,
+    #[command(flatten)]
+    pub common: Common,
+    /// Rounds of each mode.
+    #[arg(long, value_name = "N", default_value_t = 3)]
+    pub rounds: usize,
+    /// Also write the result as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
 }
 
 /// `cellrt bench soak`.
@@ -222,6 +242,7 @@ pub fn run(args: BenchArgs, cell: Option<String>) -> Exit {
         BenchCommand::Latency(a) => run_latency(a),
         BenchCommand::Compare(a) => run_compare(a),
         BenchCommand::Loop(a) => run_loop(a),
+        BenchCommand::Live(a) => run_live(a),
         BenchCommand::Scaling(a) => run_scaling(a),
         BenchCommand::Ethercat(a) => run_ethercat(a),
     };
@@ -375,6 +396,19 @@ fn run_loop(a: LoopArgs) -> Result<(), BenchError> {
     print!("{}", loopbench::render(&with));
     print!("{}", loopbench::render_je_c_delta(&report, &with));
     write_json(a.json.as_deref(), &[report, with])
+}
+
+fn run_live(a: LiveArgs) -> Result<(), BenchError> {
+    let c = &a.common;
+    let cell = loopbench::LoopOptions::new(a.axes, c.interval, c.duration, c.priority, c.cpu)?;
+    let report = cellrt_rt_tests::livebench::run(&cell, a.rounds, &mut |r| {
+        eprintln!(
+            "cellrt: {:?}: recorder {:.1} %, live server {:.1} %, wakeup p99 {:.1} µs",
+            r.mode, r.cpu.recorder_pct, r.cpu.live_server_pct, r.wakeup_latency.p99_us
+        );
+    })?;
+    print!("{}", cellrt_rt_tests::livebench::render(&report));
+    write_json(a.json.as_deref(), &report)
 }
 
 fn run_soak(a: SoakArgs) -> Result<(), BenchError> {

@@ -24,8 +24,11 @@ pub fn run(args: RunArgs) -> Exit {
             return bad_input(e);
         }
     }
-    if args.live.is_some() {
-        cell.live = args.live;
+    if let Some(addr) = args.live {
+        if let Err(e) = cell.live_page.addr(addr) {
+            return bad_input(format!("--live {addr}: {e}"));
+        }
+        cell.live = Some(addr);
     }
     let program = if args.no_program || args.external_planner {
         None

@@ -85,13 +85,7 @@ pub(super) fn validate(
     let setpoints = setpoint_config(file, &raw.setpoints, cycle_time)?;
     let watchdogs = watchdog_config(file, &raw.watchdogs)?;
     let operator = operator::operator_config(file, &raw.operator)?;
-    let live = match &raw.live.listen {
-        Some(text) => Some(
-            crate::config::parse_live_addr(text)
-                .map_err(|m| ConfigError::new(file, "live.listen", m))?,
-        ),
-        None => None,
-    };
+    let (live, live_page) = crate::config::live::live_config(file, &raw.live)?;
     let (axes, je_c_axes) =
         validate_axes(file, cycle_time, raw.axes, watchdogs.communication_reaction)?;
     let (mode, pre_s, post_s, triggers) = capture_raw;
@@ -113,6 +107,7 @@ pub(super) fn validate(
         watchdogs,
         operator,
         live,
+        live_page,
         inject,
         axes,
         ethercat,

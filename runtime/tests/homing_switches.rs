@@ -9,20 +9,11 @@
 //! stroke end in a method that fails on it gives "error" (1/0/0 moving, 1/0/1 at rest) and a
 //! warning (statusword bit 7: AL. 90, asserted by code in the simulator's tests).
 
-#[path = "support/rt_thread.rs"]
-mod rt_thread;
-
 use std::path::Path;
-use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
 
 use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure};
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::handoff::{
-    self, AxisRecord, CellCommand, CellState, EventKind, EventRecord, HomeRequest, HostEnd,
-};
-use cellrt_runtime::rt::executive::RtStats;
-use cellrt_runtime::services;
+use cellrt_runtime::handoff::{AxisRecord, EventKind, HomeRequest};
 
 /// The in-position range of the emulated drives, counts ([Pr. PA10] default 100 pulses).
 const IN_POSITION: f64 = 100.0;
@@ -36,10 +27,6 @@ const ACCELERATION_MS: u32 = 500;
 const ACCELERATION: f64 = 500.0 / (ACCELERATION_MS as f64 / 1000.0);
 /// The simulated servo loop's overshoot of 606Ch over the drive's generator (within 3 %).
 const VELOCITY_OVERSHOOT: f64 = 1.03;
-/// Cycles over which an acceleration is measured.
-const ACCEL_WINDOW: usize = 5;
-/// Consecutive cycles before an acceleration window.
-const SETTLED: usize = 20;
 
 /// Statusword bits in hm (MR-J4-TM manual §5.4.9).
 const TARGET_REACHED: u16 = 1 << 10;
@@ -72,121 +59,45 @@ homing = {{ switch_speed = {SWITCH_SPEED}, creep_speed = {CREEP_SPEED}, accelera
     CellConfig::parse(Path::new("homing.toml"), &text).unwrap()
 }
 
-struct Rig {
-    handoff: HostEnd,
-    rt: Option<JoinHandle<RtStats>>,
-    _node: iceoryx2::node::Node<iceoryx2::prelude::ipc::Service>,
-    events: Vec<EventRecord>,
-    records: Vec<AxisRecord>,
-    cell: CellConfig,
-}
+#[path = "support/cell_rig.rs"]
+mod cell_rig;
+use cell_rig::Rig;
 
-impl Rig {
-    fn start(cell: CellConfig) -> Rig {
-        let (h, handoff) = handoff::new(1, 20_000, true);
-        let node = services::node(&cell.name, "test").unwrap();
-        let rt = rt_thread::spawn_rt(&cell, h, None);
-        let mut rig = Rig {
-            handoff,
-            rt: Some(rt),
-            _node: node,
-            events: Vec::new(),
-            records: Vec::new(),
-            cell,
-        };
-        rig.handoff.send_command(CellCommand::PowerOn).unwrap();
-        rig.wait(|r| r.handoff.status().state() == CellState::Idle, "idle");
-        rig
-    }
-
-    fn drain(&mut self) {
-        while let Some(e) = self.handoff.pop_event() {
-            self.events.push(e);
-        }
-        while let Some(r) = self.handoff.pop_axis() {
-            self.records.push(r);
-        }
-        while self.handoff.pop_cycle().is_some() {}
-    }
-
-    fn wait(&mut self, done: impl Fn(&Rig) -> bool, what: &str) {
-        let end = Instant::now() + Duration::from_secs(30);
-        loop {
-            self.drain();
-            if done(self) {
-                return;
-            }
-            assert!(Instant::now() < end, "never {what}: {:?}", self.events);
-            std::thread::sleep(Duration::from_millis(2));
-        }
-    }
-
-    /// Homes with `method`; returns the records of the homing and its failure code.
-    fn home(&mut self, method: i8) -> (Vec<AxisRecord>, i64) {
-        let seen = self.events.len();
-        self.handoff.request_homing(HomeRequest {
-            axis: 0,
-            procedure: HomeProcedure::HomingMode(method),
-        });
-        self.wait(
-            |r| {
-                r.events[seen..]
-                    .iter()
-                    .any(|e| e.kind == EventKind::HomingFinished)
-            },
-            "homing_finished",
-        );
-        let ev = &self.events[seen..];
-        let started = ev
-            .iter()
-            .find(|e| e.kind == EventKind::HomingStarted)
-            .map_or(0, |e| e.cycle);
-        let finished = *ev
-            .iter()
-            .find(|e| e.kind == EventKind::HomingFinished)
-            .unwrap();
-        self.wait(
-            |r| r.records.last().is_some_and(|a| a.cycle >= finished.cycle),
-            "records",
-        );
-        let span = self
-            .records
-            .iter()
-            .filter(|r| r.cycle >= started && r.cycle <= finished.cycle)
-            .copied()
-            .collect();
-        (span, finished.value)
-    }
-
-    /// 606Ch of `r` in mm/s.
-    fn speed(&self, r: &AxisRecord) -> f64 {
-        let a = &self.cell.axes[0];
-        a.drive_units.velocity_from_drive(r.velocity_actual) / a.scaling.counts_per_unit()
-    }
-
-    /// Peak |speed| (mm/s) and peak |acceleration| (mm/s², over [`ACCEL_WINDOW`] cycles of
-    /// consecutive records, [`SETTLED`] cycles after a gap of the loaded machine).
-    fn peaks(&self, span: &[AxisRecord]) -> (f64, f64) {
-        let peak_v = span.iter().fold(0.0f64, |m, r| m.max(self.speed(r).abs()));
-        let (n, k) = (ACCEL_WINDOW, SETTLED);
-        let peak_a = span
-            .windows(k + n + 1)
-            .filter(|w| w.windows(2).all(|p| p[1].cycle == p[0].cycle + 1))
-            .fold(0.0f64, |m, w| {
-                m.max((self.speed(&w[k + n]) - self.speed(&w[k])).abs() / (n as f64 * 1e-3))
-            });
-        (peak_v, peak_a)
-    }
-
-    fn stop(mut self) {
-        self.handoff.send_command(CellCommand::PowerOff).unwrap();
-        self.wait(
-            |r| r.handoff.status().state() == CellState::Disabled,
-            "disabled",
-        );
-        self.handoff.send_command(CellCommand::Quit).unwrap();
-        self.rt.take().unwrap().join().unwrap();
-    }
+/// Homes `rig`'s axis with `method`; returns the records of the homing and its failure code.
+fn run_homing(rig: &mut Rig, method: i8) -> (Vec<AxisRecord>, i64) {
+    let seen = rig.events.len();
+    rig.handoff.request_homing(HomeRequest {
+        axis: 0,
+        procedure: HomeProcedure::HomingMode(method),
+    });
+    rig.wait(
+        |r| {
+            r.events[seen..]
+                .iter()
+                .any(|e| e.kind == EventKind::HomingFinished)
+        },
+        "homing_finished",
+    );
+    let ev = &rig.events[seen..];
+    let started = ev
+        .iter()
+        .find(|e| e.kind == EventKind::HomingStarted)
+        .map_or(0, |e| e.cycle);
+    let finished = *ev
+        .iter()
+        .find(|e| e.kind == EventKind::HomingFinished)
+        .unwrap();
+    rig.wait(
+        |r| r.records.last().is_some_and(|a| a.cycle >= finished.cycle),
+        "records",
+    );
+    let span = rig
+        .records
+        .iter()
+        .filter(|r| r.cycle >= started && r.cycle <= finished.cycle)
+        .copied()
+        .collect();
+    (span, finished.value)
 }
 
 /// The hm records from the first with homing operation start (controlword bit 4) on.
@@ -233,7 +144,7 @@ const SEARCHES: [(i8, f64, f64); 20] = [
 fn each_searching_method_homes_on_its_switch_or_z_phase_within_its_speeds() {
     for (method, start, home) in SEARCHES {
         let mut rig = Rig::start(cell(&format!("m{}", method as u8), start));
-        let (span, failure) = rig.home(method);
+        let (span, failure) = run_homing(&mut rig, method);
         assert_eq!(failure, 0, "method {method}: attained");
         let run = running(&span);
         let done = run
@@ -284,7 +195,7 @@ fn each_searching_method_homes_on_its_switch_or_z_phase_within_its_speeds() {
 fn the_data_set_methods_home_where_the_axis_stands_without_moving() {
     for method in [-3, 35, 37] {
         let mut rig = Rig::start(cell(&format!("d{}", method as u8), 123.0));
-        let (span, failure) = rig.home(method);
+        let (span, failure) = run_homing(&mut rig, method);
         assert_eq!(failure, 0, "method {method}");
         let (v, _) = rig.peaks(&span);
         assert!(v < 0.01, "method {method}: moved at {v} mm/s");
@@ -306,7 +217,7 @@ fn the_data_set_methods_home_where_the_axis_stands_without_moving() {
 fn a_stroke_end_in_a_method_that_fails_on_it_is_a_homing_error_with_al_90() {
     // Method 3 forward from above the dog: the 250 mm limit, "stroke end → AL. 90".
     let mut rig = Rig::start(cell("err", 200.0));
-    let (span, failure) = rig.home(3);
+    let (span, failure) = run_homing(&mut rig, 3);
     assert_eq!(failure, HomingFailure::DriveError as i64);
     let run = running(&span);
     let first = run

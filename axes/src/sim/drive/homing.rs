@@ -177,7 +177,10 @@ impl SimDrive {
         if !(in_position && self.plant.velocity().abs() < 1.0) {
             return;
         }
+        // At rest where it stands (within the in-position range): no residual creep.
         self.plant.come_to_rest();
+        self.demand = self.plant.position();
+        self.plant.set_last_command(self.demand);
         self.homing.settling = None;
         if home {
             self.set_home(target);

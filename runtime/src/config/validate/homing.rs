@@ -2,6 +2,7 @@
 //! `negative_limit`): checked against the model's manual (`profiles::homing_methods`) and
 //! converted to counts and the drive's units.
 
+use cellrt_axes::cia402::homing::choose_method;
 use cellrt_axes::drive_scaling::DriveScaling;
 use cellrt_axes::profiles::homing_methods::{check_emulated, homing_model};
 use cellrt_axes::sim::homing_switches::HomingSwitches;
@@ -87,6 +88,7 @@ pub(super) fn homing(
     };
     if let Some(m) = h.method {
         check_emulated(profile, m)
+            .and_then(|()| choose_method(profile, Some(m)).map(|_| ()))
             .map_err(|e| at.err("homing.method", format!("axis '{}': {e}", a.name)))?;
     }
     let mut objects = HomingObjects::default();
@@ -135,4 +137,100 @@ pub(super) fn homing(
         method: h.method,
         objects,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::config::{CellConfig, ConfigError};
+    use std::path::Path;
+
+    fn parse(drive: &str, extra: &str) -> Result<CellConfig, ConfigError> {
+        let motor = if drive == "mr-j4-tm" {
+            "motor = { rated_speed = 3000 }"
+        } else {
+            "motor = { counts_per_rev = 10000, rated_speed = 3000 }"
+        };
+        let text = format!(
+            r#"
+[cell]
+name = "homing-keys"
+cycle_time_us = 1000
+[[axes]]
+name = "x"
+drive = "{drive}"
+{motor}
+unit = "mm"
+counts_per_unit = 1000.0
+limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0 }}
+{extra}
+"#
+        );
+        CellConfig::parse(Path::new("h.toml"), &text)
+    }
+
+    fn refused(drive: &str, extra: &str) -> ConfigError {
+        parse(drive, extra).expect_err(extra)
+    }
+
+    #[test]
+    fn methods_the_manual_does_not_list_or_cellrt_does_not_emulate_are_refused_naming_the_key() {
+        let e = refused("mr-j4-tm", "homing = { method = -17 }");
+        assert_eq!(e.key, "axes[0].homing.method");
+        assert!(e.message.contains("MR-J4") && e.message.contains("no homing method -17"));
+        let e = refused("mr-j4-tm", "homing = { method = -2 }");
+        assert!(e.message.contains("not emulated"), "{}", e.message);
+        let e = refused("mr-jet-g-n1", "homing = { method = 37 }");
+        assert_eq!(e.key, "axes[0].homing.method");
+        assert!(e.message.contains("§8.3"), "{}", e.message);
+        let e = refused("mr-j5-g-n1", "homing = { method = 35 }");
+        assert!(e.message.contains("Function manual"), "{}", e.message);
+        // The MR-J3-T04 lists −1, but its default TxPDO lacks 6061h: not from a cell.
+        let e = refused("mr-j3-t04", "homing = { method = -1 }");
+        assert!(e.message.contains("6061h"), "{}", e.message);
+    }
+
+    #[test]
+    fn speeds_shift_and_switches_are_checked_naming_the_key() {
+        let e = refused("mr-j4-tm", "homing = { switch_speed = 150.0 }");
+        assert_eq!(e.key, "axes[0].homing.switch_speed");
+        let e = refused("mr-j4-tm", "homing = { creep_speed = -1.0 }");
+        assert_eq!(e.key, "axes[0].homing.creep_speed");
+        let e = refused("mr-j4-tm", "homing = { shift = 1.0 }");
+        assert_eq!(e.key, "axes[0].homing.shift");
+        assert!(e.message.contains("no object"), "{}", e.message);
+        let e = refused("mr-j3-t04", "homing = { shift = -1.0 }");
+        assert_eq!(e.key, "axes[0].homing.shift");
+        let e = refused("mr-j4-tm", "sim = { home_dog = [20.0, 10.0] }");
+        assert_eq!(e.key, "axes[0].sim.home_dog");
+        let e = refused(
+            "mr-j4-tm",
+            "sim = { positive_limit = 10.0, negative_limit = 10.0 }",
+        );
+        assert_eq!(e.key, "axes[0].sim.negative_limit");
+        let e = refused("mr-j4-tm", "homing = { method = 35, speed = 1 }");
+        assert!(e.message.contains("speed"), "{}", e.message);
+    }
+
+    #[test]
+    fn the_objects_go_in_the_drives_units_in_order() {
+        // MR-J4-TM, 4194304 counts/rev, 1000 counts/mm: 60 mm/s = 60000 counts/s = 0.858 r/min
+        // → 86 in 0.01 r/min (6099h, MR-J4-TM manual §5.4.9); 6 mm/s → 9.
+        let c = parse(
+            "mr-j4-tm",
+            "homing = { method = -1, switch_speed = 60.0, creep_speed = 6.0, acceleration_ms = 200 }\n\
+             sim = { home_dog = [100.0, 120.0], positive_limit = 400.0, negative_limit = 10.0 }",
+        )
+        .unwrap();
+        let h = c.axes[0].homing;
+        assert_eq!(h.method, Some(-1));
+        assert_eq!(h.objects.get(0), Some((0x6099, 1, 86)));
+        assert_eq!(h.objects.get(1), Some((0x6099, 2, 9)));
+        assert_eq!(h.objects.get(2), Some((0x609A, 0, 200)));
+        assert_eq!(h.objects.get(3), None);
+        let s = c.axes[0].sim.switches;
+        assert_eq!(s.home_dog, Some([100_000.0, 120_000.0]));
+        assert_eq!(s.positive_limit, Some(400_000.0));
+        let j3 = parse("mr-j3-t04", "homing = { shift = 2.5 }").unwrap();
+        assert_eq!(j3.axes[0].homing.objects.get(0), Some((0x2080, 0, 2500)));
+    }
 }

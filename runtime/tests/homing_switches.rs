@@ -7,7 +7,9 @@
 //! within 6099h:1 and its change within the 609Ah rate, statusword bits 13/12/10 read
 //! "in progress" (0/0/0) until the cycle the home is reached, then "completed" (0/1/1); a
 //! stroke end in a method that fails on it gives "error" (1/0/0 moving, 1/0/1 at rest) and a
-//! warning (statusword bit 7: AL. 90, asserted by code in the simulator's tests).
+//! warning (statusword bit 7: AL. 90, asserted by code in the simulator's tests). A cell on
+//! the in-process emulated EtherCAT segment homes by a program step with the configured method,
+//! its 6099h/609Ah going through the mailbox worker.
 
 use std::path::Path;
 
@@ -250,4 +252,96 @@ fn a_stroke_end_in_a_method_that_fails_on_it_is_a_homing_error_with_al_90() {
         "never attained"
     );
     rig.stop();
+}
+
+/// A cell of one MR-J4-TM on the in-process emulated EtherCAT segment whose program homes with
+/// `[axes.homing] method = -1` (no method in the step) and then moves in the new coordinates.
+const ETHERCAT_PROGRAM: &str = r#"
+[[step]]
+do = "power_on"
+[[step]]
+do = "home"
+axis = "y"
+[[step]]
+do = "move"
+target = { y = 20.0 }
+[[step]]
+do = "power_off"
+"#;
+
+/// The cycle of the first event line containing `what` (`cycle N ...`).
+fn cycle_of(log: &[String], what: &str) -> Option<u64> {
+    log.iter().find(|l| l.contains(what)).and_then(|l| {
+        l.split_whitespace()
+            .skip_while(|w| *w != "cycle")
+            .nth(1)
+            .and_then(|n| n.trim_end_matches(':').parse().ok())
+    })
+}
+
+#[test]
+fn an_emulated_ethercat_drive_homes_on_its_switches_with_the_configured_method_and_speeds() {
+    use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
+    use cellrt_runtime::host::program::Program;
+    let text = format!(
+        r#"
+[cell]
+name = "home-ecat-{}"
+cycle_time_us = 1000
+[setpoints]
+lookahead_ms = 200
+[watchdogs]
+max_consecutive_overruns = 0
+[ethercat]
+interface = "in-process"
+[[axes]]
+name = "y"
+drive = "mr-j4-tm"
+transport = "ethercat"
+motor = {{ rated_speed = 3000 }}
+unit = "mm"
+counts_per_unit = {COUNTS_PER_MM}
+limits = {{ position = [0.0, 500.0], velocity = 200.0, acceleration = 1000.0, jerk = 10000.0 }}
+sim = {{ initial_position = 50.0, home_dog = [100.0, 110.0], positive_limit = 300.0, negative_limit = 10.0, z_phase_position = 2.5 }}
+homing = {{ method = -1, switch_speed = {SWITCH_SPEED}, creep_speed = {CREEP_SPEED}, acceleration_ms = {ACCELERATION_MS} }}
+"#,
+        std::process::id()
+    );
+    let cell = CellConfig::parse(Path::new("home-ecat.toml"), &text).unwrap();
+    let program = Program::parse(Path::new("p.toml"), ETHERCAT_PROGRAM, &cell).unwrap();
+    let summary = run(
+        &cell,
+        RunOptions {
+            program: Some(program),
+            ..RunOptions::default()
+        },
+    )
+    .expect("cell runs");
+    let log = &summary.recording.event_log;
+    assert_eq!(summary.outcome, Outcome::ProgramCompleted, "{log:#?}");
+    assert!(
+        log.iter()
+            .any(|l| l.contains("homing_started") && l.contains("method -1")),
+        "{log:#?}"
+    );
+    let started = cycle_of(log, "homing_started").unwrap();
+    let finished = cycle_of(log, "homing_finished").unwrap();
+    assert!(
+        log.iter()
+            .any(|l| l.contains("homing_finished") && l.contains("attained")),
+        "{log:#?}"
+    );
+    // 50 → 100 mm at 100 mm/s (0.55 s), through the dog slowing to 10 mm/s, 2.5 mm to the Z at
+    // 10 mm/s: about 1.4 s (a data-set homing would take a few cycles). The
+    // drive's own 6099h (100 r/min = 16.7 mm/s, creep 1.67 mm/s here) would take over 9 s: the
+    // SDO writes of 6099h/609Ah reached it through the mailbox.
+    let cycles = finished - started;
+    assert!((1200..2500).contains(&cycles), "{cycles} cycles\n{log:#?}");
+    // 6064h = 0 at the home (112.5 mm raw): the move to 20 mm ends at 132.5 mm raw.
+    let y = &summary.axes[0];
+    assert!(
+        (y.final_position - 20.0).abs() < 0.05,
+        "{}",
+        y.final_position
+    );
 }

@@ -11,6 +11,10 @@
 //! the in-process emulated EtherCAT segment homes by a program step with the configured method,
 //! its 6099h/609Ah going through the mailbox worker.
 
+#[path = "support/event_log.rs"]
+mod event_log;
+use event_log::cycle_of;
+
 use std::path::Path;
 
 use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure};
@@ -29,6 +33,9 @@ const ACCELERATION_MS: u32 = 500;
 const ACCELERATION: f64 = 500.0 / (ACCELERATION_MS as f64 / 1000.0);
 /// The simulated servo loop's overshoot of 606Ch over the drive's generator (within 3 %).
 const VELOCITY_OVERSHOOT: f64 = 1.03;
+/// The same for the change of 606Ch: about 6 % at the reversals of the searches, more after a
+/// late exchange of a loaded machine; without 609Ah the plant's 3000 mm/s² would show.
+const ACCELERATION_OVERSHOOT: f64 = 1.15;
 
 /// Statusword bits in hm (MR-J4-TM manual §5.4.9).
 const TARGET_REACHED: u16 = 1 << 10;
@@ -188,7 +195,10 @@ fn each_searching_method_homes_on_its_switch_or_z_phase_within_its_speeds() {
             v <= fast * VELOCITY_OVERSHOOT && v >= fast * 0.9,
             "method {method}: peak {v} mm/s"
         );
-        assert!(a <= ACCELERATION * 1.1, "method {method}: peak {a} mm/s²");
+        assert!(
+            a <= ACCELERATION * ACCELERATION_OVERSHOOT,
+            "method {method}: peak {a} mm/s²"
+        );
         rig.stop();
     }
 }
@@ -268,16 +278,6 @@ target = { y = 20.0 }
 [[step]]
 do = "power_off"
 "#;
-
-/// The cycle of the first event line containing `what` (`cycle N ...`).
-fn cycle_of(log: &[String], what: &str) -> Option<u64> {
-    log.iter().find(|l| l.contains(what)).and_then(|l| {
-        l.split_whitespace()
-            .skip_while(|w| *w != "cycle")
-            .nth(1)
-            .and_then(|n| n.trim_end_matches(':').parse().ok())
-    })
-}
 
 #[test]
 fn an_emulated_ethercat_drive_homes_on_its_switches_with_the_configured_method_and_speeds() {

@@ -404,6 +404,8 @@ pub struct RawHoming {
     pub acceleration_ms: Option<u32>,
     /// Home position shift distance from the Z phase, unit.
     pub shift: Option<f64>,
+    /// How long a homing may take, s.
+    pub timeout_s: Option<f64>,
 }
 
 /// `[axes.sim]`.

@@ -10,7 +10,9 @@ use cellrt_axes::DriveProfile;
 use cellrt_trajectory::units::Scaling;
 
 use super::axis_key::AxisKey;
-use crate::config::homing::{AxisHoming, HomingObjects};
+use crate::config::homing::{
+    AxisHoming, HomingObjects, DEFAULT_HOMING_TIMEOUT, MAX_HOMING_TIMEOUT_S,
+};
 use crate::config::raw::RawAxis;
 use crate::config::ConfigError;
 
@@ -75,7 +77,8 @@ pub(super) fn switches(
 
 /// `[axes.homing]`: `method` listed by the model's manual and emulated; `switch_speed` and
 /// `creep_speed` (unit/s, at most `limits.velocity`) in the drive's velocity unit;
-/// `acceleration_ms` (609Ah, ms); `shift` (unit, ≥ 0) only where the model has the object.
+/// `acceleration_ms` (609Ah, ms); `shift` (unit, ≥ 0) only where the model has the object;
+/// `timeout_s`.
 pub(super) fn homing(
     at: &AxisKey<'_>,
     a: &RawAxis,
@@ -133,9 +136,22 @@ pub(super) fn homing(
         }
         objects.push(index, 0, counts.round() as u32);
     }
+    let timeout = match h.timeout_s {
+        None => DEFAULT_HOMING_TIMEOUT,
+        Some(t) if t.is_finite() && t > 0.0 && t <= MAX_HOMING_TIMEOUT_S => {
+            std::time::Duration::from_secs_f64(t)
+        }
+        Some(t) => {
+            return Err(at.err(
+                "homing.timeout_s",
+                format!("{t} is not a homing time (s, 0 < t ≤ {MAX_HOMING_TIMEOUT_S})"),
+            ))
+        }
+    };
     Ok(AxisHoming {
         method: h.method,
         objects,
+        timeout,
     })
 }
 
@@ -207,6 +223,8 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
             "sim = { positive_limit = 10.0, negative_limit = 10.0 }",
         );
         assert_eq!(e.key, "axes[0].sim.negative_limit");
+        let e = refused("mr-j4-tm", "homing = { timeout_s = 0.0 }");
+        assert_eq!(e.key, "axes[0].homing.timeout_s");
         let e = refused("mr-j4-tm", "homing = { method = 35, speed = 1 }");
         assert!(e.message.contains("speed"), "{}", e.message);
     }
@@ -227,6 +245,7 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
         assert_eq!(h.objects.get(1), Some((0x6099, 2, 9)));
         assert_eq!(h.objects.get(2), Some((0x609A, 0, 200)));
         assert_eq!(h.objects.get(3), None);
+        assert_eq!(h.timeout, std::time::Duration::from_secs(10));
         let s = c.axes[0].sim.switches;
         assert_eq!(s.home_dog, Some([100_000.0, 120_000.0]));
         assert_eq!(s.positive_limit, Some(400_000.0));

@@ -127,9 +127,6 @@ pub struct AxisChannel {
     pub powered: bool,
 }
 
-/// How long a homing may take before it fails.
-pub const HOMING_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(10);
-
 /// Cycles after which a mode change counts as done on a drive whose TxPDO lacks 6061h (no
 /// figure in the manuals; see `cellrt_axes::cia402::homing`).
 pub const HOMING_MODE_SETTLE: Cycles = Cycles(4);
@@ -216,7 +213,7 @@ impl AxisChannel {
             braking: false,
             homing: HomingSequencer::new(
                 HomingParams {
-                    timeout: cell.cycle_time.cycles_for(HOMING_TIMEOUT),
+                    timeout: cell.cycle_time.cycles_for(axis.homing.timeout),
                     mode_settle: HOMING_MODE_SETTLE,
                 },
                 // A cst axis idles in csv (`drive_command`).

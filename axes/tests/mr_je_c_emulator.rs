@@ -315,3 +315,20 @@ fn rtu_timeout_pf46_raises_al_8a_2() {
     assert_eq!(d.read(id(0x2A42)).unwrap(), Value::U16(0x8A02));
     assert_eq!(Alarm::MODBUS_RTU_TIMEOUT.to_string(), "AL. 8A.2");
 }
+
+/// [Pr. PN23] (`*KAA`, 1–7200 s, 3600 s) takes effect at power-on; by default the drive closes a
+/// silent Modbus/TCP connection after 28800 s (MR-JE-C manual §5.2.3: "3600 [s] × 8 times").
+#[test]
+fn pn23_keep_alive_takes_effect_at_power_on() {
+    let mut d = drive();
+    assert_eq!(d.keep_alive().interval, Duration::from_secs(3600));
+    assert_eq!(d.keep_alive().close_after(), Duration::from_secs(28_800));
+    d.write(id(0x2597), &Value::U32(10), ms(0)).unwrap();
+    assert_eq!(d.keep_alive().interval, Duration::from_secs(3600));
+    d.power_cycle();
+    assert_eq!(d.keep_alive().interval, Duration::from_secs(10));
+    assert_eq!(d.keep_alive().close_after(), Duration::from_secs(80));
+    for refused in [0, 7201] {
+        assert!(d.write(id(0x2597), &Value::U32(refused), ms(0)).is_err());
+    }
+}

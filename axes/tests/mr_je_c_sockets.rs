@@ -208,3 +208,43 @@ fn pymodbus_client_against_the_emulator() {
         Value::I32(100_000)
     );
 }
+
+/// The SLMP monitoring timer (MR-JE-C manual §2.4.2): a drive that takes 600 ms to process a
+/// request discards the answer to a client that waits 400 ms (timer 0001h, 0.25 s) and answers
+/// one that waits 5 s (timer 0014h); a raw 4E request with timer 0000h ("wait until done") is
+/// answered too.
+#[test]
+fn an_answer_the_monitoring_timer_outlives_is_discarded() {
+    let params = MrJeCParams {
+        slmp_processing_time: Duration::from_millis(600),
+        ..MrJeCParams::default()
+    };
+    let s = Server::start(MrJeC::new(params), LOOPBACK, ANY).unwrap();
+    let short = Duration::from_millis(400);
+    let mut impatient = SlmpClient::udp(s.slmp_udp, FrameType::E4, short).unwrap();
+    assert!(matches!(
+        impatient.read::<Statusword>(),
+        Err(AccessError::Timeout(_))
+    ));
+    let mut patient = SlmpClient::udp(s.slmp_udp, FrameType::E4, Duration::from_secs(5)).unwrap();
+    assert_eq!(patient.read::<Statusword>().unwrap().0 & 0x4F, 0x40);
+    // SL-3 with the timer 0000h: upload 6064h.
+    let socket = std::net::UdpSocket::bind((Ipv4Addr::LOCALHOST, 0)).unwrap();
+    socket
+        .set_read_timeout(Some(Duration::from_secs(5)))
+        .unwrap();
+    let request = [
+        0x54, 0x00, 0x34, 0x12, 0x00, 0x00, 0x00, 0xFF, 0xFF, 0x03, 0x00, 0x0C, 0x00, 0x00, 0x00,
+        0x20, 0x40, 0x01, 0x00, 0x64, 0x60, 0x00, 0x00, 0x00, 0x00,
+    ];
+    socket.send_to(&request, s.slmp_udp).unwrap();
+    let mut answer = [0u8; 64];
+    let (n, _) = socket.recv_from(&mut answer).unwrap();
+    assert_eq!(
+        &answer[..4],
+        &[0xD4, 0x00, 0x34, 0x12],
+        "{:02X?}",
+        &answer[..n]
+    );
+    assert_eq!(&answer[13..15], &[0x00, 0x00], "end code");
+}

@@ -64,9 +64,10 @@ fn assert_completed(summary: &cellrt_runtime::host::controller::Summary, what: &
     for a in &summary.axes {
         assert!(
             (a.final_position - 50.0).abs() < tolerance,
-            "{what}: {} ends at {}",
+            "{what}: {} ends at {} (overruns {}; events {log:?})",
             a.name,
-            a.final_position
+            a.final_position,
+            summary.counters.overruns
         );
     }
 }

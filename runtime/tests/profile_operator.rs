@@ -99,6 +99,37 @@ fn rejected(r: Reply) -> String {
     }
 }
 
+/// The running controller of a powered cell: its operator client, shutdown flag and thread.
+type Controller = std::thread::JoinHandle<
+    Result<cellrt_runtime::host::controller::Outcome, cellrt_runtime::host::controller::RunError>,
+>;
+
+/// Starts the cell `text` (named `name`) in this process and powers it on.
+fn powered_cell(name: &str, text: &str) -> (OperatorClient, Arc<AtomicBool>, Controller) {
+    let cell = CellConfig::parse(Path::new("profile-operator.toml"), text).unwrap();
+    let shutdown = Arc::new(AtomicBool::new(false));
+    let options = RunOptions {
+        shutdown: shutdown.clone(),
+        ..RunOptions::default()
+    };
+    let controller = std::thread::spawn(move || run(&cell, options).map(|s| s.outcome));
+    let end = Instant::now() + Duration::from_secs(30);
+    while !running_cells().contains(&name.to_string()) {
+        assert!(Instant::now() < end, "the cell never came up");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let c = OperatorClient::connect(Some(name)).unwrap();
+    accepted(request(
+        &c,
+        &Request::Power {
+            on: true,
+            axes: vec![],
+        },
+    ));
+    wait(&c, "idle", |s| s.state == "idle");
+    (c, shutdown, controller)
+}
+
 #[test]
 fn operator_commands_and_program_steps_drive_profile_axes() {
     let name = format!("prof-op-{}", std::process::id());
@@ -109,27 +140,7 @@ fn operator_commands_and_program_steps_drive_profile_axes() {
         axis("v", "pv"),
         axis("t", "tq"),
     );
-    let cell = CellConfig::parse(Path::new("prof-op.toml"), &text).unwrap();
-    let shutdown = Arc::new(AtomicBool::new(false));
-    let options = RunOptions {
-        shutdown: shutdown.clone(),
-        ..RunOptions::default()
-    };
-    let controller = std::thread::spawn(move || run(&cell, options).map(|s| s.outcome));
-    let end = Instant::now() + Duration::from_secs(30);
-    while !running_cells().contains(&name) {
-        assert!(Instant::now() < end, "the cell never came up");
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let c = OperatorClient::connect(Some(&name)).unwrap();
-    accepted(request(
-        &c,
-        &Request::Power {
-            on: true,
-            axes: vec![],
-        },
-    ));
-    wait(&c, "idle", |s| s.state == "idle");
+    let (c, shutdown, controller) = powered_cell(&name, &text);
 
     // One move: the pp axis by its drive, the csp axis streamed.
     let targets = BTreeMap::from([("p".to_string(), 130.0), ("y".to_string(), 80.0)]);
@@ -339,4 +350,68 @@ do = "power_off"
         "{transport}: {}",
         at("v")
     );
+}
+
+/// `override` reaches the profile axes' drives: a pp move of the MR-J5 (6081h by SDO) and of
+/// the MR-J4-TM in its profile group (6081h in its 1601h) runs at half speed under 50 %,
+/// stands under 0 % without ending (the cell stays moving), and reaches its target once the
+/// override is back at 100 %.
+#[test]
+fn the_override_reaches_the_drives_of_profile_axes() {
+    let name = format!("prof-ovr-{}", std::process::id());
+    let j4 = axis_on("q", "pp", "sim", J4_PROFILE)
+        .replace(
+            "motor = { counts_per_rev = 10000, rated_speed = 3000 }",
+            "motor = { rated_speed = 3000 }",
+        )
+        .replace("counts_per_unit = 1000", "counts_per_unit = 419430.4");
+    let text = format!(
+        "[cell]\nname = \"{name}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{}{j4}",
+        axis("p", "pp"),
+    );
+    let (c, shutdown, controller) = powered_cell(&name, &text);
+    let both = |s: &StatusReport, f: &dyn Fn(&AxisStatus) -> bool| {
+        f(axis_of(s, "p")) && f(axis_of(s, "q"))
+    };
+    accepted(request(
+        &c,
+        &Request::Move {
+            targets: BTreeMap::from([("p".to_string(), 300.0), ("q".to_string(), 300.0)]),
+            relative: false,
+            velocity: Some(40.0),
+            acceleration: None,
+            jerk: None,
+            clamp: false,
+            line: false,
+        },
+    ));
+    wait(&c, "both at 40 mm/s", |s| {
+        both(s, &|a| (a.velocity - 40.0).abs() < 0.5)
+    });
+    accepted(request(&c, &Request::Override { percent: 50.0 }));
+    wait(&c, "both at 20 mm/s", |s| {
+        both(s, &|a| (a.velocity - 20.0).abs() < 0.5)
+    });
+    accepted(request(&c, &Request::Override { percent: 0.0 }));
+    let held = wait(&c, "both standing", |s| {
+        both(s, &|a| a.velocity.abs() < 0.01)
+    });
+    assert!(both(&held, &|a| a.position < 290.0), "{held:?}");
+    std::thread::sleep(Duration::from_millis(300));
+    let s = status(&c);
+    assert!(
+        both(&s, &|a| (a.position - axis_of(&held, &a.name).position)
+            .abs()
+            < 0.01),
+        "held: {s:?}"
+    );
+    accepted(request(&c, &Request::Override { percent: 100.0 }));
+    wait(&c, "both at their targets", |s| {
+        s.state == "idle"
+            && both(s, &|a| {
+                (a.position - 300.0).abs() <= 0.1 && a.velocity == 0.0
+            })
+    });
+    shutdown.store(true, Ordering::Release);
+    controller.join().unwrap().unwrap();
 }

@@ -112,6 +112,12 @@ fn wait_exit(child: &mut Child, secs: u64) -> Option<i32> {
     }
 }
 
+/// Stops the controller with SIGINT; it must exit 0 (`log`: its lines so far, for the message).
+fn interrupt(controller: &mut Child, log: &[String]) {
+    kill(Pid::from_raw(controller.id() as i32), Signal::SIGINT).unwrap();
+    assert_eq!(wait_exit(controller, 30), Some(0), "{}", log.join("\n"));
+}
+
 #[test]
 fn killed_planner_stops_the_cell_and_a_new_one_takes_over() {
     let dir = tempfile::tempdir().unwrap();
@@ -151,13 +157,7 @@ fn killed_planner_stops_the_cell_and_a_new_one_takes_over() {
     let p2_text: Vec<String> = all_lines(&p2_log);
     assert_eq!(code, Some(0), "second planner: {}", p2_text.join("\n"));
 
-    kill(Pid::from_raw(controller.id() as i32), Signal::SIGINT).unwrap();
-    assert_eq!(
-        wait_exit(&mut controller, 30),
-        Some(0),
-        "{}",
-        log.join("\n")
-    );
+    interrupt(&mut controller, &log);
 
     let rec = read_recording(&rec_path);
     let kinds: Vec<(&str, &str)> = rec
@@ -323,4 +323,67 @@ seconds = 60
     let _ = p.wait();
     kill(Pid::from_raw(controller.id() as i32), Signal::SIGINT).unwrap();
     let _ = wait_exit(&mut controller, 30);
+}
+
+/// A profile axis driven by a planner in another process: z of the demo cell in pp, moved in
+/// one step with the csp axis x under a 50 % override. Its drive-side motion and the override
+/// cross to the controller over the cell's services; both axes reach their targets, z's drive
+/// at half its velocity limit, and the step ends when both are done (the planner's program
+/// completes).
+#[test]
+fn a_profile_axis_moves_under_an_external_planner() {
+    const PROGRAM: &str = r#"
+[[step]]
+do = "power_on"
+[[step]]
+do = "override"
+percent = 50
+[[step]]
+do = "move"
+target = { x = 200.0, z = -120.0 }
+[[step]]
+do = "wait"
+seconds = 0.1
+"#;
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = demo_cell(dir.path(), PROGRAM);
+    let text = std::fs::read_to_string(&cfg).unwrap();
+    let z = "name = \"z\"\ndrive = \"mr-j5-g-n1\"\nmotor = { counts_per_rev = 10000 }";
+    assert!(text.contains(z));
+    let text = text.replacen(
+        z,
+        "name = \"z\"\ndrive = \"mr-j5-g-n1\"\nmode = \"pp\"\nmotor = { counts_per_rev = 10000, rated_speed = 3000 }",
+        1,
+    );
+    std::fs::write(&cfg, text).unwrap();
+    let rec_path = dir.path().join("run.mcap");
+    let rec_arg = rec_path.to_str().unwrap().to_owned();
+    let (mut controller, ctl, mut log) = controller_waiting(&cfg, &["--record", &rec_arg]);
+    let mut p = planner(&cfg, &dir.path().join("program.toml"));
+    let p_log = lines(&mut p);
+    let code = wait_exit(&mut p, 60);
+    assert_eq!(code, Some(0), "planner: {}", all_lines(&p_log).join("\n"));
+    log.extend(ctl.try_iter());
+    interrupt(&mut controller, &log);
+
+    let rec = read_recording(&rec_path);
+    let last = |n: &str| rec.axes[n].last().unwrap().actual_position;
+    assert!((last("x") - 200.0).abs() < 0.05, "x ends at {}", last("x"));
+    assert!((last("z") + 120.0).abs() < 0.05, "z ends at {}", last("z"));
+    // z's drive ran at half of z's 250 mm/s.
+    let peak = rec.axes["z"]
+        .iter()
+        .map(|r| r.actual_velocity.abs())
+        .fold(0.0, f64::max);
+    assert!((peak - 125.0).abs() < 3.0, "z's peak {peak} mm/s");
+    // z was moved by its drive in pp (6061h = 1), never streamed.
+    assert!(rec.axes["z"]
+        .iter()
+        .all(|r| r.mode_display == 1 || r.fsa_state != 5));
+    let started = rec
+        .events
+        .iter()
+        .filter(|e| e.kind == "profile_started")
+        .count();
+    assert!(started >= 1, "{:?}", rec.events);
 }

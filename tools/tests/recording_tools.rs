@@ -549,3 +549,110 @@ fn an_mr_j4_tm_recording_with_torque_limits_replays_bit_identically() {
     assert!(out.status.success(), "{so}\n{se}");
     assert!(so.contains("bit-identical"), "{so}");
 }
+
+/// An axis of the given drive and mode for the replay test: 10 mm per revolution, rated speed
+/// 3000 r/min; the MR-J4-TM with its 22-bit encoder, the MR-J5 at 10000 counts/rev.
+fn profile_axis(name: &str, mode: &str, drive: &str) -> String {
+    let scaling = if drive.contains("mr-j4-tm") {
+        "motor = { rated_speed = 3000 }\ncounts_per_unit = 419430.4"
+    } else {
+        "motor = { counts_per_rev = 10000, rated_speed = 3000 }\ncounts_per_unit = 1000"
+    };
+    // A torque limit only where the torque steps need one (it also limits a move's torque).
+    let torque = if mode == "tq" { ", torque = 50.0" } else { "" };
+    format!(
+        r#"
+[[axes]]
+name = "{name}"
+{drive}
+transport = "sim"
+mode = "{mode}"
+{scaling}
+unit = "mm"
+limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0{torque} }}
+sim = {{ initial_position = 100.0 }}
+"#
+    )
+}
+
+/// The profile objects replay: pp, pv and tq axes on the MR-J5-G-N1 (6081h, 6083h, 6084h, 6087h
+/// written by SDO) and on the MR-J4-TM in its profile mode group (the same objects in its
+/// 1601h, sent every cycle) run a program beside a csp axis, and the recording replays
+/// bit-identically; a recording whose 6081h is changed diverges on that axis.
+#[test]
+fn a_recording_of_profile_axes_replays_bit_identically() {
+    const J5: &str = "drive = \"mr-j5-g-n1\"";
+    const J4: &str = "drive = \"mr-j4-tm\"\nmode_group = \"profile\"";
+    let dir = tempfile::tempdir().unwrap();
+    let config = format!(
+        "[cell]\nname = \"{}\"\ncycle_time_us = 1000\nprogram = \"program.toml\"\n\
+         [watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{}{}{}{}{}{}{}",
+        common::unique_cell_name(),
+        profile_axis("x", "csp", J5),
+        profile_axis("p", "pp", J5),
+        profile_axis("v", "pv", J5),
+        profile_axis("t", "tq", J5),
+        profile_axis("q", "pp", J4),
+        profile_axis("w", "pv", J4),
+        profile_axis("u", "tq", J4),
+    );
+    const PROGRAM: &str = r#"
+[[step]]
+do = "power_on"
+[[step]]
+do = "move"
+target = { x = 160.0, p = 140.0, q = 60.0 }
+[[step]]
+do = "jog"
+axis = "v"
+velocity = 40.0
+seconds = 0.2
+[[step]]
+do = "jog"
+axis = "w"
+velocity = -30.0
+seconds = 0.2
+[[step]]
+do = "torque"
+target = { t = 20.0, u = -15.0 }
+seconds = 0.2
+[[step]]
+do = "power_off"
+"#;
+    let (out, rec) = common::run_recorded(dir.path(), &config, PROGRAM);
+    let (so, se) = text(&out);
+    assert!(out.status.success(), "{so}\n{se}");
+    let r = read_recording(&rec);
+    for (axis, objects) in [("p", 3), ("v", 2), ("t", 1), ("q", 3), ("w", 2), ("u", 1)] {
+        let last = r.axes[axis].last().unwrap();
+        let set = [
+            last.profile_velocity,
+            last.profile_acceleration,
+            last.profile_deceleration,
+            last.torque_slope,
+        ]
+        .iter()
+        .filter(|v| **v != 0)
+        .count();
+        assert_eq!(set, objects, "{axis}: {last:?}");
+    }
+    assert!(r.axes["x"].iter().all(|a| a.profile_velocity == 0));
+    let out = cellrt(&["replay".as_ref(), rec.as_os_str()]);
+    let (so, se) = text(&out);
+    assert!(out.status.success(), "{so}\n{se}");
+    assert!(so.contains("bit-identical"), "{so}");
+
+    // p's 6081h at half its value from the start: the replayed move is slower.
+    let tampered = dir.path().join("tampered.mcap");
+    rewrite(&rec, &tampered, |topic, data| {
+        if topic == "/axis/p" {
+            let mut a = cellrt_runtime::host::record::proto::AxisCycle::decode(&data[..]).unwrap();
+            a.profile_velocity /= 2;
+            *data = a.encode_to_vec();
+        }
+    });
+    let out = cellrt(&["replay".as_ref(), tampered.as_os_str()]);
+    let (so, se) = text(&out);
+    assert_eq!(out.status.code(), Some(1), "{so}\n{se}");
+    assert!(so.contains("DIVERGED") && so.contains("axis p:"), "{so}");
+}

@@ -75,6 +75,8 @@ pub const PN02: Parameter = p(Group::PN, 2);
 pub const PN08: Parameter = p(Group::PN, 8);
 /// [Pr. PN10] Ethernet communication time-out selection, s (0: off; SW A4+).
 pub const PN10: Parameter = p(Group::PN, 10);
+/// [Pr. PN23] KeepAlive time, s: the interval of the TCP alive check on Modbus/TCP (§5.2.3).
+pub const PN23: Parameter = p(Group::PN, 23);
 
 /// A parameter the network manual describes: initial value and setting range.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -131,7 +133,7 @@ pub const PARAMETERS: &[ParameterDef] = &[
     d(p(Group::PN, 20), "*DGW2", 168, OCTET),
     d(p(Group::PN, 21), "*DGW3", 3, OCTET),
     d(p(Group::PN, 22), "*DGW4", 1, OCTET),
-    d(p(Group::PN, 23), "*KAA", 3600, Some((1, 7200))),
+    d(PN23, "*KAA", 3600, Some((1, 7200))),
     d(p(Group::PN, 24), "*IPAF1", 0, OCTET),
     d(p(Group::PN, 25), "*IPAF2", 0, OCTET),
     d(p(Group::PN, 26), "*IPAF3", 0, OCTET),

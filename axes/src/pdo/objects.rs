@@ -46,6 +46,14 @@ pub const PROFILE_ACCELERATION: u16 = 0x6083;
 pub const PROFILE_DECELERATION: u16 = 0x6084;
 /// 6087h Torque slope (tq; 0.1 %/s, MR-J4-TM manual §5.4.8).
 pub const TORQUE_SLOPE: u16 = 0x6087;
+/// The profile objects a profile axis' motion sets, in this order wherever they are listed
+/// together (the hand-off's records, the recording, `cellrt replay`).
+pub const PROFILE_OBJECTS: [u16; 4] = [
+    PROFILE_VELOCITY,
+    PROFILE_ACCELERATION,
+    PROFILE_DECELERATION,
+    TORQUE_SLOPE,
+];
 /// 607Fh Max profile velocity (pp/pv; velocity unit, MR-J4-TM manual §5.4.6).
 pub const MAX_PROFILE_VELOCITY: u16 = 0x607F;
 /// 6080h Max motor speed (r/min on the Mitsubishi drives, MR-J4-TM manual §4.2).

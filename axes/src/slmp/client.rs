@@ -130,7 +130,7 @@ impl SlmpClient {
                 },
             },
             route: self.route,
-            monitoring_timer: 0,
+            monitoring_timer: super::monitoring_timer_for(self.timeout),
             command,
         };
         let n = encode_request(&request, &mut self.out)?;

@@ -9,6 +9,7 @@ pub mod client;
 pub mod discovery;
 mod end_code;
 mod frame;
+mod monitoring;
 pub mod node_search;
 
 pub use end_code::EndCode;
@@ -16,6 +17,7 @@ pub use frame::{
     decode_request, decode_response, encode_request, encode_response, Command, Reply, Request,
     Response, Route, SlmpError, Subheader, MAX_FRAME,
 };
+pub use monitoring::{monitoring_timer_expires, monitoring_timer_for, MONITORING_TIMER_UNIT};
 
 /// UDP port of the drive's SLMP server.
 pub const UDP_PORT: u16 = 5010;

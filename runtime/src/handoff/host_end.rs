@@ -5,7 +5,7 @@ use std::collections::VecDeque;
 use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
 
-use super::lanes::Lanes;
+use super::lanes::{Lanes, FEED_OVERRIDE_FULL};
 use super::{
     AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, HomeRequest, ProfileCommand,
     SdoSlotBusy, UserSdo, UserSdoOutcome,
@@ -39,6 +39,15 @@ impl HostEnd {
             capture_armed: Default::default(),
             capture_requested: Default::default(),
         }
+    }
+
+    /// Sets the feed override (0..=1) the RT thread applies to the profile axes' drives (their
+    /// profile velocity); the streamed axes follow it in the planner.
+    pub fn set_feed_override(&self, value: f64) {
+        let permille = (value.clamp(0.0, 1.0) * f64::from(FEED_OVERRIDE_FULL)).round();
+        self.lanes
+            .feed_override
+            .store(permille as u32, Ordering::Release);
     }
 
     /// The recorder keeps a capture ring from now on.

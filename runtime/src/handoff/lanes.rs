@@ -10,6 +10,8 @@ use super::{AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, Profi
 
 /// Commands the queue holds before a sender is refused.
 const COMMAND_QUEUE: usize = 64;
+/// [`Lanes::feed_override`] without override.
+pub(super) const FEED_OVERRIDE_FULL: u32 = 1000;
 /// Events the queue holds before the RT thread drops one.
 const EVENT_QUEUE: usize = 8192;
 
@@ -36,6 +38,8 @@ pub(super) struct Lanes {
     pub(super) sdo_request: SdoRequestSlot,
     /// The outcome of the latest operator SDO request.
     pub(super) sdo_outcome: SdoOutcomeSlot,
+    /// The feed override (MC_SetOverride) for the profile axes' drives, ‰ (1000: none).
+    pub(super) feed_override: AtomicU32,
 }
 
 impl Lanes {
@@ -58,6 +62,7 @@ impl Lanes {
             home_request: AtomicU32::new(0),
             sdo_request: SdoRequestSlot::default(),
             sdo_outcome: SdoOutcomeSlot::default(),
+            feed_override: AtomicU32::new(FEED_OVERRIDE_FULL),
         }
     }
 }

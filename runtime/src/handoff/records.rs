@@ -258,4 +258,7 @@ pub struct AxisRecord {
     pub counter_received: u8,
     /// Status DO 1–3 received (2D11h–2D13h), 0 where the drive does not map them.
     pub status_do: [u16; 3],
+    /// 6081h, 6083h, 6084h, 6087h as the drive has them (in the RxPDO, or as last written by
+    /// SDO, from the cycle the write was posted); 0 on streamed axes and before a write.
+    pub profile: [u32; 4],
 }

@@ -60,6 +60,12 @@ impl RtEnd {
         self.lanes.sdo_outcome.publish(seq, outcome);
     }
 
+    /// The feed override for the profile axes' drives, ‰ (1000: none).
+    #[inline]
+    pub fn feed_override_permille(&self) -> u32 {
+        self.lanes.feed_override.load(Ordering::Acquire)
+    }
+
     /// Whether a recorder drains the record queues (if not, skip building records).
     #[inline]
     pub fn recording(&self) -> bool {

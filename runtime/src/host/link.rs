@@ -13,7 +13,9 @@ use crate::handoff::{
     CellCommand, CellState, EventKind, EventRecord, HomeRequest, HomingStatus, HostEnd,
     ProfileCommand, StopReason, UserSdo, UserSdoOutcome, NO_AXIS,
 };
-use crate::services::{self, CommandSample, LiveAxis, SdoLinkSample, ServiceError, StatusSample};
+use crate::services::{
+    self, CommandSample, LiveAxis, ProfileLinkSample, SdoLinkSample, ServiceError, StatusSample,
+};
 use crate::setpoints::MAX_AXES;
 
 /// A remote cell whose status is older than this is considered gone.
@@ -116,11 +118,11 @@ pub trait CellLink {
         let _ = request;
         Err(LinkError::InProcessOnly("sdo"))
     }
-    /// Sends a profile axis' drive-side motion to the RT thread (in-process only).
-    fn profile(&mut self, command: ProfileCommand) -> Result<(), LinkError> {
-        let _ = command;
-        Err(LinkError::InProcessOnly("a profile axis' motion"))
-    }
+    /// Sends a profile axis' drive-side motion to the RT thread (in-process through the
+    /// hand-off, from another process through the cell's profile command service).
+    fn profile(&mut self, command: ProfileCommand) -> Result<(), LinkError>;
+    /// Gives the RT thread the feed override (0..=1) for the profile axes' drives.
+    fn feed_override(&mut self, value: f64) -> Result<(), LinkError>;
     /// The outcome of the operator SDO request `seq`, once published.
     fn sdo_outcome(&mut self, seq: u16) -> Option<UserSdoOutcome> {
         let _ = seq;
@@ -235,6 +237,11 @@ impl CellLink for LocalLink {
         self.handoff.recent_events()
     }
 
+    fn feed_override(&mut self, value: f64) -> Result<(), LinkError> {
+        self.handoff.set_feed_override(value);
+        Ok(())
+    }
+
     fn event(&mut self, kind: EventKind, value: i64) {
         let _ = self.handoff.push_event(EventRecord {
             cycle: self.handoff.status().cycle(),
@@ -254,6 +261,8 @@ pub struct RemoteLink {
     sdo_outcomes: Subscriber<ipc::Service, SdoLinkSample, ()>,
     /// The latest outcome received (header, word).
     sdo_latest: Option<(u32, u64)>,
+    /// Profile axes' drive-side motions to the controller.
+    profile_commands: Publisher<ipc::Service, ProfileLinkSample, ()>,
     latest: Option<(StatusSnapshot, Instant)>,
     /// Cycle time (ns) and axis count the controller reported last.
     shape: (u64, u32),
@@ -277,6 +286,7 @@ impl RemoteLink {
             sdo_requests: services::sdo_request_publisher(node, cell)?,
             sdo_outcomes: services::sdo_outcome_subscriber(node, cell)?,
             sdo_latest: None,
+            profile_commands: services::profile_command_publisher(node, cell)?,
             latest: None,
             shape: (0, 0),
             cell: cell.to_string(),
@@ -360,6 +370,33 @@ impl CellLink for RemoteLink {
             .map(|_| ())
             .map_err(|e| LinkError::Send {
                 command: "home",
+                cell: self.cell.clone(),
+                detail: format!("{e:?}"),
+            })
+    }
+
+    /// Sends the override (‰) to the controller's link thread, which hands it to the RT thread.
+    fn feed_override(&mut self, value: f64) -> Result<(), LinkError> {
+        self.commands
+            .send_copy(CommandSample {
+                code: services::OVERRIDE_COMMAND_CODE,
+                arg: (value.clamp(0.0, 1.0) * 1000.0).round() as u32,
+            })
+            .map(|_| ())
+            .map_err(|e| LinkError::Send {
+                command: "override",
+                cell: self.cell.clone(),
+                detail: format!("{e:?}"),
+            })
+    }
+
+    /// Sends the motion to the controller's link thread, which queues it for the RT thread.
+    fn profile(&mut self, command: ProfileCommand) -> Result<(), LinkError> {
+        self.profile_commands
+            .send_copy(ProfileLinkSample::from(command))
+            .map(|_| ())
+            .map_err(|e| LinkError::Send {
+                command: "profile motion",
                 cell: self.cell.clone(),
                 detail: format!("{e:?}"),
             })

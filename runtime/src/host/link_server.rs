@@ -13,9 +13,12 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, EventKind, EventRecord, HomeRequest, HostEnd, UserSdo, NO_AXIS};
+use crate::handoff::{
+    CellCommand, EventKind, EventRecord, HomeRequest, HostEnd, ProfileCommand, UserSdo, NO_AXIS,
+};
 use crate::host::link::snapshot;
-use crate::services::{self, SdoLinkSample, ServiceError, StatusSample};
+use crate::services::{self, ProfileLinkSample, SdoLinkSample, ServiceError, StatusSample};
+use crate::setpoints::MAX_AXES;
 
 /// How often the planner's node is looked for.
 pub const PLANNER_CHECK: Duration = Duration::from_millis(20);
@@ -46,9 +49,14 @@ impl LinkServer {
                         waiting: None,
                         pending: None,
                     };
-                    Ok::<_, ServiceError>((node, status, commands, sdo))
+                    let profile = ProfileRelay {
+                        commands: services::profile_command_subscriber(&node, &cell.name)?,
+                        waiting: std::collections::VecDeque::with_capacity(2 * MAX_AXES),
+                        axes: cell.axes.len(),
+                    };
+                    Ok::<_, ServiceError>((node, status, commands, sdo, profile))
                 })();
-                let (node, status, commands, mut sdo) = match setup {
+                let (node, status, commands, mut sdo, mut profile) = match setup {
                     Ok(v) => {
                         let _ = ready_tx.send(Ok(()));
                         v
@@ -88,11 +96,18 @@ impl LinkServer {
                             if let Some(request) = HomeRequest::decode(c.arg) {
                                 handoff.request_homing(request);
                             }
+                        } else if c.code == services::OVERRIDE_COMMAND_CODE {
+                            if c.arg <= 1000 {
+                                handoff.set_feed_override(f64::from(c.arg) / 1000.0);
+                            } else {
+                                push_event(&handoff, EventKind::CommandRefused, i64::from(c.code));
+                            }
                         } else {
                             forward(&handoff, c.code);
                         }
                     }
                     sdo.pump(&handoff);
+                    profile.pump(&handoff);
                     if last_check.elapsed() >= PLANNER_CHECK {
                         last_check = Instant::now();
                         let alive = planner_is_alive(&planner_name);
@@ -165,6 +180,39 @@ impl SdoRelay {
                 {
                     self.pending = None;
                 }
+            }
+        }
+    }
+}
+
+/// An external planner's profile axis motions, queued for the RT thread in the order they came;
+/// those the hand-off's queue cannot take yet wait here. A sample that does not decode, or
+/// names an axis the cell does not have, or finds 2 × `MAX_AXES` waiting, is refused with a
+/// `command_refused` event.
+struct ProfileRelay {
+    commands: Subscriber<ipc::Service, ProfileLinkSample, ()>,
+    waiting: std::collections::VecDeque<ProfileCommand>,
+    axes: usize,
+}
+
+impl ProfileRelay {
+    fn pump(&mut self, handoff: &HostEnd) {
+        while let Ok(Some(sample)) = self.commands.receive() {
+            match sample.payload().command() {
+                Some(c) if usize::from(c.axis) < self.axes && self.waiting.len() < 2 * MAX_AXES => {
+                    self.waiting.push_back(c)
+                }
+                _ => push_event(
+                    handoff,
+                    EventKind::CommandRefused,
+                    i64::from(services::PROFILE_COMMAND_CODE),
+                ),
+            }
+        }
+        while let Some(c) = self.waiting.pop_front() {
+            if let Err(c) = handoff.send_profile_command(c) {
+                self.waiting.push_front(c);
+                break;
             }
         }
     }

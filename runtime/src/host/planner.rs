@@ -415,7 +415,7 @@ impl<'a> Planner<'a> {
                 }
                 Step::Override(value) => {
                     self.what = "override";
-                    if let Err(e) = self.engine.set_override(*value) {
+                    if let Err(e) = self.engine.set_override(*value, self.link.as_mut()) {
                         return Err(self.err(e));
                     }
                 }

@@ -1,14 +1,17 @@
 //! `cellrt replay FILE.mcap`: feeds the recorded RxPDO stream (controlword, target position and
 //! torque of every axis, cycle by cycle, with the recorded cycle numbers so skipped cycles are
 //! skipped again) to the simulated drives of the recorded configuration (the attached
-//! configuration file) and compares the drives' feedback with the recorded feedback. On
-//! simulated drives the two are bit-identical; the first divergence is reported with its cycle.
+//! configuration file), with the profile axes' objects (6081h, 6083h, 6084h, 6087h) in the
+//! RxPDO or written by SDO in the cycle the recording shows them change, and compares the
+//! drives' feedback with the recorded feedback. On simulated drives the two are bit-identical;
+//! the first divergence is reported with its cycle.
 
 use std::path::Path;
 
-use cellrt_axes::bus::CyclicBus;
+use cellrt_axes::bus::{AcyclicBus, CyclicBus};
 use cellrt_axes::cia402::controlword::Controlword;
 use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_axes::pdo::objects::PROFILE_OBJECTS;
 use cellrt_axes::pdo::TxPdo;
 use cellrt_axes::Cycles;
 use cellrt_runtime::config::CellConfig;
@@ -170,7 +173,7 @@ pub fn replay(
                     }),
                 ));
             }
-            let rx = ch.rx_pdo(&CycleCommand {
+            let mut rx = ch.rx_pdo(&CycleCommand {
                 // Recordings made before field 20 existed were csp only.
                 mode: if rec.mode == 0 {
                     ModeOfOperation::CyclicSyncPosition.as_i8()
@@ -189,6 +192,30 @@ pub fn replay(
                 },
                 counter: rec.counter_sent as u8,
             });
+            let profile = profile_objects(rec);
+            (
+                rx.profile_velocity,
+                rx.profile_acceleration,
+                rx.profile_deceleration,
+                rx.torque_slope,
+            ) = (profile[0], profile[1], profile[2], profile[3]);
+            if let Some(objects) = cell.axes[i].profile_objects {
+                let before = k
+                    .checked_sub(1)
+                    .map_or([0; 4], |p| profile_objects(&axes[i][p]));
+                for (n, index) in PROFILE_OBJECTS.into_iter().enumerate() {
+                    if profile[n] != before[n] && !objects.is_cyclic(index) {
+                        bus.sdo_download(i, index, 0, &profile[n].to_le_bytes())
+                            .map_err(|abort| {
+                                format!(
+                                    "axis {}: {index:04X}h = {} at cycle {cycle}: SDO abort \
+                                     {abort:08X}h",
+                                    cell.axes[i].name, profile[n]
+                                )
+                            })?;
+                    }
+                }
+            }
             ch.rx_map
                 .encode_rx(&rx, bus.rx_image_mut(i))
                 .map_err(|e| format!("axis {}: RxPDO: {e:?}", cell.axes[i].name))?;
@@ -199,6 +226,16 @@ pub fn replay(
             .map_err(|e| format!("bus exchange at cycle {cycle}: {e:?}"))?;
     }
     Ok((n as u64, None))
+}
+
+/// The profile objects a record holds, in the order of [`PROFILE_OBJECTS`].
+fn profile_objects(rec: &AxisCycle) -> [u32; 4] {
+    [
+        rec.profile_velocity,
+        rec.profile_acceleration,
+        rec.profile_deceleration,
+        rec.torque_slope,
+    ]
 }
 
 /// The first field of the recorded feedback that differs from `tx`.

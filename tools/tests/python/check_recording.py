@@ -28,7 +28,8 @@ AXIS_FIELDS = [
     "actual_velocity", "setpoint_counts", "actual_position_counts", "actual_velocity_counts",
     "following_error_counts", "controlword", "statusword", "fsa_state", "mode_display",
     "error_code", "setpoint_torque", "actual_torque", "counter_sent", "counter_received",
-    "status_do_1", "status_do_2", "status_do_3", "controlword2",
+    "status_do_1", "status_do_2", "status_do_3", "controlword2", "profile_velocity",
+    "profile_acceleration", "profile_deceleration", "torque_slope",
 ]
 CYCLE_FIELDS = [
     "cycle", "deadline_ns", "wakeup_latency_ns", "loop_time_ns", "overruns", "cell_state",

@@ -21,7 +21,7 @@ use std::time::Duration;
 
 use super::alarm::Alarm;
 use super::objects::ObjectId;
-use super::parameters::{PC70, PF46, PN02, PN08, PN10};
+use super::parameters::{PC70, PF46, PN02, PN08, PN10, PN23};
 use super::types::SoftwareVersion;
 use super::value::Value;
 use crate::cia402::controlword::Controlword;
@@ -67,6 +67,10 @@ pub struct MrJeCParams {
     pub mac: crate::slmp::node_search::Mac,
     /// Vendor code in the NodeSearch response; the manual gives none (0).
     pub vendor_code: u16,
+    /// Time the drive takes to process an SLMP request before it answers; the manual gives
+    /// none (0: at once). A request whose monitoring timer is shorter gets no answer
+    /// ([`crate::slmp::monitoring_timer_expires`]).
+    pub slmp_processing_time: std::time::Duration,
 }
 
 impl Default for MrJeCParams {
@@ -87,6 +91,7 @@ impl Default for MrJeCParams {
             max_torque: 3000,
             mac: crate::slmp::node_search::Mac([0x02, 0x00, 0xC0, 0xA8, 0x03, 0x00]),
             vendor_code: 0,
+            slmp_processing_time: Duration::ZERO,
         }
     }
 }
@@ -118,8 +123,39 @@ pub struct MrJeC {
     watchdog: watchdog::CommWatchdog,
     cyclic_ready: bool,
     rules: AddressRules,
+    keep_alive: KeepAlive,
     restore: Restore,
     now: Duration,
+}
+
+/// The TCP alive check of a Modbus/TCP connection ([Pr. PN23], MR-JE-C manual §5.2.3): a
+/// Keep Alive message every `interval` while the peer is silent, and the connection forcibly
+/// closed when [`KEEP_ALIVE_UNANSWERED`] of them in a row go unanswered (3600 s × 8 = 28800 s
+/// by default). Only Modbus/TCP uses it ("can be used only when Modbus/TCP is set").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct KeepAlive {
+    /// [Pr. PN23]: the idle time before the first alive check and between the checks.
+    pub interval: Duration,
+}
+
+/// Unanswered alive checks after which the drive closes the connection. The manual gives the
+/// total ("setting value × 8 times"), not how the checks are spaced: the first check follows
+/// [Pr. PN23] of silence and the connection closes at the 7th unanswered repeat, 8 × [Pr. PN23]
+/// after the peer's last segment.
+pub const KEEP_ALIVE_UNANSWERED: u32 = 7;
+
+impl KeepAlive {
+    fn latch(store: &store::Store) -> KeepAlive {
+        let secs = store.int(ObjectId::new(PN23.index(), 0)).clamp(1, 7200);
+        KeepAlive {
+            interval: Duration::from_secs(secs as u64),
+        }
+    }
+
+    /// Time from the peer's last segment until the drive closes the connection.
+    pub fn close_after(self) -> Duration {
+        self.interval * (KEEP_ALIVE_UNANSWERED + 1)
+    }
 }
 
 /// What a 1011h "load" asked to restore at the next power-on.
@@ -142,6 +178,7 @@ impl MrJeC {
         }
         MrJeC {
             rules: AddressRules::latch(&store),
+            keep_alive: KeepAlive::latch(&store),
             store,
             cyclic_ready: false,
             restore: Restore::default(),
@@ -174,6 +211,7 @@ impl MrJeC {
             }
         }
         fresh.rules = AddressRules::latch(&fresh.store);
+        fresh.keep_alive = KeepAlive::latch(&fresh.store);
         fresh.history = std::mem::take(&mut self.history);
         fresh.now = self.now;
         *self = fresh;
@@ -229,6 +267,11 @@ impl MrJeC {
     /// The IP rules in effect (latched at power-on).
     pub fn address_rules(&self) -> AddressRules {
         self.rules
+    }
+
+    /// The Modbus/TCP alive check in effect ([Pr. PN23], latched at power-on).
+    pub fn keep_alive(&self) -> KeepAlive {
+        self.keep_alive
     }
 
     /// Its parameters.

@@ -1,9 +1,10 @@
 //! The simulated MR-JE-C on real sockets (MR-JE-C manual §2.2.1, §2.2.2, §3.2): Modbus/TCP (at
-//! most 3 connections), SLMP over UDP (any number of peers) and over TCP (1 connection), and
-//! the CC-Link IE Field Basic cyclic link on UDP (answered to the sender's address). A connection
-//! beyond the limit is closed at once. One request is processed at a time across all of them
-//! (the drive is behind one lock). The virtual clock is the time since the server started; a
-//! ticker advances it every 10 ms so that the time-outs expire while nobody talks.
+//! most 3 connections, each with the [Pr. PN23] alive check), SLMP over UDP (any number of
+//! peers) and over TCP (1 connection), and the CC-Link IE Field Basic cyclic link on UDP
+//! (answered to the sender's address). A connection beyond the limit is closed at once. One
+//! request is processed at a time across all of them (the drive is behind one lock). The
+//! virtual clock is the time since the server started; a ticker advances it every 10 ms so
+//! that the time-outs expire while nobody talks.
 
 use std::io::{self, Read, Write};
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, TcpListener, TcpStream, UdpSocket};
@@ -12,7 +13,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use super::{modbus, slmp, MrJeC};
+use super::{modbus, slmp, KeepAlive, MrJeC};
 use crate::modbus::tcp;
 
 /// How often idle threads look at the stop flag and the ticker runs.
@@ -305,6 +306,7 @@ fn fill(stream: &mut TcpStream, s: &Shared, inbox: &mut Vec<u8>) -> io::Result<b
 /// discarded without an answer.
 fn serve_modbus(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
     let operate = s.may_operate(stream.peer_addr()?.ip());
+    set_keep_alive(stream, s.drive().keep_alive())?;
     let mut inbox = Vec::new();
     loop {
         let cut = tcp::split(&inbox).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
@@ -325,6 +327,15 @@ fn serve_modbus(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
             stream.write_all(&r)?;
         }
     }
+}
+
+/// Arms the kernel's TCP keep-alive as [Pr. PN23] asks (see [`KeepAlive`]).
+fn set_keep_alive(stream: &TcpStream, k: KeepAlive) -> io::Result<()> {
+    let probes = socket2::TcpKeepalive::new()
+        .with_time(k.interval)
+        .with_interval(k.interval)
+        .with_retries(super::KEEP_ALIVE_UNANSWERED);
+    socket2::SockRef::from(stream).set_tcp_keepalive(&probes)
 }
 
 /// One SLMP TCP connection: frames cut by their request data length.
@@ -352,10 +363,13 @@ fn serve_slmp_tcp(stream: &mut TcpStream, s: &Shared) -> io::Result<()> {
 }
 
 /// The answer to an SLMP frame; downloads from a peer the operation specification excludes
-/// are discarded without an answer (§5.2.3 PN31–PN36).
+/// are discarded without an answer (§5.2.3 PN31–PN36), and so is the answer to a request whose
+/// monitoring timer runs out while the drive processes it
+/// ([`MrJeCParams::slmp_processing_time`](super::MrJeCParams::slmp_processing_time)).
 fn answer_slmp(s: &Shared, frame: &[u8], operate: bool) -> Option<Vec<u8>> {
     use crate::slmp::Command;
-    let write = crate::slmp::decode_request(frame).is_ok_and(|r| {
+    let request = crate::slmp::decode_request(frame).ok();
+    let write = request.as_ref().is_some_and(|r| {
         matches!(
             r.command,
             Command::Download { .. } | Command::BlockDownload { .. }
@@ -363,6 +377,14 @@ fn answer_slmp(s: &Shared, frame: &[u8], operate: bool) -> Option<Vec<u8>> {
     });
     if write && !operate {
         return None;
+    }
+    let processing = s.drive().params().slmp_processing_time;
+    if !processing.is_zero() {
+        std::thread::sleep(processing);
+        let timer = request.map_or(0, |r| r.monitoring_timer);
+        if crate::slmp::monitoring_timer_expires(timer, processing) {
+            return None;
+        }
     }
     slmp::answer_frame(&mut s.drive(), frame, s.now())
 }
@@ -453,5 +475,31 @@ fn serve_cclink(socket: &UdpSocket, reply_from: &UdpSocket, own: u32, s: &Shared
                 let _ = reply_from.send_to(&out[..k], peer);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The kernel holds the alive check [Pr. PN23] asks for on a served connection.
+    #[test]
+    fn a_modbus_connection_carries_the_pn23_alive_check() {
+        let listener = TcpListener::bind((Ipv4Addr::LOCALHOST, 0)).unwrap();
+        let _client = TcpStream::connect(listener.local_addr().unwrap()).unwrap();
+        let (served, _) = listener.accept().unwrap();
+        let k = KeepAlive {
+            interval: Duration::from_secs(45),
+        };
+        set_keep_alive(&served, k).unwrap();
+        let sock = socket2::SockRef::from(&served);
+        assert!(sock.keepalive().unwrap());
+        assert_eq!(sock.tcp_keepalive_time().unwrap(), Duration::from_secs(45));
+        assert_eq!(
+            sock.tcp_keepalive_interval().unwrap(),
+            Duration::from_secs(45)
+        );
+        assert_eq!(sock.tcp_keepalive_retries().unwrap(), 7);
+        assert_eq!(k.close_after(), Duration::from_secs(360));
     }
 }

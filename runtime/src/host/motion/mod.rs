@@ -223,10 +223,13 @@ impl MotionEngine {
         self.online.feed_override()
     }
 
-    /// Sets the feed override (0..=1); a motion in flight follows it smoothly.
-    pub fn set_override(&mut self, value: f64) -> Result<(), MotionError> {
+    /// Sets the feed override (0..=1): a streamed motion in flight follows it smoothly, and the
+    /// RT thread scales the profile axes' drive-side velocities (through `link`).
+    pub fn set_override(&mut self, value: f64, link: &mut dyn CellLink) -> Result<(), MotionError> {
         self.online
             .set_override(value)
+            .map_err(|e| MotionError::Refused(e.to_string()))?;
+        link.feed_override(value)
             .map_err(|e| MotionError::Refused(e.to_string()))?;
         if let Some(Active {
             kind: Kind::Line(line, _),

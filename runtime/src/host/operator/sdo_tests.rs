@@ -168,6 +168,15 @@ impl CellLink for FakeLink {
         Ok(())
     }
     fn event(&mut self, _: crate::handoff::EventKind, _: i64) {}
+    fn profile(
+        &mut self,
+        _: crate::handoff::ProfileCommand,
+    ) -> Result<(), crate::host::link::LinkError> {
+        Err(crate::host::link::LinkError::InProcessOnly("profile"))
+    }
+    fn feed_override(&mut self, _: f64) -> Result<(), crate::host::link::LinkError> {
+        Ok(())
+    }
     fn sdo(&mut self, request: UserSdo) -> Result<(), crate::host::link::LinkError> {
         self.sent.push(request);
         Ok(())

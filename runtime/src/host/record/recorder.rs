@@ -460,6 +460,10 @@ impl Drain<'_> {
             status_do_2: u32::from(a.status_do[1]),
             status_do_3: u32::from(a.status_do[2]),
             controlword2: u32::from(a.controlword2),
+            profile_velocity: a.profile[0],
+            profile_acceleration: a.profile[1],
+            profile_deceleration: a.profile[2],
+            torque_slope: a.profile[3],
         };
         if let Some(c) = self.capture.as_mut() {
             c.on_axis(a.axis as usize, a.cycle, |q| match q {

@@ -147,6 +147,8 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     user_sdo: Option<crate::handoff::UserSdo>,
     /// Per axis: a profile axis' drive-side motion waiting for its start cycle.
     profile_pending: Vec<Option<crate::handoff::ProfileCommand>>,
+    /// The feed override the profile axes run at, ‰ (the hand-off's, taken each cycle).
+    feed_permille: u32,
     hook: Option<PhaseHook>,
 }
 
@@ -211,6 +213,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             awaiting_method: None,
             user_sdo: None,
             profile_pending: vec![None; n],
+            feed_permille: 1000,
             hook,
         }
     }
@@ -505,6 +508,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     controlword2: rx.controlword2,
                     counter_received: ch.feedback.counter,
                     status_do: ch.feedback.status_do.0,
+                    profile: ch.profile.as_ref().map_or([0; 4], |p| p.held()),
                 };
                 let pushed = self.handoff.push_axis(rec);
                 self.record_pushed(pushed);

@@ -18,9 +18,7 @@
 use cellrt_axes::cia402::controlword::Controlword;
 use cellrt_axes::cia402::statusword::Statusword;
 use cellrt_axes::drive_scaling::DriveScaling;
-use cellrt_axes::pdo::objects::{
-    PROFILE_ACCELERATION, PROFILE_DECELERATION, PROFILE_VELOCITY, TORQUE_SLOPE,
-};
+use cellrt_axes::pdo::objects::PROFILE_OBJECTS;
 use cellrt_axes::pdo::RxPdo;
 use cellrt_axes::sim::profile_position::{
     CHANGE_SET_IMMEDIATELY, NEW_SET_POINT, SET_POINT_ACKNOWLEDGE, TARGET_REACHED,
@@ -54,14 +52,6 @@ struct Objects {
     /// 6081h, 6083h, 6084h, 6087h as `[velocity, acceleration, deceleration, slope]`.
     profile: [u32; 4],
 }
-
-/// The indexes of `Objects::profile`.
-const PROFILE_INDEXES: [u16; 4] = [
-    PROFILE_VELOCITY,
-    PROFILE_ACCELERATION,
-    PROFILE_DECELERATION,
-    TORQUE_SLOPE,
-];
 
 /// Where the axis' motion is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -97,6 +87,9 @@ pub struct ProfileChannel {
     next: Objects,
     /// The profile objects' values the drive holds from an SDO write.
     written: [Option<u32>; 4],
+    /// The value of each profile object's latest SDO write, from the cycle it was posted (what
+    /// the recording shows and `cellrt replay` writes again).
+    posted: [u32; 4],
     phase: Phase,
     /// Cycles left before the statusword answers the current command.
     settle: u32,
@@ -113,6 +106,13 @@ pub struct ProfileChannel {
     /// pp: a set-point replaced one not yet acknowledged; bit 4 goes low for a cycle first,
     /// so the drive sees a new rising edge.
     rearm: bool,
+    /// The feed override on the drive's velocity (MC_SetOverride), 0..=1.
+    feed: f64,
+    /// The velocity the move (6081h) or jog (60FFh) was commanded with, in the drive's unit,
+    /// before the override; `None` without one.
+    commanded_velocity: Option<i64>,
+    /// 0 % override: the move or jog waits (pp: under HALT) without ending.
+    feed_hold: bool,
 }
 
 impl ProfileChannel {
@@ -127,6 +127,7 @@ impl ProfileChannel {
             },
             next: Objects::default(),
             written: [None; 4],
+            posted: [0; 4],
             phase: Phase::Idle,
             settle: 0,
             fresh: false,
@@ -135,6 +136,9 @@ impl ProfileChannel {
             halt: false,
             dropped: false,
             rearm: false,
+            feed: 1.0,
+            commanded_velocity: None,
+            feed_hold: false,
         }
     }
 
@@ -187,7 +191,8 @@ impl ProfileChannel {
                 let v = units
                     .velocity_to_drive(velocity.abs())
                     .map_err(|_| ProfileRefusal::OutOfRange)?;
-                self.next.profile[0] = v.unsigned_abs();
+                self.commanded_velocity = Some(i64::from(v.unsigned_abs()));
+                self.next.profile[0] = self.scaled_profile_velocity();
                 self.next.profile[1] = self.time_constant(acceleration)?;
                 self.next.profile[2] = self.time_constant(deceleration)?;
                 self.next.target_position = target;
@@ -202,9 +207,11 @@ impl ProfileChannel {
                 },
                 ProfileMode::Velocity,
             ) => {
-                self.next.target_velocity = units
+                let v = units
                     .velocity_to_drive(velocity)
                     .map_err(|_| ProfileRefusal::OutOfRange)?;
+                self.commanded_velocity = Some(i64::from(v));
+                self.next.target_velocity = self.scaled_target_velocity();
                 self.next.profile[1] = self.time_constant(acceleration)?;
                 self.next.profile[2] = self.time_constant(deceleration)?;
             }
@@ -220,6 +227,7 @@ impl ProfileChannel {
                 let from = if self.halt { 0 } else { self.out.target_torque };
                 self.ramp_left = ramp_cycles(from, t, s, period_s);
                 self.next.target_torque = t;
+                self.commanded_velocity = None;
             }
             (ProfileMotion::Halt(on), _) => {
                 self.set_halt(on, position, period_s);
@@ -228,12 +236,78 @@ impl ProfileChannel {
             _ => return Err(ProfileRefusal::WrongMode),
         }
         self.dropped = false;
+        self.feed_hold = self.feed == 0.0 && self.commanded_velocity.is_some();
+        if self.feed_hold {
+            // Held at 0 % override: it starts when the override rises.
+            self.phase = Phase::Running;
+            return Ok(());
+        }
+        self.send_next();
+        Ok(())
+    }
+
+    /// Sends the staged objects: by SDO first where the RxPDO lacks them.
+    fn send_next(&mut self) {
         self.phase = if self.next_sdo_object().is_some() {
             Phase::WritingObjects
         } else {
             self.after_objects()
         };
-        Ok(())
+    }
+
+    /// 6081h for the commanded move at the current override (at least 1 above 0 %).
+    fn scaled_profile_velocity(&self) -> u32 {
+        let v = self.commanded_velocity.unwrap_or(0) as f64 * self.feed;
+        (v.round() as u32).max(u32::from(self.feed > 0.0))
+    }
+
+    /// 60FFh for the commanded jog at the current override.
+    fn scaled_target_velocity(&self) -> i32 {
+        (self.commanded_velocity.unwrap_or(0) as f64 * self.feed).round() as i32
+    }
+
+    /// Sets the feed override (0..=1): a move in progress gets 6081h scaled as a new set-point
+    /// to the same target at once (controlword bit 5); 0 % holds it under HALT without ending
+    /// it, and a rise resumes it. A jog's 60FFh is scaled (0 %: the drive ramps to 0 and waits).
+    /// tq has no velocity to scale.
+    pub fn set_feed(&mut self, feed: f64) {
+        if feed == self.feed {
+            return;
+        }
+        self.feed = feed;
+        if self.commanded_velocity.is_none() || self.dropped {
+            return;
+        }
+        match self.objects.mode {
+            ProfileMode::Position => {
+                if self.phase == Phase::Idle {
+                    return; // the move is over
+                }
+                if feed == 0.0 {
+                    self.halt = true;
+                    self.feed_hold = true;
+                    return;
+                }
+                self.next.profile[0] = self.scaled_profile_velocity();
+                if self.phase != Phase::WritingObjects {
+                    self.rearm = self.phase == Phase::SetPoint;
+                    self.immediate = true;
+                    self.feed_hold = false;
+                    self.send_next();
+                }
+            }
+            ProfileMode::Velocity => {
+                let v = self.scaled_target_velocity();
+                self.next.target_velocity = v;
+                if self.feed_hold {
+                    self.feed_hold = false;
+                    self.send_next();
+                } else if self.phase != Phase::WritingObjects {
+                    self.out.target_velocity = v;
+                }
+            }
+            ProfileMode::Torque => {}
+        }
     }
 
     /// HALT on or off (605Dh): pp/pv done at bit 10, tq after the torque ramp (to 0 or back).
@@ -278,6 +352,7 @@ impl ProfileChannel {
             return;
         }
         let position = self.out.target_position;
+        self.feed_hold = false;
         self.set_halt(true, position, period_s);
         self.dropped = true;
         match self.objects.mode {
@@ -298,6 +373,7 @@ impl ProfileChannel {
     /// at servo on), nothing is held.
     pub fn cancel(&mut self) {
         self.phase = Phase::Idle;
+        self.feed_hold = false;
         self.halt = false;
         self.immediate = false;
         self.dropped = false;
@@ -338,13 +414,32 @@ impl ProfileChannel {
     /// The next profile object to write by SDO while writing objects: (index, value).
     pub fn next_sdo_object(&self) -> Option<(u16, u32)> {
         let mode = self.objects.mode;
-        PROFILE_INDEXES
+        PROFILE_OBJECTS
             .iter()
             .enumerate()
             .filter(|(_, index)| mode.profile_objects().contains(index))
             .filter(|(_, index)| !self.objects.is_cyclic(**index))
             .find(|(k, _)| self.written[*k] != Some(self.next.profile[*k]))
             .map(|(k, index)| (*index, self.next.profile[k]))
+    }
+
+    /// The SDO write of `value` to `index` was posted.
+    pub fn posted(&mut self, index: u16, value: u32) {
+        if let Some(k) = PROFILE_OBJECTS.iter().position(|i| *i == index) {
+            self.posted[k] = value;
+        }
+    }
+
+    /// 6081h, 6083h, 6084h, 6087h as the drive has them: those in the RxPDO as sent this
+    /// cycle, the others as last posted by SDO (0: never written).
+    pub fn held(&self) -> [u32; 4] {
+        std::array::from_fn(|k| {
+            if self.objects.is_cyclic(PROFILE_OBJECTS[k]) {
+                self.out.profile[k]
+            } else {
+                self.posted[k]
+            }
+        })
     }
 
     /// Whether the channel waits for its profile objects to be written.
@@ -354,7 +449,7 @@ impl ProfileChannel {
 
     /// The SDO write of `index` ended (`taken`: downloaded). A refusal ends the motion.
     pub fn object_written(&mut self, index: u16, taken: bool) -> Option<ProfileEnd> {
-        let k = PROFILE_INDEXES.iter().position(|i| *i == index)?;
+        let k = PROFILE_OBJECTS.iter().position(|i| *i == index)?;
         if !taken {
             self.written[k] = None;
             self.phase = Phase::Idle;
@@ -405,6 +500,7 @@ impl ProfileChannel {
                 }
                 None
             }
+            Phase::Running if self.feed_hold => None,
             Phase::Running => {
                 if self.fresh {
                     self.fresh = false;
@@ -523,6 +619,99 @@ mod tests {
         let rx = cycle(&mut p, 0);
         assert_ne!(rx.controlword.0 & NEW_SET_POINT, 0);
         assert_eq!(rx.target_position, 5_000);
+    }
+
+    /// Writes every pending SDO object as taken.
+    fn write_objects(p: &mut ProfileChannel) -> Vec<(u16, u32)> {
+        let mut written = Vec::new();
+        while let Some((index, value)) = p.next_sdo_object() {
+            written.push((index, value));
+            p.object_written(index, true);
+        }
+        written
+    }
+
+    /// MC_SetOverride on a pp move in progress: 50 % rewrites 6081h (by SDO on the J5) and
+    /// sends a new set-point to the same target at once; 0 % holds it under HALT and it does
+    /// not end at standstill; the rise resumes it; it ends once, at its target.
+    #[test]
+    fn the_override_scales_a_pp_move_holds_it_at_zero_and_resumes_it() {
+        let (mut p, units) = j5(ProfileMode::Position);
+        let mv = ProfileMotion::Move {
+            target: 30_000,
+            velocity: 50_000.0,
+            acceleration: 1_000_000.0,
+            deceleration: 1_000_000.0,
+            immediate: true,
+        };
+        p.start(mv, &units, 0, 1e-3).unwrap();
+        assert_eq!(write_objects(&mut p)[0], (0x6081, 30_000));
+        cycle(&mut p, 0);
+        cycle(&mut p, SET_POINT_ACKNOWLEDGE);
+        cycle(&mut p, 0);
+        p.set_feed(0.5);
+        assert_eq!(write_objects(&mut p), [(0x6081, 15_000)]);
+        let rx = cycle(&mut p, 0);
+        assert_eq!(rx.target_position, 30_000);
+        assert_eq!(
+            rx.controlword.0 & (NEW_SET_POINT | CHANGE_SET_IMMEDIATELY),
+            NEW_SET_POINT | CHANGE_SET_IMMEDIATELY
+        );
+        cycle(&mut p, SET_POINT_ACKNOWLEDGE);
+        // 0 %: HALT, and standstill (bit 10) does not end the move.
+        p.set_feed(0.0);
+        let mut rx = RxPdo::default();
+        for _ in 0..5 {
+            assert_eq!(p.cycle(Statusword(TARGET_REACHED), &mut rx, 1), None);
+            assert_ne!(rx.controlword.0 & 0x100, 0, "HALT");
+        }
+        assert!(p.busy());
+        // Back to 100 %: 6081h as commanded, HALT released, a new set-point.
+        p.set_feed(1.0);
+        assert_eq!(write_objects(&mut p), [(0x6081, 30_000)]);
+        rx = cycle(&mut p, 0);
+        assert_eq!(rx.controlword.0 & 0x100, 0, "HALT released");
+        assert_ne!(rx.controlword.0 & NEW_SET_POINT, 0);
+        cycle(&mut p, SET_POINT_ACKNOWLEDGE);
+        let mut ends = 0;
+        for _ in 0..4 {
+            ends += usize::from(p.cycle(Statusword(TARGET_REACHED), &mut rx, 1).is_some());
+        }
+        assert_eq!(ends, 1);
+        // Over: a later override change leaves the axis alone.
+        p.set_feed(0.3);
+        assert!(!p.writing_objects() && !p.busy());
+    }
+
+    /// A pv jog follows the override in 60FFh; a jog started at 0 % waits until it rises.
+    #[test]
+    fn the_override_scales_a_pv_jog_and_a_jog_at_zero_waits() {
+        let (mut p, units) = j5(ProfileMode::Velocity);
+        let jog = ProfileMotion::Jog {
+            velocity: 50_000.0,
+            acceleration: 1_000_000.0,
+            deceleration: 1_000_000.0,
+        };
+        p.start(jog, &units, 0, 1e-3).unwrap();
+        write_objects(&mut p);
+        assert_eq!(cycle(&mut p, 0).target_velocity, 30_000);
+        p.set_feed(0.25);
+        assert_eq!(cycle(&mut p, 0).target_velocity, 7_500);
+        p.set_feed(0.0);
+        assert_eq!(cycle(&mut p, 0).target_velocity, 0);
+        p.set_feed(1.0);
+        assert_eq!(cycle(&mut p, 0).target_velocity, 30_000);
+
+        let (mut p, units) = j5(ProfileMode::Velocity);
+        p.set_feed(0.0);
+        p.start(jog, &units, 0, 1e-3).unwrap();
+        assert!(!p.writing_objects(), "nothing sent while held");
+        let mut rx = RxPdo::default();
+        assert_eq!(p.cycle(Statusword(TARGET_REACHED), &mut rx, 1), None);
+        assert_eq!(rx.target_velocity, 0);
+        p.set_feed(0.5);
+        write_objects(&mut p);
+        assert_eq!(cycle(&mut p, 0).target_velocity, 15_000);
     }
 
     #[test]

@@ -22,11 +22,20 @@ const FINISHED_CANCELLED: i64 = 2;
 const FINISHED_SUPERSEDED: i64 = 3;
 
 impl<B: CyclicBus + AcyclicBus> Executive<B> {
-    /// Takes the drive-side motions sent for profile axes: each waits for its start cycle (one
+    /// Applies a changed feed override to the profile axes (`ProfileChannel::set_feed`), then
+    /// takes the drive-side motions sent for profile axes: each waits for its start cycle (one
     /// per axis; a newer one supersedes it), then starts on an enabled profile axis while the
     /// cell is idle or moving, refused otherwise (`profile_finished`, value 1); then posts the
     /// next profile object a starting motion needs by SDO.
     pub(super) fn take_profile_commands(&mut self) {
+        let feed = self.handoff.feed_override_permille().min(1000);
+        if feed != self.feed_permille {
+            self.feed_permille = feed;
+            let f = f64::from(feed) / 1000.0;
+            for p in self.axes.iter_mut().filter_map(|ch| ch.profile.as_mut()) {
+                p.set_feed(f);
+            }
+        }
         for _ in 0..PROFILE_COMMANDS_PER_CYCLE {
             let Some(cmd) = self.handoff.next_profile_command() else {
                 break;
@@ -98,7 +107,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 sub: 0,
                 data,
             };
-            if !self.post_acyclic(i, Pending::ProfileObject(index), write) {
+            if self.post_acyclic(i, Pending::ProfileObject(index), write) {
+                if let Some(p) = self.axes[i].profile.as_mut() {
+                    p.posted(index, value);
+                }
+            } else {
                 // No acyclic channel: the motion cannot get its objects.
                 self.profile_object_written(i, index, false);
             }

@@ -300,7 +300,7 @@ impl OperatorServer {
         if !(percent.is_finite() && (0.0..=100.0).contains(&percent)) {
             return rejected(format!("override: {percent} % is outside 0–100 %"));
         }
-        match ctx.engine.set_override(percent / 100.0) {
+        match ctx.engine.set_override(percent / 100.0, ctx.link) {
             Ok(()) => (self.accept("override", false), Followup::None),
             Err(e) => rejected(format!("override: {e}")),
         }

@@ -14,6 +14,12 @@ use iceoryx2::service::port_factory::{event, publish_subscribe, request_response
 
 use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, MAX_AXES};
 
+mod profile_link;
+pub use profile_link::{
+    profile_command_publisher, profile_command_service_name, profile_command_subscriber,
+    ProfileLinkSample,
+};
+
 /// The setpoint service's publisher type.
 pub type SetpointPublisher = Publisher<ipc::Service, [AxisSetpoint], SetpointHeader>;
 /// The setpoint service's subscriber type (the RT thread's end, read by
@@ -216,6 +222,10 @@ pub fn sdo_outcome_subscriber(
 
 /// [`CommandSample::code`] of a homing request (not a `CellCommand`: it carries an axis).
 pub const HOME_COMMAND_CODE: u32 = 0x100;
+/// [`CommandSample::code`] of the feed override for the profile axes' drives (arg: ‰, 0–1000).
+pub const OVERRIDE_COMMAND_CODE: u32 = 0x102;
+/// The `command_refused` event value of a profile command sample that was refused.
+pub const PROFILE_COMMAND_CODE: u32 = 0x101;
 
 /// The status service name of `cell`.
 pub fn status_service_name(cell: &str) -> String {

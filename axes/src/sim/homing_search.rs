@@ -169,7 +169,9 @@ impl HomingSearch {
         let from = self.pos;
         self.pos += 0.5 * (v0 + self.vel) * dt;
         if let Phase::ToHome { target } = self.phase {
-            if (target - self.pos).abs() < 0.5 && self.vel.abs() <= step {
+            // On the home, or past it this cycle with a speed one cycle's ramp can take away.
+            let crossed = (target - self.pos) * (target - from) <= 0.0 && v0.abs() <= step;
+            if crossed || ((target - self.pos).abs() < 0.5 && self.vel.abs() <= step) {
                 self.pos = target;
                 self.vel = 0.0;
                 return (self.pos, 0.0, Some(SearchEnd::Home(target)));
@@ -322,6 +324,19 @@ mod tests {
             ..dog()
         };
         assert_eq!(run(-1, 0.0, &none, P).0, SearchEnd::Failed);
+    }
+
+    #[test]
+    fn a_ramp_steeper_than_one_cycle_still_lands_on_the_home() {
+        // 1e9 counts/s²: a cycle's ramp step (1e6 counts/s) dwarfs the creep speed, whose
+        // 5.0037 counts per cycle never fall within half a count of the home.
+        let steep = SearchProfile {
+            acceleration: 1.0e9,
+            creep: 5_003.7,
+            ..P
+        };
+        assert_eq!(run(-11, 0.0, &dog(), steep).0, SearchEnd::Home(2_500.0));
+        assert_eq!(run(-1, 0.0, &dog(), steep).0, SearchEnd::Home(52_500.0));
     }
 
     #[test]

@@ -200,11 +200,7 @@ impl Default for SimDriveParams {
             dc_missed_command: MissedCommand::Extrapolate,
             before_z_reaction: BeforeZReaction::Warning,
             z_phase_position: 0,
-            homing_switches: crate::sim::homing_switches::HomingSwitches {
-                home_dog: None,
-                positive_limit: None,
-                negative_limit: None,
-            },
+            homing_switches: crate::sim::homing_switches::HomingSwitches::default(),
             sync_mismatch_alarm: None,
             axis_switch: AxisSwitch::default(),
             fsoe: None,

@@ -1,11 +1,10 @@
 //! MR-J3-T04 manual test vectors against the simulated MR-J3-T04 (and the master where it
-//! applies). Vectors needing models this crate does not have yet (main circuit/EM1, homing,
-//! stroke ends) are listed in the closing note, not faked here.
+//! applies), including the dog-type homing on simulated switches (§8.11.4.1).
 
 mod common;
 
 use cellrt_axes::profiles::mr_j3_t04::{
-    AL_34, AL_35, AL_36, AL_37, AL_61, AL_99, AL_E6, AL_E9, MASTER_COUNTER_CHECK,
+    AL_34, AL_35, AL_36, AL_37, AL_61, AL_90, AL_99, AL_E6, AL_E9, MASTER_COUNTER_CHECK,
 };
 use cellrt_axes::sim::drive::InternalTorqueLimits;
 use cellrt_axes::{
@@ -648,7 +647,7 @@ fn tv_home_1_method_35_sets_the_home_offset_without_motion() {
 }
 
 #[test]
-fn tv_home_1_dog_methods_are_not_simulated_and_report_a_homing_error() {
+fn tv_home_1_a_dog_method_outside_operation_enabled_is_a_homing_error() {
     let mut d = j3(SimDriveParams::default());
     boot(&mut d);
     d.sdo_write_mode(6).unwrap(); // 6098h stays at its default −1 (dog type)
@@ -656,6 +655,102 @@ fn tv_home_1_dog_methods_are_not_simulated_and_report_a_homing_error() {
     let sw = send(&mut d, 0x0016);
     assert_eq!(sw.0 & 0x3400, 0x2400, "bit 13: homing error, velocity 0");
     assert_eq!(d.home_offset(), 0);
+}
+
+/// A J3 with the dog at [300 000, 500 000] counts, the limits at ±1 000 000, the Z phase every
+/// revolution (2^18) from 1000, switched into hm with `method`, 6099h:1 100 r/min, 6099h:2
+/// 10 r/min, 609Ah 1000 ms and the 2080h shift 5000 pulses (MR-J3-T04 manual §8.11.4.1).
+fn j3_homing(method: i8, start: i32, dog: Option<[f64; 2]>) -> SimDrive {
+    let mut d = j3(SimDriveParams {
+        initial_position: start,
+        z_phase_position: 1000,
+        homing_switches: cellrt_axes::sim::homing_switches::HomingSwitches {
+            home_dog: dog,
+            positive_limit: Some(1_000_000.0),
+            negative_limit: Some(-1_000_000.0),
+        },
+        ..SimDriveParams::default()
+    });
+    enabled(&mut d);
+    d.sdo_download(0x6098, 0, &[method as u8]).unwrap();
+    d.sdo_download(0x6099, 1, &100_000u32.to_le_bytes())
+        .unwrap();
+    d.sdo_download(0x6099, 2, &10_000u32.to_le_bytes()).unwrap();
+    d.sdo_download(0x609A, 0, &1000u32.to_le_bytes()).unwrap();
+    d.sdo_download(0x2080, 0, &5000u32.to_le_bytes()).unwrap();
+    d.sdo_write_mode(6).unwrap();
+    send(&mut d, 0x000F);
+    assert_eq!(d.mode_display(), cellrt_axes::ModeOfOperation::Homing);
+    d
+}
+
+/// Runs HOS until bits 12 or 13 show with bit 10 (at rest); returns that statusword and the
+/// peak |606Ch| in 0.001 r/min. A successful search shows 0/0/0 until then.
+fn run_hos(d: &mut SimDrive) -> (u16, i32) {
+    let mut peak = 0;
+    for _ in 0..30_000 {
+        let sw = send(d, 0x001F).0;
+        peak = peak.max(d.tx_pdo().velocity_actual.abs());
+        if sw & 0x0400 != 0 && sw & 0x3000 != 0 {
+            return (sw, peak);
+        }
+        // In progress 0/0/0, or an error while the motor still moves 1/0/0.
+        assert_eq!(sw & 0x1400, 0, "moving: bits 12/10 = 0/0 ({sw:04x})");
+    }
+    panic!("the homing never ended");
+}
+
+#[test]
+fn tv_home_1_dog_type_homes_on_the_z_phase_after_the_dog_plus_the_2080h_shift() {
+    const Z: i32 = 1000;
+    const REV: i32 = 262_144;
+    // −1 forward: rear end at 500 000, the next Z 1000 + 2·2^18 = 525 288, + 5000.
+    // −17 reverse from above: rear end at 300 000, the Z below 263 144, − 5000.
+    // −1 started on the dog: out backwards first, then the same home.
+    for (method, start, home) in [
+        (-1, 0, Z + 2 * REV + 5000),
+        (-17, 800_000, Z + REV - 5000),
+        (-1, 400_000, Z + 2 * REV + 5000),
+        // Beyond the dog forward: LSP reverses back over the dog, then forward again.
+        (-1, 700_000, Z + 2 * REV + 5000),
+    ] {
+        let mut d = j3_homing(method, start, Some([300_000.0, 500_000.0]));
+        let (sw, peak) = run_hos(&mut d);
+        assert_eq!(sw & 0x3400, 0x1400, "{method}: bits 13/12/10 = 0/1/1");
+        let at = d.tx_pdo().position_actual;
+        assert!(
+            (at - home).abs() <= 100,
+            "{method} from {start}: {at} vs {home}"
+        );
+        assert_eq!(d.home_offset(), -home, "{method}: 607Ch = −(home)");
+        assert!(
+            peak <= 100_000 * 103 / 100,
+            "{method}: 606Ch {peak} within 6099h:1"
+        );
+        assert_eq!(d.warning(), None);
+    }
+}
+
+#[test]
+fn tv_home_1_lsn_reached_or_a_dog_too_short_for_the_creep_speed_is_al_90() {
+    // No dog: LSP reverses the search, LSN ends it (§8.11.4.1 "LSN reached → homing error").
+    let mut d = j3_homing(-1, 0, None);
+    let (sw, _) = run_hos(&mut d);
+    assert_eq!(sw & 0x3400, 0x2400, "bits 13/12/10 = 1/0/1");
+    assert!(d.tx_pdo().position_actual <= -1_000_000 + 100);
+    assert_eq!(d.warning(), Some(AL_90));
+    assert_eq!(sw & 0x0080, 0x0080, "statusword bit 7");
+    assert_eq!(d.home_offset(), 0);
+    // A 1000-count dog: 6099h:1 cannot slow to 6099h:2 before its end (§7.2 AL.90).
+    let mut d = j3_homing(-1, 0, Some([300_000.0, 301_000.0]));
+    let (sw, _) = run_hos(&mut d);
+    assert_eq!(sw & 0x3400, 0x2400);
+    assert_eq!(d.warning(), Some(AL_90));
+    // The next start clears it.
+    d.sdo_download(0x6098, 0, &[35]).unwrap();
+    send(&mut d, 0x000F);
+    assert_eq!(send(&mut d, 0x001F).0 & 0x3400, 0x1400);
+    assert_eq!(d.warning(), None);
 }
 
 /// One csp cycle holding at `target` with Controlword2 = `cw2` (Enable operation).

@@ -5,6 +5,10 @@
 //! a loop that waited for the answer would never get it) and the homing starts once the drive
 //! has answered, 50 cycles or more later.
 
+#[path = "support/event_log.rs"]
+mod event_log;
+use event_log::cycle_of;
+
 use std::path::Path;
 
 use cellrt_runtime::config::CellConfig;
@@ -49,16 +53,6 @@ sim = {{ initial_position = 50.0, sdo_response_ms = {sdo_response_ms} }}
         pid = std::process::id()
     );
     CellConfig::parse(Path::new("mailbox-worker.toml"), &text).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The cycle of the first event line containing `what` (`cycle N ...`).
-fn cycle_of(log: &[String], what: &str) -> Option<u64> {
-    log.iter().find(|l| l.contains(what)).and_then(|l| {
-        l.split_whitespace()
-            .skip_while(|w| *w != "cycle")
-            .nth(1)
-            .and_then(|n| n.trim_end_matches(':').parse().ok())
-    })
 }
 
 #[test]

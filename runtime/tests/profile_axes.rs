@@ -6,25 +6,16 @@
 //! speeds and accelerations within the commanded profile, the final position within the
 //! in-position range (100 pulses, [Pr. PA10]'s default), the handshake bits in their cycles.
 
-#[path = "support/rt_thread.rs"]
-mod rt_thread;
+#[path = "support/cell_rig.rs"]
+mod cell_rig;
+use cell_rig::Rig;
 
 use std::path::Path;
-use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
 
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::handoff::{
-    self, AxisRecord, CellCommand, CellState, EventKind, EventRecord, HostEnd, ProfileCommand,
-    ProfileMotion,
+    AxisRecord, CellCommand, CellState, EventKind, EventRecord, ProfileCommand, ProfileMotion,
 };
-use cellrt_runtime::rt::executive::RtStats;
-use cellrt_runtime::services;
-
-/// Cycles over which an acceleration is measured.
-const ACCEL_WINDOW: u64 = 5;
-/// Consecutive cycles before an acceleration window (the servo loop settled after a gap).
-const SETTLED: u64 = 20;
 
 /// The in-position range of the emulated drives, counts ([Pr. PA10] default 100 pulses).
 const IN_POSITION: i32 = 100;
@@ -89,56 +80,7 @@ sim = {{ initial_position = 100.0 }}
     CellConfig::parse(Path::new("profile.toml"), &text).unwrap()
 }
 
-struct Rig {
-    handoff: HostEnd,
-    rt: Option<JoinHandle<RtStats>>,
-    _node: iceoryx2::node::Node<iceoryx2::prelude::ipc::Service>,
-    events: Vec<EventRecord>,
-    records: Vec<AxisRecord>,
-    cell: CellConfig,
-}
-
 impl Rig {
-    fn start(cell: CellConfig) -> Rig {
-        let (h, handoff) = handoff::new(1, 20_000, true);
-        let node = services::node(&cell.name, "test").unwrap();
-        let _publisher = services::setpoint_publisher(&node, &cell.name, 1).unwrap();
-        let rt = rt_thread::spawn_rt(&cell, h, None);
-        let mut rig = Rig {
-            handoff,
-            rt: Some(rt),
-            _node: node,
-            events: Vec::new(),
-            records: Vec::new(),
-            cell,
-        };
-        rig.handoff.send_command(CellCommand::PowerOn).unwrap();
-        rig.wait(|r| r.handoff.status().state() == CellState::Idle, "idle");
-        rig
-    }
-
-    fn drain(&mut self) {
-        while let Some(e) = self.handoff.pop_event() {
-            self.events.push(e);
-        }
-        while let Some(r) = self.handoff.pop_axis() {
-            self.records.push(r);
-        }
-        while self.handoff.pop_cycle().is_some() {}
-    }
-
-    fn wait(&mut self, done: impl Fn(&Rig) -> bool, what: &str) {
-        let end = Instant::now() + Duration::from_secs(20);
-        loop {
-            self.drain();
-            if done(self) {
-                return;
-            }
-            assert!(Instant::now() < end, "never {what}: {:?}", self.events);
-            std::thread::sleep(Duration::from_millis(1));
-        }
-    }
-
     /// Sends `motion` and waits for its `profile_finished` event; returns (the cycle of the
     /// `profile_started` event, the finished event).
     fn run(&mut self, motion: ProfileMotion) -> (u64, EventRecord) {
@@ -182,39 +124,6 @@ impl Rig {
             .filter(|r| r.cycle >= from && r.cycle <= to)
             .copied()
             .collect()
-    }
-
-    /// 606Ch of `r` in mm/s.
-    fn speed(&self, r: &AxisRecord) -> f64 {
-        let a = &self.cell.axes[0];
-        a.drive_units.velocity_from_drive(r.velocity_actual) / a.scaling.counts_per_unit()
-    }
-
-    /// Peak |speed| (mm/s) and peak |acceleration| (mm/s², the change of 606Ch over
-    /// [`ACCEL_WINDOW`] cycles). Only runs of consecutive cycles are judged, [`SETTLED`] cycles
-    /// after a gap: a loaded machine's overrun skips cycles and the emulated drive integrates
-    /// them in one exchange (its servo loop then catches up), which a real drive never does.
-    fn peaks(&self, span: &[AxisRecord]) -> (f64, f64) {
-        let peak_v = span.iter().fold(0.0f64, |m, r| m.max(self.speed(r).abs()));
-        let n = ACCEL_WINDOW as usize;
-        let k = SETTLED as usize;
-        let peak_a = span
-            .windows(k + n + 1)
-            .filter(|w| w.windows(2).all(|p| p[1].cycle == p[0].cycle + 1))
-            .fold(0.0f64, |m, w| {
-                m.max((self.speed(&w[k + n]) - self.speed(&w[k])).abs() / (n as f64 * 1e-3))
-            });
-        (peak_v, peak_a)
-    }
-
-    fn stop(mut self) {
-        self.handoff.send_command(CellCommand::PowerOff).unwrap();
-        self.wait(
-            |r| r.handoff.status().state() == CellState::Disabled,
-            "disabled",
-        );
-        self.handoff.send_command(CellCommand::Quit).unwrap();
-        self.rt.take().unwrap().join().unwrap();
     }
 }
 

@@ -3,21 +3,17 @@
 //! (objects in its 1601h RxPDO) run drive-side motions, halts and a cell stop, and the RT loop
 //! allocates nothing in steady state.
 
+#[path = "support/alloc_rig.rs"]
+mod alloc_rig;
 mod common;
 #[path = "support/rt_thread.rs"]
 mod rt_thread;
 
 use std::path::Path;
-use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::handoff::{
-    self, CellCommand, CellState, EventKind, HostEnd, ProfileCommand, ProfileMotion,
-};
-use cellrt_runtime::rt::executive::WARMUP_CYCLES;
-use cellrt_runtime::services;
-use common::{hook, marked_heap_calls, LOOPS_EXITED};
+use cellrt_runtime::handoff::{CellCommand, EventKind, HostEnd, ProfileCommand, ProfileMotion};
 
 fn axis(name: &str, drive: &str, mode: &str, extra: &str) -> String {
     format!(
@@ -35,14 +31,6 @@ sim = {{ initial_position = 100.0 }}
     )
 }
 
-fn wait(h: &HostEnd, done: impl Fn(&HostEnd) -> bool, what: &str) {
-    let end = Instant::now() + Duration::from_secs(20);
-    while !done(h) {
-        assert!(Instant::now() < end, "never {what}");
-        std::thread::sleep(Duration::from_millis(1));
-    }
-}
-
 #[test]
 fn profile_axes_run_without_allocating_on_the_rt_thread() {
     let j5 = "motor = { counts_per_rev = 10000, rated_speed = 3000 }";
@@ -56,18 +44,8 @@ fn profile_axes_run_without_allocating_on_the_rt_thread() {
         axis("q", "mr-j4-tm", "pp", j4),
     );
     let cell = CellConfig::parse(Path::new("na-profile.toml"), &text).unwrap();
-    let (rt_end, h) = handoff::new(cell.axes.len(), 1000, false);
-    let node = services::node(&cell.name, "test").unwrap();
-    let _publisher = services::setpoint_publisher(&node, &cell.name, cell.axes.len()).unwrap();
-    let rt = rt_thread::spawn_rt(&cell, rt_end, Some(hook));
-    h.send_command(CellCommand::PowerOn).unwrap();
-    wait(&h, |h| h.status().state() == CellState::Idle, "idle");
-    wait(
-        &h,
-        |h| h.status().cycle() > WARMUP_CYCLES + 50,
-        "steady state",
-    );
-    let before = marked_heap_calls();
+    let steady = alloc_rig::start_steady(&cell);
+    let h = &steady.h;
     let mut finished = 0;
     let mut count_finished = |h: &HostEnd| {
         while let Some(e) = h.pop_event() {
@@ -111,12 +89,12 @@ fn profile_axes_run_without_allocating_on_the_rt_thread() {
     );
     send(3, profile(80_000));
     let end = Instant::now() + Duration::from_secs(20);
-    while count_finished(&h) < 4 {
+    while count_finished(h) < 4 {
         assert!(Instant::now() < end, "motions never finished");
         std::thread::sleep(Duration::from_millis(1));
     }
     send(2, ProfileMotion::Halt(true));
-    while count_finished(&h) < 5 {
+    while count_finished(h) < 5 {
         assert!(Instant::now() < end, "halt never finished");
         std::thread::sleep(Duration::from_millis(1));
     }
@@ -130,19 +108,5 @@ fn profile_axes_run_without_allocating_on_the_rt_thread() {
         }
         std::thread::sleep(Duration::from_millis(1));
     }
-    wait(&h, |h| h.status().state() == CellState::Idle, "idle again");
-    h.send_command(CellCommand::PowerOff).unwrap();
-    wait(
-        &h,
-        |h| h.status().state() == CellState::Disabled,
-        "disabled",
-    );
-    h.send_command(CellCommand::Quit).unwrap();
-    rt.join().unwrap();
-    assert_eq!(
-        marked_heap_calls() - before,
-        0,
-        "the RT loop allocated in steady state"
-    );
-    assert_eq!(LOOPS_EXITED.load(Ordering::Relaxed), 1);
+    alloc_rig::power_off_and_check(steady);
 }

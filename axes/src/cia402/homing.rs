@@ -66,6 +66,8 @@ pub struct HomingFacts {
     /// True if the default PDOs carry Controlword2 (2001h, RxPDO) and Statusword2 (2011h,
     /// TxPDO).
     pub carries_controlword2: bool,
+    /// What the manual says instead where it lists no methods, for the refusal.
+    pub no_methods_statement: &'static str,
 }
 
 /// Which Controlword2 edge sets home (MR-J3-T04 §8.3).
@@ -150,6 +152,12 @@ pub fn choose_method(drive: impl Into<HomingFacts>, requested: Option<i8>) -> Re
 }
 
 fn method_of(drive: &HomingFacts, requested: Option<i8>) -> Result<i8, String> {
+    if drive.methods.is_empty() {
+        return Err(format!(
+            "the {} manual lists no homing methods (6098h): {}; hm cannot be used on it",
+            drive.name, drive.no_methods_statement
+        ));
+    }
     if !drive.shows_mode {
         return Err(format!(
             "the {} default TxPDO does not carry 6061h, so the end of a homing in hm cannot be told from csp's statusword bit 12",

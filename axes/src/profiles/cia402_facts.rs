@@ -20,6 +20,7 @@ impl DriveProfile {
             home_setting: self.home_setting,
             shows_mode: self.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY),
             carries_controlword2: self.rx_pdo.maps(CONTROLWORD2) && self.tx_pdo.maps(STATUSWORD2),
+            no_methods_statement: super::homing_methods::no_methods_statement(self.model),
         }
     }
 }

@@ -83,7 +83,8 @@ fn torque_limit_text(p: &DriveProfile) -> String {
     }
 }
 
-/// Homing methods (6098h), the simulated data-set ones in bold.
+/// Homing methods (6098h), the simulated ones (data set, and the searches of
+/// `profiles::homing_methods`) in bold.
 fn homing_text(p: &DriveProfile) -> String {
     if p.homing_methods.is_empty() {
         return "none listed".to_owned();
@@ -92,7 +93,7 @@ fn homing_text(p: &DriveProfile) -> String {
         .homing_methods
         .iter()
         .map(|m| {
-            if p.data_set_homing_methods.contains(m) {
+            if super::homing_methods::check_emulated(p, *m).is_ok() {
                 format!("**{m}**")
             } else {
                 m.to_string()

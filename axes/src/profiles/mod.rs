@@ -19,6 +19,7 @@ pub use bring_up_causes::{bring_up_causes, BringUpCause};
 mod cia402_facts;
 pub mod facts;
 pub mod generic_cia402;
+pub mod homing_methods;
 pub mod mapping;
 pub mod matrix;
 pub mod mr_j3_t04;

@@ -77,6 +77,8 @@ pub const AL_E6: u16 = 0x00E6;
 pub const AL_E9: u16 = 0x00E9;
 /// AL.99 Stroke limit warning: LSP or LSN in the commanded direction is OFF (§7.2, §9.1).
 pub const AL_99: u16 = 0x0099;
+/// AL.90 Home position not completed (warning, §7.2: homing aborted).
+pub const AL_90: u16 = 0x0090;
 /// AL.37 Parameter error (§7.2).
 pub const AL_37: u16 = 0x0037;
 /// AL.52 Error excessive: standard MR-J3-A alarm, **not in this manual** (§7.1).
@@ -97,7 +99,7 @@ pub const ALARMS: &[AlarmInfo] = &[
     alarm(AL_61, "AL.61", "Operation error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§2.5, §7.2"),
     alarm(0x0074, "AL.74", "Option card error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2"),
     alarm(0x0076, "AL.76", "Synchronization error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2"),
-    alarm(0x0090, "AL.90", "Home position not completed", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§7.2: homing aborted"),
+    alarm(AL_90, "AL.90", "Home position not completed", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§7.2: homing aborted"),
     alarm(0x0092, "AL.92", "Battery cable disconnection", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§7.2 (standard J3A)"),
     alarm(0x0096, "AL.96", "Home position setting warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§7.2"),
     alarm(AL_99, "AL.99", "Stroke limit warning", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§7.2, §9.1"),
@@ -113,6 +115,10 @@ pub const ALARMS: &[AlarmInfo] = &[
 pub const OBJECTS: &[OdEntry] = &[
     od(0x6098, 0, "Homing method", I8, Rw, No).default(-1).range(-17, 35).cite("§8.1: −1 (default), −17, 35"),
     od(0x607C, 0, "Home offset", I32, Ro, No).default(0).units("pulse").cite("§8.2: −(raw position of the home)"),
+    od(0x6099, 1, "Speed during search for switch", U32, Rw, No).default(500_000).units("0.001 r/min").cite("§8.11.4.1: 500000 = 500 r/min"),
+    od(0x6099, 2, "Speed during search for zero", U32, Rw, No).default(10_000).units("0.001 r/min").cite("§8.11.4.1: 10000 = 10 r/min (creep)"),
+    od(0x609A, 0, "Homing acceleration", U32, Rw, No).default(100).units("ms").cite("§8.11.4.1: acceleration time constant"),
+    od(0x2080, 0, "Home position shift distance", U32, Rw, No).default(0).units("pulse").cite("§8.11.4.1: shift from the Z phase"),
     od(0x1C32, 2, "Cycle time", U32, Rw, No).default(500_000).range(500_000, 2_000_000).units("ns").cite("§5.2: only 500000/1000000/2000000"),
     od(0x2001, 0, "Controlword2", U16, Rw, PdoRx).default(0).cite("§3.6"),
     od(0x2011, 0, "Statusword2", U16, Ro, PdoTx).cite("§3.6"),

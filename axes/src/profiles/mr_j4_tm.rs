@@ -92,6 +92,8 @@ pub const MASTER_COUNTER_CHECK: CounterParams = super::mr_j3_t04::MASTER_COUNTER
 
 /// AL. F4.8: a relative pp set-point with the degree position unit (MR-J4-TM manual §5.4.6 bit 6, §9).
 pub const AL_F4_8: u16 = 0x0F48;
+/// AL. 90 Home position return incomplete warning (§9; stroke end in methods 3–6, §5.4.9).
+pub const AL_90: u16 = 0x0900;
 // Following-error and overspeed alarms: no alarm chapter in this manual (MR-J4-TM manual);
 // CiA 402 8611h (configurable) and 8400h [background].
 pub use crate::cia402::error_code::{FOLLOWING_ERROR, OVERSPEED};
@@ -104,7 +106,7 @@ pub const ALARMS: &[AlarmInfo] = &[
     alarm(0x0370, "AL. 37", "Parameter error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§9 [EXT]: not cleared by fault reset"),
     alarm(0x0690, "AL. 69", "Command error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
     alarm(AL_86_1, "AL. 86.1", "Network communication error 1", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::FaultReset, "§2.4, §8.3; [EXT] clears with fault reset"),
-    alarm(0x0900, "AL. 90", "Home position return incomplete warning", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§9: the motor stops"),
+    alarm(AL_90, "AL. 90", "Home position return incomplete warning", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§9: the motor stops"),
     alarm(0x0905, "AL. 90.5", "Z-phase unpassed", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§9"),
     alarm(0x0920, "AL. 92", "Battery cable disconnection warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§9"),
     alarm(0x09F0, "AL. 9F", "Battery warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§9"),
@@ -120,6 +122,10 @@ pub const ALARMS: &[AlarmInfo] = &[
 pub const OBJECTS: &[OdEntry] = &[
     od(0x6098, 0, "Homing method", I8, Rw, No).default(-1).range(-43, 37).cite("§4.10: default −1 (seed; the general manual gives 37)"),
     od(0x607C, 0, "Home offset", I32, Ro, No).default(0).units("pulse").cite("§4.10: always 0 without absolute position detection"),
+    od(0x6099, 1, "Speed during search for switch", U32, Rw, No).default(10_000).units("0.01 r/min").cite("§5.4.9: 10000; speed until the dog"),
+    od(0x6099, 2, "Speed during search for zero", U32, Rw, No).default(1_000).units("0.01 r/min").cite("§5.4.9: 1000; creep speed"),
+    od(0x609A, 0, "Homing acceleration", U32, Rw, No).default(0).units("ms").cite("§5.4.9: acceleration/deceleration time constant"),
+    od(0x60FD, 0, "Digital inputs", U32, Ro, No).cite("§5.4.9: stroke-end state; bits as CiA 402 [background]"),
     od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).range(250_000, 2_000_000).units("ns").cite("§1.6: 250000/500000/1000000/2000000"),
     od(0x2D20, 0, "Velocity limit value", I32, Rw, PdoRx).default(50_000).units("0.01 r/min").cite("§5.2; default 50000 vs 5000 unresolved (§13 q7)"),
     od(0x2D23, 0, "Watch dog counter DL", DataType::Unstated, Access::Unstated, PdoRx).cite("§8.3: §6.2 MISSING (width, rule, alarm unknown)"),

@@ -339,12 +339,7 @@ impl SimDrive {
             sw.0 |= self.pv.status_bits();
         }
         if self.mode_display == ModeOfOperation::Homing {
-            // hm bits 13 / 12 / 10 (MR-J4-TM manual §5.4.9): no simulated method moves, so target
-            // reached (bit 10) is always 1: "not started", "completed" or "error, v = 0".
-            sw.0 = (sw.0 & !((1 << 13) | (1 << 12) | (1 << 10)))
-                | (u16::from(self.homing.error) << 13)
-                | (u16::from(self.homing.attained) << 12)
-                | (1 << 10);
+            sw.0 = (sw.0 & !((1 << 13) | (1 << 12) | (1 << 10))) | self.homing_status_bits();
         }
         let amax = self.params.plant.max_acceleration.abs();
         // Torque proxy in 0.1 % of rated torque, with max_acceleration = 300 % rated.

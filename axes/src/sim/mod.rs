@@ -5,6 +5,8 @@ pub mod comm;
 pub mod drive;
 pub mod fsoe;
 pub mod home_setting;
+pub mod homing_search;
+pub mod homing_switches;
 pub mod plant;
 pub mod profile_position;
 pub mod profile_torque;

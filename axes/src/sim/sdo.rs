@@ -12,6 +12,8 @@ pub use super::sdo_abort::SdoAbort;
 pub use crate::profiles::params::SAVE_SIGNATURE;
 /// 1011h:01 Restore all default parameters.
 const RESTORE_DEFAULTS: (u16, u8) = (0x1011, 1);
+/// 60FDh Digital inputs: a live value (`sim::homing_switches`).
+const DIGITAL_INPUTS: u16 = 0x60FD;
 /// The value that restores the defaults ("load").
 pub const LOAD_SIGNATURE: u32 = 0x6461_6F6C;
 
@@ -60,6 +62,9 @@ impl SimDrive {
             .or_else(|| self.derived_parameter(index, sub))
         {
             return Ok(v);
+        }
+        if (index, sub) == (DIGITAL_INPUTS, 0) {
+            return Ok(i64::from(self.digital_inputs()));
         }
         if (index, sub) == (HOME_OFFSET, 0) {
             return Ok(i64::from(self.home_offset()));

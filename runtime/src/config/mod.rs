@@ -5,6 +5,7 @@ pub mod capture;
 mod comm_watchdog;
 mod error;
 mod fault;
+pub mod homing;
 pub mod input_file;
 pub mod je_c_axis;
 pub mod live;
@@ -358,6 +359,8 @@ pub struct AxisConfig {
     pub following_error_limit: f64,
     /// Simulated drive settings.
     pub sim: SimAxisConfig,
+    /// `[axes.homing]`: the method of a `home` naming none and the homing objects.
+    pub homing: homing::AxisHoming,
     /// Axis counts ↔ the drive's object units (`[axes.motor]` with the model's units).
     pub drive_units: cellrt_axes::drive_scaling::DriveScaling,
     /// Torque limits of cst setpoints (required for cst, optional otherwise).
@@ -420,6 +423,9 @@ pub struct SimAxisConfig {
     /// Position of the encoder's Z phase, in units (one per motor revolution; used by the
     /// MR-J3-T04 C_CR2 home setting and S_ZPAS; the manuals give no figure).
     pub z_phase_position: f64,
+    /// The home dog and limit switches, counts (`sim.home_dog`, `sim.positive_limit`,
+    /// `sim.negative_limit`).
+    pub switches: cellrt_axes::sim::homing_switches::HomingSwitches,
     /// The simulated motor's maximum speed as a multiple of the axis velocity limit; the
     /// drive's overspeed alarm trips at 1.2 × that (a csp target step implying more).
     pub motor_speed_factor: f64,

@@ -326,6 +326,9 @@ pub struct RawAxis {
     /// `[axes.motor]`.
     #[serde(default)]
     pub motor: RawMotor,
+    /// `[axes.homing]`.
+    #[serde(default)]
+    pub homing: Option<RawHoming>,
     /// Multi-axis amplifier this axis belongs to (any label, e.g. "w3-1"); axes with the same
     /// label share one unit. None: the axis has an amplifier of its own.
     #[serde(default)]
@@ -389,6 +392,24 @@ pub struct RawMotor {
     pub rated_speed: Option<f64>,
 }
 
+/// `[axes.homing]`: the homing method and its objects (6099h, 609Ah, the shift).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawHoming {
+    /// 6098h method of a `home` naming none.
+    pub method: Option<i8>,
+    /// 6099h:1 speed during search for switch, unit/s.
+    pub switch_speed: Option<f64>,
+    /// 6099h:2 speed during search for zero (creep), unit/s.
+    pub creep_speed: Option<f64>,
+    /// 609Ah homing acceleration time constant, ms.
+    pub acceleration_ms: Option<u32>,
+    /// Home position shift distance from the Z phase, unit.
+    pub shift: Option<f64>,
+    /// How long a homing may take, s.
+    pub timeout_s: Option<f64>,
+}
+
 /// `[axes.sim]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -421,6 +442,15 @@ pub struct RawSimAxis {
     /// Emulated SubDevice (EtherCAT axes): how long its firmware takes to answer an SDO, ms.
     #[serde(default)]
     pub sdo_response_ms: Option<f64>,
+    /// The home dog's `[from, to]`, unit.
+    #[serde(default)]
+    pub home_dog: Option<[f64; 2]>,
+    /// The positive limit switch (on at and above), unit.
+    #[serde(default)]
+    pub positive_limit: Option<f64>,
+    /// The negative limit switch (on at and below), unit.
+    #[serde(default)]
+    pub negative_limit: Option<f64>,
 }
 
 impl Default for RawSimAxis {
@@ -435,6 +465,9 @@ impl Default for RawSimAxis {
             following_error_object: None,
             distributed_clocks: None,
             sdo_response_ms: None,
+            home_dog: None,
+            positive_limit: None,
+            negative_limit: None,
         }
     }
 }

@@ -87,6 +87,7 @@ pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
                     .scaling
                     .to_counts_i32(a.sim.z_phase_position)
                     .unwrap_or_default(),
+                homing_switches: a.sim.switches,
                 initial_mode: match a.mode {
                     ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
                     m => m,

@@ -19,7 +19,6 @@ use crate::host::operator::profile::{
 };
 use crate::host::operator::server::{Context, Followup, OperatorServer};
 use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
-use crate::rt::executive::HOMING_TIMEOUT;
 use crate::rt::thread::raise_planner_thread;
 use crate::services;
 use cellrt_axes::cia402::fsa::FsaState;
@@ -583,7 +582,7 @@ impl<'a> Planner<'a> {
         if let Err(e) = self.link.home(request) {
             return Err(self.err(e));
         }
-        let end = Instant::now() + HOMING_TIMEOUT + Duration::from_secs(5);
+        let end = Instant::now() + self.cell.axes[axis].homing.timeout + Duration::from_secs(5);
         loop {
             if self.aborted() {
                 return Ok(());

@@ -182,6 +182,9 @@ impl SimDrive {
             ModeOfOperation::ProfileTorque => return self.follow_profile_torque(cmd, dt),
             _ => {}
         }
+        if self.mode_display == ModeOfOperation::Homing && self.follow_homing_search(dt) {
+            return;
+        }
         if cmd.controlword.halt() && self.profile.halt_in_cyclic_modes {
             self.plant.hold(dt);
             self.demand = self.plant.position();

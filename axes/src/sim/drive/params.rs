@@ -82,6 +82,9 @@ pub struct SimDriveParams {
     /// Raw position of the encoder's Z phase within a revolution (counts; the manual gives no
     /// figure, TV-HOME-1 uses 262100); default 0.
     pub z_phase_position: i32,
+    /// The home dog and limit switches on the axis, raw counts (60FDh and the searching
+    /// homing methods, `sim::homing_switches`); default none.
+    pub homing_switches: crate::sim::homing_switches::HomingSwitches,
     /// The alarm a SYNC0 cycle other than 1C32h:02 raises, one of the profile's
     /// `pdo_rules.sync_mismatch_alarms` (MR-J3-T04 TV-IC-5: AL.76 or AL.74); `None`: the
     /// profile's first.
@@ -197,6 +200,7 @@ impl Default for SimDriveParams {
             dc_missed_command: MissedCommand::Extrapolate,
             before_z_reaction: BeforeZReaction::Warning,
             z_phase_position: 0,
+            homing_switches: crate::sim::homing_switches::HomingSwitches::default(),
             sync_mismatch_alarm: None,
             axis_switch: AxisSwitch::default(),
             fsoe: None,

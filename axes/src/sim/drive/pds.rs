@@ -248,7 +248,7 @@ impl SimDrive {
                 return Some(e9);
             }
         }
-        if let Some(w) = self.pp.warning() {
+        if let Some(w) = self.pp.warning().or(self.homing.warning) {
             return Some(w);
         }
         if let Some(w) = self

@@ -269,6 +269,13 @@ impl ServoPlant {
         self.last_command = position_command;
     }
 
+    /// Ends a residual creep below the encoder's speed resolution: velocity and acceleration
+    /// 0 (the loops' exponential settling never reaches exact zero by itself).
+    pub fn come_to_rest(&mut self) {
+        self.velocity = 0.0;
+        self.acceleration = 0.0;
+    }
+
     /// Motor position in counts.
     pub fn position(&self) -> f64 {
         self.position

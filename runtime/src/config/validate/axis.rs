@@ -157,6 +157,7 @@ pub(super) fn validate_axis(
         }
     };
     let mut sim = sim_axis(&at, &a, scaling, position)?;
+    sim.switches = super::homing::switches(&at, &a, scaling)?;
     sim.subdevice = emulated_subdevice(&at, &a, drive, cycle_time)?;
     let distributed_clocks = a.ethercat.distributed_clocks.unwrap_or(true);
     let s = scaling.counts_per_unit();
@@ -177,6 +178,7 @@ pub(super) fn validate_axis(
         &drive_units,
     )
     .map_err(|(k, m)| at.err(k, format!("axis '{}': {m}", a.name)))?;
+    let homing = super::homing::homing(&at, &a, profile, scaling, &drive_units)?;
     Ok(AxisConfig {
         name: a.name,
         drive,
@@ -194,6 +196,7 @@ pub(super) fn validate_axis(
         stop_jerk,
         following_error_limit,
         sim,
+        homing,
         drive_units,
         torque,
         csv_position_gain,
@@ -507,6 +510,7 @@ fn sim_axis(
         velocity_bandwidth_hz: at
             .positive("sim.velocity_bandwidth_hz", a.sim.velocity_bandwidth_hz)?,
         z_phase_position: a.sim.z_phase_position,
+        switches: Default::default(),
         motor_speed_factor: a.sim.motor_speed_factor,
         subdevice: SubDeviceVariant::default(),
     };

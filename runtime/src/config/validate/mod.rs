@@ -19,6 +19,7 @@ mod axis;
 mod axis_key;
 mod cycle_reach;
 mod esi;
+mod homing;
 mod inject;
 mod motor;
 mod operator;

@@ -23,6 +23,8 @@ pub(super) enum Pending {
     ModeChange(ModeOfOperation),
     /// 6098h written before a homing in homing mode starts.
     HomingMethod,
+    /// The axis' `k`-th homing object (6099h, 609Ah, the shift) written after 6098h.
+    HomingObject(u8),
     /// 607Ch read after a homing, for a drive that keeps 6064h raw: the homing ends with it.
     HomeOffset,
     /// An operator's request (`cellrt sdo`), by its sequence number: its outcome is published.
@@ -181,8 +183,10 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 }
                 (Pending::ModeChange(_), _) => {}
                 (Pending::HomingMethod, outcome) => {
-                    let taken = outcome == SdoOutcome::Downloaded;
-                    self.method_written(i, taken);
+                    self.homing_object_written(i, 0, outcome == SdoOutcome::Downloaded)
+                }
+                (Pending::HomingObject(k), outcome) => {
+                    self.homing_object_written(i, k + 1, outcome == SdoOutcome::Downloaded)
                 }
                 (Pending::ProfileObject(index), outcome) => {
                     self.profile_object_written(i, index, outcome == SdoOutcome::Downloaded)
@@ -219,7 +223,24 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         }
     }
 
-    /// The 6098h write of the homing awaiting it ended: the homing starts, or fails as refused.
+    /// A homing write ended: the axis' `next` homing object is posted, or, after the last
+    /// (or a refusal), the homing starts or fails.
+    fn homing_object_written(&mut self, i: usize, next: u8, taken: bool) {
+        let object = self.axes[i].homing_objects.get(usize::from(next));
+        let Some((index, sub, value)) = object.filter(|_| taken) else {
+            return self.method_written(i, taken);
+        };
+        let posted = SdoData::new(&value.to_le_bytes()).is_some_and(|data| {
+            let write = SdoRequest::Download { index, sub, data };
+            self.post_acyclic(i, Pending::HomingObject(next), write)
+        });
+        if !posted {
+            self.method_written(i, false);
+        }
+    }
+
+    /// The homing writes of the homing awaiting them ended: the homing starts, or fails as
+    /// refused.
     fn method_written(&mut self, i: usize, taken: bool) {
         let Some(request) = self.awaiting_method.take() else {
             return; // the homing ended meanwhile (power off, fault)

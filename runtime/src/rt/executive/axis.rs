@@ -98,6 +98,8 @@ pub struct AxisChannel {
     pub braking: bool,
     /// Homing in the drive's hm mode.
     pub homing: HomingSequencer,
+    /// The homing objects written by SDO after 6098h (`[axes.homing]`).
+    pub homing_objects: crate::config::homing::HomingObjects,
     /// Whether the TxPDO carries 6061h (else mode changes count as done after a settle time).
     pub mode_display_mapped: bool,
     /// Where the RxPDO lacks 6060h (MR-J3-T04, MR-J3-T04 manual §8.4.2): the mode last written by
@@ -124,9 +126,6 @@ pub struct AxisChannel {
     /// power follows its actual position and takes no motion.
     pub powered: bool,
 }
-
-/// How long a homing may take before it fails.
-pub const HOMING_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// Cycles after which a mode change counts as done on a drive whose TxPDO lacks 6061h (no
 /// figure in the manuals; see `cellrt_axes::cia402::homing`).
@@ -214,7 +213,7 @@ impl AxisChannel {
             braking: false,
             homing: HomingSequencer::new(
                 HomingParams {
-                    timeout: cell.cycle_time.cycles_for(HOMING_TIMEOUT),
+                    timeout: cell.cycle_time.cycles_for(axis.homing.timeout),
                     mode_settle: HOMING_MODE_SETTLE,
                 },
                 // A cst axis idles in csv (`drive_command`).
@@ -223,6 +222,7 @@ impl AxisChannel {
                     m => m,
                 },
             ),
+            homing_objects: axis.homing.objects,
             mode_display_mapped: axis.profile.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY),
             home_offset: 0,
             offset_home: axis.profile.home_reference == HomeReference::OffsetObject,
@@ -469,6 +469,7 @@ mod tests {
                 },
                 ModeOfOperation::CyclicSyncPosition,
             ),
+            homing_objects: Default::default(),
             mode_display_mapped: true,
             sdo_mode: None,
             home_setting: None,

@@ -15,7 +15,7 @@ mod rx_command;
 #[cfg(test)]
 mod units_tests;
 
-pub use axis::{AxisChannel, AxisLimitsCounts, HOMING_MODE_SETTLE, HOMING_TIMEOUT, STEP_TOLERANCE};
+pub use axis::{AxisChannel, AxisLimitsCounts, HOMING_MODE_SETTLE, STEP_TOLERANCE};
 pub use rx_command::CycleCommand;
 
 use std::sync::atomic::Ordering;

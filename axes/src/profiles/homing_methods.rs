@@ -1,0 +1,200 @@
+//! The homing methods (6098h) the manuals describe, as searches the simulated drive runs: what
+//! is searched (dog edges, the Z phase), the starting direction, what a stroke end does, and
+//! per model the warning of a failed homing and the object of the home position shift.
+//!
+//! Sources: MR-J3-T04 manual §8.11.4.1 (−1, −17 dog type, 35 data set), MR-J4-TM manual
+//! §5.4.9(4)/(5) (the 39 methods of 60E3h). Methods a manual lists that need figures it does not
+//! give (the "travel distance after proximity dog" of the count and front-end types, the
+//! stopper's torque and time) are listed but not emulated: [`check_emulated`] refuses them by
+//! name. The MR-JET-G-N1 and MR-J5-G-N1 manuals list no methods (MR-JET-G-N1 manual §8.3,
+//! MR-J5-G-N1 manual §8.3: "Set the homing method in 6098h … for details refer to 'Homing mode
+//! (hm) and homing' in the Function manual", which is not among the manuals).
+
+use super::{DriveModel, DriveProfile};
+
+/// What the search ends on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SearchTarget {
+    /// Decelerate at the dog's front end; after its rear end, the first Z phase (MR-J3-T04
+    /// −1/−17, MR-J4-TM −1/−33 dog type, rear-end detection, Z-phase reference).
+    ZAfterDogRearEnd,
+    /// The first Z phase after the dog's front end (MR-J4-TM −8/−40 dog cradle type, 4/6/8/12).
+    ZAfterDogFrontEnd,
+    /// After the dog's front end, back away from the dog; the first Z phase once it is off
+    /// (MR-J4-TM −9/−41 last Z-phase reference, 3/5/7/11).
+    ZLeavingDog,
+    /// The first Z phase, no dog (MR-J4-TM −11/−43 dogless, 33/34 homing on index pulse).
+    Z,
+}
+
+/// What a limit switch reached in the search direction does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StrokeEndReaction {
+    /// Homing error (statusword bit 13) and the model's warning (MR-J4-TM 3–6: "stroke end →
+    /// AL. 90").
+    Error,
+    /// Stop, go back past the dog, search again (MR-J3-T04 −1: "reverse until the reverse-side
+    /// dog edge, then retry"; MR-J4-TM 7/8/11/12: "the stroke end reverses the search"). The
+    /// limit on the other side is a homing error.
+    Reverse,
+}
+
+/// One searching method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SearchRecipe {
+    /// Starting direction: +1 forward (positive counts), −1 reverse.
+    pub direction: i8,
+    /// What the search ends on.
+    pub target: SearchTarget,
+    /// A limit switch reached in the search direction.
+    pub stroke_end: StrokeEndReaction,
+    /// The creep speed 6099h:2 from the start (MR-J4-TM 33/34); otherwise 6099h:1 until the
+    /// dog (or, dogless, the Z phase).
+    pub creep_from_start: bool,
+}
+
+const fn recipe(
+    direction: i8,
+    target: SearchTarget,
+    stroke_end: StrokeEndReaction,
+) -> SearchRecipe {
+    SearchRecipe {
+        direction,
+        target,
+        stroke_end,
+        creep_from_start: false,
+    }
+}
+
+/// The search of `method`, where cellrt emulates one (the data-set methods do not search).
+pub fn search(method: i8) -> Option<SearchRecipe> {
+    use SearchTarget::*;
+    use StrokeEndReaction::*;
+    Some(match method {
+        -1 => recipe(1, ZAfterDogRearEnd, Reverse),
+        -17 | -33 => recipe(-1, ZAfterDogRearEnd, Reverse),
+        -8 | 4 => recipe(1, ZAfterDogFrontEnd, Error),
+        -40 | 6 => recipe(-1, ZAfterDogFrontEnd, Error),
+        8 => recipe(1, ZAfterDogFrontEnd, Reverse),
+        12 => recipe(-1, ZAfterDogFrontEnd, Reverse),
+        -9 | 3 => recipe(1, ZLeavingDog, Error),
+        -41 | 5 => recipe(-1, ZLeavingDog, Error),
+        7 => recipe(1, ZLeavingDog, Reverse),
+        11 => recipe(-1, ZLeavingDog, Reverse),
+        -11 => recipe(1, Z, Error),
+        -43 => recipe(-1, Z, Error),
+        33 | 34 => SearchRecipe {
+            creep_from_start: true,
+            ..recipe(if method == 34 { 1 } else { -1 }, Z, Error)
+        },
+        _ => return None,
+    })
+}
+
+/// Whether the simulated `profile` runs `method`: listed by its manual and either a data-set
+/// method or an emulated search; the refusal names the method and the manual.
+pub fn check_emulated(profile: &DriveProfile, method: i8) -> Result<(), String> {
+    if profile.homing_methods.is_empty() {
+        return Err(format!(
+            "the {} manual lists no homing methods (6098h): {}",
+            profile.name,
+            no_methods_statement(profile.model)
+        ));
+    }
+    if !profile.homing_methods.contains(&method) {
+        return Err(format!(
+            "the {} manual lists no homing method {method} (6098h; it lists {:?})",
+            profile.name, profile.homing_methods
+        ));
+    }
+    if profile.data_set_homing_methods.contains(&method) || search(method).is_some() {
+        return Ok(());
+    }
+    Err(format!(
+        "homing method {method} of the {} manual is not emulated: it needs a figure the manual \
+         does not give (the travel distance after the proximity dog, or the stopper's torque \
+         and time)",
+        profile.name
+    ))
+}
+
+/// What a manual without a method list says instead, for the refusal.
+pub fn no_methods_statement(model: DriveModel) -> &'static str {
+    match model {
+        DriveModel::MrJetGN1 => {
+            "its §8.3 says only \"Set the homing method in [Homing method (Obj. 6098h)], then \
+             perform homing\" and refers to the Function manual, which is not among the manuals"
+        }
+        DriveModel::MrJ5GN1 | DriveModel::MrJ5W2GN1 | DriveModel::MrJ5W3GN1 => {
+            "its §8.3 says only \"set any homing method in [Homing method (Obj. 6098h)]\" and \
+             refers to the Function manual's \"Homing mode (hm) and homing\", which is not among \
+             the manuals"
+        }
+        _ => "it gives no method table",
+    }
+}
+
+/// What a model's manual names around its searches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HomingModel {
+    /// The warning of a failed search (MR-J3-T04 AL.90 "Home position not completed", §7.2;
+    /// MR-J4-TM AL. 90 "Home position return incomplete warning", §9).
+    pub warning: Option<u16>,
+    /// The object of the home position shift distance (pulses from the Z phase), where the
+    /// manual gives one (MR-J3-T04 2080h, §8.11.4.1; the MR-J4-TM manual names the shift but
+    /// not its object).
+    pub shift_object: Option<u16>,
+}
+
+/// The homing facts of `model` beyond its method list.
+pub fn homing_model(model: DriveModel) -> HomingModel {
+    match model {
+        DriveModel::MrJ3T04 => HomingModel {
+            warning: Some(super::mr_j3_t04::AL_90),
+            shift_object: Some(HOME_POSITION_SHIFT),
+        },
+        DriveModel::MrJ4TM => HomingModel {
+            warning: Some(super::mr_j4_tm::AL_90),
+            shift_object: None,
+        },
+        _ => HomingModel {
+            warning: None,
+            shift_object: None,
+        },
+    }
+}
+
+/// MR-J3-T04 2080h Home position shift distance (U32, pulses, §8.11.4.1).
+pub const HOME_POSITION_SHIFT: u16 = 0x2080;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profiles::profile;
+
+    #[test]
+    fn each_model_refuses_what_its_manual_does_not_list_or_cellrt_does_not_emulate() {
+        let j3 = profile(DriveModel::MrJ3T04);
+        for m in [-1, -17, 35] {
+            check_emulated(j3, m).unwrap();
+        }
+        assert!(check_emulated(j3, -33)
+            .unwrap_err()
+            .contains("lists no homing method -33"));
+        let j4 = profile(DriveModel::MrJ4TM);
+        for m in [
+            -1, -33, -3, -8, -40, -9, -41, -11, -43, 3, 4, 5, 6, 7, 8, 11, 12, 33, 34, 35, 37,
+        ] {
+            check_emulated(j4, m).unwrap();
+        }
+        for m in [-2, -4, -6, -7, -10, 19, 27] {
+            assert!(
+                check_emulated(j4, m).unwrap_err().contains("not emulated"),
+                "{m}"
+            );
+        }
+        assert!(check_emulated(j4, -17).is_err());
+        let jet = profile(DriveModel::MrJetGN1);
+        assert!(check_emulated(jet, 37).unwrap_err().contains("§8.3"));
+    }
+}

@@ -277,6 +277,19 @@ fn example_cell(dir: &Path, config: &str, extra: &str) -> std::path::PathBuf {
 fn homing_in_the_drive_homing_mode_through_the_operator_service() {
     let dir = tempfile::tempdir().unwrap();
     let cfg = example_cell(dir.path(), "mr-j4-tm.toml", "");
+    // z stands 10 mm below a positive stroke end and has no home dog.
+    let text = std::fs::read_to_string(&cfg).unwrap();
+    let z = "limits = { position = [-200.0, 0.0], velocity = 250.0, acceleration = 1500.0, jerk = 15000.0 }\nsim = { initial_position = 0.0 }";
+    assert!(text.contains(z), "{text}");
+    let text = text.replacen(
+        z,
+        &z.replace(
+            "sim = { initial_position = 0.0 }",
+            "sim = { initial_position = -100.0, positive_limit = -90.0 }",
+        ),
+        1,
+    );
+    std::fs::write(&cfg, text).unwrap();
     let rec = dir.path().join("run.mcap");
     let cell = Cell::start(&cfg, &rec);
     cell.rejected(&["home", "x"], "homing starts from idle");
@@ -291,8 +304,9 @@ fn homing_in_the_drive_homing_mode_through_the_operator_service() {
     cell.ok(&["home", "x"]);
     let s = cell.ok(&["status"]);
     assert!(s.contains("last    home"), "{s}");
-    // A dog method the simulation has no dog for: the drive reports a homing error.
-    let (code, _, err) = cell.cli(&["home", "z", "--method", "-1"]);
+    // Method 3 (last Z before the dog, forward) without a dog: the stroke end ends the
+    // search, and the drive reports a homing error (MR-J4-TM AL. 90).
+    let (code, _, err) = cell.cli(&["home", "z", "--method", "3"]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("homing error"), "{err}");
     // The cell is usable after both; moves are in the new reference.

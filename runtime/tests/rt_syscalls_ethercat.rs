@@ -129,16 +129,21 @@ fn on_ethercat_the_rt_loop_makes_only_its_sleep_and_frame_io_while_homing() {
         let homed = log
             .iter()
             .any(|l| l.contains("homing_finished") && l.contains("attained"));
-        if homed {
+        // The far-end drive faults on frames a traced, overrunning loop sent late: the run
+        // ended early, so it is repeated like one that never homed.
+        let cut_short = log.iter().any(|l| l.contains(": drive_fault ["))
+            && log.iter().any(|l| l.contains(": overrun: "));
+        if homed && !cut_short {
             assert!(
                 trace.sleeps() >= 100,
-                "only {} cycles traced",
+                "only {} cycles traced; events {log:?}",
                 trace.sleeps()
             );
             return;
         }
         eprintln!(
-            "attempt {attempt}: no homing completed in steady state (machine load?): {log:#?}"
+            "attempt {attempt}: no homing completed in steady state, or a drive fault after \
+             overruns ended the run (machine load?): {log:#?}"
         );
     }
     println!("SKIPPED: no run reached a homing in steady state; the syscalls seen were judged");

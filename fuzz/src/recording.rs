@@ -2,7 +2,6 @@
 
 use std::path::Path;
 
-use mcap::read::parse_record;
 use mcap::records::Record;
 
 /// The tools' recording reader, compiled here from its source (the `cellrt` package has no
@@ -11,7 +10,7 @@ use mcap::records::Record;
 #[allow(dead_code)]
 mod reader;
 
-use reader::{chunk_records, CellInfo, RecFile, RecordWalker};
+use reader::{chunk_records, parse_record, CellInfo, RecFile, RecordWalker};
 
 /// A recording file: metadata, attachments, per-channel counts and decoded messages through
 /// the reader `inspect`, `report` and `replay` use, then the record walk `recover` makes

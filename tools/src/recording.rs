@@ -9,7 +9,6 @@ use cellrt_runtime::host::record::proto::{AxisCycle, CycleStats, Event};
 use cellrt_runtime::host::record::topics::{
     AXIS_TOPIC_PREFIX, CELL_METADATA, CYCLE_TOPIC, EVENTS_TOPIC,
 };
-use mcap::read::{LinearReader, Options};
 use mcap::records::{ChunkIndex, Record};
 use mcap::Summary;
 use prost::Message as _;
@@ -107,9 +106,9 @@ impl RecFile {
     /// The records before the first chunk error, read linearly (tolerates truncation): the
     /// metadata and attachments of an unfinished file.
     fn linear_records(&self) -> impl Iterator<Item = Record<'_>> {
-        LinearReader::new_with_options(&self.bytes, Options::IgnoreEndMagic.into())
-            .expect("a slice reader cannot fail to start")
+        RecordWalker::new(&self.bytes, mcap::MAGIC.len())
             .map_while(Result::ok)
+            .map_while(|(op, body)| parse_record(op, body).ok())
     }
 
     /// The `cellrt.cell` metadata.
@@ -174,6 +173,7 @@ impl RecFile {
                     .attachment_indexes
                     .iter()
                     .filter(|i| self.spans_inside(i.offset, i.length))
+                    .filter(|i| attachment_at(&self.bytes, i.offset, i.length))
                     .filter_map(|i| mcap::read::attachment(&self.bytes, i).ok())
                     .map(|a| (a.name, a.data.into_owned()))
                     .collect();
@@ -283,7 +283,7 @@ impl RecFile {
             match op {
                 mcap::records::op::DATA_END | mcap::records::op::FOOTER => return Ok(None),
                 mcap::records::op::CHUNK => {
-                    let inner = match mcap::read::parse_record(op, body) {
+                    let inner = match parse_record(op, body) {
                         Ok(Record::Chunk { header, data }) => chunk_records(&header, &data)
                             .map(|b| b.into_owned())
                             .map_err(|e| format!("chunk: {e}")),
@@ -363,7 +363,7 @@ impl RecFile {
             .filter(|e| *e <= self.bytes.len() && start + 9 <= *e)
             .ok_or("chunk index points outside the file")?;
         let (header, data) =
-            match mcap::read::parse_record(mcap::records::op::CHUNK, &self.bytes[start + 9..end]) {
+            match parse_record(mcap::records::op::CHUNK, &self.bytes[start + 9..end]) {
                 Ok(Record::Chunk { header, data }) => (header, data),
                 Ok(_) => return Err("chunk index does not point at a chunk".into()),
                 Err(e) => return Err(e.to_string()),
@@ -456,7 +456,7 @@ impl LinearDefs {
         body: &[u8],
         each: &mut MessageVisitor<'_>,
     ) -> Result<Option<String>, String> {
-        match mcap::read::parse_record(op, body) {
+        match parse_record(op, body) {
             Ok(Record::Schema { header, .. }) => {
                 self.schemas.insert(header.id, header.name);
             }
@@ -498,6 +498,53 @@ enum Kind {
 /// writes (`recording.chunk_size_kib` ≤ 64 MiB). A claim beyond it is refused before anything
 /// is allocated for it.
 pub const MAX_CHUNK_BYTES: u64 = 256 << 20;
+
+/// One record parsed by the mcap crate, after the checks the crate leaves out: an attachment
+/// whose lengths run past its record is refused here (mcap 0.26 slices it unchecked and
+/// panics; found by the `mcap_recording` fuzz target).
+pub fn parse_record(op: u8, body: &[u8]) -> Result<Record<'_>, String> {
+    if op == mcap::records::op::ATTACHMENT && !attachment_fits(body) {
+        return Err("an attachment record whose lengths run past its end".into());
+    }
+    mcap::read::parse_record(op, body).map_err(|e| e.to_string())
+}
+
+/// Whether an attachment record's body holds what its lengths claim: log and create time,
+/// name, media type, the data length, that much data and the CRC.
+pub fn attachment_fits(body: &[u8]) -> bool {
+    let mut at = 16usize;
+    for _ in 0..2 {
+        let Some(len) = body.get(at..at + 4) else {
+            return false;
+        };
+        let len = u32::from_le_bytes([len[0], len[1], len[2], len[3]]) as usize;
+        at = match at.checked_add(4 + len) {
+            Some(next) if next <= body.len() => next,
+            _ => return false,
+        };
+    }
+    let Some(data_len) = body.get(at..at + 8) else {
+        return false;
+    };
+    let data_len = u64::from_le_bytes(data_len.try_into().unwrap_or([0xFF; 8]));
+    (at as u64 + 8)
+        .checked_add(data_len)
+        .and_then(|end| end.checked_add(4))
+        .is_some_and(|end| end <= body.len() as u64)
+}
+
+/// Whether the record at `offset` (`length` bytes with its opcode and length field) is an
+/// attachment the mcap crate can parse whole.
+fn attachment_at(bytes: &[u8], offset: u64, length: u64) -> bool {
+    let (Ok(start), Ok(len)) = (usize::try_from(offset), usize::try_from(length)) else {
+        return false;
+    };
+    start
+        .checked_add(len)
+        .and_then(|end| bytes.get(start..end))
+        .filter(|r| r.len() >= 9 && r[0] == mcap::records::op::ATTACHMENT)
+        .is_some_and(|r| attachment_fits(&r[9..]))
+}
 
 /// The records of `bytes` from offset `at` on, each as (opcode, body), framed by their length
 /// fields; a length that runs past the end is an error and ends the walk.

@@ -656,3 +656,41 @@ do = "power_off"
     assert_eq!(out.status.code(), Some(1), "{so}\n{se}");
     assert!(so.contains("DIVERGED") && so.contains("axis p:"), "{so}");
 }
+
+/// An attachment record whose lengths run past its end (no room for its CRC), in a file with
+/// an MCAP header: the mcap crate would slice it unchecked and panic (found by fuzzing).
+/// `inspect` refuses the file with one line, `recover` skips the record and says so.
+#[test]
+fn an_attachment_whose_lengths_run_past_its_record_is_refused_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let record = |op: u8, body: &[u8]| {
+        let mut r = vec![op];
+        r.extend_from_slice(&(body.len() as u64).to_le_bytes());
+        r.extend_from_slice(body);
+        r
+    };
+    let string = |s: &[u8]| [&(s.len() as u32).to_le_bytes()[..], s].concat();
+    let mut bytes = mcap::MAGIC.to_vec();
+    bytes.extend(record(0x01, &[string(b""), string(b"test")].concat()));
+    let mut attachment = vec![0u8; 16];
+    attachment.extend(string(b"cell.toml"));
+    attachment.extend(string(b"text/plain"));
+    attachment.extend(0u64.to_le_bytes()); // no data and no CRC after it
+    bytes.extend(record(0x09, &attachment));
+    bytes.extend(mcap::MAGIC);
+    let path = dir.path().join("bad-attachment.mcap");
+    std::fs::write(&path, &bytes).unwrap();
+
+    let out = cellrt(&["inspect".as_ref(), path.as_os_str()]);
+    let (so, se) = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{so}\n{se}");
+    assert_eq!(se.lines().count(), 1, "{se}");
+    let rec = dir.path().join("recovered.mcap");
+    let out = cellrt(&["recover".as_ref(), path.as_os_str(), rec.as_os_str()]);
+    let (so, se) = text(&out);
+    assert!(out.status.code() != Some(101), "{so}\n{se}");
+    assert!(
+        se.contains("an attachment record whose lengths run past its end"),
+        "{so}\n{se}"
+    );
+}

@@ -9,13 +9,12 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
 
-use mcap::read::parse_record;
 use mcap::records::{MessageHeader, Record};
 use mcap::{Attachment, WriteOptions, Writer};
 
 use crate::cli::RecoverArgs;
 use crate::exit::Exit;
-use crate::recording::{chunk_records, RecordWalker};
+use crate::recording::{chunk_records, parse_record, RecordWalker};
 
 /// What a recovery copied.
 #[derive(Debug, Default)]

@@ -77,11 +77,12 @@ pub fn render(
     let last = second.unwrap_or(first);
     let seg = &last.segment;
     let mut out = format!(
-        "cell {cell}: {} SubDevice(s); frames {}  lost {}  working-counter errors {}  notices dropped {}\n",
+        "cell {cell}: {} SubDevice(s); frames {}  lost {}  working-counter errors {}  mailbox frames lost {}  notices dropped {}\n",
         seg.subdevices.len(),
         seg.frames,
         seg.frames_lost,
         seg.wkc_errors,
+        seg.mailbox_frames_lost,
         seg.notices_dropped
     );
     if let Some(s) = second {
@@ -228,6 +229,7 @@ mod tests {
                 frames: 1000,
                 frames_lost: 3,
                 wkc_errors: 0,
+                mailbox_frames_lost: 0,
                 notices_dropped: 0,
             },
         }

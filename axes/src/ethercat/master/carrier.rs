@@ -67,6 +67,8 @@ pub(super) struct CarriedLink {
     queues: Arc<Queues>,
     free: Vec<CarriedFrame>,
     seq: u64,
+    /// Carried frames that did not return (a reply given up on included).
+    lost: u64,
 }
 
 /// A carrier's two ends.
@@ -91,6 +93,7 @@ pub(super) fn carrier() -> (CarrierRt, CarriedLink) {
             queues,
             free,
             seq: 0,
+            lost: 0,
         },
     )
 }
@@ -100,6 +103,7 @@ impl CarriedLink {
     fn collect(&mut self, seq: u64, buf: &mut [u8]) -> Option<Result<usize, LinkError>> {
         let mut answer = None;
         while let Some(f) = self.queues.to_worker.pop() {
+            self.lost += u64::from(f.returned.is_none());
             if f.seq == seq {
                 answer = Some(match f.returned {
                     Some(n) => {
@@ -117,9 +121,15 @@ impl CarriedLink {
 }
 
 impl CarriedLink {
+    /// The worker's frames the RT thread carried that did not return.
+    pub(super) fn frames_lost(&self) -> u64 {
+        self.lost
+    }
+
     /// Takes back the frames that have returned without a reply waiting for them.
     fn reclaim(&mut self) {
         while let Some(f) = self.queues.to_worker.pop() {
+            self.lost += u64::from(f.returned.is_none());
             self.free.push(f);
         }
     }

@@ -84,6 +84,10 @@ pub struct SegmentDiag {
     pub frames_lost: u64,
     /// Cyclic frames with a wrong working counter.
     pub wkc_errors: u64,
+    /// The mailbox worker's frames (SDO, mailbox reads, these readings) that did not return:
+    /// a wire fault hits them as it hits the cyclic frames.
+    #[serde(default)]
+    pub mailbox_frames_lost: u64,
     /// Mailbox notices dropped because the RT loop's queue was full.
     pub notices_dropped: u64,
 }

@@ -31,6 +31,7 @@ impl MailboxWorker {
             frames: d.frames.load(Ordering::Relaxed),
             frames_lost: d.lost.load(Ordering::Relaxed),
             wkc_errors: d.wkc_errors.load(Ordering::Relaxed),
+            mailbox_frames_lost: self.link.frames_lost(),
             notices_dropped: self.shared.dropped.load(Ordering::Relaxed),
         };
         let _ = self.shared.diag.out.force_push(reading);

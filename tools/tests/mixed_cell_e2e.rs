@@ -2,7 +2,8 @@
 //! as a user runs it: the start line and the summary name the MR-JE-C axes and their links,
 //! and `cellrt replay` of its recording says plainly that they are left out of the
 //! bit-identical check while the csp axes replay bit-identical; `cellrt status` of the running
-//! cell lists them with their links.
+//! cell lists them with their links; the operator powers, moves, jogs, halts and resets them
+//! beside the csp axes, with each bad request refused naming the axis and what is wrong.
 
 mod common;
 
@@ -34,33 +35,10 @@ fn for_run_recorded(text: &str) -> String {
 
 #[test]
 fn status_lists_the_je_c_axes_and_their_links() {
-    let dir = tempfile::tempdir().unwrap();
-    let name = unique_cell_name();
-    let cfg = dir.path().join("cell.toml");
-    std::fs::write(&cfg, mixed_cell(&name)).unwrap();
-    std::fs::copy(
-        format!("{CONFIGS}/mixed-cell-program.toml"),
-        dir.path().join("mixed-cell-program.toml"),
-    )
-    .unwrap();
-    let mut cell = Command::new(env!("CARGO_BIN_EXE_cellrt"))
-        .args(["run", "--no-program", "--no-record", "--duration", "20"])
-        .arg(&cfg)
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let end = std::time::Instant::now() + std::time::Duration::from_secs(15);
-    let status = loop {
-        let (code, out, _) = cellrt_on_cell(&name, &["status"]);
-        if code == 0 && out.contains("exchanges") {
-            break out;
-        }
-        assert!(std::time::Instant::now() < end, "no status: {out}");
-        std::thread::sleep(std::time::Duration::from_millis(200));
-    };
-    // SIGTERM: the cell shuts down cleanly.
-    let _ = Command::new("kill").arg(cell.id().to_string()).status();
-    let _ = cell.wait();
+    let cell = RunningCell::start();
+    let (code, status, err) = cell.cli(&["status"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(status.contains("exchanges"), "{status}");
     for (axis, transport) in [("infeed", "cclink-ief-basic"), ("outfeed", "modbus-tcp")] {
         let line = status
             .lines()
@@ -72,6 +50,168 @@ fn status_lists_the_je_c_axes_and_their_links() {
             "not powered yet: {line}"
         );
     }
+}
+
+/// The running mixed cell (no program), named `name`, for operator commands; killed on drop.
+struct RunningCell {
+    child: std::process::Child,
+    name: String,
+    _dir: tempfile::TempDir,
+}
+
+impl RunningCell {
+    fn start() -> RunningCell {
+        let dir = tempfile::tempdir().unwrap();
+        let name = unique_cell_name();
+        let cfg = dir.path().join("cell.toml");
+        std::fs::write(&cfg, mixed_cell(&name)).unwrap();
+        std::fs::copy(
+            format!("{CONFIGS}/mixed-cell-program.toml"),
+            dir.path().join("mixed-cell-program.toml"),
+        )
+        .unwrap();
+        let child = Command::new(env!("CARGO_BIN_EXE_cellrt"))
+            .args(["run", "--no-program", "--no-record", "--duration", "120"])
+            .arg(&cfg)
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let cell = RunningCell {
+            child,
+            name,
+            _dir: dir,
+        };
+        let end = std::time::Instant::now() + std::time::Duration::from_secs(15);
+        while cell.status()["je_c_axes"][1]["exchanges"]
+            .as_u64()
+            .unwrap_or(0)
+            == 0
+        {
+            assert!(std::time::Instant::now() < end, "the cell never answered");
+            std::thread::sleep(std::time::Duration::from_millis(200));
+        }
+        cell
+    }
+
+    fn cli(&self, args: &[&str]) -> (i32, String, String) {
+        cellrt_on_cell(&self.name, args)
+    }
+
+    fn status(&self) -> serde_json::Value {
+        let (code, out, _) = self.cli(&["status", "--json"]);
+        if code != 0 {
+            return serde_json::Value::Null;
+        }
+        serde_json::from_str(&out).unwrap_or_default()
+    }
+
+    /// The MR-JE-C axis `name` in the status.
+    fn je_c(&self, name: &str) -> serde_json::Value {
+        let s = self.status();
+        s["je_c_axes"]
+            .as_array()
+            .and_then(|a| a.iter().find(|a| a["name"] == name).cloned())
+            .unwrap_or_else(|| panic!("no MR-JE-C axis {name} in {s}"))
+    }
+
+    /// Asserts that `args` is refused (exit 3) with one line containing `what`.
+    fn refused(&self, args: &[&str], what: &str) {
+        let (code, out, err) = self.cli(args);
+        assert_eq!(code, 3, "{args:?} was not refused: {out}{err}");
+        assert!(err.contains(what), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+}
+
+impl Drop for RunningCell {
+    fn drop(&mut self) {
+        let _ = Command::new("kill")
+            .arg(self.child.id().to_string())
+            .status();
+        let _ = self.child.wait();
+    }
+}
+
+#[test]
+fn the_operator_moves_jogs_and_halts_the_je_c_axes_beside_the_csp_axes() {
+    let cell = RunningCell::start();
+    let ok = |args: &[&str]| {
+        let (code, out, err) = cell.cli(args);
+        assert_eq!(code, 0, "{args:?}: {out}{err}");
+    };
+    cell.refused(
+        &["move", "infeed=100"],
+        "MR-JE-C axis 'infeed' is not enabled",
+    );
+    ok(&["power", "on"]);
+    for axis in ["infeed", "outfeed"] {
+        assert_eq!(cell.je_c(axis)["fsa"], "operation_enabled", "{axis}");
+    }
+    // One move of both kinds; `cellrt move` waits until every axis is done.
+    ok(&["move", "x=300", "infeed=100", "outfeed=-50"]);
+    let at = |axis: &str| cell.je_c(axis)["position"].as_f64().unwrap();
+    assert!(
+        (at("infeed") - 100.0).abs() < 0.01,
+        "{}",
+        cell.je_c("infeed")
+    );
+    assert!(
+        (at("outfeed") + 50.0).abs() < 0.01,
+        "{}",
+        cell.je_c("outfeed")
+    );
+    let x = cell.status()["axes"][0]["position"].as_f64().unwrap();
+    assert!((x - 300.0).abs() < 0.05, "x at {x}");
+    ok(&["move", "--rel", "infeed=-30", "--vel", "50"]);
+    assert!(
+        (at("infeed") - 70.0).abs() < 0.01,
+        "{}",
+        cell.je_c("infeed")
+    );
+    // Refused, naming the axis and the rule; nothing moves.
+    cell.refused(
+        &["move", "infeed=600"],
+        "axis 'infeed': target 600 mm is outside its position range [-500, 500]",
+    );
+    cell.refused(
+        &["move", "infeed=0", "--vel", "300"],
+        "axis 'infeed': velocity 300 exceeds its limit 200",
+    );
+    cell.refused(
+        &["move", "--line", "x=100", "infeed=0"],
+        "axis 'infeed' is an MR-JE-C axis",
+    );
+    cell.refused(
+        &["jog", "outfeed", "250"],
+        "axis 'outfeed': velocity 250 is outside ±150",
+    );
+    assert!((at("infeed") - 70.0).abs() < 0.01, "infeed moved");
+    // A jog runs until halted; the servo cannot be switched off under it.
+    ok(&["jog", "outfeed", "40"]);
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while cell.je_c("outfeed")["velocity"].as_f64().unwrap() < 39.0 {
+        assert!(
+            std::time::Instant::now() < end,
+            "outfeed never reached 40 mm/s: {}",
+            cell.je_c("outfeed")
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    cell.refused(
+        &["power", "off", "outfeed"],
+        "MR-JE-C axis 'outfeed' is moving",
+    );
+    ok(&["halt", "outfeed"]);
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while cell.je_c("outfeed")["velocity"].as_f64().unwrap() != 0.0 {
+        assert!(std::time::Instant::now() < end, "outfeed never stood");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    ok(&["power", "off", "outfeed"]);
+    assert_ne!(cell.je_c("outfeed")["fsa"], "operation_enabled");
+    assert_eq!(cell.je_c("infeed")["fsa"], "operation_enabled");
+    ok(&["power", "off"]);
+    assert_ne!(cell.je_c("infeed")["fsa"], "operation_enabled");
 }
 
 #[test]

@@ -216,6 +216,7 @@ pub fn run(command: OperatorCommand, target: Target) -> Exit {
         Wait::Finished => wait_finished(&client, id, timeout),
         Wait::State(states) => wait_state(&client, states, timeout),
         Wait::Power { axes, on } => wait_power(&client, &axes, on, timeout),
+        Wait::CellPower { on } => wait_cell_power(&client, on, timeout),
     }
 }
 
@@ -236,6 +237,10 @@ enum Wait {
     /// The named axes in Operation enabled (`on`) or out of it, and the cell settled.
     Power {
         axes: Vec<String>,
+        on: bool,
+    },
+    /// The cell idle (`on`) or disabled, and every MR-JE-C axis in Operation enabled or out.
+    CellPower {
         on: bool,
     },
 }
@@ -338,7 +343,7 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
 /// MC_Power for the cell (no axes named) or the named axes, and what settles it.
 fn power(on: bool, axes: &[String]) -> (Request, Wait) {
     let w = if axes.is_empty() {
-        Wait::State(if on { &["idle"] } else { &["disabled"] })
+        Wait::CellPower { on }
     } else {
         Wait::Power {
             axes: axes.to_vec(),
@@ -466,13 +471,14 @@ fn wait_state(client: &OperatorClient, states: &[&str], timeout: Duration) -> Ex
 /// settled.
 fn wait_power(client: &OperatorClient, axes: &[String], on: bool, timeout: Duration) -> Exit {
     poll_status(client, timeout, false, |s| {
+        let enabled = FsaState::OperationEnabled.as_str();
         let pending: Vec<&str> = s
             .axes
             .iter()
-            .filter(|a| {
-                axes.contains(&a.name) && (a.fsa == FsaState::OperationEnabled.as_str()) != on
-            })
-            .map(|a| a.name.as_str())
+            .map(|a| (&a.name, &a.fsa))
+            .chain(s.je_c_axes.iter().map(|a| (&a.name, &a.fsa)))
+            .filter(|(name, fsa)| axes.contains(name) && (*fsa == enabled) != on)
+            .map(|(name, _)| name.as_str())
             .collect();
         let settled = !matches!(s.state.as_str(), "enabling" | "disabling");
         let (done, not_done) = if on {
@@ -487,6 +493,32 @@ fn wait_power(client: &OperatorClient, axes: &[String], on: bool, timeout: Durat
                 "{} still {not_done} (cell {})",
                 pending.join(", "),
                 s.state
+            ))
+        }
+    })
+}
+
+/// Waits until the cell is idle (`on`) or disabled and every MR-JE-C axis is (or is not) in
+/// Operation enabled.
+fn wait_cell_power(client: &OperatorClient, on: bool, timeout: Duration) -> Exit {
+    let want = if on { "idle" } else { "disabled" };
+    poll_status(client, timeout, false, |s| {
+        let enabled = FsaState::OperationEnabled.as_str();
+        let pending: Vec<&str> = s
+            .je_c_axes
+            .iter()
+            .filter(|a| (a.fsa == enabled) != on)
+            .map(|a| a.name.as_str())
+            .collect();
+        if s.state == want && pending.is_empty() {
+            Ok(format!("cell {}", s.state))
+        } else if s.state != want {
+            Err(format!("the cell is {}, not {want}", s.state))
+        } else {
+            Err(format!(
+                "MR-JE-C axes {} still {}",
+                pending.join(", "),
+                if on { "not enabled" } else { "enabled" }
             ))
         }
     })

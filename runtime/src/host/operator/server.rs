@@ -3,10 +3,12 @@
 
 use cellrt_axes::cia402::mode::ModeOfOperation;
 use cellrt_axes::cia402::statusword::Statusword;
+use cellrt_axes::mr_je_c::cell::AxisCommand;
 use cellrt_axes::profiles::status_do::StatusDo;
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
+mod je_c_requests;
 mod motion_requests;
 
 use super::bus_diag::DiagInFlight;
@@ -53,6 +55,8 @@ pub struct OperatorServer {
     /// The `bus_diag` reading being taken, and the client's request to answer.
     diag: DiagInFlight,
     diag_client: Option<ActiveRequest>,
+    /// The MR-JE-C axes the active move waits for.
+    je_c_moves: je_c_requests::PendingMoves,
 }
 
 /// True if `axis` is in Operation enabled by its latest statusword.
@@ -97,6 +101,7 @@ impl OperatorServer {
             job: None,
             diag: DiagInFlight::default(),
             diag_client: None,
+            je_c_moves: je_c_requests::PendingMoves::default(),
         })
     }
 
@@ -120,6 +125,15 @@ impl OperatorServer {
 
     /// Follows the motion engine when no program drives it.
     pub fn tick(&mut self, ctx: &mut Context<'_>) {
+        // A move's MR-JE-C axes: it ends when they and the streamed axes have.
+        let active = self.active.as_ref().map(|a| a.id);
+        let je_c_running = match self.je_c_moves.progress(active, ctx.je_c) {
+            Err(e) => {
+                self.finish_active(Err(e));
+                return;
+            }
+            Ok(running) => running,
+        };
         if self.active.as_ref().is_some_and(|a| a.command == "home") {
             if let Ok(s) = ctx.link.status() {
                 let h = s.homing;
@@ -134,6 +148,7 @@ impl OperatorServer {
             return;
         }
         match ctx.engine.tick(ctx.link) {
+            Ok(Progress::Finished(_) | Progress::Idle) if je_c_running => {}
             Ok(Progress::Finished(_)) => self.finish_active(Ok(())),
             Ok(Progress::Idle) => {
                 if self
@@ -300,20 +315,25 @@ impl OperatorServer {
         let id = self.next_id;
         self.next_id += 1;
         if tracked {
-            if let Some(a) = self.active.take() {
-                // Replaced by this one (PLCopen "aborting" buffer mode).
-                self.last_finished = Some(FinishedCommand {
-                    id: a.id,
-                    command: a.command,
-                    error: Some(format!("replaced by command {id} ({command})")),
-                });
-            }
-            self.active = Some(ActiveCommand {
-                id,
-                command: command.to_string(),
-            });
+            self.track(id, command);
         }
         Reply::Accepted { id }
+    }
+
+    /// Command `id` becomes the one in execution, replacing any other (PLCopen "aborting"
+    /// buffer mode).
+    fn track(&mut self, id: u64, command: &str) {
+        if let Some(a) = self.active.take() {
+            self.last_finished = Some(FinishedCommand {
+                id: a.id,
+                command: a.command,
+                error: Some(format!("replaced by command {id} ({command})")),
+            });
+        }
+        self.active = Some(ActiveCommand {
+            id,
+            command: command.to_string(),
+        });
     }
 
     fn handle(&mut self, req: Request, ctx: &mut Context<'_>) -> (Reply, Followup) {
@@ -405,7 +425,8 @@ impl OperatorServer {
         }
     }
 
-    /// MC_Power: the whole cell or the named axes, on or off, where the cell state allows it.
+    /// MC_Power: the whole cell or the named axes, on or off, where the cell state allows it;
+    /// the MR-JE-C axes among them (all of them for the whole cell) through their link threads.
     fn power(
         &mut self,
         ctx: &mut Context<'_>,
@@ -413,14 +434,56 @@ impl OperatorServer {
         on: bool,
         axes: &[String],
     ) -> (Reply, Followup) {
+        let whole_cell = axes.is_empty();
+        let (je_c, axes): (Vec<&String>, Vec<&String>) = axes
+            .iter()
+            .partition(|a| ctx.cell.je_c_axis_index(a).is_some());
+        let je_c: Vec<usize> = if whole_cell {
+            (0..ctx.je_c.len()).collect()
+        } else {
+            let mut ks: Vec<usize> = Vec::with_capacity(je_c.len());
+            for a in je_c {
+                let k = ctx.cell.je_c_axis_index(a).expect("partitioned above");
+                if ks.contains(&k) {
+                    return rejected(format!("power: axis '{a}' named twice"));
+                }
+                ks.push(k);
+            }
+            ks
+        };
+        if let Err(e) = je_c_requests::power_check(ctx.je_c, &je_c, on) {
+            return rejected(format!("power: {e}"));
+        }
+        if whole_cell || !axes.is_empty() {
+            if let Err(e) = self.power_rt_axes(ctx, state, on, &axes) {
+                return rejected(format!("power: {e}"));
+            }
+        }
+        let c = if on {
+            AxisCommand::PowerOn
+        } else {
+            AxisCommand::PowerOff
+        };
+        if let Err(e) = je_c.iter().try_for_each(|&k| ctx.je_c.command(k, c)) {
+            return rejected(format!("power: {e}"));
+        }
+        (self.accept("power", false), Followup::None)
+    }
+
+    /// The RT axes' part of MC_Power: all of them when `axes` is empty.
+    fn power_rt_axes(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        on: bool,
+        axes: &[&String],
+    ) -> Result<(), String> {
         let mut indices = Vec::with_capacity(axes.len());
         for a in axes {
             match axis_index(ctx.cell, a) {
-                Ok(i) if indices.contains(&i) => {
-                    return rejected(format!("power: axis '{a}' named twice"))
-                }
+                Ok(i) if indices.contains(&i) => return Err(format!("axis '{a}' named twice")),
                 Ok(i) => indices.push(i),
-                Err(e) => return rejected(format!("power: {e}")),
+                Err(e) => return Err(e.to_string()),
             }
         }
         let blocked = if on {
@@ -443,10 +506,7 @@ impl OperatorServer {
             .then_some("single axes power off from idle: halt or stop the motion, or power off the whole cell")
         };
         if let Some(what) = blocked {
-            return rejected(format!(
-                "power: the cell is {}; {what}",
-                state.state.as_str()
-            ));
+            return Err(format!("the cell is {}; {what}", state.state.as_str()));
         }
         let cmds: Vec<CellCommand> = match (on, indices.is_empty()) {
             (true, true) => vec![CellCommand::PowerOn],
@@ -460,12 +520,8 @@ impl OperatorServer {
                 .map(|&i| CellCommand::PowerOffAxis(i as u16))
                 .collect(),
         };
-        for cmd in cmds {
-            if let Err(e) = ctx.link.command(cmd) {
-                return rejected(format!("power: {e}"));
-            }
-        }
-        (self.accept("power", false), Followup::None)
+        cmds.into_iter()
+            .try_for_each(|cmd| ctx.link.command(cmd).map_err(|e| e.to_string()))
     }
 
     fn report(&self, ctx: &mut Context<'_>, s: &StatusSnapshot) -> StatusReport {

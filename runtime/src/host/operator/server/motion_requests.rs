@@ -17,6 +17,52 @@ impl OperatorServer {
         line: bool,
         asked: Asked,
     ) -> (Reply, Followup) {
+        // MR-JE-C axes: checked first, sent once the streamed part is accepted.
+        let (je_c, targets) = je_c_requests::take_je_c(ctx.cell, targets);
+        if let (true, Some((_, name, _))) = (line, je_c.first()) {
+            return rejected(format!(
+                "move: axis '{name}' is an MR-JE-C axis, whose drive runs its own profile: it cannot move on a line"
+            ));
+        }
+        let je_c_commands = match je_c_requests::move_commands(ctx.je_c, &je_c, relative, asked) {
+            Ok(c) => c,
+            Err(e) => return rejected(format!("move: {e}")),
+        };
+        if je_c_commands.is_empty() {
+            return self.move_streamed(ctx, state, &targets, relative, line, asked);
+        }
+        let reply = if targets.is_empty() {
+            (self.accept("move", true), Followup::None)
+        } else {
+            self.move_streamed(ctx, state, &targets, relative, line, asked)
+        };
+        let Reply::Accepted { id } = reply.0 else {
+            return reply; // nothing sent to the MR-JE-C axes either
+        };
+        if self.active.as_ref().is_none_or(|a| a.id != id) {
+            // The streamed part was not tracked (pp axes only): track the move now.
+            self.track(id, "move");
+        }
+        self.je_c_moves.expect(id, ctx.je_c, &je_c_commands);
+        match je_c_requests::send(ctx.je_c, &je_c_commands) {
+            Ok(()) => reply,
+            Err(e) => {
+                self.finish_active(Err(e.clone()));
+                rejected(format!("move: {e}"))
+            }
+        }
+    }
+
+    /// The streamed and profile axes of a move.
+    fn move_streamed(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        targets: &BTreeMap<String, f64>,
+        relative: bool,
+        line: bool,
+        asked: Asked,
+    ) -> (Reply, Followup) {
         let axis_velocity = if line { None } else { asked.velocity };
         let list = match resolve_targets(ctx, state, targets, relative, |a| {
             move_limits(
@@ -124,6 +170,14 @@ impl OperatorServer {
         acceleration: Option<f64>,
         clamp: bool,
     ) -> (Reply, Followup) {
+        if let Some(k) = ctx.cell.je_c_axis_index(axis) {
+            return match je_c_requests::velocity_command(ctx.je_c, k, velocity, acceleration, clamp)
+                .and_then(|c| je_c_requests::send(ctx.je_c, &[(k, c)]))
+            {
+                Ok(()) => (self.accept("velocity", false), Followup::None),
+                Err(e) => rejected(format!("velocity: {e}")),
+            };
+        }
         let i = match axis_index(ctx.cell, axis) {
             Ok(i) => i,
             Err(e) => return rejected(format!("velocity: {e}")),
@@ -302,12 +356,16 @@ impl OperatorServer {
         }
     }
 
-    /// MC_Reset: leaves a stopped or faulted cell (nothing to do otherwise).
+    /// MC_Reset: clears the MR-JE-C axes their watchdog or an alarm stopped, and leaves a
+    /// stopped or faulted cell (nothing to do otherwise).
     pub(super) fn reset(
         &mut self,
         ctx: &mut Context<'_>,
         state: &StatusSnapshot,
     ) -> (Reply, Followup) {
+        if let Err(e) = je_c_requests::reset_stopped(ctx.je_c) {
+            return rejected(format!("reset: {e}"));
+        }
         if !matches!(state.state, CellState::Stopped | CellState::Faulted) {
             return (self.accept("reset", false), Followup::None);
         }

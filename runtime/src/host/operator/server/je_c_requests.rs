@@ -1,0 +1,238 @@
+//! The operator's requests on MR-JE-C axes (MC_Power, MC_MoveAbsolute / MC_MoveRelative,
+//! MC_MoveVelocity, MC_Reset): checked against the axis' own range and limits and queued for
+//! its non-RT link thread, which commands the drive's pp and pv (MR-JE-C manual §7.6.3,
+//! §7.6.4). The drive's profile has no jerk: a jerk limit does not apply to them.
+
+use std::collections::BTreeMap;
+
+use cellrt_axes::mr_je_c::cell::AxisCommand;
+
+use super::*;
+use crate::config::je_c_axis::JecAxisConfig;
+use crate::host::je_c::{stopped_text, JecAxes};
+
+/// An MR-JE-C axis a request names: its index, name and the value asked.
+pub(super) type JecTarget = (usize, String, f64);
+
+/// The MR-JE-C axes of a request's targets, and the other targets.
+pub(super) fn take_je_c(
+    cell: &CellConfig,
+    targets: &BTreeMap<String, f64>,
+) -> (Vec<JecTarget>, BTreeMap<String, f64>) {
+    let mut je_c = Vec::new();
+    let mut rest = BTreeMap::new();
+    for (name, &v) in targets {
+        match cell.je_c_axis_index(name) {
+            Some(k) => je_c.push((k, name.clone(), v)),
+            None => {
+                rest.insert(name.clone(), v);
+            }
+        }
+    }
+    (je_c, rest)
+}
+
+/// The axis can take a motion command: servo on, not stopped by its watchdog or an alarm.
+fn ready(axes: &JecAxes, k: usize) -> Result<(), String> {
+    let f = axes.feedback(k);
+    let name = &axes.config(k).name;
+    if let Some(s) = f.stopped {
+        return Err(format!(
+            "MR-JE-C axis '{name}': {}; reset it first",
+            stopped_text(s)
+        ));
+    }
+    if !f.enabled {
+        return Err(format!(
+            "MR-JE-C axis '{name}' is not enabled (statusword {:04X}h); power it on first",
+            f.inputs.statusword
+        ));
+    }
+    Ok(())
+}
+
+/// A limit the request asks for, within the axis' own: refused above it unless `clamp`.
+fn pick(
+    c: &JecAxisConfig,
+    what: &str,
+    asked: Option<f64>,
+    limit: f64,
+    clamp: bool,
+) -> Result<f64, String> {
+    match asked {
+        None => Ok(limit),
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(format!(
+            "axis '{}': {what} {v} must be a finite number > 0",
+            c.name
+        )),
+        Some(v) if v > limit && !clamp => Err(format!(
+            "axis '{}': {what} {v} exceeds its limit {limit} (add --clamp to use the limit)",
+            c.name
+        )),
+        Some(v) => Ok(v.min(limit)),
+    }
+}
+
+/// The pp commands of a move's MR-JE-C axes, each checked: ready, target finite and within
+/// the axis' position range (after adding the current position when `relative`), velocity
+/// and acceleration within its limits. Nothing is queued here.
+pub(super) fn move_commands(
+    axes: &JecAxes,
+    list: &[JecTarget],
+    relative: bool,
+    asked: Asked,
+) -> Result<Vec<(usize, AxisCommand)>, String> {
+    let mut out = Vec::with_capacity(list.len());
+    for (k, name, value) in list {
+        let c = axes.config(*k);
+        if !value.is_finite() {
+            return Err(format!(
+                "axis '{name}': target {value} is not a finite number"
+            ));
+        }
+        ready(axes, *k)?;
+        let here = c.units(axes.feedback(*k).inputs.position);
+        let target = if relative { here + value } else { *value };
+        let [lo, hi] = c.position;
+        if !(target.is_finite() && (lo..=hi).contains(&target)) {
+            return Err(format!(
+                "axis '{name}': target {target} {} is outside its position range [{lo}, {hi}]",
+                c.unit
+            ));
+        }
+        let velocity = pick(c, "velocity", asked.velocity, c.velocity, asked.clamp)?;
+        let acceleration = pick(
+            c,
+            "acceleration",
+            asked.acceleration,
+            c.acceleration,
+            asked.clamp,
+        )?;
+        out.push((*k, axes.move_command(*k, target, velocity, acceleration)));
+    }
+    Ok(out)
+}
+
+/// The pv command of a jog of MR-JE-C axis `k` at `velocity` unit/s.
+pub(super) fn velocity_command(
+    axes: &JecAxes,
+    k: usize,
+    velocity: f64,
+    acceleration: Option<f64>,
+    clamp: bool,
+) -> Result<AxisCommand, String> {
+    let c = axes.config(k);
+    if !velocity.is_finite() {
+        return Err(format!(
+            "axis '{}': velocity {velocity} is not a finite number",
+            c.name
+        ));
+    }
+    if velocity.abs() > c.velocity && !clamp {
+        return Err(format!(
+            "axis '{}': velocity {velocity} is outside ±{}, its velocity limit (add --clamp to use the limit)",
+            c.name, c.velocity
+        ));
+    }
+    let acceleration = pick(c, "acceleration", acceleration, c.acceleration, clamp)?;
+    ready(axes, k)?;
+    let v = velocity.clamp(-c.velocity, c.velocity);
+    let ramp = c.ramp_ms(acceleration);
+    Ok(AxisCommand::Velocity {
+        velocity: c.drive_speed(v) as i32,
+        acceleration_ms: ramp,
+        deceleration_ms: ramp,
+    })
+}
+
+/// MC_Power of MR-JE-C axes `ks`: on needs an axis not stopped (reset first), off one that
+/// whose motor stands and runs no job (halt first: servo off would stop it on the dynamic
+/// brake).
+pub(super) fn power_check(axes: &JecAxes, ks: &[usize], on: bool) -> Result<(), String> {
+    for &k in ks {
+        let f = axes.feedback(k);
+        let name = &axes.config(k).name;
+        match (on, f.stopped) {
+            (true, Some(s)) => {
+                return Err(format!(
+                    "MR-JE-C axis '{name}': {}; reset it first",
+                    stopped_text(s)
+                ))
+            }
+            (false, _) if f.busy || f.inputs.velocity != 0 => {
+                return Err(format!("MR-JE-C axis '{name}' is moving; halt it first"))
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Queues each command; the first the link thread cannot take is the error.
+pub(super) fn send(axes: &JecAxes, commands: &[(usize, AxisCommand)]) -> Result<(), String> {
+    commands.iter().try_for_each(|&(k, c)| axes.command(k, c))
+}
+
+/// MC_Reset of the MR-JE-C axes stopped by their watchdog or an alarm.
+pub(super) fn reset_stopped(axes: &JecAxes) -> Result<(), String> {
+    (0..axes.len())
+        .filter(|&k| axes.feedback(k).stopped.is_some())
+        .try_for_each(|k| axes.command(k, AxisCommand::Reset))
+}
+
+/// The MR-JE-C axes a tracked move waits for: each axis' jobs done and failed when it was
+/// sent, so the move ends when each has one more done, and fails on a failed job or a stop.
+#[derive(Debug, Default)]
+pub(super) struct PendingMoves {
+    /// The command id, and per axis its job counts before it.
+    waiting: Option<(u64, Vec<JobsBefore>)>,
+}
+
+/// An axis and its jobs done and failed before a command: `(axis, done, failed)`.
+type JobsBefore = (usize, u32, u32);
+
+impl PendingMoves {
+    /// Notes the feedback of `commands`' axes before they are sent, for command `id`.
+    pub(super) fn expect(&mut self, id: u64, axes: &JecAxes, commands: &[(usize, AxisCommand)]) {
+        let before = commands
+            .iter()
+            .map(|&(k, _)| {
+                let f = axes.feedback(k);
+                (k, f.done, f.failed)
+            })
+            .collect();
+        self.waiting = Some((id, before));
+    }
+
+    /// Whether the move `active` still waits for an MR-JE-C axis; an error when one failed
+    /// or was stopped. Forgets a move that is no longer the active command.
+    pub(super) fn progress(&mut self, active: Option<u64>, axes: &JecAxes) -> Result<bool, String> {
+        let Some((id, before)) = &self.waiting else {
+            return Ok(false);
+        };
+        if Some(*id) != active {
+            self.waiting = None;
+            return Ok(false);
+        }
+        for &(k, done, failed) in before {
+            let f = axes.feedback(k);
+            let name = &axes.config(k).name;
+            if let Some(s) = f.stopped {
+                self.waiting = None;
+                return Err(format!("MR-JE-C axis '{name}': {}", stopped_text(s)));
+            }
+            if f.failed > failed {
+                self.waiting = None;
+                return Err(format!(
+                    "MR-JE-C axis '{name}': the move was refused or cut short (statusword {:04X}h)",
+                    f.inputs.statusword
+                ));
+            }
+            if f.done <= done {
+                return Ok(true);
+            }
+        }
+        self.waiting = None;
+        Ok(false)
+    }
+}

@@ -1,4 +1,4 @@
-//! The simulated MR-JE-C's motor in hm, jg, tq and pt, driven through object writes as a
+//! The simulated MR-JE-C's motor in hm, jg, tq, pt and idx, driven through object writes as a
 //! client drives it (MR-JE-C manual §7.3, §7.5.9, §7.6.2–§7.6.4): 6060h, 6040h 06h/07h/0Fh,
 //! the mode's objects, then ticks of the virtual clock.
 
@@ -190,4 +190,42 @@ fn pt_runs_the_table_2d60h_selects_and_reports_it() {
     cw(&mut d, 0x1F, ms(1000));
     d.tick(ms(1010));
     assert_eq!(int(&d, id(0x606C)), -30_000);
+}
+
+#[test]
+fn idx_turns_to_the_station_2d60h_names_in_pt28_stations() {
+    let mut d = enabled_in(1);
+    d.write(id(0x607A), &Value::I32(262_144), ms(0)).unwrap();
+    cw(&mut d, 0x1F, ms(0));
+    d.tick(ms(2000));
+    assert_eq!(int(&d, id(0x6064)), 262_144, "two revolutions");
+    d.write(ObjectId::new(0x249C, 0), &Value::U32(4), ms(2000))
+        .unwrap();
+    d.write(id(0x6060), &Value::I8(-103), ms(2000)).unwrap();
+    assert_eq!(
+        int(&d, ObjectId::new(0x6092, 1)),
+        4,
+        "6092h:1 is PT28 in idx"
+    );
+    assert_eq!(
+        int(&d, id(0x6064)),
+        0,
+        "8 stations from the start reads station 0"
+    );
+    d.write(id(0x6081), &Value::U32(60_000), ms(2000)).unwrap();
+    d.write(id(0x2D60), &Value::I16(3), ms(2000)).unwrap();
+    cw(&mut d, 0x0F, ms(2000));
+    cw(&mut d, 0x11F, ms(2000));
+    d.tick(ms(2010));
+    assert_eq!(
+        int(&d, id(0x606C)),
+        -60_000,
+        "0 → 3 of 4 goes backwards; halt is disabled"
+    );
+    assert_eq!(int(&d, id(0x2D68)), 3);
+    d.tick(ms(2500));
+    assert_eq!(int(&d, id(0x6064)), 3);
+    assert_eq!(int(&d, id(0x2D69)), 3);
+    assert_eq!(int(&d, id(0x2D6A)), 0);
+    assert_eq!(status(&d) & (1 << 10), 1 << 10);
 }

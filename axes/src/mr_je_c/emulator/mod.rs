@@ -1,14 +1,15 @@
 //! A simulated MR-JE-C (MR-JE-C manual §2–§7): the object dictionary with its access rights and
 //! ranges, the CiA 402 FSA with quick-stop option code 2, alarms with their history and reset,
 //! and the communication time-outs, all judged on a virtual clock the caller passes in
-//! (`now`: time since power-on). The motor moves in pp, pv, tq, hm (method 37), jg and pt
-//! (`motion` and its mode modules); in idx and the −20/−21/−22 modes it holds its position and
-//! targets are stored.
+//! (`now`: time since power-on). The motor moves in pp, pv, tq, hm (method 37), jg, pt and idx
+//! (`motion` and its mode modules); in the −20/−21/−22 modes it holds its position and targets
+//! are stored.
 
 mod address_rules;
 pub mod cyclic;
 mod history;
 pub mod homing;
+pub mod indexer;
 pub mod jog;
 pub mod modbus;
 pub mod motion;
@@ -27,7 +28,7 @@ use std::time::Duration;
 
 use super::alarm::Alarm;
 use super::objects::ObjectId;
-use super::parameters::{PC70, PF46, PN02, PN08, PN10, PN23};
+use super::parameters::{PC30, PC31, PC70, PF46, PN02, PN08, PN10, PN23, PT28};
 use super::types::SoftwareVersion;
 use super::value::Value;
 use crate::cia402::controlword::Controlword;
@@ -345,10 +346,12 @@ impl MrJeC {
     fn profile(&self) -> motion::Profile {
         let int = |index: u16, sub: u8| self.store.int(ObjectId::new(index, sub));
         let feed = int(0x6092, 1);
+        let mode = int(0x6061, 0);
+        let c_rt = int(0x2D08, 0) & 0b110 != 0;
         let max_torque = i64::from(self.params.max_torque);
         let max_speed = i64::from(self.params.max_speed_rpm) * 100;
         motion::Profile {
-            mode: int(0x6061, 0),
+            mode,
             target_position: int(0x607A, 0),
             target_velocity: int(0x60FF, 0),
             profile_velocity: int(0x6081, 0).min(int(0x607F, 0)),
@@ -356,10 +359,10 @@ impl MrJeC {
             deceleration_ms: int(0x6084, 0),
             rated_speed: i64::from(self.params.rated_speed_rpm) * 100,
             max_speed,
-            units_per_rev: if feed > 0 {
-                feed
-            } else {
-                i64::from(self.params.encoder_resolution)
+            units_per_rev: match (mode, feed) {
+                (motion::INDEXER, _) => indexer::stations(int(PT28.index(), 0)),
+                (_, f) if f > 0 => f,
+                _ => i64::from(self.params.encoder_resolution),
             },
             position_window: int(0x6067, 0),
             velocity_window: int(0x606D, 0),
@@ -374,6 +377,18 @@ impl MrJeC {
             velocity_limit: int(0x2D20, 0),
             plant: self.params.torque_plant,
             point: self.target_point(),
+            indexer_station: int(0x2D60, 0),
+            indexer_ramp: if c_rt {
+                motion::Ramp {
+                    acceleration_ms: int(PC30.index(), 0),
+                    deceleration_ms: int(PC31.index(), 0),
+                }
+            } else {
+                motion::Ramp {
+                    acceleration_ms: int(0x6083, 0),
+                    deceleration_ms: int(0x6084, 0),
+                }
+            },
         }
     }
 
@@ -557,8 +572,11 @@ impl MrJeC {
         let alarm = self.alarm;
         let value = match (id.index, id.sub) {
             (0x6041, 0) => live(i64::from(self.statusword().0)),
-            (0x6064, 0) => live(self.motion.position()),
+            (0x6064, 0) => live(self.motion.position_in(&self.profile())),
             (0x606C, 0) => live(self.motion.velocity(&self.profile())),
+            (0x6092, 1) if self.store.int(ObjectId::new(0x6061, 0)) == motion::INDEXER => {
+                live(self.profile().units_per_rev)
+            }
             (0x6074, 0) => live(self.motion.torque().demand()),
             (0x6077, 0) => live(self.motion.torque().actual()),
             (0x2D12 | 0x2D15, 0) => self.status_do(id.index).and_then(live),
@@ -664,7 +682,9 @@ impl MrJeC {
             || (a4 && matches!(v, -100 | -101 | -103));
         let id = ObjectId::new(0x6061, 0);
         if supported && self.store.int(id) != v {
+            let before = self.profile().units_per_rev;
             self.store.set(id, Value::I8(v as i8));
+            self.motion.rescale(before, self.profile().units_per_rev);
             self.motion.mode_changed();
         }
     }

@@ -1,6 +1,6 @@
 //! The simulated MR-JE-C's motor (MR-JE-C manual §7.3, §7.6.2–§7.6.4): pp, pv and the shared
-//! integrator here, hm, jg, tq and pt in their own modules (`homing`, `jog`, `torque`,
-//! `point_table`). pp takes 607Ah at a New set-point edge (Controlword bit 4) and answers
+//! integrator here, hm, jg, tq, pt and idx in their own modules (`homing`, `jog`, `torque`,
+//! `point_table`, `indexer`). pp takes 607Ah at a New set-point edge (Controlword bit 4) and answers
 //! Set-point acknowledge (Statusword bit 12) while bit 4 stays on; pv follows 60FFh. Speeds are
 //! limited by 6081h (pp) and 607Fh, acceleration and deceleration are time constants from 0 to
 //! the rated speed (6083h, 6084h; 0 steps at once), Halt (bit 8) decelerates with 6084h. Target
@@ -12,6 +12,7 @@
 use std::time::Duration;
 
 use super::homing::Homing;
+use super::indexer;
 use super::jog::Jog;
 use super::point_table::{PointTableRun, Target};
 use super::torque::{Torque, TorquePlant};
@@ -29,6 +30,8 @@ pub const HOMING: i64 = 6;
 pub const JOG: i64 = -100;
 /// Point table mode (pt, SW A4+).
 pub const POINT_TABLE: i64 = -101;
+/// Indexer mode (idx, SW A4+).
+pub const INDEXER: i64 = -103;
 
 /// Controlword bit 4: New set-point (pp, jg), Homing Operation Start (hm), start (pt).
 const NEW_SET_POINT: u16 = 1 << 4;
@@ -52,7 +55,7 @@ pub struct Profile {
     pub rated_speed: i64,
     /// Maximum motor speed 6080h, 0.01 r/min.
     pub max_speed: i64,
-    /// Pos units per motor revolution (6092h:1).
+    /// Pos units per motor revolution (6092h:1; [Pr. PT28] stations in idx).
     pub units_per_rev: i64,
     /// 6067h, pos units.
     pub position_window: i64,
@@ -80,6 +83,10 @@ pub struct Profile {
     pub plant: TorquePlant,
     /// The point table 2D60h selects (with 2DD1h's speed, acceleration and deceleration).
     pub point: Target,
+    /// 2D60h as the next station (idx).
+    pub indexer_station: i64,
+    /// 6083h/6084h, or [Pr. PC30]/[Pr. PC31] with C_RT (idx).
+    pub indexer_ramp: Ramp,
 }
 
 impl Profile {
@@ -164,6 +171,14 @@ impl Motion {
         self.position.round() as i64
     }
 
+    /// 6064h in the mode of `p`: within 0 … PT28 − 1 in idx (607Bh).
+    pub fn position_in(&self, p: &Profile) -> i64 {
+        match p.mode {
+            INDEXER => self.position().rem_euclid(p.units_per_rev.max(1)),
+            _ => self.position(),
+        }
+    }
+
     /// Velocity actual value (606Ch), 0.01 r/min.
     pub fn velocity(&self, p: &Profile) -> i64 {
         (self.velocity / p.units_per_rev as f64 * 60.0 * 100.0).round() as i64
@@ -205,6 +220,9 @@ impl Motion {
             }
             JOG => self.jog.controlword(cw, rising, p),
             POINT_TABLE if rising => self.point_table.start(p, self.homing.homed()),
+            INDEXER if rising => self
+                .point_table
+                .begin(indexer::positioning(p, self.position)),
             _ => {}
         }
     }
@@ -215,6 +233,16 @@ impl Motion {
         self.acknowledged = false;
         self.jog = Jog::default();
         self.point_table.cancel();
+    }
+
+    /// The position unit changed from `before` to `after` pos units per revolution (into or
+    /// out of idx): the motor stays where it is.
+    pub fn rescale(&mut self, before: i64, after: i64) {
+        if before > 0 && after > 0 && before != after {
+            let k = after as f64 / before as f64;
+            self.position *= k;
+            self.velocity *= k;
+        }
     }
 
     /// Statusword bits 10, 12 and 13 in Operation enabled.
@@ -232,7 +260,7 @@ impl Motion {
             HOMING => return self.homing.status_bits(standing),
             PROFILE_TORQUE => self.torque.reached(p, halted),
             JOG => self.jog.reached(standing),
-            POINT_TABLE => self.point_table.reached(standing),
+            POINT_TABLE | INDEXER => self.point_table.reached(standing),
             _ => standing,
         };
         let reached = reached || (halted && standing);
@@ -269,6 +297,7 @@ impl Motion {
             HOMING => Command::stop(self.homing.deceleration_ms(p)),
             JOG => self.jog.command(p, halted),
             POINT_TABLE => self.point_table.command(p, halted),
+            INDEXER => self.point_table.command(p, false),
             _ if halted => Command::stop(p.deceleration_ms),
             PROFILE_POSITION => match self.set_point {
                 Some(target) => Command::Position {
@@ -288,6 +317,10 @@ impl Motion {
             match p.mode {
                 PROFILE_POSITION => self.set_point = None,
                 POINT_TABLE => self.point_table.complete(),
+                INDEXER => {
+                    self.point_table.complete();
+                    self.position = self.position.rem_euclid(p.units_per_rev as f64);
+                }
                 _ => {}
             }
         }
@@ -367,6 +400,11 @@ pub(super) mod tests {
             velocity_limit: 50_000,
             plant: TorquePlant::default(),
             point: Target::None,
+            indexer_station: 0,
+            indexer_ramp: Ramp {
+                acceleration_ms: 100,
+                deceleration_ms: 100,
+            },
         }
     }
 

@@ -45,21 +45,25 @@ pub enum Target {
 /// completed, and ignores the start before (an emulator choice).
 pub const HIGH_SPEED_HOME_RETURN: i64 = -1;
 
-/// A positioning under way.
+/// A positioning under way (pt, idx).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Run {
-    /// Table No. (0: high-speed home return).
-    number: i64,
-    target: i64,
-    speed: i64,
-    ramp: Ramp,
-    m_code: i64,
+pub struct Positioning {
+    /// Table No. (0: high-speed home return) or station No.
+    pub number: i64,
+    /// Pos units.
+    pub target: i64,
+    /// 0.01 r/min.
+    pub speed: i64,
+    /// The ramps.
+    pub ramp: Ramp,
+    /// The M code 2D6Ah reads on completion.
+    pub m_code: i64,
 }
 
 /// pt's state.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct PointTableRun {
-    run: Option<Run>,
+    run: Option<Positioning>,
     /// 2D69h.
     actual: i64,
     /// 2D6Ah.
@@ -71,14 +75,14 @@ impl PointTableRun {
     pub fn start(&mut self, p: &Profile, homed: bool) {
         self.run = match p.point {
             Target::None => None,
-            Target::Table(t) => Some(Run {
+            Target::Table(t) => Some(Positioning {
                 number: t.number,
                 target: t.position,
                 speed: t.speed,
                 ramp: t.ramp,
                 m_code: t.m_code,
             }),
-            Target::HomeReturn if homed => Some(Run {
+            Target::HomeReturn if homed => Some(Positioning {
                 number: 0,
                 target: p.home_offset,
                 speed: p.homing_speed,
@@ -92,7 +96,12 @@ impl PointTableRun {
         };
     }
 
-    /// What the motor does in pt.
+    /// Starts `positioning` (idx).
+    pub fn begin(&mut self, positioning: Option<Positioning>) {
+        self.run = positioning;
+    }
+
+    /// What the motor does in pt (and idx, never halted).
     pub fn command(&self, p: &Profile, halted: bool) -> Command {
         match self.run {
             Some(r) if halted => Command::stop(r.ramp.deceleration_ms),

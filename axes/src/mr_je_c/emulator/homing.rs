@@ -75,7 +75,7 @@ impl Homing {
 
 #[cfg(test)]
 mod tests {
-    use super::super::motion::tests::{cw, pp, run, run_halted, speed};
+    use super::super::fixture::{cw, pp, run, run_halted};
     use super::super::motion::{Motion, HOMING, PROFILE_VELOCITY};
     use super::*;
 
@@ -152,7 +152,7 @@ mod tests {
         // 200 ms from the rated speed to 0: half of it after 100 ms.
         assert_eq!(m.velocity(&p), 150_000);
         run_halted(&mut m, &p, 100, true);
-        assert_eq!(speed(&m), 0.0);
+        assert_eq!(m.velocity(&p), 0);
         assert_eq!(m.status_bits(&p, true), 1 << 10);
     }
 }

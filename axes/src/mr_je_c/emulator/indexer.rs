@@ -10,6 +10,11 @@
 use super::motion::Profile;
 use super::point_table::Positioning;
 
+/// Control DI 8 (2D08h) bit 1 C_RT, second acceleration/deceleration (§7.5.8).
+pub const C_RT: i64 = 1 << 1;
+/// Control DI 8 (2D08h) bit 2 C_RTCDP, second acceleration/deceleration and gains (§7.5.8).
+pub const C_RTCDP: i64 = 1 << 2;
+
 /// [Pr. PT28] stations per revolution used while PT28 reads outside 2–255: the network
 /// manual gives no initial value for PT28 (its [Pr. PT__] list is in the Positioning Mode
 /// manual), so this is an emulator choice.
@@ -59,7 +64,7 @@ pub fn positioning(p: &Profile, position: f64) -> Option<Positioning> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::motion::tests::{cw, pp, run, run_halted};
+    use super::super::fixture::{cw, pp, run, run_halted};
     use super::super::motion::{Motion, Ramp, INDEXER};
     use super::*;
 

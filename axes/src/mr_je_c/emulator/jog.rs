@@ -65,7 +65,7 @@ impl Jog {
 
 #[cfg(test)]
 mod tests {
-    use super::super::motion::tests::{cw, pp, run, run_halted};
+    use super::super::fixture::{cw, pp, run, run_halted};
     use super::super::motion::{Motion, JOG};
     use super::*;
 

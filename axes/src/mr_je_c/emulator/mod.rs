@@ -7,6 +7,8 @@
 
 mod address_rules;
 pub mod cyclic;
+#[cfg(test)]
+mod fixture;
 mod history;
 pub mod homing;
 pub mod indexer;
@@ -347,7 +349,7 @@ impl MrJeC {
         let int = |index: u16, sub: u8| self.store.int(ObjectId::new(index, sub));
         let feed = int(0x6092, 1);
         let mode = int(0x6061, 0);
-        let c_rt = int(0x2D08, 0) & 0b110 != 0;
+        let c_rt = int(0x2D08, 0) & (indexer::C_RT | indexer::C_RTCDP) != 0;
         let max_torque = i64::from(self.params.max_torque);
         let max_speed = i64::from(self.params.max_speed_rpm) * 100;
         motion::Profile {

@@ -372,55 +372,9 @@ impl Motion {
 }
 
 #[cfg(test)]
-pub(super) mod tests {
+mod tests {
+    use super::super::fixture::{cw, pp, run};
     use super::*;
-
-    /// pp toward one revolution at 600 r/min with 100 ms ramps, on a 131072-pulse encoder.
-    pub fn pp() -> Profile {
-        Profile {
-            mode: PROFILE_POSITION,
-            target_position: 131_072,
-            target_velocity: 0,
-            profile_velocity: 60_000, // 600 r/min = 10 rev/s
-            acceleration_ms: 100,
-            deceleration_ms: 100,
-            rated_speed: 300_000,
-            max_speed: 600_000,
-            units_per_rev: 131_072,
-            position_window: 100,
-            velocity_window: 2000,
-            homing_method: 37,
-            homing_acceleration_ms: 0,
-            homing_speed: 10_000,
-            home_offset: 0,
-            target_torque: 0,
-            torque_slope: 0,
-            positive_torque_limit: 3000,
-            negative_torque_limit: 3000,
-            velocity_limit: 50_000,
-            plant: TorquePlant::default(),
-            point: Target::None,
-            indexer_station: 0,
-            indexer_ramp: Ramp {
-                acceleration_ms: 100,
-                deceleration_ms: 100,
-            },
-        }
-    }
-
-    /// Steps of 1 ms; the peak speed in pos units/s.
-    pub fn run(m: &mut Motion, p: &Profile, ms: u64) -> f64 {
-        let mut peak: f64 = 0.0;
-        for _ in 0..ms {
-            m.advance(Duration::from_millis(1), p, false);
-            peak = peak.max(m.velocity.abs());
-        }
-        peak
-    }
-
-    pub fn cw(word: u16) -> Controlword {
-        Controlword(word)
-    }
 
     #[test]
     fn pp_reaches_the_target_at_the_profile_velocity() {
@@ -433,14 +387,14 @@ pub(super) mod tests {
             "acknowledged, not reached"
         );
         let peak = run(&mut m, &p, 60);
-        // 600 r/min = 10 rev/s; the 100 ms time constant to 3000 r/min reaches it in 20 ms.
-        assert!((peak - 10.0 * 131_072.0).abs() < 1.0, "peak {peak}");
+        // The 100 ms time constant to 3000 r/min reaches 600 r/min in 20 ms.
+        assert_eq!(peak, 60_000);
         assert!(
             m.position() < 131_072 * 6 / 10,
             "one revolution takes > 100 ms"
         );
         let peak = run(&mut m, &p, 200).max(peak);
-        assert!(peak <= 10.0 * 131_072.0 + 1.0, "peak {peak}");
+        assert_eq!(peak, 60_000);
         assert_eq!(m.position(), 131_072);
         m.controlword(cw(0x0F), cw(0x1F), &p);
         assert_eq!(m.status_bits(&p, false), 1 << 10);
@@ -460,17 +414,5 @@ pub(super) mod tests {
         }
         assert_eq!(m.velocity(&p), 0);
         assert!(m.position() < 0);
-    }
-
-    /// Runs `ms` steps of 1 ms with the halt bit `halted`.
-    pub fn run_halted(m: &mut Motion, p: &Profile, ms: u64, halted: bool) {
-        for _ in 0..ms {
-            m.advance(Duration::from_millis(1), p, halted);
-        }
-    }
-
-    /// The motor's speed in pos units/s (for the mode modules' tests).
-    pub fn speed(m: &Motion) -> f64 {
-        m.velocity
     }
 }

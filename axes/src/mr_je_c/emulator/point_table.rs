@@ -156,7 +156,7 @@ impl PointTableRun {
 
 #[cfg(test)]
 mod tests {
-    use super::super::motion::tests::{cw, pp, run, run_halted};
+    use super::super::fixture::{cw, pp, run, run_halted};
     use super::super::motion::{Motion, HOMING, POINT_TABLE};
     use super::*;
 

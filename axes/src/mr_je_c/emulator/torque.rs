@@ -124,7 +124,7 @@ impl Torque {
 
 #[cfg(test)]
 mod tests {
-    use super::super::motion::tests::{pp, run, run_halted, speed};
+    use super::super::fixture::{pp, run, run_halted};
     use super::super::motion::{Motion, PROFILE_TORQUE};
     use super::*;
 
@@ -165,7 +165,7 @@ mod tests {
         run(&mut m, &p, 1);
         assert_eq!(m.torque().demand(), -30);
         run(&mut m, &p, 100);
-        assert_eq!(speed(&m), 0.0);
+        assert_eq!(m.velocity(&p), 0);
         p.target_torque = -5000;
         run(&mut m, &p, 1);
         assert_eq!(m.torque().demand(), -3000, "6072h limits the demand");

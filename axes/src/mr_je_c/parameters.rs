@@ -65,10 +65,16 @@ const fn p(group: Group, number: u8) -> Parameter {
     Parameter { group, number }
 }
 
+/// [Pr. PC30] Acceleration time constant 2, ms (idx with C_RT, MR-JE-C manual §7.5.8).
+pub const PC30: Parameter = p(Group::PC, 30);
+/// [Pr. PC31] Deceleration time constant 2, ms (idx with C_RT, MR-JE-C manual §7.5.8).
+pub const PC31: Parameter = p(Group::PC, 31);
 /// [Pr. PC70] Modbus RTU station number (0: never answers).
 pub const PC70: Parameter = p(Group::PC, 70);
 /// [Pr. PF46] Modbus RTU communication time-out, s (0: not checked).
 pub const PF46: Parameter = p(Group::PF, 46);
+/// [Pr. PT28] Number of stations per rotation (idx, MR-JE-C manual §7.3 607Bh, 6092h).
+pub const PT28: Parameter = p(Group::PT, 28);
 /// [Pr. PN02] CC-Link IE Field Basic communication error detection time, ms (0: off).
 pub const PN02: Parameter = p(Group::PN, 2);
 /// [Pr. PN08] Function selection N-2 (digit x___: 0 Ethernet, 1 RS-485).

@@ -1,14 +1,21 @@
 //! A simulated MR-JE-C (MR-JE-C manual §2–§7): the object dictionary with its access rights and
 //! ranges, the CiA 402 FSA with quick-stop option code 2, alarms with their history and reset,
 //! and the communication time-outs, all judged on a virtual clock the caller passes in
-//! (`now`: time since power-on). The motor moves in pp and pv (`motion`); in the other modes it
-//! holds its position and targets are stored.
+//! (`now`: time since power-on). The motor moves in pp, pv, tq, hm (method 37), jg, pt and idx
+//! (`motion` and its mode modules); in the −20/−21/−22 modes it holds its position and targets
+//! are stored.
 
 mod address_rules;
 pub mod cyclic;
+#[cfg(test)]
+mod fixture;
 mod history;
+pub mod homing;
+pub mod indexer;
+pub mod jog;
 pub mod modbus;
 pub mod motion;
+pub mod point_table;
 mod refusal;
 pub mod rs485;
 pub mod rtu;
@@ -16,13 +23,14 @@ pub mod search;
 pub mod server;
 pub mod slmp;
 mod store;
+pub mod torque;
 mod watchdog;
 
 use std::time::Duration;
 
 use super::alarm::Alarm;
 use super::objects::ObjectId;
-use super::parameters::{PC70, PF46, PN02, PN08, PN10, PN23};
+use super::parameters::{PC30, PC31, PC70, PF46, PN02, PN08, PN10, PN23, PT28};
 use super::types::SoftwareVersion;
 use super::value::Value;
 use crate::cia402::controlword::Controlword;
@@ -72,6 +80,8 @@ pub struct MrJeCParams {
     /// none (0: at once). A request whose monitoring timer is shorter gets no answer
     /// ([`crate::slmp::monitoring_timer_expires`]).
     pub slmp_processing_time: std::time::Duration,
+    /// The motor and load under torque control (tq); the manual gives none.
+    pub torque_plant: torque::TorquePlant,
 }
 
 impl Default for MrJeCParams {
@@ -93,6 +103,7 @@ impl Default for MrJeCParams {
             mac: crate::slmp::node_search::Mac([0x02, 0x00, 0xC0, 0xA8, 0x03, 0x00]),
             vendor_code: 0,
             slmp_processing_time: Duration::ZERO,
+            torque_plant: torque::TorquePlant::default(),
         }
     }
 }
@@ -105,8 +116,6 @@ const QUIRKS: FsaQuirks = FsaQuirks {
     quick_stop_options_5_to_8: false,
 };
 
-/// Profile torque mode (6060h = 4): a quick stop goes straight to Switch on disabled.
-const PROFILE_TORQUE: i64 = 4;
 /// The value that resets (2A46h), clears the history (2A40h) and clears counters.
 const KEY: i64 = 0x1EA5;
 /// 2A68h: RS-485 frames with a CRC or frame length error (SW A4+, §7.5.4).
@@ -319,7 +328,7 @@ impl MrJeC {
     }
 
     /// The statusword (MR-JE-C manual §7.6.1): bit 4 the main power, bit 9 left 0 (reserved in
-    /// §7.6.1), bits 10 and 12 from the motion in Operation enabled.
+    /// §7.6.1), bits 10, 12 and 13 from the motion in Operation enabled.
     pub fn statusword(&self) -> Statusword {
         let sw = Statusword::for_state_with_power(self.state, self.params.main_power).0 & !(1 << 9);
         let bits = if self.state == FsaState::OperationEnabled {
@@ -339,21 +348,93 @@ impl MrJeC {
     fn profile(&self) -> motion::Profile {
         let int = |index: u16, sub: u8| self.store.int(ObjectId::new(index, sub));
         let feed = int(0x6092, 1);
+        let mode = int(0x6061, 0);
+        let c_rt = int(0x2D08, 0) & (indexer::C_RT | indexer::C_RTCDP) != 0;
+        let max_torque = i64::from(self.params.max_torque);
+        let max_speed = i64::from(self.params.max_speed_rpm) * 100;
         motion::Profile {
-            mode: int(0x6061, 0),
+            mode,
             target_position: int(0x607A, 0),
             target_velocity: int(0x60FF, 0),
             profile_velocity: int(0x6081, 0).min(int(0x607F, 0)),
             acceleration_ms: int(0x6083, 0),
             deceleration_ms: int(0x6084, 0),
             rated_speed: i64::from(self.params.rated_speed_rpm) * 100,
-            units_per_rev: if feed > 0 {
-                feed
-            } else {
-                i64::from(self.params.encoder_resolution)
+            max_speed,
+            units_per_rev: match (mode, feed) {
+                (motion::INDEXER, _) => indexer::stations(int(PT28.index(), 0)),
+                (_, f) if f > 0 => f,
+                _ => i64::from(self.params.encoder_resolution),
             },
             position_window: int(0x6067, 0),
             velocity_window: int(0x606D, 0),
+            homing_method: int(0x6098, 0),
+            homing_acceleration_ms: int(0x609A, 0),
+            homing_speed: int(0x6099, 1),
+            home_offset: int(0x607C, 0),
+            target_torque: int(0x6071, 0),
+            torque_slope: int(0x6087, 0),
+            positive_torque_limit: int(0x60E0, 0).min(max_torque),
+            negative_torque_limit: int(0x60E1, 0).min(max_torque),
+            velocity_limit: int(0x2D20, 0),
+            plant: self.params.torque_plant,
+            point: self.target_point(),
+            indexer_station: int(0x2D60, 0),
+            indexer_ramp: if c_rt {
+                motion::Ramp {
+                    acceleration_ms: int(PC30.index(), 0),
+                    deceleration_ms: int(PC31.index(), 0),
+                }
+            } else {
+                motion::Ramp {
+                    acceleration_ms: int(0x6083, 0),
+                    deceleration_ms: int(0x6084, 0),
+                }
+            },
+        }
+    }
+
+    /// What Target point table 2D60h selects, with 2DD1h's speed and ramps (§7.3).
+    fn target_point(&self) -> point_table::Target {
+        let int = |index: u16, sub: u8| self.store.int(ObjectId::new(index, sub));
+        let number = int(0x2D60, 0);
+        let table = |n: i64| 0x2800 + n as u16;
+        match number {
+            point_table::HIGH_SPEED_HOME_RETURN => point_table::Target::HomeReturn,
+            1..=255 => {
+                let speed_no = match int(0x2DD1, 0) {
+                    n @ 1..=255 => n,
+                    _ => number,
+                };
+                let (t, s) = (table(number), table(speed_no));
+                point_table::Target::Table(point_table::PointTable {
+                    number,
+                    position: int(t, 1),
+                    speed: int(s, 2),
+                    ramp: motion::Ramp {
+                        acceleration_ms: int(s, 3),
+                        deceleration_ms: int(s, 4),
+                    },
+                    m_code: int(t, 7),
+                })
+            }
+            _ => point_table::Target::None,
+        }
+    }
+
+    /// Status DO 2 (2D12h) and 5 (2D15h) with the home position return completion bits
+    /// S_ZP2 (2D12h bit 15) and S_ZP (2D15h bit 7, SW A4+; off at servo-off and alarm in the
+    /// incremental system), MR-JE-C manual §7.5.9.
+    fn status_do(&self, index: u16) -> Option<i64> {
+        let stored = self.store.int(ObjectId::new(index, 0));
+        let homed = self.motion.homed();
+        match index {
+            0x2D12 => Some((stored & !(1 << 15)) | (i64::from(homed) << 15)),
+            0x2D15 if self.params.software >= SoftwareVersion::A4 => {
+                let on = homed && self.state == FsaState::OperationEnabled && self.alarm.is_none();
+                Some((stored & !(1 << 7)) | (i64::from(on) << 7))
+            }
+            _ => None,
         }
     }
 
@@ -493,8 +574,20 @@ impl MrJeC {
         let alarm = self.alarm;
         let value = match (id.index, id.sub) {
             (0x6041, 0) => live(i64::from(self.statusword().0)),
-            (0x6064, 0) => live(self.motion.position()),
+            (0x6064, 0) => live(self.motion.position_in(&self.profile())),
             (0x606C, 0) => live(self.motion.velocity(&self.profile())),
+            (0x6092, 1) if self.store.int(ObjectId::new(0x6061, 0)) == motion::INDEXER => {
+                live(self.profile().units_per_rev)
+            }
+            (0x6074, 0) => live(self.motion.torque().demand()),
+            (0x6077, 0) => live(self.motion.torque().actual()),
+            (0x2D12 | 0x2D15, 0) => self.status_do(id.index).and_then(live),
+            (0x2D68, 0) => {
+                let selected = self.store.int(ObjectId::new(0x2D60, 0));
+                live(self.motion.point_table().demand(selected))
+            }
+            (0x2D69, 0) => live(self.motion.point_table().actual()),
+            (0x2D6A, 0) => live(self.motion.point_table().m_code()),
             (0x1001, 0) => live(i64::from(alarm.is_some())),
             (0x603F, 0) => live(if alarm.is_some() { 0x1000 } else { 0 }),
             (0x2A41, 0) => live(alarm.map_or(0, |a| i64::from(a.current()))),
@@ -589,8 +682,12 @@ impl MrJeC {
         let a4 = self.params.software >= SoftwareVersion::A4;
         let supported = matches!(v, 0 | 1 | 3 | 4 | 6 | -20 | -21 | -22)
             || (a4 && matches!(v, -100 | -101 | -103));
-        if supported {
-            self.store.set(ObjectId::new(0x6061, 0), Value::I8(v as i8));
+        let id = ObjectId::new(0x6061, 0);
+        if supported && self.store.int(id) != v {
+            let before = self.profile().units_per_rev;
+            self.store.set(id, Value::I8(v as i8));
+            self.motion.rescale(before, self.profile().units_per_rev);
+            self.motion.mode_changed();
         }
     }
 
@@ -606,16 +703,14 @@ impl MrJeC {
             FsaState::OperationEnabled if !self.params.main_power => self.state,
             // Option code 2 in tq: straight to Switch on disabled (dynamic brake, §7.6.2).
             FsaState::QuickStopActive
-                if self.store.int(ObjectId::new(0x6061, 0)) == PROFILE_TORQUE =>
+                if self.store.int(ObjectId::new(0x6061, 0)) == motion::PROFILE_TORQUE =>
             {
                 FsaState::SwitchOnDisabled
             }
             s => s,
         };
         if self.state == FsaState::OperationEnabled {
-            let bit4 = |c: Controlword| c.0 & (1 << 4) != 0;
-            self.motion
-                .new_set_point(bit4(cw), bit4(prev), &self.profile());
+            self.motion.controlword(cw, prev, &self.profile());
         } else {
             self.motion.stand();
         }

@@ -1,8 +1,9 @@
-//! The simulated MR-JE-C's motor in the profile modes (MR-JE-C manual §7.6.3 pp, §7.6.4 pv):
-//! pp takes 607Ah at a New set-point edge (Controlword bit 4) and answers Set-point
-//! acknowledge (Statusword bit 12) while bit 4 stays on; pv follows 60FFh. Speeds are limited
-//! by 6081h (pp) and 607Fh, acceleration and deceleration are time constants from 0 to the
-//! rated speed (6083h, 6084h; 0 steps at once), Halt (bit 8) decelerates with 6084h. Target
+//! The simulated MR-JE-C's motor (MR-JE-C manual §7.3, §7.6.2–§7.6.4): pp, pv and the shared
+//! integrator here, hm, jg, tq, pt and idx in their own modules (`homing`, `jog`, `torque`,
+//! `point_table`, `indexer`). pp takes 607Ah at a New set-point edge (Controlword bit 4) and answers
+//! Set-point acknowledge (Statusword bit 12) while bit 4 stays on; pv follows 60FFh. Speeds are
+//! limited by 6081h (pp) and 607Fh, acceleration and deceleration are time constants from 0 to
+//! the rated speed (6083h, 6084h; 0 steps at once), Halt (bit 8) decelerates with 6084h. Target
 //! reached (bit 10): pp at the target within the position window 6067h, pv at the speed within
 //! the velocity window 606Dh. The profile is trapezoidal (the drive's S-pattern smoothing is
 //! not emulated) and a new set-point replaces the running one at once (the
@@ -10,10 +11,30 @@
 
 use std::time::Duration;
 
+use super::homing::Homing;
+use super::indexer;
+use super::jog::Jog;
+use super::point_table::{PointTableRun, Target};
+use super::torque::{Torque, TorquePlant};
+use crate::cia402::controlword::Controlword;
+
 /// 6060h/6061h values of the profile modes.
 pub const PROFILE_POSITION: i64 = 1;
 /// Profile velocity mode.
 pub const PROFILE_VELOCITY: i64 = 3;
+/// Profile torque mode (tq).
+pub const PROFILE_TORQUE: i64 = 4;
+/// Homing mode (hm).
+pub const HOMING: i64 = 6;
+/// Jog mode (jg, SW A4+).
+pub const JOG: i64 = -100;
+/// Point table mode (pt, SW A4+).
+pub const POINT_TABLE: i64 = -101;
+/// Indexer mode (idx, SW A4+).
+pub const INDEXER: i64 = -103;
+
+/// Controlword bit 4: New set-point (pp, jg), Homing Operation Start (hm), start (pt).
+const NEW_SET_POINT: u16 = 1 << 4;
 
 /// The objects a step of the motion reads, in the drive's units.
 #[derive(Debug, Clone, Copy)]
@@ -32,23 +53,94 @@ pub struct Profile {
     pub deceleration_ms: i64,
     /// Rated speed, 0.01 r/min.
     pub rated_speed: i64,
-    /// Pos units per motor revolution (6092h:1).
+    /// Maximum motor speed 6080h, 0.01 r/min.
+    pub max_speed: i64,
+    /// Pos units per motor revolution (6092h:1; [Pr. PT28] stations in idx).
     pub units_per_rev: i64,
     /// 6067h, pos units.
     pub position_window: i64,
     /// 606Dh, 0.01 r/min.
     pub velocity_window: i64,
+    /// 6098h.
+    pub homing_method: i64,
+    /// 609Ah, ms from 0 to rated speed.
+    pub homing_acceleration_ms: i64,
+    /// 6099h:1 speed during search for switch, 0.01 r/min.
+    pub homing_speed: i64,
+    /// 607Ch home position, pos units.
+    pub home_offset: i64,
+    /// 6071h, 0.1 %.
+    pub target_torque: i64,
+    /// 6087h, 0.1 %/s (0: a step).
+    pub torque_slope: i64,
+    /// min(60E0h, 6072h), 0.1 %.
+    pub positive_torque_limit: i64,
+    /// min(60E1h, 6072h), 0.1 %.
+    pub negative_torque_limit: i64,
+    /// 2D20h, 0.01 r/min.
+    pub velocity_limit: i64,
+    /// The motor and load under torque control.
+    pub plant: TorquePlant,
+    /// The point table 2D60h selects (with 2DD1h's speed, acceleration and deceleration).
+    pub point: Target,
+    /// 2D60h as the next station (idx).
+    pub indexer_station: i64,
+    /// 6083h/6084h, or [Pr. PC30]/[Pr. PC31] with C_RT (idx).
+    pub indexer_ramp: Ramp,
 }
 
 impl Profile {
     /// 0.01 r/min → pos units/s.
-    fn units_per_s(&self, speed: i64) -> f64 {
+    pub(super) fn units_per_s(&self, speed: i64) -> f64 {
         speed as f64 / 100.0 / 60.0 * self.units_per_rev as f64
     }
 
     /// A ramp of `ms` from 0 to the rated speed as pos units/s² (`None`: a step).
-    fn rate(&self, ms: i64) -> Option<f64> {
+    pub(super) fn rate(&self, ms: i64) -> Option<f64> {
         (ms > 0).then(|| self.units_per_s(self.rated_speed) / (ms as f64 / 1000.0))
+    }
+}
+
+/// Acceleration and deceleration time constants, ms from 0 to the rated speed and back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Ramp {
+    /// Acceleration, ms.
+    pub acceleration_ms: i64,
+    /// Deceleration, ms.
+    pub deceleration_ms: i64,
+}
+
+/// What the motor is to do in one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Command {
+    /// Run at `speed` pos units/s.
+    Speed {
+        /// Pos units/s, signed.
+        speed: f64,
+        /// The ramps.
+        ramp: Ramp,
+    },
+    /// Position at `target` with at most `speed` pos units/s.
+    Position {
+        /// Pos units.
+        target: i64,
+        /// Pos units/s.
+        speed: f64,
+        /// The ramps.
+        ramp: Ramp,
+    },
+}
+
+impl Command {
+    /// Decelerate to a stop with `deceleration_ms`.
+    pub fn stop(deceleration_ms: i64) -> Command {
+        Command::Speed {
+            speed: 0.0,
+            ramp: Ramp {
+                acceleration_ms: deceleration_ms,
+                deceleration_ms,
+            },
+        }
     }
 }
 
@@ -63,6 +155,14 @@ pub struct Motion {
     set_point: Option<i64>,
     /// Statusword bit 12 in pp.
     acknowledged: bool,
+    /// hm.
+    homing: Homing,
+    /// jg.
+    jog: Jog,
+    /// tq.
+    torque: Torque,
+    /// pt.
+    point_table: PointTableRun,
 }
 
 impl Motion {
@@ -71,25 +171,83 @@ impl Motion {
         self.position.round() as i64
     }
 
+    /// 6064h in the mode of `p`: within 0 … PT28 − 1 in idx (607Bh).
+    pub fn position_in(&self, p: &Profile) -> i64 {
+        match p.mode {
+            INDEXER => self.position().rem_euclid(p.units_per_rev.max(1)),
+            _ => self.position(),
+        }
+    }
+
     /// Velocity actual value (606Ch), 0.01 r/min.
     pub fn velocity(&self, p: &Profile) -> i64 {
         (self.velocity / p.units_per_rev as f64 * 60.0 * 100.0).round() as i64
     }
 
-    /// A controlword `bit4` edge in Operation enabled: pp takes 607Ah on the rising edge;
-    /// the acknowledge follows bit 4.
-    pub fn new_set_point(&mut self, bit4: bool, prev_bit4: bool, p: &Profile) {
-        if p.mode != PROFILE_POSITION {
-            return;
-        }
-        if bit4 && !prev_bit4 {
-            self.set_point = Some(p.target_position);
-        }
-        self.acknowledged = bit4;
+    /// Whether a home position return has completed since power-on (S_ZP2).
+    pub fn homed(&self) -> bool {
+        self.homing.homed()
     }
 
-    /// Statusword bits 10 and 12 in Operation enabled.
+    /// The torque (tq).
+    pub fn torque(&self) -> &Torque {
+        &self.torque
+    }
+
+    /// The point table run (pt).
+    pub fn point_table(&self) -> &PointTableRun {
+        &self.point_table
+    }
+
+    /// A controlword write in Operation enabled: bit 4 edges start what the mode starts
+    /// (pp 607Ah, hm the homing, jg the jog, pt the point table); pp's acknowledge follows bit 4.
+    pub fn controlword(&mut self, cw: Controlword, prev: Controlword, p: &Profile) {
+        let bit4 = cw.0 & NEW_SET_POINT != 0;
+        let rising = bit4 && prev.0 & NEW_SET_POINT == 0;
+        match p.mode {
+            PROFILE_POSITION => {
+                if rising {
+                    self.set_point = Some(p.target_position);
+                }
+                self.acknowledged = bit4;
+            }
+            HOMING if rising && !cw.halt() => {
+                if let Some(home) = self.homing.start(p) {
+                    self.position = home as f64;
+                    self.set_point = None;
+                    self.point_table.homed();
+                }
+            }
+            JOG => self.jog.controlword(cw, rising, p),
+            POINT_TABLE if rising => self.point_table.start(p, self.homing.homed()),
+            INDEXER if rising => self
+                .point_table
+                .begin(indexer::positioning(p, self.position)),
+            _ => {}
+        }
+    }
+
+    /// 6061h changed: what ran in the old mode ends (the motor decelerates in the new one).
+    pub fn mode_changed(&mut self) {
+        self.set_point = None;
+        self.acknowledged = false;
+        self.jog = Jog::default();
+        self.point_table.cancel();
+    }
+
+    /// The position unit changed from `before` to `after` pos units per revolution (into or
+    /// out of idx): the motor stays where it is.
+    pub fn rescale(&mut self, before: i64, after: i64) {
+        if before > 0 && after > 0 && before != after {
+            let k = after as f64 / before as f64;
+            self.position *= k;
+            self.velocity *= k;
+        }
+    }
+
+    /// Statusword bits 10, 12 and 13 in Operation enabled.
     pub fn status_bits(&self, p: &Profile, halted: bool) -> u16 {
+        let standing = self.velocity == 0.0;
         let reached = match p.mode {
             PROFILE_POSITION => {
                 self.set_point.is_none()
@@ -99,9 +257,13 @@ impl Motion {
                 let want = if halted { 0 } else { p.target_velocity };
                 (self.velocity(p) - want).abs() <= p.velocity_window
             }
-            _ => self.velocity == 0.0,
+            HOMING => return self.homing.status_bits(standing),
+            PROFILE_TORQUE => self.torque.reached(p, halted),
+            JOG => self.jog.reached(standing),
+            POINT_TABLE | INDEXER => self.point_table.reached(standing),
+            _ => standing,
         };
-        let reached = reached || (halted && self.velocity == 0.0);
+        let reached = reached || (halted && standing);
         let ack = p.mode == PROFILE_POSITION && self.acknowledged;
         (u16::from(reached) << 10) | (u16::from(ack) << 12)
     }
@@ -111,6 +273,9 @@ impl Motion {
     pub fn stand(&mut self) {
         self.velocity = 0.0;
         self.set_point = None;
+        self.jog = Jog::default();
+        self.torque.stand();
+        self.point_table.cancel();
     }
 
     /// Advances the motor by `dt` with servo on; `halted`: Controlword bit 8.
@@ -119,21 +284,63 @@ impl Motion {
         if dt <= 0.0 {
             return;
         }
-        let vmax = p.units_per_s(p.profile_velocity).abs();
-        let want = match p.mode {
-            _ if halted => 0.0,
+        let profile_ramp = Ramp {
+            acceleration_ms: p.acceleration_ms,
+            deceleration_ms: p.deceleration_ms,
+        };
+        let command = match p.mode {
+            PROFILE_TORQUE => {
+                self.velocity = self.torque.advance(dt, p, halted, self.velocity);
+                self.position += self.velocity * dt;
+                return;
+            }
+            HOMING => Command::stop(self.homing.deceleration_ms(p)),
+            JOG => self.jog.command(p, halted),
+            POINT_TABLE => self.point_table.command(p, halted),
+            INDEXER => self.point_table.command(p, false),
+            _ if halted => Command::stop(p.deceleration_ms),
             PROFILE_POSITION => match self.set_point {
-                Some(t) => self.pp_speed(t as f64, vmax, p),
-                None => 0.0,
+                Some(target) => Command::Position {
+                    target,
+                    speed: p.units_per_s(p.profile_velocity).abs(),
+                    ramp: profile_ramp,
+                },
+                None => Command::stop(p.deceleration_ms),
             },
-            PROFILE_VELOCITY => p.units_per_s(p.target_velocity),
-            _ => 0.0,
+            PROFILE_VELOCITY => Command::Speed {
+                speed: p.units_per_s(p.target_velocity),
+                ramp: profile_ramp,
+            },
+            _ => Command::stop(p.deceleration_ms),
+        };
+        if self.follow(command, dt, p) {
+            match p.mode {
+                PROFILE_POSITION => self.set_point = None,
+                POINT_TABLE => self.point_table.complete(),
+                INDEXER => {
+                    self.point_table.complete();
+                    self.position = self.position.rem_euclid(p.units_per_rev as f64);
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// One step of `command`; true when a positioning arrived at its target.
+    fn follow(&mut self, command: Command, dt: f64, p: &Profile) -> bool {
+        let (want, ramp) = match command {
+            Command::Speed { speed, ramp } => (speed, ramp),
+            Command::Position {
+                target,
+                speed,
+                ramp,
+            } => (self.braking_speed(target as f64, speed, ramp, p), ramp),
         };
         let speeding_up = want.abs() > self.velocity.abs() && want * self.velocity >= 0.0;
         let rate = if speeding_up {
-            p.rate(p.acceleration_ms)
+            p.rate(ramp.acceleration_ms)
         } else {
-            p.rate(p.deceleration_ms)
+            p.rate(ramp.deceleration_ms)
         };
         let dv = want - self.velocity;
         self.velocity = match rate {
@@ -141,24 +348,24 @@ impl Motion {
             _ => want,
         };
         let step = self.velocity * dt;
-        if let (Some(t), false) = (self.set_point, halted) {
-            let left = t as f64 - self.position;
-            if p.mode == PROFILE_POSITION && (left.abs() <= step.abs() || left == 0.0) {
-                self.position = t as f64;
+        if let Command::Position { target, .. } = command {
+            let left = target as f64 - self.position;
+            if left.abs() <= step.abs() || left == 0.0 {
+                self.position = target as f64;
                 self.velocity = 0.0;
-                self.set_point = None;
-                return;
+                return true;
             }
         }
         self.position += step;
+        false
     }
 
-    /// The pp speed toward `target`: the profile speed, or less where the deceleration must
-    /// start (v² = 2·d·s).
-    fn pp_speed(&self, target: f64, vmax: f64, p: &Profile) -> f64 {
+    /// The speed toward `target`: `vmax`, or less where the deceleration must start
+    /// (v² = 2·d·s).
+    fn braking_speed(&self, target: f64, vmax: f64, ramp: Ramp, p: &Profile) -> f64 {
         let left = target - self.position;
         let braking = p
-            .rate(p.deceleration_ms)
+            .rate(ramp.deceleration_ms)
             .map_or(vmax, |d| (2.0 * d * left.abs()).sqrt());
         left.signum() * vmax.min(braking)
     }
@@ -166,53 +373,30 @@ impl Motion {
 
 #[cfg(test)]
 mod tests {
+    use super::super::fixture::{cw, pp, run};
     use super::*;
-
-    fn pp() -> Profile {
-        Profile {
-            mode: PROFILE_POSITION,
-            target_position: 131_072,
-            target_velocity: 0,
-            profile_velocity: 60_000, // 600 r/min = 10 rev/s
-            acceleration_ms: 100,
-            deceleration_ms: 100,
-            rated_speed: 300_000,
-            units_per_rev: 131_072,
-            position_window: 100,
-            velocity_window: 2000,
-        }
-    }
-
-    fn run(m: &mut Motion, p: &Profile, ms: u64) -> f64 {
-        let mut peak: f64 = 0.0;
-        for _ in 0..ms {
-            m.advance(Duration::from_millis(1), p, false);
-            peak = peak.max(m.velocity.abs());
-        }
-        peak
-    }
 
     #[test]
     fn pp_reaches_the_target_at_the_profile_velocity() {
         let p = pp();
         let mut m = Motion::default();
-        m.new_set_point(true, false, &p);
+        m.controlword(cw(0x1F), cw(0x0F), &p);
         assert_eq!(
             m.status_bits(&p, false),
             1 << 12,
             "acknowledged, not reached"
         );
         let peak = run(&mut m, &p, 60);
-        // 600 r/min = 10 rev/s; the 100 ms time constant to 3000 r/min reaches it in 20 ms.
-        assert!((peak - 10.0 * 131_072.0).abs() < 1.0, "peak {peak}");
+        // The 100 ms time constant to 3000 r/min reaches 600 r/min in 20 ms.
+        assert_eq!(peak, 60_000);
         assert!(
             m.position() < 131_072 * 6 / 10,
             "one revolution takes > 100 ms"
         );
         let peak = run(&mut m, &p, 200).max(peak);
-        assert!(peak <= 10.0 * 131_072.0 + 1.0, "peak {peak}");
+        assert_eq!(peak, 60_000);
         assert_eq!(m.position(), 131_072);
-        m.new_set_point(false, true, &p);
+        m.controlword(cw(0x0F), cw(0x1F), &p);
         assert_eq!(m.status_bits(&p, false), 1 << 10);
     }
 

@@ -347,7 +347,7 @@ pub struct RawAxis {
     /// The device in the ESI file, by its revision.
     pub esi_revision: Option<u32>,
     /// `[axes.je_c]`: how an `mr-je-c` axis is reached.
-    pub je_c: Option<super::je_c_axis::RawJecAxis>,
+    pub je_c: Option<RawJecAxis>,
 }
 
 /// `[axes.limits]`.
@@ -548,4 +548,41 @@ pub struct RawLive {
     /// The live page's port on the same IP (none: the live view's port + 1).
     #[serde(default)]
     pub page_port: Option<i64>,
+}
+
+/// `[axes.je_c]` as written.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawJecAxis {
+    /// The drive's IP address (Ethernet transports).
+    pub address: Option<String>,
+    /// The drive's port, where not the transport's own (61450, 5010, 502).
+    pub port: Option<u16>,
+    /// The serial device of the RS-485 line (modbus-rtu).
+    pub serial: Option<PathBuf>,
+    /// The drive's station number on the line, 1–247 (modbus-rtu).
+    pub station: Option<u8>,
+    /// The line's bit rate (modbus-rtu; 115200 by default).
+    pub baud: Option<u32>,
+    /// Link period, ms (≥ 10; 10 by default).
+    pub period_ms: Option<u64>,
+    /// How long one exchange waits for its answer, ms (50 by default).
+    pub response_timeout_ms: Option<u64>,
+    /// The master's watchdog: answers missed in a row that stop the axis (3 by default; 0
+    /// switches it off).
+    pub watchdog_missed: Option<u32>,
+    /// The watchdog's reaction (`watchdogs.communication_reaction` by default).
+    pub watchdog_reaction: Option<String>,
+    /// The drive's own time-out for this transport, ms, written at start-up: [Pr. PN02]
+    /// (cclink-ief-basic, ms), [Pr. PN10] (slmp, modbus-tcp, whole seconds), [Pr. PF46]
+    /// (modbus-rtu, whole seconds). Not written when absent (the drive keeps its setting).
+    pub drive_timeout_ms: Option<u64>,
+    /// Pos units per motor revolution (6092h:1; 131072 by default, the encoder resolution).
+    pub counts_per_rev: Option<f64>,
+    /// The motor's rated speed, r/min, that 6083h/6084h refer to (3000 by default).
+    pub rated_speed: Option<f64>,
+    /// Start an emulated MR-JE-C for the axis on loopback (a pseudo-terminal for
+    /// modbus-rtu) instead of reaching a real drive.
+    #[serde(default)]
+    pub emulate: bool,
 }

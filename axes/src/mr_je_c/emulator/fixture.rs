@@ -3,9 +3,10 @@
 
 use std::time::Duration;
 
-use super::motion::{Motion, Profile, Ramp, PROFILE_POSITION};
-use super::point_table::Target;
-use super::torque::TorquePlant;
+use super::motion::Motion;
+use super::profile::Target;
+use super::profile::TorquePlant;
+use super::profile::{Profile, Ramp, PROFILE_POSITION};
 use crate::cia402::controlword::Controlword;
 
 /// pp toward one revolution at 600 r/min with 100 ms ramps, on a 131072-pulse encoder.

@@ -7,8 +7,8 @@
 //! reads 00h. The motor's route to the station is in the Positioning Mode manual, which the
 //! emulator does not have: see [`shortest_route`].
 
-use super::motion::Profile;
 use super::point_table::Positioning;
+use super::profile::Profile;
 
 /// Control DI 8 (2D08h) bit 1 C_RT, second acceleration/deceleration (§7.5.8).
 pub const C_RT: i64 = 1 << 1;
@@ -60,84 +60,4 @@ pub fn positioning(p: &Profile, position: f64) -> Option<Positioning> {
         ramp: p.indexer_ramp,
         m_code: 0,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::super::fixture::{cw, pp, run, run_halted};
-    use super::super::motion::{Motion, Ramp, INDEXER};
-    use super::*;
-
-    fn idx() -> Profile {
-        Profile {
-            mode: INDEXER,
-            units_per_rev: 8,
-            profile_velocity: 60_000, // 600 r/min = 10 rev/s = 80 stations/s
-            indexer_station: 3,
-            indexer_ramp: Ramp::default(),
-            ..pp()
-        }
-    }
-
-    #[test]
-    fn the_route_is_the_shorter_way_round() {
-        assert_eq!(shortest_route(0.0, 3, 8), 3);
-        assert_eq!(shortest_route(0.0, 5, 8), -3);
-        assert_eq!(
-            shortest_route(0.0, 4, 8),
-            4,
-            "a tie goes address-increasing"
-        );
-        assert_eq!(shortest_route(7.0, 1, 8), 9);
-        assert_eq!(shortest_route(-1.0, 6, 8), -2);
-    }
-
-    #[test]
-    fn a_start_turns_to_the_station_and_halt_is_disabled() {
-        let p = idx();
-        let mut m = Motion::default();
-        m.controlword(cw(0x1F), cw(0x0F), &p);
-        assert_eq!(m.point_table().demand(0), 3);
-        run_halted(&mut m, &p, 10, true);
-        assert_eq!(m.velocity(&p), 60_000, "halt has no effect in idx");
-        run(&mut m, &p, 100);
-        assert_eq!(m.position(), 3);
-        assert_eq!(m.point_table().actual(), 3);
-        assert_eq!(m.point_table().m_code(), 0);
-        assert_eq!(m.status_bits(&p, false), 1 << 10);
-        let mut back = idx();
-        back.indexer_station = 1;
-        m.controlword(cw(0x0F), cw(0x1F), &back);
-        m.controlword(cw(0x1F), cw(0x0F), &back);
-        run(&mut m, &back, 10);
-        assert_eq!(
-            m.velocity(&back),
-            -60_000,
-            "3 → 1 the short way is backwards"
-        );
-        assert_eq!(
-            m.point_table().actual(),
-            3,
-            "the previous station until completion"
-        );
-        run(&mut m, &back, 100);
-        assert_eq!(m.position(), 1);
-        back.indexer_station = 7;
-        m.controlword(cw(0x0F), cw(0x1F), &back);
-        m.controlword(cw(0x1F), cw(0x0F), &back);
-        run(&mut m, &back, 100);
-        assert_eq!(m.position(), 7, "1 → 7 backwards past 0 reads 0 … PT28 − 1");
-        assert_eq!(m.point_table().actual(), 7);
-    }
-
-    #[test]
-    fn a_station_outside_the_revolution_does_not_start() {
-        let mut p = idx();
-        p.indexer_station = 8;
-        let mut m = Motion::default();
-        m.controlword(cw(0x1F), cw(0x0F), &p);
-        run(&mut m, &p, 10);
-        assert_eq!(m.velocity(&p), 0);
-        assert_eq!(m.point_table().actual(), 0);
-    }
 }

@@ -4,7 +4,7 @@
 //! turns on (§7.6.3). Halt (bit 8) decelerates with 6084h; releasing it restarts the jog at
 //! once (§7.6.3). The manual does not say how jg picks the direction: see [`REVERSE`].
 
-use super::motion::{Command, Profile, Ramp};
+use super::profile::{Command, Profile, Ramp};
 use crate::cia402::controlword::Controlword;
 
 /// Controlword bit 6 on at the New set-point edge jogs in the reverse (address decreasing)
@@ -60,66 +60,5 @@ impl Jog {
     /// is on once the jog has ended and the motor stands.
     pub fn reached(&self, standing: bool) -> bool {
         !self.running && standing
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::super::fixture::{cw, pp, run, run_halted};
-    use super::super::motion::{Motion, JOG};
-    use super::*;
-
-    fn jg() -> Profile {
-        Profile {
-            mode: JOG,
-            profile_velocity: 60_000, // 600 r/min = 10 rev/s
-            acceleration_ms: 100,
-            deceleration_ms: 200,
-            ..pp()
-        }
-    }
-
-    #[test]
-    fn jog_runs_at_6081h_while_bit_4_is_on() {
-        let p = jg();
-        let mut m = Motion::default();
-        assert_eq!(m.status_bits(&p, false), 1 << 10);
-        m.controlword(cw(0x1F), cw(0x0F), &p);
-        // 100 ms to 3000 r/min: 600 r/min after 20 ms.
-        run(&mut m, &p, 10);
-        assert_eq!(m.velocity(&p), 30_000);
-        run(&mut m, &p, 10);
-        assert_eq!(m.velocity(&p), 60_000);
-        assert_eq!(m.status_bits(&p, false), 0);
-        run(&mut m, &p, 100);
-        m.controlword(cw(0x0F), cw(0x1F), &p);
-        // 200 ms from 3000 r/min: 600 r/min stops in 40 ms.
-        run(&mut m, &p, 20);
-        assert_eq!(m.velocity(&p), 30_000);
-        run(&mut m, &p, 21);
-        assert_eq!(m.velocity(&p), 0);
-        assert_eq!(m.status_bits(&p, false), 1 << 10);
-        assert!(m.position() > 131_072, "more than one revolution in 140 ms");
-    }
-
-    #[test]
-    fn bit_6_jogs_in_reverse_and_6084h_is_taken_at_the_edge() {
-        let mut p = jg();
-        let mut m = Motion::default();
-        m.controlword(cw(0x5F), cw(0x0F), &p);
-        run(&mut m, &p, 30);
-        assert_eq!(m.velocity(&p), -60_000);
-        p.deceleration_ms = 0;
-        run_halted(&mut m, &p, 20, true);
-        assert_eq!(
-            m.velocity(&p),
-            -30_000,
-            "halt decelerates with the 200 ms taken at the edge"
-        );
-        run_halted(&mut m, &p, 21, true);
-        assert_eq!(m.velocity(&p), 0);
-        assert_eq!(m.status_bits(&p, true), 1 << 10);
-        run(&mut m, &p, 10);
-        assert_eq!(m.velocity(&p), -30_000, "halt off restarts at once");
     }
 }

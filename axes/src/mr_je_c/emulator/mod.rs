@@ -14,8 +14,11 @@ pub mod homing;
 pub mod indexer;
 pub mod jog;
 pub mod modbus;
+#[cfg(test)]
+mod mode_tests;
 pub mod motion;
 pub mod point_table;
+pub mod profile;
 mod refusal;
 pub mod rs485;
 pub mod rtu;
@@ -81,7 +84,7 @@ pub struct MrJeCParams {
     /// ([`crate::slmp::monitoring_timer_expires`]).
     pub slmp_processing_time: std::time::Duration,
     /// The motor and load under torque control (tq); the manual gives none.
-    pub torque_plant: torque::TorquePlant,
+    pub torque_plant: profile::TorquePlant,
 }
 
 impl Default for MrJeCParams {
@@ -103,7 +106,7 @@ impl Default for MrJeCParams {
             mac: crate::slmp::node_search::Mac([0x02, 0x00, 0xC0, 0xA8, 0x03, 0x00]),
             vendor_code: 0,
             slmp_processing_time: Duration::ZERO,
-            torque_plant: torque::TorquePlant::default(),
+            torque_plant: profile::TorquePlant::default(),
         }
     }
 }
@@ -345,14 +348,14 @@ impl MrJeC {
     }
 
     /// The objects the motion reads.
-    fn profile(&self) -> motion::Profile {
+    fn profile(&self) -> profile::Profile {
         let int = |index: u16, sub: u8| self.store.int(ObjectId::new(index, sub));
         let feed = int(0x6092, 1);
         let mode = int(0x6061, 0);
         let c_rt = int(0x2D08, 0) & (indexer::C_RT | indexer::C_RTCDP) != 0;
         let max_torque = i64::from(self.params.max_torque);
         let max_speed = i64::from(self.params.max_speed_rpm) * 100;
-        motion::Profile {
+        profile::Profile {
             mode,
             target_position: int(0x607A, 0),
             target_velocity: int(0x60FF, 0),
@@ -362,7 +365,7 @@ impl MrJeC {
             rated_speed: i64::from(self.params.rated_speed_rpm) * 100,
             max_speed,
             units_per_rev: match (mode, feed) {
-                (motion::INDEXER, _) => indexer::stations(int(PT28.index(), 0)),
+                (profile::INDEXER, _) => indexer::stations(int(PT28.index(), 0)),
                 (_, f) if f > 0 => f,
                 _ => i64::from(self.params.encoder_resolution),
             },
@@ -381,12 +384,12 @@ impl MrJeC {
             point: self.target_point(),
             indexer_station: int(0x2D60, 0),
             indexer_ramp: if c_rt {
-                motion::Ramp {
+                profile::Ramp {
                     acceleration_ms: int(PC30.index(), 0),
                     deceleration_ms: int(PC31.index(), 0),
                 }
             } else {
-                motion::Ramp {
+                profile::Ramp {
                     acceleration_ms: int(0x6083, 0),
                     deceleration_ms: int(0x6084, 0),
                 }
@@ -395,30 +398,30 @@ impl MrJeC {
     }
 
     /// What Target point table 2D60h selects, with 2DD1h's speed and ramps (§7.3).
-    fn target_point(&self) -> point_table::Target {
+    fn target_point(&self) -> profile::Target {
         let int = |index: u16, sub: u8| self.store.int(ObjectId::new(index, sub));
         let number = int(0x2D60, 0);
         let table = |n: i64| 0x2800 + n as u16;
         match number {
-            point_table::HIGH_SPEED_HOME_RETURN => point_table::Target::HomeReturn,
+            point_table::HIGH_SPEED_HOME_RETURN => profile::Target::HomeReturn,
             1..=255 => {
                 let speed_no = match int(0x2DD1, 0) {
                     n @ 1..=255 => n,
                     _ => number,
                 };
                 let (t, s) = (table(number), table(speed_no));
-                point_table::Target::Table(point_table::PointTable {
+                profile::Target::Table(profile::PointTable {
                     number,
                     position: int(t, 1),
                     speed: int(s, 2),
-                    ramp: motion::Ramp {
+                    ramp: profile::Ramp {
                         acceleration_ms: int(s, 3),
                         deceleration_ms: int(s, 4),
                     },
                     m_code: int(t, 7),
                 })
             }
-            _ => point_table::Target::None,
+            _ => profile::Target::None,
         }
     }
 
@@ -576,7 +579,7 @@ impl MrJeC {
             (0x6041, 0) => live(i64::from(self.statusword().0)),
             (0x6064, 0) => live(self.motion.position_in(&self.profile())),
             (0x606C, 0) => live(self.motion.velocity(&self.profile())),
-            (0x6092, 1) if self.store.int(ObjectId::new(0x6061, 0)) == motion::INDEXER => {
+            (0x6092, 1) if self.store.int(ObjectId::new(0x6061, 0)) == profile::INDEXER => {
                 live(self.profile().units_per_rev)
             }
             (0x6074, 0) => live(self.motion.torque().demand()),
@@ -703,7 +706,7 @@ impl MrJeC {
             FsaState::OperationEnabled if !self.params.main_power => self.state,
             // Option code 2 in tq: straight to Switch on disabled (dynamic brake, §7.6.2).
             FsaState::QuickStopActive
-                if self.store.int(ObjectId::new(0x6061, 0)) == motion::PROFILE_TORQUE =>
+                if self.store.int(ObjectId::new(0x6061, 0)) == profile::PROFILE_TORQUE =>
             {
                 FsaState::SwitchOnDisabled
             }

@@ -4,30 +4,7 @@
 //! demand to 0 with 6087h; the operation restarts once it is 0 (§7.6.3). The speed comes from
 //! the torque through [`TorquePlant`] and is limited by Velocity limit value 2D20h.
 
-use std::time::Duration;
-
-use super::motion::Profile;
-
-/// The motor and its load under torque: the manual gives no inertia or friction, so both are
-/// emulator parameters, not drive facts.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TorquePlant {
-    /// Time the motor and load take from 0 to the rated speed at the rated torque (100 %)
-    /// without friction: the inertia. Default 50 ms.
-    pub rated_acceleration_time: Duration,
-    /// Friction torque, 0.1 % of the rated torque, against the motion; a torque of at most
-    /// this leaves a standing motor standing. Default 30 (3 %).
-    pub friction: i64,
-}
-
-impl Default for TorquePlant {
-    fn default() -> Self {
-        TorquePlant {
-            rated_acceleration_time: Duration::from_millis(50),
-            friction: 30,
-        }
-    }
-}
+use super::profile::Profile;
 
 /// tq's state, torques in 0.1 %.
 #[derive(Debug, Clone, Copy, Default)]
@@ -119,81 +96,5 @@ impl Torque {
             }
         }
         v
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::super::fixture::{pp, run, run_halted};
-    use super::super::motion::{Motion, PROFILE_TORQUE};
-    use super::*;
-
-    fn tq() -> Profile {
-        Profile {
-            mode: PROFILE_TORQUE,
-            target_torque: 1000,    // 100.0 %
-            torque_slope: 10_000,   // 1000.0 %/s
-            velocity_limit: 50_000, // 500.00 r/min, the 2D20h default
-            ..pp()
-        }
-    }
-
-    #[test]
-    fn the_demand_ramps_with_6087h_and_the_speed_stops_at_2d20h() {
-        let p = tq();
-        let mut m = Motion::default();
-        run(&mut m, &p, 50);
-        assert_eq!(m.torque().demand(), 500, "1000.0 %/s for 50 ms");
-        run(&mut m, &p, 50);
-        assert_eq!(m.torque().demand(), 1000);
-        assert_eq!(m.status_bits(&p, false), 1 << 10);
-        run(&mut m, &p, 100);
-        assert_eq!(m.velocity(&p), 50_000, "held at the speed limit");
-        assert_eq!(
-            m.torque().actual(),
-            30,
-            "the friction torque holds the speed"
-        );
-    }
-
-    #[test]
-    fn a_step_without_slope_and_torque_within_friction_leaves_the_motor_standing() {
-        let mut p = tq();
-        p.torque_slope = 0;
-        p.target_torque = -30;
-        let mut m = Motion::default();
-        run(&mut m, &p, 1);
-        assert_eq!(m.torque().demand(), -30);
-        run(&mut m, &p, 100);
-        assert_eq!(m.velocity(&p), 0);
-        p.target_torque = -5000;
-        run(&mut m, &p, 1);
-        assert_eq!(m.torque().demand(), -3000, "6072h limits the demand");
-    }
-
-    #[test]
-    fn the_plant_accelerates_with_the_torque_over_friction() {
-        let mut p = tq();
-        p.torque_slope = 0;
-        p.target_torque = 530; // 53.0 %: 50 % over the 3 % friction
-        p.velocity_limit = 600_000;
-        let mut m = Motion::default();
-        run(&mut m, &p, 10);
-        // 100 % takes 50 ms to 3000 r/min: 50 % gives 300 r/min in 10 ms.
-        assert_eq!(m.velocity(&p), 30_000);
-    }
-
-    #[test]
-    fn halt_ramps_the_demand_to_0_and_restarts_after() {
-        let p = tq();
-        let mut m = Motion::default();
-        run(&mut m, &p, 100);
-        run_halted(&mut m, &p, 50, true);
-        assert_eq!(m.torque().demand(), 500);
-        run_halted(&mut m, &p, 50, true);
-        assert_eq!(m.torque().demand(), 0);
-        assert_eq!(m.status_bits(&p, true), 1 << 10);
-        run(&mut m, &p, 10);
-        assert_eq!(m.torque().demand(), 100);
     }
 }

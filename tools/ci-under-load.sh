@@ -7,7 +7,9 @@
 #
 # Needs stress-ng (installed with apt-get when running as root). Each clone is made next to
 # this repository (so `../shared` resolves as in CI) and removed after a passing run; a failing
-# run's clone and log are kept. Exits 1 if any run failed.
+# run's clone and log are kept. Exits 1 if any run failed. With CELLRT_CI_TARGET=DIR each
+# clone builds into DIR (a warm target directory: the runs then judge the tests, not a cold
+# build); by default each builds from scratch, as CI does.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo="$(pwd)"
@@ -33,6 +35,9 @@ for k in $(seq 1 "$runs"); do
   clone="$(dirname "$repo")/ci-under-load-$k-$$"
   log="$clone.log"
   git clone --quiet "$repo" "$clone"
+  if [ -n "${CELLRT_CI_TARGET:-}" ]; then
+    ln -s "$CELLRT_CI_TARGET" "$clone/target"
+  fi
   start=$(date +%s)
   if (cd "$clone" && CI=1 ./.ci/run) >"$log" 2>&1; then
     verdict=passed

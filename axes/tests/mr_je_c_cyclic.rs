@@ -1,7 +1,8 @@
 //! The simulated MR-JE-C's CC-Link IE Field Basic cyclic link (docs/test-vectors.md, mr-je-c.md
 //! §13.4 CB-0 … CB-6, SL-9 … SL-11): connection, CSR/SSR, RWw import, RWr from 1A00h, master
 //! duplication, AL. 86.1 on the virtual clock; and our cyclic master against the emulator on
-//! loopback, allocating nothing per exchange.
+//! loopback, allocating nothing per exchange; a drive on Table 2.3 (positioning modes) run
+//! through a point table by our encoder of that table.
 
 use std::net::{IpAddr, Ipv4Addr};
 use std::time::Duration;
@@ -390,4 +391,71 @@ fn the_link_thread_runs_and_counts_missed_answers() {
     wait("3 misses in a row", &|| f().missed_in_row >= 3);
     assert!(!f().connected);
     drop(thread);
+}
+
+/// A request carrying `rww` with CSR on.
+fn request_with(sequence: u16, rww: [u8; 64]) -> CyclicRequest {
+    let mut r = request(MASTER, sequence, true, 0, 0, true);
+    r.station[0].words = rww;
+    r
+}
+
+/// Manual Table 2.3 at both ends: our encoder's RWw (6060h = −101, 2D60h = 2, 6081h …) is
+/// imported by the emulated drive through its own table of devices; the point table runs and
+/// the default Table 2.3 response mapping (20 entries) answers the completed table and its M
+/// code where our decoder reads them.
+#[test]
+fn a_point_table_runs_over_the_devices_of_table_2_3() {
+    use cellrt_axes::mr_je_c::cell::{PositioningCommand, PositioningFeedback};
+    use cellrt_axes::mr_je_c::emulator::cyclic::{LinkLayout, POSITIONING_MAPPING};
+    let mut b = Bench::new();
+    b.drive = MrJeC::new(MrJeCParams {
+        link_layout: LinkLayout::Positioning,
+        ..MrJeCParams::default()
+    });
+    assert_eq!(b.drive.mapping(), POSITIONING_MAPPING.to_vec());
+    let table = |sub| ObjectId::new(0x2802, sub);
+    for (sub, v) in [(1, 393_216), (2, 60_000), (3, 100), (4, 100), (7, 12)] {
+        b.drive.write(table(sub), &Value::I32(v), ms(0)).unwrap();
+    }
+    let mut cmd = PositioningCommand {
+        mode: -101,
+        target_point_table: 2,
+        ..PositioningCommand::default()
+    };
+    assert!(b
+        .send(&request(MASTER, 1, false, 0, 0, false), ms(0))
+        .is_some());
+    let mut t = 10;
+    let mut exchange = |b: &mut Bench, cmd: &PositioningCommand| {
+        let r = b.send(&request_with(t as u16, cmd.rww()), ms(t)).unwrap();
+        b.drive.tick(ms(t));
+        t += 10;
+        PositioningFeedback::from_rwr(&r.station.words)
+    };
+    for cw in [0x06, 0x07, 0x0F, 0x1F] {
+        cmd.controlword = cw;
+        exchange(&mut b, &cmd);
+    }
+    assert_eq!(b.drive.state(), FsaState::OperationEnabled);
+    assert_eq!(
+        b.drive.read(ObjectId::new(0x2D60, 0)).unwrap(),
+        Value::I16(2),
+        "2D60h from RWwn05"
+    );
+    let mut f = exchange(&mut b, &cmd);
+    assert_eq!((f.mode, f.point_demand), (-101, 2));
+    for _ in 0..200 {
+        f = exchange(&mut b, &cmd);
+        if f.point_actual == 2 {
+            break;
+        }
+    }
+    // Three revolutions at 600 r/min: 0.3 s and the ramps, within the 2 s run.
+    assert_eq!(
+        (f.point_actual, f.m_code, f.position),
+        (2, 12, 393_216),
+        "{f:?}"
+    );
+    assert_eq!(f.statusword & (1 << 10), 1 << 10, "target reached");
 }

@@ -4,8 +4,10 @@
 
 pub mod control;
 pub mod io;
+pub mod positioning_link;
 pub mod thread;
 
 pub use control::{AxisCommand, AxisControl, StopReaction, Stopped};
 pub use io::{CyclicDriveIo, DriveIo, ExchangeError, Inputs, ObjectIo, Outputs};
+pub use positioning_link::{PositioningCommand, PositioningFeedback};
 pub use thread::{AxisFeedback, AxisHandle, AxisThread, ExchangeRecord, StartError};

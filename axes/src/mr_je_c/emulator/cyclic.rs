@@ -4,7 +4,8 @@
 //! drive's station is off, another master gets end code CFE0h, a master silent for its
 //! supervision time (timeout × count) is dropped. While the master transmits to the station and
 //! sets CSR (RY(n+3)F), the drive imports RWw into the objects of the manual's Table 2.2
-//! (profile mode) and answers SSR (RX(n+3)F); RWr is built from the 1A00h mapping. Every
+//! (profile mode) or Table 2.3 (positioning modes; [`LinkLayout`]) and answers SSR
+//! (RX(n+3)F); RWr is built from the 1A00h mapping. Every
 //! request refreshes [Pr. PN02]'s time-out; the sequence number and group are echoed.
 
 use std::time::Duration;
@@ -16,9 +17,42 @@ use crate::cclink_ief_basic::{
     bit, set_bit, CyclicRequest, CyclicResponse, EndCode, StationData, READY_BIT,
 };
 
+/// Which of the manual's RWw/RWr tables the drive's link devices follow (§2.3.2): Table 2.2
+/// "position/speed/torque control mode, profile mode, and home position return mode", or
+/// Table 2.3 "pt/idx/jg/hm". The manual ties them to the operation mode by those titles only
+/// (hm is in both) and does not say whether 6060h or [Pr. PA01] chooses; the emulator takes
+/// the layout as a unit parameter, fixed like [Pr. PA01] (a named choice,
+/// [`super::MrJeCParams::link_layout`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LinkLayout {
+    /// Table 2.2: the standard control modes, profile mode and homing.
+    #[default]
+    Profile,
+    /// Table 2.3: the positioning modes (point table, indexer, jog) and homing.
+    Positioning,
+}
+
+impl LinkLayout {
+    /// RWw → objects: (device, object).
+    pub fn rww(self) -> &'static [(usize, u16)] {
+        match self {
+            LinkLayout::Profile => &RWW_PROFILE,
+            LinkLayout::Positioning => &RWW_POSITIONING,
+        }
+    }
+
+    /// The response mapping 1A00h:1… after power-on (§7.4.6: "Table 2.2 and Table 2.3").
+    pub fn default_mapping(self) -> &'static [u32] {
+        match self {
+            LinkLayout::Profile => &DEFAULT_MAPPING,
+            LinkLayout::Positioning => &POSITIONING_MAPPING,
+        }
+    }
+}
+
 /// RWw → objects, manual Table 2.2 (profile, P/S/T and homing modes): (device, object).
 /// 32-bit objects take two devices, the low word first; 6060h is the low byte of RWwn00.
-const RWW: [(usize, u16); 19] = [
+const RWW_PROFILE: [(usize, u16); 19] = [
     (0x00, 0x6060),
     (0x01, 0x6040),
     (0x02, 0x2D01),
@@ -38,6 +72,48 @@ const RWW: [(usize, u16); 19] = [
     (0x18, 0x60F2),
     (0x19, 0x2D05),
     (0x1A, 0x0000),
+];
+
+/// RWw → objects, manual Table 2.3 (pt, idx, jg, hm): the profile velocity and ramps, the
+/// target point table 2D60h and target speed No. 2DD1h (16-bit) instead of the targets.
+const RWW_POSITIONING: [(usize, u16); 11] = [
+    (0x00, 0x6060),
+    (0x01, 0x6040),
+    (0x02, 0x2D01),
+    (0x03, 0x2D02),
+    (0x04, 0x2D03),
+    (0x05, 0x2D60),
+    (0x06, 0x6081),
+    (0x08, 0x6083),
+    (0x0A, 0x6084),
+    (0x0C, 0x60B8),
+    (0x0D, 0x2DD1),
+];
+
+/// The response mapping of Table 2.3's RWr column as the extract reconstructs it (20 entries,
+/// 46 bytes = RWrn00…RWrn16: the raw table's objects with 32-bit ones on two devices, 8-bit
+/// ones padded to a word).
+pub const POSITIONING_MAPPING: [u32; 20] = [
+    0x6061_0008,
+    0x0000_0008,
+    0x6041_0010,
+    0x6064_0020,
+    0x606C_0020,
+    0x60F4_0020,
+    0x6077_0010,
+    0x2D11_0010,
+    0x2D12_0010,
+    0x2D13_0010,
+    0x2D15_0010,
+    0x2D17_0010,
+    0x2D68_0010,
+    0x2D69_0010,
+    0x2D6A_0008,
+    0x0000_0008,
+    0x2A42_0010,
+    0x60B9_0010,
+    0x60BA_0020,
+    0x60BB_0020,
 ];
 
 /// The default response mapping 1A00h:1–15 (the extract's reconstruction of the garbled
@@ -152,7 +228,8 @@ impl CyclicLink {
 /// Writes RWw into the objects; a value an object refuses is not taken.
 fn import(drive: &mut MrJeC, words: &[u8; 64], now: Duration) {
     let sw = drive.params().software;
-    for &(device, index) in RWW.iter().filter(|(_, i)| *i != 0) {
+    let layout = drive.params().link_layout;
+    for &(device, index) in layout.rww().iter().filter(|(_, i)| *i != 0) {
         let id = ObjectId::new(index, 0);
         let Ok((_, row)) = super::super::access::lookup(id, sw) else {
             continue;

@@ -85,6 +85,8 @@ pub struct MrJeCParams {
     pub slmp_processing_time: std::time::Duration,
     /// The motor and load under torque control (tq); the manual gives none.
     pub torque_plant: profile::TorquePlant,
+    /// The cyclic link's RWw/RWr table (manual Table 2.2 or 2.3); Table 2.2 by default.
+    pub link_layout: cyclic::LinkLayout,
 }
 
 impl Default for MrJeCParams {
@@ -107,6 +109,7 @@ impl Default for MrJeCParams {
             vendor_code: 0,
             slmp_processing_time: Duration::ZERO,
             torque_plant: profile::TorquePlant::default(),
+            link_layout: cyclic::LinkLayout::default(),
         }
     }
 }
@@ -183,11 +186,14 @@ struct Restore {
 const LOAD: i64 = 0x6461_6F6C;
 
 impl MrJeC {
-    /// The drive after power-on, in Switch on disabled; the response mapping 1A00h is the
-    /// default ([`cyclic::DEFAULT_MAPPING`]), as after every power-on (§7.4.6).
+    /// The drive after power-on, in Switch on disabled; the response mapping 1A00h is its link
+    /// layout's default ([`cyclic::LinkLayout::default_mapping`]), as after every power-on
+    /// (§7.4.6).
     pub fn new(params: MrJeCParams) -> MrJeC {
         let mut store = store::Store::new(&params);
-        for (k, entry) in cyclic::DEFAULT_MAPPING.iter().enumerate() {
+        let mapping = params.link_layout.default_mapping();
+        store.set(ObjectId::new(0x1A00, 0), Value::U8(mapping.len() as u8));
+        for (k, entry) in mapping.iter().enumerate() {
             store.set(ObjectId::new(0x1A00, k as u8 + 1), Value::U32(*entry));
         }
         MrJeC {

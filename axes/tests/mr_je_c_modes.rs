@@ -229,3 +229,39 @@ fn idx_turns_to_the_station_2d60h_names_in_pt28_stations() {
     assert_eq!(int(&d, id(0x2D6A)), 0);
     assert_eq!(status(&d) & (1 << 10), 1 << 10);
 }
+
+/// Quick stop, option code 2 (§7.6.2, §7.3 6085h): from 1500 r/min with 6085h = 200 ms (a time
+/// constant from the rated 3000 r/min) the motor decelerates for 100 ms, covering 1.25
+/// revolutions, in Quick stop active, then Switch on disabled; 6085h = 0 runs at 100 ms.
+#[test]
+fn quick_stop_decelerates_with_6085h_then_switch_on_disabled() {
+    for (qs_ms, stop_ms) in [(200u32, 100u64), (0, 50)] {
+        let mut d = enabled_in(3);
+        d.write(id(0x6085), &Value::U32(qs_ms), ms(0)).unwrap();
+        d.write(id(0x6083), &Value::U32(0), ms(0)).unwrap();
+        d.write(id(0x60FF), &Value::I32(150_000), ms(0)).unwrap();
+        d.tick(ms(10));
+        assert_eq!(int(&d, id(0x606C)), 150_000);
+        let from = int(&d, id(0x6064));
+        cw(&mut d, 0x0002, ms(10));
+        assert_eq!(d.state(), FsaState::QuickStopActive);
+        for t in 1..=stop_ms / 2 {
+            d.tick(ms(10 + t));
+        }
+        assert_eq!(d.state(), FsaState::QuickStopActive, "6085h = {qs_ms}");
+        assert_eq!(int(&d, id(0x606C)), 75_000, "half way down");
+        for t in 1..=stop_ms + 1 {
+            d.tick(ms(10 + stop_ms / 2 + t));
+        }
+        assert_eq!(d.state(), FsaState::SwitchOnDisabled, "6085h = {qs_ms}");
+        assert_eq!(int(&d, id(0x606C)), 0);
+        // 25 rev/s ramped to 0 over the stop: half of 25 × stop revolutions (less half a 1 ms
+        // step's worth of the ramp: the motor model steps at its end velocity).
+        let travel = (int(&d, id(0x6064)) - from) as f64 / 131_072.0;
+        let expect = 25.0 * stop_ms as f64 / 1000.0 / 2.0;
+        assert!(
+            (travel - expect).abs() < 0.02,
+            "{travel} rev, 6085h = {qs_ms}"
+        );
+    }
+}

@@ -1,5 +1,6 @@
 //! A simulated MR-JE-C (MR-JE-C manual §2–§7): the object dictionary with its access rights and
-//! ranges, the CiA 402 FSA with quick-stop option code 2, alarms with their history and reset,
+//! ranges, the CiA 402 FSA with quick-stop option code 2 (the 6085h ramp, then Switch on
+//! disabled), alarms with their history and reset,
 //! and the communication time-outs, all judged on a virtual clock the caller passes in
 //! (`now`: time since power-on). The motor moves in pp, pv, tq, hm (method 37), jg, pt and idx
 //! (`motion` and its mode modules); in the −20/−21/−22 modes it holds its position and targets
@@ -491,18 +492,33 @@ impl MrJeC {
     pub fn tick(&mut self, now: Duration) {
         let dt = now.saturating_sub(self.now);
         self.now = self.now.max(now);
-        if self.state == FsaState::OperationEnabled {
-            self.motion.advance(dt, &self.profile(), self.halted());
-        } else {
-            self.motion.stand();
+        match self.state {
+            FsaState::OperationEnabled => {
+                self.motion.advance(dt, &self.profile(), self.halted());
+            }
+            // Option code 2: decelerate with 6085h, then Switch on disabled (§7.6.2).
+            FsaState::QuickStopActive => {
+                if self
+                    .motion
+                    .quick_stop(dt, &self.profile(), self.quick_stop_deceleration_ms())
+                {
+                    self.motion.stand();
+                    self.state = FsaState::SwitchOnDisabled;
+                }
+            }
+            _ => self.motion.stand(),
         }
         if let Some(alarm) = self.watchdog.expired(self.now, &self.timeouts()) {
             self.raise(alarm);
         }
-        // Option code 2: decelerate with 6085h, then Switch on disabled (§7.6.2). The motor
-        // holds its position, so the ramp from standstill ends at the next tick.
-        if self.state == FsaState::QuickStopActive {
-            self.state = FsaState::SwitchOnDisabled;
+    }
+
+    /// 6085h as the drive takes it: "0" runs at 100 ms, the setting is limited to 0–20000 ms
+    /// (§7.3 6085h).
+    fn quick_stop_deceleration_ms(&self) -> i64 {
+        match self.store.int(ObjectId::new(0x6085, 0)) {
+            0 => 100,
+            ms => ms.min(20_000),
         }
     }
 
@@ -720,7 +736,7 @@ impl MrJeC {
         };
         if self.state == FsaState::OperationEnabled {
             self.motion.controlword(cw, prev, &self.profile());
-        } else {
+        } else if self.state != FsaState::QuickStopActive {
             self.motion.stand();
         }
     }

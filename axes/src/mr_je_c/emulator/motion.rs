@@ -159,6 +159,16 @@ impl Motion {
         self.point_table.cancel();
     }
 
+    /// Quick stop (option code 2, MR-JE-C manual §7.6.2): decelerates by `dt` with the time
+    /// constant `deceleration_ms` from the rated speed; true once the motor stands.
+    pub fn quick_stop(&mut self, dt: Duration, p: &Profile, deceleration_ms: i64) -> bool {
+        let dt = dt.as_secs_f64();
+        if dt > 0.0 {
+            self.follow(Command::stop(deceleration_ms), dt, p);
+        }
+        self.velocity == 0.0
+    }
+
     /// Advances the motor by `dt` with servo on; `halted`: Controlword bit 8.
     pub fn advance(&mut self, dt: Duration, p: &Profile, halted: bool) {
         let dt = dt.as_secs_f64();

@@ -429,8 +429,10 @@ fn the_cycle_is_aligned_to_the_dc_sync0_grid() {
     let corrections = run(&mut bus, 30);
     let e = bus.dc_phase_error_ns().expect("locked");
     assert!(e.abs() < 1_000, "phase error after lock-in: {e} ns");
+    // The phase the master starts at is not the same from run to run (a run under load once
+    // started 2.3 µs from the grid): the first reading moves the cycle by whatever it is.
     assert!(
-        corrections.iter().any(|c| c.abs() > 10_000),
+        corrections.iter().any(|&c| c != 0),
         "the first reading moved the cycle: {corrections:?}"
     );
     // A frame 300 µs late (the RT thread was held up): the error shows it, and the master pulls

@@ -114,6 +114,9 @@ fn jg_runs_at_6081h_while_bit_4_is_on_a4_only() {
     cw(&mut d, 0x0F, ms(100));
     d.tick(ms(140));
     assert_eq!(int(&d, id(0x606C)), 0);
+    // Target reached once the Position window time 6068h (10 ms) has passed.
+    assert_eq!(status(&d) & (1 << 10), 0);
+    d.tick(ms(150));
     assert_eq!(status(&d) & (1 << 10), 1 << 10);
     assert!(int(&d, id(0x6064)) > 0);
 
@@ -177,18 +180,19 @@ fn pt_runs_the_table_2d60h_selects_and_reports_it() {
     assert_eq!(int(&d, id(0x6064)), 262_144);
     assert_eq!(int(&d, id(0x2D69)), 7);
     assert_eq!(int(&d, id(0x2D6A)), 0x63);
-    assert_eq!(status(&d) & (1 << 10), 1 << 10);
+    d.tick(ms(1010));
+    assert_eq!(status(&d) & (1 << 10), 1 << 10, "after 6068h");
 
     // 2DD1h: speed, acceleration and deceleration from table 2 (1 ms to 3000 r/min).
     let two = |sub| ObjectId::new(0x2802, sub);
-    d.write(two(2), &Value::I32(30_000), ms(1000)).unwrap();
-    d.write(two(3), &Value::I32(1), ms(1000)).unwrap();
-    d.write(two(4), &Value::I32(1), ms(1000)).unwrap();
-    d.write(id(0x2DD1), &Value::I16(2), ms(1000)).unwrap();
-    d.write(table(1), &Value::I32(0), ms(1000)).unwrap();
-    cw(&mut d, 0x0F, ms(1000));
-    cw(&mut d, 0x1F, ms(1000));
-    d.tick(ms(1010));
+    d.write(two(2), &Value::I32(30_000), ms(1010)).unwrap();
+    d.write(two(3), &Value::I32(1), ms(1010)).unwrap();
+    d.write(two(4), &Value::I32(1), ms(1010)).unwrap();
+    d.write(id(0x2DD1), &Value::I16(2), ms(1010)).unwrap();
+    d.write(table(1), &Value::I32(0), ms(1010)).unwrap();
+    cw(&mut d, 0x0F, ms(1010));
+    cw(&mut d, 0x1F, ms(1010));
+    d.tick(ms(1020));
     assert_eq!(int(&d, id(0x606C)), -30_000);
 }
 
@@ -227,7 +231,8 @@ fn idx_turns_to_the_station_2d60h_names_in_pt28_stations() {
     assert_eq!(int(&d, id(0x6064)), 3);
     assert_eq!(int(&d, id(0x2D69)), 3);
     assert_eq!(int(&d, id(0x2D6A)), 0);
-    assert_eq!(status(&d) & (1 << 10), 1 << 10);
+    d.tick(ms(2510));
+    assert_eq!(status(&d) & (1 << 10), 1 << 10, "after 6068h");
 }
 
 /// Quick stop, option code 2 (§7.6.2, §7.3 6085h): from 1500 r/min with 6085h = 200 ms (a time

@@ -25,6 +25,7 @@ pub mod rtu;
 pub mod search;
 pub mod server;
 pub mod slmp;
+mod status_windows;
 mod store;
 pub mod torque;
 mod watchdog;
@@ -142,6 +143,8 @@ pub struct MrJeC {
     keep_alive: KeepAlive,
     restore: Restore,
     motion: motion::Motion,
+    /// The window times of statusword bits 10 and 12 (§7.3 6067h–6070h).
+    windows: status_windows::StatusWindows,
     now: Duration,
 }
 
@@ -182,6 +185,9 @@ struct Restore {
     point_tables: bool,
 }
 
+/// Statusword bit 10, Target reached.
+const TARGET_REACHED: u16 = 1 << 10;
+
 /// "load" (64616F6Ch) written to 1011h.
 const LOAD: i64 = 0x6461_6F6C;
 
@@ -203,6 +209,7 @@ impl MrJeC {
             cyclic_ready: false,
             restore: Restore::default(),
             motion: motion::Motion::default(),
+            windows: status_windows::StatusWindows::default(),
             params,
             state: FsaState::SwitchOnDisabled,
             last_cw: Controlword(0),
@@ -341,11 +348,39 @@ impl MrJeC {
     pub fn statusword(&self) -> Statusword {
         let sw = Statusword::for_state_with_power(self.state, self.params.main_power).0 & !(1 << 9);
         let bits = if self.state == FsaState::OperationEnabled {
-            self.motion.status_bits(&self.profile(), self.halted())
+            self.timed(self.motion.status_bits(&self.profile(), self.halted()))
         } else {
             0
         };
         Statusword(sw | bits)
+    }
+
+    /// The motor's raw bits 10 and 12 with the mode's window times (§7.3 6068h, 606Eh, 6070h).
+    fn timed(&self, raw: u16) -> u16 {
+        let ms = |index: u16| {
+            Duration::from_millis(self.store.int(ObjectId::new(index, 0)).max(0) as u64)
+        };
+        let window = match self.store.int(ObjectId::new(0x6061, 0)) {
+            profile::PROFILE_POSITION | profile::JOG | profile::POINT_TABLE | profile::INDEXER => {
+                ms(0x6068)
+            }
+            profile::PROFILE_VELOCITY => {
+                let zero = self.windows.speed_zero(self.now, ms(0x6070));
+                let reached = self.windows.reached(self.now, ms(0x606E));
+                let bit10 = if raw & TARGET_REACHED != 0 && reached {
+                    TARGET_REACHED
+                } else {
+                    0
+                };
+                return bit10 | (u16::from(zero) << 12);
+            }
+            _ => return raw,
+        };
+        if self.windows.reached(self.now, window) {
+            raw
+        } else {
+            raw & !TARGET_REACHED
+        }
     }
 
     /// Controlword bit 8 (Halt).
@@ -493,7 +528,13 @@ impl MrJeC {
         self.now = self.now.max(now);
         match self.state {
             FsaState::OperationEnabled => {
-                self.motion.advance(dt, &self.profile(), self.halted());
+                let p = self.profile();
+                self.motion.advance(dt, &p, self.halted());
+                let raw = self.motion.status_bits(&p, self.halted());
+                let over =
+                    self.motion.velocity(&p).abs() > self.store.int(ObjectId::new(0x606F, 0));
+                self.windows
+                    .update(self.now, raw & TARGET_REACHED != 0, over);
             }
             // Option code 2: decelerate with 6085h, then Switch on disabled (§7.6.2).
             FsaState::QuickStopActive => {
@@ -506,6 +547,9 @@ impl MrJeC {
                 }
             }
             _ => self.motion.stand(),
+        }
+        if self.state != FsaState::OperationEnabled {
+            self.windows.standing();
         }
         if let Some(alarm) = self.watchdog.expired(self.now, &self.timeouts()) {
             self.raise(alarm);
@@ -734,7 +778,11 @@ impl MrJeC {
             s => s,
         };
         if self.state == FsaState::OperationEnabled {
-            self.motion.controlword(cw, prev, &self.profile());
+            let p = self.profile();
+            self.motion.controlword(cw, prev, &p);
+            if self.motion.status_bits(&p, self.halted()) & TARGET_REACHED == 0 {
+                self.windows.leave_window();
+            }
         } else if self.state != FsaState::QuickStopActive {
             self.motion.stand();
         }

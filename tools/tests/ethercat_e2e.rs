@@ -199,7 +199,7 @@ fn the_ethercat_cell_runs_over_a_veth_pair_with_the_drives_in_a_network_namespac
         let (out, rest, status) = veth_attempt(&ns, &cfg, &rec);
         let completed = String::from_utf8_lossy(&out.stdout).contains("program completed");
         let stderr = String::from_utf8_lossy(&out.stderr);
-        if stderr.contains("bring-up") && stderr.contains("timeout") {
+        if bring_up_timed_out(&stderr) {
             // The emulator in the namespace did not answer in time (a stall of this machine
             // during bring-up): another attempt, as for stalls during the run.
             if attempt == 6 {
@@ -360,7 +360,7 @@ fn a_lost_link_on_the_far_end_of_a_veth_pair_stops_the_cell_and_every_drive_rais
         // Why the run cannot be judged: a stall of this machine. During bring-up the emulator
         // in the namespace then answers too late; during the run it is an overrun of the
         // master, or a frame lost before the fault while the emulator was stalled.
-        let stalled = if stderr.contains("bring-up") && stderr.contains("timeout") {
+        let stalled = if bring_up_timed_out(&stderr) {
             format!("bring-up timed out ({})", stderr.trim())
         } else {
             assert!(
@@ -905,4 +905,13 @@ fn an_injected_drive_alarm_is_recorded_as_the_axis_emergency() {
             "{kind} at {at}, alarm at {injected}"
         );
     }
+}
+
+/// True if `cellrt run` failed in EtherCAT bring-up on a time-out (the emulator in the
+/// namespace answered too late: a stall of this machine), e.g. "error: EtherCAT PRE-OP → SAFE-OP
+/// → OP: timeout: EEPROM".
+fn bring_up_timed_out(stderr: &str) -> bool {
+    stderr.lines().any(|l| {
+        (l.starts_with("error: EtherCAT") || l.contains("bring-up")) && l.contains("timeout")
+    })
 }

@@ -312,18 +312,31 @@ fn drive_timeout(
     ms: Option<u64>,
 ) -> Result<Option<Duration>, ConfigError> {
     let Some(ms) = ms else { return Ok(None) };
-    let seconds = !matches!(t, JecTransport::CcLink(_));
-    if seconds && ms % 1000 != 0 {
+    use cellrt_axes::mr_je_c::parameters::{definition, PF46, PN02, PN10};
+    let (parameter, name, per) = match t {
+        JecTransport::CcLink(_) => (PN02, "PN02", 1),
+        JecTransport::ModbusRtu { .. } => (PF46, "PF46", 1000),
+        _ => (PN10, "PN10", 1000),
+    };
+    if per > 1 && ms % per != 0 {
         return Err(err(
             "je_c.drive_timeout_ms",
             format!(
-                "{ms} ms: the {} time-out ([Pr. {}]) is set in whole seconds",
+                "{ms} ms: the {} time-out ([Pr. {name}]) is set in whole seconds",
+                t.name()
+            ),
+        ));
+    }
+    // The parameter's setting range (MR-JE-C manual §5.2.3), checked before the drive is.
+    let range = definition(parameter.index()).and_then(|d| d.range);
+    if let Some((lo, hi)) = range.filter(|&(lo, hi)| !(lo..=hi).contains(&((ms / per) as i64))) {
+        return Err(err(
+            "je_c.drive_timeout_ms",
+            format!(
+                "{ms} ms is outside the {} time-out [Pr. {name}]'s range {}–{} ms",
                 t.name(),
-                if matches!(t, JecTransport::ModbusRtu { .. }) {
-                    "PF46"
-                } else {
-                    "PN10"
-                }
+                lo * per as i64,
+                hi * per as i64
             ),
         ));
     }

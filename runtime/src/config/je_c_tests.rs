@@ -165,6 +165,20 @@ fn bad_je_c_keys_are_named() {
         &format!("{k}.je_c.drive_timeout_ms"),
         "PN10",
     );
+    // The parameters' ranges (MR-JE-C manual §5.2.3): PN02 0–1000 ms, PN10 and PF46 0–60 s.
+    refused(
+        outfeed(
+            "cclink-ief-basic",
+            "emulate = true, drive_timeout_ms = 2000",
+        ),
+        &format!("{k}.je_c.drive_timeout_ms"),
+        "outside the cclink-ief-basic time-out [Pr. PN02]'s range 0–1000 ms",
+    );
+    refused(
+        outfeed("modbus-tcp", "emulate = true, drive_timeout_ms = 61000"),
+        &format!("{k}.je_c.drive_timeout_ms"),
+        "range 0–60000 ms",
+    );
     refused(
         outfeed(
             "modbus-tcp",

@@ -39,9 +39,12 @@ fn a_segment_on_a_veth_pair_comes_up_and_exchanges_over_raw_sockets() {
     }
 }
 
-/// A gap between two exchanges of the (non-RT) test loop that the drives' communication checks
-/// see as lost frames (MR-J3-T04: AL.36 after about 7 ms).
-const STALL: Duration = Duration::from_millis(5);
+/// A gap between two exchanges of the (non-RT) test loop, or between two frames the emulator
+/// processed in OP, long enough to leave a SYNC0 edge without a frame: the frames pass 1/8
+/// cycle after an edge (`SYNC0_FRAME_PHASE_DIVISOR`), 100 µs later while delayed, so a gap under
+/// 1.5 cycles cannot. One missed edge is enough for the sync-error counter models to alarm at
+/// the next (+3 per lost frame against a limit of 4: MR-J4-TM AL. 86.1, MR-JET/MR-J5 AL.086.1).
+const STALL: Duration = Duration::from_micros(1500);
 
 /// One bring-up and 200 paced exchanges; `Err` with the longest gap when this machine stalled
 /// the loop long enough for a drive to alarm (anything else that goes wrong fails).
@@ -139,7 +142,13 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
         return Err(max_gap.max(emulator_gap));
     }
     for st in segment.stations() {
-        assert_eq!(st.drive().alarm(), None, "{}", st.drive().profile().name);
+        assert_eq!(
+            st.drive().alarm(),
+            None,
+            "{} (SYNC0 edges missed {}; longest gap: master loop {max_gap:?}, emulator {emulator_gap:?})",
+            st.drive().profile().name,
+            st.missed_sync0()
+        );
         assert!(st.exchanges() >= 190, "{}", st.exchanges());
     }
     Ok(())

@@ -11,6 +11,7 @@ use super::schedule::{FaultSchedule, FrameFate, InjectedCounts};
 use super::{Delivery, Segment};
 use crate::ethercat::frame::REPLY_SOURCE_MAC_BIT;
 use crate::ethercat::raw_socket::RawSocket;
+use crate::ethercat::register::AlState;
 
 /// How often the loop looks at the stop flag while no frame arrives.
 const STOP_POLL: Duration = Duration::from_millis(50);
@@ -40,11 +41,15 @@ pub struct WireStats {
     pub delayed: u64,
     /// The scheduled faults injected.
     pub injected: InjectedCounts,
-    /// The longest time between two frames the segment processed, ns: a stall of the master
-    /// or of the emulator's own thread (a loaded host), which the drives count as lost frames.
+    /// The longest time between two frames the segment processed while every station was in
+    /// OP, ns: a stall of the master or of the emulator's own thread (a loaded host), which the
+    /// drives count as lost frames (they count none outside OP, where bring-up pauses are normal).
     pub max_gap_ns: u64,
     /// When the segment last processed a frame (monotonic ns; 0 before the first).
     pub last_frame_ns: u64,
+    /// When the segment last processed a frame with every station in OP (monotonic ns; 0 when
+    /// the last frame found a station outside OP).
+    pub last_op_frame_ns: u64,
 }
 
 /// Serves `segment` on `socket` with `faults` injected until `stop` is set. Allocates nothing
@@ -101,12 +106,17 @@ fn deliver(
     stats: &mut WireStats,
 ) -> io::Result<bool> {
     let now = monotonic_ns();
-    if stats.last_frame_ns != 0 {
+    let in_op = segment
+        .stations()
+        .iter()
+        .all(|st| st.al_state() == AlState::Op);
+    if in_op && stats.last_op_frame_ns != 0 {
         stats.max_gap_ns = stats
             .max_gap_ns
-            .max(now.saturating_sub(stats.last_frame_ns));
+            .max(now.saturating_sub(stats.last_op_frame_ns));
     }
     stats.last_frame_ns = now;
+    stats.last_op_frame_ns = if in_op { now } else { 0 };
     match segment.process(frame, now) {
         Ok(Delivery::Returned) => {
             socket.send(frame)?;

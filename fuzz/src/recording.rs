@@ -26,7 +26,7 @@ pub fn mcap_recording(data: &[u8]) {
         });
         let _ = file.decode(&cell, true);
     }
-    let _ = mcap::Summary::read(data);
+    let _ = reader::read_summary(data);
     for (op, body) in RecordWalker::new(data, mcap::MAGIC.len()).map_while(Result::ok) {
         if let Ok(Record::Chunk { header, data }) = parse_record(op, body) {
             if let Ok(inner) = chunk_records(&header, &data) {

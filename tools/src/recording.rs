@@ -77,10 +77,8 @@ impl RecFile {
                 path.display()
             ));
         }
-        let summary = match mcap::Summary::read(&bytes) {
-            Ok(Some(s)) if !s.chunk_indexes.is_empty() || s.stats.is_some() => Some(s),
-            _ => None,
-        };
+        let summary =
+            read_summary(&bytes).filter(|s| !s.chunk_indexes.is_empty() || s.stats.is_some());
         Ok(RecFile {
             path: path.to_path_buf(),
             bytes,
@@ -531,6 +529,56 @@ pub fn attachment_fits(body: &[u8]) -> bool {
         .checked_add(data_len)
         .and_then(|end| end.checked_add(4))
         .is_some_and(|end| end <= body.len() as u64)
+}
+
+/// The file's summary section as the mcap crate reads it, or `None` where there is none or it
+/// is damaged. The section is walked first: it may hold only the records the MCAP format puts
+/// there (schemas, channels, chunk, attachment and metadata indexes, statistics, summary
+/// offsets), each framed inside the file. mcap 0.26 decodes whatever it finds there, an
+/// attachment by slicing unchecked (a panic found by the `mcap_recording` fuzz target).
+pub fn read_summary(bytes: &[u8]) -> Option<mcap::Summary> {
+    summary_section_plain(bytes)
+        .then(|| mcap::Summary::read(bytes).ok().flatten())
+        .flatten()
+}
+
+/// Whether the summary section that the footer points at holds only summary records up to the
+/// footer; true where there is no footer or no summary (the crate finds none either).
+fn summary_section_plain(bytes: &[u8]) -> bool {
+    use mcap::records::op;
+    /// Footer record (opcode, length, 20-byte body) and the closing magic.
+    const FOOTER_AND_MAGIC: usize = 1 + 8 + 20 + 8;
+    let Some(footer) = bytes
+        .len()
+        .checked_sub(FOOTER_AND_MAGIC)
+        .and_then(|at| bytes.get(at + 9..at + 17))
+    else {
+        return true;
+    };
+    let summary_start = u64::from_le_bytes(footer.try_into().unwrap_or([0; 8]));
+    if summary_start == 0 {
+        return true;
+    }
+    let Ok(start) = usize::try_from(summary_start) else {
+        return false;
+    };
+    for record in RecordWalker::new(bytes, start) {
+        match record {
+            Ok((op::FOOTER, _)) => return true,
+            Ok((
+                op::SCHEMA
+                | op::CHANNEL
+                | op::CHUNK_INDEX
+                | op::ATTACHMENT_INDEX
+                | op::STATISTICS
+                | op::METADATA_INDEX
+                | op::SUMMARY_OFFSET,
+                _,
+            )) => {}
+            Ok(_) | Err(_) => return false,
+        }
+    }
+    false
 }
 
 /// Whether the record at `offset` (`length` bytes with its opcode and length field) is an

@@ -663,13 +663,6 @@ do = "power_off"
 #[test]
 fn an_attachment_whose_lengths_run_past_its_record_is_refused_not_a_panic() {
     let dir = tempfile::tempdir().unwrap();
-    let record = |op: u8, body: &[u8]| {
-        let mut r = vec![op];
-        r.extend_from_slice(&(body.len() as u64).to_le_bytes());
-        r.extend_from_slice(body);
-        r
-    };
-    let string = |s: &[u8]| [&(s.len() as u32).to_le_bytes()[..], s].concat();
     let mut bytes = mcap::MAGIC.to_vec();
     bytes.extend(record(0x01, &[string(b""), string(b"test")].concat()));
     let mut attachment = vec![0u8; 16];
@@ -693,4 +686,53 @@ fn an_attachment_whose_lengths_run_past_its_record_is_refused_not_a_panic() {
         se.contains("an attachment record whose lengths run past its end"),
         "{so}\n{se}"
     );
+}
+
+/// A summary section holding an attachment record too short for its CRC, behind a footer that
+/// points at it: the mcap crate's summary reader decodes whatever the section holds and would
+/// slice the attachment unchecked and panic (found by fuzzing). `inspect` reads the file
+/// without the summary and refuses it with one line; `recover` does not panic either.
+#[test]
+fn a_summary_section_with_a_record_no_summary_holds_is_not_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bytes = mcap::MAGIC.to_vec();
+    bytes.extend(record(0x01, &[string(b""), string(b"test")].concat()));
+    bytes.extend(record(0x0F, &0u32.to_le_bytes())); // data end
+    let summary_start = bytes.len() as u64;
+    let mut attachment = vec![0u8; 16];
+    attachment.extend(string(b"a"));
+    attachment.extend(string(b"b"));
+    attachment.extend(0u64.to_le_bytes()); // no data and no CRC after it
+    bytes.extend(record(0x09, &attachment));
+    let mut footer = summary_start.to_le_bytes().to_vec();
+    footer.extend(0u64.to_le_bytes());
+    footer.extend(0u32.to_le_bytes());
+    bytes.extend(record(0x02, &footer));
+    bytes.extend(mcap::MAGIC);
+    let path = dir.path().join("attachment-in-summary.mcap");
+    std::fs::write(&path, &bytes).unwrap();
+
+    let out = cellrt(&["inspect".as_ref(), path.as_os_str()]);
+    let (so, se) = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{so}\n{se}");
+    assert_eq!(se.lines().count(), 1, "{se}");
+    assert!(se.contains("not a cellrt recording"), "{se}");
+    let rec = dir.path().join("recovered.mcap");
+    let out = cellrt(&["recover".as_ref(), path.as_os_str(), rec.as_os_str()]);
+    let (so, se) = text(&out);
+    assert!(out.status.code() != Some(101), "{so}\n{se}");
+    assert!(!se.contains("panicked"), "{so}\n{se}");
+}
+
+/// One MCAP record: opcode, body length, body.
+fn record(op: u8, body: &[u8]) -> Vec<u8> {
+    let mut r = vec![op];
+    r.extend_from_slice(&(body.len() as u64).to_le_bytes());
+    r.extend_from_slice(body);
+    r
+}
+
+/// An MCAP string: its length, then its bytes.
+fn string(s: &[u8]) -> Vec<u8> {
+    [&(s.len() as u32).to_le_bytes()[..], s].concat()
 }

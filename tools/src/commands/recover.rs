@@ -14,7 +14,7 @@ use mcap::{Attachment, WriteOptions, Writer};
 
 use crate::cli::RecoverArgs;
 use crate::exit::Exit;
-use crate::recording::{chunk_records, parse_record, RecordWalker};
+use crate::recording::{chunk_records, parse_record, read_summary, RecordWalker};
 
 /// What a recovery copied.
 #[derive(Debug, Default)]
@@ -127,7 +127,7 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
         .create(BufWriter::with_capacity(1 << 20, file))
         .map_err(werr)?;
     // Channels defined in a damaged chunk come from the summary section, where there is one.
-    let summary = mcap::Summary::read(input).ok().flatten();
+    let summary = read_summary(input);
     let mut defined = Defined::default();
     for item in records {
         // A record that runs past the end ends the data; one that does not parse is skipped

@@ -86,14 +86,6 @@ impl RecFile {
         })
     }
 
-    /// Whether `length` bytes from `offset` (a summary index's claim) lie inside the file: the
-    /// mcap crate's index readers add the two unchecked and slice with them.
-    fn spans_inside(&self, offset: u64, length: u64) -> bool {
-        offset
-            .checked_add(length)
-            .is_some_and(|end| end <= self.bytes.len() as u64)
-    }
-
     /// Whether the file has a summary with chunk indexes.
     pub fn indexed(&self) -> bool {
         self.summary
@@ -118,7 +110,8 @@ impl RecFile {
                 .iter()
                 .filter(|m| m.name == CELL_METADATA)
             {
-                if !self.spans_inside(idx.offset, idx.length) {
+                let op = mcap::records::op::METADATA;
+                if one_record_at(&self.bytes, idx.offset, idx.length, op).is_none() {
                     continue;
                 }
                 if let Ok(m) = mcap::read::metadata(&self.bytes, idx) {
@@ -170,7 +163,6 @@ impl RecFile {
                 return s
                     .attachment_indexes
                     .iter()
-                    .filter(|i| self.spans_inside(i.offset, i.length))
                     .filter(|i| attachment_at(&self.bytes, i.offset, i.length))
                     .filter_map(|i| mcap::read::attachment(&self.bytes, i).ok())
                     .map(|a| (a.name, a.data.into_owned()))
@@ -236,7 +228,7 @@ impl RecFile {
                             s.spawn(move || {
                                 let mut v = Vec::new();
                                 for c in group {
-                                    self.decode_chunk(summary, c, kinds, &mut v)?;
+                                    self.decode_chunk(c, kinds, &mut v)?;
                                 }
                                 Ok(v)
                             })
@@ -313,9 +305,12 @@ impl RecFile {
         Ok(Some("the data section has no end".into()))
     }
 
+    /// Decodes the wanted channels' messages of the chunk `chunk` indexes, walking its records
+    /// in place (no copy of the others). Every record is framed by its length and only
+    /// messages are decoded: the mcap crate's chunk stream parses whatever a chunk holds,
+    /// an attachment unchecked.
     fn decode_chunk(
         &self,
-        summary: &Summary,
         chunk: &ChunkIndex,
         kinds: &HashMap<u16, Kind>,
         out: &mut Vec<Decoded>,
@@ -328,60 +323,29 @@ impl RecFile {
             )
         };
         check_chunk_size(chunk.uncompressed_size).map_err(|e| err(&e))?;
-        if self
-            .decode_chunk_fast(chunk, kinds, out)
-            .map_err(|e| err(&e))?
-        {
-            return Ok(());
-        }
-        for m in summary
-            .stream_chunk(&self.bytes, chunk)
-            .map_err(|e| err(&e))?
-        {
-            let m = m.map_err(|e| err(&e))?;
-            let id = m.channel.id;
-            if let Some(k) = kinds.get(&id) {
-                out.push(decode_one(*k, &m.data).map_err(|e| err(&e))?);
-            }
-        }
-        Ok(())
-    }
-
-    /// Decodes a zstd or uncompressed chunk by walking its records in place, decoding only the
-    /// wanted channels' messages (no copy of the others). Returns false for other compressions.
-    fn decode_chunk_fast(
-        &self,
-        chunk: &ChunkIndex,
-        kinds: &HashMap<u16, Kind>,
-        out: &mut Vec<Decoded>,
-    ) -> Result<bool, String> {
         let start = chunk.chunk_start_offset as usize;
         let end = start
             .checked_add(chunk.chunk_length as usize)
             .filter(|e| *e <= self.bytes.len() && start + 9 <= *e)
-            .ok_or("chunk index points outside the file")?;
+            .ok_or_else(|| err(&"chunk index points outside the file"))?;
         let (header, data) =
             match parse_record(mcap::records::op::CHUNK, &self.bytes[start + 9..end]) {
                 Ok(Record::Chunk { header, data }) => (header, data),
-                Ok(_) => return Err("chunk index does not point at a chunk".into()),
-                Err(e) => return Err(e.to_string()),
+                Ok(_) => return Err(err(&"chunk index does not point at a chunk")),
+                Err(e) => return Err(err(&e)),
             };
-        check_chunk_size(header.uncompressed_size)?;
-        if !matches!(header.compression.as_str(), "" | "zstd") {
-            return Ok(false);
-        }
-        let records = chunk_records(&header, &data)?;
+        let records = chunk_records(&header, &data).map_err(|e| err(&e))?;
         for record in RecordWalker::new(&records, 0) {
-            let (op, body) = record?;
+            let (op, body) = record.map_err(|e| err(&e))?;
             // Message: channel id u16, sequence u32, log time u64, publish time u64, data.
             if op == mcap::records::op::MESSAGE && body.len() >= 22 {
                 let channel = u16::from_le_bytes([body[0], body[1]]);
                 if let Some(k) = kinds.get(&channel) {
-                    out.push(decode_one(*k, &body[22..]).map_err(|e| e.to_string())?);
+                    out.push(decode_one(*k, &body[22..]).map_err(|e| err(&e))?);
                 }
             }
         }
-        Ok(true)
+        Ok(())
     }
 
     /// Message counts per channel topic (summary statistics, or counted linearly).
@@ -581,17 +545,22 @@ fn summary_section_plain(bytes: &[u8]) -> bool {
     false
 }
 
-/// Whether the record at `offset` (`length` bytes with its opcode and length field) is an
-/// attachment the mcap crate can parse whole.
-fn attachment_at(bytes: &[u8], offset: u64, length: u64) -> bool {
+/// The body of the record of opcode `op` that the `length` bytes at `offset` hold, when they
+/// hold exactly that one record (opcode, length field, body): the mcap crate's index readers
+/// parse whatever else an index's span holds as a second record, unchecked.
+fn one_record_at(bytes: &[u8], offset: u64, length: u64, op: u8) -> Option<&[u8]> {
     let (Ok(start), Ok(len)) = (usize::try_from(offset), usize::try_from(length)) else {
-        return false;
+        return None;
     };
-    start
-        .checked_add(len)
-        .and_then(|end| bytes.get(start..end))
-        .filter(|r| r.len() >= 9 && r[0] == mcap::records::op::ATTACHMENT)
-        .is_some_and(|r| attachment_fits(&r[9..]))
+    let r = bytes.get(start..start.checked_add(len)?)?;
+    let body = u64::from_le_bytes(r.get(1..9)?.try_into().ok()?);
+    (r[0] == op && body.checked_add(9) == Some(r.len() as u64)).then(|| &r[9..])
+}
+
+/// Whether the `length` bytes at `offset` are one attachment record that the mcap crate can
+/// parse whole.
+fn attachment_at(bytes: &[u8], offset: u64, length: u64) -> bool {
+    one_record_at(bytes, offset, length, mcap::records::op::ATTACHMENT).is_some_and(attachment_fits)
 }
 
 /// The records of `bytes` from offset `at` on, each as (opcode, body), framed by their length

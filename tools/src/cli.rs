@@ -201,6 +201,16 @@ pub struct MrJeCSimArgs {
     /// The drive's software version: A0, A3 or A4 (objects, [Pr. PN10], 6502h).
     #[arg(long, value_name = "VERSION", default_value = "A4")]
     pub software: cellrt_axes::mr_je_c::SoftwareVersion,
+    /// The cyclic link's RWw/RWr devices and default response mapping: `profile` (manual
+    /// Table 2.2: profile, position/speed/torque and homing modes) or `positioning` (Table 2.3:
+    /// point table, indexer, jog and homing).
+    #[arg(
+        long,
+        value_name = "TABLE",
+        default_value = "profile",
+        conflicts_with = "rs485_pty"
+    )]
+    pub link_layout: cellrt_axes::mr_je_c::emulator::cyclic::LinkLayout,
 }
 
 /// `cellrt drive-sim`.
@@ -217,9 +227,8 @@ pub enum DriveSimBus {
     /// Serve one simulated MR-JE-C on an address: Modbus/TCP (3 connections), SLMP over UDP
     /// and TCP (1 connection), the CC-Link IE Field Basic cyclic link (CSR/SSR, RWw/RWr), one
     /// request at a time, until SIGINT/SIGTERM; or with `--rs485-pty` drives on a Modbus RTU
-    /// line. The drive holds
-    /// its position (profile motion is not simulated); its time-outs ([Pr. PN02], [Pr. PN10],
-    /// [Pr. PF46]) run on the time since start.
+    /// line. The motor moves in the modes the emulator has (pp, pv, tq, hm method 37, jg, pt,
+    /// idx); the time-outs ([Pr. PN02], [Pr. PN10], [Pr. PF46]) run on the time since start.
     #[command(name = "mr-je-c")]
     MrJeC(MrJeCSimArgs),
     /// Present the drives of the cell configuration given as `--cell CONFIG` as EtherCAT

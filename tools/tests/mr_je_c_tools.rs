@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use cellrt_axes::modbus::client::TcpClient;
 use cellrt_axes::mr_je_c::access::typed::Statusword;
-use cellrt_axes::mr_je_c::{ObjectAccess, OverModbus};
+use cellrt_axes::mr_je_c::{ObjectAccess, ObjectId, OverModbus, Value};
 use cellrt_axes::slmp::client::{FrameType, SlmpClient};
 
 fn free_tcp() -> u16 {
@@ -37,26 +37,26 @@ fn cellrt(args: &[String]) -> Child {
         .unwrap()
 }
 
-#[test]
-fn serves_modbus_and_slmp_until_sigterm() {
-    let (m, u, t, c, n) = (free_tcp(), free_udp(), free_tcp(), free_udp(), free_udp());
-    let args = [
-        "--listen",
-        "127.0.0.1",
+/// A drive-sim on free loopback ports with `extra` arguments, and our Modbus/TCP client of it
+/// once it listens; the ports (Modbus/TCP, SLMP UDP, SLMP TCP, cyclic link, NodeSearch).
+fn drive_sim_on_loopback(extra: &[&str]) -> (Child, OverModbus, [u16; 5]) {
+    let ports = [free_tcp(), free_udp(), free_tcp(), free_udp(), free_udp()];
+    let mut args = vec!["--listen".to_string(), "127.0.0.1".to_string()];
+    for (flag, port) in [
         "--modbus-port",
-        &m.to_string(),
         "--slmp-udp-port",
-        &u.to_string(),
         "--slmp-tcp-port",
-        &t.to_string(),
         "--cclink-port",
-        &c.to_string(),
         "--search-port",
-        &n.to_string(),
     ]
-    .map(String::from);
+    .iter()
+    .zip(ports)
+    {
+        args.extend([flag.to_string(), port.to_string()]);
+    }
+    args.extend(extra.iter().map(|a| a.to_string()));
     let child = cellrt(&args);
-    let addr: SocketAddr = format!("127.0.0.1:{m}").parse().unwrap();
+    let addr: SocketAddr = format!("127.0.0.1:{}", ports[0]).parse().unwrap();
     let end = Instant::now() + Duration::from_secs(30);
     let client = loop {
         match TcpClient::connect(addr, Duration::from_secs(1)) {
@@ -65,23 +65,47 @@ fn serves_modbus_and_slmp_until_sigterm() {
             Err(_) => std::thread::sleep(Duration::from_millis(50)),
         }
     };
-    let mut drive = OverModbus::new(client, Default::default());
-    // Switch on disabled after power-on, main power on.
-    assert_eq!(drive.read::<Statusword>().unwrap().0 & 0x4F, 0x40);
-    let udp: SocketAddr = format!("127.0.0.1:{u}").parse().unwrap();
-    let mut slmp = SlmpClient::udp(udp, FrameType::E4, Duration::from_secs(2)).unwrap();
-    assert_eq!(slmp.model().unwrap().0, "MR-JE-20C");
-    drop(drive);
+    (child, OverModbus::new(client, Default::default()), ports)
+}
+
+/// Ends `child` with SIGTERM; its exit code and what it printed.
+fn terminate(child: Child) -> (Option<i32>, String) {
     nix::sys::signal::kill(
         nix::unistd::Pid::from_raw(child.id() as i32),
         nix::sys::signal::Signal::SIGTERM,
     )
     .unwrap();
     let out = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The response mapping's number of entries (1A00h:0).
+fn mapped_entries(drive: &mut OverModbus) -> Value {
+    drive.read_object(ObjectId::new(0x1A00, 0)).unwrap()
+}
+
+#[test]
+fn serves_modbus_and_slmp_until_sigterm() {
+    let (child, mut drive, [_, u, _, _, n]) = drive_sim_on_loopback(&[]);
+    // Switch on disabled after power-on, main power on.
+    assert_eq!(drive.read::<Statusword>().unwrap().0 & 0x4F, 0x40);
+    // Table 2.2's default response mapping: 15 entries (§7.4.6).
+    assert_eq!(mapped_entries(&mut drive), Value::U8(15));
+    let udp: SocketAddr = format!("127.0.0.1:{u}").parse().unwrap();
+    let mut slmp = SlmpClient::udp(udp, FrameType::E4, Duration::from_secs(2)).unwrap();
+    assert_eq!(slmp.model().unwrap().0, "MR-JE-20C");
+    drop(drive);
+    let (code, stderr) = terminate(child);
+    assert_eq!(code, Some(0), "{stderr}");
     assert!(
         stderr.contains("MR-JE-20C (software A4, MAC 02:00:7F:00:00:01) on Modbus/TCP 127.0.0.1:"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("(link devices of Table 2.2 (profile))"),
         "{stderr}"
     );
     assert!(
@@ -89,6 +113,21 @@ fn serves_modbus_and_slmp_until_sigterm() {
         "{stderr}"
     );
     assert!(stderr.contains("stopped after"), "{stderr}");
+}
+
+/// `--link-layout positioning`: the drive's cyclic link follows the manual's Table 2.3, whose
+/// default response mapping has 20 entries (§7.4.6).
+#[test]
+fn the_positioning_link_layout_is_table_2_3() {
+    let (child, mut drive, _) = drive_sim_on_loopback(&["--link-layout", "positioning"]);
+    assert_eq!(mapped_entries(&mut drive), Value::U8(20));
+    drop(drive);
+    let (code, stderr) = terminate(child);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stderr.contains("(link devices of Table 2.3 (positioning))"),
+        "{stderr}"
+    );
 }
 
 #[test]
@@ -99,6 +138,17 @@ fn bad_arguments_are_refused() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("software version \"B7\""), "{stderr}");
+    let out = cellrt(&["--listen", "127.0.0.1", "--link-layout", "2.4"].map(String::from))
+        .wait_with_output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains(
+            "link layout \"2.4\": expected profile (Table 2.2) or positioning (Table 2.3)"
+        ),
+        "{stderr}"
+    );
     // A port taken by someone else.
     let taken = TcpListener::bind("127.0.0.1:0").unwrap();
     let port = taken.local_addr().unwrap().port().to_string();

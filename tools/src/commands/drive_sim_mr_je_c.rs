@@ -51,6 +51,7 @@ fn serve_ethernet(ip: IpAddr, args: &MrJeCSimArgs, stop: &AtomicBool) -> Exit {
     let params = MrJeCParams {
         software: args.software,
         mac: args.mac.unwrap_or_else(|| mac_of(ip)),
+        link_layout: args.link_layout,
         ..Default::default()
     };
     let (model, mac) = (params.model.clone(), params.mac);
@@ -70,8 +71,8 @@ fn serve_ethernet(ip: IpAddr, args: &MrJeCSimArgs, stop: &AtomicBool) -> Exit {
         }
     };
     eprintln!(
-        "cellrt drive-sim: {model} (software {}, MAC {mac}) on Modbus/TCP {}, SLMP UDP {}, SLMP TCP {}, CC-Link IE Field Basic UDP {}, NodeSearch UDP {}",
-        args.software, server.modbus_tcp, server.slmp_udp, server.slmp_tcp, server.cclink, server.search
+        "cellrt drive-sim: {model} (software {}, MAC {mac}) on Modbus/TCP {}, SLMP UDP {}, SLMP TCP {}, CC-Link IE Field Basic UDP {} (link devices of {}), NodeSearch UDP {}",
+        args.software, server.modbus_tcp, server.slmp_udp, server.slmp_tcp, server.cclink, args.link_layout, server.search
     );
     while !stop.load(Ordering::Relaxed) {
         std::thread::sleep(Duration::from_millis(50));

@@ -32,6 +32,33 @@ pub enum LinkLayout {
     Positioning,
 }
 
+/// Text that names no link layout.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("link layout {0:?}: expected profile (Table 2.2) or positioning (Table 2.3)")]
+pub struct ParseLinkLayoutError(pub String);
+
+impl std::str::FromStr for LinkLayout {
+    type Err = ParseLinkLayoutError;
+
+    /// `profile` or `positioning` (also `2.2` / `2.3`, the manual's table numbers).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "profile" | "2.2" => Ok(LinkLayout::Profile),
+            "positioning" | "2.3" => Ok(LinkLayout::Positioning),
+            _ => Err(ParseLinkLayoutError(s.to_string())),
+        }
+    }
+}
+
+impl std::fmt::Display for LinkLayout {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            LinkLayout::Profile => "Table 2.2 (profile)",
+            LinkLayout::Positioning => "Table 2.3 (positioning)",
+        })
+    }
+}
+
 impl LinkLayout {
     /// RWw → objects: (device, object).
     pub fn rww(self) -> &'static [(usize, u16)] {

@@ -83,6 +83,17 @@ fn moves(io: Box<dyn DriveIo>, params: &[(ObjectId, Value)]) -> AxisThread {
     assert!((v + 60_000).abs() <= 2000, "{v}");
     h.command(AxisCommand::Halt);
     wait(&h, "halted", |f| f.done == 3 && f.inputs.velocity == 0);
+    // hm with the drive's default method 37: the home (607Ch = 0) where the motor stands.
+    assert_ne!(h.feedback().inputs.position, 0);
+    assert!(h.command(AxisCommand::Home));
+    wait(&h, "homed", |f| f.done == 4);
+    let f = h.feedback();
+    assert_eq!((f.failed, f.inputs.position), (0, 0), "{f:?}");
+    assert_eq!(
+        f.inputs.statusword & 0x3400,
+        0x1400,
+        "Homing attained, Target reached"
+    );
     t
 }
 
@@ -107,6 +118,26 @@ fn slmp_udp_axis_moves() {
     let client = SlmpClient::udp(s.slmp_udp, FrameType::E4, TIMEOUT).unwrap();
     let t = moves(Box::new(ObjectIo::new(client)), &[]);
     assert_eq!(t.handle.feedback().missed, 0);
+}
+
+/// A method the emulated drive does not run (6098h = 35, listed in 60E3h but not emulated):
+/// Homing error (bit 13), the job fails and the axis stays enabled.
+#[test]
+fn a_homing_error_fails_the_home_job() {
+    let s = server();
+    let client = SlmpClient::udp(s.slmp_udp, FrameType::E4, TIMEOUT).unwrap();
+    let io = Box::new(ObjectIo::new(client));
+    let method = [(ObjectId::new(0x6098, 0), Value::I8(35))];
+    let control = AxisControl::new(5, StopReaction::QuickStop);
+    let t = AxisThread::start("x", io, &method, control, PERIOD).unwrap();
+    let h = t.handle.clone();
+    assert!(h.command(AxisCommand::PowerOn));
+    wait(&h, "enabled", |f| f.enabled);
+    assert!(h.command(AxisCommand::Home));
+    wait(&h, "homing failed", |f| f.failed == 1);
+    let f = h.feedback();
+    assert_eq!((f.done, f.stopped), (0, None), "{f:?}");
+    assert!(f.enabled && f.inputs.statusword & (1 << 13) != 0, "{f:?}");
 }
 
 #[test]

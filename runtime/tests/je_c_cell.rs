@@ -1,6 +1,6 @@
 //! MR-JE-C axes in cells, end to end through `controller::run`: a cell of one simulated csp axis
 //! and one emulated MR-JE-C runs a program that moves both in one step and jogs the MR-JE-C
-//! (pv), over each transport (Modbus RTU over a pseudo-terminal), with the RT thread
+//! (pv) and homes it (hm, method 37), over each transport (Modbus RTU over a pseudo-terminal), with the RT thread
 //! allocation-free; the shipped mixed cell runs its program; a cut link stops the MR-JE-C axis by the master's watchdog and the
 //! drive by its own time-out (AL. 86.4 from [Pr. PN10], set from the config at start-up).
 
@@ -69,6 +69,9 @@ seconds = 0.3
 do = "move"
 target = { belt = -20.0 }
 [[step]]
+do = "home"
+axis = "belt"
+[[step]]
 do = "power_off"
 "#;
 
@@ -114,8 +117,8 @@ fn runs_end_to_end(transport: &str, je_c: &str) {
     );
     let belt = &s.je_c_axes[0];
     assert_eq!(belt.transport, transport);
-    // Within the drive's position window 6067h (100 pulses = 0.076 mm).
-    assert!((belt.final_position + 20.0).abs() < 0.08, "{belt:?}");
+    // Homed (method 37) where the move to -20 mm ended: the home position 0.
+    assert!(belt.final_position.abs() < 1e-9, "{belt:?}");
     assert!(belt.exchanges > 10 && belt.stopped.is_none(), "{belt:?}");
 }
 
@@ -248,5 +251,29 @@ velocity = 50.0
     assert!(
         at.as_i64().unwrap() < 400 * 1310,
         "stopped short of the target: {at}"
+    );
+}
+
+/// A home step on an MR-JE-C axis takes no method but 37 and no Controlword2 edge: refused at
+/// load naming the step's key.
+#[test]
+fn je_c_home_steps_other_than_method_37_are_refused_at_load() {
+    let text = cell_text("home", "modbus-tcp", "emulate = true");
+    let cell = CellConfig::parse(Path::new("je-c-cell.toml"), &text).unwrap();
+    let parse = |step: &str| {
+        Program::parse(Path::new("p.toml"), &format!("[[step]]\n{step}\n"), &cell)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
+    assert_eq!(parse("do = \"home\"\naxis = \"belt\"\nmethod = 37"), Ok(()));
+    let e = parse("do = \"home\"\naxis = \"belt\"\nmethod = 35").unwrap_err();
+    assert!(
+        e.contains("step[0].method") && e.contains("MR-JE-C axis 'belt' homes with method 37 only"),
+        "{e}"
+    );
+    let e = parse("do = \"home\"\naxis = \"belt\"\nsetting = \"clear\"").unwrap_err();
+    assert!(
+        e.contains("step[0].setting") && e.contains("it homes in hm"),
+        "{e}"
     );
 }

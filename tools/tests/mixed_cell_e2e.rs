@@ -186,6 +186,19 @@ fn the_operator_moves_jogs_and_halts_the_je_c_axes_beside_the_csp_axes() {
         "axis 'outfeed': velocity 250 is outside ±150",
     );
     assert!((at("infeed") - 70.0).abs() < 0.01, "infeed moved");
+    // MC_Home in the drive's hm (method 37): the home where the conveyor stands; `cellrt home`
+    // waits for Homing attained. Another method or a Controlword2 edge is refused.
+    cell.refused(
+        &["home", "infeed", "--method", "35"],
+        "MR-JE-C axis 'infeed' homes with method 37 only",
+    );
+    cell.refused(
+        &["home", "infeed", "--setting", "clear"],
+        "axis 'infeed' is an MR-JE-C axis: it homes in hm",
+    );
+    ok(&["home", "infeed", "--method", "37"]);
+    assert!(at("infeed").abs() < 0.001, "{}", cell.je_c("infeed"));
+    ok(&["move", "infeed=70"]);
     // A jog runs until halted; the servo cannot be switched off under it.
     ok(&["jog", "outfeed", "40"]);
     let end = std::time::Instant::now() + std::time::Duration::from_secs(10);

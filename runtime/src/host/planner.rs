@@ -443,6 +443,10 @@ impl<'a> Planner<'a> {
                     self.what = "jog";
                     self.je_c_jog(*axis, *velocity, *seconds)?;
                 }
+                Step::JecHome { axis } => {
+                    self.what = "home";
+                    self.je_c_home(*axis)?;
+                }
                 Step::Override(value) => {
                     self.what = "override";
                     if let Err(e) = self.engine.set_override(*value, self.link.as_mut()) {

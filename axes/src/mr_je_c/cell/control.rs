@@ -1,9 +1,11 @@
 //! The controller's side of one MR-JE-C axis, one step per exchange: the CiA 402 power
 //! sequence (MR-JE-C manual §7.6.2: Shutdown → Switch on → Enable operation), a pp move (607Ah
 //! and the profile out one exchange before New set-point, then bit 4 held until Set-point
-//! acknowledge, done at Target reached, §7.6.3), a pv velocity (§7.6.4), Halt (bit 8), fault
-//! reset (bit 7 edge), and the master's communication watchdog: `limit` exchanges in a row
-//! without an answer stop the axis with the configured reaction.
+//! acknowledge, done at Target reached, §7.6.3), a pv velocity (§7.6.4), a homing in hm (the
+//! drive's 6098h method on a Homing Operation Start edge, done at Homing attained and Target
+//! reached, failed at Homing error: §7.4 bits 10, 12, 13), Halt (bit 8), fault reset (bit 7
+//! edge), and the master's communication watchdog: `limit` exchanges in a row without an
+//! answer stop the axis with the configured reaction.
 
 use super::io::{ExchangeError, Inputs, Outputs};
 use crate::cia402::fsa::FsaState;
@@ -13,10 +15,17 @@ use crate::cia402::statusword::Statusword;
 const PP: i8 = 1;
 /// 6060h pv.
 const PV: i8 = 3;
+/// 6060h hm.
+const HM: i8 = 6;
+/// Controlword bit 4: New set-point in pp, Homing Operation Start in hm.
 const NEW_SET_POINT: u16 = 1 << 4;
 const HALT: u16 = 1 << 8;
 const SET_POINT_ACK: u16 = 1 << 12;
 const TARGET_REACHED: u16 = 1 << 10;
+/// Statusword bit 12 in hm: Homing attained (§7.4, [EXT: CiA 402]).
+const HOMING_ATTAINED: u16 = 1 << 12;
+/// Statusword bit 13 in hm: Homing error (§7.4, [EXT: CiA 402]).
+const HOMING_ERROR: u16 = 1 << 13;
 /// A fault reset's exchanges: bit 7 off, on (the edge), then two to let the alarm clear.
 const RESET_EXCHANGES: u8 = 4;
 
@@ -47,6 +56,9 @@ pub enum AxisCommand {
         /// 6084h, ms.
         deceleration_ms: u32,
     },
+    /// Home in hm with the drive's method (6098h; the MR-JE-C's default 37 sets the home
+    /// where the motor stands): done at Homing attained, failed at Homing error.
+    Home,
     /// Halt (bit 8): decelerate with 6084h; done at standstill.
     Halt,
     /// Clear a watchdog stop and the drive's alarm.
@@ -85,6 +97,10 @@ enum Job {
     Moving,
     Velocity,
     Halting,
+    /// hm out with bit 4 off, the start edge next exchange.
+    HomePrepare,
+    /// Bit 4 on (held while the drive homes) until Homing attained or Homing error.
+    Homing,
 }
 
 /// The controller's state of one axis.
@@ -159,7 +175,10 @@ impl AxisControl {
 
     /// Takes a command; `false`: refused (stopped: only reset and power off are taken).
     pub fn command(&mut self, c: AxisCommand) -> bool {
-        let moving = matches!(c, AxisCommand::Move { .. } | AxisCommand::Velocity { .. });
+        let moving = matches!(
+            c,
+            AxisCommand::Move { .. } | AxisCommand::Velocity { .. } | AxisCommand::Home
+        );
         if moving && (self.stopped.is_some() || !self.want_on) {
             self.failed += 1;
             return false;
@@ -197,6 +216,10 @@ impl AxisControl {
                 self.out.acceleration_ms = acceleration_ms;
                 self.out.deceleration_ms = deceleration_ms;
                 self.job = Job::Velocity;
+            }
+            AxisCommand::Home => {
+                self.out.mode = HM;
+                self.job = Job::HomePrepare;
             }
             AxisCommand::Halt => {
                 self.out.target_velocity = 0;
@@ -260,7 +283,7 @@ impl AxisControl {
 
     fn advance_job(&mut self, sw: u16, state: Option<FsaState>) {
         if self.job != Job::Idle && state != Some(FsaState::OperationEnabled) {
-            if matches!(self.job, Job::Prepare) {
+            if matches!(self.job, Job::Prepare | Job::HomePrepare) {
                 return; // waits for the power sequence
             }
             self.end(false);
@@ -275,6 +298,11 @@ impl AxisControl {
             Job::Moving => {}
             Job::Velocity | Job::Halting if sw & TARGET_REACHED != 0 => self.end(true),
             Job::Velocity | Job::Halting => {}
+            Job::HomePrepare => self.job = Job::Homing,
+            // The answer to an exchange that carried the start edge or bit 4 held after it.
+            Job::Homing if sw & HOMING_ERROR != 0 => self.end(false),
+            Job::Homing if sw & HOMING_ATTAINED != 0 && sw & TARGET_REACHED != 0 => self.end(true),
+            Job::Homing => {}
         }
     }
 
@@ -305,7 +333,7 @@ impl AxisControl {
         };
         let halt = if self.halted { HALT } else { 0 };
         match self.job {
-            Job::Start => base | NEW_SET_POINT | halt,
+            Job::Start | Job::Homing => base | NEW_SET_POINT | halt,
             _ => base | halt,
         }
     }

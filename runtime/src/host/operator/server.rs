@@ -46,6 +46,8 @@ pub struct OperatorServer {
     last_finished: Option<FinishedCommand>,
     /// The RT thread's homing sequence number when the active `home` was sent.
     home_seq: u32,
+    /// The active `home` homes an MR-JE-C axis (followed by `je_c_moves`, not the RT thread).
+    home_on_je_c: bool,
     status: services::OperatorStatusPublisher,
     last_status: std::time::Instant,
     /// The SDO transfer waiting for the drive's answer.
@@ -95,6 +97,7 @@ impl OperatorServer {
             active: None,
             last_finished: None,
             home_seq: 0,
+            home_on_je_c: false,
             status: services::operator_status_publisher(node, cell)?,
             last_status: std::time::Instant::now() - super::STATUS_PERIOD,
             sdo: SdoInFlight::default(),
@@ -135,6 +138,12 @@ impl OperatorServer {
             Ok(running) => running,
         };
         if self.active.as_ref().is_some_and(|a| a.command == "home") {
+            if self.home_on_je_c {
+                if !je_c_running {
+                    self.finish_active(Ok(()));
+                }
+                return;
+            }
             if let Ok(s) = ctx.link.status() {
                 let h = s.homing;
                 if h.seq > self.home_seq && !h.running {

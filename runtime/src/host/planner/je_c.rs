@@ -18,6 +18,9 @@ fn c_acc(p: &Planner<'_>, axis: usize) -> f64 {
 
 /// Slack on top of a move's own duration before it counts as stuck.
 const MOVE_SLACK: Duration = Duration::from_secs(5);
+/// How long an MR-JE-C homing may take: method 37 moves nothing, so this only bounds a drive
+/// that never answers with Homing attained or Homing error.
+const JE_C_HOME_TIMEOUT: Duration = Duration::from_secs(10);
 
 impl Planner<'_> {
     /// Powers every MR-JE-C axis on or off and waits until each is (or is not) in Operation
@@ -109,6 +112,45 @@ impl Planner<'_> {
             if f.failed > failed || Instant::now() >= end {
                 return Err(self.err(format!(
                     "MR-JE-C axis '{name}': the jog did not end at standstill (statusword {:04X}h)",
+                    f.inputs.statusword
+                )));
+            }
+            self.sleep(Duration::from_millis(2));
+        }
+    }
+
+    /// Homes an MR-JE-C axis in its drive's hm and waits for Homing attained (the job done) or
+    /// Homing error (failed), at most [`JE_C_HOME_TIMEOUT`].
+    pub(super) fn je_c_home(&mut self, axis: usize) -> Result<(), ProgramError> {
+        let f = self.je_c.feedback(axis);
+        let (done, failed) = (f.done, f.failed);
+        self.je_c
+            .command(axis, AxisCommand::Home)
+            .map_err(|e| self.err(e))?;
+        let name = self.je_c.config(axis).name.clone();
+        let end = Instant::now() + JE_C_HOME_TIMEOUT;
+        loop {
+            let f = self.je_c.feedback(axis);
+            if f.done > done || self.aborted() {
+                return Ok(());
+            }
+            if let Some(s) = f.stopped {
+                return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
+            }
+            if f.failed > failed {
+                return Err(self.err(format!(
+                    "MR-JE-C axis '{name}': homing failed (statusword {:04X}h{})",
+                    f.inputs.statusword,
+                    if f.inputs.statusword & (1 << 13) != 0 {
+                        ", Homing error"
+                    } else {
+                        ""
+                    }
+                )));
+            }
+            if Instant::now() >= end {
+                return Err(self.err(format!(
+                    "MR-JE-C axis '{name}' did not report Homing attained within {JE_C_HOME_TIMEOUT:?} (statusword {:04X}h)",
                     f.inputs.statusword
                 )));
             }

@@ -79,6 +79,45 @@ pub(super) fn take_targets(
     Ok(out)
 }
 
+/// The one homing method an MR-JE-C axis runs: 37, the home where the motor stands (6098h's
+/// default; the MR-JE-C manual §7.3 lists no other and refers to the Profile Mode manual).
+pub const JE_C_HOMING_METHOD: i8 = 37;
+
+/// A home step of the MR-JE-C axis `name`: hm with [`JE_C_HOMING_METHOD`]; another method or a
+/// Controlword2 edge (an MR-J3-T04 procedure) is refused naming the key.
+pub(super) fn home_step(
+    path: &Path,
+    key: &str,
+    name: &str,
+    method: Option<i8>,
+    setting: bool,
+    cell: &CellConfig,
+) -> Result<Step, ConfigError> {
+    let axis = cell.je_c_axis_index(name).expect("checked by the caller");
+    if setting {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.setting"),
+            format!("axis '{name}' is an MR-JE-C axis: it homes in hm, not by a Controlword2 edge"),
+        ));
+    }
+    match method {
+        None | Some(JE_C_HOMING_METHOD) => Ok(Step::JecHome { axis }),
+        Some(m) => Err(ConfigError::new(
+            path,
+            format!("{key}.method"),
+            je_c_method_refusal(name, m),
+        )),
+    }
+}
+
+/// Why an MR-JE-C axis does not home with method `m`.
+pub fn je_c_method_refusal(name: &str, m: i8) -> String {
+    format!(
+        "method {m}: MR-JE-C axis '{name}' homes with method {JE_C_HOMING_METHOD} only (the home where the motor stands; the MR-JE-C manual lists no other)"
+    )
+}
+
 /// A jog step of the MR-JE-C axis `name`: its velocity within the axis' limit.
 pub(super) fn jog_step(
     path: &Path,

@@ -32,6 +32,7 @@ use cellrt_axes::cia402::homing::{HomeProcedure, HomeSettingEdge};
 use crate::config::{CellConfig, ConfigError};
 
 mod je_c;
+pub use je_c::{je_c_method_refusal, JE_C_HOMING_METHOD};
 mod validate;
 use validate::expand;
 
@@ -203,6 +204,11 @@ pub enum Step {
         /// Seconds before the halt.
         seconds: f64,
     },
+    /// Home an MR-JE-C axis in its drive's hm with method 37 (the home where the motor stands).
+    JecHome {
+        /// Index in the cell's `je_c_axes`.
+        axis: usize,
+    },
     /// Feed override, 0..=1.
     Override(f64),
     /// Home an axis with a procedure its drive's manual gives.
@@ -320,7 +326,7 @@ impl Program {
                         out[t.axis] = Some(t.target);
                     }
                 }
-                Step::JecJog { axis, .. } => out[*axis] = None,
+                Step::JecJog { axis, .. } | Step::JecHome { axis } => out[*axis] = None,
                 _ => {}
             }
         }

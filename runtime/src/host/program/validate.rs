@@ -160,6 +160,13 @@ fn validate_step(
             axis,
             method,
             setting,
+        } if cell.je_c_axis_index(&axis).is_some() => {
+            super::je_c::home_step(path, key, &axis, method, setting.is_some(), cell)?
+        }
+        RawStep::Home {
+            axis,
+            method,
+            setting,
         } => {
             let i = axis_of(path, format!("{key}.axis"), &axis, cell)?;
             // `[axes.homing] method` where the step names neither a method nor an edge.

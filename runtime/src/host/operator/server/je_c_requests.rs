@@ -10,6 +10,7 @@ use cellrt_axes::mr_je_c::cell::AxisCommand;
 use super::*;
 use crate::config::je_c_axis::JecAxisConfig;
 use crate::host::je_c::{stopped_text, JecAxes};
+use crate::host::program::{je_c_method_refusal, JE_C_HOMING_METHOD};
 
 /// An MR-JE-C axis a request names: its index, name and the value asked.
 pub(super) type JecTarget = (usize, String, f64);
@@ -113,6 +114,27 @@ pub(super) fn move_commands(
     Ok(out)
 }
 
+/// The hm command of MR-JE-C axis `k`: ready, with method 37 (or none named) and no
+/// Controlword2 edge.
+pub(super) fn home_command(
+    axes: &JecAxes,
+    k: usize,
+    method: Option<i8>,
+    setting: bool,
+) -> Result<AxisCommand, String> {
+    let name = &axes.config(k).name;
+    if setting {
+        return Err(format!(
+            "axis '{name}' is an MR-JE-C axis: it homes in hm, not by a Controlword2 edge"
+        ));
+    }
+    if let Some(m) = method.filter(|&m| m != JE_C_HOMING_METHOD) {
+        return Err(je_c_method_refusal(name, m));
+    }
+    ready(axes, k)?;
+    Ok(AxisCommand::Home)
+}
+
 /// The pv command of a jog of MR-JE-C axis `k` at `velocity` unit/s.
 pub(super) fn velocity_command(
     axes: &JecAxes,
@@ -186,14 +208,24 @@ pub(super) fn reset_stopped(axes: &JecAxes) -> Result<(), String> {
 pub(super) struct PendingMoves {
     /// The command id, and per axis its job counts before it.
     waiting: Option<(u64, Vec<JobsBefore>)>,
+    /// What the command does to them ("move", "homing"), for its failure.
+    what: &'static str,
 }
 
 /// An axis and its jobs done and failed before a command: `(axis, done, failed)`.
 type JobsBefore = (usize, u32, u32);
 
 impl PendingMoves {
-    /// Notes the feedback of `commands`' axes before they are sent, for command `id`.
-    pub(super) fn expect(&mut self, id: u64, axes: &JecAxes, commands: &[(usize, AxisCommand)]) {
+    /// Notes the feedback of `commands`' axes before they are sent, for command `id`, which
+    /// `what` names.
+    pub(super) fn expect(
+        &mut self,
+        id: u64,
+        what: &'static str,
+        axes: &JecAxes,
+        commands: &[(usize, AxisCommand)],
+    ) {
+        self.what = what;
         let before = commands
             .iter()
             .map(|&(k, _)| {
@@ -224,8 +256,8 @@ impl PendingMoves {
             if f.failed > failed {
                 self.waiting = None;
                 return Err(format!(
-                    "MR-JE-C axis '{name}': the move was refused or cut short (statusword {:04X}h)",
-                    f.inputs.statusword
+                    "MR-JE-C axis '{name}': the {} was refused or cut short (statusword {:04X}h)",
+                    self.what, f.inputs.statusword
                 ));
             }
             if f.done <= done {

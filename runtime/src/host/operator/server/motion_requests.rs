@@ -43,7 +43,7 @@ impl OperatorServer {
             // The streamed part was not tracked (pp axes only): track the move now.
             self.track(id, "move");
         }
-        self.je_c_moves.expect(id, ctx.je_c, &je_c_commands);
+        self.je_c_moves.expect(id, "move", ctx.je_c, &je_c_commands);
         match je_c_requests::send(ctx.je_c, &je_c_commands) {
             Ok(()) => reply,
             Err(e) => {
@@ -265,6 +265,9 @@ impl OperatorServer {
         method: Option<i8>,
         setting: Option<HomeSettingEdge>,
     ) -> (Reply, Followup) {
+        if let Some(k) = ctx.cell.je_c_axis_index(axis) {
+            return self.home_je_c(ctx, k, method, setting.is_some());
+        }
         let i = match axis_index(ctx.cell, axis) {
             Ok(i) => i,
             Err(e) => return rejected(format!("home: {e}")),
@@ -283,12 +286,41 @@ impl OperatorServer {
             ));
         }
         self.home_seq = state.homing.seq;
+        self.home_on_je_c = false;
         match ctx.link.home(HomeRequest {
             axis: i as u16,
             procedure,
         }) {
             Ok(()) => (self.accept("home", true), Followup::None),
             Err(e) => rejected(format!("home: {e}")),
+        }
+    }
+
+    /// MC_Home of MR-JE-C axis `k`: hm on its drive with method 37, tracked until its job ends.
+    fn home_je_c(
+        &mut self,
+        ctx: &mut Context<'_>,
+        k: usize,
+        method: Option<i8>,
+        setting: bool,
+    ) -> (Reply, Followup) {
+        let command = match je_c_requests::home_command(ctx.je_c, k, method, setting) {
+            Ok(c) => c,
+            Err(e) => return rejected(format!("home: {e}")),
+        };
+        let reply = self.accept("home", true);
+        let Reply::Accepted { id } = reply else {
+            return (reply, Followup::None);
+        };
+        self.home_on_je_c = true;
+        self.je_c_moves
+            .expect(id, "homing", ctx.je_c, &[(k, command)]);
+        match je_c_requests::send(ctx.je_c, &[(k, command)]) {
+            Ok(()) => (reply, Followup::None),
+            Err(e) => {
+                self.finish_active(Err(e.clone()));
+                rejected(format!("home: {e}"))
+            }
         }
     }
 

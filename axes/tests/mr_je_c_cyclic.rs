@@ -15,7 +15,7 @@ use cellrt_axes::cia402::fsa::FsaState;
 use cellrt_axes::mr_je_c::emulator::cyclic::CyclicLink;
 use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
 use cellrt_axes::mr_je_c::emulator::{slmp, MrJeC, MrJeCParams};
-use cellrt_axes::mr_je_c::{Alarm, ObjectId, Value};
+use cellrt_axes::mr_je_c::{Alarm, ObjectId, SoftwareVersion, Value};
 use cellrt_test_support::counting_alloc::{thread_heap_calls, CountingAllocator};
 
 #[global_allocator]
@@ -461,4 +461,36 @@ fn a_point_table_runs_over_the_devices_of_table_2_3() {
     // first shows the completed table, in the one 10 ms later.
     assert_eq!(f.statusword & (1 << 10), 0, "{f:?}");
     assert_eq!(exchange(&mut b, &cmd).statusword & (1 << 10), 1 << 10);
+}
+
+/// The devices of Table 2.2 our master does not command carry their objects' initial values
+/// (MR-JE-C manual §7.3): 60E0h/60E1h 10000 (1000.0 %), 2D20h 50000 (500.00 r/min); the
+/// others 0. The drive takes every device each cycle: 0 in 60E0h would leave the motor no
+/// torque.
+#[test]
+fn the_devices_we_do_not_command_carry_the_manuals_initial_values() {
+    use cellrt_axes::mr_je_c::cell::uncommanded_rww;
+    let rww = uncommanded_rww(SoftwareVersion::A4);
+    let word = |device: usize| u16::from_le_bytes([rww[2 * device], rww[2 * device + 1]]);
+    assert_eq!((word(0x14), word(0x15)), (10_000, 10_000), "60E0h, 60E1h");
+    assert_eq!(
+        u32::from_le_bytes(rww[18..22].try_into().unwrap()),
+        50_000,
+        "2D20h in RWwn09-0A"
+    );
+    let others: u32 = [0x02, 0x03, 0x04, 0x0B, 0x12, 0x13, 0x17, 0x18, 0x19]
+        .iter()
+        .map(|&d| u32::from(word(d)))
+        .sum();
+    assert_eq!(others, 0);
+    // The emulated drive takes them: an import of this block leaves 60E0h at 10000.
+    let mut b = Bench::new();
+    assert!(b
+        .send(&request(MASTER, 1, false, 0, 0, false), ms(0))
+        .is_some());
+    b.send(&request_with(2, rww), ms(10)).unwrap();
+    assert_eq!(
+        b.drive.read(ObjectId::new(0x60E0, 0)).unwrap(),
+        Value::U16(10_000)
+    );
 }

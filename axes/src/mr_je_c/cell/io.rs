@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 use super::super::access::ObjectAccess;
 use super::super::objects::ObjectId;
 use super::super::value::Value;
+use super::super::SoftwareVersion;
 use crate::cclink_ief_basic::io_thread::{CyclicIo, LinkHandle, StationCommand};
 use crate::cclink_ief_basic::{bit, set_bit, EndCode, READY_BIT};
 
@@ -167,6 +168,43 @@ mod rww {
     pub const PROFILE_VELOCITY: usize = 0x0C;
     pub const ACCELERATION: usize = 0x0E;
     pub const DECELERATION: usize = 0x10;
+    /// The devices of Table 2.2 cellrt does not command, with their objects. The drive takes
+    /// every RWw device into its object each cycle, so each of these carries its object's
+    /// initial value (§7.3): left 0, 60E0h/60E1h would limit the torque to 0 % (a motor with
+    /// no torque) and 2D20h the speed in tq to 0 r/min.
+    pub const UNCOMMANDED: [(usize, u16); 11] = [
+        (0x02, 0x2D01),
+        (0x03, 0x2D02),
+        (0x04, 0x2D03),
+        (0x09, 0x2D20),
+        (0x0B, 0x6071),
+        (0x12, 0x6087),
+        (0x14, 0x60E0),
+        (0x15, 0x60E1),
+        (0x17, 0x60B8),
+        (0x18, 0x60F2),
+        (0x19, 0x2D05),
+    ];
+}
+
+/// RWw with the devices cellrt does not command at their objects' initial values on software
+/// `sw` (the commanded ones are written over it each exchange).
+pub fn uncommanded_rww(sw: SoftwareVersion) -> [u8; 64] {
+    let mut words = [0u8; 64];
+    for (device, index) in rww::UNCOMMANDED {
+        let Some(sub) = super::super::objects::entry(ObjectId::new(index, 0), sw).map(|(_, s)| s)
+        else {
+            continue;
+        };
+        let value = sub
+            .initial
+            .value(sw)
+            .and_then(|v| Value::from_i64(sub.ty, v));
+        if let Some(v) = value {
+            put_le(&mut words, device, &v.to_le());
+        }
+    }
+    words
 }
 
 /// RWr byte offsets of the default response mapping 1A00h (6061h, pad, 6041h, 6064h, 606Ch, …,
@@ -182,6 +220,8 @@ mod rwr {
 /// axis' thread (one cycle per exchange); a station not yet connected is connected first.
 pub struct CyclicDriveIo {
     link: CyclicIo,
+    /// RWw before the commanded devices are written: [`uncommanded_rww`].
+    base: [u8; 64],
     handle: LinkHandle,
     /// The station's object access for start-up parameters (SLMP beside the cyclic link).
     parameters: Option<ParameterWrite>,
@@ -189,9 +229,11 @@ pub struct CyclicDriveIo {
 }
 
 impl CyclicDriveIo {
-    /// Exchanges on `link` (one station); start-up writes go through `parameters`.
+    /// Exchanges on `link` (one station) with a drive of software A4; start-up writes go
+    /// through `parameters`.
     pub fn new(link: CyclicIo, parameters: Option<ParameterWrite>) -> CyclicDriveIo {
         CyclicDriveIo {
+            base: uncommanded_rww(SoftwareVersion::A4),
             handle: link.handle(),
             link,
             parameters,
@@ -214,6 +256,7 @@ impl DriveIo for CyclicDriveIo {
     fn exchange(&mut self, out: &Outputs) -> Result<Inputs, ExchangeError> {
         let mut c = StationCommand {
             transmit: true,
+            rww: self.base,
             ..StationCommand::default()
         };
         put_le(&mut c.rww, rww::MODE, &[out.mode as u8]);

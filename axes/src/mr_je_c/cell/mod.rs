@@ -8,6 +8,6 @@ pub mod positioning_link;
 pub mod thread;
 
 pub use control::{AxisCommand, AxisControl, StopReaction, Stopped};
-pub use io::{CyclicDriveIo, DriveIo, ExchangeError, Inputs, ObjectIo, Outputs};
+pub use io::{uncommanded_rww, CyclicDriveIo, DriveIo, ExchangeError, Inputs, ObjectIo, Outputs};
 pub use positioning_link::{PositioningCommand, PositioningFeedback};
 pub use thread::{AxisFeedback, AxisHandle, AxisThread, ExchangeRecord, StartError};

@@ -228,6 +228,11 @@ impl Motion {
             } => (self.braking_speed(target as f64, speed, ramp, p), ramp),
         };
         let speeding_up = want.abs() > self.velocity.abs() && want * self.velocity >= 0.0;
+        if speeding_up && no_torque_toward(want, p) {
+            // Held where it is: the speed it has, no more.
+            self.position += self.velocity * dt;
+            return false;
+        }
         let rate = if speeding_up {
             p.rate(ramp.acceleration_ms)
         } else {
@@ -262,6 +267,19 @@ impl Motion {
     }
 }
 
+/// Whether the torque limit in the direction of `speed` is 0 (60E0h forward, 60E1h reverse,
+/// each within the motor's maximum torque): the motor has no torque to speed up with. The
+/// emulator has no inertia to scale the acceleration by a limit, so a limit only gates it (a
+/// named choice where the manual gives no motor model; §7.3 60E0h/60E1h: 0 = 0.0 %).
+fn no_torque_toward(speed: f64, p: &Profile) -> bool {
+    let limit = if speed > 0.0 {
+        p.positive_torque_limit
+    } else {
+        p.negative_torque_limit
+    };
+    limit <= 0
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::fixture::{cw, pp, run};
@@ -289,6 +307,24 @@ mod tests {
         assert_eq!(m.position(), 131_072);
         m.controlword(cw(0x0F), cw(0x1F), &p);
         assert_eq!(m.status_bits(&p, false), 1 << 10);
+    }
+
+    #[test]
+    fn no_torque_in_a_direction_leaves_the_motor_standing_that_way() {
+        let mut p = pp();
+        p.positive_torque_limit = 0;
+        let mut m = Motion::default();
+        m.controlword(cw(0x1F), cw(0x0F), &p);
+        run(&mut m, &p, 100);
+        assert_eq!(
+            (m.position(), m.velocity(&p)),
+            (0, 0),
+            "60E0h = 0: no forward torque"
+        );
+        p.mode = PROFILE_VELOCITY;
+        p.target_velocity = -30_000;
+        run(&mut m, &p, 50);
+        assert_eq!(m.velocity(&p), -30_000, "60E1h = 10000: reverse as before");
     }
 
     #[test]

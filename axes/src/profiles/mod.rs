@@ -251,14 +251,22 @@ impl DriveProfile {
         self.identity.product_code
     }
 
-    /// The object-dictionary entry `index:sub`, if the profile lists it.
+    /// The object-dictionary entry `index:sub`, if the profile lists it (the first of
+    /// [`DriveProfile::all_objects`]). A scan of every table: per-cycle lookups use an
+    /// [`ObjectIndex`].
     pub fn object(&self, index: u16, sub: u8) -> Option<&'static OdEntry> {
+        self.all_objects()
+            .find(|o| o.index == index && o.sub == sub)
+    }
+
+    /// Every object-dictionary entry the profile lists: its objects, the store/restore
+    /// objects, the parameter objects and the parameter table's objects, in that order.
+    pub fn all_objects(&self) -> impl Iterator<Item = &'static OdEntry> + '_ {
         self.objects
             .iter()
             .chain(self.store_restore_objects)
             .chain(self.parameters.objects)
             .chain(self.parameters.table.iter().map(|p| &p.object))
-            .find(|o| o.index == index && o.sub == sub)
     }
 
     /// The alarm or warning with `code`, if the manual names it.
@@ -357,10 +365,56 @@ mod tests {
     }
 
     #[test]
+    fn the_object_index_finds_what_the_scan_finds() {
+        for &m in DriveModel::ALL {
+            let p = profile(m);
+            let index = ObjectIndex::of(p);
+            for o in p.all_objects() {
+                let found = index.get(o.index, o.sub).map(|e| e as *const OdEntry);
+                let scanned = p.object(o.index, o.sub).map(|e| e as *const OdEntry);
+                assert_eq!(found, scanned, "{m:?} {:04X}h:{}", o.index, o.sub);
+            }
+            for (i, sub) in [(0x0000, 0), (0x60B0, 0), (0x6041, 9), (0xFFFF, 255)] {
+                assert_eq!(
+                    index.get(i, sub).is_some(),
+                    p.object(i, sub).is_some(),
+                    "{m:?} {i:04X}h:{sub}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn model_deserializes_from_its_config_name() {
         let de: StrDeserializer<'_, DeError> = "mr-j5-g-n1".into_deserializer();
         assert_eq!(DriveModel::deserialize(de), Ok(DriveModel::MrJ5GN1));
         let de: StrDeserializer<'_, DeError> = "MrJ5GN1".into_deserializer();
         assert!(DriveModel::deserialize(de).is_err());
+    }
+}
+
+/// A profile's object dictionary sorted by (index, sub): a lookup in O(log n) where
+/// [`DriveProfile::object`] scans every table (with the parameter tables, a lookup of an
+/// object the model lacks took hundreds of comparisons, in the simulated drives every cycle).
+/// Built once, off the RT thread; a lookup allocates nothing.
+#[derive(Debug, Clone)]
+pub struct ObjectIndex(std::sync::Arc<[&'static OdEntry]>);
+
+impl ObjectIndex {
+    /// The index of `profile`'s entries; where an (index, sub) appears twice, the first of
+    /// [`DriveProfile::all_objects`] (as [`DriveProfile::object`] finds it).
+    pub fn of(profile: &DriveProfile) -> ObjectIndex {
+        let mut all: Vec<(usize, &'static OdEntry)> = profile.all_objects().enumerate().collect();
+        all.sort_by_key(|&(k, o)| (o.index, o.sub, k));
+        all.dedup_by_key(|(_, o)| (o.index, o.sub));
+        ObjectIndex(all.into_iter().map(|(_, o)| o).collect())
+    }
+
+    /// The entry `index:sub`, if the profile lists it.
+    pub fn get(&self, index: u16, sub: u8) -> Option<&'static OdEntry> {
+        self.0
+            .binary_search_by_key(&(index, sub), |o| (o.index, o.sub))
+            .ok()
+            .map(|k| self.0[k])
     }
 }

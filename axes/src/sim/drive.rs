@@ -59,6 +59,10 @@ pub use units::{SimMotor, SIM_DEFAULT_COUNTS_PER_REV};
 #[derive(Debug, Clone)]
 pub struct SimDrive {
     profile: &'static DriveProfile,
+    /// The profile's objects for the per-cycle lookups ([`SimDrive::object`]).
+    od: crate::profiles::ObjectIndex,
+    /// 60B0h's default where the model lists 60B0h (read every cycle in csp).
+    position_offset_default: Option<Option<i64>>,
     params: SimDriveParams,
     cycle_time: CycleTime,
     state: FsaState,
@@ -146,6 +150,10 @@ impl SimDrive {
         };
         let mut d = SimDrive {
             profile,
+            od: crate::profiles::ObjectIndex::of(profile),
+            position_offset_default: profile
+                .object(crate::pdo::objects::POSITION_OFFSET, 0)
+                .map(|o| o.default),
             params,
             cycle_time,
             state: FsaState::NotReadyToSwitchOn,

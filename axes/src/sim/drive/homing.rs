@@ -70,7 +70,7 @@ impl SimDrive {
         }
         let method = self
             .sdo_value(0x6098, 0)
-            .or_else(|| self.profile.object(0x6098, 0).and_then(|o| o.default))
+            .or_else(|| self.object(0x6098, 0).and_then(|o| o.default))
             .unwrap_or(0) as i8;
         // Homing start clears bit 12 (MR-J4-TM manual §5.4.9 retention rules).
         self.homing.attained = false;
@@ -115,7 +115,7 @@ impl SimDrive {
     fn search_profile(&self) -> SearchProfile {
         let value = |index: u16, sub: u8| {
             self.sdo_value(index, sub)
-                .or_else(|| self.profile.object(index, sub).and_then(|o| o.default))
+                .or_else(|| self.object(index, sub).and_then(|o| o.default))
         };
         let speed = |sub: u8| {
             self.commanded_counts_per_s(value(HOMING_SPEEDS, sub).unwrap_or(0))

@@ -37,19 +37,17 @@ impl SimDrive {
     /// §4.3 rule 3: "607Ah + 60B0h follow 6064h"); only on models that list 60B0h, 0 unless
     /// written by SDO.
     pub fn position_offset(&self) -> i32 {
-        if self.profile.object(POSITION_OFFSET, 0).is_none() {
+        let Some(default) = self.position_offset_default else {
             return 0;
-        }
-        self.sdo_value(POSITION_OFFSET, 0)
-            .or_else(|| self.profile.object(POSITION_OFFSET, 0)?.default)
-            .unwrap_or(0) as i32
+        };
+        self.sdo_value(POSITION_OFFSET, 0).or(default).unwrap_or(0) as i32
     }
 
     /// 605Ah Quick stop option code: the written value, else the model's default (none where
     /// the manual states none).
     pub(super) fn quick_stop_option(&self) -> Option<i64> {
         self.sdo_value(QUICK_STOP_OPTION, 0)
-            .or_else(|| self.profile.object(QUICK_STOP_OPTION, 0)?.default)
+            .or_else(|| self.object(QUICK_STOP_OPTION, 0)?.default)
     }
 
     pub(super) fn run_plant(&mut self, cmd: &RxPdo, dt: f64) {
@@ -132,7 +130,7 @@ impl SimDrive {
     /// acceleration objects are time constants; `None` elsewhere.
     pub fn quick_stop_time_ms(&self) -> Option<u32> {
         use crate::profiles::{AccelerationUnit, Stated};
-        let o = self.profile.object(QUICK_STOP_DECELERATION, 0)?;
+        let o = self.object(QUICK_STOP_DECELERATION, 0)?;
         if self.profile.units.acceleration != Stated::Manual(AccelerationUnit::TimeConstantMs) {
             return None;
         }
@@ -264,7 +262,7 @@ impl SimDrive {
         if self.profile.rx_pdo.maps(index) {
             return self.commanded_counts_per_s(i64::from(cmd.velocity_limit));
         }
-        match self.profile.object(index, 0) {
+        match self.object(index, 0) {
             Some(o) => {
                 self.commanded_counts_per_s(self.sdo_value(index, 0).or(o.default).unwrap_or(0))
             }

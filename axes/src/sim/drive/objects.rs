@@ -31,6 +31,15 @@ impl SimDrive {
         self.sdo_mode = raw;
     }
 
+    /// The model's object-dictionary entry `index:sub` (looked up every cycle: indexed).
+    pub(in crate::sim) fn object(
+        &self,
+        index: u16,
+        sub: u8,
+    ) -> Option<&'static crate::profiles::OdEntry> {
+        self.od.get(index, sub)
+    }
+
     pub(in crate::sim) fn sdo_value(&self, index: u16, sub: u8) -> Option<i64> {
         self.sdo_values
             .iter()

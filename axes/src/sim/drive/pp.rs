@@ -21,7 +21,7 @@ impl SimDrive {
             }
         }
         self.sdo_value(index, 0)
-            .or_else(|| self.profile.object(index, 0)?.default)
+            .or_else(|| self.object(index, 0)?.default)
     }
 
     /// The speed the 6083h/6084h/6085h time constants refer to ("rated speed"), counts/s:
@@ -60,7 +60,7 @@ impl SimDrive {
     pub(super) fn max_motor_speed(&self) -> f64 {
         match self
             .sdo_value(MAX_MOTOR_SPEED, 0)
-            .or_else(|| self.profile.object(MAX_MOTOR_SPEED, 0)?.default)
+            .or_else(|| self.object(MAX_MOTOR_SPEED, 0)?.default)
         {
             Some(speed) => self.counts_of(speed as f64).abs(),
             None => f64::INFINITY,
@@ -75,7 +75,7 @@ impl SimDrive {
         let amax = self.params.plant.max_acceleration.abs();
         let code = self
             .sdo_value(HALT_OPTION_CODE, 0)
-            .or_else(|| self.profile.object(HALT_OPTION_CODE, 0)?.default);
+            .or_else(|| self.object(HALT_OPTION_CODE, 0)?.default);
         match code {
             Some(1) => profile_deceleration,
             Some(2) => self.time_constant_rate(self.quick_stop_time_ms().map(i64::from)),
@@ -92,7 +92,7 @@ impl SimDrive {
     pub(super) fn software_position_limits(&self) -> Option<(i32, i32)> {
         let sub = |s: u8| {
             self.sdo_value(SOFTWARE_POSITION_LIMIT, s)
-                .or_else(|| self.profile.object(SOFTWARE_POSITION_LIMIT, s)?.default)
+                .or_else(|| self.object(SOFTWARE_POSITION_LIMIT, s)?.default)
         };
         let (min, max) = (sub(1)? as i32, sub(2)? as i32);
         (min < max).then_some((min, max))

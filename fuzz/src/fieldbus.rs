@@ -44,18 +44,23 @@ pub fn modbus(data: &[u8]) {
 pub fn slmp(data: &[u8]) {
     use cellrt_axes::mr_je_c::emulator::{search, MrJeC};
     use slmp::node_search::{decode_request, decode_response, IP_ADDRESS_SET, NODE_SEARCH};
-    let mut drive = MrJeC::new(Default::default());
+    // Built when a piece first decodes as a search request (`search::answer` answers nothing
+    // else): a drive's dictionary is costly to build for every input.
+    let mut drive: Option<MrJeC> = None;
     let mut last: Option<slmp::Request<'_>> = None;
     for piece in pieces(data) {
-        let _ = decode_request(piece);
+        let searched = decode_request(piece).is_ok();
         let serial = [
             piece.get(2).copied().unwrap_or(0),
             piece.get(3).copied().unwrap_or(0),
         ];
         let _ = decode_response(piece, serial, NODE_SEARCH);
         let _ = decode_response(piece, serial, IP_ADDRESS_SET);
-        let own = std::net::Ipv4Addr::new(192, 168, 3, 10);
-        let _ = search::answer(&mut drive, own, piece, std::time::Duration::ZERO);
+        if searched {
+            let own = std::net::Ipv4Addr::new(192, 168, 3, 10);
+            let drive = drive.get_or_insert_with(|| MrJeC::new(Default::default()));
+            let _ = search::answer(drive, own, piece, std::time::Duration::ZERO);
+        }
         if let Some(request) = &last {
             let _ = slmp::decode_response(request, piece);
         }

@@ -25,7 +25,7 @@ const TARGET_REACHED: u16 = 1 << 10;
 /// Statusword bit 12 in hm: Homing attained (§7.4, [EXT: CiA 402]).
 const HOMING_ATTAINED: u16 = 1 << 12;
 /// Statusword bit 13 in hm: Homing error (§7.4, [EXT: CiA 402]).
-const HOMING_ERROR: u16 = 1 << 13;
+pub const HOMING_ERROR: u16 = 1 << 13;
 /// A fault reset's exchanges: bit 7 off, on (the edge), then two to let the alarm clear.
 const RESET_EXCHANGES: u8 = 4;
 

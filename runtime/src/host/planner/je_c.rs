@@ -6,7 +6,7 @@
 
 use std::time::{Duration, Instant};
 
-use cellrt_axes::mr_je_c::cell::AxisCommand;
+use cellrt_axes::mr_je_c::cell::{AxisCommand, HOMING_ERROR};
 
 use super::{Planner, ProgramError, POWER_TIMEOUT};
 use crate::host::je_c::stopped_text;
@@ -141,7 +141,7 @@ impl Planner<'_> {
                 return Err(self.err(format!(
                     "MR-JE-C axis '{name}': homing failed (statusword {:04X}h{})",
                     f.inputs.statusword,
-                    if f.inputs.statusword & (1 << 13) != 0 {
+                    if f.inputs.statusword & HOMING_ERROR != 0 {
                         ", Homing error"
                     } else {
                         ""

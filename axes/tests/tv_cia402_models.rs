@@ -998,6 +998,11 @@ fn generic_cia402_homing_on_the_current_position() {
             "{method:?}: {sw} alarm {:?}",
             d.alarm()
         );
-        assert_eq!(d.plant().velocity(), 0.0, "{method:?}: no motion");
+        // No motion: the servo loop only settles out (the switch took it at S_ZSP, ≤ 1 count/s).
+        assert!(
+            d.plant().velocity().abs() <= 1.0,
+            "{method:?}: {} counts/s",
+            d.plant().velocity()
+        );
     }
 }

@@ -69,6 +69,7 @@ homing = {{ switch_speed = {SWITCH_SPEED}, creep_speed = {CREEP_SPEED}, accelera
 }
 
 #[path = "support/cell_rig.rs"]
+#[allow(dead_code)] // the shared rig: this test does not send profile motions
 mod cell_rig;
 use cell_rig::Rig;
 
@@ -79,33 +80,9 @@ fn run_homing(rig: &mut Rig, method: i8) -> (Vec<AxisRecord>, i64) {
         axis: 0,
         procedure: HomeProcedure::HomingMode(method),
     });
-    rig.wait(
-        |r| {
-            r.events[seen..]
-                .iter()
-                .any(|e| e.kind == EventKind::HomingFinished)
-        },
-        "homing_finished",
-    );
-    let ev = &rig.events[seen..];
-    let started = ev
-        .iter()
-        .find(|e| e.kind == EventKind::HomingStarted)
-        .map_or(0, |e| e.cycle);
-    let finished = *ev
-        .iter()
-        .find(|e| e.kind == EventKind::HomingFinished)
-        .unwrap();
-    rig.wait(
-        |r| r.records.last().is_some_and(|a| a.cycle >= finished.cycle),
-        "records",
-    );
-    let span = rig
-        .records
-        .iter()
-        .filter(|r| r.cycle >= started && r.cycle <= finished.cycle)
-        .copied()
-        .collect();
+    let kinds = (EventKind::HomingStarted, EventKind::HomingFinished);
+    let (started, finished, _) = rig.until(seen, kinds, 1);
+    let span = rig.span(started.unwrap_or(0), finished.cycle);
     (span, finished.value)
 }
 

@@ -14,7 +14,7 @@ use std::path::Path;
 
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::handoff::{
-    AxisRecord, CellCommand, CellState, EventKind, EventRecord, ProfileCommand, ProfileMotion,
+    AxisRecord, CellCommand, CellState, EventKind, EventRecord, ProfileMotion,
 };
 
 /// The in-position range of the emulated drives, counts ([Pr. PA10] default 100 pulses).
@@ -80,51 +80,11 @@ sim = {{ initial_position = 100.0 }}
     CellConfig::parse(Path::new("profile.toml"), &text).unwrap()
 }
 
-impl Rig {
-    /// Sends `motion` and waits for its `profile_finished` event; returns (the cycle of the
-    /// `profile_started` event, the finished event).
-    fn run(&mut self, motion: ProfileMotion) -> (u64, EventRecord) {
-        let seen = self.events.len();
-        self.handoff
-            .send_profile_command(ProfileCommand {
-                axis: 0,
-                motion,
-                start_cycle: 0,
-            })
-            .unwrap();
-        self.wait(
-            |r| {
-                r.events[seen..]
-                    .iter()
-                    .any(|e| e.kind == EventKind::ProfileFinished)
-            },
-            "profile_finished",
-        );
-        let ev = &self.events[seen..];
-        let started = ev
-            .iter()
-            .find(|e| e.kind == EventKind::ProfileStarted)
-            .map_or(0, |e| e.cycle);
-        let finished = *ev
-            .iter()
-            .find(|e| e.kind == EventKind::ProfileFinished)
-            .unwrap();
-        // The record of the finishing cycle is in.
-        self.wait(
-            |r| r.records.last().is_some_and(|a| a.cycle >= finished.cycle),
-            "records",
-        );
-        (started, finished)
-    }
-
-    /// The records of cycles `from..=to`.
-    fn span(&self, from: u64, to: u64) -> Vec<AxisRecord> {
-        self.records
-            .iter()
-            .filter(|r| r.cycle >= from && r.cycle <= to)
-            .copied()
-            .collect()
-    }
+/// Sends `motion` and waits for its end and the record of that cycle; returns (the cycle of
+/// the `profile_started` event, the finished event).
+fn run(rig: &mut Rig, motion: ProfileMotion) -> (u64, EventRecord) {
+    let (started, finished, _) = rig.profile(motion, 1);
+    (started.unwrap_or(0), finished)
 }
 
 /// The most cycles an overrun of the loaded test machine skipped within `span`: a condition
@@ -147,13 +107,16 @@ fn pp_moves_within_its_profile_with_the_set_point_handshake() {
         let mut rig = Rig::start(cell("pp", drive, extra, s, "pp"));
         let start = rig.records.last().unwrap().position_actual;
         let target = start + (30.0 * s) as i32;
-        let (started, finished) = rig.run(ProfileMotion::Move {
-            target,
-            velocity: 50.0 * s,
-            acceleration: 500.0 * s,
-            deceleration: 250.0 * s,
-            immediate: true,
-        });
+        let (started, finished) = run(
+            &mut rig,
+            ProfileMotion::Move {
+                target,
+                velocity: 50.0 * s,
+                acceleration: 500.0 * s,
+                deceleration: 250.0 * s,
+                immediate: true,
+            },
+        );
         assert_eq!(finished.value, 0, "{drive}: done");
         let span = rig.span(started, finished.cycle);
         // Bit 4 goes up in the starting cycle (the objects are in the RxPDO, or written by SDO
@@ -198,11 +161,14 @@ fn pp_moves_within_its_profile_with_the_set_point_handshake() {
 fn pv_ramps_to_its_velocity_and_a_stop_halts_it() {
     for (drive, extra, s) in MODELS {
         let mut rig = Rig::start(cell("pv", drive, extra, s, "pv"));
-        let (started, finished) = rig.run(ProfileMotion::Jog {
-            velocity: -40.0 * s,
-            acceleration: 400.0 * s,
-            deceleration: 800.0 * s,
-        });
+        let (started, finished) = run(
+            &mut rig,
+            ProfileMotion::Jog {
+                velocity: -40.0 * s,
+                acceleration: 400.0 * s,
+                deceleration: 800.0 * s,
+            },
+        );
         assert_eq!(finished.value, 0, "{drive}");
         let span = rig.span(started, finished.cycle);
         let (v, a) = rig.peaks(&span);
@@ -273,10 +239,13 @@ fn pv_ramps_to_its_velocity_and_a_stop_halts_it() {
 fn tq_ramps_its_torque_within_the_speed_limit_and_wrong_motions_are_refused() {
     for (drive, extra, s) in MODELS {
         let mut rig = Rig::start(cell("tq", drive, extra, s, "tq"));
-        let (started, finished) = rig.run(ProfileMotion::Torque {
-            torque: 20.0,
-            slope: 200.0,
-        });
+        let (started, finished) = run(
+            &mut rig,
+            ProfileMotion::Torque {
+                torque: 20.0,
+                slope: 200.0,
+            },
+        );
         assert_eq!(finished.value, 0, "{drive}");
         // 20 % at 200 %/s: 100 cycles of ramp (6074h) from the first 6071h (sent once 6087h
         // is in place), done after them.
@@ -318,15 +287,18 @@ fn tq_ramps_its_torque_within_the_speed_limit_and_wrong_motions_are_refused() {
         let (v, _) = rig.peaks(&rig.span(started, finished.cycle + 300));
         assert!(v <= 100.0 * 1.02, "{drive}: {v}");
         // A pp move on a tq axis is refused; a halt ramps the torque back to 0.
-        let (_, refused) = rig.run(ProfileMotion::Move {
-            target: 0,
-            velocity: 1.0,
-            acceleration: 1.0,
-            deceleration: 1.0,
-            immediate: true,
-        });
+        let (_, refused) = run(
+            &mut rig,
+            ProfileMotion::Move {
+                target: 0,
+                velocity: 1.0,
+                acceleration: 1.0,
+                deceleration: 1.0,
+                immediate: true,
+            },
+        );
         assert_eq!(refused.value, 1, "{drive}: refused");
-        let (h0, halted) = rig.run(ProfileMotion::Halt(true));
+        let (h0, halted) = run(&mut rig, ProfileMotion::Halt(true));
         assert_eq!(halted.value, 0);
         let late = max_gap(&rig.span(h0, halted.cycle));
         assert!(

@@ -1,6 +1,7 @@
 //! Operator commands on profile axes of a running cell (issue 19): `move` of a pp axis together
 //! with a csp axis, `velocity` and `halt` of a pv axis, `torque` of a tq axis, and the
-//! refusals that name the axis' mode; then a program whose move step mixes a csp and a pp axis. Judged on the positions and speeds the status reports;
+//! refusals that name the axis' mode; a csp axis switched to pp at run time (`mode`) and back;
+//! then a program whose move step mixes a csp and a pp axis. Judged on the positions and speeds the status reports;
 //! the waits are timeouts only.
 
 use std::collections::BTreeMap;
@@ -196,7 +197,15 @@ fn operator_commands_and_program_steps_drive_profile_axes() {
     ));
     wait(&c, "tq moving", |s| axis_of(s, "t").velocity > 1.0);
     accepted(request(&c, &Request::Stop));
-    wait(&c, "stopped", |s| s.state == "idle");
+    // The first stop of the run: its reason stays in the status once the cell is idle again.
+    // The RT thread sets the reason before it publishes the cycle's state, so idle is judged
+    // again in a later cycle.
+    let seen = wait(&c, "stopped", |s| {
+        s.state == "idle" && s.stop_reason.is_some()
+    });
+    wait(&c, "idle after the stop", |s| {
+        s.cycle > seen.cycle && s.state == "idle"
+    });
 
     // Refusals name the axis and its mode.
     let r = rejected(request(
@@ -231,6 +240,8 @@ fn operator_commands_and_program_steps_drive_profile_axes() {
     ));
     assert!(r.contains("torque limit"), "{r}");
 
+    run_time_mode_switch(&c);
+
     shutdown.store(true, Ordering::Release);
     controller.join().unwrap().unwrap();
     // One controller at a time in this process (each takes the RT CPU out of its affinity).
@@ -239,6 +250,89 @@ fn operator_commands_and_program_steps_drive_profile_axes() {
     a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done("ethercat", J5);
     // The MR-J4-TM's profile group runs RxPDO 1601h on the segment (6081h–6084h cyclic).
     a_program_step_moves_csp_and_pp_axes_and_ends_when_both_are_done("ethercat", J4_PROFILE);
+}
+
+/// `mode`: the csp axis `y` switches to pp, `move` sends it set-points (its drive moves it),
+/// streamed-only commands and programs are refused while it is switched, and it switches back;
+/// axes that cannot switch, and unknown modes, are refused naming why.
+fn run_time_mode_switch(c: &OperatorClient) {
+    let mode = |axis: &str, mode: &str| Request::Mode {
+        axis: axis.into(),
+        mode: mode.into(),
+    };
+    let finished_ok = |s: &StatusReport, id: u64| {
+        s.last_finished
+            .as_ref()
+            .is_some_and(|f| f.id == id && f.error.is_none())
+    };
+    let id = match request(c, &mode("y", "pp")) {
+        Reply::Accepted { id } => id,
+        r => panic!("{r:?}"),
+    };
+    let s = wait(c, "y in pp", |s| finished_ok(s, id));
+    assert_eq!(axis_of(&s, "y").mode, "pp");
+    assert_eq!(axis_of(&s, "y").mode_display, "pp");
+    accepted(request(
+        c,
+        &Request::Move {
+            targets: BTreeMap::from([("y".to_string(), 95.0)]),
+            relative: false,
+            velocity: Some(40.0),
+            acceleration: None,
+            jerk: None,
+            clamp: false,
+            line: false,
+        },
+    ));
+    wait(c, "y moved by its drive", |s| {
+        let y = axis_of(s, "y");
+        (y.position - 95.0).abs() <= 0.1 && y.velocity == 0.0
+    });
+    let r = rejected(request(
+        c,
+        &Request::Velocity {
+            axis: "y".into(),
+            velocity: 5.0,
+            acceleration: None,
+            clamp: false,
+        },
+    ));
+    assert!(r.contains("'y'") && r.contains("pp"), "{r}");
+    let r = rejected(request(
+        c,
+        &Request::Program {
+            path: std::env::temp_dir().join("no-such-program.toml"),
+        },
+    ));
+    assert!(
+        r.contains("switched to pp") && r.contains("cellrt mode y csp"),
+        "{r}"
+    );
+    let r = rejected(request(c, &mode("y", "pp")));
+    assert!(r.contains("already runs in pp"), "{r}");
+
+    let id = match request(c, &mode("y", "csp")) {
+        Reply::Accepted { id } => id,
+        r => panic!("{r:?}"),
+    };
+    let s = wait(c, "y back in csp", |s| finished_ok(s, id));
+    let y = axis_of(&s, "y");
+    assert_eq!((y.mode.as_str(), y.mode_display.as_str()), ("csp", "csp"));
+    assert!((y.position - 95.0).abs() <= 0.1, "{y:?}");
+    assert!(
+        (y.setpoint - 95.0).abs() <= 0.1,
+        "the stream takes over where it stands: {y:?}"
+    );
+
+    let r = rejected(request(c, &mode("v", "pp")));
+    assert!(
+        r.contains("'v'") && r.contains("pv") && r.contains("only a csp axis"),
+        "{r}"
+    );
+    let r = rejected(request(c, &mode("y", "pv")));
+    assert!(r.contains("'pv'") && r.contains("csp or pp"), "{r}");
+    let r = rejected(request(c, &mode("nope", "pp")));
+    assert!(r.contains("nope"), "{r}");
 }
 
 /// A program step moving a csp and a pp axis over `transport` ends when both are done.
@@ -393,8 +487,11 @@ fn the_override_reaches_the_drives_of_profile_axes() {
         both(s, &|a| (a.velocity - 20.0).abs() < 0.5)
     });
     accepted(request(&c, &Request::Override { percent: 0.0 }));
+    // Standing and settled: the servo loop of the halted drive rings out around zero speed.
     let held = wait(&c, "both standing", |s| {
-        both(s, &|a| a.velocity.abs() < 0.01)
+        both(s, &|a| {
+            a.velocity.abs() < 0.01 && a.following_error.abs() < 0.01
+        })
     });
     assert!(both(&held, &|a| a.position < 290.0), "{held:?}");
     std::thread::sleep(Duration::from_millis(300));

@@ -1,7 +1,7 @@
 //! Rule 1 of the RT thread for a cell of profile axes (issue 19): pp, pv and tq axes on the
 //! MR-J5-G-N1 (profile objects written by SDO) and a pp axis on the MR-J4-TM in PA01 `___2`
-//! (objects in its 1601h RxPDO) run drive-side motions, halts and a cell stop, and the RT loop
-//! allocates nothing in steady state.
+//! (objects in its 1601h RxPDO) run drive-side motions, halts and a cell stop, a csp axis switches
+//! to pp, moves and switches back, and the RT loop allocates nothing in steady state.
 
 #[path = "support/alloc_rig.rs"]
 mod alloc_rig;
@@ -13,7 +13,9 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::handoff::{CellCommand, EventKind, HostEnd, ProfileCommand, ProfileMotion};
+use cellrt_runtime::handoff::{
+    CellCommand, EventKind, HostEnd, ProfileCommand, ProfileMotion, SwitchableMode,
+};
 
 fn axis(name: &str, drive: &str, mode: &str, extra: &str) -> String {
     format!(
@@ -36,12 +38,13 @@ fn profile_axes_run_without_allocating_on_the_rt_thread() {
     let j5 = "motor = { counts_per_rev = 10000, rated_speed = 3000 }";
     let j4 = "mode_group = \"profile\"\nmotor = { counts_per_rev = 10000, rated_speed = 3000 }";
     let text = format!(
-        "[cell]\nname = \"na-prof-{}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n{}{}{}{}",
+        "[cell]\nname = \"na-prof-{}\"\ncycle_time_us = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n{}{}{}{}{}",
         std::process::id(),
         axis("p", "mr-j5-g-n1", "pp", j5),
         axis("v", "mr-j5-g-n1", "pv", j5),
         axis("t", "mr-j5-g-n1", "tq", j5),
         axis("q", "mr-j4-tm", "pp", j4),
+        axis("c", "mr-j5-g-n1", "csp", j5),
     );
     let cell = CellConfig::parse(Path::new("na-profile.toml"), &text).unwrap();
     let steady = alloc_rig::start_steady(&cell);
@@ -97,6 +100,21 @@ fn profile_axes_run_without_allocating_on_the_rt_thread() {
     while count_finished(h) < 5 {
         assert!(Instant::now() < end, "halt never finished");
         std::thread::sleep(Duration::from_millis(1));
+    }
+    // The csp axis switches to pp, is moved by its drive, and switches back.
+    for (n, motion) in [
+        ProfileMotion::SwitchMode(SwitchableMode::Pp),
+        profile(110_000),
+        ProfileMotion::SwitchMode(SwitchableMode::Csp),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        send(4, motion);
+        while count_finished(h) < 6 + n {
+            assert!(Instant::now() < end, "{motion:?} never finished");
+            std::thread::sleep(Duration::from_millis(1));
+        }
     }
     // The pv axis still runs: a cell stop halts it, the cell is idle again.
     h.send_command(CellCommand::Stop).unwrap();

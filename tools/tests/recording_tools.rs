@@ -691,6 +691,63 @@ do = "power_off"
     assert!(so.contains("DIVERGED") && so.contains("axis p:"), "{so}");
 }
 
+/// A program switches a csp axis to pp, moves it by its drive (6081h–6084h written by SDO),
+/// switches it back and streams a move again: the recording shows both modes and the profile
+/// objects in between, and replays bit-identically.
+#[test]
+fn a_recording_with_a_run_time_mode_switch_replays_bit_identically() {
+    const J5: &str = "drive = \"mr-j5-g-n1\"";
+    let dir = tempfile::tempdir().unwrap();
+    let config = format!(
+        "[cell]\nname = \"{}\"\ncycle_time_us = 1000\nprogram = \"program.toml\"\n\
+         [watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{}",
+        common::unique_cell_name(),
+        profile_axis("x", "csp", J5),
+    );
+    const PROGRAM: &str = r#"
+[[step]]
+do = "power_on"
+[[step]]
+do = "move"
+target = { x = 120.0 }
+[[step]]
+do = "mode"
+axis = "x"
+mode = "pp"
+[[step]]
+do = "move"
+target = { x = 150.0 }
+velocity = 40.0
+[[step]]
+do = "mode"
+axis = "x"
+mode = "csp"
+[[step]]
+do = "move"
+target = { x = 110.0 }
+[[step]]
+do = "power_off"
+"#;
+    let (out, rec) = common::run_recorded(dir.path(), &config, PROGRAM);
+    let (so, se) = text(&out);
+    assert!(out.status.success(), "{so}\n{se}");
+    let r = read_recording(&rec);
+    let x = &r.axes["x"];
+    let pp: Vec<_> = x.iter().filter(|a| a.mode == 1).collect();
+    assert!(!pp.is_empty(), "6060h = 1 recorded");
+    assert!(
+        pp.iter().any(|a| a.profile_velocity != 0),
+        "6081h recorded while in pp"
+    );
+    assert_eq!(x.last().unwrap().mode, 8, "back in csp at the end");
+    let end = x.last().unwrap().actual_position_counts;
+    assert!((end - 110_000).abs() <= 100, "{end}");
+    let out = cellrt(&["replay".as_ref(), rec.as_os_str()]);
+    let (so, se) = text(&out);
+    assert!(out.status.success(), "{so}\n{se}");
+    assert!(so.contains("bit-identical"), "{so}");
+}
+
 /// An attachment record whose lengths run past its end (no room for its CRC), in a file with
 /// an MCAP header: the mcap crate would slice it unchecked and panic (found by fuzzing).
 /// `inspect` refuses the file with one line, `recover` skips the record and says so.

@@ -33,6 +33,15 @@ impl ProfileMode {
         }
     }
 
+    /// The mode of operation (6060h).
+    pub const fn mode(self) -> ModeOfOperation {
+        match self {
+            ProfileMode::Position => ModeOfOperation::ProfilePosition,
+            ProfileMode::Velocity => ModeOfOperation::ProfileVelocity,
+            ProfileMode::Torque => ModeOfOperation::ProfileTorque,
+        }
+    }
+
     /// The target object the RxPDO must carry: the MR-JET-G-N1 manual §4.5 marks it "mapping
     /// required" (⊙) per mode (607Ah pp, 60FFh pv, 6071h tq).
     pub const fn target(self) -> u16 {
@@ -101,6 +110,46 @@ impl ProfileObjects {
             .copied()
             .filter(|i| !self.is_cyclic(*i))
     }
+}
+
+/// The profile-position plan of a csp axis that can be switched to pp at run time (and back),
+/// or why it cannot: the drive's profile lists pp, its PDOs carry 6060h and 6061h (the
+/// mode-switch rules follow 6061h, `cellrt_axes::cia402::mode_switch`), and pp's time-constant
+/// ramps have `motor.rated_speed` to run from where the drive needs it.
+pub fn pp_switch(a: &super::AxisConfig) -> Result<ProfileObjects, String> {
+    use cellrt_axes::pdo::objects::{MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY};
+    let name = &a.name;
+    if a.mode != ModeOfOperation::CyclicSyncPosition {
+        return Err(format!(
+            "axis '{name}' runs in {}: only a csp axis switches to pp and back",
+            a.mode.as_str()
+        ));
+    }
+    if !a.profile.supports_mode(ModeOfOperation::ProfilePosition) {
+        return Err(format!(
+            "axis '{name}': the {} does not support pp (its modes: {})",
+            a.drive.as_str(),
+            a.profile.modes_text()
+        ));
+    }
+    if !(a.profile.rx_pdo.maps(MODES_OF_OPERATION)
+        && a.profile.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY))
+    {
+        return Err(format!(
+            "axis '{name}': the {}'s PDOs do not carry 6060h and 6061h, which a run-time mode \
+             switch writes and follows",
+            a.drive.as_str()
+        ));
+    }
+    let time_constants = a.profile.units.acceleration.value()
+        == cellrt_axes::profiles::AccelerationUnit::TimeConstantMs;
+    if time_constants && a.rated_speed.is_none() {
+        return Err(format!(
+            "axis '{name}': pp needs motor.rated_speed (the drive's 6083h/6084h are time \
+             constants from 0 to the rated speed)"
+        ));
+    }
+    Ok(ProfileObjects::of_profile(ProfileMode::Position, a.profile))
 }
 
 /// `motor.rated_speed` of a profile axis as counts/s: required where the mode ramps on the

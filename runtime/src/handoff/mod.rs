@@ -16,7 +16,7 @@ use std::sync::Arc;
 
 pub use commands::{CellCommand, HomeRequest, HOME_BY_C_CR, HOME_BY_C_CR2};
 pub use host_end::{HostEnd, RECENT_EVENTS};
-pub use profile::{ProfileCommand, ProfileMotion};
+pub use profile::{ProfileCommand, ProfileMotion, SwitchableMode};
 pub use records::{
     decode_emergency, decode_refused_sdo, encode_emergency, encode_refused_sdo, AxisRecord,
     CycleRecord, EventKind, EventRecord, RejectReason, NO_AXIS,

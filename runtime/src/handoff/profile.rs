@@ -2,6 +2,8 @@
 //! and profile of one axis' motion, in counts and counts/s, which the RT thread turns into the
 //! drive's objects (607Ah, 6081h, 6083h/6084h, 60FFh, 6071h, 6087h) and controlword bits.
 
+use cellrt_axes::cia402::mode::ModeOfOperation;
+
 /// One drive-side motion of one profile axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProfileCommand {
@@ -50,10 +52,45 @@ pub enum ProfileMotion {
     },
     /// Controlword bit 8 (HALT) on or off: the drive stops per 605Dh and holds; off resumes.
     Halt(bool),
+    /// Switch a csp axis to pp or back, at standstill, by the drive's mode-switch rules
+    /// (`cellrt_axes::cia402::mode_switch`); ends when 6061h shows the new mode.
+    SwitchMode(SwitchableMode),
+}
+
+/// The modes an axis configured in csp switches between at run time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SwitchableMode {
+    /// Cyclic synchronous position: the setpoint stream moves the axis.
+    Csp,
+    /// Profile position: the drive positions by its own profile.
+    Pp,
+}
+
+impl SwitchableMode {
+    /// The mode of operation (6060h).
+    pub const fn mode(self) -> ModeOfOperation {
+        match self {
+            SwitchableMode::Csp => ModeOfOperation::CyclicSyncPosition,
+            SwitchableMode::Pp => ModeOfOperation::ProfilePosition,
+        }
+    }
+
+    /// The mode's name, as in an axis' `mode` key.
+    pub fn as_str(self) -> &'static str {
+        self.mode().as_str()
+    }
+
+    /// The switchable mode called `name` ("csp" or "pp").
+    pub fn parse(name: &str) -> Option<SwitchableMode> {
+        [SwitchableMode::Csp, SwitchableMode::Pp]
+            .into_iter()
+            .find(|m| m.as_str() == name)
+    }
 }
 
 impl ProfileMotion {
-    /// The event value of a motion's start: 1 move, 2 jog, 3 torque, 4 halt on, 5 halt off.
+    /// The event value of a motion's start: 1 move, 2 jog, 3 torque, 4 halt on, 5 halt off, 6
+    /// switch to pp, 7 switch to csp.
     pub const fn code(&self) -> i64 {
         match self {
             ProfileMotion::Move { .. } => 1,
@@ -61,6 +98,8 @@ impl ProfileMotion {
             ProfileMotion::Torque { .. } => 3,
             ProfileMotion::Halt(true) => 4,
             ProfileMotion::Halt(false) => 5,
+            ProfileMotion::SwitchMode(SwitchableMode::Pp) => 6,
+            ProfileMotion::SwitchMode(SwitchableMode::Csp) => 7,
         }
     }
 }

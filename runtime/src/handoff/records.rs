@@ -128,6 +128,11 @@ pub enum EventKind {
     /// before its start cycle; 3 superseded
     /// by the axis' next motion).
     ProfileFinished,
+    /// An axis' run-time mode switch ended: 6061h shows the new mode (value: the new 6060h).
+    ModeSwitched,
+    /// An axis' run-time mode switch failed and was withdrawn (value: 1 — 6061h did not show
+    /// the mode in time, 2 — the drive faulted).
+    ModeSwitchFailed,
 }
 
 /// The value of a `bring_up_warning` event: abort code (bits 0–31), sub-index (32–39), index

@@ -156,6 +156,8 @@ pub struct AxisLive {
     pub mode_display: AtomicI8,
     /// MC_Power is on for the axis.
     pub powered: AtomicBool,
+    /// The mode (6060h) the RT thread runs the axis in (configured, or after a run-time switch).
+    pub mode: AtomicI8,
     /// 2D11h–2D13h Status DO 1–3 (0 where the drive does not map them).
     pub status_do: [AtomicU16; 3],
     /// Drive-side motions of a profile axis that have ended (any outcome), counted.

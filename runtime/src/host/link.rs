@@ -104,6 +104,22 @@ pub struct StatusSnapshot {
     pub homing: HomingStatus,
 }
 
+impl StatusSnapshot {
+    /// The mode (6060h) the RT thread runs axis `i` of `cell` in: the configured one, or the
+    /// one a run-time mode switch left it in; the configured one until the RT thread has said.
+    pub fn mode_now(
+        &self,
+        cell: &crate::config::CellConfig,
+        i: usize,
+    ) -> cellrt_axes::cia402::mode::ModeOfOperation {
+        self.live
+            .get(i)
+            .and_then(|l| cellrt_axes::cia402::mode::ModeOfOperation::from_i8(l.mode))
+            .or_else(|| cell.axes.get(i).map(|a| a.mode))
+            .unwrap_or(cellrt_axes::cia402::mode::ModeOfOperation::CyclicSyncPosition)
+    }
+}
+
 /// A planner's connection to its cell.
 pub trait CellLink {
     /// The latest status; an error if the cell cannot be reached.
@@ -166,6 +182,10 @@ pub fn snapshot(handoff: &HostEnd, axes: usize) -> StatusSnapshot {
     for (i, (h, l)) in hold.iter_mut().zip(live.iter_mut()).enumerate().take(axes) {
         *h = s.hold(i);
         let a = &s.live[i];
+        // The ends first: a mode switch's end is counted after its new mode is stored, so a
+        // snapshot that shows the end shows the mode.
+        let profile_finished = a.profile_finished.load(Ordering::Acquire);
+        let profile_failed = a.profile_failed.load(Ordering::Acquire);
         *l = LiveAxis {
             position_actual: a.position_actual.load(Ordering::Relaxed),
             velocity_actual: a.velocity_actual.load(Ordering::Relaxed),
@@ -174,9 +194,11 @@ pub fn snapshot(handoff: &HostEnd, axes: usize) -> StatusSnapshot {
             error_code: a.error_code.load(Ordering::Relaxed),
             mode_display: a.mode_display.load(Ordering::Relaxed),
             powered: u8::from(a.powered.load(Ordering::Relaxed)),
+            mode: a.mode.load(Ordering::Acquire),
+            reserved: 0,
             status_do: std::array::from_fn(|w| a.status_do[w].load(Ordering::Relaxed)),
-            profile_finished: a.profile_finished.load(Ordering::Acquire),
-            profile_failed: a.profile_failed.load(Ordering::Acquire),
+            profile_finished,
+            profile_failed,
         };
     }
     StatusSnapshot {

@@ -15,7 +15,7 @@ use crate::host::je_c::JecAxes;
 use crate::host::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionError, MotionRequest, Progress};
 use crate::host::operator::profile::{
-    halts as profile_halts, jog as profile_jog, send as send_profile, split_move,
+    halts as profile_halts, jog as profile_jog, send as send_profile, split_move, AxisModes,
 };
 use crate::host::operator::server::{Context, Followup, OperatorServer};
 use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
@@ -447,6 +447,10 @@ impl<'a> Planner<'a> {
                     self.what = "home";
                     self.je_c_home(*axis)?;
                 }
+                Step::Mode { axis, mode } => {
+                    self.what = "mode";
+                    self.run_mode_switch(*axis, *mode)?;
+                }
                 Step::Override(value) => {
                     self.what = "override";
                     if let Err(e) = self.engine.set_override(*value, self.link.as_mut()) {
@@ -608,12 +612,34 @@ impl<'a> Planner<'a> {
         }
     }
 
+    /// A mode step: the RT thread switches the axis by the drive's mode-switch rules; the step
+    /// ends when 6061h shows the mode, and fails where the switch was refused or withdrawn.
+    fn run_mode_switch(
+        &mut self,
+        axis: usize,
+        to: crate::handoff::SwitchableMode,
+    ) -> Result<(), ProgramError> {
+        let switch = ProfileCommand {
+            axis: axis as u16,
+            motion: crate::handoff::ProfileMotion::SwitchMode(to),
+            start_cycle: 0,
+        };
+        let before = self.status()?;
+        send_profile(self.link.as_mut(), vec![switch], 0).map_err(|e| self.err(e))?;
+        self.wait_profile_axes(&[switch], &before)
+    }
+
     /// A move step: the pp axes' drives get their set-points, the streamed axes their motion
     /// (it starts within the planner's start delay of them); the step ends when all are done.
     fn run_move(&mut self, targets: &[MoveTarget]) -> Result<(), ProgramError> {
-        let (drive_side, streamed) =
-            split_move(self.cell, move_list(targets)).map_err(|e| self.err(e))?;
         let before = self.status()?;
+        // The modes the axes run in now: a mode step may have switched one to pp.
+        let (drive_side, streamed) = split_move(
+            self.cell,
+            &AxisModes::now(self.cell, &before),
+            move_list(targets),
+        )
+        .map_err(|e| self.err(e))?;
         if streamed.is_empty() {
             send_profile(self.link.as_mut(), drive_side.clone(), 0).map_err(|e| self.err(e))?;
         } else {
@@ -648,7 +674,7 @@ impl<'a> Planner<'a> {
             return Ok(());
         }
         let axes: Vec<usize> = targets.iter().map(|t| t.axis).collect();
-        let halts = profile_halts(self.cell, Some(&axes));
+        let halts = profile_halts(self.cell, &AxisModes::configured(self.cell), Some(&axes));
         send_profile(self.link.as_mut(), halts.clone(), 0).map_err(|e| self.err(e))?;
         let all: Vec<ProfileCommand> = ramps.into_iter().chain(halts).collect();
         self.wait_profile_axes(&all, &before)
@@ -677,13 +703,20 @@ impl<'a> Planner<'a> {
         seconds: f64,
     ) -> Result<(), ProgramError> {
         let a = &self.cell.axes[axis];
-        let jog = profile_jog(axis, a, velocity, &a.limits).map_err(|e| self.err(e))?;
+        let jog = profile_jog(
+            axis,
+            a,
+            AxisModes::configured(self.cell).of(axis),
+            velocity,
+            &a.limits,
+        )
+        .map_err(|e| self.err(e))?;
         let before = self.status()?;
         send_profile(self.link.as_mut(), vec![jog], 0).map_err(|e| self.err(e))?;
         if !self.serve_for(seconds)? {
             return Ok(());
         }
-        let halt = profile_halts(self.cell, Some(&[axis]));
+        let halt = profile_halts(self.cell, &AxisModes::configured(self.cell), Some(&[axis]));
         send_profile(self.link.as_mut(), halt.clone(), 0).map_err(|e| self.err(e))?;
         // The jog ended (velocity reached, or superseded by the halt), then the halt.
         self.wait_profile_axes(&[jog, halt[0]], &before)
@@ -712,7 +745,7 @@ impl<'a> Planner<'a> {
                 if now.profile_failed != then.profile_failed {
                     let name = &self.cell.axes[usize::from(c.axis)].name;
                     return Err(self.err(format!(
-                        "axis '{name}': its drive-side move was refused or cancelled (see the events)"
+                        "axis '{name}': its drive-side command was refused or cancelled (see the events)"
                     )));
                 }
                 all &= now.profile_finished.wrapping_sub(then.profile_finished) >= sent;

@@ -114,6 +114,11 @@ pub struct LiveAxis {
     pub mode_display: i8,
     /// 1 when MC_Power is on for the axis (the operator wants it enabled).
     pub powered: u8,
+    /// The mode (6060h) the RT thread runs the axis in: its configured one, or the one a
+    /// run-time mode switch left it in (`ProfileMotion::SwitchMode`).
+    pub mode: i8,
+    /// Padding (0).
+    pub reserved: u8,
     /// 2D11h–2D13h Status DO 1–3 (0 where the drive does not map them).
     pub status_do: [u16; 3],
     /// Drive-side motions of a profile axis that have ended (any outcome), counted.

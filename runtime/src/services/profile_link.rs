@@ -8,7 +8,7 @@ use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory::publish_subscribe;
 
 use super::{service_error, ServiceError};
-use crate::handoff::{ProfileCommand, ProfileMotion};
+use crate::handoff::{ProfileCommand, ProfileMotion, SwitchableMode};
 use crate::setpoints::MAX_AXES;
 
 /// A profile axis' drive-side motion from an external planner to the controller: one
@@ -59,7 +59,7 @@ impl From<ProfileCommand> for ProfileLinkSample {
                 deceleration,
             } => s.values = [velocity, acceleration, deceleration],
             ProfileMotion::Torque { torque, slope } => s.values = [torque, slope, 0.0],
-            ProfileMotion::Halt(_) => {}
+            ProfileMotion::Halt(_) | ProfileMotion::SwitchMode(_) => {}
         }
         s
     }
@@ -91,6 +91,8 @@ impl ProfileLinkSample {
             },
             4 => ProfileMotion::Halt(true),
             5 => ProfileMotion::Halt(false),
+            6 => ProfileMotion::SwitchMode(SwitchableMode::Pp),
+            7 => ProfileMotion::SwitchMode(SwitchableMode::Csp),
             _ => return None,
         };
         Some(ProfileCommand {
@@ -178,6 +180,8 @@ mod tests {
             },
             ProfileMotion::Halt(true),
             ProfileMotion::Halt(false),
+            ProfileMotion::SwitchMode(SwitchableMode::Pp),
+            ProfileMotion::SwitchMode(SwitchableMode::Csp),
         ];
         for (k, motion) in motions.into_iter().enumerate() {
             let c = ProfileCommand {
@@ -194,7 +198,7 @@ mod tests {
         });
         for bad in [
             ProfileLinkSample { kind: 0, ..good },
-            ProfileLinkSample { kind: 6, ..good },
+            ProfileLinkSample { kind: 8, ..good },
             ProfileLinkSample {
                 values: [f64::NAN, 1.0, 1.0],
                 ..good

@@ -6,7 +6,10 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use cellrt_runtime::config::CellConfig;
-use cellrt_runtime::handoff::{self, AxisRecord, CellCommand, CellState, EventRecord, HostEnd};
+use cellrt_runtime::handoff::{
+    self, AxisRecord, CellCommand, CellState, EventKind, EventRecord, HostEnd, ProfileCommand,
+    ProfileMotion,
+};
 use cellrt_runtime::rt::executive::RtStats;
 use cellrt_runtime::services;
 
@@ -87,6 +90,64 @@ impl Rig {
                 m.max((self.speed(&w[k + n]) - self.speed(&w[k])).abs() / (n as f64 * 1e-3))
             });
         (peak_v, peak_a)
+    }
+
+    /// After a request: waits for its `end` event and then for `records_after` records from
+    /// that cycle on; returns the cycle of the `start` event (`None`: refused before it
+    /// started), the end event and every event since `seen` (the event count before the
+    /// request).
+    pub fn until(
+        &mut self,
+        seen: usize,
+        (start, end): (EventKind, EventKind),
+        records_after: usize,
+    ) -> (Option<u64>, EventRecord, Vec<EventRecord>) {
+        self.wait(
+            |r| r.events[seen..].iter().any(|e| e.kind == end),
+            end.as_str(),
+        );
+        let events = self.events[seen..].to_vec();
+        let finished = *events.iter().find(|e| e.kind == end).unwrap();
+        let started = events.iter().find(|e| e.kind == start).map(|e| e.cycle);
+        self.wait(
+            |r| {
+                r.records
+                    .iter()
+                    .filter(|a| a.cycle >= finished.cycle)
+                    .count()
+                    >= records_after
+            },
+            "the records after the end",
+        );
+        (started, finished, events)
+    }
+
+    /// Sends `motion` to axis 0 and waits for its `profile_finished` and `records_after`
+    /// records from its cycle on (see [`Rig::until`]).
+    pub fn profile(
+        &mut self,
+        motion: ProfileMotion,
+        records_after: usize,
+    ) -> (Option<u64>, EventRecord, Vec<EventRecord>) {
+        let seen = self.events.len();
+        self.handoff
+            .send_profile_command(ProfileCommand {
+                axis: 0,
+                motion,
+                start_cycle: 0,
+            })
+            .unwrap();
+        let kinds = (EventKind::ProfileStarted, EventKind::ProfileFinished);
+        self.until(seen, kinds, records_after)
+    }
+
+    /// The records of cycles `from..=to`.
+    pub fn span(&self, from: u64, to: u64) -> Vec<AxisRecord> {
+        self.records
+            .iter()
+            .filter(|r| r.cycle >= from && r.cycle <= to)
+            .copied()
+            .collect()
     }
 
     pub fn stop(mut self) {

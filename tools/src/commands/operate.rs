@@ -143,6 +143,18 @@ pub enum OperatorCommand {
         #[arg(long)]
         no_wait: bool,
     },
+    /// Switch a csp AXIS to pp (its drive positions it by its own profile: `move` sends it
+    /// set-points) or back to csp, at standstill; waits until the drive shows the new mode.
+    Mode {
+        /// Axis name.
+        axis: String,
+        /// The mode to switch to.
+        #[arg(value_enum)]
+        mode: ModeArg,
+        /// Return once accepted.
+        #[arg(long)]
+        no_wait: bool,
+    },
     /// MC_Halt: brake to rest (all axes, or the named ones); the cell stays ready.
     Halt {
         /// Axes (all when none).
@@ -227,6 +239,31 @@ pub enum SettingArg {
     Clear,
     /// C_CR2: home at the last Z phase.
     ClearZ,
+}
+
+/// `cellrt mode`: the mode a csp axis switches to at run time.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum ModeArg {
+    /// Cyclic synchronous position: the controller streams the axis' setpoints.
+    Csp,
+    /// Profile position: the drive positions the axis by its own profile.
+    Pp,
+}
+
+impl ModeArg {
+    /// The mode's name on the wire.
+    fn as_str(self) -> &'static str {
+        cellrt_runtime::handoff::SwitchableMode::from(self).as_str()
+    }
+}
+
+impl From<ModeArg> for cellrt_runtime::handoff::SwitchableMode {
+    fn from(m: ModeArg) -> Self {
+        match m {
+            ModeArg::Csp => cellrt_runtime::handoff::SwitchableMode::Csp,
+            ModeArg::Pp => cellrt_runtime::handoff::SwitchableMode::Pp,
+        }
+    }
 }
 
 /// What to follow after acceptance.
@@ -318,6 +355,17 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
                     SettingArg::Clear => HomeSettingEdge::Clear,
                     SettingArg::ClearZ => HomeSettingEdge::ClearZ,
                 }),
+            },
+            wait(*no_wait, Wait::Finished),
+        ),
+        OperatorCommand::Mode {
+            axis,
+            mode,
+            no_wait,
+        } => (
+            Request::Mode {
+                axis: axis.clone(),
+                mode: mode.as_str().to_string(),
             },
             wait(*no_wait, Wait::Finished),
         ),

@@ -222,7 +222,11 @@ pub fn replay(
                 rx.profile_deceleration,
                 rx.torque_slope,
             ) = (profile[0], profile[1], profile[2], profile[3]);
-            if let Some(objects) = cell.axes[i].profile_objects {
+            // A csp axis the recording may show switched to pp at run time: its pp plan.
+            let objects = cell.axes[i]
+                .profile_objects
+                .or_else(|| cellrt_runtime::config::profile_axis::pp_switch(&cell.axes[i]).ok());
+            if let Some(objects) = objects {
                 let before = k
                     .checked_sub(1)
                     .map_or([0; 4], |p| profile_objects(&axes[i][p]));

@@ -11,6 +11,9 @@ use crate::pdo::RxPdo;
 use crate::profiles::TorqueLimitSelection;
 use crate::sim::fsoe::{FsoeSlave, StoStop};
 
+/// The lowest speed the simulated drive's S_ZSP accepts as standstill, counts/s.
+pub(super) const STANDSTILL: f64 = 1.0;
+
 impl SimDrive {
     /// 6060h → 6061h: supported modes are taken when the zero-speed gate allows (§4.3);
     /// 0, unknown and unsupported values keep the previous display (TV-8 "6061h keeps the old value").
@@ -23,7 +26,7 @@ impl SimDrive {
         }
         let old = self.mode_display;
         let gated = crate::cia402::mode_switch::switch_needs_zero_speed(old, mode);
-        if gated && self.plant.velocity().abs() > self.params.zero_speed {
+        if gated && !self.at_zero_speed() {
             return;
         }
         self.mode_display = mode;
@@ -136,6 +139,13 @@ impl SimDrive {
         }
         let v = self.sdo_value(QUICK_STOP_DECELERATION, 0).or(o.default)?;
         u32::try_from(v).ok()
+    }
+
+    /// S_ZSP as the mode-switch gate and the stroke end see it: at or below `zero_speed`, and
+    /// never above [`STANDSTILL`] (a servo loop settles asymptotically; a motor turning slower
+    /// than that reads 606Ch = 0 and stands still by any drive's measure).
+    pub(super) fn at_zero_speed(&self) -> bool {
+        self.plant.velocity().abs() <= self.params.zero_speed.max(STANDSTILL)
     }
 
     pub(super) fn stopped(&self) -> bool {

@@ -74,7 +74,7 @@ impl SimDrive {
             self.stroke.ramp_velocity = if next * r <= 0.0 { 0.0 } else { next };
             // "Until the motor has stopped once": the motor, not only the ramp (at or below
             // `zero_speed`, and never above 1 count/s).
-            if self.stroke.ramp_velocity == 0.0 && moving.abs() <= self.params.zero_speed.max(1.0) {
+            if self.stroke.ramp_velocity == 0.0 && self.at_zero_speed() {
                 self.stroke.stopping = false;
             }
             return self.stroke.ramp_velocity;

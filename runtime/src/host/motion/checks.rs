@@ -5,8 +5,9 @@ use super::*;
 
 impl MotionEngine {
     /// Refuses motion of an axis whose MC_Power is off (the RT thread would refuse its
-    /// setpoints and stop the cell).
-    pub(super) fn check_powered(
+    /// setpoints and stop the cell), or that a run-time mode switch left in pp (the drive
+    /// positions it by its own profile; the setpoint stream would not reach it).
+    pub(super) fn check_live(
         &self,
         req: &MotionRequest,
         link: &mut dyn CellLink,
@@ -15,8 +16,19 @@ impl MotionEngine {
             return Ok(());
         };
         let status = link.status()?;
-        match moved.iter().find(|&&i| status.live[i].powered == 0) {
-            Some(&i) => Err(MotionError::NotPowered(self.cell.axes[i].name.clone())),
+        if let Some(&i) = moved.iter().find(|&&i| status.live[i].powered == 0) {
+            return Err(MotionError::NotPowered(self.cell.axes[i].name.clone()));
+        }
+        let switched = moved.iter().find(|&&i| {
+            crate::config::ProfileMode::of(status.mode_now(&self.cell, i)).is_some()
+                && self.cell.axes[i].profile_objects.is_none()
+        });
+        match switched {
+            Some(&i) => Err(refused(format!(
+                "axis '{0}' was switched to pp at run time: streamed moves, jogs and torque \
+                 commands need it in csp (`cellrt mode {0} csp`)",
+                self.cell.axes[i].name
+            ))),
             None => Ok(()),
         }
     }

@@ -250,7 +250,7 @@ impl MotionEngine {
         link: &mut dyn CellLink,
     ) -> Result<(), MotionError> {
         self.check_request(&req)?;
-        self.check_powered(&req, link)?;
+        self.check_live(&req, link)?;
         if self.active.as_ref().is_some_and(|a| a.last_published) {
             self.wait_finished(link)?;
         }

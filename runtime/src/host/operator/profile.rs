@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use super::targets::axis_index;
 use crate::config::{AxisConfig, CellConfig, ProfileMode, DEFAULT_TORQUE_SLOPE};
 use crate::handoff::{ProfileCommand, ProfileMotion};
-use crate::host::link::CellLink;
+use crate::host::link::{CellLink, StatusSnapshot};
 
 /// A cst torque target: (axis, torque %, slope %/s).
 type TorqueTarget = (usize, f64, f64);
@@ -17,18 +17,48 @@ type TorqueTarget = (usize, f64, f64);
 /// A move's targets: (axis, target, limits).
 pub(crate) type Targets = Vec<(usize, f64, KinematicLimits)>;
 
+/// The profile mode of each axis (`None`: streamed), as configured or as the RT thread runs it
+/// now: a csp axis a run-time mode switch left in pp is a pp axis.
+pub(crate) struct AxisModes(Vec<Option<ProfileMode>>);
+
+impl AxisModes {
+    /// As configured (what a program plans with: it runs only while no axis is switched).
+    pub(crate) fn configured(cell: &CellConfig) -> AxisModes {
+        AxisModes(
+            cell.axes
+                .iter()
+                .map(|a| a.profile_objects.map(|p| p.mode))
+                .collect(),
+        )
+    }
+
+    /// As the RT thread runs them, by `status`.
+    pub(crate) fn now(cell: &CellConfig, status: &StatusSnapshot) -> AxisModes {
+        AxisModes(
+            (0..cell.axes.len())
+                .map(|i| ProfileMode::of(status.mode_now(cell, i)))
+                .collect(),
+        )
+    }
+
+    /// The profile mode of axis `i`, `None` for a streamed (csp/csv/cst) axis.
+    pub(crate) fn of(&self, i: usize) -> Option<ProfileMode> {
+        self.0.get(i).copied().flatten()
+    }
+}
+
 /// Splits a move into the pp axes' set-points and the streamed axes' targets; an axis in pv or
 /// tq is refused.
 pub(crate) fn split_move(
     cell: &CellConfig,
+    modes: &AxisModes,
     list: Targets,
 ) -> Result<(Vec<ProfileCommand>, Targets), String> {
-    let (drive_side, streamed): (Targets, Targets) = list
-        .into_iter()
-        .partition(|t| mode_of(&cell.axes[t.0]).is_some());
+    let (drive_side, streamed): (Targets, Targets) =
+        list.into_iter().partition(|t| modes.of(t.0).is_some());
     let commands = drive_side
         .iter()
-        .map(|(i, target, limits)| move_to(*i, &cell.axes[*i], *target, limits))
+        .map(|(i, target, limits)| move_to(*i, &cell.axes[*i], modes.of(*i), *target, limits))
         .collect::<Result<_, _>>()?;
     Ok((commands, streamed))
 }
@@ -38,6 +68,7 @@ pub(crate) fn split_move(
 /// request's `seconds`).
 pub(super) fn split_torque(
     cell: &CellConfig,
+    modes: &AxisModes,
     targets: &BTreeMap<String, f64>,
 ) -> Result<(Vec<ProfileCommand>, Vec<TorqueTarget>), String> {
     let mut drive_side = Vec::new();
@@ -45,8 +76,8 @@ pub(super) fn split_torque(
     for (axis, t) in targets {
         let i = axis_index(cell, axis).map_err(|e| e.to_string())?;
         let a = &cell.axes[i];
-        if mode_of(a).is_some() {
-            drive_side.push(torque(i, a, *t)?);
+        if modes.of(i).is_some() {
+            drive_side.push(torque(i, a, modes.of(i), *t)?);
         } else {
             streamed.push((i, *t, a.torque.map(|t| t.slope).unwrap_or(f64::NAN)));
         }
@@ -62,10 +93,14 @@ pub(super) fn split_torque(
 }
 
 /// HALT for the profile axes among `axes` (all when `None`).
-pub(crate) fn halts(cell: &CellConfig, axes: Option<&[usize]>) -> Vec<ProfileCommand> {
+pub(crate) fn halts(
+    cell: &CellConfig,
+    modes: &AxisModes,
+    axes: Option<&[usize]>,
+) -> Vec<ProfileCommand> {
     (0..cell.axes.len())
         .filter(|i| axes.is_none_or(|l| l.contains(i)))
-        .filter(|&i| mode_of(&cell.axes[i]).is_some())
+        .filter(|&i| modes.of(i).is_some())
         .map(halt)
         .collect()
 }
@@ -84,17 +119,13 @@ pub(crate) fn send(
     Ok(())
 }
 
-/// The profile mode of axis `a`, `None` for a streamed (csp/csv/cst) axis.
-pub(super) fn mode_of(a: &AxisConfig) -> Option<ProfileMode> {
-    a.profile_objects.map(|p| p.mode)
-}
-
-/// A request the axis' profile mode does not take, naming what it would need.
-fn wrong_mode(a: &AxisConfig, what: &str, needs: &str) -> String {
+/// A request the axis' profile mode (`mode`, as it runs now) does not take, naming what it
+/// would need.
+fn wrong_mode(a: &AxisConfig, mode: Option<ProfileMode>, what: &str, needs: &str) -> String {
+    let now = mode.map_or(a.mode, ProfileMode::mode).as_str();
     format!(
-        "axis '{}' runs in {} (the drive's profile): {what} needs {needs}",
-        a.name,
-        a.mode.as_str()
+        "axis '{}' runs in {now} (the drive's profile): {what} needs {needs}",
+        a.name
     )
 }
 
@@ -103,11 +134,12 @@ fn wrong_mode(a: &AxisConfig, what: &str, needs: &str) -> String {
 fn move_to(
     i: usize,
     a: &AxisConfig,
+    mode: Option<ProfileMode>,
     target: f64,
     limits: &KinematicLimits,
 ) -> Result<ProfileCommand, String> {
-    if mode_of(a) != Some(ProfileMode::Position) {
-        return Err(wrong_mode(a, "move", "a csp, csv, cst or pp axis"));
+    if mode != Some(ProfileMode::Position) {
+        return Err(wrong_mode(a, mode, "move", "a csp, csv, cst or pp axis"));
     }
     let s = a.scaling.counts_per_unit();
     let target = a
@@ -131,11 +163,17 @@ fn move_to(
 pub(crate) fn jog(
     i: usize,
     a: &AxisConfig,
+    mode: Option<ProfileMode>,
     velocity: f64,
     limits: &KinematicLimits,
 ) -> Result<ProfileCommand, String> {
-    if mode_of(a) != Some(ProfileMode::Velocity) {
-        return Err(wrong_mode(a, "velocity", "a csp, csv, cst or pv axis"));
+    if mode != Some(ProfileMode::Velocity) {
+        return Err(wrong_mode(
+            a,
+            mode,
+            "velocity",
+            "a csp, csv, cst or pv axis",
+        ));
     }
     let s = a.scaling.counts_per_unit();
     Ok(ProfileCommand {
@@ -151,9 +189,14 @@ pub(crate) fn jog(
 
 /// `torque` on a tq axis: `torque` % at the axis' `limits.torque_slope` (or the default),
 /// within `limits.torque` where configured. The drive holds it until a halt or stop.
-fn torque(i: usize, a: &AxisConfig, torque: f64) -> Result<ProfileCommand, String> {
-    if mode_of(a) != Some(ProfileMode::Torque) {
-        return Err(wrong_mode(a, "torque", "a cst or tq axis"));
+fn torque(
+    i: usize,
+    a: &AxisConfig,
+    mode: Option<ProfileMode>,
+    torque: f64,
+) -> Result<ProfileCommand, String> {
+    if mode != Some(ProfileMode::Torque) {
+        return Err(wrong_mode(a, mode, "torque", "a cst or tq axis"));
     }
     if let Some(max) = a.torque.map(|t| t.max.0) {
         if !torque.is_finite() || torque.abs() > max {

@@ -18,7 +18,9 @@ use super::sdo_job::{SdoJob, SingleSdo};
 use super::targets::{axis_index, move_limits, Asked, TargetError};
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
 use crate::config::CellConfig;
-use crate::handoff::{CellCommand, CellState, HomeRequest};
+use crate::handoff::{
+    CellCommand, CellState, HomeRequest, ProfileCommand, ProfileMotion, SwitchableMode,
+};
 use crate::host::link::{CellLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionRequest, Progress};
 use crate::host::program::Program;
@@ -59,6 +61,9 @@ pub struct OperatorServer {
     diag_client: Option<ActiveRequest>,
     /// The MR-JE-C axes the active move waits for.
     je_c_moves: je_c_requests::PendingMoves,
+    /// The active `mode` switch: its axis, and the axis' ended and failed drive-side command
+    /// counts when it was sent.
+    mode_switch: Option<(usize, u32, u32)>,
 }
 
 /// True if `axis` is in Operation enabled by its latest statusword.
@@ -105,6 +110,7 @@ impl OperatorServer {
             diag: DiagInFlight::default(),
             diag_client: None,
             je_c_moves: je_c_requests::PendingMoves::default(),
+            mode_switch: None,
         })
     }
 
@@ -137,6 +143,10 @@ impl OperatorServer {
             }
             Ok(running) => running,
         };
+        if self.active.as_ref().is_some_and(|a| a.command == "mode") {
+            self.follow_mode_switch(ctx);
+            return;
+        }
         if self.active.as_ref().is_some_and(|a| a.command == "home") {
             if self.home_on_je_c {
                 if !je_c_running {
@@ -171,6 +181,30 @@ impl OperatorServer {
             Ok(Progress::Running) => {}
             Err(e) => self.finish_active(Err(e.to_string())),
         }
+    }
+
+    /// Ends the active `mode` command once its axis' switch has ended (its drive-side command
+    /// count moved on), with the RT thread's verdict.
+    fn follow_mode_switch(&mut self, ctx: &mut Context<'_>) {
+        let (Some((i, finished, failed)), Ok(s)) = (self.mode_switch, ctx.link.status()) else {
+            return;
+        };
+        let live = &s.live[i];
+        if live.profile_finished == finished {
+            return;
+        }
+        self.mode_switch = None;
+        let axis = &ctx.cell.axes[i].name;
+        let r = if live.profile_failed != failed {
+            Err(format!(
+                "axis '{axis}' stays in {}: the RT thread refused the switch (the cell was not idle, or the axis not at rest in Operation enabled) or withdrew it (6061h did not show the mode within {:?}, or the drive faulted); see the events",
+                s.mode_now(ctx.cell, i).as_str(),
+                crate::rt::executive::MODE_SWITCH_TIMEOUT
+            ))
+        } else {
+            Ok(())
+        };
+        self.finish_active(r);
     }
 
     /// Answers every pending request; returns what the caller must do next.
@@ -404,18 +438,19 @@ impl OperatorServer {
                 velocity,
                 acceleration,
                 clamp,
-            } => self.velocity(ctx, &axis, velocity, acceleration, clamp),
-            Request::Torque { targets, seconds } => self.torque(ctx, &targets, seconds),
+            } => self.velocity(ctx, &state, &axis, velocity, acceleration, clamp),
+            Request::Torque { targets, seconds } => self.torque(ctx, &state, &targets, seconds),
             Request::Home {
                 axis,
                 method,
                 setting,
             } => self.home(ctx, &state, &axis, method, setting),
-            Request::Halt { axes } => self.halt(ctx, &axes),
+            Request::Halt { axes } => self.halt(ctx, &state, &axes),
             Request::Stop => self.stop(ctx),
             Request::Reset => self.reset(ctx, &state),
             Request::Override { percent } => self.set_override(ctx, percent),
-            Request::Program { path } => self.program(ctx, &path),
+            Request::Program { path } => self.program(ctx, &state, &path),
+            Request::Mode { axis, mode } => self.switch_mode(ctx, &state, &axis, &mode),
             Request::Capture => {
                 if ctx.link.request_capture() {
                     (self.accept("capture", false), Followup::None)
@@ -545,7 +580,7 @@ impl OperatorServer {
                 AxisStatus {
                     name: a.name.clone(),
                     unit: a.unit.clone(),
-                    mode: a.mode.as_str().to_string(),
+                    mode: s.mode_now(ctx.cell, i).as_str().to_string(),
                     mode_display: ModeOfOperation::from_i8(l.mode_display)
                         .map_or("?", |m| m.as_str())
                         .to_string(),

@@ -129,6 +129,14 @@ pub enum Request {
         #[serde(default)]
         setting: Option<cellrt_axes::cia402::homing::HomeSettingEdge>,
     },
+    /// Switch a csp axis to pp (the drive positions it by its own profile) or back to csp, at
+    /// standstill, by the drive's mode-switch rules.
+    Mode {
+        /// Axis name.
+        axis: String,
+        /// "pp" or "csp".
+        mode: String,
+    },
     /// MC_Halt: brake the motion (all axes, or the named ones) to rest; the cell stays usable.
     Halt {
         /// Axes to halt (all when empty).
@@ -233,6 +241,7 @@ impl Request {
             Request::Velocity { .. } => "velocity",
             Request::Torque { .. } => "torque",
             Request::Home { .. } => "home",
+            Request::Mode { .. } => "mode",
             Request::Halt { .. } => "halt",
             Request::Stop => "stop",
             Request::Reset => "reset",
@@ -470,7 +479,8 @@ pub struct AxisStatus {
     pub name: String,
     /// Unit of positions.
     pub unit: String,
-    /// Configured mode (csp, csv, cst).
+    /// The mode the controller runs the axis in: its configured one, or the one `mode` switched
+    /// it to (csp, csv, cst, pp, pv, tq).
     pub mode: String,
     /// Mode the drive displays (6061h: csp, csv, cst, hm, …; "?" where not mapped or unknown).
     #[serde(default)]

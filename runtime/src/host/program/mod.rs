@@ -17,6 +17,9 @@
 //!
 //! `do = "reset"` clears a cell stopped by a watchdog (MC_Reset).
 //!
+//! `do = "mode"`, `axis = "y"`, `mode = "pp"` (or `"csp"`): switches a csp axis to pp at
+//! standstill (later `move` steps send its drive set-points) and back.
+//!
 //! `do = "torque"`, `target = { z = 30.0 }` (% of rated torque), `seconds = 0.5`: on axes in
 //! cst, ramps to the torque at `limits.torque_slope`, holds it, ramps back to zero; an axis left
 //! moving then brakes in csv with its controlled-stop ramp.
@@ -124,6 +127,13 @@ pub enum RawStep {
         /// Home setting by Controlword2 instead: "clear" (C_CR) or "clear_z" (C_CR2).
         setting: Option<HomeSettingEdge>,
     },
+    /// Switch a csp axis to pp or back at standstill (the drive's mode-switch rules).
+    Mode {
+        /// Axis name.
+        axis: String,
+        /// "pp" or "csp".
+        mode: String,
+    },
     /// Run the nested steps `count` times.
     Repeat {
         /// How many times (1..=10000).
@@ -211,6 +221,13 @@ pub enum Step {
     },
     /// Feed override, 0..=1.
     Override(f64),
+    /// Switch axis `axis` (a csp axis whose drive runs pp) to `mode`.
+    Mode {
+        /// Axis index.
+        axis: usize,
+        /// The mode it switches to.
+        mode: crate::handoff::SwitchableMode,
+    },
     /// Home an axis with a procedure its drive's manual gives.
     Home {
         /// Axis index.

@@ -177,6 +177,19 @@ fn validate_step(
                 })?;
             Step::Home { axis: i, procedure }
         }
+        RawStep::Mode { axis, mode } => {
+            let i = axis_of(path, format!("{key}.axis"), &axis, cell)?;
+            let Some(mode) = crate::handoff::SwitchableMode::parse(&mode) else {
+                return Err(ConfigError::new(
+                    path,
+                    format!("{key}.mode"),
+                    format!("'{mode}' is not a mode an axis switches to at run time (csp or pp)"),
+                ));
+            };
+            crate::config::profile_axis::pp_switch(&cell.axes[i])
+                .map_err(|e| ConfigError::new(path, format!("{key}.axis"), e))?;
+            Step::Mode { axis: i, mode }
+        }
         RawStep::Repeat { .. } => unreachable!("expanded by `expand`"),
     })
 }

@@ -46,7 +46,9 @@ pub fn describe_event(e: &EventRecord) -> String {
             2 => "drive-side jog (pv)",
             3 => "drive-side torque (tq)",
             4 => "halt on",
-            _ => "halt off",
+            5 => "halt off",
+            6 => "mode switch to pp",
+            _ => "mode switch to csp",
         }
         .to_string(),
         EventKind::ProfileFinished => match e.value {
@@ -54,6 +56,18 @@ pub fn describe_event(e: &EventRecord) -> String {
             1 => "refused",
             2 => "cancelled (the drive left Operation enabled, or a stop before its start)",
             _ => "superseded by the next motion",
+        }
+        .to_string(),
+        EventKind::ModeSwitched => i8::try_from(e.value)
+            .ok()
+            .and_then(cellrt_axes::cia402::mode::ModeOfOperation::from_i8)
+            .map_or_else(
+                || format!("mode {} (6061h)", e.value),
+                |m| format!("now in {} (6061h)", m.as_str()),
+            ),
+        EventKind::ModeSwitchFailed => match e.value {
+            1 => "withdrawn: 6061h did not show the mode in time",
+            _ => "withdrawn: the drive faulted",
         }
         .to_string(),
         EventKind::HomingStarted => match e.value {

@@ -122,6 +122,11 @@ pub struct AxisChannel {
     pub sent_velocity: i32,
     /// A profile axis (pp/pv/tq): its drive-side motion; `None` for a cyclic axis.
     pub profile: Option<super::profile_axis::ProfileChannel>,
+    /// A csp axis that can be switched to pp at run time: the pp plan and the rated speed its
+    /// time constants run from (`config::profile_axis::pp_switch`); `None` otherwise.
+    pub pp_switch: Option<(crate::config::ProfileObjects, Option<f64>)>,
+    /// A run-time mode switch in progress.
+    pub mode_switch: Option<cellrt_axes::cia402::mode_switch::ModeSwitch>,
     /// MC_Power of this axis: the operator wants it in Operation enabled. An axis without
     /// power follows its actual position and takes no motion.
     pub powered: bool,
@@ -209,6 +214,10 @@ impl AxisChannel {
             profile: axis
                 .profile_objects
                 .map(|o| super::profile_axis::ProfileChannel::new(o, axis.rated_speed, 0)),
+            pp_switch: crate::config::profile_axis::pp_switch(axis)
+                .ok()
+                .map(|o| (o, axis.rated_speed)),
+            mode_switch: None,
             torque: None,
             braking: false,
             homing: HomingSequencer::new(
@@ -460,6 +469,8 @@ mod tests {
             speed_limit: 0,
             sent_velocity: 0,
             profile: None,
+            pp_switch: None,
+            mode_switch: None,
             torque: None,
             braking: false,
             homing: HomingSequencer::new(

@@ -228,7 +228,10 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     self.enter_faulted();
                 } else {
                     self.hold_all();
-                    self.poll_home_request();
+                    // A homing request waits in the hand-off while an axis switches its mode.
+                    if !self.mode_switching() {
+                        self.poll_home_request();
+                    }
                     if self.state == CellState::Idle && self.planner_lost {
                         self.refuse_motion();
                     } else if self.state == CellState::Idle {
@@ -368,6 +371,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             live.error_code.store(f.error_code, Ordering::Relaxed);
             live.mode_display.store(f.mode_display, Ordering::Relaxed);
             live.powered.store(ch.powered, Ordering::Relaxed);
+            live.mode.store(ch.mode.as_i8(), Ordering::Release);
             for (word, value) in live.status_do.iter().zip(f.status_do.0) {
                 word.store(value, Ordering::Relaxed);
             }
@@ -451,6 +455,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         let cycle = self.cycle;
         let n = self.axes.len();
         let last_motion = self.motion_id;
+        let switching = self.mode_switching();
         let verdict = match self.stream.front() {
             Ok(Some(b)) => {
                 let h = b.header;
@@ -462,6 +467,8 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     Some(Err(Some((RejectReason::Malformed, h.motion_id))))
                 } else if h.start_cycle + u64::from(self.max_start_slip.0) < cycle {
                     Some(Err(Some((RejectReason::LateBlock, h.motion_id))))
+                } else if h.start_cycle <= cycle && switching {
+                    Some(Err(Some((RejectReason::NotAccepting, h.motion_id))))
                 } else if h.start_cycle <= cycle {
                     // At rest, a late first block shifts the whole motion instead of failing it.
                     Some(Ok((h.motion_id, Cycles((cycle - h.start_cycle) as u32))))

@@ -42,6 +42,12 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 HomeProcedure::HomingMode(_) if !self.axes[axis].mode_display_mapped => {
                     Some(HomingFailure::MethodRefused)
                 }
+                // Switched to pp at run time: the sequencer would return it to csp.
+                HomeProcedure::HomingMode(_)
+                    if self.axes[axis].pp_switch.is_some() && self.axes[axis].profile.is_some() =>
+                {
+                    Some(HomingFailure::MethodRefused)
+                }
                 HomeProcedure::HomingMode(method) => {
                     if self.request_homing_method(axis, method) {
                         self.awaiting_method = Some(req);

@@ -9,6 +9,7 @@ mod axis;
 mod cell;
 mod comm_watchdog;
 mod homing;
+mod mode_switching;
 mod profile_axis;
 mod profile_commands;
 mod rx_command;
@@ -16,6 +17,7 @@ mod rx_command;
 mod units_tests;
 
 pub use axis::{AxisChannel, AxisLimitsCounts, HOMING_MODE_SETTLE, STEP_TOLERANCE};
+pub use mode_switching::MODE_SWITCH_TIMEOUT;
 pub use rx_command::CycleCommand;
 
 use std::sync::atomic::Ordering;
@@ -476,6 +478,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 counter,
             });
             self.profile_outputs(i, &mut rx);
+            self.mode_switch_outputs(i, &mut rx);
             let controlword = rx.controlword;
             if self.axes[i]
                 .rx_map

@@ -10,14 +10,14 @@ use cellrt_axes::pdo::RxPdo;
 use super::acyclic::Pending;
 use super::profile_axis::ProfileEnd;
 use super::Executive;
-use crate::handoff::{CellState, EventKind, ProfileCommand};
+use crate::handoff::{CellState, EventKind, ProfileCommand, ProfileMotion};
 
 /// Profile commands taken per cycle at most.
 const PROFILE_COMMANDS_PER_CYCLE: usize = 4;
 
 /// `profile_finished` values.
-const FINISHED_DONE: i64 = 0;
-const FINISHED_REFUSED: i64 = 1;
+pub(super) const FINISHED_DONE: i64 = 0;
+pub(super) const FINISHED_REFUSED: i64 = 1;
 const FINISHED_CANCELLED: i64 = 2;
 const FINISHED_SUPERSEDED: i64 = 3;
 
@@ -62,11 +62,24 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
 
     fn start_profile(&mut self, cmd: ProfileCommand) {
         let i = usize::from(cmd.axis);
+        if let ProfileMotion::SwitchMode(to) = cmd.motion {
+            if self.start_mode_switch(i, to) {
+                self.event(EventKind::ProfileStarted, cmd.axis, cmd.motion.code());
+            } else {
+                self.profile_finished(i, FINISHED_REFUSED);
+            }
+            return;
+        }
         let accepting = matches!(self.state, CellState::Idle | CellState::Moving);
         let period = self.period_s;
         let mut superseded = false;
         let started = match self.axes.get_mut(i) {
-            Some(ch) if accepting && ch.powered && ch.master.is_enabled() => {
+            Some(ch)
+                if accepting
+                    && ch.powered
+                    && ch.master.is_enabled()
+                    && ch.mode_switch.is_none() =>
+            {
                 let position = ch.to_raw(ch.feedback.position_actual);
                 let units = ch.drive_units;
                 ch.profile.as_mut().is_some_and(|p| {
@@ -165,7 +178,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
 
     /// A drive-side motion of axis `i` ended with `outcome`: the event and the status counters
     /// (an axis index beyond the cell, from a bad command, only gets the event).
-    fn profile_finished(&mut self, i: usize, outcome: i64) {
+    pub(super) fn profile_finished(&mut self, i: usize, outcome: i64) {
         self.event(EventKind::ProfileFinished, i as u16, outcome);
         if let Some(live) = self
             .handoff

@@ -78,7 +78,7 @@ impl OperatorServer {
         };
         if !line {
             let list: Vec<_> = list.into_iter().map(|(i, t, l, _)| (i, t, l)).collect();
-            return self.move_with_profile_axes(ctx, list);
+            return self.move_with_profile_axes(ctx, state, list);
         }
         let start: Vec<f64> = list.iter().map(|t| t.3).collect();
         let end: Vec<f64> = list.iter().map(|t| t.1).collect();
@@ -110,9 +110,11 @@ impl OperatorServer {
     pub(super) fn move_with_profile_axes(
         &mut self,
         ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
         list: Vec<(usize, f64, KinematicLimits)>,
     ) -> (Reply, Followup) {
-        let (commands, streamed) = match profile::split_move(ctx.cell, list) {
+        let modes = profile::AxisModes::now(ctx.cell, state);
+        let (commands, streamed) = match profile::split_move(ctx.cell, &modes, list) {
             Ok(split) => split,
             Err(e) => return rejected(format!("move: {e}")),
         };
@@ -165,6 +167,7 @@ impl OperatorServer {
     pub(super) fn velocity(
         &mut self,
         ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
         axis: &str,
         velocity: f64,
         acceleration: Option<f64>,
@@ -203,8 +206,9 @@ impl OperatorServer {
         } else {
             velocity
         };
-        if profile::mode_of(a).is_some() {
-            return match profile::jog(i, a, v, &limits)
+        let mode = profile::AxisModes::now(ctx.cell, state).of(i);
+        if mode.is_some() {
+            return match profile::jog(i, a, mode, v, &limits)
                 .and_then(|c| profile::send(ctx.link, vec![c], 0))
             {
                 Ok(()) => (self.accept("velocity", false), Followup::None),
@@ -226,10 +230,12 @@ impl OperatorServer {
     pub(super) fn torque(
         &mut self,
         ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
         targets: &BTreeMap<String, f64>,
         seconds: f64,
     ) -> (Reply, Followup) {
-        let (drive_side, list) = match profile::split_torque(ctx.cell, targets) {
+        let modes = profile::AxisModes::now(ctx.cell, state);
+        let (drive_side, list) = match profile::split_torque(ctx.cell, &modes, targets) {
             Ok(split) => split,
             Err(e) => return rejected(format!("torque: {e}")),
         };
@@ -296,6 +302,68 @@ impl OperatorServer {
         }
     }
 
+    /// Switches a csp axis to pp or back at standstill (the drive's mode-switch rules, on the
+    /// RT thread); tracked until 6061h shows the new mode or the switch is withdrawn.
+    pub(super) fn switch_mode(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        axis: &str,
+        mode: &str,
+    ) -> (Reply, Followup) {
+        let i = match axis_index(ctx.cell, axis) {
+            Ok(i) => i,
+            Err(e) => return rejected(format!("mode: {e}")),
+        };
+        let Some(to) = SwitchableMode::parse(mode) else {
+            return rejected(format!(
+                "mode: '{mode}' is not a mode an axis switches to at run time (csp or pp)"
+            ));
+        };
+        if let Err(e) = crate::config::profile_axis::pp_switch(&ctx.cell.axes[i]) {
+            return rejected(format!("mode: {e}"));
+        }
+        let now = state.mode_now(ctx.cell, i);
+        if now == to.mode() {
+            return rejected(format!(
+                "mode: axis '{axis}' already runs in {}",
+                now.as_str()
+            ));
+        }
+        if ctx.engine.is_busy() || state.state != CellState::Idle {
+            return rejected(format!(
+                "mode: the cell is {}; a mode switch starts from idle (power on, halt or wait first)",
+                state.state.as_str()
+            ));
+        }
+        if state.live[i].powered == 0
+            || Statusword(state.live[i].statusword).state()
+                != Some(cellrt_axes::cia402::fsa::FsaState::OperationEnabled)
+        {
+            return rejected(format!(
+                "mode: axis '{axis}' is not powered and enabled (power it on first)"
+            ));
+        }
+        let reply = self.accept("mode", true);
+        self.mode_switch = Some((
+            i,
+            state.live[i].profile_finished,
+            state.live[i].profile_failed,
+        ));
+        let command = ProfileCommand {
+            axis: i as u16,
+            motion: ProfileMotion::SwitchMode(to),
+            start_cycle: 0,
+        };
+        match profile::send(ctx.link, vec![command], 0) {
+            Ok(()) => (reply, Followup::None),
+            Err(e) => {
+                self.finish_active(Err(e.clone()));
+                rejected(format!("mode: {e}"))
+            }
+        }
+    }
+
     /// MC_Home of MR-JE-C axis `k`: hm on its drive with method 37, tracked until its job ends.
     fn home_je_c(
         &mut self,
@@ -326,7 +394,12 @@ impl OperatorServer {
 
     /// MC_Halt: the named axes (every axis when none) ramp down, MR-JE-C axes by their
     /// drives' Halt; a running program is aborted.
-    pub(super) fn halt(&mut self, ctx: &mut Context<'_>, axes: &[String]) -> (Reply, Followup) {
+    pub(super) fn halt(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        axes: &[String],
+    ) -> (Reply, Followup) {
         let (je_c, axes): (Vec<String>, Vec<String>) = axes
             .iter()
             .cloned()
@@ -361,7 +434,9 @@ impl OperatorServer {
             }
         };
         let abort = ctx.program_running;
-        if let Err(e) = profile::send(ctx.link, profile::halts(ctx.cell, list.as_deref()), 0) {
+        let modes = profile::AxisModes::now(ctx.cell, state);
+        let halts = profile::halts(ctx.cell, &modes, list.as_deref());
+        if let Err(e) = profile::send(ctx.link, halts, 0) {
             return rejected(format!("halt: {e}"));
         }
         if !ctx.engine.is_busy() {
@@ -424,9 +499,28 @@ impl OperatorServer {
     }
 
     /// Loads and validates a program for the planner thread to run.
-    pub(super) fn program(&mut self, ctx: &mut Context<'_>, path: &Path) -> (Reply, Followup) {
+    pub(super) fn program(
+        &mut self,
+        ctx: &mut Context<'_>,
+        state: &StatusSnapshot,
+        path: &Path,
+    ) -> (Reply, Followup) {
         if ctx.engine.is_busy() {
             return rejected("program: a motion is active; halt it first".into());
+        }
+        // A program plans with the configured modes.
+        let switched = (0..ctx.cell.axes.len())
+            .find(|&i| state.mode_now(ctx.cell, i) != ctx.cell.axes[i].mode);
+        if let Some(i) = switched {
+            let a = &ctx.cell.axes[i];
+            return rejected(format!(
+                "program: axis '{}' was switched to {} at run time and a program plans with the \
+                 configured modes: switch it back first (`cellrt mode {} {}`)",
+                a.name,
+                state.mode_now(ctx.cell, i).as_str(),
+                a.name,
+                a.mode.as_str()
+            ));
         }
         match Program::load(path, ctx.cell) {
             Ok(p) => (self.accept("program", true), Followup::RunProgram(p)),

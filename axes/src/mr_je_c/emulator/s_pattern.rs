@@ -93,7 +93,11 @@ impl SPattern {
         let cap = self.n + 1;
         self.head = (self.head + 1) % cap;
         self.ring[self.head] = x;
-        self.still = if x == newest { self.still + 1 } else { 0 };
+        self.still = if x == newest {
+            self.still.saturating_add(1)
+        } else {
+            0
+        };
         self.sum = if self.head == 0 {
             (0..self.n).map(|k| self.sample(k)).sum()
         } else {

@@ -373,7 +373,8 @@ impl MrJeC {
         Statusword(sw | bits)
     }
 
-    /// The motor's raw bits 10 and 12 with the mode's window times (§7.3 6068h, 606Eh, 6070h).
+    /// The motor's raw bits 10 and 12 with the mode's window times (§7.3 6068h, 606Eh, 6070h),
+    /// and bit 13 after the following error time-out 6066h in pp, jg, pt and idx.
     fn timed(&self, raw: u16) -> u16 {
         let ms = |index: u16| {
             Duration::from_millis(self.store.int(ObjectId::new(index, 0)).max(0) as u64)

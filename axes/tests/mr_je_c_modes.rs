@@ -396,4 +396,9 @@ fn pc03_delays_target_reached_by_its_time() {
         (199..=201).contains(&(s - trapezoid)),
         "{trapezoid} ms, {s} ms"
     );
+    // 5000 ms is the top of the setting range: a larger value is refused, not run at 5000.
+    let mut d = enabled_in(1);
+    assert!(d.write(id(0x2103), &Value::U32(5000), ms(0)).is_ok());
+    assert!(d.write(id(0x2103), &Value::U32(5001), ms(0)).is_err());
+    assert_eq!(int(&d, id(0x2103)), 5000);
 }

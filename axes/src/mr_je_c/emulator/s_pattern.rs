@@ -18,10 +18,9 @@ use std::time::Duration;
 /// The filter's sample period: one sample of the trapezoid per ms, the unit of [Pr. PC03].
 pub const SAMPLE: Duration = Duration::from_millis(1);
 
-/// The largest [Pr. PC03] taken, ms; larger settings run at this. The network manual gives
-/// PC03 no setting range (its range is in the servo amplifier instruction manual, which we do
-/// not have): 5000 ms, the MR-JE/MR-J4 families' upper limit, is an emulator choice.
-pub const MAX_MS: i64 = 5000;
+/// The largest [Pr. PC03], ms: the top of the parameter's setting range (a larger write is
+/// refused).
+pub const MAX_MS: i64 = crate::mr_je_c::parameters::PC03_MAX_MS;
 
 /// The moving average over the trapezoid's position.
 #[derive(Debug, Clone)]

@@ -270,3 +270,135 @@ fn quick_stop_decelerates_with_6085h_then_switch_on_disabled() {
         );
     }
 }
+
+/// Ticks of 1 ms from `from` to `to` ms; `f` after each.
+fn each_ms(d: &mut MrJeC, from: u64, to: u64, mut f: impl FnMut(&MrJeC, u64)) {
+    for t in from..=to {
+        d.tick(ms(t));
+        f(d, t);
+    }
+}
+
+/// 6081h 600 r/min, 6083h/6084h 100 ms (from and to 3000 r/min).
+fn at_600_rpm(d: &mut MrJeC) {
+    d.write(id(0x6081), &Value::U32(60_000), ms(0)).unwrap();
+    d.write(id(0x6083), &Value::U32(100), ms(0)).unwrap();
+    d.write(id(0x6084), &Value::U32(100), ms(0)).unwrap();
+}
+
+/// A pp move to `target` at 600 r/min, started at 0 ms.
+fn start_pp(d: &mut MrJeC, target: i32) {
+    d.write(id(0x607A), &Value::I32(target), ms(0)).unwrap();
+    at_600_rpm(d);
+    cw(d, 0x1F, ms(0));
+    cw(d, 0x0F, ms(0));
+}
+
+/// The motor model's droop (MR-JE-C manual §7.3 60F4h, 2B03h) with the default position loop
+/// gain Kp = 1000 rad/s: jg at 600 r/min with 6092h:1 = 10000 pos units per revolution runs
+/// the command at 10 rev/s × 10000 = 100000 pos units/s, so the droop settles at
+/// 100000 / 1000 = 100 pos units (60F4h), 100 × 131072 / 10000 = 1310.72 ≈ 1311 encoder pulses
+/// (2B03h). 60F4h over Modbus/TCP object access as well (low word first). Once the jog has
+/// stopped the droop decays and Target reached comes.
+#[test]
+fn jg_droop_at_a_constant_speed_is_the_speed_over_the_loop_gain() {
+    use cellrt_axes::modbus::{Query, Reply, WordOrder};
+    use cellrt_axes::mr_je_c::emulator::modbus;
+    let mut d = enabled_in(-100);
+    d.write(ObjectId::new(0x6092, 1), &Value::U32(10_000), ms(0))
+        .unwrap();
+    at_600_rpm(&mut d);
+    cw(&mut d, 0x1F, ms(0));
+    each_ms(&mut d, 1, 100, |_, _| {});
+    assert_eq!(int(&d, id(0x606C)), 60_000);
+    assert_eq!(int(&d, id(0x60F4)), 100);
+    assert_eq!(int(&d, id(0x2B03)), 1311);
+    let mut out = Vec::new();
+    let query = Query::Read {
+        address: 0x60F4,
+        registers: 2,
+    };
+    let reply = modbus::answer(&mut d, &query, WordOrder::LowFirst, ms(100), &mut out);
+    assert_eq!(reply, Reply::Read(&[0x00, 0x64, 0x00, 0x00]));
+    cw(&mut d, 0x0F, ms(100));
+    each_ms(&mut d, 101, 150, |_, _| {});
+    assert_eq!((int(&d, id(0x60F4)), int(&d, id(0x2B03))), (0, 0));
+    assert_eq!(status(&d) & (1 << 10), 1 << 10);
+}
+
+/// A pp move of 3 revolutions at 600 r/min (10 rev/s × 131072 = 1310720 pos units/s: a
+/// steady droop of 1310.72 with Kp = 1000 rad/s), each ms: when 60F4h is first over 1000 and
+/// when Statusword bit 13 first comes on (§7.3 6065h: on once the droop has been over 6065h for
+/// 6066h), with 6065h = `window`.
+fn following_error_times(window: Option<u32>) -> (Option<u64>, Option<u64>, u16) {
+    let mut d = enabled_in(1);
+    if let Some(w) = window {
+        d.write(id(0x6065), &Value::U32(w), ms(0)).unwrap();
+    }
+    d.write(id(0x6066), &Value::U16(10), ms(0)).unwrap();
+    start_pp(&mut d, 3 * 131_072);
+    let (mut over, mut bit13) = (None, None);
+    each_ms(&mut d, 1, 500, |d, t| {
+        if over.is_none() && int(d, id(0x60F4)) > 1000 {
+            over = Some(t);
+        }
+        if bit13.is_none() && status(d) & (1 << 13) != 0 {
+            bit13 = Some(t);
+        }
+    });
+    (over, bit13, status(&d) as u16)
+}
+
+#[test]
+fn bit_13_after_the_droop_exceeds_6065h_for_6066h() {
+    let (over, bit13, end) = following_error_times(Some(1000));
+    let over = over.expect("the droop passes 1000 while accelerating");
+    assert_eq!(
+        bit13,
+        Some(over + 10),
+        "6066h = 10 ms after the droop passed 1000"
+    );
+    assert_eq!(
+        end & 0x2400,
+        1 << 10,
+        "bit 13 off again once the move has ended"
+    );
+    let (over, bit13, end) = following_error_times(None);
+    assert!(over.is_some());
+    assert_eq!(
+        bit13, None,
+        "the default 6065h (12582912) is never exceeded"
+    );
+    assert_eq!(end & 0x2400, 1 << 10);
+    let (_, bit13, _) = following_error_times(Some(u32::MAX));
+    assert_eq!(bit13, None, "6065h = 4294967295: always off");
+}
+
+/// [Pr. PC03] (2103h) from the parameter store: a pp move of one revolution reaches its target
+/// PC03 = 200 ms later than the trapezoid (within one tick of 1 ms).
+#[test]
+fn pc03_delays_target_reached_by_its_time() {
+    let reached_at = |pc03: u32| {
+        let mut d = enabled_in(1);
+        d.write(id(0x2103), &Value::U32(pc03), ms(0)).unwrap();
+        start_pp(&mut d, 131_072);
+        let mut at = None;
+        each_ms(&mut d, 1, 1000, |d, t| {
+            if at.is_none() && status(d) & (1 << 10) != 0 {
+                at = Some(t);
+            }
+        });
+        assert_eq!(int(&d, id(0x6064)), 131_072);
+        at.expect("reached")
+    };
+    let (trapezoid, s) = (reached_at(0), reached_at(200));
+    assert!(
+        (199..=201).contains(&(s - trapezoid)),
+        "{trapezoid} ms, {s} ms"
+    );
+    // 5000 ms is the top of the setting range: a larger value is refused, not run at 5000.
+    let mut d = enabled_in(1);
+    assert!(d.write(id(0x2103), &Value::U32(5000), ms(0)).is_ok());
+    assert!(d.write(id(0x2103), &Value::U32(5001), ms(0)).is_err());
+    assert_eq!(int(&d, id(0x2103)), 5000);
+}

@@ -310,3 +310,37 @@ fn the_ethercat_cyclic_exchange_of_a_multi_axis_station_is_allocation_free() {
     );
     assert_eq!(errors, 10, "every faulty frame an error");
 }
+
+/// The simulated MR-JE-C's tick allocates nothing, with [Pr. PC03]'s S-pattern filter (its ring
+/// buffer is sized once, when the drive is built) and the droop of the motor model running.
+#[test]
+fn mr_je_c_emulator_ticks_are_allocation_free_with_the_s_pattern() {
+    use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
+    use cellrt_axes::mr_je_c::{ObjectId, Value};
+    use std::time::Duration;
+    let mut d = MrJeC::new(MrJeCParams::default());
+    let at = Duration::ZERO;
+    for (index, v) in [
+        (0x2103, Value::U32(100)),
+        (0x6060, Value::I8(1)),
+        (0x607A, Value::I32(4 * 131_072)),
+        (0x6081, Value::U32(60_000)),
+    ] {
+        d.write(ObjectId::new(index, 0), &v, at).unwrap();
+    }
+    for word in [0x06u16, 0x07, 0x0F, 0x1F, 0x0F] {
+        d.write(ObjectId::new(0x6040, 0), &Value::U16(word), at)
+            .unwrap();
+    }
+    d.tick(Duration::from_millis(1));
+    let before = thread_heap_calls();
+    for t in 2..2000 {
+        d.tick(Duration::from_micros(t * 1000 - 500));
+        d.tick(Duration::from_millis(t));
+    }
+    assert_eq!(thread_heap_calls() - before, 0);
+    assert_eq!(
+        d.read(ObjectId::new(0x6064, 0)).unwrap(),
+        Value::I32(4 * 131_072)
+    );
+}

@@ -65,6 +65,12 @@ const fn p(group: Group, number: u8) -> Parameter {
     Parameter { group, number }
 }
 
+/// [Pr. PC03] S-pattern acceleration/deceleration time constant, ms (MR-JE-C manual §5.1.1).
+pub const PC03: Parameter = p(Group::PC, 3);
+/// The largest [Pr. PC03], ms. The network manual gives PC03 no setting range (its range is in
+/// the servo amplifier instruction manual, which we do not have): 5000 ms, the MR-JE/MR-J4
+/// families' upper limit, is our choice.
+pub const PC03_MAX_MS: i64 = 5000;
 /// [Pr. PC30] Acceleration time constant 2, ms (idx with C_RT, MR-JE-C manual §7.5.8).
 pub const PC30: Parameter = p(Group::PC, 30);
 /// [Pr. PC31] Deceleration time constant 2, ms (idx with C_RT, MR-JE-C manual §7.5.8).
@@ -118,6 +124,7 @@ const OCTET_END: Option<(i64, i64)> = Some((0, 256));
 pub const PARAMETERS: &[ParameterDef] = &[
     d(p(Group::PC, 1), "STA", 0, None),
     d(p(Group::PC, 2), "STB", 0, None),
+    d(PC03, "STC", 0, Some((0, PC03_MAX_MS))),
     d(p(Group::PC, 51), "RSBR", 100, None),
     d(PC70, "*SNOM", 0, Some((0, 247))),
     d(p(Group::PC, 71), "*COPF", 0x0040, None),

@@ -39,6 +39,8 @@ pub fn pp() -> Profile {
             acceleration_ms: 100,
             deceleration_ms: 100,
         },
+        s_pattern_ms: 0,
+        position_loop_gain: 1000.0,
     }
 }
 

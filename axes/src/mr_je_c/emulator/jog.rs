@@ -56,8 +56,8 @@ impl Jog {
         Command::Speed { speed, ramp }
     }
 
-    /// Target reached (bit 10, §7.4: the droop within 6067h): the emulator has no droop, so it
-    /// is on once the jog has ended and the motor stands.
+    /// Target reached (bit 10, §7.3 6067h): the jog has ended and the command stands (the
+    /// droop within 6067h is judged by the motor, `motion`).
     pub fn reached(&self, standing: bool) -> bool {
         !self.running && standing
     }

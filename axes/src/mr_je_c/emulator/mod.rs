@@ -22,6 +22,7 @@ pub mod profile;
 mod refusal;
 pub mod rs485;
 pub mod rtu;
+mod s_pattern;
 pub mod search;
 pub mod server;
 pub mod slmp;
@@ -34,7 +35,7 @@ use std::time::Duration;
 
 use super::alarm::Alarm;
 use super::objects::ObjectId;
-use super::parameters::{PC30, PC31, PC70, PF46, PN02, PN08, PN10, PN23, PT28};
+use super::parameters::{PC03, PC30, PC31, PC70, PF46, PN02, PN08, PN10, PN23, PT28};
 use super::types::SoftwareVersion;
 use super::value::Value;
 use crate::cia402::controlword::Controlword;
@@ -88,6 +89,13 @@ pub struct MrJeCParams {
     pub torque_plant: profile::TorquePlant,
     /// The cyclic link's RWw/RWr table (manual Table 2.2 or 2.3); Table 2.2 by default.
     pub link_layout: cyclic::LinkLayout,
+    /// The position loop gain Kp of the motor model, rad/s (0: no droop): the motor follows
+    /// the command as a first-order lag with time constant 1 / Kp, a constant speed leaving a
+    /// droop of speed / Kp (`motion`). The network manual names the gain parameters ([Pr.
+    /// PB06], [Pr. PB08]–[Pr. PB10], §7.5.8 C_RTCDP) without values, so this is an emulator
+    /// parameter. Default 1000 rad/s (1 ms): stiffer than a tuned real axis, so a positioning
+    /// settles within a few ms and the runtime's timing tests keep their margins.
+    pub position_loop_gain: u32,
 }
 
 impl Default for MrJeCParams {
@@ -111,6 +119,7 @@ impl Default for MrJeCParams {
             slmp_processing_time: Duration::ZERO,
             torque_plant: profile::TorquePlant::default(),
             link_layout: cyclic::LinkLayout::default(),
+            position_loop_gain: 1000,
         }
     }
 }
@@ -187,6 +196,15 @@ struct Restore {
 
 /// Statusword bit 10, Target reached.
 const TARGET_REACHED: u16 = 1 << 10;
+
+/// The modes whose Statusword bit 10 and 13 judge the droop (§7.3 6065h, 6067h): pp, jg, pt,
+/// idx.
+fn following_error_judged(mode: i64) -> bool {
+    matches!(
+        mode,
+        profile::PROFILE_POSITION | profile::JOG | profile::POINT_TABLE | profile::INDEXER
+    )
+}
 
 /// "load" (64616F6Ch) written to 1011h.
 const LOAD: i64 = 0x6461_6F6C;
@@ -355,15 +373,15 @@ impl MrJeC {
         Statusword(sw | bits)
     }
 
-    /// The motor's raw bits 10 and 12 with the mode's window times (§7.3 6068h, 606Eh, 6070h).
+    /// The motor's raw bits 10 and 12 with the mode's window times (§7.3 6068h, 606Eh, 6070h),
+    /// and bit 13 after the following error time-out 6066h in pp, jg, pt and idx.
     fn timed(&self, raw: u16) -> u16 {
         let ms = |index: u16| {
             Duration::from_millis(self.store.int(ObjectId::new(index, 0)).max(0) as u64)
         };
-        let window = match self.store.int(ObjectId::new(0x6061, 0)) {
-            profile::PROFILE_POSITION | profile::JOG | profile::POINT_TABLE | profile::INDEXER => {
-                ms(0x6068)
-            }
+        let mode = self.store.int(ObjectId::new(0x6061, 0));
+        let window = match mode {
+            _ if following_error_judged(mode) => ms(0x6068),
             profile::PROFILE_VELOCITY => {
                 let zero = self.windows.speed_zero(self.now, ms(0x6070));
                 let reached = self.windows.reached(self.now, ms(0x606E));
@@ -376,11 +394,30 @@ impl MrJeC {
             }
             _ => return raw,
         };
+        let error = self.windows.following_error(self.now, ms(0x6066));
+        let raw = raw | (u16::from(error) << 13);
         if self.windows.reached(self.now, window) {
             raw
         } else {
             raw & !TARGET_REACHED
         }
+    }
+
+    /// Droop pulses 2B03h: the droop in encoder pulses (608Fh:1 pulses per 6092h:1 pos units
+    /// of a revolution, §7.3, §7.6.7).
+    fn droop_pulses(&self) -> i64 {
+        let per_rev = self.profile().units_per_rev.max(1) as f64;
+        let pulses = f64::from(self.params.encoder_resolution) / per_rev;
+        (self.motion.droop() * pulses).round() as i64
+    }
+
+    /// Whether the droop is over Following error window 6065h in a mode that judges it (pp,
+    /// jg, pt, idx; 4294967295 turns it off, §7.3 6065h).
+    fn following_error(&self) -> bool {
+        let window = self.store.int(ObjectId::new(0x6065, 0));
+        following_error_judged(self.store.int(ObjectId::new(0x6061, 0)))
+            && window != i64::from(u32::MAX)
+            && self.motion.droop().abs() > window as f64
     }
 
     /// Controlword bit 8 (Halt).
@@ -435,6 +472,8 @@ impl MrJeC {
                     deceleration_ms: int(0x6084, 0),
                 }
             },
+            s_pattern_ms: int(PC03.index(), 0),
+            position_loop_gain: f64::from(self.params.position_loop_gain),
         }
     }
 
@@ -535,6 +574,7 @@ impl MrJeC {
                     self.motion.velocity(&p).abs() > self.store.int(ObjectId::new(0x606F, 0));
                 self.windows
                     .update(self.now, raw & TARGET_REACHED != 0, over);
+                self.windows.following(self.now, self.following_error());
             }
             // Option code 2: decelerate with 6085h, then Switch on disabled (§7.6.2).
             FsaState::QuickStopActive => {
@@ -647,6 +687,8 @@ impl MrJeC {
             (0x6092, 1) if self.store.int(ObjectId::new(0x6061, 0)) == profile::INDEXER => {
                 live(self.profile().units_per_rev)
             }
+            (0x60F4, 0) => live(self.motion.droop().round() as i64),
+            (0x2B03, 0) => live(self.droop_pulses()),
             (0x6074, 0) => live(self.motion.torque().demand()),
             (0x6077, 0) => live(self.motion.torque().actual()),
             (0x2D12 | 0x2D15, 0) => self.status_do(id.index).and_then(live),

@@ -120,8 +120,8 @@ impl PointTableRun {
         self.m_code
     }
 
-    /// Target reached (bit 10, §7.4): no positioning under way and the motor standing (the
-    /// emulator has no droop).
+    /// Target reached (bit 10, §7.3 6067h): no positioning under way and the command standing
+    /// (the droop within 6067h is judged by the motor, `motion`).
     pub fn reached(&self, standing: bool) -> bool {
         self.run.is_none() && standing
     }

@@ -71,6 +71,10 @@ pub struct Profile {
     pub indexer_station: i64,
     /// 6083h/6084h, or [Pr. PC30]/[Pr. PC31] with C_RT (idx).
     pub indexer_ramp: Ramp,
+    /// [Pr. PC03] S-pattern acceleration/deceleration time constant, ms (0: none).
+    pub s_pattern_ms: i64,
+    /// The position loop gain of the motor model, rad/s (0: no droop).
+    pub position_loop_gain: f64,
 }
 
 impl Profile {
@@ -116,6 +120,14 @@ pub enum Command {
 }
 
 impl Command {
+    /// Whether the command leaves a motor standing at `position` where it is.
+    pub fn holds(&self, position: f64) -> bool {
+        match *self {
+            Command::Speed { speed, .. } => speed == 0.0,
+            Command::Position { target, .. } => target as f64 == position,
+        }
+    }
+
     /// Decelerate to a stop with `deceleration_ms`.
     pub fn stop(deceleration_ms: i64) -> Command {
         Command::Speed {

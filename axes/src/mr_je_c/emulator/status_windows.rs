@@ -2,10 +2,13 @@
 //! 6067h–6070h): Target reached (bit 10) comes on in pp, jg, pt and idx once the position has
 //! been within Position window 6067h for Position window time 6068h, in pv once the speed has
 //! been within Velocity window 606Dh for 606Eh; in pv bit 12 goes off once the speed has
-//! exceeded Velocity threshold 606Fh for longer than 6070h (a speed-zero indication). The
-//! motor model has no droop, so a positioning's window condition holds from its completion.
-//! 6067h = 4294967295 ("the Position window is disabled") is taken as "every position is
-//! within it": Target reached follows the completion alone (the manual gives no more).
+//! exceeded Velocity threshold 606Fh for longer than 6070h (a speed-zero indication). A
+//! positioning's window condition is its completion with the droop within 6067h (the motor
+//! model's position loop, `motion`); 6067h = 4294967295 ("the Position window is disabled")
+//! is taken as "every droop is within it": Target reached follows the completion alone (the
+//! manual gives no more). Bit 13 comes on in pp, jg, pt and idx once the droop has exceeded
+//! Following error window 6065h for Following error time out 6066h ("has elapsed": at least
+//! that long, as for 6068h).
 
 use std::time::Duration;
 
@@ -26,6 +29,8 @@ pub struct StatusWindows {
     in_window: InWindow,
     /// `None`: not over the threshold at the last step.
     over_threshold_since: Option<Duration>,
+    /// `None`: the droop within 6065h at the last step.
+    following_since: Option<Duration>,
 }
 
 impl Default for StatusWindows {
@@ -33,6 +38,7 @@ impl Default for StatusWindows {
         StatusWindows {
             in_window: InWindow::Always,
             over_threshold_since: None,
+            following_since: None,
         }
     }
 }
@@ -48,6 +54,17 @@ impl StatusWindows {
         };
         self.over_threshold_since =
             over_threshold.then(|| self.over_threshold_since.unwrap_or(now));
+    }
+
+    /// Whether the droop is over 6065h after a motor step at `now`.
+    pub fn following(&mut self, now: Duration, over: bool) {
+        self.following_since = over.then(|| self.following_since.unwrap_or(now));
+    }
+
+    /// Bit 13: the droop over 6065h for at least `time` at `now`.
+    pub fn following_error(&self, now: Duration, time: Duration) -> bool {
+        self.following_since
+            .is_some_and(|t| now.saturating_sub(t) >= time)
     }
 
     /// Servo off: the motor stands where it is, so it is within every window all along (the

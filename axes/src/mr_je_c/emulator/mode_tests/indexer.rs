@@ -77,3 +77,28 @@ fn a_station_outside_the_revolution_does_not_start() {
     assert_eq!(m.velocity(&p), 0);
     assert_eq!(m.point_table().actual(), 0);
 }
+
+/// With [Pr. PC03] the turn to station 5 the short way (−3 stations) ends at 5 within the
+/// revolution once the filtered command has arrived: the position goes back into 0 … 7 at the
+/// trapezoid's arrival with the filter's samples, so the motor neither jumps nor turns back.
+#[test]
+fn the_s_pattern_turn_ends_at_the_station_within_the_revolution() {
+    let p = Profile {
+        indexer_station: 5,
+        s_pattern_ms: 30,
+        ..idx()
+    };
+    let mut m = Motion::default();
+    m.controlword(cw(0x1F), cw(0x0F), &p);
+    let mut last = m.position_in(&p);
+    for _ in 0..200 {
+        run(&mut m, &p, 1);
+        let now = m.position_in(&p);
+        // The step on the circle, −4 … 3 stations: never forward.
+        let step = (now - last + 4).rem_euclid(8) - 4;
+        assert!((-1..=0).contains(&step), "{last} -> {now}");
+        last = now;
+    }
+    assert_eq!((m.position(), m.velocity(&p)), (5, 0));
+    assert_eq!(m.status_bits(&p, false), 1 << 10);
+}

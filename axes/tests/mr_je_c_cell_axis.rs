@@ -1,6 +1,6 @@
 //! An MR-JE-C axis of a cell on its own thread against the emulator on loopback, over each
 //! transport: power on, a pp move to the target (the drive's position there, Target reached),
-//! a pv velocity and halt; a cut link stops the axis by the master's watchdog and the drive by
+//! a pv velocity and halt, a homing, a tq torque within the speed limit and its halt; a cut link stops the axis by the master's watchdog and the drive by
 //! its own time-out (AL. 86.4 from [Pr. PN10], AL. 86.1 from [Pr. PN02]).
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
@@ -94,6 +94,25 @@ fn moves(io: Box<dyn DriveIo>, params: &[(ObjectId, Value)]) -> AxisThread {
         0x1400,
         "Homing attained, Target reached"
     );
+    // tq: 10 % at 100 %/s, the speed held at 300 r/min by 2D20h: the ramp's job ends after
+    // its time (0.1 s), the motor runs up to the limit and no further; Halt ramps the torque
+    // to 0 (the job ends after that ramp) and friction stops the motor.
+    assert!(h.command(AxisCommand::Torque {
+        torque: 100,
+        slope: 1000,
+        velocity_limit: 30_000,
+    }));
+    wait(&h, "torque ramp done", |f| f.done == 5);
+    wait(&h, "at the speed limit", |f| f.inputs.velocity >= 29_000);
+    for _ in 0..10 {
+        let v = h.feedback().inputs.velocity;
+        assert!(v <= 30_000, "2D20h holds the speed: {v}");
+        std::thread::sleep(PERIOD);
+    }
+    assert!(h.command(AxisCommand::Halt));
+    wait(&h, "torque halted", |f| f.done == 6);
+    wait(&h, "stopped by friction", |f| f.inputs.velocity == 0);
+    assert_eq!(h.feedback().failed, 0);
     t
 }
 

@@ -1,6 +1,6 @@
 //! MR-JE-C axes in cells, end to end through `controller::run`: a cell of one simulated csp axis
 //! and one emulated MR-JE-C runs a program that moves both in one step and jogs the MR-JE-C
-//! (pv) and homes it (hm, method 37), over each transport (Modbus RTU over a pseudo-terminal), with the RT thread
+//! (pv), runs it in tq (a torque step) and homes it (hm, method 37), over each transport (Modbus RTU over a pseudo-terminal), with the RT thread
 //! allocation-free; the shipped mixed cell runs its program; a cut link stops the MR-JE-C axis by the master's watchdog and the
 //! drive by its own time-out (AL. 86.4 from [Pr. PN10], set from the config at start-up).
 
@@ -47,7 +47,7 @@ transport = "{transport}"
 mode = "pp"
 unit = "mm"
 counts_per_unit = 1310.72
-limits = {{ position = [-500.0, 500.0], velocity = 200.0, acceleration = 1000.0, jerk = 10000.0 }}
+limits = {{ position = [-500.0, 500.0], velocity = 200.0, acceleration = 1000.0, jerk = 10000.0, torque = 20.0 }}
 je_c = {{ {je_c} }}
 "#,
         pid = std::process::id()
@@ -65,6 +65,10 @@ do = "jog"
 axis = "belt"
 velocity = -40.0
 seconds = 0.3
+[[step]]
+do = "torque"
+target = { belt = 10.0 }
+seconds = 0.2
 [[step]]
 do = "move"
 target = { belt = -20.0 }
@@ -276,4 +280,52 @@ fn je_c_home_steps_other_than_method_37_are_refused_at_load() {
         e.contains("step[0].setting") && e.contains("it homes in hm"),
         "{e}"
     );
+}
+
+/// A torque step on an MR-JE-C axis is checked at load: within `limits.torque`, not mixed with
+/// the cell's other axes; an axis without `limits.torque`, and a tq axis without it in the
+/// config, are refused naming the key.
+#[test]
+fn je_c_torque_steps_are_checked_at_load() {
+    let text = cell_text("torque", "modbus-tcp", "emulate = true");
+    let cell = CellConfig::parse(Path::new("je-c-cell.toml"), &text).unwrap();
+    let parse = |step: &str| {
+        Program::parse(Path::new("p.toml"), &format!("[[step]]\n{step}\n"), &cell)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
+    let step = |target: &str| format!("do = \"torque\"\ntarget = {{ {target} }}\nseconds = 0.1");
+    assert_eq!(parse(&step("belt = -20.0")), Ok(()));
+    let e = parse(&step("belt = 25.0")).unwrap_err();
+    assert!(
+        e.contains("step[0].target.belt") && e.contains("outside the torque limit ±20"),
+        "{e}"
+    );
+    let e = parse(&step("belt = 5.0, x = 5.0")).unwrap_err();
+    assert!(
+        e.contains("step[0].target") && e.contains("MR-JE-C axes and"),
+        "{e}"
+    );
+
+    let no_limit = text.replace(", torque = 20.0 }", " }");
+    let cell = CellConfig::parse(Path::new("je-c-cell.toml"), &no_limit).unwrap();
+    let e = Program::parse(
+        Path::new("p.toml"),
+        &format!("[[step]]\n{}\n", step("belt = 5.0")),
+        &cell,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("needs limits.torque"), "{e}");
+    let tq = no_limit.replacen("mode = \"pp\"", "mode = \"tq\"", 1);
+    let e = CellConfig::parse(Path::new("je-c-cell.toml"), &tq)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("axes[1].limits.torque") && e.contains("runs in tq"),
+        "{e}"
+    );
+    // With the limit, a tq axis loads.
+    let tq = text.replacen("mode = \"pp\"", "mode = \"tq\"", 1);
+    assert!(CellConfig::parse(Path::new("je-c-cell.toml"), &tq).is_ok());
 }

@@ -220,6 +220,41 @@ fn the_operator_moves_jogs_and_halts_the_je_c_axes_beside_the_csp_axes() {
         assert!(std::time::Instant::now() < end, "outfeed never stood");
         std::thread::sleep(std::time::Duration::from_millis(50));
     }
+    // MC_TorqueControl in the drive's tq: it runs up to its speed limit (2D20h = limits.velocity,
+    // 150 mm/s) and holds the torque until halted; beyond limits.torque is refused.
+    cell.refused(
+        &["torque", "outfeed=25"],
+        "torque 25 % is outside the torque limit ±20 % of axis 'outfeed'",
+    );
+    cell.refused(
+        &["torque", "outfeed=5", "x=5"],
+        "MR-JE-C axes and the cell's other axes in one command",
+    );
+    ok(&["torque", "outfeed=8"]);
+    let speed = |axis: &str| cell.je_c(axis)["velocity"].as_f64().unwrap();
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while speed("outfeed") < 145.0 {
+        assert!(
+            std::time::Instant::now() < end,
+            "outfeed never ran up under torque: {}",
+            cell.je_c("outfeed")
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    assert!(
+        speed("outfeed") <= 150.1,
+        "2D20h holds it: {}",
+        cell.je_c("outfeed")
+    );
+    ok(&["halt", "outfeed"]);
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while speed("outfeed") != 0.0 {
+        assert!(
+            std::time::Instant::now() < end,
+            "outfeed never stood after the torque"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
     ok(&["power", "off", "outfeed"]);
     assert_ne!(cell.je_c("outfeed")["fsa"], "operation_enabled");
     assert_eq!(cell.je_c("infeed")["fsa"], "operation_enabled");

@@ -1,11 +1,14 @@
 //! `[[axes]]` with `drive = "mr-je-c"`: an MR-JE-C axis of the cell, reached over Ethernet or
 //! RS-485 (MR-JE-C manual §2–§4) by a non-RT thread of its own, never by the RT loop. Its keys
-//! beside the common ones (`name`, `unit`, `counts_per_unit`, `limits`, `mode` = "pp" | "pv")
+//! beside the common ones (`name`, `unit`, `counts_per_unit`, `limits`, `mode` = "pp" | "pv" |
+//! "tq")
 //! are `transport` and the `[axes.je_c]` table.
 
 use std::net::{IpAddr, SocketAddr};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
+
+use cellrt_axes::mr_je_c::cell::AxisCommand;
 
 use super::raw::{RawAxis, RawJecAxis};
 use super::{ConfigError, FaultReaction};
@@ -55,6 +58,8 @@ pub enum JecMode {
     Pp,
     /// Profile velocity: `jog` steps.
     Pv,
+    /// Profile torque: `torque` steps (needs `limits.torque`).
+    Tq,
 }
 
 /// A validated MR-JE-C axis.
@@ -72,8 +77,10 @@ pub struct JecAxisConfig {
     pub velocity: f64,
     /// Acceleration limit, unit/s².
     pub acceleration: f64,
-    /// pp or pv.
+    /// pp, pv or tq.
     pub mode: JecMode,
+    /// `limits.torque` and `limits.torque_slope` where set (required in tq).
+    pub torque: Option<super::TorqueLimits>,
     /// Where the drive is.
     pub transport: JecTransport,
     /// Link period.
@@ -107,6 +114,37 @@ impl JecAxisConfig {
         (rated / a * 1000.0).round().clamp(1.0, f64::from(u32::MAX)) as u32
     }
 
+    /// The tq command for `torque` % of rated torque: 6071h in 0.1 %, ramped at
+    /// `limits.torque_slope` (6087h), the motor's speed held within `limits.velocity` (2D20h);
+    /// refused without `limits.torque` or beyond it.
+    pub fn torque_command(&self, torque: f64) -> Result<AxisCommand, String> {
+        let name = &self.name;
+        let Some(limits) = self.torque else {
+            return Err(format!(
+                "axis '{name}': a torque command needs limits.torque (% of rated torque)"
+            ));
+        };
+        let max = limits.max.0;
+        if !(torque.is_finite() && torque.abs() <= max) {
+            return Err(format!(
+                "torque {torque} % is outside the torque limit ±{max} % of axis '{name}'"
+            ));
+        }
+        let tenths = |v: f64| (v * 10.0).round();
+        Ok(AxisCommand::Torque {
+            // Within ±1000 %: checked at load (`MAX_TORQUE_PERCENT`).
+            torque: tenths(torque) as i16,
+            slope: tenths(limits.slope).clamp(1.0, f64::from(u32::MAX)) as u32,
+            velocity_limit: self.speed_limit(),
+        })
+    }
+
+    /// 2D20h Velocity limit value in tq: `limits.velocity` in 0.01 r/min.
+    pub fn speed_limit(&self) -> u32 {
+        self.drive_speed(self.velocity)
+            .clamp(0, i64::from(i32::MAX)) as u32
+    }
+
     /// A position in units as pos units.
     pub fn counts(&self, x: f64) -> i32 {
         (x * self.counts_per_unit).round() as i32
@@ -138,11 +176,12 @@ pub fn validate(
     let mode = match a.mode.as_str() {
         "pp" => JecMode::Pp,
         "pv" => JecMode::Pv,
+        "tq" => JecMode::Tq,
         m => {
             return Err(err(
                 "mode",
                 format!(
-                    "axis '{}': mode \"{m}\": an MR-JE-C in a cell runs \"pp\" or \"pv\" (it has no cyclic synchronous modes)",
+                    "axis '{}': mode \"{m}\": an MR-JE-C in a cell runs \"pp\", \"pv\" or \"tq\" (it has no cyclic synchronous modes)",
                     a.name
                 ),
             ))
@@ -195,6 +234,8 @@ pub fn validate(
         velocity: positive("limits.velocity", a.limits.velocity)?,
         acceleration: positive("limits.acceleration", a.limits.acceleration)?,
         mode,
+        // Set by the caller (the same check as every axis' `limits.torque`).
+        torque: None,
         transport,
         period: Duration::from_millis(period_ms),
         response_timeout: Duration::from_millis(response_timeout_ms),

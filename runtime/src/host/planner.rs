@@ -447,6 +447,10 @@ impl<'a> Planner<'a> {
                     self.what = "home";
                     self.je_c_home(*axis)?;
                 }
+                Step::JecTorque { commands, seconds } => {
+                    self.what = "torque";
+                    self.je_c_torque(commands, *seconds)?;
+                }
                 Step::Mode { axis, mode } => {
                     self.what = "mode";
                     self.run_mode_switch(*axis, *mode)?;

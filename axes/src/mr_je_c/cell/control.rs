@@ -3,8 +3,10 @@
 //! and the profile out one exchange before New set-point, then bit 4 held until Set-point
 //! acknowledge, done at Target reached, §7.6.3), a pv velocity (§7.6.4), a homing in hm (the
 //! drive's 6098h method on a Homing Operation Start edge, done at Homing attained and Target
-//! reached, failed at Homing error: §7.4 bits 10, 12, 13), Halt (bit 8), fault reset (bit 7
-//! edge), and the master's communication watchdog: `limit` exchanges in a row without an
+//! reached, failed at Homing error: §7.4 bits 10, 12, 13), a tq torque (6071h ramped by the
+//! drive at 6087h, §7.6.3; the manual gives tq no Target reached, so the job is done once the
+//! ramp's time |Δ6071h| / 6087h has passed, and a Halt in tq once the ramp to 0 has), Halt
+//! (bit 8), fault reset (bit 7 edge), and the master's communication watchdog: `limit` exchanges in a row without an
 //! answer stop the axis with the configured reaction.
 
 use super::io::{ExchangeError, Inputs, Outputs};
@@ -15,6 +17,8 @@ use crate::cia402::statusword::Statusword;
 const PP: i8 = 1;
 /// 6060h pv.
 const PV: i8 = 3;
+/// 6060h tq.
+const TQ: i8 = 4;
 /// 6060h hm.
 const HM: i8 = 6;
 /// Controlword bit 4: New set-point in pp, Homing Operation Start in hm.
@@ -55,6 +59,17 @@ pub enum AxisCommand {
         acceleration_ms: u32,
         /// 6084h, ms.
         deceleration_ms: u32,
+    },
+    /// tq to `torque` (6071h, 0.1 % of rated torque) at `slope` (6087h, 0.1 %/s; 0: a step),
+    /// with the motor's speed limited to `velocity_limit` (2D20h, 0.01 r/min); done once the
+    /// ramp's time has passed. The drive holds the torque until a Halt or another command.
+    Torque {
+        /// 6071h.
+        torque: i16,
+        /// 6087h.
+        slope: u32,
+        /// 2D20h.
+        velocity_limit: u32,
     },
     /// Home in hm with the drive's method (6098h; the MR-JE-C's default 37 sets the home
     /// where the motor stands): done at Homing attained, failed at Homing error.
@@ -101,6 +116,8 @@ enum Job {
     HomePrepare,
     /// Bit 4 on (held while the drive homes) until Homing attained or Homing error.
     Homing,
+    /// tq: exchanges left of the drive's torque ramp (to the target, or to 0 under Halt).
+    TorqueRamp(u32),
 }
 
 /// The controller's state of one axis.
@@ -126,6 +143,8 @@ pub struct AxisControl {
     pub missed: u64,
     /// Exchanges refused by the drive.
     pub refused: u64,
+    /// The link period (the time one exchange stands for), for the tq ramp's length.
+    period: std::time::Duration,
 }
 
 impl AxisControl {
@@ -149,12 +168,39 @@ impl AxisControl {
             failed: 0,
             missed: 0,
             refused: 0,
+            period: std::time::Duration::from_millis(10),
         }
+    }
+
+    /// The link period its exchanges run at (the thread sets it).
+    pub fn set_link_period(&mut self, period: std::time::Duration) {
+        self.period = period;
+    }
+
+    /// Exchanges the drive takes to ramp 6074h from `from` to `to` at `slope` (0.1 %/s; 0: a
+    /// step), counted from the exchange that carries the new target.
+    fn ramp_exchanges(&self, from: i16, to: i16, slope: u32) -> u32 {
+        let delta = f64::from(i32::from(to) - i32::from(from)).abs();
+        if slope == 0 || delta == 0.0 {
+            return 1;
+        }
+        let period = self.period.as_secs_f64().max(1e-6);
+        let n = (delta / f64::from(slope) / period).ceil();
+        // One more: the exchange's answer shows the drive's state before the ramp's last step.
+        (n.min(f64::from(u32::MAX - 1)) as u32) + 1
     }
 
     /// The same, starting in pv (6060h = 3) instead of pp.
     pub fn starting_in_pv(mut self) -> AxisControl {
         self.out.mode = PV;
+        self
+    }
+
+    /// The same, starting in tq (6060h = 4) with the motor's speed limited to
+    /// `velocity_limit` (2D20h, 0.01 r/min) instead of pp.
+    pub fn starting_in_tq(mut self, velocity_limit: u32) -> AxisControl {
+        self.out.mode = TQ;
+        self.out.velocity_limit = velocity_limit;
         self
     }
 
@@ -177,16 +223,26 @@ impl AxisControl {
     pub fn command(&mut self, c: AxisCommand) -> bool {
         let moving = matches!(
             c,
-            AxisCommand::Move { .. } | AxisCommand::Velocity { .. } | AxisCommand::Home
+            AxisCommand::Move { .. }
+                | AxisCommand::Velocity { .. }
+                | AxisCommand::Torque { .. }
+                | AxisCommand::Home
         );
         if moving && (self.stopped.is_some() || !self.want_on) {
             self.failed += 1;
             return false;
         }
         if self.busy() {
-            // A halt ends a velocity job as asked; anything else cuts the job short.
-            self.end(c == AxisCommand::Halt && self.job == Job::Velocity);
+            // A halt ends a velocity job as asked, a torque command a torque ramp; anything
+            // else cuts the job short.
+            let replaced = match c {
+                AxisCommand::Halt => self.job == Job::Velocity,
+                AxisCommand::Torque { .. } => matches!(self.job, Job::TorqueRamp(_)),
+                _ => false,
+            };
+            self.end(replaced);
         }
+        let was_halted = self.halted;
         if moving {
             self.halted = false;
         }
@@ -217,9 +273,36 @@ impl AxisControl {
                 self.out.deceleration_ms = deceleration_ms;
                 self.job = Job::Velocity;
             }
+            AxisCommand::Torque {
+                torque,
+                slope,
+                velocity_limit,
+            } => {
+                // From the drive's demand: the last target, or 0 after a Halt or another mode.
+                let from = if self.out.mode == TQ && !was_halted {
+                    self.out.target_torque
+                } else {
+                    0
+                };
+                self.out.mode = TQ;
+                self.out.target_torque = torque;
+                self.out.torque_slope = slope;
+                self.out.velocity_limit = velocity_limit;
+                self.job = Job::TorqueRamp(self.ramp_exchanges(from, torque, slope));
+            }
             AxisCommand::Home => {
                 self.out.mode = HM;
                 self.job = Job::HomePrepare;
+            }
+            AxisCommand::Halt if self.out.mode == TQ => {
+                // 6074h ramps to 0 at 6087h, whatever 605Dh says (§7.3).
+                let from = if self.halted {
+                    0
+                } else {
+                    self.out.target_torque
+                };
+                self.halted = true;
+                self.job = Job::TorqueRamp(self.ramp_exchanges(from, 0, self.out.torque_slope));
             }
             AxisCommand::Halt => {
                 self.out.target_velocity = 0;
@@ -303,6 +386,8 @@ impl AxisControl {
             Job::Homing if sw & HOMING_ERROR != 0 => self.end(false),
             Job::Homing if sw & HOMING_ATTAINED != 0 && sw & TARGET_REACHED != 0 => self.end(true),
             Job::Homing => {}
+            Job::TorqueRamp(0 | 1) => self.end(true),
+            Job::TorqueRamp(n) => self.job = Job::TorqueRamp(n - 1),
         }
     }
 
@@ -336,5 +421,67 @@ impl AxisControl {
             Job::Start | Job::Homing => base | NEW_SET_POINT | halt,
             _ => base | halt,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An answer in Operation enabled.
+    fn enabled() -> Result<Inputs, ExchangeError> {
+        Ok(Inputs {
+            statusword: 0x0237,
+            ..Inputs::default()
+        })
+    }
+
+    /// Exchanges until the job count moves, at most 1000.
+    fn exchanges_to_done(c: &mut AxisControl) -> u32 {
+        let done = c.done;
+        (1..=1000)
+            .find(|_| {
+                c.step(enabled());
+                c.done > done
+            })
+            .unwrap_or(u32::MAX)
+    }
+
+    /// tq has no Target reached (MR-JE-C manual §7.4): a torque job is done after its ramp's
+    /// time, |Δ6071h| / 6087h at the link period, one exchange more; a Halt ramps to 0 alike.
+    #[test]
+    fn a_torque_job_ends_after_its_ramp_and_a_halt_after_the_ramp_to_0() {
+        let mut c = AxisControl::new(0, StopReaction::Halt);
+        c.set_link_period(std::time::Duration::from_millis(10));
+        assert!(c.command(AxisCommand::PowerOn));
+        c.step(enabled());
+        let torque = |torque, slope| AxisCommand::Torque {
+            torque,
+            slope,
+            velocity_limit: 30_000,
+        };
+        // 0 → 10 % at 100 %/s: 0.1 s, 10 exchanges, and the one whose answer shows its end.
+        assert!(c.command(torque(100, 1000)));
+        let o = c.outputs();
+        assert_eq!((o.mode, o.target_torque, o.torque_slope), (TQ, 100, 1000));
+        assert_eq!(o.velocity_limit, 30_000);
+        assert_eq!(exchanges_to_done(&mut c), 11);
+        // 10 % → −5 % at 50 %/s: 0.3 s.
+        assert!(c.command(torque(-50, 500)));
+        assert_eq!(exchanges_to_done(&mut c), 31);
+        // Halt: −5 % → 0 at 50 %/s, 0.1 s; 6071h stays, bit 8 does the ramp.
+        assert!(c.command(AxisCommand::Halt));
+        assert_eq!(c.outputs().target_torque, -50);
+        assert_eq!(exchanges_to_done(&mut c), 11);
+        assert!(c.outputs().controlword & HALT != 0);
+        // After the halt the ramp starts from 0; slope 0 is a step (one exchange).
+        assert!(c.command(torque(20, 0)));
+        assert_eq!(exchanges_to_done(&mut c), 1);
+        assert_eq!(
+            c.outputs().controlword & HALT,
+            0,
+            "the torque command releases Halt"
+        );
+        assert_eq!((c.done, c.failed), (4, 0));
     }
 }

@@ -30,6 +30,13 @@ pub struct Outputs {
     pub acceleration_ms: u32,
     /// 6084h, ms from rated speed to 0.
     pub deceleration_ms: u32,
+    /// 6071h, 0.1 % of rated torque.
+    pub target_torque: i16,
+    /// 6087h, 0.1 %/s (0: a step).
+    pub torque_slope: u32,
+    /// 2D20h, 0.01 r/min: the speed limit in tq; 0 until a tq axis or command sets it, which
+    /// leaves the drive's own value (written only once set).
+    pub velocity_limit: u32,
 }
 
 /// What the drive answered.
@@ -72,15 +79,20 @@ pub trait DriveIo: Send {
     fn round_trip(&self) -> Duration;
 }
 
-/// The objects of the outputs besides the controlword, in the order they are written.
-fn profile_objects(o: &Outputs) -> [(u16, Value); 6] {
+/// The objects of the outputs besides the controlword, in the order they are written; 2D20h
+/// only once set (`None`: the drive keeps its own).
+fn profile_objects(o: &Outputs) -> [(u16, Option<Value>); 9] {
+    let limit = i32::try_from(o.velocity_limit).unwrap_or(i32::MAX);
     [
-        (0x6060, Value::I8(o.mode)),
-        (0x607A, Value::I32(o.target_position)),
-        (0x60FF, Value::I32(o.target_velocity)),
-        (0x6081, Value::U32(o.profile_velocity)),
-        (0x6083, Value::U32(o.acceleration_ms)),
-        (0x6084, Value::U32(o.deceleration_ms)),
+        (0x2D20, (o.velocity_limit != 0).then_some(Value::I32(limit))),
+        (0x6060, Some(Value::I8(o.mode))),
+        (0x607A, Some(Value::I32(o.target_position))),
+        (0x60FF, Some(Value::I32(o.target_velocity))),
+        (0x6081, Some(Value::U32(o.profile_velocity))),
+        (0x6083, Some(Value::U32(o.acceleration_ms))),
+        (0x6084, Some(Value::U32(o.deceleration_ms))),
+        (0x6087, Some(Value::U32(o.torque_slope))),
+        (0x6071, Some(Value::I16(o.target_torque))),
     ]
 }
 
@@ -134,7 +146,8 @@ impl<A: ObjectAccess + Send> DriveIo for ObjectIo<A> {
         let last = self.last;
         // Each its own request: these objects have no continuous access (manual §7.3).
         for (k, (index, v)) in profile_objects(out).into_iter().enumerate() {
-            if last.is_none_or(|l| profile_objects(&l)[k].1 != v) {
+            let Some(v) = v else { continue };
+            if last.is_none_or(|l| profile_objects(&l)[k].1.as_ref() != Some(&v)) {
                 self.put(index, v)?;
             }
         }
@@ -168,17 +181,18 @@ mod rww {
     pub const PROFILE_VELOCITY: usize = 0x0C;
     pub const ACCELERATION: usize = 0x0E;
     pub const DECELERATION: usize = 0x10;
-    /// The devices of Table 2.2 cellrt does not command, with their objects. The drive takes
-    /// every RWw device into its object each cycle, so each of these carries its object's
-    /// initial value (§7.3): left 0, 60E0h/60E1h would limit the torque to 0 % (a motor with
-    /// no torque) and 2D20h the speed in tq to 0 r/min.
-    pub const UNCOMMANDED: [(usize, u16); 11] = [
+    pub const VELOCITY_LIMIT: usize = 0x09;
+    pub const TARGET_TORQUE: usize = 0x0B;
+    pub const TORQUE_SLOPE: usize = 0x12;
+    /// The devices of Table 2.2 cellrt does not command, with their objects (2D20h until a tq
+    /// axis sets it). The drive takes every RWw device into its object each cycle, so each of
+    /// these carries its object's initial value (§7.3): left 0, 60E0h/60E1h would limit the
+    /// torque to 0 % (a motor with no torque) and 2D20h the speed in tq to 0 r/min.
+    pub const UNCOMMANDED: [(usize, u16); 9] = [
         (0x02, 0x2D01),
         (0x03, 0x2D02),
         (0x04, 0x2D03),
-        (0x09, 0x2D20),
-        (0x0B, 0x6071),
-        (0x12, 0x6087),
+        (VELOCITY_LIMIT, 0x2D20),
         (0x14, 0x60E0),
         (0x15, 0x60E1),
         (0x17, 0x60B8),
@@ -286,6 +300,23 @@ impl DriveIo for CyclicDriveIo {
             rww::DECELERATION,
             &out.deceleration_ms.to_le_bytes(),
         );
+        put_le(
+            &mut c.rww,
+            rww::TARGET_TORQUE,
+            &out.target_torque.to_le_bytes(),
+        );
+        put_le(
+            &mut c.rww,
+            rww::TORQUE_SLOPE,
+            &out.torque_slope.to_le_bytes(),
+        );
+        if out.velocity_limit != 0 {
+            put_le(
+                &mut c.rww,
+                rww::VELOCITY_LIMIT,
+                &out.velocity_limit.to_le_bytes(),
+            );
+        }
         set_bit(&mut c.ry, READY_BIT, true);
         self.handle.command(0, c);
         let cycle = self.link.cycle();

@@ -142,6 +142,7 @@ impl AxisThread {
         for (id, v) in parameters {
             write_retried(io.as_mut(), *id, v).map_err(|e| StartError::Parameter(*id, e))?;
         }
+        control.set_link_period(period);
         let cells = Arc::new(Cells {
             commands: ArrayQueue::new(QUEUE),
             feedback: AtomicCell::new(AxisFeedback::default()),

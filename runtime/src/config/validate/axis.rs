@@ -454,7 +454,7 @@ fn scaling_and_range(
 }
 
 /// `limits.torque` and `limits.torque_slope`: required in cst, optional otherwise.
-fn torque_limits(
+pub(super) fn torque_limits(
     at: &AxisKey<'_>,
     a: &RawAxis,
     mode: ModeOfOperation,

@@ -407,7 +407,24 @@ fn validate_axes(
             return Err(duplicate(file, &key, &a.name));
         }
         check_name(file, &format!("{key}.name"), &a.name)?;
-        je_c_axes.push(je_c_axis::validate(file, &key, a, communication_reaction)?);
+        let mut j = je_c_axis::validate(file, &key, a, communication_reaction)?;
+        let at = axis_key::AxisKey { file, key: &key };
+        j.torque = axis::torque_limits(
+            &at,
+            a,
+            cellrt_axes::cia402::mode::ModeOfOperation::ProfileTorque,
+        )?;
+        if j.mode == je_c_axis::JecMode::Tq && j.torque.is_none() {
+            return Err(at.err(
+                "limits.torque",
+                format!(
+                    "axis '{}' runs in tq and needs limits.torque (% of rated torque, 0 < t ≤ {})",
+                    a.name,
+                    super::MAX_TORQUE_PERCENT
+                ),
+            ));
+        }
+        je_c_axes.push(j);
     }
     if raw.is_empty() {
         return Err(ConfigError::new(

@@ -13,7 +13,7 @@ use cellrt_axes::mr_je_c::cell::{
 };
 use serde::Serialize;
 
-use crate::config::je_c_axis::JecAxisConfig;
+use crate::config::je_c_axis::{JecAxisConfig, JecMode};
 use crate::config::{CellConfig, FaultReaction};
 use emulated::Emulated;
 
@@ -58,8 +58,10 @@ impl JecCell {
             };
             let io = connect::open(c, reach).map_err(fail)?;
             let mut control = AxisControl::new(c.watchdog_missed, reaction(c.watchdog_reaction));
-            if c.mode == crate::config::je_c_axis::JecMode::Pv {
-                control = control.starting_in_pv();
+            match c.mode {
+                JecMode::Pp => {}
+                JecMode::Pv => control = control.starting_in_pv(),
+                JecMode::Tq => control = control.starting_in_tq(c.speed_limit()),
             }
             let parameters = connect::start_up_parameters(c);
             let thread = AxisThread::start(&c.name, io, &parameters, control, c.period)

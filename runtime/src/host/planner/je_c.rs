@@ -18,6 +18,9 @@ fn c_acc(p: &Planner<'_>, axis: usize) -> f64 {
 
 /// Slack on top of a move's own duration before it counts as stuck.
 const MOVE_SLACK: Duration = Duration::from_secs(5);
+/// How long an MR-JE-C torque ramp (or its halt) may take beyond its own time: bounds a drive
+/// that stops answering.
+const TORQUE_RAMP_TIMEOUT: Duration = Duration::from_secs(10);
 /// How long an MR-JE-C homing may take: method 37 moves nothing, so this only bounds a drive
 /// that never answers with Homing attained or Homing error.
 const JE_C_HOME_TIMEOUT: Duration = Duration::from_secs(10);
@@ -89,69 +92,105 @@ impl Planner<'_> {
             acceleration_ms: ramp,
             deceleration_ms: ramp,
         };
-        let f = self.je_c.feedback(axis);
-        let (done, failed) = (f.done, f.failed);
+        let before = self.je_c_jobs(axis);
         self.je_c.command(axis, jog).map_err(|e| self.err(e))?;
         self.sleep(Duration::from_secs_f64(seconds));
         self.je_c
             .command(axis, AxisCommand::Halt)
             .map_err(|e| self.err(e))?;
-        let name = self.je_c.config(axis).name.clone();
-        let end = Instant::now()
-            + Duration::from_secs_f64(2.0 * velocity.abs() / c_acc(self, axis))
-            + MOVE_SLACK;
-        loop {
-            let f = self.je_c.feedback(axis);
-            // The velocity job ends with the halt, then the halt at standstill.
-            if f.done >= done + 2 || self.aborted() {
-                return Ok(());
-            }
-            if let Some(s) = f.stopped {
-                return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
-            }
-            if f.failed > failed || Instant::now() >= end {
-                return Err(self.err(format!(
-                    "MR-JE-C axis '{name}': the jog did not end at standstill (statusword {:04X}h)",
-                    f.inputs.statusword
-                )));
-            }
-            self.sleep(Duration::from_millis(2));
+        let stop = Duration::from_secs_f64(2.0 * velocity.abs() / c_acc(self, axis));
+        // The velocity job ends with the halt, then the halt at standstill.
+        self.je_c_until(axis, before, 2, stop + MOVE_SLACK, "jog")
+    }
+
+    /// A torque step on MR-JE-C axes: each drive ramps to its torque in tq (`commands`), holds
+    /// it `seconds`, then Halt ramps it back to 0 at 6087h; the step ends when every ramp is
+    /// over (the jobs count the ramps' time, tq reports no target reached).
+    pub(super) fn je_c_torque(
+        &mut self,
+        commands: &[(usize, AxisCommand)],
+        seconds: f64,
+    ) -> Result<(), ProgramError> {
+        let before: Vec<(u32, u32)> = commands.iter().map(|(k, _)| self.je_c_jobs(*k)).collect();
+        for (k, c) in commands {
+            self.je_c.command(*k, *c).map_err(|e| self.err(e))?;
         }
+        // The longest ramp (from ±its torque) with slack.
+        let ramp = commands
+            .iter()
+            .map(|(_, c)| match c {
+                AxisCommand::Torque { torque, slope, .. } => {
+                    2.0 * f64::from(torque.unsigned_abs()) / f64::from((*slope).max(1))
+                }
+                _ => 0.0,
+            })
+            .fold(0.0, f64::max);
+        let limit = Duration::from_secs_f64(ramp) + TORQUE_RAMP_TIMEOUT;
+        for ((k, _), b) in commands.iter().zip(&before) {
+            self.je_c_until(*k, *b, 1, limit, "torque ramp")?;
+        }
+        self.sleep(Duration::from_secs_f64(seconds));
+        for (k, _) in commands {
+            self.je_c
+                .command(*k, AxisCommand::Halt)
+                .map_err(|e| self.err(e))?;
+        }
+        for ((k, _), b) in commands.iter().zip(&before) {
+            self.je_c_until(*k, *b, 2, limit, "halt of the torque")?;
+        }
+        Ok(())
     }
 
     /// Homes an MR-JE-C axis in its drive's hm and waits for Homing attained (the job done) or
     /// Homing error (failed), at most [`JE_C_HOME_TIMEOUT`].
     pub(super) fn je_c_home(&mut self, axis: usize) -> Result<(), ProgramError> {
-        let f = self.je_c.feedback(axis);
-        let (done, failed) = (f.done, f.failed);
+        let before = self.je_c_jobs(axis);
         self.je_c
             .command(axis, AxisCommand::Home)
             .map_err(|e| self.err(e))?;
+        self.je_c_until(axis, before, 1, JE_C_HOME_TIMEOUT, "homing")
+    }
+
+    /// Axis `axis`' (done, failed) job counts now.
+    fn je_c_jobs(&self, axis: usize) -> (u32, u32) {
+        let f = self.je_c.feedback(axis);
+        (f.done, f.failed)
+    }
+
+    /// Waits until `jobs` more of axis `axis`' jobs are done than `(done, failed)` counted;
+    /// fails when one fails, the axis is stopped, or `limit` has passed (naming `what`).
+    fn je_c_until(
+        &mut self,
+        axis: usize,
+        (done, failed): (u32, u32),
+        jobs: u32,
+        limit: Duration,
+        what: &str,
+    ) -> Result<(), ProgramError> {
         let name = self.je_c.config(axis).name.clone();
-        let end = Instant::now() + JE_C_HOME_TIMEOUT;
+        let end = Instant::now() + limit;
         loop {
             let f = self.je_c.feedback(axis);
-            if f.done > done || self.aborted() {
+            if f.done >= done + jobs || self.aborted() {
                 return Ok(());
             }
             if let Some(s) = f.stopped {
                 return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
             }
+            let sw = f.inputs.statusword;
+            let homing_error = if sw & HOMING_ERROR != 0 && what == "homing" {
+                ", Homing error"
+            } else {
+                ""
+            };
             if f.failed > failed {
                 return Err(self.err(format!(
-                    "MR-JE-C axis '{name}': homing failed (statusword {:04X}h{})",
-                    f.inputs.statusword,
-                    if f.inputs.statusword & HOMING_ERROR != 0 {
-                        ", Homing error"
-                    } else {
-                        ""
-                    }
+                    "MR-JE-C axis '{name}': the {what} failed or was cut short (statusword {sw:04X}h{homing_error})"
                 )));
             }
             if Instant::now() >= end {
                 return Err(self.err(format!(
-                    "MR-JE-C axis '{name}' did not report Homing attained within {JE_C_HOME_TIMEOUT:?} (statusword {:04X}h)",
-                    f.inputs.statusword
+                    "MR-JE-C axis '{name}': the {what} did not end within {limit:?} (statusword {sw:04X}h)"
                 )));
             }
             self.sleep(Duration::from_millis(2));

@@ -142,3 +142,39 @@ pub(super) fn jog_step(
         seconds,
     })
 }
+
+/// A torque step whose targets are MR-JE-C axes: their tq commands (`None`: no MR-JE-C axis
+/// among them). Mixed with the cell's other axes it is refused: the MR-JE-C drives hold their
+/// torque until the halt, on their own link threads.
+pub(super) fn torque_step(
+    path: &Path,
+    key: &str,
+    target: &BTreeMap<String, f64>,
+    seconds: f64,
+    cell: &CellConfig,
+) -> Result<Option<Step>, ConfigError> {
+    let je_c: Vec<(&String, usize)> = target
+        .keys()
+        .filter_map(|n| cell.je_c_axis_index(n).map(|k| (n, k)))
+        .collect();
+    if je_c.is_empty() {
+        return Ok(None);
+    }
+    if je_c.len() != target.len() {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.target"),
+            "MR-JE-C axes and the cell's other axes in one torque step: give them steps of their own",
+        ));
+    }
+    let commands = je_c
+        .into_iter()
+        .map(|(name, k)| {
+            cell.je_c_axes[k]
+                .torque_command(target[name])
+                .map(|c| (k, c))
+                .map_err(|e| ConfigError::new(path, format!("{key}.target.{name}"), e))
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(Some(Step::JecTorque { commands, seconds }))
+}

@@ -214,6 +214,14 @@ pub enum Step {
         /// Seconds before the halt.
         seconds: f64,
     },
+    /// Torque on MR-JE-C axes in tq: each command (by index in the cell's `je_c_axes`) ramps
+    /// its drive to the torque, held `seconds`, then Halt ramps it back to 0.
+    JecTorque {
+        /// The axes' tq commands.
+        commands: Vec<(usize, cellrt_axes::mr_je_c::cell::AxisCommand)>,
+        /// Seconds at the torque.
+        seconds: f64,
+    },
     /// Home an MR-JE-C axis in its drive's hm with method 37 (the home where the motor stands).
     JecHome {
         /// Index in the cell's `je_c_axes`.
@@ -344,6 +352,11 @@ impl Program {
                     }
                 }
                 Step::JecJog { axis, .. } | Step::JecHome { axis } => out[*axis] = None,
+                Step::JecTorque { commands, .. } => {
+                    for (k, _) in commands {
+                        out[*k] = None;
+                    }
+                }
                 _ => {}
             }
         }

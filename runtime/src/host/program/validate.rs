@@ -223,6 +223,9 @@ fn torque_step(
         ));
     }
     let hold_s = step_seconds(path, key, seconds)?;
+    if let Some(step) = super::je_c::torque_step(path, key, &target, hold_s, cell)? {
+        return Ok(step);
+    }
     let mut targets = Vec::with_capacity(target.len());
     for (name, torque) in target {
         let k = format!("{key}.target.{name}");

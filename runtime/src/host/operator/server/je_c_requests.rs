@@ -114,6 +114,20 @@ pub(super) fn move_commands(
     Ok(out)
 }
 
+/// The tq commands of a torque request's MR-JE-C axes, each checked: ready, torque within the
+/// axis' `limits.torque`. Nothing is queued here.
+pub(super) fn torque_commands(
+    axes: &JecAxes,
+    list: &[JecTarget],
+) -> Result<Vec<(usize, AxisCommand)>, String> {
+    list.iter()
+        .map(|(k, _, torque)| {
+            ready(axes, *k)?;
+            Ok((*k, axes.config(*k).torque_command(*torque)?))
+        })
+        .collect()
+}
+
 /// The hm command of MR-JE-C axis `k`: ready, with method 37 (or none named) and no
 /// Controlword2 edge.
 pub(super) fn home_command(

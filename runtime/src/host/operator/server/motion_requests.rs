@@ -234,6 +234,11 @@ impl OperatorServer {
         targets: &BTreeMap<String, f64>,
         seconds: f64,
     ) -> (Reply, Followup) {
+        let (je_c, targets) = je_c_requests::take_je_c(ctx.cell, targets);
+        if !je_c.is_empty() {
+            return self.torque_je_c(ctx, &je_c, !targets.is_empty());
+        }
+        let targets = &targets;
         let modes = profile::AxisModes::now(ctx.cell, state);
         let (drive_side, list) = match profile::split_torque(ctx.cell, &modes, targets) {
             Ok(split) => split,
@@ -259,6 +264,29 @@ impl OperatorServer {
             },
             ctx,
         )
+    }
+
+    /// MC_TorqueControl of MR-JE-C axes: each drive ramps to its torque in tq and holds it
+    /// until a halt or stop (as a tq axis); not mixed with the RT thread's axes (`others`).
+    fn torque_je_c(
+        &mut self,
+        ctx: &mut Context<'_>,
+        je_c: &[je_c_requests::JecTarget],
+        others: bool,
+    ) -> (Reply, Followup) {
+        if others {
+            return rejected(
+                "torque: MR-JE-C axes and the cell's other axes in one command (their drives hold \
+                 the torque, cst axes only for `seconds`): send them apart"
+                    .into(),
+            );
+        }
+        match je_c_requests::torque_commands(ctx.je_c, je_c)
+            .and_then(|c| je_c_requests::send(ctx.je_c, &c))
+        {
+            Ok(()) => (self.accept("torque", false), Followup::None),
+            Err(e) => rejected(format!("torque: {e}")),
+        }
     }
 
     /// MC_Home: one axis, from idle, in its drive's homing mode; tracked until the RT thread

@@ -1,6 +1,7 @@
 //! Modbus RTU on a real serial device: two emulated MR-JE-C drives on one RS-485 line served
 //! over a pseudo-terminal, against our RTU master (typed object access, stations, the word
-//! order of [Pr. PC72], exceptions, silence of an absent station, broadcast) and against an
+//! order of [Pr. PC72], exceptions, silence of an absent station, broadcast, a drive set to
+//! another character format by [Pr. PC71]/[Pr. PF45]) and against an
 //! independent master (pymodbus with pyserial, via `CELLRT_PYTHON`; says SKIPPED without one
 //! outside CI). MR-JE-C manual §4.
 
@@ -16,6 +17,7 @@ use cellrt_axes::modbus::{ExceptionCode, WordOrder};
 use cellrt_axes::mr_je_c::access::typed::{Controlword, Statusword, TargetPosition};
 use cellrt_axes::mr_je_c::emulator::rs485::Rs485Line;
 use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
+use cellrt_axes::mr_je_c::parameters::{PC71, PF45};
 use cellrt_axes::mr_je_c::{AccessError, ObjectAccess, ObjectId, OverModbus, Value};
 use cellrt_test_support::counting_alloc::{thread_heap_calls, CountingAllocator};
 use serialport::{SerialPort, TTYPort};
@@ -119,6 +121,53 @@ fn our_master_reads_and_writes_two_stations_on_one_line() {
         assert!(v == Some(5) || v == Some(0x0005_0000), "{v:?}");
     }
     assert_eq!(line.overlong_frames(), 0);
+}
+
+/// The drives' character format against the line's (MR-JE-C manual §4.4, §5.2 [Pr. PC71],
+/// [Pr. PF45]): station 2 set to odd parity and station 3 to 9600 bit/s on an even-parity
+/// 115200 bit/s line receive every frame garbled: they never answer and count each frame in
+/// 2A68h (hardware errors, §7.5.4); station 1, set to the line's format, answers and counts
+/// none. Set to the line's format, station 2 answers.
+#[test]
+fn a_drive_set_to_another_character_format_counts_every_frame_and_never_answers() {
+    let (master, slave) = TTYPort::pair().expect("a pseudo-terminal");
+    let t = Duration::ZERO;
+    let mut odd = drive(2, false);
+    odd.write(ObjectId::new(PF45.index(), 0), &Value::U32(1), t)
+        .unwrap();
+    let mut slow = drive(3, false);
+    slow.write(ObjectId::new(PC71.index(), 0), &Value::U32(0x0000), t)
+        .unwrap();
+    let line = Rs485Line::start(
+        vec![drive(1, false), odd, slow],
+        Box::new(master),
+        LineSettings::default(),
+    )
+    .unwrap();
+    let mut c = client(slave, 1);
+    for k in 0..3 {
+        c.echo(k).unwrap();
+    }
+    for station in [2, 3] {
+        c.set_station(station).unwrap();
+        assert!(
+            matches!(c.echo(9), Err(ClientError::Timeout(_))),
+            "station {station} answered"
+        );
+    }
+    let errors = |k: usize| {
+        line.drives()[k]
+            .read(ObjectId::new(0x2A68, 0))
+            .unwrap()
+            .as_i64()
+    };
+    // Five frames went out: three to station 1, one each to 2 and 3.
+    assert_eq!(errors(0), Some(0));
+    assert_eq!(errors(1), Some(5));
+    assert_eq!(errors(2), Some(5));
+    line.drives()[1].set_rtu_line(&LineSettings::default());
+    c.set_station(2).unwrap();
+    c.echo(5).unwrap();
 }
 
 #[test]

@@ -33,6 +33,48 @@ pub enum Framing {
 /// The bit rates the drive offers, [Pr. PC71] digit `__x_` (§4.4, §5.2.1 PC71).
 pub const BAUD_RATES: [u32; 6] = [4800, 9600, 19_200, 38_400, 57_600, 115_200];
 
+impl Framing {
+    /// The framing [Pr. PF45] digit `___x` selects (0 even/1, 1 odd/1, 2 none/2); `None` for
+    /// a value the manual does not define.
+    pub fn from_pf45(digit: i64) -> Option<Framing> {
+        match digit {
+            0 => Some(Framing::Even1),
+            1 => Some(Framing::Odd1),
+            2 => Some(Framing::None2),
+            _ => None,
+        }
+    }
+
+    /// The [Pr. PF45] digit `___x` that selects it.
+    pub fn pf45_digit(self) -> i64 {
+        match self {
+            Framing::Even1 => 0,
+            Framing::Odd1 => 1,
+            Framing::None2 => 2,
+        }
+    }
+}
+
+/// [Pr. PC71] digit `__x_` → bit rate (MR-JE-C manual §5.2.3 PC71; 5 raises AL. 37.1).
+const PC71_BAUD: [(i64, u32); 6] = [
+    (0, 9600),
+    (1, 19_200),
+    (2, 38_400),
+    (3, 57_600),
+    (4, 115_200),
+    (6, 4800),
+];
+
+/// The bit rate [Pr. PC71] digit `__x_` selects; `None` for a value the manual gives none.
+pub fn baud_from_pc71(digit: i64) -> Option<u32> {
+    PC71_BAUD.iter().find(|(d, _)| *d == digit).map(|(_, b)| *b)
+}
+
+/// The [Pr. PC71] digit `__x_` that selects `baud`.
+pub fn pc71_digit(baud: u32) -> Option<i64> {
+    PC71_BAUD.iter().find(|(_, b)| *b == baud).map(|(d, _)| *d)
+}
+
 /// The settings of an RS-485 line: 8 data bits always (§4.4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LineSettings {

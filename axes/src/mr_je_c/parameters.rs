@@ -77,6 +77,10 @@ pub const PC30: Parameter = p(Group::PC, 30);
 pub const PC31: Parameter = p(Group::PC, 31);
 /// [Pr. PC70] Modbus RTU station number (0: never answers).
 pub const PC70: Parameter = p(Group::PC, 70);
+/// [Pr. PC71] Function selection C-F: digit `__x_` the Modbus RTU bit rate (§5.2.3).
+pub const PC71: Parameter = p(Group::PC, 71);
+/// [Pr. PF45] Function selection F-12: digit `___x` the Modbus RTU parity and stop bits (§5.2.6).
+pub const PF45: Parameter = p(Group::PF, 45);
 /// [Pr. PF46] Modbus RTU communication time-out, s (0: not checked).
 pub const PF46: Parameter = p(Group::PF, 46);
 /// [Pr. PT28] Number of stations per rotation (idx, MR-JE-C manual §7.3 607Bh, 6092h).
@@ -127,9 +131,9 @@ pub const PARAMETERS: &[ParameterDef] = &[
     d(PC03, "STC", 0, Some((0, PC03_MAX_MS))),
     d(p(Group::PC, 51), "RSBR", 100, None),
     d(PC70, "*SNOM", 0, Some((0, 247))),
-    d(p(Group::PC, 71), "*COPF", 0x0040, None),
+    d(PC71, "*COPF", 0x0040, None),
     d(p(Group::PC, 72), "*COPG", 0x0000, None),
-    d(p(Group::PF, 45), "*FOP12", 0x0000, None),
+    d(PF45, "*FOP12", 0x0000, None),
     d(PF46, "MIC", 0, Some((0, 60))),
     d(PN02, "CERT", 1000, Some((0, 1000))),
     d(PN08, "*NOP2", 0x0000, None),

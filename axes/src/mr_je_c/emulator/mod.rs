@@ -35,12 +35,13 @@ use std::time::Duration;
 
 use super::alarm::Alarm;
 use super::objects::ObjectId;
-use super::parameters::{PC03, PC30, PC31, PC70, PF46, PN02, PN08, PN10, PN23, PT28};
+use super::parameters::{PC03, PC30, PC31, PC70, PC71, PF45, PF46, PN02, PN08, PN10, PN23, PT28};
 use super::types::SoftwareVersion;
 use super::value::Value;
 use crate::cia402::controlword::Controlword;
 use crate::cia402::fsa::{drive_transition, FsaQuirks, FsaState};
 use crate::cia402::statusword::Statusword;
+use crate::modbus::serial::{Framing, LineSettings};
 
 pub use address_rules::AddressRules;
 pub use history::{AlarmHistory, Occurrence};
@@ -284,7 +285,8 @@ impl MrJeC {
         *self = fresh;
     }
 
-    /// Counts an RS-485 frame with a CRC or frame length error in 2A68h (SW A4+; saturates).
+    /// Counts an RS-485 frame with a CRC or frame length error, or with parity or framing
+    /// errors, in 2A68h (SW A4+; saturates; §7.5.4).
     pub fn count_rtu_error(&mut self) {
         if self.params.software < SoftwareVersion::A4 {
             return;
@@ -526,6 +528,28 @@ impl MrJeC {
     pub fn serves(&self, t: Transport) -> bool {
         let rs485 = (self.param(PN08.index()) >> 12) & 0xF == 1;
         rs485 == (t == Transport::ModbusRtu)
+    }
+
+    /// The character format of the drive's RS-485 port: the bit rate of [Pr. PC71] digit
+    /// `__x_` and the parity and stop bits of [Pr. PF45] digit `___x` (MR-JE-C manual §4.4,
+    /// §5.2); `None` for a setting the manual does not define.
+    pub fn rtu_line(&self) -> Option<LineSettings> {
+        let baud = crate::modbus::serial::baud_from_pc71((self.param(PC71.index()) >> 4) & 0xF)?;
+        let framing = Framing::from_pf45(self.param(PF45.index()) & 0xF)?;
+        LineSettings::new(baud, framing).ok()
+    }
+
+    /// Sets [Pr. PC71] digit `__x_` and [Pr. PF45] digit `___x` to `line`'s character format
+    /// (the other digits kept), as commissioning does for the line the drive is wired to.
+    pub fn set_rtu_line(&mut self, line: &LineSettings) {
+        let digit = crate::modbus::serial::pc71_digit(line.baud).unwrap_or(4);
+        let pc71 = (self.param(PC71.index()) & !0xF0) | digit << 4;
+        let pf45 = (self.param(PF45.index()) & !0xF) | line.framing.pf45_digit();
+        for (p, v) in [(PC71, pc71), (PF45, pf45)] {
+            let value = Value::U32(u32::try_from(v).unwrap_or(0));
+            // In range (no range in the table): cannot be refused.
+            let _ = self.write(ObjectId::new(p.index(), 0), &value, self.now);
+        }
     }
 
     /// The Modbus RTU station number: the rotary switch, or [Pr. PC70] when it is 00h; 0 never

@@ -57,7 +57,7 @@ impl Rs485Line {
         let s = shared.clone();
         let thread = std::thread::Builder::new()
             .name("rs485-line".into())
-            .spawn(move || serve(port, line.silence(), &s))?;
+            .spawn(move || serve(port, &line, &s))?;
         Ok(Rs485Line {
             shared,
             thread: Some(thread),
@@ -98,8 +98,8 @@ impl Drop for Rs485Line {
     }
 }
 
-fn serve(mut port: Box<dyn SerialPort>, silence: Duration, s: &Shared) {
-    let _ = port.set_timeout(silence);
+fn serve(mut port: Box<dyn SerialPort>, line: &LineSettings, s: &Shared) {
+    let _ = port.set_timeout(line.silence());
     let mut frame = [0u8; MAX_FRAME];
     let mut have = 0usize;
     let mut overlong = false;
@@ -127,10 +127,12 @@ fn serve(mut port: Box<dyn SerialPort>, silence: Duration, s: &Shared) {
             overlong = false;
             have = 0;
         } else if have > 0 {
-            let reply = s
-                .drives()
-                .iter_mut()
-                .find_map(|d| rtu::answer(d, &frame[..have], now));
+            // Every drive on the line receives the frame (and counts it if garbled for it).
+            let mut reply = None;
+            for d in s.drives().iter_mut() {
+                let r = rtu::answer_on_line(d, &frame[..have], now, line);
+                reply = reply.or(r);
+            }
             have = 0;
             if let Some(r) = reply {
                 let _ = port.write_all(&r).and_then(|()| port.flush());

@@ -3,13 +3,35 @@
 //! broadcasts (address 0, 10h only) without answering unless 2D98h disables them (2D9Bh is
 //! executed even then), takes 32-bit words in the order of [Pr. PC72], and is silent while
 //! [Pr. PN08] selects Ethernet. A frame with a CRC or length error counts in 2A68h.
+//!
+//! On a line whose character format (bit rate, parity, stop bits) differs from the drive's
+//! [Pr. PC71]/[Pr. PF45], the drive's UART receives every frame with parity or framing errors:
+//! it counts one error per frame in 2A68h (hardware errors, §7.5.4) and never answers. One
+//! count per frame, not per character, is our choice (the manual does not say how it counts).
 
 use std::time::Duration;
 
 use super::super::objects::ObjectId;
 use super::{modbus, MrJeC, Transport};
 use crate::modbus::rtu::{decode_query, encode_reply, BROADCAST, MAX_FRAME};
+use crate::modbus::serial::LineSettings;
 use crate::modbus::{Query, WordOrder};
+
+/// The reply frame to the RTU frame `frame` that came at `now` on a line of character format
+/// `line`, if the drive answers: a drive set to another format only counts the frame as
+/// garbled.
+pub fn answer_on_line(
+    drive: &mut MrJeC,
+    frame: &[u8],
+    now: Duration,
+    line: &LineSettings,
+) -> Option<Vec<u8>> {
+    if drive.serves(Transport::ModbusRtu) && drive.rtu_line().as_ref() != Some(line) {
+        drive.count_rtu_error();
+        return None;
+    }
+    answer(drive, frame, now)
+}
 
 /// The reply frame to the RTU frame `frame` at `now`, if the drive answers.
 pub fn answer(drive: &mut MrJeC, frame: &[u8], now: Duration) -> Option<Vec<u8>> {

@@ -62,10 +62,13 @@ pub fn start(axis: &JecAxisConfig) -> std::io::Result<(Emulated, Reach)> {
         rated_speed_rpm: axis.rated_speed.round() as u32,
         ..MrJeCParams::default()
     };
-    if let JecTransport::ModbusRtu { station, .. } = axis.transport {
+    if let JecTransport::ModbusRtu { station, baud, .. } = axis.transport {
         let (master, slave) = TTYPort::pair().map_err(std::io::Error::other)?;
-        let drive = MrJeC::on_rs485_line(params, station);
-        let line = Rs485Line::start(vec![drive], Box::new(master), LineSettings::default())?;
+        let mut drive = MrJeC::on_rs485_line(params, station);
+        // The drive commissioned for the configured line (the client's framing: the default).
+        let line = LineSettings::new(baud, Default::default()).map_err(std::io::Error::other)?;
+        drive.set_rtu_line(&line);
+        let line = Rs485Line::start(vec![drive], Box::new(master), line)?;
         return Ok((Emulated::Line(line), Reach::Port(Box::new(slave))));
     }
     let loopback = IpAddr::V4(Ipv4Addr::LOCALHOST);

@@ -42,5 +42,5 @@ pub use cycles::{CycleTime, CycleTimeError, Cycles};
 pub use pdo::{PdoEntry, PdoError, PdoMap, RxPdo, TxPdo};
 pub use profiles::{profile, DriveModel, DriveProfile};
 pub use sim::comm::CommParams;
-pub use sim::drive::{MissedCommand, SimDrive, SimDriveParams};
+pub use sim::drive::{HomingParams, MissedCommand, SimDrive, SimDriveParams};
 pub use sim::plant::{PlantParams, ServoPlant};

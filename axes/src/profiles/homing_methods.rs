@@ -3,10 +3,12 @@
 //! per model the warning of a failed homing and the object of the home position shift.
 //!
 //! Sources: MR-J3-T04 manual §8.11.4.1 (−1, −17 dog type, 35 data set), MR-J4-TM manual
-//! §5.4.9(4)/(5) (the 39 methods of 60E3h). Methods a manual lists that need figures it does not
-//! give (the "travel distance after proximity dog" of the count and front-end types, the
-//! stopper's torque and time) are listed but not emulated: [`check_emulated`] refuses them by
-//! name. The MR-JET-G-N1 and MR-J5-G-N1 manuals list no methods (MR-JET-G-N1 manual §8.3,
+//! §5.4.9(4)/(5)/(6) (the 39 methods of 60E3h). Every method the MR-J4-TM manual lists is
+//! emulated; the figures it names without a number or default (the "travel distance after
+//! proximity dog", [Pr. PT10] stopper time, [Pr. PT11] stopper torque limit) are named
+//! parameters of the simulated drive (`sim::drive::HomingParams`). [`check_emulated`]
+//! refuses a method a manual does not list. The MR-JET-G-N1 and MR-J5-G-N1 manuals list no
+//! methods (MR-JET-G-N1 manual §8.3,
 //! MR-J5-G-N1 manual §8.3: "Set the homing method in 6098h … for details refer to 'Homing mode
 //! (hm) and homing' in the Function manual", which is not among the manuals).
 
@@ -25,6 +27,36 @@ pub enum SearchTarget {
     ZLeavingDog,
     /// The first Z phase, no dog (MR-J4-TM −11/−43 dogless, 33/34 homing on index pulse).
     Z,
+    /// Decelerate at the dog's front end, travel the "travel distance after proximity dog"
+    /// from it, then the next Z phase (MR-J4-TM −2/−34 count type, front-end detection,
+    /// Z-phase reference, §5.4.9(6)(b): any dog length; AL. 90 if the travel is covered
+    /// before the creep speed is reached).
+    ZAfterTravel,
+    /// Decelerate at the dog's front end; home = its rear end + the travel distance after
+    /// proximity dog (+ shift) (MR-J4-TM −6/−38 dog type, rear-end reference, §5.4.9(6)(e):
+    /// AL. 90 if the rear end comes before the creep speed is reached).
+    TravelAfterDogRearEnd,
+    /// Decelerate at the dog's front end; home = the front end + the travel distance after
+    /// proximity dog (+ shift).
+    TravelAfterDogFrontEnd {
+        /// The dog's rear end before the creep speed is reached is an AL. 90: the dog type
+        /// front-end reference (−10/−42, §5.4.9(6)(i)) and 19/21/23/27 ("same as the dog
+        /// type front end reference", §5.4.9(4)). False: the count type −7/−39 (§5.4.9(6)(f),
+        /// any dog length) and 20/22/24/28 (the dog cradle motion, §5.4.9(5)(b)6), 8), whose
+        /// figures give no such note).
+        dog_outlasts_creep: bool,
+    },
+    /// Press against a mechanical stopper at 6099h:1 with the torque limited; home = where
+    /// the motor stands once it has stood at the torque limit for [Pr. PT10] (MR-J4-TM
+    /// −4/−36 stopper type, §5.4.9(6)(d)).
+    Stopper,
+}
+
+impl SearchTarget {
+    /// Whether the search looks for the home dog (and first leaves it when started on it).
+    pub fn uses_dog(self) -> bool {
+        !matches!(self, SearchTarget::Z | SearchTarget::Stopper)
+    }
 }
 
 /// What a limit switch reached in the search direction does.
@@ -83,6 +115,29 @@ pub fn search(method: i8) -> Option<SearchRecipe> {
         11 => recipe(-1, ZLeavingDog, Reverse),
         -11 => recipe(1, Z, Error),
         -43 => recipe(-1, Z, Error),
+        // §5.4.9(6)(b), (d)–(f), (i) and §5.4.9(5)(b)5)–8): the stroke-end figures "when the
+        // movement is returned at the stroke end" (reverse) and "the servo motor stops due to
+        // the occurrence of [AL. 90]" (error).
+        -2 => recipe(1, ZAfterTravel, Reverse),
+        -34 => recipe(-1, ZAfterTravel, Reverse),
+        -4 => recipe(1, Stopper, Error),
+        -36 => recipe(-1, Stopper, Error),
+        -6 => recipe(1, TravelAfterDogRearEnd, Reverse),
+        -38 => recipe(-1, TravelAfterDogRearEnd, Reverse),
+        -7 | -39 | -10 | -42 | 19..=24 | 27 | 28 => {
+            let forward = matches!(method, -7 | -10 | 19 | 20 | 23 | 24);
+            let stroke_end = if (19..=22).contains(&method) {
+                Error
+            } else {
+                Reverse
+            };
+            let dog_outlasts_creep = matches!(method, -10 | -42 | 19 | 21 | 23 | 27);
+            recipe(
+                if forward { 1 } else { -1 },
+                TravelAfterDogFrontEnd { dog_outlasts_creep },
+                stroke_end,
+            )
+        }
         33 | 34 => SearchRecipe {
             creep_from_start: true,
             ..recipe(if method == 34 { 1 } else { -1 }, Z, Error)
@@ -111,9 +166,7 @@ pub fn check_emulated(profile: &DriveProfile, method: i8) -> Result<(), String> 
         return Ok(());
     }
     Err(format!(
-        "homing method {method} of the {} manual is not emulated: it needs a figure the manual \
-         does not give (the travel distance after the proximity dog, or the stopper's torque \
-         and time)",
+        "homing method {method} of the {} manual is not emulated",
         profile.name
     ))
 }
@@ -182,19 +235,55 @@ mod tests {
             .unwrap_err()
             .contains("lists no homing method -33"));
         let j4 = profile(DriveModel::MrJ4TM);
-        for m in [
-            -1, -33, -3, -8, -40, -9, -41, -11, -43, 3, 4, 5, 6, 7, 8, 11, 12, 33, 34, 35, 37,
-        ] {
-            check_emulated(j4, m).unwrap();
+        // Every method of the MR-J4-TM's list (§5.4.9(4)), 39 as 60E3h:0 says.
+        assert_eq!(j4.homing_methods.len(), 39);
+        for &m in j4.homing_methods {
+            check_emulated(j4, m).unwrap_or_else(|e| panic!("{m}: {e}"));
         }
-        for m in [-2, -4, -6, -7, -10, 19, 27] {
+        for m in [-17, 1, 2, 17, 25, 26, 29, 30] {
             assert!(
-                check_emulated(j4, m).unwrap_err().contains("not emulated"),
+                check_emulated(j4, m)
+                    .unwrap_err()
+                    .contains("lists no homing method"),
                 "{m}"
             );
         }
-        assert!(check_emulated(j4, -17).is_err());
         let jet = profile(DriveModel::MrJetGN1);
         assert!(check_emulated(jet, 37).unwrap_err().contains("§8.3"));
+    }
+
+    #[test]
+    fn the_j4_travel_and_stopper_methods_have_the_manuals_direction_and_stroke_end() {
+        use SearchTarget::*;
+        use StrokeEndReaction::*;
+        let front = |dog_outlasts_creep| TravelAfterDogFrontEnd { dog_outlasts_creep };
+        for (m, dir, target, stroke_end) in [
+            (-2, 1, ZAfterTravel, Reverse),
+            (-34, -1, ZAfterTravel, Reverse),
+            (-4, 1, Stopper, Error),
+            (-36, -1, Stopper, Error),
+            (-6, 1, TravelAfterDogRearEnd, Reverse),
+            (-38, -1, TravelAfterDogRearEnd, Reverse),
+            (-7, 1, front(false), Reverse),
+            (-39, -1, front(false), Reverse),
+            (-10, 1, front(true), Reverse),
+            (-42, -1, front(true), Reverse),
+            (19, 1, front(true), Error),
+            (20, 1, front(false), Error),
+            (21, -1, front(true), Error),
+            (22, -1, front(false), Error),
+            (23, 1, front(true), Reverse),
+            (24, 1, front(false), Reverse),
+            (27, -1, front(true), Reverse),
+            (28, -1, front(false), Reverse),
+        ] {
+            let r = search(m).unwrap();
+            assert_eq!(
+                (r.direction, r.target, r.stroke_end, r.creep_from_start),
+                (dir, target, stroke_end, false),
+                "{m}"
+            );
+        }
+        assert!(!Stopper.uses_dog() && !Z.uses_dog() && ZAfterTravel.uses_dog());
     }
 }

@@ -50,7 +50,9 @@ mod stroke;
 mod units;
 
 use homing::HomingState;
-pub use params::{AxisSwitch, InternalTorqueLimits, MissedCommand, SimDriveParams, TorqueLimit2};
+pub use params::{
+    AxisSwitch, HomingParams, InternalTorqueLimits, MissedCommand, SimDriveParams, TorqueLimit2,
+};
 use pds::PowerInputs;
 use stroke::{ManualStop, StrokeState};
 pub use units::{SimMotor, SIM_DEFAULT_COUNTS_PER_REV};
@@ -159,7 +161,7 @@ impl SimDrive {
             state: FsaState::NotReadyToSwitchOn,
             prev_cw: Controlword::DISABLE_VOLTAGE,
             mode_display: initial_mode,
-            plant: ServoPlant::new(params.plant, pos),
+            plant: ServoPlant::new(params.plant, pos).with_stoppers(params.stoppers),
             rx_layout: PdoLayout::new(&profile.rx_pdo),
             mode_mapped: profile.rx_pdo.maps(crate::pdo::objects::MODES_OF_OPERATION),
             status_do_mapped: profile.tx_pdo.maps(crate::pdo::objects::STATUS_DO[0]),

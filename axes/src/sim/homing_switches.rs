@@ -29,6 +29,20 @@ impl HomingSwitches {
             .is_some_and(|[a, b]| position >= a.min(b) && position <= a.max(b))
     }
 
+    /// The dog's end met first (`front`) or last moving in the direction `dir` (+1 positive,
+    /// −1 negative): its exact edge, where a search measures the travel distance after
+    /// proximity dog from (MR-J4-TM manual §5.4.9(6)).
+    pub fn dog_end(&self, dir: f64, front: bool) -> Option<f64> {
+        self.home_dog.map(|[a, b]| {
+            let (low, high) = (a.min(b), a.max(b));
+            if (dir > 0.0) == front {
+                low
+            } else {
+                high
+            }
+        })
+    }
+
     /// Whether the limit switch in the direction `dir` (+1 positive, −1 negative) is on at
     /// `position`.
     pub fn limit(&self, position: f64, dir: f64) -> bool {
@@ -71,5 +85,10 @@ mod tests {
         assert_eq!(s.digital_inputs(1000.0), POSITIVE_LIMIT_SWITCH);
         assert_eq!(s.digital_inputs(-1001.0), NEGATIVE_LIMIT_SWITCH);
         assert_eq!(HomingSwitches::default().digital_inputs(1e9), 0);
+        assert_eq!(s.dog_end(1.0, true), Some(100.0));
+        assert_eq!(s.dog_end(1.0, false), Some(200.0));
+        assert_eq!(s.dog_end(-1.0, true), Some(200.0));
+        assert_eq!(s.dog_end(-1.0, false), Some(100.0));
+        assert_eq!(HomingSwitches::default().dog_end(1.0, true), None);
     }
 }

@@ -6,7 +6,7 @@ use crate::cia402::controlword::Controlword;
 use crate::cia402::fsa::FsaState;
 use crate::cia402::mode::ModeOfOperation;
 use crate::pdo::RxPdo;
-use crate::profiles::homing_methods::{homing_model, search};
+use crate::profiles::homing_methods::{homing_model, search, SearchTarget};
 use crate::profiles::HomeReference;
 use crate::sim::home_setting::{HomeSettingOutcome, ZPhase};
 use crate::sim::homing_search::{HomingSearch, SearchEnd, SearchProfile, ZPulses};
@@ -125,12 +125,35 @@ impl SimDrive {
             .shift_object
             .and_then(|i| value(i, 0))
             .unwrap_or(0);
+        let h = self.params.homing;
         SearchProfile {
             fast: speed(1),
             creep: speed(2),
             acceleration: self.time_constant_rate(value(HOMING_ACCELERATION, 0)),
             emergency_deceleration: self.params.plant.max_acceleration.abs(),
             shift: shift as f64,
+            travel: f64::from(h.travel_after_dog),
+            stopper_time: f64::from(h.stopper_time_ms) / 1e3,
+        }
+    }
+
+    /// The torque limits (% rated; positive, negative) while a search runs: the stopper type
+    /// −4/−36 limits the search direction's (60E0h for −4, 60E1h for −36) to at most
+    /// [Pr. PT11] (MR-J4-TM manual §5.4.9(6)(d), [`crate::sim::drive::HomingParams`]).
+    pub(super) fn homing_torque_limits(&self, (pos, neg): (f64, f64)) -> (f64, f64) {
+        let Some(recipe) = self
+            .homing
+            .search
+            .map(|s| s.recipe())
+            .filter(|r| r.target == SearchTarget::Stopper)
+        else {
+            return (pos, neg);
+        };
+        let pt11 = self.params.homing.stopper_torque_limit;
+        if recipe.direction > 0 {
+            (pos.min(pt11), neg)
+        } else {
+            (pos, neg.min(pt11))
         }
     }
 
@@ -149,7 +172,10 @@ impl SimDrive {
             counts_per_rev: self.motor_resolution(),
             position: f64::from(self.params.z_phase_position),
         };
-        let (pos, vel, end) = search.step(&self.params.homing_switches, z, dt);
+        // Standing at the torque limit (S_TLC at the encoder's standstill): against a stopper.
+        let pressing = (self.plant.at_torque_limit() && self.plant.velocity().abs() < 1.0)
+            .then(|| self.plant.position());
+        let (pos, vel, end) = search.step(&self.params.homing_switches, z, pressing, dt);
         self.homing.search = Some(search);
         self.homing.error |= search.failing() && !self.homing.interrupted;
         self.demand = pos;

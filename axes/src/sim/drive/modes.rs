@@ -327,7 +327,7 @@ impl SimDrive {
     }
 
     pub(super) fn apply_torque_limits(&mut self, cmd: &RxPdo) {
-        let (pos, neg) = self.torque_limits_percent(cmd);
+        let (pos, neg) = self.homing_torque_limits(self.torque_limits_percent(cmd));
         let max = InternalTorqueLimits::MOTOR_MAXIMUM_PERCENT;
         self.plant.set_torque_limits(pos / max, neg / max);
     }

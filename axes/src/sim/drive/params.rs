@@ -10,7 +10,7 @@ use crate::profiles::{DriveProfile, HomeReference, TorqueLimitSelection};
 use crate::sim::comm::CommParams;
 use crate::sim::fsoe::FsoeSlaveParams;
 use crate::sim::home_setting::BeforeZReaction;
-use crate::sim::plant::PlantParams;
+use crate::sim::plant::{PlantParams, Stoppers};
 use crate::sim::profile_position::{PositionUnit, PpParams};
 use crate::sim::profile_torque::TqParams;
 use crate::sim::profile_velocity::PvParams;
@@ -85,6 +85,11 @@ pub struct SimDriveParams {
     /// The home dog and limit switches on the axis, raw counts (60FDh and the searching
     /// homing methods, `sim::homing_switches`); default none.
     pub homing_switches: crate::sim::homing_switches::HomingSwitches,
+    /// Mechanical stoppers on the axis, raw counts: hard stops the plant cannot pass (the
+    /// stopper type homing −4/−36 presses against one); default none.
+    pub stoppers: Stoppers,
+    /// The homing figures the manuals name without a value (`sim::homing_search`).
+    pub homing: HomingParams,
     /// The alarm a SYNC0 cycle other than 1C32h:02 raises, one of the profile's
     /// `pdo_rules.sync_mismatch_alarms` (MR-J3-T04 TV-IC-5: AL.76 or AL.74); `None`: the
     /// profile's first.
@@ -104,6 +109,39 @@ pub struct SimDriveParams {
     /// ([`DriveProfile::fsoe`], MR-JET-G-N1); `None` (default): FSoE not used, no STO from the
     /// network. See `sim::fsoe`.
     pub fsoe: Option<FsoeSlaveParams>,
+}
+
+/// The MR-J4-TM homing figures its manual names but gives neither number nor default for
+/// (MR-J4-TM manual §5.4.9(4), (6)(b), (d)–(f), (i): the "travel distance after proximity dog";
+/// §5.4.9(6)(d): [Pr. PT10] and [Pr. PT11], named in the stopper figure only). The defaults
+/// are the simulator's choice, each stated below.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HomingParams {
+    /// "Travel distance after proximity dog", raw counts (≥ 0, in the search direction): the
+    /// count types −2/−34 (then the Z phase) and −7/−39, the dog types −6/−38 (from the rear
+    /// end) and −10/−42, and 19–24, 27, 28. Default 0: home on the dog edge itself (+ shift);
+    /// −2/−34 then fail with AL. 90 at any 6099h:1 above the creep speed, as the manual warns
+    /// ("set the travel distance after proximity dog enough for deceleration").
+    pub travel_after_dog: u32,
+    /// [Pr. PT10] Stopper type home position return stopper time, ms: how long the motor
+    /// stands at its torque limit before −4/−36 take the position as home. Default 100 ms
+    /// (the simulator's choice; the figure marks only "5 ms or longer").
+    pub stopper_time_ms: u16,
+    /// [Pr. PT11] stopper type torque limit, % of rated torque: while −4/−36 search, the
+    /// torque in the search direction is limited to the lower of this and the torque limit
+    /// object the manual names for the method (60E0h for −4, 60E1h for −36). Default 15.0 %
+    /// (the simulator's choice: "the home position return speed must be low enough").
+    pub stopper_torque_limit: f64,
+}
+
+impl Default for HomingParams {
+    fn default() -> Self {
+        HomingParams {
+            travel_after_dog: 0,
+            stopper_time_ms: 100,
+            stopper_torque_limit: 15.0,
+        }
+    }
 }
 
 /// DIP switch SW3 of the MR-J5-G-N1 family (MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4, TV-14; ON = up).
@@ -201,6 +239,8 @@ impl Default for SimDriveParams {
             before_z_reaction: BeforeZReaction::Warning,
             z_phase_position: 0,
             homing_switches: crate::sim::homing_switches::HomingSwitches::default(),
+            stoppers: Stoppers::default(),
+            homing: HomingParams::default(),
             sync_mismatch_alarm: None,
             axis_switch: AxisSwitch::default(),
             fsoe: None,

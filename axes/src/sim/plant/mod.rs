@@ -44,6 +44,29 @@ impl Default for PlantParams {
     }
 }
 
+/// Mechanical stoppers on the axis, raw counts: hard stops the motor cannot pass (the plant
+/// is not a catalogue model: the stop is rigid, the motor comes to rest on it at once and keeps
+/// pushing with whatever torque its loops command). The MR-J4-TM stopper type homing (−4/−36,
+/// MR-J4-TM manual §5.4.9(6)(d)) presses against one. Default none.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Stoppers {
+    /// The motor cannot move above this position.
+    pub positive: Option<f64>,
+    /// The motor cannot move below this position.
+    pub negative: Option<f64>,
+}
+
+impl Stoppers {
+    /// `position` held within the stoppers: the clamped position, and whether a stopper took it.
+    fn clamp(&self, position: f64) -> (f64, bool) {
+        match (self.positive, self.negative) {
+            (Some(p), _) if position > p => (p, true),
+            (_, Some(n)) if position < n => (n, true),
+            _ => (position, false),
+        }
+    }
+}
+
 /// The motor and its servo loops, in counts, counts/s and counts/s².
 #[derive(Debug, Clone, PartialEq)]
 pub struct ServoPlant {
@@ -58,6 +81,8 @@ pub struct ServoPlant {
     accel_scale: (f64, f64),
     /// The servo-on recurrence composed over one cycle (see [`ServoPlant::prepare_cycle`]).
     cycle_map: Option<Arc<CycleMap>>,
+    /// Hard stops the motor cannot pass.
+    stoppers: Stoppers,
 }
 
 impl ServoPlant {
@@ -71,7 +96,16 @@ impl ServoPlant {
             last_command: initial_position_counts,
             accel_scale: (1.0, 1.0),
             cycle_map: None,
+            stoppers: Stoppers::default(),
         }
+    }
+
+    /// The plant with mechanical `stoppers` (a start beyond one is moved onto it).
+    pub fn with_stoppers(mut self, stoppers: Stoppers) -> Self {
+        self.stoppers = stoppers;
+        (self.position, _) = stoppers.clamp(self.position);
+        self.last_command = self.position;
+        self
     }
 
     /// Precomputes the servo-on step for time steps of exactly `dt_s` (the drive's cycle), so
@@ -144,6 +178,10 @@ impl ServoPlant {
         let Some(end) = map.step(z, lim) else {
             return false;
         };
+        if self.stoppers.clamp(p0 + end.delta_position).1 {
+            // Reaching a stopper: the substep loop stops the motor on it.
+            return false;
+        }
         self.position = p0 + end.delta_position;
         self.velocity = end.velocity;
         self.acceleration = end.acceleration;
@@ -255,13 +293,23 @@ impl ServoPlant {
         if dt_s > 0.0 {
             self.position += self.velocity * dt_s;
         }
+        let (position, stopped) = self.stoppers.clamp(self.position);
+        if stopped {
+            self.position = position;
+            self.velocity = 0.0;
+        }
         self.last_command = self.position;
     }
 
     fn integrate(&mut self, a: f64, h: f64, vmax: f64) {
         self.acceleration = a;
         self.velocity = (self.velocity + a * h).clamp(-vmax, vmax);
-        self.position += self.velocity * h;
+        let (position, stopped) = self.stoppers.clamp(self.position + self.velocity * h);
+        self.position = position;
+        if stopped {
+            // On the stopper: at rest, the torque `a` pushing against it.
+            self.velocity = 0.0;
+        }
     }
 
     /// Sets the interpolation start, e.g. to the first target after servo-on.
@@ -389,6 +437,50 @@ mod tests {
         assert_eq!(plant.position(), 5.0);
         plant.step(100.0, f64::INFINITY, 1e300);
         assert!(plant.position().is_finite());
+    }
+}
+
+#[cfg(test)]
+mod stopper_tests {
+    use super::*;
+
+    #[test]
+    fn a_stopper_holds_the_motor_which_pushes_at_its_torque_limit() {
+        let stoppers = Stoppers {
+            positive: Some(10_000.0),
+            negative: Some(-5_000.0),
+        };
+        for mapped in [false, true] {
+            let mut p = ServoPlant::new(PlantParams::default(), 0.0).with_stoppers(stoppers);
+            if mapped {
+                p.prepare_cycle(1e-3);
+            }
+            p.set_torque_limits(0.05, 1.0);
+            // A command running on past the stopper at 100 000 counts/s.
+            for k in 1..=300 {
+                p.step(100.0 * f64::from(k), 100_000.0, 1e-3);
+                assert!(
+                    p.position() <= 10_000.0,
+                    "passed the stopper: {}",
+                    p.position()
+                );
+            }
+            assert_eq!((p.position(), p.velocity()), (10_000.0, 0.0));
+            // Pushing with the 5 % limit, the proxy of S_TLC.
+            assert!(p.at_torque_limit());
+            assert_eq!(
+                p.acceleration(),
+                0.05 * PlantParams::default().max_acceleration
+            );
+            // Free to leave it backwards, and the other stopper holds the other way.
+            for _ in 0..2_000 {
+                p.step(-20_000.0, 0.0, 1e-3);
+            }
+            assert_eq!(p.position(), -5_000.0);
+        }
+        // A start beyond a stopper is moved onto it.
+        let p = ServoPlant::new(PlantParams::default(), 12_000.0).with_stoppers(stoppers);
+        assert_eq!(p.position(), 10_000.0);
     }
 }
 

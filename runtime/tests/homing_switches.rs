@@ -44,9 +44,16 @@ const HOMING_ERROR: u16 = 1 << 13;
 const WARNING: u16 = 1 << 7;
 const HOS: u16 = 1 << 4;
 
-/// The dog [150, 160] mm, limits at 20 and 250 mm, the Z phase every 10 mm from 2.5 mm.
+/// The dog [150, 160] mm, limits at 20 and 250 mm, the Z phase every 10 mm from 2.5 mm, the
+/// drive's travel distance after proximity dog 8 mm (from 100 to 10 mm/s at 1000 mm/s² takes
+/// 4.95 mm: less would be −2's AL. 90).
 fn cell(tag: &str, start_mm: f64) -> CellConfig {
-    let text = format!(
+    CellConfig::parse(Path::new("homing.toml"), &cell_text(tag, start_mm)).unwrap()
+}
+
+/// The text of [`cell`].
+fn cell_text(tag: &str, start_mm: f64) -> String {
+    format!(
         r#"
 [cell]
 name = "home-{tag}-{}"
@@ -60,12 +67,24 @@ motor = {{ rated_speed = 3000 }}
 unit = "mm"
 counts_per_unit = {COUNTS_PER_MM}
 limits = {{ position = [0.0, 500.0], velocity = 200.0, acceleration = 1000.0, jerk = 10000.0 }}
-sim = {{ initial_position = {start_mm}, home_dog = [150.0, 160.0], positive_limit = 250.0, negative_limit = 20.0, z_phase_position = 2.5 }}
+sim = {{ initial_position = {start_mm}, home_dog = [150.0, 160.0], positive_limit = 250.0, negative_limit = 20.0, z_phase_position = 2.5, travel_after_dog = 8.0 }}
 homing = {{ switch_speed = {SWITCH_SPEED}, creep_speed = {CREEP_SPEED}, acceleration_ms = {ACCELERATION_MS} }}
 "#,
         std::process::id()
+    )
+}
+
+#[test]
+fn the_travel_after_dog_reaches_the_drive_in_counts_and_is_a_length() {
+    // 8 mm × 419 430.4 counts/mm = 3 355 443.2 counts.
+    assert_eq!(
+        cell("travel", 100.0).axes[0].sim.homing.travel_after_dog,
+        3_355_443
     );
-    CellConfig::parse(Path::new("homing.toml"), &text).unwrap()
+    let text =
+        cell_text("travel", 100.0).replace("travel_after_dog = 8.0", "travel_after_dog = -1.0");
+    let err = CellConfig::parse(Path::new("homing.toml"), &text).unwrap_err();
+    assert!(err.to_string().contains("sim.travel_after_dog"), "{err}");
 }
 
 #[path = "support/cell_rig.rs"]
@@ -96,7 +115,7 @@ fn running(span: &[AxisRecord]) -> Vec<AxisRecord> {
 }
 
 /// (method, start mm, home mm): every searching method MR-J4-TM lists and cellrt emulates.
-const SEARCHES: [(i8, f64, f64); 20] = [
+const SEARCHES: [(i8, f64, f64); 28] = [
     // Dog type (rear-end detection, Z reference): the first Z after the rear end.
     (-1, 100.0, 162.5),
     (-33, 200.0, 142.5),
@@ -124,6 +143,18 @@ const SEARCHES: [(i8, f64, f64); 20] = [
     (11, 100.0, 162.5),
     (12, 100.0, 152.5),
     (-33, 100.0, 142.5),
+    // Count type (−2/−34): the front end ± the 8 mm travel (158, 152), then the next Z.
+    (-2, 100.0, 162.5),
+    (-34, 200.0, 142.5),
+    // Rear-end reference (−6): the rear end 160 + 8.
+    (-6, 100.0, 168.0),
+    // Front-end reference (−7, −10, 19–24, 27, 28): the front end 150 + 8 or 160 − 8.
+    (-7, 100.0, 158.0),
+    (-42, 200.0, 152.0),
+    (20, 100.0, 158.0),
+    // 23 from above the dog: the 250 mm limit reverses it; 28 reverse from above.
+    (23, 200.0, 158.0),
+    (28, 200.0, 152.0),
 ];
 
 #[test]

@@ -426,6 +426,9 @@ pub struct SimAxisConfig {
     /// The home dog and limit switches, counts (`sim.home_dog`, `sim.positive_limit`,
     /// `sim.negative_limit`).
     pub switches: cellrt_axes::sim::homing_switches::HomingSwitches,
+    /// The simulated drive's homing figures; `travel_after_dog` in counts from
+    /// `sim.travel_after_dog`, the others the simulator's defaults.
+    pub homing: cellrt_axes::HomingParams,
     /// The simulated motor's maximum speed as a multiple of the axis velocity limit; the
     /// drive's overspeed alarm trips at 1.2 × that (a csp target step implying more).
     pub motor_speed_factor: f64,

@@ -451,6 +451,10 @@ pub struct RawSimAxis {
     /// The negative limit switch (on at and below), unit.
     #[serde(default)]
     pub negative_limit: Option<f64>,
+    /// The simulated drive's "travel distance after proximity dog" (MR-J4-TM manual
+    /// §5.4.9(4)), unit.
+    #[serde(default)]
+    pub travel_after_dog: Option<f64>,
 }
 
 impl Default for RawSimAxis {
@@ -468,6 +472,7 @@ impl Default for RawSimAxis {
             home_dog: None,
             positive_limit: None,
             negative_limit: None,
+            travel_after_dog: None,
         }
     }
 }

@@ -88,6 +88,7 @@ pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
                     .to_counts_i32(a.sim.z_phase_position)
                     .unwrap_or_default(),
                 homing_switches: a.sim.switches,
+                homing: a.sim.homing,
                 initial_mode: match a.mode {
                     ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
                     m => m,

@@ -158,6 +158,7 @@ pub(super) fn validate_axis(
     };
     let mut sim = sim_axis(&at, &a, scaling, position)?;
     sim.switches = super::homing::switches(&at, &a, scaling)?;
+    sim.homing.travel_after_dog = super::homing::travel_after_dog(&at, &a, scaling)?;
     sim.subdevice = emulated_subdevice(&at, &a, drive, cycle_time)?;
     let distributed_clocks = a.ethercat.distributed_clocks.unwrap_or(true);
     let s = scaling.counts_per_unit();
@@ -511,6 +512,7 @@ fn sim_axis(
             .positive("sim.velocity_bandwidth_hz", a.sim.velocity_bandwidth_hz)?,
         z_phase_position: a.sim.z_phase_position,
         switches: Default::default(),
+        homing: Default::default(),
         motor_speed_factor: a.sim.motor_speed_factor,
         subdevice: SubDeviceVariant::default(),
     };

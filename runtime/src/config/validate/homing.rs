@@ -1,6 +1,6 @@
 //! `[axes.homing]` and the switches of `[axes.sim]` (`home_dog`, `positive_limit`,
-//! `negative_limit`): checked against the model's manual (`profiles::homing_methods`) and
-//! converted to counts and the drive's units.
+//! `negative_limit`) with the simulated drive's `travel_after_dog`: checked against the
+//! model's manual (`profiles::homing_methods`) and converted to counts and the drive's units.
 
 use cellrt_axes::cia402::homing::choose_method;
 use cellrt_axes::drive_scaling::DriveScaling;
@@ -73,6 +73,30 @@ pub(super) fn switches(
         positive_limit,
         negative_limit,
     })
+}
+
+/// `sim.travel_after_dog` (unit, ≥ 0) in counts: the simulated drive's "travel distance after
+/// proximity dog" (MR-J4-TM manual §5.4.9(4); `cellrt_axes::HomingParams`), 0 when absent.
+pub(super) fn travel_after_dog(
+    at: &AxisKey<'_>,
+    a: &RawAxis,
+    scaling: Scaling,
+) -> Result<u32, ConfigError> {
+    let Some(v) = a.sim.travel_after_dog else {
+        return Ok(0);
+    };
+    // A length: its counts whichever way the axis counts.
+    let counts = scaling.to_counts(v).abs();
+    if !(v >= 0.0 && counts.is_finite() && counts <= f64::from(u32::MAX)) {
+        return Err(at.err(
+            "sim.travel_after_dog",
+            format!(
+                "{v} is not a travel distance (≥ 0, at most {} counts)",
+                u32::MAX
+            ),
+        ));
+    }
+    Ok(counts.round() as u32)
 }
 
 /// `[axes.homing]`: `method` listed by the model's manual and emulated; `switch_speed` and

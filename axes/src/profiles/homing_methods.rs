@@ -105,12 +105,16 @@ pub fn search(method: i8) -> Option<SearchRecipe> {
     Some(match method {
         -1 => recipe(1, ZAfterDogRearEnd, Reverse),
         -17 | -33 => recipe(-1, ZAfterDogRearEnd, Reverse),
-        -8 | 4 => recipe(1, ZAfterDogFrontEnd, Error),
-        -40 | 6 => recipe(-1, ZAfterDogFrontEnd, Error),
-        8 => recipe(1, ZAfterDogFrontEnd, Reverse),
-        12 => recipe(-1, ZAfterDogFrontEnd, Reverse),
-        -9 | 3 => recipe(1, ZLeavingDog, Error),
-        -41 | 5 => recipe(-1, ZLeavingDog, Error),
+        // §5.4.9(6)(g), (h): the dog cradle and last-Z dog types reverse at a stroke end ("when
+        // the movement is returned at the stroke end"); their CiA 402 twins 3–6 stop with AL. 90.
+        4 => recipe(1, ZAfterDogFrontEnd, Error),
+        6 => recipe(-1, ZAfterDogFrontEnd, Error),
+        -8 | 8 => recipe(1, ZAfterDogFrontEnd, Reverse),
+        -40 | 12 => recipe(-1, ZAfterDogFrontEnd, Reverse),
+        3 => recipe(1, ZLeavingDog, Error),
+        5 => recipe(-1, ZLeavingDog, Error),
+        -9 => recipe(1, ZLeavingDog, Reverse),
+        -41 => recipe(-1, ZLeavingDog, Reverse),
         7 => recipe(1, ZLeavingDog, Reverse),
         11 => recipe(-1, ZLeavingDog, Reverse),
         -11 => recipe(1, Z, Error),

@@ -401,6 +401,12 @@ mod tests {
         assert_eq!(run(-1, 70_000.0, &dog(), P).0, SearchEnd::Home(52_500.0));
         assert_eq!(run(7, 70_000.0, &dog(), P).0, SearchEnd::Home(22_500.0));
         assert_eq!(run(3, 70_000.0, &dog(), P).0, SearchEnd::Failed);
+        // The MR-J4-TM's own dog cradle and last-Z types reverse (§5.4.9(6)(g), (h)), where
+        // their CiA 402 twins 4 and 3 fail: the same homes as from below the dog.
+        assert_eq!(run(-8, 70_000.0, &dog(), P).0, SearchEnd::Home(32_500.0));
+        assert_eq!(run(4, 70_000.0, &dog(), P).0, SearchEnd::Failed);
+        assert_eq!(run(-9, 70_000.0, &dog(), P).0, SearchEnd::Home(22_500.0));
+        assert_eq!(run(-41, -70_000.0, &dog(), P).0, SearchEnd::Home(52_500.0));
         // No dog at all: both limits.
         let none = HomingSwitches {
             home_dog: None,

@@ -213,12 +213,16 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
     }
 
     #[test]
-    fn methods_the_manual_does_not_list_or_cellrt_does_not_emulate_are_refused_naming_the_key() {
+    fn methods_the_manual_does_not_list_are_refused_naming_the_key() {
         let e = refused("mr-j4-tm", "homing = { method = -17 }");
         assert_eq!(e.key, "axes[0].homing.method");
         assert!(e.message.contains("MR-J4") && e.message.contains("no homing method -17"));
-        let e = refused("mr-j4-tm", "homing = { method = -2 }");
-        assert!(e.message.contains("not emulated"), "{}", e.message);
+        // Every method the MR-J4-TM lists is emulated (§5.4.9(4)): the count and stopper
+        // types load.
+        for method in [-2, -4, 28] {
+            let extra = format!("homing = {{ method = {method} }}");
+            assert!(parse("mr-j4-tm", &extra).is_ok(), "{method}");
+        }
         let e = refused("mr-jet-g-n1", "homing = { method = 37 }");
         assert_eq!(e.key, "axes[0].homing.method");
         assert!(e.message.contains("§8.3"), "{}", e.message);

@@ -272,7 +272,9 @@ fn run_time_mode_switch(c: &OperatorClient) {
     let s = wait(c, "y in pp", |s| finished_ok(s, id));
     assert_eq!(axis_of(&s, "y").mode, "pp");
     assert_eq!(axis_of(&s, "y").mode_display, "pp");
-    accepted(request(
+    // A move of pp axes only is tracked: it ends when the drive reports its set-point done
+    // (Target reached), not when it is sent.
+    let id = match request(
         c,
         &Request::Move {
             targets: BTreeMap::from([("y".to_string(), 95.0)]),
@@ -283,11 +285,16 @@ fn run_time_mode_switch(c: &OperatorClient) {
             clamp: false,
             line: false,
         },
-    ));
-    wait(c, "y moved by its drive", |s| {
-        let y = axis_of(s, "y");
-        (y.position - 95.0).abs() <= 0.1 && y.velocity == 0.0
-    });
+    ) {
+        Reply::Accepted { id } => id,
+        r => panic!("{r:?}"),
+    };
+    let s = wait(c, "the move of y done", |s| finished_ok(s, id));
+    let y = axis_of(&s, "y");
+    assert!(
+        (y.position - 95.0).abs() <= 0.1,
+        "ended before the drive arrived: {y:?}"
+    );
     let r = rejected(request(
         c,
         &Request::Velocity {

@@ -224,3 +224,61 @@ fn halt(i: usize) -> ProfileCommand {
         start_cycle: 0,
     }
 }
+
+/// The drive-side motions a tracked command waits for: per axis, its ended and failed counts
+/// (the status' `profile_finished`, `profile_failed`) before the command was sent. The command
+/// ends once each axis has ended one more.
+#[derive(Debug, Default)]
+pub(crate) struct PendingProfile {
+    waiting: Option<(u64, Vec<EndsBefore>)>,
+}
+
+/// An axis and its ended and failed drive-side motions before a command: `(axis, ended,
+/// failed)`.
+type EndsBefore = (usize, u32, u32);
+
+impl PendingProfile {
+    /// Notes the counts of `commands`' axes in `before` (a status read before they are sent)
+    /// for command `id`.
+    pub(crate) fn expect(&mut self, id: u64, commands: &[ProfileCommand], before: &StatusSnapshot) {
+        let axes = commands
+            .iter()
+            .map(|c| usize::from(c.axis))
+            .filter_map(|i| {
+                before
+                    .live
+                    .get(i)
+                    .map(|l| (i, l.profile_finished, l.profile_failed))
+            })
+            .collect();
+        self.waiting = Some((id, axes));
+    }
+
+    /// Whether command `active` still waits for an axis; `Err(axis)` when one of its motions
+    /// was refused or cancelled. Forgets a command that is no longer the active one.
+    pub(crate) fn progress(
+        &mut self,
+        active: Option<u64>,
+        now: &StatusSnapshot,
+    ) -> Result<bool, usize> {
+        let Some((id, axes)) = &self.waiting else {
+            return Ok(false);
+        };
+        if Some(*id) != active {
+            self.waiting = None;
+            return Ok(false);
+        }
+        for &(i, finished, failed) in axes {
+            let l = &now.live[i];
+            if l.profile_failed != failed {
+                self.waiting = None;
+                return Err(i);
+            }
+            if l.profile_finished == finished {
+                return Ok(true);
+            }
+        }
+        self.waiting = None;
+        Ok(false)
+    }
+}

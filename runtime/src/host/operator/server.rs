@@ -61,9 +61,9 @@ pub struct OperatorServer {
     diag_client: Option<ActiveRequest>,
     /// The MR-JE-C axes the active move waits for.
     je_c_moves: je_c_requests::PendingMoves,
-    /// The active `mode` switch: its axis, and the axis' ended and failed drive-side command
-    /// counts when it was sent.
-    mode_switch: Option<(usize, u32, u32)>,
+    /// The drive-side motions the active command (a `move` of pp axes, a `mode` switch) waits
+    /// for.
+    profile_moves: profile::PendingProfile,
 }
 
 /// True if `axis` is in Operation enabled by its latest statusword.
@@ -110,7 +110,7 @@ impl OperatorServer {
             diag: DiagInFlight::default(),
             diag_client: None,
             je_c_moves: je_c_requests::PendingMoves::default(),
-            mode_switch: None,
+            profile_moves: profile::PendingProfile::default(),
         })
     }
 
@@ -143,8 +143,23 @@ impl OperatorServer {
             }
             Ok(running) => running,
         };
+        let status = ctx.link.status();
+        let profile_running = match status
+            .as_ref()
+            .map(|s| self.profile_moves.progress(active, s))
+        {
+            Ok(Err(i)) => {
+                let failure = self.profile_failure(ctx, i);
+                self.finish_active(Err(failure));
+                return;
+            }
+            Ok(Ok(running)) => running,
+            Err(_) => false,
+        };
         if self.active.as_ref().is_some_and(|a| a.command == "mode") {
-            self.follow_mode_switch(ctx);
+            if !profile_running {
+                self.finish_active(Ok(()));
+            }
             return;
         }
         if self.active.as_ref().is_some_and(|a| a.command == "home") {
@@ -167,7 +182,7 @@ impl OperatorServer {
             return;
         }
         match ctx.engine.tick(ctx.link) {
-            Ok(Progress::Finished(_) | Progress::Idle) if je_c_running => {}
+            Ok(Progress::Finished(_) | Progress::Idle) if je_c_running || profile_running => {}
             Ok(Progress::Finished(_)) => self.finish_active(Ok(())),
             Ok(Progress::Idle) => {
                 if self
@@ -183,28 +198,21 @@ impl OperatorServer {
         }
     }
 
-    /// Ends the active `mode` command once its axis' switch has ended (its drive-side command
-    /// count moved on), with the RT thread's verdict.
-    fn follow_mode_switch(&mut self, ctx: &mut Context<'_>) {
-        let (Some((i, finished, failed)), Ok(s)) = (self.mode_switch, ctx.link.status()) else {
-            return;
-        };
-        let live = &s.live[i];
-        if live.profile_finished == finished {
-            return;
-        }
-        self.mode_switch = None;
+    /// Why the active command's drive-side motion on axis `i` failed.
+    fn profile_failure(&self, ctx: &mut Context<'_>, i: usize) -> String {
         let axis = &ctx.cell.axes[i].name;
-        let r = if live.profile_failed != failed {
-            Err(format!(
+        if self.active.as_ref().is_some_and(|a| a.command == "mode") {
+            let now = ctx
+                .link
+                .status()
+                .map_or(ctx.cell.axes[i].mode, |s| s.mode_now(ctx.cell, i));
+            return format!(
                 "axis '{axis}' stays in {}: the RT thread refused the switch (the cell was not idle, or the axis not at rest in Operation enabled) or withdrew it (6061h did not show the mode within {:?}, or the drive faulted); see the events",
-                s.mode_now(ctx.cell, i).as_str(),
+                now.as_str(),
                 crate::rt::executive::MODE_SWITCH_TIMEOUT
-            ))
-        } else {
-            Ok(())
-        };
-        self.finish_active(r);
+            );
+        }
+        format!("axis '{axis}': its drive-side move was refused or cancelled (see the events)")
     }
 
     /// Answers every pending request; returns what the caller must do next.

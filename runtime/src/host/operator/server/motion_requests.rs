@@ -119,7 +119,7 @@ impl OperatorServer {
             Err(e) => return rejected(format!("move: {e}")),
         };
         let reply = if streamed.is_empty() {
-            (self.accept("move", false), Followup::None)
+            (self.accept("move", !commands.is_empty()), Followup::None)
         } else {
             let r = self.motion("move", MotionRequest::Move(streamed), ctx);
             if matches!(r.0, Reply::Rejected { .. }) {
@@ -127,11 +127,18 @@ impl OperatorServer {
             }
             r
         };
+        // The move ends when the pp axes' drives report their set-points done, too.
+        if let (Reply::Accepted { id }, Ok(before)) = (&reply.0, ctx.link.status()) {
+            self.profile_moves.expect(*id, &commands, &before);
+        }
         // The pp axes start in the streamed motion's first cycle.
         let start = ctx.engine.start_cycle().unwrap_or(0);
         match profile::send(ctx.link, commands, start) {
             Ok(()) => reply,
-            Err(e) => rejected(format!("move: {e}")),
+            Err(e) => {
+                self.finish_active(Err(e.clone()));
+                rejected(format!("move: {e}"))
+            }
         }
     }
 
@@ -373,16 +380,14 @@ impl OperatorServer {
             ));
         }
         let reply = self.accept("mode", true);
-        self.mode_switch = Some((
-            i,
-            state.live[i].profile_finished,
-            state.live[i].profile_failed,
-        ));
         let command = ProfileCommand {
             axis: i as u16,
             motion: ProfileMotion::SwitchMode(to),
             start_cycle: 0,
         };
+        if let Reply::Accepted { id } = reply {
+            self.profile_moves.expect(id, &[command], state);
+        }
         match profile::send(ctx.link, vec![command], 0) {
             Ok(()) => (reply, Followup::None),
             Err(e) => {

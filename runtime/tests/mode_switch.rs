@@ -19,8 +19,9 @@ const IN_POSITION: i32 = 100;
 /// Controlword bit 4 (new set-point in pp).
 const NEW_SET_POINT: u16 = 1 << 4;
 
-const CSP: i8 = ModeOfOperation::CyclicSyncPosition.as_i8();
-const PP: i8 = ModeOfOperation::ProfilePosition.as_i8();
+/// 6060h values (CiA 402; MR-J5-G-N1 manual §7.4): csp 8, pp 1.
+const CSP: i8 = 8;
+const PP: i8 = 1;
 
 /// The motor of the MR-J5 and MR-JET axes: 10 mm/rev at 10000 counts/rev, rated 3000 r/min.
 const MOTOR: &str = "motor = { counts_per_rev = 10000, rated_speed = 3000 }";

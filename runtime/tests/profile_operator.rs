@@ -89,6 +89,19 @@ fn cycle_of(line: &str) -> u64 {
         .unwrap_or(u64::MAX)
 }
 
+/// An absolute move of `targets` at `velocity` (the axes' limits where `None`).
+fn move_to(targets: BTreeMap<String, f64>, velocity: Option<f64>) -> Request {
+    Request::Move {
+        targets,
+        relative: false,
+        velocity,
+        acceleration: None,
+        jerk: None,
+        clamp: false,
+        line: false,
+    }
+}
+
 fn accepted(r: Reply) {
     assert!(matches!(r, Reply::Accepted { .. }), "{r:?}");
 }
@@ -145,18 +158,7 @@ fn operator_commands_and_program_steps_drive_profile_axes() {
 
     // One move: the pp axis by its drive, the csp axis streamed.
     let targets = BTreeMap::from([("p".to_string(), 130.0), ("y".to_string(), 80.0)]);
-    accepted(request(
-        &c,
-        &Request::Move {
-            targets,
-            relative: false,
-            velocity: Some(50.0),
-            acceleration: None,
-            jerk: None,
-            clamp: false,
-            line: false,
-        },
-    ));
+    accepted(request(&c, &move_to(targets, Some(50.0))));
     let s = wait(&c, "both axes at their targets", |s| {
         let (p, y) = (axis_of(s, "p"), axis_of(s, "y"));
         s.state == "idle"
@@ -220,15 +222,7 @@ fn operator_commands_and_program_steps_drive_profile_axes() {
     assert!(r.contains("'p'") && r.contains("pp"), "{r}");
     let r = rejected(request(
         &c,
-        &Request::Move {
-            targets: BTreeMap::from([("v".to_string(), 120.0)]),
-            relative: false,
-            velocity: None,
-            acceleration: None,
-            jerk: None,
-            clamp: false,
-            line: false,
-        },
+        &move_to(BTreeMap::from([("v".to_string(), 120.0)]), None),
     ));
     assert!(r.contains("'v'") && r.contains("pv"), "{r}");
     let r = rejected(request(
@@ -276,15 +270,7 @@ fn run_time_mode_switch(c: &OperatorClient) {
     // (Target reached), not when it is sent.
     let id = match request(
         c,
-        &Request::Move {
-            targets: BTreeMap::from([("y".to_string(), 95.0)]),
-            relative: false,
-            velocity: Some(40.0),
-            acceleration: None,
-            jerk: None,
-            clamp: false,
-            line: false,
-        },
+        &move_to(BTreeMap::from([("y".to_string(), 95.0)]), Some(40.0)),
     ) {
         Reply::Accepted { id } => id,
         r => panic!("{r:?}"),
@@ -476,15 +462,10 @@ fn the_override_reaches_the_drives_of_profile_axes() {
     };
     accepted(request(
         &c,
-        &Request::Move {
-            targets: BTreeMap::from([("p".to_string(), 300.0), ("q".to_string(), 300.0)]),
-            relative: false,
-            velocity: Some(40.0),
-            acceleration: None,
-            jerk: None,
-            clamp: false,
-            line: false,
-        },
+        &move_to(
+            BTreeMap::from([("p".to_string(), 300.0), ("q".to_string(), 300.0)]),
+            Some(40.0),
+        ),
     ));
     wait(&c, "both at 40 mm/s", |s| {
         both(s, &|a| (a.velocity - 40.0).abs() < 0.5)

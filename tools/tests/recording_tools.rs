@@ -609,6 +609,17 @@ sim = {{ initial_position = 100.0 }}
     )
 }
 
+/// A 1 ms cell of `axes` (each from [`profile_axis`]) that runs `program.toml`, with the
+/// overrun watchdog off and a long planner lookahead.
+fn profile_cell(axes: &[String]) -> String {
+    format!(
+        "[cell]\nname = \"{}\"\ncycle_time_us = 1000\nprogram = \"program.toml\"\n\
+         [watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{}",
+        common::unique_cell_name(),
+        axes.concat(),
+    )
+}
+
 /// The profile objects replay: pp, pv and tq axes on the MR-J5-G-N1 (6081h, 6083h, 6084h, 6087h
 /// written by SDO) and on the MR-J4-TM in its profile mode group (the same objects in its
 /// 1601h, sent every cycle) run a program beside a csp axis, and the recording replays
@@ -618,10 +629,7 @@ fn a_recording_of_profile_axes_replays_bit_identically() {
     const J5: &str = "drive = \"mr-j5-g-n1\"";
     const J4: &str = "drive = \"mr-j4-tm\"\nmode_group = \"profile\"";
     let dir = tempfile::tempdir().unwrap();
-    let config = format!(
-        "[cell]\nname = \"{}\"\ncycle_time_us = 1000\nprogram = \"program.toml\"\n\
-         [watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{}{}{}{}{}{}{}",
-        common::unique_cell_name(),
+    let config = profile_cell(&[
         profile_axis("x", "csp", J5),
         profile_axis("p", "pp", J5),
         profile_axis("v", "pv", J5),
@@ -629,7 +637,7 @@ fn a_recording_of_profile_axes_replays_bit_identically() {
         profile_axis("q", "pp", J4),
         profile_axis("w", "pv", J4),
         profile_axis("u", "tq", J4),
-    );
+    ]);
     const PROGRAM: &str = r#"
 [[step]]
 do = "power_on"
@@ -698,12 +706,7 @@ do = "power_off"
 fn a_recording_with_a_run_time_mode_switch_replays_bit_identically() {
     const J5: &str = "drive = \"mr-j5-g-n1\"";
     let dir = tempfile::tempdir().unwrap();
-    let config = format!(
-        "[cell]\nname = \"{}\"\ncycle_time_us = 1000\nprogram = \"program.toml\"\n\
-         [watchdogs]\nmax_consecutive_overruns = 0\n[setpoints]\nlookahead_ms = 1000\n{}",
-        common::unique_cell_name(),
-        profile_axis("x", "csp", J5),
-    );
+    let config = profile_cell(&[profile_axis("x", "csp", J5)]);
     const PROGRAM: &str = r#"
 [[step]]
 do = "power_on"

@@ -208,3 +208,30 @@ fn bad_je_c_keys_are_named() {
     let twice = mixed().replace("name = \"outfeed\"", "name = \"infeed\"");
     refused(parse(&twice), "axes[3].name", "duplicate");
 }
+
+/// The tq command of the mixed cell's outfeed in the drive's units (MR-JE-C manual §7.3): 6071h
+/// and 6087h in 0.1 % (of rated torque, per second), 2D20h in 0.01 r/min. 8 % → 80; the
+/// default slope 1000 %/s → 10000; 150 mm/s at 1310.72 pos units/mm and 131072 pos units/rev
+/// is 1.5 rev/s = 90 r/min → 9000. Beyond limits.torque (20 %), and NaN, are refused.
+#[test]
+fn a_je_c_torque_command_carries_the_manuals_units() {
+    use cellrt_axes::mr_je_c::cell::AxisCommand;
+    let c = parse(&mixed()).unwrap();
+    let outfeed = &c.je_c_axes[1];
+    assert_eq!(
+        outfeed.torque_command(8.0),
+        Ok(AxisCommand::Torque {
+            torque: 80,
+            slope: 10_000,
+            velocity_limit: 9_000,
+        })
+    );
+    assert_eq!(outfeed.speed_limit(), 9_000);
+    for bad in [20.5, -21.0, f64::NAN, f64::INFINITY] {
+        let e = outfeed.torque_command(bad).unwrap_err();
+        assert!(e.contains("outside the torque limit ±20 %"), "{bad}: {e}");
+    }
+    // The infeed has no limits.torque.
+    let e = c.je_c_axes[0].torque_command(5.0).unwrap_err();
+    assert!(e.contains("needs limits.torque"), "{e}");
+}

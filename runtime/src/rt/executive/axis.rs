@@ -24,6 +24,8 @@ pub struct AxisLimitsCounts {
     pub position_min: f64,
     /// Highest allowed setpoint, counts.
     pub position_max: f64,
+    /// The axis' velocity limit, counts/s.
+    pub velocity: f64,
     /// Largest allowed setpoint change per cycle, counts (velocity limit × period, plus
     /// [`STEP_TOLERANCE`]).
     pub max_step: f64,
@@ -43,6 +45,7 @@ impl AxisLimitsCounts {
         AxisLimitsCounts {
             position_min: axis.position.min * s,
             position_max: axis.position.max * s,
+            velocity: axis.limits.velocity * s,
             max_step: axis.limits.velocity * s * period * (1.0 + STEP_TOLERANCE) + 1e-6,
             stop_deceleration: axis.stop_deceleration * s,
             stop_jerk: axis.stop_jerk * s,
@@ -266,6 +269,11 @@ impl AxisChannel {
             .clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32
     }
 
+    /// A csp axis a run-time mode switch left in pp (it has the pp plan and runs a profile).
+    pub fn switched_to_pp(&self) -> bool {
+        self.pp_switch.is_some() && self.profile.is_some()
+    }
+
     /// Follows the drive's actual position (while not enabled: no jump at enable).
     pub fn track_actual(&mut self) {
         self.setpoint = f64::from(self.feedback.position_actual);
@@ -439,6 +447,7 @@ mod tests {
             limits: AxisLimitsCounts {
                 position_min: -1e12,
                 position_max: 1e12,
+                velocity: 1e12,
                 max_step: 1e12,
                 stop_deceleration: decel,
                 stop_jerk: jerk,

@@ -43,9 +43,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     Some(HomingFailure::MethodRefused)
                 }
                 // Switched to pp at run time: the sequencer would return it to csp.
-                HomeProcedure::HomingMode(_)
-                    if self.axes[axis].pp_switch.is_some() && self.axes[axis].profile.is_some() =>
-                {
+                HomeProcedure::HomingMode(_) if self.axes[axis].switched_to_pp() => {
                     Some(HomingFailure::MethodRefused)
                 }
                 HomeProcedure::HomingMode(method) => {

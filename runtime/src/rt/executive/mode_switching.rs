@@ -39,11 +39,10 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         let idle = self.state == CellState::Idle
             && self.profile_pending.get(i).is_some_and(Option::is_none);
         let timeout = (MODE_SWITCH_TIMEOUT.as_nanos() / u128::from(self.period_ns.max(1))).max(1);
-        let velocity_limit = self.axes.get(i).map_or(0.0, |ch| ch.limits.max_step) / self.period_s;
         let Some(ch) = self.axes.get_mut(i) else {
             return false;
         };
-        let in_pp = ch.profile.is_some();
+        let in_pp = ch.switched_to_pp();
         let ready = idle
             && ch.powered
             && ch.master.is_enabled()
@@ -57,7 +56,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         }
         let zero_speed = ch
             .drive_units
-            .velocity_to_drive(velocity_limit * ZERO_SPEED_SHARE)
+            .velocity_to_drive(ch.limits.velocity * ZERO_SPEED_SHARE)
             .map_or(0, |v| v.unsigned_abs());
         let params = ModeSwitchParams {
             timeout: cellrt_axes::Cycles(u32::try_from(timeout).unwrap_or(u32::MAX)),
@@ -84,6 +83,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
     pub(super) fn mode_switch_outputs(&mut self, i: usize, rx: &mut RxPdo) {
         let feed = f64::from(self.feed_permille) / 1000.0;
         let ch = &mut self.axes[i];
+        if ch.mode_switch.is_none() {
+            return;
+        }
         // The switch works in the drive's coordinates (607Ah, 6064h raw).
         let mut tx = ch.feedback;
         tx.position_actual = ch.to_raw(tx.position_actual);

@@ -284,8 +284,20 @@ pub fn config() -> Config {
     config
 }
 
+/// The level of iceoryx2's own log on stderr unless `IOX2_LOG_LEVEL` says otherwise: its
+/// warnings are not the operator's (e.g. it falls back to its default config while it cleans
+/// up a node another process left behind), and a command's error must stay one line.
+pub const ICEORYX2_LOG_LEVEL: LogLevel = LogLevel::Error;
+
+/// Sets iceoryx2's log level once per process: [`ICEORYX2_LOG_LEVEL`] or `IOX2_LOG_LEVEL`.
+pub fn quiet_iceoryx2_log() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| set_log_level_from_env_or(ICEORYX2_LOG_LEVEL));
+}
+
 /// Creates an iceoryx2 node for one thread of a cell (ports are not `Send`).
 pub fn node(cell: &str, role: &str) -> Result<Node<ipc::Service>, ServiceError> {
+    quiet_iceoryx2_log();
     crate::runtime_dir::ensure().map_err(|e| ServiceError {
         what: "runtime directory",
         cell: cell.to_string(),
@@ -585,4 +597,38 @@ pub fn operator_status_subscriber(
         .subscriber_builder()
         .create()
         .map_err(|e| service_error("operator status subscriber", cell, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CHILD: &str = "CELLRT_ICEORYX2_LOG_CHILD";
+
+    /// iceoryx2 falls back to its global config (and warns on stderr) when it cleans up a node
+    /// another process left behind; after a cell's first node that warning must not reach a
+    /// command's stderr. Run in a child process: the log level is per process.
+    #[test]
+    fn iceoryx2_warnings_stay_off_stderr_after_the_first_node() {
+        if std::env::var_os(CHILD).is_some() {
+            let cell = format!("iox-log-{}", std::process::id());
+            let _node = node(&cell, "probe").expect("node");
+            let _ = Config::global_config();
+            return;
+        }
+        let out = std::process::Command::new(std::env::current_exe().unwrap())
+            .args([
+                "services::tests::iceoryx2_warnings_stay_off_stderr_after_the_first_node",
+                "--exact",
+                "--nocapture",
+                "--test-threads=1",
+            ])
+            .env(CHILD, "1")
+            .env_remove("IOX2_LOG_LEVEL")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "child failed: {err}");
+        assert!(!err.contains("Config::global_config()"), "{err}");
+    }
 }

@@ -1,7 +1,9 @@
 //! An MR-JE-C axis of a cell on its own thread against the emulator on loopback, over each
 //! transport: power on, a pp move to the target (the drive's position there, Target reached),
-//! a pv velocity and halt, a homing, a tq torque within the speed limit and its halt; a cut link stops the axis by the master's watchdog and the drive by
-//! its own time-out (AL. 86.4 from [Pr. PN10], AL. 86.1 from [Pr. PN02]).
+//! a pv velocity and halt, a homing, a tq torque within the speed limit and its halt, point
+//! tables, a jog and a station in the positioning modes; a cut link stops the axis by the
+//! master's watchdog and the drive by its own time-out (AL. 86.4 from [Pr. PN10], AL. 86.1
+//! from [Pr. PN02]).
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::time::{Duration, Instant};
@@ -11,13 +13,14 @@ use cellrt_axes::cclink_ief_basic::master::{GroupMaster, MasterParams};
 use cellrt_axes::modbus::client::TcpClient;
 use cellrt_axes::modbus::serial::{LineSettings, RtuClient};
 use cellrt_axes::mr_je_c::cell::{
-    AxisCommand, AxisControl, AxisHandle, AxisThread, CyclicDriveIo, DriveIo, ObjectIo,
-    StopReaction, Stopped,
+    AxisCommand, AxisControl, AxisHandle, AxisThread, CyclicDriveIo, DeviceTable, DriveIo,
+    ObjectIo, PositioningMode, StopReaction, Stopped,
 };
+use cellrt_axes::mr_je_c::emulator::cyclic::LinkLayout;
 use cellrt_axes::mr_je_c::emulator::rs485::Rs485Line;
 use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
 use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
-use cellrt_axes::mr_je_c::parameters::{PN02, PN10};
+use cellrt_axes::mr_je_c::parameters::{PN02, PN10, PT28};
 use cellrt_axes::mr_je_c::{Alarm, ObjectId, OverModbus, Value};
 use cellrt_axes::slmp::client::{FrameType, SlmpClient};
 use serialport::TTYPort;
@@ -159,17 +162,22 @@ fn a_homing_error_fails_the_home_job() {
     assert!(f.enabled && f.inputs.statusword & (1 << 13) != 0, "{f:?}");
 }
 
-#[test]
-fn cclink_axis_moves_and_a_cut_link_raises_al_86_1() {
-    let s = server();
+/// The cyclic exchange with `s`'s drive, start-up writes by SLMP beside it.
+fn cclink_io(s: &Server) -> CyclicDriveIo {
     let local = SocketAddr::new(LOOPBACK, 0);
     let master = GroupMaster::new(local, s.cclink, &[LOOPBACK], MasterParams::default()).unwrap();
     let slmp = SlmpClient::udp(s.slmp_udp, FrameType::E4, TIMEOUT).unwrap();
     let mut slmp = ObjectIo::new(slmp);
-    let io = CyclicDriveIo::new(
+    CyclicDriveIo::new(
         CyclicIo::new(master),
         Some(Box::new(move |id, v| slmp.write_object(id, v))),
-    );
+    )
+}
+
+#[test]
+fn cclink_axis_moves_and_a_cut_link_raises_al_86_1() {
+    let s = server();
+    let io = cclink_io(&s);
     // [Pr. PN02] 100 ms.
     let t = moves(
         Box::new(io),
@@ -193,4 +201,85 @@ fn modbus_rtu_axis_moves_over_a_pty() {
     assert_eq!(t.handle.feedback().missed, 0);
     drop(t);
     line.stop();
+}
+
+/// Point tables 1 and 2 (2801h/2802h: position, speed 0.01 r/min, ramps ms) and [Pr. PT28]
+/// = 8 stations, written at start-up.
+fn positioning_parameters() -> Vec<(ObjectId, Value)> {
+    let mut p = Vec::new();
+    for (index, position, speed, ramp) in [
+        (0x2801, 262_144, 120_000, 200),
+        (0x2802, -131_072, 60_000, 100),
+    ] {
+        p.push((ObjectId::new(index, 1), Value::I32(position)));
+        p.push((ObjectId::new(index, 2), Value::I32(speed)));
+        p.push((ObjectId::new(index, 3), Value::I32(ramp)));
+        p.push((ObjectId::new(index, 4), Value::I32(ramp)));
+    }
+    p.push((ObjectId::new(PT28.index(), 0), Value::U32(8)));
+    p
+}
+
+/// pt: tables 1 and 2 run to their positions (Target reached, within 100 pos units), table 2
+/// again where the axis stands ends too; jg in reverse runs at 6081h until Halt; idx turns to
+/// station 3 (6064h in stations).
+fn positions(io: Box<dyn DriveIo>) {
+    let control = AxisControl::new(5, StopReaction::QuickStop)
+        .starting_in_positioning(PositioningMode::PointTable);
+    let t = AxisThread::start("x", io, &positioning_parameters(), control, PERIOD).unwrap();
+    let h = t.handle.clone();
+    assert!(h.command(AxisCommand::PowerOn));
+    wait(&h, "enabled", |f| f.enabled);
+    for (n, (table, at)) in [(1, 262_144), (2, -131_072), (2, -131_072)]
+        .into_iter()
+        .enumerate()
+    {
+        assert!(h.command(AxisCommand::PointTable { table }));
+        wait(&h, "point table done", |f| f.done == n as u32 + 1);
+        let f = h.feedback();
+        assert_eq!(f.failed, 0, "{f:?}");
+        assert!(
+            (f.inputs.position - at).abs() <= 100,
+            "table {table}: {f:?}"
+        );
+        assert!(f.inputs.statusword & (1 << 10) != 0);
+    }
+    assert!(h.command(AxisCommand::Jog {
+        velocity: 60_000,
+        reverse: true,
+        acceleration_ms: 100,
+        deceleration_ms: 100,
+    }));
+    wait(&h, "jogging in reverse", |f| f.inputs.velocity <= -59_000);
+    assert!(h.command(AxisCommand::Halt));
+    wait(&h, "jog halted", |f| f.done == 5 && f.inputs.velocity == 0);
+    assert!(h.command(AxisCommand::Station {
+        station: 3,
+        velocity: 60_000,
+        acceleration_ms: 100,
+        deceleration_ms: 100,
+    }));
+    wait(&h, "station reached", |f| f.done == 6);
+    let f = h.feedback();
+    assert_eq!((f.failed, f.inputs.position), (0, 3), "{f:?}");
+}
+
+#[test]
+fn slmp_axis_runs_point_tables_a_jog_and_a_station() {
+    let s = server();
+    let client = SlmpClient::udp(s.slmp_udp, FrameType::E4, TIMEOUT).unwrap();
+    positions(Box::new(ObjectIo::new(client)));
+}
+
+/// The same over the cyclic link with the devices of Table 2.3 on both ends.
+#[test]
+fn cclink_axis_runs_point_tables_on_the_devices_of_table_2_3() {
+    let params = MrJeCParams {
+        link_layout: LinkLayout::Positioning,
+        ..MrJeCParams::default()
+    };
+    let s = Server::start(MrJeC::new(params), LOOPBACK, Ports::ANY).unwrap();
+    positions(Box::new(
+        cclink_io(&s).with_devices(DeviceTable::Positioning),
+    ));
 }

@@ -7,7 +7,10 @@
 //! drive at 6087h, §7.6.3; the manual gives tq no Target reached, so the job is done once the
 //! ramp's time |Δ6071h| / 6087h has passed, and a Halt in tq once the ramp to 0 has), Halt
 //! (bit 8), fault reset (bit 7 edge), and the master's communication watchdog: `limit` exchanges in a row without an
-//! answer stop the axis with the configured reaction.
+//! answer stop the axis with the configured reaction. In the positioning modes (SW A4+,
+//! §7.6.3): a point table (pt) or a station (idx) started by a bit 4 edge with 2D60h, and a jog
+//! (jg) that runs while bit 4 is on; pt and idx have no Set-point acknowledge, so their job is
+//! judged by Target reached ([`START_GRACE`]).
 
 use super::io::{ExchangeError, Inputs, Outputs};
 use crate::cia402::fsa::FsaState;
@@ -21,6 +24,23 @@ const PV: i8 = 3;
 const TQ: i8 = 4;
 /// 6060h hm.
 const HM: i8 = 6;
+/// 6060h jg (SW A4+).
+const JG: i8 = -100;
+/// 6060h pt (SW A4+).
+const PT: i8 = -101;
+/// 6060h idx (SW A4+).
+const IDX: i8 = -103;
+/// Controlword bit 6 at the New set-point edge in jg: the reverse direction. The manual does
+/// not say how jg picks the direction (6081h is unsigned, bits 5 and 6 are "operation mode
+/// specific", §7.3): the emulator's choice ([`crate::mr_je_c::emulator::jog::REVERSE`]), a
+/// named parameter to check against a real drive.
+pub const JOG_REVERSE: u16 = crate::mr_je_c::emulator::jog::REVERSE;
+/// Exchanges after a pt or idx start edge in which Target reached may stay on before the
+/// positioning counts as done with nothing to move (the axis stood at the table's position or
+/// station). pt and idx have no Set-point acknowledge (§7.4), so a start that moves is seen
+/// by Target reached going off; the drive answers within 10 ms (§2.2.1), one exchange, and
+/// this allows two more.
+pub const START_GRACE: u8 = 3;
 /// Controlword bit 4: New set-point in pp, Homing Operation Start in hm.
 const NEW_SET_POINT: u16 = 1 << 4;
 const HALT: u16 = 1 << 8;
@@ -71,6 +91,36 @@ pub enum AxisCommand {
         /// 2D20h.
         velocity_limit: u32,
     },
+    /// pt: run point table `table` (2D60h, 1–255) to its position at its own speed and ramps
+    /// (2801h–28FFh); done at Target reached.
+    PointTable {
+        /// 2D60h.
+        table: i16,
+    },
+    /// idx: turn to station `station` (2D60h, 0 … [Pr. PT28] − 1) at `velocity` with the
+    /// ramps; done at Target reached. The Halt bit is disabled in idx (§7.6.3).
+    Station {
+        /// 2D60h.
+        station: i16,
+        /// 6081h, 0.01 r/min.
+        velocity: u32,
+        /// 6083h, ms.
+        acceleration_ms: u32,
+        /// 6084h, ms.
+        deceleration_ms: u32,
+    },
+    /// jg: run at `velocity` (6081h, 0.01 r/min) forward, or in reverse ([`JOG_REVERSE`]),
+    /// while bit 4 is on; the job is done when a Halt ends it.
+    Jog {
+        /// 6081h.
+        velocity: u32,
+        /// The address-decreasing direction.
+        reverse: bool,
+        /// 6083h, ms.
+        acceleration_ms: u32,
+        /// 6084h, ms.
+        deceleration_ms: u32,
+    },
     /// Home in hm with the drive's method (6098h; the MR-JE-C's default 37 sets the home
     /// where the motor stands): done at Homing attained, failed at Homing error.
     Home,
@@ -118,6 +168,41 @@ enum Job {
     Homing,
     /// tq: exchanges left of the drive's torque ramp (to the target, or to 0 under Halt).
     TorqueRamp(u32),
+    /// pt/idx: 2D60h out with bit 4 off, the start edge next exchange.
+    PositioningPrepare,
+    /// pt/idx: bit 4 on; `left`: Target reached has gone off since the edge; `standing`:
+    /// answers with it on before it did.
+    Positioning {
+        left: bool,
+        standing: u8,
+    },
+    /// jg: the speed and direction out with bit 4 off, bit 4 on next exchange.
+    JogPrepare,
+    /// jg: bit 4 on until a Halt.
+    Jogging,
+}
+
+/// The positioning mode an MR-JE-C axis of a cell runs in (SW A4+; Table 2.3 on the cyclic
+/// link).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PositioningMode {
+    /// jg, 6060h = −100.
+    Jog,
+    /// pt, 6060h = −101.
+    PointTable,
+    /// idx, 6060h = −103.
+    Indexer,
+}
+
+impl PositioningMode {
+    /// Its 6060h value.
+    pub const fn value(self) -> i8 {
+        match self {
+            PositioningMode::Jog => JG,
+            PositioningMode::PointTable => PT,
+            PositioningMode::Indexer => IDX,
+        }
+    }
 }
 
 /// The controller's state of one axis.
@@ -126,6 +211,8 @@ pub struct AxisControl {
     out: Outputs,
     want_on: bool,
     job: Job,
+    /// jg's direction, on bit 6 with bit 4.
+    jog_reverse: bool,
     halted: bool,
     reset: u8,
     limit: u32,
@@ -157,6 +244,7 @@ impl AxisControl {
             },
             want_on: false,
             job: Job::Idle,
+            jog_reverse: false,
             halted: false,
             reset: 0,
             limit,
@@ -204,6 +292,12 @@ impl AxisControl {
         self
     }
 
+    /// The same, starting in the positioning mode `mode`.
+    pub fn starting_in_positioning(mut self, mode: PositioningMode) -> AxisControl {
+        self.out.mode = mode.value();
+        self
+    }
+
     /// Whether a job runs.
     pub fn busy(&self) -> bool {
         self.job != Job::Idle
@@ -226,6 +320,9 @@ impl AxisControl {
             AxisCommand::Move { .. }
                 | AxisCommand::Velocity { .. }
                 | AxisCommand::Torque { .. }
+                | AxisCommand::PointTable { .. }
+                | AxisCommand::Station { .. }
+                | AxisCommand::Jog { .. }
                 | AxisCommand::Home
         );
         if moving && (self.stopped.is_some() || !self.want_on) {
@@ -236,7 +333,7 @@ impl AxisControl {
             // A halt ends a velocity job as asked, a torque command a torque ramp; anything
             // else cuts the job short.
             let replaced = match c {
-                AxisCommand::Halt => self.job == Job::Velocity,
+                AxisCommand::Halt => matches!(self.job, Job::Velocity | Job::Jogging),
                 AxisCommand::Torque { .. } => matches!(self.job, Job::TorqueRamp(_)),
                 _ => false,
             };
@@ -289,6 +386,37 @@ impl AxisControl {
                 self.out.torque_slope = slope;
                 self.out.velocity_limit = velocity_limit;
                 self.job = Job::TorqueRamp(self.ramp_exchanges(from, torque, slope));
+            }
+            AxisCommand::PointTable { table } => {
+                self.out.mode = PT;
+                self.out.target_point_table = Some(table);
+                self.job = Job::PositioningPrepare;
+            }
+            AxisCommand::Station {
+                station,
+                velocity,
+                acceleration_ms,
+                deceleration_ms,
+            } => {
+                self.out.mode = IDX;
+                self.out.target_point_table = Some(station);
+                self.out.profile_velocity = velocity;
+                self.out.acceleration_ms = acceleration_ms;
+                self.out.deceleration_ms = deceleration_ms;
+                self.job = Job::PositioningPrepare;
+            }
+            AxisCommand::Jog {
+                velocity,
+                reverse,
+                acceleration_ms,
+                deceleration_ms,
+            } => {
+                self.out.mode = JG;
+                self.out.profile_velocity = velocity;
+                self.out.acceleration_ms = acceleration_ms;
+                self.out.deceleration_ms = deceleration_ms;
+                self.jog_reverse = reverse;
+                self.job = Job::JogPrepare;
             }
             AxisCommand::Home => {
                 self.out.mode = HM;
@@ -366,7 +494,10 @@ impl AxisControl {
 
     fn advance_job(&mut self, sw: u16, state: Option<FsaState>) {
         if self.job != Job::Idle && state != Some(FsaState::OperationEnabled) {
-            if matches!(self.job, Job::Prepare | Job::HomePrepare) {
+            if matches!(
+                self.job,
+                Job::Prepare | Job::HomePrepare | Job::PositioningPrepare | Job::JogPrepare
+            ) {
                 return; // waits for the power sequence
             }
             self.end(false);
@@ -388,6 +519,34 @@ impl AxisControl {
             Job::Homing => {}
             Job::TorqueRamp(0 | 1) => self.end(true),
             Job::TorqueRamp(n) => self.job = Job::TorqueRamp(n - 1),
+            Job::PositioningPrepare => {
+                self.job = Job::Positioning {
+                    left: false,
+                    standing: 0,
+                }
+            }
+            // The answer to the exchange that carried the start edge, or bit 4 held after it.
+            Job::Positioning { left, standing } => {
+                let reached = sw & TARGET_REACHED != 0;
+                match (reached, left) {
+                    (true, true) => self.end(true),
+                    (true, false) if standing + 1 >= START_GRACE => self.end(true),
+                    (true, false) => {
+                        self.job = Job::Positioning {
+                            left,
+                            standing: standing + 1,
+                        }
+                    }
+                    (false, _) => {
+                        self.job = Job::Positioning {
+                            left: true,
+                            standing,
+                        }
+                    }
+                }
+            }
+            Job::JogPrepare => self.job = Job::Jogging,
+            Job::Jogging => {}
         }
     }
 
@@ -418,7 +577,10 @@ impl AxisControl {
         };
         let halt = if self.halted { HALT } else { 0 };
         match self.job {
-            Job::Start | Job::Homing => base | NEW_SET_POINT | halt,
+            Job::Start | Job::Homing | Job::Positioning { .. } => base | NEW_SET_POINT | halt,
+            Job::Jogging if self.jog_reverse => base | NEW_SET_POINT | JOG_REVERSE | halt,
+            Job::Jogging => base | NEW_SET_POINT | halt,
+            Job::JogPrepare if self.jog_reverse => base | JOG_REVERSE | halt,
             _ => base | halt,
         }
     }
@@ -483,5 +645,91 @@ mod tests {
             "the torque command releases Halt"
         );
         assert_eq!((c.done, c.failed), (4, 0));
+    }
+
+    fn answer(statusword: u16) -> Result<Inputs, ExchangeError> {
+        Ok(Inputs {
+            statusword,
+            ..Inputs::default()
+        })
+    }
+
+    /// pt: 2D60h and 6060h = −101 out with bit 4 off, then bit 4 held; done when Target
+    /// reached comes back after going off, or after [`START_GRACE`] answers with it on (the
+    /// axis stood at the table's position). Bit 4 drops when the job ends, for the next edge.
+    #[test]
+    fn a_point_table_start_is_an_edge_and_ends_at_target_reached() {
+        let mut c = AxisControl::new(0, StopReaction::Halt)
+            .starting_in_positioning(PositioningMode::PointTable);
+        assert_eq!(c.outputs().mode, -101);
+        assert!(c.command(AxisCommand::PowerOn));
+        c.step(answer(0x0637));
+        assert!(c.command(AxisCommand::PointTable { table: 7 }));
+        let o = c.outputs();
+        assert_eq!((o.mode, o.target_point_table), (-101, Some(7)));
+        assert_eq!(o.controlword & NEW_SET_POINT, 0, "prepared with bit 4 off");
+        c.step(answer(0x0637));
+        assert_eq!(c.outputs().controlword, 0x001F, "the edge");
+        c.step(answer(0x0237)); // moving: Target reached off
+        c.step(answer(0x0237));
+        assert!(c.busy());
+        assert_eq!(c.outputs().controlword, 0x001F, "bit 4 held");
+        c.step(answer(0x0637));
+        assert_eq!((c.busy(), c.done), (false, 1));
+        assert_eq!(c.outputs().controlword, 0x000F);
+        // Already there: Target reached never goes off.
+        assert!(c.command(AxisCommand::PointTable { table: 7 }));
+        c.step(answer(0x0637));
+        for k in 1..START_GRACE {
+            c.step(answer(0x0637));
+            assert!(c.busy(), "answer {k}");
+        }
+        c.step(answer(0x0637));
+        assert_eq!((c.busy(), c.done, c.failed), (false, 2, 0));
+    }
+
+    /// idx: the station in 2D60h with the profile speed and ramps; jg: bit 4 (and bit 6 in
+    /// reverse) held until a Halt, which ends the jog done and stops at Target reached.
+    #[test]
+    fn a_station_and_a_jog_write_their_objects() {
+        let mut c = AxisControl::new(0, StopReaction::QuickStop);
+        assert!(c.command(AxisCommand::PowerOn));
+        c.step(answer(0x0637));
+        assert!(c.command(AxisCommand::Station {
+            station: 3,
+            velocity: 60_000,
+            acceleration_ms: 100,
+            deceleration_ms: 200,
+        }));
+        let o = c.outputs();
+        assert_eq!(
+            (o.mode, o.target_point_table, o.profile_velocity),
+            (-103, Some(3), 60_000)
+        );
+        assert_eq!((o.acceleration_ms, o.deceleration_ms), (100, 200));
+        c.step(answer(0x0637));
+        c.step(answer(0x0237));
+        c.step(answer(0x0637));
+        assert_eq!(c.done, 1);
+        assert!(c.command(AxisCommand::Jog {
+            velocity: 30_000,
+            reverse: true,
+            acceleration_ms: 50,
+            deceleration_ms: 50,
+        }));
+        assert_eq!(c.outputs().mode, -100);
+        c.step(answer(0x0637));
+        assert_eq!(
+            c.outputs().controlword,
+            0x000F | NEW_SET_POINT | JOG_REVERSE
+        );
+        c.step(answer(0x0237));
+        assert!(c.busy(), "a jog runs until halted");
+        assert!(c.command(AxisCommand::Halt));
+        assert_eq!(c.done, 2, "the halt ends the jog done");
+        c.step(answer(0x0237));
+        assert_eq!(c.outputs().controlword & (NEW_SET_POINT | HALT), HALT);
+        c.step(answer(0x0637));
+        assert_eq!((c.done, c.failed), (3, 0));
     }
 }

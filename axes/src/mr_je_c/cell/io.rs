@@ -10,6 +10,7 @@ use super::super::access::ObjectAccess;
 use super::super::objects::ObjectId;
 use super::super::value::Value;
 use super::super::SoftwareVersion;
+use super::positioning_link::{PositioningCommand, PositioningFeedback};
 use crate::cclink_ief_basic::io_thread::{CyclicIo, LinkHandle, StationCommand};
 use crate::cclink_ief_basic::{bit, set_bit, EndCode, READY_BIT};
 
@@ -37,6 +38,8 @@ pub struct Outputs {
     /// 2D20h, 0.01 r/min: the speed limit in tq; 0 until a tq axis or command sets it, which
     /// leaves the drive's own value (written only once set).
     pub velocity_limit: u32,
+    /// 2D60h (pt: the point table, idx: the station); written only once set (SW A4+).
+    pub target_point_table: Option<i16>,
 }
 
 /// What the drive answered.
@@ -81,7 +84,7 @@ pub trait DriveIo: Send {
 
 /// The objects of the outputs besides the controlword, in the order they are written; 2D20h
 /// only once set (`None`: the drive keeps its own).
-fn profile_objects(o: &Outputs) -> [(u16, Option<Value>); 9] {
+fn profile_objects(o: &Outputs) -> [(u16, Option<Value>); 10] {
     let limit = i32::try_from(o.velocity_limit).unwrap_or(i32::MAX);
     [
         (0x2D20, (o.velocity_limit != 0).then_some(Value::I32(limit))),
@@ -93,6 +96,7 @@ fn profile_objects(o: &Outputs) -> [(u16, Option<Value>); 9] {
         (0x6084, Some(Value::U32(o.deceleration_ms))),
         (0x6087, Some(Value::U32(o.torque_slope))),
         (0x6071, Some(Value::I16(o.target_torque))),
+        (0x2D60, o.target_point_table.map(Value::I16)),
     ]
 }
 
@@ -230,10 +234,27 @@ mod rwr {
     pub const ALARM: usize = 24;
 }
 
+/// Which table of the manual the station's link devices follow (§2.3.2): Table 2.2 for the
+/// profile modes, Table 2.3 for the positioning modes (pt, idx, jg; hm is in both). The
+/// manual does not say what selects the table; the extract infers [Pr. PA01]'s control mode,
+/// so a cell picks it from the axis' mode and the drive must be commissioned to match.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum DeviceTable {
+    /// Table 2.2.
+    #[default]
+    Profile,
+    /// Table 2.3 ([`super::positioning_link`]).
+    Positioning,
+}
+
 /// The exchange over the CC-Link IE Field Basic cyclic link of one station, run inline on the
 /// axis' thread (one cycle per exchange); a station not yet connected is connected first.
 pub struct CyclicDriveIo {
     link: CyclicIo,
+    devices: DeviceTable,
+    /// Table 2.3's devices cellrt does not command (Control DI 1–3, 60B8h) at their objects'
+    /// initial values.
+    positioning_base: PositioningCommand,
     /// RWw before the commanded devices are written: [`uncommanded_rww`].
     base: [u8; 64],
     handle: LinkHandle,
@@ -246,12 +267,113 @@ impl CyclicDriveIo {
     /// Exchanges on `link` (one station) with a drive of software A4; start-up writes go
     /// through `parameters`.
     pub fn new(link: CyclicIo, parameters: Option<ParameterWrite>) -> CyclicDriveIo {
+        let initial = |index: u16| {
+            let sw = SoftwareVersion::A4;
+            super::super::objects::entry(ObjectId::new(index, 0), sw)
+                .and_then(|(_, s)| s.initial.value(sw))
+                .unwrap_or(0)
+        };
         CyclicDriveIo {
+            devices: DeviceTable::Profile,
+            positioning_base: PositioningCommand {
+                control_di: [0x2D01, 0x2D02, 0x2D03].map(|i| initial(i) as u16),
+                touch_probe_function: initial(0x60B8) as u16,
+                ..PositioningCommand::default()
+            },
             base: uncommanded_rww(SoftwareVersion::A4),
             handle: link.handle(),
             link,
             parameters,
             round_trip: Duration::ZERO,
+        }
+    }
+}
+
+impl CyclicDriveIo {
+    /// The same, on the link devices of `devices`.
+    pub fn with_devices(mut self, devices: DeviceTable) -> CyclicDriveIo {
+        self.devices = devices;
+        self
+    }
+
+    /// RWw of Table 2.3 for `out`.
+    fn positioning_rww(&self, out: &Outputs) -> [u8; 64] {
+        PositioningCommand {
+            mode: out.mode,
+            controlword: out.controlword,
+            target_point_table: out.target_point_table.unwrap_or(0),
+            profile_velocity: out.profile_velocity,
+            acceleration_ms: out.acceleration_ms,
+            deceleration_ms: out.deceleration_ms,
+            ..self.positioning_base
+        }
+        .rww()
+    }
+
+    /// RWw of Table 2.2 for `out`.
+    fn profile_rww(&self, out: &Outputs) -> [u8; 64] {
+        let mut rww = self.base;
+        put_le(&mut rww, rww::MODE, &[out.mode as u8]);
+        put_le(&mut rww, rww::CONTROLWORD, &out.controlword.to_le_bytes());
+        put_le(
+            &mut rww,
+            rww::TARGET_POSITION,
+            &out.target_position.to_le_bytes(),
+        );
+        put_le(
+            &mut rww,
+            rww::TARGET_VELOCITY,
+            &out.target_velocity.to_le_bytes(),
+        );
+        put_le(
+            &mut rww,
+            rww::PROFILE_VELOCITY,
+            &out.profile_velocity.to_le_bytes(),
+        );
+        put_le(
+            &mut rww,
+            rww::ACCELERATION,
+            &out.acceleration_ms.to_le_bytes(),
+        );
+        put_le(
+            &mut rww,
+            rww::DECELERATION,
+            &out.deceleration_ms.to_le_bytes(),
+        );
+        put_le(
+            &mut rww,
+            rww::TARGET_TORQUE,
+            &out.target_torque.to_le_bytes(),
+        );
+        put_le(&mut rww, rww::TORQUE_SLOPE, &out.torque_slope.to_le_bytes());
+        if out.velocity_limit != 0 {
+            put_le(
+                &mut rww,
+                rww::VELOCITY_LIMIT,
+                &out.velocity_limit.to_le_bytes(),
+            );
+        }
+        rww
+    }
+
+    /// The inputs in RWr of the station's table.
+    fn inputs(&self, rwr: &[u8; 64]) -> Inputs {
+        match self.devices {
+            DeviceTable::Profile => Inputs {
+                statusword: u16::from_le_bytes(le(rwr, rwr::STATUSWORD)),
+                position: i32::from_le_bytes(le(rwr, rwr::POSITION)),
+                velocity: i32::from_le_bytes(le(rwr, rwr::VELOCITY)),
+                alarm: u16::from_le_bytes(le(rwr, rwr::ALARM)),
+            },
+            DeviceTable::Positioning => {
+                let f = PositioningFeedback::from_rwr(rwr);
+                Inputs {
+                    statusword: f.statusword,
+                    position: f.position,
+                    velocity: f.velocity,
+                    alarm: f.alarm,
+                }
+            }
         }
     }
 }
@@ -268,55 +390,15 @@ fn le<const N: usize>(block: &[u8; 64], at: usize) -> [u8; N] {
 
 impl DriveIo for CyclicDriveIo {
     fn exchange(&mut self, out: &Outputs) -> Result<Inputs, ExchangeError> {
+        let rww = match self.devices {
+            DeviceTable::Profile => self.profile_rww(out),
+            DeviceTable::Positioning => self.positioning_rww(out),
+        };
         let mut c = StationCommand {
             transmit: true,
-            rww: self.base,
+            rww,
             ..StationCommand::default()
         };
-        put_le(&mut c.rww, rww::MODE, &[out.mode as u8]);
-        put_le(&mut c.rww, rww::CONTROLWORD, &out.controlword.to_le_bytes());
-        put_le(
-            &mut c.rww,
-            rww::TARGET_POSITION,
-            &out.target_position.to_le_bytes(),
-        );
-        put_le(
-            &mut c.rww,
-            rww::TARGET_VELOCITY,
-            &out.target_velocity.to_le_bytes(),
-        );
-        put_le(
-            &mut c.rww,
-            rww::PROFILE_VELOCITY,
-            &out.profile_velocity.to_le_bytes(),
-        );
-        put_le(
-            &mut c.rww,
-            rww::ACCELERATION,
-            &out.acceleration_ms.to_le_bytes(),
-        );
-        put_le(
-            &mut c.rww,
-            rww::DECELERATION,
-            &out.deceleration_ms.to_le_bytes(),
-        );
-        put_le(
-            &mut c.rww,
-            rww::TARGET_TORQUE,
-            &out.target_torque.to_le_bytes(),
-        );
-        put_le(
-            &mut c.rww,
-            rww::TORQUE_SLOPE,
-            &out.torque_slope.to_le_bytes(),
-        );
-        if out.velocity_limit != 0 {
-            put_le(
-                &mut c.rww,
-                rww::VELOCITY_LIMIT,
-                &out.velocity_limit.to_le_bytes(),
-            );
-        }
         set_bit(&mut c.ry, READY_BIT, true);
         self.handle.command(0, c);
         let cycle = self.link.cycle();
@@ -335,12 +417,7 @@ impl DriveIo for CyclicDriveIo {
             // Connected this cycle (the request did not transmit yet), or SSR not yet on.
             return Err(ExchangeError::NotReady);
         }
-        Ok(Inputs {
-            statusword: u16::from_le_bytes(le(&f.rwr, rwr::STATUSWORD)),
-            position: i32::from_le_bytes(le(&f.rwr, rwr::POSITION)),
-            velocity: i32::from_le_bytes(le(&f.rwr, rwr::VELOCITY)),
-            alarm: u16::from_le_bytes(le(&f.rwr, rwr::ALARM)),
-        })
+        Ok(self.inputs(&f.rwr))
     }
 
     fn write_object(&mut self, id: ObjectId, value: &Value) -> Result<(), ExchangeError> {

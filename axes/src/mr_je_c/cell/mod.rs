@@ -7,7 +7,11 @@ pub mod io;
 pub mod positioning_link;
 pub mod thread;
 
-pub use control::{AxisCommand, AxisControl, StopReaction, Stopped, HOMING_ERROR};
-pub use io::{uncommanded_rww, CyclicDriveIo, DriveIo, ExchangeError, Inputs, ObjectIo, Outputs};
+pub use control::{
+    AxisCommand, AxisControl, PositioningMode, StopReaction, Stopped, HOMING_ERROR, JOG_REVERSE,
+};
+pub use io::{
+    uncommanded_rww, CyclicDriveIo, DeviceTable, DriveIo, ExchangeError, Inputs, ObjectIo, Outputs,
+};
 pub use positioning_link::{PositioningCommand, PositioningFeedback};
 pub use thread::{AxisFeedback, AxisHandle, AxisThread, ExchangeRecord, StartError};

@@ -1,7 +1,8 @@
 //! MR-JE-C axes in cells, end to end through `controller::run`: a cell of one simulated csp axis
 //! and one emulated MR-JE-C runs a program that moves both in one step and jogs the MR-JE-C
 //! (pv), runs it in tq (a torque step) and homes it (hm, method 37), over each transport (Modbus RTU over a pseudo-terminal), with the RT thread
-//! allocation-free; the shipped mixed cell runs its program; a cut link stops the MR-JE-C axis by the master's watchdog and the
+//! allocation-free; the shipped mixed cell runs its program; point-table and indexer axes run
+//! theirs; a cut link stops the MR-JE-C axis by the master's watchdog and the
 //! drive by its own time-out (AL. 86.4 from [Pr. PN10], set from the config at start-up).
 
 mod common;
@@ -18,7 +19,8 @@ use cellrt_runtime::host::controller::{run, Outcome, RunOptions, Summary};
 use cellrt_runtime::host::program::Program;
 use common::{hook, marked_heap_calls};
 
-fn cell_text(tag: &str, transport: &str, je_c: &str) -> String {
+/// The cell `jec-TAG-PID` with the csp axis x, communication lost handled by `reaction`.
+fn cell_head(tag: &str, reaction: &str) -> String {
     format!(
         r#"
 [cell]
@@ -27,6 +29,7 @@ cycle_time_us = 1000
 
 [watchdogs]
 max_consecutive_overruns = 0
+communication_reaction = "{reaction}"
 
 [setpoints]
 lookahead_ms = 1000
@@ -39,7 +42,15 @@ unit = "mm"
 counts_per_unit = 4194.304
 limits = {{ position = [0.0, 800.0], velocity = 400.0, acceleration = 2000.0, jerk = 20000.0 }}
 sim = {{ initial_position = 50.0 }}
+"#,
+        pid = std::process::id()
+    )
+}
 
+fn cell_text(tag: &str, transport: &str, je_c: &str) -> String {
+    cell_head(tag, "controlled_stop")
+        + &format!(
+            r#"
 [[axes]]
 name = "belt"
 drive = "mr-je-c"
@@ -49,9 +60,8 @@ unit = "mm"
 counts_per_unit = 1310.72
 limits = {{ position = [-500.0, 500.0], velocity = 200.0, acceleration = 1000.0, jerk = 10000.0, torque = 20.0 }}
 je_c = {{ {je_c} }}
-"#,
-        pid = std::process::id()
-    )
+"#
+        )
 }
 
 const PROGRAM: &str = r#"
@@ -328,4 +338,135 @@ fn je_c_torque_steps_are_checked_at_load() {
     // With the limit, a tq axis loads.
     let tq = text.replacen("mode = \"pp\"", "mode = \"tq\"", 1);
     assert!(CellConfig::parse(Path::new("je-c-cell.toml"), &tq).is_ok());
+}
+
+/// A cell with a point-table axis over the cyclic link (Table 2.3) and an indexer axis over
+/// SLMP beside a csp axis.
+fn positioning_cell(program_extra: &str) -> (CellConfig, Result<Program, String>) {
+    let text = cell_head("positioning", "quick_stop")
+        + &format!(
+            r#"
+[[axes]]
+name = "feeder"
+drive = "mr-je-c"
+transport = "cclink-ief-basic"
+mode = "point_table"
+unit = "mm"
+counts_per_unit = 1310.72
+limits = {{ position = [-500.0, 500.0], velocity = 200.0, acceleration = 1000.0, jerk = 10000.0 }}
+[axes.je_c]
+emulate = true
+watchdog_missed = 0
+response_timeout_ms = 200
+[[axes.je_c.point_table]]
+position = 100.0
+velocity = 150.0
+[[axes.je_c.point_table]]
+position = -50.0
+acceleration = 500.0
+m_code = 7
+
+[[axes]]
+name = "turret"
+drive = "mr-je-c"
+transport = "slmp"
+mode = "indexer"
+unit = "station"
+counts_per_unit = 1.0
+limits = {{ position = [0.0, 7.0], velocity = 2.0, acceleration = 20.0, jerk = 100.0 }}
+je_c = {{ emulate = true, stations = 8, watchdog_missed = 0, response_timeout_ms = 200 }}
+"#
+        );
+    let cell =
+        CellConfig::parse(Path::new("positioning.toml"), &text).unwrap_or_else(|e| panic!("{e}"));
+    let program = format!(
+        r#"
+[[step]]
+do = "power_on"
+{program_extra}
+[[step]]
+do = "power_off"
+"#
+    );
+    let p = Program::parse(Path::new("positioning-program.toml"), &program, &cell)
+        .map_err(|e| e.to_string());
+    (cell, p)
+}
+
+/// A move step names point table 1 and station 3 beside x's position; the feeder jogs (jg,
+/// reverse) and runs table 2; the turret turns to station 6: each ends where its table or
+/// station is, and the summary's error is measured against it.
+#[test]
+fn point_table_and_indexer_axes_run_a_program() {
+    let (cell, program) = positioning_cell(
+        r#"
+[[step]]
+do = "move"
+target = { x = 150.0, feeder = 1, turret = 3 }
+[[step]]
+do = "jog"
+axis = "feeder"
+velocity = -40.0
+seconds = 0.3
+[[step]]
+do = "move"
+target = { feeder = 2 }
+[[step]]
+do = "move"
+target = { turret = 6 }
+"#,
+    );
+    let s = run_counted(&cell, program.unwrap());
+    assert_eq!(
+        s.outcome,
+        Outcome::ProgramCompleted,
+        "{:?} {:?}",
+        s.program_error,
+        s.recording.event_log
+    );
+    assert!((s.axes[0].final_position - 150.0).abs() < 0.05);
+    let feeder = &s.je_c_axes[0];
+    assert_eq!(feeder.target, Some(-50.0), "{feeder:?}");
+    assert!(feeder.error.unwrap().abs() < 0.08, "{feeder:?}");
+    let turret = &s.je_c_axes[1];
+    assert_eq!(
+        (turret.target, turret.final_position),
+        (Some(6.0), 6.0),
+        "{turret:?}"
+    );
+}
+
+/// What a point-table or indexer axis does not take is refused at load, naming it.
+#[test]
+fn positioning_axes_refuse_what_they_do_not_take() {
+    for (step, why) in [
+        (
+            "do = \"move\"\ntarget = { feeder = 3 }",
+            "3 is not one of its point tables (1–2)",
+        ),
+        (
+            "do = \"move\"\ntarget = { feeder = 1.5 }",
+            "1.5 is not one of its point tables",
+        ),
+        (
+            "do = \"move\"\ntarget = { turret = 8 }",
+            "8 is not one of its stations (0–7)",
+        ),
+        (
+            "do = \"move\"\ntarget = { feeder = 1 }\nvelocity = 10.0",
+            "axis 'feeder' runs point tables",
+        ),
+        (
+            "do = \"jog\"\naxis = \"turret\"\nvelocity = 1.0\nseconds = 0.1",
+            "it turns to stations (move), it does not jog",
+        ),
+        (
+            "do = \"torque\"\ntarget = { feeder = 5.0 }\nseconds = 0.1",
+            "carry no torque command",
+        ),
+    ] {
+        let (_, p) = positioning_cell(&format!("[[step]]\n{step}"));
+        let e = p.expect_err(step);
+        assert!(e.contains(why), "{step}: {e}");
+    }
 }

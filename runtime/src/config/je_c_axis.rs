@@ -1,8 +1,7 @@
 //! `[[axes]]` with `drive = "mr-je-c"`: an MR-JE-C axis of the cell, reached over Ethernet or
 //! RS-485 (MR-JE-C manual §2–§4) by a non-RT thread of its own, never by the RT loop. Its keys
 //! beside the common ones (`name`, `unit`, `counts_per_unit`, `limits`, `mode` = "pp" | "pv" |
-//! "tq")
-//! are `transport` and the `[axes.je_c]` table.
+//! "tq" | "jog" | "point_table" | "indexer") are `transport` and the `[axes.je_c]` table.
 
 use std::net::{IpAddr, SocketAddr};
 use std::path::{Path, PathBuf};
@@ -60,6 +59,40 @@ pub enum JecMode {
     Pv,
     /// Profile torque: `torque` steps (needs `limits.torque`).
     Tq,
+    /// jg (SW A4+): `jog` steps only.
+    Jog,
+    /// pt (SW A4+): `move` steps name a point table of `[[axes.je_c.point_table]]`.
+    PointTable,
+    /// idx (SW A4+): `move` steps name a station; positions count in stations.
+    Indexer {
+        /// [Pr. PT28], 2–255.
+        stations: u8,
+    },
+}
+
+impl JecMode {
+    /// The configuration name.
+    pub fn name(self) -> &'static str {
+        match self {
+            JecMode::Pp => "pp",
+            JecMode::Pv => "pv",
+            JecMode::Tq => "tq",
+            JecMode::Jog => "jog",
+            JecMode::PointTable => "point_table",
+            JecMode::Indexer { .. } => "indexer",
+        }
+    }
+
+    /// The positioning mode of the drive's Table 2.3, if the axis runs one.
+    pub fn positioning(self) -> Option<cellrt_axes::mr_je_c::cell::PositioningMode> {
+        use cellrt_axes::mr_je_c::cell::PositioningMode as P;
+        match self {
+            JecMode::Jog => Some(P::Jog),
+            JecMode::PointTable => Some(P::PointTable),
+            JecMode::Indexer { .. } => Some(P::Indexer),
+            JecMode::Pp | JecMode::Pv | JecMode::Tq => None,
+        }
+    }
 }
 
 /// A validated MR-JE-C axis.
@@ -77,8 +110,10 @@ pub struct JecAxisConfig {
     pub velocity: f64,
     /// Acceleration limit, unit/s².
     pub acceleration: f64,
-    /// pp, pv or tq.
+    /// pp, pv, tq or a positioning mode.
     pub mode: JecMode,
+    /// Point tables 1, 2, … (`point_table` axes; empty otherwise).
+    pub point_tables: Vec<super::je_c_positioning::JecPointTable>,
     /// `limits.torque` and `limits.torque_slope` where set (required in tq).
     pub torque: Option<super::TorqueLimits>,
     /// Where the drive is.
@@ -119,6 +154,12 @@ impl JecAxisConfig {
     /// refused without `limits.torque` or beyond it.
     pub fn torque_command(&self, torque: f64) -> Result<AxisCommand, String> {
         let name = &self.name;
+        if self.mode.positioning().is_some() {
+            return Err(format!(
+                "axis '{name}' runs {}: the link devices of its positioning mode (Table 2.3) carry no torque command",
+                self.mode.name()
+            ));
+        }
         let Some(limits) = self.torque else {
             return Err(format!(
                 "axis '{name}': a torque command needs limits.torque (% of rated torque)"
@@ -173,15 +214,20 @@ pub fn validate(
             ),
         )
     })?;
-    let mode = match a.mode.as_str() {
-        "pp" => JecMode::Pp,
-        "pv" => JecMode::Pv,
-        "tq" => JecMode::Tq,
-        m => {
+    let stations = super::je_c_positioning::stations(&a.name, &a.mode, raw.stations)
+        .map_err(|m| err("je_c.stations", m))?;
+    let mode = match (a.mode.as_str(), stations) {
+        ("pp", _) => JecMode::Pp,
+        ("pv", _) => JecMode::Pv,
+        ("tq", _) => JecMode::Tq,
+        ("jog", _) => JecMode::Jog,
+        ("point_table", _) => JecMode::PointTable,
+        ("indexer", Some(stations)) => JecMode::Indexer { stations },
+        (m, _) => {
             return Err(err(
                 "mode",
                 format!(
-                    "axis '{}': mode \"{m}\": an MR-JE-C in a cell runs \"pp\", \"pv\" or \"tq\" (it has no cyclic synchronous modes)",
+                    "axis '{}': mode \"{m}\": an MR-JE-C in a cell runs \"pp\", \"pv\", \"tq\", \"jog\", \"point_table\" or \"indexer\" (it has no cyclic synchronous modes)",
                     a.name
                 ),
             ))
@@ -218,6 +264,34 @@ pub fn validate(
             )
         })?,
     };
+    if matches!(mode, JecMode::Indexer { .. }) && watchdog_reaction == FaultReaction::ControlledStop
+    {
+        return Err(err(
+            "je_c.watchdog_reaction",
+            format!("axis '{}' runs the indexer, where the Halt bit is disabled (MR-JE-C manual §7.6.3): a controlled stop would not stop it; give \"quick_stop\" or \"disable\" (also as watchdogs.communication_reaction)", a.name),
+        ));
+    }
+    let counts_per_rev = match mode {
+        JecMode::Indexer { stations } => {
+            if a.counts_per_unit != 1.0 {
+                return Err(err(
+                    "counts_per_unit",
+                    format!("{}: an indexer axis counts in stations (6092h:1 = [Pr. PT28]), so counts_per_unit is 1", a.counts_per_unit),
+                ));
+            }
+            if raw.counts_per_rev.is_some_and(|c| c != f64::from(stations)) {
+                return Err(err(
+                    "je_c.counts_per_rev",
+                    format!("an indexer axis has je_c.stations = {stations} pos units per revolution; leave counts_per_rev out"),
+                ));
+            }
+            f64::from(stations)
+        }
+        _ => positive(
+            "je_c.counts_per_rev",
+            raw.counts_per_rev.unwrap_or(131_072.0),
+        )?,
+    };
     let drive_timeout = drive_timeout(&err, &transport, raw.drive_timeout_ms)?;
     let [lo, hi] = a.limits.position;
     if !(lo.is_finite() && hi.is_finite() && lo < hi) {
@@ -226,14 +300,26 @@ pub fn validate(
             format!("[{lo}, {hi}] is not a range (min < max)"),
         ));
     }
+    let velocity = positive("limits.velocity", a.limits.velocity)?;
+    let acceleration = positive("limits.acceleration", a.limits.acceleration)?;
+    let point_tables = super::je_c_positioning::point_tables(
+        &a.name,
+        mode,
+        &raw.point_table,
+        a.limits.position,
+        velocity,
+        acceleration,
+    )
+    .map_err(|(sub, m)| err(&sub, m))?;
     Ok(JecAxisConfig {
         name: a.name.clone(),
         unit: a.unit.clone(),
         counts_per_unit: positive("counts_per_unit", a.counts_per_unit)?,
         position: a.limits.position,
-        velocity: positive("limits.velocity", a.limits.velocity)?,
-        acceleration: positive("limits.acceleration", a.limits.acceleration)?,
+        velocity,
+        acceleration,
         mode,
+        point_tables,
         // Set by the caller (the same check as every axis' `limits.torque`).
         torque: None,
         transport,
@@ -242,10 +328,7 @@ pub fn validate(
         watchdog_missed: raw.watchdog_missed.unwrap_or(3),
         watchdog_reaction,
         drive_timeout,
-        counts_per_rev: positive(
-            "je_c.counts_per_rev",
-            raw.counts_per_rev.unwrap_or(131_072.0),
-        )?,
+        counts_per_rev,
         rated_speed: positive("je_c.rated_speed", raw.rated_speed.unwrap_or(3000.0))?,
         emulate: raw.emulate,
     })

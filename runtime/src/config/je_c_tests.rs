@@ -235,3 +235,125 @@ fn a_je_c_torque_command_carries_the_manuals_units() {
     let e = c.je_c_axes[0].torque_command(5.0).unwrap_err();
     assert!(e.contains("needs limits.torque"), "{e}");
 }
+
+/// The outfeed of the mixed cell in `mode`, with `je_c` as its table.
+fn outfeed_in(mode: &str, je_c: &str) -> Result<CellConfig, ConfigError> {
+    let text = mixed();
+    let at = text.find("name = \"outfeed\"").unwrap();
+    let (head, tail) = text.split_at(at);
+    let tail = tail
+        .replace("mode = \"pp\"", &format!("mode = \"{mode}\""))
+        .lines()
+        .filter(|l| !l.starts_with("je_c = "))
+        .collect::<Vec<_>>()
+        .join("\n");
+    parse(&format!("{head}{tail}\n{je_c}\n"))
+}
+
+/// Point tables: in the axis' units, defaults from its limits, written at start-up to 2801h
+/// subs 1–4 and 7 in the drive's units (pos units, 0.01 r/min, ms to the rated speed).
+#[test]
+fn point_tables_load_in_units_and_reach_the_drive_in_its_own() {
+    let c = outfeed_in(
+        "point_table",
+        "[axes.je_c]\nemulate = true\n[[axes.je_c.point_table]]\nposition = 100.0\nvelocity = 100.0\n[[axes.je_c.point_table]]\nposition = -50.0\nacceleration = 500.0\nm_code = 7",
+    )
+    .unwrap();
+    let a = &c.je_c_axes[1];
+    assert_eq!(a.mode, JecMode::PointTable);
+    let p = a.positioning_parameters();
+    let value = |index: u16, sub: u8| {
+        p.iter()
+            .find(|(id, _)| *id == cellrt_axes::mr_je_c::ObjectId::new(index, sub))
+            .map(|(_, v)| v.as_i64().unwrap())
+    };
+    // 100 mm = 131072 pos units; 100 mm/s = 1 rev/s = 60 r/min = 6000 × 0.01 r/min.
+    assert_eq!(value(0x2801, 1), Some(131_072));
+    assert_eq!(value(0x2801, 2), Some(6000));
+    // 800 mm/s² (the limit): 3000 r/min = 5000 mm/s in 6250 ms.
+    assert_eq!(
+        (value(0x2801, 3), value(0x2801, 4)),
+        (Some(6250), Some(6250))
+    );
+    // Table 2: 150 mm/s (the limit), 500 mm/s² for both ramps, M code 7.
+    assert_eq!(value(0x2802, 1), Some(-65_536));
+    assert_eq!(value(0x2802, 2), Some(9000));
+    assert_eq!(
+        (value(0x2802, 3), value(0x2802, 4)),
+        (Some(10_000), Some(10_000))
+    );
+    assert_eq!(value(0x2802, 7), Some(7));
+    assert_eq!(p.len(), 10);
+}
+
+#[test]
+fn positioning_axes_are_checked_at_load() {
+    let base = "[axes.je_c]\nemulate = true";
+    refused(
+        outfeed_in("point_table", base),
+        "axes[3].je_c.point_table",
+        "give 1–255 [[axes.je_c.point_table]]",
+    );
+    refused(
+        outfeed_in(
+            "point_table",
+            &format!("{base}\n[[axes.je_c.point_table]]\nposition = 600.0"),
+        ),
+        "axes[3].je_c.point_table[0].position",
+        "outside the position range [-500, 500]",
+    );
+    refused(
+        outfeed_in(
+            "point_table",
+            &format!("{base}\n[[axes.je_c.point_table]]\nposition = 1.0\nvelocity = 151.0"),
+        ),
+        "axes[3].je_c.point_table[0].velocity",
+        "at most the axis' limit 150",
+    );
+    refused(
+        outfeed_in(
+            "pp",
+            &format!("{base}\n[[axes.je_c.point_table]]\nposition = 1.0"),
+        ),
+        "axes[3].je_c.point_table",
+        "point tables are for mode = \"point_table\"",
+    );
+    refused(
+        outfeed_in("indexer", base),
+        "axes[3].je_c.stations",
+        "give je_c.stations",
+    );
+    refused(
+        outfeed_in("indexer", &format!("{base}\nstations = 256")),
+        "axes[3].je_c.stations",
+        "[Pr. PT28] takes 2–255",
+    );
+    refused(
+        outfeed_in("pp", &format!("{base}\nstations = 8")),
+        "axes[3].je_c.stations",
+        "stations are for mode = \"indexer\"",
+    );
+    // The mixed cell's outfeed counts 1310.72 per mm.
+    refused(
+        outfeed_in(
+            "indexer",
+            &format!("{base}\nstations = 8\nwatchdog_reaction = \"quick_stop\""),
+        ),
+        "axes[3].counts_per_unit",
+        "counts in stations",
+    );
+    refused(
+        outfeed_in(
+            "indexer",
+            &format!("{base}\nstations = 8\nwatchdog_reaction = \"controlled_stop\""),
+        ),
+        "axes[3].je_c.watchdog_reaction",
+        "the Halt bit is disabled",
+    );
+    let jog = outfeed_in("jog", base).unwrap();
+    assert_eq!(jog.je_c_axes[1].mode, JecMode::Jog);
+    assert!(jog.je_c_axes[1]
+        .move_target(10.0)
+        .unwrap_err()
+        .contains("moves by jog only"));
+}

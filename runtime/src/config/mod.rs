@@ -8,6 +8,7 @@ mod fault;
 pub mod homing;
 pub mod input_file;
 pub mod je_c_axis;
+pub mod je_c_positioning;
 pub mod live;
 pub mod profile_axis;
 pub mod raw;

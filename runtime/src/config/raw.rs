@@ -590,4 +590,25 @@ pub struct RawJecAxis {
     /// modbus-rtu) instead of reaching a real drive.
     #[serde(default)]
     pub emulate: bool,
+    /// `mode = "indexer"`: the stations per revolution, [Pr. PT28] (2–255).
+    pub stations: Option<u32>,
+    /// `mode = "point_table"`: point tables 1, 2, … (2801h–28FFh), written at start-up.
+    #[serde(default)]
+    pub point_table: Vec<RawPointTable>,
+}
+
+/// One `[[axes.je_c.point_table]]` as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPointTable {
+    /// Target position, units.
+    pub position: f64,
+    /// Speed, unit/s (the axis' velocity limit when absent).
+    pub velocity: Option<f64>,
+    /// Acceleration, unit/s² (the axis' limit when absent).
+    pub acceleration: Option<f64>,
+    /// Deceleration, unit/s² (the acceleration when absent).
+    pub deceleration: Option<f64>,
+    /// M code 2D6Ah reads on completion (0–99).
+    pub m_code: Option<u8>,
 }

@@ -8,7 +8,7 @@ use cellrt_axes::cclink_ief_basic::io_thread::CyclicIo;
 use cellrt_axes::cclink_ief_basic::master::{GroupMaster, MasterParams};
 use cellrt_axes::modbus::client::TcpClient;
 use cellrt_axes::modbus::serial::{LineSettings, RtuClient};
-use cellrt_axes::mr_je_c::cell::{CyclicDriveIo, DriveIo, ObjectIo};
+use cellrt_axes::mr_je_c::cell::{CyclicDriveIo, DeviceTable, DriveIo, ObjectIo};
 use cellrt_axes::mr_je_c::parameters::{PF46, PN02, PN10};
 use cellrt_axes::mr_je_c::{ObjectId, OverModbus, Value};
 use cellrt_axes::slmp::client::{FrameType, SlmpClient};
@@ -70,10 +70,17 @@ pub fn open(axis: &JecAxisConfig, reach: Reach) -> Result<Box<dyn DriveIo>, Stri
             let client = SlmpClient::udp(slmp, FrameType::E4, timeout)
                 .map_err(|x| e(&slmp.to_string(), &x))?;
             let mut parameters = ObjectIo::new(client);
-            Ok(Box::new(CyclicDriveIo::new(
-                CyclicIo::new(master),
-                Some(Box::new(move |id, v| parameters.write_object(id, v))),
-            )))
+            let devices = match axis.mode.positioning() {
+                Some(_) => DeviceTable::Positioning,
+                None => DeviceTable::Profile,
+            };
+            Ok(Box::new(
+                CyclicDriveIo::new(
+                    CyclicIo::new(master),
+                    Some(Box::new(move |id, v| parameters.write_object(id, v))),
+                )
+                .with_devices(devices),
+            ))
         }
         (Reach::Address { .. }, JecTransport::ModbusRtu { .. }) => {
             Err("an address for a serial line".into())
@@ -98,10 +105,12 @@ pub fn open_line(axis: &JecAxisConfig) -> Result<Option<Reach>, String> {
     Ok(Some(Reach::Port(port)))
 }
 
-/// The drive-side time-out to write at start-up, in its parameter's unit.
+/// What the drive gets at start-up: the point tables and [Pr. PT28] of a positioning axis, and
+/// the drive-side time-out in its parameter's unit.
 pub fn start_up_parameters(axis: &JecAxisConfig) -> Vec<(ObjectId, Value)> {
+    let mut out = axis.positioning_parameters();
     let Some(t) = axis.drive_timeout else {
-        return Vec::new();
+        return out;
     };
     let (parameter, value) = match axis.transport {
         JecTransport::CcLink(_) => (PN02, t.as_millis()),
@@ -109,5 +118,6 @@ pub fn start_up_parameters(axis: &JecAxisConfig) -> Vec<(ObjectId, Value)> {
         _ => (PN10, u128::from(t.as_secs())),
     };
     let value = u32::try_from(value).unwrap_or(u32::MAX);
-    vec![(ObjectId::new(parameter.index(), 0), Value::U32(value))]
+    out.push((ObjectId::new(parameter.index(), 0), Value::U32(value)));
+    out
 }

@@ -6,6 +6,7 @@
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 
 use cellrt_axes::modbus::serial::LineSettings;
+use cellrt_axes::mr_je_c::emulator::cyclic::LinkLayout;
 use cellrt_axes::mr_je_c::emulator::rs485::Rs485Line;
 use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
 use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
@@ -58,8 +59,13 @@ pub enum Reach {
 
 /// Starts the emulated drive of `axis`.
 pub fn start(axis: &JecAxisConfig) -> std::io::Result<(Emulated, Reach)> {
+    let link_layout = match axis.mode.positioning() {
+        Some(_) => LinkLayout::Positioning,
+        None => LinkLayout::Profile,
+    };
     let params = MrJeCParams {
         rated_speed_rpm: axis.rated_speed.round() as u32,
+        link_layout,
         ..MrJeCParams::default()
     };
     if let JecTransport::ModbusRtu { station, baud, .. } = axis.transport {

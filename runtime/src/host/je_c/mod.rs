@@ -62,6 +62,10 @@ impl JecCell {
                 JecMode::Pp => {}
                 JecMode::Pv => control = control.starting_in_pv(),
                 JecMode::Tq => control = control.starting_in_tq(c.speed_limit()),
+                JecMode::Jog | JecMode::PointTable | JecMode::Indexer { .. } => {}
+            }
+            if let Some(m) = c.mode.positioning() {
+                control = control.starting_in_positioning(m);
             }
             let parameters = connect::start_up_parameters(c);
             let thread = AxisThread::start(&c.name, io, &parameters, control, c.period)
@@ -172,25 +176,6 @@ impl JecAxes {
     /// Queues `c` for every axis.
     pub fn command_all(&self, c: AxisCommand) -> Result<(), String> {
         (0..self.len()).try_for_each(|k| self.command(k, c))
-    }
-
-    /// A pp move of axis `k` to `target` units at `velocity` unit/s and `acceleration`
-    /// unit/s² (the axis' limits where none).
-    pub fn move_command(
-        &self,
-        k: usize,
-        target: f64,
-        velocity: f64,
-        acceleration: f64,
-    ) -> AxisCommand {
-        let c = self.config(k);
-        let ramp = c.ramp_ms(acceleration);
-        AxisCommand::Move {
-            target: c.counts(target),
-            velocity: c.drive_speed(velocity).unsigned_abs() as u32,
-            acceleration_ms: ramp,
-            deceleration_ms: ramp,
-        }
     }
 }
 

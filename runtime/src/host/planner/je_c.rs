@@ -77,8 +77,8 @@ impl Planner<'_> {
         Ok(())
     }
 
-    /// A jog of an MR-JE-C axis: pv at `velocity` for `seconds`, then Halt; the step ends when
-    /// the drive stands.
+    /// A jog of an MR-JE-C axis: pv (jg on a jog or point-table axis) at `velocity` for
+    /// `seconds`, then Halt; the step ends when the drive stands.
     pub(super) fn je_c_jog(
         &mut self,
         axis: usize,
@@ -86,12 +86,9 @@ impl Planner<'_> {
         seconds: f64,
     ) -> Result<(), ProgramError> {
         let c = self.je_c.config(axis);
-        let ramp = c.ramp_ms(c.acceleration);
-        let jog = AxisCommand::Velocity {
-            velocity: c.drive_speed(velocity) as i32,
-            acceleration_ms: ramp,
-            deceleration_ms: ramp,
-        };
+        let jog = c
+            .jog_command(velocity, c.acceleration)
+            .map_err(|e| self.err(e))?;
         let before = self.je_c_jobs(axis);
         self.je_c.command(axis, jog).map_err(|e| self.err(e))?;
         self.sleep(Duration::from_secs_f64(seconds));
@@ -212,7 +209,8 @@ impl Planner<'_> {
         for t in targets {
             let c = self
                 .je_c
-                .move_command(t.axis, t.target, t.velocity, t.acceleration);
+                .config(t.axis)
+                .move_command(t.goal, t.velocity, t.acceleration);
             self.je_c.command(t.axis, c).map_err(|e| self.err(e))?;
         }
         Ok(before)
@@ -230,7 +228,7 @@ impl Planner<'_> {
             .map(|t| {
                 let c = self.je_c.config(t.axis);
                 let from = c.units(self.je_c.feedback(t.axis).inputs.position);
-                (t.target - from).abs() / t.velocity + 2.0 * t.velocity / t.acceleration
+                (t.target() - from).abs() / t.velocity + 2.0 * t.velocity / t.acceleration
             })
             .fold(0.0, f64::max);
         let end = Instant::now() + Duration::from_secs_f64(2.0 * longest) + MOVE_SLACK;
@@ -253,7 +251,7 @@ impl Planner<'_> {
                 if Instant::now() >= end {
                     return Err(self.err(format!(
                         "MR-JE-C axis '{name}' did not reach {} {} in time (at {:.3})",
-                        t.target,
+                        t.target(),
                         self.je_c.config(t.axis).unit,
                         self.je_c.config(t.axis).units(f.inputs.position)
                     )));

@@ -27,17 +27,25 @@ pub(super) fn take_targets(
     for name in names {
         let axis = cell.je_c_axis_index(&name).expect("filtered above");
         let a = &cell.je_c_axes[axis];
-        let pos = target.remove(&name).expect("a key of target");
-        let [lo, hi] = a.position;
-        if !(pos.is_finite() && (lo..=hi).contains(&pos)) {
-            return Err(ConfigError::new(
-                path,
-                format!("{key}.target.{name}"),
-                format!(
-                    "target {pos} {} is outside the position range [{lo}, {hi}] of axis '{name}'",
-                    a.unit
-                ),
-            ));
+        let value = target.remove(&name).expect("a key of target");
+        let goal = a
+            .move_target(value)
+            .map_err(|m| ConfigError::new(path, format!("{key}.target.{name}"), m))?;
+        if !a.takes_move_limits() {
+            for (lim, what) in [(&*velocity, "velocity"), (&*acceleration, "acceleration")] {
+                let names_it = match lim {
+                    None => false,
+                    Some(RawLimit::All(_)) => true,
+                    Some(RawLimit::PerAxis(m)) => m.contains_key(&name),
+                };
+                if names_it {
+                    return Err(ConfigError::new(
+                        path,
+                        format!("{key}.{what}"),
+                        format!("axis '{name}' runs point tables: each table has its own speed and ramps; give the step's {what} per axis, without '{name}'"),
+                    ));
+                }
+            }
         }
         let pick = |lim: &mut Option<RawLimit>, default: f64, what: &str| {
             let v = match lim {
@@ -66,7 +74,7 @@ pub(super) fn take_targets(
         }
         out.push(JecTarget {
             axis,
-            target: pos,
+            goal,
             velocity,
             acceleration,
         });
@@ -136,6 +144,9 @@ pub(super) fn jog_step(
             format!("{velocity} is outside ±{limit}, the velocity limit of axis '{name}'"),
         ));
     }
+    let a = &cell.je_c_axes[axis];
+    a.jog_command(velocity, a.acceleration)
+        .map_err(|m| ConfigError::new(path, format!("{key}.axis"), m))?;
     Ok(Step::JecJog {
         axis,
         velocity,

@@ -278,12 +278,19 @@ pub struct MoveTarget {
 pub struct JecTarget {
     /// Index in the cell's `je_c_axes`.
     pub axis: usize,
-    /// Target position, units.
-    pub target: f64,
+    /// Where it goes: a position, a point table or a station.
+    pub goal: crate::config::je_c_positioning::JecMoveTarget,
     /// Profile velocity, unit/s.
     pub velocity: f64,
     /// Acceleration and deceleration, unit/s².
     pub acceleration: f64,
+}
+
+impl JecTarget {
+    /// The position the axis ends at, units.
+    pub fn target(&self) -> f64 {
+        self.goal.end_position()
+    }
 }
 
 /// A validated program.
@@ -348,7 +355,7 @@ impl Program {
             match s {
                 Step::Move(_, je_c) => {
                     for t in je_c {
-                        out[t.axis] = Some(t.target);
+                        out[t.axis] = Some(t.target());
                     }
                 }
                 Step::JecJog { axis, .. } | Step::JecHome { axis } => out[*axis] = None,

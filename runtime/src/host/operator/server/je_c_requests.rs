@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use cellrt_axes::mr_je_c::cell::AxisCommand;
 
 use super::*;
-use crate::config::je_c_axis::JecAxisConfig;
+use crate::config::je_c_axis::{JecAxisConfig, JecMode};
 use crate::host::je_c::{stopped_text, JecAxes};
 use crate::host::program::{je_c_method_refusal, JE_C_HOMING_METHOD};
 
@@ -92,13 +92,25 @@ pub(super) fn move_commands(
             ));
         }
         ready(axes, *k)?;
-        let here = c.units(axes.feedback(*k).inputs.position);
-        let target = if relative { here + value } else { *value };
-        let [lo, hi] = c.position;
-        if !(target.is_finite() && (lo..=hi).contains(&target)) {
+        let goal = if relative {
+            if c.mode.positioning().is_some() {
+                return Err(format!(
+                    "axis '{name}' runs {}: a move names its {}, not a distance",
+                    c.mode.name(),
+                    if matches!(c.mode, JecMode::PointTable) {
+                        "point table"
+                    } else {
+                        "station"
+                    }
+                ));
+            }
+            c.move_target(c.units(axes.feedback(*k).inputs.position) + value)?
+        } else {
+            c.move_target(*value)?
+        };
+        if !c.takes_move_limits() && (asked.velocity.is_some() || asked.acceleration.is_some()) {
             return Err(format!(
-                "axis '{name}': target {target} {} is outside its position range [{lo}, {hi}]",
-                c.unit
+                "axis '{name}' runs point tables: each table has its own speed and ramps (2801h–28FFh); leave out the move's velocity and acceleration"
             ));
         }
         let velocity = pick(c, "velocity", asked.velocity, c.velocity, asked.clamp)?;
@@ -109,7 +121,7 @@ pub(super) fn move_commands(
             c.acceleration,
             asked.clamp,
         )?;
-        out.push((*k, axes.move_command(*k, target, velocity, acceleration)));
+        out.push((*k, c.move_command(goal, velocity, acceleration)));
     }
     Ok(out)
 }
@@ -172,13 +184,7 @@ pub(super) fn velocity_command(
     }
     let acceleration = pick(c, "acceleration", acceleration, c.acceleration, clamp)?;
     ready(axes, k)?;
-    let v = velocity.clamp(-c.velocity, c.velocity);
-    let ramp = c.ramp_ms(acceleration);
-    Ok(AxisCommand::Velocity {
-        velocity: c.drive_speed(v) as i32,
-        acceleration_ms: ramp,
-        deceleration_ms: ramp,
-    })
+    c.jog_command(velocity.clamp(-c.velocity, c.velocity), acceleration)
 }
 
 /// MC_Power of MR-JE-C axes `ks`: on needs an axis not stopped (reset first), off one that

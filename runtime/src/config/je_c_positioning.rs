@@ -1,0 +1,292 @@
+//! The positioning modes of an MR-JE-C axis in a cell (SW A4+, MR-JE-C manual §7.6.3):
+//! `mode = "point_table"` with its `[[axes.je_c.point_table]]` (2801h–28FFh, written at
+//! start-up), `mode = "indexer"` with `je_c.stations` ([Pr. PT28]; the position unit is the
+//! station) and `mode = "jog"`. What a `move` and a `jog` mean on each kind of axis.
+
+use cellrt_axes::mr_je_c::cell::AxisCommand;
+
+use super::je_c_axis::{JecAxisConfig, JecMode};
+use super::raw::RawPointTable;
+
+/// The most point tables a drive holds (2801h–28FFh).
+pub const MAX_POINT_TABLES: usize = 255;
+/// The largest M code of a point table (2801h:7, 0–63h).
+pub const MAX_M_CODE: u8 = 0x63;
+/// [Pr. PT28]'s stations per revolution (indexer, §7.3 607Bh).
+pub const STATIONS: std::ops::RangeInclusive<u32> = 2..=255;
+
+/// One point table of a `point_table` axis, in the axis' units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JecPointTable {
+    /// Position, units.
+    pub position: f64,
+    /// Speed, unit/s.
+    pub velocity: f64,
+    /// Acceleration, unit/s².
+    pub acceleration: f64,
+    /// Deceleration, unit/s².
+    pub deceleration: f64,
+    /// M code.
+    pub m_code: u8,
+}
+
+/// Where a `move` takes an MR-JE-C axis, by its mode.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum JecMoveTarget {
+    /// pp (and pv, tq axes, which move in pp): a position, units.
+    Position(f64),
+    /// pt: point table `table`, whose position is `position` units.
+    PointTable {
+        /// 1–255.
+        table: u8,
+        /// The table's position, units.
+        position: f64,
+    },
+    /// idx: a station (0 … [Pr. PT28] − 1), which is also its position in stations.
+    Station(u8),
+}
+
+impl JecMoveTarget {
+    /// The position the axis ends at, units.
+    pub fn end_position(self) -> f64 {
+        match self {
+            JecMoveTarget::Position(p) => p,
+            JecMoveTarget::PointTable { position, .. } => position,
+            JecMoveTarget::Station(s) => f64::from(s),
+        }
+    }
+}
+
+/// Checks the point tables of `axis` (name `name`) against its limits; `Err((key, why))`.
+pub fn point_tables(
+    name: &str,
+    mode: JecMode,
+    raw: &[RawPointTable],
+    position: [f64; 2],
+    velocity: f64,
+    acceleration: f64,
+) -> Result<Vec<JecPointTable>, (String, String)> {
+    if mode != JecMode::PointTable {
+        return match raw.is_empty() {
+            true => Ok(Vec::new()),
+            false => Err((
+                "je_c.point_table".into(),
+                format!(
+                    "axis '{name}' runs {}: point tables are for mode = \"point_table\"",
+                    mode.name()
+                ),
+            )),
+        };
+    }
+    if raw.is_empty() || raw.len() > MAX_POINT_TABLES {
+        return Err((
+            "je_c.point_table".into(),
+            format!(
+                "axis '{name}' runs point tables: give 1–{MAX_POINT_TABLES} [[axes.je_c.point_table]] (table 1 first), {} given",
+                raw.len()
+            ),
+        ));
+    }
+    raw.iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let key = |sub: &str| format!("je_c.point_table[{k}].{sub}");
+            let n = k + 1;
+            let [lo, hi] = position;
+            if !(t.position.is_finite() && (lo..=hi).contains(&t.position)) {
+                return Err((
+                    key("position"),
+                    format!("point table {n}: {} is outside the position range [{lo}, {hi}] of axis '{name}'", t.position),
+                ));
+            }
+            let within = |sub: &str, v: Option<f64>, limit: f64| match v {
+                None => Ok(limit),
+                Some(v) if v.is_finite() && v > 0.0 && v <= limit => Ok(v),
+                Some(v) => Err((
+                    key(sub),
+                    format!("point table {n}: {sub} {v} must be > 0 and at most the axis' limit {limit}"),
+                )),
+            };
+            let m_code = t.m_code.unwrap_or(0);
+            if m_code > MAX_M_CODE {
+                return Err((
+                    key("m_code"),
+                    format!("point table {n}: M code {m_code} is outside 0–{MAX_M_CODE} (2801h:7)"),
+                ));
+            }
+            Ok(JecPointTable {
+                position: t.position,
+                velocity: within("velocity", t.velocity, velocity)?,
+                acceleration: within("acceleration", t.acceleration, acceleration)?,
+                deceleration: within(
+                    "deceleration",
+                    t.deceleration.or(t.acceleration),
+                    acceleration,
+                )?,
+                m_code,
+            })
+        })
+        .collect()
+}
+
+/// The stations of an indexer axis: `je_c.stations` for mode indexer, refused otherwise.
+pub fn stations(name: &str, mode_name: &str, raw: Option<u32>) -> Result<Option<u8>, String> {
+    match (mode_name, raw) {
+        ("indexer", Some(n)) if STATIONS.contains(&n) => Ok(Some(n as u8)),
+        ("indexer", Some(n)) => Err(format!(
+            "{n} stations: [Pr. PT28] takes {}–{} stations per revolution",
+            STATIONS.start(),
+            STATIONS.end()
+        )),
+        ("indexer", None) => Err(format!(
+            "axis '{name}' runs the indexer: give je_c.stations, its stations per revolution ([Pr. PT28])"
+        )),
+        (_, Some(_)) => Err(format!(
+            "axis '{name}' runs {mode_name}: stations are for mode = \"indexer\""
+        )),
+        (_, None) => Ok(None),
+    }
+}
+
+impl JecAxisConfig {
+    /// What a move to `value` means on this axis, checked: a position within its range (pp,
+    /// pv, tq), the number of one of its point tables (pt) or one of its stations (idx); a jog
+    /// axis does not move to targets.
+    pub fn move_target(&self, value: f64) -> Result<JecMoveTarget, String> {
+        let name = &self.name;
+        if !value.is_finite() {
+            return Err(format!(
+                "axis '{name}': target {value} is not a finite number"
+            ));
+        }
+        let whole = |what: &str, n: usize| -> Result<u8, String> {
+            if value.fract() == 0.0 && value >= 0.0 && value < n as f64 + 1.0 {
+                Ok(value as u8)
+            } else {
+                Err(format!("axis '{name}': {value} is not one of its {what}"))
+            }
+        };
+        match self.mode {
+            JecMode::Pp | JecMode::Pv | JecMode::Tq => {
+                let [lo, hi] = self.position;
+                if (lo..=hi).contains(&value) {
+                    Ok(JecMoveTarget::Position(value))
+                } else {
+                    Err(format!(
+                        "axis '{name}': target {value} {} is outside its position range [{lo}, {hi}]",
+                        self.unit
+                    ))
+                }
+            }
+            JecMode::PointTable => {
+                let n = self.point_tables.len();
+                let table = whole(&format!("point tables (1–{n})"), n)?;
+                if table == 0 {
+                    return Err(format!(
+                        "axis '{name}': 0 is not one of its point tables (1–{n})"
+                    ));
+                }
+                Ok(JecMoveTarget::PointTable {
+                    table,
+                    position: self.point_tables[usize::from(table) - 1].position,
+                })
+            }
+            JecMode::Indexer { stations } => {
+                let last = usize::from(stations) - 1;
+                whole(&format!("stations (0–{last})"), last).map(JecMoveTarget::Station)
+            }
+            JecMode::Jog => Err(format!(
+                "axis '{name}' runs jg: it moves by jog only, not to targets"
+            )),
+        }
+    }
+
+    /// The command of a move to `target` at `velocity` unit/s and `acceleration` unit/s² (a
+    /// point table runs at its own).
+    pub fn move_command(
+        &self,
+        target: JecMoveTarget,
+        velocity: f64,
+        acceleration: f64,
+    ) -> AxisCommand {
+        let ramp = self.ramp_ms(acceleration);
+        let speed = self
+            .drive_speed(velocity)
+            .unsigned_abs()
+            .min(u64::from(u32::MAX)) as u32;
+        match target {
+            JecMoveTarget::Position(p) => AxisCommand::Move {
+                target: self.counts(p),
+                velocity: speed,
+                acceleration_ms: ramp,
+                deceleration_ms: ramp,
+            },
+            JecMoveTarget::PointTable { table, .. } => AxisCommand::PointTable {
+                table: i16::from(table),
+            },
+            JecMoveTarget::Station(station) => AxisCommand::Station {
+                station: i16::from(station),
+                velocity: speed,
+                acceleration_ms: ramp,
+                deceleration_ms: ramp,
+            },
+        }
+    }
+
+    /// Whether a move's own velocity and acceleration apply (not to point tables, which run
+    /// at their own).
+    pub fn takes_move_limits(&self) -> bool {
+        self.mode != JecMode::PointTable
+    }
+
+    /// The command of a jog at `velocity` unit/s with `acceleration` unit/s²: jg on a jog or
+    /// point-table axis (Table 2.3 has no 60FFh), pv otherwise; an indexer axis does not jog.
+    pub fn jog_command(&self, velocity: f64, acceleration: f64) -> Result<AxisCommand, String> {
+        let ramp = self.ramp_ms(acceleration);
+        let speed = self.drive_speed(velocity);
+        match self.mode {
+            JecMode::Jog | JecMode::PointTable => Ok(AxisCommand::Jog {
+                velocity: speed.unsigned_abs().min(u64::from(u32::MAX)) as u32,
+                reverse: speed < 0,
+                acceleration_ms: ramp,
+                deceleration_ms: ramp,
+            }),
+            JecMode::Indexer { .. } => Err(format!(
+                "axis '{}' is an indexer axis: it turns to stations (move), it does not jog",
+                self.name
+            )),
+            JecMode::Pp | JecMode::Pv | JecMode::Tq => Ok(AxisCommand::Velocity {
+                velocity: speed.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32,
+                acceleration_ms: ramp,
+                deceleration_ms: ramp,
+            }),
+        }
+    }
+
+    /// The point tables (2801h + n − 1, subs 1–4 and 7) and [Pr. PT28] the drive gets at
+    /// start-up.
+    pub fn positioning_parameters(
+        &self,
+    ) -> Vec<(cellrt_axes::mr_je_c::ObjectId, cellrt_axes::mr_je_c::Value)> {
+        use cellrt_axes::mr_je_c::{ObjectId, Value};
+        let mut out = Vec::new();
+        for (k, t) in self.point_tables.iter().enumerate() {
+            let index = 0x2801 + k as u16;
+            let speed = self.drive_speed(t.velocity).clamp(0, i64::from(i32::MAX)) as i32;
+            for (sub, v) in [
+                (1, self.counts(t.position)),
+                (2, speed),
+                (3, self.ramp_ms(t.acceleration) as i32),
+                (4, self.ramp_ms(t.deceleration) as i32),
+                (7, i32::from(t.m_code)),
+            ] {
+                out.push((ObjectId::new(index, sub), Value::I32(v)));
+            }
+        }
+        if let JecMode::Indexer { stations } = self.mode {
+            let pt28 = cellrt_axes::mr_je_c::parameters::PT28.index();
+            out.push((ObjectId::new(pt28, 0), Value::U32(u32::from(stations))));
+        }
+        out
+    }
+}

@@ -283,3 +283,39 @@ fn cclink_axis_runs_point_tables_on_the_devices_of_table_2_3() {
         cclink_io(&s).with_devices(DeviceTable::Positioning),
     ));
 }
+
+/// The feed override reaches the drive: a move started at 50 % carries half its 6081h, a new
+/// override mid-move sends the new one, at 0 % the motor stands under Halt with the move not
+/// ended, and released it arrives.
+#[test]
+fn the_feed_override_scales_the_profile_velocity_the_drive_gets() {
+    let s = server();
+    let client = SlmpClient::udp(s.slmp_udp, FrameType::E4, TIMEOUT).unwrap();
+    let control = AxisControl::new(5, StopReaction::QuickStop);
+    let t = AxisThread::start("x", Box::new(ObjectIo::new(client)), &[], control, PERIOD).unwrap();
+    let h = t.handle.clone();
+    let speed = || s.drive().read(ObjectId::new(0x6081, 0)).unwrap().as_i64();
+    assert!(h.command(AxisCommand::PowerOn));
+    wait(&h, "enabled", |f| f.enabled);
+    assert!(h.command(AxisCommand::Override { permille: 500 }));
+    assert!(h.command(AxisCommand::Move {
+        target: 524_288,
+        velocity: 60_000,
+        acceleration_ms: 100,
+        deceleration_ms: 100,
+    }));
+    wait(&h, "moving", |f| f.inputs.velocity > 0);
+    assert_eq!(speed(), Some(30_000));
+    assert!(h.command(AxisCommand::Override { permille: 0 }));
+    wait(&h, "held", |f| f.inputs.velocity == 0);
+    for _ in 0..20 {
+        std::thread::sleep(PERIOD);
+        assert_eq!(h.feedback().done, 0, "a held move does not end");
+    }
+    assert!(h.command(AxisCommand::Override { permille: 1000 }));
+    wait(&h, "arrived", |f| f.done == 1);
+    assert_eq!(speed(), Some(60_000));
+    let f = h.feedback();
+    assert!((f.inputs.position - 524_288).abs() <= 100, "{f:?}");
+    assert_eq!(f.failed, 0);
+}

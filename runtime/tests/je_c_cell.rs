@@ -344,8 +344,7 @@ fn je_c_torque_steps_are_checked_at_load() {
 /// SLMP beside a csp axis.
 fn positioning_cell(program_extra: &str) -> (CellConfig, Result<Program, String>) {
     let text = cell_head("positioning", "quick_stop")
-        + &format!(
-            r#"
+        + r#"
 [[axes]]
 name = "feeder"
 drive = "mr-je-c"
@@ -353,7 +352,7 @@ transport = "cclink-ief-basic"
 mode = "point_table"
 unit = "mm"
 counts_per_unit = 1310.72
-limits = {{ position = [-500.0, 500.0], velocity = 200.0, acceleration = 1000.0, jerk = 10000.0 }}
+limits = { position = [-500.0, 500.0], velocity = 200.0, acceleration = 1000.0, jerk = 10000.0 }
 [axes.je_c]
 emulate = true
 watchdog_missed = 0
@@ -373,10 +372,9 @@ transport = "slmp"
 mode = "indexer"
 unit = "station"
 counts_per_unit = 1.0
-limits = {{ position = [0.0, 7.0], velocity = 2.0, acceleration = 20.0, jerk = 100.0 }}
-je_c = {{ emulate = true, stations = 8, watchdog_missed = 0, response_timeout_ms = 200 }}
-"#
-        );
+limits = { position = [0.0, 7.0], velocity = 2.0, acceleration = 20.0, jerk = 100.0 }
+je_c = { emulate = true, stations = 8, watchdog_missed = 0, response_timeout_ms = 200 }
+"#;
     let cell =
         CellConfig::parse(Path::new("positioning.toml"), &text).unwrap_or_else(|e| panic!("{e}"));
     let program = format!(

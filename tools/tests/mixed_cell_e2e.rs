@@ -3,7 +3,8 @@
 //! and `cellrt replay` of its recording says plainly that they are left out of the
 //! bit-identical check while the csp axes replay bit-identical; `cellrt status` of the running
 //! cell lists them with their links; the operator powers, moves, jogs, halts and resets them
-//! beside the csp axes, with each bad request refused naming the axis and what is wrong.
+//! beside the csp axes, with each bad request refused naming the axis and what is wrong; on the
+//! shipped positioning cell the operator runs point tables and stations.
 
 mod common;
 
@@ -61,15 +62,24 @@ struct RunningCell {
 
 impl RunningCell {
     fn start() -> RunningCell {
+        RunningCell::start_shipped("mixed-cell", "mixed")
+    }
+
+    /// The shipped cell `configs/CONFIG.toml` (two MR-JE-C axes), named `cell` there, running
+    /// under a name of its own without a program.
+    fn start_shipped(config: &str, cell: &str) -> RunningCell {
         let dir = tempfile::tempdir().unwrap();
         let name = unique_cell_name();
         let cfg = dir.path().join("cell.toml");
-        std::fs::write(&cfg, mixed_cell(&name)).unwrap();
-        std::fs::copy(
-            format!("{CONFIGS}/mixed-cell-program.toml"),
-            dir.path().join("mixed-cell-program.toml"),
-        )
-        .unwrap();
+        let text = std::fs::read_to_string(format!("{CONFIGS}/{config}.toml"))
+            .unwrap()
+            .replace(
+                &format!(r#"name = "{cell}""#),
+                &format!(r#"name = "{name}""#),
+            );
+        std::fs::write(&cfg, text).unwrap();
+        let program = format!("{config}-program.toml");
+        std::fs::copy(format!("{CONFIGS}/{program}"), dir.path().join(&program)).unwrap();
         let child = Command::new(env!("CARGO_BIN_EXE_cellrt"))
             .args(["run", "--no-program", "--no-record", "--duration", "120"])
             .arg(&cfg)
@@ -465,5 +475,80 @@ fn halt_stops_a_conveyor_mid_move() {
     assert!(
         p1 < 100.0 && (p1 - p2).abs() < 0.01 && !moving,
         "{first}\n{second}"
+    );
+}
+
+/// The operator on the shipped positioning cell: a move names the feeder's point table and
+/// the turret's station (`cellrt move` waits until both report Target reached), a jog of the
+/// point-table axis runs in jg until halted, and what these axes do not take is refused.
+#[test]
+fn the_operator_runs_point_tables_and_stations() {
+    let cell = RunningCell::start_shipped("je-c-positioning", "je-c-positioning");
+    let ok = |args: &[&str]| {
+        let (code, out, err) = cell.cli(args);
+        assert_eq!(code, 0, "{args:?}: {out}{err}");
+    };
+    let at = |axis: &str| cell.je_c(axis)["position"].as_f64().unwrap();
+    ok(&["power", "on"]);
+    ok(&["move", "x=200", "feeder=1", "turret=5"]);
+    assert!(
+        (at("feeder") - 120.0).abs() < 0.01,
+        "{}",
+        cell.je_c("feeder")
+    );
+    assert_eq!(at("turret"), 5.0, "{}", cell.je_c("turret"));
+    ok(&["move", "feeder=2", "turret=1"]);
+    assert!(
+        (at("feeder") + 80.0).abs() < 0.01,
+        "{}",
+        cell.je_c("feeder")
+    );
+    assert_eq!(at("turret"), 1.0, "{}", cell.je_c("turret"));
+    for (args, why) in [
+        (
+            &["move", "feeder=3"][..],
+            "axis 'feeder': 3 is not one of its point tables (1–2)",
+        ),
+        (
+            &["move", "turret=8"][..],
+            "axis 'turret': 8 is not one of its stations (0–7)",
+        ),
+        (
+            &["move", "--rel", "turret=1"][..],
+            "axis 'turret' runs indexer: a move names its station, not a distance",
+        ),
+        (
+            &["move", "feeder=1", "--vel", "10"][..],
+            "axis 'feeder' runs point tables",
+        ),
+        (
+            &["jog", "turret", "1"][..],
+            "it turns to stations (move), it does not jog",
+        ),
+        (&["torque", "feeder=5"][..], "carry no torque command"),
+    ] {
+        cell.refused(args, why);
+    }
+    ok(&["jog", "feeder", "-30"]);
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while cell.je_c("feeder")["velocity"].as_f64().unwrap() > -29.0 {
+        assert!(
+            std::time::Instant::now() < end,
+            "feeder never jogged: {}",
+            cell.je_c("feeder")
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    ok(&["halt", "feeder"]);
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while cell.je_c("feeder")["velocity"].as_f64().unwrap() != 0.0 {
+        assert!(std::time::Instant::now() < end, "feeder never stood");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    ok(&["move", "feeder=1"]);
+    assert!(
+        (at("feeder") - 120.0).abs() < 0.01,
+        "{}",
+        cell.je_c("feeder")
     );
 }

@@ -302,6 +302,19 @@ pub fn validate(
     }
     let velocity = positive("limits.velocity", a.limits.velocity)?;
     let acceleration = positive("limits.acceleration", a.limits.acceleration)?;
+    let counts_per_unit = positive("counts_per_unit", a.counts_per_unit)?;
+    if let (Some((min, max)), false) = (
+        target_position_range(),
+        matches!(mode, JecMode::Indexer { .. }),
+    ) {
+        let [lo_counts, hi_counts] = [lo, hi].map(|x| (x * counts_per_unit).round());
+        if lo_counts < min as f64 || hi_counts > max as f64 {
+            return Err(err(
+                "limits.position",
+                format!("[{lo}, {hi}] {} is [{lo_counts}, {hi_counts}] pos units, beyond Target position 607Ah's setting range {min}…{max} (MR-JE-C manual §7.3): narrow the range or count coarser pos units (counts_per_unit, [Pr. PT01])", a.unit),
+            ));
+        }
+    }
     let point_tables = super::je_c_positioning::point_tables(
         &a.name,
         mode,
@@ -314,7 +327,7 @@ pub fn validate(
     Ok(JecAxisConfig {
         name: a.name.clone(),
         unit: a.unit.clone(),
-        counts_per_unit: positive("counts_per_unit", a.counts_per_unit)?,
+        counts_per_unit,
         position: a.limits.position,
         velocity,
         acceleration,
@@ -332,6 +345,21 @@ pub fn validate(
         rated_speed: positive("je_c.rated_speed", raw.rated_speed.unwrap_or(3000.0))?,
         emulate: raw.emulate,
     })
+}
+
+/// Target position 607Ah's setting range in pos units, from the object table (±999999; the
+/// degree unit's ±360000 is not a cell's unit).
+fn target_position_range() -> Option<(i64, i64)> {
+    use cellrt_axes::mr_je_c::objects::entry;
+    use cellrt_axes::mr_je_c::types::Range;
+    use cellrt_axes::mr_je_c::{ObjectId, SoftwareVersion};
+    match entry(ObjectId::new(0x607A, 0), SoftwareVersion::A4)?
+        .1
+        .range
+    {
+        Range::Spans(spans) => spans.first().copied(),
+        _ => None,
+    }
 }
 
 /// `transport` and the address keys it needs.

@@ -357,3 +357,18 @@ fn positioning_axes_are_checked_at_load() {
         .unwrap_err()
         .contains("moves by jog only"));
 }
+
+/// 607Ah takes −999999…999999 pos units (MR-JE-C manual §7.3): a position range beyond it in
+/// pos units is refused at load, not by the drive mid-run.
+#[test]
+fn a_position_range_beyond_607ah_is_refused_at_load() {
+    let text = mixed().replace(
+        "position = [-500.0, 500.0], velocity = 150.0",
+        "position = [-800.0, 500.0], velocity = 150.0",
+    );
+    refused(
+        parse(&text),
+        "axes[3].limits.position",
+        "[-1048576, 655360] pos units, beyond Target position 607Ah's setting range -999999…999999",
+    );
+}

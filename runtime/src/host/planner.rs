@@ -460,6 +460,7 @@ impl<'a> Planner<'a> {
                     if let Err(e) = self.engine.set_override(*value, self.link.as_mut()) {
                         return Err(self.err(e));
                     }
+                    self.je_c.set_override(*value).map_err(|e| self.err(e))?;
                 }
             }
         }

@@ -50,6 +50,8 @@ const TARGET_REACHED: u16 = 1 << 10;
 const HOMING_ATTAINED: u16 = 1 << 12;
 /// Statusword bit 13 in hm: Homing error (§7.4, [EXT: CiA 402]).
 pub const HOMING_ERROR: u16 = 1 << 13;
+/// The feed override at 100 %, ‰.
+pub const FULL_FEED: u16 = 1000;
 /// A fault reset's exchanges: bit 7 off, on (the edge), then two to let the alarm clear.
 const RESET_EXCHANGES: u8 = 4;
 
@@ -120,6 +122,14 @@ pub enum AxisCommand {
         acceleration_ms: u32,
         /// 6084h, ms.
         deceleration_ms: u32,
+    },
+    /// The feed override, ‰ of the commanded speeds (0–1000): 6081h of pp, jg and idx and 60FFh
+    /// of pv are scaled, a running pp move gets the new 6081h as a new set-point to the same
+    /// target; at 0 pp, jg and pt hold under Halt without ending their job, and an idx start
+    /// waits (its Halt bit is disabled, §7.6.3). Not a job.
+    Override {
+        /// 0–1000.
+        permille: u16,
     },
     /// Home in hm with the drive's method (6098h; the MR-JE-C's default 37 sets the home
     /// where the motor stands): done at Homing attained, failed at Homing error.
@@ -213,6 +223,11 @@ pub struct AxisControl {
     job: Job,
     /// jg's direction, on bit 6 with bit 4.
     jog_reverse: bool,
+    /// The feed override, ‰.
+    feed: u16,
+    /// 6081h and 60FFh as commanded, before the feed override.
+    commanded_speed: u32,
+    commanded_velocity: i32,
     halted: bool,
     reset: u8,
     limit: u32,
@@ -245,6 +260,9 @@ impl AxisControl {
             want_on: false,
             job: Job::Idle,
             jog_reverse: false,
+            feed: FULL_FEED,
+            commanded_speed: 0,
+            commanded_velocity: 0,
             halted: false,
             reset: 0,
             limit,
@@ -329,7 +347,7 @@ impl AxisControl {
             self.failed += 1;
             return false;
         }
-        if self.busy() {
+        if self.busy() && !matches!(c, AxisCommand::Override { .. }) {
             // A halt ends a velocity job as asked, a torque command a torque ramp; anything
             // else cuts the job short.
             let replaced = match c {
@@ -354,7 +372,7 @@ impl AxisControl {
             } => {
                 self.out.mode = PP;
                 self.out.target_position = target;
-                self.out.profile_velocity = velocity;
+                self.commanded_speed = velocity;
                 self.out.acceleration_ms = acceleration_ms;
                 self.out.deceleration_ms = deceleration_ms;
                 self.job = Job::Prepare;
@@ -365,7 +383,7 @@ impl AxisControl {
                 deceleration_ms,
             } => {
                 self.out.mode = PV;
-                self.out.target_velocity = velocity;
+                self.commanded_velocity = velocity;
                 self.out.acceleration_ms = acceleration_ms;
                 self.out.deceleration_ms = deceleration_ms;
                 self.job = Job::Velocity;
@@ -400,7 +418,7 @@ impl AxisControl {
             } => {
                 self.out.mode = IDX;
                 self.out.target_point_table = Some(station);
-                self.out.profile_velocity = velocity;
+                self.commanded_speed = velocity;
                 self.out.acceleration_ms = acceleration_ms;
                 self.out.deceleration_ms = deceleration_ms;
                 self.job = Job::PositioningPrepare;
@@ -412,7 +430,7 @@ impl AxisControl {
                 deceleration_ms,
             } => {
                 self.out.mode = JG;
-                self.out.profile_velocity = velocity;
+                self.commanded_speed = velocity;
                 self.out.acceleration_ms = acceleration_ms;
                 self.out.deceleration_ms = deceleration_ms;
                 self.jog_reverse = reverse;
@@ -433,9 +451,22 @@ impl AxisControl {
                 self.job = Job::TorqueRamp(self.ramp_exchanges(from, 0, self.out.torque_slope));
             }
             AxisCommand::Halt => {
-                self.out.target_velocity = 0;
+                self.commanded_velocity = 0;
                 self.halted = true;
                 self.job = Job::Halting;
+            }
+            AxisCommand::Override { permille } => {
+                let before = self.feed;
+                self.feed = permille.min(FULL_FEED);
+                // A running pp move takes the new speed as a new set-point to its target.
+                if matches!(self.job, Job::Start | Job::Moving)
+                    && self.feed != before
+                    && self.feed != 0
+                {
+                    // Bit 4 off in the next exchange, its edge in the one after.
+                    self.out.controlword &= !NEW_SET_POINT;
+                    self.job = Job::Prepare;
+                }
             }
             AxisCommand::Reset => {
                 self.stopped = None;
@@ -443,7 +474,34 @@ impl AxisControl {
                 self.reset = RESET_EXCHANGES;
             }
         }
+        self.apply_feed();
         true
+    }
+
+    /// 6081h and 60FFh from the commanded ones at the feed override (6081h stays while held:
+    /// Halt holds the motion, a profile speed of 0 would not be a speed).
+    fn apply_feed(&mut self) {
+        let scale = |v: i64| v * i64::from(self.feed) / i64::from(FULL_FEED);
+        if self.feed > 0 {
+            self.out.profile_velocity = scale(i64::from(self.commanded_speed)) as u32;
+        }
+        self.out.target_velocity = scale(i64::from(self.commanded_velocity)) as i32;
+    }
+
+    /// The feed override holds the job under Halt (pp, jg, pt) or keeps its start waiting
+    /// (idx).
+    fn feed_hold(&self) -> bool {
+        self.feed == 0
+            && matches!(
+                self.job,
+                Job::Prepare
+                    | Job::Start
+                    | Job::Moving
+                    | Job::JogPrepare
+                    | Job::Jogging
+                    | Job::PositioningPrepare
+                    | Job::Positioning { .. }
+            )
     }
 
     fn end(&mut self, ok: bool) {
@@ -508,6 +566,7 @@ impl AxisControl {
             Job::Prepare => self.job = Job::Start,
             Job::Start if sw & SET_POINT_ACK != 0 => self.job = Job::Moving,
             Job::Start => {}
+            Job::Moving if self.feed_hold() => {}
             Job::Moving if sw & SET_POINT_ACK == 0 && sw & TARGET_REACHED != 0 => self.end(true),
             Job::Moving => {}
             Job::Velocity | Job::Halting if sw & TARGET_REACHED != 0 => self.end(true),
@@ -519,6 +578,8 @@ impl AxisControl {
             Job::Homing => {}
             Job::TorqueRamp(0 | 1) => self.end(true),
             Job::TorqueRamp(n) => self.job = Job::TorqueRamp(n - 1),
+            // idx cannot be held by Halt: its start waits for a feed.
+            Job::PositioningPrepare if self.feed == 0 && self.out.mode == IDX => {}
             Job::PositioningPrepare => {
                 self.job = Job::Positioning {
                     left: false,
@@ -526,6 +587,7 @@ impl AxisControl {
                 }
             }
             // The answer to the exchange that carried the start edge, or bit 4 held after it.
+            Job::Positioning { .. } if self.feed_hold() => {}
             Job::Positioning { left, standing } => {
                 let reached = sw & TARGET_REACHED != 0;
                 match (reached, left) {
@@ -575,7 +637,8 @@ impl AxisControl {
             Some(FsaState::ReadyToSwitchOn) => 0x07,
             _ => 0x0F,
         };
-        let halt = if self.halted { HALT } else { 0 };
+        let held = self.feed_hold() && self.out.mode != IDX;
+        let halt = if self.halted || held { HALT } else { 0 };
         match self.job {
             Job::Start | Job::Homing | Job::Positioning { .. } => base | NEW_SET_POINT | halt,
             Job::Jogging if self.jog_reverse => base | NEW_SET_POINT | JOG_REVERSE | halt,
@@ -731,5 +794,76 @@ mod tests {
         assert_eq!(c.outputs().controlword & (NEW_SET_POINT | HALT), HALT);
         c.step(answer(0x0637));
         assert_eq!((c.done, c.failed), (3, 0));
+    }
+
+    /// The feed override scales 6081h; a running pp move gets it as a new set-point (bit 4
+    /// off, then the edge); at 0 the move holds under Halt and does not end at Target
+    /// reached; released, it goes on to its target.
+    #[test]
+    fn the_feed_override_rescales_and_holds_a_pp_move() {
+        let mut c = AxisControl::new(0, StopReaction::Halt);
+        assert!(c.command(AxisCommand::PowerOn));
+        c.step(answer(0x0637));
+        assert!(c.command(AxisCommand::Override { permille: 500 }));
+        assert!(c.command(AxisCommand::Move {
+            target: 1000,
+            velocity: 60_000,
+            acceleration_ms: 100,
+            deceleration_ms: 100,
+        }));
+        assert_eq!(c.outputs().profile_velocity, 30_000, "started at 50 %");
+        c.step(answer(0x0637));
+        assert_eq!(c.outputs().controlword, 0x001F);
+        c.step(answer(0x1237)); // acknowledged, moving
+        assert!(c.command(AxisCommand::Override { permille: 250 }));
+        assert_eq!(c.outputs().profile_velocity, 15_000);
+        assert_eq!(
+            c.outputs().controlword,
+            0x000F,
+            "bit 4 off for the new set-point"
+        );
+        c.step(answer(0x0237));
+        assert_eq!(c.outputs().controlword, 0x001F, "the new set-point's edge");
+        c.step(answer(0x1237));
+        assert!(c.command(AxisCommand::Override { permille: 0 }));
+        assert_eq!(
+            c.outputs().profile_velocity,
+            15_000,
+            "6081h kept while held"
+        );
+        c.step(answer(0x0637)); // halted and standing: Target reached
+        assert!(c.busy(), "a held move does not end");
+        assert_eq!(c.outputs().controlword & HALT, HALT);
+        assert!(c.command(AxisCommand::Override { permille: 1000 }));
+        assert_eq!(c.outputs().profile_velocity, 60_000);
+        assert_eq!(c.outputs().controlword & NEW_SET_POINT, 0);
+        c.step(answer(0x0637));
+        assert_eq!(
+            c.outputs().controlword,
+            0x001F,
+            "released, the new set-point's edge"
+        );
+        c.step(answer(0x1237));
+        c.step(answer(0x0637));
+        assert_eq!((c.busy(), c.done, c.failed), (false, 1, 0));
+    }
+
+    /// pv: 60FFh follows the override at once (0: ramps to 0, the job stays a velocity job).
+    #[test]
+    fn the_feed_override_scales_a_pv_velocity() {
+        let mut c = AxisControl::new(0, StopReaction::Halt);
+        assert!(c.command(AxisCommand::PowerOn));
+        c.step(answer(0x0637));
+        assert!(c.command(AxisCommand::Velocity {
+            velocity: -40_000,
+            acceleration_ms: 100,
+            deceleration_ms: 100,
+        }));
+        assert_eq!(c.outputs().target_velocity, -40_000);
+        assert!(c.command(AxisCommand::Override { permille: 750 }));
+        assert_eq!(c.outputs().target_velocity, -30_000);
+        assert!(c.command(AxisCommand::Override { permille: 0 }));
+        assert_eq!(c.outputs().target_velocity, 0);
+        assert!(c.busy());
     }
 }

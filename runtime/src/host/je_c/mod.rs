@@ -8,6 +8,7 @@ pub mod emulated;
 
 use std::sync::Arc;
 
+use cellrt_axes::mr_je_c::cell::control::FULL_FEED;
 use cellrt_axes::mr_je_c::cell::{
     AxisCommand, AxisControl, AxisFeedback, AxisHandle, AxisThread, StopReaction, Stopped,
 };
@@ -171,6 +172,13 @@ impl JecAxes {
                 self.axes[k].0.name
             ))
         }
+    }
+
+    /// The feed override `value` (0–1) for every axis: their drives' commanded speeds scaled
+    /// ([`AxisCommand::Override`]).
+    pub fn set_override(&self, value: f64) -> Result<(), String> {
+        let permille = (value.clamp(0.0, 1.0) * f64::from(FULL_FEED)).round() as u16;
+        self.command_all(AxisCommand::Override { permille })
     }
 
     /// Queues `c` for every axis.

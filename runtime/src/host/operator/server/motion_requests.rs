@@ -525,7 +525,12 @@ impl OperatorServer {
         if !(percent.is_finite() && (0.0..=100.0).contains(&percent)) {
             return rejected(format!("override: {percent} % is outside 0–100 %"));
         }
-        match ctx.engine.set_override(percent / 100.0, ctx.link) {
+        match ctx
+            .engine
+            .set_override(percent / 100.0, ctx.link)
+            .map_err(|e| e.to_string())
+            .and_then(|()| ctx.je_c.set_override(percent / 100.0))
+        {
             Ok(()) => (self.accept("override", false), Followup::None),
             Err(e) => rejected(format!("override: {e}")),
         }

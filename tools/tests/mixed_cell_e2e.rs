@@ -551,4 +551,29 @@ fn the_operator_runs_point_tables_and_stations() {
         "{}",
         cell.je_c("feeder")
     );
+    // MC_Stop quick-stops the indexer (its Halt bit is disabled): 6085h, then Switch on
+    // disabled (option code 2); it takes motion again after a power on.
+    ok(&["move", "--no-wait", "turret=5"]);
+    ok(&["stop"]);
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while cell.je_c("turret")["fsa"] != "switch_on_disabled" {
+        assert!(
+            std::time::Instant::now() < end,
+            "the turret was not quick-stopped: {}",
+            cell.je_c("turret")
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    assert_eq!(
+        cell.je_c("feeder")["fsa"],
+        "operation_enabled",
+        "halted only"
+    );
+    cell.refused(
+        &["move", "turret=2"],
+        "MR-JE-C axis 'turret' is not enabled",
+    );
+    ok(&["power", "on", "turret"]);
+    ok(&["move", "turret=2"]);
+    assert_eq!(at("turret"), 2.0, "{}", cell.je_c("turret"));
 }

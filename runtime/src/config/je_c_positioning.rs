@@ -233,6 +233,15 @@ impl JecAxisConfig {
         }
     }
 
+    /// What MC_Stop sends the axis: Halt on the drive's ramp, or a quick stop on an indexer
+    /// axis, whose Halt bit is disabled (MR-JE-C manual §7.6.3).
+    pub fn stop_command(&self) -> AxisCommand {
+        match self.mode {
+            JecMode::Indexer { .. } => AxisCommand::QuickStop,
+            _ => AxisCommand::Halt,
+        }
+    }
+
     /// Whether a move's own velocity and acceleration apply (not to point tables, which run
     /// at their own).
     pub fn takes_move_limits(&self) -> bool {

@@ -136,6 +136,10 @@ pub enum AxisCommand {
     Home,
     /// Halt (bit 8): decelerate with 6084h; done at standstill.
     Halt,
+    /// Quick stop (controlword 0002h): the drive decelerates with 6085h and, with option code
+    /// 2, ends in Switch on disabled (§7.6.2); the stop for an idx axis, whose Halt bit is
+    /// disabled (§7.6.3). The servo stays off until the next PowerOn.
+    QuickStop,
     /// Clear a watchdog stop and the drive's alarm.
     Reset,
 }
@@ -223,6 +227,8 @@ pub struct AxisControl {
     job: Job,
     /// jg's direction, on bit 6 with bit 4.
     jog_reverse: bool,
+    /// Servo off by a quick stop rather than Disable voltage.
+    quick_stop: bool,
     /// The feed override, ‰.
     feed: u16,
     /// 6081h and 60FFh as commanded, before the feed override.
@@ -260,6 +266,7 @@ impl AxisControl {
             want_on: false,
             job: Job::Idle,
             jog_reverse: false,
+            quick_stop: false,
             feed: FULL_FEED,
             commanded_speed: 0,
             commanded_velocity: 0,
@@ -362,8 +369,15 @@ impl AxisControl {
             self.halted = false;
         }
         match c {
-            AxisCommand::PowerOn => self.want_on = self.stopped.is_none(),
+            AxisCommand::PowerOn => {
+                self.want_on = self.stopped.is_none();
+                self.quick_stop = false;
+            }
             AxisCommand::PowerOff => self.want_on = false,
+            AxisCommand::QuickStop => {
+                self.want_on = false;
+                self.quick_stop = true;
+            }
             AxisCommand::Move {
                 target,
                 velocity,
@@ -630,7 +644,7 @@ impl AxisControl {
             };
         }
         if !self.want_on {
-            return 0x00;
+            return if self.quick_stop { 0x02 } else { 0x00 };
         }
         let base = match state {
             Some(FsaState::SwitchOnDisabled) => 0x06,

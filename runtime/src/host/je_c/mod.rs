@@ -181,6 +181,11 @@ impl JecAxes {
         self.command_all(AxisCommand::Override { permille })
     }
 
+    /// MC_Stop for every axis: each its [`JecAxisConfig::stop_command`].
+    pub fn stop_all(&self) -> Result<(), String> {
+        (0..self.len()).try_for_each(|k| self.command(k, self.config(k).stop_command()))
+    }
+
     /// Queues `c` for every axis.
     pub fn command_all(&self, c: AxisCommand) -> Result<(), String> {
         (0..self.len()).try_for_each(|k| self.command(k, c))

@@ -481,10 +481,10 @@ impl OperatorServer {
         }
     }
 
-    /// MC_Stop: the RT thread stops the cell, the MR-JE-C axes halt on their drives' ramps; a
-    /// running program is aborted.
+    /// MC_Stop: the RT thread stops the cell, the MR-JE-C axes halt on their drives' ramps (an
+    /// indexer axis quick-stops); a running program is aborted.
     pub(super) fn stop(&mut self, ctx: &mut Context<'_>) -> (Reply, Followup) {
-        if let Err(e) = ctx.je_c.command_all(AxisCommand::Halt) {
+        if let Err(e) = ctx.je_c.stop_all() {
             return rejected(format!("stop: {e}"));
         }
         match ctx.link.command(CellCommand::Stop) {

@@ -45,7 +45,10 @@ fn status_lists_the_je_c_axes_and_their_links() {
             .lines()
             .find(|l| l.starts_with(axis))
             .unwrap_or_else(|| panic!("{status}"));
-        assert!(line.contains("je-c") && line.contains(transport), "{line}");
+        assert!(
+            line.contains("je-c") && line.contains(&format!("{transport} in pp,")),
+            "{line}"
+        );
         assert!(
             line.contains("switch_on_disabled"),
             "not powered yet: {line}"
@@ -489,6 +492,10 @@ fn the_operator_runs_point_tables_and_stations() {
         assert_eq!(code, 0, "{args:?}: {out}{err}");
     };
     let at = |axis: &str| cell.je_c(axis)["position"].as_f64().unwrap();
+    assert_eq!(
+        (&cell.je_c("feeder")["mode"], &cell.je_c("turret")["mode"]),
+        (&"point_table".into(), &"indexer".into())
+    );
     ok(&["power", "on"]);
     ok(&["move", "x=200", "feeder=1", "turret=5"]);
     assert!(

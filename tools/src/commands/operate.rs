@@ -698,7 +698,7 @@ pub fn render(s: &StatusReport) -> String {
     }
     for a in &s.je_c_axes {
         out += &format!(
-            "{:<8} {:<5} {:<22} {:>9.3} {:<2} {:>12} {:>11.3} {:>10} {:>6}  {} {} exchanges, {} missed ({} in a row), round trip {:.0} µs{}\n",
+            "{:<8} {:<5} {:<22} {:>9.3} {:<2} {:>12} {:>11.3} {:>10} {:>6}  {} in {}, {} exchanges, {} missed ({} in a row), round trip {:.0} µs{}\n",
             a.name,
             "je-c",
             a.fsa,
@@ -713,6 +713,7 @@ pub fn render(s: &StatusReport) -> String {
                 format!("{:04X}h", a.alarm)
             },
             a.transport,
+            a.mode,
             a.exchanges,
             a.missed,
             a.missed_in_row,

@@ -204,6 +204,7 @@ impl JecAxes {
                 crate::host::operator::wire::JecAxisStatus {
                     name: c.name.clone(),
                     transport: c.transport.name().to_string(),
+                    mode: c.mode.name().to_string(),
                     unit: c.unit.clone(),
                     fsa: state.map_or("unknown", |s| s.as_str()).to_string(),
                     position: c.units(f.inputs.position),

@@ -428,6 +428,9 @@ pub struct JecAxisStatus {
     pub name: String,
     /// Transport (`cclink-ief-basic`, `slmp`, `modbus-tcp`, `modbus-rtu`).
     pub transport: String,
+    /// The configured mode (`pp`, `pv`, `tq`, `jog`, `point_table`, `indexer`).
+    #[serde(default)]
+    pub mode: String,
     /// Unit.
     pub unit: String,
     /// CiA 402 state from the last answer.

@@ -434,6 +434,23 @@ target = { turret = 6 }
     );
 }
 
+/// A move to a point table waits for the table's own profile (table 1: 150 mm/s, the axis'
+/// 1000 mm/s²; table 2: the axis' 200 mm/s, 500 mm/s²), not the axis' limits.
+#[test]
+fn a_point_table_move_is_timed_by_its_table() {
+    let (_, p) = positioning_cell("[[step]]\ndo = \"move\"\ntarget = { feeder = 1, turret = 2 }\n[[step]]\ndo = \"move\"\ntarget = { feeder = 2 }");
+    let p = p.unwrap();
+    let je_c = |k: usize| match &p.steps[k] {
+        cellrt_runtime::host::program::Step::Move(_, t) => t.clone(),
+        other => panic!("{other:?}"),
+    };
+    let profile = |t: &cellrt_runtime::host::program::JecTarget| (t.velocity, t.acceleration);
+    let first = je_c(1);
+    assert_eq!(profile(&first[0]), (150.0, 1000.0));
+    assert_eq!(profile(&first[1]), (2.0, 20.0), "the turret at its limits");
+    assert_eq!(profile(&je_c(2)[0]), (200.0, 500.0));
+}
+
 /// What a point-table or indexer axis does not take is refused at load, naming it.
 #[test]
 fn positioning_axes_refuse_what_they_do_not_take() {

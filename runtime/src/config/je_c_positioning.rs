@@ -233,6 +233,23 @@ impl JecAxisConfig {
         }
     }
 
+    /// The speed (unit/s) and the lower of the accelerations (unit/s²) a move to `target`
+    /// runs at: a point table's own, else `velocity` and `acceleration`.
+    pub fn profile_of(
+        &self,
+        target: JecMoveTarget,
+        velocity: f64,
+        acceleration: f64,
+    ) -> (f64, f64) {
+        match target {
+            JecMoveTarget::PointTable { table, .. } => {
+                let t = &self.point_tables[usize::from(table) - 1];
+                (t.velocity, t.acceleration.min(t.deceleration))
+            }
+            _ => (velocity, acceleration),
+        }
+    }
+
     /// What MC_Stop sends the axis: Halt on the drive's ramp, or a quick stop on an indexer
     /// axis, whose Halt bit is disabled (MR-JE-C manual §7.6.3).
     pub fn stop_command(&self) -> AxisCommand {

@@ -72,6 +72,7 @@ pub(super) fn take_targets(
         if let Some(RawLimit::PerAxis(m)) = &mut *jerk {
             m.remove(&name);
         }
+        let (velocity, acceleration) = a.profile_of(goal, velocity, acceleration);
         out.push(JecTarget {
             axis,
             goal,

@@ -83,6 +83,18 @@ struct Cells {
     stop: AtomicBool,
 }
 
+impl Cells {
+    fn new() -> Cells {
+        Cells {
+            commands: ArrayQueue::new(QUEUE),
+            feedback: AtomicCell::new(AxisFeedback::default()),
+            records: ArrayQueue::new(RECORDS),
+            records_dropped: AtomicU64::new(0),
+            stop: AtomicBool::new(false),
+        }
+    }
+}
+
 /// The cell's handle on one axis' thread.
 #[derive(Clone)]
 pub struct AxisHandle {
@@ -90,6 +102,25 @@ pub struct AxisHandle {
 }
 
 impl AxisHandle {
+    /// A handle with no thread behind it: its commands wait for [`AxisHandle::take_command`]
+    /// and its feedback is what [`AxisHandle::set_feedback`] stored, so a link to the process
+    /// that runs the axis' thread can carry both (an external planner's view of the axis).
+    pub fn detached() -> AxisHandle {
+        AxisHandle {
+            cells: Arc::new(Cells::new()),
+        }
+    }
+
+    /// The oldest command not yet taken: a detached handle's link forwards it.
+    pub fn take_command(&self) -> Option<AxisCommand> {
+        self.cells.commands.pop()
+    }
+
+    /// Stores `f` as the latest feedback: a detached handle's link, from the axis' thread.
+    pub fn set_feedback(&self, f: AxisFeedback) {
+        self.cells.feedback.store(f);
+    }
+
     /// Queues `c` for the next exchange; `false`: the queue is full.
     pub fn command(&self, c: AxisCommand) -> bool {
         self.cells.commands.push(c).is_ok()
@@ -143,13 +174,7 @@ impl AxisThread {
             write_retried(io.as_mut(), *id, v).map_err(|e| StartError::Parameter(*id, e))?;
         }
         control.set_link_period(period);
-        let cells = Arc::new(Cells {
-            commands: ArrayQueue::new(QUEUE),
-            feedback: AtomicCell::new(AxisFeedback::default()),
-            records: ArrayQueue::new(RECORDS),
-            records_dropped: AtomicU64::new(0),
-            stop: AtomicBool::new(false),
-        });
+        let cells = Arc::new(Cells::new());
         let mine = cells.clone();
         let thread = std::thread::Builder::new()
             .name(format!("cellrt-jec-{name}"))

@@ -7,6 +7,7 @@
 
 mod common;
 
+use std::ffi::OsStr;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -75,30 +76,33 @@ fn wait_line(rx: &Receiver<String>, what: &str, log: &mut Vec<String>) {
 /// `cellrt run --external-planner ARGS CFG`, once it waits for a planner: the process, its
 /// stderr lines and the log read so far.
 fn controller_waiting(cfg: &Path, args: &[&str]) -> (Child, Receiver<String>, Vec<String>) {
-    let mut controller = Command::new(env!("CARGO_BIN_EXE_cellrt"))
-        .args(["run", "--external-planner"])
-        .args(args)
-        .arg(cfg)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut all: Vec<&OsStr> = vec!["run".as_ref(), "--external-planner".as_ref()];
+    all.extend(args.iter().map(OsStr::new));
+    all.push(cfg.as_os_str());
+    let mut controller = cellrt(&all);
     let ctl = lines(&mut controller);
     let mut log = Vec::new();
     wait_line(&ctl, "waiting for a planner", &mut log);
     (controller, ctl, log)
 }
 
-fn planner(cfg: &Path, program: &Path) -> Child {
+/// `cellrt ARGS` with its stderr piped (read it with [`lines`]).
+fn cellrt(args: &[&OsStr]) -> Child {
     Command::new(env!("CARGO_BIN_EXE_cellrt"))
-        .arg("planner")
-        .arg(cfg)
-        .arg("--program")
-        .arg(program)
+        .args(args)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap()
+}
+
+fn planner(cfg: &Path, program: &Path) -> Child {
+    cellrt(&[
+        "planner".as_ref(),
+        cfg.as_os_str(),
+        "--program".as_ref(),
+        program.as_os_str(),
+    ])
 }
 
 fn wait_exit(child: &mut Child, secs: u64) -> Option<i32> {
@@ -632,21 +636,39 @@ fn a_killed_planner_halts_the_je_c_axes() {
     interrupt(&mut controller, &log);
 }
 
-/// The controller ending while the external planner waits on an MR-JE-C move: the planner's
-/// step fails naming the axis and the lost controller (its feedback stopped).
-#[test]
-fn a_planner_fails_clearly_when_the_controller_of_its_je_c_axes_ends() {
+/// Starts a mixed cell's controller and a planner on it (running `program`, or serving the
+/// operator without one), ends the controller once `running(cell)` returns, and returns the
+/// cell's name and the planner's error line (it must exit 1).
+fn planner_error_when_the_controller_ends(
+    program: Option<&str>,
+    running: impl Fn(&str),
+) -> (String, String) {
     let dir = tempfile::tempdir().unwrap();
-    let (cfg, name) = mixed_cell(dir.path(), SLOW_INFEED);
+    let (cfg, name) = mixed_cell(dir.path(), program.unwrap_or(SLOW_INFEED));
     let (mut controller, _ctl, log) = controller_waiting(&cfg, &["--no-record"]);
-    let mut p = planner(&cfg, &dir.path().join("program.toml"));
-    let p_log = lines(&mut p);
-    wait_infeed_moving(&name);
+    let (mut p, p_log) = match program {
+        Some(_) => {
+            let mut p = planner(&cfg, &dir.path().join("program.toml"));
+            let p_log = lines(&mut p);
+            (p, p_log)
+        }
+        None => operator_planner(&cfg),
+    };
+    running(&name);
     interrupt(&mut controller, &log);
     let code = wait_exit(&mut p, 30);
     let p_text = all_lines(&p_log);
     assert_eq!(code, Some(1), "planner: {p_text:?}");
-    let err = error_line(&p_text);
+    (name, error_line(&p_text).to_string())
+}
+
+/// The controller ending while the external planner waits on an MR-JE-C move: the planner's
+/// step fails naming the axis and the lost controller (its feedback stopped).
+#[test]
+fn a_planner_fails_clearly_when_the_controller_of_its_je_c_axes_ends() {
+    let (_, err) = planner_error_when_the_controller_ends(Some(SLOW_INFEED), |name| {
+        wait_infeed_moving(name);
+    });
     assert!(
         err.contains("MR-JE-C axis 'infeed': the controller stopped sending its feedback"),
         "{err}"
@@ -703,4 +725,93 @@ target = { infeed = 50.0 }
     assert_eq!(summary["final_state"], "disabled", "never powered on");
     let infeed = final_position(&json, "infeed");
     assert!(infeed.abs() < 1e-9, "infeed moved to {infeed}");
+}
+
+/// `cellrt planner --no-program CFG`: a planner serving the operator; with its stderr lines.
+fn operator_planner(cfg: &Path) -> (Child, Receiver<String>) {
+    let mut p = cellrt(&["planner".as_ref(), "--no-program".as_ref(), cfg.as_os_str()]);
+    let p_log = lines(&mut p);
+    (p, p_log)
+}
+
+/// A planner serving the operator ends, saying why, when its controller ends.
+#[test]
+fn a_planner_without_program_ends_with_its_controller() {
+    let (name, err) = planner_error_when_the_controller_ends(None, |name| {
+        wait_je_c(name, "infeed", "listed", |_| true);
+    });
+    assert!(
+        err.contains(&format!("cell '{name}' stopped publishing its status")),
+        "{err}"
+    );
+}
+
+/// A planner serving the operator (`cellrt planner --no-program`) of a mixed cell: the
+/// operator's power, move (csp and MR-JE-C axes in one command, which waits until all are
+/// done), home, jog, torque, halt, stop and reset reach the MR-JE-C axes' threads in the
+/// controller, `cellrt status` shows their drives' state, and SIGTERM ends the planner.
+#[test]
+fn the_operator_commands_je_c_axes_through_a_planner_without_program() {
+    let dir = tempfile::tempdir().unwrap();
+    let (cfg, name) = mixed_cell(dir.path(), SLOW_INFEED);
+    let (mut controller, ctl, mut log, json) = controller_with_summary(&cfg, dir.path());
+    let (mut p, p_log) = operator_planner(&cfg);
+    let ok = |args: &[&str]| {
+        let (code, out, err) = common::cellrt_on_cell(&name, args);
+        assert_eq!(code, 0, "{args:?}: {out}{err}");
+    };
+    let listed = wait_je_c(&name, "outfeed", "listed", |_| true);
+    assert_eq!(listed["fsa"], "switch_on_disabled", "{listed}");
+    ok(&["power", "on"]);
+    for axis in ["infeed", "outfeed"] {
+        wait_je_c(&name, axis, "enabled", |s| s["fsa"] == "operation_enabled");
+    }
+    ok(&["move", "x=300", "infeed=100", "outfeed=-50"]);
+    let at = |axis: &str| {
+        je_c_status(&name, axis).unwrap()["position"]
+            .as_f64()
+            .unwrap()
+    };
+    assert!(
+        (at("infeed") - 100.0).abs() < 0.01,
+        "infeed at {}",
+        at("infeed")
+    );
+    assert!(
+        (at("outfeed") + 50.0).abs() < 0.01,
+        "outfeed at {}",
+        at("outfeed")
+    );
+    // Method 37: the home where the conveyor stands.
+    ok(&["home", "infeed", "--method", "37"]);
+    assert!(at("infeed").abs() < 0.001, "infeed at {}", at("infeed"));
+    ok(&["jog", "outfeed", "40"]);
+    wait_je_c(&name, "outfeed", "reached 40 mm/s", |s| {
+        s["velocity"].as_f64().is_some_and(|v| v >= 39.0)
+    });
+    ok(&["halt", "outfeed"]);
+    wait_je_c(&name, "outfeed", "stood", |s| s["busy"] == false);
+    // In tq up to its speed limit (2D20h = limits.velocity, 150 mm/s), held until the stop.
+    ok(&["torque", "outfeed=8"]);
+    wait_je_c(&name, "outfeed", "ran up under torque", |s| {
+        s["velocity"].as_f64().is_some_and(|v| v >= 145.0)
+    });
+    ok(&["stop"]);
+    wait_je_c(&name, "outfeed", "halted its torque", |s| {
+        s["busy"] == false
+    });
+    ok(&["reset"]);
+    ok(&["power", "off"]);
+    for axis in ["infeed", "outfeed"] {
+        wait_je_c(&name, axis, "disabled", |s| s["fsa"] != "operation_enabled");
+    }
+    kill(Pid::from_raw(p.id() as i32), Signal::SIGTERM).unwrap();
+    let code = wait_exit(&mut p, 30);
+    let p_text = all_lines(&p_log).join("\n");
+    assert_eq!(code, Some(0), "planner: {p_text}");
+    assert!(p_text.contains("cellrt planner: stopped"), "{p_text}");
+    log.extend(ctl.try_iter());
+    interrupt(&mut controller, &log);
+    assert!((final_position(&json, "x") - 300.0).abs() < 0.05);
+    assert!(final_position(&json, "infeed").abs() < 0.001);
 }

@@ -166,15 +166,18 @@ pub fn spawn(
 /// `cell` (started with `--external-planner`) through its status and command services and
 /// publishes setpoints on the cell's setpoint service; its MR-JE-C axes, run by the
 /// controller, are reached through a [`JecBridge`]. Returns when the program ends, fails or
-/// `abort` is set.
+/// `abort` is set; without a program it serves the operator service until `abort` is set.
 pub fn run_external(
     cell: &CellConfig,
-    program: &Program,
+    program: Option<&Program>,
     abort: &AtomicBool,
     connect_timeout: Duration,
 ) -> Result<(), ProgramError> {
+    let source = program
+        .map(|p| p.source.display().to_string())
+        .unwrap_or_default();
     let fail = |reason: String| ProgramError {
-        program: program.source.display().to_string(),
+        program: source.clone(),
         step: 0,
         what: "connect",
         reason,
@@ -193,7 +196,6 @@ pub fn run_external(
             tracing::warn!("{refused}");
         }
     }
-    let source = program.source.display().to_string();
     // The MR-JE-C axes' threads run in the controller; the bridge carries their commands and
     // feedback (dropped after the planner, so its last commands go out).
     let (_bridge, je_c) = if cell.je_c_axes.is_empty() {
@@ -202,8 +204,8 @@ pub fn run_external(
         let (bridge, axes) = JecBridge::connect(cell, connect_timeout).map_err(fail)?;
         (Some(bridge), axes)
     };
-    let mut planner = Planner::new(cell, Box::new(link), abort, source, je_c)?;
-    planner.serve(Some(program.clone()))
+    let mut planner = Planner::new(cell, Box::new(link), abort, source.clone(), je_c)?;
+    planner.serve(program.cloned())
 }
 
 struct Planner<'a> {
@@ -313,6 +315,16 @@ impl<'a> Planner<'a> {
             };
             self.operator.tick(&mut ctx);
             self.operator.wait(TICK);
+            // An external planner serving the operator ends with its controller (a local link
+            // always answers).
+            if let Err(e) = self.link.status() {
+                return Err(ProgramError {
+                    program: String::new(),
+                    step: 0,
+                    what: "operator",
+                    reason: e.to_string(),
+                });
+            }
         }
     }
 

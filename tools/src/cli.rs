@@ -21,8 +21,8 @@ pub struct Cli {
 pub enum Command {
     /// Run a cell controller: RT loop, planner, drives, recording.
     Run(RunArgs),
-    /// Run a program as a planner process of its own, against a running `cellrt run
-    /// --external-planner` of the same cell.
+    /// Run a program (or serve the operator) as a planner process of its own, against a
+    /// running `cellrt run --external-planner` of the same cell.
     Planner(PlannerArgs),
     /// Summarise a recording: cell, channels, timing percentiles, events and faults.
     Inspect(InspectArgs),
@@ -254,8 +254,12 @@ pub struct PlannerArgs {
     /// Cell configuration (TOML), the same file the controller runs.
     pub config: PathBuf,
     /// Program to run instead of the one the configuration names.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "no_program")]
     pub program: Option<PathBuf>,
+    /// Run no program: serve the operator's commands (`cellrt move`, `jog`, `program`, …)
+    /// until SIGINT/SIGTERM, as `cellrt run --no-program` does in the controller's process.
+    #[arg(long)]
+    pub no_program: bool,
     /// How long to wait for the controller, in seconds.
     #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
     pub connect_timeout: f64,

@@ -210,7 +210,9 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .as_ref()
         .map(|p| p.je_c_final_targets(cell.je_c_axes.len()))
         .unwrap_or_else(|| vec![None; cell.je_c_axes.len()]);
-    let link = LinkServer::spawn(cell, handoff.clone())?;
+    // An external planner commands the MR-JE-C axes through the link thread.
+    let je_c_link = (opts.external_planner && !cell.je_c_axes.is_empty()).then(|| je_c.axes());
+    let link = LinkServer::spawn(cell, handoff.clone(), je_c_link)?;
     // Without a program the planner thread serves the operator service (unless an external
     // planner process provides the setpoints).
     let mut planner = if opts.external_planner {

@@ -1,6 +1,8 @@
 //! The controller's non-RT link thread: publishes the cell status for other processes, forwards
 //! their commands to the RT thread, and watches the planner's iceoryx2 node (planner connect and
-//! loss are events; loss during motion makes the RT thread stop the axes).
+//! loss are events; loss during motion makes the RT thread stop the axes). Under an external
+//! planner it also relays the MR-JE-C axes' commands and feedback ([`JecRelay`]); the planner's
+//! loss halts them.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -16,6 +18,8 @@ use crate::config::CellConfig;
 use crate::handoff::{
     CellCommand, EventKind, EventRecord, HomeRequest, HostEnd, ProfileCommand, UserSdo, NO_AXIS,
 };
+use crate::host::je_c::link::JecRelay;
+use crate::host::je_c::JecAxes;
 use crate::host::link::snapshot;
 use crate::services::{self, ProfileLinkSample, SdoLinkSample, ServiceError, StatusSample};
 use crate::setpoints::MAX_AXES;
@@ -30,8 +34,13 @@ pub struct LinkServer {
 }
 
 impl LinkServer {
-    /// Starts the link thread; returns once its services exist.
-    pub fn spawn(cell: &CellConfig, handoff: Arc<HostEnd>) -> Result<LinkServer, ServiceError> {
+    /// Starts the link thread; returns once its services exist. `je_c`: the running MR-JE-C
+    /// axes an external planner commands through this thread (none: no MR-JE-C link).
+    pub fn spawn(
+        cell: &CellConfig,
+        handoff: Arc<HostEnd>,
+        je_c: Option<JecAxes>,
+    ) -> Result<LinkServer, ServiceError> {
         let stop = Arc::new(AtomicBool::new(false));
         let stop2 = stop.clone();
         let cell = cell.clone();
@@ -54,9 +63,12 @@ impl LinkServer {
                         waiting: std::collections::VecDeque::with_capacity(2 * MAX_AXES),
                         axes: cell.axes.len(),
                     };
-                    Ok::<_, ServiceError>((node, status, commands, sdo, profile))
+                    let je_c = je_c
+                        .map(|axes| JecRelay::new(&node, &cell, axes))
+                        .transpose()?;
+                    Ok::<_, ServiceError>((node, status, commands, sdo, profile, je_c))
                 })();
-                let (node, status, commands, mut sdo, mut profile) = match setup {
+                let (node, status, commands, mut sdo, mut profile, mut je_c) = match setup {
                     Ok(v) => {
                         let _ = ready_tx.send(Ok(()));
                         v
@@ -108,6 +120,9 @@ impl LinkServer {
                     }
                     sdo.pump(&handoff);
                     profile.pump(&handoff);
+                    if let Some(r) = je_c.as_mut() {
+                        r.pump();
+                    }
                     if last_check.elapsed() >= PLANNER_CHECK {
                         last_check = Instant::now();
                         let alive = planner_is_alive(&planner_name);
@@ -123,6 +138,9 @@ impl LinkServer {
                                 let _ = handoff.send_command(CellCommand::PlannerConnected);
                             } else {
                                 let _ = handoff.send_command(CellCommand::PlannerLost);
+                                if let Some(r) = je_c.as_mut() {
+                                    r.planner_lost();
+                                }
                                 node.try_cleanup_dead_nodes();
                             }
                         }

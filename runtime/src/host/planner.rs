@@ -11,6 +11,7 @@ use iceoryx2::prelude::*;
 
 use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, HomeRequest, HostEnd, ProfileCommand};
+use crate::host::je_c::link::JecBridge;
 use crate::host::je_c::JecAxes;
 use crate::host::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionError, MotionRequest, Progress};
@@ -163,16 +164,20 @@ pub fn spawn(
 
 /// Runs `program` from a planner process of its own: connects to the running controller of
 /// `cell` (started with `--external-planner`) through its status and command services and
-/// publishes setpoints on the cell's setpoint service. Returns when the program ends, fails or
-/// `abort` is set.
+/// publishes setpoints on the cell's setpoint service; its MR-JE-C axes, run by the
+/// controller, are reached through a [`JecBridge`]. Returns when the program ends, fails or
+/// `abort` is set; without a program it serves the operator service until `abort` is set.
 pub fn run_external(
     cell: &CellConfig,
-    program: &Program,
+    program: Option<&Program>,
     abort: &AtomicBool,
     connect_timeout: Duration,
 ) -> Result<(), ProgramError> {
+    let source = program
+        .map(|p| p.source.display().to_string())
+        .unwrap_or_default();
     let fail = |reason: String| ProgramError {
-        program: program.source.display().to_string(),
+        program: source.clone(),
         step: 0,
         what: "connect",
         reason,
@@ -191,14 +196,16 @@ pub fn run_external(
             tracing::warn!("{refused}");
         }
     }
-    let source = program.source.display().to_string();
-    if !cell.je_c_axes.is_empty() {
-        return Err(fail(
-            "a cell with MR-JE-C axes runs its program in the controller (cellrt run), not in an external planner".into(),
-        ));
-    }
-    let mut planner = Planner::new(cell, Box::new(link), abort, source, JecAxes::default())?;
-    planner.serve(Some(program.clone()))
+    // The MR-JE-C axes' threads run in the controller; the bridge carries their commands and
+    // feedback (dropped after the planner, so its last commands go out).
+    let (_bridge, je_c) = if cell.je_c_axes.is_empty() {
+        (None, JecAxes::default())
+    } else {
+        let (bridge, axes) = JecBridge::connect(cell, connect_timeout).map_err(fail)?;
+        (Some(bridge), axes)
+    };
+    let mut planner = Planner::new(cell, Box::new(link), abort, source.clone(), je_c)?;
+    planner.serve(program.cloned())
 }
 
 struct Planner<'a> {
@@ -308,6 +315,16 @@ impl<'a> Planner<'a> {
             };
             self.operator.tick(&mut ctx);
             self.operator.wait(TICK);
+            // An external planner serving the operator ends with its controller (a local link
+            // always answers).
+            if let Err(e) = self.link.status() {
+                return Err(ProgramError {
+                    program: String::new(),
+                    step: 0,
+                    what: "operator",
+                    reason: e.to_string(),
+                });
+            }
         }
     }
 

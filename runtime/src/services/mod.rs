@@ -1,5 +1,6 @@
 //! Every iceoryx2 service of a cell, declared once: names, payload types and QoS. The cell's
-//! own services (setpoints, status, commands) and the operator's (requests, wake-up, status).
+//! own services (setpoints, status, commands), the operator's (requests, wake-up, status) and
+//! an external planner's links (SDOs, profile commands, MR-JE-C commands and feedback).
 
 use iceoryx2::config::Config;
 use iceoryx2::node::{Node, NodeBuilder};
@@ -14,7 +15,13 @@ use iceoryx2::service::port_factory::{event, publish_subscribe, request_response
 
 use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, MAX_AXES};
 
+mod je_c_link;
 mod profile_link;
+pub use je_c_link::{
+    je_c_command_publisher, je_c_command_service_name, je_c_command_subscriber,
+    je_c_feedback_publisher, je_c_feedback_service_name, je_c_feedback_subscriber, je_c_shape,
+    JecCommandSample, JecFeedbackSample, JE_C_LINK_VERSION,
+};
 pub use profile_link::{
     profile_command_publisher, profile_command_service_name, profile_command_subscriber,
     ProfileLinkSample,

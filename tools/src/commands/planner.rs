@@ -1,4 +1,5 @@
-//! `cellrt planner`: runs a program in a process of its own against a running controller.
+//! `cellrt planner`: runs a program (or serves the operator) in a process of its own against a
+//! running controller.
 
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -21,15 +22,19 @@ pub fn run(args: PlannerArgs) -> Exit {
         Ok(c) => c,
         Err(e) => return bad(&e),
     };
-    let Some(path) = args.program.clone().or_else(|| cell.program.clone()) else {
-        return bad(&format!(
-            "{}: cell.program: no program named; pass --program FILE",
-            args.config.display()
-        ));
-    };
-    let program = match Program::load(&path, &cell) {
-        Ok(p) => p,
-        Err(e) => return bad(&e),
+    let program = if args.no_program {
+        None
+    } else {
+        let Some(path) = args.program.clone().or_else(|| cell.program.clone()) else {
+            return bad(&format!(
+                "{}: cell.program: no program named; pass --program FILE (or --no-program)",
+                args.config.display()
+            ));
+        };
+        match Program::load(&path, &cell) {
+            Ok(p) => Some(p),
+            Err(e) => return bad(&e),
+        }
     };
     if !(args.connect_timeout.is_finite() && args.connect_timeout > 0.0) {
         return bad(&format!(
@@ -44,20 +49,34 @@ pub fn run(args: PlannerArgs) -> Exit {
             return Exit::Failed;
         }
     }
-    eprintln!(
-        "cellrt planner: cell '{}', program {}",
-        cell.name,
-        program.source.display()
-    );
+    match &program {
+        Some(p) => eprintln!(
+            "cellrt planner: cell '{}', program {}",
+            cell.name,
+            p.source.display()
+        ),
+        None => eprintln!(
+            "cellrt planner: cell '{}', no program: serving the operator until SIGINT/SIGTERM",
+            cell.name
+        ),
+    }
     match planner::run_external(
         &cell,
-        &program,
+        program.as_ref(),
         &abort,
         Duration::from_secs_f64(args.connect_timeout),
     ) {
+        Ok(()) if program.is_none() => {
+            eprintln!("cellrt planner: stopped");
+            Exit::Ok
+        }
         Ok(()) => {
             eprintln!("cellrt planner: program ended");
             Exit::Ok
+        }
+        Err(e) if program.is_none() => {
+            eprintln!("error: {}", e.reason);
+            Exit::Failed
         }
         Err(e) => {
             eprintln!("error: {e}");

@@ -162,6 +162,9 @@ pub enum Stopped {
     CommunicationLost(u32),
     /// The drive raised an alarm (2A42h).
     DriveAlarm(u16),
+    /// Seen through a detached handle: the process that runs the axis' thread stopped
+    /// publishing its feedback (an external planner whose controller is gone).
+    ControllerLost,
 }
 
 /// The job the axis runs.

@@ -83,6 +83,19 @@ struct Cells {
     stop: AtomicBool,
 }
 
+impl Cells {
+    /// Cells holding up to `records` exchange records.
+    fn new(records: usize) -> Cells {
+        Cells {
+            commands: ArrayQueue::new(QUEUE),
+            feedback: AtomicCell::new(AxisFeedback::default()),
+            records: ArrayQueue::new(records.max(1)),
+            records_dropped: AtomicU64::new(0),
+            stop: AtomicBool::new(false),
+        }
+    }
+}
+
 /// The cell's handle on one axis' thread.
 #[derive(Clone)]
 pub struct AxisHandle {
@@ -90,6 +103,26 @@ pub struct AxisHandle {
 }
 
 impl AxisHandle {
+    /// A handle with no thread behind it: its commands wait for [`AxisHandle::take_command`]
+    /// and its feedback is what [`AxisHandle::set_feedback`] stored, so a link to the process
+    /// that runs the axis' thread can carry both (an external planner's view of the axis).
+    pub fn detached() -> AxisHandle {
+        // No exchanges here to record: the axis' own process records them.
+        AxisHandle {
+            cells: Arc::new(Cells::new(1)),
+        }
+    }
+
+    /// The oldest command not yet taken: a detached handle's link forwards it.
+    pub fn take_command(&self) -> Option<AxisCommand> {
+        self.cells.commands.pop()
+    }
+
+    /// Stores `f` as the latest feedback: a detached handle's link, from the axis' thread.
+    pub fn set_feedback(&self, f: AxisFeedback) {
+        self.cells.feedback.store(f);
+    }
+
     /// Queues `c` for the next exchange; `false`: the queue is full.
     pub fn command(&self, c: AxisCommand) -> bool {
         self.cells.commands.push(c).is_ok()
@@ -143,13 +176,7 @@ impl AxisThread {
             write_retried(io.as_mut(), *id, v).map_err(|e| StartError::Parameter(*id, e))?;
         }
         control.set_link_period(period);
-        let cells = Arc::new(Cells {
-            commands: ArrayQueue::new(QUEUE),
-            feedback: AtomicCell::new(AxisFeedback::default()),
-            records: ArrayQueue::new(RECORDS),
-            records_dropped: AtomicU64::new(0),
-            stop: AtomicBool::new(false),
-        });
+        let cells = Arc::new(Cells::new(RECORDS));
         let mine = cells.clone();
         let thread = std::thread::Builder::new()
             .name(format!("cellrt-jec-{name}"))
@@ -234,5 +261,35 @@ impl Drop for AxisThread {
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A detached handle passes its commands on in the order queued, at most a queue's worth,
+    /// and shows the feedback stored last.
+    #[test]
+    fn a_detached_handle_hands_over_commands_in_order_and_shows_the_stored_feedback() {
+        let h = AxisHandle::detached();
+        let other = h.clone();
+        let commands = [AxisCommand::PowerOn, AxisCommand::Home, AxisCommand::Halt];
+        for c in commands {
+            assert!(h.command(c));
+        }
+        let taken: Vec<AxisCommand> = std::iter::from_fn(|| other.take_command()).collect();
+        assert_eq!(taken, commands);
+        assert!((0..QUEUE).all(|_| h.command(AxisCommand::Reset)));
+        assert!(!h.command(AxisCommand::Reset), "the queue is full");
+        let f = AxisFeedback {
+            cycles: 7,
+            done: 3,
+            stopped: Some(super::super::control::Stopped::ControllerLost),
+            ..AxisFeedback::default()
+        };
+        other.set_feedback(f);
+        assert_eq!(h.feedback(), f);
+        assert_eq!(h.pop_record(), None);
     }
 }

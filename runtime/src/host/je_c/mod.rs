@@ -5,6 +5,7 @@
 
 pub mod connect;
 pub mod emulated;
+pub mod link;
 
 use std::sync::Arc;
 
@@ -279,5 +280,9 @@ pub fn stopped_text(s: Stopped) -> String {
             format!("communication lost ({n} answers missed in a row)")
         }
         Stopped::DriveAlarm(code) => format!("drive alarm (2A42h = {code:04X}h)"),
+        Stopped::ControllerLost => format!(
+            "the controller stopped sending its feedback (none for {:?}; has `cellrt run` ended?)",
+            crate::host::link::STATUS_TIMEOUT
+        ),
     }
 }

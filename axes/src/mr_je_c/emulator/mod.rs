@@ -764,9 +764,49 @@ impl MrJeC {
         if id.index == COMMUNICATION_ERROR_COUNT && v != KEY {
             return Err(Refusal::OutOfRange);
         }
+        self.check_linked_parameter(id, v)?;
         self.tick(now);
         self.store.set(id, value.clone());
         self.effects(id, v);
+        Ok(())
+    }
+
+    /// A parameter linked to an object (§7.3 "Parameter" column) takes only what its object
+    /// can hold: the object's type and range, and a word of a split value 0000h–FFFFh.
+    fn check_linked_parameter(&self, id: ObjectId, v: i64) -> Result<(), Refusal> {
+        if id.sub != 0 {
+            return Ok(());
+        }
+        let sw = self.params.software;
+        let permissible = i64::from(self.params.permissible_speed);
+        for link in super::links::of_parameter(id.index) {
+            let Ok(row) = store::row(link.object, sw) else {
+                continue;
+            };
+            if !link.parameter_fits(v as u32) {
+                return Err(Refusal::AboveRange);
+            }
+            let param = |p: super::parameters::Parameter| {
+                if p.index() == id.index {
+                    v as u32
+                } else {
+                    self.param(p.index()) as u32
+                }
+            };
+            let Some(x) = link.object_value(sw, param) else {
+                continue;
+            };
+            let fixed = row.initial.value(sw).unwrap_or(0);
+            store::in_range(link.object, row, x, fixed, permissible)?;
+            if let Some((lo, hi)) = row.ty.bounds() {
+                if x < lo {
+                    return Err(Refusal::BelowRange);
+                }
+                if x > hi {
+                    return Err(Refusal::AboveRange);
+                }
+            }
+        }
         Ok(())
     }
 

@@ -1,7 +1,8 @@
 //! A simulated MR-JE-C (MR-JE-C manual §2–§7): the object dictionary with its access rights and
-//! ranges, the CiA 402 FSA with quick-stop option code 2 (the 6085h ramp, then Switch on
-//! disabled), alarms with their history and reset, and the communication time-outs, all
-//! judged on a virtual clock the caller passes in (`now`: time since power-on). The motor moves
+//! ranges and parameter links (`links`), the CiA 402 FSA with quick-stop option code 2 (the
+//! 6085h ramp, then Switch on disabled), alarms with their history and reset, the EEPROM with
+//! Store parameters 1010h (`eeprom`), and the communication time-outs, all judged on a virtual
+//! clock the caller passes in (`now`: time since power-on). The motor moves
 //! in pp, pv, tq, hm (method 37), jg, pt and idx (`motion` and its mode modules); in the
 //! −20/−21/−22 modes it holds its position and targets are stored.
 

@@ -106,6 +106,24 @@ fn the_save_time_is_a_parameter_of_the_drive() {
 }
 
 #[test]
+fn an_endless_save_time_does_not_overflow() {
+    let mut d = MrJeC::new(MrJeCParams {
+        eeprom_save_time: SaveTime {
+            parameters: Duration::MAX,
+            point_tables: Duration::MAX,
+        },
+        ..Default::default()
+    });
+    d.tick(s(5));
+    d.write(id(0x1010, 1), &SAVE, s(5)).unwrap();
+    d.tick(s(1_000_000_000));
+    assert!(!s_erf(&d));
+    // It ends only where the clock does.
+    d.tick(Duration::MAX);
+    assert!(s_erf(&d));
+}
+
+#[test]
 fn a_second_save_while_saving_is_refused_over_every_transport() {
     let mut d = drive();
     d.write(id(0x1010, 1), &SAVE, s(0)).unwrap();

@@ -66,7 +66,7 @@ impl Default for SaveTime {
 }
 
 impl SaveTime {
-    /// The time to save `regions`.
+    /// The time to save `regions` (saturating: any configured time is taken).
     pub fn of(&self, regions: &[Region]) -> Duration {
         regions
             .iter()
@@ -74,7 +74,7 @@ impl SaveTime {
                 Region::Parameters => self.parameters,
                 Region::PointTables => self.point_tables,
             })
-            .sum()
+            .fold(Duration::ZERO, Duration::saturating_add)
     }
 }
 
@@ -150,7 +150,7 @@ impl Eeprom {
             self.writes.count(*r);
         }
         self.saving = Some(Saving {
-            until: now + time,
+            until: now.saturating_add(time),
             values,
         });
     }

@@ -14,11 +14,12 @@ use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
 use cellrt_axes::mr_je_c::{AccessError, ObjectAccess, ObjectId, Value};
 use cellrt_axes::slmp::client::{FrameType, SlmpClient};
 
-/// Sets [Pr. PN`first`] on with `values`.
+/// Sets [Pr. PN`first`] on with `values` as commissioning does (into the EEPROM at once, so
+/// the next power-on takes them).
 fn set(d: &mut MrJeC, first: u8, values: &[u32]) {
     for (k, v) in values.iter().enumerate() {
         let id = ObjectId::new(0x2580 + u16::from(first) + k as u16, 0);
-        d.write(id, &Value::U32(*v), Duration::ZERO).unwrap();
+        d.commission(id, &Value::U32(*v), Duration::ZERO).unwrap();
     }
 }
 

@@ -178,10 +178,11 @@ fn cclink_io(s: &Server) -> CyclicDriveIo {
 fn cclink_axis_moves_and_a_cut_link_raises_al_86_1() {
     let s = server();
     let io = cclink_io(&s);
-    // [Pr. PN02] 100 ms.
+    // [Pr. PN02] 1000 ms: long enough that a stall of this (loaded) machine during the moves
+    // is not taken for a lost master (the emulator's clock is wall time over sockets).
     let t = moves(
         Box::new(io),
-        &[(ObjectId::new(PN02.index(), 0), Value::U32(100))],
+        &[(ObjectId::new(PN02.index(), 0), Value::U32(1000))],
     );
     s.cut_link(true);
     wait(&t.handle, "watchdog", |f| f.stopped.is_some());

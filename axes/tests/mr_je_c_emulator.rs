@@ -325,6 +325,10 @@ fn pn23_keep_alive_takes_effect_at_power_on() {
     assert_eq!(d.keep_alive().close_after(), Duration::from_secs(28_800));
     d.write(id(0x2597), &Value::U32(10), ms(0)).unwrap();
     assert_eq!(d.keep_alive().interval, Duration::from_secs(3600));
+    // Saved to the EEPROM (1010h:4 "save", §7.4.4), then the power cycle loads it.
+    let save = Value::U32(0x6576_6173);
+    d.write(ObjectId::new(0x1010, 4), &save, ms(0)).unwrap();
+    d.tick(Duration::from_secs(60));
     d.power_cycle();
     assert_eq!(d.keep_alive().interval, Duration::from_secs(10));
     assert_eq!(d.keep_alive().close_after(), Duration::from_secs(80));

@@ -6,6 +6,7 @@ pub mod access;
 pub mod alarm;
 pub mod cell;
 pub mod emulator;
+pub mod links;
 pub mod objects;
 pub mod parameters;
 pub mod types;

@@ -324,13 +324,15 @@ pub const DICTIONARY: &[Object] = &[
         &[
             s(0, "Number of entries", I8, Ro).by_sw(1, 5).fixed(),
             s(1, "Save all parameters", U32, Rw).def(1).range(SAVE),
+            // "save" to subs 2 and 3 is accepted and stores nothing (§7.4.4 table; the list's
+            // "Set 0" is the less specific).
             s(2, "Save communication parameters", U32, Rw)
                 .def(0)
-                .span(0, 0)
+                .range(SAVE)
                 .since(A4),
             s(3, "Save application parameters", U32, Rw)
                 .def(0)
-                .span(0, 0)
+                .range(SAVE)
                 .since(A4),
             s(4, "Save manufacturer defined parameters", U32, Rw)
                 .def(1)

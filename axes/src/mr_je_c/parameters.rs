@@ -124,15 +124,21 @@ const fn d(
 const OCTET: Option<(i64, i64)> = Some((0, 255));
 const OCTET_END: Option<(i64, i64)> = Some((0, 256));
 
-/// The parameters of MR-JE-C manual §5.2 that the emulator uses (communication).
+/// The parameters of MR-JE-C manual §5 that the emulator uses: communication (§5.2), and the
+/// PC parameters linked to objects (§5.1, `links`).
 pub const PARAMETERS: &[ParameterDef] = &[
     d(p(Group::PC, 1), "STA", 0, None),
     d(p(Group::PC, 2), "STB", 0, None),
     d(PC03, "STC", 0, Some((0, PC03_MAX_MS))),
+    // "1000.0 %" printed: 10000 in the 0.1 % of its object 2D6Bh (§7.3).
+    d(p(Group::PC, 35), "TL2", 10000, None),
     d(p(Group::PC, 51), "RSBR", 100, None),
     d(PC70, "*SNOM", 0, Some((0, 247))),
     d(PC71, "*COPF", 0x0040, None),
     d(p(Group::PC, 72), "*COPG", 0x0000, None),
+    d(p(Group::PC, 75), "FEWL", 0x0000, None),
+    d(p(Group::PC, 76), "FEWH", 0x00C0, None),
+    d(p(Group::PC, 77), "FEWF", 10, None),
     d(PF45, "*FOP12", 0x0000, None),
     d(PF46, "MIC", 0, Some((0, 60))),
     d(PN02, "CERT", 1000, Some((0, 1000))),

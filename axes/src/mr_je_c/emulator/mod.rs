@@ -1,12 +1,14 @@
 //! A simulated MR-JE-C (MR-JE-C manual §2–§7): the object dictionary with its access rights and
-//! ranges, the CiA 402 FSA with quick-stop option code 2 (the 6085h ramp, then Switch on
-//! disabled), alarms with their history and reset, and the communication time-outs, all
-//! judged on a virtual clock the caller passes in (`now`: time since power-on). The motor moves
+//! ranges and parameter links (`links`), the CiA 402 FSA with quick-stop option code 2 (the
+//! 6085h ramp, then Switch on disabled), alarms with their history and reset, the EEPROM with
+//! Store parameters 1010h (`eeprom`), and the communication time-outs, all judged on a virtual
+//! clock the caller passes in (`now`: time since power-on). The motor moves
 //! in pp, pv, tq, hm (method 37), jg, pt and idx (`motion` and its mode modules); in the
 //! −20/−21/−22 modes it holds its position and targets are stored.
 
 mod address_rules;
 pub mod cyclic;
+pub mod eeprom;
 #[cfg(test)]
 mod fixture;
 mod history;
@@ -44,6 +46,7 @@ use crate::cia402::statusword::Statusword;
 use crate::modbus::serial::{Framing, LineSettings};
 
 pub use address_rules::AddressRules;
+pub use eeprom::{EepromWrites, Region, SaveTime, WriteDuringSave};
 pub use history::{AlarmHistory, Occurrence};
 pub use refusal::Refusal;
 pub use watchdog::{Timeouts, Transport};
@@ -97,6 +100,13 @@ pub struct MrJeCParams {
     /// parameter. Default 1000 rad/s (1 ms): stiffer than a tuned real axis, so a positioning
     /// settles within a few ms and the runtime's timing tests keep their margins.
     pub position_loop_gain: u32,
+    /// How long Store parameters 1010h takes to write the EEPROM; the manual gives only "10
+    /// seconds maximum" for saving all (§7.4.4). Default: 2 s for the parameters and 8 s for
+    /// the point tables (sub 1: 10 s), our choice ([`SaveTime`]).
+    pub eeprom_save_time: SaveTime,
+    /// What a parameter or point-table write does while a save runs (the manual is silent):
+    /// accepted into the RAM by default ([`WriteDuringSave`]).
+    pub write_during_save: WriteDuringSave,
 }
 
 impl Default for MrJeCParams {
@@ -121,6 +131,8 @@ impl Default for MrJeCParams {
             torque_plant: profile::TorquePlant::default(),
             link_layout: cyclic::LinkLayout::default(),
             position_loop_gain: 1000,
+            eeprom_save_time: SaveTime::default(),
+            write_during_save: WriteDuringSave::default(),
         }
     }
 }
@@ -143,6 +155,10 @@ const COMMUNICATION_ERROR_COUNT: u16 = 0x2A68;
 pub struct MrJeC {
     params: MrJeCParams,
     store: store::Store,
+    /// The parameters and point tables as last saved (§7.2, §7.4.4).
+    eeprom: eeprom::Eeprom,
+    /// When the power came on (S_BWNG's power-on time, 2D11h bit 15).
+    powered_on: Duration,
     state: FsaState,
     last_cw: Controlword,
     alarm: Option<Alarm>,
@@ -209,6 +225,20 @@ fn following_error_judged(mode: i64) -> bool {
 
 /// "load" (64616F6Ch) written to 1011h.
 const LOAD: i64 = 0x6461_6F6C;
+/// "save" (65766173h) written to 1010h (§7.4.4).
+pub const SAVE: i64 = 0x6576_6173;
+
+/// Status DO 1 (2D11h) bit 1 S_ERF, EEPROM write completed (§7.5.9).
+pub const S_ERF: u16 = 1 << 1;
+/// Status DO 1 (2D11h) bit 3 S_MBR, electromagnetic brake interlock (§7.5.9).
+pub const S_MBR: u16 = 1 << 3;
+/// Status DO 1 (2D11h) bit 8 S_TL1, internal torque limit selection (§7.5.9).
+pub const S_TL1: u16 = 1 << 8;
+/// Status DO 1 (2D11h) bit 15 S_BWNG, battery warning (§7.5.9).
+pub const S_BWNG: u16 = 1 << 15;
+/// How long S_BWNG stays on after power-on without a battery warning: the manual gives 2.5 s
+/// to 3.5 s (§7.5.9); the middle is our choice.
+pub const S_BWNG_AT_POWER_ON: Duration = Duration::from_secs(3);
 
 impl MrJeC {
     /// The drive after power-on, in Switch on disabled; the response mapping 1A00h is its link
@@ -224,6 +254,8 @@ impl MrJeC {
         MrJeC {
             rules: AddressRules::latch(&store),
             keep_alive: KeepAlive::latch(&store),
+            eeprom: eeprom::Eeprom::factory(&store),
+            powered_on: Duration::ZERO,
             store,
             cyclic_ready: false,
             restore: Restore::default(),
@@ -247,12 +279,12 @@ impl MrJeC {
             ..params
         });
         // Both values are in range, so the writes cannot be refused.
-        let _ = d.write(
+        let _ = d.commission(
             ObjectId::new(PN08.index(), 0),
             &Value::U32(0x1000),
             Duration::ZERO,
         );
-        let _ = d.write(
+        let _ = d.commission(
             ObjectId::new(PC70.index(), 0),
             &Value::U32(u32::from(station)),
             Duration::ZERO,
@@ -260,29 +292,82 @@ impl MrJeC {
         d
     }
 
-    /// Cycles the power: parameters and point tables (EEPROM) are kept, everything else
-    /// starts over (state, alarm, 1A00h mapping, time-outs), and the `*` parameters of the IP
-    /// rules take effect. The history is kept (EEPROM, §7.3). The clock goes on.
+    /// Cycles the power: the parameters and point tables are loaded from the EEPROM ("the
+    /// value saved in the EEP-ROM is set to the object at the next power-on", §7.4.4), so a
+    /// change not saved by 1010h is lost, and so is a save still running (our choice; the
+    /// manual only says not to cut the power then). Everything else starts over (state,
+    /// alarm, 1A00h mapping, time-outs), and the `*` parameters of the IP rules take effect.
+    /// The history is kept (EEPROM, §7.3). The clock goes on.
     ///
-    /// A restore written to 1011h before ("load", §7.4.5) brings back the factory values of
-    /// the parameters (sub 1, 4) and the point tables (sub 1, 5) instead.
+    /// A restore written to 1011h before ("load", §7.4.5) writes the factory values of the
+    /// parameters (sub 1, 4) and the point tables (sub 1, 5) into the EEPROM first.
     pub fn power_cycle(&mut self) {
         let mut fresh = MrJeC::new(self.params.clone());
-        let kept = |index: u16| match index {
-            0x2001..=0x27FF => !self.restore.parameters,
-            0x2801..=0x28FF => !self.restore.point_tables,
-            _ => false,
-        };
-        for (id, v) in self.store.iter() {
-            if kept(id.index) {
-                fresh.store.set(*id, v.clone());
-            }
-        }
+        let mut eeprom = self.eeprom.clone();
+        eeprom.advance(self.now);
+        eeprom.power_off();
+        let restored: Vec<Region> = [
+            (self.restore.parameters, Region::Parameters),
+            (self.restore.point_tables, Region::PointTables),
+        ]
+        .into_iter()
+        .filter_map(|(asked, r)| asked.then_some(r))
+        .filter(|r| self.has(*r))
+        .collect();
+        eeprom.restore(&fresh.store, &restored);
+        eeprom.load(&mut fresh.store);
+        fresh.eeprom = eeprom;
+        fresh.powered_on = self.now;
         fresh.rules = AddressRules::latch(&fresh.store);
         fresh.keep_alive = KeepAlive::latch(&fresh.store);
         fresh.history = std::mem::take(&mut self.history);
         fresh.now = self.now;
         *self = fresh;
+    }
+
+    /// Whether the software has `region` (point tables: SW A4+, §7.3).
+    fn has(&self, region: Region) -> bool {
+        region == Region::Parameters || self.params.software >= SoftwareVersion::A4
+    }
+
+    /// Writes `value` to `id` at `now` as commissioning does (MR Configurator2 or the drive's
+    /// own display): checked like an object write, then stored in the EEPROM at once as well
+    /// (for a linked object: its parameters), so it survives a power cycle without 1010h.
+    /// Each such write counts in [`MrJeC::eeprom_writes`] ("write to the EEPROM due to
+    /// parameter setting changes", manual front matter "EEPROM life").
+    pub fn commission(
+        &mut self,
+        id: ObjectId,
+        value: &Value,
+        now: Duration,
+    ) -> Result<(), Refusal> {
+        self.write(id, value, now)?;
+        let mut ids = vec![id];
+        if let Some(link) = super::links::of_object(id) {
+            ids.extend(
+                link.held()
+                    .into_iter()
+                    .flatten()
+                    .map(|p| ObjectId::new(p.index(), 0)),
+            );
+        }
+        for id in ids {
+            if let (Some(_), Some(v)) = (eeprom::Region::of(id.index), self.store.get(id)) {
+                self.eeprom.write(id, v.clone());
+            }
+        }
+        Ok(())
+    }
+
+    /// The EEPROM writes so far (saves, commissioning, restores). The manual gives no object
+    /// for it and no consequence of its 100 000-write life: for tests, not on any transport.
+    pub fn eeprom_writes(&self) -> EepromWrites {
+        self.eeprom.writes()
+    }
+
+    /// Whether Store parameters 1010h is writing the EEPROM (1010h bit 0 = 0, S_ERF off).
+    pub fn saving(&self) -> bool {
+        self.eeprom.saving(self.now)
     }
 
     /// Counts an RS-485 frame with a CRC or frame length error, or with parity or framing
@@ -507,13 +592,15 @@ impl MrJeC {
         }
     }
 
-    /// Status DO 2 (2D12h) and 5 (2D15h) with the home position return completion bits
-    /// S_ZP2 (2D12h bit 15) and S_ZP (2D15h bit 7, SW A4+; off at servo-off and alarm in the
-    /// incremental system), MR-JE-C manual §7.5.9.
+    /// Status DO 1 (2D11h), 2 (2D12h) and 5 (2D15h), MR-JE-C manual §7.5.9: 2D11h as
+    /// [`MrJeC::status_do1`] gives it, and the home position return completion bits S_ZP2
+    /// (2D12h bit 15) and S_ZP (2D15h bit 7, SW A4+; off at servo-off and alarm in the
+    /// incremental system).
     fn status_do(&self, index: u16) -> Option<i64> {
         let stored = self.store.int(ObjectId::new(index, 0));
         let homed = self.motion.homed();
         match index {
+            0x2D11 => Some(i64::from(self.status_do1())),
             0x2D12 => Some((stored & !(1 << 15)) | (i64::from(homed) << 15)),
             0x2D15 if self.params.software >= SoftwareVersion::A4 => {
                 let on = homed && self.state == FsaState::OperationEnabled && self.alarm.is_none();
@@ -521,6 +608,39 @@ impl MrJeC {
             }
             _ => None,
         }
+    }
+
+    /// Status DO 1 (2D11h, MR-JE-C manual §7.5.9 (1)), the bits the emulator knows:
+    /// - bit 1 S_ERF: on when the EEPROM is not being written, off while 1010h saves;
+    /// - bit 3 S_MBR: off at servo-off or alarm, so on in Operation enabled and Quick stop
+    ///   active without an alarm ([Pr. PC16]'s brake sequence delay, initial 0 ms, not
+    ///   emulated);
+    /// - bit 8 S_TL1: on while C_TL1 (Control DI 1, 2D01h bit 8) is on (the TL1 input is not
+    ///   emulated);
+    /// - bit 15 S_BWNG: no battery warning is emulated, so on only until
+    ///   [`S_BWNG_AT_POWER_ON`] after power-on ("turns off in 2.5 s to 3.5 s").
+    ///
+    /// Left 0: S_SA (its set speed belongs to the I/O modes' ST1/ST2 start), S_CDPS (gain
+    /// switching by [Pr. PB26], a companion manual's), S_TL (the TL input), S_INP (the
+    /// in-position range [Pr. PA10] is a companion manual's), S_TLC (no torque model outside
+    /// tq), S_ABSV (the emulated encoder is incremental, 2D35h:1 = 0); bits 0, 5, 6, 9–11 are
+    /// undefined and read 0.
+    pub fn status_do1(&self) -> u16 {
+        let servo_on = matches!(
+            self.state,
+            FsaState::OperationEnabled | FsaState::QuickStopActive
+        );
+        let c_tl1 = self.store.int(ObjectId::new(0x2D01, 0)) & (1 << 8) != 0;
+        let since_power_on = self.now.saturating_sub(self.powered_on);
+        [
+            (S_ERF, !self.saving()),
+            (S_MBR, servo_on && self.alarm.is_none()),
+            (S_TL1, c_tl1),
+            (S_BWNG, since_power_on < S_BWNG_AT_POWER_ON),
+        ]
+        .into_iter()
+        .filter(|(_, on)| *on)
+        .fold(0, |word, (bit, _)| word | bit)
     }
 
     /// Whether `t` is served: [Pr. PN08] digit x___ picks Ethernet (0) or RS-485 (1); the
@@ -548,7 +668,7 @@ impl MrJeC {
         for (p, v) in [(PC71, pc71), (PF45, pf45)] {
             let value = Value::U32(u32::try_from(v).unwrap_or(0));
             // In range (no range in the table): cannot be refused.
-            let _ = self.write(ObjectId::new(p.index(), 0), &value, self.now);
+            let _ = self.commission(ObjectId::new(p.index(), 0), &value, self.now);
         }
     }
 
@@ -589,6 +709,7 @@ impl MrJeC {
     pub fn tick(&mut self, now: Duration) {
         let dt = now.saturating_sub(self.now);
         self.now = self.now.max(now);
+        self.eeprom.advance(self.now);
         match self.state {
             FsaState::OperationEnabled => {
                 let p = self.profile();
@@ -715,7 +836,10 @@ impl MrJeC {
             (0x2B03, 0) => live(self.droop_pulses()),
             (0x6074, 0) => live(self.motion.torque().demand()),
             (0x6077, 0) => live(self.motion.torque().actual()),
-            (0x2D12 | 0x2D15, 0) => self.status_do(id.index).and_then(live),
+            (0x2D11 | 0x2D12 | 0x2D15, 0) => self.status_do(id.index).and_then(live),
+            // Bit 0: 1 "can save now", 0 "a parameter is being saved"; bit 1: 0 "not saved
+            // automatically" (§7.4.4).
+            (0x1010, 1 | 4 | 5) => live(i64::from(!self.saving())),
             (0x2D68, 0) => {
                 let selected = self.store.int(ObjectId::new(0x2D60, 0));
                 live(self.motion.point_table().demand(selected))
@@ -764,10 +888,69 @@ impl MrJeC {
         if id.index == COMMUNICATION_ERROR_COUNT && v != KEY {
             return Err(Refusal::OutOfRange);
         }
+        self.check_linked_parameter(id, v)?;
+        self.check_saving(id, v, now)?;
         self.tick(now);
         self.store.set(id, value.clone());
         self.effects(id, v);
         Ok(())
+    }
+
+    /// A parameter linked to an object (§7.3 "Parameter" column) takes only what its object
+    /// can hold: the object's type and range, and a word of a split value 0000h–FFFFh.
+    fn check_linked_parameter(&self, id: ObjectId, v: i64) -> Result<(), Refusal> {
+        if id.sub != 0 {
+            return Ok(());
+        }
+        let sw = self.params.software;
+        let permissible = i64::from(self.params.permissible_speed);
+        for link in super::links::of_parameter(id.index) {
+            let Ok(row) = store::row(link.object, sw) else {
+                continue;
+            };
+            if !link.parameter_fits(v as u32) {
+                return Err(Refusal::AboveRange);
+            }
+            let param = |p: super::parameters::Parameter| {
+                if p.index() == id.index {
+                    v as u32
+                } else {
+                    self.param(p.index()) as u32
+                }
+            };
+            let Some(x) = link.object_value(sw, param) else {
+                continue;
+            };
+            let fixed = row.initial.value(sw).unwrap_or(0);
+            store::in_range(link.object, row, x, fixed, permissible)?;
+            if let Some((lo, hi)) = row.ty.bounds() {
+                if x < lo {
+                    return Err(Refusal::BelowRange);
+                }
+                if x > hi {
+                    return Err(Refusal::AboveRange);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The writes a running save refuses (1010h bit 0 = 0, §7.4.4): another "save" ("the
+    /// parameter cannot be saved with the command"), and with [`WriteDuringSave::Refuse`]
+    /// the parameters, point tables and the objects linked to parameters.
+    fn check_saving(&self, id: ObjectId, v: i64, now: Duration) -> Result<(), Refusal> {
+        if !self.eeprom.saving(now) {
+            return Ok(());
+        }
+        let save = id.index == 0x1010 && v == SAVE && !Region::saved_by(id.sub).is_empty();
+        let backed = Region::of(id.index).is_some()
+            || super::links::of_object(id).is_some_and(|l| l.held()[0].is_some());
+        let refuse_writes = self.params.write_during_save == WriteDuringSave::Refuse;
+        if save || (refuse_writes && backed) {
+            Err(Refusal::Saving)
+        } else {
+            Ok(())
+        }
     }
 
     /// Writes the SLMP bytes `data` to `id` (size checked after access, §2.4.5).
@@ -786,13 +969,16 @@ impl MrJeC {
     /// What a write does beyond storing the value.
     fn effects(&mut self, id: ObjectId, v: i64) {
         if matches!(id.index, 0x1010 | 0x1011) {
-            // Saving is immediate here (no EEPROM delay) and both objects keep reading their
-            // status: bit 0 "can save now" (§7.4.4, §7.4.5).
+            // Both objects keep reading their status, bit 0 "can save now" (§7.4.4, §7.4.5);
+            // 1010h's is live while a save runs (`read`).
             let sw = self.params.software;
             let status = store::row(id, sw).ok().and_then(|r| r.initial.value(sw));
             let status = status.and_then(|v| Value::from_i64(super::types::DataType::U32, v));
             if let Some(s) = status {
                 self.store.set(id, s);
+            }
+            if id.index == 0x1010 && v == SAVE {
+                self.save(id.sub);
             }
             if id.index == 0x1011 && v == LOAD {
                 self.restore.parameters |= matches!(id.sub, 1 | 4);
@@ -809,6 +995,23 @@ impl MrJeC {
             COMMUNICATION_ERROR_COUNT => self.store.set(id, Value::U16(0)),
             _ => {}
         }
+    }
+
+    /// Starts the save "save" written to 1010h sub-index `sub` asks for (§7.4.4 table): sub 1
+    /// the parameters and point tables, 4 the parameters, 5 the point tables, 2 and 3
+    /// nothing. It takes [`MrJeCParams::eeprom_save_time`] and stores the values of the moment
+    /// it starts.
+    fn save(&mut self, sub: u8) {
+        let regions: Vec<Region> = Region::saved_by(sub)
+            .iter()
+            .copied()
+            .filter(|r| self.has(*r))
+            .collect();
+        if regions.is_empty() {
+            return;
+        }
+        let time = self.params.eeprom_save_time.of(&regions);
+        self.eeprom.start(&self.store, &regions, self.now, time);
     }
 
     /// 6061h follows 6060h for the modes the software has (§2.2 of the extract, §7.3).

@@ -3,11 +3,11 @@
 //! object; objects without "continuous read/write" must be the whole request; a request of
 //! several objects succeeds if one of them does (the unreadable ones read 0, §3.6.5).
 //! Sub-indexes a record write cannot change (read-only, e.g. "Number of entries") are carried
-//! and ignored, as are sub-indexes written with the value they hold. Every access leaves its
-//! trace in the diagnostic objects (§7.5.1–§7.5.2): 2A60h the abort code of the object that
-//! failed (0 when none did), 2A64h the last object accessed with success (index in the upper
-//! word, its last sub-index in the lower: 2C12h reads 2C120004h), 2A65h how many objects the
-//! request accessed with success.
+//! and ignored, as are sub-indexes written with the value they held before the request. Every
+//! access leaves its trace in the diagnostic objects (§7.5.1–§7.5.2): 2A60h the abort code of
+//! the object that failed (0 when none did), 2A64h the last object accessed with success (index
+//! in the upper word, its last sub-index in the lower: 2C12h reads 2C120004h), 2A65h how many
+//! objects the request accessed with success.
 
 use std::time::Duration;
 
@@ -142,13 +142,19 @@ fn write_object(
     now: Duration,
 ) -> Result<usize, Refusal> {
     let sw = drive.params().software;
+    // "The value it holds" is the one before the request: a sub-index written first may
+    // change how another reads (1010h:1 "save" turns subs 4 and 5 to 0 while it runs).
+    let held: Vec<Option<Value>> = o
+        .each_sub(sw)
+        .map(|(sub, _)| drive.read(ObjectId::new(index, sub)).ok())
+        .collect();
     let mut at = 0;
-    for (sub, row) in o.each_sub(sw) {
+    for ((sub, row), held) in o.each_sub(sw).zip(held) {
         let n = row.ty.registers();
         let id = ObjectId::new(index, sub);
         let value = Value::from_words(row.ty, &words[at..at + n], order).ok_or(Refusal::Layout)?;
         at += n;
-        let unchanged = drive.read(id).is_ok_and(|v| v == value);
+        let unchanged = held.is_some_and(|v| v == value);
         if o.is_record() && (!row.access.writable() || unchanged) {
             continue;
         }

@@ -47,6 +47,13 @@ pub enum Refusal {
     /// Mapped objects beyond 64 bytes.
     #[error("mapped objects exceed 64 bytes")]
     MappingTooLarge,
+    /// Store parameters 1010h is writing the EEPROM (bit 0 = 0, "the parameter cannot be
+    /// saved with the command", §7.4.4): another "save", or a parameter write where the
+    /// emulator refuses those ([`super::WriteDuringSave::Refuse`]). The manual names no code:
+    /// the one for an object "write disabled in the present state" (SLMP CCC9h, §2.4.5) is
+    /// ours.
+    #[error("the EEPROM is being written (1010h)")]
+    Saving,
     /// Modbus registers that split an object, or that chain an object which must be
     /// accessed alone ("continuous read/write impossible", §7.3).
     #[error("registers that do not cover whole objects")]
@@ -69,6 +76,7 @@ impl Refusal {
             Self::OutOfRange => EndCode::OutOfRange,
             Self::Layout => EndCode::RequestIncorrect,
             Self::MappingLocked => EndCode::MappedObject,
+            Self::Saving => EndCode::ReadOnly,
             Self::NotMappable => EndCode::NotMappable,
             Self::MappingTooLarge => EndCode::MappingTooLarge,
         }
@@ -87,7 +95,7 @@ impl Refusal {
             Self::BelowRange => 0x0609_0032,
             Self::OutOfRange => 0x0609_0030,
             Self::Layout => 0x0601_0000,
-            Self::MappingLocked => 0x0800_0022,
+            Self::MappingLocked | Self::Saving => 0x0800_0022,
             Self::NotMappable => 0x0604_0041,
             Self::MappingTooLarge => 0x0604_0042,
         }
@@ -102,7 +110,8 @@ impl Refusal {
             | Self::WriteOnly
             | Self::ReadOnly
             | Self::Layout
-            | Self::MappingLocked => ExceptionCode::IllegalDataAddress,
+            | Self::MappingLocked
+            | Self::Saving => ExceptionCode::IllegalDataAddress,
             _ => ExceptionCode::IllegalDataValue,
         }
     }

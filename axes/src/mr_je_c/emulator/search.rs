@@ -2,7 +2,9 @@
 //! §2.4.3, §2.5.2, §5.2.3): a NodeSearch is answered with the drive's MAC, address, subnet mask
 //! and gateway; an IPAddressSet naming the drive's MAC writes [Pr. PN11]–[Pr. PN22] (taken at
 //! the next power-on) and is answered; one naming another MAC is not. Both need [Pr. PN08] to
-//! select Ethernet.
+//! select Ethernet. The addresses go to the EEPROM at once (`MrJeC::commission`): the manual
+//! says only that the command writes the parameters and that the power cycle after it
+//! reflects them (§2.5.2, §5.2.3), which a RAM-only write would never do `[INFER]`.
 
 use std::net::Ipv4Addr;
 use std::time::Duration;
@@ -74,7 +76,7 @@ fn set_addresses(drive: &mut MrJeC, set: &IpAddressSet, now: Duration) -> Option
     for (first, addr) in fields {
         for (k, octet) in addr.octets().into_iter().enumerate() {
             drive
-                .write(pn(first + k as u8), &Value::U32(u32::from(octet)), now)
+                .commission(pn(first + k as u8), &Value::U32(u32::from(octet)), now)
                 .ok()?;
         }
     }
@@ -149,6 +151,10 @@ mod tests {
             Ipv4Addr::new(192, 168, 3, 1),
             "gateway not set"
         );
+        assert_eq!(d.read(pn(14)).unwrap().as_i64(), Some(3));
+        // In the EEPROM without 1010h: the next power-on takes them (§2.5.2).
+        d.power_cycle();
+        assert_eq!(d.subnet_mask(), Ipv4Addr::new(255, 255, 0, 0));
         assert_eq!(d.read(pn(14)).unwrap().as_i64(), Some(3));
     }
 

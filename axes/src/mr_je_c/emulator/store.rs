@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 
+use super::super::links::{self, LINKS};
 use super::super::objects::{entry, object, ObjectId, Sub, DICTIONARY};
 use super::super::parameters::definition;
 use super::super::types::{DataType, Range, SoftwareVersion};
@@ -10,10 +11,12 @@ use super::super::value::Value;
 use super::refusal::Refusal;
 use super::MrJeCParams;
 
-/// Every object's value.
+/// Every object's value (the RAM; the EEPROM is `eeprom`). An object linked to a parameter
+/// (§7.3 "Parameter" column, [`links`]) is kept in step with it on every [`Store::set`].
 #[derive(Debug, Clone)]
 pub struct Store {
     values: BTreeMap<ObjectId, Value>,
+    software: SoftwareVersion,
 }
 
 impl Store {
@@ -40,8 +43,18 @@ impl Store {
                 }
             }
         }
-        let mut store = Store { values };
+        let mut store = Store {
+            values,
+            software: sw,
+        };
         store.unit_facts(params);
+        // A linked pair starts at the object's default; the manual's parameter initial values
+        // agree where it gives both (tested).
+        for link in LINKS {
+            if let Some(v) = store.get(link.object).cloned() {
+                store.set(link.object, v);
+            }
+        }
         store
     }
 
@@ -91,9 +104,37 @@ impl Store {
         self.values.iter()
     }
 
-    /// Sets `id`.
+    /// Sets `id`, and the other side of its links: the parameters of a linked object, the
+    /// object of a linked parameter.
     pub fn set(&mut self, id: ObjectId, v: Value) {
+        let n = v.as_i64();
         self.values.insert(id, v);
+        let Some(n) = n else { return };
+        if let Some(link) = links::of_object(id) {
+            for (p, pv) in link.parameter_values(n).into_iter().flatten() {
+                let pid = ObjectId::new(p.index(), 0);
+                if self.values.contains_key(&pid) {
+                    self.values.insert(pid, Value::U32(pv));
+                }
+            }
+        }
+        if id.sub != 0 {
+            return;
+        }
+        for link in links::of_parameter(id.index) {
+            let ty = match entry(link.object, self.software) {
+                Some((_, row)) if self.values.contains_key(&link.object) => row.ty,
+                _ => continue,
+            };
+            let value = link
+                .object_value(self.software, |p| {
+                    self.int(ObjectId::new(p.index(), 0)) as u32
+                })
+                .and_then(|x| Value::from_i64(ty, x));
+            if let Some(value) = value {
+                self.values.insert(link.object, value);
+            }
+        }
     }
 }
 

@@ -287,7 +287,8 @@ fn cclink_axis_runs_point_tables_on_the_devices_of_table_2_3() {
 
 /// The feed override reaches the drive: a move started at 50 % carries half its 6081h, a new
 /// override mid-move sends the new one, at 0 % the motor stands under Halt with the move not
-/// ended, and released it arrives.
+/// ended, and released it arrives. The move (4 revolutions at 30 r/min, 8 s) outlasts any
+/// stall of a loaded machine between its start and the hold.
 #[test]
 fn the_feed_override_scales_the_profile_velocity_the_drive_gets() {
     let s = server();
@@ -301,12 +302,12 @@ fn the_feed_override_scales_the_profile_velocity_the_drive_gets() {
     assert!(h.command(AxisCommand::Override { permille: 500 }));
     assert!(h.command(AxisCommand::Move {
         target: 524_288,
-        velocity: 60_000,
+        velocity: 6_000,
         acceleration_ms: 100,
         deceleration_ms: 100,
     }));
     wait(&h, "moving", |f| f.inputs.velocity > 0);
-    assert_eq!(speed(), Some(30_000));
+    assert_eq!(speed(), Some(3_000));
     assert!(h.command(AxisCommand::Override { permille: 0 }));
     wait(&h, "held", |f| f.inputs.velocity == 0);
     for _ in 0..20 {
@@ -315,7 +316,7 @@ fn the_feed_override_scales_the_profile_velocity_the_drive_gets() {
     }
     assert!(h.command(AxisCommand::Override { permille: 1000 }));
     wait(&h, "arrived", |f| f.done == 1);
-    assert_eq!(speed(), Some(60_000));
+    assert_eq!(speed(), Some(6_000));
     let f = h.feedback();
     assert!((f.inputs.position - 524_288).abs() <= 100, "{f:?}");
     assert_eq!(f.failed, 0);

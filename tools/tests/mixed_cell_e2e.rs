@@ -84,7 +84,9 @@ impl RunningCell {
         let program = format!("{config}-program.toml");
         std::fs::copy(format!("{CONFIGS}/{program}"), dir.path().join(&program)).unwrap();
         let child = Command::new(env!("CARGO_BIN_EXE_cellrt"))
-            .args(["run", "--no-program", "--no-record", "--duration", "120"])
+            // Killed on drop; the duration only bounds a test that never ends (a loaded
+            // machine can stretch a test past two minutes).
+            .args(["run", "--no-program", "--no-record", "--duration", "900"])
             .arg(&cfg)
             .stderr(std::process::Stdio::null())
             .spawn()

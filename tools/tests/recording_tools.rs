@@ -57,6 +57,27 @@ fn record_demo(dir: &Path) -> std::path::PathBuf {
 }
 
 /// Runs the cell `cfg` recorded to `rec`; it must succeed.
+/// `cellrt replay REC` succeeds and says the run replays bit-identically.
+fn replays_bit_identically(rec: &Path) {
+    let out = cellrt(&["replay".as_ref(), rec.as_os_str()]);
+    let (so, se) = text(&out);
+    assert!(out.status.success(), "{so}\n{se}");
+    assert!(so.contains("bit-identical"), "{so}");
+}
+
+/// Runs `program` on `config` recorded ([`common::run_recorded`]), which must succeed; the
+/// recording read back, and its path.
+fn run_and_read(
+    dir: &Path,
+    config: &str,
+    program: &str,
+) -> (common::Recording, std::path::PathBuf) {
+    let (out, rec) = common::run_recorded(dir, config, program);
+    let (so, se) = text(&out);
+    assert!(out.status.success(), "{so}\n{se}");
+    (read_recording(&rec), rec)
+}
+
 fn run_recorded(cfg: &Path, rec: &Path) {
     let out = cellrt(&[
         "run".as_ref(),
@@ -342,10 +363,7 @@ fn replay_is_bit_identical_and_reports_the_first_divergence() {
     let dir = tempfile::tempdir().unwrap();
     // With an injected drive alarm: the replay applies it at the same cycle.
     let rec = record_with_drive_alarm(dir.path());
-    let out = cellrt(&["replay".as_ref(), rec.as_os_str()]);
-    let (so, se) = text(&out);
-    assert!(out.status.success(), "{so}\n{se}");
-    assert!(so.contains("bit-identical"), "{so}");
+    replays_bit_identically(&rec);
 
     // One recorded feedback value changed: the replay names that cycle, axis and object.
     let r = read_recording(&rec);
@@ -386,10 +404,7 @@ fn an_lz4_recording_replays_bit_identically() {
         .unwrap()
         .unwrap();
     assert!(summary.chunk_indexes.iter().all(|c| c.compression == "lz4"));
-    let out = cellrt(&["replay".as_ref(), rec.as_os_str()]);
-    let (so, se) = text(&out);
-    assert!(out.status.success(), "{so}\n{se}");
-    assert!(so.contains("bit-identical"), "{so}");
+    replays_bit_identically(&rec);
 }
 
 #[test]
@@ -568,20 +583,14 @@ fn an_mr_j4_tm_recording_with_torque_limits_replays_bit_identically() {
         + "\n[setpoints]\nlookahead_ms = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n";
     assert!(config.contains("torque = 35.0"));
     let program = std::fs::read_to_string(configs.join("mr-j4-tm-program.toml")).unwrap();
-    let (out, rec) = common::run_recorded(dir.path(), &config, &program);
-    let (so, se) = text(&out);
-    assert!(out.status.success(), "{so}\n{se}");
-    let r = read_recording(&rec);
+    let (r, rec) = run_and_read(dir.path(), &config, &program);
     // 6077h: the plant's torque, 350 where the limit holds it (servo-off ramps bypass it).
     let saturated = r.axes["c"]
         .iter()
         .filter(|a| a.actual_torque.abs() == 350)
         .count();
     assert!(saturated > 0, "c's torque saturates at its 35 % limit");
-    let out = cellrt(&["replay".as_ref(), rec.as_os_str()]);
-    let (so, se) = text(&out);
-    assert!(out.status.success(), "{so}\n{se}");
-    assert!(so.contains("bit-identical"), "{so}");
+    replays_bit_identically(&rec);
 }
 
 /// An axis of the given drive and mode for the replay test: 10 mm per revolution, rated speed
@@ -661,10 +670,7 @@ seconds = 0.2
 [[step]]
 do = "power_off"
 "#;
-    let (out, rec) = common::run_recorded(dir.path(), &config, PROGRAM);
-    let (so, se) = text(&out);
-    assert!(out.status.success(), "{so}\n{se}");
-    let r = read_recording(&rec);
+    let (r, rec) = run_and_read(dir.path(), &config, PROGRAM);
     for (axis, objects) in [("p", 3), ("v", 2), ("t", 1), ("q", 3), ("w", 2), ("u", 1)] {
         let last = r.axes[axis].last().unwrap();
         let set = [
@@ -679,10 +685,7 @@ do = "power_off"
         assert_eq!(set, objects, "{axis}: {last:?}");
     }
     assert!(r.axes["x"].iter().all(|a| a.profile_velocity == 0));
-    let out = cellrt(&["replay".as_ref(), rec.as_os_str()]);
-    let (so, se) = text(&out);
-    assert!(out.status.success(), "{so}\n{se}");
-    assert!(so.contains("bit-identical"), "{so}");
+    replays_bit_identically(&rec);
 
     // p's 6081h at half its value from the start: the replayed move is slower.
     let tampered = dir.path().join("tampered.mcap");
@@ -731,10 +734,7 @@ target = { x = 110.0 }
 [[step]]
 do = "power_off"
 "#;
-    let (out, rec) = common::run_recorded(dir.path(), &config, PROGRAM);
-    let (so, se) = text(&out);
-    assert!(out.status.success(), "{so}\n{se}");
-    let r = read_recording(&rec);
+    let (r, rec) = run_and_read(dir.path(), &config, PROGRAM);
     let x = &r.axes["x"];
     let pp: Vec<_> = x.iter().filter(|a| a.mode == 1).collect();
     assert!(!pp.is_empty(), "6060h = 1 recorded");
@@ -745,10 +745,7 @@ do = "power_off"
     assert_eq!(x.last().unwrap().mode, 8, "back in csp at the end");
     let end = x.last().unwrap().actual_position_counts;
     assert!((end - 110_000).abs() <= 100, "{end}");
-    let out = cellrt(&["replay".as_ref(), rec.as_os_str()]);
-    let (so, se) = text(&out);
-    assert!(out.status.success(), "{so}\n{se}");
-    assert!(so.contains("bit-identical"), "{so}");
+    replays_bit_identically(&rec);
 }
 
 /// An attachment record whose lengths run past its end (no room for its CRC), in a file with

@@ -159,11 +159,14 @@ impl JecAxisConfig {
                 "axis '{name}': target {value} is not a finite number"
             ));
         }
-        let whole = |what: &str, n: usize| -> Result<u8, String> {
-            if value.fract() == 0.0 && value >= 0.0 && value < n as f64 + 1.0 {
+        // One of the numbers `first`…`last` (a table or a station), named `what`.
+        let number = |first: u8, last: u8, what: &str| {
+            if value.fract() == 0.0 && (f64::from(first)..=f64::from(last)).contains(&value) {
                 Ok(value as u8)
             } else {
-                Err(format!("axis '{name}': {value} is not one of its {what}"))
+                Err(format!(
+                    "axis '{name}': {value} is not one of its {what} ({first}–{last})"
+                ))
             }
         };
         match self.mode {
@@ -179,21 +182,16 @@ impl JecAxisConfig {
                 }
             }
             JecMode::PointTable => {
-                let n = self.point_tables.len();
-                let table = whole(&format!("point tables (1–{n})"), n)?;
-                if table == 0 {
-                    return Err(format!(
-                        "axis '{name}': 0 is not one of its point tables (1–{n})"
-                    ));
-                }
+                // At most MAX_POINT_TABLES (255), checked at load.
+                let n = self.point_tables.len() as u8;
+                let table = number(1, n, "point tables")?;
                 Ok(JecMoveTarget::PointTable {
                     table,
                     position: self.point_tables[usize::from(table) - 1].position,
                 })
             }
             JecMode::Indexer { stations } => {
-                let last = usize::from(stations) - 1;
-                whole(&format!("stations (0–{last})"), last).map(JecMoveTarget::Station)
+                number(0, stations.saturating_sub(1), "stations").map(JecMoveTarget::Station)
             }
             JecMode::Jog => Err(format!(
                 "axis '{name}' runs jg: it moves by jog only, not to targets"

@@ -39,7 +39,7 @@ const BRIDGE_TICK: Duration = Duration::from_millis(1);
 impl JecAxes {
     /// The MR-JE-C axes of `cell` with no threads behind them, for a process that reaches
     /// the axes' threads through a link ([`JecBridge`]).
-    fn detached(cell: &CellConfig) -> JecAxes {
+    pub(crate) fn detached(cell: &CellConfig) -> JecAxes {
         JecAxes {
             axes: Arc::new(
                 cell.je_c_axes
@@ -50,7 +50,7 @@ impl JecAxes {
         }
     }
 
-    fn handle(&self, k: usize) -> &AxisHandle {
+    pub(crate) fn handle(&self, k: usize) -> &AxisHandle {
         &self.axes[k].1
     }
 

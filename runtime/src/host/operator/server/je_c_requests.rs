@@ -92,21 +92,20 @@ pub(super) fn move_commands(
             ));
         }
         ready(axes, *k)?;
-        let goal = if relative {
-            if c.mode.positioning().is_some() {
+        let numbered = match c.mode {
+            JecMode::PointTable => Some("point table"),
+            JecMode::Indexer { .. } => Some("station"),
+            _ => None,
+        };
+        let goal = match (relative, numbered) {
+            (true, Some(what)) => {
                 return Err(format!(
-                    "axis '{name}' runs {}: a move names its {}, not a distance",
-                    c.mode.name(),
-                    if matches!(c.mode, JecMode::PointTable) {
-                        "point table"
-                    } else {
-                        "station"
-                    }
-                ));
+                    "axis '{name}' runs {}: a move names its {what}, not a distance",
+                    c.mode.name()
+                ))
             }
-            c.move_target(c.units(axes.feedback(*k).inputs.position) + value)?
-        } else {
-            c.move_target(*value)?
+            (true, None) => c.move_target(c.units(axes.feedback(*k).inputs.position) + value)?,
+            (false, _) => c.move_target(*value)?,
         };
         if !c.takes_move_limits() && (asked.velocity.is_some() || asked.acceleration.is_some()) {
             return Err(format!(
@@ -286,5 +285,69 @@ impl PendingMoves {
         }
         self.waiting = None;
         Ok(false)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use cellrt_axes::mr_je_c::cell::{AxisFeedback, Inputs};
+
+    /// The shipped config `name`.toml with `edit` applied, its MR-JE-C axes detached and
+    /// enabled.
+    fn enabled_axes(name: &str, edit: impl Fn(String) -> String) -> JecAxes {
+        let path = format!("{}/../configs/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let text = edit(std::fs::read_to_string(&path).unwrap());
+        let cell = CellConfig::parse(std::path::Path::new(&path), &text).unwrap();
+        let axes = JecAxes::detached(&cell);
+        for k in 0..axes.len() {
+            axes.handle(k).set_feedback(AxisFeedback {
+                enabled: true,
+                inputs: Inputs {
+                    statusword: 0x0637,
+                    ..Inputs::default()
+                },
+                ..AxisFeedback::default()
+            });
+        }
+        axes
+    }
+
+    fn relative(axes: &JecAxes, k: usize) -> String {
+        let asked = Asked {
+            velocity: None,
+            acceleration: None,
+            jerk: None,
+            clamp: false,
+        };
+        let name = axes.config(k).name.clone();
+        move_commands(axes, &[(k, name, 1.0)], true, asked).unwrap_err()
+    }
+
+    /// A relative move names a distance: refused on a point-table or indexer axis (a move
+    /// there names a table or a station) and on a jog axis (no targets at all).
+    #[test]
+    fn relative_moves_are_refused_where_a_move_takes_no_distance() {
+        let axes = enabled_axes("je-c-positioning", |t| t);
+        assert_eq!(
+            relative(&axes, 0),
+            "axis 'feeder' runs point_table: a move names its point table, not a distance"
+        );
+        assert_eq!(
+            relative(&axes, 1),
+            "axis 'turret' runs indexer: a move names its station, not a distance"
+        );
+        let axes = enabled_axes("mixed-cell", |t| {
+            let at = t.find("name = \"outfeed\"").unwrap();
+            let (head, tail) = t.split_at(at);
+            format!(
+                "{head}{}",
+                tail.replacen("mode = \"pp\"", "mode = \"jog\"", 1)
+            )
+        });
+        assert_eq!(
+            relative(&axes, 1),
+            "axis 'outfeed' runs jg: it moves by jog only, not to targets"
+        );
     }
 }

@@ -147,11 +147,11 @@ fn sort(e: super::super::AccessError) -> ExchangeError {
 impl<A: ObjectAccess + Send> DriveIo for ObjectIo<A> {
     fn exchange(&mut self, out: &Outputs) -> Result<Inputs, ExchangeError> {
         let t = Instant::now();
-        let last = self.last;
+        let before = self.last.map(|l| profile_objects(&l));
         // Each its own request: these objects have no continuous access (manual §7.3).
         for (k, (index, v)) in profile_objects(out).into_iter().enumerate() {
             let Some(v) = v else { continue };
-            if last.is_none_or(|l| profile_objects(&l)[k].1.as_ref() != Some(&v)) {
+            if before.as_ref().is_none_or(|b| b[k].1.as_ref() != Some(&v)) {
                 self.put(index, v)?;
             }
         }

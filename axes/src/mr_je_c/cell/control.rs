@@ -883,4 +883,33 @@ mod tests {
         assert_eq!(c.outputs().target_velocity, 0);
         assert!(c.busy());
     }
+
+    /// MC_Stop of an indexer: the Quick stop command 0002h (CiA 402, MR-JE-C manual §7.6.2:
+    /// bit 1 on, bit 2 off) from then on, the job cut short; PowerOn enables again (0006h).
+    #[test]
+    fn a_quick_stop_sends_0002h_until_the_next_power_on() {
+        let mut c = AxisControl::new(0, StopReaction::Halt);
+        assert!(c.command(AxisCommand::PowerOn));
+        c.step(answer(0x0637));
+        assert!(c.command(AxisCommand::Station {
+            station: 2,
+            velocity: 1000,
+            acceleration_ms: 10,
+            deceleration_ms: 10,
+        }));
+        c.step(answer(0x0637));
+        assert!(c.command(AxisCommand::QuickStop));
+        assert_eq!((c.busy(), c.failed), (false, 1));
+        c.step(answer(0x0617)); // Quick stop active
+        assert_eq!(c.outputs().controlword, 0x0002);
+        c.step(answer(0x0250)); // Switch on disabled
+        assert_eq!(c.outputs().controlword, 0x0002);
+        assert!(c.command(AxisCommand::PowerOn));
+        c.step(answer(0x0250));
+        assert_eq!(
+            c.outputs().controlword,
+            0x0006,
+            "Shutdown, toward Ready to switch on"
+        );
+    }
 }

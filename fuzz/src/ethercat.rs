@@ -1,15 +1,16 @@
 //! EtherCAT targets: frames and datagrams, the emulated segment receiving any frame, the
 //! emulated CoE server, the master's SM1 mailbox decoder, the SII walk of a scan, ESI XML.
 
-use cellrt_axes::cycles::CycleTime;
-use cellrt_axes::ethercat::emergency::MailboxMessage;
-use cellrt_axes::ethercat::emulator::coe::{self, CoeContext, PdoConfig, SegmentedUpload};
-use cellrt_axes::ethercat::emulator::{Segment, SubDeviceVariant};
-use cellrt_axes::ethercat::frame;
-use cellrt_axes::ethercat::identity::SubDeviceIdentity;
-use cellrt_axes::ethercat::master::scan;
-use cellrt_axes::ethercat::register::AlState;
-use cellrt_axes::{profile, DriveModel, SimDrive, SimDriveParams};
+use cellrt_cia402::cycles::CycleTime;
+use cellrt_cia402::{profile, DriveModel};
+use cellrt_emulator::ethercat::coe::{self, CoeContext, PdoConfig, SegmentedUpload};
+use cellrt_emulator::ethercat::{Segment, SubDeviceVariant};
+use cellrt_emulator::{SimDrive, SimDriveParams};
+use cellrt_ethercat::emergency::MailboxMessage;
+use cellrt_ethercat::frame;
+use cellrt_ethercat::identity::SubDeviceIdentity;
+use cellrt_ethercat::master::scan;
+use cellrt_ethercat::register::AlState;
 
 use crate::pieces;
 use crate::sii_link::FuzzedEsc;
@@ -93,6 +94,6 @@ pub fn sii_scan(data: &[u8]) {
 /// An ESI XML file.
 pub fn esi_xml(data: &[u8]) {
     if let Ok(text) = std::str::from_utf8(data) {
-        let _ = cellrt_axes::esi::parse(text);
+        let _ = cellrt_ethercat::esi::parse(text);
     }
 }

@@ -1,9 +1,9 @@
 //! Modbus (TCP and RTU), SLMP and CC-Link IE Field Basic decoders, both the drive's (query,
 //! request) and the controller's (reply, response) side.
 
-use cellrt_axes::cclink_ief_basic::{CyclicRequest, CyclicResponse};
-use cellrt_axes::modbus::{rtu, tcp, Query, Reply};
-use cellrt_axes::slmp;
+use cellrt_fieldbus::cclink_ief_basic::{CyclicRequest, CyclicResponse};
+use cellrt_fieldbus::modbus::{rtu, tcp, Query, Reply};
+use cellrt_fieldbus::slmp;
 
 use crate::pieces;
 
@@ -42,7 +42,7 @@ pub fn modbus(data: &[u8]) {
 /// response. Each piece is also a NodeSearch / IPAddressSet request (answered by an emulated
 /// drive) and response of either command.
 pub fn slmp(data: &[u8]) {
-    use cellrt_axes::mr_je_c::emulator::{search, MrJeC};
+    use cellrt_emulator::mr_je_c::{search, MrJeC};
     use slmp::node_search::{decode_request, decode_response, IP_ADDRESS_SET, NODE_SEARCH};
     // Built when a piece first decodes as a search request (`search::answer` answers nothing
     // else): a drive's dictionary is costly to build for every input.

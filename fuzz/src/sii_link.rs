@@ -1,9 +1,9 @@
 //! A line of SubDevices made of the fuzz input, for the master's `bus scan`: registers, SII
 //! EEPROM contents and wire faults (lost and truncated frames) all come from the input.
 
-use cellrt_axes::ethercat::frame::{self, Command};
-use cellrt_axes::ethercat::master::link::{Link, LinkError};
-use cellrt_axes::ethercat::register as reg;
+use cellrt_ethercat::frame::{self, Command};
+use cellrt_ethercat::master::link::{Link, LinkError};
+use cellrt_ethercat::register as reg;
 
 /// Bytes before the per-frame fault tape: count, SII flags (8-byte reads, always busy), AL status (6), feature flags (2),
 /// tape length.

@@ -13,7 +13,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Duration;
 
-use cellrt_axes::{profile, CycleTime, DriveModel, FrameCounters};
+use cellrt_cia402::{profile, CycleTime, DriveModel, FrameCounters};
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::controller::{self, RunError, RunOptions};
 use cellrt_runtime::host::program::Program;

@@ -22,16 +22,16 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use cellrt_axes::cclink_ief_basic::master::{GroupMaster, MasterParams};
-use cellrt_axes::cclink_ief_basic::MAX_STATIONS;
-use cellrt_axes::modbus::client::{Registers, TcpClient};
-use cellrt_axes::modbus::serial::{LineSettings, RtuClient};
-use cellrt_axes::mr_je_c::emulator::rs485::Rs485Line;
-use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
-use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
-use cellrt_axes::mr_je_c::{ObjectId, Value};
-use cellrt_axes::slmp::client::{FrameType, SlmpClient};
-use cellrt_axes::slmp::Command;
+use cellrt_emulator::mr_je_c::rs485::Rs485Line;
+use cellrt_emulator::mr_je_c::server::{Ports, Server};
+use cellrt_emulator::mr_je_c::{MrJeC, MrJeCParams};
+use cellrt_fieldbus::cclink_ief_basic::master::{GroupMaster, MasterParams};
+use cellrt_fieldbus::cclink_ief_basic::MAX_STATIONS;
+use cellrt_fieldbus::modbus::client::{Registers, TcpClient};
+use cellrt_fieldbus::modbus::serial::{LineSettings, RtuClient};
+use cellrt_fieldbus::mr_je_c::{ObjectId, Value};
+use cellrt_fieldbus::slmp::client::{FrameType, SlmpClient};
+use cellrt_fieldbus::slmp::Command;
 use cellrt_runtime::rt::histogram::{NsHistogram, Percentiles};
 use serde::Serialize;
 use serialport::{SerialPort, TTYPort};
@@ -271,7 +271,7 @@ fn udp_echo(stop: &Arc<AtomicBool>) -> Result<UdpSocket, BenchError> {
 /// A bare cyclic responder on loopback: decodes each request and answers its station at
 /// once (sequence and group echoed, zero RWr/RX); its address.
 fn bare_responder(stop: &Arc<AtomicBool>) -> Result<std::net::SocketAddr, BenchError> {
-    use cellrt_axes::cclink_ief_basic::{
+    use cellrt_fieldbus::cclink_ief_basic::{
         CyclicRequest, CyclicResponse, EndCode, StationData, RESPONSE_SIZE,
     };
     let io = |e: std::io::Error| failed("the bare responder")(e.to_string());

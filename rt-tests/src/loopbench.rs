@@ -62,7 +62,7 @@ impl LoopOptions {
         }
         let interval_us = u32::try_from(interval_us)
             .ok()
-            .filter(|i| cellrt_axes::CycleTime::from_micros(*i).is_ok())
+            .filter(|i| cellrt_cia402::CycleTime::from_micros(*i).is_ok())
             .ok_or_else(|| {
                 BenchError::bad(format!(
                     "--interval: must be a cycle time of the drive: 125, 250, 500, 1000, 2000, 4000 or 8000 µs (got {interval_us})"

@@ -373,8 +373,8 @@ fn enabled(rig: &Rig, axis: usize) -> bool {
     let sw = rig.handoff.status().live[axis]
         .statusword
         .load(Ordering::Relaxed);
-    cellrt_axes::cia402::statusword::Statusword(sw).state()
-        == Some(cellrt_axes::cia402::fsa::FsaState::OperationEnabled)
+    cellrt_cia402::statusword::Statusword(sw).state()
+        == Some(cellrt_cia402::fsa::FsaState::OperationEnabled)
 }
 
 fn powered(rig: &Rig, axis: usize) -> bool {

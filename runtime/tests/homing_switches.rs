@@ -17,7 +17,7 @@ use event_log::cycle_of;
 
 use std::path::Path;
 
-use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure};
+use cellrt_cia402::homing::{HomeProcedure, HomingFailure};
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::handoff::{AxisRecord, EventKind, HomeRequest};
 

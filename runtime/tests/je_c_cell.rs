@@ -11,9 +11,9 @@ use std::net::{IpAddr, Ipv4Addr};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
-use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
-use cellrt_axes::mr_je_c::Alarm;
+use cellrt_emulator::mr_je_c::server::{Ports, Server};
+use cellrt_emulator::mr_je_c::{MrJeC, MrJeCParams};
+use cellrt_fieldbus::mr_je_c::Alarm;
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions, Summary};
 use cellrt_runtime::host::program::Program;
@@ -215,10 +215,10 @@ velocity = 50.0
         let cut = scope.spawn(|| {
             // Once the belt moves, pull the cable.
             let end = Instant::now() + Duration::from_secs(20);
-            while server.drive().state() != cellrt_axes::cia402::fsa::FsaState::OperationEnabled
+            while server.drive().state() != cellrt_cia402::fsa::FsaState::OperationEnabled
                 || server
                     .drive()
-                    .read(cellrt_axes::mr_je_c::ObjectId::new(0x6064, 0))
+                    .read(cellrt_fieldbus::mr_je_c::ObjectId::new(0x6064, 0))
                     .is_ok_and(|v| v.as_i64() == Some(0))
             {
                 assert!(Instant::now() < end, "the belt never moved");
@@ -252,13 +252,13 @@ velocity = 50.0
     assert_eq!(server.drive().alarm(), Some(Alarm::NETWORK_4));
     let at = server
         .drive()
-        .read(cellrt_axes::mr_je_c::ObjectId::new(0x6064, 0))
+        .read(cellrt_fieldbus::mr_je_c::ObjectId::new(0x6064, 0))
         .unwrap();
     std::thread::sleep(Duration::from_millis(100));
     assert_eq!(
         server
             .drive()
-            .read(cellrt_axes::mr_je_c::ObjectId::new(0x6064, 0))
+            .read(cellrt_fieldbus::mr_je_c::ObjectId::new(0x6064, 0))
             .unwrap(),
         at
     );

@@ -1,5 +1,5 @@
 //! A csp axis switched to pp at run time and back (issue 19), on each model whose manual lists
-//! both: the RT thread follows the drives' mode-switch rules (`cellrt_axes::cia402::mode_switch`;
+//! both: the RT thread follows the drives' mode-switch rules (`cellrt_cia402::mode_switch`;
 //! MR-J5-G-N1 manual §7.4, MR-JET-G-N1 manual §7.4): 6060h changes only at standstill with
 //! controlword bit 4 low, 607Ah equals 6064h from the cycle before 6060h = 8 so the motor does
 //! not jump, and the switch ends when 6061h shows the mode. Judged on the recorded cycles.
@@ -10,7 +10,7 @@ use cell_rig::Rig;
 
 use std::path::Path;
 
-use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::handoff::{AxisRecord, EventKind, EventRecord, ProfileMotion, SwitchableMode};
 

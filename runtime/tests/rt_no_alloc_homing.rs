@@ -11,7 +11,7 @@ mod rt_thread;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use cellrt_axes::cia402::homing::HomeProcedure;
+use cellrt_cia402::homing::HomeProcedure;
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::handoff::{EventKind, HomeRequest};
 

@@ -4,5 +4,6 @@
 #![warn(missing_docs)]
 
 pub mod counting_alloc;
+pub mod python;
 pub mod sched;
 pub mod veth;

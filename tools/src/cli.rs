@@ -197,10 +197,10 @@ pub struct MrJeCSimArgs {
     /// The drive's MAC address (NodeSearch reports it, IPAddressSet picks the drive by it);
     /// default 02:00 followed by the listen address' four octets.
     #[arg(long, value_name = "MAC")]
-    pub mac: Option<cellrt_axes::slmp::node_search::Mac>,
+    pub mac: Option<cellrt_fieldbus::slmp::node_search::Mac>,
     /// The drive's software version: A0, A3 or A4 (objects, [Pr. PN10], 6502h).
     #[arg(long, value_name = "VERSION", default_value = "A4")]
-    pub software: cellrt_axes::mr_je_c::SoftwareVersion,
+    pub software: cellrt_fieldbus::mr_je_c::SoftwareVersion,
     /// The cyclic link's RWw/RWr devices and default response mapping: `profile` (manual
     /// Table 2.2: profile, position/speed/torque and homing modes) or `positioning` (Table 2.3:
     /// point table, indexer, jog and homing).
@@ -210,7 +210,7 @@ pub struct MrJeCSimArgs {
         default_value = "profile",
         conflicts_with = "rs485_pty"
     )]
-    pub link_layout: cellrt_axes::mr_je_c::emulator::cyclic::LinkLayout,
+    pub link_layout: cellrt_emulator::mr_je_c::cyclic::LinkLayout,
 }
 
 /// `cellrt drive-sim`.

@@ -6,8 +6,8 @@
 
 mod common;
 
-use cellrt_axes::pdo::objects::MODES_OF_OPERATION_DISPLAY;
-use cellrt_axes::profiles::{profile, DriveModel};
+use cellrt_cia402::pdo::objects::MODES_OF_OPERATION_DISPLAY;
+use cellrt_cia402::profiles::{profile, DriveModel};
 use common::{read_recording, run_recorded, unique_cell_name};
 
 /// Operation enabled: statusword bits 0–3, 5, 6 = 0110 0111 under mask 0110 1111.

@@ -6,10 +6,10 @@ use std::net::{SocketAddr, TcpListener, UdpSocket};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use cellrt_axes::modbus::client::TcpClient;
-use cellrt_axes::mr_je_c::access::typed::Statusword;
-use cellrt_axes::mr_je_c::{ObjectAccess, ObjectId, OverModbus, Value};
-use cellrt_axes::slmp::client::{FrameType, SlmpClient};
+use cellrt_fieldbus::modbus::client::TcpClient;
+use cellrt_fieldbus::mr_je_c::access::typed::Statusword;
+use cellrt_fieldbus::mr_je_c::{ObjectAccess, ObjectId, OverModbus, Value};
+use cellrt_fieldbus::slmp::client::{FrameType, SlmpClient};
 
 fn free_tcp() -> u16 {
     TcpListener::bind("127.0.0.1:0")
@@ -189,8 +189,8 @@ fn je_c(args: &[&str]) -> (Option<i32>, String, String) {
 
 #[test]
 fn je_c_reads_and_writes_objects() {
-    use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
-    use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
+    use cellrt_emulator::mr_je_c::server::{Ports, Server};
+    use cellrt_emulator::mr_je_c::{MrJeC, MrJeCParams};
     let any = Ports::ANY;
     let s = Server::start(
         MrJeC::new(MrJeCParams::default()),
@@ -400,8 +400,8 @@ fn broadcasts_reach_the_drives_in_a_namespace() {
 /// Cyclic exchanges of a two-station group to 10.77.0.255: both drives answer each, with their
 /// own slave IDs.
 fn directed_broadcast_cycle() {
-    use cellrt_axes::cclink_ief_basic::master::{GroupMaster, MasterParams};
-    use cellrt_axes::cclink_ief_basic::MAX_STATIONS;
+    use cellrt_fieldbus::cclink_ief_basic::master::{GroupMaster, MasterParams};
+    use cellrt_fieldbus::cclink_ief_basic::MAX_STATIONS;
     use std::net::{IpAddr, Ipv4Addr};
     let drives: [IpAddr; 2] = [
         Ipv4Addr::new(10, 77, 0, 2).into(),

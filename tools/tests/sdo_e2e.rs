@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use cellrt_axes::ethercat::master::abort_meaning;
+use cellrt_ethercat::master::abort_meaning;
 use cellrt_runtime::host::operator::wire::{Reply, SdoAnswer};
 use common::cell::Cell;
 

@@ -3,7 +3,7 @@
 //! which the RT thread stops the cell with `communication_reaction`, and the names of the
 //! watchdogs as the recording shows them.
 
-use cellrt_axes::comm::{CounterParams, DetectorParams};
+use cellrt_cia402::comm::{CounterParams, DetectorParams};
 
 /// Thresholds of the communication watchdog, in cycles; 0 turns a threshold off.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::*;
-use cellrt_axes::cia402::mode::ModeOfOperation as M;
+use cellrt_cia402::mode::ModeOfOperation as M;
 
 fn text() -> String {
     std::fs::read_to_string(concat!(

@@ -1,7 +1,7 @@
 //! Scheduled fault injection (`[[inject]]`): which faults there are, with their names in the
 //! configuration and their codes in the recording, and when each one happens.
 
-use cellrt_axes::ethercat::emulator::WireFault;
+use cellrt_emulator::ethercat::WireFault;
 
 /// The kinds of injectable faults, the one list of them: the name is the `[[inject]] fault`
 /// key and the recording's fault name, the code (`as i64`) the value of a `fault_injected` or

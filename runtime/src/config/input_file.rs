@@ -7,7 +7,7 @@ use std::io::{Error, ErrorKind, Read};
 use std::os::unix::fs::OpenOptionsExt;
 use std::path::Path;
 
-use cellrt_axes::esi::EsiFileError;
+use cellrt_ethercat::esi::EsiFileError;
 
 /// The largest configuration or program cellrt reads.
 pub const MAX_TEXT_BYTES: u64 = 4 << 20;
@@ -55,12 +55,12 @@ pub fn read_text(path: &Path) -> Result<String, Error> {
 }
 
 /// Reads the devices of an ESI file: a regular file of at most [`MAX_ESI_BYTES`].
-pub fn read_esi(path: &Path) -> Result<Vec<cellrt_axes::esi::EsiDevice>, EsiFileError> {
+pub fn read_esi(path: &Path) -> Result<Vec<cellrt_ethercat::esi::EsiDevice>, EsiFileError> {
     let bytes = read_bytes(path, Some(MAX_ESI_BYTES)).map_err(|source| EsiFileError::Read {
         path: path.to_owned(),
         source,
     })?;
-    cellrt_axes::esi::decode_file(path, bytes)
+    cellrt_ethercat::esi::decode_file(path, bytes)
 }
 
 #[cfg(test)]

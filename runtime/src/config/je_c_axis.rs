@@ -7,7 +7,7 @@ use std::net::{IpAddr, SocketAddr};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use cellrt_axes::mr_je_c::cell::AxisCommand;
+use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 use super::raw::{RawAxis, RawJecAxis};
 use super::{ConfigError, FaultReaction};
@@ -84,8 +84,8 @@ impl JecMode {
     }
 
     /// The positioning mode of the drive's Table 2.3, if the axis runs one.
-    pub fn positioning(self) -> Option<cellrt_axes::mr_je_c::cell::PositioningMode> {
-        use cellrt_axes::mr_je_c::cell::PositioningMode as P;
+    pub fn positioning(self) -> Option<cellrt_fieldbus::mr_je_c::cell::PositioningMode> {
+        use cellrt_fieldbus::mr_je_c::cell::PositioningMode as P;
         match self {
             JecMode::Jog => Some(P::Jog),
             JecMode::PointTable => Some(P::PointTable),
@@ -350,9 +350,9 @@ pub fn validate(
 /// Target position 607Ah's setting range in pos units, from the object table (±999999; the
 /// degree unit's ±360000 is not a cell's unit).
 fn target_position_range() -> Option<(i64, i64)> {
-    use cellrt_axes::mr_je_c::objects::entry;
-    use cellrt_axes::mr_je_c::types::Range;
-    use cellrt_axes::mr_je_c::{ObjectId, SoftwareVersion};
+    use cellrt_fieldbus::mr_je_c::objects::entry;
+    use cellrt_fieldbus::mr_je_c::types::Range;
+    use cellrt_fieldbus::mr_je_c::{ObjectId, SoftwareVersion};
     match entry(ObjectId::new(0x607A, 0), SoftwareVersion::A4)?
         .1
         .range
@@ -400,11 +400,11 @@ fn transport(
     };
     match name {
         "cclink-ief-basic" => ethernet_only(JecTransport::CcLink(address(
-            cellrt_axes::cclink_ief_basic::CYCLIC_PORT,
+            cellrt_fieldbus::cclink_ief_basic::CYCLIC_PORT,
         )?)),
-        "slmp" => ethernet_only(JecTransport::Slmp(address(cellrt_axes::slmp::UDP_PORT)?)),
+        "slmp" => ethernet_only(JecTransport::Slmp(address(cellrt_fieldbus::slmp::UDP_PORT)?)),
         "modbus-tcp" => ethernet_only(JecTransport::ModbusTcp(address(
-            cellrt_axes::modbus::tcp::PORT,
+            cellrt_fieldbus::modbus::tcp::PORT,
         )?)),
         "modbus-rtu" => rtu(err, raw),
         other => Err(err(
@@ -448,7 +448,7 @@ fn rtu(
         ));
     }
     let baud = raw.baud.unwrap_or(115_200);
-    cellrt_axes::modbus::serial::LineSettings::new(baud, Default::default())
+    cellrt_fieldbus::modbus::serial::LineSettings::new(baud, Default::default())
         .map_err(|m| err("je_c.baud", m))?;
     Ok(JecTransport::ModbusRtu {
         serial: raw.serial.clone(),
@@ -464,7 +464,7 @@ fn drive_timeout(
     ms: Option<u64>,
 ) -> Result<Option<Duration>, ConfigError> {
     let Some(ms) = ms else { return Ok(None) };
-    use cellrt_axes::mr_je_c::parameters::{definition, PF46, PN02, PN10};
+    use cellrt_fieldbus::mr_je_c::parameters::{definition, PF46, PN02, PN10};
     let (parameter, name, per) = match t {
         JecTransport::CcLink(_) => (PN02, "PN02", 1),
         JecTransport::ModbusRtu { .. } => (PF46, "PF46", 1000),

@@ -3,7 +3,7 @@
 //! start-up), `mode = "indexer"` with `je_c.stations` ([Pr. PT28]; the position unit is the
 //! station) and `mode = "jog"`. What a `move` and a `jog` mean on each kind of axis.
 
-use cellrt_axes::mr_je_c::cell::AxisCommand;
+use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 use super::je_c_axis::{JecAxisConfig, JecMode};
 use super::raw::RawPointTable;
@@ -291,8 +291,11 @@ impl JecAxisConfig {
     /// start-up.
     pub fn positioning_parameters(
         &self,
-    ) -> Vec<(cellrt_axes::mr_je_c::ObjectId, cellrt_axes::mr_je_c::Value)> {
-        use cellrt_axes::mr_je_c::{ObjectId, Value};
+    ) -> Vec<(
+        cellrt_fieldbus::mr_je_c::ObjectId,
+        cellrt_fieldbus::mr_je_c::Value,
+    )> {
+        use cellrt_fieldbus::mr_je_c::{ObjectId, Value};
         let mut out = Vec::new();
         for (k, t) in self.point_tables.iter().enumerate() {
             let index = 0x2801 + k as u16;
@@ -308,7 +311,7 @@ impl JecAxisConfig {
             }
         }
         if let JecMode::Indexer { stations } = self.mode {
-            let pt28 = cellrt_axes::mr_je_c::parameters::PT28.index();
+            let pt28 = cellrt_fieldbus::mr_je_c::parameters::PT28.index();
             out.push((ObjectId::new(pt28, 0), Value::U32(u32::from(stations))));
         }
         out

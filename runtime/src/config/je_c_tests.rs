@@ -215,7 +215,7 @@ fn bad_je_c_keys_are_named() {
 /// is 1.5 rev/s = 90 r/min → 9000. Beyond limits.torque (20 %), and NaN, are refused.
 #[test]
 fn a_je_c_torque_command_carries_the_manuals_units() {
-    use cellrt_axes::mr_je_c::cell::AxisCommand;
+    use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
     let c = parse(&mixed()).unwrap();
     let outfeed = &c.je_c_axes[1];
     assert_eq!(
@@ -264,7 +264,7 @@ fn point_tables_load_in_units_and_reach_the_drive_in_its_own() {
     let p = a.positioning_parameters();
     let value = |index: u16, sub: u8| {
         p.iter()
-            .find(|(id, _)| *id == cellrt_axes::mr_je_c::ObjectId::new(index, sub))
+            .find(|(id, _)| *id == cellrt_fieldbus::mr_je_c::ObjectId::new(index, sub))
             .map(|(_, v)| v.as_i64().unwrap())
     };
     // 100 mm = 131072 pos units; 100 mm/s = 1 rev/s = 60 r/min = 6000 × 0.01 r/min.

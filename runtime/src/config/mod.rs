@@ -25,10 +25,10 @@ pub use profile_axis::{ProfileMode, ProfileObjects};
 
 use std::path::{Path, PathBuf};
 
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::ethercat::emulator::ScheduledFault;
-use cellrt_axes::profiles::{DriveModel, DriveProfile};
-use cellrt_axes::{CycleTime, Cycles};
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::profiles::{DriveModel, DriveProfile};
+use cellrt_cia402::{CycleTime, Cycles};
+use cellrt_emulator::ethercat::ScheduledFault;
 use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
 use cellrt_trajectory::units::Scaling;
 
@@ -334,7 +334,7 @@ pub struct AxisConfig {
     pub transport: Transport,
     /// What the drive's 1018h must show on EtherCAT (the model's identity unless
     /// `[axes.ethercat]` overrides it).
-    pub ethercat_identity: cellrt_axes::ethercat::identity::ExpectedIdentity,
+    pub ethercat_identity: cellrt_ethercat::identity::ExpectedIdentity,
     /// Mode of operation (6060h): a cyclic mode (csp/csv/cst, streamed setpoints) or a profile
     /// mode (pp/pv/tq, the drive's own profile; see `profile_objects`).
     pub mode: ModeOfOperation,
@@ -363,7 +363,7 @@ pub struct AxisConfig {
     /// `[axes.homing]`: the method of a `home` naming none and the homing objects.
     pub homing: homing::AxisHoming,
     /// Axis counts ↔ the drive's object units (`[axes.motor]` with the model's units).
-    pub drive_units: cellrt_axes::drive_scaling::DriveScaling,
+    pub drive_units: cellrt_cia402::drive_scaling::DriveScaling,
     /// Torque limits of cst setpoints (required for cst, optional otherwise).
     pub torque: Option<TorqueLimits>,
     /// csv: the master closes the position loop around the drive's velocity loop; 60FFh =
@@ -372,13 +372,13 @@ pub struct AxisConfig {
     pub csv_position_gain: f64,
     /// The multi-axis amplifier and slot (`amplifier`, `amplifier_axis`; the slot defaults to
     /// the order in the file); `None`: the axis has an amplifier of its own.
-    pub amplifier: Option<cellrt_axes::ethercat::master::AmplifierSlot>,
+    pub amplifier: Option<cellrt_ethercat::master::AmplifierSlot>,
     /// SYNC0 from distributed clocks on the axis' SubDevice (`[axes.ethercat]
     /// distributed_clocks`, default true); false: the SubDevice runs free (SM2-synchronous).
     pub distributed_clocks: bool,
     /// The ESI device describing the drive (`esi`), checked against this configuration at
     /// load; the emulator presents its object dictionary and access rights.
-    pub esi: Option<std::sync::Arc<cellrt_axes::esi::EsiDevice>>,
+    pub esi: Option<std::sync::Arc<cellrt_ethercat::esi::EsiDevice>>,
 }
 
 /// Default csv position-correction gain, 1/s: removes the drift between the planned positions
@@ -426,16 +426,16 @@ pub struct SimAxisConfig {
     pub z_phase_position: f64,
     /// The home dog and limit switches, counts (`sim.home_dog`, `sim.positive_limit`,
     /// `sim.negative_limit`).
-    pub switches: cellrt_axes::sim::homing_switches::HomingSwitches,
+    pub switches: cellrt_emulator::sim::homing_switches::HomingSwitches,
     /// The simulated drive's homing figures; `travel_after_dog` in counts from
     /// `sim.travel_after_dog`, the others the simulator's defaults.
-    pub homing: cellrt_axes::HomingParams,
+    pub homing: cellrt_emulator::HomingParams,
     /// The simulated motor's maximum speed as a multiple of the axis velocity limit; the
     /// drive's overspeed alarm trips at 1.2 × that (a csp target step implying more).
     pub motor_speed_factor: f64,
     /// How the emulated SubDevice departs from its profile (`sim.cycle_time_object`,
     /// `sim.following_error_object`, `sim.distributed_clocks`; generic CiA 402 drives only).
-    pub subdevice: cellrt_axes::ethercat::emulator::SubDeviceVariant,
+    pub subdevice: cellrt_emulator::ethercat::SubDeviceVariant,
 }
 
 /// Default `rt.planner_priority`: 0, SCHED_OTHER like the other non-RT threads; a cell on a

@@ -3,13 +3,13 @@
 //! its RxPDO, and which of its profile objects go by SDO instead, decided once at load from
 //! the axis' PDO map.
 
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::pdo::objects::{
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::pdo::objects::{
     PROFILE_ACCELERATION, PROFILE_DECELERATION, PROFILE_VELOCITY, TARGET_POSITION, TARGET_TORQUE,
     TARGET_VELOCITY, TORQUE_SLOPE,
 };
-use cellrt_axes::profiles::DriveProfile;
-use cellrt_axes::PdoMap;
+use cellrt_cia402::profiles::DriveProfile;
+use cellrt_cia402::PdoMap;
 
 /// The drive-side modes an axis may run in (`mode = "pp" | "pv" | "tq"`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -114,10 +114,10 @@ impl ProfileObjects {
 
 /// The profile-position plan of a csp axis that can be switched to pp at run time (and back),
 /// or why it cannot: the drive's profile lists pp, its PDOs carry 6060h and 6061h (the
-/// mode-switch rules follow 6061h, `cellrt_axes::cia402::mode_switch`), and pp's time-constant
+/// mode-switch rules follow 6061h, `cellrt_cia402::mode_switch`), and pp's time-constant
 /// ramps have `motor.rated_speed` to run from where the drive needs it.
 pub fn pp_switch(a: &super::AxisConfig) -> Result<ProfileObjects, String> {
-    use cellrt_axes::pdo::objects::{MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY};
+    use cellrt_cia402::pdo::objects::{MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY};
     let name = &a.name;
     if a.mode != ModeOfOperation::CyclicSyncPosition {
         return Err(format!(
@@ -142,7 +142,7 @@ pub fn pp_switch(a: &super::AxisConfig) -> Result<ProfileObjects, String> {
         ));
     }
     let time_constants = a.profile.units.acceleration.value()
-        == cellrt_axes::profiles::AccelerationUnit::TimeConstantMs;
+        == cellrt_cia402::profiles::AccelerationUnit::TimeConstantMs;
     if time_constants && a.rated_speed.is_none() {
         return Err(format!(
             "axis '{name}': pp needs motor.rated_speed (the drive's 6083h/6084h are time \
@@ -159,9 +159,9 @@ pub(super) fn rated_speed(
     mode: Option<ProfileMode>,
     profile: &DriveProfile,
     rated: Option<f64>,
-    scaling: &cellrt_axes::drive_scaling::DriveScaling,
+    scaling: &cellrt_cia402::drive_scaling::DriveScaling,
 ) -> Result<Option<f64>, (&'static str, String)> {
-    use cellrt_axes::profiles::AccelerationUnit;
+    use cellrt_cia402::profiles::AccelerationUnit;
     const KEY: &str = "motor.rated_speed";
     let ramps = matches!(mode, Some(ProfileMode::Position | ProfileMode::Velocity));
     let time_constants = profile.units.acceleration.value() == AccelerationUnit::TimeConstantMs;
@@ -192,7 +192,7 @@ pub(super) fn rated_speed(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cellrt_axes::profiles::{mr_j4_tm, profile, DriveModel};
+    use cellrt_cia402::profiles::{mr_j4_tm, profile, DriveModel};
 
     fn by_sdo(p: &ProfileObjects) -> Vec<u16> {
         p.by_sdo().collect()

@@ -307,7 +307,7 @@ fn a_pdo_mapping_from_the_config_is_checked_and_runs_in_the_axis_profile() {
     assert_eq!(x.rx_pdo.index, 0x1614);
     assert_eq!(
         x.tx_pdo,
-        cellrt_axes::profile(cellrt_axes::DriveModel::MrJ3T04).tx_pdo
+        cellrt_cia402::profile(cellrt_cia402::DriveModel::MrJ3T04).tx_pdo
     );
     assert!(!x.default_mapping() && c.axes[1].profile.default_mapping());
     for (pdo, key, reason) in [
@@ -339,7 +339,7 @@ fn generic_text() -> String {
 /// remapped (csp-only RxPDO), y on the default maps.
 #[test]
 fn the_generic_cia402_cell_is_valid_and_carries_its_identity() {
-    use cellrt_axes::ethercat::identity::SubDeviceIdentity;
+    use cellrt_ethercat::identity::SubDeviceIdentity;
     let c = parse(&generic_text()).expect("cia402-generic parses");
     assert_eq!(
         c.ethercat.as_ref().unwrap().interface,
@@ -347,7 +347,7 @@ fn the_generic_cia402_cell_is_valid_and_carries_its_identity() {
     );
     assert_eq!(c.axis_names(), "x, y");
     for a in &c.axes {
-        assert_eq!(a.drive, cellrt_axes::DriveModel::GenericCia402);
+        assert_eq!(a.drive, cellrt_cia402::DriveModel::GenericCia402);
         assert_eq!(a.transport, Transport::Ethercat);
         assert_eq!(a.ethercat_identity.vendor_id, 0xCE11_0000);
         assert_eq!(a.ethercat_identity.product_code, Some(0xCE11_0402));
@@ -365,7 +365,7 @@ fn the_generic_cia402_cell_is_valid_and_carries_its_identity() {
     assert!(y.profile.default_mapping());
     assert_eq!(
         y.profile.rx_pdo,
-        cellrt_axes::profile(cellrt_axes::DriveModel::GenericCia402).rx_pdo
+        cellrt_cia402::profile(cellrt_cia402::DriveModel::GenericCia402).rx_pdo
     );
 }
 
@@ -670,7 +670,7 @@ fn the_communication_watchdog_defaults_and_its_counter_levels_are_checked() {
     ))
     .unwrap();
     assert_eq!(c.watchdogs.comm.max_lost_frames, 0);
-    let model = cellrt_axes::profiles::mr_j3_t04::MASTER_COUNTER_CHECK;
+    let model = cellrt_cia402::profiles::mr_j3_t04::MASTER_COUNTER_CHECK;
     let params = c.watchdogs.comm.counter_params(model);
     assert_eq!(
         (
@@ -702,7 +702,7 @@ fn the_communication_watchdog_defaults_and_its_counter_levels_are_checked() {
 /// on a Mitsubishi model, are refused naming the key.
 #[test]
 fn distributed_clocks_and_the_emulated_subdevice_variant_are_read_and_checked() {
-    use cellrt_axes::ethercat::emulator::{CycleTimeObject, EmulatedDc, SubDeviceVariant};
+    use cellrt_emulator::ethercat::{CycleTimeObject, EmulatedDc, SubDeviceVariant};
     let c = parse(&generic_text()).unwrap();
     assert!(c.axes.iter().all(|a| a.distributed_clocks));
     assert_eq!(c.axes[0].sim.subdevice, SubDeviceVariant::default());

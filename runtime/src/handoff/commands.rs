@@ -2,7 +2,7 @@
 //! MC_Stop, MC_Reset and the process' own) and homing requests, with the codes they travel and
 //! are recorded as.
 
-use cellrt_axes::cia402::homing::{HomeProcedure, HomeSettingEdge};
+use cellrt_cia402::homing::{HomeProcedure, HomeSettingEdge};
 
 use crate::setpoints::MAX_AXES;
 

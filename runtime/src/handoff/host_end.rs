@@ -27,7 +27,7 @@ pub struct HostEnd {
     /// The operator asked for a capture; the recorder takes it.
     capture_requested: std::sync::atomic::AtomicBool,
     /// The EtherCAT segment's diagnostics, set once the bus is open (none on simulated drives).
-    bus_diagnostics: std::sync::OnceLock<cellrt_axes::ethercat::master::BusDiagnostics>,
+    bus_diagnostics: std::sync::OnceLock<cellrt_ethercat::master::BusDiagnostics>,
 }
 
 impl HostEnd {
@@ -70,12 +70,12 @@ impl HostEnd {
     }
 
     /// Offers the bus' diagnostics to the operator (once, when the bus is open).
-    pub fn set_bus_diagnostics(&self, d: cellrt_axes::ethercat::master::BusDiagnostics) {
+    pub fn set_bus_diagnostics(&self, d: cellrt_ethercat::master::BusDiagnostics) {
         let _ = self.bus_diagnostics.set(d);
     }
 
     /// The bus' diagnostics, on an EtherCAT cell.
-    pub fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
+    pub fn bus_diagnostics(&self) -> Option<&cellrt_ethercat::master::BusDiagnostics> {
         self.bus_diagnostics.get()
     }
 

@@ -35,7 +35,7 @@ pub fn new(axes: usize, queue_cycles: usize, recording: bool) -> (RtEnd, HostEnd
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cellrt_axes::cia402::homing::{HomeProcedure, HomeSettingEdge};
+    use cellrt_cia402::homing::{HomeProcedure, HomeSettingEdge};
 
     #[test]
     fn names_and_codes_round_trip() {

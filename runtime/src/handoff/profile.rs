@@ -2,7 +2,7 @@
 //! and profile of one axis' motion, in counts and counts/s, which the RT thread turns into the
 //! drive's objects (607Ah, 6081h, 6083h/6084h, 60FFh, 6071h, 6087h) and controlword bits.
 
-use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_cia402::mode::ModeOfOperation;
 
 /// One drive-side motion of one profile axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,7 +53,7 @@ pub enum ProfileMotion {
     /// Controlword bit 8 (HALT) on or off: the drive stops per 605Dh and holds; off resumes.
     Halt(bool),
     /// Switch a csp axis to pp or back, at standstill, by the drive's mode-switch rules
-    /// (`cellrt_axes::cia402::mode_switch`); ends when 6061h shows the new mode.
+    /// (`cellrt_cia402::mode_switch`); ends when 6061h shows the new mode.
     SwitchMode(SwitchableMode),
 }
 

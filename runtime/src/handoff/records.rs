@@ -1,7 +1,7 @@
 //! What the RT thread hands to the recorder: one cycle record per cycle, one axis record per
 //! axis and cycle, and events (with the codes of their values).
 
-use cellrt_axes::cia402::fsa::FsaState;
+use cellrt_cia402::fsa::FsaState;
 
 use super::CellState;
 
@@ -104,7 +104,7 @@ pub enum EventKind {
     /// The AL status of an axis' SubDevice changed (EtherCAT; value: [`AlStatus::encode`]:
     /// state and error bit, AL status code). Leaving OP is a communication fault of the axis.
     ///
-    /// [`AlStatus::encode`]: cellrt_axes::ethercat::register::AlStatus::encode
+    /// [`AlStatus::encode`]: cellrt_ethercat::register::AlStatus::encode
     AlStatus,
     /// An axis' drive sent a CoE Emergency (EtherCAT, ETG.1000.6 §5.6.2.1; value:
     /// [`encode_emergency`]: error code, error register, manufacturer bytes).
@@ -137,13 +137,13 @@ pub enum EventKind {
 
 /// The value of a `bring_up_warning` event: abort code (bits 0–31), sub-index (32–39), index
 /// (40–55).
-pub fn encode_refused_sdo(r: &cellrt_axes::ethercat::master::RefusedSdo) -> i64 {
+pub fn encode_refused_sdo(r: &cellrt_ethercat::master::RefusedSdo) -> i64 {
     i64::from(r.abort) | i64::from(r.sub) << 32 | i64::from(r.index) << 40
 }
 
 /// Inverse of [`encode_refused_sdo`].
-pub fn decode_refused_sdo(v: i64) -> cellrt_axes::ethercat::master::RefusedSdo {
-    cellrt_axes::ethercat::master::RefusedSdo {
+pub fn decode_refused_sdo(v: i64) -> cellrt_ethercat::master::RefusedSdo {
+    cellrt_ethercat::master::RefusedSdo {
         index: (v >> 40) as u16,
         sub: (v >> 32) as u8,
         abort: v as u32,
@@ -152,7 +152,7 @@ pub fn decode_refused_sdo(v: i64) -> cellrt_axes::ethercat::master::RefusedSdo {
 
 /// The value of an `emergency` event: error code (bits 0–15), error register (16–23), the 5
 /// manufacturer bytes (24–63, byte 0 lowest).
-pub fn encode_emergency(e: &cellrt_axes::ethercat::emergency::Emergency) -> i64 {
+pub fn encode_emergency(e: &cellrt_ethercat::emergency::Emergency) -> i64 {
     let mut v = u64::from(e.error_code) | u64::from(e.error_register) << 16;
     for (i, b) in e.data.iter().enumerate() {
         v |= u64::from(*b) << (24 + 8 * i);
@@ -161,13 +161,13 @@ pub fn encode_emergency(e: &cellrt_axes::ethercat::emergency::Emergency) -> i64 
 }
 
 /// Inverse of [`encode_emergency`].
-pub fn decode_emergency(v: i64) -> cellrt_axes::ethercat::emergency::Emergency {
+pub fn decode_emergency(v: i64) -> cellrt_ethercat::emergency::Emergency {
     let v = v as u64;
     let mut data = [0u8; 5];
     for (i, b) in data.iter_mut().enumerate() {
         *b = (v >> (24 + 8 * i)) as u8;
     }
-    cellrt_axes::ethercat::emergency::Emergency {
+    cellrt_ethercat::emergency::Emergency {
         error_code: v as u16,
         error_register: (v >> 16) as u8,
         data,

@@ -5,7 +5,7 @@
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
-use cellrt_axes::bus::{SdoOutcome, SdoRequest};
+use cellrt_cia402::bus::{SdoOutcome, SdoRequest};
 
 /// An operator's SDO request: `seq` (never 0) names it in its outcome.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -136,7 +136,7 @@ impl SdoOutcomeSlot {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cellrt_axes::bus::SdoData;
+    use cellrt_cia402::bus::SdoData;
 
     #[test]
     fn a_request_crosses_the_slot_once_and_only_while_it_is_empty() {

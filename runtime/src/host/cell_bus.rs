@@ -1,23 +1,20 @@
 //! The bus a cell runs on, chosen by its config: the in-process simulated drives, or an
 //! EtherCAT segment (emulated in-process or on a network interface).
 
-use cellrt_axes::bus::{LinkState, MailboxNotice, PostError, SdoOutcome, SdoRequest};
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::esi::conform::FixedPdo;
-use cellrt_axes::ethercat::emulator::Segment;
-use cellrt_axes::ethercat::master::{
-    EthercatBus, InProcessLink, Link, RawSocketLink, SegmentConfig, SegmentDrive,
-};
-use cellrt_axes::sim::plant::PlantParams;
-use cellrt_axes::sim::profile_position::PpParams;
-use cellrt_axes::{
-    AcyclicBus, BusError, Cycles, CyclicBus, FaultInjection, FrameCounters, SimBus, SimDrive,
-    SimDriveParams,
-};
+use cellrt_cia402::bus::{LinkState, MailboxNotice, PostError, SdoOutcome, SdoRequest};
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::{AcyclicBus, BusError, Cycles, CyclicBus, FaultInjection, FrameCounters};
+use cellrt_emulator::ethercat::InProcessLink;
+use cellrt_emulator::ethercat::Segment;
+use cellrt_emulator::sim::plant::PlantParams;
+use cellrt_emulator::sim::profile_position::PpParams;
+use cellrt_emulator::{SimBus, SimDrive, SimDriveParams};
+use cellrt_ethercat::esi::conform::FixedPdo;
+use cellrt_ethercat::master::{EthercatBus, Link, RawSocketLink, SegmentConfig, SegmentDrive};
 
 use crate::config::{AxisConfig, CellConfig, EthercatInterface};
-use cellrt_axes::profiles::MotorKind;
-use cellrt_axes::sim::drive::SimMotor;
+use cellrt_cia402::profiles::MotorKind;
+use cellrt_emulator::sim::drive::SimMotor;
 
 /// The cell's bus.
 #[derive(Debug)]
@@ -41,10 +38,10 @@ pub enum BusOpenError {
     },
     /// Bring-up failed.
     #[error(transparent)]
-    Ethercat(#[from] cellrt_axes::ethercat::master::EthercatError),
+    Ethercat(#[from] cellrt_ethercat::master::EthercatError),
     /// The emulated segment's units could not be built.
     #[error("emulated EtherCAT segment: {0}")]
-    Unit(#[from] cellrt_axes::ethercat::emulator::UnitError),
+    Unit(#[from] cellrt_emulator::ethercat::UnitError),
 }
 
 /// The simulated motor of axis `a`: its configured resolution and velocity unit.
@@ -170,7 +167,7 @@ pub fn emulated_segment(cell: &CellConfig) -> Result<Segment, BusOpenError> {
 
 impl CellBus {
     /// The optional settings bring-up skipped (none on simulated drives).
-    pub fn bring_up_warnings(&self) -> &[cellrt_axes::ethercat::master::BringUpWarning] {
+    pub fn bring_up_warnings(&self) -> &[cellrt_ethercat::master::BringUpWarning] {
         match self {
             CellBus::Sim(_) => &[],
             CellBus::Ethercat(bus) => bus.bring_up_warnings(),
@@ -178,7 +175,7 @@ impl CellBus {
     }
 
     /// The segment's diagnostics handle, on EtherCAT.
-    pub fn diagnostics(&self) -> Option<cellrt_axes::ethercat::master::BusDiagnostics> {
+    pub fn diagnostics(&self) -> Option<cellrt_ethercat::master::BusDiagnostics> {
         match self {
             CellBus::Sim(_) => None,
             CellBus::Ethercat(bus) => Some(bus.diagnostics()),

@@ -139,7 +139,7 @@ pub struct Summary {
     /// Bus exchange time percentiles (part of the loop body).
     pub exchange_time: Percentiles,
     /// Cyclic frames sent, lost and with a wrong working counter (EtherCAT cells).
-    pub frames: Option<cellrt_axes::FrameCounters>,
+    pub frames: Option<cellrt_cia402::FrameCounters>,
     /// |DC phase error| percentiles of the cyclic frames: how far each passed from its place
     /// in the SYNC0 cycle (EtherCAT cells with distributed clocks).
     pub dc_phase_error: Option<Percentiles>,

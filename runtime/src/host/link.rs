@@ -111,12 +111,12 @@ impl StatusSnapshot {
         &self,
         cell: &crate::config::CellConfig,
         i: usize,
-    ) -> cellrt_axes::cia402::mode::ModeOfOperation {
+    ) -> cellrt_cia402::mode::ModeOfOperation {
         self.live
             .get(i)
-            .and_then(|l| cellrt_axes::cia402::mode::ModeOfOperation::from_i8(l.mode))
+            .and_then(|l| cellrt_cia402::mode::ModeOfOperation::from_i8(l.mode))
             .or_else(|| cell.axes.get(i).map(|a| a.mode))
-            .unwrap_or(cellrt_axes::cia402::mode::ModeOfOperation::CyclicSyncPosition)
+            .unwrap_or(cellrt_cia402::mode::ModeOfOperation::CyclicSyncPosition)
     }
 }
 
@@ -145,7 +145,7 @@ pub trait CellLink {
         None
     }
     /// The EtherCAT segment's diagnostics (in-process, on an EtherCAT cell only).
-    fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
+    fn bus_diagnostics(&self) -> Option<&cellrt_ethercat::master::BusDiagnostics> {
         None
     }
     /// Asks the recorder to write its capture ring now; false where it keeps none (or from
@@ -241,7 +241,7 @@ impl CellLink for LocalLink {
         self.handoff.sdo_outcome(seq)
     }
 
-    fn bus_diagnostics(&self) -> Option<&cellrt_axes::ethercat::master::BusDiagnostics> {
+    fn bus_diagnostics(&self) -> Option<&cellrt_ethercat::master::BusDiagnostics> {
         self.handoff.bus_diagnostics()
     }
 

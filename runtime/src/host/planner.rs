@@ -22,9 +22,9 @@ use crate::host::operator::server::{Context, Followup, OperatorServer};
 use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
 use crate::rt::thread::raise_planner_thread;
 use crate::services;
-use cellrt_axes::cia402::fsa::FsaState;
-use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure};
-use cellrt_axes::cia402::statusword::Statusword;
+use cellrt_cia402::fsa::FsaState;
+use cellrt_cia402::homing::{HomeProcedure, HomingFailure};
+use cellrt_cia402::statusword::Statusword;
 
 mod je_c;
 

@@ -3,10 +3,10 @@
 //! the bus itself. The executive's bus is only a [`CyclicBus`] and [`AcyclicBus`]: nothing on
 //! the RT path can inject a fault the schedule does not hold.
 //!
-//! [`CyclicBus`]: cellrt_axes::CyclicBus
-//! [`AcyclicBus`]: cellrt_axes::AcyclicBus
+//! [`CyclicBus`]: cellrt_cia402::CyclicBus
+//! [`AcyclicBus`]: cellrt_cia402::AcyclicBus
 
-use cellrt_axes::FaultInjection;
+use cellrt_cia402::FaultInjection;
 
 use crate::config::{CellConfig, InjectedFault, Injection};
 

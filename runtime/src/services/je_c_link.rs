@@ -10,7 +10,7 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use iceoryx2::service::port_factory::publish_subscribe;
 
-use cellrt_axes::mr_je_c::cell::{AxisCommand, AxisFeedback, Inputs, Stopped};
+use cellrt_fieldbus::mr_je_c::cell::{AxisCommand, AxisFeedback, Inputs, Stopped};
 
 use super::{service_error, ServiceError};
 use crate::config::je_c_axis::JecAxisConfig;
@@ -204,7 +204,7 @@ impl JecCommandSample {
                 deceleration_ms: d.try_into().ok()?,
             },
             12 => match u16::try_from(a).ok()? {
-                p if p <= cellrt_axes::mr_je_c::cell::control::FULL_FEED => {
+                p if p <= cellrt_fieldbus::mr_je_c::cell::control::FULL_FEED => {
                     AxisCommand::Override { permille: p }
                 }
                 _ => return None,

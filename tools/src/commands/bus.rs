@@ -4,9 +4,9 @@
 
 use std::time::Duration;
 
-use cellrt_axes::ethercat::master::scan::{mailbox_protocol_names, scan, ScannedSubDevice};
-use cellrt_axes::ethercat::master::RawSocketLink;
-use cellrt_axes::ethercat::register::al_code;
+use cellrt_ethercat::master::scan::{mailbox_protocol_names, scan, ScannedSubDevice};
+use cellrt_ethercat::master::RawSocketLink;
+use cellrt_ethercat::register::al_code;
 
 use crate::cli::{BusArgs, BusCommand};
 use crate::exit::Exit;
@@ -96,8 +96,8 @@ fn format_line(d: &ScannedSubDevice) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cellrt_axes::ethercat::identity::SubDeviceIdentity;
-    use cellrt_axes::ethercat::register::{AlState, AlStatus};
+    use cellrt_ethercat::identity::SubDeviceIdentity;
+    use cellrt_ethercat::register::{AlState, AlStatus};
 
     fn device(position: usize, al: AlStatus, mailbox: u16, dc: bool) -> ScannedSubDevice {
         ScannedSubDevice {

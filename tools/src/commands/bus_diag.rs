@@ -6,8 +6,8 @@
 
 use std::time::Duration;
 
-use cellrt_axes::ethercat::master::{PortDiag, SubDeviceDiag};
-use cellrt_axes::ethercat::register::al_code;
+use cellrt_ethercat::master::{PortDiag, SubDeviceDiag};
+use cellrt_ethercat::register::al_code;
 use cellrt_runtime::host::operator::bus_diag::BusDiagReply;
 use cellrt_runtime::host::operator::client::OperatorClient;
 use cellrt_runtime::host::operator::wire::{Reply, Request};
@@ -187,7 +187,7 @@ fn link_text(p: &PortDiag) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cellrt_axes::ethercat::master::SegmentDiag;
+    use cellrt_ethercat::master::SegmentDiag;
     use cellrt_runtime::host::operator::bus_diag::StationName;
 
     fn reading(invalid_at_2: u8) -> BusDiagReply {

@@ -4,8 +4,8 @@
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use cellrt_axes::ethercat::emulator::{wire, FaultSchedule, ScheduledFault, WireFault};
-use cellrt_axes::ethercat::raw_socket::RawSocket;
+use cellrt_emulator::ethercat::{wire, FaultSchedule, ScheduledFault, WireFault};
+use cellrt_ethercat::raw_socket::RawSocket;
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::cell_bus::{emulated_segment, segment_config};
 
@@ -125,7 +125,7 @@ fn serve_ethercat(interface: &str, cell: Option<String>) -> Result<(), Exit> {
 }
 
 /// The axes a SubDevice carries, `x+y`.
-fn axis_names(config: &CellConfig, st: &cellrt_axes::ethercat::master::SegmentStation) -> String {
+fn axis_names(config: &CellConfig, st: &cellrt_ethercat::master::SegmentStation) -> String {
     let v: Vec<&str> = st
         .slots
         .iter()
@@ -139,7 +139,7 @@ fn axis_names(config: &CellConfig, st: &cellrt_axes::ethercat::master::SegmentSt
 /// station per SubDevice.
 fn station_schedule(
     config: &CellConfig,
-    stations: &[cellrt_axes::ethercat::master::SegmentStation],
+    stations: &[cellrt_ethercat::master::SegmentStation],
 ) -> Vec<ScheduledFault> {
     config
         .wire_schedule()

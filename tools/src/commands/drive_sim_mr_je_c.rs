@@ -8,13 +8,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use cellrt_axes::modbus::serial::LineSettings;
-use cellrt_axes::mr_je_c::emulator::rs485::Rs485Line;
-use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
-use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
-use cellrt_axes::mr_je_c::parameters::{PC70, PN08};
-use cellrt_axes::mr_je_c::{ObjectId, SoftwareVersion, Value};
-use cellrt_axes::slmp::node_search::Mac;
+use cellrt_emulator::mr_je_c::rs485::Rs485Line;
+use cellrt_emulator::mr_je_c::server::{Ports, Server};
+use cellrt_emulator::mr_je_c::{MrJeC, MrJeCParams};
+use cellrt_fieldbus::modbus::serial::LineSettings;
+use cellrt_fieldbus::mr_je_c::parameters::{PC70, PN08};
+use cellrt_fieldbus::mr_je_c::{ObjectId, SoftwareVersion, Value};
+use cellrt_fieldbus::slmp::node_search::Mac;
 use serialport::{SerialPort, TTYPort};
 
 use crate::cli::MrJeCSimArgs;

@@ -3,8 +3,8 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use cellrt_axes::esi::{DcOpMode, EsiDevice, EsiObject, EsiPdo};
-use cellrt_axes::profiles::Access;
+use cellrt_cia402::profiles::Access;
+use cellrt_ethercat::esi::{DcOpMode, EsiDevice, EsiObject, EsiPdo};
 use clap::{Args, Subcommand};
 
 use crate::exit::Exit;
@@ -178,7 +178,7 @@ mod tests {
     fn show_prints_what_cellrt_takes_from_the_vendor_files() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../axes/tests/data/esi");
         let path = dir.join("microchip-samd51-ethercat-slave.xml");
-        let text = show(&path, &cellrt_axes::esi::load(&path).unwrap());
+        let text = show(&path, &cellrt_ethercat::esi::load(&path).unwrap());
         for line in [
             "identity: vendor 0x000004d8 (Microchip - SAMD51 EtherCAT Slave FoE), product code 0x00009252, revision 0x00000001",
             "mailbox: CoE (SDO info, complete access), FoE",
@@ -191,7 +191,7 @@ mod tests {
             assert!(text.contains(line), "{line}\n{text}");
         }
         let path = dir.join("rt-labs-am335xice.xml");
-        let text = show(&path, &cellrt_axes::esi::load(&path).unwrap());
+        let text = show(&path, &cellrt_ethercat::esi::load(&path).unwrap());
         assert!(text.contains("DC opmodes: none"), "{text}");
         assert!(text.contains("CiA 402 modes (6502h): not given"), "{text}");
     }

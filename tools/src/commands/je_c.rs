@@ -7,13 +7,13 @@ use std::time::Duration;
 
 use clap::{Args, Subcommand, ValueEnum};
 
-use cellrt_axes::modbus::client::TcpClient;
-use cellrt_axes::modbus::serial::{Framing, LineSettings, RtuClient};
-use cellrt_axes::modbus::WordOrder;
-use cellrt_axes::mr_je_c::{
+use cellrt_fieldbus::modbus::client::TcpClient;
+use cellrt_fieldbus::modbus::serial::{Framing, LineSettings, RtuClient};
+use cellrt_fieldbus::modbus::WordOrder;
+use cellrt_fieldbus::mr_je_c::{
     entry, AccessError, DataType, ObjectAccess, ObjectId, OverModbus, SoftwareVersion, Value,
 };
-use cellrt_axes::slmp::client::{FrameType, SlmpClient};
+use cellrt_fieldbus::slmp::client::{FrameType, SlmpClient};
 
 use crate::exit::Exit;
 
@@ -41,9 +41,9 @@ pub enum Via {
 impl Via {
     fn default_port(self) -> u16 {
         match self {
-            Via::Slmp => cellrt_axes::slmp::UDP_PORT,
-            Via::SlmpTcp => cellrt_axes::slmp::TCP_PORT,
-            Via::ModbusTcp | Via::ModbusRtu => cellrt_axes::modbus::tcp::PORT,
+            Via::Slmp => cellrt_fieldbus::slmp::UDP_PORT,
+            Via::SlmpTcp => cellrt_fieldbus::slmp::TCP_PORT,
+            Via::ModbusTcp | Via::ModbusRtu => cellrt_fieldbus::modbus::tcp::PORT,
         }
     }
 }
@@ -133,7 +133,7 @@ pub fn run(args: JeCArgs) -> Exit {
     match result {
         Ok(v) => {
             let name = if row.name.is_empty() {
-                cellrt_axes::mr_je_c::object(target.object.index, target.software)
+                cellrt_fieldbus::mr_je_c::object(target.object.index, target.software)
                     .map_or("", |o| o.name)
             } else {
                 row.name

@@ -6,9 +6,9 @@ use std::time::Duration;
 
 use clap::Args;
 
-use cellrt_axes::cclink_ief_basic::SEARCH_PORT;
-use cellrt_axes::slmp::discovery::SearchLink;
-use cellrt_axes::slmp::node_search::{IpAddressSet, Mac};
+use cellrt_fieldbus::cclink_ief_basic::SEARCH_PORT;
+use cellrt_fieldbus::slmp::discovery::SearchLink;
+use cellrt_fieldbus::slmp::node_search::{IpAddressSet, Mac};
 
 use crate::exit::Exit;
 

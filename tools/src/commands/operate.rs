@@ -1,8 +1,8 @@
 //! The operator commands (`cellrt status`, `power`, `move`, `jog`, `torque`, `halt`, `stop`,
 //! `reset`, `override`, `program`): clients of the running cell's operator service.
 
-use cellrt_axes::cia402::fsa::FsaState;
-use cellrt_axes::cia402::homing::HomeSettingEdge;
+use cellrt_cia402::fsa::FsaState;
+use cellrt_cia402::homing::HomeSettingEdge;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::PathBuf;

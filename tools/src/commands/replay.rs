@@ -9,12 +9,12 @@
 
 use std::path::Path;
 
-use cellrt_axes::bus::{AcyclicBus, CyclicBus};
-use cellrt_axes::cia402::controlword::Controlword;
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::pdo::objects::PROFILE_OBJECTS;
-use cellrt_axes::pdo::TxPdo;
-use cellrt_axes::Cycles;
+use cellrt_cia402::bus::{AcyclicBus, CyclicBus};
+use cellrt_cia402::controlword::Controlword;
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::pdo::objects::PROFILE_OBJECTS;
+use cellrt_cia402::pdo::TxPdo;
+use cellrt_cia402::Cycles;
 use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::cell_bus::sim_bus;
 use cellrt_runtime::host::record::proto::AxisCycle;

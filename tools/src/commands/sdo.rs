@@ -4,7 +4,7 @@
 
 use std::time::Duration;
 
-use cellrt_axes::mr_je_c::ObjectId;
+use cellrt_fieldbus::mr_je_c::ObjectId;
 use cellrt_runtime::host::operator::client::OperatorClient;
 use cellrt_runtime::host::operator::sdo::object_text;
 use cellrt_runtime::host::operator::wire::{Reply, Request, SdoAnswer, SdoReply};

@@ -2,12 +2,12 @@
 
 use std::path::Path;
 
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::ethercat::emulator::{CycleTimeObject, EmulatedDc, SubDeviceVariant};
-use cellrt_axes::ethercat::identity::{maker_vendor_id, ExpectedIdentity};
-use cellrt_axes::ethercat::master::AmplifierSlot;
-use cellrt_axes::profiles::{profile, DriveModel};
-use cellrt_axes::{CycleTime, DriveProfile};
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::profiles::{profile, DriveModel};
+use cellrt_cia402::{CycleTime, DriveProfile};
+use cellrt_emulator::ethercat::{CycleTimeObject, EmulatedDc, SubDeviceVariant};
+use cellrt_ethercat::identity::{maker_vendor_id, ExpectedIdentity};
+use cellrt_ethercat::master::AmplifierSlot;
 use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
 use cellrt_trajectory::units::Scaling;
 
@@ -98,7 +98,7 @@ struct AxisDrive {
     profile: &'static DriveProfile,
     transport: Transport,
     ethercat_identity: ExpectedIdentity,
-    esi: Option<std::sync::Arc<cellrt_axes::esi::EsiDevice>>,
+    esi: Option<std::sync::Arc<cellrt_ethercat::esi::EsiDevice>>,
 }
 
 pub(super) fn validate_axis(
@@ -290,7 +290,7 @@ fn axis_drive(
     let drive: DriveModel = a
         .drive
         .parse()
-        .map_err(|e: cellrt_axes::profiles::ParseModelError| at.err("drive", e.to_string()))?;
+        .map_err(|e: cellrt_cia402::profiles::ParseModelError| at.err("drive", e.to_string()))?;
     let profile = profile(drive);
     if !profile.supports_cycle_time(cycle_time) {
         return Err(at.err(
@@ -336,7 +336,7 @@ fn axis_drive(
     // The configured identity is the one the drive must report and the one the emulator
     // presents for it.
     let profile = match &esi {
-        Some(device) => profile.with_esi(device),
+        Some(device) => cellrt_ethercat::esi::EsiProfile::with_esi(profile, device),
         None => profile.with_identity(a.ethercat.vendor_id, a.ethercat.product_code),
     };
     let mut ethercat_identity = ExpectedIdentity::of_profile(profile);
@@ -405,7 +405,7 @@ fn mode_group(
     drive: DriveModel,
     profile: &'static DriveProfile,
 ) -> Result<&'static DriveProfile, ConfigError> {
-    use cellrt_axes::profiles::mr_j4_tm::ModeGroup;
+    use cellrt_cia402::profiles::mr_j4_tm::ModeGroup;
     let Some(group) = a.mode_group.as_deref() else {
         return Ok(profile);
     };
@@ -549,11 +549,11 @@ fn pdo_mapping(
     mode: ModeOfOperation,
     pdo: &crate::config::raw::RawPdo,
 ) -> Result<&'static DriveProfile, (&'static str, String)> {
-    use cellrt_axes::pdo::objects::{
+    use cellrt_cia402::pdo::objects::{
         CONTROLWORD, POSITION_ACTUAL, STATUSWORD, TARGET_POSITION, TARGET_TORQUE, TARGET_VELOCITY,
     };
-    use cellrt_axes::profiles::mapping::PdoDirection;
-    use cellrt_axes::PdoEntry;
+    use cellrt_cia402::profiles::mapping::PdoDirection;
+    use cellrt_cia402::PdoEntry;
     if pdo.rx.is_none() && pdo.tx.is_none() {
         return Ok(base);
     }

@@ -3,7 +3,7 @@
 //! allow is reaching the limit of the quantity below it within one cycle. A larger value is no
 //! limit at all (the step between two setpoints is the same), so it is refused, naming the key.
 
-use cellrt_axes::CycleTime;
+use cellrt_cia402::CycleTime;
 use cellrt_trajectory::limits::KinematicLimits;
 
 use super::axis_key::AxisKey;

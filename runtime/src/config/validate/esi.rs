@@ -4,12 +4,12 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::esi::conform::{self, ConflictSubject, Intent};
-use cellrt_axes::esi::{DeviceSelector, EsiDevice};
-use cellrt_axes::pdo::objects::MODES_OF_OPERATION;
-use cellrt_axes::profiles::DriveModel;
-use cellrt_axes::{CycleTime, DriveProfile};
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::pdo::objects::MODES_OF_OPERATION;
+use cellrt_cia402::profiles::DriveModel;
+use cellrt_cia402::{CycleTime, DriveProfile};
+use cellrt_ethercat::esi::conform::{self, ConflictSubject, Intent};
+use cellrt_ethercat::esi::{DeviceSelector, EsiDevice};
 
 use crate::config::raw::RawAxis;
 use crate::config::ConfigError;

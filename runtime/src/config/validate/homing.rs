@@ -2,11 +2,11 @@
 //! `negative_limit`) with the simulated drive's `travel_after_dog`: checked against the
 //! model's manual (`profiles::homing_methods`) and converted to counts and the drive's units.
 
-use cellrt_axes::cia402::homing::choose_method;
-use cellrt_axes::drive_scaling::DriveScaling;
-use cellrt_axes::profiles::homing_methods::{check_emulated, homing_model};
-use cellrt_axes::sim::homing_switches::HomingSwitches;
-use cellrt_axes::DriveProfile;
+use cellrt_cia402::drive_scaling::DriveScaling;
+use cellrt_cia402::homing::choose_method;
+use cellrt_cia402::profiles::homing_methods::{check_emulated, homing_model};
+use cellrt_cia402::DriveProfile;
+use cellrt_emulator::sim::homing_switches::HomingSwitches;
 use cellrt_trajectory::units::Scaling;
 
 use super::axis_key::AxisKey;
@@ -76,7 +76,7 @@ pub(super) fn switches(
 }
 
 /// `sim.travel_after_dog` (unit, ≥ 0) in counts: the simulated drive's "travel distance after
-/// proximity dog" (MR-J4-TM manual §5.4.9(4); `cellrt_axes::HomingParams`), 0 when absent.
+/// proximity dog" (MR-J4-TM manual §5.4.9(4); `cellrt_emulator::HomingParams`), 0 when absent.
 pub(super) fn travel_after_dog(
     at: &AxisKey<'_>,
     a: &RawAxis,

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use cellrt_axes::CycleTime;
+use cellrt_cia402::CycleTime;
 use strum::VariantNames;
 
 use crate::config::raw::RawInjection;

@@ -3,9 +3,9 @@
 use std::collections::HashSet;
 use std::path::Path;
 
-use cellrt_axes::comm::{DetectorParams, MAX_INTERMITTENT};
-use cellrt_axes::profiles::DriveModel;
-use cellrt_axes::{CycleTime, Cycles};
+use cellrt_cia402::comm::{DetectorParams, MAX_INTERMITTENT};
+use cellrt_cia402::profiles::DriveModel;
+use cellrt_cia402::{CycleTime, Cycles};
 
 use super::je_c_axis::{self, JecAxisConfig};
 use super::raw::{RawAxis, RawCellConfig, RawRecording, RawRt, RawSetpoints, RawWatchdogs};
@@ -409,11 +409,8 @@ fn validate_axes(
         check_name(file, &format!("{key}.name"), &a.name)?;
         let mut j = je_c_axis::validate(file, &key, a, communication_reaction)?;
         let at = axis_key::AxisKey { file, key: &key };
-        j.torque = axis::torque_limits(
-            &at,
-            a,
-            cellrt_axes::cia402::mode::ModeOfOperation::ProfileTorque,
-        )?;
+        j.torque =
+            axis::torque_limits(&at, a, cellrt_cia402::mode::ModeOfOperation::ProfileTorque)?;
         if j.mode == je_c_axis::JecMode::Tq && j.torque.is_none() {
             return Err(at.err(
                 "limits.torque",

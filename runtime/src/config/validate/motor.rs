@@ -1,10 +1,10 @@
 //! `[axes.motor]`: the motor's resolution and the drive's velocity unit, and the load-time
 //! check that the axis' limits fit the drive's objects (nothing is clamped at run time).
 
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::drive_scaling::{DriveScaling, DriveScalingError, Motor};
-use cellrt_axes::profiles::{MotorKind, Stated, VelocityUnit};
-use cellrt_axes::DriveProfile;
+use cellrt_cia402::drive_scaling::{DriveScaling, DriveScalingError, Motor};
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::profiles::{MotorKind, Stated, VelocityUnit};
+use cellrt_cia402::DriveProfile;
 
 use super::axis_key::AxisKey;
 use crate::config::raw::RawAxis;

@@ -4,21 +4,21 @@
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, UdpSocket};
 
-use cellrt_axes::cclink_ief_basic::io_thread::CyclicIo;
-use cellrt_axes::cclink_ief_basic::master::{GroupMaster, MasterParams};
-use cellrt_axes::modbus::client::TcpClient;
-use cellrt_axes::modbus::serial::{LineSettings, RtuClient};
-use cellrt_axes::mr_je_c::cell::{CyclicDriveIo, DeviceTable, DriveIo, ObjectIo};
-use cellrt_axes::mr_je_c::parameters::{PF46, PN02, PN10};
-use cellrt_axes::mr_je_c::{ObjectId, OverModbus, Value};
-use cellrt_axes::slmp::client::{FrameType, SlmpClient};
+use cellrt_fieldbus::cclink_ief_basic::io_thread::CyclicIo;
+use cellrt_fieldbus::cclink_ief_basic::master::{GroupMaster, MasterParams};
+use cellrt_fieldbus::modbus::client::TcpClient;
+use cellrt_fieldbus::modbus::serial::{LineSettings, RtuClient};
+use cellrt_fieldbus::mr_je_c::cell::{CyclicDriveIo, DeviceTable, DriveIo, ObjectIo};
+use cellrt_fieldbus::mr_je_c::parameters::{PF46, PN02, PN10};
+use cellrt_fieldbus::mr_je_c::{ObjectId, OverModbus, Value};
+use cellrt_fieldbus::slmp::client::{FrameType, SlmpClient};
 
 use super::emulated::Reach;
 use crate::config::je_c_axis::{JecAxisConfig, JecTransport};
 
 /// Where a real drive is reached: the configured address (or line).
 pub fn configured(axis: &JecAxisConfig) -> Option<Reach> {
-    let slmp = |a: SocketAddr| SocketAddr::new(a.ip(), cellrt_axes::slmp::UDP_PORT);
+    let slmp = |a: SocketAddr| SocketAddr::new(a.ip(), cellrt_fieldbus::slmp::UDP_PORT);
     match &axis.transport {
         JecTransport::CcLink(Some(a))
         | JecTransport::Slmp(Some(a))

@@ -5,11 +5,11 @@
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 
-use cellrt_axes::modbus::serial::LineSettings;
-use cellrt_axes::mr_je_c::emulator::cyclic::LinkLayout;
-use cellrt_axes::mr_je_c::emulator::rs485::Rs485Line;
-use cellrt_axes::mr_je_c::emulator::server::{Ports, Server};
-use cellrt_axes::mr_je_c::emulator::{MrJeC, MrJeCParams};
+use cellrt_emulator::mr_je_c::cyclic::LinkLayout;
+use cellrt_emulator::mr_je_c::rs485::Rs485Line;
+use cellrt_emulator::mr_je_c::server::{Ports, Server};
+use cellrt_emulator::mr_je_c::{MrJeC, MrJeCParams};
+use cellrt_fieldbus::modbus::serial::LineSettings;
 use serialport::{SerialPort, TTYPort};
 
 use crate::config::je_c_axis::{JecAxisConfig, JecTransport};
@@ -24,7 +24,7 @@ pub enum Emulated {
 
 impl Emulated {
     /// The drive, for tests and the summary: its alarm, if any.
-    pub fn alarm(&self) -> Option<cellrt_axes::mr_je_c::Alarm> {
+    pub fn alarm(&self) -> Option<cellrt_fieldbus::mr_je_c::Alarm> {
         match self {
             Emulated::Sockets(s) => s.drive().alarm(),
             Emulated::Line(l) => l.drives().first().and_then(|d| d.alarm()),

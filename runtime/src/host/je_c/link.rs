@@ -16,7 +16,7 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use cellrt_axes::mr_je_c::cell::{AxisCommand, AxisHandle, Stopped};
+use cellrt_fieldbus::mr_je_c::cell::{AxisCommand, AxisHandle, Stopped};
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;

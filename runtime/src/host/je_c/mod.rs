@@ -9,8 +9,8 @@ pub mod link;
 
 use std::sync::Arc;
 
-use cellrt_axes::mr_je_c::cell::control::FULL_FEED;
-use cellrt_axes::mr_je_c::cell::{
+use cellrt_fieldbus::mr_je_c::cell::control::FULL_FEED;
+use cellrt_fieldbus::mr_je_c::cell::{
     AxisCommand, AxisControl, AxisFeedback, AxisHandle, AxisThread, StopReaction, Stopped,
 };
 use serde::Serialize;
@@ -159,7 +159,7 @@ impl JecAxes {
     }
 
     /// Axis `k`'s oldest exchange record not yet recorded.
-    pub fn pop_record(&self, k: usize) -> Option<cellrt_axes::mr_je_c::cell::ExchangeRecord> {
+    pub fn pop_record(&self, k: usize) -> Option<cellrt_fieldbus::mr_je_c::cell::ExchangeRecord> {
         self.axes[k].1.pop_record()
     }
 
@@ -200,8 +200,7 @@ impl JecAxes {
             .iter()
             .map(|(c, h)| {
                 let f = h.feedback();
-                let state =
-                    cellrt_axes::cia402::statusword::Statusword(f.inputs.statusword).state();
+                let state = cellrt_cia402::statusword::Statusword(f.inputs.statusword).state();
                 crate::host::operator::wire::JecAxisStatus {
                     name: c.name.clone(),
                     transport: c.transport.name().to_string(),

@@ -14,8 +14,8 @@ mod error;
 
 use std::time::{Duration, Instant};
 
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::Cycles;
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::Cycles;
 use cellrt_trajectory::{
     plan_waypoints, AxisState, KinematicLimits, LineMove, MoveAxis, MoveSampler, OnlineAxis,
     OnlineMotion, TorqueRamp,

@@ -2,8 +2,8 @@
 //! its number, hours of operation and detail) read entry by entry, or cleared (1EA5h to 2040h);
 //! refused, naming the manual, where the model has none.
 
-use cellrt_axes::profiles::params::history_sub;
-use cellrt_axes::profiles::DriveProfile;
+use cellrt_cia402::profiles::params::history_sub;
+use cellrt_cia402::profiles::DriveProfile;
 
 use super::sdo;
 use super::sdo_job::{aborted, value, JobPurpose, SdoJob};

@@ -5,7 +5,7 @@
 
 use std::time::{Duration, Instant};
 
-use cellrt_axes::ethercat::master::SegmentDiag;
+use cellrt_ethercat::master::SegmentDiag;
 use serde::{Deserialize, Serialize};
 
 use crate::config::CellConfig;

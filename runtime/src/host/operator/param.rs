@@ -1,11 +1,11 @@
 //! `param`: an axis' servo parameters by the names its manual gives them, through the objects
-//! that carry them (the model's table in `cellrt_axes::profiles::params`). Every check is made
+//! that carry them (the model's table in `cellrt_cia402::profiles::params`). Every check is made
 //! before anything is sent: the name, the manual's setting range, "do not change" parameters,
 //! cellrt's rule for parameters that act at once on an enabled axis, and the object's own type
 //! and access (`sdo::check`).
 
-use cellrt_axes::profiles::params::{Effect, Parameter, ParameterFacts, WhileEnabled};
-use cellrt_axes::profiles::DriveModel;
+use cellrt_cia402::profiles::params::{Effect, Parameter, ParameterFacts, WhileEnabled};
+use cellrt_cia402::profiles::DriveModel;
 
 use super::sdo::{self, object_text};
 use super::sdo_job::{aborted, value, JobPurpose, SdoJob};
@@ -179,7 +179,7 @@ impl JobPurpose for ParamPlan {
 impl ParamPlan {
     /// The index of `p`'s object on this axis (axis A's index at the slot's offset).
     fn object_index(&self, p: &Parameter) -> u16 {
-        let profile = cellrt_axes::profiles::profile(self.model);
+        let profile = cellrt_cia402::profiles::profile(self.model);
         profile
             .axis_object(p.object.index, self.slot)
             .unwrap_or(p.object.index)
@@ -187,7 +187,7 @@ impl ParamPlan {
 }
 
 fn save_note(model: DriveModel) -> String {
-    let p = cellrt_axes::profiles::profile(model).parameters;
+    let p = cellrt_cia402::profiles::profile(model).parameters;
     match p.save {
         Ok(s) => format!(
             "saved: {} written {:08X}h ({})",

@@ -188,8 +188,8 @@ fn the_history_lists_the_recorded_alarms_newest_first_by_their_manual_names() {
     }
 }
 
-const MR_J3_T04_TABLE: &[cellrt_axes::profiles::params::Parameter] =
-    cellrt_axes::profiles::params::MR_J3_T04.table;
+const MR_J3_T04_TABLE: &[cellrt_cia402::profiles::params::Parameter] =
+    cellrt_cia402::profiles::params::MR_J3_T04.table;
 
 #[test]
 fn a_parameter_of_axis_b_of_a_multi_axis_unit_names_its_own_object() {

@@ -5,9 +5,9 @@
 
 use std::time::{Duration, Instant};
 
-use cellrt_axes::bus::{SdoData, SdoOutcome, SdoRequest};
-use cellrt_axes::ethercat::master::abort_meaning;
-use cellrt_axes::profiles::{Access, DataType};
+use cellrt_cia402::bus::{SdoData, SdoOutcome, SdoRequest};
+use cellrt_cia402::profiles::{Access, DataType};
+use cellrt_ethercat::master::abort_meaning;
 
 use super::targets::axis_index;
 use super::wire::{SdoAnswer, SdoReply};

@@ -1,10 +1,10 @@
 //! The operator service's server end: runs in the planner thread (the owner of the motion
 //! engine), answers each request with accepted or rejected, and tracks the command in execution.
 
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::cia402::statusword::Statusword;
-use cellrt_axes::mr_je_c::cell::AxisCommand;
-use cellrt_axes::profiles::status_do::StatusDo;
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::profiles::status_do::StatusDo;
+use cellrt_cia402::statusword::Statusword;
+use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
@@ -25,7 +25,7 @@ use crate::host::link::{CellLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionRequest, Progress};
 use crate::host::program::Program;
 use crate::services::{self, OperatorServerPort, ServiceError, OPERATOR_RESPONSE_BYTES};
-use cellrt_axes::cia402::homing::{choose_procedure, HomeSettingEdge, HomingFailure};
+use cellrt_cia402::homing::{choose_procedure, HomeSettingEdge, HomingFailure};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -71,8 +71,7 @@ fn operation_enabled(cell: &CellConfig, axis: &str, status: Option<&StatusSnapsh
     let Some((i, s)) = axis_index(cell, axis).ok().zip(status) else {
         return false;
     };
-    Statusword(s.live[i].statusword).state()
-        == Some(cellrt_axes::cia402::fsa::FsaState::OperationEnabled)
+    Statusword(s.live[i].statusword).state() == Some(cellrt_cia402::fsa::FsaState::OperationEnabled)
 }
 
 /// A client's request being answered.

@@ -127,7 +127,7 @@ pub enum Request {
         /// Home setting by a Controlword2 edge instead of hm: "clear" (C_CR, home where the
         /// axis stands) or "clear_z" (C_CR2, home at the last Z phase); MR-J3-T04 §8.3.
         #[serde(default)]
-        setting: Option<cellrt_axes::cia402::homing::HomeSettingEdge>,
+        setting: Option<cellrt_cia402::homing::HomeSettingEdge>,
     },
     /// Switch a csp axis to pp (the drive positions it by its own profile) or back to csp, at
     /// standstill, by the drive's mode-switch rules.

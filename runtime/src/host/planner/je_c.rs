@@ -6,7 +6,7 @@
 
 use std::time::{Duration, Instant};
 
-use cellrt_axes::mr_je_c::cell::{AxisCommand, HOMING_ERROR};
+use cellrt_fieldbus::mr_je_c::cell::{AxisCommand, HOMING_ERROR};
 
 use super::{Planner, ProgramError, POWER_TIMEOUT};
 use crate::host::je_c::stopped_text;

@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 use cellrt_trajectory::limits::KinematicLimits;
 use serde::Deserialize;
 
-use cellrt_axes::cia402::homing::{HomeProcedure, HomeSettingEdge};
+use cellrt_cia402::homing::{HomeProcedure, HomeSettingEdge};
 
 use crate::config::{CellConfig, ConfigError};
 
@@ -218,7 +218,7 @@ pub enum Step {
     /// its drive to the torque, held `seconds`, then Halt ramps it back to 0.
     JecTorque {
         /// The axes' tq commands.
-        commands: Vec<(usize, cellrt_axes::mr_je_c::cell::AxisCommand)>,
+        commands: Vec<(usize, cellrt_fieldbus::mr_je_c::cell::AxisCommand)>,
         /// Seconds at the torque.
         seconds: f64,
     },

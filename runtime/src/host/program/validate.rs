@@ -3,8 +3,8 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use cellrt_axes::cia402::homing::choose_procedure;
-use cellrt_axes::cia402::mode::ModeOfOperation;
+use cellrt_cia402::homing::choose_procedure;
+use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_trajectory::limits::KinematicLimits;
 use cellrt_trajectory::planner::MAX_MOVE_AXES;
 

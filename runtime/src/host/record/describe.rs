@@ -1,6 +1,6 @@
 //! The detail text of each event kind, as the recording, the log and the summary show it.
 
-use cellrt_axes::cia402::fsa::FsaState;
+use cellrt_cia402::fsa::FsaState;
 
 use crate::handoff::{CellCommand, CellState, EventKind, EventRecord, RejectReason, StopReason};
 
@@ -60,7 +60,7 @@ pub fn describe_event(e: &EventRecord) -> String {
         .to_string(),
         EventKind::ModeSwitched => i8::try_from(e.value)
             .ok()
-            .and_then(cellrt_axes::cia402::mode::ModeOfOperation::from_i8)
+            .and_then(cellrt_cia402::mode::ModeOfOperation::from_i8)
             .map_or_else(
                 || format!("mode {} (6061h)", e.value),
                 |m| format!("now in {} (6061h)", m.as_str()),
@@ -77,7 +77,7 @@ pub fn describe_event(e: &EventRecord) -> String {
         },
         EventKind::HomingFinished => match u8::try_from(e.value)
             .ok()
-            .and_then(cellrt_axes::cia402::homing::HomingFailure::from_u8)
+            .and_then(cellrt_cia402::homing::HomingFailure::from_u8)
         {
             None => "homing attained".to_string(),
             Some(f) => f.as_str().to_string(),
@@ -88,9 +88,7 @@ pub fn describe_event(e: &EventRecord) -> String {
                 crate::config::CommWatchdog::describe,
             )
             .to_string(),
-        EventKind::AlStatus => {
-            cellrt_axes::ethercat::register::AlStatus::decode(e.value).describe()
-        }
+        EventKind::AlStatus => cellrt_ethercat::register::AlStatus::decode(e.value).describe(),
         EventKind::Emergency => {
             let m = crate::handoff::decode_emergency(e.value);
             let d = m.data;

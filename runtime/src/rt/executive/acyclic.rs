@@ -2,11 +2,11 @@
 //! finished in the cycle their outcome arrives, so that no cycle waits for a mailbox. One
 //! request per axis at a time, each with what it is for.
 
-use cellrt_axes::bus::{AcyclicBus, CyclicBus, PostError, SdoData, SdoOutcome, SdoRequest};
-use cellrt_axes::cia402::homing::HomingFailure;
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::pdo::objects::{ERROR_CODE, HOME_OFFSET, HOMING_METHOD, MODES_OF_OPERATION};
-use cellrt_axes::Cycles;
+use cellrt_cia402::bus::{AcyclicBus, CyclicBus, PostError, SdoData, SdoOutcome, SdoRequest};
+use cellrt_cia402::homing::HomingFailure;
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::pdo::objects::{ERROR_CODE, HOME_OFFSET, HOMING_METHOD, MODES_OF_OPERATION};
+use cellrt_cia402::Cycles;
 
 use super::Executive;
 use crate::handoff::{CellState, EventKind, UserSdo, UserSdoOutcome};

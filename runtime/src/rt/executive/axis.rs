@@ -1,18 +1,18 @@
 //! One axis as the RT loop sees it: its CiA 402 master, its current setpoint, and the controlled
 //! stop ramp the RT thread runs on its own.
 
-use cellrt_axes::cia402::homing::{HomingParams, HomingSequencer};
-use cellrt_axes::cia402::master::AxisMaster;
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::comm::IncrementalCounter;
-use cellrt_axes::drive_scaling::{DriveScaling, OutOfRange};
-use cellrt_axes::pdo::objects::{
+use cellrt_cia402::comm::IncrementalCounter;
+use cellrt_cia402::drive_scaling::{DriveScaling, OutOfRange};
+use cellrt_cia402::homing::{HomingParams, HomingSequencer};
+use cellrt_cia402::master::AxisMaster;
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::pdo::objects::{
     CONTROLWORD2, DEFAULT_TORQUE_LIMIT, ERROR_CODE, FOLLOWING_ERROR, MODES_OF_OPERATION,
     MODES_OF_OPERATION_DISPLAY, STATUSWORD2,
 };
-use cellrt_axes::pdo::{PdoLayout, TxPdo};
-use cellrt_axes::profiles::{HomeReference, HomeSetting, TorqueLimitSelection};
-use cellrt_axes::Cycles;
+use cellrt_cia402::pdo::{PdoLayout, TxPdo};
+use cellrt_cia402::profiles::{HomeReference, HomeSetting, TorqueLimitSelection};
+use cellrt_cia402::Cycles;
 
 use crate::config::{AxisConfig, CellConfig};
 use crate::handoff::RejectReason;
@@ -64,7 +64,7 @@ pub struct AxisChannel {
     /// A counter error was reported for this axis (once, until reset).
     pub comm_fault: bool,
     /// The link state of the axis' node last seen (EtherCAT: its SubDevice's AL status).
-    pub link_state: Option<cellrt_axes::bus::LinkState>,
+    pub link_state: Option<cellrt_cia402::bus::LinkState>,
     /// Limits in counts.
     pub limits: AxisLimitsCounts,
     /// Setpoint position of the current cycle, counts.
@@ -129,14 +129,14 @@ pub struct AxisChannel {
     /// time constants run from (`config::profile_axis::pp_switch`); `None` otherwise.
     pub pp_switch: Option<(crate::config::ProfileObjects, Option<f64>)>,
     /// A run-time mode switch in progress.
-    pub mode_switch: Option<cellrt_axes::cia402::mode_switch::ModeSwitch>,
+    pub mode_switch: Option<cellrt_cia402::mode_switch::ModeSwitch>,
     /// MC_Power of this axis: the operator wants it in Operation enabled. An axis without
     /// power follows its actual position and takes no motion.
     pub powered: bool,
 }
 
 /// Cycles after which a mode change counts as done on a drive whose TxPDO lacks 6061h (no
-/// figure in the manuals; see `cellrt_axes::cia402::homing`).
+/// figure in the manuals; see `cellrt_cia402::homing`).
 pub const HOMING_MODE_SETTLE: Cycles = Cycles(4);
 
 /// (60E0h, 60E1h, Controlword2) for `axis`: its `limits.torque` in 0.1 % in both directions,
@@ -433,7 +433,7 @@ impl AxisChannel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cellrt_axes::cia402::master::MasterParams;
+    use cellrt_cia402::master::MasterParams;
 
     fn channel(v: f64, a: f64, decel: f64, jerk: f64) -> AxisChannel {
         AxisChannel {
@@ -458,10 +458,12 @@ mod tests {
             feedback: TxPdo::default(),
             stopped: false,
             rx_map: PdoLayout::new(
-                &cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1).rx_pdo,
+                &cellrt_cia402::profiles::profile(cellrt_cia402::profiles::DriveModel::MrJ5GN1)
+                    .rx_pdo,
             ),
             tx_map: PdoLayout::new(
-                &cellrt_axes::profiles::profile(cellrt_axes::profiles::DriveModel::MrJ5GN1).tx_pdo,
+                &cellrt_cia402::profiles::profile(cellrt_cia402::profiles::DriveModel::MrJ5GN1)
+                    .tx_pdo,
             ),
             error_code_mapped: false,
             following_error_mapped: true,
@@ -470,8 +472,8 @@ mod tests {
             torque_limits: None,
             torque_limit_objects: (DEFAULT_TORQUE_LIMIT, DEFAULT_TORQUE_LIMIT, 0),
             drive_units: DriveScaling::new(
-                &cellrt_axes::profiles::generic_cia402::UNITS,
-                cellrt_axes::profiles::VelocityUnit::CountsPerSecond,
+                &cellrt_cia402::profiles::generic_cia402::UNITS,
+                cellrt_cia402::profiles::VelocityUnit::CountsPerSecond,
                 None,
             )
             .expect("counts/s needs no resolution"),

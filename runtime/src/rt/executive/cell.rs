@@ -4,16 +4,16 @@
 
 use std::sync::atomic::Ordering;
 
-use cellrt_axes::bus::{AcyclicBus, CyclicBus};
-use cellrt_axes::cia402::master::{MasterRequest, MasterState};
-use cellrt_axes::cia402::mode::ModeOfOperation;
-use cellrt_axes::Cycles;
+use cellrt_cia402::bus::{AcyclicBus, CyclicBus};
+use cellrt_cia402::master::{MasterRequest, MasterState};
+use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::Cycles;
 
 use super::Executive;
 use crate::config::FaultReaction;
 use crate::handoff::{CellCommand, CellState, EventKind, RejectReason, StopReason, NO_AXIS};
 use crate::setpoints::BLOCK_CYCLES;
-use cellrt_axes::cia402::homing::HomingFailure;
+use cellrt_cia402::homing::HomingFailure;
 
 /// Commands taken per cycle at most (bounds the cycle's work).
 const COMMANDS_PER_CYCLE: usize = 4;

@@ -3,8 +3,8 @@
 //! `communication_error` event naming the watchdog ([`CommWatchdog`]); the cell reacts with
 //! `watchdogs.communication_reaction` in the next cycle's `update_cell`.
 
-use cellrt_axes::bus::{AcyclicBus, BusError, CyclicBus};
-use cellrt_axes::comm::CounterVerdict;
+use cellrt_cia402::bus::{AcyclicBus, BusError, CyclicBus};
+use cellrt_cia402::comm::CounterVerdict;
 
 use super::Executive;
 use crate::config::{CommWatchdog, CommWatchdogConfig};

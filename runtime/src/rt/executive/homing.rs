@@ -4,8 +4,8 @@
 
 use std::sync::atomic::Ordering;
 
-use cellrt_axes::bus::{AcyclicBus, CyclicBus};
-use cellrt_axes::cia402::homing::{HomeProcedure, HomingFailure, HomingPhase};
+use cellrt_cia402::bus::{AcyclicBus, CyclicBus};
+use cellrt_cia402::homing::{HomeProcedure, HomingFailure, HomingPhase};
 
 use super::Executive;
 use crate::handoff::{CellState, EventKind, HomeRequest, HomingStatus};

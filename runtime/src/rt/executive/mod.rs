@@ -22,9 +22,9 @@ pub use rx_command::CycleCommand;
 
 use std::sync::atomic::Ordering;
 
-use cellrt_axes::bus::{AcyclicBus, CyclicBus, FaultInjection, MailboxNotice};
-use cellrt_axes::pdo::objects::HOME_OFFSET;
-use cellrt_axes::Cycles;
+use cellrt_cia402::bus::{AcyclicBus, CyclicBus, FaultInjection, MailboxNotice};
+use cellrt_cia402::pdo::objects::HOME_OFFSET;
+use cellrt_cia402::Cycles;
 use serde::Serialize;
 
 use crate::config::{CellConfig, FaultReaction, InjectedFault, WatchdogConfig};
@@ -73,7 +73,7 @@ pub struct RtStats {
     /// |DC phase error| histogram of the cyclic frames (EtherCAT; empty on simulated drives).
     pub dc_phase_error: NsHistogram,
     /// The bus's frame counters at the end of the loop, where it sends frames (EtherCAT).
-    pub frames: Option<cellrt_axes::FrameCounters>,
+    pub frames: Option<cellrt_cia402::FrameCounters>,
     /// Final actual position of each axis, counts.
     pub final_positions: Vec<i32>,
     /// Final cell state.
@@ -583,7 +583,7 @@ fn round_counts(v: f64) -> i32 {
 
 /// Index of an FSA state in the recording's `FsaState` enum (its [`FsaState::code`]).
 ///
-/// [`FsaState::code`]: cellrt_axes::cia402::fsa::FsaState::code
-pub fn fsa_index(s: cellrt_axes::cia402::fsa::FsaState) -> i64 {
+/// [`FsaState::code`]: cellrt_cia402::fsa::FsaState::code
+pub fn fsa_index(s: cellrt_cia402::fsa::FsaState) -> i64 {
     i64::from(s.code())
 }

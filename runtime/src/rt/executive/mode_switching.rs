@@ -1,5 +1,5 @@
 //! Run-time switch of a csp axis to pp and back (`ProfileMotion::SwitchMode`), by the drive's
-//! mode-switch rules (`cellrt_axes::cia402::mode_switch`; MR-J5-G-N1 manual §7.4, MR-JET-G-N1
+//! mode-switch rules (`cellrt_cia402::mode_switch`; MR-J5-G-N1 manual §7.4, MR-JET-G-N1
 //! manual §7.4, MR-J4-TM manual §5.4.2): requested at zero speed with controlword bit 4 low,
 //! entering csp with 607Ah = 6064h a cycle before 6060h = 8, confirmed by 6061h, withdrawn
 //! after [`MODE_SWITCH_TIMEOUT`] or at a fault. The axis holds meanwhile and no motion starts.
@@ -8,11 +8,11 @@
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
-use cellrt_axes::bus::{AcyclicBus, CyclicBus};
-use cellrt_axes::cia402::mode_switch::{
+use cellrt_cia402::bus::{AcyclicBus, CyclicBus};
+use cellrt_cia402::mode_switch::{
     ModeSwitch, ModeSwitchError, ModeSwitchParams, ModeSwitchProgress,
 };
-use cellrt_axes::pdo::RxPdo;
+use cellrt_cia402::pdo::RxPdo;
 
 use super::profile_axis::ProfileChannel;
 use super::Executive;
@@ -59,7 +59,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             .velocity_to_drive(ch.limits.velocity * ZERO_SPEED_SHARE)
             .map_or(0, |v| v.unsigned_abs());
         let params = ModeSwitchParams {
-            timeout: cellrt_axes::Cycles(u32::try_from(timeout).unwrap_or(u32::MAX)),
+            timeout: cellrt_cia402::Cycles(u32::try_from(timeout).unwrap_or(u32::MAX)),
             zero_speed,
         };
         // 60B0h: the master leaves the drive's 0 (no RxPDO carries it).

@@ -15,12 +15,12 @@
 //! Profile objects the RxPDO lacks go by SDO before the motion starts (`ProfileObjects`), one
 //! at a time, each only when its value changed. Plain copies only: allocation-free.
 
-use cellrt_axes::cia402::controlword::Controlword;
-use cellrt_axes::cia402::statusword::Statusword;
-use cellrt_axes::drive_scaling::DriveScaling;
-use cellrt_axes::pdo::objects::PROFILE_OBJECTS;
-use cellrt_axes::pdo::RxPdo;
-use cellrt_axes::sim::profile_position::{
+use cellrt_cia402::controlword::Controlword;
+use cellrt_cia402::drive_scaling::DriveScaling;
+use cellrt_cia402::pdo::objects::PROFILE_OBJECTS;
+use cellrt_cia402::pdo::RxPdo;
+use cellrt_cia402::statusword::Statusword;
+use cellrt_emulator::sim::profile_position::{
     CHANGE_SET_IMMEDIATELY, NEW_SET_POINT, SET_POINT_ACKNOWLEDGE, TARGET_REACHED,
 };
 
@@ -541,8 +541,8 @@ fn ramp_cycles(from: i16, to: i16, slope: f64, period_s: f64) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cellrt_axes::drive_scaling::Motor;
-    use cellrt_axes::profiles::{profile, DriveModel, MotorKind, VelocityUnit};
+    use cellrt_cia402::drive_scaling::Motor;
+    use cellrt_cia402::profiles::{profile, DriveModel, MotorKind, VelocityUnit};
 
     /// An MR-J5-G-N1 axis (profile objects by SDO) at 10000 counts/rev, 0.01 r/min, rated
     /// 3000 r/min = 500000 counts/s.

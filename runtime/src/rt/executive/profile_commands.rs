@@ -4,8 +4,8 @@
 
 use std::sync::atomic::Ordering;
 
-use cellrt_axes::bus::{AcyclicBus, CyclicBus, SdoData, SdoRequest};
-use cellrt_axes::pdo::RxPdo;
+use cellrt_cia402::bus::{AcyclicBus, CyclicBus, SdoData, SdoRequest};
+use cellrt_cia402::pdo::RxPdo;
 
 use super::acyclic::Pending;
 use super::profile_axis::ProfileEnd;

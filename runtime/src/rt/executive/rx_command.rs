@@ -2,8 +2,8 @@
 //! what the loop decides cycle by cycle, plus what the axis' configuration fixes (2D20h speed
 //! limit, 60E0h/60E1h torque limits), so that a replay sends what the loop sent.
 
-use cellrt_axes::cia402::controlword::Controlword;
-use cellrt_axes::pdo::RxPdo;
+use cellrt_cia402::controlword::Controlword;
+use cellrt_cia402::pdo::RxPdo;
 
 use super::AxisChannel;
 

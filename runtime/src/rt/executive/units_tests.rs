@@ -4,8 +4,9 @@
 
 use std::path::Path;
 
-use cellrt_axes::cia402::master::MasterRequest;
-use cellrt_axes::{Cycles, DriveModel, RxPdo, SimDrive};
+use cellrt_cia402::master::MasterRequest;
+use cellrt_cia402::{Cycles, DriveModel, RxPdo};
+use cellrt_emulator::SimDrive;
 
 use super::axis::AxisChannel;
 use crate::config::CellConfig;

@@ -5,7 +5,7 @@
 
 use std::collections::BTreeMap;
 
-use cellrt_axes::mr_je_c::cell::AxisCommand;
+use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 use super::*;
 use crate::config::je_c_axis::{JecAxisConfig, JecMode};
@@ -291,7 +291,7 @@ impl PendingMoves {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cellrt_axes::mr_je_c::cell::{AxisFeedback, Inputs};
+    use cellrt_fieldbus::mr_je_c::cell::{AxisFeedback, Inputs};
 
     /// The shipped config `name`.toml with `edit` applied, its MR-JE-C axes detached and
     /// enabled.

@@ -3,7 +3,7 @@
 //! checked against the cell and handed to the motion engine or the RT thread.
 
 use super::*;
-use cellrt_axes::mr_je_c::cell::AxisCommand;
+use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 impl OperatorServer {
     /// MC_MoveAbsolute / MC_MoveRelative: a time-synchronised move, or with `line` a straight
@@ -373,7 +373,7 @@ impl OperatorServer {
         }
         if state.live[i].powered == 0
             || Statusword(state.live[i].statusword).state()
-                != Some(cellrt_axes::cia402::fsa::FsaState::OperationEnabled)
+                != Some(cellrt_cia402::fsa::FsaState::OperationEnabled)
         {
             return rejected(format!(
                 "mode: axis '{axis}' is not powered and enabled (power it on first)"

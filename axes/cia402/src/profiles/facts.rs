@@ -1,0 +1,645 @@
+//! The static fact tables a drive profile is made of: object dictionary entries, alarms,
+//! encoder and units, identity, communication checks.
+//!
+//! Each model module declares its facts once as `const` tables of these types; the simulator and
+//! the master read them from the profile, never from literals of their own.
+
+use std::fmt;
+
+use crate::comm::CounterParams;
+pub use crate::homing::HomeSetting;
+use crate::pdo::PdoEntry;
+
+/// CoE data type of an object (the subset the cyclic objects use).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DataType {
+    /// BOOLEAN.
+    Bool,
+    /// INTEGER8.
+    I8,
+    /// INTEGER16.
+    I16,
+    /// INTEGER32.
+    I32,
+    /// UNSIGNED8.
+    U8,
+    /// UNSIGNED16.
+    U16,
+    /// UNSIGNED32.
+    U32,
+    /// Not stated by the source manual (the entry cites the gap).
+    Unstated,
+}
+
+impl DataType {
+    /// Size in bits, `None` for [`DataType::Unstated`].
+    pub const fn bits(self) -> Option<u16> {
+        match self {
+            Self::Bool => Some(1),
+            Self::I8 | Self::U8 => Some(8),
+            Self::I16 | Self::U16 => Some(16),
+            Self::I32 | Self::U32 => Some(32),
+            Self::Unstated => None,
+        }
+    }
+
+    /// The name CiA 301 §7.4.7 gives the type (e.g. "UNSIGNED16"), "unstated" for
+    /// [`DataType::Unstated`].
+    pub const fn cia301_name(self) -> &'static str {
+        match self {
+            Self::Bool => "BOOLEAN",
+            Self::I8 => "INTEGER8",
+            Self::I16 => "INTEGER16",
+            Self::I32 => "INTEGER32",
+            Self::U8 => "UNSIGNED8",
+            Self::U16 => "UNSIGNED16",
+            Self::U32 => "UNSIGNED32",
+            Self::Unstated => "unstated",
+        }
+    }
+
+    /// The values the type holds (inclusive), `None` for [`DataType::Unstated`].
+    pub const fn value_range(self) -> Option<(i64, i64)> {
+        Some(match self {
+            Self::Bool => (0, 1),
+            Self::I8 => (i8::MIN as i64, i8::MAX as i64),
+            Self::I16 => (i16::MIN as i64, i16::MAX as i64),
+            Self::I32 => (i32::MIN as i64, i32::MAX as i64),
+            Self::U8 => (0, u8::MAX as i64),
+            Self::U16 => (0, u16::MAX as i64),
+            Self::U32 => (0, u32::MAX as i64),
+            Self::Unstated => return None,
+        })
+    }
+}
+
+/// Access right of an object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Access {
+    /// Read only.
+    Ro,
+    /// Read/write.
+    Rw,
+    /// Write only.
+    Wo,
+    /// Not stated by the source manual.
+    Unstated,
+}
+
+/// Which PDO an object may be mapped into.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Pdo {
+    /// RxPDO (master → drive).
+    Rx,
+    /// TxPDO (drive → master).
+    Tx,
+    /// SDO only.
+    No,
+    /// Not stated by the source manual.
+    Unstated,
+}
+
+/// One object-dictionary entry, as far as the source manual states it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct OdEntry {
+    /// Object index (axis A on multi-axis units).
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// Name as in the manual.
+    pub name: &'static str,
+    /// Data type.
+    pub data_type: DataType,
+    /// Access.
+    pub access: Access,
+    /// PDO mapping.
+    pub pdo: Pdo,
+    /// Default value, `None` where the manual gives none.
+    pub default: Option<i64>,
+    /// Value range (inclusive), `None` where the manual gives none.
+    pub range: Option<(i64, i64)>,
+    /// Units of one LSB, "" for dimensionless.
+    pub units: &'static str,
+    /// Spec section the row comes from, with the gap named where a field is not stated.
+    pub source: &'static str,
+}
+
+/// Alarm or warning.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AlarmKind {
+    /// Alarm: statusword bit 3, (13) Fault reaction active → (14) Fault.
+    Alarm,
+    /// Warning: statusword bit 7, no PDS state change (unless its stop says otherwise).
+    Warning,
+}
+
+/// What the drive does to the motor when the alarm or warning occurs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum StopBehaviour {
+    /// Base circuit off and dynamic brake (sudden stop).
+    DynamicBrake,
+    /// Slow stop on a deceleration ramp.
+    SlowStop,
+    /// Operation continues (warning only).
+    Continues,
+    /// Servo off (base off + dynamic brake) while the warning lasts, PDS state kept.
+    ServoOff,
+    /// Not stated by the source manual.
+    Unstated,
+}
+
+/// How an alarm is cleared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Clearing {
+    /// Controlword Fault Reset edge (transition 15) once the cause is gone.
+    FaultReset,
+    /// Only a control-power cycle.
+    PowerCycle,
+    /// Clears itself when the cause goes (warnings).
+    Automatic,
+    /// Not stated by the source manual (the simulator treats it as [`Clearing::FaultReset`]).
+    Unstated,
+}
+
+/// One alarm or warning of a model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct AlarmInfo {
+    /// The code the simulator reports in 603Fh/2041h (encoding per model module).
+    pub code: u16,
+    /// Display number as printed, e.g. "AL.34" or "AL.086.1".
+    pub display: &'static str,
+    /// Name as printed.
+    pub name: &'static str,
+    /// Alarm or warning.
+    pub kind: AlarmKind,
+    /// Stop behaviour.
+    pub stop: StopBehaviour,
+    /// How it is cleared.
+    pub clearing: Clearing,
+    /// Spec section, or the gap it fills.
+    pub source: &'static str,
+}
+
+impl AlarmInfo {
+    /// True if a Fault Reset edge clears it (unstated clearing counts as resettable).
+    pub const fn resettable(&self) -> bool {
+        matches!(self.clearing, Clearing::FaultReset | Clearing::Unstated)
+    }
+}
+
+/// EtherCAT identity (1018h), each `None` where the manual does not give it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Identity {
+    /// 1018h:01 vendor ID.
+    pub vendor_id: Option<u32>,
+    /// 1018h:02 product code.
+    pub product_code: Option<u32>,
+    /// 1018h:03 revision number.
+    pub revision: Option<u32>,
+    /// Where the values come from, or which gap leaves them `None`.
+    pub source: &'static str,
+}
+
+/// What a completed homing changes (the home position reference).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum HomeReference {
+    /// 607Ch Home offset := −(raw position); 6064h stays raw and the master converts
+    /// (MR-J3-T04 §8.2).
+    OffsetObject,
+    /// 6064h is preset to the home position address (MR-J4-TM §4.10 TV-8: "6064h = the home
+    /// position address"; 607Ch stays 0 without absolute detection).
+    PositionPreset,
+}
+
+/// Where the drive's torque limits come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TorqueLimitSelection {
+    /// 60E0h / 60E1h as received, in 0.1 % of rated torque (CiA 402).
+    Objects,
+    /// MR-J3-T04 (MR-J3-T04 manual §8.14, §1.2.1, manual §8.14): Controlword2 bits C_TL / C_TL1 select
+    /// between the parameters PA11 (forward) / PA12 (reverse), PC35 (internal) and 60E0h/60E1h;
+    /// each direction takes the lowest selected value.
+    Controlword2 {
+        /// Bit of 2001h that adds 60E0h/60E1h (C_TL).
+        c_tl_bit: u8,
+        /// Bit of 2001h that adds PC35 (C_TL1).
+        c_tl1_bit: u8,
+    },
+    /// MR-JET / MR-J5 torque limit 2 (MR-JET-G-N1 manual §9.1/§9.1, MR-J5-G-N1 manual): with
+    /// 2D6Dh:01 = 1, controlword bit CPTL / CNTL replaces 60E0h / 60E1h by 2D6Dh:02 / :03.
+    TorqueLimit2 {
+        /// Controlword bit selecting the forward limit 2 (CPTL, bit 11).
+        cptl_bit: u8,
+        /// Controlword bit selecting the reverse limit 2 (CNTL, bit 12).
+        cntl_bit: u8,
+    },
+}
+
+/// A DIP-switch setting the amplifier refuses with an alarm (MR-J5-G-N1 SW3, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4
+/// and TV-14, manual §8 Point: on a 1-axis amplifier SW3-1 OFF with SW3-2 ON raises AL.011.2).
+/// The manual does not say what SW3 selects, nor when the setting is checked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct InvalidAxisSwitch {
+    /// SW3-1 in the refused setting (ON = up).
+    pub sw3_1: bool,
+    /// SW3-2 in the refused setting (ON = up).
+    pub sw3_2: bool,
+    /// The alarm raised (603Fh code).
+    pub alarm: u16,
+}
+
+/// One bit of the FSoE SafeData (MR-JET-G-N1 manual §9.3, manual §9.3): SafeData byte 0–3, bit
+/// 0–7, and the sub-index of its object (F701h for the master's commands, F601h for the
+/// slave's status).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SafeBit {
+    /// SafeData byte, 0–3.
+    pub byte: u8,
+    /// Bit in that byte, 0–7.
+    pub bit: u8,
+    /// Sub-index of the bit's F701h / F601h entry.
+    pub sub: u8,
+}
+
+impl SafeBit {
+    /// Bit `bit` of SafeData byte `byte`, object sub-index `sub`.
+    pub const fn new(byte: u8, bit: u8, sub: u8) -> SafeBit {
+        SafeBit { byte, bit, sub }
+    }
+
+    /// The bit's value in `safe_data` (false for a byte outside it).
+    pub fn get(self, safe_data: &[u8; 4]) -> bool {
+        safe_data
+            .get(usize::from(self.byte))
+            .is_some_and(|b| (b >> (self.bit & 7)) & 1 != 0)
+    }
+
+    /// Sets the bit in `safe_data` (nothing for a byte outside it).
+    pub fn set(self, safe_data: &mut [u8; 4], on: bool) {
+        if let Some(b) = safe_data.get_mut(usize::from(self.byte)) {
+            let m = 1u8 << (self.bit & 7);
+            if on {
+                *b |= m;
+            } else {
+                *b &= !m;
+            }
+        }
+    }
+}
+
+/// The master's SafeData command bits (safety RxPDO 1608h, F701h): **0 activates** the
+/// function (safe state), 1 cancels it; Error Ack acts on its 0→1 edge (MR-JET-G-N1 manual §9.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FsoeCommandBits {
+    /// STOC, STO command.
+    pub sto: SafeBit,
+    /// SS1C, SS1 command.
+    pub ss1: SafeBit,
+    /// SDIPC, safe direction positive.
+    pub sdip: SafeBit,
+    /// SDINC, safe direction negative.
+    pub sdin: SafeBit,
+    /// Error Ack (error clear command, rising edge).
+    pub error_ack: SafeBit,
+    /// SLS1C–SLS4C, safely-limited speed 1–4.
+    pub sls: [SafeBit; 4],
+    /// SLT1C–SLT4C, safely-limited torque 1–4.
+    pub slt: [SafeBit; 4],
+}
+
+/// The slave's SafeData status bits (safety TxPDO 1A08h, F601h): **1 = function active**
+/// (MR-JET-G-N1 manual §9.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FsoeStatusBits {
+    /// STOS: STO active, energy cut.
+    pub sto: SafeBit,
+    /// SSMS: speed at or below the SSM speed (0 with SSM disabled).
+    pub ssm: SafeBit,
+    /// Error: an error is present.
+    pub error: SafeBit,
+    /// SS1S.
+    pub ss1: SafeBit,
+    /// SDIPS.
+    pub sdip: SafeBit,
+    /// SDINS.
+    pub sdin: SafeBit,
+    /// SLS1S–SLS4S.
+    pub sls: [SafeBit; 4],
+    /// SBCS: STO active and the brake supply cut.
+    pub sbc: SafeBit,
+    /// SLT1S–SLT4S.
+    pub slt: [SafeBit; 4],
+}
+
+/// Byte offsets of one FSoE frame in a safety PDO (MR-JET-G-N1 manual §4.3, §9.3): the same layout both
+/// ways (1608h master → slave, 1A08h slave → master).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FsoeFrameLayout {
+    /// Frame size in bytes.
+    pub len: u8,
+    /// FSoE Command (E700h:01 / E600h:01), 1 byte.
+    pub command: u8,
+    /// SafeData[0]–[3], 1 byte each.
+    pub safe_data: [u8; 4],
+    /// CRC_0 (E700h:03 / E600h:03) and CRC_1 (:04), 2 bytes each.
+    pub crc: [u8; 2],
+    /// ConnectionID (E700h:02 / E600h:02), 2 bytes.
+    pub connection_id: u8,
+}
+
+/// What a model's manual states about FSoE (Safety over EtherCAT, ETG.5100): the safety PDOs,
+/// the SafeData bits, the objects, the watchdog and address rules (MR-JET-G-N1:
+/// MR-JET-G-N1 manual §4.3, §9.3, §6, §7). The ETG.5100 command byte, CRC and connection sequence are
+/// not described by the manual (§7.1 item 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FsoeFacts {
+    /// Safety RxPDO mapping object (1608h).
+    pub rx_pdo: u16,
+    /// Safety TxPDO mapping object (1A08h).
+    pub tx_pdo: u16,
+    /// Entries of each safety mapping (sub 00h).
+    pub mapping_entries: u8,
+    /// The frame layout.
+    pub frame: FsoeFrameLayout,
+    /// The master's command bits.
+    pub commands: FsoeCommandBits,
+    /// The slave's status bits.
+    pub status: FsoeStatusBits,
+    /// FSoE output object holding the command bits (F701h).
+    pub command_object: u16,
+    /// FSoE input object holding the status bits (F601h).
+    pub status_object: u16,
+    /// FSoE Master frame fields (E700h: :01 Command, :02 ConnectionID, :03/:04 CRC_0/CRC_1).
+    pub master_frame_object: u16,
+    /// FSoE Slave frame fields (E600h, same sub-indexes).
+    pub slave_frame_object: u16,
+    /// FSoE information object of the connection parameter set (E901h).
+    pub info_object: u16,
+    /// E901h sub-index of the Watchdog Time.
+    pub watchdog_sub: u8,
+    /// E901h sub-index of the Communication Parameter Length.
+    pub comm_param_len_sub: u8,
+    /// E901h sub-index of the Application Parameter Length.
+    pub app_param_len_sub: u8,
+    /// T_Ref, the safety refresh response processing time, µs.
+    pub t_ref_us: u32,
+    /// T_Com, the network response time at the shortest FSoE cycle, µs.
+    pub t_com_min_us: u32,
+    /// Minimum configurable watchdog time, ms (T_Ref + 4 × T_Com).
+    pub watchdog_min_ms: u32,
+    /// Shortest PDO cycle with FSoE, µs (**[inferred]** where the manual gives it only
+    /// indirectly).
+    pub min_cycle_us: u32,
+    /// Range of the FSoE slave address parameter (PSC07).
+    pub address_range: (u16, u16),
+    /// Alarm when the slave's address differs from the master's (AL.584.1).
+    pub address_mismatch_alarm: u16,
+    /// The object-dictionary rows of the FSoE objects, as far as the manual states them.
+    pub objects: &'static [OdEntry],
+}
+
+/// The model's cyclic communication check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CommCheck {
+    /// 8-bit incremental counter: master sends `rx_index`, the drive echoes last good + 1 in
+    /// `tx_index`; `counter_alarm` for counter update errors, `loss_alarm` for lost RxPDOs
+    /// (MR-J3-T04 §6).
+    IncrementalCounter {
+        /// RxPDO object (2020h).
+        rx_index: u16,
+        /// TxPDO object (2021h).
+        tx_index: u16,
+        /// Counter update error alarm (AL.34).
+        counter_alarm: u16,
+        /// RxPDO reception error alarm (AL.36).
+        loss_alarm: u16,
+        /// Parameter error raised at power-on when the counter check is enabled (PO03 digit 0
+        /// ≠ 0) in free-run mode (PO02 = 0001h): AL.37 (MR-J3-T04 §2.4, TV-IC-5).
+        free_run_alarm: u16,
+        /// The master's check of the echo: lag and the error levels that stop the cell.
+        master: CounterParams,
+    },
+    /// Watchdog counters whose algorithm the manual's missing §6.2 would give (MR-J4-TM):
+    /// provisional echo of DL + 1 in UL when both are mapped; lost frames count like
+    /// [`CommCheck::SyncErrorCounter`].
+    WatchdogCounter {
+        /// RxPDO object (2D23h Watch dog counter DL).
+        rx_index: u16,
+        /// TxPDO object (2D24h Watch dog counter UL).
+        tx_index: u16,
+        /// Alarm for lost process data (AL. 86.1).
+        loss_alarm: u16,
+        /// The master's check of the echo: lag and the error levels that stop the cell.
+        master: CounterParams,
+    },
+    /// Sync-error counter against 10F1h:02 raising `alarm` (MR-JET, MR-J5: AL.086.1).
+    SyncErrorCounter {
+        /// The alarm raised when the counter passes the limit.
+        alarm: u16,
+    },
+}
+
+impl CommCheck {
+    /// The (rx, tx) counter objects, if the check has a counter.
+    pub const fn counter_objects(&self) -> Option<(u16, u16)> {
+        match *self {
+            Self::IncrementalCounter {
+                rx_index, tx_index, ..
+            }
+            | Self::WatchdogCounter {
+                rx_index, tx_index, ..
+            } => Some((rx_index, tx_index)),
+            Self::SyncErrorCounter { .. } => None,
+        }
+    }
+
+    /// The master's default check of the counter echo, if the check has a counter.
+    pub const fn master_counter(&self) -> Option<CounterParams> {
+        match *self {
+            Self::IncrementalCounter { master, .. } | Self::WatchdogCounter { master, .. } => {
+                Some(master)
+            }
+            Self::SyncErrorCounter { .. } => None,
+        }
+    }
+
+    /// The alarm a lost RxPDO eventually raises.
+    pub const fn loss_alarm(&self) -> u16 {
+        match *self {
+            Self::IncrementalCounter { loss_alarm, .. }
+            | Self::WatchdogCounter { loss_alarm, .. } => loss_alarm,
+            Self::SyncErrorCounter { alarm } => alarm,
+        }
+    }
+}
+
+impl fmt::Display for AlarmInfo {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} {} ({:#06X})", self.display, self.name, self.code)
+    }
+}
+
+/// An object-dictionary row being written: [`od`] gives what every row has, the optional
+/// default, range and units follow, and [`OdRow::cite`] completes it, so no row goes without
+/// its source.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct OdRow(OdEntry);
+
+/// Starts an object-dictionary row (index, sub-index, name, type, access, PDO mapping); used by
+/// the model modules.
+pub(crate) const fn od(
+    index: u16,
+    sub: u8,
+    name: &'static str,
+    data_type: DataType,
+    access: Access,
+    pdo: Pdo,
+) -> OdRow {
+    OdRow(OdEntry {
+        index,
+        sub,
+        name,
+        data_type,
+        access,
+        pdo,
+        default: None,
+        range: None,
+        units: "",
+        source: "",
+    })
+}
+
+impl OdRow {
+    /// The default value the manual gives.
+    pub(crate) const fn default(self, value: i64) -> OdRow {
+        OdRow(OdEntry {
+            default: Some(value),
+            ..self.0
+        })
+    }
+
+    /// The value range (inclusive) the manual gives.
+    pub(crate) const fn range(self, min: i64, max: i64) -> OdRow {
+        OdRow(OdEntry {
+            range: Some((min, max)),
+            ..self.0
+        })
+    }
+
+    /// The units of one LSB (dimensionless when not given).
+    pub(crate) const fn units(self, units: &'static str) -> OdRow {
+        OdRow(OdEntry { units, ..self.0 })
+    }
+
+    /// The finished row, with the spec section it comes from and the gap named where a field
+    /// is not stated.
+    pub(crate) const fn cite(self, source: &'static str) -> OdEntry {
+        OdEntry { source, ..self.0 }
+    }
+}
+
+/// Shorthand for a PDO mapping entry of sub-index 0; used by the model modules' default maps.
+pub(crate) const fn obj(index: u16, bits: u16) -> PdoEntry {
+    PdoEntry::object(index, 0, bits)
+}
+
+/// Shorthand for an alarm row; used by the model modules.
+pub(crate) const fn alarm(
+    code: u16,
+    display: &'static str,
+    name: &'static str,
+    kind: AlarmKind,
+    stop: StopBehaviour,
+    clearing: Clearing,
+    source: &'static str,
+) -> AlarmInfo {
+    AlarmInfo {
+        code,
+        display,
+        name,
+        kind,
+        stop,
+        clearing,
+        source,
+    }
+}
+
+/// The most PDO bytes one amplifier exchanges per cycle over all its axes, for a range of
+/// cycle times (MR-J5-G-N1 manual §4.4): one row of the manual's table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct UnitPdoLimit {
+    /// Shortest cycle time (µs) the row applies to.
+    pub from_us: u32,
+    /// Longest cycle time (µs) the row applies to.
+    pub to_us: u32,
+    /// Most RxPDO bytes (master → unit).
+    pub max_rx_bytes: u16,
+    /// Most TxPDO bytes (unit → master).
+    pub max_tx_bytes: u16,
+}
+
+/// How a model's variable PDO mapping may be changed by SDO (16xxh/1Axxh in PRE-OP: count to
+/// 0, entries, count last), and the abort codes it answers with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PdoRules {
+    /// Most entries in one mapping object.
+    pub max_entries: u8,
+    /// Most bytes of the RxPDO (master → drive).
+    pub max_rx_bytes: u16,
+    /// Most bytes of the TxPDO (drive → master).
+    pub max_tx_bytes: u16,
+    /// Objects that may be mapped into the RxPDO besides the model's default RxPDO entries and
+    /// the object table's `Pdo::Rx` rows (the manual's list where it gives one).
+    pub rx_mappable: &'static [u16],
+    /// Objects that may be mapped into the TxPDO, likewise.
+    pub tx_mappable: &'static [u16],
+    /// Abort for an object that cannot be mapped.
+    pub not_mappable_abort: u32,
+    /// Abort for a mapping longer than the PDO allows.
+    pub too_long_abort: u32,
+    /// Abort for writing an entry, or a non-zero count, while the mapping is valid (locked).
+    pub locked_abort: u32,
+    /// Abort for an SDO download to an object the RxPDO maps (written cyclically instead).
+    pub mapped_write_abort: u32,
+    /// Abort for a mapping or cycle-time write outside PRE-OP (or once frozen).
+    pub wrong_state_abort: u32,
+    /// Alarms a SYNC0 cycle other than the PDO cycle written to 1C32h:02 raises when the drive
+    /// starts synchronising (the first is the simulator's default; empty: the manual states
+    /// none and the drive runs on SYNC0).
+    pub sync_mismatch_alarms: &'static [u16],
+    /// Which parts of the PDO assignment 1C12h/1C13h the master may write.
+    pub assignment: PdoAssignment,
+    /// True if the mapping and the PDO cycle (1C32h:02) freeze once the drive has reached
+    /// SAFE-OP, until power-off (MR-J3-T04 §2.2 (4), §4.4).
+    pub frozen_after_safe_op: bool,
+    /// Spec sections, with the gaps named.
+    pub source: &'static str,
+}
+
+/// Whether a model reports its alarms by CoE Emergency (ETG.1000.6 §5.6.2.1), with the source.
+/// The payload is cellrt's choice where the manuals give none: [`EMERGENCY_LAYOUT`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct EmergencyFacts {
+    /// True if the drive sends an Emergency when it raises an alarm.
+    pub sends: bool,
+    /// Spec sections, with the gaps named.
+    pub source: &'static str,
+}
+
+/// The Emergency payload every model that sends one is emulated with: error code = the alarm's
+/// 603Fh value (the axis' own 603Fh at its offset index on a multi-axis unit), error register
+/// 1001h = 01h (generic error), manufacturer byte 0 = axis slot (0 = A), bytes 1–4 = 0.
+pub const EMERGENCY_LAYOUT: &str = "CiA 301 §7.2.7.3.1 and ETG.1000.6 §5.6.2.1 (error code, \
+    error register, 5 manufacturer bytes); the Mitsubishi manuals give no payload \
+    (MR-J4-TM manual §6.4 [MISSING], MR-J5-G-N1 manual §5, MR-JET-G-N1 manual §5: codes not given)";
+
+/// How writable a model's PDO assignment objects (1C12h/1C13h) are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PdoAssignment {
+    /// Count and entries read/write in PRE-OP (count to 0, entries, count last).
+    Writable,
+    /// The count is fixed at 1 (read-only); sub 1 selects the mapping object (MR-J4-TM §5.1).
+    FixedCount,
+    /// Read-only: one fixed mapping object per direction (MR-J3-T04 §4.3, §4.4).
+    ReadOnly,
+}

@@ -1,0 +1,420 @@
+//! Drive profiles: what the controller and the simulator need to know about one drive model.
+//!
+//! One module per model; adding a model is a new [`DriveModel`] variant, a module with its
+//! `PROFILE` constant and one arm in [`profile`].
+
+use std::fmt;
+use std::str::FromStr;
+use std::time::Duration;
+
+use serde::Deserialize;
+
+use crate::cycles::{CycleTime, Cycles};
+use crate::fsa::FsaQuirks;
+use crate::mode::ModeOfOperation;
+use crate::pdo::PdoMap;
+
+pub mod bring_up_causes;
+pub use bring_up_causes::{bring_up_causes, BringUpCause};
+mod cia402_facts;
+pub mod facts;
+pub mod generic_cia402;
+pub mod homing_methods;
+pub mod mapping;
+pub mod matrix;
+pub mod mr_j3_t04;
+pub mod mr_j4_tm;
+pub mod mr_j5_g_n1;
+pub mod mr_jet_g_n1;
+pub mod params;
+pub mod status_do;
+pub mod units;
+
+pub use facts::{
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, EmergencyFacts, FsoeCommandBits,
+    FsoeFacts, FsoeFrameLayout, FsoeStatusBits, HomeReference, HomeSetting, Identity,
+    InvalidAxisSwitch, OdEntry, Pdo, PdoAssignment, PdoRules, SafeBit, StopBehaviour,
+    TorqueLimitSelection, UnitPdoLimit, EMERGENCY_LAYOUT,
+};
+pub use units::{
+    AccelerationUnit, MotorKind, PositionUnit, Quantity, Stated, TorqueUnit, Units, VelocityUnit,
+};
+
+/// A supported drive model, named in configuration by its kebab-case part number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+pub enum DriveModel {
+    /// Mitsubishi MR-J5-G-N1, 1-axis EtherCAT amplifier (MR-J5-G-N1 manual, docs/manuals.md).
+    #[serde(rename = "mr-j5-g-n1")]
+    MrJ5GN1,
+    /// Mitsubishi MR-J5W2-G-N1, 2-axis EtherCAT amplifier (MR-J5-G-N1 manual, docs/manuals.md).
+    #[serde(rename = "mr-j5w2-g-n1")]
+    MrJ5W2GN1,
+    /// Mitsubishi MR-J5W3-G-N1, 3-axis EtherCAT amplifier (MR-J5-G-N1 manual, docs/manuals.md).
+    #[serde(rename = "mr-j5w3-g-n1")]
+    MrJ5W3GN1,
+    /// Mitsubishi MR-J3-□A-RJ158 with the MR-J3-T04 EtherCAT option (MR-J3-T04 manual, docs/manuals.md).
+    #[serde(rename = "mr-j3-t04")]
+    MrJ3T04,
+    /// Mitsubishi MR-J4-_TM_ with the ABCC-M40-ECT EtherCAT module (MR-J4-TM manual, docs/manuals.md).
+    #[serde(rename = "mr-j4-tm")]
+    MrJ4TM,
+    /// Mitsubishi MR-JET-G-N1 (MR-JET-G-N1 manual, docs/manuals.md).
+    #[serde(rename = "mr-jet-g-n1")]
+    MrJetGN1,
+    /// Any CoE SubDevice with the CiA 402 drive profile (CiA 402 / ETG.6010, no vendor
+    /// specifics); identity from the cell config (`generic_cia402.rs`).
+    #[serde(rename = "cia402")]
+    GenericCia402,
+}
+
+/// A model name that is not supported.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "unknown drive model {text:?}; supported models: {}",
+    DriveModel::names()
+)]
+pub struct ParseModelError {
+    /// The rejected text.
+    pub text: String,
+}
+
+impl DriveModel {
+    /// Every supported model.
+    pub const ALL: &'static [DriveModel] = &[
+        DriveModel::MrJ5GN1,
+        DriveModel::MrJ5W2GN1,
+        DriveModel::MrJ5W3GN1,
+        DriveModel::MrJ3T04,
+        DriveModel::MrJ4TM,
+        DriveModel::MrJetGN1,
+        DriveModel::GenericCia402,
+    ];
+
+    /// The configuration name, e.g. "mr-j5-g-n1".
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            DriveModel::MrJ5GN1 => "mr-j5-g-n1",
+            DriveModel::MrJ5W2GN1 => "mr-j5w2-g-n1",
+            DriveModel::MrJ5W3GN1 => "mr-j5w3-g-n1",
+            DriveModel::MrJ3T04 => "mr-j3-t04",
+            DriveModel::MrJ4TM => "mr-j4-tm",
+            DriveModel::MrJetGN1 => "mr-jet-g-n1",
+            DriveModel::GenericCia402 => "cia402",
+        }
+    }
+
+    fn names() -> String {
+        let v: Vec<&str> = Self::ALL.iter().map(|m| m.as_str()).collect();
+        v.join(", ")
+    }
+}
+
+impl fmt::Display for DriveModel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for DriveModel {
+    type Err = ParseModelError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .iter()
+            .copied()
+            .find(|m| m.as_str() == s)
+            .ok_or_else(|| ParseModelError { text: s.to_owned() })
+    }
+}
+
+/// Everything cellrt knows about one drive model, as static data.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DriveProfile {
+    /// The model this profile describes.
+    pub model: DriveModel,
+    /// Human-readable product name.
+    pub name: &'static str,
+    /// EtherCAT identity (1018h), with the gaps cited.
+    pub identity: Identity,
+    /// Modes of operation the drive accepts in 6060h.
+    pub modes: &'static [ModeOfOperation],
+    /// Supported PDO cycle times in µs.
+    pub cycle_times_us: &'static [u32],
+    /// The default RxPDO map (master → drive).
+    pub rx_pdo: PdoMap,
+    /// The default TxPDO map (drive → master).
+    pub tx_pdo: PdoMap,
+    /// PDS deviations from plain CiA 402.
+    pub quirks: FsaQuirks,
+    /// Minimum Fault Reset hold in ms for cycles up to `long_cycle_from_us` (exclusive).
+    pub fault_reset_hold_ms: u32,
+    /// Minimum Fault Reset hold in ms for cycles of `long_cycle_from_us` and longer.
+    pub fault_reset_hold_long_cycle_ms: u32,
+    /// The cycle time (µs) from which `fault_reset_hold_long_cycle_ms` applies.
+    pub long_cycle_from_us: u32,
+    /// Axes per amplifier (1, or 2/3 for MR-J5W2/W3).
+    pub axes_per_unit: u8,
+    /// The amplifier's PDO byte limits over all its axes, per cycle-time range (MR-J5-G-N1
+    /// manual §4.4); empty where the manual states none.
+    pub unit_pdo_limits: &'static [UnitPdoLimit],
+    /// Encoder resolution and object units.
+    pub units: Units,
+    /// The object-dictionary entries the runtime and the simulator use.
+    pub objects: &'static [OdEntry],
+    /// The alarms and warnings the manual names, with their stop behaviour.
+    pub alarms: &'static [AlarmInfo],
+    /// The cyclic communication check.
+    pub comm_check: CommCheck,
+    /// Alarm raised when the AL state leaves OP while the PDS is switched on or enabled
+    /// (spec README "Leaving OP").
+    pub leave_op_alarm: u16,
+    /// True if leaving OP re-initialises the drive (PDS back to Switch on disabled; MR-JET/MR-J5
+    /// §2.2, MR-J4-TM §2.2). MR-J3-T04 states no re-initialisation.
+    pub reinit_on_leaving_op: bool,
+    /// Alarm for an excessive following error (603Fh code).
+    pub following_error_alarm: u16,
+    /// Alarm for a command implying more than the maximum speed (603Fh code).
+    pub overspeed_alarm: u16,
+    /// True if controlword bit 8 HALT acts in csp/csv/cst (false: hm/profile modes only).
+    pub halt_in_cyclic_modes: bool,
+    /// Where the torque limits come from.
+    pub torque_limit_selection: TorqueLimitSelection,
+    /// SDO downloads the model refuses with a specific abort code: (index, sub, code).
+    pub sdo_write_refusals: &'static [(u16, u8, u32)],
+    /// Homing methods (6098h) the manual lists; empty where it lists none (MR-JET, MR-J5).
+    pub homing_methods: &'static [i8],
+    /// Of those, the data-set methods: home = the current position, no motion.
+    pub data_set_homing_methods: &'static [i8],
+    /// What a completed homing changes.
+    pub home_reference: HomeReference,
+    /// Warning raised while a stroke-end input (LSP/LSN) is OFF, where the sim models stroke
+    /// ends (MR-J3-T04 AL.99, §9.1); `None`: not modelled for this drive.
+    pub stroke_end_warning: Option<u16>,
+    /// (EM1 forced stop, main circuit off) warnings where the sim models those inputs
+    /// (MR-J3-T04 AL.E6 / AL.E9, §3.7); `None`: not modelled.
+    pub power_warnings: Option<(u16, u16)>,
+    /// Controlword2 bit of the csp manual stop C_MSTOP where modelled (MR-J3-T04 bit 8, §9.2).
+    pub manual_stop_bit: Option<u8>,
+    /// Home setting by Controlword2 edges in csp/csv (MR-J3-T04 §8.3); `None`: the model has
+    /// none.
+    pub home_setting: Option<HomeSetting>,
+    /// Store/restore objects (1010h/1011h) the SDO surface serves besides `objects`.
+    pub store_restore_objects: &'static [OdEntry],
+    /// How the PDO mapping may be changed by SDO, with the abort codes.
+    pub pdo_rules: PdoRules,
+    /// The axis-selection switch setting the amplifier refuses at power-on (MR-J5-G-N1 1-axis:
+    /// SW3-1 OFF / SW3-2 ON → AL.011.2, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4, TV-14); `None`: no such rule stated.
+    pub invalid_axis_switch: Option<InvalidAxisSwitch>,
+    /// FSoE (safety over EtherCAT) as the manual states it (MR-JET-G-N1, MR-JET-G-N1 manual §9.3);
+    /// `None`: the model has no FSoE.
+    pub fsoe: Option<FsoeFacts>,
+    /// Warning raised, with no motion, when a pp set-point asks for a relative move while the
+    /// position unit is degree (MR-J4-TM AL. F4.8, MR-J4-TM manual §5.4.6 bit 6); `None`: the manual
+    /// states no such rule.
+    pub relative_degree_warning: Option<u16>,
+    /// Whether alarms are also reported by CoE Emergency (ETG.1000.6 §5.6.2.1).
+    pub emergency: EmergencyFacts,
+    /// The servo parameters by their manual names, the parameter save and the alarm history.
+    pub parameters: &'static params::ParameterFacts,
+}
+
+impl DriveProfile {
+    /// True if the drive accepts `mode` in 6060h.
+    pub fn supports_mode(&self, mode: ModeOfOperation) -> bool {
+        self.modes.contains(&mode)
+    }
+
+    /// True if the drive can run its PDOs at `cycle`.
+    pub fn supports_cycle_time(&self, cycle: CycleTime) -> bool {
+        self.cycle_times_us.contains(&cycle.as_micros())
+    }
+
+    /// Cycles to hold Fault Reset at `cycle`: the model's minimum hold rounded up to whole cycles
+    /// (TV-5: 80 at 0.125 ms, 10 at 1 ms, 3 at 4 ms, 3 at 8 ms), never fewer than one.
+    pub fn fault_reset_hold(&self, cycle: CycleTime) -> Cycles {
+        let ms = if cycle.as_micros() >= self.long_cycle_from_us {
+            self.fault_reset_hold_long_cycle_ms
+        } else {
+            self.fault_reset_hold_ms
+        };
+        let n = cycle.cycles_for(Duration::from_millis(u64::from(ms)));
+        Cycles(n.0.max(1))
+    }
+
+    /// EtherCAT vendor ID, when a source documents it.
+    pub const fn vendor_id(&self) -> Option<u32> {
+        self.identity.vendor_id
+    }
+
+    /// EtherCAT product code, when a source documents it.
+    pub const fn product_code(&self) -> Option<u32> {
+        self.identity.product_code
+    }
+
+    /// The object-dictionary entry `index:sub`, if the profile lists it (the first of
+    /// [`DriveProfile::all_objects`]). A scan of every table: per-cycle lookups use an
+    /// [`ObjectIndex`].
+    pub fn object(&self, index: u16, sub: u8) -> Option<&'static OdEntry> {
+        self.all_objects()
+            .find(|o| o.index == index && o.sub == sub)
+    }
+
+    /// Every object-dictionary entry the profile lists: its objects, the store/restore
+    /// objects, the parameter objects and the parameter table's objects, in that order.
+    pub fn all_objects(&self) -> impl Iterator<Item = &'static OdEntry> + '_ {
+        self.objects
+            .iter()
+            .chain(self.store_restore_objects)
+            .chain(self.parameters.objects)
+            .chain(self.parameters.table.iter().map(|p| &p.object))
+    }
+
+    /// The alarm or warning with `code`, if the manual names it.
+    pub fn alarm(&self, code: u16) -> Option<&'static AlarmInfo> {
+        self.alarms.iter().find(|a| a.code == code)
+    }
+
+    /// True if a Fault Reset clears alarm `code` (codes the manual does not name are treated as
+    /// resettable, e.g. injected test alarms).
+    pub fn alarm_resettable(&self, code: u16) -> bool {
+        self.alarm(code).is_none_or(AlarmInfo::resettable)
+    }
+
+    /// The supported cycle times as text, e.g. "500, 1000, 2000 µs".
+    pub fn cycle_times_text(&self) -> String {
+        let v: Vec<String> = self.cycle_times_us.iter().map(u32::to_string).collect();
+        format!("{} µs", v.join(", "))
+    }
+
+    /// True if one station carries several axes (MR-J5W2/W3-G-N1).
+    pub const fn is_multi_axis(&self) -> bool {
+        self.axes_per_unit > 1
+    }
+
+    /// The index of axis-A object `index` on slot `slot` of this model's unit (MR-J5-G-N1 manual
+    /// §1.5 offsets on a multi-axis unit; `index` itself on a 1-axis drive's slot 0). `None` for
+    /// a slot the unit does not have.
+    pub const fn axis_object(&self, index: u16, slot: u8) -> Option<u16> {
+        if slot >= self.axes_per_unit {
+            None
+        } else if self.is_multi_axis() {
+            mr_j5_g_n1::axis_index(index, slot)
+        } else {
+            Some(index)
+        }
+    }
+
+    /// The slot and axis-A index of object `index` of this model's unit (the inverse of
+    /// [`DriveProfile::axis_object`]); `None` for the area of a slot the unit does not have.
+    pub const fn object_slot(&self, index: u16) -> Option<(u8, u16)> {
+        if self.is_multi_axis() {
+            mr_j5_g_n1::index_axis(index, self.axes_per_unit)
+        } else {
+            Some((0, index))
+        }
+    }
+
+    /// The most (RxPDO, TxPDO) bytes the whole amplifier exchanges at `cycle_us`; `None` where
+    /// the profile's table has no row for that cycle.
+    pub fn unit_pdo_limit(&self, cycle_us: u32) -> Option<(u16, u16)> {
+        self.unit_pdo_limits
+            .iter()
+            .find(|l| (l.from_us..=l.to_us).contains(&cycle_us))
+            .map(|l| (l.max_rx_bytes, l.max_tx_bytes))
+    }
+
+    /// The supported modes as text, e.g. "hm, csp, csv".
+    pub fn modes_text(&self) -> String {
+        let v: Vec<&str> = self.modes.iter().map(|m| m.as_str()).collect();
+        v.join(", ")
+    }
+}
+
+/// The static profile of `model`.
+pub fn profile(model: DriveModel) -> &'static DriveProfile {
+    match model {
+        DriveModel::MrJ5GN1 => &mr_j5_g_n1::PROFILE,
+        DriveModel::MrJ5W2GN1 => &mr_j5_g_n1::PROFILE_W2,
+        DriveModel::MrJ5W3GN1 => &mr_j5_g_n1::PROFILE_W3,
+        DriveModel::MrJ3T04 => &mr_j3_t04::PROFILE,
+        DriveModel::MrJ4TM => &mr_j4_tm::PROFILE,
+        DriveModel::MrJetGN1 => &mr_jet_g_n1::PROFILE,
+        DriveModel::GenericCia402 => &generic_cia402::PROFILE,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde::de::value::{Error as DeError, StrDeserializer};
+    use serde::de::IntoDeserializer;
+
+    #[test]
+    fn model_names() {
+        assert_eq!("mr-j5-g-n1".parse::<DriveModel>(), Ok(DriveModel::MrJ5GN1));
+        assert_eq!(DriveModel::MrJ5GN1.as_str(), "mr-j5-g-n1");
+        let e = "mr-j9".parse::<DriveModel>().unwrap_err().to_string();
+        assert!(e.contains("\"mr-j9\"") && e.contains("mr-j5-g-n1"), "{e}");
+        for m in DriveModel::ALL {
+            assert_eq!(profile(*m).model, *m);
+            assert_eq!(m.as_str().parse::<DriveModel>(), Ok(*m));
+            let de: StrDeserializer<'_, DeError> = m.as_str().into_deserializer();
+            assert_eq!(DriveModel::deserialize(de), Ok(*m));
+            assert!(e.contains(m.as_str()), "{e}");
+        }
+    }
+
+    #[test]
+    fn the_object_index_finds_what_the_scan_finds() {
+        for &m in DriveModel::ALL {
+            let p = profile(m);
+            let index = ObjectIndex::of(p);
+            for o in p.all_objects() {
+                let found = index.get(o.index, o.sub).map(|e| e as *const OdEntry);
+                let scanned = p.object(o.index, o.sub).map(|e| e as *const OdEntry);
+                assert_eq!(found, scanned, "{m:?} {:04X}h:{}", o.index, o.sub);
+            }
+            for (i, sub) in [(0x0000, 0), (0x60B0, 0), (0x6041, 9), (0xFFFF, 255)] {
+                assert_eq!(
+                    index.get(i, sub).is_some(),
+                    p.object(i, sub).is_some(),
+                    "{m:?} {i:04X}h:{sub}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn model_deserializes_from_its_config_name() {
+        let de: StrDeserializer<'_, DeError> = "mr-j5-g-n1".into_deserializer();
+        assert_eq!(DriveModel::deserialize(de), Ok(DriveModel::MrJ5GN1));
+        let de: StrDeserializer<'_, DeError> = "MrJ5GN1".into_deserializer();
+        assert!(DriveModel::deserialize(de).is_err());
+    }
+}
+
+/// A profile's object dictionary sorted by (index, sub): a lookup in O(log n) where
+/// [`DriveProfile::object`] scans every table (with the parameter tables, a lookup of an
+/// object the model lacks took hundreds of comparisons, in the simulated drives every cycle).
+/// Built once, off the RT thread; a lookup allocates nothing.
+#[derive(Debug, Clone)]
+pub struct ObjectIndex(std::sync::Arc<[&'static OdEntry]>);
+
+impl ObjectIndex {
+    /// The index of `profile`'s entries; where an (index, sub) appears twice, the first of
+    /// [`DriveProfile::all_objects`] (as [`DriveProfile::object`] finds it).
+    pub fn of(profile: &DriveProfile) -> ObjectIndex {
+        let mut all: Vec<(usize, &'static OdEntry)> = profile.all_objects().enumerate().collect();
+        all.sort_by_key(|&(k, o)| (o.index, o.sub, k));
+        all.dedup_by_key(|(_, o)| (o.index, o.sub));
+        ObjectIndex(all.into_iter().map(|(_, o)| o).collect())
+    }
+
+    /// The entry `index:sub`, if the profile lists it.
+    pub fn get(&self, index: u16, sub: u8) -> Option<&'static OdEntry> {
+        self.0
+            .binary_search_by_key(&(index, sub), |o| (o.index, o.sub))
+            .ok()
+            .map(|k| self.0[k])
+    }
+}

@@ -1,0 +1,413 @@
+//! Mitsubishi MR-J4-_TM_ with the ABCC-M40-ECT EtherCAT module, per the MR-J4-TM manual (
+//! SH(NA)030208 rev. E, **truncated after §5.4.10**: no §5.5–§5.12, §6, chapter 7; MR-J4-TM manual).
+
+use super::facts::{alarm, obj, od};
+use super::{AccelerationUnit, PositionUnit, Stated, TorqueUnit, VelocityUnit};
+use super::{
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
+    Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
+};
+use super::{HomeReference, TorqueLimitSelection};
+use crate::comm::CounterParams;
+use crate::fsa::FsaQuirks;
+use crate::mode::ModeOfOperation as M;
+use crate::pdo::PdoMap;
+use Access::{Ro, Rw};
+use DataType::{I16, I32, I8, U16, U32};
+use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
+
+/// Default RxPDO 1600h (csp/csv/cst/hm), 29 bytes, fields unaligned after the 1-byte 6060h
+/// (MR-J4-TM manual §3.3(1); offsets derived from the chapter 5 types).
+pub const RX_PDO_1600: PdoMap = PdoMap {
+    index: 0x1600,
+    entries: &[
+        obj(0x6060, 8),  // 0  Modes of operation
+        obj(0x6040, 16), // 1  Controlword
+        obj(0x2D01, 16), // 3  Control DI 1
+        obj(0x2D02, 16), // 5  Control DI 2
+        obj(0x2D03, 16), // 7  Control DI 3
+        obj(0x607A, 32), // 9  Target position
+        obj(0x60FF, 32), // 13 Target velocity
+        obj(0x2D20, 32), // 17 Velocity limit value
+        obj(0x6071, 16), // 21 Target torque
+        obj(0x60E0, 16), // 23 Positive torque limit value
+        obj(0x60E1, 16), // 25 Negative torque limit value
+        obj(0x60B8, 16), // 27 Touch probe function
+    ],
+};
+
+/// Default RxPDO 1601h (pp/pv/tq/hm, the PA01 `___2` profile-mode group), 45 bytes, with
+/// 6081h/6083h/6084h/6087h for the profile modes (MR-J4-TM manual §3.3(1); offsets derived).
+pub const RX_PDO_1601: PdoMap = PdoMap {
+    index: 0x1601,
+    entries: &[
+        obj(0x6060, 8),  // 0  Modes of operation
+        obj(0x6040, 16), // 1  Controlword
+        obj(0x2D01, 16), // 3  Control DI 1
+        obj(0x2D02, 16), // 5  Control DI 2
+        obj(0x2D03, 16), // 7  Control DI 3
+        obj(0x607A, 32), // 9  Target position
+        obj(0x60FF, 32), // 13 Target velocity
+        obj(0x2D20, 32), // 17 Velocity limit value
+        obj(0x6071, 16), // 21 Target torque
+        obj(0x6081, 32), // 23 Profile velocity
+        obj(0x6083, 32), // 27 Profile acceleration
+        obj(0x6084, 32), // 31 Profile deceleration
+        obj(0x6087, 32), // 35 Torque slope
+        obj(0x60E0, 16), // 39 Positive torque limit value
+        obj(0x60E1, 16), // 41 Negative torque limit value
+        obj(0x60B8, 16), // 43 Touch probe function
+    ],
+};
+
+/// Default TxPDO 1A00h, 41 bytes (MR-J4-TM manual §3.3(2)).
+pub const TX_PDO_1A00: PdoMap = PdoMap {
+    index: 0x1A00,
+    entries: &[
+        obj(0x6061, 8),  // 0  Modes of operation display
+        obj(0x6041, 16), // 1  Statusword
+        obj(0x2D11, 16), // 3  Status DO 1
+        obj(0x2D12, 16), // 5  Status DO 2
+        obj(0x2D13, 16), // 7  Status DO 3
+        obj(0x6064, 32), // 9  Position actual value
+        obj(0x606C, 32), // 13 Velocity actual value
+        obj(0x60F4, 32), // 17 Following error actual value
+        obj(0x6077, 16), // 21 Torque actual value
+        obj(0x60B9, 16), // 23 Touch probe status
+        obj(0x60BA, 32), // 25 Touch probe pos1 pos value
+        obj(0x60BB, 32), // 29 Touch probe pos1 neg value
+        obj(0x60BC, 32), // 33 Touch probe pos2 pos value
+        obj(0x60BD, 32), // 37 Touch probe pos2 neg value
+    ],
+};
+
+/// Alarm code encoding of this module: AL. XX.Y → 0x0XXY (AL. 86.1 → 0x0861); the alarm
+/// objects are in the missing §6.4.
+pub const AL_86_1: u16 = 0x0861;
+
+/// The master's check of the 2D24h echo (Watch dog counter UL = DL + 1, provisional): the
+/// algorithm's section is missing from the manual (MR-J4-TM manual §6.2), so the lag and the
+/// levels are the MR-J3-T04's placeholders; `[watchdogs]` `counter_*` override them.
+pub const MASTER_COUNTER_CHECK: CounterParams = super::mr_j3_t04::MASTER_COUNTER_CHECK;
+
+/// AL. F4.8: a relative pp set-point with the degree position unit (MR-J4-TM manual §5.4.6 bit 6, §9).
+pub const AL_F4_8: u16 = 0x0F48;
+/// AL. 90 Home position return incomplete warning (§9; stroke end in methods 3–6, §5.4.9).
+pub const AL_90: u16 = 0x0900;
+// Following-error and overspeed alarms: no alarm chapter in this manual (MR-J4-TM manual);
+// CiA 402 8611h (configurable) and 8400h [background].
+pub use crate::error_code::{FOLLOWING_ERROR, OVERSPEED};
+
+/// The alarms and warnings the seed names (MR-J4-TM manual; resettability mostly [MISSING]).
+#[rustfmt::skip]
+pub const ALARMS: &[AlarmInfo] = &[
+    alarm(0x0100, "AL. 10", "Undervoltage", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
+    alarm(0x0250, "AL. 25", "Absolute position erased", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
+    alarm(0x0370, "AL. 37", "Parameter error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§9 [EXT]: not cleared by fault reset"),
+    alarm(0x0690, "AL. 69", "Command error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
+    alarm(AL_86_1, "AL. 86.1", "Network communication error 1", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::FaultReset, "§2.4, §8.3; [EXT] clears with fault reset"),
+    alarm(AL_90, "AL. 90", "Home position return incomplete warning", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§9: the motor stops"),
+    alarm(0x0905, "AL. 90.5", "Z-phase unpassed", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§9"),
+    alarm(0x0920, "AL. 92", "Battery cable disconnection warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§9"),
+    alarm(0x09F0, "AL. 9F", "Battery warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§9"),
+    alarm(0x0E30, "AL. E3", "Absolute position counter warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§9"),
+    alarm(0x0F40, "AL. F4", "Positioning warning", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§9: reset by C_ORST"),
+    alarm(AL_F4_8, "AL. F4.8", "Positioning warning (relative pp in degree)", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§9"),
+    alarm(FOLLOWING_ERROR, "8611h", "Following error (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in this manual (no alarm chapter, §0): CiA 402 [background]"),
+    alarm(OVERSPEED, "8400h", "Overspeed (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in this manual (no alarm chapter, §0): CiA 402 [background]"),
+];
+
+/// The objects the runtime and the simulator use (MR-J4-TM manual, chapter 7 itself MISSING).
+#[rustfmt::skip]
+pub const OBJECTS: &[OdEntry] = &[
+    od(0x6098, 0, "Homing method", I8, Rw, No).default(-1).range(-43, 37).cite("§4.10: default −1 (seed; the general manual gives 37)"),
+    od(0x607C, 0, "Home offset", I32, Ro, No).default(0).units("pulse").cite("§4.10: always 0 without absolute position detection"),
+    od(0x6099, 1, "Speed during search for switch", U32, Rw, No).default(10_000).units("0.01 r/min").cite("§5.4.9: 10000; speed until the dog"),
+    od(0x6099, 2, "Speed during search for zero", U32, Rw, No).default(1_000).units("0.01 r/min").cite("§5.4.9: 1000; creep speed"),
+    od(0x609A, 0, "Homing acceleration", U32, Rw, No).default(0).units("ms").cite("§5.4.9: acceleration/deceleration time constant"),
+    od(0x60FD, 0, "Digital inputs", U32, Ro, No).cite("§5.4.9: stroke-end state; bits as CiA 402 [background]"),
+    od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).range(250_000, 2_000_000).units("ns").cite("§1.6: 250000/500000/1000000/2000000"),
+    od(0x2D20, 0, "Velocity limit value", I32, Rw, PdoRx).default(50_000).units("0.01 r/min").cite("§5.2; default 50000 vs 5000 unresolved (§13 q7)"),
+    od(0x2D23, 0, "Watch dog counter DL", DataType::Unstated, Access::Unstated, PdoRx).cite("§8.3: §6.2 MISSING (width, rule, alarm unknown)"),
+    od(0x2D24, 0, "Watch dog counter UL", DataType::Unstated, Access::Unstated, PdoTx).cite("§8.3: §6.2 MISSING"),
+    od(0x6040, 0, "Controlword", U16, Rw, PdoRx).default(0).cite("§3.4"),
+    od(0x6041, 0, "Statusword", U16, Ro, PdoTx).cite("§3.5"),
+    od(0x605A, 0, "Quick stop option code", I16, Rw, Pdo::Unstated).default(2).cite("§8.1: values in MISSING §5.6"),
+    od(0x605D, 0, "Halt option code", DataType::Unstated, Access::Unstated, Pdo::Unstated).cite("§8.2: values in MISSING §5.7"),
+    od(0x6060, 0, "Modes of operation", I8, Rw, PdoRx).default(8).cite("§1.3"),
+    od(0x6061, 0, "Modes of operation display", I8, Ro, PdoTx).default(8).cite("§1.3"),
+    od(0x6064, 0, "Position actual value", I32, Ro, PdoTx).units("pulse").cite("§5.3"),
+    od(0x606C, 0, "Velocity actual value", I32, Ro, PdoTx).units("0.01 r/min").cite("§4.2"),
+    od(0x6071, 0, "Target torque", I16, Rw, PdoRx).default(0).units("0.1 % rated").cite("§4.2"),
+    od(0x6077, 0, "Torque actual value", I16, Ro, PdoTx).units("0.1 % rated").cite("§5.3 (printed I32 in ch. 5, mapped 16 bits)"),
+    od(0x607A, 0, "Target position", I32, Rw, PdoRx).default(0).units("pulse").cite("§5.2"),
+    od(0x6085, 0, "Quick stop deceleration", U32, Rw, Pdo::Unstated).default(100).units("ms").cite("§8.1"),
+    od(0x60E0, 0, "Positive torque limit value", U16, Rw, PdoRx).default(10_000).units("0.1 % rated").cite("§8.6: 0 = no torque"),
+    od(0x60E1, 0, "Negative torque limit value", U16, Rw, PdoRx).default(10_000).units("0.1 % rated").cite("§8.6: 0 = no torque"),
+    od(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx).units("pulse").cite("§5.3"),
+    od(0x60FF, 0, "Target velocity", I32, Rw, PdoRx).default(0).units("0.01 r/min").cite("§4.2"),
+    od(0x607F, 0, "Max profile velocity", U32, Rw, Pdo::Unstated).default(2_000_000).units("0.01 r/min").cite("§4.7 (pp): limits 6081h"),
+    od(0x6081, 0, "Profile velocity", U32, Rw, PdoRx).default(10_000).units("0.01 r/min").cite("§4.7 (pp); mapped in 1601h (§5.2)"),
+    od(0x6083, 0, "Profile acceleration", U32, Rw, PdoRx).default(0).units("ms").cite("§4.7: acceleration time constant at the start of a move; 1601h"),
+    od(0x6084, 0, "Profile deceleration", U32, Rw, PdoRx).default(0).units("ms").cite("§4.7: deceleration time constant on arrival; 1601h"),
+    od(0x6080, 0, "Max motor speed", U32, Rw, Pdo::Unstated).units("r/min").cite("§4.7/§4.8: limits pp and pv; default \"(model)\": none here"),
+    od(0x6087, 0, "Torque slope", U32, Rw, PdoRx).default(0).units("0.1 %/s").cite("§4.9 (tq); 1601h"),
+    od(0x607D, 1, "Min position limit", I32, Rw, Pdo::Unstated).default(0).units("pulse").cite("§4.7: 607Dh:1, default 0 (0/0: disabled, §8.5)"),
+    od(0x607D, 2, "Max position limit", I32, Rw, Pdo::Unstated).default(0).units("pulse").cite("§4.7: 607Dh:2, default 0"),
+    od(0x606D, 0, "Velocity window", U16, Rw, Pdo::Unstated).default(2_000).units("0.01 r/min").cite("§4.8 (pv target reached)"),
+    od(0x606E, 0, "Velocity window time", U16, Rw, Pdo::Unstated).default(0).units("ms").cite("§4.8"),
+    od(0x606F, 0, "Velocity threshold", U16, Rw, Pdo::Unstated).default(5_000).units("0.01 r/min").cite("§4.8 (pv bit 12)"),
+    od(0x6070, 0, "Velocity threshold time", U16, Rw, Pdo::Unstated).default(10).units("ms").cite("§4.8"),
+    od(0x6067, 0, "Position window", DataType::Unstated, Rw, Pdo::Unstated).units("pulse").cite("§4.7 (pp target reached); type and default in MISSING ch. 7 (§13 q4)"),
+    od(0x6068, 0, "Position window time", DataType::Unstated, Rw, Pdo::Unstated).units("ms").cite("§4.7; type and default in MISSING ch. 7 (§13 q4)"),
+];
+
+/// Encoder and units (MR-J4-TM manual, §4.2).
+pub const UNITS: Units = Units {
+    counts_per_rev: Some(4_194_304),
+    other_counts_per_rev: &[],
+    position: PositionUnit::Count,
+    velocity: Stated::Manual(VelocityUnit::CENTI_RPM),
+    linear_motors: true,
+    command_truncation_exp10: None,
+    acceleration: Stated::Manual(AccelerationUnit::TimeConstantMs),
+    torque: TorqueUnit::PerMilleOfRated,
+    source: "MR-J4-TM manual §1.2 (22-bit rotary encoder), §4.2 (Vel unit 0.01 r/min or 0.01 mm/s \
+             for 60FFh/606Ch/6081h/6099h/2D20h; 6083h–6085h time constants in ms; torque objects \
+             0.1 %)",
+};
+
+/// The MR-J4-TM profile (PA01 = `___0`/`___1`: the cyclic group csp/csv/cst/hm).
+///
+/// Identity: vendor/product only from an external source ([EXT] linuxcnc-ethercat), so `None`
+/// here per the spec rule (manual silent). Cycles 0.25–2 ms (§1.6; no 0.125, 4 or 8 ms). Quirks:
+/// skips allowed (§3.2), quick stop present, **never returns from Quick stop active** (16 not
+/// supported, §3.3). Fault reset held ≥ 10 ms (§3.2).
+pub const PROFILE: DriveProfile = DriveProfile {
+    model: DriveModel::MrJ4TM,
+    name: "Mitsubishi MR-J4-TM",
+    identity: Identity {
+        vendor_id: None,
+        product_code: None,
+        revision: None,
+        source: "MR-J4-TM manual: not in the manual; [EXT] 0x00000A1E / 0x00000201 unverified",
+    },
+    // §1.3: the PA01 groups are exclusive; the default group is csp/csv/cst/hm ([EXT]/[G]).
+    modes: &[
+        M::Homing,
+        M::CyclicSyncPosition,
+        M::CyclicSyncVelocity,
+        M::CyclicSyncTorque,
+    ],
+    cycle_times_us: &[250, 500, 1000, 2000],
+    rx_pdo: RX_PDO_1600,
+    tx_pdo: TX_PDO_1A00,
+    quirks: FsaQuirks {
+        shortcut_transitions: true,
+        has_quick_stop: true,
+        quick_stop_returns_to_enabled: false,
+        quick_stop_options_5_to_8: false,
+    },
+    fault_reset_hold_ms: 10,
+    fault_reset_hold_long_cycle_ms: 10,
+    long_cycle_from_us: u32::MAX,
+    axes_per_unit: 1,
+    unit_pdo_limits: &[],
+    units: UNITS,
+    objects: OBJECTS,
+    alarms: ALARMS,
+    comm_check: CommCheck::WatchdogCounter {
+        rx_index: 0x2D23,
+        tx_index: 0x2D24,
+        loss_alarm: AL_86_1,
+        master: MASTER_COUNTER_CHECK,
+    },
+    leave_op_alarm: AL_86_1,
+    // §10: leaving Op clears the internal state (servo off, SOD) [D].
+    reinit_on_leaving_op: true,
+    following_error_alarm: FOLLOWING_ERROR,
+    overspeed_alarm: OVERSPEED,
+    // §8.2: bit 8 is reserved in csp/csv/cst.
+    halt_in_cyclic_modes: false,
+    torque_limit_selection: TorqueLimitSelection::Objects,
+    sdo_write_refusals: &[
+        // §12 TV-10: the shift time 1C32h:03 is not settable (0609 0030h).
+        (0x1C32, 3, 0x0609_0030),
+    ],
+    // §4.10.1: the 39 methods of 60E3h (−3 data set, 35/37 current position).
+    homing_methods: &[
+        -1, -33, -2, -34, -3, -4, -36, -6, -38, -7, -39, -8, -40, -9, -41, -10, -42, -11, -43, 3,
+        4, 5, 6, 7, 8, 11, 12, 19, 20, 21, 22, 23, 24, 27, 28, 33, 34, 35, 37,
+    ],
+    data_set_homing_methods: &[-3, 35, 37],
+    home_reference: HomeReference::PositionPreset,
+    stroke_end_warning: None,
+    power_warnings: None,
+    manual_stop_bit: None,
+    home_setting: None,
+    store_restore_objects: &[],
+    pdo_rules: PdoRules {
+        // §5.1: 1C12h:0 = 1C13h:0 = 1 read-only; sub 1 selects one of 1600h–1603h / 1A00h–1A03h.
+        assignment: PdoAssignment::FixedCount,
+        source: "MR-J4-TM manual §3.2, §3.4 (32 objects, 64 bytes, only in PRE-OP), §6.2 (the same abort list as the MR-JET)",
+        ..super::mr_jet_g_n1::PDO_RULES
+    },
+    invalid_axis_switch: None,
+    fsoe: None,
+    relative_degree_warning: Some(AL_F4_8),
+    emergency: EMERGENCY,
+    parameters: &super::params::MR_J4_TM,
+};
+
+/// The PA01 `___2` profile-mode group: pp, pv, tq and hm with the 1601h RxPDO, initial mode pp
+/// (MR-J4-TM manual §1.1(2), §5.4.1 table, §5.2). Never available together with csp/csv/cst (§1.3 [EXT]), so it
+/// is a profile of its own; select it with [`ModeGroup::Profile`]. Everything else as
+/// [`PROFILE`].
+pub const PROFILE_MODE_GROUP: DriveProfile = DriveProfile {
+    name: "Mitsubishi MR-J4-TM (PA01 ___2, profile mode)",
+    modes: &[
+        M::ProfilePosition,
+        M::ProfileVelocity,
+        M::ProfileTorque,
+        M::Homing,
+    ],
+    rx_pdo: RX_PDO_1601,
+    ..PROFILE
+};
+
+/// The control-mode group selected by [Pr. PA01] (last digit, MR-J4-TM manual §1.1(2), §5.4.1 / manual
+/// §5.4.1): the drive parameter that decides which modes 6060h accepts. The default is the
+/// cyclic group (`___0`/`___1`, 6061h = 8 at start-up).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ModeGroup {
+    /// PA01 `___0` (automatic, [G]) or `___1`: csp, csv, cst, hm with 1600h ([`PROFILE`]).
+    #[default]
+    CyclicSynchronous,
+    /// PA01 `___2`: pp, pv, tq, hm with 1601h ([`PROFILE_MODE_GROUP`]).
+    Profile,
+}
+
+impl ModeGroup {
+    /// The drive profile of this group.
+    pub const fn profile(self) -> &'static DriveProfile {
+        match self {
+            ModeGroup::CyclicSynchronous => &PROFILE,
+            ModeGroup::Profile => &PROFILE_MODE_GROUP,
+        }
+    }
+
+    /// The mode 6060h/6061h hold at start-up (§1.3 table "Default 6060h/6061h").
+    pub const fn initial_mode(self) -> M {
+        match self {
+            ModeGroup::CyclicSynchronous => M::CyclicSyncPosition,
+            ModeGroup::Profile => M::ProfilePosition,
+        }
+    }
+}
+
+/// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
+pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
+    sends: true,
+    source:
+        "MR-J4-TM manual §4.1 (\"Alarms are reported by CoE Emergency\"), §8.10 (payload [MISSING])",
+};
+
+/// Likely causes of a refused state change (bring-up names those that fit beside the AL status
+/// code). The AL. 37 clearing class is not in the MR-J4-TM manual: it is from a reading of the
+/// troubleshooting manual (SH(NA)030109) outside the manuals cellrt follows, marked so.
+pub const BRING_UP_CAUSES: &[super::BringUpCause] = &[
+    super::BringUpCause {
+        al_codes: &[],
+        modes: &[M::CyclicSyncPosition, M::CyclicSyncVelocity, M::CyclicSyncTorque],
+        free_run_only: false,
+        cause: "csp, csv and cst run only with [Pr. PA01] last digit 0 or 1 (the cyclic synchronous group); PA01 ___2 selects the profile modes pp/pv/tq instead",
+        source: "MR-J4-TM manual §5.4.1, §1.1(2)",
+    },
+    super::BringUpCause {
+        al_codes: &[],
+        modes: &[M::CyclicSyncPosition, M::CyclicSyncVelocity, M::CyclicSyncTorque],
+        free_run_only: true,
+        cause: "software B3 or earlier runs csp/csv/cst only in DC mode (free-run answers \"state transition not allowed\"); set distributed_clocks = true",
+        source: "MR-J4-TM manual §1.1(2) Note 1, §1.3",
+    },
+    super::BringUpCause {
+        al_codes: &[],
+        modes: &[],
+        free_run_only: false,
+        cause: "AL. 37 (parameter error, e.g. 6091h gear ratio other than 1 in the cyclic synchronous modes on software B2 or earlier) clears only with a communication reset (AL state back to INIT) or a power cycle, not with a fault reset (clearing class from the troubleshooting manual SH(NA)030109, outside the manuals cellrt follows: verify)",
+        source: "MR-J4-TM manual §5.4.3(2)",
+    },
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cycles::CycleTime;
+
+    #[test]
+    fn tv_6_rx_1600h_offsets_unaligned() {
+        // TV-6 step 2 bytes 0, 1–2, 9–12, 17–20, 23–24, 25–26 of the 29-byte 1600h.
+        let m = &PROFILE.rx_pdo;
+        assert_eq!(m.byte_len(), 29);
+        let expect = [
+            (0x6060, 0),
+            (0x6040, 1),
+            (0x2D01, 3),
+            (0x2D02, 5),
+            (0x2D03, 7),
+            (0x607A, 9),
+            (0x60FF, 13),
+            (0x2D20, 17),
+            (0x6071, 21),
+            (0x60E0, 23),
+            (0x60E1, 25),
+            (0x60B8, 27),
+        ];
+        for (idx, off) in expect {
+            assert_eq!(m.offset_of(idx, 0), Some(off), "{idx:#06x}");
+        }
+        assert!(!m.has_counter(), "2D23h is not in the default map");
+    }
+
+    #[test]
+    fn tx_1a00h_offsets() {
+        let m = &PROFILE.tx_pdo;
+        assert_eq!(m.byte_len(), 41);
+        for (idx, off) in [
+            (0x6061, 0),
+            (0x6041, 1),
+            (0x6064, 9),
+            (0x606C, 13),
+            (0x60F4, 17),
+            (0x6077, 21),
+            (0x60B9, 23),
+            (0x60BD, 37),
+        ] {
+            assert_eq!(m.offset_of(idx, 0), Some(off), "{idx:#06x}");
+        }
+    }
+
+    #[test]
+    fn cycles_and_modes() {
+        for us in [250, 500, 1000, 2000] {
+            assert!(PROFILE.supports_cycle_time(CycleTime::from_micros(us).unwrap()));
+        }
+        for us in [125, 4000, 8000] {
+            assert!(!PROFILE.supports_cycle_time(CycleTime::from_micros(us).unwrap()));
+        }
+        assert!(PROFILE.supports_mode(M::CyclicSyncTorque));
+        assert!(!PROFILE.supports_mode(M::ProfilePosition));
+        let pm = ModeGroup::Profile.profile();
+        assert!(pm.supports_mode(M::ProfilePosition) && pm.supports_mode(M::Homing));
+        assert!(
+            !pm.supports_mode(M::CyclicSyncPosition),
+            "the groups are exclusive"
+        );
+        assert_eq!(pm.rx_pdo.byte_len(), 45, "1601h is 45 bytes (§5.2)");
+        assert_eq!(pm.rx_pdo.offset_of(0x6081, 0), Some(23));
+        assert_eq!(pm.rx_pdo.offset_of(0x60B8, 0), Some(43));
+        assert_eq!(ModeGroup::default().profile(), &PROFILE);
+        assert_eq!(PROFILE.vendor_id(), None);
+        assert_eq!(PROFILE.units.counts_per_rev, Some(4_194_304));
+    }
+}

@@ -1,0 +1,417 @@
+//! Mitsubishi MR-JET-G-N1, per the MR-JET-G-N1 manual ( IB(NA)-0300500ENG-H).
+
+use super::facts::{alarm, obj, od};
+use super::{AccelerationUnit, PositionUnit, Stated, TorqueUnit, VelocityUnit};
+use super::{
+    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
+    FsoeCommandBits, FsoeFacts, FsoeFrameLayout, FsoeStatusBits, Identity, OdEntry, Pdo,
+    PdoAssignment, PdoRules, SafeBit, StopBehaviour, Units,
+};
+use super::{HomeReference, TorqueLimitSelection};
+use crate::cycles::ALLOWED_MICROS;
+use crate::fsa::FsaQuirks;
+use crate::mode::ModeOfOperation as M;
+use crate::pdo::{PdoEntry, PdoMap};
+use Access::{Ro, Rw};
+use DataType::{I16, I32, I8, U16, U32, U8};
+use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
+
+/// Default 1st RxPDO 1600h, 24 bytes (MR-JET-G-N1 manual §4.3; sizes inferred from the total).
+pub const RX_PDO_1600: PdoMap = PdoMap {
+    index: 0x1600,
+    entries: &[
+        obj(0x6060, 8),       // 0  Modes of operation
+        PdoEntry::padding(8), // 1  padding
+        obj(0x6040, 16),      // 2  Controlword
+        obj(0x2D01, 16),      // 4  Control DI 1
+        obj(0x2D02, 16),      // 6  Control DI 2
+        obj(0x2D03, 16),      // 8  Control DI 3
+        obj(0x607A, 32),      // 10 Target position
+        obj(0x60FF, 32),      // 14 Target velocity
+        obj(0x2D20, 32),      // 18 Velocity limit value
+        obj(0x6071, 16),      // 22 Target torque
+    ],
+};
+
+/// Default 1st TxPDO 1A00h, 24 bytes (MR-JET-G-N1 manual §4.3).
+pub const TX_PDO_1A00: PdoMap = PdoMap {
+    index: 0x1A00,
+    entries: &[
+        obj(0x6061, 8),       // 0  Modes of operation display
+        PdoEntry::padding(8), // 1  padding
+        obj(0x6041, 16),      // 2  Statusword
+        obj(0x2D11, 16),      // 4  Status DO 1
+        obj(0x2D12, 16),      // 6  Status DO 2
+        obj(0x2D13, 16),      // 8  Status DO 3
+        obj(0x6064, 32),      // 10 Position actual value
+        obj(0x606C, 32),      // 14 Velocity actual value
+        obj(0x60F4, 32),      // 18 Following error actual value
+        obj(0x6077, 16),      // 22 Torque actual value
+    ],
+};
+
+/// Alarm code encoding: AL.XXX.Y → 0xXXXY (AL.086.1 → 0x0861); no alarm object in the manual.
+pub const AL_086_1: u16 = 0x0861;
+/// AL.037 Parameter error (§1.2, §8.2: e.g. an infinite-feed gear whose reduced m ≥ 16384).
+pub const AL_037: u16 = 0x0370;
+/// Infinite feed (PT85.0 = 1): the reduced numerator m of 2^32 × cmx / (fbpm × cdv) must be
+/// below this (§8.2).
+pub const INFINITE_FEED_MAX_M: u64 = 16384;
+
+/// The infinite-feed gear check of §8.2 (TV-13): reduces 2^32 × cmx / (fbpm × cdv) to m/n
+/// and returns it, or [`AL_037`] when m ≥ [`INFINITE_FEED_MAX_M`] or a term is zero.
+/// `cmx`/`cdv` are the electronic gear [Pr. PA06]/[Pr. PA07], `fbpm` the encoder pulses/rev.
+pub fn infinite_feed_gear(cmx: u32, cdv: u32, fbpm: u32) -> Result<(u64, u64), u16> {
+    if cmx == 0 || cdv == 0 || fbpm == 0 {
+        return Err(AL_037);
+    }
+    let num = (1u128 << 32) * u128::from(cmx);
+    let den = u128::from(fbpm) * u128::from(cdv);
+    let (mut a, mut b) = (num, den);
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    let (m, n) = (num / a, den / a);
+    if m >= u128::from(INFINITE_FEED_MAX_M) {
+        return Err(AL_037);
+    }
+    Ok((m as u64, n as u64))
+}
+/// AL.537.2 Parameter combination error A (safety sub-function) (§7.1, §9; the triggering
+/// combination is [garbled] in the manual and not simulated).
+pub const AL_537_2: u16 = 0x5372;
+/// AL.584.1 FSoE Address mismatch error (safety sub-function): [Pr. PSC07] differs from the
+/// address configured in the FSoE master (§7.1, §9).
+pub const AL_584_1: u16 = 0x5841;
+
+/// The FSoE frame in the safety PDOs 1608h / 1A08h, 11 bytes each way (§5.4): Command at 0,
+/// SafeData[0] at 1, SafeData[1] at 2, CRC_0 at 3–4, SafeData[2] at 5, SafeData[3] at 6, CRC_1
+/// at 7–8, ConnectionID at 9–10.
+pub const FSOE_FRAME: FsoeFrameLayout = FsoeFrameLayout {
+    len: 11,
+    command: 0,
+    safe_data: [1, 2, 5, 6],
+    crc: [3, 7],
+    connection_id: 9,
+};
+
+/// SafeData commands, master → slave (§7.2 first table; F701h sub-indexes). 0 = function
+/// active. Bits 2–4 of SafeData[0], bit 4 of SafeData[1], bits 1–7 of SafeData[2] and all of
+/// SafeData[3] are "not available" (sent as 0).
+pub const FSOE_COMMANDS: FsoeCommandBits = FsoeCommandBits {
+    sto: SafeBit::new(0, 0, 0x01),
+    ss1: SafeBit::new(0, 1, 0x02),
+    sdip: SafeBit::new(0, 5, 0x04),
+    sdin: SafeBit::new(0, 6, 0x05),
+    error_ack: SafeBit::new(0, 7, 0x06),
+    sls: [
+        SafeBit::new(1, 0, 0x07),
+        SafeBit::new(1, 1, 0x08),
+        SafeBit::new(1, 2, 0x09),
+        SafeBit::new(1, 3, 0x0A),
+    ],
+    slt: [
+        SafeBit::new(1, 5, 0x0C),
+        SafeBit::new(1, 6, 0x0D),
+        SafeBit::new(1, 7, 0x0E),
+        SafeBit::new(2, 0, 0x0F),
+    ],
+};
+
+/// SafeData status, slave → master (§7.2 second table; F601h sub-indexes). 1 = active.
+pub const FSOE_STATUS: FsoeStatusBits = FsoeStatusBits {
+    sto: SafeBit::new(0, 0, 0x01),
+    ssm: SafeBit::new(0, 1, 0x02),
+    error: SafeBit::new(0, 7, 0x04),
+    ss1: SafeBit::new(1, 0, 0x05),
+    sdip: SafeBit::new(1, 2, 0x07),
+    sdin: SafeBit::new(1, 3, 0x08),
+    sls: [
+        SafeBit::new(1, 4, 0x09),
+        SafeBit::new(1, 5, 0x0A),
+        SafeBit::new(1, 6, 0x0B),
+        SafeBit::new(1, 7, 0x0C),
+    ],
+    sbc: SafeBit::new(2, 0, 0x0D),
+    slt: [
+        SafeBit::new(2, 2, 0x0F),
+        SafeBit::new(2, 3, 0x10),
+        SafeBit::new(2, 4, 0x11),
+        SafeBit::new(2, 5, 0x12),
+    ],
+};
+
+/// The FSoE objects as far as the manual states them (§6 table, §7.1; types and access of
+/// E600h/E700h/E901h are not stated).
+#[rustfmt::skip]
+pub const FSOE_OBJECTS: &[OdEntry] = &[
+    od(0x1608, 0, "9th Receive PDO Mapping (safety)", U8, Ro, No).default(0x24).cite("§5.1, §5.4: 36 entries, fixed (§4.4's \"1 to 104\" conflicts; 36 used)"),
+    od(0x1A08, 0, "9th Transmit PDO Mapping (safety)", U8, Ro, No).default(0x24).cite("§5.1, §5.4: 36 entries, fixed"),
+    od(0xE600, 1, "FSoE Slave Command", DataType::Unstated, Ro, PdoTx).cite("§6: type not stated; ro [background]"),
+    od(0xE600, 2, "FSoE Slave ConnectionID", DataType::Unstated, Ro, PdoTx).cite("§6, §5.4: 2 bytes in the frame"),
+    od(0xE600, 3, "FSoE Slave CRC_0", DataType::Unstated, Ro, PdoTx).cite("§6, §5.4: 2 bytes in the frame"),
+    od(0xE600, 4, "FSoE Slave CRC_1", DataType::Unstated, Ro, PdoTx).cite("§6, §5.4: 2 bytes in the frame"),
+    od(0xE700, 1, "FSoE Master Command", DataType::Unstated, Access::Unstated, PdoRx).cite("§6: type and access not stated"),
+    od(0xE700, 2, "FSoE Master ConnectionID", DataType::Unstated, Access::Unstated, PdoRx).cite("§6, §5.4: 2 bytes in the frame"),
+    od(0xE700, 3, "FSoE Master CRC_0", DataType::Unstated, Access::Unstated, PdoRx).cite("§6, §5.4: 2 bytes in the frame"),
+    od(0xE700, 4, "FSoE Master CRC_1", DataType::Unstated, Access::Unstated, PdoRx).cite("§6, §5.4: 2 bytes in the frame"),
+    od(0xE901, 4, "Watchdog Time", DataType::Unstated, Access::Unstated, No).units("ms").cite("§7.1 item 4, §7.3: set by the master's connection parameter set; shows the value received"),
+    od(0xE901, 7, "Communication Parameter Length", DataType::Unstated, Access::Unstated, No).cite("§7.1 item 4"),
+    od(0xE901, 8, "Application Parameter Length", DataType::Unstated, Access::Unstated, No).cite("§7.1 item 4"),
+];
+
+/// FSoE on the MR-JET-G-N1 (FW D8 or later; §5.4, §6, §7). The watchdog minimum is the
+/// manual's T_Ref + 4 × T_Com = 15 ms + 4 × 0.25 ms = 16 ms (§7.3); FSoE needs a cycle of at
+/// least 0.25 ms (**[inferred]** from §4.4's size table and §9.3's "250 µs or longer", §1.3).
+/// PSC07's range is printed "1 to 65355" (**[garbled]**); 1–65535 is used.
+pub const FSOE: FsoeFacts = FsoeFacts {
+    rx_pdo: 0x1608,
+    tx_pdo: 0x1A08,
+    mapping_entries: 0x24,
+    frame: FSOE_FRAME,
+    commands: FSOE_COMMANDS,
+    status: FSOE_STATUS,
+    command_object: 0xF701,
+    status_object: 0xF601,
+    master_frame_object: 0xE700,
+    slave_frame_object: 0xE600,
+    info_object: 0xE901,
+    watchdog_sub: 0x04,
+    comm_param_len_sub: 0x07,
+    app_param_len_sub: 0x08,
+    t_ref_us: 15_000,
+    t_com_min_us: 250,
+    watchdog_min_ms: 16,
+    min_cycle_us: 250,
+    address_range: (1, 65535),
+    address_mismatch_alarm: AL_584_1,
+    objects: FSOE_OBJECTS,
+};
+
+// Following-error and overspeed alarms: the manual has no alarm list (§9); CiA 402 8611h and
+// 8400h [background].
+pub use crate::error_code::{FOLLOWING_ERROR, OVERSPEED};
+
+/// The alarms and warnings the manual names (MR-JET-G-N1 manual; no stop methods there).
+#[rustfmt::skip]
+pub const ALARMS: &[AlarmInfo] = &[
+    alarm(0x0250, "AL.025", "Absolute position erased", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9, §8"),
+    alarm(0x0251, "AL.025.1", "Servo motor encoder absolute position erased", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§8: cycle the power after 5 s"),
+    alarm(AL_037, "AL.037", "Parameter error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§1.2, §8.2"),
+    alarm(AL_086_1, "AL.086.1", "Network receive data error (Network communication error 1)", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§2.4: PN18 / 10F1h:02, counting rule not given"),
+    alarm(0x0901, "AL.090.1", "Homing incomplete", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§8"),
+    alarm(0x0905, "AL.090.5", "Homing incomplete warning", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§8.2"),
+    alarm(0x09E9, "AL.09E.9", "Control mode setting warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§1.4"),
+    alarm(0x0E31, "AL.0E3.1", "Multi-revolution counter travel distance exceeded warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§8, §8.2"),
+    alarm(AL_537_2, "AL.537.2", "Parameter combination error A (safety)", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
+    alarm(AL_584_1, "AL.584.1", "FSoE Address mismatch error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
+    alarm(FOLLOWING_ERROR, "8611h", "Following error (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in the manual (§9 has no complete list): CiA 402 [background]"),
+    alarm(OVERSPEED, "8400h", "Overspeed (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in the manual: CiA 402 [background]"),
+];
+
+/// 1010h:01 / 1011h:01 store and restore (MR-JET-G-N1 manual, manual §3.2; MR-J5 the same,
+/// MR-J5-G-N1 manual and TV-12), served by the simulator's SDO surface.
+#[rustfmt::skip]
+pub const STORE_RESTORE_OBJECTS: &[OdEntry] = &[
+    od(0x1010, 1, "Save all parameters", U32, Rw, No).default(1).cite("§6 (manual §3.2): write 65766173h; bit0 = 0 while saving (about 25 s)"),
+    od(0x1011, 1, "Restore all default parameters", U32, Rw, No).default(1).cite("§6 (manual §3.2): write 64616F6Ch; any other value is an error"),
+];
+
+/// The objects the runtime and the simulator use (MR-JET-G-N1 manual).
+#[rustfmt::skip]
+pub const OBJECTS: &[OdEntry] = &[
+    od(0x10F1, 2, "Sync Error Counter Limit", DataType::Unstated, Access::Unstated, No).units("events").cite("§2.4: type, default, counting rule not stated"),
+    od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).range(125_000, 8_000_000).units("ns [background]").cite("§1.3, §6"),
+    od(0x2D01, 0, "Control DI 1", U16, Rw, PdoRx).default(0).cite("§6"),
+    od(0x2D20, 0, "Velocity limit value", DataType::Unstated, Access::Unstated, PdoRx).cite("§6: 4 bytes inferred"),
+    od(0x6040, 0, "Controlword", U16, Rw, PdoRx).default(0).cite("§3.3"),
+    od(0x6041, 0, "Statusword", U16, Ro, PdoTx).cite("§3.4"),
+    od(0x605A, 0, "Quick stop option code", DataType::Unstated, Access::Unstated, Pdo::Unstated).range(1, 8).cite("§3.5: 5–8 FW D0 or later; default not stated"),
+    od(0x6060, 0, "Modes of operation", I8, Rw, PdoRx).default(8).cite("§1.2"),
+    od(0x6061, 0, "Modes of operation display", I8, Ro, PdoTx).default(8).cite("§1.2"),
+    od(0x6064, 0, "Position actual value", I32, Ro, PdoTx).units("pos units").cite("§6 (type inferred)"),
+    od(0x606C, 0, "Velocity actual value", I32, Ro, PdoTx).units("not stated").cite("§6"),
+    od(0x6071, 0, "Target torque", I16, Rw, PdoRx).default(0).units("0.1 % rated [background]").cite("§6"),
+    od(0x6077, 0, "Torque actual value", I16, Ro, PdoTx).units("0.1 % rated [background]").cite("§6"),
+    od(0x607A, 0, "Target position", I32, Rw, PdoRx).default(0).units("pos units").cite("§6"),
+    od(0x60E0, 0, "Positive torque limit value", DataType::Unstated, Access::Unstated, Pdo::Unstated).units("0.1 % rated").cite("§6: = PA11"),
+    od(0x60E1, 0, "Negative torque limit value", DataType::Unstated, Access::Unstated, Pdo::Unstated).units("0.1 % rated").cite("§6: = PA12"),
+    od(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx).units("pos units").cite("§6"),
+    od(0x60FF, 0, "Target velocity", I32, Rw, PdoRx).default(0).units("not stated").cite("§6"),
+    od(0x6502, 0, "Supported drive modes", U32, Ro, No).default(0x0003_03AD).cite("§1.2: bits 0, 2, 3, 5, 7, 8, 9, 16, 17"),
+    od(0x6081, 0, "Profile velocity", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
+    od(0x6083, 0, "Profile acceleration", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
+    od(0x6084, 0, "Profile deceleration", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
+    od(0x6087, 0, "Torque slope", U32, Rw, PdoRx).units("not stated").cite("§4.1 (tq, recommended in the RxPDO) / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated (0.1 %/s: CiA 402 [background])"),
+    od(0x607D, 1, "Min position limit", I32, Rw, Pdo::Unstated).units("pulse").cite("§8.1: 607Dh named only, unusable without a home set in the drive; type I32 and 0/0 = disabled: CiA 402 [background]"),
+    od(0x607D, 2, "Max position limit", I32, Rw, Pdo::Unstated).units("pulse").cite("§8.1: as 607Dh:1"),
+    od(0x60B0, 0, "Position offset", I32, Rw, Pdo::Unstated).default(0).units("pulse").cite("§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])"),
+];
+
+/// Encoder and units (MR-JET-G-N1 manual): 2^26 appears only as an example resolution.
+pub const UNITS: Units = Units {
+    counts_per_rev: None,
+    other_counts_per_rev: &[67_108_864],
+    position: PositionUnit::Count,
+    velocity: Stated::Unstated(VelocityUnit::CENTI_RPM),
+    linear_motors: true,
+    command_truncation_exp10: None,
+    acceleration: Stated::Unstated(AccelerationUnit::TimeConstantMs),
+    torque: TorqueUnit::PerMilleOfRated,
+    source: "MR-JET-G-N1 manual §8 (2^26 pulses/rev only in the infinite-feed example; torque \
+             limits 0.1 %); the velocity and acceleration units are in the separate object \
+             dictionary manual: default 0.01 r/min and ms time constants as on the MR-J4-TM \
+             (Mitsubishi's convention), configurable (motor.velocity_unit)",
+};
+
+/// The variable-mapping rules of the MR-JET-G-N1 (and the MR-J5-G-N1 1-axis unit, whose
+/// manual states the same limits: MR-J5-G-N1 manual §2.1, §4.4).
+pub const PDO_RULES: PdoRules = PdoRules {
+    max_entries: 32,
+    max_rx_bytes: 64,
+    max_tx_bytes: 64,
+    rx_mappable: &[],
+    tx_mappable: &[],
+    // The family's abort list (MR-JET-G-N1 manual §5) has no 0604 0041h/0604 0042h: a mapping
+    // the drive cannot take is answered with 0604 0043h (general parameter
+    // incompatibility), and a write the state forbids with 0800 0022h (present device
+    // state); the manual states neither case [D].
+    not_mappable_abort: 0x0604_0043,
+    too_long_abort: 0x0604_0043,
+    locked_abort: 0x0800_0022,
+    mapped_write_abort: 0x0601_0006,
+    wrong_state_abort: 0x0800_0022,
+    sync_mismatch_alarms: &[],
+    assignment: PdoAssignment::Writable,
+    frozen_after_safe_op: false,
+    source:
+        "MR-JET-G-N1 manual §2.1, §4.4 (32 objects, 64 bytes, only in PRE-OP), §6.2; MR-J5-G-N1 manual §2.1, §4.4, §4.2",
+};
+
+/// The MR-JET-G-N1 profile (PA01.0 = 0, PT01.2 = pulse: pp, pv, tq, hm, csp, csv, cst; jg/pt
+/// need PA01.0 = 6 and are not modes this crate models).
+pub const PROFILE: DriveProfile = DriveProfile {
+    model: DriveModel::MrJetGN1,
+    name: "Mitsubishi MR-JET-G-N1",
+    identity: Identity {
+        vendor_id: None,
+        product_code: None,
+        revision: None,
+        source: "MR-JET-G-N1 manual §1.1, §2.1: not in this manual (in the ESI file)",
+    },
+    modes: &[
+        M::ProfilePosition,
+        M::ProfileVelocity,
+        M::ProfileTorque,
+        M::Homing,
+        M::CyclicSyncPosition,
+        M::CyclicSyncVelocity,
+        M::CyclicSyncTorque,
+    ],
+    cycle_times_us: &ALLOWED_MICROS,
+    rx_pdo: RX_PDO_1600,
+    tx_pdo: TX_PDO_1A00,
+    // (16) only with 605Ah 5–8 on FW D0+ (§7.1); the default option code is in 1–4 (§3.5)
+    // [inferred]: the simulated drive has no 605Ah value until one is written.
+    quirks: FsaQuirks {
+        shortcut_transitions: true,
+        has_quick_stop: true,
+        quick_stop_returns_to_enabled: false,
+        quick_stop_options_5_to_8: true,
+    },
+    fault_reset_hold_ms: 10,
+    fault_reset_hold_long_cycle_ms: 20,
+    long_cycle_from_us: 8000,
+    axes_per_unit: 1,
+    unit_pdo_limits: &[],
+    units: UNITS,
+    objects: OBJECTS,
+    alarms: ALARMS,
+    comm_check: CommCheck::SyncErrorCounter { alarm: AL_086_1 },
+    leave_op_alarm: AL_086_1,
+    reinit_on_leaving_op: true,
+    following_error_alarm: FOLLOWING_ERROR,
+    overspeed_alarm: OVERSPEED,
+    halt_in_cyclic_modes: true,
+    torque_limit_selection: TorqueLimitSelection::TorqueLimit2 {
+        cptl_bit: 11,
+        cntl_bit: 12,
+    },
+    sdo_write_refusals: &[],
+    // §8.1: hm exists, but the methods are not in this manual.
+    homing_methods: &[],
+    data_set_homing_methods: &[],
+    home_reference: HomeReference::PositionPreset,
+    stroke_end_warning: None,
+    power_warnings: None,
+    manual_stop_bit: None,
+    home_setting: None,
+    store_restore_objects: STORE_RESTORE_OBJECTS,
+    pdo_rules: PDO_RULES,
+    invalid_axis_switch: None,
+    fsoe: Some(FSOE),
+    relative_degree_warning: None,
+    emergency: EMERGENCY,
+    parameters: &super::params::MR_JET_G_N1,
+};
+
+/// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
+pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
+    sends: true,
+    source: "MR-JET-G-N1 manual §5 (Emergency reports an alarm; the EMCY codes are not given)",
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cycles::{CycleTime, Cycles};
+
+    #[test]
+    fn default_maps_24_bytes_at_the_offsets() {
+        let rx = &PROFILE.rx_pdo;
+        assert_eq!(rx.byte_len(), 24);
+        for (idx, off) in [
+            (0x6060, 0),
+            (0x6040, 2),
+            (0x2D01, 4),
+            (0x2D02, 6),
+            (0x2D03, 8),
+            (0x607A, 10),
+            (0x60FF, 14),
+            (0x2D20, 18),
+            (0x6071, 22),
+        ] {
+            assert_eq!(rx.offset_of(idx, 0), Some(off), "{idx:#06x}");
+        }
+        let tx = &PROFILE.tx_pdo;
+        assert_eq!(tx.byte_len(), 24);
+        for (idx, off) in [
+            (0x6061, 0),
+            (0x6041, 2),
+            (0x2D11, 4),
+            (0x6064, 10),
+            (0x606C, 14),
+            (0x60F4, 18),
+            (0x6077, 22),
+        ] {
+            assert_eq!(tx.offset_of(idx, 0), Some(off), "{idx:#06x}");
+        }
+    }
+
+    #[test]
+    fn tv_4_fault_reset_hold_cycles() {
+        // MR-JET-G-N1 TV-4 (docs/test-vectors.md) cycle counts.
+        for (us, n) in [
+            (125, 80),
+            (250, 40),
+            (500, 20),
+            (1000, 10),
+            (2000, 5),
+            (4000, 3),
+            (8000, 3),
+        ] {
+            let c = CycleTime::from_micros(us).unwrap();
+            assert_eq!(PROFILE.fault_reset_hold(c), Cycles(n), "{us} µs");
+        }
+    }
+}

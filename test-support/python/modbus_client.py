@@ -1,5 +1,5 @@
 """An independent Modbus/TCP client (PyPI pymodbus) against the MR-JE-C emulator, for
-axes/tests/mr_je_c_sockets.rs. Runs the drive to Operation enabled, writes and reads back a
+axes/emulator/tests/mr_je_c_sockets.rs. Runs the drive to Operation enabled, writes and reads back a
 32-bit target low word first, and checks the exceptions; exits non-zero naming the first
 check that fails.
 Usage: modbus_client.py PORT

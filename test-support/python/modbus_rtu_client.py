@@ -1,5 +1,5 @@
 """An independent Modbus RTU master (PyPI pymodbus with pyserial) against the MR-JE-C emulator
-on a pseudo-terminal, for axes/tests/mr_je_c_rs485.rs: two stations on one line, the drive at
+on a pseudo-terminal, for axes/emulator/tests/mr_je_c_rs485.rs: two stations on one line, the drive at
 station 2 run to Operation enabled, a 32-bit target written high word first ([Pr. PC72] = 1)
 and read back, the 08h echo, an exception, and station 3 (not on the line) silent. Exits non-zero naming the first
 check that fails.

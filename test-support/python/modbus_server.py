@@ -1,4 +1,4 @@
-"""An independent Modbus/TCP server (PyPI pymodbus) for axes/tests/modbus_pymodbus.rs.
+"""An independent Modbus/TCP server (PyPI pymodbus) for axes/fieldbus/tests/modbus_pymodbus.rs.
 
 Holding register i holds the value i (so a read shows which addresses were served), the
 addresses 0–65534; it answers any unit identifier, like one MR-JE-C answers FFh.

@@ -1,5 +1,5 @@
 //! The README's "Supported drives" table is the one `profiles::matrix::render` produces.
-//! Regenerate with `UPDATE_README=1 cargo test -p cellrt-axes --test readme_matrix`.
+//! Regenerate with `UPDATE_README=1 cargo test -p cellrt-cia402 --test readme_matrix`.
 
 use cellrt_cia402::profiles::matrix;
 
@@ -15,6 +15,6 @@ fn readme_feature_matrix_matches_the_profiles() {
     assert!(
         readme == expected,
         "README.md's drive matrix differs from the profiles; regenerate with \
-         UPDATE_README=1 cargo test -p cellrt-axes --test readme_matrix"
+         UPDATE_README=1 cargo test -p cellrt-cia402 --test readme_matrix"
     );
 }

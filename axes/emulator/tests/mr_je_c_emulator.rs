@@ -1,4 +1,4 @@
-//! The simulated MR-JE-C (`axes::mr_je_c::emulator`) against the MR-JE-C manual: the FSA with
+//! The simulated MR-JE-C (`cellrt_emulator::mr_je_c`) against the MR-JE-C manual: the FSA with
 //! quick-stop option code 2, access rights and ranges with the transports' codes, the alarm
 //! history and its reset, and the communication time-outs on a virtual clock.
 

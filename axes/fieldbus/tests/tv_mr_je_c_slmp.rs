@@ -1,5 +1,5 @@
 //! MR-JE-C SLMP test vectors SL-1 … SL-11 (docs/test-vectors.md), byte for byte through both
-//! ends of `axes::slmp` (MR-JE-C manual §2.4.2–§2.4.5). The bytes the manual does not fix (the
+//! ends of `cellrt_fieldbus::slmp` (MR-JE-C manual §2.4.2–§2.4.5). The bytes the manual does not fix (the
 //! response's "Number of data value", the error information) are asserted on the drive side as
 //! our design and not relied on by the client.
 

@@ -176,7 +176,7 @@ mod tests {
 
     #[test]
     fn show_prints_what_cellrt_takes_from_the_vendor_files() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../axes/tests/data/esi");
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../axes/ethercat/tests/data/esi");
         let path = dir.join("microchip-samd51-ethercat-slave.xml");
         let text = show(&path, &cellrt_ethercat::esi::load(&path).unwrap());
         for line in [

@@ -4,10 +4,8 @@
 //! the exchange, the clock alignment and what the nodes report); [`AcyclicBus`], the acyclic
 //! channel used at start-up, mode changes, fault edges and shutdown (SDO, 603Fh, close); and
 //! [`FaultInjection`], test faults a bus can raise on itself, which the RT loop never sees
-//! (the cell's fault schedule wraps the bus instead). [`SimBus`] runs [`SimDrive`]s
-//! in-process; the EtherCAT master implements the same traits.
-//!
-//! [`SimDrive`]: cellrt_emulator::sim::drive::SimDrive
+//! (the cell's fault schedule wraps the bus instead). The emulator's `SimBus` runs
+//! simulated drives in-process; the EtherCAT master implements the same traits.
 
 mod acyclic;
 mod error;
@@ -119,7 +117,7 @@ pub trait FaultInjection {
         false
     }
     /// The communication counter `axis`' drive receives is corrupted for the next `cycles`
-    /// exchanges (on [`SimBus`]: frozen at its first value, like stale frames the NIC resends,
+    /// exchanges (on the emulator's `SimBus`: frozen at its first value, like stale frames the NIC resends,
     /// test vector TV-IC-3 in `docs/test-vectors.md`). False also where the map has no counter.
     fn inject_counter_corruption(&mut self, axis: usize, cycles: u32) -> bool {
         let _ = (axis, cycles);

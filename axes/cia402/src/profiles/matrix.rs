@@ -1,12 +1,12 @@
 //! The README's "Supported drives" feature matrix, rendered from the profiles so the table and
-//! the code cannot disagree (`axes/tests/readme_matrix.rs` checks the README against it).
+//! the code cannot disagree (`axes/cia402/tests/readme_matrix.rs` checks the README against it).
 
 use std::fmt::Write;
 
 use super::{profile, CommCheck, DriveModel, DriveProfile, TorqueLimitSelection};
 
 /// Marker line before the generated table in README.md.
-pub const BEGIN_MARKER: &str = "<!-- drive-matrix:begin (generated from axes/src/profiles; UPDATE_README=1 cargo test -p cellrt-axes --test readme_matrix) -->";
+pub const BEGIN_MARKER: &str = "<!-- drive-matrix:begin (generated from axes/cia402/src/profiles; UPDATE_README=1 cargo test -p cellrt-cia402 --test readme_matrix) -->";
 /// Marker line after the generated table in README.md.
 pub const END_MARKER: &str = "<!-- drive-matrix:end -->";
 

@@ -2,7 +2,7 @@
 //! profiles: identity, CiA 402 modes (6502h), default PDOs (changeable on every model:
 //! `DriveProfile::with_pdo_maps`), the object dictionary (access, PDO mappability, defaults;
 //! axis A's indexes on the multi-axis units) and the cycle. The files are written from the profiles by
-//! [`render`]; `CELLRT_WRITE_ESI=1 cargo test -p cellrt-axes esi::profile_files` rewrites them
+//! [`render`]; `CELLRT_WRITE_ESI=1 cargo test -p cellrt-ethercat esi::profile_files` rewrites them
 //! after a profile changes (review the diff).
 
 use std::fmt::Write as _;
@@ -170,9 +170,9 @@ fn render(model: DriveModel) -> String {
         .map_or(0, |us| u64::from(*us) * 1000);
     format!(
         r##"<?xml version="1.0" encoding="UTF-8"?>
-<!-- {name}: written by cellrt from its profile (axes/src/profiles), the facts of the manual;
+<!-- {name}: written by cellrt from its profile (axes/cia402/src/profiles), the facts of the manual;
      not Mitsubishi's ESI. Product codes the manual does not give are cellrt's placeholders.
-     Checked against the profile by axes/src/esi/profile_files.rs. -->
+     Checked against the profile by axes/ethercat/src/esi/profile_files.rs. -->
 <EtherCATInfo Version="1.11">
   <Vendor><Id>#x{vendor:08X}</Id><Name>Mitsubishi Electric</Name></Vendor>
   <Descriptions>

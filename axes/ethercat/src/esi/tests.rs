@@ -1,4 +1,4 @@
-//! The parser against the public vendor files (axes/tests/data/esi, see its README) and
+//! The parser against the public vendor files (axes/ethercat/tests/data/esi, see its README) and
 //! against malformed documents.
 
 use super::*;

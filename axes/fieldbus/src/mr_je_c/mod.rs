@@ -1,6 +1,6 @@
 //! The MR-JE-C (MELSERVO-JE, Ethernet / RS-485 interface) as one model: its object dictionary
-//! (MR-JE-C manual §7), typed object access shared by the transports (`axes::modbus`,
-//! `axes::slmp`), and a simulated drive serving them.
+//! (MR-JE-C manual §7), typed object access shared by the transports (`crate::modbus`,
+//! `crate::slmp`); the emulated drive serving them is `cellrt_emulator::mr_je_c`.
 
 pub mod access;
 pub mod alarm;

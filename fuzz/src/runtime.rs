@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::operator::wire::{self, Reply};
 use cellrt_runtime::host::program::Program;
 use cellrt_runtime::setpoints::{AxisSetpoint, SetpointBlock, SetpointHeader, MAX_START_CYCLE};

@@ -14,7 +14,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use cellrt_cia402::{profile, CycleTime, DriveModel, FrameCounters};
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{self, RunError, RunOptions};
 use cellrt_runtime::host::program::Program;
 use cellrt_runtime::rt::histogram::{NsHistogram, Percentiles};
@@ -358,10 +358,11 @@ fn set_up(opts: &EthercatBenchOptions) -> Result<BenchSetup, BenchError> {
         ),
         SegmentPlace::InProcess => None,
     };
-    let interface = ns.as_ref().map_or(
-        cellrt_runtime::config::IN_PROCESS_INTERFACE.to_string(),
-        |n| n.near.clone(),
-    );
+    let interface = ns
+        .as_ref()
+        .map_or(cellrt_config::IN_PROCESS_INTERFACE.to_string(), |n| {
+            n.near.clone()
+        });
     let dir = tempfile::tempdir()
         .map_err(|e| BenchError::failed(format!("cannot create a temp dir: {e}")))?;
     let name = format!("bench-ecat-{}", std::process::id());

@@ -8,7 +8,7 @@
 use std::sync::mpsc;
 use std::thread::JoinHandle;
 
-use cellrt_runtime::config::RtConfig;
+use cellrt_config::RtConfig;
 use cellrt_runtime::rt::clock::{sleep_until, MonoTime};
 use cellrt_runtime::rt::histogram::{NsHistogram, Percentiles};
 use cellrt_runtime::rt::thread::{hold_cpu_dma_latency_zero, setup_current_thread, RtReport};

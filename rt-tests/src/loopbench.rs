@@ -8,7 +8,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Duration;
 
-use cellrt_runtime::config::{CellConfig, MAX_AXES};
+use cellrt_config::{CellConfig, MAX_AXES};
 use cellrt_runtime::host::controller::{self, RunOptions};
 use cellrt_runtime::host::program::Program;
 use cellrt_runtime::rt::executive::RtCounters;

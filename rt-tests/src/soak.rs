@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{self, RunOptions};
 use cellrt_runtime::host::program::Program;
 use cellrt_runtime::host::record::part_path;

@@ -55,7 +55,7 @@ fn loop_options_and_generated_cell() {
     for interval in [125, 250, 1000, 8000] {
         let o = LoopOptions::new(256, interval, 2.0, 80, None).unwrap();
         let path = std::path::Path::new("bench.toml");
-        let cell = cellrt_runtime::config::CellConfig::parse(path, &config_text("bench-t", &o))
+        let cell = cellrt_config::CellConfig::parse(path, &config_text("bench-t", &o))
             .unwrap_or_else(|e| panic!("{interval} µs: {e}"));
         assert_eq!(cell.axes.len(), 256);
         cellrt_runtime::host::program::Program::parse(
@@ -73,7 +73,7 @@ fn loop_with_je_c_axes() {
     bad(o.with_je_c(17), "--je-c");
     let o = o.with_je_c(4).unwrap();
     let path = std::path::Path::new("bench.toml");
-    let cell = cellrt_runtime::config::CellConfig::parse(path, &config_text("bench-j", &o))
+    let cell = cellrt_config::CellConfig::parse(path, &config_text("bench-j", &o))
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!((cell.axes.len(), cell.je_c_axes.len()), (16, 4));
     let transports: Vec<_> = cell.je_c_axes.iter().map(|a| a.transport.name()).collect();
@@ -90,8 +90,12 @@ fn loop_with_je_c_axes() {
         .steps
         .iter()
         .filter_map(|s| match s {
-            cellrt_runtime::host::program::Step::Move(streamed, je_c) => {
-                Some((streamed.len(), je_c.len()))
+            cellrt_runtime::host::program::Step::Move(targets) => {
+                let drive = targets
+                    .iter()
+                    .filter(|t| matches!(t, cellrt_runtime::host::program::AxisMove::Drive(_)))
+                    .count();
+                Some((targets.len() - drive, drive))
             }
             _ => None,
         })

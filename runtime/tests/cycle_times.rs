@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::time::Duration;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{run, RunOptions};
 use cellrt_runtime::host::record::proto::CycleStats;
 use cellrt_runtime::host::record::topics::CYCLE_TOPIC;

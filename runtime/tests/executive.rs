@@ -7,7 +7,7 @@ use std::sync::atomic::Ordering;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{self, CellCommand, CellState, EventKind, EventRecord, HostEnd};
 use cellrt_runtime::host::cell_bus::sim_bus;
 use cellrt_runtime::rt::executive::{Executive, RtStats};

@@ -18,7 +18,7 @@ use event_log::cycle_of;
 use std::path::Path;
 
 use cellrt_cia402::homing::{HomeProcedure, HomingFailure};
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{AxisRecord, EventKind, HomeRequest};
 
 /// The in-position range of the emulated drives, counts ([Pr. PA10] default 100 pulses).

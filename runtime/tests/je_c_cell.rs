@@ -11,10 +11,10 @@ use std::net::{IpAddr, Ipv4Addr};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+use cellrt_config::CellConfig;
 use cellrt_emulator::mr_je_c::server::{Ports, Server};
 use cellrt_emulator::mr_je_c::{MrJeC, MrJeCParams};
 use cellrt_fieldbus::mr_je_c::Alarm;
-use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions, Summary};
 use cellrt_runtime::host::program::Program;
 use common::{hook, marked_heap_calls};
@@ -441,10 +441,16 @@ fn a_point_table_move_is_timed_by_its_table() {
     let (_, p) = positioning_cell("[[step]]\ndo = \"move\"\ntarget = { feeder = 1, turret = 2 }\n[[step]]\ndo = \"move\"\ntarget = { feeder = 2 }");
     let p = p.unwrap();
     let je_c = |k: usize| match &p.steps[k] {
-        cellrt_runtime::host::program::Step::Move(_, t) => t.clone(),
+        cellrt_runtime::host::program::Step::Move(t) => t
+            .iter()
+            .filter_map(|t| match t {
+                cellrt_runtime::host::program::AxisMove::Drive(d) => Some(d.clone()),
+                cellrt_runtime::host::program::AxisMove::Planned(_) => None,
+            })
+            .collect::<Vec<_>>(),
         other => panic!("{other:?}"),
     };
-    let profile = |t: &cellrt_runtime::host::program::JecTarget| (t.velocity, t.acceleration);
+    let profile = |t: &cellrt_runtime::host::program::DriveMove| (t.velocity, t.acceleration);
     let first = je_c(1);
     assert_eq!(profile(&first[0]), (150.0, 1000.0));
     assert_eq!(profile(&first[1]), (2.0, 20.0), "the turret at its limits");

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions, Summary};
 use cellrt_runtime::host::program::Program;
 

@@ -11,7 +11,7 @@ use event_log::cycle_of;
 
 use std::path::Path;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
 use cellrt_runtime::host::program::Program;
 

@@ -11,7 +11,7 @@ use cell_rig::Rig;
 use std::path::Path;
 
 use cellrt_cia402::mode::ModeOfOperation;
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{AxisRecord, EventKind, EventRecord, ProfileMotion, SwitchableMode};
 
 /// The in-position range of the emulated drives, counts ([Pr. PA10] default 100 pulses).
@@ -225,7 +225,7 @@ fn a_switch_is_refused_where_the_axis_cannot_switch() {
         ("MR-J4-TM csp axis", j4, ModeOfOperation::CyclicSyncPosition),
     ] {
         assert!(
-            cellrt_runtime::config::profile_axis::pp_switch(&cell.axes[0]).is_err(),
+            cellrt_config::profile_axis::pp_switch(&cell.axes[0]).is_err(),
             "{what}"
         );
         let mut rig = Rig::start(cell);

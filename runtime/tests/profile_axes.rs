@@ -12,7 +12,7 @@ use cell_rig::Rig;
 
 use std::path::Path;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{
     AxisRecord, CellCommand, CellState, EventKind, EventRecord, ProfileMotion,
 };

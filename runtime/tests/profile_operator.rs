@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{run, RunOptions};
 use cellrt_runtime::host::operator::client::{running_cells, OperatorClient};
 use cellrt_runtime::host::operator::wire::{AxisStatus, Reply, Request, StatusReport};

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{self, CycleRecord, EventKind, EventRecord, RtEnd, NO_AXIS};
 use cellrt_runtime::host::record::{Recorder, EVENT_LOG_LINES, MAX_CHUNKS_PER_FILE};
 

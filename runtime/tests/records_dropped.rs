@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{self, CellCommand, EventKind};
 use cellrt_runtime::host::cell_bus::sim_bus;
 use cellrt_runtime::rt::executive::Executive;

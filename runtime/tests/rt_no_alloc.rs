@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
 use cellrt_runtime::host::operator::client::{running_cells, OperatorClient};
 use cellrt_runtime::host::operator::wire::{Reply, Request, SdoAnswer};

@@ -7,7 +7,7 @@ mod common;
 use std::path::Path;
 use std::sync::atomic::Ordering;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{run, Outcome, RunOptions};
 use cellrt_runtime::host::program::Program;
 use common::{hook, marked_heap_calls, LOOPS_EXITED};

@@ -12,7 +12,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use cellrt_cia402::homing::HomeProcedure;
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{EventKind, HomeRequest};
 
 #[test]

@@ -12,7 +12,7 @@ mod rt_thread;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{
     CellCommand, EventKind, HostEnd, ProfileCommand, ProfileMotion, SwitchableMode,
 };

@@ -7,7 +7,7 @@ mod syscall_trace;
 
 use std::path::Path;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::Outcome;
 use cellrt_runtime::host::program::Program;
 

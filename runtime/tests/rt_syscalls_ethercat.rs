@@ -12,10 +12,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use cellrt_cia402::{profile, CycleTime, DriveModel};
+use cellrt_config::CellConfig;
 use cellrt_emulator::ethercat::{wire, FaultSchedule, Segment};
 use cellrt_emulator::{SimDrive, SimDriveParams};
 use cellrt_ethercat::raw_socket::RawSocket;
-use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::program::Program;
 use cellrt_test_support::veth::VethPair;
 

@@ -128,7 +128,7 @@ pub struct RunArgs {
     pub interface: Option<String>,
     /// Serve the live view (Foxglove WebSocket protocol) on ADDR, e.g. 127.0.0.1:8765,
     /// instead of the configuration's `[live] listen`.
-    #[arg(long, value_name = "ADDR", value_parser = cellrt_runtime::config::parse_live_addr)]
+    #[arg(long, value_name = "ADDR", value_parser = cellrt_config::parse_live_addr)]
     pub live: Option<std::net::SocketAddr>,
 }
 

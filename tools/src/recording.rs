@@ -64,7 +64,7 @@ pub struct CellInfo {
 impl RecFile {
     /// Reads `path`; a file that is not MCAP at all is an error naming it.
     pub fn open(path: &Path) -> Result<RecFile, String> {
-        let bytes = cellrt_runtime::config::input_file::read_bytes(path, None)
+        let bytes = cellrt_config::input_file::read_bytes(path, None)
             .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
         Self::from_bytes(path, bytes)
     }

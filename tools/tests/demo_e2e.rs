@@ -5,7 +5,7 @@ mod common;
 
 use std::process::Command;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::record::proto::FsaState;
 use common::{demo_cell, max_derivatives, read_recording};
 

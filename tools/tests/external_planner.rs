@@ -14,7 +14,7 @@ use std::process::{Child, Command, Stdio};
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use common::{demo_cell, read_recording};
 use nix::sys::signal::{kill, Signal};
 use nix::unistd::Pid;

@@ -7,7 +7,7 @@ use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use common::{demo_cell, read_recording};
 use nix::sys::signal::{kill, Signal};
 use nix::unistd::Pid;

@@ -7,7 +7,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::record::proto::AxisCycle;
 use common::{demo_cell, read_recording, Recording};
 

@@ -12,8 +12,8 @@ use cellrt_emulator::{SimBus, SimDrive, SimDriveParams};
 use cellrt_ethercat::esi::conform::FixedPdo;
 use cellrt_ethercat::master::{EthercatBus, Link, RawSocketLink, SegmentConfig, SegmentDrive};
 
-use crate::config::{AxisConfig, CellConfig, EthercatInterface};
 use cellrt_cia402::profiles::MotorKind;
+use cellrt_config::{AxisConfig, CellConfig, EthercatInterface};
 use cellrt_emulator::sim::drive::SimMotor;
 
 /// The cell's bus.

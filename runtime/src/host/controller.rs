@@ -11,7 +11,6 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
-use crate::config::CellConfig;
 use crate::handoff::{self, CellCommand, CellState, HostEnd, RtEnd};
 use crate::host::link_server::LinkServer;
 use crate::host::live::LiveServer;
@@ -24,6 +23,7 @@ use crate::rt::histogram::{NsHistogram, Percentiles};
 use crate::rt::setpoint_stream::SetpointStream;
 use crate::rt::thread::{hold_cpu_dma_latency_zero, setup_current_thread, ReservedCpu, RtReport};
 use crate::services;
+use cellrt_config::{AxisRef, CellConfig};
 
 /// Stack size of the RT thread (the prefault touches part of it).
 pub const RT_STACK_BYTES: usize = 4 * 1024 * 1024;
@@ -203,12 +203,20 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let targets = opts
         .program
         .as_ref()
-        .map(|p| p.final_targets(cell.axes.len()))
+        .map(|p| {
+            (0..cell.axes.len())
+                .map(|i| p.final_target(AxisRef::Loop(i)))
+                .collect()
+        })
         .unwrap_or_else(|| vec![None; cell.axes.len()]);
     let je_c_targets = opts
         .program
         .as_ref()
-        .map(|p| p.je_c_final_targets(cell.je_c_axes.len()))
+        .map(|p| {
+            (0..cell.je_c_axes.len())
+                .map(|k| p.final_target(AxisRef::Link(k)))
+                .collect()
+        })
         .unwrap_or_else(|| vec![None; cell.je_c_axes.len()]);
     // An external planner commands the MR-JE-C axes through the link thread.
     let je_c_link = (opts.external_planner && !cell.je_c_axes.is_empty()).then(|| je_c.axes());

@@ -109,7 +109,7 @@ impl StatusSnapshot {
     /// one a run-time mode switch left it in; the configured one until the RT thread has said.
     pub fn mode_now(
         &self,
-        cell: &crate::config::CellConfig,
+        cell: &cellrt_config::CellConfig,
         i: usize,
     ) -> cellrt_cia402::mode::ModeOfOperation {
         self.live

@@ -14,7 +14,6 @@ use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
-use crate::config::CellConfig;
 use crate::handoff::{
     CellCommand, EventKind, EventRecord, HomeRequest, HostEnd, ProfileCommand, UserSdo, NO_AXIS,
 };
@@ -23,6 +22,7 @@ use crate::host::je_c::JecAxes;
 use crate::host::link::snapshot;
 use crate::services::{self, ProfileLinkSample, SdoLinkSample, ServiceError, StatusSample};
 use crate::setpoints::MAX_AXES;
+use cellrt_config::CellConfig;
 
 /// How often the planner's node is looked for.
 pub const PLANNER_CHECK: Duration = Duration::from_millis(20);

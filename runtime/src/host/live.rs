@@ -19,8 +19,8 @@ use std::time::Duration;
 use crossbeam::queue::ArrayQueue;
 use foxglove::{ChannelBuilder, Context, PartialMetadata, RawChannel, Schema, WebSocketServer};
 
-use crate::config::CellConfig;
 use crate::host::record::{channel_ids, channel_specs, proto};
+use cellrt_config::CellConfig;
 
 /// Messages the queue between the recorder and the feeder holds (about a second of a 16-axis
 /// 1 kHz cell).

@@ -9,7 +9,6 @@ use std::time::{Duration, Instant};
 
 use iceoryx2::prelude::*;
 
-use crate::config::CellConfig;
 use crate::handoff::{CellCommand, CellState, HomeRequest, HostEnd, ProfileCommand};
 use crate::host::je_c::link::JecBridge;
 use crate::host::je_c::JecAxes;
@@ -19,16 +18,31 @@ use crate::host::operator::profile::{
     halts as profile_halts, jog as profile_jog, send as send_profile, split_move, AxisModes,
 };
 use crate::host::operator::server::{Context, Followup, OperatorServer};
-use crate::host::program::{MoveTarget, Program, Step, TorqueTarget};
+use crate::host::program::{AxisMove, DriveMove, MoveTarget, Program, Step, TorqueTarget};
 use crate::rt::thread::raise_planner_thread;
 use crate::services;
 use cellrt_cia402::fsa::FsaState;
 use cellrt_cia402::homing::{HomeProcedure, HomingFailure};
 use cellrt_cia402::statusword::Statusword;
+use cellrt_config::{AxisRef, CellConfig};
 
 mod je_c;
 
 /// The engine's form of a move-like step's targets.
+/// A move's targets by backend: the planned ones (RT loop axes) and the drives' own moves
+/// (MR-JE-C axes).
+fn by_backend(targets: &[AxisMove]) -> (Vec<MoveTarget>, Vec<DriveMove>) {
+    let mut planned = Vec::new();
+    let mut drive = Vec::new();
+    for t in targets {
+        match t {
+            AxisMove::Planned(t) => planned.push(t.clone()),
+            AxisMove::Drive(t) => drive.push(t.clone()),
+        }
+    }
+    (planned, drive)
+}
+
 fn move_list(targets: &[MoveTarget]) -> Vec<(usize, f64, cellrt_trajectory::KinematicLimits)> {
     targets
         .iter()
@@ -393,17 +407,22 @@ impl<'a> Planner<'a> {
                     self.what = "wait";
                     self.sleep(Duration::from_secs_f64(*s));
                 }
-                Step::Move(targets, je_c) => {
+                Step::Move(targets) => {
                     self.what = "move";
-                    let before = self.je_c_start(je_c)?;
-                    if !targets.is_empty() {
-                        self.run_move(targets)?;
+                    let (planned, drive) = by_backend(targets);
+                    let before = self.je_c_start(&drive)?;
+                    if !planned.is_empty() {
+                        self.run_move(&planned)?;
                     }
-                    self.je_c_wait(je_c, &before)?;
+                    self.je_c_wait(&drive, &before)?;
                 }
                 Step::Torque { targets, hold_s } => {
                     self.what = "torque";
-                    self.run_torque(targets, *hold_s)?;
+                    if targets.iter().any(|t| matches!(t.axis, AxisRef::Link(_))) {
+                        self.je_c_torque(targets, *hold_s)?;
+                    } else {
+                        self.run_torque(targets, *hold_s)?;
+                    }
                 }
                 Step::Line {
                     targets,
@@ -429,7 +448,15 @@ impl<'a> Planner<'a> {
                     )?;
                 }
                 Step::Jog {
-                    axis,
+                    axis: AxisRef::Link(k),
+                    velocity,
+                    seconds,
+                } => {
+                    self.what = "jog";
+                    self.je_c_jog(*k, *velocity, *seconds)?;
+                }
+                Step::Jog {
+                    axis: AxisRef::Loop(axis),
                     velocity,
                     seconds,
                 } => {
@@ -450,23 +477,10 @@ impl<'a> Planner<'a> {
                 }
                 Step::Home { axis, procedure } => {
                     self.what = "home";
-                    self.run_home(*axis, *procedure)?;
-                }
-                Step::JecJog {
-                    axis,
-                    velocity,
-                    seconds,
-                } => {
-                    self.what = "jog";
-                    self.je_c_jog(*axis, *velocity, *seconds)?;
-                }
-                Step::JecHome { axis } => {
-                    self.what = "home";
-                    self.je_c_home(*axis)?;
-                }
-                Step::JecTorque { commands, seconds } => {
-                    self.what = "torque";
-                    self.je_c_torque(commands, *seconds)?;
+                    match axis {
+                        AxisRef::Loop(i) => self.run_home(*i, *procedure)?,
+                        AxisRef::Link(k) => self.je_c_home(*k)?,
+                    }
                 }
                 Step::Mode { axis, mode } => {
                     self.what = "mode";
@@ -674,18 +688,15 @@ impl<'a> Planner<'a> {
     /// hold it `hold_s`, then HALT ramps it back to 0; the step ends when every ramp is over.
     fn run_profile_torque(
         &mut self,
-        targets: &[TorqueTarget],
+        targets: &[(usize, f64, f64)],
         hold_s: f64,
     ) -> Result<(), ProgramError> {
         use crate::handoff::ProfileMotion;
         let ramps: Vec<ProfileCommand> = targets
             .iter()
-            .map(|t| ProfileCommand {
-                axis: t.axis as u16,
-                motion: ProfileMotion::Torque {
-                    torque: t.torque,
-                    slope: t.slope,
-                },
+            .map(|&(axis, torque, slope)| ProfileCommand {
+                axis: axis as u16,
+                motion: ProfileMotion::Torque { torque, slope },
                 start_cycle: 0,
             })
             .collect();
@@ -695,7 +706,7 @@ impl<'a> Planner<'a> {
         if !self.serve_for(hold_s)? {
             return Ok(());
         }
-        let axes: Vec<usize> = targets.iter().map(|t| t.axis).collect();
+        let axes: Vec<usize> = targets.iter().map(|&(axis, ..)| axis).collect();
         let halts = profile_halts(self.cell, &AxisModes::configured(self.cell), Some(&axes));
         send_profile(self.link.as_mut(), halts.clone(), 0).map_err(|e| self.err(e))?;
         let all: Vec<ProfileCommand> = ramps.into_iter().chain(halts).collect();
@@ -785,19 +796,20 @@ impl<'a> Planner<'a> {
     /// A torque step: every target axis ramps to its torque, holds it, ramps back to zero; the
     /// other axes hold.
     fn run_torque(&mut self, targets: &[TorqueTarget], hold_s: f64) -> Result<(), ProgramError> {
+        let targets: Vec<(usize, f64, f64)> = targets
+            .iter()
+            .filter_map(|t| match t.axis {
+                AxisRef::Loop(i) => Some((i, t.torque, t.slope)),
+                AxisRef::Link(_) => None,
+            })
+            .collect();
         if targets
             .iter()
-            .any(|t| self.cell.axes[t.axis].profile_objects.is_some())
+            .any(|&(i, ..)| self.cell.axes[i].profile_objects.is_some())
         {
-            return self.run_profile_torque(targets, hold_s);
+            return self.run_profile_torque(&targets, hold_s);
         }
-        let req = MotionRequest::Torque {
-            targets: targets
-                .iter()
-                .map(|t| (t.axis, t.torque, t.slope))
-                .collect(),
-            hold_s,
-        };
+        let req = MotionRequest::Torque { targets, hold_s };
         self.run_motion(req, None)
     }
 

@@ -8,7 +8,7 @@
 
 use cellrt_cia402::FaultInjection;
 
-use crate::config::{CellConfig, InjectedFault, Injection};
+use cellrt_config::{CellConfig, InjectedFault, Injection};
 
 /// What became of a scheduled fault that came due.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::config::RtConfig;
+use cellrt_config::RtConfig;
 
 /// Stack the RT thread touches before the loop so it never page-faults on stack growth.
 pub const PREFAULT_STACK_BYTES: usize = 256 * 1024;

@@ -13,8 +13,8 @@ use iceoryx2::service::port_factory::publish_subscribe;
 use cellrt_fieldbus::mr_je_c::cell::{AxisCommand, AxisFeedback, Inputs, Stopped};
 
 use super::{service_error, ServiceError};
-use crate::config::je_c_axis::JecAxisConfig;
 use crate::setpoints::MAX_AXES;
+use cellrt_config::je_c_axis::JecAxisConfig;
 
 /// The version of both samples' layout and meaning; a peer of another version is refused.
 pub const JE_C_LINK_VERSION: u32 = 1;
@@ -39,7 +39,7 @@ pub fn je_c_shape(axes: &[JecAxisConfig]) -> u64 {
         eat(&a.counts_per_rev.to_bits().to_le_bytes());
         eat(&a.rated_speed.to_bits().to_le_bytes());
         eat(a.mode.name().as_bytes());
-        if let crate::config::je_c_axis::JecMode::Indexer { stations } = a.mode {
+        if let cellrt_config::je_c_axis::JecMode::Indexer { stations } = a.mode {
             eat(&[stations]);
         }
         for t in &a.point_tables {
@@ -600,7 +600,7 @@ mod tests {
     /// scaled otherwise.
     #[test]
     fn the_je_c_shape_follows_names_order_and_scaling() {
-        let cell = crate::config::CellConfig::load(std::path::Path::new(concat!(
+        let cell = cellrt_config::CellConfig::load(std::path::Path::new(concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/../configs/mixed-cell.toml"
         )))

@@ -33,8 +33,7 @@ pub type SetpointPublisher = Publisher<ipc::Service, [AxisSetpoint], SetpointHea
 /// [`crate::rt::setpoint_stream::SetpointStream`]).
 pub type SetpointSubscriber = Subscriber<ipc::Service, [AxisSetpoint], SetpointHeader>;
 
-/// Setpoint blocks the subscriber buffers (the RT thread's lookahead, in blocks).
-pub const SETPOINT_BUFFER_BLOCKS: usize = 256;
+pub use cellrt_config::SETPOINT_BUFFER_BLOCKS;
 
 /// Errors setting up a service.
 #[derive(Debug, thiserror::Error)]

@@ -3,11 +3,7 @@
 
 use iceoryx2::prelude::ZeroCopySend;
 
-/// Most axes a cell may have.
-pub const MAX_AXES: usize = 256;
-
-/// Cycles covered by one block.
-pub const BLOCK_CYCLES: usize = 16;
+pub use cellrt_config::{BLOCK_CYCLES, MAX_AXES};
 
 /// Latest first cycle a block may claim (2^62: far beyond any run), so that the RT thread's
 /// sums of a block's cycles (its end, its start plus the allowed start slip) cannot overflow.

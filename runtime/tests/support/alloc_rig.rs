@@ -6,7 +6,7 @@ use std::sync::atomic::Ordering;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{self, CellCommand, CellState, HostEnd};
 use cellrt_runtime::rt::executive::{RtStats, WARMUP_CYCLES};
 use cellrt_runtime::services;

@@ -5,7 +5,7 @@
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{
     self, AxisRecord, CellCommand, CellState, EventKind, EventRecord, HostEnd, ProfileCommand,
     ProfileMotion,

@@ -3,7 +3,7 @@
 /// Starts the RT executive of `cell` on a thread of its own, over the simulated bus, with its
 /// end of the hand-off and the setpoint subscriber it opens there (the port is not `Send`).
 pub fn spawn_rt(
-    cell: &cellrt_runtime::config::CellConfig,
+    cell: &cellrt_config::CellConfig,
     rt_end: cellrt_runtime::handoff::RtEnd,
     hook: Option<cellrt_runtime::rt::executive::PhaseHook>,
 ) -> std::thread::JoinHandle<cellrt_runtime::rt::executive::RtStats> {

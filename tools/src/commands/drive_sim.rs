@@ -4,9 +4,9 @@
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
+use cellrt_config::CellConfig;
 use cellrt_emulator::ethercat::{wire, FaultSchedule, ScheduledFault, WireFault};
 use cellrt_ethercat::raw_socket::RawSocket;
-use cellrt_runtime::config::CellConfig;
 use cellrt_runtime::host::cell_bus::{emulated_segment, segment_config};
 
 use crate::cli::{DriveSimArgs, DriveSimBus};
@@ -67,7 +67,7 @@ fn serve_ethercat(interface: &str, cell: Option<String>) -> Result<(), Exit> {
     }
     // Like a drive's hardware, the emulator answers at once: on the cell's RT CPU, one
     // priority above its RT thread (best effort without root), memory locked.
-    let rt = cellrt_runtime::config::RtConfig {
+    let rt = cellrt_config::RtConfig {
         cpu: config.rt.cpu,
         priority: config.rt.priority.saturating_add(1).min(99),
         planner_priority: None,

@@ -31,7 +31,7 @@ pub enum EsiCommand {
 /// Runs `cellrt esi`.
 pub fn run(args: EsiArgs) -> Exit {
     let EsiCommand::Show { file } = args.command;
-    match cellrt_runtime::config::input_file::read_esi(&file) {
+    match cellrt_config::input_file::read_esi(&file) {
         Ok(devices) => {
             print!("{}", show(&file, &devices));
             Exit::Ok
@@ -176,7 +176,8 @@ mod tests {
 
     #[test]
     fn show_prints_what_cellrt_takes_from_the_vendor_files() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../axes/ethercat/tests/data/esi");
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../axes/ethercat/tests/data/esi");
         let path = dir.join("microchip-samd51-ethercat-slave.xml");
         let text = show(&path, &cellrt_ethercat::esi::load(&path).unwrap());
         for line in [

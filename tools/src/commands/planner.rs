@@ -5,7 +5,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Duration;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::planner;
 use cellrt_runtime::host::program::Program;
 

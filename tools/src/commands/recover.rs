@@ -45,7 +45,7 @@ impl Recovered {
 
 /// Runs `cellrt recover`.
 pub fn run(args: RecoverArgs) -> Exit {
-    let bytes = match cellrt_runtime::config::input_file::read_bytes(&args.input, None) {
+    let bytes = match cellrt_config::input_file::read_bytes(&args.input, None) {
         Ok(b) => b,
         Err(e) => {
             eprintln!("error: {}: cannot read: {e}", args.input.display());

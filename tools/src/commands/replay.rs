@@ -15,7 +15,7 @@ use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_cia402::pdo::objects::PROFILE_OBJECTS;
 use cellrt_cia402::pdo::TxPdo;
 use cellrt_cia402::Cycles;
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::cell_bus::sim_bus;
 use cellrt_runtime::host::record::proto::AxisCycle;
 use cellrt_runtime::rt::executive::{AxisChannel, CycleCommand};
@@ -225,7 +225,7 @@ pub fn replay(
             // A csp axis the recording may show switched to pp at run time: its pp plan.
             let objects = cell.axes[i]
                 .profile_objects
-                .or_else(|| cellrt_runtime::config::profile_axis::pp_switch(&cell.axes[i]).ok());
+                .or_else(|| cellrt_config::profile_axis::pp_switch(&cell.axes[i]).ok());
             if let Some(objects) = objects {
                 let before = k
                     .checked_sub(1)

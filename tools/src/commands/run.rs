@@ -5,7 +5,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Duration;
 
-use cellrt_runtime::config::CellConfig;
+use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{self, Outcome, RunError, RunOptions};
 use cellrt_runtime::host::program::Program;
 
@@ -143,7 +143,7 @@ pub fn run(args: RunArgs) -> Exit {
 /// network interface (it cannot inject them into a real wire).
 fn announce_faults_left_to_segment(cell: &CellConfig) {
     let left = cell.faults_left_to_segment();
-    let Some(cellrt_runtime::config::EthercatInterface::Nic(nic)) =
+    let Some(cellrt_config::EthercatInterface::Nic(nic)) =
         cell.ethercat.as_ref().map(|e| &e.interface)
     else {
         return;

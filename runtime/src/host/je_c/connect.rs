@@ -14,7 +14,7 @@ use cellrt_fieldbus::mr_je_c::{ObjectId, OverModbus, Value};
 use cellrt_fieldbus::slmp::client::{FrameType, SlmpClient};
 
 use super::emulated::Reach;
-use crate::config::je_c_axis::{JecAxisConfig, JecTransport};
+use cellrt_config::je_c_axis::{JecAxisConfig, JecTransport};
 
 /// Where a real drive is reached: the configured address (or line).
 pub fn configured(axis: &JecAxisConfig) -> Option<Reach> {

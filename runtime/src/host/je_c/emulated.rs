@@ -12,7 +12,7 @@ use cellrt_emulator::mr_je_c::{MrJeC, MrJeCParams};
 use cellrt_fieldbus::modbus::serial::LineSettings;
 use serialport::{SerialPort, TTYPort};
 
-use crate::config::je_c_axis::{JecAxisConfig, JecTransport};
+use cellrt_config::je_c_axis::{JecAxisConfig, JecTransport};
 
 /// A running emulated drive.
 pub enum Emulated {

@@ -22,11 +22,11 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 
 use super::JecAxes;
-use crate::config::CellConfig;
 use crate::host::link::STATUS_TIMEOUT;
 use crate::services::{
     self, je_c_shape, JecCommandSample, JecFeedbackSample, ServiceError, JE_C_LINK_VERSION,
 };
+use cellrt_config::CellConfig;
 
 /// The longest the controller goes without sending an axis' feedback: the external planner's
 /// sign that the controller still runs (it gives up after [`STATUS_TIMEOUT`]).

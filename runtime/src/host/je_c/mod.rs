@@ -15,8 +15,8 @@ use cellrt_fieldbus::mr_je_c::cell::{
 };
 use serde::Serialize;
 
-use crate::config::je_c_axis::{JecAxisConfig, JecMode};
-use crate::config::{CellConfig, FaultReaction};
+use cellrt_config::je_c_axis::{JecAxisConfig, JecMode};
+use cellrt_config::{CellConfig, FaultReaction};
 use emulated::Emulated;
 
 /// One running MR-JE-C axis.

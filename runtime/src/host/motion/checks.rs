@@ -20,7 +20,7 @@ impl MotionEngine {
             return Err(MotionError::NotPowered(self.cell.axes[i].name.clone()));
         }
         let switched = moved.iter().find(|&&i| {
-            crate::config::ProfileMode::of(status.mode_now(&self.cell, i)).is_some()
+            cellrt_config::ProfileMode::of(status.mode_now(&self.cell, i)).is_some()
                 && self.cell.axes[i].profile_objects.is_none()
         });
         match switched {

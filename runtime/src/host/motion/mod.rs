@@ -21,11 +21,11 @@ use cellrt_trajectory::{
     OnlineMotion, TorqueRamp,
 };
 
-use crate::config::CellConfig;
 use crate::handoff::{CellState, EventKind};
 use crate::host::link::{CellLink, StatusSnapshot};
 use crate::services::SetpointPublisher;
 use crate::setpoints::{AxisSetpoint, SetpointHeader, BLOCK_CYCLES, FLAG_LAST, FLAG_TORQUE};
+use cellrt_config::CellConfig;
 use error::refused;
 pub use error::MotionError;
 
@@ -181,7 +181,7 @@ impl MotionEngine {
                 .inject
                 .iter()
                 .filter_map(|i| match i.fault {
-                    crate::config::InjectedFault::PlannerStall { ns } => Some((i.cycle, ns)),
+                    cellrt_config::InjectedFault::PlannerStall { ns } => Some((i.cycle, ns)),
                     _ => None,
                 })
                 .collect(),
@@ -210,7 +210,7 @@ impl MotionEngine {
         &self,
         i: usize,
         status: &StatusSnapshot,
-        axis: &crate::config::AxisConfig,
+        axis: &cellrt_config::AxisConfig,
     ) -> f64 {
         match self.active.as_ref().map(|a| &a.kind) {
             Some(Kind::Online) => self.online.state(i).position,
@@ -550,7 +550,7 @@ impl MotionEngine {
                 let (_, ns) = self.stalls.remove(pos);
                 link.event(
                     EventKind::FaultInjected,
-                    crate::config::FaultKind::PlannerStall.code(),
+                    cellrt_config::FaultKind::PlannerStall.code(),
                 );
                 std::thread::sleep(Duration::from_nanos(ns));
                 now = motion_cycle(&link.status()?, id);

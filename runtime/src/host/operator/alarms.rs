@@ -9,7 +9,7 @@ use super::sdo;
 use super::sdo_job::{aborted, value, JobPurpose, SdoJob};
 use super::targets::axis_index;
 use super::wire::{AlarmEntry, AlarmsReply, Reply, SdoReply};
-use crate::config::CellConfig;
+use cellrt_config::CellConfig;
 
 /// The sub-indices read of each history entry, in order.
 const SUBS: [u8; 3] = [history_sub::NUMBER, history_sub::TIME, history_sub::DETAIL];

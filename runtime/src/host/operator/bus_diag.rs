@@ -8,8 +8,8 @@ use std::time::{Duration, Instant};
 use cellrt_ethercat::master::SegmentDiag;
 use serde::{Deserialize, Serialize};
 
-use crate::config::CellConfig;
 use crate::host::link::CellLink;
+use cellrt_config::CellConfig;
 
 /// How long a reading may take (the worker's frames ride one per cycle after the cyclic one).
 pub const READING_TIMEOUT: Duration = Duration::from_secs(3);

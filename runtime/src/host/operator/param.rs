@@ -11,7 +11,7 @@ use super::sdo::{self, object_text};
 use super::sdo_job::{aborted, value, JobPurpose, SdoJob};
 use super::targets::axis_index;
 use super::wire::{ParamOp, ParamReply, ParamValue, Reply, SdoReply};
-use crate::config::CellConfig;
+use cellrt_config::CellConfig;
 
 /// How the answers of a `param` request become its reply.
 #[derive(Debug)]

@@ -7,9 +7,9 @@ use cellrt_trajectory::KinematicLimits;
 use std::collections::BTreeMap;
 
 use super::targets::axis_index;
-use crate::config::{AxisConfig, CellConfig, ProfileMode, DEFAULT_TORQUE_SLOPE};
 use crate::handoff::{ProfileCommand, ProfileMotion};
 use crate::host::link::{CellLink, StatusSnapshot};
+use cellrt_config::{AxisConfig, CellConfig, ProfileMode, DEFAULT_TORQUE_SLOPE};
 
 /// A cst torque target: (axis, torque %, slope %/s).
 type TorqueTarget = (usize, f64, f64);

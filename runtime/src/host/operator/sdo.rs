@@ -11,9 +11,9 @@ use cellrt_ethercat::master::abort_meaning;
 
 use super::targets::axis_index;
 use super::wire::{SdoAnswer, SdoReply};
-use crate::config::{AxisConfig, CellConfig};
 use crate::handoff::{UserSdo, UserSdoOutcome};
 use crate::host::link::CellLink;
+use cellrt_config::{AxisConfig, CellConfig};
 
 /// How long the operator service waits for the drive's answer before it tells the client so;
 /// below the client's reply timeout (5 s), above a mailbox round trip with its retries.

@@ -17,7 +17,6 @@ use super::sdo::{self, SdoInFlight};
 use super::sdo_job::{SdoJob, SingleSdo};
 use super::targets::{axis_index, move_limits, Asked, TargetError};
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
-use crate::config::CellConfig;
 use crate::handoff::{
     CellCommand, CellState, HomeRequest, ProfileCommand, ProfileMotion, SwitchableMode,
 };
@@ -26,6 +25,7 @@ use crate::host::motion::{MotionEngine, MotionRequest, Progress};
 use crate::host::program::Program;
 use crate::services::{self, OperatorServerPort, ServiceError, OPERATOR_RESPONSE_BYTES};
 use cellrt_cia402::homing::{choose_procedure, HomeSettingEdge, HomingFailure};
+use cellrt_config::CellConfig;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -669,7 +669,7 @@ fn resolve_targets(
     state: &StatusSnapshot,
     targets: &BTreeMap<String, f64>,
     relative: bool,
-    limits_of: impl Fn(&crate::config::AxisConfig) -> Result<KinematicLimits, TargetError>,
+    limits_of: impl Fn(&cellrt_config::AxisConfig) -> Result<KinematicLimits, TargetError>,
 ) -> Result<Vec<Resolved>, TargetError> {
     let mut list = Vec::with_capacity(targets.len());
     for (axis, value) in targets {

@@ -20,8 +20,8 @@ use std::time::Duration;
 use super::client::{OperatorClient, REPLY_TIMEOUT};
 pub use super::socket_client::{exchange, find_foreign, socket_path_in, Found};
 use super::socket_client::{TAG_ERROR, TAG_REPLY};
-use crate::config::OperatorConfig;
 use crate::services::MAX_OPERATOR_REQUEST_BYTES;
+use cellrt_config::OperatorConfig;
 
 /// Connections served at once; more are closed at once (a client holding one open cannot
 /// keep the others out).
@@ -229,7 +229,7 @@ fn relay(cell: &str, relayed: &mpsc::Receiver<Relayed>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::OperatorGroup;
+    use cellrt_config::OperatorGroup;
     use std::os::unix::fs::{FileTypeExt, MetadataExt};
 
     fn socket_of(cell: &str) -> PathBuf {

@@ -2,7 +2,7 @@
 
 use cellrt_trajectory::KinematicLimits;
 
-use crate::config::{AxisConfig, CellConfig};
+use cellrt_config::{AxisConfig, CellConfig};
 
 /// The limits a move-like request asks for (each axis' own limit where absent).
 #[derive(Clone, Copy)]

@@ -10,7 +10,8 @@ use cellrt_fieldbus::mr_je_c::cell::{AxisCommand, HOMING_ERROR};
 
 use super::{Planner, ProgramError, POWER_TIMEOUT};
 use crate::host::je_c::stopped_text;
-use crate::host::program::JecTarget;
+use crate::host::program::{DriveMove, TorqueTarget};
+use cellrt_config::AxisRef;
 
 fn c_acc(p: &Planner<'_>, axis: usize) -> f64 {
     p.je_c.config(axis).acceleration
@@ -105,11 +106,18 @@ impl Planner<'_> {
     /// over (the jobs count the ramps' time, tq reports no target reached).
     pub(super) fn je_c_torque(
         &mut self,
-        commands: &[(usize, AxisCommand)],
+        targets: &[TorqueTarget],
         seconds: f64,
     ) -> Result<(), ProgramError> {
+        let mut commands = Vec::with_capacity(targets.len());
+        for t in targets {
+            if let AxisRef::Link(k) = t.axis {
+                let c = self.je_c.config(k).torque_command(t.torque);
+                commands.push((k, c.map_err(|e| self.err(e))?));
+            }
+        }
         let before: Vec<(u32, u32)> = commands.iter().map(|(k, _)| self.je_c_jobs(*k)).collect();
-        for (k, c) in commands {
+        for (k, c) in &commands {
             self.je_c.command(*k, *c).map_err(|e| self.err(e))?;
         }
         // The longest ramp (from ±its torque) with slack.
@@ -127,7 +135,7 @@ impl Planner<'_> {
             self.je_c_until(*k, *b, 1, limit, "torque ramp")?;
         }
         self.sleep(Duration::from_secs_f64(seconds));
-        for (k, _) in commands {
+        for (k, _) in &commands {
             self.je_c
                 .command(*k, AxisCommand::Halt)
                 .map_err(|e| self.err(e))?;
@@ -197,7 +205,7 @@ impl Planner<'_> {
     /// Sends each MR-JE-C axis of a move its set-point; the feedback before, to wait on.
     pub(super) fn je_c_start(
         &mut self,
-        targets: &[JecTarget],
+        targets: &[DriveMove],
     ) -> Result<Vec<(u32, u32)>, ProgramError> {
         let before: Vec<(u32, u32)> = targets
             .iter()
@@ -220,7 +228,7 @@ impl Planner<'_> {
     /// move's time with slack.
     pub(super) fn je_c_wait(
         &mut self,
-        targets: &[JecTarget],
+        targets: &[DriveMove],
         before: &[(u32, u32)],
     ) -> Result<(), ProgramError> {
         let longest = targets

@@ -5,8 +5,9 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use super::{JecTarget, RawLimit, Step};
-use crate::config::{CellConfig, ConfigError};
+use super::{DriveMove, RawLimit, TorqueTarget};
+use cellrt_cia402::homing::HomeProcedure;
+use cellrt_config::{AxisRef, CellConfig, ConfigError};
 
 /// Removes the MR-JE-C axes from `target` and from the per-axis `limits`, and returns them
 /// checked.
@@ -16,7 +17,7 @@ pub(super) fn take_targets(
     target: &mut BTreeMap<String, f64>,
     limits: [&mut Option<RawLimit>; 3],
     cell: &CellConfig,
-) -> Result<Vec<JecTarget>, ConfigError> {
+) -> Result<Vec<DriveMove>, ConfigError> {
     let names: Vec<String> = target
         .keys()
         .filter(|n| cell.je_c_axis_index(n).is_some())
@@ -73,7 +74,7 @@ pub(super) fn take_targets(
             m.remove(&name);
         }
         let (velocity, acceleration) = a.profile_of(goal, velocity, acceleration);
-        out.push(JecTarget {
+        out.push(DriveMove {
             axis,
             goal,
             velocity,
@@ -92,17 +93,18 @@ pub(super) fn take_targets(
 /// default; the MR-JE-C manual §7.3 lists no other and refers to the Profile Mode manual).
 pub const JE_C_HOMING_METHOD: i8 = 37;
 
-/// A home step of the MR-JE-C axis `name`: hm with [`JE_C_HOMING_METHOD`]; another method or a
-/// Controlword2 edge (an MR-J3-T04 procedure) is refused naming the key.
-pub(super) fn home_step(
+/// The homing procedure of MR-JE-C axis `axis` (index in `je_c_axes`): hm with
+/// [`JE_C_HOMING_METHOD`]; another method or a Controlword2 edge (an MR-J3-T04 procedure) is
+/// refused naming the key.
+pub(super) fn home_procedure(
     path: &Path,
     key: &str,
-    name: &str,
+    axis: usize,
     method: Option<i8>,
     setting: bool,
     cell: &CellConfig,
-) -> Result<Step, ConfigError> {
-    let axis = cell.je_c_axis_index(name).expect("checked by the caller");
+) -> Result<HomeProcedure, ConfigError> {
+    let name = &cell.je_c_axes[axis].name;
     if setting {
         return Err(ConfigError::new(
             path,
@@ -111,7 +113,7 @@ pub(super) fn home_step(
         ));
     }
     match method {
-        None | Some(JE_C_HOMING_METHOD) => Ok(Step::JecHome { axis }),
+        None | Some(JE_C_HOMING_METHOD) => Ok(HomeProcedure::HomingMode(JE_C_HOMING_METHOD)),
         Some(m) => Err(ConfigError::new(
             path,
             format!("{key}.method"),
@@ -127,44 +129,30 @@ pub fn je_c_method_refusal(name: &str, m: i8) -> String {
     )
 }
 
-/// A jog step of the MR-JE-C axis `name`: its velocity within the axis' limit.
-pub(super) fn jog_step(
+/// Whether MR-JE-C axis `axis` (index in `je_c_axes`) can jog at `velocity` in its mode
+/// (its velocity limit is checked by the caller, as for every axis).
+pub(super) fn check_jog(
     path: &Path,
     key: &str,
-    name: &str,
+    axis: usize,
     velocity: f64,
-    seconds: f64,
     cell: &CellConfig,
-) -> Result<Step, ConfigError> {
-    let axis = cell.je_c_axis_index(name).expect("checked by the caller");
-    let limit = cell.je_c_axes[axis].velocity;
-    if !velocity.is_finite() || velocity.abs() > limit {
-        return Err(ConfigError::new(
-            path,
-            format!("{key}.velocity"),
-            format!("{velocity} is outside ±{limit}, the velocity limit of axis '{name}'"),
-        ));
-    }
+) -> Result<(), ConfigError> {
     let a = &cell.je_c_axes[axis];
     a.jog_command(velocity, a.acceleration)
-        .map_err(|m| ConfigError::new(path, format!("{key}.axis"), m))?;
-    Ok(Step::JecJog {
-        axis,
-        velocity,
-        seconds,
-    })
+        .map(|_| ())
+        .map_err(|m| ConfigError::new(path, format!("{key}.axis"), m))
 }
 
-/// A torque step whose targets are MR-JE-C axes: their tq commands (`None`: no MR-JE-C axis
-/// among them). Mixed with the cell's other axes it is refused: the MR-JE-C drives hold their
-/// torque until the halt, on their own link threads.
-pub(super) fn torque_step(
+/// The targets of a torque step whose axes are MR-JE-C axes, each checked against its tq
+/// command (`None`: no MR-JE-C axis among them). Mixed with the cell's other axes it is
+/// refused: the MR-JE-C drives hold their torque until the halt, on their own link threads.
+pub(super) fn torque_targets(
     path: &Path,
     key: &str,
     target: &BTreeMap<String, f64>,
-    seconds: f64,
     cell: &CellConfig,
-) -> Result<Option<Step>, ConfigError> {
+) -> Result<Option<Vec<TorqueTarget>>, ConfigError> {
     let je_c: Vec<(&String, usize)> = target
         .keys()
         .filter_map(|n| cell.je_c_axis_index(n).map(|k| (n, k)))
@@ -179,14 +167,18 @@ pub(super) fn torque_step(
             "MR-JE-C axes and the cell's other axes in one torque step: give them steps of their own",
         ));
     }
-    let commands = je_c
-        .into_iter()
+    je_c.into_iter()
         .map(|(name, k)| {
-            cell.je_c_axes[k]
-                .torque_command(target[name])
-                .map(|c| (k, c))
-                .map_err(|e| ConfigError::new(path, format!("{key}.target.{name}"), e))
+            let a = &cell.je_c_axes[k];
+            let torque = target[name];
+            a.torque_command(torque)
+                .map_err(|e| ConfigError::new(path, format!("{key}.target.{name}"), e))?;
+            Ok(TorqueTarget {
+                axis: AxisRef::Link(k),
+                torque,
+                slope: a.torque.map_or(0.0, |t| t.slope),
+            })
         })
-        .collect::<Result<_, _>>()?;
-    Ok(Some(Step::JecTorque { commands, seconds }))
+        .collect::<Result<_, _>>()
+        .map(Some)
 }

@@ -32,7 +32,7 @@ use serde::Deserialize;
 
 use cellrt_cia402::homing::{HomeProcedure, HomeSettingEdge};
 
-use crate::config::{CellConfig, ConfigError};
+use cellrt_config::{AxisRef, CellConfig, ConfigError};
 
 mod je_c;
 pub use je_c::{je_c_method_refusal, JE_C_HOMING_METHOD};
@@ -170,9 +170,9 @@ pub enum Step {
     PowerOff(Vec<usize>),
     /// Clear a stopped or faulted cell.
     Reset,
-    /// Move the listed axes (index, target in units, limits in units) and the listed MR-JE-C
-    /// axes together; the step ends when all are done.
-    Move(Vec<MoveTarget>, Vec<JecTarget>),
+    /// Move the listed axes together, each as its backend carries a move out; the step ends
+    /// when all are done.
+    Move(Vec<AxisMove>),
     /// Pause for this many seconds.
     Wait(f64),
     /// Torque on cst axes, held for `hold_s` seconds between the ramps.
@@ -198,34 +198,12 @@ pub enum Step {
     },
     /// Jog for `seconds`, then halt.
     Jog {
-        /// Axis index.
-        axis: usize,
+        /// The axis.
+        axis: AxisRef,
         /// Velocity, unit/s.
         velocity: f64,
         /// Seconds before the halt.
         seconds: f64,
-    },
-    /// Jog an MR-JE-C axis (pv on its drive) for `seconds`, then halt.
-    JecJog {
-        /// Index in the cell's `je_c_axes`.
-        axis: usize,
-        /// Velocity, unit/s.
-        velocity: f64,
-        /// Seconds before the halt.
-        seconds: f64,
-    },
-    /// Torque on MR-JE-C axes in tq: each command (by index in the cell's `je_c_axes`) ramps
-    /// its drive to the torque, held `seconds`, then Halt ramps it back to 0.
-    JecTorque {
-        /// The axes' tq commands.
-        commands: Vec<(usize, cellrt_fieldbus::mr_je_c::cell::AxisCommand)>,
-        /// Seconds at the torque.
-        seconds: f64,
-    },
-    /// Home an MR-JE-C axis in its drive's hm with method 37 (the home where the motor stands).
-    JecHome {
-        /// Index in the cell's `je_c_axes`.
-        axis: usize,
     },
     /// Feed override, 0..=1.
     Override(f64),
@@ -238,8 +216,8 @@ pub enum Step {
     },
     /// Home an axis with a procedure its drive's manual gives.
     Home {
-        /// Axis index.
-        axis: usize,
+        /// The axis.
+        axis: AxisRef,
         /// hm with a 6098h method, or a Controlword2 edge.
         procedure: HomeProcedure,
     },
@@ -254,8 +232,8 @@ pub const MAX_REPEAT: u32 = 10_000;
 /// One axis of a torque step.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TorqueTarget {
-    /// Axis index in the cell (an axis in cst).
-    pub axis: usize,
+    /// The axis: in cst or tq on the RT loop, or an MR-JE-C axis in tq.
+    pub axis: AxisRef,
     /// Torque in % of rated torque, within the axis' `limits.torque`.
     pub torque: f64,
     /// The axis' torque slope, %/s.
@@ -273,20 +251,48 @@ pub struct MoveTarget {
     pub limits: KinematicLimits,
 }
 
-/// One MR-JE-C axis of a move step (a pp move of its drive).
+/// One axis of a move step, as its backend carries the move out.
 #[derive(Debug, Clone, PartialEq)]
-pub struct JecTarget {
+pub enum AxisMove {
+    /// An axis of the RT loop: the motion is planned (jerk-limited) and streamed, or handed to
+    /// its drive's pp as set-points.
+    Planned(MoveTarget),
+    /// An MR-JE-C axis: its drive's own profile moves it over the link.
+    Drive(DriveMove),
+}
+
+impl AxisMove {
+    /// The axis.
+    pub fn axis(&self) -> AxisRef {
+        match self {
+            AxisMove::Planned(t) => AxisRef::Loop(t.axis),
+            AxisMove::Drive(t) => AxisRef::Link(t.axis),
+        }
+    }
+
+    /// The position the axis ends at, units.
+    pub fn target(&self) -> f64 {
+        match self {
+            AxisMove::Planned(t) => t.target,
+            AxisMove::Drive(t) => t.target(),
+        }
+    }
+}
+
+/// One MR-JE-C axis of a move step (a pp, pt or idx move of its drive).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DriveMove {
     /// Index in the cell's `je_c_axes`.
     pub axis: usize,
     /// Where it goes: a position, a point table or a station.
-    pub goal: crate::config::je_c_positioning::JecMoveTarget,
+    pub goal: cellrt_config::je_c_positioning::JecMoveTarget,
     /// Profile velocity, unit/s.
     pub velocity: f64,
     /// Acceleration and deceleration, unit/s².
     pub acceleration: f64,
 }
 
-impl JecTarget {
+impl DriveMove {
     /// The position the axis ends at, units.
     pub fn target(&self) -> f64 {
         self.goal.end_position()
@@ -306,13 +312,13 @@ impl Program {
     /// Reads a program file and validates it against `cell`.
     pub fn load(path: &Path, cell: &CellConfig) -> Result<Program, ConfigError> {
         let text =
-            crate::config::input_file::read_text(path).map_err(|e| ConfigError::io(path, e))?;
+            cellrt_config::input_file::read_text(path).map_err(|e| ConfigError::io(path, e))?;
         Self::parse(path, &text, cell)
     }
 
     /// Parses and validates program text.
     pub fn parse(path: &Path, text: &str, cell: &CellConfig) -> Result<Program, ConfigError> {
-        let raw: RawProgram = crate::config::parse_toml(path, text)?;
+        let raw: RawProgram = cellrt_config::parse_toml(path, text)?;
         if raw.step.is_empty() {
             return Err(ConfigError::new(
                 path,
@@ -328,41 +334,31 @@ impl Program {
         })
     }
 
-    /// The last target each axis is moved to, by axis index (`None` after a jog).
-    pub fn final_targets(&self, axes: usize) -> Vec<Option<f64>> {
-        let mut out = vec![None; axes];
+    /// The last target axis `axis` is moved to (`None` when it is never moved, or when a jog,
+    /// a homing or a torque step comes after its last move).
+    pub fn final_target(&self, axis: AxisRef) -> Option<f64> {
+        let mut out = None;
         for s in &self.steps {
             match s {
-                Step::Move(targets, _)
-                | Step::Line { targets, .. }
-                | Step::Path { targets, .. } => {
-                    for t in targets {
-                        out[t.axis] = Some(t.target);
+                Step::Move(targets) => {
+                    if let Some(t) = targets.iter().find(|t| t.axis() == axis) {
+                        out = Some(t.target());
                     }
                 }
-                Step::Jog { axis, .. } => out[*axis] = None,
-                _ => {}
-            }
-        }
-        out
-    }
-
-    /// The last target each MR-JE-C axis is moved to, by its index in `je_c_axes` (`None`
-    /// after a jog).
-    pub fn je_c_final_targets(&self, axes: usize) -> Vec<Option<f64>> {
-        let mut out = vec![None; axes];
-        for s in &self.steps {
-            match s {
-                Step::Move(_, je_c) => {
-                    for t in je_c {
-                        out[t.axis] = Some(t.target());
+                Step::Line { targets, .. } | Step::Path { targets, .. } => {
+                    if let Some(t) = targets.iter().find(|t| AxisRef::Loop(t.axis) == axis) {
+                        out = Some(t.target);
                     }
                 }
-                Step::JecJog { axis, .. } | Step::JecHome { axis } => out[*axis] = None,
-                Step::JecTorque { commands, .. } => {
-                    for (k, _) in commands {
-                        out[*k] = None;
-                    }
+                Step::Jog { axis: a, .. } if *a == axis => out = None,
+                Step::Home { axis: a, .. } if *a == axis && matches!(axis, AxisRef::Link(_)) => {
+                    out = None
+                }
+                Step::Torque { targets, .. }
+                    if matches!(axis, AxisRef::Link(_))
+                        && targets.iter().any(|t| t.axis == axis) =>
+                {
+                    out = None
                 }
                 _ => {}
             }

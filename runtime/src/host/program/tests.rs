@@ -1,6 +1,7 @@
 //! Program parsing and validation against a cell.
 
 use super::*;
+use cellrt_config::AxisRef;
 use cellrt_trajectory::planner::MAX_MOVE_AXES;
 
 fn cell(axes: usize) -> CellConfig {
@@ -98,7 +99,7 @@ fn line_path_jog_and_override_steps_are_checked() {
     assert_eq!(
         p.steps[2],
         Step::Jog {
-            axis: 2,
+            axis: AxisRef::Loop(2),
             velocity: -5.0,
             seconds: 1.0
         }
@@ -147,10 +148,11 @@ fn per_move_limits_may_lower_but_never_raise_the_axis_limit() {
     let c = cell(2);
     let ok = "[[step]]\ndo = \"move\"\ntarget = { a0 = 5.0 }\nvelocity = 5.0\n";
     let p = Program::parse(Path::new("p.toml"), ok, &c).unwrap();
-    let Step::Move(t, _) = &p.steps[0] else {
-        panic!()
+    let Step::Move(t) = &p.steps[0] else { panic!() };
+    let AxisMove::Planned(t) = &t[0] else {
+        panic!("{t:?}")
     };
-    assert_eq!(t[0].limits.velocity, 5.0);
+    assert_eq!(t.limits.velocity, 5.0);
     let bad = "[[step]]\ndo = \"move\"\ntarget = { a0 = 5.0 }\nvelocity = { a0 = 50.0 }\n";
     let e = Program::parse(Path::new("p.toml"), bad, &c).unwrap_err();
     assert_eq!(e.key, "step[0].velocity");

@@ -9,10 +9,10 @@ use cellrt_trajectory::limits::KinematicLimits;
 use cellrt_trajectory::planner::MAX_MOVE_AXES;
 
 use super::{
-    MoveTarget, RawLimit, RawStep, Step, TorqueTarget, MAX_PROGRAM_STEPS, MAX_REPEAT,
+    AxisMove, MoveTarget, RawLimit, RawStep, Step, TorqueTarget, MAX_PROGRAM_STEPS, MAX_REPEAT,
     MAX_WAIT_SECONDS,
 };
-use crate::config::{CellConfig, ConfigError};
+use cellrt_config::{AxisRef, CellConfig, ConfigError};
 
 /// Validates `raw` (keys `{key}[i]`) into `out`, expanding repeats.
 pub(super) fn expand(
@@ -88,13 +88,18 @@ fn validate_step(
             mut jerk,
         } => {
             let limits = [&mut velocity, &mut acceleration, &mut jerk];
-            let je_c = super::je_c::take_targets(path, key, &mut target, limits, cell)?;
-            let streamed = if je_c.is_empty() || !target.is_empty() {
+            let drive = super::je_c::take_targets(path, key, &mut target, limits, cell)?;
+            let planned = if drive.is_empty() || !target.is_empty() {
                 move_targets(path, key, target, [&velocity, &acceleration, &jerk], cell)?
             } else {
                 Vec::new()
             };
-            Step::Move(streamed, je_c)
+            let planned = planned.into_iter().map(AxisMove::Planned);
+            Step::Move(
+                planned
+                    .chain(drive.into_iter().map(AxisMove::Drive))
+                    .collect(),
+            )
         }
         RawStep::Line {
             target,
@@ -115,33 +120,24 @@ fn validate_step(
             cell,
         )?,
         RawStep::Jog {
-            axis,
-            velocity,
-            seconds,
-        } if cell.je_c_axis_index(&axis).is_some() => super::je_c::jog_step(
-            path,
-            key,
-            &axis,
-            velocity,
-            step_seconds(path, key, seconds)?,
-            cell,
-        )?,
-        RawStep::Jog {
-            axis,
+            axis: name,
             velocity,
             seconds,
         } => {
-            let i = axis_of(path, format!("{key}.axis"), &axis, cell)?;
-            let limit = cell.axes[i].limits.velocity;
+            let axis = axis_ref_of(path, format!("{key}.axis"), &name, cell)?;
+            let limit = cell.velocity_limit(axis);
             if !velocity.is_finite() || velocity.abs() > limit {
                 return Err(ConfigError::new(
                     path,
                     format!("{key}.velocity"),
-                    format!("{velocity} is outside ±{limit}, the velocity limit of axis '{axis}'"),
+                    format!("{velocity} is outside ±{limit}, the velocity limit of axis '{name}'"),
                 ));
             }
+            if let AxisRef::Link(k) = axis {
+                super::je_c::check_jog(path, key, k, velocity, cell)?;
+            }
             Step::Jog {
-                axis: i,
+                axis,
                 velocity,
                 seconds: step_seconds(path, key, seconds)?,
             }
@@ -160,22 +156,28 @@ fn validate_step(
             axis,
             method,
             setting,
-        } if cell.je_c_axis_index(&axis).is_some() => {
-            super::je_c::home_step(path, key, &axis, method, setting.is_some(), cell)?
-        }
-        RawStep::Home {
-            axis,
-            method,
-            setting,
         } => {
-            let i = axis_of(path, format!("{key}.axis"), &axis, cell)?;
+            let i = match axis_ref_of(path, format!("{key}.axis"), &axis, cell)? {
+                AxisRef::Loop(i) => i,
+                AxisRef::Link(k) => {
+                    let procedure =
+                        super::je_c::home_procedure(path, key, k, method, setting.is_some(), cell)?;
+                    return Ok(Step::Home {
+                        axis: AxisRef::Link(k),
+                        procedure,
+                    });
+                }
+            };
             // `[axes.homing] method` where the step names neither a method nor an edge.
             let method = method.or(cell.axes[i].homing.method.filter(|_| setting.is_none()));
             let procedure =
                 choose_procedure(cell.axes[i].profile, method, setting).map_err(|e| {
                     ConfigError::new(path, format!("{key}.axis"), format!("axis '{axis}': {e}"))
                 })?;
-            Step::Home { axis: i, procedure }
+            Step::Home {
+                axis: AxisRef::Loop(i),
+                procedure,
+            }
         }
         RawStep::Mode { axis, mode } => {
             let i = axis_of(path, format!("{key}.axis"), &axis, cell)?;
@@ -186,7 +188,7 @@ fn validate_step(
                     format!("'{mode}' is not a mode an axis switches to at run time (csp or pp)"),
                 ));
             };
-            crate::config::profile_axis::pp_switch(&cell.axes[i])
+            cellrt_config::profile_axis::pp_switch(&cell.axes[i])
                 .map_err(|e| ConfigError::new(path, format!("{key}.axis"), e))?;
             Step::Mode { axis: i, mode }
         }
@@ -223,8 +225,8 @@ fn torque_step(
         ));
     }
     let hold_s = step_seconds(path, key, seconds)?;
-    if let Some(step) = super::je_c::torque_step(path, key, &target, hold_s, cell)? {
-        return Ok(step);
+    if let Some(targets) = super::je_c::torque_targets(path, key, &target, cell)? {
+        return Ok(Step::Torque { targets, hold_s });
     }
     let mut targets = Vec::with_capacity(target.len());
     for (name, torque) in target {
@@ -245,10 +247,9 @@ fn torque_step(
                 ),
             ));
         };
-        if targets
-            .first()
-            .is_some_and(|t: &TorqueTarget| cell.axes[t.axis].mode != a.mode)
-        {
+        if targets.first().is_some_and(
+            |t: &TorqueTarget| matches!(t.axis, AxisRef::Loop(j) if cell.axes[j].mode != a.mode),
+        ) {
             return Err(ConfigError::new(
                 path,
                 k,
@@ -267,7 +268,7 @@ fn torque_step(
             ));
         }
         targets.push(TorqueTarget {
-            axis,
+            axis: AxisRef::Loop(axis),
             torque,
             slope: limits.slope,
         });
@@ -393,6 +394,20 @@ fn axis_of(
             ),
         )
     })
+}
+
+/// The axis called `name`, whichever backend runs it; refused naming `key` when the cell has
+/// none.
+fn axis_ref_of(
+    path: &Path,
+    key: impl Into<String>,
+    name: &str,
+    cell: &CellConfig,
+) -> Result<AxisRef, ConfigError> {
+    match cell.axis_ref(name) {
+        Some(axis) => Ok(axis),
+        None => axis_of(path, key, name, cell).map(AxisRef::Loop),
+    }
 }
 
 /// The axes of a power step: indices of the named axes, each once; empty = the whole cell.

@@ -11,9 +11,9 @@ use std::path::{Path, PathBuf};
 use mcap::records::{MessageHeader, Metadata};
 
 use super::sink::{open, Channels, RecorderError, Sink};
-use crate::config::capture::{CaptureConfig, Quantity, Trigger};
-use crate::config::CellConfig;
 use crate::handoff::EventKind;
+use cellrt_config::capture::{CaptureConfig, Quantity, Trigger};
+use cellrt_config::CellConfig;
 
 /// One encoded message.
 struct Stored {

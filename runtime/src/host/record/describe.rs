@@ -82,10 +82,10 @@ pub fn describe_event(e: &EventRecord) -> String {
             None => "homing attained".to_string(),
             Some(f) => f.as_str().to_string(),
         },
-        EventKind::CommunicationError => crate::config::CommWatchdog::from_code(e.value)
+        EventKind::CommunicationError => cellrt_config::CommWatchdog::from_code(e.value)
             .map_or(
                 "unknown communication watchdog",
-                crate::config::CommWatchdog::describe,
+                cellrt_config::CommWatchdog::describe,
             )
             .to_string(),
         EventKind::AlStatus => cellrt_ethercat::register::AlStatus::decode(e.value).describe(),
@@ -107,8 +107,8 @@ pub fn describe_event(e: &EventRecord) -> String {
             crate::handoff::decode_refused_sdo(e.value)
         ),
         EventKind::FaultInjected | EventKind::FaultLeftToSegment => {
-            crate::config::FaultKind::from_code(e.value)
-                .map_or("unknown", crate::config::FaultKind::name)
+            cellrt_config::FaultKind::from_code(e.value)
+                .map_or("unknown", cellrt_config::FaultKind::name)
                 .to_string()
         }
         EventKind::StopFinished

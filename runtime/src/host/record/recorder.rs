@@ -16,13 +16,13 @@ pub use super::describe::describe_event;
 use super::proto;
 pub use super::sink::{channel_ids, channel_specs, ChannelSpec, RecorderError};
 use super::sink::{open, template_channels, Channels, Sink};
-use crate::config::capture::Quantity;
-use crate::config::CellConfig;
 use crate::handoff::{AxisRecord, CycleRecord, EventKind, EventRecord, HostEnd, NO_AXIS};
 use crate::host::je_c::{stopped_text, JecAxes};
 use crate::host::live::LiveFeed;
 use crate::rt::clock::realtime_offset_ns;
 use crate::rt::executive::fsa_index;
+use cellrt_config::capture::Quantity;
+use cellrt_config::CellConfig;
 
 /// Chunks one file holds at most before the recording rotates to its next part: the MCAP
 /// writer keeps an index entry of every chunk (about 50 bytes per channel) in memory for the

@@ -15,8 +15,8 @@ use mcap::{Attachment, WriteOptions, Writer};
 
 use super::proto;
 use super::topics::*;
-use crate::config::{CellConfig, Compression};
 use crate::rt::clock::realtime_offset_ns;
+use cellrt_config::{CellConfig, Compression};
 
 /// Bytes an MCAP Message record adds to its payload inside a chunk (opcode, length, channel,
 /// sequence, log and publish time).

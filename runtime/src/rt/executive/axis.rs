@@ -14,8 +14,8 @@ use cellrt_cia402::pdo::{PdoLayout, TxPdo};
 use cellrt_cia402::profiles::{HomeReference, HomeSetting, TorqueLimitSelection};
 use cellrt_cia402::Cycles;
 
-use crate::config::{AxisConfig, CellConfig};
 use crate::handoff::RejectReason;
+use cellrt_config::{AxisConfig, CellConfig};
 
 /// Per-axis limits converted to counts and cycles once, at start-up.
 #[derive(Debug, Clone, Copy)]
@@ -102,7 +102,7 @@ pub struct AxisChannel {
     /// Homing in the drive's hm mode.
     pub homing: HomingSequencer,
     /// The homing objects written by SDO after 6098h (`[axes.homing]`).
-    pub homing_objects: crate::config::homing::HomingObjects,
+    pub homing_objects: cellrt_config::homing::HomingObjects,
     /// Whether the TxPDO carries 6061h (else mode changes count as done after a settle time).
     pub mode_display_mapped: bool,
     /// Where the RxPDO lacks 6060h (MR-J3-T04, MR-J3-T04 manual §8.4.2): the mode last written by
@@ -127,7 +127,7 @@ pub struct AxisChannel {
     pub profile: Option<super::profile_axis::ProfileChannel>,
     /// A csp axis that can be switched to pp at run time: the pp plan and the rated speed its
     /// time constants run from (`config::profile_axis::pp_switch`); `None` otherwise.
-    pub pp_switch: Option<(crate::config::ProfileObjects, Option<f64>)>,
+    pub pp_switch: Option<(cellrt_config::ProfileObjects, Option<f64>)>,
     /// A run-time mode switch in progress.
     pub mode_switch: Option<cellrt_cia402::mode_switch::ModeSwitch>,
     /// MC_Power of this axis: the operator wants it in Operation enabled. An axis without
@@ -217,7 +217,7 @@ impl AxisChannel {
             profile: axis
                 .profile_objects
                 .map(|o| super::profile_axis::ProfileChannel::new(o, axis.rated_speed, 0)),
-            pp_switch: crate::config::profile_axis::pp_switch(axis)
+            pp_switch: cellrt_config::profile_axis::pp_switch(axis)
                 .ok()
                 .map(|o| (o, axis.rated_speed)),
             mode_switch: None,

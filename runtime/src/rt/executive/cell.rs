@@ -10,10 +10,10 @@ use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_cia402::Cycles;
 
 use super::Executive;
-use crate::config::FaultReaction;
 use crate::handoff::{CellCommand, CellState, EventKind, RejectReason, StopReason, NO_AXIS};
 use crate::setpoints::BLOCK_CYCLES;
 use cellrt_cia402::homing::HomingFailure;
+use cellrt_config::FaultReaction;
 
 /// Commands taken per cycle at most (bounds the cycle's work).
 const COMMANDS_PER_CYCLE: usize = 4;

@@ -7,8 +7,8 @@ use cellrt_cia402::bus::{AcyclicBus, BusError, CyclicBus};
 use cellrt_cia402::comm::CounterVerdict;
 
 use super::Executive;
-use crate::config::{CommWatchdog, CommWatchdogConfig};
 use crate::handoff::{EventKind, NO_AXIS};
+use cellrt_config::{CommWatchdog, CommWatchdogConfig};
 
 /// Error streaks of the cyclic exchange and of each axis' link, in cycles; preallocated.
 #[derive(Debug, Clone)]

@@ -27,7 +27,6 @@ use cellrt_cia402::pdo::objects::HOME_OFFSET;
 use cellrt_cia402::Cycles;
 use serde::Serialize;
 
-use crate::config::{CellConfig, FaultReaction, InjectedFault, WatchdogConfig};
 use crate::handoff::{
     AxisRecord, CellState, CycleRecord, EventKind, EventRecord, RejectReason, RtEnd, StopReason,
     NO_AXIS,
@@ -36,6 +35,7 @@ use crate::rt::clock::{sleep_until, MonoTime};
 use crate::rt::histogram::NsHistogram;
 use crate::rt::injection::{InjectionSchedule, Outcome};
 use crate::rt::setpoint_stream::SetpointStream;
+use cellrt_config::{CellConfig, FaultReaction, InjectedFault, WatchdogConfig};
 
 /// Hook called by the RT thread at phase changes (test instrumentation; a plain fn pointer so
 /// calling it allocates nothing).
@@ -324,7 +324,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
     }
 
     /// Applies the scheduled faults due at this cycle (fault injection; off in normal runs)
-    /// and records each (event value: its [`FaultKind`](crate::config::FaultKind) code).
+    /// and records each (event value: its [`FaultKind`](cellrt_config::FaultKind) code).
     fn inject_due_faults(&mut self) {
         while let Some(due) = self.faults.next_due(self.cycle, &mut self.bus) {
             let axis = due.fault.axis().map_or(NO_AXIS, |a| a as u16);

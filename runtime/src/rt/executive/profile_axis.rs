@@ -24,8 +24,8 @@ use cellrt_emulator::sim::profile_position::{
     CHANGE_SET_IMMEDIATELY, NEW_SET_POINT, SET_POINT_ACKNOWLEDGE, TARGET_REACHED,
 };
 
-use crate::config::{ProfileMode, ProfileObjects};
 use crate::handoff::ProfileMotion;
+use cellrt_config::{ProfileMode, ProfileObjects};
 
 /// Cycles after a change of the command in which the statusword still answers the old one
 /// (the exchange's round trip, one cycle on the in-process bus, up to two on EtherCAT).

@@ -9,8 +9,8 @@ use cellrt_cia402::{Cycles, DriveModel, RxPdo};
 use cellrt_emulator::SimDrive;
 
 use super::axis::AxisChannel;
-use crate::config::CellConfig;
 use crate::host::cell_bus::sim_drives;
+use cellrt_config::CellConfig;
 
 /// One csv axis on `model`: a 10 mm/rev screw, `counts_per_rev` encoder counts per revolution.
 fn cell(model: DriveModel, counts_per_rev: u32) -> CellConfig {

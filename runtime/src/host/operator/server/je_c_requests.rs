@@ -8,9 +8,9 @@ use std::collections::BTreeMap;
 use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 use super::*;
-use crate::config::je_c_axis::{JecAxisConfig, JecMode};
 use crate::host::je_c::{stopped_text, JecAxes};
 use crate::host::program::{je_c_method_refusal, JE_C_HOMING_METHOD};
+use cellrt_config::je_c_axis::{JecAxisConfig, JecMode};
 
 /// An MR-JE-C axis a request names: its index, name and the value asked.
 pub(super) type JecTarget = (usize, String, f64);

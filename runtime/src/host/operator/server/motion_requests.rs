@@ -355,7 +355,7 @@ impl OperatorServer {
                 "mode: '{mode}' is not a mode an axis switches to at run time (csp or pp)"
             ));
         };
-        if let Err(e) = crate::config::profile_axis::pp_switch(&ctx.cell.axes[i]) {
+        if let Err(e) = cellrt_config::profile_axis::pp_switch(&ctx.cell.axes[i]) {
             return rejected(format!("mode: {e}"));
         }
         let now = state.mode_now(ctx.cell, i);

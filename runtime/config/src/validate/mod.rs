@@ -86,12 +86,12 @@ pub(super) fn validate(
     let setpoints = setpoint_config(file, &raw.setpoints, cycle_time)?;
     let watchdogs = watchdog_config(file, &raw.watchdogs)?;
     let operator = operator::operator_config(file, &raw.operator)?;
-    let (live, live_page) = crate::config::live::live_config(file, &raw.live)?;
+    let (live, live_page) = crate::live::live_config(file, &raw.live)?;
     let (axes, je_c_axes) =
         validate_axes(file, cycle_time, raw.axes, watchdogs.communication_reaction)?;
     let (mode, pre_s, post_s, triggers) = capture_raw;
     recording.capture =
-        crate::config::capture::capture_config(file, &mode, pre_s, post_s, &triggers, &axes)?;
+        crate::capture::capture_config(file, &mode, pre_s, post_s, &triggers, &axes)?;
 
     let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
     let inject = validate_injections(file, cycle_time, &raw.inject, &axes, ethercat.as_ref())?;
@@ -251,7 +251,7 @@ fn setpoint_config(
         ));
     }
     // The subscriber's buffer is the lookahead queue; more would overwrite unread blocks.
-    let max_cycles = (crate::services::SETPOINT_BUFFER_BLOCKS - 4) * crate::setpoints::BLOCK_CYCLES;
+    let max_cycles = (crate::SETPOINT_BUFFER_BLOCKS - 4) * crate::BLOCK_CYCLES;
     let cycles = (lookahead.max(start_delay) * 1e6 / f64::from(cycle_time.as_micros())).ceil();
     if cycles > max_cycles as f64 {
         return Err(ConfigError::new(
@@ -393,7 +393,7 @@ fn validate_axes(
     file: &Path,
     cycle_time: CycleTime,
     raw: Vec<RawAxis>,
-    communication_reaction: crate::config::FaultReaction,
+    communication_reaction: crate::FaultReaction,
 ) -> Result<(Vec<AxisConfig>, Vec<JecAxisConfig>), ConfigError> {
     let (je_c_raw, raw): (Vec<_>, Vec<_>) = raw
         .into_iter()

@@ -141,14 +141,16 @@ mod tests {
 
     #[test]
     fn the_key_is_read_from_the_file() {
-        let text =
-            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../configs/demo.toml"))
-                .unwrap()
-                .replace("cpu = 1 ", "# cpu = 1 ")
-                + "\n[live]\nlisten = \"127.0.0.1:8765\"\npage_port = \"web\"\n";
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../configs/demo.toml"
+        ))
+        .unwrap()
+        .replace("cpu = 1 ", "# cpu = 1 ")
+            + "\n[live]\nlisten = \"127.0.0.1:8765\"\npage_port = \"web\"\n";
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("demo-program.toml"), "").unwrap();
-        let e = crate::config::CellConfig::parse(&dir.path().join("demo.toml"), &text).unwrap_err();
+        let e = crate::CellConfig::parse(&dir.path().join("demo.toml"), &text).unwrap_err();
         assert!(e.to_string().contains("page_port"), "{e}");
     }
 }

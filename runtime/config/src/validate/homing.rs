@@ -10,11 +10,9 @@ use cellrt_emulator::sim::homing_switches::HomingSwitches;
 use cellrt_trajectory::units::Scaling;
 
 use super::axis_key::AxisKey;
-use crate::config::homing::{
-    AxisHoming, HomingObjects, DEFAULT_HOMING_TIMEOUT, MAX_HOMING_TIMEOUT_S,
-};
-use crate::config::raw::RawAxis;
-use crate::config::ConfigError;
+use crate::homing::{AxisHoming, HomingObjects, DEFAULT_HOMING_TIMEOUT, MAX_HOMING_TIMEOUT_S};
+use crate::raw::RawAxis;
+use crate::ConfigError;
 
 /// 6099h Homing speeds.
 const HOMING_SPEEDS: u16 = 0x6099;
@@ -181,7 +179,7 @@ pub(super) fn homing(
 
 #[cfg(test)]
 mod tests {
-    use crate::config::{CellConfig, ConfigError};
+    use crate::{CellConfig, ConfigError};
     use std::path::Path;
 
     fn parse(drive: &str, extra: &str) -> Result<CellConfig, ConfigError> {

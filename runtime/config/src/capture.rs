@@ -8,7 +8,7 @@ use std::path::Path;
 use std::str::FromStr;
 
 use super::{AxisConfig, ConfigError};
-use crate::handoff::EventKind;
+use crate::events::EventKind;
 
 /// Longest pre-trigger window, s (the ring lives in memory: 16 axes at 1 kHz take about
 /// 1.5 MiB per second).
@@ -186,13 +186,15 @@ fn parse_trigger(text: &str, axes: &[AxisConfig]) -> Result<Trigger, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::CellConfig;
+    use crate::CellConfig;
 
     fn parse(recording: &str) -> Result<CellConfig, ConfigError> {
-        let text =
-            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../configs/demo.toml"))
-                .unwrap()
-                .replacen("[recording]\n", &format!("[recording]\n{recording}\n"), 1);
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../configs/demo.toml"
+        ))
+        .unwrap()
+        .replacen("[recording]\n", &format!("[recording]\n{recording}\n"), 1);
         CellConfig::parse(Path::new("cell.toml"), &text)
     }
 

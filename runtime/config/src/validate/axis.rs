@@ -13,12 +13,12 @@ use cellrt_trajectory::units::Scaling;
 
 use super::axis_key::AxisKey;
 use super::check_name;
-use crate::config::raw::RawAxis;
-use crate::config::{
+use crate::raw::RawAxis;
+use crate::{
     AxisConfig, ConfigError, SimAxisConfig, TorqueLimits, TorquePercent, Transport,
     DEFAULT_CSV_POSITION_GAIN, DEFAULT_TORQUE_SLOPE, MAX_TORQUE_PERCENT,
 };
-use crate::config::{ProfileMode, ProfileObjects};
+use crate::{ProfileMode, ProfileObjects};
 
 /// `axes.amplifier` / `axes.amplifier_axis`: axes sharing an amplifier label must name the same
 /// model, take distinct slots, and be no more than the model's axes per unit (W2 = 2, W3 = 3).
@@ -172,7 +172,7 @@ pub(super) fn validate_axis(
             correction_counts: csv_position_gain * following_error_limit * s,
         },
     )?;
-    let rated_speed = crate::config::profile_axis::rated_speed(
+    let rated_speed = crate::profile_axis::rated_speed(
         ProfileMode::of(mode),
         profile,
         a.motor.rated_speed,
@@ -547,7 +547,7 @@ fn sim_axis(
 fn pdo_mapping(
     base: &'static DriveProfile,
     mode: ModeOfOperation,
-    pdo: &crate::config::raw::RawPdo,
+    pdo: &crate::raw::RawPdo,
 ) -> Result<&'static DriveProfile, (&'static str, String)> {
     use cellrt_cia402::pdo::objects::{
         CONTROLWORD, POSITION_ACTUAL, STATUSWORD, TARGET_POSITION, TARGET_TORQUE, TARGET_VELOCITY,

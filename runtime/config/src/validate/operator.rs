@@ -31,7 +31,7 @@ pub(super) fn operator_config(
 
 #[cfg(test)]
 mod tests {
-    use crate::config::CellConfig;
+    use crate::CellConfig;
     use std::path::Path;
 
     const CELL: &str = "[cell]\nname = \"g\"\ncycle_time_us = 1000\n\

@@ -199,10 +199,7 @@ mod tests {
     }
 
     /// A one-axis cell of `drive` with `extra` lines in the axis table, rated speed 3000 r/min.
-    fn cell(
-        drive: &str,
-        extra: &str,
-    ) -> Result<crate::config::CellConfig, crate::config::ConfigError> {
+    fn cell(drive: &str, extra: &str) -> Result<crate::CellConfig, crate::ConfigError> {
         cell_with_motor(drive, "counts_per_rev = 10000, rated_speed = 3000", extra)
     }
 
@@ -210,7 +207,7 @@ mod tests {
         drive: &str,
         motor: &str,
         extra: &str,
-    ) -> Result<crate::config::CellConfig, crate::config::ConfigError> {
+    ) -> Result<crate::CellConfig, crate::ConfigError> {
         let text = format!(
             r#"
 [cell]
@@ -228,7 +225,7 @@ limits = {{ position = [0.0, 100.0], velocity = 100.0, acceleration = 1000.0, je
 {extra}
 "#
         );
-        crate::config::CellConfig::parse(std::path::Path::new("cell.toml"), &text)
+        crate::CellConfig::parse(std::path::Path::new("cell.toml"), &text)
     }
 
     #[test]

@@ -1,9 +1,15 @@
 //! The cell configuration: a TOML file parsed into raw serde structs ([`raw`]) and validated into
 //! the typed [`CellConfig`] before anything starts. Every error names the file and the key.
+//!
+//! A crate of its own below the runtime, so that the tools, an external planner and the fuzz
+//! targets read and check a cell's configuration without the RT thread and its services.
+
+#![warn(missing_docs)]
 
 pub mod capture;
 mod comm_watchdog;
 mod error;
+pub mod events;
 mod fault;
 pub mod homing;
 pub mod input_file;
@@ -18,7 +24,7 @@ pub use comm_watchdog::{
     CommWatchdog, CommWatchdogConfig, DEFAULT_MAX_CYCLES_OUT_OF_OP, DEFAULT_MAX_LOST_FRAMES,
     DEFAULT_MAX_WORKING_COUNTER_ERRORS,
 };
-pub(crate) use error::parse_toml;
+pub use error::parse_toml;
 pub use error::ConfigError;
 pub use fault::{FaultKind, InjectedFault, Injection};
 pub use profile_axis::{ProfileMode, ProfileObjects};
@@ -33,7 +39,14 @@ use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
 use cellrt_trajectory::units::Scaling;
 
 /// Most axes one cell may have: the width of a setpoint block.
-pub use crate::setpoints::MAX_AXES;
+pub const MAX_AXES: usize = 256;
+
+/// Cycles covered by one setpoint block.
+pub const BLOCK_CYCLES: usize = 16;
+
+/// Setpoint blocks the RT thread's subscriber buffers (its lookahead, in blocks): bounds how far
+/// ahead of the RT cycle a planner may publish.
+pub const SETPOINT_BUFFER_BLOCKS: usize = 256;
 
 /// A validated cell configuration.
 #[derive(Debug, Clone)]
@@ -71,6 +84,19 @@ pub struct CellConfig {
     /// The MR-JE-C axes (`drive = "mr-je-c"`), in configuration order: run by threads of
     /// their own, never by the RT loop, so not among `axes`.
     pub je_c_axes: Vec<je_c_axis::JecAxisConfig>,
+}
+
+/// An axis of the cell as program steps, operator requests and the summary name it: the
+/// backend that carries out its motion and its place there. Every command is refused or
+/// dispatched on this one type, so no consumer keeps a list of its own per axis kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AxisRef {
+    /// Run by the RT loop (index in [`CellConfig::axes`]): streamed setpoints in csp/csv/cst,
+    /// or its drive's own profile generator over the cyclic bus (pp/pv/tq/hm).
+    Loop(usize),
+    /// Driven over its MR-JE-C link by an I/O thread of its own, never by the RT loop (index
+    /// in [`CellConfig::je_c_axes`]).
+    Link(usize),
 }
 
 /// Who may command the cell: always the user that runs it (and root); with `group`, also the
@@ -472,6 +498,29 @@ impl CellConfig {
     /// Index of the MR-JE-C axis called `name` (in `je_c_axes`).
     pub fn je_c_axis_index(&self, name: &str) -> Option<usize> {
         self.je_c_axes.iter().position(|a| a.name == name)
+    }
+
+    /// The axis called `name`, whichever backend runs it.
+    pub fn axis_ref(&self, name: &str) -> Option<AxisRef> {
+        self.axis_index(name)
+            .map(AxisRef::Loop)
+            .or_else(|| self.je_c_axis_index(name).map(AxisRef::Link))
+    }
+
+    /// The name of axis `axis`.
+    pub fn axis_name(&self, axis: AxisRef) -> &str {
+        match axis {
+            AxisRef::Loop(i) => &self.axes[i].name,
+            AxisRef::Link(k) => &self.je_c_axes[k].name,
+        }
+    }
+
+    /// The velocity limit of axis `axis`, unit/s.
+    pub fn velocity_limit(&self, axis: AxisRef) -> f64 {
+        match axis {
+            AxisRef::Loop(i) => self.axes[i].limits.velocity,
+            AxisRef::Link(k) => self.je_c_axes[k].velocity,
+        }
     }
 
     /// Comma-separated names of the axes on the RT loop (the recording's `axes` metadata).

@@ -11,8 +11,8 @@ use cellrt_cia402::{CycleTime, DriveProfile};
 use cellrt_ethercat::esi::conform::{self, ConflictSubject, Intent};
 use cellrt_ethercat::esi::{DeviceSelector, EsiDevice};
 
-use crate::config::raw::RawAxis;
-use crate::config::ConfigError;
+use crate::raw::RawAxis;
+use crate::ConfigError;
 
 /// The ESI device an axis names, loaded relative to the config `file`; `None` without `esi`.
 /// `key` is the axis' key (`axes[i]`).
@@ -48,8 +48,7 @@ pub(super) fn load_device(
         ));
     }
     let path = file.parent().unwrap_or(Path::new(".")).join(rel);
-    let devices =
-        crate::config::input_file::read_esi(&path).map_err(|e| err("esi", e.to_string()))?;
+    let devices = crate::input_file::read_esi(&path).map_err(|e| err("esi", e.to_string()))?;
     let selector = DeviceSelector {
         product_code: a.esi_product_code,
         revision: a.esi_revision,

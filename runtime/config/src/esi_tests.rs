@@ -9,7 +9,7 @@ use cellrt_cia402::mode::ModeOfOperation as M;
 fn text() -> String {
     std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../configs/cia402-esi.toml"
+        "/../../configs/cia402-esi.toml"
     ))
     .expect("configs/cia402-esi.toml")
 }
@@ -18,7 +18,7 @@ fn parse(text: &str) -> Result<CellConfig, ConfigError> {
     CellConfig::parse(
         Path::new(concat!(
             env!("CARGO_MANIFEST_DIR"),
-            "/../configs/cia402-esi.toml"
+            "/../../configs/cia402-esi.toml"
         )),
         text,
     )

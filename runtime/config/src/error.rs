@@ -56,7 +56,7 @@ impl std::error::Error for ConfigError {}
 
 /// Deserialises TOML text into `T`, turning syntax, unknown-key and type errors into a
 /// [`ConfigError`] with the key path and line.
-pub(crate) fn parse_toml<T: DeserializeOwned>(file: &Path, text: &str) -> Result<T, ConfigError> {
+pub fn parse_toml<T: DeserializeOwned>(file: &Path, text: &str) -> Result<T, ConfigError> {
     let line_of = |span: Option<std::ops::Range<usize>>| {
         span.map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1)
     };

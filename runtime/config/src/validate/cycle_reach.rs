@@ -7,7 +7,7 @@ use cellrt_cia402::CycleTime;
 use cellrt_trajectory::limits::KinematicLimits;
 
 use super::axis_key::AxisKey;
-use crate::config::{ConfigError, TorqueLimits};
+use crate::{ConfigError, TorqueLimits};
 
 /// The limits of one axis to check, in the axis' unit.
 pub(super) struct RampLimits<'a> {
@@ -114,10 +114,10 @@ fn within_one_cycle(
 mod tests {
     use std::path::{Path, PathBuf};
 
-    use crate::config::{CellConfig, ConfigError};
+    use crate::{CellConfig, ConfigError};
 
     fn configs_dir() -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs")
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs")
     }
 
     /// `configs/NAME` with `axes[0].limits.KEY = value` set for each (key, value).

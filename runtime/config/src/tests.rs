@@ -3,9 +3,12 @@ use std::path::Path;
 use super::*;
 
 fn demo_text() -> String {
-    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../configs/demo.toml"))
-        .expect("configs/demo.toml")
-        .replace("cpu = 1 ", "# cpu = 1 ")
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../configs/demo.toml"
+    ))
+    .expect("configs/demo.toml")
+    .replace("cpu = 1 ", "# cpu = 1 ")
 }
 
 fn parse(text: &str) -> Result<CellConfig, ConfigError> {
@@ -173,7 +176,7 @@ fn recording_rotation_and_flush_are_validated() {
 fn ethercat_text() -> String {
     std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../configs/ethercat-cell.toml"
+        "/../../configs/ethercat-cell.toml"
     ))
     .expect("configs/ethercat-cell.toml")
 }
@@ -329,7 +332,7 @@ fn a_pdo_mapping_from_the_config_is_checked_and_runs_in_the_axis_profile() {
 fn generic_text() -> String {
     std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../configs/cia402-generic.toml"
+        "/../../configs/cia402-generic.toml"
     ))
     .expect("configs/cia402-generic.toml")
 }

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use super::positive;
-use crate::config::ConfigError;
+use crate::ConfigError;
 
 /// Where an axis' keys live (`axes[i]` of `file`): errors name `axes[i].<sub>`.
 pub(super) struct AxisKey<'a> {

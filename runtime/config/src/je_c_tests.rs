@@ -10,7 +10,7 @@ use super::*;
 fn mixed() -> String {
     std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../configs/mixed-cell.toml"
+        "/../../configs/mixed-cell.toml"
     ))
     .expect("configs/mixed-cell.toml")
 }

@@ -6,8 +6,8 @@ use std::path::Path;
 use cellrt_cia402::CycleTime;
 use strum::VariantNames;
 
-use crate::config::raw::RawInjection;
-use crate::config::{AxisConfig, ConfigError, EthercatConfig, FaultKind, InjectedFault, Injection};
+use crate::raw::RawInjection;
+use crate::{AxisConfig, ConfigError, EthercatConfig, FaultKind, InjectedFault, Injection};
 
 /// `[[inject]]`: each fault at its cycle (sorted), with the keys its kind takes; faults of the
 /// emulated EtherCAT segment only in a cell with EtherCAT axes.

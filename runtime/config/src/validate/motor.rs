@@ -7,8 +7,8 @@ use cellrt_cia402::profiles::{MotorKind, Stated, VelocityUnit};
 use cellrt_cia402::DriveProfile;
 
 use super::axis_key::AxisKey;
-use crate::config::raw::RawAxis;
-use crate::config::ConfigError;
+use crate::raw::RawAxis;
+use crate::ConfigError;
 
 /// What the velocity check needs of the already validated axis keys.
 pub(super) struct VelocityDemand {

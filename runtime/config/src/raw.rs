@@ -478,7 +478,7 @@ impl Default for RawSimAxis {
 }
 
 fn default_motor_speed_factor() -> f64 {
-    crate::config::DEFAULT_MOTOR_SPEED_FACTOR
+    crate::DEFAULT_MOTOR_SPEED_FACTOR
 }
 
 fn default_true() -> bool {
@@ -488,7 +488,7 @@ fn default_priority() -> u8 {
     80
 }
 fn default_planner_priority() -> u8 {
-    crate::config::DEFAULT_PLANNER_PRIORITY
+    crate::DEFAULT_PLANNER_PRIORITY
 }
 fn default_recording_path() -> String {
     "recordings/{cell}-{timestamp}.mcap".to_string()

@@ -1,34 +1,11 @@
-//! The positioning modes of an MR-JE-C axis in a cell (SW A4+, MR-JE-C manual §7.6.3):
-//! `mode = "point_table"` with its `[[axes.je_c.point_table]]` (2801h–28FFh, written at
-//! start-up), `mode = "indexer"` with `je_c.stations` ([Pr. PT28]; the position unit is the
-//! station) and `mode = "jog"`. What a `move` and a `jog` mean on each kind of axis.
+//! What a `move` and a `jog` mean on each kind of MR-JE-C axis in a cell (SW A4+, MR-JE-C
+//! manual §7.6.3): `mode = "point_table"` with its `[[axes.je_c.point_table]]` (2801h–28FFh,
+//! written at start-up), `mode = "indexer"` with `je_c.stations` ([Pr. PT28]; the position unit
+//! is the station) and `mode = "jog"`. Their keys are checked with the axis (`je_c_axis`).
 
 use cellrt_axes::mr_je_c::cell::AxisCommand;
 
 use super::je_c_axis::{JecAxisConfig, JecMode};
-use super::raw::RawPointTable;
-
-/// The most point tables a drive holds (2801h–28FFh).
-pub const MAX_POINT_TABLES: usize = 255;
-/// The largest M code of a point table (2801h:7, 0–63h).
-pub const MAX_M_CODE: u8 = 0x63;
-/// [Pr. PT28]'s stations per revolution (indexer, §7.3 607Bh).
-pub const STATIONS: std::ops::RangeInclusive<u32> = 2..=255;
-
-/// One point table of a `point_table` axis, in the axis' units.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct JecPointTable {
-    /// Position, units.
-    pub position: f64,
-    /// Speed, unit/s.
-    pub velocity: f64,
-    /// Acceleration, unit/s².
-    pub acceleration: f64,
-    /// Deceleration, unit/s².
-    pub deceleration: f64,
-    /// M code.
-    pub m_code: u8,
-}
 
 /// Where a `move` takes an MR-JE-C axis, by its mode.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,97 +31,6 @@ impl JecMoveTarget {
             JecMoveTarget::PointTable { position, .. } => position,
             JecMoveTarget::Station(s) => f64::from(s),
         }
-    }
-}
-
-/// Checks the point tables of `axis` (name `name`) against its limits; `Err((key, why))`.
-pub fn point_tables(
-    name: &str,
-    mode: JecMode,
-    raw: &[RawPointTable],
-    position: [f64; 2],
-    velocity: f64,
-    acceleration: f64,
-) -> Result<Vec<JecPointTable>, (String, String)> {
-    if mode != JecMode::PointTable {
-        return match raw.is_empty() {
-            true => Ok(Vec::new()),
-            false => Err((
-                "je_c.point_table".into(),
-                format!(
-                    "axis '{name}' runs {}: point tables are for mode = \"point_table\"",
-                    mode.name()
-                ),
-            )),
-        };
-    }
-    if raw.is_empty() || raw.len() > MAX_POINT_TABLES {
-        return Err((
-            "je_c.point_table".into(),
-            format!(
-                "axis '{name}' runs point tables: give 1–{MAX_POINT_TABLES} [[axes.je_c.point_table]] (table 1 first), {} given",
-                raw.len()
-            ),
-        ));
-    }
-    raw.iter()
-        .enumerate()
-        .map(|(k, t)| {
-            let key = |sub: &str| format!("je_c.point_table[{k}].{sub}");
-            let n = k + 1;
-            let [lo, hi] = position;
-            if !(t.position.is_finite() && (lo..=hi).contains(&t.position)) {
-                return Err((
-                    key("position"),
-                    format!("point table {n}: {} is outside the position range [{lo}, {hi}] of axis '{name}'", t.position),
-                ));
-            }
-            let within = |sub: &str, v: Option<f64>, limit: f64| match v {
-                None => Ok(limit),
-                Some(v) if v.is_finite() && v > 0.0 && v <= limit => Ok(v),
-                Some(v) => Err((
-                    key(sub),
-                    format!("point table {n}: {sub} {v} must be > 0 and at most the axis' limit {limit}"),
-                )),
-            };
-            let m_code = t.m_code.unwrap_or(0);
-            if m_code > MAX_M_CODE {
-                return Err((
-                    key("m_code"),
-                    format!("point table {n}: M code {m_code} is outside 0–{MAX_M_CODE} (2801h:7)"),
-                ));
-            }
-            Ok(JecPointTable {
-                position: t.position,
-                velocity: within("velocity", t.velocity, velocity)?,
-                acceleration: within("acceleration", t.acceleration, acceleration)?,
-                deceleration: within(
-                    "deceleration",
-                    t.deceleration.or(t.acceleration),
-                    acceleration,
-                )?,
-                m_code,
-            })
-        })
-        .collect()
-}
-
-/// The stations of an indexer axis: `je_c.stations` for mode indexer, refused otherwise.
-pub fn stations(name: &str, mode_name: &str, raw: Option<u32>) -> Result<Option<u8>, String> {
-    match (mode_name, raw) {
-        ("indexer", Some(n)) if STATIONS.contains(&n) => Ok(Some(n as u8)),
-        ("indexer", Some(n)) => Err(format!(
-            "{n} stations: [Pr. PT28] takes {}–{} stations per revolution",
-            STATIONS.start(),
-            STATIONS.end()
-        )),
-        ("indexer", None) => Err(format!(
-            "axis '{name}' runs the indexer: give je_c.stations, its stations per revolution ([Pr. PT28])"
-        )),
-        (_, Some(_)) => Err(format!(
-            "axis '{name}' runs {mode_name}: stations are for mode = \"indexer\""
-        )),
-        (_, None) => Ok(None),
     }
 }
 

@@ -40,6 +40,108 @@ pub struct JecPointTable {
     pub m_code: u8,
 }
 
+/// Why an MR-JE-C axis refuses a command (a move, a jog or a torque).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum JecCommandError {
+    /// A torque on an axis that runs a positioning mode.
+    #[error("axis '{axis}' runs {mode}: the link devices of its positioning mode (Table 2.3) carry no torque command")]
+    TorqueInPositioningMode {
+        /// The axis.
+        axis: String,
+        /// Its mode's name.
+        mode: &'static str,
+    },
+    /// A torque on an axis without `limits.torque`.
+    #[error("axis '{axis}': a torque command needs limits.torque (% of rated torque)")]
+    NoTorqueLimit {
+        /// The axis.
+        axis: String,
+    },
+    /// A torque beyond `limits.torque` (or not a number).
+    #[error("torque {torque} % is outside the torque limit ±{max} % of axis '{axis}'")]
+    TorqueOutsideLimit {
+        /// The axis.
+        axis: String,
+        /// The torque asked for, %.
+        torque: f64,
+        /// The limit, %.
+        max: f64,
+    },
+    /// A move target that is not a finite number.
+    #[error("axis '{axis}': target {target} is not a finite number")]
+    TargetNotFinite {
+        /// The axis.
+        axis: String,
+        /// The target.
+        target: f64,
+    },
+    /// A move target outside the axis' position range.
+    #[error("axis '{axis}': target {target} {unit} is outside its position range [{lo}, {hi}]")]
+    TargetOutsideRange {
+        /// The axis.
+        axis: String,
+        /// The target.
+        target: f64,
+        /// The axis' unit.
+        unit: String,
+        /// The range's low end.
+        lo: f64,
+        /// The range's high end.
+        hi: f64,
+    },
+    /// A move target that is none of the axis' point tables or stations.
+    #[error("axis '{axis}': {target} is not one of its {what} ({first}–{last})")]
+    NotOneOf {
+        /// The axis.
+        axis: String,
+        /// The target.
+        target: f64,
+        /// "point tables" or "stations".
+        what: &'static str,
+        /// The first number.
+        first: u8,
+        /// The last number.
+        last: u8,
+    },
+    /// A move of a jog axis.
+    #[error("axis '{axis}' runs jg: it moves by jog only, not to targets")]
+    JogAxisHasNoTargets {
+        /// The axis.
+        axis: String,
+    },
+    /// A jog of an indexer axis.
+    #[error("axis '{axis}' is an indexer axis: it turns to stations (move), it does not jog")]
+    IndexerDoesNotJog {
+        /// The axis.
+        axis: String,
+    },
+}
+
+/// Why `je_c.stations` is refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum StationsError {
+    /// A count of stations [Pr. PT28] does not take.
+    #[error("{stations} stations: [Pr. PT28] takes {}–{} stations per revolution", STATIONS.start(), STATIONS.end())]
+    OutOfRange {
+        /// The count given.
+        stations: u32,
+    },
+    /// An indexer axis without `je_c.stations`.
+    #[error("axis '{axis}' runs the indexer: give je_c.stations, its stations per revolution ([Pr. PT28])")]
+    Missing {
+        /// The axis.
+        axis: String,
+    },
+    /// `je_c.stations` on an axis that is not an indexer.
+    #[error("axis '{axis}' runs {mode}: stations are for mode = \"indexer\"")]
+    NotAnIndexer {
+        /// The axis.
+        axis: String,
+        /// Its mode.
+        mode: String,
+    },
+}
+
 /// Where an MR-JE-C is reached.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum JecTransport {
@@ -174,24 +276,20 @@ impl JecAxisConfig {
     /// The tq command for `torque` % of rated torque: 6071h in 0.1 %, ramped at
     /// `limits.torque_slope` (6087h), the motor's speed held within `limits.velocity` (2D20h);
     /// refused without `limits.torque` or beyond it.
-    pub fn torque_command(&self, torque: f64) -> Result<AxisCommand, String> {
-        let name = &self.name;
+    pub fn torque_command(&self, torque: f64) -> Result<AxisCommand, JecCommandError> {
+        let axis = self.name.clone();
         if self.mode.positioning().is_some() {
-            return Err(format!(
-                "axis '{name}' runs {}: the link devices of its positioning mode (Table 2.3) carry no torque command",
-                self.mode.name()
-            ));
+            return Err(JecCommandError::TorqueInPositioningMode {
+                axis,
+                mode: self.mode.name(),
+            });
         }
         let Some(limits) = self.torque else {
-            return Err(format!(
-                "axis '{name}': a torque command needs limits.torque (% of rated torque)"
-            ));
+            return Err(JecCommandError::NoTorqueLimit { axis });
         };
         let max = limits.max.0;
         if !(torque.is_finite() && torque.abs() <= max) {
-            return Err(format!(
-                "torque {torque} % is outside the torque limit ±{max} % of axis '{name}'"
-            ));
+            return Err(JecCommandError::TorqueOutsideLimit { axis, torque, max });
         }
         let tenths = |v: f64| (v * 10.0).round();
         Ok(AxisCommand::Torque {
@@ -236,7 +334,8 @@ pub fn validate(
             ),
         )
     })?;
-    let stations = stations(&a.name, &a.mode, raw.stations).map_err(|m| err("je_c.stations", m))?;
+    let stations = stations(&a.name, &a.mode, raw.stations)
+        .map_err(|e| err("je_c.stations", e.to_string()))?;
     let mode = match (a.mode.as_str(), stations) {
         ("pp", _) => JecMode::Pp,
         ("pv", _) => JecMode::Pv,
@@ -441,20 +540,19 @@ pub fn point_tables(
 }
 
 /// The stations of an indexer axis: `je_c.stations` for mode indexer, refused otherwise.
-pub fn stations(name: &str, mode_name: &str, raw: Option<u32>) -> Result<Option<u8>, String> {
+pub fn stations(
+    name: &str,
+    mode_name: &str,
+    raw: Option<u32>,
+) -> Result<Option<u8>, StationsError> {
     match (mode_name, raw) {
         ("indexer", Some(n)) if STATIONS.contains(&n) => Ok(Some(n as u8)),
-        ("indexer", Some(n)) => Err(format!(
-            "{n} stations: [Pr. PT28] takes {}–{} stations per revolution",
-            STATIONS.start(),
-            STATIONS.end()
-        )),
-        ("indexer", None) => Err(format!(
-            "axis '{name}' runs the indexer: give je_c.stations, its stations per revolution ([Pr. PT28])"
-        )),
-        (_, Some(_)) => Err(format!(
-            "axis '{name}' runs {mode_name}: stations are for mode = \"indexer\""
-        )),
+        ("indexer", Some(stations)) => Err(StationsError::OutOfRange { stations }),
+        ("indexer", None) => Err(StationsError::Missing { axis: name.into() }),
+        (_, Some(_)) => Err(StationsError::NotAnIndexer {
+            axis: name.into(),
+            mode: mode_name.into(),
+        }),
         (_, None) => Ok(None),
     }
 }

@@ -5,7 +5,7 @@
 
 use cellrt_axes::mr_je_c::cell::AxisCommand;
 
-use super::je_c_axis::{JecAxisConfig, JecMode};
+use super::je_c_axis::{JecAxisConfig, JecCommandError, JecMode};
 
 /// Where a `move` takes an MR-JE-C axis, by its mode.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -38,21 +38,26 @@ impl JecAxisConfig {
     /// What a move to `value` means on this axis, checked: a position within its range (pp,
     /// pv, tq), the number of one of its point tables (pt) or one of its stations (idx); a jog
     /// axis does not move to targets.
-    pub fn move_target(&self, value: f64) -> Result<JecMoveTarget, String> {
-        let name = &self.name;
+    pub fn move_target(&self, value: f64) -> Result<JecMoveTarget, JecCommandError> {
+        let axis = || self.name.clone();
         if !value.is_finite() {
-            return Err(format!(
-                "axis '{name}': target {value} is not a finite number"
-            ));
+            return Err(JecCommandError::TargetNotFinite {
+                axis: axis(),
+                target: value,
+            });
         }
         // One of the numbers `first`…`last` (a table or a station), named `what`.
-        let number = |first: u8, last: u8, what: &str| {
+        let number = |first: u8, last: u8, what: &'static str| {
             if value.fract() == 0.0 && (f64::from(first)..=f64::from(last)).contains(&value) {
                 Ok(value as u8)
             } else {
-                Err(format!(
-                    "axis '{name}': {value} is not one of its {what} ({first}–{last})"
-                ))
+                Err(JecCommandError::NotOneOf {
+                    axis: axis(),
+                    target: value,
+                    what,
+                    first,
+                    last,
+                })
             }
         };
         match self.mode {
@@ -61,10 +66,13 @@ impl JecAxisConfig {
                 if (lo..=hi).contains(&value) {
                     Ok(JecMoveTarget::Position(value))
                 } else {
-                    Err(format!(
-                        "axis '{name}': target {value} {} is outside its position range [{lo}, {hi}]",
-                        self.unit
-                    ))
+                    Err(JecCommandError::TargetOutsideRange {
+                        axis: axis(),
+                        target: value,
+                        unit: self.unit.clone(),
+                        lo,
+                        hi,
+                    })
                 }
             }
             JecMode::PointTable => {
@@ -79,9 +87,7 @@ impl JecAxisConfig {
             JecMode::Indexer { stations } => {
                 number(0, stations.saturating_sub(1), "stations").map(JecMoveTarget::Station)
             }
-            JecMode::Jog => Err(format!(
-                "axis '{name}' runs jg: it moves by jog only, not to targets"
-            )),
+            JecMode::Jog => Err(JecCommandError::JogAxisHasNoTargets { axis: axis() }),
         }
     }
 
@@ -151,7 +157,11 @@ impl JecAxisConfig {
 
     /// The command of a jog at `velocity` unit/s with `acceleration` unit/s²: jg on a jog or
     /// point-table axis (Table 2.3 has no 60FFh), pv otherwise; an indexer axis does not jog.
-    pub fn jog_command(&self, velocity: f64, acceleration: f64) -> Result<AxisCommand, String> {
+    pub fn jog_command(
+        &self,
+        velocity: f64,
+        acceleration: f64,
+    ) -> Result<AxisCommand, JecCommandError> {
         let ramp = self.ramp_ms(acceleration);
         let speed = self.drive_speed(velocity);
         match self.mode {
@@ -161,10 +171,9 @@ impl JecAxisConfig {
                 acceleration_ms: ramp,
                 deceleration_ms: ramp,
             }),
-            JecMode::Indexer { .. } => Err(format!(
-                "axis '{}' is an indexer axis: it turns to stations (move), it does not jog",
-                self.name
-            )),
+            JecMode::Indexer { .. } => Err(JecCommandError::IndexerDoesNotJog {
+                axis: self.name.clone(),
+            }),
             JecMode::Pp | JecMode::Pv | JecMode::Tq => Ok(AxisCommand::Velocity {
                 velocity: speed.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32,
                 acceleration_ms: ramp,

@@ -30,7 +30,7 @@ pub(super) fn take_targets(
         let value = target.remove(&name).expect("a key of target");
         let goal = a
             .move_target(value)
-            .map_err(|m| ConfigError::new(path, format!("{key}.target.{name}"), m))?;
+            .map_err(|e| ConfigError::new(path, format!("{key}.target.{name}"), e.to_string()))?;
         if !a.takes_move_limits() {
             for (lim, what) in [(&*velocity, "velocity"), (&*acceleration, "acceleration")] {
                 let names_it = match lim {
@@ -147,7 +147,7 @@ pub(super) fn jog_step(
     }
     let a = &cell.je_c_axes[axis];
     a.jog_command(velocity, a.acceleration)
-        .map_err(|m| ConfigError::new(path, format!("{key}.axis"), m))?;
+        .map_err(|m| ConfigError::new(path, format!("{key}.axis"), m.to_string()))?;
     Ok(Step::JecJog {
         axis,
         velocity,
@@ -185,7 +185,7 @@ pub(super) fn torque_step(
             cell.je_c_axes[k]
                 .torque_command(target[name])
                 .map(|c| (k, c))
-                .map_err(|e| ConfigError::new(path, format!("{key}.target.{name}"), e))
+                .map_err(|e| ConfigError::new(path, format!("{key}.target.{name}"), e.to_string()))
         })
         .collect::<Result<_, _>>()?;
     Ok(Some(Step::JecTorque { commands, seconds }))

@@ -2,15 +2,10 @@
 
 use std::path::Path;
 
+use cellrt_recording::{
+    chunk_records, parse_record, read_summary, CellInfo, RecFile, RecordWalker,
+};
 use mcap::records::Record;
-
-/// The tools' recording reader, compiled here from its source (the `cellrt` package has no
-/// library target).
-#[path = "../../tools/src/recording.rs"]
-#[allow(dead_code)]
-mod reader;
-
-use reader::{chunk_records, parse_record, CellInfo, RecFile, RecordWalker};
 
 /// A recording file: metadata, attachments, per-channel counts and decoded messages through
 /// the reader `inspect`, `report` and `replay` use, then the record walk `recover` makes
@@ -26,7 +21,7 @@ pub fn mcap_recording(data: &[u8]) {
         });
         let _ = file.decode(&cell, true);
     }
-    let _ = reader::read_summary(data);
+    let _ = read_summary(data);
     for (op, body) in RecordWalker::new(data, mcap::MAGIC.len()).map_while(Result::ok) {
         if let Ok(Record::Chunk { header, data }) = parse_record(op, body) {
             if let Ok(inner) = chunk_records(&header, &data) {

@@ -37,9 +37,34 @@ fn objects(dir: &Path, prefix: &str, suffix: &str) -> Vec<(PathBuf, u32)> {
         .collect()
 }
 
+/// Why the shared-memory objects of this user's cells cannot be made safe.
+#[derive(Debug, thiserror::Error)]
+pub enum ShmGuardError {
+    /// Another user's object that this user cannot remove.
+    #[error("{} is owned by uid {owner}, not by this user (uid {uid}): another user could control this user's cells through it, and it cannot be removed ({source}); remove it as root", path.display())]
+    Planted {
+        /// The object.
+        path: PathBuf,
+        /// Its owner.
+        owner: u32,
+        /// This user.
+        uid: u32,
+        /// Why it cannot be removed.
+        source: std::io::Error,
+    },
+    /// An own object whose permissions cannot be set.
+    #[error("{}: cannot make it private: {source}", path.display())]
+    CannotRestrict {
+        /// The object.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
 /// Removes each object with `prefix` in `dir` that `uid` does not own; refuses, naming it, one
 /// this user may not remove.
-pub fn clear_foreign(dir: &Path, prefix: &str, uid: u32) -> Result<(), String> {
+pub fn clear_foreign(dir: &Path, prefix: &str, uid: u32) -> Result<(), ShmGuardError> {
     for (path, owner) in objects(dir, prefix, "") {
         if owner == uid {
             continue;
@@ -50,13 +75,13 @@ pub fn clear_foreign(dir: &Path, prefix: &str, uid: u32) -> Result<(), String> {
                 path.display()
             ),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-            Err(e) => {
-                return Err(format!(
-                    "{} is owned by uid {owner}, not by this user (uid {uid}): another user \
-                     could control this user's cells through it, and it cannot be removed \
-                     ({e}); remove it as root",
-                    path.display()
-                ))
+            Err(source) => {
+                return Err(ShmGuardError::Planted {
+                    path,
+                    owner,
+                    uid,
+                    source,
+                })
             }
         }
     }
@@ -65,13 +90,17 @@ pub fn clear_foreign(dir: &Path, prefix: &str, uid: u32) -> Result<(), String> {
 
 /// Makes each global management object with `prefix` in `dir` that `uid` owns readable and
 /// writable by its owner only.
-pub fn restrict_own(dir: &Path, prefix: &str, uid: u32) -> Result<(), String> {
+pub fn restrict_own(dir: &Path, prefix: &str, uid: u32) -> Result<(), ShmGuardError> {
     for (path, owner) in objects(dir, prefix, GLOBAL_MGMT_SUFFIX) {
         if owner != uid {
             continue;
         }
-        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o600))
-            .map_err(|e| format!("{}: cannot make it private: {e}", path.display()))?;
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o600)).map_err(
+            |source| ShmGuardError::CannotRestrict {
+                path: path.clone(),
+                source,
+            },
+        )?;
     }
     Ok(())
 }
@@ -91,7 +120,7 @@ mod tests {
         std::fs::set_permissions(&own, std::fs::Permissions::from_mode(0o666)).unwrap();
         std::fs::write(dir.path().join("iox2_other_node.global_mgmt"), b"").unwrap();
         // Owned by this user: kept, then private.
-        assert_eq!(clear_foreign(dir.path(), "iox2_cellrt_u0_", uid), Ok(()));
+        clear_foreign(dir.path(), "iox2_cellrt_u0_", uid).unwrap();
         restrict_own(dir.path(), "iox2_cellrt_u0_", uid).unwrap();
         let mode = std::fs::metadata(&own).unwrap().permissions().mode() & 0o777;
         assert_eq!(mode, 0o600);
@@ -102,10 +131,7 @@ mod tests {
         assert_eq!(mode, 0o644, "another user's object is not touched");
         // Seen from another user (who may remove it here) it was planted: removed; objects of
         // other prefixes stay.
-        assert_eq!(
-            clear_foreign(dir.path(), "iox2_cellrt_u0_", uid + 1),
-            Ok(())
-        );
+        clear_foreign(dir.path(), "iox2_cellrt_u0_", uid + 1).unwrap();
         assert!(!own.exists());
         assert!(dir.path().join("iox2_other_node.global_mgmt").exists());
     }

@@ -11,9 +11,10 @@
 //! the in-process emulated EtherCAT segment homes by a program step with the configured method,
 //! its 6099h/609Ah going through the mailbox worker.
 
-#[path = "support/event_log.rs"]
-mod event_log;
-use event_log::cycle_of;
+#[allow(dead_code)] // the shared support: this test uses the event log and the cell rig
+mod support;
+use support::cell_rig::Rig;
+use support::event_log::cycle_of;
 
 use std::path::Path;
 
@@ -86,11 +87,6 @@ fn the_travel_after_dog_reaches_the_drive_in_counts_and_is_a_length() {
     let err = CellConfig::parse(Path::new("homing.toml"), &text).unwrap_err();
     assert!(err.to_string().contains("sim.travel_after_dog"), "{err}");
 }
-
-#[path = "support/cell_rig.rs"]
-#[allow(dead_code)] // the shared rig: this test does not send profile motions
-mod cell_rig;
-use cell_rig::Rig;
 
 /// Homes `rig`'s axis with `method`; returns the records of the homing and its failure code.
 fn run_homing(rig: &mut Rig, method: i8) -> (Vec<AxisRecord>, i64) {

@@ -5,9 +5,9 @@
 //! a loop that waited for the answer would never get it) and the homing starts once the drive
 //! has answered, 50 cycles or more later.
 
-#[path = "support/event_log.rs"]
-mod event_log;
-use event_log::cycle_of;
+#[allow(dead_code)] // the shared support: this test uses the event log
+mod support;
+use support::event_log::cycle_of;
 
 use std::path::Path;
 

@@ -4,9 +4,9 @@
 //! controlword bit 4 low, 607Ah equals 6064h from the cycle before 6060h = 8 so the motor does
 //! not jump, and the switch ends when 6061h shows the mode. Judged on the recorded cycles.
 
-#[path = "support/cell_rig.rs"]
-mod cell_rig;
-use cell_rig::Rig;
+#[allow(dead_code)] // the shared support: this test uses the cell rig
+mod support;
+use support::cell_rig::Rig;
 
 use std::path::Path;
 

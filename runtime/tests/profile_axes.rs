@@ -6,9 +6,9 @@
 //! speeds and accelerations within the commanded profile, the final position within the
 //! in-position range (100 pulses, [Pr. PA10]'s default), the handshake bits in their cycles.
 
-#[path = "support/cell_rig.rs"]
-mod cell_rig;
-use cell_rig::Rig;
+#[allow(dead_code)] // the shared support: this test uses the cell rig
+mod support;
+use support::cell_rig::Rig;
 
 use std::path::Path;
 

@@ -2,11 +2,11 @@
 //! dog method −1 on the simulated switches, its 6098h, 6099h:1/2 and 609Ah written by SDO from
 //! the RT loop's acyclic slot at the homing start, allocates nothing in steady state.
 
-#[path = "support/alloc_rig.rs"]
-mod alloc_rig;
 mod common;
-#[path = "support/rt_thread.rs"]
-mod rt_thread;
+#[allow(dead_code)] // the shared support: this test uses the RT-allocation rig
+mod support;
+
+use support::alloc_rig::{self, Counting};
 
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -37,7 +37,12 @@ homing = {{ method = -1, switch_speed = 100.0, creep_speed = 20.0, acceleration_
         std::process::id()
     );
     let cell = CellConfig::parse(Path::new("na-homing.toml"), &text).unwrap();
-    let steady = alloc_rig::start_steady(&cell);
+    let counting = Counting::new(
+        common::hook,
+        common::marked_heap_calls,
+        &common::LOOPS_EXITED,
+    );
+    let steady = alloc_rig::start_steady(&cell, counting);
     let h = &steady.h;
     h.request_homing(HomeRequest {
         axis: 0,

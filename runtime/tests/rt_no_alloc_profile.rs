@@ -3,11 +3,11 @@
 //! (objects in its 1601h RxPDO) run drive-side motions, halts and a cell stop, a csp axis switches
 //! to pp, moves and switches back, and the RT loop allocates nothing in steady state.
 
-#[path = "support/alloc_rig.rs"]
-mod alloc_rig;
 mod common;
-#[path = "support/rt_thread.rs"]
-mod rt_thread;
+#[allow(dead_code)] // the shared support: this test uses the RT-allocation rig
+mod support;
+
+use support::alloc_rig::{self, Counting};
 
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -47,7 +47,12 @@ fn profile_axes_run_without_allocating_on_the_rt_thread() {
         axis("c", "mr-j5-g-n1", "csp", j5),
     );
     let cell = CellConfig::parse(Path::new("na-profile.toml"), &text).unwrap();
-    let steady = alloc_rig::start_steady(&cell);
+    let counting = Counting::new(
+        common::hook,
+        common::marked_heap_calls,
+        &common::LOOPS_EXITED,
+    );
+    let steady = alloc_rig::start_steady(&cell, counting);
     let h = &steady.h;
     let mut finished = 0;
     let mut count_finished = |h: &HostEnd| {

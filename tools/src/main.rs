@@ -4,7 +4,6 @@ mod cli;
 mod commands;
 mod exit;
 mod numbers;
-mod recording;
 mod summary;
 
 use clap::Parser;

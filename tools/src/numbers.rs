@@ -5,20 +5,56 @@
 /// The longest `--reply-timeout`, s: beyond an hour a reply is not coming.
 pub const MAX_REPLY_TIMEOUT_S: f64 = 3600.0;
 
-fn number(s: &str) -> Result<f64, String> {
+/// Why a number on the command line is refused (`text`: the argument as given).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NumberError {
+    /// Not a number at all.
+    #[error("'{text}' is not a number")]
+    NotANumber {
+        /// The argument.
+        text: String,
+    },
+    /// Not an integer (decimal or hex).
+    #[error("{text:?} is not a number")]
+    NotAnInteger {
+        /// The argument.
+        text: String,
+    },
+    /// NaN or an infinity.
+    #[error("{text} is not a finite number")]
+    NotFinite {
+        /// The argument.
+        text: String,
+    },
+    /// Zero or below where a number > 0 is needed.
+    #[error("{text} must be a number > 0")]
+    NotPositive {
+        /// The argument.
+        text: String,
+    },
+    /// A `--reply-timeout` beyond [`MAX_REPLY_TIMEOUT_S`].
+    #[error("{text} s is longer than {MAX_REPLY_TIMEOUT_S} s")]
+    TooLong {
+        /// The argument.
+        text: String,
+    },
+}
+
+fn number(s: &str) -> Result<f64, NumberError> {
+    let text = || s.to_string();
     let v: f64 = s
         .trim()
         .parse()
-        .map_err(|_| format!("'{s}' is not a number"))?;
+        .map_err(|_| NumberError::NotANumber { text: text() })?;
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(format!("{s} is not a finite number"))
+        Err(NumberError::NotFinite { text: text() })
     }
 }
 
 /// An integer in decimal or hex (0x1EA5 / 1EA5h), with an optional minus sign (object values).
-pub fn integer(s: &str) -> Result<i64, String> {
+pub fn integer(s: &str) -> Result<i64, NumberError> {
     let t = s.trim();
     let (neg, body) = t.strip_prefix('-').map_or((false, t), |b| (true, b));
     let n = if let Some(h) = body
@@ -29,32 +65,38 @@ pub fn integer(s: &str) -> Result<i64, String> {
     } else {
         body.parse::<i64>()
     }
-    .map_err(|_| format!("{s:?} is not a number"))?;
+    .map_err(|_| NumberError::NotAnInteger {
+        text: s.to_string(),
+    })?;
     Ok(if neg { -n } else { n })
 }
 
 /// Any finite number (a signed jog velocity, an override percentage the cell range-checks).
-pub fn finite(s: &str) -> Result<f64, String> {
+pub fn finite(s: &str) -> Result<f64, NumberError> {
     number(s)
 }
 
 /// A finite number > 0 (limits, durations).
-pub fn positive(s: &str) -> Result<f64, String> {
+pub fn positive(s: &str) -> Result<f64, NumberError> {
     let v = number(s)?;
     if v > 0.0 {
         Ok(v)
     } else {
-        Err(format!("{s} must be a number > 0"))
+        Err(NumberError::NotPositive {
+            text: s.to_string(),
+        })
     }
 }
 
 /// `--reply-timeout`: seconds > 0, at most [`MAX_REPLY_TIMEOUT_S`].
-pub fn reply_timeout(s: &str) -> Result<f64, String> {
+pub fn reply_timeout(s: &str) -> Result<f64, NumberError> {
     let v = positive(s)?;
     if v <= MAX_REPLY_TIMEOUT_S {
         Ok(v)
     } else {
-        Err(format!("{s} s is longer than {MAX_REPLY_TIMEOUT_S} s"))
+        Err(NumberError::TooLong {
+            text: s.to_string(),
+        })
     }
 }
 
@@ -69,10 +111,29 @@ mod tests {
             assert!(positive(bad).is_err(), "{bad}");
         }
         assert_eq!(finite("-12.5"), Ok(-12.5));
-        assert!(positive("0").unwrap_err().contains("> 0"));
+        assert_eq!(
+            positive("0"),
+            Err(NumberError::NotPositive { text: "0".into() })
+        );
+        assert_eq!(
+            positive("0").unwrap_err().to_string(),
+            "0 must be a number > 0"
+        );
+        assert_eq!(
+            integer("1x").unwrap_err().to_string(),
+            "\"1x\" is not a number"
+        );
+        assert_eq!(finite("x").unwrap_err().to_string(), "'x' is not a number");
+        assert_eq!(
+            finite("inf").unwrap_err().to_string(),
+            "inf is not a finite number"
+        );
         assert!(positive("-1").is_err());
         assert_eq!(positive("1e-3"), Ok(1e-3));
-        assert!(reply_timeout("1e300").unwrap_err().contains("3600"));
+        assert_eq!(
+            reply_timeout("1e300").unwrap_err().to_string(),
+            "1e300 s is longer than 3600 s"
+        );
         assert_eq!(reply_timeout("5"), Ok(5.0));
     }
 }

@@ -7,7 +7,6 @@
 //! The reference durations were taken from the official library; with the `ruckig-oracle`
 //! feature, `reference_durations_are_the_official_ones` recomputes them.
 
-#[path = "common/ruckig_problem.rs"]
 mod ruckig_problem;
 
 use rsruckig::prelude::{Ruckig, RuckigResult, ThrowErrorHandler, Trajectory};

@@ -21,7 +21,6 @@
 
 #![cfg(feature = "ruckig-oracle")]
 
-#[path = "common/ruckig_problem.rs"]
 mod ruckig_problem;
 
 use proptest::prelude::*;

@@ -123,7 +123,9 @@ pub fn capture_config(
     let triggers = triggers
         .iter()
         .enumerate()
-        .map(|(i, t)| parse_trigger(t, axes).map_err(|m| err(&format!("triggers[{i}]"), m)))
+        .map(|(i, t)| {
+            parse_trigger(t, axes).map_err(|e| err(&format!("triggers[{i}]"), e.to_string()))
+        })
         .collect::<Result<Vec<_>, _>>()?;
     Ok(Some(CaptureConfig {
         pre_s,
@@ -132,21 +134,73 @@ pub fn capture_config(
     }))
 }
 
+/// Why a `recording.triggers` entry is refused (`text`: the entry, trimmed).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TriggerError {
+    /// No `/` and not an event kind.
+    #[error("'{text}' is not an event kind (e.g. drive_fault, overrun, stop_started) nor a threshold like '/axis/x.following_error > 0.5'")]
+    NotAnEventKind {
+        /// The entry.
+        text: String,
+    },
+    /// A threshold without `>` or `<`.
+    #[error("'{text}': a threshold compares with > or <")]
+    NoComparison {
+        /// The entry.
+        text: String,
+    },
+    /// A magnitude compared with `<`.
+    #[error("'{text}': a magnitude is compared with >")]
+    MagnitudeBelow {
+        /// The entry.
+        text: String,
+    },
+    /// The left side is not `/axis/NAME.QUANTITY`.
+    #[error("'{text}': expected /axis/NAME.QUANTITY")]
+    NotAnAxisQuantity {
+        /// The entry.
+        text: String,
+    },
+    /// No axis of that name.
+    #[error("'{text}': no axis named '{axis}'")]
+    UnknownAxis {
+        /// The entry.
+        text: String,
+        /// The name.
+        axis: String,
+    },
+    /// A quantity that is not recorded.
+    #[error("'{text}': unknown quantity '{quantity}' (allowed: following_error, actual_position, actual_velocity, setpoint_position, setpoint_velocity)")]
+    UnknownQuantity {
+        /// The entry.
+        text: String,
+        /// The quantity.
+        quantity: String,
+    },
+    /// The threshold is not a finite number.
+    #[error("'{text}': '{value}' is not a finite number")]
+    NotFinite {
+        /// The entry.
+        text: String,
+        /// The threshold's text.
+        value: String,
+    },
+}
+
 /// `drive_fault` (an event kind), or `/axis/NAME.QUANTITY > VALUE` (also `<`, and `|…|` around
 /// the quantity for its magnitude: `|/axis/x.following_error| > 0.5`).
-fn parse_trigger(text: &str, axes: &[AxisConfig]) -> Result<Trigger, String> {
+fn parse_trigger(text: &str, axes: &[AxisConfig]) -> Result<Trigger, TriggerError> {
     let t = text.trim();
+    let text = || t.to_string();
     if !t.contains('/') {
-        return EventKind::from_str(t).map(Trigger::Event).map_err(|_| {
-            format!(
-                "'{t}' is not an event kind (e.g. drive_fault, overrun, stop_started) nor a threshold like '/axis/x.following_error > 0.5'"
-            )
-        });
+        return EventKind::from_str(t)
+            .map(Trigger::Event)
+            .map_err(|_| TriggerError::NotAnEventKind { text: text() });
     }
     let (lhs, op, rhs) = ['>', '<']
         .iter()
         .find_map(|&op| t.split_once(op).map(|(l, r)| (l.trim(), op, r.trim())))
-        .ok_or_else(|| format!("'{t}': a threshold compares with > or <"))?;
+        .ok_or_else(|| TriggerError::NoComparison { text: text() })?;
     let (inner, magnitude) = match lhs.strip_prefix('|').and_then(|l| l.strip_suffix('|')) {
         Some(inner) => (inner.trim(), true),
         None => (lhs, false),
@@ -155,26 +209,31 @@ fn parse_trigger(text: &str, axes: &[AxisConfig]) -> Result<Trigger, String> {
         ('>', false) => Comparison::Above,
         ('<', false) => Comparison::Below,
         ('>', true) => Comparison::AbsAbove,
-        _ => return Err(format!("'{t}': a magnitude is compared with >")),
+        _ => return Err(TriggerError::MagnitudeBelow { text: text() }),
     };
     let (name, quantity) = inner
         .strip_prefix("/axis/")
         .and_then(|r| r.rsplit_once('.'))
-        .ok_or_else(|| format!("'{t}': expected /axis/NAME.QUANTITY"))?;
-    let axis = axes
-        .iter()
-        .position(|a| a.name == name)
-        .ok_or_else(|| format!("'{t}': no axis named '{name}'"))?;
-    let quantity = Quantity::from_str(quantity).map_err(|_| {
-        format!(
-            "'{t}': unknown quantity '{quantity}' (allowed: following_error, actual_position, actual_velocity, setpoint_position, setpoint_velocity)"
-        )
+        .ok_or_else(|| TriggerError::NotAnAxisQuantity { text: text() })?;
+    let axis =
+        axes.iter()
+            .position(|a| a.name == name)
+            .ok_or_else(|| TriggerError::UnknownAxis {
+                text: text(),
+                axis: name.to_string(),
+            })?;
+    let quantity = Quantity::from_str(quantity).map_err(|_| TriggerError::UnknownQuantity {
+        text: text(),
+        quantity: quantity.to_string(),
     })?;
     let value: f64 = rhs
         .parse()
         .ok()
         .filter(|v: &f64| v.is_finite())
-        .ok_or_else(|| format!("'{t}': '{rhs}' is not a finite number"))?;
+        .ok_or_else(|| TriggerError::NotFinite {
+            text: text(),
+            value: rhs.to_string(),
+        })?;
     Ok(Trigger::Threshold {
         axis,
         quantity,

@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
-use super::raw::{RawAxis, RawJecAxis};
+use super::raw::{RawAxis, RawJecAxis, RawPointTable};
 use super::{ConfigError, FaultReaction};
 
 /// The drive name that selects an MR-JE-C axis.
@@ -17,6 +17,130 @@ pub const DRIVE: &str = "mr-je-c";
 
 /// The shortest link period: the drive's response time (MR-JE-C manual §2.2.1: 10 ms).
 pub const MIN_PERIOD_MS: u64 = 10;
+
+/// The most point tables a drive holds (2801h–28FFh).
+pub const MAX_POINT_TABLES: usize = 255;
+/// The largest M code of a point table (2801h:7, 0–63h).
+pub const MAX_M_CODE: u8 = 0x63;
+/// [Pr. PT28]'s stations per revolution (indexer, §7.3 607Bh).
+pub const STATIONS: std::ops::RangeInclusive<u32> = 2..=255;
+
+/// One point table of a `point_table` axis, in the axis' units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JecPointTable {
+    /// Position, units.
+    pub position: f64,
+    /// Speed, unit/s.
+    pub velocity: f64,
+    /// Acceleration, unit/s².
+    pub acceleration: f64,
+    /// Deceleration, unit/s².
+    pub deceleration: f64,
+    /// M code.
+    pub m_code: u8,
+}
+
+/// Why an MR-JE-C axis refuses a command (a move, a jog or a torque).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum JecCommandError {
+    /// A torque on an axis that runs a positioning mode.
+    #[error("axis '{axis}' runs {mode}: the link devices of its positioning mode (Table 2.3) carry no torque command")]
+    TorqueInPositioningMode {
+        /// The axis.
+        axis: String,
+        /// Its mode's name.
+        mode: &'static str,
+    },
+    /// A torque on an axis without `limits.torque`.
+    #[error("axis '{axis}': a torque command needs limits.torque (% of rated torque)")]
+    NoTorqueLimit {
+        /// The axis.
+        axis: String,
+    },
+    /// A torque beyond `limits.torque` (or not a number).
+    #[error("torque {torque} % is outside the torque limit ±{max} % of axis '{axis}'")]
+    TorqueOutsideLimit {
+        /// The axis.
+        axis: String,
+        /// The torque asked for, %.
+        torque: f64,
+        /// The limit, %.
+        max: f64,
+    },
+    /// A move target that is not a finite number.
+    #[error("axis '{axis}': target {target} is not a finite number")]
+    TargetNotFinite {
+        /// The axis.
+        axis: String,
+        /// The target.
+        target: f64,
+    },
+    /// A move target outside the axis' position range.
+    #[error("axis '{axis}': target {target} {unit} is outside its position range [{lo}, {hi}]")]
+    TargetOutsideRange {
+        /// The axis.
+        axis: String,
+        /// The target.
+        target: f64,
+        /// The axis' unit.
+        unit: String,
+        /// The range's low end.
+        lo: f64,
+        /// The range's high end.
+        hi: f64,
+    },
+    /// A move target that is none of the axis' point tables or stations.
+    #[error("axis '{axis}': {target} is not one of its {what} ({first}–{last})")]
+    NotOneOf {
+        /// The axis.
+        axis: String,
+        /// The target.
+        target: f64,
+        /// "point tables" or "stations".
+        what: &'static str,
+        /// The first number.
+        first: u8,
+        /// The last number.
+        last: u8,
+    },
+    /// A move of a jog axis.
+    #[error("axis '{axis}' runs jg: it moves by jog only, not to targets")]
+    JogAxisHasNoTargets {
+        /// The axis.
+        axis: String,
+    },
+    /// A jog of an indexer axis.
+    #[error("axis '{axis}' is an indexer axis: it turns to stations (move), it does not jog")]
+    IndexerDoesNotJog {
+        /// The axis.
+        axis: String,
+    },
+}
+
+/// Why `je_c.stations` is refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum StationsError {
+    /// A count of stations [Pr. PT28] does not take.
+    #[error("{stations} stations: [Pr. PT28] takes {}–{} stations per revolution", STATIONS.start(), STATIONS.end())]
+    OutOfRange {
+        /// The count given.
+        stations: u32,
+    },
+    /// An indexer axis without `je_c.stations`.
+    #[error("axis '{axis}' runs the indexer: give je_c.stations, its stations per revolution ([Pr. PT28])")]
+    Missing {
+        /// The axis.
+        axis: String,
+    },
+    /// `je_c.stations` on an axis that is not an indexer.
+    #[error("axis '{axis}' runs {mode}: stations are for mode = \"indexer\"")]
+    NotAnIndexer {
+        /// The axis.
+        axis: String,
+        /// Its mode.
+        mode: String,
+    },
+}
 
 /// Where an MR-JE-C is reached.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -113,7 +237,7 @@ pub struct JecAxisConfig {
     /// pp, pv, tq or a positioning mode.
     pub mode: JecMode,
     /// Point tables 1, 2, … (`point_table` axes; empty otherwise).
-    pub point_tables: Vec<super::je_c_positioning::JecPointTable>,
+    pub point_tables: Vec<JecPointTable>,
     /// `limits.torque` and `limits.torque_slope` where set (required in tq).
     pub torque: Option<super::TorqueLimits>,
     /// Where the drive is.
@@ -152,24 +276,20 @@ impl JecAxisConfig {
     /// The tq command for `torque` % of rated torque: 6071h in 0.1 %, ramped at
     /// `limits.torque_slope` (6087h), the motor's speed held within `limits.velocity` (2D20h);
     /// refused without `limits.torque` or beyond it.
-    pub fn torque_command(&self, torque: f64) -> Result<AxisCommand, String> {
-        let name = &self.name;
+    pub fn torque_command(&self, torque: f64) -> Result<AxisCommand, JecCommandError> {
+        let axis = self.name.clone();
         if self.mode.positioning().is_some() {
-            return Err(format!(
-                "axis '{name}' runs {}: the link devices of its positioning mode (Table 2.3) carry no torque command",
-                self.mode.name()
-            ));
+            return Err(JecCommandError::TorqueInPositioningMode {
+                axis,
+                mode: self.mode.name(),
+            });
         }
         let Some(limits) = self.torque else {
-            return Err(format!(
-                "axis '{name}': a torque command needs limits.torque (% of rated torque)"
-            ));
+            return Err(JecCommandError::NoTorqueLimit { axis });
         };
         let max = limits.max.0;
         if !(torque.is_finite() && torque.abs() <= max) {
-            return Err(format!(
-                "torque {torque} % is outside the torque limit ±{max} % of axis '{name}'"
-            ));
+            return Err(JecCommandError::TorqueOutsideLimit { axis, torque, max });
         }
         let tenths = |v: f64| (v * 10.0).round();
         Ok(AxisCommand::Torque {
@@ -214,8 +334,8 @@ pub fn validate(
             ),
         )
     })?;
-    let stations = super::je_c_positioning::stations(&a.name, &a.mode, raw.stations)
-        .map_err(|m| err("je_c.stations", m))?;
+    let stations = stations(&a.name, &a.mode, raw.stations)
+        .map_err(|e| err("je_c.stations", e.to_string()))?;
     let mode = match (a.mode.as_str(), stations) {
         ("pp", _) => JecMode::Pp,
         ("pv", _) => JecMode::Pv,
@@ -315,7 +435,7 @@ pub fn validate(
             ));
         }
     }
-    let point_tables = super::je_c_positioning::point_tables(
+    let point_tables = point_tables(
         &a.name,
         mode,
         &raw.point_table,
@@ -345,6 +465,96 @@ pub fn validate(
         rated_speed: positive("je_c.rated_speed", raw.rated_speed.unwrap_or(3000.0))?,
         emulate: raw.emulate,
     })
+}
+
+/// Checks the point tables of `axis` (name `name`) against its limits; `Err((key, why))`.
+pub fn point_tables(
+    name: &str,
+    mode: JecMode,
+    raw: &[RawPointTable],
+    position: [f64; 2],
+    velocity: f64,
+    acceleration: f64,
+) -> Result<Vec<JecPointTable>, (String, String)> {
+    if mode != JecMode::PointTable {
+        return match raw.is_empty() {
+            true => Ok(Vec::new()),
+            false => Err((
+                "je_c.point_table".into(),
+                format!(
+                    "axis '{name}' runs {}: point tables are for mode = \"point_table\"",
+                    mode.name()
+                ),
+            )),
+        };
+    }
+    if raw.is_empty() || raw.len() > MAX_POINT_TABLES {
+        return Err((
+            "je_c.point_table".into(),
+            format!(
+                "axis '{name}' runs point tables: give 1–{MAX_POINT_TABLES} [[axes.je_c.point_table]] (table 1 first), {} given",
+                raw.len()
+            ),
+        ));
+    }
+    raw.iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let key = |sub: &str| format!("je_c.point_table[{k}].{sub}");
+            let n = k + 1;
+            let [lo, hi] = position;
+            if !(t.position.is_finite() && (lo..=hi).contains(&t.position)) {
+                return Err((
+                    key("position"),
+                    format!("point table {n}: {} is outside the position range [{lo}, {hi}] of axis '{name}'", t.position),
+                ));
+            }
+            let within = |sub: &str, v: Option<f64>, limit: f64| match v {
+                None => Ok(limit),
+                Some(v) if v.is_finite() && v > 0.0 && v <= limit => Ok(v),
+                Some(v) => Err((
+                    key(sub),
+                    format!("point table {n}: {sub} {v} must be > 0 and at most the axis' limit {limit}"),
+                )),
+            };
+            let m_code = t.m_code.unwrap_or(0);
+            if m_code > MAX_M_CODE {
+                return Err((
+                    key("m_code"),
+                    format!("point table {n}: M code {m_code} is outside 0–{MAX_M_CODE} (2801h:7)"),
+                ));
+            }
+            Ok(JecPointTable {
+                position: t.position,
+                velocity: within("velocity", t.velocity, velocity)?,
+                acceleration: within("acceleration", t.acceleration, acceleration)?,
+                deceleration: within(
+                    "deceleration",
+                    t.deceleration.or(t.acceleration),
+                    acceleration,
+                )?,
+                m_code,
+            })
+        })
+        .collect()
+}
+
+/// The stations of an indexer axis: `je_c.stations` for mode indexer, refused otherwise.
+pub fn stations(
+    name: &str,
+    mode_name: &str,
+    raw: Option<u32>,
+) -> Result<Option<u8>, StationsError> {
+    match (mode_name, raw) {
+        ("indexer", Some(n)) if STATIONS.contains(&n) => Ok(Some(n as u8)),
+        ("indexer", Some(stations)) => Err(StationsError::OutOfRange { stations }),
+        ("indexer", None) => Err(StationsError::Missing { axis: name.into() }),
+        (_, Some(_)) => Err(StationsError::NotAnIndexer {
+            axis: name.into(),
+            mode: mode_name.into(),
+        }),
+        (_, None) => Ok(None),
+    }
 }
 
 /// Target position 607Ah's setting range in pos units, from the object table (±999999; the

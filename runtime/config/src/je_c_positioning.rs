@@ -1,34 +1,11 @@
-//! The positioning modes of an MR-JE-C axis in a cell (SW A4+, MR-JE-C manual §7.6.3):
-//! `mode = "point_table"` with its `[[axes.je_c.point_table]]` (2801h–28FFh, written at
-//! start-up), `mode = "indexer"` with `je_c.stations` ([Pr. PT28]; the position unit is the
-//! station) and `mode = "jog"`. What a `move` and a `jog` mean on each kind of axis.
+//! What a `move` and a `jog` mean on each kind of MR-JE-C axis in a cell (SW A4+, MR-JE-C
+//! manual §7.6.3): `mode = "point_table"` with its `[[axes.je_c.point_table]]` (2801h–28FFh,
+//! written at start-up), `mode = "indexer"` with `je_c.stations` ([Pr. PT28]; the position unit
+//! is the station) and `mode = "jog"`. Their keys are checked with the axis (`je_c_axis`).
 
 use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
-use super::je_c_axis::{JecAxisConfig, JecMode};
-use super::raw::RawPointTable;
-
-/// The most point tables a drive holds (2801h–28FFh).
-pub const MAX_POINT_TABLES: usize = 255;
-/// The largest M code of a point table (2801h:7, 0–63h).
-pub const MAX_M_CODE: u8 = 0x63;
-/// [Pr. PT28]'s stations per revolution (indexer, §7.3 607Bh).
-pub const STATIONS: std::ops::RangeInclusive<u32> = 2..=255;
-
-/// One point table of a `point_table` axis, in the axis' units.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct JecPointTable {
-    /// Position, units.
-    pub position: f64,
-    /// Speed, unit/s.
-    pub velocity: f64,
-    /// Acceleration, unit/s².
-    pub acceleration: f64,
-    /// Deceleration, unit/s².
-    pub deceleration: f64,
-    /// M code.
-    pub m_code: u8,
-}
+use super::je_c_axis::{JecAxisConfig, JecCommandError, JecMode};
 
 /// Where a `move` takes an MR-JE-C axis, by its mode.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -57,116 +34,30 @@ impl JecMoveTarget {
     }
 }
 
-/// Checks the point tables of `axis` (name `name`) against its limits; `Err((key, why))`.
-pub fn point_tables(
-    name: &str,
-    mode: JecMode,
-    raw: &[RawPointTable],
-    position: [f64; 2],
-    velocity: f64,
-    acceleration: f64,
-) -> Result<Vec<JecPointTable>, (String, String)> {
-    if mode != JecMode::PointTable {
-        return match raw.is_empty() {
-            true => Ok(Vec::new()),
-            false => Err((
-                "je_c.point_table".into(),
-                format!(
-                    "axis '{name}' runs {}: point tables are for mode = \"point_table\"",
-                    mode.name()
-                ),
-            )),
-        };
-    }
-    if raw.is_empty() || raw.len() > MAX_POINT_TABLES {
-        return Err((
-            "je_c.point_table".into(),
-            format!(
-                "axis '{name}' runs point tables: give 1–{MAX_POINT_TABLES} [[axes.je_c.point_table]] (table 1 first), {} given",
-                raw.len()
-            ),
-        ));
-    }
-    raw.iter()
-        .enumerate()
-        .map(|(k, t)| {
-            let key = |sub: &str| format!("je_c.point_table[{k}].{sub}");
-            let n = k + 1;
-            let [lo, hi] = position;
-            if !(t.position.is_finite() && (lo..=hi).contains(&t.position)) {
-                return Err((
-                    key("position"),
-                    format!("point table {n}: {} is outside the position range [{lo}, {hi}] of axis '{name}'", t.position),
-                ));
-            }
-            let within = |sub: &str, v: Option<f64>, limit: f64| match v {
-                None => Ok(limit),
-                Some(v) if v.is_finite() && v > 0.0 && v <= limit => Ok(v),
-                Some(v) => Err((
-                    key(sub),
-                    format!("point table {n}: {sub} {v} must be > 0 and at most the axis' limit {limit}"),
-                )),
-            };
-            let m_code = t.m_code.unwrap_or(0);
-            if m_code > MAX_M_CODE {
-                return Err((
-                    key("m_code"),
-                    format!("point table {n}: M code {m_code} is outside 0–{MAX_M_CODE} (2801h:7)"),
-                ));
-            }
-            Ok(JecPointTable {
-                position: t.position,
-                velocity: within("velocity", t.velocity, velocity)?,
-                acceleration: within("acceleration", t.acceleration, acceleration)?,
-                deceleration: within(
-                    "deceleration",
-                    t.deceleration.or(t.acceleration),
-                    acceleration,
-                )?,
-                m_code,
-            })
-        })
-        .collect()
-}
-
-/// The stations of an indexer axis: `je_c.stations` for mode indexer, refused otherwise.
-pub fn stations(name: &str, mode_name: &str, raw: Option<u32>) -> Result<Option<u8>, String> {
-    match (mode_name, raw) {
-        ("indexer", Some(n)) if STATIONS.contains(&n) => Ok(Some(n as u8)),
-        ("indexer", Some(n)) => Err(format!(
-            "{n} stations: [Pr. PT28] takes {}–{} stations per revolution",
-            STATIONS.start(),
-            STATIONS.end()
-        )),
-        ("indexer", None) => Err(format!(
-            "axis '{name}' runs the indexer: give je_c.stations, its stations per revolution ([Pr. PT28])"
-        )),
-        (_, Some(_)) => Err(format!(
-            "axis '{name}' runs {mode_name}: stations are for mode = \"indexer\""
-        )),
-        (_, None) => Ok(None),
-    }
-}
-
 impl JecAxisConfig {
     /// What a move to `value` means on this axis, checked: a position within its range (pp,
     /// pv, tq), the number of one of its point tables (pt) or one of its stations (idx); a jog
     /// axis does not move to targets.
-    pub fn move_target(&self, value: f64) -> Result<JecMoveTarget, String> {
-        let name = &self.name;
+    pub fn move_target(&self, value: f64) -> Result<JecMoveTarget, JecCommandError> {
+        let axis = || self.name.clone();
         if !value.is_finite() {
-            return Err(format!(
-                "axis '{name}': target {value} is not a finite number"
-            ));
+            return Err(JecCommandError::TargetNotFinite {
+                axis: axis(),
+                target: value,
+            });
         }
         // One of the numbers `first`…`last` (a table or a station), named `what`.
-        let number = |first: u8, last: u8, what: &str| {
+        let number = |first: u8, last: u8, what: &'static str| {
             if value.fract() == 0.0 && (f64::from(first)..=f64::from(last)).contains(&value) {
                 Ok(value as u8)
             } else {
-                Err(format!(
-                    "axis '{name}': {value} is not one of its {what} ({first}–{last})"
-                ))
+                Err(JecCommandError::NotOneOf {
+                    axis: axis(),
+                    target: value,
+                    what,
+                    first,
+                    last,
+                })
             }
         };
         match self.mode {
@@ -175,10 +66,13 @@ impl JecAxisConfig {
                 if (lo..=hi).contains(&value) {
                     Ok(JecMoveTarget::Position(value))
                 } else {
-                    Err(format!(
-                        "axis '{name}': target {value} {} is outside its position range [{lo}, {hi}]",
-                        self.unit
-                    ))
+                    Err(JecCommandError::TargetOutsideRange {
+                        axis: axis(),
+                        target: value,
+                        unit: self.unit.clone(),
+                        lo,
+                        hi,
+                    })
                 }
             }
             JecMode::PointTable => {
@@ -193,9 +87,7 @@ impl JecAxisConfig {
             JecMode::Indexer { stations } => {
                 number(0, stations.saturating_sub(1), "stations").map(JecMoveTarget::Station)
             }
-            JecMode::Jog => Err(format!(
-                "axis '{name}' runs jg: it moves by jog only, not to targets"
-            )),
+            JecMode::Jog => Err(JecCommandError::JogAxisHasNoTargets { axis: axis() }),
         }
     }
 
@@ -265,7 +157,11 @@ impl JecAxisConfig {
 
     /// The command of a jog at `velocity` unit/s with `acceleration` unit/s²: jg on a jog or
     /// point-table axis (Table 2.3 has no 60FFh), pv otherwise; an indexer axis does not jog.
-    pub fn jog_command(&self, velocity: f64, acceleration: f64) -> Result<AxisCommand, String> {
+    pub fn jog_command(
+        &self,
+        velocity: f64,
+        acceleration: f64,
+    ) -> Result<AxisCommand, JecCommandError> {
         let ramp = self.ramp_ms(acceleration);
         let speed = self.drive_speed(velocity);
         match self.mode {
@@ -275,10 +171,9 @@ impl JecAxisConfig {
                 acceleration_ms: ramp,
                 deceleration_ms: ramp,
             }),
-            JecMode::Indexer { .. } => Err(format!(
-                "axis '{}' is an indexer axis: it turns to stations (move), it does not jog",
-                self.name
-            )),
+            JecMode::Indexer { .. } => Err(JecCommandError::IndexerDoesNotJog {
+                axis: self.name.clone(),
+            }),
             JecMode::Pp | JecMode::Pv | JecMode::Tq => Ok(AxisCommand::Velocity {
                 velocity: speed.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32,
                 acceleration_ms: ramp,

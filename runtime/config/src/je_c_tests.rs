@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::time::Duration;
 
-use super::je_c_axis::{JecMode, JecTransport};
+use super::je_c_axis::{JecCommandError, JecMode, JecTransport};
 use super::*;
 
 fn mixed() -> String {
@@ -229,11 +229,24 @@ fn a_je_c_torque_command_carries_the_manuals_units() {
     assert_eq!(outfeed.speed_limit(), 9_000);
     for bad in [20.5, -21.0, f64::NAN, f64::INFINITY] {
         let e = outfeed.torque_command(bad).unwrap_err();
-        assert!(e.contains("outside the torque limit ±20 %"), "{bad}: {e}");
+        assert!(
+            matches!(e, JecCommandError::TorqueOutsideLimit { max: 20.0, .. }),
+            "{bad}: {e}"
+        );
+        assert!(
+            e.to_string().contains("outside the torque limit ±20 %"),
+            "{bad}: {e}"
+        );
     }
     // The infeed has no limits.torque.
     let e = c.je_c_axes[0].torque_command(5.0).unwrap_err();
-    assert!(e.contains("needs limits.torque"), "{e}");
+    assert_eq!(
+        e,
+        JecCommandError::NoTorqueLimit {
+            axis: c.je_c_axes[0].name.clone()
+        }
+    );
+    assert!(e.to_string().contains("needs limits.torque"), "{e}");
 }
 
 /// The outfeed of the mixed cell in `mode`, with `je_c` as its table.
@@ -352,10 +365,9 @@ fn positioning_axes_are_checked_at_load() {
     );
     let jog = outfeed_in("jog", base).unwrap();
     assert_eq!(jog.je_c_axes[1].mode, JecMode::Jog);
-    assert!(jog.je_c_axes[1]
-        .move_target(10.0)
-        .unwrap_err()
-        .contains("moves by jog only"));
+    let e = jog.je_c_axes[1].move_target(10.0).unwrap_err();
+    assert!(matches!(e, JecCommandError::JogAxisHasNoTargets { .. }));
+    assert!(e.to_string().contains("moves by jog only"));
 }
 
 /// 607Ah takes −999999…999999 pos units (MR-JE-C manual §7.3): a position range beyond it in

@@ -552,7 +552,16 @@ mod tests;
 
 /// `ADDR` of `[live] listen` or `cellrt run --live`: an IP address and port (port 0: any free
 /// one). Loopback unless the address says otherwise.
-pub fn parse_live_addr(text: &str) -> Result<std::net::SocketAddr, String> {
-    text.parse()
-        .map_err(|_| format!("'{text}' is not an address and port like 127.0.0.1:8765"))
+pub fn parse_live_addr(text: &str) -> Result<std::net::SocketAddr, LiveAddrError> {
+    text.parse().map_err(|_| LiveAddrError {
+        text: text.to_string(),
+    })
+}
+
+/// An `ADDR` of `[live] listen` or `cellrt run --live` that is not an address and port.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("'{text}' is not an address and port like 127.0.0.1:8765")]
+pub struct LiveAddrError {
+    /// The text given.
+    pub text: String,
 }

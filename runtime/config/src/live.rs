@@ -18,21 +18,35 @@ pub enum PagePort {
     Given(u16),
 }
 
+/// Why the live page has no address beside the live view (the text names no key: the caller
+/// knows whether the address came from the file or `--live`).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PagePortError {
+    /// `page_port` is the live view's own port.
+    #[error("the live page cannot share the live view's port {port}")]
+    SharesLiveViewPort {
+        /// The port.
+        port: u16,
+    },
+    /// The live view listens on port 65535 and no `page_port` is given.
+    #[error("port 65535 leaves no next port for the live page: set live.page_port")]
+    NoNextPort,
+}
+
 impl PagePort {
     /// The page's address beside the live view on `listen`, or why there is none (the text
     /// names no key: the caller knows whether the address came from the file or `--live`).
-    pub fn addr(self, listen: SocketAddr) -> Result<SocketAddr, String> {
+    pub fn addr(self, listen: SocketAddr) -> Result<SocketAddr, PagePortError> {
         let port = match self {
-            PagePort::Given(p) if p != 0 && p == listen.port() => {
-                return Err(format!(
-                    "the live page cannot share the live view's port {p}"
-                ))
+            PagePort::Given(port) if port != 0 && port == listen.port() => {
+                return Err(PagePortError::SharesLiveViewPort { port })
             }
             PagePort::Given(p) => p,
             PagePort::NextToLiveView if listen.port() == 0 => 0,
-            PagePort::NextToLiveView => listen.port().checked_add(1).ok_or_else(|| {
-                "port 65535 leaves no next port for the live page: set live.page_port".to_string()
-            })?,
+            PagePort::NextToLiveView => listen
+                .port()
+                .checked_add(1)
+                .ok_or(PagePortError::NoNextPort)?,
         };
         Ok(SocketAddr::new(listen.ip(), port))
     }
@@ -50,7 +64,8 @@ pub(super) fn live_config(
 ) -> Result<(Option<SocketAddr>, PagePort), ConfigError> {
     let listen = match &raw.listen {
         Some(text) => Some(
-            super::parse_live_addr(text).map_err(|m| ConfigError::new(file, "live.listen", m))?,
+            super::parse_live_addr(text)
+                .map_err(|e| ConfigError::new(file, "live.listen", e.to_string()))?,
         ),
         None => None,
     };
@@ -66,13 +81,13 @@ pub(super) fn live_config(
     };
     match listen {
         Some(addr) => {
-            page.addr(addr).map_err(|m| {
+            page.addr(addr).map_err(|e| {
                 let key = if page.given() {
                     "live.page_port"
                 } else {
                     "live.listen"
                 };
-                ConfigError::new(file, key, m)
+                ConfigError::new(file, key, e.to_string())
             })?;
         }
         None if page.given() => {

@@ -112,42 +112,75 @@ impl ProfileObjects {
     }
 }
 
+/// Why a csp axis cannot be switched to pp at run time.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PpSwitchError {
+    /// The axis does not run csp.
+    #[error("axis '{axis}' runs in {mode}: only a csp axis switches to pp and back")]
+    NotCsp {
+        /// The axis.
+        axis: String,
+        /// Its mode.
+        mode: &'static str,
+    },
+    /// The drive's profile has no pp.
+    #[error("axis '{axis}': the {drive} does not support pp (its modes: {modes})")]
+    NoPp {
+        /// The axis.
+        axis: String,
+        /// Its drive.
+        drive: &'static str,
+        /// The modes its profile lists.
+        modes: String,
+    },
+    /// The drive's PDOs do not map 6060h and 6061h.
+    #[error("axis '{axis}': the {drive}'s PDOs do not carry 6060h and 6061h, which a run-time mode switch writes and follows")]
+    NoModeObjects {
+        /// The axis.
+        axis: String,
+        /// Its drive.
+        drive: &'static str,
+    },
+    /// pp's ramps are time constants and `motor.rated_speed` is not given.
+    #[error("axis '{axis}': pp needs motor.rated_speed (the drive's 6083h/6084h are time constants from 0 to the rated speed)")]
+    NoRatedSpeed {
+        /// The axis.
+        axis: String,
+    },
+}
+
 /// The profile-position plan of a csp axis that can be switched to pp at run time (and back),
 /// or why it cannot: the drive's profile lists pp, its PDOs carry 6060h and 6061h (the
 /// mode-switch rules follow 6061h, `cellrt_cia402::mode_switch`), and pp's time-constant
 /// ramps have `motor.rated_speed` to run from where the drive needs it.
-pub fn pp_switch(a: &super::AxisConfig) -> Result<ProfileObjects, String> {
+pub fn pp_switch(a: &super::AxisConfig) -> Result<ProfileObjects, PpSwitchError> {
     use cellrt_cia402::pdo::objects::{MODES_OF_OPERATION, MODES_OF_OPERATION_DISPLAY};
-    let name = &a.name;
+    let axis = || a.name.clone();
     if a.mode != ModeOfOperation::CyclicSyncPosition {
-        return Err(format!(
-            "axis '{name}' runs in {}: only a csp axis switches to pp and back",
-            a.mode.as_str()
-        ));
+        return Err(PpSwitchError::NotCsp {
+            axis: axis(),
+            mode: a.mode.as_str(),
+        });
     }
     if !a.profile.supports_mode(ModeOfOperation::ProfilePosition) {
-        return Err(format!(
-            "axis '{name}': the {} does not support pp (its modes: {})",
-            a.drive.as_str(),
-            a.profile.modes_text()
-        ));
+        return Err(PpSwitchError::NoPp {
+            axis: axis(),
+            drive: a.drive.as_str(),
+            modes: a.profile.modes_text(),
+        });
     }
     if !(a.profile.rx_pdo.maps(MODES_OF_OPERATION)
         && a.profile.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY))
     {
-        return Err(format!(
-            "axis '{name}': the {}'s PDOs do not carry 6060h and 6061h, which a run-time mode \
-             switch writes and follows",
-            a.drive.as_str()
-        ));
+        return Err(PpSwitchError::NoModeObjects {
+            axis: axis(),
+            drive: a.drive.as_str(),
+        });
     }
     let time_constants = a.profile.units.acceleration.value()
         == cellrt_cia402::profiles::AccelerationUnit::TimeConstantMs;
     if time_constants && a.rated_speed.is_none() {
-        return Err(format!(
-            "axis '{name}': pp needs motor.rated_speed (the drive's 6083h/6084h are time \
-             constants from 0 to the rated speed)"
-        ));
+        return Err(PpSwitchError::NoRatedSpeed { axis: axis() });
     }
     Ok(ProfileObjects::of_profile(ProfileMode::Position, a.profile))
 }

@@ -239,7 +239,9 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     report.refused.extend(reserved.refused.clone());
     if let Some(p) = planner.as_ref() {
         report.planner_priority = p.priority;
-        report.refused.extend(p.priority_refused.clone());
+        report
+            .refused
+            .extend(p.priority_refused.as_ref().map(ToString::to_string));
     }
     for r in &report.refused {
         tracing::warn!("{r}");

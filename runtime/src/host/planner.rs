@@ -19,7 +19,7 @@ use crate::host::operator::profile::{
 };
 use crate::host::operator::server::{Context, Followup, OperatorServer};
 use crate::host::program::{AxisMove, DriveMove, MoveTarget, Program, Step, TorqueTarget};
-use crate::rt::thread::raise_planner_thread;
+use crate::rt::thread::{raise_planner_thread, PlannerPriorityRefused};
 use crate::services;
 use cellrt_cia402::fsa::FsaState;
 use cellrt_cia402::homing::{HomeProcedure, HomingFailure};
@@ -81,7 +81,7 @@ pub struct PlannerHandle {
     /// The planner thread's SCHED_FIFO priority in effect (0: SCHED_OTHER).
     pub priority: u8,
     /// Why the planner thread's priority was not raised, if it was asked for and refused.
-    pub priority_refused: Option<String>,
+    pub priority_refused: Option<PlannerPriorityRefused>,
     abort: Arc<AtomicBool>,
     release: Arc<AtomicBool>,
     handle: JoinHandle<()>,
@@ -136,7 +136,7 @@ pub fn spawn(
     let cell = cell.clone();
     let release = Arc::new(AtomicBool::new(false));
     let release2 = release.clone();
-    let (ready_tx, ready_rx) = std::sync::mpsc::channel::<Result<u8, String>>();
+    let (ready_tx, ready_rx) = std::sync::mpsc::channel::<Result<u8, PlannerPriorityRefused>>();
     let planner_priority = cell.rt.planner_priority;
     let (result_tx, result_rx) = std::sync::mpsc::channel();
     let handle = std::thread::Builder::new()

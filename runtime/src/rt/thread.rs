@@ -74,9 +74,19 @@ impl RtReport {
     }
 }
 
+/// The OS refused SCHED_FIFO to the planner thread, which then stays SCHED_OTHER.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("planner thread SCHED_FIFO priority {priority} refused ({errno}); it runs SCHED_OTHER")]
+pub struct PlannerPriorityRefused {
+    /// The priority asked for.
+    pub priority: u8,
+    /// Why the OS refused it.
+    pub errno: nix::errno::Errno,
+}
+
 /// Puts the calling (planner) thread under SCHED_FIFO at `priority`; the refusal, named, if
 /// the OS says no (the thread then stays SCHED_OTHER).
-pub fn raise_planner_thread(priority: u8) -> Result<(), String> {
+pub fn raise_planner_thread(priority: u8) -> Result<(), PlannerPriorityRefused> {
     let param = libc::sched_param {
         sched_priority: i32::from(priority),
     };
@@ -85,10 +95,10 @@ pub fn raise_planner_thread(priority: u8) -> Result<(), String> {
     if rc == 0 {
         Ok(())
     } else {
-        Err(format!(
-            "planner thread SCHED_FIFO priority {priority} refused ({}); it runs SCHED_OTHER",
-            nix::errno::Errno::from_raw(rc)
-        ))
+        Err(PlannerPriorityRefused {
+            priority,
+            errno: nix::errno::Errno::from_raw(rc),
+        })
     }
 }
 

@@ -313,10 +313,10 @@ pub fn node(cell: &str, role: &str) -> Result<Node<ipc::Service>, ServiceError> 
     let node_name = NodeName::new(&name).map_err(|e| service_error("node name", cell, e))?;
     let shm = std::path::Path::new(crate::shm_guard::SHM_DIR);
     let (prefix, uid) = (shm_prefix(), uid());
-    let guard = |e: String| ServiceError {
+    let guard = |e: crate::shm_guard::ShmGuardError| ServiceError {
         what: "shared memory",
         cell: cell.to_string(),
-        detail: e,
+        detail: e.to_string(),
     };
     crate::shm_guard::clear_foreign(shm, &prefix, uid).map_err(guard)?;
     let node = NodeBuilder::new()

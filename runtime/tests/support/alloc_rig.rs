@@ -2,17 +2,27 @@
 //! into steady state, waiting on the cell status, and the end that powers off, quits and
 //! checks the count.
 
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use cellrt_config::CellConfig;
 use cellrt_runtime::handoff::{self, CellCommand, CellState, HostEnd};
-use cellrt_runtime::rt::executive::{RtStats, WARMUP_CYCLES};
+use cellrt_runtime::rt::executive::{PhaseHook, RtStats, WARMUP_CYCLES};
 use cellrt_runtime::services;
 
-use super::common::{hook, marked_heap_calls, LOOPS_EXITED};
 use super::rt_thread;
+
+/// What the test's counting allocator (its `common` module) gives the rig.
+#[derive(Clone, Copy)]
+pub struct Counting {
+    /// The executive's phase hook that marks the RT thread.
+    pub hook: PhaseHook,
+    /// Heap calls counted on marked threads so far.
+    pub heap_calls: fn() -> u64,
+    /// The count of RT loops that reached their `Exit` hook.
+    pub loops_exited: &'static AtomicU64,
+}
 
 /// A cell powered on and in steady state, counting the RT thread's heap calls.
 pub struct Steady {
@@ -22,17 +32,31 @@ pub struct Steady {
     pub rt: JoinHandle<RtStats>,
     /// Heap calls counted when steady state was reached.
     pub before: u64,
+    /// The counting allocator.
+    pub counting: Counting,
     _publisher: services::SetpointPublisher,
     _node: iceoryx2::node::Node<iceoryx2::prelude::ipc::Service>,
 }
 
+impl Counting {
+    /// The counting allocator's phase `hook`, its count of `heap_calls` and of the RT loops
+    /// that reached their `Exit` hook.
+    pub fn new(hook: PhaseHook, heap_calls: fn() -> u64, loops_exited: &'static AtomicU64) -> Self {
+        Counting {
+            hook,
+            heap_calls,
+            loops_exited,
+        }
+    }
+}
+
 /// Starts `cell`'s RT executive with the counting hook, powers it on and waits for steady
 /// state.
-pub fn start_steady(cell: &CellConfig) -> Steady {
+pub fn start_steady(cell: &CellConfig, counting: Counting) -> Steady {
     let (rt_end, h) = handoff::new(cell.axes.len(), 1000, false);
     let node = services::node(&cell.name, "test").unwrap();
     let publisher = services::setpoint_publisher(&node, &cell.name, cell.axes.len()).unwrap();
-    let rt = rt_thread::spawn_rt(cell, rt_end, Some(hook));
+    let rt = rt_thread::spawn_rt(cell, rt_end, Some(counting.hook));
     h.send_command(CellCommand::PowerOn).unwrap();
     wait(&h, |h| h.status().state() == CellState::Idle, "idle");
     wait(
@@ -43,7 +67,8 @@ pub fn start_steady(cell: &CellConfig) -> Steady {
     Steady {
         h,
         rt,
-        before: marked_heap_calls(),
+        before: (counting.heap_calls)(),
+        counting,
         _publisher: publisher,
         _node: node,
     }
@@ -66,6 +91,7 @@ pub fn power_off_and_check(steady: Steady) {
         h,
         rt,
         before,
+        counting,
         _publisher: publisher,
         _node: node,
     } = steady;
@@ -76,10 +102,10 @@ pub fn power_off_and_check(steady: Steady) {
     h.send_command(CellCommand::Quit).unwrap();
     rt.join().unwrap();
     assert_eq!(
-        marked_heap_calls() - before,
+        (counting.heap_calls)() - before,
         0,
         "the RT loop allocated in steady state"
     );
-    assert_eq!(LOOPS_EXITED.load(Ordering::Relaxed), 1);
+    assert_eq!(counting.loops_exited.load(Ordering::Relaxed), 1);
     drop((publisher, node));
 }

@@ -13,8 +13,7 @@ use cellrt_runtime::handoff::{
 use cellrt_runtime::rt::executive::RtStats;
 use cellrt_runtime::services;
 
-#[path = "rt_thread.rs"]
-mod rt_thread;
+use super::rt_thread;
 
 /// Cycles over which an acceleration is measured.
 pub const ACCEL_WINDOW: usize = 5;

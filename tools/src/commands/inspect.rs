@@ -8,7 +8,7 @@ use cellrt_runtime::rt::histogram::NsHistogram;
 
 use crate::cli::InspectArgs;
 use crate::exit::Exit;
-use crate::recording::{CellInfo, RecFile, Records};
+use cellrt_recording::{CellInfo, RecFile, Records};
 
 /// Event kinds counted as faults.
 pub const FAULT_KINDS: [&str; 3] = ["drive_fault", "master_timeout", "bus_error"];

@@ -195,23 +195,47 @@ fn open_rtu(t: &Target) -> Result<(String, Box<dyn ObjectAccessDyn>), Exit> {
     Ok((place, Box::new(access)))
 }
 
-fn connect(t: &Target, addr: SocketAddr) -> Result<Box<dyn ObjectAccessDyn>, String> {
+/// Why a drive cannot be reached over IP, or its address or a value is refused.
+#[derive(Debug, thiserror::Error)]
+enum DriveAccessError {
+    /// SLMP cannot open its socket.
+    #[error(transparent)]
+    Slmp(#[from] cellrt_fieldbus::slmp::client::ClientError),
+    /// Modbus TCP cannot connect.
+    #[error(transparent)]
+    Modbus(#[from] cellrt_fieldbus::modbus::client::ClientError),
+    /// Modbus RTU asked for at an IP address.
+    #[error("Modbus RTU runs on a serial line, not an IP address")]
+    RtuNeedsSerialLine,
+    /// Neither an IP address nor IP:PORT.
+    #[error("drive address {addr:?}: expected IP or IP:PORT")]
+    NotAnAddress {
+        /// The argument.
+        addr: String,
+    },
+    /// A value that is not a number.
+    #[error(transparent)]
+    Number(#[from] crate::numbers::NumberError),
+    /// A value the object's type cannot hold.
+    #[error("{text} does not fit the object's type")]
+    DoesNotFit {
+        /// The value as given.
+        text: String,
+    },
+}
+
+fn connect(t: &Target, addr: SocketAddr) -> Result<Box<dyn ObjectAccessDyn>, DriveAccessError> {
     let timeout = Duration::from_millis(t.timeout_ms.max(1));
     let slmp = |mut c: SlmpClient| -> Box<dyn ObjectAccessDyn> {
         c.software = t.software;
         Box::new(c)
     };
     match t.via {
-        Via::Slmp => SlmpClient::udp(addr, FrameType::E4, timeout)
-            .map(slmp)
-            .map_err(|e| e.to_string()),
-        Via::SlmpTcp => SlmpClient::tcp(addr, FrameType::E4, timeout)
-            .map(slmp)
-            .map_err(|e| e.to_string()),
-        Via::ModbusTcp => TcpClient::connect(addr, timeout)
-            .map(|c| Box::new(OverModbus::new(c, t.software)) as Box<dyn ObjectAccessDyn>)
-            .map_err(|e| e.to_string()),
-        Via::ModbusRtu => Err("Modbus RTU runs on a serial line, not an IP address".into()),
+        Via::Slmp => Ok(SlmpClient::udp(addr, FrameType::E4, timeout).map(slmp)?),
+        Via::SlmpTcp => Ok(SlmpClient::tcp(addr, FrameType::E4, timeout).map(slmp)?),
+        Via::ModbusTcp => Ok(TcpClient::connect(addr, timeout)
+            .map(|c| Box::new(OverModbus::new(c, t.software)) as Box<dyn ObjectAccessDyn>)?),
+        Via::ModbusRtu => Err(DriveAccessError::RtuNeedsSerialLine),
     }
 }
 
@@ -230,17 +254,21 @@ impl<T: ObjectAccess> ObjectAccessDyn for T {
     }
 }
 
-fn resolve(addr: &str, port: u16) -> Result<SocketAddr, String> {
+fn resolve(addr: &str, port: u16) -> Result<SocketAddr, DriveAccessError> {
     if let Ok(a) = addr.parse::<SocketAddr>() {
         return Ok(a);
     }
     addr.parse::<IpAddr>()
         .map(|ip| SocketAddr::new(ip, port))
-        .map_err(|_| format!("drive address {addr:?}: expected IP or IP:PORT"))
+        .map_err(|_| DriveAccessError::NotAnAddress {
+            addr: addr.to_string(),
+        })
 }
 
 /// `s` as a value of `ty`: decimal, 0x-prefixed or h-suffixed hex.
-fn parse_value(ty: DataType, s: &str) -> Result<Value, String> {
+fn parse_value(ty: DataType, s: &str) -> Result<Value, DriveAccessError> {
     let n = crate::numbers::integer(s)?;
-    Value::from_i64(ty, n).ok_or_else(|| format!("{s} does not fit the object's type"))
+    Value::from_i64(ty, n).ok_or_else(|| DriveAccessError::DoesNotFit {
+        text: s.to_string(),
+    })
 }

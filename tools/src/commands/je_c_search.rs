@@ -59,19 +59,35 @@ pub struct SetIpArgs {
     pub timeout_ms: u64,
 }
 
+/// Why `--to` is refused.
+#[derive(Debug, thiserror::Error)]
+enum SearchToError {
+    /// Neither an IP address nor IP:PORT.
+    #[error("--to {to:?}: expected IP or IP:PORT")]
+    NotAnAddress {
+        /// The argument.
+        to: String,
+    },
+    /// An IPv6 address.
+    #[error("--to {to}: NodeSearch is IPv4 only")]
+    NotIpv4 {
+        /// The address.
+        to: SocketAddr,
+    },
+}
+
 impl SearchTo {
-    fn link(&self) -> Result<SearchLink, String> {
+    fn link(&self) -> Result<SearchLink, SearchToError> {
         let to = if let Ok(a) = self.to.parse::<SocketAddr>() {
             a
         } else {
-            let ip: IpAddr = self
-                .to
-                .parse()
-                .map_err(|_| format!("--to {:?}: expected IP or IP:PORT", self.to))?;
+            let ip: IpAddr = self.to.parse().map_err(|_| SearchToError::NotAnAddress {
+                to: self.to.clone(),
+            })?;
             SocketAddr::new(ip, SEARCH_PORT)
         };
         if !to.is_ipv4() {
-            return Err(format!("--to {to}: NodeSearch is IPv4 only"));
+            return Err(SearchToError::NotIpv4 { to });
         }
         Ok(SearchLink {
             to,

@@ -7,14 +7,62 @@
 use std::collections::{BTreeMap, HashSet};
 use std::fs::File;
 use std::io::BufWriter;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use mcap::records::{MessageHeader, Record};
 use mcap::{Attachment, WriteOptions, Writer};
 
 use crate::cli::RecoverArgs;
 use crate::exit::Exit;
-use crate::recording::{chunk_records, parse_record, read_summary, RecordWalker};
+use cellrt_recording::{chunk_records, parse_record, read_summary, RecordError, RecordWalker};
+
+/// Why a recording cannot be recovered.
+#[derive(Debug, thiserror::Error)]
+pub enum RecoverError {
+    /// The input does not start with a header record.
+    #[error("the input has no MCAP header record")]
+    NoHeader,
+    /// The output cannot be created.
+    #[error("{}: cannot create: {source}", path.display())]
+    Create {
+        /// The output file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The output's folder cannot be created, or the output cannot be flushed or synced.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The folder or the output file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The output cannot be written.
+    #[error("{}: {source}", path.display())]
+    Write {
+        /// The output file.
+        path: PathBuf,
+        /// Why.
+        source: mcap::McapError,
+    },
+}
+
+/// Why a record of the input was skipped as damaged.
+#[derive(Debug, thiserror::Error)]
+pub enum Damage {
+    /// A record that does not parse.
+    #[error("record {op:#04x}: {source}")]
+    Record {
+        /// Its opcode.
+        op: u8,
+        /// Why.
+        source: RecordError,
+    },
+    /// A chunk whose records cannot all be read.
+    #[error(transparent)]
+    Chunk(#[from] RecordError),
+}
 
 /// What a recovery copied.
 #[derive(Debug, Default)]
@@ -24,12 +72,12 @@ pub struct Recovered {
     /// Complete chunks copied.
     pub chunks: u64,
     /// Damaged chunks skipped (their messages are lost), and why the first one was.
-    pub damaged: (u64, Option<String>),
+    pub damaged: (u64, Option<Damage>),
     /// Messages dropped because their channel was defined only in a damaged chunk and the
     /// file has no summary to take it from.
     pub undefined: u64,
     /// Why reading stopped before the end of the data section, if it did.
-    pub stopped: Option<String>,
+    pub stopped: Option<RecordError>,
     /// Whether the input already was complete (had its data end record).
     pub was_complete: bool,
     /// Last message log time copied, ns.
@@ -37,7 +85,7 @@ pub struct Recovered {
 }
 
 impl Recovered {
-    fn skip_damaged(&mut self, why: String) {
+    fn skip_damaged(&mut self, why: Damage) {
         self.damaged.0 += 1;
         self.damaged.1.get_or_insert(why);
     }
@@ -92,7 +140,9 @@ pub fn run(args: RecoverArgs) -> Exit {
                 } else {
                     format!(
                         "; the input ends early ({}): what followed the last complete chunk is lost",
-                        r.stopped.as_deref().unwrap_or("no data end record")
+                        r.stopped
+                            .as_ref()
+                            .map_or("no data end record".to_string(), ToString::to_string)
                     )
                 }
             );
@@ -106,20 +156,30 @@ pub fn run(args: RecoverArgs) -> Exit {
 }
 
 /// Copies everything readable of `input` into a new indexed MCAP at `out`.
-pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
-    let werr = |e: mcap::McapError| format!("{}: {e}", out.display());
+pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, RecoverError> {
+    let werr = |source: mcap::McapError| RecoverError::Write {
+        path: out.to_path_buf(),
+        source,
+    };
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source: std::io::Error| RecoverError::Io { path, source }
+    };
     let mut r = Recovered::default();
     let mut records = RecordWalker::new(input, mcap::MAGIC.len());
     let (profile, library) = match records.next().map(|r| r.map(|(op, b)| parse_record(op, b))) {
         Some(Ok(Ok(Record::Header(h)))) => (h.profile, h.library),
-        _ => return Err("the input has no MCAP header record".into()),
+        _ => return Err(RecoverError::NoHeader),
     };
     // The compression of the first chunk, for the rewritten file.
     let compression = input_compression(input);
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(io(dir))?;
     }
-    let file = File::create(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
+    let file = File::create(out).map_err(|source| RecoverError::Create {
+        path: out.to_path_buf(),
+        source,
+    })?;
     let mut w = WriteOptions::new()
         .compression(compression)
         .profile(profile)
@@ -142,7 +202,7 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
         let rec = match parse_record(op, body) {
             Ok(rec) => rec,
             Err(e) => {
-                r.skip_damaged(format!("record {op:#04x}: {e}"));
+                r.skip_damaged(Damage::Record { op, source: e });
                 continue;
             }
         };
@@ -153,7 +213,7 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
                     Ok(decoded) => decoded,
                     Err(e) => {
                         // The chunk's own length framed it: the records after it are intact.
-                        r.skip_damaged(e);
+                        r.skip_damaged(e.into());
                         continue;
                     }
                 };
@@ -199,9 +259,8 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
     let file = w
         .into_inner()
         .into_inner()
-        .map_err(|e| format!("{}: {}", out.display(), e.error()))?;
-    file.sync_all()
-        .map_err(|e| format!("{}: {e}", out.display()))?;
+        .map_err(|e| io(out)(e.into_error()))?;
+    file.sync_all().map_err(io(out))?;
     Ok(r)
 }
 
@@ -211,13 +270,13 @@ pub fn recover(input: &[u8], out: &Path) -> Result<Recovered, String> {
 fn decode_chunk(
     header: &mcap::records::ChunkHeader,
     data: &[u8],
-) -> Result<(Vec<Record<'static>>, Vec<(MessageHeader, Vec<u8>)>), String> {
+) -> Result<(Vec<Record<'static>>, Vec<(MessageHeader, Vec<u8>)>), RecordError> {
     let inner_bytes = chunk_records(header, data)?;
     let mut defs = Vec::new();
     let mut messages = Vec::new();
     for inner in RecordWalker::new(&inner_bytes, 0) {
         let (op, body) = inner?;
-        match parse_record(op, body).map_err(|e| e.to_string())? {
+        match parse_record(op, body)? {
             Record::Message { header, data } => messages.push((header, data.into_owned())),
             other @ (Record::Schema { .. } | Record::Channel(_)) => defs.push(other.into_owned()),
             _ => {}

@@ -23,7 +23,7 @@ use cellrt_runtime::rt::injection::InjectionSchedule;
 
 use crate::cli::ReplayArgs;
 use crate::exit::Exit;
-use crate::recording::RecFile;
+use cellrt_recording::RecFile;
 
 /// The first difference between recorded and replayed feedback.
 #[derive(Debug)]
@@ -48,11 +48,11 @@ pub fn run(args: ReplayArgs) -> Exit {
     };
     let file = match RecFile::open(&args.file) {
         Ok(f) => f,
-        Err(e) => return bad(e),
+        Err(e) => return bad(e.to_string()),
     };
     let info = match file.cell() {
         Ok(c) => c,
-        Err(e) => return bad(e),
+        Err(e) => return bad(e.to_string()),
     };
     let Some((name, text)) = file
         .attachments()
@@ -76,7 +76,7 @@ pub fn run(args: ReplayArgs) -> Exit {
     };
     let recs = match file.decode(&info, true) {
         Ok(r) => r,
-        Err(e) => return bad(e),
+        Err(e) => return bad(e.to_string()),
     };
     if info.axes.len() != cell.axes.len() {
         return bad(format!(

@@ -13,7 +13,7 @@ use plotters::prelude::*;
 use crate::cli::ReportArgs;
 use crate::commands::inspect::{event_line, FAULT_KINDS};
 use crate::exit::Exit;
-use crate::recording::{CellInfo, RecFile, Records};
+use cellrt_recording::{CellInfo, RecFile, Records};
 
 /// Most points drawn per series (a min/max envelope keeps the peaks of longer series).
 const MAX_POINTS: usize = 4000;

@@ -220,5 +220,4 @@ fn param_value(p: &Parameter, r: &SdoReply, index: u16) -> ParamValue {
 }
 
 #[cfg(test)]
-#[path = "param_tests.rs"]
 mod tests;

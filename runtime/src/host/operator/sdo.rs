@@ -283,5 +283,4 @@ fn answer(checked: CheckedSdo, outcome: UserSdoOutcome) -> Result<SdoReply, Stri
 }
 
 #[cfg(test)]
-#[path = "sdo_tests.rs"]
 pub(super) mod tests;

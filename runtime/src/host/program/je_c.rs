@@ -31,7 +31,7 @@ pub(super) fn take_targets(
         let value = target.remove(&name).expect("a key of target");
         let goal = a
             .move_target(value)
-            .map_err(|m| ConfigError::new(path, format!("{key}.target.{name}"), m))?;
+            .map_err(|e| ConfigError::new(path, format!("{key}.target.{name}"), e.to_string()))?;
         if !a.takes_move_limits() {
             for (lim, what) in [(&*velocity, "velocity"), (&*acceleration, "acceleration")] {
                 let names_it = match lim {
@@ -141,7 +141,7 @@ pub(super) fn check_jog(
     let a = &cell.je_c_axes[axis];
     a.jog_command(velocity, a.acceleration)
         .map(|_| ())
-        .map_err(|m| ConfigError::new(path, format!("{key}.axis"), m))
+        .map_err(|m| ConfigError::new(path, format!("{key}.axis"), m.to_string()))
 }
 
 /// The targets of a torque step whose axes are MR-JE-C axes, each checked against its tq
@@ -171,8 +171,9 @@ pub(super) fn torque_targets(
         .map(|(name, k)| {
             let a = &cell.je_c_axes[k];
             let torque = target[name];
-            a.torque_command(torque)
-                .map_err(|e| ConfigError::new(path, format!("{key}.target.{name}"), e))?;
+            a.torque_command(torque).map_err(|e| {
+                ConfigError::new(path, format!("{key}.target.{name}"), e.to_string())
+            })?;
             Ok(TorqueTarget {
                 axis: AxisRef::Link(k),
                 torque,

@@ -189,7 +189,7 @@ fn validate_step(
                 ));
             };
             cellrt_config::profile_axis::pp_switch(&cell.axes[i])
-                .map_err(|e| ConfigError::new(path, format!("{key}.axis"), e))?;
+                .map_err(|e| ConfigError::new(path, format!("{key}.axis"), e.to_string()))?;
             Step::Mode { axis: i, mode }
         }
         RawStep::Repeat { .. } => unreachable!("expanded by `expand`"),

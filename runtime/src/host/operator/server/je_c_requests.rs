@@ -104,8 +104,10 @@ pub(super) fn move_commands(
                     c.mode.name()
                 ))
             }
-            (true, None) => c.move_target(c.units(axes.feedback(*k).inputs.position) + value)?,
-            (false, _) => c.move_target(*value)?,
+            (true, None) => c
+                .move_target(c.units(axes.feedback(*k).inputs.position) + value)
+                .map_err(|e| e.to_string())?,
+            (false, _) => c.move_target(*value).map_err(|e| e.to_string())?,
         };
         if !c.takes_move_limits() && (asked.velocity.is_some() || asked.acceleration.is_some()) {
             return Err(format!(
@@ -134,7 +136,12 @@ pub(super) fn torque_commands(
     list.iter()
         .map(|(k, _, torque)| {
             ready(axes, *k)?;
-            Ok((*k, axes.config(*k).torque_command(*torque)?))
+            Ok((
+                *k,
+                axes.config(*k)
+                    .torque_command(*torque)
+                    .map_err(|e| e.to_string())?,
+            ))
         })
         .collect()
 }
@@ -184,6 +191,7 @@ pub(super) fn velocity_command(
     let acceleration = pick(c, "acceleration", acceleration, c.acceleration, clamp)?;
     ready(axes, k)?;
     c.jog_command(velocity.clamp(-c.velocity, c.velocity), acceleration)
+        .map_err(|e| e.to_string())
 }
 
 /// MC_Power of MR-JE-C axes `ks`: on needs an axis not stopped (reset first), off one that

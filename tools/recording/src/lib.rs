@@ -1,6 +1,10 @@
 //! Reading recordings back for `inspect`, `report`, `replay` and `recover`: the whole file in
 //! memory, its summary (when the file is complete), and the decoded per-topic messages, read
 //! chunk by chunk in parallel through the chunk indexes when the file has them.
+//!
+//! Also the record walk `recover` makes and the `mcap_recording` fuzz target drives: every
+//! record framed by its length, chunks decompressed within their claimed size.
+#![warn(missing_docs)]
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -12,6 +16,143 @@ use cellrt_runtime::host::record::topics::{
 use mcap::records::{ChunkIndex, Record};
 use mcap::Summary;
 use prost::Message as _;
+
+/// Why a recording cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordingError {
+    /// The file cannot be read.
+    #[error("{}: cannot read: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The file does not start with the MCAP magic.
+    #[error("{}: not an MCAP file (no MCAP magic at the start)", path.display())]
+    NotMcap {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file has no `cellrt.cell` metadata.
+    #[error("{}: no '{CELL_METADATA}' metadata: not a cellrt recording", path.display())]
+    NotCellrt {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A chunk that the summary indexes cannot be read.
+    #[error("{}: chunk at byte {offset}: {source}", path.display())]
+    Chunk {
+        /// The file.
+        path: PathBuf,
+        /// Where the chunk starts, bytes.
+        offset: u64,
+        /// Why.
+        source: ChunkIndexError,
+    },
+    /// A message of a wanted channel does not decode.
+    #[error("{}: {topic}: {source}", path.display())]
+    Message {
+        /// The file.
+        path: PathBuf,
+        /// The channel's topic.
+        topic: String,
+        /// Why.
+        source: prost::DecodeError,
+    },
+    /// A decoding thread panicked.
+    #[error("decoder panicked")]
+    DecoderPanicked,
+}
+
+/// Why one record of an MCAP byte stream cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    /// A record's length field runs past the end of the bytes.
+    #[error("record {op:#04x} at byte {at} claims {len} bytes, past the end")]
+    PastTheEnd {
+        /// The record's opcode.
+        op: u8,
+        /// Where it starts, bytes.
+        at: usize,
+        /// Its claimed body length, bytes.
+        len: u64,
+    },
+    /// An attachment whose lengths run past its record.
+    #[error("an attachment record whose lengths run past its end")]
+    AttachmentOverrun,
+    /// The mcap crate refuses the record.
+    #[error(transparent)]
+    Mcap(#[from] mcap::McapError),
+    /// A chunk claims more than [`MAX_CHUNK_BYTES`] uncompressed.
+    #[error("claims {uncompressed} bytes uncompressed, more than the {} MiB a chunk may hold", MAX_CHUNK_BYTES >> 20)]
+    ChunkTooLarge {
+        /// The claimed size, bytes.
+        uncompressed: u64,
+    },
+    /// A zstd chunk does not decompress.
+    #[error("zstd: {0}")]
+    Zstd(std::io::Error),
+    /// An lz4 chunk does not decompress.
+    #[error("lz4: {0}")]
+    Lz4(std::io::Error),
+    /// A chunk compressed by a method cellrt does not read.
+    #[error("unknown compression '{0}'")]
+    UnknownCompression(String),
+    /// A chunk decompresses to another size than it claims.
+    #[error("decompresses to {actual} bytes, the chunk says {claimed}")]
+    SizeMismatch {
+        /// The decompressed size, bytes.
+        actual: usize,
+        /// The claimed size, bytes.
+        claimed: usize,
+    },
+}
+
+/// Why a chunk that the summary indexes cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ChunkIndexError {
+    /// The index's span is not within the file.
+    #[error("chunk index points outside the file")]
+    OutsideTheFile,
+    /// The index's span holds another record.
+    #[error("chunk index does not point at a chunk")]
+    NotAChunk,
+    /// The chunk or one of its records cannot be read.
+    #[error(transparent)]
+    Record(#[from] RecordError),
+    /// One of its messages does not decode.
+    #[error(transparent)]
+    Message(#[from] prost::DecodeError),
+}
+
+/// Why a linear read stopped before the data end record: a damaged or truncated file.
+#[derive(Debug, thiserror::Error)]
+pub enum Truncation {
+    /// A record's length runs past the end of the file or of its chunk.
+    #[error(transparent)]
+    Frame(RecordError),
+    /// A chunk cannot be read.
+    #[error("chunk: {0}")]
+    Chunk(RecordError),
+    /// A chunk opcode whose record parses as something else.
+    #[error("a chunk record that is no chunk")]
+    NotAChunk,
+    /// A record does not parse.
+    #[error("record {op:#04x}: {source}")]
+    Record {
+        /// Its opcode.
+        op: u8,
+        /// Why.
+        source: RecordError,
+    },
+    /// The file ends before its data end record.
+    #[error("the data section has no end")]
+    NoDataEnd,
+    /// The file has no summary section (read linearly to its data end).
+    #[error("no summary section")]
+    NoSummary,
+}
 
 /// A recording file loaded into memory.
 pub struct RecFile {
@@ -42,8 +183,8 @@ pub struct Records {
     pub axes: Vec<Vec<AxisCycle>>,
     /// `/cell/events`, in file order.
     pub events: Vec<Event>,
-    /// Whether reading stopped early at a damaged or truncated end.
-    pub truncated: Option<String>,
+    /// Why the file was read linearly, and where that stopped: a damaged or truncated end.
+    pub truncated: Option<Truncation>,
 }
 
 /// The cell as the recording's `cellrt.cell` metadata describes it.
@@ -63,19 +204,22 @@ pub struct CellInfo {
 
 impl RecFile {
     /// Reads `path`; a file that is not MCAP at all is an error naming it.
-    pub fn open(path: &Path) -> Result<RecFile, String> {
-        let bytes = cellrt_config::input_file::read_bytes(path, None)
-            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    pub fn open(path: &Path) -> Result<RecFile, RecordingError> {
+        let bytes = cellrt_config::input_file::read_bytes(path, None).map_err(|source| {
+            RecordingError::Read {
+                path: path.to_path_buf(),
+                source,
+            }
+        })?;
         Self::from_bytes(path, bytes)
     }
 
     /// The recording in `bytes`, read from `path` (named in messages).
-    pub fn from_bytes(path: &Path, bytes: Vec<u8>) -> Result<RecFile, String> {
+    pub fn from_bytes(path: &Path, bytes: Vec<u8>) -> Result<RecFile, RecordingError> {
         if !bytes.starts_with(mcap::MAGIC) {
-            return Err(format!(
-                "{}: not an MCAP file (no MCAP magic at the start)",
-                path.display()
-            ));
+            return Err(RecordingError::NotMcap {
+                path: path.to_path_buf(),
+            });
         }
         let summary =
             read_summary(&bytes).filter(|s| !s.chunk_indexes.is_empty() || s.stats.is_some());
@@ -102,7 +246,7 @@ impl RecFile {
     }
 
     /// The `cellrt.cell` metadata.
-    pub fn cell(&self) -> Result<CellInfo, String> {
+    pub fn cell(&self) -> Result<CellInfo, RecordingError> {
         let mut meta = None;
         if let Some(s) = &self.summary {
             for idx in s
@@ -126,11 +270,8 @@ impl RecFile {
                 _ => None,
             });
         }
-        let all = meta.ok_or_else(|| {
-            format!(
-                "{}: no '{CELL_METADATA}' metadata: not a cellrt recording",
-                self.path.display()
-            )
+        let all = meta.ok_or_else(|| RecordingError::NotCellrt {
+            path: self.path.clone(),
         })?;
         let axes: Vec<String> = all
             .get("axes")
@@ -178,7 +319,7 @@ impl RecFile {
     }
 
     /// Decodes every message of the cycle, event and (if `with_axes`) axis channels.
-    pub fn decode(&self, cell: &CellInfo, with_axes: bool) -> Result<Records, String> {
+    pub fn decode(&self, cell: &CellInfo, with_axes: bool) -> Result<Records, RecordingError> {
         let axis_index: HashMap<String, usize> = cell
             .axes
             .iter()
@@ -220,7 +361,7 @@ impl RecFile {
                     .unwrap_or(1)
                     .clamp(1, 8);
                 let per = chunks.len().div_ceil(threads).max(1);
-                let parts: Vec<Result<Vec<Decoded>, String>> = std::thread::scope(|s| {
+                let parts: Vec<Result<Vec<Decoded>, RecordingError>> = std::thread::scope(|s| {
                     let handles: Vec<_> = chunks
                         .chunks(per)
                         .map(|group| {
@@ -236,7 +377,7 @@ impl RecFile {
                         .collect();
                     handles
                         .into_iter()
-                        .map(|h| h.join().unwrap_or_else(|_| Err("decoder panicked".into())))
+                        .map(|h| h.join().unwrap_or(Err(RecordingError::DecoderPanicked)))
                         .collect()
                 });
                 for p in parts {
@@ -244,16 +385,19 @@ impl RecFile {
                 }
             }
             None => {
-                let path = self.path.display();
                 let stopped = self.walk_messages(&mut |_, ch, data| {
                     if let Some(k) = classify(&ch.topic) {
-                        let decoded = decode_one(k, data)
-                            .map_err(|e| format!("{path}: {}: {e}", ch.topic))?;
+                        let decoded =
+                            decode_one(k, data).map_err(|source| RecordingError::Message {
+                                path: self.path.clone(),
+                                topic: ch.topic.clone(),
+                                source,
+                            })?;
                         push(decoded);
                     }
                     Ok(())
                 })?;
-                out.truncated = Some(stopped.unwrap_or_else(|| "no summary section".into()));
+                out.truncated = Some(stopped.unwrap_or(Truncation::NoSummary));
             }
         }
         Ok(out)
@@ -263,12 +407,15 @@ impl RecFile {
     /// data), read record by record: channels as defined so far, each chunk decompressed
     /// within its claimed size ([`chunk_records`]). Returns why the walk stopped before the
     /// data end record (a damaged or truncated file), `None` when it reached it.
-    fn walk_messages(&self, each: &mut MessageVisitor<'_>) -> Result<Option<String>, String> {
+    fn walk_messages(
+        &self,
+        each: &mut MessageVisitor<'_>,
+    ) -> Result<Option<Truncation>, RecordingError> {
         let mut defs = LinearDefs::default();
         for item in RecordWalker::new(&self.bytes, mcap::MAGIC.len()) {
             let (op, body) = match item {
                 Ok(record) => record,
-                Err(e) => return Ok(Some(e)),
+                Err(e) => return Ok(Some(Truncation::Frame(e))),
             };
             match op {
                 mcap::records::op::DATA_END | mcap::records::op::FOOTER => return Ok(None),
@@ -276,9 +423,9 @@ impl RecFile {
                     let inner = match parse_record(op, body) {
                         Ok(Record::Chunk { header, data }) => chunk_records(&header, &data)
                             .map(|b| b.into_owned())
-                            .map_err(|e| format!("chunk: {e}")),
-                        Ok(_) => Err("a chunk record that is no chunk".into()),
-                        Err(e) => Err(format!("chunk: {e}")),
+                            .map_err(Truncation::Chunk),
+                        Ok(_) => Err(Truncation::NotAChunk),
+                        Err(e) => Err(Truncation::Chunk(e)),
                     };
                     let inner = match inner {
                         Ok(inner) => inner,
@@ -291,7 +438,7 @@ impl RecFile {
                                     return Ok(Some(why));
                                 }
                             }
-                            Err(e) => return Ok(Some(e)),
+                            Err(e) => return Ok(Some(Truncation::Frame(e))),
                         }
                     }
                 }
@@ -302,7 +449,7 @@ impl RecFile {
                 }
             }
         }
-        Ok(Some("the data section has no end".into()))
+        Ok(Some(Truncation::NoDataEnd))
     }
 
     /// Decodes the wanted channels' messages of the chunk `chunk` indexes, walking its records
@@ -314,34 +461,41 @@ impl RecFile {
         chunk: &ChunkIndex,
         kinds: &HashMap<u16, Kind>,
         out: &mut Vec<Decoded>,
-    ) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| {
-            format!(
-                "{}: chunk at byte {}: {e}",
-                self.path.display(),
-                chunk.chunk_start_offset
-            )
-        };
-        check_chunk_size(chunk.uncompressed_size).map_err(|e| err(&e))?;
+    ) -> Result<(), RecordingError> {
+        self.chunk_messages(chunk, kinds, out)
+            .map_err(|source| RecordingError::Chunk {
+                path: self.path.clone(),
+                offset: chunk.chunk_start_offset,
+                source,
+            })
+    }
+
+    /// [`RecFile::decode_chunk`] before the error names the file and the chunk.
+    fn chunk_messages(
+        &self,
+        chunk: &ChunkIndex,
+        kinds: &HashMap<u16, Kind>,
+        out: &mut Vec<Decoded>,
+    ) -> Result<(), ChunkIndexError> {
+        check_chunk_size(chunk.uncompressed_size)?;
         let start = chunk.chunk_start_offset as usize;
         let end = start
             .checked_add(chunk.chunk_length as usize)
             .filter(|e| *e <= self.bytes.len() && start + 9 <= *e)
-            .ok_or_else(|| err(&"chunk index points outside the file"))?;
+            .ok_or(ChunkIndexError::OutsideTheFile)?;
         let (header, data) =
-            match parse_record(mcap::records::op::CHUNK, &self.bytes[start + 9..end]) {
-                Ok(Record::Chunk { header, data }) => (header, data),
-                Ok(_) => return Err(err(&"chunk index does not point at a chunk")),
-                Err(e) => return Err(err(&e)),
+            match parse_record(mcap::records::op::CHUNK, &self.bytes[start + 9..end])? {
+                Record::Chunk { header, data } => (header, data),
+                _ => return Err(ChunkIndexError::NotAChunk),
             };
-        let records = chunk_records(&header, &data).map_err(|e| err(&e))?;
+        let records = chunk_records(&header, &data)?;
         for record in RecordWalker::new(&records, 0) {
-            let (op, body) = record.map_err(|e| err(&e))?;
+            let (op, body) = record?;
             // Message: channel id u16, sequence u32, log time u64, publish time u64, data.
             if op == mcap::records::op::MESSAGE && body.len() >= 22 {
                 let channel = u16::from_le_bytes([body[0], body[1]]);
                 if let Some(k) = kinds.get(&channel) {
-                    out.push(decode_one(*k, &body[22..]).map_err(|e| err(&e))?);
+                    out.push(decode_one(*k, &body[22..])?);
                 }
             }
         }
@@ -394,7 +548,7 @@ impl RecFile {
 }
 
 /// What [`RecFile::walk_messages`] calls per message: channel id, channel, data.
-type MessageVisitor<'a> = dyn FnMut(u16, &LinearChannel, &[u8]) -> Result<(), String> + 'a;
+type MessageVisitor<'a> = dyn FnMut(u16, &LinearChannel, &[u8]) -> Result<(), RecordingError> + 'a;
 
 /// A channel as a linear read has met it.
 struct LinearChannel {
@@ -417,7 +571,7 @@ impl LinearDefs {
         op: u8,
         body: &[u8],
         each: &mut MessageVisitor<'_>,
-    ) -> Result<Option<String>, String> {
+    ) -> Result<Option<Truncation>, RecordingError> {
         match parse_record(op, body) {
             Ok(Record::Schema { header, .. }) => {
                 self.schemas.insert(header.id, header.name);
@@ -433,7 +587,7 @@ impl LinearDefs {
                 }
             }
             Ok(_) => {}
-            Err(e) => return Ok(Some(format!("record {op:#04x}: {e}"))),
+            Err(source) => return Ok(Some(Truncation::Record { op, source })),
         }
         Ok(None)
     }
@@ -464,11 +618,11 @@ pub const MAX_CHUNK_BYTES: u64 = 256 << 20;
 /// One record parsed by the mcap crate, after the checks the crate leaves out: an attachment
 /// whose lengths run past its record is refused here (mcap 0.26 slices it unchecked and
 /// panics; found by the `mcap_recording` fuzz target).
-pub fn parse_record(op: u8, body: &[u8]) -> Result<Record<'_>, String> {
+pub fn parse_record(op: u8, body: &[u8]) -> Result<Record<'_>, RecordError> {
     if op == mcap::records::op::ATTACHMENT && !attachment_fits(body) {
-        return Err("an attachment record whose lengths run past its end".into());
+        return Err(RecordError::AttachmentOverrun);
     }
-    mcap::read::parse_record(op, body).map_err(|e| e.to_string())
+    Ok(mcap::read::parse_record(op, body)?)
 }
 
 /// Whether an attachment record's body holds what its lengths claim: log and create time,
@@ -578,7 +732,7 @@ impl<'a> RecordWalker<'a> {
 }
 
 impl<'a> Iterator for RecordWalker<'a> {
-    type Item = Result<(u8, &'a [u8]), String>;
+    type Item = Result<(u8, &'a [u8]), RecordError>;
 
     fn next(&mut self) -> Option<Self::Item> {
         let rest = self.bytes.get(self.at..)?;
@@ -593,9 +747,7 @@ impl<'a> Iterator for RecordWalker<'a> {
         else {
             let at = self.at;
             self.at = self.bytes.len();
-            return Some(Err(format!(
-                "record {op:#04x} at byte {at} claims {len} bytes, past the end"
-            )));
+            return Some(Err(RecordError::PastTheEnd { op, at, len }));
         };
         self.at += 9 + body.len();
         Some(Ok((op, body)))
@@ -607,38 +759,35 @@ impl<'a> Iterator for RecordWalker<'a> {
 pub fn chunk_records<'a>(
     header: &mcap::records::ChunkHeader,
     data: &'a [u8],
-) -> Result<std::borrow::Cow<'a, [u8]>, String> {
+) -> Result<std::borrow::Cow<'a, [u8]>, RecordError> {
     use std::io::Read;
     check_chunk_size(header.uncompressed_size)?;
     let size = header.uncompressed_size as usize;
     let out = match header.compression.as_str() {
         "" => return Ok(std::borrow::Cow::Borrowed(data)),
-        "zstd" => zstd::bulk::decompress(data, size).map_err(|e| format!("zstd: {e}"))?,
+        "zstd" => zstd::bulk::decompress(data, size).map_err(RecordError::Zstd)?,
         "lz4" => {
             let mut out = Vec::with_capacity(size);
             lz4::Decoder::new(data)
                 .and_then(|d| d.take(size as u64 + 1).read_to_end(&mut out))
-                .map_err(|e| format!("lz4: {e}"))?;
+                .map_err(RecordError::Lz4)?;
             out
         }
-        other => return Err(format!("unknown compression '{other}'")),
+        other => return Err(RecordError::UnknownCompression(other.to_string())),
     };
     if out.len() != size {
-        return Err(format!(
-            "decompresses to {} bytes, the chunk says {size}",
-            out.len()
-        ));
+        return Err(RecordError::SizeMismatch {
+            actual: out.len(),
+            claimed: size,
+        });
     }
     Ok(std::borrow::Cow::Owned(out))
 }
 
 /// Refuses a chunk whose claimed uncompressed size is beyond [`MAX_CHUNK_BYTES`].
-fn check_chunk_size(uncompressed: u64) -> Result<(), String> {
+fn check_chunk_size(uncompressed: u64) -> Result<(), RecordError> {
     if uncompressed > MAX_CHUNK_BYTES {
-        return Err(format!(
-            "claims {uncompressed} bytes uncompressed, more than the {} MiB a chunk may hold",
-            MAX_CHUNK_BYTES >> 20
-        ));
+        return Err(RecordError::ChunkTooLarge { uncompressed });
     }
     Ok(())
 }
@@ -701,7 +850,40 @@ mod tests {
             bad[at..at + 8].copy_from_slice(&offset.to_le_bytes());
             let file = RecFile::from_bytes(Path::new("bad.mcap"), bad).unwrap();
             assert!(file.attachments().is_empty(), "offset {offset}");
-            assert!(file.cell().is_err());
+            assert!(matches!(file.cell(), Err(RecordingError::NotCellrt { .. })));
         }
+    }
+
+    #[test]
+    fn errors_read_as_before() {
+        let not_mcap = RecFile::from_bytes(Path::new("x.mcap"), b"hello".to_vec());
+        assert_eq!(
+            not_mcap.err().map(|e| e.to_string()).as_deref(),
+            Some("x.mcap: not an MCAP file (no MCAP magic at the start)")
+        );
+        let mut walker = RecordWalker::new(&[0x06, 0xFF, 0, 0, 0, 0, 0, 0, 0], 0);
+        let past = walker.next().and_then(Result::err);
+        assert!(matches!(
+            past,
+            Some(RecordError::PastTheEnd {
+                op: 0x06,
+                at: 0,
+                len: 255
+            })
+        ));
+        assert_eq!(
+            past.map(|e| e.to_string()).as_deref(),
+            Some("record 0x06 at byte 0 claims 255 bytes, past the end")
+        );
+        let stop = Truncation::Chunk(RecordError::ChunkTooLarge {
+            uncompressed: MAX_CHUNK_BYTES + 1,
+        });
+        assert_eq!(
+            stop.to_string(),
+            format!(
+                "chunk: claims {} bytes uncompressed, more than the 256 MiB a chunk may hold",
+                MAX_CHUNK_BYTES + 1
+            )
+        );
     }
 }

@@ -5,6 +5,7 @@
 
 pub mod connect;
 pub mod emulated;
+pub mod jobs;
 pub mod link;
 
 use std::sync::Arc;

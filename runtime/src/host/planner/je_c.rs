@@ -6,9 +6,10 @@
 
 use std::time::{Duration, Instant};
 
-use cellrt_fieldbus::mr_je_c::cell::{AxisCommand, HOMING_ERROR};
+use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 use super::{Planner, ProgramError, POWER_TIMEOUT};
+use crate::host::je_c::jobs::{JobCounts, JobOutcome};
 use crate::host::je_c::stopped_text;
 use crate::host::program::{DriveMove, TorqueTarget};
 use cellrt_config::AxisRef;
@@ -90,7 +91,7 @@ impl Planner<'_> {
         let jog = c
             .jog_command(velocity, c.acceleration)
             .map_err(|e| self.err(e))?;
-        let before = self.je_c_jobs(axis);
+        let before = self.je_c.job_counts(axis);
         self.je_c.command(axis, jog).map_err(|e| self.err(e))?;
         self.sleep(Duration::from_secs_f64(seconds));
         self.je_c
@@ -98,7 +99,7 @@ impl Planner<'_> {
             .map_err(|e| self.err(e))?;
         let stop = Duration::from_secs_f64(2.0 * velocity.abs() / c_acc(self, axis));
         // The velocity job ends with the halt, then the halt at standstill.
-        self.je_c_until(axis, before, 2, stop + MOVE_SLACK, "jog")
+        self.je_c_wait_jobs(&[(axis, before, 2)], stop + MOVE_SLACK, "jog")
     }
 
     /// A torque step on MR-JE-C axes: each drive ramps to its torque in tq (`commands`), holds
@@ -116,7 +117,10 @@ impl Planner<'_> {
                 commands.push((k, c.map_err(|e| self.err(e))?));
             }
         }
-        let before: Vec<(u32, u32)> = commands.iter().map(|(k, _)| self.je_c_jobs(*k)).collect();
+        let before: Vec<JobCounts> = commands
+            .iter()
+            .map(|(k, _)| self.je_c.job_counts(*k))
+            .collect();
         for (k, c) in &commands {
             self.je_c.command(*k, *c).map_err(|e| self.err(e))?;
         }
@@ -131,88 +135,80 @@ impl Planner<'_> {
             })
             .fold(0.0, f64::max);
         let limit = Duration::from_secs_f64(ramp) + TORQUE_RAMP_TIMEOUT;
-        for ((k, _), b) in commands.iter().zip(&before) {
-            self.je_c_until(*k, *b, 1, limit, "torque ramp")?;
-        }
+        let ramps: Vec<_> = commands
+            .iter()
+            .zip(&before)
+            .map(|(&(k, _), &b)| (k, b, 1))
+            .collect();
+        self.je_c_wait_jobs(&ramps, limit, "torque ramp")?;
         self.sleep(Duration::from_secs_f64(seconds));
         for (k, _) in &commands {
             self.je_c
                 .command(*k, AxisCommand::Halt)
                 .map_err(|e| self.err(e))?;
         }
-        for ((k, _), b) in commands.iter().zip(&before) {
-            self.je_c_until(*k, *b, 2, limit, "halt of the torque")?;
-        }
-        Ok(())
+        let halts: Vec<_> = commands
+            .iter()
+            .zip(&before)
+            .map(|(&(k, _), &b)| (k, b, 2))
+            .collect();
+        self.je_c_wait_jobs(&halts, limit, "halt of the torque")
     }
 
     /// Homes an MR-JE-C axis in its drive's hm and waits for Homing attained (the job done) or
     /// Homing error (failed), at most [`JE_C_HOME_TIMEOUT`].
     pub(super) fn je_c_home(&mut self, axis: usize) -> Result<(), ProgramError> {
-        let before = self.je_c_jobs(axis);
+        let before = self.je_c.job_counts(axis);
         self.je_c
             .command(axis, AxisCommand::Home)
             .map_err(|e| self.err(e))?;
-        self.je_c_until(axis, before, 1, JE_C_HOME_TIMEOUT, "homing")
+        self.je_c_wait_jobs(&[(axis, before, 1)], JE_C_HOME_TIMEOUT, "homing")
     }
 
-    /// Axis `axis`' (done, failed) job counts now.
-    fn je_c_jobs(&self, axis: usize) -> (u32, u32) {
-        let f = self.je_c.feedback(axis);
-        (f.done, f.failed)
-    }
-
-    /// Waits until `jobs` more of axis `axis`' jobs are done than `(done, failed)` counted;
-    /// fails when one fails, the axis is stopped, or `limit` has passed (naming `what`).
-    fn je_c_until(
+    /// Waits until every axis of `waits` (axis, counts before, jobs started) has done its jobs;
+    /// fails when one fails, an axis is stopped, or `limit` has passed, naming `what`. The one
+    /// wait of every MR-JE-C step (move, jog, torque, homing).
+    fn je_c_wait_jobs(
         &mut self,
-        axis: usize,
-        (done, failed): (u32, u32),
-        jobs: u32,
+        waits: &[(usize, JobCounts, u32)],
         limit: Duration,
         what: &str,
     ) -> Result<(), ProgramError> {
-        let name = self.je_c.config(axis).name.clone();
         let end = Instant::now() + limit;
-        loop {
-            let f = self.je_c.feedback(axis);
-            if f.done >= done + jobs || self.aborted() {
-                return Ok(());
+        for &(axis, before, jobs) in waits {
+            loop {
+                let outcome = self.je_c.job_outcome(axis, before, jobs);
+                if outcome == JobOutcome::Done || self.aborted() {
+                    break;
+                }
+                if let Some(why) = self.je_c.job_failure(axis, outcome, what) {
+                    return Err(self.err(why));
+                }
+                if Instant::now() >= end {
+                    let f = self.je_c.feedback(axis);
+                    let c = self.je_c.config(axis);
+                    return Err(self.err(format!(
+                        "MR-JE-C axis '{}': the {what} did not end within {limit:?} (at {:.3} {}, statusword {:04X}h)",
+                        c.name,
+                        c.units(f.inputs.position),
+                        c.unit,
+                        f.inputs.statusword
+                    )));
+                }
+                self.sleep(Duration::from_millis(2));
             }
-            if let Some(s) = f.stopped {
-                return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
-            }
-            let sw = f.inputs.statusword;
-            let homing_error = if sw & HOMING_ERROR != 0 && what == "homing" {
-                ", Homing error"
-            } else {
-                ""
-            };
-            if f.failed > failed {
-                return Err(self.err(format!(
-                    "MR-JE-C axis '{name}': the {what} failed or was cut short (statusword {sw:04X}h{homing_error})"
-                )));
-            }
-            if Instant::now() >= end {
-                return Err(self.err(format!(
-                    "MR-JE-C axis '{name}': the {what} did not end within {limit:?} (statusword {sw:04X}h)"
-                )));
-            }
-            self.sleep(Duration::from_millis(2));
         }
+        Ok(())
     }
 
-    /// Sends each MR-JE-C axis of a move its set-point; the feedback before, to wait on.
+    /// Sends each MR-JE-C axis of a move its set-point; the job counts before, to wait on.
     pub(super) fn je_c_start(
         &mut self,
         targets: &[DriveMove],
-    ) -> Result<Vec<(u32, u32)>, ProgramError> {
-        let before: Vec<(u32, u32)> = targets
+    ) -> Result<Vec<JobCounts>, ProgramError> {
+        let before: Vec<JobCounts> = targets
             .iter()
-            .map(|t| {
-                let f = self.je_c.feedback(t.axis);
-                (f.done, f.failed)
-            })
+            .map(|t| self.je_c.job_counts(t.axis))
             .collect();
         for t in targets {
             let c = self
@@ -224,12 +220,12 @@ impl Planner<'_> {
         Ok(before)
     }
 
-    /// Waits until each MR-JE-C axis of a move reports it done; fails on a stop or after the
-    /// move's time with slack.
+    /// Waits until each MR-JE-C axis of a move reports it done; fails on a stop, a refusal or
+    /// after the move's time with slack.
     pub(super) fn je_c_wait(
         &mut self,
         targets: &[DriveMove],
-        before: &[(u32, u32)],
+        before: &[JobCounts],
     ) -> Result<(), ProgramError> {
         let longest = targets
             .iter()
@@ -239,34 +235,12 @@ impl Planner<'_> {
                 (t.target() - from).abs() / t.velocity + 2.0 * t.velocity / t.acceleration
             })
             .fold(0.0, f64::max);
-        let end = Instant::now() + Duration::from_secs_f64(2.0 * longest) + MOVE_SLACK;
-        for (t, &(done_before, failed_before)) in targets.iter().zip(before) {
-            let name = self.je_c.config(t.axis).name.clone();
-            loop {
-                let f = self.je_c.feedback(t.axis);
-                if f.done > done_before || self.aborted() {
-                    break;
-                }
-                if let Some(s) = f.stopped {
-                    return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
-                }
-                if f.failed > failed_before {
-                    return Err(self.err(format!(
-                        "MR-JE-C axis '{name}': the move was refused or cut short (statusword {:04X}h)",
-                        f.inputs.statusword
-                    )));
-                }
-                if Instant::now() >= end {
-                    return Err(self.err(format!(
-                        "MR-JE-C axis '{name}' did not reach {} {} in time (at {:.3})",
-                        t.target(),
-                        self.je_c.config(t.axis).unit,
-                        self.je_c.config(t.axis).units(f.inputs.position)
-                    )));
-                }
-                self.sleep(Duration::from_millis(2));
-            }
-        }
-        Ok(())
+        let limit = Duration::from_secs_f64(2.0 * longest) + MOVE_SLACK;
+        let waits: Vec<_> = targets
+            .iter()
+            .zip(before)
+            .map(|(t, &b)| (t.axis, b, 1))
+            .collect();
+        self.je_c_wait_jobs(&waits, limit, "move")
     }
 }

@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 use super::*;
+use crate::host::je_c::jobs::{JobCounts, JobOutcome};
 use crate::host::je_c::{stopped_text, JecAxes};
 use crate::host::program::{je_c_method_refusal, JE_C_HOMING_METHOD};
 use cellrt_config::je_c_axis::{JecAxisConfig, JecMode};
@@ -229,21 +230,19 @@ pub(super) fn reset_stopped(axes: &JecAxes) -> Result<(), String> {
         .try_for_each(|k| axes.command(k, AxisCommand::Reset))
 }
 
-/// The MR-JE-C axes a tracked move waits for: each axis' jobs done and failed when it was
-/// sent, so the move ends when each has one more done, and fails on a failed job or a stop.
+/// The MR-JE-C axes a tracked move waits for: each axis' job counts when it was sent, so the
+/// move ends when each has one more done, and fails on a failed job or a stop (judged as a
+/// program's step judges them, `JecAxes::job_outcome`).
 #[derive(Debug, Default)]
 pub(super) struct PendingMoves {
     /// The command id, and per axis its job counts before it.
-    waiting: Option<(u64, Vec<JobsBefore>)>,
+    waiting: Option<(u64, Vec<(usize, JobCounts)>)>,
     /// What the command does to them ("move", "homing"), for its failure.
     what: &'static str,
 }
 
-/// An axis and its jobs done and failed before a command: `(axis, done, failed)`.
-type JobsBefore = (usize, u32, u32);
-
 impl PendingMoves {
-    /// Notes the feedback of `commands`' axes before they are sent, for command `id`, which
+    /// Notes the job counts of `commands`' axes before they are sent, for command `id`, which
     /// `what` names.
     pub(super) fn expect(
         &mut self,
@@ -255,10 +254,7 @@ impl PendingMoves {
         self.what = what;
         let before = commands
             .iter()
-            .map(|&(k, _)| {
-                let f = axes.feedback(k);
-                (k, f.done, f.failed)
-            })
+            .map(|&(k, _)| (k, axes.job_counts(k)))
             .collect();
         self.waiting = Some((id, before));
     }
@@ -273,21 +269,13 @@ impl PendingMoves {
             self.waiting = None;
             return Ok(false);
         }
-        for &(k, done, failed) in before {
-            let f = axes.feedback(k);
-            let name = &axes.config(k).name;
-            if let Some(s) = f.stopped {
+        for &(k, counts) in before {
+            let outcome = axes.job_outcome(k, counts, 1);
+            if let Some(why) = axes.job_failure(k, outcome, self.what) {
                 self.waiting = None;
-                return Err(format!("MR-JE-C axis '{name}': {}", stopped_text(s)));
+                return Err(why);
             }
-            if f.failed > failed {
-                self.waiting = None;
-                return Err(format!(
-                    "MR-JE-C axis '{name}': the {} was refused or cut short (statusword {:04X}h)",
-                    self.what, f.inputs.statusword
-                ));
-            }
-            if f.done <= done {
+            if outcome == JobOutcome::Pending {
                 return Ok(true);
             }
         }

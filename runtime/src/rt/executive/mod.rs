@@ -477,7 +477,11 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 controlword2,
                 counter,
             });
-            self.profile_outputs(i, &mut rx);
+            // A homing drives the controlword's bit 4 (Homing operation start in hm), which a
+            // profile axis' outputs would clear as their New set-point.
+            if !self.axes[i].homing.is_active() {
+                self.profile_outputs(i, &mut rx);
+            }
             self.mode_switch_outputs(i, &mut rx);
             let controlword = rx.controlword;
             if self.axes[i]

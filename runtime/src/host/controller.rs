@@ -65,7 +65,7 @@ pub enum RunError {
     Thread(String),
     /// The operator socket (for other users) could not be served.
     #[error("operator socket: {0}")]
-    OperatorSocket(String),
+    OperatorSocket(#[source] crate::host::operator::socket::SocketError),
     /// The bus could not be opened (EtherCAT bring-up).
     #[error("{0}")]
     Bus(String),

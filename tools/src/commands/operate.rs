@@ -282,7 +282,56 @@ enum Wait {
     },
 }
 
-fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
+/// Why an operator command's arguments make no request.
+#[derive(Debug, thiserror::Error)]
+pub enum RequestArgsError {
+    /// An argument is not `AXIS=VALUE`.
+    #[error("{what}: '{arg}' is not AXIS=VALUE")]
+    NotAPair {
+        /// The command.
+        what: &'static str,
+        /// The argument.
+        arg: String,
+    },
+    /// The value of an `AXIS=VALUE` argument is not a number.
+    #[error("{what}: '{arg}': '{value}' is not a number")]
+    NotANumber {
+        /// The command.
+        what: &'static str,
+        /// The argument.
+        arg: String,
+        /// Its value.
+        value: String,
+    },
+    /// The value of an `AXIS=VALUE` argument is infinite or NaN.
+    #[error("{what}: '{arg}': '{value}' is not a finite number")]
+    NotFinite {
+        /// The command.
+        what: &'static str,
+        /// The argument.
+        arg: String,
+        /// Its value.
+        value: String,
+    },
+    /// Two arguments name one axis.
+    #[error("{what}: axis '{axis}' is given twice")]
+    AxisTwice {
+        /// The command.
+        what: &'static str,
+        /// The axis.
+        axis: String,
+    },
+    /// The program file cannot be found.
+    #[error("program: {}: {source}", .file.display())]
+    Program {
+        /// The file given.
+        file: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+fn build(command: &OperatorCommand) -> Result<(Request, Wait), RequestArgsError> {
     let wait = |no_wait: bool, w: Wait| if no_wait { Wait::No } else { w };
     Ok(match command {
         OperatorCommand::Status { .. } => (Request::Status, Wait::No),
@@ -381,8 +430,10 @@ fn build(command: &OperatorCommand) -> Result<(Request, Wait), String> {
         }
         OperatorCommand::Program { file, no_wait } => {
             // The cell resolves paths from its own working directory: send an absolute one.
-            let path = std::fs::canonicalize(file)
-                .map_err(|e| format!("program: {}: {e}", file.display()))?;
+            let path = std::fs::canonicalize(file).map_err(|source| RequestArgsError::Program {
+                file: file.clone(),
+                source,
+            })?;
             (Request::Program { path }, wait(*no_wait, Wait::Finished))
         }
     })
@@ -408,7 +459,7 @@ fn power(on: bool, axes: &[String]) -> (Request, Wait) {
 }
 
 /// A waypoint path: each waypoint is `AXIS=VALUE,AXIS=VALUE,…`.
-fn path(waypoints: &[String], limits: &LimitArgs) -> Result<Request, String> {
+fn path(waypoints: &[String], limits: &LimitArgs) -> Result<Request, RequestArgsError> {
     Ok(Request::Path {
         waypoints: waypoints
             .iter()
@@ -427,21 +478,35 @@ fn path(waypoints: &[String], limits: &LimitArgs) -> Result<Request, String> {
 }
 
 /// Parses `AXIS=VALUE` arguments.
-fn pairs(what: &str, args: &[String]) -> Result<BTreeMap<String, f64>, String> {
+fn pairs(what: &'static str, args: &[String]) -> Result<BTreeMap<String, f64>, RequestArgsError> {
     let mut out = BTreeMap::new();
     for a in args {
         let (axis, value) = a
             .split_once('=')
-            .ok_or_else(|| format!("{what}: '{a}' is not AXIS=VALUE"))?;
+            .ok_or_else(|| RequestArgsError::NotAPair {
+                what,
+                arg: a.clone(),
+            })?;
         let v: f64 = value
             .trim()
             .parse()
-            .map_err(|_| format!("{what}: '{a}': '{value}' is not a number"))?;
+            .map_err(|_| RequestArgsError::NotANumber {
+                what,
+                arg: a.clone(),
+                value: value.to_string(),
+            })?;
         if !v.is_finite() {
-            return Err(format!("{what}: '{a}': '{value}' is not a finite number"));
+            return Err(RequestArgsError::NotFinite {
+                what,
+                arg: a.clone(),
+                value: value.to_string(),
+            });
         }
         if out.insert(axis.trim().to_string(), v).is_some() {
-            return Err(format!("{what}: axis '{axis}' is given twice"));
+            return Err(RequestArgsError::AxisTwice {
+                what,
+                axis: axis.to_string(),
+            });
         }
     }
     Ok(out)
@@ -504,9 +569,9 @@ fn wait_finished(client: &OperatorClient, id: u64, timeout: Duration) -> Exit {
 fn wait_state(client: &OperatorClient, states: &[&str], timeout: Duration) -> Exit {
     poll_status(client, timeout, states.contains(&"faulted"), |s| {
         if states.contains(&s.state.as_str()) {
-            Ok(format!("cell {}", s.state))
+            Verdict::Done(format!("cell {}", s.state))
         } else {
-            Err(format!(
+            Verdict::Pending(format!(
                 "the cell is {}, not {}",
                 s.state,
                 states.join(" or ")
@@ -535,9 +600,9 @@ fn wait_power(client: &OperatorClient, axes: &[String], on: bool, timeout: Durat
             ("unpowered", "enabled")
         };
         if pending.is_empty() && settled {
-            Ok(format!("{} {done}, cell {}", axes.join(", "), s.state))
+            Verdict::Done(format!("{} {done}, cell {}", axes.join(", "), s.state))
         } else {
-            Err(format!(
+            Verdict::Pending(format!(
                 "{} still {not_done} (cell {})",
                 pending.join(", "),
                 s.state
@@ -559,11 +624,11 @@ fn wait_cell_power(client: &OperatorClient, on: bool, timeout: Duration) -> Exit
             .map(|a| a.name.as_str())
             .collect();
         if s.state == want && pending.is_empty() {
-            Ok(format!("cell {}", s.state))
+            Verdict::Done(format!("cell {}", s.state))
         } else if s.state != want {
-            Err(format!("the cell is {}, not {want}", s.state))
+            Verdict::Pending(format!("the cell is {}, not {want}", s.state))
         } else {
-            Err(format!(
+            Verdict::Pending(format!(
                 "MR-JE-C axes {} still {}",
                 pending.join(", "),
                 if on { "not enabled" } else { "enabled" }
@@ -572,13 +637,22 @@ fn wait_cell_power(client: &OperatorClient, on: bool, timeout: Duration) -> Exit
     })
 }
 
-/// Polls the status until `judge` says done (`Ok(what)`), the cell faults (unless
-/// `faulted_ok`), or 15 s pass (`Err(what is still pending)` is printed).
+/// What a status says of the state a command waits for.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Verdict {
+    /// Reached: what it is.
+    Done(String),
+    /// Not yet: what is still pending.
+    Pending(String),
+}
+
+/// Polls the status until `judge` says done, the cell faults (unless `faulted_ok`), or 15 s
+/// pass (what is still pending is printed).
 fn poll_status(
     client: &OperatorClient,
     timeout: Duration,
     faulted_ok: bool,
-    judge: impl Fn(&StatusReport) -> Result<String, String>,
+    judge: impl Fn(&StatusReport) -> Verdict,
 ) -> Exit {
     let end = Instant::now() + Duration::from_secs(15);
     // Let the RT thread take the command before judging the state.
@@ -589,7 +663,7 @@ fn poll_status(
             Err(e) => return e,
         };
         let verdict = judge(&s);
-        if let Ok(what) = &verdict {
+        if let Verdict::Done(what) = &verdict {
             println!("done: {what}");
             return Exit::Ok;
         }
@@ -601,7 +675,7 @@ fn poll_status(
             return Exit::Failed;
         }
         if Instant::now() >= end {
-            if let Err(what) = verdict {
+            if let Verdict::Pending(what) = verdict {
                 eprintln!("failed: {what}");
             }
             return Exit::Failed;
@@ -736,18 +810,17 @@ mod tests {
         let p = pairs("move", &["x=100".into(), "y = -2.5".into()]).unwrap();
         assert_eq!(p["x"], 100.0);
         assert_eq!(p["y"], -2.5);
-        assert_eq!(
-            pairs("move", &["x100".into()]).unwrap_err(),
-            "move: 'x100' is not AXIS=VALUE"
-        );
-        assert!(pairs("move", &["x=abc".into()])
-            .unwrap_err()
-            .contains("'abc' is not a number"));
-        assert!(pairs("move", &["x=inf".into()])
-            .unwrap_err()
-            .contains("not a finite number"));
-        assert!(pairs("move", &["x=1".into(), "x=2".into()])
-            .unwrap_err()
-            .contains("given twice"));
+        let e = pairs("move", &["x100".into()]).unwrap_err();
+        assert!(matches!(e, RequestArgsError::NotAPair { .. }), "{e:?}");
+        assert_eq!(e.to_string(), "move: 'x100' is not AXIS=VALUE");
+        let e = pairs("move", &["x=abc".into()]).unwrap_err();
+        assert!(matches!(e, RequestArgsError::NotANumber { .. }), "{e:?}");
+        assert!(e.to_string().contains("'abc' is not a number"));
+        let e = pairs("move", &["x=inf".into()]).unwrap_err();
+        assert!(matches!(e, RequestArgsError::NotFinite { .. }), "{e:?}");
+        assert!(e.to_string().contains("not a finite number"));
+        let e = pairs("move", &["x=1".into(), "x=2".into()]).unwrap_err();
+        assert!(matches!(e, RequestArgsError::AxisTwice { .. }), "{e:?}");
+        assert!(e.to_string().contains("given twice"));
     }
 }

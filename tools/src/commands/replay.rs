@@ -9,11 +9,11 @@
 
 use std::path::Path;
 
-use cellrt_cia402::bus::{AcyclicBus, CyclicBus};
+use cellrt_cia402::bus::{AcyclicBus, BusError, CyclicBus};
 use cellrt_cia402::controlword::Controlword;
 use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_cia402::pdo::objects::PROFILE_OBJECTS;
-use cellrt_cia402::pdo::TxPdo;
+use cellrt_cia402::pdo::{PdoError, TxPdo};
 use cellrt_cia402::Cycles;
 use cellrt_config::CellConfig;
 use cellrt_runtime::host::cell_bus::sim_bus;
@@ -136,26 +136,99 @@ fn je_c_excluded(cell: &CellConfig) -> Option<String> {
     ))
 }
 
+/// Why a recording cannot be replayed to its end.
+#[derive(Debug, thiserror::Error)]
+pub enum ReplayError {
+    /// The recording has no axis records.
+    #[error("no axis records to replay")]
+    NoRecords,
+    /// The axes' record counts differ.
+    #[error("axes have different record counts (records were dropped): cannot replay")]
+    CountsDiffer,
+    /// The first record is not of cycle 0.
+    #[error(
+        "the recording starts at cycle {cycle} (a rotated part?): replay needs it from cycle 0"
+    )]
+    LateStart {
+        /// The first recorded cycle.
+        cycle: u64,
+    },
+    /// The records of one index are of different cycles.
+    #[error(
+        "record {record}: axis {axis} is at cycle {at}, axis {first} at {cycle} (records dropped)"
+    )]
+    Misaligned {
+        /// The record's index.
+        record: usize,
+        /// The axis out of step.
+        axis: String,
+        /// Its record's cycle.
+        at: u64,
+        /// The first axis.
+        first: String,
+        /// The first axis' record's cycle.
+        cycle: u64,
+    },
+    /// The simulated bus refused the exchange before cycle 0.
+    #[error("bus exchange: {0:?}")]
+    FirstExchange(BusError),
+    /// The simulated bus refused an exchange.
+    #[error("bus exchange at cycle {cycle}: {error:?}")]
+    Exchange {
+        /// The cycle.
+        cycle: u64,
+        /// Why.
+        error: BusError,
+    },
+    /// An axis' TxPDO image does not decode.
+    #[error("axis {axis}: TxPDO: {error:?}")]
+    TxPdo {
+        /// The axis.
+        axis: String,
+        /// Why.
+        error: PdoError,
+    },
+    /// An axis' RxPDO image does not encode.
+    #[error("axis {axis}: RxPDO: {error:?}")]
+    RxPdo {
+        /// The axis.
+        axis: String,
+        /// Why.
+        error: PdoError,
+    },
+    /// A simulated drive aborted the download of a recorded profile object.
+    #[error("axis {axis}: {index:04X}h = {value} at cycle {cycle}: SDO abort {abort:08X}h")]
+    SdoAbort {
+        /// The axis.
+        axis: String,
+        /// The object.
+        index: u16,
+        /// The recorded value.
+        value: u32,
+        /// The cycle.
+        cycle: u64,
+        /// The abort code.
+        abort: u32,
+    },
+}
+
 /// Replays `axes` (recorded per axis, in cycle order) through the simulated drives of `cell`.
 /// Returns the cycles compared and the first divergence, if any.
 pub fn replay(
     cell: &CellConfig,
     axes: &[Vec<AxisCycle>],
-) -> Result<(u64, Option<Divergence>), String> {
+) -> Result<(u64, Option<Divergence>), ReplayError> {
     let n = axes.first().map(Vec::len).unwrap_or(0);
     if n == 0 {
-        return Err("no axis records to replay".into());
+        return Err(ReplayError::NoRecords);
     }
     if axes.iter().any(|a| a.len() != n) {
-        return Err(
-            "axes have different record counts (records were dropped): cannot replay".into(),
-        );
+        return Err(ReplayError::CountsDiffer);
     }
     if axes[0][0].cycle != 0 {
-        return Err(format!(
-            "the recording starts at cycle {} (a rotated part?): replay needs it from cycle 0",
-            axes[0][0].cycle
-        ));
+        return Err(ReplayError::LateStart {
+            cycle: axes[0][0].cycle,
+        });
     }
     let channels: Vec<AxisChannel> = cell
         .axes
@@ -167,15 +240,18 @@ pub fn replay(
     let mut faults = InjectionSchedule::in_process(cell);
     // As Executive::run: one exchange of all-zero outputs before cycle 0.
     bus.exchange(Cycles(1))
-        .map_err(|e| format!("bus exchange: {e:?}"))?;
+        .map_err(ReplayError::FirstExchange)?;
     let mut prev: Option<u64> = None;
     for k in 0..n {
         let cycle = axes[0][k].cycle;
         if let Some(i) = axes.iter().position(|a| a[k].cycle != cycle) {
-            return Err(format!(
-                "record {k}: axis {} is at cycle {}, axis {} at {cycle} (records dropped)",
-                cell.axes[i].name, axes[i][k].cycle, cell.axes[0].name
-            ));
+            return Err(ReplayError::Misaligned {
+                record: k,
+                axis: cell.axes[i].name.clone(),
+                at: axes[i][k].cycle,
+                first: cell.axes[0].name.clone(),
+                cycle,
+            });
         }
         while faults.next_due(cycle, &mut bus).is_some() {}
         for (i, ch) in channels.iter().enumerate() {
@@ -183,7 +259,10 @@ pub fn replay(
             let tx = ch
                 .tx_map
                 .decode_tx(bus.tx_image(i))
-                .map_err(|e| format!("axis {}: TxPDO: {e:?}", cell.axes[i].name))?;
+                .map_err(|error| ReplayError::TxPdo {
+                    axis: cell.axes[i].name.clone(),
+                    error,
+                })?;
             if let Some((field, recorded, replayed)) = compare(rec, &tx) {
                 return Ok((
                     k as u64,
@@ -233,24 +312,27 @@ pub fn replay(
                 for (n, index) in PROFILE_OBJECTS.into_iter().enumerate() {
                     if profile[n] != before[n] && !objects.is_cyclic(index) {
                         bus.sdo_download(i, index, 0, &profile[n].to_le_bytes())
-                            .map_err(|abort| {
-                                format!(
-                                    "axis {}: {index:04X}h = {} at cycle {cycle}: SDO abort \
-                                     {abort:08X}h",
-                                    cell.axes[i].name, profile[n]
-                                )
+                            .map_err(|abort| ReplayError::SdoAbort {
+                                axis: cell.axes[i].name.clone(),
+                                index,
+                                value: profile[n],
+                                cycle,
+                                abort,
                             })?;
                     }
                 }
             }
             ch.rx_map
                 .encode_rx(&rx, bus.rx_image_mut(i))
-                .map_err(|e| format!("axis {}: RxPDO: {e:?}", cell.axes[i].name))?;
+                .map_err(|error| ReplayError::RxPdo {
+                    axis: cell.axes[i].name.clone(),
+                    error,
+                })?;
         }
         let elapsed = prev.map(|p| cycle.saturating_sub(p)).unwrap_or(1).max(1);
         prev = Some(cycle);
         bus.exchange(Cycles(elapsed.min(u64::from(u32::MAX)) as u32))
-            .map_err(|e| format!("bus exchange at cycle {cycle}: {e:?}"))?;
+            .map_err(|error| ReplayError::Exchange { cycle, error })?;
     }
     Ok((n as u64, None))
 }
@@ -305,4 +387,28 @@ fn compare(rec: &AxisCycle, tx: &TxPdo) -> Option<(&'static str, i64, i64)> {
         ),
     ];
     pairs.into_iter().find(|p| p.1 != p.2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_recording_without_records_or_not_from_cycle_0_is_not_replayed() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs/demo.toml");
+        let cell = CellConfig::parse(&path, &std::fs::read_to_string(&path).unwrap()).unwrap();
+        let e = replay(&cell, &[]).unwrap_err();
+        assert!(matches!(e, ReplayError::NoRecords), "{e:?}");
+        let late = AxisCycle {
+            cycle: 5,
+            ..AxisCycle::default()
+        };
+        let axes = vec![vec![late]; cell.axes.len()];
+        let e = replay(&cell, &axes).unwrap_err();
+        assert!(matches!(e, ReplayError::LateStart { cycle: 5 }), "{e:?}");
+        assert_eq!(
+            e.to_string(),
+            "the recording starts at cycle 5 (a rotated part?): replay needs it from cycle 0"
+        );
+    }
 }

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 use std::io::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use cellrt_runtime::host::record::proto::{AxisCycle, Event};
 use cellrt_runtime::rt::histogram::NsHistogram;
@@ -65,7 +65,26 @@ pub fn run(args: ReportArgs) -> Exit {
     }
 }
 
-type Res<T> = Result<T, String>;
+/// Why a report's file is not written.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// The directory or a CSV or HTML file cannot be written.
+    #[error("{}: {source}", .path.display())]
+    Write {
+        /// The file or directory.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A plot cannot be drawn or written.
+    #[error("{}: {source}", .path.display())]
+    Plot {
+        /// The SVG file.
+        path: PathBuf,
+        /// Why.
+        source: PlotErr,
+    },
+}
 
 fn write_report(
     file: &RecFile,
@@ -73,9 +92,16 @@ fn write_report(
     recs: &Records,
     out: &Path,
     csv: bool,
-) -> Res<usize> {
-    let io = |p: &Path, e: &dyn std::fmt::Display| format!("{}: {e}", p.display());
-    std::fs::create_dir_all(out).map_err(|e| io(out, &e))?;
+) -> Result<usize, ReportError> {
+    let io = |p: &Path| {
+        let path = p.to_path_buf();
+        move |source| ReportError::Write { path, source }
+    };
+    let plot = |p: &Path| {
+        let path = p.to_path_buf();
+        move |source| ReportError::Plot { path, source }
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
     let period = cell.cycle_time_us.max(1) as f64 / 1e6;
     let first = recs.cycles[0].cycle;
     let t = |cycle: u64| (cycle as f64 - first as f64) * period;
@@ -133,7 +159,7 @@ fn write_report(
             .to_string();
         let fname = format!("axis-{}.svg", sanitize(name));
         let path = out.join(&fname);
-        axis_plot(&path, name, &unit, samples, &t, &marks).map_err(|e| io(&path, &e))?;
+        axis_plot(&path, name, &unit, samples, &t, &marks).map_err(plot(&path))?;
         files += 1;
         let _ = writeln!(
             html,
@@ -144,12 +170,12 @@ fn write_report(
         );
         if csv {
             let p = out.join(format!("axis-{}.csv", sanitize(name)));
-            axis_csv(&p, samples, &t).map_err(|e| io(&p, &e))?;
+            axis_csv(&p, samples, &t).map_err(io(&p))?;
             files += 1;
         }
     }
     let path = out.join("latency.svg");
-    latency_plot(&path, &wake).map_err(|e| io(&path, &e))?;
+    latency_plot(&path, &wake).map_err(plot(&path))?;
     files += 1;
     let _ = writeln!(
         html,
@@ -157,7 +183,7 @@ fn write_report(
     );
     if csv {
         let p = out.join("cycles.csv");
-        cycles_csv(&p, recs, &t).map_err(|e| io(&p, &e))?;
+        cycles_csv(&p, recs, &t).map_err(io(&p))?;
         files += 1;
         let _ = writeln!(
             html,
@@ -176,7 +202,7 @@ fn write_report(
     }
     let _ = writeln!(html, "</table>\n</body></html>");
     let p = out.join("index.html");
-    std::fs::write(&p, html).map_err(|e| io(&p, &e))?;
+    std::fs::write(&p, html).map_err(io(&p))?;
     Ok(files + 1)
 }
 

@@ -3,11 +3,11 @@
 //! refused, naming the manual, where the model has none.
 
 use cellrt_cia402::profiles::params::history_sub;
-use cellrt_cia402::profiles::DriveProfile;
+use cellrt_cia402::profiles::{DriveModel, DriveProfile};
 
-use super::sdo;
+use super::sdo::{self, SdoError};
 use super::sdo_job::{aborted, value, JobPurpose, SdoJob};
-use super::targets::axis_index;
+use super::targets::{axis_index, TargetError};
 use super::wire::{AlarmEntry, AlarmsReply, Reply, SdoReply};
 use cellrt_config::CellConfig;
 
@@ -22,16 +22,40 @@ pub struct AlarmsPlan {
     clear: bool,
 }
 
+/// Why an `alarms` request is not sent.
+#[derive(Debug, thiserror::Error)]
+pub enum AlarmsError {
+    /// The request names no axis of the cell.
+    #[error("alarms: {0}")]
+    Axis(#[source] TargetError),
+    /// The drive's model has no alarm history objects.
+    #[error("alarms: axis '{axis}' ({model}) has no alarm history: {why}")]
+    NoHistory {
+        /// The axis.
+        axis: String,
+        /// Its drive.
+        model: DriveModel,
+        /// Why, naming the manual.
+        why: &'static str,
+    },
+    /// An object of the history does not pass the SDO checks.
+    #[error(transparent)]
+    Sdo(#[from] SdoError),
+}
+
 /// Checks an `alarms` request and plans its transfers.
-pub fn plan(cell: &CellConfig, axis: &str, clear: bool) -> Result<SdoJob, String> {
-    let i = axis_index(cell, axis).map_err(|e| format!("alarms: {e}"))?;
+pub fn plan(cell: &CellConfig, axis: &str, clear: bool) -> Result<SdoJob, AlarmsError> {
+    let i = axis_index(cell, axis).map_err(AlarmsError::Axis)?;
     let a = &cell.axes[i];
-    let h = a.profile.parameters.alarm_history.map_err(|why| {
-        format!(
-            "alarms: axis '{axis}' ({}) has no alarm history: {why}",
-            a.drive
-        )
-    })?;
+    let h = a
+        .profile
+        .parameters
+        .alarm_history
+        .map_err(|why| AlarmsError::NoHistory {
+            axis: axis.to_string(),
+            model: a.drive,
+            why,
+        })?;
     let steps = if clear {
         vec![sdo::check(
             cell,

@@ -32,6 +32,23 @@ pub struct StationName {
     pub axes: Vec<String>,
 }
 
+/// Why a `bus_diag` request gets no reading.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum BusDiagError {
+    /// The cell runs no EtherCAT segment.
+    #[error("bus_diag: this cell has no EtherCAT segment (its axes are simulated drives)")]
+    NoSegment,
+    /// Another client's reading is being taken.
+    #[error("bus_diag: a reading is in progress; try again")]
+    InProgress,
+    /// The mailbox worker did not answer in time.
+    #[error("bus_diag: the mailbox worker took no reading within {} s", .timeout.as_secs())]
+    NoReading {
+        /// How long the service waited.
+        timeout: Duration,
+    },
+}
+
 /// The reading in progress.
 #[derive(Debug, Default)]
 pub struct DiagInFlight {
@@ -40,15 +57,12 @@ pub struct DiagInFlight {
 
 impl DiagInFlight {
     /// Asks the mailbox worker for a reading.
-    pub fn start(&mut self, link: &dyn CellLink) -> Result<(), String> {
+    pub fn start(&mut self, link: &dyn CellLink) -> Result<(), BusDiagError> {
         let Some(d) = link.bus_diagnostics() else {
-            return Err(
-                "bus_diag: this cell has no EtherCAT segment (its axes are simulated drives)"
-                    .into(),
-            );
+            return Err(BusDiagError::NoSegment);
         };
         if self.started.is_some() {
-            return Err("bus_diag: a reading is in progress; try again".into());
+            return Err(BusDiagError::InProgress);
         }
         d.request();
         self.started = Some(Instant::now());
@@ -60,7 +74,7 @@ impl DiagInFlight {
         &mut self,
         link: &dyn CellLink,
         cell: &CellConfig,
-    ) -> Option<Result<BusDiagReply, String>> {
+    ) -> Option<Result<BusDiagReply, BusDiagError>> {
         let started = self.started?;
         if let Some(segment) = link.bus_diagnostics().and_then(|d| d.take()) {
             self.started = None;
@@ -73,10 +87,9 @@ impl DiagInFlight {
             return None;
         }
         self.started = None;
-        Some(Err(format!(
-            "bus_diag: the mailbox worker took no reading within {} s",
-            READING_TIMEOUT.as_secs()
-        )))
+        Some(Err(BusDiagError::NoReading {
+            timeout: READING_TIMEOUT,
+        }))
     }
 }
 

@@ -7,9 +7,9 @@
 use cellrt_cia402::profiles::params::{Effect, Parameter, ParameterFacts, WhileEnabled};
 use cellrt_cia402::profiles::DriveModel;
 
-use super::sdo::{self, object_text};
+use super::sdo::{self, object_text, SdoError};
 use super::sdo_job::{aborted, value, JobPurpose, SdoJob};
-use super::targets::axis_index;
+use super::targets::{axis_index, TargetError};
 use super::wire::{ParamOp, ParamReply, ParamValue, Reply, SdoReply};
 use cellrt_config::CellConfig;
 
@@ -33,10 +33,78 @@ enum Kind {
     Save,
 }
 
+/// Why a `param` request is not sent.
+#[derive(Debug, thiserror::Error)]
+pub enum ParamError {
+    /// The request names no axis of the cell.
+    #[error("param: {0}")]
+    Axis(#[source] TargetError),
+    /// The value is outside what the manual allows for the parameter.
+    #[error("param: {0}")]
+    Value(String),
+    /// The parameter acts at once and the axis is enabled.
+    #[error(
+        "param: {name} ({object}) of axis '{axis}' takes effect at once and is not written \
+         while the axis is enabled; power it off first"
+    )]
+    WhileEnabled {
+        /// The parameter.
+        name: &'static str,
+        /// Its object's name.
+        object: &'static str,
+        /// The axis.
+        axis: String,
+    },
+    /// The drive has no parameter save.
+    #[error("param save: axis '{axis}' ({model}) has no parameter save: {why}")]
+    NoSave {
+        /// The axis.
+        axis: String,
+        /// Its drive.
+        model: DriveModel,
+        /// Why, naming the manual.
+        why: &'static str,
+    },
+    /// The drive's model has no parameter table.
+    #[error("param: axis '{axis}' ({model}) has no parameter table: {source_text}")]
+    NoTable {
+        /// The axis.
+        axis: String,
+        /// Its drive.
+        model: DriveModel,
+        /// Where the table would come from.
+        source_text: &'static str,
+    },
+    /// The name is not in the drive's parameter table.
+    #[error(
+        "param: {name} is not a parameter of axis '{axis}' ({model}; {source_text} lists {names})"
+    )]
+    Unknown {
+        /// The name asked.
+        name: String,
+        /// The axis.
+        axis: String,
+        /// Its drive.
+        model: DriveModel,
+        /// The table's source.
+        source_text: &'static str,
+        /// The table's names, comma-separated.
+        names: String,
+    },
+    /// An object of the plan does not pass the SDO checks.
+    #[error(transparent)]
+    Sdo(#[from] SdoError),
+}
+
 /// Checks a `param` request on axis `axis` (`enabled`: the axis is in Operation enabled) and
-/// plans its transfers; a one-line reason where nothing may be sent.
-pub fn plan(cell: &CellConfig, axis: &str, op: &ParamOp, enabled: bool) -> Result<SdoJob, String> {
-    let i = axis_index(cell, axis).map_err(|e| format!("param: {e}"))?;
+/// plans its transfers; the reason where nothing may be sent.
+pub fn plan(
+    cell: &CellConfig,
+    axis: &str,
+    op: &ParamOp,
+    enabled: bool,
+) -> Result<SdoJob, ParamError> {
+    let i = axis_index(cell, axis).map_err(ParamError::Axis)?;
     let a = &cell.axes[i];
     let facts = a.profile.parameters;
     let plan = |rows: Vec<&'static Parameter>, kind| ParamPlan {
@@ -65,24 +133,23 @@ pub fn plan(cell: &CellConfig, axis: &str, op: &ParamOp, enabled: bool) -> Resul
         ParamOp::Set { name, value } => {
             let p = lookup(facts, axis, a.drive, name)?;
             if let Some(why) = p.refuse(*value) {
-                return Err(format!("param: {why}"));
+                return Err(ParamError::Value(why));
             }
             if enabled && p.while_enabled == WhileEnabled::Refused {
-                return Err(format!(
-                    "param: {} ({}) of axis '{axis}' takes effect at once and is not written \
-                     while the axis is enabled; power it off first",
-                    p.name, p.object.name
-                ));
+                return Err(ParamError::WhileEnabled {
+                    name: p.name,
+                    object: p.object.name,
+                    axis: axis.to_string(),
+                });
             }
             let step = sdo::check(cell, axis, p.object.index, p.object.sub, Some(*value))?;
             Ok(SdoJob::new(vec![step], plan(vec![p], Kind::Set)))
         }
         ParamOp::Save => {
-            let s = facts.save.map_err(|why| {
-                format!(
-                    "param save: axis '{axis}' ({}) has no parameter save: {why}",
-                    a.drive
-                )
+            let s = facts.save.map_err(|why| ParamError::NoSave {
+                axis: axis.to_string(),
+                model: a.drive,
+                why,
             })?;
             let step = sdo::check(
                 cell,
@@ -100,12 +167,13 @@ fn table(
     facts: &'static ParameterFacts,
     axis: &str,
     model: DriveModel,
-) -> Result<Vec<&'static Parameter>, String> {
+) -> Result<Vec<&'static Parameter>, ParamError> {
     if facts.table.is_empty() {
-        return Err(format!(
-            "param: axis '{axis}' ({model}) has no parameter table: {}",
-            facts.table_source
-        ));
+        return Err(ParamError::NoTable {
+            axis: axis.to_string(),
+            model,
+            source_text: facts.table_source,
+        });
     }
     Ok(facts.table.iter().collect())
 }
@@ -115,15 +183,17 @@ fn lookup(
     axis: &str,
     model: DriveModel,
     name: &str,
-) -> Result<&'static Parameter, String> {
+) -> Result<&'static Parameter, ParamError> {
     let rows = table(facts, axis, model)?;
     facts.parameter(name).ok_or_else(|| {
         let names: Vec<&str> = rows.iter().map(|p| p.name).collect();
-        format!(
-            "param: {name} is not a parameter of axis '{axis}' ({model}; {} lists {})",
-            facts.table_source,
-            names.join(", ")
-        )
+        ParamError::Unknown {
+            name: name.to_string(),
+            axis: axis.to_string(),
+            model,
+            source_text: facts.table_source,
+            names: names.join(", "),
+        }
     })
 }
 

@@ -2,13 +2,13 @@
 //! into the drive-side motions the RT thread runs (`handoff::ProfileCommand`), in counts, with
 //! the request's (or the axis') limits as the drive's profile.
 
-use cellrt_trajectory::KinematicLimits;
+use cellrt_trajectory::{KinematicLimits, UnitsError};
 
 use std::collections::BTreeMap;
 
-use super::targets::axis_index;
+use super::targets::{axis_index, TargetError};
 use crate::handoff::{ProfileCommand, ProfileMotion};
-use crate::host::link::{CellLink, StatusSnapshot};
+use crate::host::link::{CellLink, LinkError, StatusSnapshot};
 use cellrt_config::{AxisConfig, CellConfig, ProfileMode, DEFAULT_TORQUE_SLOPE};
 
 /// A cst torque target: (axis, torque %, slope %/s).
@@ -16,6 +16,53 @@ type TorqueTarget = (usize, f64, f64);
 
 /// A move's targets: (axis, target, limits).
 pub(crate) type Targets = Vec<(usize, f64, KinematicLimits)>;
+
+/// Why a motion of profile axes is refused or not handed to the RT thread.
+#[derive(Debug, thiserror::Error)]
+pub enum ProfileError {
+    /// The request names no axis of the cell.
+    #[error(transparent)]
+    Axis(#[from] TargetError),
+    /// A torque request names cst and tq axes together.
+    #[error(
+        "cst and tq axes in one command (the tq drive holds its torque, cst axes \
+                    for `seconds`): send them apart"
+    )]
+    MixedTorque,
+    /// The RT thread did not take a motion.
+    #[error(transparent)]
+    Link(#[from] LinkError),
+    /// The axis' profile mode (as it runs now) does not take the request.
+    #[error("axis '{axis}' runs in {now} (the drive's profile): {what} needs {needs}")]
+    WrongMode {
+        /// The axis.
+        axis: String,
+        /// The mode it runs in.
+        now: &'static str,
+        /// The request.
+        what: &'static str,
+        /// The modes that take it.
+        needs: &'static str,
+    },
+    /// The target is not a position in counts.
+    #[error("axis '{axis}': {source}")]
+    Counts {
+        /// The axis.
+        axis: String,
+        /// Why.
+        source: UnitsError,
+    },
+    /// The torque is outside the axis' torque limit.
+    #[error("torque {torque} % is outside the torque limit ±{max} % of axis '{axis}'")]
+    TorqueLimit {
+        /// The torque asked, %.
+        torque: f64,
+        /// The limit, %.
+        max: f64,
+        /// The axis.
+        axis: String,
+    },
+}
 
 /// The profile mode of each axis (`None`: streamed), as configured or as the RT thread runs it
 /// now: a csp axis a run-time mode switch left in pp is a pp axis.
@@ -53,7 +100,7 @@ pub(crate) fn split_move(
     cell: &CellConfig,
     modes: &AxisModes,
     list: Targets,
-) -> Result<(Vec<ProfileCommand>, Targets), String> {
+) -> Result<(Vec<ProfileCommand>, Targets), ProfileError> {
     let (drive_side, streamed): (Targets, Targets) =
         list.into_iter().partition(|t| modes.of(t.0).is_some());
     let commands = drive_side
@@ -70,11 +117,11 @@ pub(super) fn split_torque(
     cell: &CellConfig,
     modes: &AxisModes,
     targets: &BTreeMap<String, f64>,
-) -> Result<(Vec<ProfileCommand>, Vec<TorqueTarget>), String> {
+) -> Result<(Vec<ProfileCommand>, Vec<TorqueTarget>), ProfileError> {
     let mut drive_side = Vec::new();
     let mut streamed = Vec::new();
     for (axis, t) in targets {
-        let i = axis_index(cell, axis).map_err(|e| e.to_string())?;
+        let i = axis_index(cell, axis)?;
         let a = &cell.axes[i];
         if modes.of(i).is_some() {
             drive_side.push(torque(i, a, modes.of(i), *t)?);
@@ -83,11 +130,7 @@ pub(super) fn split_torque(
         }
     }
     if !drive_side.is_empty() && !streamed.is_empty() {
-        return Err(
-            "cst and tq axes in one command (the tq drive holds its torque, cst axes \
-                    for `seconds`): send them apart"
-                .into(),
-        );
+        return Err(ProfileError::MixedTorque);
     }
     Ok((drive_side, streamed))
 }
@@ -111,22 +154,27 @@ pub(crate) fn send(
     link: &mut dyn CellLink,
     commands: Vec<ProfileCommand>,
     start_cycle: u64,
-) -> Result<(), String> {
+) -> Result<(), ProfileError> {
     for c in commands {
-        link.profile(ProfileCommand { start_cycle, ..c })
-            .map_err(|e| e.to_string())?;
+        link.profile(ProfileCommand { start_cycle, ..c })?;
     }
     Ok(())
 }
 
 /// A request the axis' profile mode (`mode`, as it runs now) does not take, naming what it
 /// would need.
-fn wrong_mode(a: &AxisConfig, mode: Option<ProfileMode>, what: &str, needs: &str) -> String {
-    let now = mode.map_or(a.mode, ProfileMode::mode).as_str();
-    format!(
-        "axis '{}' runs in {now} (the drive's profile): {what} needs {needs}",
-        a.name
-    )
+fn wrong_mode(
+    a: &AxisConfig,
+    mode: Option<ProfileMode>,
+    what: &'static str,
+    needs: &'static str,
+) -> ProfileError {
+    ProfileError::WrongMode {
+        axis: a.name.clone(),
+        now: mode.map_or(a.mode, ProfileMode::mode).as_str(),
+        what,
+        needs,
+    }
 }
 
 /// `move` of a pp axis to `target` (units) with `limits`: a single set-point (it replaces a
@@ -137,7 +185,7 @@ fn move_to(
     mode: Option<ProfileMode>,
     target: f64,
     limits: &KinematicLimits,
-) -> Result<ProfileCommand, String> {
+) -> Result<ProfileCommand, ProfileError> {
     if mode != Some(ProfileMode::Position) {
         return Err(wrong_mode(a, mode, "move", "a csp, csv, cst or pp axis"));
     }
@@ -145,7 +193,10 @@ fn move_to(
     let target = a
         .scaling
         .to_counts_i32(target)
-        .map_err(|e| format!("axis '{}': {e}", a.name))?;
+        .map_err(|source| ProfileError::Counts {
+            axis: a.name.clone(),
+            source,
+        })?;
     Ok(ProfileCommand {
         axis: i as u16,
         motion: ProfileMotion::Move {
@@ -166,7 +217,7 @@ pub(crate) fn jog(
     mode: Option<ProfileMode>,
     velocity: f64,
     limits: &KinematicLimits,
-) -> Result<ProfileCommand, String> {
+) -> Result<ProfileCommand, ProfileError> {
     if mode != Some(ProfileMode::Velocity) {
         return Err(wrong_mode(
             a,
@@ -194,16 +245,17 @@ fn torque(
     a: &AxisConfig,
     mode: Option<ProfileMode>,
     torque: f64,
-) -> Result<ProfileCommand, String> {
+) -> Result<ProfileCommand, ProfileError> {
     if mode != Some(ProfileMode::Torque) {
         return Err(wrong_mode(a, mode, "torque", "a cst or tq axis"));
     }
     if let Some(max) = a.torque.map(|t| t.max.0) {
         if !torque.is_finite() || torque.abs() > max {
-            return Err(format!(
-                "torque {torque} % is outside the torque limit ±{max} % of axis '{}'",
-                a.name
-            ));
+            return Err(ProfileError::TorqueLimit {
+                torque,
+                max,
+                axis: a.name.clone(),
+            });
         }
     }
     Ok(ProfileCommand {
@@ -280,5 +332,37 @@ impl PendingProfile {
         }
         self.waiting = None;
         Ok(false)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::host::operator::sdo::tests::shipped;
+
+    #[test]
+    fn a_request_the_axis_mode_does_not_take_names_the_mode_it_needs() {
+        let cell = shipped("ethercat-cell.toml");
+        let a = &cell.axes[1];
+        let limits = a.limits;
+        let e = jog(1, a, None, 1.0, &limits).unwrap_err();
+        assert!(
+            matches!(
+                &e,
+                ProfileError::WrongMode {
+                    what: "velocity",
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        assert!(
+            e.to_string()
+                .starts_with(&format!("axis '{}' runs in ", a.name)),
+            "{e}"
+        );
+        let modes = AxisModes::configured(&cell);
+        let e = split_torque(&cell, &modes, &BTreeMap::from([("w".to_string(), 1.0)])).unwrap_err();
+        assert!(matches!(e, ProfileError::Axis(_)), "{e:?}");
     }
 }

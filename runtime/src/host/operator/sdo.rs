@@ -9,10 +9,10 @@ use cellrt_cia402::bus::{SdoData, SdoOutcome, SdoRequest};
 use cellrt_cia402::profiles::{Access, DataType};
 use cellrt_ethercat::master::abort_meaning;
 
-use super::targets::axis_index;
+use super::targets::{axis_index, TargetError};
 use super::wire::{SdoAnswer, SdoReply};
 use crate::handoff::{UserSdo, UserSdoOutcome};
-use crate::host::link::CellLink;
+use crate::host::link::{CellLink, LinkError};
 use cellrt_config::{AxisConfig, CellConfig};
 
 /// How long the operator service waits for the drive's answer before it tells the client so;
@@ -31,6 +31,108 @@ pub struct CheckedSdo {
     data_type: DataType,
 }
 
+/// Why an `sdo` request is not sent, or got no usable answer.
+#[derive(Debug, thiserror::Error)]
+pub enum SdoError {
+    /// The request names no axis of the cell.
+    #[error("sdo: {0}")]
+    Axis(#[source] TargetError),
+    /// The axis' dictionary does not list the object.
+    #[error(
+        "sdo: object {object} is not in the object dictionary of axis '{axis}' ({dictionary})"
+    )]
+    NotInDictionary {
+        /// `index:sub`.
+        object: String,
+        /// The axis.
+        axis: String,
+        /// The dictionary looked in (the ESI device or the profile).
+        dictionary: String,
+    },
+    /// The object is not read or written as asked.
+    #[error("sdo: {object} of axis '{axis}' ({name}) {refusal}")]
+    Object {
+        /// `index:sub`.
+        object: String,
+        /// The axis.
+        axis: String,
+        /// The object's name in the dictionary.
+        name: String,
+        /// Why not.
+        refusal: ObjectRefusal,
+    },
+    /// The one request slot is taken.
+    #[error("sdo: another sdo request is in flight; try again")]
+    InFlight,
+    /// The RT thread did not take the request.
+    #[error("sdo: {0}")]
+    Link(#[source] LinkError),
+    /// The drive's answer did not come in time.
+    #[error("sdo: no answer for {object} of axis '{axis}' within {timeout:?}")]
+    NoAnswer {
+        /// `index:sub`.
+        object: String,
+        /// The axis.
+        axis: String,
+        /// How long the service waited.
+        timeout: Duration,
+    },
+    /// The axis' bus carries no acyclic transfers.
+    #[error("sdo: axis '{axis}' has no acyclic channel to its drive")]
+    NoChannel {
+        /// The axis.
+        axis: String,
+    },
+    /// A read came back as a download.
+    #[error("sdo: the drive answered a read as a write")]
+    ReadAnsweredAsWrite,
+}
+
+/// Why an object of the dictionary is not read or written as asked.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ObjectRefusal {
+    /// A read of a write-only object.
+    #[error("is write-only")]
+    WriteOnly,
+    /// A write of a read-only object.
+    #[error("is read-only")]
+    ReadOnly,
+    /// A write of an object the RT thread writes every cycle.
+    #[error("is mapped in the axis' RxPDO (written every cycle); not written by SDO")]
+    MappedInRxPdo,
+    /// A write of an object of unknown size.
+    #[error("has no stated data type; its size is unknown, so it is not written")]
+    Untyped,
+    /// A value outside the object's data type.
+    #[error("takes {data_type}: {value} is out of its range {lo}..{hi}")]
+    OutOfTypeRange {
+        /// The CiA 301 type name.
+        data_type: &'static str,
+        /// The value asked.
+        value: i64,
+        /// The type's least value.
+        lo: i64,
+        /// The type's greatest value.
+        hi: i64,
+    },
+    /// A value outside the range the dictionary states.
+    #[error("takes {lo}..{hi} (stated range): {value} is out of it")]
+    OutOfStatedRange {
+        /// The value asked.
+        value: i64,
+        /// The stated least value.
+        lo: i64,
+        /// The stated greatest value.
+        hi: i64,
+    },
+    /// A type wider than an SDO value carries here.
+    #[error("has {bits} bits; not written")]
+    TooWide {
+        /// The type's size.
+        bits: u16,
+    },
+}
+
 /// What the dictionary states of one object.
 struct ObjectFacts {
     name: String,
@@ -45,34 +147,32 @@ pub fn object_text(index: u16, sub: u8) -> String {
 }
 
 /// Checks a read (`value` absent) or write of `index:sub` on axis `axis` against the axis'
-/// dictionary; a one-line reason where it must not be sent.
+/// dictionary; the reason where it must not be sent.
 pub fn check(
     cell: &CellConfig,
     axis: &str,
     index: u16,
     sub: u8,
     value: Option<i64>,
-) -> Result<CheckedSdo, String> {
-    let i = axis_index(cell, axis).map_err(|e| format!("sdo: {e}"))?;
+) -> Result<CheckedSdo, SdoError> {
+    let i = axis_index(cell, axis).map_err(SdoError::Axis)?;
     let a = &cell.axes[i];
-    let at = || format!("{} of axis '{axis}'", object_text(index, sub));
-    let facts = object_facts(a, index, sub).ok_or_else(|| {
-        format!(
-            "sdo: object {} is not in the object dictionary of axis '{axis}' ({})",
-            object_text(index, sub),
-            dictionary_name(a)
-        )
+    let facts = object_facts(a, index, sub).ok_or_else(|| SdoError::NotInDictionary {
+        object: object_text(index, sub),
+        axis: axis.to_string(),
+        dictionary: dictionary_name(a),
     })?;
-    let named = |what: String| format!("sdo: {} ({}) {what}", at(), facts.name);
+    let named = |refusal| SdoError::Object {
+        object: object_text(index, sub),
+        axis: axis.to_string(),
+        name: facts.name.clone(),
+        refusal,
+    };
     let request = match value {
-        None if facts.access == Access::Wo => return Err(named("is write-only".into())),
+        None if facts.access == Access::Wo => return Err(named(ObjectRefusal::WriteOnly)),
         None => SdoRequest::Upload { index, sub },
-        Some(_) if facts.access == Access::Ro => return Err(named("is read-only".into())),
-        Some(_) if a.profile.rx_pdo.maps(index) => {
-            return Err(named(
-                "is mapped in the axis' RxPDO (written every cycle); not written by SDO".into(),
-            ))
-        }
+        Some(_) if facts.access == Access::Ro => return Err(named(ObjectRefusal::ReadOnly)),
+        Some(_) if a.profile.rx_pdo.maps(index) => return Err(named(ObjectRefusal::MappedInRxPdo)),
         Some(v) => SdoRequest::Download {
             index,
             sub,
@@ -149,23 +249,25 @@ fn esi_data_type(name: &str, bits: u16) -> DataType {
 }
 
 /// `v` as the object's bytes, within its type's and the dictionary's stated range.
-fn encode(v: i64, facts: &ObjectFacts) -> Result<SdoData, String> {
+fn encode(v: i64, facts: &ObjectFacts) -> Result<SdoData, ObjectRefusal> {
     let t = facts.data_type;
     let (Some((lo, hi)), Some(bits)) = (t.value_range(), t.bits()) else {
-        return Err("has no stated data type; its size is unknown, so it is not written".into());
+        return Err(ObjectRefusal::Untyped);
     };
     if !(lo..=hi).contains(&v) {
-        return Err(format!(
-            "takes {}: {v} is out of its range {lo}..{hi}",
-            t.cia301_name()
-        ));
+        return Err(ObjectRefusal::OutOfTypeRange {
+            data_type: t.cia301_name(),
+            value: v,
+            lo,
+            hi,
+        });
     }
     if let Some((lo, hi)) = facts.range.filter(|(lo, hi)| !(lo..=hi).contains(&&v)) {
-        return Err(format!("takes {lo}..{hi} (stated range): {v} is out of it"));
+        return Err(ObjectRefusal::OutOfStatedRange { value: v, lo, hi });
     }
     let bytes = v.to_le_bytes();
     let len = usize::from(bits.div_ceil(8));
-    SdoData::new(&bytes[..len]).ok_or_else(|| format!("has {bits} bits; not written"))
+    SdoData::new(&bytes[..len]).ok_or(ObjectRefusal::TooWide { bits })
 }
 
 /// `raw` as the object's type holds it (the master types by the profile, which an ESI axis
@@ -212,9 +314,9 @@ impl SdoInFlight {
     }
 
     /// Hands `checked` to the RT thread.
-    pub fn start(&mut self, link: &mut dyn CellLink, checked: CheckedSdo) -> Result<(), String> {
+    pub fn start(&mut self, link: &mut dyn CellLink, checked: CheckedSdo) -> Result<(), SdoError> {
         if self.busy() {
-            return Err("sdo: another sdo request is in flight; try again".into());
+            return Err(SdoError::InFlight);
         }
         let seq = self.last_seq.wrapping_add(1).max(1);
         link.sdo(UserSdo {
@@ -222,7 +324,7 @@ impl SdoInFlight {
             axis: checked.axis as u16,
             request: checked.request,
         })
-        .map_err(|e| format!("sdo: {e}"))?;
+        .map_err(SdoError::Link)?;
         self.last_seq = seq;
         self.current = Some((seq, checked, Instant::now() + self.timeout));
         Ok(())
@@ -230,19 +332,18 @@ impl SdoInFlight {
 
     /// The answer of the request in flight once the RT thread published it, or the refusal
     /// after the timeout: `Ok` the drive's answer, `Err` a reason.
-    pub fn poll(&mut self, link: &mut dyn CellLink) -> Option<Result<SdoReply, String>> {
+    pub fn poll(&mut self, link: &mut dyn CellLink) -> Option<Result<SdoReply, SdoError>> {
         let (seq, checked, deadline) = self.current.as_ref()?;
         let outcome = match link.sdo_outcome(*seq) {
             Some(o) => o,
             None if Instant::now() < *deadline => return None,
             None => {
                 let r = &checked.reply;
-                let e = format!(
-                    "sdo: no answer for {} of axis '{}' within {:?}",
-                    object_text(r.index, r.sub),
-                    r.axis,
-                    self.timeout
-                );
+                let e = SdoError::NoAnswer {
+                    object: object_text(r.index, r.sub),
+                    axis: r.axis.clone(),
+                    timeout: self.timeout,
+                };
                 self.current = None;
                 return Some(Err(e));
             }
@@ -252,15 +353,10 @@ impl SdoInFlight {
     }
 }
 
-fn answer(checked: CheckedSdo, outcome: UserSdoOutcome) -> Result<SdoReply, String> {
+fn answer(checked: CheckedSdo, outcome: UserSdoOutcome) -> Result<SdoReply, SdoError> {
     let mut reply = checked.reply;
     reply.outcome = match (outcome, checked.request) {
-        (UserSdoOutcome::Unsupported, _) => {
-            return Err(format!(
-                "sdo: axis '{}' has no acyclic channel to its drive",
-                reply.axis
-            ))
-        }
+        (UserSdoOutcome::Unsupported, _) => return Err(SdoError::NoChannel { axis: reply.axis }),
         (UserSdoOutcome::Done(SdoOutcome::Uploaded(v)), _) => SdoAnswer::Read {
             value: typed(v, checked.data_type),
         },
@@ -276,7 +372,7 @@ fn answer(checked: CheckedSdo, outcome: UserSdoOutcome) -> Result<SdoReply, Stri
             }
         }
         (UserSdoOutcome::Done(SdoOutcome::Downloaded), SdoRequest::Upload { .. }) => {
-            return Err("sdo: the drive answered a read as a write".into())
+            return Err(SdoError::ReadAnsweredAsWrite)
         }
     };
     Ok(reply)

@@ -4,7 +4,7 @@
 
 use std::collections::VecDeque;
 
-use super::sdo::{CheckedSdo, SdoInFlight};
+use super::sdo::{CheckedSdo, SdoError, SdoInFlight};
 use super::wire::{Reply, SdoAnswer, SdoReply};
 use crate::host::link::CellLink;
 
@@ -58,7 +58,7 @@ impl SdoJob {
         &mut self,
         sdo: &mut SdoInFlight,
         link: &mut dyn CellLink,
-    ) -> Result<bool, String> {
+    ) -> Result<bool, SdoError> {
         match self.steps.pop_front() {
             Some(step) => sdo.start(link, step).map(|()| true),
             None => Ok(false),

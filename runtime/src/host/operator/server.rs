@@ -242,7 +242,7 @@ impl OperatorServer {
                         self.diag_client = Some(active);
                         continue;
                     }
-                    Err(reason) => (Reply::Rejected { reason }, Followup::None),
+                    Err(e) => (Reply::rejected(e), Followup::None),
                 },
                 Ok(req) => self.handle(req, ctx),
                 Err(e) => (
@@ -286,14 +286,16 @@ impl OperatorServer {
                 sub,
                 value,
             } => SdoJob::new(
-                vec![sdo::check(ctx.cell, axis, *index, *sub, *value)?],
+                vec![sdo::check(ctx.cell, axis, *index, *sub, *value).map_err(|e| e.to_string())?],
                 SingleSdo,
             ),
             Request::Param { axis, op } => {
                 let enabled = operation_enabled(ctx.cell, axis, status.as_ref());
-                super::param::plan(ctx.cell, axis, op, enabled)?
+                super::param::plan(ctx.cell, axis, op, enabled).map_err(|e| e.to_string())?
             }
-            Request::Alarms { axis, clear } => super::alarms::plan(ctx.cell, axis, *clear)?,
+            Request::Alarms { axis, clear } => {
+                super::alarms::plan(ctx.cell, axis, *clear).map_err(|e| e.to_string())?
+            }
             _ => return Err(format!("{what}: not an sdo request")),
         };
         // A homing's own acyclic requests come first (the RT thread holds SDOs meanwhile).
@@ -302,7 +304,8 @@ impl OperatorServer {
                 "{what}: the cell is homing; try again when the homing has ended"
             ));
         }
-        job.start_next(&mut self.sdo, ctx.link)?;
+        job.start_next(&mut self.sdo, ctx.link)
+            .map_err(|e| e.to_string())?;
         Ok(job)
     }
 
@@ -324,10 +327,10 @@ impl OperatorServer {
                         return false;
                     }
                     Ok(false) => job.finish(),
-                    Err(reason) => Reply::Rejected { reason },
+                    Err(e) => Reply::rejected(e),
                 }
             }
-            Err(reason) => Reply::Rejected { reason },
+            Err(e) => Reply::rejected(e),
         };
         respond(&active, &reply);
         true
@@ -341,7 +344,7 @@ impl OperatorServer {
         };
         let reply = match result {
             Ok(r) => Reply::BusDiag(Box::new(r)),
-            Err(reason) => Reply::Rejected { reason },
+            Err(e) => Reply::rejected(e),
         };
         self.diag_client.take().is_some_and(|active| {
             respond(&active, &reply);

@@ -33,6 +33,55 @@ const CONNECTION_TIMEOUT: Duration = Duration::from_secs(2);
 /// How often the accepting thread looks at its stop flag.
 const ACCEPT_POLL_MS: i32 = 100;
 
+/// Why the operator socket is not served.
+#[derive(Debug, thiserror::Error)]
+pub enum SocketError {
+    /// The user's operator directory cannot be made.
+    #[error(transparent)]
+    Dir(#[from] crate::runtime_dir::RuntimeDirError),
+    /// The private directory the socket is bound in cannot be made.
+    #[error("cannot create {}: {source}", .dir.display())]
+    Staging {
+        /// The directory.
+        dir: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The socket cannot be bound.
+    #[error("cannot bind {}: {source}", .path.display())]
+    Bind {
+        /// The socket's path.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The socket cannot be given to the operator group.
+    #[error(
+        "operator.group: cannot give the operator socket to group '{group}': {source} \
+         (the cell's user must be root or a member of it)"
+    )]
+    Group {
+        /// The group's name.
+        group: String,
+        /// Why.
+        source: nix::Error,
+    },
+    /// The socket's mode, place or blocking cannot be set.
+    #[error("{}: {source}", .path.display())]
+    Socket {
+        /// The socket's path.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The relay thread cannot be started.
+    #[error("cannot start the operator socket relay: {0}")]
+    Relay(#[source] std::io::Error),
+    /// The accepting thread cannot be started.
+    #[error("cannot start the operator socket: {0}")]
+    Accept(#[source] std::io::Error),
+}
+
 /// A request waiting for the relay, with where its answer goes.
 type Relayed = (Vec<u8>, mpsc::Sender<Vec<u8>>);
 
@@ -47,25 +96,25 @@ impl OperatorSocket {
     /// Creates the socket of `cell` in the user's operator directory (replacing one left by a
     /// killed controller; the caller holds the cell lock) with the mode `operator` asks for,
     /// and starts serving it.
-    pub fn serve(cell: &str, operator: &OperatorConfig) -> Result<OperatorSocket, String> {
-        let dir = crate::runtime_dir::ensure_operator().map_err(|e| e.to_string())?;
+    pub fn serve(cell: &str, operator: &OperatorConfig) -> Result<OperatorSocket, SocketError> {
+        let dir = crate::runtime_dir::ensure_operator()?;
         let path = socket_path_in(&dir, cell);
         let listener = bind_with_mode(&dir, &path, operator)?;
         listener
             .set_nonblocking(true)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+            .map_err(|source| socket_error(&path, source))?;
         let stop = Arc::new(AtomicBool::new(false));
         let (to_relay, relayed) = mpsc::sync_channel::<Relayed>(MAX_CONNECTIONS);
         let cell_name = cell.to_string();
         std::thread::Builder::new()
             .name("cellrt-op-relay".into())
             .spawn(move || relay(&cell_name, &relayed))
-            .map_err(|e| format!("cannot start the operator socket relay: {e}"))?;
+            .map_err(SocketError::Relay)?;
         let stop2 = stop.clone();
         let accept = std::thread::Builder::new()
             .name("cellrt-op-socket".into())
             .spawn(move || accept_loop(&listener, &stop2, &to_relay))
-            .map_err(|e| format!("cannot start the operator socket: {e}"))?;
+            .map_err(SocketError::Accept)?;
         Ok(OperatorSocket {
             path,
             stop,
@@ -90,7 +139,7 @@ fn bind_with_mode(
     dir: &Path,
     path: &Path,
     operator: &OperatorConfig,
-) -> Result<UnixListener, String> {
+) -> Result<UnixListener, SocketError> {
     // One per call: cells of one process (tests) may start at once.
     static STAGED: AtomicUsize = AtomicUsize::new(0);
     let staging = dir.join(format!(
@@ -102,20 +151,22 @@ fn bind_with_mode(
     std::fs::DirBuilder::new()
         .mode(0o700)
         .create(&staging)
-        .map_err(|e| format!("cannot create {}: {e}", staging.display()))?;
+        .map_err(|source| SocketError::Staging {
+            dir: staging.clone(),
+            source,
+        })?;
     let tmp = staging.join("s");
     let result = (|| {
-        let listener =
-            UnixListener::bind(&tmp).map_err(|e| format!("cannot bind {}: {e}", path.display()))?;
+        let listener = UnixListener::bind(&tmp).map_err(|source| SocketError::Bind {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let mode = match &operator.group {
             Some(g) => {
                 nix::unistd::chown(&tmp, None, Some(nix::unistd::Gid::from_raw(g.gid))).map_err(
-                    |e| {
-                        format!(
-                            "operator.group: cannot give the operator socket to group '{}': {e} \
-                             (the cell's user must be root or a member of it)",
-                            g.name
-                        )
+                    |source| SocketError::Group {
+                        group: g.name.clone(),
+                        source,
                     },
                 )?;
                 0o660
@@ -123,12 +174,19 @@ fn bind_with_mode(
             None => 0o600,
         };
         std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(mode))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))?;
+            .map_err(|source| socket_error(path, source))?;
+        std::fs::rename(&tmp, path).map_err(|source| socket_error(path, source))?;
         Ok(listener)
     })();
     let _ = std::fs::remove_dir_all(&staging);
     result
+}
+
+fn socket_error(path: &Path, source: std::io::Error) -> SocketError {
+    SocketError::Socket {
+        path: path.to_path_buf(),
+        source,
+    }
 }
 
 /// Accepts connections until `stop`, each served on its own short-lived thread.
@@ -251,6 +309,18 @@ mod tests {
         assert!(e.to_string().contains("more than 65536 bytes"), "{e}");
         drop(served);
         assert!(!path.exists(), "the socket goes with its controller");
+    }
+
+    #[test]
+    fn a_directory_that_cannot_be_staged_in_is_named() {
+        let dir = Path::new("/nonexistent-cellrt-operator-dir");
+        let e = bind_with_mode(dir, &dir.join("c.sock"), &OperatorConfig::default()).unwrap_err();
+        assert!(matches!(&e, SocketError::Staging { .. }), "{e:?}");
+        assert!(
+            e.to_string()
+                .starts_with("cannot create /nonexistent-cellrt-operator-dir/.staging-"),
+            "{e}"
+        );
     }
 
     #[test]

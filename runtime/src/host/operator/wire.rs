@@ -282,6 +282,16 @@ pub enum Reply {
     BusDiag(Box<super::bus_diag::BusDiagReply>),
 }
 
+impl Reply {
+    /// A refusal whose reason is `e`'s message: where the service's typed errors become the
+    /// text a client reads.
+    pub fn rejected(e: impl std::fmt::Display) -> Reply {
+        Reply::Rejected {
+            reason: e.to_string(),
+        }
+    }
+}
+
 /// The answer to a `param` request.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ParamReply {

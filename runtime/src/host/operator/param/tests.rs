@@ -9,7 +9,7 @@ use crate::host::operator::wire::SdoAnswer;
 fn refused(cell: &CellConfig, axis: &str, op: ParamOp, enabled: bool) -> String {
     match plan(cell, axis, &op, enabled) {
         Ok(j) => panic!("{op:?} planned: {j:?}"),
-        Err(e) => e,
+        Err(e) => e.to_string(),
     }
 }
 
@@ -85,7 +85,8 @@ fn models_without_a_table_save_or_history_are_refused_naming_the_manual() {
         );
     }
     let e = alarms::plan(&cell, "z", false).unwrap_err();
-    assert!(e.contains("no alarm history object"), "{e}");
+    assert!(matches!(e, alarms::AlarmsError::NoHistory { .. }), "{e:?}");
+    assert!(e.to_string().contains("no alarm history object"), "{e}");
     assert!(plan(&cell, "z", &ParamOp::Save, false).is_ok());
     assert!(alarms::plan(&cell, "x", true).is_ok());
 }
@@ -164,9 +165,8 @@ fn the_history_lists_the_recorded_alarms_newest_first_by_their_manual_names() {
     job.answered(no(0));
     let mut sdo = crate::host::operator::sdo::SdoInFlight::default();
     let mut link = FakeLink::default();
-    assert_eq!(
-        job.start_next(&mut sdo, &mut link),
-        Ok(false),
+    assert!(
+        matches!(job.start_next(&mut sdo, &mut link), Ok(false)),
         "nothing left"
     );
     match job.finish() {

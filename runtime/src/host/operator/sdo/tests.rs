@@ -14,7 +14,7 @@ pub(in crate::host::operator) fn shipped(name: &str) -> CellConfig {
 fn refused(cell: &CellConfig, axis: &str, index: u16, sub: u8, value: Option<i64>) -> String {
     match check(cell, axis, index, sub, value) {
         Ok(c) => panic!("{} sent: {:?}", object_text(index, sub), c.request),
-        Err(e) => e,
+        Err(e) => e.to_string(),
     }
 }
 
@@ -134,7 +134,11 @@ fn an_answer_is_typed_by_the_object() {
         }
     );
     let e = answer(read, UserSdoOutcome::Unsupported).unwrap_err();
-    assert_eq!(e, "sdo: axis 'y' has no acyclic channel to its drive");
+    assert!(matches!(e, SdoError::NoChannel { .. }), "{e:?}");
+    assert_eq!(
+        e.to_string(),
+        "sdo: axis 'y' has no acyclic channel to its drive"
+    );
     let write = check(&cell, "y", 0x6085, 0, Some(4_000_000_000)).unwrap();
     let r = answer(write, UserSdoOutcome::Done(SdoOutcome::Downloaded)).unwrap();
     assert_eq!(
@@ -196,7 +200,8 @@ fn one_request_is_in_flight_until_its_own_answer_or_the_timeout() {
     assert_eq!(link.sent[0].seq, 1);
     assert_eq!(link.sent[0].axis, 1);
     let e = flight.start(&mut link, read.clone()).unwrap_err();
-    assert!(e.contains("in flight"), "{e}");
+    assert!(matches!(e, SdoError::InFlight), "{e:?}");
+    assert!(e.to_string().contains("in flight"), "{e}");
     assert!(flight.poll(&mut link).is_none());
     // An outcome under another sequence number (a request that timed out before) is not this
     // request's answer.
@@ -217,7 +222,40 @@ fn one_request_is_in_flight_until_its_own_answer_or_the_timeout() {
         std::thread::sleep(Duration::from_millis(5));
     };
     assert!(start.elapsed() >= Duration::from_millis(200));
-    assert_eq!(e, "sdo: no answer for 6061h:00 of axis 'y' within 200ms");
+    assert!(matches!(e, SdoError::NoAnswer { .. }), "{e:?}");
+    assert_eq!(
+        e.to_string(),
+        "sdo: no answer for 6061h:00 of axis 'y' within 200ms"
+    );
     flight.start(&mut link, read).unwrap();
     assert_eq!(link.sent[2].seq, 3);
+}
+
+#[test]
+fn a_refused_object_says_which_rule_it_broke() {
+    let cell = shipped("ethercat-cell.toml");
+    let e = check(&cell, "y", 0x607C, 0, Some(5)).unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            SdoError::Object {
+                refusal: ObjectRefusal::ReadOnly,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    let e = check(&cell, "y", 0x6085, 0, Some(-1)).unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            SdoError::Object {
+                refusal: ObjectRefusal::OutOfTypeRange { value: -1, .. },
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    let e = check(&cell, "w", 0x6041, 0, None).unwrap_err();
+    assert!(matches!(e, SdoError::Axis(_)), "{e:?}");
 }

@@ -136,7 +136,7 @@ impl OperatorServer {
         match profile::send(ctx.link, commands, start) {
             Ok(()) => reply,
             Err(e) => {
-                self.finish_active(Err(e.clone()));
+                self.finish_active(Err(e.to_string()));
                 rejected(format!("move: {e}"))
             }
         }
@@ -391,7 +391,7 @@ impl OperatorServer {
         match profile::send(ctx.link, vec![command], 0) {
             Ok(()) => (reply, Followup::None),
             Err(e) => {
-                self.finish_active(Err(e.clone()));
+                self.finish_active(Err(e.to_string()));
                 rejected(format!("mode: {e}"))
             }
         }

@@ -4,13 +4,13 @@
 use super::units::SimMotor;
 #[cfg(doc)]
 use super::{SimDrive, FOLLOWING_ERROR_ALARM};
+use crate::motion::profile_position::{PositionUnit, PpParams};
+use crate::motion::profile_torque::TqParams;
+use crate::motion::profile_velocity::PvParams;
 use crate::sim::comm::CommParams;
 use crate::sim::fsoe::FsoeSlaveParams;
 use crate::sim::home_setting::BeforeZReaction;
 use crate::sim::plant::{PlantParams, Stoppers};
-use crate::sim::profile_position::{PositionUnit, PpParams};
-use crate::sim::profile_torque::TqParams;
-use crate::sim::profile_velocity::PvParams;
 use cellrt_cia402::mode::ModeOfOperation;
 #[cfg(doc)]
 use cellrt_cia402::profiles::{DriveProfile, HomeReference, TorqueLimitSelection};

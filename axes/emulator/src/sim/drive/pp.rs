@@ -3,7 +3,7 @@
 //! speed-cap and HALT objects the profile modes (pp, pv) share.
 
 use super::SimDrive;
-use crate::sim::profile_position::{HaltOption, PositionUnit, PpCommand, PpFeedback};
+use crate::motion::profile_position::{HaltOption, PositionUnit, PpCommand, PpFeedback};
 use cellrt_cia402::pdo::objects::{
     RxField, HALT_OPTION_CODE, MAX_MOTOR_SPEED, MAX_PROFILE_VELOCITY, POSITION_WINDOW,
     POSITION_WINDOW_TIME, PROFILE_ACCELERATION, PROFILE_DECELERATION, PROFILE_VELOCITY,
@@ -25,7 +25,7 @@ impl SimDrive {
     }
 
     /// The speed the 6083h/6084h/6085h time constants refer to ("rated speed"), counts/s:
-    /// [`crate::sim::profile_position::PpParams::time_constant_speed`], else the plant's
+    /// [`crate::motion::profile_position::PpParams::time_constant_speed`], else the plant's
     /// maximum speed.
     pub(super) fn rated_speed(&self) -> f64 {
         self.params

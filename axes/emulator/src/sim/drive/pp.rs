@@ -1,5 +1,5 @@
 //! Profile position mode (pp) on the simulated drive: its inputs from the RxPDO, SDO values
-//! or defaults, and the drive's own profile (`sim::profile_position`) on the plant; the ramp,
+//! or defaults, and the drive's own profile (`motion::profile_position`) on the plant; the ramp,
 //! speed-cap and HALT objects the profile modes (pp, pv) share.
 
 use super::SimDrive;
@@ -132,7 +132,7 @@ impl SimDrive {
     }
 
     /// pp in Operation enabled: the drive's own profile toward the accepted set-point
-    /// (`sim::profile_position`), followed by the servo loop; following error checked as csp.
+    /// (`motion::profile_position`), followed by the servo loop; following error checked as csp.
     pub(super) fn follow_profile_position(&mut self, cmd: &RxPdo, dt: f64) {
         let c = self.pp_command(cmd);
         let fb = PpFeedback {

@@ -1,7 +1,7 @@
 //! Profile velocity (pv) and profile torque (tq) on the simulated drive: their inputs from the
 //! RxPDO, SDO values, model defaults and [`SimDriveParams`](super::SimDriveParams), converted
-//! from the model's units, and the drive's own ramps (`sim::profile_velocity`,
-//! `sim::profile_torque`) on the plant.
+//! from the model's units, and the drive's own ramps (`motion::profile_velocity`,
+//! `motion::profile_torque`) on the plant.
 
 use super::SimDrive;
 use crate::motion::profile_torque::{HaltRelease, TqCommand};

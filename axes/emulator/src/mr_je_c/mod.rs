@@ -24,7 +24,6 @@ pub mod profile;
 mod refusal;
 pub mod rs485;
 pub mod rtu;
-mod s_pattern;
 pub mod search;
 pub mod server;
 pub mod slmp;

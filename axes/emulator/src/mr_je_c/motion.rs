@@ -38,8 +38,10 @@ use super::profile::{Command, Profile, Ramp};
 use super::profile::{
     HOMING, INDEXER, JOG, POINT_TABLE, PROFILE_POSITION, PROFILE_TORQUE, PROFILE_VELOCITY,
 };
-use super::s_pattern::{SPattern, MAX_MS, SAMPLE};
 use super::torque::Torque;
+use crate::motion::generator::{Arrival, Braking, Generator, NoTorque, Positioning};
+use crate::motion::ramp::VelocityRamp;
+use crate::motion::s_pattern::{SPattern, MAX_MS, SAMPLE};
 use cellrt_cia402::controlword::Controlword;
 
 /// Controlword bit 4: New set-point (pp, jg), Homing Operation Start (hm), start (pt).
@@ -60,15 +62,6 @@ enum Drive {
     Mode { halted: bool },
     /// Quick stop with this deceleration time constant, ms.
     QuickStop(i64),
-}
-
-/// One step of the trapezoid.
-#[derive(Debug, Clone, Copy)]
-struct Step {
-    /// A positioning arrived at its target.
-    arrived: bool,
-    /// Seconds of the step the trapezoid moved (less than the step where it arrived).
-    moving: f64,
 }
 
 /// The motor's state.
@@ -389,66 +382,48 @@ impl Motion {
         false
     }
 
-    /// One step of `command` of the trapezoid.
-    fn follow(&mut self, command: Command, dt: f64, p: &Profile) -> Step {
-        let (want, ramp) = match command {
-            Command::Speed { speed, ramp } => (speed, ramp),
+    /// One step of `command` of the trapezoid: the shared generator (`motion::generator`)
+    /// with the MR-JE-C's [`Braking::Continuous`] curve and its 60E0h/60E1h gate.
+    fn follow(&mut self, command: Command, dt: f64, p: &Profile) -> Arrival {
+        let mut g = Generator {
+            position: self.position,
+            velocity: self.velocity,
+        };
+        let no_torque = NoTorque {
+            forward: p.positive_torque_limit <= 0,
+            reverse: p.negative_torque_limit <= 0,
+        };
+        let step = match command {
+            Command::Speed { speed, ramp } => {
+                g.run_at(speed, &velocity_ramp(ramp, p), no_torque, dt);
+                Arrival {
+                    arrived: false,
+                    moving: dt,
+                }
+            }
             Command::Position {
                 target,
                 speed,
                 ramp,
-            } => (self.braking_speed(target as f64, speed, ramp, p), ramp),
-        };
-        let moving = Step {
-            arrived: false,
-            moving: dt,
-        };
-        let speeding_up = want.abs() > self.velocity.abs() && want * self.velocity >= 0.0;
-        if speeding_up && no_torque_toward(want, p) {
-            // Held where it is: the speed it has, no more.
-            self.position += self.velocity * dt;
-            return moving;
-        }
-        let rate = if speeding_up {
-            p.rate(ramp.acceleration_ms)
-        } else {
-            p.rate(ramp.deceleration_ms)
-        };
-        let dv = want - self.velocity;
-        self.velocity = match rate {
-            Some(r) if dv.abs() > r * dt => self.velocity + r * dt * dv.signum(),
-            _ => want,
-        };
-        let step = self.velocity * dt;
-        if let Command::Position { target, .. } = command {
-            let left = target as f64 - self.position;
-            if left.abs() <= step.abs() || left == 0.0 {
-                self.position = target as f64;
-                self.velocity = 0.0;
-                let part = if step == 0.0 {
-                    0.0
-                } else {
-                    (left / step).abs().min(1.0)
+            } => {
+                let positioning = Positioning {
+                    target: target as f64,
+                    speed,
+                    ramp: velocity_ramp(ramp, p),
+                    braking: Braking::Continuous,
                 };
-                return Step {
-                    arrived: true,
-                    moving: dt * part,
-                };
+                g.position_to(&positioning, no_torque, dt)
             }
-        }
-        self.position += step;
-        moving
+        };
+        self.position = g.position;
+        self.velocity = g.velocity;
+        step
     }
+}
 
-    /// The speed toward `target`: `vmax`, or less where the deceleration must start
-    /// (v² = 2·d·s).
-    fn braking_speed(&self, target: f64, vmax: f64, ramp: Ramp, p: &Profile) -> f64 {
-        let left = target - self.position;
-        let braking = p
-            .rate(ramp.deceleration_ms)
-            .map_or(vmax, |d| (2.0 * d * left.abs()).sqrt());
-        left.signum() * vmax.min(braking)
-    }
+/// The time constants of `ramp` as the shared velocity ramp (0 ms: a step), passing through 0.
+fn velocity_ramp(ramp: Ramp, p: &Profile) -> VelocityRamp {
+    VelocityRamp::new(p.rate(ramp.acceleration_ms), p.rate(ramp.deceleration_ms))
 }
 
 impl Drive {
@@ -456,19 +431,6 @@ impl Drive {
     fn halted(self) -> bool {
         matches!(self, Drive::Mode { halted: true })
     }
-}
-
-/// Whether the torque limit in the direction of `speed` is 0 (60E0h forward, 60E1h reverse,
-/// each within the motor's maximum torque): the motor has no torque to speed up with. The
-/// emulator has no inertia to scale the acceleration by a limit, so a limit only gates it (a
-/// named choice where the manual gives no motor model; §7.3 60E0h/60E1h: 0 = 0.0 %).
-fn no_torque_toward(speed: f64, p: &Profile) -> bool {
-    let limit = if speed > 0.0 {
-        p.positive_torque_limit
-    } else {
-        p.negative_torque_limit
-    };
-    limit <= 0
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 //! ending in SOD, Fault Reset on the edge clearing only resettable alarms (the rest need
 //! [`SimDrive::power_cycle`]), statusword bits 8/14 = 0 and no statusword in NRTSO, byte-exact
 //! default maps, the zero-speed gate on mode switches, csp/csv/cst with the torque limits, pp,
-//! pv and tq (`sim::profile_position`, `sim::profile_velocity`, `sim::profile_torque`) with
+//! pv and tq (`motion::profile_position`, `motion::profile_velocity`, `motion::profile_torque`) with
 //! the 605Ah quick-stop and 605Dh halt decelerations, the csp position offset 60B0h,
 //! following-error and overspeed alarms, the communication checks of `sim::comm`, and the alarm
 //! on leaving OP while switched on ([`SimDrive::leave_op`]), the axis switch SW3 checked at
@@ -19,9 +19,9 @@ use super::comm::DriveComm;
 use super::fsoe::FsoeSlave;
 use super::home_setting::HomeSettingState;
 use super::plant::ServoPlant;
-use super::profile_position::ProfilePosition;
-use super::profile_torque::ProfileTorque;
-use super::profile_velocity::ProfileVelocity;
+use crate::motion::profile_position::ProfilePosition;
+use crate::motion::profile_torque::ProfileTorque;
+use crate::motion::profile_velocity::ProfileVelocity;
 use cellrt_cia402::controlword::Controlword;
 use cellrt_cia402::cycles::{CycleTime, Cycles};
 use cellrt_cia402::fsa::FsaState;

@@ -1,14 +1,15 @@
 //! Homing (hm): the data-set methods, the searching methods on the axis' switches
-//! (`sim::homing_search`), and the Controlword2 home setting with the Z phase.
+//! (`motion::homing_search`), and the Controlword2 home setting with the Z phase.
 
 use super::SimDrive;
+use crate::motion::homing::{HomingMethods, HomingStart};
+use crate::motion::homing_search::{HomingSearch, SearchEnd, SearchProfile, ZPulses};
 use crate::sim::home_setting::{HomeSettingOutcome, ZPhase};
-use crate::sim::homing_search::{HomingSearch, SearchEnd, SearchProfile, ZPulses};
 use cellrt_cia402::controlword::Controlword;
 use cellrt_cia402::fsa::FsaState;
 use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_cia402::pdo::RxPdo;
-use cellrt_cia402::profiles::homing_methods::{homing_model, search, SearchTarget};
+use cellrt_cia402::profiles::homing_methods::{homing_model, SearchTarget};
 use cellrt_cia402::profiles::HomeReference;
 
 /// 6099h Homing speeds (sub 1 switch search, sub 2 creep).
@@ -45,7 +46,7 @@ impl SimDrive {
     /// hm (6060h = 6): a rising controlword bit 4 (HOS) starts the method in 6098h. The
     /// data-set methods set home at the current position at once, without motion (also outside
     /// Operation enabled, MR-J3-T04 manual §8.11.3, §8.11.6); the searching methods run on the
-    /// axis' switches (`sim::homing_search`) in Operation enabled; a method the manual does not
+    /// axis' switches (`motion::homing_search`) in Operation enabled; a method the manual does not
     /// list, one cellrt does not emulate, or 0 ends in a homing error (bit 13). Leaving hm or
     /// dropping HOS ends a search (interrupted).
     pub(super) fn run_homing(&mut self, cw: Controlword) {
@@ -72,24 +73,26 @@ impl SimDrive {
             .sdo_value(0x6098, 0)
             .or_else(|| self.object(0x6098, 0).and_then(|o| o.default))
             .unwrap_or(0) as i8;
+        let methods = HomingMethods {
+            listed: self.profile.homing_methods,
+            data_set: self.profile.data_set_homing_methods,
+        };
         // Homing start clears bit 12 (MR-J4-TM manual §5.4.9 retention rules).
         self.homing.attained = false;
         self.homing.error = false;
         self.homing.warning = None;
         self.homing.interrupted = false;
-        let listed = self.profile.homing_methods.contains(&method);
-        if listed && self.profile.data_set_homing_methods.contains(&method) {
-            let raw = self.plant.position().round();
-            self.set_home(raw);
-            return;
-        }
-        match search(method).filter(|_| listed && enabled) {
-            Some(recipe) => {
+        match methods.start(i64::from(method), enabled) {
+            HomingStart::SetHome => {
+                let raw = self.plant.position().round();
+                self.set_home(raw);
+            }
+            HomingStart::Search(recipe) => {
                 let p = self.search_profile();
                 let s = &self.params.homing_switches;
                 self.homing.search = Some(HomingSearch::start(recipe, p, self.demand, s));
             }
-            None => self.homing.error = true,
+            HomingStart::Error => self.homing.error = true,
         }
     }
 

@@ -173,7 +173,7 @@ impl SimDrive {
     /// Servo on in the current mode. csp follows 607Ah, csv integrates 60FFh (in the model's
     /// velocity unit, clamped at the overspeed limit), cst applies 6071h (0.1 % rated, 300 % = `max_acceleration`) within the
     /// speed limit 2D20h (the model's velocity unit, `units`); pp, pv and tq run the drive's own
-    /// profiles (`sim::profile_position`, `sim::profile_velocity`, `sim::profile_torque`).
+    /// profiles (`motion::profile_position`, `motion::profile_velocity`, `motion::profile_torque`).
     /// HALT (bit 8) stops and holds where the model honours it in the cyclic modes.
     pub(super) fn follow(&mut self, cmd: &RxPdo, dt: f64) {
         if self.profile.power_warnings.is_some() && !self.power.em1 {

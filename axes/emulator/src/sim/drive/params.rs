@@ -4,13 +4,13 @@
 use super::units::SimMotor;
 #[cfg(doc)]
 use super::{SimDrive, FOLLOWING_ERROR_ALARM};
+use crate::motion::profile_position::{PositionUnit, PpParams};
+use crate::motion::profile_torque::TqParams;
+use crate::motion::profile_velocity::PvParams;
 use crate::sim::comm::CommParams;
 use crate::sim::fsoe::FsoeSlaveParams;
 use crate::sim::home_setting::BeforeZReaction;
 use crate::sim::plant::{PlantParams, Stoppers};
-use crate::sim::profile_position::{PositionUnit, PpParams};
-use crate::sim::profile_torque::TqParams;
-use crate::sim::profile_velocity::PvParams;
 use cellrt_cia402::mode::ModeOfOperation;
 #[cfg(doc)]
 use cellrt_cia402::profiles::{DriveProfile, HomeReference, TorqueLimitSelection};
@@ -88,17 +88,17 @@ pub struct SimDriveParams {
     /// Mechanical stoppers on the axis, raw counts: hard stops the plant cannot pass (the
     /// stopper type homing −4/−36 presses against one); default none.
     pub stoppers: Stoppers,
-    /// The homing figures the manuals name without a value (`sim::homing_search`).
+    /// The homing figures the manuals name without a value (`motion::homing_search`).
     pub homing: HomingParams,
     /// The alarm a SYNC0 cycle other than 1C32h:02 raises, one of the profile's
     /// `pdo_rules.sync_mismatch_alarms` (MR-J3-T04 TV-IC-5: AL.76 or AL.74); `None`: the
     /// profile's first.
     pub sync_mismatch_alarm: Option<u16>,
-    /// Profile position mode (pp) values the manuals leave open (`sim::profile_position`).
+    /// Profile position mode (pp) values the manuals leave open (`motion::profile_position`).
     pub pp: PpParams,
-    /// Profile velocity mode (pv) objects the manuals leave open (`sim::profile_velocity`).
+    /// Profile velocity mode (pv) objects the manuals leave open (`motion::profile_velocity`).
     pub pv: PvParams,
-    /// Profile torque mode (tq) behaviour the manuals leave open (`sim::profile_torque`).
+    /// Profile torque mode (tq) behaviour the manuals leave open (`motion::profile_torque`).
     pub tq: TqParams,
     /// [Pr. PT01.2] position data unit (acts on relative pp set-points, MR-J4-TM manual §5.4.6).
     pub position_unit: PositionUnit,

@@ -1,9 +1,9 @@
 //! Profile position mode (pp) on the simulated drive: its inputs from the RxPDO, SDO values
-//! or defaults, and the drive's own profile (`sim::profile_position`) on the plant; the ramp,
+//! or defaults, and the drive's own profile (`motion::profile_position`) on the plant; the ramp,
 //! speed-cap and HALT objects the profile modes (pp, pv) share.
 
 use super::SimDrive;
-use crate::sim::profile_position::{HaltOption, PositionUnit, PpCommand, PpFeedback};
+use crate::motion::profile_position::{HaltOption, PositionUnit, PpCommand, PpFeedback};
 use cellrt_cia402::pdo::objects::{
     RxField, HALT_OPTION_CODE, MAX_MOTOR_SPEED, MAX_PROFILE_VELOCITY, POSITION_WINDOW,
     POSITION_WINDOW_TIME, PROFILE_ACCELERATION, PROFILE_DECELERATION, PROFILE_VELOCITY,
@@ -25,7 +25,7 @@ impl SimDrive {
     }
 
     /// The speed the 6083h/6084h/6085h time constants refer to ("rated speed"), counts/s:
-    /// [`crate::sim::profile_position::PpParams::time_constant_speed`], else the plant's
+    /// [`crate::motion::profile_position::PpParams::time_constant_speed`], else the plant's
     /// maximum speed.
     pub(super) fn rated_speed(&self) -> f64 {
         self.params
@@ -132,7 +132,7 @@ impl SimDrive {
     }
 
     /// pp in Operation enabled: the drive's own profile toward the accepted set-point
-    /// (`sim::profile_position`), followed by the servo loop; following error checked as csp.
+    /// (`motion::profile_position`), followed by the servo loop; following error checked as csp.
     pub(super) fn follow_profile_position(&mut self, cmd: &RxPdo, dt: f64) {
         let c = self.pp_command(cmd);
         let fb = PpFeedback {

@@ -1,11 +1,11 @@
 //! Profile velocity (pv) and profile torque (tq) on the simulated drive: their inputs from the
 //! RxPDO, SDO values, model defaults and [`SimDriveParams`](super::SimDriveParams), converted
-//! from the model's units, and the drive's own ramps (`sim::profile_velocity`,
-//! `sim::profile_torque`) on the plant.
+//! from the model's units, and the drive's own ramps (`motion::profile_velocity`,
+//! `motion::profile_torque`) on the plant.
 
 use super::SimDrive;
-use crate::sim::profile_torque::TqCommand;
-use crate::sim::profile_velocity::PvCommand;
+use crate::motion::profile_torque::{HaltRelease, TqCommand};
+use crate::motion::profile_velocity::PvCommand;
 use cellrt_cia402::pdo::objects::{
     PROFILE_ACCELERATION, PROFILE_DECELERATION, TARGET_TORQUE, TARGET_VELOCITY, TORQUE_SLOPE,
 };
@@ -93,6 +93,7 @@ impl SimDrive {
             target: target as i16 as f64,
             slope: self.pp_object(cmd, TORQUE_SLOPE).unwrap_or(0).max(0) as f64,
             zero_slope: self.params.tq.zero_slope,
+            halt_release: HaltRelease::Resume,
         }
     }
 

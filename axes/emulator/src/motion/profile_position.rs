@@ -1,4 +1,4 @@
-//! Profile position mode (pp, 6060h = 1) of the simulated drive: the set-point handshake and the
+//! Profile position mode (pp, 6060h = 1) of the simulated EtherCAT drives: the set-point handshake and the
 //! trajectory generator the drive runs itself (MR-J4-TM manual §5.4.6; MR-JET and
 //! MR-J5 state only that pp exists with 607Ah, 6081h, 6083h, 6084h: MR-JET-G-N1 manual §7.4, §4.5, §6.3,
 //! MR-J5-G-N1 manual §4.5, and use the CiA 402 bit meanings [background]).
@@ -30,7 +30,11 @@
 //!   maximum acceleration. The S-pattern (6086h = −1, PT51) is not modelled.
 //!
 //! Positions are in the plant's counts (f64); the drive converts 607Ah from 6064h's reference.
-//! Allocation-free: plain copies only.
+//! The trapezoid is the shared generator (`motion::generator`). Allocation-free: plain copies
+//! only.
+
+use super::generator::{Braking, Generator, NoTorque, Positioning};
+use super::ramp::VelocityRamp;
 
 /// Controlword bit 4: new set-point (rising edge).
 pub const NEW_SET_POINT: u16 = 1 << 4;
@@ -47,9 +51,6 @@ pub const TARGET_REACHED: u16 = 1 << 10;
 pub const INTERNAL_LIMIT_ACTIVE: u16 = 1 << 11;
 /// Statusword bit 12 in pp: set-point acknowledge (Mitsubishi: positioning being executed).
 pub const SET_POINT_ACKNOWLEDGE: u16 = 1 << 12;
-
-/// Distance (counts) below which the generator lands on the target.
-const LANDING_TOLERANCE: f64 = 1e-6;
 
 /// 6067h value that disables the position window (MR-JE-C manual, 6067h "4294967295").
 pub const WINDOW_DISABLED: u32 = u32::MAX;
@@ -277,49 +278,44 @@ impl ProfilePosition {
         self.in_window_s = 0.0;
     }
 
+    /// The generator as the shared trapezoid sees it.
+    fn generator(&self) -> Generator {
+        Generator {
+            position: self.pos,
+            velocity: self.vel,
+        }
+    }
+
+    /// Takes the generator back after a step.
+    fn take(&mut self, g: Generator) {
+        self.pos = g.position;
+        self.vel = g.velocity;
+    }
+
     /// HALT: ramp the generator velocity to 0 at `decel`.
     fn decelerate(&mut self, decel: f64, dt: f64) {
-        let s = self.vel.abs();
-        let s_new = (s - decel * dt).max(0.0);
-        let dir = self.vel.signum();
-        self.pos += dir * s_new * dt;
-        self.vel = dir * s_new;
+        let mut g = self.generator();
+        g.run_at(
+            0.0,
+            &VelocityRamp::symmetric(decel),
+            NoTorque::default(),
+            dt,
+        );
+        self.take(g);
     }
 
     /// A trapezoidal step toward the target: accelerate at 6083h up to 6081h, brake at 6084h so
-    /// as to stop on the target, and land on it exactly.
+    /// as to stop on the target, and land on it exactly ([`Braking::AfterStep`]).
     fn advance(&mut self, cmd: &PpCommand, dt: f64) {
-        let d = self.target - self.pos;
-        if d == 0.0 && self.vel == 0.0 {
-            return;
-        }
-        let dir = if d != 0.0 {
-            d.signum()
-        } else {
-            -self.vel.signum()
+        let positioning = Positioning {
+            target: self.target,
+            speed: cmd.velocity,
+            ramp: VelocityRamp::new(Some(cmd.acceleration), Some(cmd.deceleration)),
+            braking: Braking::AfterStep,
         };
-        let s = self.vel * dir; // speed toward the target
-        let (acc, dec, vmax) = (cmd.acceleration, cmd.deceleration, cmd.velocity);
-        let mut s_new = if s < 0.0 {
-            s + dec * dt
-        } else if s > vmax {
-            (s - dec * dt).max(vmax)
-        } else {
-            (s + acc * dt).min(vmax)
-        };
-        // Never faster than what still stops on the target at 6084h after this step:
-        // s² ≤ 2·dec·(|d| − s·dt), the discrete form of the braking curve.
-        let h = dec * dt;
-        s_new = s_new.min(-h + (h * h + 2.0 * dec * d.abs()).sqrt());
-        let dx = s_new * dt;
-        // Land within a micro-count (the braking curve approaches the target geometrically).
-        if s_new >= 0.0 && dx >= d.abs() - LANDING_TOLERANCE {
-            self.pos = self.target;
-            self.vel = 0.0;
-        } else {
-            self.pos += dir * dx;
-            self.vel = dir * s_new;
-        }
+        let mut g = self.generator();
+        g.position_to(&positioning, NoTorque::default(), dt);
+        self.take(g);
     }
 
     fn update_reached(&mut self, cmd: &PpCommand, fb: PpFeedback, halt: bool, dt: f64) {

@@ -1,10 +1,10 @@
-//! Profile velocity mode (pv) of the simulated drive: the drive's own velocity ramp toward
+//! Profile velocity mode (pv) of the simulated EtherCAT drives: the drive's own velocity ramp toward
 //! 60FFh and the statusword bits 10 / 12 (MR-J4-TM manual §5.4.7; MR-JET-G-N1 and MR-J5-G-N1
 //! state only "pv: a target velocity" with 6083h/6084h, their bits as CiA 402 [background]).
 //!
 //! * The ramp is linear: the generator velocity (606Bh velocity demand) rises at 6083h and
 //!   falls at 6084h, both time constants in ms from 0 to the rated speed (§5.4.7(4), units as
-//!   pp, `sim::profile_position`). Reversing decelerates to 0 at 6084h, then accelerates at
+//!   pp, `motion::profile_position`). Reversing decelerates to 0 at 6084h, then accelerates at
 //!   6083h. 0 ms means the plant's maximum acceleration.
 //! * Statusword bit 10 **target reached**: with HALT = 0, |606Ch − 60FFh| has stayed within
 //!   606Dh for at least 606Eh; with HALT = 1, the velocity is 0.
@@ -13,7 +13,10 @@
 //! * Bit 8 **HALT** ramps the generator to 0 at the drive's halt deceleration (605Dh).
 //!
 //! Velocities are in counts/s of the plant; the drive converts the objects from the model's
-//! velocity unit. Allocation-free: plain copies only.
+//! velocity unit. The ramp is the shared one (`motion::ramp`). Allocation-free: plain copies
+//! only.
+
+use super::ramp::{Reversal, VelocityRamp};
 
 /// Statusword bit 10 in pv: target reached.
 pub const TARGET_REACHED: u16 = 1 << 10;
@@ -84,6 +87,9 @@ pub(crate) struct ProfileVelocity {
     moving: bool,
 }
 
+/// Distance (counts/s) within which the ramp lands on its end: float error.
+const RAMP_LANDING: f64 = 1e-6;
+
 /// Slack (s) on the window and threshold times, against float sums of cycle times.
 const TIME_SLACK_S: f64 = 1e-9;
 
@@ -122,33 +128,16 @@ impl ProfileVelocity {
     }
 
     /// One ramp step toward `goal`: 6083h while the speed grows in the same direction, 6084h
-    /// (or the halt rate) while it falls; a reversal stops at 0 for the cycle.
+    /// (or the halt rate) while it falls; a reversal stops at 0 for the cycle
+    /// ([`Reversal::StopAtZero`]).
     fn ramp(&mut self, goal: f64, cmd: &PvCommand, halt_rate: Option<f64>, dt: f64) {
-        let v = self.vel;
-        if v == goal {
-            return;
-        }
-        let speeding_up = v == 0.0 || (v.signum() == goal.signum() && goal.abs() > v.abs());
-        let rate = if speeding_up {
-            cmd.acceleration
-        } else {
-            halt_rate.unwrap_or(cmd.deceleration)
+        let ramp = VelocityRamp {
+            acceleration: Some(cmd.acceleration),
+            deceleration: Some(halt_rate.unwrap_or(cmd.deceleration)),
+            reversal: Reversal::StopAtZero,
+            landing: RAMP_LANDING,
         };
-        let step = rate * dt;
-        // Where the speed falls, the end of this cycle's ramp is 0 on a reversal.
-        let end = if !speeding_up && v.signum() != goal.signum() {
-            0.0
-        } else {
-            goal
-        };
-        let next = v + (end - v).signum() * step;
-        // Land on the end exactly: past it, or within a micro-count/s of float error.
-        let rest = end - next;
-        self.vel = if rest * (end - v) <= 0.0 || rest.abs() <= 1e-6 {
-            end
-        } else {
-            next
-        };
+        self.vel = ramp.step(self.vel, goal, dt);
     }
 
     fn update_bits(&mut self, cmd: &PvCommand, actual: f64, dt: f64) {

@@ -13,6 +13,7 @@
 //! it stands at its torque limit. A failed search stops at the plant's maximum deceleration (MR-J3-T04 manual
 //! §8.11.3: "stroke end during hm gives a sudden stop"). Allocation-free plain copies.
 
+use super::ramp::VelocityRamp;
 use crate::sim::homing_switches::HomingSwitches;
 use cellrt_cia402::profiles::homing_methods::{SearchRecipe, SearchTarget, StrokeEndReaction};
 
@@ -193,7 +194,7 @@ impl HomingSearch {
         };
         let v0 = self.vel;
         let step = rate * dt;
-        self.vel = goal.clamp(v0 - step, v0 + step);
+        self.vel = VelocityRamp::symmetric(rate).step(v0, goal, dt);
         let from = self.pos;
         self.pos += 0.5 * (v0 + self.vel) * dt;
         if let Phase::ToHome { target, .. } = self.phase {

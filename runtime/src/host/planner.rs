@@ -215,7 +215,8 @@ pub fn run_external(
     let (_bridge, je_c) = if cell.je_c_axes.is_empty() {
         (None, JecAxes::default())
     } else {
-        let (bridge, axes) = JecBridge::connect(cell, connect_timeout).map_err(fail)?;
+        let (bridge, axes) =
+            JecBridge::connect(cell, connect_timeout).map_err(|e| fail(e.to_string()))?;
         (Some(bridge), axes)
     };
     let mut planner = Planner::new(cell, Box::new(link), abort, source.clone(), je_c)?;

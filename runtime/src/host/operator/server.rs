@@ -137,7 +137,7 @@ impl OperatorServer {
         let active = self.active.as_ref().map(|a| a.id);
         let je_c_running = match self.je_c_moves.progress(active, ctx.je_c) {
             Err(e) => {
-                self.finish_active(Err(e));
+                self.finish_active(Err(e.to_string()));
                 return;
             }
             Ok(running) => running,

@@ -29,6 +29,32 @@ use cellrt_config::CellConfig;
 use std::collections::BTreeMap;
 use std::path::Path;
 
+/// Why an `sdo`, `param` or `alarms` request could not start.
+#[derive(Debug, thiserror::Error)]
+enum JobError {
+    /// Another one is in flight.
+    #[error("{what}: another sdo request is in flight; try again")]
+    InFlight { what: &'static str },
+    /// A write while a program runs.
+    #[error("{what}: a program is running; halt or stop it before writing")]
+    ProgramRunning { what: &'static str },
+    /// Not an sdo request at all.
+    #[error("{what}: not an sdo request")]
+    NotSdo { what: &'static str },
+    /// The cell is homing (its own acyclic requests come first).
+    #[error("{what}: the cell is homing; try again when the homing has ended")]
+    Homing { what: &'static str },
+    /// The transfer was refused or could not start.
+    #[error(transparent)]
+    Sdo(#[from] sdo::SdoError),
+    /// The `param` request was refused.
+    #[error(transparent)]
+    Param(#[from] super::param::ParamError),
+    /// The `alarms` request was refused.
+    #[error(transparent)]
+    Alarms(#[from] super::alarms::AlarmsError),
+}
+
 /// What the planner thread must do after a request.
 pub enum Followup {
     /// Nothing.
@@ -235,7 +261,7 @@ impl OperatorServer {
                         self.job = Some((job, active));
                         continue;
                     }
-                    Err(reason) => (Reply::Rejected { reason }, Followup::None),
+                    Err(e) => (Reply::rejected(e), Followup::None),
                 },
                 Ok(Request::BusDiag) => match self.diag.start(ctx.link) {
                     Ok(()) => {
@@ -266,17 +292,13 @@ impl OperatorServer {
 
     /// Checks an `sdo`, `param` or `alarms` request and hands its first transfer to the RT
     /// thread; the rest and the reply follow in [`OperatorServer::answer_sdo`].
-    fn start_job(&mut self, ctx: &mut Context<'_>, req: &Request) -> Result<SdoJob, String> {
+    fn start_job(&mut self, ctx: &mut Context<'_>, req: &Request) -> Result<SdoJob, JobError> {
         let what = req.name();
         if self.job.is_some() || self.sdo.busy() {
-            return Err(format!(
-                "{what}: another sdo request is in flight; try again"
-            ));
+            return Err(JobError::InFlight { what });
         }
         if ctx.program_running && req.writes_to_a_drive() {
-            return Err(format!(
-                "{what}: a program is running; halt or stop it before writing"
-            ));
+            return Err(JobError::ProgramRunning { what });
         }
         let status = ctx.link.status().ok();
         let mut job = match req {
@@ -286,26 +308,21 @@ impl OperatorServer {
                 sub,
                 value,
             } => SdoJob::new(
-                vec![sdo::check(ctx.cell, axis, *index, *sub, *value).map_err(|e| e.to_string())?],
+                vec![sdo::check(ctx.cell, axis, *index, *sub, *value)?],
                 SingleSdo,
             ),
             Request::Param { axis, op } => {
                 let enabled = operation_enabled(ctx.cell, axis, status.as_ref());
-                super::param::plan(ctx.cell, axis, op, enabled).map_err(|e| e.to_string())?
+                super::param::plan(ctx.cell, axis, op, enabled)?
             }
-            Request::Alarms { axis, clear } => {
-                super::alarms::plan(ctx.cell, axis, *clear).map_err(|e| e.to_string())?
-            }
-            _ => return Err(format!("{what}: not an sdo request")),
+            Request::Alarms { axis, clear } => super::alarms::plan(ctx.cell, axis, *clear)?,
+            _ => return Err(JobError::NotSdo { what }),
         };
         // A homing's own acyclic requests come first (the RT thread holds SDOs meanwhile).
         if status.is_some_and(|s| s.state == CellState::Homing) {
-            return Err(format!(
-                "{what}: the cell is homing; try again when the homing has ended"
-            ));
+            return Err(JobError::Homing { what });
         }
-        job.start_next(&mut self.sdo, ctx.link)
-            .map_err(|e| e.to_string())?;
+        job.start_next(&mut self.sdo, ctx.link)?;
         Ok(job)
     }
 

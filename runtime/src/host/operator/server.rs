@@ -29,6 +29,26 @@ use cellrt_config::CellConfig;
 use std::collections::BTreeMap;
 use std::path::Path;
 
+/// Why MC_Power of the RT axes was refused or could not be sent.
+#[derive(Debug, thiserror::Error)]
+enum PowerError {
+    /// An axis named twice.
+    #[error("axis '{axis}' named twice")]
+    Twice { axis: String },
+    /// An axis the cell does not have.
+    #[error(transparent)]
+    Axis(#[from] TargetError),
+    /// The cell's state does not allow it.
+    #[error("the cell is {state}; {what}")]
+    Blocked {
+        state: &'static str,
+        what: &'static str,
+    },
+    /// The RT thread did not take the command.
+    #[error(transparent)]
+    Link(#[from] crate::host::link::LinkError),
+}
+
 /// Why an `sdo`, `param` or `alarms` request could not start.
 #[derive(Debug, thiserror::Error)]
 enum JobError {
@@ -548,13 +568,16 @@ impl OperatorServer {
         state: &StatusSnapshot,
         on: bool,
         axes: &[&String],
-    ) -> Result<(), String> {
+    ) -> Result<(), PowerError> {
         let mut indices = Vec::with_capacity(axes.len());
         for a in axes {
-            match axis_index(ctx.cell, a) {
-                Ok(i) if indices.contains(&i) => return Err(format!("axis '{a}' named twice")),
-                Ok(i) => indices.push(i),
-                Err(e) => return Err(e.to_string()),
+            match axis_index(ctx.cell, a)? {
+                i if indices.contains(&i) => {
+                    return Err(PowerError::Twice {
+                        axis: a.to_string(),
+                    })
+                }
+                i => indices.push(i),
             }
         }
         let blocked = if on {
@@ -577,7 +600,10 @@ impl OperatorServer {
             .then_some("single axes power off from idle: halt or stop the motion, or power off the whole cell")
         };
         if let Some(what) = blocked {
-            return Err(format!("the cell is {}; {what}", state.state.as_str()));
+            return Err(PowerError::Blocked {
+                state: state.state.as_str(),
+                what,
+            });
         }
         let cmds: Vec<CellCommand> = match (on, indices.is_empty()) {
             (true, true) => vec![CellCommand::PowerOn],
@@ -591,8 +617,8 @@ impl OperatorServer {
                 .map(|&i| CellCommand::PowerOffAxis(i as u16))
                 .collect(),
         };
-        cmds.into_iter()
-            .try_for_each(|cmd| ctx.link.command(cmd).map_err(|e| e.to_string()))
+        cmds.into_iter().try_for_each(|cmd| ctx.link.command(cmd))?;
+        Ok(())
     }
 
     fn report(&self, ctx: &mut Context<'_>, s: &StatusSnapshot) -> StatusReport {

@@ -308,7 +308,7 @@ impl<'a> Planner<'a> {
                 let r = self.run(&p);
                 self.program_running = false;
                 self.operator
-                    .finish_active(r.as_ref().map(|_| ()).map_err(|e| e.to_string()));
+                    .finish_active(r.as_ref().err().map(|e| e.to_string()));
                 if !stay {
                     return r;
                 }

@@ -166,13 +166,14 @@ impl OperatorServer {
         }
     }
 
-    /// Marks the command in execution as ended (`Ok`) or failed.
-    pub fn finish_active(&mut self, result: Result<(), String>) {
+    /// Marks the command in execution as ended (`None`) or failed (`failure`: why, as the
+    /// client reads it).
+    pub fn finish_active(&mut self, failure: Option<String>) {
         if let Some(a) = self.active.take() {
             self.last_finished = Some(FinishedCommand {
                 id: a.id,
                 command: a.command,
-                error: result.err(),
+                error: failure,
             });
         }
     }
@@ -183,7 +184,7 @@ impl OperatorServer {
         let active = self.active.as_ref().map(|a| a.id);
         let je_c_running = match self.je_c_moves.progress(active, ctx.je_c) {
             Err(e) => {
-                self.finish_active(Err(e.to_string()));
+                self.finish_active(Some(e.to_string()));
                 return;
             }
             Ok(running) => running,
@@ -195,7 +196,7 @@ impl OperatorServer {
         {
             Ok(Err(i)) => {
                 let failure = self.profile_failure(ctx, i);
-                self.finish_active(Err(failure));
+                self.finish_active(Some(failure));
                 return;
             }
             Ok(Ok(running)) => running,
@@ -203,14 +204,14 @@ impl OperatorServer {
         };
         if self.active.as_ref().is_some_and(|a| a.command == "mode") {
             if !profile_running {
-                self.finish_active(Ok(()));
+                self.finish_active(None);
             }
             return;
         }
         if self.active.as_ref().is_some_and(|a| a.command == "home") {
             if self.home_on_je_c {
                 if !je_c_running {
-                    self.finish_active(Ok(()));
+                    self.finish_active(None);
                 }
                 return;
             }
@@ -221,25 +222,25 @@ impl OperatorServer {
                         None => Ok(()),
                         Some(f) => Err(f.as_str().to_string()),
                     };
-                    self.finish_active(r);
+                    self.finish_active(r.err());
                 }
             }
             return;
         }
         match ctx.engine.tick(ctx.link) {
             Ok(Progress::Finished(_) | Progress::Idle) if je_c_running || profile_running => {}
-            Ok(Progress::Finished(_)) => self.finish_active(Ok(())),
+            Ok(Progress::Finished(_)) => self.finish_active(None),
             Ok(Progress::Idle) => {
                 if self
                     .active
                     .as_ref()
                     .is_some_and(|a| MOTION_COMMANDS.contains(&a.command.as_str()))
                 {
-                    self.finish_active(Ok(()));
+                    self.finish_active(None);
                 }
             }
             Ok(Progress::Running) => {}
-            Err(e) => self.finish_active(Err(e.to_string())),
+            Err(e) => self.finish_active(Some(e.to_string())),
         }
     }
 

@@ -47,7 +47,7 @@ impl OperatorServer {
         match je_c_requests::send(ctx.je_c, &je_c_commands) {
             Ok(()) => reply,
             Err(e) => {
-                self.finish_active(Err(e.to_string()));
+                self.finish_active(Some(e.to_string()));
                 rejected(format!("move: {e}"))
             }
         }
@@ -136,7 +136,7 @@ impl OperatorServer {
         match profile::send(ctx.link, commands, start) {
             Ok(()) => reply,
             Err(e) => {
-                self.finish_active(Err(e.to_string()));
+                self.finish_active(Some(e.to_string()));
                 rejected(format!("move: {e}"))
             }
         }
@@ -391,7 +391,7 @@ impl OperatorServer {
         match profile::send(ctx.link, vec![command], 0) {
             Ok(()) => (reply, Followup::None),
             Err(e) => {
-                self.finish_active(Err(e.to_string()));
+                self.finish_active(Some(e.to_string()));
                 rejected(format!("mode: {e}"))
             }
         }
@@ -419,7 +419,7 @@ impl OperatorServer {
         match je_c_requests::send(ctx.je_c, &[(k, command)]) {
             Ok(()) => (reply, Followup::None),
             Err(e) => {
-                self.finish_active(Err(e.to_string()));
+                self.finish_active(Some(e.to_string()));
                 rejected(format!("home: {e}"))
             }
         }

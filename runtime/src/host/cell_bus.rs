@@ -260,7 +260,7 @@ impl AcyclicBus for CellBus {
     fn take_sdo(&mut self, axis: usize) -> Option<SdoOutcome> {
         each!(self, b => b.take_sdo(axis))
     }
-    fn close(&mut self) -> Result<(), String> {
+    fn close(&mut self) -> Result<(), cellrt_cia402::bus::CloseError> {
         each!(self, b => b.close())
     }
 }

@@ -69,6 +69,9 @@ pub enum RunError {
     /// The bus could not be opened (EtherCAT bring-up).
     #[error("{0}")]
     Bus(String),
+    /// An MR-JE-C axis could not start.
+    #[error(transparent)]
+    JecAxis(#[from] crate::host::je_c::JecStartError),
     /// The live view could not listen.
     #[error("{0}")]
     Live(String),
@@ -193,7 +196,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let bus =
         crate::host::cell_bus::CellBus::open(cell).map_err(|e| RunError::Bus(e.to_string()))?;
     record_bring_up_warnings(cell, &bus, &handoff);
-    let je_c = crate::host::je_c::JecCell::start(cell).map_err(RunError::Bus)?;
+    let je_c = crate::host::je_c::JecCell::start(cell)?;
     recording.attach_je_c(je_c.axes());
     if let Some(d) = bus.diagnostics() {
         handoff.set_bus_diagnostics(d);

@@ -215,7 +215,8 @@ pub fn run_external(
     let (_bridge, je_c) = if cell.je_c_axes.is_empty() {
         (None, JecAxes::default())
     } else {
-        let (bridge, axes) = JecBridge::connect(cell, connect_timeout).map_err(fail)?;
+        let (bridge, axes) =
+            JecBridge::connect(cell, connect_timeout).map_err(|e| fail(e.to_string()))?;
         (Some(bridge), axes)
     };
     let mut planner = Planner::new(cell, Box::new(link), abort, source.clone(), je_c)?;
@@ -307,7 +308,7 @@ impl<'a> Planner<'a> {
                 let r = self.run(&p);
                 self.program_running = false;
                 self.operator
-                    .finish_active(r.as_ref().map(|_| ()).map_err(|e| e.to_string()));
+                    .finish_active(r.as_ref().err().map(|e| e.to_string()));
                 if !stay {
                     return r;
                 }

@@ -18,7 +18,7 @@ pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
         DriveSimBus::Ethercat { interface } => interface,
         DriveSimBus::MrJeC(args) => return super::drive_sim_mr_je_c::run(args),
     };
-    match serve_ethercat(&interface, cell) {
+    match serve_ethercat(&interface, cell.map(std::path::PathBuf::from)) {
         Ok(()) => Exit::Ok,
         Err(exit) => exit,
     }
@@ -31,8 +31,10 @@ fn fail(e: impl std::fmt::Display, exit: Exit) -> Exit {
 }
 
 /// The cell whose drives to emulate: `--cell`, with EtherCAT axes.
-fn ethercat_cell(cell: Option<String>) -> Result<(std::path::PathBuf, CellConfig), Exit> {
-    let Some(cell) = cell.map(std::path::PathBuf::from) else {
+fn ethercat_cell(
+    cell: Option<std::path::PathBuf>,
+) -> Result<(std::path::PathBuf, CellConfig), Exit> {
+    let Some(cell) = cell else {
         return Err(fail(
             "--cell CONFIG: the cell configuration whose drives to emulate is required",
             Exit::BadInput,
@@ -53,7 +55,7 @@ fn ethercat_cell(cell: Option<String>) -> Result<(std::path::PathBuf, CellConfig
 }
 
 /// Serves the cell's drives on `interface` until SIGINT or SIGTERM.
-fn serve_ethercat(interface: &str, cell: Option<String>) -> Result<(), Exit> {
+fn serve_ethercat(interface: &str, cell: Option<std::path::PathBuf>) -> Result<(), Exit> {
     let (cell, config) = ethercat_cell(cell)?;
     let socket = RawSocket::open(interface).map_err(|e| fail(e, Exit::Failed))?;
     let stop = Arc::new(AtomicBool::new(false));

@@ -32,3 +32,8 @@ pub enum BusError {
         bytes: usize,
     },
 }
+
+/// The bus' clean shutdown that did not complete: its implementation's error.
+#[derive(Debug, thiserror::Error)]
+#[error(transparent)]
+pub struct CloseError(pub Box<dyn std::error::Error + Send + Sync>);

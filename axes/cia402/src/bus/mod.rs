@@ -12,7 +12,7 @@ mod error;
 mod notice;
 
 pub use acyclic::{ImmediateSlot, PostError, SdoData, SdoOutcome, SdoRequest};
-pub use error::BusError;
+pub use error::{BusError, CloseError};
 pub use notice::{
     Emergency, LinkState, MailboxNotice, EMERGENCY_SLOT_BYTE, ERROR_REGISTER_GENERIC,
 };
@@ -96,7 +96,7 @@ pub trait AcyclicBus {
     }
     /// The bus part of the clean shutdown, after the loop's last exchange (EtherCAT: every
     /// SubDevice to PRE-OP). `Err` names what did not complete.
-    fn close(&mut self) -> Result<(), String> {
+    fn close(&mut self) -> Result<(), CloseError> {
         Ok(())
     }
 }

@@ -229,8 +229,9 @@ impl AcyclicBus for EthercatBus {
         }
     }
 
-    fn close(&mut self) -> Result<(), String> {
-        self.leave_op().map_err(|e| e.to_string())
+    fn close(&mut self) -> Result<(), cellrt_cia402::bus::CloseError> {
+        self.leave_op()
+            .map_err(|e| cellrt_cia402::bus::CloseError(Box::new(e)))
     }
 }
 

@@ -5,8 +5,9 @@
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, UdpSocket};
 
 use cellrt_fieldbus::cclink_ief_basic::io_thread::CyclicIo;
+use cellrt_fieldbus::cclink_ief_basic::master::MasterError;
 use cellrt_fieldbus::cclink_ief_basic::master::{GroupMaster, MasterParams};
-use cellrt_fieldbus::modbus::client::TcpClient;
+use cellrt_fieldbus::modbus::client::{ClientError, TcpClient};
 use cellrt_fieldbus::modbus::serial::{LineSettings, RtuClient};
 use cellrt_fieldbus::mr_je_c::cell::{CyclicDriveIo, DeviceTable, DriveIo, ObjectIo};
 use cellrt_fieldbus::mr_je_c::parameters::{PF46, PN02, PN10};
@@ -15,6 +16,56 @@ use cellrt_fieldbus::slmp::client::{FrameType, SlmpClient};
 
 use super::emulated::Reach;
 use cellrt_config::je_c_axis::{JecAxisConfig, JecTransport};
+
+/// Why an MR-JE-C axis' exchange with its drive could not be opened.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    /// The serial line's settings (baud rate, framing) were refused.
+    #[error("{0}")]
+    LineSettings(String),
+    /// The serial line's port could not be opened.
+    #[error("{0}")]
+    Port(#[source] ClientError),
+    /// The Modbus RTU client refused the line's settings.
+    #[error("line: {0}")]
+    Line(String),
+    /// The Modbus RTU client refused the station.
+    #[error("station: {0}")]
+    Station(#[source] ClientError),
+    /// The Modbus/TCP drive could not be reached.
+    #[error("{at}: {source}")]
+    ModbusTcp {
+        /// The drive's address.
+        at: SocketAddr,
+        /// Why.
+        source: ClientError,
+    },
+    /// The SLMP client could not be opened.
+    #[error("{at}: {source}")]
+    Slmp {
+        /// The drive's (SLMP) address.
+        at: SocketAddr,
+        /// Why.
+        source: cellrt_fieldbus::slmp::client::ClientError,
+    },
+    /// The cyclic (CC-Link IE Field Basic) master could not be opened.
+    #[error("{at}: {source}")]
+    Cyclic {
+        /// The drive's address.
+        at: SocketAddr,
+        /// Why.
+        source: MasterError,
+    },
+    /// No local address routes to the drive.
+    #[error("route: {0}")]
+    Route(#[source] std::io::Error),
+    /// A serial line was given for an Ethernet transport.
+    #[error("a serial line for an Ethernet transport")]
+    SerialForEthernet,
+    /// An address was given for a serial line.
+    #[error("an address for a serial line")]
+    AddressForSerial,
+}
 
 /// Where a real drive is reached: the configured address (or line).
 pub fn configured(axis: &JecAxisConfig) -> Option<Reach> {
@@ -38,37 +89,37 @@ fn local_for(to: SocketAddr) -> std::io::Result<IpAddr> {
 }
 
 /// The axis' exchange with its drive at `reach`.
-pub fn open(axis: &JecAxisConfig, reach: Reach) -> Result<Box<dyn DriveIo>, String> {
+pub fn open(axis: &JecAxisConfig, reach: Reach) -> Result<Box<dyn DriveIo>, OpenError> {
     let timeout = axis.response_timeout;
     let software = Default::default();
-    let e = |what: &str, e: &dyn std::fmt::Display| format!("{what}: {e}");
     match (reach, &axis.transport) {
         (Reach::Port(port), JecTransport::ModbusRtu { station, baud, .. }) => {
-            let line = LineSettings::new(*baud, Default::default()).map_err(|m| e("line", &m))?;
+            let line = LineSettings::new(*baud, Default::default()).map_err(OpenError::Line)?;
             let client =
-                RtuClient::new(port, line, *station, timeout).map_err(|x| e("station", &x))?;
+                RtuClient::new(port, line, *station, timeout).map_err(OpenError::Station)?;
             Ok(Box::new(ObjectIo::new(OverModbus::new(client, software))))
         }
-        (Reach::Port(_), _) => Err("a serial line for an Ethernet transport".into()),
+        (Reach::Port(_), _) => Err(OpenError::SerialForEthernet),
         (Reach::Address { at, .. }, JecTransport::ModbusTcp(_)) => {
-            let client = TcpClient::connect(at, timeout).map_err(|x| e(&at.to_string(), &x))?;
+            let client = TcpClient::connect(at, timeout)
+                .map_err(|source| OpenError::ModbusTcp { at, source })?;
             Ok(Box::new(ObjectIo::new(OverModbus::new(client, software))))
         }
         (Reach::Address { at, .. }, JecTransport::Slmp(_)) => {
-            let client =
-                SlmpClient::udp(at, FrameType::E4, timeout).map_err(|x| e(&at.to_string(), &x))?;
+            let client = SlmpClient::udp(at, FrameType::E4, timeout)
+                .map_err(|source| OpenError::Slmp { at, source })?;
             Ok(Box::new(ObjectIo::new(client)))
         }
         (Reach::Address { at, slmp }, JecTransport::CcLink(_)) => {
-            let local = SocketAddr::new(local_for(at).map_err(|x| e("route", &x))?, 0);
+            let local = SocketAddr::new(local_for(at).map_err(OpenError::Route)?, 0);
             let params = MasterParams {
                 response_timeout: timeout,
                 ..MasterParams::default()
             };
             let master = GroupMaster::new(local, at, &[at.ip()], params)
-                .map_err(|x| e(&at.to_string(), &x))?;
+                .map_err(|source| OpenError::Cyclic { at, source })?;
             let client = SlmpClient::udp(slmp, FrameType::E4, timeout)
-                .map_err(|x| e(&slmp.to_string(), &x))?;
+                .map_err(|source| OpenError::Slmp { at: slmp, source })?;
             let mut parameters = ObjectIo::new(client);
             let devices = match axis.mode.positioning() {
                 Some(_) => DeviceTable::Positioning,
@@ -82,14 +133,12 @@ pub fn open(axis: &JecAxisConfig, reach: Reach) -> Result<Box<dyn DriveIo>, Stri
                 .with_devices(devices),
             ))
         }
-        (Reach::Address { .. }, JecTransport::ModbusRtu { .. }) => {
-            Err("an address for a serial line".into())
-        }
+        (Reach::Address { .. }, JecTransport::ModbusRtu { .. }) => Err(OpenError::AddressForSerial),
     }
 }
 
 /// The serial line of a real modbus-rtu drive.
-pub fn open_line(axis: &JecAxisConfig) -> Result<Option<Reach>, String> {
+pub fn open_line(axis: &JecAxisConfig) -> Result<Option<Reach>, OpenError> {
     let JecTransport::ModbusRtu {
         serial: Some(path),
         baud,
@@ -98,10 +147,10 @@ pub fn open_line(axis: &JecAxisConfig) -> Result<Option<Reach>, String> {
     else {
         return Ok(None);
     };
-    let line = LineSettings::new(*baud, Default::default())?;
+    let line = LineSettings::new(*baud, Default::default()).map_err(OpenError::LineSettings)?;
     let port = line
         .open(&path.display().to_string())
-        .map_err(|e| e.to_string())?;
+        .map_err(OpenError::Port)?;
     Ok(Some(Reach::Port(port)))
 }
 

@@ -193,6 +193,66 @@ impl JecRelay {
     }
 }
 
+/// Why the planner's end of the MR-JE-C link could not connect to its controller.
+#[derive(Debug, thiserror::Error)]
+pub enum JecLinkError {
+    /// The link thread could not be spawned.
+    #[error("cell '{cell}': MR-JE-C link thread: {source}")]
+    Thread {
+        /// The cell's name.
+        cell: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The link thread ended before it was set up.
+    #[error("cell '{cell}': the MR-JE-C link thread ended during set-up")]
+    SetUpEnded {
+        /// The cell's name.
+        cell: String,
+    },
+    /// iceoryx2 set-up failed.
+    #[error(transparent)]
+    Service(#[from] ServiceError),
+    /// The controller sent no feedback of some axis in time.
+    #[error("cell '{cell}': no feedback of its MR-JE-C axes ({axes}) from its controller within {timeout:?} (is it `cellrt run <CONFIG> --external-planner` of this configuration?)")]
+    NoFeedback {
+        /// The cell's name.
+        cell: String,
+        /// The axes' names.
+        axes: String,
+        /// How long the planner waited.
+        timeout: Duration,
+    },
+    /// The controller's link is of another version.
+    #[error("cell '{cell}': its controller's MR-JE-C link is version {version}, this planner's {}: run both from the same build", JE_C_LINK_VERSION)]
+    Version {
+        /// The cell's name.
+        cell: String,
+        /// The controller's link version.
+        version: u32,
+    },
+    /// The controller runs another number of MR-JE-C axes.
+    #[error("cell '{cell}': its controller runs {theirs} MR-JE-C axes, this planner's configuration has {ours} ({axes}): run the planner with the controller's configuration")]
+    AxisCount {
+        /// The cell's name.
+        cell: String,
+        /// The controller's count.
+        theirs: usize,
+        /// The planner's count.
+        ours: usize,
+        /// The planner's axes' names.
+        axes: String,
+    },
+    /// The controller's MR-JE-C axes differ from the planner's.
+    #[error("cell '{cell}': its controller's MR-JE-C axes differ from this planner's configuration ({axes}: names, order, transport or scaling): run the planner with the controller's configuration")]
+    Shape {
+        /// The cell's name.
+        cell: String,
+        /// The planner's axes' names.
+        axes: String,
+    },
+}
+
 /// The planner process' end of the MR-JE-C link: a thread (`cellrt-jec-link`) that carries
 /// the detached axes' commands to the controller and their feedback back. Stopped on drop.
 pub struct JecBridge {
@@ -204,10 +264,13 @@ impl JecBridge {
     /// Connects to the controller of `cell`: waits up to `timeout` for every MR-JE-C axis'
     /// feedback, refuses a controller of another link version or other MR-JE-C axes, and
     /// returns the bridge with the axes the planner commands.
-    pub fn connect(cell: &CellConfig, timeout: Duration) -> Result<(JecBridge, JecAxes), String> {
+    pub fn connect(
+        cell: &CellConfig,
+        timeout: Duration,
+    ) -> Result<(JecBridge, JecAxes), JecLinkError> {
         let axes = JecAxes::detached(cell);
         let stop = Arc::new(AtomicBool::new(false));
-        let (ready_tx, ready_rx) = std::sync::mpsc::channel::<Result<(), String>>();
+        let (ready_tx, ready_rx) = std::sync::mpsc::channel::<Result<(), JecLinkError>>();
         let (mine, stop2, name) = (axes.clone(), stop.clone(), cell.name.clone());
         let cell = cell.clone();
         let thread = std::thread::Builder::new()
@@ -230,7 +293,10 @@ impl JecBridge {
                 // The last commands the planner queued before it ended.
                 bridge.send_commands();
             })
-            .map_err(|e| format!("cell '{name}': MR-JE-C link thread: {e}"))?;
+            .map_err(|source| JecLinkError::Thread {
+                cell: name.clone(),
+                source,
+            })?;
         let bridge = JecBridge {
             stop,
             thread: Some(thread),
@@ -238,9 +304,7 @@ impl JecBridge {
         match ready_rx.recv() {
             Ok(Ok(())) => Ok((bridge, axes)),
             Ok(Err(e)) => Err(e),
-            Err(_) => Err(format!(
-                "cell '{name}': the MR-JE-C link thread ended during set-up"
-            )),
+            Err(_) => Err(JecLinkError::SetUpEnded { cell: name }),
         }
     }
 }
@@ -270,7 +334,11 @@ struct Bridge {
 }
 
 impl Bridge {
-    fn connect(cell: &CellConfig, axes: JecAxes, timeout: Duration) -> Result<Bridge, String> {
+    fn connect(
+        cell: &CellConfig,
+        axes: JecAxes,
+        timeout: Duration,
+    ) -> Result<Bridge, JecLinkError> {
         let name = &cell.name;
         let setup = || {
             let node = services::node(name, "je-c-link")?;
@@ -278,7 +346,7 @@ impl Bridge {
             let feedback = services::je_c_feedback_subscriber(&node, name)?;
             Ok::<_, ServiceError>((node, commands, feedback))
         };
-        let (node, commands, feedback) = setup().map_err(|e| e.to_string())?;
+        let (node, commands, feedback) = setup()?;
         let n = axes.len();
         let mut b = Bridge {
             shape: je_c_shape(&cell.je_c_axes),
@@ -302,10 +370,11 @@ impl Bridge {
                 }
             }
             if Instant::now() >= end {
-                return Err(format!(
-                    "cell '{name}': no feedback of its MR-JE-C axes ({}) from its controller within {timeout:?} (is it `cellrt run <CONFIG> --external-planner` of this configuration?)",
-                    b.axes.names()
-                ));
+                return Err(JecLinkError::NoFeedback {
+                    cell: name.clone(),
+                    axes: b.axes.names(),
+                    timeout,
+                });
             }
             std::thread::sleep(BRIDGE_TICK);
         }
@@ -313,27 +382,27 @@ impl Bridge {
     }
 
     /// Refuses a controller of another link version or other MR-JE-C axes.
-    fn check(&self, s: &JecFeedbackSample) -> Result<(), String> {
-        let cell = &self.cell;
+    fn check(&self, s: &JecFeedbackSample) -> Result<(), JecLinkError> {
+        let cell = self.cell.clone();
         if s.version != JE_C_LINK_VERSION {
-            return Err(format!(
-                "cell '{cell}': its controller's MR-JE-C link is version {}, this planner's {JE_C_LINK_VERSION}: run both from the same build",
-                s.version
-            ));
+            return Err(JecLinkError::Version {
+                cell,
+                version: s.version,
+            });
         }
         if usize::from(s.axis_count) != self.axes.len() {
-            return Err(format!(
-                "cell '{cell}': its controller runs {} MR-JE-C axes, this planner's configuration has {} ({}): run the planner with the controller's configuration",
-                s.axis_count,
-                self.axes.len(),
-                self.axes.names()
-            ));
+            return Err(JecLinkError::AxisCount {
+                cell,
+                theirs: usize::from(s.axis_count),
+                ours: self.axes.len(),
+                axes: self.axes.names(),
+            });
         }
         if s.shape != self.shape {
-            return Err(format!(
-                "cell '{cell}': its controller's MR-JE-C axes differ from this planner's configuration ({}: names, order, transport or scaling): run the planner with the controller's configuration",
-                self.axes.names()
-            ));
+            return Err(JecLinkError::Shape {
+                cell,
+                axes: self.axes.names(),
+            });
         }
         Ok(())
     }

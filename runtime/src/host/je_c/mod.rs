@@ -12,13 +12,52 @@ use std::sync::Arc;
 
 use cellrt_fieldbus::mr_je_c::cell::control::FULL_FEED;
 use cellrt_fieldbus::mr_je_c::cell::{
-    AxisCommand, AxisControl, AxisFeedback, AxisHandle, AxisThread, StopReaction, Stopped,
+    AxisCommand, AxisControl, AxisFeedback, AxisHandle, AxisThread, StartError, StopReaction,
+    Stopped,
 };
 use serde::Serialize;
 
 use cellrt_config::je_c_axis::{JecAxisConfig, JecMode};
 use cellrt_config::{CellConfig, FaultReaction};
 use emulated::Emulated;
+
+/// An MR-JE-C axis that could not start.
+#[derive(Debug, thiserror::Error)]
+#[error("MR-JE-C axis '{axis}' ({transport}): {failure}")]
+pub struct JecStartError {
+    /// The axis' name.
+    pub axis: String,
+    /// Its transport's name.
+    pub transport: &'static str,
+    /// Why.
+    #[source]
+    pub failure: JecStartFailure,
+}
+
+/// Why an MR-JE-C axis could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum JecStartFailure {
+    /// Its emulated drive could not start.
+    #[error("emulator: {0}")]
+    Emulator(#[source] std::io::Error),
+    /// A real drive without a configured address.
+    #[error("no address")]
+    NoAddress,
+    /// Its exchange with the drive could not be opened.
+    #[error(transparent)]
+    Open(#[from] connect::OpenError),
+    /// Its thread could not start.
+    #[error(transparent)]
+    Thread(#[from] StartError),
+}
+
+/// An MR-JE-C axis' command that could not be queued.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("MR-JE-C axis '{axis}': command queue full")]
+pub struct JecQueueFull {
+    /// The axis' name.
+    pub axis: String,
+}
 
 /// One running MR-JE-C axis.
 struct JecAxis {
@@ -44,22 +83,27 @@ fn reaction(r: FaultReaction) -> StopReaction {
 
 impl JecCell {
     /// Starts every MR-JE-C axis of `cell` (none: nothing runs).
-    pub fn start(cell: &CellConfig) -> Result<JecCell, String> {
+    pub fn start(cell: &CellConfig) -> Result<JecCell, JecStartError> {
         let mut axes = Vec::with_capacity(cell.je_c_axes.len());
         for c in &cell.je_c_axes {
-            let fail =
-                |m: String| format!("MR-JE-C axis '{}' ({}): {m}", c.name, c.transport.name());
+            let fail = |failure: JecStartFailure| JecStartError {
+                axis: c.name.clone(),
+                transport: c.transport.name(),
+                failure,
+            };
             let (emulated, reach) = if c.emulate {
-                let (e, r) = emulated::start(c).map_err(|e| fail(format!("emulator: {e}")))?;
+                let (e, r) = emulated::start(c).map_err(|e| fail(JecStartFailure::Emulator(e)))?;
                 (Some(e), r)
             } else {
-                let reach = match connect::open_line(c).map_err(fail)? {
+                let reach = match connect::open_line(c).map_err(|e| fail(e.into()))? {
                     Some(r) => r,
-                    None => connect::configured(c).ok_or_else(|| fail("no address".into()))?,
+                    None => {
+                        connect::configured(c).ok_or_else(|| fail(JecStartFailure::NoAddress))?
+                    }
                 };
                 (None, reach)
             };
-            let io = connect::open(c, reach).map_err(fail)?;
+            let io = connect::open(c, reach).map_err(|e| fail(e.into()))?;
             let mut control = AxisControl::new(c.watchdog_missed, reaction(c.watchdog_reaction));
             match c.mode {
                 JecMode::Pp => {}
@@ -72,7 +116,7 @@ impl JecCell {
             }
             let parameters = connect::start_up_parameters(c);
             let thread = AxisThread::start(&c.name, io, &parameters, control, c.period)
-                .map_err(|e| fail(e.to_string()))?;
+                .map_err(|e| fail(e.into()))?;
             axes.push(JecAxis {
                 config: c.clone(),
                 thread,
@@ -165,31 +209,30 @@ impl JecAxes {
     }
 
     /// Queues `c` for axis `k`.
-    pub fn command(&self, k: usize, c: AxisCommand) -> Result<(), String> {
+    pub fn command(&self, k: usize, c: AxisCommand) -> Result<(), JecQueueFull> {
         if self.axes[k].1.command(c) {
             Ok(())
         } else {
-            Err(format!(
-                "MR-JE-C axis '{}': command queue full",
-                self.axes[k].0.name
-            ))
+            Err(JecQueueFull {
+                axis: self.axes[k].0.name.clone(),
+            })
         }
     }
 
     /// The feed override `value` (0–1) for every axis: their drives' commanded speeds scaled
     /// ([`AxisCommand::Override`]).
-    pub fn set_override(&self, value: f64) -> Result<(), String> {
+    pub fn set_override(&self, value: f64) -> Result<(), JecQueueFull> {
         let permille = (value.clamp(0.0, 1.0) * f64::from(FULL_FEED)).round() as u16;
         self.command_all(AxisCommand::Override { permille })
     }
 
     /// MC_Stop for every axis: each its [`JecAxisConfig::stop_command`].
-    pub fn stop_all(&self) -> Result<(), String> {
+    pub fn stop_all(&self) -> Result<(), JecQueueFull> {
         (0..self.len()).try_for_each(|k| self.command(k, self.config(k).stop_command()))
     }
 
     /// Queues `c` for every axis.
-    pub fn command_all(&self, c: AxisCommand) -> Result<(), String> {
+    pub fn command_all(&self, c: AxisCommand) -> Result<(), JecQueueFull> {
         (0..self.len()).try_for_each(|k| self.command(k, c))
     }
 }

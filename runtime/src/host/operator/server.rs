@@ -29,6 +29,52 @@ use cellrt_config::CellConfig;
 use std::collections::BTreeMap;
 use std::path::Path;
 
+/// Why MC_Power of the RT axes was refused or could not be sent.
+#[derive(Debug, thiserror::Error)]
+enum PowerError {
+    /// An axis named twice.
+    #[error("axis '{axis}' named twice")]
+    Twice { axis: String },
+    /// An axis the cell does not have.
+    #[error(transparent)]
+    Axis(#[from] TargetError),
+    /// The cell's state does not allow it.
+    #[error("the cell is {state}; {what}")]
+    Blocked {
+        state: &'static str,
+        what: &'static str,
+    },
+    /// The RT thread did not take the command.
+    #[error(transparent)]
+    Link(#[from] crate::host::link::LinkError),
+}
+
+/// Why an `sdo`, `param` or `alarms` request could not start.
+#[derive(Debug, thiserror::Error)]
+enum JobError {
+    /// Another one is in flight.
+    #[error("{what}: another sdo request is in flight; try again")]
+    InFlight { what: &'static str },
+    /// A write while a program runs.
+    #[error("{what}: a program is running; halt or stop it before writing")]
+    ProgramRunning { what: &'static str },
+    /// Not an sdo request at all.
+    #[error("{what}: not an sdo request")]
+    NotSdo { what: &'static str },
+    /// The cell is homing (its own acyclic requests come first).
+    #[error("{what}: the cell is homing; try again when the homing has ended")]
+    Homing { what: &'static str },
+    /// The transfer was refused or could not start.
+    #[error(transparent)]
+    Sdo(#[from] sdo::SdoError),
+    /// The `param` request was refused.
+    #[error(transparent)]
+    Param(#[from] super::param::ParamError),
+    /// The `alarms` request was refused.
+    #[error(transparent)]
+    Alarms(#[from] super::alarms::AlarmsError),
+}
+
 /// What the planner thread must do after a request.
 pub enum Followup {
     /// Nothing.
@@ -120,13 +166,14 @@ impl OperatorServer {
         }
     }
 
-    /// Marks the command in execution as ended (`Ok`) or failed.
-    pub fn finish_active(&mut self, result: Result<(), String>) {
+    /// Marks the command in execution as ended (`None`) or failed (`failure`: why, as the
+    /// client reads it).
+    pub fn finish_active(&mut self, failure: Option<String>) {
         if let Some(a) = self.active.take() {
             self.last_finished = Some(FinishedCommand {
                 id: a.id,
                 command: a.command,
-                error: result.err(),
+                error: failure,
             });
         }
     }
@@ -137,7 +184,7 @@ impl OperatorServer {
         let active = self.active.as_ref().map(|a| a.id);
         let je_c_running = match self.je_c_moves.progress(active, ctx.je_c) {
             Err(e) => {
-                self.finish_active(Err(e));
+                self.finish_active(Some(e.to_string()));
                 return;
             }
             Ok(running) => running,
@@ -149,7 +196,7 @@ impl OperatorServer {
         {
             Ok(Err(i)) => {
                 let failure = self.profile_failure(ctx, i);
-                self.finish_active(Err(failure));
+                self.finish_active(Some(failure));
                 return;
             }
             Ok(Ok(running)) => running,
@@ -157,14 +204,14 @@ impl OperatorServer {
         };
         if self.active.as_ref().is_some_and(|a| a.command == "mode") {
             if !profile_running {
-                self.finish_active(Ok(()));
+                self.finish_active(None);
             }
             return;
         }
         if self.active.as_ref().is_some_and(|a| a.command == "home") {
             if self.home_on_je_c {
                 if !je_c_running {
-                    self.finish_active(Ok(()));
+                    self.finish_active(None);
                 }
                 return;
             }
@@ -175,25 +222,25 @@ impl OperatorServer {
                         None => Ok(()),
                         Some(f) => Err(f.as_str().to_string()),
                     };
-                    self.finish_active(r);
+                    self.finish_active(r.err());
                 }
             }
             return;
         }
         match ctx.engine.tick(ctx.link) {
             Ok(Progress::Finished(_) | Progress::Idle) if je_c_running || profile_running => {}
-            Ok(Progress::Finished(_)) => self.finish_active(Ok(())),
+            Ok(Progress::Finished(_)) => self.finish_active(None),
             Ok(Progress::Idle) => {
                 if self
                     .active
                     .as_ref()
                     .is_some_and(|a| MOTION_COMMANDS.contains(&a.command.as_str()))
                 {
-                    self.finish_active(Ok(()));
+                    self.finish_active(None);
                 }
             }
             Ok(Progress::Running) => {}
-            Err(e) => self.finish_active(Err(e.to_string())),
+            Err(e) => self.finish_active(Some(e.to_string())),
         }
     }
 
@@ -235,7 +282,7 @@ impl OperatorServer {
                         self.job = Some((job, active));
                         continue;
                     }
-                    Err(reason) => (Reply::Rejected { reason }, Followup::None),
+                    Err(e) => (Reply::rejected(e), Followup::None),
                 },
                 Ok(Request::BusDiag) => match self.diag.start(ctx.link) {
                     Ok(()) => {
@@ -266,17 +313,13 @@ impl OperatorServer {
 
     /// Checks an `sdo`, `param` or `alarms` request and hands its first transfer to the RT
     /// thread; the rest and the reply follow in [`OperatorServer::answer_sdo`].
-    fn start_job(&mut self, ctx: &mut Context<'_>, req: &Request) -> Result<SdoJob, String> {
+    fn start_job(&mut self, ctx: &mut Context<'_>, req: &Request) -> Result<SdoJob, JobError> {
         let what = req.name();
         if self.job.is_some() || self.sdo.busy() {
-            return Err(format!(
-                "{what}: another sdo request is in flight; try again"
-            ));
+            return Err(JobError::InFlight { what });
         }
         if ctx.program_running && req.writes_to_a_drive() {
-            return Err(format!(
-                "{what}: a program is running; halt or stop it before writing"
-            ));
+            return Err(JobError::ProgramRunning { what });
         }
         let status = ctx.link.status().ok();
         let mut job = match req {
@@ -286,26 +329,21 @@ impl OperatorServer {
                 sub,
                 value,
             } => SdoJob::new(
-                vec![sdo::check(ctx.cell, axis, *index, *sub, *value).map_err(|e| e.to_string())?],
+                vec![sdo::check(ctx.cell, axis, *index, *sub, *value)?],
                 SingleSdo,
             ),
             Request::Param { axis, op } => {
                 let enabled = operation_enabled(ctx.cell, axis, status.as_ref());
-                super::param::plan(ctx.cell, axis, op, enabled).map_err(|e| e.to_string())?
+                super::param::plan(ctx.cell, axis, op, enabled)?
             }
-            Request::Alarms { axis, clear } => {
-                super::alarms::plan(ctx.cell, axis, *clear).map_err(|e| e.to_string())?
-            }
-            _ => return Err(format!("{what}: not an sdo request")),
+            Request::Alarms { axis, clear } => super::alarms::plan(ctx.cell, axis, *clear)?,
+            _ => return Err(JobError::NotSdo { what }),
         };
         // A homing's own acyclic requests come first (the RT thread holds SDOs meanwhile).
         if status.is_some_and(|s| s.state == CellState::Homing) {
-            return Err(format!(
-                "{what}: the cell is homing; try again when the homing has ended"
-            ));
+            return Err(JobError::Homing { what });
         }
-        job.start_next(&mut self.sdo, ctx.link)
-            .map_err(|e| e.to_string())?;
+        job.start_next(&mut self.sdo, ctx.link)?;
         Ok(job)
     }
 
@@ -531,13 +569,16 @@ impl OperatorServer {
         state: &StatusSnapshot,
         on: bool,
         axes: &[&String],
-    ) -> Result<(), String> {
+    ) -> Result<(), PowerError> {
         let mut indices = Vec::with_capacity(axes.len());
         for a in axes {
-            match axis_index(ctx.cell, a) {
-                Ok(i) if indices.contains(&i) => return Err(format!("axis '{a}' named twice")),
-                Ok(i) => indices.push(i),
-                Err(e) => return Err(e.to_string()),
+            match axis_index(ctx.cell, a)? {
+                i if indices.contains(&i) => {
+                    return Err(PowerError::Twice {
+                        axis: a.to_string(),
+                    })
+                }
+                i => indices.push(i),
             }
         }
         let blocked = if on {
@@ -560,7 +601,10 @@ impl OperatorServer {
             .then_some("single axes power off from idle: halt or stop the motion, or power off the whole cell")
         };
         if let Some(what) = blocked {
-            return Err(format!("the cell is {}; {what}", state.state.as_str()));
+            return Err(PowerError::Blocked {
+                state: state.state.as_str(),
+                what,
+            });
         }
         let cmds: Vec<CellCommand> = match (on, indices.is_empty()) {
             (true, true) => vec![CellCommand::PowerOn],
@@ -574,8 +618,8 @@ impl OperatorServer {
                 .map(|&i| CellCommand::PowerOffAxis(i as u16))
                 .collect(),
         };
-        cmds.into_iter()
-            .try_for_each(|cmd| ctx.link.command(cmd).map_err(|e| e.to_string()))
+        cmds.into_iter().try_for_each(|cmd| ctx.link.command(cmd))?;
+        Ok(())
     }
 
     fn report(&self, ctx: &mut Context<'_>, s: &StatusSnapshot) -> StatusReport {

@@ -9,9 +9,80 @@ use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 use super::*;
 use crate::host::je_c::jobs::{JobCounts, JobOutcome};
-use crate::host::je_c::{stopped_text, JecAxes};
+use crate::host::je_c::{stopped_text, JecAxes, JecQueueFull};
 use crate::host::program::{je_c_method_refusal, JE_C_HOMING_METHOD};
-use cellrt_config::je_c_axis::{JecAxisConfig, JecMode};
+use cellrt_config::je_c_axis::{JecAxisConfig, JecCommandError, JecMode};
+
+/// Why an operator request on MR-JE-C axes was refused or failed.
+#[derive(Debug, thiserror::Error)]
+pub(super) enum JecRequestError {
+    /// The axis was stopped by its watchdog or an alarm.
+    #[error("MR-JE-C axis '{axis}': {stopped}; reset it first")]
+    Stopped { axis: String, stopped: String },
+    /// The axis' servo is off.
+    #[error(
+        "MR-JE-C axis '{axis}' is not enabled (statusword {statusword:04X}h); power it on first"
+    )]
+    NotEnabled { axis: String, statusword: u16 },
+    /// The axis moves or runs a job: no servo off.
+    #[error("MR-JE-C axis '{axis}' is moving; halt it first")]
+    Moving { axis: String },
+    /// A limit asked is not a finite number > 0.
+    #[error("axis '{axis}': {what} {value} must be a finite number > 0")]
+    NotPositive {
+        axis: String,
+        what: &'static str,
+        value: f64,
+    },
+    /// A limit asked exceeds the axis' own.
+    #[error(
+        "axis '{axis}': {what} {value} exceeds its limit {limit} (add --clamp to use the limit)"
+    )]
+    OverLimit {
+        axis: String,
+        what: &'static str,
+        value: f64,
+        limit: f64,
+    },
+    /// A move's target is not a finite number.
+    #[error("axis '{axis}': target {value} is not a finite number")]
+    TargetNotFinite { axis: String, value: f64 },
+    /// A relative move on an axis whose moves name a table or a station.
+    #[error("axis '{axis}' runs {mode}: a move names its {what}, not a distance")]
+    NoDistance {
+        axis: String,
+        mode: &'static str,
+        what: &'static str,
+    },
+    /// A move's velocity or acceleration on a point-table axis.
+    #[error("axis '{axis}' runs point tables: each table has its own speed and ramps (2801h–28FFh); leave out the move's velocity and acceleration")]
+    TableLimits { axis: String },
+    /// A homing by a Controlword2 edge.
+    #[error("axis '{axis}' is an MR-JE-C axis: it homes in hm, not by a Controlword2 edge")]
+    HomingEdge { axis: String },
+    /// A homing method other than the drive's.
+    #[error("{0}")]
+    HomingMethod(String),
+    /// A jog's velocity is not a finite number.
+    #[error("axis '{axis}': velocity {velocity} is not a finite number")]
+    VelocityNotFinite { axis: String, velocity: f64 },
+    /// A jog's velocity is outside the axis' limit.
+    #[error("axis '{axis}': velocity {velocity} is outside ±{limit}, its velocity limit (add --clamp to use the limit)")]
+    VelocityOverLimit {
+        axis: String,
+        velocity: f64,
+        limit: f64,
+    },
+    /// The axis' configuration refused the command.
+    #[error(transparent)]
+    Command(#[from] JecCommandError),
+    /// The link thread's command queue is full.
+    #[error(transparent)]
+    QueueFull(#[from] JecQueueFull),
+    /// A tracked job failed or its axis was stopped ([`JecAxes::job_failure`]).
+    #[error("{0}")]
+    Job(String),
+}
 
 /// An MR-JE-C axis a request names: its index, name and the value asked.
 pub(super) type JecTarget = (usize, String, f64);
@@ -35,20 +106,20 @@ pub(super) fn take_je_c(
 }
 
 /// The axis can take a motion command: servo on, not stopped by its watchdog or an alarm.
-fn ready(axes: &JecAxes, k: usize) -> Result<(), String> {
+fn ready(axes: &JecAxes, k: usize) -> Result<(), JecRequestError> {
     let f = axes.feedback(k);
-    let name = &axes.config(k).name;
+    let axis = axes.config(k).name.clone();
     if let Some(s) = f.stopped {
-        return Err(format!(
-            "MR-JE-C axis '{name}': {}; reset it first",
-            stopped_text(s)
-        ));
+        return Err(JecRequestError::Stopped {
+            axis,
+            stopped: stopped_text(s),
+        });
     }
     if !f.enabled {
-        return Err(format!(
-            "MR-JE-C axis '{name}' is not enabled (statusword {:04X}h); power it on first",
-            f.inputs.statusword
-        ));
+        return Err(JecRequestError::NotEnabled {
+            axis,
+            statusword: f.inputs.statusword,
+        });
     }
     Ok(())
 }
@@ -56,21 +127,23 @@ fn ready(axes: &JecAxes, k: usize) -> Result<(), String> {
 /// A limit the request asks for, within the axis' own: refused above it unless `clamp`.
 fn pick(
     c: &JecAxisConfig,
-    what: &str,
+    what: &'static str,
     asked: Option<f64>,
     limit: f64,
     clamp: bool,
-) -> Result<f64, String> {
+) -> Result<f64, JecRequestError> {
+    let axis = c.name.clone();
     match asked {
         None => Ok(limit),
-        Some(v) if !(v.is_finite() && v > 0.0) => Err(format!(
-            "axis '{}': {what} {v} must be a finite number > 0",
-            c.name
-        )),
-        Some(v) if v > limit && !clamp => Err(format!(
-            "axis '{}': {what} {v} exceeds its limit {limit} (add --clamp to use the limit)",
-            c.name
-        )),
+        Some(value) if !(value.is_finite() && value > 0.0) => {
+            Err(JecRequestError::NotPositive { axis, what, value })
+        }
+        Some(value) if value > limit && !clamp => Err(JecRequestError::OverLimit {
+            axis,
+            what,
+            value,
+            limit,
+        }),
         Some(v) => Ok(v.min(limit)),
     }
 }
@@ -83,14 +156,15 @@ pub(super) fn move_commands(
     list: &[JecTarget],
     relative: bool,
     asked: Asked,
-) -> Result<Vec<(usize, AxisCommand)>, String> {
+) -> Result<Vec<(usize, AxisCommand)>, JecRequestError> {
     let mut out = Vec::with_capacity(list.len());
     for (k, name, value) in list {
         let c = axes.config(*k);
         if !value.is_finite() {
-            return Err(format!(
-                "axis '{name}': target {value} is not a finite number"
-            ));
+            return Err(JecRequestError::TargetNotFinite {
+                axis: name.clone(),
+                value: *value,
+            });
         }
         ready(axes, *k)?;
         let numbered = match c.mode {
@@ -100,20 +174,17 @@ pub(super) fn move_commands(
         };
         let goal = match (relative, numbered) {
             (true, Some(what)) => {
-                return Err(format!(
-                    "axis '{name}' runs {}: a move names its {what}, not a distance",
-                    c.mode.name()
-                ))
+                return Err(JecRequestError::NoDistance {
+                    axis: name.clone(),
+                    mode: c.mode.name(),
+                    what,
+                })
             }
-            (true, None) => c
-                .move_target(c.units(axes.feedback(*k).inputs.position) + value)
-                .map_err(|e| e.to_string())?,
-            (false, _) => c.move_target(*value).map_err(|e| e.to_string())?,
+            (true, None) => c.move_target(c.units(axes.feedback(*k).inputs.position) + value)?,
+            (false, _) => c.move_target(*value)?,
         };
         if !c.takes_move_limits() && (asked.velocity.is_some() || asked.acceleration.is_some()) {
-            return Err(format!(
-                "axis '{name}' runs point tables: each table has its own speed and ramps (2801h–28FFh); leave out the move's velocity and acceleration"
-            ));
+            return Err(JecRequestError::TableLimits { axis: name.clone() });
         }
         let velocity = pick(c, "velocity", asked.velocity, c.velocity, asked.clamp)?;
         let acceleration = pick(
@@ -133,16 +204,11 @@ pub(super) fn move_commands(
 pub(super) fn torque_commands(
     axes: &JecAxes,
     list: &[JecTarget],
-) -> Result<Vec<(usize, AxisCommand)>, String> {
+) -> Result<Vec<(usize, AxisCommand)>, JecRequestError> {
     list.iter()
         .map(|(k, _, torque)| {
             ready(axes, *k)?;
-            Ok((
-                *k,
-                axes.config(*k)
-                    .torque_command(*torque)
-                    .map_err(|e| e.to_string())?,
-            ))
+            Ok((*k, axes.config(*k).torque_command(*torque)?))
         })
         .collect()
 }
@@ -154,15 +220,13 @@ pub(super) fn home_command(
     k: usize,
     method: Option<i8>,
     setting: bool,
-) -> Result<AxisCommand, String> {
+) -> Result<AxisCommand, JecRequestError> {
     let name = &axes.config(k).name;
     if setting {
-        return Err(format!(
-            "axis '{name}' is an MR-JE-C axis: it homes in hm, not by a Controlword2 edge"
-        ));
+        return Err(JecRequestError::HomingEdge { axis: name.clone() });
     }
     if let Some(m) = method.filter(|&m| m != JE_C_HOMING_METHOD) {
-        return Err(je_c_method_refusal(name, m));
+        return Err(JecRequestError::HomingMethod(je_c_method_refusal(name, m)));
     }
     ready(axes, k)?;
     Ok(AxisCommand::Home)
@@ -175,42 +239,42 @@ pub(super) fn velocity_command(
     velocity: f64,
     acceleration: Option<f64>,
     clamp: bool,
-) -> Result<AxisCommand, String> {
+) -> Result<AxisCommand, JecRequestError> {
     let c = axes.config(k);
     if !velocity.is_finite() {
-        return Err(format!(
-            "axis '{}': velocity {velocity} is not a finite number",
-            c.name
-        ));
+        return Err(JecRequestError::VelocityNotFinite {
+            axis: c.name.clone(),
+            velocity,
+        });
     }
     if velocity.abs() > c.velocity && !clamp {
-        return Err(format!(
-            "axis '{}': velocity {velocity} is outside ±{}, its velocity limit (add --clamp to use the limit)",
-            c.name, c.velocity
-        ));
+        return Err(JecRequestError::VelocityOverLimit {
+            axis: c.name.clone(),
+            velocity,
+            limit: c.velocity,
+        });
     }
     let acceleration = pick(c, "acceleration", acceleration, c.acceleration, clamp)?;
     ready(axes, k)?;
-    c.jog_command(velocity.clamp(-c.velocity, c.velocity), acceleration)
-        .map_err(|e| e.to_string())
+    Ok(c.jog_command(velocity.clamp(-c.velocity, c.velocity), acceleration)?)
 }
 
 /// MC_Power of MR-JE-C axes `ks`: on needs an axis not stopped (reset first), off one that
 /// whose motor stands and runs no job (halt first: servo off would stop it on the dynamic
 /// brake).
-pub(super) fn power_check(axes: &JecAxes, ks: &[usize], on: bool) -> Result<(), String> {
+pub(super) fn power_check(axes: &JecAxes, ks: &[usize], on: bool) -> Result<(), JecRequestError> {
     for &k in ks {
         let f = axes.feedback(k);
-        let name = &axes.config(k).name;
+        let axis = axes.config(k).name.clone();
         match (on, f.stopped) {
             (true, Some(s)) => {
-                return Err(format!(
-                    "MR-JE-C axis '{name}': {}; reset it first",
-                    stopped_text(s)
-                ))
+                return Err(JecRequestError::Stopped {
+                    axis,
+                    stopped: stopped_text(s),
+                })
             }
             (false, _) if f.busy || f.inputs.velocity != 0 => {
-                return Err(format!("MR-JE-C axis '{name}' is moving; halt it first"))
+                return Err(JecRequestError::Moving { axis })
             }
             _ => {}
         }
@@ -219,12 +283,16 @@ pub(super) fn power_check(axes: &JecAxes, ks: &[usize], on: bool) -> Result<(), 
 }
 
 /// Queues each command; the first the link thread cannot take is the error.
-pub(super) fn send(axes: &JecAxes, commands: &[(usize, AxisCommand)]) -> Result<(), String> {
-    commands.iter().try_for_each(|&(k, c)| axes.command(k, c))
+pub(super) fn send(
+    axes: &JecAxes,
+    commands: &[(usize, AxisCommand)],
+) -> Result<(), JecRequestError> {
+    commands.iter().try_for_each(|&(k, c)| axes.command(k, c))?;
+    Ok(())
 }
 
 /// MC_Reset of the MR-JE-C axes stopped by their watchdog or an alarm.
-pub(super) fn reset_stopped(axes: &JecAxes) -> Result<(), String> {
+pub(super) fn reset_stopped(axes: &JecAxes) -> Result<(), JecQueueFull> {
     (0..axes.len())
         .filter(|&k| axes.feedback(k).stopped.is_some())
         .try_for_each(|k| axes.command(k, AxisCommand::Reset))
@@ -261,7 +329,11 @@ impl PendingMoves {
 
     /// Whether the move `active` still waits for an MR-JE-C axis; an error when one failed
     /// or was stopped. Forgets a move that is no longer the active command.
-    pub(super) fn progress(&mut self, active: Option<u64>, axes: &JecAxes) -> Result<bool, String> {
+    pub(super) fn progress(
+        &mut self,
+        active: Option<u64>,
+        axes: &JecAxes,
+    ) -> Result<bool, JecRequestError> {
         let Some((id, before)) = &self.waiting else {
             return Ok(false);
         };
@@ -273,7 +345,7 @@ impl PendingMoves {
             let outcome = axes.job_outcome(k, counts, 1);
             if let Some(why) = axes.job_failure(k, outcome, self.what) {
                 self.waiting = None;
-                return Err(why);
+                return Err(JecRequestError::Job(why));
             }
             if outcome == JobOutcome::Pending {
                 return Ok(true);
@@ -317,7 +389,9 @@ mod tests {
             clamp: false,
         };
         let name = axes.config(k).name.clone();
-        move_commands(axes, &[(k, name, 1.0)], true, asked).unwrap_err()
+        move_commands(axes, &[(k, name, 1.0)], true, asked)
+            .unwrap_err()
+            .to_string()
     }
 
     /// A relative move names a distance: refused on a point-table or indexer axis (a move

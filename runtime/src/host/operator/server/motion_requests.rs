@@ -47,7 +47,7 @@ impl OperatorServer {
         match je_c_requests::send(ctx.je_c, &je_c_commands) {
             Ok(()) => reply,
             Err(e) => {
-                self.finish_active(Err(e.clone()));
+                self.finish_active(Some(e.to_string()));
                 rejected(format!("move: {e}"))
             }
         }
@@ -136,7 +136,7 @@ impl OperatorServer {
         match profile::send(ctx.link, commands, start) {
             Ok(()) => reply,
             Err(e) => {
-                self.finish_active(Err(e.to_string()));
+                self.finish_active(Some(e.to_string()));
                 rejected(format!("move: {e}"))
             }
         }
@@ -391,7 +391,7 @@ impl OperatorServer {
         match profile::send(ctx.link, vec![command], 0) {
             Ok(()) => (reply, Followup::None),
             Err(e) => {
-                self.finish_active(Err(e.to_string()));
+                self.finish_active(Some(e.to_string()));
                 rejected(format!("mode: {e}"))
             }
         }
@@ -419,7 +419,7 @@ impl OperatorServer {
         match je_c_requests::send(ctx.je_c, &[(k, command)]) {
             Ok(()) => (reply, Followup::None),
             Err(e) => {
-                self.finish_active(Err(e.clone()));
+                self.finish_active(Some(e.to_string()));
                 rejected(format!("home: {e}"))
             }
         }
@@ -525,12 +525,10 @@ impl OperatorServer {
         if !(percent.is_finite() && (0.0..=100.0).contains(&percent)) {
             return rejected(format!("override: {percent} % is outside 0–100 %"));
         }
-        match ctx
-            .engine
-            .set_override(percent / 100.0, ctx.link)
-            .map_err(|e| e.to_string())
-            .and_then(|()| ctx.je_c.set_override(percent / 100.0))
-        {
+        if let Err(e) = ctx.engine.set_override(percent / 100.0, ctx.link) {
+            return rejected(format!("override: {e}"));
+        }
+        match ctx.je_c.set_override(percent / 100.0) {
             Ok(()) => (self.accept("override", false), Followup::None),
             Err(e) => rejected(format!("override: {e}")),
         }

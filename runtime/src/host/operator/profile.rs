@@ -161,6 +161,32 @@ pub(crate) fn send(
     Ok(())
 }
 
+/// Whether an axis running `mode` (its profile mode; `None`: a cyclic mode, streamed) takes a
+/// move: streamed axes and pp do; pv and tq are refused as the operator refuses them.
+pub(crate) fn takes_move(a: &AxisConfig, mode: Option<ProfileMode>) -> Result<(), ProfileError> {
+    match mode {
+        None | Some(ProfileMode::Position) => Ok(()),
+        Some(_) => Err(wrong_mode(a, mode, "move", "a csp, csv, cst or pp axis")),
+    }
+}
+
+/// Whether an axis running `mode` (as [`takes_move`]) takes a velocity (a jog): streamed axes
+/// and pv do; pp and tq are refused as the operator refuses them.
+pub(crate) fn takes_velocity(
+    a: &AxisConfig,
+    mode: Option<ProfileMode>,
+) -> Result<(), ProfileError> {
+    match mode {
+        None | Some(ProfileMode::Velocity) => Ok(()),
+        Some(_) => Err(wrong_mode(
+            a,
+            mode,
+            "velocity",
+            "a csp, csv, cst or pv axis",
+        )),
+    }
+}
+
 /// A request the axis' profile mode (`mode`, as it runs now) does not take, naming what it
 /// would need.
 fn wrong_mode(

@@ -328,6 +328,8 @@ impl Program {
         }
         let mut steps = Vec::new();
         expand(path, "step", raw.step, cell, &mut steps)?;
+        validate::check_profile_modes(path, &steps, cell)?;
+        let steps = steps.into_iter().map(|(_, step)| step).collect();
         Ok(Program {
             source: path.to_path_buf(),
             steps,

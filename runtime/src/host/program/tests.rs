@@ -160,3 +160,45 @@ fn per_move_limits_may_lower_but_never_raise_the_axis_limit() {
     let e = Program::parse(Path::new("p.toml"), stray, &c).unwrap_err();
     assert_eq!(e.key, "step[0].jerk.a1");
 }
+
+/// A move or a jog the axis' drive profile does not take at that point of the program is
+/// refused at load, naming the step, before anything moves: a jog of a pp axis, a move of a pv
+/// axis, and a jog of a csp axis after a `mode` step switched it to pp (allowed again once it
+/// is switched back).
+#[test]
+fn moves_and_jogs_a_profile_mode_does_not_take_are_refused_at_load() {
+    let axis = |name: &str, mode: &str| {
+        format!(
+            "[[axes]]\nname = \"{name}\"\ndrive = \"mr-j5-g-n1\"\nmode = \"{mode}\"\nmotor = {{ counts_per_rev = 10000, rated_speed = 3000 }}\ncounts_per_unit = 1000\nlimits = {{ position = [0.0, 100.0], velocity = 10.0, acceleration = 100.0, jerk = 1000.0 }}\n"
+        )
+    };
+    let text = format!(
+        "[cell]\nname = \"p\"\ncycle_time_us = 1000\n{}{}{}",
+        axis("pos", "pp"),
+        axis("vel", "pv"),
+        axis("c", "csp")
+    );
+    let c = CellConfig::parse(Path::new("c.toml"), &text).unwrap_or_else(|e| panic!("{e}"));
+    let parse = |program: &str| Program::parse(Path::new("p.toml"), program, &c);
+    let jog = |axis: &str| {
+        format!("[[step]]\ndo = \"jog\"\naxis = \"{axis}\"\nvelocity = 1.0\nseconds = 0.1\n")
+    };
+    let e = parse(&jog("pos")).unwrap_err();
+    assert_eq!(e.key, "step[0].axis");
+    assert_eq!(
+        e.message,
+        "axis 'pos' runs in pp (the drive's profile): velocity needs a csp, csv, cst or pv axis"
+    );
+    let e = parse("[[step]]\ndo = \"move\"\ntarget = { vel = 5.0 }\n").unwrap_err();
+    assert_eq!(e.key, "step[0].target.vel");
+    assert_eq!(
+        e.message,
+        "axis 'vel' runs in pv (the drive's profile): move needs a csp, csv, cst or pp axis"
+    );
+    parse(&(jog("vel") + &jog("c") + "[[step]]\ndo = \"move\"\ntarget = { pos = 5.0, c = 5.0 }\n"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let to = |mode: &str| format!("[[step]]\ndo = \"mode\"\naxis = \"c\"\nmode = \"{mode}\"\n");
+    let e = parse(&format!("{}{}", to("pp"), jog("c"))).unwrap_err();
+    assert_eq!(e.key, "step[1].axis");
+    parse(&format!("{}{}{}", to("pp"), to("csp"), jog("c"))).unwrap_or_else(|e| panic!("{e}"));
+}

@@ -20,7 +20,7 @@ pub(super) fn expand(
     key: &str,
     raw: Vec<RawStep>,
     cell: &CellConfig,
-    out: &mut Vec<Step>,
+    out: &mut Vec<(String, Step)>,
 ) -> Result<(), ConfigError> {
     for (i, step) in raw.into_iter().enumerate() {
         let k = format!("{key}[{i}]");
@@ -61,8 +61,49 @@ pub(super) fn expand(
                         format!("the program would run more than {MAX_PROGRAM_STEPS} steps"),
                     ));
                 }
-                out.push(validate_step(path, &k, other, cell)?);
+                let step = validate_step(path, &k, other, cell)?;
+                out.push((k, step));
             }
+        }
+    }
+    Ok(())
+}
+
+/// Follows the mode each axis of the RT loop runs in through the expanded `steps` (its
+/// configured mode, then each `mode` step's), and refuses a move or a jog its drive's profile
+/// mode at that point does not take (a jog of a pp axis, a move of a pv axis), naming the step's
+/// key, before anything moves.
+pub(super) fn check_profile_modes(
+    path: &Path,
+    steps: &[(String, Step)],
+    cell: &CellConfig,
+) -> Result<(), ConfigError> {
+    use crate::host::operator::profile::{takes_move, takes_velocity};
+    let mut modes: Vec<ModeOfOperation> = cell.axes.iter().map(|a| a.mode).collect();
+    let profile = |modes: &[ModeOfOperation], i: usize| cellrt_config::ProfileMode::of(modes[i]);
+    for (key, step) in steps {
+        match step {
+            Step::Mode { axis, mode } => modes[*axis] = mode.mode(),
+            Step::Jog {
+                axis: AxisRef::Loop(i),
+                ..
+            } => takes_velocity(&cell.axes[*i], profile(&modes, *i))
+                .map_err(|e| ConfigError::new(path, format!("{key}.axis"), e.to_string()))?,
+            Step::Move(targets) => {
+                for t in targets {
+                    if let AxisMove::Planned(t) = t {
+                        let a = &cell.axes[t.axis];
+                        takes_move(a, profile(&modes, t.axis)).map_err(|e| {
+                            ConfigError::new(
+                                path,
+                                format!("{key}.target.{}", a.name),
+                                e.to_string(),
+                            )
+                        })?;
+                    }
+                }
+            }
+            _ => {}
         }
     }
     Ok(())

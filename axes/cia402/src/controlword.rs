@@ -37,6 +37,13 @@ const ENABLE_OPERATION_BIT: u16 = 1 << 3;
 const FAULT_RESET_BIT: u16 = 1 << 7;
 const HALT_BIT: u16 = 1 << 8;
 
+/// Bit 4 in pp: New set-point (its rising edge takes 607Ah); in hm: Homing operation start.
+pub const NEW_SET_POINT: u16 = 1 << 4;
+/// Bit 5 in pp: Change set immediately.
+pub const CHANGE_SET_IMMEDIATELY: u16 = 1 << 5;
+/// Bit 8: Halt.
+pub const HALT: u16 = HALT_BIT;
+
 impl Controlword {
     /// Shutdown (typical word, §3.2).
     pub const SHUTDOWN: Controlword = Controlword(0x0006);

@@ -20,6 +20,15 @@ const INTERNAL_LIMIT_BIT: u16 = 1 << 11;
 const OMS12_BIT: u16 = 1 << 12;
 const OMS13_BIT: u16 = 1 << 13;
 
+/// Bit 10 in pp and pv: Target reached.
+pub const TARGET_REACHED: u16 = TARGET_REACHED_BIT;
+/// Bit 11: Internal limit active (a 607Dh software limit reached, MR-J4-TM manual §5.3 ILA).
+pub const INTERNAL_LIMIT_ACTIVE: u16 = INTERNAL_LIMIT_BIT;
+/// Bit 12 in pp: Set-point acknowledge (Mitsubishi: positioning being executed).
+pub const SET_POINT_ACKNOWLEDGE: u16 = OMS12_BIT;
+/// Bit 12 in pv: Speed (1 = the speed is 0).
+pub const SPEED_ZERO: u16 = OMS12_BIT;
+
 /// CiA 402 mask for the states whose pattern ignores bit 5 (§3.4).
 pub const MASK_NO_QS: u16 = 0x004F;
 /// CiA 402 mask for the states whose pattern includes bit 5 (§3.4).

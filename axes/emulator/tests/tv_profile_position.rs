@@ -9,10 +9,10 @@ use cellrt_cia402::{
     Controlword, CycleTime, Cycles, DriveModel, FsaState, ModeOfOperation, ModeSwitch,
     ModeSwitchError, ModeSwitchParams, ModeSwitchPhase, ModeSwitchProgress, RxPdo, TxPdo,
 };
-use cellrt_emulator::sim::drive::SimMotor;
-use cellrt_emulator::sim::profile_position::{
+use cellrt_emulator::motion::profile_position::{
     PositionUnit, PpParams, SET_POINT_ACKNOWLEDGE, TARGET_REACHED,
 };
+use cellrt_emulator::sim::drive::SimMotor;
 use cellrt_emulator::sim::sdo::SdoAbort;
 use cellrt_emulator::{SimDrive, SimDriveParams};
 use common::{drive, enabled};

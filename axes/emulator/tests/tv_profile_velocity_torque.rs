@@ -10,9 +10,9 @@ mod common;
 
 use cellrt_cia402::profiles::mr_j4_tm;
 use cellrt_cia402::{Controlword, CycleTime, DriveModel, FsaState, ModeOfOperation, RxPdo, TxPdo};
+use cellrt_emulator::motion::profile_position::{PpParams, INTERNAL_LIMIT_ACTIVE};
+use cellrt_emulator::motion::profile_velocity::{SPEED_ZERO, TARGET_REACHED};
 use cellrt_emulator::sim::drive::SimMotor;
-use cellrt_emulator::sim::profile_position::{PpParams, INTERNAL_LIMIT_ACTIVE};
-use cellrt_emulator::sim::profile_velocity::{SPEED_ZERO, TARGET_REACHED};
 use cellrt_emulator::{SimDrive, SimDriveParams};
 use common::{drive, enabled, exchange};
 

@@ -36,21 +36,10 @@
 use super::generator::{Braking, Generator, NoTorque, Positioning};
 use super::ramp::VelocityRamp;
 
-/// Controlword bit 4: new set-point (rising edge).
-pub const NEW_SET_POINT: u16 = 1 << 4;
-/// Controlword bit 5: change set immediately.
-pub const CHANGE_SET_IMMEDIATELY: u16 = 1 << 5;
+pub use cellrt_cia402::controlword::{CHANGE_SET_IMMEDIATELY, HALT, NEW_SET_POINT};
+pub use cellrt_cia402::statusword::{INTERNAL_LIMIT_ACTIVE, SET_POINT_ACKNOWLEDGE, TARGET_REACHED};
 /// Controlword bit 6: relative (1) / absolute (0) target.
 pub const RELATIVE: u16 = 1 << 6;
-/// Controlword bit 8: HALT.
-pub const HALT: u16 = 1 << 8;
-/// Statusword bit 10 in pp: target reached.
-pub const TARGET_REACHED: u16 = 1 << 10;
-/// Statusword bit 11: internal limit active (a 607Dh software limit reached, MR-J4-TM manual
-/// §5.3 ILA).
-pub const INTERNAL_LIMIT_ACTIVE: u16 = 1 << 11;
-/// Statusword bit 12 in pp: set-point acknowledge (Mitsubishi: positioning being executed).
-pub const SET_POINT_ACKNOWLEDGE: u16 = 1 << 12;
 
 /// 6067h value that disables the position window (MR-JE-C manual, 6067h "4294967295").
 pub const WINDOW_DISABLED: u32 = u32::MAX;

@@ -18,10 +18,7 @@
 
 use super::ramp::{Reversal, VelocityRamp};
 
-/// Statusword bit 10 in pv: target reached.
-pub const TARGET_REACHED: u16 = 1 << 10;
-/// Statusword bit 12 in pv: speed (1 = speed is 0).
-pub const SPEED_ZERO: u16 = 1 << 12;
+pub use cellrt_cia402::statusword::{SPEED_ZERO, TARGET_REACHED};
 
 /// pv objects the MR-JET / MR-J5 manuals do not give (used where the model's object dictionary
 /// has no default and the object was not written by SDO). Defaults: the MR-J4-TM manual §5.4.7

@@ -212,8 +212,7 @@ struct Restore {
     point_tables: bool,
 }
 
-/// Statusword bit 10, Target reached.
-const TARGET_REACHED: u16 = 1 << 10;
+use cellrt_cia402::statusword::TARGET_REACHED;
 
 /// The modes whose Statusword bit 10 and 13 judge the droop (§7.3 6065h, 6067h): pp, jg, pt,
 /// idx.

@@ -45,7 +45,7 @@ use crate::motion::s_pattern::{SPattern, MAX_MS, SAMPLE};
 use cellrt_cia402::controlword::Controlword;
 
 /// Controlword bit 4: New set-point (pp, jg), Homing Operation Start (hm), start (pt).
-const NEW_SET_POINT: u16 = 1 << 4;
+use cellrt_cia402::controlword::NEW_SET_POINT;
 
 /// The modes under position control: the S-pattern filter and the position loop run.
 fn position_control(mode: i64) -> bool {

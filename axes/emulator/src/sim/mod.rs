@@ -9,7 +9,3 @@ pub mod homing_switches;
 pub mod plant;
 pub mod sdo;
 mod sdo_abort;
-
-// The drive's profile generators live in the shared `motion` module; these paths stay for the
-// runtime and the test vectors that name them.
-pub use crate::motion::{homing_search, profile_position, profile_torque, profile_velocity};

@@ -16,13 +16,12 @@
 //! at a time, each only when its value changed. Plain copies only: allocation-free.
 
 use cellrt_cia402::controlword::Controlword;
+use cellrt_cia402::controlword::{CHANGE_SET_IMMEDIATELY, NEW_SET_POINT};
 use cellrt_cia402::drive_scaling::DriveScaling;
 use cellrt_cia402::pdo::objects::PROFILE_OBJECTS;
 use cellrt_cia402::pdo::RxPdo;
 use cellrt_cia402::statusword::Statusword;
-use cellrt_emulator::sim::profile_position::{
-    CHANGE_SET_IMMEDIATELY, NEW_SET_POINT, SET_POINT_ACKNOWLEDGE, TARGET_REACHED,
-};
+use cellrt_cia402::statusword::{SET_POINT_ACKNOWLEDGE, TARGET_REACHED};
 
 use crate::handoff::ProfileMotion;
 use cellrt_config::{ProfileMode, ProfileObjects};

@@ -38,10 +38,8 @@ pub use crate::mr_je_c::JOG_REVERSE;
 /// this allows two more.
 pub const START_GRACE: u8 = 3;
 /// Controlword bit 4: New set-point in pp, Homing Operation Start in hm.
-const NEW_SET_POINT: u16 = 1 << 4;
-const HALT: u16 = 1 << 8;
-const SET_POINT_ACK: u16 = 1 << 12;
-const TARGET_REACHED: u16 = 1 << 10;
+use cellrt_cia402::controlword::{HALT, NEW_SET_POINT};
+use cellrt_cia402::statusword::{SET_POINT_ACKNOWLEDGE as SET_POINT_ACK, TARGET_REACHED};
 /// Statusword bit 12 in hm: Homing attained (§7.4, [EXT: CiA 402]).
 const HOMING_ATTAINED: u16 = 1 << 12;
 /// Statusword bit 13 in hm: Homing error (§7.4, [EXT: CiA 402]).

@@ -260,7 +260,48 @@ pub struct JecAxisConfig {
     pub emulate: bool,
 }
 
+/// The one homing method an MR-JE-C axis runs: 37, the home where the motor stands (6098h's
+/// default; the MR-JE-C manual §7.3 lists no other and refers to the Profile Mode manual).
+pub const HOMING_METHOD: i8 = 37;
+
+/// Why an MR-JE-C axis does not home as asked: one refusal for a program's home step and the
+/// operator's.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum JecHomingError {
+    /// A home setting by a Controlword2 edge (an MR-J3-T04 procedure).
+    #[error("axis '{axis}' is an MR-JE-C axis: it homes in hm, not by a Controlword2 edge")]
+    Controlword2Edge {
+        /// The axis.
+        axis: String,
+    },
+    /// A homing method other than [`HOMING_METHOD`].
+    #[error("method {method}: MR-JE-C axis '{axis}' homes with method {} only (the home where the motor stands; the MR-JE-C manual lists no other)", HOMING_METHOD)]
+    Method {
+        /// The axis.
+        axis: String,
+        /// The method asked for.
+        method: i8,
+    },
+}
+
 impl JecAxisConfig {
+    /// The homing method of a request naming `method` (or none) or a Controlword2 `edge`:
+    /// [`HOMING_METHOD`], else the refusal.
+    pub fn homing_method(&self, method: Option<i8>, edge: bool) -> Result<i8, JecHomingError> {
+        if edge {
+            return Err(JecHomingError::Controlword2Edge {
+                axis: self.name.clone(),
+            });
+        }
+        match method {
+            None | Some(HOMING_METHOD) => Ok(HOMING_METHOD),
+            Some(method) => Err(JecHomingError::Method {
+                axis: self.name.clone(),
+                method,
+            }),
+        }
+    }
+
     /// A speed in unit/s as 0.01 r/min (6081h, 60FFh).
     pub fn drive_speed(&self, v: f64) -> i64 {
         (v * self.counts_per_unit / self.counts_per_rev * 60.0 * 100.0).round() as i64

@@ -384,3 +384,28 @@ fn a_position_range_beyond_607ah_is_refused_at_load() {
         "[-1048576, 655360] pos units, beyond Target position 607Ah's setting range -999999…999999",
     );
 }
+
+/// An MR-JE-C axis homes with method 37 only (the home where the motor stands, MR-JE-C manual
+/// §7.3 6098h): none named or 37 gives 37; another method or a Controlword2 edge is refused,
+/// one refusal for the program's home step and the operator's.
+#[test]
+fn homing_is_method_37_or_refused() {
+    let cell = parse(&mixed()).unwrap();
+    let a = &cell.je_c_axes[0];
+    assert_eq!(a.homing_method(None, false), Ok(37));
+    assert_eq!(a.homing_method(Some(37), false), Ok(37));
+    let e = a.homing_method(Some(35), false).unwrap_err();
+    assert!(matches!(
+        e,
+        je_c_axis::JecHomingError::Method { method: 35, .. }
+    ));
+    assert_eq!(
+        e.to_string(),
+        format!("method 35: MR-JE-C axis '{}' homes with method 37 only (the home where the motor stands; the MR-JE-C manual lists no other)", a.name)
+    );
+    let e = a.homing_method(None, true).unwrap_err();
+    assert!(matches!(
+        e,
+        je_c_axis::JecHomingError::Controlword2Edge { .. }
+    ));
+}

@@ -60,21 +60,45 @@ impl JecAxes {
 
     /// Why axis `k`'s `what` (a move, a homing …) did not end as it should, for a step or a
     /// command that waited for it; `None` while it is pending or done.
-    pub fn job_failure(&self, k: usize, outcome: JobOutcome, what: &str) -> Option<String> {
-        let name = &self.config(k).name;
+    pub fn job_error(&self, k: usize, outcome: JobOutcome, what: &'static str) -> Option<JobError> {
+        let axis = self.config(k).name.clone();
         match outcome {
             JobOutcome::Pending | JobOutcome::Done => None,
-            JobOutcome::Stopped(s) => Some(format!("MR-JE-C axis '{name}': {}", stopped_text(s))),
-            JobOutcome::Refused { statusword } => {
-                let homing_error = if statusword & HOMING_ERROR != 0 && what == "homing" {
-                    ", Homing error"
-                } else {
-                    ""
-                };
-                Some(format!(
-                    "MR-JE-C axis '{name}': the {what} was refused or cut short (statusword {statusword:04X}h{homing_error})"
-                ))
-            }
+            JobOutcome::Stopped(s) => Some(JobError::Stopped {
+                axis,
+                stopped: stopped_text(s),
+            }),
+            JobOutcome::Refused { statusword } => Some(JobError::Refused {
+                axis,
+                what,
+                statusword,
+                homing_error: what == "homing" && statusword & HOMING_ERROR != 0,
+            }),
         }
     }
+}
+
+/// Why an MR-JE-C axis' job did not end as it should.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum JobError {
+    /// The axis was stopped by its watchdog or an alarm.
+    #[error("MR-JE-C axis '{axis}': {stopped}")]
+    Stopped {
+        /// The axis.
+        axis: String,
+        /// Why it was stopped ([`stopped_text`]).
+        stopped: String,
+    },
+    /// The drive refused the job or cut it short.
+    #[error("MR-JE-C axis '{axis}': the {what} was refused or cut short (statusword {statusword:04X}h{})", if *homing_error { ", Homing error" } else { "" })]
+    Refused {
+        /// The axis.
+        axis: String,
+        /// The job ("move", "homing" …).
+        what: &'static str,
+        /// The statusword when it was seen.
+        statusword: u16,
+        /// Statusword bit 13 in hm: Homing error.
+        homing_error: bool,
+    },
 }

@@ -9,14 +9,10 @@ use std::time::{Duration, Instant};
 use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 use super::{Planner, ProgramError, POWER_TIMEOUT};
-use crate::host::je_c::jobs::{JobCounts, JobOutcome};
+use crate::host::je_c::jobs::{JobCounts, JobError, JobOutcome};
 use crate::host::je_c::stopped_text;
 use crate::host::program::{DriveMove, TorqueTarget};
 use cellrt_config::AxisRef;
-
-fn c_acc(p: &Planner<'_>, axis: usize) -> f64 {
-    p.je_c.config(axis).acceleration
-}
 
 /// Slack on top of a move's own duration before it counts as stuck.
 const MOVE_SLACK: Duration = Duration::from_secs(5);
@@ -53,7 +49,10 @@ impl Planner<'_> {
             let f = self.je_c.feedback(k);
             let name = &self.je_c.config(k).name;
             if let (true, Some(s)) = (on, f.stopped) {
-                return Err(self.err(format!("MR-JE-C axis '{name}': {}", stopped_text(s))));
+                return Err(self.err(JobError::Stopped {
+                    axis: name.clone(),
+                    stopped: stopped_text(s),
+                }));
             }
             if Instant::now() >= end {
                 return Err(self.err(format!(
@@ -88,8 +87,9 @@ impl Planner<'_> {
         seconds: f64,
     ) -> Result<(), ProgramError> {
         let c = self.je_c.config(axis);
+        let acceleration = c.acceleration;
         let jog = c
-            .jog_command(velocity, c.acceleration)
+            .jog_command(velocity, acceleration)
             .map_err(|e| self.err(e))?;
         let before = self.je_c.job_counts(axis);
         self.je_c.command(axis, jog).map_err(|e| self.err(e))?;
@@ -97,7 +97,7 @@ impl Planner<'_> {
         self.je_c
             .command(axis, AxisCommand::Halt)
             .map_err(|e| self.err(e))?;
-        let stop = Duration::from_secs_f64(2.0 * velocity.abs() / c_acc(self, axis));
+        let stop = Duration::from_secs_f64(2.0 * velocity.abs() / acceleration);
         // The velocity job ends with the halt, then the halt at standstill.
         self.je_c_wait_jobs(&[(axis, before, 2)], stop + MOVE_SLACK, "jog")
     }
@@ -172,7 +172,7 @@ impl Planner<'_> {
         &mut self,
         waits: &[(usize, JobCounts, u32)],
         limit: Duration,
-        what: &str,
+        what: &'static str,
     ) -> Result<(), ProgramError> {
         let end = Instant::now() + limit;
         for &(axis, before, jobs) in waits {
@@ -181,8 +181,8 @@ impl Planner<'_> {
                 if outcome == JobOutcome::Done || self.aborted() {
                     break;
                 }
-                if let Some(why) = self.je_c.job_failure(axis, outcome, what) {
-                    return Err(self.err(why));
+                if let Some(e) = self.je_c.job_error(axis, outcome, what) {
+                    return Err(self.err(e));
                 }
                 if Instant::now() >= end {
                     let f = self.je_c.feedback(axis);

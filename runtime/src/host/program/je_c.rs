@@ -7,6 +7,7 @@ use std::path::Path;
 
 use super::{DriveMove, RawLimit, TorqueTarget};
 use cellrt_cia402::homing::HomeProcedure;
+use cellrt_config::je_c_axis::JecHomingError;
 use cellrt_config::{AxisRef, CellConfig, ConfigError};
 
 /// Removes the MR-JE-C axes from `target` and from the per-axis `limits`, and returns them
@@ -89,13 +90,9 @@ pub(super) fn take_targets(
     Ok(out)
 }
 
-/// The one homing method an MR-JE-C axis runs: 37, the home where the motor stands (6098h's
-/// default; the MR-JE-C manual §7.3 lists no other and refers to the Profile Mode manual).
-pub const JE_C_HOMING_METHOD: i8 = 37;
-
 /// The homing procedure of MR-JE-C axis `axis` (index in `je_c_axes`): hm with
-/// [`JE_C_HOMING_METHOD`]; another method or a Controlword2 edge (an MR-J3-T04 procedure) is
-/// refused naming the key.
+/// [`HOMING_METHOD`](cellrt_config::je_c_axis::HOMING_METHOD); another method or a
+/// Controlword2 edge (an MR-J3-T04 procedure) is refused naming the key.
 pub(super) fn home_procedure(
     path: &Path,
     key: &str,
@@ -104,29 +101,16 @@ pub(super) fn home_procedure(
     setting: bool,
     cell: &CellConfig,
 ) -> Result<HomeProcedure, ConfigError> {
-    let name = &cell.je_c_axes[axis].name;
-    if setting {
-        return Err(ConfigError::new(
-            path,
-            format!("{key}.setting"),
-            format!("axis '{name}' is an MR-JE-C axis: it homes in hm, not by a Controlword2 edge"),
-        ));
-    }
-    match method {
-        None | Some(JE_C_HOMING_METHOD) => Ok(HomeProcedure::HomingMode(JE_C_HOMING_METHOD)),
-        Some(m) => Err(ConfigError::new(
-            path,
-            format!("{key}.method"),
-            je_c_method_refusal(name, m),
-        )),
-    }
-}
-
-/// Why an MR-JE-C axis does not home with method `m`.
-pub fn je_c_method_refusal(name: &str, m: i8) -> String {
-    format!(
-        "method {m}: MR-JE-C axis '{name}' homes with method {JE_C_HOMING_METHOD} only (the home where the motor stands; the MR-JE-C manual lists no other)"
-    )
+    cell.je_c_axes[axis]
+        .homing_method(method, setting)
+        .map(HomeProcedure::HomingMode)
+        .map_err(|e| {
+            let sub = match e {
+                JecHomingError::Controlword2Edge { .. } => "setting",
+                JecHomingError::Method { .. } => "method",
+            };
+            ConfigError::new(path, format!("{key}.{sub}"), e.to_string())
+        })
 }
 
 /// Whether MR-JE-C axis `axis` (index in `je_c_axes`) can jog at `velocity` in its mode

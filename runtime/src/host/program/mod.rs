@@ -35,7 +35,6 @@ use cellrt_cia402::homing::{HomeProcedure, HomeSettingEdge};
 use cellrt_config::{AxisRef, CellConfig, ConfigError};
 
 mod je_c;
-pub use je_c::{je_c_method_refusal, JE_C_HOMING_METHOD};
 mod validate;
 use validate::expand;
 

@@ -424,17 +424,8 @@ fn axis_of(
     name: &str,
     cell: &CellConfig,
 ) -> Result<usize, ConfigError> {
-    cell.axis_index(name).ok_or_else(|| {
-        ConfigError::new(
-            path,
-            key,
-            format!(
-                "axis '{name}' is not in cell '{}' (axes: {})",
-                cell.name,
-                cell.all_axis_names()
-            ),
-        )
-    })
+    cell.axis_index(name)
+        .ok_or_else(|| not_in_cell(path, key, name, cell))
 }
 
 /// The axis called `name`, whichever backend runs it; refused naming `key` when the cell has
@@ -445,10 +436,21 @@ fn axis_ref_of(
     name: &str,
     cell: &CellConfig,
 ) -> Result<AxisRef, ConfigError> {
-    match cell.axis_ref(name) {
-        Some(axis) => Ok(axis),
-        None => axis_of(path, key, name, cell).map(AxisRef::Loop),
-    }
+    cell.axis_ref(name)
+        .ok_or_else(|| not_in_cell(path, key, name, cell))
+}
+
+/// The refusal of an axis name the cell does not have, listing the axes it has.
+fn not_in_cell(path: &Path, key: impl Into<String>, name: &str, cell: &CellConfig) -> ConfigError {
+    ConfigError::new(
+        path,
+        key,
+        format!(
+            "axis '{name}' is not in cell '{}' (axes: {})",
+            cell.name,
+            cell.all_axis_names()
+        ),
+    )
 }
 
 /// The axes of a power step: indices of the named axes, each once; empty = the whole cell.

@@ -8,10 +8,9 @@ use std::collections::BTreeMap;
 use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 use super::*;
-use crate::host::je_c::jobs::{JobCounts, JobOutcome};
+use crate::host::je_c::jobs::{JobCounts, JobError, JobOutcome};
 use crate::host::je_c::{stopped_text, JecAxes, JecQueueFull};
-use crate::host::program::{je_c_method_refusal, JE_C_HOMING_METHOD};
-use cellrt_config::je_c_axis::{JecAxisConfig, JecCommandError, JecMode};
+use cellrt_config::je_c_axis::{JecAxisConfig, JecCommandError, JecHomingError, JecMode};
 
 /// Why an operator request on MR-JE-C axes was refused or failed.
 #[derive(Debug, thiserror::Error)]
@@ -57,12 +56,9 @@ pub(super) enum JecRequestError {
     /// A move's velocity or acceleration on a point-table axis.
     #[error("axis '{axis}' runs point tables: each table has its own speed and ramps (2801h–28FFh); leave out the move's velocity and acceleration")]
     TableLimits { axis: String },
-    /// A homing by a Controlword2 edge.
-    #[error("axis '{axis}' is an MR-JE-C axis: it homes in hm, not by a Controlword2 edge")]
-    HomingEdge { axis: String },
-    /// A homing method other than the drive's.
-    #[error("{0}")]
-    HomingMethod(String),
+    /// A homing the drive does not run.
+    #[error(transparent)]
+    Homing(#[from] JecHomingError),
     /// A jog's velocity is not a finite number.
     #[error("axis '{axis}': velocity {velocity} is not a finite number")]
     VelocityNotFinite { axis: String, velocity: f64 },
@@ -79,9 +75,9 @@ pub(super) enum JecRequestError {
     /// The link thread's command queue is full.
     #[error(transparent)]
     QueueFull(#[from] JecQueueFull),
-    /// A tracked job failed or its axis was stopped ([`JecAxes::job_failure`]).
-    #[error("{0}")]
-    Job(String),
+    /// A tracked job failed or its axis was stopped ([`JecAxes::job_error`]).
+    #[error(transparent)]
+    Job(#[from] JobError),
 }
 
 /// An MR-JE-C axis a request names: its index, name and the value asked.
@@ -221,13 +217,7 @@ pub(super) fn home_command(
     method: Option<i8>,
     setting: bool,
 ) -> Result<AxisCommand, JecRequestError> {
-    let name = &axes.config(k).name;
-    if setting {
-        return Err(JecRequestError::HomingEdge { axis: name.clone() });
-    }
-    if let Some(m) = method.filter(|&m| m != JE_C_HOMING_METHOD) {
-        return Err(JecRequestError::HomingMethod(je_c_method_refusal(name, m)));
-    }
+    axes.config(k).homing_method(method, setting)?;
     ready(axes, k)?;
     Ok(AxisCommand::Home)
 }
@@ -343,9 +333,9 @@ impl PendingMoves {
         }
         for &(k, counts) in before {
             let outcome = axes.job_outcome(k, counts, 1);
-            if let Some(why) = axes.job_failure(k, outcome, self.what) {
+            if let Some(e) = axes.job_error(k, outcome, self.what) {
                 self.waiting = None;
-                return Err(JecRequestError::Job(why));
+                return Err(e.into());
             }
             if outcome == JobOutcome::Pending {
                 return Ok(true);

@@ -75,8 +75,13 @@ fn loop_with_je_c_axes() {
     let path = std::path::Path::new("bench.toml");
     let cell = cellrt_config::CellConfig::parse(path, &config_text("bench-j", &o))
         .unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!((cell.axes.len(), cell.je_c_axes.len()), (16, 4));
-    let transports: Vec<_> = cell.je_c_axes.iter().map(|a| a.transport.name()).collect();
+    assert_eq!((cell.axes.len(), cell.axes.on_link().len()), (16, 4));
+    let transports: Vec<_> = cell
+        .axes
+        .on_link()
+        .iter()
+        .map(|a| a.transport.name())
+        .collect();
     assert_eq!(
         transports,
         ["cclink-ief-basic", "modbus-tcp", "slmp", "modbus-rtu"]

@@ -41,7 +41,7 @@ fn an_esi_described_drive_runs_a_program() {
         + "\n[setpoints]\nlookahead_ms = 1000\n";
     let cell = CellConfig::parse(&path, &text).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
-        cell.axes[0].ethercat_identity.product_code,
+        cell.axes.on_loop()[0].ethercat_identity.product_code,
         Some(0xCE11_0403)
     );
     run_to_completion(&path, &cell);

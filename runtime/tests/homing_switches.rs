@@ -79,7 +79,10 @@ homing = {{ switch_speed = {SWITCH_SPEED}, creep_speed = {CREEP_SPEED}, accelera
 fn the_travel_after_dog_reaches_the_drive_in_counts_and_is_a_length() {
     // 8 mm × 419 430.4 counts/mm = 3 355 443.2 counts.
     assert_eq!(
-        cell("travel", 100.0).axes[0].sim.homing.travel_after_dog,
+        cell("travel", 100.0).axes.on_loop()[0]
+            .sim
+            .homing
+            .travel_after_dog,
         3_355_443
     );
     let text =

@@ -175,7 +175,7 @@ fn the_shipped_mixed_cell_runs_its_program() {
         "max_consecutive_overruns = 0",
     );
     let cell = CellConfig::parse(&path, &text).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!((cell.axes.len(), cell.je_c_axes.len()), (2, 2));
+    assert_eq!((cell.axes.len(), cell.axes.on_link().len()), (2, 2));
     let program = Program::load(&configs.join("mixed-cell-program.toml"), &cell).unwrap();
     let s = run_counted(&cell, program);
     assert_eq!(

@@ -225,7 +225,7 @@ fn a_switch_is_refused_where_the_axis_cannot_switch() {
         ("MR-J4-TM csp axis", j4, ModeOfOperation::CyclicSyncPosition),
     ] {
         assert!(
-            cellrt_config::profile_axis::pp_switch(&cell.axes[0]).is_err(),
+            cellrt_config::profile_axis::pp_switch(&cell.axes.on_loop()[0]).is_err(),
             "{what}"
         );
         let mut rig = Rig::start(cell);

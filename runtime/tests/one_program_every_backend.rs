@@ -150,7 +150,7 @@ fn profile_axes_run_the_program() {
     let cell = cell("profile", &axes);
     let a = cell.axis_ref("a").unwrap();
     assert!(
-        cell.axes[0].profile_objects.is_some(),
+        cell.axes.on_loop()[0].profile_objects.is_some(),
         "a runs on its drive's pp"
     );
     let (s, program) = run_program(&cell);
@@ -159,9 +159,9 @@ fn profile_axes_run_the_program() {
 
 #[test]
 fn mr_je_c_axes_run_the_program() {
-    // A cell needs one axis on the RT loop (the loop runs beside the MR-JE-C threads); `idle`
-    // is that axis and takes no step.
-    let axes = j4("idle", "csp", "") + &je_c("a", "pp") + &je_c("j", "pv") + &je_c("t", "tq");
+    // No axis on the RT loop: the loop runs the cell's clock, watchdogs and recording beside
+    // the MR-JE-C threads.
+    let axes = je_c("a", "pp") + &je_c("j", "pv") + &je_c("t", "tq");
     let cell = cell("je-c", &axes);
     let a = cell.axis_ref("a").unwrap();
     assert_eq!(a, AxisRef::Link(0));

@@ -100,7 +100,7 @@ fn demo_program_runs_records_and_respects_limits() {
     // consecutive cycles; tolerance: floating-point noise only.
     let cell = CellConfig::load(&cfg).unwrap();
     let dt = cell.period();
-    for a in &cell.axes {
+    for a in cell.axes.on_loop() {
         let samples: Vec<(u64, f64)> = rec.axes[&a.name]
             .iter()
             .filter(|s| s.fsa_state == FsaState::OperationEnabled as i32)

@@ -191,7 +191,7 @@ fn killed_planner_stops_the_cell_and_a_new_one_takes_over() {
     let cell = CellConfig::load(&cfg).unwrap();
     let dt = cell.period();
     for name in ["x", "y"] {
-        let a = &cell.axes[cell.axis_index(name).unwrap()];
+        let a = &cell.axes.on_loop()[cell.axis_index(name).unwrap()];
         let s = &rec.axes[name];
         for w in s.windows(2) {
             let gap = (w[1].cycle - w[0].cycle) as f64;

@@ -110,7 +110,7 @@ fn sigint_mid_move_ramps_down_and_finishes_the_recording() {
     let cell = CellConfig::load(&cfg).unwrap();
     let dt = cell.period();
     for (name, target) in [("x", 780.0), ("y", 580.0)] {
-        let a = &cell.axes[cell.axis_index(name).unwrap()];
+        let a = &cell.axes.on_loop()[cell.axis_index(name).unwrap()];
         let s = &rec.axes[name];
         let max_step = a.limits.velocity * dt * (1.0 + 1e-6);
         for w in s.windows(2) {

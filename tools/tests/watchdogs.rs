@@ -78,7 +78,7 @@ fn stop_detail(rec: &Recording) -> (u64, String) {
 /// Checks the ramp of `axis` from `from_cycle`: no setpoint step above the velocity limit,
 /// deceleration within the stop limit, ends at rest.
 fn assert_controlled_stop(run: &Run, axis: &str, from_cycle: u64) {
-    let a = &run.cell.axes[run.cell.axis_index(axis).unwrap()];
+    let a = &run.cell.axes.on_loop()[run.cell.axis_index(axis).unwrap()];
     let dt = run.cell.period();
     let s: Vec<&AxisCycle> = run.rec.axes[axis]
         .iter()

@@ -31,7 +31,7 @@ fn refused(text: &str) -> ConfigError {
 #[test]
 fn the_esi_gives_identity_and_modes() {
     let c = parse(&text()).unwrap();
-    let a = &c.axes[0];
+    let a = &c.axes.on_loop()[0];
     let esi = a.esi.as_ref().expect("esi");
     assert_eq!(esi.type_name, "EX-402");
     assert_eq!(a.ethercat_identity.vendor_id, 0xCE11_0000);

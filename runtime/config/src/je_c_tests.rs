@@ -51,10 +51,21 @@ fn refused(r: Result<CellConfig, ConfigError>, key: &str, says: &str) {
 #[test]
 fn the_mixed_cell_keeps_its_je_c_axes_off_the_rt_loop() {
     let c = parse(&mixed()).unwrap();
-    assert_eq!(c.all_axis_names(), "x, y, infeed, outfeed");
+    assert_eq!(c.axes.names(), "x, y, infeed, outfeed");
     assert_eq!(c.axis_names(), "x, y");
-    assert_eq!(c.axes.len(), 2);
-    let [infeed, outfeed] = &c.je_c_axes[..] else {
+    assert_eq!(c.axes.len(), 4);
+    assert_eq!(c.axes.on_loop().len(), 2);
+    let backends: Vec<_> = c.axes.iter().map(|a| a.backend()).collect();
+    assert_eq!(
+        backends,
+        [
+            Backend::Streamed,
+            Backend::Streamed,
+            Backend::Link,
+            Backend::Link
+        ]
+    );
+    let [infeed, outfeed] = c.axes.on_link() else {
         panic!()
     };
     assert_eq!(infeed.transport, JecTransport::CcLink(None));
@@ -78,7 +89,7 @@ fn the_mixed_cell_keeps_its_je_c_axes_off_the_rt_loop() {
 #[test]
 fn each_transport_takes_its_keys() {
     let c = outfeed("slmp", "address = \"192.168.3.20\"").unwrap();
-    let a = &c.je_c_axes[1];
+    let a = &c.axes.on_link()[1];
     assert_eq!(
         a.transport,
         JecTransport::Slmp(Some("192.168.3.20:5010".parse().unwrap()))
@@ -86,7 +97,7 @@ fn each_transport_takes_its_keys() {
     assert!(!a.emulate);
     let c = outfeed("cclink-ief-basic", "address = \"192.168.3.20\"").unwrap();
     assert_eq!(
-        c.je_c_axes[1].transport,
+        c.axes.on_link()[1].transport,
         JecTransport::CcLink(Some("192.168.3.20:61450".parse().unwrap()))
     );
     let c = outfeed(
@@ -95,7 +106,7 @@ fn each_transport_takes_its_keys() {
     )
     .unwrap();
     assert_eq!(
-        c.je_c_axes[1].transport,
+        c.axes.on_link()[1].transport,
         JecTransport::ModbusRtu {
             serial: Some("/dev/ttyUSB0".into()),
             station: 7,
@@ -217,7 +228,7 @@ fn bad_je_c_keys_are_named() {
 fn a_je_c_torque_command_carries_the_manuals_units() {
     use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
     let c = parse(&mixed()).unwrap();
-    let outfeed = &c.je_c_axes[1];
+    let outfeed = &c.axes.on_link()[1];
     assert_eq!(
         outfeed.torque_command(8.0),
         Ok(AxisCommand::Torque {
@@ -239,11 +250,11 @@ fn a_je_c_torque_command_carries_the_manuals_units() {
         );
     }
     // The infeed has no limits.torque.
-    let e = c.je_c_axes[0].torque_command(5.0).unwrap_err();
+    let e = c.axes.on_link()[0].torque_command(5.0).unwrap_err();
     assert_eq!(
         e,
         JecCommandError::NoTorqueLimit {
-            axis: c.je_c_axes[0].name.clone()
+            axis: c.axes.on_link()[0].name.clone()
         }
     );
     assert!(e.to_string().contains("needs limits.torque"), "{e}");
@@ -272,7 +283,7 @@ fn point_tables_load_in_units_and_reach_the_drive_in_its_own() {
         "[axes.je_c]\nemulate = true\n[[axes.je_c.point_table]]\nposition = 100.0\nvelocity = 100.0\n[[axes.je_c.point_table]]\nposition = -50.0\nacceleration = 500.0\nm_code = 7",
     )
     .unwrap();
-    let a = &c.je_c_axes[1];
+    let a = &c.axes.on_link()[1];
     assert_eq!(a.mode, JecMode::PointTable);
     let p = a.positioning_parameters();
     let value = |index: u16, sub: u8| {
@@ -364,8 +375,8 @@ fn positioning_axes_are_checked_at_load() {
         "the Halt bit is disabled",
     );
     let jog = outfeed_in("jog", base).unwrap();
-    assert_eq!(jog.je_c_axes[1].mode, JecMode::Jog);
-    let e = jog.je_c_axes[1].move_target(10.0).unwrap_err();
+    assert_eq!(jog.axes.on_link()[1].mode, JecMode::Jog);
+    let e = jog.axes.on_link()[1].move_target(10.0).unwrap_err();
     assert!(matches!(e, JecCommandError::JogAxisHasNoTargets { .. }));
     assert!(e.to_string().contains("moves by jog only"));
 }
@@ -391,7 +402,7 @@ fn a_position_range_beyond_607ah_is_refused_at_load() {
 #[test]
 fn homing_is_method_37_or_refused() {
     let cell = parse(&mixed()).unwrap();
-    let a = &cell.je_c_axes[0];
+    let a = &cell.axes.on_link()[0];
     assert_eq!(a.homing_method(None, false), Ok(37));
     assert_eq!(a.homing_method(Some(37), false), Ok(37));
     let e = a.homing_method(Some(35), false).unwrap_err();

@@ -6,6 +6,7 @@
 
 #![warn(missing_docs)]
 
+pub mod axes;
 pub mod capture;
 mod comm_watchdog;
 mod error;
@@ -20,6 +21,7 @@ pub mod profile_axis;
 pub mod raw;
 mod validate;
 
+pub use axes::{Axis, AxisKind, Backend, CellAxes};
 pub use comm_watchdog::{
     CommWatchdog, CommWatchdogConfig, DEFAULT_MAX_CYCLES_OUT_OF_OP, DEFAULT_MAX_LOST_FRAMES,
     DEFAULT_MAX_WORKING_COUNTER_ERRORS,
@@ -77,13 +79,10 @@ pub struct CellConfig {
     pub live_page: live::PagePort,
     /// Scheduled fault injection, sorted by cycle (tests, commissioning drills).
     pub inject: Vec<Injection>,
-    /// The axes, in configuration order (the index is the axis id everywhere).
-    pub axes: Vec<AxisConfig>,
+    /// The axes, in configuration order, each with the backend that moves it.
+    pub axes: CellAxes,
     /// The EtherCAT segment, where the axes use `transport = "ethercat"`.
     pub ethercat: Option<EthercatConfig>,
-    /// The MR-JE-C axes (`drive = "mr-je-c"`), in configuration order: run by threads of
-    /// their own, never by the RT loop, so not among `axes`.
-    pub je_c_axes: Vec<je_c_axis::JecAxisConfig>,
 }
 
 /// An axis of the cell as program steps, operator requests and the summary name it: the
@@ -91,11 +90,11 @@ pub struct CellConfig {
 /// dispatched on this one type, so no consumer keeps a list of its own per axis kind.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum AxisRef {
-    /// Run by the RT loop (index in [`CellConfig::axes`]): streamed setpoints in csp/csv/cst,
+    /// Run by the RT loop (slot in [`CellAxes::on_loop`]): streamed setpoints in csp/csv/cst,
     /// or its drive's own profile generator over the cyclic bus (pp/pv/tq/hm).
     Loop(usize),
     /// Driven over its MR-JE-C link by an I/O thread of its own, never by the RT loop (index
-    /// in [`CellConfig::je_c_axes`]).
+    /// in [`CellAxes::on_link`]).
     Link(usize),
 }
 
@@ -490,54 +489,33 @@ impl CellConfig {
         self.cycle_time.as_secs_f64()
     }
 
-    /// Index of the axis called `name`.
+    /// The RT-loop slot of the axis called `name` (`None` for an axis the loop does not run).
     pub fn axis_index(&self, name: &str) -> Option<usize> {
-        self.axes.iter().position(|a| a.name == name)
-    }
-
-    /// Index of the MR-JE-C axis called `name` (in `je_c_axes`).
-    pub fn je_c_axis_index(&self, name: &str) -> Option<usize> {
-        self.je_c_axes.iter().position(|a| a.name == name)
+        self.axis_ref(name)?.loop_slot()
     }
 
     /// The axis called `name`, whichever backend runs it.
     pub fn axis_ref(&self, name: &str) -> Option<AxisRef> {
-        self.axis_index(name)
-            .map(AxisRef::Loop)
-            .or_else(|| self.je_c_axis_index(name).map(AxisRef::Link))
+        self.axes.find(name).map(|a| a.at)
     }
 
     /// The name of axis `axis`.
     pub fn axis_name(&self, axis: AxisRef) -> &str {
-        match axis {
-            AxisRef::Loop(i) => &self.axes[i].name,
-            AxisRef::Link(k) => &self.je_c_axes[k].name,
-        }
+        self.axes.get(axis).name()
     }
 
     /// The velocity limit of axis `axis`, unit/s.
     pub fn velocity_limit(&self, axis: AxisRef) -> f64 {
-        match axis {
-            AxisRef::Loop(i) => self.axes[i].limits.velocity,
-            AxisRef::Link(k) => self.je_c_axes[k].velocity,
-        }
+        self.axes.get(axis).velocity_limit()
     }
 
-    /// Comma-separated names of the axes on the RT loop (the recording's `axes` metadata).
+    /// Comma-separated names of the axes on the RT loop (the recording's `axes` metadata,
+    /// the columns of its per-cycle channels).
     pub fn axis_names(&self) -> String {
         self.axes
+            .on_loop()
             .iter()
             .map(|a| a.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
-
-    /// Comma-separated names of every axis, the MR-JE-C axes last, for messages.
-    pub fn all_axis_names(&self) -> String {
-        self.axes
-            .iter()
-            .map(|a| a.name.as_str())
-            .chain(self.je_c_axes.iter().map(|a| a.name.as_str()))
             .collect::<Vec<_>>()
             .join(", ")
     }

@@ -274,7 +274,7 @@ limits = {{ position = [0.0, 100.0], velocity = 100.0, acceleration = 1000.0, je
                 ("tq", ProfileMode::Torque),
             ] {
                 let c = cell(drive, &format!("mode = \"{mode}\"\n{group}")).unwrap();
-                let a = &c.axes[0];
+                let a = &c.axes.on_loop()[0];
                 assert_eq!(a.mode.as_str(), mode, "{drive}");
                 assert_eq!(a.profile_objects.map(|p| p.mode), Some(m), "{drive}");
                 assert!(a.profile.supports_mode(a.mode), "{drive} {mode}");
@@ -282,7 +282,7 @@ limits = {{ position = [0.0, 100.0], velocity = 100.0, acceleration = 1000.0, je
         }
         // The cyclic axes are no profile axes.
         let c = cell("mr-j5-g-n1", "mode = \"csp\"").unwrap();
-        assert!(c.axes[0].profile_objects.is_none());
+        assert!(c.axes.on_loop()[0].profile_objects.is_none());
     }
 
     #[test]
@@ -329,9 +329,9 @@ limits = {{ position = [0.0, 100.0], velocity = 100.0, acceleration = 1000.0, je
         assert_eq!(e.key, "axes[0].motor.rated_speed", "{e}");
         // tq ramps on 6087h only; 3000 r/min at 10000 counts/rev is 500000 counts/s.
         let tq = cell_with_motor("mr-jet-g-n1", "counts_per_rev = 10000", "mode = \"tq\"").unwrap();
-        assert_eq!(tq.axes[0].rated_speed, None);
+        assert_eq!(tq.axes.on_loop()[0].rated_speed, None);
         let pp = cell("mr-jet-g-n1", "mode = \"pp\"").unwrap();
-        assert_eq!(pp.axes[0].rated_speed, Some(500_000.0));
+        assert_eq!(pp.axes.on_loop()[0].rated_speed, Some(500_000.0));
     }
 
     #[test]

@@ -21,11 +21,14 @@ fn demo_config_is_valid_and_typed() {
     assert_eq!(c.name, "demo");
     assert_eq!(c.cycle_time.as_micros(), 1000);
     assert_eq!(c.axis_names(), "x, y, z, c");
-    assert_eq!(c.axes[3].unit, "deg");
-    assert_eq!(c.axes[0].scaling.counts_per_unit(), 1000.0);
+    assert_eq!(c.axes.on_loop()[3].unit, "deg");
+    assert_eq!(c.axes.on_loop()[0].scaling.counts_per_unit(), 1000.0);
     // Defaults: stop deceleration = acceleration, following-error limit = 0.1 s at full speed.
-    assert_eq!(c.axes[0].stop_deceleration, c.axes[0].limits.acceleration);
-    assert_eq!(c.axes[0].following_error_limit, 40.0);
+    assert_eq!(
+        c.axes.on_loop()[0].stop_deceleration,
+        c.axes.on_loop()[0].limits.acceleration
+    );
+    assert_eq!(c.axes.on_loop()[0].following_error_limit, 40.0);
     assert_eq!(
         c.program,
         Some(Path::new("demo-program.toml").to_path_buf())
@@ -187,10 +190,17 @@ fn the_ethercat_cell_is_valid_and_typed() {
     let ec = c.ethercat.as_ref().expect("[ethercat]");
     assert_eq!(ec.interface, EthercatInterface::Nic("ecat0".into()));
     assert_eq!(ec.frame_timeout, std::time::Duration::from_micros(500));
-    assert!(c.axes.iter().all(|a| a.transport == Transport::Ethercat));
+    assert!(c
+        .axes
+        .on_loop()
+        .iter()
+        .all(|a| a.transport == Transport::Ethercat));
     // The MR-J3-T04 identity from its manual; the others: Mitsubishi's vendor, any product.
-    assert_eq!(c.axes[0].ethercat_identity.product_code, Some(0x102));
-    assert_eq!(c.axes[3].ethercat_identity.product_code, None);
+    assert_eq!(
+        c.axes.on_loop()[0].ethercat_identity.product_code,
+        Some(0x102)
+    );
+    assert_eq!(c.axes.on_loop()[3].ethercat_identity.product_code, None);
     let mut c = c;
     c.set_ethercat_interface("in-process").unwrap();
     assert_eq!(c.ethercat.unwrap().interface, EthercatInterface::InProcess);
@@ -267,9 +277,12 @@ fn a_multi_axis_unit_over_ethercat_keeps_its_slots_and_refuses_125_us() {
         1,
     );
     let c = parse(&text).expect("a J5W2 axis over EtherCAT");
-    let slot = c.axes[3].amplifier.as_ref().expect("amplifier slot");
+    let slot = c.axes.on_loop()[3]
+        .amplifier
+        .as_ref()
+        .expect("amplifier slot");
     assert_eq!((slot.label.as_str(), slot.slot), ("w2", 1));
-    assert!(c.axes[0].amplifier.is_none());
+    assert!(c.axes.on_loop()[0].amplifier.is_none());
 
     let text: String = text
         .lines()
@@ -304,7 +317,7 @@ fn a_pdo_mapping_from_the_config_is_checked_and_runs_in_the_axis_profile() {
         text.replacen(&line, &format!("pdo = {{ {pdo} }}"), 1)
     };
     let c = parse(&ethercat_text()).expect("the example cell's csp-only RxPDO of the MR-J3-T04");
-    let x = &c.axes[0].profile;
+    let x = &c.axes.on_loop()[0].profile;
     assert_eq!(x.rx_pdo.byte_len(), 10);
     assert_eq!(x.rx_pdo.offset_of(0x607A, 0), Some(6));
     assert_eq!(x.rx_pdo.index, 0x1614);
@@ -312,7 +325,7 @@ fn a_pdo_mapping_from_the_config_is_checked_and_runs_in_the_axis_profile() {
         x.tx_pdo,
         cellrt_cia402::profile(cellrt_cia402::DriveModel::MrJ3T04).tx_pdo
     );
-    assert!(!x.default_mapping() && c.axes[1].profile.default_mapping());
+    assert!(!x.default_mapping() && c.axes.on_loop()[1].profile.default_mapping());
     for (pdo, key, reason) in [
         ("rx = [0x60400010, 0x60410010, 0x607A0020]", "axes[0].pdo.rx", "cannot map object 6041h:00 into the RxPDO"),
         ("rx = [0x60400010, 0x60FF0020]", "axes[0].pdo.rx", "must map 607Ah for mode csp"),
@@ -349,7 +362,7 @@ fn the_generic_cia402_cell_is_valid_and_carries_its_identity() {
         EthercatInterface::InProcess
     );
     assert_eq!(c.axis_names(), "x, y");
-    for a in &c.axes {
+    for a in c.axes.on_loop() {
         assert_eq!(a.drive, cellrt_cia402::DriveModel::GenericCia402);
         assert_eq!(a.transport, Transport::Ethercat);
         assert_eq!(a.ethercat_identity.vendor_id, 0xCE11_0000);
@@ -358,7 +371,7 @@ fn the_generic_cia402_cell_is_valid_and_carries_its_identity() {
         assert!(a.ethercat_identity.matches(&presented), "{}", a.name);
         assert_eq!(presented.vendor_id, 0xCE11_0000);
     }
-    let (x, y) = (&c.axes[0], &c.axes[1]);
+    let (x, y) = (&c.axes.on_loop()[0], &c.axes.on_loop()[1]);
     assert_eq!(x.mode, ModeOfOperation::CyclicSyncPosition);
     assert_eq!(x.profile.rx_pdo.index, 0x1600);
     assert_eq!(x.profile.rx_pdo.byte_len(), 8);
@@ -427,10 +440,10 @@ fn a_generic_cia402_axis_on_ethercat_needs_the_subdevices_identity() {
         .join("\n");
     let c = parse(&sim).expect("a simulated generic cell needs no identity");
     assert!(c.ethercat.is_none());
-    assert_eq!(c.axes[0].transport, Transport::Sim);
+    assert_eq!(c.axes.on_loop()[0].transport, Transport::Sim);
     // A Mitsubishi model keeps its maker's identity without the keys.
     let c = parse(&ethercat_text()).unwrap();
-    assert_eq!(c.axes[1].ethercat_identity.vendor_id, 0xA1E);
+    assert_eq!(c.axes.on_loop()[1].ethercat_identity.vendor_id, 0xA1E);
 }
 
 /// A generic axis with a custom `[axes.pdo]`: every CiA 402 mappable object is accepted, the
@@ -451,7 +464,7 @@ fn a_generic_cia402_axis_takes_a_custom_mapping_checked_against_cia402() {
          tx = [0x60410010, 0x60640020, 0x60F40020, 0x60FD0020, 0x60B90010, 0x603F0010]",
     ))
     .expect("CiA 402 mappable objects");
-    let x = &c.axes[0].profile;
+    let x = &c.axes.on_loop()[0].profile;
     assert_eq!(x.rx_pdo.byte_len(), 12);
     assert_eq!(x.tx_pdo.byte_len(), 18);
     assert_eq!(x.tx_pdo.offset_of(0x60FD, 0), Some(10));
@@ -707,8 +720,11 @@ fn the_communication_watchdog_defaults_and_its_counter_levels_are_checked() {
 fn distributed_clocks_and_the_emulated_subdevice_variant_are_read_and_checked() {
     use cellrt_emulator::ethercat::{CycleTimeObject, EmulatedDc, SubDeviceVariant};
     let c = parse(&generic_text()).unwrap();
-    assert!(c.axes.iter().all(|a| a.distributed_clocks));
-    assert_eq!(c.axes[0].sim.subdevice, SubDeviceVariant::default());
+    assert!(c.axes.on_loop().iter().all(|a| a.distributed_clocks));
+    assert_eq!(
+        c.axes.on_loop()[0].sim.subdevice,
+        SubDeviceVariant::default()
+    );
     let text = generic_text()
         .replacen(
             "product_code = 0xCE110402 }",
@@ -721,9 +737,9 @@ fn distributed_clocks_and_the_emulated_subdevice_variant_are_read_and_checked() 
             1,
         );
     let c = parse(&text).unwrap();
-    assert!(!c.axes[0].distributed_clocks && c.axes[1].distributed_clocks);
+    assert!(!c.axes.on_loop()[0].distributed_clocks && c.axes.on_loop()[1].distributed_clocks);
     assert_eq!(
-        c.axes[0].sim.subdevice,
+        c.axes.on_loop()[0].sim.subdevice,
         SubDeviceVariant {
             cycle_time: CycleTimeObject::ReadOnly(1_000_000),
             following_error_object: false,
@@ -769,7 +785,10 @@ fn the_emulated_sdo_answer_time_is_for_ethercat_axes_and_bounded() {
         )
     };
     let c = parse(&with(ethercat_text(), "50")).unwrap();
-    assert_eq!(c.axes[0].sim.subdevice.sdo_response_delay_ns, 50_000_000);
+    assert_eq!(
+        c.axes.on_loop()[0].sim.subdevice.sdo_response_delay_ns,
+        50_000_000
+    );
     for bad in ["-1", "1001", "nan"] {
         let e = parse(&with(ethercat_text(), bad)).unwrap_err();
         assert_eq!(e.key, "axes[0].sim.sdo_response_ms", "{bad}: {e}");

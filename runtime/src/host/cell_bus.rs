@@ -62,6 +62,7 @@ pub fn sim_bus(cell: &CellConfig) -> SimBus {
 /// The simulated drives of `cell`'s axes (behind a [`SimBus`] or an emulated EtherCAT segment).
 pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
     cell.axes
+        .on_loop()
         .iter()
         .map(|a| {
             let s = a.scaling.counts_per_unit();
@@ -110,6 +111,7 @@ pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
         cycle: cell.cycle_time,
         drives: cell
             .axes
+            .on_loop()
             .iter()
             .map(|a| SegmentDrive {
                 axis: a.name.clone(),
@@ -150,14 +152,14 @@ pub fn emulated_segment(cell: &CellConfig) -> Result<Segment, BusOpenError> {
     let mut segment = Segment::of_units(units)?;
     for (n, st) in stations.iter().enumerate() {
         if let Some(station) = segment.station_mut(n) {
-            station.present(cell.axes[st.first_axis()].sim.subdevice);
+            station.present(cell.axes.on_loop()[st.first_axis()].sim.subdevice);
         }
         // An axis described by an ESI file: its station presents that object dictionary.
         if let Some(esi) = st
             .slots
             .iter()
             .flatten()
-            .find_map(|&a| cell.axes[a].esi.clone())
+            .find_map(|&a| cell.axes.on_loop()[a].esi.clone())
         {
             segment.describe_station(n, esi);
         }

@@ -216,13 +216,13 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .program
         .as_ref()
         .map(|p| {
-            (0..cell.je_c_axes.len())
+            (0..cell.axes.on_link().len())
                 .map(|k| p.final_target(AxisRef::Link(k)))
                 .collect()
         })
-        .unwrap_or_else(|| vec![None; cell.je_c_axes.len()]);
+        .unwrap_or_else(|| vec![None; cell.axes.on_link().len()]);
     // An external planner commands the MR-JE-C axes through the link thread.
-    let je_c_link = (opts.external_planner && !cell.je_c_axes.is_empty()).then(|| je_c.axes());
+    let je_c_link = (opts.external_planner && !cell.axes.on_link().is_empty()).then(|| je_c.axes());
     let link = LinkServer::spawn(cell, handoff.clone(), je_c_link)?;
     // Without a program the planner thread serves the operator service (unless an external
     // planner process provides the setpoints).
@@ -344,6 +344,7 @@ fn record_bring_up_warnings(
     for w in bus.bring_up_warnings() {
         let axis = cell
             .axes
+            .on_loop()
             .iter()
             .position(|a| a.name == w.axis)
             .map_or(handoff::NO_AXIS, |i| i as u16);
@@ -503,6 +504,7 @@ fn wait_for_end(
 /// Each axis' final position against the program's last target.
 fn axis_summaries(cell: &CellConfig, stats: &RtStats, targets: &[Option<f64>]) -> Vec<AxisSummary> {
     cell.axes
+        .on_loop()
         .iter()
         .enumerate()
         .map(|(i, a)| {
@@ -530,6 +532,7 @@ fn shutdown(cell: &CellConfig, handoff: &HostEnd) {
     // Longest controlled stop of any axis from its velocity limit, plus margin.
     let stop_time = cell
         .axes
+        .on_loop()
         .iter()
         .map(|a| a.limits.velocity / a.stop_deceleration)
         .fold(0.0, f64::max);

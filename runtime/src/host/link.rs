@@ -115,7 +115,7 @@ impl StatusSnapshot {
         self.live
             .get(i)
             .and_then(|l| cellrt_cia402::mode::ModeOfOperation::from_i8(l.mode))
-            .or_else(|| cell.axes.get(i).map(|a| a.mode))
+            .or_else(|| cell.axes.on_loop().get(i).map(|a| a.mode))
             .unwrap_or(cellrt_cia402::mode::ModeOfOperation::CyclicSyncPosition)
     }
 }

@@ -212,7 +212,7 @@ pub fn run_external(
     }
     // The MR-JE-C axes' threads run in the controller; the bridge carries their commands and
     // feedback (dropped after the planner, so its last commands go out).
-    let (_bridge, je_c) = if cell.je_c_axes.is_empty() {
+    let (_bridge, je_c) = if cell.axes.on_link().is_empty() {
         (None, JecAxes::default())
     } else {
         let (bridge, axes) =
@@ -462,8 +462,8 @@ impl<'a> Planner<'a> {
                     seconds,
                 } => {
                     self.what = "jog";
-                    let limits = self.cell.axes[*axis].limits;
-                    if self.cell.axes[*axis].profile_objects.is_some() {
+                    let limits = self.cell.axes.on_loop()[*axis].limits;
+                    if self.cell.axes.on_loop()[*axis].profile_objects.is_some() {
                         self.run_profile_jog(*axis, *velocity, *seconds)?;
                         continue;
                     }
@@ -552,7 +552,7 @@ impl<'a> Planner<'a> {
                 return Err(self.err("the cell faulted (see the events)"));
             }
             if Instant::now() >= end {
-                let name = pending.map_or("", |&i| self.cell.axes[i].name.as_str());
+                let name = pending.map_or("", |&i| self.cell.axes.on_loop()[i].name.as_str());
                 return Err(self.err(format!(
                     "timed out after {timeout:?}; axis '{name}' is not {}, the cell is {}",
                     if on { "powered" } else { "unpowered" },
@@ -627,7 +627,8 @@ impl<'a> Planner<'a> {
         if let Err(e) = self.link.home(request) {
             return Err(self.err(e));
         }
-        let end = Instant::now() + self.cell.axes[axis].homing.timeout + Duration::from_secs(5);
+        let end =
+            Instant::now() + self.cell.axes.on_loop()[axis].homing.timeout + Duration::from_secs(5);
         loop {
             if self.aborted() {
                 return Ok(());
@@ -736,7 +737,7 @@ impl<'a> Planner<'a> {
         velocity: f64,
         seconds: f64,
     ) -> Result<(), ProgramError> {
-        let a = &self.cell.axes[axis];
+        let a = &self.cell.axes.on_loop()[axis];
         let jog = profile_jog(
             axis,
             a,
@@ -777,7 +778,7 @@ impl<'a> Planner<'a> {
                 // As many ends on the axis as commands sent to it (each command ends once).
                 let sent = commands[..=k].iter().filter(|o| o.axis == c.axis).count() as u32;
                 if now.profile_failed != then.profile_failed {
-                    let name = &self.cell.axes[usize::from(c.axis)].name;
+                    let name = &self.cell.axes.on_loop()[usize::from(c.axis)].name;
                     return Err(self.err(format!(
                         "axis '{name}': its drive-side command was refused or cancelled (see the events)"
                     )));
@@ -806,7 +807,7 @@ impl<'a> Planner<'a> {
             .collect();
         if targets
             .iter()
-            .any(|&(i, ..)| self.cell.axes[i].profile_objects.is_some())
+            .any(|&(i, ..)| self.cell.axes.on_loop()[i].profile_objects.is_some())
         {
             return self.run_profile_torque(&targets, hold_s);
         }

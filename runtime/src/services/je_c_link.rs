@@ -605,10 +605,10 @@ mod tests {
             "/../configs/mixed-cell.toml"
         )))
         .expect("mixed cell");
-        let axes = cell.je_c_axes.clone();
+        let axes = cell.axes.on_link().to_vec();
         assert_eq!(axes.len(), 2);
         let shape = je_c_shape(&axes);
-        assert_eq!(shape, je_c_shape(&cell.je_c_axes));
+        assert_eq!(shape, je_c_shape(cell.axes.on_link()));
         let swapped = vec![axes[1].clone(), axes[0].clone()];
         let mut renamed = axes.clone();
         renamed[0].name = "infeed2".into();

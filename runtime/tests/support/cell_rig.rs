@@ -73,7 +73,7 @@ impl Rig {
 
     /// 606Ch of `r` in mm/s.
     pub fn speed(&self, r: &AxisRecord) -> f64 {
-        let a = &self.cell.axes[0];
+        let a = &self.cell.axes.on_loop()[0];
         a.drive_units.velocity_from_drive(r.velocity_actual) / a.scaling.counts_per_unit()
     }
 

@@ -132,7 +132,7 @@ fn axis_names(config: &CellConfig, st: &cellrt_ethercat::master::SegmentStation)
         .slots
         .iter()
         .flatten()
-        .map(|&a| config.axes[a].name.as_str())
+        .map(|&a| config.axes.on_loop()[a].name.as_str())
         .collect();
     v.join("+")
 }

@@ -121,11 +121,12 @@ pub fn run(args: ReplayArgs) -> Exit {
 /// the drive's own profile motion, so their recorded exchanges are not a deterministic function
 /// of the RxPDO stream.
 fn je_c_excluded(cell: &CellConfig) -> Option<String> {
-    if cell.je_c_axes.is_empty() {
+    if cell.axes.on_link().is_empty() {
         return None;
     }
     let names: Vec<String> = cell
-        .je_c_axes
+        .axes
+        .on_link()
         .iter()
         .map(|a| format!("{} ({})", a.name, a.transport.name()))
         .collect();
@@ -232,6 +233,7 @@ pub fn replay(
     }
     let channels: Vec<AxisChannel> = cell
         .axes
+        .on_loop()
         .iter()
         .map(|a| AxisChannel::new(cell, a))
         .collect();
@@ -247,9 +249,9 @@ pub fn replay(
         if let Some(i) = axes.iter().position(|a| a[k].cycle != cycle) {
             return Err(ReplayError::Misaligned {
                 record: k,
-                axis: cell.axes[i].name.clone(),
+                axis: cell.axes.on_loop()[i].name.clone(),
                 at: axes[i][k].cycle,
-                first: cell.axes[0].name.clone(),
+                first: cell.axes.on_loop()[0].name.clone(),
                 cycle,
             });
         }
@@ -260,7 +262,7 @@ pub fn replay(
                 .tx_map
                 .decode_tx(bus.tx_image(i))
                 .map_err(|error| ReplayError::TxPdo {
-                    axis: cell.axes[i].name.clone(),
+                    axis: cell.axes.on_loop()[i].name.clone(),
                     error,
                 })?;
             if let Some((field, recorded, replayed)) = compare(rec, &tx) {
@@ -268,7 +270,7 @@ pub fn replay(
                     k as u64,
                     Some(Divergence {
                         cycle,
-                        axis: cell.axes[i].name.clone(),
+                        axis: cell.axes.on_loop()[i].name.clone(),
                         field,
                         recorded,
                         replayed,
@@ -302,9 +304,9 @@ pub fn replay(
                 rx.torque_slope,
             ) = (profile[0], profile[1], profile[2], profile[3]);
             // A csp axis the recording may show switched to pp at run time: its pp plan.
-            let objects = cell.axes[i]
+            let objects = cell.axes.on_loop()[i]
                 .profile_objects
-                .or_else(|| cellrt_config::profile_axis::pp_switch(&cell.axes[i]).ok());
+                .or_else(|| cellrt_config::profile_axis::pp_switch(&cell.axes.on_loop()[i]).ok());
             if let Some(objects) = objects {
                 let before = k
                     .checked_sub(1)
@@ -313,7 +315,7 @@ pub fn replay(
                     if profile[n] != before[n] && !objects.is_cyclic(index) {
                         bus.sdo_download(i, index, 0, &profile[n].to_le_bytes())
                             .map_err(|abort| ReplayError::SdoAbort {
-                                axis: cell.axes[i].name.clone(),
+                                axis: cell.axes.on_loop()[i].name.clone(),
                                 index,
                                 value: profile[n],
                                 cycle,
@@ -325,7 +327,7 @@ pub fn replay(
             ch.rx_map
                 .encode_rx(&rx, bus.rx_image_mut(i))
                 .map_err(|error| ReplayError::RxPdo {
-                    axis: cell.axes[i].name.clone(),
+                    axis: cell.axes.on_loop()[i].name.clone(),
                     error,
                 })?;
         }

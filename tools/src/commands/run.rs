@@ -204,11 +204,12 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
 
 /// The MR-JE-C axes beside the RT loop, for the start line.
 fn je_c_axes(cell: &CellConfig) -> String {
-    if cell.je_c_axes.is_empty() {
+    if cell.axes.on_link().is_empty() {
         return String::new();
     }
     let each: Vec<String> = cell
-        .je_c_axes
+        .axes
+        .on_link()
         .iter()
         .map(|a| {
             format!(

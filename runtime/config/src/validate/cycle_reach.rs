@@ -172,7 +172,7 @@ mod tests {
             &[("acceleration", 400_000.0), ("jerk", 400_000_000.0)],
         )
         .expect("one cycle to full speed is a limit the setpoints carry");
-        assert_eq!(c.axes[0].limits.acceleration, 400_000.0);
+        assert_eq!(c.axes.on_loop()[0].limits.acceleration, 400_000.0);
     }
 
     #[test]

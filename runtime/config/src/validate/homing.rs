@@ -265,17 +265,20 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
              sim = { home_dog = [100.0, 120.0], positive_limit = 400.0, negative_limit = 10.0 }",
         )
         .unwrap();
-        let h = c.axes[0].homing;
+        let h = c.axes.on_loop()[0].homing;
         assert_eq!(h.method, Some(-1));
         assert_eq!(h.objects.get(0), Some((0x6099, 1, 86)));
         assert_eq!(h.objects.get(1), Some((0x6099, 2, 9)));
         assert_eq!(h.objects.get(2), Some((0x609A, 0, 200)));
         assert_eq!(h.objects.get(3), None);
         assert_eq!(h.timeout, std::time::Duration::from_secs(10));
-        let s = c.axes[0].sim.switches;
+        let s = c.axes.on_loop()[0].sim.switches;
         assert_eq!(s.home_dog, Some([100_000.0, 120_000.0]));
         assert_eq!(s.positive_limit, Some(400_000.0));
         let j3 = parse("mr-j3-t04", "homing = { shift = 2.5 }").unwrap();
-        assert_eq!(j3.axes[0].homing.objects.get(0), Some((0x2080, 0, 2500)));
+        assert_eq!(
+            j3.axes.on_loop()[0].homing.objects.get(0),
+            Some((0x2080, 0, 2500))
+        );
     }
 }

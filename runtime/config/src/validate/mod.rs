@@ -14,6 +14,7 @@ use super::{
     EthercatInterface, FaultReaction, RecordingConfig, RtConfig, SetpointConfig, Transport,
     WatchdogConfig, DEFAULT_FRAME_TIMEOUT_US, IN_PROCESS_INTERFACE, MAX_AXES,
 };
+use crate::CellAxes;
 
 mod axis;
 mod axis_key;
@@ -87,14 +88,19 @@ pub(super) fn validate(
     let watchdogs = watchdog_config(file, &raw.watchdogs)?;
     let operator = operator::operator_config(file, &raw.operator)?;
     let (live, live_page) = crate::live::live_config(file, &raw.live)?;
-    let (axes, je_c_axes) =
-        validate_axes(file, cycle_time, raw.axes, watchdogs.communication_reaction)?;
+    let axes = validate_axes(file, cycle_time, raw.axes, watchdogs.communication_reaction)?;
     let (mode, pre_s, post_s, triggers) = capture_raw;
     recording.capture =
-        crate::capture::capture_config(file, &mode, pre_s, post_s, &triggers, &axes)?;
+        crate::capture::capture_config(file, &mode, pre_s, post_s, &triggers, axes.on_loop())?;
 
-    let ethercat = validate_ethercat(file, raw.ethercat, &axes)?;
-    let inject = validate_injections(file, cycle_time, &raw.inject, &axes, ethercat.as_ref())?;
+    let ethercat = validate_ethercat(file, raw.ethercat, axes.on_loop())?;
+    let inject = validate_injections(
+        file,
+        cycle_time,
+        &raw.inject,
+        axes.on_loop(),
+        ethercat.as_ref(),
+    )?;
 
     Ok(CellConfig {
         source: file.to_path_buf(),
@@ -112,7 +118,6 @@ pub(super) fn validate(
         inject,
         axes,
         ethercat,
-        je_c_axes,
     })
 }
 
@@ -387,63 +392,42 @@ fn counter_levels(file: &Path, raw: &RawWatchdogs) -> Result<Option<DetectorPara
     }))
 }
 
-/// `[[axes]]`: at least one on the RT loop, at most [`MAX_AXES`] there, unique names,
-/// amplifier slots shared consistently; the MR-JE-C axes apart.
+/// `[[axes]]`: at least one, at most [`MAX_AXES`] on the RT loop, unique names, amplifier
+/// slots shared consistently; each axis on the backend its drive takes.
 fn validate_axes(
     file: &Path,
     cycle_time: CycleTime,
     raw: Vec<RawAxis>,
     communication_reaction: crate::FaultReaction,
-) -> Result<(Vec<AxisConfig>, Vec<JecAxisConfig>), ConfigError> {
-    let (je_c_raw, raw): (Vec<_>, Vec<_>) = raw
-        .into_iter()
-        .enumerate()
-        .partition(|(_, a)| a.drive == je_c_axis::DRIVE);
-    let mut seen = HashSet::new();
-    let mut je_c_axes = Vec::with_capacity(je_c_raw.len());
-    for (i, a) in &je_c_raw {
-        let key = format!("axes[{i}]");
-        if !seen.insert(a.name.clone()) {
-            return Err(duplicate(file, &key, &a.name));
-        }
-        check_name(file, &format!("{key}.name"), &a.name)?;
-        let mut j = je_c_axis::validate(file, &key, a, communication_reaction)?;
-        let at = axis_key::AxisKey { file, key: &key };
-        j.torque =
-            axis::torque_limits(&at, a, cellrt_cia402::mode::ModeOfOperation::ProfileTorque)?;
-        if j.mode == je_c_axis::JecMode::Tq && j.torque.is_none() {
-            return Err(at.err(
-                "limits.torque",
-                format!(
-                    "axis '{}' runs in tq and needs limits.torque (% of rated torque, 0 < t ≤ {})",
-                    a.name,
-                    super::MAX_TORQUE_PERCENT
-                ),
-            ));
-        }
-        je_c_axes.push(j);
-    }
+) -> Result<CellAxes, ConfigError> {
     if raw.is_empty() {
         return Err(ConfigError::new(
             file,
             "axes",
-            "a cell needs at least one [[axes]] entry on the RT loop (sim or ethercat; mr-je-c axes run beside it)",
+            "a cell needs at least one [[axes]] entry",
         ));
     }
-    if raw.len() > MAX_AXES {
+    let on_loop = raw.iter().filter(|a| a.drive != je_c_axis::DRIVE).count();
+    if on_loop > MAX_AXES {
         return Err(ConfigError::new(
             file,
             "axes",
-            format!(
-                "{} axes configured; a cell has at most {MAX_AXES}",
-                raw.len()
-            ),
+            format!("{on_loop} axes on the RT loop; a cell has at most {MAX_AXES}"),
         ));
     }
-    let mut axes = Vec::with_capacity(raw.len());
+    let mut seen = HashSet::new();
+    let mut axes = CellAxes::default();
     let mut amplifiers: Vec<(String, DriveModel, Vec<u8>)> = Vec::new();
-    for (i, a) in raw {
+    for (i, a) in raw.into_iter().enumerate() {
         let key = format!("axes[{i}]");
+        if a.drive == je_c_axis::DRIVE {
+            if !seen.insert(a.name.clone()) {
+                return Err(duplicate(file, &key, &a.name));
+            }
+            check_name(file, &format!("{key}.name"), &a.name)?;
+            axes.push_link(link_axis(file, &key, &a, communication_reaction)?);
+            continue;
+        }
         let amplifier = check_amplifier(file, &key, &a, &mut amplifiers)?;
         if !seen.insert(a.name.clone()) {
             return Err(duplicate(file, &key, &a.name));
@@ -461,9 +445,32 @@ fn validate_axes(
         }
         let mut axis = validate_axis(file, &key, cycle_time, a)?;
         axis.amplifier = amplifier;
-        axes.push(axis);
+        axes.push_loop(axis);
     }
-    Ok((axes, je_c_axes))
+    Ok(axes)
+}
+
+/// An `[[axes]]` entry with `drive = "mr-je-c"`: driven over its link, with its torque limits.
+fn link_axis(
+    file: &Path,
+    key: &str,
+    a: &RawAxis,
+    communication_reaction: crate::FaultReaction,
+) -> Result<JecAxisConfig, ConfigError> {
+    let mut j = je_c_axis::validate(file, key, a, communication_reaction)?;
+    let at = axis_key::AxisKey { file, key };
+    j.torque = axis::torque_limits(&at, a, cellrt_cia402::mode::ModeOfOperation::ProfileTorque)?;
+    if j.mode == je_c_axis::JecMode::Tq && j.torque.is_none() {
+        return Err(at.err(
+            "limits.torque",
+            format!(
+                "axis '{}' runs in tq and needs limits.torque (% of rated torque, 0 < t ≤ {})",
+                a.name,
+                super::MAX_TORQUE_PERCENT
+            ),
+        ));
+    }
+    Ok(j)
 }
 
 fn duplicate(file: &Path, key: &str, name: &str) -> ConfigError {

@@ -42,7 +42,8 @@ impl JecAxes {
     pub(crate) fn detached(cell: &CellConfig) -> JecAxes {
         JecAxes {
             axes: Arc::new(
-                cell.je_c_axes
+                cell.axes
+                    .on_link()
                     .iter()
                     .map(|c| (c.clone(), AxisHandle::detached()))
                     .collect(),
@@ -89,7 +90,7 @@ impl JecRelay {
         Ok(JecRelay {
             commands: services::je_c_command_subscriber(node, &cell.name)?,
             feedback: services::je_c_feedback_publisher(node, &cell.name)?,
-            shape: je_c_shape(&cell.je_c_axes),
+            shape: je_c_shape(cell.axes.on_link()),
             cell: cell.name.clone(),
             waiting: vec![VecDeque::with_capacity(WAITING); n],
             dropped: vec![0; n],
@@ -349,7 +350,7 @@ impl Bridge {
         let (node, commands, feedback) = setup()?;
         let n = axes.len();
         let mut b = Bridge {
-            shape: je_c_shape(&cell.je_c_axes),
+            shape: je_c_shape(cell.axes.on_link()),
             cell: name.clone(),
             seq: 0,
             seen: vec![(Instant::now(), true); n],

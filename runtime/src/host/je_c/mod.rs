@@ -84,8 +84,8 @@ fn reaction(r: FaultReaction) -> StopReaction {
 impl JecCell {
     /// Starts every MR-JE-C axis of `cell` (none: nothing runs).
     pub fn start(cell: &CellConfig) -> Result<JecCell, JecStartError> {
-        let mut axes = Vec::with_capacity(cell.je_c_axes.len());
-        for c in &cell.je_c_axes {
+        let mut axes = Vec::with_capacity(cell.axes.on_link().len());
+        for c in cell.axes.on_link() {
             let fail = |failure: JecStartFailure| JecStartError {
                 axis: c.name.clone(),
                 transport: c.transport.name(),

@@ -17,17 +17,19 @@ impl MotionEngine {
         };
         let status = link.status()?;
         if let Some(&i) = moved.iter().find(|&&i| status.live[i].powered == 0) {
-            return Err(MotionError::NotPowered(self.cell.axes[i].name.clone()));
+            return Err(MotionError::NotPowered(
+                self.cell.axes.on_loop()[i].name.clone(),
+            ));
         }
         let switched = moved.iter().find(|&&i| {
             cellrt_config::ProfileMode::of(status.mode_now(&self.cell, i)).is_some()
-                && self.cell.axes[i].profile_objects.is_none()
+                && self.cell.axes.on_loop()[i].profile_objects.is_none()
         });
         match switched {
             Some(&i) => Err(refused(format!(
                 "axis '{0}' was switched to pp at run time: streamed moves, jogs and torque \
                  commands need it in csp (`cellrt mode {0} csp`)",
-                self.cell.axes[i].name
+                self.cell.axes.on_loop()[i].name
             ))),
             None => Ok(()),
         }
@@ -36,7 +38,7 @@ impl MotionEngine {
     /// Refusals that depend on the configuration only (before anything changes).
     pub(super) fn check_request(&self, req: &MotionRequest) -> Result<(), MotionError> {
         self.check_streamed(req)?;
-        let axes = &self.cell.axes;
+        let axes = self.cell.axes.on_loop();
         match req {
             // A cst axis positions in csv between torque commands (`AxisChannel::drive_command`).
             MotionRequest::Move(targets) => {
@@ -141,7 +143,7 @@ impl MotionEngine {
         };
         let profile_axis = moved
             .iter()
-            .filter_map(|&i| self.cell.axes.get(i))
+            .filter_map(|&i| self.cell.axes.on_loop().get(i))
             .find(|a| a.profile_objects.is_some());
         match profile_axis {
             Some(a) => Err(refused(format!(
@@ -163,7 +165,7 @@ impl MotionEngine {
             _ => None,
         };
         let text = error::one_line(&e.to_string());
-        match axis.and_then(|i| self.cell.axes.get(i)) {
+        match axis.and_then(|i| self.cell.axes.on_loop().get(i)) {
             Some(a) => text.replacen(
                 &format!("axis {}", axis.unwrap_or(0)),
                 &format!("axis '{}' ({})", a.name, a.unit),

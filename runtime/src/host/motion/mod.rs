@@ -156,9 +156,10 @@ pub struct MotionEngine {
 impl MotionEngine {
     /// An engine publishing on `publisher` for `cell`.
     pub fn new(cell: &CellConfig, publisher: SetpointPublisher) -> MotionEngine {
-        let n = cell.axes.len();
+        let n = cell.axes.on_loop().len();
         let axes = cell
             .axes
+            .on_loop()
             .iter()
             .map(|a| OnlineAxis {
                 limits: a.limits,
@@ -167,6 +168,7 @@ impl MotionEngine {
             .collect();
         let start: Vec<f64> = cell
             .axes
+            .on_loop()
             .iter()
             .map(|a| a.position.min.max(0.0).min(a.position.max))
             .collect();
@@ -371,7 +373,7 @@ impl MotionEngine {
                     .iter()
                     .map(|&(i, target, limits)| MoveAxis {
                         start: AxisState {
-                            position: self.cell.axes[i].scaling.to_units(status.hold[i]),
+                            position: self.cell.axes.on_loop()[i].scaling.to_units(status.hold[i]),
                             ..AxisState::default()
                         },
                         target,
@@ -423,12 +425,12 @@ impl MotionEngine {
         let axes: Vec<usize> = targets.iter().map(|t| t.0).collect();
         let start: Vec<f64> = axes
             .iter()
-            .map(|&i| self.cell.axes[i].scaling.to_units(status.hold[i]))
+            .map(|&i| self.cell.axes.on_loop()[i].scaling.to_units(status.hold[i]))
             .collect();
         let end: Vec<f64> = targets.iter().map(|t| t.1).collect();
         let limits: Vec<KinematicLimits> = targets.iter().map(|t| t.2).collect();
         for &(i, end, _) in targets {
-            let a = &self.cell.axes[i];
+            let a = &self.cell.axes.on_loop()[i];
             a.position.check(end).map_err(|e| {
                 MotionError::Refused(format!("axis '{}' ({}): {e}", a.name, a.unit))
             })?;
@@ -443,7 +445,7 @@ impl MotionEngine {
     /// A new motion from rest at the RT thread's hold positions.
     fn begin(&mut self, status: &StatusSnapshot, kind: Kind) {
         let n = self.cell.axes.len();
-        for (i, a) in self.cell.axes.iter().enumerate() {
+        for (i, a) in self.cell.axes.on_loop().iter().enumerate() {
             self.hold[i] = status.hold[i];
             self.states[i] = AxisState {
                 position: a.scaling.to_units(status.hold[i]),
@@ -482,6 +484,7 @@ impl MotionEngine {
         let mut states: Vec<AxisState> = self
             .cell
             .axes
+            .on_loop()
             .iter()
             .zip(&self.hold)
             .map(|(a, h)| AxisState {
@@ -595,7 +598,11 @@ impl MotionEngine {
                     self.online
                         .step(&mut self.states)
                         .map_err(|e| MotionError::planning("planning failed")(&e))?;
-                    for ((sp, st), ax) in row.iter_mut().zip(&self.states).zip(&self.cell.axes) {
+                    for ((sp, st), ax) in row
+                        .iter_mut()
+                        .zip(&self.states)
+                        .zip(self.cell.axes.on_loop())
+                    {
                         *sp = AxisSetpoint {
                             position: ax.scaling.to_counts(st.position),
                             velocity: ax.scaling.to_counts(st.velocity),
@@ -664,7 +671,7 @@ fn group_row(
         };
     }
     for (&i, st) in axes.iter().zip(states) {
-        let sc = cell.axes[i].scaling;
+        let sc = cell.axes.on_loop()[i].scaling;
         row[i] = AxisSetpoint {
             position: sc.to_counts(st.position),
             velocity: sc.to_counts(st.velocity),

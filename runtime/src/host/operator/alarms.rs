@@ -46,7 +46,7 @@ pub enum AlarmsError {
 /// Checks an `alarms` request and plans its transfers.
 pub fn plan(cell: &CellConfig, axis: &str, clear: bool) -> Result<SdoJob, AlarmsError> {
     let i = axis_index(cell, axis).map_err(AlarmsError::Axis)?;
-    let a = &cell.axes[i];
+    let a = &cell.axes.on_loop()[i];
     let h = a
         .profile
         .parameters

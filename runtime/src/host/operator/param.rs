@@ -105,7 +105,7 @@ pub fn plan(
     enabled: bool,
 ) -> Result<SdoJob, ParamError> {
     let i = axis_index(cell, axis).map_err(ParamError::Axis)?;
-    let a = &cell.axes[i];
+    let a = &cell.axes.on_loop()[i];
     let facts = a.profile.parameters;
     let plan = |rows: Vec<&'static Parameter>, kind| ParamPlan {
         axis: axis.to_string(),

@@ -73,6 +73,7 @@ impl AxisModes {
     pub(crate) fn configured(cell: &CellConfig) -> AxisModes {
         AxisModes(
             cell.axes
+                .on_loop()
                 .iter()
                 .map(|a| a.profile_objects.map(|p| p.mode))
                 .collect(),
@@ -105,7 +106,9 @@ pub(crate) fn split_move(
         list.into_iter().partition(|t| modes.of(t.0).is_some());
     let commands = drive_side
         .iter()
-        .map(|(i, target, limits)| move_to(*i, &cell.axes[*i], modes.of(*i), *target, limits))
+        .map(|(i, target, limits)| {
+            move_to(*i, &cell.axes.on_loop()[*i], modes.of(*i), *target, limits)
+        })
         .collect::<Result<_, _>>()?;
     Ok((commands, streamed))
 }
@@ -122,7 +125,7 @@ pub(super) fn split_torque(
     let mut streamed = Vec::new();
     for (axis, t) in targets {
         let i = axis_index(cell, axis)?;
-        let a = &cell.axes[i];
+        let a = &cell.axes.on_loop()[i];
         if modes.of(i).is_some() {
             drive_side.push(torque(i, a, modes.of(i), *t)?);
         } else {
@@ -369,7 +372,7 @@ mod tests {
     #[test]
     fn a_request_the_axis_mode_does_not_take_names_the_mode_it_needs() {
         let cell = shipped("ethercat-cell.toml");
-        let a = &cell.axes[1];
+        let a = &cell.axes.on_loop()[1];
         let limits = a.limits;
         let e = jog(1, a, None, 1.0, &limits).unwrap_err();
         assert!(

@@ -156,7 +156,7 @@ pub fn check(
     value: Option<i64>,
 ) -> Result<CheckedSdo, SdoError> {
     let i = axis_index(cell, axis).map_err(SdoError::Axis)?;
-    let a = &cell.axes[i];
+    let a = &cell.axes.on_loop()[i];
     let facts = object_facts(a, index, sub).ok_or_else(|| SdoError::NotInDictionary {
         object: object_text(index, sub),
         axis: axis.to_string(),

@@ -25,7 +25,7 @@ use crate::host::motion::{MotionEngine, MotionRequest, Progress};
 use crate::host::program::Program;
 use crate::services::{self, OperatorServerPort, ServiceError, OPERATOR_RESPONSE_BYTES};
 use cellrt_cia402::homing::{choose_procedure, HomeSettingEdge, HomingFailure};
-use cellrt_config::CellConfig;
+use cellrt_config::{AxisRef, CellConfig};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -246,12 +246,12 @@ impl OperatorServer {
 
     /// Why the active command's drive-side motion on axis `i` failed.
     fn profile_failure(&self, ctx: &mut Context<'_>, i: usize) -> String {
-        let axis = &ctx.cell.axes[i].name;
+        let axis = &ctx.cell.axes.on_loop()[i].name;
         if self.active.as_ref().is_some_and(|a| a.command == "mode") {
             let now = ctx
                 .link
                 .status()
-                .map_or(ctx.cell.axes[i].mode, |s| s.mode_now(ctx.cell, i));
+                .map_or(ctx.cell.axes.on_loop()[i].mode, |s| s.mode_now(ctx.cell, i));
             return format!(
                 "axis '{axis}' stays in {}: the RT thread refused the switch (the cell was not idle, or the axis not at rest in Operation enabled) or withdrew it (6061h did not show the mode within {:?}, or the drive faulted); see the events",
                 now.as_str(),
@@ -529,13 +529,17 @@ impl OperatorServer {
         let whole_cell = axes.is_empty();
         let (je_c, axes): (Vec<&String>, Vec<&String>) = axes
             .iter()
-            .partition(|a| ctx.cell.je_c_axis_index(a).is_some());
+            .partition(|a| ctx.cell.axis_ref(a).and_then(AxisRef::link).is_some());
         let je_c: Vec<usize> = if whole_cell {
             (0..ctx.je_c.len()).collect()
         } else {
             let mut ks: Vec<usize> = Vec::with_capacity(je_c.len());
             for a in je_c {
-                let k = ctx.cell.je_c_axis_index(a).expect("partitioned above");
+                let k = ctx
+                    .cell
+                    .axis_ref(a)
+                    .and_then(AxisRef::link)
+                    .expect("partitioned above");
                 if ks.contains(&k) {
                     return rejected(format!("power: axis '{a}' named twice"));
                 }
@@ -626,6 +630,7 @@ impl OperatorServer {
         let axes = ctx
             .cell
             .axes
+            .on_loop()
             .iter()
             .enumerate()
             .map(|(i, a)| {
@@ -721,7 +726,7 @@ fn resolve_targets(
     let mut list = Vec::with_capacity(targets.len());
     for (axis, value) in targets {
         let i = axis_index(ctx.cell, axis)?;
-        let a = &ctx.cell.axes[i];
+        let a = &ctx.cell.axes.on_loop()[i];
         let limits = limits_of(a)?;
         if !value.is_finite() {
             return Err(TargetError::NotFinite {

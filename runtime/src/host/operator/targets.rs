@@ -85,10 +85,16 @@ pub const MIN_LIMIT_FRACTION: f64 = 1e-6;
 /// The index of the axis `name`, or the cell's axis names.
 pub(super) fn axis_index(cell: &CellConfig, name: &str) -> Result<usize, TargetError> {
     cell.axes
+        .on_loop()
         .iter()
         .position(|a| a.name == name)
         .ok_or_else(|| {
-            let names: Vec<&str> = cell.axes.iter().map(|a| a.name.as_str()).collect();
+            let names: Vec<&str> = cell
+                .axes
+                .on_loop()
+                .iter()
+                .map(|a| a.name.as_str())
+                .collect();
             TargetError::UnknownAxis {
                 name: name.to_string(),
                 axes: names.join(", "),
@@ -144,7 +150,7 @@ mod tests {
     fn x_axis() -> AxisConfig {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs/demo.toml");
         let text = std::fs::read_to_string(&path).unwrap();
-        CellConfig::parse(&path, &text).unwrap().axes[0].clone()
+        CellConfig::parse(&path, &text).unwrap().axes.on_loop()[0].clone()
     }
 
     fn asked(velocity: Option<f64>, jerk: Option<f64>) -> Asked {

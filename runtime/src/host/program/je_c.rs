@@ -21,14 +21,17 @@ pub(super) fn take_targets(
 ) -> Result<Vec<DriveMove>, ConfigError> {
     let names: Vec<String> = target
         .keys()
-        .filter(|n| cell.je_c_axis_index(n).is_some())
+        .filter(|n| cell.axis_ref(n).and_then(AxisRef::link).is_some())
         .cloned()
         .collect();
     let mut out = Vec::with_capacity(names.len());
     let [velocity, acceleration, jerk] = limits;
     for name in names {
-        let axis = cell.je_c_axis_index(&name).expect("filtered above");
-        let a = &cell.je_c_axes[axis];
+        let axis = cell
+            .axis_ref(&name)
+            .and_then(AxisRef::link)
+            .expect("filtered above");
+        let a = &cell.axes.on_link()[axis];
         let value = target.remove(&name).expect("a key of target");
         let goal = a
             .move_target(value)
@@ -101,7 +104,7 @@ pub(super) fn home_procedure(
     setting: bool,
     cell: &CellConfig,
 ) -> Result<HomeProcedure, ConfigError> {
-    cell.je_c_axes[axis]
+    cell.axes.on_link()[axis]
         .homing_method(method, setting)
         .map(HomeProcedure::HomingMode)
         .map_err(|e| {
@@ -122,7 +125,7 @@ pub(super) fn check_jog(
     velocity: f64,
     cell: &CellConfig,
 ) -> Result<(), ConfigError> {
-    let a = &cell.je_c_axes[axis];
+    let a = &cell.axes.on_link()[axis];
     a.jog_command(velocity, a.acceleration)
         .map(|_| ())
         .map_err(|m| ConfigError::new(path, format!("{key}.axis"), m.to_string()))
@@ -139,7 +142,7 @@ pub(super) fn torque_targets(
 ) -> Result<Option<Vec<TorqueTarget>>, ConfigError> {
     let je_c: Vec<(&String, usize)> = target
         .keys()
-        .filter_map(|n| cell.je_c_axis_index(n).map(|k| (n, k)))
+        .filter_map(|n| cell.axis_ref(n).and_then(AxisRef::link).map(|k| (n, k)))
         .collect();
     if je_c.is_empty() {
         return Ok(None);
@@ -153,7 +156,7 @@ pub(super) fn torque_targets(
     }
     je_c.into_iter()
         .map(|(name, k)| {
-            let a = &cell.je_c_axes[k];
+            let a = &cell.axes.on_link()[k];
             let torque = target[name];
             a.torque_command(torque).map_err(|e| {
                 ConfigError::new(path, format!("{key}.target.{name}"), e.to_string())

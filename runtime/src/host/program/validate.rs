@@ -79,7 +79,7 @@ pub(super) fn check_profile_modes(
     cell: &CellConfig,
 ) -> Result<(), ConfigError> {
     use crate::host::operator::profile::{takes_move, takes_velocity};
-    let mut modes: Vec<ModeOfOperation> = cell.axes.iter().map(|a| a.mode).collect();
+    let mut modes: Vec<ModeOfOperation> = cell.axes.on_loop().iter().map(|a| a.mode).collect();
     let profile = |modes: &[ModeOfOperation], i: usize| cellrt_config::ProfileMode::of(modes[i]);
     for (key, step) in steps {
         match step {
@@ -87,12 +87,12 @@ pub(super) fn check_profile_modes(
             Step::Jog {
                 axis: AxisRef::Loop(i),
                 ..
-            } => takes_velocity(&cell.axes[*i], profile(&modes, *i))
+            } => takes_velocity(&cell.axes.on_loop()[*i], profile(&modes, *i))
                 .map_err(|e| ConfigError::new(path, format!("{key}.axis"), e.to_string()))?,
             Step::Move(targets) => {
                 for t in targets {
                     if let AxisMove::Planned(t) = t {
-                        let a = &cell.axes[t.axis];
+                        let a = &cell.axes.on_loop()[t.axis];
                         takes_move(a, profile(&modes, t.axis)).map_err(|e| {
                             ConfigError::new(
                                 path,
@@ -210,9 +210,12 @@ fn validate_step(
                 }
             };
             // `[axes.homing] method` where the step names neither a method nor an edge.
-            let method = method.or(cell.axes[i].homing.method.filter(|_| setting.is_none()));
-            let procedure =
-                choose_procedure(cell.axes[i].profile, method, setting).map_err(|e| {
+            let method = method.or(cell.axes.on_loop()[i]
+                .homing
+                .method
+                .filter(|_| setting.is_none()));
+            let procedure = choose_procedure(cell.axes.on_loop()[i].profile, method, setting)
+                .map_err(|e| {
                     ConfigError::new(path, format!("{key}.axis"), format!("axis '{axis}': {e}"))
                 })?;
             Step::Home {
@@ -229,7 +232,7 @@ fn validate_step(
                     format!("'{mode}' is not a mode an axis switches to at run time (csp or pp)"),
                 ));
             };
-            cellrt_config::profile_axis::pp_switch(&cell.axes[i])
+            cellrt_config::profile_axis::pp_switch(&cell.axes.on_loop()[i])
                 .map_err(|e| ConfigError::new(path, format!("{key}.axis"), e.to_string()))?;
             Step::Mode { axis: i, mode }
         }
@@ -273,7 +276,7 @@ fn torque_step(
     for (name, torque) in target {
         let k = format!("{key}.target.{name}");
         let axis = axis_of(path, k.clone(), &name, cell)?;
-        let a = &cell.axes[axis];
+        let a = &cell.axes.on_loop()[axis];
         let torque_mode = matches!(
             a.mode,
             ModeOfOperation::CyclicSyncTorque | ModeOfOperation::ProfileTorque
@@ -289,7 +292,7 @@ fn torque_step(
             ));
         };
         if targets.first().is_some_and(
-            |t: &TorqueTarget| matches!(t.axis, AxisRef::Loop(j) if cell.axes[j].mode != a.mode),
+            |t: &TorqueTarget| matches!(t.axis, AxisRef::Loop(j) if cell.axes.on_loop()[j].mode != a.mode),
         ) {
             return Err(ConfigError::new(
                 path,
@@ -341,14 +344,19 @@ fn line_step(
         ));
     }
     let targets = move_targets(path, key, target, [&None, acceleration, jerk], cell)?;
-    let unit = &cell.axes[targets[0].axis].unit;
-    if let Some(t) = targets.iter().find(|t| &cell.axes[t.axis].unit != unit) {
+    let unit = &cell.axes.on_loop()[targets[0].axis].unit;
+    if let Some(t) = targets
+        .iter()
+        .find(|t| &cell.axes.on_loop()[t.axis].unit != unit)
+    {
         return Err(ConfigError::new(
             path,
-            format!("{key}.target.{}", cell.axes[t.axis].name),
+            format!("{key}.target.{}", cell.axes.on_loop()[t.axis].name),
             format!(
                 "a line needs axes of one unit: '{}' is in {}, '{}' in {unit}",
-                cell.axes[t.axis].name, cell.axes[t.axis].unit, cell.axes[targets[0].axis].name
+                cell.axes.on_loop()[t.axis].name,
+                cell.axes.on_loop()[t.axis].unit,
+                cell.axes.on_loop()[targets[0].axis].name
             ),
         ));
     }
@@ -399,7 +407,7 @@ fn path_step(
         let mut row = Vec::with_capacity(names.len());
         for (name, t) in names.iter().zip(&targets) {
             let v = point[name];
-            let a = &cell.axes[t.axis];
+            let a = &cell.axes.on_loop()[t.axis];
             if !v.is_finite() || a.position.check(v).is_err() {
                 return Err(ConfigError::new(
                     path,
@@ -448,7 +456,7 @@ fn not_in_cell(path: &Path, key: impl Into<String>, name: &str, cell: &CellConfi
         format!(
             "axis '{name}' is not in cell '{}' (axes: {})",
             cell.name,
-            cell.all_axis_names()
+            cell.axes.names()
         ),
     )
 }
@@ -518,7 +526,7 @@ fn move_targets(
     let mut out = Vec::with_capacity(target.len());
     for (name, pos) in target {
         let axis = axis_of(path, format!("{key}.target.{name}"), &name, cell)?;
-        let a = &cell.axes[axis];
+        let a = &cell.axes.on_loop()[axis];
         a.position.check(pos).map_err(|_| {
             ConfigError::new(
                 path,

@@ -459,7 +459,7 @@ impl Drain<'_> {
         else {
             return Ok(());
         };
-        let axis = &self.cell.axes[a.axis as usize];
+        let axis = &self.cell.axes.on_loop()[a.axis as usize];
         let s = axis.scaling;
         let msg = proto::AxisCycle {
             cycle: a.cycle,
@@ -552,6 +552,7 @@ impl Drain<'_> {
         } else {
             self.cell
                 .axes
+                .on_loop()
                 .get(e.axis as usize)
                 .map(|a| a.name.clone())
                 .unwrap_or_else(|| format!("#{}", e.axis))

@@ -217,7 +217,7 @@ fn add_channels<W: Write + Seek>(
     let cycle_schema = schema(writer, CYCLE_SCHEMA)?;
     let axis_schema = schema(writer, AXIS_SCHEMA)?;
     let event_schema = schema(writer, EVENT_SCHEMA)?;
-    let je_c_schema = if cell.je_c_axes.is_empty() {
+    let je_c_schema = if cell.axes.on_link().is_empty() {
         0
     } else {
         schema(writer, JE_C_SCHEMA)?
@@ -264,7 +264,7 @@ pub fn channel_specs(cell: &CellConfig) -> Vec<ChannelSpec> {
         plain(CYCLE_TOPIC, CYCLE_SCHEMA),
         plain(EVENTS_TOPIC, EVENT_SCHEMA),
     ];
-    specs.extend(cell.axes.iter().map(|a| ChannelSpec {
+    specs.extend(cell.axes.on_loop().iter().map(|a| ChannelSpec {
         topic: axis_topic(&a.name),
         schema: AXIS_SCHEMA,
         metadata: BTreeMap::from([
@@ -277,7 +277,7 @@ pub fn channel_specs(cell: &CellConfig) -> Vec<ChannelSpec> {
             ("mode".to_string(), a.mode.as_str().to_string()),
         ]),
     }));
-    specs.extend(cell.je_c_axes.iter().map(|a| ChannelSpec {
+    specs.extend(cell.axes.on_link().iter().map(|a| ChannelSpec {
         topic: je_c_topic(&a.name),
         schema: JE_C_SCHEMA,
         metadata: BTreeMap::from([
@@ -320,7 +320,7 @@ fn write_cell_metadata<W: Write + Seek>(
         ),
         ("config_file".to_string(), cell.source.display().to_string()),
     ]);
-    for a in &cell.axes {
+    for a in cell.axes.on_loop() {
         cell_meta.insert(
             format!("axis.{}", a.name),
             format!(

@@ -131,7 +131,8 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         false
     }
 
-    /// MC_Power on every axis not yet powered; the cell enables them.
+    /// MC_Power on every axis not yet powered; the cell enables them. A disabled cell with no
+    /// axis on the RT loop (only MR-JE-C axes, run by their link threads) is enabled at once.
     fn power_on_all(&mut self) {
         let mut any = false;
         for ch in &mut self.axes {
@@ -141,7 +142,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 any = true;
             }
         }
-        if any {
+        if any || self.state == CellState::Disabled {
             self.set_state(CellState::Enabling);
         }
     }

@@ -170,6 +170,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
     {
         let axes: Vec<AxisChannel> = cell
             .axes
+            .on_loop()
             .iter()
             .map(|a| AxisChannel::new(cell, a))
             .collect();

@@ -52,7 +52,7 @@ fn cycle(ch: &mut AxisChannel, d: &mut SimDrive) -> i32 {
 /// Runs `model` at 100 mm/s for 1.5 s; returns (plant speed in r/min, last 60FFh).
 fn run_at_100_mm_per_s(model: DriveModel, counts_per_rev: u32) -> (f64, i32) {
     let cell = cell(model, counts_per_rev);
-    let axis = &cell.axes[0];
+    let axis = &cell.axes.on_loop()[0];
     let mut ch = AxisChannel::new(&cell, axis);
     let mut d = sim_drives(&cell).remove(0);
     ch.master.request(MasterRequest::Enable);

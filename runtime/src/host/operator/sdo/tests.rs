@@ -91,7 +91,7 @@ fn what_must_not_be_sent_is_refused_with_the_reason() {
 #[test]
 fn an_esi_axis_is_checked_against_its_esi_dictionary() {
     let cell = shipped("cia402-esi.toml");
-    let name = cell.axes[0].name.clone();
+    let name = cell.axes.on_loop()[0].name.clone();
     let read = check(&cell, &name, 0x6061, 0, None).unwrap();
     assert_eq!(read.reply.data_type, "INTEGER8");
     // 607Ch is rw in the ESI (the MR-J4-TM's own table says ro).

@@ -91,7 +91,7 @@ pub(super) fn take_je_c(
     let mut je_c = Vec::new();
     let mut rest = BTreeMap::new();
     for (name, &v) in targets {
-        match cell.je_c_axis_index(name) {
+        match cell.axis_ref(name).and_then(AxisRef::link) {
             Some(k) => je_c.push((k, name.clone(), v)),
             None => {
                 rest.insert(name.clone(), v);

@@ -180,7 +180,7 @@ impl OperatorServer {
         acceleration: Option<f64>,
         clamp: bool,
     ) -> (Reply, Followup) {
-        if let Some(k) = ctx.cell.je_c_axis_index(axis) {
+        if let Some(k) = ctx.cell.axis_ref(axis).and_then(AxisRef::link) {
             return match je_c_requests::velocity_command(ctx.je_c, k, velocity, acceleration, clamp)
                 .and_then(|c| je_c_requests::send(ctx.je_c, &[(k, c)]))
             {
@@ -192,7 +192,7 @@ impl OperatorServer {
             Ok(i) => i,
             Err(e) => return rejected(format!("velocity: {e}")),
         };
-        let a = &ctx.cell.axes[i];
+        let a = &ctx.cell.axes.on_loop()[i];
         let asked = Asked {
             velocity: None,
             acceleration,
@@ -306,14 +306,14 @@ impl OperatorServer {
         method: Option<i8>,
         setting: Option<HomeSettingEdge>,
     ) -> (Reply, Followup) {
-        if let Some(k) = ctx.cell.je_c_axis_index(axis) {
+        if let Some(k) = ctx.cell.axis_ref(axis).and_then(AxisRef::link) {
             return self.home_je_c(ctx, k, method, setting.is_some());
         }
         let i = match axis_index(ctx.cell, axis) {
             Ok(i) => i,
             Err(e) => return rejected(format!("home: {e}")),
         };
-        let a = &ctx.cell.axes[i];
+        let a = &ctx.cell.axes.on_loop()[i];
         // `[axes.homing] method` where the request names neither a method nor an edge.
         let method = method.or(a.homing.method.filter(|_| setting.is_none()));
         let procedure = match choose_procedure(a.profile, method, setting) {
@@ -355,7 +355,7 @@ impl OperatorServer {
                 "mode: '{mode}' is not a mode an axis switches to at run time (csp or pp)"
             ));
         };
-        if let Err(e) = cellrt_config::profile_axis::pp_switch(&ctx.cell.axes[i]) {
+        if let Err(e) = cellrt_config::profile_axis::pp_switch(&ctx.cell.axes.on_loop()[i]) {
             return rejected(format!("mode: {e}"));
         }
         let now = state.mode_now(ctx.cell, i);
@@ -436,12 +436,16 @@ impl OperatorServer {
         let (je_c, axes): (Vec<String>, Vec<String>) = axes
             .iter()
             .cloned()
-            .partition(|a| ctx.cell.je_c_axis_index(a).is_some());
+            .partition(|a| ctx.cell.axis_ref(a).and_then(AxisRef::link).is_some());
         let halted = if je_c.is_empty() && axes.is_empty() {
             ctx.je_c.command_all(AxisCommand::Halt)
         } else {
             je_c.iter().try_for_each(|a| {
-                let k = ctx.cell.je_c_axis_index(a).expect("partitioned above");
+                let k = ctx
+                    .cell
+                    .axis_ref(a)
+                    .and_then(AxisRef::link)
+                    .expect("partitioned above");
                 ctx.je_c.command(k, AxisCommand::Halt)
             })
         };
@@ -546,9 +550,9 @@ impl OperatorServer {
         }
         // A program plans with the configured modes.
         let switched = (0..ctx.cell.axes.len())
-            .find(|&i| state.mode_now(ctx.cell, i) != ctx.cell.axes[i].mode);
+            .find(|&i| state.mode_now(ctx.cell, i) != ctx.cell.axes.on_loop()[i].mode);
         if let Some(i) = switched {
-            let a = &ctx.cell.axes[i];
+            let a = &ctx.cell.axes.on_loop()[i];
             return rejected(format!(
                 "program: axis '{}' was switched to {} at run time and a program plans with the \
                  configured modes: switch it back first (`cellrt mode {} {}`)",

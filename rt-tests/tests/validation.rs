@@ -57,7 +57,7 @@ fn loop_options_and_generated_cell() {
         let path = std::path::Path::new("bench.toml");
         let cell = cellrt_config::CellConfig::parse(path, &config_text("bench-t", &o))
             .unwrap_or_else(|e| panic!("{interval} µs: {e}"));
-        assert_eq!(cell.axes.len(), 256);
+        assert_eq!(cell.axes.on_loop().len(), 256);
         cellrt_runtime::host::program::Program::parse(
             std::path::Path::new("p.toml"),
             &program_text(256, 2.0),
@@ -75,7 +75,10 @@ fn loop_with_je_c_axes() {
     let path = std::path::Path::new("bench.toml");
     let cell = cellrt_config::CellConfig::parse(path, &config_text("bench-j", &o))
         .unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!((cell.axes.len(), cell.axes.on_link().len()), (16, 4));
+    assert_eq!(
+        (cell.axes.on_loop().len(), cell.axes.on_link().len()),
+        (16, 4)
+    );
     let transports: Vec<_> = cell
         .axes
         .on_link()

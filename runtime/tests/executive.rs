@@ -54,7 +54,7 @@ struct Rig {
 
 impl Rig {
     fn start(cell: &CellConfig) -> Rig {
-        let n = cell.axes.len();
+        let n = cell.axes.on_loop().len();
         let (h, handoff) = handoff::new(n, 1000, false);
         let node = services::node(&cell.name, "test").unwrap();
         let publisher = services::setpoint_publisher(&node, &cell.name, n).unwrap();

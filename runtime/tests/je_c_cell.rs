@@ -15,11 +15,22 @@ use cellrt_config::CellConfig;
 use cellrt_emulator::mr_je_c::server::{Ports, Server};
 use cellrt_emulator::mr_je_c::{MrJeC, MrJeCParams};
 use cellrt_fieldbus::mr_je_c::Alarm;
-use cellrt_runtime::host::controller::{run, Outcome, RunOptions, Summary};
+use cellrt_runtime::host::controller::{run, AxisSummary, Outcome, RunOptions, Summary};
+use cellrt_runtime::host::je_c::LinkSummary;
 use cellrt_runtime::host::program::Program;
 use common::{hook, marked_heap_calls};
 
 /// The cell `jec-TAG-PID` with the csp axis x, communication lost handled by `reaction`.
+/// Axis `name` of a run's summary, with its MR-JE-C link's figures.
+fn linked<'a>(s: &'a Summary, name: &str) -> (&'a AxisSummary, &'a LinkSummary) {
+    let a = s
+        .axes
+        .iter()
+        .find(|a| a.name == name)
+        .expect("axis in the summary");
+    (a, a.link.as_ref().expect("an MR-JE-C axis has a link"))
+}
+
 fn cell_head(tag: &str, reaction: &str) -> String {
     format!(
         r#"
@@ -129,11 +140,12 @@ fn runs_end_to_end(transport: &str, je_c: &str) {
         "{:?}",
         s.axes
     );
-    let belt = &s.je_c_axes[0];
-    assert_eq!(belt.transport, transport);
+    let (belt, link) = linked(&s, "belt");
+    assert_eq!(belt.backend, "mr-je-c link");
+    assert_eq!(link.transport, transport);
     // Homed (method 37) where the move to -20 mm ended: the home position 0.
     assert!(belt.final_position.abs() < 1e-9, "{belt:?}");
-    assert!(belt.exchanges > 10 && belt.stopped.is_none(), "{belt:?}");
+    assert!(link.exchanges > 10 && link.stopped.is_none(), "{belt:?}");
 }
 
 #[test]
@@ -175,7 +187,10 @@ fn the_shipped_mixed_cell_runs_its_program() {
         "max_consecutive_overruns = 0",
     );
     let cell = CellConfig::parse(&path, &text).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!((cell.axes.len(), cell.axes.on_link().len()), (2, 2));
+    assert_eq!(
+        (cell.axes.on_loop().len(), cell.axes.on_link().len()),
+        (2, 2)
+    );
     let program = Program::load(&configs.join("mixed-cell-program.toml"), &cell).unwrap();
     let s = run_counted(&cell, program);
     assert_eq!(
@@ -184,7 +199,7 @@ fn the_shipped_mixed_cell_runs_its_program() {
         "{:?}",
         s.program_error
     );
-    for a in &s.je_c_axes {
+    for a in s.axes.iter().filter(|a| a.link.is_some()) {
         assert!(a.final_position.abs() < 0.08, "{a:?}");
     }
 }
@@ -235,9 +250,9 @@ velocity = 50.0
     assert_eq!(s.outcome, Outcome::ProgramFailed);
     let err = s.program_error.clone().unwrap_or_default();
     assert!(err.contains("communication lost"), "{err}");
-    let belt = &s.je_c_axes[0];
+    let (belt, link) = linked(&s, "belt");
     assert!(
-        belt.stopped
+        link.stopped
             .as_deref()
             .unwrap_or("")
             .contains("3 answers missed"),
@@ -423,10 +438,10 @@ target = { turret = 6 }
         s.recording.event_log
     );
     assert!((s.axes[0].final_position - 150.0).abs() < 0.05);
-    let feeder = &s.je_c_axes[0];
+    let (feeder, _) = linked(&s, "feeder");
     assert_eq!(feeder.target, Some(-50.0), "{feeder:?}");
     assert!(feeder.error.unwrap().abs() < 0.08, "{feeder:?}");
-    let turret = &s.je_c_axes[1];
+    let (turret, _) = linked(&s, "turret");
     assert_eq!(
         (turret.target, turret.final_position),
         (Some(6.0), 6.0),

@@ -166,5 +166,5 @@ fn mr_je_c_axes_run_the_program() {
     let a = cell.axis_ref("a").unwrap();
     assert_eq!(a, AxisRef::Link(0));
     let (s, program) = run_program(&cell);
-    ends_at_the_last_move(&s, &program, a, s.je_c_axes[0].final_position);
+    ends_at_the_last_move(&s, &program, a, s.axes[0].final_position);
 }

@@ -77,7 +77,6 @@ pub fn render(s: &Summary) -> String {
         );
     }
     axes(&mut o, s);
-    je_c_axes(&mut o, s);
     recording(&mut o, s);
     if let Some(l) = &s.live {
         let _ = writeln!(
@@ -92,39 +91,11 @@ pub fn render(s: &Summary) -> String {
     o
 }
 
-/// Each axis' final position against its target.
+/// Each axis' final position against its target; for an axis driven over an MR-JE-C link,
+/// the link's figures below it.
 fn axes(o: &mut String, s: &Summary) {
     let _ = writeln!(o, "axes        final position vs target");
     for a in &s.axes {
-        match (a.target, a.error) {
-            (Some(t), Some(e)) => {
-                let _ = writeln!(
-                    o,
-                    "  {:<8} {:>12.4} {:<4} target {:>12.4}   error {:+.4}",
-                    a.name, a.final_position, a.unit, t, e
-                );
-            }
-            _ => {
-                let _ = writeln!(
-                    o,
-                    "  {:<8} {:>12.4} {:<4} (no target)",
-                    a.name, a.final_position, a.unit
-                );
-            }
-        }
-    }
-}
-
-/// Each MR-JE-C axis: its final position against its target, its link's figures.
-fn je_c_axes(o: &mut String, s: &Summary) {
-    if s.je_c_axes.is_empty() {
-        return;
-    }
-    let _ = writeln!(
-        o,
-        "mr-je-c     final position vs target, link (beside the RT loop)"
-    );
-    for a in &s.je_c_axes {
         let target = match (a.target, a.error) {
             (Some(t), Some(e)) => format!("target {t:>12.4}   error {e:+.4}"),
             _ => "(no target)".to_string(),
@@ -134,23 +105,26 @@ fn je_c_axes(o: &mut String, s: &Summary) {
             "  {:<8} {:>12.4} {:<4} {target}",
             a.name, a.final_position, a.unit
         );
-        let _ = writeln!(
-            o,
-            "           {}: {} exchanges, {} missed, {} refused, round trip max {:.0} µs{}{}",
-            a.transport,
-            a.exchanges,
-            a.missed,
-            a.refused,
-            a.max_round_trip_us,
-            a.stopped
-                .as_ref()
-                .map(|r| format!(", stopped: {r}"))
-                .unwrap_or_default(),
-            a.drive_alarm
-                .as_ref()
-                .map(|r| format!(", drive alarm {r}"))
-                .unwrap_or_default()
-        );
+        if let Some(l) = &a.link {
+            let _ = writeln!(
+                o,
+                "           {} over {}: {} exchanges, {} missed, {} refused, round trip max {:.0} µs{}{}",
+                a.backend,
+                l.transport,
+                l.exchanges,
+                l.missed,
+                l.refused,
+                l.max_round_trip_us,
+                l.stopped
+                    .as_ref()
+                    .map(|r| format!(", stopped: {r}"))
+                    .unwrap_or_default(),
+                l.drive_alarm
+                    .as_ref()
+                    .map(|r| format!(", drive alarm {r}"))
+                    .unwrap_or_default()
+            );
+        }
     }
 }
 

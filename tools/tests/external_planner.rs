@@ -460,7 +460,7 @@ fn je_c_status(cell: &str, axis: &str) -> Option<serde_json::Value> {
         return None;
     }
     let v: serde_json::Value = serde_json::from_str(&out).ok()?;
-    v["je_c_axes"]
+    v["axes"]
         .as_array()?
         .iter()
         .find(|a| a["name"] == axis)
@@ -491,7 +491,7 @@ fn wait_je_c(
 /// Waits until [`SLOW_INFEED`]'s move runs: infeed busy and past 2 mm.
 fn wait_infeed_moving(cell: &str) -> serde_json::Value {
     wait_je_c(cell, "infeed", "moved", |s| {
-        s["busy"] == true && s["position"].as_f64().is_some_and(|p| p > 2.0)
+        s["link"]["busy"] == true && s["position"].as_f64().is_some_and(|p| p > 2.0)
     })
 }
 
@@ -499,9 +499,10 @@ fn wait_infeed_moving(cell: &str) -> serde_json::Value {
 fn final_position(json: &Path, axis: &str) -> f64 {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
-    ["axes", "je_c_axes"]
+    summary["axes"]
+        .as_array()
+        .unwrap()
         .iter()
-        .flat_map(|k| summary[k].as_array().unwrap().clone())
         .find(|a| a["name"] == axis)
         .and_then(|a| a["final_position"].as_f64())
         .unwrap_or_else(|| panic!("no {axis} in {summary}"))
@@ -640,7 +641,7 @@ fn the_operator_halts_a_je_c_axis_under_an_external_planner() {
     let p_log = lines(&mut p);
     let moving = wait_infeed_moving(&name);
     assert_eq!(moving["fsa"], "operation_enabled", "{moving}");
-    assert_eq!(moving["transport"], "cclink-ief-basic", "{moving}");
+    assert_eq!(moving["link"]["transport"], "cclink-ief-basic", "{moving}");
     let (code, out, err) = common::cellrt_on_cell(&name, &["halt", "infeed"]);
     assert_eq!(code, 0, "halt: {out}{err}");
     let code = wait_exit(&mut p, 30);
@@ -680,11 +681,11 @@ fn a_killed_planner_halts_the_je_c_axes() {
 
     let mut p2 = planner(&cfg, &hold);
     // Its job (the halt) done: the drive reported standstill (Target reached under Halt).
-    let standing = wait_je_c(&name, "infeed", "stood", |s| s["busy"] == false);
+    let standing = wait_je_c(&name, "infeed", "stood", |s| s["link"]["busy"] == false);
     let at = standing["position"].as_f64().unwrap();
     assert!(at > 2.0 && at < 100.0, "{standing}");
     assert_eq!(standing["fsa"], "operation_enabled", "{standing}");
-    assert!(standing["stopped"].is_null(), "{standing}");
+    assert!(standing["link"]["stopped"].is_null(), "{standing}");
     let _ = p2.kill();
     let _ = p2.wait();
     log.extend(ctl.try_iter());
@@ -845,7 +846,7 @@ fn the_operator_commands_je_c_axes_through_a_planner_without_program() {
         s["velocity"].as_f64().is_some_and(|v| v >= 39.0)
     });
     ok(&["halt", "outfeed"]);
-    wait_je_c(&name, "outfeed", "stood", |s| s["busy"] == false);
+    wait_je_c(&name, "outfeed", "stood", |s| s["link"]["busy"] == false);
     // In tq up to its speed limit (2D20h = limits.velocity, 150 mm/s), held until the stop.
     ok(&["torque", "outfeed=8"]);
     wait_je_c(&name, "outfeed", "ran up under torque", |s| {
@@ -853,7 +854,7 @@ fn the_operator_commands_je_c_axes_through_a_planner_without_program() {
     });
     ok(&["stop"]);
     wait_je_c(&name, "outfeed", "halted its torque", |s| {
-        s["busy"] == false
+        s["link"]["busy"] == false
     });
     ok(&["reset"]);
     ok(&["power", "off"]);

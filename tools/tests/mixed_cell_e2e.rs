@@ -46,7 +46,7 @@ fn status_lists_the_je_c_axes_and_their_links() {
             .find(|l| l.starts_with(axis))
             .unwrap_or_else(|| panic!("{status}"));
         assert!(
-            line.contains("je-c") && line.contains(&format!("{transport} in pp,")),
+            line.contains(" pp ") && line.contains(&format!("mr-je-c link over {transport},")),
             "{line}"
         );
         assert!(
@@ -97,11 +97,15 @@ impl RunningCell {
             _dir: dir,
         };
         let end = std::time::Instant::now() + std::time::Duration::from_secs(15);
-        while cell.status()["je_c_axes"][1]["exchanges"]
-            .as_u64()
-            .unwrap_or(0)
-            == 0
-        {
+        // Until the last MR-JE-C axis has exchanged with its drive.
+        let answered = |s: serde_json::Value| {
+            s["axes"].as_array().is_some_and(|axes| {
+                axes.iter()
+                    .rfind(|a| !a["link"].is_null())
+                    .is_some_and(|a| a["link"]["exchanges"].as_u64().unwrap_or(0) > 0)
+            })
+        };
+        while !answered(cell.status()) {
             assert!(std::time::Instant::now() < end, "the cell never answered");
             std::thread::sleep(std::time::Duration::from_millis(200));
         }
@@ -123,7 +127,7 @@ impl RunningCell {
     /// The MR-JE-C axis `name` in the status.
     fn je_c(&self, name: &str) -> serde_json::Value {
         let s = self.status();
-        s["je_c_axes"]
+        s["axes"]
             .as_array()
             .and_then(|a| a.iter().find(|a| a["name"] == name).cloned())
             .unwrap_or_else(|| panic!("no MR-JE-C axis {name} in {s}"))
@@ -154,10 +158,7 @@ fn the_operator_moves_jogs_and_halts_the_je_c_axes_beside_the_csp_axes() {
         let (code, out, err) = cell.cli(args);
         assert_eq!(code, 0, "{args:?}: {out}{err}");
     };
-    cell.refused(
-        &["move", "infeed=100"],
-        "MR-JE-C axis 'infeed' is not enabled",
-    );
+    cell.refused(&["move", "infeed=100"], "axis 'infeed' is not enabled");
     ok(&["power", "on"]);
     for axis in ["infeed", "outfeed"] {
         assert_eq!(cell.je_c(axis)["fsa"], "operation_enabled", "{axis}");
@@ -190,15 +191,15 @@ fn the_operator_moves_jogs_and_halts_the_je_c_axes_beside_the_csp_axes() {
     );
     cell.refused(
         &["move", "infeed=0", "--vel", "300"],
-        "axis 'infeed': velocity 300 exceeds its limit 200",
+        "axis 'infeed': velocity 300 mm/s exceeds the axis limit 200 mm/s",
     );
     cell.refused(
         &["move", "--line", "x=100", "infeed=0"],
-        "axis 'infeed' is an MR-JE-C axis",
+        "axis 'infeed' is moved by its drive's own profile (mr-je-c link): a line needs streamed axes",
     );
     cell.refused(
         &["jog", "outfeed", "250"],
-        "axis 'outfeed': velocity 250 is outside ±150",
+        "axis 'outfeed': velocity 250 mm/s exceeds the axis limit 150 mm/s",
     );
     assert!((at("infeed") - 70.0).abs() < 0.01, "infeed moved");
     // MC_Home in the drive's hm (method 37): the home where the conveyor stands; `cellrt home`
@@ -225,10 +226,7 @@ fn the_operator_moves_jogs_and_halts_the_je_c_axes_beside_the_csp_axes() {
         );
         std::thread::sleep(std::time::Duration::from_millis(50));
     }
-    cell.refused(
-        &["power", "off", "outfeed"],
-        "MR-JE-C axis 'outfeed' is moving",
-    );
+    cell.refused(&["power", "off", "outfeed"], "axis 'outfeed' is moving");
     ok(&["halt", "outfeed"]);
     let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
     while cell.je_c("outfeed")["velocity"].as_f64().unwrap() != 0.0 {
@@ -288,7 +286,7 @@ fn the_mixed_cell_runs_and_replay_names_what_it_leaves_out() {
     assert!(out.status.success(), "{stderr}{stdout}");
     let all = format!("{stderr}{stdout}");
     assert!(
-        all.contains("MR-JE-C axes infeed over cclink-ief-basic every 10 ms, emulated"),
+        all.contains("infeed mr-je-c link over cclink-ief-basic every 10 ms, emulated"),
         "{all}"
     );
     assert!(all.contains("program completed"), "{all}");
@@ -578,10 +576,7 @@ fn the_operator_runs_point_tables_and_stations() {
         "operation_enabled",
         "halted only"
     );
-    cell.refused(
-        &["move", "turret=2"],
-        "MR-JE-C axis 'turret' is not enabled",
-    );
+    cell.refused(&["move", "turret=2"], "axis 'turret' is not enabled");
     ok(&["power", "on", "turret"]);
     ok(&["move", "turret=2"]);
     assert_eq!(at("turret"), 2.0, "{}", cell.je_c("turret"));

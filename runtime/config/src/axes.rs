@@ -52,43 +52,43 @@ pub struct Axis<'a> {
 /// An axis' configuration, by where it runs.
 #[derive(Debug, Clone, Copy)]
 pub enum AxisKind<'a> {
-    /// Run by the RT loop.
-    Loop(&'a AxisConfig),
-    /// Driven over its MR-JE-C link.
-    Link(&'a JecAxisConfig),
+    /// Run by the RT loop: its slot there and its configuration.
+    Loop(usize, &'a AxisConfig),
+    /// Driven over its MR-JE-C link: the link and its configuration.
+    Link(usize, &'a JecAxisConfig),
 }
 
 impl<'a> Axis<'a> {
     /// Its name, unique in the cell.
     pub fn name(&self) -> &'a str {
         match self.config {
-            AxisKind::Loop(a) => &a.name,
-            AxisKind::Link(a) => &a.name,
+            AxisKind::Loop(_, a) => &a.name,
+            AxisKind::Link(_, a) => &a.name,
         }
     }
 
     /// How its motion is carried out.
     pub fn backend(&self) -> Backend {
         match self.config {
-            AxisKind::Loop(a) if a.profile_objects.is_some() => Backend::Profile,
-            AxisKind::Loop(_) => Backend::Streamed,
-            AxisKind::Link(_) => Backend::Link,
+            AxisKind::Loop(_, a) if a.profile_objects.is_some() => Backend::Profile,
+            AxisKind::Loop(..) => Backend::Streamed,
+            AxisKind::Link(..) => Backend::Link,
         }
     }
 
     /// Its velocity limit, unit/s.
     pub fn velocity_limit(&self) -> f64 {
         match self.config {
-            AxisKind::Loop(a) => a.limits.velocity,
-            AxisKind::Link(a) => a.velocity,
+            AxisKind::Loop(_, a) => a.limits.velocity,
+            AxisKind::Link(_, a) => a.velocity,
         }
     }
 
     /// The display name of its unit.
     pub fn unit(&self) -> &'a str {
         match self.config {
-            AxisKind::Loop(a) => &a.unit,
-            AxisKind::Link(a) => &a.unit,
+            AxisKind::Loop(_, a) => &a.unit,
+            AxisKind::Link(_, a) => &a.unit,
         }
     }
 }
@@ -133,14 +133,9 @@ impl CellAxes {
         self.order.iter().map(|&at| self.get(at))
     }
 
-    /// How many axes the cell has.
-    pub fn len(&self) -> usize {
+    /// How many axes the cell has, whichever backend runs them (never 0 once validated).
+    pub fn count(&self) -> usize {
         self.order.len()
-    }
-
-    /// Whether the cell has no axes.
-    pub fn is_empty(&self) -> bool {
-        self.order.is_empty()
     }
 
     /// The axis `at` names.
@@ -149,8 +144,8 @@ impl CellAxes {
     /// If `at` is not a handle of this cell (handles come from this list).
     pub fn get(&self, at: AxisRef) -> Axis<'_> {
         let config = match at {
-            AxisRef::Loop(i) => AxisKind::Loop(&self.on_loop[i]),
-            AxisRef::Link(k) => AxisKind::Link(&self.on_link[k]),
+            AxisRef::Loop(i) => AxisKind::Loop(i, &self.on_loop[i]),
+            AxisRef::Link(k) => AxisKind::Link(k, &self.on_link[k]),
         };
         Axis { at, config }
     }

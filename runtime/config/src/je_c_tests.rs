@@ -53,7 +53,7 @@ fn the_mixed_cell_keeps_its_je_c_axes_off_the_rt_loop() {
     let c = parse(&mixed()).unwrap();
     assert_eq!(c.axes.names(), "x, y, infeed, outfeed");
     assert_eq!(c.axis_names(), "x, y");
-    assert_eq!(c.axes.len(), 4);
+    assert_eq!(c.axes.count(), 4);
     assert_eq!(c.axes.on_loop().len(), 2);
     let backends: Vec<_> = c.axes.iter().map(|a| a.backend()).collect();
     assert_eq!(

@@ -23,7 +23,7 @@ use crate::rt::histogram::{NsHistogram, Percentiles};
 use crate::rt::setpoint_stream::SetpointStream;
 use crate::rt::thread::{hold_cpu_dma_latency_zero, setup_current_thread, ReservedCpu, RtReport};
 use crate::services;
-use cellrt_config::{AxisRef, CellConfig};
+use cellrt_config::{AxisKind, CellConfig};
 
 /// Stack size of the RT thread (the prefault touches part of it).
 pub const RT_STACK_BYTES: usize = 4 * 1024 * 1024;
@@ -96,6 +96,8 @@ pub enum Outcome {
 pub struct AxisSummary {
     /// Axis name.
     pub name: String,
+    /// How its motion was carried out (`streamed`, `profile`, `mr-je-c link`).
+    pub backend: &'static str,
     /// Unit.
     pub unit: String,
     /// Final actual position, units.
@@ -104,6 +106,8 @@ pub struct AxisSummary {
     pub target: Option<f64>,
     /// final_position − target, units.
     pub error: Option<f64>,
+    /// Its MR-JE-C link, for an axis driven over one.
+    pub link: Option<crate::host::je_c::LinkSummary>,
 }
 
 /// The histograms of a run's RT loop.
@@ -151,10 +155,8 @@ pub struct Summary {
     pub histograms: RunHistograms,
     /// Final cell state.
     pub final_state: String,
-    /// Per axis.
+    /// Per axis, in configuration order, whichever backend moved it.
     pub axes: Vec<AxisSummary>,
-    /// Per MR-JE-C axis (run beside the RT loop).
-    pub je_c_axes: Vec<crate::host::je_c::JecAxisSummary>,
     /// The recording.
     pub recording: RecordingInfo,
     /// The live view, when one ran.
@@ -182,8 +184,11 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .map_err(RunError::OperatorSocket)?;
     // Before any thread starts: they all inherit the affinity without the RT CPU.
     let reserved = ReservedCpu::apply(&cell.rt);
-    let (rt_handoff, handoff) =
-        handoff::new(cell.axes.len(), queue_cycles(cell), opts.record.is_some());
+    let (rt_handoff, handoff) = handoff::new(
+        cell.axes.on_loop().len(),
+        queue_cycles(cell),
+        opts.record.is_some(),
+    );
     let handoff = Arc::new(handoff);
     let (live, page) = start_live(cell)?;
     let recording = Recording::start(
@@ -203,24 +208,12 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     }
     let (rt, mut report) = spawn_rt(cell, bus, rt_handoff, opts.hook)?;
 
-    let targets = opts
-        .program
-        .as_ref()
-        .map(|p| {
-            (0..cell.axes.len())
-                .map(|i| p.final_target(AxisRef::Loop(i)))
-                .collect()
-        })
-        .unwrap_or_else(|| vec![None; cell.axes.len()]);
-    let je_c_targets = opts
-        .program
-        .as_ref()
-        .map(|p| {
-            (0..cell.axes.on_link().len())
-                .map(|k| p.final_target(AxisRef::Link(k)))
-                .collect()
-        })
-        .unwrap_or_else(|| vec![None; cell.axes.on_link().len()]);
+    // The program's last target per axis, in configuration order.
+    let targets: Vec<Option<f64>> = cell
+        .axes
+        .iter()
+        .map(|a| opts.program.as_ref().and_then(|p| p.final_target(a.at)))
+        .collect();
     // An external planner commands the MR-JE-C axes through the link thread.
     let je_c_link = (opts.external_planner && !cell.axes.on_link().is_empty()).then(|| je_c.axes());
     let link = LinkServer::spawn(cell, handoff.clone(), je_c_link)?;
@@ -263,7 +256,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         .ok_or_else(|| RunError::Thread("the RT thread ended without statistics".into()))?;
     link.stop();
     let program_result = planner.map(|p| p.finish());
-    let je_c_axes = je_c.finish(&je_c_targets);
+    let links = je_c.finish();
     let recording = recording.finish()?;
 
     let program_error = program_result.and_then(|r| r.err()).map(|e| e.to_string());
@@ -285,8 +278,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         frames: stats.frames,
         dc_phase_error: (!stats.dc_phase_error.is_empty())
             .then(|| stats.dc_phase_error.percentiles()),
-        axes: axis_summaries(cell, &stats, &targets),
-        je_c_axes,
+        axes: axis_summaries(cell, &stats, links, &targets),
         histograms: RunHistograms {
             wakeup_latency: stats.latency,
             loop_time: stats.loop_time,
@@ -502,19 +494,35 @@ fn wait_for_end(
 }
 
 /// Each axis' final position against the program's last target.
-fn axis_summaries(cell: &CellConfig, stats: &RtStats, targets: &[Option<f64>]) -> Vec<AxisSummary> {
+fn axis_summaries(
+    cell: &CellConfig,
+    stats: &RtStats,
+    links: Vec<crate::host::je_c::LinkSummary>,
+    targets: &[Option<f64>],
+) -> Vec<AxisSummary> {
     cell.axes
-        .on_loop()
         .iter()
-        .enumerate()
-        .map(|(i, a)| {
-            let pos = a.scaling.to_units(f64::from(stats.final_positions[i]));
+        .zip(targets)
+        .map(|(axis, &target)| {
+            let (final_position, link) = match axis.config {
+                AxisKind::Loop(i, a) => (
+                    a.scaling.to_units(f64::from(stats.final_positions[i])),
+                    None,
+                ),
+                // One summary per link (`JecCell::finish`); NaN marks a link that left none.
+                AxisKind::Link(k, _) => {
+                    let link = links.get(k).cloned();
+                    (link.as_ref().map_or(f64::NAN, |l| l.final_position), link)
+                }
+            };
             AxisSummary {
-                name: a.name.clone(),
-                unit: a.unit.clone(),
-                final_position: pos,
-                target: targets[i],
-                error: targets[i].map(|t| pos - t),
+                name: axis.name().to_string(),
+                backend: axis.backend().as_str(),
+                unit: axis.unit().to_string(),
+                final_position,
+                target,
+                error: target.map(|t| final_position - t),
+                link,
             }
         })
         .collect()

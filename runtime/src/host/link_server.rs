@@ -61,7 +61,7 @@ impl LinkServer {
                     let profile = ProfileRelay {
                         commands: services::profile_command_subscriber(&node, &cell.name)?,
                         waiting: std::collections::VecDeque::with_capacity(2 * MAX_AXES),
-                        axes: cell.axes.len(),
+                        axes: cell.axes.on_loop().len(),
                     };
                     let je_c = je_c
                         .map(|axes| JecRelay::new(&node, &cell, axes))
@@ -80,7 +80,7 @@ impl LinkServer {
                 };
                 let period =
                     Duration::from_nanos(cell.cycle_time.as_nanos()).max(Duration::from_millis(1));
-                let n = cell.axes.len();
+                let n = cell.axes.on_loop().len();
                 let planner_name = services::planner_node_name(&cell.name);
                 let mut planner_alive = false;
                 let mut last_check = Instant::now() - PLANNER_CHECK;

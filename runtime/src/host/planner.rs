@@ -14,7 +14,7 @@ use crate::host::je_c::link::JecBridge;
 use crate::host::je_c::JecAxes;
 use crate::host::link::{CellLink, LocalLink, RemoteLink, StatusSnapshot};
 use crate::host::motion::{MotionEngine, MotionError, MotionRequest, Progress};
-use crate::host::operator::profile::{
+use crate::host::operator::backend::profile::{
     halts as profile_halts, jog as profile_jog, send as send_profile, split_move, AxisModes,
 };
 use crate::host::operator::server::{Context, Followup, OperatorServer};
@@ -143,7 +143,7 @@ pub fn spawn(
         .name("cellrt-planner".into())
         .spawn(move || {
             let priority = planner_priority.map_or(Ok(0), |p| raise_planner_thread(p).map(|()| p));
-            let link = LocalLink::new(handoff, cell.axes.len());
+            let link = LocalLink::new(handoff, cell.axes.on_loop().len());
             let source = program
                 .as_ref()
                 .map(|p| p.source.display().to_string())
@@ -201,7 +201,7 @@ pub fn run_external(
         &node,
         &cell.name,
         cell.cycle_time.as_nanos(),
-        cell.axes.len(),
+        cell.axes.on_loop().len(),
         connect_timeout,
     )
     .map_err(|e| fail(e.to_string()))?;
@@ -255,8 +255,8 @@ impl<'a> Planner<'a> {
             reason: e.to_string(),
         };
         let node = services::node(&cell.name, "planner").map_err(fail)?;
-        let publisher =
-            services::setpoint_publisher(&node, &cell.name, cell.axes.len()).map_err(fail)?;
+        let publisher = services::setpoint_publisher(&node, &cell.name, cell.axes.on_loop().len())
+            .map_err(fail)?;
         let operator = OperatorServer::new(&node, &cell.name).map_err(fail)?;
         Ok(Planner {
             cell,

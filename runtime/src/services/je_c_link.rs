@@ -66,7 +66,7 @@ pub struct JecCommandSample {
     pub values: [i64; 4],
     /// [`JE_C_LINK_VERSION`] of the planner.
     pub version: u32,
-    /// Index of the MR-JE-C axis (`CellConfig::je_c_axes`).
+    /// Link of the MR-JE-C axis (`CellAxes::on_link`).
     pub axis: u16,
     /// The command: 1 power on, 2 power off, 3 move, 4 velocity, 5 torque, 6 home, 7 halt,
     /// 8 reset, 9 point table, 10 station, 11 jog, 12 override, 13 quick stop.

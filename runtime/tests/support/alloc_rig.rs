@@ -53,9 +53,10 @@ impl Counting {
 /// Starts `cell`'s RT executive with the counting hook, powers it on and waits for steady
 /// state.
 pub fn start_steady(cell: &CellConfig, counting: Counting) -> Steady {
-    let (rt_end, h) = handoff::new(cell.axes.len(), 1000, false);
+    let (rt_end, h) = handoff::new(cell.axes.on_loop().len(), 1000, false);
     let node = services::node(&cell.name, "test").unwrap();
-    let publisher = services::setpoint_publisher(&node, &cell.name, cell.axes.len()).unwrap();
+    let publisher =
+        services::setpoint_publisher(&node, &cell.name, cell.axes.on_loop().len()).unwrap();
     let rt = rt_thread::spawn_rt(cell, rt_end, Some(counting.hook));
     h.send_command(CellCommand::PowerOn).unwrap();
     wait(&h, |h| h.status().state() == CellState::Idle, "idle");

@@ -198,6 +198,9 @@ pub struct CellInfo {
     pub axes: Vec<String>,
     /// Per axis: the `axis.<name>` description.
     pub axis_details: Vec<String>,
+    /// Every axis of the cell in configuration order, whichever backend ran it, with its
+    /// `axis.<name>` description (`cell_axes`; the RT loop's axes where a recording predates it).
+    pub cell_axes: Vec<(String, String)>,
     /// Software that wrote it.
     pub software: String,
 }
@@ -273,26 +276,33 @@ impl RecFile {
         let all = meta.ok_or_else(|| RecordingError::NotCellrt {
             path: self.path.clone(),
         })?;
-        let axes: Vec<String> = all
-            .get("axes")
-            .map(|a| {
+        let names = |key: &str| -> Option<Vec<String>> {
+            all.get(key).map(|a| {
                 a.split(',')
                     .map(|s| s.trim().to_string())
                     .filter(|s| !s.is_empty())
                     .collect()
             })
-            .unwrap_or_default();
+        };
+        let axes = names("axes").unwrap_or_default();
+        let detail = |a: &String| all.get(&format!("axis.{a}")).cloned().unwrap_or_default();
+        let cell_axes = names("cell_axes")
+            .unwrap_or_else(|| axes.clone())
+            .into_iter()
+            .map(|a| {
+                let d = detail(&a);
+                (a, d)
+            })
+            .collect();
         Ok(CellInfo {
             name: all.get("cell").cloned().unwrap_or_default(),
             cycle_time_us: all
                 .get("cycle_time_us")
                 .and_then(|v| v.parse().ok())
                 .unwrap_or(0),
-            axis_details: axes
-                .iter()
-                .map(|a| all.get(&format!("axis.{a}")).cloned().unwrap_or_default())
-                .collect(),
+            axis_details: axes.iter().map(detail).collect(),
             axes,
+            cell_axes,
             software: all.get("software").cloned().unwrap_or_default(),
         })
     }

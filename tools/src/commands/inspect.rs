@@ -66,14 +66,15 @@ fn render(file: &RecFile, cell: &CellInfo, recs: &Records) -> String {
     );
     let _ = writeln!(
         o,
-        "cell        {} — {} µs cycle, {} axes, written by {}",
+        "cell        {} — {} µs cycle, {} axes ({} on the RT loop), written by {}",
         cell.name,
         cell.cycle_time_us,
+        cell.cell_axes.len(),
         cell.axes.len(),
         cell.software
     );
     let _ = writeln!(o, "axes");
-    for (a, d) in cell.axes.iter().zip(&cell.axis_details) {
+    for (a, d) in &cell.cell_axes {
         let _ = writeln!(o, "  {a:<8} {d}");
     }
     let period = cell.cycle_time_us.max(1);

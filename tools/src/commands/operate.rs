@@ -588,10 +588,8 @@ fn wait_power(client: &OperatorClient, axes: &[String], on: bool, timeout: Durat
         let pending: Vec<&str> = s
             .axes
             .iter()
-            .map(|a| (&a.name, &a.fsa))
-            .chain(s.je_c_axes.iter().map(|a| (&a.name, &a.fsa)))
-            .filter(|(name, fsa)| axes.contains(name) && (*fsa == enabled) != on)
-            .map(|(name, _)| name.as_str())
+            .filter(|a| axes.contains(&a.name) && (a.fsa == enabled) != on)
+            .map(|a| a.name.as_str())
             .collect();
         let settled = !matches!(s.state.as_str(), "enabling" | "disabling");
         let (done, not_done) = if on {
@@ -611,16 +609,16 @@ fn wait_power(client: &OperatorClient, axes: &[String], on: bool, timeout: Durat
     })
 }
 
-/// Waits until the cell is idle (`on`) or disabled and every MR-JE-C axis is (or is not) in
-/// Operation enabled.
+/// Waits until the cell is idle (`on`) or disabled and every axis its link drives (the RT
+/// loop's are judged by the cell's state) is (or is not) in Operation enabled.
 fn wait_cell_power(client: &OperatorClient, on: bool, timeout: Duration) -> Exit {
     let want = if on { "idle" } else { "disabled" };
     poll_status(client, timeout, false, |s| {
         let enabled = FsaState::OperationEnabled.as_str();
         let pending: Vec<&str> = s
-            .je_c_axes
+            .axes
             .iter()
-            .filter(|a| (a.fsa == enabled) != on)
+            .filter(|a| a.link.is_some() && (a.fsa == enabled) != on)
             .map(|a| a.name.as_str())
             .collect();
         if s.state == want && pending.is_empty() {
@@ -629,7 +627,7 @@ fn wait_cell_power(client: &OperatorClient, on: bool, timeout: Duration) -> Exit
             Verdict::Pending(format!("the cell is {}, not {want}", s.state))
         } else {
             Verdict::Pending(format!(
-                "MR-JE-C axes {} still {}",
+                "axes {} still {}",
                 pending.join(", "),
                 if on { "not enabled" } else { "enabled" }
             ))
@@ -745,57 +743,50 @@ pub fn render(s: &StatusReport) -> String {
         "velocity",
         "follow err",
         "alarm",
-        "status DO"
+        "status DO / link"
     );
     for a in &s.axes {
+        let dash = || "-".to_string();
+        let (setpoint, following_error) = match &a.link {
+            None => (
+                format!("{:.3}", a.setpoint),
+                format!("{:.4}", a.following_error),
+            ),
+            Some(l) => (if l.busy { "moving".into() } else { dash() }, dash()),
+        };
+        let detail = match &a.link {
+            None if a.status_do.is_empty() => dash(),
+            None => a.status_do.join(" "),
+            Some(l) => format!(
+                "{} over {}, {} exchanges, {} missed ({} in a row), round trip {:.0} µs{}",
+                a.backend,
+                l.transport,
+                l.exchanges,
+                l.missed,
+                l.missed_in_row,
+                l.round_trip_us,
+                l.stopped
+                    .as_ref()
+                    .map(|r| format!(", stopped: {r}"))
+                    .unwrap_or_default()
+            ),
+        };
         out += &format!(
-            "{:<8} {:<5} {:<22} {:>9.3} {:<2} {:>12.3} {:>11.3} {:>10.4} {:>6}  {}\n",
+            "{:<8} {:<5} {:<22} {:>9.3} {:<2} {:>12} {:>11.3} {:>10} {:>6}  {}\n",
             a.name,
             a.mode,
             a.fsa,
             a.position,
             a.unit,
-            a.setpoint,
+            setpoint,
             a.velocity,
-            a.following_error,
+            following_error,
             if a.error_code == 0 {
-                "-".to_string()
+                dash()
             } else {
                 format!("{:04X}h", a.error_code)
             },
-            if a.status_do.is_empty() {
-                "-".to_string()
-            } else {
-                a.status_do.join(" ")
-            }
-        );
-    }
-    for a in &s.je_c_axes {
-        out += &format!(
-            "{:<8} {:<5} {:<22} {:>9.3} {:<2} {:>12} {:>11.3} {:>10} {:>6}  {} in {}, {} exchanges, {} missed ({} in a row), round trip {:.0} µs{}\n",
-            a.name,
-            "je-c",
-            a.fsa,
-            a.position,
-            a.unit,
-            if a.busy { "moving" } else { "-" },
-            a.velocity,
-            "-",
-            if a.alarm == 0 {
-                "-".to_string()
-            } else {
-                format!("{:04X}h", a.alarm)
-            },
-            a.transport,
-            a.mode,
-            a.exchanges,
-            a.missed,
-            a.missed_in_row,
-            a.round_trip_us,
-            a.stopped
-                .as_ref()
-                .map(|r| format!(", stopped: {r}"))
-                .unwrap_or_default()
+            detail
         );
     }
     out

@@ -78,12 +78,12 @@ pub fn run(args: ReplayArgs) -> Exit {
         Ok(r) => r,
         Err(e) => return bad(e.to_string()),
     };
-    if info.axes.len() != cell.axes.len() {
+    if info.axes.len() != cell.axes.on_loop().len() {
         return bad(format!(
             "{}: metadata names {} axes, the attached configuration {}",
             args.file.display(),
             info.axes.len(),
-            cell.axes.len()
+            cell.axes.on_loop().len()
         ));
     }
     if let Some(note) = je_c_excluded(&cell) {
@@ -95,7 +95,7 @@ pub fn run(args: ReplayArgs) -> Exit {
                 "replay of {}: {cycles} cycles × {} axes through simulated drives: feedback \
                  bit-identical to the recording",
                 args.file.display(),
-                cell.axes.len()
+                cell.axes.on_loop().len()
             );
             Exit::Ok
         }
@@ -405,7 +405,7 @@ mod tests {
             cycle: 5,
             ..AxisCycle::default()
         };
-        let axes = vec![vec![late]; cell.axes.len()];
+        let axes = vec![vec![late]; cell.axes.on_loop().len()];
         let e = replay(&cell, &axes).unwrap_err();
         assert!(matches!(e, ReplayError::LateStart { cycle: 5 }), "{e:?}");
         assert_eq!(

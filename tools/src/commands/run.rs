@@ -5,7 +5,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Duration;
 
-use cellrt_config::CellConfig;
+use cellrt_config::{AxisKind, CellConfig};
 use cellrt_runtime::host::controller::{self, Outcome, RunError, RunOptions};
 use cellrt_runtime::host::program::Program;
 
@@ -80,11 +80,11 @@ pub fn run(args: RunArgs) -> Exit {
     }
 
     eprintln!(
-        "cellrt: cell '{}' — {} axes at {} µs{}{}{}",
+        "cellrt: cell '{}' — {} axes at {} µs ({}){}{}",
         cell.name,
-        cell.axes.len(),
+        cell.axes.count(),
         cell.cycle_time.as_micros(),
-        je_c_axes(&cell),
+        axes_line(&cell),
         program
             .as_ref()
             .map(|p| format!(", program {}", p.source.display()))
@@ -202,26 +202,24 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
     (y, m, d)
 }
 
-/// The MR-JE-C axes beside the RT loop, for the start line.
-fn je_c_axes(cell: &CellConfig) -> String {
-    if cell.axes.on_link().is_empty() {
-        return String::new();
-    }
+/// Each axis and its backend, for the start line (an MR-JE-C axis with its link).
+fn axes_line(cell: &CellConfig) -> String {
     let each: Vec<String> = cell
         .axes
-        .on_link()
         .iter()
-        .map(|a| {
-            format!(
-                "{} over {} every {} ms{}",
+        .map(|axis| match axis.config {
+            AxisKind::Link(_, a) => format!(
+                "{} {} over {} every {} ms{}",
                 a.name,
+                axis.backend().as_str(),
                 a.transport.name(),
                 a.period.as_millis(),
                 if a.emulate { ", emulated" } else { "" }
-            )
+            ),
+            AxisKind::Loop(..) => format!("{} {}", axis.name(), axis.backend().as_str()),
         })
         .collect();
-    format!(" + MR-JE-C axes {}", each.join("; "))
+    each.join("; ")
 }
 
 #[cfg(test)]

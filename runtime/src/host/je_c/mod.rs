@@ -147,30 +147,24 @@ impl JecCell {
     }
 
     /// The end of the run: every axis brought to standstill and powered off (within a few
-    /// link periods), its state summarised, its thread and emulated drive stopped.
-    pub fn finish(self, targets: &[Option<f64>]) -> Vec<JecAxisSummary> {
+    /// link periods), its link summarised (by link), its thread and emulated drive stopped.
+    pub fn finish(self) -> Vec<LinkSummary> {
         let axes = self.axes();
         let _ = axes.command_all(AxisCommand::PowerOff);
         let end = std::time::Instant::now() + std::time::Duration::from_millis(500);
         while (0..axes.len()).any(|k| axes.feedback(k).enabled) && std::time::Instant::now() < end {
             std::thread::sleep(std::time::Duration::from_millis(5));
         }
-        self.summary(targets)
+        self.summary()
     }
 
-    /// Each axis' state for the run's summary; `targets`: the program's last target per axis.
-    pub fn summary(&self, targets: &[Option<f64>]) -> Vec<JecAxisSummary> {
+    /// Each axis' link and final position for the run's summary, by link.
+    pub fn summary(&self) -> Vec<LinkSummary> {
         self.axes
             .iter()
-            .enumerate()
-            .map(|(k, a)| {
+            .map(|a| {
                 let f = a.thread.handle.feedback();
-                JecAxisSummary::of(
-                    &a.config,
-                    &f,
-                    targets.get(k).copied().flatten(),
-                    a.emulated.as_ref(),
-                )
+                LinkSummary::of(&a.config, &f, a.emulated.as_ref())
             })
             .collect()
     }
@@ -238,50 +232,49 @@ impl JecAxes {
 }
 
 impl JecAxes {
-    /// Each axis' state for `cellrt status`.
-    pub fn status(&self) -> Vec<crate::host::operator::wire::JecAxisStatus> {
-        self.axes
-            .iter()
-            .map(|(c, h)| {
-                let f = h.feedback();
-                let state = cellrt_cia402::statusword::Statusword(f.inputs.statusword).state();
-                crate::host::operator::wire::JecAxisStatus {
-                    name: c.name.clone(),
-                    transport: c.transport.name().to_string(),
-                    mode: c.mode.name().to_string(),
-                    unit: c.unit.clone(),
-                    fsa: state.map_or("unknown", |s| s.as_str()).to_string(),
-                    position: c.units(f.inputs.position),
-                    velocity: f64::from(f.inputs.velocity) / 100.0 / 60.0 * c.counts_per_rev
-                        / c.counts_per_unit,
-                    busy: f.busy,
-                    stopped: f.stopped.map(stopped_text),
-                    alarm: f.inputs.alarm,
-                    exchanges: f.cycles,
-                    missed: f.missed,
-                    missed_in_row: f.missed_in_row,
-                    round_trip_us: f.round_trip_ns as f64 / 1000.0,
-                }
-            })
-            .collect()
+    /// The state of axis `k` for `cellrt status`.
+    pub fn status(&self, k: usize) -> crate::host::operator::wire::AxisStatus {
+        use crate::host::operator::wire::{AxisStatus, LinkStatus};
+        let (c, h) = &self.axes[k];
+        let f = h.feedback();
+        let state = cellrt_cia402::statusword::Statusword(f.inputs.statusword).state();
+        let position = c.units(f.inputs.position);
+        AxisStatus {
+            name: c.name.clone(),
+            backend: cellrt_config::Backend::Link.as_str().to_string(),
+            unit: c.unit.clone(),
+            mode: c.mode.name().to_string(),
+            mode_display: "?".to_string(),
+            powered: f.enabled,
+            fsa: state.map_or("unknown", |s| s.as_str()).to_string(),
+            setpoint: position,
+            position,
+            velocity: f64::from(f.inputs.velocity) / 100.0 / 60.0 * c.counts_per_rev
+                / c.counts_per_unit,
+            following_error: 0.0,
+            error_code: f.inputs.alarm,
+            status_do: Vec::new(),
+            link: Some(LinkStatus {
+                transport: c.transport.name().to_string(),
+                busy: f.busy,
+                stopped: f.stopped.map(stopped_text),
+                exchanges: f.cycles,
+                missed: f.missed,
+                missed_in_row: f.missed_in_row,
+                round_trip_us: f.round_trip_ns as f64 / 1000.0,
+            }),
+        }
     }
 }
 
-/// One MR-JE-C axis at the end of a run.
+/// The MR-JE-C link of an axis at the end of a run, and where the axis ended.
 #[derive(Debug, Clone, Serialize)]
-pub struct JecAxisSummary {
-    /// Axis name.
-    pub name: String,
+pub struct LinkSummary {
+    /// Final position, units.
+    #[serde(skip)]
+    pub final_position: f64,
     /// Transport.
     pub transport: &'static str,
-    /// Unit.
-    pub unit: String,
-    /// Final position, units.
-    pub final_position: f64,
-    /// The program's last target, units.
-    pub target: Option<f64>,
-    /// final_position − target.
-    pub error: Option<f64>,
     /// Exchanges run.
     pub exchanges: u64,
     /// Exchanges without an answer.
@@ -296,16 +289,11 @@ pub struct JecAxisSummary {
     pub drive_alarm: Option<String>,
 }
 
-impl JecAxisSummary {
-    fn of(c: &JecAxisConfig, f: &AxisFeedback, target: Option<f64>, e: Option<&Emulated>) -> Self {
-        let position = c.units(f.inputs.position);
-        JecAxisSummary {
-            name: c.name.clone(),
+impl LinkSummary {
+    fn of(c: &JecAxisConfig, f: &AxisFeedback, e: Option<&Emulated>) -> Self {
+        LinkSummary {
+            final_position: c.units(f.inputs.position),
             transport: c.transport.name(),
-            unit: c.unit.clone(),
-            final_position: position,
-            target,
-            error: target.map(|t| position - t),
             exchanges: f.cycles,
             missed: f.missed,
             refused: f.refused,

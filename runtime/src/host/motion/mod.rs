@@ -444,7 +444,7 @@ impl MotionEngine {
 
     /// A new motion from rest at the RT thread's hold positions.
     fn begin(&mut self, status: &StatusSnapshot, kind: Kind) {
-        let n = self.cell.axes.len();
+        let n = self.cell.axes.on_loop().len();
         for (i, a) in self.cell.axes.on_loop().iter().enumerate() {
             self.hold[i] = status.hold[i];
             self.states[i] = AxisState {
@@ -566,7 +566,7 @@ impl MotionEngine {
 
     /// Samples and publishes the next block of the active motion.
     fn publish_block(&mut self) -> Result<(), MotionError> {
-        let n = self.cell.axes.len();
+        let n = self.cell.axes.on_loop().len();
         let period = self.cell.period();
         let Some(a) = self.active.as_mut() else {
             return Ok(());

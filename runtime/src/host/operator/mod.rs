@@ -5,10 +5,10 @@
 //! operator [`socket`], where the cell's `[operator] group` lets them.
 
 mod alarms;
+pub mod backend;
 pub mod bus_diag;
 pub mod client;
 mod param;
-pub(crate) mod profile;
 pub mod sdo;
 mod sdo_job;
 pub mod server;

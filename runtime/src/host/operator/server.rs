@@ -8,14 +8,13 @@ use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
-mod je_c_requests;
 mod motion_requests;
 
+use super::backend::{self, link, profile};
 use super::bus_diag::DiagInFlight;
-use super::profile;
 use super::sdo::{self, SdoInFlight};
 use super::sdo_job::{SdoJob, SingleSdo};
-use super::targets::{axis_index, move_limits, Asked, TargetError};
+use super::targets::{axis_index, axis_ref, jog_velocity, move_limits, Asked, TargetError};
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
 use crate::handoff::{
     CellCommand, CellState, HomeRequest, ProfileCommand, ProfileMotion, SwitchableMode,
@@ -25,19 +24,13 @@ use crate::host::motion::{MotionEngine, MotionRequest, Progress};
 use crate::host::program::Program;
 use crate::services::{self, OperatorServerPort, ServiceError, OPERATOR_RESPONSE_BYTES};
 use cellrt_cia402::homing::{choose_procedure, HomeSettingEdge, HomingFailure};
-use cellrt_config::{AxisRef, CellConfig};
+use cellrt_config::{AxisKind, AxisRef, CellConfig};
 use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Why MC_Power of the RT axes was refused or could not be sent.
 #[derive(Debug, thiserror::Error)]
 enum PowerError {
-    /// An axis named twice.
-    #[error("axis '{axis}' named twice")]
-    Twice { axis: String },
-    /// An axis the cell does not have.
-    #[error(transparent)]
-    Axis(#[from] TargetError),
     /// The cell's state does not allow it.
     #[error("the cell is {state}; {what}")]
     Blocked {
@@ -106,7 +99,7 @@ pub struct OperatorServer {
     diag: DiagInFlight,
     diag_client: Option<ActiveRequest>,
     /// The MR-JE-C axes the active move waits for.
-    je_c_moves: je_c_requests::PendingMoves,
+    je_c_moves: link::PendingMoves,
     /// The drive-side motions the active command (a `move` of pp axes, a `mode` switch) waits
     /// for.
     profile_moves: profile::PendingProfile,
@@ -154,7 +147,7 @@ impl OperatorServer {
             job: None,
             diag: DiagInFlight::default(),
             diag_client: None,
-            je_c_moves: je_c_requests::PendingMoves::default(),
+            je_c_moves: link::PendingMoves::default(),
             profile_moves: profile::PendingProfile::default(),
         })
     }
@@ -527,31 +520,20 @@ impl OperatorServer {
         axes: &[String],
     ) -> (Reply, Followup) {
         let whole_cell = axes.is_empty();
-        let (je_c, axes): (Vec<&String>, Vec<&String>) = axes
-            .iter()
-            .partition(|a| ctx.cell.axis_ref(a).and_then(AxisRef::link).is_some());
+        let named = match backend::name_axes(ctx.cell, axes) {
+            Ok(n) => n,
+            Err(e) => return rejected(format!("power: {e}")),
+        };
         let je_c: Vec<usize> = if whole_cell {
             (0..ctx.je_c.len()).collect()
         } else {
-            let mut ks: Vec<usize> = Vec::with_capacity(je_c.len());
-            for a in je_c {
-                let k = ctx
-                    .cell
-                    .axis_ref(a)
-                    .and_then(AxisRef::link)
-                    .expect("partitioned above");
-                if ks.contains(&k) {
-                    return rejected(format!("power: axis '{a}' named twice"));
-                }
-                ks.push(k);
-            }
-            ks
+            named.on_link
         };
-        if let Err(e) = je_c_requests::power_check(ctx.je_c, &je_c, on) {
+        if let Err(e) = link::power_check(ctx.je_c, &je_c, on) {
             return rejected(format!("power: {e}"));
         }
-        if whole_cell || !axes.is_empty() {
-            if let Err(e) = self.power_rt_axes(ctx, state, on, &axes) {
+        if whole_cell || !named.on_loop.is_empty() {
+            if let Err(e) = self.power_rt_axes(ctx, state, on, &named.on_loop) {
                 return rejected(format!("power: {e}"));
             }
         }
@@ -566,25 +548,14 @@ impl OperatorServer {
         (self.accept("power", false), Followup::None)
     }
 
-    /// The RT axes' part of MC_Power: all of them when `axes` is empty.
+    /// The RT loop's part of MC_Power: slots `indices`, all of them when empty.
     fn power_rt_axes(
         &mut self,
         ctx: &mut Context<'_>,
         state: &StatusSnapshot,
         on: bool,
-        axes: &[&String],
+        indices: &[usize],
     ) -> Result<(), PowerError> {
-        let mut indices = Vec::with_capacity(axes.len());
-        for a in axes {
-            match axis_index(ctx.cell, a)? {
-                i if indices.contains(&i) => {
-                    return Err(PowerError::Twice {
-                        axis: a.to_string(),
-                    })
-                }
-                i => indices.push(i),
-            }
-        }
         let blocked = if on {
             match state.state {
                 CellState::Stopped | CellState::Faulted => Some("reset it first"),
@@ -630,35 +601,38 @@ impl OperatorServer {
         let axes = ctx
             .cell
             .axes
-            .on_loop()
             .iter()
-            .enumerate()
-            .map(|(i, a)| {
-                let l = s.live[i];
-                let sc = a.scaling;
-                AxisStatus {
-                    name: a.name.clone(),
-                    unit: a.unit.clone(),
-                    mode: s.mode_now(ctx.cell, i).as_str().to_string(),
-                    mode_display: ModeOfOperation::from_i8(l.mode_display)
-                        .map_or("?", |m| m.as_str())
-                        .to_string(),
-                    powered: l.powered != 0,
-                    fsa: Statusword(l.statusword)
-                        .state()
-                        .map(|f| f.as_str())
-                        .unwrap_or("unknown")
-                        .to_string(),
-                    setpoint: sc.to_units(s.hold[i]),
-                    position: sc.to_units(f64::from(l.position_actual)),
-                    velocity: sc.to_units(a.drive_units.velocity_from_drive(l.velocity_actual)),
-                    following_error: sc.to_units(f64::from(l.following_error)),
-                    error_code: l.error_code,
-                    status_do: StatusDo(l.status_do)
-                        .symbols_on()
-                        .map(str::to_string)
-                        .collect(),
+            .map(|axis| match axis.config {
+                AxisKind::Loop(i, a) => {
+                    let l = s.live[i];
+                    let sc = a.scaling;
+                    AxisStatus {
+                        name: a.name.clone(),
+                        backend: axis.backend().as_str().to_string(),
+                        unit: a.unit.clone(),
+                        mode: s.mode_now(ctx.cell, i).as_str().to_string(),
+                        mode_display: ModeOfOperation::from_i8(l.mode_display)
+                            .map_or("?", |m| m.as_str())
+                            .to_string(),
+                        powered: l.powered != 0,
+                        fsa: Statusword(l.statusword)
+                            .state()
+                            .map(|f| f.as_str())
+                            .unwrap_or("unknown")
+                            .to_string(),
+                        setpoint: sc.to_units(s.hold[i]),
+                        position: sc.to_units(f64::from(l.position_actual)),
+                        velocity: sc.to_units(a.drive_units.velocity_from_drive(l.velocity_actual)),
+                        following_error: sc.to_units(f64::from(l.following_error)),
+                        error_code: l.error_code,
+                        status_do: StatusDo(l.status_do)
+                            .symbols_on()
+                            .map(str::to_string)
+                            .collect(),
+                        link: None,
+                    }
                 }
+                AxisKind::Link(k, _) => ctx.je_c.status(k),
             })
             .collect();
         StatusReport {
@@ -672,7 +646,6 @@ impl OperatorServer {
             last_finished: self.last_finished.clone(),
             recent_events: ctx.link.recent_events(),
             axes,
-            je_c_axes: ctx.je_c.status(),
         }
     }
 }

@@ -2,16 +2,16 @@
 
 use cellrt_trajectory::KinematicLimits;
 
-use cellrt_config::{AxisConfig, CellConfig};
+use cellrt_config::{AxisConfig, AxisRef, Backend, CellConfig};
 
 /// The limits a move-like request asks for (each axis' own limit where absent).
 #[derive(Clone, Copy)]
-pub(super) struct Asked {
-    pub(super) velocity: Option<f64>,
-    pub(super) acceleration: Option<f64>,
-    pub(super) jerk: Option<f64>,
+pub(crate) struct Asked {
+    pub(crate) velocity: Option<f64>,
+    pub(crate) acceleration: Option<f64>,
+    pub(crate) jerk: Option<f64>,
     /// Lower a limit above an axis limit to it instead of refusing.
-    pub(super) clamp: bool,
+    pub(crate) clamp: bool,
 }
 
 /// Why the axes, targets or limits a request names do not fit the cell.
@@ -24,6 +24,39 @@ pub enum TargetError {
         name: String,
         /// The cell's axis names, comma-separated.
         axes: String,
+    },
+    /// A request the RT loop carries out, on an axis another backend runs.
+    #[error("axis '{axis}' is not on the RT loop ({}): this request is for the loop's axes", backend.as_str())]
+    NotOnLoop {
+        /// Axis name.
+        axis: String,
+        /// The backend that runs it.
+        backend: Backend,
+    },
+    /// A request only streamed setpoints carry out (a line, a path) on an axis its drive's own
+    /// profile moves.
+    #[error("axis '{axis}' is moved by its drive's own profile ({}): {what} needs streamed axes", backend.as_str())]
+    NotStreamed {
+        /// Axis name.
+        axis: String,
+        /// The backend that runs it.
+        backend: Backend,
+        /// What needs streamed axes ("a line").
+        what: &'static str,
+    },
+    /// An axis a request names twice.
+    #[error("axis '{axis}' named twice")]
+    Twice {
+        /// Axis name.
+        axis: String,
+    },
+    /// A jog velocity that is NaN or infinite.
+    #[error("axis '{axis}': velocity {velocity} is not a finite number")]
+    VelocityNotFinite {
+        /// Axis name.
+        axis: String,
+        /// The velocity asked.
+        velocity: f64,
     },
     /// A target that is NaN or infinite.
     #[error("axis '{axis}': target {value} is not a finite number")]
@@ -82,64 +115,104 @@ pub enum TargetError {
 /// arithmetic degenerates (a velocity of 1e-300 unit/s is not a move).
 pub const MIN_LIMIT_FRACTION: f64 = 1e-6;
 
-/// The index of the axis `name`, or the cell's axis names.
-pub(super) fn axis_index(cell: &CellConfig, name: &str) -> Result<usize, TargetError> {
-    cell.axes
-        .on_loop()
-        .iter()
-        .position(|a| a.name == name)
-        .ok_or_else(|| {
-            let names: Vec<&str> = cell
-                .axes
-                .on_loop()
-                .iter()
-                .map(|a| a.name.as_str())
-                .collect();
-            TargetError::UnknownAxis {
-                name: name.to_string(),
-                axes: names.join(", "),
-            }
-        })
+/// The axis `name`, whichever backend runs it, or the cell's axis names.
+pub(crate) fn axis_ref(cell: &CellConfig, name: &str) -> Result<AxisRef, TargetError> {
+    cell.axis_ref(name).ok_or_else(|| TargetError::UnknownAxis {
+        name: name.to_string(),
+        axes: cell.axes.names(),
+    })
+}
+
+/// The RT-loop slot of the axis `name`, for a request the RT loop carries out (`what`); an
+/// axis another backend runs is refused naming it.
+pub(crate) fn axis_index(cell: &CellConfig, name: &str) -> Result<usize, TargetError> {
+    let at = axis_ref(cell, name)?;
+    at.loop_slot().ok_or_else(|| TargetError::NotOnLoop {
+        axis: name.to_string(),
+        backend: cell.axes.get(at).backend(),
+    })
+}
+
+/// A limit a request asks for (`asked`), within the axis' own (`limit`): refused when not a
+/// positive number, too small to plan with, or above the limit unless `clamp`. One rule for
+/// every backend.
+pub(crate) fn pick_limit(
+    axis: &str,
+    unit: &str,
+    (what, per): (&'static str, &'static str),
+    asked: Option<f64>,
+    limit: f64,
+    clamp: bool,
+) -> Result<f64, TargetError> {
+    match asked {
+        None => Ok(limit),
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(TargetError::BadLimit {
+            axis: axis.to_string(),
+            what,
+            value: v,
+        }),
+        Some(v) if v < limit * MIN_LIMIT_FRACTION => Err(TargetError::BelowPlannable {
+            axis: axis.to_string(),
+            what,
+            value: v,
+            unit: unit.to_string(),
+            per,
+            min: limit * MIN_LIMIT_FRACTION,
+        }),
+        Some(v) if v > limit && !clamp => Err(TargetError::AboveLimit {
+            axis: axis.to_string(),
+            what,
+            value: v,
+            unit: unit.to_string(),
+            per,
+            limit,
+        }),
+        Some(v) => Ok(v.min(limit)),
+    }
+}
+
+/// A jog's signed velocity within ±`limit`: refused when not finite, or outside unless
+/// `clamp` (then lowered to it). One rule for every backend.
+pub(crate) fn jog_velocity(
+    axis: &str,
+    unit: &str,
+    velocity: f64,
+    limit: f64,
+    clamp: bool,
+) -> Result<f64, TargetError> {
+    if !velocity.is_finite() {
+        return Err(TargetError::VelocityNotFinite {
+            axis: axis.to_string(),
+            velocity,
+        });
+    }
+    if velocity.abs() > limit && !clamp {
+        return Err(TargetError::AboveLimit {
+            axis: axis.to_string(),
+            what: "velocity",
+            value: velocity.abs(),
+            unit: unit.to_string(),
+            per: "/s",
+            limit,
+        });
+    }
+    Ok(velocity.clamp(-limit, limit))
 }
 
 /// Per-move limits: the axis limits, lowered where the request asks; a request above the axis
 /// limit is refused unless `clamp`.
-pub(super) fn move_limits(a: &AxisConfig, asked: Asked) -> Result<KinematicLimits, TargetError> {
+pub(crate) fn move_limits(a: &AxisConfig, asked: Asked) -> Result<KinematicLimits, TargetError> {
     let Asked {
         velocity,
         acceleration,
         jerk,
         clamp,
     } = asked;
-    let pick = |what: &'static str, per: &'static str, req: Option<f64>, limit: f64| match req {
-        None => Ok(limit),
-        Some(v) if !(v.is_finite() && v > 0.0) => Err(TargetError::BadLimit {
-            axis: a.name.clone(),
-            what,
-            value: v,
-        }),
-        Some(v) if v < limit * MIN_LIMIT_FRACTION => Err(TargetError::BelowPlannable {
-            axis: a.name.clone(),
-            what,
-            value: v,
-            unit: a.unit.clone(),
-            per,
-            min: limit * MIN_LIMIT_FRACTION,
-        }),
-        Some(v) if v > limit && !clamp => Err(TargetError::AboveLimit {
-            axis: a.name.clone(),
-            what,
-            value: v,
-            unit: a.unit.clone(),
-            per,
-            limit,
-        }),
-        Some(v) => Ok(v.min(limit)),
-    };
+    let pick = |what, req, limit| pick_limit(&a.name, &a.unit, what, req, limit, clamp);
     Ok(KinematicLimits {
-        velocity: pick("velocity", "/s", velocity, a.limits.velocity)?,
-        acceleration: pick("acceleration", "/s²", acceleration, a.limits.acceleration)?,
-        jerk: pick("jerk", "/s³", jerk, a.limits.jerk)?,
+        velocity: pick(("velocity", "/s"), velocity, a.limits.velocity)?,
+        acceleration: pick(("acceleration", "/s²"), acceleration, a.limits.acceleration)?,
+        jerk: pick(("jerk", "/s³"), jerk, a.limits.jerk)?,
     })
 }
 

@@ -424,37 +424,19 @@ pub struct StatusReport {
     /// The latest events, oldest first ("cycle N: kind [axis]: detail"; in-process only).
     #[serde(default)]
     pub recent_events: Vec<String>,
-    /// Per axis.
+    /// Per axis, in configuration order, whichever backend moves it.
     pub axes: Vec<AxisStatus>,
-    /// Per MR-JE-C axis (beside the RT loop).
-    #[serde(default)]
-    pub je_c_axes: Vec<JecAxisStatus>,
 }
 
-/// Status of one MR-JE-C axis and its link.
+/// The MR-JE-C link of an axis driven over one: its exchanges with the drive.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct JecAxisStatus {
-    /// Axis name.
-    pub name: String,
+pub struct LinkStatus {
     /// Transport (`cclink-ief-basic`, `slmp`, `modbus-tcp`, `modbus-rtu`).
     pub transport: String,
-    /// The configured mode (`pp`, `pv`, `tq`, `jog`, `point_table`, `indexer`).
-    #[serde(default)]
-    pub mode: String,
-    /// Unit.
-    pub unit: String,
-    /// CiA 402 state from the last answer.
-    pub fsa: String,
-    /// Actual position, units.
-    pub position: f64,
-    /// Actual velocity, unit/s.
-    pub velocity: f64,
-    /// A move or jog runs.
+    /// A move, jog or homing runs on the drive.
     pub busy: bool,
-    /// Why the axis was stopped, if it was.
+    /// Why the axis was stopped by its link watchdog or an alarm, if it was.
     pub stopped: Option<String>,
-    /// 2A42h (0: no alarm).
-    pub alarm: u16,
     /// Exchanges run.
     pub exchanges: u64,
     /// Exchanges without an answer.
@@ -490,10 +472,13 @@ pub struct FinishedCommand {
 pub struct AxisStatus {
     /// Axis name.
     pub name: String,
+    /// How its motion is carried out (`streamed`, `profile`, `mr-je-c link`).
+    #[serde(default)]
+    pub backend: String,
     /// Unit of positions.
     pub unit: String,
     /// The mode the controller runs the axis in: its configured one, or the one `mode` switched
-    /// it to (csp, csv, cst, pp, pv, tq).
+    /// it to (csp, csv, cst, pp, pv, tq; on an MR-JE-C also jog, point_table, indexer).
     pub mode: String,
     /// Mode the drive displays (6061h: csp, csv, cst, hm, …; "?" where not mapped or unknown).
     #[serde(default)]
@@ -503,20 +488,23 @@ pub struct AxisStatus {
     pub powered: bool,
     /// CiA 402 FSA state from the statusword.
     pub fsa: String,
-    /// Position setpoint, unit.
+    /// Position setpoint, unit (an axis whose drive runs its own profile: its actual position).
     pub setpoint: f64,
     /// Actual position, unit.
     pub position: f64,
     /// Actual velocity, unit/s.
     pub velocity: f64,
-    /// Following error, unit.
+    /// Following error, unit (0 where the drive does not report it).
     pub following_error: f64,
-    /// Alarm / error code (603Fh), 0 when none.
+    /// Alarm / error code (603Fh; 2A42h on an MR-JE-C), 0 when none.
     pub error_code: u16,
     /// The Status DO signals that are on (2D11h–2D13h: S_ZSP, S_INP, …), in the manual's order;
     /// empty where the drive does not map them.
     #[serde(default)]
     pub status_do: Vec<String>,
+    /// Its MR-JE-C link, for an axis driven over one.
+    #[serde(default)]
+    pub link: Option<LinkStatus>,
 }
 
 /// An optional number: left out when not given. `null` is refused: a NaN or infinity encoded

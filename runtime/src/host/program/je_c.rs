@@ -93,7 +93,7 @@ pub(super) fn take_targets(
     Ok(out)
 }
 
-/// The homing procedure of MR-JE-C axis `axis` (index in `je_c_axes`): hm with
+/// The homing procedure of MR-JE-C axis `axis` (link in `CellAxes::on_link`): hm with
 /// [`HOMING_METHOD`](cellrt_config::je_c_axis::HOMING_METHOD); another method or a
 /// Controlword2 edge (an MR-J3-T04 procedure) is refused naming the key.
 pub(super) fn home_procedure(
@@ -116,7 +116,7 @@ pub(super) fn home_procedure(
         })
 }
 
-/// Whether MR-JE-C axis `axis` (index in `je_c_axes`) can jog at `velocity` in its mode
+/// Whether MR-JE-C axis `axis` (link in `CellAxes::on_link`) can jog at `velocity` in its mode
 /// (its velocity limit is checked by the caller, as for every axis).
 pub(super) fn check_jog(
     path: &Path,

@@ -281,7 +281,7 @@ impl AxisMove {
 /// One MR-JE-C axis of a move step (a pp, pt or idx move of its drive).
 #[derive(Debug, Clone, PartialEq)]
 pub struct DriveMove {
-    /// Index in the cell's `je_c_axes`.
+    /// Link in the cell's `CellAxes::on_link`.
     pub axis: usize,
     /// Where it goes: a position, a point table or a station.
     pub goal: cellrt_config::je_c_positioning::JecMoveTarget,

@@ -78,7 +78,7 @@ pub(super) fn check_profile_modes(
     steps: &[(String, Step)],
     cell: &CellConfig,
 ) -> Result<(), ConfigError> {
-    use crate::host::operator::profile::{takes_move, takes_velocity};
+    use crate::host::operator::backend::profile::{takes_move, takes_velocity};
     let mut modes: Vec<ModeOfOperation> = cell.axes.on_loop().iter().map(|a| a.mode).collect();
     let profile = |modes: &[ModeOfOperation], i: usize| cellrt_config::ProfileMode::of(modes[i]);
     for (key, step) in steps {

@@ -16,7 +16,7 @@ use mcap::{Attachment, WriteOptions, Writer};
 use super::proto;
 use super::topics::*;
 use crate::rt::clock::realtime_offset_ns;
-use cellrt_config::{CellConfig, Compression};
+use cellrt_config::{AxisKind, CellConfig, Compression};
 
 /// Bytes an MCAP Message record adds to its payload inside a chunk (opcode, length, channel,
 /// sequence, log and publish time).
@@ -232,7 +232,7 @@ fn add_channels<W: Write + Seek>(
         };
         ids.push(writer.add_channel(schema, &spec.topic, "protobuf", &spec.metadata)?);
     }
-    let je_c_from = 2 + cell.axes.len();
+    let je_c_from = 2 + cell.axes.on_loop().len();
     Ok(Channels {
         cycle: ids[0],
         events: ids[1],
@@ -314,17 +314,18 @@ fn write_cell_metadata<W: Write + Seek>(
             cell.cycle_time.as_micros().to_string(),
         ),
         ("axes".to_string(), cell.axis_names()),
+        ("cell_axes".to_string(), cell.axes.names()),
         (
             "software".to_string(),
             format!("cellrt {}", env!("CARGO_PKG_VERSION")),
         ),
         ("config_file".to_string(), cell.source.display().to_string()),
     ]);
-    for a in cell.axes.on_loop() {
-        cell_meta.insert(
-            format!("axis.{}", a.name),
-            format!(
-                "drive={} mode={} unit={} counts_per_unit={} position=[{}, {}] velocity={} acceleration={} jerk={}",
+    for axis in cell.axes.iter() {
+        let detail = match axis.config {
+            AxisKind::Loop(_, a) => format!(
+                "backend={} drive={} mode={} unit={} counts_per_unit={} position=[{}, {}] velocity={} acceleration={} jerk={}",
+                axis.backend().as_str(),
                 a.profile.name,
                 a.mode.as_str(),
                 a.unit,
@@ -335,7 +336,20 @@ fn write_cell_metadata<W: Write + Seek>(
                 a.limits.acceleration,
                 a.limits.jerk
             ),
-        );
+            AxisKind::Link(_, a) => format!(
+                "backend={} drive=MR-JE-C transport={} mode={} unit={} counts_per_unit={} position=[{}, {}] velocity={} acceleration={}",
+                axis.backend().as_str(),
+                a.transport.name(),
+                a.mode.name(),
+                a.unit,
+                a.counts_per_unit,
+                a.position[0],
+                a.position[1],
+                a.velocity,
+                a.acceleration
+            ),
+        };
+        cell_meta.insert(format!("axis.{}", axis.name()), detail);
     }
     writer.write_metadata(&Metadata {
         name: CELL_METADATA.to_string(),

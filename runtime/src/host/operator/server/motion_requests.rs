@@ -17,14 +17,20 @@ impl OperatorServer {
         line: bool,
         asked: Asked,
     ) -> (Reply, Followup) {
-        // MR-JE-C axes: checked first, sent once the streamed part is accepted.
-        let (je_c, targets) = je_c_requests::take_je_c(ctx.cell, targets);
+        // MR-JE-C axes: checked first, sent once the RT loop's part is accepted.
+        let (je_c, targets) = match backend::split(ctx.cell, targets) {
+            Ok(s) => (s.on_link, s.on_loop),
+            Err(e) => return rejected(format!("move: {e}")),
+        };
         if let (true, Some((_, name, _))) = (line, je_c.first()) {
-            return rejected(format!(
-                "move: axis '{name}' is an MR-JE-C axis, whose drive runs its own profile: it cannot move on a line"
-            ));
+            let e = TargetError::NotStreamed {
+                axis: name.clone(),
+                backend: cellrt_config::Backend::Link,
+                what: "a line",
+            };
+            return rejected(format!("move: {e}"));
         }
-        let je_c_commands = match je_c_requests::move_commands(ctx.je_c, &je_c, relative, asked) {
+        let je_c_commands = match link::move_commands(ctx.je_c, &je_c, relative, asked) {
             Ok(c) => c,
             Err(e) => return rejected(format!("move: {e}")),
         };
@@ -44,7 +50,7 @@ impl OperatorServer {
             self.track(id, "move");
         }
         self.je_c_moves.expect(id, "move", ctx.je_c, &je_c_commands);
-        match je_c_requests::send(ctx.je_c, &je_c_commands) {
+        match link::send(ctx.je_c, &je_c_commands) {
             Ok(()) => reply,
             Err(e) => {
                 self.finish_active(Some(e.to_string()));
@@ -180,16 +186,16 @@ impl OperatorServer {
         acceleration: Option<f64>,
         clamp: bool,
     ) -> (Reply, Followup) {
-        if let Some(k) = ctx.cell.axis_ref(axis).and_then(AxisRef::link) {
-            return match je_c_requests::velocity_command(ctx.je_c, k, velocity, acceleration, clamp)
-                .and_then(|c| je_c_requests::send(ctx.je_c, &[(k, c)]))
-            {
-                Ok(()) => (self.accept("velocity", false), Followup::None),
-                Err(e) => rejected(format!("velocity: {e}")),
-            };
-        }
-        let i = match axis_index(ctx.cell, axis) {
-            Ok(i) => i,
+        let i = match axis_ref(ctx.cell, axis) {
+            Ok(AxisRef::Loop(i)) => i,
+            Ok(AxisRef::Link(k)) => {
+                return match link::velocity_command(ctx.je_c, k, velocity, acceleration, clamp)
+                    .and_then(|c| link::send(ctx.je_c, &[(k, c)]))
+                {
+                    Ok(()) => (self.accept("velocity", false), Followup::None),
+                    Err(e) => rejected(format!("velocity: {e}")),
+                }
+            }
             Err(e) => return rejected(format!("velocity: {e}")),
         };
         let a = &ctx.cell.axes.on_loop()[i];
@@ -203,15 +209,9 @@ impl OperatorServer {
             Ok(l) => l,
             Err(e) => return rejected(format!("velocity: {e}")),
         };
-        if !velocity.is_finite() {
-            return rejected(format!(
-                "velocity: axis '{axis}': velocity {velocity} is not a finite number"
-            ));
-        }
-        let v = if clamp {
-            velocity.clamp(-a.limits.velocity, a.limits.velocity)
-        } else {
-            velocity
+        let v = match jog_velocity(&a.name, &a.unit, velocity, a.limits.velocity, clamp) {
+            Ok(v) => v,
+            Err(e) => return rejected(format!("velocity: {e}")),
         };
         let mode = profile::AxisModes::now(ctx.cell, state).of(i);
         if mode.is_some() {
@@ -241,7 +241,10 @@ impl OperatorServer {
         targets: &BTreeMap<String, f64>,
         seconds: f64,
     ) -> (Reply, Followup) {
-        let (je_c, targets) = je_c_requests::take_je_c(ctx.cell, targets);
+        let (je_c, targets) = match backend::split(ctx.cell, targets) {
+            Ok(s) => (s.on_link, s.on_loop),
+            Err(e) => return rejected(format!("torque: {e}")),
+        };
         if !je_c.is_empty() {
             return self.torque_je_c(ctx, &je_c, !targets.is_empty());
         }
@@ -278,7 +281,7 @@ impl OperatorServer {
     fn torque_je_c(
         &mut self,
         ctx: &mut Context<'_>,
-        je_c: &[je_c_requests::JecTarget],
+        je_c: &[backend::LinkTarget],
         others: bool,
     ) -> (Reply, Followup) {
         if others {
@@ -288,9 +291,7 @@ impl OperatorServer {
                     .into(),
             );
         }
-        match je_c_requests::torque_commands(ctx.je_c, je_c)
-            .and_then(|c| je_c_requests::send(ctx.je_c, &c))
-        {
+        match link::torque_commands(ctx.je_c, je_c).and_then(|c| link::send(ctx.je_c, &c)) {
             Ok(()) => (self.accept("torque", false), Followup::None),
             Err(e) => rejected(format!("torque: {e}")),
         }
@@ -306,11 +307,9 @@ impl OperatorServer {
         method: Option<i8>,
         setting: Option<HomeSettingEdge>,
     ) -> (Reply, Followup) {
-        if let Some(k) = ctx.cell.axis_ref(axis).and_then(AxisRef::link) {
-            return self.home_je_c(ctx, k, method, setting.is_some());
-        }
-        let i = match axis_index(ctx.cell, axis) {
-            Ok(i) => i,
+        let i = match axis_ref(ctx.cell, axis) {
+            Ok(AxisRef::Loop(i)) => i,
+            Ok(AxisRef::Link(k)) => return self.home_je_c(ctx, k, method, setting.is_some()),
             Err(e) => return rejected(format!("home: {e}")),
         };
         let a = &ctx.cell.axes.on_loop()[i];
@@ -405,7 +404,7 @@ impl OperatorServer {
         method: Option<i8>,
         setting: bool,
     ) -> (Reply, Followup) {
-        let command = match je_c_requests::home_command(ctx.je_c, k, method, setting) {
+        let command = match link::home_command(ctx.je_c, k, method, setting) {
             Ok(c) => c,
             Err(e) => return rejected(format!("home: {e}")),
         };
@@ -416,7 +415,7 @@ impl OperatorServer {
         self.home_on_je_c = true;
         self.je_c_moves
             .expect(id, "homing", ctx.je_c, &[(k, command)]);
-        match je_c_requests::send(ctx.je_c, &[(k, command)]) {
+        match link::send(ctx.je_c, &[(k, command)]) {
             Ok(()) => (reply, Followup::None),
             Err(e) => {
                 self.finish_active(Some(e.to_string()));
@@ -433,43 +432,28 @@ impl OperatorServer {
         state: &StatusSnapshot,
         axes: &[String],
     ) -> (Reply, Followup) {
-        let (je_c, axes): (Vec<String>, Vec<String>) = axes
-            .iter()
-            .cloned()
-            .partition(|a| ctx.cell.axis_ref(a).and_then(AxisRef::link).is_some());
-        let halted = if je_c.is_empty() && axes.is_empty() {
+        let named = match backend::name_axes(ctx.cell, axes) {
+            Ok(n) => n,
+            Err(e) => return rejected(format!("halt: {e}")),
+        };
+        let halted = if axes.is_empty() {
             ctx.je_c.command_all(AxisCommand::Halt)
         } else {
-            je_c.iter().try_for_each(|a| {
-                let k = ctx
-                    .cell
-                    .axis_ref(a)
-                    .and_then(AxisRef::link)
-                    .expect("partitioned above");
-                ctx.je_c.command(k, AxisCommand::Halt)
-            })
+            named
+                .on_link
+                .iter()
+                .try_for_each(|&k| ctx.je_c.command(k, AxisCommand::Halt))
         };
         if let Err(e) = halted {
             return rejected(format!("halt: {e}"));
         }
-        if axes.is_empty() && !je_c.is_empty() {
+        if named.on_loop.is_empty() && !named.on_link.is_empty() {
             return (
                 self.accept("halt", false),
                 program_abort(ctx.program_running),
             );
         }
-        let list = if axes.is_empty() {
-            None
-        } else {
-            match axes
-                .iter()
-                .map(|a| axis_index(ctx.cell, a))
-                .collect::<Result<Vec<_>, _>>()
-            {
-                Ok(l) => Some(l),
-                Err(e) => return rejected(format!("halt: {e}")),
-            }
-        };
+        let list = (!named.on_loop.is_empty()).then_some(named.on_loop);
         let abort = ctx.program_running;
         let modes = profile::AxisModes::now(ctx.cell, state);
         let halts = profile::halts(ctx.cell, &modes, list.as_deref());
@@ -507,7 +491,7 @@ impl OperatorServer {
         ctx: &mut Context<'_>,
         state: &StatusSnapshot,
     ) -> (Reply, Followup) {
-        if let Err(e) = je_c_requests::reset_stopped(ctx.je_c) {
+        if let Err(e) = link::reset_stopped(ctx.je_c) {
             return rejected(format!("reset: {e}"));
         }
         if !matches!(state.state, CellState::Stopped | CellState::Faulted) {
@@ -549,7 +533,7 @@ impl OperatorServer {
             return rejected("program: a motion is active; halt it first".into());
         }
         // A program plans with the configured modes.
-        let switched = (0..ctx.cell.axes.len())
+        let switched = (0..ctx.cell.axes.on_loop().len())
             .find(|&i| state.mode_now(ctx.cell, i) != ctx.cell.axes.on_loop()[i].mode);
         if let Some(i) = switched {
             let a = &ctx.cell.axes.on_loop()[i];

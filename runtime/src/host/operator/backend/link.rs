@@ -1,51 +1,32 @@
-//! The operator's requests on MR-JE-C axes (MC_Power, MC_MoveAbsolute / MC_MoveRelative,
-//! MC_MoveVelocity, MC_Reset): checked against the axis' own range and limits and queued for
-//! its non-RT link thread, which commands the drive's pp and pv (MR-JE-C manual §7.6.3,
+//! The MR-JE-C link backend of the operator's requests (MC_Power, MC_MoveAbsolute /
+//! MC_MoveRelative, MC_MoveVelocity, MC_TorqueControl, MC_Home, MC_Reset): each checked against
+//! the axis' own range and limits, by the rules every backend shares (`targets`), and queued
+//! for its link thread, which commands the drive's pp, pv, tq and hm (MR-JE-C manual §7.6.3,
 //! §7.6.4). The drive's profile has no jerk: a jerk limit does not apply to them.
-
-use std::collections::BTreeMap;
 
 use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
-use super::*;
+use super::super::targets::{jog_velocity, pick_limit, Asked, TargetError};
+use super::LinkTarget;
 use crate::host::je_c::jobs::{JobCounts, JobError, JobOutcome};
 use crate::host::je_c::{stopped_text, JecAxes, JecQueueFull};
 use cellrt_config::je_c_axis::{JecAxisConfig, JecCommandError, JecHomingError, JecMode};
 
-/// Why an operator request on MR-JE-C axes was refused or failed.
+/// Why an operator request on an MR-JE-C axis was refused or failed.
 #[derive(Debug, thiserror::Error)]
-pub(super) enum JecRequestError {
+pub(crate) enum LinkRequestError {
+    /// A target, limit or velocity the rules of every backend refuse.
+    #[error(transparent)]
+    Target(#[from] TargetError),
     /// The axis was stopped by its watchdog or an alarm.
-    #[error("MR-JE-C axis '{axis}': {stopped}; reset it first")]
+    #[error("axis '{axis}': {stopped}; reset it first")]
     Stopped { axis: String, stopped: String },
     /// The axis' servo is off.
-    #[error(
-        "MR-JE-C axis '{axis}' is not enabled (statusword {statusword:04X}h); power it on first"
-    )]
+    #[error("axis '{axis}' is not enabled (statusword {statusword:04X}h); power it on first")]
     NotEnabled { axis: String, statusword: u16 },
     /// The axis moves or runs a job: no servo off.
-    #[error("MR-JE-C axis '{axis}' is moving; halt it first")]
+    #[error("axis '{axis}' is moving; halt it first")]
     Moving { axis: String },
-    /// A limit asked is not a finite number > 0.
-    #[error("axis '{axis}': {what} {value} must be a finite number > 0")]
-    NotPositive {
-        axis: String,
-        what: &'static str,
-        value: f64,
-    },
-    /// A limit asked exceeds the axis' own.
-    #[error(
-        "axis '{axis}': {what} {value} exceeds its limit {limit} (add --clamp to use the limit)"
-    )]
-    OverLimit {
-        axis: String,
-        what: &'static str,
-        value: f64,
-        limit: f64,
-    },
-    /// A move's target is not a finite number.
-    #[error("axis '{axis}': target {value} is not a finite number")]
-    TargetNotFinite { axis: String, value: f64 },
     /// A relative move on an axis whose moves name a table or a station.
     #[error("axis '{axis}' runs {mode}: a move names its {what}, not a distance")]
     NoDistance {
@@ -59,16 +40,6 @@ pub(super) enum JecRequestError {
     /// A homing the drive does not run.
     #[error(transparent)]
     Homing(#[from] JecHomingError),
-    /// A jog's velocity is not a finite number.
-    #[error("axis '{axis}': velocity {velocity} is not a finite number")]
-    VelocityNotFinite { axis: String, velocity: f64 },
-    /// A jog's velocity is outside the axis' limit.
-    #[error("axis '{axis}': velocity {velocity} is outside ±{limit}, its velocity limit (add --clamp to use the limit)")]
-    VelocityOverLimit {
-        axis: String,
-        velocity: f64,
-        limit: f64,
-    },
     /// The axis' configuration refused the command.
     #[error(transparent)]
     Command(#[from] JecCommandError),
@@ -80,39 +51,18 @@ pub(super) enum JecRequestError {
     Job(#[from] JobError),
 }
 
-/// An MR-JE-C axis a request names: its index, name and the value asked.
-pub(super) type JecTarget = (usize, String, f64);
-
-/// The MR-JE-C axes of a request's targets, and the other targets.
-pub(super) fn take_je_c(
-    cell: &CellConfig,
-    targets: &BTreeMap<String, f64>,
-) -> (Vec<JecTarget>, BTreeMap<String, f64>) {
-    let mut je_c = Vec::new();
-    let mut rest = BTreeMap::new();
-    for (name, &v) in targets {
-        match cell.axis_ref(name).and_then(AxisRef::link) {
-            Some(k) => je_c.push((k, name.clone(), v)),
-            None => {
-                rest.insert(name.clone(), v);
-            }
-        }
-    }
-    (je_c, rest)
-}
-
 /// The axis can take a motion command: servo on, not stopped by its watchdog or an alarm.
-fn ready(axes: &JecAxes, k: usize) -> Result<(), JecRequestError> {
+fn ready(axes: &JecAxes, k: usize) -> Result<(), LinkRequestError> {
     let f = axes.feedback(k);
     let axis = axes.config(k).name.clone();
     if let Some(s) = f.stopped {
-        return Err(JecRequestError::Stopped {
+        return Err(LinkRequestError::Stopped {
             axis,
             stopped: stopped_text(s),
         });
     }
     if !f.enabled {
-        return Err(JecRequestError::NotEnabled {
+        return Err(LinkRequestError::NotEnabled {
             axis,
             statusword: f.inputs.statusword,
         });
@@ -120,47 +70,35 @@ fn ready(axes: &JecAxes, k: usize) -> Result<(), JecRequestError> {
     Ok(())
 }
 
-/// A limit the request asks for, within the axis' own: refused above it unless `clamp`.
+/// A limit the request asks for, within the axis' own (the rule of every backend).
 fn pick(
     c: &JecAxisConfig,
-    what: &'static str,
+    what: (&'static str, &'static str),
     asked: Option<f64>,
     limit: f64,
     clamp: bool,
-) -> Result<f64, JecRequestError> {
-    let axis = c.name.clone();
-    match asked {
-        None => Ok(limit),
-        Some(value) if !(value.is_finite() && value > 0.0) => {
-            Err(JecRequestError::NotPositive { axis, what, value })
-        }
-        Some(value) if value > limit && !clamp => Err(JecRequestError::OverLimit {
-            axis,
-            what,
-            value,
-            limit,
-        }),
-        Some(v) => Ok(v.min(limit)),
-    }
+) -> Result<f64, LinkRequestError> {
+    Ok(pick_limit(&c.name, &c.unit, what, asked, limit, clamp)?)
 }
 
 /// The pp commands of a move's MR-JE-C axes, each checked: ready, target finite and within
 /// the axis' position range (after adding the current position when `relative`), velocity
 /// and acceleration within its limits. Nothing is queued here.
-pub(super) fn move_commands(
+pub(crate) fn move_commands(
     axes: &JecAxes,
-    list: &[JecTarget],
+    list: &[LinkTarget],
     relative: bool,
     asked: Asked,
-) -> Result<Vec<(usize, AxisCommand)>, JecRequestError> {
+) -> Result<Vec<(usize, AxisCommand)>, LinkRequestError> {
     let mut out = Vec::with_capacity(list.len());
     for (k, name, value) in list {
         let c = axes.config(*k);
         if !value.is_finite() {
-            return Err(JecRequestError::TargetNotFinite {
+            return Err(TargetError::NotFinite {
                 axis: name.clone(),
                 value: *value,
-            });
+            }
+            .into());
         }
         ready(axes, *k)?;
         let numbered = match c.mode {
@@ -170,7 +108,7 @@ pub(super) fn move_commands(
         };
         let goal = match (relative, numbered) {
             (true, Some(what)) => {
-                return Err(JecRequestError::NoDistance {
+                return Err(LinkRequestError::NoDistance {
                     axis: name.clone(),
                     mode: c.mode.name(),
                     what,
@@ -180,12 +118,18 @@ pub(super) fn move_commands(
             (false, _) => c.move_target(*value)?,
         };
         if !c.takes_move_limits() && (asked.velocity.is_some() || asked.acceleration.is_some()) {
-            return Err(JecRequestError::TableLimits { axis: name.clone() });
+            return Err(LinkRequestError::TableLimits { axis: name.clone() });
         }
-        let velocity = pick(c, "velocity", asked.velocity, c.velocity, asked.clamp)?;
+        let velocity = pick(
+            c,
+            ("velocity", "/s"),
+            asked.velocity,
+            c.velocity,
+            asked.clamp,
+        )?;
         let acceleration = pick(
             c,
-            "acceleration",
+            ("acceleration", "/s²"),
             asked.acceleration,
             c.acceleration,
             asked.clamp,
@@ -197,10 +141,10 @@ pub(super) fn move_commands(
 
 /// The tq commands of a torque request's MR-JE-C axes, each checked: ready, torque within the
 /// axis' `limits.torque`. Nothing is queued here.
-pub(super) fn torque_commands(
+pub(crate) fn torque_commands(
     axes: &JecAxes,
-    list: &[JecTarget],
-) -> Result<Vec<(usize, AxisCommand)>, JecRequestError> {
+    list: &[LinkTarget],
+) -> Result<Vec<(usize, AxisCommand)>, LinkRequestError> {
     list.iter()
         .map(|(k, _, torque)| {
             ready(axes, *k)?;
@@ -211,60 +155,54 @@ pub(super) fn torque_commands(
 
 /// The hm command of MR-JE-C axis `k`: ready, with method 37 (or none named) and no
 /// Controlword2 edge.
-pub(super) fn home_command(
+pub(crate) fn home_command(
     axes: &JecAxes,
     k: usize,
     method: Option<i8>,
     setting: bool,
-) -> Result<AxisCommand, JecRequestError> {
+) -> Result<AxisCommand, LinkRequestError> {
     axes.config(k).homing_method(method, setting)?;
     ready(axes, k)?;
     Ok(AxisCommand::Home)
 }
 
 /// The pv command of a jog of MR-JE-C axis `k` at `velocity` unit/s.
-pub(super) fn velocity_command(
+pub(crate) fn velocity_command(
     axes: &JecAxes,
     k: usize,
     velocity: f64,
     acceleration: Option<f64>,
     clamp: bool,
-) -> Result<AxisCommand, JecRequestError> {
+) -> Result<AxisCommand, LinkRequestError> {
     let c = axes.config(k);
-    if !velocity.is_finite() {
-        return Err(JecRequestError::VelocityNotFinite {
-            axis: c.name.clone(),
-            velocity,
-        });
-    }
-    if velocity.abs() > c.velocity && !clamp {
-        return Err(JecRequestError::VelocityOverLimit {
-            axis: c.name.clone(),
-            velocity,
-            limit: c.velocity,
-        });
-    }
-    let acceleration = pick(c, "acceleration", acceleration, c.acceleration, clamp)?;
+    let velocity = jog_velocity(&c.name, &c.unit, velocity, c.velocity, clamp)?;
+    let acceleration = pick(
+        c,
+        ("acceleration", "/s²"),
+        acceleration,
+        c.acceleration,
+        clamp,
+    )?;
     ready(axes, k)?;
-    Ok(c.jog_command(velocity.clamp(-c.velocity, c.velocity), acceleration)?)
+    Ok(c.jog_command(velocity, acceleration)?)
 }
 
 /// MC_Power of MR-JE-C axes `ks`: on needs an axis not stopped (reset first), off one that
 /// whose motor stands and runs no job (halt first: servo off would stop it on the dynamic
 /// brake).
-pub(super) fn power_check(axes: &JecAxes, ks: &[usize], on: bool) -> Result<(), JecRequestError> {
+pub(crate) fn power_check(axes: &JecAxes, ks: &[usize], on: bool) -> Result<(), LinkRequestError> {
     for &k in ks {
         let f = axes.feedback(k);
         let axis = axes.config(k).name.clone();
         match (on, f.stopped) {
             (true, Some(s)) => {
-                return Err(JecRequestError::Stopped {
+                return Err(LinkRequestError::Stopped {
                     axis,
                     stopped: stopped_text(s),
                 })
             }
             (false, _) if f.busy || f.inputs.velocity != 0 => {
-                return Err(JecRequestError::Moving { axis })
+                return Err(LinkRequestError::Moving { axis })
             }
             _ => {}
         }
@@ -273,16 +211,16 @@ pub(super) fn power_check(axes: &JecAxes, ks: &[usize], on: bool) -> Result<(), 
 }
 
 /// Queues each command; the first the link thread cannot take is the error.
-pub(super) fn send(
+pub(crate) fn send(
     axes: &JecAxes,
     commands: &[(usize, AxisCommand)],
-) -> Result<(), JecRequestError> {
+) -> Result<(), LinkRequestError> {
     commands.iter().try_for_each(|&(k, c)| axes.command(k, c))?;
     Ok(())
 }
 
 /// MC_Reset of the MR-JE-C axes stopped by their watchdog or an alarm.
-pub(super) fn reset_stopped(axes: &JecAxes) -> Result<(), JecQueueFull> {
+pub(crate) fn reset_stopped(axes: &JecAxes) -> Result<(), JecQueueFull> {
     (0..axes.len())
         .filter(|&k| axes.feedback(k).stopped.is_some())
         .try_for_each(|k| axes.command(k, AxisCommand::Reset))
@@ -292,9 +230,9 @@ pub(super) fn reset_stopped(axes: &JecAxes) -> Result<(), JecQueueFull> {
 /// move ends when each has one more done, and fails on a failed job or a stop (judged as a
 /// program's step judges them, `JecAxes::job_outcome`).
 #[derive(Debug, Default)]
-pub(super) struct PendingMoves {
-    /// The command id, and per axis its job counts before it.
-    waiting: Option<(u64, Vec<(usize, JobCounts)>)>,
+pub(crate) struct PendingMoves {
+    /// Per axis its job counts before the command.
+    pending: super::Pending<(usize, JobCounts)>,
     /// What the command does to them ("move", "homing"), for its failure.
     what: &'static str,
 }
@@ -302,7 +240,7 @@ pub(super) struct PendingMoves {
 impl PendingMoves {
     /// Notes the job counts of `commands`' axes before they are sent, for command `id`, which
     /// `what` names.
-    pub(super) fn expect(
+    pub(crate) fn expect(
         &mut self,
         id: u64,
         what: &'static str,
@@ -314,41 +252,32 @@ impl PendingMoves {
             .iter()
             .map(|&(k, _)| (k, axes.job_counts(k)))
             .collect();
-        self.waiting = Some((id, before));
+        self.pending.expect(id, before);
     }
 
     /// Whether the move `active` still waits for an MR-JE-C axis; an error when one failed
     /// or was stopped. Forgets a move that is no longer the active command.
-    pub(super) fn progress(
+    pub(crate) fn progress(
         &mut self,
         active: Option<u64>,
         axes: &JecAxes,
-    ) -> Result<bool, JecRequestError> {
-        let Some((id, before)) = &self.waiting else {
-            return Ok(false);
-        };
-        if Some(*id) != active {
-            self.waiting = None;
-            return Ok(false);
-        }
-        for &(k, counts) in before {
+    ) -> Result<bool, LinkRequestError> {
+        let what = self.what;
+        self.pending.progress(active, |&(k, counts)| {
             let outcome = axes.job_outcome(k, counts, 1);
-            if let Some(e) = axes.job_error(k, outcome, self.what) {
-                self.waiting = None;
-                return Err(e.into());
+            match axes.job_error(k, outcome, what) {
+                Some(e) => super::AxisProgress::Failed(e.into()),
+                None if outcome == JobOutcome::Pending => super::AxisProgress::Running,
+                None => super::AxisProgress::Done,
             }
-            if outcome == JobOutcome::Pending {
-                return Ok(true);
-            }
-        }
-        self.waiting = None;
-        Ok(false)
+        })
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use cellrt_config::CellConfig;
     use cellrt_fieldbus::mr_je_c::cell::{AxisFeedback, Inputs};
 
     /// The shipped config `name`.toml with `edit` applied, its MR-JE-C axes detached and

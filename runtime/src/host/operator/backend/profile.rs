@@ -6,7 +6,7 @@ use cellrt_trajectory::{KinematicLimits, UnitsError};
 
 use std::collections::BTreeMap;
 
-use super::targets::{axis_index, TargetError};
+use super::super::targets::{axis_index, TargetError};
 use crate::handoff::{ProfileCommand, ProfileMotion};
 use crate::host::link::{CellLink, LinkError, StatusSnapshot};
 use cellrt_config::{AxisConfig, CellConfig, ProfileMode, DEFAULT_TORQUE_SLOPE};
@@ -83,7 +83,7 @@ impl AxisModes {
     /// As the RT thread runs them, by `status`.
     pub(crate) fn now(cell: &CellConfig, status: &StatusSnapshot) -> AxisModes {
         AxisModes(
-            (0..cell.axes.len())
+            (0..cell.axes.on_loop().len())
                 .map(|i| ProfileMode::of(status.mode_now(cell, i)))
                 .collect(),
         )
@@ -116,7 +116,7 @@ pub(crate) fn split_move(
 /// Splits a torque request into the tq axes' commands and the cst axes' (axis, torque, slope);
 /// both kinds in one request are refused (the tq drive holds its torque, cst axes only for the
 /// request's `seconds`).
-pub(super) fn split_torque(
+pub(crate) fn split_torque(
     cell: &CellConfig,
     modes: &AxisModes,
     targets: &BTreeMap<String, f64>,
@@ -144,7 +144,7 @@ pub(crate) fn halts(
     modes: &AxisModes,
     axes: Option<&[usize]>,
 ) -> Vec<ProfileCommand> {
-    (0..cell.axes.len())
+    (0..cell.axes.on_loop().len())
         .filter(|i| axes.is_none_or(|l| l.contains(i)))
         .filter(|&i| modes.of(i).is_some())
         .map(halt)
@@ -310,9 +310,7 @@ fn halt(i: usize) -> ProfileCommand {
 /// (the status' `profile_finished`, `profile_failed`) before the command was sent. The command
 /// ends once each axis has ended one more.
 #[derive(Debug, Default)]
-pub(crate) struct PendingProfile {
-    waiting: Option<(u64, Vec<EndsBefore>)>,
-}
+pub(crate) struct PendingProfile(super::Pending<EndsBefore>);
 
 /// An axis and its ended and failed drive-side motions before a command: `(axis, ended,
 /// failed)`.
@@ -332,7 +330,7 @@ impl PendingProfile {
                     .map(|l| (i, l.profile_finished, l.profile_failed))
             })
             .collect();
-        self.waiting = Some((id, axes));
+        self.0.expect(id, axes);
     }
 
     /// Whether command `active` still waits for an axis; `Err(axis)` when one of its motions
@@ -342,25 +340,16 @@ impl PendingProfile {
         active: Option<u64>,
         now: &StatusSnapshot,
     ) -> Result<bool, usize> {
-        let Some((id, axes)) = &self.waiting else {
-            return Ok(false);
-        };
-        if Some(*id) != active {
-            self.waiting = None;
-            return Ok(false);
-        }
-        for &(i, finished, failed) in axes {
+        self.0.progress(active, |&(i, finished, failed)| {
             let l = &now.live[i];
             if l.profile_failed != failed {
-                self.waiting = None;
-                return Err(i);
+                super::AxisProgress::Failed(i)
+            } else if l.profile_finished == finished {
+                super::AxisProgress::Running
+            } else {
+                super::AxisProgress::Done
             }
-            if l.profile_finished == finished {
-                return Ok(true);
-            }
-        }
-        self.waiting = None;
-        Ok(false)
+        })
     }
 }
 

@@ -1,5 +1,5 @@
-//! One axis model: the same program text (power, home, move, jog with its halt, move, torque)
-//! runs on a cell of streamed axes (csp/csv/cst, setpoints from the RT loop), on a cell of
+//! One axis model: the same program text (power, home, move, jog with its halt, move, torque,
+//! power off by name) runs on a cell of streamed axes (csp/csv/cst, setpoints from the RT loop), on a cell of
 //! profile axes (pp/pv/tq, the drive's own generators over the cyclic bus) and on a cell of
 //! emulated MR-JE-C axes (pp/pv/tq, driven over Modbus/TCP by their link threads), and ends
 //! with the moved axis where the program's last move sent it. The program names axes only;
@@ -40,6 +40,7 @@ target = { t = 10.0 }
 seconds = 0.2
 [[step]]
 do = "power_off"
+axes = ["t", "j", "a"]
 "#;
 
 /// Where the program's last move sends `a`, units.

@@ -373,27 +373,28 @@ impl<'a> Planner<'a> {
                     self.what = "power_on";
                     self.command(CellCommand::PowerOn)?;
                     self.wait_for_state(CellState::Idle, POWER_TIMEOUT)?;
-                    self.je_c_power(true)?;
+                    self.je_c_power(&self.all_links(), true)?;
                 }
                 Step::PowerOff(axes) if axes.is_empty() => {
                     self.what = "power_off";
                     self.command(CellCommand::PowerOff)?;
                     self.wait_for_state(CellState::Disabled, POWER_TIMEOUT)?;
-                    self.je_c_power(false)?;
+                    self.je_c_power(&self.all_links(), false)?;
                 }
-                Step::PowerOn(axes) => {
-                    self.what = "power_on";
-                    for &a in axes {
-                        self.command(CellCommand::PowerOnAxis(a as u16))?;
+                Step::PowerOn(axes) | Step::PowerOff(axes) => {
+                    let on = matches!(step, Step::PowerOn(_));
+                    self.what = if on { "power_on" } else { "power_off" };
+                    let on_loop: Vec<usize> = axes.iter().filter_map(|a| a.loop_slot()).collect();
+                    let on_link: Vec<usize> = axes.iter().filter_map(|a| a.link()).collect();
+                    for &a in &on_loop {
+                        self.command(if on {
+                            CellCommand::PowerOnAxis(a as u16)
+                        } else {
+                            CellCommand::PowerOffAxis(a as u16)
+                        })?;
                     }
-                    self.wait_power(axes, true, POWER_TIMEOUT)?;
-                }
-                Step::PowerOff(axes) => {
-                    self.what = "power_off";
-                    for &a in axes {
-                        self.command(CellCommand::PowerOffAxis(a as u16))?;
-                    }
-                    self.wait_power(axes, false, POWER_TIMEOUT)?;
+                    self.wait_power(&on_loop, on, POWER_TIMEOUT)?;
+                    self.je_c_power(&on_link, on)?;
                 }
                 Step::Reset => {
                     self.what = "reset";
@@ -530,6 +531,11 @@ impl<'a> Planner<'a> {
 
     /// Waits until the listed axes are powered and in Operation enabled (`on`), or unpowered
     /// and out of it, and the cell has settled.
+    /// Every MR-JE-C link of the cell.
+    fn all_links(&self) -> Vec<usize> {
+        (0..self.je_c.len()).collect()
+    }
+
     fn wait_power(
         &mut self,
         axes: &[usize],

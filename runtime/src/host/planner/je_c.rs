@@ -24,21 +24,21 @@ const TORQUE_RAMP_TIMEOUT: Duration = Duration::from_secs(10);
 const JE_C_HOME_TIMEOUT: Duration = Duration::from_secs(10);
 
 impl Planner<'_> {
-    /// Powers every MR-JE-C axis on or off and waits until each is (or is not) in Operation
-    /// enabled.
-    pub(super) fn je_c_power(&mut self, on: bool) -> Result<(), ProgramError> {
-        if self.je_c.is_empty() {
-            return Ok(());
-        }
+    /// Powers the MR-JE-C axes of `links` on or off and waits until each is (or is not) in
+    /// Operation enabled.
+    pub(super) fn je_c_power(&mut self, links: &[usize], on: bool) -> Result<(), ProgramError> {
         let c = if on {
             AxisCommand::PowerOn
         } else {
             AxisCommand::PowerOff
         };
-        self.je_c.command_all(c).map_err(|e| self.err(e))?;
+        links
+            .iter()
+            .try_for_each(|&k| self.je_c.command(k, c))
+            .map_err(|e| self.err(e))?;
         let end = Instant::now() + POWER_TIMEOUT;
         loop {
-            let pending = (0..self.je_c.len()).find(|&k| {
+            let pending = links.iter().copied().find(|&k| {
                 let f = self.je_c.feedback(k);
                 f.enabled != on || (on && f.stopped.is_some())
             });

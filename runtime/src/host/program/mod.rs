@@ -163,10 +163,10 @@ struct RawProgram {
 /// A validated program step.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Step {
-    /// Enable the listed axes (indices; every axis when empty).
-    PowerOn(Vec<usize>),
-    /// Clean shutdown of the listed axes (indices; every axis when empty).
-    PowerOff(Vec<usize>),
+    /// Enable the listed axes, whichever backend runs them (every axis when empty).
+    PowerOn(Vec<AxisRef>),
+    /// Clean shutdown of the listed axes, whichever backend runs them (every axis when empty).
+    PowerOff(Vec<AxisRef>),
     /// Clear a stopped or faulted cell.
     Reset,
     /// Move the listed axes together, each as its backend carries a move out; the step ends

@@ -41,8 +41,8 @@ fn power_steps_name_axes_or_the_whole_cell() {
     assert_eq!(
         p.steps,
         vec![
-            Step::PowerOn(vec![2, 0]),
-            Step::PowerOff(vec![0]),
+            Step::PowerOn(vec![AxisRef::Loop(2), AxisRef::Loop(0)]),
+            Step::PowerOff(vec![AxisRef::Loop(0)]),
             Step::PowerOn(vec![])
         ]
     );

@@ -467,10 +467,10 @@ fn power_axes(
     key: &str,
     names: &[String],
     cell: &CellConfig,
-) -> Result<Vec<usize>, ConfigError> {
+) -> Result<Vec<AxisRef>, ConfigError> {
     let mut list = Vec::with_capacity(names.len());
     for name in names {
-        let i = axis_of(path, format!("{key}.axes"), name, cell)?;
+        let i = axis_ref_of(path, format!("{key}.axes"), name, cell)?;
         if list.contains(&i) {
             return Err(ConfigError::new(
                 path,

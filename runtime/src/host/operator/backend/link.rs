@@ -339,4 +339,52 @@ mod tests {
             "axis 'outfeed' runs jg: it moves by jog only, not to targets"
         );
     }
+
+    /// An MR-JE-C axis is refused by the rules every backend shares, in the same words as a
+    /// streamed axis (`targets`): a limit above its own, a jog velocity outside ±its limit, a
+    /// target that is not a number.
+    #[test]
+    fn refusals_on_a_link_axis_read_as_on_any_axis() {
+        let axes = enabled_axes("mixed-cell", |t| t);
+        let (infeed, outfeed) = (0, 1);
+        let asked = |velocity| Asked {
+            velocity,
+            acceleration: None,
+            jerk: None,
+            clamp: false,
+        };
+        let e = move_commands(
+            &axes,
+            &[(infeed, "infeed".into(), 0.0)],
+            false,
+            asked(Some(300.0)),
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "axis 'infeed': velocity 300 mm/s exceeds the axis limit 200 mm/s (add --clamp to use the limit)"
+        );
+        let streamed = jog_velocity("x", "mm", 500.0, 400.0, false).unwrap_err();
+        assert_eq!(
+            streamed.to_string(),
+            "axis 'x': velocity 500 mm/s exceeds the axis limit 400 mm/s (add --clamp to use the limit)"
+        );
+        let e = velocity_command(&axes, outfeed, -250.0, None, false).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "axis 'outfeed': velocity 250 mm/s exceeds the axis limit 150 mm/s (add --clamp to use the limit)"
+        );
+        assert!(velocity_command(&axes, outfeed, -250.0, None, true).is_ok());
+        let e = move_commands(
+            &axes,
+            &[(infeed, "infeed".into(), f64::NAN)],
+            false,
+            asked(None),
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "axis 'infeed': target NaN is not a finite number"
+        );
+    }
 }

@@ -924,7 +924,7 @@ impl MrJeC {
             };
             let fixed = row.initial.value(sw).unwrap_or(0);
             store::in_range(link.object, row, x, fixed, permissible)?;
-            if let Some((lo, hi)) = row.ty.bounds() {
+            if let Some((lo, hi)) = row.ty.value_range() {
                 if x < lo {
                     return Err(Refusal::BelowRange);
                 }

@@ -7,6 +7,7 @@
 
 #![warn(missing_docs)]
 
+pub mod device;
 pub mod ethercat;
 pub mod motion;
 pub mod mr_je_c;

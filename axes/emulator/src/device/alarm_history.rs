@@ -54,9 +54,7 @@ mod tests {
     #[test]
     fn newest_first_and_the_oldest_falls_out() {
         let mut h = AlarmHistory::default();
-        for n in 0..20u16 {
-            h.record(n, u32::from(n));
-        }
+        (0..20u16).for_each(|n| h.record(n, 1));
         assert_eq!(h.get(0).map(|o| o.alarm), Some(19));
         assert_eq!(h.get(ENTRIES - 1).map(|o| o.alarm), Some(4));
         assert!(h.get(ENTRIES).is_none());

@@ -69,12 +69,7 @@ pub fn end_of_stop(state: FsaState, stopped: bool, quick_stop_stays: bool) -> Fs
 mod tests {
     use super::*;
 
-    const QUIRKS: FsaQuirks = FsaQuirks {
-        shortcut_transitions: false,
-        has_quick_stop: true,
-        quick_stop_returns_to_enabled: false,
-        quick_stop_options_5_to_8: false,
-    };
+    const QUIRKS: FsaQuirks = FsaQuirks::STRICT;
 
     #[test]
     fn a_fault_reset_edge_in_fault_is_the_models_to_judge() {

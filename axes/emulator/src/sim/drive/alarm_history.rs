@@ -52,7 +52,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn newest_first_and_the_oldest_falls_out() {
+    fn the_history_objects_read_the_entries_and_cleared_ones_read_0() {
         let facts = cellrt_cia402::profiles::params::MR_J3_T04
             .alarm_history
             .unwrap();

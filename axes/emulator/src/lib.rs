@@ -2,11 +2,13 @@
 //! a cascaded servo loop and the drive firmware around it), the in-process simulated bus
 //! (`sim_bus`), the EtherCAT SubDevice emulator (`ethercat`) and the emulated MR-JE-C
 //! (`mr_je_c`) with its transports, both moving their motors through one set of CiA 402 motion
-//! generators (`motion`). It decodes what a MainDevice sends on its own path and
-//! shares no unit conversion with the master. The emulators' server threads start here.
+//! generators (`motion`) and one device core (`device`: PDS steps, alarm history). It decodes
+//! what a MainDevice sends on its own path and shares no unit conversion with the master. The
+//! emulators' server threads start here.
 
 #![warn(missing_docs)]
 
+pub mod device;
 pub mod ethercat;
 pub mod motion;
 pub mod mr_je_c;

@@ -160,3 +160,24 @@ fn object_ids_parse() {
     assert!("6041:x".parse::<ObjectId>().is_err());
     assert_eq!(ObjectId::new(0x1018, 2).to_string(), "1018h:2");
 }
+
+/// The dictionary speaks the drives' one vocabulary (`cellrt_cia402::profiles::facts`) but
+/// uses only what §7.3 states: integers and strings, ro/rw/wo, nothing unstated.
+#[test]
+fn the_dictionary_states_every_type_and_access() {
+    let core: DataType = cellrt_cia402::profiles::facts::DataType::U16;
+    assert_eq!(core.registers(), 1);
+    for o in DICTIONARY {
+        for s in o.subs {
+            assert!(
+                !matches!(s.ty, DataType::Bool | DataType::Unstated),
+                "{:04X}h:{} type {:?}",
+                o.first,
+                s.first,
+                s.ty
+            );
+            assert_ne!(s.access, Access::Unstated, "{:04X}h:{}", o.first, s.first);
+            assert!(s.ty.bytes() > 0 && s.ty.registers() * 2 >= s.ty.bytes());
+        }
+    }
+}

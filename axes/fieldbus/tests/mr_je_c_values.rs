@@ -40,7 +40,7 @@ fn registers_of_each_type() {
 #[test]
 fn strings_carry_two_characters_a_register() {
     // OV-14: 1008h of an MR-JE-20C, 16 registers, space padded.
-    let ty = DataType::Vs { registers: 16 };
+    let ty = DataType::VisibleString { octets: 32 };
     let v = Value::text(ty, "MR-JE-20C").unwrap();
     let w = words(&v, WordOrder::LowFirst);
     assert_eq!(w.len(), 16);
@@ -52,7 +52,7 @@ fn strings_carry_two_characters_a_register() {
     );
     assert_eq!(v.to_le()[..9], *b"MR-JE-20C");
     assert_eq!(v.to_string(), "\"MR-JE-20C\"");
-    assert!(Value::text(DataType::Vs { registers: 1 }, "ABC").is_none());
+    assert!(Value::text(DataType::VisibleString { octets: 2 }, "ABC").is_none());
 }
 
 #[test]

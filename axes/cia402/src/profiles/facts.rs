@@ -10,7 +10,8 @@ use crate::comm::CounterParams;
 pub use crate::homing::HomeSetting;
 use crate::pdo::PdoEntry;
 
-/// CoE data type of an object (the subset the cyclic objects use).
+/// Data type of an object (CiA 301 §7.4.7), one vocabulary for the CoE dictionaries of the
+/// EtherCAT models and the MR-JE-C dictionary (MR-JE-C manual §7.3 "Data Type").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum DataType {
     /// BOOLEAN.
@@ -27,6 +28,12 @@ pub enum DataType {
     U16,
     /// UNSIGNED32.
     U32,
+    /// VISIBLE_STRING of a fixed length (the MR-JE-C manual counts it in Modbus registers,
+    /// two characters each).
+    VisibleString {
+        /// Length in octets (characters).
+        octets: u8,
+    },
     /// Not stated by the source manual (the entry cites the gap).
     Unstated,
 }
@@ -39,8 +46,28 @@ impl DataType {
             Self::I8 | Self::U8 => Some(8),
             Self::I16 | Self::U16 => Some(16),
             Self::I32 | Self::U32 => Some(32),
+            Self::VisibleString { octets } => Some(8 * octets as u16),
             Self::Unstated => None,
         }
+    }
+
+    /// Octets of a value on the wire (SDO, SLMP): BOOLEAN and the 8-bit types one, strings
+    /// their length; 0 for [`DataType::Unstated`], which has no stated size.
+    pub const fn bytes(self) -> usize {
+        match self {
+            Self::Bool | Self::I8 | Self::U8 => 1,
+            Self::I16 | Self::U16 => 2,
+            Self::I32 | Self::U32 => 4,
+            Self::VisibleString { octets } => octets as usize,
+            Self::Unstated => 0,
+        }
+    }
+
+    /// 16-bit registers of a value (Modbus): 8- and 16-bit types one, 32-bit two, strings two
+    /// characters each (MR-JE-C manual §3.1, read with the examples of §3.6, not the POINT's
+    /// garbled byte counts).
+    pub const fn registers(self) -> usize {
+        self.bytes().div_ceil(2)
     }
 
     /// The name CiA 301 §7.4.7 gives the type (e.g. "UNSIGNED16"), "unstated" for
@@ -54,11 +81,12 @@ impl DataType {
             Self::U8 => "UNSIGNED8",
             Self::U16 => "UNSIGNED16",
             Self::U32 => "UNSIGNED32",
+            Self::VisibleString { .. } => "VISIBLE_STRING",
             Self::Unstated => "unstated",
         }
     }
 
-    /// The values the type holds (inclusive), `None` for [`DataType::Unstated`].
+    /// The values the type holds (inclusive), `None` for strings and [`DataType::Unstated`].
     pub const fn value_range(self) -> Option<(i64, i64)> {
         Some(match self {
             Self::Bool => (0, 1),
@@ -68,13 +96,14 @@ impl DataType {
             Self::U8 => (0, u8::MAX as i64),
             Self::U16 => (0, u16::MAX as i64),
             Self::U32 => (0, u32::MAX as i64),
-            Self::Unstated => return None,
+            Self::VisibleString { .. } | Self::Unstated => return None,
         })
     }
 }
 
-/// Access right of an object.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// Access right of an object (CiA 301; MR-JE-C manual §7.3 "Access").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, strum::Display)]
+#[strum(serialize_all = "lowercase")]
 pub enum Access {
     /// Read only.
     Ro,
@@ -84,6 +113,105 @@ pub enum Access {
     Wo,
     /// Not stated by the source manual.
     Unstated,
+}
+
+impl Access {
+    /// Reading is stated as allowed (ro or rw).
+    pub const fn readable(self) -> bool {
+        matches!(self, Self::Ro | Self::Rw)
+    }
+
+    /// Writing is stated as allowed (rw or wo).
+    pub const fn writable(self) -> bool {
+        matches!(self, Self::Rw | Self::Wo)
+    }
+}
+
+/// The values a write may carry, where a model's dictionary says more than a span (MR-JE-C
+/// manual §7.3 "Range", or the tighter "[Setting range]" of an object's description, which the
+/// manual gives precedence).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Range {
+    /// Any value of the data type.
+    Type,
+    /// Only the default ("(fixed)").
+    Fixed,
+    /// One of these inclusive spans.
+    Spans(&'static [(i64, i64)]),
+    /// Only this value; any other is refused with "outside the parameter range" (2D52h,
+    /// MR-JE-C manual §6.2).
+    Only(i64),
+    /// 0 up to the motor's instantaneous permissible speed (a property of the motor).
+    PermissibleSpeed,
+    /// Set automatically by the drive; a write is refused with "outside the parameter range"
+    /// (607Bh:1/2, MR-JE-C manual §7.3; 607Ch "causes an error", the same code by our choice).
+    Automatic,
+}
+
+/// Unit of an object's value (MR-JE-C manual §7.3 "Units", §10.4 of the extract).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, strum::Display)]
+pub enum Unit {
+    /// No unit.
+    #[default]
+    #[strum(serialize = "")]
+    None,
+    /// The position command unit of the drive (MR-JE-C: [Pr. PT01], mm, inch, degree or pulse).
+    #[strum(serialize = "pos units")]
+    PosUnits,
+    /// Encoder pulses.
+    #[strum(serialize = "pulse")]
+    Pulse,
+    /// kpulse/s.
+    #[strum(serialize = "kpulse/s")]
+    KiloPulsePerSecond,
+    /// r/min.
+    #[strum(serialize = "r/min")]
+    Rpm,
+    /// 0.01 r/min.
+    #[strum(serialize = "0.01 r/min")]
+    CentiRpm,
+    /// Milliseconds (accelerations are time constants to rated speed).
+    #[strum(serialize = "ms")]
+    Millisecond,
+    /// Hours.
+    #[strum(serialize = "hour")]
+    Hour,
+    /// Percent.
+    #[strum(serialize = "%")]
+    Percent,
+    /// 0.1 % (of rated torque for torques).
+    #[strum(serialize = "0.1%")]
+    TenthPercent,
+    /// 0.1 % per second (6087h).
+    #[strum(serialize = "0.1%/s")]
+    TenthPercentPerSecond,
+    /// Volt.
+    #[strum(serialize = "V")]
+    Volt,
+    /// 0.01 V.
+    #[strum(serialize = "0.01 V")]
+    CentiVolt,
+    /// Revolutions.
+    #[strum(serialize = "rev")]
+    Revolution,
+    /// 0.01 times (inertia ratio).
+    #[strum(serialize = "0.01 times")]
+    CentiTimes,
+    /// Degree Celsius.
+    #[strum(serialize = "°C")]
+    Celsius,
+    /// Hertz.
+    #[strum(serialize = "Hz")]
+    Hertz,
+    /// Watt.
+    #[strum(serialize = "W")]
+    Watt,
+    /// Watt hours.
+    #[strum(serialize = "Wh")]
+    WattHour,
+    /// A count of events.
+    #[strum(serialize = "times")]
+    Times,
 }
 
 /// Which PDO an object may be mapped into.

@@ -5,6 +5,13 @@
 //! ramp). Profile position, profile velocity and the homing search of both emulators step
 //! their velocity here. Allocation-free.
 
+/// The rate (units/s²) of a time constant of `ms` from 0 to `rated_speed` (units/s), the way
+/// the Mitsubishi drives state accelerations (MR-JE-C manual §7.3 6083h/6084h/6085h, MR-J4-TM
+/// manual §4.2); `None` for 0 ms or less (the MR-JE-C's step; each model says what it does).
+pub fn time_constant_rate(rated_speed: f64, ms: i64) -> Option<f64> {
+    (ms > 0).then(|| rated_speed * 1000.0 / ms as f64)
+}
+
 /// What a ramp does when the goal lies on the other side of zero.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Reversal {

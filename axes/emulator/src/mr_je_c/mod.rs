@@ -11,7 +11,6 @@ pub mod cyclic;
 pub mod eeprom;
 #[cfg(test)]
 mod fixture;
-mod history;
 pub mod homing;
 pub mod indexer;
 pub mod jog;
@@ -34,8 +33,9 @@ mod watchdog;
 
 use std::time::Duration;
 
+use crate::device::pds::{controlword_step, end_of_stop, ControlwordStep, FaultReaction};
 use cellrt_cia402::controlword::Controlword;
-use cellrt_cia402::fsa::{drive_transition, FsaQuirks, FsaState};
+use cellrt_cia402::fsa::{FsaQuirks, FsaState};
 use cellrt_cia402::statusword::Statusword;
 use cellrt_fieldbus::modbus::serial::{Framing, LineSettings};
 use cellrt_fieldbus::mr_je_c::alarm::Alarm;
@@ -46,9 +46,13 @@ use cellrt_fieldbus::mr_je_c::parameters::{
 use cellrt_fieldbus::mr_je_c::types::SoftwareVersion;
 use cellrt_fieldbus::mr_je_c::value::Value;
 
+pub use crate::device::alarm_history::Occurrence;
 pub use address_rules::AddressRules;
 pub use eeprom::{EepromWrites, Region, SaveTime, WriteDuringSave};
-pub use history::{AlarmHistory, Occurrence};
+
+/// The alarm history 2A00h (newest) to 2A0Fh (oldest) (MR-JE-C manual §7.3), cleared by
+/// writing 1EA5h to 2A40h: the shared history (`device::alarm_history`) of MR-JE-C alarms.
+pub type AlarmHistory = crate::device::alarm_history::AlarmHistory<Alarm>;
 pub use refusal::Refusal;
 pub use watchdog::{Timeouts, Transport};
 
@@ -724,12 +728,13 @@ impl MrJeC {
             }
             // Option code 2: decelerate with 6085h, then Switch on disabled (§7.6.2).
             FsaState::QuickStopActive => {
-                if self
-                    .motion
-                    .quick_stop(dt, &self.profile(), self.quick_stop_deceleration_ms())
-                {
+                let stopped =
+                    self.motion
+                        .quick_stop(dt, &self.profile(), self.quick_stop_deceleration_ms());
+                // Option code 2 only: the stop ends in Switch on disabled.
+                self.state = end_of_stop(self.state, stopped, false);
+                if self.state != FsaState::QuickStopActive {
                     self.motion.stand();
-                    self.state = FsaState::SwitchOnDisabled;
                 }
             }
             _ => self.motion.stand(),
@@ -758,11 +763,9 @@ impl MrJeC {
             return;
         }
         self.alarm = Some(alarm);
-        self.state = FsaState::Fault;
-        self.history.push(Occurrence {
-            alarm,
-            hour: (self.now.as_secs() / 3600) as u32,
-        });
+        self.state = FaultReaction::Immediate.on_alarm(self.state);
+        self.history
+            .record(alarm, (self.now.as_secs() / 3600) as u32);
     }
 
     /// Resets the alarm (Controlword bit 7 edge, 2A46h = 1EA5h): Switch on disabled, and the
@@ -855,7 +858,7 @@ impl MrJeC {
                 let o = self.history.get(usize::from(id.index - 0x2A00));
                 live(o.map_or(0, |o| match id.sub {
                     1 => i64::from(o.alarm.current()),
-                    2 => i64::from(o.hour),
+                    2 => i64::from(o.hours),
                     _ => i64::from(o.alarm.current2()),
                 }))
             }
@@ -924,7 +927,7 @@ impl MrJeC {
             };
             let fixed = row.initial.value(sw).unwrap_or(0);
             store::in_range(link.object, row, x, fixed, permissible)?;
-            if let Some((lo, hi)) = row.ty.bounds() {
+            if let Some((lo, hi)) = row.ty.value_range() {
                 if x < lo {
                     return Err(Refusal::BelowRange);
                 }
@@ -1033,11 +1036,13 @@ impl MrJeC {
 
     fn controlword(&mut self, cw: Controlword) {
         let prev = std::mem::replace(&mut self.last_cw, cw);
-        if self.state == FsaState::Fault && cw.fault_reset_edge(prev) {
-            self.reset();
-            return;
-        }
-        let next = drive_transition(self.state, cw, prev, &QUIRKS);
+        let next = match controlword_step(self.state, cw, prev, &QUIRKS) {
+            ControlwordStep::FaultReset => {
+                self.reset();
+                return;
+            }
+            ControlwordStep::To(next) => next,
+        };
         self.state = match next {
             // Servo-on needs the main circuit.
             FsaState::OperationEnabled if !self.params.main_power => self.state,

@@ -5,6 +5,8 @@
 
 use std::time::Duration;
 
+use crate::motion::ramp::time_constant_rate;
+
 /// 6060h/6061h values of the profile modes.
 pub const PROFILE_POSITION: i64 = 1;
 /// Profile velocity mode.
@@ -85,7 +87,7 @@ impl Profile {
 
     /// A ramp of `ms` from 0 to the rated speed as pos units/s² (`None`: a step).
     pub(super) fn rate(&self, ms: i64) -> Option<f64> {
-        (ms > 0).then(|| self.units_per_s(self.rated_speed) / (ms as f64 / 1000.0))
+        time_constant_rate(self.units_per_s(self.rated_speed), ms)
     }
 }
 

@@ -34,7 +34,7 @@ impl Store {
                         .or(row.initial.value(sw))
                         .unwrap_or(0);
                     let v = match row.ty {
-                        DataType::Vs { .. } => {
+                        DataType::VisibleString { .. } => {
                             Value::text(row.ty, "").unwrap_or(Value::Text(vec![]))
                         }
                         ty => Value::from_i64(ty, initial).unwrap_or(Value::U8(0)),

@@ -41,7 +41,8 @@ fn esi_type(t: DataType) -> Option<(&'static str, u16)> {
         DataType::U8 => ("USINT", 8),
         DataType::U16 => ("UINT", 16),
         DataType::U32 => ("UDINT", 32),
-        DataType::Unstated => return None,
+        // No EtherCAT profile has a string object; unstated types have no ESI type.
+        DataType::VisibleString { .. } | DataType::Unstated => return None,
     })
 }
 

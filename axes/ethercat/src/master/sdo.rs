@@ -46,6 +46,10 @@ impl MailboxWorker {
         // The type of an object given at another axis' offset index is its axis-A object's.
         let base = d.profile.object_slot(index).map_or(index, |(_, b)| b);
         let data_type = object_type(d.profile, base, sub);
+        if matches!(data_type, DataType::VisibleString { .. }) {
+            // A string is not a number (no EtherCAT profile has one).
+            return Err(SDO_UNSUPPORTED);
+        }
         let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
         self.sdo_transfer(axis, station, async |sd| {
             Ok(match data_type {
@@ -54,7 +58,7 @@ impl MailboxWorker {
                 DataType::I16 => i64::from(sd.sdo_read::<i16>(index, sub).await?),
                 DataType::U16 => i64::from(sd.sdo_read::<u16>(index, sub).await?),
                 DataType::U32 => i64::from(sd.sdo_read::<u32>(index, sub).await?),
-                DataType::I32 | DataType::Unstated => {
+                DataType::I32 | DataType::Unstated | DataType::VisibleString { .. } => {
                     i64::from(sd.sdo_read::<i32>(index, sub).await?)
                 }
             })

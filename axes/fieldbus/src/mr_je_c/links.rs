@@ -156,7 +156,7 @@ impl Link {
             Linkage::Words { low, high } => (param(high) & 0xFFFF) << 16 | (param(low) & 0xFFFF),
             Linkage::Undescribed(_) => return None,
         };
-        let signed = entry(self.object, sw)?.1.ty.bounds()?.0 < 0;
+        let signed = entry(self.object, sw)?.1.ty.value_range()?.0 < 0;
         Some(if signed {
             i64::from(bits as i32)
         } else {

@@ -306,17 +306,17 @@ pub const DICTIONARY: &[Object] = &[
     Object::new(
         0x1008,
         "Manufacturer Device Name",
-        &[v(Vs { registers: 16 }, Ro)],
+        &[v(VisibleString { octets: 32 }, Ro)],
     ),
     Object::new(
         0x1009,
         "Manufacturer Hardware Version",
-        &[v(Vs { registers: 1 }, Ro)],
+        &[v(VisibleString { octets: 2 }, Ro)],
     ),
     Object::new(
         0x100A,
         "Manufacturer Software Version",
-        &[v(Vs { registers: 8 }, Ro)],
+        &[v(VisibleString { octets: 16 }, Ro)],
     ),
     Object::new(
         0x1010,
@@ -860,22 +860,27 @@ pub const DICTIONARY: &[Object] = &[
     Object::new(
         0x2D30,
         "Manufacturer Device Name 2",
-        &[v(Vs { registers: 16 }, Ro)],
+        &[v(VisibleString { octets: 32 }, Ro)],
     )
     .since(A4),
     Object::new(
         0x2D31,
         "Manufacturer Hardware Version 2",
-        &[v(Vs { registers: 1 }, Ro)],
+        &[v(VisibleString { octets: 2 }, Ro)],
     )
     .since(A4),
     Object::new(
         0x2D32,
         "Manufacturer Software Version 2",
-        &[v(Vs { registers: 8 }, Ro)],
+        &[v(VisibleString { octets: 16 }, Ro)],
     )
     .since(A4),
-    Object::new(0x2D33, "Serial Number 2", &[v(Vs { registers: 8 }, Ro)]).since(A4),
+    Object::new(
+        0x2D33,
+        "Serial Number 2",
+        &[v(VisibleString { octets: 16 }, Ro)],
+    )
+    .since(A4),
     Object::new(
         0x2D35,
         "Encoder status",

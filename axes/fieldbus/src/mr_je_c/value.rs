@@ -27,7 +27,8 @@ pub enum Value {
 }
 
 impl Value {
-    /// `v` as a value of `ty`; `None` when the type cannot hold it (or is a string).
+    /// `v` as a value of `ty`; `None` when the type cannot hold it (or is a string, or a type
+    /// the MR-JE-C dictionary does not use: BOOLEAN, unstated).
     pub fn from_i64(ty: DataType, v: i64) -> Option<Value> {
         Some(match ty {
             DataType::I8 => Value::I8(i8::try_from(v).ok()?),
@@ -36,7 +37,8 @@ impl Value {
             DataType::U16 => Value::U16(u16::try_from(v).ok()?),
             DataType::I32 => Value::I32(i32::try_from(v).ok()?),
             DataType::U32 => Value::U32(u32::try_from(v).ok()?),
-            DataType::Vs { .. } => return None,
+            // Not in the MR-JE-C dictionary (§7.3 types are the integers and strings).
+            DataType::VisibleString { .. } | DataType::Bool | DataType::Unstated => return None,
         })
     }
 
@@ -66,7 +68,7 @@ impl Value {
     /// Whether the value is of type `ty`.
     pub fn is(&self, ty: DataType) -> bool {
         match self {
-            Value::Text(b) => matches!(ty, DataType::Vs { .. }) && b.len() == ty.bytes(),
+            Value::Text(b) => matches!(ty, DataType::VisibleString { .. }) && b.len() == ty.bytes(),
             _ => Value::from_i64(ty, self.as_i64().unwrap_or(i64::MAX)).as_ref() == Some(self),
         }
     }
@@ -98,7 +100,8 @@ impl Value {
             DataType::U16 => Value::U16(u16::from_le_bytes([b[0], b[1]])),
             DataType::I32 => Value::I32(i32::from_le_bytes(b)),
             DataType::U32 => Value::U32(u32::from_le_bytes(b)),
-            DataType::Vs { .. } => Value::Text(bytes.to_vec()),
+            DataType::VisibleString { .. } => Value::Text(bytes.to_vec()),
+            DataType::Bool | DataType::Unstated => return None,
         })
     }
 
@@ -125,7 +128,7 @@ impl Value {
             return None;
         }
         Some(match ty {
-            DataType::Vs { .. } => {
+            DataType::VisibleString { .. } => {
                 Value::Text(words.iter().flat_map(|w| w.to_be_bytes()).collect())
             }
             DataType::I8 => Value::I8(words[0] as u8 as i8),
@@ -134,6 +137,7 @@ impl Value {
             DataType::U16 => Value::U16(words[0]),
             DataType::I32 => Value::I32(value_of(words, order) as i32),
             DataType::U32 => Value::U32(value_of(words, order)),
+            DataType::Bool | DataType::Unstated => return None,
         })
     }
 }

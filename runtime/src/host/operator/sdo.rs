@@ -280,7 +280,7 @@ fn typed(raw: i64, t: DataType) -> i64 {
         DataType::U16 => i64::from(raw as u16),
         DataType::I32 => i64::from(raw as i32),
         DataType::U32 => i64::from(raw as u32),
-        DataType::Unstated => raw,
+        DataType::VisibleString { .. } | DataType::Unstated => raw,
     }
 }
 

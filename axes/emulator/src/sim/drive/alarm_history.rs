@@ -1,13 +1,15 @@
 //! The drive's alarm history (MR-J3-T04 manual §8.9: the newest alarm in 2030h and the five
 //! before it in 2031h–2035h, each with its number, the hours of operation and a detail; cleared
-//! by 1EA5h in 2040h). Held in a fixed array: recording an alarm allocates nothing.
+//! by 1EA5h in 2040h), on the shared history of every emulated drive.
 
 use cellrt_cia402::profiles::params::{history_sub, AlarmHistoryFacts};
 
-/// Most entries any model keeps (MR-JE-C: 16, manual §7).
-const MAX_ENTRIES: usize = 16;
+/// The drive's history: the shared one (`device::alarm_history`) of 603Fh alarm numbers; it
+/// survives a power cycle like the amplifier's non-volatile memory [inferred: the manual does
+/// not say, Mitsubishi's history is kept in EEP-ROM].
+pub type AlarmHistory = crate::device::alarm_history::AlarmHistory<u16>;
 
-/// One recorded alarm.
+/// One recorded alarm as the history objects show it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct AlarmRecord {
     /// Alarm No. (the profile's code, e.g. 0052h for AL.52).
@@ -18,32 +20,15 @@ pub struct AlarmRecord {
     pub detail: u16,
 }
 
-/// The history, newest first; it survives a power cycle like the amplifier's non-volatile
-/// memory [inferred: the manual does not say, Mitsubishi's history is kept in EEP-ROM].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct AlarmHistory {
-    records: [AlarmRecord; MAX_ENTRIES],
-}
-
 impl AlarmHistory {
-    /// Records `number` at `hours` as the newest entry; the oldest falls out.
-    pub fn record(&mut self, number: u16, hours: u32) {
-        self.records.copy_within(..MAX_ENTRIES - 1, 1);
-        self.records[0] = AlarmRecord {
-            number,
-            hours,
-            detail: 0,
-        };
-    }
-
-    /// Empties the history (every entry reads 0).
-    pub fn clear(&mut self) {
-        self.records = [AlarmRecord::default(); MAX_ENTRIES];
-    }
-
-    /// Entry `n` (0 = newest).
+    /// Entry `n` (0 = newest); an empty entry reads 0.
     pub fn entry(&self, n: usize) -> AlarmRecord {
-        self.records.get(n).copied().unwrap_or_default()
+        self.get(n)
+            .map_or_else(AlarmRecord::default, |o| AlarmRecord {
+                number: o.alarm,
+                hours: o.hours,
+                detail: 0,
+            })
     }
 
     /// The value of history object `index:sub` under `facts`, if it is one.
@@ -67,7 +52,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn newest_first_and_the_oldest_falls_out() {
+    fn the_history_objects_read_the_entries_and_cleared_ones_read_0() {
         let facts = cellrt_cia402::profiles::params::MR_J3_T04
             .alarm_history
             .unwrap();

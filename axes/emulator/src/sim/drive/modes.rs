@@ -2,6 +2,7 @@
 //! csv and cst on the plant, the torque limits, the following-error and overspeed alarms.
 
 use super::{InternalTorqueLimits, SimDrive};
+use crate::device::pds::end_of_stop;
 use crate::sim::fsoe::{FsoeSlave, StoStop};
 use cellrt_cia402::fsa::FsaState;
 use cellrt_cia402::mode::ModeOfOperation;
@@ -75,19 +76,18 @@ impl SimDrive {
                     .profile
                     .quirks
                     .quick_stop_stays_active(self.quick_stop_option());
-                if self.stopped() && self.quick_stop_ramp.is_none_or(|r| r == 0.0) && !stays {
+                let stopped = self.stopped() && self.quick_stop_ramp.is_none_or(|r| r == 0.0);
+                // (12) automatic at the end of the quick stop (option codes 1–4, §3.1);
+                // codes 5–8 stay in Quick stop active where the drive honours them.
+                self.state = end_of_stop(self.state, stopped, stays);
+                if self.state != FsaState::QuickStopActive {
                     self.quick_stop_ramp = None;
-                    // (12) automatic at the end of the quick stop (option codes 1–4, §3.1);
-                    // codes 5–8 stay in Quick stop active where the drive honours them.
-                    self.state = FsaState::SwitchOnDisabled;
                 }
             }
             FsaState::FaultReactionActive => {
                 self.plant.hold(dt);
-                if self.stopped() {
-                    // (14) automatic after the fault reaction.
-                    self.state = FsaState::Fault;
-                }
+                // (14) automatic after the fault reaction.
+                self.state = end_of_stop(self.state, self.stopped(), false);
             }
             _ => self.plant.hold(dt),
         }

@@ -2,10 +2,11 @@
 //! state it follows, alarms and warnings, the power inputs and the checks at power-on.
 
 use super::{AxisSwitch, SimDrive};
+use crate::device::pds::{controlword_step, ControlwordStep, FaultReaction};
 use crate::sim::home_setting::HomeSettingState;
 use cellrt_cia402::controlword::Controlword;
 use cellrt_cia402::cycles::Cycles;
-use cellrt_cia402::fsa::{drive_transition, FsaState};
+use cellrt_cia402::fsa::FsaState;
 #[cfg(doc)]
 use cellrt_cia402::profiles::DriveProfile;
 
@@ -148,7 +149,8 @@ impl SimDrive {
         self.comm.sync_errors()
     }
 
-    /// PDS: own transitions (1) and the controlword transitions of [`drive_transition`].
+    /// PDS: own transitions (1) and the controlword transitions of the shared device core
+    /// ([`controlword_step`]).
     pub(super) fn run_pds(&mut self, cw: Controlword, elapsed: Cycles) {
         let before = self.state;
         match self.state {
@@ -165,19 +167,17 @@ impl SimDrive {
                     .profile
                     .quirks
                     .for_quick_stop_option(self.quick_stop_option());
-                let next = drive_transition(s, cw, self.prev_cw, &quirks);
-                if s == FsaState::Fault && next == FsaState::SwitchOnDisabled {
+                match controlword_step(s, cw, self.prev_cw, &quirks) {
                     // (15) resets only the alarms a fault reset can clear; the others stay
                     // latched until a power cycle (e.g. MR-J3-T04 AL.34/36/61).
-                    match self.alarm {
+                    ControlwordStep::FaultReset => match self.alarm {
                         Some(code) if !self.profile.alarm_resettable(code) => {}
                         _ => {
                             self.alarm = None;
-                            self.state = next;
+                            self.state = FsaState::SwitchOnDisabled;
                         }
-                    }
-                } else {
-                    self.state = next;
+                    },
+                    ControlwordStep::To(next) => self.state = next,
                 }
             }
         }
@@ -224,10 +224,8 @@ impl SimDrive {
             self.record_alarm(code);
         }
         self.alarm = Some(code);
-        if self.state != FsaState::Fault {
-            // (13)
-            self.state = FsaState::FaultReactionActive;
-        }
+        // (13)
+        self.state = FaultReaction::StopThenFault.on_alarm(self.state);
     }
 
     /// Raises alarm `code` (603Fh): (13) Fault reaction active, then (14) Fault once stopped.

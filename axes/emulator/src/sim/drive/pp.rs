@@ -4,6 +4,7 @@
 
 use super::SimDrive;
 use crate::motion::profile_position::{HaltOption, PositionUnit, PpCommand, PpFeedback};
+use crate::motion::ramp::time_constant_rate;
 use cellrt_cia402::pdo::objects::{
     RxField, HALT_OPTION_CODE, MAX_MOTOR_SPEED, MAX_PROFILE_VELOCITY, POSITION_WINDOW,
     POSITION_WINDOW_TIME, PROFILE_ACCELERATION, PROFILE_DECELERATION, PROFILE_VELOCITY,
@@ -39,10 +40,8 @@ impl SimDrive {
     /// manual §4.2: 6083h–6085h in ms); 0 ms or none: the plant's maximum acceleration.
     pub(super) fn time_constant_rate(&self, ms: Option<i64>) -> f64 {
         let amax = self.params.plant.max_acceleration.abs();
-        match ms {
-            Some(ms) if ms > 0 => (self.rated_speed() * 1000.0 / ms as f64).min(amax),
-            _ => amax,
-        }
+        ms.and_then(|ms| time_constant_rate(self.rated_speed(), ms))
+            .map_or(amax, |rate| rate.min(amax))
     }
 
     /// The speed cap of the profile modes, counts/s: 607Fh (velocity unit, pp/pv), 6080h

@@ -89,13 +89,9 @@ impl SimDrive {
     /// The PC02 deceleration of slow stops (stroke end, manual stop), counts/s².
     pub(super) fn slow_stop_deceleration(&self) -> f64 {
         let amax = self.params.plant.max_acceleration.abs();
-        if self.params.slow_stop_time_ms == 0 {
-            amax
-        } else {
-            (self.params.plant.max_velocity.abs() * 1000.0
-                / f64::from(self.params.slow_stop_time_ms))
-            .min(amax)
-        }
+        let ms = i64::from(self.params.slow_stop_time_ms);
+        crate::motion::ramp::time_constant_rate(self.params.plant.max_velocity.abs(), ms)
+            .map_or(amax, |rate| rate.min(amax))
     }
 
     /// csp with C_MSTOP (MR-J3-T04 manual §8.13): while it is on, 607Ah is discarded and the demand

@@ -41,7 +41,7 @@ fn config(axes: &[AxisSpec], cycle: CycleTime) -> SegmentConfig {
             .enumerate()
             .map(|(i, &(m, amp))| SegmentDrive {
                 axis: format!("a{i}"),
-                profile: profile(m),
+                profile: profile(m).into(),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: amp.map(|(label, slot)| AmplifierSlot {

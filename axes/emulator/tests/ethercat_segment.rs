@@ -6,8 +6,8 @@ mod mailbox_common;
 
 use cellrt_cia402::pdo::{PdoLayout, RxPdo};
 use cellrt_cia402::{
-    profile, AcyclicBus, Controlword, CycleTime, Cycles, CyclicBus, DriveModel, DriveProfile,
-    FaultInjection, FsaState, ModeOfOperation,
+    profile, AcyclicBus, Controlword, CycleTime, Cycles, CyclicBus, DriveModel, FaultInjection,
+    FsaState, ModeOfOperation, SharedProfile,
 };
 use cellrt_emulator::ethercat::Segment;
 use cellrt_emulator::ethercat::{segment_of, InProcessLink};
@@ -31,12 +31,12 @@ const GENERIC_PRODUCT: u32 = 0xCE11_0402;
 
 /// The profile of `m` as a cell config gives it: the generic CiA 402 model with the identity
 /// the config names (the model has none of its own), the others as they are.
-fn prof(m: DriveModel) -> &'static DriveProfile {
+fn prof(m: DriveModel) -> SharedProfile {
     match m {
-        DriveModel::GenericCia402 => {
-            profile(m).with_identity(Some(GENERIC_VENDOR), Some(GENERIC_PRODUCT))
-        }
-        _ => profile(m),
+        DriveModel::GenericCia402 => SharedProfile::new(
+            profile(m).with_identity(Some(GENERIC_VENDOR), Some(GENERIC_PRODUCT)),
+        ),
+        _ => profile(m).shared(),
     }
 }
 
@@ -58,7 +58,7 @@ fn config(models: &[DriveModel], cycle: CycleTime) -> SegmentConfig {
             .map(|(i, &m)| SegmentDrive {
                 axis: format!("a{i}"),
                 profile: prof(m),
-                identity: ExpectedIdentity::of_profile(prof(m)),
+                identity: ExpectedIdentity::of_profile(&prof(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
                 distributed_clocks: true,
@@ -326,11 +326,11 @@ fn a_variable_mapping_is_written_taken_by_the_drive_and_exchanged() {
         .filter(|e| matches!(e.index, 0x6041 | 0x6064 | 0x606C | 0x6061))
         .collect();
     let profiles = [
-        j3.with_pdo_maps(&j3_rx, j3.tx_pdo.entries).unwrap(),
-        j5.with_pdo_maps(j5.rx_pdo.entries, &j5_tx).unwrap(),
+        SharedProfile::new(j3.with_pdo_maps(&j3_rx, &j3.tx_pdo.entries).unwrap()),
+        SharedProfile::new(j5.with_pdo_maps(&j5.rx_pdo.entries, &j5_tx).unwrap()),
     ];
     let mut cfg = config(&models, cycle);
-    for (d, p) in cfg.drives.iter_mut().zip(profiles) {
+    for (d, p) in cfg.drives.iter_mut().zip(profiles.clone()) {
         d.profile = p;
         d.mode = ModeOfOperation::CyclicSyncVelocity;
     }
@@ -489,13 +489,15 @@ fn generic_cia402_drives_come_up_with_the_configured_identity_and_mapping() {
         PdoEntry::object(0x60FD, 0, 32),
         PdoEntry::object(0x603F, 0, 16),
     ];
-    let remapped = prof(DriveModel::GenericCia402)
-        .with_pdo_maps(&rx, &tx)
-        .unwrap();
+    let remapped = SharedProfile::new(
+        prof(DriveModel::GenericCia402)
+            .with_pdo_maps(&rx, &tx)
+            .unwrap(),
+    );
     assert_eq!(remapped.vendor_id(), Some(GENERIC_VENDOR));
     // The config: axis 0 on the default maps, axis 1 remapped, both in csv.
     let mut cfg = config(&models, cycle);
-    cfg.drives[1].profile = remapped;
+    cfg.drives[1].profile = remapped.clone();
     for d in &mut cfg.drives {
         d.mode = ModeOfOperation::CyclicSyncVelocity;
     }
@@ -531,7 +533,7 @@ fn generic_cia402_drives_come_up_with_the_configured_identity_and_mapping() {
         assert_eq!(w, e.mapping_word());
     }
     // Enabled and turned in csv through both layouts.
-    let layouts: Vec<(PdoLayout, PdoLayout)> = [prof(DriveModel::GenericCia402), remapped]
+    let layouts: Vec<(PdoLayout, PdoLayout)> = [prof(DriveModel::GenericCia402), remapped.clone()]
         .iter()
         .map(|p| (PdoLayout::new(&p.rx_pdo), PdoLayout::new(&p.tx_pdo)))
         .collect();

@@ -78,6 +78,7 @@ fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
     for m in &mut masters {
         m.request(MasterRequest::Enable);
     }
+    let profiles: Vec<_> = (0..n).map(|a| bus.drive(a).profile().clone()).collect();
     let before = thread_heap_calls();
     for k in 0..10_000i32 {
         match k {
@@ -90,7 +91,7 @@ fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
             _ => {}
         }
         for axis in 0..n {
-            let p = bus.drive(axis).profile();
+            let p = &profiles[axis];
             let tx = p.tx_pdo.decode_tx(bus.tx_image(axis)).unwrap();
             let _ = counters[axis].check_rx(tx.counter);
             let m = &mut masters[axis];
@@ -136,7 +137,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
             .iter()
             .map(|&m| SegmentDrive {
                 axis: m.as_str().into(),
-                profile: profile(m),
+                profile: profile(m).into(),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
@@ -232,7 +233,7 @@ fn the_ethercat_cyclic_exchange_of_a_multi_axis_station_is_allocation_free() {
             .enumerate()
             .map(|(i, &(m, slot))| SegmentDrive {
                 axis: format!("a{i}"),
-                profile: profile(m),
+                profile: profile(m).into(),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: slot.map(|slot| AmplifierSlot {

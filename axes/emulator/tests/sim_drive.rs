@@ -220,7 +220,7 @@ fn determinism_over_10k_cycles() {
     let mut b = j5(SimDriveParams::default());
     let mut rxb = [0u8; 24];
     let (mut ta, mut tb) = ([0u8; 24], [0u8; 24]);
-    let p = a.profile();
+    let p = a.profile().clone();
     let mut seed = 0x1234_5678u32;
     for k in 0..10_000i32 {
         seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
@@ -265,7 +265,7 @@ fn sim_bus_exchanges_every_axis() {
     assert_eq!(bus.rx_image_mut(0).len(), 24);
     assert_eq!(bus.tx_image(1).len(), 24);
     assert!(bus.rx_image_mut(7).is_empty());
-    let map = bus.drive(0).profile().rx_pdo;
+    let map = bus.drive(0).profile().rx_pdo.clone();
     for _ in 0..3 {
         map.encode_rx(&csp(Controlword(0), 0), bus.rx_image_mut(0))
             .unwrap();

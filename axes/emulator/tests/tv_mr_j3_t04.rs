@@ -6,6 +6,7 @@ mod common;
 use cellrt_cia402::profiles::mr_j3_t04::{
     AL_34, AL_35, AL_36, AL_37, AL_61, AL_90, AL_99, AL_E6, AL_E9, MASTER_COUNTER_CHECK,
 };
+use cellrt_cia402::SharedSlice;
 use cellrt_cia402::{
     profile, AxisMaster, Controlword, CounterParams, CounterVerdict, Cycles, CyclicBus, DriveModel,
     FaultInjection, FsaState, IncrementalCounter, MasterRequest, MasterState, PdoEntry, PdoMap,
@@ -210,7 +211,7 @@ fn tv_ic_1_normal_echo_and_wrap() {
     assert_eq!(e, [254, 255, 0, 1, 2, 3]);
     // Master and drive together through the bus: never an error, across the wrap.
     let mut bus = SimBus::new(vec![j3(po03(0x0001))]);
-    let p = bus.drive(0).profile();
+    let p = bus.drive(0).profile().clone();
     let mut ctr = IncrementalCounter::new(MASTER_COUNTER_CHECK, 250);
     for k in 0..600 {
         let tx = p.tx_pdo.decode_tx(bus.tx_image(0)).unwrap();
@@ -409,13 +410,13 @@ fn tv_pdo_1_csv_only_remap_layout() {
     // 1614h := 20200008h, 00000008h (gap), 60400010h, 20010010h, 60FF0020h → 10 bytes.
     const CSV: PdoMap = PdoMap {
         index: 0x1614,
-        entries: &[
+        entries: SharedSlice::Static(&[
             PdoEntry::object(0x2020, 0, 8),
             PdoEntry::padding(8),
             PdoEntry::object(0x6040, 0, 16),
             PdoEntry::object(0x2001, 0, 16),
             PdoEntry::object(0x60FF, 0, 32),
-        ],
+        ]),
     };
     let words: Vec<u32> = CSV.entries.iter().map(|e| e.mapping_word()).collect();
     assert_eq!(
@@ -541,7 +542,7 @@ fn master_quick_stop_substitute_never_sends_quick_stop() {
 #[test]
 fn bus_injections_reach_the_drive() {
     let mut bus = SimBus::new(vec![j3(po03(0x0001))]);
-    let p = bus.drive(0).profile();
+    let p = bus.drive(0).profile().clone();
     assert!(bus.inject_counter_corruption(0, 3));
     assert!(!bus.inject_rx_loss(5, 1));
     let mut c = 0u8;

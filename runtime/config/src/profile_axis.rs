@@ -182,7 +182,10 @@ pub fn pp_switch(a: &super::AxisConfig) -> Result<ProfileObjects, PpSwitchError>
     if time_constants && a.rated_speed.is_none() {
         return Err(PpSwitchError::NoRatedSpeed { axis: axis() });
     }
-    Ok(ProfileObjects::of_profile(ProfileMode::Position, a.profile))
+    Ok(ProfileObjects::of_profile(
+        ProfileMode::Position,
+        &a.profile,
+    ))
 }
 
 /// `motor.rated_speed` of a profile axis as counts/s: required where the mode ramps on the

@@ -354,7 +354,7 @@ fn the_generic_cia402_cell_is_valid_and_carries_its_identity() {
         assert_eq!(a.transport, Transport::Ethercat);
         assert_eq!(a.ethercat_identity.vendor_id, 0xCE11_0000);
         assert_eq!(a.ethercat_identity.product_code, Some(0xCE11_0402));
-        let presented = SubDeviceIdentity::of_profile(a.profile);
+        let presented = SubDeviceIdentity::of_profile(&a.profile);
         assert!(a.ethercat_identity.matches(&presented), "{}", a.name);
         assert_eq!(presented.vendor_id, 0xCE11_0000);
     }

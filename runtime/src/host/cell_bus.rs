@@ -99,7 +99,7 @@ pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
                 },
                 ..SimDriveParams::default()
             };
-            SimDrive::new(a.profile, params, cell.cycle_time)
+            SimDrive::new(a.profile.clone(), params, cell.cycle_time)
         })
         .collect()
 }
@@ -113,7 +113,7 @@ pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
             .iter()
             .map(|a| SegmentDrive {
                 axis: a.name.clone(),
-                profile: a.profile,
+                profile: a.profile.clone(),
                 identity: a.ethercat_identity,
                 mode: a.mode,
                 amplifier: a.amplifier.clone(),

@@ -22,7 +22,7 @@ struct Slot {
 }
 
 /// A PDO map with its entries resolved to offsets and fields; build once, use every cycle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PdoLayout {
     map: PdoMap,
     /// Why the map cannot be laid out; every encode and decode then returns it.
@@ -38,7 +38,7 @@ impl PdoLayout {
     /// that error (see [`PdoLayout::error`]).
     pub fn new(map: &PdoMap) -> Self {
         let mut layout = PdoLayout {
-            map: *map,
+            map: map.clone(),
             invalid: None,
             byte_len: map.byte_len(),
             len: 0,
@@ -202,6 +202,7 @@ fn read_le(buf: &[u8], s: &Slot) -> u64 {
 mod tests {
     use super::*;
     use crate::pdo::PdoEntry;
+    use crate::shared_slice::SharedSlice;
 
     const MANY: [PdoEntry; MAX_LAYOUT_ENTRIES + 1] = [PdoEntry::padding(8); MAX_LAYOUT_ENTRIES + 1];
 
@@ -209,7 +210,7 @@ mod tests {
     fn a_map_too_long_for_the_layout_is_refused_at_every_use() {
         let map = PdoMap {
             index: 0x1602,
-            entries: &MANY,
+            entries: SharedSlice::Static(&MANY),
         };
         let layout = PdoLayout::new(&map);
         let e = PdoError::TooManyEntries {
@@ -229,13 +230,13 @@ mod tests {
     fn fields_land_at_the_mapped_offsets_with_their_widths() {
         const MAP: PdoMap = PdoMap {
             index: 0x1A05,
-            entries: &[
+            entries: SharedSlice::Static(&[
                 PdoEntry::object(0x6041, 0, 16),
                 PdoEntry::padding(8),
                 PdoEntry::object(0x6061, 0, 8),
                 PdoEntry::object(0x6064, 0, 32),
                 PdoEntry::object(0x2D24, 0, 8),
-            ],
+            ]),
         };
         let layout = PdoLayout::new(&MAP);
         let tx = TxPdo {

@@ -56,7 +56,7 @@ impl ModeSwitch {
         position_offset: i32,
         params: ModeSwitchParams,
     ) -> Result<Self, ModeSwitchError> {
-        ModeSwitch::for_modes(profile.modes, to, position_offset, params)
+        ModeSwitch::for_modes(&profile.modes, to, position_offset, params)
     }
 }
 

@@ -29,6 +29,7 @@ use crate::cycles::ALLOWED_MICROS;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
 use crate::pdo::{PdoEntry, PdoMap};
+use crate::shared_slice::SharedSlice;
 
 /// Where the facts of this module come from.
 pub const SOURCE: &str = "CiA 402 / ETG.6010";
@@ -36,20 +37,20 @@ pub const SOURCE: &str = "CiA 402 / ETG.6010";
 /// Default RxPDO 1600h, 14 bytes (CiA 402 / ETG.6010 csp/csv/cst objects).
 pub const RX_PDO_1600: PdoMap = PdoMap {
     index: 0x1600,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6040, 16),      // 0  Controlword
         obj(0x6060, 8),       // 2  Modes of operation
         PdoEntry::padding(8), // 3  padding
         obj(0x607A, 32),      // 4  Target position
         obj(0x60FF, 32),      // 8  Target velocity
         obj(0x6071, 16),      // 12 Target torque
-    ],
+    ]),
 };
 
 /// Default TxPDO 1A00h, 20 bytes (CiA 402 / ETG.6010 csp/csv/cst objects).
 pub const TX_PDO_1A00: PdoMap = PdoMap {
     index: 0x1A00,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6041, 16),      // 0  Statusword
         obj(0x6061, 8),       // 2  Modes of operation display
         PdoEntry::padding(8), // 3  padding
@@ -58,7 +59,7 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
         obj(0x6077, 16),      // 12 Torque actual value
         obj(0x60F4, 32),      // 14 Following error actual value
         obj(0x603F, 16),      // 18 Error code
-    ],
+    ]),
 };
 
 // 603Fh codes for a following error and for a command beyond the maximum speed: the CiA 402
@@ -218,12 +219,12 @@ pub const PROFILE: DriveProfile = DriveProfile {
         revision: None,
         source: "CiA 402 / ETG.6010: none; the cell config gives the SubDevice's 1018h ([axes.ethercat] vendor_id, product_code)",
     },
-    modes: &[
+    modes: SharedSlice::Static(&[
         M::Homing,
         M::CyclicSyncPosition,
         M::CyclicSyncVelocity,
         M::CyclicSyncTorque,
-    ],
+    ]),
     cycle_times_us: &ALLOWED_MICROS,
     rx_pdo: RX_PDO_1600,
     tx_pdo: TX_PDO_1A00,
@@ -359,7 +360,7 @@ mod tests {
                 o.source
             );
         }
-        for e in PROFILE.rx_pdo.entries.iter().chain(PROFILE.tx_pdo.entries) {
+        for e in PROFILE.rx_pdo.entries.iter().chain(&PROFILE.tx_pdo.entries) {
             assert!(e.is_padding() || e.index >= 0x6000, "{:04X}h", e.index);
         }
         assert_eq!(PROFILE.quirks, FsaQuirks::STRICT);

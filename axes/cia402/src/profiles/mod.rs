@@ -5,6 +5,7 @@
 
 use std::fmt;
 use std::str::FromStr;
+use std::sync::Arc;
 use std::time::Duration;
 
 use serde::Deserialize;
@@ -13,6 +14,7 @@ use crate::cycles::{CycleTime, Cycles};
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation;
 use crate::pdo::PdoMap;
+use crate::shared_slice::SharedSlice;
 
 pub mod bring_up_causes;
 pub use bring_up_causes::{bring_up_causes, BringUpCause};
@@ -127,8 +129,21 @@ impl FromStr for DriveModel {
     }
 }
 
-/// Everything cellrt knows about one drive model, as static data.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A drive profile shared by whoever needs it: built once per axis when the cell's
+/// configuration is read (a built-in profile, or one derived from it by a remap, an identity or
+/// an ESI file).
+pub type SharedProfile = Arc<DriveProfile>;
+
+/// A shared copy of a profile (its tables are shared, not copied), e.g. of a built-in one.
+impl From<&DriveProfile> for SharedProfile {
+    fn from(profile: &DriveProfile) -> Self {
+        Arc::new(profile.clone())
+    }
+}
+
+/// Everything cellrt knows about one drive model: compile-time data for the built-in models,
+/// owned tables where a profile is derived at run time.
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct DriveProfile {
     /// The model this profile describes.
     pub model: DriveModel,
@@ -137,7 +152,7 @@ pub struct DriveProfile {
     /// EtherCAT identity (1018h), with the gaps cited.
     pub identity: Identity,
     /// Modes of operation the drive accepts in 6060h.
-    pub modes: &'static [ModeOfOperation],
+    pub modes: SharedSlice<ModeOfOperation>,
     /// Supported PDO cycle times in µs.
     pub cycle_times_us: &'static [u32],
     /// The default RxPDO map (master → drive).
@@ -321,6 +336,11 @@ impl DriveProfile {
             .iter()
             .find(|l| (l.from_us..=l.to_us).contains(&cycle_us))
             .map(|l| (l.max_rx_bytes, l.max_tx_bytes))
+    }
+
+    /// This profile as a [`SharedProfile`] (a copy whose tables are shared, not copied).
+    pub fn shared(&self) -> SharedProfile {
+        Arc::new(self.clone())
     }
 
     /// The supported modes as text, e.g. "hm, csp, csv".

@@ -12,6 +12,7 @@ use crate::comm::CounterParams;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
 use crate::pdo::PdoMap;
+use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32, U8};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
@@ -29,7 +30,7 @@ pub const MASTER_COUNTER_CHECK: CounterParams = CounterParams {
 /// Default RxPDO 1614h, 30 bytes (MR-J3-T04 manual §8.5.1, §8.6.2, 13 entries).
 pub const RX_PDO_1614: PdoMap = PdoMap {
     index: 0x1614,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x2020, 8),  // 0  Incremental counter (RxPDO)
         obj(0x2022, 8),  // 1  Frame ID (reserved)
         obj(0x6040, 16), // 2  Controlword
@@ -43,13 +44,13 @@ pub const RX_PDO_1614: PdoMap = PdoMap {
         obj(0x6071, 16), // 24 Target torque (reserved)
         obj(0x60E0, 16), // 26 Positive torque limit value
         obj(0x60E1, 16), // 28 Negative torque limit value
-    ],
+    ]),
 };
 
 /// Default TxPDO 1A14h, 26 bytes (MR-J3-T04 manual §8.5.2, §8.6.2, 11 entries).
 pub const TX_PDO_1A14: PdoMap = PdoMap {
     index: 0x1A14,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x2021, 8),  // 0  Incremental counter (TxPDO)
         obj(0x2023, 8),  // 1  Frame ID (reserved, sent as 0)
         obj(0x6041, 16), // 2  Statusword
@@ -61,7 +62,7 @@ pub const TX_PDO_1A14: PdoMap = PdoMap {
         obj(0x606C, 32), // 16 Velocity actual value
         obj(0x60F4, 32), // 20 Following error actual value
         obj(0x6077, 16), // 24 Torque actual value
-    ],
+    ]),
 };
 
 /// Alarm code encoding: the display number as hex-coded BCD, AL.34 → 0x0034 (2041h encoding is
@@ -172,7 +173,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         revision: Some(0x0200_0000),
         source: "MR-J3-T04 manual §8.1(4), §1.4.1(3) (manual §8.1(4))",
     },
-    modes: &[M::Homing, M::CyclicSyncPosition, M::CyclicSyncVelocity],
+    modes: SharedSlice::Static(&[M::Homing, M::CyclicSyncPosition, M::CyclicSyncVelocity]),
     cycle_times_us: &[500, 1000, 2000],
     rx_pdo: RX_PDO_1614,
     tx_pdo: TX_PDO_1A14,

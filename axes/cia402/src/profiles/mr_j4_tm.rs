@@ -12,6 +12,7 @@ use crate::comm::CounterParams;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
 use crate::pdo::PdoMap;
+use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
@@ -20,7 +21,7 @@ use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 /// (MR-J4-TM manual §3.3(1); offsets derived from the chapter 5 types).
 pub const RX_PDO_1600: PdoMap = PdoMap {
     index: 0x1600,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6060, 8),  // 0  Modes of operation
         obj(0x6040, 16), // 1  Controlword
         obj(0x2D01, 16), // 3  Control DI 1
@@ -33,14 +34,14 @@ pub const RX_PDO_1600: PdoMap = PdoMap {
         obj(0x60E0, 16), // 23 Positive torque limit value
         obj(0x60E1, 16), // 25 Negative torque limit value
         obj(0x60B8, 16), // 27 Touch probe function
-    ],
+    ]),
 };
 
 /// Default RxPDO 1601h (pp/pv/tq/hm, the PA01 `___2` profile-mode group), 45 bytes, with
 /// 6081h/6083h/6084h/6087h for the profile modes (MR-J4-TM manual §3.3(1); offsets derived).
 pub const RX_PDO_1601: PdoMap = PdoMap {
     index: 0x1601,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6060, 8),  // 0  Modes of operation
         obj(0x6040, 16), // 1  Controlword
         obj(0x2D01, 16), // 3  Control DI 1
@@ -57,13 +58,13 @@ pub const RX_PDO_1601: PdoMap = PdoMap {
         obj(0x60E0, 16), // 39 Positive torque limit value
         obj(0x60E1, 16), // 41 Negative torque limit value
         obj(0x60B8, 16), // 43 Touch probe function
-    ],
+    ]),
 };
 
 /// Default TxPDO 1A00h, 41 bytes (MR-J4-TM manual §3.3(2)).
 pub const TX_PDO_1A00: PdoMap = PdoMap {
     index: 0x1A00,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6061, 8),  // 0  Modes of operation display
         obj(0x6041, 16), // 1  Statusword
         obj(0x2D11, 16), // 3  Status DO 1
@@ -78,7 +79,7 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
         obj(0x60BB, 32), // 29 Touch probe pos1 neg value
         obj(0x60BC, 32), // 33 Touch probe pos2 pos value
         obj(0x60BD, 32), // 37 Touch probe pos2 neg value
-    ],
+    ]),
 };
 
 /// Alarm code encoding of this module: AL. XX.Y → 0x0XXY (AL. 86.1 → 0x0861); the alarm
@@ -193,12 +194,12 @@ pub const PROFILE: DriveProfile = DriveProfile {
         source: "MR-J4-TM manual: not in the manual; [EXT] 0x00000A1E / 0x00000201 unverified",
     },
     // §1.3: the PA01 groups are exclusive; the default group is csp/csv/cst/hm ([EXT]/[G]).
-    modes: &[
+    modes: SharedSlice::Static(&[
         M::Homing,
         M::CyclicSyncPosition,
         M::CyclicSyncVelocity,
         M::CyclicSyncTorque,
-    ],
+    ]),
     cycle_times_us: &[250, 500, 1000, 2000],
     rx_pdo: RX_PDO_1600,
     tx_pdo: TX_PDO_1A00,
@@ -265,12 +266,12 @@ pub const PROFILE: DriveProfile = DriveProfile {
 /// [`PROFILE`].
 pub const PROFILE_MODE_GROUP: DriveProfile = DriveProfile {
     name: "Mitsubishi MR-J4-TM (PA01 ___2, profile mode)",
-    modes: &[
+    modes: SharedSlice::Static(&[
         M::ProfilePosition,
         M::ProfileVelocity,
         M::ProfileTorque,
         M::Homing,
-    ],
+    ]),
     rx_pdo: RX_PDO_1601,
     ..PROFILE
 };

@@ -10,6 +10,7 @@ use super::{HomeReference, TorqueLimitSelection};
 use crate::cycles::ALLOWED_MICROS;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
+use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
@@ -119,7 +120,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     model: DriveModel::MrJ5GN1,
     name: "Mitsubishi MR-J5-G-N1",
     identity: IDENTITY,
-    modes: &[
+    modes: SharedSlice::Static(&[
         M::ProfilePosition,
         M::ProfileVelocity,
         M::ProfileTorque,
@@ -127,7 +128,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         M::CyclicSyncPosition,
         M::CyclicSyncVelocity,
         M::CyclicSyncTorque,
-    ],
+    ]),
     cycle_times_us: &ALLOWED_MICROS,
     rx_pdo: RX_PDO_1600,
     tx_pdo: TX_PDO_1A00,
@@ -191,7 +192,7 @@ pub const MULTI_AXIS_CYCLES_US: &[u32] = &[250, 500, 1000, 2000, 4000, 8000];
 pub const PROFILE_W2: DriveProfile = DriveProfile {
     model: DriveModel::MrJ5W2GN1,
     name: "Mitsubishi MR-J5W2-G-N1",
-    modes: MULTI_AXIS_MODES,
+    modes: SharedSlice::Static(MULTI_AXIS_MODES),
     cycle_times_us: MULTI_AXIS_CYCLES_US,
     axes_per_unit: 2,
     // §5.1: no multi-axis entry at 0.125 ms.

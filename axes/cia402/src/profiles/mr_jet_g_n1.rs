@@ -12,6 +12,7 @@ use crate::cycles::ALLOWED_MICROS;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
 use crate::pdo::{PdoEntry, PdoMap};
+use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32, U8};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
@@ -19,7 +20,7 @@ use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 /// Default 1st RxPDO 1600h, 24 bytes (MR-JET-G-N1 manual §4.3; sizes inferred from the total).
 pub const RX_PDO_1600: PdoMap = PdoMap {
     index: 0x1600,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6060, 8),       // 0  Modes of operation
         PdoEntry::padding(8), // 1  padding
         obj(0x6040, 16),      // 2  Controlword
@@ -30,13 +31,13 @@ pub const RX_PDO_1600: PdoMap = PdoMap {
         obj(0x60FF, 32),      // 14 Target velocity
         obj(0x2D20, 32),      // 18 Velocity limit value
         obj(0x6071, 16),      // 22 Target torque
-    ],
+    ]),
 };
 
 /// Default 1st TxPDO 1A00h, 24 bytes (MR-JET-G-N1 manual §4.3).
 pub const TX_PDO_1A00: PdoMap = PdoMap {
     index: 0x1A00,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6061, 8),       // 0  Modes of operation display
         PdoEntry::padding(8), // 1  padding
         obj(0x6041, 16),      // 2  Statusword
@@ -47,7 +48,7 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
         obj(0x606C, 32),      // 14 Velocity actual value
         obj(0x60F4, 32),      // 18 Following error actual value
         obj(0x6077, 16),      // 22 Torque actual value
-    ],
+    ]),
 };
 
 /// Alarm code encoding: AL.XXX.Y → 0xXXXY (AL.086.1 → 0x0861); no alarm object in the manual.
@@ -299,7 +300,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         revision: None,
         source: "MR-JET-G-N1 manual §1.1, §2.1: not in this manual (in the ESI file)",
     },
-    modes: &[
+    modes: SharedSlice::Static(&[
         M::ProfilePosition,
         M::ProfileVelocity,
         M::ProfileTorque,
@@ -307,7 +308,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         M::CyclicSyncPosition,
         M::CyclicSyncVelocity,
         M::CyclicSyncTorque,
-    ],
+    ]),
     cycle_times_us: &ALLOWED_MICROS,
     rx_pdo: RX_PDO_1600,
     tx_pdo: TX_PDO_1A00,

@@ -27,7 +27,7 @@ use cellrt_cia402::cycles::{CycleTime, Cycles};
 use cellrt_cia402::fsa::FsaState;
 use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_cia402::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
-use cellrt_cia402::profiles::DriveProfile;
+use cellrt_cia402::profiles::SharedProfile;
 use cellrt_cia402::statusword::Statusword;
 
 /// Error code (603Fh) of the following-error alarm: CiA 402 8611h "following error"
@@ -60,7 +60,7 @@ pub use units::{SimMotor, SIM_DEFAULT_COUNTS_PER_REV};
 /// One simulated servo axis that exchanges PDO images like the real drive.
 #[derive(Debug, Clone)]
 pub struct SimDrive {
-    profile: &'static DriveProfile,
+    profile: SharedProfile,
     /// The profile's objects for the per-cycle lookups ([`SimDrive::object`]).
     od: cellrt_cia402::profiles::ObjectIndex,
     /// 60B0h's default where the model lists 60B0h (read every cycle in csp).
@@ -131,10 +131,11 @@ pub struct SimDrive {
 impl SimDrive {
     /// A drive at rest in Not ready to switch on, running the `profile`'s default maps.
     pub fn new(
-        profile: &'static DriveProfile,
+        profile: impl Into<SharedProfile>,
         params: SimDriveParams,
         cycle_time: CycleTime,
     ) -> Self {
+        let profile: SharedProfile = profile.into();
         let pos = f64::from(params.initial_position);
         let counter_mapped = profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter();
         // An unsupported initial mode falls back to csp, or to the first mode the profile
@@ -151,8 +152,8 @@ impl SimDrive {
                 .unwrap_or(ModeOfOperation::CyclicSyncPosition)
         };
         let mut d = SimDrive {
-            profile,
-            od: cellrt_cia402::profiles::ObjectIndex::of(profile),
+            profile: profile.clone(),
+            od: cellrt_cia402::profiles::ObjectIndex::of(&profile),
             position_offset_default: profile
                 .object(cellrt_cia402::pdo::objects::POSITION_OFFSET, 0)
                 .map(|o| o.default),
@@ -224,8 +225,7 @@ impl SimDrive {
         rx: &[cellrt_cia402::pdo::PdoEntry],
         tx: &[cellrt_cia402::pdo::PdoEntry],
     ) -> Result<(), cellrt_cia402::profiles::mapping::MappingError> {
-        let profile = self.profile.with_pdo_maps(rx, tx)?;
-        self.profile = profile;
+        let profile = SharedProfile::new(self.profile.with_pdo_maps(rx, tx)?);
         self.rx_layout = PdoLayout::new(&profile.rx_pdo);
         self.tx_layout = PdoLayout::new(&profile.tx_pdo);
         self.mode_mapped = profile
@@ -236,6 +236,7 @@ impl SimDrive {
             .maps(cellrt_cia402::pdo::objects::STATUS_DO[0]);
         self.comm
             .set_counter_mapped(profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter());
+        self.profile = profile;
         Ok(())
     }
 
@@ -414,8 +415,8 @@ impl SimDrive {
     }
 
     /// The drive's profile.
-    pub fn profile(&self) -> &'static DriveProfile {
-        self.profile
+    pub fn profile(&self) -> &SharedProfile {
+        &self.profile
     }
 
     /// The cycle time the drive integrates with.

@@ -18,7 +18,7 @@ pub fn drive(model: DriveModel, us: u32, params: SimDriveParams) -> SimDrive {
 
 /// One exchange through the byte images; returns the decoded TxPDO.
 pub fn exchange(drive: &mut SimDrive, rx: &RxPdo) -> TxPdo {
-    let p = drive.profile();
+    let p = drive.profile().clone();
     let mut rxb = [0u8; 64];
     let mut txb = [0u8; 64];
     let (rn, tn) = (p.rx_pdo.byte_len(), p.tx_pdo.byte_len());
@@ -29,7 +29,7 @@ pub fn exchange(drive: &mut SimDrive, rx: &RxPdo) -> TxPdo {
 
 /// One exchange in which the drive's RxPDO is lost.
 pub fn lost(drive: &mut SimDrive) -> TxPdo {
-    let p = drive.profile();
+    let p = drive.profile().clone();
     let mut txb = [0u8; 64];
     let tn = p.tx_pdo.byte_len();
     drive.cycle_lost(&mut txb[..tn], Cycles(1)).unwrap();

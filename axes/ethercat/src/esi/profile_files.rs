@@ -93,7 +93,7 @@ fn described(p: &DriveProfile) -> Vec<OdEntry> {
             // Bits 16–31 are the manufacturer's modes (CiA 402 §6.2.2): kept as the row has them.
             (SUPPORTED_DRIVE_MODES, 0) => OdEntry {
                 default: Some(
-                    o.default.unwrap_or(0) & !STANDARD_MODE_BITS | bits_of_modes(p.modes),
+                    o.default.unwrap_or(0) & !STANDARD_MODE_BITS | bits_of_modes(&p.modes),
                 ),
                 ..*o
             },
@@ -157,7 +157,7 @@ fn render(model: DriveModel) -> String {
     }
     let pdo = |kind: &str, map: &cellrt_cia402::pdo::PdoMap, sm: u8| {
         let mut s = format!("      <{kind} Fixed=\"0\" Mandatory=\"1\" Sm=\"{sm}\">\n        <Index>#x{:04X}</Index><Name>{kind} {:04X}h</Name>\n", map.index, map.index);
-        for e in map.entries {
+        for e in map.entries.iter() {
             let _ = writeln!(s, "        <Entry><Index>#x{:04X}</Index><SubIndex>{}</SubIndex><BitLen>{}</BitLen></Entry>", e.index, e.sub, e.bits);
         }
         let _ = writeln!(s, "      </{kind}>");
@@ -243,7 +243,7 @@ fn check(model: DriveModel, d: &EsiDevice) {
         let row = p.object(SUPPORTED_DRIVE_MODES, 0).and_then(|o| o.default);
         assert_eq!(
             row.map(|r| r & STANDARD_MODE_BITS),
-            Some(bits_of_modes(p.modes)),
+            Some(bits_of_modes(&p.modes)),
             "{m}: the profile's 6502h row"
         );
     }

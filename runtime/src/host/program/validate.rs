@@ -212,7 +212,7 @@ fn validate_step(
             // `[axes.homing] method` where the step names neither a method nor an edge.
             let method = method.or(cell.axes[i].homing.method.filter(|_| setting.is_none()));
             let procedure =
-                choose_procedure(cell.axes[i].profile, method, setting).map_err(|e| {
+                choose_procedure(&*cell.axes[i].profile, method, setting).map_err(|e| {
                     ConfigError::new(path, format!("{key}.axis"), format!("axis '{axis}': {e}"))
                 })?;
             Step::Home {

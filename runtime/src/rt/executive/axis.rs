@@ -176,7 +176,7 @@ impl AxisChannel {
             .cycles_for(std::time::Duration::from_secs(2));
         AxisChannel {
             master: AxisMaster::for_profile(
-                axis.profile,
+                &axis.profile,
                 cell.cycle_time,
                 Cycles(timeout.0.max(10)),
             ),

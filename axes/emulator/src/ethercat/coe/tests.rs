@@ -92,7 +92,7 @@ fn tv_pdo_1_csv_only_remap_by_sdo_and_its_abort_codes() {
     // The mapping is 10 bytes: counter, gap, controlword, controlword2, target velocity.
     let j3 = s.drives[0].profile();
     let (rx, _) = s.pdo.mapping(j3, 0);
-    let p = j3.with_pdo_maps(&rx, j3.tx_pdo.entries);
+    let p = j3.with_pdo_maps(&rx, &j3.tx_pdo.entries);
     let p = p.expect("the TV-PDO-1 mapping is valid");
     assert_eq!(p.rx_pdo.byte_len(), 10);
     assert_eq!(p.rx_pdo.offset_of(0x2020, 0), Some(0));

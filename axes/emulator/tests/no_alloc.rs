@@ -93,7 +93,7 @@ fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
         for axis in 0..n {
             let p = &profiles[axis];
             let tx = p.tx_pdo.decode_tx(bus.tx_image(axis)).unwrap();
-            let _ = counters[axis].check_rx(tx.counter);
+            let _ = counters[axis].check_rx(p.comm_check.tx_counter(&tx));
             let m = &mut masters[axis];
             let cw = m.update(tx.statusword);
             let rx = RxPdo {

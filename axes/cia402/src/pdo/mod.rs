@@ -91,6 +91,16 @@ pub enum PdoError {
         /// The entry's sub-index.
         sub: u8,
     },
+    /// More objects beside the CiA 402 fields than [`TxPdo::extras`] holds.
+    #[error("PDO map {map:#06X}h has {extras} objects besides the CiA 402 fields, at most {max} are supported")]
+    TooManyExtras {
+        /// The mapping object index.
+        map: u16,
+        /// Its objects that no [`TxPdo`] field carries.
+        extras: usize,
+        /// [`objects::MAX_TX_EXTRAS`].
+        max: usize,
+    },
     /// More entries than a [`PdoLayout`] holds.
     #[error("PDO map {map:#06X}h has {entries} entries, at most {max} are supported")]
     TooManyEntries {
@@ -123,8 +133,8 @@ impl PdoMap {
     }
 
     /// True if the map carries a communication counter (2020h/2021h incremental counter of the
-    /// MR-J3-T04, 2D23h/2D24h watchdog counter of the MR-J4-TM), i.e. [`RxPdo::counter`] /
-    /// [`TxPdo::counter`] reach the wire.
+    /// MR-J3-T04, 2D23h/2D24h watchdog counter of the MR-J4-TM), i.e. [`RxPdo::counter`] and
+    /// the counter among [`TxPdo::extras`] reach the wire.
     pub fn has_counter(&self) -> bool {
         self.counter_offset().is_some()
     }

@@ -453,6 +453,14 @@ impl CommCheck {
         }
     }
 
+    /// The counter echo a TxPDO image carries (the check's TxPDO object among
+    /// [`crate::TxPdo::extras`]); 0 where the check has no counter or the image does not carry it.
+    pub fn tx_counter(&self, tx: &crate::TxPdo) -> u8 {
+        self.counter_objects()
+            .and_then(|(_, index)| tx.extra(index))
+            .map_or(0, |v| v as u8)
+    }
+
     /// The master's default check of the counter echo, if the check has a counter.
     pub const fn master_counter(&self) -> Option<CounterParams> {
         match *self {

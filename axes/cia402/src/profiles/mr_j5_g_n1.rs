@@ -393,10 +393,12 @@ mod tests {
             following_error: -12345,
             torque_actual: i16::MIN,
             error_code: 0x8611,
-            counter: 0,
-            statusword2: 0,
-            status_do: crate::profiles::status_do::StatusDo([0x1000, 0x0008, 0x0020]),
+            extras: crate::pdo::objects::TxExtras::default(),
         };
+        let mut pdo = pdo;
+        crate::profiles::status_do::StatusDo([0x1000, 0x0008, 0x0020])
+            .write_to(&mut pdo.extras)
+            .unwrap();
         let mut buf = [0u8; 24];
         PROFILE.tx_pdo.encode_tx(&pdo, &mut buf).unwrap();
         let back = PROFILE.tx_pdo.decode_tx(&buf).unwrap();

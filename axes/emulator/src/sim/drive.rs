@@ -26,6 +26,7 @@ use cellrt_cia402::controlword::Controlword;
 use cellrt_cia402::cycles::{CycleTime, Cycles};
 use cellrt_cia402::fsa::FsaState;
 use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::pdo::objects::{TxExtras, STATUSWORD2};
 use cellrt_cia402::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
 use cellrt_cia402::profiles::SharedProfile;
 use cellrt_cia402::statusword::Statusword;
@@ -375,13 +376,26 @@ impl SimDrive {
             following_error: self.following_error,
             torque_actual: torque,
             error_code: self.alarm.unwrap_or(0),
-            counter: self.comm.echo(),
-            statusword2: self
-                .profile
-                .home_setting
-                .map_or(0, |b| self.home_set.statusword2(&b)),
-            status_do: self.status_do(),
+            extras: self.tx_extras(),
         }
+    }
+
+    /// The TxPDO objects the profile adds to CiA 402: the counter echo its communication check
+    /// names, statusword2 where it has a home setting, Status DO 1–3 where the map carries them.
+    fn tx_extras(&self) -> TxExtras {
+        let mut extras = TxExtras::default();
+        // At most five objects: within the table's MAX_TX_EXTRAS.
+        if let Some((_, index)) = self.profile.comm_check.counter_objects() {
+            let _ = extras.set(index, 0, u64::from(self.comm.echo()));
+        }
+        if let Some(b) = self.profile.home_setting {
+            let sw2 = self.home_set.statusword2(&b);
+            let _ = extras.set(STATUSWORD2, 0, u64::from(sw2));
+        }
+        if self.status_do_mapped {
+            let _ = self.status_do().write_to(&mut extras);
+        }
+        extras
     }
 
     /// The PDS state.

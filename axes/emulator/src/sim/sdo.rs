@@ -39,6 +39,9 @@ impl SimDrive {
             if let Some(f) = TxField::of(index, sub) {
                 return Ok(self.tx_pdo().get(f) as i64);
             }
+            if let Some(v) = self.tx_pdo().extras.get(index, sub) {
+                return Ok(v as i64);
+            }
         }
         if p.rx_pdo.maps(index) {
             if let Some(f) = RxField::of(index, sub) {

@@ -1,10 +1,38 @@
 //! Shared helpers: simulated drives of any model driven through their byte images.
 #![allow(dead_code)]
 
+use cellrt_cia402::pdo::objects::{INCREMENTAL_COUNTER_TX, STATUSWORD2, WATCHDOG_COUNTER_UL};
+use cellrt_cia402::profiles::status_do::StatusDo;
 use cellrt_cia402::{
     profile, Controlword, CycleTime, Cycles, DriveModel, FsaState, RxPdo, Statusword, TxPdo,
 };
 use cellrt_emulator::{SimDrive, SimDriveParams};
+
+/// The TxPDO objects the Mitsubishi profiles add to CiA 402, read by object index.
+pub trait VendorObjects {
+    /// The counter echo (2021h MR-J3-T04, 2D24h MR-J4-TM); 0 where not carried.
+    fn echo(&self) -> u8;
+    /// 2011h Statusword2 (MR-J3-T04); 0 where not carried.
+    fn statusword2(&self) -> u16;
+    /// Status DO 1–3 (2D11h–2D13h); 0 where not carried.
+    fn status_do(&self) -> StatusDo;
+}
+
+impl VendorObjects for TxPdo {
+    fn echo(&self) -> u8 {
+        self.extra(INCREMENTAL_COUNTER_TX)
+            .or(self.extra(WATCHDOG_COUNTER_UL))
+            .map_or(0, |v| v as u8)
+    }
+
+    fn statusword2(&self) -> u16 {
+        self.extra_word(STATUSWORD2)
+    }
+
+    fn status_do(&self) -> StatusDo {
+        StatusDo::of(self)
+    }
+}
 
 /// A 1 ms MR-J5-G-N1 drive with default parameters.
 pub fn j5(params: SimDriveParams) -> SimDrive {

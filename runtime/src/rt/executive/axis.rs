@@ -61,6 +61,8 @@ pub struct AxisChannel {
     /// The master side of the incremental counter, where the drive's PDO maps carry one
     /// (MR-J3-T04 2020h/2021h).
     pub counter: Option<IncrementalCounter>,
+    /// The drive's communication check: which TxPDO object echoes the counter.
+    pub comm_check: cellrt_cia402::profiles::CommCheck,
     /// A counter error was reported for this axis (once, until reset).
     pub comm_fault: bool,
     /// The link state of the axis' node last seen (EtherCAT: its SubDevice's AL status).
@@ -186,6 +188,7 @@ impl AxisChannel {
                 .master_counter()
                 .filter(|_| axis.profile.rx_pdo.has_counter())
                 .map(|model| IncrementalCounter::new(cell.watchdogs.comm.counter_params(model), 0)),
+            comm_check: axis.profile.comm_check,
             comm_fault: false,
             link_state: None,
             limits: AxisLimitsCounts::new(axis, cell.period()),
@@ -442,6 +445,7 @@ mod tests {
                 transition_timeout: Cycles(100),
             }),
             counter: None,
+            comm_check: cellrt_cia402::profiles::CommCheck::SyncErrorCounter { alarm: 0 },
             comm_fault: false,
             link_state: None,
             limits: AxisLimitsCounts {

@@ -198,6 +198,12 @@ pub struct Identity {
     pub revision: Option<u32>,
     /// Where the values come from, or which gap leaves them `None`.
     pub source: &'static str,
+    /// The maker's vendor ID where the source gives no 1018h:01 (Mitsubishi's for its models);
+    /// `None` for a model with no maker (generic CiA 402: the cell config names it).
+    pub maker_vendor_id: Option<u32>,
+    /// The product code the emulator presents where no source gives one: a named placeholder,
+    /// not the vendor's value.
+    pub emulator_product_code: u32,
 }
 
 /// What a completed homing changes (the home position reference).

@@ -218,6 +218,8 @@ pub const PROFILE: DriveProfile = DriveProfile {
         product_code: None,
         revision: None,
         source: "CiA 402 / ETG.6010: none; the cell config gives the SubDevice's 1018h ([axes.ethercat] vendor_id, product_code)",
+        maker_vendor_id: None,
+        emulator_product_code: 0,
     },
     modes: SharedSlice::Static(&[
         M::Homing,

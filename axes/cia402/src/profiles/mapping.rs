@@ -232,6 +232,7 @@ impl DriveProfile {
             } else {
                 self.identity.source
             },
+            ..self.identity
         };
         DriveProfile {
             identity,

@@ -42,6 +42,10 @@ pub use units::{
     AccelerationUnit, MotorKind, PositionUnit, Quantity, Stated, TorqueUnit, Units, VelocityUnit,
 };
 
+/// Mitsubishi Electric's EtherCAT vendor ID (MR-J3-T04 manual §8.1(4), §1.4.1(3): "A1Eh";
+/// the MR-J4-TM manual [EXT] gives the same value).
+pub const MITSUBISHI_VENDOR_ID: u32 = 0x0000_0A1E;
+
 /// A supported drive model, named in configuration by its kebab-case part number.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
 pub enum DriveModel {

@@ -172,6 +172,8 @@ pub const PROFILE: DriveProfile = DriveProfile {
         product_code: Some(0x0000_0102),
         revision: Some(0x0200_0000),
         source: "MR-J3-T04 manual §8.1(4), §1.4.1(3) (manual §8.1(4))",
+        maker_vendor_id: Some(super::MITSUBISHI_VENDOR_ID),
+        emulator_product_code: 0x0000_0102,
     },
     modes: SharedSlice::Static(&[M::Homing, M::CyclicSyncPosition, M::CyclicSyncVelocity]),
     cycle_times_us: &[500, 1000, 2000],

@@ -192,6 +192,9 @@ pub const PROFILE: DriveProfile = DriveProfile {
         product_code: None,
         revision: None,
         source: "MR-J4-TM manual: not in the manual; [EXT] 0x00000A1E / 0x00000201 unverified",
+        maker_vendor_id: Some(super::MITSUBISHI_VENDOR_ID),
+        // The [EXT] value (unverified).
+        emulator_product_code: 0x0000_0201,
     },
     // §1.3: the PA01 groups are exclusive; the default group is csp/csv/cst/hm ([EXT]/[G]).
     modes: SharedSlice::Static(&[

@@ -108,6 +108,8 @@ const IDENTITY: Identity = Identity {
     product_code: None,
     revision: None,
     source: "MR-J5-G-N1 manual §1.1, §2.1: vendor ID / product code only in the ESI",
+    maker_vendor_id: Some(super::MITSUBISHI_VENDOR_ID),
+    emulator_product_code: 0xCE11_0501,
 };
 
 /// The MR-J5-G-N1 1-axis profile.
@@ -192,6 +194,10 @@ pub const MULTI_AXIS_CYCLES_US: &[u32] = &[250, 500, 1000, 2000, 4000, 8000];
 pub const PROFILE_W2: DriveProfile = DriveProfile {
     model: DriveModel::MrJ5W2GN1,
     name: "Mitsubishi MR-J5W2-G-N1",
+    identity: Identity {
+        emulator_product_code: 0xCE11_0502,
+        ..IDENTITY
+    },
     modes: SharedSlice::Static(MULTI_AXIS_MODES),
     cycle_times_us: MULTI_AXIS_CYCLES_US,
     axes_per_unit: 2,
@@ -212,6 +218,10 @@ pub const PROFILE_W2: DriveProfile = DriveProfile {
 pub const PROFILE_W3: DriveProfile = DriveProfile {
     model: DriveModel::MrJ5W3GN1,
     name: "Mitsubishi MR-J5W3-G-N1",
+    identity: Identity {
+        emulator_product_code: 0xCE11_0503,
+        ..IDENTITY
+    },
     axes_per_unit: 3,
     unit_pdo_limits: &[
         UnitPdoLimit {

@@ -299,6 +299,8 @@ pub const PROFILE: DriveProfile = DriveProfile {
         product_code: None,
         revision: None,
         source: "MR-JET-G-N1 manual §1.1, §2.1: not in this manual (in the ESI file)",
+        maker_vendor_id: Some(super::MITSUBISHI_VENDOR_ID),
+        emulator_product_code: 0xCE11_0301,
     },
     modes: SharedSlice::Static(&[
         M::ProfilePosition,

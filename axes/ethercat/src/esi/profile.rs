@@ -21,6 +21,7 @@ impl EsiProfile for DriveProfile {
             product_code: Some(device.product_code),
             revision: Some(device.revision),
             source: "the axis' ESI file",
+            ..self.identity
         };
         let modes = match device.supported_modes() {
             Some(listed) => {

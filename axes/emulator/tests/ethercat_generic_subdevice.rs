@@ -29,7 +29,7 @@ fn without_60f4() -> SharedProfile {
         PdoEntry::object(0x603F, 0, 16),
     ];
     let p = profile(DriveModel::GenericCia402).with_identity(Some(0xCE11_0000), Some(0xCE11_0402));
-    SharedProfile::new(p.with_pdo_maps(&p.rx_pdo.entries, &tx).unwrap())
+    SharedProfile::new(p.with_pdo_maps(&p.pdo.rx.entries, &tx).unwrap())
 }
 
 const CYCLE_US: u32 = 1000;
@@ -64,7 +64,7 @@ fn bring_up(variant: SubDeviceVariant, dc: bool) -> Result<EthercatBus, Ethercat
 /// FSA state and the actual position.
 fn enable_and_move(bus: &mut EthercatBus) -> (Option<FsaState>, i32) {
     let p = without_60f4();
-    let (rxl, txl) = (PdoLayout::new(&p.rx_pdo), PdoLayout::new(&p.tx_pdo));
+    let (rxl, txl) = (PdoLayout::new(&p.pdo.rx), PdoLayout::new(&p.pdo.tx));
     let start = txl.decode_tx(bus.tx_image(0)).unwrap().position_actual;
     let mut target = start;
     for (n, cw) in [

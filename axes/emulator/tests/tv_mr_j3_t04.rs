@@ -216,7 +216,7 @@ fn tv_ic_1_normal_echo_and_wrap() {
     let p = bus.drive(0).profile().clone();
     let mut ctr = IncrementalCounter::new(MASTER_COUNTER_CHECK, 250);
     for k in 0..600 {
-        let tx = p.tx_pdo.decode_tx(bus.tx_image(0)).unwrap();
+        let tx = p.pdo.tx.decode_tx(bus.tx_image(0)).unwrap();
         let v = ctr.check_rx(tx.echo());
         assert!(
             matches!(v, CounterVerdict::Ok | CounterVerdict::Warmup),
@@ -226,7 +226,7 @@ fn tv_ic_1_normal_echo_and_wrap() {
             counter: ctr.next_tx(),
             ..csp(Controlword(0), tx.position_actual)
         };
-        p.rx_pdo.encode_rx(&rx, bus.rx_image_mut(0)).unwrap();
+        p.pdo.rx.encode_rx(&rx, bus.rx_image_mut(0)).unwrap();
         bus.exchange(Cycles(1)).unwrap();
     }
     assert_eq!(bus.drive(0).alarm(), None);
@@ -337,7 +337,7 @@ fn tv_ic_4_continuous_rx_loss() {
 #[test]
 fn tv_ic_5_only_the_three_cycle_times() {
     let p = profile(DriveModel::MrJ3T04);
-    assert_eq!(p.cycle_times_us, &[500, 1000, 2000]);
+    assert_eq!(p.cycle.cycle_times_us, &[500, 1000, 2000]);
     assert_eq!(
         p.object(0x1C32, 2).and_then(|o| o.range),
         Some((500_000, 2_000_000))
@@ -549,13 +549,13 @@ fn bus_injections_reach_the_drive() {
     assert!(!bus.inject_rx_loss(5, 1));
     let mut c = 0u8;
     for _ in 0..10 {
-        let tx = p.tx_pdo.decode_tx(bus.tx_image(0)).unwrap();
+        let tx = p.pdo.tx.decode_tx(bus.tx_image(0)).unwrap();
         c = c.wrapping_add(1);
         let rx = RxPdo {
             counter: c,
             ..csp(Controlword(0), tx.position_actual)
         };
-        p.rx_pdo.encode_rx(&rx, bus.rx_image_mut(0)).unwrap();
+        p.pdo.rx.encode_rx(&rx, bus.rx_image_mut(0)).unwrap();
         bus.exchange(Cycles(1)).unwrap();
     }
     assert_eq!(bus.drive(0).alarm(), Some(AL_34));

@@ -119,7 +119,7 @@ pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
                 amplifier: a.amplifier.clone(),
                 distributed_clocks: a.distributed_clocks,
                 fixed_pdo: a.esi.as_deref().map_or_else(Default::default, |d| {
-                    FixedPdo::of(d, a.profile.rx_pdo.index, a.profile.tx_pdo.index)
+                    FixedPdo::of(d, a.profile.pdo.rx.index, a.profile.pdo.tx.index)
                 }),
             })
             .collect(),

@@ -214,12 +214,12 @@ mod tests {
 
     /// The MR-J5-G-N1 default RxPDO 1600h (24 bytes).
     fn rx_1600() -> PdoMap {
-        profile(DriveModel::MrJ5GN1).rx_pdo.clone()
+        profile(DriveModel::MrJ5GN1).pdo.rx.clone()
     }
 
     /// The MR-J5-G-N1 default TxPDO 1A00h (24 bytes).
     fn tx_1a00() -> PdoMap {
-        profile(DriveModel::MrJ5GN1).tx_pdo.clone()
+        profile(DriveModel::MrJ5GN1).pdo.tx.clone()
     }
 
     const ODD: PdoMap = PdoMap {

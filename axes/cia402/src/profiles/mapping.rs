@@ -106,13 +106,13 @@ impl DriveProfile {
     pub fn mappable(&self, direction: PdoDirection, index: u16, sub: u8) -> bool {
         let (default, listed, kind) = match direction {
             PdoDirection::Rx => (
-                &base_of(self).rx_pdo,
-                self.pdo_rules.rx_mappable,
+                &base_of(self).pdo.rx,
+                self.pdo.rules.rx_mappable,
                 super::Pdo::Rx,
             ),
             PdoDirection::Tx => (
-                &base_of(self).tx_pdo,
-                self.pdo_rules.tx_mappable,
+                &base_of(self).pdo.tx,
+                self.pdo.rules.tx_mappable,
                 super::Pdo::Tx,
             ),
         };
@@ -166,7 +166,7 @@ impl DriveProfile {
         direction: PdoDirection,
         entries: &[PdoEntry],
     ) -> Result<(), MappingError> {
-        let rules = &self.pdo_rules;
+        let rules = &self.pdo.rules;
         if entries.len() > usize::from(rules.max_entries) {
             return Err(MappingError::TooManyEntries {
                 direction,
@@ -213,8 +213,11 @@ impl DriveProfile {
             },
         };
         Ok(DriveProfile {
-            rx_pdo: remap(&self.rx_pdo, rx),
-            tx_pdo: remap(&self.tx_pdo, tx),
+            pdo: super::PdoFacts {
+                rx: remap(&self.pdo.rx, rx),
+                tx: remap(&self.pdo.tx, tx),
+                ..self.pdo.clone()
+            },
             ..self.clone()
         })
     }
@@ -243,7 +246,7 @@ impl DriveProfile {
     /// True if this profile runs its model's default maps.
     pub fn default_mapping(&self) -> bool {
         let base = base_of(self);
-        self.rx_pdo == base.rx_pdo && self.tx_pdo == base.tx_pdo
+        self.pdo.rx == base.pdo.rx && self.pdo.tx == base.pdo.tx
     }
 }
 
@@ -261,15 +264,15 @@ mod tests {
     fn a_remapped_profile_owns_its_maps_and_the_default_is_the_same_profile() {
         let p = profile(DriveModel::MrJ5GN1);
         let same = p
-            .with_pdo_maps(&p.rx_pdo.entries, &p.tx_pdo.entries)
+            .with_pdo_maps(&p.pdo.rx.entries, &p.pdo.tx.entries)
             .unwrap();
         assert_eq!(*p, same);
-        let rx = &p.rx_pdo.entries[..3];
-        let a = p.with_pdo_maps(rx, &p.tx_pdo.entries).unwrap();
-        let b = p.with_pdo_maps(rx, &p.tx_pdo.entries).unwrap();
+        let rx = &p.pdo.rx.entries[..3];
+        let a = p.with_pdo_maps(rx, &p.pdo.tx.entries).unwrap();
+        let b = p.with_pdo_maps(rx, &p.pdo.tx.entries).unwrap();
         assert_eq!(a, b);
-        assert_eq!(a.rx_pdo.entries, rx);
-        assert_eq!(a.rx_pdo.index, p.rx_pdo.index);
+        assert_eq!(a.pdo.rx.entries, rx);
+        assert_eq!(a.pdo.rx.index, p.pdo.rx.index);
         assert!(!a.default_mapping() && p.default_mapping());
     }
 
@@ -280,12 +283,12 @@ mod tests {
         let e = j3
             .check_mapping(PdoDirection::Rx, &[PdoEntry::object(0x6041, 0, 16)])
             .unwrap_err();
-        assert_eq!(e.abort_code(&j3.pdo_rules), 0x0604_0041);
+        assert_eq!(e.abort_code(&j3.pdo.rules), 0x0604_0041);
         assert!(e.to_string().contains("6041h:00"), "{e}");
         // ... and 32 bytes exceed its 30 (0604 0042h).
         let long = [PdoEntry::object(0x607A, 0, 32); 8];
         let e = j3.check_mapping(PdoDirection::Rx, &long).unwrap_err();
-        assert_eq!(e.abort_code(&j3.pdo_rules), 0x0604_0042);
+        assert_eq!(e.abort_code(&j3.pdo.rules), 0x0604_0042);
         // Padding of 8 bits is allowed, of 12 bits not.
         j3.check_mapping(
             PdoDirection::Rx,
@@ -300,7 +303,7 @@ mod tests {
         let e = j5
             .check_mapping(PdoDirection::Tx, &[PdoEntry::object(0x6040, 0, 16)])
             .unwrap_err();
-        assert_eq!(e.abort_code(&j5.pdo_rules), 0x0604_0043);
+        assert_eq!(e.abort_code(&j5.pdo.rules), 0x0604_0043);
         assert!(j5.mappable(PdoDirection::Rx, 0x6040, 0));
     }
 }

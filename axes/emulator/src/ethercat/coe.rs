@@ -180,7 +180,7 @@ fn entry_at_slot(profile: &DriveProfile, entry: PdoEntry, slot: u8) -> PdoEntry 
 
 impl PdoObject {
     fn new(profile: &DriveProfile, map: &PdoMap, direction: PdoDirection, slot: u8) -> Self {
-        let max_entries = profile.pdo_rules.max_entries;
+        let max_entries = profile.pdo.rules.max_entries;
         let mut words = vec![0u32; usize::from(max_entries).max(map.entries.len())];
         for (w, e) in words.iter_mut().zip(map.entries.iter()) {
             *w = entry_at_slot(profile, *e, slot).mapping_word();
@@ -224,8 +224,8 @@ impl PdoConfig {
             .map(|(slot, d)| {
                 let p = d.profile();
                 [
-                    PdoObject::new(p, &p.rx_pdo, PdoDirection::Rx, slot as u8),
-                    PdoObject::new(p, &p.tx_pdo, PdoDirection::Tx, slot as u8),
+                    PdoObject::new(p, &p.pdo.rx, PdoDirection::Rx, slot as u8),
+                    PdoObject::new(p, &p.pdo.tx, PdoDirection::Tx, slot as u8),
                 ]
             })
             .collect();
@@ -234,8 +234,8 @@ impl PdoConfig {
             axes,
             assign_counts: [n, n],
             rules: drives.first().map_or(
-                cellrt_cia402::profiles::generic_cia402::PROFILE.pdo_rules,
-                |d| d.profile().pdo_rules,
+                cellrt_cia402::profiles::generic_cia402::PROFILE.pdo.rules,
+                |d| d.profile().pdo.rules,
             ),
             frozen: false,
         }
@@ -367,10 +367,11 @@ pub(super) fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Va
     }
     let value = drive.sdo_upload(index, sub)?;
     let bits = profile
-        .rx_pdo
+        .pdo
+        .rx
         .entries
         .iter()
-        .chain(profile.tx_pdo.entries.iter())
+        .chain(profile.pdo.tx.entries.iter())
         .find(|e| e.index == index && e.sub == sub)
         .map(|e| e.bits)
         .or_else(|| profile.object(index, sub).and_then(|o| o.data_type.bits()))

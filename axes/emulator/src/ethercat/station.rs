@@ -175,8 +175,8 @@ impl Station {
                 .map(|(slot, drive)| {
                     let p = drive.profile();
                     let map = match d {
-                        PdoDirection::Rx => &p.rx_pdo,
-                        PdoDirection::Tx => &p.tx_pdo,
+                        PdoDirection::Rx => &p.pdo.rx,
+                        PdoDirection::Tx => &p.pdo.tx,
                     };
                     SiiPdo::of_slot(p, map, slot as u8)
                 })
@@ -215,7 +215,7 @@ impl Station {
             pd_watchdog_trigger: None,
             variant: SubDeviceVariant::default(),
             outbox: Outbox {
-                sends_emergencies: profile.emergency.sends,
+                sends_emergencies: profile.comm.emergency.sends,
                 emergencies: VecDeque::with_capacity(EMERGENCY_QUEUE),
                 lost: 0,
                 alarms: Vec::new(),

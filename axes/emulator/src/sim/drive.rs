@@ -32,7 +32,7 @@ use cellrt_cia402::profiles::SharedProfile;
 use cellrt_cia402::statusword::Statusword;
 
 /// Error code (603Fh) of the following-error alarm: CiA 402 8611h "following error"
-/// [background]; each model's code is `DriveProfile::following_error_alarm`.
+/// [background]; each model's code is `LimitFacts::following_error_alarm`.
 pub const FOLLOWING_ERROR_ALARM: u16 = cellrt_cia402::error_code::FOLLOWING_ERROR;
 
 pub mod alarm_history;
@@ -138,7 +138,7 @@ impl SimDrive {
     ) -> Self {
         let profile: SharedProfile = profile.into();
         let pos = f64::from(params.initial_position);
-        let counter_mapped = profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter();
+        let counter_mapped = profile.pdo.rx.has_counter() && profile.pdo.tx.has_counter();
         // An unsupported initial mode falls back to csp, or to the first mode the profile
         // lists where csp is not in its group (MR-J4-TM PA01 `___2`: pp).
         let initial_mode = if profile.supports_mode(params.initial_mode) {
@@ -147,6 +147,7 @@ impl SimDrive {
             ModeOfOperation::CyclicSyncPosition
         } else {
             profile
+                .cycle
                 .modes
                 .first()
                 .copied()
@@ -164,14 +165,16 @@ impl SimDrive {
             prev_cw: Controlword::DISABLE_VOLTAGE,
             mode_display: initial_mode,
             plant: ServoPlant::new(params.plant, pos).with_stoppers(params.stoppers),
-            rx_layout: PdoLayout::new(&profile.rx_pdo),
+            rx_layout: PdoLayout::new(&profile.pdo.rx),
             mode_mapped: profile
-                .rx_pdo
+                .pdo
+                .rx
                 .maps(cellrt_cia402::pdo::objects::MODES_OF_OPERATION),
             status_do_mapped: profile
-                .tx_pdo
+                .pdo
+                .tx
                 .maps(cellrt_cia402::pdo::objects::STATUS_DO[0]),
-            tx_layout: PdoLayout::new(&profile.tx_pdo),
+            tx_layout: PdoLayout::new(&profile.pdo.tx),
             alarm: None,
             power: PowerInputs::default(),
             startup_left: params.startup_cycles,
@@ -187,7 +190,7 @@ impl SimDrive {
                 target_position: params.initial_position,
                 ..RxPdo::default()
             },
-            comm: DriveComm::new(profile.comm_check, params.comm, cycle_time, counter_mapped),
+            comm: DriveComm::new(profile.comm.check, params.comm, cycle_time, counter_mapped),
             op: true,
             sdo_mode: 0,
             // One slot per object of the dictionary: an SDO write never allocates.
@@ -227,16 +230,18 @@ impl SimDrive {
         tx: &[cellrt_cia402::pdo::PdoEntry],
     ) -> Result<(), cellrt_cia402::profiles::mapping::MappingError> {
         let profile = SharedProfile::new(self.profile.with_pdo_maps(rx, tx)?);
-        self.rx_layout = PdoLayout::new(&profile.rx_pdo);
-        self.tx_layout = PdoLayout::new(&profile.tx_pdo);
+        self.rx_layout = PdoLayout::new(&profile.pdo.rx);
+        self.tx_layout = PdoLayout::new(&profile.pdo.tx);
         self.mode_mapped = profile
-            .rx_pdo
+            .pdo
+            .rx
             .maps(cellrt_cia402::pdo::objects::MODES_OF_OPERATION);
         self.status_do_mapped = profile
-            .tx_pdo
+            .pdo
+            .tx
             .maps(cellrt_cia402::pdo::objects::STATUS_DO[0]);
         self.comm
-            .set_counter_mapped(profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter());
+            .set_counter_mapped(profile.pdo.rx.has_counter() && profile.pdo.tx.has_counter());
         self.profile = profile;
         Ok(())
     }
@@ -385,10 +390,10 @@ impl SimDrive {
     fn tx_extras(&self) -> TxExtras {
         let mut extras = TxExtras::default();
         // At most five objects: within the table's MAX_TX_EXTRAS.
-        if let Some((_, index)) = self.profile.comm_check.counter_objects() {
+        if let Some((_, index)) = self.profile.comm.check.counter_objects() {
             let _ = extras.set(index, 0, u64::from(self.comm.echo()));
         }
-        if let Some(b) = self.profile.home_setting {
+        if let Some(b) = self.profile.homing.setting {
             let sw2 = self.home_set.statusword2(&b);
             let _ = extras.set(STATUSWORD2, 0, u64::from(sw2));
         }

@@ -49,19 +49,19 @@ pub fn exchange(drive: &mut SimDrive, rx: &RxPdo) -> TxPdo {
     let p = drive.profile().clone();
     let mut rxb = [0u8; 64];
     let mut txb = [0u8; 64];
-    let (rn, tn) = (p.rx_pdo.byte_len(), p.tx_pdo.byte_len());
-    p.rx_pdo.encode_rx(rx, &mut rxb[..rn]).unwrap();
+    let (rn, tn) = (p.pdo.rx.byte_len(), p.pdo.tx.byte_len());
+    p.pdo.rx.encode_rx(rx, &mut rxb[..rn]).unwrap();
     drive.cycle(&rxb[..rn], &mut txb[..tn], Cycles(1)).unwrap();
-    p.tx_pdo.decode_tx(&txb[..tn]).unwrap()
+    p.pdo.tx.decode_tx(&txb[..tn]).unwrap()
 }
 
 /// One exchange in which the drive's RxPDO is lost.
 pub fn lost(drive: &mut SimDrive) -> TxPdo {
     let p = drive.profile().clone();
     let mut txb = [0u8; 64];
-    let tn = p.tx_pdo.byte_len();
+    let tn = p.pdo.tx.byte_len();
     drive.cycle_lost(&mut txb[..tn], Cycles(1)).unwrap();
-    p.tx_pdo.decode_tx(&txb[..tn]).unwrap()
+    p.pdo.tx.decode_tx(&txb[..tn]).unwrap()
 }
 
 /// An RxPDO in csp with controlword `cw` and target `pos`.

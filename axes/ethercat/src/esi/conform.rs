@@ -130,13 +130,13 @@ fn pdo(
     let (subject, map, esi_pdos, assign): (_, &PdoMap, _, u16) = match direction {
         PdoDirection::Rx => (
             ConflictSubject::RxPdo,
-            &profile.rx_pdo,
+            &profile.pdo.rx,
             &device.rx_pdos,
             0x1C12,
         ),
         PdoDirection::Tx => (
             ConflictSubject::TxPdo,
-            &profile.tx_pdo,
+            &profile.pdo.tx,
             &device.tx_pdos,
             0x1C13,
         ),

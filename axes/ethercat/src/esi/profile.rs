@@ -2,7 +2,7 @@
 
 use super::device::EsiDevice;
 use cellrt_cia402::mode::ModeOfOperation;
-use cellrt_cia402::profiles::{DriveProfile, Identity};
+use cellrt_cia402::profiles::{CycleFacts, DriveProfile, Identity};
 
 /// A drive profile as an ESI device describes it.
 pub trait EsiProfile {
@@ -26,22 +26,26 @@ impl EsiProfile for DriveProfile {
         let modes = match device.supported_modes() {
             Some(listed) => {
                 let kept: Vec<ModeOfOperation> = self
+                    .cycle
                     .modes
                     .iter()
                     .copied()
                     .filter(|m| listed.contains(m))
                     .collect();
-                if kept == *self.modes {
-                    self.modes.clone()
+                if kept == *self.cycle.modes {
+                    self.cycle.modes.clone()
                 } else {
                     kept.into()
                 }
             }
-            None => self.modes.clone(),
+            None => self.cycle.modes.clone(),
         };
         DriveProfile {
             identity,
-            modes,
+            cycle: CycleFacts {
+                modes,
+                ..self.cycle.clone()
+            },
             ..self.clone()
         }
     }

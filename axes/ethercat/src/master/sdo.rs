@@ -130,10 +130,11 @@ impl MailboxWorker {
 /// mapped objects by their mapping size, the rest from the profile (INTEGER32 where unknown).
 fn object_type(profile: &DriveProfile, index: u16, sub: u8) -> DataType {
     let mapped_bits = profile
-        .rx_pdo
+        .pdo
+        .rx
         .entries
         .iter()
-        .chain(profile.tx_pdo.entries.iter())
+        .chain(profile.pdo.tx.entries.iter())
         .find(|e| !e.is_padding() && e.index == index && e.sub == sub)
         .map(|e| e.bits);
     match (index, sub) {

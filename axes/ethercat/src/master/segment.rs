@@ -200,8 +200,8 @@ pub(super) fn check_unit_pdo_limits(
         let (mut rx, mut tx) = (0, 0);
         for slot in 0..plan.slots.len() {
             let p = plan.slot_profile(config, slot);
-            rx += p.rx_pdo.byte_len();
-            tx += p.tx_pdo.byte_len();
+            rx += p.pdo.rx.byte_len();
+            tx += p.pdo.tx.byte_len();
         }
         if rx > usize::from(max_rx) || tx > usize::from(max_tx) {
             return Err(EthercatError::ProcessImage {

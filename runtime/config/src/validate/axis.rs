@@ -564,8 +564,8 @@ fn pdo_mapping(
             |w| w.iter().map(|w| PdoEntry::from_mapping_word(*w)).collect(),
         )
     };
-    let rx = entries(&pdo.rx, &base.rx_pdo.entries);
-    let tx = entries(&pdo.tx, &base.tx_pdo.entries);
+    let rx = entries(&pdo.rx, &base.pdo.rx.entries);
+    let tx = entries(&pdo.tx, &base.pdo.tx.entries);
     let key = |d: PdoDirection| match d {
         PdoDirection::Rx => "pdo.rx",
         PdoDirection::Tx => "pdo.tx",
@@ -585,10 +585,10 @@ fn pdo_mapping(
         needed_rx.push(p.target());
     }
     for (direction, map, needed) in [
-        (PdoDirection::Rx, &profile.rx_pdo, needed_rx),
+        (PdoDirection::Rx, &profile.pdo.rx, needed_rx),
         (
             PdoDirection::Tx,
-            &profile.tx_pdo,
+            &profile.pdo.tx,
             vec![STATUSWORD, POSITION_ACTUAL],
         ),
     ] {

@@ -58,7 +58,7 @@ fn read_config(name: &str) -> String {
 
 fn run_model(e: Expect) {
     let dir = tempfile::tempdir().unwrap();
-    let code = profile(e.model).following_error_alarm;
+    let code = profile(e.model).limits.following_error_alarm;
     // The cell's own program is replaced; the alarm comes during the long wait.
     let text = test_cell(
         &read_config(e.config),
@@ -104,7 +104,7 @@ fn run_model(e: Expect) {
     // comes from parameter PO02 / an SDO write of 6060h, MR-J3-T04 manual §8.4.2).
     let p = profile(e.model);
     let shows = |mode: i32, r: &cellrt_runtime::host::record::proto::AxisCycle| {
-        !p.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY) || r.mode_display == mode
+        !p.pdo.tx.maps(MODES_OF_OPERATION_DISPLAY) || r.mode_display == mode
     };
     assert!(x.iter().any(|r| r.mode == 8 && shows(8, r)));
     assert!(x.iter().all(|r| r.mode == 8), "x sends csp only");
@@ -251,7 +251,7 @@ fn communication_faults_of_each_model() {
         ("mr-j5-g-n1.toml", DriveModel::MrJ5GN1),
     ] {
         let p = profile(model);
-        let fault = if p.rx_pdo.has_counter() {
+        let fault = if p.pdo.rx.has_counter() {
             "counter_corruption"
         } else {
             "rx_loss"
@@ -285,7 +285,7 @@ fn communication_faults_of_each_model() {
         match (master, drive) {
             (Some(m), _) => assert!(m.cycle as f64 >= 1.4 / cycle_seconds(&rec), "{config}"),
             (None, Some(d)) => {
-                let codes = [p.comm_check.loss_alarm(), p.leave_op_alarm];
+                let codes = [p.comm.check.loss_alarm(), p.comm.leave_op_alarm];
                 assert!(
                     codes.contains(&(d.value as u16)),
                     "{config}: drive fault {} is not the model's communication alarm",

@@ -24,6 +24,7 @@ pub mod mode;
 pub mod mode_switch;
 pub mod pdo;
 pub mod profiles;
+pub mod shared_slice;
 pub mod statusword;
 
 pub use bus::{AcyclicBus, BusError, CyclicBus, FaultInjection, FrameCounters};
@@ -39,5 +40,6 @@ pub use mode_switch::{
     ModeSwitch, ModeSwitchError, ModeSwitchParams, ModeSwitchPhase, ModeSwitchProgress,
 };
 pub use pdo::{PdoEntry, PdoError, PdoMap, RxPdo, TxPdo};
-pub use profiles::{profile, DriveModel, DriveProfile};
+pub use profiles::{profile, DriveModel, DriveProfile, SharedProfile};
+pub use shared_slice::SharedSlice;
 pub use statusword::Statusword;

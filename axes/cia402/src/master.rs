@@ -138,7 +138,7 @@ impl AxisMaster {
 
     /// Sets controlword bit 8 HALT on every Enable Operation word from the next
     /// [`AxisMaster::update`] on (§3.3). Whether the drive acts on it depends on the model and
-    /// mode (`DriveProfile::halt_in_cyclic_modes`; MR-J3-T04 and MR-J4-TM: not in csp/csv/cst).
+    /// mode (`CycleFacts::halt_in_cyclic_modes`; MR-J3-T04 and MR-J4-TM: not in csp/csv/cst).
     pub fn set_halt(&mut self, on: bool) {
         self.halt = on;
     }

@@ -26,7 +26,7 @@ fn bus(models: &[DriveModel]) -> EthercatBus {
             .iter()
             .map(|&m| SegmentDrive {
                 axis: m.as_str().into(),
-                profile: profile(m),
+                profile: profile(m).into(),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,

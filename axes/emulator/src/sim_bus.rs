@@ -30,16 +30,16 @@ impl SimBus {
     pub fn new(drives: Vec<SimDrive>) -> Self {
         let rx = drives
             .iter()
-            .map(|d| vec![0u8; d.profile().rx_pdo.byte_len()])
+            .map(|d| vec![0u8; d.profile().pdo.rx.byte_len()])
             .collect();
         let tx = drives
             .iter()
-            .map(|d| vec![0u8; d.profile().tx_pdo.byte_len()])
+            .map(|d| vec![0u8; d.profile().pdo.tx.byte_len()])
             .collect();
         let n = drives.len();
         let scratch = drives
             .iter()
-            .map(|d| vec![0u8; d.profile().rx_pdo.byte_len()])
+            .map(|d| vec![0u8; d.profile().pdo.rx.byte_len()])
             .collect();
         SimBus {
             drives,
@@ -121,7 +121,8 @@ impl CyclicBus for SimBus {
                 scratch[..n].copy_from_slice(&rx[..n]);
                 if let Some(b) = drive
                     .profile()
-                    .rx_pdo
+                    .pdo
+                    .rx
                     .counter_offset()
                     .and_then(|o| scratch.get_mut(o))
                 {
@@ -202,7 +203,7 @@ impl FaultInjection for SimBus {
         let mapped = self
             .drives
             .get(axis)
-            .is_some_and(|d| d.profile().rx_pdo.has_counter());
+            .is_some_and(|d| d.profile().pdo.rx.has_counter());
         match self.corrupt.get_mut(axis) {
             Some(n) if mapped => {
                 *n = cycles;

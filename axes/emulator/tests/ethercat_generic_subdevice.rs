@@ -5,8 +5,8 @@
 
 use cellrt_cia402::pdo::{PdoLayout, RxPdo};
 use cellrt_cia402::{
-    profile, Controlword, CycleTime, Cycles, CyclicBus, DriveModel, DriveProfile, FsaState,
-    ModeOfOperation, PdoEntry,
+    profile, Controlword, CycleTime, Cycles, CyclicBus, DriveModel, FsaState, ModeOfOperation,
+    PdoEntry, SharedProfile,
 };
 use cellrt_emulator::ethercat::{segment_of, InProcessLink};
 use cellrt_emulator::ethercat::{CycleTimeObject, EmulatedDc, Segment, SubDeviceVariant};
@@ -19,7 +19,7 @@ use cellrt_ethercat::register::AlState;
 static BRING_UP: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// The generic profile with an identity and a TxPDO without 60F4h (as `[axes.pdo] tx` gives it).
-fn without_60f4() -> &'static DriveProfile {
+fn without_60f4() -> SharedProfile {
     let tx = [
         PdoEntry::object(0x6041, 0, 16),
         PdoEntry::object(0x6061, 0, 8),
@@ -29,7 +29,7 @@ fn without_60f4() -> &'static DriveProfile {
         PdoEntry::object(0x603F, 0, 16),
     ];
     let p = profile(DriveModel::GenericCia402).with_identity(Some(0xCE11_0000), Some(0xCE11_0402));
-    p.with_pdo_maps(p.rx_pdo.entries, &tx).unwrap()
+    SharedProfile::new(p.with_pdo_maps(&p.pdo.rx.entries, &tx).unwrap())
 }
 
 const CYCLE_US: u32 = 1000;
@@ -38,14 +38,18 @@ const CYCLE_US: u32 = 1000;
 fn bring_up(variant: SubDeviceVariant, dc: bool) -> Result<EthercatBus, EthercatError> {
     let cycle = CycleTime::from_micros(CYCLE_US).unwrap();
     let p = without_60f4();
-    let mut segment = Segment::new(vec![SimDrive::new(p, SimDriveParams::default(), cycle)]);
+    let mut segment = Segment::new(vec![SimDrive::new(
+        p.clone(),
+        SimDriveParams::default(),
+        cycle,
+    )]);
     segment.station_mut(0).unwrap().present(variant);
     let config = SegmentConfig {
         cycle,
         drives: vec![SegmentDrive {
             axis: "x".into(),
+            identity: ExpectedIdentity::of_profile(&p),
             profile: p,
-            identity: ExpectedIdentity::of_profile(p),
             mode: ModeOfOperation::CyclicSyncPosition,
             amplifier: None,
             distributed_clocks: dc,
@@ -60,7 +64,7 @@ fn bring_up(variant: SubDeviceVariant, dc: bool) -> Result<EthercatBus, Ethercat
 /// FSA state and the actual position.
 fn enable_and_move(bus: &mut EthercatBus) -> (Option<FsaState>, i32) {
     let p = without_60f4();
-    let (rxl, txl) = (PdoLayout::new(&p.rx_pdo), PdoLayout::new(&p.tx_pdo));
+    let (rxl, txl) = (PdoLayout::new(&p.pdo.rx), PdoLayout::new(&p.pdo.tx));
     let start = txl.decode_tx(bus.tx_image(0)).unwrap().position_actual;
     let mut target = start;
     for (n, cw) in [

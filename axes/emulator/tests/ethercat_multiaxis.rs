@@ -41,7 +41,7 @@ fn config(axes: &[AxisSpec], cycle: CycleTime) -> SegmentConfig {
             .enumerate()
             .map(|(i, &(m, amp))| SegmentDrive {
                 axis: format!("a{i}"),
-                profile: profile(m),
+                profile: profile(m).into(),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: amp.map(|(label, slot)| AmplifierSlot {
@@ -103,8 +103,8 @@ fn run(
         .iter()
         .map(|(m, _)| {
             (
-                PdoLayout::new(&profile(*m).rx_pdo),
-                PdoLayout::new(&profile(*m).tx_pdo),
+                PdoLayout::new(&profile(*m).pdo.rx),
+                PdoLayout::new(&profile(*m).pdo.tx),
             )
         })
         .collect();
@@ -206,7 +206,7 @@ fn pdo_layouts_read_back_by_sdo_sit_at_the_offset_indexes() {
     let mut bus = bring_up(&UNITS, 1000);
     let p = profile(DriveModel::MrJ5W3GN1);
     for (axis, slot) in [(2usize, 0u8), (3, 1), (4, 2)] {
-        for map in [&p.rx_pdo, &p.tx_pdo] {
+        for map in [&p.pdo.rx, &p.pdo.tx] {
             let index = axis_index(map.index, slot).unwrap();
             assert_eq!(index, map.index + 0x10 * u16::from(slot));
             // Read on axis A's station object, by the offset index itself.
@@ -271,7 +271,7 @@ fn tv_2_axis_b_of_a_j5w2_is_enabled_and_axis_a_is_untouched() {
     }
     let p = profile(DriveModel::MrJ5W2GN1);
     assert_eq!(w2.drives()[0].alarm(), None, "axis A was not switched on");
-    assert_eq!(w2.drives()[1].alarm(), Some(p.leave_op_alarm));
+    assert_eq!(w2.drives()[1].alarm(), Some(p.comm.leave_op_alarm));
 }
 
 /// TV-8: pv on a J5W2 axis is refused in the RxPDO (6861h keeps csp) and by the master's
@@ -281,8 +281,8 @@ fn tv_8_pv_and_tq_are_refused_on_a_multi_axis_unit() {
     let axes = &UNITS[..2];
     let mut bus = bring_up(axes, 1000);
     enable(&mut bus, axes, &[true, true]);
-    let rxl = PdoLayout::new(&profile(DriveModel::MrJ5W2GN1).rx_pdo);
-    let txl = PdoLayout::new(&profile(DriveModel::MrJ5W2GN1).tx_pdo);
+    let rxl = PdoLayout::new(&profile(DriveModel::MrJ5W2GN1).pdo.rx);
+    let txl = PdoLayout::new(&profile(DriveModel::MrJ5W2GN1).pdo.tx);
     for _ in 0..50 {
         let tx = txl.decode_tx(bus.tx_image(1)).unwrap();
         let rx = RxPdo {
@@ -374,7 +374,7 @@ fn an_alarm_of_axis_b_or_c_is_an_emergency_of_that_axis() {
     use cellrt_ethercat::emergency::Emergency;
     let mut bus = bring_up(&UNITS, 1000);
     enable(&mut bus, &UNITS, &[true; 5]);
-    let code = profile(DriveModel::MrJ5W2GN1).following_error_alarm;
+    let code = profile(DriveModel::MrJ5W2GN1).limits.following_error_alarm;
     assert!(bus.inject_alarm(1, code));
     assert!(bus.inject_alarm(4, code.wrapping_add(2)));
     run(&mut bus, &UNITS, 1, &[Controlword::ENABLE_OPERATION; 5]);
@@ -417,7 +417,7 @@ fn an_emergency_of_axis_b_met_by_an_sdo_of_axis_a_is_axis_bs() {
     use cellrt_cia402::bus::MailboxNotice;
     use cellrt_ethercat::emergency::Emergency;
     let mut bus = bring_up(&UNITS, 1000);
-    let code = profile(DriveModel::MrJ5W2GN1).following_error_alarm;
+    let code = profile(DriveModel::MrJ5W2GN1).limits.following_error_alarm;
     segment_of(bus.link_mut())
         .and_then(|s| s.station_mut(0))
         .and_then(|st| st.drive_at_mut(1))

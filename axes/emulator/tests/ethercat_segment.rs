@@ -6,8 +6,8 @@ mod mailbox_common;
 
 use cellrt_cia402::pdo::{PdoLayout, RxPdo};
 use cellrt_cia402::{
-    profile, AcyclicBus, Controlword, CycleTime, Cycles, CyclicBus, DriveModel, DriveProfile,
-    FaultInjection, FsaState, ModeOfOperation,
+    profile, AcyclicBus, Controlword, CycleTime, Cycles, CyclicBus, DriveModel, FaultInjection,
+    FsaState, ModeOfOperation, SharedProfile,
 };
 use cellrt_emulator::ethercat::Segment;
 use cellrt_emulator::ethercat::{segment_of, InProcessLink};
@@ -31,12 +31,12 @@ const GENERIC_PRODUCT: u32 = 0xCE11_0402;
 
 /// The profile of `m` as a cell config gives it: the generic CiA 402 model with the identity
 /// the config names (the model has none of its own), the others as they are.
-fn prof(m: DriveModel) -> &'static DriveProfile {
+fn prof(m: DriveModel) -> SharedProfile {
     match m {
-        DriveModel::GenericCia402 => {
-            profile(m).with_identity(Some(GENERIC_VENDOR), Some(GENERIC_PRODUCT))
-        }
-        _ => profile(m),
+        DriveModel::GenericCia402 => SharedProfile::new(
+            profile(m).with_identity(Some(GENERIC_VENDOR), Some(GENERIC_PRODUCT)),
+        ),
+        _ => profile(m).shared(),
     }
 }
 
@@ -58,7 +58,7 @@ fn config(models: &[DriveModel], cycle: CycleTime) -> SegmentConfig {
             .map(|(i, &m)| SegmentDrive {
                 axis: format!("a{i}"),
                 profile: prof(m),
-                identity: ExpectedIdentity::of_profile(prof(m)),
+                identity: ExpectedIdentity::of_profile(&prof(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
                 distributed_clocks: true,
@@ -104,8 +104,8 @@ fn a_segment_of_each_ethercat_model_comes_up_to_op() {
     }
     for (axis, m) in MODELS.iter().enumerate() {
         let p = profile(*m);
-        assert_eq!(bus.rx_image_mut(axis).len(), p.rx_pdo.byte_len());
-        assert_eq!(bus.tx_image(axis).len(), p.tx_pdo.byte_len());
+        assert_eq!(bus.rx_image_mut(axis).len(), p.pdo.rx.byte_len());
+        assert_eq!(bus.tx_image(axis).len(), p.pdo.tx.byte_len());
     }
 }
 
@@ -114,7 +114,7 @@ fn pdo_layouts_read_back_by_sdo_equal_the_profiles() {
     let mut bus = bring_up(&MODELS);
     for (axis, m) in MODELS.iter().enumerate() {
         let p = profile(*m);
-        for map in [&p.rx_pdo, &p.tx_pdo] {
+        for map in [&p.pdo.rx, &p.pdo.tx] {
             let n = bus.sdo_upload(axis, map.index, 0).unwrap();
             assert_eq!(n as usize, map.entries.len(), "{m:?} {:#06x}:00", map.index);
             for (i, e) in map.entries.iter().enumerate() {
@@ -124,11 +124,11 @@ fn pdo_layouts_read_back_by_sdo_equal_the_profiles() {
         }
         assert_eq!(
             bus.sdo_upload(axis, 0x1C12, 1).unwrap() as u16,
-            p.rx_pdo.index
+            p.pdo.rx.index
         );
         assert_eq!(
             bus.sdo_upload(axis, 0x1C13, 1).unwrap() as u16,
-            p.tx_pdo.index
+            p.pdo.tx.index
         );
     }
 }
@@ -146,8 +146,8 @@ fn run(
         .iter()
         .map(|m| {
             (
-                PdoLayout::new(&profile(*m).rx_pdo),
-                PdoLayout::new(&profile(*m).tx_pdo),
+                PdoLayout::new(&profile(*m).pdo.rx),
+                PdoLayout::new(&profile(*m).pdo.tx),
             )
         })
         .collect();
@@ -216,7 +216,12 @@ fn clean_shutdown_leaves_no_alarm_and_a_dirty_one_raises_each_models_leaving_op_
     bus.leave_op().expect("PRE-OP");
     for st in stations(&mut bus).stations() {
         let p = st.drive().profile();
-        assert_eq!(st.drive().alarm(), Some(p.leave_op_alarm), "{}", p.name);
+        assert_eq!(
+            st.drive().alarm(),
+            Some(p.comm.leave_op_alarm),
+            "{}",
+            p.name
+        );
     }
 }
 
@@ -319,18 +324,19 @@ fn a_variable_mapping_is_written_taken_by_the_drive_and_exchanged() {
     ];
     let j5 = profile(DriveModel::MrJ5GN1);
     let j5_tx: Vec<PdoEntry> = j5
-        .tx_pdo
+        .pdo
+        .tx
         .entries
         .iter()
         .copied()
         .filter(|e| matches!(e.index, 0x6041 | 0x6064 | 0x606C | 0x6061))
         .collect();
     let profiles = [
-        j3.with_pdo_maps(&j3_rx, j3.tx_pdo.entries).unwrap(),
-        j5.with_pdo_maps(j5.rx_pdo.entries, &j5_tx).unwrap(),
+        SharedProfile::new(j3.with_pdo_maps(&j3_rx, &j3.pdo.tx.entries).unwrap()),
+        SharedProfile::new(j5.with_pdo_maps(&j5.pdo.rx.entries, &j5_tx).unwrap()),
     ];
     let mut cfg = config(&models, cycle);
-    for (d, p) in cfg.drives.iter_mut().zip(profiles) {
+    for (d, p) in cfg.drives.iter_mut().zip(profiles.clone()) {
         d.profile = p;
         d.mode = ModeOfOperation::CyclicSyncVelocity;
     }
@@ -340,11 +346,11 @@ fn a_variable_mapping_is_written_taken_by_the_drive_and_exchanged() {
     assert_eq!(bus.tx_image(1).len(), 2 + 4 + 4 + 1);
     for (axis, p) in profiles.iter().enumerate() {
         assert_eq!(
-            stations(&mut bus).stations()[axis].drive().profile().rx_pdo,
-            p.rx_pdo,
+            stations(&mut bus).stations()[axis].drive().profile().pdo.rx,
+            p.pdo.rx,
             "axis {axis} runs the written RxPDO"
         );
-        for map in [&p.rx_pdo, &p.tx_pdo] {
+        for map in [&p.pdo.rx, &p.pdo.tx] {
             let n = bus.sdo_upload(axis, map.index, 0).unwrap();
             assert_eq!(n as usize, map.entries.len());
             for (i, e) in map.entries.iter().enumerate() {
@@ -357,7 +363,7 @@ fn a_variable_mapping_is_written_taken_by_the_drive_and_exchanged() {
     // remapped images (60FFh at byte 6 of the J3's 10-byte RxPDO).
     let layouts: Vec<(PdoLayout, PdoLayout)> = profiles
         .iter()
-        .map(|p| (PdoLayout::new(&p.rx_pdo), PdoLayout::new(&p.tx_pdo)))
+        .map(|p| (PdoLayout::new(&p.pdo.rx), PdoLayout::new(&p.pdo.tx)))
         .collect();
     let mut counter = 0u8;
     let mut step = |bus: &mut EthercatBus, cw: Controlword, velocity: i32| {
@@ -489,13 +495,15 @@ fn generic_cia402_drives_come_up_with_the_configured_identity_and_mapping() {
         PdoEntry::object(0x60FD, 0, 32),
         PdoEntry::object(0x603F, 0, 16),
     ];
-    let remapped = prof(DriveModel::GenericCia402)
-        .with_pdo_maps(&rx, &tx)
-        .unwrap();
+    let remapped = SharedProfile::new(
+        prof(DriveModel::GenericCia402)
+            .with_pdo_maps(&rx, &tx)
+            .unwrap(),
+    );
     assert_eq!(remapped.vendor_id(), Some(GENERIC_VENDOR));
     // The config: axis 0 on the default maps, axis 1 remapped, both in csv.
     let mut cfg = config(&models, cycle);
-    cfg.drives[1].profile = remapped;
+    cfg.drives[1].profile = remapped.clone();
     for d in &mut cfg.drives {
         d.mode = ModeOfOperation::CyclicSyncVelocity;
     }
@@ -518,22 +526,22 @@ fn generic_cia402_drives_come_up_with_the_configured_identity_and_mapping() {
         // 6502h: hm, csp, csv, cst.
         assert_eq!(bus.sdo_upload(axis, 0x6502, 0).unwrap(), 0x3A0);
     }
-    assert_eq!(bus.rx_image_mut(0).len(), generic.rx_pdo.byte_len());
+    assert_eq!(bus.rx_image_mut(0).len(), generic.pdo.rx.byte_len());
     assert_eq!(bus.rx_image_mut(1).len(), 2 + 1 + 1 + 4 + 2);
     assert_eq!(bus.tx_image(1).len(), 2 + 1 + 1 + 4 + 4 + 4 + 2);
     assert_eq!(
-        stations(&mut bus).stations()[1].drive().profile().rx_pdo,
-        remapped.rx_pdo,
+        stations(&mut bus).stations()[1].drive().profile().pdo.rx,
+        remapped.pdo.rx,
         "axis 1 runs the written RxPDO"
     );
-    for (i, e) in remapped.tx_pdo.entries.iter().enumerate() {
+    for (i, e) in remapped.pdo.tx.entries.iter().enumerate() {
         let w = bus.sdo_upload(1, 0x1A00, i as u8 + 1).unwrap() as u32;
         assert_eq!(w, e.mapping_word());
     }
     // Enabled and turned in csv through both layouts.
-    let layouts: Vec<(PdoLayout, PdoLayout)> = [prof(DriveModel::GenericCia402), remapped]
+    let layouts: Vec<(PdoLayout, PdoLayout)> = [prof(DriveModel::GenericCia402), remapped.clone()]
         .iter()
-        .map(|p| (PdoLayout::new(&p.rx_pdo), PdoLayout::new(&p.tx_pdo)))
+        .map(|p| (PdoLayout::new(&p.pdo.rx), PdoLayout::new(&p.pdo.tx)))
         .collect();
     let step = |bus: &mut EthercatBus, cw: Controlword, velocity: i32| {
         for (axis, (rxl, _)) in layouts.iter().enumerate() {
@@ -622,7 +630,7 @@ use cellrt_ethercat::register as reg;
 
 /// The alarm `model`'s communication check raises for lost process data.
 fn loss_alarm(model: DriveModel) -> u16 {
-    profile(model).comm_check.loss_alarm()
+    profile(model).comm.check.loss_alarm()
 }
 
 /// The drives' alarms.
@@ -907,7 +915,7 @@ fn an_in_process_segment_excusing_host_stalls_runs_the_drives_on() {
         });
         let layouts: Vec<PdoLayout> = MODELS
             .iter()
-            .map(|m| PdoLayout::new(&profile(*m).rx_pdo))
+            .map(|m| PdoLayout::new(&profile(*m).pdo.rx))
             .collect();
         for k in 0..40 {
             counter = counter.wrapping_add(1);
@@ -1019,9 +1027,9 @@ fn an_alarm_in_op_is_an_emergency_of_its_axis_and_sdo_reads_still_work() {
         mailbox_common::no_notice_within(&mut bus, 5),
         "no alarm, no notice"
     );
-    let code = profile(DriveModel::MrJ4TM).following_error_alarm;
+    let code = profile(DriveModel::MrJ4TM).limits.following_error_alarm;
     assert!(bus.inject_alarm(1, code));
-    assert!(bus.inject_alarm(0, profile(DriveModel::MrJ3T04).following_error_alarm));
+    assert!(bus.inject_alarm(0, profile(DriveModel::MrJ3T04).limits.following_error_alarm));
     assert!(exchanges(&mut bus, 1)[0].is_ok());
     assert_eq!(
         mailbox_common::await_notices(&mut bus, 1).pop(),
@@ -1076,7 +1084,7 @@ fn an_emergency_where_the_sdo_response_should_be_is_recorded_and_the_sdo_repeate
             .expect("station")
             .drive_mut()
     }
-    let code = profile(DriveModel::MrJ5GN1).following_error_alarm;
+    let code = profile(DriveModel::MrJ5GN1).limits.following_error_alarm;
     drive(&mut bus, 1).inject_alarm(code);
     assert_eq!(bus.sdo_upload(1, 0x603F, 0), Ok(i64::from(code)));
     match bus.take_mailbox_notice() {
@@ -1095,7 +1103,7 @@ fn an_emergency_where_the_sdo_response_should_be_is_recorded_and_the_sdo_repeate
         }),
         "the first request's SDO response (CoE, service 3) is read and discarded"
     );
-    let code = profile(DriveModel::MrJ4TM).following_error_alarm;
+    let code = profile(DriveModel::MrJ4TM).limits.following_error_alarm;
     drive(&mut bus, 0).inject_alarm(code);
     // 6085h Quick stop deceleration: the repeated download is the one that takes effect.
     let decel: u32 = 123_456;

@@ -92,7 +92,7 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
             .enumerate()
             .map(|(i, &m)| SegmentDrive {
                 axis: format!("a{i}"),
-                profile: profile(m),
+                profile: profile(m).into(),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,

@@ -37,7 +37,7 @@ fn steady_state_cycle_is_allocation_free() {
             bus.drive_mut(1).inject_alarm(0x0123);
         }
         for (axis, m) in masters.iter_mut().enumerate() {
-            let tx = p.tx_pdo.decode_tx(bus.tx_image(axis)).unwrap();
+            let tx = p.pdo.tx.decode_tx(bus.tx_image(axis)).unwrap();
             let cw = m.update(tx.statusword);
             let rx = RxPdo {
                 mode: 8,
@@ -49,7 +49,7 @@ fn steady_state_cycle_is_allocation_free() {
                 },
                 ..RxPdo::default()
             };
-            p.rx_pdo.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+            p.pdo.rx.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
         }
         bus.exchange(Cycles(1)).unwrap();
     }
@@ -78,6 +78,7 @@ fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
     for m in &mut masters {
         m.request(MasterRequest::Enable);
     }
+    let profiles: Vec<_> = (0..n).map(|a| bus.drive(a).profile().clone()).collect();
     let before = thread_heap_calls();
     for k in 0..10_000i32 {
         match k {
@@ -90,9 +91,9 @@ fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
             _ => {}
         }
         for axis in 0..n {
-            let p = bus.drive(axis).profile();
-            let tx = p.tx_pdo.decode_tx(bus.tx_image(axis)).unwrap();
-            let _ = counters[axis].check_rx(tx.counter);
+            let p = &profiles[axis];
+            let tx = p.pdo.tx.decode_tx(bus.tx_image(axis)).unwrap();
+            let _ = counters[axis].check_rx(p.comm.check.tx_counter(&tx));
             let m = &mut masters[axis];
             let cw = m.update(tx.statusword);
             let rx = RxPdo {
@@ -106,7 +107,7 @@ fn every_model_on_one_bus_with_counter_and_injections_is_allocation_free() {
                 counter: counters[axis].next_tx(),
                 ..RxPdo::default()
             };
-            p.rx_pdo.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+            p.pdo.rx.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
         }
         bus.exchange(Cycles(1)).unwrap();
     }
@@ -136,7 +137,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
             .iter()
             .map(|&m| SegmentDrive {
                 axis: m.as_str().into(),
-                profile: profile(m),
+                profile: profile(m).into(),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: None,
@@ -148,7 +149,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
     let mut bus = EthercatBus::bring_up(config, Box::new(InProcessLink::new(segment))).unwrap();
     let layouts: Vec<_> = models
         .iter()
-        .map(|&m| cellrt_cia402::pdo::PdoLayout::new(&profile(m).rx_pdo))
+        .map(|&m| cellrt_cia402::pdo::PdoLayout::new(&profile(m).pdo.rx))
         .collect();
     bus.exchange(Cycles(1)).unwrap();
     let before = thread_heap_calls();
@@ -232,7 +233,7 @@ fn the_ethercat_cyclic_exchange_of_a_multi_axis_station_is_allocation_free() {
             .enumerate()
             .map(|(i, &(m, slot))| SegmentDrive {
                 axis: format!("a{i}"),
-                profile: profile(m),
+                profile: profile(m).into(),
                 identity: ExpectedIdentity::of_profile(profile(m)),
                 mode: ModeOfOperation::CyclicSyncPosition,
                 amplifier: slot.map(|slot| AmplifierSlot {
@@ -261,8 +262,8 @@ fn the_ethercat_cyclic_exchange_of_a_multi_axis_station_is_allocation_free() {
         .iter()
         .map(|&(m, _)| {
             (
-                cellrt_cia402::pdo::PdoLayout::new(&profile(m).rx_pdo),
-                cellrt_cia402::pdo::PdoLayout::new(&profile(m).tx_pdo),
+                cellrt_cia402::pdo::PdoLayout::new(&profile(m).pdo.rx),
+                cellrt_cia402::pdo::PdoLayout::new(&profile(m).pdo.tx),
             )
         })
         .collect();

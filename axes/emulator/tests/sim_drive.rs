@@ -220,7 +220,7 @@ fn determinism_over_10k_cycles() {
     let mut b = j5(SimDriveParams::default());
     let mut rxb = [0u8; 24];
     let (mut ta, mut tb) = ([0u8; 24], [0u8; 24]);
-    let p = a.profile();
+    let p = a.profile().clone();
     let mut seed = 0x1234_5678u32;
     for k in 0..10_000i32 {
         seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
@@ -234,7 +234,7 @@ fn determinism_over_10k_cycles() {
         };
         let target = (k % 2000) * 700 + (seed % 50) as i32;
         let rx = csp(Controlword(cw), target);
-        p.rx_pdo.encode_rx(&rx, &mut rxb).unwrap();
+        p.pdo.rx.encode_rx(&rx, &mut rxb).unwrap();
         a.cycle(&rxb, &mut ta, Cycles(1)).unwrap();
         b.cycle(&rxb, &mut tb, Cycles(1)).unwrap();
         assert_eq!(ta, tb, "cycle {k}");
@@ -265,7 +265,7 @@ fn sim_bus_exchanges_every_axis() {
     assert_eq!(bus.rx_image_mut(0).len(), 24);
     assert_eq!(bus.tx_image(1).len(), 24);
     assert!(bus.rx_image_mut(7).is_empty());
-    let map = bus.drive(0).profile().rx_pdo;
+    let map = bus.drive(0).profile().pdo.rx.clone();
     for _ in 0..3 {
         map.encode_rx(&csp(Controlword(0), 0), bus.rx_image_mut(0))
             .unwrap();
@@ -281,7 +281,8 @@ fn sim_bus_exchanges_every_axis() {
     let tx = bus
         .drive(1)
         .profile()
-        .tx_pdo
+        .pdo
+        .tx
         .decode_tx(bus.tx_image(1))
         .unwrap();
     assert_eq!(tx.statusword.state(), Some(FsaState::OperationEnabled));

@@ -8,7 +8,7 @@ mod common;
 use cellrt_cia402::profiles::status_do::{StatusDo, StatusDoSignal as S};
 use cellrt_cia402::{Controlword, DriveModel, RxPdo};
 use cellrt_emulator::{SimDrive, SimDriveParams};
-use common::{csp, drive, enabled, exchange, next_counter, send};
+use common::{csp, drive, enabled, exchange, next_counter, send, VendorObjects};
 
 const MODELS: [DriveModel; 3] = [
     DriveModel::MrJ4TM,
@@ -25,7 +25,7 @@ fn csp_cycle(d: &mut SimDrive, target: i32) -> StatusDo {
         counter: next_counter(),
         ..csp(Controlword(0x000F), target)
     };
-    exchange(d, &rx).status_do
+    exchange(d, &rx).status_do()
 }
 
 #[test]
@@ -35,7 +35,7 @@ fn servo_on_at_rest_moving_and_off() {
         send(&mut d, 0);
         send(&mut d, 0);
         send(&mut d, 0);
-        let off = exchange(&mut d, &csp(Controlword(0), 0)).status_do;
+        let off = exchange(&mut d, &csp(Controlword(0), 0)).status_do();
         assert_eq!(on(off), ["S_ZSP"], "{model}: servo off at rest");
         enabled(&mut d);
         let pos = d.tx_pdo().position_actual;
@@ -76,7 +76,7 @@ fn servo_on_at_rest_moving_and_off() {
 fn a_model_without_status_do_in_its_txpdo_sends_none() {
     let mut d = drive(DriveModel::MrJ3T04, 1000, SimDriveParams::default());
     enabled(&mut d);
-    assert_eq!(d.tx_pdo().status_do, StatusDo::default());
+    assert_eq!(d.tx_pdo().status_do(), StatusDo::default());
 }
 
 /// Statusword bit 13 in csp: set once the droop has stayed at or above the window for the time

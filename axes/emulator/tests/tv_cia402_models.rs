@@ -211,7 +211,7 @@ fn tv_fault_reset(model: DriveModel, expect: &[(u32, u32)]) {
         assert!(m.is_enabled(), "{model} {us} µs");
     }
     // A non-resettable alarm stays in Fault.
-    if let Some(a) = p.alarms.iter().find(|a| !a.resettable()) {
+    if let Some(a) = p.faults.alarms.iter().find(|a| !a.resettable()) {
         let mut d = d(model);
         enabled(&mut d);
         d.inject_alarm(a.code);
@@ -284,7 +284,7 @@ fn tv_6_csp_start_mr_j4_tm() {
         ..RxPdo::default()
     };
     let mut b = [0u8; 29];
-    p.rx_pdo.encode_rx(&rx, &mut b).unwrap();
+    p.pdo.rx.encode_rx(&rx, &mut b).unwrap();
     assert_eq!(b[0], 0x08);
     assert_eq!(&b[1..3], &[0, 0]);
     assert_eq!(&b[9..13], &pos.to_le_bytes());
@@ -423,7 +423,8 @@ fn tv_2_enable_axis_b_on_mr_j5w2() {
             } else {
                 0
             };
-            p.rx_pdo
+            p.pdo
+                .rx
                 .encode_rx(&csp(Controlword(cw), 0), bus.rx_image_mut(axis))
                 .unwrap();
         }
@@ -451,8 +452,8 @@ fn tv_6_cycle_time_limits_mr_j5() {
 fn tv_7_pdo_size_mr_j5w3() {
     // 1600h + 1610h + 1620h = 72 bytes ≤ 120 at 0.25 ms.
     let p = profile(DriveModel::MrJ5W3GN1);
-    assert_eq!(p.rx_pdo.byte_len() * usize::from(p.axes_per_unit), 72);
-    assert_eq!(p.tx_pdo.byte_len() * usize::from(p.axes_per_unit), 72);
+    assert_eq!(p.pdo.rx.byte_len() * usize::from(p.axes_per_unit), 72);
+    assert_eq!(p.pdo.tx.byte_len() * usize::from(p.axes_per_unit), 72);
 }
 
 #[test]
@@ -511,7 +512,7 @@ fn watchdog_counter_provisional_default_mr_j4_tm() {
     // §8.3: 2D23h/2D24h are not in the default maps; the sim counts lost frames like the
     // sync-error counter and raises AL. 86.1 (provisional, configurable).
     disconnect(DriveModel::MrJ4TM, mr_j4_tm::AL_86_1);
-    assert!(!profile(DriveModel::MrJ4TM).rx_pdo.has_counter());
+    assert!(!profile(DriveModel::MrJ4TM).pdo.rx.has_counter());
 }
 
 #[test]
@@ -942,8 +943,8 @@ fn run_into_following_error(model: DriveModel) -> SimDrive {
 #[test]
 fn generic_cia402_following_error_and_overspeed_are_cia402_codes() {
     let p = profile(DriveModel::GenericCia402);
-    assert_eq!(p.following_error_alarm, 0x8611);
-    assert_eq!(p.overspeed_alarm, 0x8400);
+    assert_eq!(p.limits.following_error_alarm, 0x8611);
+    assert_eq!(p.limits.overspeed_alarm, 0x8400);
     let d = run_into_following_error(DriveModel::GenericCia402);
     assert_eq!(d.alarm(), Some(0x8611));
     assert_eq!(d.tx_pdo().error_code, 0x8611, "603Fh in the default TxPDO");

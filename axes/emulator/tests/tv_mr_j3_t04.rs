@@ -6,6 +6,7 @@ mod common;
 use cellrt_cia402::profiles::mr_j3_t04::{
     AL_34, AL_35, AL_36, AL_37, AL_61, AL_90, AL_99, AL_E6, AL_E9, MASTER_COUNTER_CHECK,
 };
+use cellrt_cia402::SharedSlice;
 use cellrt_cia402::{
     profile, AxisMaster, Controlword, CounterParams, CounterVerdict, Cycles, CyclicBus, DriveModel,
     FaultInjection, FsaState, IncrementalCounter, MasterRequest, MasterState, PdoEntry, PdoMap,
@@ -13,7 +14,9 @@ use cellrt_cia402::{
 };
 use cellrt_emulator::sim::drive::InternalTorqueLimits;
 use cellrt_emulator::{CommParams, SimBus, SimDrive, SimDriveParams};
-use common::{boot, csp, drive, enabled, exchange, lost, masked, move_csp, next_counter, send};
+use common::{
+    boot, csp, drive, enabled, exchange, lost, masked, move_csp, next_counter, send, VendorObjects,
+};
 
 fn j3(params: SimDriveParams) -> SimDrive {
     drive(DriveModel::MrJ3T04, 1000, params)
@@ -194,7 +197,7 @@ fn tv_ic_1_normal_echo_and_wrap() {
     let sent = [253u8, 254, 255, 0, 1, 2];
     let mut echoes = Vec::new();
     for c in sent {
-        echoes.push(xc(&mut d, 0x0F, c).counter);
+        echoes.push(xc(&mut d, 0x0F, c).echo());
     }
     assert_eq!(&echoes[1..], &[254, 255, 0, 1, 2]);
     // With L = 0 the echo answers the same exchange.
@@ -206,15 +209,15 @@ fn tv_ic_1_normal_echo_and_wrap() {
         ..SimDriveParams::default()
     });
     enabled(&mut d0);
-    let e: Vec<u8> = sent.iter().map(|&c| xc(&mut d0, 0x0F, c).counter).collect();
+    let e: Vec<u8> = sent.iter().map(|&c| xc(&mut d0, 0x0F, c).echo()).collect();
     assert_eq!(e, [254, 255, 0, 1, 2, 3]);
     // Master and drive together through the bus: never an error, across the wrap.
     let mut bus = SimBus::new(vec![j3(po03(0x0001))]);
-    let p = bus.drive(0).profile();
+    let p = bus.drive(0).profile().clone();
     let mut ctr = IncrementalCounter::new(MASTER_COUNTER_CHECK, 250);
     for k in 0..600 {
-        let tx = p.tx_pdo.decode_tx(bus.tx_image(0)).unwrap();
-        let v = ctr.check_rx(tx.counter);
+        let tx = p.pdo.tx.decode_tx(bus.tx_image(0)).unwrap();
+        let v = ctr.check_rx(tx.echo());
         assert!(
             matches!(v, CounterVerdict::Ok | CounterVerdict::Warmup),
             "{k}: {v:?}"
@@ -223,7 +226,7 @@ fn tv_ic_1_normal_echo_and_wrap() {
             counter: ctr.next_tx(),
             ..csp(Controlword(0), tx.position_actual)
         };
-        p.rx_pdo.encode_rx(&rx, bus.rx_image_mut(0)).unwrap();
+        p.pdo.rx.encode_rx(&rx, bus.rx_image_mut(0)).unwrap();
         bus.exchange(Cycles(1)).unwrap();
     }
     assert_eq!(bus.drive(0).alarm(), None);
@@ -238,11 +241,11 @@ fn tv_ic_2_one_lost_rx_frame() {
         while next_counter() != 8 {}
         xc(&mut d, 0x0F, 9);
         // Drive cycles 1..4 of the table (L = 0 columns are one cycle earlier with L = 1).
-        let t1 = xc(&mut d, 0x0F, 10).counter;
-        let t2 = lost(&mut d).counter;
-        let t3 = xc(&mut d, 0x0F, 12).counter;
-        let t4 = xc(&mut d, 0x0F, 13).counter;
-        let t5 = xc(&mut d, 0x0F, 14).counter;
+        let t1 = xc(&mut d, 0x0F, 10).echo();
+        let t2 = lost(&mut d).echo();
+        let t3 = xc(&mut d, 0x0F, 12).echo();
+        let t4 = xc(&mut d, 0x0F, 13).echo();
+        let t5 = xc(&mut d, 0x0F, 14).echo();
         // L = 1: each echo is the previous cycle's last good + 1.
         assert_eq!([t1, t2, t3, t4, t5], [10, 11, 11, 13, 14], "PO03 {po:#06x}");
         // One counter error and one lost frame stay below every (placeholder) threshold.
@@ -284,7 +287,7 @@ fn tv_ic_3_master_stops_incrementing() {
                 at = Some(k);
             }
             if k > 1 && at.is_none() {
-                assert_eq!(tx.counter, stale.wrapping_add(1), "constant echo");
+                assert_eq!(tx.echo(), stale.wrapping_add(1), "constant echo");
             }
         }
         assert_eq!(at, alarm_at, "PO03 {po:#06x}");
@@ -313,7 +316,7 @@ fn tv_ic_4_continuous_rx_loss() {
         xc(&mut d, 0x0F, 41);
         let mut echoes = Vec::new();
         for k in 1..=n {
-            echoes.push(lost(&mut d).counter);
+            echoes.push(lost(&mut d).echo());
             if k < n {
                 assert_eq!(d.alarm(), None, "{us} µs: cycle {k}");
             }
@@ -334,7 +337,7 @@ fn tv_ic_4_continuous_rx_loss() {
 #[test]
 fn tv_ic_5_only_the_three_cycle_times() {
     let p = profile(DriveModel::MrJ3T04);
-    assert_eq!(p.cycle_times_us, &[500, 1000, 2000]);
+    assert_eq!(p.cycle.cycle_times_us, &[500, 1000, 2000]);
     assert_eq!(
         p.object(0x1C32, 2).and_then(|o| o.range),
         Some((500_000, 2_000_000))
@@ -409,13 +412,13 @@ fn tv_pdo_1_csv_only_remap_layout() {
     // 1614h := 20200008h, 00000008h (gap), 60400010h, 20010010h, 60FF0020h → 10 bytes.
     const CSV: PdoMap = PdoMap {
         index: 0x1614,
-        entries: &[
+        entries: SharedSlice::Static(&[
             PdoEntry::object(0x2020, 0, 8),
             PdoEntry::padding(8),
             PdoEntry::object(0x6040, 0, 16),
             PdoEntry::object(0x2001, 0, 16),
             PdoEntry::object(0x60FF, 0, 32),
-        ],
+        ]),
     };
     let words: Vec<u32> = CSV.entries.iter().map(|e| e.mapping_word()).collect();
     assert_eq!(
@@ -541,18 +544,18 @@ fn master_quick_stop_substitute_never_sends_quick_stop() {
 #[test]
 fn bus_injections_reach_the_drive() {
     let mut bus = SimBus::new(vec![j3(po03(0x0001))]);
-    let p = bus.drive(0).profile();
+    let p = bus.drive(0).profile().clone();
     assert!(bus.inject_counter_corruption(0, 3));
     assert!(!bus.inject_rx_loss(5, 1));
     let mut c = 0u8;
     for _ in 0..10 {
-        let tx = p.tx_pdo.decode_tx(bus.tx_image(0)).unwrap();
+        let tx = p.pdo.tx.decode_tx(bus.tx_image(0)).unwrap();
         c = c.wrapping_add(1);
         let rx = RxPdo {
             counter: c,
             ..csp(Controlword(0), tx.position_actual)
         };
-        p.rx_pdo.encode_rx(&rx, bus.rx_image_mut(0)).unwrap();
+        p.pdo.rx.encode_rx(&rx, bus.rx_image_mut(0)).unwrap();
         bus.exchange(Cycles(1)).unwrap();
     }
     assert_eq!(bus.drive(0).alarm(), Some(AL_34));
@@ -777,16 +780,16 @@ fn tv_home_1_c_cr_sets_home_at_the_current_position_in_csp() {
     });
     enabled(&mut d);
     let tx = cw2_cycle(&mut d, 10_000, 0);
-    assert_eq!(tx.statusword2 & S_OSET, 0);
+    assert_eq!(tx.statusword2() & S_OSET, 0);
     // C_CR 0→1 at standstill: 607Ch = −10000, S_OSET = 1; 6064h stays raw.
     let tx = cw2_cycle(&mut d, 10_000, C_CR);
     assert_eq!(d.sdo_upload(0x607C, 0), Ok(-10_000));
-    assert_eq!(tx.statusword2 & S_OSET, S_OSET);
+    assert_eq!(tx.statusword2() & S_OSET, S_OSET);
     assert_eq!(tx.position_actual, 10_000);
     // Holding the bit changes nothing more; dropping it clears S_OSET (no edge, no change).
     cw2_cycle(&mut d, 10_000, C_CR);
     let tx = cw2_cycle(&mut d, 10_000, 0);
-    assert_eq!(tx.statusword2 & S_OSET, 0);
+    assert_eq!(tx.statusword2() & S_OSET, 0);
     assert_eq!(d.home_offset(), -10_000);
     // User point B = 5000 is sent as 607Ah = 15000; 6064h then reads raw 15000.
     let target = 5000 - d.home_offset();
@@ -813,7 +816,7 @@ fn tv_home_1_c_cr2_needs_the_z_phase_and_wins_over_c_cr() {
     enabled(&mut d);
     // After power-up S_ZPAS = 0: C_CR2 0→1 → AL.96 warning, home not changed.
     let tx = cw2_cycle(&mut d, 261_000, C_CR2);
-    assert_eq!(tx.statusword2 & (S_ZPAS | S_OSET), 0);
+    assert_eq!(tx.statusword2() & (S_ZPAS | S_OSET), 0);
     assert_eq!(d.warning(), Some(0x0096));
     assert!(tx.statusword.0 & (1 << 7) != 0, "statusword bit 7: warning");
     assert_eq!(d.home_offset(), 0);
@@ -827,11 +830,11 @@ fn tv_home_1_c_cr2_needs_the_z_phase_and_wins_over_c_cr() {
         cw2_cycle(&mut d, 263_000, 0);
     }
     let tx = cw2_cycle(&mut d, 263_000, 0);
-    assert_eq!(tx.statusword2 & S_ZPAS, S_ZPAS);
+    assert_eq!(tx.statusword2() & S_ZPAS, S_ZPAS);
     // C_CR and C_CR2 rise together: C_CR2 wins, 607Ch = −(last Z) = −262100.
     let tx = cw2_cycle(&mut d, 263_000, C_CR | C_CR2);
     assert_eq!(d.sdo_upload(0x607C, 0), Ok(-262_100));
-    assert_eq!(tx.statusword2 & S_OSET, S_OSET);
+    assert_eq!(tx.statusword2() & S_OSET, S_OSET);
     // At different times the later edge wins: C_CR now sets the current position.
     let tx = cw2_cycle(&mut d, 263_000, C_CR2);
     assert_eq!(d.home_offset(), -262_100);
@@ -873,7 +876,7 @@ fn c_cr_is_not_acted_on_in_hm() {
     };
     let tx = exchange(&mut d, &rx);
     assert_eq!(d.home_offset(), 0);
-    assert_eq!(tx.statusword2 & S_OSET, 0);
+    assert_eq!(tx.statusword2() & S_OSET, 0);
 }
 
 /// One csv cycle with 60FFh = `v` (counter incrementing, controlword Enable operation).

@@ -75,7 +75,7 @@ fn tv_units_1_velocity_truncation_clamp_and_torque_mr_j3_t04() {
     );
     // 60E0h = 1000 → 100.0 % of rated torque (selected by C_TL, §9.4).
     let TorqueLimitSelection::Controlword2 { c_tl_bit, .. } =
-        profile(DriveModel::MrJ3T04).torque_limit_selection
+        profile(DriveModel::MrJ3T04).limits.torque_limit_selection
     else {
         panic!("MR-J3-T04 selects its torque limits by Controlword2");
     };

@@ -1,11 +1,9 @@
 //! The EtherCAT identity (1018h) of each drive model: what the emulator presents and what the
 //! master expects, with the manuals' gaps made explicit.
 
-use cellrt_cia402::profiles::{DriveModel, DriveProfile};
+use cellrt_cia402::profiles::{profile, DriveModel, DriveProfile};
 
-/// Mitsubishi Electric's EtherCAT vendor ID (MR-J3-T04 manual §8.1(4), §1.4.1(3), manual §8.1(4): "A1Eh";
-/// MR-J4-TM manual [EXT] gives the same value).
-pub const MITSUBISHI_VENDOR_ID: u32 = 0x0000_0A1E;
+pub use cellrt_cia402::profiles::MITSUBISHI_VENDOR_ID;
 
 /// The vendor ID presented by the emulator, and expected by the master, for a generic CiA 402
 /// drive whose cell config gives no identity (a sim cell, a test): 0, which ETG assigns to no
@@ -15,19 +13,11 @@ pub const UNCONFIGURED_VENDOR_ID: u32 = 0;
 /// The product code presented for a generic CiA 402 drive without a configured identity.
 pub const UNCONFIGURED_PRODUCT_CODE: u32 = 0;
 
-/// The vendor ID of `model`'s maker where the profile's source does not give it (Mitsubishi
-/// for its models); `None` for the generic CiA 402 model, which has no maker: its identity
-/// comes from the cell config.
-pub const fn maker_vendor_id(model: DriveModel) -> Option<u32> {
-    match model {
-        DriveModel::MrJ3T04
-        | DriveModel::MrJ4TM
-        | DriveModel::MrJetGN1
-        | DriveModel::MrJ5GN1
-        | DriveModel::MrJ5W2GN1
-        | DriveModel::MrJ5W3GN1 => Some(MITSUBISHI_VENDOR_ID),
-        DriveModel::GenericCia402 => None,
-    }
+/// The vendor ID of `model`'s maker where the profile's source does not give it (its
+/// profile's [`cellrt_cia402::profiles::Identity::maker_vendor_id`]); `None` for the generic
+/// CiA 402 model, which has no maker: its identity comes from the cell config.
+pub fn maker_vendor_id(model: DriveModel) -> Option<u32> {
+    profile(model).identity.maker_vendor_id
 }
 
 /// The vendor ID a profile presents and expects: its own, else its maker's, else
@@ -35,7 +25,7 @@ pub const fn maker_vendor_id(model: DriveModel) -> Option<u32> {
 const fn vendor_of(profile: &DriveProfile) -> u32 {
     match profile.vendor_id() {
         Some(v) => v,
-        None => match maker_vendor_id(profile.model) {
+        None => match profile.identity.maker_vendor_id {
             Some(v) => v,
             None => UNCONFIGURED_VENDOR_ID,
         },
@@ -56,18 +46,10 @@ pub struct SubDeviceIdentity {
 }
 
 /// The product code the emulator presents for a model whose manual gives none — a named
-/// placeholder, not Mitsubishi's value (no ESI file was available to cellrt). MR-J4-TM
-/// uses the [EXT] value of MR-J4-TM manual (0x201, unverified).
-pub const fn emulator_product_code(model: DriveModel) -> u32 {
-    match model {
-        DriveModel::MrJ3T04 => 0x0000_0102,
-        DriveModel::MrJ4TM => 0x0000_0201,
-        DriveModel::MrJetGN1 => 0xCE11_0301,
-        DriveModel::MrJ5GN1 => 0xCE11_0501,
-        DriveModel::MrJ5W2GN1 => 0xCE11_0502,
-        DriveModel::MrJ5W3GN1 => 0xCE11_0503,
-        DriveModel::GenericCia402 => UNCONFIGURED_PRODUCT_CODE,
-    }
+/// placeholder, not Mitsubishi's value (no ESI file was available to cellrt): its profile's
+/// [`cellrt_cia402::profiles::Identity::emulator_product_code`].
+pub fn emulator_product_code(model: DriveModel) -> u32 {
+    profile(model).identity.emulator_product_code
 }
 
 impl SubDeviceIdentity {
@@ -80,7 +62,7 @@ impl SubDeviceIdentity {
             vendor_id: vendor_of(profile),
             product_code: profile
                 .product_code()
-                .unwrap_or(emulator_product_code(profile.model)),
+                .unwrap_or(profile.identity.emulator_product_code),
             revision: profile.identity.revision.unwrap_or(0),
             serial: 0,
         }
@@ -116,7 +98,6 @@ impl ExpectedIdentity {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cellrt_cia402::profiles::profile;
 
     #[test]
     fn the_emulated_identity_satisfies_the_expectation_of_every_model() {
@@ -148,9 +129,9 @@ mod tests {
     fn a_configured_identity_is_presented_and_expected() {
         let g =
             profile(DriveModel::GenericCia402).with_identity(Some(0xCE11_0000), Some(0x0002_0001));
-        let id = SubDeviceIdentity::of_profile(g);
+        let id = SubDeviceIdentity::of_profile(&g);
         assert_eq!((id.vendor_id, id.product_code), (0xCE11_0000, 0x0002_0001));
-        let expect = ExpectedIdentity::of_profile(g);
+        let expect = ExpectedIdentity::of_profile(&g);
         assert!(expect.matches(&id));
         assert_eq!(expect.product_code, Some(0x0002_0001));
         // Another vendor's drive, or another product, does not satisfy it.
@@ -160,21 +141,16 @@ mod tests {
             product_code: 0x0002_0002,
             ..id
         }));
-        // Built once.
-        assert!(std::ptr::eq(
-            g,
-            profile(DriveModel::GenericCia402).with_identity(Some(0xCE11_0000), Some(0x0002_0001))
-        ));
         // A Mitsubishi model keeps its maker's vendor when only the product is given.
         let jet = profile(DriveModel::MrJetGN1).with_identity(None, Some(0x1234));
-        let id = SubDeviceIdentity::of_profile(jet);
+        let id = SubDeviceIdentity::of_profile(&jet);
         assert_eq!(
             (id.vendor_id, id.product_code),
             (MITSUBISHI_VENDOR_ID, 0x1234)
         );
-        assert!(std::ptr::eq(
+        assert_eq!(
             profile(DriveModel::MrJ3T04).with_identity(None, None),
-            profile(DriveModel::MrJ3T04)
-        ));
+            *profile(DriveModel::MrJ3T04)
+        );
     }
 }

@@ -38,8 +38,8 @@ fn the_esi_gives_identity_and_modes() {
     assert_eq!(a.ethercat_identity.product_code, Some(0xCE11_0403));
     assert_eq!(a.profile.identity.revision, Some(0x0001_0000));
     assert_eq!(
-        a.profile.modes,
-        &[M::Homing, M::CyclicSyncPosition, M::CyclicSyncVelocity]
+        *a.profile.cycle.modes,
+        [M::Homing, M::CyclicSyncPosition, M::CyclicSyncVelocity]
     );
 }
 

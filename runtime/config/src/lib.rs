@@ -34,7 +34,7 @@ pub use profile_axis::{ProfileMode, ProfileObjects};
 use std::path::{Path, PathBuf};
 
 use cellrt_cia402::mode::ModeOfOperation;
-use cellrt_cia402::profiles::{DriveModel, DriveProfile};
+use cellrt_cia402::profiles::{DriveModel, SharedProfile};
 use cellrt_cia402::{CycleTime, Cycles};
 use cellrt_emulator::ethercat::ScheduledFault;
 use cellrt_trajectory::limits::{KinematicLimits, PositionRange};
@@ -354,7 +354,7 @@ pub struct AxisConfig {
     /// Drive model and its profile.
     pub drive: DriveModel,
     /// The drive's profile (modes, cycle times, PDO maps).
-    pub profile: &'static DriveProfile,
+    pub profile: SharedProfile,
     /// Transport to the drive.
     pub transport: Transport,
     /// What the drive's 1018h must show on EtherCAT (the model's identity unless

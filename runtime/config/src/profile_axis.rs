@@ -90,7 +90,7 @@ impl ProfileObjects {
 
     /// The plan for `mode` on `profile`'s RxPDO.
     pub fn of_profile(mode: ProfileMode, profile: &DriveProfile) -> ProfileObjects {
-        ProfileObjects::new(mode, &profile.rx_pdo)
+        ProfileObjects::new(mode, &profile.pdo.rx)
     }
 
     /// Whether `index` (one of the mode's profile objects) is in the RxPDO.
@@ -169,8 +169,8 @@ pub fn pp_switch(a: &super::AxisConfig) -> Result<ProfileObjects, PpSwitchError>
             modes: a.profile.modes_text(),
         });
     }
-    if !(a.profile.rx_pdo.maps(MODES_OF_OPERATION)
-        && a.profile.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY))
+    if !(a.profile.pdo.rx.maps(MODES_OF_OPERATION)
+        && a.profile.pdo.tx.maps(MODES_OF_OPERATION_DISPLAY))
     {
         return Err(PpSwitchError::NoModeObjects {
             axis: axis(),
@@ -182,7 +182,10 @@ pub fn pp_switch(a: &super::AxisConfig) -> Result<ProfileObjects, PpSwitchError>
     if time_constants && a.rated_speed.is_none() {
         return Err(PpSwitchError::NoRatedSpeed { axis: axis() });
     }
-    Ok(ProfileObjects::of_profile(ProfileMode::Position, a.profile))
+    Ok(ProfileObjects::of_profile(
+        ProfileMode::Position,
+        &a.profile,
+    ))
 }
 
 /// `motor.rated_speed` of a profile axis as counts/s: required where the mode ramps on the
@@ -355,7 +358,7 @@ limits = {{ position = [0.0, 100.0], velocity = 100.0, acceleration = 1000.0, je
         ] {
             let p = ProfileObjects::of_profile(mode, j4);
             assert!(by_sdo(&p).is_empty(), "{mode:?}");
-            assert!(j4.rx_pdo.maps(mode.target()), "{mode:?}");
+            assert!(j4.pdo.rx.maps(mode.target()), "{mode:?}");
         }
         // MR-JET / MR-J5 1600h: the targets are mapped, the profile objects go by SDO.
         for model in [DriveModel::MrJetGN1, DriveModel::MrJ5GN1] {

@@ -318,12 +318,14 @@ fn a_pdo_mapping_from_the_config_is_checked_and_runs_in_the_axis_profile() {
     };
     let c = parse(&ethercat_text()).expect("the example cell's csp-only RxPDO of the MR-J3-T04");
     let x = &c.axes.on_loop()[0].profile;
-    assert_eq!(x.rx_pdo.byte_len(), 10);
-    assert_eq!(x.rx_pdo.offset_of(0x607A, 0), Some(6));
-    assert_eq!(x.rx_pdo.index, 0x1614);
+    assert_eq!(x.pdo.rx.byte_len(), 10);
+    assert_eq!(x.pdo.rx.offset_of(0x607A, 0), Some(6));
+    assert_eq!(x.pdo.rx.index, 0x1614);
     assert_eq!(
-        x.tx_pdo,
-        cellrt_cia402::profile(cellrt_cia402::DriveModel::MrJ3T04).tx_pdo
+        x.pdo.tx,
+        cellrt_cia402::profile(cellrt_cia402::DriveModel::MrJ3T04)
+            .pdo
+            .tx
     );
     assert!(!x.default_mapping() && c.axes.on_loop()[1].profile.default_mapping());
     for (pdo, key, reason) in [
@@ -367,21 +369,23 @@ fn the_generic_cia402_cell_is_valid_and_carries_its_identity() {
         assert_eq!(a.transport, Transport::Ethercat);
         assert_eq!(a.ethercat_identity.vendor_id, 0xCE11_0000);
         assert_eq!(a.ethercat_identity.product_code, Some(0xCE11_0402));
-        let presented = SubDeviceIdentity::of_profile(a.profile);
+        let presented = SubDeviceIdentity::of_profile(&a.profile);
         assert!(a.ethercat_identity.matches(&presented), "{}", a.name);
         assert_eq!(presented.vendor_id, 0xCE11_0000);
     }
     let (x, y) = (&c.axes.on_loop()[0], &c.axes.on_loop()[1]);
     assert_eq!(x.mode, ModeOfOperation::CyclicSyncPosition);
-    assert_eq!(x.profile.rx_pdo.index, 0x1600);
-    assert_eq!(x.profile.rx_pdo.byte_len(), 8);
-    assert_eq!(x.profile.rx_pdo.offset_of(0x607A, 0), Some(4));
+    assert_eq!(x.profile.pdo.rx.index, 0x1600);
+    assert_eq!(x.profile.pdo.rx.byte_len(), 8);
+    assert_eq!(x.profile.pdo.rx.offset_of(0x607A, 0), Some(4));
     assert!(!x.profile.default_mapping());
     assert_eq!(y.mode, ModeOfOperation::CyclicSyncTorque);
     assert!(y.profile.default_mapping());
     assert_eq!(
-        y.profile.rx_pdo,
-        cellrt_cia402::profile(cellrt_cia402::DriveModel::GenericCia402).rx_pdo
+        y.profile.pdo.rx,
+        cellrt_cia402::profile(cellrt_cia402::DriveModel::GenericCia402)
+            .pdo
+            .rx
     );
 }
 
@@ -465,10 +469,10 @@ fn a_generic_cia402_axis_takes_a_custom_mapping_checked_against_cia402() {
     ))
     .expect("CiA 402 mappable objects");
     let x = &c.axes.on_loop()[0].profile;
-    assert_eq!(x.rx_pdo.byte_len(), 12);
-    assert_eq!(x.tx_pdo.byte_len(), 18);
-    assert_eq!(x.tx_pdo.offset_of(0x60FD, 0), Some(10));
-    assert_eq!(x.tx_pdo.index, 0x1A00);
+    assert_eq!(x.pdo.rx.byte_len(), 12);
+    assert_eq!(x.pdo.tx.byte_len(), 18);
+    assert_eq!(x.pdo.tx.offset_of(0x60FD, 0), Some(10));
+    assert_eq!(x.pdo.tx.index, 0x1A00);
     // The identity survives the remapping.
     assert_eq!(x.vendor_id(), Some(0xCE11_0000));
     for (pdo, key, reason) in [

@@ -100,7 +100,7 @@ pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
                 },
                 ..SimDriveParams::default()
             };
-            SimDrive::new(a.profile, params, cell.cycle_time)
+            SimDrive::new(a.profile.clone(), params, cell.cycle_time)
         })
         .collect()
 }
@@ -115,13 +115,13 @@ pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
             .iter()
             .map(|a| SegmentDrive {
                 axis: a.name.clone(),
-                profile: a.profile,
+                profile: a.profile.clone(),
                 identity: a.ethercat_identity,
                 mode: a.mode,
                 amplifier: a.amplifier.clone(),
                 distributed_clocks: a.distributed_clocks,
                 fixed_pdo: a.esi.as_deref().map_or_else(Default::default, |d| {
-                    FixedPdo::of(d, a.profile.rx_pdo.index, a.profile.tx_pdo.index)
+                    FixedPdo::of(d, a.profile.pdo.rx.index, a.profile.pdo.tx.index)
                 }),
             })
             .collect(),

@@ -2,7 +2,7 @@
 //! decoding a cycle's image is a straight run of fixed-width little-endian reads and writes
 //! (no per-cycle walk of the entry table, no object lookups, no allocation).
 
-use super::objects::{RxField, TxField};
+use super::objects::{RxField, TxField, MAX_TX_EXTRAS};
 use super::{PdoError, PdoMap, RxPdo, TxPdo};
 
 /// Most entries a layout holds (a CoE mapping object has at most 254; the maps in the
@@ -19,16 +19,23 @@ struct Slot {
     rx: Option<RxField>,
     /// The TxPDO field this entry carries.
     tx: Option<TxField>,
+    /// An object (not padding) that no [`TxPdo`] field carries: in a TxPDO, one of
+    /// [`TxPdo::extras`], found by `index:sub`.
+    extra: bool,
+    index: u16,
+    sub: u8,
 }
 
 /// A PDO map with its entries resolved to offsets and fields; build once, use every cycle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PdoLayout {
     map: PdoMap,
     /// Why the map cannot be laid out; every encode and decode then returns it.
     invalid: Option<PdoError>,
     byte_len: usize,
     len: usize,
+    /// Entries that would be [`TxPdo::extras`] if this map is a TxPDO.
+    extras: usize,
     slots: [Slot; MAX_LAYOUT_ENTRIES],
 }
 
@@ -38,10 +45,11 @@ impl PdoLayout {
     /// that error (see [`PdoLayout::error`]).
     pub fn new(map: &PdoMap) -> Self {
         let mut layout = PdoLayout {
-            map: *map,
+            map: map.clone(),
             invalid: None,
             byte_len: map.byte_len(),
             len: 0,
+            extras: 0,
             slots: [Slot::default(); MAX_LAYOUT_ENTRIES],
         };
         if let Err(e) = map.check_len(map.byte_len()) {
@@ -58,6 +66,13 @@ impl PdoLayout {
         }
         for ((offset, e), slot) in map.layout().zip(layout.slots.iter_mut()) {
             let padding = e.is_padding();
+            let tx = if padding {
+                None
+            } else {
+                TxField::of(e.index, e.sub)
+            };
+            let extra = !padding && tx.is_none();
+            layout.extras += usize::from(extra);
             *slot = Slot {
                 offset: offset as u16,
                 bytes: (e.bits / 8) as u8,
@@ -67,11 +82,10 @@ impl PdoLayout {
                 } else {
                     RxField::of(e.index, e.sub)
                 },
-                tx: if padding {
-                    None
-                } else {
-                    TxField::of(e.index, e.sub)
-                },
+                tx,
+                extra,
+                index: e.index,
+                sub: e.sub,
             };
         }
         layout.len = map.entries.len();
@@ -108,6 +122,20 @@ impl PdoLayout {
         Ok(())
     }
 
+    /// [`PdoLayout::check_len`], and that the image's objects beside the CiA 402 fields fit
+    /// [`TxPdo::extras`].
+    fn check_tx(&self, len: usize) -> Result<(), PdoError> {
+        self.check_len(len)?;
+        if self.extras > MAX_TX_EXTRAS {
+            return Err(PdoError::TooManyExtras {
+                map: self.map.index,
+                extras: self.extras,
+                max: MAX_TX_EXTRAS,
+            });
+        }
+        Ok(())
+    }
+
     fn slots(&self) -> &[Slot] {
         &self.slots[..self.len]
     }
@@ -135,22 +163,31 @@ impl PdoLayout {
     }
 
     /// Writes `pdo` into the first [`PdoLayout::byte_len`] bytes of `buf`; padding and objects
-    /// `TxPdo` does not carry are written as zero.
+    /// `TxPdo` does not carry (neither a field nor one of its extras) are written as zero.
     pub fn encode_tx(&self, pdo: &TxPdo, buf: &mut [u8]) -> Result<(), PdoError> {
-        self.check_len(buf.len())?;
+        self.check_tx(buf.len())?;
         for s in self.slots() {
-            write_le(buf, s, s.tx.map_or(0, |f| pdo.get(f)));
+            let v = match s.tx {
+                Some(f) => pdo.get(f),
+                None if s.extra => pdo.extras.get(s.index, s.sub).unwrap_or(0),
+                None => 0,
+            };
+            write_le(buf, s, v);
         }
         Ok(())
     }
 
-    /// Reads a [`TxPdo`] from `buf`; absent objects stay default.
+    /// Reads a [`TxPdo`] from `buf`: the CiA 402 fields, and every other object into
+    /// [`TxPdo::extras`]; absent fields stay default.
     pub fn decode_tx(&self, buf: &[u8]) -> Result<TxPdo, PdoError> {
-        self.check_len(buf.len())?;
+        self.check_tx(buf.len())?;
         let mut pdo = TxPdo::default();
         for s in self.slots() {
             if let Some(f) = s.tx {
                 pdo.set(f, s.bits, read_le(buf, s));
+            } else if s.extra {
+                // Fits: check_tx counted the extras against the table's size.
+                let _ = pdo.extras.set(s.index, s.sub, read_le(buf, s));
             }
         }
         Ok(pdo)
@@ -202,6 +239,7 @@ fn read_le(buf: &[u8], s: &Slot) -> u64 {
 mod tests {
     use super::*;
     use crate::pdo::PdoEntry;
+    use crate::shared_slice::SharedSlice;
 
     const MANY: [PdoEntry; MAX_LAYOUT_ENTRIES + 1] = [PdoEntry::padding(8); MAX_LAYOUT_ENTRIES + 1];
 
@@ -209,7 +247,7 @@ mod tests {
     fn a_map_too_long_for_the_layout_is_refused_at_every_use() {
         let map = PdoMap {
             index: 0x1602,
-            entries: &MANY,
+            entries: SharedSlice::Static(&MANY),
         };
         let layout = PdoLayout::new(&map);
         let e = PdoError::TooManyEntries {
@@ -229,22 +267,23 @@ mod tests {
     fn fields_land_at_the_mapped_offsets_with_their_widths() {
         const MAP: PdoMap = PdoMap {
             index: 0x1A05,
-            entries: &[
+            entries: SharedSlice::Static(&[
                 PdoEntry::object(0x6041, 0, 16),
                 PdoEntry::padding(8),
                 PdoEntry::object(0x6061, 0, 8),
                 PdoEntry::object(0x6064, 0, 32),
                 PdoEntry::object(0x2D24, 0, 8),
-            ],
+            ]),
         };
         let layout = PdoLayout::new(&MAP);
         let tx = TxPdo {
             statusword: crate::statusword::Statusword(0x1237),
             mode_display: -3,
             position_actual: -2,
-            counter: 0xA5,
             ..TxPdo::default()
         };
+        let mut tx = tx;
+        tx.extras.set(0x2D24, 0, 0xA5).unwrap();
         let mut buf = [0xEEu8; 10];
         layout.encode_tx(&tx, &mut buf).unwrap();
         assert_eq!(

@@ -10,6 +10,8 @@ pub mod objects;
 pub use layout::{PdoLayout, MAX_LAYOUT_ENTRIES};
 pub use objects::{RxPdo, TxPdo};
 
+use crate::shared_slice::SharedSlice;
+
 /// One mapped object (one sub-entry of a 16xxh/1Axxh mapping object).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct PdoEntry {
@@ -58,12 +60,12 @@ impl PdoEntry {
 }
 
 /// A PDO mapping object (e.g. 1600h) and the entries it maps, in wire order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct PdoMap {
     /// The mapping object index, e.g. 0x1600 or 0x1A00.
     pub index: u16,
     /// The mapped entries in order; offsets follow from the sizes.
-    pub entries: &'static [PdoEntry],
+    pub entries: SharedSlice<PdoEntry>,
 }
 
 /// A PDO image that does not fit its map.
@@ -89,6 +91,16 @@ pub enum PdoError {
         /// The entry's sub-index.
         sub: u8,
     },
+    /// More objects beside the CiA 402 fields than [`TxPdo::extras`] holds.
+    #[error("PDO map {map:#06X}h has {extras} objects besides the CiA 402 fields, at most {max} are supported")]
+    TooManyExtras {
+        /// The mapping object index.
+        map: u16,
+        /// Its objects that no [`TxPdo`] field carries.
+        extras: usize,
+        /// [`objects::MAX_TX_EXTRAS`].
+        max: usize,
+    },
     /// More entries than a [`PdoLayout`] holds.
     #[error("PDO map {map:#06X}h has {entries} entries, at most {max} are supported")]
     TooManyEntries {
@@ -103,20 +115,15 @@ pub enum PdoError {
 
 impl PdoMap {
     /// Total size of the map in bytes (bits rounded up).
-    pub const fn byte_len(&self) -> usize {
-        let mut bits = 0usize;
-        let mut i = 0;
-        while i < self.entries.len() {
-            bits += self.entries[i].bits as usize;
-            i += 1;
-        }
+    pub fn byte_len(&self) -> usize {
+        let bits: usize = self.entries.iter().map(|e| usize::from(e.bits)).sum();
         bits.div_ceil(8)
     }
 
     /// Byte offset of object `index:sub` in the image, if it is mapped on a byte boundary.
     pub fn offset_of(&self, index: u16, sub: u8) -> Option<usize> {
         let mut bit = 0usize;
-        for e in self.entries {
+        for e in self.entries.iter() {
             if e.index == index && e.sub == sub && !e.is_padding() {
                 return bit.is_multiple_of(8).then_some(bit / 8);
             }
@@ -126,8 +133,8 @@ impl PdoMap {
     }
 
     /// True if the map carries a communication counter (2020h/2021h incremental counter of the
-    /// MR-J3-T04, 2D23h/2D24h watchdog counter of the MR-J4-TM), i.e. [`RxPdo::counter`] /
-    /// [`TxPdo::counter`] reach the wire.
+    /// MR-J3-T04, 2D23h/2D24h watchdog counter of the MR-J4-TM), i.e. [`RxPdo::counter`] and
+    /// the counter among [`TxPdo::extras`] reach the wire.
     pub fn has_counter(&self) -> bool {
         self.counter_offset().is_some()
     }
@@ -207,20 +214,20 @@ mod tests {
 
     /// The MR-J5-G-N1 default RxPDO 1600h (24 bytes).
     fn rx_1600() -> PdoMap {
-        profile(DriveModel::MrJ5GN1).rx_pdo
+        profile(DriveModel::MrJ5GN1).pdo.rx.clone()
     }
 
     /// The MR-J5-G-N1 default TxPDO 1A00h (24 bytes).
     fn tx_1a00() -> PdoMap {
-        profile(DriveModel::MrJ5GN1).tx_pdo
+        profile(DriveModel::MrJ5GN1).pdo.tx.clone()
     }
 
     const ODD: PdoMap = PdoMap {
         index: 0x1601,
-        entries: &[
+        entries: SharedSlice::Static(&[
             PdoEntry::object(0x6040, 0, 16),
             PdoEntry::object(0x2000, 0, 3),
-        ],
+        ]),
     };
 
     #[test]

@@ -175,12 +175,87 @@ pub struct TxPdo {
     pub torque_actual: i16,
     /// 603Fh Error code (0 when not mapped; the default MR-J5 maps do not map it).
     pub error_code: u16,
-    /// Communication counter echo: 2021h (MR-J3-T04) or 2D24h (MR-J4-TM), where mapped.
-    pub counter: u8,
-    /// 2011h Statusword2 (MR-J3-T04), 0 where not mapped.
-    pub statusword2: u16,
-    /// 2D11h–2D13h Status DO 1–3, 0 where not mapped.
-    pub status_do: crate::profiles::status_do::StatusDo,
+    /// The image's other objects, the ones a profile's TxPDO map adds to CiA 402 (a vendor's
+    /// communication counter, statusword2, Status DO words), by object index.
+    pub extras: TxExtras,
+}
+
+impl TxPdo {
+    /// The raw value of object `index` (sub 0) among [`TxPdo::extras`], if the image carries it.
+    pub fn extra(&self, index: u16) -> Option<u64> {
+        self.extras.get(index, 0)
+    }
+
+    /// The 16-bit object `index` (sub 0) among [`TxPdo::extras`]; 0 where the image does not
+    /// carry it (statusword2 2011h, the Status DO words).
+    pub fn extra_word(&self, index: u16) -> u16 {
+        self.extra(index).map_or(0, |v| v as u16)
+    }
+}
+
+/// Most objects a [`TxPdo`] carries besides its CiA 402 fields (the Mitsubishi maps carry at
+/// most five: a counter, a frame ID, statusword2 or Status DO 1–3).
+pub const MAX_TX_EXTRAS: usize = 8;
+
+/// One object of [`TxExtras`]: its index, sub-index and raw value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct ExtraObject {
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// The raw bits, zero-extended.
+    pub value: u64,
+}
+
+/// The objects of a TxPDO image that are not CiA 402 fields of [`TxPdo`], by object index: a
+/// fixed-size table (no allocation), filled by a [`crate::PdoLayout`] from the profile's map or
+/// set by a drive that sends them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct TxExtras {
+    len: u8,
+    slots: [ExtraObject; MAX_TX_EXTRAS],
+}
+
+/// A [`TxExtras`] already holding [`MAX_TX_EXTRAS`] objects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("a TxPDO image carries at most {MAX_TX_EXTRAS} objects besides CiA 402; {index:04X}h:{sub} does not fit")]
+pub struct TxExtrasFull {
+    /// The object that did not fit.
+    pub index: u16,
+    /// Its sub-index.
+    pub sub: u8,
+}
+
+impl TxExtras {
+    /// The objects held, in the order first set.
+    pub fn objects(&self) -> &[ExtraObject] {
+        &self.slots[..usize::from(self.len)]
+    }
+
+    /// The raw value of `index:sub`, if held.
+    pub fn get(&self, index: u16, sub: u8) -> Option<u64> {
+        self.objects()
+            .iter()
+            .find(|o| o.index == index && o.sub == sub)
+            .map(|o| o.value)
+    }
+
+    /// Sets `index:sub` to `value`, adding the object if it is not held yet.
+    pub fn set(&mut self, index: u16, sub: u8, value: u64) -> Result<(), TxExtrasFull> {
+        let len = usize::from(self.len);
+        if let Some(o) = self.slots[..len]
+            .iter_mut()
+            .find(|o| o.index == index && o.sub == sub)
+        {
+            o.value = value;
+            return Ok(());
+        }
+        let slot = self.slots.get_mut(len).ok_or(TxExtrasFull { index, sub })?;
+        *slot = ExtraObject { index, sub, value };
+        self.len += 1;
+        Ok(())
+    }
 }
 
 /// Sign-extends the low `bits` of `raw`.
@@ -251,7 +326,8 @@ impl RxField {
     }
 }
 
-/// The fields of [`TxPdo`], each resolved once from its object index by a [`crate::PdoLayout`].
+/// The CiA 402 fields of [`TxPdo`], each resolved once from its object index by a
+/// [`crate::PdoLayout`] (the image's other objects go to [`TxPdo::extras`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TxField {
     /// [`MODES_OF_OPERATION_DISPLAY`].
@@ -268,12 +344,6 @@ pub enum TxField {
     TorqueActual,
     /// [`ERROR_CODE`].
     ErrorCode,
-    /// [`INCREMENTAL_COUNTER_TX`] or [`WATCHDOG_COUNTER_UL`].
-    Counter,
-    /// [`STATUSWORD2`].
-    Statusword2,
-    /// Status DO word 0–2.
-    StatusDo(u8),
 }
 
 impl TxField {
@@ -290,9 +360,6 @@ impl TxField {
             FOLLOWING_ERROR => TxField::FollowingError,
             TORQUE_ACTUAL => TxField::TorqueActual,
             ERROR_CODE => TxField::ErrorCode,
-            INCREMENTAL_COUNTER_TX | WATCHDOG_COUNTER_UL => TxField::Counter,
-            STATUSWORD2 => TxField::Statusword2,
-            i if STATUS_DO.contains(&i) => TxField::StatusDo((i - STATUS_DO[0]) as u8),
             _ => return None,
         })
     }
@@ -351,9 +418,6 @@ impl TxPdo {
             TxField::FollowingError => i64::from(self.following_error) as u64,
             TxField::TorqueActual => i64::from(self.torque_actual) as u64,
             TxField::ErrorCode => u64::from(self.error_code),
-            TxField::Counter => u64::from(self.counter),
-            TxField::Statusword2 => u64::from(self.statusword2),
-            TxField::StatusDo(w) => u64::from(self.status_do.0[usize::from(w)]),
         }
     }
 
@@ -367,9 +431,6 @@ impl TxPdo {
             TxField::FollowingError => self.following_error = signed(raw, bits) as i32,
             TxField::TorqueActual => self.torque_actual = signed(raw, bits) as i16,
             TxField::ErrorCode => self.error_code = raw as u16,
-            TxField::Counter => self.counter = raw as u8,
-            TxField::Statusword2 => self.statusword2 = raw as u16,
-            TxField::StatusDo(w) => self.status_do.0[usize::from(w)] = raw as u16,
         }
     }
 }

@@ -15,11 +15,11 @@ impl DriveProfile {
     pub fn homing_facts(&self) -> HomingFacts {
         HomingFacts {
             name: self.name,
-            methods: self.homing_methods,
-            data_set_methods: self.data_set_homing_methods,
-            home_setting: self.home_setting,
-            shows_mode: self.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY),
-            carries_controlword2: self.rx_pdo.maps(CONTROLWORD2) && self.tx_pdo.maps(STATUSWORD2),
+            methods: self.homing.methods,
+            data_set_methods: self.homing.data_set_methods,
+            home_setting: self.homing.setting,
+            shows_mode: self.pdo.tx.maps(MODES_OF_OPERATION_DISPLAY),
+            carries_controlword2: self.pdo.rx.maps(CONTROLWORD2) && self.pdo.tx.maps(STATUSWORD2),
             no_methods_statement: super::homing_methods::no_methods_statement(self.model),
         }
     }
@@ -56,7 +56,7 @@ impl ModeSwitch {
         position_offset: i32,
         params: ModeSwitchParams,
     ) -> Result<Self, ModeSwitchError> {
-        ModeSwitch::for_modes(profile.modes, to, position_offset, params)
+        ModeSwitch::for_modes(&profile.cycle.modes, to, position_offset, params)
     }
 }
 
@@ -119,7 +119,7 @@ mod tests {
 
     #[test]
     fn a_controlword2_setting_raises_the_edge_until_s_oset_then_drops_it() {
-        let bits = profile(DriveModel::MrJ3T04).home_setting.unwrap();
+        let bits = profile(DriveModel::MrJ3T04).homing.setting.unwrap();
         let mut h = HomingSequencer::new(P, ModeOfOperation::CyclicSyncPosition);
         h.start_setting(HomeSettingEdge::Clear, &bits, sw(0));
         let c = h.update(sw(0), 0, true, None, true).unwrap();

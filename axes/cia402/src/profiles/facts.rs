@@ -326,6 +326,12 @@ pub struct Identity {
     pub revision: Option<u32>,
     /// Where the values come from, or which gap leaves them `None`.
     pub source: &'static str,
+    /// The maker's vendor ID where the source gives no 1018h:01 (Mitsubishi's for its models);
+    /// `None` for a model with no maker (generic CiA 402: the cell config names it).
+    pub maker_vendor_id: Option<u32>,
+    /// The product code the emulator presents where no source gives one: a named placeholder,
+    /// not the vendor's value.
+    pub emulator_product_code: u32,
 }
 
 /// What a completed homing changes (the home position reference).
@@ -579,6 +585,14 @@ impl CommCheck {
             } => Some((rx_index, tx_index)),
             Self::SyncErrorCounter { .. } => None,
         }
+    }
+
+    /// The counter echo a TxPDO image carries (the check's TxPDO object among
+    /// [`crate::TxPdo::extras`]); 0 where the check has no counter or the image does not carry it.
+    pub fn tx_counter(&self, tx: &crate::TxPdo) -> u8 {
+        self.counter_objects()
+            .and_then(|(_, index)| tx.extra(index))
+            .map_or(0, |v| v as u8)
     }
 
     /// The master's default check of the counter echo, if the check has a counter.

@@ -24,11 +24,13 @@ use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
 };
+use super::{CommFacts, CycleFacts, FaultFacts, HomingSetup, LimitFacts, PdoFacts};
 use super::{HomeReference, TorqueLimitSelection};
 use crate::cycles::ALLOWED_MICROS;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
 use crate::pdo::{PdoEntry, PdoMap};
+use crate::shared_slice::SharedSlice;
 
 /// Where the facts of this module come from.
 pub const SOURCE: &str = "CiA 402 / ETG.6010";
@@ -36,20 +38,20 @@ pub const SOURCE: &str = "CiA 402 / ETG.6010";
 /// Default RxPDO 1600h, 14 bytes (CiA 402 / ETG.6010 csp/csv/cst objects).
 pub const RX_PDO_1600: PdoMap = PdoMap {
     index: 0x1600,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6040, 16),      // 0  Controlword
         obj(0x6060, 8),       // 2  Modes of operation
         PdoEntry::padding(8), // 3  padding
         obj(0x607A, 32),      // 4  Target position
         obj(0x60FF, 32),      // 8  Target velocity
         obj(0x6071, 16),      // 12 Target torque
-    ],
+    ]),
 };
 
 /// Default TxPDO 1A00h, 20 bytes (CiA 402 / ETG.6010 csp/csv/cst objects).
 pub const TX_PDO_1A00: PdoMap = PdoMap {
     index: 0x1A00,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6041, 16),      // 0  Statusword
         obj(0x6061, 8),       // 2  Modes of operation display
         PdoEntry::padding(8), // 3  padding
@@ -58,7 +60,7 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
         obj(0x6077, 16),      // 12 Torque actual value
         obj(0x60F4, 32),      // 14 Following error actual value
         obj(0x603F, 16),      // 18 Error code
-    ],
+    ]),
 };
 
 // 603Fh codes for a following error and for a command beyond the maximum speed: the CiA 402
@@ -217,57 +219,71 @@ pub const PROFILE: DriveProfile = DriveProfile {
         product_code: None,
         revision: None,
         source: "CiA 402 / ETG.6010: none; the cell config gives the SubDevice's 1018h ([axes.ethercat] vendor_id, product_code)",
+        maker_vendor_id: None,
+        emulator_product_code: 0,
     },
-    modes: &[
-        M::Homing,
-        M::CyclicSyncPosition,
-        M::CyclicSyncVelocity,
-        M::CyclicSyncTorque,
-    ],
-    cycle_times_us: &ALLOWED_MICROS,
-    rx_pdo: RX_PDO_1600,
-    tx_pdo: TX_PDO_1A00,
+    cycle: CycleFacts {
+        modes: SharedSlice::Static(&[
+            M::Homing,
+            M::CyclicSyncPosition,
+            M::CyclicSyncVelocity,
+            M::CyclicSyncTorque,
+        ]),
+        cycle_times_us: &ALLOWED_MICROS,
+        // CiA 402: halt (controlword bit 8) is defined for the profile modes and hm; the cyclic
+        // synchronous modes leave it reserved.
+        halt_in_cyclic_modes: false,
+    },
+    pdo: PdoFacts {
+        rx: RX_PDO_1600,
+        tx: TX_PDO_1A00,
+        unit_limits: &[],
+        rules: PDO_RULES,
+    },
     quirks: FsaQuirks::STRICT,
-    fault_reset_hold_ms: FAULT_RESET_HOLD_MS,
-    fault_reset_hold_long_cycle_ms: FAULT_RESET_HOLD_MS,
-    long_cycle_from_us: u32::MAX,
+    faults: FaultFacts {
+        reset_hold_ms: FAULT_RESET_HOLD_MS,
+        reset_hold_long_cycle_ms: FAULT_RESET_HOLD_MS,
+        long_cycle_from_us: u32::MAX,
+        alarms: ALARMS,
+    },
     axes_per_unit: 1,
-    unit_pdo_limits: &[],
     units: UNITS,
     objects: OBJECTS,
-    alarms: ALARMS,
-    comm_check: CommCheck::SyncErrorCounter {
-        alarm: COMMUNICATION,
+    comm: CommFacts {
+        check: CommCheck::SyncErrorCounter {
+            alarm: COMMUNICATION,
+        },
+        leave_op_alarm: COMMUNICATION,
+        // ETG.6010: a drive leaving OP while enabled takes its fault reaction; it is not
+        // re-initialised (the PDS stays in Fault until reset).
+        reinit_on_leaving_op: false,
+        emergency: EMERGENCY,
     },
-    leave_op_alarm: COMMUNICATION,
-    // ETG.6010: a drive leaving OP while enabled takes its fault reaction; it is not
-    // re-initialised (the PDS stays in Fault until reset).
-    reinit_on_leaving_op: false,
-    following_error_alarm: FOLLOWING_ERROR,
-    overspeed_alarm: OVERSPEED,
-    // CiA 402: halt (controlword bit 8) is defined for the profile modes and hm; the cyclic
-    // synchronous modes leave it reserved.
-    halt_in_cyclic_modes: false,
-    torque_limit_selection: TorqueLimitSelection::Objects,
+    limits: LimitFacts {
+        following_error_alarm: FOLLOWING_ERROR,
+        overspeed_alarm: OVERSPEED,
+        torque_limit_selection: TorqueLimitSelection::Objects,
+        stroke_end_warning: None,
+        power_warnings: None,
+        manual_stop_bit: None,
+        relative_degree_warning: None,
+    },
     sdo_write_refusals: &[],
-    // CiA 402 homing on the current position: 35 (the original number) and 37 (its
-    // replacement in the current edition, first: the default `cellrt home` uses). Other
-    // methods need switches or an index pulse the generic model cannot assert; a real drive
-    // lists its own in its manual.
-    homing_methods: &[35, 37],
-    data_set_homing_methods: &[37, 35],
-    // CiA 402: after homing the position actual value is the home position (607Ch).
-    home_reference: HomeReference::PositionPreset,
-    stroke_end_warning: None,
-    power_warnings: None,
-    manual_stop_bit: None,
-    home_setting: None,
+    homing: HomingSetup {
+        // CiA 402 homing on the current position: 35 (the original number) and 37 (its
+        // replacement in the current edition, first: the default `cellrt home` uses). Other
+        // methods need switches or an index pulse the generic model cannot assert; a real drive
+        // lists its own in its manual.
+        methods: &[35, 37],
+        data_set_methods: &[37, 35],
+        // CiA 402: after homing the position actual value is the home position (607Ch).
+        reference: HomeReference::PositionPreset,
+        setting: None,
+    },
     store_restore_objects: &[],
-    pdo_rules: PDO_RULES,
     invalid_axis_switch: None,
     fsoe: None,
-    relative_degree_warning: None,
-    emergency: EMERGENCY,
     parameters: &super::params::GENERIC_CIA402,
 };
 
@@ -311,7 +327,7 @@ mod tests {
 
     #[test]
     fn default_maps_are_the_cia402_objects_at_aligned_offsets() {
-        let rx = &PROFILE.rx_pdo;
+        let rx = &PROFILE.pdo.rx;
         assert_eq!(rx.index, 0x1600);
         assert_eq!(rx.byte_len(), 14);
         for (idx, off) in [
@@ -323,7 +339,7 @@ mod tests {
         ] {
             assert_eq!(rx.offset_of(idx, 0), Some(off), "{idx:#06x}");
         }
-        let tx = &PROFILE.tx_pdo;
+        let tx = &PROFILE.pdo.tx;
         assert_eq!(tx.index, 0x1A00);
         assert_eq!(tx.byte_len(), 20);
         for (idx, off) in [
@@ -359,7 +375,7 @@ mod tests {
                 o.source
             );
         }
-        for e in PROFILE.rx_pdo.entries.iter().chain(PROFILE.tx_pdo.entries) {
+        for e in PROFILE.pdo.rx.entries.iter().chain(&PROFILE.pdo.tx.entries) {
             assert!(e.is_padding() || e.index >= 0x6000, "{:04X}h", e.index);
         }
         assert_eq!(PROFILE.quirks, FsaQuirks::STRICT);
@@ -372,7 +388,7 @@ mod tests {
             PROFILE.object(0x6502, 0).and_then(|o| o.default),
             Some(0x3A0)
         );
-        for a in PROFILE.alarms {
+        for a in PROFILE.faults.alarms {
             assert!(PROFILE.alarm_resettable(a.code), "{a}");
         }
     }
@@ -430,11 +446,11 @@ mod tests {
             let e = PROFILE
                 .check_mapping(dir, &[PdoEntry::object(i, 0, 16)])
                 .unwrap_err();
-            assert_eq!(e.abort_code(&PROFILE.pdo_rules), 0x0604_0041, "{i:04X}h");
+            assert_eq!(e.abort_code(&PROFILE.pdo.rules), 0x0604_0041, "{i:04X}h");
         }
         let long = [PdoEntry::object(0x607A, 0, 32); 17];
         let e = PROFILE.check_mapping(PdoDirection::Rx, &long).unwrap_err();
-        assert_eq!(e.abort_code(&PROFILE.pdo_rules), 0x0604_0042);
+        assert_eq!(e.abort_code(&PROFILE.pdo.rules), 0x0604_0042);
         PROFILE
             .check_mapping(PdoDirection::Rx, &long[..16])
             .unwrap();

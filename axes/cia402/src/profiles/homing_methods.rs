@@ -153,20 +153,20 @@ pub fn search(method: i8) -> Option<SearchRecipe> {
 /// Whether the simulated `profile` runs `method`: listed by its manual and either a data-set
 /// method or an emulated search; the refusal names the method and the manual.
 pub fn check_emulated(profile: &DriveProfile, method: i8) -> Result<(), String> {
-    if profile.homing_methods.is_empty() {
+    if profile.homing.methods.is_empty() {
         return Err(format!(
             "the {} manual lists no homing methods (6098h): {}",
             profile.name,
             no_methods_statement(profile.model)
         ));
     }
-    if !profile.homing_methods.contains(&method) {
+    if !profile.homing.methods.contains(&method) {
         return Err(format!(
             "the {} manual lists no homing method {method} (6098h; it lists {:?})",
-            profile.name, profile.homing_methods
+            profile.name, profile.homing.methods
         ));
     }
-    if profile.data_set_homing_methods.contains(&method) || search(method).is_some() {
+    if profile.homing.data_set_methods.contains(&method) || search(method).is_some() {
         return Ok(());
     }
     Err(format!(
@@ -240,8 +240,8 @@ mod tests {
             .contains("lists no homing method -33"));
         let j4 = profile(DriveModel::MrJ4TM);
         // Every method of the MR-J4-TM's list (§5.4.9(4)), 39 as 60E3h:0 says.
-        assert_eq!(j4.homing_methods.len(), 39);
-        for &m in j4.homing_methods {
+        assert_eq!(j4.homing.methods.len(), 39);
+        for &m in j4.homing.methods {
             check_emulated(j4, m).unwrap_or_else(|e| panic!("{m}: {e}"));
         }
         for m in [-17, 1, 2, 17, 25, 26, 29, 30] {

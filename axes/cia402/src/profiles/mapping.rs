@@ -3,8 +3,6 @@
 //! mappable objects). One definition used by configuration (`[axes.pdo]`), the simulated drive
 //! and the EtherCAT SubDevice emulator's CoE server.
 
-use std::sync::Mutex;
-
 use super::{DriveProfile, PdoRules};
 use crate::pdo::{PdoEntry, PdoMap};
 
@@ -108,13 +106,13 @@ impl DriveProfile {
     pub fn mappable(&self, direction: PdoDirection, index: u16, sub: u8) -> bool {
         let (default, listed, kind) = match direction {
             PdoDirection::Rx => (
-                base_of(self).rx_pdo,
-                self.pdo_rules.rx_mappable,
+                &base_of(self).pdo.rx,
+                self.pdo.rules.rx_mappable,
                 super::Pdo::Rx,
             ),
             PdoDirection::Tx => (
-                base_of(self).tx_pdo,
-                self.pdo_rules.tx_mappable,
+                &base_of(self).pdo.tx,
+                self.pdo.rules.tx_mappable,
                 super::Pdo::Tx,
             ),
         };
@@ -168,7 +166,7 @@ impl DriveProfile {
         direction: PdoDirection,
         entries: &[PdoEntry],
     ) -> Result<(), MappingError> {
-        let rules = &self.pdo_rules;
+        let rules = &self.pdo.rules;
         if entries.len() > usize::from(rules.max_entries) {
             return Err(MappingError::TooManyEntries {
                 direction,
@@ -197,56 +195,37 @@ impl DriveProfile {
     }
 
     /// This model's profile running `rx` and `tx` in its default mapping objects instead of
-    /// the default entries (checked against [`PdoRules`]). Profiles are `'static` data shared
-    /// by the simulator, the master and the RT loop, so a remapped profile is built once per
-    /// distinct mapping and kept for the life of the process (bounded by the configurations
-    /// and remaps a process sees; off the RT path).
+    /// the default entries (checked against [`PdoRules`]): an owned profile, built off the RT
+    /// path by whoever remaps (the configuration, the simulated drive's CoE server).
     pub fn with_pdo_maps(
-        &'static self,
+        &self,
         rx: &[PdoEntry],
         tx: &[PdoEntry],
-    ) -> Result<&'static DriveProfile, MappingError> {
+    ) -> Result<DriveProfile, MappingError> {
         self.check_mapping(PdoDirection::Rx, rx)?;
         self.check_mapping(PdoDirection::Tx, tx)?;
-        if self.rx_pdo.entries == rx && self.tx_pdo.entries == tx {
-            return Ok(self);
-        }
-        static REMAPPED: Mutex<Vec<&'static DriveProfile>> = Mutex::new(Vec::new());
-        let mut known = REMAPPED.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(p) = known.iter().find(|p| {
-            p.model == self.model
-                && p.rx_pdo.entries == rx
-                && p.tx_pdo.entries == tx
-                && p.identity == self.identity
-        }) {
-            return Ok(p);
-        }
-        let leak =
-            |e: &[PdoEntry]| -> &'static [PdoEntry] { Box::leak(e.to_vec().into_boxed_slice()) };
-        let p: &'static DriveProfile = Box::leak(Box::new(DriveProfile {
-            rx_pdo: PdoMap {
-                index: self.rx_pdo.index,
-                entries: leak(rx),
+        let remap = |map: &PdoMap, entries: &[PdoEntry]| PdoMap {
+            index: map.index,
+            entries: if map.entries == entries {
+                map.entries.clone()
+            } else {
+                entries.into()
             },
-            tx_pdo: PdoMap {
-                index: self.tx_pdo.index,
-                entries: leak(tx),
+        };
+        Ok(DriveProfile {
+            pdo: super::PdoFacts {
+                rx: remap(&self.pdo.rx, rx),
+                tx: remap(&self.pdo.tx, tx),
+                ..self.pdo.clone()
             },
-            ..*self
-        }));
-        known.push(p);
-        Ok(p)
+            ..self.clone()
+        })
     }
 
     /// This profile presenting `vendor_id` / `product_code` in 1018h where given (the cell
     /// config's `[axes.ethercat]` identity: what the emulator presents and the master
-    /// expects), the profile's own values elsewhere. Built once per distinct identity and
-    /// kept for the life of the process, like [`DriveProfile::with_pdo_maps`].
-    pub fn with_identity(
-        &'static self,
-        vendor_id: Option<u32>,
-        product_code: Option<u32>,
-    ) -> &'static DriveProfile {
+    /// expects), the profile's own values elsewhere.
+    pub fn with_identity(&self, vendor_id: Option<u32>, product_code: Option<u32>) -> DriveProfile {
         let identity = super::Identity {
             vendor_id: vendor_id.or(self.identity.vendor_id),
             product_code: product_code.or(self.identity.product_code),
@@ -256,29 +235,18 @@ impl DriveProfile {
             } else {
                 self.identity.source
             },
+            ..self.identity
         };
-        if identity == self.identity {
-            return self;
+        DriveProfile {
+            identity,
+            ..self.clone()
         }
-        static IDENTIFIED: Mutex<Vec<&'static DriveProfile>> = Mutex::new(Vec::new());
-        let mut known = IDENTIFIED.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(p) = known.iter().find(|p| {
-            p.model == self.model
-                && p.rx_pdo == self.rx_pdo
-                && p.tx_pdo == self.tx_pdo
-                && p.identity == identity
-        }) {
-            return p;
-        }
-        let p: &'static DriveProfile = Box::leak(Box::new(DriveProfile { identity, ..*self }));
-        known.push(p);
-        p
     }
 
     /// True if this profile runs its model's default maps.
     pub fn default_mapping(&self) -> bool {
         let base = base_of(self);
-        self.rx_pdo == base.rx_pdo && self.tx_pdo == base.tx_pdo
+        self.pdo.rx == base.pdo.rx && self.pdo.tx == base.pdo.tx
     }
 }
 
@@ -293,16 +261,18 @@ mod tests {
     use crate::profiles::{profile, DriveModel};
 
     #[test]
-    fn remapped_profiles_are_built_once_and_the_default_is_itself() {
+    fn a_remapped_profile_owns_its_maps_and_the_default_is_the_same_profile() {
         let p = profile(DriveModel::MrJ5GN1);
-        let same = p.with_pdo_maps(p.rx_pdo.entries, p.tx_pdo.entries).unwrap();
-        assert!(std::ptr::eq(p, same));
-        let rx = &p.rx_pdo.entries[..3];
-        let a = p.with_pdo_maps(rx, p.tx_pdo.entries).unwrap();
-        let b = p.with_pdo_maps(rx, p.tx_pdo.entries).unwrap();
-        assert!(std::ptr::eq(a, b));
-        assert_eq!(a.rx_pdo.entries, rx);
-        assert_eq!(a.rx_pdo.index, p.rx_pdo.index);
+        let same = p
+            .with_pdo_maps(&p.pdo.rx.entries, &p.pdo.tx.entries)
+            .unwrap();
+        assert_eq!(*p, same);
+        let rx = &p.pdo.rx.entries[..3];
+        let a = p.with_pdo_maps(rx, &p.pdo.tx.entries).unwrap();
+        let b = p.with_pdo_maps(rx, &p.pdo.tx.entries).unwrap();
+        assert_eq!(a, b);
+        assert_eq!(a.pdo.rx.entries, rx);
+        assert_eq!(a.pdo.rx.index, p.pdo.rx.index);
         assert!(!a.default_mapping() && p.default_mapping());
     }
 
@@ -313,12 +283,12 @@ mod tests {
         let e = j3
             .check_mapping(PdoDirection::Rx, &[PdoEntry::object(0x6041, 0, 16)])
             .unwrap_err();
-        assert_eq!(e.abort_code(&j3.pdo_rules), 0x0604_0041);
+        assert_eq!(e.abort_code(&j3.pdo.rules), 0x0604_0041);
         assert!(e.to_string().contains("6041h:00"), "{e}");
         // ... and 32 bytes exceed its 30 (0604 0042h).
         let long = [PdoEntry::object(0x607A, 0, 32); 8];
         let e = j3.check_mapping(PdoDirection::Rx, &long).unwrap_err();
-        assert_eq!(e.abort_code(&j3.pdo_rules), 0x0604_0042);
+        assert_eq!(e.abort_code(&j3.pdo.rules), 0x0604_0042);
         // Padding of 8 bits is allowed, of 12 bits not.
         j3.check_mapping(
             PdoDirection::Rx,
@@ -333,7 +303,7 @@ mod tests {
         let e = j5
             .check_mapping(PdoDirection::Tx, &[PdoEntry::object(0x6040, 0, 16)])
             .unwrap_err();
-        assert_eq!(e.abort_code(&j5.pdo_rules), 0x0604_0043);
+        assert_eq!(e.abort_code(&j5.pdo.rules), 0x0604_0043);
         assert!(j5.mappable(PdoDirection::Rx, 0x6040, 0));
     }
 }

@@ -18,7 +18,7 @@ fn alarm_text(p: &DriveProfile, code: u16) -> String {
 
 /// The cyclic communication check, in one cell.
 fn comm_text(p: &DriveProfile) -> String {
-    match p.comm_check {
+    match p.comm.check {
         CommCheck::IncrementalCounter {
             rx_index,
             tx_index,
@@ -57,7 +57,7 @@ fn quirks_text(p: &DriveProfile) -> String {
     } else if !q.quick_stop_returns_to_enabled {
         v.push("no QSA → OE (16)");
     }
-    if p.halt_in_cyclic_modes {
+    if p.cycle.halt_in_cyclic_modes {
         v.push("halt in cyclic modes");
     }
     if v.is_empty() {
@@ -69,7 +69,7 @@ fn quirks_text(p: &DriveProfile) -> String {
 
 /// Where the torque limits come from, in one cell.
 fn torque_limit_text(p: &DriveProfile) -> String {
-    match p.torque_limit_selection {
+    match p.limits.torque_limit_selection {
         TorqueLimitSelection::Objects => "60E0h/60E1h".to_owned(),
         TorqueLimitSelection::Controlword2 {
             c_tl_bit,
@@ -86,11 +86,12 @@ fn torque_limit_text(p: &DriveProfile) -> String {
 /// Homing methods (6098h), the simulated ones (data set, and the searches of
 /// `profiles::homing_methods`) in bold.
 fn homing_text(p: &DriveProfile) -> String {
-    if p.homing_methods.is_empty() {
+    if p.homing.methods.is_empty() {
         return "none listed".to_owned();
     }
     let v: Vec<String> = p
-        .homing_methods
+        .homing
+        .methods
         .iter()
         .map(|m| {
             if super::homing_methods::check_emulated(p, *m).is_ok() {
@@ -105,12 +106,12 @@ fn homing_text(p: &DriveProfile) -> String {
 
 /// Fault-reset hold, e.g. "10 ms (20 ms from 8000 µs)".
 fn reset_text(p: &DriveProfile) -> String {
-    if p.fault_reset_hold_long_cycle_ms == p.fault_reset_hold_ms {
-        format!("{} ms", p.fault_reset_hold_ms)
+    if p.faults.reset_hold_long_cycle_ms == p.faults.reset_hold_ms {
+        format!("{} ms", p.faults.reset_hold_ms)
     } else {
         format!(
             "{} ms ({} ms at ≥ {} µs)",
-            p.fault_reset_hold_ms, p.fault_reset_hold_long_cycle_ms, p.long_cycle_from_us
+            p.faults.reset_hold_ms, p.faults.reset_hold_long_cycle_ms, p.faults.long_cycle_from_us
         )
     }
 }
@@ -135,12 +136,12 @@ pub fn render() -> String {
             quirks_text(p),
             torque_limit_text(p),
             homing_text(p),
-            p.stroke_end_warning.map_or_else(
+            p.limits.stroke_end_warning.map_or_else(
                 || "not modelled".to_owned(),
                 |w| format!("{} warning, slow stop in csv", alarm_text(p, w))
             ),
-            alarm_text(p, p.leave_op_alarm),
-            alarm_text(p, p.following_error_alarm),
+            alarm_text(p, p.comm.leave_op_alarm),
+            alarm_text(p, p.limits.following_error_alarm),
         );
     }
     s

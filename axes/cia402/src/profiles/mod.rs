@@ -5,6 +5,7 @@
 
 use std::fmt;
 use std::str::FromStr;
+use std::sync::Arc;
 use std::time::Duration;
 
 use serde::Deserialize;
@@ -13,6 +14,7 @@ use crate::cycles::{CycleTime, Cycles};
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation;
 use crate::pdo::PdoMap;
+use crate::shared_slice::SharedSlice;
 
 pub mod bring_up_causes;
 pub use bring_up_causes::{bring_up_causes, BringUpCause};
@@ -39,6 +41,10 @@ pub use facts::{
 pub use units::{
     AccelerationUnit, MotorKind, PositionUnit, Quantity, Stated, TorqueUnit, Units, VelocityUnit,
 };
+
+/// Mitsubishi Electric's EtherCAT vendor ID (MR-J3-T04 manual §8.1(4), §1.4.1(3): "A1Eh";
+/// the MR-J4-TM manual [EXT] gives the same value).
+pub const MITSUBISHI_VENDOR_ID: u32 = 0x0000_0A1E;
 
 /// A supported drive model, named in configuration by its kebab-case part number.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
@@ -127,8 +133,21 @@ impl FromStr for DriveModel {
     }
 }
 
-/// Everything cellrt knows about one drive model, as static data.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A drive profile shared by whoever needs it: built once per axis when the cell's
+/// configuration is read (a built-in profile, or one derived from it by a remap, an identity or
+/// an ESI file).
+pub type SharedProfile = Arc<DriveProfile>;
+
+/// A shared copy of a profile (its tables are shared, not copied), e.g. of a built-in one.
+impl From<&DriveProfile> for SharedProfile {
+    fn from(profile: &DriveProfile) -> Self {
+        Arc::new(profile.clone())
+    }
+}
+
+/// Everything cellrt knows about one drive model: compile-time data for the built-in models,
+/// owned tables where a profile is derived at run time.
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct DriveProfile {
     /// The model this profile describes.
     pub model: DriveModel,
@@ -136,57 +155,102 @@ pub struct DriveProfile {
     pub name: &'static str,
     /// EtherCAT identity (1018h), with the gaps cited.
     pub identity: Identity,
-    /// Modes of operation the drive accepts in 6060h.
-    pub modes: &'static [ModeOfOperation],
-    /// Supported PDO cycle times in µs.
-    pub cycle_times_us: &'static [u32],
-    /// The default RxPDO map (master → drive).
-    pub rx_pdo: PdoMap,
-    /// The default TxPDO map (drive → master).
-    pub tx_pdo: PdoMap,
+    /// The modes and cycle times the drive runs.
+    pub cycle: CycleFacts,
+    /// The default PDO maps and the rules for changing them.
+    pub pdo: PdoFacts,
     /// PDS deviations from plain CiA 402.
     pub quirks: FsaQuirks,
-    /// Minimum Fault Reset hold in ms for cycles up to `long_cycle_from_us` (exclusive).
-    pub fault_reset_hold_ms: u32,
-    /// Minimum Fault Reset hold in ms for cycles of `long_cycle_from_us` and longer.
-    pub fault_reset_hold_long_cycle_ms: u32,
-    /// The cycle time (µs) from which `fault_reset_hold_long_cycle_ms` applies.
-    pub long_cycle_from_us: u32,
+    /// The alarms and how a Fault Reset clears them.
+    pub faults: FaultFacts,
     /// Axes per amplifier (1, or 2/3 for MR-J5W2/W3).
     pub axes_per_unit: u8,
-    /// The amplifier's PDO byte limits over all its axes, per cycle-time range (MR-J5-G-N1
-    /// manual §4.4); empty where the manual states none.
-    pub unit_pdo_limits: &'static [UnitPdoLimit],
     /// Encoder resolution and object units.
     pub units: Units,
     /// The object-dictionary entries the runtime and the simulator use.
     pub objects: &'static [OdEntry],
+    /// The cyclic communication check and what leaving OP does.
+    pub comm: CommFacts,
+    /// The limits the drive watches and the alarms and warnings they raise.
+    pub limits: LimitFacts,
+    /// SDO downloads the model refuses with a specific abort code: (index, sub, code).
+    pub sdo_write_refusals: &'static [(u16, u8, u32)],
+    /// The homing methods and what a homing changes.
+    pub homing: HomingSetup,
+    /// Store/restore objects (1010h/1011h) the SDO surface serves besides `objects`.
+    pub store_restore_objects: &'static [OdEntry],
+    /// The axis-selection switch setting the amplifier refuses at power-on (MR-J5-G-N1 1-axis:
+    /// SW3-1 OFF / SW3-2 ON → AL.011.2, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4, TV-14); `None`: no such rule stated.
+    pub invalid_axis_switch: Option<InvalidAxisSwitch>,
+    /// FSoE (safety over EtherCAT) as the manual states it (MR-JET-G-N1, MR-JET-G-N1 manual §9.3);
+    /// `None`: the model has no FSoE.
+    pub fsoe: Option<FsoeFacts>,
+    /// The servo parameters by their manual names, the parameter save and the alarm history.
+    pub parameters: &'static params::ParameterFacts,
+}
+
+/// The modes and cycle times a drive runs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CycleFacts {
+    /// Modes of operation the drive accepts in 6060h.
+    pub modes: SharedSlice<ModeOfOperation>,
+    /// Supported PDO cycle times in µs.
+    pub cycle_times_us: &'static [u32],
+    /// True if controlword bit 8 HALT acts in csp/csv/cst (false: hm/profile modes only).
+    pub halt_in_cyclic_modes: bool,
+}
+
+/// A drive's default PDO maps and the rules for changing them.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PdoFacts {
+    /// The default RxPDO map (master → drive).
+    pub rx: PdoMap,
+    /// The default TxPDO map (drive → master).
+    pub tx: PdoMap,
+    /// The amplifier's PDO byte limits over all its axes, per cycle-time range (MR-J5-G-N1
+    /// manual §4.4); empty where the manual states none.
+    pub unit_limits: &'static [UnitPdoLimit],
+    /// How the PDO mapping may be changed by SDO, with the abort codes.
+    pub rules: PdoRules,
+}
+
+/// A drive's alarms and how a Fault Reset clears them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FaultFacts {
+    /// Minimum Fault Reset hold in ms for cycles up to `long_cycle_from_us` (exclusive).
+    pub reset_hold_ms: u32,
+    /// Minimum Fault Reset hold in ms for cycles of `long_cycle_from_us` and longer.
+    pub reset_hold_long_cycle_ms: u32,
+    /// The cycle time (µs) from which `reset_hold_long_cycle_ms` applies.
+    pub long_cycle_from_us: u32,
     /// The alarms and warnings the manual names, with their stop behaviour.
     pub alarms: &'static [AlarmInfo],
+}
+
+/// A drive's cyclic communication check and what leaving OP does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CommFacts {
     /// The cyclic communication check.
-    pub comm_check: CommCheck,
+    pub check: CommCheck,
     /// Alarm raised when the AL state leaves OP while the PDS is switched on or enabled
     /// (spec README "Leaving OP").
     pub leave_op_alarm: u16,
     /// True if leaving OP re-initialises the drive (PDS back to Switch on disabled; MR-JET/MR-J5
     /// §2.2, MR-J4-TM §2.2). MR-J3-T04 states no re-initialisation.
     pub reinit_on_leaving_op: bool,
+    /// Whether alarms are also reported by CoE Emergency (ETG.1000.6 §5.6.2.1).
+    pub emergency: EmergencyFacts,
+}
+
+/// The limits a drive watches and the alarms and warnings they raise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LimitFacts {
     /// Alarm for an excessive following error (603Fh code).
     pub following_error_alarm: u16,
     /// Alarm for a command implying more than the maximum speed (603Fh code).
     pub overspeed_alarm: u16,
-    /// True if controlword bit 8 HALT acts in csp/csv/cst (false: hm/profile modes only).
-    pub halt_in_cyclic_modes: bool,
     /// Where the torque limits come from.
     pub torque_limit_selection: TorqueLimitSelection,
-    /// SDO downloads the model refuses with a specific abort code: (index, sub, code).
-    pub sdo_write_refusals: &'static [(u16, u8, u32)],
-    /// Homing methods (6098h) the manual lists; empty where it lists none (MR-JET, MR-J5).
-    pub homing_methods: &'static [i8],
-    /// Of those, the data-set methods: home = the current position, no motion.
-    pub data_set_homing_methods: &'static [i8],
-    /// What a completed homing changes.
-    pub home_reference: HomeReference,
     /// Warning raised while a stroke-end input (LSP/LSN) is OFF, where the sim models stroke
     /// ends (MR-J3-T04 AL.99, §9.1); `None`: not modelled for this drive.
     pub stroke_end_warning: Option<u16>,
@@ -195,47 +259,44 @@ pub struct DriveProfile {
     pub power_warnings: Option<(u16, u16)>,
     /// Controlword2 bit of the csp manual stop C_MSTOP where modelled (MR-J3-T04 bit 8, §9.2).
     pub manual_stop_bit: Option<u8>,
-    /// Home setting by Controlword2 edges in csp/csv (MR-J3-T04 §8.3); `None`: the model has
-    /// none.
-    pub home_setting: Option<HomeSetting>,
-    /// Store/restore objects (1010h/1011h) the SDO surface serves besides `objects`.
-    pub store_restore_objects: &'static [OdEntry],
-    /// How the PDO mapping may be changed by SDO, with the abort codes.
-    pub pdo_rules: PdoRules,
-    /// The axis-selection switch setting the amplifier refuses at power-on (MR-J5-G-N1 1-axis:
-    /// SW3-1 OFF / SW3-2 ON → AL.011.2, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4, TV-14); `None`: no such rule stated.
-    pub invalid_axis_switch: Option<InvalidAxisSwitch>,
-    /// FSoE (safety over EtherCAT) as the manual states it (MR-JET-G-N1, MR-JET-G-N1 manual §9.3);
-    /// `None`: the model has no FSoE.
-    pub fsoe: Option<FsoeFacts>,
     /// Warning raised, with no motion, when a pp set-point asks for a relative move while the
     /// position unit is degree (MR-J4-TM AL. F4.8, MR-J4-TM manual §5.4.6 bit 6); `None`: the manual
     /// states no such rule.
     pub relative_degree_warning: Option<u16>,
-    /// Whether alarms are also reported by CoE Emergency (ETG.1000.6 §5.6.2.1).
-    pub emergency: EmergencyFacts,
-    /// The servo parameters by their manual names, the parameter save and the alarm history.
-    pub parameters: &'static params::ParameterFacts,
+}
+
+/// A drive's homing methods and what a homing changes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HomingSetup {
+    /// Homing methods (6098h) the manual lists; empty where it lists none (MR-JET, MR-J5).
+    pub methods: &'static [i8],
+    /// Of those, the data-set methods: home = the current position, no motion.
+    pub data_set_methods: &'static [i8],
+    /// What a completed homing changes.
+    pub reference: HomeReference,
+    /// Home setting by Controlword2 edges in csp/csv (MR-J3-T04 §8.3); `None`: the model has
+    /// none.
+    pub setting: Option<HomeSetting>,
 }
 
 impl DriveProfile {
     /// True if the drive accepts `mode` in 6060h.
     pub fn supports_mode(&self, mode: ModeOfOperation) -> bool {
-        self.modes.contains(&mode)
+        self.cycle.modes.contains(&mode)
     }
 
     /// True if the drive can run its PDOs at `cycle`.
     pub fn supports_cycle_time(&self, cycle: CycleTime) -> bool {
-        self.cycle_times_us.contains(&cycle.as_micros())
+        self.cycle.cycle_times_us.contains(&cycle.as_micros())
     }
 
     /// Cycles to hold Fault Reset at `cycle`: the model's minimum hold rounded up to whole cycles
     /// (TV-5: 80 at 0.125 ms, 10 at 1 ms, 3 at 4 ms, 3 at 8 ms), never fewer than one.
     pub fn fault_reset_hold(&self, cycle: CycleTime) -> Cycles {
-        let ms = if cycle.as_micros() >= self.long_cycle_from_us {
-            self.fault_reset_hold_long_cycle_ms
+        let ms = if cycle.as_micros() >= self.faults.long_cycle_from_us {
+            self.faults.reset_hold_long_cycle_ms
         } else {
-            self.fault_reset_hold_ms
+            self.faults.reset_hold_ms
         };
         let n = cycle.cycles_for(Duration::from_millis(u64::from(ms)));
         Cycles(n.0.max(1))
@@ -271,7 +332,7 @@ impl DriveProfile {
 
     /// The alarm or warning with `code`, if the manual names it.
     pub fn alarm(&self, code: u16) -> Option<&'static AlarmInfo> {
-        self.alarms.iter().find(|a| a.code == code)
+        self.faults.alarms.iter().find(|a| a.code == code)
     }
 
     /// True if a Fault Reset clears alarm `code` (codes the manual does not name are treated as
@@ -282,7 +343,12 @@ impl DriveProfile {
 
     /// The supported cycle times as text, e.g. "500, 1000, 2000 µs".
     pub fn cycle_times_text(&self) -> String {
-        let v: Vec<String> = self.cycle_times_us.iter().map(u32::to_string).collect();
+        let v: Vec<String> = self
+            .cycle
+            .cycle_times_us
+            .iter()
+            .map(u32::to_string)
+            .collect();
         format!("{} µs", v.join(", "))
     }
 
@@ -317,15 +383,21 @@ impl DriveProfile {
     /// The most (RxPDO, TxPDO) bytes the whole amplifier exchanges at `cycle_us`; `None` where
     /// the profile's table has no row for that cycle.
     pub fn unit_pdo_limit(&self, cycle_us: u32) -> Option<(u16, u16)> {
-        self.unit_pdo_limits
+        self.pdo
+            .unit_limits
             .iter()
             .find(|l| (l.from_us..=l.to_us).contains(&cycle_us))
             .map(|l| (l.max_rx_bytes, l.max_tx_bytes))
     }
 
+    /// This profile as a [`SharedProfile`] (a copy whose tables are shared, not copied).
+    pub fn shared(&self) -> SharedProfile {
+        Arc::new(self.clone())
+    }
+
     /// The supported modes as text, e.g. "hm, csp, csv".
     pub fn modes_text(&self) -> String {
-        let v: Vec<&str> = self.modes.iter().map(|m| m.as_str()).collect();
+        let v: Vec<&str> = self.cycle.modes.iter().map(|m| m.as_str()).collect();
         v.join(", ")
     }
 }

@@ -7,11 +7,13 @@ use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
 };
+use super::{CommFacts, CycleFacts, FaultFacts, HomingSetup, LimitFacts, PdoFacts};
 use super::{HomeReference, HomeSetting, TorqueLimitSelection};
 use crate::comm::CounterParams;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
 use crate::pdo::PdoMap;
+use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32, U8};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
@@ -29,7 +31,7 @@ pub const MASTER_COUNTER_CHECK: CounterParams = CounterParams {
 /// Default RxPDO 1614h, 30 bytes (MR-J3-T04 manual §8.5.1, §8.6.2, 13 entries).
 pub const RX_PDO_1614: PdoMap = PdoMap {
     index: 0x1614,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x2020, 8),  // 0  Incremental counter (RxPDO)
         obj(0x2022, 8),  // 1  Frame ID (reserved)
         obj(0x6040, 16), // 2  Controlword
@@ -43,13 +45,13 @@ pub const RX_PDO_1614: PdoMap = PdoMap {
         obj(0x6071, 16), // 24 Target torque (reserved)
         obj(0x60E0, 16), // 26 Positive torque limit value
         obj(0x60E1, 16), // 28 Negative torque limit value
-    ],
+    ]),
 };
 
 /// Default TxPDO 1A14h, 26 bytes (MR-J3-T04 manual §8.5.2, §8.6.2, 11 entries).
 pub const TX_PDO_1A14: PdoMap = PdoMap {
     index: 0x1A14,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x2021, 8),  // 0  Incremental counter (TxPDO)
         obj(0x2023, 8),  // 1  Frame ID (reserved, sent as 0)
         obj(0x6041, 16), // 2  Statusword
@@ -61,7 +63,7 @@ pub const TX_PDO_1A14: PdoMap = PdoMap {
         obj(0x606C, 32), // 16 Velocity actual value
         obj(0x60F4, 32), // 20 Following error actual value
         obj(0x6077, 16), // 24 Torque actual value
-    ],
+    ]),
 };
 
 /// Alarm code encoding: the display number as hex-coded BCD, AL.34 → 0x0034 (2041h encoding is
@@ -171,97 +173,112 @@ pub const PROFILE: DriveProfile = DriveProfile {
         product_code: Some(0x0000_0102),
         revision: Some(0x0200_0000),
         source: "MR-J3-T04 manual §8.1(4), §1.4.1(3) (manual §8.1(4))",
+        maker_vendor_id: Some(super::MITSUBISHI_VENDOR_ID),
+        emulator_product_code: 0x0000_0102,
     },
-    modes: &[M::Homing, M::CyclicSyncPosition, M::CyclicSyncVelocity],
-    cycle_times_us: &[500, 1000, 2000],
-    rx_pdo: RX_PDO_1614,
-    tx_pdo: TX_PDO_1A14,
+    cycle: CycleFacts {
+        modes: SharedSlice::Static(&[M::Homing, M::CyclicSyncPosition, M::CyclicSyncVelocity]),
+        cycle_times_us: &[500, 1000, 2000],
+        // §3.8: halt is invalid in csp and csv (hm only).
+        halt_in_cyclic_modes: false,
+    },
+    pdo: PdoFacts {
+        rx: RX_PDO_1614,
+        tx: TX_PDO_1A14,
+        unit_limits: &[],
+        rules: PdoRules {
+            max_entries: 15,
+            max_rx_bytes: 30,
+            max_tx_bytes: 30,
+            // §4.5: the manual's lists (reserved objects may be mapped but do nothing).
+            rx_mappable: &[
+                0x2020, 0x2022, 0x6040, 0x2001, 0x2002, 0x2003, 0x2004, 0x607A, 0x60FF, 0x2050,
+                0x6071, 0x60E0, 0x60E1, 0x6060,
+            ],
+            tx_mappable: &[
+                0x2021, 0x2023, 0x6041, 0x2011, 0x2012, 0x2013, 0x2014, 0x6064, 0x606C, 0x60F4,
+                0x6077, 0x6061, 0x6062, 0x60FC, 0x2041,
+            ],
+            not_mappable_abort: 0x0604_0041,
+            too_long_abort: 0x0604_0042,
+            locked_abort: 0x0601_0000,
+            // §4.4, §3.9: any PDO-mapped object, 6060h included.
+            mapped_write_abort: 0x0601_0000,
+            // §5.8: "write to an object that is not writable in the current AL state".
+            wrong_state_abort: 0x0601_0002,
+            // TV-IC-5: §8.2.3(1) says only that invalid cycles make operation "not performed
+            // properly"; AL.76 (synchronization setting incorrect) or AL.74 (initial
+            // synchronisation failed) are the candidates: AL.76 by default, AL.74 selectable
+            // (`SimDriveParams::sync_mismatch_alarm`).
+            sync_mismatch_alarms: &[0x0076, 0x0074],
+            assignment: PdoAssignment::ReadOnly,
+            frozen_after_safe_op: true,
+            source:
+                "MR-J3-T04 manual §8.6.1, §8.6.2, §8.7.1, §4.5, §5.8 (manual §8.6.1, §8.6.2, §8.7)",
+        },
+    },
     quirks: FsaQuirks {
         shortcut_transitions: true,
         has_quick_stop: false,
         quick_stop_returns_to_enabled: false,
         quick_stop_options_5_to_8: false,
     },
-    fault_reset_hold_ms: 10,
-    fault_reset_hold_long_cycle_ms: 10,
-    long_cycle_from_us: u32::MAX,
+    faults: FaultFacts {
+        reset_hold_ms: 10,
+        reset_hold_long_cycle_ms: 10,
+        long_cycle_from_us: u32::MAX,
+        alarms: ALARMS,
+    },
     axes_per_unit: 1,
-    unit_pdo_limits: &[],
     units: UNITS,
     objects: OBJECTS,
-    alarms: ALARMS,
-    comm_check: CommCheck::IncrementalCounter {
-        rx_index: 0x2020,
-        tx_index: 0x2021,
-        counter_alarm: AL_34,
-        loss_alarm: AL_36,
-        free_run_alarm: AL_37,
-        master: MASTER_COUNTER_CHECK,
+    comm: CommFacts {
+        check: CommCheck::IncrementalCounter {
+            rx_index: 0x2020,
+            tx_index: 0x2021,
+            counter_alarm: AL_34,
+            loss_alarm: AL_36,
+            free_run_alarm: AL_37,
+            master: MASTER_COUNTER_CHECK,
+        },
+        leave_op_alarm: AL_61,
+        // §2.2: no re-initialisation is stated; the alarm (or none) is the whole effect.
+        reinit_on_leaving_op: false,
+        emergency: EMERGENCY,
     },
-    leave_op_alarm: AL_61,
-    // §2.2: no re-initialisation is stated; the alarm (or none) is the whole effect.
-    reinit_on_leaving_op: false,
-    following_error_alarm: AL_52,
-    overspeed_alarm: AL_35,
-    // §3.8: halt is invalid in csp and csv (hm only).
-    halt_in_cyclic_modes: false,
-    torque_limit_selection: TorqueLimitSelection::Controlword2 {
-        c_tl_bit: 3,
-        c_tl1_bit: 4,
+    limits: LimitFacts {
+        following_error_alarm: AL_52,
+        overspeed_alarm: AL_35,
+        torque_limit_selection: TorqueLimitSelection::Controlword2 {
+            c_tl_bit: 3,
+            c_tl1_bit: 4,
+        },
+        stroke_end_warning: Some(AL_99),
+        power_warnings: Some((AL_E6, AL_E9)),
+        manual_stop_bit: Some(8),
+        relative_degree_warning: None,
     },
     sdo_write_refusals: &[],
-    // §8.1: dog type −1 / −17 and data set 35.
-    homing_methods: &[-1, -17, 35],
-    data_set_homing_methods: &[35],
-    home_reference: HomeReference::OffsetObject,
-    stroke_end_warning: Some(AL_99),
-    power_warnings: Some((AL_E6, AL_E9)),
-    manual_stop_bit: Some(8),
-    // §8.3 (manual §8.11.6): C_CR = 2001h bit 7, C_CR2 = bit 6; 2011h S_OSET bit 8, S_ZPAS
-    // bit 7, S_OP bit 9 (§3.3 tables).
-    home_setting: Some(HomeSetting {
-        clear_bit: 7,
-        clear_z_bit: 6,
-        set_bit: 8,
-        z_passed_bit: 7,
-        z_pulse_bit: 9,
-        before_z_warning: 0x0096,
-        before_z_alarm: 0x0026,
-    }),
-    store_restore_objects: &[],
-    pdo_rules: PdoRules {
-        max_entries: 15,
-        max_rx_bytes: 30,
-        max_tx_bytes: 30,
-        // §4.5: the manual's lists (reserved objects may be mapped but do nothing).
-        rx_mappable: &[
-            0x2020, 0x2022, 0x6040, 0x2001, 0x2002, 0x2003, 0x2004, 0x607A, 0x60FF, 0x2050, 0x6071,
-            0x60E0, 0x60E1, 0x6060,
-        ],
-        tx_mappable: &[
-            0x2021, 0x2023, 0x6041, 0x2011, 0x2012, 0x2013, 0x2014, 0x6064, 0x606C, 0x60F4, 0x6077,
-            0x6061, 0x6062, 0x60FC, 0x2041,
-        ],
-        not_mappable_abort: 0x0604_0041,
-        too_long_abort: 0x0604_0042,
-        locked_abort: 0x0601_0000,
-        // §4.4, §3.9: any PDO-mapped object, 6060h included.
-        mapped_write_abort: 0x0601_0000,
-        // §5.8: "write to an object that is not writable in the current AL state".
-        wrong_state_abort: 0x0601_0002,
-        // TV-IC-5: §8.2.3(1) says only that invalid cycles make operation "not performed
-        // properly"; AL.76 (synchronization setting incorrect) or AL.74 (initial
-        // synchronisation failed) are the candidates: AL.76 by default, AL.74 selectable
-        // (`SimDriveParams::sync_mismatch_alarm`).
-        sync_mismatch_alarms: &[0x0076, 0x0074],
-        assignment: PdoAssignment::ReadOnly,
-        frozen_after_safe_op: true,
-        source: "MR-J3-T04 manual §8.6.1, §8.6.2, §8.7.1, §4.5, §5.8 (manual §8.6.1, §8.6.2, §8.7)",
+    homing: HomingSetup {
+        // §8.1: dog type −1 / −17 and data set 35.
+        methods: &[-1, -17, 35],
+        data_set_methods: &[35],
+        reference: HomeReference::OffsetObject,
+        // §8.3 (manual §8.11.6): C_CR = 2001h bit 7, C_CR2 = bit 6; 2011h S_OSET bit 8, S_ZPAS
+        // bit 7, S_OP bit 9 (§3.3 tables).
+        setting: Some(HomeSetting {
+            clear_bit: 7,
+            clear_z_bit: 6,
+            set_bit: 8,
+            z_passed_bit: 7,
+            z_pulse_bit: 9,
+            before_z_warning: 0x0096,
+            before_z_alarm: 0x0026,
+        }),
     },
+    store_restore_objects: &[],
     invalid_axis_switch: None,
     fsoe: None,
-    relative_degree_warning: None,
-    emergency: EMERGENCY,
     parameters: &super::params::MR_J3_T04,
 };
 
@@ -278,7 +295,7 @@ mod tests {
     #[test]
     fn tv_pdo_default_rx_layout_1614h() {
         // §4.1 offsets and §4.3 mapping words.
-        let m = &PROFILE.rx_pdo;
+        let m = &PROFILE.pdo.rx;
         assert_eq!(m.byte_len(), 30);
         let expect = [
             (0x2020, 0),
@@ -322,7 +339,7 @@ mod tests {
 
     #[test]
     fn tv_pdo_default_tx_layout_1a14h() {
-        let m = &PROFILE.tx_pdo;
+        let m = &PROFILE.pdo.tx;
         assert_eq!(m.byte_len(), 26);
         let words: Vec<u32> = m.entries.iter().map(|e| e.mapping_word()).collect();
         assert_eq!(

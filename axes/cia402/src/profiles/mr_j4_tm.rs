@@ -7,11 +7,13 @@ use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
 };
+use super::{CommFacts, CycleFacts, FaultFacts, HomingSetup, LimitFacts, PdoFacts};
 use super::{HomeReference, TorqueLimitSelection};
 use crate::comm::CounterParams;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
 use crate::pdo::PdoMap;
+use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
@@ -20,7 +22,7 @@ use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 /// (MR-J4-TM manual §3.3(1); offsets derived from the chapter 5 types).
 pub const RX_PDO_1600: PdoMap = PdoMap {
     index: 0x1600,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6060, 8),  // 0  Modes of operation
         obj(0x6040, 16), // 1  Controlword
         obj(0x2D01, 16), // 3  Control DI 1
@@ -33,14 +35,14 @@ pub const RX_PDO_1600: PdoMap = PdoMap {
         obj(0x60E0, 16), // 23 Positive torque limit value
         obj(0x60E1, 16), // 25 Negative torque limit value
         obj(0x60B8, 16), // 27 Touch probe function
-    ],
+    ]),
 };
 
 /// Default RxPDO 1601h (pp/pv/tq/hm, the PA01 `___2` profile-mode group), 45 bytes, with
 /// 6081h/6083h/6084h/6087h for the profile modes (MR-J4-TM manual §3.3(1); offsets derived).
 pub const RX_PDO_1601: PdoMap = PdoMap {
     index: 0x1601,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6060, 8),  // 0  Modes of operation
         obj(0x6040, 16), // 1  Controlword
         obj(0x2D01, 16), // 3  Control DI 1
@@ -57,13 +59,13 @@ pub const RX_PDO_1601: PdoMap = PdoMap {
         obj(0x60E0, 16), // 39 Positive torque limit value
         obj(0x60E1, 16), // 41 Negative torque limit value
         obj(0x60B8, 16), // 43 Touch probe function
-    ],
+    ]),
 };
 
 /// Default TxPDO 1A00h, 41 bytes (MR-J4-TM manual §3.3(2)).
 pub const TX_PDO_1A00: PdoMap = PdoMap {
     index: 0x1A00,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6061, 8),  // 0  Modes of operation display
         obj(0x6041, 16), // 1  Statusword
         obj(0x2D11, 16), // 3  Status DO 1
@@ -78,7 +80,7 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
         obj(0x60BB, 32), // 29 Touch probe pos1 neg value
         obj(0x60BC, 32), // 33 Touch probe pos2 pos value
         obj(0x60BD, 32), // 37 Touch probe pos2 neg value
-    ],
+    ]),
 };
 
 /// Alarm code encoding of this module: AL. XX.Y → 0x0XXY (AL. 86.1 → 0x0861); the alarm
@@ -191,71 +193,86 @@ pub const PROFILE: DriveProfile = DriveProfile {
         product_code: None,
         revision: None,
         source: "MR-J4-TM manual: not in the manual; [EXT] 0x00000A1E / 0x00000201 unverified",
+        maker_vendor_id: Some(super::MITSUBISHI_VENDOR_ID),
+        // The [EXT] value (unverified).
+        emulator_product_code: 0x0000_0201,
     },
-    // §1.3: the PA01 groups are exclusive; the default group is csp/csv/cst/hm ([EXT]/[G]).
-    modes: &[
-        M::Homing,
-        M::CyclicSyncPosition,
-        M::CyclicSyncVelocity,
-        M::CyclicSyncTorque,
-    ],
-    cycle_times_us: &[250, 500, 1000, 2000],
-    rx_pdo: RX_PDO_1600,
-    tx_pdo: TX_PDO_1A00,
+    cycle: CycleFacts {
+        // §1.3: the PA01 groups are exclusive; the default group is csp/csv/cst/hm ([EXT]/[G]).
+        modes: SharedSlice::Static(&[
+            M::Homing,
+            M::CyclicSyncPosition,
+            M::CyclicSyncVelocity,
+            M::CyclicSyncTorque,
+        ]),
+        cycle_times_us: &[250, 500, 1000, 2000],
+        // §8.2: bit 8 is reserved in csp/csv/cst.
+        halt_in_cyclic_modes: false,
+    },
+    pdo: PdoFacts {
+        rx: RX_PDO_1600,
+        tx: TX_PDO_1A00,
+        unit_limits: &[],
+        rules: PdoRules {
+            // §5.1: 1C12h:0 = 1C13h:0 = 1 read-only; sub 1 selects one of 1600h–1603h / 1A00h–1A03h.
+            assignment: PdoAssignment::FixedCount,
+            source: "MR-J4-TM manual §3.2, §3.4 (32 objects, 64 bytes, only in PRE-OP), §6.2 (the same abort list as the MR-JET)",
+            ..super::mr_jet_g_n1::PDO_RULES
+        },
+    },
     quirks: FsaQuirks {
         shortcut_transitions: true,
         has_quick_stop: true,
         quick_stop_returns_to_enabled: false,
         quick_stop_options_5_to_8: false,
     },
-    fault_reset_hold_ms: 10,
-    fault_reset_hold_long_cycle_ms: 10,
-    long_cycle_from_us: u32::MAX,
+    faults: FaultFacts {
+        reset_hold_ms: 10,
+        reset_hold_long_cycle_ms: 10,
+        long_cycle_from_us: u32::MAX,
+        alarms: ALARMS,
+    },
     axes_per_unit: 1,
-    unit_pdo_limits: &[],
     units: UNITS,
     objects: OBJECTS,
-    alarms: ALARMS,
-    comm_check: CommCheck::WatchdogCounter {
-        rx_index: 0x2D23,
-        tx_index: 0x2D24,
-        loss_alarm: AL_86_1,
-        master: MASTER_COUNTER_CHECK,
+    comm: CommFacts {
+        check: CommCheck::WatchdogCounter {
+            rx_index: 0x2D23,
+            tx_index: 0x2D24,
+            loss_alarm: AL_86_1,
+            master: MASTER_COUNTER_CHECK,
+        },
+        leave_op_alarm: AL_86_1,
+        // §10: leaving Op clears the internal state (servo off, SOD) [D].
+        reinit_on_leaving_op: true,
+        emergency: EMERGENCY,
     },
-    leave_op_alarm: AL_86_1,
-    // §10: leaving Op clears the internal state (servo off, SOD) [D].
-    reinit_on_leaving_op: true,
-    following_error_alarm: FOLLOWING_ERROR,
-    overspeed_alarm: OVERSPEED,
-    // §8.2: bit 8 is reserved in csp/csv/cst.
-    halt_in_cyclic_modes: false,
-    torque_limit_selection: TorqueLimitSelection::Objects,
+    limits: LimitFacts {
+        following_error_alarm: FOLLOWING_ERROR,
+        overspeed_alarm: OVERSPEED,
+        torque_limit_selection: TorqueLimitSelection::Objects,
+        stroke_end_warning: None,
+        power_warnings: None,
+        manual_stop_bit: None,
+        relative_degree_warning: Some(AL_F4_8),
+    },
     sdo_write_refusals: &[
         // §12 TV-10: the shift time 1C32h:03 is not settable (0609 0030h).
         (0x1C32, 3, 0x0609_0030),
     ],
-    // §4.10.1: the 39 methods of 60E3h (−3 data set, 35/37 current position).
-    homing_methods: &[
-        -1, -33, -2, -34, -3, -4, -36, -6, -38, -7, -39, -8, -40, -9, -41, -10, -42, -11, -43, 3,
-        4, 5, 6, 7, 8, 11, 12, 19, 20, 21, 22, 23, 24, 27, 28, 33, 34, 35, 37,
-    ],
-    data_set_homing_methods: &[-3, 35, 37],
-    home_reference: HomeReference::PositionPreset,
-    stroke_end_warning: None,
-    power_warnings: None,
-    manual_stop_bit: None,
-    home_setting: None,
-    store_restore_objects: &[],
-    pdo_rules: PdoRules {
-        // §5.1: 1C12h:0 = 1C13h:0 = 1 read-only; sub 1 selects one of 1600h–1603h / 1A00h–1A03h.
-        assignment: PdoAssignment::FixedCount,
-        source: "MR-J4-TM manual §3.2, §3.4 (32 objects, 64 bytes, only in PRE-OP), §6.2 (the same abort list as the MR-JET)",
-        ..super::mr_jet_g_n1::PDO_RULES
+    homing: HomingSetup {
+        // §4.10.1: the 39 methods of 60E3h (−3 data set, 35/37 current position).
+        methods: &[
+            -1, -33, -2, -34, -3, -4, -36, -6, -38, -7, -39, -8, -40, -9, -41, -10, -42, -11, -43, 3,
+            4, 5, 6, 7, 8, 11, 12, 19, 20, 21, 22, 23, 24, 27, 28, 33, 34, 35, 37,
+        ],
+        data_set_methods: &[-3, 35, 37],
+        reference: HomeReference::PositionPreset,
+        setting: None,
     },
+    store_restore_objects: &[],
     invalid_axis_switch: None,
     fsoe: None,
-    relative_degree_warning: Some(AL_F4_8),
-    emergency: EMERGENCY,
     parameters: &super::params::MR_J4_TM,
 };
 
@@ -265,13 +282,19 @@ pub const PROFILE: DriveProfile = DriveProfile {
 /// [`PROFILE`].
 pub const PROFILE_MODE_GROUP: DriveProfile = DriveProfile {
     name: "Mitsubishi MR-J4-TM (PA01 ___2, profile mode)",
-    modes: &[
-        M::ProfilePosition,
-        M::ProfileVelocity,
-        M::ProfileTorque,
-        M::Homing,
-    ],
-    rx_pdo: RX_PDO_1601,
+    cycle: CycleFacts {
+        modes: SharedSlice::Static(&[
+            M::ProfilePosition,
+            M::ProfileVelocity,
+            M::ProfileTorque,
+            M::Homing,
+        ]),
+        ..PROFILE.cycle
+    },
+    pdo: PdoFacts {
+        rx: RX_PDO_1601,
+        ..PROFILE.pdo
+    },
     ..PROFILE
 };
 
@@ -347,7 +370,7 @@ mod tests {
     #[test]
     fn tv_6_rx_1600h_offsets_unaligned() {
         // TV-6 step 2 bytes 0, 1–2, 9–12, 17–20, 23–24, 25–26 of the 29-byte 1600h.
-        let m = &PROFILE.rx_pdo;
+        let m = &PROFILE.pdo.rx;
         assert_eq!(m.byte_len(), 29);
         let expect = [
             (0x6060, 0),
@@ -371,7 +394,7 @@ mod tests {
 
     #[test]
     fn tx_1a00h_offsets() {
-        let m = &PROFILE.tx_pdo;
+        let m = &PROFILE.pdo.tx;
         assert_eq!(m.byte_len(), 41);
         for (idx, off) in [
             (0x6061, 0),
@@ -403,9 +426,9 @@ mod tests {
             !pm.supports_mode(M::CyclicSyncPosition),
             "the groups are exclusive"
         );
-        assert_eq!(pm.rx_pdo.byte_len(), 45, "1601h is 45 bytes (§5.2)");
-        assert_eq!(pm.rx_pdo.offset_of(0x6081, 0), Some(23));
-        assert_eq!(pm.rx_pdo.offset_of(0x60B8, 0), Some(43));
+        assert_eq!(pm.pdo.rx.byte_len(), 45, "1601h is 45 bytes (§5.2)");
+        assert_eq!(pm.pdo.rx.offset_of(0x6081, 0), Some(23));
+        assert_eq!(pm.pdo.rx.offset_of(0x60B8, 0), Some(43));
         assert_eq!(ModeGroup::default().profile(), &PROFILE);
         assert_eq!(PROFILE.vendor_id(), None);
         assert_eq!(PROFILE.units.counts_per_rev, Some(4_194_304));

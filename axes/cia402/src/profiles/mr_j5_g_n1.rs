@@ -6,10 +6,12 @@ use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
     Identity, InvalidAxisSwitch, OdEntry, Pdo, StopBehaviour, UnitPdoLimit, Units,
 };
+use super::{CommFacts, CycleFacts, FaultFacts, HomingSetup, LimitFacts, PdoFacts};
 use super::{HomeReference, TorqueLimitSelection};
 use crate::cycles::ALLOWED_MICROS;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
+use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
@@ -107,6 +109,8 @@ const IDENTITY: Identity = Identity {
     product_code: None,
     revision: None,
     source: "MR-J5-G-N1 manual §1.1, §2.1: vendor ID / product code only in the ESI",
+    maker_vendor_id: Some(super::MITSUBISHI_VENDOR_ID),
+    emulator_product_code: 0xCE11_0501,
 };
 
 /// The MR-J5-G-N1 1-axis profile.
@@ -119,59 +123,71 @@ pub const PROFILE: DriveProfile = DriveProfile {
     model: DriveModel::MrJ5GN1,
     name: "Mitsubishi MR-J5-G-N1",
     identity: IDENTITY,
-    modes: &[
-        M::ProfilePosition,
-        M::ProfileVelocity,
-        M::ProfileTorque,
-        M::Homing,
-        M::CyclicSyncPosition,
-        M::CyclicSyncVelocity,
-        M::CyclicSyncTorque,
-    ],
-    cycle_times_us: &ALLOWED_MICROS,
-    rx_pdo: RX_PDO_1600,
-    tx_pdo: TX_PDO_1A00,
+    cycle: CycleFacts {
+        modes: SharedSlice::Static(&[
+            M::ProfilePosition,
+            M::ProfileVelocity,
+            M::ProfileTorque,
+            M::Homing,
+            M::CyclicSyncPosition,
+            M::CyclicSyncVelocity,
+            M::CyclicSyncTorque,
+        ]),
+        cycle_times_us: &ALLOWED_MICROS,
+        // §3.5: "HALT (bit 8) = 1 means temporary stop"; modes not restricted there [inferred].
+        halt_in_cyclic_modes: true,
+    },
+    pdo: PdoFacts {
+        rx: RX_PDO_1600,
+        tx: TX_PDO_1A00,
+        unit_limits: &[UnitPdoLimit {
+            from_us: 0,
+            to_us: u32::MAX,
+            max_rx_bytes: 64,
+            max_tx_bytes: 64,
+        }],
+        rules: super::mr_jet_g_n1::PDO_RULES,
+    },
     quirks: FSA,
-    fault_reset_hold_ms: 10,
-    fault_reset_hold_long_cycle_ms: 20,
-    long_cycle_from_us: 8000,
+    faults: FaultFacts {
+        reset_hold_ms: 10,
+        reset_hold_long_cycle_ms: 20,
+        long_cycle_from_us: 8000,
+        alarms: ALARMS,
+    },
     axes_per_unit: 1,
-    unit_pdo_limits: &[UnitPdoLimit {
-        from_us: 0,
-        to_us: u32::MAX,
-        max_rx_bytes: 64,
-        max_tx_bytes: 64,
-    }],
     units: UNITS,
     objects: OBJECTS,
-    alarms: ALARMS,
-    comm_check: CommCheck::SyncErrorCounter { alarm: AL_086_1 },
-    leave_op_alarm: AL_086_1,
-    reinit_on_leaving_op: true,
-    following_error_alarm: FOLLOWING_ERROR,
-    overspeed_alarm: OVERSPEED,
-    // §3.5: "HALT (bit 8) = 1 means temporary stop"; modes not restricted there [inferred].
-    halt_in_cyclic_modes: true,
-    torque_limit_selection: TorqueLimitSelection::TorqueLimit2 {
-        cptl_bit: 11,
-        cntl_bit: 12,
+    comm: CommFacts {
+        check: CommCheck::SyncErrorCounter { alarm: AL_086_1 },
+        leave_op_alarm: AL_086_1,
+        reinit_on_leaving_op: true,
+        emergency: EMERGENCY,
+    },
+    limits: LimitFacts {
+        following_error_alarm: FOLLOWING_ERROR,
+        overspeed_alarm: OVERSPEED,
+        torque_limit_selection: TorqueLimitSelection::TorqueLimit2 {
+            cptl_bit: 11,
+            cntl_bit: 12,
+        },
+        stroke_end_warning: None,
+        power_warnings: None,
+        manual_stop_bit: None,
+        relative_degree_warning: None,
     },
     sdo_write_refusals: &[],
-    // §8: hm exists, but the methods are not in this manual.
-    homing_methods: &[],
-    data_set_homing_methods: &[],
-    home_reference: HomeReference::PositionPreset,
-    stroke_end_warning: None,
-    power_warnings: None,
-    manual_stop_bit: None,
-    home_setting: None,
+    homing: HomingSetup {
+        // §8: hm exists, but the methods are not in this manual.
+        methods: &[],
+        data_set_methods: &[],
+        reference: HomeReference::PositionPreset,
+        setting: None,
+    },
     store_restore_objects: super::mr_jet_g_n1::STORE_RESTORE_OBJECTS,
-    pdo_rules: super::mr_jet_g_n1::PDO_RULES,
     invalid_axis_switch: Some(INVALID_AXIS_SWITCH_1_AXIS),
     // §7: this manual has no safety PDOs and no FSoE objects ("should not expose 1608h/1A08h").
     fsoe: None,
-    relative_degree_warning: None,
-    emergency: EMERGENCY,
     parameters: &super::params::MR_JET_G_N1,
 };
 
@@ -191,16 +207,26 @@ pub const MULTI_AXIS_CYCLES_US: &[u32] = &[250, 500, 1000, 2000, 4000, 8000];
 pub const PROFILE_W2: DriveProfile = DriveProfile {
     model: DriveModel::MrJ5W2GN1,
     name: "Mitsubishi MR-J5W2-G-N1",
-    modes: MULTI_AXIS_MODES,
-    cycle_times_us: MULTI_AXIS_CYCLES_US,
+    identity: Identity {
+        emulator_product_code: 0xCE11_0502,
+        ..IDENTITY
+    },
+    cycle: CycleFacts {
+        modes: SharedSlice::Static(MULTI_AXIS_MODES),
+        cycle_times_us: MULTI_AXIS_CYCLES_US,
+        ..PROFILE.cycle
+    },
     axes_per_unit: 2,
-    // §5.1: no multi-axis entry at 0.125 ms.
-    unit_pdo_limits: &[UnitPdoLimit {
-        from_us: 250,
-        to_us: u32::MAX,
-        max_rx_bytes: 108,
-        max_tx_bytes: 120,
-    }],
+    pdo: PdoFacts {
+        // §5.1: no multi-axis entry at 0.125 ms.
+        unit_limits: &[UnitPdoLimit {
+            from_us: 250,
+            to_us: u32::MAX,
+            max_rx_bytes: 108,
+            max_tx_bytes: 120,
+        }],
+        ..PROFILE.pdo
+    },
     // §1.5: the AL.011.2 rule is stated for 1-axis amplifiers only; "Multi-axis SW3 settings
     // are not given", so no SW3 setting is refused on the W2/W3.
     invalid_axis_switch: None,
@@ -211,21 +237,28 @@ pub const PROFILE_W2: DriveProfile = DriveProfile {
 pub const PROFILE_W3: DriveProfile = DriveProfile {
     model: DriveModel::MrJ5W3GN1,
     name: "Mitsubishi MR-J5W3-G-N1",
+    identity: Identity {
+        emulator_product_code: 0xCE11_0503,
+        ..IDENTITY
+    },
     axes_per_unit: 3,
-    unit_pdo_limits: &[
-        UnitPdoLimit {
-            from_us: 250,
-            to_us: 250,
-            max_rx_bytes: 120,
-            max_tx_bytes: 120,
-        },
-        UnitPdoLimit {
-            from_us: 251,
-            to_us: u32::MAX,
-            max_rx_bytes: 144,
-            max_tx_bytes: 162,
-        },
-    ],
+    pdo: PdoFacts {
+        unit_limits: &[
+            UnitPdoLimit {
+                from_us: 250,
+                to_us: 250,
+                max_rx_bytes: 120,
+                max_tx_bytes: 120,
+            },
+            UnitPdoLimit {
+                from_us: 251,
+                to_us: u32::MAX,
+                max_rx_bytes: 144,
+                max_tx_bytes: 162,
+            },
+        ],
+        ..PROFILE_W2.pdo
+    },
     ..PROFILE_W2
 };
 
@@ -283,7 +316,7 @@ pub const fn index_axis(index: u16, axes: u8) -> Option<(u8, u16)> {
 
 /// The most RxPDO and TxPDO bytes a unit of `axes` axes exchanges per cycle at `cycle_us`
 /// (§5.1, manual §4.4: 1-axis 64/64; 2-axis 108/120; 3-axis 120/120 at 0.25 ms, 144/162 from
-/// 0.5 ms), from the profiles' [`DriveProfile::unit_pdo_limits`]. `None` where the table has no
+/// 0.5 ms), from the profiles' [`super::PdoFacts::unit_limits`]. `None` where the table has no
 /// entry (multi-axis at 0.125 ms).
 pub fn unit_pdo_limit(axes: u8, cycle_us: u32) -> Option<(u16, u16)> {
     let unit = match axes {
@@ -314,7 +347,7 @@ mod tests {
     #[test]
     fn rx_offsets_match_spec_table() {
         // MR-J5-G-N1 manual §4.3, 1st RxPDO.
-        let m = &PROFILE.rx_pdo;
+        let m = &PROFILE.pdo.rx;
         assert_eq!(m.byte_len(), 24);
         let expect = [
             (0x6060, 0),
@@ -339,7 +372,7 @@ mod tests {
     #[test]
     fn tx_offsets_match_spec_table() {
         // MR-J5-G-N1 manual §4.3, 1st TxPDO.
-        let m = &PROFILE.tx_pdo;
+        let m = &PROFILE.pdo.tx;
         assert_eq!(m.byte_len(), 24);
         let expect = [
             (0x6061, 0),
@@ -370,7 +403,7 @@ mod tests {
             ..RxPdo::default()
         };
         let mut buf = [0xEEu8; 24];
-        PROFILE.rx_pdo.encode_rx(&pdo, &mut buf).unwrap();
+        PROFILE.pdo.rx.encode_rx(&pdo, &mut buf).unwrap();
         assert_eq!(buf[0], 8);
         assert_eq!(buf[1], 0, "padding is zero");
         assert_eq!(&buf[2..4], &[0x0F, 0x00]);
@@ -379,7 +412,7 @@ mod tests {
         assert_eq!(&buf[14..18], &[0x04, 0x03, 0x02, 0x01]);
         assert_eq!(&buf[18..22], &[0xD0, 0xC0, 0xB0, 0xA0]);
         assert_eq!(&buf[22..24], &(-300i16).to_le_bytes());
-        assert_eq!(PROFILE.rx_pdo.decode_rx(&buf), Ok(pdo));
+        assert_eq!(PROFILE.pdo.rx.decode_rx(&buf), Ok(pdo));
     }
 
     #[test]
@@ -392,13 +425,15 @@ mod tests {
             following_error: -12345,
             torque_actual: i16::MIN,
             error_code: 0x8611,
-            counter: 0,
-            statusword2: 0,
-            status_do: crate::profiles::status_do::StatusDo([0x1000, 0x0008, 0x0020]),
+            extras: crate::pdo::objects::TxExtras::default(),
         };
+        let mut pdo = pdo;
+        crate::profiles::status_do::StatusDo([0x1000, 0x0008, 0x0020])
+            .write_to(&mut pdo.extras)
+            .unwrap();
         let mut buf = [0u8; 24];
-        PROFILE.tx_pdo.encode_tx(&pdo, &mut buf).unwrap();
-        let back = PROFILE.tx_pdo.decode_tx(&buf).unwrap();
+        PROFILE.pdo.tx.encode_tx(&pdo, &mut buf).unwrap();
+        let back = PROFILE.pdo.tx.decode_tx(&buf).unwrap();
         assert_eq!(
             back,
             TxPdo {
@@ -415,7 +450,8 @@ mod tests {
     fn short_buffer_names_the_map() {
         let mut buf = [0u8; 23];
         let e = PROFILE
-            .rx_pdo
+            .pdo
+            .rx
             .encode_rx(&RxPdo::default(), &mut buf)
             .unwrap_err();
         assert_eq!(
@@ -427,11 +463,12 @@ mod tests {
             }
         );
         assert!(e.to_string().contains("0x1600"), "{e}");
-        let e = PROFILE.tx_pdo.decode_tx(&[]).unwrap_err().to_string();
+        let e = PROFILE.pdo.tx.decode_tx(&[]).unwrap_err().to_string();
         assert!(e.contains("0x1A00") && e.contains("24"), "{e}");
-        assert!(PROFILE.rx_pdo.decode_rx(&buf).is_err());
+        assert!(PROFILE.pdo.rx.decode_rx(&buf).is_err());
         assert!(PROFILE
-            .tx_pdo
+            .pdo
+            .tx
             .encode_tx(&TxPdo::default(), &mut buf)
             .is_err());
     }
@@ -441,7 +478,7 @@ mod tests {
         let p = profile(DriveModel::MrJ5GN1);
         assert_eq!(p.vendor_id(), None);
         assert_eq!(p.product_code(), None);
-        assert_eq!(p.modes.len(), 7);
+        assert_eq!(p.cycle.modes.len(), 7);
         for us in ALLOWED_MICROS {
             assert!(p.supports_cycle_time(CycleTime::from_micros(us).unwrap()));
         }

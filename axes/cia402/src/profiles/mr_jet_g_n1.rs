@@ -7,11 +7,13 @@ use super::{
     FsoeCommandBits, FsoeFacts, FsoeFrameLayout, FsoeStatusBits, Identity, OdEntry, Pdo,
     PdoAssignment, PdoRules, SafeBit, StopBehaviour, Units,
 };
+use super::{CommFacts, CycleFacts, FaultFacts, HomingSetup, LimitFacts, PdoFacts};
 use super::{HomeReference, TorqueLimitSelection};
 use crate::cycles::ALLOWED_MICROS;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
 use crate::pdo::{PdoEntry, PdoMap};
+use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
 use DataType::{I16, I32, I8, U16, U32, U8};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
@@ -19,7 +21,7 @@ use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 /// Default 1st RxPDO 1600h, 24 bytes (MR-JET-G-N1 manual §4.3; sizes inferred from the total).
 pub const RX_PDO_1600: PdoMap = PdoMap {
     index: 0x1600,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6060, 8),       // 0  Modes of operation
         PdoEntry::padding(8), // 1  padding
         obj(0x6040, 16),      // 2  Controlword
@@ -30,13 +32,13 @@ pub const RX_PDO_1600: PdoMap = PdoMap {
         obj(0x60FF, 32),      // 14 Target velocity
         obj(0x2D20, 32),      // 18 Velocity limit value
         obj(0x6071, 16),      // 22 Target torque
-    ],
+    ]),
 };
 
 /// Default 1st TxPDO 1A00h, 24 bytes (MR-JET-G-N1 manual §4.3).
 pub const TX_PDO_1A00: PdoMap = PdoMap {
     index: 0x1A00,
-    entries: &[
+    entries: SharedSlice::Static(&[
         obj(0x6061, 8),       // 0  Modes of operation display
         PdoEntry::padding(8), // 1  padding
         obj(0x6041, 16),      // 2  Statusword
@@ -47,7 +49,7 @@ pub const TX_PDO_1A00: PdoMap = PdoMap {
         obj(0x606C, 32),      // 14 Velocity actual value
         obj(0x60F4, 32),      // 18 Following error actual value
         obj(0x6077, 16),      // 22 Torque actual value
-    ],
+    ]),
 };
 
 /// Alarm code encoding: AL.XXX.Y → 0xXXXY (AL.086.1 → 0x0861); no alarm object in the manual.
@@ -298,19 +300,28 @@ pub const PROFILE: DriveProfile = DriveProfile {
         product_code: None,
         revision: None,
         source: "MR-JET-G-N1 manual §1.1, §2.1: not in this manual (in the ESI file)",
+        maker_vendor_id: Some(super::MITSUBISHI_VENDOR_ID),
+        emulator_product_code: 0xCE11_0301,
     },
-    modes: &[
-        M::ProfilePosition,
-        M::ProfileVelocity,
-        M::ProfileTorque,
-        M::Homing,
-        M::CyclicSyncPosition,
-        M::CyclicSyncVelocity,
-        M::CyclicSyncTorque,
-    ],
-    cycle_times_us: &ALLOWED_MICROS,
-    rx_pdo: RX_PDO_1600,
-    tx_pdo: TX_PDO_1A00,
+    cycle: CycleFacts {
+        modes: SharedSlice::Static(&[
+            M::ProfilePosition,
+            M::ProfileVelocity,
+            M::ProfileTorque,
+            M::Homing,
+            M::CyclicSyncPosition,
+            M::CyclicSyncVelocity,
+            M::CyclicSyncTorque,
+        ]),
+        cycle_times_us: &ALLOWED_MICROS,
+        halt_in_cyclic_modes: true,
+    },
+    pdo: PdoFacts {
+        rx: RX_PDO_1600,
+        tx: TX_PDO_1A00,
+        unit_limits: &[],
+        rules: PDO_RULES,
+    },
     // (16) only with 605Ah 5–8 on FW D0+ (§7.1); the default option code is in 1–4 (§3.5)
     // [inferred]: the simulated drive has no 605Ah value until one is written.
     quirks: FsaQuirks {
@@ -319,39 +330,44 @@ pub const PROFILE: DriveProfile = DriveProfile {
         quick_stop_returns_to_enabled: false,
         quick_stop_options_5_to_8: true,
     },
-    fault_reset_hold_ms: 10,
-    fault_reset_hold_long_cycle_ms: 20,
-    long_cycle_from_us: 8000,
+    faults: FaultFacts {
+        reset_hold_ms: 10,
+        reset_hold_long_cycle_ms: 20,
+        long_cycle_from_us: 8000,
+        alarms: ALARMS,
+    },
     axes_per_unit: 1,
-    unit_pdo_limits: &[],
     units: UNITS,
     objects: OBJECTS,
-    alarms: ALARMS,
-    comm_check: CommCheck::SyncErrorCounter { alarm: AL_086_1 },
-    leave_op_alarm: AL_086_1,
-    reinit_on_leaving_op: true,
-    following_error_alarm: FOLLOWING_ERROR,
-    overspeed_alarm: OVERSPEED,
-    halt_in_cyclic_modes: true,
-    torque_limit_selection: TorqueLimitSelection::TorqueLimit2 {
-        cptl_bit: 11,
-        cntl_bit: 12,
+    comm: CommFacts {
+        check: CommCheck::SyncErrorCounter { alarm: AL_086_1 },
+        leave_op_alarm: AL_086_1,
+        reinit_on_leaving_op: true,
+        emergency: EMERGENCY,
+    },
+    limits: LimitFacts {
+        following_error_alarm: FOLLOWING_ERROR,
+        overspeed_alarm: OVERSPEED,
+        torque_limit_selection: TorqueLimitSelection::TorqueLimit2 {
+            cptl_bit: 11,
+            cntl_bit: 12,
+        },
+        stroke_end_warning: None,
+        power_warnings: None,
+        manual_stop_bit: None,
+        relative_degree_warning: None,
     },
     sdo_write_refusals: &[],
-    // §8.1: hm exists, but the methods are not in this manual.
-    homing_methods: &[],
-    data_set_homing_methods: &[],
-    home_reference: HomeReference::PositionPreset,
-    stroke_end_warning: None,
-    power_warnings: None,
-    manual_stop_bit: None,
-    home_setting: None,
+    homing: HomingSetup {
+        // §8.1: hm exists, but the methods are not in this manual.
+        methods: &[],
+        data_set_methods: &[],
+        reference: HomeReference::PositionPreset,
+        setting: None,
+    },
     store_restore_objects: STORE_RESTORE_OBJECTS,
-    pdo_rules: PDO_RULES,
     invalid_axis_switch: None,
     fsoe: Some(FSOE),
-    relative_degree_warning: None,
-    emergency: EMERGENCY,
     parameters: &super::params::MR_JET_G_N1,
 };
 
@@ -368,7 +384,7 @@ mod tests {
 
     #[test]
     fn default_maps_24_bytes_at_the_offsets() {
-        let rx = &PROFILE.rx_pdo;
+        let rx = &PROFILE.pdo.rx;
         assert_eq!(rx.byte_len(), 24);
         for (idx, off) in [
             (0x6060, 0),
@@ -383,7 +399,7 @@ mod tests {
         ] {
             assert_eq!(rx.offset_of(idx, 0), Some(off), "{idx:#06x}");
         }
-        let tx = &PROFILE.tx_pdo;
+        let tx = &PROFILE.pdo.tx;
         assert_eq!(tx.byte_len(), 24);
         for (idx, off) in [
             (0x6061, 0),

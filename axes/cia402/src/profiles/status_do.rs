@@ -3,6 +3,9 @@
 //! bit map (MR-J4-TM manual §5.3.2, MR-J5-G-N1 manual §7.3, MR-JET-G-N1 manual §7.3); bits
 //! not listed there are undefined and stay 0.
 
+use crate::pdo::objects::{TxExtras, TxExtrasFull, STATUS_DO};
+use crate::pdo::TxPdo;
+
 /// One Status DO signal: which of the three words, and which bit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, strum::IntoStaticStr, strum::EnumIter)]
 pub enum StatusDoSignal {
@@ -81,6 +84,20 @@ impl StatusDo {
         } else {
             self.0[w] &= !(1 << b);
         }
+    }
+
+    /// The words a TxPDO image carries (2D11h–2D13h among [`TxPdo::extras`], 0 where the image
+    /// does not carry one).
+    pub fn of(tx: &TxPdo) -> Self {
+        StatusDo(STATUS_DO.map(|index| tx.extra_word(index)))
+    }
+
+    /// Puts the three words into `extras` as 2D11h–2D13h.
+    pub fn write_to(self, extras: &mut TxExtras) -> Result<(), TxExtrasFull> {
+        for (index, word) in STATUS_DO.into_iter().zip(self.0) {
+            extras.set(index, 0, u64::from(word))?;
+        }
+        Ok(())
     }
 
     /// The symbols of the signals that are on, in the manual's order (for `cellrt status`).

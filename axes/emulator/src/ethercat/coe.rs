@@ -61,7 +61,7 @@ pub struct CoeContext<'a> {
 
 impl CoeContext<'_> {
     /// The unit's model (every axis' drive runs the same model).
-    fn profile(&self) -> &'static DriveProfile {
+    fn profile(&self) -> &DriveProfile {
         self.drives[0].profile()
     }
 }
@@ -179,10 +179,10 @@ fn entry_at_slot(profile: &DriveProfile, entry: PdoEntry, slot: u8) -> PdoEntry 
 }
 
 impl PdoObject {
-    fn new(profile: &DriveProfile, map: PdoMap, direction: PdoDirection, slot: u8) -> Self {
-        let max_entries = profile.pdo_rules.max_entries;
+    fn new(profile: &DriveProfile, map: &PdoMap, direction: PdoDirection, slot: u8) -> Self {
+        let max_entries = profile.pdo.rules.max_entries;
         let mut words = vec![0u32; usize::from(max_entries).max(map.entries.len())];
-        for (w, e) in words.iter_mut().zip(map.entries) {
+        for (w, e) in words.iter_mut().zip(map.entries.iter()) {
             *w = entry_at_slot(profile, *e, slot).mapping_word();
         }
         PdoObject {
@@ -224,8 +224,8 @@ impl PdoConfig {
             .map(|(slot, d)| {
                 let p = d.profile();
                 [
-                    PdoObject::new(p, p.rx_pdo, PdoDirection::Rx, slot as u8),
-                    PdoObject::new(p, p.tx_pdo, PdoDirection::Tx, slot as u8),
+                    PdoObject::new(p, &p.pdo.rx, PdoDirection::Rx, slot as u8),
+                    PdoObject::new(p, &p.pdo.tx, PdoDirection::Tx, slot as u8),
                 ]
             })
             .collect();
@@ -234,8 +234,8 @@ impl PdoConfig {
             axes,
             assign_counts: [n, n],
             rules: drives.first().map_or(
-                cellrt_cia402::profiles::generic_cia402::PROFILE.pdo_rules,
-                |d| d.profile().pdo_rules,
+                cellrt_cia402::profiles::generic_cia402::PROFILE.pdo.rules,
+                |d| d.profile().pdo.rules,
             ),
             frozen: false,
         }
@@ -320,7 +320,7 @@ pub(super) fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Va
     let u8v = |v: u8| vec![v];
     let u16v = |v: u16| v.to_le_bytes().to_vec();
     let u32v = |v: u32| v.to_le_bytes().to_vec();
-    let profile = ctx.profile();
+    let profile = ctx.drives[0].profile().clone();
     if let Some(answer) = ctx.variant.upload(index, sub) {
         return answer;
     }
@@ -367,10 +367,11 @@ pub(super) fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Va
     }
     let value = drive.sdo_upload(index, sub)?;
     let bits = profile
-        .rx_pdo
+        .pdo
+        .rx
         .entries
         .iter()
-        .chain(profile.tx_pdo.entries)
+        .chain(profile.pdo.tx.entries.iter())
         .find(|e| e.index == index && e.sub == sub)
         .map(|e| e.bits)
         .or_else(|| profile.object(index, sub).and_then(|o| o.data_type.bits()))
@@ -448,7 +449,7 @@ pub(super) fn download(
     let pre_op = ctx.al_state == AlState::PreOp;
     let rules = ctx.pdo.rules;
     let frozen = ctx.pdo.frozen;
-    let profile = ctx.profile();
+    let profile = ctx.drives[0].profile().clone();
     let variant = *ctx.variant;
     if let Some((obj, slot)) = ctx.pdo.object(index) {
         if !pre_op || frozen {
@@ -467,7 +468,7 @@ pub(super) fn download(
             0 => {
                 let entries = obj.words[..usize::from(data[0])]
                     .iter()
-                    .map(|w| entry_of_slot(profile, PdoEntry::from_mapping_word(*w), slot))
+                    .map(|w| entry_of_slot(&profile, PdoEntry::from_mapping_word(*w), slot))
                     .collect::<Option<Vec<PdoEntry>>>()
                     .ok_or(not_mappable)?;
                 profile
@@ -482,7 +483,7 @@ pub(super) fn download(
             _ if data.len() > 4 => Err(SdoAbort::TOO_LONG),
             s => {
                 let w = word(data);
-                let entry = entry_of_slot(profile, PdoEntry::from_mapping_word(w), slot)
+                let entry = entry_of_slot(&profile, PdoEntry::from_mapping_word(w), slot)
                     .filter(|e| e.is_padding() || !variant.lacks(e.index))
                     .ok_or(not_mappable)?;
                 profile

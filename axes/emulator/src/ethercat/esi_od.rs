@@ -90,16 +90,18 @@ mod tests {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../configs/esi/cia402-example.xml");
         let device = cellrt_ethercat::esi::load(&path).unwrap().remove(0);
-        let p =
-            cellrt_ethercat::esi::EsiProfile::with_esi(profile(DriveModel::GenericCia402), &device);
+        let p = cellrt_cia402::SharedProfile::new(cellrt_ethercat::esi::EsiProfile::with_esi(
+            profile(DriveModel::GenericCia402),
+            &device,
+        ));
         let cycle = CycleTime::from_micros(1000).unwrap();
-        let mut drives = vec![SimDrive::new(p, SimDriveParams::default(), cycle)];
+        let mut drives = vec![SimDrive::new(p.clone(), SimDriveParams::default(), cycle)];
         let mut pdo = PdoConfig::new(&drives);
         let (mut counter, mut upload_state) = (0u8, SegmentedUpload::default());
         let variant = super::super::SubDeviceVariant::default();
         let mut ctx = CoeContext {
             variant: &variant,
-            identity: SubDeviceIdentity::of_profile(p),
+            identity: SubDeviceIdentity::of_profile(&p),
             drives: &mut drives,
             al_state: AlState::PreOp,
             pdo: &mut pdo,

@@ -52,8 +52,8 @@ impl StationLayout {
     /// The layout for `profile`'s default PDO maps.
     pub fn of_profile(profile: &DriveProfile) -> Self {
         Self::of_lengths(
-            profile.rx_pdo.byte_len() as u16,
-            profile.tx_pdo.byte_len() as u16,
+            profile.pdo.rx.byte_len() as u16,
+            profile.pdo.tx.byte_len() as u16,
         )
     }
 

@@ -22,5 +22,5 @@ pub use variant::{CycleTimeObject, EmulatedDc, SubDeviceVariant};
 
 /// True if `profile` runs its PDOs at a cycle of `ns` nanoseconds (1C32h:02, SYNC0 cycle).
 pub fn allows_cycle_ns(profile: &cellrt_cia402::profiles::DriveProfile, ns: u32) -> bool {
-    ns.is_multiple_of(1000) && profile.cycle_times_us.contains(&(ns / 1000))
+    ns.is_multiple_of(1000) && profile.cycle.cycle_times_us.contains(&(ns / 1000))
 }

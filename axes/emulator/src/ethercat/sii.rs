@@ -19,7 +19,7 @@ pub struct SiiPdo {
 
 impl SiiPdo {
     /// `map` of `profile` as axis `slot` of the unit carries it.
-    pub fn of_slot(profile: &DriveProfile, map: PdoMap, slot: u8) -> Self {
+    pub fn of_slot(profile: &DriveProfile, map: &PdoMap, slot: u8) -> Self {
         let at = |index: u16| profile.axis_object(index, slot).unwrap_or(index);
         SiiPdo {
             index: at(map.index),
@@ -166,8 +166,8 @@ mod tests {
             id,
             p.name,
             &layout,
-            &[SiiPdo::of_slot(p, p.rx_pdo, 0)],
-            &[SiiPdo::of_slot(p, p.tx_pdo, 0)],
+            &[SiiPdo::of_slot(p, &p.pdo.rx, 0)],
+            &[SiiPdo::of_slot(p, &p.pdo.tx, 0)],
         );
         assert_eq!(word(&img, 0x08), 0x0A1E);
         assert_eq!(word(&img, 0x0A), 0x0102);
@@ -184,7 +184,7 @@ mod tests {
             }
             if code == category::SYNC_MANAGER {
                 assert_eq!(word(&img, w + 1), 16, "four 8-byte SyncManagers");
-                assert_eq!(word(&img, w + 2 + 4 * 2 + 1), p.rx_pdo.byte_len() as u16);
+                assert_eq!(word(&img, w + 2 + 4 * 2 + 1), p.pdo.rx.byte_len() as u16);
             }
             w += 2 + usize::from(word(&img, w + 1));
         }

@@ -157,8 +157,8 @@ impl Station {
     }
 
     fn build(mut drives: Vec<SimDrive>, position: u16, line_len: u16) -> Self {
-        let profile = drives[0].profile();
-        let identity = SubDeviceIdentity::of_profile(profile);
+        let profile = drives[0].profile().clone();
+        let identity = SubDeviceIdentity::of_profile(&profile);
         let pdo = PdoConfig::new(&drives);
         let axis_lens: Vec<(usize, usize)> = (0..drives.len())
             .map(|slot| {
@@ -175,8 +175,8 @@ impl Station {
                 .map(|(slot, drive)| {
                     let p = drive.profile();
                     let map = match d {
-                        PdoDirection::Rx => p.rx_pdo,
-                        PdoDirection::Tx => p.tx_pdo,
+                        PdoDirection::Rx => &p.pdo.rx,
+                        PdoDirection::Tx => &p.pdo.tx,
                     };
                     SiiPdo::of_slot(p, map, slot as u8)
                 })
@@ -215,7 +215,7 @@ impl Station {
             pd_watchdog_trigger: None,
             variant: SubDeviceVariant::default(),
             outbox: Outbox {
-                sends_emergencies: profile.emergency.sends,
+                sends_emergencies: profile.comm.emergency.sends,
                 emergencies: VecDeque::with_capacity(EMERGENCY_QUEUE),
                 lost: 0,
                 alarms: Vec::new(),
@@ -489,11 +489,11 @@ impl Station {
         if !self.sm_matches(3, i.start, tx_len) {
             return Err(al_code::INVALID_INPUT_CONFIG);
         }
-        let profile = self.drives[0].profile();
+        let profile = self.drives[0].profile().clone();
         if self.variant.distributed_clocks == EmulatedDc::Required && !self.sync_active() {
             return Err(al_code::INVALID_DC_SYNC);
         }
-        if self.sync_active() && !super::allows_cycle_ns(profile, self.sync0_cycle_ns()) {
+        if self.sync_active() && !super::allows_cycle_ns(&profile, self.sync0_cycle_ns()) {
             return Err(al_code::INVALID_SYNC_CYCLE);
         }
         if profile.is_multi_axis() {
@@ -505,7 +505,7 @@ impl Station {
             }
         }
         for slot in 0..self.drives.len() {
-            let (rx, tx) = self.pdo.mapping(profile, slot as u8);
+            let (rx, tx) = self.pdo.mapping(&profile, slot as u8);
             if self.drives[slot].remap(&rx, &tx).is_err() {
                 return Err(al_code::INVALID_OUTPUT_CONFIG);
             }

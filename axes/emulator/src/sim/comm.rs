@@ -1,4 +1,4 @@
-//! The drive side of the cyclic communication checks, per model (`DriveProfile::comm_check`).
+//! The drive side of the cyclic communication checks, per model (`CommFacts::check`).
 //!
 //! * MR-J3-T04 (MR-J3-T04 manual §8.11.1, §5.1, §8.2.3, §7): incremental counter echo (last good received + 1, delayed by
 //!   the echo lag), counter update errors against PO03 digit 0 → AL.34, RxPDO loss against PO03

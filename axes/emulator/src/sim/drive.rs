@@ -26,12 +26,13 @@ use cellrt_cia402::controlword::Controlword;
 use cellrt_cia402::cycles::{CycleTime, Cycles};
 use cellrt_cia402::fsa::FsaState;
 use cellrt_cia402::mode::ModeOfOperation;
+use cellrt_cia402::pdo::objects::{TxExtras, STATUSWORD2};
 use cellrt_cia402::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
-use cellrt_cia402::profiles::DriveProfile;
+use cellrt_cia402::profiles::SharedProfile;
 use cellrt_cia402::statusword::Statusword;
 
 /// Error code (603Fh) of the following-error alarm: CiA 402 8611h "following error"
-/// [background]; each model's code is `DriveProfile::following_error_alarm`.
+/// [background]; each model's code is `LimitFacts::following_error_alarm`.
 pub const FOLLOWING_ERROR_ALARM: u16 = cellrt_cia402::error_code::FOLLOWING_ERROR;
 
 pub mod alarm_history;
@@ -60,7 +61,7 @@ pub use units::{SimMotor, SIM_DEFAULT_COUNTS_PER_REV};
 /// One simulated servo axis that exchanges PDO images like the real drive.
 #[derive(Debug, Clone)]
 pub struct SimDrive {
-    profile: &'static DriveProfile,
+    profile: SharedProfile,
     /// The profile's objects for the per-cycle lookups ([`SimDrive::object`]).
     od: cellrt_cia402::profiles::ObjectIndex,
     /// 60B0h's default where the model lists 60B0h (read every cycle in csp).
@@ -131,12 +132,13 @@ pub struct SimDrive {
 impl SimDrive {
     /// A drive at rest in Not ready to switch on, running the `profile`'s default maps.
     pub fn new(
-        profile: &'static DriveProfile,
+        profile: impl Into<SharedProfile>,
         params: SimDriveParams,
         cycle_time: CycleTime,
     ) -> Self {
+        let profile: SharedProfile = profile.into();
         let pos = f64::from(params.initial_position);
-        let counter_mapped = profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter();
+        let counter_mapped = profile.pdo.rx.has_counter() && profile.pdo.tx.has_counter();
         // An unsupported initial mode falls back to csp, or to the first mode the profile
         // lists where csp is not in its group (MR-J4-TM PA01 `___2`: pp).
         let initial_mode = if profile.supports_mode(params.initial_mode) {
@@ -145,14 +147,15 @@ impl SimDrive {
             ModeOfOperation::CyclicSyncPosition
         } else {
             profile
+                .cycle
                 .modes
                 .first()
                 .copied()
                 .unwrap_or(ModeOfOperation::CyclicSyncPosition)
         };
         let mut d = SimDrive {
-            profile,
-            od: cellrt_cia402::profiles::ObjectIndex::of(profile),
+            profile: profile.clone(),
+            od: cellrt_cia402::profiles::ObjectIndex::of(&profile),
             position_offset_default: profile
                 .object(cellrt_cia402::pdo::objects::POSITION_OFFSET, 0)
                 .map(|o| o.default),
@@ -162,14 +165,16 @@ impl SimDrive {
             prev_cw: Controlword::DISABLE_VOLTAGE,
             mode_display: initial_mode,
             plant: ServoPlant::new(params.plant, pos).with_stoppers(params.stoppers),
-            rx_layout: PdoLayout::new(&profile.rx_pdo),
+            rx_layout: PdoLayout::new(&profile.pdo.rx),
             mode_mapped: profile
-                .rx_pdo
+                .pdo
+                .rx
                 .maps(cellrt_cia402::pdo::objects::MODES_OF_OPERATION),
             status_do_mapped: profile
-                .tx_pdo
+                .pdo
+                .tx
                 .maps(cellrt_cia402::pdo::objects::STATUS_DO[0]),
-            tx_layout: PdoLayout::new(&profile.tx_pdo),
+            tx_layout: PdoLayout::new(&profile.pdo.tx),
             alarm: None,
             power: PowerInputs::default(),
             startup_left: params.startup_cycles,
@@ -185,7 +190,7 @@ impl SimDrive {
                 target_position: params.initial_position,
                 ..RxPdo::default()
             },
-            comm: DriveComm::new(profile.comm_check, params.comm, cycle_time, counter_mapped),
+            comm: DriveComm::new(profile.comm.check, params.comm, cycle_time, counter_mapped),
             op: true,
             sdo_mode: 0,
             // One slot per object of the dictionary: an SDO write never allocates.
@@ -224,18 +229,20 @@ impl SimDrive {
         rx: &[cellrt_cia402::pdo::PdoEntry],
         tx: &[cellrt_cia402::pdo::PdoEntry],
     ) -> Result<(), cellrt_cia402::profiles::mapping::MappingError> {
-        let profile = self.profile.with_pdo_maps(rx, tx)?;
-        self.profile = profile;
-        self.rx_layout = PdoLayout::new(&profile.rx_pdo);
-        self.tx_layout = PdoLayout::new(&profile.tx_pdo);
+        let profile = SharedProfile::new(self.profile.with_pdo_maps(rx, tx)?);
+        self.rx_layout = PdoLayout::new(&profile.pdo.rx);
+        self.tx_layout = PdoLayout::new(&profile.pdo.tx);
         self.mode_mapped = profile
-            .rx_pdo
+            .pdo
+            .rx
             .maps(cellrt_cia402::pdo::objects::MODES_OF_OPERATION);
         self.status_do_mapped = profile
-            .tx_pdo
+            .pdo
+            .tx
             .maps(cellrt_cia402::pdo::objects::STATUS_DO[0]);
         self.comm
-            .set_counter_mapped(profile.rx_pdo.has_counter() && profile.tx_pdo.has_counter());
+            .set_counter_mapped(profile.pdo.rx.has_counter() && profile.pdo.tx.has_counter());
+        self.profile = profile;
         Ok(())
     }
 
@@ -374,13 +381,26 @@ impl SimDrive {
             following_error: self.following_error,
             torque_actual: torque,
             error_code: self.alarm.unwrap_or(0),
-            counter: self.comm.echo(),
-            statusword2: self
-                .profile
-                .home_setting
-                .map_or(0, |b| self.home_set.statusword2(&b)),
-            status_do: self.status_do(),
+            extras: self.tx_extras(),
         }
+    }
+
+    /// The TxPDO objects the profile adds to CiA 402: the counter echo its communication check
+    /// names, statusword2 where it has a home setting, Status DO 1–3 where the map carries them.
+    fn tx_extras(&self) -> TxExtras {
+        let mut extras = TxExtras::default();
+        // At most five objects: within the table's MAX_TX_EXTRAS.
+        if let Some((_, index)) = self.profile.comm.check.counter_objects() {
+            let _ = extras.set(index, 0, u64::from(self.comm.echo()));
+        }
+        if let Some(b) = self.profile.homing.setting {
+            let sw2 = self.home_set.statusword2(&b);
+            let _ = extras.set(STATUSWORD2, 0, u64::from(sw2));
+        }
+        if self.status_do_mapped {
+            let _ = self.status_do().write_to(&mut extras);
+        }
+        extras
     }
 
     /// The PDS state.
@@ -414,8 +434,8 @@ impl SimDrive {
     }
 
     /// The drive's profile.
-    pub fn profile(&self) -> &'static DriveProfile {
-        self.profile
+    pub fn profile(&self) -> &SharedProfile {
+        &self.profile
     }
 
     /// The cycle time the drive integrates with.

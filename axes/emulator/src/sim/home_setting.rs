@@ -144,7 +144,7 @@ mod tests {
     use cellrt_cia402::profiles::{profile, DriveModel};
 
     fn bits() -> HomeSetting {
-        profile(DriveModel::MrJ3T04).home_setting.unwrap()
+        profile(DriveModel::MrJ3T04).homing.setting.unwrap()
     }
 
     const Z: ZPhase = ZPhase {

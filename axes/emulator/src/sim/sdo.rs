@@ -35,12 +35,15 @@ impl SimDrive {
     /// value last downloaded or the profile's default.
     pub fn sdo_upload(&self, index: u16, sub: u8) -> Result<i64, SdoAbort> {
         let p = self.profile();
-        if p.tx_pdo.maps(index) {
+        if p.pdo.tx.maps(index) {
             if let Some(f) = TxField::of(index, sub) {
                 return Ok(self.tx_pdo().get(f) as i64);
             }
+            if let Some(v) = self.tx_pdo().extras.get(index, sub) {
+                return Ok(v as i64);
+            }
         }
-        if p.rx_pdo.maps(index) {
+        if p.pdo.rx.maps(index) {
             if let Some(f) = RxField::of(index, sub) {
                 return Ok(self.last_command().get(f) as i64);
             }
@@ -93,11 +96,11 @@ impl SimDrive {
         {
             return Err(SdoAbort(code));
         }
-        if p.rx_pdo.maps(index) {
+        if p.pdo.rx.maps(index) {
             // MR-J3-T04: 0601 0000h (§4.4, §3.9); the others 0601 0006h.
-            return Err(SdoAbort(p.pdo_rules.mapped_write_abort));
+            return Err(SdoAbort(p.pdo.rules.mapped_write_abort));
         }
-        if p.tx_pdo.maps(index) {
+        if p.pdo.tx.maps(index) {
             return Err(SdoAbort::READ_ONLY);
         }
         if self.fsoe().is_some_and(|f| f.serves(index)) {

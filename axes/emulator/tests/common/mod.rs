@@ -1,10 +1,38 @@
 //! Shared helpers: simulated drives of any model driven through their byte images.
 #![allow(dead_code)]
 
+use cellrt_cia402::pdo::objects::{INCREMENTAL_COUNTER_TX, STATUSWORD2, WATCHDOG_COUNTER_UL};
+use cellrt_cia402::profiles::status_do::StatusDo;
 use cellrt_cia402::{
     profile, Controlword, CycleTime, Cycles, DriveModel, FsaState, RxPdo, Statusword, TxPdo,
 };
 use cellrt_emulator::{SimDrive, SimDriveParams};
+
+/// The TxPDO objects the Mitsubishi profiles add to CiA 402, read by object index.
+pub trait VendorObjects {
+    /// The counter echo (2021h MR-J3-T04, 2D24h MR-J4-TM); 0 where not carried.
+    fn echo(&self) -> u8;
+    /// 2011h Statusword2 (MR-J3-T04); 0 where not carried.
+    fn statusword2(&self) -> u16;
+    /// Status DO 1–3 (2D11h–2D13h); 0 where not carried.
+    fn status_do(&self) -> StatusDo;
+}
+
+impl VendorObjects for TxPdo {
+    fn echo(&self) -> u8 {
+        self.extra(INCREMENTAL_COUNTER_TX)
+            .or(self.extra(WATCHDOG_COUNTER_UL))
+            .map_or(0, |v| v as u8)
+    }
+
+    fn statusword2(&self) -> u16 {
+        self.extra_word(STATUSWORD2)
+    }
+
+    fn status_do(&self) -> StatusDo {
+        StatusDo::of(self)
+    }
+}
 
 /// A 1 ms MR-J5-G-N1 drive with default parameters.
 pub fn j5(params: SimDriveParams) -> SimDrive {
@@ -18,22 +46,22 @@ pub fn drive(model: DriveModel, us: u32, params: SimDriveParams) -> SimDrive {
 
 /// One exchange through the byte images; returns the decoded TxPDO.
 pub fn exchange(drive: &mut SimDrive, rx: &RxPdo) -> TxPdo {
-    let p = drive.profile();
+    let p = drive.profile().clone();
     let mut rxb = [0u8; 64];
     let mut txb = [0u8; 64];
-    let (rn, tn) = (p.rx_pdo.byte_len(), p.tx_pdo.byte_len());
-    p.rx_pdo.encode_rx(rx, &mut rxb[..rn]).unwrap();
+    let (rn, tn) = (p.pdo.rx.byte_len(), p.pdo.tx.byte_len());
+    p.pdo.rx.encode_rx(rx, &mut rxb[..rn]).unwrap();
     drive.cycle(&rxb[..rn], &mut txb[..tn], Cycles(1)).unwrap();
-    p.tx_pdo.decode_tx(&txb[..tn]).unwrap()
+    p.pdo.tx.decode_tx(&txb[..tn]).unwrap()
 }
 
 /// One exchange in which the drive's RxPDO is lost.
 pub fn lost(drive: &mut SimDrive) -> TxPdo {
-    let p = drive.profile();
+    let p = drive.profile().clone();
     let mut txb = [0u8; 64];
-    let tn = p.tx_pdo.byte_len();
+    let tn = p.pdo.tx.byte_len();
     drive.cycle_lost(&mut txb[..tn], Cycles(1)).unwrap();
-    p.tx_pdo.decode_tx(&txb[..tn]).unwrap()
+    p.pdo.tx.decode_tx(&txb[..tn]).unwrap()
 }
 
 /// An RxPDO in csp with controlword `cw` and target `pos`.

@@ -130,13 +130,13 @@ fn pdo(
     let (subject, map, esi_pdos, assign): (_, &PdoMap, _, u16) = match direction {
         PdoDirection::Rx => (
             ConflictSubject::RxPdo,
-            &profile.rx_pdo,
+            &profile.pdo.rx,
             &device.rx_pdos,
             0x1C12,
         ),
         PdoDirection::Tx => (
             ConflictSubject::TxPdo,
-            &profile.tx_pdo,
+            &profile.pdo.tx,
             &device.tx_pdos,
             0x1C13,
         ),
@@ -179,7 +179,7 @@ fn mapping(
             .object(map.index, 0)
             .is_some_and(|o| o.access == Access::Ro);
         let not_configurable = device.coe.is_some_and(|c| !c.pdo_config);
-        if (p.fixed || mapping_ro || not_configurable) && p.entries != map.entries {
+        if (p.fixed || mapping_ro || not_configurable) && p.entries[..] != map.entries[..] {
             return conflict(
                 subject,
                 format!(
@@ -193,7 +193,7 @@ fn mapping(
                         "CoE PdoConfig false"
                     },
                     entries_text(&p.entries),
-                    entries_text(map.entries)
+                    entries_text(&map.entries)
                 ),
             );
         }

@@ -94,7 +94,7 @@ fn described(p: &DriveProfile) -> Vec<OdEntry> {
             // Bits 16–31 are the manufacturer's modes (CiA 402 §6.2.2): kept as the row has them.
             (SUPPORTED_DRIVE_MODES, 0) => OdEntry {
                 default: Some(
-                    o.default.unwrap_or(0) & !STANDARD_MODE_BITS | bits_of_modes(p.modes),
+                    o.default.unwrap_or(0) & !STANDARD_MODE_BITS | bits_of_modes(&p.cycle.modes),
                 ),
                 ..*o
             },
@@ -158,13 +158,14 @@ fn render(model: DriveModel) -> String {
     }
     let pdo = |kind: &str, map: &cellrt_cia402::pdo::PdoMap, sm: u8| {
         let mut s = format!("      <{kind} Fixed=\"0\" Mandatory=\"1\" Sm=\"{sm}\">\n        <Index>#x{:04X}</Index><Name>{kind} {:04X}h</Name>\n", map.index, map.index);
-        for e in map.entries {
+        for e in map.entries.iter() {
             let _ = writeln!(s, "        <Entry><Index>#x{:04X}</Index><SubIndex>{}</SubIndex><BitLen>{}</BitLen></Entry>", e.index, e.sub, e.bits);
         }
         let _ = writeln!(s, "      </{kind}>");
         s
     };
     let min_cycle_ns = p
+        .cycle
         .cycle_times_us
         .iter()
         .min()
@@ -206,10 +207,10 @@ fn render(model: DriveModel) -> String {
         product = id.product_code,
         revision = id.revision,
         model = model.as_str(),
-        rx = pdo("RxPdo", &p.rx_pdo, 2),
-        tx = pdo("TxPdo", &p.tx_pdo, 3),
+        rx = pdo("RxPdo", &p.pdo.rx, 2),
+        tx = pdo("TxPdo", &p.pdo.tx, 3),
         assign =
-            u8::from(p.pdo_rules.assignment != cellrt_cia402::profiles::PdoAssignment::ReadOnly),
+            u8::from(p.pdo.rules.assignment != cellrt_cia402::profiles::PdoAssignment::ReadOnly),
         cycles = p.cycle_times_text(),
     )
 }
@@ -224,11 +225,11 @@ fn check(model: DriveModel, d: &EsiDevice) {
         "{m}"
     );
     assert!(d.offers(super::MailboxProtocol::CoE), "{m}");
-    assert_eq!(d.rx_pdos[0].index, p.rx_pdo.index, "{m}");
-    assert_eq!(d.rx_pdos[0].entries, p.rx_pdo.entries, "{m}");
-    assert_eq!(d.tx_pdos[0].index, p.tx_pdo.index, "{m}");
-    assert_eq!(d.tx_pdos[0].entries, p.tx_pdo.entries, "{m}");
-    let mut want = p.modes.to_vec();
+    assert_eq!(d.rx_pdos[0].index, p.pdo.rx.index, "{m}");
+    assert_eq!(d.rx_pdos[0].entries, p.pdo.rx.entries, "{m}");
+    assert_eq!(d.tx_pdos[0].index, p.pdo.tx.index, "{m}");
+    assert_eq!(d.tx_pdos[0].entries, p.pdo.tx.entries, "{m}");
+    let mut want = p.cycle.modes.to_vec();
     want.sort_by_key(|m| m.as_i8());
     // A model whose manual gives no 6502h row (MR-J4-TM) has none in its ESI either.
     if let Some(mut got) = d.supported_modes() {
@@ -244,7 +245,7 @@ fn check(model: DriveModel, d: &EsiDevice) {
         let row = p.object(SUPPORTED_DRIVE_MODES, 0).and_then(|o| o.default);
         assert_eq!(
             row.map(|r| r & STANDARD_MODE_BITS),
-            Some(bits_of_modes(p.modes)),
+            Some(bits_of_modes(&p.cycle.modes)),
             "{m}: the profile's 6502h row"
         );
     }
@@ -289,7 +290,7 @@ fn check(model: DriveModel, d: &EsiDevice) {
         "{m}: no objects besides the profile's"
     );
     let dc = &d.dc_opmodes[0];
-    for us in p.cycle_times_us {
+    for us in p.cycle.cycle_times_us {
         assert!(dc.allows_cycle(us * 1000), "{m}: {us} µs");
     }
 }

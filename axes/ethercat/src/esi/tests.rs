@@ -220,7 +220,7 @@ fn conformance_refuses_fixed_missing_and_mandatory_pdos_and_fixed_sync0_cycles()
     // A mandatory PDO the configuration leaves out, and a SYNC0 fixed at 2 ms.
     let mut d = rt.clone();
     d.rx_pdos[0].fixed = false;
-    d.rx_pdos[0].entries = p.rx_pdo.entries.to_vec();
+    d.rx_pdos[0].entries = p.pdo.rx.entries.to_vec();
     d.objects.clear();
     d.rx_pdos.push(EsiPdo {
         index: 0x1601,

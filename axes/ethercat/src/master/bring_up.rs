@@ -135,6 +135,9 @@ impl EthercatBus {
 /// cellrt's bring-up timeouts and retries.
 fn start_maindevice() -> Result<(PduTx<'static>, PduRx<'static>, MainDevice<'static>), EthercatError>
 {
+    // Leaked on purpose: ethercrab 0.7's `PduStorage::try_split` takes `&'static self` and
+    // `PduTx`/`PduRx`/`MainDevice<'static>` borrow it for as long as the bus runs (a `static`
+    // could be split only once per process). One storage per bring-up, not per cycle.
     let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
         Box::leak(Box::new(PduStorage::new()));
     let (tx, rx, pdu_loop) = storage.try_split().map_err(|()| EthercatError::Bringup {

@@ -41,14 +41,14 @@ pub(super) async fn configure_station<S: std::ops::Deref<Target = ethercrab::Sub
         let assignment = if assignment_fixed {
             PdoAssignment::ReadOnly
         } else {
-            model.pdo_rules.assignment
+            model.pdo.rules.assignment
         };
         if assignment == PdoAssignment::Writable {
             sd.sdo_write(assign, 0, 0u8).await?;
         }
         for slot in 0..plan.slots.len() {
             let p = plan.slot_profile(config, slot);
-            let map = if direction == 0 { &p.rx_pdo } else { &p.tx_pdo };
+            let map = if direction == 0 { &p.pdo.rx } else { &p.pdo.tx };
             let index = at(map.index, slot);
             if mapping_fixed {
                 if assignment != PdoAssignment::ReadOnly {
@@ -81,7 +81,7 @@ pub(super) async fn configure_station<S: std::ops::Deref<Target = ethercrab::Sub
         let Some(d) = axis.map(|a| &config.drives[a]) else {
             continue;
         };
-        if !d.profile.rx_pdo.maps(MODES_OF_OPERATION) {
+        if !d.profile.pdo.rx.maps(MODES_OF_OPERATION) {
             sd.sdo_write(at(MODES_OF_OPERATION, slot), 0, d.mode.as_i8())
                 .await?;
         }

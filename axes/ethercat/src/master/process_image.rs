@@ -52,7 +52,7 @@ impl ProcessImage {
             let lens: Vec<(usize, usize)> = (0..plan.slots.len())
                 .map(|slot| {
                     let p = plan.slot_profile(config, slot);
-                    (p.rx_pdo.byte_len(), p.tx_pdo.byte_len())
+                    (p.pdo.rx.byte_len(), p.pdo.tx.byte_len())
                 })
                 .collect();
             let rx_len: usize = lens.iter().map(|l| l.0).sum();

@@ -17,7 +17,7 @@ impl MailboxWorker {
     /// multi-axis unit at the axis' offset index, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4).
     pub(super) fn station_object(&self, axis: usize, index: u16) -> Option<(usize, u16)> {
         let &(station, slot) = self.axes.get(axis)?;
-        let p = self.config.drives.get(axis)?.profile;
+        let p = &self.config.drives.get(axis)?.profile;
         Some((station, p.axis_object(index, slot).unwrap_or(index)))
     }
 
@@ -45,7 +45,7 @@ impl MailboxWorker {
         let d = self.config.drives.get(axis).ok_or(SDO_UNSUPPORTED)?;
         // The type of an object given at another axis' offset index is its axis-A object's.
         let base = d.profile.object_slot(index).map_or(index, |(_, b)| b);
-        let data_type = object_type(d.profile, base, sub);
+        let data_type = object_type(&d.profile, base, sub);
         if matches!(data_type, DataType::VisibleString { .. }) {
             // A string is not a number (no EtherCAT profile has one).
             return Err(SDO_UNSUPPORTED);
@@ -134,10 +134,11 @@ impl MailboxWorker {
 /// mapped objects by their mapping size, the rest from the profile (INTEGER32 where unknown).
 fn object_type(profile: &DriveProfile, index: u16, sub: u8) -> DataType {
     let mapped_bits = profile
-        .rx_pdo
+        .pdo
+        .rx
         .entries
         .iter()
-        .chain(profile.tx_pdo.entries)
+        .chain(profile.pdo.tx.entries.iter())
         .find(|e| !e.is_padding() && e.index == index && e.sub == sub)
         .map(|e| e.bits);
     match (index, sub) {

@@ -5,7 +5,7 @@ use super::error::EthercatError;
 use crate::identity::ExpectedIdentity;
 use cellrt_cia402::cycles::CycleTime;
 use cellrt_cia402::mode::ModeOfOperation;
-use cellrt_cia402::profiles::DriveProfile;
+use cellrt_cia402::profiles::{DriveProfile, SharedProfile};
 
 /// One axis of the segment, in axis order.
 #[derive(Debug, Clone)]
@@ -13,7 +13,7 @@ pub struct SegmentDrive {
     /// The axis name (for errors).
     pub axis: String,
     /// The drive's profile.
-    pub profile: &'static DriveProfile,
+    pub profile: SharedProfile,
     /// What its 1018h must show.
     pub identity: ExpectedIdentity,
     /// The mode written to 6060h at bring-up where 6060h is not in the RxPDO.
@@ -76,12 +76,12 @@ impl SegmentStation {
 
     /// The profile slot `slot` runs: its axis' (with its mapping), or the model's default for
     /// an unused slot.
-    pub(super) fn slot_profile(
-        &self,
-        config: &SegmentConfig,
+    pub(super) fn slot_profile<'a>(
+        &'a self,
+        config: &'a SegmentConfig,
         slot: usize,
-    ) -> &'static DriveProfile {
-        self.slots[slot].map_or(self.model, |a| config.drives[a].profile)
+    ) -> &'a DriveProfile {
+        self.slots[slot].map_or(self.model, |a| &config.drives[a].profile)
     }
 }
 
@@ -200,8 +200,8 @@ pub(super) fn check_unit_pdo_limits(
         let (mut rx, mut tx) = (0, 0);
         for slot in 0..plan.slots.len() {
             let p = plan.slot_profile(config, slot);
-            rx += p.rx_pdo.byte_len();
-            tx += p.tx_pdo.byte_len();
+            rx += p.pdo.rx.byte_len();
+            tx += p.pdo.tx.byte_len();
         }
         if rx > usize::from(max_rx) || tx > usize::from(max_tx) {
             return Err(EthercatError::ProcessImage {

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_cia402::profiles::{profile, DriveModel};
-use cellrt_cia402::{CycleTime, DriveProfile};
+use cellrt_cia402::{CycleTime, SharedProfile};
 use cellrt_emulator::ethercat::{CycleTimeObject, EmulatedDc, SubDeviceVariant};
 use cellrt_ethercat::identity::{maker_vendor_id, ExpectedIdentity};
 use cellrt_ethercat::master::AmplifierSlot;
@@ -95,7 +95,7 @@ pub(super) fn check_amplifier(
 /// The drive model of an axis, its profile and the SubDevice identity it must report.
 struct AxisDrive {
     drive: DriveModel,
-    profile: &'static DriveProfile,
+    profile: SharedProfile,
     transport: Transport,
     ethercat_identity: ExpectedIdentity,
     esi: Option<std::sync::Arc<cellrt_ethercat::esi::EsiDevice>>,
@@ -118,7 +118,7 @@ pub(super) fn validate_axis(
     } = axis_drive(&at, &a, cycle_time)?;
     let (mode, profile) = axis_mode(&at, &a, drive, profile)?;
     if let Some(device) = &esi {
-        super::esi::check(file, key, &a.name, device, profile, mode, cycle_time)?;
+        super::esi::check(file, key, &a.name, device, &profile, mode, cycle_time)?;
     }
     let (scaling, position) = scaling_and_range(&at, &a)?;
     let limits = KinematicLimits {
@@ -165,7 +165,7 @@ pub(super) fn validate_axis(
     let drive_units = super::motor::drive_units(
         &at,
         &a,
-        profile,
+        &profile,
         super::motor::VelocityDemand {
             mode,
             velocity_counts: limits.velocity * s,
@@ -174,12 +174,13 @@ pub(super) fn validate_axis(
     )?;
     let rated_speed = crate::profile_axis::rated_speed(
         ProfileMode::of(mode),
-        profile,
+        &profile,
         a.motor.rated_speed,
         &drive_units,
     )
     .map_err(|(k, m)| at.err(k, format!("axis '{}': {m}", a.name)))?;
-    let homing = super::homing::homing(&at, &a, profile, scaling, &drive_units)?;
+    let homing = super::homing::homing(&at, &a, &profile, scaling, &drive_units)?;
+    let profile_objects = ProfileMode::of(mode).map(|m| ProfileObjects::of_profile(m, &profile));
     Ok(AxisConfig {
         name: a.name,
         drive,
@@ -187,7 +188,7 @@ pub(super) fn validate_axis(
         transport,
         ethercat_identity,
         mode,
-        profile_objects: ProfileMode::of(mode).map(|m| ProfileObjects::of_profile(m, profile)),
+        profile_objects,
         rated_speed,
         unit: a.unit,
         scaling,
@@ -335,11 +336,11 @@ fn axis_drive(
     }
     // The configured identity is the one the drive must report and the one the emulator
     // presents for it.
-    let profile = match &esi {
+    let profile = SharedProfile::new(match &esi {
         Some(device) => cellrt_ethercat::esi::EsiProfile::with_esi(profile, device),
         None => profile.with_identity(a.ethercat.vendor_id, a.ethercat.product_code),
-    };
-    let mut ethercat_identity = ExpectedIdentity::of_profile(profile);
+    });
+    let mut ethercat_identity = ExpectedIdentity::of_profile(&profile);
     if let Some(v) = a.ethercat.vendor_id {
         ethercat_identity.vendor_id = v;
     }
@@ -361,8 +362,8 @@ fn axis_mode(
     at: &AxisKey<'_>,
     a: &RawAxis,
     drive: DriveModel,
-    profile: &'static DriveProfile,
-) -> Result<(ModeOfOperation, &'static DriveProfile), ConfigError> {
+    profile: SharedProfile,
+) -> Result<(ModeOfOperation, SharedProfile), ConfigError> {
     let mode: ModeOfOperation = a.mode.parse().map_err(|e| at.err("mode", format!("{e}")))?;
     let profile = mode_group(at, a, drive, profile)?;
     let profile = pdo_mapping(profile, mode, &a.pdo)
@@ -403,8 +404,8 @@ fn mode_group(
     at: &AxisKey<'_>,
     a: &RawAxis,
     drive: DriveModel,
-    profile: &'static DriveProfile,
-) -> Result<&'static DriveProfile, ConfigError> {
+    profile: SharedProfile,
+) -> Result<SharedProfile, ConfigError> {
     use cellrt_cia402::profiles::mr_j4_tm::ModeGroup;
     let Some(group) = a.mode_group.as_deref() else {
         return Ok(profile);
@@ -416,8 +417,8 @@ fn mode_group(
         ));
     }
     match group {
-        "cyclic" => Ok(ModeGroup::CyclicSynchronous.profile()),
-        "profile" => Ok(ModeGroup::Profile.profile()),
+        "cyclic" => Ok(ModeGroup::CyclicSynchronous.profile().shared()),
+        "profile" => Ok(ModeGroup::Profile.profile().shared()),
         other => Err(at.err(
             "mode_group",
             format!("unknown '{other}' (available: cyclic, profile)"),
@@ -545,10 +546,10 @@ fn sim_axis(
 /// controlword, statusword, actual position, and the mode's target (csp 607Ah, csv 60FFh, cst
 /// 6071h and 60FFh: the axis runs in csv between torque steps; pp 607Ah, pv 60FFh, tq 6071h).
 fn pdo_mapping(
-    base: &'static DriveProfile,
+    base: SharedProfile,
     mode: ModeOfOperation,
     pdo: &crate::raw::RawPdo,
-) -> Result<&'static DriveProfile, (&'static str, String)> {
+) -> Result<SharedProfile, (&'static str, String)> {
     use cellrt_cia402::pdo::objects::{
         CONTROLWORD, POSITION_ACTUAL, STATUSWORD, TARGET_POSITION, TARGET_TORQUE, TARGET_VELOCITY,
     };
@@ -557,21 +558,22 @@ fn pdo_mapping(
     if pdo.rx.is_none() && pdo.tx.is_none() {
         return Ok(base);
     }
-    let entries = |words: &Option<Vec<u32>>, default: &'static [PdoEntry]| -> Vec<PdoEntry> {
+    let entries = |words: &Option<Vec<u32>>, default: &[PdoEntry]| -> Vec<PdoEntry> {
         words.as_ref().map_or_else(
             || default.to_vec(),
             |w| w.iter().map(|w| PdoEntry::from_mapping_word(*w)).collect(),
         )
     };
-    let rx = entries(&pdo.rx, base.rx_pdo.entries);
-    let tx = entries(&pdo.tx, base.tx_pdo.entries);
+    let rx = entries(&pdo.rx, &base.pdo.rx.entries);
+    let tx = entries(&pdo.tx, &base.pdo.tx.entries);
     let key = |d: PdoDirection| match d {
         PdoDirection::Rx => "pdo.rx",
         PdoDirection::Tx => "pdo.tx",
     };
-    let profile = base
-        .with_pdo_maps(&rx, &tx)
-        .map_err(|e| (key(e.direction()), e.to_string()))?;
+    let profile = SharedProfile::new(
+        base.with_pdo_maps(&rx, &tx)
+            .map_err(|e| (key(e.direction()), e.to_string()))?,
+    );
     let mut needed_rx = vec![CONTROLWORD];
     needed_rx.extend(match mode {
         ModeOfOperation::CyclicSyncPosition => &[TARGET_POSITION][..],
@@ -583,10 +585,10 @@ fn pdo_mapping(
         needed_rx.push(p.target());
     }
     for (direction, map, needed) in [
-        (PdoDirection::Rx, &profile.rx_pdo, needed_rx),
+        (PdoDirection::Rx, &profile.pdo.rx, needed_rx),
         (
             PdoDirection::Tx,
-            &profile.tx_pdo,
+            &profile.pdo.tx,
             vec![STATUSWORD, POSITION_ACTUAL],
         ),
     ] {

@@ -90,7 +90,7 @@ pub(super) fn check(
     mode: ModeOfOperation,
     cycle: CycleTime,
 ) -> Result<(), ConfigError> {
-    let writes: &[(u16, u8)] = if profile.rx_pdo.maps(MODES_OF_OPERATION) {
+    let writes: &[(u16, u8)] = if profile.pdo.rx.maps(MODES_OF_OPERATION) {
         &[]
     } else {
         &[(MODES_OF_OPERATION, 0)]

@@ -104,7 +104,7 @@ pub(super) fn travel_after_dog(
 pub(super) fn homing(
     at: &AxisKey<'_>,
     a: &RawAxis,
-    profile: &'static DriveProfile,
+    profile: &DriveProfile,
     scaling: Scaling,
     drive_units: &DriveScaling,
 ) -> Result<AxisHoming, ConfigError> {

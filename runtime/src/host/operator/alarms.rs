@@ -3,7 +3,7 @@
 //! refused, naming the manual, where the model has none.
 
 use cellrt_cia402::profiles::params::history_sub;
-use cellrt_cia402::profiles::{DriveModel, DriveProfile};
+use cellrt_cia402::profiles::{DriveModel, SharedProfile};
 
 use super::sdo::{self, SdoError};
 use super::sdo_job::{aborted, value, JobPurpose, SdoJob};
@@ -18,7 +18,7 @@ const SUBS: [u8; 3] = [history_sub::NUMBER, history_sub::TIME, history_sub::DETA
 #[derive(Debug)]
 pub struct AlarmsPlan {
     axis: String,
-    profile: &'static DriveProfile,
+    profile: SharedProfile,
     clear: bool,
 }
 
@@ -72,7 +72,7 @@ pub fn plan(cell: &CellConfig, axis: &str, clear: bool) -> Result<SdoJob, Alarms
     };
     let plan = AlarmsPlan {
         axis: axis.to_string(),
-        profile: a.profile,
+        profile: a.profile.clone(),
         clear,
     };
     Ok(SdoJob::new(steps, plan))

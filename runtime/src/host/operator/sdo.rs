@@ -172,7 +172,7 @@ pub fn check(
         None if facts.access == Access::Wo => return Err(named(ObjectRefusal::WriteOnly)),
         None => SdoRequest::Upload { index, sub },
         Some(_) if facts.access == Access::Ro => return Err(named(ObjectRefusal::ReadOnly)),
-        Some(_) if a.profile.rx_pdo.maps(index) => return Err(named(ObjectRefusal::MappedInRxPdo)),
+        Some(_) if a.profile.pdo.rx.maps(index) => return Err(named(ObjectRefusal::MappedInRxPdo)),
         Some(v) => SdoRequest::Download {
             index,
             sub,

@@ -214,7 +214,7 @@ fn validate_step(
                 .homing
                 .method
                 .filter(|_| setting.is_none()));
-            let procedure = choose_procedure(cell.axes.on_loop()[i].profile, method, setting)
+            let procedure = choose_procedure(&*cell.axes.on_loop()[i].profile, method, setting)
                 .map_err(|e| {
                     ConfigError::new(path, format!("{key}.axis"), format!("axis '{axis}': {e}"))
                 })?;

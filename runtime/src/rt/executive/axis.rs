@@ -61,6 +61,8 @@ pub struct AxisChannel {
     /// The master side of the incremental counter, where the drive's PDO maps carry one
     /// (MR-J3-T04 2020h/2021h).
     pub counter: Option<IncrementalCounter>,
+    /// The drive's communication check: which TxPDO object echoes the counter.
+    pub comm_check: cellrt_cia402::profiles::CommCheck,
     /// A counter error was reported for this axis (once, until reset).
     pub comm_fault: bool,
     /// The link state of the axis' node last seen (EtherCAT: its SubDevice's AL status).
@@ -150,7 +152,7 @@ fn torque_limit_objects(axis: &AxisConfig) -> (u16, u16, u16) {
         .drive_units
         .torque_limit_to_drive(t.max.0)
         .unwrap_or(DEFAULT_TORQUE_LIMIT);
-    let cw2 = match axis.profile.torque_limit_selection {
+    let cw2 = match axis.profile.limits.torque_limit_selection {
         TorqueLimitSelection::Objects | TorqueLimitSelection::TorqueLimit2 { .. } => 0,
         TorqueLimitSelection::Controlword2 { c_tl_bit, .. } => 1 << c_tl_bit,
     };
@@ -176,16 +178,18 @@ impl AxisChannel {
             .cycles_for(std::time::Duration::from_secs(2));
         AxisChannel {
             master: AxisMaster::for_profile(
-                axis.profile,
+                &axis.profile,
                 cell.cycle_time,
                 Cycles(timeout.0.max(10)),
             ),
             counter: axis
                 .profile
-                .comm_check
+                .comm
+                .check
                 .master_counter()
-                .filter(|_| axis.profile.rx_pdo.has_counter())
+                .filter(|_| axis.profile.pdo.rx.has_counter())
                 .map(|model| IncrementalCounter::new(cell.watchdogs.comm.counter_params(model), 0)),
+            comm_check: axis.profile.comm.check,
             comm_fault: false,
             link_state: None,
             limits: AxisLimitsCounts::new(axis, cell.period()),
@@ -194,15 +198,16 @@ impl AxisChannel {
             acceleration: 0.0,
             feedback: TxPdo::default(),
             stopped: true,
-            rx_map: PdoLayout::new(&axis.profile.rx_pdo),
-            tx_map: PdoLayout::new(&axis.profile.tx_pdo),
+            rx_map: PdoLayout::new(&axis.profile.pdo.rx),
+            tx_map: PdoLayout::new(&axis.profile.pdo.tx),
             error_code_mapped: axis
                 .profile
-                .tx_pdo
+                .pdo
+                .tx
                 .entries
                 .iter()
                 .any(|e| e.index == ERROR_CODE),
-            following_error_mapped: axis.profile.tx_pdo.maps(FOLLOWING_ERROR),
+            following_error_mapped: axis.profile.pdo.tx.maps(FOLLOWING_ERROR),
             mode: axis.mode,
             csv_position_gain: axis.csv_position_gain,
             torque_limits: axis.torque.map(|t| (t.max.0 * 10.0, t.slope * 10.0)),
@@ -235,14 +240,14 @@ impl AxisChannel {
                 },
             ),
             homing_objects: axis.homing.objects,
-            mode_display_mapped: axis.profile.tx_pdo.maps(MODES_OF_OPERATION_DISPLAY),
+            mode_display_mapped: axis.profile.pdo.tx.maps(MODES_OF_OPERATION_DISPLAY),
             home_offset: 0,
-            offset_home: axis.profile.home_reference == HomeReference::OffsetObject,
-            home_setting: axis.profile.home_setting.filter(|_| {
-                axis.profile.rx_pdo.maps(CONTROLWORD2) && axis.profile.tx_pdo.maps(STATUSWORD2)
+            offset_home: axis.profile.homing.reference == HomeReference::OffsetObject,
+            home_setting: axis.profile.homing.setting.filter(|_| {
+                axis.profile.pdo.rx.maps(CONTROLWORD2) && axis.profile.pdo.tx.maps(STATUSWORD2)
             }),
             powered: false,
-            sdo_mode: (!axis.profile.rx_pdo.maps(MODES_OF_OPERATION)).then_some(match axis.mode {
+            sdo_mode: (!axis.profile.pdo.rx.maps(MODES_OF_OPERATION)).then_some(match axis.mode {
                 ModeOfOperation::CyclicSyncTorque => ModeOfOperation::CyclicSyncVelocity,
                 m => m,
             }),
@@ -442,6 +447,7 @@ mod tests {
                 transition_timeout: Cycles(100),
             }),
             counter: None,
+            comm_check: cellrt_cia402::profiles::CommCheck::SyncErrorCounter { alarm: 0 },
             comm_fault: false,
             link_state: None,
             limits: AxisLimitsCounts {
@@ -459,11 +465,13 @@ mod tests {
             stopped: false,
             rx_map: PdoLayout::new(
                 &cellrt_cia402::profiles::profile(cellrt_cia402::profiles::DriveModel::MrJ5GN1)
-                    .rx_pdo,
+                    .pdo
+                    .rx,
             ),
             tx_map: PdoLayout::new(
                 &cellrt_cia402::profiles::profile(cellrt_cia402::profiles::DriveModel::MrJ5GN1)
-                    .tx_pdo,
+                    .pdo
+                    .tx,
             ),
             error_code_mapped: false,
             following_error_mapped: true,

@@ -373,7 +373,8 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             live.mode_display.store(f.mode_display, Ordering::Relaxed);
             live.powered.store(ch.powered, Ordering::Relaxed);
             live.mode.store(ch.mode.as_i8(), Ordering::Release);
-            for (word, value) in live.status_do.iter().zip(f.status_do.0) {
+            let status_do = cellrt_cia402::profiles::status_do::StatusDo::of(f);
+            for (word, value) in live.status_do.iter().zip(status_do.0) {
                 word.store(value, Ordering::Relaxed);
             }
         }

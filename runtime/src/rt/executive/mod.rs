@@ -23,7 +23,8 @@ pub use rx_command::CycleCommand;
 use std::sync::atomic::Ordering;
 
 use cellrt_cia402::bus::{AcyclicBus, CyclicBus, FaultInjection, MailboxNotice};
-use cellrt_cia402::pdo::objects::HOME_OFFSET;
+use cellrt_cia402::pdo::objects::{HOME_OFFSET, STATUSWORD2};
+use cellrt_cia402::profiles::status_do::StatusDo;
 use cellrt_cia402::Cycles;
 use serde::Serialize;
 
@@ -400,7 +401,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             }
             let old = self.axes[i].feedback;
             self.axes[i].feedback = tx;
-            self.watch_counter(i, tx.counter);
+            self.watch_counter(i, self.axes[i].comm_check.tx_counter(&tx));
             self.watch_link_state(i);
             if old.statusword.state() != tx.statusword.state() {
                 let v = tx.statusword.state().map(fsa_index).unwrap_or(0);
@@ -453,7 +454,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             let mut controlword2 = ch.static_controlword2();
             if let Some(h) = ch.homing.update(
                 ch.feedback.statusword,
-                ch.feedback.statusword2,
+                ch.feedback.extra_word(STATUSWORD2),
                 enabled,
                 display,
                 standstill,
@@ -514,8 +515,8 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     torque_actual: ch.feedback.torque_actual,
                     counter_sent: rx.counter,
                     controlword2: rx.controlword2,
-                    counter_received: ch.feedback.counter,
-                    status_do: ch.feedback.status_do.0,
+                    counter_received: ch.comm_check.tx_counter(&ch.feedback),
+                    status_do: StatusDo::of(&ch.feedback).0,
                     profile: ch.profile.as_ref().map_or([0; 4], |p| p.held()),
                 };
                 let pushed = self.handoff.push_axis(rec);

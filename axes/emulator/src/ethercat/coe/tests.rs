@@ -92,13 +92,13 @@ fn tv_pdo_1_csv_only_remap_by_sdo_and_its_abort_codes() {
     // The mapping is 10 bytes: counter, gap, controlword, controlword2, target velocity.
     let j3 = s.drives[0].profile();
     let (rx, _) = s.pdo.mapping(j3, 0);
-    let p = j3.with_pdo_maps(&rx, j3.tx_pdo.entries);
+    let p = j3.with_pdo_maps(&rx, &j3.pdo.tx.entries);
     let p = p.expect("the TV-PDO-1 mapping is valid");
-    assert_eq!(p.rx_pdo.byte_len(), 10);
-    assert_eq!(p.rx_pdo.offset_of(0x2020, 0), Some(0));
-    assert_eq!(p.rx_pdo.offset_of(0x6040, 0), Some(2));
-    assert_eq!(p.rx_pdo.offset_of(0x2001, 0), Some(4));
-    assert_eq!(p.rx_pdo.offset_of(0x60FF, 0), Some(6));
+    assert_eq!(p.pdo.rx.byte_len(), 10);
+    assert_eq!(p.pdo.rx.offset_of(0x2020, 0), Some(0));
+    assert_eq!(p.pdo.rx.offset_of(0x6040, 0), Some(2));
+    assert_eq!(p.pdo.rx.offset_of(0x2001, 0), Some(4));
+    assert_eq!(p.pdo.rx.offset_of(0x60FF, 0), Some(6));
     // A mapping totalling 32 bytes: 0604 0042h, and the count stays 0.
     assert_eq!(s.write(0x1614, 0, &[0]), Ok(()));
     for sub in 1..=8 {
@@ -158,7 +158,7 @@ fn a_j5w3_serves_each_axis_at_its_offset_indexes() {
     assert_eq!(s.read(0x1A10, 3), Ok(0x6841_0010u32.to_le_bytes().to_vec()));
     assert_eq!(s.read(0x1630, 0), Err(0x0602_0000), "no axis D");
     assert_eq!(s.write(0x1610, 0, &[0]), Ok(()));
-    let not_mappable = Err(profile(DriveModel::MrJ5W3GN1).pdo_rules.not_mappable_abort);
+    let not_mappable = Err(profile(DriveModel::MrJ5W3GN1).pdo.rules.not_mappable_abort);
     assert_eq!(s.write_u32(0x1610, 1, 0x6040_0010), not_mappable);
     assert_eq!(s.write_u32(0x1610, 1, 0x7040_0010), not_mappable);
     assert_eq!(s.write_u32(0x1610, 1, 0x6840_0010), Ok(()));

@@ -68,7 +68,7 @@ fn request_upload(s: &mut Station, index: u16) {
 fn an_mr_j4_tm_alarm_is_an_emergency_in_sm1() {
     let mut s = pre_op(DriveModel::MrJ4TM);
     assert!(!sm1_full(&mut s));
-    let code = s.drive().profile().leave_op_alarm;
+    let code = s.drive().profile().comm.leave_op_alarm;
     s.drive_mut().inject_alarm(code);
     s.watch_alarms();
     assert!(sm1_full(&mut s));

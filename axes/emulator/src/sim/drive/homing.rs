@@ -74,8 +74,8 @@ impl SimDrive {
             .or_else(|| self.object(0x6098, 0).and_then(|o| o.default))
             .unwrap_or(0) as i8;
         let methods = HomingMethods {
-            listed: self.profile.homing_methods,
-            data_set: self.profile.data_set_homing_methods,
+            listed: self.profile.homing.methods,
+            data_set: self.profile.homing.data_set_methods,
         };
         // Homing start clears bit 12 (MR-J4-TM manual §5.4.9 retention rules).
         self.homing.attained = false;
@@ -99,7 +99,7 @@ impl SimDrive {
     /// Home at raw motor position `raw`: 607Ch or the 6064h preset, and bit 12.
     fn set_home(&mut self, raw: f64) {
         let raw = (raw as i64) as i32;
-        match self.profile.home_reference {
+        match self.profile.homing.reference {
             HomeReference::OffsetObject => self.homing.home_offset = raw.wrapping_neg(),
             HomeReference::PositionPreset => {
                 self.homing.position_shift =
@@ -239,7 +239,7 @@ impl SimDrive {
 
     /// Controlword2 home setting and the Z phase, on models that have them (MR-J3-T04 §8.3).
     pub(super) fn run_home_setting(&mut self, cmd: &RxPdo) {
-        let Some(bits) = self.profile.home_setting else {
+        let Some(bits) = self.profile.homing.setting else {
             return;
         };
         let raw = self.plant.position().round() as i64;

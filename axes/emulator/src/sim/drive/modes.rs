@@ -161,13 +161,13 @@ impl SimDrive {
     pub(super) fn following_error_code(&self) -> u16 {
         self.params
             .alarm_codes
-            .map_or(self.profile.following_error_alarm, |c| c.0)
+            .map_or(self.profile.limits.following_error_alarm, |c| c.0)
     }
 
     pub(super) fn overspeed_code(&self) -> u16 {
         self.params
             .alarm_codes
-            .map_or(self.profile.overspeed_alarm, |c| c.1)
+            .map_or(self.profile.limits.overspeed_alarm, |c| c.1)
     }
 
     /// Servo on in the current mode. csp follows 607Ah, csv integrates 60FFh (in the model's
@@ -176,7 +176,7 @@ impl SimDrive {
     /// profiles (`motion::profile_position`, `motion::profile_velocity`, `motion::profile_torque`).
     /// HALT (bit 8) stops and holds where the model honours it in the cyclic modes.
     pub(super) fn follow(&mut self, cmd: &RxPdo, dt: f64) {
-        if self.profile.power_warnings.is_some() && !self.power.em1 {
+        if self.profile.limits.power_warnings.is_some() && !self.power.em1 {
             // EM1 OFF: base off, dynamic-brake stop; the commands stay live (§3.7).
             self.plant.hold(dt);
             self.demand = self.plant.position();
@@ -193,7 +193,7 @@ impl SimDrive {
         if self.mode_display == ModeOfOperation::Homing && self.follow_homing_search(dt) {
             return;
         }
-        if cmd.controlword.halt() && self.profile.halt_in_cyclic_modes {
+        if cmd.controlword.halt() && self.profile.cycle.halt_in_cyclic_modes {
             self.plant.hold(dt);
             self.demand = self.plant.position();
             self.prev_target = cmd.target_position;
@@ -269,7 +269,7 @@ impl SimDrive {
     /// cyclic object) runs up to the motor's maximum speed.
     pub(super) fn cst_velocity_limit(&self, cmd: &RxPdo) -> f64 {
         let index = cellrt_cia402::pdo::objects::VELOCITY_LIMIT;
-        if self.profile.rx_pdo.maps(index) {
+        if self.profile.pdo.rx.maps(index) {
             return self.commanded_counts_per_s(i64::from(cmd.velocity_limit));
         }
         match self.object(index, 0) {
@@ -287,7 +287,7 @@ impl SimDrive {
             f64::from(cmd.torque_limit_positive) / 10.0,
             f64::from(cmd.torque_limit_negative) / 10.0,
         );
-        match self.profile.torque_limit_selection {
+        match self.profile.limits.torque_limit_selection {
             TorqueLimitSelection::Objects => objects,
             TorqueLimitSelection::Controlword2 {
                 c_tl_bit,

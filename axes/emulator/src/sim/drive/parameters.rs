@@ -302,7 +302,7 @@ mod tests {
         d.sdo_download(0x6060, 0, &[9]).unwrap();
         for _ in 0..5 {
             d.cycle_lost(
-                &mut [0u8; 64][..d.profile().tx_pdo.byte_len()],
+                &mut [0u8; 64][..d.profile().pdo.tx.byte_len()],
                 cellrt_cia402::cycles::Cycles(1),
             )
             .unwrap();

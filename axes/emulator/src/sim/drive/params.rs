@@ -91,7 +91,7 @@ pub struct SimDriveParams {
     /// The homing figures the manuals name without a value (`motion::homing_search`).
     pub homing: HomingParams,
     /// The alarm a SYNC0 cycle other than 1C32h:02 raises, one of the profile's
-    /// `pdo_rules.sync_mismatch_alarms` (MR-J3-T04 TV-IC-5: AL.76 or AL.74); `None`: the
+    /// `pdo.rules.sync_mismatch_alarms` (MR-J3-T04 TV-IC-5: AL.76 or AL.74); `None`: the
     /// profile's first.
     pub sync_mismatch_alarm: Option<u16>,
     /// Profile position mode (pp) values the manuals leave open (`motion::profile_position`).

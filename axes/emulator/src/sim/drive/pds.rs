@@ -37,7 +37,7 @@ impl SimDrive {
         // MR-J3-T04 §2.4, TV-IC-5: free-run (PO02 = 0001h) with the incremental-counter check
         // enabled (PO03 digit 0 ≠ 0) is a parameter error.
         if let cellrt_cia402::profiles::CommCheck::IncrementalCounter { free_run_alarm, .. } =
-            self.profile.comm_check
+            self.profile.comm.check
         {
             let comm = self.comm_in_force();
             if comm.po02 & 0xF == 1 && comm.po03 & 0xF != 0 {
@@ -71,10 +71,10 @@ impl SimDrive {
             self.state,
             FsaState::SwitchedOn | FsaState::OperationEnabled | FsaState::QuickStopActive
         );
-        let alarm = operating.then_some(self.profile.leave_op_alarm);
+        let alarm = operating.then_some(self.profile.comm.leave_op_alarm);
         if let Some(code) = alarm {
             self.raise(code);
-        } else if self.profile.reinit_on_leaving_op
+        } else if self.profile.comm.reinit_on_leaving_op
             && !self.state.is_fault()
             && self.state != FsaState::NotReadyToSwitchOn
         {
@@ -97,7 +97,7 @@ impl SimDrive {
     /// manual names an alarm for it, a SYNC0 cycle other than the PDO cycle the master wrote
     /// to 1C32h:02 raises that alarm (MR-J3-T04 TV-IC-5 (docs/test-vectors.md), §8.2.3(1)); returns it.
     pub fn start_sync(&mut self, sync0_ns: u32) -> Option<u16> {
-        let alarms = self.profile.pdo_rules.sync_mismatch_alarms;
+        let alarms = self.profile.pdo.rules.sync_mismatch_alarms;
         let alarm = self
             .params
             .sync_mismatch_alarm
@@ -126,9 +126,9 @@ impl SimDrive {
         self.prev_cw = Controlword::DISABLE_VOLTAGE;
         self.plant.hold(0.0);
         self.reload_parameters();
-        let counter_mapped = self.profile.rx_pdo.has_counter() && self.profile.tx_pdo.has_counter();
+        let counter_mapped = self.profile.pdo.rx.has_counter() && self.profile.pdo.tx.has_counter();
         self.comm = super::DriveComm::new(
-            self.profile.comm_check,
+            self.profile.comm.check,
             self.comm_in_force(),
             self.cycle_time,
             counter_mapped,
@@ -194,7 +194,7 @@ impl SimDrive {
                 _ => {}
             }
         }
-        if self.profile.power_warnings.is_some() && !self.power.main_circuit {
+        if self.profile.limits.power_warnings.is_some() && !self.power.main_circuit {
             // (8B) main circuit off → Ready to switch on; asking for more raises AL.E9.
             if matches!(
                 self.state,
@@ -237,7 +237,7 @@ impl SimDrive {
     /// The active warning code, if any (statusword bit 7); the most severe first: EM1 (AL.E6),
     /// main circuit off (AL.E9), stroke end (AL.99).
     pub fn warning(&self) -> Option<u16> {
-        let pw = self.profile.power_warnings;
+        let pw = self.profile.limits.power_warnings;
         if let Some((e6, e9)) = pw {
             if !self.power.em1 {
                 return Some(e6);
@@ -251,19 +251,21 @@ impl SimDrive {
         }
         if let Some(w) = self
             .profile
-            .home_setting
+            .homing
+            .setting
             .and_then(|b| self.home_set.warning(&b))
         {
             return Some(w);
         }
         self.profile
+            .limits
             .stroke_end_warning
             .filter(|_| self.stroke.warning)
     }
 
     /// Sets the main circuit power input. Off in Switched on or Operation enabled goes to Ready
     /// to switch on (8B); Enable operation while it is off raises AL.E9 and stays there
-    /// (MR-J3-T04 manual §8.4.1, §8.5.1, §8.5.2, §3.7, §3.10, §4.1(4), §7, on models with [`DriveProfile::power_warnings`]).
+    /// (MR-J3-T04 manual §8.4.1, §8.5.1, §8.5.2, §3.7, §3.10, §4.1(4), §7, on models with `LimitFacts::power_warnings`).
     pub fn set_main_circuit_power(&mut self, on: bool) {
         self.power.main_circuit = on;
         if on {

@@ -16,7 +16,7 @@ impl SimDrive {
     /// An object the profile modes read: from the RxPDO where the map carries it, else the SDO value, else
     /// the profile's default.
     pub(super) fn pp_object(&self, cmd: &RxPdo, index: u16) -> Option<i64> {
-        if self.profile.rx_pdo.maps(index) {
+        if self.profile.pdo.rx.maps(index) {
             if let Some(f) = RxField::of(index, 0) {
                 return Some(cmd.get(f) as i64);
             }
@@ -123,7 +123,7 @@ impl SimDrive {
             window,
             window_time_s: f64::from(window_ms) / 1000.0,
             relative_refused: match self.params.position_unit {
-                PositionUnit::Degree => self.profile.relative_degree_warning,
+                PositionUnit::Degree => self.profile.limits.relative_degree_warning,
                 PositionUnit::Pulse => None,
             },
             limits: self.software_position_limits(),

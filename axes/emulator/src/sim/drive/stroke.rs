@@ -54,7 +54,7 @@ impl SimDrive {
     /// input starts a PC02 slow stop during which 60FFh is discarded; after the stop the
     /// blocked direction stays refused and the other one is accepted.
     pub(super) fn stroke_limited_velocity(&mut self, v: f64, dt: f64) -> f64 {
-        if self.profile.stroke_end_warning.is_none() {
+        if self.profile.limits.stroke_end_warning.is_none() {
             return v;
         }
         let moving = self.plant.velocity();
@@ -99,7 +99,7 @@ impl SimDrive {
     /// drive tracks 607Ah again from where it stopped (the master copies 6062h into 607Ah
     /// first, or the motor jumps to the old target). True while the manual stop owns the demand.
     pub(super) fn manual_stop(&mut self, cmd: &RxPdo, dt: f64) -> bool {
-        let Some(bit) = self.profile.manual_stop_bit else {
+        let Some(bit) = self.profile.limits.manual_stop_bit else {
             return false;
         };
         let on = cmd.controlword2 & (1 << bit) != 0;

@@ -7,8 +7,6 @@
 //! precomputed row times `z`. The rows are checked first; if any substep would saturate, the
 //! caller runs the substep loop instead, so the result is the same model either way.
 
-use std::sync::{Arc, Mutex};
-
 /// Longest cycle (in substeps) the map is built for; longer steps always take the loop.
 pub const MAX_MAPPED_SUBSTEPS: usize = 128;
 
@@ -21,8 +19,6 @@ const Z: usize = 4;
 pub struct CycleMap {
     /// The time step the map was built for (s).
     pub dt_s: f64,
-    /// The gains it was built with (`kp`, `g`), to share it between plants.
-    gains: (f64, f64),
     n: usize,
     /// `Z` columns of `n` rows each: velocity command at every substep.
     v_cmd: Box<[f64]>,
@@ -88,34 +84,12 @@ impl CycleMap {
         }
         Some(CycleMap {
             dt_s,
-            gains: (kp, g),
             n,
             v_cmd,
             accel,
             vel,
             end: [q, v, a],
         })
-    }
-
-    /// Like [`CycleMap::build`], but one map per (time step, gains) in the process, shared by
-    /// every plant that asks for it, so a cell of identical axes keeps one table in cache.
-    pub fn shared(dt_s: f64, n: u32, h: f64, kp: f64, g: f64) -> Option<Arc<Self>> {
-        static MAPS: Mutex<Vec<Arc<CycleMap>>> = Mutex::new(Vec::new());
-        let same = |m: &CycleMap| {
-            m.dt_s.to_bits() == dt_s.to_bits()
-                && m.n == n as usize
-                && m.gains.0.to_bits() == kp.to_bits()
-                && m.gains.1.to_bits() == g.to_bits()
-        };
-        // A poisoned cache only means another thread panicked while pushing; its contents are
-        // complete maps either way.
-        let mut maps = MAPS.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some(m) = maps.iter().find(|m| same(m)) {
-            return Some(Arc::clone(m));
-        }
-        let m = Arc::new(Self::build(dt_s, n, h, kp, g)?);
-        maps.push(Arc::clone(&m));
-        Some(m)
     }
 
     /// The end-of-cycle state for inputs `z`, or `None` when some substep would saturate

@@ -110,14 +110,14 @@ impl ServoPlant {
 
     /// Precomputes the servo-on step for time steps of exactly `dt_s` (the drive's cycle), so
     /// [`ServoPlant::step`] costs a few dot products while no limit engages. Same model: a
-    /// step that would saturate anywhere still runs the substep loop. Plants with the same
-    /// gains and cycle share one map. Allocates and locks; call at start-up, not in the cycle.
+    /// step that would saturate anywhere still runs the substep loop. Each plant builds its own
+    /// map (a few hundred multiplications). Allocates; call at start-up, not in the cycle.
     pub fn prepare_cycle(&mut self, dt_s: f64) {
         let (n, h) = Self::substeps(dt_s);
         let kp = TAU * self.params.position_bandwidth_hz;
         let kv = TAU * self.params.velocity_bandwidth_hz;
         let g = if h > 0.0 { (kv * h).min(1.0) / h } else { 0.0 };
-        self.cycle_map = CycleMap::shared(dt_s, n, h, kp, g);
+        self.cycle_map = CycleMap::build(dt_s, n, h, kp, g).map(Arc::new);
     }
 
     /// Whether a prepared cycle map serves steps of `dt_s`.
@@ -562,12 +562,9 @@ mod cycle_map_tests {
         assert!(p.clone().step_mapped(10.0, 0.0, 1e-3));
         let mut twin = ServoPlant::new(PlantParams::default(), 5.0);
         twin.prepare_cycle(1e-3);
-        assert!(
-            Arc::ptr_eq(
-                p.cycle_map.as_ref().unwrap(),
-                twin.cycle_map.as_ref().unwrap()
-            ),
-            "identical axes share one map"
+        assert_eq!(
+            p.cycle_map, twin.cycle_map,
+            "identical axes build the same map"
         );
         let mut other = ServoPlant::new(
             PlantParams {
@@ -577,10 +574,7 @@ mod cycle_map_tests {
             0.0,
         );
         other.prepare_cycle(1e-3);
-        assert!(!Arc::ptr_eq(
-            p.cycle_map.as_ref().unwrap(),
-            other.cycle_map.as_ref().unwrap()
-        ));
+        assert_ne!(p.cycle_map, other.cycle_map);
         let mut long = ServoPlant::new(PlantParams::default(), 0.0);
         long.prepare_cycle(1.0);
         assert!(

@@ -315,7 +315,7 @@ impl OperatorServer {
         let a = &ctx.cell.axes.on_loop()[i];
         // `[axes.homing] method` where the request names neither a method nor an edge.
         let method = method.or(a.homing.method.filter(|_| setting.is_none()));
-        let procedure = match choose_procedure(a.profile, method, setting) {
+        let procedure = match choose_procedure(&*a.profile, method, setting) {
             Ok(p) => p,
             Err(e) => return rejected(format!("home: axis '{axis}': {e}")),
         };

@@ -1,8 +1,9 @@
 //! The window times of the operation-mode-specific status bits, one timer for every emulated
 //! drive: how long a condition has held, judged against 606Eh Velocity window time and 6070h
 //! Velocity threshold time (pv bits 10 and 12, `motion::profile_velocity`; MR-J4-TM manual
-//! §5.4.7, MR-JE-C manual §7.3 6067h–6070h) and, on the MR-JE-C, 6068h Position window time
-//! and 6066h Following error time out (bits 10 and 13 in pp, jg, pt and idx).
+//! §5.4.7, MR-JE-C manual §7.3 6067h–6070h), 6068h Position window time (bit 10 in pp,
+//! `motion::profile_position`, and the MR-JE-C's jg, pt and idx) and the MR-JE-C's 6066h
+//! Following error time out (bit 13).
 //!
 //! Where the models differ, the difference is a named parameter: when the held time starts
 //! ([`HeldFrom`]) and how the velocity threshold time is compared ([`ThresholdTime`]).

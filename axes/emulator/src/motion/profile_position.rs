@@ -35,6 +35,7 @@
 
 use super::generator::{Braking, Generator, NoTorque, Positioning};
 use super::ramp::VelocityRamp;
+use super::window_time::{Held, HeldFrom};
 
 pub use cellrt_cia402::controlword::{CHANGE_SET_IMMEDIATELY, HALT, NEW_SET_POINT};
 pub use cellrt_cia402::statusword::{INTERNAL_LIMIT_ACTIVE, SET_POINT_ACKNOWLEDGE, TARGET_REACHED};
@@ -151,8 +152,8 @@ pub(crate) struct ProfilePosition {
     executing: bool,
     /// Bit 10.
     reached: bool,
-    /// Time |actual − target| has stayed within the window, s.
-    in_window_s: f64,
+    /// Time |actual − target| has stayed within the window at the end of the profile.
+    in_window: Held,
     /// Controlword of the previous cycle (edge detection of bit 4).
     prev_cw: u16,
     /// Latched relative-in-degree warning.
@@ -264,7 +265,7 @@ impl ProfilePosition {
         self.target = target;
         self.executing = true;
         self.reached = false;
-        self.in_window_s = 0.0;
+        self.in_window.clear();
     }
 
     /// The generator as the shared trapezoid sees it.
@@ -311,7 +312,7 @@ impl ProfilePosition {
         if halt {
             // "HALT = 1: 1 = axis velocity is 0" (606Ch, rounded counts/s).
             self.reached = self.vel == 0.0 && fb.velocity.abs() < 0.5;
-            self.in_window_s = 0.0;
+            self.in_window.clear();
             return;
         }
         let profile_done = self.pos == self.target && self.vel == 0.0 && self.pending.is_none();
@@ -320,13 +321,10 @@ impl ProfilePosition {
         } else {
             (fb.position.round() - self.target.round()).abs() <= f64::from(cmd.window)
         };
-        if profile_done && in_window {
-            self.in_window_s += dt.max(0.0);
-        } else {
-            self.in_window_s = 0.0;
-        }
+        self.in_window
+            .update(profile_done && in_window, dt, HeldFrom::WholeCycle);
         let window_time_met =
-            cmd.window == WINDOW_DISABLED || self.in_window_s + 1e-9 >= cmd.window_time_s;
+            cmd.window == WINDOW_DISABLED || self.in_window.at_least(cmd.window_time_s);
         self.reached = profile_done && in_window && window_time_met;
         if self.reached {
             self.executing = false;

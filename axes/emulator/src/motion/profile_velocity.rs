@@ -9,7 +9,9 @@
 //! * Statusword bit 10 **target reached**: with HALT = 0, |606Ch − 60FFh| has stayed within
 //!   606Dh for at least 606Eh; with HALT = 1, the velocity is 0.
 //! * Statusword bit 12 **speed**: 0 once |606Ch| has stayed above 606Fh for at least 6070h,
-//!   1 otherwise ("speed = 0").
+//!   1 otherwise ("speed = 0"); the MR-JE-C's "for longer than 6070h" is
+//!   [`ThresholdTime::LongerThan`]. Both window times are the shared timer
+//!   (`motion::window_time`), counted over whole cycles ([`HeldFrom::WholeCycle`]).
 //! * Bit 8 **HALT** ramps the generator to 0 at the drive's halt deceleration (605Dh).
 //!
 //! Velocities are in counts/s of the plant; the drive converts the objects from the model's
@@ -17,6 +19,8 @@
 //! only.
 
 use super::ramp::{Reversal, VelocityRamp};
+pub use super::window_time::ThresholdTime;
+use super::window_time::{Held, HeldFrom};
 
 pub use cellrt_cia402::statusword::{SPEED_ZERO, TARGET_REACHED};
 
@@ -69,6 +73,8 @@ pub(crate) struct PvCommand {
     pub threshold: f64,
     /// 6070h, s.
     pub threshold_time_s: f64,
+    /// How 6070h is compared (the model's wording).
+    pub threshold_time: ThresholdTime,
 }
 
 /// The pv state of one axis.
@@ -76,19 +82,16 @@ pub(crate) struct PvCommand {
 pub(crate) struct ProfileVelocity {
     /// Generator velocity (606Bh), counts/s.
     vel: f64,
-    /// Time |606Ch − 60FFh| has stayed within 606Dh, s.
-    in_window_s: f64,
-    /// Time |606Ch| has stayed above 606Fh, s.
-    over_threshold_s: f64,
+    /// Time |606Ch − 60FFh| has stayed within 606Dh.
+    in_window: Held,
+    /// Time |606Ch| has stayed above 606Fh.
+    over_threshold: Held,
     reached: bool,
     moving: bool,
 }
 
 /// Distance (counts/s) within which the ramp lands on its end: float error.
 const RAMP_LANDING: f64 = 1e-6;
-
-/// Slack (s) on the window and threshold times, against float sums of cycle times.
-const TIME_SLACK_S: f64 = 1e-9;
 
 impl ProfileVelocity {
     /// Restarts with the generator at `velocity` (counts/s): servo on or entering pv.
@@ -138,26 +141,23 @@ impl ProfileVelocity {
     }
 
     fn update_bits(&mut self, cmd: &PvCommand, actual: f64, dt: f64) {
-        if actual.abs() > cmd.threshold {
-            self.over_threshold_s += dt;
-        } else {
-            self.over_threshold_s = 0.0;
-        }
-        self.moving = actual.abs() > cmd.threshold
-            && self.over_threshold_s + TIME_SLACK_S >= cmd.threshold_time_s;
+        self.over_threshold
+            .update(actual.abs() > cmd.threshold, dt, HeldFrom::WholeCycle);
+        self.moving = self
+            .over_threshold
+            .exceeds(cmd.threshold_time_s, cmd.threshold_time);
         if cmd.halt {
             // "HALT = 1: 1 = velocity 0" (606Ch, rounded counts/s).
-            self.in_window_s = 0.0;
+            self.in_window.clear();
             self.reached = self.vel == 0.0 && actual.abs() < 0.5;
             return;
         }
-        if (actual - cmd.target).abs() <= cmd.window {
-            self.in_window_s += dt;
-            self.reached = self.in_window_s + TIME_SLACK_S >= cmd.window_time_s;
-        } else {
-            self.in_window_s = 0.0;
-            self.reached = false;
-        }
+        self.in_window.update(
+            (actual - cmd.target).abs() <= cmd.window,
+            dt,
+            HeldFrom::WholeCycle,
+        );
+        self.reached = self.in_window.at_least(cmd.window_time_s);
     }
 }
 
@@ -178,6 +178,7 @@ mod tests {
             window_time_s: 0.0,
             threshold: 2_000.0,
             threshold_time_s: 0.010,
+            threshold_time: ThresholdTime::AtLeast,
         }
     }
 

@@ -26,7 +26,6 @@ pub mod rtu;
 pub mod search;
 pub mod server;
 pub mod slmp;
-mod status_windows;
 mod store;
 pub mod torque;
 mod watchdog;
@@ -34,6 +33,7 @@ mod watchdog;
 use std::time::Duration;
 
 use crate::device::pds::{controlword_step, end_of_stop, ControlwordStep, FaultReaction};
+use crate::motion::window_time::{Held, HeldFrom, ThresholdTime};
 use cellrt_cia402::controlword::Controlword;
 use cellrt_cia402::fsa::{FsaQuirks, FsaState};
 use cellrt_cia402::statusword::Statusword;
@@ -174,8 +174,12 @@ pub struct MrJeC {
     keep_alive: KeepAlive,
     restore: Restore,
     motion: motion::Motion,
-    /// The window times of statusword bits 10 and 12 (§7.3 6067h–6070h).
-    windows: status_windows::StatusWindows,
+    /// How long the mode's Target reached window has held (bit 10, §7.3 6068h, 606Eh).
+    target_window: Held,
+    /// How long the speed has been over Velocity threshold 606Fh (pv bit 12, §7.3 6070h).
+    over_threshold: Held,
+    /// How long the droop has been over Following error window 6065h (bit 13, §7.3 6066h).
+    following: Held,
     now: Duration,
 }
 
@@ -264,7 +268,9 @@ impl MrJeC {
             cyclic_ready: false,
             restore: Restore::default(),
             motion: motion::Motion::default(),
-            windows: status_windows::StatusWindows::default(),
+            target_window: Held::always(),
+            over_threshold: Held::default(),
+            following: Held::default(),
             params,
             state: FsaState::SwitchOnDisabled,
             last_cw: Controlword(0),
@@ -464,18 +470,20 @@ impl MrJeC {
         Statusword(sw | bits)
     }
 
-    /// The motor's raw bits 10 and 12 with the mode's window times (§7.3 6068h, 606Eh, 6070h),
-    /// and bit 13 after the following error time-out 6066h in pp, jg, pt and idx.
+    /// The motor's raw bits 10 and 12 with the mode's window times (§7.3 6068h, 606Eh, 6070h;
+    /// "has elapsed": at least that long, 6070h "for longer than", [`ThresholdTime`]), and bit
+    /// 13 after the following error time-out 6066h in pp, jg, pt and idx. The times are the
+    /// shared timer (`motion::window_time`), counted from when a condition was seen.
     fn timed(&self, raw: u16) -> u16 {
-        let ms = |index: u16| {
-            Duration::from_millis(self.store.int(ObjectId::new(index, 0)).max(0) as u64)
-        };
+        let secs = |index: u16| self.store.int(ObjectId::new(index, 0)).max(0) as f64 / 1000.0;
         let mode = self.store.int(ObjectId::new(0x6061, 0));
         let window = match mode {
-            _ if following_error_judged(mode) => ms(0x6068),
+            _ if following_error_judged(mode) => secs(0x6068),
             profile::PROFILE_VELOCITY => {
-                let zero = self.windows.speed_zero(self.now, ms(0x6070));
-                let reached = self.windows.reached(self.now, ms(0x606E));
+                let zero = !self
+                    .over_threshold
+                    .exceeds(secs(0x6070), ThresholdTime::LongerThan);
+                let reached = self.target_window.at_least(secs(0x606E));
                 let bit10 = if raw & TARGET_REACHED != 0 && reached {
                     TARGET_REACHED
                 } else {
@@ -485,9 +493,9 @@ impl MrJeC {
             }
             _ => return raw,
         };
-        let error = self.windows.following_error(self.now, ms(0x6066));
+        let error = self.following.at_least(secs(0x6066));
         let raw = raw | (u16::from(error) << 13);
-        if self.windows.reached(self.now, window) {
+        if self.target_window.at_least(window) {
             raw
         } else {
             raw & !TARGET_REACHED
@@ -722,9 +730,12 @@ impl MrJeC {
                 let raw = self.motion.status_bits(&p, self.halted());
                 let over =
                     self.motion.velocity(&p).abs() > self.store.int(ObjectId::new(0x606F, 0));
-                self.windows
-                    .update(self.now, raw & TARGET_REACHED != 0, over);
-                self.windows.following(self.now, self.following_error());
+                let secs = dt.as_secs_f64();
+                self.target_window
+                    .update(raw & TARGET_REACHED != 0, secs, HeldFrom::Seen);
+                self.over_threshold.update(over, secs, HeldFrom::Seen);
+                let following = self.following_error();
+                self.following.update(following, secs, HeldFrom::Seen);
             }
             // Option code 2: decelerate with 6085h, then Switch on disabled (§7.6.2).
             FsaState::QuickStopActive => {
@@ -740,7 +751,11 @@ impl MrJeC {
             _ => self.motion.stand(),
         }
         if self.state != FsaState::OperationEnabled {
-            self.windows.standing();
+            // The motor stands where it is: within every window all along (Target reached at
+            // once when enabled), under the threshold, no following error.
+            self.target_window = Held::always();
+            self.over_threshold.clear();
+            self.following.clear();
         }
         if let Some(alarm) = self.watchdog.expired(self.now, &self.timeouts()) {
             self.raise(alarm);
@@ -1058,7 +1073,8 @@ impl MrJeC {
             let p = self.profile();
             self.motion.controlword(cw, prev, &p);
             if self.motion.status_bits(&p, self.halted()) & TARGET_REACHED == 0 {
-                self.windows.leave_window();
+                // A new set-point or start took the motor out of the window between steps.
+                self.target_window.clear();
             }
         } else if self.state != FsaState::QuickStopActive {
             self.motion.stand();

@@ -192,7 +192,9 @@ impl Motion {
     }
 
     /// Statusword bits 10, 12 and 13 in Operation enabled. Target reached also needs the
-    /// droop within the position window 6067h (§7.3 6067h; 0 outside position control).
+    /// droop within the position window 6067h (§7.3 6067h; 0 outside position control);
+    /// 6067h = 4294967295 ("the Position window is disabled") is taken as "every droop is
+    /// within it": Target reached follows the completion alone (the manual gives no more).
     pub fn status_bits(&self, p: &Profile, halted: bool) -> u16 {
         let standing = self.standing();
         let window = p.position_window as f64;

@@ -5,7 +5,7 @@
 
 use super::SimDrive;
 use crate::motion::profile_torque::{HaltRelease, TqCommand};
-use crate::motion::profile_velocity::PvCommand;
+use crate::motion::profile_velocity::{PvCommand, ThresholdTime};
 use cellrt_cia402::pdo::objects::{
     PROFILE_ACCELERATION, PROFILE_DECELERATION, TARGET_TORQUE, TARGET_VELOCITY, TORQUE_SLOPE,
 };
@@ -67,6 +67,8 @@ impl SimDrive {
             window_time_s: seconds(VELOCITY_WINDOW_TIME, pv.velocity_window_time_ms),
             threshold: velocity(VELOCITY_THRESHOLD, pv.velocity_threshold),
             threshold_time_s: seconds(VELOCITY_THRESHOLD_TIME, pv.velocity_threshold_time_ms),
+            // "for at least 6070h" (MR-J4-TM manual §5.4.7; MR-JET, MR-J5: CiA 402 [background]).
+            threshold_time: ThresholdTime::AtLeast,
         }
     }
 

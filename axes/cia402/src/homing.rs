@@ -99,20 +99,74 @@ pub enum HomeProcedure {
     Controlword2(HomeSettingEdge),
 }
 
+/// Why a drive cannot be homed as asked, in the words of its manual.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum HomingChoiceError {
+    /// Both a method and a Controlword2 edge were named.
+    #[error("name a homing method or a Controlword2 edge, not both")]
+    MethodAndEdge,
+    /// The model has no home setting by Controlword2.
+    #[error("the {model} has no home setting by Controlword2 (C_CR / C_CR2)")]
+    NoHomeSetting {
+        /// The model's product name.
+        model: &'static str,
+    },
+    /// The default PDOs do not carry Controlword2 and Statusword2.
+    #[error("the {model} default PDOs do not carry 2001h and 2011h for C_CR / S_OSET")]
+    NoControlword2 {
+        /// The model's product name.
+        model: &'static str,
+    },
+    /// The manual lists no 6098h method; what it says instead.
+    #[error(
+        "the {model} manual lists no homing methods (6098h): {statement}; hm cannot be used on it"
+    )]
+    NoMethods {
+        /// The model's product name.
+        model: &'static str,
+        /// What the manual says instead.
+        statement: &'static str,
+    },
+    /// The default TxPDO does not carry 6061h.
+    #[error("the {model} default TxPDO does not carry 6061h, so the end of a homing in hm cannot be told from csp's statusword bit 12")]
+    NoModeDisplay {
+        /// The model's product name.
+        model: &'static str,
+    },
+    /// The manual does not list the method asked.
+    #[error("the {model} manual lists no homing method {method} (6098h; it lists {listed:?})")]
+    NotListed {
+        /// The model's product name.
+        model: &'static str,
+        /// The method asked.
+        method: i8,
+        /// The methods the manual lists.
+        listed: Vec<i8>,
+    },
+    /// No method was asked and the model has no data-set method to default to.
+    #[error("the {model} manual lists no homing methods (6098h); hm cannot be used on it")]
+    NoDataSetMethod {
+        /// The model's product name.
+        model: &'static str,
+    },
+    /// The manual lists the method, but the emulator does not run it.
+    #[error("homing method {method} of the {model} manual is not emulated")]
+    NotEmulated {
+        /// The model's product name.
+        model: &'static str,
+        /// The method asked.
+        method: i8,
+    },
+}
+
 /// Whether `drive` can set home by Controlword2 with its default maps (2001h in the RxPDO,
 /// 2011h in the TxPDO).
-fn controlword2_home_setting(drive: &HomingFacts) -> Result<(), String> {
+fn controlword2_home_setting(drive: &HomingFacts) -> Result<(), HomingChoiceError> {
     if drive.home_setting.is_none() {
-        return Err(format!(
-            "the {} has no home setting by Controlword2 (C_CR / C_CR2)",
-            drive.name
-        ));
+        return Err(HomingChoiceError::NoHomeSetting { model: drive.name });
     }
     if !drive.carries_controlword2 {
-        return Err(format!(
-            "the {} default PDOs do not carry 2001h and 2011h for C_CR / S_OSET",
-            drive.name
-        ));
+        return Err(HomingChoiceError::NoControlword2 { model: drive.name });
     }
     Ok(())
 }
@@ -125,10 +179,10 @@ pub fn choose_procedure(
     drive: impl Into<HomingFacts>,
     method: Option<i8>,
     edge: Option<HomeSettingEdge>,
-) -> Result<HomeProcedure, String> {
+) -> Result<HomeProcedure, HomingChoiceError> {
     let drive = drive.into();
     match (method, edge) {
-        (Some(_), Some(_)) => Err("name a homing method or a Controlword2 edge, not both".into()),
+        (Some(_), Some(_)) => Err(HomingChoiceError::MethodAndEdge),
         (None, Some(e)) => {
             controlword2_home_setting(&drive).map(|()| HomeProcedure::Controlword2(e))
         }
@@ -147,35 +201,36 @@ pub fn choose_procedure(
 /// manual lists none, or where the TxPDO does not carry 6061h (in csp bit 12 of the statusword
 /// means "following the command", so homing attained could not be told apart without the mode
 /// display).
-pub fn choose_method(drive: impl Into<HomingFacts>, requested: Option<i8>) -> Result<i8, String> {
+pub fn choose_method(
+    drive: impl Into<HomingFacts>,
+    requested: Option<i8>,
+) -> Result<i8, HomingChoiceError> {
     method_of(&drive.into(), requested)
 }
 
-fn method_of(drive: &HomingFacts, requested: Option<i8>) -> Result<i8, String> {
+fn method_of(drive: &HomingFacts, requested: Option<i8>) -> Result<i8, HomingChoiceError> {
+    let model = drive.name;
     if drive.methods.is_empty() {
-        return Err(format!(
-            "the {} manual lists no homing methods (6098h): {}; hm cannot be used on it",
-            drive.name, drive.no_methods_statement
-        ));
+        return Err(HomingChoiceError::NoMethods {
+            model,
+            statement: drive.no_methods_statement,
+        });
     }
     if !drive.shows_mode {
-        return Err(format!(
-            "the {} default TxPDO does not carry 6061h, so the end of a homing in hm cannot be told from csp's statusword bit 12",
-            drive.name
-        ));
+        return Err(HomingChoiceError::NoModeDisplay { model });
     }
     match requested {
         Some(m) if drive.methods.contains(&m) => Ok(m),
-        Some(m) => Err(format!(
-            "the {} manual lists no homing method {m} (6098h; it lists {:?})",
-            drive.name, drive.methods
-        )),
-        None => drive.data_set_methods.first().copied().ok_or_else(|| {
-            format!(
-                "the {} manual lists no homing methods (6098h); hm cannot be used on it",
-                drive.name
-            )
+        Some(method) => Err(HomingChoiceError::NotListed {
+            model,
+            method,
+            listed: drive.methods.to_vec(),
         }),
+        None => drive
+            .data_set_methods
+            .first()
+            .copied()
+            .ok_or(HomingChoiceError::NoDataSetMethod { model }),
     }
 }
 

@@ -700,7 +700,7 @@ fn rtu(
     }
     let baud = raw.baud.unwrap_or(115_200);
     cellrt_fieldbus::modbus::serial::LineSettings::new(baud, Default::default())
-        .map_err(|m| err("je_c.baud", m))?;
+        .map_err(|m| err("je_c.baud", m.to_string()))?;
     Ok(JecTransport::ModbusRtu {
         serial: raw.serial.clone(),
         station,

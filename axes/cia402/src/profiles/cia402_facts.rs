@@ -77,13 +77,18 @@ mod tests {
         assert_eq!(choose_method(j4, Some(35)), Ok(35));
         assert!(choose_method(j4, Some(99))
             .unwrap_err()
+            .to_string()
             .contains("no homing method 99"));
         let j5 = profile(DriveModel::MrJ5GN1);
         assert!(choose_method(j5, None)
             .unwrap_err()
+            .to_string()
             .contains("lists no homing methods"));
         let j3 = profile(DriveModel::MrJ3T04);
-        assert!(choose_method(j3, Some(35)).unwrap_err().contains("6061h"));
+        assert!(choose_method(j3, Some(35))
+            .unwrap_err()
+            .to_string()
+            .contains("6061h"));
     }
 
     #[test]
@@ -99,9 +104,11 @@ mod tests {
         );
         assert!(choose_procedure(j3, Some(35), None)
             .unwrap_err()
+            .to_string()
             .contains("6061h"));
         assert!(choose_procedure(j3, Some(35), Some(HomeSettingEdge::Clear))
             .unwrap_err()
+            .to_string()
             .contains("not both"));
         let j4 = profile(DriveModel::MrJ4TM);
         assert_eq!(
@@ -110,10 +117,12 @@ mod tests {
         );
         assert!(choose_procedure(j4, None, Some(HomeSettingEdge::Clear))
             .unwrap_err()
+            .to_string()
             .contains("no home setting by Controlword2"));
         let j5 = profile(DriveModel::MrJ5GN1);
         assert!(choose_procedure(j5, None, None)
             .unwrap_err()
+            .to_string()
             .contains("lists no homing methods"));
     }
 

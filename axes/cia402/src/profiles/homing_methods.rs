@@ -152,27 +152,29 @@ pub fn search(method: i8) -> Option<SearchRecipe> {
 
 /// Whether the simulated `profile` runs `method`: listed by its manual and either a data-set
 /// method or an emulated search; the refusal names the method and the manual.
-pub fn check_emulated(profile: &DriveProfile, method: i8) -> Result<(), String> {
+pub fn check_emulated(
+    profile: &DriveProfile,
+    method: i8,
+) -> Result<(), crate::homing::HomingChoiceError> {
+    use crate::homing::HomingChoiceError;
+    let model = profile.name;
     if profile.homing.methods.is_empty() {
-        return Err(format!(
-            "the {} manual lists no homing methods (6098h): {}",
-            profile.name,
-            no_methods_statement(profile.model)
-        ));
+        return Err(HomingChoiceError::NoMethods {
+            model,
+            statement: no_methods_statement(profile.model),
+        });
     }
     if !profile.homing.methods.contains(&method) {
-        return Err(format!(
-            "the {} manual lists no homing method {method} (6098h; it lists {:?})",
-            profile.name, profile.homing.methods
-        ));
+        return Err(HomingChoiceError::NotListed {
+            model,
+            method,
+            listed: profile.homing.methods.to_vec(),
+        });
     }
     if profile.homing.data_set_methods.contains(&method) || search(method).is_some() {
         return Ok(());
     }
-    Err(format!(
-        "homing method {method} of the {} manual is not emulated",
-        profile.name
-    ))
+    Err(HomingChoiceError::NotEmulated { model, method })
 }
 
 /// What a manual without a method list says instead, for the refusal.
@@ -237,6 +239,7 @@ mod tests {
         }
         assert!(check_emulated(j3, -33)
             .unwrap_err()
+            .to_string()
             .contains("lists no homing method -33"));
         let j4 = profile(DriveModel::MrJ4TM);
         // Every method of the MR-J4-TM's list (§5.4.9(4)), 39 as 60E3h:0 says.
@@ -248,12 +251,16 @@ mod tests {
             assert!(
                 check_emulated(j4, m)
                     .unwrap_err()
+                    .to_string()
                     .contains("lists no homing method"),
                 "{m}"
             );
         }
         let jet = profile(DriveModel::MrJetGN1);
-        assert!(check_emulated(jet, 37).unwrap_err().contains("§8.3"));
+        assert!(check_emulated(jet, 37)
+            .unwrap_err()
+            .to_string()
+            .contains("§8.3"));
     }
 
     #[test]

@@ -14,6 +14,29 @@ pub struct DeviceSelector {
     pub name: Option<String>,
 }
 
+/// Why an ESI file's devices hold not exactly one that a selector names.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PickError {
+    /// None matches.
+    #[error("no device of the file matches {selector} (the file has: {devices})")]
+    NoMatch {
+        /// The selector, as it reads.
+        selector: String,
+        /// The file's devices, by identity.
+        devices: String,
+    },
+    /// More than one matches.
+    #[error("{count} devices match {selector}; name one by esi_device (Type or Name) or esi_product_code / esi_revision (the file has: {devices})")]
+    Several {
+        /// How many match.
+        count: usize,
+        /// The selector, as it reads.
+        selector: String,
+        /// The file's devices, by identity.
+        devices: String,
+    },
+}
+
 impl DeviceSelector {
     /// True if `d` is one this selector accepts.
     pub fn accepts(&self, d: &EsiDevice) -> bool {
@@ -26,7 +49,7 @@ impl DeviceSelector {
     }
 
     /// The one device of `devices` this selector names, or why there is not exactly one.
-    pub fn pick<'a>(&self, devices: &'a [EsiDevice]) -> Result<&'a EsiDevice, String> {
+    pub fn pick<'a>(&self, devices: &'a [EsiDevice]) -> Result<&'a EsiDevice, PickError> {
         let found: Vec<&EsiDevice> = devices.iter().filter(|d| self.accepts(d)).collect();
         let list = || {
             let v: Vec<String> = devices.iter().map(EsiDevice::identity_text).collect();
@@ -34,12 +57,15 @@ impl DeviceSelector {
         };
         match found.as_slice() {
             [one] => Ok(one),
-            [] => Err(format!("no device of the file matches {self} (the file has: {})", list())),
-            _ => Err(format!(
-                "{} devices match {self}; name one by esi_device (Type or Name) or esi_product_code / esi_revision (the file has: {})",
-                found.len(),
-                list()
-            )),
+            [] => Err(PickError::NoMatch {
+                selector: self.to_string(),
+                devices: list(),
+            }),
+            _ => Err(PickError::Several {
+                count: found.len(),
+                selector: self.to_string(),
+                devices: list(),
+            }),
         }
     }
 }

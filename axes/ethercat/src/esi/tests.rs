@@ -101,7 +101,11 @@ fn a_device_is_picked_by_revision_or_name() {
     assert_eq!(ds[0].name, "A en");
     assert_eq!(ds[0].line, 5);
     let any = DeviceSelector::default();
-    assert!(any.pick(&ds).unwrap_err().contains("2 devices match"));
+    assert!(any
+        .pick(&ds)
+        .unwrap_err()
+        .to_string()
+        .contains("2 devices match"));
     let rev = DeviceSelector {
         revision: Some(0x11),
         ..Default::default()
@@ -116,7 +120,7 @@ fn a_device_is_picked_by_revision_or_name() {
         product_code: Some(0x999),
         ..Default::default()
     };
-    let e = none.pick(&ds).unwrap_err();
+    let e = none.pick(&ds).unwrap_err().to_string();
     assert!(
         e.contains("product code 0x999") && e.contains("revision 0x11"),
         "{e}"

@@ -99,13 +99,16 @@ impl Default for LineSettings {
 /// waits less than this.
 pub const MIN_SILENCE: Duration = Duration::from_micros(1750);
 
+/// A bit rate the drive does not offer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("bit rate {0}: the MR-JE-C offers {BAUD_RATES:?} bit/s ([Pr. PC71])")]
+pub struct BaudRateError(pub u32);
+
 impl LineSettings {
     /// Settings checked against what the drive offers.
-    pub fn new(baud: u32, framing: Framing) -> Result<LineSettings, String> {
+    pub fn new(baud: u32, framing: Framing) -> Result<LineSettings, BaudRateError> {
         if !BAUD_RATES.contains(&baud) {
-            return Err(format!(
-                "bit rate {baud}: the MR-JE-C offers {BAUD_RATES:?} bit/s ([Pr. PC71])"
-            ));
+            return Err(BaudRateError(baud));
         }
         Ok(LineSettings { baud, framing })
     }
@@ -348,6 +351,7 @@ mod tests {
         assert_eq!(fast.silence(), MIN_SILENCE);
         assert!(LineSettings::new(14_400, Framing::Even1)
             .unwrap_err()
+            .to_string()
             .contains("14400"));
     }
 

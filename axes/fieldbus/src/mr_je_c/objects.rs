@@ -74,16 +74,17 @@ impl std::fmt::Display for ObjectId {
     }
 }
 
+/// An object named in a form [`ObjectId`] does not read.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("object {0:?}: expected an index in hex with an optional :sub, e.g. 6041 or 1018:2")]
+pub struct BadObjectId(pub String);
+
 impl std::str::FromStr for ObjectId {
-    type Err = String;
+    type Err = BadObjectId;
 
     /// "6041", "6041h", "0x6041", "1018:2" or "1018h:2".
-    fn from_str(s: &str) -> Result<ObjectId, String> {
-        let bad = || {
-            format!(
-                "object {s:?}: expected an index in hex with an optional :sub, e.g. 6041 or 1018:2"
-            )
-        };
+    fn from_str(s: &str) -> Result<ObjectId, BadObjectId> {
+        let bad = || BadObjectId(s.to_string());
         let (index, sub) = s.split_once(':').unwrap_or((s, "0"));
         let index = index
             .trim()

@@ -21,14 +21,14 @@ use cellrt_config::je_c_axis::{JecAxisConfig, JecTransport};
 #[derive(Debug, thiserror::Error)]
 pub enum OpenError {
     /// The serial line's settings (baud rate, framing) were refused.
-    #[error("{0}")]
-    LineSettings(String),
+    #[error(transparent)]
+    LineSettings(cellrt_fieldbus::modbus::serial::BaudRateError),
     /// The serial line's port could not be opened.
     #[error("{0}")]
     Port(#[source] ClientError),
     /// The Modbus RTU client refused the line's settings.
     #[error("line: {0}")]
-    Line(String),
+    Line(cellrt_fieldbus::modbus::serial::BaudRateError),
     /// The Modbus RTU client refused the station.
     #[error("station: {0}")]
     Station(#[source] ClientError),

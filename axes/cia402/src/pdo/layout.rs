@@ -133,6 +133,14 @@ impl PdoLayout {
                 max: MAX_TX_EXTRAS,
             });
         }
+        if let Some(s) = self.slots().iter().find(|s| s.extra && s.bits > 32) {
+            return Err(PdoError::ExtraTooWide {
+                map: self.map.index,
+                index: s.index,
+                sub: s.sub,
+                bits: s.bits,
+            });
+        }
         Ok(())
     }
 
@@ -261,6 +269,41 @@ mod tests {
         assert_eq!(buf, [0x55u8; 64], "nothing written");
         assert_eq!(layout.decode_tx(&buf), Err(e));
         assert!(e.to_string().contains("1602h"), "{e}");
+    }
+
+    /// An extra object wider than 32 bits is refused naming it; a 32-bit one round-trips.
+    #[test]
+    fn an_extra_object_wider_than_32_bits_is_refused() {
+        const WIDE: PdoMap = PdoMap {
+            index: 0x1A07,
+            entries: SharedSlice::Static(&[
+                PdoEntry::object(0x6041, 0, 16),
+                PdoEntry::object(0x2B10, 1, 64),
+            ]),
+        };
+        let e = PdoLayout::new(&WIDE).decode_tx(&[0u8; 10]).unwrap_err();
+        assert_eq!(
+            e,
+            PdoError::ExtraTooWide {
+                map: 0x1A07,
+                index: 0x2B10,
+                sub: 1,
+                bits: 64
+            }
+        );
+        assert!(e.to_string().contains("2B10h:1 with 64 bits"), "{e}");
+        const WORD: PdoMap = PdoMap {
+            index: 0x1A07,
+            entries: SharedSlice::Static(&[
+                PdoEntry::object(0x6041, 0, 16),
+                PdoEntry::object(0x2B10, 1, 32),
+            ]),
+        };
+        let layout = PdoLayout::new(&WORD);
+        let tx = layout
+            .decode_tx(&[0x37, 0x12, 0x78, 0x56, 0x34, 0xF2])
+            .unwrap();
+        assert_eq!(tx.extras.get(0x2B10, 1), Some(0xF234_5678));
     }
 
     #[test]

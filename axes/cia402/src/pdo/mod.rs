@@ -91,6 +91,18 @@ pub enum PdoError {
         /// The entry's sub-index.
         sub: u8,
     },
+    /// An object beside the CiA 402 fields wider than the 32 bits [`TxPdo::extras`] holds.
+    #[error("PDO map {map:#06X}h maps {index:04X}h:{sub} with {bits} bits besides the CiA 402 fields; such objects may have at most 32")]
+    ExtraTooWide {
+        /// The mapping object index.
+        map: u16,
+        /// The entry's index.
+        index: u16,
+        /// The entry's sub-index.
+        sub: u8,
+        /// Its width.
+        bits: u16,
+    },
     /// More objects beside the CiA 402 fields than [`TxPdo::extras`] holds.
     #[error("PDO map {map:#06X}h has {extras} objects besides the CiA 402 fields, at most {max} are supported")]
     TooManyExtras {

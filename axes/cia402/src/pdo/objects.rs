@@ -204,8 +204,9 @@ pub struct ExtraObject {
     pub index: u16,
     /// Sub-index.
     pub sub: u8,
-    /// The raw bits, zero-extended.
-    pub value: u64,
+    /// The raw bits, zero-extended: at most 32 ([`crate::PdoLayout`] refuses a wider extra
+    /// object), so the table stays small in an image copied every cycle.
+    pub value: u32,
 }
 
 /// The objects of a TxPDO image that are not CiA 402 fields of [`TxPdo`], by object index: a
@@ -238,11 +239,13 @@ impl TxExtras {
         self.objects()
             .iter()
             .find(|o| o.index == index && o.sub == sub)
-            .map(|o| o.value)
+            .map(|o| u64::from(o.value))
     }
 
-    /// Sets `index:sub` to `value`, adding the object if it is not held yet.
+    /// Sets `index:sub` to `value` (its low 32 bits: extra objects are at most 32 bits wide),
+    /// adding the object if it is not held yet.
     pub fn set(&mut self, index: u16, sub: u8, value: u64) -> Result<(), TxExtrasFull> {
+        let value = value as u32;
         let len = usize::from(self.len);
         if let Some(o) = self.slots[..len]
             .iter_mut()

@@ -180,4 +180,11 @@ impl CellAxes {
     pub fn names(&self) -> String {
         self.iter().map(|a| a.name()).collect::<Vec<_>>().join(", ")
     }
+
+    /// Comma-separated names of the RT loop's axes by slot (the recording's `axes` metadata,
+    /// the columns of its per-cycle channels).
+    pub fn loop_names(&self) -> String {
+        let names: Vec<&str> = self.on_loop.iter().map(|a| a.name.as_str()).collect();
+        names.join(", ")
+    }
 }

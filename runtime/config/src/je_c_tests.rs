@@ -52,7 +52,7 @@ fn refused(r: Result<CellConfig, ConfigError>, key: &str, says: &str) {
 fn the_mixed_cell_keeps_its_je_c_axes_off_the_rt_loop() {
     let c = parse(&mixed()).unwrap();
     assert_eq!(c.axes.names(), "x, y, infeed, outfeed");
-    assert_eq!(c.axis_names(), "x, y");
+    assert_eq!(c.axes.loop_names(), "x, y");
     assert_eq!(c.axes.count(), 4);
     assert_eq!(c.axes.on_loop().len(), 2);
     let backends: Vec<_> = c.axes.iter().map(|a| a.backend()).collect();

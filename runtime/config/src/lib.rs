@@ -508,17 +508,6 @@ impl CellConfig {
     pub fn velocity_limit(&self, axis: AxisRef) -> f64 {
         self.axes.get(axis).velocity_limit()
     }
-
-    /// Comma-separated names of the axes on the RT loop (the recording's `axes` metadata,
-    /// the columns of its per-cycle channels).
-    pub fn axis_names(&self) -> String {
-        self.axes
-            .on_loop()
-            .iter()
-            .map(|a| a.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
 }
 
 #[cfg(test)]

@@ -20,7 +20,7 @@ fn demo_config_is_valid_and_typed() {
     let c = parse(&demo_text()).expect("demo parses");
     assert_eq!(c.name, "demo");
     assert_eq!(c.cycle_time.as_micros(), 1000);
-    assert_eq!(c.axis_names(), "x, y, z, c");
+    assert_eq!(c.axes.loop_names(), "x, y, z, c");
     assert_eq!(c.axes.on_loop()[3].unit, "deg");
     assert_eq!(c.axes.on_loop()[0].scaling.counts_per_unit(), 1000.0);
     // Defaults: stop deceleration = acceleration, following-error limit = 0.1 s at full speed.
@@ -363,7 +363,7 @@ fn the_generic_cia402_cell_is_valid_and_carries_its_identity() {
         c.ethercat.as_ref().unwrap().interface,
         EthercatInterface::InProcess
     );
-    assert_eq!(c.axis_names(), "x, y");
+    assert_eq!(c.axes.loop_names(), "x, y");
     for a in c.axes.on_loop() {
         assert_eq!(a.drive, cellrt_cia402::DriveModel::GenericCia402);
         assert_eq!(a.transport, Transport::Ethercat);

@@ -313,7 +313,7 @@ fn write_cell_metadata<W: Write + Seek>(
             "cycle_time_us".to_string(),
             cell.cycle_time.as_micros().to_string(),
         ),
-        ("axes".to_string(), cell.axis_names()),
+        ("axes".to_string(), cell.axes.loop_names()),
         ("cell_axes".to_string(), cell.axes.names()),
         (
             "software".to_string(),

@@ -1,6 +1,7 @@
 //! [`SimBus`]: the simulated drives in-process, called directly at each exchange.
 
 use crate::sim::drive::SimDrive;
+use crate::sim::plant::CycleMapPool;
 use cellrt_cia402::bus::{
     AcyclicBus, BusError, CyclicBus, FaultInjection, ImmediateSlot, PostError, SdoOutcome,
     SdoRequest, SDO_UNSUPPORTED,
@@ -26,8 +27,11 @@ pub struct SimBus {
 }
 
 impl SimBus {
-    /// A bus over `drives`, one zeroed rx and tx image each, sized from the profile maps.
-    pub fn new(drives: Vec<SimDrive>) -> Self {
+    /// A bus over `drives`, one zeroed rx and tx image each, sized from the profile maps; the
+    /// plants of identical axes share one cycle map ([`SimDrive::share_cycle_map`]).
+    pub fn new(mut drives: Vec<SimDrive>) -> Self {
+        let mut maps = CycleMapPool::default();
+        drives.iter_mut().for_each(|d| d.share_cycle_map(&mut maps));
         let rx = drives
             .iter()
             .map(|d| vec![0u8; d.profile().pdo.rx.byte_len()])

@@ -291,3 +291,29 @@ fn sim_bus_exchanges_every_axis() {
     assert_eq!(bus.drive(0).state(), FsaState::Fault);
     assert!(bus.get_drive(2).is_none());
 }
+
+#[test]
+fn identical_axes_of_one_bus_read_one_cycle_map() {
+    let params = SimDriveParams::default();
+    let slow = SimDriveParams {
+        plant: PlantParams {
+            velocity_bandwidth_hz: 100.0,
+            ..PlantParams::default()
+        },
+        ..SimDriveParams::default()
+    };
+    let (a, b) = (j5(params), j5(params));
+    assert!(
+        !a.plant().shares_cycle_map_with(b.plant()),
+        "each drive builds its own"
+    );
+    let bus = SimBus::new(vec![a, b, j5(slow)]);
+    assert!(bus
+        .drive(0)
+        .plant()
+        .shares_cycle_map_with(bus.drive(1).plant()));
+    assert!(!bus
+        .drive(0)
+        .plant()
+        .shares_cycle_map_with(bus.drive(2).plant()));
+}

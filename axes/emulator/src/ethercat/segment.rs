@@ -38,8 +38,11 @@ pub struct Segment {
 }
 
 impl Segment {
-    /// A segment of `drives` in this order (position 0 next to the master).
-    pub fn new(drives: Vec<SimDrive>) -> Self {
+    /// A segment of `drives` in this order (position 0 next to the master); identical plants
+    /// share one cycle map, as on a [`crate::sim_bus::SimBus`].
+    pub fn new(mut drives: Vec<SimDrive>) -> Self {
+        let mut maps = crate::sim::plant::CycleMapPool::default();
+        drives.iter_mut().for_each(|d| d.share_cycle_map(&mut maps));
         let n = drives.len() as u16;
         let stations = drives
             .into_iter()
@@ -51,7 +54,12 @@ impl Segment {
 
     /// A segment of stations in this order, each presenting the drives of one unit (one drive
     /// for a 1-axis drive; every axis, in slot order, of a multi-axis unit: [`Station::unit`]).
-    pub fn of_units(units: Vec<Vec<SimDrive>>) -> Result<Self, UnitError> {
+    pub fn of_units(mut units: Vec<Vec<SimDrive>>) -> Result<Self, UnitError> {
+        let mut maps = crate::sim::plant::CycleMapPool::default();
+        units
+            .iter_mut()
+            .flatten()
+            .for_each(|d| d.share_cycle_map(&mut maps));
         let n = units.len() as u16;
         let stations = units
             .into_iter()

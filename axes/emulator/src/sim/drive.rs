@@ -423,6 +423,12 @@ impl SimDrive {
         self.mode_display
     }
 
+    /// Lets the plant read an equal cycle map of `pool` (one table for identical axes of a bus;
+    /// [`ServoPlant::share_cycle_map`]). Start-up only: allocates.
+    pub fn share_cycle_map(&mut self, pool: &mut crate::sim::plant::CycleMapPool) {
+        self.plant.share_cycle_map(pool);
+    }
+
     /// The motor model.
     pub fn plant(&self) -> &ServoPlant {
         &self.plant

@@ -7,6 +7,8 @@
 //! precomputed row times `z`. The rows are checked first; if any substep would saturate, the
 //! caller runs the substep loop instead, so the result is the same model either way.
 
+use std::sync::Arc;
+
 /// Longest cycle (in substeps) the map is built for; longer steps always take the loop.
 pub const MAX_MAPPED_SUBSTEPS: usize = 128;
 
@@ -28,6 +30,32 @@ pub struct CycleMap {
     vel: Box<[f64]>,
     /// End of cycle: position change, velocity, last acceleration.
     end: [[f64; Z]; 3],
+}
+
+/// The distinct cycle maps of one bus' plants. Plants of identical axes then read one table,
+/// which stays in the cache (64 private copies of a few kilobytes each do not). Owned by the
+/// bus that runs the plants, never process-wide; filled at start-up (allocates).
+#[derive(Debug, Default)]
+pub struct CycleMapPool(Vec<Arc<CycleMap>>);
+
+impl CycleMapPool {
+    /// Points `map` at an equal map already in the pool, or adds it.
+    pub fn share(&mut self, map: &mut Arc<CycleMap>) {
+        match self.0.iter().find(|m| ***m == **map) {
+            Some(m) => *map = Arc::clone(m),
+            None => self.0.push(Arc::clone(map)),
+        }
+    }
+
+    /// How many distinct maps the pool holds.
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// Whether the pool holds no map.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
 }
 
 /// The plant state at the end of a mapped cycle.

@@ -9,7 +9,7 @@ mod cycle_map;
 use std::f64::consts::TAU;
 use std::sync::Arc;
 
-pub use cycle_map::{CycleMap, MAX_MAPPED_SUBSTEPS};
+pub use cycle_map::{CycleMap, CycleMapPool, MAX_MAPPED_SUBSTEPS};
 
 /// Longest internal integration step; every cycle is split into equal substeps no longer than this.
 pub const MAX_SUBSTEP_S: f64 = 62.5e-6;
@@ -111,13 +111,26 @@ impl ServoPlant {
     /// Precomputes the servo-on step for time steps of exactly `dt_s` (the drive's cycle), so
     /// [`ServoPlant::step`] costs a few dot products while no limit engages. Same model: a
     /// step that would saturate anywhere still runs the substep loop. Each plant builds its own
-    /// map (a few hundred multiplications). Allocates; call at start-up, not in the cycle.
+    /// map (a few hundred multiplications); a bus then shares equal ones
+    /// ([`ServoPlant::share_cycle_map`]). Allocates; call at start-up, not in the cycle.
     pub fn prepare_cycle(&mut self, dt_s: f64) {
         let (n, h) = Self::substeps(dt_s);
         let kp = TAU * self.params.position_bandwidth_hz;
         let kv = TAU * self.params.velocity_bandwidth_hz;
         let g = if h > 0.0 { (kv * h).min(1.0) / h } else { 0.0 };
         self.cycle_map = CycleMap::build(dt_s, n, h, kp, g).map(Arc::new);
+    }
+
+    /// Uses an equal map of `pool` instead of this plant's own (or adds it there). Start-up only.
+    pub fn share_cycle_map(&mut self, pool: &mut CycleMapPool) {
+        if let Some(map) = self.cycle_map.as_mut() {
+            pool.share(map);
+        }
+    }
+
+    /// Whether this plant and `other` read the very same cycle map (not merely an equal one).
+    pub fn shares_cycle_map_with(&self, other: &ServoPlant) -> bool {
+        matches!((&self.cycle_map, &other.cycle_map), (Some(a), Some(b)) if Arc::ptr_eq(a, b))
     }
 
     /// Whether a prepared cycle map serves steps of `dt_s`.
@@ -575,6 +588,20 @@ mod cycle_map_tests {
         );
         other.prepare_cycle(1e-3);
         assert_ne!(p.cycle_map, other.cycle_map);
+        assert!(
+            !p.shares_cycle_map_with(&twin),
+            "built apart, not shared yet"
+        );
+        let mut pool = CycleMapPool::default();
+        for plant in [&mut p, &mut twin, &mut other] {
+            plant.share_cycle_map(&mut pool);
+        }
+        assert!(p.shares_cycle_map_with(&twin), "equal maps are one table");
+        assert!(
+            !p.shares_cycle_map_with(&other),
+            "other gains keep their own"
+        );
+        assert_eq!(pool.len(), 2);
         let mut long = ServoPlant::new(PlantParams::default(), 0.0);
         long.prepare_cycle(1.0);
         assert!(

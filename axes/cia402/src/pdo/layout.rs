@@ -34,8 +34,10 @@ pub struct PdoLayout {
     invalid: Option<PdoError>,
     byte_len: usize,
     len: usize,
-    /// Entries that would be [`TxPdo::extras`] if this map is a TxPDO.
-    extras: usize,
+    /// Why this map cannot be a TxPDO image even if it can be laid out (more objects beside
+    /// the CiA 402 fields than [`TxPdo::extras`] holds, or one wider than 32 bits): found once
+    /// here, not by a walk of the entries every cycle.
+    invalid_tx: Option<PdoError>,
     slots: [Slot; MAX_LAYOUT_ENTRIES],
 }
 
@@ -49,7 +51,7 @@ impl PdoLayout {
             invalid: None,
             byte_len: map.byte_len(),
             len: 0,
-            extras: 0,
+            invalid_tx: None,
             slots: [Slot::default(); MAX_LAYOUT_ENTRIES],
         };
         if let Err(e) = map.check_len(map.byte_len()) {
@@ -72,7 +74,6 @@ impl PdoLayout {
                 TxField::of(e.index, e.sub)
             };
             let extra = !padding && tx.is_none();
-            layout.extras += usize::from(extra);
             *slot = Slot {
                 offset: offset as u16,
                 bytes: (e.bits / 8) as u8,
@@ -89,7 +90,27 @@ impl PdoLayout {
             };
         }
         layout.len = map.entries.len();
+        layout.invalid_tx = layout.tx_error();
         layout
+    }
+
+    /// Why the laid-out map cannot be a TxPDO image, if it cannot.
+    fn tx_error(&self) -> Option<PdoError> {
+        let extras = self.slots().iter().filter(|s| s.extra).count();
+        if extras > MAX_TX_EXTRAS {
+            return Some(PdoError::TooManyExtras {
+                map: self.map.index,
+                extras,
+                max: MAX_TX_EXTRAS,
+            });
+        }
+        let s = self.slots().iter().find(|s| s.extra && s.bits > 32)?;
+        Some(PdoError::ExtraTooWide {
+            map: self.map.index,
+            index: s.index,
+            sub: s.sub,
+            bits: s.bits,
+        })
     }
 
     /// Why this map cannot be laid out, if it cannot.
@@ -126,22 +147,7 @@ impl PdoLayout {
     /// [`TxPdo::extras`].
     fn check_tx(&self, len: usize) -> Result<(), PdoError> {
         self.check_len(len)?;
-        if self.extras > MAX_TX_EXTRAS {
-            return Err(PdoError::TooManyExtras {
-                map: self.map.index,
-                extras: self.extras,
-                max: MAX_TX_EXTRAS,
-            });
-        }
-        if let Some(s) = self.slots().iter().find(|s| s.extra && s.bits > 32) {
-            return Err(PdoError::ExtraTooWide {
-                map: self.map.index,
-                index: s.index,
-                sub: s.sub,
-                bits: s.bits,
-            });
-        }
-        Ok(())
+        self.invalid_tx.map_or(Ok(()), Err)
     }
 
     fn slots(&self) -> &[Slot] {
@@ -188,8 +194,16 @@ impl PdoLayout {
     /// Reads a [`TxPdo`] from `buf`: the CiA 402 fields, and every other object into
     /// [`TxPdo::extras`]; absent fields stay default.
     pub fn decode_tx(&self, buf: &[u8]) -> Result<TxPdo, PdoError> {
-        self.check_tx(buf.len())?;
         let mut pdo = TxPdo::default();
+        self.decode_tx_into(buf, &mut pdo)?;
+        Ok(pdo)
+    }
+
+    /// [`PdoLayout::decode_tx`] into `pdo` in place (the RT loop's per-axis feedback, not a
+    /// copy of it); `pdo` is untouched when the image is refused.
+    pub fn decode_tx_into(&self, buf: &[u8], pdo: &mut TxPdo) -> Result<(), PdoError> {
+        self.check_tx(buf.len())?;
+        *pdo = TxPdo::default();
         for s in self.slots() {
             if let Some(f) = s.tx {
                 pdo.set(f, s.bits, read_le(buf, s));
@@ -198,7 +212,7 @@ impl PdoLayout {
                 let _ = pdo.extras.set(s.index, s.sub, read_le(buf, s));
             }
         }
-        Ok(pdo)
+        Ok(())
     }
 }
 

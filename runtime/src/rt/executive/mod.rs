@@ -388,31 +388,40 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
     /// Decodes every axis' TxPDO image and watches for FSA changes and faults.
     fn read_inputs(&mut self) {
         for i in 0..self.axes.len() {
-            let decoded = self.axes[i].tx_map.decode_tx(self.bus.tx_image(i));
-            let Ok(mut tx) = decoded else {
+            let ch = &mut self.axes[i];
+            let old = ch.feedback.statusword;
+            // Decoded in place: the image is not copied through the stack every cycle.
+            if ch
+                .tx_map
+                .decode_tx_into(self.bus.tx_image(i), &mut ch.feedback)
+                .is_err()
+            {
                 self.event(EventKind::BusError, i as u16, i as i64);
                 continue;
-            };
-            // User counts where the drive keeps 6064h raw (MR-J3-T04 manual §8.11.4.2, §8.11.6, §9.1).
-            tx.position_actual = self.axes[i].to_user(tx.position_actual);
-            // Before this cycle's setpoint is taken: the one the drive was sent.
-            if !self.axes[i].following_error_mapped {
-                tx.following_error = self.axes[i].computed_following_error(tx.position_actual);
             }
-            let old = self.axes[i].feedback;
-            self.axes[i].feedback = tx;
-            self.watch_counter(i, self.axes[i].comm_check.tx_counter(&tx));
+            // User counts where the drive keeps 6064h raw (MR-J3-T04 manual §8.11.4.2, §8.11.6, §9.1).
+            ch.feedback.position_actual = ch.to_user(ch.feedback.position_actual);
+            // Before this cycle's setpoint is taken: the one the drive was sent.
+            if !ch.following_error_mapped {
+                ch.feedback.following_error =
+                    ch.computed_following_error(ch.feedback.position_actual);
+            }
+            let (statusword, error_code) = (ch.feedback.statusword, ch.feedback.error_code);
+            self.watch_counter(
+                i,
+                self.axes[i].comm_check.tx_counter(&self.axes[i].feedback),
+            );
             self.watch_link_state(i);
-            if old.statusword.state() != tx.statusword.state() {
-                let v = tx.statusword.state().map(fsa_index).unwrap_or(0);
+            if old.state() != statusword.state() {
+                let v = statusword.state().map(fsa_index).unwrap_or(0);
                 self.event(EventKind::FsaState, i as u16, v);
             }
-            if tx.statusword.fault() && !old.statusword.fault() {
+            if statusword.fault() && !old.fault() {
                 self.stats.counters.faults += 1;
                 // 603Fh: from the TxPDO where mapped, else one acyclic read posted at the fault
                 // edge (the event follows with its outcome).
                 if self.axes[i].error_code_mapped {
-                    self.event(EventKind::DriveFault, i as u16, i64::from(tx.error_code));
+                    self.event(EventKind::DriveFault, i as u16, i64::from(error_code));
                 } else {
                     self.request_error_code(i);
                 }

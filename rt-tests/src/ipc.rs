@@ -100,14 +100,14 @@ fn round(path: Path, axes: usize, count: u32, r: u32) -> Result<Vec<f64>, BenchE
     let received = Arc::new(AtomicU64::new(0));
     let (ready2, received2, cell2) = (ready.clone(), received.clone(), cell.clone());
     let n = BLOCK_CYCLES * axes;
-    let receiver = std::thread::spawn(move || -> Result<Vec<f64>, String> {
-        let node = services::node(&cell2, "rx").map_err(|e| e.to_string())?;
+    let receiver = std::thread::spawn(move || -> Result<Vec<f64>, BenchError> {
+        let node = services::node(&cell2, "rx").map_err(|e| BenchError::failed(e.to_string()))?;
         let mut out = Vec::with_capacity(count as usize);
         let deadline = Instant::now() + Duration::from_secs(60);
         match path {
             Path::Cellrt => {
-                let sub =
-                    services::setpoint_subscriber(&node, &cell2).map_err(|e| e.to_string())?;
+                let sub = services::setpoint_subscriber(&node, &cell2)
+                    .map_err(|e| BenchError::failed(e.to_string()))?;
                 let mut stream = SetpointStream::new(sub);
                 ready2.store(true, Ordering::Release);
                 while out.len() < count as usize && Instant::now() < deadline {
@@ -124,7 +124,7 @@ fn round(path: Path, axes: usize, count: u32, r: u32) -> Result<Vec<f64>, BenchE
                 let sub = service
                     .subscriber_builder()
                     .create()
-                    .map_err(|e| format!("{e:?}"))?;
+                    .map_err(|e| BenchError::failed(format!("{e:?}")))?;
                 ready2.store(true, Ordering::Release);
                 while out.len() < count as usize && Instant::now() < deadline {
                     if let Ok(Some(s)) = sub.receive() {
@@ -143,7 +143,7 @@ fn round(path: Path, axes: usize, count: u32, r: u32) -> Result<Vec<f64>, BenchE
     }
     let node = services::node(&cell, "tx").map_err(|e| BenchError::failed(e.to_string()))?;
     let rows = vec![AxisSetpoint::default(); n];
-    let send_all = |send: &mut dyn FnMut(f64) -> Result<(), String>| -> Result<(), String> {
+    let send_all = |send: &mut dyn FnMut(f64) -> Result<(), BenchError>| -> Result<(), BenchError> {
         // Let the connection settle (the first send after a peer joins allocates).
         std::thread::sleep(Duration::from_millis(20));
         for i in 0..count {
@@ -151,7 +151,7 @@ fn round(path: Path, axes: usize, count: u32, r: u32) -> Result<Vec<f64>, BenchE
             let until = Instant::now() + Duration::from_secs(2);
             while received.load(Ordering::Acquire) <= u64::from(i) {
                 if Instant::now() > until {
-                    return Err("the receiver stopped answering".into());
+                    return Err(BenchError::failed("the receiver stopped answering"));
                 }
                 std::hint::spin_loop();
             }
@@ -167,7 +167,7 @@ fn round(path: Path, axes: usize, count: u32, r: u32) -> Result<Vec<f64>, BenchE
                 rows[0].position = t;
                 let mut loaned = publisher
                     .loan_slice_uninit(n)
-                    .map_err(|e| format!("{e:?}"))?;
+                    .map_err(|e| BenchError::failed(format!("{e:?}")))?;
                 *loaned.user_header_mut() = SetpointHeader {
                     motion_id: 1,
                     flags: 0,
@@ -179,11 +179,11 @@ fn round(path: Path, axes: usize, count: u32, r: u32) -> Result<Vec<f64>, BenchE
                     .write_from_slice(&rows)
                     .send()
                     .map(|_| ())
-                    .map_err(|e| format!("{e:?}"))
+                    .map_err(|e| BenchError::failed(format!("{e:?}")))
             })
         }
         Path::Raw => {
-            let service = raw_service(&node, &cell).map_err(BenchError::failed)?;
+            let service = raw_service(&node, &cell)?;
             let publisher = service
                 .publisher_builder()
                 .initial_max_slice_len(n)
@@ -194,19 +194,18 @@ fn round(path: Path, axes: usize, count: u32, r: u32) -> Result<Vec<f64>, BenchE
                 rows[0].position = t;
                 publisher
                     .loan_slice_uninit(n)
-                    .map_err(|e| format!("{e:?}"))?
+                    .map_err(|e| BenchError::failed(format!("{e:?}")))?
                     .write_from_slice(&rows)
                     .send()
                     .map(|_| ())
-                    .map_err(|e| format!("{e:?}"))
+                    .map_err(|e| BenchError::failed(format!("{e:?}")))
             })
         }
     };
     let samples = receiver
         .join()
-        .map_err(|_| BenchError::failed("the receiver panicked"))?
-        .map_err(BenchError::failed)?;
-    sent.map_err(BenchError::failed)?;
+        .map_err(|_| BenchError::failed("the receiver panicked"))??;
+    sent?;
     Ok(samples)
 }
 
@@ -219,14 +218,14 @@ fn raw_service(
         [AxisSetpoint],
         (),
     >,
-    String,
+    BenchError,
 > {
-    let name =
-        ServiceName::new(&format!("cellrt/{cell}/raw-bench")).map_err(|e| format!("{e:?}"))?;
+    let name = ServiceName::new(&format!("cellrt/{cell}/raw-bench"))
+        .map_err(|e| BenchError::failed(format!("{e:?}")))?;
     node.service_builder(&name)
         .publish_subscribe::<[AxisSetpoint]>()
         .open_or_create()
-        .map_err(|e| format!("{e:?}"))
+        .map_err(|e| BenchError::failed(format!("{e:?}")))
 }
 
 /// The table.

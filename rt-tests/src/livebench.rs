@@ -183,8 +183,7 @@ fn run_round(opts: &LoopOptions, mode: LiveMode, n: usize) -> Result<LiveRound, 
         .map_err(|e| BenchError::failed(e.to_string()))?;
     if let Some(Ok(v)) = viewer {
         v.join()
-            .map_err(|_| BenchError::failed("the viewer panicked"))?
-            .map_err(BenchError::failed)?;
+            .map_err(|_| BenchError::failed("the viewer panicked"))??;
     }
     Ok(LiveRound {
         mode,
@@ -222,7 +221,7 @@ fn viewer(
     rt_cpu: usize,
     stop: &AtomicBool,
     received: &AtomicU64,
-) -> Result<(), String> {
+) -> Result<(), BenchError> {
     use tungstenite::client::IntoClientRequest;
     use tungstenite::Message;
     keep_off_cpu(rt_cpu);
@@ -231,21 +230,25 @@ fn viewer(
         match TcpStream::connect(addr) {
             Ok(s) => break s,
             Err(_) if Instant::now() < end => std::thread::sleep(Duration::from_millis(20)),
-            Err(e) => return Err(format!("viewer: cannot connect to {addr}: {e}")),
+            Err(e) => {
+                return Err(BenchError::failed(format!(
+                    "viewer: cannot connect to {addr}: {e}"
+                )))
+            }
         }
     };
     let mut request = format!("ws://{addr}")
         .into_client_request()
-        .map_err(|e| format!("viewer: {e}"))?;
+        .map_err(|e| BenchError::failed(format!("viewer: {e}")))?;
     request.headers_mut().insert(
         "Sec-WebSocket-Protocol",
         tungstenite::http::HeaderValue::from_static("foxglove.sdk.v1"),
     );
-    let (mut ws, _) =
-        tungstenite::client(request, stream).map_err(|e| format!("viewer: handshake: {e}"))?;
+    let (mut ws, _) = tungstenite::client(request, stream)
+        .map_err(|e| BenchError::failed(format!("viewer: handshake: {e}")))?;
     ws.get_ref()
         .set_read_timeout(Some(Duration::from_millis(100)))
-        .map_err(|e| format!("viewer: {e}"))?;
+        .map_err(|e| BenchError::failed(format!("viewer: {e}")))?;
     let mut next_id = 0u32;
     while !stop.load(Ordering::Acquire) {
         match ws.read() {
@@ -255,7 +258,7 @@ fn viewer(
             Ok(Message::Text(t)) => {
                 if let Some(sub) = subscription(&t, &mut next_id) {
                     ws.send(Message::text(sub))
-                        .map_err(|e| format!("viewer: subscribe: {e}"))?;
+                        .map_err(|e| BenchError::failed(format!("viewer: subscribe: {e}")))?;
                 }
             }
             Ok(_) => {}

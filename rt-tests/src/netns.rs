@@ -16,33 +16,51 @@ pub struct VethNamespace {
     pub far: String,
 }
 
-fn ip(args: &[&str]) -> Result<Output, String> {
+/// Why a [`VethNamespace`] cannot be made here.
+#[derive(Debug, thiserror::Error)]
+pub enum NetnsError {
+    /// Not running as root.
+    #[error("needs root (CAP_NET_ADMIN for the namespace and the veth pair, CAP_NET_RAW for the sockets)")]
+    NotRoot,
+    /// iproute2's `ip` cannot be run.
+    #[error("cannot run `ip` (iproute2): {0}")]
+    NoIp(#[source] std::io::Error),
+    /// An `ip` command failed.
+    #[error("`ip {command}` failed: {stderr}")]
+    Failed {
+        /// The arguments given to `ip`.
+        command: String,
+        /// What `ip` printed on standard error.
+        stderr: String,
+    },
+}
+
+fn ip(args: &[&str]) -> Result<Output, NetnsError> {
     Command::new("ip")
         .args(args)
         .output()
-        .map_err(|e| format!("cannot run `ip` (iproute2): {e}"))
+        .map_err(NetnsError::NoIp)
 }
 
-fn ip_ok(args: &[&str]) -> Result<(), String> {
+fn ip_ok(args: &[&str]) -> Result<(), NetnsError> {
     let out = ip(args)?;
     if out.status.success() {
         Ok(())
     } else {
-        Err(format!(
-            "`ip {}` failed: {}",
-            args.join(" "),
-            String::from_utf8_lossy(&out.stderr).trim()
-        ))
+        Err(NetnsError::Failed {
+            command: args.join(" "),
+            stderr: String::from_utf8_lossy(&out.stderr).trim().to_string(),
+        })
     }
 }
 
 impl VethNamespace {
     /// Creates namespace `crt-<tag>` and the pair `crt<tag>a` / `crt<tag>b` (names ≤ 15
     /// characters), both ends up. `Err` says why it cannot (not root, no `ip`, no netns).
-    pub fn create(tag: &str) -> Result<VethNamespace, String> {
+    pub fn create(tag: &str) -> Result<VethNamespace, NetnsError> {
         // SAFETY: geteuid has no preconditions.
         if unsafe { libc::geteuid() } != 0 {
-            return Err("needs root (CAP_NET_ADMIN for the namespace and the veth pair, CAP_NET_RAW for the sockets)".into());
+            return Err(NetnsError::NotRoot);
         }
         let tag: String = tag
             .chars()

@@ -339,7 +339,7 @@ fn tv_ic_5_only_the_three_cycle_times() {
     let p = profile(DriveModel::MrJ3T04);
     assert_eq!(p.cycle.cycle_times_us, &[500, 1000, 2000]);
     assert_eq!(
-        p.object(0x1C32, 2).and_then(|o| o.range),
+        p.object(0x1C32, 2).and_then(|o| o.range.bounds()),
         Some((500_000, 2_000_000))
     );
 }

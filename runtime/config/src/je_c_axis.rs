@@ -731,7 +731,7 @@ fn drive_timeout(
         ));
     }
     // The parameter's setting range (MR-JE-C manual §5.2.3), checked before the drive is.
-    let range = definition(parameter.index()).and_then(|d| d.range);
+    let range = definition(parameter.index()).and_then(|d| d.range.bounds());
     if let Some((lo, hi)) = range.filter(|&(lo, hi)| !(lo..=hi).contains(&((ms / per) as i64))) {
         return Err(err(
             "je_c.drive_timeout_ms",

@@ -130,7 +130,7 @@ impl Access {
 /// The values a write may carry, where a model's dictionary says more than a span (MR-JE-C
 /// manual §7.3 "Range", or the tighter "[Setting range]" of an object's description, which the
 /// manual gives precedence).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Range {
     /// Any value of the data type.
     Type,
@@ -138,6 +138,9 @@ pub enum Range {
     Fixed,
     /// One of these inclusive spans.
     Spans(&'static [(i64, i64)]),
+    /// From the first to the second value, inclusive: the envelope of a setting derived at
+    /// build time (a digit-wise hex parameter's), where no table of spans exists.
+    Between(i64, i64),
     /// Only this value; any other is refused with "outside the parameter range" (2D52h,
     /// MR-JE-C manual §6.2).
     Only(i64),
@@ -146,6 +149,32 @@ pub enum Range {
     /// Set automatically by the drive; a write is refused with "outside the parameter range"
     /// (607Bh:1/2, MR-JE-C manual §7.3; 607Ch "causes an error", the same code by our choice).
     Automatic,
+}
+
+impl Range {
+    /// Whether `value` lies outside the spans the manual gives ([`Range::Spans`]); the other
+    /// kinds need the drive's context (its fixed value, the motor) and are judged by the drive.
+    pub fn refuses(self, value: i64) -> bool {
+        match self {
+            Range::Spans(spans) => !spans.iter().any(|&(lo, hi)| lo <= value && value <= hi),
+            Range::Between(lo, hi) => value < lo || value > hi,
+            _ => false,
+        }
+    }
+
+    /// The smallest and largest value the range states, where it states numbers.
+    pub fn bounds(self) -> Option<(i64, i64)> {
+        match self {
+            Range::Spans(spans) => {
+                let lo = spans.iter().map(|s| s.0).min()?;
+                let hi = spans.iter().map(|s| s.1).max()?;
+                Some((lo, hi))
+            }
+            Range::Between(lo, hi) => Some((lo, hi)),
+            Range::Only(x) => Some((x, x)),
+            _ => None,
+        }
+    }
 }
 
 /// Unit of an object's value (MR-JE-C manual §7.3 "Units", §10.4 of the extract).
@@ -182,6 +211,9 @@ pub enum Unit {
     /// 0.1 % (of rated torque for torques).
     #[strum(serialize = "0.1%")]
     TenthPercent,
+    /// 0.1 % of the rated torque (6071h, 6072h, 6077h; CiA 402).
+    #[strum(serialize = "0.1 % rated")]
+    TenthPercentRated,
     /// 0.1 % per second (6087h).
     #[strum(serialize = "0.1%/s")]
     TenthPercentPerSecond,
@@ -200,6 +232,24 @@ pub enum Unit {
     /// Degree Celsius.
     #[strum(serialize = "°C")]
     Celsius,
+    /// 0.001 r/min (the MR-J3-T04's velocity unit, manual §9.6).
+    #[strum(serialize = "0.001 r/min")]
+    MilliRpm,
+    /// The drive's velocity unit (CiA 402 "vel units", set by the model or its parameters).
+    #[strum(serialize = "vel units")]
+    VelUnits,
+    /// The drive's acceleration unit (CiA 402 "acc units").
+    #[strum(serialize = "acc units")]
+    AccUnits,
+    /// Encoder increments (6063h).
+    #[strum(serialize = "inc")]
+    Increment,
+    /// Nanoseconds (1C32h cycle times).
+    #[strum(serialize = "ns")]
+    Nanosecond,
+    /// The manual does not state the unit.
+    #[strum(serialize = "not stated")]
+    Unstated,
     /// Hertz.
     #[strum(serialize = "Hz")]
     Hertz,
@@ -244,10 +294,10 @@ pub struct OdEntry {
     pub pdo: Pdo,
     /// Default value, `None` where the manual gives none.
     pub default: Option<i64>,
-    /// Value range (inclusive), `None` where the manual gives none.
-    pub range: Option<(i64, i64)>,
-    /// Units of one LSB, "" for dimensionless.
-    pub units: &'static str,
+    /// Value range ([`Range::Type`] where the manual gives none).
+    pub range: Range,
+    /// Unit of one LSB ([`Unit::None`] for dimensionless).
+    pub unit: Unit,
     /// Spec section the row comes from, with the gap named where a field is not stated.
     pub source: &'static str,
 }
@@ -645,8 +695,8 @@ pub(crate) const fn od(
         access,
         pdo,
         default: None,
-        range: None,
-        units: "",
+        range: Range::Type,
+        unit: Unit::None,
         source: "",
     })
 }
@@ -660,17 +710,17 @@ impl OdRow {
         })
     }
 
-    /// The value range (inclusive) the manual gives.
-    pub(crate) const fn range(self, min: i64, max: i64) -> OdRow {
+    /// The inclusive value spans the manual gives.
+    pub(crate) const fn range(self, spans: &'static [(i64, i64)]) -> OdRow {
         OdRow(OdEntry {
-            range: Some((min, max)),
+            range: Range::Spans(spans),
             ..self.0
         })
     }
 
-    /// The units of one LSB (dimensionless when not given).
-    pub(crate) const fn units(self, units: &'static str) -> OdRow {
-        OdRow(OdEntry { units, ..self.0 })
+    /// The unit of one LSB (dimensionless when not given).
+    pub(crate) const fn unit(self, unit: Unit) -> OdRow {
+        OdRow(OdEntry { unit, ..self.0 })
     }
 
     /// The finished row, with the spec section it comes from and the gap named where a field

@@ -1,7 +1,7 @@
 //! Mitsubishi MR-J3-□A-RJ158 + MR-J3-T04 EtherCAT option, per the MR-J3-T04 manual (
 //! "MR-J3-□A-RJ158 / MR-J3-T04 Specifications", 2011-12-01).
 
-use super::facts::{alarm, obj, od};
+use super::facts::{alarm, obj, od, Unit};
 use super::{AccelerationUnit, PositionUnit, Stated, TorqueUnit, VelocityUnit};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
@@ -115,32 +115,32 @@ pub const ALARMS: &[AlarmInfo] = &[
 /// The objects the runtime and the simulator use (MR-J3-T04 manual–§5.4).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
-    od(0x6098, 0, "Homing method", I8, Rw, No).default(-1).range(-17, 35).cite("§8.1: −1 (default), −17, 35"),
-    od(0x607C, 0, "Home offset", I32, Ro, No).default(0).units("pulse").cite("§8.2: −(raw position of the home)"),
-    od(0x6099, 1, "Speed during search for switch", U32, Rw, No).default(500_000).units("0.001 r/min").cite("§8.11.4.1: 500000 = 500 r/min"),
-    od(0x6099, 2, "Speed during search for zero", U32, Rw, No).default(10_000).units("0.001 r/min").cite("§8.11.4.1: 10000 = 10 r/min (creep)"),
-    od(0x609A, 0, "Homing acceleration", U32, Rw, No).default(100).units("ms").cite("§8.11.4.1: acceleration time constant"),
-    od(0x2080, 0, "Home position shift distance", U32, Rw, No).default(0).units("pulse").cite("§8.11.4.1: shift from the Z phase"),
-    od(0x1C32, 2, "Cycle time", U32, Rw, No).default(500_000).range(500_000, 2_000_000).units("ns").cite("§5.2: only 500000/1000000/2000000"),
+    od(0x6098, 0, "Homing method", I8, Rw, No).default(-1).range(&[(-17, 35)]).cite("§8.1: −1 (default), −17, 35"),
+    od(0x607C, 0, "Home offset", I32, Ro, No).default(0).unit(Unit::Pulse).cite("§8.2: −(raw position of the home)"),
+    od(0x6099, 1, "Speed during search for switch", U32, Rw, No).default(500_000).unit(Unit::MilliRpm).cite("§8.11.4.1: 500000 = 500 r/min"),
+    od(0x6099, 2, "Speed during search for zero", U32, Rw, No).default(10_000).unit(Unit::MilliRpm).cite("§8.11.4.1: 10000 = 10 r/min (creep)"),
+    od(0x609A, 0, "Homing acceleration", U32, Rw, No).default(100).unit(Unit::Millisecond).cite("§8.11.4.1: acceleration time constant"),
+    od(0x2080, 0, "Home position shift distance", U32, Rw, No).default(0).unit(Unit::Pulse).cite("§8.11.4.1: shift from the Z phase"),
+    od(0x1C32, 2, "Cycle time", U32, Rw, No).default(500_000).range(&[(500_000, 2_000_000)]).unit(Unit::Nanosecond).cite("§5.2: only 500000/1000000/2000000"),
     od(0x2001, 0, "Controlword2", U16, Rw, PdoRx).default(0).cite("§3.6"),
     od(0x2011, 0, "Statusword2", U16, Ro, PdoTx).cite("§3.6"),
-    od(0x2020, 0, "Incremental counter (RxPDO)", U8, Rw, PdoRx).range(0, 255).cite("§6"),
-    od(0x2021, 0, "Incremental counter (TxPDO)", U8, Ro, PdoTx).range(0, 255).cite("§6"),
+    od(0x2020, 0, "Incremental counter (RxPDO)", U8, Rw, PdoRx).range(&[(0, 255)]).cite("§6"),
+    od(0x2021, 0, "Incremental counter (TxPDO)", U8, Ro, PdoTx).range(&[(0, 255)]).cite("§6"),
     od(0x2041, 0, "Current alarm", U16, Ro, PdoTx).cite("§5.3: encoding not specified"),
     od(0x6040, 0, "Controlword", U16, Rw, PdoRx).default(0).cite("§5.4"),
     od(0x6041, 0, "Statusword", U16, Ro, PdoTx).cite("§5.4"),
-    od(0x605D, 0, "Halt option code", I16, Rw, No).default(1).range(1, 1).cite("§3.8: hm only"),
+    od(0x605D, 0, "Halt option code", I16, Rw, No).default(1).range(&[(1, 1)]).cite("§3.8: hm only"),
     od(0x6060, 0, "Modes of operation", I8, Rw, PdoRx).default(0).cite("§5.4: 0, 6, 8, 9"),
     od(0x6061, 0, "Modes of operation display", I8, Ro, PdoTx).default(0).cite("§5.4: set from PO02 at power-on"),
-    od(0x6064, 0, "Position actual value", I32, Ro, PdoTx).units("pulse").cite("§5.4"),
-    od(0x606C, 0, "Velocity actual value", I32, Ro, PdoTx).units("0.001 r/min").cite("§5.4"),
-    od(0x6071, 0, "Target torque", I16, Rw, PdoRx).default(0).units("reserved").cite("§5.4: not supported"),
-    od(0x6077, 0, "Torque actual value", I16, Ro, PdoTx).units("0.1 % rated").cite("§5.4 (printed RW, treated RO)"),
-    od(0x607A, 0, "Target position", I32, Rw, PdoRx).default(0).units("pulse").cite("§5.4"),
-    od(0x60E0, 0, "Positive torque limit value", U16, Rw, PdoRx).default(3000).units("0.1 % rated").cite("§5.4, §9.4"),
-    od(0x60E1, 0, "Negative torque limit value", U16, Rw, PdoRx).default(3000).units("0.1 % rated").cite("§5.4, §9.4"),
-    od(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx).units("pulse").cite("§5.4: csp only"),
-    od(0x60FF, 0, "Target velocity", I32, Rw, PdoRx).default(0).units("0.001 r/min").cite("§5.4: clamped at 120 % max speed"),
+    od(0x6064, 0, "Position actual value", I32, Ro, PdoTx).unit(Unit::Pulse).cite("§5.4"),
+    od(0x606C, 0, "Velocity actual value", I32, Ro, PdoTx).unit(Unit::MilliRpm).cite("§5.4"),
+    od(0x6071, 0, "Target torque", I16, Rw, PdoRx).default(0).unit(Unit::None).cite("§5.4: not supported"),
+    od(0x6077, 0, "Torque actual value", I16, Ro, PdoTx).unit(Unit::TenthPercentRated).cite("§5.4 (printed RW, treated RO)"),
+    od(0x607A, 0, "Target position", I32, Rw, PdoRx).default(0).unit(Unit::Pulse).cite("§5.4"),
+    od(0x60E0, 0, "Positive torque limit value", U16, Rw, PdoRx).default(3000).unit(Unit::TenthPercentRated).cite("§5.4, §9.4"),
+    od(0x60E1, 0, "Negative torque limit value", U16, Rw, PdoRx).default(3000).unit(Unit::TenthPercentRated).cite("§5.4, §9.4"),
+    od(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx).unit(Unit::Pulse).cite("§5.4: csp only"),
+    od(0x60FF, 0, "Target velocity", I32, Rw, PdoRx).default(0).unit(Unit::MilliRpm).cite("§5.4: clamped at 120 % max speed"),
     od(0x6502, 0, "Supported drive modes", U32, Ro, No).default(0x0000_01A0).cite("§1.2: bits 5, 7, 8"),
 ];
 

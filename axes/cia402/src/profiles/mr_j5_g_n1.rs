@@ -1,6 +1,6 @@
 //! Mitsubishi MR-J5-G-N1 (1-axis), per the MR-J5-G-N1 manual ( SH(NA)-030372CHN-A).
 
-use super::facts::{alarm, od};
+use super::facts::{alarm, od, Unit};
 use super::{AccelerationUnit, PositionUnit, Stated, TorqueUnit, VelocityUnit};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
@@ -54,32 +54,32 @@ pub const ALARMS: &[AlarmInfo] = &[
 /// from the map sizes (§5.2, §6 note).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
-    od(0x10F1, 2, "Sync Error Counter Limit", DataType::Unstated, Access::Unstated, No).units("events").cite("§2.4: type, default and counting rule not stated"),
-    od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).units("ns [background]").cite("§1.3: 125000…8000000 (W2/W3 from 250000), written in PreOp"),
+    od(0x10F1, 2, "Sync Error Counter Limit", DataType::Unstated, Access::Unstated, No).unit(Unit::Times).cite("§2.4: type, default and counting rule not stated"),
+    od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).unit(Unit::Nanosecond).cite("§1.3: 125000…8000000 (W2/W3 from 250000), written in PreOp; unit: CiA 402 [background]"),
     od(0x2D01, 0, "Control DI 1", U16, Rw, PdoRx).default(0).cite("§6"),
     od(0x2D20, 0, "Velocity limit value", DataType::Unstated, Access::Unstated, PdoRx).cite("§5.2: 4 bytes inferred from the map size"),
     od(0x6040, 0, "Controlword", U16, Rw, PdoRx).default(0).cite("§3.3"),
     od(0x6041, 0, "Statusword", U16, Ro, PdoTx).cite("§3.4"),
-    od(0x605A, 0, "Quick stop option code", DataType::Unstated, Access::Unstated, Pdo::Unstated).range(1, 4).cite("§3.5: only 1–4 documented"),
+    od(0x605A, 0, "Quick stop option code", DataType::Unstated, Access::Unstated, Pdo::Unstated).range(&[(1, 4)]).cite("§3.5: only 1–4 documented"),
     od(0x6060, 0, "Modes of operation", I8, Rw, PdoRx).default(8).cite("§1.2: initial 8 with PT01.2 = pulse"),
     od(0x6061, 0, "Modes of operation display", I8, Ro, PdoTx).default(8).cite("§1.2"),
-    od(0x6064, 0, "Position actual value", I32, Ro, PdoTx).units("pulse").cite("§6 (type inferred)"),
-    od(0x606C, 0, "Velocity actual value", I32, Ro, PdoTx).units("not stated").cite("§6 (type inferred)"),
-    od(0x6071, 0, "Target torque", I16, Rw, PdoRx).default(0).units("0.1 % rated [background]").cite("§6 (type inferred)"),
-    od(0x6077, 0, "Torque actual value", I16, Ro, PdoTx).units("0.1 % rated [background]").cite("§6 (type inferred)"),
-    od(0x607A, 0, "Target position", I32, Rw, PdoRx).default(0).units("pulse").cite("§6 (type inferred)"),
-    od(0x60E0, 0, "Positive torque limit value", U16, Access::Unstated, Pdo::Unstated).units("0.1 % rated").cite("§8: = PA11"),
-    od(0x60E1, 0, "Negative torque limit value", U16, Access::Unstated, Pdo::Unstated).units("0.1 % rated").cite("§8: = PA12"),
-    od(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx).units("pulse").cite("§6 (type inferred)"),
-    od(0x60FF, 0, "Target velocity", I32, Rw, PdoRx).default(0).units("not stated").cite("§6 (type inferred)"),
+    od(0x6064, 0, "Position actual value", I32, Ro, PdoTx).unit(Unit::Pulse).cite("§6 (type inferred)"),
+    od(0x606C, 0, "Velocity actual value", I32, Ro, PdoTx).unit(Unit::Unstated).cite("§6 (type inferred)"),
+    od(0x6071, 0, "Target torque", I16, Rw, PdoRx).default(0).unit(Unit::TenthPercentRated).cite("§6 (type inferred); unit: CiA 402 [background]"),
+    od(0x6077, 0, "Torque actual value", I16, Ro, PdoTx).unit(Unit::TenthPercentRated).cite("§6 (type inferred); unit: CiA 402 [background]"),
+    od(0x607A, 0, "Target position", I32, Rw, PdoRx).default(0).unit(Unit::Pulse).cite("§6 (type inferred)"),
+    od(0x60E0, 0, "Positive torque limit value", U16, Access::Unstated, Pdo::Unstated).unit(Unit::TenthPercentRated).cite("§8: = PA11"),
+    od(0x60E1, 0, "Negative torque limit value", U16, Access::Unstated, Pdo::Unstated).unit(Unit::TenthPercentRated).cite("§8: = PA12"),
+    od(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx).unit(Unit::Pulse).cite("§6 (type inferred)"),
+    od(0x60FF, 0, "Target velocity", I32, Rw, PdoRx).default(0).unit(Unit::Unstated).cite("§6 (type inferred)"),
     od(0x6502, 0, "Supported drive modes", U32, Ro, No).default(0x0002_03AD).cite("§1.2: bits 0, 2, 3, 5, 7, 8, 9, 17"),
-    od(0x6081, 0, "Profile velocity", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
-    od(0x6083, 0, "Profile acceleration", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
-    od(0x6084, 0, "Profile deceleration", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
-    od(0x6087, 0, "Torque slope", U32, Rw, PdoRx).units("not stated").cite("§4.1 (tq, recommended in the RxPDO) / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated (0.1 %/s: CiA 402 [background])"),
-    od(0x607D, 1, "Min position limit", I32, Rw, Pdo::Unstated).units("pulse").cite("§8.1: 607Dh named only, unusable without a home set in the drive; type I32 and 0/0 = disabled: CiA 402 [background]"),
-    od(0x607D, 2, "Max position limit", I32, Rw, Pdo::Unstated).units("pulse").cite("§8.1: as 607Dh:1"),
-    od(0x60B0, 0, "Position offset", I32, Rw, Pdo::Unstated).default(0).units("pulse").cite("§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])"),
+    od(0x6081, 0, "Profile velocity", U32, Rw, PdoRx).unit(Unit::Unstated).cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
+    od(0x6083, 0, "Profile acceleration", U32, Rw, PdoRx).unit(Unit::Unstated).cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
+    od(0x6084, 0, "Profile deceleration", U32, Rw, PdoRx).unit(Unit::Unstated).cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
+    od(0x6087, 0, "Torque slope", U32, Rw, PdoRx).unit(Unit::Unstated).cite("§4.1 (tq, recommended in the RxPDO) / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated (0.1 %/s: CiA 402 [background])"),
+    od(0x607D, 1, "Min position limit", I32, Rw, Pdo::Unstated).unit(Unit::Pulse).cite("§8.1: 607Dh named only, unusable without a home set in the drive; type I32 and 0/0 = disabled: CiA 402 [background]"),
+    od(0x607D, 2, "Max position limit", I32, Rw, Pdo::Unstated).unit(Unit::Pulse).cite("§8.1: as 607Dh:1"),
+    od(0x60B0, 0, "Position offset", I32, Rw, Pdo::Unstated).default(0).unit(Unit::Pulse).cite("§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])"),
 ];
 
 /// Encoder and units: the manual gives no encoder resolution or factor group (§8).

@@ -1,6 +1,6 @@
 //! Mitsubishi MR-JET-G-N1, per the MR-JET-G-N1 manual ( IB(NA)-0300500ENG-H).
 
-use super::facts::{alarm, obj, od};
+use super::facts::{alarm, obj, od, Unit};
 use super::{AccelerationUnit, PositionUnit, Stated, TorqueUnit, VelocityUnit};
 use super::{
     Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, DriveModel, DriveProfile,
@@ -157,7 +157,7 @@ pub const FSOE_OBJECTS: &[OdEntry] = &[
     od(0xE700, 2, "FSoE Master ConnectionID", DataType::Unstated, Access::Unstated, PdoRx).cite("§6, §5.4: 2 bytes in the frame"),
     od(0xE700, 3, "FSoE Master CRC_0", DataType::Unstated, Access::Unstated, PdoRx).cite("§6, §5.4: 2 bytes in the frame"),
     od(0xE700, 4, "FSoE Master CRC_1", DataType::Unstated, Access::Unstated, PdoRx).cite("§6, §5.4: 2 bytes in the frame"),
-    od(0xE901, 4, "Watchdog Time", DataType::Unstated, Access::Unstated, No).units("ms").cite("§7.1 item 4, §7.3: set by the master's connection parameter set; shows the value received"),
+    od(0xE901, 4, "Watchdog Time", DataType::Unstated, Access::Unstated, No).unit(Unit::Millisecond).cite("§7.1 item 4, §7.3: set by the master's connection parameter set; shows the value received"),
     od(0xE901, 7, "Communication Parameter Length", DataType::Unstated, Access::Unstated, No).cite("§7.1 item 4"),
     od(0xE901, 8, "Application Parameter Length", DataType::Unstated, Access::Unstated, No).cite("§7.1 item 4"),
 ];
@@ -222,32 +222,32 @@ pub const STORE_RESTORE_OBJECTS: &[OdEntry] = &[
 /// The objects the runtime and the simulator use (MR-JET-G-N1 manual).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
-    od(0x10F1, 2, "Sync Error Counter Limit", DataType::Unstated, Access::Unstated, No).units("events").cite("§2.4: type, default, counting rule not stated"),
-    od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).range(125_000, 8_000_000).units("ns [background]").cite("§1.3, §6"),
+    od(0x10F1, 2, "Sync Error Counter Limit", DataType::Unstated, Access::Unstated, No).unit(Unit::Times).cite("§2.4: type, default, counting rule not stated"),
+    od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).range(&[(125_000, 8_000_000)]).unit(Unit::Nanosecond).cite("§1.3, §6; unit: CiA 402 [background]"),
     od(0x2D01, 0, "Control DI 1", U16, Rw, PdoRx).default(0).cite("§6"),
     od(0x2D20, 0, "Velocity limit value", DataType::Unstated, Access::Unstated, PdoRx).cite("§6: 4 bytes inferred"),
     od(0x6040, 0, "Controlword", U16, Rw, PdoRx).default(0).cite("§3.3"),
     od(0x6041, 0, "Statusword", U16, Ro, PdoTx).cite("§3.4"),
-    od(0x605A, 0, "Quick stop option code", DataType::Unstated, Access::Unstated, Pdo::Unstated).range(1, 8).cite("§3.5: 5–8 FW D0 or later; default not stated"),
+    od(0x605A, 0, "Quick stop option code", DataType::Unstated, Access::Unstated, Pdo::Unstated).range(&[(1, 8)]).cite("§3.5: 5–8 FW D0 or later; default not stated"),
     od(0x6060, 0, "Modes of operation", I8, Rw, PdoRx).default(8).cite("§1.2"),
     od(0x6061, 0, "Modes of operation display", I8, Ro, PdoTx).default(8).cite("§1.2"),
-    od(0x6064, 0, "Position actual value", I32, Ro, PdoTx).units("pos units").cite("§6 (type inferred)"),
-    od(0x606C, 0, "Velocity actual value", I32, Ro, PdoTx).units("not stated").cite("§6"),
-    od(0x6071, 0, "Target torque", I16, Rw, PdoRx).default(0).units("0.1 % rated [background]").cite("§6"),
-    od(0x6077, 0, "Torque actual value", I16, Ro, PdoTx).units("0.1 % rated [background]").cite("§6"),
-    od(0x607A, 0, "Target position", I32, Rw, PdoRx).default(0).units("pos units").cite("§6"),
-    od(0x60E0, 0, "Positive torque limit value", DataType::Unstated, Access::Unstated, Pdo::Unstated).units("0.1 % rated").cite("§6: = PA11"),
-    od(0x60E1, 0, "Negative torque limit value", DataType::Unstated, Access::Unstated, Pdo::Unstated).units("0.1 % rated").cite("§6: = PA12"),
-    od(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx).units("pos units").cite("§6"),
-    od(0x60FF, 0, "Target velocity", I32, Rw, PdoRx).default(0).units("not stated").cite("§6"),
+    od(0x6064, 0, "Position actual value", I32, Ro, PdoTx).unit(Unit::PosUnits).cite("§6 (type inferred)"),
+    od(0x606C, 0, "Velocity actual value", I32, Ro, PdoTx).unit(Unit::Unstated).cite("§6"),
+    od(0x6071, 0, "Target torque", I16, Rw, PdoRx).default(0).unit(Unit::TenthPercentRated).cite("§6; unit: CiA 402 [background]"),
+    od(0x6077, 0, "Torque actual value", I16, Ro, PdoTx).unit(Unit::TenthPercentRated).cite("§6; unit: CiA 402 [background]"),
+    od(0x607A, 0, "Target position", I32, Rw, PdoRx).default(0).unit(Unit::PosUnits).cite("§6"),
+    od(0x60E0, 0, "Positive torque limit value", DataType::Unstated, Access::Unstated, Pdo::Unstated).unit(Unit::TenthPercentRated).cite("§6: = PA11"),
+    od(0x60E1, 0, "Negative torque limit value", DataType::Unstated, Access::Unstated, Pdo::Unstated).unit(Unit::TenthPercentRated).cite("§6: = PA12"),
+    od(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx).unit(Unit::PosUnits).cite("§6"),
+    od(0x60FF, 0, "Target velocity", I32, Rw, PdoRx).default(0).unit(Unit::Unstated).cite("§6"),
     od(0x6502, 0, "Supported drive modes", U32, Ro, No).default(0x0003_03AD).cite("§1.2: bits 0, 2, 3, 5, 7, 8, 9, 16, 17"),
-    od(0x6081, 0, "Profile velocity", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
-    od(0x6083, 0, "Profile acceleration", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
-    od(0x6084, 0, "Profile deceleration", U32, Rw, PdoRx).units("not stated").cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
-    od(0x6087, 0, "Torque slope", U32, Rw, PdoRx).units("not stated").cite("§4.1 (tq, recommended in the RxPDO) / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated (0.1 %/s: CiA 402 [background])"),
-    od(0x607D, 1, "Min position limit", I32, Rw, Pdo::Unstated).units("pulse").cite("§8.1: 607Dh named only, unusable without a home set in the drive; type I32 and 0/0 = disabled: CiA 402 [background]"),
-    od(0x607D, 2, "Max position limit", I32, Rw, Pdo::Unstated).units("pulse").cite("§8.1: as 607Dh:1"),
-    od(0x60B0, 0, "Position offset", I32, Rw, Pdo::Unstated).default(0).units("pulse").cite("§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])"),
+    od(0x6081, 0, "Profile velocity", U32, Rw, PdoRx).unit(Unit::Unstated).cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
+    od(0x6083, 0, "Profile acceleration", U32, Rw, PdoRx).unit(Unit::Unstated).cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
+    od(0x6084, 0, "Profile deceleration", U32, Rw, PdoRx).unit(Unit::Unstated).cite("§6 / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated"),
+    od(0x6087, 0, "Torque slope", U32, Rw, PdoRx).unit(Unit::Unstated).cite("§4.1 (tq, recommended in the RxPDO) / manual 4.3: 4 B, rw, mappable (1601h); units and default not stated (0.1 %/s: CiA 402 [background])"),
+    od(0x607D, 1, "Min position limit", I32, Rw, Pdo::Unstated).unit(Unit::Pulse).cite("§8.1: 607Dh named only, unusable without a home set in the drive; type I32 and 0/0 = disabled: CiA 402 [background]"),
+    od(0x607D, 2, "Max position limit", I32, Rw, Pdo::Unstated).unit(Unit::Pulse).cite("§8.1: as 607Dh:1"),
+    od(0x60B0, 0, "Position offset", I32, Rw, Pdo::Unstated).default(0).unit(Unit::Pulse).cite("§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])"),
 ];
 
 /// Encoder and units (MR-JET-G-N1 manual): 2^26 appears only as an example resolution.

@@ -174,10 +174,11 @@ pub fn in_range(
     permissible: i64,
 ) -> Result<(), Refusal> {
     let spans: &[(i64, i64)] = match r.range {
-        Range::Type => match definition(id.index).and_then(|d| d.range) {
+        Range::Type => match definition(id.index).and_then(|d| d.range.bounds()) {
             Some((lo, hi)) => return span(v, lo, hi),
             None => return Ok(()),
         },
+        Range::Between(lo, hi) => return span(v, lo, hi),
         Range::Fixed => return span(v, fixed, fixed),
         Range::Only(x) if v == x => return Ok(()),
         Range::Only(_) | Range::Automatic => return Err(Refusal::OutOfRange),

@@ -132,7 +132,7 @@ impl SimDrive {
             p.setting == cellrt_cia402::profiles::params::Setting::DoNotChange
                 || p.setting.allows(value)
         });
-        if !in_setting || entry.range.is_some_and(|(lo, hi)| value < lo || value > hi) {
+        if !in_setting || entry.range.refuses(value) {
             return Err(SdoAbort::VALUE_RANGE);
         }
         if self.clear_history(index, value) {

@@ -3,6 +3,8 @@
 //! parameters it describes; the others start at 0 (their manuals are companions we do not
 //! have) and take any U32.
 
+use super::types::Range;
+
 /// A parameter group and its object block base (index = base + number).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, strum::Display)]
 pub enum Group {
@@ -103,16 +105,11 @@ pub struct ParameterDef {
     pub symbol: &'static str,
     /// Initial value.
     pub initial: u32,
-    /// Setting range, where the manual gives one.
-    pub range: Option<(i64, i64)>,
+    /// Setting range ([`Range::Type`] where the manual gives none).
+    pub range: Range,
 }
 
-const fn d(
-    parameter: Parameter,
-    symbol: &'static str,
-    initial: u32,
-    range: Option<(i64, i64)>,
-) -> ParameterDef {
+const fn d(parameter: Parameter, symbol: &'static str, initial: u32, range: Range) -> ParameterDef {
     ParameterDef {
         parameter,
         symbol,
@@ -121,29 +118,29 @@ const fn d(
     }
 }
 
-const OCTET: Option<(i64, i64)> = Some((0, 255));
-const OCTET_END: Option<(i64, i64)> = Some((0, 256));
+const OCTET: Range = Range::Between(0, 255);
+const OCTET_END: Range = Range::Between(0, 256);
 
 /// The parameters of MR-JE-C manual §5 that the emulator uses: communication (§5.2), and the
 /// PC parameters linked to objects (§5.1, `links`).
 pub const PARAMETERS: &[ParameterDef] = &[
-    d(p(Group::PC, 1), "STA", 0, None),
-    d(p(Group::PC, 2), "STB", 0, None),
-    d(PC03, "STC", 0, Some((0, PC03_MAX_MS))),
+    d(p(Group::PC, 1), "STA", 0, Range::Type),
+    d(p(Group::PC, 2), "STB", 0, Range::Type),
+    d(PC03, "STC", 0, Range::Between(0, PC03_MAX_MS)),
     // "1000.0 %" printed: 10000 in the 0.1 % of its object 2D6Bh (§7.3).
-    d(p(Group::PC, 35), "TL2", 10000, None),
-    d(p(Group::PC, 51), "RSBR", 100, None),
-    d(PC70, "*SNOM", 0, Some((0, 247))),
-    d(PC71, "*COPF", 0x0040, None),
-    d(p(Group::PC, 72), "*COPG", 0x0000, None),
-    d(p(Group::PC, 75), "FEWL", 0x0000, None),
-    d(p(Group::PC, 76), "FEWH", 0x00C0, None),
-    d(p(Group::PC, 77), "FEWF", 10, None),
-    d(PF45, "*FOP12", 0x0000, None),
-    d(PF46, "MIC", 0, Some((0, 60))),
-    d(PN02, "CERT", 1000, Some((0, 1000))),
-    d(PN08, "*NOP2", 0x0000, None),
-    d(PN10, "EIC", 0, Some((0, 60))),
+    d(p(Group::PC, 35), "TL2", 10000, Range::Type),
+    d(p(Group::PC, 51), "RSBR", 100, Range::Type),
+    d(PC70, "*SNOM", 0, Range::Between(0, 247)),
+    d(PC71, "*COPF", 0x0040, Range::Type),
+    d(p(Group::PC, 72), "*COPG", 0x0000, Range::Type),
+    d(p(Group::PC, 75), "FEWL", 0x0000, Range::Type),
+    d(p(Group::PC, 76), "FEWH", 0x00C0, Range::Type),
+    d(p(Group::PC, 77), "FEWF", 10, Range::Type),
+    d(PF45, "*FOP12", 0x0000, Range::Type),
+    d(PF46, "MIC", 0, Range::Between(0, 60)),
+    d(PN02, "CERT", 1000, Range::Between(0, 1000)),
+    d(PN08, "*NOP2", 0x0000, Range::Type),
+    d(PN10, "EIC", 0, Range::Between(0, 60)),
     d(p(Group::PN, 11), "*IPAD1", 192, OCTET),
     d(p(Group::PN, 12), "*IPAD2", 168, OCTET),
     d(p(Group::PN, 13), "*IPAD3", 3, OCTET),
@@ -156,7 +153,7 @@ pub const PARAMETERS: &[ParameterDef] = &[
     d(p(Group::PN, 20), "*DGW2", 168, OCTET),
     d(p(Group::PN, 21), "*DGW3", 3, OCTET),
     d(p(Group::PN, 22), "*DGW4", 1, OCTET),
-    d(PN23, "*KAA", 3600, Some((1, 7200))),
+    d(PN23, "*KAA", 3600, Range::Between(1, 7200)),
     d(p(Group::PN, 24), "*IPAF1", 0, OCTET),
     d(p(Group::PN, 25), "*IPAF2", 0, OCTET),
     d(p(Group::PN, 26), "*IPAF3", 0, OCTET),

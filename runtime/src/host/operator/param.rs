@@ -284,7 +284,7 @@ fn param_value(p: &Parameter, r: &SdoReply, index: u16) -> ParamValue {
         },
         default: p.object.default.map_or_else(String::new, |d| p.format(d)),
         setting: p.setting.text(p.display),
-        units: p.object.units.to_string(),
+        units: p.object.unit.to_string(),
         effect: p.effect().as_str().to_string(),
     }
 }

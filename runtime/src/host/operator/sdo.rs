@@ -6,6 +6,7 @@
 use std::time::{Duration, Instant};
 
 use cellrt_cia402::bus::{SdoData, SdoOutcome, SdoRequest};
+use cellrt_cia402::profiles::facts::Range;
 use cellrt_cia402::profiles::{Access, DataType};
 use cellrt_ethercat::master::abort_meaning;
 
@@ -138,7 +139,7 @@ struct ObjectFacts {
     name: String,
     data_type: DataType,
     access: Access,
-    range: Option<(i64, i64)>,
+    range: Range,
 }
 
 /// `index:sub` as the manuals print it, e.g. "607Ch:00".
@@ -205,7 +206,7 @@ fn object_facts(a: &AxisConfig, index: u16, sub: u8) -> Option<ObjectFacts> {
             name: o.name.clone(),
             data_type: esi_data_type(&o.data_type, o.bits),
             access: o.access,
-            range: None,
+            range: Range::Type,
         });
     }
     let base = a.profile.object_slot(index).map_or(index, |(_, b)| b);
@@ -220,7 +221,7 @@ fn object_facts(a: &AxisConfig, index: u16, sub: u8) -> Option<ObjectFacts> {
             name: String::new(),
             data_type: DataType::Unstated,
             access: Access::Unstated,
-            range: None,
+            range: Range::Type,
         }),
         None => None,
     }
@@ -262,7 +263,8 @@ fn encode(v: i64, facts: &ObjectFacts) -> Result<SdoData, ObjectRefusal> {
             hi,
         });
     }
-    if let Some((lo, hi)) = facts.range.filter(|(lo, hi)| !(lo..=hi).contains(&&v)) {
+    if facts.range.refuses(v) {
+        let (lo, hi) = facts.range.bounds().unwrap_or((lo, hi));
         return Err(ObjectRefusal::OutOfStatedRange { value: v, lo, hi });
     }
     let bytes = v.to_le_bytes();

@@ -21,7 +21,7 @@ pub const GENERIC_CIA402: ParameterFacts = ParameterFacts::none(
      history in cellrt; use `cellrt sdo` with the drive's own manual",
 );
 
-use super::facts::{od, Access, DataType, OdEntry, Pdo};
+use super::facts::{od, Access, DataType, OdEntry, Pdo, Range};
 
 /// What a model's manual states about its parameters, their storage and its alarm history.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -247,27 +247,12 @@ impl Setting {
         }
     }
 
-    /// The smallest and largest value allowed (the object's stated range).
-    const fn envelope(self) -> Option<(i64, i64)> {
+    /// The object's stated range: the spans of a range setting, the envelope of a digit-wise
+    /// one.
+    const fn envelope(self) -> Range {
         match self {
-            Setting::Ranges(r) => {
-                let (mut lo, mut hi) = (i64::MAX, i64::MIN);
-                let mut i = 0;
-                while i < r.len() {
-                    if r[i].0 < lo {
-                        lo = r[i].0;
-                    }
-                    if r[i].1 > hi {
-                        hi = r[i].1;
-                    }
-                    i += 1;
-                }
-                if r.is_empty() {
-                    None
-                } else {
-                    Some((lo, hi))
-                }
-            }
+            Setting::Ranges([]) => Range::Type,
+            Setting::Ranges(r) => Range::Spans(r),
             Setting::Digits(d) => {
                 let mut hi = 0i64;
                 let mut i = 0;
@@ -283,9 +268,9 @@ impl Setting {
                     hi |= (top as i64) << (4 * i);
                     i += 1;
                 }
-                Some((0, hi))
+                Range::Between(0, hi)
             }
-            Setting::DoNotChange => None,
+            Setting::DoNotChange => Range::Type,
         }
     }
 }
@@ -428,9 +413,9 @@ impl ParRow {
     }
 
     /// The unit of one LSB.
-    pub(crate) const fn units(self, units: &'static str) -> ParRow {
+    pub(crate) const fn unit(self, unit: super::facts::Unit) -> ParRow {
         let mut p = self.0;
-        p.object.units = units;
+        p.object.unit = unit;
         ParRow(p)
     }
 

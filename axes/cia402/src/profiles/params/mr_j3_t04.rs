@@ -9,6 +9,7 @@ use super::{
     history_sub, par, AlarmHistoryFacts, ParameterFacts, SaveFacts, SaveReadback, Setting,
     WriteInhibit,
 };
+use crate::profiles::facts::Unit;
 use crate::profiles::facts::{od, Access::*, DataType::*, OdEntry, Pdo::No};
 
 /// Parameter group objects (§8.10.1).
@@ -29,10 +30,10 @@ pub const TABLE: &[super::Parameter] = &[
     par("PA07", "*CDV", "For manufacturer setting", (PA, 7), I32).default(1).cite("§5.1: 1 to 1048576; setting is invalid, do not change"),
     par("PA14", "*POL", "Rotation direction selection", (PA, 14), I32).default(0).setting(Setting::Ranges(&[(0, 1)])).cite("§5.1: 0 CCW, 1 CW for increasing address / positive speed"),
     par("PA19", "*BLK", "Parameter writing inhibit", (PA, 19), I32).default(0x000E).hex().setting(Setting::Ranges(&[(0, 0xFFFF)])).cite("§5.1: 000Bh/000Ch/000Eh/100Bh/100Ch/100Eh, any other setting PA only; the range is the MR-J3-A manual's (not in this manual): 0000h-FFFFh taken"),
-    par("PB03", "PST", "Position command acceleration/deceleration time constant", (PB, 3), I32).default(0).units("ms").setting(Setting::Ranges(&[(0, 20_000)])).cite("§5.1: invalid during positioning"),
+    par("PB03", "PST", "Position command acceleration/deceleration time constant", (PB, 3), I32).default(0).unit(Unit::Millisecond).setting(Setting::Ranges(&[(0, 20_000)])).cite("§5.1: invalid during positioning"),
     par("PB25", "*BOP1", "Function selection B-1", (PB, 25), I32).default(0).hex().setting(Setting::Ranges(&[(0, 0)])).cite("§5.1: no other setting described"),
-    par("PC01", "STA", "Acceleration time constant", (PC, 1), I32).default(0).units("ms").setting(Setting::Ranges(&[(0, 50_000)])).cite("§5.1: not applied in position control"),
-    par("PC02", "STB", "Deceleration time constant", (PC, 2), I32).default(0).units("ms").setting(Setting::Ranges(&[(0, 50_000)])).not_while_enabled().cite("§5.1: slow-stop ramp of LSP/LSN/MSTOP, at most 1000 ms in csp"),
+    par("PC01", "STA", "Acceleration time constant", (PC, 1), I32).default(0).unit(Unit::Millisecond).setting(Setting::Ranges(&[(0, 50_000)])).cite("§5.1: not applied in position control"),
+    par("PC02", "STB", "Deceleration time constant", (PC, 2), I32).default(0).unit(Unit::Millisecond).setting(Setting::Ranges(&[(0, 50_000)])).not_while_enabled().cite("§5.1: slow-stop ramp of LSP/LSN/MSTOP, at most 1000 ms in csp"),
     par("PC23", "*COP2", "Function selection C-2", (PC, 23), I32).default(0).hex().setting(Setting::Ranges(&[(0, 0)])).cite("§5.1: every digit \"Please set 0\""),
     par("PC25", "*COP4", "Function selection C-4", (PC, 25), I32).default(0).hex().setting(Setting::Digits(&[&[0], &[0, 1]])).cite("§5.1: AL.E3 0 valid / 1 invalid; digit 1 [inferred]"),
     par("PC36", "*DMD", "LED power-on display selection", (PC, 36), I32).default(0).hex().setting(Setting::Ranges(&[(0, 0), (0x05, 0x06), (0x10, 0x1F)])).cite("§5.1: 00h automatic, 05h/06h/10h-1Fh EtherCAT communication status"),
@@ -76,7 +77,7 @@ const fn history_record(n: usize) -> [OdEntry; 4] {
     [
         od(index, 0, HISTORY_NAMES[n], U8, Ro, No).default(3).cite("§8.9: number of entries"),
         od(index, history_sub::NUMBER, "Alarm No.", U16, Ro, No).default(0).cite("§8.9"),
-        od(index, history_sub::TIME, "Alarm time", U32, Ro, No).default(0).units("h").cite("§8.9: hours of operation"),
+        od(index, history_sub::TIME, "Alarm time", U32, Ro, No).default(0).unit(Unit::Hour).cite("§8.9: hours of operation"),
         od(index, history_sub::DETAIL, "Alarm detail", U16, Ro, No).default(0).cite("§8.9"),
     ]
 }
@@ -102,7 +103,7 @@ const fn objects() -> [OdEntry; 31] {
         }
         n += 1;
     }
-    out[25] = od(0x2040, 0, "Clear alarm history", U16, Wo, No).range(0x1EA5, 0x1EA5).cite("§8.9: write 1EA5h");
+    out[25] = od(0x2040, 0, "Clear alarm history", U16, Wo, No).range(&[(0x1EA5, 0x1EA5)]).cite("§8.9: write 1EA5h");
     out
 }
 

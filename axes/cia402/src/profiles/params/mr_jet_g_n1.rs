@@ -8,14 +8,15 @@
 
 use super::{par, ParameterFacts, SaveFacts, SaveReadback, Setting};
 use crate::profiles::facts::DataType::*;
+use crate::profiles::facts::Unit;
 
 /// MR-JET-G-N1 / MR-J5-G-N1 manual §9.1, one row per parameter. 2D6Dh:02/:03 print no type;
 /// U16 is taken from the range (0–10000).
 #[rustfmt::skip]
 pub const TABLE: &[super::Parameter] = &[
     par("PC42", "", "Positive/Negative torque limit 2 select", (0x2D6D, 1), U16).default(0).hex().setting(Setting::Ranges(&[(0, 1)])).not_while_enabled().cite("§9.1: 2D6Dh:01, saved"),
-    par("PC43", "", "Forward rotation torque limit 2", (0x2D6D, 2), U16).default(10_000).units("0.1 % rated").setting(Setting::Ranges(&[(0, 10_000)])).not_while_enabled().cite("§9.1: 2D6Dh:02 Positive torque limit value 2 (POL disabled)"),
-    par("PC44", "", "Reverse rotation torque limit 2", (0x2D6D, 3), U16).default(10_000).units("0.1 % rated").setting(Setting::Ranges(&[(0, 10_000)])).not_while_enabled().cite("§9.1: 2D6Dh:03 Negative torque limit value 2 (POL disabled)"),
+    par("PC43", "", "Forward rotation torque limit 2", (0x2D6D, 2), U16).default(10_000).unit(Unit::TenthPercentRated).setting(Setting::Ranges(&[(0, 10_000)])).not_while_enabled().cite("§9.1: 2D6Dh:02 Positive torque limit value 2 (POL disabled)"),
+    par("PC44", "", "Reverse rotation torque limit 2", (0x2D6D, 3), U16).default(10_000).unit(Unit::TenthPercentRated).setting(Setting::Ranges(&[(0, 10_000)])).not_while_enabled().cite("§9.1: 2D6Dh:03 Negative torque limit value 2 (POL disabled)"),
 ];
 
 /// What the MR-JET-G-N1 and MR-J5-G-N1 manuals state about parameters.

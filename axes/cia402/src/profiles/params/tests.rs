@@ -8,7 +8,7 @@ fn row(model: DriveModel, name: &str) -> (u16, u8, Option<i64>, Option<(i64, i64
         p.object.index,
         p.object.sub,
         p.object.default,
-        p.object.range,
+        p.object.range.bounds(),
     )
 }
 
@@ -79,7 +79,7 @@ fn settings_follow_the_manuals_digits_and_ranges() {
     assert!(pd01.refuse(0x0100).is_some());
     let pa01 = f.parameter("PA01").unwrap();
     assert!(pa01.refuse(0).unwrap().contains("is not to be changed"));
-    assert_eq!(pa01.object.range, None);
+    assert_eq!(pa01.object.range, crate::profiles::facts::Range::Type);
     assert_eq!(f.parameter("PA19").unwrap().format(0x100B), "100Bh");
     assert_eq!(pb03.format(250), "250");
 }

@@ -3,20 +3,14 @@
 mod cli;
 mod commands;
 mod exit;
+mod logging;
 mod numbers;
 mod summary;
 
 use clap::Parser;
 
 fn main() {
-    tracing_subscriber::fmt()
-        .with_writer(std::io::stderr)
-        .with_target(false)
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_env("CELLRT_LOG")
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
-        )
-        .init();
+    logging::init();
     let cli = cli::Cli::parse();
     let code = match cli.command {
         cli::Command::Run(args) => commands::run::run(args),

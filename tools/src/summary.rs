@@ -35,6 +35,7 @@ pub fn render(s: &Summary) -> String {
             " (best effort: see warnings)"
         }
     );
+    let _ = writeln!(o, "privileges  {}", s.privileges.describe());
     let _ = writeln!(
         o,
         "overruns    {}   underruns {}   rejected setpoints {}   faults {}   dropped records {}",

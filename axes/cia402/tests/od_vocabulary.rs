@@ -16,10 +16,17 @@ fn units_are_the_shared_unit_values() {
     let t = entry(DriveModel::MrJ5GN1, 0x6077, 0);
     assert_eq!(t.unit, Unit::TenthPercentRated);
     assert_eq!(t.unit.to_string(), "0.1 % rated");
-    assert!(t.source.contains("unit: CiA 402 [background]"), "{}", t.source);
+    assert!(
+        t.source.contains("unit: CiA 402 [background]"),
+        "{}",
+        t.source
+    );
     // MR-J5 manual §6: 606Ch's unit is not stated.
     assert_eq!(entry(DriveModel::MrJ5GN1, 0x606C, 0).unit, Unit::Unstated);
-    assert_eq!(entry(DriveModel::GenericCia402, 0x607A, 0).unit, Unit::PosUnits);
+    assert_eq!(
+        entry(DriveModel::GenericCia402, 0x607A, 0).unit,
+        Unit::PosUnits
+    );
 }
 
 #[test]

@@ -2,6 +2,7 @@
 //! together, runs until the program ends, the duration elapses or a signal arrives, then shuts
 //! down cleanly (controlled stop, power off, recording finished) and summarises the run.
 
+use crate::host::service::ServiceNotifier;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
@@ -136,6 +137,8 @@ pub struct Summary {
     pub program_error: Option<String>,
     /// What the RT set-up achieved.
     pub rt: RtReport,
+    /// The process' privileges (root, or a user's capabilities).
+    pub privileges: crate::host::privileges::Privileges,
     /// Counters.
     #[serde(flatten)]
     pub counters: RtCounters,
@@ -240,11 +243,30 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
             .extend(p.priority_refused.as_ref().map(ToString::to_string));
     }
     for r in &report.refused {
-        tracing::warn!("{r}");
+        tracing::warn!(cell = %cell.name, "{r}");
     }
-    tracing::info!("{}", report.describe());
+    tracing::info!(cell = %cell.name, "{}", report.describe());
+    let privileges = crate::host::privileges::Privileges::of_process();
+    tracing::info!(cell = %cell.name, "privileges: {}", privileges.describe());
+    let cycle = || handoff.status().cycle.load(Ordering::Acquire);
+    let mut service = ServiceNotifier::from_env(Instant::now(), cycle());
     let rt = rt.go();
-    let outcome = wait_for_end(&opts.shutdown, opts.duration, planner.as_mut(), &rt);
+    service.ready(&format!(
+        "cell '{}' running; {}",
+        cell.name,
+        report.describe()
+    ));
+    if let Some(i) = service.watchdog_interval() {
+        tracing::info!("systemd watchdog fed every {i:?} while the RT loop runs");
+    }
+    let outcome = wait_for_end(
+        &opts.shutdown,
+        opts.duration,
+        planner.as_mut(),
+        &rt,
+        &mut |now| service.poll(cycle(), now),
+    );
+    service.stopping();
     // Stop publishing before the controlled stop; release the publisher after the RT thread.
     if let Some(p) = planner.as_ref() {
         p.stop_publishing();
@@ -271,6 +293,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         outcome,
         program_error,
         rt: report,
+        privileges,
         counters: stats.counters,
         wakeup_latency: stats.latency.percentiles(),
         loop_time: stats.loop_time.percentiles(),
@@ -464,16 +487,19 @@ fn spawn_rt(
     }
 }
 
-/// Waits until the run ends: a signal, the program's end, the duration, or the RT thread ended.
+/// Waits until the run ends: a signal, the program's end, the duration, or the RT thread ended;
+/// `tick` runs at every look (the service watchdog).
 fn wait_for_end(
     shutdown: &AtomicBool,
     duration: Option<Duration>,
     mut planner: Option<&mut PlannerHandle>,
     rt: &JoinHandle<Option<RtStats>>,
+    tick: &mut dyn FnMut(Instant),
 ) -> Outcome {
     let started = Instant::now();
     loop {
         std::thread::sleep(Duration::from_millis(5));
+        tick(Instant::now());
         if shutdown.load(Ordering::Acquire) {
             return Outcome::Interrupted;
         }

@@ -14,5 +14,7 @@ pub mod live_page;
 pub mod motion;
 pub mod operator;
 pub mod planner;
+pub mod privileges;
 pub mod program;
 pub mod record;
+pub mod service;

@@ -586,8 +586,20 @@ impl Drain<'_> {
             | EventKind::Emergency
             | EventKind::MailboxDiscarded
             | EventKind::BringUpWarning
-            | EventKind::RecordsDropped => tracing::warn!("{line}"),
-            _ => tracing::debug!("{line}"),
+            | EventKind::RecordsDropped => tracing::warn!(
+                cell = %self.cell.name,
+                axis = %axis,
+                event = e.kind.as_str(),
+                cycle = e.cycle,
+                "{line}"
+            ),
+            _ => tracing::debug!(
+                cell = %self.cell.name,
+                axis = %axis,
+                event = e.kind.as_str(),
+                cycle = e.cycle,
+                "{line}"
+            ),
         }
         self.info.events += 1;
         if self.info.event_log.len() < EVENT_LOG_LINES {

@@ -33,7 +33,7 @@
 //! The trapezoid is the shared generator (`motion::generator`). Allocation-free: plain copies
 //! only.
 
-use super::generator::{Braking, Generator, NoTorque, Positioning};
+use super::generator::{Arrival, Braking, Generator, NoTorque, Positioning};
 use super::ramp::VelocityRamp;
 use super::window_time::{Held, HeldFrom};
 
@@ -68,6 +68,124 @@ pub enum HaltOption {
     MaximumDeceleration,
 }
 
+/// Statusword bit 12 in pp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Acknowledge {
+    /// 1 while a positioning is being executed, 0 once it has completed (Mitsubishi's wording,
+    /// MR-J4-TM manual §4.7 bit 12): the simulated EtherCAT drives.
+    Executing,
+    /// Follows controlword bit 4 (the CiA 402 handshake): the MR-JE-C, whose manual does not
+    /// state the bit (spec extract mr-je-c.md §7.4 "[EXT: CiA 402; not stated in manual]").
+    NewSetPointBit,
+}
+
+/// What a new set-point does while one is being executed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SetPointChange {
+    /// Bit 5 = 1 replaces the move at once, = 0 queues one set-point behind it (MR-J4-TM
+    /// manual §4.7 "Behaviour", bit 12 "the set-point may be overwritten").
+    ByBit5,
+    /// Every new set-point replaces the running one, bit 5 unread: the MR-JE-C (manual §7.3
+    /// 60F2h bits 3/2 = 00 "immediately reflects new Target position"; a queue is not described).
+    Immediate,
+}
+
+/// Controlword bit 6 (relative) in pp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RelativeBit {
+    /// Bit 6 = 1 adds 607Ah to the previous target (CiA 402 [background], MR-J4-TM §4.7).
+    Read,
+    /// Every 607Ah is absolute: the MR-JE-C emulator (manual §7.3 60F2h bits 1/0 give the
+    /// relative option; not modelled, an emulator choice).
+    Ignored,
+}
+
+/// 607Dh software position limits in pp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PositionLimits {
+    /// A set-point beyond a limit is clamped to it, bit 11 on there (MR-J4-TM manual §5.4.6).
+    Clamp,
+    /// Not applied: the MR-JE-C emulator (manual §7.6.5 describes 607Dh; not modelled).
+    Ignored,
+}
+
+/// The reference 607Ah is given in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TargetFrame {
+    /// 6064h's reference, moved into the generator's by [`PpFeedback::actual`] and
+    /// [`PpFeedback::position`]: the simulated EtherCAT drives (plant counts, homing shift).
+    ActualPosition,
+    /// The generator's own units: the MR-JE-C, whose command and 6064h are both pos units
+    /// (manual §7.6.7).
+    Command,
+}
+
+/// Statusword bit 10 in pp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TargetReachedRule {
+    /// HALT = 0: the profile has ended and |motor − accepted set-point| has stayed within 6067h
+    /// for 6068h (timed here); HALT = 1: generator and motor velocity 0, untimed (MR-J4-TM
+    /// manual §4.7 bit 10): the simulated EtherCAT drives.
+    SetPointWindow,
+    /// The MR-JE-C (manual §7.3 6067h "droop pulses below 6067h for 6068h"): HALT = 0, the
+    /// set-point has arrived and |6064h − 607Ah in force| ≤ 6067h; HALT = 1, nothing more; both
+    /// need the command stood (S-pattern drained) and |droop| ≤ 6067h. The caller times 6068h.
+    CommandAndDroop,
+}
+
+/// Where a model's pp differs from another's, chosen by each model: [`PpModel::ETHERCAT`]
+/// (MR-J4-TM manual §5.4.6, §4.7) and [`PpModel::MR_JE_C`] (MR-JE-C manual §7.3, §7.6).
+///
+/// The rest is data the caller passes: step lengths (the MR-JE-C steps once per S-pattern
+/// sample, its position loop between), the speed cap, the HALT deceleration and the torque gate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PpModel {
+    /// Bit 12.
+    pub acknowledge: Acknowledge,
+    /// Bit 5.
+    pub set_point_change: SetPointChange,
+    /// Bit 6.
+    pub relative: RelativeBit,
+    /// 607Dh.
+    pub position_limits: PositionLimits,
+    /// The reference of 607Ah.
+    pub target_frame: TargetFrame,
+    /// The braking curve onto the target ([`Braking`]).
+    pub braking: Braking,
+    /// Bit 10.
+    pub target_reached: TargetReachedRule,
+}
+
+impl PpModel {
+    /// The simulated EtherCAT drives (MR-J4-TM manual §5.4.6, §4.7; MR-JET, MR-J5 as CiA 402).
+    pub const ETHERCAT: PpModel = PpModel {
+        acknowledge: Acknowledge::Executing,
+        set_point_change: SetPointChange::ByBit5,
+        relative: RelativeBit::Read,
+        position_limits: PositionLimits::Clamp,
+        target_frame: TargetFrame::ActualPosition,
+        braking: Braking::AfterStep,
+        target_reached: TargetReachedRule::SetPointWindow,
+    };
+
+    /// The emulated MR-JE-C (MR-JE-C manual §7.3 6067h/60F2h, §7.6.5, §7.6.7).
+    pub const MR_JE_C: PpModel = PpModel {
+        acknowledge: Acknowledge::NewSetPointBit,
+        set_point_change: SetPointChange::Immediate,
+        relative: RelativeBit::Ignored,
+        position_limits: PositionLimits::Ignored,
+        target_frame: TargetFrame::Command,
+        braking: Braking::Continuous,
+        target_reached: TargetReachedRule::CommandAndDroop,
+    };
+}
+
+impl Default for PpModel {
+    fn default() -> Self {
+        PpModel::ETHERCAT
+    }
+}
+
 /// pp parameters where the manual gives no value (each used only if the object is neither
 /// mapped, written by SDO nor given a default by the profile).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,6 +204,8 @@ pub struct PpParams {
     pub time_constant_speed: Option<f64>,
     /// 605Dh Halt option.
     pub halt: HaltOption,
+    /// The pp behaviour of the model, default [`PpModel::ETHERCAT`].
+    pub model: PpModel,
 }
 
 impl Default for PpParams {
@@ -96,6 +216,7 @@ impl Default for PpParams {
             profile_velocity: 10_000,
             time_constant_speed: None,
             halt: HaltOption::default(),
+            model: PpModel::ETHERCAT,
         }
     }
 }
@@ -104,19 +225,21 @@ impl Default for PpParams {
 /// [`PpParams`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct PpCommand {
+    /// The model's behaviour.
+    pub model: PpModel,
     /// 6040h.
     pub controlword: u16,
     /// 607Ah as received.
     pub target: i32,
-    /// Profile velocity (6081h capped by 607Fh and the plant), counts/s, > 0.
+    /// Profile velocity (6081h after the model's caps), units/s, > 0.
     pub velocity: f64,
-    /// From 6083h, counts/s².
-    pub acceleration: f64,
-    /// From 6084h, counts/s².
-    pub deceleration: f64,
-    /// HALT deceleration, counts/s².
-    pub halt_deceleration: f64,
-    /// 6067h, counts.
+    /// From 6083h, units/s² (`None`: a step, the MR-JE-C's 0 ms).
+    pub acceleration: Option<f64>,
+    /// From 6084h, units/s² (`None`: a step).
+    pub deceleration: Option<f64>,
+    /// HALT deceleration, units/s² (605Dh on the EtherCAT drives, 6084h on the MR-JE-C).
+    pub halt_deceleration: Option<f64>,
+    /// 6067h, units.
     pub window: u32,
     /// 6068h, s.
     pub window_time_s: f64,
@@ -131,30 +254,38 @@ pub(crate) struct PpCommand {
 pub(crate) struct PpFeedback {
     /// 6064h before the cycle.
     pub actual: i32,
-    /// Motor position, plant counts, before the cycle.
+    /// Motor position, the generator's units, before the cycle.
     pub position: f64,
-    /// Motor velocity, counts/s.
+    /// Motor velocity, units/s.
     pub velocity: f64,
+    /// Command − motor position (read by [`TargetReachedRule::CommandAndDroop`]).
+    pub droop: f64,
+    /// The command has stood still, any filter drained ([`TargetReachedRule::CommandAndDroop`]).
+    pub command_standing: bool,
 }
 
 /// The pp state of one axis.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(crate) struct ProfilePosition {
-    /// Generator position (the position demand), plant counts.
+    /// Generator position (the position demand) of [`ProfilePosition::step`], units.
     pos: f64,
-    /// Generator velocity, counts/s.
+    /// Generator velocity of [`ProfilePosition::step`], units/s.
     vel: f64,
-    /// The set-point being processed, plant counts.
+    /// The set-point being processed, units.
     target: f64,
+    /// The generator is being moved onto `target` (cleared when it arrives or is cancelled).
+    running: bool,
     /// A queued set-point (bit 5 = 0 during a move).
     pending: Option<f64>,
-    /// Positioning being executed (statusword bit 12).
+    /// Positioning being executed ([`Acknowledge::Executing`]).
     executing: bool,
-    /// Bit 10.
+    /// Controlword bit 4 as last written ([`Acknowledge::NewSetPointBit`]).
+    bit4: bool,
+    /// Bit 10 ([`TargetReachedRule::SetPointWindow`]).
     reached: bool,
     /// Time |actual − target| has stayed within the window at the end of the profile.
     in_window: Held,
-    /// Controlword of the previous cycle (edge detection of bit 4).
+    /// Controlword of the previous cycle (edge detection of bit 4 in [`ProfilePosition::step`]).
     prev_cw: u16,
     /// Latched relative-in-degree warning.
     warning: Option<u16>,
@@ -175,60 +306,88 @@ impl ProfilePosition {
         };
     }
 
+    /// Forgets the set-point (and a queued one): the generator then stops at 6084h (MR-JE-C
+    /// servo off, homing start).
+    pub(crate) fn cancel(&mut self) {
+        self.running = false;
+        self.pending = None;
+        self.executing = false;
+    }
+
+    /// pp is left (MR-JE-C 6061h change): [`ProfilePosition::cancel`] and bit 12 off.
+    pub(crate) fn leave(&mut self) {
+        self.cancel();
+        self.bit4 = false;
+    }
+
     /// The latched warning, if any.
     pub(crate) fn warning(&self) -> Option<u16> {
         self.warning
     }
 
-    /// Statusword bits 10, 11 and 12.
-    pub(crate) fn status_bits(&self) -> u16 {
+    /// Statusword bit 12 as `model` answers it.
+    pub(crate) fn acknowledged(&self, model: &PpModel) -> bool {
+        match model.acknowledge {
+            Acknowledge::Executing => self.executing,
+            Acknowledge::NewSetPointBit => self.bit4,
+        }
+    }
+
+    /// Statusword bits 10, 11 and 12 as of the last [`ProfilePosition::step`].
+    pub(crate) fn status_bits(&self, model: &PpModel) -> u16 {
         (if self.reached { TARGET_REACHED } else { 0 })
             | (if self.limited && self.pos == self.target {
                 INTERNAL_LIMIT_ACTIVE
             } else {
                 0
             })
-            | (if self.executing {
+            | (if self.acknowledged(model) {
                 SET_POINT_ACKNOWLEDGE
             } else {
                 0
             })
     }
 
-    /// The generator velocity (counts/s), for the velocity feed-forward.
+    /// The generator velocity (units/s), for the velocity feed-forward.
     pub(crate) fn velocity(&self) -> f64 {
         self.vel
     }
 
-    /// One cycle of `dt` s: takes a new set-point on the bit 4 edge, advances the profile and
-    /// updates bits 10/12. Returns the position demand (plant counts).
+    /// Whether the generator standing at `position` stays there this step.
+    pub(crate) fn holds(&self, position: f64, halt: bool) -> bool {
+        halt || !self.running || self.target == position
+    }
+
+    /// One cycle of `dt` s on the generator of this state: takes a new set-point on the bit 4
+    /// edge, advances the profile and updates bits 10/12. Returns the position demand.
     pub(crate) fn step(&mut self, cmd: &PpCommand, fb: PpFeedback, dt: f64) -> f64 {
-        let cw = cmd.controlword;
-        let edge = cw & NEW_SET_POINT != 0 && self.prev_cw & NEW_SET_POINT == 0;
-        self.prev_cw = cw;
-        if edge {
-            self.new_set_point(cmd, fb);
-        }
-        let halt = cw & HALT != 0;
+        let prev = std::mem::replace(&mut self.prev_cw, cmd.controlword);
+        self.controlword(cmd, prev, fb);
         if dt > 0.0 && dt.is_finite() {
-            if halt {
-                self.decelerate(cmd.halt_deceleration, dt);
-            } else {
-                self.advance(cmd, dt);
-            }
+            let mut g = Generator {
+                position: self.pos,
+                velocity: self.vel,
+            };
+            self.advance(&mut g, cmd, NoTorque::default(), dt);
+            self.pos = g.position;
+            self.vel = g.velocity;
         }
-        let at_target = self.pos == self.target && self.vel == 0.0;
-        if at_target && !halt {
-            if let Some(next) = self.pending.take() {
-                self.start(next);
-            }
-        }
-        self.update_reached(cmd, fb, halt, dt);
+        self.update_reached(cmd, fb, dt);
         self.pos
     }
 
+    /// A controlword `cmd.controlword` after `prev`: a new set-point on the bit 4 edge.
+    pub(crate) fn controlword(&mut self, cmd: &PpCommand, prev: u16, fb: PpFeedback) {
+        let cw = cmd.controlword;
+        self.bit4 = cw & NEW_SET_POINT != 0;
+        if self.bit4 && prev & NEW_SET_POINT == 0 {
+            self.new_set_point(cmd, fb);
+        }
+    }
+
     fn new_set_point(&mut self, cmd: &PpCommand, fb: PpFeedback) {
-        let relative = cmd.controlword & RELATIVE != 0;
+        let model = cmd.model;
+        let relative = model.relative == RelativeBit::Read && cmd.controlword & RELATIVE != 0;
         if relative {
             if let Some(code) = cmd.relative_refused {
                 self.warning = Some(code);
@@ -236,24 +395,32 @@ impl ProfilePosition {
             }
         }
         self.warning = None;
-        let target = if relative {
+        let target = match model.target_frame {
             // Relative to the previous target (the last queued one when a move is pending).
-            self.pending.unwrap_or(self.target) + f64::from(cmd.target)
-        } else {
+            _ if relative => self.pending.unwrap_or(self.target) + f64::from(cmd.target),
             // 607Ah in 6064h's reference, moved into the plant's (wrapping like the wire values).
-            fb.position + f64::from(cmd.target.wrapping_sub(fb.actual))
+            TargetFrame::ActualPosition => {
+                fb.position + f64::from(cmd.target.wrapping_sub(fb.actual))
+            }
+            TargetFrame::Command => f64::from(cmd.target),
         };
-        let (target, limited) = match cmd.limits {
-            Some((min, max)) => {
+        let (target, limited) = match (model.position_limits, cmd.limits) {
+            (PositionLimits::Clamp, Some((min, max))) => {
                 let lo = fb.position + f64::from(min.wrapping_sub(fb.actual));
                 let hi = fb.position + f64::from(max.wrapping_sub(fb.actual));
                 let clamped = target.clamp(lo, hi);
                 (clamped, clamped != target)
             }
-            None => (target, false),
+            _ => (target, false),
         };
         self.limited = limited;
-        if cmd.controlword & CHANGE_SET_IMMEDIATELY != 0 || !self.executing {
+        let at_once = match model.set_point_change {
+            SetPointChange::ByBit5 => {
+                cmd.controlword & CHANGE_SET_IMMEDIATELY != 0 || !self.executing
+            }
+            SetPointChange::Immediate => true,
+        };
+        if at_once {
             self.pending = None;
             self.start(target);
         } else {
@@ -263,53 +430,75 @@ impl ProfilePosition {
 
     fn start(&mut self, target: f64) {
         self.target = target;
+        self.running = true;
         self.executing = true;
         self.reached = false;
         self.in_window.clear();
     }
 
-    /// The generator as the shared trapezoid sees it.
-    fn generator(&self) -> Generator {
-        Generator {
-            position: self.pos,
-            velocity: self.vel,
+    /// One step of `dt` s of the generator `g` (the caller's trapezoid): HALT ramps it to 0 at
+    /// the halt deceleration, a set-point positions it ([`PpModel::braking`], gated by
+    /// `no_torque`), none stops it at 6084h. A queued set-point starts on arrival.
+    pub(crate) fn advance(
+        &mut self,
+        g: &mut Generator,
+        cmd: &PpCommand,
+        no_torque: NoTorque,
+        dt: f64,
+    ) -> Arrival {
+        let moving = Arrival {
+            arrived: false,
+            moving: dt,
+        };
+        let stop = |g: &mut Generator, rate: Option<f64>| {
+            g.run_at(0.0, &VelocityRamp::new(rate, rate), no_torque, dt);
+            moving
+        };
+        if cmd.controlword & HALT != 0 {
+            return stop(g, cmd.halt_deceleration);
         }
-    }
-
-    /// Takes the generator back after a step.
-    fn take(&mut self, g: Generator) {
-        self.pos = g.position;
-        self.vel = g.velocity;
-    }
-
-    /// HALT: ramp the generator velocity to 0 at `decel`.
-    fn decelerate(&mut self, decel: f64, dt: f64) {
-        let mut g = self.generator();
-        g.run_at(
-            0.0,
-            &VelocityRamp::symmetric(decel),
-            NoTorque::default(),
-            dt,
-        );
-        self.take(g);
-    }
-
-    /// A trapezoidal step toward the target: accelerate at 6083h up to 6081h, brake at 6084h so
-    /// as to stop on the target, and land on it exactly ([`Braking::AfterStep`]).
-    fn advance(&mut self, cmd: &PpCommand, dt: f64) {
+        if !self.running {
+            return stop(g, cmd.deceleration);
+        }
         let positioning = Positioning {
             target: self.target,
             speed: cmd.velocity,
-            ramp: VelocityRamp::new(Some(cmd.acceleration), Some(cmd.deceleration)),
-            braking: Braking::AfterStep,
+            ramp: VelocityRamp::new(cmd.acceleration, cmd.deceleration),
+            braking: cmd.model.braking,
         };
-        let mut g = self.generator();
-        g.position_to(&positioning, NoTorque::default(), dt);
-        self.take(g);
+        let step = g.position_to(&positioning, no_torque, dt);
+        if step.arrived {
+            self.running = false;
+            if let Some(next) = self.pending.take() {
+                self.start(next);
+            }
+        }
+        step
     }
 
-    fn update_reached(&mut self, cmd: &PpCommand, fb: PpFeedback, halt: bool, dt: f64) {
-        if halt {
+    /// Statusword bit 10 by the model's [`TargetReachedRule`]: as of the last
+    /// [`ProfilePosition::step`], or judged now from `fb` (untimed).
+    pub(crate) fn target_reached(&self, cmd: &PpCommand, fb: PpFeedback) -> bool {
+        match cmd.model.target_reached {
+            TargetReachedRule::SetPointWindow => self.reached,
+            TargetReachedRule::CommandAndDroop => {
+                let within =
+                    |x: f64| cmd.window == WINDOW_DISABLED || x.abs() <= f64::from(cmd.window);
+                let arrived = cmd.controlword & HALT != 0
+                    || (!self.running
+                        && self.pending.is_none()
+                        && within(fb.position - f64::from(cmd.target)));
+                arrived && fb.command_standing && within(fb.droop)
+            }
+        }
+    }
+
+    /// [`TargetReachedRule::SetPointWindow`] after a step of `dt` s.
+    fn update_reached(&mut self, cmd: &PpCommand, fb: PpFeedback, dt: f64) {
+        if cmd.model.target_reached != TargetReachedRule::SetPointWindow {
+            return;
+        }
+        if cmd.controlword & HALT != 0 {
             // "HALT = 1: 1 = axis velocity is 0" (606Ch, rounded counts/s).
             self.reached = self.vel == 0.0 && fb.velocity.abs() < 0.5;
             self.in_window.clear();
@@ -338,12 +527,13 @@ mod tests {
 
     fn cmd(cw: u16, target: i32) -> PpCommand {
         PpCommand {
+            model: PpModel::ETHERCAT,
             controlword: cw,
             target,
             velocity: 10_000.0,
-            acceleration: 100_000.0,
-            deceleration: 50_000.0,
-            halt_deceleration: 50_000.0,
+            acceleration: Some(100_000.0),
+            deceleration: Some(50_000.0),
+            halt_deceleration: Some(50_000.0),
             window: 100,
             window_time_s: 0.01,
             relative_refused: None,
@@ -362,6 +552,8 @@ mod tests {
                 actual: pp.pos.round() as i32,
                 position: pp.pos,
                 velocity: pp.vel,
+                droop: 0.0,
+                command_standing: pp.vel == 0.0,
             };
             pp.step(c, fb, dt);
             peak_v = peak_v.max(pp.velocity().abs());

@@ -1,7 +1,10 @@
-//! Profile position mode (pp, 6060h = 1) of the simulated EtherCAT drives: the set-point handshake and the
-//! trajectory generator the drive runs itself (MR-J4-TM manual §5.4.6; MR-JET and
-//! MR-J5 state only that pp exists with 607Ah, 6081h, 6083h, 6084h: MR-JET-G-N1 manual §7.4, §4.5, §6.3,
-//! MR-J5-G-N1 manual §4.5, and use the CiA 402 bit meanings [background]).
+//! Profile position mode (pp, 6060h = 1) of every emulated drive: the set-point handshake and the
+//! trajectory generator the drive runs itself. The simulated EtherCAT drives (MR-J4-TM manual
+//! §5.4.6; MR-JET and MR-J5 state only that pp exists with 607Ah, 6081h, 6083h, 6084h:
+//! MR-JET-G-N1 manual §7.4, §4.5, §6.3, MR-J5-G-N1 manual §4.5, and use the CiA 402 bit meanings
+//! [background]) run [`PpModel::ETHERCAT`], described below; the MR-JE-C runs
+//! [`PpModel::MR_JE_C`] (each option cites its section) on its own trapezoid, stepped per
+//! S-pattern sample ([`ProfilePosition::advance`]).
 //!
 //! * Controlword bit 4 **new set-point** is taken on its rising edge only; bit 5 **change set
 //!   immediately** = 1 replaces the move at once (single set-point, §4.7 "Behaviour"), = 0 queues
@@ -29,7 +32,8 @@
 //!   ms from 0 to [`PpParams::time_constant_speed`] (§4.7 "6083h … ms"); 0 ms means the plant's
 //!   maximum acceleration. The S-pattern (6086h = −1, PT51) is not modelled.
 //!
-//! Positions are in the plant's counts (f64); the drive converts 607Ah from 6064h's reference.
+//! Positions are in the plant's counts (f64) on the EtherCAT drives, which convert 607Ah from
+//! 6064h's reference ([`TargetFrame`]), in pos units on the MR-JE-C.
 //! The trapezoid is the shared generator (`motion::generator`). Allocation-free: plain copies
 //! only.
 
@@ -603,5 +607,218 @@ mod tests {
         assert_eq!(pp.warning(), Some(0x0F48));
         assert_eq!(pp.pos, 0.0);
         assert!(!pp.executing);
+    }
+
+    /// `cmd` under `model`.
+    fn on(model: PpModel, c: PpCommand) -> PpCommand {
+        PpCommand { model, ..c }
+    }
+
+    /// The ideal plant's feedback (the motor at the demand, no droop).
+    fn ideal(pp: &ProfilePosition) -> PpFeedback {
+        PpFeedback {
+            actual: pp.pos.round() as i32,
+            position: pp.pos,
+            velocity: pp.vel,
+            droop: 0.0,
+            command_standing: pp.vel == 0.0,
+        }
+    }
+
+    const MODELS: [PpModel; 2] = [PpModel::ETHERCAT, PpModel::MR_JE_C];
+
+    #[test]
+    fn bit_12_means_executing_on_ethercat_and_follows_bit_4_on_the_mr_je_c() {
+        for model in MODELS {
+            let mut pp = ProfilePosition::default();
+            pp.reset(0.0, 0x0F);
+            run(&mut pp, &on(model, cmd(0x1F, 5_000)), 1);
+            assert!(pp.acknowledged(&model), "{model:?}: bit 4 on");
+            run(&mut pp, &on(model, cmd(0x0F, 5_000)), 10);
+            assert!(pp.pos > 0.0 && pp.pos < 5_000.0, "moving");
+            let ack = pp.acknowledged(&model);
+            match model.acknowledge {
+                Acknowledge::Executing => assert!(ack, "bit 4 off, still executing"),
+                Acknowledge::NewSetPointBit => assert!(!ack, "bit 4 off: bit 12 off"),
+            }
+        }
+        assert_eq!(
+            PpModel::ETHERCAT.acknowledge,
+            Acknowledge::Executing,
+            "MR-J4-TM manual §4.7"
+        );
+        assert_eq!(PpModel::MR_JE_C.acknowledge, Acknowledge::NewSetPointBit);
+    }
+
+    #[test]
+    fn a_set_point_with_bit_5_off_queues_on_ethercat_and_replaces_on_the_mr_je_c() {
+        for model in MODELS {
+            let mut pp = ProfilePosition::default();
+            pp.reset(0.0, 0x0F);
+            run(&mut pp, &on(model, cmd(0x1F, 5_000)), 100);
+            run(&mut pp, &on(model, cmd(0x0F, 5_000)), 1);
+            // A second set-point, bit 5 = 0, back to −5000.
+            run(&mut pp, &on(model, cmd(0x1F, -5_000)), 1);
+            let mut peak: f64 = 0.0;
+            for _ in 0..3_000 {
+                run(&mut pp, &on(model, cmd(0x1F, -5_000)), 1);
+                peak = peak.max(pp.pos);
+            }
+            assert_eq!(pp.pos, -5_000.0, "{model:?}");
+            match model.set_point_change {
+                SetPointChange::ByBit5 => assert_eq!(peak, 5_000.0, "queued behind 5000"),
+                SetPointChange::Immediate => assert!(peak < 5_000.0, "replaced: {peak}"),
+            }
+        }
+        assert_eq!(PpModel::MR_JE_C.set_point_change, SetPointChange::Immediate);
+    }
+
+    #[test]
+    fn bit_6_and_607dh_act_on_ethercat_and_not_on_the_mr_je_c() {
+        for model in MODELS {
+            let limited = PpCommand {
+                limits: Some((-500, 1_500)),
+                ..on(model, cmd(0x5F, 1_000))
+            };
+            let mut pp = ProfilePosition::default();
+            pp.reset(0.0, 0x0F);
+            run(&mut pp, &on(model, cmd(0x1F, 1_000)), 1_000);
+            run(&mut pp, &on(model, cmd(0x0F, 1_000)), 1);
+            // Relative +1000 (bit 6), limits −500…1500.
+            run(&mut pp, &limited, 1_000);
+            let want = match (model.relative, model.position_limits) {
+                (RelativeBit::Read, PositionLimits::Clamp) => 1_500.0,
+                (RelativeBit::Ignored, PositionLimits::Ignored) => 1_000.0,
+                other => panic!("{other:?}"),
+            };
+            assert_eq!(pp.pos, want, "{model:?}");
+            let ila = pp.status_bits(&model) & INTERNAL_LIMIT_ACTIVE != 0;
+            assert_eq!(ila, model.position_limits == PositionLimits::Clamp);
+        }
+    }
+
+    #[test]
+    fn target_is_moved_from_6064h_on_ethercat_and_taken_as_is_on_the_mr_je_c() {
+        for model in MODELS {
+            let mut pp = ProfilePosition::default();
+            pp.reset(0.0, 0x0F);
+            // 6064h reads 100 where the generator is at 0 (a homing shift).
+            let fb = PpFeedback {
+                actual: 100,
+                ..ideal(&pp)
+            };
+            pp.controlword(&on(model, cmd(0x1F, 1_000)), 0x0F, fb);
+            let want = match model.target_frame {
+                TargetFrame::ActualPosition => 900.0,
+                TargetFrame::Command => 1_000.0,
+            };
+            assert_eq!(pp.target, want, "{model:?}");
+        }
+    }
+
+    #[test]
+    fn braking_lands_on_the_target_after_the_step_or_continuously() {
+        let mut cycles = [0; 2];
+        for (k, model) in MODELS.into_iter().enumerate() {
+            let mut pp = ProfilePosition::default();
+            pp.reset(0.0, 0x0F);
+            let c = on(model, cmd(0x1F, 20_000));
+            while cycles[k] < 5_000 && !(cycles[k] > 0 && pp.pos == 20_000.0 && pp.vel == 0.0) {
+                run(&mut pp, &c, 1);
+                cycles[k] += 1;
+            }
+            assert_eq!(pp.pos, 20_000.0, "{model:?}");
+        }
+        // 10000 counts/s at 100000/s² and 50000/s²: 0.1 s up, 1.85 s at speed, 0.2 s down;
+        // the continuous curve lands where a step reaches the target, the other after it.
+        assert_eq!(cycles, [2_154, 2_136]);
+        assert_eq!(PpModel::ETHERCAT.braking, Braking::AfterStep);
+        assert_eq!(PpModel::MR_JE_C.braking, Braking::Continuous);
+    }
+
+    /// Cycles from the arrival of a move to 607Ah = 1000 until bit 10 (`c` after the edge).
+    fn reached_after_arrival(pp: &mut ProfilePosition, c: &PpCommand) -> u32 {
+        pp.reset(0.0, 0x0F);
+        run(
+            pp,
+            &PpCommand {
+                controlword: 0x1F,
+                ..*c
+            },
+            1,
+        );
+        while pp.pos != 1_000.0 {
+            run(pp, c, 1);
+        }
+        let mut k = 0;
+        while !pp.target_reached(c, ideal(pp)) {
+            run(pp, c, 1);
+            k += 1;
+        }
+        k
+    }
+
+    /// The MR-JE-C manual's 6067h and 6068h defaults (§7.3): 100 pos units, 10 ms.
+    #[test]
+    fn target_reached_by_the_set_point_window_or_by_command_and_droop() {
+        let c = cmd(0x0F, 1_000);
+        assert_eq!((c.window, c.window_time_s), (100, 0.010));
+        // EtherCAT: the accepted set-point, 6068h timed here over whole cycles (the arrival
+        // cycle is the first of the 10 ms).
+        let mut pp = ProfilePosition::default();
+        assert_eq!(reached_after_arrival(&mut pp, &c), 9);
+        run(&mut pp, &cmd(0x0F, 1_090), 1);
+        assert!(
+            pp.target_reached(&c, ideal(&pp)),
+            "607Ah changed without an edge"
+        );
+        // The MR-JE-C: judged now, against the 607Ah in force and the droop.
+        // (untimed: the drive times 6068h for pp, jg, pt and idx alike).
+        let m = on(PpModel::MR_JE_C, c);
+        let mut pp = ProfilePosition::default();
+        assert_eq!(reached_after_arrival(&mut pp, &m), 0);
+        let fb = ideal(&pp);
+        let target = |t: i32| PpCommand { target: t, ..m };
+        assert!(pp.target_reached(&target(1_100), fb), "|1000 − 1100| ≤ 100");
+        assert!(!pp.target_reached(&target(1_101), fb));
+        let droop = |d: f64| PpFeedback { droop: d, ..fb };
+        assert!(pp.target_reached(&m, droop(100.0)) && !pp.target_reached(&m, droop(101.0)));
+        let unfiltered = PpFeedback {
+            command_standing: false,
+            ..fb
+        };
+        assert!(!pp.target_reached(&m, unfiltered), "S-pattern not drained");
+        // HALT: standing with the droop within 6067h, wherever the target is.
+        let halted = PpCommand {
+            controlword: 0x10F,
+            ..target(5_000)
+        };
+        assert!(pp.target_reached(&halted, fb) && !pp.target_reached(&halted, droop(101.0)));
+        let disabled = PpCommand {
+            window: WINDOW_DISABLED,
+            ..target(5_000)
+        };
+        assert!(
+            pp.target_reached(&disabled, droop(1e6)),
+            "6067h = 4294967295"
+        );
+    }
+
+    #[test]
+    fn cancel_stops_at_6084h_and_leave_drops_bit_12() {
+        let m = on(PpModel::MR_JE_C, cmd(0x1F, 20_000));
+        let mut pp = ProfilePosition::default();
+        pp.reset(0.0, 0x0F);
+        run(&mut pp, &m, 500);
+        assert_eq!(pp.vel, 10_000.0);
+        pp.cancel();
+        assert!(pp.acknowledged(&m.model), "bit 4 still on");
+        let stop = run(&mut pp, &m, 1).0;
+        assert_eq!(stop, 10_000.0 - 50.0, "6084h: 50000/s² for 1 ms");
+        run(&mut pp, &m, 300);
+        assert_eq!(pp.vel, 0.0);
+        assert!(pp.pos < 20_000.0);
+        pp.leave();
+        assert!(!pp.acknowledged(&m.model));
     }
 }

@@ -1,6 +1,8 @@
-//! Profile velocity mode (pv) of the simulated EtherCAT drives: the drive's own velocity ramp toward
-//! 60FFh and the statusword bits 10 / 12 (MR-J4-TM manual §5.4.7; MR-JET-G-N1 and MR-J5-G-N1
-//! state only "pv: a target velocity" with 6083h/6084h, their bits as CiA 402 [background]).
+//! Profile velocity mode (pv) of every emulated drive: the drive's own velocity ramp toward 60FFh
+//! and the statusword bits 10 / 12. The simulated EtherCAT drives (MR-J4-TM manual §5.4.7;
+//! MR-JET-G-N1 and MR-J5-G-N1 state only "pv: a target velocity" with 6083h/6084h, their bits
+//! as CiA 402 [background]) run [`PvModel::ETHERCAT`], described below; the MR-JE-C runs
+//! [`PvModel::MR_JE_C`] on its own trapezoid ([`ProfileVelocity::advance`]).
 //!
 //! * The ramp is linear: the generator velocity (606Bh velocity demand) rises at 6083h and
 //!   falls at 6084h, both time constants in ms from 0 to the rated speed (§5.4.7(4), units as
@@ -18,11 +20,85 @@
 //! velocity unit. The ramp is the shared one (`motion::ramp`). Allocation-free: plain copies
 //! only.
 
+use super::generator::{Generator, NoTorque};
 use super::ramp::{Reversal, VelocityRamp};
 pub use super::window_time::ThresholdTime;
 use super::window_time::{Held, HeldFrom};
 
 pub use cellrt_cia402::statusword::{SPEED_ZERO, TARGET_REACHED};
+
+/// Where the ramp lands on its goal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Landing {
+    /// Within 1e-6 units/s, the float error of the cycle sums: the simulated EtherCAT drives
+    /// (an emulator choice).
+    WithinFloatError,
+    /// Exactly: the MR-JE-C (an emulator choice; its steps are the message intervals).
+    Exact,
+}
+
+impl Landing {
+    /// The distance (units/s) within which the ramp lands on its goal.
+    pub fn units(self) -> f64 {
+        match self {
+            Landing::WithinFloatError => RAMP_LANDING,
+            Landing::Exact => 0.0,
+        }
+    }
+}
+
+/// Statusword bit 10 in pv.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PvReachedRule {
+    /// HALT = 0: |606Ch − 60FFh| ≤ 606Dh for at least 606Eh, bit 12 after 6070h, both timed
+    /// here over whole cycles; HALT = 1: generator and motor at 0, untimed (MR-J4-TM manual
+    /// §5.4.7): the simulated EtherCAT drives.
+    Timed,
+    /// |606Ch − 60FFh| ≤ 606Dh, 60FFh read as 0 under HALT, judged now: the drive times 606Eh
+    /// and 6070h, also under HALT (MR-JE-C manual §7.3 606Dh–6070h; HALT not stated there).
+    JudgedNow,
+}
+
+/// Where a model's pv differs, chosen by each model: [`PvModel::ETHERCAT`] (MR-J4-TM manual
+/// §5.4.7) and [`PvModel::MR_JE_C`] (MR-JE-C manual §7.3). The torque gate and the HALT
+/// deceleration are data the caller passes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PvModel {
+    /// A ramp through zero ([`Reversal`]).
+    pub reversal: Reversal,
+    /// Where the ramp lands.
+    pub landing: Landing,
+    /// Bit 10.
+    pub target_reached: PvReachedRule,
+    /// How 6070h is compared (bit 12).
+    pub threshold_time: ThresholdTime,
+}
+
+impl PvModel {
+    /// The simulated EtherCAT drives: stop at zero (§5.4.7(4)), "for at least 6070h" (§5.4.7;
+    /// MR-JET, MR-J5: CiA 402 [background]).
+    pub const ETHERCAT: PvModel = PvModel {
+        reversal: Reversal::StopAtZero,
+        landing: Landing::WithinFloatError,
+        target_reached: PvReachedRule::Timed,
+        threshold_time: ThresholdTime::AtLeast,
+    };
+
+    /// The MR-JE-C: through zero (§7.3 6083h/6084h give no stop), "for longer than 6070h"
+    /// (§7.3 6070h).
+    pub const MR_JE_C: PvModel = PvModel {
+        reversal: Reversal::Through,
+        landing: Landing::Exact,
+        target_reached: PvReachedRule::JudgedNow,
+        threshold_time: ThresholdTime::LongerThan,
+    };
+}
+
+impl Default for PvModel {
+    fn default() -> Self {
+        PvModel::ETHERCAT
+    }
+}
 
 /// pv objects the MR-JET / MR-J5 manuals do not give (used where the model's object dictionary
 /// has no default and the object was not written by SDO). Defaults: the MR-J4-TM manual §5.4.7
@@ -37,6 +113,8 @@ pub struct PvParams {
     pub velocity_threshold: u32,
     /// 6070h Velocity threshold time, ms.
     pub velocity_threshold_time_ms: u32,
+    /// The pv behaviour of the model, default [`PvModel::ETHERCAT`].
+    pub model: PvModel,
 }
 
 impl Default for PvParams {
@@ -46,25 +124,29 @@ impl Default for PvParams {
             velocity_window_time_ms: 0,
             velocity_threshold: 5_000,
             velocity_threshold_time_ms: 10,
+            model: PvModel::ETHERCAT,
         }
     }
 }
 
-/// One cycle's pv inputs, resolved by the drive (counts/s, counts/s², s).
+/// One cycle's pv inputs, resolved by the drive: the ramp in the generator's units (counts/s,
+/// counts/s² on the EtherCAT drives), bit 10 and 12 in the unit of the motor velocity passed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct PvCommand {
+    /// The model's behaviour.
+    pub model: PvModel,
     /// HALT (controlword bit 8).
     pub halt: bool,
     /// 60FFh as received, counts/s (what bit 10 compares with).
     pub target: f64,
-    /// 60FFh after 607Fh / 6080h / the plant's maximum speed, counts/s.
+    /// 60FFh after the model's caps (607Fh / 6080h / the plant's maximum speed), the ramp's goal.
     pub limited_target: f64,
-    /// From 6083h, counts/s².
-    pub acceleration: f64,
-    /// From 6084h, counts/s².
-    pub deceleration: f64,
-    /// HALT deceleration, counts/s².
-    pub halt_deceleration: f64,
+    /// From 6083h, counts/s² (`None`: a step, the MR-JE-C's 0 ms).
+    pub acceleration: Option<f64>,
+    /// From 6084h, counts/s² (`None`: a step).
+    pub deceleration: Option<f64>,
+    /// HALT deceleration, counts/s² (605Dh on the EtherCAT drives, 6084h on the MR-JE-C).
+    pub halt_deceleration: Option<f64>,
     /// 606Dh, counts/s.
     pub window: f64,
     /// 606Eh, s.
@@ -73,8 +155,6 @@ pub(crate) struct PvCommand {
     pub threshold: f64,
     /// 6070h, s.
     pub threshold_time_s: f64,
-    /// How 6070h is compared (the model's wording).
-    pub threshold_time: ThresholdTime,
 }
 
 /// The pv state of one axis.
@@ -116,36 +196,51 @@ impl ProfileVelocity {
     /// `actual` velocity (counts/s). Returns the generator velocity.
     pub(crate) fn step(&mut self, cmd: &PvCommand, actual: f64, dt: f64) -> f64 {
         if dt > 0.0 && dt.is_finite() {
-            let (goal, halt_rate) = if cmd.halt {
-                (0.0, Some(cmd.halt_deceleration))
-            } else {
-                (cmd.limited_target, None)
+            let mut g = Generator {
+                position: 0.0,
+                velocity: self.vel,
             };
-            self.ramp(goal, cmd, halt_rate, dt);
+            Self::advance(&mut g, cmd, NoTorque::default(), dt);
+            self.vel = g.velocity;
         }
         self.update_bits(cmd, actual, dt.max(0.0));
         self.vel
     }
 
-    /// One ramp step toward `goal`: 6083h while the speed grows in the same direction, 6084h
-    /// (or the halt rate) while it falls; a reversal stops at 0 for the cycle
-    /// ([`Reversal::StopAtZero`]).
-    fn ramp(&mut self, goal: f64, cmd: &PvCommand, halt_rate: Option<f64>, dt: f64) {
-        let ramp = VelocityRamp {
-            acceleration: Some(cmd.acceleration),
-            deceleration: Some(halt_rate.unwrap_or(cmd.deceleration)),
-            reversal: Reversal::StopAtZero,
-            landing: RAMP_LANDING,
+    /// One step of `dt` s of the generator `g` toward 60FFh (0 under HALT): 6083h while the
+    /// speed grows in the same direction (unless `no_torque` that way), 6084h (or the halt
+    /// rate) while it falls, through zero by [`PvModel::reversal`].
+    pub(crate) fn advance(g: &mut Generator, cmd: &PvCommand, no_torque: NoTorque, dt: f64) {
+        let (goal, deceleration) = if cmd.halt {
+            (0.0, cmd.halt_deceleration)
+        } else {
+            (cmd.limited_target, cmd.deceleration)
         };
-        self.vel = ramp.step(self.vel, goal, dt);
+        let ramp = VelocityRamp {
+            acceleration: cmd.acceleration,
+            deceleration,
+            reversal: cmd.model.reversal,
+            landing: cmd.model.landing.units(),
+        };
+        g.run_at(goal, &ramp, no_torque, dt);
     }
 
+    /// Bit 10 by [`PvReachedRule::JudgedNow`]: |`actual` − 60FFh (0 under HALT)| ≤ 606Dh.
+    pub(crate) fn reached_now(cmd: &PvCommand, actual: f64) -> bool {
+        let want = if cmd.halt { 0.0 } else { cmd.target };
+        (actual - want).abs() <= cmd.window
+    }
+
+    /// Bits 10/12 by [`PvReachedRule::Timed`] after a step of `dt` s.
     fn update_bits(&mut self, cmd: &PvCommand, actual: f64, dt: f64) {
+        if cmd.model.target_reached != PvReachedRule::Timed {
+            return;
+        }
         self.over_threshold
             .update(actual.abs() > cmd.threshold, dt, HeldFrom::WholeCycle);
         self.moving = self
             .over_threshold
-            .exceeds(cmd.threshold_time_s, cmd.threshold_time);
+            .exceeds(cmd.threshold_time_s, cmd.model.threshold_time);
         if cmd.halt {
             // "HALT = 1: 1 = velocity 0" (606Ch, rounded counts/s).
             self.in_window.clear();
@@ -168,17 +263,17 @@ mod tests {
     /// 3000 counts/s per ms of ramp: 6083h = 100 ms and 6084h = 50 ms to 300 000 counts/s.
     fn cmd(target: f64) -> PvCommand {
         PvCommand {
+            model: PvModel::ETHERCAT,
             halt: false,
             target,
             limited_target: target,
-            acceleration: 300_000.0 * 1000.0 / 100.0,
-            deceleration: 300_000.0 * 1000.0 / 50.0,
-            halt_deceleration: 300_000.0 * 1000.0 / 50.0,
+            acceleration: Some(300_000.0 * 1000.0 / 100.0),
+            deceleration: Some(300_000.0 * 1000.0 / 50.0),
+            halt_deceleration: Some(300_000.0 * 1000.0 / 50.0),
             window: 1_000.0,
             window_time_s: 0.0,
             threshold: 2_000.0,
             threshold_time_s: 0.010,
-            threshold_time: ThresholdTime::AtLeast,
         }
     }
 

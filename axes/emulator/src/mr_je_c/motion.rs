@@ -41,6 +41,7 @@ use super::profile::{
 use super::torque::Torque;
 use crate::motion::generator::{Arrival, Braking, Generator, NoTorque, Positioning};
 use crate::motion::profile_position::{PpCommand, PpFeedback, PpModel, ProfilePosition, HALT};
+use crate::motion::profile_velocity::{ProfileVelocity, PvCommand, PvModel};
 use crate::motion::ramp::VelocityRamp;
 use crate::motion::s_pattern::{SPattern, MAX_MS, SAMPLE};
 use cellrt_cia402::controlword::Controlword;
@@ -72,6 +73,8 @@ enum Mover {
     Command(Command),
     /// pp's set-point (`motion::profile_position`); `halted`: Controlword bit 8.
     ProfilePosition { halted: bool },
+    /// pv's ramp (`motion::profile_velocity`); `halted`: Controlword bit 8.
+    ProfileVelocity { halted: bool },
 }
 
 /// The motor's state.
@@ -167,6 +170,26 @@ impl Motion {
         }
     }
 
+    /// pv's inputs from the objects of `p`, `halted`: Controlword bit 8: [`PvModel::MR_JE_C`],
+    /// the ramp in pos units, bit 10 in 606Ch's 0.01 r/min; Halt at 6084h (§7.6.3).
+    fn pv_command(p: &Profile, halted: bool) -> PvCommand {
+        let deceleration = p.rate(p.deceleration_ms);
+        PvCommand {
+            model: PvModel::MR_JE_C,
+            halt: halted,
+            target: p.target_velocity as f64,
+            limited_target: p.units_per_s(p.target_velocity),
+            acceleration: p.rate(p.acceleration_ms),
+            deceleration,
+            halt_deceleration: deceleration,
+            window: p.velocity_window as f64,
+            // 606Eh, 606Fh and 6070h are timed by the drive (`MrJeC::timed`).
+            window_time_s: 0.0,
+            threshold: 0.0,
+            threshold_time_s: 0.0,
+        }
+    }
+
     /// The motor as pp judges it: pos units, the filtered command's speed, the droop.
     fn pp_feedback(&self) -> PpFeedback {
         PpFeedback {
@@ -243,8 +266,8 @@ impl Motion {
         let window = p.position_window as f64;
         let reached = match p.mode {
             PROFILE_VELOCITY => {
-                let want = if halted { 0 } else { p.target_velocity };
-                (self.velocity(p) - want).abs() <= p.velocity_window
+                // The shared rule (`motion::profile_velocity`, PvReachedRule::JudgedNow).
+                ProfileVelocity::reached_now(&Self::pv_command(p, halted), self.velocity(p) as f64)
             }
             HOMING => return self.homing.status_bits(standing),
             PROFILE_TORQUE => self.torque.reached(p, halted),
@@ -301,13 +324,13 @@ impl Motion {
         if !position_control(p.mode) {
             self.release();
             let secs = dt.as_secs_f64();
-            match self.command(p, drive) {
+            match self.mover(p, drive) {
                 None => {
                     self.velocity = self.torque.advance(secs, p, drive.halted(), self.velocity);
                     self.position += self.velocity * secs;
                 }
-                Some(command) => {
-                    if self.follow(Mover::Command(command), secs, p).arrived {
+                Some(mover) => {
+                    if self.follow(mover, secs, p).arrived {
                         self.arrived(p);
                     }
                 }
@@ -324,7 +347,7 @@ impl Motion {
             let Some(mover) = self.mover(p, drive) else {
                 return;
             };
-            let stays = self.standing() && self.holds(mover);
+            let stays = self.standing() && self.holds(mover, p);
             let h = if self.s_pattern.len() == 0 || stays {
                 left
             } else {
@@ -379,28 +402,28 @@ impl Motion {
             Drive::Mode { halted } if p.mode == PROFILE_POSITION => {
                 Some(Mover::ProfilePosition { halted })
             }
+            Drive::Mode { halted } if p.mode == PROFILE_VELOCITY => {
+                Some(Mover::ProfileVelocity { halted })
+            }
             _ => self.command(p, drive).map(Mover::Command),
         }
     }
 
     /// Whether `mover` leaves a trapezoid standing at its position where it is.
-    fn holds(&self, mover: Mover) -> bool {
+    fn holds(&self, mover: Mover, p: &Profile) -> bool {
         match mover {
             Mover::Command(c) => c.holds(self.position),
             Mover::ProfilePosition { halted } => self.pp.holds(self.position, halted),
+            Mover::ProfileVelocity { halted } => halted || p.target_velocity == 0,
         }
     }
 
     /// The command of `drive` in the mode of `p` (`None`: tq, which has no speed command; pp
-    /// is [`Mover::ProfilePosition`] but for a quick stop).
+    /// and pv are [`Mover::ProfilePosition`], [`Mover::ProfileVelocity`] but for a quick stop).
     fn command(&self, p: &Profile, drive: Drive) -> Option<Command> {
         let halted = match drive {
             Drive::QuickStop(ms) => return Some(Command::stop(ms)),
             Drive::Mode { halted } => halted,
-        };
-        let profile_ramp = Ramp {
-            acceleration_ms: p.acceleration_ms,
-            deceleration_ms: p.deceleration_ms,
         };
         Some(match p.mode {
             PROFILE_TORQUE => return None,
@@ -408,11 +431,6 @@ impl Motion {
             JOG => self.jog.command(p, halted),
             POINT_TABLE => self.point_table.command(p, halted),
             INDEXER => self.point_table.command(p, false),
-            _ if halted => Command::stop(p.deceleration_ms),
-            PROFILE_VELOCITY => Command::Speed {
-                speed: p.units_per_s(p.target_velocity),
-                ramp: profile_ramp,
-            },
             _ => Command::stop(p.deceleration_ms),
         })
     }
@@ -442,29 +460,30 @@ impl Motion {
             forward: p.positive_torque_limit <= 0,
             reverse: p.negative_torque_limit <= 0,
         };
-        let command = match mover {
-            Mover::Command(command) => command,
+        let step = match mover {
             Mover::ProfilePosition { halted } => {
                 let c = Self::pp_command(p, if halted { HALT } else { 0 });
-                let step = self.pp.advance(&mut g, &c, no_torque, dt);
-                self.position = g.position;
-                self.velocity = g.velocity;
-                return step;
+                self.pp.advance(&mut g, &c, no_torque, dt)
             }
-        };
-        let step = match command {
-            Command::Speed { speed, ramp } => {
+            Mover::ProfileVelocity { halted } => {
+                ProfileVelocity::advance(&mut g, &Self::pv_command(p, halted), no_torque, dt);
+                Arrival {
+                    arrived: false,
+                    moving: dt,
+                }
+            }
+            Mover::Command(Command::Speed { speed, ramp }) => {
                 g.run_at(speed, &velocity_ramp(ramp, p), no_torque, dt);
                 Arrival {
                     arrived: false,
                     moving: dt,
                 }
             }
-            Command::Position {
+            Mover::Command(Command::Position {
                 target,
                 speed,
                 ramp,
-            } => {
+            }) => {
                 let positioning = Positioning {
                     target: target as f64,
                     speed,

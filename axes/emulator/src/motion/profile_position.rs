@@ -4,7 +4,7 @@
 //! MR-JET-G-N1 manual §7.4, §4.5, §6.3, MR-J5-G-N1 manual §4.5, and use the CiA 402 bit meanings
 //! [background]) run [`PpModel::ETHERCAT`], described below; the MR-JE-C runs
 //! [`PpModel::MR_JE_C`] (each option cites its section) on its own trapezoid, stepped per
-//! S-pattern sample ([`ProfilePosition::advance`]).
+//! S-pattern sample (`ProfilePosition::advance`).
 //!
 //! * Controlword bit 4 **new set-point** is taken on its rising edge only; bit 5 **change set
 //!   immediately** = 1 replaces the move at once (single set-point, §4.7 "Behaviour"), = 0 queues

@@ -2,7 +2,7 @@
 //! and the statusword bits 10 / 12. The simulated EtherCAT drives (MR-J4-TM manual §5.4.7;
 //! MR-JET-G-N1 and MR-J5-G-N1 state only "pv: a target velocity" with 6083h/6084h, their bits
 //! as CiA 402 [background]) run [`PvModel::ETHERCAT`], described below; the MR-JE-C runs
-//! [`PvModel::MR_JE_C`] on its own trapezoid ([`ProfileVelocity::advance`]).
+//! [`PvModel::MR_JE_C`] on its own trapezoid (`ProfileVelocity::advance`).
 //!
 //! * The ramp is linear: the generator velocity (606Bh velocity demand) rises at 6083h and
 //!   falls at 6084h, both time constants in ms from 0 to the rated speed (§5.4.7(4), units as
@@ -330,5 +330,104 @@ mod tests {
         assert_eq!(k, 25, "halt at 6084h");
         pv.step(&h, 0.0, 1e-3);
         assert_eq!(pv.status_bits(), TARGET_REACHED | SPEED_ZERO);
+    }
+
+    /// `c` under `model`.
+    fn on(model: PvModel, c: PvCommand) -> PvCommand {
+        PvCommand { model, ..c }
+    }
+
+    const MODELS: [PvModel; 2] = [PvModel::ETHERCAT, PvModel::MR_JE_C];
+
+    #[test]
+    fn a_reversal_stops_at_zero_on_ethercat_and_runs_through_on_the_mr_je_c() {
+        let mut n = [0; 2];
+        for (k, model) in MODELS.into_iter().enumerate() {
+            let mut pv = ProfileVelocity::default();
+            pv.reset(151_000.0);
+            n[k] = cycles_to(&mut pv, &on(model, cmd(-150_000.0)), -150_000.0);
+        }
+        // 26 cycles down at 6000 per ms; the EtherCAT drives stop at 0 in the 26th, then
+        // take 50 up at 3000 per ms; the MR-JE-C's 26th ends at −5000, 145000 more take 49.
+        assert_eq!(n, [76, 75]);
+        assert_eq!(PvModel::ETHERCAT.reversal, Reversal::StopAtZero);
+        assert_eq!(PvModel::MR_JE_C.reversal, Reversal::Through);
+    }
+
+    #[test]
+    fn the_ramp_lands_within_float_error_on_ethercat_and_exactly_on_the_mr_je_c() {
+        for model in MODELS {
+            let mut pv = ProfileVelocity::default();
+            // 5e-7 more than one step of 3000 below the goal.
+            pv.reset(150_000.0 - 3_000.0 - 5e-7);
+            pv.step(&on(model, cmd(150_000.0)), 0.0, 1e-3);
+            match model.landing {
+                Landing::WithinFloatError => assert_eq!(pv.vel, 150_000.0),
+                Landing::Exact => assert!(pv.vel < 150_000.0, "{}", pv.vel),
+            }
+        }
+    }
+
+    #[test]
+    fn no_torque_holds_the_speed_that_way() {
+        let c = on(PvModel::MR_JE_C, cmd(150_000.0));
+        let mut g = Generator::default();
+        let forward = NoTorque {
+            forward: true,
+            reverse: false,
+        };
+        ProfileVelocity::advance(&mut g, &c, forward, 1e-3);
+        assert_eq!(g.velocity, 0.0, "60E0h = 0");
+        ProfileVelocity::advance(&mut g, &c, NoTorque::default(), 1e-3);
+        assert_eq!(g.velocity, 3_000.0);
+    }
+
+    /// The MR-JE-C manual's 606Dh–6070h defaults (§7.3): 2000 and 5000 (0.01 r/min, here one
+    /// count/s each), 10 ms and 10 ms.
+    #[test]
+    fn bit_10_is_timed_here_on_ethercat_and_judged_now_on_the_mr_je_c() {
+        let c = PvCommand {
+            window: 2_000.0,
+            window_time_s: 0.010,
+            threshold: 5_000.0,
+            threshold_time_s: 0.010,
+            ..cmd(150_000.0)
+        };
+        // EtherCAT: 606Eh timed over whole cycles.
+        let mut pv = ProfileVelocity::default();
+        pv.reset(150_000.0);
+        let mut k = 0;
+        while pv.status_bits() & TARGET_REACHED == 0 {
+            pv.step(&c, 150_000.0, 1e-3);
+            k += 1;
+        }
+        assert_eq!(k, 10);
+        // HALT: the generator at 0, however close the motor is.
+        let halted = PvCommand {
+            halt: true,
+            halt_deceleration: Some(1_000_000.0),
+            ..c
+        };
+        pv.reset(1_500.0);
+        pv.step(&halted, 1_500.0, 1e-3);
+        assert_eq!(pv.status_bits() & TARGET_REACHED, 0, "500 left");
+        // The MR-JE-C: |606Ch − 60FFh| ≤ 606Dh now, 60FFh read as 0 under HALT.
+        let m = on(PvModel::MR_JE_C, c);
+        assert!(ProfileVelocity::reached_now(&m, 148_000.0));
+        assert!(!ProfileVelocity::reached_now(&m, 147_999.0));
+        let mh = on(PvModel::MR_JE_C, halted);
+        assert!(ProfileVelocity::reached_now(&mh, 1_500.0));
+        assert!(ProfileVelocity::reached_now(&mh, -2_000.0));
+        assert!(!ProfileVelocity::reached_now(&mh, 2_001.0));
+    }
+
+    #[test]
+    fn threshold_time_is_at_least_on_ethercat_and_longer_than_on_the_mr_je_c() {
+        let mut held = Held::default();
+        held.update(true, 0.0, HeldFrom::Seen);
+        held.update(true, 0.010, HeldFrom::Seen);
+        // Over 606Fh for exactly 6070h = 10 ms.
+        assert!(held.exceeds(0.010, PvModel::ETHERCAT.threshold_time));
+        assert!(!held.exceeds(0.010, PvModel::MR_JE_C.threshold_time));
     }
 }

@@ -1,8 +1,9 @@
-//! The simulated MR-JE-C's motor (MR-JE-C manual §7.3, §7.6.2–§7.6.4): pv and the shared
-//! integrator here, pp through the shared set-point handshake (`motion::profile_position` with
-//! [`PpModel::MR_JE_C`]: bit 12 follows bit 4, a new set-point replaces the running one), hm,
-//! jg, tq, pt and idx in their own modules (`homing`, `jog`, `torque`, `point_table`,
-//! `indexer`). pv follows 60FFh. Speeds are limited by 6081h (pp) and 607Fh, acceleration and
+//! The simulated MR-JE-C's motor (MR-JE-C manual §7.3, §7.6.2–§7.6.4): the shared integrator
+//! here; pp and pv through the shared modules (`motion::profile_position` with
+//! [`PpModel::MR_JE_C`]: bit 12 follows bit 4, a new set-point replaces the running one;
+//! `motion::profile_velocity` with [`PvModel::MR_JE_C`]: the ramp runs through zero toward
+//! 60FFh); hm, jg, tq, pt and idx in their own modules (`homing`, `jog`, `torque`,
+//! `point_table`, `indexer`). Speeds are limited by 6081h (pp) and 607Fh, acceleration and
 //! deceleration are time constants from 0 to the rated speed (6083h, 6084h; 0 steps at once),
 //! Halt (bit 8) decelerates with 6084h (605Dh = 1, §7.6.3); the position unit is 6092h:1 feed
 //! per motor revolution.

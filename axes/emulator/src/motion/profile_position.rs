@@ -1,7 +1,10 @@
-//! Profile position mode (pp, 6060h = 1) of the simulated EtherCAT drives: the set-point handshake and the
-//! trajectory generator the drive runs itself (MR-J4-TM manual §5.4.6; MR-JET and
-//! MR-J5 state only that pp exists with 607Ah, 6081h, 6083h, 6084h: MR-JET-G-N1 manual §7.4, §4.5, §6.3,
-//! MR-J5-G-N1 manual §4.5, and use the CiA 402 bit meanings [background]).
+//! Profile position mode (pp, 6060h = 1) of every emulated drive: the set-point handshake and the
+//! trajectory generator the drive runs itself. The simulated EtherCAT drives (MR-J4-TM manual
+//! §5.4.6; MR-JET and MR-J5 state only that pp exists with 607Ah, 6081h, 6083h, 6084h:
+//! MR-JET-G-N1 manual §7.4, §4.5, §6.3, MR-J5-G-N1 manual §4.5, and use the CiA 402 bit meanings
+//! [background]) run [`PpModel::ETHERCAT`], described below; the MR-JE-C runs
+//! [`PpModel::MR_JE_C`] (each option cites its section) on its own trapezoid, stepped per
+//! S-pattern sample (`ProfilePosition::advance`).
 //!
 //! * Controlword bit 4 **new set-point** is taken on its rising edge only; bit 5 **change set
 //!   immediately** = 1 replaces the move at once (single set-point, §4.7 "Behaviour"), = 0 queues
@@ -29,11 +32,12 @@
 //!   ms from 0 to [`PpParams::time_constant_speed`] (§4.7 "6083h … ms"); 0 ms means the plant's
 //!   maximum acceleration. The S-pattern (6086h = −1, PT51) is not modelled.
 //!
-//! Positions are in the plant's counts (f64); the drive converts 607Ah from 6064h's reference.
+//! Positions are in the plant's counts (f64) on the EtherCAT drives, which convert 607Ah from
+//! 6064h's reference ([`TargetFrame`]), in pos units on the MR-JE-C.
 //! The trapezoid is the shared generator (`motion::generator`). Allocation-free: plain copies
 //! only.
 
-use super::generator::{Braking, Generator, NoTorque, Positioning};
+use super::generator::{Arrival, Braking, Generator, NoTorque, Positioning};
 use super::ramp::VelocityRamp;
 use super::window_time::{Held, HeldFrom};
 
@@ -68,6 +72,124 @@ pub enum HaltOption {
     MaximumDeceleration,
 }
 
+/// Statusword bit 12 in pp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Acknowledge {
+    /// 1 while a positioning is being executed, 0 once it has completed (Mitsubishi's wording,
+    /// MR-J4-TM manual §4.7 bit 12): the simulated EtherCAT drives.
+    Executing,
+    /// Follows controlword bit 4 (the CiA 402 handshake): the MR-JE-C, whose manual does not
+    /// state the bit (spec extract mr-je-c.md §7.4 "[EXT: CiA 402; not stated in manual]").
+    NewSetPointBit,
+}
+
+/// What a new set-point does while one is being executed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SetPointChange {
+    /// Bit 5 = 1 replaces the move at once, = 0 queues one set-point behind it (MR-J4-TM
+    /// manual §4.7 "Behaviour", bit 12 "the set-point may be overwritten").
+    ByBit5,
+    /// Every new set-point replaces the running one, bit 5 unread: the MR-JE-C (manual §7.3
+    /// 60F2h bits 3/2 = 00 "immediately reflects new Target position"; a queue is not described).
+    Immediate,
+}
+
+/// Controlword bit 6 (relative) in pp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RelativeBit {
+    /// Bit 6 = 1 adds 607Ah to the previous target (CiA 402 [background], MR-J4-TM §4.7).
+    Read,
+    /// Every 607Ah is absolute: the MR-JE-C emulator (manual §7.3 60F2h bits 1/0 give the
+    /// relative option; not modelled, an emulator choice).
+    Ignored,
+}
+
+/// 607Dh software position limits in pp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PositionLimits {
+    /// A set-point beyond a limit is clamped to it, bit 11 on there (MR-J4-TM manual §5.4.6).
+    Clamp,
+    /// Not applied: the MR-JE-C emulator (manual §7.6.5 describes 607Dh; not modelled).
+    Ignored,
+}
+
+/// The reference 607Ah is given in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TargetFrame {
+    /// 6064h's reference, moved into the generator's by [`PpFeedback::actual`] and
+    /// [`PpFeedback::position`]: the simulated EtherCAT drives (plant counts, homing shift).
+    ActualPosition,
+    /// The generator's own units: the MR-JE-C, whose command and 6064h are both pos units
+    /// (manual §7.6.7).
+    Command,
+}
+
+/// Statusword bit 10 in pp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TargetReachedRule {
+    /// HALT = 0: the profile has ended and |motor − accepted set-point| has stayed within 6067h
+    /// for 6068h (timed here); HALT = 1: generator and motor velocity 0, untimed (MR-J4-TM
+    /// manual §4.7 bit 10): the simulated EtherCAT drives.
+    SetPointWindow,
+    /// The MR-JE-C (manual §7.3 6067h "droop pulses below 6067h for 6068h"): HALT = 0, the
+    /// set-point has arrived and |6064h − 607Ah in force| ≤ 6067h; HALT = 1, nothing more; both
+    /// need the command stood (S-pattern drained) and |droop| ≤ 6067h. The caller times 6068h.
+    CommandAndDroop,
+}
+
+/// Where a model's pp differs from another's, chosen by each model: [`PpModel::ETHERCAT`]
+/// (MR-J4-TM manual §5.4.6, §4.7) and [`PpModel::MR_JE_C`] (MR-JE-C manual §7.3, §7.6).
+///
+/// The rest is data the caller passes: step lengths (the MR-JE-C steps once per S-pattern
+/// sample, its position loop between), the speed cap, the HALT deceleration and the torque gate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PpModel {
+    /// Bit 12.
+    pub acknowledge: Acknowledge,
+    /// Bit 5.
+    pub set_point_change: SetPointChange,
+    /// Bit 6.
+    pub relative: RelativeBit,
+    /// 607Dh.
+    pub position_limits: PositionLimits,
+    /// The reference of 607Ah.
+    pub target_frame: TargetFrame,
+    /// The braking curve onto the target ([`Braking`]).
+    pub braking: Braking,
+    /// Bit 10.
+    pub target_reached: TargetReachedRule,
+}
+
+impl PpModel {
+    /// The simulated EtherCAT drives (MR-J4-TM manual §5.4.6, §4.7; MR-JET, MR-J5 as CiA 402).
+    pub const ETHERCAT: PpModel = PpModel {
+        acknowledge: Acknowledge::Executing,
+        set_point_change: SetPointChange::ByBit5,
+        relative: RelativeBit::Read,
+        position_limits: PositionLimits::Clamp,
+        target_frame: TargetFrame::ActualPosition,
+        braking: Braking::AfterStep,
+        target_reached: TargetReachedRule::SetPointWindow,
+    };
+
+    /// The emulated MR-JE-C (MR-JE-C manual §7.3 6067h/60F2h, §7.6.5, §7.6.7).
+    pub const MR_JE_C: PpModel = PpModel {
+        acknowledge: Acknowledge::NewSetPointBit,
+        set_point_change: SetPointChange::Immediate,
+        relative: RelativeBit::Ignored,
+        position_limits: PositionLimits::Ignored,
+        target_frame: TargetFrame::Command,
+        braking: Braking::Continuous,
+        target_reached: TargetReachedRule::CommandAndDroop,
+    };
+}
+
+impl Default for PpModel {
+    fn default() -> Self {
+        PpModel::ETHERCAT
+    }
+}
+
 /// pp parameters where the manual gives no value (each used only if the object is neither
 /// mapped, written by SDO nor given a default by the profile).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,6 +208,8 @@ pub struct PpParams {
     pub time_constant_speed: Option<f64>,
     /// 605Dh Halt option.
     pub halt: HaltOption,
+    /// The pp behaviour of the model, default [`PpModel::ETHERCAT`].
+    pub model: PpModel,
 }
 
 impl Default for PpParams {
@@ -96,6 +220,7 @@ impl Default for PpParams {
             profile_velocity: 10_000,
             time_constant_speed: None,
             halt: HaltOption::default(),
+            model: PpModel::ETHERCAT,
         }
     }
 }
@@ -104,19 +229,21 @@ impl Default for PpParams {
 /// [`PpParams`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct PpCommand {
+    /// The model's behaviour.
+    pub model: PpModel,
     /// 6040h.
     pub controlword: u16,
     /// 607Ah as received.
     pub target: i32,
-    /// Profile velocity (6081h capped by 607Fh and the plant), counts/s, > 0.
+    /// Profile velocity (6081h after the model's caps), units/s, > 0.
     pub velocity: f64,
-    /// From 6083h, counts/s².
-    pub acceleration: f64,
-    /// From 6084h, counts/s².
-    pub deceleration: f64,
-    /// HALT deceleration, counts/s².
-    pub halt_deceleration: f64,
-    /// 6067h, counts.
+    /// From 6083h, units/s² (`None`: a step, the MR-JE-C's 0 ms).
+    pub acceleration: Option<f64>,
+    /// From 6084h, units/s² (`None`: a step).
+    pub deceleration: Option<f64>,
+    /// HALT deceleration, units/s² (605Dh on the EtherCAT drives, 6084h on the MR-JE-C).
+    pub halt_deceleration: Option<f64>,
+    /// 6067h, units.
     pub window: u32,
     /// 6068h, s.
     pub window_time_s: f64,
@@ -131,30 +258,38 @@ pub(crate) struct PpCommand {
 pub(crate) struct PpFeedback {
     /// 6064h before the cycle.
     pub actual: i32,
-    /// Motor position, plant counts, before the cycle.
+    /// Motor position, the generator's units, before the cycle.
     pub position: f64,
-    /// Motor velocity, counts/s.
+    /// Motor velocity, units/s.
     pub velocity: f64,
+    /// Command − motor position (read by [`TargetReachedRule::CommandAndDroop`]).
+    pub droop: f64,
+    /// The command has stood still, any filter drained ([`TargetReachedRule::CommandAndDroop`]).
+    pub command_standing: bool,
 }
 
 /// The pp state of one axis.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(crate) struct ProfilePosition {
-    /// Generator position (the position demand), plant counts.
+    /// Generator position (the position demand) of [`ProfilePosition::step`], units.
     pos: f64,
-    /// Generator velocity, counts/s.
+    /// Generator velocity of [`ProfilePosition::step`], units/s.
     vel: f64,
-    /// The set-point being processed, plant counts.
+    /// The set-point being processed, units.
     target: f64,
+    /// The generator is being moved onto `target` (cleared when it arrives or is cancelled).
+    running: bool,
     /// A queued set-point (bit 5 = 0 during a move).
     pending: Option<f64>,
-    /// Positioning being executed (statusword bit 12).
+    /// Positioning being executed ([`Acknowledge::Executing`]).
     executing: bool,
-    /// Bit 10.
+    /// Controlword bit 4 as last written ([`Acknowledge::NewSetPointBit`]).
+    bit4: bool,
+    /// Bit 10 ([`TargetReachedRule::SetPointWindow`]).
     reached: bool,
     /// Time |actual − target| has stayed within the window at the end of the profile.
     in_window: Held,
-    /// Controlword of the previous cycle (edge detection of bit 4).
+    /// Controlword of the previous cycle (edge detection of bit 4 in [`ProfilePosition::step`]).
     prev_cw: u16,
     /// Latched relative-in-degree warning.
     warning: Option<u16>,
@@ -175,60 +310,88 @@ impl ProfilePosition {
         };
     }
 
+    /// Forgets the set-point (and a queued one): the generator then stops at 6084h (MR-JE-C
+    /// servo off, homing start).
+    pub(crate) fn cancel(&mut self) {
+        self.running = false;
+        self.pending = None;
+        self.executing = false;
+    }
+
+    /// pp is left (MR-JE-C 6061h change): [`ProfilePosition::cancel`] and bit 12 off.
+    pub(crate) fn leave(&mut self) {
+        self.cancel();
+        self.bit4 = false;
+    }
+
     /// The latched warning, if any.
     pub(crate) fn warning(&self) -> Option<u16> {
         self.warning
     }
 
-    /// Statusword bits 10, 11 and 12.
-    pub(crate) fn status_bits(&self) -> u16 {
+    /// Statusword bit 12 as `model` answers it.
+    pub(crate) fn acknowledged(&self, model: &PpModel) -> bool {
+        match model.acknowledge {
+            Acknowledge::Executing => self.executing,
+            Acknowledge::NewSetPointBit => self.bit4,
+        }
+    }
+
+    /// Statusword bits 10, 11 and 12 as of the last [`ProfilePosition::step`].
+    pub(crate) fn status_bits(&self, model: &PpModel) -> u16 {
         (if self.reached { TARGET_REACHED } else { 0 })
             | (if self.limited && self.pos == self.target {
                 INTERNAL_LIMIT_ACTIVE
             } else {
                 0
             })
-            | (if self.executing {
+            | (if self.acknowledged(model) {
                 SET_POINT_ACKNOWLEDGE
             } else {
                 0
             })
     }
 
-    /// The generator velocity (counts/s), for the velocity feed-forward.
+    /// The generator velocity (units/s), for the velocity feed-forward.
     pub(crate) fn velocity(&self) -> f64 {
         self.vel
     }
 
-    /// One cycle of `dt` s: takes a new set-point on the bit 4 edge, advances the profile and
-    /// updates bits 10/12. Returns the position demand (plant counts).
+    /// Whether the generator standing at `position` stays there this step.
+    pub(crate) fn holds(&self, position: f64, halt: bool) -> bool {
+        halt || !self.running || self.target == position
+    }
+
+    /// One cycle of `dt` s on the generator of this state: takes a new set-point on the bit 4
+    /// edge, advances the profile and updates bits 10/12. Returns the position demand.
     pub(crate) fn step(&mut self, cmd: &PpCommand, fb: PpFeedback, dt: f64) -> f64 {
-        let cw = cmd.controlword;
-        let edge = cw & NEW_SET_POINT != 0 && self.prev_cw & NEW_SET_POINT == 0;
-        self.prev_cw = cw;
-        if edge {
-            self.new_set_point(cmd, fb);
-        }
-        let halt = cw & HALT != 0;
+        let prev = std::mem::replace(&mut self.prev_cw, cmd.controlword);
+        self.controlword(cmd, prev, fb);
         if dt > 0.0 && dt.is_finite() {
-            if halt {
-                self.decelerate(cmd.halt_deceleration, dt);
-            } else {
-                self.advance(cmd, dt);
-            }
+            let mut g = Generator {
+                position: self.pos,
+                velocity: self.vel,
+            };
+            self.advance(&mut g, cmd, NoTorque::default(), dt);
+            self.pos = g.position;
+            self.vel = g.velocity;
         }
-        let at_target = self.pos == self.target && self.vel == 0.0;
-        if at_target && !halt {
-            if let Some(next) = self.pending.take() {
-                self.start(next);
-            }
-        }
-        self.update_reached(cmd, fb, halt, dt);
+        self.update_reached(cmd, fb, dt);
         self.pos
     }
 
+    /// A controlword `cmd.controlword` after `prev`: a new set-point on the bit 4 edge.
+    pub(crate) fn controlword(&mut self, cmd: &PpCommand, prev: u16, fb: PpFeedback) {
+        let cw = cmd.controlword;
+        self.bit4 = cw & NEW_SET_POINT != 0;
+        if self.bit4 && prev & NEW_SET_POINT == 0 {
+            self.new_set_point(cmd, fb);
+        }
+    }
+
     fn new_set_point(&mut self, cmd: &PpCommand, fb: PpFeedback) {
-        let relative = cmd.controlword & RELATIVE != 0;
+        let model = cmd.model;
+        let relative = model.relative == RelativeBit::Read && cmd.controlword & RELATIVE != 0;
         if relative {
             if let Some(code) = cmd.relative_refused {
                 self.warning = Some(code);
@@ -236,24 +399,32 @@ impl ProfilePosition {
             }
         }
         self.warning = None;
-        let target = if relative {
+        let target = match model.target_frame {
             // Relative to the previous target (the last queued one when a move is pending).
-            self.pending.unwrap_or(self.target) + f64::from(cmd.target)
-        } else {
+            _ if relative => self.pending.unwrap_or(self.target) + f64::from(cmd.target),
             // 607Ah in 6064h's reference, moved into the plant's (wrapping like the wire values).
-            fb.position + f64::from(cmd.target.wrapping_sub(fb.actual))
+            TargetFrame::ActualPosition => {
+                fb.position + f64::from(cmd.target.wrapping_sub(fb.actual))
+            }
+            TargetFrame::Command => f64::from(cmd.target),
         };
-        let (target, limited) = match cmd.limits {
-            Some((min, max)) => {
+        let (target, limited) = match (model.position_limits, cmd.limits) {
+            (PositionLimits::Clamp, Some((min, max))) => {
                 let lo = fb.position + f64::from(min.wrapping_sub(fb.actual));
                 let hi = fb.position + f64::from(max.wrapping_sub(fb.actual));
                 let clamped = target.clamp(lo, hi);
                 (clamped, clamped != target)
             }
-            None => (target, false),
+            _ => (target, false),
         };
         self.limited = limited;
-        if cmd.controlword & CHANGE_SET_IMMEDIATELY != 0 || !self.executing {
+        let at_once = match model.set_point_change {
+            SetPointChange::ByBit5 => {
+                cmd.controlword & CHANGE_SET_IMMEDIATELY != 0 || !self.executing
+            }
+            SetPointChange::Immediate => true,
+        };
+        if at_once {
             self.pending = None;
             self.start(target);
         } else {
@@ -263,53 +434,75 @@ impl ProfilePosition {
 
     fn start(&mut self, target: f64) {
         self.target = target;
+        self.running = true;
         self.executing = true;
         self.reached = false;
         self.in_window.clear();
     }
 
-    /// The generator as the shared trapezoid sees it.
-    fn generator(&self) -> Generator {
-        Generator {
-            position: self.pos,
-            velocity: self.vel,
+    /// One step of `dt` s of the generator `g` (the caller's trapezoid): HALT ramps it to 0 at
+    /// the halt deceleration, a set-point positions it ([`PpModel::braking`], gated by
+    /// `no_torque`), none stops it at 6084h. A queued set-point starts on arrival.
+    pub(crate) fn advance(
+        &mut self,
+        g: &mut Generator,
+        cmd: &PpCommand,
+        no_torque: NoTorque,
+        dt: f64,
+    ) -> Arrival {
+        let moving = Arrival {
+            arrived: false,
+            moving: dt,
+        };
+        let stop = |g: &mut Generator, rate: Option<f64>| {
+            g.run_at(0.0, &VelocityRamp::new(rate, rate), no_torque, dt);
+            moving
+        };
+        if cmd.controlword & HALT != 0 {
+            return stop(g, cmd.halt_deceleration);
         }
-    }
-
-    /// Takes the generator back after a step.
-    fn take(&mut self, g: Generator) {
-        self.pos = g.position;
-        self.vel = g.velocity;
-    }
-
-    /// HALT: ramp the generator velocity to 0 at `decel`.
-    fn decelerate(&mut self, decel: f64, dt: f64) {
-        let mut g = self.generator();
-        g.run_at(
-            0.0,
-            &VelocityRamp::symmetric(decel),
-            NoTorque::default(),
-            dt,
-        );
-        self.take(g);
-    }
-
-    /// A trapezoidal step toward the target: accelerate at 6083h up to 6081h, brake at 6084h so
-    /// as to stop on the target, and land on it exactly ([`Braking::AfterStep`]).
-    fn advance(&mut self, cmd: &PpCommand, dt: f64) {
+        if !self.running {
+            return stop(g, cmd.deceleration);
+        }
         let positioning = Positioning {
             target: self.target,
             speed: cmd.velocity,
-            ramp: VelocityRamp::new(Some(cmd.acceleration), Some(cmd.deceleration)),
-            braking: Braking::AfterStep,
+            ramp: VelocityRamp::new(cmd.acceleration, cmd.deceleration),
+            braking: cmd.model.braking,
         };
-        let mut g = self.generator();
-        g.position_to(&positioning, NoTorque::default(), dt);
-        self.take(g);
+        let step = g.position_to(&positioning, no_torque, dt);
+        if step.arrived {
+            self.running = false;
+            if let Some(next) = self.pending.take() {
+                self.start(next);
+            }
+        }
+        step
     }
 
-    fn update_reached(&mut self, cmd: &PpCommand, fb: PpFeedback, halt: bool, dt: f64) {
-        if halt {
+    /// Statusword bit 10 by the model's [`TargetReachedRule`]: as of the last
+    /// [`ProfilePosition::step`], or judged now from `fb` (untimed).
+    pub(crate) fn target_reached(&self, cmd: &PpCommand, fb: PpFeedback) -> bool {
+        match cmd.model.target_reached {
+            TargetReachedRule::SetPointWindow => self.reached,
+            TargetReachedRule::CommandAndDroop => {
+                let within =
+                    |x: f64| cmd.window == WINDOW_DISABLED || x.abs() <= f64::from(cmd.window);
+                let arrived = cmd.controlword & HALT != 0
+                    || (!self.running
+                        && self.pending.is_none()
+                        && within(fb.position - f64::from(cmd.target)));
+                arrived && fb.command_standing && within(fb.droop)
+            }
+        }
+    }
+
+    /// [`TargetReachedRule::SetPointWindow`] after a step of `dt` s.
+    fn update_reached(&mut self, cmd: &PpCommand, fb: PpFeedback, dt: f64) {
+        if cmd.model.target_reached != TargetReachedRule::SetPointWindow {
+            return;
+        }
+        if cmd.controlword & HALT != 0 {
             // "HALT = 1: 1 = axis velocity is 0" (606Ch, rounded counts/s).
             self.reached = self.vel == 0.0 && fb.velocity.abs() < 0.5;
             self.in_window.clear();
@@ -338,12 +531,13 @@ mod tests {
 
     fn cmd(cw: u16, target: i32) -> PpCommand {
         PpCommand {
+            model: PpModel::ETHERCAT,
             controlword: cw,
             target,
             velocity: 10_000.0,
-            acceleration: 100_000.0,
-            deceleration: 50_000.0,
-            halt_deceleration: 50_000.0,
+            acceleration: Some(100_000.0),
+            deceleration: Some(50_000.0),
+            halt_deceleration: Some(50_000.0),
             window: 100,
             window_time_s: 0.01,
             relative_refused: None,
@@ -362,6 +556,8 @@ mod tests {
                 actual: pp.pos.round() as i32,
                 position: pp.pos,
                 velocity: pp.vel,
+                droop: 0.0,
+                command_standing: pp.vel == 0.0,
             };
             pp.step(c, fb, dt);
             peak_v = peak_v.max(pp.velocity().abs());
@@ -411,5 +607,218 @@ mod tests {
         assert_eq!(pp.warning(), Some(0x0F48));
         assert_eq!(pp.pos, 0.0);
         assert!(!pp.executing);
+    }
+
+    /// `cmd` under `model`.
+    fn on(model: PpModel, c: PpCommand) -> PpCommand {
+        PpCommand { model, ..c }
+    }
+
+    /// The ideal plant's feedback (the motor at the demand, no droop).
+    fn ideal(pp: &ProfilePosition) -> PpFeedback {
+        PpFeedback {
+            actual: pp.pos.round() as i32,
+            position: pp.pos,
+            velocity: pp.vel,
+            droop: 0.0,
+            command_standing: pp.vel == 0.0,
+        }
+    }
+
+    const MODELS: [PpModel; 2] = [PpModel::ETHERCAT, PpModel::MR_JE_C];
+
+    #[test]
+    fn bit_12_means_executing_on_ethercat_and_follows_bit_4_on_the_mr_je_c() {
+        for model in MODELS {
+            let mut pp = ProfilePosition::default();
+            pp.reset(0.0, 0x0F);
+            run(&mut pp, &on(model, cmd(0x1F, 5_000)), 1);
+            assert!(pp.acknowledged(&model), "{model:?}: bit 4 on");
+            run(&mut pp, &on(model, cmd(0x0F, 5_000)), 10);
+            assert!(pp.pos > 0.0 && pp.pos < 5_000.0, "moving");
+            let ack = pp.acknowledged(&model);
+            match model.acknowledge {
+                Acknowledge::Executing => assert!(ack, "bit 4 off, still executing"),
+                Acknowledge::NewSetPointBit => assert!(!ack, "bit 4 off: bit 12 off"),
+            }
+        }
+        assert_eq!(
+            PpModel::ETHERCAT.acknowledge,
+            Acknowledge::Executing,
+            "MR-J4-TM manual §4.7"
+        );
+        assert_eq!(PpModel::MR_JE_C.acknowledge, Acknowledge::NewSetPointBit);
+    }
+
+    #[test]
+    fn a_set_point_with_bit_5_off_queues_on_ethercat_and_replaces_on_the_mr_je_c() {
+        for model in MODELS {
+            let mut pp = ProfilePosition::default();
+            pp.reset(0.0, 0x0F);
+            run(&mut pp, &on(model, cmd(0x1F, 5_000)), 100);
+            run(&mut pp, &on(model, cmd(0x0F, 5_000)), 1);
+            // A second set-point, bit 5 = 0, back to −5000.
+            run(&mut pp, &on(model, cmd(0x1F, -5_000)), 1);
+            let mut peak: f64 = 0.0;
+            for _ in 0..3_000 {
+                run(&mut pp, &on(model, cmd(0x1F, -5_000)), 1);
+                peak = peak.max(pp.pos);
+            }
+            assert_eq!(pp.pos, -5_000.0, "{model:?}");
+            match model.set_point_change {
+                SetPointChange::ByBit5 => assert_eq!(peak, 5_000.0, "queued behind 5000"),
+                SetPointChange::Immediate => assert!(peak < 5_000.0, "replaced: {peak}"),
+            }
+        }
+        assert_eq!(PpModel::MR_JE_C.set_point_change, SetPointChange::Immediate);
+    }
+
+    #[test]
+    fn bit_6_and_607dh_act_on_ethercat_and_not_on_the_mr_je_c() {
+        for model in MODELS {
+            let limited = PpCommand {
+                limits: Some((-500, 1_500)),
+                ..on(model, cmd(0x5F, 1_000))
+            };
+            let mut pp = ProfilePosition::default();
+            pp.reset(0.0, 0x0F);
+            run(&mut pp, &on(model, cmd(0x1F, 1_000)), 1_000);
+            run(&mut pp, &on(model, cmd(0x0F, 1_000)), 1);
+            // Relative +1000 (bit 6), limits −500…1500.
+            run(&mut pp, &limited, 1_000);
+            let want = match (model.relative, model.position_limits) {
+                (RelativeBit::Read, PositionLimits::Clamp) => 1_500.0,
+                (RelativeBit::Ignored, PositionLimits::Ignored) => 1_000.0,
+                other => panic!("{other:?}"),
+            };
+            assert_eq!(pp.pos, want, "{model:?}");
+            let ila = pp.status_bits(&model) & INTERNAL_LIMIT_ACTIVE != 0;
+            assert_eq!(ila, model.position_limits == PositionLimits::Clamp);
+        }
+    }
+
+    #[test]
+    fn target_is_moved_from_6064h_on_ethercat_and_taken_as_is_on_the_mr_je_c() {
+        for model in MODELS {
+            let mut pp = ProfilePosition::default();
+            pp.reset(0.0, 0x0F);
+            // 6064h reads 100 where the generator is at 0 (a homing shift).
+            let fb = PpFeedback {
+                actual: 100,
+                ..ideal(&pp)
+            };
+            pp.controlword(&on(model, cmd(0x1F, 1_000)), 0x0F, fb);
+            let want = match model.target_frame {
+                TargetFrame::ActualPosition => 900.0,
+                TargetFrame::Command => 1_000.0,
+            };
+            assert_eq!(pp.target, want, "{model:?}");
+        }
+    }
+
+    #[test]
+    fn braking_lands_on_the_target_after_the_step_or_continuously() {
+        let mut cycles = [0; 2];
+        for (k, model) in MODELS.into_iter().enumerate() {
+            let mut pp = ProfilePosition::default();
+            pp.reset(0.0, 0x0F);
+            let c = on(model, cmd(0x1F, 20_000));
+            while cycles[k] < 5_000 && !(cycles[k] > 0 && pp.pos == 20_000.0 && pp.vel == 0.0) {
+                run(&mut pp, &c, 1);
+                cycles[k] += 1;
+            }
+            assert_eq!(pp.pos, 20_000.0, "{model:?}");
+        }
+        // 10000 counts/s at 100000/s² and 50000/s²: 0.1 s up, 1.85 s at speed, 0.2 s down;
+        // the continuous curve lands where a step reaches the target, the other after it.
+        assert_eq!(cycles, [2_154, 2_136]);
+        assert_eq!(PpModel::ETHERCAT.braking, Braking::AfterStep);
+        assert_eq!(PpModel::MR_JE_C.braking, Braking::Continuous);
+    }
+
+    /// Cycles from the arrival of a move to 607Ah = 1000 until bit 10 (`c` after the edge).
+    fn reached_after_arrival(pp: &mut ProfilePosition, c: &PpCommand) -> u32 {
+        pp.reset(0.0, 0x0F);
+        run(
+            pp,
+            &PpCommand {
+                controlword: 0x1F,
+                ..*c
+            },
+            1,
+        );
+        while pp.pos != 1_000.0 {
+            run(pp, c, 1);
+        }
+        let mut k = 0;
+        while !pp.target_reached(c, ideal(pp)) {
+            run(pp, c, 1);
+            k += 1;
+        }
+        k
+    }
+
+    /// The MR-JE-C manual's 6067h and 6068h defaults (§7.3): 100 pos units, 10 ms.
+    #[test]
+    fn target_reached_by_the_set_point_window_or_by_command_and_droop() {
+        let c = cmd(0x0F, 1_000);
+        assert_eq!((c.window, c.window_time_s), (100, 0.010));
+        // EtherCAT: the accepted set-point, 6068h timed here over whole cycles (the arrival
+        // cycle is the first of the 10 ms).
+        let mut pp = ProfilePosition::default();
+        assert_eq!(reached_after_arrival(&mut pp, &c), 9);
+        run(&mut pp, &cmd(0x0F, 1_090), 1);
+        assert!(
+            pp.target_reached(&c, ideal(&pp)),
+            "607Ah changed without an edge"
+        );
+        // The MR-JE-C: judged now, against the 607Ah in force and the droop.
+        // (untimed: the drive times 6068h for pp, jg, pt and idx alike).
+        let m = on(PpModel::MR_JE_C, c);
+        let mut pp = ProfilePosition::default();
+        assert_eq!(reached_after_arrival(&mut pp, &m), 0);
+        let fb = ideal(&pp);
+        let target = |t: i32| PpCommand { target: t, ..m };
+        assert!(pp.target_reached(&target(1_100), fb), "|1000 − 1100| ≤ 100");
+        assert!(!pp.target_reached(&target(1_101), fb));
+        let droop = |d: f64| PpFeedback { droop: d, ..fb };
+        assert!(pp.target_reached(&m, droop(100.0)) && !pp.target_reached(&m, droop(101.0)));
+        let unfiltered = PpFeedback {
+            command_standing: false,
+            ..fb
+        };
+        assert!(!pp.target_reached(&m, unfiltered), "S-pattern not drained");
+        // HALT: standing with the droop within 6067h, wherever the target is.
+        let halted = PpCommand {
+            controlword: 0x10F,
+            ..target(5_000)
+        };
+        assert!(pp.target_reached(&halted, fb) && !pp.target_reached(&halted, droop(101.0)));
+        let disabled = PpCommand {
+            window: WINDOW_DISABLED,
+            ..target(5_000)
+        };
+        assert!(
+            pp.target_reached(&disabled, droop(1e6)),
+            "6067h = 4294967295"
+        );
+    }
+
+    #[test]
+    fn cancel_stops_at_6084h_and_leave_drops_bit_12() {
+        let m = on(PpModel::MR_JE_C, cmd(0x1F, 20_000));
+        let mut pp = ProfilePosition::default();
+        pp.reset(0.0, 0x0F);
+        run(&mut pp, &m, 500);
+        assert_eq!(pp.vel, 10_000.0);
+        pp.cancel();
+        assert!(pp.acknowledged(&m.model), "bit 4 still on");
+        let stop = run(&mut pp, &m, 1).0;
+        assert_eq!(stop, 10_000.0 - 50.0, "6084h: 50000/s² for 1 ms");
+        run(&mut pp, &m, 300);
+        assert_eq!(pp.vel, 0.0);
+        assert!(pp.pos < 20_000.0);
+        pp.leave();
+        assert!(!pp.acknowledged(&m.model));
     }
 }

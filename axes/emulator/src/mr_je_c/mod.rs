@@ -33,7 +33,8 @@ mod watchdog;
 use std::time::Duration;
 
 use crate::device::pds::{controlword_step, end_of_stop, ControlwordStep, FaultReaction};
-use crate::motion::window_time::{Held, HeldFrom, ThresholdTime};
+use crate::motion::profile_velocity::PvModel;
+use crate::motion::window_time::{Held, HeldFrom};
 use cellrt_cia402::controlword::Controlword;
 use cellrt_cia402::fsa::{FsaQuirks, FsaState};
 use cellrt_cia402::statusword::Statusword;
@@ -471,7 +472,7 @@ impl MrJeC {
     }
 
     /// The motor's raw bits 10 and 12 with the mode's window times (§7.3 6068h, 606Eh, 6070h;
-    /// "has elapsed": at least that long, 6070h "for longer than", [`ThresholdTime`]), and bit
+    /// "has elapsed": at least that long, 6070h "for longer than", [`PvModel::MR_JE_C`]), and bit
     /// 13 after the following error time-out 6066h in pp, jg, pt and idx. The times are the
     /// shared timer (`motion::window_time`), counted from when a condition was seen.
     fn timed(&self, raw: u16) -> u16 {
@@ -482,7 +483,7 @@ impl MrJeC {
             profile::PROFILE_VELOCITY => {
                 let zero = !self
                     .over_threshold
-                    .exceeds(secs(0x6070), ThresholdTime::LongerThan);
+                    .exceeds(secs(0x6070), PvModel::MR_JE_C.threshold_time);
                 let reached = self.target_window.at_least(secs(0x606E));
                 let bit10 = if raw & TARGET_REACHED != 0 && reached {
                     TARGET_REACHED

@@ -1,11 +1,12 @@
-//! The simulated MR-JE-C's motor (MR-JE-C manual §7.3, §7.6.2–§7.6.4): pp, pv and the shared
-//! integrator here, hm, jg, tq, pt and idx in their own modules (`homing`, `jog`, `torque`,
-//! `point_table`, `indexer`). pp takes 607Ah at a New set-point edge (Controlword bit 4) and answers
-//! Set-point acknowledge (Statusword bit 12) while bit 4 stays on; pv follows 60FFh. Speeds are
-//! limited by 6081h (pp) and 607Fh, acceleration and deceleration are time constants from 0 to
-//! the rated speed (6083h, 6084h; 0 steps at once), Halt (bit 8) decelerates with 6084h. A new
-//! set-point replaces the running one at once (the "change immediately" behaviour); the
-//! position unit is 6092h:1 feed per motor revolution.
+//! The simulated MR-JE-C's motor (MR-JE-C manual §7.3, §7.6.2–§7.6.4): the shared integrator
+//! here; pp and pv through the shared modules (`motion::profile_position` with
+//! [`PpModel::MR_JE_C`]: bit 12 follows bit 4, a new set-point replaces the running one;
+//! `motion::profile_velocity` with [`PvModel::MR_JE_C`]: the ramp runs through zero toward
+//! 60FFh); hm, jg, tq, pt and idx in their own modules (`homing`, `jog`, `torque`,
+//! `point_table`, `indexer`). Speeds are limited by 6081h (pp) and 607Fh, acceleration and
+//! deceleration are time constants from 0 to the rated speed (6083h, 6084h; 0 steps at once),
+//! Halt (bit 8) decelerates with 6084h (605Dh = 1, §7.6.3); the position unit is 6092h:1 feed
+//! per motor revolution.
 //!
 //! In the position control modes (pp, hm, jg, pt, idx) the command runs in three stages:
 //! 1. the trapezoid of the ramps above;
@@ -40,6 +41,8 @@ use super::profile::{
 };
 use super::torque::Torque;
 use crate::motion::generator::{Arrival, Braking, Generator, NoTorque, Positioning};
+use crate::motion::profile_position::{PpCommand, PpFeedback, PpModel, ProfilePosition, HALT};
+use crate::motion::profile_velocity::{ProfileVelocity, PvCommand, PvModel};
 use crate::motion::ramp::VelocityRamp;
 use crate::motion::s_pattern::{SPattern, MAX_MS, SAMPLE};
 use cellrt_cia402::controlword::Controlword;
@@ -64,6 +67,17 @@ enum Drive {
     QuickStop(i64),
 }
 
+/// What moves the trapezoid in a step.
+#[derive(Debug, Clone, Copy)]
+enum Mover {
+    /// A mode's (or the quick stop's) command.
+    Command(Command),
+    /// pp's set-point (`motion::profile_position`); `halted`: Controlword bit 8.
+    ProfilePosition { halted: bool },
+    /// pv's ramp (`motion::profile_velocity`); `halted`: Controlword bit 8.
+    ProfileVelocity { halted: bool },
+}
+
 /// The motor's state.
 #[derive(Debug, Clone, Default)]
 pub struct Motion {
@@ -75,10 +89,8 @@ pub struct Motion {
     s_pattern: SPattern,
     /// Filtered command − motor position, pos units (0 without a position loop).
     droop: f64,
-    /// The pp set-point being run.
-    set_point: Option<i64>,
-    /// Statusword bit 12 in pp.
-    acknowledged: bool,
+    /// pp: the shared set-point handshake ([`PpModel::MR_JE_C`]).
+    pp: ProfilePosition,
     /// hm.
     homing: Homing,
     /// jg.
@@ -139,17 +151,66 @@ impl Motion {
         &self.point_table
     }
 
+    /// pp's inputs from the objects of `p` with the controlword `cw` (only bit 8 outside a
+    /// controlword write): [`PpModel::MR_JE_C`], 6081h/6083h/6084h in pos units, Halt at 6084h.
+    fn pp_command(p: &Profile, cw: u16) -> PpCommand {
+        let deceleration = p.rate(p.deceleration_ms);
+        PpCommand {
+            model: PpModel::MR_JE_C,
+            controlword: cw,
+            target: p.target_position as i32,
+            velocity: p.units_per_s(p.profile_velocity).abs(),
+            acceleration: p.rate(p.acceleration_ms),
+            deceleration,
+            halt_deceleration: deceleration,
+            window: p.position_window.clamp(0, i64::from(u32::MAX)) as u32,
+            // 6068h is timed by the drive, as in jg, pt and idx.
+            window_time_s: 0.0,
+            relative_refused: None,
+            limits: None,
+        }
+    }
+
+    /// pv's inputs from the objects of `p`, `halted`: Controlword bit 8: [`PvModel::MR_JE_C`],
+    /// the ramp in pos units, bit 10 in 606Ch's 0.01 r/min; Halt at 6084h (§7.6.3).
+    fn pv_command(p: &Profile, halted: bool) -> PvCommand {
+        let deceleration = p.rate(p.deceleration_ms);
+        PvCommand {
+            model: PvModel::MR_JE_C,
+            halt: halted,
+            target: p.target_velocity as f64,
+            limited_target: p.units_per_s(p.target_velocity),
+            acceleration: p.rate(p.acceleration_ms),
+            deceleration,
+            halt_deceleration: deceleration,
+            window: p.velocity_window as f64,
+            // 606Eh, 606Fh and 6070h are timed by the drive (`MrJeC::timed`).
+            window_time_s: 0.0,
+            threshold: 0.0,
+            threshold_time_s: 0.0,
+        }
+    }
+
+    /// The motor as pp judges it: pos units, the filtered command's speed, the droop.
+    fn pp_feedback(&self) -> PpFeedback {
+        PpFeedback {
+            actual: self.position() as i32,
+            position: self.actual(),
+            velocity: self.s_pattern.velocity(self.position, self.velocity),
+            droop: self.droop,
+            command_standing: self.standing(),
+        }
+    }
+
     /// A controlword write in Operation enabled: bit 4 edges start what the mode starts
-    /// (pp 607Ah, hm the homing, jg the jog, pt the point table); pp's acknowledge follows bit 4.
+    /// (pp 607Ah, hm the homing, jg the jog, pt the point table).
     pub fn controlword(&mut self, cw: Controlword, prev: Controlword, p: &Profile) {
         let bit4 = cw.0 & NEW_SET_POINT != 0;
         let rising = bit4 && prev.0 & NEW_SET_POINT == 0;
         match p.mode {
             PROFILE_POSITION => {
-                if rising {
-                    self.set_point = Some(p.target_position);
-                }
-                self.acknowledged = bit4;
+                let fb = self.pp_feedback();
+                self.pp.controlword(&Self::pp_command(p, cw.0), prev.0, fb);
             }
             HOMING if rising && !cw.halt() => {
                 if let Some(home) = self.homing.start(p) {
@@ -158,7 +219,7 @@ impl Motion {
                     self.droop = 0.0;
                     self.s_pattern
                         .reset(self.s_pattern.len() as i64, self.position);
-                    self.set_point = None;
+                    self.pp.cancel();
                     self.point_table.homed();
                 }
             }
@@ -173,8 +234,7 @@ impl Motion {
 
     /// 6061h changed: what ran in the old mode ends (the motor decelerates in the new one).
     pub fn mode_changed(&mut self) {
-        self.set_point = None;
-        self.acknowledged = false;
+        self.pp.leave();
         self.jog = Jog::default();
         self.point_table.cancel();
     }
@@ -196,17 +256,19 @@ impl Motion {
     /// 6067h = 4294967295 ("the Position window is disabled") is taken as "every droop is
     /// within it": Target reached follows the completion alone (the manual gives no more).
     pub fn status_bits(&self, p: &Profile, halted: bool) -> u16 {
+        if p.mode == PROFILE_POSITION {
+            // The shared rule (`motion::profile_position`, TargetReachedRule::CommandAndDroop).
+            let c = Self::pp_command(p, if halted { HALT } else { 0 });
+            let reached = self.pp.target_reached(&c, self.pp_feedback());
+            let ack = self.pp.acknowledged(&c.model);
+            return (u16::from(reached) << 10) | (u16::from(ack) << 12);
+        }
         let standing = self.standing();
         let window = p.position_window as f64;
         let reached = match p.mode {
-            PROFILE_POSITION => {
-                self.set_point.is_none()
-                    && standing
-                    && (self.actual() - p.target_position as f64).abs() <= window
-            }
             PROFILE_VELOCITY => {
-                let want = if halted { 0 } else { p.target_velocity };
-                (self.velocity(p) - want).abs() <= p.velocity_window
+                // The shared rule (`motion::profile_velocity`, PvReachedRule::JudgedNow).
+                ProfileVelocity::reached_now(&Self::pv_command(p, halted), self.velocity(p) as f64)
             }
             HOMING => return self.homing.status_bits(standing),
             PROFILE_TORQUE => self.torque.reached(p, halted),
@@ -215,8 +277,7 @@ impl Motion {
             _ => standing,
         };
         let reached = (reached || (halted && standing)) && self.droop.abs() <= window;
-        let ack = p.mode == PROFILE_POSITION && self.acknowledged;
-        (u16::from(reached) << 10) | (u16::from(ack) << 12)
+        u16::from(reached) << 10
     }
 
     /// The servo is off (or the drive stopped): the motor stands where it is (dynamic brake),
@@ -224,7 +285,7 @@ impl Motion {
     pub fn stand(&mut self) {
         self.release();
         self.velocity = 0.0;
-        self.set_point = None;
+        self.pp.cancel();
         self.jog = Jog::default();
         self.torque.stand();
         self.point_table.cancel();
@@ -264,13 +325,13 @@ impl Motion {
         if !position_control(p.mode) {
             self.release();
             let secs = dt.as_secs_f64();
-            match self.command(p, drive) {
+            match self.mover(p, drive) {
                 None => {
                     self.velocity = self.torque.advance(secs, p, drive.halted(), self.velocity);
                     self.position += self.velocity * secs;
                 }
-                Some(command) => {
-                    if self.follow(command, secs, p).arrived {
+                Some(mover) => {
+                    if self.follow(mover, secs, p).arrived {
                         self.arrived(p);
                     }
                 }
@@ -284,10 +345,10 @@ impl Motion {
         let mut wrap = false;
         let mut left = dt;
         while !left.is_zero() {
-            let Some(command) = self.command(p, drive) else {
+            let Some(mover) = self.mover(p, drive) else {
                 return;
             };
-            let stays = self.standing() && command.holds(self.position);
+            let stays = self.standing() && self.holds(mover, p);
             let h = if self.s_pattern.len() == 0 || stays {
                 left
             } else {
@@ -295,7 +356,7 @@ impl Motion {
             };
             let before = self.s_pattern.output(self.position);
             let secs = h.as_secs_f64();
-            let step = self.follow(command, secs, p);
+            let step = self.follow(mover, secs, p);
             if step.arrived {
                 wrap |= self.arrived(p);
             }
@@ -336,15 +397,34 @@ impl Motion {
         self.droop = steady + (self.droop - steady) * (-kp * secs).exp();
     }
 
-    /// The command of `drive` in the mode of `p` (`None`: tq, which has no speed command).
+    /// What moves the trapezoid under `drive` in the mode of `p` (`None`: tq).
+    fn mover(&self, p: &Profile, drive: Drive) -> Option<Mover> {
+        match drive {
+            Drive::Mode { halted } if p.mode == PROFILE_POSITION => {
+                Some(Mover::ProfilePosition { halted })
+            }
+            Drive::Mode { halted } if p.mode == PROFILE_VELOCITY => {
+                Some(Mover::ProfileVelocity { halted })
+            }
+            _ => self.command(p, drive).map(Mover::Command),
+        }
+    }
+
+    /// Whether `mover` leaves a trapezoid standing at its position where it is.
+    fn holds(&self, mover: Mover, p: &Profile) -> bool {
+        match mover {
+            Mover::Command(c) => c.holds(self.position),
+            Mover::ProfilePosition { halted } => self.pp.holds(self.position, halted),
+            Mover::ProfileVelocity { halted } => halted || p.target_velocity == 0,
+        }
+    }
+
+    /// The command of `drive` in the mode of `p` (`None`: tq, which has no speed command; pp
+    /// and pv are [`Mover::ProfilePosition`], [`Mover::ProfileVelocity`] but for a quick stop).
     fn command(&self, p: &Profile, drive: Drive) -> Option<Command> {
         let halted = match drive {
             Drive::QuickStop(ms) => return Some(Command::stop(ms)),
             Drive::Mode { halted } => halted,
-        };
-        let profile_ramp = Ramp {
-            acceleration_ms: p.acceleration_ms,
-            deceleration_ms: p.deceleration_ms,
         };
         Some(match p.mode {
             PROFILE_TORQUE => return None,
@@ -352,19 +432,6 @@ impl Motion {
             JOG => self.jog.command(p, halted),
             POINT_TABLE => self.point_table.command(p, halted),
             INDEXER => self.point_table.command(p, false),
-            _ if halted => Command::stop(p.deceleration_ms),
-            PROFILE_POSITION => match self.set_point {
-                Some(target) => Command::Position {
-                    target,
-                    speed: p.units_per_s(p.profile_velocity).abs(),
-                    ramp: profile_ramp,
-                },
-                None => Command::stop(p.deceleration_ms),
-            },
-            PROFILE_VELOCITY => Command::Speed {
-                speed: p.units_per_s(p.target_velocity),
-                ramp: profile_ramp,
-            },
             _ => Command::stop(p.deceleration_ms),
         })
     }
@@ -373,7 +440,6 @@ impl Motion {
     /// goes back into one revolution.
     fn arrived(&mut self, p: &Profile) -> bool {
         match p.mode {
-            PROFILE_POSITION => self.set_point = None,
             POINT_TABLE => self.point_table.complete(),
             INDEXER => {
                 self.point_table.complete();
@@ -384,9 +450,9 @@ impl Motion {
         false
     }
 
-    /// One step of `command` of the trapezoid: the shared generator (`motion::generator`)
+    /// One step of `mover` of the trapezoid: the shared generator (`motion::generator`)
     /// with the MR-JE-C's [`Braking::Continuous`] curve and its 60E0h/60E1h gate.
-    fn follow(&mut self, command: Command, dt: f64, p: &Profile) -> Arrival {
+    fn follow(&mut self, mover: Mover, dt: f64, p: &Profile) -> Arrival {
         let mut g = Generator {
             position: self.position,
             velocity: self.velocity,
@@ -395,19 +461,30 @@ impl Motion {
             forward: p.positive_torque_limit <= 0,
             reverse: p.negative_torque_limit <= 0,
         };
-        let step = match command {
-            Command::Speed { speed, ramp } => {
+        let step = match mover {
+            Mover::ProfilePosition { halted } => {
+                let c = Self::pp_command(p, if halted { HALT } else { 0 });
+                self.pp.advance(&mut g, &c, no_torque, dt)
+            }
+            Mover::ProfileVelocity { halted } => {
+                ProfileVelocity::advance(&mut g, &Self::pv_command(p, halted), no_torque, dt);
+                Arrival {
+                    arrived: false,
+                    moving: dt,
+                }
+            }
+            Mover::Command(Command::Speed { speed, ramp }) => {
                 g.run_at(speed, &velocity_ramp(ramp, p), no_torque, dt);
                 Arrival {
                     arrived: false,
                     moving: dt,
                 }
             }
-            Command::Position {
+            Mover::Command(Command::Position {
                 target,
                 speed,
                 ramp,
-            } => {
+            }) => {
                 let positioning = Positioning {
                     target: target as f64,
                     speed,

@@ -357,7 +357,7 @@ impl SimDrive {
         }
         if oe && self.mode_display == ModeOfOperation::ProfilePosition {
             // pp bits 10 / 11 / 12 (MR-J4-TM manual §5.4.6).
-            sw.0 |= self.pp.status_bits();
+            sw.0 |= self.pp.status_bits(&self.params.pp.model);
         }
         if oe && self.mode_display == ModeOfOperation::ProfileVelocity {
             // pv bits 10 / 12 (MR-J4-TM manual §5.4.7); tq sends none (§5.4.8).

@@ -114,12 +114,13 @@ impl SimDrive {
             .pp_object(cmd, POSITION_WINDOW_TIME)
             .map_or(pp.position_window_time_ms, |v| v as u32);
         PpCommand {
+            model: pp.model,
             controlword: cmd.controlword.0,
             target: cmd.target_position,
             velocity,
-            acceleration: self.time_constant_rate(self.pp_object(cmd, PROFILE_ACCELERATION)),
-            deceleration,
-            halt_deceleration: self.halt_deceleration(deceleration),
+            acceleration: Some(self.time_constant_rate(self.pp_object(cmd, PROFILE_ACCELERATION))),
+            deceleration: Some(deceleration),
+            halt_deceleration: Some(self.halt_deceleration(deceleration)),
             window,
             window_time_s: f64::from(window_ms) / 1000.0,
             relative_refused: match self.params.position_unit {
@@ -138,6 +139,8 @@ impl SimDrive {
             actual: self.position_actual(),
             position: self.plant.position(),
             velocity: self.plant.velocity(),
+            droop: self.demand - self.plant.position(),
+            command_standing: self.pp.velocity() == 0.0,
         };
         self.demand = self.pp.step(&c, fb, dt);
         let ff = self.params.velocity_feedforward * self.pp.velocity();

@@ -5,7 +5,7 @@
 
 use super::SimDrive;
 use crate::motion::profile_torque::{HaltRelease, TqCommand};
-use crate::motion::profile_velocity::{PvCommand, ThresholdTime};
+use crate::motion::profile_velocity::PvCommand;
 use cellrt_cia402::pdo::objects::{
     PROFILE_ACCELERATION, PROFILE_DECELERATION, TARGET_TORQUE, TARGET_VELOCITY, TORQUE_SLOPE,
 };
@@ -57,18 +57,17 @@ impl SimDrive {
             self.pp_object(cmd, index).unwrap_or(i64::from(fallback)) as f64 / 1000.0
         };
         PvCommand {
+            model: pv.model,
             halt: cmd.controlword.halt(),
             target,
             limited_target: target.clamp(-cap, cap),
-            acceleration: self.time_constant_rate(self.pp_object(cmd, PROFILE_ACCELERATION)),
-            deceleration,
-            halt_deceleration: self.halt_deceleration(deceleration),
+            acceleration: Some(self.time_constant_rate(self.pp_object(cmd, PROFILE_ACCELERATION))),
+            deceleration: Some(deceleration),
+            halt_deceleration: Some(self.halt_deceleration(deceleration)),
             window: velocity(VELOCITY_WINDOW, pv.velocity_window),
             window_time_s: seconds(VELOCITY_WINDOW_TIME, pv.velocity_window_time_ms),
             threshold: velocity(VELOCITY_THRESHOLD, pv.velocity_threshold),
             threshold_time_s: seconds(VELOCITY_THRESHOLD_TIME, pv.velocity_threshold_time_ms),
-            // "for at least 6070h" (MR-J4-TM manual §5.4.7; MR-JET, MR-J5: CiA 402 [background]).
-            threshold_time: ThresholdTime::AtLeast,
         }
     }
 

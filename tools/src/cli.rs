@@ -51,6 +51,20 @@ pub enum Command {
     Param(crate::commands::param::ParamArgs),
     /// The alarm history of an axis' drive, or `--clear` it.
     Alarms(crate::commands::param::AlarmsArgs),
+    /// Print a shell completion script to stdout, e.g. `cellrt completions bash >
+    /// /etc/bash_completion.d/cellrt`.
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Print the man page (roff) to stdout, or with `--out DIR` write one page per command
+    /// (cellrt.1, cellrt-run.1, …) into DIR.
+    Man {
+        /// Folder for the pages (created).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
     /// Operator commands to a running cell.
     #[command(flatten)]
     Operate(crate::commands::operate::OperatorCommand),

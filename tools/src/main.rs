@@ -27,6 +27,8 @@ fn main() {
         cli::Command::Sdo(args) => commands::sdo::run(args, cli.target),
         cli::Command::Param(args) => commands::param::run(args, cli.target),
         cli::Command::Alarms(args) => commands::param::run_alarms(args, cli.target),
+        cli::Command::Completions { shell } => commands::docs::completions(shell),
+        cli::Command::Man { out } => commands::docs::man(out.as_deref()),
         cli::Command::Operate(c) => commands::operate::run(c, cli.target),
     };
     std::process::exit(code.code());

@@ -152,3 +152,69 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
     }
     Ok(())
 }
+
+/// A BRD of the ESC type register (0000h) from `source`: returns the reply's working counter
+/// and its source MAC, or `None` when nothing came back within 200 ms.
+fn broadcast_read(socket: &RawSocket, source: [u8; 6], index: u8) -> Option<(u16, [u8; 6])> {
+    use cellrt_ethercat::frame::{self, Command, FrameBuilder};
+    let mut buf = [0u8; 128];
+    let mut b = FrameBuilder::new(&mut buf, source);
+    let span = b.push(Command::Brd, index, 0, &[0; 2]).unwrap();
+    let len = b.finish();
+    socket.send(&buf[..len]).unwrap();
+    let deadline = std::time::Instant::now() + Duration::from_millis(200);
+    loop {
+        let left = deadline.saturating_duration_since(std::time::Instant::now());
+        let n = socket.recv(&mut buf, left).unwrap()?;
+        if n > span.wkc_offset + 1 && buf[span.header_offset + 1] == index {
+            let mac = buf[6..12].try_into().unwrap();
+            return Some((frame::wkc(&buf, &span), mac));
+        }
+    }
+}
+
+#[test]
+fn a_maindevice_is_served_whatever_its_source_mac() {
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } != 0 {
+        eprintln!("SKIPPED: the veth EtherCAT test needs root (CAP_NET_ADMIN, CAP_NET_RAW)");
+        return;
+    }
+    let Some(pair) = VethPair::create("crtveth1") else {
+        eprintln!("SKIPPED: cannot create a veth pair (is iproute2 installed?)");
+        return;
+    };
+    let ct = CycleTime::from_micros(1000).unwrap();
+    let mut segment = Segment::new(
+        (0..3)
+            .map(|_| SimDrive::new(profile(DriveModel::MrJ4TM), SimDriveParams::default(), ct))
+            .collect(),
+    );
+    let mut faults = FaultSchedule::new(Vec::new(), ct, 3).unwrap();
+    let socket = RawSocket::open(&pair.peer()).expect("emulator socket");
+    let stop = Arc::new(AtomicBool::new(false));
+    let stop2 = stop.clone();
+    let emulator = std::thread::spawn(move || {
+        wire::serve(&socket, &mut segment, &mut faults, &stop2).expect("serve")
+    });
+    let master = RawSocket::open(pair.name()).expect("master socket");
+    // A software MainDevice's locally administered address (SOEM-based tools send from such
+    // ones), and a universally administered one: both reach every ESC; the replies come back
+    // marked as an ESC marks them, and the master's socket never mistakes its own frame for one.
+    for (k, source) in [
+        [0xCA, 0xDE, 0xCA, 0xDE, 0xDE, 0xFF],
+        [0x00, 0x1B, 0x21, 1, 2, 3],
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let (wkc, mac) = broadcast_read(&master, source, 0x40 + k as u8)
+            .unwrap_or_else(|| panic!("no reply to a frame from {source:02X?}"));
+        assert_eq!(wkc, 3, "every station read the register");
+        assert_eq!(mac[0], source[0] | 0x02, "the reply's source is marked");
+        assert_eq!(mac[1..], source[1..]);
+    }
+    stop.store(true, Ordering::Release);
+    let stats = emulator.join().unwrap();
+    assert_eq!(stats.frames, 2, "{stats:?}");
+}

@@ -88,7 +88,8 @@ impl RawSocket {
         Ok(())
     }
 
-    /// Receives one frame into `buf` within `timeout`; `None` on timeout.
+    /// Receives one frame another station sent into `buf` within `timeout` (frames this host
+    /// sends are skipped); `None` on timeout.
     pub fn recv(&self, buf: &mut [u8], timeout: Duration) -> io::Result<Option<usize>> {
         let deadline = Instant::now() + timeout;
         loop {
@@ -113,12 +114,17 @@ impl RawSocket {
             if rc == 0 {
                 return Ok(None);
             }
+            let mut from: libc::sockaddr_ll = unsafe { std::mem::zeroed() };
+            let mut from_len = std::mem::size_of::<libc::sockaddr_ll>() as libc::socklen_t;
+            // SAFETY: buf and from are valid for the lengths given.
             let n = unsafe {
-                libc::recv(
+                libc::recvfrom(
                     self.fd.as_raw_fd(),
                     buf.as_mut_ptr().cast(),
                     buf.len(),
                     libc::MSG_DONTWAIT,
+                    (&mut from as *mut libc::sockaddr_ll).cast(),
+                    &mut from_len,
                 )
             };
             if n < 0 {
@@ -127,6 +133,12 @@ impl RawSocket {
                     continue;
                 }
                 return Err(e);
+            }
+            // This socket's own transmissions, seen on the way out, are told apart by the packet
+            // type, as a NIC's port tells what it sends from what it receives (not by a MAC
+            // address: a peer may use any).
+            if from.sll_pkttype == libc::PACKET_OUTGOING as u8 {
+                continue;
             }
             return Ok(Some(n as usize));
         }

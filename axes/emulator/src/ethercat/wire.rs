@@ -9,7 +9,6 @@ use std::time::Duration;
 use super::delay_line::{DelayLine, MAX_FRAME};
 use super::schedule::{FaultSchedule, FrameFate, InjectedCounts};
 use super::{Delivery, Segment};
-use cellrt_ethercat::frame::REPLY_SOURCE_MAC_BIT;
 use cellrt_ethercat::raw_socket::RawSocket;
 use cellrt_ethercat::register::AlState;
 
@@ -76,8 +75,9 @@ pub fn serve(
         let Some(n) = socket.recv(&mut buf, wait)? else {
             continue;
         };
-        // Our own replies, seen on the way out.
-        if n < 7 || buf[6] & REPLY_SOURCE_MAC_BIT != 0 {
+        // Frames from the MainDevice whatever their source MAC (the socket skips our own
+        // replies on the way out by their packet type, not by the MAC bit we set in them).
+        if n < 7 {
             continue;
         }
         let now = monotonic_ns();

@@ -121,10 +121,9 @@ impl Link for RawSocketLink {
             let left = deadline.saturating_duration_since(std::time::Instant::now());
             match self.socket.recv(buf, left)? {
                 None => return Err(LinkError::Timeout(self.timeout.as_micros() as u64)),
-                // Our own frame seen on the way out, or a stale reply: keep waiting.
-                Some(n)
-                    if n <= FIRST_INDEX_BYTE
-                        || buf[6] & crate::frame::REPLY_SOURCE_MAC_BIT == 0 => {}
+                // A runt or a stale reply: keep waiting (the socket skips our own frames on
+                // the way out, whatever MAC address the SubDevices leave in the reply).
+                Some(n) if n <= FIRST_INDEX_BYTE => {}
                 Some(_) if Some(buf[FIRST_INDEX_BYTE]) != index => {}
                 Some(n) => return Ok(n),
             }

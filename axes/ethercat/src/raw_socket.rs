@@ -137,7 +137,7 @@ impl RawSocket {
             // This socket's own transmissions, seen on the way out, are told apart by the packet
             // type, as a NIC's port tells what it sends from what it receives (not by a MAC
             // address: a peer may use any).
-            if from.sll_pkttype == libc::PACKET_OUTGOING as u8 {
+            if from.sll_pkttype == libc::PACKET_OUTGOING {
                 continue;
             }
             return Ok(Some(n as usize));

@@ -107,7 +107,6 @@ fn upload_segment(ctx: &mut CoeContext<'_>, cmd: u8, response: &mut [u8]) {
         *up = SegmentedUpload::default();
         let mut out = [0u8; 10];
         write_abort(&mut out, abort);
-        out[0..2].copy_from_slice(&(SERVICE_SDO_RESPONSE << 12).to_le_bytes());
         response[head..head + 10].copy_from_slice(&out);
         10
     } else {
@@ -597,15 +596,24 @@ pub fn serve(ctx: &mut CoeContext<'_>, request: &[u8], response: &mut [u8]) -> b
         }
     };
     let body_len = body_len.max(10);
-    out[0..2].copy_from_slice(&(SERVICE_SDO_RESPONSE << 12).to_le_bytes());
+    if out[2] != ABORT_COMMAND {
+        out[0..2].copy_from_slice(&(SERVICE_SDO_RESPONSE << 12).to_le_bytes());
+    }
     let head = MAILBOX_HEADER_LEN;
     response[head..head + 10].copy_from_slice(&out);
     finish_response(ctx, response, body_len);
     true
 }
 
+/// The command byte of Abort SDO Transfer (CiA 301: ccs/scs 4).
+const ABORT_COMMAND: u8 = 0x80;
+
+/// Writes Abort SDO Transfer with `abort` into `out` (the index and sub-index already there).
+/// ETG.1000.6 §5.6.2.7.1: the abort is an SDO *request* (CoE service 2) whichever side sends
+/// it, not an SDO response; SOEM reads a response's bytes 6..10 as a data length.
 fn write_abort(out: &mut [u8; 10], abort: SdoAbort) {
-    out[2] = 0x80;
+    out[0..2].copy_from_slice(&(SERVICE_SDO_REQUEST << 12).to_le_bytes());
+    out[2] = ABORT_COMMAND;
     out[6..10].copy_from_slice(&abort.0.to_le_bytes());
 }
 

@@ -279,3 +279,24 @@ fn a_variant_without_60f4h_refuses_to_map_it_and_a_read_only_cycle_time_its_writ
         Err(0x0601_0002)
     );
 }
+
+#[test]
+fn an_abort_is_framed_as_an_sdo_request_and_an_answer_as_a_response() {
+    // ETG.1000.6 §5.6.2.7.1: Abort SDO Transfer goes as CoE service 2 (SDO request); SOEM takes
+    // an abort framed as service 3 (SDO response) for data and fails (PacketError).
+    let mut s = Server::new(DriveModel::MrJ4TM);
+    let service = |rsp: &[u8]| u16::from_le_bytes([rsp[6], rsp[7]]) >> 12;
+    let abort = |rsp: &[u8]| u32::from_le_bytes([rsp[12], rsp[13], rsp[14], rsp[15]]);
+    let mut rsp = vec![0u8; 32];
+    assert!(serve(&mut s.ctx(), &request(0x40, 0x5FFF, 0), &mut rsp));
+    assert_eq!((service(&rsp), rsp[8]), (SERVICE_SDO_REQUEST, 0x80));
+    assert_eq!(abort(&rsp), 0x0602_0000, "no such object");
+    assert!(serve(&mut s.ctx(), &request(0x40, 0x1000, 0), &mut rsp));
+    assert_eq!((service(&rsp), rsp[8] & 0xE0), (SERVICE_SDO_RESPONSE, 0x40));
+    // The abort of a segmented upload out of step, too.
+    assert!(serve(&mut s.ctx(), &request(0x60, 0, 0), &mut rsp));
+    assert_eq!(
+        (service(&rsp), abort(&rsp)),
+        (SERVICE_SDO_REQUEST, 0x0504_0001)
+    );
+}

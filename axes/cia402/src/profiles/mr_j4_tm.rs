@@ -15,7 +15,7 @@ use crate::mode::ModeOfOperation as M;
 use crate::pdo::PdoMap;
 use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
-use DataType::{I16, I32, I8, U16, U32};
+use DataType::{I16, I32, I8, U16, U32, U8};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 
 /// Default RxPDO 1600h (csp/csv/cst/hm), 29 bytes, fields unaligned after the 1-byte 6060h
@@ -129,6 +129,23 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x609A, 0, "Homing acceleration", U32, Rw, No).default(0).unit(Unit::Millisecond).cite("§5.4.9: acceleration/deceleration time constant"),
     od(0x60FD, 0, "Digital inputs", U32, Ro, No).cite("§5.4.9: stroke-end state; bits as CiA 402 [background]"),
     od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).range(&[(250_000, 2_000_000)]).unit(Unit::Nanosecond).cite("§1.6: 250000/500000/1000000/2000000"),
+    od(0x1C32, 0, "Number of entries", U8, Ro, No).default(12).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C32, 1, "Synchronization type", U16, Rw, No).default(0).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C32, 3, "Shift time", U32, Rw, No).default(222_222).unit(Unit::Nanosecond).cite("§7.3 / §3.2 (SM output/input parameter); set automatically, any write aborts 0609 0030h"),
+    od(0x1C32, 4, "Synchronization types supported", U16, Ro, No).default(0x0025).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C32, 5, "Minimum cycle time", U32, Ro, No).default(250_000).unit(Unit::Nanosecond).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C32, 6, "Calc and copy time", U32, Ro, No).default(222_722).unit(Unit::Nanosecond).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C32, 9, "Delay time", U32, Ro, No).default(0).unit(Unit::Nanosecond).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C32, 12, "Cycle time too small", U16, Ro, No).default(0).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C33, 0, "Number of entries", U8, Ro, No).default(12).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C33, 1, "Synchronization type", U16, Rw, No).default(0).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C33, 3, "Shift time", U32, Rw, No).default(27_778).unit(Unit::Nanosecond).cite("§7.3 / §3.2 (SM output/input parameter); set automatically, any write aborts 0609 0030h"),
+    od(0x1C33, 4, "Synchronization types supported", U16, Ro, No).default(0x0025).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C33, 5, "Minimum cycle time", U32, Ro, No).default(250_000).unit(Unit::Nanosecond).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C33, 6, "Calc and copy time", U32, Ro, No).default(306_055).unit(Unit::Nanosecond).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C33, 9, "Delay time", U32, Ro, No).default(0).unit(Unit::Nanosecond).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C33, 12, "Cycle time too small", U16, Ro, No).default(0).cite("§7.3 / §3.2 (SM output/input parameter)"),
+    od(0x1C33, 2, "Cycle time", U32, Ro, No).unit(Unit::Nanosecond).cite("§7.3 / §3.2 (SM output/input parameter); follows 1C32h:02"),
     od(0x2D20, 0, "Velocity limit value", I32, Rw, PdoRx).default(50_000).unit(Unit::CentiRpm).cite("§5.2; default 50000 vs 5000 unresolved (§13 q7)"),
     od(0x2D23, 0, "Watch dog counter DL", DataType::Unstated, Access::Unstated, PdoRx).cite("§8.3: §6.2 MISSING (width, rule, alarm unknown)"),
     od(0x2D24, 0, "Watch dog counter UL", DataType::Unstated, Access::Unstated, PdoTx).cite("§8.3: §6.2 MISSING"),
@@ -257,8 +274,10 @@ pub const PROFILE: DriveProfile = DriveProfile {
         relative_degree_warning: Some(AL_F4_8),
     },
     sdo_write_refusals: &[
-        // §12 TV-10: the shift time 1C32h:03 is not settable (0609 0030h).
+        // §12 TV-10: the shift times 1C32h:03 / 1C33h:03 are not settable (0609 0030h; the
+        // extract's §7.3: "any write to 1C32h:3 or 1C33h:3").
         (0x1C32, 3, 0x0609_0030),
+        (0x1C33, 3, 0x0609_0030),
     ],
     homing: HomingSetup {
         // §4.10.1: the 39 methods of 60E3h (−3 data set, 35/37 current position).

@@ -13,7 +13,7 @@ use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
 use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
-use DataType::{I16, I32, I8, U16, U32};
+use DataType::{I16, I32, I8, U16, U32, U8};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 
 // The default 1st RxPDO 1600h / TxPDO 1A00h (24 bytes each, §4.3), the alarm
@@ -56,6 +56,21 @@ pub const ALARMS: &[AlarmInfo] = &[
 pub const OBJECTS: &[OdEntry] = &[
     od(0x10F1, 2, "Sync Error Counter Limit", DataType::Unstated, Access::Unstated, No).unit(Unit::Times).cite("§2.4: type, default and counting rule not stated"),
     od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).unit(Unit::Nanosecond).cite("§1.3: 125000…8000000 (W2/W3 from 250000), written in PreOp; unit: CiA 402 [background]"),
+    od(0x1C32, 0, "Number of entries", U8, Ro, No).default(12).cite("§4.2 (subs listed); the highest sub-index listed"),
+    od(0x1C32, 1, "Synchronization type", U16, Rw, No).default(0).cite("§4.2 (subs listed); DC or free run; 0 = free run until the master selects DC (ETG.1020 [background])"),
+    od(0x1C32, 4, "Synchronization types supported", U16, Ro, No).default(0x0005).cite("§4.2 (subs listed); free run and DC SYNC0 (ETG.1020 bits 0 and 2 [background])"),
+    od(0x1C32, 5, "Minimum cycle time", U32, Ro, No).default(125_000).unit(Unit::Nanosecond).cite("§4.2 (subs listed); §1.3: 0.125 ms (1-axis; W2/W3 from 0.25 ms)"),
+    od(0x1C32, 6, "Calc and copy time", U32, Ro, No).unit(Unit::Nanosecond).cite("§4.2 (subs listed); not stated"),
+    od(0x1C32, 9, "Delay time", U32, Ro, No).unit(Unit::Nanosecond).cite("§4.2 (subs listed); not stated"),
+    od(0x1C32, 12, "Cycle time too small", U16, Ro, No).default(0).cite("§4.2 (subs listed); a counter"),
+    od(0x1C33, 0, "Number of entries", U8, Ro, No).default(12).cite("§4.2 (subs listed); the highest sub-index listed"),
+    od(0x1C33, 1, "Synchronization type", U16, Rw, No).default(0).cite("§4.2 (subs listed); DC or free run; 0 = free run until the master selects DC (ETG.1020 [background])"),
+    od(0x1C33, 4, "Synchronization types supported", U16, Ro, No).default(0x0005).cite("§4.2 (subs listed); free run and DC SYNC0 (ETG.1020 bits 0 and 2 [background])"),
+    od(0x1C33, 5, "Minimum cycle time", U32, Ro, No).default(125_000).unit(Unit::Nanosecond).cite("§4.2 (subs listed); §1.3: 0.125 ms (1-axis; W2/W3 from 0.25 ms)"),
+    od(0x1C33, 6, "Calc and copy time", U32, Ro, No).unit(Unit::Nanosecond).cite("§4.2 (subs listed); not stated"),
+    od(0x1C33, 9, "Delay time", U32, Ro, No).unit(Unit::Nanosecond).cite("§4.2 (subs listed); not stated"),
+    od(0x1C33, 12, "Cycle time too small", U16, Ro, No).default(0).cite("§4.2 (subs listed); a counter"),
+    od(0x1C33, 2, "Cycle time", U32, Ro, No).unit(Unit::Nanosecond).cite("§4.2 (subs listed); follows 1C32h:02"),
     od(0x2D01, 0, "Control DI 1", U16, Rw, PdoRx).default(0).cite("§6"),
     od(0x2D20, 0, "Velocity limit value", DataType::Unstated, Access::Unstated, PdoRx).cite("§5.2: 4 bytes inferred from the map size"),
     od(0x6040, 0, "Controlword", U16, Rw, PdoRx).default(0).cite("§3.3"),

@@ -15,7 +15,7 @@ use crate::mode::ModeOfOperation as M;
 use crate::pdo::{PdoEntry, PdoMap};
 use crate::shared_slice::SharedSlice;
 use Access::{Ro, Rw};
-use DataType::{I16, I32, I8, U16, U32, U8};
+use DataType::{Bool, I16, I32, I8, U16, U32, U8};
 use Pdo::{No, Rx as PdoRx, Tx as PdoTx};
 
 /// Default 1st RxPDO 1600h, 24 bytes (MR-JET-G-N1 manual §4.3; sizes inferred from the total).
@@ -224,6 +224,27 @@ pub const STORE_RESTORE_OBJECTS: &[OdEntry] = &[
 pub const OBJECTS: &[OdEntry] = &[
     od(0x10F1, 2, "Sync Error Counter Limit", DataType::Unstated, Access::Unstated, No).unit(Unit::Times).cite("§2.4: type, default, counting rule not stated"),
     od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).range(&[(125_000, 8_000_000)]).unit(Unit::Nanosecond).cite("§1.3, §6; unit: CiA 402 [background]"),
+    od(0x1C32, 0, "Number of entries", U8, Ro, No).default(12).cite("§4.2 (subs listed); the highest sub-index listed"),
+    od(0x1C32, 1, "Synchronization type", U16, Rw, No).default(0).cite("§4.2 (subs listed); DC or free run; 0 = free run until the master selects DC (ETG.1020 [background])"),
+    od(0x1C32, 4, "Synchronization types supported", U16, Ro, No).default(0x0005).cite("§4.2 (subs listed); free run and DC SYNC0 (ETG.1020 bits 0 and 2 [background])"),
+    od(0x1C32, 5, "Minimum cycle time", U32, Ro, No).default(125_000).unit(Unit::Nanosecond).cite("§4.2 (subs listed); §1.3: 0.125 ms (0.125 ms)"),
+    od(0x1C32, 6, "Calc and copy time", U32, Ro, No).unit(Unit::Nanosecond).cite("§4.2 (subs listed); not stated"),
+    od(0x1C32, 9, "Delay time", U32, Ro, No).unit(Unit::Nanosecond).cite("§4.2 (subs listed); not stated"),
+    od(0x1C32, 11, "SM-Event Missed", U16, Ro, No).default(0).cite("§4.2 (subs listed); a counter"),
+    od(0x1C32, 12, "Cycle time too small", U16, Ro, No).default(0).cite("§4.2 (subs listed); a counter"),
+    od(0x1C32, 13, "Shift Time Too Short", U16, Ro, No).default(0).cite("§4.2 (subs listed); a counter"),
+    od(0x1C32, 32, "Sync Error", Bool, Ro, No).default(0).cite("§4.2 (subs listed)"),
+    od(0x1C33, 0, "Number of entries", U8, Ro, No).default(12).cite("§4.2 (subs listed); the highest sub-index listed"),
+    od(0x1C33, 1, "Synchronization type", U16, Rw, No).default(0).cite("§4.2 (subs listed); DC or free run; 0 = free run until the master selects DC (ETG.1020 [background])"),
+    od(0x1C33, 4, "Synchronization types supported", U16, Ro, No).default(0x0005).cite("§4.2 (subs listed); free run and DC SYNC0 (ETG.1020 bits 0 and 2 [background])"),
+    od(0x1C33, 5, "Minimum cycle time", U32, Ro, No).default(125_000).unit(Unit::Nanosecond).cite("§4.2 (subs listed); §1.3: 0.125 ms (0.125 ms)"),
+    od(0x1C33, 6, "Calc and copy time", U32, Ro, No).unit(Unit::Nanosecond).cite("§4.2 (subs listed); not stated"),
+    od(0x1C33, 9, "Delay time", U32, Ro, No).unit(Unit::Nanosecond).cite("§4.2 (subs listed); not stated"),
+    od(0x1C33, 11, "SM-Event Missed", U16, Ro, No).default(0).cite("§4.2 (subs listed); a counter"),
+    od(0x1C33, 12, "Cycle time too small", U16, Ro, No).default(0).cite("§4.2 (subs listed); a counter"),
+    od(0x1C33, 13, "Shift Time Too Short", U16, Ro, No).default(0).cite("§4.2 (subs listed); a counter"),
+    od(0x1C33, 32, "Sync Error", Bool, Ro, No).default(0).cite("§4.2 (subs listed)"),
+    od(0x1C33, 2, "Cycle time", U32, Ro, No).unit(Unit::Nanosecond).cite("§4.2 (subs listed); follows 1C32h:02"),
     od(0x2D01, 0, "Control DI 1", U16, Rw, PdoRx).default(0).cite("§6"),
     od(0x2D20, 0, "Velocity limit value", DataType::Unstated, Access::Unstated, PdoRx).cite("§6: 4 bytes inferred"),
     od(0x6040, 0, "Controlword", U16, Rw, PdoRx).default(0).cite("§3.3"),

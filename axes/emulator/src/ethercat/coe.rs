@@ -34,6 +34,23 @@ const ABORT_UNSUPPORTED: SdoAbort = SdoAbort::UNSUPPORTED_ACCESS;
 
 /// 1C32h SM2 synchronisation; sub 2 the cycle time.
 const SM2_SYNC: u16 = 0x1C32;
+/// 1009h Manufacturer hardware version (CiA 301, VISIBLE_STRING).
+const HARDWARE_VERSION: u16 = 0x1009;
+/// 100Ah Manufacturer software version (CiA 301; MR-J3-T04 manual §8.3.2 lists it).
+const SOFTWARE_VERSION: u16 = 0x100A;
+/// What the emulator answers for 1009h: no manual gives a drive's value, so it names itself.
+pub const EMULATED_HARDWARE_VERSION: &str = "cellrt emulated";
+/// What the emulator answers for 100Ah: cellrt's version, not a drive firmware's (the manuals
+/// give none).
+pub fn emulated_software_version() -> String {
+    format!("cellrt {}", env!("CARGO_PKG_VERSION"))
+}
+/// 1C00h Sync manager communication type (ETG.1000.6 §5.6.7.4.9; MR-J3-T04 manual §8.3.2 lists
+/// it, and SOEM reads it to map the PDOs).
+const SM_COMMUNICATION_TYPE: u16 = 0x1C00;
+/// 1C00h:01–04, the emulated ESC's four sync managers: mailbox out (1), mailbox in (2), process
+/// data outputs (3), process data inputs (4) (ETG.1000.6 Table 67).
+pub const SM_COMMUNICATION_TYPES: [u8; 4] = [1, 2, 3, 4];
 /// 1C33h SM3 synchronisation; sub 2 follows 1C32h:02.
 const SM3_SYNC: u16 = 0x1C33;
 
@@ -333,6 +350,16 @@ pub(super) fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Va
         (0x1018, 3) => return Ok(u32v(ctx.identity.revision)),
         (0x1018, 4) => return Ok(u32v(ctx.identity.serial)),
         (0x1018, _) => return Err(SdoAbort::NO_SUBINDEX),
+        (HARDWARE_VERSION, 0) => return Ok(EMULATED_HARDWARE_VERSION.as_bytes().to_vec()),
+        (SOFTWARE_VERSION, 0) => return Ok(emulated_software_version().into_bytes()),
+        (HARDWARE_VERSION | SOFTWARE_VERSION, _) => return Err(SdoAbort::NO_SUBINDEX),
+        (SM_COMMUNICATION_TYPE, 0) => return Ok(u8v(SM_COMMUNICATION_TYPES.len() as u8)),
+        (SM_COMMUNICATION_TYPE, s) => {
+            return SM_COMMUNICATION_TYPES
+                .get(usize::from(s) - 1)
+                .map(|&t| u8v(t))
+                .ok_or(SdoAbort::NO_SUBINDEX)
+        }
         (0x1C12 | 0x1C13, s) => {
             let i = usize::from(index == 0x1C13);
             return match s {
@@ -396,7 +423,9 @@ pub(super) fn download(
         return Err(abort);
     }
     match index {
-        0x1000 | 0x1008 | 0x1018 => return Err(SdoAbort::READ_ONLY),
+        0x1000 | 0x1008 | HARDWARE_VERSION | SOFTWARE_VERSION | 0x1018 | SM_COMMUNICATION_TYPE => {
+            return Err(SdoAbort::READ_ONLY)
+        }
         0x1C12 | 0x1C13 => {
             let rules = ctx.pdo.rules;
             let i = usize::from(index == 0x1C13);

@@ -224,7 +224,7 @@ pub const STORE_RESTORE_OBJECTS: &[OdEntry] = &[
 pub const OBJECTS: &[OdEntry] = &[
     od(0x10F1, 2, "Sync Error Counter Limit", DataType::Unstated, Access::Unstated, No).unit(Unit::Times).cite("§2.4: type, default, counting rule not stated"),
     od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).range(&[(125_000, 8_000_000)]).unit(Unit::Nanosecond).cite("§1.3, §6; unit: CiA 402 [background]"),
-    od(0x1C32, 0, "Number of entries", U8, Ro, No).default(12).cite("§4.2 (subs listed); the highest sub-index listed"),
+    od(0x1C32, 0, "SM output parameter", U8, Ro, No).default(12).cite("§4.2 (subs listed); the highest sub-index listed"),
     od(0x1C32, 1, "Synchronization type", U16, Rw, No).default(0).cite("§4.2 (subs listed); DC or free run; 0 = free run until the master selects DC (ETG.1020 [background])"),
     od(0x1C32, 4, "Synchronization types supported", U16, Ro, No).default(0x0005).cite("§4.2 (subs listed); free run and DC SYNC0 (ETG.1020 bits 0 and 2 [background])"),
     od(0x1C32, 5, "Minimum cycle time", U32, Ro, No).default(125_000).unit(Unit::Nanosecond).cite("§4.2 (subs listed); §1.3: 0.125 ms (0.125 ms)"),
@@ -234,7 +234,7 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x1C32, 12, "Cycle time too small", U16, Ro, No).default(0).cite("§4.2 (subs listed); a counter"),
     od(0x1C32, 13, "Shift Time Too Short", U16, Ro, No).default(0).cite("§4.2 (subs listed); a counter"),
     od(0x1C32, 32, "Sync Error", Bool, Ro, No).default(0).cite("§4.2 (subs listed)"),
-    od(0x1C33, 0, "Number of entries", U8, Ro, No).default(12).cite("§4.2 (subs listed); the highest sub-index listed"),
+    od(0x1C33, 0, "SM input parameter", U8, Ro, No).default(12).cite("§4.2 (subs listed); the highest sub-index listed"),
     od(0x1C33, 1, "Synchronization type", U16, Rw, No).default(0).cite("§4.2 (subs listed); DC or free run; 0 = free run until the master selects DC (ETG.1020 [background])"),
     od(0x1C33, 4, "Synchronization types supported", U16, Ro, No).default(0x0005).cite("§4.2 (subs listed); free run and DC SYNC0 (ETG.1020 bits 0 and 2 [background])"),
     od(0x1C33, 5, "Minimum cycle time", U32, Ro, No).default(125_000).unit(Unit::Nanosecond).cite("§4.2 (subs listed); §1.3: 0.125 ms (0.125 ms)"),

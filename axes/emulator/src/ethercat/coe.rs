@@ -455,7 +455,8 @@ pub(super) fn download(
                 _ => Ok(()),
             };
         }
-        SM3_SYNC => return Err(SdoAbort::READ_ONLY),
+        // 1C33h:02 follows 1C32h:02 (read-only on every model); the other subs as the profile says.
+        SM3_SYNC if sub == 2 => return Err(SdoAbort::READ_ONLY),
         SM2_SYNC if sub == 2 => {
             // MR-J3-T04 TV-IC-5 (docs/test-vectors.md): written only in PRE-OP, and (MR-J3-T04) never once the
             // drive has reached SAFE-OP; the others: only in PRE-OP (§2.1 of each extract).

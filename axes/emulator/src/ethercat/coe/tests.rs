@@ -300,3 +300,34 @@ fn an_abort_is_framed_as_an_sdo_request_and_an_answer_as_a_response() {
         (SERVICE_SDO_REQUEST, 0x0504_0001)
     );
 }
+
+#[test]
+fn the_objects_the_manuals_list_are_served() {
+    // 1C00h (ETG.1000.6; MR-J3-T04 manual §8.3.2): four sync managers, mailbox out/in, outputs,
+    // inputs; read-only.
+    let mut s = Server::new(DriveModel::MrJ3T04);
+    assert_eq!(s.read(0x1C00, 0), Ok(vec![4]));
+    assert_eq!(s.read(0x1C00, 3), Ok(vec![3]));
+    assert_eq!(s.read(0x1C00, 5), Err(0x0609_0011));
+    assert_eq!(s.write(0x1C00, 1, &[2]), Err(0x0601_0002));
+    // MR-J3-T04 §8.2.2: 1C32h:01 = 2, 1C32h:06 = 166666 ns, 1C33h:09 = 0; 100Ah listed.
+    assert_eq!(s.read(0x1C32, 1), Ok(2u16.to_le_bytes().to_vec()));
+    assert_eq!(s.read(0x1C32, 6), Ok(166_666u32.to_le_bytes().to_vec()));
+    assert_eq!(s.read(0x1C33, 9), Ok(0u32.to_le_bytes().to_vec()));
+    assert_eq!(
+        s.read(0x100A, 0),
+        Ok(emulated_software_version().into_bytes())
+    );
+    // MR-J4-TM §7.3: 12 entries, 0025h supported, calc-and-copy 222722 / 306055 ns; either
+    // shift time is refused with 0609 0030h.
+    let mut s = Server::new(DriveModel::MrJ4TM);
+    assert_eq!(s.read(0x1C32, 0), Ok(vec![12]));
+    assert_eq!(s.read(0x1C33, 4), Ok(0x0025u16.to_le_bytes().to_vec()));
+    assert_eq!(s.read(0x1C32, 6), Ok(222_722u32.to_le_bytes().to_vec()));
+    assert_eq!(s.read(0x1C33, 6), Ok(306_055u32.to_le_bytes().to_vec()));
+    assert_eq!(s.write_u32(0x1C33, 3, 0), Err(0x0609_0030));
+    assert_eq!(s.write_u32(0x1C32, 3, 0), Err(0x0609_0030));
+    // The master selects DC SYNC0 (ETG.1020: 2) and reads it back.
+    assert_eq!(s.write(0x1C32, 1, &2u16.to_le_bytes()), Ok(()));
+    assert_eq!(s.read(0x1C32, 1), Ok(2u16.to_le_bytes().to_vec()));
+}

@@ -1008,3 +1008,35 @@ fn generic_cia402_homing_on_the_current_position() {
         );
     }
 }
+
+/// 10F1h:02 Sync Error Counter Limit acts (ETG.1020; MR-JET/MR-J5 manual §2.4 name it as the
+/// AL.086.1 threshold): written in PRE-OP, it replaces the default 4 from the next OP.
+fn sync_error_limit_written(model: DriveModel, alarm: u16) {
+    let mut d = d(model);
+    assert_eq!(
+        d.sdo_upload(0x10F1, 2),
+        Ok(4),
+        "{model}: the default in force"
+    );
+    d.leave_op();
+    d.sdo_download(0x10F1, 2, &100u16.to_le_bytes()).unwrap();
+    d.enter_op();
+    enabled(&mut d);
+    // +3 per lost frame: 99 ≤ 100 after 33, 102 > 100 at the 34th.
+    for _ in 0..33 {
+        lost(&mut d);
+    }
+    assert_eq!(d.alarm(), None, "{model}: 99 ≤ 100");
+    lost(&mut d);
+    assert_eq!(d.alarm(), Some(alarm), "{model}: 102 > 100");
+}
+
+#[test]
+fn sync_error_limit_written_to_10f1h_acts_mr_jet_g_n1() {
+    sync_error_limit_written(DriveModel::MrJetGN1, mr_jet_g_n1::AL_086_1);
+}
+
+#[test]
+fn sync_error_limit_written_to_10f1h_acts_mr_j5_g_n1() {
+    sync_error_limit_written(DriveModel::MrJ5GN1, mr_j5_g_n1::AL_086_1);
+}

@@ -54,7 +54,7 @@ pub const ALARMS: &[AlarmInfo] = &[
 /// from the map sizes (§5.2, §6 note).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
-    od(0x10F1, 2, "Sync Error Counter Limit", DataType::Unstated, Access::Unstated, No).unit(Unit::Times).cite("§2.4: type, default and counting rule not stated"),
+    od(0x10F1, 2, "Sync Error Counter Limit", U16, Rw, No).default(super::generic_cia402::SYNC_ERROR_COUNTER_LIMIT).unit(Unit::Times).cite("§2.4: type, default and counting rule not stated; U16 rw as ETG.1020 has it [background], default the simulator's"),
     od(0x1C32, 2, "Cycle time", U32, Rw, No).default(250_000).unit(Unit::Nanosecond).cite("§1.3: 125000…8000000 (W2/W3 from 250000), written in PreOp; unit: CiA 402 [background]"),
     od(0x1C32, 0, "SM output parameter", U8, Ro, No).default(12).cite("§4.2 (subs listed); the highest sub-index listed"),
     od(0x1C32, 1, "Synchronization type", U16, Rw, No).default(0).cite("§4.2 (subs listed); DC or free run; 0 = free run until the master selects DC (ETG.1020 [background])"),

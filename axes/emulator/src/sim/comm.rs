@@ -40,7 +40,8 @@ pub struct CommParams {
     /// Sync-error counter decrement per good frame (ETG.1020 convention).
     pub sync_error_decrement: u32,
     /// 10F1h:02 Sync Error Counter Limit / PN18: the alarm is raised when the counter exceeds
-    /// it. Default 4 (common ETG.1020 default; the manuals give none).
+    /// it. Default 4 (common ETG.1020 default; the manuals give none); a value the master wrote
+    /// to 10F1h:02 replaces it from the next entry into OP.
     pub sync_error_limit: u32,
     /// MR-J4-TM: echo 2D23h + 1 in 2D24h when both are mapped (provisional: §6.2 MISSING).
     pub watchdog_echo: bool,
@@ -60,7 +61,8 @@ impl Default for CommParams {
             },
             sync_error_increment: 3,
             sync_error_decrement: 1,
-            sync_error_limit: 4,
+            sync_error_limit: cellrt_cia402::profiles::generic_cia402::SYNC_ERROR_COUNTER_LIMIT
+                as u32,
             watchdog_echo: true,
         }
     }
@@ -211,6 +213,11 @@ impl DriveComm {
         };
         self.push_echo();
         alarm
+    }
+
+    /// Sets the sync-error counter limit (10F1h:02).
+    pub(crate) fn set_sync_error_limit(&mut self, limit: u32) {
+        self.params.sync_error_limit = limit;
     }
 
     /// The sync-error counter (MR-JET/MR-J5/MR-J4-TM models).

@@ -50,7 +50,8 @@ impl SimDrive {
     }
 
     /// The communication parameters with PO02 and PO03 as in force since power-on (the
-    /// configured ones until a saved change and a power cycle replace them).
+    /// configured ones until a saved change and a power cycle replace them), and the sync
+    /// error counter limit the master wrote to 10F1h:02 (ETG.1020), where the model has it.
     pub(super) fn comm_in_force(&self) -> crate::sim::comm::CommParams {
         let mut c = self.params.comm;
         if let Some(v) = self.parameter_in_force("PO02") {
@@ -58,6 +59,9 @@ impl SimDrive {
         }
         if let Some(v) = self.parameter_in_force("PO03") {
             c.po03 = v as u16;
+        }
+        if let Some(v) = self.sdo_value(SYNC_ERROR_COUNTER_LIMIT.0, SYNC_ERROR_COUNTER_LIMIT.1) {
+            c.sync_error_limit = v.clamp(0, i64::from(u16::MAX)) as u32;
         }
         c
     }
@@ -213,6 +217,9 @@ impl SimDrive {
         &self.history
     }
 }
+
+/// 10F1h:02 Sync Error Counter Limit (ETG.1020; MR-JET/MR-J5 manual §2.4 name it beside PN18).
+const SYNC_ERROR_COUNTER_LIMIT: (u16, u8) = (0x10F1, 2);
 
 #[cfg(test)]
 mod tests {

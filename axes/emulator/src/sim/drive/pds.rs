@@ -85,12 +85,15 @@ impl SimDrive {
         alarm
     }
 
-    /// The AL state returns to OP: the checks start afresh with the next frame.
+    /// The AL state returns to OP: the checks start afresh with the next frame, with the sync
+    /// error counter limit the master may have written to 10F1h:02 meanwhile.
     pub fn enter_op(&mut self) {
         if !self.op {
             self.op = true;
             self.comm.reset();
         }
+        self.comm
+            .set_sync_error_limit(self.comm_in_force().sync_error_limit);
     }
 
     /// Distributed clocks start with SYNC0 every `sync0_ns` (SAFE-OP → OP). On a model whose

@@ -101,10 +101,10 @@ fn soem_maps_every_model_reaches_op_and_moves_each_axis() {
         match attempt_soem(&python, &ns) {
             Ok(()) => return,
             Err(gap_ms) if attempt < ATTEMPTS => eprintln!(
-                "attempt {attempt}: this interpreter stalled {gap_ms:.1} ms between two frames (a drive sees lost frames); running again"
+                "attempt {attempt}: frames were late for a drive (the script's longest gap {gap_ms:.1} ms); running again"
             ),
             Err(gap_ms) => eprintln!(
-                "SKIPPED: every attempt's Python loop stalled (last {gap_ms:.1} ms); not judged"
+                "SKIPPED: in every attempt frames were late for a drive (last gap {gap_ms:.1} ms); not judged"
             ),
         }
     }
@@ -115,6 +115,11 @@ const ATTEMPTS: u32 = 4;
 /// A gap between two of the script's frames that lets a drive see lost frames: half the
 /// MR-J3-T04's "about 7 ms" (AL.36, manual §6.4), three cycles.
 const STALL_MS: f64 = 3.5;
+
+/// The alarms a drive raises for lost or late frames: MR-J3-T04 AL.36 (RxPDO lost about
+/// 7 ms, manual §6.4), AL.086.1 / AL. 86.1 (MR-JET, MR-J5, MR-J4-TM sync error counter), the
+/// generic drive's 8100h (CiA 301 communication).
+const LOST_FRAME_ALARMS: [&str; 3] = ["0036", "0861", "8100"];
 
 /// One run against a fresh drive-sim; `Err` with the longest gap when the Python loop stalled
 /// long enough for a drive to alarm (anything else that goes wrong fails).
@@ -149,8 +154,19 @@ fn attempt_soem(python: &str, ns: &VethNamespace) -> Result<(), f64> {
         )
     });
     let gap_ms = report["max_gap_ms"].as_f64().unwrap_or(0.0);
-    let alarmed = drive_sim.iter().any(|l| l.contains("alarm"));
-    if (report.get("error").is_some() || alarmed) && gap_ms > STALL_MS {
+    let alarms: Vec<&str> = drive_sim
+        .iter()
+        .flat_map(|l| l.split("alarm 0x").skip(1))
+        .map(|a| a.get(..4).unwrap_or(a))
+        .collect();
+    // Only lost-frame alarms, or a stall measured in the script: a frame that missed its SYNC0
+    // on this non-real-time master (or the emulator's thread held back by the host), not a
+    // verdict on the drives.
+    let lost_frames_only = alarms.iter().all(|a| LOST_FRAME_ALARMS.contains(a));
+    if (report.get("error").is_some() || !alarms.is_empty())
+        && (gap_ms > STALL_MS || (!alarms.is_empty() && lost_frames_only))
+    {
+        eprintln!("{} (alarms {alarms:?})", report["error"]);
         return Err(gap_ms);
     }
     assert!(

@@ -85,7 +85,8 @@ class Bus:
         self.inp = [bytes(s.input) for s in master.slaves]
         self.counters = []
         self.cycles = self.wkc_errors = 0
-        self.next = self.last = time.monotonic()
+        self.next = time.monotonic()
+        self.last = None
         # The longest time between two exchanges, s: a stall of this interpreter or its host,
         # which a drive sees as lost frames.
         self.max_gap = 0.0
@@ -96,7 +97,9 @@ class Bus:
         for i, s in enumerate(self.master.slaves):
             s.output = bytes(self.out[i])
         now = time.monotonic()
-        self.max_gap, self.last = max(self.max_gap, now - self.last), now
+        if self.last is not None:
+            self.max_gap = max(self.max_gap, now - self.last)
+        self.last = now
         self.master.send_processdata()
         wkc = self.master.receive_processdata(2000)
         if wkc >= self.master.expected_wkc:
@@ -104,12 +107,25 @@ class Bus:
         else:
             self.wkc_errors += 1
         self.cycles += 1
-        self.next += CYCLE_S
+        self.next += CYCLE_S + self.sync_correction()
         pause = self.next - time.monotonic()
         if pause > 0:
             time.sleep(pause)
         else:
             self.next = time.monotonic()  # late: a missed cycle is skipped, not caught up
+
+    def sync_correction(self):
+        """Seconds to shift the next frame by so that frames pass the SubDevices an eighth of a
+        cycle after SYNC0, as SOEM's own examples steer their loop by the DC time (`ec_sync`)
+        and cellrt's master does: a frame near a SYNC0 edge may miss it."""
+        dc = self.master.dc_time
+        if not dc:
+            return 0.0
+        cycle_ns = CYCLE_US * 1000
+        error = (dc - cycle_ns // 8) % cycle_ns
+        if error > cycle_ns // 2:
+            error -= cycle_ns
+        return -0.1 * error / 1e9
 
     def put(self, a, o, fmt, v):
         struct.pack_into(fmt, self.out[a.slave_no], o, v)
@@ -125,31 +141,39 @@ class Bus:
         raise RuntimeError(f"timed out after {PATIENCE} cycles: {what}")
 
 
-def drive(bus, a):
-    """The CiA 402 state machine to Operation enabled in csp, a ramp of DISTANCE counts, the
-    target reached in 6064h, back to Ready to switch on."""
-    sw = lambda: bus.get(a, a.sw, "<H")
-    state = lambda: sw() & 0x6F
-    start = bus.get(a, a.pos, "<i")
-    bus.put(a, a.target, "<i", start)
-    if sw() & 0x08:
-        bus.put(a, a.cw, "<H", 0x80)
-        bus.until(lambda: not sw() & 0x08, f"{a.name()} fault reset (statusword {sw():#06x})")
+def drive(bus, axes):
+    """Every axis at once: the CiA 402 state machine to Operation enabled in csp, a ramp of
+    DISTANCE counts, the target reached in 6064h, back to Ready to switch on."""
+    sw = lambda a: bus.get(a, a.sw, "<H")
+    state = lambda a: sw(a) & 0x6F
+    start = {a: bus.get(a, a.pos, "<i") for a in axes}
+    for a in axes:
+        bus.put(a, a.target, "<i", start[a])
+        if sw(a) & 0x08:
+            bus.put(a, a.cw, "<H", 0x80)
+    bus.until(lambda: all(not sw(a) & 0x08 for a in axes), "fault reset")
     for cw, want, name in ((0x06, 0x21, "Ready to switch on"), (0x07, 0x23, "Switched on"),
                            (0x0F, 0x27, "Operation enabled")):
-        bus.put(a, a.cw, "<H", cw)
-        bus.until(lambda: state() == want, f"{a.name()} {name}")
+        for a in axes:
+            bus.put(a, a.cw, "<H", cw)
+        bus.until(lambda: all(state(a) == want for a in axes),
+                  name + ": " + ", ".join(f"{a.name()} {sw(a):#06x}" for a in axes if state(a) != want))
     for j in range(1, RAMP_CYCLES + 1):
-        bus.put(a, a.target, "<i", start + DISTANCE * j // RAMP_CYCLES)
+        for a in axes:
+            bus.put(a, a.target, "<i", start[a] + DISTANCE * j // RAMP_CYCLES)
         bus.cycle()
-        if state() != 0x27:
-            raise RuntimeError(f"{a.name()} left Operation enabled during the move (statusword {sw():#06x})")
-    bus.until(lambda: abs(bus.get(a, a.pos, "<i") - (start + DISTANCE)) <= 1, f"{a.name()} at its target")
-    end = bus.get(a, a.pos, "<i")
-    bus.put(a, a.cw, "<H", 0x06)
-    bus.until(lambda: state() == 0x21, f"{a.name()} back to Ready to switch on")
-    display = bus.get(a, a.display, "<b") if a.display is not None else None
-    return {"slave": a.slave_no, "axis": a.k, "start": start, "end": end, "mode_display": display}
+        left = [a for a in axes if state(a) != 0x27]
+        if left:
+            raise RuntimeError(f"{left[0].name()} left Operation enabled during the move (statusword {sw(left[0]):#06x})")
+    there = lambda a: abs(bus.get(a, a.pos, "<i") - (start[a] + DISTANCE)) <= 1
+    bus.until(lambda: all(there(a) for a in axes), "every axis at its target")
+    end = {a: bus.get(a, a.pos, "<i") for a in axes}
+    for a in axes:
+        bus.put(a, a.cw, "<H", 0x06)
+    bus.until(lambda: all(state(a) == 0x21 for a in axes), "back to Ready to switch on")
+    return [{"slave": a.slave_no, "axis": a.k, "start": start[a], "end": end[a],
+             "mode_display": bus.get(a, a.display, "<b") if a.display is not None else None}
+            for a in axes]
 
 
 REPORT = {"slaves": [], "axes": [], "emergencies": []}
@@ -220,8 +244,7 @@ def main():
     bus.until(lambda: master.state_check(pysoem.OP_STATE, 1) == pysoem.OP_STATE, "OP")
     report["op"] = True
     BUS.append(bus)
-    for a in axes:
-        report["axes"].append(drive(bus, a))
+    report["axes"] = drive(bus, axes)
     # The clean way out (MR-JET-G-N1 manual §2.3): axes disabled, then SAFE-OP, PRE-OP, INIT,
     # exchanging all along.
     for state, name in ((pysoem.SAFEOP_STATE, "SAFE-OP"), (pysoem.PREOP_STATE, "PRE-OP"),

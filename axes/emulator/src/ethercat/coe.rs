@@ -524,7 +524,16 @@ pub(super) fn download(
         };
     }
     let (slot, index) = profile.object_slot(index).ok_or(SdoAbort::NO_OBJECT)?;
-    ctx.drives[usize::from(slot)].sdo_download(index, sub, data)
+    ctx.drives[usize::from(slot)].sdo_download(index, sub, data)?;
+    // A station object (1000h–1FFFh, served by axis A) holds for the whole unit: every axis
+    // of a multi-axis station takes the value (e.g. 10F1h:02, the one sync error counter
+    // limit of the station's ESC).
+    if index < 0x2000 && slot == 0 {
+        for d in ctx.drives.iter_mut().skip(1) {
+            let _ = d.sdo_download(index, sub, data);
+        }
+    }
+    Ok(())
 }
 
 /// Handles one mailbox request in `request` (the SM0 buffer) and writes the response into

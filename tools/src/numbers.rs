@@ -2,6 +2,8 @@
 //! and out-of-range values are refused with the argument's name before anything is sent (JSON
 //! has no NaN: one sent would arrive as "not given" and change the request's meaning).
 
+use cellrt_config::echo::Echo;
+
 /// The longest `--reply-timeout`, s: beyond an hour a reply is not coming.
 pub const MAX_REPLY_TIMEOUT_S: f64 = 3600.0;
 
@@ -9,31 +11,31 @@ pub const MAX_REPLY_TIMEOUT_S: f64 = 3600.0;
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum NumberError {
     /// Not a number at all.
-    #[error("'{text}' is not a number")]
+    #[error("'{}' is not a number", Echo(.text))]
     NotANumber {
         /// The argument.
         text: String,
     },
     /// Not an integer (decimal or hex).
-    #[error("{text:?} is not a number")]
+    #[error("\"{}\" is not a number", Echo(.text))]
     NotAnInteger {
         /// The argument.
         text: String,
     },
     /// NaN or an infinity.
-    #[error("{text} is not a finite number")]
+    #[error("{} is not a finite number", Echo(.text))]
     NotFinite {
         /// The argument.
         text: String,
     },
     /// Zero or below where a number > 0 is needed.
-    #[error("{text} must be a number > 0")]
+    #[error("{} must be a number > 0", Echo(.text))]
     NotPositive {
         /// The argument.
         text: String,
     },
     /// A `--reply-timeout` beyond [`MAX_REPLY_TIMEOUT_S`].
-    #[error("{text} s is longer than {MAX_REPLY_TIMEOUT_S} s")]
+    #[error("{} s is longer than {MAX_REPLY_TIMEOUT_S} s", Echo(.text))]
     TooLong {
         /// The argument.
         text: String,

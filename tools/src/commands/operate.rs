@@ -8,8 +8,10 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use cellrt_config::echo::Echo;
 use cellrt_runtime::host::operator::client::{ClientError, OperatorClient};
 use cellrt_runtime::host::operator::wire::{Reply, Request, StatusReport};
+use cellrt_trajectory::KinematicLimits;
 use clap::{Args, Subcommand};
 
 use crate::exit::Exit;
@@ -204,6 +206,10 @@ pub fn run(command: OperatorCommand, target: Target) -> Exit {
     if let OperatorCommand::Status { watch, json } = command {
         return status(&client, timeout, watch, json);
     }
+    if let Err(e) = check_travel(&client, &request, timeout) {
+        eprintln!("error: {e}");
+        return Exit::BadInput;
+    }
     let id = match client.request(&request, timeout) {
         Ok(Reply::Accepted { id }) => id,
         Ok(Reply::Rejected { reason }) => {
@@ -286,7 +292,7 @@ enum Wait {
 #[derive(Debug, thiserror::Error)]
 pub enum RequestArgsError {
     /// An argument is not `AXIS=VALUE`.
-    #[error("{what}: '{arg}' is not AXIS=VALUE")]
+    #[error("{what}: '{}' is not AXIS=VALUE", Echo(.arg))]
     NotAPair {
         /// The command.
         what: &'static str,
@@ -294,7 +300,7 @@ pub enum RequestArgsError {
         arg: String,
     },
     /// The value of an `AXIS=VALUE` argument is not a number.
-    #[error("{what}: '{arg}': '{value}' is not a number")]
+    #[error("{what}: '{}': '{}' is not a number", Echo(.arg), Echo(.value))]
     NotANumber {
         /// The command.
         what: &'static str,
@@ -304,7 +310,7 @@ pub enum RequestArgsError {
         value: String,
     },
     /// The value of an `AXIS=VALUE` argument is infinite or NaN.
-    #[error("{what}: '{arg}': '{value}' is not a finite number")]
+    #[error("{what}: '{}': '{}' is not a finite number", Echo(.arg), Echo(.value))]
     NotFinite {
         /// The command.
         what: &'static str,
@@ -314,7 +320,7 @@ pub enum RequestArgsError {
         value: String,
     },
     /// Two arguments name one axis.
-    #[error("{what}: axis '{axis}' is given twice")]
+    #[error("{what}: axis '{}' is given twice", Echo(.axis))]
     AxisTwice {
         /// The command.
         what: &'static str,
@@ -475,6 +481,69 @@ fn path(waypoints: &[String], limits: &LimitArgs) -> Result<Request, RequestArgs
         jerk: limits.jerk,
         clamp: limits.clamp,
     })
+}
+
+/// Refuses a move whose own limits (`--vel`, `--acc`, `--jerk`) would make it take longer
+/// than a motion may ([`KinematicLimits::check_travel`]), before it is sent: per axis, and for
+/// `--line` along the path. Absolute targets are measured from the positions the cell reports;
+/// where it reports none the cell judges alone (it checks every move again with the axis
+/// limits).
+fn check_travel(client: &OperatorClient, req: &Request, timeout: Duration) -> Result<(), String> {
+    let Request::Move {
+        targets,
+        relative,
+        velocity,
+        acceleration,
+        jerk,
+        line,
+        ..
+    } = req
+    else {
+        return Ok(());
+    };
+    if velocity.is_none() && acceleration.is_none() && jerk.is_none() {
+        return Ok(());
+    }
+    // Only the asked limits bind here; the axis limits are the cell's to apply.
+    let asked = |v: Option<f64>| v.unwrap_or(f64::MAX);
+    let per_axis = KinematicLimits {
+        velocity: if *line { f64::MAX } else { asked(*velocity) },
+        acceleration: asked(*acceleration),
+        jerk: asked(*jerk),
+    };
+    let here = if *relative {
+        None
+    } else {
+        match client.request(&Request::Status, timeout) {
+            Ok(Reply::Status(s)) => Some(s),
+            _ => return Ok(()),
+        }
+    };
+    let mut distances = Vec::with_capacity(targets.len());
+    for (axis, &target) in targets {
+        let (from, unit) = match &here {
+            None => (0.0, String::new()),
+            Some(s) => match s.axes.iter().find(|a| &a.name == axis) {
+                Some(a) => (a.position, format!(" ({})", a.unit)),
+                None => return Ok(()), // the cell names the unknown axis
+            },
+        };
+        per_axis
+            .check_travel(target - from)
+            .map_err(|e| format!("move: axis '{}'{unit}: {e}", Echo(axis)))?;
+        distances.push(target - from);
+    }
+    if let (true, Some(v)) = (*line, *velocity) {
+        let length = distances.iter().map(|d| d * d).sum::<f64>().sqrt();
+        let path = KinematicLimits {
+            velocity: v,
+            acceleration: f64::MAX,
+            jerk: f64::MAX,
+        };
+        path.check_travel(length)
+            .map_err(|e| format!("move: the line: {e}"))?;
+    }
+    Ok(())
 }
 
 /// Parses `AXIS=VALUE` arguments.

@@ -14,7 +14,10 @@ use super::backend::{self, link, profile};
 use super::bus_diag::DiagInFlight;
 use super::sdo::{self, SdoInFlight};
 use super::sdo_job::{SdoJob, SingleSdo};
-use super::targets::{axis_index, axis_ref, jog_velocity, move_limits, Asked, TargetError};
+use super::targets::{
+    axis_index, axis_ref, check_travel, jog_velocity, move_limits, Asked, TargetError,
+    MIN_LIMIT_FRACTION,
+};
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
 use crate::handoff::{
     CellCommand, CellState, HomeRequest, ProfileCommand, ProfileMotion, SwitchableMode,

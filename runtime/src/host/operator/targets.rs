@@ -18,7 +18,7 @@ pub(crate) struct Asked {
 #[derive(Debug, thiserror::Error)]
 pub enum TargetError {
     /// No axis of that name.
-    #[error("unknown axis '{name}' (the cell has {axes})")]
+    #[error("unknown axis '{}' (the cell has {axes})", cellrt_config::echo::Echo(.name))]
     UnknownAxis {
         /// The name asked for.
         name: String,
@@ -93,6 +93,15 @@ pub enum TargetError {
         /// The smallest value taken.
         min: f64,
     },
+    /// A move its limits would make take longer than
+    /// [`cellrt_trajectory::limits::MAX_MOTION_S`] (refused before anything moves).
+    #[error("{what}: {source}")]
+    TooLong {
+        /// What travels: "axis 'x' (mm)", "the line (mm)".
+        what: String,
+        /// The travel and the limit that make it too long.
+        source: cellrt_trajectory::LimitsError,
+    },
     /// A requested limit above the axis limit, without `clamp`.
     #[error("axis '{axis}': {what} {value} {unit}{per} exceeds the axis limit {limit} {unit}{per} (add --clamp to use the limit)")]
     AboveLimit {
@@ -114,6 +123,21 @@ pub enum TargetError {
 /// The smallest per-move limit taken, as a fraction of the axis limit: below it the planner's
 /// arithmetic degenerates (a velocity of 1e-300 unit/s is not a move).
 pub const MIN_LIMIT_FRACTION: f64 = 1e-6;
+
+/// Refuses a travel of `distance` within `limits` that would take longer than a motion may
+/// ([`KinematicLimits::check_travel`]), naming `what` travels ("axis 'x' (mm)").
+pub(crate) fn check_travel(
+    what: impl FnOnce() -> String,
+    distance: f64,
+    limits: &KinematicLimits,
+) -> Result<(), TargetError> {
+    limits
+        .check_travel(distance)
+        .map_err(|source| TargetError::TooLong {
+            what: what(),
+            source,
+        })
+}
 
 /// The axis `name`, whichever backend runs it, or the cell's axis names.
 pub(crate) fn axis_ref(cell: &CellConfig, name: &str) -> Result<AxisRef, TargetError> {

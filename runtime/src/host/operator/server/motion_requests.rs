@@ -82,6 +82,16 @@ impl OperatorServer {
             Ok(l) => l,
             Err(e) => return rejected(format!("move: {e}")),
         };
+        for &(i, target, limits, here) in &list {
+            let a = &ctx.cell.axes.on_loop()[i];
+            if let Err(e) = check_travel(
+                || format!("axis '{}' ({})", a.name, a.unit),
+                target - here,
+                &limits,
+            ) {
+                return rejected(format!("move: {e}"));
+            }
+        }
         if !line {
             let list: Vec<_> = list.into_iter().map(|(i, t, l, _)| (i, t, l)).collect();
             return self.move_with_profile_axes(ctx, state, list);
@@ -96,6 +106,12 @@ impl OperatorServer {
                     "move: path velocity {v} must be a finite number > 0"
                 ))
             }
+            Some(v) if v < max * MIN_LIMIT_FRACTION => {
+                return rejected(format!(
+                    "move: path velocity {v} is too small to plan with (at least {}, a millionth of the most every axis allows along this line)",
+                    max * MIN_LIMIT_FRACTION
+                ))
+            }
             Some(v) if v > max && !asked.clamp => {
                 return rejected(format!(
                     "move: path velocity {v} exceeds {max:.3}, the most every axis allows along this line (add --clamp to use it)"
@@ -104,6 +120,24 @@ impl OperatorServer {
             Some(v) => Some(v.min(max)),
             None => None,
         };
+        if let Some(v) = path_velocity {
+            // The path at `v`: its time is the length over `v` whatever the axes' ramps.
+            let path = KinematicLimits {
+                velocity: v,
+                acceleration: f64::MAX,
+                jerk: f64::MAX,
+            };
+            let length = start
+                .iter()
+                .zip(&end)
+                .map(|(s, e)| (e - s) * (e - s))
+                .sum::<f64>()
+                .sqrt();
+            let unit = &ctx.cell.axes.on_loop()[list[0].0].unit;
+            if let Err(e) = check_travel(|| format!("the line ({unit})"), length, &path) {
+                return rejected(format!("move: {e}"));
+            }
+        }
         let req = MotionRequest::Line {
             targets: list.iter().map(|t| (t.0, t.1, t.2)).collect(),
             path_velocity,

@@ -6,6 +6,9 @@
 //! the client has seen the axis record of the cycle the move ended at. Judged in cycles and
 //! positions; the waits are timeouts only.
 
+#[allow(dead_code)] // the shared support: this test asks the operator service through it
+mod support;
+
 use std::collections::{BTreeMap, HashMap};
 use std::net::{SocketAddr, TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
@@ -16,9 +19,10 @@ use std::time::{Duration, Instant};
 use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{run, RunOptions, Summary};
 use cellrt_runtime::host::operator::client::{running_cells, OperatorClient};
-use cellrt_runtime::host::operator::wire::{Reply, Request, StatusReport};
+use cellrt_runtime::host::operator::wire::{Reply, Request};
 use cellrt_runtime::host::record::proto;
 use prost::Message as _;
+use support::operator::{request, status};
 
 /// Where the axis starts and where it is moved to, mm.
 const START: f64 = 100.0;
@@ -144,28 +148,6 @@ fn viewer(addr: SocketAddr, seen: &Mutex<Seen>, stop: &AtomicBool) {
         }
     }
     let _ = ws.close(None);
-}
-
-fn request(c: &OperatorClient, r: &Request) -> Reply {
-    let mut tries = 0;
-    loop {
-        match c.request(r, Duration::from_secs(5)) {
-            Ok(reply) => return reply,
-            // The planner thread (which serves the operator) starved on a loaded machine.
-            Err(e) if tries < 6 => {
-                tries += 1;
-                eprintln!("{e}; asking again");
-            }
-            Err(e) => panic!("{e}"),
-        }
-    }
-}
-
-fn status(c: &OperatorClient) -> StatusReport {
-    match request(c, &Request::Status) {
-        Reply::Status(s) => *s,
-        r => panic!("{r:?}"),
-    }
 }
 
 /// Waits (at most [`PATIENCE`]) until `done` holds of what the viewer has seen.

@@ -60,12 +60,21 @@ fn moves_too_long_to_plan_are_refused_in_one_line_before_anything_is_sent() {
             &["move", "x=700", "--vel", "1e-3"],
             "longer than a motion may take",
         ),
+        // Through a waypoint and back: 1300 mm at 10 µm/s.
+        (
+            &["path", "x=700,y=50", "x=50,y=50", "--vel", "1e-2"],
+            "path: axis 'x' (mm)",
+        ),
     ] {
         let (code, _, err) = cell.cli(args);
         assert_eq!(code, 2, "cellrt {args:?}: {err}");
         one_line(&err, says);
         assert!(err.contains("one day"), "{err}");
     }
+    // A torque held for longer than a day is refused by clap's check of --seconds.
+    let (code, _, err) = cell.cli(&["torque", "c=10", "--seconds", "1e300"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("1e300 s is longer than 86400 s"), "{err}");
     // Nothing was sent: no command ran, the axis stands where it stood.
     let status = cell.ok(&["status", "--json"]);
     let report: cellrt_runtime::host::operator::wire::StatusReport =
@@ -89,6 +98,26 @@ fn moves_too_long_to_plan_are_refused_in_one_line_before_anything_is_sent() {
         (mv(1e-3, true), "longer than a motion may take"),
         (mv(1e-300, false), "too small to plan with"),
         (mv(1e-3, false), "longer than a motion may take"),
+        (
+            Request::Path {
+                waypoints: vec![
+                    BTreeMap::from([("x".to_string(), 600.0)]),
+                    BTreeMap::from([("x".to_string(), 50.0)]),
+                ],
+                velocity: Some(1e-2),
+                acceleration: None,
+                jerk: None,
+                clamp: false,
+            },
+            "path: axis 'x' (mm)",
+        ),
+        (
+            Request::Torque {
+                targets: BTreeMap::from([("c".to_string(), 10.0)]),
+                seconds: 1e300,
+            },
+            "longer than a motion may take",
+        ),
     ] {
         match client.request(&req, Duration::from_secs(10)).unwrap() {
             Reply::Rejected { reason } => {

@@ -124,7 +124,7 @@ pub enum OperatorCommand {
         )]
         targets: Vec<String>,
         /// Seconds at the torque.
-        #[arg(long, default_value_t = 1.0, value_parser = crate::numbers::positive)]
+        #[arg(long, default_value_t = 1.0, value_parser = crate::numbers::motion_seconds)]
         seconds: f64,
         /// Return once accepted.
         #[arg(long)]
@@ -483,22 +483,44 @@ fn path(waypoints: &[String], limits: &LimitArgs) -> Result<Request, RequestArgs
     })
 }
 
-/// Refuses a move whose own limits (`--vel`, `--acc`, `--jerk`) would make it take longer
-/// than a motion may ([`KinematicLimits::check_travel`]), before it is sent: per axis, and for
-/// `--line` along the path. Absolute targets are measured from the positions the cell reports;
-/// where it reports none the cell judges alone (it checks every move again with the axis
-/// limits).
+/// Refuses a move or path whose own limits (`--vel`, `--acc`, `--jerk`) would make it take
+/// longer than a motion may ([`KinematicLimits::check_travel`]), before it is sent: per axis
+/// (its travel through every waypoint), and for `--line` along the path. Absolute targets are
+/// measured from the positions the cell reports; where it reports none the cell judges alone
+/// (it checks every move again with the axis limits).
 fn check_travel(client: &OperatorClient, req: &Request, timeout: Duration) -> Result<(), String> {
-    let Request::Move {
-        targets,
-        relative,
-        velocity,
-        acceleration,
-        jerk,
-        line,
-        ..
-    } = req
-    else {
+    let (what, points, relative, line, [velocity, acceleration, jerk]) = match req {
+        Request::Move {
+            targets,
+            relative,
+            velocity,
+            acceleration,
+            jerk,
+            line,
+            ..
+        } => (
+            "move",
+            std::slice::from_ref(targets),
+            *relative,
+            *line,
+            [*velocity, *acceleration, *jerk],
+        ),
+        Request::Path {
+            waypoints,
+            velocity,
+            acceleration,
+            jerk,
+            ..
+        } => (
+            "path",
+            waypoints.as_slice(),
+            false,
+            false,
+            [*velocity, *acceleration, *jerk],
+        ),
+        _ => return Ok(()),
+    };
+    let Some(last) = points.last() else {
         return Ok(());
     };
     if velocity.is_none() && acceleration.is_none() && jerk.is_none() {
@@ -507,11 +529,11 @@ fn check_travel(client: &OperatorClient, req: &Request, timeout: Duration) -> Re
     // Only the asked limits bind here; the axis limits are the cell's to apply.
     let asked = |v: Option<f64>| v.unwrap_or(f64::MAX);
     let per_axis = KinematicLimits {
-        velocity: if *line { f64::MAX } else { asked(*velocity) },
-        acceleration: asked(*acceleration),
-        jerk: asked(*jerk),
+        velocity: if line { f64::MAX } else { asked(velocity) },
+        acceleration: asked(acceleration),
+        jerk: asked(jerk),
     };
-    let here = if *relative {
+    let here = if relative {
         None
     } else {
         match client.request(&Request::Status, timeout) {
@@ -519,8 +541,8 @@ fn check_travel(client: &OperatorClient, req: &Request, timeout: Duration) -> Re
             _ => return Ok(()),
         }
     };
-    let mut distances = Vec::with_capacity(targets.len());
-    for (axis, &target) in targets {
+    let mut distances = Vec::with_capacity(last.len());
+    for axis in last.keys() {
         let (from, unit) = match &here {
             None => (0.0, String::new()),
             Some(s) => match s.axes.iter().find(|a| &a.name == axis) {
@@ -528,12 +550,17 @@ fn check_travel(client: &OperatorClient, req: &Request, timeout: Duration) -> Re
                 None => return Ok(()), // the cell names the unknown axis
             },
         };
+        let (mut at, mut travel) = (from, 0.0);
+        for p in points.iter().filter_map(|p| p.get(axis)) {
+            travel += (p - at).abs();
+            at = *p;
+        }
         per_axis
-            .check_travel(target - from)
-            .map_err(|e| format!("move: axis '{}'{unit}: {e}", Echo(axis)))?;
-        distances.push(target - from);
+            .check_travel(travel)
+            .map_err(|e| format!("{what}: axis '{}'{unit}: {e}", Echo(axis)))?;
+        distances.push(last[axis] - from);
     }
-    if let (true, Some(v)) = (*line, *velocity) {
+    if let (true, Some(v)) = (line, velocity) {
         let length = distances.iter().map(|d| d * d).sum::<f64>().sqrt();
         let path = KinematicLimits {
             velocity: v,
@@ -541,7 +568,7 @@ fn check_travel(client: &OperatorClient, req: &Request, timeout: Duration) -> Re
             jerk: f64::MAX,
         };
         path.check_travel(length)
-            .map_err(|e| format!("move: the line: {e}"))?;
+            .map_err(|e| format!("{what}: the line: {e}"))?;
     }
     Ok(())
 }

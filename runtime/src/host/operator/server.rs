@@ -5,6 +5,7 @@ use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_cia402::profiles::status_do::StatusDo;
 use cellrt_cia402::statusword::Statusword;
 use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
+use cellrt_trajectory::limits::MAX_MOTION_S;
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 

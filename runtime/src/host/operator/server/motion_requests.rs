@@ -193,11 +193,11 @@ impl OperatorServer {
         let Some(last) = waypoints.last() else {
             return rejected("path: no waypoints".into());
         };
-        let targets = match resolve_targets(ctx, state, last, false, |a| move_limits(a, asked)) {
-            Ok(l) => l.into_iter().map(|(i, t, l, _)| (i, t, l)).collect(),
+        let resolved = match resolve_targets(ctx, state, last, false, |a| move_limits(a, asked)) {
+            Ok(l) => l,
             Err(e) => return rejected(format!("path: {e}")),
         };
-        let mut via = Vec::with_capacity(waypoints.len() - 1);
+        let mut via: Vec<Vec<f64>> = Vec::with_capacity(waypoints.len() - 1);
         for (w, point) in waypoints[..waypoints.len() - 1].iter().enumerate() {
             if point.len() != last.len() || point.keys().any(|k| !last.contains_key(k)) {
                 return rejected(format!(
@@ -207,6 +207,24 @@ impl OperatorServer {
             }
             via.push(last.keys().map(|k| point[k]).collect());
         }
+        // Each axis travels at least from here through every waypoint to its target.
+        for (k, &(i, target, limits, here)) in resolved.iter().enumerate() {
+            let mut at = here;
+            let mut travel = 0.0;
+            for p in via.iter().map(|v| v[k]).chain([target]) {
+                travel += (p - at).abs();
+                at = p;
+            }
+            let a = &ctx.cell.axes.on_loop()[i];
+            if let Err(e) = check_travel(
+                || format!("axis '{}' ({})", a.name, a.unit),
+                travel,
+                &limits,
+            ) {
+                return rejected(format!("path: {e}"));
+            }
+        }
+        let targets = resolved.into_iter().map(|(i, t, l, _)| (i, t, l)).collect();
         self.motion("path", MotionRequest::Path { targets, via }, ctx)
     }
 
@@ -275,6 +293,11 @@ impl OperatorServer {
         targets: &BTreeMap<String, f64>,
         seconds: f64,
     ) -> (Reply, Followup) {
+        if seconds > MAX_MOTION_S {
+            return rejected(format!(
+                "torque: {seconds} s is longer than a motion may take ({MAX_MOTION_S} s, one day)"
+            ));
+        }
         let (je_c, targets) = match backend::split(ctx.cell, targets) {
             Ok(s) => (s.on_link, s.on_loop),
             Err(e) => return rejected(format!("torque: {e}")),

@@ -44,8 +44,8 @@ pub const COUNTS_PER_MM: Plausible = Plausible {
 /// speed `limits.velocity` implies), r/min (rotary) or mm/s (linear): at most 20000, the top
 /// of 607Fh Max profile velocity's setting range 0–2000000 × 0.01 r/min (MR-JE-C manual,
 /// object 607Fh; 0.01 mm/s for linear motors, MR-J4-TM manual "Vel unit") and about three
-/// times the fastest servo motors of these families (6000–6700 r/min); at least 1 r/min
-/// (direct-drive motors are rated at 100 r/min and more).
+/// times the fastest servo motors of these families (6000–6700 r/min: a catalogue figure, not
+/// in the seeds); at least 1 r/min, below any motor's rated speed.
 pub const MOTOR_SPEED: Plausible = Plausible {
     min: 1.0,
     max: 20_000.0,
@@ -55,9 +55,9 @@ pub const MOTOR_SPEED: Plausible = Plausible {
 
 /// Motor revolutions (mm of a linear motor) per unit of travel — the gear ratio over the lead,
 /// `counts_per_unit` ÷ the position units per revolution (per mm) — within 10^-6…10^6: a
-/// 1:10000 reducer on a 0.01 mm lead counted in µm is 1 rev/unit (10^6 would be a 1:10^6
-/// reducer on it), a 1 m belt pulley counted in µm 10^-6 rev/unit; beyond either, the unit or
-/// one of the two counts is wrong.
+/// 1:10000 reducer on a 0.01 mm lead counted in µm is 10^3 rev/unit (10^6 would take a
+/// 1:10^7 reducer on it), a 1 m belt pulley counted in µm 10^-6 rev/unit; beyond either, the
+/// unit or one of the two counts is wrong.
 pub const REVS_PER_UNIT: Plausible = Plausible {
     min: 1e-6,
     max: 1e6,

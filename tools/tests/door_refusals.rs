@@ -122,6 +122,7 @@ fn moves_too_long_to_plan_are_refused_in_one_line_before_anything_is_sent() {
         match client.request(&req, Duration::from_secs(10)).unwrap() {
             Reply::Rejected { reason } => {
                 assert_eq!(reason.lines().count(), 1, "{reason}");
+                assert!(reason.chars().count() < LONGEST_LINE, "{reason}");
                 assert!(reason.contains(says), "{reason}");
             }
             r => panic!("{req:?}: {r:?}"),

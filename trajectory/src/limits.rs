@@ -44,6 +44,11 @@ impl fmt::Display for Quantity {
 /// far apart that it cannot represent them.
 pub const MAX_MOTION_S: f64 = 86_400.0;
 
+/// The smallest per-move limit taken, as a fraction of the axis limit: below it the planner's
+/// arithmetic degenerates (a velocity of 1e-300 unit/s is not a move). The operator service
+/// and the program check refuse smaller ones.
+pub const MIN_LIMIT_FRACTION: f64 = 1e-6;
+
 /// Errors from validating or combining limits and ranges.
 #[derive(Debug, Clone, Copy, PartialEq, Error)]
 pub enum LimitsError {

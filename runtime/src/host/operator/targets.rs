@@ -1,5 +1,6 @@
 //! The axes, targets and limits an operator request names, checked against the cell.
 
+use cellrt_trajectory::limits::MIN_LIMIT_FRACTION;
 use cellrt_trajectory::KinematicLimits;
 
 use cellrt_config::{AxisConfig, AxisRef, Backend, CellConfig};
@@ -67,7 +68,7 @@ pub enum TargetError {
         value: f64,
     },
     /// A requested velocity, acceleration or jerk that is not a positive number.
-    #[error("axis '{axis}': {what} {value} must be a finite number > 0")]
+    #[error("axis '{axis}': {what} {value:?} must be a finite number > 0")]
     BadLimit {
         /// Axis name.
         axis: String,
@@ -78,7 +79,7 @@ pub enum TargetError {
     },
     /// A requested limit too small for the planner: below [`MIN_LIMIT_FRACTION`] of the axis
     /// limit.
-    #[error("axis '{axis}': {what} {value} {unit}{per} is too small to plan with (at least {min} {unit}{per}, a millionth of the axis limit)")]
+    #[error("axis '{axis}': {what} {value:?} {unit}{per} is too small to plan with (at least {min:.3e} {unit}{per}, a millionth of the axis limit)")]
     BelowPlannable {
         /// Axis name.
         axis: String,
@@ -119,10 +120,6 @@ pub enum TargetError {
         limit: f64,
     },
 }
-
-/// The smallest per-move limit taken, as a fraction of the axis limit: below it the planner's
-/// arithmetic degenerates (a velocity of 1e-300 unit/s is not a move).
-pub const MIN_LIMIT_FRACTION: f64 = 1e-6;
 
 /// Refuses a travel of `distance` within `limits` that would take longer than a motion may
 /// ([`KinematicLimits::check_travel`]), naming `what` travels ("axis 'x' (mm)").

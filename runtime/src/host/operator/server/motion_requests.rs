@@ -108,7 +108,7 @@ impl OperatorServer {
             }
             Some(v) if v < max * MIN_LIMIT_FRACTION => {
                 return rejected(format!(
-                    "move: path velocity {v} is too small to plan with (at least {}, a millionth of the most every axis allows along this line)",
+                    "move: path velocity {v:?} is too small to plan with (at least {:.3e}, a millionth of the most every axis allows along this line)",
                     max * MIN_LIMIT_FRACTION
                 ))
             }
@@ -295,7 +295,7 @@ impl OperatorServer {
     ) -> (Reply, Followup) {
         if seconds > MAX_MOTION_S {
             return rejected(format!(
-                "torque: {seconds} s is longer than a motion may take ({MAX_MOTION_S} s, one day)"
+                "torque: {seconds:?} s is longer than a motion may take ({MAX_MOTION_S} s, one day)"
             ));
         }
         let (je_c, targets) = match backend::split(ctx.cell, targets) {

@@ -55,7 +55,7 @@ struct Rig {
 impl Rig {
     fn start(cell: &CellConfig) -> Rig {
         let n = cell.axes.on_loop().len();
-        let (h, handoff) = handoff::new(n, 1000, false);
+        let (h, handoff) = handoff::new(n, 1000, handoff::PerCycleRecords::Skipped);
         let node = services::node(&cell.name, "test").unwrap();
         let publisher = services::setpoint_publisher(&node, &cell.name, n).unwrap();
         let c = cell.clone();

@@ -4,6 +4,9 @@
 //! then a program whose move step mixes a csp and a pp axis. Judged on the positions and speeds the status reports;
 //! the waits are timeouts only.
 
+#[allow(dead_code)] // the shared support: this test asks the operator service through it
+mod support;
+
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -14,6 +17,7 @@ use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{run, RunOptions};
 use cellrt_runtime::host::operator::client::{running_cells, OperatorClient};
 use cellrt_runtime::host::operator::wire::{AxisStatus, Reply, Request, StatusReport};
+use support::operator::{request, status};
 
 fn axis(name: &str, mode: &str) -> String {
     axis_on(name, mode, "sim", J5)
@@ -39,29 +43,6 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
 sim = {{ initial_position = 100.0 }}
 "#
     )
-}
-
-/// A request, asked again while the cell's planner thread (which serves the operator) is too
-/// starved on the loaded test machine to answer within 5 s.
-fn request(c: &OperatorClient, r: &Request) -> Reply {
-    let mut tries = 0;
-    loop {
-        match c.request(r, Duration::from_secs(5)) {
-            Ok(reply) => return reply,
-            Err(e) if tries < 6 => {
-                tries += 1;
-                eprintln!("{e}; asking again");
-            }
-            Err(e) => panic!("{e}"),
-        }
-    }
-}
-
-fn status(c: &OperatorClient) -> StatusReport {
-    match request(c, &Request::Status) {
-        Reply::Status(s) => *s,
-        r => panic!("{r:?}"),
-    }
 }
 
 fn axis_of<'a>(s: &'a StatusReport, name: &str) -> &'a AxisStatus {

@@ -45,7 +45,7 @@ fn a_file_holds_at_most_max_chunks_and_the_recording_rotates() {
     cell.recording.flush_ms = 0;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("bounds.mcap");
-    let (rt, host): (RtEnd, _) = handoff::new(1, 1024, true);
+    let (rt, host): (RtEnd, _) = handoff::new(1, 1024, handoff::PerCycleRecords::Taken);
     let recorder = Recorder::start(&cell, Some(&path), std::sync::Arc::new(host)).unwrap();
     let cycles = MAX_CHUNKS_PER_FILE * 2 + 100;
     for c in 0..cycles {
@@ -72,7 +72,7 @@ fn a_file_holds_at_most_max_chunks_and_the_recording_rotates() {
 #[test]
 fn the_event_log_keeps_its_first_lines_and_counts_all_events() {
     let cell = cell();
-    let (rt, host) = handoff::new(1, 64, true);
+    let (rt, host) = handoff::new(1, 64, handoff::PerCycleRecords::Taken);
     let recorder = Recorder::start(&cell, None, std::sync::Arc::new(host)).unwrap();
     let events = EVENT_LOG_LINES as u64 + 500;
     for c in 0..events {

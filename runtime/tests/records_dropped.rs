@@ -31,7 +31,7 @@ limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, je
     );
     let cell = CellConfig::parse(Path::new("drops.toml"), &text).unwrap();
     // Queues of 64 cycles that nobody drains (yet).
-    let (h, handoff) = handoff::new(1, 64, true);
+    let (h, handoff) = handoff::new(1, 64, handoff::PerCycleRecords::Taken);
     let node = services::node(&cell.name, "test").unwrap();
     let _publisher = services::setpoint_publisher(&node, &cell.name, 1).unwrap();
     let c = cell.clone();

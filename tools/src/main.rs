@@ -7,11 +7,12 @@ mod logging;
 mod numbers;
 mod summary;
 
+use cellrt_config::echo::{Echo, MAX_ECHO_CHARS};
 use clap::Parser;
 
 fn main() {
     logging::init();
-    let cli = cli::Cli::parse();
+    let cli = cli::Cli::try_parse().unwrap_or_else(|e| refuse_arguments(&e));
     let code = match cli.command {
         cli::Command::Run(args) => commands::run::run(args),
         cli::Command::Planner(args) => commands::planner::run(args),
@@ -32,4 +33,26 @@ fn main() {
         cli::Command::Operate(c) => commands::operate::run(c, cli.target),
     };
     std::process::exit(code.code());
+}
+
+/// Ends the process on clap's refusal of the command line (or its help): as clap would, except
+/// that an argument it repeats is shown as [`Echo`] does when long.
+fn refuse_arguments(e: &clap::Error) -> ! {
+    // Each long argument as typed, and the value of a long `--name=value`.
+    let long: Vec<String> = std::env::args()
+        .flat_map(|a| {
+            let value = a.split_once('=').map(|(_, v)| v.to_string());
+            std::iter::once(a).chain(value)
+        })
+        .filter(|a| a.chars().count() > MAX_ECHO_CHARS)
+        .collect();
+    if long.is_empty() {
+        e.exit();
+    }
+    let mut text = e.render().to_string();
+    for a in &long {
+        text = text.replace(a.as_str(), &Echo(a).to_string());
+    }
+    eprint!("{text}");
+    std::process::exit(e.exit_code());
 }

@@ -2,41 +2,46 @@
 //! and out-of-range values are refused with the argument's name before anything is sent (JSON
 //! has no NaN: one sent would arrive as "not given" and change the request's meaning).
 
+use cellrt_config::echo::Echo;
+use cellrt_trajectory::limits::MAX_MOTION_S;
+
 /// The longest `--reply-timeout`, s: beyond an hour a reply is not coming.
 pub const MAX_REPLY_TIMEOUT_S: f64 = 3600.0;
 
 /// Why a number on the command line is refused (`text`: the argument as given).
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum NumberError {
     /// Not a number at all.
-    #[error("'{text}' is not a number")]
+    #[error("'{}' is not a number", Echo(.text))]
     NotANumber {
         /// The argument.
         text: String,
     },
     /// Not an integer (decimal or hex).
-    #[error("{text:?} is not a number")]
+    #[error("\"{}\" is not a number", Echo(.text))]
     NotAnInteger {
         /// The argument.
         text: String,
     },
     /// NaN or an infinity.
-    #[error("{text} is not a finite number")]
+    #[error("{} is not a finite number", Echo(.text))]
     NotFinite {
         /// The argument.
         text: String,
     },
     /// Zero or below where a number > 0 is needed.
-    #[error("{text} must be a number > 0")]
+    #[error("{} must be a number > 0", Echo(.text))]
     NotPositive {
         /// The argument.
         text: String,
     },
-    /// A `--reply-timeout` beyond [`MAX_REPLY_TIMEOUT_S`].
-    #[error("{text} s is longer than {MAX_REPLY_TIMEOUT_S} s")]
+    /// A duration beyond its bound ([`MAX_REPLY_TIMEOUT_S`], [`MAX_MOTION_S`]).
+    #[error("{} s is longer than {max} s", Echo(.text))]
     TooLong {
         /// The argument.
         text: String,
+        /// The bound, s.
+        max: f64,
     },
 }
 
@@ -88,16 +93,27 @@ pub fn positive(s: &str) -> Result<f64, NumberError> {
     }
 }
 
-/// `--reply-timeout`: seconds > 0, at most [`MAX_REPLY_TIMEOUT_S`].
-pub fn reply_timeout(s: &str) -> Result<f64, NumberError> {
+/// Seconds > 0, at most `max`.
+fn seconds_up_to(s: &str, max: f64) -> Result<f64, NumberError> {
     let v = positive(s)?;
-    if v <= MAX_REPLY_TIMEOUT_S {
+    if v <= max {
         Ok(v)
     } else {
         Err(NumberError::TooLong {
             text: s.to_string(),
+            max,
         })
     }
+}
+
+/// `--reply-timeout`: seconds > 0, at most [`MAX_REPLY_TIMEOUT_S`].
+pub fn reply_timeout(s: &str) -> Result<f64, NumberError> {
+    seconds_up_to(s, MAX_REPLY_TIMEOUT_S)
+}
+
+/// The seconds a motion lasts (`torque --seconds`): > 0, at most [`MAX_MOTION_S`].
+pub fn motion_seconds(s: &str) -> Result<f64, NumberError> {
+    seconds_up_to(s, MAX_MOTION_S)
 }
 
 #[cfg(test)]
@@ -135,5 +151,10 @@ mod tests {
             "1e300 s is longer than 3600 s"
         );
         assert_eq!(reply_timeout("5"), Ok(5.0));
+        assert_eq!(
+            motion_seconds("1e300").unwrap_err().to_string(),
+            "1e300 s is longer than 86400 s"
+        );
+        assert_eq!(motion_seconds("86400"), Ok(86_400.0));
     }
 }

@@ -38,6 +38,17 @@ impl fmt::Display for Quantity {
     }
 }
 
+/// The longest a planned motion may take, s: one day. A move whose limits would make it take
+/// longer (`cellrt move … --vel 1e-300`) is a mistake, not a motion: it is refused before
+/// anything moves ([`KinematicLimits::check_travel`]), and the planner never sees values so
+/// far apart that it cannot represent them.
+pub const MAX_MOTION_S: f64 = 86_400.0;
+
+/// The smallest per-move limit taken, as a fraction of the axis limit: below it the planner's
+/// arithmetic degenerates (a velocity of 1e-300 unit/s is not a move). The operator service
+/// and the program check refuse smaller ones.
+pub const MIN_LIMIT_FRACTION: f64 = 1e-6;
+
 /// Errors from validating or combining limits and ranges.
 #[derive(Debug, Clone, Copy, PartialEq, Error)]
 pub enum LimitsError {
@@ -66,6 +77,18 @@ pub enum LimitsError {
         min: f64,
         /// Upper bound.
         max: f64,
+    },
+    /// A travel the limits would take longer than [`MAX_MOTION_S`] over.
+    #[error("{distance:?} unit at {quantity} {limit:?} {} takes at least {seconds:.3e} s, longer than a motion may take ({MAX_MOTION_S} s, one day)", quantity.unit())]
+    TooLong {
+        /// The distance, unit.
+        distance: f64,
+        /// The limit that makes it long.
+        quantity: Quantity,
+        /// Its value.
+        limit: f64,
+        /// The least time the travel takes within that limit, s.
+        seconds: f64,
     },
     /// A position outside (or a non-finite position checked against) a range.
     #[error("position {value} is outside the allowed range [{min}, {max}]")]
@@ -108,6 +131,38 @@ impl KinematicLimits {
             }
         }
         Ok(())
+    }
+
+    /// Checks that travelling `distance` (unit, ≥ 0) from rest to rest within these limits can
+    /// take at most [`MAX_MOTION_S`]; refuses, naming the limit, when even the least time it
+    /// can take is longer. The least times are bounds any profile meets: `d / v` (speed at most
+    /// v), `2 √(d / a)` (speed at most a·min(t, T − t)), `∛(24 d / j)` (speed at most
+    /// j·min(t, T − t)²/2, from rest at zero acceleration).
+    pub fn check_travel(&self, distance: f64) -> Result<(), LimitsError> {
+        self.validate()?;
+        let d = distance.abs();
+        let least = [
+            (Quantity::Velocity, self.velocity, d / self.velocity),
+            (
+                Quantity::Acceleration,
+                self.acceleration,
+                2.0 * (d / self.acceleration).sqrt(),
+            ),
+            (Quantity::Jerk, self.jerk, (24.0 * d / self.jerk).cbrt()),
+        ];
+        // A NaN distance is refused as well.
+        match least
+            .into_iter()
+            .find(|&(_, _, t)| t.is_nan() || t > MAX_MOTION_S)
+        {
+            Some((quantity, limit, seconds)) => Err(LimitsError::TooLong {
+                distance: d,
+                quantity,
+                limit,
+                seconds,
+            }),
+            None => Ok(()),
+        }
     }
 
     /// Returns `self` (per-move limits) after checking that both sets are valid and that
@@ -170,6 +225,34 @@ impl PositionRange {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_travel_longer_than_a_day_is_refused_naming_the_limit() {
+        let l = |v, a, j| KinematicLimits {
+            velocity: v,
+            acceleration: a,
+            jerk: j,
+        };
+        // 800 mm at the demo's limits, and nothing to travel at the tiniest.
+        assert_eq!(l(400.0, 2000.0, 20000.0).check_travel(800.0), Ok(()));
+        assert_eq!(l(1e-300, 1e-300, 1e-300).check_travel(0.0), Ok(()));
+        for (limits, quantity) in [
+            (l(1e-300, 2000.0, 20000.0), Quantity::Velocity),
+            (l(400.0, 1e-300, 20000.0), Quantity::Acceleration),
+            (l(400.0, 2000.0, 1e-300), Quantity::Jerk),
+        ] {
+            let e = limits.check_travel(-100.0).unwrap_err();
+            assert!(
+                matches!(e, LimitsError::TooLong { quantity: q, distance, .. } if q == quantity && distance == 100.0),
+                "{e}"
+            );
+            assert!(e.to_string().contains("one day"), "{e}");
+        }
+        // Just within and just beyond a day at 1 unit/s.
+        assert!(l(1.0, 1e9, 1e9).check_travel(MAX_MOTION_S).is_ok());
+        assert!(l(1.0, 1e9, 1e9).check_travel(MAX_MOTION_S * 1.001).is_err());
+        assert!(l(1.0, 1.0, 1.0).check_travel(f64::INFINITY).is_err());
+    }
 
     const AXIS: KinematicLimits = KinematicLimits {
         velocity: 1.0,

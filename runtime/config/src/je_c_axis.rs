@@ -11,6 +11,7 @@ use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
 
 use super::raw::{RawAxis, RawJecAxis, RawPointTable};
 use super::{ConfigError, FaultReaction};
+use crate::plausible::{Plausible, COUNTS_PER_REV, MOTOR_SPEED, REVS_PER_UNIT};
 
 /// The drive name that selects an MR-JE-C axis.
 pub const DRIVE: &str = "mr-je-c";
@@ -401,6 +402,7 @@ pub fn validate(
             Err(err(sub, format!("{v} must be positive")))
         }
     };
+    let plausible = |sub: &str, bound: &Plausible, v: f64| bound.check(v).map_err(|m| err(sub, m));
     let transport = transport(&err, &a.transport, raw)?;
     let period_ms = raw.period_ms.unwrap_or(MIN_PERIOD_MS);
     if period_ms < MIN_PERIOD_MS {
@@ -448,8 +450,9 @@ pub fn validate(
             }
             f64::from(stations)
         }
-        _ => positive(
+        _ => plausible(
             "je_c.counts_per_rev",
+            &COUNTS_PER_REV,
             raw.counts_per_rev.unwrap_or(131_072.0),
         )?,
     };
@@ -464,6 +467,11 @@ pub fn validate(
     let velocity = positive("limits.velocity", a.limits.velocity)?;
     let acceleration = positive("limits.acceleration", a.limits.acceleration)?;
     let counts_per_unit = positive("counts_per_unit", a.counts_per_unit)?;
+    plausible(
+        "counts_per_unit",
+        &REVS_PER_UNIT,
+        counts_per_unit / counts_per_rev,
+    )?;
     if let (Some((min, max)), false) = (
         target_position_range(),
         matches!(mode, JecMode::Indexer { .. }),
@@ -503,7 +511,11 @@ pub fn validate(
         watchdog_reaction,
         drive_timeout,
         counts_per_rev,
-        rated_speed: positive("je_c.rated_speed", raw.rated_speed.unwrap_or(3000.0))?,
+        rated_speed: plausible(
+            "je_c.rated_speed",
+            &MOTOR_SPEED,
+            raw.rated_speed.unwrap_or(3000.0),
+        )?,
         emulate: raw.emulate,
     })
 }

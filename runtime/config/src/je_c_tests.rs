@@ -420,3 +420,22 @@ fn homing_is_method_37_or_refused() {
         je_c_axis::JecHomingError::Controlword2Edge { .. }
     ));
 }
+
+#[test]
+fn implausible_je_c_motor_figures_are_refused_naming_the_key() {
+    refused(
+        outfeed("modbus-tcp", "emulate = true, counts_per_rev = 1e18"),
+        "axes[3].je_c.counts_per_rev",
+        "268435456",
+    );
+    refused(
+        outfeed("modbus-tcp", "emulate = true, rated_speed = 1e18"),
+        "axes[3].je_c.rated_speed",
+        "20000",
+    );
+    refused(
+        outfeed("modbus-tcp", "emulate = true, counts_per_rev = 1e-3"),
+        "axes[3].je_c.counts_per_rev",
+        "268435456",
+    );
+}

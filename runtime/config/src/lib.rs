@@ -9,6 +9,7 @@
 pub mod axes;
 pub mod capture;
 mod comm_watchdog;
+pub mod echo;
 mod error;
 pub mod events;
 mod fault;
@@ -17,6 +18,7 @@ pub mod input_file;
 pub mod je_c_axis;
 pub mod je_c_positioning;
 pub mod live;
+pub mod plausible;
 pub mod profile_axis;
 pub mod raw;
 mod validate;

@@ -213,9 +213,9 @@ pub(super) fn rated_speed(
             Ok(None)
         };
     };
-    if !(speed.is_finite() && speed > 0.0) {
-        return Err((KEY, format!("{speed} is not a speed (r/min or mm/s, > 0)")));
-    }
+    let speed = crate::plausible::MOTOR_SPEED
+        .check(speed)
+        .map_err(|m| (KEY, m))?;
     match scaling.counts_per_s(speed) {
         Some(c) => Ok(Some(c)),
         None => Err((

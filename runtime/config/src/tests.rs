@@ -802,3 +802,68 @@ fn the_emulated_sdo_answer_time_is_for_ethercat_axes_and_bounded() {
     let e = parse(&sim).unwrap_err();
     assert!(e.message.contains("only for transport"), "{e}");
 }
+
+#[test]
+fn implausible_motor_and_mechanics_figures_are_refused_naming_the_key() {
+    // Axis x of the demo: 10000 pos units/rev, 1000 pos units/mm (a 10 mm lead), 400 mm/s.
+    let x_motor = "motor = { counts_per_rev = 10000 }";
+    let with_motor = |motor: &str| demo_text().replacen(x_motor, motor, 1);
+    for (motor, key, says) in [
+        (
+            "motor = { counts_per_rev = 1e18 }",
+            "axes[0].motor.counts_per_rev",
+            "268435456",
+        ),
+        (
+            "motor = { counts_per_rev = 0.5 }",
+            "axes[0].motor.counts_per_rev",
+            "268435456",
+        ),
+        (
+            "motor = { counts_per_rev = 10000, max_speed = 1e18 }",
+            "axes[0].motor.max_speed",
+            "20000",
+        ),
+        (
+            "motor = { counts_per_rev = 10000, rated_speed = 1e18 }",
+            "axes[0].motor.rated_speed",
+            "20000",
+        ),
+        (
+            "motor = { counts_per_rev = 10000, rated_speed = 1e-300 }",
+            "axes[0].motor.rated_speed",
+            "20000",
+        ),
+        // Less than one position unit per revolution.
+        (
+            "motor = { counts_per_rev = 1e-3 }",
+            "axes[0].motor.counts_per_rev",
+            "position units per motor revolution",
+        ),
+        // 400 mm/s at 1000 pos units/mm and 100 per revolution: 240000 r/min.
+        (
+            "motor = { counts_per_rev = 100 }",
+            "axes[0].limits.velocity",
+            "the fastest a real motor can be",
+        ),
+    ] {
+        let e = parse(&with_motor(motor)).expect_err(motor);
+        assert_eq!(e.key, key, "{motor}: {e}");
+        assert!(e.message.contains(says), "{motor}: {e}");
+        assert_eq!(e.to_string().lines().count(), 1, "{e}");
+    }
+    // The gear ratio over the lead: 1e-300 pos units/mm at 10000 per revolution.
+    let text =
+        with_motor(x_motor).replacen("counts_per_unit = 1000", "counts_per_unit = 1e-300", 1);
+    let e = parse(&text).unwrap_err();
+    assert_eq!(e.key, "axes[0].counts_per_unit", "{e}");
+    assert!(e.message.contains("gear ratio over a lead"), "{e}");
+    // The manuals' figures pass: the 26-bit MR-J5 encoder, a 6000 r/min motor.
+    let text = with_motor("motor = { counts_per_rev = 67108864, max_speed = 6000 }").replacen(
+        "counts_per_unit = 1000",
+        "counts_per_unit = 6710886.4",
+        1,
+    );
+    let text = text.replacen("position = [0.0, 800.0]", "position = [0.0, 300.0]", 1);
+    parse(&text).unwrap();
+}

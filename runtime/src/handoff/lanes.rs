@@ -6,7 +6,9 @@ use std::sync::atomic::AtomicU32;
 use crossbeam::queue::ArrayQueue;
 
 use super::sdo::{SdoOutcomeSlot, SdoRequestSlot};
-use super::{AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, ProfileCommand};
+use super::{
+    AxisRecord, CellCommand, CellStatus, CycleRecord, EventRecord, PerCycleRecords, ProfileCommand,
+};
 
 /// Commands the queue holds before a sender is refused.
 const COMMAND_QUEUE: usize = 64;
@@ -30,8 +32,9 @@ pub(super) struct Lanes {
     pub(super) events: ArrayQueue<EventRecord>,
     /// Status for the non-RT side.
     pub(super) status: CellStatus,
-    /// Whether a recorder drains the record queues (if not, the RT thread skips pushing).
-    pub(super) recording: bool,
+    /// Whether the recorder drains the per-cycle record queues (if not, the RT thread skips
+    /// pushing).
+    pub(super) per_cycle: PerCycleRecords,
     /// A pending homing request (`HomeRequest` packed; 0 = none), taken by the RT thread.
     pub(super) home_request: AtomicU32,
     /// A pending operator SDO request, taken by the RT thread.
@@ -45,20 +48,17 @@ pub(super) struct Lanes {
 impl Lanes {
     /// Preallocates queues for `queue_cycles` cycles (at least 64) of `axes` axes; without a
     /// recorder the record queues hold one record.
-    pub(super) fn new(axes: usize, queue_cycles: usize, recording: bool) -> Self {
+    pub(super) fn new(axes: usize, queue_cycles: usize, per_cycle: PerCycleRecords) -> Self {
         let queue_cycles = queue_cycles.max(64);
+        let taken = per_cycle == PerCycleRecords::Taken;
         Lanes {
             commands: ArrayQueue::new(COMMAND_QUEUE),
             profile_commands: ArrayQueue::new(COMMAND_QUEUE),
-            cycles: ArrayQueue::new(if recording { queue_cycles } else { 1 }),
-            axes: ArrayQueue::new(if recording {
-                queue_cycles * axes.max(1)
-            } else {
-                1
-            }),
+            cycles: ArrayQueue::new(if taken { queue_cycles } else { 1 }),
+            axes: ArrayQueue::new(if taken { queue_cycles * axes.max(1) } else { 1 }),
             events: ArrayQueue::new(EVENT_QUEUE),
             status: CellStatus::default(),
-            recording,
+            per_cycle,
             home_request: AtomicU32::new(0),
             sdo_request: SdoRequestSlot::default(),
             sdo_outcome: SdoOutcomeSlot::default(),

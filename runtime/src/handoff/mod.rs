@@ -25,10 +25,34 @@ pub use rt_end::RtEnd;
 pub use sdo::{SdoSlotBusy, UserSdo, UserSdoOutcome};
 pub use status::{AxisLive, CellState, CellStatus, HomingStatus, StopReason};
 
+/// Whether anything on the non-RT side takes the RT thread's per-cycle records (cycle and axis
+/// records; events are always taken).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PerCycleRecords {
+    /// The recorder thread drains them: for a recording file, a triggered capture's ring or the
+    /// live view — any one of them is enough.
+    Taken,
+    /// Nothing takes them: the RT thread does not build them and their queues hold one record.
+    Skipped,
+}
+
+impl PerCycleRecords {
+    /// Taken when the run writes a recording (`file`, continuous or triggered) or serves the
+    /// live view (`live`): the live view needs every cycle whether or not a file is written.
+    pub fn for_run(file: Option<&std::path::Path>, live: Option<std::net::SocketAddr>) -> Self {
+        if file.is_some() || live.is_some() {
+            PerCycleRecords::Taken
+        } else {
+            PerCycleRecords::Skipped
+        }
+    }
+}
+
 /// The two ends of one hand-off, with queues for `queue_cycles` cycles (at least 64) of `axes`
-/// axes; `recording`: a recorder drains the record queues (if not, the RT thread skips them).
-pub fn new(axes: usize, queue_cycles: usize, recording: bool) -> (RtEnd, HostEnd) {
-    let lanes = Arc::new(lanes::Lanes::new(axes, queue_cycles, recording));
+/// axes; `per_cycle`: whether the per-cycle record queues are drained (if not, the RT thread
+/// skips them).
+pub fn new(axes: usize, queue_cycles: usize, per_cycle: PerCycleRecords) -> (RtEnd, HostEnd) {
+    let lanes = Arc::new(lanes::Lanes::new(axes, queue_cycles, per_cycle));
     (RtEnd::new(lanes.clone()), HostEnd::new(lanes))
 }
 

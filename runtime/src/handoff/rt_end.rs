@@ -66,10 +66,10 @@ impl RtEnd {
         self.lanes.feed_override.load(Ordering::Acquire)
     }
 
-    /// Whether a recorder drains the record queues (if not, skip building records).
+    /// Whether the recorder drains the per-cycle record queues (if not, skip building records).
     #[inline]
-    pub fn recording(&self) -> bool {
-        self.lanes.recording
+    pub fn per_cycle_records_taken(&self) -> bool {
+        self.lanes.per_cycle == super::PerCycleRecords::Taken
     }
 
     /// Hands a cycle record to the recorder; false if its queue is full.

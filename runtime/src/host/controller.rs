@@ -190,7 +190,7 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let (rt_handoff, handoff) = handoff::new(
         cell.axes.on_loop().len(),
         queue_cycles(cell),
-        opts.record.is_some(),
+        handoff::PerCycleRecords::for_run(opts.record.as_deref(), cell.live),
     );
     let handoff = Arc::new(handoff);
     let (live, page) = start_live(cell)?;

@@ -53,7 +53,11 @@ impl Counting {
 /// Starts `cell`'s RT executive with the counting hook, powers it on and waits for steady
 /// state.
 pub fn start_steady(cell: &CellConfig, counting: Counting) -> Steady {
-    let (rt_end, h) = handoff::new(cell.axes.on_loop().len(), 1000, false);
+    let (rt_end, h) = handoff::new(
+        cell.axes.on_loop().len(),
+        1000,
+        handoff::PerCycleRecords::Skipped,
+    );
     let node = services::node(&cell.name, "test").unwrap();
     let publisher =
         services::setpoint_publisher(&node, &cell.name, cell.axes.on_loop().len()).unwrap();

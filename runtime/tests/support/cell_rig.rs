@@ -32,7 +32,7 @@ pub struct Rig {
 
 impl Rig {
     pub fn start(cell: CellConfig) -> Rig {
-        let (h, handoff) = handoff::new(1, 20_000, true);
+        let (h, handoff) = handoff::new(1, 20_000, handoff::PerCycleRecords::Taken);
         let node = services::node(&cell.name, "test").unwrap();
         let _publisher = services::setpoint_publisher(&node, &cell.name, 1).unwrap();
         let rt = rt_thread::spawn_rt(&cell, h, None);

@@ -208,7 +208,7 @@ enum DriveAccessError {
     #[error("Modbus RTU runs on a serial line, not an IP address")]
     RtuNeedsSerialLine,
     /// Neither an IP address nor IP:PORT.
-    #[error("drive address {addr:?}: expected IP or IP:PORT")]
+    #[error("drive address \"{}\": expected IP or IP:PORT", cellrt_config::echo::Echo(.addr))]
     NotAnAddress {
         /// The argument.
         addr: String,
@@ -217,7 +217,7 @@ enum DriveAccessError {
     #[error(transparent)]
     Number(#[from] crate::numbers::NumberError),
     /// A value the object's type cannot hold.
-    #[error("{text} does not fit the object's type")]
+    #[error("{} does not fit the object's type", cellrt_config::echo::Echo(.text))]
     DoesNotFit {
         /// The value as given.
         text: String,

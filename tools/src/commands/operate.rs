@@ -8,8 +8,10 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use cellrt_config::echo::Echo;
 use cellrt_runtime::host::operator::client::{ClientError, OperatorClient};
 use cellrt_runtime::host::operator::wire::{Reply, Request, StatusReport};
+use cellrt_trajectory::KinematicLimits;
 use clap::{Args, Subcommand};
 
 use crate::exit::Exit;
@@ -122,7 +124,7 @@ pub enum OperatorCommand {
         )]
         targets: Vec<String>,
         /// Seconds at the torque.
-        #[arg(long, default_value_t = 1.0, value_parser = crate::numbers::positive)]
+        #[arg(long, default_value_t = 1.0, value_parser = crate::numbers::motion_seconds)]
         seconds: f64,
         /// Return once accepted.
         #[arg(long)]
@@ -203,6 +205,10 @@ pub fn run(command: OperatorCommand, target: Target) -> Exit {
     };
     if let OperatorCommand::Status { watch, json } = command {
         return status(&client, timeout, watch, json);
+    }
+    if let Err(e) = check_travel(&client, &request, timeout) {
+        eprintln!("error: {e}");
+        return Exit::BadInput;
     }
     let id = match client.request(&request, timeout) {
         Ok(Reply::Accepted { id }) => id,
@@ -286,7 +292,7 @@ enum Wait {
 #[derive(Debug, thiserror::Error)]
 pub enum RequestArgsError {
     /// An argument is not `AXIS=VALUE`.
-    #[error("{what}: '{arg}' is not AXIS=VALUE")]
+    #[error("{what}: '{}' is not AXIS=VALUE", Echo(.arg))]
     NotAPair {
         /// The command.
         what: &'static str,
@@ -294,7 +300,7 @@ pub enum RequestArgsError {
         arg: String,
     },
     /// The value of an `AXIS=VALUE` argument is not a number.
-    #[error("{what}: '{arg}': '{value}' is not a number")]
+    #[error("{what}: '{}': '{}' is not a number", Echo(.arg), Echo(.value))]
     NotANumber {
         /// The command.
         what: &'static str,
@@ -304,7 +310,7 @@ pub enum RequestArgsError {
         value: String,
     },
     /// The value of an `AXIS=VALUE` argument is infinite or NaN.
-    #[error("{what}: '{arg}': '{value}' is not a finite number")]
+    #[error("{what}: '{}': '{}' is not a finite number", Echo(.arg), Echo(.value))]
     NotFinite {
         /// The command.
         what: &'static str,
@@ -314,7 +320,7 @@ pub enum RequestArgsError {
         value: String,
     },
     /// Two arguments name one axis.
-    #[error("{what}: axis '{axis}' is given twice")]
+    #[error("{what}: axis '{}' is given twice", Echo(.axis))]
     AxisTwice {
         /// The command.
         what: &'static str,
@@ -475,6 +481,96 @@ fn path(waypoints: &[String], limits: &LimitArgs) -> Result<Request, RequestArgs
         jerk: limits.jerk,
         clamp: limits.clamp,
     })
+}
+
+/// Refuses a move or path whose own limits (`--vel`, `--acc`, `--jerk`) would make it take
+/// longer than a motion may ([`KinematicLimits::check_travel`]), before it is sent: per axis
+/// (its travel through every waypoint), and for `--line` along the path. Absolute targets are
+/// measured from the positions the cell reports; where it reports none the cell judges alone
+/// (it checks every move again with the axis limits).
+fn check_travel(client: &OperatorClient, req: &Request, timeout: Duration) -> Result<(), String> {
+    let (what, points, relative, line, [velocity, acceleration, jerk]) = match req {
+        Request::Move {
+            targets,
+            relative,
+            velocity,
+            acceleration,
+            jerk,
+            line,
+            ..
+        } => (
+            "move",
+            std::slice::from_ref(targets),
+            *relative,
+            *line,
+            [*velocity, *acceleration, *jerk],
+        ),
+        Request::Path {
+            waypoints,
+            velocity,
+            acceleration,
+            jerk,
+            ..
+        } => (
+            "path",
+            waypoints.as_slice(),
+            false,
+            false,
+            [*velocity, *acceleration, *jerk],
+        ),
+        _ => return Ok(()),
+    };
+    let Some(last) = points.last() else {
+        return Ok(());
+    };
+    if velocity.is_none() && acceleration.is_none() && jerk.is_none() {
+        return Ok(());
+    }
+    // Only the asked limits bind here; the axis limits are the cell's to apply.
+    let asked = |v: Option<f64>| v.unwrap_or(f64::MAX);
+    let per_axis = KinematicLimits {
+        velocity: if line { f64::MAX } else { asked(velocity) },
+        acceleration: asked(acceleration),
+        jerk: asked(jerk),
+    };
+    let here = if relative {
+        None
+    } else {
+        match client.request(&Request::Status, timeout) {
+            Ok(Reply::Status(s)) => Some(s),
+            _ => return Ok(()),
+        }
+    };
+    let mut distances = Vec::with_capacity(last.len());
+    for axis in last.keys() {
+        let (from, unit) = match &here {
+            None => (0.0, String::new()),
+            Some(s) => match s.axes.iter().find(|a| &a.name == axis) {
+                Some(a) => (a.position, format!(" ({})", a.unit)),
+                None => return Ok(()), // the cell names the unknown axis
+            },
+        };
+        let (mut at, mut travel) = (from, 0.0);
+        for p in points.iter().filter_map(|p| p.get(axis)) {
+            travel += (p - at).abs();
+            at = *p;
+        }
+        per_axis
+            .check_travel(travel)
+            .map_err(|e| format!("{what}: axis '{}'{unit}: {e}", Echo(axis)))?;
+        distances.push(last[axis] - from);
+    }
+    if let (true, Some(v)) = (line, velocity) {
+        let length = distances.iter().map(|d| d * d).sum::<f64>().sqrt();
+        let path = KinematicLimits {
+            velocity: v,
+            acceleration: f64::MAX,
+            jerk: f64::MAX,
+        };
+        path.check_travel(length)
+            .map_err(|e| format!("{what}: the line: {e}"))?;
+    }
+    Ok(())
 }
 
 /// Parses `AXIS=VALUE` arguments.

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use super::positive;
+use crate::plausible::Plausible;
 use crate::ConfigError;
 
 /// Where an axis' keys live (`axes[i]` of `file`): errors name `axes[i].<sub>`.
@@ -20,5 +21,15 @@ impl AxisKey<'_> {
     /// `v` checked positive and finite, as key `axes[i].<sub>`.
     pub(super) fn positive(&self, sub: &str, v: f64) -> Result<f64, ConfigError> {
         positive(self.file, &format!("{}.{sub}", self.key), v)
+    }
+
+    /// `v` checked within what a real drive and motor can be (`bound`), as key `axes[i].<sub>`.
+    pub(super) fn plausible(
+        &self,
+        sub: &str,
+        bound: &Plausible,
+        v: f64,
+    ) -> Result<f64, ConfigError> {
+        bound.check(v).map_err(|m| self.err(sub, m))
     }
 }

@@ -40,7 +40,10 @@ pub(crate) fn check_name(file: &Path, key: &str, name: &str) -> Result<(), Confi
         Err(ConfigError::new(
             file,
             key,
-            format!("'{name}' is not a valid name (1-32 characters of A-Z a-z 0-9 _ -)"),
+            format!(
+                "'{}' is not a valid name (1-32 characters of A-Z a-z 0-9 _ -)",
+                crate::echo::Echo(name)
+            ),
         ))
     }
 }

@@ -7,6 +7,7 @@ use cellrt_cia402::profiles::{MotorKind, Stated, VelocityUnit};
 use cellrt_cia402::DriveProfile;
 
 use super::axis_key::AxisKey;
+use crate::plausible::{COUNTS_PER_MM, COUNTS_PER_REV, MOTOR_SPEED, REVS_PER_UNIT};
 use crate::raw::RawAxis;
 use crate::ConfigError;
 
@@ -39,11 +40,11 @@ pub(super) fn drive_units(
         }
         (Some(c), None) => Some(Motor {
             kind: MotorKind::Rotary,
-            counts_per: at.positive("motor.counts_per_rev", c)?,
+            counts_per: at.plausible("motor.counts_per_rev", &COUNTS_PER_REV, c)?,
         }),
         (None, Some(c)) if profile.units.linear_motors => Some(Motor {
             kind: MotorKind::Linear,
-            counts_per: at.positive("motor.counts_per_mm", c)?,
+            counts_per: at.plausible("motor.counts_per_mm", &COUNTS_PER_MM, c)?,
         }),
         (None, Some(_)) => {
             return Err(at.err(
@@ -56,6 +57,14 @@ pub(super) fn drive_units(
         }
         (None, None) => None,
     };
+    if let Some(m) = &motor {
+        // Checked positive and finite before.
+        at.plausible(
+            "counts_per_unit",
+            &REVS_PER_UNIT,
+            a.counts_per_unit / m.counts_per,
+        )?;
+    }
     let velocity = velocity_unit(at, a, profile)?;
     let scaling = DriveScaling::new(&profile.units, velocity, motor).map_err(|e| match e {
         DriveScalingError::MissingResolution { .. } => at.err(
@@ -98,7 +107,7 @@ fn velocity_unit(
 }
 
 /// `limits.velocity` (plus the csv position correction) must fit 60FFh (I32) in the drive's
-/// unit and stay within `motor.max_speed`.
+/// unit and stay within `motor.max_speed` (or, without one, the fastest a real motor can be).
 fn check_velocity(
     at: &AxisKey<'_>,
     a: &RawAxis,
@@ -136,26 +145,37 @@ fn check_velocity(
             ),
         ));
     }
-    if let Some(max) = a.motor.max_speed {
-        let max = at.positive("motor.max_speed", max)?;
-        let Some(speed) = scaling.motor_speed(demand.velocity_counts) else {
+    let max = match a.motor.max_speed {
+        Some(max) => Some(at.plausible("motor.max_speed", &MOTOR_SPEED, max)?),
+        None => None,
+    };
+    let speed = scaling.motor_speed(demand.velocity_counts);
+    let (speed, max, bound) = match (speed, max) {
+        (None, Some(_)) => {
             return Err(at.err(
                 "motor.max_speed",
                 "needs the motor's resolution (motor.counts_per_rev or counts_per_mm)".into(),
-            ));
-        };
-        if speed > max {
-            let kind = scaling.motor().map_or(MotorKind::Rotary, |m| m.kind);
-            return Err(at.err(
-                "limits.velocity",
-                format!(
-                    "{} {}/s is {speed:.3} {} at the motor, above motor.max_speed = {max}",
-                    a.limits.velocity,
-                    a.unit,
-                    kind.speed_unit()
-                ),
-            ));
+            ))
         }
+        (None, None) => return Ok(()),
+        (Some(speed), Some(max)) => (speed, max, format!("motor.max_speed = {max}")),
+        (Some(speed), None) => (
+            speed,
+            MOTOR_SPEED.max,
+            format!("{}, the fastest a real motor can be", MOTOR_SPEED.max),
+        ),
+    };
+    if speed > max {
+        let kind = scaling.motor().map_or(MotorKind::Rotary, |m| m.kind);
+        return Err(at.err(
+            "limits.velocity",
+            format!(
+                "{} {}/s is {speed:.3} {} at the motor, above {bound}",
+                a.limits.velocity,
+                a.unit,
+                kind.speed_unit()
+            ),
+        ));
     }
     Ok(())
 }

@@ -110,7 +110,8 @@ impl OperatorClient {
                     }),
                     Some(Found::NotPermitted(why)) => Err(ClientError::NotPermitted(why)),
                     None => Err(ClientError::NoCell(format!(
-                        "no cell named '{c}' is running{}",
+                        "no cell named '{}' is running{}",
+                        cellrt_config::echo::Echo(c),
                         others(&running)
                     ))),
                 }

@@ -5,6 +5,7 @@ use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_cia402::profiles::status_do::StatusDo;
 use cellrt_cia402::statusword::Statusword;
 use cellrt_fieldbus::mr_je_c::cell::AxisCommand;
+use cellrt_trajectory::limits::{MAX_MOTION_S, MIN_LIMIT_FRACTION};
 use cellrt_trajectory::KinematicLimits;
 use iceoryx2::prelude::*;
 
@@ -14,7 +15,9 @@ use super::backend::{self, link, profile};
 use super::bus_diag::DiagInFlight;
 use super::sdo::{self, SdoInFlight};
 use super::sdo_job::{SdoJob, SingleSdo};
-use super::targets::{axis_index, axis_ref, jog_velocity, move_limits, Asked, TargetError};
+use super::targets::{
+    axis_index, axis_ref, check_travel, jog_velocity, move_limits, Asked, TargetError,
+};
 use super::wire::{self, ActiveCommand, AxisStatus, FinishedCommand, Reply, Request, StatusReport};
 use crate::handoff::{
     CellCommand, CellState, HomeRequest, ProfileCommand, ProfileMotion, SwitchableMode,

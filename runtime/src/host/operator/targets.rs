@@ -1,5 +1,6 @@
 //! The axes, targets and limits an operator request names, checked against the cell.
 
+use cellrt_trajectory::limits::MIN_LIMIT_FRACTION;
 use cellrt_trajectory::KinematicLimits;
 
 use cellrt_config::{AxisConfig, AxisRef, Backend, CellConfig};
@@ -18,7 +19,7 @@ pub(crate) struct Asked {
 #[derive(Debug, thiserror::Error)]
 pub enum TargetError {
     /// No axis of that name.
-    #[error("unknown axis '{name}' (the cell has {axes})")]
+    #[error("unknown axis '{}' (the cell has {axes})", cellrt_config::echo::Echo(.name))]
     UnknownAxis {
         /// The name asked for.
         name: String,
@@ -67,7 +68,7 @@ pub enum TargetError {
         value: f64,
     },
     /// A requested velocity, acceleration or jerk that is not a positive number.
-    #[error("axis '{axis}': {what} {value} must be a finite number > 0")]
+    #[error("axis '{axis}': {what} {value:?} must be a finite number > 0")]
     BadLimit {
         /// Axis name.
         axis: String,
@@ -78,7 +79,7 @@ pub enum TargetError {
     },
     /// A requested limit too small for the planner: below [`MIN_LIMIT_FRACTION`] of the axis
     /// limit.
-    #[error("axis '{axis}': {what} {value} {unit}{per} is too small to plan with (at least {min} {unit}{per}, a millionth of the axis limit)")]
+    #[error("axis '{axis}': {what} {value:?} {unit}{per} is too small to plan with (at least {min:.3e} {unit}{per}, a millionth of the axis limit)")]
     BelowPlannable {
         /// Axis name.
         axis: String,
@@ -92,6 +93,15 @@ pub enum TargetError {
         per: &'static str,
         /// The smallest value taken.
         min: f64,
+    },
+    /// A move its limits would make take longer than
+    /// [`cellrt_trajectory::limits::MAX_MOTION_S`] (refused before anything moves).
+    #[error("{what}: {source}")]
+    TooLong {
+        /// What travels: "axis 'x' (mm)", "the line (mm)".
+        what: String,
+        /// The travel and the limit that make it too long.
+        source: cellrt_trajectory::LimitsError,
     },
     /// A requested limit above the axis limit, without `clamp`.
     #[error("axis '{axis}': {what} {value} {unit}{per} exceeds the axis limit {limit} {unit}{per} (add --clamp to use the limit)")]
@@ -111,9 +121,20 @@ pub enum TargetError {
     },
 }
 
-/// The smallest per-move limit taken, as a fraction of the axis limit: below it the planner's
-/// arithmetic degenerates (a velocity of 1e-300 unit/s is not a move).
-pub const MIN_LIMIT_FRACTION: f64 = 1e-6;
+/// Refuses a travel of `distance` within `limits` that would take longer than a motion may
+/// ([`KinematicLimits::check_travel`]), naming `what` travels ("axis 'x' (mm)").
+pub(crate) fn check_travel(
+    what: impl FnOnce() -> String,
+    distance: f64,
+    limits: &KinematicLimits,
+) -> Result<(), TargetError> {
+    limits
+        .check_travel(distance)
+        .map_err(|source| TargetError::TooLong {
+            what: what(),
+            source,
+        })
+}
 
 /// The axis `name`, whichever backend runs it, or the cell's axis names.
 pub(crate) fn axis_ref(cell: &CellConfig, name: &str) -> Result<AxisRef, TargetError> {

@@ -161,6 +161,38 @@ fn per_move_limits_may_lower_but_never_raise_the_axis_limit() {
     assert_eq!(e.key, "step[0].jerk.a1");
 }
 
+#[test]
+fn per_move_limits_too_small_to_plan_with_are_refused_at_load() {
+    let c = cell(2);
+    for (step, key) in [
+        (
+            "do = \"move\"\ntarget = { a0 = 5.0 }\nvelocity = 1e-300",
+            "step[0].velocity",
+        ),
+        (
+            "do = \"move\"\ntarget = { a0 = 5.0 }\njerk = 1e-300",
+            "step[0].jerk",
+        ),
+        (
+            "do = \"line\"\ntarget = { a0 = 5.0, a1 = 5.0 }\nvelocity = 1e-300",
+            "step[0].velocity",
+        ),
+    ] {
+        let e = Program::parse(Path::new("p.toml"), &format!("[[step]]\n{step}\n"), &c)
+            .expect_err(step);
+        assert_eq!(e.key, key, "{e}");
+        assert!(e.message.contains("too small to plan with"), "{e}");
+        assert_eq!(e.to_string().lines().count(), 1, "{e}");
+        assert!(
+            e.message.starts_with("1e-300 ") || e.message.contains(" 1e-300 "),
+            "{e}"
+        );
+    }
+    // A millionth of the axis limit (10 mm/s) is still taken.
+    let ok = "[[step]]\ndo = \"move\"\ntarget = { a0 = 5.0 }\nvelocity = 1e-5\n";
+    Program::parse(Path::new("p.toml"), ok, &c).unwrap();
+}
+
 /// A move or a jog the axis' drive profile does not take at that point of the program is
 /// refused at load, naming the step, before anything moves: a jog of a pp axis, a move of a pv
 /// axis, and a jog of a csp axis after a `mode` step switched it to pp (allowed again once it

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use cellrt_cia402::homing::choose_procedure;
 use cellrt_cia402::mode::ModeOfOperation;
-use cellrt_trajectory::limits::KinematicLimits;
+use cellrt_trajectory::limits::{KinematicLimits, MIN_LIMIT_FRACTION};
 use cellrt_trajectory::planner::MAX_MOVE_AXES;
 
 use super::{
@@ -344,6 +344,21 @@ fn line_step(
         ));
     }
     let targets = move_targets(path, key, target, [&None, acceleration, jerk], cell)?;
+    // Along any line the path may run as fast as its slowest axis' limit.
+    let slowest = targets
+        .iter()
+        .map(|t| t.limits.velocity)
+        .fold(f64::INFINITY, f64::min);
+    if let Some(v) = velocity.filter(|v| *v < slowest * MIN_LIMIT_FRACTION) {
+        return Err(ConfigError::new(
+            path,
+            format!("{key}.velocity"),
+            format!(
+                "the path speed {v:?} is too small to plan with (at least {:.3e}, a millionth of the slowest axis' velocity limit)",
+                slowest * MIN_LIMIT_FRACTION
+            ),
+        ));
+    }
     let unit = &cell.axes.on_loop()[targets[0].axis].unit;
     if let Some(t) = targets
         .iter()
@@ -552,6 +567,16 @@ fn move_targets(
                     path,
                     k,
                     format!("must be a finite number > 0 (got {v})"),
+                ));
+            }
+            if v < default * MIN_LIMIT_FRACTION {
+                return Err(ConfigError::new(
+                    path,
+                    k,
+                    format!(
+                        "{v:?} is too small to plan with (at least {:.3e}, a millionth of the {what} limit of axis '{name}')",
+                        default * MIN_LIMIT_FRACTION
+                    ),
                 ));
             }
             if v > default {

@@ -83,7 +83,7 @@ pub fn part_path(first: &Path, n: u32) -> PathBuf {
 
 impl Recorder {
     /// Opens `path` (if any) and starts draining `handoff`. Without a path the thread still
-    /// drains events (for the summary and the log) and discards per-cycle records.
+    /// drains events (for the summary and the log) and whatever per-cycle records come.
     pub fn start(
         cell: &CellConfig,
         path: Option<&Path>,
@@ -92,7 +92,9 @@ impl Recorder {
         Recorder::start_with_live(cell, path, handoff, None)
     }
 
-    /// [`Recorder::start`], also offering every encoded record to the live view `live`.
+    /// [`Recorder::start`], also offering every encoded record to the live view `live` —
+    /// whether a file is written, rotated, between triggers or off (the hand-off must then be
+    /// built with [`crate::handoff::PerCycleRecords::Taken`], see `PerCycleRecords::for_run`).
     pub fn start_with_live(
         cell: &CellConfig,
         path: Option<&Path>,

@@ -502,7 +502,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             {
                 self.event(EventKind::BusError, i as u16, i as i64);
             }
-            if self.handoff.recording() {
+            if self.handoff.per_cycle_records_taken() {
                 let ch = &self.axes[i];
                 let rec = AxisRecord {
                     cycle: self.cycle,
@@ -543,7 +543,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
         if let Some(e) = dc_phase {
             self.stats.dc_phase_error.record(e.unsigned_abs());
         }
-        if self.handoff.recording() {
+        if self.handoff.per_cycle_records_taken() {
             let rec = CycleRecord {
                 cycle: self.cycle,
                 deadline_ns: deadline.0,

@@ -82,6 +82,16 @@ impl OperatorServer {
             Ok(l) => l,
             Err(e) => return rejected(format!("move: {e}")),
         };
+        for &(i, target, limits, here) in &list {
+            let a = &ctx.cell.axes.on_loop()[i];
+            if let Err(e) = check_travel(
+                || format!("axis '{}' ({})", a.name, a.unit),
+                target - here,
+                &limits,
+            ) {
+                return rejected(format!("move: {e}"));
+            }
+        }
         if !line {
             let list: Vec<_> = list.into_iter().map(|(i, t, l, _)| (i, t, l)).collect();
             return self.move_with_profile_axes(ctx, state, list);
@@ -96,6 +106,12 @@ impl OperatorServer {
                     "move: path velocity {v} must be a finite number > 0"
                 ))
             }
+            Some(v) if v < max * MIN_LIMIT_FRACTION => {
+                return rejected(format!(
+                    "move: path velocity {v:?} is too small to plan with (at least {:.3e}, a millionth of the most every axis allows along this line)",
+                    max * MIN_LIMIT_FRACTION
+                ))
+            }
             Some(v) if v > max && !asked.clamp => {
                 return rejected(format!(
                     "move: path velocity {v} exceeds {max:.3}, the most every axis allows along this line (add --clamp to use it)"
@@ -104,6 +120,24 @@ impl OperatorServer {
             Some(v) => Some(v.min(max)),
             None => None,
         };
+        if let Some(v) = path_velocity {
+            // The path at `v`: its time is the length over `v` whatever the axes' ramps.
+            let path = KinematicLimits {
+                velocity: v,
+                acceleration: f64::MAX,
+                jerk: f64::MAX,
+            };
+            let length = start
+                .iter()
+                .zip(&end)
+                .map(|(s, e)| (e - s) * (e - s))
+                .sum::<f64>()
+                .sqrt();
+            let unit = &ctx.cell.axes.on_loop()[list[0].0].unit;
+            if let Err(e) = check_travel(|| format!("the line ({unit})"), length, &path) {
+                return rejected(format!("move: {e}"));
+            }
+        }
         let req = MotionRequest::Line {
             targets: list.iter().map(|t| (t.0, t.1, t.2)).collect(),
             path_velocity,
@@ -159,11 +193,11 @@ impl OperatorServer {
         let Some(last) = waypoints.last() else {
             return rejected("path: no waypoints".into());
         };
-        let targets = match resolve_targets(ctx, state, last, false, |a| move_limits(a, asked)) {
-            Ok(l) => l.into_iter().map(|(i, t, l, _)| (i, t, l)).collect(),
+        let resolved = match resolve_targets(ctx, state, last, false, |a| move_limits(a, asked)) {
+            Ok(l) => l,
             Err(e) => return rejected(format!("path: {e}")),
         };
-        let mut via = Vec::with_capacity(waypoints.len() - 1);
+        let mut via: Vec<Vec<f64>> = Vec::with_capacity(waypoints.len() - 1);
         for (w, point) in waypoints[..waypoints.len() - 1].iter().enumerate() {
             if point.len() != last.len() || point.keys().any(|k| !last.contains_key(k)) {
                 return rejected(format!(
@@ -173,6 +207,24 @@ impl OperatorServer {
             }
             via.push(last.keys().map(|k| point[k]).collect());
         }
+        // Each axis travels at least from here through every waypoint to its target.
+        for (k, &(i, target, limits, here)) in resolved.iter().enumerate() {
+            let mut at = here;
+            let mut travel = 0.0;
+            for p in via.iter().map(|v| v[k]).chain([target]) {
+                travel += (p - at).abs();
+                at = p;
+            }
+            let a = &ctx.cell.axes.on_loop()[i];
+            if let Err(e) = check_travel(
+                || format!("axis '{}' ({})", a.name, a.unit),
+                travel,
+                &limits,
+            ) {
+                return rejected(format!("path: {e}"));
+            }
+        }
+        let targets = resolved.into_iter().map(|(i, t, l, _)| (i, t, l)).collect();
         self.motion("path", MotionRequest::Path { targets, via }, ctx)
     }
 
@@ -241,6 +293,11 @@ impl OperatorServer {
         targets: &BTreeMap<String, f64>,
         seconds: f64,
     ) -> (Reply, Followup) {
+        if seconds > MAX_MOTION_S {
+            return rejected(format!(
+                "torque: {seconds:?} s is longer than a motion may take ({MAX_MOTION_S} s, one day)"
+            ));
+        }
         let (je_c, targets) = match backend::split(ctx.cell, targets) {
             Ok(s) => (s.on_link, s.on_loop),
             Err(e) => return rejected(format!("torque: {e}")),

@@ -182,12 +182,14 @@ pub struct TxPdo {
 
 impl TxPdo {
     /// The raw value of object `index` (sub 0) among [`TxPdo::extras`], if the image carries it.
+    #[inline]
     pub fn extra(&self, index: u16) -> Option<u64> {
         self.extras.get(index, 0)
     }
 
     /// The 16-bit object `index` (sub 0) among [`TxPdo::extras`]; 0 where the image does not
     /// carry it (statusword2 2011h, the Status DO words).
+    #[inline]
     pub fn extra_word(&self, index: u16) -> u16 {
         self.extra(index).map_or(0, |v| v as u16)
     }
@@ -230,11 +232,13 @@ pub struct TxExtrasFull {
 
 impl TxExtras {
     /// The objects held, in the order first set.
+    #[inline]
     pub fn objects(&self) -> &[ExtraObject] {
         &self.slots[..usize::from(self.len)]
     }
 
     /// The raw value of `index:sub`, if held.
+    #[inline]
     pub fn get(&self, index: u16, sub: u8) -> Option<u64> {
         self.objects()
             .iter()
@@ -244,6 +248,7 @@ impl TxExtras {
 
     /// Sets `index:sub` to `value` (its low 32 bits: extra objects are at most 32 bits wide),
     /// adding the object if it is not held yet.
+    #[inline]
     pub fn set(&mut self, index: u16, sub: u8, value: u64) -> Result<(), TxExtrasFull> {
         let value = value as u32;
         let len = usize::from(self.len);
@@ -370,6 +375,7 @@ impl TxField {
 
 impl RxPdo {
     /// The value of `field` as raw bits (sign-extended).
+    #[inline]
     pub fn get(&self, field: RxField) -> u64 {
         match field {
             RxField::Mode => i64::from(self.mode) as u64,
@@ -390,6 +396,7 @@ impl RxPdo {
     }
 
     /// Stores the raw bits of a `bits`-wide object into `field`.
+    #[inline]
     pub fn set(&mut self, field: RxField, bits: u16, raw: u64) {
         match field {
             RxField::Mode => self.mode = signed(raw, bits) as i8,
@@ -412,6 +419,7 @@ impl RxPdo {
 
 impl TxPdo {
     /// The value of `field` as raw bits (sign-extended).
+    #[inline]
     pub fn get(&self, field: TxField) -> u64 {
         match field {
             TxField::ModeDisplay => i64::from(self.mode_display) as u64,
@@ -425,6 +433,7 @@ impl TxPdo {
     }
 
     /// Stores the raw bits of a `bits`-wide object into `field`.
+    #[inline]
     pub fn set(&mut self, field: TxField, bits: u16, raw: u64) {
         match field {
             TxField::ModeDisplay => self.mode_display = signed(raw, bits) as i8,

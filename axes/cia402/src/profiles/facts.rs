@@ -625,6 +625,7 @@ pub enum CommCheck {
 
 impl CommCheck {
     /// The (rx, tx) counter objects, if the check has a counter.
+    #[inline]
     pub const fn counter_objects(&self) -> Option<(u16, u16)> {
         match *self {
             Self::IncrementalCounter {
@@ -639,6 +640,7 @@ impl CommCheck {
 
     /// The counter echo a TxPDO image carries (the check's TxPDO object among
     /// [`crate::TxPdo::extras`]); 0 where the check has no counter or the image does not carry it.
+    #[inline]
     pub fn tx_counter(&self, tx: &crate::TxPdo) -> u8 {
         self.counter_objects()
             .and_then(|(_, index)| tx.extra(index))

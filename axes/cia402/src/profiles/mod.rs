@@ -483,6 +483,7 @@ impl ObjectIndex {
     }
 
     /// The entry `index:sub`, if the profile lists it.
+    #[inline]
     pub fn get(&self, index: u16, sub: u8) -> Option<&'static OdEntry> {
         self.0
             .binary_search_by_key(&(index, sub), |o| (o.index, o.sub))

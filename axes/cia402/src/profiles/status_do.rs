@@ -88,11 +88,13 @@ impl StatusDo {
 
     /// The words a TxPDO image carries (2D11h–2D13h among [`TxPdo::extras`], 0 where the image
     /// does not carry one).
+    #[inline]
     pub fn of(tx: &TxPdo) -> Self {
         StatusDo(STATUS_DO.map(|index| tx.extra_word(index)))
     }
 
     /// Puts the three words into `extras` as 2D11h–2D13h.
+    #[inline]
     pub fn write_to(self, extras: &mut TxExtras) -> Result<(), TxExtrasFull> {
         for (index, word) in STATUS_DO.into_iter().zip(self.0) {
             extras.set(index, 0, u64::from(word))?;

@@ -66,6 +66,8 @@ pub struct SimDrive {
     od: cellrt_cia402::profiles::ObjectIndex,
     /// 60B0h's default where the model lists 60B0h (read every cycle in csp).
     position_offset_default: Option<Option<i64>>,
+    /// 605Ah's default (read every cycle by the PDS step; none where the manual states none).
+    quick_stop_option_default: Option<i64>,
     params: SimDriveParams,
     cycle_time: CycleTime,
     state: FsaState,
@@ -159,6 +161,9 @@ impl SimDrive {
             position_offset_default: profile
                 .object(cellrt_cia402::pdo::objects::POSITION_OFFSET, 0)
                 .map(|o| o.default),
+            quick_stop_option_default: profile
+                .object(cellrt_cia402::pdo::objects::QUICK_STOP_OPTION, 0)
+                .and_then(|o| o.default),
             params,
             cycle_time,
             state: FsaState::NotReadyToSwitchOn,

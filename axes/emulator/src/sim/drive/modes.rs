@@ -51,7 +51,7 @@ impl SimDrive {
     /// the manual states none).
     pub(super) fn quick_stop_option(&self) -> Option<i64> {
         self.sdo_value(QUICK_STOP_OPTION, 0)
-            .or_else(|| self.object(QUICK_STOP_OPTION, 0)?.default)
+            .or(self.quick_stop_option_default)
     }
 
     pub(super) fn run_plant(&mut self, cmd: &RxPdo, dt: f64) {

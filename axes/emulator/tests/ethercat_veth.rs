@@ -14,8 +14,13 @@ use cellrt_ethercat::master::{EthercatBus, RawSocketLink, SegmentConfig, Segment
 use cellrt_ethercat::raw_socket::RawSocket;
 use cellrt_test_support::veth::VethPair;
 
+/// The tests of this file one at a time: each sets up a veth pair (`ip`, RTNL) and paces a
+/// real-time loop, which the other's set-up would disturb.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 #[test]
 fn a_segment_on_a_veth_pair_comes_up_and_exchanges_over_raw_sockets() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner());
     // SAFETY: geteuid has no preconditions.
     if unsafe { libc::geteuid() } != 0 {
         eprintln!("SKIPPED: the veth EtherCAT test needs root (CAP_NET_ADMIN, CAP_NET_RAW)");
@@ -175,6 +180,7 @@ fn broadcast_read(socket: &RawSocket, source: [u8; 6], index: u8) -> Option<(u16
 
 #[test]
 fn a_maindevice_is_served_whatever_its_source_mac() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner());
     // SAFETY: geteuid has no preconditions.
     if unsafe { libc::geteuid() } != 0 {
         eprintln!("SKIPPED: the veth EtherCAT test needs root (CAP_NET_ADMIN, CAP_NET_RAW)");

@@ -89,7 +89,7 @@ fn stopped_by_a_late_wakeup(summary: &cellrt_runtime::host::controller::Summary)
         .iter()
         .filter(|e| e.contains(": drive_fault ["))
         .collect();
-    late && !faults.is_empty() && faults.iter().all(|e| e.ends_with("error code 0x8100"))
+    late && !faults.is_empty() && faults.iter().all(|e| e.ends_with("(603Fh = 8100h)"))
 }
 
 /// Runs the cell `text(attempt)` gives until it is not stopped by a late wakeup (the shipped

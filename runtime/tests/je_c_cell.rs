@@ -204,20 +204,8 @@ fn the_shipped_mixed_cell_runs_its_program() {
     }
 }
 
-#[test]
-fn a_cut_link_stops_the_axis_and_the_drive_raises_al_86_4() {
-    let server = Server::start(
-        MrJeC::new(MrJeCParams::default()),
-        IpAddr::V4(Ipv4Addr::LOCALHOST),
-        Ports::ANY,
-    )
-    .unwrap();
-    let je_c = format!(
-        "address = \"127.0.0.1\", port = {}, drive_timeout_ms = 1000, watchdog_missed = 3",
-        server.modbus_tcp.port()
-    );
-    // A long move: 400 mm at 50 mm/s.
-    let program = r#"
+/// A long move of the belt: 400 mm at 50 mm/s.
+const LONG_BELT_MOVE: &str = r#"
 [[step]]
 do = "power_on"
 [[step]]
@@ -225,20 +213,44 @@ do = "move"
 target = { belt = 400.0 }
 velocity = 50.0
 "#;
+
+/// An emulated MR-JE-C served on this host's loopback.
+fn local_drive() -> Server {
+    Server::start(
+        MrJeC::new(MrJeCParams::default()),
+        IpAddr::V4(Ipv4Addr::LOCALHOST),
+        Ports::ANY,
+    )
+    .unwrap()
+}
+
+/// Waits until `server`'s drive is enabled and its position has left 0 (at most 20 s).
+fn wait_until_moving(server: &Server) {
+    let end = Instant::now() + Duration::from_secs(20);
+    while server.drive().state() != cellrt_cia402::fsa::FsaState::OperationEnabled
+        || server
+            .drive()
+            .read(cellrt_fieldbus::mr_je_c::ObjectId::new(0x6064, 0))
+            .is_ok_and(|v| v.as_i64() == Some(0))
+    {
+        assert!(Instant::now() < end, "the belt never moved");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn a_cut_link_stops_the_axis_and_the_drive_raises_al_86_4() {
+    let server = local_drive();
+    let je_c = format!(
+        "address = \"127.0.0.1\", port = {}, drive_timeout_ms = 1000, watchdog_missed = 3",
+        server.modbus_tcp.port()
+    );
+    let program = LONG_BELT_MOVE;
     let text = cell_text("cut", "modbus-tcp", &je_c);
     let cutter = std::thread::scope(|scope| {
         let cut = scope.spawn(|| {
             // Once the belt moves, pull the cable.
-            let end = Instant::now() + Duration::from_secs(20);
-            while server.drive().state() != cellrt_cia402::fsa::FsaState::OperationEnabled
-                || server
-                    .drive()
-                    .read(cellrt_fieldbus::mr_je_c::ObjectId::new(0x6064, 0))
-                    .is_ok_and(|v| v.as_i64() == Some(0))
-            {
-                assert!(Instant::now() < end, "the belt never moved");
-                std::thread::sleep(Duration::from_millis(10));
-            }
+            wait_until_moving(&server);
             std::thread::sleep(Duration::from_millis(300));
             server.cut_link(true);
             Instant::now()
@@ -505,4 +517,58 @@ fn positioning_axes_refuse_what_they_do_not_take() {
         let e = p.expect_err(step);
         assert!(e.contains(why), "{step}: {e}");
     }
+}
+
+/// Faults in words (issue 32) on the MR-JE-C: its drive raises AL. 86.1 while the belt moves;
+/// the program fails, and the summary's failed step names the belt and the alarm by the
+/// manual's number, name and cause (MR-JE-C manual §5.2.3), as do the program error and the
+/// link's stop reason. The alarm is raised once the belt is seen moving, so the failing step is
+/// the move whatever the machine's speed.
+#[test]
+fn a_drive_alarm_on_the_mr_je_c_is_named_in_the_summary() {
+    let server = local_drive();
+    let je_c = format!(
+        "address = \"127.0.0.1\", port = {}, watchdog_missed = 0, response_timeout_ms = 200",
+        server.modbus_tcp.port()
+    );
+    let program = LONG_BELT_MOVE;
+    let text = cell_text("alarm", "modbus-tcp", &je_c);
+    let s = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            // Once the belt moves, the drive raises its alarm.
+            wait_until_moving(&server);
+            server.drive().raise(Alarm::NETWORK_1);
+        });
+        run_cell(&text, program)
+    });
+    assert_eq!(s.outcome, Outcome::ProgramFailed);
+    let failed = s.failed_step.as_ref().expect("a failed step");
+    assert_eq!((failed.step, failed.what), (1, "move"));
+    let fault = failed
+        .faults
+        .iter()
+        .find(|f| f.axis == "belt")
+        .unwrap_or_else(|| panic!("the belt's fault in {failed:?}"));
+    assert_eq!(
+        fault.alarm.as_deref(),
+        Some("AL. 86.1 Network communication error 1")
+    );
+    assert_eq!(fault.code, Some(0x8601));
+    assert!(
+        fault.cause.is_some_and(|c| c.contains("[Pr. PN02]")),
+        "{fault:?}"
+    );
+    assert_eq!(fault.remedy, None, "the manual gives no remedy");
+    let err = s.program_error.clone().unwrap_or_default();
+    assert!(
+        err.contains("MR-JE-C axis 'belt': drive alarm AL. 86.1 Network communication error 1"),
+        "{err}"
+    );
+    let (_, link) = linked(&s, "belt");
+    assert!(
+        link.stopped
+            .as_deref()
+            .is_some_and(|a| a.starts_with("drive alarm AL. 86.1 Network communication error 1")),
+        "{link:?}"
+    );
 }

@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use cellrt_runtime::host::controller::{Outcome, Summary};
+use cellrt_runtime::host::controller::{FailedStep, Outcome, Summary};
 
 /// Renders the summary printed at exit.
 pub fn render(s: &Summary) -> String {
@@ -14,6 +14,9 @@ pub fn render(s: &Summary) -> String {
         Outcome::Interrupted => "interrupted (clean shutdown)",
     };
     let _ = writeln!(o, "\n== cellrt summary: cell '{}' — {outcome}", s.cell);
+    if let Some(f) = &s.failed_step {
+        failure(&mut o, f);
+    }
     if let Some(e) = &s.program_error {
         let _ = writeln!(o, "   error: {e}");
     }
@@ -45,6 +48,12 @@ pub fn render(s: &Summary) -> String {
         s.counters.faults,
         s.counters.dropped_records
     );
+    let shown = s.failed_step.as_ref().map_or(0, |f| f.faults.len());
+    if shown == 0 {
+        for d in &s.drive_faults {
+            let _ = writeln!(o, "drive fault {d}");
+        }
+    }
     let l = &s.wakeup_latency;
     let _ = writeln!(
         o,
@@ -92,20 +101,60 @@ pub fn render(s: &Summary) -> String {
     o
 }
 
-/// Each axis' final position against its target; for an axis driven over an MR-JE-C link,
-/// the link's figures below it.
+/// The step a failed program stopped at and, where drive faults stopped it, each faulted axis
+/// with the alarm's manual number, name, cause and remedy.
+fn failure(o: &mut String, f: &FailedStep) {
+    let at = format!("step {} ({})", f.step, f.what);
+    match f.faults.as_slice() {
+        [] => {
+            let _ = writeln!(o, "   failed at {at}");
+        }
+        faults => {
+            let _ = writeln!(o, "   failed at {at}: drive fault");
+            for d in faults {
+                let _ = writeln!(o, "     {d}");
+                if let Some(c) = d.cause {
+                    let _ = writeln!(o, "       cause:  {c}");
+                }
+                if let Some(r) = d.remedy {
+                    let _ = writeln!(o, "       remedy: {r}");
+                }
+            }
+        }
+    }
+}
+
+/// Each axis' final position against its target (only the positions where a drive fault
+/// stopped the program: its final targets were never run to); for an axis driven over an
+/// MR-JE-C link, the link's figures below it.
 fn axes(o: &mut String, s: &Summary) {
-    let _ = writeln!(o, "axes        final position vs target");
+    let stopped_at = s
+        .failed_step
+        .as_ref()
+        .filter(|f| !f.faults.is_empty())
+        .map(|f| format!("step {} ({})", f.step, f.what));
+    match &stopped_at {
+        None => {
+            let _ = writeln!(o, "axes        final position vs target");
+        }
+        Some(at) => {
+            let _ = writeln!(
+                o,
+                "axes        final position (a drive fault stopped the program at {at}: its final targets were not run to)"
+            );
+        }
+    }
     for a in &s.axes {
-        let target = match (a.target, a.error) {
-            (Some(t), Some(e)) => format!("target {t:>12.4}   error {e:+.4}"),
+        let target = match (a.target, a.error, &stopped_at) {
+            (_, _, Some(_)) => String::new(),
+            (Some(t), Some(e), None) => format!("target {t:>12.4}   error {e:+.4}"),
             _ => "(no target)".to_string(),
         };
-        let _ = writeln!(
-            o,
+        let line = format!(
             "  {:<8} {:>12.4} {:<4} {target}",
             a.name, a.final_position, a.unit
         );
+        let _ = writeln!(o, "{}", line.trim_end());
         if let Some(l) = &a.link {
             let _ = writeln!(
                 o,

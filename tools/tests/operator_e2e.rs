@@ -514,9 +514,9 @@ fn torque_and_reset_after_a_fault_through_the_operator_service() {
         "torque step {max_step} per cycle"
     );
     assert!(
-        r.events
-            .iter()
-            .any(|e| e.kind == "drive_fault" && e.axis == "y" && e.detail.contains("0x2220")),
+        r.events.iter().any(|e| e.kind == "drive_fault"
+            && e.axis == "y"
+            && e.detail.contains("603Fh = 2220h")),
         "the alarm is recorded: {:?}",
         r.events
     );

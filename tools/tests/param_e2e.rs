@@ -166,9 +166,12 @@ fn alarms_show_the_alarm_the_simulated_drive_raised_and_clear() {
     let dir = tempfile::tempdir().unwrap();
     let cell = sim_cell(dir.path(), RX_LOSS_ON_X);
     let h = history_with(&cell, "x", "AL.36");
+    // Each entry with the manual's cause and remedy (MR-J3-T04 manual §7.2).
     assert_eq!(
         h,
-        "x alarm history (mr-j3-t04, newest first):\n0  AL.36 Receive error 2 (0036h) at 0 h, detail 0"
+        "x alarm history (mr-j3-t04, newest first):\n0  AL.36 Receive error 2 (0036h) at 0 h, detail 0\n   \
+         cause: PDO communication faulty: EtherCAT cable faulty, master communication settings/processing faulty, or faulty parts in the servo amplifier or option unit\n   \
+         remedy: Replace the EtherCAT cable; use a master that satisfies the EtherCAT standards; else replace the servo amplifier or the option unit"
     );
     assert_eq!(cell.out(&["alarms", "y"]), "y: alarm history empty");
     let (code, out, _) = cell.cli(&["alarms", "x", "--json"]);

@@ -232,7 +232,7 @@ fn a_drive_fault_stops_the_other_axes_too() {
     // MR-J5-G-N1's default TxPDO (1A00h) does not map 603Fh (MR-J5-G-N1 manual §4.3): the
     // master reads it once, acyclically, at the fault edge.
     assert_eq!(fault.value, 0x2220, "{}", fault.detail);
-    assert!(fault.detail.contains("0x2220"), "{}", fault.detail);
+    assert!(fault.detail.contains("603Fh = 2220h"), "{}", fault.detail);
     let (cycle, detail) = stop_detail(&run.rec);
     assert_eq!(detail, "drive_fault (controlled_stop)");
     // The healthy axis ramps down; the faulted one is stopped by its drive.

@@ -12,7 +12,8 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
-use crate::handoff::{self, CellCommand, CellState, HostEnd, RtEnd};
+use crate::handoff::{self, CellCommand, CellState, HostEnd, RtEnd, StopReason};
+use crate::host::faults::DriveFault;
 use crate::host::link_server::LinkServer;
 use crate::host::live::LiveServer;
 use crate::host::live_page::LivePage;
@@ -135,6 +136,11 @@ pub struct Summary {
     pub outcome: Outcome,
     /// Why the program failed, if it did.
     pub program_error: Option<String>,
+    /// The step the program failed at and the drive faults that stopped it, if it failed.
+    pub failed_step: Option<FailedStep>,
+    /// Every drive fault of the run in words (the RT loop's first
+    /// [`MAX_DRIVE_FAULTS`](crate::host::faults::MAX_DRIVE_FAULTS), then the MR-JE-C links').
+    pub drive_faults: Vec<DriveFault>,
     /// What the RT set-up achieved.
     pub rt: RtReport,
     /// The process' privileges (root, or a user's capabilities).
@@ -164,6 +170,19 @@ pub struct Summary {
     pub recording: RecordingInfo,
     /// The live view, when one ran.
     pub live: Option<LiveSummary>,
+}
+
+/// The step a failed program stopped at, and why in the drives' words.
+#[derive(Debug, Clone, Serialize)]
+pub struct FailedStep {
+    /// The step's number, as the program error gives it.
+    pub step: usize,
+    /// The step's kind ("move", "power_on", …).
+    pub what: &'static str,
+    /// The drive faults the cell stood faulted by when the program failed (an axis on the RT
+    /// loop since the last reset, or an MR-JE-C axis stopped by its drive's alarm); empty when
+    /// the program failed for another reason.
+    pub faults: Vec<DriveFault>,
 }
 
 /// What the live view passed on.
@@ -267,6 +286,8 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         &mut |now| service.poll(cycle(), now),
     );
     service.stopping();
+    // Why the RT thread stopped the cell, read before the shutdown powers it off.
+    let stopped_by = handoff.status().stop_reason();
     // Stop publishing before the controlled stop; release the publisher after the RT thread.
     if let Some(p) = planner.as_ref() {
         p.stop_publishing();
@@ -281,7 +302,29 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let links = je_c.finish();
     let recording = recording.finish()?;
 
-    let program_error = program_result.and_then(|r| r.err()).map(|e| e.to_string());
+    let program_failure = program_result.and_then(|r| r.err());
+    let program_error = program_failure.as_ref().map(ToString::to_string);
+    let link_faults: Vec<DriveFault> = links.iter().filter_map(|l| l.fault.clone()).collect();
+    let failed_step = program_failure.map(|e| {
+        let mut faults = if stopped_by == Some(StopReason::DriveFault) {
+            recording.drive_faults[recording.unreset_from.min(recording.drive_faults.len())..]
+                .to_vec()
+        } else {
+            Vec::new()
+        };
+        faults.extend(link_faults.iter().cloned());
+        FailedStep {
+            step: e.step,
+            what: e.what,
+            faults,
+        }
+    });
+    let drive_faults = recording
+        .drive_faults
+        .iter()
+        .cloned()
+        .chain(link_faults)
+        .collect();
     let outcome = if program_error.is_some() && outcome != Outcome::Interrupted {
         Outcome::ProgramFailed
     } else {
@@ -292,6 +335,8 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
         cycle_time_us: cell.cycle_time.as_micros(),
         outcome,
         program_error,
+        failed_step,
+        drive_faults,
         rt: report,
         privileges,
         counters: stats.counters,

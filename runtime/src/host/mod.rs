@@ -6,6 +6,7 @@
 pub mod cell_bus;
 pub mod cell_lock;
 pub mod controller;
+pub mod faults;
 pub mod je_c;
 pub mod link;
 pub mod link_server;

@@ -885,6 +885,11 @@ pub fn render(s: &StatusReport) -> String {
             detail
         );
     }
+    for a in s.axes.iter() {
+        if let Some(alarm) = &a.alarm {
+            out += &format!("alarm   {}: {alarm}\n", a.name);
+        }
+    }
     out
 }
 

@@ -158,6 +158,12 @@ fn render_alarms(r: &AlarmsReply) -> String {
             "{}  {} ({:04X}h) at {} h, detail {}\n",
             e.entry, e.name, e.number, e.hours, e.detail
         );
+        if let Some(c) = &e.cause {
+            out += &format!("   cause: {c}\n");
+        }
+        if let Some(r) = &e.remedy {
+            out += &format!("   remedy: {r}\n");
+        }
     }
     out
 }

@@ -356,12 +356,133 @@ pub struct AlarmInfo {
     pub clearing: Clearing,
     /// Spec section, or the gap it fills.
     pub source: &'static str,
+    /// The cause the manual gives, `None` where it gives none.
+    pub cause: Option<&'static str>,
+    /// What to do, as the manual says it; `None` where it says nothing.
+    pub remedy: Option<&'static str>,
 }
 
 impl AlarmInfo {
     /// True if a Fault Reset edge clears it (unstated clearing counts as resettable).
     pub const fn resettable(&self) -> bool {
         matches!(self.clearing, Clearing::FaultReset | Clearing::Unstated)
+    }
+
+    /// The row with the manual's cause and remedy (each `None` where the manual gives none).
+    pub const fn explained(
+        self,
+        cause: Option<&'static str>,
+        remedy: Option<&'static str>,
+    ) -> AlarmInfo {
+        AlarmInfo {
+            cause,
+            remedy,
+            ..self
+        }
+    }
+
+    /// The alarm of `table` reported as `code`, if the table names it.
+    pub fn find(table: &'static [AlarmInfo], code: u16) -> Option<&'static AlarmInfo> {
+        table.iter().find(|a| a.code == code)
+    }
+}
+
+/// Where a drive reports its alarm code, for the words around a decoded code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AlarmRegister {
+    /// CiA 402 error code 603Fh (the EtherCAT models).
+    ErrorCode603F,
+    /// MR-JE-C Current alarm 2, 2A42h: alarm No. in bits 8–15, detail in 0–7 (MR-JE-C manual §7.3).
+    CurrentAlarm2A42,
+}
+
+impl AlarmRegister {
+    /// The object as written in the manuals, e.g. "603Fh".
+    pub const fn object(self) -> &'static str {
+        match self {
+            AlarmRegister::ErrorCode603F => "603Fh",
+            AlarmRegister::CurrentAlarm2A42 => "2A42h",
+        }
+    }
+}
+
+/// A drive's alarm code in words: the one decode of a code every view uses (events, status,
+/// `alarms`, the live page, the summary). Built on the host side, never on the RT thread.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct AlarmText {
+    /// The code as the drive reported it.
+    pub code: u16,
+    /// Where the drive reported it.
+    pub register: AlarmRegister,
+    /// The manual's row for the code; `None` where the model's manual does not list it.
+    pub info: Option<&'static AlarmInfo>,
+    /// The drive, named where the code is not in its manual's list.
+    pub drive: &'static str,
+}
+
+impl AlarmText {
+    /// `code` of `register` looked up in `table`, the alarm list of `drive`.
+    pub fn decode(
+        table: &'static [AlarmInfo],
+        drive: &'static str,
+        register: AlarmRegister,
+        code: u16,
+    ) -> AlarmText {
+        AlarmText {
+            code,
+            register,
+            info: AlarmInfo::find(table, code),
+            drive,
+        }
+    }
+
+    /// The manual's number and name, e.g. "AL.36 Receive error 2"; `None` for a code the manual
+    /// does not list.
+    pub fn name(&self) -> Option<String> {
+        self.info.map(|a| format!("{} {}", a.display, a.name))
+    }
+
+    /// The manual's cause, where it gives one.
+    pub fn cause(&self) -> Option<&'static str> {
+        self.info.and_then(|a| a.cause)
+    }
+
+    /// The manual's remedy, where it gives one.
+    pub fn remedy(&self) -> Option<&'static str> {
+        self.info.and_then(|a| a.remedy)
+    }
+
+    /// The one-line text with cause and remedy where the manual gives them, e.g.
+    /// "AL.36 Receive error 2 (603Fh = 0036h); cause: …; remedy: …".
+    pub fn long(&self) -> String {
+        let mut s = self.to_string();
+        if let Some(c) = self.cause() {
+            s += &format!("; cause: {c}");
+        }
+        if let Some(r) = self.remedy() {
+            s += &format!("; remedy: {r}");
+        }
+        s
+    }
+}
+
+/// "AL.36 Receive error 2 (603Fh = 0036h)", or for a code the manual does not list
+/// "603Fh = 2220h (not listed for Mitsubishi MR-J5-G-N1)".
+impl fmt::Display for AlarmText {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let object = self.register.object();
+        match self.info {
+            Some(a) => write!(
+                f,
+                "{} {} ({object} = {:04X}h)",
+                a.display, a.name, self.code
+            ),
+            None => write!(
+                f,
+                "{object} = {:04X}h (not listed for {})",
+                self.code, self.drive
+            ),
+        }
     }
 }
 
@@ -755,6 +876,8 @@ pub(crate) const fn alarm(
         stop,
         clearing,
         source,
+        cause: None,
+        remedy: None,
     }
 }
 

@@ -33,10 +33,10 @@ pub mod status_do;
 pub mod units;
 
 pub use facts::{
-    Access, AlarmInfo, AlarmKind, Clearing, CommCheck, DataType, EmergencyFacts, FsoeCommandBits,
-    FsoeFacts, FsoeFrameLayout, FsoeStatusBits, HomeReference, HomeSetting, Identity,
-    InvalidAxisSwitch, OdEntry, Pdo, PdoAssignment, PdoRules, SafeBit, StopBehaviour,
-    TorqueLimitSelection, UnitPdoLimit, EMERGENCY_LAYOUT,
+    Access, AlarmInfo, AlarmKind, AlarmRegister, AlarmText, Clearing, CommCheck, DataType,
+    EmergencyFacts, FsoeCommandBits, FsoeFacts, FsoeFrameLayout, FsoeStatusBits, HomeReference,
+    HomeSetting, Identity, InvalidAxisSwitch, OdEntry, Pdo, PdoAssignment, PdoRules, SafeBit,
+    StopBehaviour, TorqueLimitSelection, UnitPdoLimit, EMERGENCY_LAYOUT,
 };
 pub use units::{
     AccelerationUnit, MotorKind, PositionUnit, Quantity, Stated, TorqueUnit, Units, VelocityUnit,
@@ -332,7 +332,17 @@ impl DriveProfile {
 
     /// The alarm or warning with `code`, if the manual names it.
     pub fn alarm(&self, code: u16) -> Option<&'static AlarmInfo> {
-        self.faults.alarms.iter().find(|a| a.code == code)
+        AlarmInfo::find(self.faults.alarms, code)
+    }
+
+    /// 603Fh `code` in words: the manual's number, name, cause and remedy where it lists them.
+    pub fn alarm_text(&self, code: u16) -> AlarmText {
+        AlarmText::decode(
+            self.faults.alarms,
+            self.name,
+            AlarmRegister::ErrorCode603F,
+            code,
+        )
     }
 
     /// True if a Fault Reset clears alarm `code` (codes the manual does not name are treated as

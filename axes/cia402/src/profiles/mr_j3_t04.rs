@@ -88,27 +88,29 @@ pub const AL_52: u16 = 0x0052;
 /// AL.61 Operation error: AL state left OP during operation (§2.5, §7.2).
 pub const AL_61: u16 = 0x0061;
 
-/// The alarms and warnings of MR-J3-T04 manual §7.1, §7.2, §3.7, §3.9, §5.1, §8.5.2 (deactivation columns of §7.1).
+/// The alarms and warnings of MR-J3-T04 manual §7.1, §7.2, §3.7, §3.9, §5.1, §8.5.2 (deactivation columns of §7.1),
+/// with the cause and action columns of §7.2 where the manual fills them (none for AL.92, AL.9F, AL.E3, AL.E6, AL.EA
+/// or the standard-J3A AL.52).
 #[rustfmt::skip]
 pub const ALARMS: &[AlarmInfo] = &[
-    alarm(0x0013, "AL.13", "Clock error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2; reset rule from the standard J3A manual (not in manual)"),
-    alarm(0x0026, "AL.26", "Home position setting error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2"),
-    alarm(AL_34, "AL.34", "Receive error 1", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§6.4, §7.2: incremental-counter update error"),
-    alarm(AL_35, "AL.35", "Command frequency error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "§7.2: the only alarm of this manual cleared by fault reset"),
-    alarm(AL_36, "AL.36", "Receive error 2", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§6.4, §7.2: RxPDO lost about 7 ms"),
-    alarm(AL_37, "AL.37", "Parameter error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2"),
+    alarm(0x0013, "AL.13", "Clock error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2; reset rule from the standard J3A manual (not in manual)").explained(Some("Noise in the synchronous signal; or parts in the servo amplifier or the option unit are faulty"), Some("Configure the synchronization in the master again after acting against noise and restarting the servo amplifier; else replace the servo amplifier or the option unit")),
+    alarm(0x0026, "AL.26", "Home position setting error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2").explained(Some("C_CR2 turned on before the Z-phase was passed"), Some("Turn C_CR2 on after the Z-phase has been passed")),
+    alarm(AL_34, "AL.34", "Receive error 1", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§6.4, §7.2: incremental-counter update error").explained(Some("Update error in the incremental counter; or leakage in the synchronization signal reception"), Some("Update the incremental counter as specified, send PDOs and configure correct synchronization; else replace the servo amplifier or the option unit")),
+    alarm(AL_35, "AL.35", "Command frequency error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "§7.2: the only alarm of this manual cleared by fault reset").explained(Some("Commands exceeded the servo motor maximum speed; or command data damaged by noise"), Some("Check the operation program; act against noise")),
+    alarm(AL_36, "AL.36", "Receive error 2", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§6.4, §7.2: RxPDO lost about 7 ms").explained(Some("PDO communication faulty: EtherCAT cable faulty, master communication settings/processing faulty, or faulty parts in the servo amplifier or option unit"), Some("Replace the EtherCAT cable; use a master that satisfies the EtherCAT standards; else replace the servo amplifier or the option unit")),
+    alarm(AL_37, "AL.37", "Parameter error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2").explained(Some("Parameters rewritten by a servo amplifier fault; a regenerative option not for this amplifier selected in PA02; over 100,000 EEPROM writes; or incremental-counter update error detection enabled in asynchronous mode"), Some("Replace the servo amplifier; set PA02 correctly; use asynchronous mode only without the incremental-counter update error detection")),
     alarm(AL_52, "AL.52", "Error excessive", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in manual: standard MR-J3-A (±3 rev), §7.1"),
-    alarm(AL_61, "AL.61", "Operation error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§2.5, §7.2"),
-    alarm(0x0074, "AL.74", "Option card error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2"),
-    alarm(0x0076, "AL.76", "Synchronization error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2"),
-    alarm(AL_90, "AL.90", "Home position not completed", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§7.2: homing aborted"),
+    alarm(AL_61, "AL.61", "Operation error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§2.5, §7.2").explained(Some("The AL state changed to other than Operational during operation (master request)"), Some("Restart the servo amplifier and start the operation again")),
+    alarm(0x0074, "AL.74", "Option card error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2").explained(Some("Initial synchronization failed in synchronous mode; or the MR-J3-T04 option unit is faulty"), Some("Configure correct synchronization in the master after acting against noise and restarting the servo amplifier; else replace the option unit")),
+    alarm(0x0076, "AL.76", "Synchronization error", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::PowerCycle, "§7.2").explained(Some("Synchronization setting incorrect, noise on the synchronous signal, bad connection to the MR-J3-T04, master timing error, or broken communication cable"), Some("Correct the synchronization settings; act against noise; review the amplifier to option unit connection, the master timing settings and the communication cable")),
+    alarm(AL_90, "AL.90", "Home position not completed", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§7.2: homing aborted").explained(Some("Homing could not decelerate to creep speed; or a limit switch acted during a homing started other than beyond the dog"), Some("Review the homing speed, creep speed and proximity dog position")),
     alarm(0x0092, "AL.92", "Battery cable disconnection", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§7.2 (standard J3A)"),
-    alarm(0x0096, "AL.96", "Home position setting warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§7.2"),
-    alarm(AL_99, "AL.99", "Stroke limit warning", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§7.2, §9.1"),
+    alarm(0x0096, "AL.96", "Home position setting warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§7.2").explained(Some("C_CR2 turned on before the Z-phase was passed"), Some("Turn C_CR2 on after the Z-phase has been passed")),
+    alarm(AL_99, "AL.99", "Stroke limit warning", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§7.2, §9.1").explained(Some("The stroke end (LSP or LSN) of the commanded direction is off"), Some("Review the operation pattern so LSP and LSN stay on")),
     alarm(0x009F, "AL.9F", "Battery warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§7.2 (standard J3A)"),
     alarm(0x00E3, "AL.E3", "Absolute position counter warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§7.2"),
     alarm(AL_E6, "AL.E6", "Servo emergency stop", AlarmKind::Warning, StopBehaviour::ServoOff, Clearing::Automatic, "§3.7, §7.2"),
-    alarm(AL_E9, "AL.E9", "Main circuit off warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§7.2"),
+    alarm(AL_E9, "AL.E9", "Main circuit off warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§7.2").explained(Some("Enable operation while the main circuit power supply is off"), Some("Turn on the main circuit power supply")),
     alarm(0x00EA, "AL.EA", "(name not given)", AlarmKind::Warning, StopBehaviour::ServoOff, Clearing::Automatic, "§7.2"),
 ];
 

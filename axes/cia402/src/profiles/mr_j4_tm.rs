@@ -100,21 +100,23 @@ pub const AL_90: u16 = 0x0900;
 // CiA 402 8611h (configurable) and 8400h [background].
 pub use crate::error_code::{FOLLOWING_ERROR, OVERSPEED};
 
-/// The alarms and warnings the seed names (MR-J4-TM manual; resettability mostly [MISSING]).
+/// The alarms and warnings the seed names (MR-J4-TM manual; resettability mostly [MISSING]), with the cause
+/// the seed gives in passing (§4.10.1, §5.2, §5.4.6; shared/spec/mr-j4-tm.md §9) and the disconnection
+/// procedure of §1.4.4 as the remedy of AL. 86.1; the seed has no remedy column.
 #[rustfmt::skip]
 pub const ALARMS: &[AlarmInfo] = &[
     alarm(0x0100, "AL. 10", "Undervoltage", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
     alarm(0x0250, "AL. 25", "Absolute position erased", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
-    alarm(0x0370, "AL. 37", "Parameter error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§9 [EXT]: not cleared by fault reset"),
+    alarm(0x0370, "AL. 37", "Parameter error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§9 [EXT]: not cleared by fault reset").explained(Some("Gear ratio 6091h other than 1 in a cyclic synchronous mode (software B2 or earlier)"), None),
     alarm(0x0690, "AL. 69", "Command error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
-    alarm(AL_86_1, "AL. 86.1", "Network communication error 1", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::FaultReset, "§2.4, §8.3; [EXT] clears with fault reset"),
-    alarm(AL_90, "AL. 90", "Home position return incomplete warning", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§9: the motor stops"),
-    alarm(0x0905, "AL. 90.5", "Z-phase unpassed", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§9"),
+    alarm(AL_86_1, "AL. 86.1", "Network communication error 1", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::FaultReset, "§2.4, §8.3; [EXT] clears with fault reset").explained(Some("The network was disconnected other than by the procedure of §1.4.4"), Some("Disconnect in order: stop the motor, Shutdown in 6040h (servo off), Pre-Operational, then power off")),
+    alarm(AL_90, "AL. 90", "Home position return incomplete warning", AlarmKind::Warning, StopBehaviour::SlowStop, Clearing::Automatic, "§9: the motor stops").explained(Some("Stroke end or proximity dog problem during homing"), None),
+    alarm(0x0905, "AL. 90.5", "Z-phase unpassed", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§9").explained(Some("Homing started before the Z-phase was passed (linear, fully closed or direct drive set-ups)"), None),
     alarm(0x0920, "AL. 92", "Battery cable disconnection warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§9"),
     alarm(0x09F0, "AL. 9F", "Battery warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§9"),
     alarm(0x0E30, "AL. E3", "Absolute position counter warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§9"),
     alarm(0x0F40, "AL. F4", "Positioning warning", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§9: reset by C_ORST"),
-    alarm(AL_F4_8, "AL. F4.8", "Positioning warning (relative pp in degree)", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§9"),
+    alarm(AL_F4_8, "AL. F4.8", "Positioning warning (relative pp in degree)", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§9").explained(Some("A relative pp set-point while the position unit is degree"), None),
     alarm(FOLLOWING_ERROR, "8611h", "Following error (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in this manual (no alarm chapter, §0): CiA 402 [background]"),
     alarm(OVERSPEED, "8400h", "Overspeed (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in this manual (no alarm chapter, §0): CiA 402 [background]"),
 ];

@@ -33,18 +33,19 @@ pub const INVALID_AXIS_SWITCH_1_AXIS: InvalidAxisSwitch = InvalidAxisSwitch {
     alarm: AL_011_2,
 };
 
-/// The alarms and warnings the manual names (§9). Stop methods are not in this manual.
+/// The alarms and warnings the manual names (§9). Stop methods are not in this manual; causes and remedies
+/// only where it states them (§6.1, §8, §8.1, §8.3 disconnection procedure).
 #[rustfmt::skip]
 pub const ALARMS: &[AlarmInfo] = &[
     // [inferred] SW3 is read at power-on (TV-14), so a Fault Reset cannot remove the
     // cause: the simulator keeps the alarm until a power cycle with a valid setting.
-    alarm(AL_011_2, "AL.011.2", "Invalid axis setting error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§9; §8 Point (SW3 on a 1-axis unit); clearing not stated: power cycle [inferred]"),
-    alarm(0x0250, "AL.025", "Absolute position lost", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9, §8.1"),
-    alarm(0x0251, "AL.025.1", "Servo motor encoder absolute position lost", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§8.1: cycle the power after 5 s"),
-    alarm(AL_086_1, "AL.086.1", "Network receive data error (Network communication error 1)", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§2.4, §9: PN18 / 10F1h:02; counting rule not given"),
-    alarm(0x0901, "AL.090.1", "Homing incomplete", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§8, §9"),
-    alarm(0x09E9, "AL.09E.9", "Control mode setting warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§1.4: FW < B6, free-run csp/csv/cst"),
-    alarm(0x0E31, "AL.0E3.1", "Absolute position counter warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§8.1"),
+    alarm(AL_011_2, "AL.011.2", "Invalid axis setting error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§9; §8 Point (SW3 on a 1-axis unit); clearing not stated: power cycle [inferred]").explained(Some("A 1-axis amplifier with SW3-1 OFF and SW3-2 ON"), None),
+    alarm(0x0250, "AL.025", "Absolute position lost", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9, §8.1").explained(None, Some("Home again through the controller")),
+    alarm(0x0251, "AL.025.1", "Servo motor encoder absolute position lost", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§8.1: cycle the power after 5 s").explained(Some("First set-up of the absolute position detection system"), Some("Wait 5 s, then cycle the power")),
+    alarm(AL_086_1, "AL.086.1", "Network receive data error (Network communication error 1)", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§2.4, §9: PN18 / 10F1h:02; counting rule not given").explained(Some("Communication errors passed [Pr. PN18] / 10F1h:02 Sync Error Counter Limit, or the network was dropped without the disconnection procedure"), Some("Set a threshold suited to the controller in [Pr. PN18] or 10F1h:02; Disconnect in order: stop the motor, Shutdown in 6040h (servo off), Pre-Operational, then power off")),
+    alarm(0x0901, "AL.090.1", "Homing incomplete", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§8, §9").explained(Some("Servo-on without a home position ([Pr. PC41.0])"), None),
+    alarm(0x09E9, "AL.09E.9", "Control mode setting warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§1.4: FW < B6, free-run csp/csv/cst").explained(Some("Firmware earlier than B6 driving csp/csv/cst in free-run"), None),
+    alarm(0x0E31, "AL.0E3.1", "Absolute position counter warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§8.1").explained(Some("32768 revolutions or more from home ([Pr. PC29.5])"), None),
     alarm(FOLLOWING_ERROR, "8611h", "Following error (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in the manual (§9 has no alarm list): CiA 402 [background]"),
     alarm(OVERSPEED, "8400h", "Overspeed (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in the manual (§9 has no alarm list): CiA 402 [background]"),
 ];

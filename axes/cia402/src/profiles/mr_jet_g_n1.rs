@@ -194,19 +194,20 @@ pub const FSOE: FsoeFacts = FsoeFacts {
 // 8400h [background].
 pub use crate::error_code::{FOLLOWING_ERROR, OVERSPEED};
 
-/// The alarms and warnings the manual names (MR-JET-G-N1 manual; no stop methods there).
+/// The alarms and warnings the manual names (MR-JET-G-N1 manual; no stop methods there), with causes and
+/// remedies only where it states them (§6.1, §7.4, §8.1, §8.3 disconnection procedure, §9.2, §9.3).
 #[rustfmt::skip]
 pub const ALARMS: &[AlarmInfo] = &[
-    alarm(0x0250, "AL.025", "Absolute position erased", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9, §8"),
-    alarm(0x0251, "AL.025.1", "Servo motor encoder absolute position erased", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§8: cycle the power after 5 s"),
-    alarm(AL_037, "AL.037", "Parameter error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§1.2, §8.2"),
-    alarm(AL_086_1, "AL.086.1", "Network receive data error (Network communication error 1)", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§2.4: PN18 / 10F1h:02, counting rule not given"),
-    alarm(0x0901, "AL.090.1", "Homing incomplete", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§8"),
-    alarm(0x0905, "AL.090.5", "Homing incomplete warning", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§8.2"),
-    alarm(0x09E9, "AL.09E.9", "Control mode setting warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§1.4"),
-    alarm(0x0E31, "AL.0E3.1", "Multi-revolution counter travel distance exceeded warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§8, §8.2"),
+    alarm(0x0250, "AL.025", "Absolute position erased", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9, §8").explained(None, Some("Home again through the controller")),
+    alarm(0x0251, "AL.025.1", "Servo motor encoder absolute position erased", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::PowerCycle, "§8: cycle the power after 5 s").explained(Some("First set-up of the absolute position detection system"), Some("Wait 5 s, then cycle the power")),
+    alarm(AL_037, "AL.037", "Parameter error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§1.2, §8.2").explained(Some("[Pr. PT01.2] mm/inch with [Pr. PA01.0] = 0, [Pr. PT85.0] = 1 in linear, fully closed or scale-measurement use, or an infinite-feed gear m of 16384 or more"), None),
+    alarm(AL_086_1, "AL.086.1", "Network receive data error (Network communication error 1)", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§2.4: PN18 / 10F1h:02, counting rule not given").explained(Some("Communication errors passed [Pr. PN18] / 10F1h:02 Sync Error Counter Limit, or the network was dropped without the disconnection procedure"), Some("Disconnect in order: stop the motor, Shutdown in 6040h (servo off), Pre-Operational, then power off")),
+    alarm(0x0901, "AL.090.1", "Homing incomplete", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§8").explained(Some("Servo-on without a home position ([Pr. PC41.0])"), None),
+    alarm(0x0905, "AL.090.5", "Homing incomplete warning", AlarmKind::Warning, StopBehaviour::Unstated, Clearing::Automatic, "§8.2").explained(Some("[Pr. PT85.0] changed and homing not repeated"), None),
+    alarm(0x09E9, "AL.09E.9", "Control mode setting warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§1.4").explained(Some("Firmware earlier than B6 driving csp/csv/cst in free-run"), None),
+    alarm(0x0E31, "AL.0E3.1", "Multi-revolution counter travel distance exceeded warning", AlarmKind::Warning, StopBehaviour::Continues, Clearing::Automatic, "§8, §8.2").explained(Some("32768 revolutions or more from home ([Pr. PC29.5])"), None),
     alarm(AL_537_2, "AL.537.2", "Parameter combination error A (safety)", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
-    alarm(AL_584_1, "AL.584.1", "FSoE Address mismatch error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9"),
+    alarm(AL_584_1, "AL.584.1", "FSoE Address mismatch error", AlarmKind::Alarm, StopBehaviour::Unstated, Clearing::Unstated, "§9").explained(Some("[Pr. PSC07] differs from the FSoE address configured in the master"), None),
     alarm(FOLLOWING_ERROR, "8611h", "Following error (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in the manual (§9 has no complete list): CiA 402 [background]"),
     alarm(OVERSPEED, "8400h", "Overspeed (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in the manual: CiA 402 [background]"),
 ];

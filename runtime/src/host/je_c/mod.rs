@@ -15,8 +15,10 @@ use cellrt_fieldbus::mr_je_c::cell::{
     AxisCommand, AxisControl, AxisFeedback, AxisHandle, AxisThread, StartError, StopReaction,
     Stopped,
 };
+use cellrt_fieldbus::mr_je_c::Alarm;
 use serde::Serialize;
 
+use crate::host::faults::DriveFault;
 use cellrt_config::je_c_axis::{JecAxisConfig, JecMode};
 use cellrt_config::{CellConfig, FaultReaction};
 use emulated::Emulated;
@@ -253,6 +255,7 @@ impl JecAxes {
                 / c.counts_per_unit,
             following_error: 0.0,
             error_code: f.inputs.alarm,
+            alarm: (f.inputs.alarm != 0).then(|| Alarm::text_of(f.inputs.alarm).long()),
             status_do: Vec::new(),
             link: Some(LinkStatus {
                 transport: c.transport.name().to_string(),
@@ -285,8 +288,10 @@ pub struct LinkSummary {
     pub max_round_trip_us: f64,
     /// Why the axis was stopped, if it was.
     pub stopped: Option<String>,
-    /// The emulated drive's alarm at the end.
+    /// The emulated drive's alarm at the end, in words.
     pub drive_alarm: Option<String>,
+    /// The drive alarm that stopped the axis, in words.
+    pub fault: Option<DriveFault>,
 }
 
 impl LinkSummary {
@@ -299,7 +304,15 @@ impl LinkSummary {
             refused: f.refused,
             max_round_trip_us: f.max_round_trip_ns as f64 / 1000.0,
             stopped: f.stopped.map(stopped_text),
-            drive_alarm: e.and_then(Emulated::alarm).map(|a| a.to_string()),
+            drive_alarm: e
+                .and_then(Emulated::alarm)
+                .map(|a| Alarm::text_of(a.current2()).to_string()),
+            fault: match f.stopped {
+                Some(Stopped::DriveAlarm(code)) => {
+                    Some(DriveFault::new(&c.name, None, Some(Alarm::text_of(code))))
+                }
+                _ => None,
+            },
         }
     }
 }
@@ -310,7 +323,7 @@ pub fn stopped_text(s: Stopped) -> String {
         Stopped::CommunicationLost(n) => {
             format!("communication lost ({n} answers missed in a row)")
         }
-        Stopped::DriveAlarm(code) => format!("drive alarm (2A42h = {code:04X}h)"),
+        Stopped::DriveAlarm(code) => format!("drive alarm {}", Alarm::text_of(code).long()),
         Stopped::ControllerLost => format!(
             "the controller stopped sending its feedback (none for {:?}; has `cellrt run` ended?)",
             crate::host::link::STATUS_TIMEOUT

@@ -100,13 +100,13 @@ impl JobPurpose for AlarmsPlan {
             .filter(|_| !self.clear)
             .filter_map(|(n, r)| {
                 let number = value(r.first()?)? as u16;
+                let text = self.profile.alarm_text(number);
                 (number != 0).then(|| AlarmEntry {
                     entry: n as u8,
                     number,
-                    name: self.profile.alarm(number).map_or_else(
-                        || format!("{number:04X}h"),
-                        |a| format!("{} {}", a.display, a.name),
-                    ),
+                    name: text.name().unwrap_or_else(|| format!("{number:04X}h")),
+                    cause: text.cause().map(str::to_string),
+                    remedy: text.remedy().map(str::to_string),
                     hours: r.get(1).and_then(value).unwrap_or(0) as u32,
                     detail: r.get(2).and_then(value).unwrap_or(0) as u16,
                 })

@@ -628,6 +628,8 @@ impl OperatorServer {
                         velocity: sc.to_units(a.drive_units.velocity_from_drive(l.velocity_actual)),
                         following_error: sc.to_units(f64::from(l.following_error)),
                         error_code: l.error_code,
+                        alarm: (l.error_code != 0)
+                            .then(|| a.profile.alarm_text(l.error_code).long()),
                         status_do: StatusDo(l.status_do)
                             .symbols_on()
                             .map(str::to_string)

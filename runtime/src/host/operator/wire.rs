@@ -358,6 +358,12 @@ pub struct AlarmEntry {
     pub hours: u32,
     /// Alarm detail.
     pub detail: u16,
+    /// The manual's cause, where it gives one.
+    #[serde(default)]
+    pub cause: Option<String>,
+    /// The manual's remedy, where it gives one.
+    #[serde(default)]
+    pub remedy: Option<String>,
 }
 
 /// The answer of a drive to an SDO request.
@@ -498,6 +504,10 @@ pub struct AxisStatus {
     pub following_error: f64,
     /// Alarm / error code (603Fh; 2A42h on an MR-JE-C), 0 when none.
     pub error_code: u16,
+    /// The error code in words (the manual's number, name, cause and remedy where it lists
+    /// them); `None` when there is none.
+    #[serde(default)]
+    pub alarm: Option<String>,
     /// The Status DO signals that are on (2D11h–2D13h: S_ZSP, S_INP, …), in the manual's order;
     /// empty where the drive does not map them.
     #[serde(default)]

@@ -1,11 +1,13 @@
 //! The detail text of each event kind, as the recording, the log and the summary show it.
 
 use cellrt_cia402::fsa::FsaState;
+use cellrt_cia402::profiles::DriveProfile;
 
 use crate::handoff::{CellCommand, CellState, EventKind, EventRecord, RejectReason, StopReason};
 
-/// Human-readable detail of an event's value.
-pub fn describe_event(e: &EventRecord) -> String {
+/// Human-readable detail of an event's value; `profile` is the drive of the event's axis, which
+/// decodes a drive fault's or an Emergency's error code into the manual's words.
+pub fn describe_event(e: &EventRecord, profile: Option<&DriveProfile>) -> String {
     match e.kind {
         EventKind::CellState => CellState::from_u8(e.value as u8)
             .map(|s| s.as_str().to_string())
@@ -38,7 +40,10 @@ pub fn describe_event(e: &EventRecord) -> String {
         EventKind::DriveFault if e.value < 0 => {
             "fault (603Fh error code neither mapped nor readable)".to_string()
         }
-        EventKind::DriveFault => format!("error code 0x{:04X}", e.value),
+        EventKind::DriveFault => match profile {
+            Some(p) => p.alarm_text(e.value as u16).long(),
+            None => format!("error code 0x{:04X}", e.value),
+        },
         EventKind::RecordsDropped => format!("{} records dropped", e.value),
         EventKind::StartSlipped => format!("the motion started {} cycles late", e.value),
         EventKind::ProfileStarted => match e.value {
@@ -92,8 +97,12 @@ pub fn describe_event(e: &EventRecord) -> String {
         EventKind::Emergency => {
             let m = crate::handoff::decode_emergency(e.value);
             let d = m.data;
+            let named = profile
+                .and_then(|p| p.alarm_text(m.error_code).name())
+                .map(|n| format!(" ({n})"))
+                .unwrap_or_default();
             format!(
-                "error code 0x{:04X}, error register 0x{:02X}, data {:02X} {:02X} {:02X} {:02X} {:02X}",
+                "error code 0x{:04X}{named}, error register 0x{:02X}, data {:02X} {:02X} {:02X} {:02X} {:02X}",
                 m.error_code, m.error_register, d[0], d[1], d[2], d[3], d[4]
             )
         }
@@ -116,5 +125,45 @@ pub fn describe_event(e: &EventRecord) -> String {
         | EventKind::BusError
         | EventKind::PlannerConnected
         | EventKind::PlannerLost => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use cellrt_cia402::profiles::{generic_cia402, mr_j5_g_n1, profile, DriveModel};
+
+    fn fault(code: i64) -> EventRecord {
+        EventRecord {
+            cycle: 7,
+            kind: EventKind::DriveFault,
+            axis: 0,
+            value: code,
+        }
+    }
+
+    #[test]
+    fn a_drive_fault_reads_in_the_manuals_words() {
+        let generic = profile(DriveModel::GenericCia402);
+        assert_eq!(
+            describe_event(
+                &fault(i64::from(generic_cia402::FOLLOWING_ERROR)),
+                Some(generic)
+            ),
+            "8611h Following error (CiA 402) (603Fh = 8611h)"
+        );
+        let j5 = profile(DriveModel::MrJ5GN1);
+        let text = describe_event(&fault(i64::from(mr_j5_g_n1::AL_011_2)), Some(j5));
+        assert!(
+            text.starts_with("AL.011.2 Invalid axis setting error (603Fh = 0112h); cause: "),
+            "{text}"
+        );
+        assert!(!text.contains("remedy"), "the manual gives none: {text}");
+        assert_eq!(
+            describe_event(&fault(0x2220), Some(j5)),
+            "603Fh = 2220h (not listed for Mitsubishi MR-J5-G-N1)"
+        );
+        assert_eq!(describe_event(&fault(0x2220), None), "error code 0x2220");
+        assert!(describe_event(&fault(-1), Some(j5)).contains("neither mapped nor readable"));
     }
 }

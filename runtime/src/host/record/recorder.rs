@@ -17,6 +17,7 @@ use super::proto;
 pub use super::sink::{channel_ids, channel_specs, ChannelSpec, RecorderError};
 use super::sink::{open, template_channels, Channels, Sink};
 use crate::handoff::{AxisRecord, CycleRecord, EventKind, EventRecord, HostEnd, NO_AXIS};
+use crate::host::faults::{DriveFault, MAX_DRIVE_FAULTS};
 use crate::host::je_c::{stopped_text, JecAxes};
 use crate::host::live::LiveFeed;
 use crate::rt::clock::realtime_offset_ns;
@@ -56,6 +57,14 @@ pub struct RecordingInfo {
     /// Why and where the recording stopped before the run ended (a full disk, an I/O error):
     /// the cell went on without it; the file holds the records up to its last closed chunk.
     pub stopped: Option<String>,
+    /// The RT loop's drive faults in words (the first [`MAX_DRIVE_FAULTS`]; the summary
+    /// carries them).
+    #[serde(skip)]
+    pub drive_faults: Vec<DriveFault>,
+    /// The index in `drive_faults` of the first fault after the last `reset` command: the
+    /// faults from there on are the ones the cell still stands faulted by.
+    #[serde(skip)]
+    pub unreset_from: usize,
 }
 
 /// Handle of the running recorder thread.
@@ -549,17 +558,30 @@ impl Drain<'_> {
 
     /// Logs and records event `e`; returns its line (for the operator's recent events).
     fn event(&mut self, e: &EventRecord, period: u64) -> Result<String, RecorderError> {
-        let axis = if e.axis == NO_AXIS {
-            String::new()
-        } else {
-            self.cell
-                .axes
-                .on_loop()
-                .get(e.axis as usize)
-                .map(|a| a.name.clone())
-                .unwrap_or_else(|| format!("#{}", e.axis))
+        let config = (e.axis != NO_AXIS)
+            .then(|| self.cell.axes.on_loop().get(e.axis as usize))
+            .flatten();
+        let axis = match config {
+            Some(a) => a.name.clone(),
+            None if e.axis == NO_AXIS => String::new(),
+            None => format!("#{}", e.axis),
         };
-        let detail = describe_event(e);
+        let profile = config.map(|a| &*a.profile);
+        let detail = describe_event(e, profile);
+        if e.kind == EventKind::Command
+            && crate::handoff::CellCommand::from_code(e.value)
+                == Some(crate::handoff::CellCommand::Reset)
+        {
+            self.info.unreset_from = self.info.drive_faults.len();
+        }
+        if e.kind == EventKind::DriveFault && self.info.drive_faults.len() < MAX_DRIVE_FAULTS {
+            let text = profile
+                .filter(|_| e.value >= 0)
+                .map(|p| p.alarm_text(e.value as u16));
+            self.info
+                .drive_faults
+                .push(DriveFault::new(&axis, Some(e.cycle), text));
+        }
         let line = format!(
             "cycle {}: {}{}{}",
             e.cycle,

@@ -8,6 +8,9 @@ use tracing_subscriber::layer::SubscriberExt;
 use tracing_subscriber::util::SubscriberInitExt;
 use tracing_subscriber::EnvFilter;
 
+/// The fields cellrt's own events carry for the journal, which their message also says.
+const JOURNAL_FIELDS: [&str; 4] = ["cell", "axis", "event", "cycle"];
+
 /// The level filter: `$CELLRT_LOG` (tracing's `EnvFilter` syntax), `info` by default.
 fn filter() -> EnvFilter {
     EnvFilter::try_from_env("CELLRT_LOG").unwrap_or_else(|_| EnvFilter::new("info"))
@@ -28,20 +31,18 @@ pub fn init() {
             return;
         }
     }
-    // On stderr an event's structured fields stay out of the line: its message already says
-    // them in words.
-    let message_only = tracing_subscriber::fmt::format::debug_fn(|w, field, value| {
-        if field.name() == "message" {
-            write!(w, "{value:?}")
-        } else {
-            Ok(())
-        }
+    // On stderr the journal fields cellrt adds stay out of the line (its message already says
+    // them in words); any other field (a dependency's) is shown as `name=value`.
+    let fields = tracing_subscriber::fmt::format::debug_fn(|w, field, value| match field.name() {
+        "message" => write!(w, "{value:?}"),
+        name if JOURNAL_FIELDS.contains(&name) => Ok(()),
+        name => write!(w, " {name}={value:?}"),
     });
     tracing_subscriber::fmt()
         .with_writer(std::io::stderr)
         .with_target(false)
         .with_ansi(std::io::stderr().is_terminal())
-        .fmt_fields(message_only)
+        .fmt_fields(fields)
         .with_env_filter(filter())
         .init();
 }

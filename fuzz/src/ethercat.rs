@@ -59,6 +59,7 @@ pub fn coe_server(data: &[u8]) {
     let mut pdo = PdoConfig::new(&drives);
     let identity = SubDeviceIdentity::of_profile(drives[0].profile());
     let (mut counter, mut upload) = (0u8, SegmentedUpload::default());
+    let mut fragments = std::collections::VecDeque::new();
     let variant = SubDeviceVariant::default();
     let al_state = match state % 3 {
         0 => AlState::PreOp,
@@ -76,6 +77,7 @@ pub fn coe_server(data: &[u8]) {
             upload: &mut upload,
             variant: &variant,
             esi: None,
+            info_fragments: &mut fragments,
         };
         let _ = coe::serve(&mut ctx, request, &mut response);
     }

@@ -4,13 +4,16 @@
 //! drives, an MR-J5W2-G-N1 and an MR-J5W3-G-N1 station and the generic CiA 402 drive. SOEM scans,
 //! reads the identities, maps the PDOs with its own `config_map`, configures DC SYNC0, reaches
 //! OP, enables each axis in csp, moves it a known distance (checked in 6064h) and returns to
-//! INIT. Needs root (the namespace, raw sockets) and `$CELLRT_PYTHON` with pysoem (CI installs
+//! INIT. Before that, in PRE-OP, it walks each station's SDO Information (Get OD List, Object
+//! and Entry Descriptions) and checks every entry the model's profile declares is listed with
+//! its data type and access. Needs root (the namespace, raw sockets) and `$CELLRT_PYTHON` with pysoem (CI installs
 //! it); says SKIPPED otherwise, and under CI a missing pysoem fails.
 
 mod common;
 
 use std::process::Command;
 
+use cellrt_cia402::profiles::{profile, Access, DataType, DriveModel};
 use cellrt_rt_tests::netns::VethNamespace;
 
 /// The move of each axis, counts.
@@ -27,39 +30,91 @@ fn axis(name: &str, drive: &str, extra: &str) -> String {
     )
 }
 
+/// The drive of each station, in line order: the four single-axis Mitsubishi drives, an
+/// MR-J5W2-G-N1 and an MR-J5W3-G-N1 unit, the generic CiA 402 drive.
+const STATION_DRIVES: [&str; 7] = [
+    "mr-j3-t04",
+    "mr-j4-tm",
+    "mr-jet-g-n1",
+    "mr-j5-g-n1",
+    "mr-j5w2-g-n1",
+    "mr-j5w3-g-n1",
+    "cia402",
+];
+
 fn cell_text() -> String {
     let mut t = format!(
         "[cell]\nname = \"{}\"\ncycle_time_us = {CYCLE_US}\n[ethercat]\ninterface = \"unused\"\n",
         common::unique_cell_name()
     );
-    for (name, drive) in [
-        ("j3", "mr-j3-t04"),
-        ("j4", "mr-j4-tm"),
-        ("jet", "mr-jet-g-n1"),
-        ("j5", "mr-j5-g-n1"),
-    ] {
-        t += &axis(name, drive, "");
+    for (k, (drive, model)) in STATION_DRIVES.iter().zip(station_models()).enumerate() {
+        let axes = profile(model).axes_per_unit;
+        for a in 0..axes {
+            let extra = match (model, axes) {
+                (DriveModel::GenericCia402, _) => {
+                    "ethercat = { vendor_id = 0xCE110000, product_code = 0xCE110402 }".to_string()
+                }
+                (_, 1) => String::new(),
+                _ => format!("amplifier = \"s{k}\"\namplifier_axis = {a}"),
+            };
+            t += &axis(&format!("s{k}a{a}"), drive, &extra);
+        }
     }
-    for k in 0..2 {
-        t += &axis(
-            &format!("w2{k}"),
-            "mr-j5w2-g-n1",
-            &format!("amplifier = \"w2\"\namplifier_axis = {k}"),
-        );
-    }
-    for k in 0..3 {
-        t += &axis(
-            &format!("w3{k}"),
-            "mr-j5w3-g-n1",
-            &format!("amplifier = \"w3\"\namplifier_axis = {k}"),
-        );
-    }
-    t += &axis(
-        "gen",
-        "cia402",
-        "ethercat = { vendor_id = 0xCE110000, product_code = 0xCE110402 }",
-    );
     t
+}
+
+/// The models of [`STATION_DRIVES`].
+fn station_models() -> Vec<DriveModel> {
+    STATION_DRIVES
+        .iter()
+        .map(|d| *DriveModel::ALL.iter().find(|m| m.as_str() == *d).unwrap())
+        .collect()
+}
+
+/// Per station, every entry its model's profile declares, on each axis' index of the unit,
+/// with the type and access the profile states (the script checks them against SDO
+/// Information with its own CiA 301 codes).
+fn declared_dictionaries() -> serde_json::Value {
+    let stations: Vec<serde_json::Value> = station_models()
+        .into_iter()
+        .map(|m| {
+            let p = profile(m);
+            let mut seen = std::collections::BTreeSet::new();
+            let mut entries = Vec::new();
+            for o in p.all_objects() {
+                for slot in 0..p.axes_per_unit {
+                    let Some(index) = p.axis_object(o.index, slot) else {
+                        continue;
+                    };
+                    if !seen.insert((index, o.sub)) {
+                        continue;
+                    }
+                    let data_type = match o.data_type {
+                        DataType::Bool => "BOOL",
+                        DataType::I8 => "I8",
+                        DataType::I16 => "I16",
+                        DataType::I32 => "I32",
+                        DataType::U8 => "U8",
+                        DataType::U16 => "U16",
+                        DataType::U32 => "U32",
+                        DataType::VisibleString { .. } => "STRING",
+                        DataType::Unstated => "unstated",
+                    };
+                    let access = match o.access {
+                        Access::Ro => "ro",
+                        Access::Rw => "rw",
+                        Access::Wo => "wo",
+                        Access::Unstated => "unstated",
+                    };
+                    entries.push(serde_json::json!({
+                        "index": index, "sub": o.sub, "type": data_type, "access": access,
+                    }));
+                }
+            }
+            serde_json::json!({ "model": p.name, "entries": entries })
+        })
+        .collect();
+    serde_json::Value::Array(stations)
 }
 
 /// The Python with pysoem, or why there is none.
@@ -127,6 +182,8 @@ fn attempt_soem(python: &str, ns: &VethNamespace) -> Result<(), f64> {
     let dir = tempfile::tempdir().unwrap();
     let cfg = dir.path().join("cell.toml");
     std::fs::write(&cfg, cell_text()).unwrap();
+    let declared = dir.path().join("declared.json");
+    std::fs::write(&declared, declared_dictionaries().to_string()).unwrap();
     let (mut drives, lines) = common::spawn_drive_sim(ns, &cfg);
     let script = concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -137,6 +194,7 @@ fn attempt_soem(python: &str, ns: &VethNamespace) -> Result<(), f64> {
         .arg(&ns.near)
         .arg(CYCLE_US.to_string())
         .arg(DISTANCE.to_string())
+        .arg(&declared)
         .output()
         .unwrap();
     nix::sys::signal::kill(
@@ -182,6 +240,26 @@ fn attempt_soem(python: &str, ns: &VethNamespace) -> Result<(), f64> {
         "Mitsubishi's vendor ID 00000A1Eh in every SII: {report}"
     );
     assert_eq!(slaves[6]["vendor"], 0xCE11_0000u32, "{report}");
+    // An upload of a missing object: SOEM reports the abort code 0602 0000h, not a packet
+    // error (an abort framed as an SDO response reads as a data length).
+    assert_eq!(
+        report["missing_object"],
+        serde_json::json!(vec![0x0602_0000u32; 7]),
+        "{report}"
+    );
+    // SDO Information: every declared entry found with its type and access.
+    let info = report["sdo_info"].as_array().unwrap();
+    eprintln!("SDO Information as SOEM read it: {}", report["sdo_info"]);
+    assert_eq!(info.len(), 7, "{report}");
+    for (station, want) in info.iter().zip(declared_dictionaries().as_array().unwrap()) {
+        assert_eq!(station["problems"], serde_json::json!([]), "{report}");
+        assert_eq!(
+            station["checked"].as_u64(),
+            Some(want["entries"].as_array().unwrap().len() as u64),
+            "{report}"
+        );
+        assert!(station["objects"].as_u64().unwrap() > 20, "{station}");
+    }
     assert_eq!(report["dc"], true);
     assert_eq!(
         (&report["op"], &report["init"]),

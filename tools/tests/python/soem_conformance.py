@@ -2,12 +2,15 @@
 """An independent EtherCAT MainDevice (SOEM, through PyPI `pysoem`) against `cellrt drive-sim
 ethercat`: scan, identities, SOEM's own PDO mapping (config_map), DC SYNC0, OP, every CiA 402
 axis through the state machine to Operation enabled in csp, a move of a known distance checked
-in 6064h, then back to INIT. Prints one JSON report on stdout; judges outcomes, not timing.
+in 6064h, then back to INIT. Before the mapping, in PRE-OP, each SubDevice's SDO Information is
+walked as SOEM reads it (Get OD List, Object and Entry Descriptions) and every entry the file
+DECLARED lists for it is checked for its data type and access. Prints one JSON report on
+stdout; judges outcomes, not timing.
 
 One thread does everything in OP, one process-data exchange per cycle, so that the interpreter
 never holds the exchange back (no SDO in OP, no second thread waiting for the GIL).
 
-usage: soem_conformance.py IFACE CYCLE_US DISTANCE_COUNTS
+usage: soem_conformance.py IFACE CYCLE_US DISTANCE_COUNTS DECLARED_JSON
 """
 import json
 import os
@@ -18,6 +21,8 @@ import time
 import pysoem
 
 IFACE, CYCLE_US, DISTANCE = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+with open(sys.argv[4]) as f:
+    DECLARED = json.load(f)
 CYCLE_S = CYCLE_US / 1e6
 # Index offset of axis k of a multi-axis unit (MR-J5W2/W3-G-N1: 6000h, 6800h, 7000h).
 AXIS_STRIDE = 0x800
@@ -36,6 +41,76 @@ SYNC_ERROR_LIMIT = 0xFFFF
 RAMP_CYCLES = 200
 # Cycles an outcome may take (a loaded machine is slow, never wrong): 20 s worth.
 PATIENCE = int(20.0 / CYCLE_S)
+
+
+# CiA 301 data type codes (Table 44) of the type names in DECLARED.
+TYPE_CODES = {"BOOL": 0x0001, "I8": 0x0002, "I16": 0x0003, "I32": 0x0004, "U8": 0x0005,
+              "U16": 0x0006, "U32": 0x0007, "STRING": 0x0009}
+# ETG.1000.6 object access word: bits 0-2 readable in PRE-OP/SAFE-OP/OP, 3-5 writable.
+READ_BITS, WRITE_BITS = 0x07, 0x38
+
+
+def walk_sdo_info(slave, declared):
+    """The SubDevice's dictionary through SOEM's SDO Information (ecx_readODlist, then
+    ecx_readODdescription and ecx_readOE for each declared object): each declared entry listed,
+    with its data type and access."""
+    od = {o.index: o for o in slave.od}
+    problems = []
+    for e in declared["entries"]:
+        where = f"{e['index']:04X}h:{e['sub']}"
+        o = od.get(e["index"])
+        if o is None:
+            problems.append(f"{where} not listed")
+            continue
+        entries = o.entries
+        if entries:
+            if e["sub"] >= len(entries) or not entries[e["sub"]].obj_access:
+                problems.append(f"{where} has no entry description")
+                continue
+            data_type, access = entries[e["sub"]].data_type, entries[e["sub"]].obj_access
+        elif e["sub"] == 0:
+            data_type, access = o.data_type, o.obj_access
+        else:
+            problems.append(f"{where}: {e['index']:04X}h is a VAR")
+            continue
+        want = TYPE_CODES.get(e["type"])
+        if want is not None and data_type != want:
+            problems.append(f"{where} data type {data_type:#06x}, declared {e['type']}")
+        rights = {"ro": (True, False), "rw": (True, True), "wo": (False, True)}.get(e["access"])
+        if rights is not None and (bool(access & READ_BITS), bool(access & WRITE_BITS)) != rights:
+            problems.append(f"{where} access {access:#06x}, declared {e['access']}")
+    return {"model": declared["model"], "objects": len(od), "checked": len(declared["entries"]),
+            "problems": problems[:20], "info_errors": drain_errors(slave)}
+
+
+# An index no model has: its upload must abort with 0602 0000h "object does not exist".
+MISSING_OBJECT = 0x5FFE
+
+
+def missing_object_abort(slave):
+    """What SOEM makes of the abort of an upload of a missing object: the abort code of an
+    SdoError (an Abort SDO Transfer framed as ETG.1000.6 frames it), or the other error's text."""
+    try:
+        slave.sdo_read(MISSING_OBJECT, 0)
+        return "read without an abort"
+    except pysoem.SdoError as e:
+        return e.abort_code
+    except Exception as e:
+        return f"{type(e).__name__}: {e}"
+
+
+def drain_errors(slave):
+    """SOEM's ecx_readOE asks for every sub-index from 0 to the highest and queues an SDO Info
+    error for each one an object does not have (a gap); pysoem raises the oldest queued error
+    at the next SDO, so they are taken off the queue here, one per read, and counted."""
+    n = 0
+    while n < 10_000:
+        try:
+            slave.sdo_read(0x1000, 0)
+            return n
+        except Exception:
+            n += 1
+    return n
 
 
 def mapping(slave, assign):
@@ -216,6 +291,8 @@ def main():
             except pysoem.SdoError:
                 pass
 
+    report["sdo_info"] = [walk_sdo_info(s, d) for s, d in zip(master.slaves, DECLARED)]
+    report["missing_object"] = [missing_object_abort(s) for s in master.slaves]
     for i, s in enumerate(master.slaves):
         s.add_emergency_callback(lambda e, i=i: report["emergencies"].append(f"slave {i}: {e.error_code:04X}h"))
         s.config_func = setup

@@ -943,6 +943,21 @@ pub struct EmergencyFacts {
     pub source: &'static str,
 }
 
+/// What a model answers of SDO Information (ETG.1000.6 §5.6.3: Get OD List, Get Object
+/// Description, Get Entry Description), with the source.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SdoInfoFacts {
+    /// True if the drive answers the three services (the SII's CoE details bit 1 says so).
+    pub offered: bool,
+    /// True if, of value-info bits 4–6 (default, minimum, maximum) requested together, only the
+    /// lowest is answered (MR-J3-T04 manual §8.7); false: each requested one that is known.
+    pub one_value_per_entry: bool,
+    /// Object data types of records the manual gives: (first index, last index, type code).
+    pub record_types: &'static [(u16, u16, u16)],
+    /// Spec sections, with the gaps named.
+    pub source: &'static str,
+}
+
 /// The Emergency payload every model that sends one is emulated with: error code = the alarm's
 /// 603Fh value (the axis' own 603Fh at its offset index on a multi-axis unit), error register
 /// 1001h = 01h (generic error), manufacturer byte 0 = axis slot (0 = A), bytes 1–4 = 0.

@@ -259,6 +259,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         // re-initialised (the PDS stays in Fault until reset).
         reinit_on_leaving_op: false,
         emergency: EMERGENCY,
+        sdo_info: SDO_INFO,
     },
     limits: LimitFacts {
         following_error_alarm: FOLLOWING_ERROR,
@@ -285,6 +286,14 @@ pub const PROFILE: DriveProfile = DriveProfile {
     invalid_axis_switch: None,
     fsoe: None,
     parameters: &super::params::GENERIC_CIA402,
+};
+
+/// What the drive answers of SDO Information.
+pub const SDO_INFO: super::SdoInfoFacts = super::SdoInfoFacts {
+    offered: true,
+    one_value_per_entry: false,
+    record_types: &[],
+    source: "cellrt's choice for the generic CiA 402 drive: SDO Information offered, as most CiA 402 servo drives do (ETG.1000.6 §5.6.3; some do not: see field-notes)",
 };
 
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).

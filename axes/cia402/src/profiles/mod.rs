@@ -36,7 +36,7 @@ pub use facts::{
     Access, AlarmInfo, AlarmKind, AlarmRegister, AlarmText, Clearing, CommCheck, DataType,
     EmergencyFacts, FsoeCommandBits, FsoeFacts, FsoeFrameLayout, FsoeStatusBits, HomeReference,
     HomeSetting, Identity, InvalidAxisSwitch, OdEntry, Pdo, PdoAssignment, PdoRules, SafeBit,
-    StopBehaviour, TorqueLimitSelection, UnitPdoLimit, EMERGENCY_LAYOUT,
+    SdoInfoFacts, StopBehaviour, TorqueLimitSelection, UnitPdoLimit, EMERGENCY_LAYOUT,
 };
 pub use units::{
     AccelerationUnit, MotorKind, PositionUnit, Quantity, Stated, TorqueUnit, Units, VelocityUnit,
@@ -240,6 +240,8 @@ pub struct CommFacts {
     pub reinit_on_leaving_op: bool,
     /// Whether alarms are also reported by CoE Emergency (ETG.1000.6 §5.6.2.1).
     pub emergency: EmergencyFacts,
+    /// What the drive answers of SDO Information.
+    pub sdo_info: SdoInfoFacts,
 }
 
 /// The limits a drive watches and the alarms and warnings they raise.

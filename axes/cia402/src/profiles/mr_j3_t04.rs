@@ -266,6 +266,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         // §2.2: no re-initialisation is stated; the alarm (or none) is the whole effect.
         reinit_on_leaving_op: false,
         emergency: EMERGENCY,
+        sdo_info: SDO_INFO,
     },
     limits: LimitFacts {
         following_error_alarm: AL_52,
@@ -301,6 +302,19 @@ pub const PROFILE: DriveProfile = DriveProfile {
     invalid_axis_switch: None,
     fsoe: None,
     parameters: &super::params::MR_J3_T04,
+};
+
+/// What the drive answers of SDO Information.
+pub const SDO_INFO: super::SdoInfoFacts = super::SdoInfoFacts {
+    offered: true,
+    one_value_per_entry: true,
+    record_types: &[
+        (0x1010, 0x1010, 0x07),
+        (0x2030, 0x2035, 0x40),
+        (0x2100, 0x2100, 0x41),
+        (0x2300, 0x2309, 0x50),
+    ],
+    source: "MR-J3-T04 manual §8.7 (Get OD List types 00h–05h, Object Description with record data-type codes, Entry Description value-info bits 0, 2, 4, 5, 6; several of 4–6: only the lowest answered)",
 };
 
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).

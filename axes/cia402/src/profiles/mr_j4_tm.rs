@@ -181,6 +181,7 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x6070, 0, "Velocity threshold time", U16, Rw, Pdo::Unstated).default(10).unit(Unit::Millisecond).cite("§4.8"),
     od(0x6067, 0, "Position window", DataType::Unstated, Rw, Pdo::Unstated).unit(Unit::Pulse).cite("§4.7 (pp target reached); type and default in MISSING ch. 7 (§13 q4)"),
     od(0x6068, 0, "Position window time", DataType::Unstated, Rw, Pdo::Unstated).unit(Unit::Millisecond).cite("§4.7; type and default in MISSING ch. 7 (§13 q4)"),
+    od(0x6502, 0, "Supported drive modes", U32, Ro, No).default(0x0000_03A0).cite("§1.3: \"differs depending on [Pr. PA01]\"; bit layout (§7.3.8(8)) MISSING, CiA 402's used: the default PA01 group hm, csp, csv, cst = bits 5, 7, 8, 9 (a live drive reported 0x3AD, field notes)"),
 ];
 
 /// Encoder and units (MR-J4-TM manual, §4.2).
@@ -265,6 +266,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         // §10: leaving Op clears the internal state (servo off, SOD) [D].
         reinit_on_leaving_op: true,
         emergency: EMERGENCY,
+        sdo_info: SDO_INFO,
     },
     limits: LimitFacts {
         following_error_alarm: FOLLOWING_ERROR,
@@ -348,6 +350,14 @@ impl ModeGroup {
         }
     }
 }
+
+/// What the drive answers of SDO Information.
+pub const SDO_INFO: super::SdoInfoFacts = super::SdoInfoFacts {
+    offered: true,
+    one_value_per_entry: false,
+    record_types: &[],
+    source: "MR-J4-TM manual §4.1 (Get OD List, Get Object Description, Get Entry Description; the AB6916-B module lists only 710 objects); record type codes and value-info rules not given",
+};
 
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
 pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {

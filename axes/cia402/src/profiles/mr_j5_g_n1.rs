@@ -179,6 +179,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         leave_op_alarm: AL_086_1,
         reinit_on_leaving_op: true,
         emergency: EMERGENCY,
+        sdo_info: SDO_INFO,
     },
     limits: LimitFacts {
         following_error_alarm: FOLLOWING_ERROR,
@@ -343,6 +344,14 @@ pub fn unit_pdo_limit(axes: u8, cycle_us: u32) -> Option<(u16, u16)> {
     };
     unit.unit_pdo_limit(cycle_us)
 }
+
+/// What the drive answers of SDO Information.
+pub const SDO_INFO: super::SdoInfoFacts = super::SdoInfoFacts {
+    offered: true,
+    one_value_per_entry: false,
+    record_types: &[],
+    source: "MR-J5-G-N1 manual §5 (Get OD List, Get Object Description, Get Entry Description); record type codes and value-info rules not given",
+};
 
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).
 pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {

@@ -366,6 +366,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         leave_op_alarm: AL_086_1,
         reinit_on_leaving_op: true,
         emergency: EMERGENCY,
+        sdo_info: SDO_INFO,
     },
     limits: LimitFacts {
         following_error_alarm: FOLLOWING_ERROR,
@@ -391,6 +392,14 @@ pub const PROFILE: DriveProfile = DriveProfile {
     invalid_axis_switch: None,
     fsoe: Some(FSOE),
     parameters: &super::params::MR_JET_G_N1,
+};
+
+/// What the drive answers of SDO Information.
+pub const SDO_INFO: super::SdoInfoFacts = super::SdoInfoFacts {
+    offered: true,
+    one_value_per_entry: false,
+    record_types: &[],
+    source: "MR-JET-G-N1 manual §5 (Get OD List, Get Object Description, Get Entry Description); record type codes and value-info rules not given",
 };
 
 /// Whether alarms are also sent as CoE Emergency (payload: [`crate::profiles::facts::EMERGENCY_LAYOUT`]).

@@ -4,6 +4,8 @@
 //! other object is the simulated drive's own SDO surface (`sim::sdo`), so abort codes such as
 //! MR-J4-TM's 0609 0030h for 1C32h:03 (MR-J4-TM TV-10 (docs/test-vectors.md)) come from the drive model.
 
+use std::collections::VecDeque;
+
 use crate::sim::drive::SimDrive;
 use crate::sim::sdo::SdoAbort;
 use cellrt_cia402::pdo::objects::ERROR_CODE;
@@ -74,6 +76,9 @@ pub struct CoeContext<'a> {
     /// The ESI device the station presents: its dictionary decides which objects exist and
     /// their access rights ([`super::esi_od`]).
     pub esi: Option<&'a cellrt_ethercat::esi::EsiDevice>,
+    /// SDO Information response fragments after the first, each a whole mailbox message, for
+    /// SM1 in order ([`info`]).
+    pub info_fragments: &'a mut VecDeque<Vec<u8>>,
 }
 
 impl CoeContext<'_> {
@@ -322,6 +327,22 @@ impl PdoConfig {
         })
     }
 
+    /// Every axis' mapping object indexes.
+    fn object_indexes(&self) -> impl Iterator<Item = u16> + '_ {
+        self.axes
+            .iter()
+            .flat_map(|objs| objs.iter().map(|o| o.index))
+    }
+
+    /// The direction and the number of entry sub-indexes of mapping object `index`.
+    fn object_shape(&self, index: u16) -> Option<(PdoDirection, u8)> {
+        self.axes
+            .iter()
+            .flatten()
+            .find(|o| o.index == index)
+            .map(|o| (o.direction, o.words.len() as u8))
+    }
+
     /// The mapping object of `direction` of axis `slot`: the one sub-index `slot + 1` of
     /// 1C12h/1C13h assigns.
     fn assigned(&self, direction: usize, slot: usize) -> Option<u16> {
@@ -391,8 +412,35 @@ pub(super) fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Va
     if (index, sub) == (ERROR_CODE, 0) && profile.object(ERROR_CODE, 0).is_none() {
         return Ok(u16v(drive.tx_pdo().error_code));
     }
+    if sub == 0 {
+        if let Some(highest) = highest_sub_index(profile, index) {
+            return Ok(u8v(highest));
+        }
+    }
     let value = drive.sdo_upload(index, sub)?;
-    let bits = profile
+    let n = usize::from(served_bits(profile, index, sub).div_ceil(8)).clamp(1, 8);
+    Ok(value.to_le_bytes()[..n].to_vec())
+}
+
+/// Sub-index 0 of an array or record whose table row the model lacks: the highest sub-index
+/// supported (CiA 301 §7.4.3, UNSIGNED8, read-only); `None` where the table has a sub-index 0 row
+/// or the object has no other sub-index.
+fn highest_sub_index(profile: &DriveProfile, index: u16) -> Option<u8> {
+    if profile.object(index, 0).is_some() {
+        return None;
+    }
+    profile
+        .all_objects()
+        .filter(|o| o.index == index)
+        .map(|o| o.sub)
+        .max()
+        .filter(|&s| s > 0)
+}
+
+/// The bits an upload of the axis-A object `index:sub` of `profile` answers with: its size in
+/// the default PDOs, else its table type's, else 32 (a type the manual does not state).
+fn served_bits(profile: &DriveProfile, index: u16, sub: u8) -> u16 {
+    profile
         .pdo
         .rx
         .entries
@@ -401,9 +449,7 @@ pub(super) fn upload(ctx: &mut CoeContext<'_>, index: u16, sub: u8) -> Result<Va
         .find(|e| e.index == index && e.sub == sub)
         .map(|e| e.bits)
         .or_else(|| profile.object(index, sub).and_then(|o| o.data_type.bits()))
-        .unwrap_or(32);
-    let n = usize::from(bits.div_ceil(8)).clamp(1, 8);
-    Ok(value.to_le_bytes()[..n].to_vec())
+        .unwrap_or(32)
 }
 
 pub(super) fn download(
@@ -548,7 +594,17 @@ pub fn serve(ctx: &mut CoeContext<'_>, request: &[u8], response: &mut [u8]) -> b
         return false;
     }
     let body = &request[MAILBOX_HEADER_LEN..(MAILBOX_HEADER_LEN + len).min(request.len())];
-    if body.len() < 2 + 4 || u16::from_le_bytes([body[0], body[1]]) >> 12 != SERVICE_SDO_REQUEST {
+    let service = body
+        .get(..2)
+        .map(|b| u16::from_le_bytes([b[0], b[1]]) >> 12);
+    if service == Some(info::SERVICE_SDO_INFO) {
+        *ctx.upload = SegmentedUpload::default();
+        let mut fragments = std::mem::take(ctx.info_fragments);
+        info::serve(ctx, body, response, &mut fragments);
+        *ctx.info_fragments = fragments;
+        return true;
+    }
+    if body.len() < 2 + 4 || service != Some(SERVICE_SDO_REQUEST) {
         return false;
     }
     let cmd = body[2];
@@ -655,6 +711,8 @@ fn write_abort(out: &mut [u8; 10], abort: SdoAbort) {
     out[2] = ABORT_COMMAND;
     out[6..10].copy_from_slice(&abort.0.to_le_bytes());
 }
+
+mod info;
 
 #[cfg(test)]
 mod tests;

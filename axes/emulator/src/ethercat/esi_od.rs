@@ -98,6 +98,7 @@ mod tests {
         let mut drives = vec![SimDrive::new(p.clone(), SimDriveParams::default(), cycle)];
         let mut pdo = PdoConfig::new(&drives);
         let (mut counter, mut upload_state) = (0u8, SegmentedUpload::default());
+        let mut fragments = std::collections::VecDeque::new();
         let variant = super::super::SubDeviceVariant::default();
         let mut ctx = CoeContext {
             variant: &variant,
@@ -108,6 +109,7 @@ mod tests {
             counter: &mut counter,
             upload: &mut upload_state,
             esi: Some(&device),
+            info_fragments: &mut fragments,
         };
         let write = |ctx: &mut CoeContext<'_>, i, s, d: &[u8]| {
             download(ctx.esi, ctx, i, s, d, coe::download).map_err(|e| e.0)

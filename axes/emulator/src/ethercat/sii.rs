@@ -54,17 +54,23 @@ mod category {
 
 /// Mailbox protocols word bit for CoE (ETG.2010 Table 2).
 const MAILBOX_COE: u16 = 0x0004;
-/// General category CoE details: SDO, SDO info, PDO assign, PDO config.
-const COE_DETAILS: u8 = 0x01 | 0x02 | 0x04 | 0x08;
+/// General category CoE details (ETG.2010 Table 4): SDO, PDO assign, PDO config; bit 5
+/// (complete access) stays clear: "Complete Access is not supported" (MR-J4-TM manual §4.1,
+/// MR-J3-T04 manual §8.5; the MR-J5-G-N1 and MR-JET-G-N1 manuals' service lists (§5) omit it).
+const COE_DETAILS: u8 = 0x01 | 0x04 | 0x08;
+/// CoE details bit 1: SDO Information.
+const COE_DETAILS_SDO_INFO: u8 = 0x02;
 /// The word address where the categories start.
 const FIRST_CATEGORY_WORD: usize = 0x40;
 /// EEPROM size word 003Eh: size in kbit − 1 (a 32 kbit device).
 const SIZE_KBIT_MINUS_1: u16 = 31;
 
 /// Builds the EEPROM image, in bytes, of a SubDevice with `identity`, `name` and `layout`,
-/// listing `rx_pdos` and `tx_pdos` (one per axis of a multi-axis unit, in axis order).
+/// listing `rx_pdos` and `tx_pdos` (one per axis of a multi-axis unit, in axis order); `sdo_info`:
+/// the CoE details say SDO Information is offered.
 pub fn image(
     identity: SubDeviceIdentity,
+    sdo_info: bool,
     name: &str,
     layout: &StationLayout,
     rx_pdos: &[SiiPdo],
@@ -101,7 +107,7 @@ pub fn image(
     // Order number and name string index: the emulated drive's order number is its name.
     general[2] = 1;
     general[3] = 1;
-    general[5] = COE_DETAILS;
+    general[5] = COE_DETAILS | if sdo_info { COE_DETAILS_SDO_INFO } else { 0 };
     push_category(&mut bytes, category::GENERAL, &general);
 
     // FMMU usage: 0 outputs, 1 inputs, 2 SyncManager status.
@@ -164,6 +170,7 @@ mod tests {
         let layout = StationLayout::of_profile(p);
         let img = image(
             id,
+            p.comm.sdo_info.offered,
             p.name,
             &layout,
             &[SiiPdo::of_slot(p, &p.pdo.rx, 0)],
@@ -181,6 +188,11 @@ mod tests {
             seen.push(code);
             if code == category::END {
                 break;
+            }
+            if code == category::GENERAL {
+                // CoE details (general byte 5): SDO, SDO Information, PDO assign and
+                // configuration; no complete access (MR-J3-T04 manual §8.5).
+                assert_eq!(img[2 * (w + 2) + 5], 0x0F);
             }
             if code == category::SYNC_MANAGER {
                 assert_eq!(word(&img, w + 1), 16, "four 8-byte SyncManagers");

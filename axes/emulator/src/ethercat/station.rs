@@ -184,6 +184,7 @@ impl Station {
         };
         let sii = sii::image(
             identity,
+            profile.comm.sdo_info.offered,
             profile.name,
             &layout,
             &pdos(PdoDirection::Rx),
@@ -221,6 +222,7 @@ impl Station {
                 alarms: Vec::new(),
                 response: vec![0; mailbox_in_len],
                 response_len: 0,
+                fragments: VecDeque::new(),
                 counter: 0,
                 response_due_ns: 0,
             },
@@ -437,6 +439,7 @@ impl Station {
                     self.lock_frames = 0;
                     self.outbox.emergencies.clear();
                     self.outbox.response_len = 0;
+                    self.outbox.fragments.clear();
                 }
                 self.set_al_status(target, None);
                 self.watch_alarms();

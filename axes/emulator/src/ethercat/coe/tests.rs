@@ -5,6 +5,8 @@ use crate::sim::drive::SimDriveParams;
 use cellrt_cia402::cycles::CycleTime;
 use cellrt_cia402::profiles::{profile, DriveModel};
 
+mod info;
+
 /// A drive of `model` behind a CoE server in `al_state`.
 struct Server {
     drives: Vec<SimDrive>,
@@ -13,6 +15,7 @@ struct Server {
     counter: u8,
     upload: SegmentedUpload,
     variant: crate::ethercat::SubDeviceVariant,
+    fragments: std::collections::VecDeque<Vec<u8>>,
 }
 
 impl Server {
@@ -34,6 +37,7 @@ impl Server {
             counter: 0,
             upload: SegmentedUpload::default(),
             variant: Default::default(),
+            fragments: Default::default(),
         }
     }
 
@@ -48,6 +52,7 @@ impl Server {
             upload: &mut self.upload,
             variant: &self.variant,
             esi: None,
+            info_fragments: &mut self.fragments,
         }
     }
 
@@ -330,4 +335,8 @@ fn the_objects_the_manuals_list_are_served() {
     // The master selects DC SYNC0 (ETG.1020: 2) and reads it back.
     assert_eq!(s.write(0x1C32, 1, &2u16.to_le_bytes()), Ok(()));
     assert_eq!(s.read(0x1C32, 1), Ok(2u16.to_le_bytes().to_vec()));
+    // An array or record the table lists from sub-index 1 answers sub-index 0 with its highest
+    // sub-index (CiA 301 §7.4.3): 607Dh software position limit, subs 1–2.
+    assert_eq!(s.read(0x607D, 0), Ok(vec![2]));
+    assert_eq!(s.read(0x6041, 1), Err(0x0609_0011));
 }

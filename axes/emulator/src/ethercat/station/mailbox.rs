@@ -27,6 +27,8 @@ pub(super) struct Outbox {
     /// The SDO response not yet written into SM1 (`response_len` bytes of `response`).
     pub(super) response: Vec<u8>,
     pub(super) response_len: usize,
+    /// SDO Information fragments still to follow the response, each a whole message.
+    pub(super) fragments: VecDeque<Vec<u8>>,
     /// The mailbox counter of the last message written into SM1 (1..=7).
     pub(super) counter: u8,
     /// When the SDO response may go into SM1 (the segment's clock, ns): the firmware's answer
@@ -91,6 +93,11 @@ impl Station {
             buf[..n].copy_from_slice(&out.response[..n]);
             buf[5] = (buf[5] & 0x0F) | (counter << 4);
             out.response_len = 0;
+            // The next SDO Information fragment follows once the master has read this one.
+            if let Some(next) = out.fragments.pop_front() {
+                out.response_len = next.len();
+                out.response[..next.len()].copy_from_slice(&next);
+            }
         } else {
             return;
         }
@@ -116,6 +123,7 @@ impl Station {
             upload: &mut self.upload,
             variant: &self.variant,
             esi: self.esi.as_deref(),
+            info_fragments: &mut self.outbox.fragments,
         };
         if coe::serve(&mut ctx, &request, response) {
             // A response the master never read is replaced: it has moved on.

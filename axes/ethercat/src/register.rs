@@ -86,6 +86,9 @@ pub const DC_SYSTEM_TIME_OFFSET: u16 = 0x0920;
 pub const DC_SYSTEM_TIME_DELAY: u16 = 0x0928;
 /// 0981h Sync activation.
 pub const DC_SYNC_ACTIVE: u16 = 0x0981;
+/// The ESI `AssignActivate` (and SII DC category) word of a SYNC0-synchronised device: 0981h
+/// = 03h (cyclic operation and SYNC0 on), 0980h = 00h (ETG.2000 `Dc/OpMode`).
+pub const DC_ASSIGN_ACTIVATE_SYNC0: u16 = 0x0300;
 /// 0990h Start time of SYNC0.
 pub const DC_SYNC_START_TIME: u16 = 0x0990;
 /// 09A0h SYNC0 cycle time (ns).

@@ -1,11 +1,13 @@
 //! SII EEPROM images generated from a drive profile (ETG.2010): identity, mailbox
-//! configuration, and the Strings, General, FMMU, SyncManager, TxPDO and RxPDO categories a
-//! MainDevice reads to bring the SubDevice up.
+//! configuration, and the Strings, General, FMMU, SyncManager, TxPDO, RxPDO and DC categories a
+//! MainDevice reads to bring the SubDevice up, consistent with the model's ESI
+//! (`configs/esi/`, written from the same profile).
 
 use super::layout::StationLayout;
 use cellrt_cia402::pdo::{PdoEntry, PdoMap};
 use cellrt_cia402::profiles::DriveProfile;
 use cellrt_ethercat::identity::SubDeviceIdentity;
+use cellrt_ethercat::register::DC_ASSIGN_ACTIVATE_SYNC0;
 
 /// One PDO as the SII lists it: its mapping object and entries (on a multi-axis unit at the
 /// axis' offset indexes, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4).
@@ -49,6 +51,7 @@ mod category {
     pub const SYNC_MANAGER: u16 = 41;
     pub const TX_PDO: u16 = 50;
     pub const RX_PDO: u16 = 51;
+    pub const DC: u16 = 60;
     pub const END: u16 = 0xFFFF;
 }
 
@@ -93,8 +96,8 @@ pub fn image(
     words[0x3E] = SIZE_KBIT_MINUS_1;
     let mut bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
 
-    // Strings: 1 = device name, 2 = "RxPDO", 3 = "TxPDO".
-    let strings = [name, "RxPDO", "TxPDO"];
+    // Strings: 1 = device name, 2 = "RxPDO", 3 = "TxPDO", 4 = the DC operation mode's name.
+    let strings = [name, "RxPDO", "TxPDO", DC_OP_MODE_NAME];
     let mut s = vec![strings.len() as u8];
     for t in strings {
         let t = &t.as_bytes()[..t.len().min(255)];
@@ -127,9 +130,43 @@ pub fn image(
     for pdo in rx_pdos {
         push_category(&mut bytes, category::RX_PDO, &pdo_category(pdo, 2, 2));
     }
+    push_category(&mut bytes, category::DC, &dc_op_mode());
     bytes.extend_from_slice(&category::END.to_le_bytes());
     bytes.extend_from_slice(&[0, 0]);
     bytes
+}
+
+/// The name of the one DC operation mode, as the ESI's `Dc/OpMode/Name`.
+const DC_OP_MODE_NAME: &str = "DC";
+
+/// The DC category's one operation mode (ETG.2010 Table 18, 24 bytes): SYNC0 at one bus cycle
+/// (cycle time 0, factor 1), no shift, no SYNC1, the ESI's `AssignActivate`.
+fn dc_op_mode() -> [u8; 24] {
+    let mut m = [0u8; 24];
+    // Cycle time SYNC0, shift SYNC0, shift SYNC1 (bytes 0–11): 0; SYNC1 cycle factor: 0.
+    m[14..16].copy_from_slice(&DC_ASSIGN_ACTIVATE_SYNC0.to_le_bytes());
+    m[16..18].copy_from_slice(&1i16.to_le_bytes());
+    m[18] = 4;
+    m
+}
+
+/// `image` without its DC category: a SubDevice whose ESC has no distributed clocks.
+pub fn without_dc(image: &[u8]) -> Vec<u8> {
+    let mut out = image[..2 * FIRST_CATEGORY_WORD].to_vec();
+    let mut at = 2 * FIRST_CATEGORY_WORD;
+    while at + 4 <= image.len() {
+        let code = u16::from_le_bytes([image[at], image[at + 1]]);
+        let words = usize::from(u16::from_le_bytes([image[at + 2], image[at + 3]]));
+        let end = (at + 4 + 2 * words).min(image.len());
+        if code != category::DC {
+            out.extend_from_slice(&image[at..end]);
+        }
+        if code == category::END {
+            break;
+        }
+        at = end;
+    }
+    out
 }
 
 /// One PDO with its entries (ETG.2010 Table 14/15), assigned to SyncManager `sm`.
@@ -200,6 +237,31 @@ mod tests {
             }
             w += 2 + usize::from(word(&img, w + 1));
         }
-        assert_eq!(seen, [10, 30, 40, 41, 50, 51, 0xFFFF]);
+        assert_eq!(seen, [10, 30, 40, 41, 50, 51, 60, 0xFFFF]);
+        // Without distributed clocks the DC category goes, the rest stays.
+        let no_dc = without_dc(&img);
+        assert_eq!(no_dc.len(), img.len() - 4 - 24);
+        assert_eq!(&no_dc[..no_dc.len() - 4], &img[..no_dc.len() - 4]);
+    }
+
+    /// The DC category agrees with the model's shipped ESI: its one `Dc/OpMode` (name,
+    /// `AssignActivate`, SYNC0 at one bus cycle).
+    #[test]
+    fn the_dc_category_is_the_esi_s_op_mode() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/esi/mr-j4-tm.xml");
+        let esi = cellrt_ethercat::esi::load(&path).unwrap().remove(0);
+        let op = &esi.dc_opmodes[0];
+        let m = dc_op_mode();
+        assert_eq!(op.name, DC_OP_MODE_NAME);
+        assert_eq!(
+            op.assign_activate,
+            u32::from(u16::from_le_bytes([m[14], m[15]]))
+        );
+        assert!(op.uses_sync0());
+        let sync0 = op.sync0.expect("CycleTimeSync0");
+        assert_eq!((sync0.ns, sync0.factor), (0, Some(1)));
+        assert_eq!(u32::from_le_bytes(m[0..4].try_into().unwrap()), sync0.ns);
+        assert_eq!(i16::from_le_bytes([m[16], m[17]]), 1);
     }
 }

@@ -260,6 +260,9 @@ impl Station {
             FEATURE_DC
         };
         self.put16(reg::SUPPORT_FLAGS, (FEATURES & !FEATURE_DC) | dc);
+        if dc == 0 {
+            self.sii = sii::without_dc(&self.sii);
+        }
         self.variant = variant;
     }
 

@@ -170,6 +170,8 @@ fn render(model: DriveModel) -> String {
         .iter()
         .min()
         .map_or(0, |us| u64::from(*us) * 1000);
+    let assign_activate = crate::register::DC_ASSIGN_ACTIVATE_SYNC0;
+    let sdo_info = p.comm.sdo_info.offered;
     format!(
         r##"<?xml version="1.0" encoding="UTF-8"?>
 <!-- {name}: written by cellrt from its profile (axes/cia402/src/profiles), the facts of the manual;
@@ -193,9 +195,9 @@ fn render(model: DriveModel) -> String {
 {objects}        </Objects>
         </Dictionary>
       </Profile>
-{rx}{tx}      <Mailbox DataLinkLayer="true"><CoE SdoInfo="true" PdoAssign="{assign}" PdoConfig="1"/></Mailbox>
+{rx}{tx}      <Mailbox DataLinkLayer="true"><CoE SdoInfo="{sdo_info}" PdoAssign="{assign}" PdoConfig="1"/></Mailbox>
       <Dc>
-        <OpMode><Name>DC</Name><Desc>DC SYNC0, cycle {cycles}; 1C32h:05 minimum {min_cycle_ns} ns</Desc><AssignActivate>#x0300</AssignActivate><CycleTimeSync0 Factor="1">0</CycleTimeSync0></OpMode>
+        <OpMode><Name>DC</Name><Desc>DC SYNC0, cycle {cycles}; 1C32h:05 minimum {min_cycle_ns} ns</Desc><AssignActivate>#x{assign_activate:04X}</AssignActivate><CycleTimeSync0 Factor="1">0</CycleTimeSync0></OpMode>
       </Dc>
     </Device>
     </Devices>

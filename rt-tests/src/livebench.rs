@@ -128,7 +128,7 @@ fn load_average() -> String {
 }
 
 /// A port free a moment ago, for the live view.
-fn free_port() -> Result<u16, BenchError> {
+pub(crate) fn free_port() -> Result<u16, BenchError> {
     TcpListener::bind("127.0.0.1:0")
         .and_then(|l| l.local_addr())
         .map(|a| a.port())
@@ -216,7 +216,7 @@ fn measure_cpu(duration: Duration) -> Result<ThreadCpu, BenchError> {
 
 /// The viewer: connects (retrying while the server starts), subscribes to every advertised
 /// channel and reads until `stop`, counting the messages.
-fn viewer(
+pub(crate) fn viewer(
     addr: SocketAddr,
     rt_cpu: usize,
     stop: &AtomicBool,

@@ -1,18 +1,23 @@
 //! `cellrt bench soak`: a long run of the full cell (the `bench loop` cell: N simulated axes in
-//! csp, the planner, recording on) with recording rotation, watching what a long run can break:
-//! the process' resident memory, sampled at a fixed period (it must stay flat), records
-//! dropped on the way to the recording (none), and overruns beside Debian's `cyclictest` run
-//! for the same time on the other CPU (its wakeups later than one cycle are the overruns a loop
-//! there would have had). Completed recording files are checked (present, non-empty) and
-//! deleted as the run goes, the last two kept until the end, so the disk holds a bounded amount.
+//! csp, the planner, recording on, rotated or not) as it runs in production: the live view
+//! serving a connected Foxglove client that reads every message, and the operator's `status`
+//! polled every second. It watches what a long run can break: the process' resident memory,
+//! open files and threads, sampled at a fixed period (they must stay flat), records dropped on
+//! the way to the recording (none), and overruns beside Debian's `cyclictest` run for the same
+//! time on the other CPU (its wakeups later than one cycle are the overruns a loop there would
+//! have had). Completed recording files are checked (present, non-empty) and deleted as the run
+//! goes, the last two kept until the end, so the disk holds a bounded amount.
 
+use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use cellrt_config::CellConfig;
 use cellrt_runtime::host::controller::{self, RunOptions};
+use cellrt_runtime::host::operator::client::{OperatorClient, REPLY_TIMEOUT};
+use cellrt_runtime::host::operator::wire::{Reply, Request};
 use cellrt_runtime::host::program::Program;
 use cellrt_runtime::host::record::part_path;
 use serde::Serialize;
@@ -28,19 +33,55 @@ const PLANNER_PRIORITY: u8 = 40;
 pub struct SoakOptions {
     /// The cell (axes, interval, duration, RT CPU and priority).
     pub cell: LoopOptions,
-    /// Recording rotation, s.
-    pub rotate_s: u32,
+    /// Recording rotation, s; `None`: one file for the whole run.
+    pub rotate_s: Option<u32>,
     /// Memory sample period, s.
     pub sample_s: u32,
 }
 
-/// One memory sample.
+/// One sample of the process' resources.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct RssSample {
     /// Time since the cell started, s.
     pub t_s: f64,
     /// Resident set size, KiB (`VmRSS`).
     pub rss_kib: u64,
+    /// Open file descriptors (`/proc/self/fd`).
+    pub fds: u64,
+    /// Threads (`Threads` of `/proc/self/status`).
+    pub threads: u64,
+}
+
+impl RssSample {
+    /// The process now, `t_s` after the start.
+    fn take(t_s: f64) -> Self {
+        let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+        let field = |name: &str| -> u64 {
+            status
+                .lines()
+                .find_map(|l| l.strip_prefix(name))
+                .and_then(|v| v.split_whitespace().next()?.parse().ok())
+                .unwrap_or(0)
+        };
+        let fds = std::fs::read_dir("/proc/self/fd").map_or(0, |d| d.count() as u64);
+        RssSample {
+            t_s,
+            rss_kib: field("VmRSS:"),
+            fds,
+            threads: field("Threads:"),
+        }
+    }
+}
+
+/// What the live view's client and the operator's status polling saw.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Clients {
+    /// Messages the live view's client received.
+    pub live_messages: u64,
+    /// `status` requests answered.
+    pub status_answered: u64,
+    /// `status` requests unanswered or refused.
+    pub status_failed: u64,
 }
 
 /// The cyclictest run beside the cell.
@@ -71,25 +112,17 @@ pub struct SoakReport {
     pub dropped_records: u64,
     /// Recording files written (all rotated parts).
     pub files: u32,
-    /// Resident memory over the run.
+    /// Resident memory, open files and threads over the run.
     pub rss: Vec<RssSample>,
     /// RSS growth from the first sample after the warm-up (a tenth of the run) to the last,
     /// KiB.
     pub rss_growth_kib: i64,
+    /// RSS growth rate after the warm-up, KiB per hour (least-squares slope of the samples).
+    pub rss_slope_kib_per_h: f64,
+    /// The live view's client and the status polling.
+    pub clients: Clients,
     /// cyclictest beside the cell, if it could run (root, installed).
     pub cyclictest: Option<CyclictestSide>,
-}
-
-/// The resident set of this process, KiB.
-fn rss_kib() -> u64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find_map(|l| l.strip_prefix("VmRSS:"))
-                .and_then(|v| v.split_whitespace().next()?.parse().ok())
-        })
-        .unwrap_or(0)
 }
 
 /// Deletes completed parts (all but the newest two) after checking each is a non-empty file;
@@ -137,7 +170,7 @@ pub fn run(
     opts: &SoakOptions,
     progress: &mut dyn FnMut(&RssSample),
 ) -> Result<SoakReport, BenchError> {
-    if opts.rotate_s == 0 || opts.sample_s == 0 {
+    if opts.rotate_s == Some(0) || opts.sample_s == 0 {
         return Err(BenchError::bad(
             "--rotate and --sample must be at least 1 s",
         ));
@@ -148,15 +181,18 @@ pub fn run(
     let cfg_path = dir.path().join("soak.toml");
     // The planner runs SCHED_FIFO below the RT thread: an hour on a shared machine must not
     // end in an underrun because a compiler starved the planner past the lookahead.
+    let rotation = match opts.rotate_s {
+        Some(s) => format!("[recording]\nrotate_seconds = {s}\n"),
+        None => "[recording]\n".to_string(),
+    };
+    let live = SocketAddr::from(([127, 0, 0, 1], crate::livebench::free_port()?));
     let text = config_text(&name, &opts.cell)
-        .replace(
-            "[recording]\n",
-            &format!("[recording]\nrotate_seconds = {}\n", opts.rotate_s),
-        )
+        .replace("[recording]\n", &rotation)
         .replace(
             "[rt]\n",
             &format!("[rt]\nplanner_priority = {}\n", PLANNER_PRIORITY),
-        );
+        )
+        + &format!("\n[live]\nlisten = \"{live}\"\npage_port = 0\n");
     let cell = CellConfig::parse(&cfg_path, &text).map_err(|e| BenchError::bad(e.to_string()))?;
     let prog_path = dir.path().join("soak-program.toml");
     let program = Program::parse(
@@ -188,6 +224,7 @@ pub fn run(
         run_done.store(true, Ordering::Release);
         r
     });
+    let clients = ClientThreads::start(&name, live, opts.cell.cpu, done.clone());
     let start = Instant::now();
     let mut rss = Vec::new();
     let mut pruned = 0;
@@ -197,15 +234,13 @@ pub fn run(
         std::thread::sleep(Duration::from_millis(200));
         if Instant::now() >= next {
             next += period;
-            let s = RssSample {
-                t_s: start.elapsed().as_secs_f64(),
-                rss_kib: rss_kib(),
-            };
+            let s = RssSample::take(start.elapsed().as_secs_f64());
             progress(&s);
             rss.push(s);
             pruned = prune(&record, pruned)?;
         }
     }
+    let clients = clients.finish()?;
     let summary = cell_thread
         .join()
         .map_err(|_| BenchError::failed("the cell's thread panicked"))?
@@ -237,9 +272,104 @@ pub fn run(
         dropped_records: summary.counters.dropped_records,
         files,
         rss_growth_kib: growth(&rss, opts.cell.duration_s),
+        rss_slope_kib_per_h: slope_per_hour(&rss, opts.cell.duration_s),
         rss,
+        clients,
         cyclictest,
     })
+}
+
+/// The live view's client and the status poller, on threads of their own off the RT CPU.
+struct ClientThreads {
+    stop: Arc<AtomicBool>,
+    live: std::thread::JoinHandle<Result<(), BenchError>>,
+    received: Arc<AtomicU64>,
+    status: std::thread::JoinHandle<(u64, u64)>,
+}
+
+/// Time between two `status` requests.
+const STATUS_PERIOD: Duration = Duration::from_secs(1);
+
+impl ClientThreads {
+    /// Connects the live view's client to `live` and polls cell `name`'s status every second
+    /// until the cell is `done`.
+    fn start(name: &str, live: SocketAddr, rt_cpu: usize, done: Arc<AtomicBool>) -> Self {
+        let received = Arc::new(AtomicU64::new(0));
+        let (stop, count) = (done.clone(), received.clone());
+        let live =
+            std::thread::spawn(move || crate::livebench::viewer(live, rt_cpu, &stop, &count));
+        let (cell, stop) = (name.to_string(), done.clone());
+        let status = std::thread::spawn(move || {
+            let (mut answered, mut failed) = (0u64, 0u64);
+            let mut client = None;
+            loop {
+                std::thread::sleep(STATUS_PERIOD);
+                if stop.load(Ordering::Acquire) {
+                    break;
+                }
+                if client.is_none() {
+                    client = OperatorClient::connect(Some(&cell)).ok();
+                }
+                match client
+                    .as_ref()
+                    .map(|c| c.request(&Request::Status, REPLY_TIMEOUT))
+                {
+                    Some(Ok(Reply::Status(_))) => answered += 1,
+                    // Before the operator service is up, or after the cell has ended.
+                    None => {}
+                    Some(_) => failed += 1,
+                }
+            }
+            (answered, failed)
+        });
+        ClientThreads {
+            stop: done,
+            live,
+            received,
+            status,
+        }
+    }
+
+    /// Waits for both to end (they end with the cell).
+    fn finish(self) -> Result<Clients, BenchError> {
+        self.stop.store(true, Ordering::Release);
+        self.live
+            .join()
+            .map_err(|_| BenchError::failed("the live view's client panicked"))??;
+        let (status_answered, status_failed) = self
+            .status
+            .join()
+            .map_err(|_| BenchError::failed("the status poller panicked"))?;
+        Ok(Clients {
+            live_messages: self.received.load(Ordering::Relaxed),
+            status_answered,
+            status_failed,
+        })
+    }
+}
+
+/// Least-squares slope of RSS over time after the warm-up (a tenth of the run), KiB per hour.
+fn slope_per_hour(rss: &[RssSample], duration_s: f64) -> f64 {
+    let v: Vec<(f64, f64)> = rss
+        .iter()
+        .filter(|s| s.t_s >= duration_s / 10.0)
+        .map(|s| (s.t_s, s.rss_kib as f64))
+        .collect();
+    let n = v.len() as f64;
+    if v.len() < 2 {
+        return 0.0;
+    }
+    let (mt, mr) = (
+        v.iter().map(|p| p.0).sum::<f64>() / n,
+        v.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let cov: f64 = v.iter().map(|p| (p.0 - mt) * (p.1 - mr)).sum();
+    let var: f64 = v.iter().map(|p| (p.0 - mt) * (p.0 - mt)).sum();
+    if var == 0.0 {
+        0.0
+    } else {
+        cov / var * 3600.0
+    }
 }
 
 /// RSS change from the first sample after a tenth of the run to the last.
@@ -254,9 +384,13 @@ fn growth(rss: &[RssSample], duration_s: f64) -> i64 {
 /// The report as text.
 pub fn render(r: &SoakReport) -> String {
     let o = &r.options;
+    let rotation = match o.rotate_s {
+        Some(s) => format!("rotated every {s} s"),
+        None => "not rotated".to_string(),
+    };
     let mut s = format!(
-        "== cellrt bench soak: {} axes at {} µs for {} s, recording rotated every {} s — {}\n",
-        o.cell.axes, o.cell.interval_us, o.cell.duration_s, o.rotate_s, r.outcome
+        "== cellrt bench soak: {} axes at {} µs for {} s, recording {rotation}, live view with one client, status every {} s — {}\n",
+        o.cell.axes, o.cell.interval_us, o.cell.duration_s, STATUS_PERIOD.as_secs(), r.outcome
     );
     s += &format!(
         "cycles {}   overruns {}   dropped records {}   recording files {}\n",
@@ -268,7 +402,16 @@ pub fn render(r: &SoakReport) -> String {
             "RSS KiB   first {} (t {:.0} s)   last {} (t {:.0} s)   max {}   growth after warm-up {:+}\n",
             first.rss_kib, first.t_s, last.rss_kib, last.t_s, max, r.rss_growth_kib
         );
+        s += &format!(
+            "RSS slope after warm-up {:+.0} KiB/h   open files first {} last {}   threads first {} last {}\n",
+            r.rss_slope_kib_per_h, first.fds, last.fds, first.threads, last.threads
+        );
     }
+    let c = &r.clients;
+    s += &format!(
+        "live view client: {} messages   status: {} answered, {} failed\n",
+        c.live_messages, c.status_answered, c.status_failed
+    );
     match &r.cyclictest {
         Some(c) => {
             s += &format!(
@@ -311,9 +454,19 @@ mod tests {
 
     #[test]
     fn growth_is_measured_after_the_warm_up() {
-        let s = |t_s, rss_kib| RssSample { t_s, rss_kib };
+        let s = |t_s, rss_kib| RssSample {
+            t_s,
+            rss_kib,
+            fds: 0,
+            threads: 0,
+        };
         let rss = [s(10.0, 100), s(400.0, 150), s(3600.0, 160)];
         assert_eq!(growth(&rss, 3600.0), 10);
         assert_eq!(growth(&[], 3600.0), 0);
+        // 10 KiB over 3200 s after the warm-up: 11.25 KiB/h; the warm-up sample is left out.
+        assert!((slope_per_hour(&rss, 3600.0) - 11.25).abs() < 1e-9);
+        assert_eq!(slope_per_hour(&rss[..1], 3600.0), 0.0);
+        let flat = [s(400.0, 150), s(800.0, 150), s(1200.0, 150)];
+        assert_eq!(slope_per_hour(&flat, 3600.0), 0.0);
     }
 }

@@ -425,6 +425,37 @@ fn bench_soak_samples_memory_and_rotates() {
     assert!(v["files"].as_u64().unwrap() >= 3, "{stdout}");
     assert!(v["cycles"].as_u64().unwrap() > 0, "{stdout}");
     assert!(stdout.contains("RSS KiB"), "{stdout}");
+    // Open files and threads are sampled with the memory; the live view's client read the
+    // per-cycle messages.
+    assert!(
+        rss.iter()
+            .all(|s| s["fds"].as_u64().unwrap() > 2 && s["threads"].as_u64().unwrap() > 2),
+        "{stdout}"
+    );
+    assert!(
+        v["clients"]["live_messages"].as_u64().unwrap() > 0,
+        "{stdout}"
+    );
+    assert!(stdout.contains("live view client"), "{stdout}");
+    // Without rotation the whole run is one file.
+    let out = cellrt(&[
+        "bench",
+        "soak",
+        "--axes",
+        "2",
+        "--interval",
+        "1000",
+        "--duration",
+        "2",
+        "--no-rotate",
+        "--sample",
+        "1",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    let (stdout, v) = succeeded_with_json(&out, &json);
+    assert_eq!(v["files"], 1, "{stdout}");
+    assert!(stdout.contains("not rotated"), "{stdout}");
     for (args, option) in [
         (&["--rotate", "0"][..], "--rotate"),
         (&["--axes", "0"][..], "--axes"),

@@ -74,6 +74,10 @@ pub struct SoakArgs {
     /// Recording rotation, seconds.
     #[arg(long, value_name = "SECONDS", default_value_t = 300)]
     pub rotate: u32,
+    /// Write one recording file for the whole run (no rotation), to see what an unrotated
+    /// recording holds in memory.
+    #[arg(long, conflicts_with = "rotate")]
+    pub no_rotate: bool,
     /// Memory sample period, seconds.
     #[arg(long, value_name = "SECONDS", default_value_t = 10)]
     pub sample: u32,
@@ -416,11 +420,14 @@ fn run_soak(a: SoakArgs) -> Result<(), BenchError> {
     let cell = loopbench::LoopOptions::new(a.axes, c.interval, c.duration, c.priority, c.cpu)?;
     let opts = cellrt_rt_tests::soak::SoakOptions {
         cell,
-        rotate_s: a.rotate,
+        rotate_s: (!a.no_rotate).then_some(a.rotate),
         sample_s: a.sample,
     };
     let report = cellrt_rt_tests::soak::run(&opts, &mut |s| {
-        eprintln!("cellrt: t {:.0} s  RSS {} KiB", s.t_s, s.rss_kib);
+        eprintln!(
+            "cellrt: t {:.0} s  RSS {} KiB  open files {}  threads {}",
+            s.t_s, s.rss_kib, s.fds, s.threads
+        );
     })?;
     print!("{}", cellrt_rt_tests::soak::render(&report));
     write_json(a.json.as_deref(), &report)

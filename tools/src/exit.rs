@@ -26,4 +26,13 @@ impl Exit {
             Exit::Unreachable => 4,
         }
     }
+
+    /// The exit of a device or file that could not be opened: bad input when what was named
+    /// does not exist or is no valid name, a failure otherwise (permissions, the system).
+    pub fn of_open_error(e: &std::io::Error) -> Exit {
+        match e.kind() {
+            std::io::ErrorKind::NotFound | std::io::ErrorKind::InvalidInput => Exit::BadInput,
+            _ => Exit::Failed,
+        }
+    }
 }

@@ -287,8 +287,8 @@ fn a_wire_fault_moved_to_a_nic_by_interface_is_left_to_the_segment_on_the_far_en
     let text = std::fs::read_to_string(&cfg).unwrap()
         + "\n[[inject]]\nat_ms = 100\nfault = \"frame_corruption\"\nduration_ms = 10\n";
     std::fs::write(&cfg, text).unwrap();
-    // No such NIC here: the run fails opening it, after it has said what it leaves to the far
-    // end (it no longer refuses the fault).
+    // No such NIC here: the run is refused as bad input (exit 2) before anything starts, after
+    // it has said what it leaves to the far end (it no longer refuses the fault).
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_cellrt"))
         .arg("run")
         .arg(&cfg)
@@ -296,7 +296,7 @@ fn a_wire_fault_moved_to_a_nic_by_interface_is_left_to_the_segment_on_the_far_en
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(
         stderr.contains(
             "wire fault(s) frame_corruption at cycle 100 are left to the segment on the far end of 'crtnone0'"

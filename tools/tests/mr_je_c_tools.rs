@@ -216,10 +216,14 @@ fn je_c_reads_and_writes_objects() {
         (code, out.as_str()),
         (Some(0), "1018h:2 Product Code = 4099 (00001003h)\n")
     );
-    // The drive refuses: exit 3 with the end code or the exception.
+    // A read-only object is refused by the dictionary before anything is sent: exit 2.
     let (code, _, err) = je_c(&["write", &udp, "6041", "0"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("6041h:0: read-only"), "{err}");
+    // The drive refuses: exit 3 with the end code or the exception.
+    let (code, _, err) = je_c(&["write", &udp, "6098", "40"]);
     assert_eq!(code, Some(3), "{err}");
-    assert!(err.contains("end code CCC9h"), "{err}");
+    assert!(err.contains("end code"), "{err}");
     let (code, _, err) = je_c(&["write", &modbus, "6098", "40", "--via", "modbus-tcp"]);
     assert_eq!(code, Some(3), "{err}");
     assert!(err.contains("exception 03h"), "{err}");

@@ -22,6 +22,13 @@ fn check(rc: libc::c_int) -> io::Result<libc::c_int> {
     }
 }
 
+/// True if the system has a network interface called `interface`.
+pub fn interface_exists(interface: &str) -> bool {
+    std::ffi::CString::new(interface)
+        // SAFETY: a valid NUL-terminated name; the call only reads it.
+        .is_ok_and(|name| unsafe { libc::if_nametoindex(name.as_ptr()) } != 0)
+}
+
 impl RawSocket {
     /// Opens and binds a socket on `interface`. Errors name the interface and say what is
     /// needed (CAP_NET_RAW) when permission is denied.

@@ -26,7 +26,7 @@ pub fn run(args: BusArgs, target: super::operate::Target) -> Exit {
         Ok(l) => l,
         Err(e) => {
             eprintln!("error: EtherCAT interface '{interface}': {e}");
-            return Exit::Failed;
+            return Exit::of_open_error(&e);
         }
     };
     match scan(&mut link) {

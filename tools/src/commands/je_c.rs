@@ -115,6 +115,13 @@ pub fn run(args: JeCArgs) -> Exit {
         );
         return Exit::BadInput;
     };
+    if value.is_some() && !row.access.writable() {
+        eprintln!(
+            "error: object {}: read-only in the MR-JE-C object dictionary (manual §7.3); nothing sent",
+            target.object
+        );
+        return Exit::BadInput;
+    }
     let write = match value.map(|v| parse_value(row.ty, &v)).transpose() {
         Ok(w) => w,
         Err(e) => {

@@ -95,6 +95,15 @@ pub fn run(args: RunArgs) -> Exit {
             .unwrap_or_default()
     );
     announce_faults_left_to_segment(&cell);
+    if let Some(cellrt_config::EthercatInterface::Nic(nic)) =
+        cell.ethercat.as_ref().map(|e| &e.interface)
+    {
+        if !cellrt_ethercat::raw_socket::interface_exists(nic) {
+            return bad_input(format!(
+                "EtherCAT interface '{nic}': network interface '{nic}' does not exist"
+            ));
+        }
+    }
     if args.external_planner {
         eprintln!(
             "cellrt: waiting for a planner: cellrt planner {}",
@@ -114,13 +123,15 @@ pub fn run(args: RunArgs) -> Exit {
     );
     let summary = match result {
         Ok(s) => s,
-        Err(e @ RunError::RecordingPath(_)) => {
-            eprintln!("error: {e}");
-            return Exit::BadInput;
-        }
         Err(e) => {
             eprintln!("error: {e}");
-            return Exit::Failed;
+            return match e {
+                // A recording path or a live-view address that cannot be used: nothing ran.
+                RunError::RecordingPath(_) | RunError::Live(_) => Exit::BadInput,
+                // The cell runs already: its controller keeps it.
+                RunError::CellLock(_) => Exit::Rejected,
+                _ => Exit::Failed,
+            };
         }
     };
     print!("{}", summary::render(&summary));

@@ -120,9 +120,9 @@ pub struct RunArgs {
     /// Run no program: stay up until SIGINT/SIGTERM or --duration.
     #[arg(long)]
     pub no_program: bool,
-    /// Stop after this many seconds.
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
-    pub duration: Option<f64>,
+    /// Stop after this long: seconds, or a duration such as 90s, 10m, 1h30m.
+    #[arg(long, value_name = "DURATION", allow_negative_numbers = true)]
+    pub duration: Option<String>,
     /// Record to this MCAP file (default: the configuration's recording path).
     #[arg(long, value_name = "FILE", conflicts_with = "no_record")]
     pub record: Option<PathBuf>,

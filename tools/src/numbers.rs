@@ -35,6 +35,12 @@ pub enum NumberError {
         /// The argument.
         text: String,
     },
+    /// Neither a number of seconds nor a duration such as "2s", "500ms" or "1h 30m".
+    #[error("'{}' is not a duration (seconds, or e.g. 2s, 500ms, 1h30m)", Echo(.text))]
+    NotADuration {
+        /// The argument.
+        text: String,
+    },
     /// A duration beyond its bound ([`MAX_REPLY_TIMEOUT_S`], [`MAX_MOTION_S`]).
     #[error("{} s is longer than {max} s", Echo(.text))]
     TooLong {
@@ -93,15 +99,34 @@ pub fn positive(s: &str) -> Result<f64, NumberError> {
     }
 }
 
-/// Seconds > 0, at most `max`.
+/// Seconds > 0 (a number or a duration, [`duration_seconds`]), at most `max`.
 fn seconds_up_to(s: &str, max: f64) -> Result<f64, NumberError> {
-    let v = positive(s)?;
+    let v = duration_seconds(s)?;
     if v <= max {
         Ok(v)
     } else {
         Err(NumberError::TooLong {
             text: s.to_string(),
             max,
+        })
+    }
+}
+
+/// A duration > 0 in seconds: a plain number of seconds ("2.5") or a `humantime` duration
+/// ("2s", "500ms", "1h 30m", "1d").
+pub fn duration_seconds(s: &str) -> Result<f64, NumberError> {
+    if s.trim().parse::<f64>().is_ok() {
+        return positive(s);
+    }
+    let d = humantime::parse_duration(s.trim()).map_err(|_| NumberError::NotADuration {
+        text: s.to_string(),
+    })?;
+    let v = d.as_secs_f64();
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(NumberError::NotPositive {
+            text: s.to_string(),
         })
     }
 }
@@ -119,6 +144,24 @@ pub fn motion_seconds(s: &str) -> Result<f64, NumberError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn durations_are_seconds_or_humantime() {
+        assert_eq!(duration_seconds("2.5"), Ok(2.5));
+        assert_eq!(duration_seconds("2s"), Ok(2.0));
+        assert_eq!(duration_seconds("500ms"), Ok(0.5));
+        assert_eq!(duration_seconds("1h 30m"), Ok(5400.0));
+        assert_eq!(duration_seconds("1d"), Ok(86_400.0));
+        for bad in ["0", "-1", "0s", "nan", "2 parsecs", "s", ""] {
+            assert!(duration_seconds(bad).is_err(), "{bad}");
+        }
+        assert_eq!(
+            duration_seconds("2 parsecs").unwrap_err().to_string(),
+            "'2 parsecs' is not a duration (seconds, or e.g. 2s, 500ms, 1h30m)"
+        );
+        assert_eq!(reply_timeout("2m"), Ok(120.0));
+        assert!(reply_timeout("2h").is_err());
+    }
 
     #[test]
     fn nan_infinity_and_out_of_range_are_refused_by_name() {

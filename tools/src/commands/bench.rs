@@ -115,8 +115,13 @@ pub struct EthercatArgs {
     /// Cycle time, µs (125, 250, 500, 1000, 2000, 4000 or 8000).
     #[arg(long, value_name = "µs")]
     pub interval: u64,
-    /// EtherCAT time over all rounds, seconds.
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    /// EtherCAT time over all rounds: seconds, or e.g. 90s, 10m.
+    #[arg(
+        long,
+        value_name = "DURATION",
+        allow_negative_numbers = true,
+        value_parser = crate::numbers::duration_seconds
+    )]
     pub duration: f64,
     /// Rounds; each runs the cell over EtherCAT, then `bench latency`.
     #[arg(long, value_name = "N", default_value_t = 5)]
@@ -169,8 +174,13 @@ pub struct Common {
     /// Period, µs.
     #[arg(long, value_name = "µs")]
     pub interval: u64,
-    /// Length of the run (per round and side for `compare`), seconds.
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    /// Length of the run (per round and side for `compare`): seconds, or e.g. 90s, 10m, 1h.
+    #[arg(
+        long,
+        value_name = "DURATION",
+        allow_negative_numbers = true,
+        value_parser = crate::numbers::duration_seconds
+    )]
     pub duration: f64,
     /// SCHED_FIFO priority, 1..=99.
     #[arg(long, value_name = "N", default_value_t = u32::from(latency::DEFAULT_PRIORITY))]

@@ -52,14 +52,17 @@ pub fn run(args: RunArgs) -> Exit {
     } else {
         None
     };
-    let duration = match args.duration {
+    let duration = match args.duration.as_deref() {
         None => None,
-        Some(d) if d.is_finite() && d > 0.0 && d <= 1e7 => Some(Duration::from_secs_f64(d)),
-        Some(d) => {
-            return bad_input(format!(
-                "--duration: must be a number of seconds in (0, 1e7] (got {d})"
-            ))
-        }
+        Some(text) => match crate::numbers::duration_seconds(text) {
+            Ok(d) if d <= 1e7 => Some(Duration::from_secs_f64(d)),
+            _ => {
+                return bad_input(format!(
+                    "--duration: must be seconds or a duration such as 90s, 10m, 1h30m, in (0, 1e7 s] (got {})",
+                    cellrt_config::echo::Echo(text)
+                ))
+            }
+        },
     };
     let record = if args.no_record {
         None
@@ -71,6 +74,15 @@ pub fn run(args: RunArgs) -> Exit {
         None
     };
 
+    // The summary's file is created before anything moves: a path that cannot be written is
+    // bad input now, not a failure after the program has run.
+    let summary_file = match &args.summary_json {
+        None => None,
+        Some(p) => match cellrt_runtime::output_file::create(p) {
+            Ok(f) => Some(f),
+            Err(e) => return bad_input(format!("--summary-json {}: {e}", p.display())),
+        },
+    };
     let shutdown = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
         if let Err(e) = signal_hook::flag::register(sig, shutdown.clone()) {
@@ -135,11 +147,9 @@ pub fn run(args: RunArgs) -> Exit {
         }
     };
     print!("{}", summary::render(&summary));
-    if let Some(path) = &args.summary_json {
+    if let (Some(path), Some(mut file)) = (&args.summary_json, summary_file) {
         let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
-        let written = cellrt_runtime::output_file::create(path)
-            .and_then(|mut f| std::io::Write::write_all(&mut f, (json + "\n").as_bytes()));
-        if let Err(e) = written {
+        if let Err(e) = std::io::Write::write_all(&mut file, (json + "\n").as_bytes()) {
             eprintln!("error: cannot write {}: {e}", path.display());
             return Exit::Failed;
         }

@@ -78,6 +78,9 @@ pub struct InspectArgs {
     /// Print how long the inspection took (to stderr).
     #[arg(long)]
     pub timing: bool,
+    /// Print the inspection as one JSON document (events with their fields apart).
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `cellrt recover`.
@@ -225,6 +228,23 @@ pub struct MrJeCSimArgs {
         conflicts_with = "rs485_pty"
     )]
     pub link_layout: cellrt_emulator::mr_je_c::cyclic::LinkLayout,
+}
+
+impl Command {
+    /// True for a command that reads, prints and exits: no controller, planner, emulator or
+    /// benchmark cell runs in its process.
+    pub fn only_prints(&self) -> bool {
+        matches!(
+            self,
+            Command::Inspect(_)
+                | Command::Recover(_)
+                | Command::Report(_)
+                | Command::Replay(_)
+                | Command::Esi(_)
+                | Command::Completions { .. }
+                | Command::Man { .. }
+        )
+    }
 }
 
 /// `cellrt drive-sim`.

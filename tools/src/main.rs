@@ -13,6 +13,9 @@ use clap::Parser;
 fn main() {
     logging::init();
     let cli = cli::Cli::try_parse().unwrap_or_else(|e| refuse_arguments(&e));
+    if cli.command.only_prints() {
+        quiet_on_closed_stdout();
+    }
     let code = match cli.command {
         cli::Command::Run(args) => commands::run::run(args),
         cli::Command::Planner(args) => commands::planner::run(args),
@@ -33,6 +36,15 @@ fn main() {
         cli::Command::Operate(c) => commands::operate::run(c, cli.target),
     };
     std::process::exit(code.code());
+}
+
+/// A command whose output goes to a pipe closed early (`cellrt inspect FILE | head`) ends
+/// quietly, as Unix tools do, instead of panicking on the failed write: SIGPIPE's default
+/// action. Only for commands that print and exit; a controller must outlive a closed socket.
+fn quiet_on_closed_stdout() {
+    use nix::sys::signal::{signal, SigHandler, Signal};
+    // SAFETY: restoring a signal's default disposition; no handler runs.
+    let _ = unsafe { signal(Signal::SIGPIPE, SigHandler::SigDfl) };
 }
 
 /// Ends the process on clap's refusal of the command line (or its help): as clap would, except

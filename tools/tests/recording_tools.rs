@@ -827,3 +827,48 @@ fn record(op: u8, body: &[u8]) -> Vec<u8> {
 fn string(s: &[u8]) -> Vec<u8> {
     [&(s.len() as u32).to_le_bytes()[..], s].concat()
 }
+
+/// `cellrt inspect --json`: the same inspection as one JSON document, events with their fields
+/// apart (the fault's axis and kind), counts matching the recording; a pipe closed early ends
+/// the command quietly (no panic).
+#[test]
+fn inspect_as_json_gives_the_fields_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    let rec = record_with_drive_alarm(dir.path());
+    let r = read_recording(&rec);
+    let out = cellrt(&["inspect".as_ref(), rec.as_os_str(), "--json".as_ref()]);
+    let (so, se) = text(&out);
+    assert!(out.status.success(), "{so}\n{se}");
+    let v: serde_json::Value = serde_json::from_str(&so).unwrap();
+    assert_eq!(v["indexed"], true);
+    assert_eq!(v["cycle_time_us"], 1000);
+    assert_eq!(v["cycles_recorded"], r.cycles.len() as u64);
+    let axis_y = v["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["topic"] == "/axis/y")
+        .unwrap();
+    assert_eq!(axis_y["messages"], r.axes["y"].len() as u64);
+    let events = v["events"].as_array().unwrap();
+    assert_eq!(events.len(), r.events.len());
+    let fault = events.iter().find(|e| e["kind"] == "drive_fault").unwrap();
+    assert_eq!(
+        (&fault["axis"], &fault["fault"]),
+        (&"y".into(), &true.into())
+    );
+    assert!(v["faults"].as_u64().unwrap() >= 1);
+    assert!(v["wakeup"]["p50_us"].as_f64().unwrap() > 0.0);
+    // A reader that stops after one line: the writer ends by SIGPIPE, without a panic.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_cellrt"))
+        .args(["completions", "bash"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!out.status.success());
+}

@@ -31,16 +31,16 @@ fn refused(args: &[&str]) -> String {
     err
 }
 
+/// [`refused`] for `cellrt drive-sim ethercat --interface nonexistent0` and `args`.
+fn refused_listing(args: &[&str]) -> String {
+    let mut all = vec!["drive-sim", "ethercat", "--interface", "nonexistent0"];
+    all.extend(args);
+    refused(&all)
+}
+
 #[test]
 fn an_unknown_model_is_refused_naming_it_and_the_supported_ones() {
-    let err = refused(&[
-        "drive-sim",
-        "ethercat",
-        "--interface",
-        "nonexistent0",
-        "--drives",
-        "mr-j4-tm,mr-j9-g",
-    ]);
+    let err = refused_listing(&["--drives", "mr-j4-tm,mr-j9-g"]);
     assert!(err.contains("\"mr-j9-g\""), "{err}");
     for m in DriveModel::ALL {
         assert!(err.contains(m.as_str()), "{m} listed: {err}");
@@ -50,9 +50,7 @@ fn an_unknown_model_is_refused_naming_it_and_the_supported_ones() {
 #[test]
 fn an_empty_model_list_is_refused() {
     for drives in [&["--drives", ""][..], &["--drives"], &["--drives", ","]] {
-        let mut args = vec!["drive-sim", "ethercat", "--interface", "nonexistent0"];
-        args.extend(drives);
-        let err = refused(&args);
+        let err = refused_listing(drives);
         assert!(err.contains("--drives: no drive model given"), "{err}");
         assert!(err.contains("mr-j5w2-g-n1"), "{err}");
     }
@@ -67,9 +65,7 @@ fn a_configuration_with_drives_or_esi_is_refused_as_a_conflict() {
         vec!["--config", &cfg, "--esi", &esi],
         vec!["--cell", &cfg, "--drives", "mr-j4-tm"],
     ] {
-        let mut all = vec!["drive-sim", "ethercat", "--interface", "nonexistent0"];
-        all.extend(&args);
-        let err = refused(&all);
+        let err = refused_listing(&args);
         assert!(err.contains("ethercat-cell.toml"), "{err}");
         assert!(err.contains("--drives/--esi, not both"), "{err}");
     }
@@ -85,27 +81,9 @@ fn a_configuration_with_drives_or_esi_is_refused_as_a_conflict() {
         "cia402",
     ]);
     assert!(err.contains("not both"), "{err}");
-    let err = refused(&[
-        "drive-sim",
-        "ethercat",
-        "--interface",
-        "nonexistent0",
-        "--config",
-        &cfg,
-        "--cell",
-        &cfg,
-    ]);
+    let err = refused_listing(&["--config", &cfg, "--cell", &cfg]);
     assert!(err.contains("--config and --cell"), "{err}");
-    let err = refused(&[
-        "drive-sim",
-        "ethercat",
-        "--interface",
-        "nonexistent0",
-        "--config",
-        &cfg,
-        "--cycle-time-us",
-        "2000",
-    ]);
+    let err = refused_listing(&["--config", &cfg, "--cycle-time-us", "2000"]);
     assert!(err.contains("--cycle-time-us"), "{err}");
 }
 
@@ -113,7 +91,7 @@ fn a_configuration_with_drives_or_esi_is_refused_as_a_conflict() {
 fn a_missing_interface_or_nothing_to_emulate_is_refused() {
     let err = refused(&["drive-sim", "ethercat", "--drives", "mr-j4-tm"]);
     assert!(err.contains("--interface IF"), "{err}");
-    let err = refused(&["drive-sim", "ethercat", "--interface", "nonexistent0"]);
+    let err = refused_listing(&[]);
     assert!(
         err.contains("no drives to emulate") && err.contains("--config FILE"),
         "{err}"
@@ -136,38 +114,15 @@ fn the_configuration_file_is_read_from_config_and_from_the_older_cell() {
 
 #[test]
 fn a_model_that_does_not_run_the_cycle_or_a_bad_esi_file_is_refused_naming_it() {
-    let err = refused(&[
-        "drive-sim",
-        "ethercat",
-        "--interface",
-        "nonexistent0",
-        "--drives",
-        "cia402,mr-j5w2-g-n1",
-        "--cycle-time-us",
-        "125",
-    ]);
+    let err = refused_listing(&["--drives", "cia402,mr-j5w2-g-n1", "--cycle-time-us", "125"]);
     assert!(
         err.contains("mr-j5w2-g-n1") && err.contains("125 µs"),
         "{err}"
     );
-    let err = refused(&[
-        "drive-sim",
-        "ethercat",
-        "--interface",
-        "nonexistent0",
-        "--esi",
-        "missing.xml",
-    ]);
+    let err = refused_listing(&["--esi", "missing.xml"]);
     assert!(err.contains("--esi missing.xml"), "{err}");
     let j4 = format!("{CONFIGS}/esi/mr-j4-tm.xml");
-    let err = refused(&[
-        "drive-sim",
-        "ethercat",
-        "--interface",
-        "nonexistent0",
-        "--esi",
-        &j4,
-    ]);
+    let err = refused_listing(&["--esi", &j4]);
     assert!(err.contains("use --drives mr-j4-tm"), "{err}");
 }
 

@@ -32,7 +32,8 @@ pub enum Command {
     Report(ReportArgs),
     /// Re-run a recording's setpoint stream through simulated drives and compare the feedback.
     Replay(ReplayArgs),
-    /// Emulate a cell's drives on a network (EtherCAT SubDevices on an interface).
+    /// Emulate drives on a network: EtherCAT SubDevices on an interface (a cell
+    /// configuration's drives, or listed models), or MR-JE-C drives on an address.
     DriveSim(DriveSimArgs),
     /// Look at a fieldbus without running a cell.
     Bus(BusArgs),
@@ -248,7 +249,10 @@ impl Command {
 }
 
 /// `cellrt drive-sim`.
+// The operator commands' global --cell names a running cell; here it is a configuration file,
+// which only `ethercat` takes (as its --cell): this hidden one keeps the global's help out.
 #[derive(Debug, Args)]
+#[command(arg(clap::Arg::new("cell").long("cell").global(true).hide(true)))]
 pub struct DriveSimArgs {
     /// Which bus to emulate.
     #[command(subcommand)]
@@ -265,21 +269,67 @@ pub enum DriveSimBus {
     /// idx); the time-outs ([Pr. PN02], [Pr. PN10], [Pr. PF46]) run on the time since start.
     #[command(name = "mr-je-c")]
     MrJeC(MrJeCSimArgs),
-    /// Present the drives of the cell configuration given as `--cell CONFIG` as EtherCAT
-    /// SubDevices on a network interface (line topology, in axis order), until SIGINT/SIGTERM.
+    /// Present emulated drives as EtherCAT SubDevices on a network interface (line topology),
+    /// for any MainDevice, until SIGINT/SIGTERM: the drives of a cell configuration file
+    /// (`--config FILE`), or, without one, the models `--drives` lists and the devices of
+    /// `--esi` files.
     ///
-    /// The cell's wire faults in `[[inject]]` (rx_loss as frame loss, frame_delay,
-    /// frame_corruption, datagram_drop, link_loss, subdevice_stall) are injected here, on the
-    /// cell's cycle clock as the segment sees it: cycle 0 is the first frame with a
-    /// process-data (LRD/LWR/LRW) datagram, cycle n is n cycle times later; `at_ms` counts
-    /// from there and each fault lasts duration_ms worth of frames. `cellrt run` on the other
-    /// end sends that frame one cycle before its own loop's cycle 0.
-    Ethercat {
-        /// The network interface (e.g. one end of a veth pair).
-        #[arg(long, value_name = "IF")]
-        interface: String,
-        // The cell configuration comes as the global `--cell CONFIG`.
-    },
+    /// With a configuration, the SubDevices are its EtherCAT axes' drives in axis order (a
+    /// multi-axis amplifier is one), running its cycle time, and the cell's wire faults in
+    /// `[[inject]]` (rx_loss as frame loss, frame_delay, frame_corruption, datagram_drop,
+    /// link_loss, subdevice_stall) are injected here, on the cell's cycle clock as the segment
+    /// sees it: cycle 0 is the first frame with a process-data (LRD/LWR/LRW) datagram, cycle n
+    /// is n cycle times later; `at_ms` counts from there and each fault lasts duration_ms worth
+    /// of frames. `cellrt run` on the other end sends that frame one cycle before its own
+    /// loop's cycle 0.
+    ///
+    /// Without one, each model of `--drives` is one SubDevice with default settings (an
+    /// MR-J5W2/W3-G-N1 one SubDevice with all its axes; `cia402` with the placeholder identity
+    /// of configs/cia402-generic.toml), followed by one generic CiA 402 SubDevice per `--esi`
+    /// file presenting that file's device (identity, modes, default PDOs, object dictionary),
+    /// at `--cycle-time-us`; no wire faults. The start line lists each SubDevice's identity.
+    Ethercat(EthercatSimArgs),
+}
+
+/// `cellrt drive-sim ethercat`.
+#[derive(Debug, Args)]
+pub struct EthercatSimArgs {
+    /// The network interface to serve the SubDevices on (e.g. one end of a veth pair);
+    /// required.
+    #[arg(long, value_name = "IF")]
+    pub interface: Option<String>,
+    /// The cell configuration file (TOML) whose EtherCAT axes' drives to emulate.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// The cell configuration file, as --config: its older spelling, also taken before
+    /// `drive-sim` (where the operator commands' global --cell names a running cell).
+    // Its id is the global option's: clap then leaves that one out of this command.
+    #[arg(long = "cell", id = "cell", value_name = "FILE")]
+    pub cell: Option<String>,
+    /// Without a configuration: the drive models to emulate, one SubDevice each, in line in
+    /// this order (the names a configuration's `drive` takes).
+    #[arg(long, value_name = "MODEL,..", num_args = 0..=1, default_missing_value = "",
+          help = drives_help())]
+    pub drives: Option<String>,
+    /// Without a configuration: an ESI file (ETG.2000 XML) describing one CiA 402 device,
+    /// emulated as a generic CiA 402 SubDevice behind those of --drives; repeatable.
+    #[arg(long, value_name = "FILE")]
+    pub esi: Vec<PathBuf>,
+    /// Without a configuration: the drives' cycle time, µs (a configuration's
+    /// `cycle_time_us`; default 1000); the SYNC0 cycle the MainDevice sets decides when they
+    /// take each frame.
+    #[arg(long, value_name = "US")]
+    pub cycle_time_us: Option<u32>,
+}
+
+/// The help of `--drives`, with the model names as the configuration takes them.
+fn drives_help() -> String {
+    format!(
+        "Without a configuration: the drive models to emulate, one SubDevice each, in line in \
+         this order, e.g. mr-j4-tm,mr-j5w2-g-n1,cia402 (the names a configuration's `drive` \
+         takes: {})",
+        cellrt_cia402::profiles::DriveModel::names()
+    )
 }
 
 /// `cellrt planner`.

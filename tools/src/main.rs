@@ -23,7 +23,7 @@ fn main() {
         cli::Command::Recover(args) => commands::recover::run(args),
         cli::Command::Report(args) => commands::report::run(args),
         cli::Command::Replay(args) => commands::replay::run(args),
-        cli::Command::DriveSim(args) => commands::drive_sim::run(args, cli.target.cell.clone()),
+        cli::Command::DriveSim(args) => commands::drive_sim::run(args),
         cli::Command::Bus(args) => commands::bus::run(args, cli.target),
         cli::Command::JeC(args) => commands::je_c::run(args),
         cli::Command::Esi(args) => commands::esi::run(args),

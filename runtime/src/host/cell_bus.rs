@@ -1,18 +1,22 @@
 //! The bus a cell runs on, chosen by its config: the in-process simulated drives, or an
 //! EtherCAT segment (emulated in-process or on a network interface).
 
+use std::sync::Arc;
+
 use cellrt_cia402::bus::{LinkState, MailboxNotice, PostError, SdoOutcome, SdoRequest};
 use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_cia402::{AcyclicBus, BusError, Cycles, CyclicBus, FaultInjection, FrameCounters};
 use cellrt_emulator::ethercat::InProcessLink;
-use cellrt_emulator::ethercat::Segment;
+use cellrt_emulator::ethercat::{Segment, SubDeviceVariant};
 use cellrt_emulator::motion::profile_position::PpParams;
 use cellrt_emulator::sim::plant::PlantParams;
 use cellrt_emulator::{SimBus, SimDrive, SimDriveParams};
 use cellrt_ethercat::esi::conform::FixedPdo;
+use cellrt_ethercat::esi::EsiDevice;
 use cellrt_ethercat::master::{EthercatBus, Link, RawSocketLink, SegmentConfig, SegmentDrive};
 
-use cellrt_cia402::profiles::MotorKind;
+use cellrt_cia402::profiles::{MotorKind, SharedProfile};
+use cellrt_cia402::CycleTime;
 use cellrt_config::{AxisConfig, CellConfig, EthercatInterface};
 use cellrt_emulator::sim::drive::SimMotor;
 
@@ -128,43 +132,83 @@ pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
     }
 }
 
+/// One emulated SubDevice: the drives of its slots in slot order, how it departs from its
+/// profile, and the ESI device whose object dictionary and access rights it presents.
+#[derive(Debug)]
+pub struct EmulatedStation {
+    /// One drive per axis of the unit.
+    pub drives: Vec<SimDrive>,
+    /// How the SubDevice departs from its profile.
+    pub variant: SubDeviceVariant,
+    /// The ESI device that describes it, if any.
+    pub esi: Option<Arc<EsiDevice>>,
+}
+
+impl EmulatedStation {
+    /// A unit of `profile`'s model as it leaves the factory: every slot a drive with default
+    /// settings at `cycle`, no departures from the profile, no ESI.
+    pub fn of_model(profile: &SharedProfile, cycle: CycleTime) -> EmulatedStation {
+        EmulatedStation {
+            drives: (0..profile.axes_per_unit.max(1))
+                .map(|_| default_drive(profile.clone(), cycle))
+                .collect(),
+            variant: SubDeviceVariant::default(),
+            esi: None,
+        }
+    }
+}
+
+/// A drive of `profile`'s model with default settings (an unused slot of a unit).
+fn default_drive(profile: impl Into<SharedProfile>, cycle: CycleTime) -> SimDrive {
+    SimDrive::new(profile, SimDriveParams::default(), cycle)
+}
+
+/// The emulated segment of `stations`, in line order (position 0 next to the MainDevice).
+pub fn segment_of(stations: Vec<EmulatedStation>) -> Result<Segment, BusOpenError> {
+    let mut presented = Vec::with_capacity(stations.len());
+    let units = stations
+        .into_iter()
+        .map(|st| {
+            presented.push((st.variant, st.esi));
+            st.drives
+        })
+        .collect();
+    let mut segment = Segment::of_units(units)?;
+    for (n, (variant, esi)) in presented.into_iter().enumerate() {
+        if let Some(station) = segment.station_mut(n) {
+            station.present(variant);
+        }
+        if let Some(esi) = esi {
+            segment.describe_station(n, esi);
+        }
+    }
+    Ok(segment)
+}
+
 /// The emulated segment of `cell`'s drives (what `cellrt drive-sim ethercat` serves): one
 /// station per SubDevice of [`segment_config`], a multi-axis amplifier presenting the drives
 /// of all its slots (an unused slot: a drive of the model with default settings), an axis
 /// with an ESI file presenting that device's object dictionary and access rights.
 pub fn emulated_segment(cell: &CellConfig) -> Result<Segment, BusOpenError> {
     let stations = segment_config(cell).stations()?;
+    let axes = cell.axes.on_loop();
     let mut drives: Vec<Option<SimDrive>> = sim_drives(cell).into_iter().map(Some).collect();
-    let units = stations
+    let emulated = stations
         .iter()
-        .map(|st| {
-            st.slots
+        .map(|st| EmulatedStation {
+            drives: st
+                .slots
                 .iter()
                 .map(|slot| {
                     slot.and_then(|a| drives.get_mut(a).and_then(Option::take))
-                        .unwrap_or_else(|| {
-                            SimDrive::new(st.model, SimDriveParams::default(), cell.cycle_time)
-                        })
+                        .unwrap_or_else(|| default_drive(st.model, cell.cycle_time))
                 })
-                .collect()
+                .collect(),
+            variant: axes[st.first_axis()].sim.subdevice,
+            esi: st.slots.iter().flatten().find_map(|&a| axes[a].esi.clone()),
         })
         .collect();
-    let mut segment = Segment::of_units(units)?;
-    for (n, st) in stations.iter().enumerate() {
-        if let Some(station) = segment.station_mut(n) {
-            station.present(cell.axes.on_loop()[st.first_axis()].sim.subdevice);
-        }
-        // An axis described by an ESI file: its station presents that object dictionary.
-        if let Some(esi) = st
-            .slots
-            .iter()
-            .flatten()
-            .find_map(|&a| cell.axes.on_loop()[a].esi.clone())
-        {
-            segment.describe_station(n, esi);
-        }
-    }
-    Ok(segment)
+    segment_of(emulated)
 }
 
 impl CellBus {

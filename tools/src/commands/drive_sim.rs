@@ -1,24 +1,27 @@
-//! `cellrt drive-sim ethercat`: the cell's drives as emulated EtherCAT SubDevices on a network
-//! interface, for a `cellrt run` of the same cell on the other end of the link.
+//! `cellrt drive-sim ethercat`: emulated drives as EtherCAT SubDevices on a network interface,
+//! for a `cellrt run` of the same cell or any other MainDevice on the other end of the link:
+//! a cell configuration's drives, or the models and ESI devices listed on the command line.
 
+use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use cellrt_config::CellConfig;
-use cellrt_emulator::ethercat::{wire, FaultSchedule, ScheduledFault, WireFault};
+use cellrt_config::{CellConfig, RtConfig};
+use cellrt_emulator::ethercat::{wire, FaultSchedule, ScheduledFault, Segment, WireFault};
 use cellrt_ethercat::raw_socket::RawSocket;
-use cellrt_runtime::host::cell_bus::{emulated_segment, segment_config};
+use cellrt_runtime::host::cell_bus::{emulated_segment, segment_config, segment_of};
 
-use crate::cli::{DriveSimArgs, DriveSimBus};
+use super::drive_sim_lineup::{models, Lineup};
+use crate::cli::{DriveSimArgs, DriveSimBus, EthercatSimArgs};
 use crate::exit::Exit;
 
 /// Runs `cellrt drive-sim`.
-pub fn run(args: DriveSimArgs, cell: Option<String>) -> Exit {
-    let interface = match args.bus {
-        DriveSimBus::Ethercat { interface } => interface,
+pub fn run(args: DriveSimArgs) -> Exit {
+    let args = match args.bus {
+        DriveSimBus::Ethercat(args) => args,
         DriveSimBus::MrJeC(args) => return super::drive_sim_mr_je_c::run(args),
     };
-    match serve_ethercat(&interface, cell.map(std::path::PathBuf::from)) {
+    match serve_ethercat(args) {
         Ok(()) => Exit::Ok,
         Err(exit) => exit,
     }
@@ -30,17 +33,64 @@ fn fail(e: impl std::fmt::Display, exit: Exit) -> Exit {
     exit
 }
 
-/// The cell whose drives to emulate: `--cell`, with EtherCAT axes.
-fn ethercat_cell(
-    cell: Option<std::path::PathBuf>,
-) -> Result<(std::path::PathBuf, CellConfig), Exit> {
-    let Some(cell) = cell else {
-        return Err(fail(
-            "--cell CONFIG: the cell configuration whose drives to emulate is required",
-            Exit::BadInput,
-        ));
+/// Where the SubDevices come from.
+#[derive(Debug)]
+enum Drives {
+    /// A cell configuration file's EtherCAT axes.
+    Config(PathBuf),
+    /// The models and ESI files of the command line.
+    Listed(Lineup),
+}
+
+/// The interface and the SubDevices the command line asks for, or why it is refused.
+fn request(args: EthercatSimArgs) -> Result<(String, Drives), String> {
+    let interface = args
+        .interface
+        .ok_or("--interface IF: the network interface to serve the SubDevices on is required")?;
+    let config = match (args.config, args.cell) {
+        (Some(_), Some(_)) => {
+            return Err("--config and --cell both name a configuration file; give one".into())
+        }
+        (config, cell) => config.or(cell.map(PathBuf::from)),
     };
-    let config = CellConfig::load(&cell).map_err(|e| fail(e, Exit::BadInput))?;
+    let listed = args.drives.is_some() || !args.esi.is_empty();
+    let drives = match config {
+        Some(file) if listed => {
+            return Err(format!(
+                "{}: a configuration lists its own drives; give it or --drives/--esi, not both",
+                file.display()
+            ))
+        }
+        Some(_) if args.cycle_time_us.is_some() => {
+            return Err(
+                "--cycle-time-us: a configuration gives its own cycle time (cycle_time_us)".into(),
+            )
+        }
+        Some(file) => Drives::Config(file),
+        None if !listed => {
+            return Err(
+                "no drives to emulate: give --config FILE (a cell configuration), or --drives MODEL,.. and/or --esi FILE".into(),
+            )
+        }
+        None => Drives::Listed(Lineup {
+            models: args.drives.as_deref().map_or(Ok(Vec::new()), models)?,
+            esi: args.esi,
+            cycle: cellrt_cia402::CycleTime::from_micros(
+                args.cycle_time_us.unwrap_or(DEFAULT_CYCLE_US),
+            )
+            .map_err(|e| format!("--cycle-time-us: {e}"))?,
+        }),
+    };
+    Ok((interface, drives))
+}
+
+/// The cycle time of drives listed without a configuration, µs: one every model runs (the
+/// shipped configurations' too).
+const DEFAULT_CYCLE_US: u32 = 1000;
+
+/// The cell whose drives to emulate, with EtherCAT axes.
+fn ethercat_cell(cell: &std::path::Path) -> Result<CellConfig, Exit> {
+    let config = CellConfig::load(cell).map_err(|e| fail(e, Exit::BadInput))?;
     if config.ethercat.is_none() {
         return Err(fail(
             format!(
@@ -51,13 +101,99 @@ fn ethercat_cell(
             Exit::BadInput,
         ));
     }
-    Ok((cell, config))
+    Ok(config)
 }
 
-/// Serves the cell's drives on `interface` until SIGINT or SIGTERM.
-fn serve_ethercat(interface: &str, cell: Option<std::path::PathBuf>) -> Result<(), Exit> {
-    let (cell, config) = ethercat_cell(cell)?;
-    let socket = RawSocket::open(interface).map_err(|e| fail(e, Exit::Failed))?;
+/// What drive-sim serves and how its messages name the SubDevices.
+struct Emulation {
+    segment: Segment,
+    /// Per SubDevice, its name in the messages: its axes (`x+y`), or its model.
+    names: Vec<String>,
+    /// Per SubDevice, how the start line lists it.
+    listing: Vec<String>,
+    /// The emulator thread's real-time settings.
+    rt: RtConfig,
+    /// The wire faults to inject.
+    faults: FaultSchedule,
+}
+
+/// The emulator thread's settings: like a drive's hardware it answers at once, so on the
+/// cell's RT CPU one priority above its RT thread (best effort without root), memory locked.
+fn emulator_rt(cpu: Option<usize>, cell_priority: u8) -> RtConfig {
+    RtConfig {
+        cpu,
+        priority: cell_priority.saturating_add(1).min(99),
+        planner_priority: None,
+        lock_memory: true,
+        reserve_cpu: false,
+    }
+}
+
+/// The emulation of a cell configuration's drives, its wire faults announced.
+fn of_config(file: &std::path::Path) -> Result<Emulation, Exit> {
+    let config = ethercat_cell(file)?;
+    let segment = emulated_segment(&config).map_err(|e| fail(e, Exit::Failed))?;
+    let stations = segment_config(&config)
+        .stations()
+        .map_err(|e| fail(e, Exit::Failed))?;
+    let names: Vec<String> = stations.iter().map(|st| axis_names(&config, st)).collect();
+    let listing = stations
+        .iter()
+        .zip(&names)
+        .map(|(st, n)| format!("{n} ({})", st.model.model))
+        .collect();
+    let schedule = station_schedule(&config, &stations);
+    let faults = FaultSchedule::new(schedule, config.cycle_time, segment.stations().len())
+        .map_err(|e| fail(format!("{}: {e}", file.display()), Exit::BadInput))?;
+    Ok(Emulation {
+        segment,
+        names,
+        listing,
+        rt: emulator_rt(config.rt.cpu, config.rt.priority),
+        faults,
+    })
+}
+
+/// The emulation of the listed drives: no wire faults, the default RT priority.
+fn of_lineup(lineup: &Lineup) -> Result<Emulation, Exit> {
+    let line = lineup.stations().map_err(|e| fail(e, Exit::BadInput))?;
+    let names: Vec<String> = line.iter().map(|st| st.name.clone()).collect();
+    let segment = segment_of(line.into_iter().map(|st| st.station).collect())
+        .map_err(|e| fail(e, Exit::Failed))?;
+    let listing = names
+        .iter()
+        .zip(segment.stations())
+        .map(|(name, st)| {
+            let id = st.identity();
+            let axes = match st.drives().len() {
+                1 => "1 axis".to_owned(),
+                n => format!("{n} axes"),
+            };
+            format!(
+                "{name} (vendor {:#010x}, product {:#010x}, {axes})",
+                id.vendor_id, id.product_code
+            )
+        })
+        .collect();
+    let faults = FaultSchedule::new(Vec::new(), lineup.cycle, names.len())
+        .map_err(|e| fail(e, Exit::Failed))?;
+    Ok(Emulation {
+        segment,
+        names,
+        listing,
+        rt: emulator_rt(None, cellrt_config::raw::RawRt::default().priority),
+        faults,
+    })
+}
+
+/// Serves the requested drives on the interface until SIGINT or SIGTERM.
+fn serve_ethercat(args: EthercatSimArgs) -> Result<(), Exit> {
+    let (interface, drives) = request(args).map_err(|e| fail(e, Exit::BadInput))?;
+    let mut emulation = match &drives {
+        Drives::Config(file) => of_config(file)?,
+        Drives::Listed(lineup) => of_lineup(lineup)?,
+    };
+    let socket = RawSocket::open(&interface).map_err(|e| fail(e, Exit::Failed))?;
     let stop = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
         signal_hook::flag::register(sig, stop.clone()).map_err(|e| {
@@ -67,37 +203,21 @@ fn serve_ethercat(interface: &str, cell: Option<std::path::PathBuf>) -> Result<(
             )
         })?;
     }
-    // Like a drive's hardware, the emulator answers at once: on the cell's RT CPU, one
-    // priority above its RT thread (best effort without root), memory locked.
-    let rt = cellrt_config::RtConfig {
-        cpu: config.rt.cpu,
-        priority: config.rt.priority.saturating_add(1).min(99),
-        planner_priority: None,
-        lock_memory: true,
-        reserve_cpu: false,
-    };
-    let report = cellrt_runtime::rt::thread::setup_current_thread(&rt);
+    let report = cellrt_runtime::rt::thread::setup_current_thread(&emulation.rt);
     eprintln!("cellrt drive-sim: {}", report.describe());
-    let mut segment = emulated_segment(&config).map_err(|e| fail(e, Exit::Failed))?;
-    let stations = segment_config(&config)
-        .stations()
-        .map_err(|e| fail(e, Exit::Failed))?;
-    let station_names: Vec<String> = stations.iter().map(|st| axis_names(&config, st)).collect();
-    let names: Vec<String> = stations
-        .iter()
-        .zip(&station_names)
-        .map(|(st, n)| format!("{n} ({})", st.model.model))
-        .collect();
     eprintln!(
         "cellrt drive-sim: {} EtherCAT SubDevice(s) on {interface}: {}",
-        names.len(),
-        names.join(", ")
+        emulation.listing.len(),
+        emulation.listing.join(", ")
     );
-    let schedule = station_schedule(&config, &stations);
-    let mut faults = FaultSchedule::new(schedule, config.cycle_time, segment.stations().len())
-        .map_err(|e| fail(format!("{}: {e}", cell.display()), Exit::BadInput))?;
-    announce(&config, &station_names, &faults);
-    let stats = wire::serve(&socket, &mut segment, &mut faults, &stop)
+    announce(&emulation.names, &emulation.faults);
+    let Emulation {
+        segment,
+        names,
+        faults,
+        ..
+    } = &mut emulation;
+    let stats = wire::serve(&socket, segment, faults, &stop)
         .map_err(|e| fail(format!("{interface}: {e}"), Exit::Failed))?;
     eprintln!(
         "cellrt drive-sim: {} frames served, {} malformed dropped, {} lost and {} delayed by injected faults",
@@ -111,7 +231,7 @@ fn serve_ethercat(interface: &str, cell: Option<std::path::PathBuf>) -> Result<(
             stats.injected.describe()
         );
     }
-    for (name, st) in station_names.iter().zip(segment.stations()) {
+    for (name, st) in names.iter().zip(segment.stations()) {
         let alarms: Vec<String> = st
             .drives()
             .iter()
@@ -162,7 +282,7 @@ fn station_schedule(
 }
 
 /// Prints the wire faults the segment will inject, and when.
-fn announce(config: &CellConfig, stations: &[String], faults: &FaultSchedule) {
+fn announce(stations: &[String], faults: &FaultSchedule) {
     if faults.faults().is_empty() {
         return;
     }
@@ -172,13 +292,13 @@ fn announce(config: &CellConfig, stations: &[String], faults: &FaultSchedule) {
         faults.cycle_time().as_micros()
     );
     for f in faults.faults() {
-        eprintln!("  {}", describe(config, stations, f));
+        eprintln!("  {}", describe(faults.cycle_time(), stations, f));
     }
 }
 
 /// One scheduled fault as a line, e.g. "cycle 600 (600 ms): link_loss in front of x, 30 frames".
-fn describe(config: &CellConfig, stations: &[String], f: &ScheduledFault) -> String {
-    let ms = f.cycle as f64 * config.cycle_time.as_nanos() as f64 / 1e6;
+fn describe(cycle: cellrt_cia402::CycleTime, stations: &[String], f: &ScheduledFault) -> String {
+    let ms = f.cycle as f64 * cycle.as_nanos() as f64 / 1e6;
     let at = |station: usize| {
         stations
             .get(station)

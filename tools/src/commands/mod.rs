@@ -5,6 +5,7 @@ pub mod bus;
 pub mod bus_diag;
 pub mod docs;
 pub mod drive_sim;
+pub mod drive_sim_lineup;
 pub mod drive_sim_mr_je_c;
 pub mod esi;
 pub mod inspect;

@@ -177,7 +177,7 @@ fn announce_faults_left_to_segment(cell: &CellConfig) {
         .map(|i| format!("{} at cycle {}", i.fault.name(), i.cycle))
         .collect();
     eprintln!(
-        "cellrt: wire fault(s) {} are left to the segment on the far end of '{nic}' (`cellrt drive-sim ethercat --cell` injects them, counting cycles from the first process-data frame); the master does not inject them on a network interface and records each as a fault_left_to_segment event at its cycle",
+        "cellrt: wire fault(s) {} are left to the segment on the far end of '{nic}' (`cellrt drive-sim ethercat --config` injects them, counting cycles from the first process-data frame); the master does not inject them on a network interface and records each as a fault_left_to_segment event at its cycle",
         names.join(", ")
     );
 }

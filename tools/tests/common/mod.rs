@@ -180,19 +180,32 @@ pub fn spawn_drive_sim(
     std::process::Child,
     std::io::Lines<std::io::BufReader<std::process::ChildStderr>>,
 ) {
+    spawn_drive_sim_with(ns, &["--cell".as_ref(), cfg.as_os_str()])
+}
+
+/// Starts `cellrt drive-sim ethercat` with `drives` (its arguments besides the interface) on
+/// the far end of `ns` and waits until it serves; returns the process and the rest of its
+/// stderr, line by line.
+pub fn spawn_drive_sim_with(
+    ns: &cellrt_rt_tests::netns::VethNamespace,
+    drives: &[&std::ffi::OsStr],
+) -> (
+    std::process::Child,
+    std::io::Lines<std::io::BufReader<std::process::ChildStderr>>,
+) {
     use std::io::BufRead;
-    let mut drives = ns
+    let mut child = ns
         .command(Path::new(env!("CARGO_BIN_EXE_cellrt")))
-        .args(["drive-sim", "ethercat", "--interface", &ns.far, "--cell"])
-        .arg(cfg)
+        .args(["drive-sim", "ethercat", "--interface", &ns.far])
+        .args(drives)
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("start cellrt drive-sim in the namespace");
-    let mut lines = std::io::BufReader::new(drives.stderr.take().unwrap()).lines();
+    let mut lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
     let ready = lines
         .by_ref()
         .map_while(Result::ok)
         .find(|l| l.contains("EtherCAT SubDevice(s) on"));
     assert!(ready.is_some(), "cellrt drive-sim did not start");
-    (drives, lines)
+    (child, lines)
 }

@@ -109,7 +109,8 @@ impl DriveModel {
         }
     }
 
-    fn names() -> String {
+    /// Every supported model's configuration name, comma-separated.
+    pub fn names() -> String {
         let v: Vec<&str> = Self::ALL.iter().map(|m| m.as_str()).collect();
         v.join(", ")
     }

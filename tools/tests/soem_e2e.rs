@@ -22,16 +22,9 @@ const DISTANCE: i64 = 2000;
 /// 0.5/1/2 ms, MR-J4-TM §1.6 up to 2 ms).
 const CYCLE_US: u32 = 2000;
 
-fn axis(name: &str, drive: &str, extra: &str) -> String {
-    format!(
-        "[[axes]]\nname = \"{name}\"\ndrive = \"{drive}\"\ntransport = \"ethercat\"\nmode = \"csp\"\n\
-         unit = \"mm\"\ncounts_per_unit = 1000.0\nmotor = {{ counts_per_rev = 10000 }}\n\
-         limits = {{ position = [-1000.0, 1000.0], velocity = 400.0, acceleration = 2000.0, jerk = 20000.0 }}\n{extra}\n"
-    )
-}
-
-/// The drive of each station, in line order: the four single-axis Mitsubishi drives, an
-/// MR-J5W2-G-N1 and an MR-J5W3-G-N1 unit, the generic CiA 402 drive.
+/// The drive of each station, in line order (`drive-sim ethercat --drives`): the four
+/// single-axis Mitsubishi drives, an MR-J5W2-G-N1 and an MR-J5W3-G-N1 unit, the generic CiA 402
+/// drive.
 const STATION_DRIVES: [&str; 7] = [
     "mr-j3-t04",
     "mr-j4-tm",
@@ -41,27 +34,6 @@ const STATION_DRIVES: [&str; 7] = [
     "mr-j5w3-g-n1",
     "cia402",
 ];
-
-fn cell_text() -> String {
-    let mut t = format!(
-        "[cell]\nname = \"{}\"\ncycle_time_us = {CYCLE_US}\n[ethercat]\ninterface = \"unused\"\n",
-        common::unique_cell_name()
-    );
-    for (k, (drive, model)) in STATION_DRIVES.iter().zip(station_models()).enumerate() {
-        let axes = profile(model).axes_per_unit;
-        for a in 0..axes {
-            let extra = match (model, axes) {
-                (DriveModel::GenericCia402, _) => {
-                    "ethercat = { vendor_id = 0xCE110000, product_code = 0xCE110402 }".to_string()
-                }
-                (_, 1) => String::new(),
-                _ => format!("amplifier = \"s{k}\"\namplifier_axis = {a}"),
-            };
-            t += &axis(&format!("s{k}a{a}"), drive, &extra);
-        }
-    }
-    t
-}
 
 /// The models of [`STATION_DRIVES`].
 fn station_models() -> Vec<DriveModel> {
@@ -180,11 +152,13 @@ const LOST_FRAME_ALARMS: [&str; 3] = ["0036", "0861", "8100"];
 /// long enough for a drive to alarm (anything else that goes wrong fails).
 fn attempt_soem(python: &str, ns: &VethNamespace) -> Result<(), f64> {
     let dir = tempfile::tempdir().unwrap();
-    let cfg = dir.path().join("cell.toml");
-    std::fs::write(&cfg, cell_text()).unwrap();
     let declared = dir.path().join("declared.json");
     std::fs::write(&declared, declared_dictionaries().to_string()).unwrap();
-    let (mut drives, lines) = common::spawn_drive_sim(ns, &cfg);
+    // The emulator as a standalone target: the models listed, no cell configuration.
+    let (list, cycle) = (STATION_DRIVES.join(","), CYCLE_US.to_string());
+    let args = ["--drives", list.as_str(), "--cycle-time-us", cycle.as_str()];
+    let args: Vec<&std::ffi::OsStr> = args.iter().map(std::ffi::OsStr::new).collect();
+    let (mut drives, lines) = common::spawn_drive_sim_with(ns, &args);
     let script = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/tests/python/soem_conformance.py"

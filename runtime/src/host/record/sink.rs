@@ -173,6 +173,11 @@ pub(super) fn open(cell: &CellConfig, path: &Path) -> Result<Sink, RecorderError
     };
     let mut writer = WriteOptions::new()
         .compression(compression)
+        // Compressed on the recorder's own thread: mcap's default is a zstd worker pool per
+        // file (one thread per physical core), which a rotation replaces with new threads,
+        // each leaving a glibc arena of about 9 MiB behind (RSS grew by that per rotation),
+        // and whose workers would run on the RT CPU too.
+        .compression_threads(0)
         .chunk_size(Some(cell.recording.chunk_size))
         .profile("")
         .library(format!("cellrt {}", env!("CARGO_PKG_VERSION")))

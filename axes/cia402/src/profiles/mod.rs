@@ -428,6 +428,27 @@ pub fn profile(model: DriveModel) -> &'static DriveProfile {
     }
 }
 
+/// One object-dictionary row as a test pins it: (index, sub, type, access, PDO, default).
+#[cfg(test)]
+pub(crate) type PinnedRow = (u16, u8, DataType, Access, Pdo, Option<i64>);
+
+/// Asserts that `profile` lists every row of `rows` with exactly that type, access, PDO mapping
+/// and default (the model tests pin rows with the manual's literal values).
+#[cfg(test)]
+pub(crate) fn assert_rows(profile: &DriveProfile, rows: &[PinnedRow]) {
+    for &(index, sub, data_type, access, pdo, default) in rows {
+        let o = profile
+            .object(index, sub)
+            .unwrap_or_else(|| panic!("{} lists {index:04X}h:{sub}", profile.name));
+        assert_eq!(
+            (o.data_type, o.access, o.pdo, o.default),
+            (data_type, access, pdo, default),
+            "{} {index:04X}h:{sub}",
+            profile.name
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -114,7 +114,10 @@ pub const ALARMS: &[AlarmInfo] = &[
     alarm(0x00EA, "AL.EA", "(name not given)", AlarmKind::Warning, StopBehaviour::ServoOff, Clearing::Automatic, "§7.2"),
 ];
 
-/// The objects the runtime and the simulator use (MR-J3-T04 manual–§5.4).
+/// The object dictionary (MR-J3-T04 manual): the objects the runtime and the simulator use and
+/// the rest of the §8.3.2 object list (the reserved objects included), with the types, access,
+/// mapping and defaults of §8.2–§8.12 where the manual gives them. 1C10h/1C11h (named in the
+/// list's "1C10h to 1C13h") are not served: the mailbox sync managers carry no PDOs.
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
     od(0x6098, 0, "Homing method", I8, Rw, No).default(-1).range(&[(-17, 35)]).cite("§8.1: −1 (default), −17, 35"),
@@ -163,6 +166,53 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x60F4, 0, "Following error actual value", I32, Ro, PdoTx).unit(Unit::Pulse).cite("§5.4: csp only"),
     od(0x60FF, 0, "Target velocity", I32, Rw, PdoRx).default(0).unit(Unit::MilliRpm).cite("§5.4: clamped at 120 % max speed"),
     od(0x6502, 0, "Supported drive modes", U32, Ro, No).default(0x0000_01A0).cite("§1.2: bits 5, 7, 8"),
+    // The rest of the §8.3.2 object list (the reserved objects as the manual lists them).
+    od(0x2002, 0, "Controlword3 (not supported)", U16, Rw, PdoRx).default(0).cite("§8.3.2, §8.5.3: (Reserved)"),
+    od(0x2003, 0, "Controlword4 (not supported)", U16, Rw, PdoRx).default(0).cite("§8.3.2, §8.5.3: (Reserved)"),
+    od(0x2004, 0, "Controlword5 (not supported)", U16, Rw, PdoRx).default(0).cite("§8.3.2, §8.5.3: (Reserved)"),
+    od(0x2012, 0, "Statusword3 (not supported)", U16, Ro, PdoTx).cite("§8.3.2, §8.5.4: (Reserved); no default stated"),
+    od(0x2013, 0, "Statusword4 (not supported)", U16, Ro, PdoTx).cite("§8.3.2, §8.5.4: (Reserved); no default stated"),
+    od(0x2014, 0, "Statusword5 (not supported)", U16, Ro, PdoTx).cite("§8.3.2, §8.5.4: (Reserved); no default stated"),
+    od(0x2022, 0, "Frame ID (RxPDO) (not supported)", U8, Rw, PdoRx).cite("§8.3.2, §8.5.3: (Reserved); no default stated"),
+    od(0x2023, 0, "Frame ID (TxPDO) (not supported)", U8, Ro, PdoTx).cite("§8.3.2, §8.5.4: (Reserved); no default stated"),
+    od(0x2024, 0, "Slave Axis No.", U16, Rw, No).default(0).cite("§8.3.2, §8.11.2: 0000h no axis number on the 7-segment LED, 0001h–FFFFh shown"),
+    od(0x2050, 0, "Max velocity (not supported)", U32, Rw, PdoRx).default(0).range(&[(0, 0x7FFF_FFFF)]).unit(Unit::MilliRpm).cite("§8.3.2, §8.5.3: (Reserved), torque mode only; 0 = rated speed"),
+    od(0x2100, 0, "Monitor (Servo)", U8, Ro, No).default(25).cite("§8.8: number of entries; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 1, "Monitor 1 Cumulative feedback pulses", I32, Access::Unstated, No).unit(Unit::Pulse).cite("§8.8: I32, no default; access not printed; cleared by writing 00001EA5h, a clear the emulator does not model (a write is stored)"),
+    od(0x2100, 2, "Monitor 2 Servo motor speed", I32, Ro, No).unit(Unit::Rpm).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 3, "Monitor 3 Droop pulses", I32, Ro, No).unit(Unit::Pulse).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 4, "Monitor 4 Cumulative command pulses", I32, Access::Unstated, No).unit(Unit::Pulse).cite("§8.8: I32, no default; access not printed; cleared by writing 00001EA5h, a clear the emulator does not model (a write is stored)"),
+    od(0x2100, 5, "Monitor 5 Command pulse frequency", I32, Ro, No).unit(Unit::KiloPulsePerSecond).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 6, "Monitor 6 (not supported) Analog speed command voltage", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 7, "Monitor 7 (not supported) Analog torque command voltage", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 8, "Monitor 8 Regenerative load ratio", I32, Ro, No).unit(Unit::Percent).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 9, "Monitor 9 Effective load ratio", I32, Ro, No).unit(Unit::Percent).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 10, "Monitor 10 Peak load ratio", I32, Ro, No).unit(Unit::Percent).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 11, "Monitor 11 Instantaneous torque", I32, Ro, No).unit(Unit::Percent).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 12, "Monitor 12 Within one-revolution position", I32, Ro, No).unit(Unit::Pulse).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 13, "Monitor 13 ABS counter", I32, Ro, No).unit(Unit::Revolution).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 14, "Monitor 14 Load inertia moment ratio", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); unit: multiplier"),
+    od(0x2100, 15, "Monitor 15 Bus voltage", I32, Ro, No).unit(Unit::Volt).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\")"),
+    od(0x2100, 16, "Monitor 16 (not supported) Ext. encoder cumulative F/B pulses", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 17, "Monitor 17 (not supported) External encoder droop pulses", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 18, "Monitor 18 (not supported) In 1-rev pos. of ext. encoder", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 19, "Monitor 19 (not supported) External encoder ABS counter", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 20, "Monitor 20 (not supported) Analog monitor output voltage 1", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 21, "Monitor 21 (not supported) Analog monitor output voltage 2", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 22, "Monitor 22 (not supported) Cumulative encoder output pulses", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 23, "Monitor 23 (not supported) Motor thermistor temperature", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 24, "Monitor 24 (not supported) Motor side cumu. FBpls (BeforGear)", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x2100, 25, "Monitor 25 (not supported) Electreal angle", I32, Ro, No).cite("§8.8: I32, no default; access not printed (RO: §8.8 \"read by SDO\"); (Reserved)"),
+    od(0x6062, 0, "Position demand value", I32, Ro, PdoTx).unit(Unit::Pulse).cite("§8.3.2, §8.5.4: internal position command (command unit)"),
+    od(0x6065, 0, "Following error window", DataType::Unstated, Access::Unstated, No).cite("§8.3.2 (named only), §8.5.2 statusword bit 13; type, access and default not stated; not in the §8.5.3/§8.5.4 mappable lists"),
+    od(0x6066, 0, "Following error time out", DataType::Unstated, Access::Unstated, No).unit(Unit::Millisecond).cite("§8.3.2 (named only), §8.5.2 statusword bit 13 (unit msec); type, access and default not stated; not in the §8.5.3/§8.5.4 mappable lists"),
+    od(0x6067, 0, "Position window", DataType::Unstated, Access::Unstated, No).cite("§8.3.2, §8.5.2: the in-position range (PA10); type, access, unit and default not stated; not in the §8.5.3/§8.5.4 mappable lists"),
+    od(0x607D, 0, "Software position limit (Reserved)", DataType::Unstated, Access::Unstated, No).cite("§8.3.2: listed as reserved; sub-indexes, type, access and default not stated; not in the §8.5.3/§8.5.4 mappable lists"),
+    od(0x6083, 0, "Profile acceleration (Reserved)", DataType::Unstated, Access::Unstated, No).cite("§8.3.2: listed as reserved; type, access and default not stated; not in the §8.5.3/§8.5.4 mappable lists"),
+    od(0x60C2, 0, "Interpolation time period", U8, Ro, No).default(2).cite("§8.2.2: number of entries"),
+    od(0x60C2, 1, "Interpolation time period value", U8, Rw, No).default(5).cite("§8.2.2: 5 at 0.5 ms, 1 at 1 ms, 2 at 2 ms (follows the cycle, not changeable manually: the emulator keeps the 0.5 ms value and stores a write)"),
+    od(0x60C2, 2, "Interpolation time index", I8, Rw, No).default(-4).cite("§8.2.2: −4 at 0.5 ms, −3 at 1 ms and 2 ms (follows the cycle, not changeable manually: the emulator keeps the 0.5 ms value and stores a write)"),
+    od(0x60FC, 0, "Position demand internal value", I32, Ro, PdoTx).unit(Unit::Pulse).cite("§8.3.2, §8.5.4: internal position command (encoder unit)"),
 ];
 
 /// Encoder and units (MR-J3-T04 manual §1.3, §1.5, §8.11.3, §9.6).
@@ -313,6 +363,7 @@ pub const SDO_INFO: super::SdoInfoFacts = super::SdoInfoFacts {
         (0x2030, 0x2035, 0x40),
         (0x2100, 0x2100, 0x41),
         (0x2300, 0x2309, 0x50),
+        (0x60C2, 0x60C2, 0x80),
     ],
     source: "MR-J3-T04 manual §8.7 (Get OD List types 00h–05h, Object Description with record data-type codes, Entry Description value-info bits 0, 2, 4, 5, 6; several of 4–6: only the lowest answered)",
 };
@@ -420,5 +471,40 @@ mod tests {
             Some(3000)
         );
         assert_eq!(PROFILE.units.counts_per_rev, Some(262_144));
+    }
+
+    #[test]
+    fn the_object_list_of_8_3_2_is_served() {
+        // (index, sub, type, access, PDO, default) as §8.2.2, §8.5.3, §8.5.4, §8.8, §8.11.2 print them.
+        let rows = [
+            (0x2002, 0, U16, Rw, PdoRx, Some(0)),
+            (0x2014, 0, U16, Ro, PdoTx, None),
+            (0x2022, 0, U8, Rw, PdoRx, None),
+            (0x2024, 0, U16, Rw, No, Some(0)),
+            (0x2050, 0, U32, Rw, PdoRx, Some(0)),
+            (0x2100, 0, U8, Ro, No, Some(25)),
+            (0x2100, 15, I32, Ro, No, None),
+            (0x6062, 0, I32, Ro, PdoTx, None),
+            (0x60C2, 0, U8, Ro, No, Some(2)),
+            (0x60C2, 1, U8, Rw, No, Some(5)),
+            (0x60C2, 2, I8, Rw, No, Some(-4)),
+            (0x60FC, 0, I32, Ro, PdoTx, None),
+        ];
+        super::super::assert_rows(&PROFILE, &rows);
+        assert_eq!(
+            PROFILE.object(0x2050, 0).and_then(|o| o.range.bounds()),
+            Some((0, 0x7FFF_FFFF))
+        );
+        // Named in §8.3.2 with nothing more: served, every field unstated (not mappable: the
+        // §8.5.3/§8.5.4 lists leave them out).
+        let named = [0x6065, 0x6066, 0x6067, 0x607D, 0x6083]
+            .map(|index| (index, 0, DataType::Unstated, Access::Unstated, No, None));
+        super::super::assert_rows(&PROFILE, &named);
+        assert_eq!(
+            (1..=25)
+                .filter(|&s| PROFILE.object(0x2100, s).is_some())
+                .count(),
+            25
+        );
     }
 }

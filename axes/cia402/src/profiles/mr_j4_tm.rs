@@ -121,7 +121,11 @@ pub const ALARMS: &[AlarmInfo] = &[
     alarm(OVERSPEED, "8400h", "Overspeed (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in this manual (no alarm chapter, §0): CiA 402 [background]"),
 ];
 
-/// The objects the runtime and the simulator use (MR-J4-TM manual, chapter 7 itself MISSING).
+/// The object dictionary (MR-J4-TM manual, chapter 7 itself MISSING): every object the seed
+/// names with the attributes its chapter 3 and 5 object tables give, except the point tables
+/// 2801h–28FFh and the mapping objects other than the default maps (1601h–1603h, 1A01h–1A03h:
+/// the station serves one assignable mapping object per direction, [`PROFILE`] 1600h/1A00h,
+/// [`PROFILE_MODE_GROUP`] 1601h/1A00h).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
     od(0x6098, 0, "Homing method", I8, Rw, No).default(-1).range(&[(-43, 37)]).cite("§4.10: default −1 (seed; the general manual gives 37)"),
@@ -182,6 +186,92 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x6067, 0, "Position window", DataType::Unstated, Rw, Pdo::Unstated).unit(Unit::Pulse).cite("§4.7 (pp target reached); type and default in MISSING ch. 7 (§13 q4)"),
     od(0x6068, 0, "Position window time", DataType::Unstated, Rw, Pdo::Unstated).unit(Unit::Millisecond).cite("§4.7; type and default in MISSING ch. 7 (§13 q4)"),
     od(0x6502, 0, "Supported drive modes", U32, Ro, No).default(0x0000_03A0).cite("§1.3: \"differs depending on [Pr. PA01]\"; bit layout (§7.3.8(8)) MISSING, CiA 402's used: the default PA01 group hm, csp, csv, cst = bits 5, 7, 8, 9 (a live drive reported 0x3AD, field notes)"),
+    // The rest of the objects the seed names (its chapter 7 object list is MISSING): types, access and defaults from the object tables of chapters 3 and 5, the gaps named.
+    od(0x2A43, 0, "Point table error", U8, Ro, Pdo::Unstated).default(2).cite("§5.4.10 object table (extract §4.11): number of entries; PDO mapping in the MISSING ch. 7"),
+    od(0x2A43, 1, "Point table error No.", I32, Ro, Pdo::Unstated).cite("§5.4.10 object table (extract §4.11); no default; PDO mapping in the MISSING ch. 7"),
+    od(0x2A43, 2, "Point table error factor", I32, Ro, Pdo::Unstated).cite("§5.4.10 object table (extract §4.11): bit-coded (§7.3.17(5) MISSING); no default; PDO mapping in the MISSING ch. 7"),
+    od(0x2D01, 0, "Control DI 1", U16, Rw, PdoRx).cite("§5.2.2, §3.3(1) (extract §3.6, §7.6): mapped in 1600h–1602h; default not stated"),
+    od(0x2D02, 0, "Control DI 2", U16, Rw, PdoRx).cite("§5.2.2, §3.3(1) (extract §3.6, §7.6): mapped in 1600h–1602h; default not stated"),
+    od(0x2D03, 0, "Control DI 3", U16, Rw, PdoRx).cite("§5.2.2, §3.3(1) (extract §3.6, §7.6): mapped in 1600h–1602h; default not stated"),
+    od(0x2D11, 0, "Status DO 1", U16, Ro, PdoTx).cite("§5.3.2, §3.3(2) (extract §3.7, §7.6): mapped in 1A00h/1A01h; no default"),
+    od(0x2D12, 0, "Status DO 2", U16, Ro, PdoTx).cite("§5.3.2, §3.3(2) (extract §3.7, §7.6): mapped in 1A00h/1A01h; no default"),
+    od(0x2D13, 0, "Status DO 3", U16, Ro, PdoTx).cite("§5.3.2, §3.3(2) (extract §3.7, §7.6): mapped in 1A00h/1A01h; no default"),
+    od(0x2D15, 0, "Status DO 5", U16, Ro, PdoTx).cite("§5.3.2, §3.3(2) (extract §3.7, §7.6): mapped in 1A01h; no default"),
+    od(0x2D17, 0, "Status DO 7", U16, Ro, PdoTx).cite("§5.3.2, §3.3(2) (extract §3.7, §7.6): mapped in 1A01h; no default"),
+    od(0x2D60, 0, "Target point table", I16, Rw, PdoRx).default(0).range(&[(-1, 255)]).cite("§5.4.10, §3.3(1) (extract §4.11): 0 no operation, 1–255 the point table, −1 high-speed homing; mapped in 1602h"),
+    od(0x2D68, 0, "Point demand value", I16, Ro, PdoTx).cite("§5.4.10, §3.3(2) (extract §4.11): mapped in 1A01h; no default"),
+    od(0x2D69, 0, "Point actual value", I16, Ro, PdoTx).cite("§5.4.10, §3.3(2) (extract §4.11): mapped in 1A01h; no default"),
+    od(0x2D6A, 0, "M code actual value", U8, Ro, PdoTx).cite("§5.4.10, §3.3(2) (extract §4.11): mapped in 1A01h; no default"),
+    od(0x2D6B, 0, "Torque limit value2", DataType::Unstated, Access::Unstated, Pdo::Unstated).cite("§5.4.9 (extract §4.10, §7.6): named by the indexer homing methods only; type, access, mapping and default in the MISSING ch. 7"),
+    od(0x6063, 0, "Position actual internal value", I32, Ro, Pdo::Unstated).unit(Unit::Increment).cite("§5.4.3 object table (extract §7.8): encoder increments; PDO mapping in the MISSING ch. 7"),
+    od(0x6065, 0, "Following error window", DataType::Unstated, Access::Unstated, Pdo::Unstated).cite("§5.4.3, §5.4.6 (extract §7.8): named for statusword bit 13; type, access, mapping and default in the MISSING ch. 7"),
+    od(0x6066, 0, "Following error time out", DataType::Unstated, Access::Unstated, Pdo::Unstated).cite("§5.4.3, §5.4.6 (extract §7.8): named for statusword bit 13; type, access, mapping and default in the MISSING ch. 7"),
+    od(0x606B, 0, "Velocity demand value", I32, Ro, Pdo::Unstated).cite("§5.4.4, §5.4.7 object tables (extract §7.9); PDO mapping in the MISSING ch. 7"),
+    od(0x6072, 0, "Max torque", U16, Rw, Pdo::Unstated).cite("§5.4.5, §5.4.8 object tables (extract §7.9, §8.6): limits cst/tq; default and mapping in the MISSING ch. 7"),
+    od(0x6074, 0, "Torque demand", I16, Ro, Pdo::Unstated).cite("§5.4.5, §5.4.8 object tables (extract §7.9); PDO mapping in the MISSING ch. 7"),
+    od(0x607B, 0, "Position range limit", U8, Ro, Pdo::Unstated).default(2).cite("§5.4.3 object table (extract §7.9): number of entries"),
+    od(0x607B, 1, "Min position range limit", I32, Rw, Pdo::Unstated).default(-2_147_483_648).unit(Unit::Pulse).cite("§5.4.3 object table (extract §7.9, §8.8): set automatically from [Pr. PT01]: −2147483648 with pulse (the unit emulated), 0 with degree"),
+    od(0x607B, 2, "Max position range limit", I32, Rw, Pdo::Unstated).default(2_147_483_647).unit(Unit::Pulse).cite("§5.4.3 object table (extract §7.9, §8.8): set automatically from [Pr. PT01]: 2147483647 with pulse (the unit emulated), 359999 with degree"),
+    od(0x607E, 0, "Polarity", U8, Rw, Pdo::Unstated).default(0).cite("§5.4.3 object table (extract §7.13, §8.7): bit 7 position, bit 6 velocity, bit 5 torque (B0 or later); §5.10 MISSING; PDO mapping not stated"),
+    od(0x6086, 0, "Motion profile type", I16, Rw, Pdo::Unstated).default(0).cite("§5.4.6, §5.4.7 object tables (extract §7.9); PDO mapping in the MISSING ch. 7"),
+    od(0x6088, 0, "Torque profile type", U32, Rw, Pdo::Unstated).default(0).cite("§5.4.8 object table (extract §7.9): printed U32; PDO mapping in the MISSING ch. 7"),
+    od(0x608F, 0, "Position encoder resolution", DataType::Unstated, Access::Unstated, Pdo::Unstated).cite("§5.4.3(2) (extract §7.11): named in the gear formula only; sub-indexes, type, access and default in the MISSING ch. 7"),
+    od(0x6091, 0, "Gear ratio", U8, Ro, Pdo::Unstated).default(2).cite("§5.4.3 object table (extract §7.11): number of entries"),
+    od(0x6091, 1, "Motor revolutions", U32, Rw, Pdo::Unstated).default(1).cite("§5.4.3 object table (extract §7.11), Note 1: other than 1 in a cyclic mode raises AL. 37 on software B2 or earlier (not emulated)"),
+    od(0x6091, 2, "Shaft revolutions", U32, Rw, Pdo::Unstated).default(1).cite("§5.4.3 object table (extract §7.11), Note 1: other than 1 in a cyclic mode raises AL. 37 on software B2 or earlier (not emulated)"),
+    od(0x6092, 0, "Feed constant", U8, Ro, Pdo::Unstated).default(2).cite("§5.4.3 object table (extract §7.11), Note 2: B0 or later; number of entries"),
+    od(0x6092, 1, "Feed", U32, Rw, Pdo::Unstated).cite("§5.4.3 object table (extract §7.11): travel distance per output-shaft revolution; default not legible in the seed (§7.3.14(4) MISSING)"),
+    od(0x6092, 2, "Shaft revolutions", U32, Rw, Pdo::Unstated).cite("§5.4.3 object table (extract §7.11): default not legible in the seed (the extract guesses 1 [G])"),
+    od(0x60A8, 0, "SI unit position", U32, Rw, Pdo::Unstated).default(0).cite("§5.4.3 object table (extract §7.11), Note 2: B0 or later; set automatically"),
+    od(0x60A9, 0, "SI unit velocity", U32, Rw, Pdo::Unstated).default(0).cite("§5.4.3 object table (extract §7.11), Note 2: B0 or later"),
+    od(0x60B2, 0, "Torque offset", I16, Rw, Pdo::Unstated).default(0).unit(Unit::TenthPercentRated).cite("§5.4.3 object table (extract §8.9), Note 3: B2 or later; §5.12 MISSING; PDO mapping not stated"),
+    od(0x60B8, 0, "Touch probe function", U16, Rw, PdoRx).cite("§3.3(1) (extract §7.12): mapped in 1600h–1602h, type from the map size; §5.5 MISSING; no default"),
+    od(0x60B9, 0, "Touch probe status", U16, Ro, PdoTx).cite("§3.3(2) (extract §7.12): mapped in 1A00h/1A01h, type from the map size; §5.5 MISSING"),
+    od(0x60BA, 0, "Touch probe pos1 pos value", I32, Ro, PdoTx).cite("§3.3(2) (extract §7.12): mapped in 1A00h/1A01h, type from the map size; §5.5 MISSING"),
+    od(0x60BB, 0, "Touch probe pos1 neg value", I32, Ro, PdoTx).cite("§3.3(2) (extract §7.12): mapped in 1A00h/1A01h, type from the map size; §5.5 MISSING"),
+    od(0x60BC, 0, "Touch probe pos2 pos value", I32, Ro, PdoTx).cite("§3.3(2) (extract §7.12): mapped in 1A00h/1A01h, type from the map size; §5.5 MISSING"),
+    od(0x60BD, 0, "Touch probe pos2 neg value", I32, Ro, PdoTx).cite("§3.3(2) (extract §7.12): mapped in 1A00h/1A01h, type from the map size; §5.5 MISSING; unit not stated"),
+    od(0x60E3, 0, "Supported homing method", U8, Ro, Pdo::Unstated).default(39).cite("§5.4.9 object table (extract §4.10): number of entries"),
+    od(0x60E3, 1, "1st supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 2, "2nd supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 3, "3rd supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 4, "4th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 5, "5th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 6, "6th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 7, "7th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 8, "8th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 9, "9th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 10, "10th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 11, "11th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 12, "12th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 13, "13th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 14, "14th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 15, "15th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 16, "16th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 17, "17th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 18, "18th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 19, "19th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 20, "20th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 21, "21st supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 22, "22nd supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 23, "23rd supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 24, "24th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 25, "25th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 26, "26th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 27, "27th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 28, "28th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 29, "29th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 30, "30th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 31, "31st supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 32, "32nd supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 33, "33rd supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 34, "34th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 35, "35th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 36, "36th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 37, "37th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 38, "38th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60E3, 39, "39th supported homing method", I8, Ro, Pdo::Unstated).cite("§5.4.9 object table (extract §4.10): which method each sub-index holds is not stated"),
+    od(0x60FA, 0, "Control effort", I32, Ro, Pdo::Unstated).unit(Unit::CentiRpm).cite("§5.4.3 object table (extract §7.8): position loop output, Vel unit; PDO mapping in the MISSING ch. 7"),
 ];
 
 /// Encoder and units (MR-J4-TM manual, §4.2).
@@ -463,5 +553,50 @@ mod tests {
         assert_eq!(ModeGroup::default().profile(), &PROFILE);
         assert_eq!(PROFILE.vendor_id(), None);
         assert_eq!(PROFILE.units.counts_per_rev, Some(4_194_304));
+    }
+
+    #[test]
+    fn the_objects_the_seed_names_are_served() {
+        // (index, sub, type, access, PDO, default) as the object tables of §3.3 and §5.4 print them.
+        let rows = [
+            (0x2A43, 0, U8, Ro, Pdo::Unstated, Some(2)),
+            (0x2D01, 0, U16, Rw, PdoRx, None),
+            (0x2D17, 0, U16, Ro, PdoTx, None),
+            (0x2D60, 0, I16, Rw, PdoRx, Some(0)),
+            (0x2D6A, 0, U8, Ro, PdoTx, None),
+            (0x6072, 0, U16, Rw, Pdo::Unstated, None),
+            (0x607B, 1, I32, Rw, Pdo::Unstated, Some(-2_147_483_648)),
+            (0x607B, 2, I32, Rw, Pdo::Unstated, Some(2_147_483_647)),
+            (0x607E, 0, U8, Rw, Pdo::Unstated, Some(0)),
+            (0x6086, 0, I16, Rw, Pdo::Unstated, Some(0)),
+            (0x6088, 0, U32, Rw, Pdo::Unstated, Some(0)),
+            (0x6091, 1, U32, Rw, Pdo::Unstated, Some(1)),
+            (0x6092, 0, U8, Ro, Pdo::Unstated, Some(2)),
+            (0x60B2, 0, I16, Rw, Pdo::Unstated, Some(0)),
+            (0x60B8, 0, U16, Rw, PdoRx, None),
+            (0x60BD, 0, I32, Ro, PdoTx, None),
+            (0x60E3, 0, U8, Ro, Pdo::Unstated, Some(39)),
+            (0x60E3, 39, I8, Ro, Pdo::Unstated, None),
+            (0x60FA, 0, I32, Ro, Pdo::Unstated, None),
+        ];
+        super::super::assert_rows(&PROFILE, &rows);
+        assert_eq!(
+            PROFILE.object(0x2D60, 0).and_then(|o| o.range.bounds()),
+            Some((-1, 255))
+        );
+        // Named only (their chapter 7 rows are MISSING): served with every field unstated.
+        let named = [0x2D6B, 0x6065, 0x6066, 0x608F].map(|index| {
+            (
+                index,
+                0,
+                DataType::Unstated,
+                Access::Unstated,
+                Pdo::Unstated,
+                None,
+            )
+        });
+        super::super::assert_rows(&PROFILE, &named);
+        // The profile-mode group serves the same dictionary.
+        assert_eq!(PROFILE_MODE_GROUP.objects, PROFILE.objects);
     }
 }

@@ -50,9 +50,10 @@ pub const ALARMS: &[AlarmInfo] = &[
     alarm(OVERSPEED, "8400h", "Overspeed (CiA 402)", AlarmKind::Alarm, StopBehaviour::DynamicBrake, Clearing::FaultReset, "not in the manual (§9 has no alarm list): CiA 402 [background]"),
 ];
 
-/// The objects the runtime and the simulator use (§6; axis A indexes, +800h per axis for CiA 402
+/// The object dictionary: the objects §6 names (axis A indexes, +800h per axis for CiA 402
 /// objects, +1000h for manufacturer objects, §1.5). Types of 60xxh are [background]/[inferred]
-/// from the map sizes (§5.2, §6 note).
+/// from the map sizes (§5.2, §6 note). Control DI 4–10 and Status DO 4, 6, 8–10 are left out:
+/// the manual elides their rows, their indexes are only inferred (§6).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
     od(0x10F1, 2, "Sync Error Counter Limit", U16, Rw, No).default(super::generic_cia402::SYNC_ERROR_COUNTER_LIMIT).unit(Unit::Times).cite("§2.4: type, default and counting rule not stated; U16 rw as ETG.1020 has it [background], default the simulator's"),
@@ -96,6 +97,19 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x607D, 1, "Min position limit", I32, Rw, Pdo::Unstated).unit(Unit::Pulse).cite("§8.1: 607Dh named only, unusable without a home set in the drive; type I32 and 0/0 = disabled: CiA 402 [background]"),
     od(0x607D, 2, "Max position limit", I32, Rw, Pdo::Unstated).unit(Unit::Pulse).cite("§8.1: as 607Dh:1"),
     od(0x60B0, 0, "Position offset", I32, Rw, Pdo::Unstated).default(0).unit(Unit::Pulse).cite("§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])"),
+    // The rest of the objects the manual names (§6 of the extract): types and access where the manual prints them, the gaps named.
+    super::mr_jet_g_n1::CONTROL_DI_2,
+    super::mr_jet_g_n1::CONTROL_DI_3,
+    super::mr_jet_g_n1::STATUS_DO_1,
+    super::mr_jet_g_n1::STATUS_DO_2,
+    super::mr_jet_g_n1::STATUS_DO_3,
+    super::mr_jet_g_n1::STATUS_DO_5,
+    super::mr_jet_g_n1::STATUS_DO_7,
+    od(0x2D60, 0, "Manufacturer setting", DataType::Unstated, Access::Unstated, PdoRx).cite("§6 / manual §4.3: mapped in 1602h, 2 bytes inferred from the map size; type, access and default not stated"),
+    od(0x2D68, 0, "Manufacturer setting", DataType::Unstated, Access::Unstated, PdoTx).cite("§6 / manual §4.3: mapped in 1A01h, 2 bytes inferred from the map size; type and access not stated"),
+    od(0x2D69, 0, "Manufacturer setting", DataType::Unstated, Access::Unstated, PdoTx).cite("§6 / manual §4.3: mapped in 1A01h, 2 bytes inferred from the map size; type and access not stated"),
+    od(0x2D6A, 0, "Manufacturer setting", DataType::Unstated, Access::Unstated, PdoTx).cite("§6 / manual §4.3: mapped in 1A01h, 1 byte inferred from the map size; type and access not stated"),
+    super::mr_jet_g_n1::HOMING_METHOD,
 ];
 
 /// Encoder and units: the manual gives no encoder resolution or factor group (§8).
@@ -555,5 +569,34 @@ mod tests {
             let c = CycleTime::from_micros(us).unwrap();
             assert_eq!(PROFILE.fault_reset_hold(c), Cycles(n), "{us} µs");
         }
+    }
+
+    #[test]
+    fn the_objects_the_manual_names_are_served() {
+        // The rows the MR-JET-G-N1 manual prints alike (§7.2, §7.3, §8.3): the same entries.
+        use super::super::mr_jet_g_n1 as jet;
+        for shared in [
+            jet::CONTROL_DI_2,
+            jet::CONTROL_DI_3,
+            jet::STATUS_DO_1,
+            jet::STATUS_DO_2,
+            jet::STATUS_DO_3,
+            jet::STATUS_DO_5,
+            jet::STATUS_DO_7,
+            jet::HOMING_METHOD,
+        ] {
+            assert_eq!(PROFILE.object(shared.index, 0), Some(&shared));
+        }
+        // The "manufacturer setting" objects of the 1602h/1A01h maps (manual §4.3): named, with
+        // no type, access or default (sizes inferred from the maps).
+        let rows = [0x2D60, 0x2D68, 0x2D69, 0x2D6A].map(|index| {
+            let pdo = if index == 0x2D60 { PdoRx } else { PdoTx };
+            (index, 0, DataType::Unstated, Access::Unstated, pdo, None)
+        });
+        super::super::assert_rows(&PROFILE, &rows);
+        assert_eq!(PROFILE.object(0x2D02, 0).map(|o| o.data_type), Some(U16));
+        // A multi-axis unit serves them at each axis' offset index (manual §1.5).
+        assert_eq!(PROFILE_W3.axis_object(0x2D12, 2), Some(0x4D12));
+        assert_eq!(PROFILE_W3.objects, PROFILE.objects);
     }
 }

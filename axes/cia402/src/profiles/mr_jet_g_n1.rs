@@ -220,7 +220,37 @@ pub const STORE_RESTORE_OBJECTS: &[OdEntry] = &[
     od(0x1011, 1, "Restore all default parameters", U32, Rw, No).default(1).cite("§6 (manual §3.2): write 64616F6Ch; any other value is an error"),
 ];
 
-/// The objects the runtime and the simulator use (MR-JET-G-N1 manual).
+// The rows the MR-JET-G-N1 and MR-J5-G-N1 manuals print alike (§7.2, §7.3, §4.3, §8.3 of both):
+// one definition each, listed by both models' tables.
+
+/// 2D02h Control DI 2.
+#[rustfmt::skip]
+pub const CONTROL_DI_2: OdEntry = od(0x2D02, 0, "Control DI 2", U16, Rw, PdoRx).cite("§6 / manual §7.2: U16 rw printed; mapped in 1600h–1602h (manual §4.3); no default");
+/// 2D03h Control DI 3 (its bits differ: all reserved on the MR-JET, bit 8 C_ABS2 on the MR-J5).
+#[rustfmt::skip]
+pub const CONTROL_DI_3: OdEntry = od(0x2D03, 0, "Control DI 3", U16, Rw, PdoRx).cite("§6 / manual §7.2: the table elides the rows after 2D02h (\":\"): U16 rw as 2D01h/2D02h [inferred]; mapped in 1600h–1602h (manual §4.3); no default");
+/// 2D11h Status DO 1.
+#[rustfmt::skip]
+pub const STATUS_DO_1: OdEntry = od(0x2D11, 0, "Status DO 1", U16, Ro, PdoTx).cite("§6 / manual §7.3: U16 ro printed; mapped in 1A00h/1A01h (manual §4.3)");
+/// 2D12h Status DO 2.
+#[rustfmt::skip]
+pub const STATUS_DO_2: OdEntry = od(0x2D12, 0, "Status DO 2", U16, Ro, PdoTx).cite("§6 / manual §7.3: U16 ro printed (its index misprinted 2D02h); mapped in 1A00h/1A01h (manual §4.3)");
+/// 2D13h Status DO 3.
+#[rustfmt::skip]
+pub const STATUS_DO_3: OdEntry = od(0x2D13, 0, "Status DO 3", U16, Ro, PdoTx).cite("§6 / manual §7.3: the table elides the rows after Status DO 2 (\":\"): U16 ro as 2D11h [inferred]; mapped in 1A00h/1A01h (manual §4.3)");
+/// 2D15h Status DO 5.
+#[rustfmt::skip]
+pub const STATUS_DO_5: OdEntry = od(0x2D15, 0, "Status DO 5", U16, Ro, PdoTx).cite("§6 / manual §7.3: the table elides the rows after Status DO 2 (\":\"): U16 ro as 2D11h [inferred]; mapped in 1A01h (manual §4.3)");
+/// 2D17h Status DO 7.
+#[rustfmt::skip]
+pub const STATUS_DO_7: OdEntry = od(0x2D17, 0, "Status DO 7", U16, Ro, PdoTx).cite("§6 / manual §7.3: the table elides the rows after Status DO 2 (\":\"): U16 ro as 2D11h [inferred]; mapped in 1A01h (manual §4.3)");
+/// 6098h Homing method.
+#[rustfmt::skip]
+pub const HOMING_METHOD: OdEntry = od(0x6098, 0, "Homing method", I8, Rw, Pdo::Unstated).cite("§6 / manual §8.3: the methods, the default and the mapping not stated; type I8 and rw: CiA 402 [background]");
+
+/// The object dictionary (MR-JET-G-N1 manual): the objects its §4.3, §7 and §8 tables name, the
+/// FSoE objects apart ([`FSOE_OBJECTS`]). Control DI 4–10 and Status DO 4, 6, 8–10 are left
+/// out: the manual elides their rows, their indexes are only inferred (§6).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
     od(0x10F1, 2, "Sync Error Counter Limit", U16, Rw, No).default(super::generic_cia402::SYNC_ERROR_COUNTER_LIMIT).unit(Unit::Times).cite("§2.4: type, default, counting rule not stated; U16 rw as ETG.1020 has it [background], default the simulator's"),
@@ -270,6 +300,19 @@ pub const OBJECTS: &[OdEntry] = &[
     od(0x607D, 1, "Min position limit", I32, Rw, Pdo::Unstated).unit(Unit::Pulse).cite("§8.1: 607Dh named only, unusable without a home set in the drive; type I32 and 0/0 = disabled: CiA 402 [background]"),
     od(0x607D, 2, "Max position limit", I32, Rw, Pdo::Unstated).unit(Unit::Pulse).cite("§8.1: as 607Dh:1"),
     od(0x60B0, 0, "Position offset", I32, Rw, Pdo::Unstated).default(0).unit(Unit::Pulse).cite("§4.3 rule 2/3 (manual §7.4): csp entry rule; type, access and default not stated (I32, 0: CiA 402 [background])"),
+    // The rest of the objects the manual names (§6 of the extract): types and access where the manual prints them, the gaps named.
+    CONTROL_DI_2,
+    CONTROL_DI_3,
+    STATUS_DO_1,
+    STATUS_DO_2,
+    STATUS_DO_3,
+    STATUS_DO_5,
+    STATUS_DO_7,
+    od(0x2D60, 0, "Target point table", DataType::Unstated, Access::Unstated, PdoRx).cite("§6 / manual §4.3: mapped in 1602h, 2 bytes inferred from the map size; type, access and default not stated"),
+    od(0x2D68, 0, "Point demand value", DataType::Unstated, Ro, PdoTx).cite("§6 / manual §4.3: mapped in 1A01h, 2 bytes inferred from the map size; type not stated; ro [background]"),
+    od(0x2D69, 0, "Point actual value", DataType::Unstated, Ro, PdoTx).cite("§6 / manual §4.3: mapped in 1A01h, 2 bytes inferred from the map size; type not stated; ro [background]"),
+    od(0x2D6A, 0, "M code actual value", DataType::Unstated, Ro, PdoTx).cite("§6 / manual §4.3: mapped in 1A01h, 1 byte inferred from the map size; type not stated; ro [background]"),
+    HOMING_METHOD,
 ];
 
 /// Encoder and units (MR-JET-G-N1 manual): 2^26 appears only as an example resolution.
@@ -460,5 +503,25 @@ mod tests {
             let c = CycleTime::from_micros(us).unwrap();
             assert_eq!(PROFILE.fault_reset_hold(c), Cycles(n), "{us} µs");
         }
+    }
+
+    #[test]
+    fn the_objects_the_manual_names_are_served() {
+        // (index, sub, type, access, PDO, default) as manual §7.2, §7.3, §4.3, §8.3 give them.
+        let rows = [
+            (0x2D02, 0, U16, Rw, PdoRx, None),
+            (0x2D03, 0, U16, Rw, PdoRx, None),
+            (0x2D11, 0, U16, Ro, PdoTx, None),
+            (0x2D12, 0, U16, Ro, PdoTx, None),
+            (0x2D13, 0, U16, Ro, PdoTx, None),
+            (0x2D15, 0, U16, Ro, PdoTx, None),
+            (0x2D17, 0, U16, Ro, PdoTx, None),
+            (0x2D60, 0, DataType::Unstated, Access::Unstated, PdoRx, None),
+            (0x2D68, 0, DataType::Unstated, Ro, PdoTx, None),
+            (0x2D6A, 0, DataType::Unstated, Ro, PdoTx, None),
+            (0x6098, 0, I8, Rw, Pdo::Unstated, None),
+        ];
+        // No default is stated for any of them.
+        super::super::assert_rows(&PROFILE, &rows);
     }
 }

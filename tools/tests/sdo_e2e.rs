@@ -1,12 +1,16 @@
 //! `cellrt sdo` end to end: reads and writes on a running cell's drives over the in-process
 //! emulated EtherCAT segment (the mailbox worker carries them) and on the simulated drives, and
-//! each refusal, by the cell before anything is sent or by the drive with its abort code.
+//! each refusal, by the cell before anything is sent or by the drive with its abort code; and
+//! `cellrt sdo list`, from the drive's SDO Information or, where it has none, the profile.
 
 mod common;
 
 use std::path::Path;
 
+use cellrt_cia402::bus::{DictionaryEntry, DictionarySource, PdoMappable};
+use cellrt_cia402::profiles::Access;
 use cellrt_ethercat::master::abort_meaning;
+use cellrt_runtime::host::operator::sdo_list::SdoListReply;
 use cellrt_runtime::host::operator::wire::{Reply, SdoAnswer};
 use common::cell::Cell;
 
@@ -177,6 +181,20 @@ fn sdo_on_an_esi_axis_follows_the_esi_dictionary() {
     );
     // The configuration maps 6060h in the RxPDO.
     cell.refused(&["write", "x", "6060", "8"], "RxPDO");
+    // The emulated drive lists the ESI's dictionary by SDO Information.
+    let r = listed(&cell, "x");
+    assert_eq!(
+        (r.source, r.dictionary.as_str()),
+        (
+            DictionarySource::SdoInformation,
+            "ESI device Example CiA 402 servo drive"
+        )
+    );
+    let modes = entry(&r, 0x6098, 0);
+    assert_eq!(
+        (modes.data_type.as_str(), modes.access),
+        ("INTEGER8", Access::Rw)
+    );
 }
 
 #[test]
@@ -208,4 +226,127 @@ fn sdo_reads_around_a_homing_neither_fail_it_nor_wait_for_it() {
             }
         }
     }
+}
+
+/// The `sdo list --json` reply of `axis`.
+fn listed(cell: &SdoCell, axis: &str) -> Box<SdoListReply> {
+    let (code, out, err) = cell.sdo(&["list", axis, "--json"]);
+    assert_eq!(code, 0, "sdo list {axis}: {out}{err}");
+    match serde_json::from_str::<Reply>(&out).unwrap() {
+        Reply::SdoList(r) => r,
+        other => panic!("{other:?}"),
+    }
+}
+
+/// The listed entry `index:sub`.
+fn entry(r: &SdoListReply, index: u16, sub: u8) -> &DictionaryEntry {
+    r.entries
+        .iter()
+        .find(|e| (e.index, e.sub) == (index, sub))
+        .unwrap_or_else(|| panic!("{index:04X}h:{sub:02X} not listed: {r:?}"))
+}
+
+#[test]
+fn sdo_list_reads_the_emulated_mr_j4_tm_dictionary_from_sdo_information() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = ethercat_cell(dir.path());
+    let r = listed(&cell, "y");
+    assert_eq!(r.source, DictionarySource::SdoInformation, "{r:?}");
+    assert_eq!(r.fallback, None);
+    let status = entry(&r, 0x6041, 0);
+    assert_eq!(status.name, "Statusword");
+    assert_eq!(
+        (
+            status.data_type.as_str(),
+            status.bits,
+            status.access,
+            status.pdo
+        ),
+        ("UNSIGNED16", Some(16), Access::Ro, PdoMappable::Tx)
+    );
+    // The identity object's four entries, each UNSIGNED32.
+    for sub in 1..=4 {
+        let e = entry(&r, 0x1018, sub);
+        assert_eq!(
+            (e.data_type.as_str(), e.bits),
+            ("UNSIGNED32", Some(32)),
+            "{e:?}"
+        );
+    }
+    // 1C32h:02 is written only before OP (the drive refuses it in OP, as the test above shows).
+    let cycle = entry(&r, 0x1C32, 2);
+    assert_eq!(
+        (cycle.access, cycle.write_restriction.as_deref()),
+        (Access::Rw, Some("PreOP"))
+    );
+    // Written every cycle by the master: RxPDO-mappable and writable.
+    let control = entry(&r, 0x6040, 0);
+    assert_eq!((control.access, control.pdo), (Access::Rw, PdoMappable::Rx));
+    // In index order, each entry once.
+    assert!(r
+        .entries
+        .windows(2)
+        .all(|w| (w[0].index, w[0].sub) < (w[1].index, w[1].sub)));
+    // The table says where the list came from and shows the row.
+    let table = cell.ok(&["list", "y"]);
+    let first = table.lines().next().unwrap();
+    assert!(
+        first.starts_with(&format!(
+            "y: {} entries from the drive's SDO Information",
+            r.entries.len()
+        )),
+        "{first}"
+    );
+    let row = table
+        .lines()
+        .find(|l| l.starts_with("6041h:00"))
+        .expect(&table);
+    let cols: Vec<&str> = row.split_whitespace().collect();
+    assert_eq!(
+        cols,
+        ["6041h:00", "Statusword", "UNSIGNED16", "16", "ro", "TxPDO"]
+    );
+    // Every drive of the segment lists its own (x MR-J3-T04, z MR-JET-G-N1).
+    for axis in ["x", "z"] {
+        assert_eq!(listed(&cell, axis).source, DictionarySource::SdoInformation);
+    }
+    // An unknown axis is refused naming it; the cell's axes are listed.
+    let e = cell.refused(&["list", "w"], "unknown axis 'w'");
+    assert!(e.contains("(the cell has x, y"), "{e}");
+}
+
+#[test]
+fn sdo_list_on_a_simulated_drive_is_the_profiles_dictionary_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = SdoCell::start(dir.path(), "demo.toml", "demo", &[]);
+    let r = listed(&cell, "y");
+    assert_eq!(r.source, DictionarySource::Profile);
+    assert!(
+        r.fallback.as_deref().unwrap().contains("simulated drive"),
+        "{r:?}"
+    );
+    assert_eq!(r.dictionary, "Mitsubishi MR-J5-G-N1");
+    assert_eq!(entry(&r, 0x6041, 0).name, "Statusword");
+    let first = cell.ok(&["list", "y"]);
+    let first = first.lines().next().unwrap();
+    assert!(
+        first.contains("from the profile's dictionary (Mitsubishi MR-J5-G-N1), not the drive: a simulated drive"),
+        "{first}"
+    );
+}
+
+#[test]
+fn sdo_list_on_an_mr_je_c_is_its_dictionary_table_beside_the_ethercat_drives_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = SdoCell::start(dir.path(), "mixed-cell.toml", "mixed", &[]);
+    let r = listed(&cell, "infeed");
+    assert_eq!(r.source, DictionarySource::Profile);
+    assert!(r.fallback.as_deref().unwrap().contains("MR-JE-C"), "{r:?}");
+    // MR-JE-C manual §7.3: 6041h Statusword, UNSIGNED16, ro.
+    let status = entry(&r, 0x6041, 0);
+    assert_eq!(
+        (status.data_type.as_str(), status.access),
+        ("UNSIGNED16", Access::Ro)
+    );
+    assert_eq!(listed(&cell, "x").source, DictionarySource::SdoInformation);
 }

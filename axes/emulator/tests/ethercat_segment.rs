@@ -1172,3 +1172,86 @@ fn bus_diagnostics_show_the_port_of_the_bad_link() {
     assert_eq!(reading.frames_lost - lost_before, 20);
     assert!(reading.frames >= 20);
 }
+
+/// A drive's dictionary read by SDO Information on the mailbox worker while the cyclic
+/// exchange goes on: the walk takes one exchange per pass of the worker, so an SDO the RT loop
+/// posts after the request is answered long before the walk ends; an axis the segment does not
+/// have is answered as such.
+#[test]
+fn the_mailbox_worker_walks_a_dictionary_by_sdo_information_beside_the_loops_sdos() {
+    use cellrt_cia402::bus::{SdoOutcome, SdoRequest};
+    use cellrt_ethercat::master::NoSdoInformation;
+    let mut bus = bring_up(&[DriveModel::MrJ4TM]);
+    let reader = bus.dictionary_reader();
+    assert!(reader.request(0));
+    let status = SdoRequest::Upload {
+        index: 0x6041,
+        sub: 0,
+    };
+    assert_eq!(bus.post_sdo(0, status), Ok(()));
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    let mut sdo_first = None;
+    let reading = loop {
+        if let Some(r) = reader.take() {
+            break r;
+        }
+        if sdo_first.is_none() {
+            sdo_first = bus.take_sdo(0);
+        }
+        assert!(std::time::Instant::now() < end, "no dictionary");
+        let _ = exchanges(&mut bus, 1);
+        std::thread::sleep(std::time::Duration::from_micros(100));
+    };
+    assert!(
+        matches!(sdo_first, Some(SdoOutcome::Uploaded(_))),
+        "the loop's SDO waited for the walk: {sdo_first:?}"
+    );
+    assert_eq!(reading.axis, 0);
+    let entries = reading
+        .entries
+        .expect("the MR-J4-TM offers SDO Information");
+    let find = |index: u16, sub: u8| entries.iter().find(|e| (e.index, e.sub) == (index, sub));
+    let s = find(0x6041, 0).expect("6041h:00");
+    assert_eq!(
+        (s.name.as_str(), s.data_type.as_str(), s.bits),
+        ("Statusword", "UNSIGNED16", Some(16))
+    );
+    assert!((1..=4).all(|sub| find(0x1018, sub).is_some()));
+    assert!(find(0x2FFF, 0).is_none());
+    assert!(reader.request(7));
+    let reading = loop {
+        if let Some(r) = reader.take() {
+            break r;
+        }
+        assert!(std::time::Instant::now() < end, "no answer for axis 7");
+        let _ = exchanges(&mut bus, 1);
+    };
+    assert_eq!(reading.entries, Err(NoSdoInformation::UnknownAxis(7)));
+}
+
+/// A SubDevice whose SII's CoE details do not offer SDO Information (bit 1) is not asked: the
+/// reading says so, and the cell lists the profile's dictionary instead.
+#[test]
+fn a_subdevice_without_sdo_information_in_its_sii_is_not_asked_for_its_dictionary() {
+    use cellrt_ethercat::master::NoSdoInformation;
+    let mut p = profile(DriveModel::MrJ4TM).clone();
+    p.comm.sdo_info.offered = false;
+    let p = SharedProfile::new(p);
+    let cycle = CycleTime::from_micros(1000).unwrap();
+    let drive = SimDrive::new(p.clone(), SimDriveParams::default(), cycle);
+    let mut config = config(&[DriveModel::MrJ4TM], cycle);
+    config.drives[0].profile = p;
+    let link = InProcessLink::new(Segment::new(vec![drive]));
+    let mut bus = bring_up_one(config, Box::new(link)).expect("bring-up");
+    let reader = bus.dictionary_reader();
+    assert!(reader.request(0));
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    let reading = loop {
+        if let Some(r) = reader.take() {
+            break r;
+        }
+        assert!(std::time::Instant::now() < end, "no answer");
+        let _ = exchanges(&mut bus, 1);
+    };
+    assert_eq!(reading.entries, Err(NoSdoInformation::NotOffered));
+}

@@ -28,6 +28,8 @@ pub struct HostEnd {
     capture_requested: std::sync::atomic::AtomicBool,
     /// The EtherCAT segment's diagnostics, set once the bus is open (none on simulated drives).
     bus_diagnostics: std::sync::OnceLock<cellrt_ethercat::master::BusDiagnostics>,
+    /// The drives' dictionaries by SDO Information, set once the bus is open (EtherCAT only).
+    dictionary_reader: std::sync::OnceLock<cellrt_ethercat::master::DictionaryReader>,
 }
 
 impl HostEnd {
@@ -36,6 +38,7 @@ impl HostEnd {
             lanes,
             recent_events: Mutex::new(VecDeque::with_capacity(RECENT_EVENTS)),
             bus_diagnostics: std::sync::OnceLock::new(),
+            dictionary_reader: std::sync::OnceLock::new(),
             capture_armed: Default::default(),
             capture_requested: Default::default(),
         }
@@ -77,6 +80,16 @@ impl HostEnd {
     /// The bus' diagnostics, on an EtherCAT cell.
     pub fn bus_diagnostics(&self) -> Option<&cellrt_ethercat::master::BusDiagnostics> {
         self.bus_diagnostics.get()
+    }
+
+    /// Offers the drives' dictionaries to the operator (once, when the bus is open).
+    pub fn set_dictionary_reader(&self, r: cellrt_ethercat::master::DictionaryReader) {
+        let _ = self.dictionary_reader.set(r);
+    }
+
+    /// The drives' dictionaries by SDO Information, on an EtherCAT cell.
+    pub fn dictionary_reader(&self) -> Option<&cellrt_ethercat::master::DictionaryReader> {
+        self.dictionary_reader.get()
     }
 
     /// Queues a command for the RT thread; gives it back if the queue is full.

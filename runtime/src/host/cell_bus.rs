@@ -228,6 +228,14 @@ impl CellBus {
         }
     }
 
+    /// The drives' dictionaries by SDO Information, on EtherCAT.
+    pub fn dictionary_reader(&self) -> Option<cellrt_ethercat::master::DictionaryReader> {
+        match self {
+            CellBus::Sim(_) => None,
+            CellBus::Ethercat(bus) => Some(bus.dictionary_reader()),
+        }
+    }
+
     /// Opens the bus `cell` names; EtherCAT segments are brought to OP here.
     pub fn open(cell: &CellConfig) -> Result<CellBus, BusOpenError> {
         let Some(ec) = &cell.ethercat else {

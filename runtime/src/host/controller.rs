@@ -228,6 +228,9 @@ pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     if let Some(d) = bus.diagnostics() {
         handoff.set_bus_diagnostics(d);
     }
+    if let Some(r) = bus.dictionary_reader() {
+        handoff.set_dictionary_reader(r);
+    }
     let (rt, mut report) = spawn_rt(cell, bus, rt_handoff, opts.hook)?;
 
     // The program's last target per axis, in configuration order.

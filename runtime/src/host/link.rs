@@ -148,6 +148,10 @@ pub trait CellLink {
     fn bus_diagnostics(&self) -> Option<&cellrt_ethercat::master::BusDiagnostics> {
         None
     }
+    /// The drives' dictionaries by SDO Information (in-process, on an EtherCAT cell only).
+    fn dictionary_reader(&self) -> Option<&cellrt_ethercat::master::DictionaryReader> {
+        None
+    }
     /// Asks the recorder to write its capture ring now; false where it keeps none (or from
     /// another process).
     fn request_capture(&mut self) -> bool {
@@ -243,6 +247,10 @@ impl CellLink for LocalLink {
 
     fn bus_diagnostics(&self) -> Option<&cellrt_ethercat::master::BusDiagnostics> {
         self.handoff.bus_diagnostics()
+    }
+
+    fn dictionary_reader(&self) -> Option<&cellrt_ethercat::master::DictionaryReader> {
+        self.handoff.dictionary_reader()
     }
 
     fn request_capture(&mut self) -> bool {

@@ -221,7 +221,8 @@ pub fn run(command: OperatorCommand, target: Target) -> Exit {
             | Reply::Sdo(_)
             | Reply::Param(_)
             | Reply::Alarms(_)
-            | Reply::BusDiag(_),
+            | Reply::BusDiag(_)
+            | Reply::SdoList(_),
         ) => {
             eprintln!("error: the cell answered with a report instead of accepting");
             return Exit::Unreachable;

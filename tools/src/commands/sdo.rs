@@ -1,12 +1,14 @@
 //! `cellrt sdo read|write AXIS INDEX[:SUB] [VALUE]`: one object of an axis' drive on a running
 //! cell, through the cell's operator service, which checks it against the drive's object
-//! dictionary before the RT thread's acyclic channel carries it.
+//! dictionary before the RT thread's acyclic channel carries it. `cellrt sdo list AXIS`: that
+//! dictionary, read from the drive by SDO Information where it offers it.
 
 use std::time::Duration;
 
 use cellrt_fieldbus::mr_je_c::ObjectId;
 use cellrt_runtime::host::operator::client::OperatorClient;
 use cellrt_runtime::host::operator::sdo::object_text;
+use cellrt_runtime::host::operator::sdo_list::SdoListReply;
 use cellrt_runtime::host::operator::wire::{Reply, Request, SdoAnswer, SdoReply};
 use clap::{Args, Subcommand};
 
@@ -44,11 +46,18 @@ pub enum SdoCommand {
         #[arg(allow_hyphen_values = true, value_parser = crate::numbers::integer)]
         value: i64,
     },
+    /// List the drive's object dictionary: from the drive by SDO Information where it offers
+    /// it, else the drive profile's own table (the first line says which).
+    List {
+        /// Axis name.
+        axis: String,
+    },
 }
 
 /// Runs `cellrt sdo`.
 pub fn run(args: SdoArgs, target: Target) -> Exit {
     let (axis, object, value) = match args.command {
+        SdoCommand::List { axis } => return list(axis, &target, args.json),
         SdoCommand::Read { axis, object } => (axis, object, None),
         SdoCommand::Write {
             axis,
@@ -67,6 +76,68 @@ pub fn run(args: SdoArgs, target: Target) -> Exit {
         Ok(other) => unexpected("sdo", &other),
         Err(exit) => exit,
     }
+}
+
+/// Asks for `axis`' dictionary and prints it as a table (unless `json`).
+fn list(axis: String, target: &Target, json: bool) -> Exit {
+    match ask(target, &Request::SdoList { axis }, json) {
+        Ok(Reply::SdoList(r)) => {
+            if !json {
+                print!("{}", list_table(&r));
+            }
+            Exit::Ok
+        }
+        Ok(other) => unexpected("sdo list", &other),
+        Err(exit) => exit,
+    }
+}
+
+/// The listing: a line saying where it came from, then one row per entry.
+fn list_table(r: &SdoListReply) -> String {
+    use std::fmt::Write;
+    let mut out = match &r.fallback {
+        None => format!(
+            "{}: {} entries from the drive's SDO Information\n",
+            r.axis,
+            r.entries.len()
+        ),
+        Some(why) => format!(
+            "{}: {} entries from the profile's dictionary ({}), not the drive: {why}\n",
+            r.axis,
+            r.entries.len(),
+            r.dictionary
+        ),
+    };
+    let name_width = r
+        .entries
+        .iter()
+        .map(|e| e.name.len())
+        .max()
+        .unwrap_or(0)
+        .max(4);
+    let _ = writeln!(
+        out,
+        "{:<9}  {:<name_width$}  {:<14}  {:>4}  {:<16}  PDO",
+        "OBJECT", "NAME", "TYPE", "BITS", "ACCESS"
+    );
+    for e in &r.entries {
+        let bits = e.bits.map_or_else(|| "-".to_string(), |b| b.to_string());
+        let access = match &e.write_restriction {
+            Some(states) => format!("{} ({states})", e.access),
+            None => e.access.to_string(),
+        };
+        let _ = writeln!(
+            out,
+            "{:<9}  {:<name_width$}  {:<14}  {:>4}  {:<16}  {}",
+            object_text(e.index, e.sub),
+            e.name,
+            e.data_type,
+            bits,
+            access,
+            e.pdo.as_str()
+        );
+    }
+    out
 }
 
 /// The least a client waits for the reply to a request of many SDO transfers (`param list`,

@@ -289,6 +289,12 @@ pub enum MailboxError {
         /// Manufacturer-specific error field (cellrt patch: was not passed on).
         data: [u8; 5],
     },
+    /// cellrt patch: the SubDevice answered an SDO Information request with an SDO Info Error
+    /// Request (ETG.1000.6 §5.6.3.8).
+    SdoInfoAborted {
+        /// Abort code.
+        code: CoeAbortCode,
+    },
 }
 
 impl core::fmt::Display for MailboxError {
@@ -314,6 +320,9 @@ impl core::fmt::Display for MailboxError {
                 address, sub_index
             ),
             MailboxError::InvalidCount => f.write_str("incorrect mailbox count value"),
+            MailboxError::SdoInfoAborted { code } => {
+                write!(f, "SDO Information request refused: {}", code)
+            }
             MailboxError::Emergency {
                 error_code,
                 error_register,

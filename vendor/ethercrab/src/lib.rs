@@ -195,13 +195,16 @@ pub use ethercrab_wire::{
 };
 use ethernet::EthernetAddress;
 pub use mailbox::coe::SubIndex;
+/// cellrt patch: the SDO Information codecs (Get Object/Entry Description, fragments).
+pub use mailbox::coe::sdo_info;
 pub use maindevice::MainDevice;
 pub use maindevice_config::{MainDeviceConfig, RetryBehaviour};
 pub use pdu_loop::{PduLoop, PduRx, PduStorage, PduTx, ReceiveAction, SendableFrame};
 pub use register::{DcSupport, RegisterAddress};
 pub use subdevice::{
-    DcSync, ObjectDescriptionListQuery, ObjectDescriptionListQueryCounts, SubDevice,
-    SubDeviceIdentity, SubDevicePdi, SubDeviceRef,
+    DcSync, EntryDescription, ObjectAccess, ObjectCode, ObjectDescription,
+    ObjectDescriptionListQuery, ObjectDescriptionListQueryCounts, SubDevice, SubDeviceIdentity,
+    SubDevicePdi, SubDeviceRef,
 };
 pub use subdevice_group::{GroupId, SubDeviceGroup, SubDeviceGroupHandle, TxRxResponse};
 pub use subdevice_state::SubDeviceState;

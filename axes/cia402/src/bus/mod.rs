@@ -8,10 +8,12 @@
 //! simulated drives in-process; the EtherCAT master implements the same traits.
 
 mod acyclic;
+pub mod dictionary;
 mod error;
 mod notice;
 
 pub use acyclic::{ImmediateSlot, PostError, SdoData, SdoOutcome, SdoRequest};
+pub use dictionary::{DictionaryEntry, DictionarySource, PdoMappable};
 pub use error::{BusError, CloseError};
 pub use notice::{
     Emergency, LinkState, MailboxNotice, EMERGENCY_SLOT_BYTE, ERROR_REGISTER_GENERIC,

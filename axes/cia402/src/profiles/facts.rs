@@ -86,6 +86,24 @@ impl DataType {
         }
     }
 
+    /// The type of CiA 301 data type index `index` (§7.4.7, e.g. 0006h UNSIGNED16) whose values
+    /// are `bits` wide; `None` for a type no profile uses (REAL32, UNSIGNED64, records, …).
+    pub fn from_cia301_index(index: u16, bits: u16) -> Option<DataType> {
+        Some(match index {
+            0x0001 => Self::Bool,
+            0x0002 => Self::I8,
+            0x0003 => Self::I16,
+            0x0004 => Self::I32,
+            0x0005 => Self::U8,
+            0x0006 => Self::U16,
+            0x0007 => Self::U32,
+            0x0009 => Self::VisibleString {
+                octets: u8::try_from(bits / 8).ok()?,
+            },
+            _ => return None,
+        })
+    }
+
     /// The values the type holds (inclusive), `None` for strings and [`DataType::Unstated`].
     pub const fn value_range(self) -> Option<(i64, i64)> {
         Some(match self {
@@ -102,8 +120,11 @@ impl DataType {
 }
 
 /// Access right of an object (CiA 301; MR-JE-C manual §7.3 "Access").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, strum::Display)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, strum::Display, serde::Serialize, serde::Deserialize,
+)]
 #[strum(serialize_all = "lowercase")]
+#[serde(rename_all = "lowercase")]
 pub enum Access {
     /// Read only.
     Ro,

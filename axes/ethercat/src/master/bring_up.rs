@@ -102,6 +102,7 @@ impl EthercatBus {
             sm1: mailbox.sm1.clone(),
             slots: mailbox.slots.clone(),
             shared,
+            od_walk: None,
         }
         .spawn()
         .map_err(|e| EthercatError::Bringup {

@@ -82,6 +82,12 @@ impl EthercatBus {
         }
     }
 
+    /// A handle on the drives' dictionaries by SDO Information for the host (taken before the
+    /// bus moves to the RT thread; the walks are made by the mailbox worker).
+    pub fn dictionary_reader(&self) -> super::dictionary::DictionaryReader {
+        self.worker.shared.dictionary_reader.clone()
+    }
+
     /// The link (tests and fault injection reach the emulated segment through it).
     pub fn link_mut(&mut self) -> &mut dyn Link {
         self.link.as_mut()
@@ -96,9 +102,10 @@ const BLOCKING_SDO_TIMEOUT: Duration = Duration::from_secs(5);
 
 pub(super) fn abort_code(e: ethercrab::error::Error) -> u32 {
     match e {
-        ethercrab::error::Error::Mailbox(ethercrab::error::MailboxError::Aborted {
-            code, ..
-        }) => u32::from(code),
+        ethercrab::error::Error::Mailbox(
+            ethercrab::error::MailboxError::Aborted { code, .. }
+            | ethercrab::error::MailboxError::SdoInfoAborted { code },
+        ) => u32::from(code),
         _ => 0x0800_0000,
     }
 }

@@ -39,6 +39,7 @@ impl MailboxWorker {
             }
             _ => Err(ethercrab::error::Error::Internal),
         })
+        .map_err(abort_code)
     }
 
     pub(super) fn sdo_read_value(&mut self, axis: usize, index: u16, sub: u8) -> Result<i64, u32> {
@@ -63,11 +64,12 @@ impl MailboxWorker {
                 }
             })
         })
+        .map_err(abort_code)
     }
 
-    /// One SDO transfer with SubDevice `station` for `axis`: SM1 emptied first (so ethercrab
-    /// meets no Emergency left there), repeated once where an Emergency came in its response's
-    /// place. `Err(abort code)`.
+    /// One SDO (or SDO Information) transfer with SubDevice `station` for `axis`: SM1
+    /// emptied first (so ethercrab meets no Emergency left there), repeated once where an
+    /// Emergency came in its response's place.
     pub(super) fn sdo_transfer<T>(
         &mut self,
         axis: usize,
@@ -75,15 +77,12 @@ impl MailboxWorker {
         transfer: impl AsyncFn(
             &SubDeviceRef<'_, SubDevicePdi<'_, MAX_PDI, DefaultLock>>,
         ) -> Result<T, ethercrab::error::Error>,
-    ) -> Result<T, u32> {
+    ) -> Result<T, ethercrab::error::Error> {
         let mut emergency_met = false;
         loop {
             self.drain_mailbox(station);
             let crab = &mut self.ethercrab;
-            let sd = crab
-                .group
-                .subdevice(&crab.maindevice, station)
-                .map_err(|_| SDO_UNSUPPORTED)?;
+            let sd = crab.group.subdevice(&crab.maindevice, station)?;
             let result = pump(
                 transfer(&sd),
                 &mut crab.tx,
@@ -92,7 +91,7 @@ impl MailboxWorker {
                 &mut self.frame,
             );
             if !self.emergency_in_sdo(axis, &result, &mut emergency_met) {
-                return result.map_err(abort_code);
+                return result;
             }
         }
     }

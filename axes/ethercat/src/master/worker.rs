@@ -1,6 +1,6 @@
 //! The mailbox worker: a non-RT thread that runs every acyclic transfer while the segment is in
 //! OP — the SDOs the RT loop posts (mode changes, homing parameters, 607Ch, 603Fh) and the
-//! SM1 reads that fetch Emergencies — through ethercrab, with its frames carried by the RT
+//! SM1 reads that fetch Emergencies, the host's diagnostics and dictionary walks — through ethercrab, with its frames carried by the RT
 //! thread's cyclic exchange ([`super::carrier`]). The RT loop never waits for a mailbox.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -12,8 +12,10 @@ use crossbeam::queue::ArrayQueue;
 use ethercrab::{MainDevice, PduRx, PduTx};
 
 use super::carrier::CarriedLink;
+use super::dictionary::{dictionary_channels, DictionaryQueue, DictionaryReader};
 use super::group::OpGroup;
 use super::mailbox::{MailboxIn, NOTICE_QUEUE};
+use super::od_walk::OdWalk;
 use super::sdo_slot::SdoSlot;
 use super::segment::SegmentConfig;
 use cellrt_cia402::bus::{MailboxNotice, SdoOutcome, SdoRequest};
@@ -26,6 +28,9 @@ const BUSY_POLL: Duration = Duration::from_micros(200);
 const IDLE_POLL: Duration = Duration::from_millis(1);
 /// Time without work after which the worker polls at [`IDLE_POLL`].
 const QUIET_AFTER: Duration = Duration::from_millis(20);
+/// The worker's stack: ethercrab's SDO Information futures hold buffers of up to 128 KiB
+/// (the OD list), polled on this stack.
+const WORKER_STACK: usize = 8 << 20;
 
 /// What the RT thread and the worker share: lock-free, preallocated.
 pub(super) struct Shared {
@@ -39,6 +44,10 @@ pub(super) struct Shared {
     pub(super) dropped: AtomicU64,
     /// Bus diagnostics: the host's requests, the readings and the counters behind them.
     pub(super) diag: Arc<super::diag::DiagShared>,
+    /// The host's requests for a dictionary by SDO Information, and the readings.
+    pub(super) dictionary: DictionaryQueue,
+    /// The host's end of [`Shared::dictionary`].
+    pub(super) dictionary_reader: DictionaryReader,
     /// The worker ends.
     stop: AtomicBool,
 }
@@ -66,6 +75,8 @@ pub(super) struct MailboxWorker {
     /// Per SubDevice: the axes of its slots (slot 0 = axis A) and whether it is multi-axis.
     pub(super) slots: Vec<(Vec<Option<usize>>, bool)>,
     pub(super) shared: Arc<Shared>,
+    /// The dictionary walk in progress.
+    pub(super) od_walk: Option<OdWalk>,
 }
 
 /// The bus's handle on its worker thread: the shared slots, stopped and joined on drop.
@@ -77,7 +88,10 @@ pub(super) struct WorkerHandle {
 impl Shared {
     /// Slots for `axes` axes and `stations` SubDevices.
     pub(super) fn new(axes: usize, stations: usize) -> Shared {
+        let (dictionary_reader, dictionary) = dictionary_channels();
         Shared {
+            dictionary,
+            dictionary_reader,
             sdo: (0..axes).map(|_| SdoSlot::default()).collect(),
             drain: (0..stations).map(|_| AtomicBool::new(false)).collect(),
             notices: ArrayQueue::new(NOTICE_QUEUE),
@@ -94,6 +108,7 @@ impl MailboxWorker {
         let shared = self.shared.clone();
         let thread = std::thread::Builder::new()
             .name("cellrt-mailbox".into())
+            .stack_size(WORKER_STACK)
             .spawn(move || self.run())?;
         Ok(WorkerHandle {
             shared,
@@ -119,6 +134,7 @@ impl MailboxWorker {
                 }
             }
             worked |= self.diagnose_if_wanted();
+            worked |= self.walk_dictionary_if_asked();
             if worked {
                 last_work = std::time::Instant::now();
             } else if last_work.elapsed() < QUIET_AFTER {

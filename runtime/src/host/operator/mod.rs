@@ -11,6 +11,7 @@ pub mod client;
 mod param;
 pub mod sdo;
 mod sdo_job;
+pub mod sdo_list;
 pub mod server;
 pub mod socket;
 mod socket_client;

@@ -236,7 +236,7 @@ fn dictionary_name(a: &AxisConfig) -> String {
 
 /// The CoE type of an ESI type name (ETG.2000 base types), by size where the name is a bit
 /// string (BYTE, WORD, DWORD).
-fn esi_data_type(name: &str, bits: u16) -> DataType {
+pub(crate) fn esi_data_type(name: &str, bits: u16) -> DataType {
     match (name, bits) {
         ("BOOL", _) => DataType::Bool,
         ("SINT", _) => DataType::I8,

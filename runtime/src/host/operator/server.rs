@@ -15,6 +15,7 @@ use super::backend::{self, link, profile};
 use super::bus_diag::DiagInFlight;
 use super::sdo::{self, SdoInFlight};
 use super::sdo_job::{SdoJob, SingleSdo};
+use super::sdo_list::{ListInFlight, ListStart};
 use super::targets::{
     axis_index, axis_ref, check_travel, jog_velocity, move_limits, Asked, TargetError,
 };
@@ -101,6 +102,9 @@ pub struct OperatorServer {
     /// The `bus_diag` reading being taken, and the client's request to answer.
     diag: DiagInFlight,
     diag_client: Option<ActiveRequest>,
+    /// The `sdo_list` walk in progress, and the client's request to answer.
+    list: ListInFlight,
+    list_client: Option<ActiveRequest>,
     /// The MR-JE-C axes the active move waits for.
     je_c_moves: link::PendingMoves,
     /// The drive-side motions the active command (a `move` of pp axes, a `mode` switch) waits
@@ -114,6 +118,14 @@ fn operation_enabled(cell: &CellConfig, axis: &str, status: Option<&StatusSnapsh
         return false;
     };
     Statusword(s.live[i].statusword).state() == Some(cellrt_cia402::fsa::FsaState::OperationEnabled)
+}
+
+/// Answers the client whose request waited (`client`), if any; true if a reply went out.
+fn respond_later(client: &mut Option<ActiveRequest>, reply: &Reply) -> bool {
+    client.take().is_some_and(|active| {
+        respond(&active, reply);
+        true
+    })
 }
 
 /// A client's request being answered.
@@ -150,6 +162,8 @@ impl OperatorServer {
             job: None,
             diag: DiagInFlight::default(),
             diag_client: None,
+            list: ListInFlight::default(),
+            list_client: None,
             je_c_moves: link::PendingMoves::default(),
             profile_moves: profile::PendingProfile::default(),
         })
@@ -260,7 +274,7 @@ impl OperatorServer {
     /// Answers every pending request; returns what the caller must do next.
     pub fn poll(&mut self, ctx: &mut Context<'_>) -> Followup {
         let mut followup = Followup::None;
-        let mut answered = self.answer_sdo(ctx) | self.answer_diag(ctx);
+        let mut answered = self.answer_sdo(ctx) | self.answer_diag(ctx) | self.answer_list(ctx);
         loop {
             let active = match self.port.receive() {
                 Ok(Some(r)) => r,
@@ -285,6 +299,14 @@ impl OperatorServer {
                         self.diag_client = Some(active);
                         continue;
                     }
+                    Err(e) => (Reply::rejected(e), Followup::None),
+                },
+                Ok(Request::SdoList { axis }) => match self.list.start(ctx.link, ctx.cell, &axis) {
+                    Ok(ListStart::Walking) => {
+                        self.list_client = Some(active);
+                        continue;
+                    }
+                    Ok(ListStart::Answered(r)) => (Reply::SdoList(r), Followup::None),
                     Err(e) => (Reply::rejected(e), Followup::None),
                 },
                 Ok(req) => self.handle(req, ctx),
@@ -376,14 +398,18 @@ impl OperatorServer {
         let Some(result) = self.diag.poll(ctx.link, ctx.cell) else {
             return false;
         };
-        let reply = match result {
-            Ok(r) => Reply::BusDiag(Box::new(r)),
-            Err(e) => Reply::rejected(e),
+        let reply = result.map_or_else(Reply::rejected, |r| Reply::BusDiag(Box::new(r)));
+        respond_later(&mut self.diag_client, &reply)
+    }
+
+    /// Answers the `sdo_list` request once the walk ended (or timed out); true if a reply
+    /// went out.
+    fn answer_list(&mut self, ctx: &mut Context<'_>) -> bool {
+        let Some(result) = self.list.poll(ctx.link, ctx.cell) else {
+            return false;
         };
-        self.diag_client.take().is_some_and(|active| {
-            respond(&active, &reply);
-            true
-        })
+        let reply = result.map_or_else(Reply::rejected, |r| Reply::SdoList(Box::new(r)));
+        respond_later(&mut self.list_client, &reply)
     }
 
     /// Publishes the status on the operator-status service.
@@ -509,7 +535,8 @@ impl OperatorServer {
             Request::Sdo { .. }
             | Request::Param { .. }
             | Request::Alarms { .. }
-            | Request::BusDiag => rejected(format!("{name}: not an immediate request")),
+            | Request::BusDiag
+            | Request::SdoList { .. } => rejected(format!("{name}: not an immediate request")),
         }
     }
 

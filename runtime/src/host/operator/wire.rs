@@ -171,6 +171,12 @@ pub enum Request {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         value: Option<i64>,
     },
+    /// An axis' object dictionary: read from the drive by SDO Information where it offers
+    /// it, else the drive profile's own table (the reply says which).
+    SdoList {
+        /// Axis name.
+        axis: String,
+    },
     /// The servo parameters of an axis' drive by their manual names (PA14, PC02, …), each
     /// read or written by SDO through the object that carries it.
     Param {
@@ -248,6 +254,7 @@ impl Request {
             Request::Override { .. } => "override",
             Request::Program { .. } => "program",
             Request::Sdo { .. } => "sdo",
+            Request::SdoList { .. } => "sdo_list",
             Request::Param { .. } => "param",
             Request::Alarms { .. } => "alarms",
             Request::BusDiag => "bus_diag",
@@ -280,6 +287,8 @@ pub enum Reply {
     Alarms(AlarmsReply),
     /// The EtherCAT segment's diagnostics.
     BusDiag(Box<super::bus_diag::BusDiagReply>),
+    /// An axis' object dictionary and where it came from.
+    SdoList(Box<super::sdo_list::SdoListReply>),
 }
 
 impl Reply {

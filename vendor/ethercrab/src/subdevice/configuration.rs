@@ -258,6 +258,7 @@ where
             complete_access: general
                 .coe_details
                 .contains(CoeDetails::ENABLE_COMPLETE_ACCESS),
+            sdo_info: general.coe_details.contains(CoeDetails::ENABLE_SDO_INFO),
         };
 
         Ok(())

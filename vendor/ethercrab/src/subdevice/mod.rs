@@ -36,6 +36,7 @@ pub use self::pdi::SubDevicePdi;
 pub use self::types::IoRanges;
 pub use self::types::Mailbox;
 pub use self::types::SubDeviceIdentity;
+pub use coe::sdo_info::{EntryDescription, ObjectAccess, ObjectCode, ObjectDescription};
 pub use coe::services::{ObjectDescriptionListQuery, ObjectDescriptionListQueryCounts};
 pub use dc::DcSync;
 
@@ -251,6 +252,11 @@ impl SubDevice {
     /// configure SubDevices from ESI files, etc.
     pub fn set_oversampling(&mut self, oversampling_config: &'static [(u16, u8)]) {
         self.oversampling_config = oversampling_config
+    }
+
+    /// cellrt patch: whether the SII's CoE details offer SDO Information (bit 1).
+    pub fn supports_sdo_info(&self) -> bool {
+        self.config.mailbox.sdo_info
     }
 
     /// Get the SubDevice's human readable short name.
@@ -696,6 +702,27 @@ where
         &self,
     ) -> Result<Option<ObjectDescriptionListQueryCounts>, Error> {
         Coe::new(self).sdo_info_object_quantities().await
+    }
+
+    /// cellrt patch: the description of object `index` (SDO Information, Get Object
+    /// Description). For devices without CoE mailboxes, this will return `Ok(None)`.
+    pub async fn sdo_info_object_description(
+        &self,
+        index: u16,
+    ) -> Result<Option<ObjectDescription>, Error> {
+        Coe::new(self).sdo_info_object_description(index).await
+    }
+
+    /// cellrt patch: the description of entry `index:sub_index` (SDO Information, Get Entry
+    /// Description). For devices without CoE mailboxes, this will return `Ok(None)`.
+    pub async fn sdo_info_entry_description(
+        &self,
+        index: u16,
+        sub_index: u8,
+    ) -> Result<Option<EntryDescription>, Error> {
+        Coe::new(self)
+            .sdo_info_entry_description(index, sub_index)
+            .await
     }
 }
 

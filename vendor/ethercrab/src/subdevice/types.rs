@@ -58,6 +58,8 @@ pub struct MailboxConfig {
     pub has_coe: bool,
     /// True if Complete Access is supported.
     pub complete_access: bool,
+    /// cellrt patch: true if the SII's CoE details offer SDO Information (bit 1).
+    pub sdo_info: bool,
 }
 
 #[derive(Debug, Default, Clone, Copy, PartialEq)]

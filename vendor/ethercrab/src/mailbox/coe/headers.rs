@@ -98,16 +98,23 @@ pub struct SdoInfoHeader {
     pub fragments_left: u16,
 }
 
-/// Defined in ETG.1000.6 5.6.3.2
+/// Defined in ETG.1000.6 5.6.3.2 (cellrt patch: documented, public through `sdo_info`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ethercrab_wire::EtherCrabWireReadWrite)]
 #[repr(u8)]
 pub enum SdoInfoOpCode {
+    /// Get OD List request.
     GetObjectDescriptionListRequest = 0x01,
+    /// Get OD List response.
     GetObjectDescriptionListResponse = 0x02,
+    /// Get Object Description request.
     GetObjectDescriptionRequest = 0x03,
+    /// Get Object Description response.
     GetObjectDescriptionResponse = 0x04,
+    /// Get Entry Description request.
     GetEntryDescriptionRequest = 0x05,
+    /// Get Entry Description response.
     GetEntryDescriptionResponse = 0x06,
+    /// SDO Info Error Request: an abort code instead of the response.
     SdoInfoErrorRequest = 0x07,
 }
 

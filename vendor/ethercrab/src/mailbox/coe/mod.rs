@@ -1,6 +1,13 @@
 mod abort_code;
 mod headers;
+pub mod sdo_info;
 pub mod services;
+
+/// The biggest SDO Info response is the list of all the available objects, which is
+/// u16::MAX * 2 = 0x1fffe bytes big (ETG.1000.6 §5.6.3.3, CiA 301 §7.4.1).
+const OD_LIST_BUF: usize = 0x1fffe;
+/// The list type word that leads a Get OD List response's first fragment.
+const LIST_TYPE_LEN: usize = 2;
 
 use crate::{
     ObjectDescriptionListQuery, ObjectDescriptionListQueryCounts, SubDevice, SubDeviceRef,
@@ -226,57 +233,10 @@ where
             sub_index: u8,
         }
 
-        // cellrt patch: the service is read first, from the mailbox and CoE headers alone. An
-        // Emergency's byte 8 is its error code, not an SDO command, so `HeadersRaw` (which
-        // decodes a command there) failed on most Emergencies with `InvalidValue`, and the old
-        // `assert_ne!` panicked on the rest; its data follows the 8 header bytes.
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, ethercrab_wire::EtherCrabWireRead)]
-        #[wire(bytes = 8)]
-        struct ServiceRaw {
-            #[wire(bytes = 6)]
-            header: MailboxHeader,
-            #[wire(bytes = 2)]
-            coe_header: CoeHeader,
-        }
-
-        let service = ServiceRaw::unpack_from_slice(&response)?;
-
-        if service.coe_header.service == CoeService::Emergency {
-            #[derive(Debug, Copy, Clone, ethercrab_wire::EtherCrabWireRead)]
-            #[wire(bytes = 8)]
-            struct EmergencyData {
-                #[wire(bytes = 2)]
-                error_code: u16,
-                #[wire(bytes = 1)]
-                error_register: u8,
-                #[wire(bytes = 5)]
-                extra_data: [u8; 5],
-            }
-
-            response.trim_front(ServiceRaw::PACKED_LEN);
-
-            let decoded = EmergencyData::unpack_from_slice(&response)?;
-
-            #[cfg(not(feature = "defmt"))]
-            fmt::error!(
-                "Mailbox emergency code {:#06x}, register {:#04x}, data {:#04x?}",
-                decoded.error_code,
-                decoded.error_register,
-                decoded.extra_data
-            );
-            #[cfg(feature = "defmt")]
-            fmt::error!(
-                "Mailbox emergency code {:#06x}, register {:#04x}, data {=[u8]}",
-                decoded.error_code,
-                decoded.error_register,
-                decoded.extra_data
-            );
-
-            return Err(Error::Mailbox(MailboxError::Emergency {
-                error_code: decoded.error_code,
-                error_register: decoded.error_register,
-                data: decoded.extra_data,
-            }));
+        // cellrt patch: an Emergency is read first, from the mailbox and CoE headers alone
+        // (`emergency_in`).
+        if let Some(emergency) = emergency_in(&response)? {
+            return Err(emergency);
         }
 
         let headers = HeadersRaw::unpack_from_slice(&response)?;
@@ -324,17 +284,26 @@ where
         }
     }
 
-    /// Handle submitting to mailboxes for the SDO Information service.
+    /// Handle submitting to mailboxes for the SDO Information service: sends `request` and
+    /// joins the fragments of the `expected` response's service data, dropping `skip_first`
+    /// bytes of the first (a Get OD List response's list type).
     ///
     /// If the subdevice doesn't have the necessary mailboxes, this will return `Ok(None)`.
     ///
     /// Per ETG.1000.5 §6.1.4.1.3.4, this means sending one request and then awaiting many
     /// responses.
-    // TODO: make this generic w.r.t. SDO Info header type.
-    async fn send_sdo_info_service(
+    ///
+    /// cellrt patch: any SDO Information request and response (not only Get OD List); an SDO
+    /// Info Error Request ends it with `MailboxError::SdoInfoAborted`, a CoE Emergency with
+    /// `MailboxError::Emergency` (upstream waited on or misread both); the length of a
+    /// fragment after the first no longer loses the list type's 2 bytes; the buffer's size
+    /// is the caller's.
+    async fn send_sdo_info_service<const N: usize>(
         &self,
-        request: coe::services::ObjectDescriptionListRequest,
-    ) -> Result<Option<heapless::Vec<u8, { u16::MAX as usize * 2 }>>, Error> {
+        request: &[u8],
+        expected: SdoInfoOpCode,
+        skip_first: usize,
+    ) -> Result<Option<heapless::Vec<u8, N>>, Error> {
         let (read_mailbox, write_mailbox) = match self.wait_for_mailboxes().await {
             Ok((read, write)) => Ok((read, write)),
             Err(Error::Mailbox(MailboxError::NoReadMailbox | MailboxError::NoWriteMailbox)) => {
@@ -347,38 +316,72 @@ where
         self.subdevice
             .write(write_mailbox.address)
             .with_len(write_mailbox.len)
-            .send(self.subdevice.maindevice, &request.pack().as_ref())
+            .send(self.subdevice.maindevice, request)
             .await?;
 
-        const COE_HEADER_AND_LIST_TYPE_SIZE: usize = 8;
-
-        let mut consumed_list_type = false;
-        // The biggest SDO Info request is listing all the available objects,
-        // which is u16::MAX * 2 = 0x1fffe bytes big (ETG.1000.6 §5.6.3.3,
-        // CiA 301 §7.4.1).
-        let mut buf = heapless::Vec::<u8, 0x1fffe>::new();
+        let mut buf = heapless::Vec::<u8, N>::new();
+        let mut first = true;
         loop {
-            let mut response = self.wait_for_mailbox_response(&read_mailbox).await?;
-            let headers = ObjectDescriptionListResponse::unpack_from_slice(&response)?;
-            if headers.sdo_info_header.op_code == SdoInfoOpCode::GetObjectDescriptionListResponse {
-                let length = headers.mailbox.length as usize - COE_HEADER_AND_LIST_TYPE_SIZE;
-                fmt::trace!(
-                    "CoE Info, {} fragments left",
-                    headers.sdo_info_header.fragments_left
-                );
-                response.trim_front(ObjectDescriptionListResponse::PACKED_LEN);
-                if !consumed_list_type {
-                    response.trim_front(2); // skip over the list type
-                    consumed_list_type = true;
-                }
-                buf.extend_from_slice(&response[..length])
-                    .map_err(|_| Error::Internal)?;
-                if !headers.sdo_info_header.incomplete {
-                    break;
-                }
+            let response = self.wait_for_mailbox_response(&read_mailbox).await?;
+            if let Some(emergency) = emergency_in(&response)? {
+                return Err(emergency);
+            }
+            match sdo_info::take_fragment(&response, expected, skip_first, &mut buf, first)? {
+                sdo_info::Fragment::Last => break,
+                sdo_info::Fragment::More => first = false,
+                sdo_info::Fragment::Other => {}
             }
         }
         Ok(Some(buf))
+    }
+
+    /// The description of object `index` (SDO Information, Get Object Description).
+    ///
+    /// For devices without CoE mailboxes, this will return `Ok(None)`.
+    pub async fn sdo_info_object_description(
+        &self,
+        index: u16,
+    ) -> Result<Option<sdo_info::ObjectDescription>, Error> {
+        let request =
+            sdo_info::ObjectDescriptionRequest::new(self.subdevice.mailbox_counter(), index);
+        let Some(data) = self
+            .send_sdo_info_service::<{ sdo_info::DESCRIPTION_BUF }>(
+                request.pack().as_ref(),
+                SdoInfoOpCode::GetObjectDescriptionResponse,
+                0,
+            )
+            .await?
+        else {
+            return Ok(None);
+        };
+        sdo_info::ObjectDescription::parse(&data).map(Some)
+    }
+
+    /// The description of entry `index:sub_index` (SDO Information, Get Entry Description),
+    /// without the optional unit, default, minimum and maximum.
+    ///
+    /// For devices without CoE mailboxes, this will return `Ok(None)`.
+    pub async fn sdo_info_entry_description(
+        &self,
+        index: u16,
+        sub_index: u8,
+    ) -> Result<Option<sdo_info::EntryDescription>, Error> {
+        let request = sdo_info::EntryDescriptionRequest::new(
+            self.subdevice.mailbox_counter(),
+            index,
+            sub_index,
+        );
+        let Some(data) = self
+            .send_sdo_info_service::<{ sdo_info::DESCRIPTION_BUF }>(
+                request.pack().as_ref(),
+                SdoInfoOpCode::GetEntryDescriptionResponse,
+                0,
+            )
+            .await?
+        else {
+            return Ok(None);
+        };
+        sdo_info::EntryDescription::parse(&data).map(Some)
     }
 
     /// Write a value to the given SDO index (address) and sub-index.
@@ -684,7 +687,14 @@ where
             self.subdevice.mailbox_counter(),
             list_type,
         );
-        let Some(response_payload) = self.send_sdo_info_service(request).await? else {
+        let Some(response_payload) = self
+            .send_sdo_info_service::<OD_LIST_BUF>(
+                request.pack().as_ref(),
+                SdoInfoOpCode::GetObjectDescriptionListResponse,
+                LIST_TYPE_LEN,
+            )
+            .await?
+        else {
             return Ok(None);
         };
 
@@ -709,7 +719,14 @@ where
     ) -> Result<Option<ObjectDescriptionListQueryCounts>, Error> {
         let request =
             ObjectDescriptionListRequest::get_object_quantities(self.subdevice.mailbox_counter());
-        let Some(response_payload) = self.send_sdo_info_service(request).await? else {
+        let Some(response_payload) = self
+            .send_sdo_info_service::<OD_LIST_BUF>(
+                request.pack().as_ref(),
+                SdoInfoOpCode::GetObjectDescriptionListResponse,
+                LIST_TYPE_LEN,
+            )
+            .await?
+        else {
             return Ok(None);
         };
 
@@ -725,4 +742,59 @@ where
             })
             .map(Some)
     }
+}
+
+/// cellrt patch: the CoE Emergency a SubDevice→master mailbox message is, as
+/// `MailboxError::Emergency`; `None` for another service. The service is read from the mailbox
+/// and CoE headers alone: an Emergency's byte 8 is its error code, not an SDO command, so
+/// upstream's `HeadersRaw` (which decodes a command there) failed on most Emergencies with
+/// `InvalidValue`, and its `assert_ne!` panicked on the rest; its data follows the 8 header
+/// bytes.
+fn emergency_in(response: &[u8]) -> Result<Option<Error>, Error> {
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, ethercrab_wire::EtherCrabWireRead)]
+    #[wire(bytes = 8)]
+    struct ServiceRaw {
+        #[wire(bytes = 6)]
+        header: MailboxHeader,
+        #[wire(bytes = 2)]
+        coe_header: CoeHeader,
+    }
+
+    #[derive(Debug, Copy, Clone, ethercrab_wire::EtherCrabWireRead)]
+    #[wire(bytes = 8)]
+    struct EmergencyData {
+        #[wire(bytes = 2)]
+        error_code: u16,
+        #[wire(bytes = 1)]
+        error_register: u8,
+        #[wire(bytes = 5)]
+        extra_data: [u8; 5],
+    }
+
+    let service = ServiceRaw::unpack_from_slice(response)?;
+    if service.coe_header.service != CoeService::Emergency {
+        return Ok(None);
+    }
+    let decoded = EmergencyData::unpack_from_slice(&response[ServiceRaw::PACKED_LEN..])?;
+
+    #[cfg(not(feature = "defmt"))]
+    fmt::error!(
+        "Mailbox emergency code {:#06x}, register {:#04x}, data {:#04x?}",
+        decoded.error_code,
+        decoded.error_register,
+        decoded.extra_data
+    );
+    #[cfg(feature = "defmt")]
+    fmt::error!(
+        "Mailbox emergency code {:#06x}, register {:#04x}, data {=[u8]}",
+        decoded.error_code,
+        decoded.error_register,
+        decoded.extra_data
+    );
+
+    Ok(Some(Error::Mailbox(MailboxError::Emergency {
+        error_code: decoded.error_code,
+        error_register: decoded.error_register,
+        data: decoded.extra_data,
+    })))
 }

@@ -38,6 +38,30 @@ pub enum DataType {
     Unstated,
 }
 
+/// CiA 301 data type indexes (§7.4.7, ETG.1000.6 Table 64) of the basic types.
+pub mod cia301_type {
+    /// BOOLEAN.
+    pub const BOOLEAN: u16 = 0x0001;
+    /// INTEGER8.
+    pub const INTEGER8: u16 = 0x0002;
+    /// INTEGER16.
+    pub const INTEGER16: u16 = 0x0003;
+    /// INTEGER32.
+    pub const INTEGER32: u16 = 0x0004;
+    /// UNSIGNED8.
+    pub const UNSIGNED8: u16 = 0x0005;
+    /// UNSIGNED16.
+    pub const UNSIGNED16: u16 = 0x0006;
+    /// UNSIGNED32.
+    pub const UNSIGNED32: u16 = 0x0007;
+    /// VISIBLE_STRING.
+    pub const VISIBLE_STRING: u16 = 0x0009;
+    /// INTEGER64.
+    pub const INTEGER64: u16 = 0x0015;
+    /// UNSIGNED64.
+    pub const UNSIGNED64: u16 = 0x001B;
+}
+
 impl DataType {
     /// Size in bits, `None` for [`DataType::Unstated`].
     pub const fn bits(self) -> Option<u16> {
@@ -89,18 +113,36 @@ impl DataType {
     /// The type of CiA 301 data type index `index` (§7.4.7, e.g. 0006h UNSIGNED16) whose values
     /// are `bits` wide; `None` for a type no profile uses (REAL32, UNSIGNED64, records, …).
     pub fn from_cia301_index(index: u16, bits: u16) -> Option<DataType> {
+        use cia301_type::*;
         Some(match index {
-            0x0001 => Self::Bool,
-            0x0002 => Self::I8,
-            0x0003 => Self::I16,
-            0x0004 => Self::I32,
-            0x0005 => Self::U8,
-            0x0006 => Self::U16,
-            0x0007 => Self::U32,
-            0x0009 => Self::VisibleString {
+            BOOLEAN => Self::Bool,
+            INTEGER8 => Self::I8,
+            INTEGER16 => Self::I16,
+            INTEGER32 => Self::I32,
+            UNSIGNED8 => Self::U8,
+            UNSIGNED16 => Self::U16,
+            UNSIGNED32 => Self::U32,
+            VISIBLE_STRING => Self::VisibleString {
                 octets: u8::try_from(bits / 8).ok()?,
             },
             _ => return None,
+        })
+    }
+
+    /// This type's CiA 301 data type index (§7.4.7; SDO Information describes entries by it);
+    /// `None` for [`DataType::Unstated`].
+    pub const fn cia301_index(self) -> Option<u16> {
+        use cia301_type::*;
+        Some(match self {
+            Self::Bool => BOOLEAN,
+            Self::I8 => INTEGER8,
+            Self::I16 => INTEGER16,
+            Self::I32 => INTEGER32,
+            Self::U8 => UNSIGNED8,
+            Self::U16 => UNSIGNED16,
+            Self::U32 => UNSIGNED32,
+            Self::VisibleString { .. } => VISIBLE_STRING,
+            Self::Unstated => return None,
         })
     }
 

@@ -75,18 +75,10 @@ enum ObjectCode {
     Record = 9,
 }
 
-/// Data type codes (CiA 301 Table 44; ETG.1000.6 Table 64).
+/// Data type codes (CiA 301 Table 44; ETG.1000.6 Table 64): the basic ones of the profiles,
+/// and the records SDO Information names.
 mod data_type {
-    pub const BOOLEAN: u16 = 0x0001;
-    pub const INTEGER8: u16 = 0x0002;
-    pub const INTEGER16: u16 = 0x0003;
-    pub const INTEGER32: u16 = 0x0004;
-    pub const UNSIGNED8: u16 = 0x0005;
-    pub const UNSIGNED16: u16 = 0x0006;
-    pub const UNSIGNED32: u16 = 0x0007;
-    pub const VISIBLE_STRING: u16 = 0x0009;
-    pub const INTEGER64: u16 = 0x0015;
-    pub const UNSIGNED64: u16 = 0x001B;
+    pub use cellrt_cia402::profiles::facts::cia301_type::*;
     pub const PDO_MAPPING: u16 = 0x0021;
     pub const IDENTITY: u16 = 0x0023;
     pub const SYNC_PAR: u16 = 0x0029;
@@ -546,18 +538,7 @@ fn esi_object(ctx: &CoeContext<'_>, index: u16) -> Option<ObjectInfo> {
 
 /// The profile's code of `t` for an entry uploaded as `bits`.
 fn type_code(t: DataType, bits: u16) -> u16 {
-    use data_type::*;
-    match t {
-        DataType::Bool => BOOLEAN,
-        DataType::I8 => INTEGER8,
-        DataType::I16 => INTEGER16,
-        DataType::I32 => INTEGER32,
-        DataType::U8 => UNSIGNED8,
-        DataType::U16 => UNSIGNED16,
-        DataType::U32 => UNSIGNED32,
-        DataType::VisibleString { .. } => VISIBLE_STRING,
-        DataType::Unstated => unsigned_of(bits),
-    }
+    t.cia301_index().unwrap_or_else(|| unsigned_of(bits))
 }
 
 /// Object `index` (on the unit) from the profile's tables of its axis.

@@ -26,7 +26,7 @@ fn main() {
         cli::Command::DriveSim(args) => commands::drive_sim::run(args),
         cli::Command::Bus(args) => commands::bus::run(args, cli.target),
         cli::Command::JeC(args) => commands::je_c::run(args),
-        cli::Command::Esi(args) => commands::esi::run(args),
+        cli::Command::Esi(args) => commands::esi::run(args, cli.target),
         cli::Command::Bench(args) => commands::bench::run(args, cli.target.cell.clone()),
         cli::Command::Sdo(args) => commands::sdo::run(args, cli.target),
         cli::Command::Param(args) => commands::param::run(args, cli.target),

@@ -350,3 +350,49 @@ fn sdo_list_on_an_mr_je_c_is_its_dictionary_table_beside_the_ethercat_drives_own
     );
     assert_eq!(listed(&cell, "x").source, DictionarySource::SdoInformation);
 }
+
+/// `cellrt esi compare`: the emulated MR-J4-TM's dictionary, read by SDO Information, conforms
+/// to its model's shipped ESI (written from the same profile); a copy of the ESI that says
+/// 6041h is read-write and describes an object the drive lacks does not (exit 1), naming both;
+/// a simulated axis has no dictionary to read (exit 3).
+#[test]
+fn esi_compare_holds_the_live_dictionary_against_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let cell = ethercat_cell(dir.path());
+    let esi = concat!(env!("CARGO_MANIFEST_DIR"), "/../configs/esi/mr-j4-tm.xml");
+    let (code, out, err) = cell.0.cli(&["esi", "compare", esi, "y"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let first = out.lines().next().unwrap_or_default();
+    assert!(
+        first.starts_with("axis 'y' (")
+            && first.contains(" conforms to ")
+            && first.contains(", 0 missing on the drive, 0 differ,"),
+        "{out}"
+    );
+    let text = std::fs::read_to_string(esi).unwrap();
+    let statusword = "<Index>#x6041</Index><Name>Statusword</Name><Type>UINT</Type><BitSize>16</BitSize><Flags><Access>ro</Access>";
+    assert!(text.contains(statusword));
+    let extra = "<Object><Index>#x5FFE</Index><Name>Not on the drive</Name><Type>UINT</Type><BitSize>16</BitSize><Flags><Access>rw</Access></Flags></Object>\n";
+    let tampered = text
+        .replace(
+            statusword,
+            &statusword.replace("<Access>ro<", "<Access>rw<"),
+        )
+        .replacen(
+            "<Object><Index>#x6041</Index>",
+            &format!("{extra}<Object><Index>#x6041</Index>"),
+            1,
+        );
+    let copy = dir.path().join("tampered.xml");
+    std::fs::write(&copy, tampered).unwrap();
+    let (code, out, err) = cell.0.cli(&["esi", "compare", copy.to_str().unwrap(), "y"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(out.contains("does NOT conform"), "{out}");
+    assert!(out.contains("  missing   5FFEh:00"), "{out}");
+    assert!(
+        out.contains("  differs   6041h:00: access: ESI rw, drive ro"),
+        "{out}"
+    );
+    let (code, _, err) = cell.0.cli(&["esi", "compare", esi, "w"]);
+    assert_eq!(code, 3, "{err}");
+}

@@ -1,4 +1,6 @@
-//! `cellrt esi show FILE.xml`: what cellrt takes from an ESI file (ETG.2000), device by device.
+//! `cellrt esi show FILE.xml`: what cellrt takes from an ESI file (ETG.2000), device by device;
+//! `cellrt esi compare FILE.xml AXIS`: a running cell's drive, its dictionary read through SDO
+//! Information, against the file.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -7,7 +9,10 @@ use cellrt_cia402::profiles::Access;
 use cellrt_ethercat::esi::{DcOpMode, EsiDevice, EsiObject, EsiPdo};
 use clap::{Args, Subcommand};
 
+use super::operate::Target;
 use crate::exit::Exit;
+use cellrt_cia402::bus::dictionary::DictionarySource;
+use cellrt_runtime::host::operator::wire::{Reply, Request};
 
 /// `cellrt esi`.
 #[derive(Debug, Args)]
@@ -26,11 +31,27 @@ pub enum EsiCommand {
         /// The ESI file (EtherCATInfo XML).
         file: PathBuf,
     },
+    /// Compare an axis' drive on a running cell with an ESI file: its object dictionary, read
+    /// from the drive by SDO Information (`cellrt sdo list`), against the file's. Lists the
+    /// entries the file describes that the drive lacks or describes otherwise (size, access,
+    /// PDO mapping), then those the file leaves out. Exit 0 if the drive conforms, 1 if not.
+    Compare {
+        /// The ESI file (EtherCATInfo XML) with one device.
+        file: PathBuf,
+        /// The axis whose drive to read.
+        axis: String,
+        /// Print the comparison as JSON.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 /// Runs `cellrt esi`.
-pub fn run(args: EsiArgs) -> Exit {
-    let EsiCommand::Show { file } = args.command;
+pub fn run(args: EsiArgs, target: Target) -> Exit {
+    let file = match args.command {
+        EsiCommand::Show { file } => file,
+        EsiCommand::Compare { file, axis, json } => return compare(&file, axis, json, &target),
+    };
     match cellrt_config::input_file::read_esi(&file) {
         Ok(devices) => {
             print!("{}", show(&file, &devices));
@@ -41,6 +62,92 @@ pub fn run(args: EsiArgs) -> Exit {
             Exit::BadInput
         }
     }
+}
+
+/// `cellrt esi compare FILE AXIS`: the drive's dictionary from the cell against the file's.
+fn compare(file: &std::path::Path, axis: String, json: bool, target: &Target) -> Exit {
+    let device = match cellrt_config::input_file::read_esi(file) {
+        Ok(mut d) if d.len() == 1 => d.remove(0),
+        Ok(d) => {
+            let names: Vec<&str> = d.iter().map(|d| d.name.as_str()).collect();
+            eprintln!(
+                "error: {}: {} devices ({}); compare takes a file with one",
+                file.display(),
+                d.len(),
+                names.join(", ")
+            );
+            return Exit::BadInput;
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Exit::BadInput;
+        }
+    };
+    if !device.has_dictionary() {
+        eprintln!(
+            "error: {}: the device has no object dictionary",
+            file.display()
+        );
+        return Exit::BadInput;
+    }
+    let list = match super::sdo::ask(target, &Request::SdoList { axis: axis.clone() }, false) {
+        Ok(Reply::SdoList(r)) => r,
+        Ok(other) => return super::sdo::unexpected("sdo list", &other),
+        Err(exit) => return exit,
+    };
+    if list.source != DictionarySource::SdoInformation {
+        eprintln!(
+            "error: axis '{axis}': its drive's dictionary cannot be read ({}); nothing to compare",
+            list.fallback.as_deref().unwrap_or("no SDO Information")
+        );
+        return Exit::Rejected;
+    }
+    let c = cellrt_ethercat::esi::compare::compare(&device, &list.entries);
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&c).expect("the comparison serialises")
+        );
+    } else {
+        print!("{}", comparison_text(file, &axis, &list.dictionary, &c));
+    }
+    if c.conforms() {
+        Exit::Ok
+    } else {
+        Exit::Failed
+    }
+}
+
+fn comparison_text(
+    file: &std::path::Path,
+    axis: &str,
+    dictionary: &str,
+    c: &cellrt_ethercat::esi::compare::DictionaryComparison,
+) -> String {
+    let verdict = if c.conforms() {
+        "conforms"
+    } else {
+        "does NOT conform"
+    };
+    let mut s = format!(
+        "axis '{axis}' ({dictionary}) {verdict} to {}: {} entries agree, {} missing on the drive, {} differ, {} not in the ESI\n",
+        file.display(),
+        c.agreeing,
+        c.missing_on_drive.len(),
+        c.mismatches.len(),
+        c.not_in_esi.len()
+    );
+    for e in &c.missing_on_drive {
+        let _ = writeln!(s, "  missing   {e}");
+    }
+    for m in &c.mismatches {
+        let _ = writeln!(s, "  differs   {}: {}", m.entry, m.what);
+    }
+    if !c.not_in_esi.is_empty() {
+        let ids: Vec<String> = c.not_in_esi.iter().map(|e| e.to_string()).collect();
+        let _ = writeln!(s, "  not in the ESI (a note): {}", ids.join(" "));
+    }
+    s
 }
 
 /// The text `cellrt esi show` prints for `devices` of `file`.

@@ -4,6 +4,7 @@
 //! dictionary (access rights, PDO mappability, defaults), DC operation modes and the CiA 402
 //! modes it supports (6502h).
 
+pub mod compare;
 pub mod conform;
 pub mod device;
 mod dictionary;

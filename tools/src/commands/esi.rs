@@ -309,9 +309,15 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let bad = dir.path().join("bad.xml");
         std::fs::write(&bad, "<EtherCATInfo><Vendor>").unwrap();
-        let exit = run(EsiArgs {
-            command: EsiCommand::Show { file: bad },
-        });
+        let exit = run(
+            EsiArgs {
+                command: EsiCommand::Show { file: bad },
+            },
+            Target {
+                cell: None,
+                reply_timeout: 5.0,
+            },
+        );
         assert_eq!(exit.code(), 2);
     }
 }

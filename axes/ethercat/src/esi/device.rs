@@ -3,7 +3,7 @@
 
 use cellrt_cia402::mode::ModeOfOperation;
 use cellrt_cia402::pdo::PdoEntry;
-use cellrt_cia402::profiles::Access;
+use cellrt_cia402::profiles::{Access, DataType};
 
 /// 6502h Supported drive modes (CiA 402 §6.2.2): bit n set = the mode below is supported.
 pub const SUPPORTED_DRIVE_MODES: u16 = 0x6502;
@@ -138,6 +138,25 @@ pub struct EsiObject {
 }
 
 impl EsiObject {
+    /// The CoE data type of the entry's ESI type name (ETG.2000 base types), by size where the
+    /// name is a bit string (BYTE, WORD, DWORD); [`DataType::Unstated`] for one no profile uses
+    /// (64-bit, REAL).
+    pub fn coe_type(&self) -> DataType {
+        match (self.data_type.as_str(), self.bits) {
+            ("BOOL", _) => DataType::Bool,
+            ("SINT", _) => DataType::I8,
+            ("INT", _) => DataType::I16,
+            ("DINT", _) => DataType::I32,
+            (n, b) if n.starts_with("STRING") => DataType::VisibleString {
+                octets: u8::try_from(b / 8).unwrap_or(u8::MAX),
+            },
+            (_, 8) => DataType::U8,
+            (_, 16) => DataType::U16,
+            (_, 32) => DataType::U32,
+            _ => DataType::Unstated,
+        }
+    }
+
     /// True if the master may write this entry (rw or wo).
     pub fn writable(&self) -> bool {
         matches!(self.access, Access::Rw | Access::Wo)

@@ -94,21 +94,10 @@ impl EthercatBus {
     }
 }
 
-/// The SDO abort code of an ethercrab error (0800 0000h general error for others).
 /// CiA 301 abort 0504 0000h "SDO protocol timed out": a blocking transfer got no answer.
 pub const SDO_TIMED_OUT: u32 = 0x0504_0000;
 /// How long a blocking transfer (outside the loop) waits for the mailbox worker.
 const BLOCKING_SDO_TIMEOUT: Duration = Duration::from_secs(5);
-
-pub(super) fn abort_code(e: ethercrab::error::Error) -> u32 {
-    match e {
-        ethercrab::error::Error::Mailbox(
-            ethercrab::error::MailboxError::Aborted { code, .. }
-            | ethercrab::error::MailboxError::SdoInfoAborted { code },
-        ) => u32::from(code),
-        _ => 0x0800_0000,
-    }
-}
 
 impl EthercatBus {
     /// The AL status of the SubDevice that carries `axis`, as the last cyclic frame read it

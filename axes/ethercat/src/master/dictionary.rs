@@ -93,3 +93,14 @@ impl DictionaryReader {
         self.replies.try_recv().ok()
     }
 }
+
+/// A walk through a SubDevice's dictionary in progress on the mailbox worker ([`super::od_walk`]).
+pub(super) struct OdWalk {
+    pub(super) axis: usize,
+    pub(super) station: usize,
+    /// The objects not yet described; `None` before the OD list was read.
+    pub(super) objects: Option<std::collections::VecDeque<u16>>,
+    /// The object being described: its index, name and the sub-indices left.
+    pub(super) object: Option<(u16, String, std::ops::RangeInclusive<u8>)>,
+    pub(super) entries: Vec<DictionaryEntry>,
+}

@@ -3,27 +3,14 @@
 //! Description (ETG.1000.6 §5.6.3.3–§5.6.3.6). One exchange per pass of the worker's loop, so
 //! that the RT loop's SDOs and the SM1 drains are not held up behind a long walk.
 
-use std::collections::VecDeque;
-
 use ethercrab::error::{Error, MailboxError};
 use ethercrab::{EntryDescription, ObjectAccess, ObjectCode, ObjectDescriptionListQuery};
 
-use super::bus::abort_code;
-use super::dictionary::{DictionaryReading, NoSdoInformation};
+use super::dictionary::{DictionaryReading, NoSdoInformation, OdWalk};
+use super::refusal::abort_code;
 use super::worker::MailboxWorker;
 use cellrt_cia402::bus::dictionary::{access_of, data_type_name};
 use cellrt_cia402::bus::{DictionaryEntry, PdoMappable};
-
-/// A walk in progress.
-pub(super) struct OdWalk {
-    axis: usize,
-    station: usize,
-    /// The objects not yet described; `None` before the OD list was read.
-    objects: Option<VecDeque<u16>>,
-    /// The object being described: its index, name and the sub-indices left.
-    object: Option<(u16, String, std::ops::RangeInclusive<u8>)>,
-    entries: Vec<DictionaryEntry>,
-}
 
 /// What one step of a walk came to.
 enum Step {
@@ -151,7 +138,11 @@ impl MailboxWorker {
                 Ok(sd
                     .sdo_info_object_description_list(ObjectDescriptionListQuery::All)
                     .await?
-                    .map(|l| l.iter().copied().collect::<VecDeque<u16>>()))
+                    .map(|l| {
+                        l.iter()
+                            .copied()
+                            .collect::<std::collections::VecDeque<u16>>()
+                    }))
             });
             return match list {
                 Ok(Some(mut l)) => {

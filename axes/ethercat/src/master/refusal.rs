@@ -180,6 +180,18 @@ pub fn fitting_causes(
         .collect()
 }
 
+/// The SDO abort code of an ethercrab error: an Abort SDO Transfer's or an SDO Info Error's
+/// code, 0800 0000h (general error) for any other failure.
+pub(super) fn abort_code(e: ethercrab::error::Error) -> u32 {
+    match e {
+        ethercrab::error::Error::Mailbox(
+            ethercrab::error::MailboxError::Aborted { code, .. }
+            | ethercrab::error::MailboxError::SdoInfoAborted { code },
+        ) => u32::from(code),
+        _ => 0x0800_0000,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,9 +4,9 @@
 
 use ethercrab::{DefaultLock, SubDevicePdi, SubDeviceRef};
 
-use super::bus::abort_code;
 use super::group::MAX_PDI;
 use super::pump::pump;
+use super::refusal::abort_code;
 use super::worker::MailboxWorker;
 use crate::emergency::Emergency;
 use cellrt_cia402::bus::{MailboxNotice, SDO_UNSUPPORTED};

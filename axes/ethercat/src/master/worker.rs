@@ -12,10 +12,10 @@ use crossbeam::queue::ArrayQueue;
 use ethercrab::{MainDevice, PduRx, PduTx};
 
 use super::carrier::CarriedLink;
+use super::dictionary::OdWalk;
 use super::dictionary::{dictionary_channels, DictionaryQueue, DictionaryReader};
 use super::group::OpGroup;
 use super::mailbox::{MailboxIn, NOTICE_QUEUE};
-use super::od_walk::OdWalk;
 use super::sdo_slot::SdoSlot;
 use super::segment::SegmentConfig;
 use cellrt_cia402::bus::{MailboxNotice, SdoOutcome, SdoRequest};

@@ -204,7 +204,7 @@ fn object_facts(a: &AxisConfig, index: u16, sub: u8) -> Option<ObjectFacts> {
         let o = esi.object(index, sub)?;
         return Some(ObjectFacts {
             name: o.name.clone(),
-            data_type: esi_data_type(&o.data_type, o.bits),
+            data_type: o.coe_type(),
             access: o.access,
             range: Range::Type,
         });
@@ -231,21 +231,6 @@ fn dictionary_name(a: &AxisConfig) -> String {
     match &a.esi {
         Some(esi) => format!("ESI device {}", esi.name),
         None => a.profile.name.to_string(),
-    }
-}
-
-/// The CoE type of an ESI type name (ETG.2000 base types), by size where the name is a bit
-/// string (BYTE, WORD, DWORD).
-pub(crate) fn esi_data_type(name: &str, bits: u16) -> DataType {
-    match (name, bits) {
-        ("BOOL", _) => DataType::Bool,
-        ("SINT", _) => DataType::I8,
-        ("INT", _) => DataType::I16,
-        ("DINT", _) => DataType::I32,
-        (_, 8) => DataType::U8,
-        (_, 16) => DataType::U16,
-        (_, 32) => DataType::U32,
-        _ => DataType::Unstated,
     }
 }
 

@@ -13,7 +13,6 @@ use cellrt_fieldbus::mr_je_c::objects::DICTIONARY as JE_C_DICTIONARY;
 use cellrt_fieldbus::mr_je_c::SoftwareVersion;
 use serde::{Deserialize, Serialize};
 
-use super::sdo::esi_data_type;
 use super::targets::{axis_ref, TargetError};
 use crate::host::link::CellLink;
 
@@ -165,7 +164,7 @@ fn profile_reply(a: &AxisConfig, why: &str) -> SdoListReply {
             .objects
             .iter()
             .map(|o| {
-                let t = esi_data_type(&o.data_type, o.bits);
+                let t = o.coe_type();
                 DictionaryEntry {
                     index: o.index,
                     sub: o.sub,

@@ -467,24 +467,6 @@ fn communication_object(ctx: &CoeContext<'_>, index: u16) -> Option<ObjectInfo> 
     }
 }
 
-/// The ESI type name's data type code.
-fn esi_type_code(name: &str, bits: u16) -> u16 {
-    use data_type::*;
-    match name {
-        "BOOL" | "BIT" => BOOLEAN,
-        "SINT" => INTEGER8,
-        "INT" => INTEGER16,
-        "DINT" => INTEGER32,
-        "LINT" => INTEGER64,
-        "USINT" | "BYTE" => UNSIGNED8,
-        "UINT" | "WORD" => UNSIGNED16,
-        "UDINT" | "DWORD" => UNSIGNED32,
-        "ULINT" => UNSIGNED64,
-        n if n.starts_with("STRING") => VISIBLE_STRING,
-        _ => unsigned_of(bits),
-    }
-}
-
 /// The unsigned type of `bits`: how an entry whose type is not stated is described (it is
 /// uploaded as that many bytes).
 fn unsigned_of(bits: u16) -> u16 {
@@ -522,13 +504,7 @@ fn esi_object(ctx: &CoeContext<'_>, index: u16) -> Option<ObjectInfo> {
             }
             EntryInfo {
                 default: o.default,
-                ..entry(
-                    o.sub,
-                    esi_type_code(&o.data_type, o.bits),
-                    o.bits,
-                    a,
-                    &o.name,
-                )
+                ..entry(o.sub, type_code(o.coe_type(), o.bits), o.bits, a, &o.name)
             }
         })
         .collect();

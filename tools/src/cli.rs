@@ -169,6 +169,9 @@ pub enum BusCommand {
         /// The network interface the SubDevices are wired to.
         #[arg(long, value_name = "IF")]
         interface: String,
+        /// Print the SubDevices as JSON (each field apart) instead of the table.
+        #[arg(long)]
+        json: bool,
     },
     /// Diagnostics of a running EtherCAT cell (`--cell NAME`): per SubDevice its ports' links
     /// and ESC error counters (0300h–0313h), AL state and code, DC time difference, mailbox

@@ -168,6 +168,7 @@ fn scan(tag: &str, drives: &[&OsStr]) -> Option<Vec<String>> {
     };
     let (mut sim, _lines) = common::spawn_drive_sim_with(&ns, drives);
     let out = cellrt(&["bus", "scan", "--interface", &ns.near]);
+    let json = cellrt(&["bus", "scan", "--interface", &ns.near, "--json"]);
     let _ = nix::sys::signal::kill(
         nix::unistd::Pid::from_raw(sim.id() as i32),
         nix::sys::signal::Signal::SIGINT,
@@ -180,7 +181,22 @@ fn scan(tag: &str, drives: &[&OsStr]) -> Option<Vec<String>> {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(status.success(), "drive-sim exit: {status}");
-    Some(stdout.lines().map(str::to_owned).collect())
+    // The same scan as JSON: one SubDevice per table row, each field apart.
+    let doc: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let rows: Vec<String> = stdout.lines().map(str::to_owned).collect();
+    let subdevices = doc["subdevices"].as_array().unwrap();
+    assert_eq!(subdevices.len() + 2, rows.len(), "{doc}\n{stdout}");
+    for (k, d) in subdevices.iter().enumerate() {
+        assert_eq!(d["position"], k, "{doc}");
+        let vendor = format!("{:#010x}", d["vendor_id"].as_u64().unwrap());
+        assert!(rows[2 + k].contains(&vendor), "{doc}\n{stdout}");
+        assert_eq!(d["al_state"], "INIT", "{doc}");
+        assert!(
+            d["mailbox"].as_array().unwrap().contains(&"CoE".into()),
+            "{doc}"
+        );
+    }
+    Some(rows)
 }
 
 #[test]

@@ -16,8 +16,8 @@ const SCAN_FRAME_TIMEOUT: Duration = Duration::from_millis(100);
 
 /// Runs `cellrt bus`.
 pub fn run(args: BusArgs, target: super::operate::Target) -> Exit {
-    let interface = match args.command {
-        BusCommand::Scan { interface } => interface,
+    let (interface, json) = match args.command {
+        BusCommand::Scan { interface, json } => (interface, json),
         BusCommand::Diag { interval_ms, json } => {
             return super::bus_diag::run(&target, interval_ms, json)
         }
@@ -30,6 +30,10 @@ pub fn run(args: BusArgs, target: super::operate::Target) -> Exit {
         }
     };
     match scan(&mut link) {
+        Ok(found) if json => {
+            println!("{}", scan_json(&interface, &found));
+            Exit::Ok
+        }
         Ok(found) => {
             print!("{}", format_scan(&interface, &found));
             Exit::Ok
@@ -39,6 +43,32 @@ pub fn run(args: BusArgs, target: super::operate::Target) -> Exit {
             Exit::Failed
         }
     }
+}
+
+/// The scan as one JSON document: the interface and per SubDevice its position, identity,
+/// name, AL state (with the error flag and the status code in words), mailbox protocols and DC.
+pub fn scan_json(interface: &str, found: &[ScannedSubDevice]) -> String {
+    let subdevices: Vec<serde_json::Value> = found
+        .iter()
+        .map(|d| {
+            let id = d.identity;
+            serde_json::json!({
+                "position": d.position,
+                "vendor_id": id.vendor_id,
+                "product_code": id.product_code,
+                "revision": id.revision,
+                "serial": id.serial,
+                "name": d.name,
+                "al_state": d.al.state.map(|s| s.as_str()),
+                "al_error": d.al.error,
+                "al_status_code": d.al.code,
+                "al_status": al_code::name(d.al.code),
+                "mailbox": mailbox_protocol_names(d.mailbox_protocols),
+                "dc": d.dc,
+            })
+        })
+        .collect();
+    serde_json::json!({ "interface": interface, "subdevices": subdevices }).to_string()
 }
 
 /// The scan as a table: a header line, then one line per SubDevice.

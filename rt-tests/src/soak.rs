@@ -74,10 +74,12 @@ impl RssSample {
 }
 
 /// What the live view's client and the operator's status polling saw.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Serialize)]
 pub struct Clients {
     /// Messages the live view's client received.
     pub live_messages: u64,
+    /// Why the live view's client stopped early, if it did (the run's figures are kept).
+    pub live_error: Option<String>,
     /// `status` requests answered.
     pub status_answered: u64,
     /// `status` requests unanswered or refused.
@@ -333,15 +335,19 @@ impl ClientThreads {
     /// Waits for both to end (they end with the cell).
     fn finish(self) -> Result<Clients, BenchError> {
         self.stop.store(true, Ordering::Release);
-        self.live
+        let live_error = self
+            .live
             .join()
-            .map_err(|_| BenchError::failed("the live view's client panicked"))??;
+            .map_err(|_| BenchError::failed("the live view's client panicked"))?
+            .err()
+            .map(|e| e.to_string());
         let (status_answered, status_failed) = self
             .status
             .join()
             .map_err(|_| BenchError::failed("the status poller panicked"))?;
         Ok(Clients {
             live_messages: self.received.load(Ordering::Relaxed),
+            live_error,
             status_answered,
             status_failed,
         })
@@ -409,8 +415,14 @@ pub fn render(r: &SoakReport) -> String {
     }
     let c = &r.clients;
     s += &format!(
-        "live view client: {} messages   status: {} answered, {} failed\n",
-        c.live_messages, c.status_answered, c.status_failed
+        "live view client: {} messages{}   status: {} answered, {} failed\n",
+        c.live_messages,
+        c.live_error
+            .as_deref()
+            .map(|e| format!(" (stopped early: {e})"))
+            .unwrap_or_default(),
+        c.status_answered,
+        c.status_failed
     );
     match &r.cyclictest {
         Some(c) => {

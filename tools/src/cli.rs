@@ -236,7 +236,7 @@ pub struct MrJeCSimArgs {
 
 impl Command {
     /// True for a command that reads, prints and exits: no controller, planner, emulator or
-    /// benchmark cell runs in its process.
+    /// benchmark cell runs in its process, and it talks to no cell.
     pub fn only_prints(&self) -> bool {
         matches!(
             self,
@@ -244,7 +244,9 @@ impl Command {
                 | Command::Recover(_)
                 | Command::Report(_)
                 | Command::Replay(_)
-                | Command::Esi(_)
+                | Command::Esi(crate::commands::esi::EsiArgs {
+                    command: crate::commands::esi::EsiCommand::Show { .. }
+                })
                 | Command::Completions { .. }
                 | Command::Man { .. }
         )

@@ -399,22 +399,22 @@ fn bench_je_c_samples_every_path_each_tick() {
 fn bench_soak_samples_memory_and_rotates() {
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("soak.json");
-    let out = cellrt(&[
-        "bench",
-        "soak",
-        "--axes",
-        "2",
-        "--interval",
-        "1000",
-        "--duration",
-        "3",
-        "--rotate",
-        "1",
-        "--sample",
-        "1",
-        "--json",
-        json.to_str().unwrap(),
-    ]);
+    // A 2-axis soak sampled every second with `args`, its result as JSON.
+    let soak = |args: &[&str]| {
+        let base = [
+            "bench",
+            "soak",
+            "--axes",
+            "2",
+            "--interval",
+            "1000",
+            "--sample",
+            "1",
+        ];
+        let file = ["--json", json.to_str().unwrap()];
+        cellrt(&[&base[..], args, &file[..]].concat())
+    };
+    let out = soak(&["--duration", "3", "--rotate", "1"]);
     let (stdout, v) = succeeded_with_json(&out, &json);
     let rss = v["rss"].as_array().unwrap();
     assert!(rss.len() >= 2, "{stdout}");
@@ -438,21 +438,7 @@ fn bench_soak_samples_memory_and_rotates() {
     );
     assert!(stdout.contains("live view client"), "{stdout}");
     // Without rotation the whole run is one file.
-    let out = cellrt(&[
-        "bench",
-        "soak",
-        "--axes",
-        "2",
-        "--interval",
-        "1000",
-        "--duration",
-        "2",
-        "--no-rotate",
-        "--sample",
-        "1",
-        "--json",
-        json.to_str().unwrap(),
-    ]);
+    let out = soak(&["--duration", "2", "--no-rotate"]);
     let (stdout, v) = succeeded_with_json(&out, &json);
     assert_eq!(v["files"], 1, "{stdout}");
     assert!(stdout.contains("not rotated"), "{stdout}");

@@ -22,34 +22,18 @@ const DISTANCE: i64 = 2000;
 /// 0.5/1/2 ms, MR-J4-TM §1.6 up to 2 ms).
 const CYCLE_US: u32 = 2000;
 
-/// The drive of each station, in line order (`drive-sim ethercat --drives`): the four
-/// single-axis Mitsubishi drives, an MR-J5W2-G-N1 and an MR-J5W3-G-N1 unit, the generic CiA 402
-/// drive.
-const STATION_DRIVES: [&str; 7] = [
-    "mr-j3-t04",
-    "mr-j4-tm",
-    "mr-jet-g-n1",
-    "mr-j5-g-n1",
-    "mr-j5w2-g-n1",
-    "mr-j5w3-g-n1",
-    "cia402",
-];
-
-/// The models of [`STATION_DRIVES`].
-fn station_models() -> Vec<DriveModel> {
-    STATION_DRIVES
-        .iter()
-        .map(|d| *DriveModel::ALL.iter().find(|m| m.as_str() == *d).unwrap())
-        .collect()
-}
+/// The stations, in line order (`drive-sim ethercat --drives`): every model the emulator
+/// has ([`DriveModel::ALL`]: the single-axis Mitsubishi drives, an MR-J5W2-G-N1 and an
+/// MR-J5W3-G-N1 unit, the generic CiA 402 drive, last).
+const STATION_MODELS: &[DriveModel] = DriveModel::ALL;
 
 /// Per station, every entry its model's profile declares, on each axis' index of the unit,
 /// with the type and access the profile states (the script checks them against SDO
 /// Information with its own CiA 301 codes).
 fn declared_dictionaries() -> serde_json::Value {
-    let stations: Vec<serde_json::Value> = station_models()
-        .into_iter()
-        .map(|m| {
+    let stations: Vec<serde_json::Value> = STATION_MODELS
+        .iter()
+        .map(|&m| {
             let p = profile(m);
             let mut seen = std::collections::BTreeSet::new();
             let mut entries = Vec::new();
@@ -155,7 +139,8 @@ fn attempt_soem(python: &str, ns: &VethNamespace) -> Result<(), f64> {
     let declared = dir.path().join("declared.json");
     std::fs::write(&declared, declared_dictionaries().to_string()).unwrap();
     // The emulator as a standalone target: the models listed, no cell configuration.
-    let (list, cycle) = (STATION_DRIVES.join(","), CYCLE_US.to_string());
+    let names: Vec<&str> = STATION_MODELS.iter().map(|m| m.as_str()).collect();
+    let (list, cycle) = (names.join(","), CYCLE_US.to_string());
     let args = ["--drives", list.as_str(), "--cycle-time-us", cycle.as_str()];
     let args: Vec<&std::ffi::OsStr> = args.iter().map(std::ffi::OsStr::new).collect();
     let (mut drives, lines) = common::spawn_drive_sim_with(ns, &args);
@@ -208,7 +193,16 @@ fn attempt_soem(python: &str, ns: &VethNamespace) -> Result<(), f64> {
     // Seven stations: the J5W2 and J5W3 are one SubDevice each.
     assert_eq!(report["found"], 7, "{report}");
     let slaves = report["slaves"].as_array().unwrap();
-    assert_eq!(slaves[0]["name"], "Mitsubishi MR-J3-T04", "{report}");
+    assert_eq!(
+        slaves[0]["name"],
+        profile(STATION_MODELS[0]).name,
+        "{report}"
+    );
+    assert_eq!(
+        STATION_MODELS.last(),
+        Some(&DriveModel::GenericCia402),
+        "the generic drive last"
+    );
     assert!(
         slaves[..6].iter().all(|s| s["vendor"] == 0xA1E),
         "Mitsubishi's vendor ID 00000A1Eh in every SII: {report}"

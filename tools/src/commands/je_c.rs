@@ -115,7 +115,7 @@ pub fn run(args: JeCArgs) -> Exit {
         );
         return Exit::BadInput;
     };
-    if value.is_some() && !row.access.writable() {
+    if value.is_some() && row.access == cellrt_fieldbus::mr_je_c::Access::Ro {
         eprintln!(
             "error: object {}: read-only in the MR-JE-C object dictionary (manual §7.3); nothing sent",
             target.object

@@ -8,7 +8,9 @@
 //!    it computes is not stale by the time the drive switches.
 //! 2. Entering **csp**: 607Ah is set to 6064h − 60B0h (MR-J5 TV-10: "607Ah + 60B0h follow
 //!    6064h"; MR-JET TV-7 uses 60B0h = 0, 607Ah = 6064h) at least one cycle **before** 6060h = 8
-//!    is written, and kept following 6064h until 6061h = 8, so the motor does not jump.
+//!    is written, and kept following 6064h until 6061h = 8, so the motor does not jump. The
+//!    MR-J3-T04 takes 607Ah = 6062h instead, and the switch waits until 6062h has stopped
+//!    changing ([`CspEntry::PositionDemand`], MR-J3-T04 manual §8.4.2 ① and Note 1).
 //! 3. The old mode's commands are kept until 6061h shows the new mode: the caller fills the
 //!    RxPDO as for the old mode every cycle and [`ModeSwitch::update`] overrides only 6060h, 607Ah
 //!    (csp) and controlword bit 4, which it holds at 0 ("switch only while the start command is
@@ -22,6 +24,7 @@
 
 use super::mode::ModeOfOperation;
 use crate::cycles::Cycles;
+use crate::pdo::objects::POSITION_DEMAND;
 use crate::pdo::{RxPdo, TxPdo};
 
 /// Controlword bit 4: new set-point (pp) / homing start (hm); held at 0 during a switch.
@@ -32,6 +35,18 @@ const START_BIT: u16 = 1 << 4;
 /// MR-J4-TM manual §5.4.2).
 pub const fn switch_needs_zero_speed(from: ModeOfOperation, to: ModeOfOperation) -> bool {
     from.is_position() || to.is_position() || from.is_cyclic() != to.is_cyclic()
+}
+
+/// Where 607Ah comes from while a drive enters csp: a drive fact (`CycleFacts::csp_entry`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CspEntry {
+    /// 607Ah = 6064h − 60B0h, following 6064h until 6061h = 8 (MR-J5-G-N1 TV-10, MR-JET-G-N1
+    /// TV-7, MR-J4-TM manual §5.4.2).
+    ActualPosition,
+    /// 607Ah = 6062h Position demand value, and 6060h = 8 only once 6062h has stopped changing
+    /// and the motor has stopped (MR-J3-T04 manual §8.4.2 ① "set the position demand value to
+    /// position command" and Note 1; TV-MODE-1). The TxPDO must carry 6062h.
+    PositionDemand,
 }
 
 /// Configuration of a [`ModeSwitch`].
@@ -87,6 +102,10 @@ pub enum ModeSwitchError {
         /// The requested mode.
         to: ModeOfOperation,
     },
+    /// The drive enters csp from 6062h ([`CspEntry::PositionDemand`]) but the TxPDO does not
+    /// carry 6062h; the request has been withdrawn.
+    #[error("entering csp on this drive takes 607Ah from 6062h (position demand value), which the TxPDO does not carry: map 6062h (MR-J3-T04 manual §8.4.2)")]
+    PositionDemandNotMapped,
 }
 
 /// Where a [`ModeSwitch`] is.
@@ -128,6 +147,9 @@ pub struct ModeSwitch {
     phase: ModeSwitchPhase,
     elapsed: u32,
     csp_target: i32,
+    csp_entry: CspEntry,
+    /// 6062h of the previous cycle ([`CspEntry::PositionDemand`]).
+    last_demand: Option<i32>,
     failure: Option<ModeSwitchError>,
 }
 
@@ -149,8 +171,17 @@ impl ModeSwitch {
             phase: ModeSwitchPhase::WaitZeroSpeed,
             elapsed: 0,
             csp_target: 0,
+            csp_entry: CspEntry::ActualPosition,
+            last_demand: None,
             failure: None,
         })
+    }
+
+    /// This switch with 607Ah taken as `entry` says when entering csp (the default is
+    /// [`CspEntry::ActualPosition`]; `ModeSwitch::for_profile` takes the drive's).
+    pub fn with_csp_entry(mut self, entry: CspEntry) -> Self {
+        self.csp_entry = entry;
+        self
     }
 
     /// [`ModeSwitch::new`], refusing a mode not in `supported` (the modes the drive accepts in
@@ -198,34 +229,40 @@ impl ModeSwitch {
             return Ok(self.done(rx));
         }
         if tx.statusword.fault() {
-            self.phase = ModeSwitchPhase::Failed;
-            rx.mode = from;
-            let e = ModeSwitchError::Fault { to: self.to };
-            self.failure = Some(e);
-            return Err(e);
+            return Err(self.fail(ModeSwitchError::Fault { to: self.to }, from, rx));
         }
         self.elapsed = self.elapsed.saturating_add(1);
         if self.elapsed > self.params.timeout.0 {
-            let e = self.timeout_error(tx);
-            self.failure = Some(e);
-            self.phase = ModeSwitchPhase::Failed;
-            rx.mode = from;
-            return Err(e);
+            return Err(self.fail(self.timeout_error(tx), from, rx));
         }
         rx.controlword.0 &= !START_BIT;
         let entering_csp = self.to == ModeOfOperation::CyclicSyncPosition;
+        let demand = match (entering_csp, self.csp_entry) {
+            (true, CspEntry::PositionDemand) => match tx.extra(POSITION_DEMAND) {
+                Some(raw) => Some(raw as u32 as i32),
+                None => return Err(self.fail(ModeSwitchError::PositionDemandNotMapped, from, rx)),
+            },
+            _ => None,
+        };
         if self.phase == ModeSwitchPhase::WaitZeroSpeed {
-            let gated =
-                ModeOfOperation::from_i8(from).is_none_or(|f| switch_needs_zero_speed(f, self.to));
-            if gated && tx.velocity_actual.unsigned_abs() > self.params.zero_speed {
+            let gated = demand.is_some()
+                || ModeOfOperation::from_i8(from)
+                    .is_none_or(|f| switch_needs_zero_speed(f, self.to));
+            let settled = demand.is_none() || demand == self.last_demand;
+            self.last_demand = demand;
+            if gated && (tx.velocity_actual.unsigned_abs() > self.params.zero_speed || !settled) {
                 rx.mode = from;
+                if let Some(d) = demand {
+                    rx.target_position = d;
+                }
                 return Ok(ModeSwitchProgress::Pending(self.phase));
             }
             self.phase = ModeSwitchPhase::Prepare;
         }
         if entering_csp {
-            // 607Ah + 60B0h = 6064h, recomputed until the drive takes it.
-            self.csp_target = tx.position_actual.wrapping_sub(self.position_offset);
+            // 607Ah + 60B0h = 6064h (or 607Ah = 6062h), recomputed until the drive takes it.
+            self.csp_target =
+                demand.unwrap_or(tx.position_actual.wrapping_sub(self.position_offset));
             rx.target_position = self.csp_target;
         }
         if self.phase == ModeSwitchPhase::Prepare {
@@ -235,6 +272,14 @@ impl ModeSwitch {
         }
         rx.mode = self.to.as_i8();
         Ok(ModeSwitchProgress::Pending(self.phase))
+    }
+
+    /// Ends the switch with `e`, the request withdrawn (6060h = the old mode `from`).
+    fn fail(&mut self, e: ModeSwitchError, from: i8, rx: &mut RxPdo) -> ModeSwitchError {
+        self.failure = Some(e);
+        self.phase = ModeSwitchPhase::Failed;
+        rx.mode = from;
+        e
     }
 
     fn done(&self, rx: &mut RxPdo) -> ModeSwitchProgress {
@@ -299,6 +344,50 @@ mod tests {
             p,
             ModeSwitchProgress::Done {
                 csp_target: Some(700)
+            }
+        );
+    }
+
+    #[test]
+    fn position_demand_entry_sends_6062h_and_waits_for_it_to_stand() {
+        let mut s = ModeSwitch::new(
+            ModeOfOperation::CyclicSyncPosition,
+            0,
+            ModeSwitchParams::default(),
+        )
+        .unwrap()
+        .with_csp_entry(CspEntry::PositionDemand);
+        let with_demand = |demand: i32| {
+            let mut t = tx(9, 1_000, 0);
+            t.extras
+                .set(POSITION_DEMAND, 0, u64::from(demand as u32))
+                .unwrap();
+            t
+        };
+        let mut rx = RxPdo {
+            mode: 9,
+            ..RxPdo::default()
+        };
+        // 6062h still moving: 607Ah = 6062h, 6060h stays csv.
+        for demand in [-500, -400, -300] {
+            let p = s.update(&with_demand(demand), &mut rx).unwrap();
+            assert_eq!(
+                p,
+                ModeSwitchProgress::Pending(ModeSwitchPhase::WaitZeroSpeed)
+            );
+            assert_eq!((rx.mode, rx.target_position), (9, demand));
+        }
+        // Unchanged for a cycle: prepared with 607Ah = 6062h (not 6064h = 1000), then requested.
+        s.update(&with_demand(-300), &mut rx).unwrap();
+        assert_eq!((rx.mode, rx.target_position), (9, -300));
+        s.update(&with_demand(-300), &mut rx).unwrap();
+        assert_eq!((rx.mode, rx.target_position), (8, -300));
+        let mut done = with_demand(-300);
+        done.mode_display = 8;
+        assert_eq!(
+            s.update(&done, &mut rx).unwrap(),
+            ModeSwitchProgress::Done {
+                csp_target: Some(-300)
             }
         );
     }

@@ -721,6 +721,39 @@ fn tv_12_sdo_write_to_a_mapped_controlword_mr_j5_g_n1() {
     assert_eq!(d.sdo_download(0x6060, 0, &[9]), Err(SdoAbort(0x0601_0006)));
 }
 
+/// MR-J5-G-N1 TV-12, the rest: 1010h:01 ← "save" takes bit 0 from 0 back to 1 within about
+/// 25 s (the simulator's `store_parameters_ms`, 25 000 by default), 1011h:01 takes only "load",
+/// and 1C32h:0B answers 0609 0011h (the spec's [inferred] case: not relied on by the master).
+#[test]
+fn tv_12_store_restore_and_1c32h_0b_mr_j5_g_n1() {
+    use cellrt_emulator::sim::sdo::{SdoAbort, LOAD_SIGNATURE, SAVE_SIGNATURE};
+    let mut d = d(DriveModel::MrJ5GN1);
+    boot(&mut d);
+    assert_eq!(d.sdo_upload(0x1C32, 0x0B), Err(SdoAbort(0x0609_0011)));
+    assert_eq!(d.sdo_upload(0x1010, 1), Ok(1));
+    d.sdo_download(0x1010, 1, &SAVE_SIGNATURE.to_le_bytes())
+        .unwrap();
+    let mut saving = 0u32;
+    while d.sdo_upload(0x1010, 1) == Ok(0) {
+        saving += 1;
+        assert!(saving <= 25_000, "bit 0 still 0 after 25 s");
+        send(&mut d, 0);
+    }
+    assert_eq!(d.sdo_upload(0x1010, 1), Ok(1));
+    assert!(
+        saving >= 24_000,
+        "the save took {saving} ms, not about 25 s"
+    );
+    assert_eq!(
+        d.sdo_download(0x1011, 1, &0x6461_6F6Du32.to_le_bytes()),
+        Err(SdoAbort::CANNOT_STORE),
+        "anything other than 64616F6Ch is refused"
+    );
+    d.sdo_download(0x1011, 1, &LOAD_SIGNATURE.to_le_bytes())
+        .unwrap();
+    assert_eq!(d.sdo_upload(0x1011, 1), Ok(1));
+}
+
 #[test]
 fn tv_8_homing_handshake_mr_j4_tm() {
     let mut d = drive(

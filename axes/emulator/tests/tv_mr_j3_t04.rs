@@ -3,9 +3,13 @@
 
 mod common;
 
+use cellrt_cia402::mode_switch::{
+    ModeSwitch, ModeSwitchError, ModeSwitchParams, ModeSwitchProgress,
+};
 use cellrt_cia402::profiles::mr_j3_t04::{
     AL_34, AL_35, AL_36, AL_37, AL_61, AL_90, AL_99, AL_E6, AL_E9, MASTER_COUNTER_CHECK,
 };
+use cellrt_cia402::ModeOfOperation;
 use cellrt_cia402::SharedSlice;
 use cellrt_cia402::{
     profile, AxisMaster, Controlword, CounterParams, CounterVerdict, Cycles, CyclicBus, DriveModel,
@@ -469,52 +473,135 @@ fn tv_units_1_encoder_and_position_wrap() {
     assert_eq!(d.state(), FsaState::OperationEnabled);
 }
 
+/// The J3's TxPDO with 6061h and 6062h in place of the reserved statuswords 3–5 (§4.5: both
+/// mappable; 25 of the 30 bytes).
+const TX_WITH_DEMAND: &[PdoEntry] = &[
+    PdoEntry::object(0x2021, 0, 8),
+    PdoEntry::object(0x2023, 0, 8),
+    PdoEntry::object(0x6041, 0, 16),
+    PdoEntry::object(0x2011, 0, 16),
+    PdoEntry::object(0x6064, 0, 32),
+    PdoEntry::object(0x606C, 0, 32),
+    PdoEntry::object(0x60F4, 0, 32),
+    PdoEntry::object(0x6077, 0, 16),
+    PdoEntry::object(0x6061, 0, 8),
+    PdoEntry::object(0x6062, 0, 32),
+];
+
+/// TV-MODE-1 (§8.4.2 ① and Note 1): from csv at 300 r/min, the master sends 60FFh = 0 and
+/// 607Ah = 6062h every cycle, writes 6060h = 8 (by SDO: not in the default RxPDO) only after
+/// 6062h has stopped changing and the motor has stopped, and the drive switches at zero speed
+/// with no jump. The procedure is `ModeSwitch::for_profile` with the J3's
+/// `CspEntry::PositionDemand`.
 #[test]
-fn tv_mode_1_csv_to_csp_switches_at_zero_speed() {
-    // Zero-speed level: PC17 (50 r/min default) in the drive; a few counts/s here so the
-    // sub-count settling after servo-on does not block the first switch.
+fn tv_mode_1_csv_to_csp_sends_6062h_and_switches_once_it_stands() {
     let mut d = j3(SimDriveParams {
         zero_speed: 10.0,
         ..SimDriveParams::default()
     });
+    let rx_map: Vec<PdoEntry> = d.profile().pdo.rx.entries.to_vec();
+    d.remap(&rx_map, TX_WITH_DEMAND).unwrap();
     enabled(&mut d);
+    d.sdo_write_mode(9).unwrap();
+    // csv at 300 r/min (60FFh in 0.001 r/min).
     let mut rx = RxPdo {
         controlword: Controlword::ENABLE_OPERATION,
-        target_velocity: 200_000,
+        target_velocity: 300_000,
         ..RxPdo::default()
     };
-    // 6060h is not in the default RxPDO: written by SDO (§3.9).
-    d.sdo_write_mode(9).unwrap();
-    for _ in 0..100 {
-        exchange(&mut d, &rx);
+    let mut tx = exchange(&mut d, &rx);
+    for _ in 0..300 {
+        rx.counter = next_counter();
+        tx = exchange(&mut d, &rx);
     }
-    assert_eq!(d.tx_pdo().mode_display, 9);
-    // Master: 60FFh = 0 and 607Ah = the position demand; 6060h = 8 stays pending while moving.
-    rx.target_velocity = 0;
-    d.sdo_write_mode(8).unwrap();
-    rx.target_position = d.tx_pdo().position_actual;
-    exchange(&mut d, &rx);
-    // 6061h is not mapped either: read the drive's value (SDO).
-    assert_eq!(
-        d.tx_pdo().mode_display,
-        9,
-        "still moving: stays csv (v = {})",
-        d.plant().velocity()
-    );
-    let mut switched = false;
-    for _ in 0..2000 {
-        rx.target_position = d.tx_pdo().position_actual;
-        exchange(&mut d, &rx);
-        if d.tx_pdo().mode_display == 8 {
-            switched = true;
+    assert_eq!(tx.mode_display, 9);
+    assert!(tx.velocity_actual > 290_000, "{}", tx.velocity_actual);
+    let mut switch = ModeSwitch::for_profile(
+        d.profile(),
+        ModeOfOperation::CyclicSyncPosition,
+        0,
+        ModeSwitchParams {
+            timeout: Cycles(5000),
+            zero_speed: 100,
+        },
+    )
+    .unwrap();
+    let mut written = 9i8;
+    let mut last_demand = None;
+    let mut handed_over = None;
+    for _ in 0..5000 {
+        rx.target_velocity = 0;
+        rx.counter = next_counter();
+        let demand = tx.extra(0x6062).map(|v| v as u32 as i32);
+        let progress = switch.update(&tx, &mut rx).unwrap();
+        assert_eq!(
+            Some(rx.target_position),
+            demand,
+            "607Ah is 6062h every cycle ({progress:?})"
+        );
+        if rx.mode != written {
+            assert_eq!(rx.mode, 8);
+            assert_eq!(
+                demand, last_demand,
+                "6060h = 8 only once 6062h stands still"
+            );
+            assert!(tx.velocity_actual.unsigned_abs() <= 100, "and the motor");
+            d.sdo_write_mode(8).unwrap();
+            written = 8;
+        }
+        if let ModeSwitchProgress::Done { csp_target } = progress {
+            handed_over = csp_target;
             break;
         }
+        last_demand = demand;
+        tx = exchange(&mut d, &rx);
     }
-    assert!(switched);
-    assert!(d.plant().velocity().abs() <= 10.0);
+    let target = handed_over.expect("6061h never showed csp");
+    assert_eq!(tx.mode_display, 8);
+    assert_eq!(Some(target), tx.extra(0x6062).map(|v| v as u32 as i32));
+    // csp on the handed-over 607Ah: the motor does not move.
+    let at = tx.position_actual;
+    for _ in 0..300 {
+        rx.counter = next_counter();
+        rx.target_position = target;
+        tx = exchange(&mut d, &rx);
+    }
+    assert!(
+        (tx.position_actual - at).abs() <= 2,
+        "jumped from {at} to {}",
+        tx.position_actual
+    );
+    assert_eq!(d.alarm(), None);
     // SDO write of 6060h while it is PDO-mapped → 0x06010000 (J3) / 0x06010006 (J5).
     let mut j5 = common::j5(SimDriveParams::default());
     assert_eq!(j5.sdo_write_mode(9), Err(0x0601_0006));
+}
+
+/// TV-MODE-1 needs 6062h in the TxPDO: with the default 1A14h the switch is refused at once,
+/// naming the object, and 6060h stays csv.
+#[test]
+fn tv_mode_1_without_6062h_in_the_txpdo_the_switch_is_refused() {
+    let mut d = j3(SimDriveParams::default());
+    enabled(&mut d);
+    d.sdo_write_mode(9).unwrap();
+    let mut rx = RxPdo {
+        mode: 9,
+        controlword: Controlword::ENABLE_OPERATION,
+        ..RxPdo::default()
+    };
+    let mut tx = exchange(&mut d, &rx);
+    tx.mode_display = 9;
+    let mut switch = ModeSwitch::for_profile(
+        d.profile(),
+        ModeOfOperation::CyclicSyncPosition,
+        0,
+        ModeSwitchParams::default(),
+    )
+    .unwrap();
+    let e = switch.update(&tx, &mut rx).unwrap_err();
+    assert_eq!(e, ModeSwitchError::PositionDemandNotMapped);
+    assert!(e.to_string().contains("6062h"), "{e}");
+    assert_eq!(rx.mode, 9, "request withdrawn");
 }
 
 #[test]

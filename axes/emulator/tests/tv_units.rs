@@ -64,7 +64,10 @@ fn tv_units_1_velocity_truncation_clamp_and_torque_mr_j3_t04() {
         d.motor_speed()
     );
     assert_eq!(d.tx_pdo().velocity_actual, 123_450);
-    // Above 1.2 × the maximum speed: clamped (no alarm); the motor runs at its maximum.
+    // Above 1.2 × the maximum speed: clamped to 1.2 × max (no alarm); the motor runs at its
+    // maximum. The clamp shows in the position demand 6062h, which the command advances: 1.2 ×
+    // 10 485 760 counts/s = 12 582 912 counts/s, 1 258 291 counts in 100 cycles of 1 ms (the
+    // unclamped 60FFh would advance it by 2^31 × 262 144 / 60 000 counts/s).
     run_csv(&mut d, 2_147_483_647, 500);
     assert_eq!(d.alarm(), None);
     assert_eq!(d.state(), FsaState::OperationEnabled);
@@ -72,6 +75,13 @@ fn tv_units_1_velocity_truncation_clamp_and_torque_mr_j3_t04() {
         (d.motor_speed() - 2400.0).abs() < 1e-6,
         "{}",
         d.motor_speed()
+    );
+    let before = d.position_demand();
+    run_csv(&mut d, 2_147_483_647, 100);
+    let advanced = d.position_demand().wrapping_sub(before);
+    assert!(
+        (advanced - 1_258_291).abs() <= 1,
+        "6062h advanced {advanced} counts in 100 ms, not 1.2 × the maximum speed"
     );
     // 60E0h = 1000 → 100.0 % of rated torque (selected by C_TL, §9.4).
     let TorqueLimitSelection::Controlword2 { c_tl_bit, .. } =

@@ -20,6 +20,8 @@ pub const STATUS_DO: [u16; 3] = [0x2D11, 0x2D12, 0x2D13];
 pub const MODES_OF_OPERATION: u16 = 0x6060;
 /// 6061h Modes of operation display.
 pub const MODES_OF_OPERATION_DISPLAY: u16 = 0x6061;
+/// 6062h Position demand value.
+pub const POSITION_DEMAND: u16 = 0x6062;
 /// 6064h Position actual value.
 pub const POSITION_ACTUAL: u16 = 0x6064;
 /// 606Ch Velocity actual value.

@@ -49,7 +49,7 @@ impl AxisMaster {
 }
 
 impl ModeSwitch {
-    /// [`ModeSwitch::new`], refusing a mode `profile` does not list.
+    /// [`ModeSwitch::new`] with the drive's csp entry, refusing a mode `profile` does not list.
     pub fn for_profile(
         profile: &DriveProfile,
         to: ModeOfOperation,
@@ -57,6 +57,7 @@ impl ModeSwitch {
         params: ModeSwitchParams,
     ) -> Result<Self, ModeSwitchError> {
         ModeSwitch::for_modes(&profile.cycle.modes, to, position_offset, params)
+            .map(|s| s.with_csp_entry(profile.cycle.csp_entry))
     }
 }
 

@@ -233,6 +233,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         // CiA 402: halt (controlword bit 8) is defined for the profile modes and hm; the cyclic
         // synchronous modes leave it reserved.
         halt_in_cyclic_modes: false,
+        csp_entry: crate::mode_switch::CspEntry::ActualPosition,
     },
     pdo: PdoFacts {
         rx: RX_PDO_1600,

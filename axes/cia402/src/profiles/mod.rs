@@ -199,6 +199,8 @@ pub struct CycleFacts {
     pub cycle_times_us: &'static [u32],
     /// True if controlword bit 8 HALT acts in csp/csv/cst (false: hm/profile modes only).
     pub halt_in_cyclic_modes: bool,
+    /// Where 607Ah comes from while the drive enters csp.
+    pub csp_entry: crate::mode_switch::CspEntry,
 }
 
 /// A drive's default PDO maps and the rules for changing them.

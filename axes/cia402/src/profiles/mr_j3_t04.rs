@@ -252,6 +252,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         cycle_times_us: &[500, 1000, 2000],
         // §3.8: halt is invalid in csp and csv (hm only).
         halt_in_cyclic_modes: false,
+        csp_entry: crate::mode_switch::CspEntry::PositionDemand,
     },
     pdo: PdoFacts {
         rx: RX_PDO_1614,

@@ -318,6 +318,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         cycle_times_us: &[250, 500, 1000, 2000],
         // §8.2: bit 8 is reserved in csp/csv/cst.
         halt_in_cyclic_modes: false,
+        csp_entry: crate::mode_switch::CspEntry::ActualPosition,
     },
     pdo: PdoFacts {
         rx: RX_PDO_1600,

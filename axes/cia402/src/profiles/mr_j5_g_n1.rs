@@ -166,6 +166,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         cycle_times_us: &ALLOWED_MICROS,
         // §3.5: "HALT (bit 8) = 1 means temporary stop"; modes not restricted there [inferred].
         halt_in_cyclic_modes: true,
+        csp_entry: crate::mode_switch::CspEntry::ActualPosition,
     },
     pdo: PdoFacts {
         rx: RX_PDO_1600,

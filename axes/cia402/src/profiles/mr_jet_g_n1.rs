@@ -380,6 +380,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
         ]),
         cycle_times_us: &ALLOWED_MICROS,
         halt_in_cyclic_modes: true,
+        csp_entry: crate::mode_switch::CspEntry::ActualPosition,
     },
     pdo: PdoFacts {
         rx: RX_PDO_1600,

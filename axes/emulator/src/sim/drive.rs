@@ -26,7 +26,7 @@ use cellrt_cia402::controlword::Controlword;
 use cellrt_cia402::cycles::{CycleTime, Cycles};
 use cellrt_cia402::fsa::FsaState;
 use cellrt_cia402::mode::ModeOfOperation;
-use cellrt_cia402::pdo::objects::{TxExtras, STATUSWORD2};
+use cellrt_cia402::pdo::objects::{TxExtras, POSITION_DEMAND, STATUSWORD2};
 use cellrt_cia402::pdo::{PdoError, PdoLayout, RxPdo, TxPdo};
 use cellrt_cia402::profiles::SharedProfile;
 use cellrt_cia402::statusword::Statusword;
@@ -81,6 +81,8 @@ pub struct SimDrive {
     mode_mapped: bool,
     /// The TxPDO carries Status DO 1 (2D11h): the Status DO words are computed.
     status_do_mapped: bool,
+    /// True if the TxPDO maps 6062h Position demand value (MR-J3-T04 §4.5: mappable).
+    position_demand_mapped: bool,
     alarm: Option<u16>,
     /// Main circuit power and forced stop EM1 inputs (MR-J3-T04 §3.7), and AL.E9 latched by
     /// an Enable operation refused for a missing main circuit.
@@ -179,6 +181,7 @@ impl SimDrive {
                 .pdo
                 .tx
                 .maps(cellrt_cia402::pdo::objects::STATUS_DO[0]),
+            position_demand_mapped: profile.pdo.tx.maps(POSITION_DEMAND),
             tx_layout: PdoLayout::new(&profile.pdo.tx),
             alarm: None,
             power: PowerInputs::default(),
@@ -245,6 +248,7 @@ impl SimDrive {
             .pdo
             .tx
             .maps(cellrt_cia402::pdo::objects::STATUS_DO[0]);
+        self.position_demand_mapped = profile.pdo.tx.maps(POSITION_DEMAND);
         self.comm
             .set_counter_mapped(profile.pdo.rx.has_counter() && profile.pdo.tx.has_counter());
         self.profile = profile;
@@ -404,6 +408,10 @@ impl SimDrive {
         }
         if self.status_do_mapped {
             let _ = self.status_do().write_to(&mut extras);
+        }
+        if self.position_demand_mapped {
+            let demand = self.position_demand() as u32;
+            let _ = extras.set(POSITION_DEMAND, 0, u64::from(demand));
         }
         extras
     }

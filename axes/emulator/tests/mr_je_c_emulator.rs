@@ -336,3 +336,27 @@ fn pn23_keep_alive_takes_effect_at_power_on() {
         assert!(d.write(id(0x2597), &Value::U32(refused), ms(0)).is_err());
     }
 }
+
+/// OV-7, OV-8 (§7.3): 6086h −1 and 6088h 0 are fixed (the same value is taken, another is out
+/// of range), 60A9h is FEB44700h; OV-15, OV-16: the manual's examples of 100Ah and 2D33h, the
+/// simulated unit's defaults.
+#[test]
+fn ov_7_8_15_16_fixed_profile_types_si_velocity_and_texts() {
+    let mut d = drive();
+    let t = Duration::ZERO;
+    assert_eq!(d.read(id(0x6086)).unwrap(), Value::I16(-1));
+    assert_eq!(d.read(id(0x6088)).unwrap(), Value::I16(0));
+    assert_eq!(d.read(id(0x60A9)).unwrap(), Value::U32(0xFEB4_4700));
+    d.write(id(0x6086), &Value::I16(-1), t).unwrap();
+    assert_eq!(
+        d.write(id(0x6086), &Value::I16(0), t),
+        Err(Refusal::AboveRange)
+    );
+    assert_eq!(
+        d.write(id(0x6088), &Value::I16(1), t),
+        Err(Refusal::AboveRange)
+    );
+    let text = |index| d.read(id(index)).unwrap().to_le();
+    assert_eq!(text(0x100A), b" BCD-B46W750 A4 ");
+    assert_eq!(text(0x2D33), b"123456789012    ");
+}

@@ -402,3 +402,91 @@ fn pc03_delays_target_reached_by_its_time() {
     assert!(d.write(id(0x2103), &Value::U32(5001), ms(0)).is_err());
     assert_eq!(int(&d, id(0x2103)), 5000);
 }
+
+/// OV-19 (§7.3 2B01h): the cumulative feedback pulses count the encoder (131 072 pulses a
+/// revolution), homing leaves them alone, 00001EA5h clears them and another value is refused.
+#[test]
+fn ov_19_cumulative_feedback_pulses_count_and_clear() {
+    let mut d = enabled_in(1);
+    d.write(id(0x607A), &Value::I32(131_072), ms(0)).unwrap();
+    d.write(id(0x6081), &Value::U32(60_000), ms(0)).unwrap();
+    cw(&mut d, 0x1F, ms(0));
+    d.tick(ms(1000));
+    assert_eq!(int(&d, id(0x2B01)), 131_072);
+    // Home where the motor stands (method 37): 6064h reads 0, the encoder's count stays.
+    d.write(id(0x6060), &Value::I8(6), ms(1000)).unwrap();
+    cw(&mut d, 0x0F, ms(1000));
+    cw(&mut d, 0x1F, ms(1001));
+    assert_eq!(int(&d, id(0x6064)), 0);
+    assert_eq!(int(&d, id(0x2B01)), 131_072);
+    assert_eq!(
+        d.write(id(0x2B01), &Value::I32(5), ms(1002)),
+        Err(Refusal::OutOfRange)
+    );
+    assert_eq!(int(&d, id(0x2B01)), 131_072);
+    d.write(id(0x2B01), &Value::I32(0x1EA5), ms(1002)).unwrap();
+    assert_eq!(int(&d, id(0x2B01)), 0);
+    // Half a revolution back in pp: −65 536 since the clear.
+    d.write(id(0x6060), &Value::I8(1), ms(1003)).unwrap();
+    d.write(id(0x607A), &Value::I32(-65_536), ms(1003)).unwrap();
+    cw(&mut d, 0x0F, ms(1003));
+    cw(&mut d, 0x1F, ms(1004));
+    d.tick(ms(3000));
+    assert_eq!(int(&d, id(0x6064)), -65_536);
+    assert_eq!(int(&d, id(0x2B01)), -65_536);
+}
+
+/// The jog of `d` (jg, 6081h = 600 r/min) started at `t` ms.
+fn jog(d: &mut MrJeC, t: u64) {
+    d.write(id(0x6081), &Value::U32(60_000), ms(t)).unwrap();
+    cw(d, 0x1F, ms(t));
+}
+
+/// OV-20 (§6.2): 2D50h ← 1 starts the one-touch tuning; 2D51h climbs while the motor runs and
+/// reads 100 at the end, 2D50h returns to 0 and 2D54h reads 0000h (finished normally). The
+/// emulator's tuning takes `one_touch_tuning_time` (5 s) of motion.
+#[test]
+fn ov_20_one_touch_tuning_runs_while_the_motor_moves_and_returns_to_0() {
+    let mut d = enabled_in(-100);
+    jog(&mut d, 0);
+    d.tick(ms(500));
+    d.write(id(0x2D50), &Value::U8(1), ms(500)).unwrap();
+    assert_eq!(int(&d, id(0x2D50)), 1, "running");
+    d.tick(ms(3000));
+    let half = int(&d, id(0x2D51));
+    assert_eq!(half, 50, "2.5 s of 5 s");
+    assert_eq!(int(&d, id(0x2D50)), 1);
+    d.tick(ms(5499));
+    assert_eq!(int(&d, id(0x2D51)), 99);
+    d.tick(ms(5500));
+    assert_eq!(int(&d, id(0x2D51)), 100);
+    assert_eq!(int(&d, id(0x2D50)), 0, "auto-returns to 0");
+    assert_eq!(int(&d, id(0x2D54)), 0x0000, "finished normally");
+}
+
+/// §6.2's error codes: 2D52h = 1EA5h cancels (C000h), the servo going off ends it (C002h), a
+/// start in tq is a control mode error (C003h); each reads 100 % and 2D50h = 0. A standing motor
+/// does not advance the tuning.
+#[test]
+fn one_touch_tuning_stop_servo_off_and_control_mode_errors() {
+    let mut d = enabled_in(-100);
+    d.write(id(0x2D50), &Value::U8(2), ms(0)).unwrap();
+    d.tick(ms(2000));
+    assert_eq!(int(&d, id(0x2D51)), 0, "no motion, no progress");
+    d.write(id(0x2D52), &Value::I16(0x1EA5), ms(2000)).unwrap();
+    let ended = |d: &MrJeC| {
+        (
+            int(d, id(0x2D50)),
+            int(d, id(0x2D51)),
+            int(d, id(0x2D54)) as u16,
+        )
+    };
+    assert_eq!(ended(&d), (0, 100, 0xC000));
+    d.write(id(0x2D50), &Value::U8(3), ms(2000)).unwrap();
+    cw(&mut d, 0x07, ms(2001));
+    d.tick(ms(2002));
+    assert_eq!(ended(&d), (0, 100, 0xC002));
+    let mut tq = enabled_in(4);
+    tq.write(id(0x2D50), &Value::U8(1), ms(0)).unwrap();
+    assert_eq!(ended(&tq), (0, 100, 0xC003));
+}

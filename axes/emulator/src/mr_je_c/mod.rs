@@ -28,6 +28,7 @@ pub mod server;
 pub mod slmp;
 mod store;
 pub mod torque;
+pub mod tuning;
 mod watchdog;
 
 use std::time::Duration;
@@ -113,6 +114,9 @@ pub struct MrJeCParams {
     /// What a parameter or point-table write does while a save runs (the manual is silent):
     /// accepted into the RAM by default ([`WriteDuringSave`]).
     pub write_during_save: WriteDuringSave,
+    /// Motor motion a one-touch tuning takes to complete (`tuning`; the manual gives no
+    /// duration). Default 5 s, our choice.
+    pub one_touch_tuning_time: Duration,
 }
 
 impl Default for MrJeCParams {
@@ -139,6 +143,7 @@ impl Default for MrJeCParams {
             position_loop_gain: 1000,
             eeprom_save_time: SaveTime::default(),
             write_during_save: WriteDuringSave::default(),
+            one_touch_tuning_time: Duration::from_secs(5),
         }
     }
 }
@@ -155,6 +160,8 @@ const QUIRKS: FsaQuirks = FsaQuirks {
 const KEY: i64 = 0x1EA5;
 /// 2A68h: RS-485 frames with a CRC or frame length error (SW A4+, §7.5.4).
 const COMMUNICATION_ERROR_COUNT: u16 = 0x2A68;
+/// 2B01h: the encoder's pulses since power-on or the last clear (§7.3; OV-19).
+const CUMULATIVE_FEEDBACK_PULSES: u16 = 0x2B01;
 
 /// A simulated MR-JE-C.
 #[derive(Debug, Clone)]
@@ -181,6 +188,10 @@ pub struct MrJeC {
     over_threshold: Held,
     /// How long the droop has been over Following error window 6065h (bit 13, §7.3 6066h).
     following: Held,
+    /// [`MrJeC::feedback_pulses`] at the last clear of 2B01h (0 from power-on).
+    feedback_cleared: i64,
+    /// One-touch tuning (2D50h–2D54h).
+    tuning: tuning::OneTouchTuning,
     now: Duration,
 }
 
@@ -272,6 +283,8 @@ impl MrJeC {
             target_window: Held::always(),
             over_threshold: Held::default(),
             following: Held::default(),
+            feedback_cleared: 0,
+            tuning: tuning::OneTouchTuning::default(),
             params,
             state: FsaState::SwitchOnDisabled,
             last_cw: Controlword(0),
@@ -506,9 +519,18 @@ impl MrJeC {
     /// Droop pulses 2B03h: the droop in encoder pulses (608Fh:1 pulses per 6092h:1 pos units
     /// of a revolution, §7.3, §7.6.7).
     fn droop_pulses(&self) -> i64 {
+        (self.motion.droop() * self.pulses_per_unit()).round() as i64
+    }
+
+    /// Encoder pulses per pos unit of the current mode.
+    fn pulses_per_unit(&self) -> f64 {
         let per_rev = self.profile().units_per_rev.max(1) as f64;
-        let pulses = f64::from(self.params.encoder_resolution) / per_rev;
-        (self.motion.droop() * pulses).round() as i64
+        f64::from(self.params.encoder_resolution) / per_rev
+    }
+
+    /// The encoder's count since power-on, pulses (homing does not move it).
+    fn feedback_pulses(&self) -> i64 {
+        (self.motion.travel() * self.pulses_per_unit()).round() as i64
     }
 
     /// Whether the droop is over Following error window 6065h in a mode that judges it (pp,
@@ -737,6 +759,9 @@ impl MrJeC {
                 self.over_threshold.update(over, secs, HeldFrom::Seen);
                 let following = self.following_error();
                 self.following.update(following, secs, HeldFrom::Seen);
+                let moving = self.motion.velocity(&p) != 0;
+                self.tuning
+                    .advance(dt, moving, self.params.one_touch_tuning_time);
             }
             // Option code 2: decelerate with 6085h, then Switch on disabled (§7.6.2).
             FsaState::QuickStopActive => {
@@ -752,6 +777,7 @@ impl MrJeC {
             _ => self.motion.stand(),
         }
         if self.state != FsaState::OperationEnabled {
+            self.tuning.servo_off();
             // The motor stands where it is: within every window all along (Target reached at
             // once when enabled), under the threshold, no following error.
             self.target_window = Held::always();
@@ -854,6 +880,13 @@ impl MrJeC {
             }
             (0x60F4, 0) => live(self.motion.droop().round() as i64),
             (0x2B03, 0) => live(self.droop_pulses()),
+            (0x2D50, 0) => live(i64::from(self.tuning.mode())),
+            (0x2D51, 0) => live(i64::from(self.tuning.progress())),
+            (0x2D54, 0) => live(i64::from(self.tuning.error() as i16)),
+            // Wraps like the drive's 32-bit counter.
+            (CUMULATIVE_FEEDBACK_PULSES, 0) => live(i64::from(
+                self.feedback_pulses().wrapping_sub(self.feedback_cleared) as i32,
+            )),
             (0x6074, 0) => live(self.motion.torque().demand()),
             (0x6077, 0) => live(self.motion.torque().actual()),
             (0x2D11 | 0x2D12 | 0x2D15, 0) => self.status_do(id.index).and_then(live),
@@ -903,9 +936,14 @@ impl MrJeC {
         if id.index == 0x1A00 {
             self.check_mapping(id.sub, v)?;
         }
-        // The RTU communication error count is only cleared (1EA5h, §7.5.4); the manual gives
-        // no meaning to other values, so the emulator refuses them.
-        if id.index == COMMUNICATION_ERROR_COUNT && v != KEY {
+        // The RTU communication error count (§7.5.4) and the cumulative feedback pulses (§7.3
+        // 2B01h) are only cleared (1EA5h); the manual gives no meaning to other values, so the
+        // emulator refuses them.
+        if matches!(
+            id.index,
+            COMMUNICATION_ERROR_COUNT | CUMULATIVE_FEEDBACK_PULSES
+        ) && v != KEY
+        {
             return Err(Refusal::OutOfRange);
         }
         self.check_linked_parameter(id, v)?;
@@ -1013,7 +1051,15 @@ impl MrJeC {
             0x6060 => self.mode(v),
             0x2A46 if v == KEY => self.reset(),
             0x2A40 if v == KEY => self.history.clear(),
-            0x2B01 if v == KEY => self.store.set(id, Value::I32(0)),
+            CUMULATIVE_FEEDBACK_PULSES if v == KEY => {
+                self.feedback_cleared = self.feedback_pulses()
+            }
+            0x2D50 if (1..=3).contains(&v) => {
+                let torque = self.store.int(ObjectId::new(0x6061, 0)) == profile::PROFILE_TORQUE;
+                let on = self.state == FsaState::OperationEnabled;
+                self.tuning.start(v as u8, on, torque);
+            }
+            0x2D52 if v == KEY => self.tuning.stop(),
             COMMUNICATION_ERROR_COUNT => self.store.set(id, Value::U16(0)),
             _ => {}
         }

@@ -99,9 +99,17 @@ pub struct Motion {
     torque: Torque,
     /// pt.
     point_table: PointTableRun,
+    /// How far homing has moved 6064h's origin, pos units (what [`Motion::travel`] adds back).
+    home_shift: f64,
 }
 
 impl Motion {
+    /// The motor's position since power-on, pos units, whatever homing did to 6064h: the
+    /// encoder's count (2B01h Cumulative feedback pulses, in pulses).
+    pub fn travel(&self) -> f64 {
+        self.actual() + self.home_shift
+    }
+
     /// The motor's position, pos units.
     fn actual(&self) -> f64 {
         self.s_pattern.output(self.position) - self.droop
@@ -215,6 +223,7 @@ impl Motion {
             HOMING if rising && !cw.halt() => {
                 if let Some(home) = self.homing.start(p) {
                     // The home position is where the motor is: no droop, nothing to filter.
+                    self.home_shift += self.actual() - home as f64;
                     self.position = home as f64;
                     self.droop = 0.0;
                     self.s_pattern
@@ -247,6 +256,7 @@ impl Motion {
             self.position *= k;
             self.velocity *= k;
             self.droop *= k;
+            self.home_shift *= k;
             self.s_pattern.scale(k);
         }
     }

@@ -173,6 +173,52 @@ pub enum BusCommand {
         #[arg(long)]
         json: bool,
     },
+    /// SDO upload or download to one SubDevice without a cell: the segment is taken to
+    /// PRE-OP (refused while a cell runs on the interface).
+    Sdo {
+        /// Read or write.
+        #[command(subcommand)]
+        command: crate::commands::bus_commission::BusSdoCommand,
+    },
+    /// The PDO assignment each SubDevice holds (1C12h/1C13h and the mapping objects), read in
+    /// PRE-OP without a cell.
+    Pdos {
+        /// The network interface the SubDevices are wired to.
+        #[arg(long, value_name = "IF")]
+        interface: String,
+        /// Only the SubDevice at this position.
+        #[arg(long, short = 'p', value_name = "N")]
+        position: Option<usize>,
+        /// Print the assignment as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The AL state of each SubDevice, after requesting `--state` from one (`--position`) or
+    /// all; without a cell (the segment goes to PRE-OP first, for its mailboxes). Exit 3
+    /// where a SubDevice does not reach the state asked for.
+    States {
+        /// The network interface the SubDevices are wired to.
+        #[arg(long, value_name = "IF")]
+        interface: String,
+        /// Only the SubDevice at this position is asked.
+        #[arg(long, short = 'p', value_name = "N")]
+        position: Option<usize>,
+        /// The state to request.
+        #[arg(long, value_enum)]
+        state: Option<crate::commands::bus_commission::StateArg>,
+        /// How long a SubDevice may take to reach it (seconds, or e.g. 500ms).
+        #[arg(long, default_value = "5", value_parser = crate::numbers::reply_timeout)]
+        timeout: f64,
+        /// Print the states as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The SubDevices' SII EEPROM, without a cell.
+    Sii {
+        /// What to do.
+        #[command(subcommand)]
+        command: crate::commands::bus_commission::BusSiiCommand,
+    },
     /// Diagnostics of a running EtherCAT cell (`--cell NAME`): per SubDevice its ports' links
     /// and ESC error counters (0300h–0313h), AL state and code, DC time difference, mailbox
     /// messages and Emergencies; the master's lost frames and working-counter errors. Two

@@ -19,6 +19,22 @@ use crate::runtime_dir::{self, RuntimeDirError};
 /// Another controller runs this cell, or the lock file cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum CellLockError {
+    /// Another process (a cell, or a `cellrt bus` command) has the EtherCAT interface.
+    #[error("EtherCAT interface '{interface}' is in use by process {pid} ({by}); stop it first, or reach the running cell's drives with `cellrt sdo` / `cellrt bus diag --cell NAME`")]
+    InterfaceBusy {
+        /// The interface.
+        interface: String,
+        /// Pid written by the holder.
+        pid: String,
+        /// The holder's command line, as far as it can be read.
+        by: String,
+    },
+    /// An interface name no interface can have.
+    #[error("'{interface}' is no network interface name")]
+    InterfaceName {
+        /// The name given.
+        interface: String,
+    },
     /// The cell is running elsewhere.
     #[error("cell '{cell}' is already running (pid {pid}); stop it first or give this cell another name")]
     Busy {
@@ -189,6 +205,56 @@ impl CellLock {
                 }
             }
         }
+    }
+}
+
+/// Held by whoever drives an EtherCAT interface's SubDevices (a cell that runs on it, a
+/// `cellrt bus` command that takes them to PRE-OP), so that two never talk to one segment at
+/// once. The same per-user lock file as a cell's, named after the interface.
+#[derive(Debug)]
+pub struct InterfaceLock {
+    _held: CellLock,
+}
+
+impl InterfaceLock {
+    /// Takes the lock of `interface` or says which process holds it.
+    pub fn acquire(interface: &str) -> Result<InterfaceLock, CellLockError> {
+        // IFNAMSIZ − 1 bytes, no path separator (the name becomes a file name).
+        let named = !interface.is_empty()
+            && interface.len() <= 15
+            && !interface.contains(['/', '\0'])
+            && interface != "."
+            && interface != "..";
+        if !named {
+            return Err(CellLockError::InterfaceName {
+                interface: interface.to_string(),
+            });
+        }
+        match CellLock::acquire(&format!("ethercat@{interface}")) {
+            Ok(lock) => Ok(InterfaceLock { _held: lock }),
+            Err(CellLockError::Busy { pid, .. }) => Err(CellLockError::InterfaceBusy {
+                interface: interface.to_string(),
+                by: command_line(&pid),
+                pid,
+            }),
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// The command line of process `pid` (its first three words), or "unknown".
+fn command_line(pid: &str) -> String {
+    let words: Vec<String> = std::fs::read(format!("/proc/{pid}/cmdline"))
+        .unwrap_or_default()
+        .split(|b| *b == 0)
+        .filter(|w| !w.is_empty())
+        .take(3)
+        .map(|w| String::from_utf8_lossy(w).into_owned())
+        .collect();
+    if words.is_empty() {
+        "unknown".to_string()
+    } else {
+        words.join(" ")
     }
 }
 

@@ -201,6 +201,13 @@ pub struct LiveSummary {
 /// Runs `cell` until the program ends, the duration elapses or `shutdown` is set.
 pub fn run(cell: &CellConfig, opts: RunOptions) -> Result<Summary, RunError> {
     let _lock = crate::host::cell_lock::CellLock::acquire(&cell.name)?;
+    // A segment on a network interface is this cell's alone while it runs.
+    let _interface = match cell.ethercat.as_ref().map(|e| &e.interface) {
+        Some(cellrt_config::EthercatInterface::Nic(name)) => {
+            Some(crate::host::cell_lock::InterfaceLock::acquire(name)?)
+        }
+        _ => None,
+    };
     // Dropped before the lock: the socket is gone before another controller may take the cell.
     let _socket = crate::host::operator::socket::OperatorSocket::serve(&cell.name, &cell.operator)
         .map_err(RunError::OperatorSocket)?;

@@ -16,11 +16,29 @@ const SCAN_FRAME_TIMEOUT: Duration = Duration::from_millis(100);
 
 /// Runs `cellrt bus`.
 pub fn run(args: BusArgs, target: super::operate::Target) -> Exit {
+    use super::bus_commission as commission;
     let (interface, json) = match args.command {
         BusCommand::Scan { interface, json } => (interface, json),
         BusCommand::Diag { interval_ms, json } => {
             return super::bus_diag::run(&target, interval_ms, json)
         }
+        BusCommand::Sdo { command } => return commission::sdo(command),
+        BusCommand::Pdos {
+            interface,
+            position,
+            json,
+        } => return commission::pdos(&interface, position, json),
+        BusCommand::States {
+            interface,
+            position,
+            state,
+            timeout,
+            json,
+        } => {
+            let timeout = Duration::from_secs_f64(timeout);
+            return commission::states(&interface, position, state, timeout, json);
+        }
+        BusCommand::Sii { command } => return commission::sii(command),
     };
     let mut link = match RawSocketLink::open(&interface, SCAN_FRAME_TIMEOUT) {
         Ok(l) => l,

@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod bus;
+pub mod bus_commission;
 pub mod bus_diag;
 pub mod docs;
 pub mod drive_sim;

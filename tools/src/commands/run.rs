@@ -6,6 +6,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use cellrt_config::{AxisKind, CellConfig};
+use cellrt_runtime::host::cell_lock::CellLockError;
 use cellrt_runtime::host::controller::{self, Outcome, RunError, RunOptions};
 use cellrt_runtime::host::program::Program;
 
@@ -138,8 +139,11 @@ pub fn run(args: RunArgs) -> Exit {
         Err(e) => {
             eprintln!("error: {e}");
             return match e {
-                // A recording path or a live-view address that cannot be used: nothing ran.
-                RunError::RecordingPath(_) | RunError::Live(_) => Exit::BadInput,
+                // A recording path, a live-view address or an interface name that cannot be
+                // used: nothing ran.
+                RunError::RecordingPath(_)
+                | RunError::Live(_)
+                | RunError::CellLock(CellLockError::InterfaceName { .. }) => Exit::BadInput,
                 // The cell runs already: its controller keeps it.
                 RunError::CellLock(_) => Exit::Rejected,
                 _ => Exit::Failed,

@@ -51,7 +51,7 @@ const BRINGUP_PDU_TIMEOUT: Duration = Duration::from_millis(100);
 const SYNC0_START_DELAY: Duration = Duration::from_millis(10);
 
 /// The segment in PRE-OP, as ethercrab's INIT → PRE-OP leaves it.
-type PreOpGroup = SubDeviceGroup<MAX_SUBDEVICES, MAX_PDI, DefaultLock, PreOp>;
+pub(super) type PreOpGroup = SubDeviceGroup<MAX_SUBDEVICES, MAX_PDI, DefaultLock, PreOp>;
 
 impl EthercatBus {
     /// Checks `config` against the models, then brings the segment on `link` to OP.
@@ -134,8 +134,8 @@ impl EthercatBus {
 
 /// ethercrab's PDU loop (its storage lives as long as the process) and the MainDevice with
 /// cellrt's bring-up timeouts and retries.
-fn start_maindevice() -> Result<(PduTx<'static>, PduRx<'static>, MainDevice<'static>), EthercatError>
-{
+pub(super) fn start_maindevice(
+) -> Result<(PduTx<'static>, PduRx<'static>, MainDevice<'static>), EthercatError> {
     // Leaked on purpose: ethercrab 0.7's `PduStorage::try_split` takes `&'static self` and
     // `PduTx`/`PduRx`/`MainDevice<'static>` borrow it for as long as the bus runs (a `static`
     // could be split only once per process). One storage per bring-up, not per cycle.

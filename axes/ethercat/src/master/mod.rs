@@ -4,6 +4,7 @@ mod al_state;
 mod bring_up;
 pub mod bus;
 mod carrier;
+pub mod commission;
 mod cyclic;
 mod dc;
 pub mod diag;
@@ -34,4 +35,5 @@ pub use link::{Link, LinkError, RawSocketLink, DEFAULT_FRAME_TIMEOUT};
 pub use refusal::{
     abort_meaning, fitting_causes, BringUpWarning, RefusedSdo, StateRefusal, OPTIONAL_OBJECT_ABORTS,
 };
+pub use sdo::object_type;
 pub use segment::{AmplifierSlot, SegmentConfig, SegmentDrive, SegmentStation};

@@ -64,6 +64,20 @@ pub enum ScanError {
     /// A frame did not come back.
     #[error("EtherCAT link: {0}")]
     Link(#[from] LinkError),
+    /// Words past the SII's 16-bit word address space.
+    #[error("SII words {at:#06x} + {n} run past word address 0xffff")]
+    SiiRange {
+        /// First word.
+        at: u16,
+        /// Words.
+        n: u16,
+    },
+    /// No SubDevice at the position asked for.
+    #[error("no SubDevice at position {position}")]
+    NoSubDevice {
+        /// The position asked for.
+        position: usize,
+    },
     /// A SubDevice's SII EEPROM did not finish a read.
     #[error("SubDevice {position}: SII EEPROM read of word {word:#06x} did not complete")]
     Sii {
@@ -82,6 +96,35 @@ pub fn scan(link: &mut dyn Link) -> Result<Vec<ScannedSubDevice>, ScanError> {
     (0..count)
         .map(|position| scan_one(link, &mut frame, position))
         .collect()
+}
+
+/// `n` words of the SII EEPROM of the SubDevice at `position` from word address `at`
+/// (`cellrt bus sii read`): read through the ESC's EEPROM interface by auto-increment
+/// addressing, in any AL state, with nothing configured.
+pub fn sii_words(
+    link: &mut dyn Link,
+    position: usize,
+    at: u16,
+    n: u16,
+) -> Result<Vec<u16>, ScanError> {
+    if u32::from(at) + u32::from(n) > 0x1_0000 {
+        return Err(ScanError::SiiRange { at, n });
+    }
+    let mut frame = vec![0u8; FRAME_BUF];
+    if position >= count_subdevices(link, &mut frame)? {
+        return Err(ScanError::NoSubDevice { position });
+    }
+    Sii {
+        link,
+        frame: &mut frame,
+        position,
+    }
+    .words(at, n)
+}
+
+/// The SubDevices on the line: the working counter of a broadcast read of register 0000h.
+pub fn subdevice_count(link: &mut dyn Link) -> Result<usize, LinkError> {
+    count_subdevices(link, &mut [0u8; FRAME_BUF])
 }
 
 /// The SubDevices on the line: the working counter of a broadcast read of register 0000h.

@@ -131,7 +131,7 @@ impl MailboxWorker {
 
 /// The data type of `index:sub`: the communication objects by CiA 301 / ETG.1000.6, the
 /// mapped objects by their mapping size, the rest from the profile (INTEGER32 where unknown).
-fn object_type(profile: &DriveProfile, index: u16, sub: u8) -> DataType {
+pub fn object_type(profile: &DriveProfile, index: u16, sub: u8) -> DataType {
     let mapped_bits = profile
         .pdo
         .rx

@@ -32,6 +32,7 @@ fn bus(models: &[DriveModel]) -> EthercatBus {
                 amplifier: None,
                 distributed_clocks: true,
                 fixed_pdo: Default::default(),
+                startup_sdo: Vec::new(),
             })
             .collect(),
     };

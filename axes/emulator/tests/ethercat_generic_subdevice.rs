@@ -54,6 +54,7 @@ fn bring_up(variant: SubDeviceVariant, dc: bool) -> Result<EthercatBus, Ethercat
             amplifier: None,
             distributed_clocks: dc,
             fixed_pdo: Default::default(),
+            startup_sdo: Vec::new(),
         }],
     };
     let _one = BRING_UP.lock().unwrap_or_else(|e| e.into_inner());

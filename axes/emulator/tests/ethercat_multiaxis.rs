@@ -50,6 +50,7 @@ fn config(axes: &[AxisSpec], cycle: CycleTime) -> SegmentConfig {
                 }),
                 distributed_clocks: true,
                 fixed_pdo: Default::default(),
+                startup_sdo: Vec::new(),
             })
             .collect(),
     }

@@ -63,6 +63,7 @@ fn config(models: &[DriveModel], cycle: CycleTime) -> SegmentConfig {
                 amplifier: None,
                 distributed_clocks: true,
                 fixed_pdo: Default::default(),
+                startup_sdo: Vec::new(),
             })
             .collect(),
     }

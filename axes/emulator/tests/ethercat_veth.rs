@@ -103,6 +103,7 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
                 amplifier: None,
                 distributed_clocks: true,
                 fixed_pdo: Default::default(),
+                startup_sdo: Vec::new(),
             })
             .collect(),
     };

@@ -143,6 +143,7 @@ fn the_ethercat_cyclic_exchange_is_allocation_free() {
                 amplifier: None,
                 distributed_clocks: true,
                 fixed_pdo: Default::default(),
+                startup_sdo: Vec::new(),
             })
             .collect(),
     };
@@ -242,6 +243,7 @@ fn the_ethercat_cyclic_exchange_of_a_multi_axis_station_is_allocation_free() {
                 }),
                 distributed_clocks: true,
                 fixed_pdo: Default::default(),
+                startup_sdo: Vec::new(),
             })
             .collect(),
     };

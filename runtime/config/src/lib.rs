@@ -403,6 +403,8 @@ pub struct AxisConfig {
     /// SYNC0 from distributed clocks on the axis' SubDevice (`[axes.ethercat]
     /// distributed_clocks`, default true); false: the SubDevice runs free (SM2-synchronous).
     pub distributed_clocks: bool,
+    /// `[[axes.ethercat.startup_sdo]]`: downloads bring-up makes in PRE-OP, checked at load.
+    pub startup_sdo: Vec<cellrt_ethercat::master::StartupSdo>,
     /// The ESI device describing the drive (`esi`), checked against this configuration at
     /// load; the emulator presents its object dictionary and access rights.
     pub esi: Option<std::sync::Arc<cellrt_ethercat::esi::EsiDevice>>,

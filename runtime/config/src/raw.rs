@@ -67,6 +67,23 @@ pub struct RawEthercatAxis {
     pub product_code: Option<u32>,
     /// SYNC0 from distributed clocks on this SubDevice (default true); false: free-run.
     pub distributed_clocks: Option<bool>,
+    /// `[[axes.ethercat.startup_sdo]]`: downloads made in PRE-OP before the PDO configuration.
+    #[serde(default)]
+    pub startup_sdo: Vec<RawStartupSdo>,
+}
+
+/// `[[axes.ethercat.startup_sdo]]`: one download of the axis' start-up list.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawStartupSdo {
+    /// The object: index in hex with an optional decimal sub-index, e.g. "2001h" or "6085:0".
+    pub object: String,
+    /// The value.
+    pub value: i64,
+    /// Its CiA 301 type ("bool", "i8", "u8", "i16", "u16", "i32", "u32"); may be left out for
+    /// an object the drive's dictionary lists.
+    #[serde(rename = "type")]
+    pub data_type: Option<String>,
 }
 
 /// `[axes.pdo]`: a PDO mapping other than the model's default, as CoE mapping words

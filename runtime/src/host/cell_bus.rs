@@ -127,6 +127,7 @@ pub fn segment_config(cell: &CellConfig) -> SegmentConfig {
                 fixed_pdo: a.esi.as_deref().map_or_else(Default::default, |d| {
                     FixedPdo::of(d, a.profile.pdo.rx.index, a.profile.pdo.tx.index)
                 }),
+                startup_sdo: a.startup_sdo.clone(),
             })
             .collect(),
     }

@@ -254,6 +254,25 @@ fn configure_pdos(
     };
     for (position, plan) in plans.iter().enumerate() {
         let sd = step("SubDevice lookup", group.subdevice(maindevice, position))?;
+        for drive in plan.slots.iter().flatten().map(|&a| &config.drives[a]) {
+            for (k, sdo) in drive.startup_sdo.iter().enumerate() {
+                let write = wire.run(format!("start-up SDO of axis '{}'", drive.axis), async {
+                    Ok(startup_download(&sd, sdo).await)
+                })?;
+                write.map_err(|e| EthercatError::StartupSdo {
+                    position,
+                    axis: drive.axis.clone(),
+                    entry: k + 1,
+                    object: format!("{:04X}h:{:02X}", sdo.index, sdo.sub),
+                    value: sdo
+                        .data
+                        .iter()
+                        .rev()
+                        .fold(0u64, |v, b| v << 8 | u64::from(*b)),
+                    code: super::refusal::abort_code(e),
+                })?;
+            }
+        }
         let axis = &config.drives[plan.first_axis()].axis;
         let outcome = wire.run(
             format!("PDO configuration of axis '{axis}' (SubDevice {position})"),
@@ -282,6 +301,20 @@ fn configure_pdos(
         });
     }
     Ok(setup)
+}
+
+/// One download of a start-up list (1, 2 or 4 bytes: expedited).
+async fn startup_download<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
+    sd: &ethercrab::SubDeviceRef<'_, S>,
+    sdo: &super::segment::StartupSdo,
+) -> Result<(), ethercrab::error::Error> {
+    let (index, sub) = (sdo.index, sdo.sub);
+    match *sdo.data.as_slice() {
+        [a] => sd.sdo_write(index, sub, [a]).await,
+        [a, b] => sd.sdo_write(index, sub, [a, b]).await,
+        [a, b, c, d] => sd.sdo_write(index, sub, [a, b, c, d]).await,
+        _ => Err(ethercrab::error::Error::Internal),
+    }
 }
 
 /// PRE-OP → SAFE-OP → OP: SYNC0 at the cell's cycle time on every SubDevice configured for

@@ -114,6 +114,25 @@ pub enum EthercatError {
         /// The cell's cycle, ns.
         wanted: u32,
     },
+    /// A download of the start-up list was refused.
+    #[error(
+        "EtherCAT SubDevice {position} (axis '{axis}'): start-up SDO {object} := {value} ([[axes.ethercat.startup_sdo]] entry {entry}) refused with abort code {code:#010x} ({})",
+        super::refusal::abort_meaning(*code)
+    )]
+    StartupSdo {
+        /// Position.
+        position: usize,
+        /// Axis.
+        axis: String,
+        /// 1-based entry of the axis' list.
+        entry: usize,
+        /// The object as the manuals print it.
+        object: String,
+        /// The value, as the bytes hold it (little-endian, unsigned).
+        value: u64,
+        /// The abort code.
+        code: u32,
+    },
     /// Distributed clocks are configured for a SubDevice whose ESC has none.
     #[error(
         "EtherCAT SubDevice {position} '{name}' (axis '{axis}'): its ESC reports no distributed clocks (feature register 0008h bit 2); set [axes.ethercat] distributed_clocks = false to run it free (SM2-synchronous)"

@@ -36,4 +36,4 @@ pub use refusal::{
     abort_meaning, fitting_causes, BringUpWarning, RefusedSdo, StateRefusal, OPTIONAL_OBJECT_ABORTS,
 };
 pub use sdo::object_type;
-pub use segment::{AmplifierSlot, SegmentConfig, SegmentDrive, SegmentStation};
+pub use segment::{AmplifierSlot, SegmentConfig, SegmentDrive, SegmentStation, StartupSdo};

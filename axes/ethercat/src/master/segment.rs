@@ -25,6 +25,20 @@ pub struct SegmentDrive {
     pub distributed_clocks: bool,
     /// What the device's ESI fixes of its PDO configuration: bring-up does not write it.
     pub fixed_pdo: crate::esi::conform::FixedPdo,
+    /// SDO downloads bring-up makes in PRE-OP before the PDO configuration, in order
+    /// (`[[axes.ethercat.startup_sdo]]`, a TwinCAT or IgH start-up list).
+    pub startup_sdo: Vec<StartupSdo>,
+}
+
+/// One download of a start-up list: the object as given (on the axis' SubDevice), its bytes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StartupSdo {
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// The value, little-endian: 1, 2 or 4 bytes (an expedited download).
+    pub data: Vec<u8>,
 }
 
 /// An axis' place on a multi-axis amplifier (config keys `amplifier`, `amplifier_axis`).

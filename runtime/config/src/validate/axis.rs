@@ -161,6 +161,7 @@ pub(super) fn validate_axis(
     sim.homing.travel_after_dog = super::homing::travel_after_dog(&at, &a, scaling)?;
     sim.subdevice = emulated_subdevice(&at, &a, drive, cycle_time)?;
     let distributed_clocks = a.ethercat.distributed_clocks.unwrap_or(true);
+    let startup_sdo = super::startup_sdo::startup_sdo(&at, &a, &profile, transport)?;
     let s = scaling.counts_per_unit();
     let drive_units = super::motor::drive_units(
         &at,
@@ -204,6 +205,7 @@ pub(super) fn validate_axis(
         csv_position_gain,
         amplifier: None,
         distributed_clocks,
+        startup_sdo,
         esi,
     })
 }

@@ -24,6 +24,7 @@ mod homing;
 mod inject;
 mod motor;
 mod operator;
+mod startup_sdo;
 use axis::{check_amplifier, validate_axis};
 use inject::validate_injections;
 

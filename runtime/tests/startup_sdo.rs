@@ -90,7 +90,7 @@ fn bad_entries_are_refused_at_load_naming_the_key() {
             "outside UNSIGNED32",
         ),
         (
-            "object = \"2001h\"\nvalue = 1",
+            "object = \"2002h\"\nvalue = 1",
             "type",
             "is not in the Mitsubishi MR-J4-TM dictionary",
         ),
@@ -116,5 +116,60 @@ fn bad_entries_are_refused_at_load_naming_the_key() {
             "{entry}: {e}"
         );
         assert!(e.contains(says), "{entry}: {e}");
+    }
+}
+
+/// An in-process EtherCAT cell with one MR-J4-TM axis in pp (`mode_group = "profile"`) whose
+/// emulated drive comes out of the box in the cyclic group (`sim.mode_group = "cyclic"`,
+/// [Pr. PA01] = 1000h), with `list` as its start-up list.
+fn pa01_cell(list: &str) -> CellConfig {
+    let text = format!(
+        r#"
+[cell]
+name = "pa01-{}"
+cycle_time_us = 1000
+[ethercat]
+interface = "in-process"
+[[axes]]
+name = "x"
+drive = "mr-j4-tm"
+transport = "ethercat"
+mode = "pp"
+mode_group = "profile"
+motor = {{ rated_speed = 3000 }}
+unit = "mm"
+counts_per_unit = 419430.4
+limits = {{ position = [0.0, 500.0], velocity = 100.0, acceleration = 1000.0, jerk = 10000.0 }}
+sim = {{ initial_position = 100.0, mode_group = "cyclic" }}
+{list}
+"#,
+        std::process::id()
+    );
+    CellConfig::parse(Path::new("pa01.toml"), &text).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Issue 32's case: [Pr. PA01] = 1002h in the start-up list takes the emulated MR-J4-TM to the
+/// profile group before the PDO configuration, and the segment reaches OP with the drive in
+/// pp (6061h = 1); without it the PDO configuration fails naming PA01 as the likely cause.
+#[test]
+fn pa01_in_the_start_up_list_brings_an_mr_j4_tm_up_in_profile_mode() {
+    let cell = pa01_cell(
+        r#"
+[[axes.ethercat.startup_sdo]]
+object = "2001h"
+value = 0x1002
+"#,
+    );
+    let mut bus = CellBus::open(&cell).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(bus.sdo_upload(0, 0x2001, 0), Ok(0x1002));
+    assert_eq!(bus.sdo_upload(0, 0x6061, 0), Ok(1), "pp");
+    bus.close().unwrap();
+    // Out of the box the drive has no 1601h: the PDO configuration fails and says why.
+    let Err(e) = CellBus::open(&pa01_cell("")) else {
+        panic!("an MR-J4-TM in its cyclic group cannot run pp")
+    };
+    let e = e.to_string();
+    for part in ["axis 'x'", "0x1601:0", "[Pr. PA01] last digit 2", "2001h"] {
+        assert!(e.contains(part), "{part:?} in {e}");
     }
 }

@@ -1073,3 +1073,34 @@ fn sync_error_limit_written_to_10f1h_acts_mr_jet_g_n1() {
 fn sync_error_limit_written_to_10f1h_acts_mr_j5_g_n1() {
     sync_error_limit_written(DriveModel::MrJ5GN1, mr_j5_g_n1::AL_086_1);
 }
+
+/// MR-J4-TM [Pr. PA01] (object 2001h [INFER], §1.3 groups): written by SDO it selects the
+/// control-mode group at once: `___2` the profile modes (6061h = 1, RxPDO 1601h), `___0`/`___1`
+/// back to the cyclic group (6061h = 8); `___6`/`___8` (point table, indexer: not modelled)
+/// are refused with 0609 0030h. A drive built in the profile group reads PA01 = 1002h.
+#[test]
+fn pa01_selects_the_mr_j4_tm_control_mode_group() {
+    use cellrt_emulator::sim::sdo::SdoAbort;
+    let mut d = d(DriveModel::MrJ4TM);
+    assert_eq!(d.sdo_upload(0x2001, 0), Ok(0x1000));
+    assert_eq!(d.mode_display(), ModeOfOperation::CyclicSyncPosition);
+    d.sdo_download(0x2001, 0, &0x1002u32.to_le_bytes()).unwrap();
+    assert_eq!(d.profile().name, mr_j4_tm::PROFILE_MODE_GROUP.name);
+    assert_eq!(d.mode_display(), ModeOfOperation::ProfilePosition);
+    assert_eq!(d.tx_pdo().mode_display, 1, "6061h at once");
+    assert_eq!(d.profile().pdo.rx.index, 0x1601);
+    assert_eq!(
+        d.sdo_download(0x2001, 0, &0x1006u32.to_le_bytes()),
+        Err(SdoAbort::VALUE_RANGE)
+    );
+    d.sdo_download(0x2001, 0, &0x1001u32.to_le_bytes()).unwrap();
+    assert_eq!(d.profile().name, mr_j4_tm::PROFILE.name);
+    assert_eq!(d.mode_display(), ModeOfOperation::CyclicSyncPosition);
+    let group = SimDrive::new(
+        mr_j4_tm::ModeGroup::Profile.profile(),
+        SimDriveParams::default(),
+        cellrt_cia402::CycleTime::from_micros(1000).unwrap(),
+    );
+    assert_eq!(group.sdo_upload(0x2001, 0), Ok(0x1002));
+    assert_eq!(group.mode_display(), ModeOfOperation::ProfilePosition);
+}

@@ -465,6 +465,9 @@ pub struct SimAxisConfig {
     /// How the emulated SubDevice departs from its profile (`sim.cycle_time_object`,
     /// `sim.following_error_object`, `sim.distributed_clocks`; generic CiA 402 drives only).
     pub subdevice: cellrt_emulator::ethercat::SubDeviceVariant,
+    /// The emulated drive's own profile where it differs from the axis' (`sim.mode_group`: an
+    /// MR-J4-TM whose [Pr. PA01] selects another group until the start-up list sets it).
+    pub profile: Option<cellrt_cia402::SharedProfile>,
 }
 
 /// Default `rt.planner_priority`: 0, SCHED_OTHER like the other non-RT threads; a cell on a

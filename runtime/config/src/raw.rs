@@ -472,6 +472,10 @@ pub struct RawSimAxis {
     /// §5.4.9(4)), unit.
     #[serde(default)]
     pub travel_after_dog: Option<f64>,
+    /// The emulated MR-J4-TM's [Pr. PA01] group at power-on ("cyclic" or "profile"); by
+    /// default the axis' `mode_group` (a drive already set up).
+    #[serde(default)]
+    pub mode_group: Option<String>,
 }
 
 impl Default for RawSimAxis {
@@ -490,6 +494,7 @@ impl Default for RawSimAxis {
             positive_limit: None,
             negative_limit: None,
             travel_after_dog: None,
+            mode_group: None,
         }
     }
 }

@@ -70,6 +70,8 @@ pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
         .iter()
         .map(|a| {
             let s = a.scaling.counts_per_unit();
+            // The drive's own profile: another MR-J4-TM group until a start-up list sets PA01.
+            let own = a.sim.profile.clone().unwrap_or_else(|| a.profile.clone());
             let params = SimDriveParams {
                 plant: PlantParams {
                     position_bandwidth_hz: a.sim.position_bandwidth_hz,
@@ -104,7 +106,7 @@ pub fn sim_drives(cell: &CellConfig) -> Vec<SimDrive> {
                 },
                 ..SimDriveParams::default()
             };
-            SimDrive::new(a.profile.clone(), params, cell.cycle_time)
+            SimDrive::new(own, params, cell.cycle_time)
         })
         .collect()
 }

@@ -285,6 +285,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     },
     store_restore_objects: &[],
     invalid_axis_switch: None,
+    profile_selector: None,
     fsoe: None,
     parameters: &super::params::GENERIC_CIA402,
 };

@@ -183,12 +183,39 @@ pub struct DriveProfile {
     /// The axis-selection switch setting the amplifier refuses at power-on (MR-J5-G-N1 1-axis:
     /// SW3-1 OFF / SW3-2 ON → AL.011.2, MR-J5-G-N1 manual §2.2, §3.1, §4.3, §4.4, TV-14); `None`: no such rule stated.
     pub invalid_axis_switch: Option<InvalidAxisSwitch>,
+    /// The drive parameter that selects which of the model's profiles the drive runs (MR-J4-TM
+    /// [Pr. PA01]: the control-mode group); `None` where one profile is all there is.
+    pub profile_selector: Option<ProfileSelector>,
     /// FSoE (safety over EtherCAT) as the manual states it (MR-JET-G-N1, MR-JET-G-N1 manual §9.3);
     /// `None`: the model has no FSoE.
     pub fsoe: Option<FsoeFacts>,
     /// The servo parameters by their manual names, the parameter save and the alarm history.
     pub parameters: &'static params::ParameterFacts,
 }
+
+/// A drive parameter whose value selects the profile the drive runs ([`DriveProfile::profile_selector`]).
+#[derive(Debug, Clone, Copy)]
+pub struct ProfileSelector {
+    /// The parameter's object.
+    pub index: u16,
+    /// Its sub-index.
+    pub sub: u8,
+    /// The profile a value selects and the mode 6061h shows when the drive starts in it;
+    /// `None` for a value that selects no profile cellrt has.
+    pub select: fn(i64) -> Option<(&'static DriveProfile, crate::mode::ModeOfOperation)>,
+    /// Where the rule comes from.
+    pub source: &'static str,
+}
+
+/// Two selectors are the same parameter with the same rule (the rule is compared by where it
+/// comes from: function addresses are not comparable).
+impl PartialEq for ProfileSelector {
+    fn eq(&self, other: &Self) -> bool {
+        (self.index, self.sub, self.source) == (other.index, other.sub, other.source)
+    }
+}
+
+impl Eq for ProfileSelector {}
 
 /// The modes and cycle times a drive runs.
 #[derive(Debug, Clone, PartialEq, Eq)]

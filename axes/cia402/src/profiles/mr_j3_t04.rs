@@ -351,6 +351,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     },
     store_restore_objects: &[],
     invalid_axis_switch: None,
+    profile_selector: None,
     fsoe: None,
     parameters: &super::params::MR_J3_T04,
 };

@@ -8,7 +8,7 @@ use super::{
     Identity, OdEntry, Pdo, PdoAssignment, PdoRules, StopBehaviour, Units,
 };
 use super::{CommFacts, CycleFacts, FaultFacts, HomingSetup, LimitFacts, PdoFacts};
-use super::{HomeReference, TorqueLimitSelection};
+use super::{HomeReference, ProfileSelector, TorqueLimitSelection};
 use crate::comm::CounterParams;
 use crate::fsa::FsaQuirks;
 use crate::mode::ModeOfOperation as M;
@@ -128,6 +128,7 @@ pub const ALARMS: &[AlarmInfo] = &[
 /// [`PROFILE_MODE_GROUP`] 1601h/1A00h).
 #[rustfmt::skip]
 pub const OBJECTS: &[OdEntry] = &[
+    od(0x2001, 0, "PA01 Operation mode", U32, Rw, No).default(0x1000).cite("[INFER] the copy's parameter objects (§6.5) are missing (extract §7.4: servo parameters in 2000h–25FFh); 2001h as in the MR-J4 family's MR-JE-C manual §7.3 (2001h \"PA01 to PA32\"), default 1000h; last digit: §1.3 control-mode group (PA01_SELECTOR)"),
     od(0x6098, 0, "Homing method", I8, Rw, No).default(-1).range(&[(-43, 37)]).cite("§4.10: default −1 (seed; the general manual gives 37)"),
     od(0x607C, 0, "Home offset", I32, Ro, No).default(0).unit(Unit::Pulse).cite("§4.10: always 0 without absolute position detection"),
     od(0x6099, 1, "Speed during search for switch", U32, Rw, No).default(10_000).unit(Unit::CentiRpm).cite("§5.4.9: 10000; speed until the dog"),
@@ -386,9 +387,31 @@ pub const PROFILE: DriveProfile = DriveProfile {
     },
     store_restore_objects: &[],
     invalid_axis_switch: None,
+    profile_selector: Some(PA01_SELECTOR),
     fsoe: None,
     parameters: &super::params::MR_J4_TM,
 };
+
+/// [Pr. PA01]'s last digit selects the control-mode group (§1.3 table): `___0`/`___1` the
+/// cyclic synchronous group ([`PROFILE`]), `___2` the profile modes ([`PROFILE_MODE_GROUP`]);
+/// `___6`/`___8` (point table, indexer) are groups cellrt does not model. When a written PA01
+/// takes effect the copy of the manual does not say: the emulator takes it at once, so a
+/// start-up list can set it in PRE-OP ([INFER]).
+pub const PA01_SELECTOR: ProfileSelector = ProfileSelector {
+    index: 0x2001,
+    sub: 0,
+    select: pa01_group,
+    source: "MR-J4-TM manual §1.3, §5.4.1 (PA01 groups); object 2001h [INFER]",
+};
+
+fn pa01_group(value: i64) -> Option<(&'static DriveProfile, M)> {
+    let group = match value & 0xF {
+        0 | 1 => ModeGroup::CyclicSynchronous,
+        2 => ModeGroup::Profile,
+        _ => return None,
+    };
+    Some((group.profile(), group.initial_mode()))
+}
 
 /// The PA01 `___2` profile-mode group: pp, pv, tq and hm with the 1601h RxPDO, initial mode pp
 /// (MR-J4-TM manual §1.1(2), §5.4.1 table, §5.2). Never available together with csp/csv/cst (§1.3 [EXT]), so it
@@ -461,6 +484,13 @@ pub const EMERGENCY: super::EmergencyFacts = super::EmergencyFacts {
 /// code). The AL. 37 clearing class is not in the MR-J4-TM manual: it is from a reading of the
 /// troubleshooting manual (SH(NA)030109) outside the manuals cellrt follows, marked so.
 pub const BRING_UP_CAUSES: &[super::BringUpCause] = &[
+    super::BringUpCause {
+        al_codes: &[],
+        modes: &[M::ProfilePosition, M::ProfileVelocity, M::ProfileTorque],
+        free_run_only: false,
+        cause: "pp, pv and tq run only with [Pr. PA01] last digit 2 (the profile-mode group with RxPDO 1601h; a drive in the cyclic group has no 1601h): set PA01 = ___2, e.g. in the start-up list ([[axes.ethercat.startup_sdo]] object = \"2001h\", 2001h [INFER])",
+        source: "MR-J4-TM manual §5.4.1, §1.3",
+    },
     super::BringUpCause {
         al_codes: &[],
         modes: &[M::CyclicSyncPosition, M::CyclicSyncVelocity, M::CyclicSyncTorque],

@@ -218,6 +218,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     },
     store_restore_objects: super::mr_jet_g_n1::STORE_RESTORE_OBJECTS,
     invalid_axis_switch: Some(INVALID_AXIS_SWITCH_1_AXIS),
+    profile_selector: None,
     // §7: this manual has no safety PDOs and no FSoE objects ("should not expose 1608h/1A08h").
     fsoe: None,
     parameters: &super::params::MR_JET_G_N1,
@@ -262,6 +263,7 @@ pub const PROFILE_W2: DriveProfile = DriveProfile {
     // §1.5: the AL.011.2 rule is stated for 1-axis amplifiers only; "Multi-axis SW3 settings
     // are not given", so no SW3 setting is refused on the W2/W3.
     invalid_axis_switch: None,
+    profile_selector: None,
     ..PROFILE
 };
 

@@ -434,6 +434,7 @@ pub const PROFILE: DriveProfile = DriveProfile {
     },
     store_restore_objects: STORE_RESTORE_OBJECTS,
     invalid_axis_switch: None,
+    profile_selector: None,
     fsoe: Some(FSOE),
     parameters: &super::params::MR_JET_G_N1,
 };

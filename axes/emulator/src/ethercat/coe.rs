@@ -571,6 +571,11 @@ pub(super) fn download(
     }
     let (slot, index) = profile.object_slot(index).ok_or(SdoAbort::NO_OBJECT)?;
     ctx.drives[usize::from(slot)].sdo_download(index, sub, data)?;
+    if ctx.drives[usize::from(slot)].profile().name != profile.name {
+        // A parameter selected another of the model's profiles (MR-J4-TM [Pr. PA01]): its
+        // default mapping objects are the ones that exist and can be assigned now.
+        *ctx.pdo = PdoConfig::new(ctx.drives);
+    }
     // A station object (1000h–1FFFh, served by axis A) holds for the whole unit: every axis
     // of a multi-axis station takes the value (e.g. 10F1h:02, the one sync error counter
     // limit of the station's ESC).

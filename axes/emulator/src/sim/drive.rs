@@ -224,9 +224,39 @@ impl SimDrive {
         d.plant.prepare_cycle(cycle_time.as_secs_f64());
         d.seed_saved_parameters();
         d.reload_parameters();
+        d.seed_profile_selector();
         d.power_on_checks();
         d.tx = d.make_tx();
         d
+    }
+
+    /// A drive built with one of its model's other profiles holds the selecting parameter's
+    /// value for it (an MR-J4-TM in the profile group reads [Pr. PA01] = 1002h, not 1000h), and
+    /// starts in its group's mode where the one asked for is not in the group.
+    fn seed_profile_selector(&mut self) {
+        let Some(selector) = self.profile.profile_selector else {
+            return;
+        };
+        let default = self
+            .profile
+            .object(selector.index, selector.sub)
+            .and_then(|o| o.default)
+            .unwrap_or(0);
+        let name = self.profile.name;
+        let selects = |v: i64| (selector.select)(v).filter(|(p, _)| p.name == name);
+        let Some((value, (_, mode))) = (0..16)
+            .map(|d| default & !0xF | d)
+            .chain([default])
+            .find_map(|v| selects(v).map(|s| (v, s)))
+        else {
+            return;
+        };
+        if value != default && selects(default).is_none() {
+            self.store_sdo_value(selector.index, selector.sub, value);
+        }
+        if !self.profile.cycle.modes.contains(&self.mode_display) {
+            self.mode_display = mode;
+        }
     }
 
     /// Runs `rx` and `tx` as the drive's PDO mapping from now on: a variable mapping the master
@@ -238,6 +268,29 @@ impl SimDrive {
         tx: &[cellrt_cia402::pdo::PdoEntry],
     ) -> Result<(), cellrt_cia402::profiles::mapping::MappingError> {
         let profile = SharedProfile::new(self.profile.with_pdo_maps(rx, tx)?);
+        self.adopt(profile);
+        Ok(())
+    }
+
+    /// Runs the profile a parameter selected, starting in `mode` (its group's start-up mode).
+    /// Its dictionary's defaults are the new profile's; 6061h shows `mode` at once.
+    pub(crate) fn adopt_selected(&mut self, profile: SharedProfile, mode: ModeOfOperation) {
+        self.od = cellrt_cia402::profiles::ObjectIndex::of(&profile);
+        self.position_offset_default = profile
+            .object(cellrt_cia402::pdo::objects::POSITION_OFFSET, 0)
+            .map(|o| o.default);
+        self.quick_stop_option_default = profile
+            .object(cellrt_cia402::pdo::objects::QUICK_STOP_OPTION, 0)
+            .and_then(|o| o.default);
+        self.adopt(profile);
+        self.mode_display = mode;
+        self.tx = self.make_tx();
+    }
+
+    /// Runs `profile` from now on (its PDO maps, its modes): a remap, or a parameter that
+    /// selects another of the model's profiles ([`cellrt_cia402::profiles::ProfileSelector`],
+    /// MR-J4-TM [Pr. PA01]). A mode the new profile does not list becomes its first.
+    pub(crate) fn adopt(&mut self, profile: SharedProfile) {
         self.rx_layout = PdoLayout::new(&profile.pdo.rx);
         self.tx_layout = PdoLayout::new(&profile.pdo.tx);
         self.mode_mapped = profile
@@ -251,8 +304,12 @@ impl SimDrive {
         self.position_demand_mapped = profile.pdo.tx.maps(POSITION_DEMAND);
         self.comm
             .set_counter_mapped(profile.pdo.rx.has_counter() && profile.pdo.tx.has_counter());
+        if !profile.cycle.modes.contains(&self.mode_display) {
+            if let Some(&first) = profile.cycle.modes.first() {
+                self.mode_display = first;
+            }
+        }
         self.profile = profile;
-        Ok(())
     }
 
     /// One bus cycle: decode `rx`, run the PDS and the plant for `elapsed` cycles, encode `tx`.

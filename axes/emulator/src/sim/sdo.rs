@@ -89,6 +89,10 @@ impl SimDrive {
     /// mapping, length, range.
     pub fn sdo_download(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         let p = self.profile();
+        let current = p.name;
+        let selector = p
+            .profile_selector
+            .filter(|s| (s.index, s.sub) == (index, sub));
         if let Some(&(_, _, code)) = p
             .sdo_write_refusals
             .iter()
@@ -155,6 +159,14 @@ impl SimDrive {
         }
         if index == MODES_OF_OPERATION && sub == 0 {
             self.set_sdo_mode(value as i8);
+        }
+        if let Some(selector) = selector {
+            // A value that selects no profile cellrt has (MR-J4-TM PA01 ___6 / ___8, point
+            // table and indexer) is refused as outside the range the emulator models.
+            let (selected, mode) = (selector.select)(value).ok_or(SdoAbort::VALUE_RANGE)?;
+            if selected.name != current {
+                self.adopt_selected(selected.into(), mode);
+            }
         }
         self.store_sdo_value(index, sub, value);
         Ok(())

@@ -23,7 +23,7 @@ use super::link::Link;
 use super::mailbox::MailboxWatch;
 use super::pdo_config::{configure_station, CycleTimeOutcome};
 use super::process_image::ProcessImage;
-use super::pump::Wire;
+use super::pump::{pump, Wire};
 use super::refusal::{fitting_causes, BringUpWarning, RefusedSdo, StateRefusal};
 use super::segment::{check_models, check_unit_pdo_limits, SegmentConfig, SegmentStation};
 use super::worker::{Ethercrab, MailboxWorker, Shared};
@@ -273,11 +273,36 @@ fn configure_pdos(
                 })?;
             }
         }
-        let axis = &config.drives[plan.first_axis()].axis;
-        let outcome = wire.run(
-            format!("PDO configuration of axis '{axis}' (SubDevice {position})"),
+        let first = &config.drives[plan.first_axis()];
+        let axis = &first.axis;
+        let outcome = pump(
             configure_station(&sd, config, plan),
-        )?;
+            wire.tx,
+            wire.rx,
+            wire.link,
+            wire.buf,
+        )
+        .map_err(|source| {
+            let causes: Vec<String> = fitting_causes(
+                bring_up_causes(first.profile.model),
+                0,
+                &[first.mode],
+                plan.distributed_clocks,
+            )
+            .iter()
+            .map(|c| format!("{} ({})", c.cause, c.source))
+            .collect();
+            EthercatError::PdoConfiguration {
+                position,
+                axis: axis.clone(),
+                source,
+                causes: if causes.is_empty() {
+                    String::new()
+                } else {
+                    format!("; likely cause: {}", causes.join("; or "))
+                },
+            }
+        })?;
         let CycleTimeOutcome::Refused { read, sdo } = outcome else {
             continue;
         };

@@ -11,6 +11,20 @@ pub enum EthercatError {
         /// ethercrab's error.
         source: ethercrab::error::Error,
     },
+    /// The PDO configuration in PRE-OP failed, with the causes the model's manual gives for it.
+    #[error(
+        "EtherCAT PDO configuration of axis '{axis}' (SubDevice {position}): {source}{causes}"
+    )]
+    PdoConfiguration {
+        /// Position.
+        position: usize,
+        /// Axis.
+        axis: String,
+        /// ethercrab's error.
+        source: ethercrab::error::Error,
+        /// "; likely cause: …" from the model's bring-up causes, or empty.
+        causes: String,
+    },
     /// The segment does not have the configured number of drives.
     #[error("EtherCAT segment has {found} SubDevice(s), the cell config names {expected}")]
     Count {

@@ -157,6 +157,10 @@ pub(super) fn validate_axis(
         }
     };
     let mut sim = sim_axis(&at, &a, scaling, position)?;
+    if let Some(group) = a.sim.mode_group.as_deref() {
+        let own = group_profile(&at, "sim.mode_group", group, drive)?;
+        sim.profile = (own.name != profile.name).then_some(own);
+    }
     sim.switches = super::homing::switches(&at, &a, scaling)?;
     sim.homing.travel_after_dog = super::homing::travel_after_dog(&at, &a, scaling)?;
     sim.subdevice = emulated_subdevice(&at, &a, drive, cycle_time)?;
@@ -408,13 +412,23 @@ fn mode_group(
     drive: DriveModel,
     profile: SharedProfile,
 ) -> Result<SharedProfile, ConfigError> {
+    match a.mode_group.as_deref() {
+        None => Ok(profile),
+        Some(group) => group_profile(at, "mode_group", group, drive),
+    }
+}
+
+/// The MR-J4-TM profile of [Pr. PA01] group `group`, as config key `key`.
+fn group_profile(
+    at: &AxisKey<'_>,
+    key: &str,
+    group: &str,
+    drive: DriveModel,
+) -> Result<SharedProfile, ConfigError> {
     use cellrt_cia402::profiles::mr_j4_tm::ModeGroup;
-    let Some(group) = a.mode_group.as_deref() else {
-        return Ok(profile);
-    };
     if drive != DriveModel::MrJ4TM {
         return Err(at.err(
-            "mode_group",
+            key,
             format!("only for drive = \"mr-j4-tm\" ([Pr. PA01]); a {drive} has no mode groups"),
         ));
     }
@@ -422,7 +436,7 @@ fn mode_group(
         "cyclic" => Ok(ModeGroup::CyclicSynchronous.profile().shared()),
         "profile" => Ok(ModeGroup::Profile.profile().shared()),
         other => Err(at.err(
-            "mode_group",
+            key,
             format!("unknown '{other}' (available: cyclic, profile)"),
         )),
     }
@@ -518,6 +532,7 @@ fn sim_axis(
         homing: Default::default(),
         motor_speed_factor: a.sim.motor_speed_factor,
         subdevice: SubDeviceVariant::default(),
+        profile: None,
     };
     if !(1.0..=10.0).contains(&sim.motor_speed_factor) {
         return Err(at.err(

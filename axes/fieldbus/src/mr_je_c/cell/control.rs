@@ -171,7 +171,10 @@ enum Job {
     Start,
     /// Acknowledged: until target reached.
     Moving,
-    Velocity,
+    /// pv: until Target reached (the speed), judged by [`StartWatch`]: an answer to an
+    /// exchange before the drive took the new speed (or before 6061h showed pv) may still
+    /// carry the old mode's Target reached.
+    Velocity(StartWatch),
     Halting,
     /// hm out with bit 4 off, the start edge next exchange.
     HomePrepare,
@@ -181,16 +184,39 @@ enum Job {
     TorqueRamp(u32),
     /// pt/idx: 2D60h out with bit 4 off, the start edge next exchange.
     PositioningPrepare,
-    /// pt/idx: bit 4 on; `left`: Target reached has gone off since the edge; `standing`:
-    /// answers with it on before it did.
-    Positioning {
-        left: bool,
-        standing: u8,
-    },
+    /// pt/idx: bit 4 on, until Target reached as [`StartWatch`] judges it.
+    Positioning(StartWatch),
     /// jg: the speed and direction out with bit 4 off, bit 4 on next exchange.
     JogPrepare,
     /// jg: bit 4 on until a Halt.
     Jogging,
+}
+
+/// Target reached after a start: the job is done when it comes back on after going off since
+/// the start, or after [`START_GRACE`] answers with it on (nothing to move).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct StartWatch {
+    /// Target reached has gone off since the start.
+    left: bool,
+    /// Answers with it on before it did.
+    standing: u8,
+}
+
+impl StartWatch {
+    /// One answer's Target reached; true: the job is done.
+    fn done(&mut self, reached: bool) -> bool {
+        match (reached, self.left) {
+            (true, true) => true,
+            (true, false) => {
+                self.standing += 1;
+                self.standing >= START_GRACE
+            }
+            (false, _) => {
+                self.left = true;
+                false
+            }
+        }
+    }
 }
 
 /// The positioning mode an MR-JE-C axis of a cell runs in (SW A4+; Table 2.3 on the cyclic
@@ -355,7 +381,7 @@ impl AxisControl {
             // A halt ends a velocity job as asked, a torque command a torque ramp; anything
             // else cuts the job short.
             let replaced = match c {
-                AxisCommand::Halt => matches!(self.job, Job::Velocity | Job::Jogging),
+                AxisCommand::Halt => matches!(self.job, Job::Velocity(_) | Job::Jogging),
                 AxisCommand::Torque { .. } => matches!(self.job, Job::TorqueRamp(_)),
                 _ => false,
             };
@@ -397,7 +423,7 @@ impl AxisControl {
                 self.commanded_velocity = velocity;
                 self.out.acceleration_ms = acceleration_ms;
                 self.out.deceleration_ms = deceleration_ms;
-                self.job = Job::Velocity;
+                self.job = Job::Velocity(StartWatch::default());
             }
             AxisCommand::Torque {
                 torque,
@@ -511,7 +537,7 @@ impl AxisControl {
                     | Job::JogPrepare
                     | Job::Jogging
                     | Job::PositioningPrepare
-                    | Job::Positioning { .. }
+                    | Job::Positioning(_)
             )
     }
 
@@ -580,8 +606,15 @@ impl AxisControl {
             Job::Moving if self.feed_hold() => {}
             Job::Moving if sw & SET_POINT_ACK == 0 && sw & TARGET_REACHED != 0 => self.end(true),
             Job::Moving => {}
-            Job::Velocity | Job::Halting if sw & TARGET_REACHED != 0 => self.end(true),
-            Job::Velocity | Job::Halting => {}
+            Job::Velocity(mut watch) => {
+                if watch.done(sw & TARGET_REACHED != 0) {
+                    self.end(true);
+                } else {
+                    self.job = Job::Velocity(watch);
+                }
+            }
+            Job::Halting if sw & TARGET_REACHED != 0 => self.end(true),
+            Job::Halting => {}
             Job::HomePrepare => self.job = Job::Homing,
             // The answer to an exchange that carried the start edge or bit 4 held after it.
             Job::Homing if sw & HOMING_ERROR != 0 => self.end(false),
@@ -591,31 +624,14 @@ impl AxisControl {
             Job::TorqueRamp(n) => self.job = Job::TorqueRamp(n - 1),
             // idx cannot be held by Halt: its start waits for a feed.
             Job::PositioningPrepare if self.feed == 0 && self.out.mode == IDX => {}
-            Job::PositioningPrepare => {
-                self.job = Job::Positioning {
-                    left: false,
-                    standing: 0,
-                }
-            }
+            Job::PositioningPrepare => self.job = Job::Positioning(StartWatch::default()),
             // The answer to the exchange that carried the start edge, or bit 4 held after it.
-            Job::Positioning { .. } if self.feed_hold() => {}
-            Job::Positioning { left, standing } => {
-                let reached = sw & TARGET_REACHED != 0;
-                match (reached, left) {
-                    (true, true) => self.end(true),
-                    (true, false) if standing + 1 >= START_GRACE => self.end(true),
-                    (true, false) => {
-                        self.job = Job::Positioning {
-                            left,
-                            standing: standing + 1,
-                        }
-                    }
-                    (false, _) => {
-                        self.job = Job::Positioning {
-                            left: true,
-                            standing,
-                        }
-                    }
+            Job::Positioning(_) if self.feed_hold() => {}
+            Job::Positioning(mut watch) => {
+                if watch.done(sw & TARGET_REACHED != 0) {
+                    self.end(true);
+                } else {
+                    self.job = Job::Positioning(watch);
                 }
             }
             Job::JogPrepare => self.job = Job::Jogging,
@@ -651,7 +667,7 @@ impl AxisControl {
         let held = self.feed_hold() && self.out.mode != IDX;
         let halt = if self.halted || held { HALT } else { 0 };
         match self.job {
-            Job::Start | Job::Homing | Job::Positioning { .. } => base | NEW_SET_POINT | halt,
+            Job::Start | Job::Homing | Job::Positioning(_) => base | NEW_SET_POINT | halt,
             Job::Jogging if self.jog_reverse => base | NEW_SET_POINT | JOG_REVERSE | halt,
             Job::Jogging => base | NEW_SET_POINT | halt,
             Job::JogPrepare if self.jog_reverse => base | JOG_REVERSE | halt,
@@ -857,6 +873,36 @@ mod tests {
         c.step(answer(0x1237));
         c.step(answer(0x0637));
         assert_eq!((c.busy(), c.done, c.failed), (false, 1, 0));
+    }
+
+    /// pv: an answer still carrying the old mode's Target reached does not end the velocity
+    /// job (it failed under load: the answer to the exchange before the drive took pv); it
+    /// ends when the drive reaches the speed after leaving it, or after [`START_GRACE`]
+    /// answers with it on (a speed the motor already runs at).
+    #[test]
+    fn a_velocity_job_ends_when_the_speed_is_reached_not_on_a_stale_answer() {
+        let mut c = AxisControl::new(0, StopReaction::Halt);
+        assert!(c.command(AxisCommand::PowerOn));
+        c.step(answer(0x0637));
+        let velocity = AxisCommand::Velocity {
+            velocity: -60_000,
+            acceleration_ms: 100,
+            deceleration_ms: 100,
+        };
+        assert!(c.command(velocity));
+        c.step(answer(0x0637)); // the pp move's Target reached, not yet pv
+        assert_eq!((c.busy(), c.done), (true, 0));
+        c.step(answer(0x0237)); // accelerating
+        c.step(answer(0x0237));
+        assert!(c.busy());
+        c.step(answer(0x0637)); // at speed
+        assert_eq!((c.busy(), c.done, c.failed), (false, 1, 0));
+        assert!(c.command(velocity));
+        for _ in 0..START_GRACE {
+            assert!(c.busy());
+            c.step(answer(0x0637));
+        }
+        assert_eq!((c.busy(), c.done), (false, 2), "already at that speed");
     }
 
     /// pv: 60FFh follows the override at once (0: ramps to 0, the job stays a velocity job).

@@ -502,3 +502,38 @@ fn no_motion_starts_while_the_planner_is_lost() {
     assert!((rig.hold_mm() - target).abs() < 1e-9);
     rig.stop();
 }
+
+/// An overrun that skips past a motion's end still leaves the axis at the motion's final
+/// setpoint: the RT loop stalls 100 ms (injected at 1530 ms) inside the last block of a motion
+/// due at cycles 1500–1548, and the motion ends on its target, not on the row before the stall
+/// (on a loaded machine this failed by the rows the stall skipped).
+#[test]
+fn an_overrun_past_the_end_of_a_motion_still_applies_its_final_setpoint() {
+    let cell = cell_with(
+        "skip",
+        "[[inject]]\nat_ms = 1530\nfault = \"stall\"\nduration_ms = 100",
+    );
+    let mut rig = Rig::start(&cell);
+    rig.command(CellCommand::PowerOn);
+    rig.wait_state(CellState::Idle);
+    assert!(
+        rig.cycle() < 1400,
+        "the rig came up late: cycle {}",
+        rig.cycle()
+    );
+    let target = rig.publish_move(1, 1500, 3, true);
+    rig.wait_motion_done(1);
+    assert!(
+        rig.events
+            .iter()
+            .any(|e| e.kind == EventKind::Overrun && (1500..1548).contains(&e.cycle)),
+        "the stall fell inside the motion: {:?}",
+        rig.events
+    );
+    assert!(
+        (rig.hold_mm() - target).abs() < 1e-9,
+        "{} vs {target}",
+        rig.hold_mm()
+    );
+    rig.stop();
+}

@@ -557,10 +557,16 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             if cycle < front.header.start_cycle {
                 return Lookup::Underrun;
             }
-            if cycle >= front.end_cycle() {
-                if front.is_last() {
+            // The row this cycle applies: the one it names, or the motion's final row where an
+            // overrun skipped past the end before it was applied.
+            let mut row = cycle;
+            if cycle >= front.end_cycle() && front.is_last() {
+                let last = front.end_cycle() - 1;
+                if self.applied_row == (self.motion_id, last) {
                     return Lookup::Finished;
                 }
+                row = last;
+            } else if cycle >= front.end_cycle() {
                 let end = front.end_cycle();
                 self.stream.pop();
                 match self.stream.front() {
@@ -577,7 +583,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             let torque_block = front.is_torque();
             let dt = self.period_s * steps;
             for (i, ch) in self.axes.iter().enumerate() {
-                let Some(sp) = front.get(cycle, i) else {
+                let Some(sp) = front.get(row, i) else {
                     return Lookup::Rejected(i as u16, RejectReason::Malformed);
                 };
                 if ch.profile.is_some() {
@@ -621,7 +627,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 }
                 if !ch.powered {
                     ch.track_actual();
-                } else if let Some(sp) = front.get(cycle, i) {
+                } else if let Some(sp) = front.get(row, i) {
                     if torque_block && ch.mode == ModeOfOperation::CyclicSyncTorque {
                         ch.apply_torque(sp.torque * 10.0);
                     } else {
@@ -629,6 +635,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                     }
                 }
             }
+            self.applied_row = (self.motion_id, row);
             return Lookup::Applied;
         }
         Lookup::Underrun

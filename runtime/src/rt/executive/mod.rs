@@ -115,6 +115,9 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     max_start_slip: Cycles,
     /// How many cycles late the running motion started: its blocks are due that much later.
     slip: Cycles,
+    /// The motion and the row (on its own timeline) whose setpoints were applied last: a
+    /// motion ends only once its final row has been (an overrun may skip past it).
+    applied_row: (u32, u64),
     stop_reason: Option<crate::handoff::StopReason>,
     /// How the current stop is carried out.
     reaction: FaultReaction,
@@ -189,6 +192,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             refused_motion: 0,
             max_start_slip: cell.setpoints.max_start_slip,
             slip: Cycles(0),
+            applied_row: (0, 0),
             stop_reason: None,
             reaction: FaultReaction::ControlledStop,
             fault_reset_pending: false,

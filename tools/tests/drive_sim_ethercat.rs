@@ -182,6 +182,11 @@ fn scan(tag: &str, drives: &[&OsStr]) -> Option<Vec<String>> {
     );
     assert!(status.success(), "drive-sim exit: {status}");
     // The same scan as JSON: one SubDevice per table row, each field apart.
+    assert!(
+        json.status.success(),
+        "{}",
+        String::from_utf8_lossy(&json.stderr)
+    );
     let doc: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
     let rows: Vec<String> = stdout.lines().map(str::to_owned).collect();
     let subdevices = doc["subdevices"].as_array().unwrap();

@@ -13,7 +13,7 @@ use super::al_state::read_al_status;
 use super::bring_up::{start_maindevice, PreOpGroup};
 use super::error::EthercatError;
 use super::group::{MASTER_MAC, MAX_PDI, MAX_SUBDEVICES};
-use super::link::{Link, LinkError};
+use super::link::{Link, LinkError, Retrying};
 use super::pump::pump;
 use super::refusal::abort_code;
 use crate::frame::{Command, FrameBuilder};
@@ -26,6 +26,8 @@ const FRAME_BUF: usize = 1536;
 pub const MAX_UPLOAD: usize = 1024;
 /// SM2 (outputs) and SM3 (inputs) PDO assignment objects (ETG.1000.6 Table 67).
 const PDO_ASSIGNMENT: [u16; 2] = [0x1C12, 0x1C13];
+/// Times a raw frame (AL control, AL status) is sent again when its return comes late.
+const RETRIES: usize = 3;
 /// How often an AL state request's outcome is read while the SubDevice changes state.
 const AL_POLL: Duration = Duration::from_millis(2);
 
@@ -239,7 +241,11 @@ impl Commissioning {
 
     /// The AL status and code of the SubDevice at `position`.
     pub fn al_status(&mut self, position: usize) -> Result<AlStatus, LinkError> {
-        read_al_status(self.link.as_mut(), &mut self.frame, position)
+        read_al_status(
+            &mut Retrying::new(self.link.as_mut(), RETRIES),
+            &mut self.frame,
+            position,
+        )
     }
 
     /// Requests `state` from the SubDevice at `position` (AL control, auto-increment addressed)
@@ -270,7 +276,7 @@ impl Commissioning {
             );
             b.finish()
         };
-        self.link.round_trip(&mut self.frame, len)?;
+        Retrying::new(self.link.as_mut(), RETRIES).round_trip(&mut self.frame, len)?;
         let deadline = Instant::now() + timeout;
         loop {
             let s = self.al_status(position)?;

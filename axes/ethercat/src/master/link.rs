@@ -13,6 +13,44 @@ pub enum LinkError {
     Io(#[from] std::io::Error),
 }
 
+/// A link that sends a frame again when its return does not come in time, up to `retries`
+/// more times: for the acyclic tools (`bus scan`, SII reads), whose datagrams are reads or
+/// requests that may be repeated; never for the cyclic exchange, whose lost frames count.
+pub struct Retrying<'a> {
+    link: &'a mut dyn Link,
+    retries: usize,
+    request: Vec<u8>,
+}
+
+impl<'a> Retrying<'a> {
+    /// `link`, each frame sent up to `retries` more times.
+    pub fn new(link: &'a mut dyn Link, retries: usize) -> Retrying<'a> {
+        Retrying {
+            link,
+            retries,
+            request: Vec::new(),
+        }
+    }
+}
+
+impl Link for Retrying<'_> {
+    fn round_trip(&mut self, buf: &mut [u8], len: usize) -> Result<usize, LinkError> {
+        // The buffer takes the return (or stale frames while waiting): keep the request.
+        self.request.clear();
+        self.request.extend_from_slice(&buf[..len]);
+        let mut sent = 0;
+        loop {
+            match self.link.round_trip(buf, len) {
+                Err(LinkError::Timeout(_)) if sent < self.retries => {
+                    sent += 1;
+                    buf[..len].copy_from_slice(&self.request);
+                }
+                result => return result,
+            }
+        }
+    }
+}
+
 /// Sends a frame and receives its return.
 pub trait Link: Send {
     /// Sends `buf[..len]` and writes the returned frame into `buf`; returns its length.
@@ -128,5 +166,53 @@ impl Link for RawSocketLink {
                 Some(n) => return Ok(n),
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Times out `late` times (scribbling on the buffer as stale frames would), then echoes
+    /// the request; records what was sent each time.
+    struct Late {
+        late: usize,
+        sent: Vec<Vec<u8>>,
+    }
+
+    impl Link for Late {
+        fn round_trip(&mut self, buf: &mut [u8], len: usize) -> Result<usize, LinkError> {
+            self.sent.push(buf[..len].to_vec());
+            if self.late > 0 {
+                self.late -= 1;
+                buf[..len].fill(0xEE);
+                return Err(LinkError::Timeout(100));
+            }
+            Ok(len)
+        }
+    }
+
+    #[test]
+    fn a_late_frame_is_sent_again_whole_up_to_the_retries() {
+        let mut link = Late {
+            late: 2,
+            sent: Vec::new(),
+        };
+        let mut buf = [1u8, 2, 3, 4];
+        assert!(matches!(
+            Retrying::new(&mut link, 3).round_trip(&mut buf, 3),
+            Ok(3)
+        ));
+        assert_eq!(link.sent, vec![vec![1, 2, 3]; 3]);
+        let mut link = Late {
+            late: 5,
+            sent: Vec::new(),
+        };
+        let mut buf = [1u8, 2, 3];
+        assert!(matches!(
+            Retrying::new(&mut link, 3).round_trip(&mut buf, 3),
+            Err(LinkError::Timeout(100))
+        ));
+        assert_eq!(link.sent.len(), 4, "once and three more times");
     }
 }

@@ -31,7 +31,7 @@ pub use dc::SYNC0_FRAME_PHASE_DIVISOR;
 pub use diag::{BusDiagnostics, PortDiag, SegmentDiag, SubDeviceDiag};
 pub use dictionary::{DictionaryReader, DictionaryReading, NoSdoInformation};
 pub use error::EthercatError;
-pub use link::{Link, LinkError, RawSocketLink, DEFAULT_FRAME_TIMEOUT};
+pub use link::{Link, LinkError, RawSocketLink, Retrying, DEFAULT_FRAME_TIMEOUT};
 pub use refusal::{
     abort_meaning, fitting_causes, BringUpWarning, RefusedSdo, StateRefusal, OPTIONAL_OBJECT_ABORTS,
 };

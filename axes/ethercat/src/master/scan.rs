@@ -5,7 +5,7 @@
 
 use super::al_state::{read_al_status, read_registers};
 use super::group::MASTER_MAC;
-use super::link::{Link, LinkError};
+use super::link::{Link, LinkError, Retrying};
 use crate::frame::{self, Command, FrameBuilder};
 use crate::identity::SubDeviceIdentity;
 use crate::register::{self as reg, AlStatus};
@@ -20,6 +20,9 @@ const FIRST_CATEGORY_WORD: u16 = 0x40;
 const SII_READ: u16 = 0x0100;
 const SII_BUSY: u16 = 0x8000;
 const SII_READ_8: u16 = 0x0040;
+/// Times a scan frame is sent again when its return does not come in time (a loaded host or
+/// emulator may answer late; every datagram of a scan is a read or a repeatable request).
+const SCAN_RETRIES: usize = 3;
 /// Polls of the SII busy bit before a read counts as failed.
 const SII_POLLS: usize = 100;
 /// ESC feature register (0008h) bit 2: distributed clocks.
@@ -91,6 +94,7 @@ pub enum ScanError {
 /// Finds the SubDevices on `link` and reads what they are; writes nothing but the SII read
 /// requests (no state change, no address, no SyncManager).
 pub fn scan(link: &mut dyn Link) -> Result<Vec<ScannedSubDevice>, ScanError> {
+    let link = &mut Retrying::new(link, SCAN_RETRIES);
     let mut frame = vec![0u8; FRAME_BUF];
     let count = count_subdevices(link, &mut frame)?;
     (0..count)
@@ -110,6 +114,7 @@ pub fn sii_words(
     if u32::from(at) + u32::from(n) > 0x1_0000 {
         return Err(ScanError::SiiRange { at, n });
     }
+    let link = &mut Retrying::new(link, SCAN_RETRIES);
     let mut frame = vec![0u8; FRAME_BUF];
     if position >= count_subdevices(link, &mut frame)? {
         return Err(ScanError::NoSubDevice { position });

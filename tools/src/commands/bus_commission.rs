@@ -189,6 +189,17 @@ fn commissioning(station: &Station) -> Result<(InterfaceLock, Commissioning), Ex
     Ok((lock, c))
 }
 
+/// The segment in PRE-OP for a command on all SubDevices or the one at `position`.
+fn segment_session(
+    interface: &str,
+    position: Option<usize>,
+) -> Result<(InterfaceLock, Commissioning), Exit> {
+    commissioning(&Station {
+        interface: interface.to_string(),
+        position: position.unwrap_or(0),
+    })
+}
+
 /// The drive model a SubDevice's identity names, if cellrt knows it.
 fn model_of(identity: &SubDeviceIdentity) -> Option<&'static DriveProfile> {
     DriveModel::ALL.iter().map(|m| profile(*m)).find(|p| {
@@ -381,11 +392,7 @@ fn sdo_failed(what: &str, e: &SdoFailure) -> Exit {
 
 /// Runs `cellrt bus pdos`: every SubDevice's PDO assignment (or one's with `--position`).
 pub fn pdos(interface: &str, position: Option<usize>, json: bool) -> Exit {
-    let station = Station {
-        interface: interface.to_string(),
-        position: position.unwrap_or(0),
-    };
-    let (_lock, mut c) = match commissioning(&station) {
+    let (_lock, mut c) = match segment_session(interface, position) {
         Ok(c) => c,
         Err(exit) => return exit,
     };
@@ -489,11 +496,7 @@ pub fn states(
     timeout: Duration,
     json: bool,
 ) -> Exit {
-    let station = Station {
-        interface: interface.to_string(),
-        position: position.unwrap_or(0),
-    };
-    let (_lock, mut c) = match commissioning(&station) {
+    let (_lock, mut c) = match segment_session(interface, position) {
         Ok(c) => c,
         Err(exit) => return exit,
     };

@@ -849,9 +849,18 @@ fn a_link_lost_past_the_sm_watchdog_is_recorded_as_the_subdevices_al_status() {
         .find(|e| e.kind == "al_status")
         .map(|e| e.cycle)
         .unwrap();
+    // The link is back 150 ms after the loss on the link's clock, which moves with the loop's
+    // cycles; the first frame through is the first one the loop sent from then on (an overrun
+    // of a loaded machine may skip the very cycle: judged in the loop's own cycles).
+    let back = rec
+        .cycles
+        .iter()
+        .map(|c| c.cycle)
+        .find(|&c| c >= injected + 150)
+        .unwrap_or(injected + 150);
     assert!(
-        (injected + 150..=injected + 160).contains(&first),
-        "seen with the first frame through, at {first} (link lost at {injected})"
+        (injected + 150..=back + 10).contains(&first),
+        "seen with the first frame through, at {first} (link lost at {injected}, the first cycle from +150 at {back})"
     );
 }
 

@@ -43,8 +43,10 @@ const FRAME_BUF: usize = 1536;
 /// Retries of a bring-up PDU that timed out.
 const BRINGUP_RETRIES: usize = 3;
 /// How long bring-up waits for an SII EEPROM read (ethercrab's default is 10 ms; a host that
-/// stalls for milliseconds — a virtual machine, a loaded emulator — needs more; bring-up only).
-const BRINGUP_EEPROM_TIMEOUT: Duration = Duration::from_millis(100);
+/// stalls for milliseconds — a virtual machine, a loaded emulator, a traced process — needs
+/// more: 100 ms timed out under CI load with strace; bring-up only, so a missing EEPROM is
+/// reported a second later at worst).
+const BRINGUP_EEPROM_TIMEOUT: Duration = Duration::from_secs(1);
 /// How long bring-up waits for a PDU's return (the cyclic exchange has its own frame timeout).
 const BRINGUP_PDU_TIMEOUT: Duration = Duration::from_millis(100);
 /// Delay from DC configuration to the first SYNC0 pulse.

@@ -307,11 +307,14 @@ mod tests {
         let other = format!("staletest-other-{}", std::process::id());
         runtime_dir::ensure().unwrap();
         let dir = runtime_dir::ensure_operator().unwrap();
-        // Files of killed controllers: nobody holds their flock; their pids are long gone.
-        std::fs::write(lock_path(&name), b"999999999").unwrap();
-        std::fs::write(lock_path(&other), b"999999998").unwrap();
+        // Files of killed controllers: nobody holds their flock; their pids are long gone. The
+        // socket first: a controller sweeping meanwhile (another test of this process) that
+        // finds the stale lock removes the socket with it (it failed under load when the
+        // socket came after the lock another test had already swept).
         let sock = crate::host::operator::socket::socket_path_in(&dir, &other);
         std::fs::write(&sock, b"").unwrap();
+        std::fs::write(lock_path(&name), b"999999999").unwrap();
+        std::fs::write(lock_path(&other), b"999999998").unwrap();
         let lock = CellLock::acquire(&name).unwrap();
         assert_eq!(
             std::fs::read_to_string(lock_path(&name)).unwrap(),

@@ -351,18 +351,13 @@ fn sdo_write(station: &Station, object: ObjectId, value: i64, given: Option<SdoT
         eprintln!("error: {what}: its type is not known (no SDO Information, no model cellrt knows): give --type");
         return Exit::BadInput;
     };
-    let size = match t {
-        DataType::Bool | DataType::I8 | DataType::U8 => 1,
-        DataType::I16 | DataType::U16 => 2,
-        DataType::I32 | DataType::U32 => 4,
-        DataType::VisibleString { .. } | DataType::Unstated => {
-            eprintln!(
-                "error: {what}: a {} is not written as a number",
-                t.cia301_name()
-            );
-            return Exit::BadInput;
-        }
-    };
+    if t.value_range().is_none() {
+        eprintln!(
+            "error: {what}: a {} is not written as a number",
+            t.cia301_name()
+        );
+        return Exit::BadInput;
+    }
     let (lo, hi) = t.value_range().unwrap_or((0, 0));
     if value < lo || value > hi {
         eprintln!(
@@ -372,7 +367,12 @@ fn sdo_write(station: &Station, object: ObjectId, value: i64, given: Option<SdoT
         return Exit::BadInput;
     }
     let bytes = value.to_le_bytes();
-    match c.download(station.position, object.index, object.sub, &bytes[..size]) {
+    match c.download(
+        station.position,
+        object.index,
+        object.sub,
+        &bytes[..t.bytes()],
+    ) {
         Ok(()) => {
             println!("{what} written: {value} ({} [{from}])", t.cia301_name());
             Exit::Ok

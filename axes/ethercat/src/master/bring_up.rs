@@ -259,7 +259,7 @@ fn configure_pdos(
         for drive in plan.slots.iter().flatten().map(|&a| &config.drives[a]) {
             for (k, sdo) in drive.startup_sdo.iter().enumerate() {
                 let write = wire.run(format!("start-up SDO of axis '{}'", drive.axis), async {
-                    Ok(startup_download(&sd, sdo).await)
+                    Ok(super::sdo::expedited_download(&sd, sdo.index, sdo.sub, &sdo.data).await)
                 })?;
                 write.map_err(|e| EthercatError::StartupSdo {
                     position,
@@ -328,20 +328,6 @@ fn configure_pdos(
         });
     }
     Ok(setup)
-}
-
-/// One download of a start-up list (1, 2 or 4 bytes: expedited).
-async fn startup_download<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
-    sd: &ethercrab::SubDeviceRef<'_, S>,
-    sdo: &super::segment::StartupSdo,
-) -> Result<(), ethercrab::error::Error> {
-    let (index, sub) = (sdo.index, sdo.sub);
-    match *sdo.data.as_slice() {
-        [a] => sd.sdo_write(index, sub, [a]).await,
-        [a, b] => sd.sdo_write(index, sub, [a, b]).await,
-        [a, b, c, d] => sd.sdo_write(index, sub, [a, b, c, d]).await,
-        _ => Err(ethercrab::error::Error::Internal),
-    }
 }
 
 /// PRE-OP → SAFE-OP → OP: SYNC0 at the cell's cycle time on every SubDevice configured for

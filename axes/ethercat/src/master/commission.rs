@@ -181,12 +181,8 @@ impl Commissioning {
         sub: u8,
         data: &[u8],
     ) -> Result<(), SdoFailure> {
-        let data = data.to_vec();
-        self.transfer(position, async move |sd| match *data.as_slice() {
-            [a] => sd.sdo_write(index, sub, [a]).await,
-            [a, b] => sd.sdo_write(index, sub, [a, b]).await,
-            [a, b, c, d] => sd.sdo_write(index, sub, [a, b, c, d]).await,
-            _ => Err(ethercrab::error::Error::Internal),
+        self.transfer(position, async |sd| {
+            super::sdo::expedited_download(sd, index, sub, data).await
         })
     }
 

@@ -30,14 +30,8 @@ impl MailboxWorker {
         data: &[u8],
     ) -> Result<(), u32> {
         let (station, index) = self.station_object(axis, index).ok_or(SDO_UNSUPPORTED)?;
-        self.sdo_transfer(axis, station, async |sd| match *data {
-            [a] => sd.sdo_write(index, sub, a).await,
-            [a, b] => sd.sdo_write(index, sub, u16::from_le_bytes([a, b])).await,
-            [a, b, c, d] => {
-                sd.sdo_write(index, sub, u32::from_le_bytes([a, b, c, d]))
-                    .await
-            }
-            _ => Err(ethercrab::error::Error::Internal),
+        self.sdo_transfer(axis, station, async |sd| {
+            expedited_download(sd, index, sub, data).await
         })
         .map_err(abort_code)
     }
@@ -126,6 +120,22 @@ impl MailboxWorker {
         let repeat = !*met;
         *met = true;
         repeat
+    }
+}
+
+/// An expedited SDO download of `data` (1, 2 or 4 bytes, little-endian) to `index:sub`: the
+/// one way the master writes an object (in OP, in a start-up list, by `cellrt bus sdo`).
+pub(super) async fn expedited_download<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
+    sd: &SubDeviceRef<'_, S>,
+    index: u16,
+    sub: u8,
+    data: &[u8],
+) -> Result<(), ethercrab::error::Error> {
+    match *data {
+        [a] => sd.sdo_write(index, sub, [a]).await,
+        [a, b] => sd.sdo_write(index, sub, [a, b]).await,
+        [a, b, c, d] => sd.sdo_write(index, sub, [a, b, c, d]).await,
+        _ => Err(ethercrab::error::Error::Internal),
     }
 }
 

@@ -184,6 +184,7 @@ pub fn spawn(opts: LatencyOptions) -> Result<Running, BenchError> {
                 planner_priority: None,
                 lock_memory: true,
                 reserve_cpu: false,
+                missed_deadlines: Default::default(),
             });
             let _dma = hold_cpu_dma_latency_zero(&mut rt);
             let mut latency = NsHistogram::new();

@@ -537,3 +537,40 @@ fn an_overrun_past_the_end_of_a_motion_still_applies_its_final_setpoint() {
     );
     rig.stop();
 }
+
+/// What a late cycle does with the deadlines it missed (`rt.missed_deadlines`): the RT loop
+/// stalls 100 ms at cycle 300. Skipped (the default), the cell's clock keeps wall time and
+/// about 100 cycle numbers are never executed; stretched, every cycle number is executed and
+/// the cell's clock falls behind. Either way the missed deadlines are counted.
+#[test]
+fn a_stall_skips_its_cycles_by_default_and_stretches_the_cells_clock_when_asked() {
+    for (policy, extra) in [
+        ("skip", ""),
+        ("stretch", "[rt]\nmissed_deadlines = \"stretch\"\n"),
+    ] {
+        let cell = cell_with(
+            &format!("missed-{policy}"),
+            &format!("{extra}[[inject]]\nat_ms = 300\nfault = \"stall\"\nduration_ms = 100"),
+        );
+        let mut rig = Rig::start(&cell);
+        rig.command(CellCommand::PowerOn);
+        rig.wait_state(CellState::Idle);
+        rig.wait_until(500);
+        let stats = rig.stop();
+        let executed = stats.counters.cycles;
+        let unexecuted = stats.final_cycle + 1 - executed;
+        assert!(
+            stats.counters.overruns >= 90,
+            "{policy}: {} missed deadlines counted",
+            stats.counters.overruns
+        );
+        match policy {
+            "skip" => assert!(
+                unexecuted >= 90 && unexecuted == stats.counters.overruns,
+                "skip: {unexecuted} cycle numbers not executed, {} overruns",
+                stats.counters.overruns
+            ),
+            _ => assert_eq!(unexecuted, 0, "stretch: no cycle number is skipped"),
+        }
+    }
+}

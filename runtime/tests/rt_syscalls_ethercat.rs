@@ -64,7 +64,17 @@ fn traced_run(attempt: u32) -> Option<syscall_trace::SteadyTrace> {
     let emulator = std::thread::spawn(move || {
         // As `cellrt drive-sim` does: the drives' end answers at once, above the RT thread.
         cellrt_test_support::sched::fifo(81);
-        wire::serve(&socket, &mut segment, &mut faults, &stop2).expect("serve");
+        wire::serve(
+            &socket,
+            &mut segment,
+            &mut faults,
+            // The traced loop runs late at times; its drive lives on the loop's clock.
+            wire::HostStalls::Excused {
+                cycle: ct.as_duration(),
+            },
+            &stop2,
+        )
+        .expect("serve");
     });
     let text = format!(
         r#"
@@ -73,13 +83,14 @@ name = "syscalls-ethercat-{pid}-{attempt}"
 cycle_time_us = 2000
 [rt]
 priority = 80
+missed_deadlines = "stretch"
 [setpoints]
 lookahead_ms = 1000
 [watchdogs]
 max_consecutive_overruns = 0
 [ethercat]
 interface = "{name}"
-frame_timeout_us = 1500
+frame_timeout_us = 100000
 [[axes]]
 name = "y"
 drive = "mr-j4-tm"
@@ -114,38 +125,30 @@ fn on_ethercat_the_rt_loop_makes_only_its_sleep_and_frame_io_while_homing() {
         .chain(&FRAME_IO)
         .copied()
         .collect();
-    // Every traced run is judged; a run that a loaded machine cut short before a homing in
-    // steady state (the far-end drive, not an RT process, alarms on late frames) is repeated.
-    for attempt in 1..=3 {
-        let Some(trace) = traced_run(attempt) else {
-            return;
-        };
-        let others = trace.others(&allowed);
-        assert!(
-            others.is_empty(),
-            "the RT loop made syscalls other than its sleep and frame I/O: {others:?}\n{}",
-            trace.text.lines().take(200).collect::<Vec<_>>().join("\n")
-        );
-        let log = &trace.summary.recording.event_log;
-        let homed = log
-            .iter()
-            .any(|l| l.contains("homing_finished") && l.contains("attained"));
-        // The far-end drive faults on frames a traced, overrunning loop sent late: the run
-        // ended early, so it is repeated like one that never homed.
-        let cut_short = log.iter().any(|l| l.contains(": drive_fault ["))
-            && log.iter().any(|l| l.contains(": overrun: "));
-        if homed && !cut_short {
-            assert!(
-                trace.sleeps() >= 100,
-                "only {} cycles traced; events {log:?}",
-                trace.sleeps()
-            );
-            return;
-        }
-        eprintln!(
-            "attempt {attempt}: no homing completed in steady state, or a drive fault after \
-             overruns ended the run (machine load?): {log:#?}"
-        );
-    }
-    println!("SKIPPED: no run reached a homing in steady state; the syscalls seen were judged");
+    // The loop stretches its clock over the stalls strace adds, and the far-end drive
+    // excuses them: one run, judged whatever the machine's load.
+    let Some(trace) = traced_run(1) else {
+        return;
+    };
+    let others = trace.others(&allowed);
+    assert!(
+        others.is_empty(),
+        "the RT loop made syscalls other than its sleep and frame I/O: {others:?}\n{}",
+        trace.text.lines().take(200).collect::<Vec<_>>().join("\n")
+    );
+    let log = &trace.summary.recording.event_log;
+    assert!(
+        log.iter()
+            .any(|l| l.contains("homing_finished") && l.contains("attained")),
+        "no homing completed: {log:#?}"
+    );
+    assert!(
+        !log.iter().any(|l| l.contains(": drive_fault [")),
+        "a drive fault: {log:#?}"
+    );
+    assert!(
+        trace.sleeps() >= 100,
+        "only {} cycles traced; events {log:?}",
+        trace.sleeps()
+    );
 }

@@ -13,8 +13,11 @@ use common::{read_recording, unique_cell_name, Recording};
 static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// configs/ethercat-cell.toml with a unique name, the demo program beside it, no CPU pinning,
-/// a long lookahead and no overrun watchdog (the machine's load is not under test), on
-/// `interface`.
+/// a long lookahead, no overrun watchdog and late cycles stretching the cell's clock
+/// (`rt.missed_deadlines = "stretch"`: the machine's load is not under test, and the drives,
+/// which live on the master's clock, then see the same cycles whatever it is), on `interface`.
+/// On a NIC, a cyclic frame is lost only after 100 ms: the emulator in its namespace, held back
+/// by a loaded machine, answers late, not never.
 fn ethercat_cell(dir: &std::path::Path, interface: &str) -> std::path::PathBuf {
     let configs = concat!(env!("CARGO_MANIFEST_DIR"), "/../configs");
     let text = std::fs::read_to_string(format!("{configs}/ethercat-cell.toml")).unwrap();
@@ -24,6 +27,10 @@ fn ethercat_cell(dir: &std::path::Path, interface: &str) -> std::path::PathBuf {
             &format!("name = \"{}\"", unique_cell_name()),
         )
         .replace("cpu = 1", "# cpu = 1")
+        .replace(
+            "priority = 80\n",
+            "priority = 80\nmissed_deadlines = \"stretch\"\n",
+        )
         .replace("lookahead_ms = 50", "lookahead_ms = 1000")
         .replace(
             "max_consecutive_overruns = 100",
@@ -34,6 +41,12 @@ fn ethercat_cell(dir: &std::path::Path, interface: &str) -> std::path::PathBuf {
             &format!("interface = \"{interface}\""),
         );
     assert!(text.contains(&format!("interface = \"{interface}\"")));
+    let text = if interface == "in-process" {
+        text
+    } else {
+        text.replace("frame_timeout_us = 500", "frame_timeout_us = 100000")
+    };
+    assert_eq!(text.matches("missed_deadlines = \"stretch\"").count(), 1);
     std::fs::copy(
         format!("{configs}/demo-program.toml"),
         dir.join("demo-program.toml"),
@@ -54,45 +67,6 @@ fn run(cfg: &std::path::Path, rec: &std::path::Path) -> std::process::Output {
         .unwrap()
 }
 
-/// The longest stall of the machine in a recording (an overrun's lateness), ns.
-fn longest_stall_ns(rec: &Recording) -> i64 {
-    rec.events
-        .iter()
-        .filter(|e| e.kind == "overrun")
-        .map(|e| e.value)
-        .max()
-        .unwrap_or(0)
-}
-
-/// A stall of the test machine the drives see: any overrun. The loop's frame then reaches the
-/// drives after their SYNC0, they apply it one cycle late and the next one steps by two
-/// cycles' travel (real DC drives do the same; at speed, an overspeed or command-frequency
-/// alarm), or they count lost frames. Such runs are repeated, not judged.
-const DRIVE_VISIBLE_STALL_NS: i64 = 1;
-
-/// Runs `cfg`; when a run fails and its recording shows a machine stall the drives must see
-/// (the virtual machine paused the RT thread for milliseconds), says so and runs again, up to
-/// six times. Any other failure is returned as it is.
-fn run_despite_stalls(cfg: &std::path::Path, rec: &std::path::Path) -> std::process::Output {
-    let mut attempt = 0;
-    loop {
-        let out = run(cfg, rec);
-        let completed = String::from_utf8_lossy(&out.stdout).contains("program completed");
-        attempt += 1;
-        if (out.status.success() && completed) || attempt == 6 || !rec.exists() {
-            return out;
-        }
-        let stall = longest_stall_ns(&read_recording(rec));
-        if stall < DRIVE_VISIBLE_STALL_NS {
-            return out;
-        }
-        eprintln!(
-            "attempt {attempt}: an overrun ({:.3} ms late) reached the drives as a missed SYNC0; running again",
-            stall as f64 / 1e6
-        );
-    }
-}
-
 /// The cycles at which each motion started.
 fn motion_starts(rec: &Recording) -> Vec<u64> {
     rec.events
@@ -102,24 +76,14 @@ fn motion_starts(rec: &Recording) -> Vec<u64> {
         .collect()
 }
 
-/// `axis`' actual position at `cycle`; `None` where the cycle was skipped by an overrun or
-/// lies within [`SETTLE_CYCLES`] after one (the drives saw a gap there: the simulated drive
-/// runs the missed cycles on the last command, the emulated one counts them as lost frames,
-/// and the two responses differ until the position loop has settled).
+/// `axis`' actual position at `cycle`; `None` where the recording has no such cycle.
 fn position_at(rec: &Recording, axis: &str, cycle: u64) -> Option<f64> {
-    let disturbed = rec
-        .events
-        .iter()
-        .any(|e| e.kind == "overrun" && e.cycle <= cycle && cycle <= e.cycle + SETTLE_CYCLES);
     let a = &rec.axes[axis];
     let i = a.partition_point(|r| r.cycle < cycle);
     a.get(i)
-        .filter(|r| r.cycle == cycle && !disturbed)
+        .filter(|r| r.cycle == cycle)
         .map(|r| r.actual_position)
 }
-
-/// Cycles after an overrun excluded from the comparison (a few position-loop time constants).
-const SETTLE_CYCLES: u64 = 300;
 
 #[test]
 fn the_demo_program_over_emulated_ethercat_matches_the_same_program_on_sim() {
@@ -143,20 +107,8 @@ fn the_demo_program_over_emulated_ethercat_matches_the_same_program_on_sim() {
     let sim = dir.path().join("sim.toml");
     std::fs::write(&sim, sim_text).unwrap();
 
-    // A stall of the machine skips cycles in one run and not in the other; the cycles after it
-    // are left out of the comparison, and a pair of runs that still differs while either
-    // stalled is repeated (up to four times), not judged.
-    let mut pair = 0;
-    let ec = loop {
-        pair += 1;
-        match compare_runs(&ec, &sim, dir.path()) {
-            Ok(ec) => break ec,
-            Err((why, stalled)) if stalled && pair < 4 => {
-                eprintln!("pair {pair}: {why} after a machine stall; running both again");
-            }
-            Err((why, _)) => panic!("{why}"),
-        }
-    };
+    // Both runs stretch the cell's clock over a stall of the machine: judged cycle by cycle.
+    let ec = compare_runs(&ec, &sim, dir.path());
     // The EtherCAT run went through the bus without an error event.
     let bus_errors: Vec<_> = ec.events.iter().filter(|e| e.kind == "bus_error").collect();
     assert!(bus_errors.len() <= 2, "{bus_errors:?}");
@@ -182,61 +134,8 @@ fn the_ethercat_cell_runs_over_a_veth_pair_with_the_drives_in_a_network_namespac
             .replace("# cpu = 1", "cpu = 1");
         std::fs::write(&cfg, text).unwrap();
     }
-    // Motors with the headroom for one late frame at full speed: this virtual machine stalls
-    // the RT thread now and then, a frame then misses its SYNC0 and the next target steps by
-    // two cycles' travel (what the transport does is under test here, not the machine).
-    let text = std::fs::read_to_string(&cfg).unwrap().replace(
-        "sim = { initial_position",
-        "sim = { motor_speed_factor = 2.5, initial_position",
-    );
-    assert_eq!(text.matches("motor_speed_factor").count(), 4);
-    std::fs::write(&cfg, text).unwrap();
     let rec = dir.path().join("veth.mcap");
-    let mut attempt = 0;
-    let (out, rest, status) = loop {
-        attempt += 1;
-        let _ = std::fs::remove_file(&rec);
-        let (out, rest, status) = veth_attempt(&ns, &cfg, &rec);
-        let completed = String::from_utf8_lossy(&out.stdout).contains("program completed");
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        if bring_up_timed_out(&stderr) {
-            // The emulator in the namespace did not answer in time (a stall of this machine
-            // during bring-up): another attempt, as for stalls during the run.
-            if attempt == 6 {
-                eprintln!(
-                    "SKIPPED: EtherCAT over veth: all {attempt} bring-ups timed out on this machine (last: {}); the transport was not judged",
-                    stderr.trim()
-                );
-                return;
-            }
-            eprintln!(
-                "attempt {attempt}: bring-up timed out ({}); running again",
-                stderr.trim()
-            );
-            continue;
-        }
-        if (out.status.success() && completed) || !rec.exists() {
-            break (out, rest, status);
-        }
-        let stall = longest_stall_ns(&read_recording(&rec));
-        if stall < DRIVE_VISIBLE_STALL_NS {
-            break (out, rest, status);
-        }
-        if attempt == 6 {
-            // Over a real (virtual) wire the drives run on their own clock: a stall of this
-            // machine is missed SYNC0s for them, as for real drives. Every attempt stalled:
-            // the transport could not be judged here; any other failure above fails.
-            eprintln!(
-                "SKIPPED: EtherCAT over veth: all {attempt} attempts were stalled by this machine (last: {:.3} ms); the transport was not judged",
-                stall as f64 / 1e6
-            );
-            return;
-        }
-        eprintln!(
-            "attempt {attempt}: an overrun ({:.3} ms late) reached the drives as a missed SYNC0; running again",
-            stall as f64 / 1e6
-        );
-    };
+    let (out, rest, status) = veth_run(&ns, &cfg, &rec);
     let stderr = String::from_utf8_lossy(&out.stderr);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
@@ -261,10 +160,10 @@ fn the_ethercat_cell_runs_over_a_veth_pair_with_the_drives_in_a_network_namespac
     }
 }
 
-/// One run over the veth pair: `cellrt drive-sim ethercat` in the namespace, `cellrt run` on
-/// the near end, then SIGINT to the emulator. Returns the run's output, the emulator's last
-/// lines and its exit status.
-fn veth_attempt(
+/// One run over the veth pair: `cellrt drive-sim ethercat --excuse-host-stalls` in the
+/// namespace, `cellrt run` on the near end, then SIGINT to the emulator. Returns the run's
+/// output, the emulator's last lines and its exit status.
+fn veth_run(
     ns: &VethNamespace,
     cfg: &std::path::Path,
     rec: &std::path::Path,
@@ -353,49 +252,14 @@ fn a_lost_link_on_the_far_end_of_a_veth_pair_stops_the_cell_and_every_drive_rais
     )
     .unwrap();
     let rec_path = dir.path().join("far-link-loss.mcap");
-    for attempt in 1..=4 {
-        let _ = std::fs::remove_file(&rec_path);
-        let (out, rest, status) = veth_attempt(&ns, &cfg, &rec_path);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        // Why the run cannot be judged: a stall of this machine. During bring-up the emulator
-        // in the namespace then answers too late; during the run it is an overrun of the
-        // master, or a frame lost before the fault while the emulator was stalled.
-        let stalled = if bring_up_timed_out(&stderr) {
-            format!("bring-up timed out ({})", stderr.trim())
-        } else {
-            assert!(
-                rec_path.exists(),
-                "cellrt run over veth left no recording: {stderr}"
-            );
-            let rec = read_recording(&rec_path);
-            let Err(why) = judge_far_link_loss(&out, &rest, status, &rec) else {
-                return;
-            };
-            let stall = longest_stall_ns(&rec);
-            let early = |kinds: &[&str]| {
-                rec.events.iter().any(|e| {
-                    kinds.contains(&e.kind.as_str()) && e.cycle < *FAR_LINK_LOSS_WINDOW.start()
-                })
-            };
-            let early_loss = early(&["bus_error"]);
-            // A drive alarm before the fault: the emulator's process in the namespace was held
-            // back (it counts the SYNC0s it missed), which the master does not see.
-            let early_alarm = early(&["drive_fault", "emergency"]);
-            if stall < DRIVE_VISIBLE_STALL_NS && !early_loss && !early_alarm {
-                panic!("{why}");
-            }
-            format!(
-                "{:.3} ms overrun, frame lost before the fault: {early_loss}, drive alarm before the fault: {early_alarm} ({why})",
-                stall as f64 / 1e6
-            )
-        };
-        if attempt == 4 {
-            eprintln!(
-                "SKIPPED: wire faults injected by drive-sim over veth: all {attempt} attempts were stalled by this machine (last: {stalled}); not judged"
-            );
-            return;
-        }
-        eprintln!("attempt {attempt}: the machine stalled: {stalled}; running again");
+    let (out, rest, status) = veth_run(&ns, &cfg, &rec_path);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        rec_path.exists(),
+        "cellrt run over veth left no recording: {stderr}"
+    );
+    if let Err(why) = judge_far_link_loss(&out, &rest, status, &read_recording(&rec_path)) {
+        panic!("{why}");
     }
 }
 
@@ -500,17 +364,8 @@ fn a_stalled_subdevice_stops_the_cell_and_faults_its_drive() {
     )
     .unwrap();
     let rec_path = dir.path().join("stall.mcap");
-    // Judged on a run the machine did not disturb (an overrun would add its own missed SYNC0).
-    let mut attempt = 0;
-    let (out, rec) = loop {
-        attempt += 1;
-        let out = run(&cfg, &rec_path);
-        let rec = read_recording(&rec_path);
-        if longest_stall_ns(&rec) == 0 || attempt == 4 {
-            break (out, rec);
-        }
-        eprintln!("attempt {attempt}: an overrun disturbed the run; running again");
-    };
+    let out = run(&cfg, &rec_path);
+    let rec = read_recording(&rec_path);
     assert!(
         !out.status.success(),
         "the program must fail: the cell stops"
@@ -545,8 +400,7 @@ fn a_stalled_subdevice_stops_the_cell_and_faults_its_drive() {
 }
 
 /// The example cell on the in-process segment, moving x and y, with `inject` appended; runs it
-/// (again where an overrun of the loaded machine disturbed the run, up to four times) and
-/// returns the output and the recording.
+/// and returns the output and the recording.
 fn run_with_wire_fault(inject: &str) -> (std::process::Output, Recording) {
     let dir = tempfile::tempdir().unwrap();
     let cfg = ethercat_cell(dir.path(), "in-process");
@@ -561,16 +415,8 @@ fn run_with_wire_fault(inject: &str) -> (std::process::Output, Recording) {
     )
     .unwrap();
     let rec_path = dir.path().join("fault.mcap");
-    let mut attempt = 0;
-    loop {
-        attempt += 1;
-        let out = run(&cfg, &rec_path);
-        let rec = read_recording(&rec_path);
-        if longest_stall_ns(&rec) == 0 || attempt == 4 {
-            return (out, rec);
-        }
-        eprintln!("attempt {attempt}: an overrun disturbed the run; running again");
-    }
+    let out = run(&cfg, &rec_path);
+    (out, read_recording(&rec_path))
 }
 
 /// The cell was stopped by the master's communication watchdog within a few cycles of the
@@ -718,9 +564,6 @@ fn frames_delayed_past_the_timeout_stop_the_cell_but_reach_the_drives_late() {
     );
 }
 
-/// Runs the EtherCAT cell `ec_cfg` and the same cell on sim `sim_cfg`, and compares the drives'
-/// response motion by motion; returns the EtherCAT recording, or why they differ and whether
-/// either run had a machine stall.
 /// Every EtherCAT cycle after the first few records the frame's DC phase error, and the loop
 /// holds it near its target place in the SYNC0 cycle (median within 20 µs); the simulated
 /// drives have no bus clock, so their cycles carry none.
@@ -746,12 +589,14 @@ fn assert_dc_phase_recorded(ec: &Recording, sim: &Recording) {
     );
 }
 
+/// Runs the EtherCAT cell `ec_cfg` and the same cell on sim `sim_cfg`, and compares the drives'
+/// response motion by motion, cycle by cycle; returns the EtherCAT recording.
 fn compare_runs(
     ec_cfg: &std::path::Path,
     sim_cfg: &std::path::Path,
     dir: &std::path::Path,
-) -> Result<Recording, (String, bool)> {
-    let out_ec = run_despite_stalls(ec_cfg, &dir.join("ec.mcap"));
+) -> Recording {
+    let out_ec = run(ec_cfg, &dir.join("ec.mcap"));
     assert!(
         out_ec.status.success(),
         "{}",
@@ -765,7 +610,6 @@ fn compare_runs(
     );
     let ec = read_recording(&dir.join("ec.mcap"));
     let sim = read_recording(&dir.join("sim.mcap"));
-    let stalled = longest_stall_ns(&ec) > 0 || longest_stall_ns(&sim) > 0;
     assert_dc_phase_recorded(&ec, &sim);
     // Motion by motion, from each one's start (when the planner starts the next motion is not
     // cycle-exact between two runs): the drives' response must be the same.
@@ -791,28 +635,23 @@ fn compare_runs(
             }
         }
         eprintln!("{axis}: {compared} cycles compared, largest difference {worst:.6}");
-        // Cycles after a stall are not comparable: too few after stalls is a pair to repeat.
-        if compared <= 4000 {
-            return Err((
-                format!("{axis}: only {compared} cycles comparable"),
-                stalled,
-            ));
-        }
-        if worst >= 0.01 {
-            return Err((
-                format!("{axis}: EtherCAT and sim differ by up to {worst}"),
-                stalled,
-            ));
-        }
+        assert!(compared > 4000, "{axis}: only {compared} cycles comparable");
+        assert!(
+            worst < 0.01,
+            "{axis}: EtherCAT and sim differ by up to {worst}"
+        );
         let (last_e, last_s) = (
             ec.axes[axis].last().unwrap(),
             sim.axes[axis].last().unwrap(),
         );
-        if (last_e.actual_position - last_s.actual_position).abs() >= 0.01 {
-            return Err((format!("{axis}: final positions differ"), stalled));
-        }
+        assert!(
+            (last_e.actual_position - last_s.actual_position).abs() < 0.01,
+            "{axis}: final positions differ: {} vs {}",
+            last_e.actual_position,
+            last_s.actual_position
+        );
     }
-    Ok(ec)
+    ec
 }
 
 /// A link lost longer than the SyncManager watchdog (100 ms): the SubDevices behind it leave OP
@@ -850,17 +689,10 @@ fn a_link_lost_past_the_sm_watchdog_is_recorded_as_the_subdevices_al_status() {
         .map(|e| e.cycle)
         .unwrap();
     // The link is back 150 ms after the loss on the link's clock, which moves with the loop's
-    // cycles; the first frame through is the first one the loop sent from then on (an overrun
-    // of a loaded machine may skip the very cycle: judged in the loop's own cycles).
-    let back = rec
-        .cycles
-        .iter()
-        .map(|c| c.cycle)
-        .find(|&c| c >= injected + 150)
-        .unwrap_or(injected + 150);
+    // cycles: seen with the first frame through.
     assert!(
-        (injected + 150..=back + 10).contains(&first),
-        "seen with the first frame through, at {first} (link lost at {injected}, the first cycle from +150 at {back})"
+        (injected + 150..=injected + 160).contains(&first),
+        "seen with the first frame through, at {first} (link lost at {injected})"
     );
 }
 
@@ -914,13 +746,4 @@ fn an_injected_drive_alarm_is_recorded_as_the_axis_emergency() {
             "{kind} at {at}, alarm at {injected}"
         );
     }
-}
-
-/// True if `cellrt run` failed in EtherCAT bring-up on a time-out (the emulator in the
-/// namespace answered too late: a stall of this machine), e.g. "error: EtherCAT PRE-OP → SAFE-OP
-/// → OP: timeout: EEPROM".
-fn bring_up_timed_out(stderr: &str) -> bool {
-    stderr.lines().any(|l| {
-        (l.starts_with("error: EtherCAT") || l.contains("bring-up")) && l.contains("timeout")
-    })
 }

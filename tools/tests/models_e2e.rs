@@ -31,6 +31,7 @@ fn test_cell(base: &str, extra: &str) -> String {
     let cell_name = unique_cell_name();
     let mut text = String::new();
     let mut in_cell = false;
+    let mut has_rt = false;
     for line in base.lines() {
         if line.starts_with('[') {
             in_cell = line == "[cell]";
@@ -41,11 +42,17 @@ fn test_cell(base: &str, extra: &str) -> String {
             text.push_str("program = \"program.toml\"\n");
         } else if line.starts_with("cpu = ") {
             continue;
+        } else if line == "[rt]" {
+            // Late cycles stretch the cell's clock: the emulated drives live on it, so a stall
+            // of this machine is no missed SYNC0 for them (the logic is under test here).
+            text.push_str("[rt]\nmissed_deadlines = \"stretch\"\n");
+            has_rt = true;
         } else {
             text.push_str(line);
             text.push('\n');
         }
     }
+    assert!(has_rt, "the model configurations have an [rt] section");
     text.push_str(
         "\n[setpoints]\nlookahead_ms = 1000\n[watchdogs]\nmax_consecutive_overruns = 0\n",
     );
@@ -361,23 +368,7 @@ fn an_alarm_on_each_model_is_named_in_the_summary() {
         // 250 mm at 50 mm/s: the move outlasts the injection whenever it starts.
         let program = "[[step]]\ndo = \"power_on\"\n\
                        [[step]]\ndo = \"move\"\ntarget = { x = 300.0 }\nvelocity = 50.0\n";
-        // A stall of this machine can stop the cell first (the communication check, or a
-        // drive's own communication alarm on another axis): the run is then repeated, a few
-        // times at most, and judged only once the injected alarm is what stopped it.
-        let mut attempt = 0;
-        let out = loop {
-            attempt += 1;
-            let (out, _) = run_recorded(dir.path(), &text, program);
-            let stdout = String::from_utf8_lossy(&out.stdout);
-            let injected_stopped_it =
-                stdout.contains(&format!("axis 'x': {name}")) && stdout.contains(": drive fault\n");
-            if injected_stopped_it || attempt == 4 {
-                break out;
-            }
-            eprintln!(
-                "{config}: attempt {attempt} was stopped by something else; again:\n{stdout}"
-            );
-        };
+        let (out, _) = run_recorded(dir.path(), &text, program);
         let stdout = String::from_utf8_lossy(&out.stdout);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{config}: {stdout}{stderr}");

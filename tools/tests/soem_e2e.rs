@@ -108,40 +108,26 @@ fn soem_maps_every_model_reaches_op_and_moves_each_axis() {
             return;
         }
     };
-    for attempt in 1..=ATTEMPTS {
-        match attempt_soem(&python, &ns) {
-            Ok(()) => return,
-            Err(gap_ms) if attempt < ATTEMPTS => eprintln!(
-                "attempt {attempt}: frames were late for a drive (the script's longest gap {gap_ms:.1} ms); running again"
-            ),
-            Err(gap_ms) => eprintln!(
-                "SKIPPED: in every attempt frames were late for a drive (last gap {gap_ms:.1} ms); not judged"
-            ),
-        }
-    }
+    run_soem(&python, &ns);
 }
 
-/// Runs in full before a verdict is given.
-const ATTEMPTS: u32 = 4;
-/// A gap between two of the script's frames that lets a drive see lost frames: half the
-/// MR-J3-T04's "about 7 ms" (AL.36, manual §6.4), three cycles.
-const STALL_MS: f64 = 3.5;
-
-/// The alarms a drive raises for lost or late frames: MR-J3-T04 AL.36 (RxPDO lost about
-/// 7 ms, manual §6.4), AL.086.1 / AL. 86.1 (MR-JET, MR-J5, MR-J4-TM sync error counter), the
-/// generic drive's 8100h (CiA 301 communication).
-const LOST_FRAME_ALARMS: [&str; 3] = ["0036", "0861", "8100"];
-
-/// One run against a fresh drive-sim; `Err` with the longest gap when the Python loop stalled
-/// long enough for a drive to alarm (anything else that goes wrong fails).
-fn attempt_soem(python: &str, ns: &VethNamespace) -> Result<(), f64> {
+/// One run against a fresh drive-sim. The Python loop is no real-time master: drive-sim
+/// excuses gaps in its frames as stalls of this machine (`--excuse-host-stalls`), so a drive
+/// alarms only for what the script did wrong, not for when the machine let it run.
+fn run_soem(python: &str, ns: &VethNamespace) {
     let dir = tempfile::tempdir().unwrap();
     let declared = dir.path().join("declared.json");
     std::fs::write(&declared, declared_dictionaries().to_string()).unwrap();
     // The emulator as a standalone target: the models listed, no cell configuration.
     let names: Vec<&str> = STATION_MODELS.iter().map(|m| m.as_str()).collect();
     let (list, cycle) = (names.join(","), CYCLE_US.to_string());
-    let args = ["--drives", list.as_str(), "--cycle-time-us", cycle.as_str()];
+    let args = [
+        "--drives",
+        list.as_str(),
+        "--cycle-time-us",
+        cycle.as_str(),
+        "--excuse-host-stalls",
+    ];
     let args: Vec<&std::ffi::OsStr> = args.iter().map(std::ffi::OsStr::new).collect();
     let (mut drives, lines) = common::spawn_drive_sim_with(ns, &args);
     let script = concat!(
@@ -170,22 +156,15 @@ fn attempt_soem(python: &str, ns: &VethNamespace) -> Result<(), f64> {
             String::from_utf8_lossy(&out.stderr)
         )
     });
-    let gap_ms = report["max_gap_ms"].as_f64().unwrap_or(0.0);
     let alarms: Vec<&str> = drive_sim
         .iter()
         .flat_map(|l| l.split("alarm 0x").skip(1))
         .map(|a| a.get(..4).unwrap_or(a))
         .collect();
-    // Only lost-frame alarms, or a stall measured in the script: a frame that missed its SYNC0
-    // on this non-real-time master (or the emulator's thread held back by the host), not a
-    // verdict on the drives.
-    let lost_frames_only = alarms.iter().all(|a| LOST_FRAME_ALARMS.contains(a));
-    if (report.get("error").is_some() || !alarms.is_empty())
-        && (gap_ms > STALL_MS || (!alarms.is_empty() && lost_frames_only))
-    {
-        eprintln!("{} (alarms {alarms:?})", report["error"]);
-        return Err(gap_ms);
-    }
+    assert!(
+        alarms.is_empty() && report.get("error").is_none(),
+        "drive alarms {alarms:?}: {report}\ndrive-sim: {drive_sim:?}"
+    );
     assert!(
         out.status.success() && report.get("error").is_none(),
         "{report}\ndrive-sim: {drive_sim:?}"
@@ -259,5 +238,4 @@ fn attempt_soem(python: &str, ns: &VethNamespace) -> Result<(), f64> {
             .all(|l| l.contains("AL state INIT") && !l.contains("alarm")),
         "every station back in INIT, no alarm: {drive_sim:?}"
     );
-    Ok(())
 }

@@ -682,6 +682,20 @@ fn enabled_with(
     (bus, counter)
 }
 
+/// Every axis' RxPDO: Operation enabled in csp at position 0, with the incremental `counter`.
+fn hold_enabled_at_zero(bus: &mut EthercatBus, layouts: &[PdoLayout], counter: u8) {
+    for (axis, l) in layouts.iter().enumerate() {
+        let rx = RxPdo {
+            controlword: Controlword::ENABLE_OPERATION,
+            mode: ModeOfOperation::CyclicSyncPosition.as_i8(),
+            target_position: 0,
+            counter,
+            ..RxPdo::default()
+        };
+        l.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
+    }
+}
+
 fn missed_sync0(bus: &mut EthercatBus) -> Vec<u64> {
     stations(bus)
         .stations()
@@ -920,16 +934,7 @@ fn an_in_process_segment_excusing_host_stalls_runs_the_drives_on() {
             .collect();
         for k in 0..40 {
             counter = counter.wrapping_add(1);
-            for (axis, l) in layouts.iter().enumerate() {
-                let rx = RxPdo {
-                    controlword: Controlword::ENABLE_OPERATION,
-                    mode: ModeOfOperation::CyclicSyncPosition.as_i8(),
-                    target_position: 0,
-                    counter,
-                    ..RxPdo::default()
-                };
-                l.encode_rx(&rx, bus.rx_image_mut(axis)).unwrap();
-            }
+            hold_enabled_at_zero(&mut bus, &layouts, counter);
             // Every tenth cycle the loop overran by four cycles.
             let elapsed = if k % 10 == 9 { Cycles(5) } else { Cycles(1) };
             bus.exchange(elapsed).unwrap();
@@ -942,6 +947,34 @@ fn an_in_process_segment_excusing_host_stalls_runs_the_drives_on() {
             assert!(missed.iter().all(|m| *m == 16), "{missed:?}");
         }
     }
+}
+
+/// Host stalls excused before a frame reaches the drives add up: an overrun, a frame lost on the
+/// wire, another overrun, and the drives count exactly the one lost frame as a missed SYNC0
+/// (what `cellrt drive-sim --excuse-host-stalls` relies on, gap by gap between frames).
+#[test]
+fn host_stalls_excused_around_a_lost_frame_add_up_and_the_lost_frame_still_counts() {
+    let (mut bus, mut counter) =
+        enabled_with(&MODELS, |s| InProcessLink::new(s).excusing_host_stalls());
+    let layouts: Vec<PdoLayout> = MODELS
+        .iter()
+        .map(|m| PdoLayout::new(&profile(*m).pdo.rx))
+        .collect();
+    let before = missed_sync0(&mut bus);
+    for (k, elapsed) in [1, 5, 5, 1].into_iter().enumerate() {
+        counter = counter.wrapping_add(1);
+        hold_enabled_at_zero(&mut bus, &layouts, counter);
+        if k == 1 {
+            assert!(bus.link_mut().drop_frames(1));
+        }
+        let _ = bus.exchange(Cycles(elapsed));
+    }
+    let missed: Vec<u64> = missed_sync0(&mut bus)
+        .iter()
+        .zip(&before)
+        .map(|(m, b)| m - b)
+        .collect();
+    assert_eq!(missed, vec![1; MODELS.len()]);
 }
 
 /// The process-data watchdog and the master's AL status monitoring: a link lost for longer

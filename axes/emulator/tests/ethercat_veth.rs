@@ -30,29 +30,13 @@ fn a_segment_on_a_veth_pair_comes_up_and_exchanges_over_raw_sockets() {
         eprintln!("SKIPPED: cannot create a veth pair (is iproute2 installed?)");
         return;
     };
-    for attempt in 1..=4 {
-        match attempt_exchange(&pair) {
-            Ok(()) => return,
-            Err(gap) if attempt < 4 => {
-                eprintln!("attempt {attempt}: the paced loop stalled for {gap:?} and a drive missed its frames; running again");
-            }
-            Err(gap) => {
-                eprintln!("SKIPPED: every attempt's paced loop stalled (last {gap:?}); not judged");
-            }
-        }
-    }
+    exchange_over(&pair);
 }
 
-/// A gap between two exchanges of the (non-RT) test loop, or between two frames the emulator
-/// processed in OP, long enough to leave a SYNC0 edge without a frame: the frames pass 1/8
-/// cycle after an edge (`SYNC0_FRAME_PHASE_DIVISOR`), 100 µs later while delayed, so a gap under
-/// 1.5 cycles cannot. One missed edge is enough for the sync-error counter models to alarm at
-/// the next (+3 per lost frame against a limit of 4: MR-J4-TM AL. 86.1, MR-JET/MR-J5 AL.086.1).
-const STALL: Duration = Duration::from_micros(1500);
-
-/// One bring-up and 200 paced exchanges; `Err` with the longest gap when this machine stalled
-/// the loop long enough for a drive to alarm (anything else that goes wrong fails).
-fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
+/// One bring-up and 200 paced exchanges. The emulator excuses gaps in the frames as stalls of
+/// this (loaded) machine (`HostStalls::Excused`), so a drive alarms only for frames it lost;
+/// the master waits up to 200 ms for each frame, so a held-back emulator loses none.
+fn exchange_over(pair: &VethPair) {
     let ct = CycleTime::from_micros(1000).unwrap();
     let models = [
         DriveModel::MrJ3T04,
@@ -86,10 +70,19 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
     let emulator = std::thread::spawn(move || {
         // As `cellrt drive-sim` does: the drives' end answers at once (as root).
         cellrt_test_support::sched::fifo(81);
-        let stats = wire::serve(&socket, &mut segment, &mut faults, &stop2).expect("serve");
+        let stats = wire::serve(
+            &socket,
+            &mut segment,
+            &mut faults,
+            wire::HostStalls::Excused {
+                cycle: ct.as_duration(),
+            },
+            &stop2,
+        )
+        .expect("serve");
         (stats, segment)
     });
-    let link = RawSocketLink::open(pair.name(), Duration::from_millis(20)).expect("master socket");
+    let link = RawSocketLink::open(pair.name(), Duration::from_millis(200)).expect("master socket");
     let config = SegmentConfig {
         cycle: ct,
         drives: models
@@ -136,16 +129,7 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
     assert!(stats.frames >= 200, "{stats:?}");
     assert_eq!((stats.delayed, stats.lost), (50, 0), "{stats:?}");
     assert_eq!(stats.injected.frame_delay, 1, "{stats:?}");
-    let alarmed = segment
-        .stations()
-        .iter()
-        .any(|st| st.drive().alarm().is_some());
-    // A drive that alarmed because the master's loop or the emulator's thread was held back
-    // (a loaded host) is a disturbed run, not a verdict.
     let emulator_gap = Duration::from_nanos(stats.max_gap_ns);
-    if alarmed && (max_gap > STALL || emulator_gap > STALL) {
-        return Err(max_gap.max(emulator_gap));
-    }
     for st in segment.stations() {
         assert_eq!(
             st.drive().alarm(),
@@ -156,7 +140,6 @@ fn attempt_exchange(pair: &VethPair) -> Result<(), Duration> {
         );
         assert!(st.exchanges() >= 190, "{}", st.exchanges());
     }
-    Ok(())
 }
 
 /// A BRD of the ESC type register (0000h) from `source`: returns the reply's working counter
@@ -202,7 +185,14 @@ fn a_maindevice_is_served_whatever_its_source_mac() {
     let stop = Arc::new(AtomicBool::new(false));
     let stop2 = stop.clone();
     let emulator = std::thread::spawn(move || {
-        wire::serve(&socket, &mut segment, &mut faults, &stop2).expect("serve")
+        wire::serve(
+            &socket,
+            &mut segment,
+            &mut faults,
+            wire::HostStalls::Counted,
+            &stop2,
+        )
+        .expect("serve")
     });
     let master = RawSocket::open(pair.name()).expect("master socket");
     // A software MainDevice's locally administered address (SOEM-based tools send from such

@@ -133,6 +133,37 @@ pub struct RtConfig {
     /// With `cpu` set: run cellrt's other threads (planner, recorder, services) on the other
     /// online CPUs, so they neither preempt the RT thread nor evict its caches (default true).
     pub reserve_cpu: bool,
+    /// What a late cycle does with the deadlines it missed (`rt.missed_deadlines`).
+    pub missed_deadlines: MissedDeadlines,
+}
+
+/// What the RT loop does when a cycle ends after later deadlines have passed (an overrun).
+/// Either way the overrun is counted, recorded and watched by `max_consecutive_overruns`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MissedDeadlines {
+    /// The missed cycles are skipped: the cell keeps wall-clock time, its setpoints step by
+    /// the skipped cycles' travel (the default: real drives run on their own clock).
+    #[default]
+    Skip,
+    /// No cycle is skipped: the next one runs at the next deadline on the cycle grid and the
+    /// cell's clock falls behind wall time by the missed cycles. Deterministic in cycles
+    /// whatever the machine's load; for drives that live on the master's clock (`transport =
+    /// "sim"`, `interface = "in-process"`, `cellrt drive-sim ethercat --excuse-host-stalls`).
+    Stretch,
+}
+
+impl MissedDeadlines {
+    /// The names `rt.missed_deadlines` takes.
+    pub const NAMES: &'static str = "\"skip\", \"stretch\"";
+
+    /// The policy named `name` in a configuration.
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "skip" => Some(Self::Skip),
+            "stretch" => Some(Self::Stretch),
+            _ => None,
+        }
+    }
 }
 
 /// MCAP chunk compression.

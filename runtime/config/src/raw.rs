@@ -127,6 +127,9 @@ pub struct RawRt {
     /// Keep cellrt's other threads off `cpu`.
     #[serde(default = "default_true")]
     pub reserve_cpu: bool,
+    /// "skip" or "stretch": what a late cycle does with the deadlines it missed.
+    #[serde(default = "default_missed_deadlines")]
+    pub missed_deadlines: String,
 }
 
 impl Default for RawRt {
@@ -137,8 +140,13 @@ impl Default for RawRt {
             planner_priority: default_planner_priority(),
             lock_memory: true,
             reserve_cpu: true,
+            missed_deadlines: default_missed_deadlines(),
         }
     }
+}
+
+fn default_missed_deadlines() -> String {
+    "skip".into()
 }
 
 /// `[recording]`.

@@ -68,6 +68,28 @@ fn bad_cell_name_and_priority_are_refused() {
 }
 
 #[test]
+fn missed_deadlines_are_skipped_by_default_stretched_on_request_and_bad_names_refused() {
+    assert_eq!(
+        parse(&demo_text()).unwrap().rt.missed_deadlines,
+        MissedDeadlines::Skip
+    );
+    let stretch = demo_text().replace(
+        "priority = 80",
+        "priority = 80\nmissed_deadlines = \"stretch\"",
+    );
+    assert_eq!(
+        parse(&stretch).unwrap().rt.missed_deadlines,
+        MissedDeadlines::Stretch
+    );
+    let e = parse(&stretch.replace("\"stretch\"", "\"catch_up\"")).unwrap_err();
+    assert_eq!(e.key, "rt.missed_deadlines");
+    assert!(
+        e.message.contains("\"skip\", \"stretch\"") && e.message.contains("catch_up"),
+        "{e}"
+    );
+}
+
+#[test]
 fn the_planner_thread_runs_below_the_rt_thread_or_sched_other() {
     assert_eq!(parse(&demo_text()).unwrap().rt.planner_priority, Some(40));
     let e =

@@ -270,6 +270,7 @@ mod reserved_cpu_tests {
             priority: 80,
             lock_memory: false,
             reserve_cpu: reserve,
+            missed_deadlines: Default::default(),
         }
     }
 

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
+use cellrt_cia402::CycleTime;
 use cellrt_config::{CellConfig, RtConfig};
 use cellrt_emulator::ethercat::{wire, FaultSchedule, ScheduledFault, Segment, WireFault};
 use cellrt_ethercat::raw_socket::RawSocket;
@@ -115,6 +116,8 @@ struct Emulation {
     rt: RtConfig,
     /// The wire faults to inject.
     faults: FaultSchedule,
+    /// The drives' cycle time (the SYNC0 cycle).
+    cycle: CycleTime,
 }
 
 /// The emulator thread's settings: like a drive's hardware it answers at once, so on the
@@ -126,6 +129,7 @@ fn emulator_rt(cpu: Option<usize>, cell_priority: u8) -> RtConfig {
         planner_priority: None,
         lock_memory: true,
         reserve_cpu: false,
+        missed_deadlines: Default::default(),
     }
 }
 
@@ -151,6 +155,7 @@ fn of_config(file: &std::path::Path) -> Result<Emulation, Exit> {
         listing,
         rt: emulator_rt(config.rt.cpu, config.rt.priority),
         faults,
+        cycle: config.cycle_time,
     })
 }
 
@@ -183,11 +188,13 @@ fn of_lineup(lineup: &Lineup) -> Result<Emulation, Exit> {
         listing,
         rt: emulator_rt(None, cellrt_config::raw::RawRt::default().priority),
         faults,
+        cycle: lineup.cycle,
     })
 }
 
 /// Serves the requested drives on the interface until SIGINT or SIGTERM.
 fn serve_ethercat(args: EthercatSimArgs) -> Result<(), Exit> {
+    let excuse_host_stalls = args.excuse_host_stalls;
     let (interface, drives) = request(args).map_err(|e| fail(e, Exit::BadInput))?;
     let mut emulation = match &drives {
         Drives::Config(file) => of_config(file)?,
@@ -211,13 +218,23 @@ fn serve_ethercat(args: EthercatSimArgs) -> Result<(), Exit> {
         emulation.listing.join(", ")
     );
     announce(&emulation.names, &emulation.faults);
+    let stalls = if excuse_host_stalls {
+        eprintln!(
+            "cellrt drive-sim: gaps in the MainDevice's frames are excused as host stalls (--excuse-host-stalls)"
+        );
+        wire::HostStalls::Excused {
+            cycle: emulation.cycle.as_duration(),
+        }
+    } else {
+        wire::HostStalls::Counted
+    };
     let Emulation {
         segment,
         names,
         faults,
         ..
     } = &mut emulation;
-    let stats = wire::serve(&socket, segment, faults, &stop)
+    let stats = wire::serve(&socket, segment, faults, stalls, &stop)
         .map_err(|e| fail(format!("{interface}: {e}"), Exit::Failed))?;
     eprintln!(
         "cellrt drive-sim: {} frames served, {} malformed dropped, {} lost and {} delayed by injected faults",

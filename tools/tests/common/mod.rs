@@ -171,8 +171,10 @@ pub fn max_derivatives(samples: &[(u64, f64)], dt: f64) -> (f64, f64, f64) {
     (v, a, j)
 }
 
-/// Starts `cellrt drive-sim ethercat` with the drives of `cfg` on the far end of `ns` and waits
-/// until it serves; returns the process and the rest of its stderr, line by line.
+/// Starts `cellrt drive-sim ethercat` with the drives of `cfg` on the far end of `ns`, gaps in
+/// the master's frames excused as stalls of this machine (`--excuse-host-stalls`, for cells
+/// with `rt.missed_deadlines = "stretch"`), and waits until it serves; returns the process and
+/// the rest of its stderr, line by line.
 pub fn spawn_drive_sim(
     ns: &cellrt_rt_tests::netns::VethNamespace,
     cfg: &Path,
@@ -180,7 +182,14 @@ pub fn spawn_drive_sim(
     std::process::Child,
     std::io::Lines<std::io::BufReader<std::process::ChildStderr>>,
 ) {
-    spawn_drive_sim_with(ns, &["--cell".as_ref(), cfg.as_os_str()])
+    spawn_drive_sim_with(
+        ns,
+        &[
+            "--cell".as_ref(),
+            cfg.as_os_str(),
+            "--excuse-host-stalls".as_ref(),
+        ],
+    )
 }
 
 /// Starts `cellrt drive-sim ethercat` with `drives` (its arguments besides the interface) on

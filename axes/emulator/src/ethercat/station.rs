@@ -273,8 +273,9 @@ impl Station {
 
     /// The next frame comes `cycles` SYNC0 edges late because the master's host stalled (an
     /// overrun of its RT loop): those edges run the drive on, they are not lost RxPDOs.
+    /// Stalls excused before one frame reaches the drive add up (frames lost in between).
     pub fn excuse_host_stall(&mut self, cycles: u64) {
-        self.excused_sync0 = cycles;
+        self.excused_sync0 = self.excused_sync0.saturating_add(cycles);
         // Nor do they run the process-data watchdog down; a link lost around the stall still
         // does (with SYNC0 the stall's length is known: the watchdog's start moves by it).
         if let Some(at) = self.pd_watchdog_trigger {

@@ -51,17 +51,72 @@ pub struct WireStats {
     pub last_op_frame_ns: u64,
 }
 
-/// Serves `segment` on `socket` with `faults` injected until `stop` is set. Allocates nothing
-/// per frame.
+/// How the emulated drives take a gap in the MainDevice's frames in OP.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum HostStalls {
+    /// As real drives: every SYNC0 without new outputs is a lost RxPDO for their
+    /// communication checks.
+    #[default]
+    Counted,
+    /// A gap of whole `cycle`s between two frames arriving (lost ones included) is a stall of
+    /// the MainDevice's host or of this process, not lost frames: the drives run on through it,
+    /// as on the in-process segment (`Segment::excuse_host_stall`). Frames lost by an injected
+    /// fault still count, one SYNC0 each. For emulation on a loaded machine.
+    Excused {
+        /// The cell's cycle time (the SYNC0 cycle).
+        cycle: Duration,
+    },
+}
+
+/// Gaps between frames arriving from the MainDevice, excused as host stalls by [`HostStalls`].
+#[derive(Debug)]
+struct StallExcuser {
+    cycle_ns: u64,
+    last_arrival_ns: Option<u64>,
+}
+
+impl StallExcuser {
+    fn new(policy: HostStalls) -> Option<Self> {
+        match policy {
+            HostStalls::Counted => None,
+            HostStalls::Excused { cycle } => Some(StallExcuser {
+                cycle_ns: u64::try_from(cycle.as_nanos()).unwrap_or(u64::MAX).max(1),
+                last_arrival_ns: None,
+            }),
+        }
+    }
+
+    /// A frame arrived at `now_ns`: the whole cycles beyond one since the previous arrival are
+    /// excused on every station (only while all are in OP, where the drives count SYNC0s).
+    fn arrival(&mut self, now_ns: u64, segment: &mut Segment) {
+        let in_op = segment
+            .stations()
+            .iter()
+            .all(|st| st.al_state() == AlState::Op);
+        if let (true, Some(last)) = (in_op, self.last_arrival_ns) {
+            let gap = now_ns.saturating_sub(last);
+            let edges = (gap + self.cycle_ns / 2) / self.cycle_ns;
+            if edges > 1 {
+                segment.excuse_host_stall(edges - 1);
+            }
+        }
+        self.last_arrival_ns = Some(now_ns);
+    }
+}
+
+/// Serves `segment` on `socket` with `faults` injected until `stop` is set, the drives taking
+/// gaps in the MainDevice's frames as `stalls` says. Allocates nothing per frame.
 pub fn serve(
     socket: &RawSocket,
     segment: &mut Segment,
     faults: &mut FaultSchedule,
+    stalls: HostStalls,
     stop: &AtomicBool,
 ) -> io::Result<WireStats> {
     let mut buf = vec![0u8; MAX_FRAME];
     let mut late = DelayLine::new();
     let mut stats = WireStats::default();
+    let mut excuser = StallExcuser::new(stalls);
     while !stop.load(Ordering::Acquire) {
         // Delayed frames that are due go first, processed when they reach the segment.
         while let Some(n) = late.pop_due(monotonic_ns(), &mut buf) {
@@ -81,6 +136,9 @@ pub fn serve(
             continue;
         }
         let now = monotonic_ns();
+        if let Some(excuser) = &mut excuser {
+            excuser.arrival(now, segment);
+        }
         match faults.before_frame(&buf[..n], now, segment) {
             FrameFate::Process => {
                 deliver(socket, segment, &mut buf[..n], &mut stats)?;

@@ -11,8 +11,8 @@ use super::je_c_axis::{self, JecAxisConfig};
 use super::raw::{RawAxis, RawCellConfig, RawRecording, RawRt, RawSetpoints, RawWatchdogs};
 use super::{
     AxisConfig, CellConfig, CommWatchdogConfig, Compression, ConfigError, EthercatConfig,
-    EthercatInterface, FaultReaction, RecordingConfig, RtConfig, SetpointConfig, Transport,
-    WatchdogConfig, DEFAULT_FRAME_TIMEOUT_US, IN_PROCESS_INTERFACE, MAX_AXES,
+    EthercatInterface, FaultReaction, MissedDeadlines, RecordingConfig, RtConfig, SetpointConfig,
+    Transport, WatchdogConfig, DEFAULT_FRAME_TIMEOUT_US, IN_PROCESS_INTERFACE, MAX_AXES,
 };
 use crate::CellAxes;
 
@@ -133,6 +133,17 @@ fn rt_config(file: &Path, raw: &RawRt) -> Result<RtConfig, ConfigError> {
         planner_priority: (raw.planner_priority != 0).then_some(raw.planner_priority),
         lock_memory: raw.lock_memory,
         reserve_cpu: raw.reserve_cpu,
+        missed_deadlines: MissedDeadlines::parse(&raw.missed_deadlines).ok_or_else(|| {
+            ConfigError::new(
+                file,
+                "rt.missed_deadlines",
+                format!(
+                    "must be one of {} (got \"{}\")",
+                    MissedDeadlines::NAMES,
+                    raw.missed_deadlines
+                ),
+            )
+        })?,
     };
     if !(1..=99).contains(&rt.priority) {
         return Err(ConfigError::new(

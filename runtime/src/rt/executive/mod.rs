@@ -36,7 +36,7 @@ use crate::rt::clock::{sleep_until, MonoTime};
 use crate::rt::histogram::NsHistogram;
 use crate::rt::injection::{InjectionSchedule, Outcome};
 use crate::rt::setpoint_stream::SetpointStream;
-use cellrt_config::{CellConfig, FaultReaction, InjectedFault, WatchdogConfig};
+use cellrt_config::{CellConfig, FaultReaction, InjectedFault, MissedDeadlines, WatchdogConfig};
 
 /// Hook called by the RT thread at phase changes (test instrumentation; a plain fn pointer so
 /// calling it allocates nothing).
@@ -79,6 +79,8 @@ pub struct RtStats {
     pub final_positions: Vec<i32>,
     /// Final cell state.
     pub final_state: CellState,
+    /// The cell's cycle number at exit: `counters.cycles - 1` unless overruns skipped cycles.
+    pub final_cycle: u64,
 }
 
 /// Summary numbers of [`RtStats`] for printing and JSON.
@@ -86,7 +88,8 @@ pub struct RtStats {
 pub struct RtCounters {
     /// Executed cycles.
     pub cycles: u64,
-    /// Missed deadlines (skipped cycles).
+    /// Missed deadlines (skipped cycles, or cycles the cell's clock fell behind under
+    /// `rt.missed_deadlines = "stretch"`).
     pub overruns: u64,
     /// Setpoint underruns during motion.
     pub underruns: u64,
@@ -134,6 +137,8 @@ pub struct Executive<B: CyclicBus + AcyclicBus> {
     watchdogs: WatchdogConfig,
     /// Deadlines missed in a row (reset by a cycle that starts on time).
     overrun_streak: u32,
+    /// Whether a late cycle skips the cycles it missed or stretches the cell's clock.
+    missed_deadlines: MissedDeadlines,
     /// Scheduled faults the RT thread applies (stall, bus faults), by cycle.
     faults: InjectionSchedule<B>,
     /// Cycles since the previous executed cycle (more than 1 after an overrun).
@@ -201,6 +206,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             finishing: false,
             watchdogs: cell.watchdogs,
             overrun_streak: 0,
+            missed_deadlines: cell.rt.missed_deadlines,
             faults: InjectionSchedule::for_cell(cell),
             elapsed: Cycles(1),
             stats: RtStats {
@@ -213,6 +219,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 frames: None,
                 final_positions: vec![0; n],
                 final_state: CellState::Disabled,
+                final_cycle: 0,
             },
             drops_unreported: false,
             pending: vec![None; n],
@@ -266,7 +273,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 break;
             }
 
-            // Next deadline; deadlines already past are counted and skipped, never caught up.
+            // Next deadline; deadlines already past are counted and never caught up: their
+            // cycles are skipped, or under `MissedDeadlines::Stretch` the cell's clock falls
+            // behind (the next cycle is the next one, one deadline later on the grid).
             // Aligned to the bus clock where it has one (EtherCAT DC: the frame's place in the
             // SYNC0 cycle); the correction moves the grid, it does not count as lateness.
             let mut next = deadline
@@ -279,7 +288,9 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
                 self.stats.counters.overruns += missed;
                 self.event(EventKind::Overrun, NO_AXIS, now.since(next) as i64);
                 next = next.plus(missed * self.period_ns);
-                step += missed;
+                if self.missed_deadlines == MissedDeadlines::Skip {
+                    step += missed;
+                }
                 self.overrun_streak = self
                     .overrun_streak
                     .saturating_add(missed.min(u64::from(u32::MAX)) as u32);
@@ -307,6 +318,7 @@ impl<B: CyclicBus + AcyclicBus> Executive<B> {
             self.stats.final_positions[i] = a.feedback.position_actual;
         }
         self.stats.final_state = self.state;
+        self.stats.final_cycle = self.cycle;
         self.stats
     }
 

@@ -371,10 +371,11 @@ pub struct EthercatSimArgs {
     /// take each frame.
     #[arg(long, value_name = "US")]
     pub cycle_time_us: Option<u32>,
-    /// Take a gap in the MainDevice's frames in OP as a stall of its host or of this machine,
-    /// not as lost frames: the drives run on through it instead of counting missed SYNC0s (as
-    /// the in-process segment does for `cellrt run`). Frames lost by an injected wire fault
-    /// still count. For a loaded or virtual machine; real drives count every missed SYNC0.
+    /// The drives live on the MainDevice's clock (as on the in-process segment of `cellrt
+    /// run`): in OP each process-data frame is one SYNC0 cycle, whatever the time between two,
+    /// so a stall of the master's host or of this machine is no lost frame. Frames lost by an
+    /// injected wire fault still count, and the fault schedule counts these cycles. For a
+    /// loaded or virtual machine; real drives count every missed SYNC0.
     #[arg(long)]
     pub excuse_host_stalls: bool,
 }

@@ -220,7 +220,7 @@ fn serve_ethercat(args: EthercatSimArgs) -> Result<(), Exit> {
     announce(&emulation.names, &emulation.faults);
     let stalls = if excuse_host_stalls {
         eprintln!(
-            "cellrt drive-sim: gaps in the MainDevice's frames are excused as host stalls (--excuse-host-stalls)"
+            "cellrt drive-sim: the drives live on the MainDevice's clock, one cycle per process-data frame in OP (--excuse-host-stalls)"
         );
         wire::HostStalls::Excused {
             cycle: emulation.cycle.as_duration(),

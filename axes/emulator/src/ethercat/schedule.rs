@@ -341,7 +341,7 @@ impl FaultSchedule {
 }
 
 /// True if `frame` carries a logical datagram (LRD, LWR, LRW): process data.
-fn carries_process_data(frame: &[u8]) -> bool {
+pub(super) fn carries_process_data(frame: &[u8]) -> bool {
     frame::datagrams(frame).any(|d| {
         d.is_ok_and(|d| matches!(d.header.command, Command::Lrd | Command::Lwr | Command::Lrw))
     })

@@ -472,6 +472,18 @@ impl Station {
         ])
     }
 
+    /// Where local time `now_ns` falls in this station's SYNC0 cycle: (ns since the last SYNC0
+    /// edge, the cycle), or `None` without SYNC0 or before its start time.
+    pub fn sync0_phase(&self, now_ns: u64) -> Option<(u64, u64)> {
+        let cycle = u64::from(self.sync0_cycle_ns());
+        if !self.sync_active() || cycle == 0 {
+            return None;
+        }
+        let system = now_ns.wrapping_add(self.get_u64(reg::DC_SYSTEM_TIME_OFFSET));
+        let start = self.get_u64(reg::DC_SYNC_START_TIME);
+        (system >= start).then(|| ((system - start) % cycle, cycle))
+    }
+
     /// True if the master has activated SYNC0/SYNC1 generation (0981h).
     fn sync_active(&self) -> bool {
         self.mem[usize::from(reg::DC_SYNC_ACTIVE)] & 0x03 != 0

@@ -7,8 +7,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use super::delay_line::{DelayLine, MAX_FRAME};
-use super::schedule::{FaultSchedule, FrameFate, InjectedCounts};
+use super::schedule::{carries_process_data, FaultSchedule, FrameFate, InjectedCounts};
 use super::{Delivery, Segment};
+use cellrt_ethercat::master::SYNC0_FRAME_PHASE_DIVISOR;
 use cellrt_ethercat::raw_socket::RawSocket;
 use cellrt_ethercat::register::AlState;
 
@@ -54,53 +55,95 @@ pub struct WireStats {
 /// How the emulated drives take a gap in the MainDevice's frames in OP.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum HostStalls {
-    /// As real drives: every SYNC0 without new outputs is a lost RxPDO for their
-    /// communication checks.
+    /// As real drives: the ESCs run on this machine's clock, and every SYNC0 without new
+    /// outputs is a lost RxPDO for their communication checks.
     #[default]
     Counted,
-    /// A gap of whole `cycle`s between two frames arriving (lost ones included) is a stall of
-    /// the MainDevice's host or of this process, not lost frames: the drives run on through it,
-    /// as on the in-process segment (`Segment::excuse_host_stall`). Frames lost by an injected
-    /// fault still count, one SYNC0 each. For emulation on a loaded machine.
+    /// The drives live on the MainDevice's clock, as on the in-process segment: in OP each
+    /// process-data frame that arrives is one SYNC0 cycle later than the one before (placed
+    /// where the master aims its frames in the cycle, [`SYNC0_FRAME_PHASE_DIVISOR`]), whatever
+    /// the time between them, so a stall of the master's host or of this process is no lost
+    /// frame and frame jitter no missed edge. A frame an injected fault loses still takes its
+    /// cycle (a lost RxPDO), and the fault schedule counts these cycles. For emulation on a
+    /// loaded machine (`cellrt drive-sim ethercat --excuse-host-stalls`).
     Excused {
-        /// The cell's cycle time (the SYNC0 cycle).
+        /// The cycle when the master has not started SYNC0 (free run).
         cycle: Duration,
     },
 }
 
-/// Gaps between frames arriving from the MainDevice, excused as host stalls by [`HostStalls`].
+/// The segment's clock under [`HostStalls::Excused`]: wall time outside OP, one cycle per
+/// process-data frame in OP.
 #[derive(Debug)]
-struct StallExcuser {
-    cycle_ns: u64,
-    last_arrival_ns: Option<u64>,
+struct FramePacedClock {
+    free_run_cycle_ns: u64,
+    /// This clock minus wall time, ns.
+    offset: i128,
+    /// The time given to the last process-data frame in OP.
+    last_pd: Option<u64>,
+    /// The last time given (the clock never goes back).
+    last: u64,
 }
 
-impl StallExcuser {
+impl FramePacedClock {
     fn new(policy: HostStalls) -> Option<Self> {
         match policy {
             HostStalls::Counted => None,
-            HostStalls::Excused { cycle } => Some(StallExcuser {
-                cycle_ns: u64::try_from(cycle.as_nanos()).unwrap_or(u64::MAX).max(1),
-                last_arrival_ns: None,
+            HostStalls::Excused { cycle } => Some(FramePacedClock {
+                free_run_cycle_ns: u64::try_from(cycle.as_nanos()).unwrap_or(u64::MAX).max(1),
+                offset: 0,
+                last_pd: None,
+                last: 0,
             }),
         }
     }
 
-    /// A frame arrived at `now_ns`: the whole cycles beyond one since the previous arrival are
-    /// excused on every station (only while all are in OP, where the drives count SYNC0s).
-    fn arrival(&mut self, now_ns: u64, segment: &mut Segment) {
+    /// The segment's time for `frame`, arriving at wall time `wall` (a delayed frame reaching
+    /// the segment: `frame` is `None`).
+    fn at(&mut self, wall: u64, frame: Option<&[u8]>, segment: &Segment) -> u64 {
         let in_op = segment
             .stations()
             .iter()
             .all(|st| st.al_state() == AlState::Op);
-        if let (true, Some(last)) = (in_op, self.last_arrival_ns) {
-            let gap = now_ns.saturating_sub(last);
-            let edges = (gap + self.cycle_ns / 2) / self.cycle_ns;
-            if edges > 1 {
-                segment.excuse_host_stall(edges - 1);
-            }
+        if !in_op {
+            self.last_pd = None;
         }
-        self.last_arrival_ns = Some(now_ns);
+        let shifted = u64::try_from((i128::from(wall) + self.offset).max(0)).unwrap_or(u64::MAX);
+        let pd = frame.is_some_and(carries_process_data);
+        let t = match (in_op && pd, self.last_pd) {
+            (true, last_pd) => {
+                let sync0 = segment
+                    .stations()
+                    .iter()
+                    .find_map(|st| st.sync0_phase(shifted));
+                let cycle = sync0.map_or(self.free_run_cycle_ns, |(_, c)| c);
+                let t = match (last_pd, sync0) {
+                    (Some(p), _) => p + cycle,
+                    // The first one in OP: onto the place in the SYNC0 cycle the master aims at.
+                    (None, Some((phase, cycle))) => {
+                        let aim = cycle / SYNC0_FRAME_PHASE_DIVISOR;
+                        shifted - phase + aim + if phase > aim { cycle } else { 0 }
+                    }
+                    (None, None) => shifted,
+                };
+                self.last_pd = Some(t);
+                self.offset = i128::from(t) - i128::from(wall);
+                t
+            }
+            // Other frames in OP (mailbox, delayed ones) stay before the next cycle's edge.
+            (false, Some(p)) => {
+                let cycle = segment
+                    .stations()
+                    .iter()
+                    .find_map(|st| st.sync0_phase(p))
+                    .map_or(self.free_run_cycle_ns, |(_, c)| c);
+                shifted.min(p + cycle - 1)
+            }
+            (false, None) => shifted,
+        };
+        let t = t.max(self.last);
+        self.last = t;
+        t
     }
 }
 
@@ -116,11 +159,13 @@ pub fn serve(
     let mut buf = vec![0u8; MAX_FRAME];
     let mut late = DelayLine::new();
     let mut stats = WireStats::default();
-    let mut excuser = StallExcuser::new(stalls);
+    let mut clock = FramePacedClock::new(stalls);
     while !stop.load(Ordering::Acquire) {
         // Delayed frames that are due go first, processed when they reach the segment.
         while let Some(n) = late.pop_due(monotonic_ns(), &mut buf) {
-            if deliver(socket, segment, &mut buf[..n], &mut stats)? {
+            let wall = monotonic_ns();
+            let now = clock.as_mut().map_or(wall, |c| c.at(wall, None, segment));
+            if deliver(socket, segment, &mut buf[..n], now, &mut stats)? {
                 stats.delayed += 1;
             }
         }
@@ -135,17 +180,17 @@ pub fn serve(
         if n < 7 {
             continue;
         }
-        let now = monotonic_ns();
-        if let Some(excuser) = &mut excuser {
-            excuser.arrival(now, segment);
-        }
+        let wall = monotonic_ns();
+        let now = clock
+            .as_mut()
+            .map_or(wall, |c| c.at(wall, Some(&buf[..n]), segment));
         match faults.before_frame(&buf[..n], now, segment) {
             FrameFate::Process => {
-                deliver(socket, segment, &mut buf[..n], &mut stats)?;
+                deliver(socket, segment, &mut buf[..n], now, &mut stats)?;
             }
             FrameFate::Lose => stats.lost += 1,
             FrameFate::Delay(ns) => {
-                if !late.push(&buf[..n], now.saturating_add(ns)) {
+                if !late.push(&buf[..n], wall.saturating_add(ns)) {
                     stats.lost += 1;
                 }
             }
@@ -155,15 +200,16 @@ pub fn serve(
     Ok(stats)
 }
 
-/// Processes `frame` on `segment` now and returns it on `socket` unless the segment lost it;
-/// true if it was returned.
+/// Processes `frame` on `segment` at its time `now` and returns it on `socket` unless the
+/// segment lost it; true if it was returned.
 fn deliver(
     socket: &RawSocket,
     segment: &mut Segment,
     frame: &mut [u8],
+    now: u64,
     stats: &mut WireStats,
 ) -> io::Result<bool> {
-    let now = monotonic_ns();
+    let wall = monotonic_ns();
     let in_op = segment
         .stations()
         .iter()
@@ -171,10 +217,10 @@ fn deliver(
     if in_op && stats.last_op_frame_ns != 0 {
         stats.max_gap_ns = stats
             .max_gap_ns
-            .max(now.saturating_sub(stats.last_op_frame_ns));
+            .max(wall.saturating_sub(stats.last_op_frame_ns));
     }
-    stats.last_frame_ns = now;
-    stats.last_op_frame_ns = if in_op { now } else { 0 };
+    stats.last_frame_ns = wall;
+    stats.last_op_frame_ns = if in_op { wall } else { 0 };
     match segment.process(frame, now) {
         Ok(Delivery::Returned) => {
             socket.send(frame)?;

@@ -104,6 +104,12 @@ pub struct ReportArgs {
     /// Also export per-cycle data as CSV (one file per axis, one for the cycle timing).
     #[arg(long)]
     pub csv: bool,
+    /// The per-move table's settling band, counts: an axis has settled once |actual − final
+    /// setpoint| stays within it (one band for all axes; the drives' own in-position range is
+    /// [Pr. PA10] / 6067h).
+    #[arg(long, value_name = "COUNTS",
+          default_value_t = crate::commands::report::DEFAULT_SETTLE_BAND_COUNTS)]
+    pub settle_band: f64,
 }
 
 /// `cellrt replay`.

@@ -40,6 +40,7 @@ const SNAPSHOT: &str = r#"(() => {
     fsa: a.querySelector('.fsa')?.textContent,
     actual: a.querySelector('.actual')?.textContent,
     alarm: a.querySelector('.alarm')?.textContent,
+    unit: a.querySelector('.unit')?.textContent,
     samples: Number(a.querySelector('canvas')?.dataset.samples),
   }));
   const x = document.querySelector('canvas[data-axis="x"]');
@@ -168,6 +169,15 @@ fn the_live_page_plots_the_moving_demo_in_a_headless_chromium() {
         "{}",
         named["axes"]
     );
+    // Each value labelled with its axis' unit from the configuration.
+    for (n, unit) in [
+        ("x", " [mm]"),
+        ("y", " [mm]"),
+        ("z", " [mm]"),
+        ("c", " [deg]"),
+    ] {
+        assert_eq!(axis(&named, n)["unit"], unit, "{}", named["axes"]);
+    }
     until(&mut browser, &tab, "the axes enabled", |s| {
         ["x", "y", "z", "c"]
             .iter()

@@ -322,8 +322,18 @@ fn report_plots_every_axis_and_marks_the_fault() {
             "{axis}.csv rows"
         );
     }
+    // The fault is labelled above y's plot, where it happened.
+    let svg_y = std::fs::read_to_string(out_dir.join("axis-y.svg")).unwrap();
+    assert!(svg_y.contains("\ndrive_fault [y]\n"), "no label of y's fault");
     let html = std::fs::read_to_string(out_dir.join("index.html")).unwrap();
     assert!(html.contains("axis-y.svg") && html.contains("latency.svg"));
+    // The per-move table: a row per motion and axis it moved, with its settling.
+    let moves = html.split("<h2>moves (").nth(1).expect("a per-move table");
+    assert!(
+        moves.contains("<th>peak following error</th>") && moves.contains("<th>settling [ms]</th>"),
+        "{moves}"
+    );
+    assert!(moves.contains("<tr><td>1</td><td>x</td>"), "{moves}");
     assert!(
         html.contains("class=\"alarm\"><td>cycle") && html.contains("drive_fault [y]"),
         "the fault is listed"

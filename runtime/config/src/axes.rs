@@ -91,6 +91,13 @@ impl<'a> Axis<'a> {
             AxisKind::Link(_, a) => &a.unit,
         }
     }
+    /// Drive counts per unit (position scaling).
+    pub fn counts_per_unit(&self) -> f64 {
+        match self.config {
+            AxisKind::Loop(_, a) => a.scaling.counts_per_unit(),
+            AxisKind::Link(_, a) => a.counts_per_unit,
+        }
+    }
 }
 
 impl AxisRef {

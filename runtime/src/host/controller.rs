@@ -390,7 +390,8 @@ fn start_live(cell: &CellConfig) -> Result<(Option<LiveServer>, Option<LivePage>
         .live_page
         .addr(addr)
         .map_err(|e| RunError::Live(format!("live page: {e}")))?;
-    let page = match LivePage::start(&cell.name, page_addr, server.addr.port()) {
+    let scales = crate::host::live_page::AxisScale::of_cell(cell);
+    let page = match LivePage::start(&cell.name, &scales, page_addr, server.addr.port()) {
         Ok(p) => {
             tracing::info!("live page on http://{}/", p.addr);
             Some(p)

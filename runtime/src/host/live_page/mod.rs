@@ -48,13 +48,18 @@ pub struct LivePage {
 impl LivePage {
     /// Serves the page of cell `cell` on `addr`; the page connects to the live view on port
     /// `live_port` of the host it was loaded from.
-    pub fn start(cell: &str, addr: SocketAddr, live_port: u16) -> Result<LivePage, PageError> {
+    pub fn start(
+        cell: &str,
+        axes: &[AxisScale],
+        addr: SocketAddr,
+        live_port: u16,
+    ) -> Result<LivePage, PageError> {
         let fail = |reason: String| PageError { addr, reason };
         let listener = TcpListener::bind(addr).map_err(|e| fail(e.to_string()))?;
         let addr = listener.local_addr().map_err(|e| fail(e.to_string()))?;
         let server =
             Arc::new(Server::from_listener(listener, None).map_err(|e| fail(e.to_string()))?);
-        let assets = assets(cell, live_port);
+        let assets = assets(cell, axes, live_port);
         let csp = content_security_policy(live_port);
         let s = server.clone();
         let thread = std::thread::Builder::new()
@@ -79,9 +84,37 @@ impl Drop for LivePage {
 }
 
 /// The page's files, the cell's name and the live view's port filled in.
-fn assets(cell: &str, live_port: u16) -> Vec<Asset> {
+/// An axis as the page labels and scales it: its unit, and its counts per unit (the
+/// following-error plot spans at least a few counts, so quantisation noise stays a line).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct AxisScale {
+    /// The axis.
+    pub name: String,
+    /// Its unit (mm, deg…).
+    pub unit: String,
+    /// Drive counts per unit.
+    pub counts_per_unit: f64,
+}
+
+impl AxisScale {
+    /// Every axis of `cell`.
+    pub fn of_cell(cell: &cellrt_config::CellConfig) -> Vec<AxisScale> {
+        cell.axes
+            .iter()
+            .map(|a| AxisScale {
+                name: a.name().to_string(),
+                unit: a.unit().to_string(),
+                counts_per_unit: a.counts_per_unit(),
+            })
+            .collect()
+    }
+}
+
+fn assets(cell: &str, axes: &[AxisScale], live_port: u16) -> Vec<Asset> {
+    let axes = serde_json::to_string(axes).unwrap_or_else(|_| "[]".into());
     let html = INDEX_HTML
         .replace("{{CELL}}", &escape_html(cell))
+        .replace("{{AXES}}", &escape_html(&axes))
         .replace("{{LIVE_PORT}}", &live_port.to_string());
     vec![
         Asset {

@@ -205,16 +205,31 @@
     $("events").replaceChildren();
   }
 
+  /** Each axis' unit and counts per unit, as the cell's configuration gives them. */
+  const AXIS_SCALES = (() => {
+    try {
+      const meta = document.querySelector('meta[name="cellrt-axes"]');
+      return new Map(JSON.parse(meta ? meta.content : "[]").map((a) => [a.name, a]));
+    } catch (e) {
+      return new Map();
+    }
+  })();
+
+  /** The smallest span of the following-error scale, counts (as `cellrt report`'s). */
+  const MIN_ERROR_SPAN_COUNTS = 40;
+
   function axisCard(name) {
+    const scale = AXIS_SCALES.get(name) || { unit: "", counts_per_unit: 1 };
+    const unit = scale.unit ? " [" + scale.unit + "]" : "";
     const card = document.createElement("article");
     card.className = "axis";
     card.dataset.axis = name;
     card.innerHTML =
       '<h3><span class="name"></span><span class="fsa">–</span></h3>' +
       '<dl class="values">' +
-      '<div><dt>position</dt><dd class="actual">–</dd></div>' +
-      '<div><dt>setpoint</dt><dd class="setpoint">–</dd></div>' +
-      '<div><dt>following error</dt><dd class="fe">–</dd></div>' +
+      '<div><dt>position<span class="unit"></span></dt><dd class="actual">–</dd></div>' +
+      '<div><dt>setpoint<span class="unit"></span></dt><dd class="setpoint">–</dd></div>' +
+      '<div><dt>following error<span class="unit"></span></dt><dd class="fe">–</dd></div>' +
       '<div><dt>alarm (603Fh)</dt><dd class="alarm">–</dd></div>' +
       '<div><dt>mode</dt><dd class="mode">–</dd></div>' +
       '<div><dt>cycle</dt><dd class="cycle">–</dd></div>' +
@@ -223,6 +238,7 @@
       '<div class="legend"><span class="actual">━ position</span> <span class="setpoint">╍ setpoint</span> ' +
       '<span class="fe">━ following error</span> (last <span class="window">–</span>)</div>';
     card.querySelector(".name").textContent = name;
+    for (const u of card.querySelectorAll(".unit")) u.textContent = unit;
     $("axes").append(card);
     const canvas = card.querySelector("canvas");
     canvas.dataset.axis = name;
@@ -234,6 +250,8 @@
       setpoint: new Float64Array(PLOT_SAMPLES),
       actual: new Float64Array(PLOT_SAMPLES),
       fe: new Float64Array(PLOT_SAMPLES),
+      unit,
+      minErrorSpan: MIN_ERROR_SPAN_COUNTS / (scale.counts_per_unit > 0 ? scale.counts_per_unit : 1),
       count: 0,
       last: null,
       lastCycle: null,
@@ -323,12 +341,15 @@
     return { n, at: (k) => (start + k) % PLOT_SAMPLES };
   }
 
-  function range(series, w) {
+  /** The scale of `series` in the window: 8 % headroom, spanning at least `minSpan`. */
+  function range(series, w, minSpan = 2e-3) {
     let lo = Infinity, hi = -Infinity;
     for (const s of series) for (let k = 0; k < w.n; k++) { const v = s[w.at(k)]; if (v < lo) lo = v; if (v > hi) hi = v; }
     if (!isFinite(lo)) return [-1, 1];
-    const pad = Math.max((hi - lo) * 0.08, 1e-3);
-    return [lo - pad, hi + pad];
+    const pad = (hi - lo) * 0.08;
+    lo -= pad; hi += pad;
+    if (hi - lo < minSpan) { const mid = (lo + hi) / 2; return [mid - minSpan / 2, mid + minSpan / 2]; }
+    return [lo, hi];
   }
 
   /** Draws `series` (per pixel column its min and max) into the band top..top+height. */
@@ -376,9 +397,9 @@
     const w = windowIndexes(axis);
     const x0 = 90, width = c.width - x0 - 4, split = Math.round(c.height * 0.6);
     const pos = range([axis.actual, axis.setpoint], w);
-    const fe = range([axis.fe], w);
-    band(g, "position / setpoint", pos, x0, width, 2, split - 6);
-    band(g, "following error", fe, x0, width, split + 2, c.height - split - 4);
+    const fe = range([axis.fe], w, axis.minErrorSpan);
+    band(g, "position / setpoint" + axis.unit, pos, x0, width, 2, split - 6);
+    band(g, "following error" + axis.unit, fe, x0, width, split + 2, c.height - split - 4);
     trace(g, axis.actual, w, x0, width, 2, split - 6, pos, css.getPropertyValue("--actual"));
     trace(g, axis.setpoint, w, x0, width, 2, split - 6, pos, css.getPropertyValue("--setpoint"), [10, 8]);
     trace(g, axis.fe, w, x0, width, split + 2, c.height - split - 4, fe, css.getPropertyValue("--fe"));

@@ -1,7 +1,7 @@
 use std::io::{Read, Write};
 use std::net::TcpStream;
 
-use super::LivePage;
+use super::{AxisScale, LivePage};
 
 /// Sends `request` and returns the whole response.
 fn ask(page: &LivePage, request: &str) -> String {
@@ -21,7 +21,7 @@ fn get(page: &LivePage, path: &str) -> String {
 
 #[test]
 fn serves_the_page_with_the_live_views_port_and_the_cell_name_escaped() {
-    let page = LivePage::start("a<b>&c", "127.0.0.1:0".parse().unwrap(), 8765).unwrap();
+    let page = LivePage::start("a<b>&c", &[], "127.0.0.1:0".parse().unwrap(), 8765).unwrap();
     assert_ne!(page.addr.port(), 0);
     let html = get(&page, "/");
     assert!(html.starts_with("HTTP/1.1 200"), "{html}");
@@ -41,8 +41,25 @@ fn serves_the_page_with_the_live_views_port_and_the_cell_name_escaped() {
 }
 
 #[test]
+fn the_page_names_each_axis_unit_and_scale_escaped_for_its_attribute() {
+    let axes = [AxisScale {
+        name: "x\"<".into(),
+        unit: "mm".into(),
+        counts_per_unit: 262.144,
+    }];
+    let page = LivePage::start("demo", &axes, "127.0.0.1:0".parse().unwrap(), 8765).unwrap();
+    let html = get(&page, "/");
+    assert!(
+        html.contains(
+            r#"<meta name="cellrt-axes" content="[{&quot;name&quot;:&quot;x\&quot;&lt;&quot;,&quot;unit&quot;:&quot;mm&quot;,&quot;counts_per_unit&quot;:262.144}]">"#
+        ),
+        "{html}"
+    );
+}
+
+#[test]
 fn nothing_else_is_served() {
-    let page = LivePage::start("demo", "127.0.0.1:0".parse().unwrap(), 8765).unwrap();
+    let page = LivePage::start("demo", &[], "127.0.0.1:0".parse().unwrap(), 8765).unwrap();
     let missing = get(&page, "/etc/passwd");
     assert!(missing.starts_with("HTTP/1.1 404"), "{missing}");
     assert!(missing.contains("/etc/passwd: not part of the live page"));
@@ -64,7 +81,7 @@ fn nothing_else_is_served() {
 fn a_taken_port_is_an_error_naming_the_address() {
     let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let addr = taken.local_addr().unwrap();
-    let e = LivePage::start("demo", addr, 8765).err().unwrap();
+    let e = LivePage::start("demo", &[], addr, 8765).err().unwrap();
     assert!(
         e.to_string().starts_with(&format!("live page on {addr}: ")),
         "{e}"

@@ -1,6 +1,11 @@
-//! `cellrt report FILE.mcap --out DIR [--csv]`: one SVG per axis (setpoint vs actual position
-//! and velocity, following error, torque, all over time with the events marked), a wakeup
-//! latency histogram, an `index.html` tying them together, and with `--csv` the per-cycle data.
+//! `cellrt report FILE.mcap --out DIR [--csv] [--settle-band COUNTS]`: one SVG per axis
+//! (setpoint vs actual position and velocity, following error, torque, all over time with the
+//! events marked and labelled), a wakeup latency histogram, an `index.html` tying them together
+//! with a per-move table (travel, peak speed and following error, settling time), and with
+//! `--csv` the per-cycle data.
+
+mod moves;
+mod plot;
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -8,22 +13,19 @@ use std::path::{Path, PathBuf};
 
 use cellrt_runtime::host::record::proto::{AxisCycle, Event};
 use cellrt_runtime::rt::histogram::NsHistogram;
-use plotters::prelude::*;
 
 use crate::cli::ReportArgs;
 use crate::commands::inspect::{event_line, FAULT_KINDS};
 use crate::exit::Exit;
 use cellrt_recording::{CellInfo, RecFile, Records};
 
-/// Most points drawn per series (a min/max envelope keeps the peaks of longer series).
-const MAX_POINTS: usize = 4000;
+pub use moves::DEFAULT_SETTLE_BAND_COUNTS;
+use moves::{move_table, MoveRow};
+use plot::{axis_plot, latency_plot, AxisPlot, Mark, MarkKind, PlotErr};
 
-/// Colour of the markers of faults, stops, underruns and rejections (orange: the series use
-/// blue and red).
-pub const ALARM: RGBColor = RGBColor(255, 128, 0);
-
-/// Events not marked on the plots (too frequent to read).
-const UNMARKED: [&str; 2] = ["fsa_state", "planner_connected"];
+/// The smallest span of the following-error scale, counts: quantisation noise of a few counts
+/// stays a thin line instead of filling the panel.
+const MIN_ERROR_SPAN_COUNTS: f64 = 40.0;
 
 /// Runs `cellrt report`.
 pub fn run(args: ReportArgs) -> Exit {
@@ -48,7 +50,14 @@ pub fn run(args: ReportArgs) -> Exit {
         eprintln!("error: {}: no cycles recorded", args.file.display());
         return Exit::BadInput;
     }
-    match write_report(&file, &cell, &recs, &args.out, args.csv) {
+    if !(args.settle_band.is_finite() && args.settle_band >= 0.0) {
+        eprintln!(
+            "error: --settle-band: must be a count of 0 or more (got {})",
+            args.settle_band
+        );
+        return Exit::BadInput;
+    }
+    match write_report(&file, &cell, &recs, &args) {
         Ok(n) => {
             println!(
                 "report of {} written to {} ({n} files): open {}",
@@ -86,13 +95,102 @@ pub enum ReportError {
     },
 }
 
+/// The counts per unit in an axis' recorded details (`counts_per_unit=…`), 1 where missing.
+fn counts_per_unit(cell: &CellInfo, axis: usize) -> f64 {
+    cell.axis_details
+        .get(axis)
+        .and_then(|d| {
+            d.split_whitespace()
+                .find_map(|kv| kv.strip_prefix("counts_per_unit="))
+        })
+        .and_then(|v| v.parse::<f64>().ok())
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .unwrap_or(1.0)
+}
+
+/// An axis' unit in its recorded details (`unit=…`).
+fn unit_of(cell: &CellInfo, axis: usize) -> String {
+    cell.axis_details
+        .get(axis)
+        .and_then(|d| d.split_whitespace().find_map(|kv| kv.strip_prefix("unit=")))
+        .unwrap_or("unit")
+        .to_string()
+}
+
+/// The events marked on the plots: alarms and motion starts labelled, overruns as ticks; the
+/// others (state changes, commands, FSA steps) are in the event table only.
+fn marks(recs: &Records, t: &dyn Fn(u64) -> f64) -> Vec<Mark> {
+    recs.events
+        .iter()
+        .filter_map(|e| {
+            let kind = if e.kind == "overrun" {
+                MarkKind::Overrun
+            } else if is_alarm(e) {
+                MarkKind::Alarm
+            } else if e.kind == "motion_started" {
+                MarkKind::MotionStart
+            } else {
+                return None;
+            };
+            let label = match kind {
+                MarkKind::Overrun => String::new(),
+                MarkKind::MotionStart => format!("motion {}", e.value),
+                MarkKind::Alarm if e.axis.is_empty() => e.kind.clone(),
+                MarkKind::Alarm => format!("{} [{}]", e.kind, e.axis),
+            };
+            Some(Mark {
+                t: t(e.cycle),
+                kind,
+                label,
+            })
+        })
+        .collect()
+}
+
+/// The per-move table as HTML.
+fn move_table_html(rows: &[MoveRow], cell: &CellInfo, band_counts: f64) -> String {
+    let period = cell.cycle_time_us.max(1) as f64 / 1e6;
+    let mut html = format!(
+        "<h2>moves ({})</h2>\n<p>Per motion and axis it moved: settled once |actual − final \
+         setpoint| stays within {band_counts} counts (<code>--settle-band</code>) until the \
+         next motion; the peak following error is taken until then.</p>\n<table>\n\
+         <tr><th>motion</th><th>axis</th><th>start [s]</th><th>duration [s]</th>\
+         <th>travel</th><th>peak speed</th><th>peak following error</th>\
+         <th>settling [ms]</th></tr>\n",
+        rows.len()
+    );
+    for r in rows {
+        let name = cell.axes.get(r.axis).map_or("?", String::as_str);
+        let unit = unit_of(cell, r.axis);
+        let settling = r.settling_cycles.map_or_else(
+            || "<span class=\"alarm\">not settled</span>".to_string(),
+            |c| format!("{:.1}", c as f64 * period * 1e3),
+        );
+        let _ = writeln!(
+            html,
+            "<tr><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{:+.4} {unit}</td>\
+             <td>{:.3} {unit}/s</td><td>{:.4} {unit}</td><td>{settling}</td></tr>",
+            r.motion,
+            esc(name),
+            r.start_cycle as f64 * period,
+            r.duration_cycles as f64 * period,
+            r.travel,
+            r.peak_velocity,
+            r.peak_following_error,
+            unit = esc(&unit)
+        );
+    }
+    html.push_str("</table>\n");
+    html
+}
+
 fn write_report(
     file: &RecFile,
     cell: &CellInfo,
     recs: &Records,
-    out: &Path,
-    csv: bool,
+    args: &ReportArgs,
 ) -> Result<usize, ReportError> {
+    let (out, csv) = (args.out.as_path(), args.csv);
     let io = |p: &Path| {
         let path = p.to_path_buf();
         move |source| ReportError::Write { path, source }
@@ -105,12 +203,7 @@ fn write_report(
     let period = cell.cycle_time_us.max(1) as f64 / 1e6;
     let first = recs.cycles[0].cycle;
     let t = |cycle: u64| (cycle as f64 - first as f64) * period;
-    let marks: Vec<(f64, bool)> = recs
-        .events
-        .iter()
-        .filter(|e| !UNMARKED.contains(&e.kind.as_str()))
-        .map(|e| (t(e.cycle), is_alarm(e)))
-        .collect();
+    let marks = marks(recs, &t);
     let mut files = 0;
     let mut html = String::new();
     let _ = write!(
@@ -142,24 +235,36 @@ fn write_report(
     );
     let _ = writeln!(
         html,
-        "<p>Plots mark events as vertical lines (orange: faults, stops, underruns, \
-         rejections, overruns; grey: other events except FSA changes).</p>"
+        "<p>Setpoints are drawn as a wide light-blue band, actual values as a thin dark-red \
+         line on it. Events are marked as vertical lines labelled above the plots (orange: \
+         faults, stops, underruns, rejections; grey dashed: motion starts); overruns are orange \
+         ticks at the top of each panel. Every event is in the table at the end.</p>"
     );
+    let on_loop: Vec<&[AxisCycle]> = recs.axes.iter().map(Vec::as_slice).collect();
+    let bands: Vec<f64> = (0..cell.axes.len())
+        .map(|i| args.settle_band / counts_per_unit(cell, i))
+        .collect();
+    html.push_str(&move_table_html(
+        &move_table(&recs.events, &on_loop, &bands),
+        cell,
+        args.settle_band,
+    ));
 
     for (i, name) in cell.axes.iter().enumerate() {
         let samples = &recs.axes[i];
         if samples.is_empty() {
             continue;
         }
-        let unit = cell
-            .axis_details
-            .get(i)
-            .and_then(|d| d.split_whitespace().find_map(|kv| kv.strip_prefix("unit=")))
-            .unwrap_or("unit")
-            .to_string();
+        let unit = unit_of(cell, i);
         let fname = format!("axis-{}.svg", sanitize(name));
         let path = out.join(&fname);
-        axis_plot(&path, name, &unit, samples, &t, &marks).map_err(plot(&path))?;
+        let axis = AxisPlot {
+            name,
+            unit: &unit,
+            samples,
+            min_error_span: MIN_ERROR_SPAN_COUNTS / counts_per_unit(cell, i),
+        };
+        axis_plot(&path, &axis, &t, &marks).map_err(plot(&path))?;
         files += 1;
         let _ = writeln!(
             html,
@@ -243,198 +348,6 @@ fn esc(s: &str) -> String {
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
-}
-
-/// At most [`MAX_POINTS`] points: the min and max of each bucket, in time order.
-fn decimate(points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
-    if points.len() <= MAX_POINTS {
-        return points;
-    }
-    let per = points.len().div_ceil(MAX_POINTS / 2);
-    let mut out = Vec::with_capacity(MAX_POINTS + 2);
-    for b in points.chunks(per) {
-        let lo = b
-            .iter()
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .expect("non-empty");
-        let hi = b
-            .iter()
-            .max_by(|a, b| a.1.total_cmp(&b.1))
-            .expect("non-empty");
-        if lo.0 <= hi.0 {
-            out.extend([*lo, *hi]);
-        } else {
-            out.extend([*hi, *lo]);
-        }
-    }
-    out
-}
-
-/// (min, max) of the series' values, widened when flat.
-fn y_range(series: &[&[(f64, f64)]]) -> (f64, f64) {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for s in series {
-        for p in *s {
-            if p.1.is_finite() {
-                lo = lo.min(p.1);
-                hi = hi.max(p.1);
-            }
-        }
-    }
-    if !lo.is_finite() {
-        return (-1.0, 1.0);
-    }
-    let pad = ((hi - lo) * 0.05).max(1e-9);
-    if hi - lo < 1e-9 {
-        return (lo - 1.0, hi + 1.0);
-    }
-    (lo - pad, hi + pad)
-}
-
-type PlotErr = Box<dyn std::error::Error>;
-
-/// A plot panel: y label and its lines (legend, points, colour).
-type Panel = (String, Vec<(String, Vec<(f64, f64)>, RGBColor)>);
-
-fn axis_plot(
-    path: &Path,
-    name: &str,
-    unit: &str,
-    s: &[AxisCycle],
-    t: &dyn Fn(u64) -> f64,
-    marks: &[(f64, bool)],
-) -> Result<(), PlotErr> {
-    let series = |f: &dyn Fn(&AxisCycle) -> f64| -> Vec<(f64, f64)> {
-        decimate(s.iter().map(|a| (t(a.cycle), f(a))).collect())
-    };
-    let t0 = t(s[0].cycle);
-    let t1 = t(s[s.len() - 1].cycle).max(t0 + 1e-3);
-    let panels: [Panel; 4] = [
-        (
-            format!("position [{unit}]"),
-            vec![
-                ("setpoint".into(), series(&|a| a.setpoint_position), BLUE),
-                ("actual".into(), series(&|a| a.actual_position), RED),
-            ],
-        ),
-        (
-            format!("velocity [{unit}/s]"),
-            vec![
-                ("setpoint".into(), series(&|a| a.setpoint_velocity), BLUE),
-                ("actual".into(), series(&|a| a.actual_velocity), RED),
-            ],
-        ),
-        (
-            format!("following error [{unit}]"),
-            vec![("60F4h".into(), series(&|a| a.following_error), MAGENTA)],
-        ),
-        (
-            "torque [0.1 % rated]".into(),
-            vec![
-                (
-                    "setpoint (6071h)".into(),
-                    series(&|a| f64::from(a.setpoint_torque)),
-                    BLUE,
-                ),
-                (
-                    "actual (6077h)".into(),
-                    series(&|a| f64::from(a.actual_torque)),
-                    RED,
-                ),
-            ],
-        ),
-    ];
-    let root = SVGBackend::new(path, (1200, 1000)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let root = root.titled(&format!("axis {name}"), ("sans-serif", 22))?;
-    let areas = root.split_evenly((4, 1));
-    for (area, (label, lines)) in areas.iter().zip(panels.iter()) {
-        let refs: Vec<&[(f64, f64)]> = lines.iter().map(|l| l.1.as_slice()).collect();
-        let (lo, hi) = y_range(&refs);
-        let mut chart = ChartBuilder::on(area)
-            .margin(8)
-            .x_label_area_size(28)
-            .y_label_area_size(70)
-            .build_cartesian_2d(t0..t1, lo..hi)?;
-        chart
-            .configure_mesh()
-            .x_desc("time [s]")
-            .y_desc(label.as_str())
-            .light_line_style(WHITE.mix(0.0))
-            .draw()?;
-        for (t, alarm) in marks {
-            let color = if *alarm {
-                ALARM.mix(0.9)
-            } else {
-                BLACK.mix(0.25)
-            };
-            chart.draw_series(LineSeries::new([(*t, lo), (*t, hi)], color))?;
-        }
-        for (lname, pts, color) in lines {
-            let c = *color;
-            chart
-                .draw_series(LineSeries::new(pts.iter().copied(), c))?
-                .label(lname.as_str())
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], c));
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()?;
-    }
-    root.present()?;
-    Ok(())
-}
-
-fn latency_plot(path: &Path, h: &NsHistogram) -> Result<(), PlotErr> {
-    let buckets = h.buckets();
-    let root = SVGBackend::new(path, (900, 450)).into_drawing_area();
-    root.fill(&WHITE)?;
-    // Bins of 5 µs up to the p99.9 (at least 100 µs), the rest in one last bin.
-    let top_us = (h.quantile_ns(0.999) as f64 / 1e3).max(100.0).ceil();
-    let width = 5.0;
-    let nbins = (top_us / width).ceil() as usize + 1;
-    let mut bins = vec![0u64; nbins];
-    for (ns, n) in buckets {
-        let us = ns as f64 / 1e3;
-        let i = ((us / width) as usize).min(nbins - 1);
-        bins[i] += n;
-    }
-    let ymax = bins.iter().copied().max().unwrap_or(1).max(1) as f64;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!(
-                "wakeup latency ({} cycles; last bin: ≥ {:.0} µs)",
-                h.len(),
-                (nbins - 1) as f64 * width
-            ),
-            ("sans-serif", 20),
-        )
-        .margin(10)
-        .x_label_area_size(32)
-        .y_label_area_size(60)
-        .build_cartesian_2d(
-            0.0..(nbins as f64 * width),
-            (0.5f64..ymax * 2.0).log_scale(),
-        )?;
-    chart
-        .configure_mesh()
-        .x_desc("wakeup latency [µs]")
-        .y_desc("cycles")
-        .draw()?;
-    chart.draw_series(
-        bins.iter()
-            .enumerate()
-            .filter(|(_, n)| **n > 0)
-            .map(|(i, n)| {
-                let x0 = i as f64 * width;
-                Rectangle::new([(x0, 0.5), (x0 + width * 0.9, *n as f64)], BLUE.filled())
-            }),
-    )?;
-    root.present()?;
-    Ok(())
 }
 
 fn axis_csv(path: &Path, s: &[AxisCycle], t: &dyn Fn(u64) -> f64) -> std::io::Result<()> {

@@ -13,6 +13,8 @@
 # judge the tests, not a cold build: every clone is made at one path, its files get the
 # commit's time, and it builds into DIR, so cargo finds the build of the clone before fresh.
 # DIR is warmed first, without load (the builds of `.ci/run`), and that time is printed apart.
+# DIR then holds artifacts that name the clone's path (env!("CARGO_MANIFEST_DIR") in tests):
+# before testing another checkout with it, touch that checkout's sources (or cargo clean -p).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo="$(pwd)"
@@ -90,4 +92,7 @@ for k in $(seq 1 "$runs"); do
   fi
   printf '%-4s %-8s %10s  %s\n' "$k" "$verdict" "$(( $(date +%s) - start ))" "$log"
 done
+if [ -n "${CELLRT_CI_TARGET:-}" ]; then
+  echo "note: $CELLRT_CI_TARGET now holds builds of $clone; touch the sources of another checkout before testing it with this target" >&2
+fi
 exit "$failed"

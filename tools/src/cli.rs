@@ -108,9 +108,14 @@ pub struct ReportArgs {
     /// setpoint| stays within it (one band for all axes; the drives' own in-position range is
     /// [Pr. PA10] / 6067h).
     #[arg(long, value_name = "COUNTS",
-          default_value_t = crate::commands::report::DEFAULT_SETTLE_BAND_COUNTS)]
+          default_value_t = DEFAULT_SETTLE_BAND_COUNTS)]
     pub settle_band: f64,
 }
+
+/// `cellrt report`'s default settling band, counts: an axis has settled once |actual − final
+/// setpoint| stays within it. The manuals set an in-position range per drive ([Pr. PA10],
+/// 6067h); the report takes one band for every axis, in the drive's counts.
+pub const DEFAULT_SETTLE_BAND_COUNTS: f64 = 10.0;
 
 /// `cellrt replay`.
 #[derive(Debug, Args)]

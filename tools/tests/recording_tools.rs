@@ -324,7 +324,10 @@ fn report_plots_every_axis_and_marks_the_fault() {
     }
     // The fault is labelled above y's plot, where it happened.
     let svg_y = std::fs::read_to_string(out_dir.join("axis-y.svg")).unwrap();
-    assert!(svg_y.contains("\ndrive_fault [y]\n"), "no label of y's fault");
+    assert!(
+        svg_y.contains("\ndrive_fault [y]\n"),
+        "no label of y's fault"
+    );
     let html = std::fs::read_to_string(out_dir.join("index.html")).unwrap();
     assert!(html.contains("axis-y.svg") && html.contains("latency.svg"));
     // The per-move table: a row per motion and axis it moved, with its settling.

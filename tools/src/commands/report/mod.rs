@@ -19,7 +19,6 @@ use crate::commands::inspect::{event_line, FAULT_KINDS};
 use crate::exit::Exit;
 use cellrt_recording::{CellInfo, RecFile, Records};
 
-pub use moves::DEFAULT_SETTLE_BAND_COUNTS;
 use moves::{move_table, MoveRow};
 use plot::{axis_plot, latency_plot, AxisPlot, Mark, MarkKind, PlotErr};
 

@@ -4,11 +4,6 @@
 
 use cellrt_runtime::host::record::proto::{AxisCycle, Event};
 
-/// Default settling band, counts: an axis has settled once |actual − final setpoint| stays
-/// within it. The manuals set an in-position range per drive ([Pr. PA10], 6067h); the report
-/// takes one band for every axis, in the drive's counts (`cellrt report --settle-band`).
-pub const DEFAULT_SETTLE_BAND_COUNTS: f64 = 10.0;
-
 /// One motion of one axis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MoveRow {

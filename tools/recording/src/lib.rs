@@ -205,6 +205,17 @@ pub struct CellInfo {
     pub software: String,
 }
 
+impl CellInfo {
+    /// The value of `key` in loop axis `axis`' description (`key=value` words, as the recorder
+    /// writes them: `unit`, `counts_per_unit`, `mode`…); `None` where it is missing.
+    pub fn axis_field(&self, axis: usize, key: &str) -> Option<&str> {
+        self.axis_details.get(axis).and_then(|d| {
+            d.split_whitespace()
+                .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+        })
+    }
+}
+
 impl RecFile {
     /// Reads `path`; a file that is not MCAP at all is an error naming it.
     pub fn open(path: &Path) -> Result<RecFile, RecordingError> {

@@ -79,8 +79,8 @@ struct FramePacedClock {
     free_run_cycle_ns: u64,
     /// This clock minus wall time, ns.
     offset: i128,
-    /// The time given to the last process-data frame in OP.
-    last_pd: Option<u64>,
+    /// The time given to the last process-data frame in OP, and the cycle it was taken at.
+    last_pd: Option<(u64, u64)>,
     /// The last time given (the clock never goes back).
     last: u64,
 }
@@ -109,40 +109,35 @@ impl FramePacedClock {
             self.last_pd = None;
         }
         let shifted = u64::try_from((i128::from(wall) + self.offset).max(0)).unwrap_or(u64::MAX);
-        let pd = frame.is_some_and(carries_process_data);
-        let t = match (in_op && pd, self.last_pd) {
-            (true, last_pd) => {
-                let sync0 = segment
-                    .stations()
-                    .iter()
-                    .find_map(|st| st.sync0_phase(shifted));
-                let cycle = sync0.map_or(self.free_run_cycle_ns, |(_, c)| c);
-                let t = match (last_pd, sync0) {
-                    (Some(p), _) => p + cycle,
-                    // The first one in OP: onto the place in the SYNC0 cycle the master aims at.
-                    (None, Some((phase, cycle))) => {
-                        let aim = cycle / SYNC0_FRAME_PHASE_DIVISOR;
-                        shifted - phase + aim + if phase > aim { cycle } else { 0 }
-                    }
-                    (None, None) => shifted,
-                };
-                self.last_pd = Some(t);
-                self.offset = i128::from(t) - i128::from(wall);
-                t
-            }
+        let pd = in_op && frame.is_some_and(carries_process_data);
+        let t = match (pd, self.last_pd) {
+            (true, Some((p, cycle))) => self.took_pd(p + cycle, cycle, wall),
+            // The first one in OP: onto the place in the SYNC0 cycle the master aims at.
+            (true, None) => match segment
+                .stations()
+                .iter()
+                .find_map(|st| st.sync0_phase(shifted))
+            {
+                Some((phase, cycle)) => {
+                    let aim = cycle / SYNC0_FRAME_PHASE_DIVISOR;
+                    let late = if phase > aim { cycle } else { 0 };
+                    self.took_pd(shifted.saturating_sub(phase) + aim + late, cycle, wall)
+                }
+                None => self.took_pd(shifted, self.free_run_cycle_ns, wall),
+            },
             // Other frames in OP (mailbox, delayed ones) stay before the next cycle's edge.
-            (false, Some(p)) => {
-                let cycle = segment
-                    .stations()
-                    .iter()
-                    .find_map(|st| st.sync0_phase(p))
-                    .map_or(self.free_run_cycle_ns, |(_, c)| c);
-                shifted.min(p + cycle - 1)
-            }
+            (false, Some((p, cycle))) => shifted.min(p + cycle - 1),
             (false, None) => shifted,
         };
         let t = t.max(self.last);
         self.last = t;
+        t
+    }
+
+    /// A process-data frame in OP takes time `t` on a grid of `cycle`.
+    fn took_pd(&mut self, t: u64, cycle: u64, wall: u64) -> u64 {
+        self.last_pd = Some((t, cycle));
+        self.offset = i128::from(t) - i128::from(wall);
         t
     }
 }

@@ -96,12 +96,7 @@ pub enum ReportError {
 
 /// The counts per unit in an axis' recorded details (`counts_per_unit=…`), 1 where missing.
 fn counts_per_unit(cell: &CellInfo, axis: usize) -> f64 {
-    cell.axis_details
-        .get(axis)
-        .and_then(|d| {
-            d.split_whitespace()
-                .find_map(|kv| kv.strip_prefix("counts_per_unit="))
-        })
+    cell.axis_field(axis, "counts_per_unit")
         .and_then(|v| v.parse::<f64>().ok())
         .filter(|v| v.is_finite() && *v > 0.0)
         .unwrap_or(1.0)
@@ -109,11 +104,7 @@ fn counts_per_unit(cell: &CellInfo, axis: usize) -> f64 {
 
 /// An axis' unit in its recorded details (`unit=…`).
 fn unit_of(cell: &CellInfo, axis: usize) -> String {
-    cell.axis_details
-        .get(axis)
-        .and_then(|d| d.split_whitespace().find_map(|kv| kv.strip_prefix("unit=")))
-        .unwrap_or("unit")
-        .to_string()
+    cell.axis_field(axis, "unit").unwrap_or("unit").to_string()
 }
 
 /// The events marked on the plots: alarms and motion starts labelled, overruns as ticks; the

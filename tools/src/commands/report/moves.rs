@@ -108,7 +108,7 @@ pub fn move_table(events: &[Event], axes: &[&[AxisCycle]], band: &[f64]) -> Vec<
                 motion: id,
                 axis,
                 start_cycle: start,
-                duration_cycles: finish - start,
+                duration_cycles: finish.saturating_sub(start),
                 travel,
                 peak_velocity,
                 peak_following_error,
@@ -174,6 +174,19 @@ mod tests {
         assert_eq!(r.peak_following_error, 3.0);
         // The actual reaches 10 at cycle 23; within 0.5 from there: 3 cycles to settle.
         assert_eq!(r.settling_cycles, Some(3));
+    }
+
+    #[test]
+    fn events_out_of_order_in_a_damaged_recording_give_rows_not_a_panic() {
+        // A finish before its start, and a start after the last sample.
+        let events = [
+            event("motion_started", 30, 1),
+            event("motion_finished", 12, 1),
+            event("motion_started", 500, 2),
+        ];
+        let x = ramp(3);
+        let rows = move_table(&events, &[&x], &[0.5]);
+        assert!(rows.iter().all(|r| r.duration_cycles == 0), "{rows:?}");
     }
 
     #[test]
